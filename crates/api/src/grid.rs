@@ -1,0 +1,351 @@
+//! Cells and the occupancy grid.
+
+use std::fmt;
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use crate::error::GridError;
+
+/// A grid cell: `x` is the column, `y` the row, `(0, 0)` the top-left cell.
+///
+/// Serialized as the two-element array `[x, y]`, the form scripts expect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub struct Cell {
+    /// Column, counted from the left edge.
+    pub x: u32,
+    /// Row, counted from the top edge.
+    pub y: u32,
+}
+
+impl Cell {
+    /// The cell at column `x`, row `y`.
+    pub const fn new(x: u32, y: u32) -> Cell {
+        Cell { x, y }
+    }
+
+    /// Manhattan (L1) distance: the 4-connected step count on an open grid.
+    pub fn manhattan(self, other: Cell) -> u64 {
+        u64::from(self.x.abs_diff(other.x)) + u64::from(self.y.abs_diff(other.y))
+    }
+
+    /// Chebyshev (L-infinity) distance: the 8-connected step count on an open grid.
+    pub fn chebyshev(self, other: Cell) -> u64 {
+        u64::from(self.x.abs_diff(other.x).max(self.y.abs_diff(other.y)))
+    }
+
+    /// Octile distance: the 8-connected cost (1 per straight, sqrt 2 per diagonal move) on an open grid.
+    pub fn octile(self, other: Cell) -> f64 {
+        let dx = f64::from(self.x.abs_diff(other.x));
+        let dy = f64::from(self.y.abs_diff(other.y));
+        dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy)
+    }
+
+    /// Euclidean distance between the two cell centres.
+    pub fn euclidean(self, other: Cell) -> f64 {
+        let dx = f64::from(self.x.abs_diff(other.x));
+        let dy = f64::from(self.y.abs_diff(other.y));
+        dx.hypot(dy)
+    }
+
+    /// The cell displaced by `(dx, dy)`, or `None` when a coordinate would be negative or overflow.
+    ///
+    /// The result is not checked against any grid; see [`Grid::offset`] for that.
+    pub fn checked_offset(self, dx: i32, dy: i32) -> Option<Cell> {
+        let x = self.x.checked_add_signed(dx)?;
+        let y = self.y.checked_add_signed(dy)?;
+        Some(Cell { x, y })
+    }
+}
+
+impl fmt::Display for Cell {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "({}, {})", self.x, self.y)
+    }
+}
+
+impl From<(u32, u32)> for Cell {
+    fn from((x, y): (u32, u32)) -> Cell {
+        Cell { x, y }
+    }
+}
+
+impl Serialize for Cell {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        [self.x, self.y].serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for Cell {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Cell, D::Error> {
+        let [x, y] = <[u32; 2]>::deserialize(deserializer)?;
+        Ok(Cell { x, y })
+    }
+}
+
+/// A rectangular occupancy grid in flat row-major storage.
+///
+/// Cell `(x, y)` lives at index `y * width + x`. Planners index the flat
+/// slice from [`Grid::free_cells`] in their hot loops; the methods taking
+/// [`Cell`] are for everything else.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct Grid {
+    width: u32,
+    height: u32,
+    free: Vec<bool>,
+}
+
+impl Grid {
+    /// The largest number of cells a grid may have (2^31), so that every index fits in a `u32`.
+    pub const MAX_CELLS: u64 = 1 << 31;
+
+    /// An all-free grid of `width` columns and `height` rows.
+    ///
+    /// Errors when a side is zero or the grid has more than [`Grid::MAX_CELLS`] cells.
+    pub fn new(width: u32, height: u32) -> Result<Grid, GridError> {
+        let len = Self::checked_len(width, height)?;
+        Ok(Grid {
+            width,
+            height,
+            free: vec![true; len],
+        })
+    }
+
+    /// A grid from its row-major free flags (`true` = traversable).
+    ///
+    /// Errors when `free.len() != width * height`, or as [`Grid::new`].
+    pub fn from_free_cells(width: u32, height: u32, free: Vec<bool>) -> Result<Grid, GridError> {
+        let len = Self::checked_len(width, height)?;
+        if free.len() != len {
+            return Err(GridError::CellCount {
+                expected: len,
+                found: free.len(),
+            });
+        }
+        Ok(Grid {
+            width,
+            height,
+            free,
+        })
+    }
+
+    /// A grid drawn in ASCII, for tests and examples: one line per row, `.` free, `#` blocked.
+    ///
+    /// Leading and trailing blank lines and the indentation of each row are ignored, so the
+    /// map can be written in an indented raw string. Every row must have the same width.
+    ///
+    /// ```
+    /// use planner_api::{Cell, Grid};
+    /// let grid = Grid::from_ascii("
+    ///     ..#
+    ///     ...
+    /// ").unwrap();
+    /// assert_eq!((grid.width(), grid.height()), (3, 2));
+    /// assert!(!grid.is_free(Cell::new(2, 0)));
+    /// ```
+    pub fn from_ascii(text: &str) -> Result<Grid, GridError> {
+        let rows: Vec<&str> = text
+            .lines()
+            .map(str::trim)
+            .skip_while(|row| row.is_empty())
+            .collect();
+        let rows: Vec<&str> = match rows.iter().rposition(|row| !row.is_empty()) {
+            Some(last) => rows[..=last].to_vec(),
+            None => return Err(GridError::Empty),
+        };
+        let width = rows[0].chars().count();
+        let mut free = Vec::with_capacity(width * rows.len());
+        for (row_index, row) in rows.iter().enumerate() {
+            let row_width = row.chars().count();
+            if row_width != width {
+                return Err(GridError::RaggedRow {
+                    row: row_index,
+                    expected: width,
+                    found: row_width,
+                });
+            }
+            for (column, ch) in row.chars().enumerate() {
+                match ch {
+                    '.' => free.push(true),
+                    '#' => free.push(false),
+                    other => {
+                        return Err(GridError::UnknownCell {
+                            row: row_index,
+                            column,
+                            found: other,
+                        })
+                    }
+                }
+            }
+        }
+        let width = u32::try_from(width).map_err(|_| GridError::TooLarge)?;
+        let height = u32::try_from(rows.len()).map_err(|_| GridError::TooLarge)?;
+        Grid::from_free_cells(width, height, free)
+    }
+
+    fn checked_len(width: u32, height: u32) -> Result<usize, GridError> {
+        if width == 0 || height == 0 {
+            return Err(GridError::Empty);
+        }
+        let len = u64::from(width) * u64::from(height);
+        if len > Self::MAX_CELLS {
+            return Err(GridError::TooLarge);
+        }
+        usize::try_from(len).map_err(|_| GridError::TooLarge)
+    }
+
+    /// Number of columns.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Number of rows.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Number of cells, `width * height`.
+    pub fn len(&self) -> usize {
+        self.free.len()
+    }
+
+    /// Always false: a grid has at least one cell. Present for API symmetry with `len`.
+    pub fn is_empty(&self) -> bool {
+        self.free.is_empty()
+    }
+
+    /// Number of free cells.
+    pub fn n_free(&self) -> usize {
+        self.free.iter().filter(|&&free| free).count()
+    }
+
+    /// The row-major free flags; index with [`Grid::index`].
+    pub fn free_cells(&self) -> &[bool] {
+        &self.free
+    }
+
+    /// Whether `cell` lies inside the grid.
+    pub fn contains(&self, cell: Cell) -> bool {
+        cell.x < self.width && cell.y < self.height
+    }
+
+    /// Whether the signed coordinates lie inside the grid.
+    pub fn contains_signed(&self, x: i64, y: i64) -> bool {
+        x >= 0 && y >= 0 && x < i64::from(self.width) && y < i64::from(self.height)
+    }
+
+    /// Whether `cell` is inside the grid and traversable: seed 000's `Safe(x, y)`.
+    pub fn is_free(&self, cell: Cell) -> bool {
+        self.contains(cell) && self.free[self.index(cell)]
+    }
+
+    /// Flat index of `cell`. Precondition: `self.contains(cell)`.
+    pub fn index(&self, cell: Cell) -> usize {
+        cell.y as usize * self.width as usize + cell.x as usize
+    }
+
+    /// The cell at flat index `index`. Precondition: `index < self.len()`.
+    pub fn cell(&self, index: usize) -> Cell {
+        let width = self.width as usize;
+        // Both quotient and remainder are below u32::MAX because len <= MAX_CELLS.
+        Cell {
+            x: (index % width) as u32,
+            y: (index / width) as u32,
+        }
+    }
+
+    /// The cell displaced from `cell` by `(dx, dy)`, or `None` when it leaves the grid.
+    pub fn offset(&self, cell: Cell, dx: i32, dy: i32) -> Option<Cell> {
+        cell.checked_offset(dx, dy).filter(|&c| self.contains(c))
+    }
+
+    /// Marks `cell` blocked (`free = false`) or free. Precondition: `self.contains(cell)`.
+    pub fn set_free(&mut self, cell: Cell, free: bool) {
+        let index = self.index(cell);
+        self.free[index] = free;
+    }
+
+    /// Iterates over every cell in row-major order.
+    pub fn cells(&self) -> impl Iterator<Item = Cell> + '_ {
+        (0..self.len()).map(|index| self.cell(index))
+    }
+
+    /// The grid drawn with `.` for free and `#` for blocked cells, one line per row.
+    pub fn to_ascii(&self) -> String {
+        let mut out = String::with_capacity(self.len() + self.height as usize);
+        for row in self.free.chunks(self.width as usize) {
+            out.extend(row.iter().map(|&free| if free { '.' } else { '#' }));
+            out.push('\n');
+        }
+        out
+    }
+}
+
+impl fmt::Debug for Grid {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "Grid {}x{}", self.width, self.height)?;
+        f.write_str(&self.to_ascii())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ascii_round_trip() {
+        let text = "..#\n#..\n";
+        let grid = Grid::from_ascii(text).unwrap();
+        assert_eq!(grid.to_ascii(), text);
+        assert_eq!(grid.n_free(), 4);
+        assert_eq!(grid.cell(grid.index(Cell::new(2, 1))), Cell::new(2, 1));
+    }
+
+    #[test]
+    fn ascii_errors() {
+        assert_eq!(Grid::from_ascii("\n  \n"), Err(GridError::Empty));
+        assert_eq!(
+            Grid::from_ascii("..\n...").unwrap_err(),
+            GridError::RaggedRow {
+                row: 1,
+                expected: 2,
+                found: 3
+            }
+        );
+        assert_eq!(
+            Grid::from_ascii("..\n.x").unwrap_err(),
+            GridError::UnknownCell {
+                row: 1,
+                column: 1,
+                found: 'x'
+            }
+        );
+    }
+
+    #[test]
+    fn bounds() {
+        let grid = Grid::new(3, 2).unwrap();
+        assert!(grid.contains(Cell::new(2, 1)));
+        assert!(!grid.contains(Cell::new(3, 1)));
+        assert_eq!(grid.offset(Cell::new(0, 0), -1, 0), None);
+        assert_eq!(grid.offset(Cell::new(0, 0), 2, 1), Some(Cell::new(2, 1)));
+        assert_eq!(Grid::new(0, 3), Err(GridError::Empty));
+        assert_eq!(Grid::new(1 << 16, 1 << 16), Err(GridError::TooLarge));
+    }
+
+    #[test]
+    fn distances() {
+        let a = Cell::new(1, 1);
+        let b = Cell::new(4, 5);
+        assert_eq!(a.manhattan(b), 7);
+        assert_eq!(a.chebyshev(b), 4);
+        assert_eq!(a.euclidean(b), 5.0);
+        assert!((a.octile(b) - (4.0 + 3.0 * (2f64.sqrt() - 1.0))).abs() < 1e-12);
+    }
+
+    #[test]
+    fn cell_serializes_as_pair() {
+        assert_eq!(serde_json::to_string(&Cell::new(3, 4)).unwrap(), "[3,4]");
+        let cell: Cell = serde_json::from_str("[5,6]").unwrap();
+        assert_eq!(cell, Cell::new(5, 6));
+    }
+}

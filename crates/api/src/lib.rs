@@ -1,0 +1,46 @@
+//! The shared vocabulary of gridplan: grids, problems, moves, paths, counters and the
+//! [`Planner`] trait.
+//!
+//! # Design
+//! Every planner crate depends on this one and on nothing else of gridplan's, and this
+//! crate depends on no planner. Planners are plain values built from a validated config;
+//! [`Planner::plan`] takes `&mut self` so that a planner can keep its per-cell arrays
+//! between calls and allocate nothing per expansion, and it returns an [`Outcome`] whose
+//! [`Status`] says how the search ended: found, no path, or budget exhausted (with the best
+//! path so far). Invalid input is caught earlier, when a [`Problem`] is built, as a typed
+//! [`ProblemError`] naming the cell.
+//!
+//! Counters are counted as plain integers in [`SearchStats`] and reported as an ordered
+//! [`Counters`] list, so a planner reports only what applies to it and may add counters of
+//! its own; see [`counters`] for the names and their exact meaning (seed 000 Table 2).
+//!
+//! ```
+//! use planner_api::{Cell, Grid, Path, Problem};
+//! let grid = Grid::from_ascii("
+//!     ...
+//!     #..
+//! ").unwrap();
+//! let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(2, 1)).unwrap();
+//! let path = Path::new(vec![Cell::new(0, 0), Cell::new(1, 0), Cell::new(1, 1), Cell::new(2, 1)]);
+//! let m = path.metrics();
+//! assert_eq!((m.steps, m.turns, m.score), (3, 2, 5));
+//! assert_eq!(problem.goal(), Cell::new(2, 1));
+//! ```
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+pub mod counters;
+pub mod error;
+pub mod grid;
+pub mod moves;
+pub mod path;
+pub mod planner;
+
+pub use counters::{Counter, Counters, SearchStats};
+pub use error::{Endpoint, GridError, MoveOrderError, PathError, ProblemError};
+pub use grid::{Cell, Grid};
+pub use moves::{
+    for_each_segment_cell, segment_is_free, Connectivity, Direction, Move, MoveSet, NeighborOrder,
+};
+pub use path::{Path, PathMetrics, PathRank, PathRule};
+pub use planner::{Budget, BudgetClock, Outcome, Planner, Problem, Status};
