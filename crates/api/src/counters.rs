@@ -212,7 +212,10 @@ impl Counters {
 
     /// The value of `name`, if reported.
     pub fn get(&self, name: &str) -> Option<u64> {
-        self.entries.iter().find(|(n, _)| n == name).map(|&(_, v)| v)
+        self.entries
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|&(_, v)| v)
     }
 
     /// The pairs in order.
@@ -299,8 +302,18 @@ mod tests {
 
     #[test]
     fn add_assign_sums_counts_and_maxes_peaks() {
-        let mut a = SearchStats { n_expanded: 2, peak_open: 5, max_depth: 1, ..Default::default() };
-        a += SearchStats { n_expanded: 3, peak_open: 4, max_depth: 9, ..Default::default() };
+        let mut a = SearchStats {
+            n_expanded: 2,
+            peak_open: 5,
+            max_depth: 1,
+            ..Default::default()
+        };
+        a += SearchStats {
+            n_expanded: 3,
+            peak_open: 4,
+            max_depth: 9,
+            ..Default::default()
+        };
         assert_eq!((a.n_expanded, a.peak_open, a.max_depth), (5, 5, 9));
     }
 }

@@ -40,7 +40,8 @@ pub use counters::{Counter, Counters, SearchStats};
 pub use error::{Endpoint, GridError, MoveOrderError, PathError, ProblemError};
 pub use grid::{Cell, Grid};
 pub use moves::{
-    for_each_segment_cell, segment_is_free, Connectivity, Direction, Move, MoveSet, NeighborOrder,
+    for_each_segment_cell, segment_is_free, Connectivity, Direction, IndexedMove, IndexedMoves,
+    Move, MoveSet, NeighborOrder,
 };
 pub use path::{Path, PathMetrics, PathRank, PathRule};
 pub use planner::{Budget, BudgetClock, Outcome, Planner, Problem, Status};

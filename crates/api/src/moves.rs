@@ -109,7 +109,9 @@ impl TryFrom<u32> for Connectivity {
         Connectivity::ALL
             .into_iter()
             .find(|c| c.n_directions() == n)
-            .ok_or_else(|| format!("unsupported connectivity {n}, expected one of 4, 8, 16, 32, 48"))
+            .ok_or_else(|| {
+                format!("unsupported connectivity {n}, expected one of 4, 8, 16, 32, 48")
+            })
     }
 }
 
@@ -260,7 +262,9 @@ impl Serialize for NeighborOrder {
 }
 
 impl<'de> Deserialize<'de> for NeighborOrder {
-    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<NeighborOrder, D::Error> {
+    fn deserialize<D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> Result<NeighborOrder, D::Error> {
         let text = String::deserialize(deserializer)?;
         text.parse().map_err(serde::de::Error::custom)
     }
@@ -348,7 +352,10 @@ impl MoveSet {
         let given = order.directions();
         let mut seen = [false; 8];
         for &d in given {
-            let slot = Direction::DEFAULT_ORDER.iter().position(|&e| e == d).unwrap_or(0);
+            let slot = Direction::DEFAULT_ORDER
+                .iter()
+                .position(|&e| e == d)
+                .unwrap_or(0);
             if seen[slot] {
                 return Err(MoveOrderError::Repeated(d.token()));
             }
@@ -391,7 +398,10 @@ impl MoveSet {
 
     /// The cheapest move cost (1 for every neighbourhood here).
     pub fn min_cost(&self) -> f64 {
-        self.moves.iter().map(|m| m.cost).fold(f64::INFINITY, f64::min)
+        self.moves
+            .iter()
+            .map(|m| m.cost)
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// The target of `mv` from `from` when the move is allowed on `grid`: target in bounds
@@ -415,6 +425,111 @@ impl MoveSet {
         self.moves
             .iter()
             .find(|m| i64::from(m.dx) == dx && i64::from(m.dy) == dy)
+    }
+}
+
+/// A [`MoveSet`] compiled for one grid width: flat-index deltas for the hot loop.
+///
+/// Planners that index the grid's flat [`Grid::free_cells`] slice use
+/// [`IndexedMoves::target`] instead of [`MoveSet::apply`]; both accept exactly the same
+/// moves (tested). Build it once per grid (or whenever the grid's width changes).
+#[derive(Debug, Clone, PartialEq)]
+pub struct IndexedMoves {
+    width: u32,
+    height: u32,
+    moves: Vec<IndexedMove>,
+    via: Vec<isize>,
+}
+
+/// One compiled move: the offset, its flat-index delta, cost, and where its `via` cells are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IndexedMove {
+    /// Column offset.
+    pub dx: i32,
+    /// Row offset.
+    pub dy: i32,
+    /// Flat-index delta, `dy * width + dx`.
+    pub delta: isize,
+    /// Move cost.
+    pub cost: f64,
+    via_start: u32,
+    via_end: u32,
+}
+
+impl IndexedMoves {
+    /// Compiles `set` for grids of `grid`'s size.
+    pub fn new(set: &MoveSet, grid: &Grid) -> IndexedMoves {
+        let width = grid.width() as isize;
+        let mut via = Vec::new();
+        let moves = set
+            .moves()
+            .iter()
+            .map(|m| {
+                let via_start = via.len() as u32;
+                via.extend(
+                    m.via
+                        .iter()
+                        .map(|&(vx, vy)| vy as isize * width + vx as isize),
+                );
+                IndexedMove {
+                    dx: m.dx,
+                    dy: m.dy,
+                    delta: m.dy as isize * width + m.dx as isize,
+                    cost: m.cost,
+                    via_start,
+                    via_end: via.len() as u32,
+                }
+            })
+            .collect();
+        IndexedMoves {
+            width: grid.width(),
+            height: grid.height(),
+            moves,
+            via,
+        }
+    }
+
+    /// Whether this table was compiled for a grid of `grid`'s size.
+    pub fn fits(&self, grid: &Grid) -> bool {
+        self.width == grid.width() && self.height == grid.height()
+    }
+
+    /// The compiled moves, in the set's order.
+    pub fn moves(&self) -> &[IndexedMove] {
+        &self.moves
+    }
+
+    /// Number of moves.
+    pub fn len(&self) -> usize {
+        self.moves.len()
+    }
+
+    /// Whether the set has no move.
+    pub fn is_empty(&self) -> bool {
+        self.moves.is_empty()
+    }
+
+    /// The flat index reached by move `k` from cell `(x, y)` at flat `index`, when the move
+    /// is allowed: target in bounds and free, and every `via` cell free.
+    ///
+    /// Preconditions: `free` is the grid's [`Grid::free_cells`] for a grid this table
+    /// [`fits`](IndexedMoves::fits), `index = y * width + x` is in bounds, `k < self.len()`.
+    #[inline]
+    pub fn target(&self, free: &[bool], x: u32, y: u32, index: usize, k: usize) -> Option<usize> {
+        let m = &self.moves[k];
+        let nx = x as i64 + m.dx as i64;
+        let ny = y as i64 + m.dy as i64;
+        if nx < 0 || ny < 0 || nx >= self.width as i64 || ny >= self.height as i64 {
+            return None;
+        }
+        let to = (index as isize + m.delta) as usize;
+        if !free[to] {
+            return None;
+        }
+        let via = &self.via[m.via_start as usize..m.via_end as usize];
+        via.iter()
+            .all(|&d| free[(index as isize + d) as usize])
+            .then_some(to)
     }
 }
 
@@ -454,7 +569,10 @@ fn gcd(mut a: i32, mut b: i32) -> i32 {
 /// touches, as offsets from the origin.
 fn segment_via(dx: i32, dy: i32) -> Vec<(i32, i32)> {
     let origin = Cell::new(1 << 20, 1 << 20);
-    let target = Cell::new(origin.x.wrapping_add_signed(dx), origin.y.wrapping_add_signed(dy));
+    let target = Cell::new(
+        origin.x.wrapping_add_signed(dx),
+        origin.y.wrapping_add_signed(dy),
+    );
     let mut via = Vec::new();
     for_each_segment_cell(origin, target, |cell| {
         if cell != origin && cell != target {
@@ -588,12 +706,12 @@ mod tests {
     fn default_order_is_the_papers() {
         let four = MoveSet::standard(Connectivity::Four);
         assert_eq!(offsets(&four), vec![(1, 0), (-1, 0), (0, 1), (0, -1)]);
-        assert!(four.moves().iter().all(|m| m.cost == 1.0 && m.via.is_empty()));
+        assert!(four
+            .moves()
+            .iter()
+            .all(|m| m.cost == 1.0 && m.via.is_empty()));
         let eight = MoveSet::standard(Connectivity::Eight);
-        assert_eq!(
-            offsets(&eight)[4..],
-            [(1, 1), (-1, 1), (1, -1), (-1, -1)]
-        );
+        assert_eq!(offsets(&eight)[4..], [(1, 1), (-1, 1), (1, -1), (-1, -1)]);
         assert_eq!(eight.moves()[4].via, vec![(1, 0), (0, 1)]);
         assert!((eight.moves()[4].cost - 2f64.sqrt()).abs() < 1e-15);
     }
@@ -604,14 +722,53 @@ mod tests {
         let set = MoveSet::new(Connectivity::Four, false, &order).unwrap();
         assert_eq!(offsets(&set), vec![(0, -1), (0, 1), (-1, 0), (1, 0)]);
         let bad = |text: &str, c| MoveSet::new(c, false, &text.parse().unwrap()).unwrap_err();
-        assert_eq!(bad("R L D", Connectivity::Four), MoveOrderError::Incomplete(Connectivity::Four));
-        assert_eq!(bad("R L D D", Connectivity::Four), MoveOrderError::Repeated("D"));
-        assert!(matches!(bad("R L D U DR", Connectivity::Four), MoveOrderError::DiagonalInFour(_)));
-        assert_eq!("R X".parse::<NeighborOrder>(), Err(MoveOrderError::UnknownToken("X".into())));
+        assert_eq!(
+            bad("R L D", Connectivity::Four),
+            MoveOrderError::Incomplete(Connectivity::Four)
+        );
+        assert_eq!(
+            bad("R L D D", Connectivity::Four),
+            MoveOrderError::Repeated("D")
+        );
+        assert!(matches!(
+            bad("R L D U DR", Connectivity::Four),
+            MoveOrderError::DiagonalInFour(_)
+        ));
+        assert_eq!(
+            "R X".parse::<NeighborOrder>(),
+            Err(MoveOrderError::UnknownToken("X".into()))
+        );
         assert_eq!(
             MoveSet::new(Connectivity::Sixteen, true, &NeighborOrder::default()).unwrap_err(),
             MoveOrderError::CornerCutting(Connectivity::Sixteen)
         );
+    }
+
+    #[test]
+    fn indexed_moves_agree_with_apply() {
+        let grid = Grid::from_ascii(
+            "
+            ..#....
+            .#...#.
+            ...#...
+            #......
+            ..##.#.
+            ",
+        )
+        .unwrap();
+        for c in Connectivity::ALL {
+            let set = MoveSet::standard(c);
+            let indexed = IndexedMoves::new(&set, &grid);
+            assert!(indexed.fits(&grid));
+            for cell in grid.cells() {
+                let index = grid.index(cell);
+                for (k, mv) in set.moves().iter().enumerate() {
+                    let expected = set.apply(&grid, cell, mv).map(|t| grid.index(t));
+                    let found = indexed.target(grid.free_cells(), cell.x, cell.y, index, k);
+                    assert_eq!(found, expected, "{c} from {cell} by ({}, {})", mv.dx, mv.dy);
+                }
+            }
+        }
     }
 
     fn traverse(a: (u32, u32), b: (u32, u32)) -> Vec<(u32, u32)> {
@@ -627,15 +784,24 @@ mod tests {
     fn traversal_by_hand() {
         // (0,0) to (2,1): the segment from (0.5,0.5) to (2.5,1.5) crosses x = 1 at y = 0.75,
         // y = 1 at x = 1.5, and x = 2 at y = 1.25.
-        assert_eq!(traverse((0, 0), (2, 1)), vec![(0, 0), (1, 0), (1, 1), (2, 1)]);
+        assert_eq!(
+            traverse((0, 0), (2, 1)),
+            vec![(0, 0), (1, 0), (1, 1), (2, 1)]
+        );
         // Reversed, the same cells in reverse order.
-        assert_eq!(traverse((2, 1), (0, 0)), vec![(2, 1), (1, 1), (1, 0), (0, 0)]);
+        assert_eq!(
+            traverse((2, 1), (0, 0)),
+            vec![(2, 1), (1, 1), (1, 0), (0, 0)]
+        );
         // A diagonal passes through vertices and touches both side cells.
         assert_eq!(
             traverse((0, 0), (2, 2)),
             vec![(0, 0), (1, 0), (0, 1), (1, 1), (2, 1), (1, 2), (2, 2)]
         );
-        assert_eq!(traverse((3, 1), (3, 4)), vec![(3, 1), (3, 2), (3, 3), (3, 4)]);
+        assert_eq!(
+            traverse((3, 1), (3, 4)),
+            vec![(3, 1), (3, 2), (3, 3), (3, 4)]
+        );
         assert_eq!(traverse((5, 5), (5, 5)), vec![(5, 5)]);
         // (0,0) to (3,1): y = 0.5 + (x - 0.5) / 3 reaches the line y = 1 at x = 2, a vertex,
         // so both side cells (2,0) and (1,1) are touched.
@@ -649,7 +815,12 @@ mod tests {
     fn traversal_matches_dense_sampling_away_from_vertices() {
         // Independent check: sample the segment finely; every sampled cell must be visited,
         // and every visited cell must be within a hair of the segment.
-        for (a, b) in [((0, 0), (7, 3)), ((9, 2), (1, 5)), ((4, 8), (6, 0)), ((0, 5), (9, 4))] {
+        for (a, b) in [
+            ((0, 0), (7, 3)),
+            ((9, 2), (1, 5)),
+            ((4, 8), (6, 0)),
+            ((0, 5), (9, 4)),
+        ] {
             let visited = traverse(a, b);
             let (ax, ay) = (a.0 as f64 + 0.5, a.1 as f64 + 0.5);
             let (bx, by) = (b.0 as f64 + 0.5, b.1 as f64 + 0.5);
@@ -681,13 +852,22 @@ mod tests {
         let eight = MoveSet::standard(Connectivity::Eight);
         let down_right = &eight.moves()[4];
         assert_eq!(eight.apply(&grid, Cell::new(0, 0), down_right), None);
-        assert_eq!(eight.apply(&grid, Cell::new(2, 0), down_right), Some(Cell::new(3, 1)));
+        assert_eq!(
+            eight.apply(&grid, Cell::new(2, 0), down_right),
+            Some(Cell::new(3, 1))
+        );
         // Up-right from (0, 1) passes the corner between free (1, 0) and blocked (1, 1).
         let up_right = &eight.moves()[6];
         assert_eq!((up_right.dx, up_right.dy), (1, -1));
         assert_eq!(eight.apply(&grid, Cell::new(0, 1), up_right), None);
         let cutting = MoveSet::new(Connectivity::Eight, true, &NeighborOrder::default()).unwrap();
-        assert_eq!(cutting.apply(&grid, Cell::new(0, 1), &cutting.moves()[6]), Some(Cell::new(1, 0)));
-        assert_eq!(cutting.apply(&grid, Cell::new(0, 0), &cutting.moves()[4]), None);
+        assert_eq!(
+            cutting.apply(&grid, Cell::new(0, 1), &cutting.moves()[6]),
+            Some(Cell::new(1, 0))
+        );
+        assert_eq!(
+            cutting.apply(&grid, Cell::new(0, 0), &cutting.moves()[4]),
+            None
+        );
     }
 }

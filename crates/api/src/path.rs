@@ -234,9 +234,21 @@ mod tests {
 
     #[test]
     fn rank_is_lexicographic() {
-        let a = PathRank { steps: 10, turns: 5, score: 15 };
-        let b = PathRank { steps: 10, turns: 4, score: 14 };
-        let c = PathRank { steps: 9, turns: 8, score: 17 };
+        let a = PathRank {
+            steps: 10,
+            turns: 5,
+            score: 15,
+        };
+        let b = PathRank {
+            steps: 10,
+            turns: 4,
+            score: 14,
+        };
+        let c = PathRank {
+            steps: 9,
+            turns: 8,
+            score: 17,
+        };
         assert!(b.is_better_than(&a));
         assert!(c.is_better_than(&b));
         assert!(!a.is_better_than(&a));
@@ -258,20 +270,40 @@ mod tests {
         assert_eq!(good.validate(&grid, PathRule::Moves(&four)), Ok(()));
         assert_eq!(
             path(&[(0, 0), (1, 1)]).validate(&grid, PathRule::Moves(&eight)),
-            Err(PathError::Blocked { index: 1, cell: Cell::new(1, 1) })
+            Err(PathError::Blocked {
+                index: 1,
+                cell: Cell::new(1, 1)
+            })
         );
         assert_eq!(
             path(&[(0, 0), (2, 0), (2, 1)]).validate(&grid, PathRule::Moves(&four)),
-            Err(PathError::BadMove { index: 1, from: Cell::new(0, 0), to: Cell::new(2, 0) })
+            Err(PathError::BadMove {
+                index: 1,
+                from: Cell::new(0, 0),
+                to: Cell::new(2, 0)
+            })
         );
         // Corner cut: (1,0) -> (0,1) passes between free (0,0) and blocked (1,1).
-        assert!(path(&[(1, 0), (0, 1)]).validate(&grid, PathRule::Moves(&eight)).is_err());
-        assert_eq!(path(&[(0, 0), (2, 0), (2, 2)]).validate(&grid, PathRule::AnyAngle), Ok(()));
-        assert!(path(&[(0, 0), (2, 2)]).validate(&grid, PathRule::AnyAngle).is_err());
+        assert!(path(&[(1, 0), (0, 1)])
+            .validate(&grid, PathRule::Moves(&eight))
+            .is_err());
+        assert_eq!(
+            path(&[(0, 0), (2, 0), (2, 2)]).validate(&grid, PathRule::AnyAngle),
+            Ok(())
+        );
+        assert!(path(&[(0, 0), (2, 2)])
+            .validate(&grid, PathRule::AnyAngle)
+            .is_err());
         assert_eq!(
             path(&[(0, 0), (3, 0)]).validate(&grid, PathRule::AnyAngle),
-            Err(PathError::OutOfBounds { index: 1, cell: Cell::new(3, 0) })
+            Err(PathError::OutOfBounds {
+                index: 1,
+                cell: Cell::new(3, 0)
+            })
         );
-        assert_eq!(Path::default().validate(&grid, PathRule::AnyAngle), Err(PathError::Empty));
+        assert_eq!(
+            Path::default().validate(&grid, PathRule::AnyAngle),
+            Err(PathError::Empty)
+        );
     }
 }

@@ -275,8 +275,12 @@ mod tests {
 
     #[test]
     fn budget_toml_shape() {
-        let budget: Budget = serde_json::from_str(r#"{"max_expansions": 5, "max_time_ms": 20}"#).unwrap();
-        assert_eq!(budget, Budget::expansions(5).with_time(Duration::from_millis(20)));
+        let budget: Budget =
+            serde_json::from_str(r#"{"max_expansions": 5, "max_time_ms": 20}"#).unwrap();
+        assert_eq!(
+            budget,
+            Budget::expansions(5).with_time(Duration::from_millis(20))
+        );
         assert!(serde_json::from_str::<Budget>(r#"{"max_steps": 5}"#).is_err());
     }
 }
