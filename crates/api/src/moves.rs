@@ -660,6 +660,7 @@ mod tests {
     #[test]
     fn algorithm_2_agrees_for_k_up_to_3() {
         // Algorithm 2 of seed 002, transcribed literally (1-based matrix indices).
+        #[allow(clippy::needless_range_loop)]
         fn algorithm_2(k: usize) -> Vec<(i32, i32)> {
             let n = 2 * k + 1;
             let mut check = vec![vec![1u8; n + 1]; n + 1];
