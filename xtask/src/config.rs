@@ -1,0 +1,606 @@
+//! Experiment configs: parsing with positions, validation, and expansion into runs.
+//!
+//! `configs/README.md` documents every key. Relative paths in a config are relative to
+//! the config file's directory. Every error names the file, line and column, and the key.
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use indexmap::IndexMap;
+use planner_api::{Budget, Cell, Grid, Problem};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::registry::{self, Kind};
+
+/// A config error with its position.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ConfigError {
+    /// The config file.
+    pub file: PathBuf,
+    /// 1-based line, 0 when the error has no position.
+    pub line: usize,
+    /// 1-based column.
+    pub column: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}: {}", self.file.display(), self.message)
+        } else {
+            write!(f, "{}:{}:{}: {}", self.file.display(), self.line, self.column, self.message)
+        }
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+/// Locates byte offsets of one source text as lines and columns.
+struct Source<'a> {
+    file: &'a Path,
+    text: &'a str,
+}
+
+impl Source<'_> {
+    fn error(&self, span: Option<Range<usize>>, message: impl Into<String>) -> ConfigError {
+        let (line, column) = match span {
+            Some(span) => {
+                let before = &self.text[..span.start.min(self.text.len())];
+                let line = before.matches('\n').count() + 1;
+                let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+                (line, column)
+            }
+            None => (0, 0),
+        };
+        ConfigError {
+            file: self.file.to_path_buf(),
+            line,
+            column,
+            message: message.into(),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawConfig {
+    name: Spanned<String>,
+    description: Option<String>,
+    output: Option<String>,
+    #[serde(default)]
+    threads: usize,
+    #[serde(default = "one")]
+    repeats: Spanned<u32>,
+    #[serde(default)]
+    seed: u64,
+    #[serde(default)]
+    budget: Budget,
+    #[serde(default)]
+    figures: FigureMode,
+    published: Option<Spanned<String>>,
+    #[serde(default)]
+    test: TestLimits,
+    maps: Vec<Spanned<RawMaps>>,
+    planners: Spanned<IndexMap<Spanned<String>, Spanned<IndexMap<Spanned<String>, Spanned<toml::Value>>>>>,
+}
+
+fn one() -> Spanned<u32> {
+    Spanned::new(0..0, 1)
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMaps {
+    files: Spanned<Vec<String>>,
+    problems: Option<Spanned<ProblemSource>>,
+    pairs: Option<Vec<RawPair>>,
+    scen: Option<Spanned<String>>,
+    buckets: Option<Vec<u32>>,
+    lines: Option<[usize; 2]>,
+    every: Option<Spanned<usize>>,
+    limit: Option<usize>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPair {
+    start: [u32; 2],
+    goal: [u32; 2],
+}
+
+/// Where the problems of a map set come from when no `pairs` or `scen` is given.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProblemSource {
+    /// From the top-left cell (0, 0) to the bottom-right cell (W-1, H-1): seed 000's setup.
+    Corners,
+    /// The map file's own start-goal pairs (seed 003's `.txt` header).
+    File,
+}
+
+/// Which figures a sweep draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FigureMode {
+    /// One SVG per (map, problem, planner) and one comparison per (map, problem).
+    #[default]
+    All,
+    /// Only the comparison per (map, problem).
+    Comparisons,
+    /// None.
+    None,
+}
+
+/// Limits the snapshot test applies to keep large sweeps fast (ignored by `experiment`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TestLimits {
+    /// At most this many problems per map in the test.
+    pub problems_per_map: Option<usize>,
+    /// At most this many repeats in the test.
+    pub repeats: Option<u32>,
+}
+
+/// A validated experiment.
+#[derive(Debug, Clone)]
+pub struct Experiment {
+    /// The config file.
+    pub source: PathBuf,
+    /// Experiment name.
+    pub name: String,
+    /// Free-text description.
+    pub description: Option<String>,
+    /// Output directory.
+    pub output: PathBuf,
+    /// Worker threads; 0 = one per core.
+    pub threads: usize,
+    /// Repeats per (map, problem, planner).
+    pub repeats: u32,
+    /// Base seed; stochastic planners get `seed + repeat`.
+    pub seed: u64,
+    /// Figures to draw.
+    pub figures: FigureMode,
+    /// Published values to compare with, if any.
+    pub published: Option<Published>,
+    /// Test-only limits.
+    pub test: TestLimits,
+    /// Maps with their problems, in config order (files sorted within a glob).
+    pub maps: Vec<MapEntry>,
+    /// Planner configurations, in config order.
+    pub planners: Vec<PlannerSpec>,
+}
+
+/// One map with its problems.
+#[derive(Debug, Clone)]
+pub struct MapEntry {
+    /// The map's file name, unique within the experiment.
+    pub name: String,
+    /// Path as resolved.
+    pub path: PathBuf,
+    /// The grid.
+    pub grid: Grid,
+    /// The problems, in order.
+    pub problems: Vec<ProblemEntry>,
+}
+
+/// One start-goal problem of a map.
+#[derive(Debug, Clone)]
+pub struct ProblemEntry {
+    /// 1-based index within the map.
+    pub index: usize,
+    /// Start cell.
+    pub start: Cell,
+    /// Goal cell.
+    pub goal: Cell,
+    /// The optimal length a scenario file states, if any.
+    pub optimal_length: Option<f64>,
+    /// Why the problem cannot be planned (start or goal blocked or out of bounds), if so.
+    pub invalid: Option<String>,
+}
+
+/// One labelled planner configuration.
+#[derive(Debug, Clone)]
+pub struct PlannerSpec {
+    /// The label (the key under `[planners]`).
+    pub label: String,
+    /// Registry name.
+    pub name: &'static str,
+    /// Deterministic or stochastic.
+    pub kind: Kind,
+    /// Parameters, as given (without `planner` and `budget`).
+    pub params: toml::Table,
+    /// The budget for this planner (the experiment's unless overridden).
+    pub budget: Budget,
+}
+
+/// Published numbers: `[map_stem.planner_key] metric = value`.
+#[derive(Debug, Clone, Default)]
+pub struct Published {
+    /// The file they came from.
+    pub path: PathBuf,
+    /// map stem -> planner key -> metric -> value.
+    pub values: IndexMap<String, IndexMap<String, IndexMap<String, f64>>>,
+}
+
+impl Published {
+    /// The published value of `metric` for `planner` on `map_stem`.
+    pub fn get(&self, map_stem: &str, planner: &str, metric: &str) -> Option<f64> {
+        self.values.get(map_stem)?.get(planner)?.get(metric).copied()
+    }
+}
+
+impl PlannerSpec {
+    /// A fresh planner for repeat `repeat` (stochastic planners get `seed + repeat`).
+    pub fn build(&self, seed: u64, repeat: u32) -> Result<Box<dyn planner_api::Planner>, String> {
+        let mut params = self.params.clone();
+        if self.kind == Kind::Stochastic {
+            let base = params
+                .get("seed")
+                .and_then(toml::Value::as_integer)
+                .map_or(seed, |s| s as u64);
+            let seed = base.wrapping_add(u64::from(repeat));
+            params.insert("seed".into(), toml::Value::Integer(seed as i64));
+        }
+        let entry = registry::find(self.name).ok_or_else(|| format!("unknown planner `{}`", self.name))?;
+        (entry.build)(params)
+    }
+
+    /// The seed a stochastic planner runs with in `repeat`.
+    pub fn seed_for(&self, seed: u64, repeat: u32) -> Option<u64> {
+        (self.kind == Kind::Stochastic).then(|| {
+            self.params
+                .get("seed")
+                .and_then(toml::Value::as_integer)
+                .map_or(seed, |s| s as u64)
+                .wrapping_add(u64::from(repeat))
+        })
+    }
+}
+
+/// Reads and validates the experiment config at `path`.
+pub fn load(path: &Path) -> Result<Experiment, ConfigError> {
+    let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
+        file: path.to_path_buf(),
+        line: 0,
+        column: 0,
+        message: format!("cannot read the config: {e}"),
+    })?;
+    parse(path, &text)
+}
+
+/// Parses and validates config `text`, read from `path` (relative paths resolve against
+/// its directory).
+pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
+    let src = Source { file: path, text };
+    let raw: RawConfig = toml::from_str(text).map_err(|e| src.error(e.span(), e.message().trim()))?;
+    let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
+
+    let name = raw.name.get_ref().clone();
+    let name_ok = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
+    if !name_ok {
+        return Err(src.error(
+            Some(raw.name.span()),
+            format!("key `name`: {name:?} must be non-empty letters, digits, '-' or '_' (it names the output directory)"),
+        ));
+    }
+    if *raw.repeats.get_ref() == 0 {
+        return Err(src.error(Some(raw.repeats.span()), "key `repeats` must be at least 1"));
+    }
+
+    let mut planners = Vec::new();
+    for (label, table) in raw.planners.get_ref() {
+        planners.push(planner_spec(&src, label, table, raw.budget)?);
+    }
+    if planners.is_empty() {
+        return Err(src.error(Some(raw.planners.span()), "key `planners`: at least one planner is needed"));
+    }
+
+    let mut maps: Vec<MapEntry> = Vec::new();
+    for (i, spanned) in raw.maps.iter().enumerate() {
+        for entry in map_entries(&src, &base, i, spanned)? {
+            if maps.iter().any(|m| m.name == entry.name) {
+                return Err(src.error(
+                    Some(spanned.span()),
+                    format!("maps[{i}]: map name `{}` appears twice; map file names must be unique", entry.name),
+                ));
+            }
+            maps.push(entry);
+        }
+    }
+    if maps.is_empty() {
+        return Err(src.error(None, "key `maps`: at least one map is needed"));
+    }
+
+    let published = match &raw.published {
+        Some(p) => Some(load_published(&src, &base.join(p.get_ref()), p.span())?),
+        None => None,
+    };
+
+    Ok(Experiment {
+        source: path.to_path_buf(),
+        output: raw
+            .output
+            .map(PathBuf::from)
+            .unwrap_or_else(|| Path::new("results").join(&name)),
+        name,
+        description: raw.description,
+        threads: raw.threads,
+        repeats: *raw.repeats.get_ref(),
+        seed: raw.seed,
+        figures: raw.figures,
+        published,
+        test: raw.test,
+        maps,
+        planners,
+    })
+}
+
+type RawParams = IndexMap<Spanned<String>, Spanned<toml::Value>>;
+
+fn planner_spec(
+    src: &Source<'_>,
+    label: &Spanned<String>,
+    table: &Spanned<RawParams>,
+    default_budget: Budget,
+) -> Result<PlannerSpec, ConfigError> {
+    let label_text = label.get_ref();
+    let key_span = |key: &str| {
+        table
+            .get_ref()
+            .keys()
+            .find(|k| k.get_ref() == key)
+            .map(Spanned::span)
+    };
+    let Some(name_value) = table.get_ref().get("planner") else {
+        return Err(src.error(
+            Some(label.span()),
+            format!("planner `{label_text}`: key `planner` is missing (one of {})", registry::names().join(", ")),
+        ));
+    };
+    let name = name_value.get_ref().as_str().unwrap_or_default();
+    let Some(entry) = registry::find(name) else {
+        return Err(src.error(
+            Some(name_value.span()),
+            format!(
+                "planner `{label_text}`: unknown planner {:?} in key `planner`, expected one of {}",
+                name_value.get_ref().to_string().trim_matches('"'),
+                registry::names().join(", ")
+            ),
+        ));
+    };
+    let mut params = toml::Table::new();
+    let mut budget = default_budget;
+    for (key, value) in table.get_ref() {
+        match key.get_ref().as_str() {
+            "planner" => {}
+            "budget" => {
+                budget = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
+                    src.error(Some(value.span()), format!("planner `{label_text}`, key `budget`: {}", first_line(&e.to_string())))
+                })?;
+            }
+            other => {
+                params.insert(other.to_string(), value.get_ref().clone());
+            }
+        }
+    }
+    if let Err(message) = (entry.build)(params.clone()) {
+        // Point at the key the message names (`unknown field `x``, `in `x``,
+        // `parameter `x``), else at the planner's label.
+        let span = backticked(&message)
+            .into_iter()
+            .find_map(|key| key_span(&key))
+            .unwrap_or_else(|| label.span());
+        return Err(src.error(
+            Some(span),
+            format!("planner `{label_text}` ({name}): {}", message.replace('\n', " ").trim()),
+        ));
+    }
+    Ok(PlannerSpec {
+        label: label_text.clone(),
+        name: entry.name,
+        kind: entry.kind,
+        params,
+        budget,
+    })
+}
+
+fn first_line(text: &str) -> &str {
+    text.lines().next().unwrap_or_default()
+}
+
+/// The words between backticks in `text`, in order.
+fn backticked(text: &str) -> Vec<String> {
+    text.split('`')
+        .enumerate()
+        .filter(|(i, _)| i % 2 == 1)
+        .map(|(_, word)| word.to_string())
+        .collect()
+}
+
+fn map_entries(
+    src: &Source<'_>,
+    base: &Path,
+    index: usize,
+    spanned: &Spanned<RawMaps>,
+) -> Result<Vec<MapEntry>, ConfigError> {
+    let raw = spanned.get_ref();
+    let at = |span: Range<usize>, message: String| src.error(Some(span), format!("maps[{index}]: {message}"));
+    let sources = [raw.problems.is_some(), raw.pairs.is_some(), raw.scen.is_some()];
+    match sources.iter().filter(|&&s| s).count() {
+        1 => {}
+        0 => return Err(at(spanned.span(), "give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, or `scen`".into())),
+        _ => return Err(at(spanned.span(), "`problems`, `pairs` and `scen` exclude each other".into())),
+    }
+    if raw.scen.is_none() && (raw.buckets.is_some() || raw.lines.is_some() || raw.every.is_some()) {
+        return Err(at(spanned.span(), "`buckets`, `lines` and `every` select scenarios and need `scen`".into()));
+    }
+    let mut files = Vec::new();
+    for pattern in raw.files.get_ref() {
+        let full = base.join(pattern);
+        let full_text = full.to_string_lossy().to_string();
+        let matches: Vec<PathBuf> = match glob::glob(&full_text) {
+            Ok(paths) => paths.filter_map(Result::ok).collect(),
+            Err(e) => return Err(at(raw.files.span(), format!("key `files`: bad pattern {pattern:?}: {e}"))),
+        };
+        if matches.is_empty() {
+            return Err(at(raw.files.span(), format!("key `files`: nothing matches {pattern:?} (looked for {full_text})")));
+        }
+        let mut matches = matches;
+        matches.sort();
+        files.extend(matches);
+    }
+
+    let scenarios = match &raw.scen {
+        Some(scen) => {
+            let all = planner_maps::read_scenarios(&base.join(scen.get_ref()))
+                .map_err(|e| at(scen.span(), format!("key `scen`: {e}")))?;
+            Some(select_scenarios(all, raw).map_err(|m| at(spanned.span(), m))?)
+        }
+        None => None,
+    };
+
+    let mut entries = Vec::new();
+    for path in files {
+        let file = planner_maps::read_map(&path).map_err(|e| at(raw.files.span(), e.to_string()))?;
+        let grid = file.grid;
+        let mut pairs: Vec<(Cell, Cell, Option<f64>)> = Vec::new();
+        if let Some(source) = &raw.problems {
+            match source.get_ref() {
+                ProblemSource::Corners => pairs.push((
+                    Cell::new(0, 0),
+                    Cell::new(grid.width() - 1, grid.height() - 1),
+                    None,
+                )),
+                ProblemSource::File => {
+                    if file.problems.is_empty() {
+                        return Err(at(source.span(), format!("`problems = \"file\"`, but {} lists no start-goal pairs", path.display())));
+                    }
+                    pairs.extend(file.problems.iter().map(|p| (p.start, p.goal, None)));
+                }
+            }
+        }
+        if let Some(list) = &raw.pairs {
+            pairs.extend(list.iter().map(|p| (Cell::new(p.start[0], p.start[1]), Cell::new(p.goal[0], p.goal[1]), None)));
+        }
+        if let Some(scenarios) = &scenarios {
+            for s in scenarios {
+                if (s.width, s.height) != (grid.width(), grid.height()) {
+                    return Err(at(spanned.span(), format!(
+                        "scenario line {} is for a {}x{} map, but {} is {}x{}",
+                        s.line, s.width, s.height, path.display(), grid.width(), grid.height()
+                    )));
+                }
+                pairs.push((s.start, s.goal, Some(s.optimal_length)));
+            }
+        }
+        let problems = pairs
+            .into_iter()
+            .enumerate()
+            .map(|(i, (start, goal, optimal_length))| ProblemEntry {
+                index: i + 1,
+                start,
+                goal,
+                optimal_length,
+                invalid: Problem::new(&grid, start, goal).err().map(|e| e.to_string()),
+            })
+            .collect();
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_else(|| path.display().to_string());
+        entries.push(MapEntry {
+            name,
+            path,
+            grid,
+            problems,
+        });
+    }
+    Ok(entries)
+}
+
+fn select_scenarios(
+    all: Vec<planner_maps::Scenario>,
+    raw: &RawMaps,
+) -> Result<Vec<planner_maps::Scenario>, String> {
+    let mut selected: Vec<planner_maps::Scenario> = all
+        .into_iter()
+        .filter(|s| raw.buckets.as_ref().is_none_or(|b| b.contains(&s.bucket)))
+        .filter(|s| raw.lines.is_none_or(|[from, to]| (from..=to).contains(&s.line)))
+        .collect();
+    if let Some(every) = &raw.every {
+        if *every.get_ref() == 0 {
+            return Err("key `every` must be at least 1".into());
+        }
+        selected = selected.into_iter().step_by(*every.get_ref()).collect();
+    }
+    if let Some(limit) = raw.limit {
+        selected.truncate(limit);
+    }
+    if selected.is_empty() {
+        return Err("the scenario selection (`buckets`, `lines`, `every`, `limit`) is empty".into());
+    }
+    Ok(selected)
+}
+
+fn load_published(src: &Source<'_>, path: &Path, span: Range<usize>) -> Result<Published, ConfigError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| src.error(Some(span.clone()), format!("key `published`: cannot read {}: {e}", path.display())))?;
+    let table: toml::Table = toml::from_str(&text).map_err(|e| {
+        let inner = Source { file: path, text: &text };
+        inner.error(e.span(), e.message().trim())
+    })?;
+    let mut values = IndexMap::new();
+    for (map, entry) in &table {
+        let Some(entry) = entry.as_table() else { continue };
+        let mut planners = IndexMap::new();
+        for (planner, metrics) in entry {
+            let Some(metrics) = metrics.as_table() else { continue };
+            let metrics = metrics
+                .iter()
+                .filter_map(|(k, v)| {
+                    let value = v.as_float().or_else(|| v.as_integer().map(|i| i as f64))?;
+                    Some((k.clone(), value))
+                })
+                .collect();
+            planners.insert(planner.clone(), metrics);
+        }
+        values.insert(map.clone(), planners);
+    }
+    Ok(Published {
+        path: path.to_path_buf(),
+        values,
+    })
+}
+
+impl Experiment {
+    /// Applies the `[test]` limits (for the snapshot test).
+    pub fn trimmed_for_test(mut self) -> Experiment {
+        if let Some(n) = self.test.problems_per_map {
+            for map in &mut self.maps {
+                map.problems.truncate(n);
+            }
+        }
+        if let Some(r) = self.test.repeats {
+            self.repeats = self.repeats.min(r);
+        }
+        self
+    }
+
+    /// Number of runs: maps x problems x planners x repeats (invalid problems count once
+    /// per planner, unrepeated).
+    pub fn n_runs(&self) -> usize {
+        self.maps
+            .iter()
+            .flat_map(|m| &m.problems)
+            .map(|p| if p.invalid.is_some() { 1 } else { self.repeats as usize })
+            .sum::<usize>()
+            * self.planners.len()
+    }
+}

@@ -1,0 +1,64 @@
+//! The one registry of planners: registry name -> constructor from TOML parameters.
+//!
+//! Names are the planner crates' directory names. Each planner crate owns its
+//! `#[serde(deny_unknown_fields)]` `Config`; the registry only deserializes the parameters
+//! into it and calls the crate's validating constructor. `cargo xtask new-planner <name>`
+//! adds a line between the markers below.
+
+use planner_api::Planner;
+use serde::de::DeserializeOwned;
+
+/// How a planner's results vary between repeats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// Counters are a pure function of (map, problem, config): repeats only re-time it.
+    Deterministic,
+    /// Takes a `seed` parameter; the runner sets it to `seed + repeat` for each repeat.
+    Stochastic,
+}
+
+/// One registered planner.
+pub struct Entry {
+    /// Registry name (the crate's directory name).
+    pub name: &'static str,
+    /// One line for `--help` and error messages.
+    pub summary: &'static str,
+    /// Deterministic or seeded.
+    pub kind: Kind,
+    /// Builds the planner from its parameters (a TOML table without the `planner` key).
+    pub build: fn(toml::Table) -> Result<Box<dyn Planner>, String>,
+}
+
+/// Every planner, in the order `--help` lists them.
+pub const PLANNERS: &[Entry] = &[
+    // (registry start)
+    Entry {
+        name: planner_astar::NAME,
+        summary: "A* with seed 000's counters; heuristics, weight, tie-breaking, 4-48 directions",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_astar::AStar::new),
+    },
+    // (registry end)
+];
+
+/// The entry named `name`.
+pub fn find(name: &str) -> Option<&'static Entry> {
+    PLANNERS.iter().find(|e| e.name == name)
+}
+
+/// The registered names, for error messages.
+pub fn names() -> Vec<&'static str> {
+    PLANNERS.iter().map(|e| e.name).collect()
+}
+
+/// Deserializes `params` into the planner's config `C` and validates it with `new`.
+fn build<C, P, E>(params: toml::Table, new: fn(C) -> Result<P, E>) -> Result<Box<dyn Planner>, String>
+where
+    C: DeserializeOwned,
+    P: Planner + 'static,
+    E: std::fmt::Display,
+{
+    let config = C::deserialize(toml::Value::Table(params)).map_err(|e| e.to_string())?;
+    let planner = new(config).map_err(|e| e.to_string())?;
+    Ok(Box::new(planner))
+}
