@@ -1,0 +1,140 @@
+//! The one error type of this crate: what went wrong, and where.
+
+use std::fmt;
+
+use planner_api::GridError;
+use thiserror::Error;
+
+/// A file that could not be read or parsed, with the position of the problem.
+///
+/// Displays as `file:line:column: message` (both 1-based). Errors about a whole line
+/// (a scenario whose size disagrees with the grid) have `column == 0` and display as
+/// `file:line: message`; errors about the whole file (I/O, extension) have `line == 0`
+/// and display as `file: message`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MapError {
+    /// The file name given by the caller (`origin`) or the path that was read.
+    pub file: String,
+    /// 1-based line, or 0 when the error concerns the whole file.
+    pub line: usize,
+    /// 1-based column in characters, or 0 when the error concerns the whole line.
+    pub column: usize,
+    /// What went wrong.
+    pub kind: MapErrorKind,
+}
+
+impl MapError {
+    /// An error at `line`, `column` of `file`.
+    pub fn new(file: &str, line: usize, column: usize, kind: MapErrorKind) -> MapError {
+        MapError {
+            file: file.to_owned(),
+            line,
+            column,
+            kind,
+        }
+    }
+}
+
+impl fmt::Display for MapError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (self.line, self.column) {
+            (0, _) => write!(f, "{}: {}", self.file, self.kind),
+            (line, 0) => write!(f, "{}:{}: {}", self.file, line, self.kind),
+            (line, column) => write!(f, "{}:{}:{}: {}", self.file, line, column, self.kind),
+        }
+    }
+}
+
+impl std::error::Error for MapError {}
+
+/// What went wrong while reading a map or scenario file. Messages are lowercase and say
+/// what was expected.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[non_exhaustive]
+pub enum MapErrorKind {
+    /// The file could not be read.
+    #[error("cannot read the file: {message}")]
+    Io {
+        /// The operating system's message.
+        message: String,
+    },
+    /// The extension names no supported format.
+    #[error("unsupported file extension {found}, expected {supported}")]
+    UnsupportedExtension {
+        /// The extension found, quoted, or `none`.
+        found: String,
+        /// The supported extensions.
+        supported: &'static str,
+    },
+    /// The general case: something other than what the format allows at this position.
+    #[error("expected {expected}, found {found}")]
+    Unexpected {
+        /// What the format allows here.
+        expected: String,
+        /// What the file has (quoted text, `end of line` or `end of file`).
+        found: String,
+    },
+    /// A number that does not fit in 32 bits.
+    #[error("{what} {text} is too large (at most 4294967295)")]
+    NumberTooLarge {
+        /// Which number (`height`, `start x`, ...).
+        what: &'static str,
+        /// The digits found.
+        text: String,
+    },
+    /// A Moving AI header without one of `type`, `height`, `width`.
+    #[error("missing header key '{key}' before 'map'")]
+    MissingKey {
+        /// The missing key.
+        key: &'static str,
+    },
+    /// A Moving AI header key given twice.
+    #[error("duplicate header key '{key}', already given on line {first_line}")]
+    DuplicateKey {
+        /// The repeated key.
+        key: &'static str,
+        /// Where it was first given.
+        first_line: usize,
+    },
+    /// Fewer map rows than the declared height.
+    #[error("expected {expected} rows (height {expected}), found {found}")]
+    RowCount {
+        /// The declared height.
+        expected: usize,
+        /// Rows present.
+        found: usize,
+    },
+    /// A map row of the wrong length.
+    #[error("expected {expected} cells ({reference}), found {found}")]
+    RowWidth {
+        /// Cells the row should have.
+        expected: usize,
+        /// Cells it has.
+        found: usize,
+        /// Where the expected width comes from (`width 49`, `as in the first row, line 6`).
+        reference: String,
+    },
+    /// A scenario line without exactly 9 tab-separated fields.
+    #[error("expected 9 tab-separated fields, found {found}")]
+    FieldCount {
+        /// Fields present.
+        found: usize,
+    },
+    /// The rows parse but make no valid [`planner_api::Grid`] (too many cells).
+    #[error("invalid grid: {0}")]
+    Grid(GridError),
+    /// A scenario whose declared map size differs from the grid's.
+    #[error(
+        "the scenario is for a {scen_width}x{scen_height} map, but the grid is {width}x{height}"
+    )]
+    SizeMismatch {
+        /// Width declared by the scenario.
+        scen_width: u32,
+        /// Height declared by the scenario.
+        scen_height: u32,
+        /// Grid width.
+        width: u32,
+        /// Grid height.
+        height: u32,
+    },
+}
