@@ -1,6 +1,175 @@
-//! gridplan's task runner. The experiment runner arrives with its own issue.
+//! `cargo xtask`: gridplan's command line.
 
-fn main() {
-    eprintln!("usage: cargo xtask experiment <config.toml> (coming with the runner)");
-    std::process::exit(2);
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use planner_api::Cell;
+use tracing_subscriber::EnvFilter;
+use xtask::plan::PlanArgs;
+
+#[derive(Parser)]
+#[command(name = "cargo xtask", about = "gridplan: sweep experiments, run one planner, add a planner")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run an experiment config: every map x problem x planner x repeat, in parallel.
+    Experiment {
+        /// The TOML config, e.g. configs/paper.toml (keys: configs/README.md).
+        config: PathBuf,
+        /// Worker threads (default: the config's `threads`, 0 = one per core).
+        #[arg(long, default_value_t = 0)]
+        threads: usize,
+        /// Output directory (default: the config's `output`, else results/<name>).
+        #[arg(long)]
+        output: Option<PathBuf>,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Run one planner on one problem and print the path, metrics and counters.
+    Plan {
+        /// The map file (.map, .txt, .csv).
+        map: PathBuf,
+        /// Registry name (astar, backtracking, ...), or a label of --config.
+        #[arg(long)]
+        planner: String,
+        /// An experiment config whose planner labels --planner may name.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// Problem number (1-based) among the map's own pairs or its .scen file.
+        #[arg(long)]
+        problem: Option<usize>,
+        /// Start cell as x,y.
+        #[arg(long, value_parser = parse_cell)]
+        start: Option<Cell>,
+        /// Goal cell as x,y.
+        #[arg(long, value_parser = parse_cell)]
+        goal: Option<Cell>,
+        /// Planner parameter override, key=value (repeatable), e.g. --set heuristic=octile.
+        #[arg(long = "set")]
+        set: Vec<String>,
+        /// Expansion budget.
+        #[arg(long)]
+        max_expansions: Option<u64>,
+        /// Print exactly one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Scaffold crates/<name> and register it, ready to run.
+    NewPlanner {
+        /// Lowercase letters and digits: the directory and registry name.
+        name: String,
+    },
+    /// List the registered planners.
+    Planners,
+}
+
+fn parse_cell(text: &str) -> Result<Cell, String> {
+    let (x, y) = text
+        .split_once(',')
+        .ok_or_else(|| format!("{text:?}: expected x,y"))?;
+    let number = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .map_err(|e| format!("{text:?}: {s:?} is not a cell coordinate: {e}"))
+    };
+    Ok(Cell::new(number(x)?, number(y)?))
+}
+
+fn main() -> ExitCode {
+    tracing_subscriber::fmt()
+        .with_env_filter(EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("warn")))
+        .with_writer(std::io::stderr)
+        .init();
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Command::Experiment {
+            config,
+            threads,
+            output,
+            quiet,
+        } => {
+            let report = xtask::experiment(&config, threads, output.as_deref(), !quiet)?;
+            println!(
+                "{} runs in {:.2} s -> {}",
+                report.n_runs,
+                report.seconds,
+                report.output.display()
+            );
+            if report.reproduction.compared > 0 {
+                println!(
+                    "published numbers reproduced: {} of {}",
+                    report.reproduction.matched, report.reproduction.compared
+                );
+            }
+            Ok(())
+        }
+        Command::Plan {
+            map,
+            planner,
+            config,
+            problem,
+            start,
+            goal,
+            set,
+            max_expansions,
+            json,
+        } => {
+            let args = PlanArgs {
+                map,
+                planner,
+                config,
+                problem,
+                start,
+                goal,
+                set,
+                max_expansions,
+            };
+            let result = xtask::plan::run(&args)?;
+            if json {
+                println!("{}", result.to_json()?);
+            } else {
+                print!("{}", result.to_text());
+            }
+            Ok(())
+        }
+        Command::NewPlanner { name } => {
+            let root = workspace_root();
+            let done = xtask::scaffold::new_planner(&root, &name)?;
+            println!("created planner `{name}`:");
+            for file in &done.files {
+                println!("  {file}");
+            }
+            println!("next: edit crates/{name}/src/lib.rs, then `cargo test -p planner-{name}` and add it to a config under [planners]");
+            Ok(())
+        }
+        Command::Planners => {
+            for entry in xtask::registry::PLANNERS {
+                println!("{:<14} {}", entry.name, entry.summary);
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The workspace root: the parent of this crate's directory.
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."))
 }

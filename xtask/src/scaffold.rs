@@ -1,0 +1,297 @@
+//! `cargo xtask new-planner <name>`: a new planner crate, registered and runnable at once.
+//!
+//! Writes `crates/<name>/` (Cargo.toml, src/lib.rs with a config struct and a working
+//! greedy best-first search to replace, tests/smoke.rs), adds the dependency to
+//! `xtask/Cargo.toml` and the entry to `xtask/src/registry.rs` between their markers.
+//! Nothing is written unless every step can be done: the name is checked and both markers
+//! are found first.
+
+use std::fs;
+use std::path::Path;
+
+const DEPS_MARKER: &str = "# (planners end)";
+const REGISTRY_MARKER: &str = "    // (registry end)";
+
+/// What was written.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Scaffolded {
+    /// Files created or edited, relative to the workspace root.
+    pub files: Vec<String>,
+}
+
+/// Creates planner `name` in the workspace at `root`.
+pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
+    let valid = name.len() >= 2
+        && name.starts_with(|c: char| c.is_ascii_lowercase())
+        && name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit());
+    if !valid {
+        return Err(format!(
+            "planner name {name:?}: use 2 or more lowercase letters and digits, starting with a letter (it is the directory crates/<name> and the registry name)"
+        ));
+    }
+    let crate_dir = root.join("crates").join(name);
+    if crate_dir.exists() {
+        return Err(format!("{} already exists", crate_dir.display()));
+    }
+    if crate::registry::find(name).is_some() {
+        return Err(format!("planner `{name}` is already registered"));
+    }
+    let cargo_path = root.join("xtask/Cargo.toml");
+    let registry_path = root.join("xtask/src/registry.rs");
+    let cargo = fs::read_to_string(&cargo_path).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
+    let registry = fs::read_to_string(&registry_path).map_err(|e| format!("{}: {e}", registry_path.display()))?;
+    if !cargo.contains(DEPS_MARKER) {
+        return Err(format!("{}: marker line {DEPS_MARKER:?} not found", cargo_path.display()));
+    }
+    if !registry.contains(REGISTRY_MARKER) {
+        return Err(format!("{}: marker line {REGISTRY_MARKER:?} not found", registry_path.display()));
+    }
+    let package = format!("planner-{name}");
+    let ident = format!("planner_{name}");
+    let type_name = {
+        let mut chars = name.chars();
+        chars
+            .next()
+            .map(|c| c.to_ascii_uppercase().to_string() + chars.as_str())
+            .unwrap_or_default()
+    };
+    let cargo = cargo.replacen(
+        DEPS_MARKER,
+        &format!("{package} = {{ path = \"../crates/{name}\" }}\n{DEPS_MARKER}"),
+        1,
+    );
+    let entry = format!(
+        "    Entry {{\n        name: {ident}::NAME,\n        summary: \"{name}: describe it in one line\",\n        kind: Kind::Deterministic,\n        build: |params| build(params, {ident}::{type_name}::new),\n    }},\n"
+    );
+    let registry = registry.replacen(REGISTRY_MARKER, &format!("{entry}{REGISTRY_MARKER}"), 1);
+
+    let files = [
+        (format!("crates/{name}/Cargo.toml"), manifest(name, &package)),
+        (format!("crates/{name}/src/lib.rs"), library(name, &ident, &type_name)),
+        (format!("crates/{name}/tests/smoke.rs"), smoke_test(&ident, &type_name)),
+    ];
+    for (path, contents) in &files {
+        let full = root.join(path);
+        if let Some(dir) = full.parent() {
+            fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        fs::write(&full, contents).map_err(|e| format!("{}: {e}", full.display()))?;
+    }
+    fs::write(&cargo_path, cargo).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
+    fs::write(&registry_path, registry).map_err(|e| format!("{}: {e}", registry_path.display()))?;
+    let mut written: Vec<String> = files.into_iter().map(|(p, _)| p).collect();
+    written.push("xtask/Cargo.toml".into());
+    written.push("xtask/src/registry.rs".into());
+    Ok(Scaffolded { files: written })
+}
+
+fn manifest(name: &str, package: &str) -> String {
+    format!(
+        r#"[package]
+name = "{package}"
+description = "The {name} planner for gridplan."
+version.workspace = true
+edition.workspace = true
+rust-version.workspace = true
+license.workspace = true
+
+[dependencies]
+planner-api.workspace = true
+serde.workspace = true
+thiserror.workspace = true
+
+[lints]
+workspace = true
+"#
+    )
+}
+
+fn library(name: &str, ident: &str, type_name: &str) -> String {
+    TEMPLATE
+        .replace("__NAME__", name)
+        .replace("__IDENT__", ident)
+        .replace("__TYPE__", type_name)
+}
+
+fn smoke_test(ident: &str, type_name: &str) -> String {
+    format!(
+        r#"use planner_api::{{Budget, Cell, Grid, Planner, Problem, Status}};
+use {ident}::{{Config, {type_name}}};
+
+#[test]
+fn finds_a_path_around_a_wall() {{
+    let grid = Grid::from_ascii(
+        "
+        ....
+        .##.
+        ....
+        ",
+    )
+    .unwrap();
+    let problem = Problem::new(&grid, Cell::new(0, 1), Cell::new(3, 1)).unwrap();
+    let outcome = {type_name}::new(Config::default()).unwrap().plan(&problem, &Budget::unlimited());
+    assert_eq!(outcome.status, Status::Found);
+    let path = outcome.path.unwrap();
+    assert_eq!(path.start(), Some(Cell::new(0, 1)));
+    assert_eq!(path.goal(), Some(Cell::new(3, 1)));
+    assert_eq!(path.metrics().steps, 5);
+}}
+"#
+    )
+}
+
+const TEMPLATE: &str = r#"//! The `__NAME__` planner.
+//!
+//! Scaffolded by `cargo xtask new-planner __NAME__` as a greedy best-first search (pop the
+//! OPEN cell closest to the goal by Manhattan distance; FIFO among ties). Replace the body
+//! of `plan` with your algorithm; keep the counters honest (see `planner_api::counters`
+//! for what each name means) and document every choice the source paper leaves open.
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use planner_api::{
+    Budget, Cell, Connectivity, Counter, IndexedMoves, MoveOrderError, MoveSet, NeighborOrder,
+    Outcome, Path, Planner, Problem, SearchStats,
+};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// The registry name.
+pub const NAME: &str = "__NAME__";
+
+/// Parameters; every field has a default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Config {
+    /// Neighbourhood: 4, 8, 16, 32 or 48 directions. Default 4.
+    pub moves: Connectivity,
+    /// Neighbour order, e.g. `"R L D U"`. Default `"R L D U"`.
+    pub order: NeighborOrder,
+}
+
+impl Default for Config {
+    fn default() -> Config {
+        Config {
+            moves: Connectivity::Four,
+            order: NeighborOrder::default(),
+        }
+    }
+}
+
+/// A parameter the planner cannot run with.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ConfigError {
+    /// `moves` and `order` do not fit together.
+    #[error("parameter `order`: {0}")]
+    Moves(#[from] MoveOrderError),
+}
+
+/// The planner.
+#[derive(Debug, Clone)]
+pub struct __TYPE__ {
+    moves: MoveSet,
+}
+
+impl __TYPE__ {
+    /// A planner with `config`, validated.
+    pub fn new(config: Config) -> Result<__TYPE__, ConfigError> {
+        Ok(__TYPE__ {
+            moves: MoveSet::new(config.moves, false, &config.order)?,
+        })
+    }
+}
+
+impl Planner for __TYPE__ {
+    fn name(&self) -> &str {
+        NAME
+    }
+
+    fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+        let grid = problem.grid();
+        let goal = problem.goal();
+        let moves = IndexedMoves::new(&self.moves, grid);
+        let mut parent: Vec<Option<usize>> = vec![None; grid.len()];
+        let mut seen = vec![false; grid.len()];
+        let mut open = BinaryHeap::new();
+        let mut stats = SearchStats::default();
+        let mut clock = budget.start();
+        let start = grid.index(problem.start());
+        seen[start] = true;
+        open.push(Reverse((problem.start().manhattan(goal), 0u64, start)));
+        stats.n_open_insertions = 1;
+        let mut n_pushed = 1u64;
+        while let Some(Reverse((_, _, node))) = open.pop() {
+            if !clock.allows(stats.n_expanded) {
+                return Outcome::budget_exhausted(None, stats.report(Counter::ASTAR));
+            }
+            stats.n_expanded += 1;
+            if node == grid.index(goal) {
+                let mut cells = vec![grid.cell(node)];
+                let mut at = node;
+                while let Some(previous) = parent[at] {
+                    cells.push(grid.cell(previous));
+                    at = previous;
+                }
+                cells.reverse();
+                return Outcome::found(Path::new(cells), stats.report(Counter::ASTAR));
+            }
+            let Cell { x, y } = grid.cell(node);
+            for k in 0..moves.len() {
+                stats.n_neighbor_checks += 1;
+                let Some(next) = moves.target(grid.free_cells(), x, y, node, k) else {
+                    stats.n_blocked += 1;
+                    continue;
+                };
+                if seen[next] {
+                    stats.n_skipped += 1;
+                    continue;
+                }
+                seen[next] = true;
+                parent[next] = Some(node);
+                stats.n_relaxations += 1;
+                stats.n_open_insertions += 1;
+                open.push(Reverse((grid.cell(next).manhattan(goal), n_pushed, next)));
+                n_pushed += 1;
+                stats.peak_open = stats.peak_open.max(open.len() as u64);
+            }
+        }
+        Outcome::no_path(stats.report(Counter::ASTAR))
+    }
+}
+"#;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_bad_names_and_writes_nothing() {
+        let root = std::env::temp_dir().join(format!("gridplan-scaffold-{}", std::process::id()));
+        for bad in ["", "A", "x", "my-planner", "9lives", "astar"] {
+            assert!(new_planner(&root, bad).is_err(), "{bad:?}");
+        }
+        assert!(!root.exists());
+    }
+
+    #[test]
+    fn registers_between_the_markers() {
+        let root = std::env::temp_dir().join(format!("gridplan-scaffold-ok-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&root);
+        fs::create_dir_all(root.join("xtask/src")).unwrap();
+        fs::write(root.join("xtask/Cargo.toml"), format!("[dependencies]\n{DEPS_MARKER}\n")).unwrap();
+        fs::write(root.join("xtask/src/registry.rs"), format!("const X: &[Entry] = &[\n{REGISTRY_MARKER}\n];\n")).unwrap();
+        let done = new_planner(&root, "greedy2").unwrap();
+        assert_eq!(done.files.len(), 5);
+        let cargo = fs::read_to_string(root.join("xtask/Cargo.toml")).unwrap();
+        assert!(cargo.contains("planner-greedy2 = { path = \"../crates/greedy2\" }\n# (planners end)"));
+        let registry = fs::read_to_string(root.join("xtask/src/registry.rs")).unwrap();
+        assert!(registry.contains("build(params, planner_greedy2::Greedy2::new)"));
+        let lib = fs::read_to_string(root.join("crates/greedy2/src/lib.rs")).unwrap();
+        assert!(lib.contains("pub struct Greedy2") && lib.contains("pub const NAME: &str = \"greedy2\";"));
+        assert!(new_planner(&root, "greedy2").is_err(), "a second scaffold must not overwrite");
+        fs::remove_dir_all(&root).unwrap();
+    }
+}
