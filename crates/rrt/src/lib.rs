@@ -35,10 +35,10 @@
 //! library orders ties; it needs Rust 1.89, above the workspace's 1.80; and the bucket
 //! grid is a hundred lines over flat arrays that are reused between searches. Measured
 //! with `cargo bench -p planner-rrt` on map3 pair 1 (100 seeds), a search takes a median
-//! of about 0.45 ms, 4x less than with a linear scan; on Moving AI's den520d
-//! (256 x 257) 7x less. Block side 4 is a compromise: side 1 is faster on map3 (the
-//! one-step tree fills the cells it reaches) but 5x slower on den520d, where side 8 is
-//! slightly faster.
+//! of about 0.45 ms, 3-4x less than with a linear scan; on Moving AI's den520d
+//! (256 x 257) 4-7x less. Block side 4 is a compromise: side 1 is faster on map3 (the
+//! one-step tree fills the cells it reaches) but several times slower on den520d, where
+//! side 8 is a little faster.
 //!
 //! Reproducibility: the generator is `rand_chacha::ChaCha8Rng` keyed by the config's
 //! `seed` (key = the seed's 8 little-endian bytes, then zeros). Only its raw `u64`
