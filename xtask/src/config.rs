@@ -32,7 +32,14 @@ impl fmt::Display for ConfigError {
         if self.line == 0 {
             write!(f, "{}: {}", self.file.display(), self.message)
         } else {
-            write!(f, "{}:{}:{}: {}", self.file.display(), self.line, self.column, self.message)
+            write!(
+                f,
+                "{}:{}:{}: {}",
+                self.file.display(),
+                self.line,
+                self.column,
+                self.message
+            )
         }
     }
 }
@@ -85,7 +92,7 @@ struct RawConfig {
     #[serde(default)]
     test: TestLimits,
     maps: Vec<Spanned<RawMaps>>,
-    planners: Spanned<IndexMap<Spanned<String>, Spanned<IndexMap<Spanned<String>, Spanned<toml::Value>>>>>,
+    planners: IndexMap<Spanned<String>, Spanned<IndexMap<Spanned<String>, Spanned<toml::Value>>>>,
 }
 
 fn one() -> Spanned<u32> {
@@ -229,7 +236,11 @@ pub struct Published {
 impl Published {
     /// The published value of `metric` for `planner` on `map_stem`.
     pub fn get(&self, map_stem: &str, planner: &str, metric: &str) -> Option<f64> {
-        self.values.get(map_stem)?.get(planner)?.get(metric).copied()
+        self.values
+            .get(map_stem)?
+            .get(planner)?
+            .get(metric)
+            .copied()
     }
 }
 
@@ -245,7 +256,8 @@ impl PlannerSpec {
             let seed = base.wrapping_add(u64::from(repeat));
             params.insert("seed".into(), toml::Value::Integer(seed as i64));
         }
-        let entry = registry::find(self.name).ok_or_else(|| format!("unknown planner `{}`", self.name))?;
+        let entry =
+            registry::find(self.name).ok_or_else(|| format!("unknown planner `{}`", self.name))?;
         (entry.build)(params)
     }
 
@@ -276,7 +288,8 @@ pub fn load(path: &Path) -> Result<Experiment, ConfigError> {
 /// its directory).
 pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let src = Source { file: path, text };
-    let raw: RawConfig = toml::from_str(text).map_err(|e| src.error(e.span(), e.message().trim()))?;
+    let raw: RawConfig =
+        toml::from_str(text).map_err(|e| src.error(e.span(), e.message().trim()))?;
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
     let name = raw.name.get_ref().clone();
@@ -295,11 +308,11 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     }
 
     let mut planners = Vec::new();
-    for (label, table) in raw.planners.get_ref() {
+    for (label, table) in &raw.planners {
         planners.push(planner_spec(&src, label, table, raw.budget)?);
     }
     if planners.is_empty() {
-        return Err(src.error(Some(raw.planners.span()), "key `planners`: at least one planner is needed"));
+        return Err(src.error(None, "key `planners`: at least one planner is needed"));
     }
 
     let mut maps: Vec<MapEntry> = Vec::new();
@@ -308,7 +321,10 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
             if maps.iter().any(|m| m.name == entry.name) {
                 return Err(src.error(
                     Some(spanned.span()),
-                    format!("maps[{i}]: map name `{}` appears twice; map file names must be unique", entry.name),
+                    format!(
+                        "maps[{i}]: map name `{}` appears twice; map file names must be unique",
+                        entry.name
+                    ),
                 ));
             }
             maps.push(entry);
@@ -361,7 +377,10 @@ fn planner_spec(
     let Some(name_value) = table.get_ref().get("planner") else {
         return Err(src.error(
             Some(label.span()),
-            format!("planner `{label_text}`: key `planner` is missing (one of {})", registry::names().join(", ")),
+            format!(
+                "planner `{label_text}`: key `planner` is missing (one of {})",
+                registry::names().join(", ")
+            ),
         ));
     };
     let name = name_value.get_ref().as_str().unwrap_or_default();
@@ -382,7 +401,13 @@ fn planner_spec(
             "planner" => {}
             "budget" => {
                 budget = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
-                    src.error(Some(value.span()), format!("planner `{label_text}`, key `budget`: {}", first_line(&e.to_string())))
+                    src.error(
+                        Some(value.span()),
+                        format!(
+                            "planner `{label_text}`, key `budget`: {}",
+                            first_line(&e.to_string())
+                        ),
+                    )
                 })?;
             }
             other => {
@@ -399,7 +424,10 @@ fn planner_spec(
             .unwrap_or_else(|| label.span());
         return Err(src.error(
             Some(span),
-            format!("planner `{label_text}` ({name}): {}", message.replace('\n', " ").trim()),
+            format!(
+                "planner `{label_text}` ({name}): {}",
+                message.replace('\n', " ").trim()
+            ),
         ));
     }
     Ok(PlannerSpec {
@@ -431,15 +459,35 @@ fn map_entries(
     spanned: &Spanned<RawMaps>,
 ) -> Result<Vec<MapEntry>, ConfigError> {
     let raw = spanned.get_ref();
-    let at = |span: Range<usize>, message: String| src.error(Some(span), format!("maps[{index}]: {message}"));
-    let sources = [raw.problems.is_some(), raw.pairs.is_some(), raw.scen.is_some()];
+    let at = |span: Range<usize>, message: String| {
+        src.error(Some(span), format!("maps[{index}]: {message}"))
+    };
+    let sources = [
+        raw.problems.is_some(),
+        raw.pairs.is_some(),
+        raw.scen.is_some(),
+    ];
     match sources.iter().filter(|&&s| s).count() {
         1 => {}
-        0 => return Err(at(spanned.span(), "give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, or `scen`".into())),
-        _ => return Err(at(spanned.span(), "`problems`, `pairs` and `scen` exclude each other".into())),
+        0 => {
+            return Err(at(
+                spanned.span(),
+                "give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, or `scen`"
+                    .into(),
+            ))
+        }
+        _ => {
+            return Err(at(
+                spanned.span(),
+                "`problems`, `pairs` and `scen` exclude each other".into(),
+            ))
+        }
     }
     if raw.scen.is_none() && (raw.buckets.is_some() || raw.lines.is_some() || raw.every.is_some()) {
-        return Err(at(spanned.span(), "`buckets`, `lines` and `every` select scenarios and need `scen`".into()));
+        return Err(at(
+            spanned.span(),
+            "`buckets`, `lines` and `every` select scenarios and need `scen`".into(),
+        ));
     }
     let mut files = Vec::new();
     for pattern in raw.files.get_ref() {
@@ -447,10 +495,18 @@ fn map_entries(
         let full_text = full.to_string_lossy().to_string();
         let matches: Vec<PathBuf> = match glob::glob(&full_text) {
             Ok(paths) => paths.filter_map(Result::ok).collect(),
-            Err(e) => return Err(at(raw.files.span(), format!("key `files`: bad pattern {pattern:?}: {e}"))),
+            Err(e) => {
+                return Err(at(
+                    raw.files.span(),
+                    format!("key `files`: bad pattern {pattern:?}: {e}"),
+                ))
+            }
         };
         if matches.is_empty() {
-            return Err(at(raw.files.span(), format!("key `files`: nothing matches {pattern:?} (looked for {full_text})")));
+            return Err(at(
+                raw.files.span(),
+                format!("key `files`: nothing matches {pattern:?} (looked for {full_text})"),
+            ));
         }
         let mut matches = matches;
         matches.sort();
@@ -468,7 +524,8 @@ fn map_entries(
 
     let mut entries = Vec::new();
     for path in files {
-        let file = planner_maps::read_map(&path).map_err(|e| at(raw.files.span(), e.to_string()))?;
+        let file =
+            planner_maps::read_map(&path).map_err(|e| at(raw.files.span(), e.to_string()))?;
         let grid = file.grid;
         let mut pairs: Vec<(Cell, Cell, Option<f64>)> = Vec::new();
         if let Some(source) = &raw.problems {
@@ -480,22 +537,42 @@ fn map_entries(
                 )),
                 ProblemSource::File => {
                     if file.problems.is_empty() {
-                        return Err(at(source.span(), format!("`problems = \"file\"`, but {} lists no start-goal pairs", path.display())));
+                        return Err(at(
+                            source.span(),
+                            format!(
+                                "`problems = \"file\"`, but {} lists no start-goal pairs",
+                                path.display()
+                            ),
+                        ));
                     }
                     pairs.extend(file.problems.iter().map(|p| (p.start, p.goal, None)));
                 }
             }
         }
         if let Some(list) = &raw.pairs {
-            pairs.extend(list.iter().map(|p| (Cell::new(p.start[0], p.start[1]), Cell::new(p.goal[0], p.goal[1]), None)));
+            pairs.extend(list.iter().map(|p| {
+                (
+                    Cell::new(p.start[0], p.start[1]),
+                    Cell::new(p.goal[0], p.goal[1]),
+                    None,
+                )
+            }));
         }
         if let Some(scenarios) = &scenarios {
             for s in scenarios {
                 if (s.width, s.height) != (grid.width(), grid.height()) {
-                    return Err(at(spanned.span(), format!(
-                        "scenario line {} is for a {}x{} map, but {} is {}x{}",
-                        s.line, s.width, s.height, path.display(), grid.width(), grid.height()
-                    )));
+                    return Err(at(
+                        spanned.span(),
+                        format!(
+                            "scenario line {} is for a {}x{} map, but {} is {}x{}",
+                            s.line,
+                            s.width,
+                            s.height,
+                            path.display(),
+                            grid.width(),
+                            grid.height()
+                        ),
+                    ));
                 }
                 pairs.push((s.start, s.goal, Some(s.optimal_length)));
             }
@@ -508,7 +585,9 @@ fn map_entries(
                 start,
                 goal,
                 optimal_length,
-                invalid: Problem::new(&grid, start, goal).err().map(|e| e.to_string()),
+                invalid: Problem::new(&grid, start, goal)
+                    .err()
+                    .map(|e| e.to_string()),
             })
             .collect();
         let name = path
@@ -532,7 +611,10 @@ fn select_scenarios(
     let mut selected: Vec<planner_maps::Scenario> = all
         .into_iter()
         .filter(|s| raw.buckets.as_ref().is_none_or(|b| b.contains(&s.bucket)))
-        .filter(|s| raw.lines.is_none_or(|[from, to]| (from..=to).contains(&s.line)))
+        .filter(|s| {
+            raw.lines
+                .is_none_or(|[from, to]| (from..=to).contains(&s.line))
+        })
         .collect();
     if let Some(every) = &raw.every {
         if *every.get_ref() == 0 {
@@ -544,24 +626,41 @@ fn select_scenarios(
         selected.truncate(limit);
     }
     if selected.is_empty() {
-        return Err("the scenario selection (`buckets`, `lines`, `every`, `limit`) is empty".into());
+        return Err(
+            "the scenario selection (`buckets`, `lines`, `every`, `limit`) is empty".into(),
+        );
     }
     Ok(selected)
 }
 
-fn load_published(src: &Source<'_>, path: &Path, span: Range<usize>) -> Result<Published, ConfigError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| src.error(Some(span.clone()), format!("key `published`: cannot read {}: {e}", path.display())))?;
+fn load_published(
+    src: &Source<'_>,
+    path: &Path,
+    span: Range<usize>,
+) -> Result<Published, ConfigError> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        src.error(
+            Some(span.clone()),
+            format!("key `published`: cannot read {}: {e}", path.display()),
+        )
+    })?;
     let table: toml::Table = toml::from_str(&text).map_err(|e| {
-        let inner = Source { file: path, text: &text };
+        let inner = Source {
+            file: path,
+            text: &text,
+        };
         inner.error(e.span(), e.message().trim())
     })?;
     let mut values = IndexMap::new();
     for (map, entry) in &table {
-        let Some(entry) = entry.as_table() else { continue };
+        let Some(entry) = entry.as_table() else {
+            continue;
+        };
         let mut planners = IndexMap::new();
         for (planner, metrics) in entry {
-            let Some(metrics) = metrics.as_table() else { continue };
+            let Some(metrics) = metrics.as_table() else {
+                continue;
+            };
             let metrics = metrics
                 .iter()
                 .filter_map(|(k, v)| {
@@ -599,7 +698,13 @@ impl Experiment {
         self.maps
             .iter()
             .flat_map(|m| &m.problems)
-            .map(|p| if p.invalid.is_some() { 1 } else { self.repeats as usize })
+            .map(|p| {
+                if p.invalid.is_some() {
+                    1
+                } else {
+                    self.repeats as usize
+                }
+            })
             .sum::<usize>()
             * self.planners.len()
     }

@@ -9,7 +9,10 @@ use tracing_subscriber::EnvFilter;
 use xtask::plan::PlanArgs;
 
 #[derive(Parser)]
-#[command(name = "cargo xtask", about = "gridplan: sweep experiments, run one planner, add a planner")]
+#[command(
+    name = "cargo xtask",
+    about = "gridplan: sweep experiments, run one planner, add a planner"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -83,7 +86,9 @@ fn parse_cell(text: &str) -> Result<Cell, String> {
 
 fn main() -> ExitCode {
     tracing_subscriber::fmt()
-        .with_env_filter(EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("warn")))
+        .with_env_filter(
+            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("warn")),
+        )
         .with_writer(std::io::stderr)
         .init();
     match run(Cli::parse()) {

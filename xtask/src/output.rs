@@ -28,29 +28,39 @@ pub fn write_atomically(dir: &Path, files: &[OutputFile]) -> Result<(), String> 
         .map(|n| n.to_string_lossy().to_string())
         .ok_or_else(|| format!("output directory {} has no name", dir.display()))?;
     let parent = dir.parent().map(Path::to_path_buf).unwrap_or_default();
-    let parent = if parent.as_os_str().is_empty() { PathBuf::from(".") } else { parent };
+    let parent = if parent.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        parent
+    };
     fs::create_dir_all(&parent).map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
     let partial = parent.join(format!(".{name}.partial"));
     let previous = parent.join(format!(".{name}.previous"));
     for stale in [&partial, &previous] {
         if stale.exists() {
-            fs::remove_dir_all(stale).map_err(|e| format!("cannot remove {}: {e}", stale.display()))?;
+            fs::remove_dir_all(stale)
+                .map_err(|e| format!("cannot remove {}: {e}", stale.display()))?;
         }
     }
     let result = (|| {
         for file in files {
             let target = partial.join(&file.path);
             if let Some(dir) = target.parent() {
-                fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+                fs::create_dir_all(dir)
+                    .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
             }
-            fs::write(&target, &file.contents).map_err(|e| format!("cannot write {}: {e}", target.display()))?;
+            fs::write(&target, &file.contents)
+                .map_err(|e| format!("cannot write {}: {e}", target.display()))?;
         }
         if dir.exists() {
-            fs::rename(dir, &previous).map_err(|e| format!("cannot move {} aside: {e}", dir.display()))?;
+            fs::rename(dir, &previous)
+                .map_err(|e| format!("cannot move {} aside: {e}", dir.display()))?;
         }
-        fs::rename(&partial, dir).map_err(|e| format!("cannot move results into {}: {e}", dir.display()))?;
+        fs::rename(&partial, dir)
+            .map_err(|e| format!("cannot move results into {}: {e}", dir.display()))?;
         if previous.exists() {
-            fs::remove_dir_all(&previous).map_err(|e| format!("cannot remove {}: {e}", previous.display()))?;
+            fs::remove_dir_all(&previous)
+                .map_err(|e| format!("cannot remove {}: {e}", previous.display()))?;
         }
         Ok(())
     })();

@@ -77,10 +77,13 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
     let (start, goal) = match (args.start, args.goal, args.problem) {
         (Some(start), Some(goal), None) => (start, goal),
         (None, None, problem) => pick_problem(&args.map, &grid, &file.problems, problem)?,
-        (_, _, Some(_)) => return Err("give either --problem or --start and --goal, not both".into()),
+        (_, _, Some(_)) => {
+            return Err("give either --problem or --start and --goal, not both".into())
+        }
         _ => return Err("--start and --goal go together".into()),
     };
-    let problem = Problem::new(&grid, start, goal).map_err(|e| format!("{}: {e}", args.map.display()))?;
+    let problem =
+        Problem::new(&grid, start, goal).map_err(|e| format!("{}: {e}", args.map.display()))?;
 
     let (name, mut params, mut budget) = match &args.config {
         Some(path) => {
@@ -90,14 +93,27 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
                 .iter()
                 .find(|p| p.label == args.planner)
                 .ok_or_else(|| {
-                    let labels: Vec<&str> = experiment.planners.iter().map(|p| p.label.as_str()).collect();
-                    format!("{}: no planner labelled `{}` (labels: {})", path.display(), args.planner, labels.join(", "))
+                    let labels: Vec<&str> = experiment
+                        .planners
+                        .iter()
+                        .map(|p| p.label.as_str())
+                        .collect();
+                    format!(
+                        "{}: no planner labelled `{}` (labels: {})",
+                        path.display(),
+                        args.planner,
+                        labels.join(", ")
+                    )
                 })?;
             (spec.name, spec.params.clone(), spec.budget)
         }
         None => {
             let entry = registry::find(&args.planner).ok_or_else(|| {
-                format!("unknown planner `{}`, expected one of {}", args.planner, registry::names().join(", "))
+                format!(
+                    "unknown planner `{}`, expected one of {}",
+                    args.planner,
+                    registry::names().join(", ")
+                )
             })?;
             (entry.name, toml::Table::new(), Budget::unlimited())
         }
@@ -118,7 +134,8 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
         budget.max_expansions = Some(n);
     }
     let entry = registry::find(name).ok_or_else(|| format!("unknown planner `{name}`"))?;
-    let mut planner = (entry.build)(params).map_err(|e| format!("planner `{name}`: {}", e.replace('\n', " ").trim()))?;
+    let mut planner = (entry.build)(params)
+        .map_err(|e| format!("planner `{name}`: {}", e.replace('\n', " ").trim()))?;
     let outcome = planner.plan(&problem, &budget);
     Ok(PlanResult {
         grid,
@@ -146,12 +163,16 @@ fn pick_problem(
     }
     match problem {
         Some(k) => pairs.get(k.wrapping_sub(1)).copied().ok_or_else(|| {
-            format!("--problem {k}: {} has {} problem(s), numbered from 1", map.display(), pairs.len())
+            format!(
+                "--problem {k}: {} has {} problem(s), numbered from 1",
+                map.display(),
+                pairs.len()
+            )
         }),
-        None => Ok(pairs
-            .first()
-            .copied()
-            .unwrap_or((Cell::new(0, 0), Cell::new(grid.width() - 1, grid.height() - 1)))),
+        None => Ok(pairs.first().copied().unwrap_or((
+            Cell::new(0, 0),
+            Cell::new(grid.width() - 1, grid.height() - 1),
+        ))),
     }
 }
 
@@ -198,7 +219,12 @@ impl PlanResult {
             );
         }
         if self.grid.width() <= 120 && self.grid.height() <= 120 {
-            out.push_str(&draw_text(&self.grid, self.start, self.goal, self.outcome.path.as_ref()));
+            out.push_str(&draw_text(
+                &self.grid,
+                self.start,
+                self.goal,
+                self.outcome.path.as_ref(),
+            ));
         } else {
             out.push_str("(map wider or taller than 120 cells: not drawn)\n");
         }
@@ -214,7 +240,13 @@ pub fn draw_text(grid: &Grid, start: Cell, goal: Cell, path: Option<&planner_api
     let mut canvas: Vec<Vec<char>> = (0..grid.height())
         .map(|y| {
             (0..grid.width())
-                .map(|x| if grid.is_free(Cell::new(x, y)) { '.' } else { '#' })
+                .map(|x| {
+                    if grid.is_free(Cell::new(x, y)) {
+                        '.'
+                    } else {
+                        '#'
+                    }
+                })
                 .collect()
         })
         .collect();

@@ -38,6 +38,12 @@ pub const PLANNERS: &[Entry] = &[
         kind: Kind::Deterministic,
         build: |params| build(params, planner_astar::AStar::new),
     },
+    Entry {
+        name: planner_rrt::NAME,
+        summary: "RRT (seed 003) on grid cells: seeded, goal bias, 4/8 steering, longer steps",
+        kind: Kind::Stochastic,
+        build: |params| build(params, planner_rrt::Rrt::new),
+    },
     // (registry end)
 ];
 
@@ -52,7 +58,10 @@ pub fn names() -> Vec<&'static str> {
 }
 
 /// Deserializes `params` into the planner's config `C` and validates it with `new`.
-fn build<C, P, E>(params: toml::Table, new: fn(C) -> Result<P, E>) -> Result<Box<dyn Planner>, String>
+fn build<C, P, E>(
+    params: toml::Table,
+    new: fn(C) -> Result<P, E>,
+) -> Result<Box<dyn Planner>, String>
 where
     C: DeserializeOwned,
     P: Planner + 'static,

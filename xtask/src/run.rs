@@ -72,16 +72,27 @@ struct RunSpec {
 /// Runs every (map, problem, planner, repeat) of `experiment` on `threads` threads
 /// (0 = the experiment's setting, which 0 makes one per core) and returns the records in
 /// the fixed order.
-pub fn run_all(experiment: &Experiment, threads: usize, progress: bool) -> Result<Vec<RunRecord>, String> {
+pub fn run_all(
+    experiment: &Experiment,
+    threads: usize,
+    progress: bool,
+) -> Result<Vec<RunRecord>, String> {
     let specs = expand(experiment);
-    let threads = if threads == 0 { experiment.threads } else { threads };
+    let threads = if threads == 0 {
+        experiment.threads
+    } else {
+        threads
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| format!("cannot start {threads} worker threads: {e}"))?;
     let bar = if progress {
-        let bar = ProgressBar::with_draw_target(Some(specs.len() as u64), ProgressDrawTarget::stderr());
-        if let Ok(style) = ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} runs ({eta})") {
+        let bar =
+            ProgressBar::with_draw_target(Some(specs.len() as u64), ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} runs ({eta})",
+        ) {
             bar.set_style(style);
         }
         bar
@@ -107,7 +118,11 @@ fn expand(experiment: &Experiment) -> Vec<RunSpec> {
     for (m, map) in experiment.maps.iter().enumerate() {
         for (p, problem) in map.problems.iter().enumerate() {
             for planner in 0..experiment.planners.len() {
-                let repeats = if problem.invalid.is_some() { 1 } else { experiment.repeats };
+                let repeats = if problem.invalid.is_some() {
+                    1
+                } else {
+                    experiment.repeats
+                };
                 for repeat in 0..repeats {
                     specs.push(RunSpec {
                         map: m,
@@ -169,7 +184,11 @@ fn run_one(experiment: &Experiment, spec: &RunSpec) -> Result<RunRecord, String>
     record.time_ms = started.elapsed().as_secs_f64() * 1e3;
     drop(planner);
     record.peak_heap_bytes = alloc::peak_since_start(baseline);
-    tracing::debug!(status = outcome.status.as_str(), time_ms = record.time_ms, "done");
+    tracing::debug!(
+        status = outcome.status.as_str(),
+        time_ms = record.time_ms,
+        "done"
+    );
     record.status = outcome.status.as_str().into();
     record.counters = outcome.counters;
     if let Some(path) = outcome.path {
@@ -179,7 +198,10 @@ fn run_one(experiment: &Experiment, spec: &RunSpec) -> Result<RunRecord, String>
         record.score = Some(m.score);
         record.length = Some(m.length);
         let ends_right = path.start() == Some(entry.start) && path.goal() == Some(entry.goal);
-        let valid = ends_right && path.validate(&map.grid, planner_api::PathRule::AnyAngle).is_ok();
+        let valid = ends_right
+            && path
+                .validate(&map.grid, planner_api::PathRule::AnyAngle)
+                .is_ok();
         if !valid {
             tracing::warn!("the planner returned an invalid path");
         }

@@ -23,7 +23,9 @@ pub struct Scaffolded {
 pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     let valid = name.len() >= 2
         && name.starts_with(|c: char| c.is_ascii_lowercase())
-        && name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit());
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit());
     if !valid {
         return Err(format!(
             "planner name {name:?}: use 2 or more lowercase letters and digits, starting with a letter (it is the directory crates/<name> and the registry name)"
@@ -38,13 +40,21 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     }
     let cargo_path = root.join("xtask/Cargo.toml");
     let registry_path = root.join("xtask/src/registry.rs");
-    let cargo = fs::read_to_string(&cargo_path).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
-    let registry = fs::read_to_string(&registry_path).map_err(|e| format!("{}: {e}", registry_path.display()))?;
+    let cargo =
+        fs::read_to_string(&cargo_path).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
+    let registry = fs::read_to_string(&registry_path)
+        .map_err(|e| format!("{}: {e}", registry_path.display()))?;
     if !cargo.contains(DEPS_MARKER) {
-        return Err(format!("{}: marker line {DEPS_MARKER:?} not found", cargo_path.display()));
+        return Err(format!(
+            "{}: marker line {DEPS_MARKER:?} not found",
+            cargo_path.display()
+        ));
     }
     if !registry.contains(REGISTRY_MARKER) {
-        return Err(format!("{}: marker line {REGISTRY_MARKER:?} not found", registry_path.display()));
+        return Err(format!(
+            "{}: marker line {REGISTRY_MARKER:?} not found",
+            registry_path.display()
+        ));
     }
     let package = format!("planner-{name}");
     let ident = format!("planner_{name}");
@@ -66,9 +76,18 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     let registry = registry.replacen(REGISTRY_MARKER, &format!("{entry}{REGISTRY_MARKER}"), 1);
 
     let files = [
-        (format!("crates/{name}/Cargo.toml"), manifest(name, &package)),
-        (format!("crates/{name}/src/lib.rs"), library(name, &ident, &type_name)),
-        (format!("crates/{name}/tests/smoke.rs"), smoke_test(&ident, &type_name)),
+        (
+            format!("crates/{name}/Cargo.toml"),
+            manifest(name, &package),
+        ),
+        (
+            format!("crates/{name}/src/lib.rs"),
+            library(name, &ident, &type_name),
+        ),
+        (
+            format!("crates/{name}/tests/smoke.rs"),
+            smoke_test(&ident, &type_name),
+        ),
     ];
     for (path, contents) in &files {
         let full = root.join(path);
@@ -278,20 +297,37 @@ mod tests {
 
     #[test]
     fn registers_between_the_markers() {
-        let root = std::env::temp_dir().join(format!("gridplan-scaffold-ok-{}", std::process::id()));
+        let root =
+            std::env::temp_dir().join(format!("gridplan-scaffold-ok-{}", std::process::id()));
         let _ = fs::remove_dir_all(&root);
         fs::create_dir_all(root.join("xtask/src")).unwrap();
-        fs::write(root.join("xtask/Cargo.toml"), format!("[dependencies]\n{DEPS_MARKER}\n")).unwrap();
-        fs::write(root.join("xtask/src/registry.rs"), format!("const X: &[Entry] = &[\n{REGISTRY_MARKER}\n];\n")).unwrap();
+        fs::write(
+            root.join("xtask/Cargo.toml"),
+            format!("[dependencies]\n{DEPS_MARKER}\n"),
+        )
+        .unwrap();
+        fs::write(
+            root.join("xtask/src/registry.rs"),
+            format!("const X: &[Entry] = &[\n{REGISTRY_MARKER}\n];\n"),
+        )
+        .unwrap();
         let done = new_planner(&root, "greedy2").unwrap();
         assert_eq!(done.files.len(), 5);
         let cargo = fs::read_to_string(root.join("xtask/Cargo.toml")).unwrap();
-        assert!(cargo.contains("planner-greedy2 = { path = \"../crates/greedy2\" }\n# (planners end)"));
+        assert!(
+            cargo.contains("planner-greedy2 = { path = \"../crates/greedy2\" }\n# (planners end)")
+        );
         let registry = fs::read_to_string(root.join("xtask/src/registry.rs")).unwrap();
         assert!(registry.contains("build(params, planner_greedy2::Greedy2::new)"));
         let lib = fs::read_to_string(root.join("crates/greedy2/src/lib.rs")).unwrap();
-        assert!(lib.contains("pub struct Greedy2") && lib.contains("pub const NAME: &str = \"greedy2\";"));
-        assert!(new_planner(&root, "greedy2").is_err(), "a second scaffold must not overwrite");
+        assert!(
+            lib.contains("pub struct Greedy2")
+                && lib.contains("pub const NAME: &str = \"greedy2\";")
+        );
+        assert!(
+            new_planner(&root, "greedy2").is_err(),
+            "a second scaffold must not overwrite"
+        );
         fs::remove_dir_all(&root).unwrap();
     }
 }

@@ -101,7 +101,12 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> (String, Reprod
     (out, reproduction)
 }
 
-fn first<'r>(records: &'r [RunRecord], map: &str, problem: usize, planner: &str) -> Option<&'r RunRecord> {
+fn first<'r>(
+    records: &'r [RunRecord],
+    map: &str,
+    problem: usize,
+    planner: &str,
+) -> Option<&'r RunRecord> {
     records
         .iter()
         .find(|r| r.map == map && r.problem == problem && r.planner == planner && r.repeat == 0)
@@ -111,8 +116,13 @@ fn map_stem(name: &str) -> &str {
     name.rsplit_once('.').map_or(name, |(stem, _)| stem)
 }
 
-fn quality_tables(experiment: &Experiment, records: &[RunRecord], reproduction: &mut Reproduction) -> String {
-    let mut out = String::from("## Path quality and search effort (seed 000, Tables 3-8 layout)\n\n");
+fn quality_tables(
+    experiment: &Experiment,
+    records: &[RunRecord],
+    reproduction: &mut Reproduction,
+) -> String {
+    let mut out =
+        String::from("## Path quality and search effort (seed 000, Tables 3-8 layout)\n\n");
     let mut sizes: Vec<(u32, u32)> = Vec::new();
     for map in &experiment.maps {
         let size = (map.grid.width(), map.grid.height());
@@ -138,7 +148,11 @@ fn quality_tables(experiment: &Experiment, records: &[RunRecord], reproduction: 
                 .iter()
                 .filter(|m| (m.grid.width(), m.grid.height()) == (w, h))
                 .all(|m| m.problems.len() == 1);
-            let _ = writeln!(out, "### {} ({}) on {w}x{h} maps\n", planner.label, planner.name);
+            let _ = writeln!(
+                out,
+                "### {} ({}) on {w}x{h} maps\n",
+                planner.label, planner.name
+            );
             out.push_str("| Metric |");
             for (map, problem) in &columns {
                 if single {
@@ -150,7 +164,9 @@ fn quality_tables(experiment: &Experiment, records: &[RunRecord], reproduction: 
             out.push_str("\n|---|");
             out.push_str(&"---:|".repeat(columns.len()));
             out.push('\n');
-            let mut metrics: Vec<String> = ["status", "steps", "turns", "score", "length"].map(String::from).to_vec();
+            let mut metrics: Vec<String> = ["status", "steps", "turns", "score", "length"]
+                .map(String::from)
+                .to_vec();
             for (map, problem) in &columns {
                 if let Some(r) = first(records, map, *problem, &planner.label) {
                     for (name, _) in r.counters.iter() {
@@ -199,13 +215,20 @@ fn metric_value(record: &RunRecord, metric: &str) -> Option<String> {
     }
 }
 
-fn mark(value: Option<String>, published: Option<f64>, metric: &str, reproduction: &mut Reproduction) -> String {
+fn mark(
+    value: Option<String>,
+    published: Option<f64>,
+    metric: &str,
+    reproduction: &mut Reproduction,
+) -> String {
     let text = value.clone().unwrap_or_else(|| "-".into());
-    let Some(published) = published else { return text };
+    let Some(published) = published else {
+        return text;
+    };
     reproduction.compared += 1;
-    let equal = value
-        .and_then(|v| v.parse::<f64>().ok())
-        .is_some_and(|v| (v - published).abs() < 1e-9 || (metric == "length" && (v - published).abs() < 5e-3));
+    let equal = value.and_then(|v| v.parse::<f64>().ok()).is_some_and(|v| {
+        (v - published).abs() < 1e-9 || (metric == "length" && (v - published).abs() < 5e-3)
+    });
     if equal {
         reproduction.matched += 1;
         format!("{text} ✓")
@@ -215,28 +238,49 @@ fn mark(value: Option<String>, published: Option<f64>, metric: &str, reproductio
 }
 
 fn time_tables(experiment: &Experiment, records: &[RunRecord]) -> String {
-    let mut out = String::from("## Time, memory and path length (seed 003, Tables I-II layout)\n\n");
+    let mut out =
+        String::from("## Time, memory and path length (seed 003, Tables I-II layout)\n\n");
     out.push_str("Time is the median (interquartile range) of `plan` over repeats; peak heap is the largest heap use of building the planner and planning, by a counting allocator.\n\n");
     for map in &experiment.maps {
         if map.problems.len() > MAX_COLUMNS {
-            let _ = writeln!(out, "{}: {} problems, see runs.csv.\n", map.name, map.problems.len());
+            let _ = writeln!(
+                out,
+                "{}: {} problems, see runs.csv.\n",
+                map.name,
+                map.problems.len()
+            );
             continue;
         }
-        let _ = writeln!(out, "### {} ({}x{})\n", map.name, map.grid.width(), map.grid.height());
+        let _ = writeln!(
+            out,
+            "### {} ({}x{})\n",
+            map.name,
+            map.grid.width(),
+            map.grid.height()
+        );
         out.push_str("| Algorithm | Problem | Status | Time ms | Peak heap KiB | Path length (steps) | Euclidean length | Expanded |\n|---|---|---|---:|---:|---:|---:|---:|\n");
         for planner in &experiment.planners {
             for problem in &map.problems {
                 let runs: Vec<&RunRecord> = records
                     .iter()
-                    .filter(|r| r.map == map.name && r.problem == problem.index && r.planner == planner.label)
+                    .filter(|r| {
+                        r.map == map.name
+                            && r.problem == problem.index
+                            && r.planner == planner.label
+                    })
                     .collect();
                 let Some(r0) = runs.first() else { continue };
                 let times: Vec<f64> = runs.iter().map(|r| r.time_ms).collect();
-                let heap: Vec<f64> = runs.iter().map(|r| r.peak_heap_bytes as f64 / 1024.0).collect();
+                let heap: Vec<f64> = runs
+                    .iter()
+                    .map(|r| r.peak_heap_bytes as f64 / 1024.0)
+                    .collect();
                 let time = median_iqr(&times)
                     .map(|(m, q1, q3)| format!("{m:.4} ({q1:.4}-{q3:.4})"))
                     .unwrap_or_default();
-                let heap = median_iqr(&heap).map(|(m, _, _)| format!("{m:.1}")).unwrap_or_default();
+                let heap = median_iqr(&heap)
+                    .map(|(m, _, _)| format!("{m:.1}"))
+                    .unwrap_or_default();
                 let _ = writeln!(
                     out,
                     "| {} | {} {} -> {} | {} | {} | {} | {} | {} | {} |",
@@ -245,11 +289,21 @@ fn time_tables(experiment: &Experiment, records: &[RunRecord]) -> String {
                     problem.start,
                     problem.goal,
                     r0.status,
-                    if r0.status == "invalid_problem" { "-".into() } else { time },
-                    if r0.status == "invalid_problem" { "-".into() } else { heap },
+                    if r0.status == "invalid_problem" {
+                        "-".into()
+                    } else {
+                        time
+                    },
+                    if r0.status == "invalid_problem" {
+                        "-".into()
+                    } else {
+                        heap
+                    },
                     r0.steps.map_or("-".into(), |v| v.to_string()),
                     r0.length.map_or("-".into(), |v| format!("{v:.2}")),
-                    r0.counters.get("n_expanded").map_or("-".into(), |v| v.to_string()),
+                    r0.counters
+                        .get("n_expanded")
+                        .map_or("-".into(), |v| v.to_string()),
                 );
             }
         }
@@ -268,15 +322,23 @@ fn repeat_table(experiment: &Experiment, records: &[RunRecord]) -> String {
         for map in &experiment.maps {
             let runs: Vec<&RunRecord> = records
                 .iter()
-                .filter(|r| r.map == map.name && r.planner == planner.label && r.status != "invalid_problem")
+                .filter(|r| {
+                    r.map == map.name && r.planner == planner.label && r.status != "invalid_problem"
+                })
                 .collect();
             if runs.is_empty() {
                 continue;
             }
-            let found: Vec<f64> = runs.iter().filter(|r| r.status == "found").filter_map(|r| r.length).collect();
+            let found: Vec<f64> = runs
+                .iter()
+                .filter(|r| r.status == "found")
+                .filter_map(|r| r.length)
+                .collect();
             let times: Vec<f64> = runs.iter().map(|r| r.time_ms).collect();
             let length = median_iqr(&found).map_or("-".into(), |(m, _, _)| format!("{m:.2}"));
-            let time = median_iqr(&times).map_or("-".into(), |(m, q1, q3)| format!("{m:.4} ({q1:.4}-{q3:.4})"));
+            let time = median_iqr(&times).map_or("-".into(), |(m, q1, q3)| {
+                format!("{m:.4} ({q1:.4}-{q3:.4})")
+            });
             let _ = writeln!(
                 out,
                 "| {} | {} | {} | {:.1} % | {length} | {time} |",

@@ -23,7 +23,10 @@ fn main() {
         .filter(|a| !a.starts_with("--"))
         .collect();
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai");
-    for name in MAPS.iter().filter(|m| filter.is_empty() || filter.iter().any(|f| f == *m)) {
+    for name in MAPS
+        .iter()
+        .filter(|m| filter.is_empty() || filter.iter().any(|f| f == *m))
+    {
         let grid = read_map(&root.join(format!("{name}.map")))
             .unwrap_or_else(|e| panic!("{e}"))
             .grid;
@@ -75,7 +78,10 @@ fn run(name: &str, grid: &Grid, scenarios: &[Scenario], moves: Connectivity) {
         };
         if !agree {
             mismatches += 1;
-            eprintln!("mismatch {name} line {}: ours {ours:?} theirs {theirs:?} reference {reference:?}", s.line);
+            eprintln!(
+                "mismatch {name} line {}: ours {ours:?} theirs {theirs:?} reference {reference:?}",
+                s.line
+            );
         }
     }
     println!(
@@ -113,7 +119,10 @@ fn peer(grid: &Grid, start: (u32, u32), goal: (u32, u32), moves: Connectivity) -
         if diagonal {
             for (dx, dy) in [(1, 1), (-1, 1), (1, -1), (-1, -1)] {
                 if is_free(x + dx, y + dy) && is_free(x + dx, y) && is_free(x, y + dy) {
-                    next.push((((x + dx) as u32, (y + dy) as u32), OrderedFloat(std::f64::consts::SQRT_2)));
+                    next.push((
+                        ((x + dx) as u32, (y + dy) as u32),
+                        OrderedFloat(std::f64::consts::SQRT_2),
+                    ));
                 }
             }
         }
