@@ -1,0 +1,214 @@
+//! The experiment runner end to end: every config snapshotted, the paper's numbers,
+//! thread-count independence, config errors, atomic output.
+
+use std::path::{Path, PathBuf};
+
+use xtask::config;
+use xtask::run::{run_all, RunRecord};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn configs() -> Vec<PathBuf> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("configs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    paths.sort();
+    paths
+}
+
+/// Every counter and metric of every run of every config (trimmed by its `[test]`
+/// limits), with timing and memory redacted. Review changes with `cargo insta review`.
+#[test]
+fn every_config_is_snapshotted() {
+    let paths = configs();
+    assert!(!paths.is_empty());
+    for path in paths {
+        let experiment = config::load(&path).unwrap().trimmed_for_test();
+        let records = compact(&run_all(&experiment, 2, false).unwrap());
+        let name = experiment.name.clone();
+        let file = path.file_name().unwrap().to_string_lossy().to_string();
+        // insta's settings are thread-local: assert here, after the parallel runs.
+        insta::with_settings!({
+            snapshot_path => "../../snapshots",
+            prepend_module_to_snapshot => false,
+            description => format!("every run of configs/{file}"),
+            omit_expression => true,
+        }, {
+            insta::assert_yaml_snapshot!(name, records, {
+                "[].time_ms" => "[time]",
+                "[].peak_heap_bytes" => "[memory]",
+            });
+        });
+    }
+}
+
+/// The records with cells written `x,y` and paths on one line, for readable snapshots.
+fn compact(records: &[RunRecord]) -> Vec<serde_json::Value> {
+    let cell = |c: planner_api::Cell| format!("{},{}", c.x, c.y);
+    records
+        .iter()
+        .map(|r| {
+            let mut value = serde_json::to_value(r).unwrap();
+            value["start"] = cell(r.start).into();
+            value["goal"] = cell(r.goal).into();
+            value["path"] = match &r.path {
+                Some(path) => path.cells().iter().map(|&c| cell(c)).collect::<Vec<_>>().join(" ").into(),
+                None => serde_json::Value::Null,
+            };
+            value
+        })
+        .collect()
+}
+
+fn deterministic_fields(records: &[RunRecord]) -> Vec<RunRecord> {
+    records
+        .iter()
+        .cloned()
+        .map(|mut r| {
+            r.time_ms = 0.0;
+            r.peak_heap_bytes = 0;
+            r
+        })
+        .collect()
+}
+
+#[test]
+fn thread_count_does_not_change_results() {
+    for path in configs() {
+        let experiment = config::load(&path).unwrap().trimmed_for_test();
+        let one = run_all(&experiment, 1, false).unwrap();
+        let three = run_all(&experiment, 3, false).unwrap();
+        let a = serde_json::to_string(&deterministic_fields(&one)).unwrap();
+        let b = serde_json::to_string(&deterministic_fields(&three)).unwrap();
+        assert_eq!(a, b, "{}", path.display());
+    }
+}
+
+/// For every number `maps/paper/manifest.json` says a map reproduces, the run gives the
+/// value of `maps/paper/published.toml` (seed 000 Tables 3-8).
+#[test]
+fn paper_config_reproduces_every_published_number() {
+    let experiment = config::load(&root().join("configs/paper.toml")).unwrap();
+    let records = run_all(&experiment, 2, false).unwrap();
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root().join("maps/paper/manifest.json")).unwrap()).unwrap();
+    let published = experiment.published.as_ref().unwrap();
+    let mut checked = 0;
+    for entry in manifest.as_array().unwrap() {
+        let file = entry["file"].as_str().unwrap();
+        let stem = file.trim_end_matches(".map");
+        for (planner, metrics) in entry["reproduces"].as_object().unwrap() {
+            let record = records
+                .iter()
+                .find(|r| r.map == file && r.algorithm == *planner && r.repeat == 0)
+                .unwrap_or_else(|| panic!("no {planner} run on {file}"));
+            for metric in metrics.as_array().unwrap() {
+                let metric = metric.as_str().unwrap();
+                let actual = match metric {
+                    "steps" => record.steps.unwrap(),
+                    "turns" => record.turns.unwrap(),
+                    "score" => record.score.unwrap(),
+                    counter => record.counters.get(counter).unwrap(),
+                };
+                let expected = published.get(stem, planner, metric).unwrap();
+                assert_eq!(actual as f64, expected, "{file} {planner} {metric}");
+                checked += 1;
+            }
+        }
+    }
+    let planners: Vec<&str> = experiment.planners.iter().map(|p| p.name).collect();
+    let expected = if planners.contains(&"backtracking") { 228 } else { 108 };
+    assert_eq!(checked, expected);
+}
+
+/// Parses `text` as a config in `configs/` and compares the error with `expect`.
+fn check_error(text: &str, expect: &str) {
+    let path = root().join("configs/bad.toml");
+    let error = config::parse(&path, text).map(|_| ()).unwrap_err();
+    let shown = error.to_string().replace(&path.display().to_string(), "bad.toml");
+    assert_eq!(shown, expect);
+}
+
+const MAPS: &str = "[[maps]]\nfiles = [\"../maps/paper/map01.map\"]\nproblems = \"corners\"\n";
+
+#[test]
+fn config_errors_name_file_line_column_and_key() {
+    check_error(
+        &format!("name = \"x\"\nthreds = 2\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
+        "bad.toml:2:1: unknown field `threds`, expected one of `name`, `description`, `output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `published`, `test`, `maps`, `planners`",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
+        "bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of astar, rrt",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners.fast]\nplanner = \"astar\"\nbeta = 2\n"),
+        "bad.toml:7:1: planner `fast` (astar): unknown field `beta`, expected one of `moves`, `corner_cutting`, `order`, `heuristic`, `weight`, `tie_break`",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astar\"\nmoves = 4\nweight = \"heavy\"\n"),
+        "bad.toml:8:1: planner `a` (astar): invalid type: string \"heavy\", expected f64 in `weight`",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astar\"\nweight = -2.0\n"),
+        "bad.toml:7:1: planner `a` (astar): parameter `weight` must be a finite number >= 0, got -2",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astar\"\nmoves = 6\n"),
+        "bad.toml:7:1: planner `a` (astar): unsupported connectivity 6, expected one of 4, 8, 16, 32, 48 in `moves`",
+    );
+    check_error(
+        "name = \"x\"\n[[maps]]\nfiles = [\"../maps/nowhere/*.map\"]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
+        &format!(
+            "bad.toml:3:9: maps[0]: key `files`: nothing matches \"../maps/nowhere/*.map\" (looked for {})",
+            root().join("configs/../maps/nowhere/*.map").display()
+        ),
+    );
+    check_error(
+        "name = \"x\"\n[[maps]]\nfiles = [\"../maps/paper/map01.map\"]\n[planners.a]\nplanner = \"astar\"\n",
+        "bad.toml:2:1: maps[0]: give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, or `scen`",
+    );
+    check_error(
+        &format!("name = \"my results\"\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
+        "bad.toml:1:8: key `name`: \"my results\" must be non-empty letters, digits, '-' or '_' (it names the output directory)",
+    );
+    check_error(
+        &format!("name = \"x\"\nrepeats = 0\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
+        "bad.toml:2:11: key `repeats` must be at least 1",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners.a]\nheuristic = \"octile\"\n"),
+        "bad.toml:5:11: planner `a`: key `planner` is missing (one of astar, rrt)",
+    );
+}
+
+#[test]
+fn a_failed_sweep_leaves_previous_results_and_writes_nothing() {
+    let dir = std::env::temp_dir().join(format!("gridplan-atomic-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("good.toml");
+    let maps = root().join("maps/paper/map01.map");
+    std::fs::write(
+        &good,
+        format!("name = \"t\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n", maps.display().to_string()),
+    )
+    .unwrap();
+    let out = dir.join("results");
+    xtask::experiment(&good, 1, Some(&out), false).unwrap();
+    let before = std::fs::read(out.join("runs.json")).unwrap();
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "name = \"t\"\nmaps = []\n[planners.a]\nplanner = \"nope\"\n").unwrap();
+    assert!(xtask::experiment(&bad, 1, Some(&out), false).is_err());
+    assert_eq!(std::fs::read(out.join("runs.json")).unwrap(), before);
+    let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(entries.len(), 3, "only the two configs and results/: {entries:?}");
+    let fresh = dir.join("fresh");
+    assert!(xtask::experiment(&bad, 1, Some(&fresh), false).is_err());
+    assert!(!fresh.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
