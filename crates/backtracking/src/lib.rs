@@ -376,7 +376,7 @@ impl Search<'_> {
         let mut mask = 0u64;
         for m in 0..n {
             let q = self.neighbor(p, m as u32);
-            mask |= (self.cells[q] >> 63) << m;
+            mask |= self.cells.get(q).map_or(0, |w| w >> 63) << m;
         }
         mask
     }
@@ -425,9 +425,10 @@ impl Search<'_> {
             }
             next_check = if timed { 1 } else { u64::MAX };
         }
-        // The root call.
-        let mut n_expanded = 1u64;
+        // The root call. From here on `n_expanded = next_check - left`: the loop only
+        // counts `left` down, and asks the clock when it reaches zero.
         let mut max_depth = 1u64;
+        let mut left = next_check - 1;
         if start == goal {
             self.best.push(start as u32);
             stats.n_expanded = 1;
@@ -502,16 +503,19 @@ impl Search<'_> {
                     continue;
                 }
             }
-            if n_expanded >= next_check {
-                match ask_clock(&mut clock, n_expanded, timed) {
-                    Some(next) => next_check = next,
+            if left == 0 {
+                match ask_clock(&mut clock, next_check, timed) {
+                    Some(next) => {
+                        left = next - next_check;
+                        next_check = next;
+                    }
                     None => {
                         refused = Some(m);
                         break;
                     }
                 }
             }
-            n_expanded += 1;
+            left -= 1;
             if PRUNE {
                 top.descended = true;
             }
@@ -557,6 +561,7 @@ impl Search<'_> {
             };
         }
 
+        let n_expanded = next_check - left;
         let complete = refused.is_none();
         // Calls still open: the root and the `depth` calls above it (none when complete).
         let open = if complete { 0 } else { depth as u64 + 1 };
