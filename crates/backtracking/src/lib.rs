@@ -159,21 +159,24 @@ fn move_set(config: &Config) -> Result<MoveSet, ConfigError> {
     })
 }
 
-/// One open call of `Backtrack` on the explicit stack (16 bytes).
+/// One open call of `Backtrack` on the explicit stack (16 bytes, no padding).
 #[derive(Debug, Clone, Copy, Default)]
 struct Frame {
     /// Moves still to try (bit m = move m): the free neighbours not yet recursed into,
-    /// or with pruning every safe move not yet checked.
+    /// or with pruning every safe move not yet checked, and then also [`DESCENDED`].
     remaining: u64,
     /// Padded index of the call's cell.
     cell: u32,
     /// The move that entered this cell; [`NO_MOVE`] for the root.
-    entered_by: u8,
-    /// Whether this call recursed into at least one neighbour.
-    descended: bool,
+    entered_by: u32,
 }
 
-const NO_MOVE: u8 = u8::MAX;
+/// `Frame::entered_by` of the root.
+const NO_MOVE: u32 = u32::MAX;
+
+/// With pruning, the bit of `Frame::remaining` set once the call recursed into a neighbour
+/// (above every move bit; without pruning every call pushed below the root descends).
+const DESCENDED: u64 = 1 << 63;
 
 /// Seed 000's exhaustive Backtracking planner (registry name `backtracking`).
 ///
@@ -326,7 +329,7 @@ fn popcount<const K: usize>(mask: u64) -> u64 {
 
 /// Whether entering a cell by move `m` turns, after a cell entered by `previous`.
 #[inline(always)]
-fn turns(previous: u8, m: u8) -> u32 {
+fn turns(previous: u32, m: u32) -> u32 {
     u32::from(previous != m && previous != NO_MOVE)
 }
 
@@ -340,6 +343,17 @@ fn ask_clock(clock: &mut BudgetClock, n_expanded: u64, timed: bool) -> Option<u6
     } else {
         None
     }
+}
+
+/// Copies the current path (the frames below the top, the top's cell, the goal) into `best`.
+/// Out of line and cold, so that the hot loop keeps nothing live for it.
+#[cold]
+#[inline(never)]
+fn record_path(best: &mut Vec<u32>, below: &[Frame], top: u32, goal: u32) {
+    best.clear();
+    best.extend(below.iter().map(|f| f.cell));
+    best.push(top);
+    best.push(goal);
 }
 
 /// The rank key `D << 32 | T` of a path: since Score = D + T, ordering keys as integers
@@ -456,7 +470,6 @@ impl Search<'_> {
             remaining: root_safe,
             cell: start as u32,
             entered_by: NO_MOVE,
-            descended: false,
         };
         // Frames below `top` are stack[..depth]; the current path has depth + 1 cells.
         let mut depth = 0usize;
@@ -465,18 +478,27 @@ impl Search<'_> {
         // Set when the budget refuses a call: the move that would have made it.
         let mut refused: Option<u32> = None;
         loop {
-            if top.remaining == 0 {
+            if (if PRUNE {
+                top.remaining & !DESCENDED
+            } else {
+                top.remaining
+            }) == 0
+            {
                 // Every move of this call has been checked: return from it.
                 self.cells[top.cell as usize] &= !VISITED;
                 if depth == 0 {
                     // Without pruning, every call pushed below the root descends, and
                     // the root does unless it has no safe move at all.
-                    let descended = if PRUNE { top.descended } else { root_safe != 0 };
+                    let descended = if PRUNE {
+                        top.remaining & DESCENDED != 0
+                    } else {
+                        root_safe != 0
+                    };
                     n_dead_ends += u64::from(!descended);
                     break;
                 }
                 if PRUNE {
-                    n_dead_ends += u64::from(!top.descended);
+                    n_dead_ends += u64::from(top.remaining & DESCENDED == 0);
                 }
                 depth -= 1;
                 let parent = self.stack[depth];
@@ -492,7 +514,7 @@ impl Search<'_> {
                 n_skipped += 1;
                 continue;
             }
-            let next_turns = path_turns + turns(top.entered_by, m as u8);
+            let next_turns = path_turns + turns(top.entered_by, m);
             // Steps from the start to `next`.
             let steps = depth as u64 + 1;
             if PRUNE && best != u64::MAX {
@@ -517,7 +539,7 @@ impl Search<'_> {
             }
             left -= 1;
             if PRUNE {
-                top.descended = true;
+                top.remaining |= DESCENDED;
             }
             max_depth = max_depth.max(steps + 1);
             if next == goal {
@@ -527,10 +549,7 @@ impl Search<'_> {
                 let key = rank_key(steps, u64::from(next_turns));
                 if key < best {
                     best = key;
-                    self.best.clear();
-                    self.best.extend(self.stack[..depth].iter().map(|f| f.cell));
-                    self.best.push(top.cell);
-                    self.best.push(next as u32);
+                    record_path(self.best, &self.stack[..depth], top.cell, next as u32);
                 }
                 continue;
             }
@@ -556,8 +575,7 @@ impl Search<'_> {
             top = Frame {
                 remaining,
                 cell: next as u32,
-                entered_by: m as u8,
-                descended: false,
+                entered_by: m,
             };
         }
 
@@ -588,7 +606,7 @@ impl Search<'_> {
                 if depth == 0 {
                     break;
                 }
-                first_unchecked = u32::from(frame.entered_by) + 1;
+                first_unchecked = frame.entered_by + 1;
                 depth -= 1;
                 frame = self.stack[depth];
             }
