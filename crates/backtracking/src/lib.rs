@@ -1,0 +1,657 @@
+//! Seed 000's exhaustive Backtracking planner: enumerates every simple path from the start
+//! to the goal and keeps the best by the lexicographic (D, T, Score) order.
+//!
+//! # Definition
+//! Seed 000 (`000_03f90818fe97c4a6.txt`), section 2.3 and its Fig. 5: a depth-first
+//! recursion `Backtrack(n_k)` over the current path `P`; a cell may not repeat within `P`
+//! (its `Visited` mark is set when it joins `P` and cleared when it leaves, equations
+//! 15-19), so every simple start-goal path is found exactly once. Solutions are ranked by
+//! [`PathRank`], the order of section 2.4: fewer steps D, then fewer turns T, then lower
+//! Score. **On a full tie the first solution found is kept** (a later one replaces the best
+//! only when it is strictly better).
+//!
+//! # Counters (section 2.5, Table 2), per call of `Backtrack`
+//! - `n_expanded` += 1 for every call, the root call and goal calls included;
+//! - at the goal: `n_solutions` += 1, the path is compared with the best, and the call
+//!   returns without checking any neighbour;
+//! - otherwise, for each move in order: `n_neighbor_checks` += 1; an unsafe target (out of
+//!   bounds, blocked, or for a diagonal without corner cutting a blocked cell it passes
+//!   between: [`MoveSet::apply`]) counts in `n_blocked`; a target on the current path in
+//!   `n_skipped`; any other target is recursed into, and on return `n_backtracks` += 1;
+//! - a non-goal call that recursed into no neighbour is a dead end, `n_dead_ends`;
+//! - `max_depth` is the most cells the current path ever held (goal included): the
+//!   paper's "recursion depth" memory indicator.
+//!
+//! With `k` moves per cell (4 on the paper's grid, 8 with diagonals) every complete run
+//! obeys `n_neighbor_checks = k * (n_expanded - n_solutions)`,
+//! `n_neighbor_checks = n_blocked + n_skipped + (n_expanded - 1)` and
+//! `n_backtracks = n_expanded - 1`. These reproduce all of the paper's Tables 6 and 8 on
+//! the reconstructed maps in `maps/paper/`.
+//!
+//! # Budget
+//! The budget is consulted before every call (one call is one expansion). When it refuses
+//! one, the search stops at once with [`Status::BudgetExhausted`], the best path found so
+//! far and the counters of exactly the work done: the refused call and the checks that
+//! would have followed in the calls still on the path are not counted. For such a
+//! truncated run, with `L` the number of cells on the path when it stopped
+//! (`1 <= L <= max_depth`, `L = 0` only for a zero budget):
+//! - `n_neighbor_checks = n_blocked + n_skipped + (n_expanded - 1)` still holds exactly;
+//! - `n_backtracks = n_expanded - L` (the `L - 1` open calls below the root never returned);
+//! - `n_neighbor_checks = k * (n_expanded - n_solutions) - u` where `u`, the checks the
+//!   open calls had not done yet, satisfies `1 <= u <= (k - 1) * (L - 1) + k`.
+//!
+//! A wall-clock limit is read through [`BudgetClock`](planner_api::BudgetClock) every
+//! expansion (it reads the time once per 1024); an expansion limit alone costs a single
+//! comparison per expansion.
+//!
+//! # Design
+//! The recursion of Fig. 5 is run on an explicit stack of frames (no recursion, so a
+//! path of 262,144 cells on a 512x512 map is fine), with a flat `Visited` array and, per
+//! cell, a bit mask of the moves that are safe from it, built once per grid from
+//! [`MoveSet`] and cached. A frame keeps the moves it has not tried yet as a mask, the
+//! number of turns of the path up to its cell, and the move that entered it, so the rank
+//! of a new solution is known in O(1); the path is copied only when a solution beats the
+//! best. Blocked checks are counted in bulk when a cell is expanded (their number is a
+//! property of the cell) and only the safe moves are iterated; a truncated run subtracts
+//! the checks the open calls had not reached, so the counters are those of the
+//! step-by-step procedure of Fig. 5. Nothing is allocated per step.
+//!
+//! # Pruning (not in the paper)
+//! [`Prune::Bound`] is a branch and bound on (D, T): a safe, unvisited neighbour is not
+//! recursed into when no completion through it can beat the best path so far (steps so
+//! far plus a lower bound on the remaining steps exceeds the best D, or equals it while
+//! the turns so far already reach the best T). It returns the same best path but
+//! **changes every counter** (fewer calls) and adds `n_pruned`, the neighbours not
+//! recursed into; the second identity becomes
+//! `n_neighbor_checks = n_blocked + n_skipped + n_pruned + (n_expanded - 1)` and
+//! `n_solutions` counts only the solutions still reached. It is off by default.
+//!
+//! # Example: the paper's map 1 (Table 6, first column)
+//! ```
+//! use planner_api::{Budget, Cell, Grid, Planner, Problem, Status};
+//! use planner_backtracking::{Backtracking, Config};
+//!
+//! // Rows top to bottom; `.` free, `#` blocked.
+//! let rows = ["......", "###..#", "##....", "####.#", "####.#", "####.."];
+//! let grid = Grid::from_ascii(&rows.join("\n")).unwrap();
+//! let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(5, 5)).unwrap();
+//! let mut planner = Backtracking::new(Config::default()).unwrap();
+//! let outcome = planner.plan(&problem, &Budget::unlimited());
+//! assert_eq!(outcome.status, Status::Found);
+//! let m = outcome.path.unwrap().metrics();
+//! assert_eq!((m.steps, m.turns, m.score), (10, 2, 12));
+//! let c = &outcome.counters;
+//! let get = |name| c.get(name).unwrap();
+//! assert_eq!(
+//!     [get("n_expanded"), get("n_neighbor_checks"), get("n_blocked"), get("n_skipped")],
+//!     [48, 176, 78, 51]
+//! );
+//! assert_eq!([get("n_solutions"), get("n_dead_ends"), get("n_backtracks")], [4, 12, 47]);
+//! ```
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+mod adjacency;
+
+use planner_api::{
+    Budget, BudgetClock, Cell, Connectivity, Counter, MoveOrderError, MoveSet, NeighborOrder,
+    Outcome, Path, PathRank, Planner, Problem, SearchStats,
+};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::adjacency::{Adjacency, VISITED};
+
+/// Optional pruning beyond the paper; every mode other than [`Prune::Off`] changes the counters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Prune {
+    /// The paper's exhaustive enumeration (default).
+    #[default]
+    Off,
+    /// Branch and bound on (D, T); see the crate docs. Reports `n_pruned` as well.
+    Bound,
+}
+
+/// The planner's configuration (TOML/JSON keys as the field names).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Config {
+    /// Neighbourhood, written as its number of directions (`moves = 4` or `8`, also 16, 32, 48).
+    /// Default 4, the paper's.
+    pub moves: Connectivity,
+    /// Whether 8-connected diagonals may cut corners (only with `moves = 8`). Default false.
+    pub corner_cutting: bool,
+    /// Order in which the moves are tried, e.g. `"R L D U"` (see [`NeighborOrder`]).
+    /// Default `R L D U`, the paper's right, left, down, up.
+    pub order: NeighborOrder,
+    /// Pruning mode. Default [`Prune::Off`], the paper's exhaustive search.
+    pub prune: Prune,
+}
+
+impl Default for Config {
+    fn default() -> Config {
+        Config {
+            moves: Connectivity::Four,
+            corner_cutting: false,
+            order: NeighborOrder::default(),
+            prune: Prune::Off,
+        }
+    }
+}
+
+/// A configuration that cannot be used.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum ConfigError {
+    /// `order` does not fit `moves`.
+    #[error("invalid order: {0}")]
+    Order(MoveOrderError),
+    /// `corner_cutting` was asked for a neighbourhood other than 8.
+    #[error("invalid corner_cutting: {0}")]
+    CornerCutting(MoveOrderError),
+}
+
+/// Builds the move set of a config, naming the offending parameter on error.
+fn move_set(config: &Config) -> Result<MoveSet, ConfigError> {
+    MoveSet::new(config.moves, config.corner_cutting, &config.order).map_err(|e| match e {
+        MoveOrderError::CornerCutting(_) => ConfigError::CornerCutting(e),
+        other => ConfigError::Order(other),
+    })
+}
+
+/// One open call of `Backtrack` on the explicit stack (16 bytes, no padding).
+#[derive(Debug, Clone, Copy, Default)]
+struct Frame {
+    /// Moves still to try (bit m = move m): the free neighbours not yet recursed into,
+    /// or with pruning every safe move not yet checked, and then also [`DESCENDED`].
+    remaining: u64,
+    /// Padded index of the call's cell.
+    cell: u32,
+    /// The move that entered this cell; [`NO_MOVE`] for the root.
+    entered_by: u32,
+}
+
+/// `Frame::entered_by` of the root.
+const NO_MOVE: u32 = u32::MAX;
+
+/// With pruning, the bit of `Frame::remaining` set once the call recursed into a neighbour
+/// (above every move bit; without pruning every call pushed below the root descends).
+const DESCENDED: u64 = 1 << 63;
+
+/// Seed 000's exhaustive Backtracking planner (registry name `backtracking`).
+///
+/// Keeps its per-cell buffers between calls to [`Planner::plan`]; the safe-move masks are
+/// rebuilt only when the grid changes.
+#[derive(Debug, Clone)]
+pub struct Backtracking {
+    config: Config,
+    moves: MoveSet,
+    adjacency: Option<Adjacency>,
+    stack: Vec<Frame>,
+    best: Vec<u32>,
+    lower_bound: Vec<u32>,
+}
+
+/// The result of one enumeration, before it is turned into an [`Outcome`].
+struct Run {
+    stats: SearchStats,
+    pruned: u64,
+    complete: bool,
+    best: Option<PathRank>,
+}
+
+impl Backtracking {
+    /// A planner with a validated `config`.
+    ///
+    /// Errors when `order` does not list the moves of `moves` correctly, or when
+    /// `corner_cutting` is set for a neighbourhood other than 8.
+    pub fn new(config: Config) -> Result<Backtracking, ConfigError> {
+        let moves = move_set(&config)?;
+        Ok(Backtracking {
+            config,
+            moves,
+            adjacency: None,
+            stack: Vec::new(),
+            best: Vec::new(),
+            lower_bound: Vec::new(),
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// The moves, in the order they are tried.
+    pub fn moves(&self) -> &MoveSet {
+        &self.moves
+    }
+
+    fn run(&mut self, problem: &Problem<'_>, budget: &Budget) -> Run {
+        let grid = problem.grid();
+        let adjacency = adjacency::cached(&mut self.adjacency, grid, &self.moves);
+        let start = adjacency.index(problem.start());
+        let goal = adjacency.index(problem.goal());
+        self.stack.clear();
+        // The path holds at most every cell once: the stack never needs more frames.
+        self.stack.resize(grid.len() + 1, Frame::default());
+        self.best.clear();
+        if self.config.prune == Prune::Bound {
+            fill_lower_bound(&mut self.lower_bound, adjacency, &self.moves, problem);
+        }
+        let mut search = Search {
+            cells: &mut adjacency.safe,
+            delta: &adjacency.delta,
+            n_moves: adjacency.n_moves,
+            all: adjacency.all,
+            stack: &mut self.stack,
+            best: &mut self.best,
+            lower_bound: &self.lower_bound,
+        };
+        match self.config.prune {
+            Prune::Off => match search.n_moves {
+                4 => search.run::<false, 4>(start, goal, budget),
+                8 => search.run::<false, 8>(start, goal, budget),
+                _ => search.run::<false, 0>(start, goal, budget),
+            },
+            Prune::Bound => search.run::<true, 0>(start, goal, budget),
+        }
+    }
+}
+
+/// Fills `lower_bound` (padded layout) with a lower bound on the number of moves from each
+/// grid cell to the goal: Manhattan distance for 4 directions, else the Chebyshev distance
+/// divided by the longest move's reach, rounded up.
+fn fill_lower_bound(
+    lower_bound: &mut Vec<u32>,
+    adjacency: &Adjacency,
+    moves: &MoveSet,
+    problem: &Problem<'_>,
+) {
+    let goal = problem.goal();
+    let reach = moves
+        .moves()
+        .iter()
+        .map(|m| m.dx.unsigned_abs().max(m.dy.unsigned_abs()))
+        .max()
+        .unwrap_or(1)
+        .max(1);
+    let four = moves.connectivity() == Connectivity::Four;
+    lower_bound.clear();
+    lower_bound.resize(adjacency.padded_len(), 0);
+    for cell in problem.grid().cells() {
+        let bound = if four {
+            u32::try_from(cell.manhattan(goal)).unwrap_or(u32::MAX)
+        } else {
+            (cell.chebyshev(goal) as u32).div_ceil(reach)
+        };
+        lower_bound[adjacency.index(cell)] = bound;
+    }
+}
+
+/// The borrowed state of one enumeration.
+struct Search<'a> {
+    /// Per padded cell: the safe-move mask, and the [`VISITED`] mark while the cell is on
+    /// the current path (one array, so one load tells both).
+    cells: &'a mut [u64],
+    /// Padded index offset of each move.
+    delta: &'a [isize; 64],
+    /// Number of moves.
+    n_moves: usize,
+    /// Bits `0..n_moves`.
+    all: u64,
+    stack: &'a mut [Frame],
+    best: &'a mut Vec<u32>,
+    lower_bound: &'a [u32],
+}
+
+/// Number of set bits of a byte, without relying on the `popcnt` instruction (the
+/// baseline x86-64 target lacks it and `count_ones` then takes a dozen instructions).
+const POPCOUNT: [u8; 256] = {
+    let mut table = [0u8; 256];
+    let mut i = 0;
+    while i < 256 {
+        table[i] = (i as u32).count_ones() as u8;
+        i += 1;
+    }
+    table
+};
+
+/// Set bits of a move mask; `K` as in [`Search::run`] (the masks have at most 8 bits when `K` is 4 or 8).
+#[inline(always)]
+fn popcount<const K: usize>(mask: u64) -> u64 {
+    if K == 4 || K == 8 {
+        u64::from(POPCOUNT[(mask & 0xff) as usize])
+    } else {
+        u64::from(mask.count_ones())
+    }
+}
+
+/// Whether entering a cell by move `m` turns, after a cell entered by `previous`.
+#[inline(always)]
+fn turns(previous: u32, m: u32) -> u32 {
+    u32::from(previous != m && previous != NO_MOVE)
+}
+
+/// Asks the budget clock for one more expansion after `n_expanded`: the next value of
+/// `n_expanded` at which to ask again, or `None` when the budget is exhausted.
+#[cold]
+#[inline(never)]
+fn ask_clock(clock: &mut BudgetClock, n_expanded: u64, timed: bool) -> Option<u64> {
+    if clock.allows(n_expanded) {
+        Some(if timed { n_expanded + 1 } else { u64::MAX })
+    } else {
+        None
+    }
+}
+
+/// Copies the current path (the frames below the top, the top's cell, the goal) into `best`.
+/// Out of line and cold, so that the hot loop keeps nothing live for it.
+#[cold]
+#[inline(never)]
+fn record_path(best: &mut Vec<u32>, below: &[Frame], top: u32, goal: u32) {
+    best.clear();
+    best.extend(below.iter().map(|f| f.cell));
+    best.push(top);
+    best.push(goal);
+}
+
+/// The rank key `D << 32 | T` of a path: since Score = D + T, ordering keys as integers
+/// orders paths exactly as [`PathRank`] does (D, then T, then Score), in one comparison.
+/// Both D and T are below 2^31 (a path visits each of at most 2^31 cells once).
+#[inline(always)]
+fn rank_key(steps: u64, turns: u64) -> u64 {
+    steps << 32 | turns
+}
+
+/// The [`PathRank`] of a rank key.
+fn rank_of(key: u64) -> PathRank {
+    let (steps, turns) = (key >> 32, key & 0xffff_ffff);
+    PathRank {
+        steps,
+        turns,
+        score: steps + turns,
+    }
+}
+
+impl Search<'_> {
+    /// The neighbour of padded cell `p` by move `m`.
+    #[inline(always)]
+    fn neighbor(&self, p: usize, m: u32) -> usize {
+        p.wrapping_add_signed(self.delta[(m & 63) as usize])
+    }
+
+    /// The moves of padded cell `p` whose target is on the current path (bit m = move m).
+    /// Border cells are never visited, so an unsafe move may set no bit or a harmless one.
+    /// `K` is the number of moves when known at compile time (4 or 8), else 0.
+    #[inline(always)]
+    fn visited_mask<const K: usize>(&self, p: usize) -> u64 {
+        let n = if K == 0 { self.n_moves } else { K };
+        let mut mask = 0u64;
+        for m in 0..n {
+            let q = self.neighbor(p, m as u32);
+            mask |= self.cells.get(q).map_or(0, |w| w >> 63) << m;
+        }
+        mask
+    }
+
+    /// Fig. 5 on an explicit stack. `PRUNE` selects the branch and bound; `K` is the number
+    /// of moves (4 or 8) when specialised, else 0.
+    ///
+    /// While a call is open the current path above it does not change, so which of its
+    /// neighbours are blocked, on the path, or free is fixed when it is entered: without
+    /// pruning the call's blocked and skipped checks are counted then and only its free
+    /// neighbours are iterated, and a call with no free neighbour is a dead end that
+    /// returns at once without being pushed. The turns of the current path are kept in a
+    /// running count, adjusted on every push and pop.
+    #[inline(never)]
+    fn run<const PRUNE: bool, const K: usize>(
+        &mut self,
+        start: usize,
+        goal: usize,
+        budget: &Budget,
+    ) -> Run {
+        let k = if K == 0 {
+            self.n_moves as u64
+        } else {
+            K as u64
+        };
+        let mut clock = budget.start();
+        let timed = budget.max_time.is_some();
+        // Expansions are counted locally; the clock is asked when `n_expanded` reaches
+        // `next_check`: at the expansion limit, or at every expansion under a time limit.
+        let mut next_check = if timed {
+            0
+        } else {
+            budget.max_expansions.unwrap_or(u64::MAX)
+        };
+        let mut stats = SearchStats::default();
+        let mut pruned = 0u64;
+
+        if next_check == 0 {
+            if !clock.allows(0) {
+                return Run {
+                    stats,
+                    pruned,
+                    complete: false,
+                    best: None,
+                };
+            }
+            next_check = if timed { 1 } else { u64::MAX };
+        }
+        // The root call. From here on `n_expanded = next_check - left`: the loop only
+        // counts `left` down, and asks the clock when it reaches zero.
+        let mut max_depth = 1u64;
+        let mut left = next_check - 1;
+        if start == goal {
+            self.best.push(start as u32);
+            stats.n_expanded = 1;
+            stats.n_solutions = 1;
+            stats.max_depth = 1;
+            return Run {
+                stats,
+                pruned,
+                complete: true,
+                best: Some(rank_of(0)),
+            };
+        }
+        let root_safe = self.cells[start] & self.all;
+        // Every non-goal call checks all k moves, and every call but the root returns once:
+        // `n_neighbor_checks` and `n_backtracks` are computed from the calls made and the
+        // calls still open when the search ends, not counted one by one in the loop.
+        let mut n_blocked = k - popcount::<K>(root_safe);
+        let mut n_skipped = 0u64;
+        let mut n_solutions = 0u64;
+        let mut n_dead_ends = 0u64;
+        // Rank key of the best solution so far; u64::MAX for none.
+        let mut best = u64::MAX;
+        self.cells[start] |= VISITED;
+        let mut top = Frame {
+            remaining: root_safe,
+            cell: start as u32,
+            entered_by: NO_MOVE,
+        };
+        // Frames below `top` are stack[..depth]; the current path has depth + 1 cells.
+        let mut depth = 0usize;
+        // Turns of the current path (start to top).
+        let mut path_turns = 0u32;
+        // Set when the budget refuses a call: the move that would have made it.
+        let mut refused: Option<u32> = None;
+        loop {
+            if (if PRUNE {
+                top.remaining & !DESCENDED
+            } else {
+                top.remaining
+            }) == 0
+            {
+                // Every move of this call has been checked: return from it.
+                self.cells[top.cell as usize] &= !VISITED;
+                if depth == 0 {
+                    // Without pruning, every call pushed below the root descends, and
+                    // the root does unless it has no safe move at all.
+                    let descended = if PRUNE {
+                        top.remaining & DESCENDED != 0
+                    } else {
+                        root_safe != 0
+                    };
+                    n_dead_ends += u64::from(!descended);
+                    break;
+                }
+                if PRUNE {
+                    n_dead_ends += u64::from(top.remaining & DESCENDED == 0);
+                }
+                depth -= 1;
+                let parent = self.stack[depth];
+                path_turns -= turns(parent.entered_by, top.entered_by);
+                top = parent;
+                continue;
+            }
+            let m = top.remaining.trailing_zeros();
+            top.remaining &= top.remaining - 1;
+            let next = self.neighbor(top.cell as usize, m);
+            let word = self.cells[next];
+            if PRUNE && word & VISITED != 0 {
+                n_skipped += 1;
+                continue;
+            }
+            let next_turns = path_turns + turns(top.entered_by, m);
+            // Steps from the start to `next`.
+            let steps = depth as u64 + 1;
+            if PRUNE && best != u64::MAX {
+                let b = rank_of(best);
+                let lower = steps + u64::from(self.lower_bound[next]);
+                if lower > b.steps || (lower == b.steps && u64::from(next_turns) >= b.turns) {
+                    pruned += 1;
+                    continue;
+                }
+            }
+            if left == 0 {
+                match ask_clock(&mut clock, next_check, timed) {
+                    Some(next) => {
+                        left = next - next_check;
+                        next_check = next;
+                    }
+                    None => {
+                        refused = Some(m);
+                        break;
+                    }
+                }
+            }
+            left -= 1;
+            if PRUNE {
+                top.remaining |= DESCENDED;
+            }
+            max_depth = max_depth.max(steps + 1);
+            if next == goal {
+                // A goal call: record the solution and return at once. A solution
+                // replaces the best only when strictly better: ties keep the first.
+                n_solutions += 1;
+                let key = rank_key(steps, u64::from(next_turns));
+                if key < best {
+                    best = key;
+                    record_path(self.best, &self.stack[..depth], top.cell, next as u32);
+                }
+                continue;
+            }
+            let safe = word & self.all;
+            n_blocked += k - popcount::<K>(safe);
+            let remaining = if PRUNE {
+                safe
+            } else {
+                let on_path = safe & self.visited_mask::<K>(next);
+                n_skipped += popcount::<K>(on_path);
+                let free = safe ^ on_path;
+                if free == 0 {
+                    // A dead end: it returns at once.
+                    n_dead_ends += 1;
+                    continue;
+                }
+                free
+            };
+            self.cells[next] = word | VISITED;
+            self.stack[depth] = top;
+            depth += 1;
+            path_turns = next_turns;
+            top = Frame {
+                remaining,
+                cell: next as u32,
+                entered_by: m,
+            };
+        }
+
+        let n_expanded = next_check - left;
+        let complete = refused.is_none();
+        // Calls still open: the root and the `depth` calls above it (none when complete).
+        let open = if complete { 0 } else { depth as u64 + 1 };
+        let mut n_checks = k * (n_expanded - n_solutions);
+        let n_backtracks = n_expanded - 1 - open.saturating_sub(1);
+        if let Some(refused) = refused {
+            // Uncount the checks the open calls had not reached: in the deepest call the
+            // refused move and those after it, in every other the moves after the one that
+            // entered its child. Unwinding from the deepest call, the visited marks are
+            // those each call saw when it was entered.
+            let mut first_unchecked = refused;
+            let mut frame = top;
+            loop {
+                let p = frame.cell as usize;
+                let unchecked = self.all >> first_unchecked;
+                let safe = (self.cells[p] & self.all) >> first_unchecked;
+                n_checks -= u64::from(unchecked.count_ones());
+                n_blocked -= u64::from((unchecked & !safe).count_ones());
+                if !PRUNE {
+                    let on_path = safe & (self.visited_mask::<K>(p) >> first_unchecked);
+                    n_skipped -= u64::from(on_path.count_ones());
+                }
+                self.cells[p] &= !VISITED;
+                if depth == 0 {
+                    break;
+                }
+                first_unchecked = frame.entered_by + 1;
+                depth -= 1;
+                frame = self.stack[depth];
+            }
+        }
+        stats.n_expanded = n_expanded;
+        stats.n_neighbor_checks = n_checks;
+        stats.n_blocked = n_blocked;
+        stats.n_skipped = n_skipped;
+        stats.n_solutions = n_solutions;
+        stats.n_dead_ends = n_dead_ends;
+        stats.n_backtracks = n_backtracks;
+        stats.max_depth = max_depth;
+        Run {
+            stats,
+            pruned,
+            complete,
+            best: (best != u64::MAX).then(|| rank_of(best)),
+        }
+    }
+}
+
+impl Planner for Backtracking {
+    fn name(&self) -> &str {
+        "backtracking"
+    }
+
+    fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+        let run = self.run(problem, budget);
+        let mut counters = run.stats.report(Counter::BACKTRACKING);
+        if self.config.prune != Prune::Off {
+            counters.push("n_pruned", run.pruned);
+        }
+        let path = match (&run.best, &self.adjacency) {
+            (Some(_), Some(adjacency)) => Some(Path::new(
+                self.best
+                    .iter()
+                    .map(|&p| adjacency.cell(p as usize))
+                    .collect::<Vec<Cell>>(),
+            )),
+            _ => None,
+        };
+        match (run.complete, path) {
+            (true, Some(path)) => Outcome::found(path, counters),
+            (true, None) => Outcome::no_path(counters),
+            (false, path) => Outcome::budget_exhausted(path, counters),
+        }
+    }
+}
