@@ -39,6 +39,24 @@ pub const PLANNERS: &[Entry] = &[
         build: |params| build(params, planner_astar::AStar::new),
     },
     Entry {
+        name: "backtracking",
+        summary: "exhaustive Backtracking (seed 000): every simple path, best by (D, T, Score)",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_backtracking::Backtracking::new),
+    },
+    Entry {
+        name: "bfs",
+        summary: "breadth-first search (seed 003): FIFO, visited on enqueue; shortest in steps",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_bfs::Bfs::new),
+    },
+    Entry {
+        name: "dfs",
+        summary: "depth-first search (seed 003): LIFO, visited on push; a path, not the shortest",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_dfs::Dfs::new),
+    },
+    Entry {
         name: planner_rrt::NAME,
         summary: "RRT (seed 003) on grid cells: seeded, goal bias, 4/8 steering, longer steps",
         kind: Kind::Stochastic,

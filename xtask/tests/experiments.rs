@@ -56,7 +56,13 @@ fn compact(records: &[RunRecord]) -> Vec<serde_json::Value> {
             value["start"] = cell(r.start).into();
             value["goal"] = cell(r.goal).into();
             value["path"] = match &r.path {
-                Some(path) => path.cells().iter().map(|&c| cell(c)).collect::<Vec<_>>().join(" ").into(),
+                Some(path) => path
+                    .cells()
+                    .iter()
+                    .map(|&c| cell(c))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+                    .into(),
                 None => serde_json::Value::Null,
             };
             value
@@ -94,8 +100,10 @@ fn thread_count_does_not_change_results() {
 fn paper_config_reproduces_every_published_number() {
     let experiment = config::load(&root().join("configs/paper.toml")).unwrap();
     let records = run_all(&experiment, 2, false).unwrap();
-    let manifest: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(root().join("maps/paper/manifest.json")).unwrap()).unwrap();
+    let manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("maps/paper/manifest.json")).unwrap(),
+    )
+    .unwrap();
     let published = experiment.published.as_ref().unwrap();
     let mut checked = 0;
     for entry in manifest.as_array().unwrap() {
@@ -121,7 +129,11 @@ fn paper_config_reproduces_every_published_number() {
         }
     }
     let planners: Vec<&str> = experiment.planners.iter().map(|p| p.name).collect();
-    let expected = if planners.contains(&"backtracking") { 228 } else { 108 };
+    let expected = if planners.contains(&"backtracking") {
+        228
+    } else {
+        108
+    };
     assert_eq!(checked, expected);
 }
 
@@ -129,7 +141,9 @@ fn paper_config_reproduces_every_published_number() {
 fn check_error(text: &str, expect: &str) {
     let path = root().join("configs/bad.toml");
     let error = config::parse(&path, text).map(|_| ()).unwrap_err();
-    let shown = error.to_string().replace(&path.display().to_string(), "bad.toml");
+    let shown = error
+        .to_string()
+        .replace(&path.display().to_string(), "bad.toml");
     assert_eq!(shown, expect);
 }
 
@@ -143,7 +157,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
-        "bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of astar, rrt",
+        "bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of astar, backtracking, bfs, dfs, rrt",
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.fast]\nplanner = \"astar\"\nbeta = 2\n"),
@@ -182,7 +196,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nheuristic = \"octile\"\n"),
-        "bad.toml:5:11: planner `a`: key `planner` is missing (one of astar, rrt)",
+        "bad.toml:5:11: planner `a`: key `planner` is missing (one of astar, backtracking, bfs, dfs, rrt)",
     );
 }
 
@@ -202,11 +216,22 @@ fn a_failed_sweep_leaves_previous_results_and_writes_nothing() {
     xtask::experiment(&good, 1, Some(&out), false).unwrap();
     let before = std::fs::read(out.join("runs.json")).unwrap();
     let bad = dir.join("bad.toml");
-    std::fs::write(&bad, "name = \"t\"\nmaps = []\n[planners.a]\nplanner = \"nope\"\n").unwrap();
+    std::fs::write(
+        &bad,
+        "name = \"t\"\nmaps = []\n[planners.a]\nplanner = \"nope\"\n",
+    )
+    .unwrap();
     assert!(xtask::experiment(&bad, 1, Some(&out), false).is_err());
     assert_eq!(std::fs::read(out.join("runs.json")).unwrap(), before);
-    let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
-    assert_eq!(entries.len(), 3, "only the two configs and results/: {entries:?}");
+    let entries: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        entries.len(),
+        3,
+        "only the two configs and results/: {entries:?}"
+    );
     let fresh = dir.join("fresh");
     assert!(xtask::experiment(&bad, 1, Some(&fresh), false).is_err());
     assert!(!fresh.exists());
