@@ -92,7 +92,7 @@ struct RawConfig {
     #[serde(default)]
     test: TestLimits,
     maps: Vec<Spanned<RawMaps>>,
-    planners: IndexMap<Spanned<String>, Spanned<IndexMap<Spanned<String>, Spanned<toml::Value>>>>,
+    planners: IndexMap<Spanned<String>, Spanned<RawParams>>,
 }
 
 fn one() -> Spanned<u32> {

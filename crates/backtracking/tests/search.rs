@@ -149,7 +149,7 @@ impl Reference<'_> {
             self.c[SOLUTIONS] += 1;
             let rank = Path::new(self.path.clone()).rank();
             self.ranks.push(rank);
-            if self.best.as_ref().map_or(true, |(b, _)| rank < *b) {
+            if self.best.as_ref().is_none_or(|(b, _)| rank < *b) {
                 self.best = Some((rank, self.path.clone()));
             }
             return true;

@@ -95,7 +95,7 @@ impl NearestIndex for LinearScan {
         let mut best: Option<(u64, u32)> = None;
         for (id, &cell) in self.cells.iter().enumerate() {
             let d2 = squared_distance(query, cell);
-            if best.map_or(true, |(b, _)| d2 < b) {
+            if best.is_none_or(|(b, _)| d2 < b) {
                 best = Some((d2, id as u32));
             }
         }
