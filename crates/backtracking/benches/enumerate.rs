@@ -4,12 +4,15 @@
 //! provides it (`/proc/thread-self/schedstat`), by the thread's own CPU time, which other
 //! processes sharing the machine do not inflate.
 //!
+//! Then the same with `parallel = true` (the root's subtrees on the rayon pool; two on
+//! this corner start), whose outcome must equal the serial one.
+//!
 //! Optional argument: the number of repetitions (default 7).
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use planner_api::{Budget, Cell, Grid, Planner, Problem, Status};
+use planner_api::{Budget, Cell, Grid, Outcome, Planner, Problem, Status};
 use planner_backtracking::{Backtracking, Config};
 
 /// Nanoseconds this thread has run on a CPU, if the kernel says.
@@ -26,26 +29,17 @@ fn main() {
         .max(1);
     let grid = Grid::new(6, 6).expect("6x6 grid");
     let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(5, 5)).expect("corners are free");
-    let mut planner = Backtracking::new(Config::default()).expect("default config");
-    let mut wall = Vec::new();
-    let mut cpu = Vec::new();
-    let mut expanded = 0;
-    for _ in 0..reps {
-        let c0 = thread_cpu_ns();
-        let t = Instant::now();
-        let outcome = black_box(planner.plan(black_box(&problem), &Budget::unlimited()));
-        wall.push(t.elapsed());
-        if let (Some(a), Some(b)) = (c0, thread_cpu_ns()) {
-            cpu.push(Duration::from_nanos(b - a));
-        }
-        assert_eq!(outcome.status, Status::Found);
-        assert_eq!(
-            outcome.counters.get("n_solutions"),
-            Some(1_262_816),
-            "6x6 solutions"
-        );
-        expanded = outcome.counters.get("n_expanded").unwrap_or(0);
-    }
+    let serial = measure(&problem, Config::default(), reps);
+    let parallel = measure(
+        &problem,
+        Config {
+            parallel: true,
+            ..Config::default()
+        },
+        reps,
+    );
+    assert_eq!(parallel.0, serial.0, "parallel and serial outcomes differ");
+    let expanded = serial.0.counters.get("n_expanded").unwrap_or(0);
     let rate = |d: Duration| expanded as f64 / d.as_secs_f64() / 1e6;
     let summary = |name: &str, mut times: Vec<Duration>| {
         times.sort();
@@ -57,9 +51,49 @@ fn main() {
             rate(times[times.len() / 2]),
         )
     };
-    println!("open 6x6, (0,0) to (5,5): 1262816 solutions, {expanded} expansions, {reps} runs");
-    println!("  {}", summary("wall", wall));
-    if cpu.len() == reps {
-        println!("  {}", summary("thread cpu", cpu));
+    println!(
+        "open 6x6, (0,0) to (5,5): 1262816 solutions, {expanded} expansions, {reps} runs each"
+    );
+    println!("  serial, {}", summary("wall", serial.1));
+    if serial.2.len() == reps {
+        println!("  serial, {}", summary("thread cpu", serial.2));
     }
+    println!(
+        "  parallel ({} rayon threads), {}",
+        rayon_threads(),
+        summary("wall", parallel.1)
+    );
+}
+
+fn rayon_threads() -> usize {
+    rayon::current_num_threads()
+}
+
+/// Runs the 6x6 enumeration `reps` times: the outcome, wall times, thread CPU times.
+fn measure(
+    problem: &Problem<'_>,
+    config: Config,
+    reps: usize,
+) -> (Outcome, Vec<Duration>, Vec<Duration>) {
+    let mut planner = Backtracking::new(config).expect("valid config");
+    let mut wall = Vec::new();
+    let mut cpu = Vec::new();
+    let mut last = None;
+    for _ in 0..reps {
+        let c0 = thread_cpu_ns();
+        let t = Instant::now();
+        let outcome = black_box(planner.plan(black_box(problem), &Budget::unlimited()));
+        wall.push(t.elapsed());
+        if let (Some(a), Some(b)) = (c0, thread_cpu_ns()) {
+            cpu.push(Duration::from_nanos(b - a));
+        }
+        assert_eq!(outcome.status, Status::Found);
+        assert_eq!(
+            outcome.counters.get("n_solutions"),
+            Some(1_262_816),
+            "6x6 solutions"
+        );
+        last = Some(outcome);
+    }
+    (last.expect("at least one run"), wall, cpu)
 }

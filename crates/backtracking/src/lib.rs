@@ -127,6 +127,12 @@ pub struct Config {
     pub order: NeighborOrder,
     /// Pruning mode. Default [`Prune::Off`], the paper's exhaustive search.
     pub prune: Prune,
+    /// Enumerate the root's subtrees (one per safe first move) in parallel on the rayon
+    /// thread pool. The outcome, counters included, is identical to the serial run's.
+    /// Applies only with [`Prune::Off`] and an unlimited budget (a budget is spent in the
+    /// serial order, and branch and bound prunes with the best of the earlier subtrees);
+    /// otherwise the search runs serially. Default false.
+    pub parallel: bool,
 }
 
 impl Default for Config {
@@ -136,6 +142,7 @@ impl Default for Config {
             corner_cutting: false,
             order: NeighborOrder::default(),
             prune: Prune::Off,
+            parallel: false,
         }
     }
 }
@@ -239,6 +246,16 @@ impl Backtracking {
         if self.config.prune == Prune::Bound {
             fill_lower_bound(&mut self.lower_bound, adjacency, &self.moves, problem);
         }
+        let root_moves = adjacency.safe[start] & adjacency.all;
+        let parallel = self.config.parallel
+            && self.config.prune == Prune::Off
+            && budget.max_expansions.is_none()
+            && budget.max_time.is_none()
+            && start != goal
+            && root_moves.count_ones() >= 2;
+        if parallel {
+            return run_parallel(adjacency, start, goal, &mut self.best, grid.len());
+        }
         let mut search = Search {
             cells: &mut adjacency.safe,
             delta: &adjacency.delta,
@@ -248,14 +265,73 @@ impl Backtracking {
             best: &mut self.best,
             lower_bound: &self.lower_bound,
         };
-        match self.config.prune {
-            Prune::Off => match search.n_moves {
-                4 => search.run::<false, 4>(start, goal, budget),
-                8 => search.run::<false, 8>(start, goal, budget),
-                _ => search.run::<false, 0>(start, goal, budget),
-            },
-            Prune::Bound => search.run::<true, 0>(start, goal, budget),
+        search.dispatch(self.config.prune, start, goal, budget, u64::MAX)
+    }
+}
+
+/// The serial search split at the root: one task per safe first move, each a serial
+/// search whose root may take only that move, merged in move order. Each task counts the
+/// root call too, so the merge removes the extra copies of the root's own counts; the
+/// best is taken in task order with the serial rule (strictly better replaces), so ties
+/// keep the first found exactly as the serial run does.
+fn run_parallel(
+    adjacency: &Adjacency,
+    start: usize,
+    goal: usize,
+    best_path: &mut Vec<u32>,
+    n_cells: usize,
+) -> Run {
+    use rayon::prelude::*;
+    let root_moves = adjacency.safe[start] & adjacency.all;
+    let tasks: Vec<u32> = (0..64).filter(|m| root_moves >> m & 1 == 1).collect();
+    let runs: Vec<(Run, Vec<u32>)> = tasks
+        .par_iter()
+        .map(|&m| {
+            let mut cells = adjacency.safe.clone();
+            let mut stack = vec![Frame::default(); n_cells + 1];
+            let mut best = Vec::new();
+            let mut search = Search {
+                cells: &mut cells,
+                delta: &adjacency.delta,
+                n_moves: adjacency.n_moves,
+                all: adjacency.all,
+                stack: &mut stack,
+                best: &mut best,
+                lower_bound: &[],
+            };
+            let run = search.dispatch(Prune::Off, start, goal, &Budget::unlimited(), 1 << m);
+            (run, best)
+        })
+        .collect();
+    let k = adjacency.n_moves as u64;
+    let extra_roots = runs.len() as u64 - 1;
+    let root_blocked = k - u64::from(root_moves.count_ones());
+    let mut stats = SearchStats::default();
+    let mut best: Option<PathRank> = None;
+    for (run, path) in runs {
+        let s = &run.stats;
+        stats.n_expanded += s.n_expanded;
+        stats.n_blocked += s.n_blocked;
+        stats.n_skipped += s.n_skipped;
+        stats.n_solutions += s.n_solutions;
+        stats.n_dead_ends += s.n_dead_ends;
+        stats.max_depth = stats.max_depth.max(s.max_depth);
+        if let Some(rank) = run.best {
+            if best.map_or(true, |b| rank < b) {
+                best = Some(rank);
+                *best_path = path;
+            }
         }
+    }
+    stats.n_expanded -= extra_roots;
+    stats.n_blocked -= extra_roots * root_blocked;
+    stats.n_neighbor_checks = k * (stats.n_expanded - stats.n_solutions);
+    stats.n_backtracks = stats.n_expanded - 1;
+    Run {
+        stats,
+        pruned: 0,
+        complete: true,
+        best,
     }
 }
 
@@ -375,6 +451,26 @@ fn rank_of(key: u64) -> PathRank {
 }
 
 impl Search<'_> {
+    /// Runs the search specialised for `prune` and the number of moves. The root tries
+    /// only the moves in `root_mask` (all: `u64::MAX`).
+    fn dispatch(
+        &mut self,
+        prune: Prune,
+        start: usize,
+        goal: usize,
+        budget: &Budget,
+        root_mask: u64,
+    ) -> Run {
+        match prune {
+            Prune::Off => match self.n_moves {
+                4 => self.run::<false, 4>(start, goal, budget, root_mask),
+                8 => self.run::<false, 8>(start, goal, budget, root_mask),
+                _ => self.run::<false, 0>(start, goal, budget, root_mask),
+            },
+            Prune::Bound => self.run::<true, 0>(start, goal, budget, root_mask),
+        }
+    }
+
     /// The neighbour of padded cell `p` by move `m`.
     #[inline(always)]
     fn neighbor(&self, p: usize, m: u32) -> usize {
@@ -410,6 +506,7 @@ impl Search<'_> {
         start: usize,
         goal: usize,
         budget: &Budget,
+        root_mask: u64,
     ) -> Run {
         let k = if K == 0 {
             self.n_moves as u64
@@ -467,7 +564,7 @@ impl Search<'_> {
         let mut best = u64::MAX;
         self.cells[start] |= VISITED;
         let mut top = Frame {
-            remaining: root_safe,
+            remaining: root_safe & root_mask,
             cell: start as u32,
             entered_by: NO_MOVE,
         };
@@ -492,7 +589,7 @@ impl Search<'_> {
                     let descended = if PRUNE {
                         top.remaining & DESCENDED != 0
                     } else {
-                        root_safe != 0
+                        root_safe & root_mask != 0
                     };
                     n_dead_ends += u64::from(!descended);
                     break;
