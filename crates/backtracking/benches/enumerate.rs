@@ -7,6 +7,10 @@
 //! Then the same with `parallel = true` (the root's subtrees on the rayon pool; two on
 //! this corner start), whose outcome must equal the serial one.
 //!
+//! Last, the open 12x12 grid (about 10^25 paths) under `Budget::expansions(10_000_000)`:
+//! the runner's case, which must come back well under a second with a budget-exhausted
+//! status.
+//!
 //! Optional argument: the number of repetitions (default 7).
 
 use std::hint::black_box;
@@ -62,6 +66,22 @@ fn main() {
         "  parallel ({} rayon threads), {}",
         rayon_threads(),
         summary("wall", parallel.1)
+    );
+
+    let grid = Grid::new(12, 12).expect("12x12 grid");
+    let problem =
+        Problem::new(&grid, Cell::new(0, 0), Cell::new(11, 11)).expect("corners are free");
+    let mut planner = Backtracking::new(Config::default()).expect("default config");
+    let t = Instant::now();
+    let outcome = planner.plan(&problem, &Budget::expansions(10_000_000));
+    let elapsed = t.elapsed();
+    assert_eq!(outcome.status, Status::BudgetExhausted);
+    assert_eq!(outcome.counters.get("n_expanded"), Some(10_000_000));
+    println!(
+        "open 12x12, Budget::expansions(10_000_000): {} in {:.3} s wall, best so far {:?}",
+        outcome.status.as_str(),
+        elapsed.as_secs_f64(),
+        outcome.path.map(|p| p.rank())
     );
 }
 

@@ -30,7 +30,7 @@
 //!
 //! # Budget
 //! One expansion is one dequeue; the budget is asked before each. When it refuses, the
-//! search ends with [`Status::BudgetExhausted`], no path, and the counters so far.
+//! search ends with [`Status::BudgetExhausted`](planner_api::Status::BudgetExhausted), no path, and the counters so far.
 //!
 //! # Seed 003's data
 //! On `maps/wpi/map1.txt` this gives the report's Table I lengths 18, 14 and 16 for pairs

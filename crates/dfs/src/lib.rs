@@ -37,7 +37,7 @@
 //!
 //! # Budget
 //! One expansion is one pop; the budget is asked before each. When it refuses, the search
-//! ends with [`Status::BudgetExhausted`], no path, and the counters so far.
+//! ends with [`Status::BudgetExhausted`](planner_api::Status::BudgetExhausted), no path, and the counters so far.
 //!
 //! # Design
 //! Per-cell masks of the safe moves, built once per grid from [`MoveSet`] (cached while
