@@ -427,10 +427,12 @@ fn popcount<const K: usize>(mask: u64) -> u64 {
     }
 }
 
-/// Whether entering a cell by move `m` turns, after a cell entered by `previous`.
+/// Whether entering a cell by move `m` changes direction after a cell entered by
+/// `previous`. From the root ([`NO_MOVE`]) every move counts as a change; the running
+/// count starts at -1 (wrapping) to cancel it, since the first move is never a turn.
 #[inline(always)]
 fn turns(previous: u32, m: u32) -> u32 {
-    u32::from(previous != m && previous != NO_MOVE)
+    u32::from(previous != m)
 }
 
 /// Asks the budget clock for one more expansion after `n_expanded`: the next value of
@@ -594,8 +596,9 @@ impl Search<'_> {
         };
         // Frames below `top` are stack[..depth]; the current path has depth + 1 cells.
         let mut depth = 0usize;
-        // Turns of the current path (start to top).
-        let mut path_turns = 0u32;
+        // Turns of the current path (start to top), kept as `u32::MAX` (that is, -1) at the
+        // root: see [`turns`].
+        let mut path_turns = u32::MAX;
         // Set when the budget refuses a call: the move that would have made it.
         let mut refused: Option<u32> = None;
         loop {
@@ -623,7 +626,7 @@ impl Search<'_> {
                 }
                 depth -= 1;
                 let parent = self.stack[depth];
-                path_turns -= turns(parent.entered_by, top.entered_by);
+                path_turns = path_turns.wrapping_sub(turns(parent.entered_by, top.entered_by));
                 top = parent;
                 continue;
             }
@@ -635,7 +638,7 @@ impl Search<'_> {
                 n_skipped += 1;
                 continue;
             }
-            let next_turns = path_turns + turns(top.entered_by, m);
+            let next_turns = path_turns.wrapping_add(turns(top.entered_by, m));
             // Steps from the start to `next`.
             let steps = depth as u64 + 1;
             if PRUNE && best != u64::MAX {
