@@ -263,9 +263,11 @@ impl Backtracking {
         let adjacency = adjacency::cached(&mut self.adjacency, grid, &self.moves);
         let start = adjacency.index(problem.start());
         let goal = adjacency.index(problem.goal());
-        self.stack.clear();
-        // The path holds at most every cell once: the stack never needs more frames.
-        self.stack.resize(grid.len() + 1, Frame::default());
+        // The path holds each cell at most once, so at most `len - 1` frames are ever below
+        // the top. Frames are written before they are read: no clearing between searches.
+        if self.stack.len() < grid.len() {
+            self.stack.resize(grid.len(), Frame::default());
+        }
         self.best.clear();
         if self.config.prune == Prune::Bound {
             fill_lower_bound(&mut self.lower_bound, adjacency, &self.moves, problem);
@@ -312,7 +314,7 @@ fn run_parallel(
         .par_iter()
         .map(|&m| {
             let mut cells = adjacency.safe.clone();
-            let mut stack = vec![Frame::default(); n_cells + 1];
+            let mut stack = vec![Frame::default(); n_cells];
             let mut best = Vec::new();
             let mut search = Search {
                 cells: &mut cells,
@@ -777,5 +779,45 @@ impl Planner for Backtracking {
             (true, None) => Outcome::no_path(counters),
             (false, path) => Outcome::budget_exhausted(path, counters),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rank_key_orders_as_path_rank() {
+        let pairs = [
+            (0, 0),
+            (1, 0),
+            (1, 5),
+            (2, 0),
+            (2, 1),
+            (7, 3),
+            (7, 4),
+            (9, 0),
+            (1 << 30, 1 << 30),
+        ];
+        for &(d1, t1) in &pairs {
+            for &(d2, t2) in &pairs {
+                let rank = |d: u64, t: u64| PathRank {
+                    steps: d,
+                    turns: t,
+                    score: d + t,
+                };
+                assert_eq!(
+                    rank_key(d1, t1).cmp(&rank_key(d2, t2)),
+                    rank(d1, t1).cmp(&rank(d2, t2)),
+                    "({d1}, {t1}) vs ({d2}, {t2})"
+                );
+                assert_eq!(rank_of(rank_key(d1, t1)), rank(d1, t1));
+            }
+        }
+    }
+
+    #[test]
+    fn frames_are_16_bytes() {
+        assert_eq!(std::mem::size_of::<Frame>(), 16);
     }
 }
