@@ -686,3 +686,70 @@ fn config_keys_and_errors() {
         "backtracking"
     );
 }
+
+#[test]
+fn parallel_enumeration_is_identical_to_the_serial_run() {
+    let parallel = Config {
+        parallel: true,
+        ..Config::default()
+    };
+    let mut cases: Vec<(String, Grid, Cell, Cell)> = common::paper_maps()
+        .into_iter()
+        .map(|(name, g)| {
+            let n = g.width() - 1;
+            (name, g, Cell::new(0, 0), Cell::new(n, n))
+        })
+        .collect();
+    // The open 5x5 grid from a middle cell: four subtrees.
+    cases.push((
+        "open 5x5".into(),
+        Grid::new(5, 5).unwrap(),
+        Cell::new(2, 2),
+        Cell::new(4, 0),
+    ));
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for round in 0..40 {
+        let (g, s, t) = random_grid(&mut rng, 5, 0.2);
+        cases.push((format!("round {round}"), g, s, t));
+    }
+    for (what, grid, start, goal) in &cases {
+        for moves in [Connectivity::Four, Connectivity::Eight] {
+            if moves == Connectivity::Eight && grid.len() > 16 {
+                continue;
+            }
+            let serial = plan(
+                grid,
+                *start,
+                goal.to_owned(),
+                Config {
+                    moves,
+                    ..Config::default()
+                },
+                Budget::unlimited(),
+            );
+            let par = plan(
+                grid,
+                *start,
+                *goal,
+                Config {
+                    moves,
+                    ..parallel.clone()
+                },
+                Budget::unlimited(),
+            );
+            assert_eq!(par, serial, "{what} {moves}\n{grid:?}");
+        }
+    }
+    // With a budget the serial search runs.
+    let grid = Grid::new(12, 12).unwrap();
+    let budget = Budget::expansions(10_000);
+    let serial = plan(
+        &grid,
+        Cell::new(0, 0),
+        Cell::new(11, 11),
+        Config::default(),
+        budget,
+    );
+    let par = plan(&grid, Cell::new(0, 0), Cell::new(11, 11), parallel, budget);
+    assert_eq!(par, serial);
+}

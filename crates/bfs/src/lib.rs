@@ -23,14 +23,15 @@
 //!   measured after each cell's neighbours are enqueued: the memory indicator;
 //! - `n_open_insertions`: cells ever enqueued, the start included.
 //!
-//! Every run obeys `n_neighbor_checks = n_blocked + n_skipped + (n_open_insertions - 1)`,
-//! and a run that ends by finding the goal or an empty queue obeys
-//! `n_neighbor_checks = k * (n_expanded - f)` with `f` = 1 if the goal was found, else 0;
-//! when the queue runs empty, `n_open_insertions = n_expanded` as well.
+//! Every run obeys `n_neighbor_checks = n_blocked + n_skipped + (n_open_insertions - 1)`
+//! and `n_neighbor_checks = k * (n_expanded - f)`, with `f` = 1 if the goal was found,
+//! else 0 (a run stopped by the budget stops before a dequeue, so every dequeued cell was
+//! checked in full); when the queue runs empty, `n_open_insertions = n_expanded` as well,
+//! and when the budget stops the search, `n_open_insertions > n_expanded`.
 //!
 //! # Budget
 //! One expansion is one dequeue; the budget is asked before each. When it refuses, the
-//! search ends with [`Status::BudgetExhausted`], no path, and the counters so far.
+//! search ends with [`Status::BudgetExhausted`](planner_api::Status::BudgetExhausted), no path, and the counters so far.
 //!
 //! # Seed 003's data
 //! On `maps/wpi/map1.txt` this gives the report's Table I lengths 18, 14 and 16 for pairs

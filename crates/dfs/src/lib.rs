@@ -29,15 +29,16 @@
 //!   after each cell's neighbours are pushed: the memory indicator;
 //! - `n_open_insertions`: cells ever pushed, the start included.
 //!
-//! The identities are those of `planner-bfs`: always
-//! `n_neighbor_checks = n_blocked + n_skipped + (n_open_insertions - 1)`; when the search
-//! ends by finding the goal or an empty stack, `n_neighbor_checks = k * (n_expanded - f)`
-//! with `f` = 1 if the goal was found, else 0; on an empty stack
-//! `n_open_insertions = n_expanded` as well.
+//! The identities are those of `planner-bfs`: every run obeys
+//! `n_neighbor_checks = n_blocked + n_skipped + (n_open_insertions - 1)` and
+//! `n_neighbor_checks = k * (n_expanded - f)`, with `f` = 1 if the goal was found, else 0
+//! (a run stopped by the budget stops before a pop); on an empty stack
+//! `n_open_insertions = n_expanded` as well, and when the budget stops the search,
+//! `n_open_insertions > n_expanded`.
 //!
 //! # Budget
 //! One expansion is one pop; the budget is asked before each. When it refuses, the search
-//! ends with [`Status::BudgetExhausted`], no path, and the counters so far.
+//! ends with [`Status::BudgetExhausted`](planner_api::Status::BudgetExhausted), no path, and the counters so far.
 //!
 //! # Design
 //! Per-cell masks of the safe moves, built once per grid from [`MoveSet`] (cached while
