@@ -5,6 +5,7 @@
 //! as arguments (`cargo bench -p planner-lexastar -- arena`). Every third scenario of the
 //! `.scen` file is used (297 on den520d), each planner answers all of them `ROUNDS` times,
 //! and the best round counts. Both planners must agree on D (both are exact for steps).
+//! lexastar runs with its default dominance pruning and without it.
 
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -80,6 +81,16 @@ fn bench(name: &str) {
     let mut lexastar = LexAStar::new(planner_lexastar::Config::default()).expect("default config");
     let (astar_time, astar_results) = time(&problems, |p| astar.search(p, &budget));
     let (lex_time, lex_results) = time(&problems, |p| lexastar.search(p, &budget));
+    let mut plain = LexAStar::new(planner_lexastar::Config {
+        dominance: false,
+        ..planner_lexastar::Config::default()
+    })
+    .expect("valid config");
+    let (plain_time, plain_results) = time(&problems, |p| plain.search(p, &budget));
+    let plain_expanded: u64 = plain_results.iter().map(|r| r.stats.n_expanded).sum();
+    for (l, p) in lex_results.iter().zip(&plain_results) {
+        assert_eq!(l.cost, p.cost, "dominance pruning keeps the optimum");
+    }
 
     let (mut astar_expanded, mut lex_expanded, mut lex_cells) = (0u64, 0u64, 0u64);
     let (mut astar_turns, mut lex_turns, mut fewer_turns) = (0u64, 0u64, 0usize);
@@ -124,9 +135,16 @@ fn bench(name: &str) {
         problems.len()
     );
     println!(
-        "  factor lexastar / astar: time {:.2}x, expansions {:.2}x",
+        "  lexastar without dominance {:>9.1} us/query  n_expanded {:>9} (states)",
+        per_query(plain_time),
+        plain_expanded
+    );
+    println!(
+        "  factor lexastar / astar: time {:.2}x, expansions {:.2}x; without dominance: time {:.2}x, expansions {:.2}x",
         lex_time.as_secs_f64() / astar_time.as_secs_f64(),
-        lex_expanded as f64 / astar_expanded as f64
+        lex_expanded as f64 / astar_expanded as f64,
+        plain_time.as_secs_f64() / astar_time.as_secs_f64(),
+        plain_expanded as f64 / astar_expanded as f64
     );
 }
 

@@ -20,16 +20,18 @@
 //! the order of [`planner_api::PathRank`].
 //!
 //! A path that visits a cell twice is never best: cutting out the loop removes at least
-//! two steps and no turn (the loop's moves sum to zero, so they contain a change of
-//! direction, which pays for the at most one turn the cut may add). So the best path over
+//! two steps and adds no turn (the loop's moves sum to zero, so they contain a change of
+//! direction, which pays for the at most one turn the cut may add at the junction). So the best path over
 //! states is a simple path, and the search and seed 000's Backtracking (which enumerates
 //! simple paths only) optimise over the same set. This holds for the weighted objective
 //! too.
 //!
-//! Per-state arrays (g, parent heading, closed) live in the planner and are invalidated by
-//! a generation stamp, OPEN is a binary heap with lazy deletion, and moves come from
-//! [`IndexedMoves`], as in `planner-astar`. The parent of a state is stored as one byte,
-//! the heading of the previous state (its cell is `cell - heading`).
+//! A per-state record (g, parent heading, closed) and a per-cell record (best g of its
+//! states, expanded) live in the planner and are invalidated by a generation stamp, OPEN
+//! is a binary heap with lazy deletion, and moves come from [`IndexedMoves`], as in
+//! `planner-astar`. The parent of a state is stored as one byte, the heading of the
+//! previous state (its cell is `cell - heading`). The start state has no slot: it is a
+//! sentinel in OPEN, and no move leads into it.
 //!
 //! # The heuristic and its consistency
 //! `h(c, h) = (M(c), H(c, h))`, where `M` is the Manhattan (4-connected) or Chebyshev
@@ -73,6 +75,26 @@
 //! popped is optimal over all headings. The tests check consistency exhaustively on small
 //! grids and admissibility against an uninformed lexicographic Dijkstra.
 //!
+//! # Dominance pruning
+//! From cell `c`, any continuation available to a state `(c, h)` is available to another
+//! state `(c, h')` of the same cell for at most one more turn (only its first move can
+//! turn differently). So with [`Config::dominance`] (the default) a newly generated state
+//! whose `g` is no better than `g(c, h') + (0, 1)` for a state of `c` already reached
+//! (`+ λ` in weighted mode) is discarded, counted in `n_dominated`. On den520d this cuts
+//! the states expanded from 2.7 to 1.15 times A*'s cells (see the bench).
+//!
+//! It stays exact. Fix an optimal cell path `v_0 .. v_n` of cost `C*` and call a reached
+//! state `t` at `v_i` a *witness* when `g(t)` plus the cost of following the path from
+//! `v_i` with `t`'s heading is at most `C*`. The start is a witness at `v_0`; take a
+//! witness with the largest `i`. If it is in OPEN, its `f <= C*` (admissibility), so it is
+//! popped before any goal state costing more. If it was expanded and `i < n`, its move to
+//! `v_{i+1}` produced a state `u` that was (a) already closed, hence with `g` no larger
+//! (with a consistent `h`, `f` is popped in non-decreasing order), or (b) given this `g`
+//! or already holding one no larger, or (c) dominated by a state `t'` of `v_{i+1}` with
+//! `g(t') + (0, 1) <= g(u)`, whose extra turn costs at most `(0, 1)`. Each makes a witness
+//! at `v_{i+1}`, against maximality. So a witness sits at the goal, and the first goal
+//! state popped costs `C*`. The tests run every check with and without pruning.
+//!
 //! # Objectives
 //! - [`Objective::Lexicographic`] (default): minimise `(D, T)` with integer pairs; the heap
 //!   key is `f = (D + M, T + H)` packed into a `u128`. No floating point.
@@ -96,25 +118,28 @@
 //!   `PathMetrics` counts it. The steps heuristic is then Chebyshev, the turn bound 0 or 1.
 //! - Neighbour order ([`Config::order`]): the order moves are generated, hence the FIFO
 //!   order among equal keys and which of several equally good paths comes out.
+//! - Dominance pruning ([`Config::dominance`], default on; see above).
 //! - Tie-breaking: among OPEN entries with equal key (both components in lexicographic mode,
 //!   the `f64` value in weighted mode), the entry pushed first is popped first (FIFO).
 //!
 //! # Counters
 //! As `planner-astar`'s ([`Counter::ASTAR`]), but on states: `n_expanded` counts states
 //! popped and closed (the start state and the goal state included), `n_neighbor_checks`
-//! the moves tried from expanded non-goal states (4 or 8 each), `n_blocked` targets out of
-//! bounds, blocked or corner-cut, `n_skipped` target states already CLOSED,
-//! `n_open_insertions` first insertions of a state (the start's included), `n_relaxations`
-//! new parent and g, `peak_open` the most states in OPEN. One extra counter,
-//! `n_cells_expanded`, counts the distinct cells among expanded states, to compare with
-//! A*'s cell-based `n_expanded`. A budget counts state expansions.
+//! the moves tried from expanded non-goal states (4 or 8 each, the reversal included),
+//! `n_blocked` targets out of bounds, blocked or corner-cut, `n_skipped` target states
+//! already CLOSED, `n_open_insertions` first insertions of a state (the start's included),
+//! `n_relaxations` new parent and g, `peak_open` the most states in OPEN. Two extra
+//! counters follow: `n_dominated`, target states discarded by dominance, and
+//! `n_cells_expanded`, the distinct cells among expanded states, to compare with A*'s
+//! cell-based `n_expanded`. A budget counts state expansions; when it runs out there is
+//! no path (as in A*, no complete path exists before the goal is popped).
 //!
 //! ```
 //! use planner_api::{Budget, Cell, Grid, Planner, Problem, Status};
 //! use planner_lexastar::{Config, LexAStar};
 //!
-//! // Both shortest paths from the top-left to the bottom-right corner of an open 3x3 room
-//! // have 4 steps; lexastar returns one with a single turn.
+//! // The six shortest paths across an open 3x3 room have 4 steps and 1, 2 or 3 turns;
+//! // lexastar returns one with a single turn.
 //! let grid = Grid::from_ascii("
 //!     ...
 //!     ...
@@ -169,6 +194,10 @@ pub struct Config {
     /// The weight of a turn in [`Objective::Weighted`]: finite and `>= 0`; ignored in
     /// lexicographic mode. Default 1 (minimise Score = D + T).
     pub lambda: f64,
+    /// Discard a generated state when another state of the same cell, with one more turn,
+    /// costs no more (see the crate docs); exact, and the default because it cuts the
+    /// states expanded. Default true.
+    pub dominance: bool,
 }
 
 impl Default for Config {
@@ -179,6 +208,7 @@ impl Default for Config {
             order: NeighborOrder::default(),
             objective: Objective::Lexicographic,
             lambda: 1.0,
+            dominance: true,
         }
     }
 }
@@ -237,8 +267,8 @@ impl Cost {
 ///
 /// `heading` is the `(dx, dy)` of the last move, `None` for the start state. Preconditions:
 /// `connectivity` is [`Connectivity::Four`] or [`Connectivity::Eight`] (any other value is
-/// treated as eight, for which the turn bound is not proven), and `heading`, when given,
-/// is a unit move of that neighbourhood.
+/// given the 8-connected turn bound, which is not proven for larger neighbourhoods), and
+/// `heading`, when given, is a unit move of that neighbourhood.
 pub fn heuristic(
     connectivity: Connectivity,
     cell: Cell,
@@ -302,6 +332,8 @@ pub struct Search {
     pub stats: SearchStats,
     /// Distinct cells among the expanded states.
     pub n_cells_expanded: u64,
+    /// Generated states discarded by dominance (see [`Config::dominance`]).
+    pub n_dominated: u64,
 }
 
 /// The lexicographic A* planner. Build with [`LexAStar::new`]; reuse it for many queries.
@@ -311,18 +343,47 @@ pub struct LexAStar {
     moves: MoveSet,
     compiled: Option<IndexedMoves>,
     generation: u32,
-    /// Per state (`cell * n_headings + heading`): generation when first reached.
-    seen: Vec<u32>,
-    /// Per state: in CLOSED (valid when `seen` is current).
-    closed: Vec<bool>,
-    /// Per state: best known `(D, T)` from the start.
-    g: Vec<Cost>,
-    /// Per state: the heading of the predecessor state, [`NO_HEADING`] for the start.
-    parent: Vec<u8>,
-    /// Per cell: generation when first expanded (for `n_cells_expanded`).
-    cell_expanded: Vec<u32>,
+    /// Per state, at `cell * n_headings + heading`; one record, so one cache line per state.
+    states: Vec<Slot>,
+    /// Per cell: the best `g` of its states and when a state was first expanded.
+    cells: Vec<CellSlot>,
     lex_heap: BinaryHeap<Entry<u128>>,
     weighted_heap: BinaryHeap<Entry<Weighted>>,
+}
+
+/// What the search knows about one state.
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    /// Best known `(D, T)` from the start.
+    g: Cost,
+    /// Generation when first reached; the other fields are valid only when current.
+    seen: u32,
+    /// The heading of the predecessor state, [`NO_HEADING`] for the start's successors.
+    parent: u8,
+    /// In CLOSED.
+    closed: bool,
+}
+
+impl Default for Slot {
+    fn default() -> Slot {
+        Slot {
+            g: Cost::default(),
+            seen: 0,
+            parent: NO_HEADING,
+            closed: false,
+        }
+    }
+}
+
+/// What the search knows about one cell.
+#[derive(Debug, Clone, Copy, Default)]
+struct CellSlot {
+    /// The least `g` given to any state of this cell (valid when `best_seen` is current).
+    best: Cost,
+    /// Generation when `best` was set.
+    best_seen: u32,
+    /// Generation when a state of this cell was first expanded.
+    expanded: u32,
 }
 
 /// The heading of the start state, and the "parent" of the start's successors.
@@ -346,11 +407,8 @@ impl LexAStar {
             moves,
             compiled: None,
             generation: 0,
-            seen: Vec::new(),
-            closed: Vec::new(),
-            g: Vec::new(),
-            parent: Vec::new(),
-            cell_expanded: Vec::new(),
+            states: Vec::new(),
+            cells: Vec::new(),
             lex_heap: BinaryHeap::new(),
             weighted_heap: BinaryHeap::new(),
         })
@@ -372,18 +430,15 @@ impl LexAStar {
             self.compiled = Some(IndexedMoves::new(&self.moves, grid));
         }
         let n_states = grid.len() * self.moves.moves().len();
-        if self.seen.len() != n_states || self.cell_expanded.len() != grid.len() {
-            self.seen = vec![0; n_states];
-            self.closed = vec![false; n_states];
-            self.g = vec![Cost::default(); n_states];
-            self.parent = vec![NO_HEADING; n_states];
-            self.cell_expanded = vec![0; grid.len()];
+        if self.states.len() != n_states || self.cells.len() != grid.len() {
+            self.states = vec![Slot::default(); n_states];
+            self.cells = vec![CellSlot::default(); grid.len()];
             self.generation = 0;
         }
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 {
-            self.seen.fill(0);
-            self.cell_expanded.fill(0);
+            self.states.fill(Slot::default());
+            self.cells.fill(CellSlot::default());
             self.generation = 1;
         }
         self.lex_heap.clear();
@@ -403,15 +458,13 @@ impl LexAStar {
         let grid = problem.grid();
         self.prepare(grid);
         let lambda = self.config.lambda;
+        let dominance = self.config.dominance;
         let four = self.config.moves == Connectivity::Four;
         let generation = self.generation;
         let LexAStar {
             compiled,
-            seen,
-            closed,
-            g,
-            parent,
-            cell_expanded,
+            states,
+            cells,
             lex_heap,
             weighted_heap,
             ..
@@ -430,6 +483,7 @@ impl LexAStar {
 
         let mut stats = SearchStats::default();
         let mut n_cells_expanded = 0;
+        let mut n_dominated = 0;
         let mut clock = budget.start();
         let mut n_pushed: u64 = 0;
         let mut n_open: u64 = 1;
@@ -442,6 +496,8 @@ impl LexAStar {
             goal.x,
             goal.y,
         );
+        cells[start_index].best = Cost::default();
+        cells[start_index].best_seen = generation;
         heap.push(Entry {
             key: K::key(Cost::new(m0, t0), lambda),
             seq: 0,
@@ -456,10 +512,14 @@ impl LexAStar {
             let (node, heading, g_state) = if state == START_STATE {
                 (start_index, NO_HEADING, Cost::default())
             } else {
-                if closed[state] {
+                if states[state].closed {
                     continue; // A stale entry of a state improved after it was pushed.
                 }
-                (state / n_headings, (state % n_headings) as u8, g[state])
+                (
+                    state / n_headings,
+                    (state % n_headings) as u8,
+                    states[state].g,
+                )
             };
             if !clock.allows(stats.n_expanded) {
                 return Search {
@@ -468,25 +528,27 @@ impl LexAStar {
                     cost: None,
                     stats,
                     n_cells_expanded,
+                    n_dominated,
                 };
             }
             if state != START_STATE {
-                closed[state] = true;
+                states[state].closed = true;
             }
             n_open -= 1;
             stats.n_expanded += 1;
-            if cell_expanded[node] != generation {
-                cell_expanded[node] = generation;
+            if cells[node].expanded != generation {
+                cells[node].expanded = generation;
                 n_cells_expanded += 1;
             }
             if node == goal_index {
-                let path = reconstruct(grid, compiled, parent, state, start_index);
+                let path = reconstruct(grid, compiled, states, state, start_index);
                 return Search {
                     status: Status::Found,
                     path: Some(path),
                     cost: Some(g_state),
                     stats,
                     n_cells_expanded,
+                    n_dominated,
                 };
             }
             let x = (node % width) as u32;
@@ -498,24 +560,38 @@ impl LexAStar {
                     continue;
                 };
                 let next_state = next * n_headings + k;
-                let known = seen[next_state] == generation;
-                if known && closed[next_state] {
+                let slot = &mut states[next_state];
+                let known = slot.seen == generation;
+                if known && slot.closed {
                     stats.n_skipped += 1;
                     continue;
                 }
                 let turn = u64::from(heading != NO_HEADING && usize::from(heading) != k);
                 let g_next = Cost::new(g_state.steps + 1, g_state.turns + turn);
-                if !known || K::better(g_next, g[next_state], lambda) {
+                let cell = &mut cells[next];
+                if dominance && cell.best_seen == generation {
+                    // Another state of this cell, plus one turn, is at least as good.
+                    let with_turn = Cost::new(cell.best.steps, cell.best.turns + 1);
+                    if !K::better(g_next, with_turn, lambda) {
+                        n_dominated += 1;
+                        continue;
+                    }
+                }
+                if !known || K::better(g_next, slot.g, lambda) {
                     stats.n_relaxations += 1;
                     if !known {
-                        seen[next_state] = generation;
-                        closed[next_state] = false;
+                        slot.seen = generation;
+                        slot.closed = false;
                         stats.n_open_insertions += 1;
                         n_open += 1;
                         stats.peak_open = stats.peak_open.max(n_open);
                     }
-                    g[next_state] = g_next;
-                    parent[next_state] = heading;
+                    slot.g = g_next;
+                    slot.parent = heading;
+                    if cell.best_seen != generation || K::better(g_next, cell.best, lambda) {
+                        cell.best = g_next;
+                        cell.best_seen = generation;
+                    }
                     let nx = x.wrapping_add_signed(mv.dx);
                     let ny = y.wrapping_add_signed(mv.dy);
                     let (hm, ht) = estimate(four, nx, ny, mv.dx, mv.dy, goal.x, goal.y);
@@ -534,6 +610,7 @@ impl LexAStar {
             cost: None,
             stats,
             n_cells_expanded,
+            n_dominated,
         }
     }
 }
@@ -543,7 +620,7 @@ impl LexAStar {
 fn reconstruct(
     grid: &Grid,
     compiled: &IndexedMoves,
-    parent: &[u8],
+    states: &[Slot],
     state: usize,
     start_index: usize,
 ) -> Path {
@@ -558,7 +635,7 @@ fn reconstruct(
     loop {
         // The predecessor is one move back along this state's heading, with the heading
         // stored as this state's parent.
-        let previous = parent[node * n_headings + heading];
+        let previous = states[node * n_headings + heading].parent;
         node = (node as isize - moves[heading].delta) as usize;
         cells.push(grid.cell(node));
         if previous == NO_HEADING {
@@ -580,6 +657,7 @@ impl Planner for LexAStar {
         let counters = search
             .stats
             .report(Counter::ASTAR)
+            .with("n_dominated", search.n_dominated)
             .with("n_cells_expanded", search.n_cells_expanded);
         Outcome {
             status: search.status,

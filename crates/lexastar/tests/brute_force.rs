@@ -4,8 +4,8 @@
 //!
 //! The literal enumeration is exponential, and the test crate is compiled without
 //! optimisation, so it runs with a call cap ([`CALL_CAP`]). Where it completes, it is
-//! compared with lexastar in every mode: lexicographic (D, T, Score), and the weighted
-//! optima `D + lambda T` for lambda = 0, 0.5, 1 and 4. Where it hits the cap, a second
+//! compared with lexastar in every mode: lexicographic (D, T, Score) with and without
+//! dominance pruning, and the weighted optima `D + lambda T` for lambda = 0, 0.5, 1 and 4. Where it hits the cap, a second
 //! exhaustive DFS enumerates every simple path that can still reach the goal within the
 //! shortest distance D* (breadth-first distances prune the rest). The best path by
 //! `PathRank` has D = D*, so this DFS sees every candidate; it checks the lexicographic
@@ -188,6 +188,11 @@ fn property(
         ..Config::default()
     };
     let mut lex = LexAStar::new(lexicographic.clone()).unwrap();
+    let mut undominated = LexAStar::new(Config {
+        dominance: false,
+        ..lexicographic.clone()
+    })
+    .unwrap();
     let mut weighted: Vec<LexAStar> = LAMBDAS
         .iter()
         .map(|&(q, p)| {
@@ -224,6 +229,8 @@ fn property(
         if shortest == u64::MAX {
             tally.no_path += 1;
             assert_eq!(search.status, Status::NoPath, "{what}");
+            let plain = undominated.search(&problem, &Budget::unlimited());
+            assert_eq!(plain.status, Status::NoPath, "no dominance: {what}");
             if let Some(best) = enumerate(&grid, &adjacency, start, goal, CALL_CAP, None) {
                 assert_eq!(best.n_solutions, 0, "{what}");
             }
@@ -238,6 +245,12 @@ fn property(
         );
         assert_eq!((path.start(), path.goal()), (Some(start), Some(goal)));
         let rank = path.rank();
+        let plain = undominated.search(&problem, &Budget::unlimited());
+        assert_eq!(
+            plain.path.map(|p| p.rank()),
+            Some(rank),
+            "no dominance: {what}"
+        );
 
         match enumerate(&grid, &adjacency, start, goal, CALL_CAP, None) {
             Some(best) => {

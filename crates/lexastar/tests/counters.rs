@@ -3,14 +3,24 @@
 use planner_api::{Budget, Cell, Connectivity, Grid, Planner, Problem, Status};
 use planner_lexastar::{Config, ConfigError, LexAStar, Objective};
 
-/// Runs lexastar with `config` from `start` to `goal` on `map` within `budget` and compares
-/// the status, the path and the counters with `expect`, one line per item.
-fn check(map: &str, start: (u32, u32), goal: (u32, u32), budget: Budget, expect: &str) {
+/// Runs lexastar (with dominance pruning when `dominance`) from `start` to `goal` on `map`
+/// within `budget` and compares the status, the path and the counters with `expect`, one
+/// line per item.
+fn check(
+    map: &str,
+    start: (u32, u32),
+    goal: (u32, u32),
+    dominance: bool,
+    budget: Budget,
+    expect: &str,
+) {
     let grid = Grid::from_ascii(map).unwrap();
     let problem = Problem::new(&grid, start.into(), goal.into()).unwrap();
-    let outcome = LexAStar::new(Config::default())
-        .unwrap()
-        .plan(&problem, &budget);
+    let config = Config {
+        dominance,
+        ..Config::default()
+    };
+    let outcome = LexAStar::new(config).unwrap().plan(&problem, &budget);
     let path = match &outcome.path {
         Some(path) => path
             .cells()
@@ -40,11 +50,26 @@ fn corridor_by_hand() {
         "...",
         (0, 0),
         (2, 0),
+        false,
         Budget::unlimited(),
         "
 status found
 path (0,0) (1,0) (2,0)
-n_expanded=3 n_neighbor_checks=8 n_blocked=5 n_skipped=0 n_open_insertions=4 n_relaxations=3 peak_open=2 n_cells_expanded=3
+n_expanded=3 n_neighbor_checks=8 n_blocked=5 n_skipped=0 n_open_insertions=4 n_relaxations=3 peak_open=2 n_dominated=0 n_cells_expanded=3
+        ",
+    );
+    // With dominance, ((0,0),L) at g(2,1) is dropped: the start state of the same cell
+    // has g(0,0), and (0,0) + (0,1) <= (2,1). One insertion and relaxation fewer.
+    check(
+        "...",
+        (0, 0),
+        (2, 0),
+        true,
+        Budget::unlimited(),
+        "
+status found
+path (0,0) (1,0) (2,0)
+n_expanded=3 n_neighbor_checks=8 n_blocked=5 n_skipped=0 n_open_insertions=3 n_relaxations=2 peak_open=1 n_dominated=1 n_cells_expanded=3
         ",
     );
 }
@@ -60,24 +85,42 @@ fn open_square_by_hand() {
     //   cell); L, D out; U -> ((0,0),U) #6 g(2,1) f(4,3).                     OPEN 4
     // pop #4: goal, reached from (1,0), one turn. Expanded 4, checks 12, blocked 2+2+2,
     // insertions 7, relaxations 6, peak OPEN 4, four distinct cells expanded.
+    let map = "
+        ..
+        ..
+        ";
     check(
-        "
-        ..
-        ..
-        ",
+        map,
         (0, 0),
         (1, 1),
+        false,
         Budget::unlimited(),
         "
 status found
 path (0,0) (1,0) (1,1)
-n_expanded=4 n_neighbor_checks=12 n_blocked=6 n_skipped=0 n_open_insertions=7 n_relaxations=6 peak_open=4 n_cells_expanded=4
+n_expanded=4 n_neighbor_checks=12 n_blocked=6 n_skipped=0 n_open_insertions=7 n_relaxations=6 peak_open=4 n_dominated=0 n_cells_expanded=4
+        ",
+    );
+    // With dominance, #3 and #6 (back at the start cell, g(2,1)) are dropped; #5,
+    // ((1,1),R) at g(2,1), is kept: the best g at (1,1) is #4's (2,1), and (2,2) > (2,1).
+    // OPEN: 2, then 2 - 1 + 1, then 2 - 1 + 1.
+    check(
+        map,
+        (0, 0),
+        (1, 1),
+        true,
+        Budget::unlimited(),
+        "
+status found
+path (0,0) (1,0) (1,1)
+n_expanded=4 n_neighbor_checks=12 n_blocked=6 n_skipped=0 n_open_insertions=5 n_relaxations=4 peak_open=2 n_dominated=2 n_cells_expanded=4
         ",
     );
 }
 
 #[test]
 fn dead_end_skips_a_closed_state() {
+    // Without dominance:
     // pop start (0,0): R -> ((1,0),R); L, D, U out.                      blocked 3
     // pop ((1,0),R): R blocked; L -> ((0,0),L); D, U out.                blocked 3
     // pop ((0,0),L): R -> ((1,0),R) is CLOSED (skipped); L, D, U out.    blocked 3
@@ -86,11 +129,25 @@ fn dead_end_skips_a_closed_state() {
         "..#.",
         (0, 0),
         (3, 0),
+        false,
         Budget::unlimited(),
         "
 status no_path
 path -
-n_expanded=3 n_neighbor_checks=12 n_blocked=9 n_skipped=1 n_open_insertions=3 n_relaxations=2 peak_open=1 n_cells_expanded=2
+n_expanded=3 n_neighbor_checks=12 n_blocked=9 n_skipped=1 n_open_insertions=3 n_relaxations=2 peak_open=1 n_dominated=0 n_cells_expanded=2
+        ",
+    );
+    // With dominance ((0,0),L) is never inserted, so the search ends after two expansions.
+    check(
+        "..#.",
+        (0, 0),
+        (3, 0),
+        true,
+        Budget::unlimited(),
+        "
+status no_path
+path -
+n_expanded=2 n_neighbor_checks=8 n_blocked=6 n_skipped=0 n_open_insertions=2 n_relaxations=1 peak_open=1 n_dominated=1 n_cells_expanded=2
         ",
     );
 }
@@ -101,11 +158,12 @@ fn start_equals_goal() {
         "..",
         (1, 0),
         (1, 0),
+        true,
         Budget::unlimited(),
         "
 status found
 path (1,0)
-n_expanded=1 n_neighbor_checks=0 n_blocked=0 n_skipped=0 n_open_insertions=1 n_relaxations=0 peak_open=1 n_cells_expanded=1
+n_expanded=1 n_neighbor_checks=0 n_blocked=0 n_skipped=0 n_open_insertions=1 n_relaxations=0 peak_open=1 n_dominated=0 n_cells_expanded=1
         ",
     );
 }
@@ -113,30 +171,45 @@ n_expanded=1 n_neighbor_checks=0 n_blocked=0 n_skipped=0 n_open_insertions=1 n_r
 #[test]
 fn budget_counts_state_expansions() {
     // The 2x2 trace of `open_square_by_hand` stopped after two expansions: the start and
-    // ((1,0),R); insertions #0-#4, OPEN peaks at 3.
+    // ((1,0),R). Without dominance insertions #0-#4, OPEN peaks at 3; with it #3 is dropped.
+    let map = "
+        ..
+        ..
+        ";
     check(
-        "
-        ..
-        ..
-        ",
+        map,
         (0, 0),
         (1, 1),
+        false,
         Budget::expansions(2),
         "
 status budget_exhausted
 path -
-n_expanded=2 n_neighbor_checks=8 n_blocked=4 n_skipped=0 n_open_insertions=5 n_relaxations=4 peak_open=3 n_cells_expanded=2
+n_expanded=2 n_neighbor_checks=8 n_blocked=4 n_skipped=0 n_open_insertions=5 n_relaxations=4 peak_open=3 n_dominated=0 n_cells_expanded=2
+        ",
+    );
+    check(
+        map,
+        (0, 0),
+        (1, 1),
+        true,
+        Budget::expansions(2),
+        "
+status budget_exhausted
+path -
+n_expanded=2 n_neighbor_checks=8 n_blocked=4 n_skipped=0 n_open_insertions=4 n_relaxations=3 peak_open=2 n_dominated=1 n_cells_expanded=2
         ",
     );
     check(
         "..",
         (0, 0),
         (1, 0),
+        true,
         Budget::expansions(0),
         "
 status budget_exhausted
 path -
-n_expanded=0 n_neighbor_checks=0 n_blocked=0 n_skipped=0 n_open_insertions=1 n_relaxations=0 peak_open=1 n_cells_expanded=0
+n_expanded=0 n_neighbor_checks=0 n_blocked=0 n_skipped=0 n_open_insertions=1 n_relaxations=0 peak_open=1 n_dominated=0 n_cells_expanded=0
         ",
     );
 }
@@ -196,6 +269,7 @@ fn config_defaults_toml_and_errors() {
         order = "U D L R"
         objective = "weighted"
         lambda = 0.5
+        dominance = true
         "#,
     )
     .unwrap();
@@ -204,6 +278,7 @@ fn config_defaults_toml_and_errors() {
     assert_eq!(parsed.lambda, 0.5);
     assert_eq!(parsed.order.to_string(), "U D L R");
     assert!(!parsed.corner_cutting);
+    assert!(parsed.dominance);
     let empty: Config = toml::from_str("").unwrap();
     assert_eq!(empty, Config::default());
     assert_eq!(empty.objective, Objective::Lexicographic);

@@ -1,6 +1,7 @@
 //! The heuristic is consistent (checked for every state, move and goal of a window) and
 //! admissible (checked against exact costs-to-go from an uninformed Dijkstra over states,
-//! written here), and lexastar's optimum equals Dijkstra's for every objective.
+//! written here), and lexastar's optimum equals Dijkstra's for every objective, with and
+//! without dominance pruning.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -182,24 +183,27 @@ fn check_grid(grid: &Grid, goal: Cell, connectivity: Connectivity) -> u64 {
                 }
             }
             let problem = Problem::new(grid, cell, goal).unwrap();
-            let search = LexAStar::new(weight.config(connectivity))
-                .unwrap()
-                .search(&problem, &Budget::unlimited());
-            n_searches += 1;
-            match exact[grid.index(cell) * slots] {
-                Some(optimum) => {
-                    assert_eq!(search.status, Status::Found);
-                    let cost = search.cost.unwrap();
-                    assert_eq!(
-                        weight.of(cost),
-                        optimum,
-                        "{weight:?} {cell}->{goal}\n{grid:?}"
-                    );
-                    // The returned cells have the reported cost, counted independently.
-                    let m = search.path.unwrap().metrics();
-                    assert_eq!((m.steps, m.turns), (cost.steps, cost.turns));
+            for dominance in [true, false] {
+                let config = Config {
+                    dominance,
+                    ..weight.config(connectivity)
+                };
+                let search = LexAStar::new(config)
+                    .unwrap()
+                    .search(&problem, &Budget::unlimited());
+                n_searches += 1;
+                let what = format!("{weight:?} dominance {dominance} {cell}->{goal}\n{grid:?}");
+                match exact[grid.index(cell) * slots] {
+                    Some(optimum) => {
+                        assert_eq!(search.status, Status::Found, "{what}");
+                        let cost = search.cost.unwrap();
+                        assert_eq!(weight.of(cost), optimum, "{what}");
+                        // The returned cells have the reported cost, counted independently.
+                        let m = search.path.unwrap().metrics();
+                        assert_eq!((m.steps, m.turns), (cost.steps, cost.turns), "{what}");
+                    }
+                    None => assert_eq!(search.status, Status::NoPath, "{what}"),
                 }
-                None => assert_eq!(search.status, Status::NoPath),
             }
         }
     }
@@ -220,8 +224,9 @@ fn admissible_and_optimal_on_every_3x3_grid() {
         }
     }
     // (goal, start) pairs: the sum over patterns of f^2, f = free cells, is
-    // sum f + sum f (f - 1) = 9 * 2^8 + 9 * 8 * 2^7 = 11520; x 2 neighbourhoods x 5 objectives.
-    assert_eq!(n_searches, 11520 * 2 * 5);
+    // sum f + sum f (f - 1) = 9 * 2^8 + 9 * 8 * 2^7 = 11520; x 2 neighbourhoods
+    // x 5 objectives x dominance on and off.
+    assert_eq!(n_searches, 11520 * 2 * 5 * 2);
 }
 
 #[test]
