@@ -57,6 +57,12 @@ pub const PLANNERS: &[Entry] = &[
         build: |params| build(params, planner_dfs::Dfs::new),
     },
     Entry {
+        name: planner_lexastar::NAME,
+        summary: "A* over (cell, heading) with lexicographic (steps, turns): Backtracking's best in polynomial time",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_lexastar::LexAStar::new),
+    },
+    Entry {
         name: planner_rrt::NAME,
         summary: "RRT (seed 003) on grid cells: seeded, goal bias, 4/8 steering, longer steps",
         kind: Kind::Stochastic,
