@@ -343,7 +343,7 @@ fn run_parallel(
         stats.n_dead_ends += s.n_dead_ends;
         stats.max_depth = stats.max_depth.max(s.max_depth);
         if let Some(rank) = run.best {
-            if best.map_or(true, |b| rank < b) {
+            if best.is_none_or(|b| rank < b) {
                 best = Some(rank);
                 *best_path = path;
             }
