@@ -64,11 +64,7 @@ impl Dfs<'_> {
                 turns,
                 score: steps + turns,
             };
-            if self
-                .best
-                .rank
-                .map_or(true, |best| rank.is_better_than(&best))
-            {
+            if self.best.rank.is_none_or(|best| rank.is_better_than(&best)) {
                 self.best.rank = Some(rank);
             }
             for (slot, &(q, p)) in self.best.weighted.iter_mut().zip(&LAMBDAS) {

@@ -153,7 +153,7 @@ fn cost_to_go(grid: &Grid, set: &MoveSet, goal: Cell, weight: Weight) -> Vec<Opt
             let step = weight.of(Cost::new(1, turn(h, (d.dx, d.dy))));
             let candidate = value + step;
             let from_state = grid.index(from) * slots + from_slot;
-            if best[from_state].map_or(true, |b| candidate < b) {
+            if best[from_state].is_none_or(|b| candidate < b) {
                 best[from_state] = Some(candidate);
                 heap.push(Reverse((candidate, from_state)));
             }
