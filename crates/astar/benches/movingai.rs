@@ -5,14 +5,15 @@
 //! 8-connected runs (octile heuristic, no corner cutting, the benchmark's own rules) check
 //! every length against the scenario's optimum (relative tolerance 1e-4); 4-connected runs
 //! (Manhattan) check that both planners find the same number of steps. gridplan runs with
-//! all its counters on. Pass map names as arguments to run a subset.
+//! all its counters on, and with the peer's tie-breaking (larger g first among equal f).
+//! Pass map names as arguments to run a subset.
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use ordered_float::OrderedFloat;
 use planner_api::{Budget, Connectivity, Grid, Problem};
-use planner_astar::{AStar, Config, Heuristic};
+use planner_astar::{AStar, Config, Heuristic, TieBreak};
 use planner_maps::{read_map, read_scenarios, Scenario};
 
 const MAPS: [&str; 2] = ["den520d", "random512-10-0"];
@@ -45,6 +46,9 @@ fn run(name: &str, grid: &Grid, scenarios: &[Scenario], moves: Connectivity) {
             Connectivity::Four => Heuristic::Manhattan,
             _ => Heuristic::Octile,
         },
+        // The pathfinding crate pops the larger g among equal f; use the same rule so both
+        // expand comparable sets (the paper's FIFO expands whole f-bands on open grids).
+        tie_break: TieBreak::HighG,
         ..Config::default()
     };
     let mut astar = AStar::new(config).unwrap_or_else(|e| panic!("{e}"));
