@@ -1,0 +1,65 @@
+//! Fixed colours: the Okabe-Ito palette for layers and the viridis ramp for time.
+
+/// Layer colours, in the order layers receive them: the Okabe-Ito colour-blind-safe
+/// palette (Okabe and Ito 2008, <https://jfly.uni-koeln.de/color/>), reordered so that the
+/// first colours have the most contrast on white, with yellow last. Layer `i` gets
+/// `PALETTE[i % 8]`.
+pub const PALETTE: [&str; 8] = [
+    "#0072B2", // blue
+    "#D55E00", // vermillion
+    "#009E73", // bluish green
+    "#CC79A7", // reddish purple
+    "#E69F00", // orange
+    "#56B4E9", // sky blue
+    "#000000", // black
+    "#F0E442", // yellow
+];
+
+/// Viridis (matplotlib's default map, perceptually uniform and colour-blind safe) at ten
+/// evenly spaced points, 0 to 1.
+const VIRIDIS: [(u8, u8, u8); 10] = [
+    (0x44, 0x01, 0x54),
+    (0x48, 0x28, 0x78),
+    (0x3E, 0x4A, 0x89),
+    (0x31, 0x68, 0x8E),
+    (0x26, 0x82, 0x8E),
+    (0x1F, 0x9E, 0x89),
+    (0x35, 0xB7, 0x79),
+    (0x6D, 0xCD, 0x59),
+    (0xB4, 0xDE, 0x2C),
+    (0xFD, 0xE7, 0x25),
+];
+
+/// The viridis colour at `t` in `[0, 1]` (clamped; NaN counts as 0), as `#rrggbb`,
+/// interpolated linearly between the ten anchors.
+pub(crate) fn ramp(t: f64) -> String {
+    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
+    let pos = t * (VIRIDIS.len() - 1) as f64;
+    let i = (pos.floor() as usize).min(VIRIDIS.len() - 2);
+    let f = pos - i as f64;
+    let (a, b) = (VIRIDIS[i], VIRIDIS[i + 1]);
+    let mix = |p: u8, q: u8| (f64::from(p) + (f64::from(q) - f64::from(p)) * f).round() as u8;
+    format!(
+        "#{:02x}{:02x}{:02x}",
+        mix(a.0, b.0),
+        mix(a.1, b.1),
+        mix(a.2, b.2)
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ramp_ends_and_midpoint() {
+        assert_eq!(ramp(0.0), "#440154");
+        assert_eq!(ramp(1.0), "#fde725");
+        assert_eq!(ramp(2.0), "#fde725");
+        assert_eq!(ramp(f64::NAN), "#440154");
+        // t = 1/9 is exactly the second anchor.
+        assert_eq!(ramp(1.0 / 9.0), "#482878");
+        // Halfway between anchors 4 (#26828e) and 5 (#1f9e89): (0x26+0x1f)/2 = 34.5 -> 35.
+        assert_eq!(ramp(4.5 / 9.0), "#23908c");
+    }
+}

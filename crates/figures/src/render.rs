@@ -1,0 +1,1098 @@
+//! Layout and drawing of the three figure kinds.
+//!
+//! Everything is placed in pixels on one canvas; only the obstacle rectangles live in a
+//! group scaled to cell units, which keeps a large map's SVG small.
+
+use std::collections::BTreeMap;
+
+use planner_api::{Cell, Grid, Path};
+use svg::node::element::{
+    Circle, Element, Group, Line, Path as SvgPath, Polygon, Polyline, Rectangle, TSpan,
+};
+use svg::node::Value;
+use svg::{Document, Node};
+
+use crate::obstacles::blocks;
+use crate::palette::{ramp, PALETTE};
+use crate::{Layer, Marker, StepLabels, Style, LABEL_MIN_CELL_PX};
+
+const FONT: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
+const MARGIN: f64 = 12.0;
+/// Height of the title band above the map.
+const TITLE_H: f64 = 30.0;
+const TITLE_FS: f64 = 16.0;
+const LABEL_FS: f64 = 13.0;
+const NOTE_FS: f64 = 12.0;
+/// Height of one legend line.
+const LINE_H: f64 = 18.0;
+/// Space between panels.
+const GAP: f64 = 24.0;
+/// Cell size when the style asks for none.
+const AUTO_CELL_PX: f64 = 48.0;
+/// Panels go side by side in one row while cells stay at least this large.
+const COMFORTABLE_CELL_PX: f64 = 24.0;
+/// Estimated advance of one character, as a fraction of the font size (DejaVu Sans is
+/// about 0.55-0.63 for text and 0.64 for digits); used to fit text, never exact.
+const CHAR_W: f64 = 0.62;
+/// Grid lines are drawn when cells are at least this large.
+const GRID_LINES_MIN_PX: f64 = 6.0;
+/// Radius of a step-label disc, as a fraction of the cell.
+const LABEL_R: f64 = 0.36;
+/// Sparse arrows: at least this far apart along the path, and at most this many per path.
+const ARROW_SPACING_PX: f64 = 60.0;
+const MAX_SPARSE_ARROWS: f64 = 60.0;
+/// Coverage paths are long: fewer arrows there.
+const MAX_TIMELINE_ARROWS: f64 = 40.0;
+/// Number of colour steps along a timeline path.
+const TIMELINE_CHUNKS: usize = 128;
+/// Marker labels are written only when there are at most this many markers.
+const MAX_MARKER_LABELS: usize = 40;
+const OBSTACLE: &str = "#3b3b3b";
+const GRID_LINE: &str = "#c8c8c8";
+const INK: &str = "#222222";
+
+/// A number with at most two decimals and no trailing zeros: short, stable output.
+pub(crate) fn num(x: f64) -> String {
+    let r = (x * 100.0).round() / 100.0;
+    let mut s = format!("{r:.2}");
+    while s.ends_with('0') {
+        s.pop();
+    }
+    if s.ends_with('.') {
+        s.pop();
+    }
+    if s == "-0" {
+        s = "0".to_owned();
+    }
+    s
+}
+
+/// User text made safe for XML: control characters (forbidden in XML 1.0 even escaped)
+/// and the non-characters U+FFFE/U+FFFF become spaces. `&`, `<` and `>` are escaped by
+/// the svg crate when the text is written.
+fn clean(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_control() || c == '\u{FFFE}' || c == '\u{FFFF}' {
+                ' '
+            } else {
+                c
+            }
+        })
+        .collect()
+}
+
+/// Estimated width of `s` at font size `fs`.
+fn text_width(s: &str, fs: f64) -> f64 {
+    s.chars().count() as f64 * fs * CHAR_W
+}
+
+/// `s` cleaned and cut with an ellipsis so that it fits in about `max_w` pixels.
+fn fit_text(s: &str, fs: f64, max_w: f64) -> String {
+    let s = clean(s);
+    let n = s.chars().count();
+    let room = (max_w / (fs * CHAR_W)).floor().max(1.0) as usize;
+    if n <= room {
+        s
+    } else {
+        let mut cut: String = s.chars().take(room.saturating_sub(1)).collect();
+        cut.push('…');
+        cut
+    }
+}
+
+/// Builder-style attributes for a plain [`Element`].
+trait Set {
+    fn set<U: Into<Value>>(self, name: &str, value: U) -> Self;
+}
+
+impl Set for Element {
+    fn set<U: Into<Value>>(mut self, name: &str, value: U) -> Element {
+        self.assign(name, value);
+        self
+    }
+}
+
+/// A `<text>` element. Built as a plain element because the svg crate's own `Text` type
+/// writes line breaks around its content, which then reach the text as spaces.
+fn text(x: f64, y: f64, content: String, fs: f64) -> Element {
+    let mut t = Element::new("text");
+    if !content.is_empty() {
+        t.append(svg::node::Text::new(content));
+    }
+    t.set("x", num(x))
+        .set("y", num(y))
+        .set("font-size", num(fs))
+}
+
+/// Where the map is drawn: top-left corner and cell size in pixels.
+#[derive(Debug, Clone, Copy)]
+struct Frame {
+    ox: f64,
+    oy: f64,
+    cell: f64,
+}
+
+impl Frame {
+    fn centre(&self, c: Cell) -> (f64, f64) {
+        (
+            self.ox + (f64::from(c.x) + 0.5) * self.cell,
+            self.oy + (f64::from(c.y) + 0.5) * self.cell,
+        )
+    }
+
+    fn corner(&self, c: Cell) -> (f64, f64) {
+        (
+            self.ox + f64::from(c.x) * self.cell,
+            self.oy + f64::from(c.y) * self.cell,
+        )
+    }
+}
+
+/// The cell size for `cols_cells` x `rows_cells` cells of map plus fixed chrome of
+/// `extra_w` x `extra_h` pixels: the preferred size, reduced to fit `max_px`, then
+/// floored to whole pixels (from 4 px up, for crisp cells) or to 1/100 px.
+fn fit_cell(style: &Style, cols_cells: f64, rows_cells: f64, extra_w: f64, extra_h: f64) -> f64 {
+    let preferred = if style.cell_px.is_finite() && style.cell_px > 0.0 {
+        style.cell_px
+    } else {
+        AUTO_CELL_PX
+    };
+    let max_px = if style.max_px.is_finite() && style.max_px > 0.0 {
+        style.max_px
+    } else {
+        f64::INFINITY
+    };
+    let cell = preferred
+        .min((max_px - extra_w) / cols_cells)
+        .min((max_px - extra_h) / rows_cells);
+    let cell = if cell >= 4.0 {
+        cell.floor()
+    } else {
+        (cell * 100.0).floor() / 100.0
+    };
+    if cell >= 0.01 {
+        cell
+    } else {
+        0.01
+    }
+}
+
+fn max_px(style: &Style) -> f64 {
+    if style.max_px.is_finite() && style.max_px > 0.0 {
+        style.max_px
+    } else {
+        f64::INFINITY
+    }
+}
+
+fn labels_on(style: &Style, cell: f64) -> bool {
+    match style.step_labels {
+        StepLabels::Always => true,
+        StepLabels::Never => false,
+        StepLabels::Auto => cell >= LABEL_MIN_CELL_PX,
+    }
+}
+
+/// A new document of `w` x `h` pixels with a white background.
+fn document(w: f64, h: f64) -> Document {
+    let (w, h) = (w.ceil(), h.ceil());
+    let mut doc = Document::new()
+        .set("width", num(w))
+        .set("height", num(h))
+        .set("viewBox", format!("0 0 {} {}", num(w), num(h)))
+        .set("font-family", FONT);
+    doc.append(
+        Rectangle::new()
+            .set("width", "100%")
+            .set("height", "100%")
+            .set("fill", "#ffffff"),
+    );
+    doc
+}
+
+fn finish(doc: Document) -> String {
+    let mut s = doc.to_string();
+    s.push('\n');
+    s
+}
+
+fn title_text(title: &str, width: f64) -> Element {
+    text(
+        MARGIN,
+        MARGIN + TITLE_FS,
+        fit_text(title, TITLE_FS, width - 2.0 * MARGIN),
+        TITLE_FS,
+    )
+    .set("font-weight", "bold")
+    .set("class", "title")
+}
+
+/// The map: free background, grid lines, obstacles, border.
+fn map_group(grid: &Grid, f: Frame) -> Group {
+    let (w, h) = (
+        f64::from(grid.width()) * f.cell,
+        f64::from(grid.height()) * f.cell,
+    );
+    let mut g = Group::new().set("class", "map");
+    g.append(
+        Rectangle::new()
+            .set("x", num(f.ox))
+            .set("y", num(f.oy))
+            .set("width", num(w))
+            .set("height", num(h))
+            .set("fill", "#ffffff"),
+    );
+    if f.cell >= GRID_LINES_MIN_PX {
+        let mut d = String::new();
+        for x in 1..grid.width() {
+            let px = f.ox + f64::from(x) * f.cell;
+            d.push_str(&format!("M{} {}V{}", num(px), num(f.oy), num(f.oy + h)));
+        }
+        for y in 1..grid.height() {
+            let py = f.oy + f64::from(y) * f.cell;
+            d.push_str(&format!("M{} {}H{}", num(f.ox), num(py), num(f.ox + w)));
+        }
+        if !d.is_empty() {
+            g.append(
+                SvgPath::new()
+                    .set("d", d)
+                    .set("stroke", GRID_LINE)
+                    .set("stroke-width", 1)
+                    .set("fill", "none"),
+            );
+        }
+    }
+    let mut obstacles = Group::new()
+        .set("class", "obstacles")
+        .set("fill", OBSTACLE)
+        .set("shape-rendering", "crispEdges")
+        .set(
+            "transform",
+            format!(
+                "translate({} {}) scale({})",
+                num(f.ox),
+                num(f.oy),
+                num(f.cell)
+            ),
+        );
+    for b in blocks(grid) {
+        obstacles.append(
+            Rectangle::new()
+                .set("x", b.x)
+                .set("y", b.y)
+                .set("width", b.w)
+                .set("height", b.h),
+        );
+    }
+    g.append(obstacles);
+    g.append(
+        Rectangle::new()
+            .set("x", num(f.ox))
+            .set("y", num(f.oy))
+            .set("width", num(w))
+            .set("height", num(h))
+            .set("fill", "none")
+            .set("stroke", INK)
+            .set("stroke-width", 1),
+    );
+    g
+}
+
+/// The path's cells that lie inside the grid, with their index in the path.
+fn cells_in(grid: &Grid, path: Option<&Path>) -> Vec<(usize, Cell)> {
+    path.map(|p| {
+        p.cells()
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|&(_, c)| grid.contains(c))
+            .collect()
+    })
+    .unwrap_or_default()
+}
+
+/// Polyline vertices: repeated cells and the middle of straight runs dropped.
+fn vertices(cells: &[(usize, Cell)]) -> Vec<Cell> {
+    let mut out: Vec<Cell> = Vec::with_capacity(cells.len());
+    for &(_, c) in cells {
+        if out.last() == Some(&c) {
+            continue;
+        }
+        if out.len() >= 2 {
+            let (a, b) = (out[out.len() - 2], out[out.len() - 1]);
+            let d1 = (
+                i64::from(b.x) - i64::from(a.x),
+                i64::from(b.y) - i64::from(a.y),
+            );
+            let d2 = (
+                i64::from(c.x) - i64::from(b.x),
+                i64::from(c.y) - i64::from(b.y),
+            );
+            let same = d1.0 * d2.1 == d1.1 * d2.0 && d1.0 * d2.0 + d1.1 * d2.1 > 0;
+            if same {
+                out.pop();
+            }
+        }
+        out.push(c);
+    }
+    out
+}
+
+fn polyline(f: Frame, cells: &[Cell], colour: &str, width: f64) -> Option<Polyline> {
+    if cells.len() < 2 {
+        return None;
+    }
+    let points: Vec<String> = cells
+        .iter()
+        .map(|&c| {
+            let (x, y) = f.centre(c);
+            format!("{},{}", num(x), num(y))
+        })
+        .collect();
+    Some(
+        Polyline::new()
+            .set("points", points.join(" "))
+            .set("fill", "none")
+            .set("stroke", colour)
+            .set("stroke-width", num(width))
+            .set("stroke-linejoin", "round")
+            .set("stroke-linecap", "round"),
+    )
+}
+
+/// A filled triangle centred at `m` pointing along the unit vector `u`.
+fn arrow(m: (f64, f64), u: (f64, f64), len: f64, colour: &str, outline: &str) -> Polygon {
+    let hw = 0.45 * len;
+    let (nx, ny) = (-u.1, u.0);
+    let tip = (m.0 + u.0 * len / 2.0, m.1 + u.1 * len / 2.0);
+    let back = (m.0 - u.0 * len / 2.0, m.1 - u.1 * len / 2.0);
+    let points = format!(
+        "{},{} {},{} {},{}",
+        num(tip.0),
+        num(tip.1),
+        num(back.0 + nx * hw),
+        num(back.1 + ny * hw),
+        num(back.0 - nx * hw),
+        num(back.1 - ny * hw)
+    );
+    Polygon::new()
+        .set("points", points)
+        .set("fill", colour)
+        .set("stroke", outline)
+        .set("stroke-width", num((len / 12.0).clamp(0.5, 1.5)))
+        .set("stroke-linejoin", "round")
+        .set("class", "arrow")
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Arrows {
+    None,
+    /// One at the middle of every move.
+    EveryMove,
+    /// Evenly spaced along the path, at most this many.
+    Sparse(f64),
+}
+
+/// Direction arrows along the moves between consecutive in-grid cells. `colour(i)` is the
+/// fill for the move ending at path index `i`; `outline` the edge colour.
+fn arrows(
+    f: Frame,
+    cells: &[(usize, Cell)],
+    mode: Arrows,
+    len: f64,
+    colour: &dyn Fn(usize) -> String,
+    outline: &str,
+) -> Group {
+    let mut g = Group::new().set("class", "arrows");
+    let moves = cells
+        .windows(2)
+        .filter(|w| w[0].1 != w[1].1)
+        .map(|w| (w[1].0, f.centre(w[0].1), f.centre(w[1].1)));
+    match mode {
+        Arrows::None => {}
+        Arrows::EveryMove => {
+            for (i, a, b) in moves {
+                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                let d = dx.hypot(dy);
+                let m = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+                g.append(arrow(m, (dx / d, dy / d), len, &colour(i), outline));
+            }
+        }
+        Arrows::Sparse(max_arrows) => {
+            let total: f64 = moves
+                .clone()
+                .map(|(_, a, b)| (b.0 - a.0).hypot(b.1 - a.1))
+                .sum();
+            let spacing = ARROW_SPACING_PX.max(total / max_arrows);
+            // Arrows at spacing/2, 3 spacing/2, ... along the path.
+            let mut next = spacing / 2.0;
+            let mut walked = 0.0;
+            for (i, a, b) in moves {
+                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                let d = dx.hypot(dy);
+                while next <= walked + d {
+                    let t = (next - walked) / d;
+                    let m = (a.0 + dx * t, a.1 + dy * t);
+                    g.append(arrow(m, (dx / d, dy / d), len, &colour(i), outline));
+                    next += spacing;
+                }
+                walked += d;
+            }
+        }
+    }
+    g
+}
+
+/// Pale cells under a labelled path.
+fn tint(f: Frame, cells: &[(usize, Cell)], colour: &str) -> Group {
+    let mut g = Group::new()
+        .set("class", "tint")
+        .set("fill", colour)
+        .set("fill-opacity", 0.15);
+    let distinct: std::collections::BTreeSet<Cell> = cells.iter().map(|&(_, c)| c).collect();
+    for c in distinct {
+        let (x, y) = f.corner(c);
+        g.append(
+            Rectangle::new()
+                .set("x", num(x))
+                .set("y", num(y))
+                .set("width", num(f.cell))
+                .set("height", num(f.cell)),
+        );
+    }
+    g
+}
+
+/// Step indices in white discs, one per distinct cell (a revisited cell lists its first
+/// two indices, then an ellipsis if there are more); cells in `skip` get none.
+/// `colour(i)` is the disc outline for the first visit at index `i`.
+fn step_labels(
+    f: Frame,
+    cells: &[(usize, Cell)],
+    skip: &[Cell],
+    colour: &dyn Fn(usize) -> String,
+) -> Group {
+    let mut by_cell: BTreeMap<Cell, Vec<usize>> = BTreeMap::new();
+    for &(i, c) in cells {
+        if !skip.contains(&c) {
+            by_cell.entry(c).or_default().push(i);
+        }
+    }
+    // Draw in order of first visit so that output follows the path.
+    let mut order: Vec<(usize, Cell, Vec<usize>)> =
+        by_cell.into_iter().map(|(c, v)| (v[0], c, v)).collect();
+    order.sort_unstable_by_key(|&(first, c, _)| (first, c));
+    let r = LABEL_R * f.cell;
+    let mut g = Group::new().set("class", "steps");
+    for (first, c, indices) in order {
+        let mut label = indices
+            .iter()
+            .take(2)
+            .map(|i| i.to_string())
+            .collect::<Vec<_>>()
+            .join(",");
+        if indices.len() > 2 {
+            label.push('…');
+        }
+        let n = label.chars().count() as f64;
+        // Fit the label in the disc: about 1.8 r wide, at most 0.4 cell tall.
+        let fs = (0.4 * f.cell).min(1.8 * r / (0.64 * n));
+        let (x, y) = f.centre(c);
+        g.append(
+            Circle::new()
+                .set("cx", num(x))
+                .set("cy", num(y))
+                .set("r", num(r))
+                .set("fill", "#ffffff")
+                .set("stroke", colour(first))
+                .set("stroke-width", num((0.05 * f.cell).max(1.0))),
+        );
+        g.append(
+            text(x, y + 0.36 * fs, label, fs)
+                .set("text-anchor", "middle")
+                .set("fill", INK)
+                .set("class", "step"),
+        );
+    }
+    g
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Shape {
+    Disc,
+    Square,
+}
+
+/// A start or goal mark: a black disc or square with a white letter, as big as a step
+/// label on large cells and at least 7 px in radius on small ones, drawn on top.
+fn endpoint(grid: &Grid, f: Frame, cell: Cell, letter: &str, shape: Shape) -> Option<Group> {
+    if !grid.contains(cell) {
+        return None;
+    }
+    let r = if f.cell >= LABEL_MIN_CELL_PX {
+        LABEL_R * f.cell + 1.0
+    } else {
+        (0.6 * f.cell).max(8.0)
+    };
+    let (x, y) = f.centre(cell);
+    let mut g = Group::new().set("class", "endpoint");
+    let stroke = num((r / 8.0).clamp(1.0, 2.0));
+    match shape {
+        Shape::Disc => g.append(
+            Circle::new()
+                .set("cx", num(x))
+                .set("cy", num(y))
+                .set("r", num(r))
+                .set("fill", "#000000")
+                .set("stroke", "#ffffff")
+                .set("stroke-width", stroke),
+        ),
+        Shape::Square => {
+            let s = 0.9 * r;
+            g.append(
+                Rectangle::new()
+                    .set("x", num(x - s))
+                    .set("y", num(y - s))
+                    .set("width", num(2.0 * s))
+                    .set("height", num(2.0 * s))
+                    .set("fill", "#000000")
+                    .set("stroke", "#ffffff")
+                    .set("stroke-width", stroke),
+            )
+        }
+    }
+    let fs = 1.1 * r;
+    g.append(
+        text(x, y + 0.36 * fs, letter.to_owned(), fs)
+            .set("text-anchor", "middle")
+            .set("font-weight", "bold")
+            .set("fill", "#ffffff"),
+    );
+    Some(g)
+}
+
+fn endpoints(grid: &Grid, f: Frame, start: Cell, goal: Cell, labels: (&str, &str)) -> Group {
+    let mut g = Group::new();
+    // Goal first so that a start on the goal stays visible.
+    for mark in [
+        endpoint(grid, f, goal, labels.1, Shape::Square),
+        endpoint(grid, f, start, labels.0, Shape::Disc),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        g.append(mark);
+    }
+    g
+}
+
+/// Width of a path's line: thicker on large cells, at least 2 px.
+fn line_width(cell: f64) -> f64 {
+    if cell >= LABEL_MIN_CELL_PX {
+        (0.08 * cell).clamp(2.0, 5.0)
+    } else {
+        (0.3 * cell).clamp(2.0, 3.0)
+    }
+}
+
+/// Arrow length for a cell size.
+fn arrow_len(cell: f64, mode: Arrows, line: f64) -> f64 {
+    match mode {
+        Arrows::EveryMove => 0.26 * cell,
+        _ => (3.5 * line).max(10.0),
+    }
+}
+
+fn arrow_mode(style: &Style, cell: f64, max_sparse: f64) -> Arrows {
+    if !style.arrows {
+        Arrows::None
+    } else if cell >= LABEL_MIN_CELL_PX {
+        Arrows::EveryMove
+    } else {
+        Arrows::Sparse(max_sparse)
+    }
+}
+
+/// One layer's path: tint (when labelled), line, arrows, step labels.
+#[allow(clippy::too_many_arguments)]
+fn layer_group(
+    grid: &Grid,
+    f: Frame,
+    path: Option<&Path>,
+    colour: &str,
+    width: f64,
+    labels: bool,
+    mode: Arrows,
+    skip: &[Cell],
+) -> Group {
+    let cells = cells_in(grid, path);
+    let mut g = Group::new().set("class", "layer");
+    if labels {
+        g.append(tint(f, &cells, colour));
+    }
+    if let Some(line) = polyline(f, &vertices(&cells), colour, width) {
+        g.append(line.set("class", "path"));
+    }
+    let same = |_: usize| colour.to_owned();
+    let len = arrow_len(f.cell, mode, width);
+    g.append(arrows(f, &cells, mode, len, &same, "#ffffff"));
+    if labels {
+        g.append(step_labels(f, &cells, skip, &same));
+    }
+    g
+}
+
+/// A colour swatch: a short thick line ending at `x + 16`, centred on the text line `y`.
+fn swatch(x: f64, y: f64, colour: &str, width: f64) -> Line {
+    Line::new()
+        .set("x1", num(x))
+        .set("y1", num(y - 4.5))
+        .set("x2", num(x + 16.0))
+        .set("y2", num(y - 4.5))
+        .set("stroke", colour)
+        .set("stroke-width", num(width.clamp(3.0, 6.0)))
+}
+
+/// Panels: one map per layer, arranged in the grid of panels giving the largest cells.
+pub(crate) fn panels(
+    grid: &Grid,
+    start: Cell,
+    goal: Cell,
+    layers: &[Layer<'_>],
+    title: &str,
+    style: &Style,
+) -> String {
+    let n = layers.len().max(1);
+    let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
+    let foot_h = if layers.is_empty() {
+        0.0
+    } else {
+        2.0 * LINE_H + 6.0
+    };
+    let chrome = |cols: usize, rows: usize| {
+        (
+            2.0 * MARGIN + (cols - 1) as f64 * GAP,
+            2.0 * MARGIN + TITLE_H + rows as f64 * foot_h + (rows - 1) as f64 * GAP,
+        )
+    };
+    // Side by side (as in the paper) as long as cells stay comfortably large, else the
+    // arrangement with the largest cells; ties go to more columns.
+    let options: Vec<(f64, usize)> = (1..=n)
+        .map(|cols| {
+            let rows = n.div_ceil(cols);
+            let (ew, eh) = chrome(cols, rows);
+            (
+                fit_cell(style, cols as f64 * w, rows as f64 * h, ew, eh),
+                cols,
+            )
+        })
+        .collect();
+    let largest = options.iter().map(|o| o.0).fold(0.0, f64::max);
+    let enough = largest.min(COMFORTABLE_CELL_PX);
+    let (cell, cols) = options
+        .iter()
+        .rev()
+        .find(|o| o.0 >= enough)
+        .copied()
+        .unwrap_or((largest, 1));
+    let rows = n.div_ceil(cols);
+    let (ew, eh) = chrome(cols, rows);
+    let (pw, ph) = (w * cell, h * cell);
+    let content_w = ew + cols as f64 * pw;
+    let title_w = (text_width(title, TITLE_FS) * 1.08 + 2.0 * MARGIN).min(max_px(style));
+    let width = content_w.max(title_w).ceil();
+    let height = eh + rows as f64 * ph;
+    let x0 = MARGIN + (width - content_w) / 2.0;
+
+    let mut doc = document(width, height);
+    doc.append(title_text(title, width));
+    let labels = labels_on(style, cell);
+    let mode = arrow_mode(style, cell, MAX_SPARSE_ARROWS);
+    let lw = line_width(cell);
+    for k in 0..n {
+        let (col, row) = ((k % cols) as f64, (k / cols) as f64);
+        let f = Frame {
+            ox: x0 + col * (pw + GAP),
+            oy: MARGIN + TITLE_H + row * (ph + foot_h + GAP),
+            cell,
+        };
+        let mut panel = Group::new().set("class", "panel");
+        panel.append(map_group(grid, f));
+        if let Some(layer) = layers.get(k) {
+            let colour = PALETTE[k % PALETTE.len()];
+            panel.append(layer_group(
+                grid,
+                f,
+                layer.path,
+                colour,
+                lw,
+                labels,
+                mode,
+                &[start, goal],
+            ));
+            panel.append(endpoints(grid, f, start, goal, ("S", "G")));
+            // Legend: swatch and label, then the note; may use the gap beside the panel.
+            let room = if col as usize + 1 < cols {
+                pw + GAP - 4.0
+            } else {
+                width - f.ox - MARGIN / 2.0
+            };
+            let y1 = f.oy + ph + LINE_H;
+            panel.append(swatch(f.ox, y1, colour, lw));
+            panel.append(
+                text(
+                    f.ox + 22.0,
+                    y1,
+                    fit_text(layer.label, LABEL_FS * 1.08, room - 22.0),
+                    LABEL_FS,
+                )
+                .set("font-weight", "bold")
+                .set("fill", INK)
+                .set("class", "label"),
+            );
+            panel.append(
+                text(
+                    f.ox,
+                    y1 + LINE_H,
+                    fit_text(&layer.note, NOTE_FS, room),
+                    NOTE_FS,
+                )
+                .set("fill", "#444444")
+                .set("class", "note"),
+            );
+        } else {
+            panel.append(endpoints(grid, f, start, goal, ("S", "G")));
+        }
+        doc.append(panel);
+    }
+    finish(doc)
+}
+
+/// Overlay: every layer on one map, earlier layers wider underneath, with a legend.
+pub(crate) fn overlay(
+    grid: &Grid,
+    start: Cell,
+    goal: Cell,
+    layers: &[Layer<'_>],
+    title: &str,
+    style: &Style,
+) -> String {
+    let n = layers.len();
+    let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
+    let legend_h = n as f64 * LINE_H + 6.0;
+    let cell = fit_cell(style, w, h, 2.0 * MARGIN, 2.0 * MARGIN + TITLE_H + legend_h);
+    let map_w = w * cell;
+    let legend_w = layers
+        .iter()
+        .map(|l| 30.0 + text_width(l.label, LABEL_FS) * 1.08 + text_width(&l.note, NOTE_FS))
+        .fold(text_width(title, TITLE_FS) * 1.08, f64::max);
+    let width = (map_w + 2.0 * MARGIN)
+        .max((legend_w + 2.0 * MARGIN).min(max_px(style)))
+        .ceil();
+    let height = 2.0 * MARGIN + TITLE_H + h * cell + legend_h;
+    let f = Frame {
+        ox: MARGIN + (width - 2.0 * MARGIN - map_w) / 2.0,
+        oy: MARGIN + TITLE_H,
+        cell,
+    };
+    let mut doc = document(width, height);
+    doc.append(title_text(title, width));
+    doc.append(map_group(grid, f));
+    let labels = style.step_labels == StepLabels::Always;
+    let mode = arrow_mode(style, cell, MAX_SPARSE_ARROWS);
+    let base = line_width(cell);
+    let widths: Vec<f64> = (0..n)
+        .map(|i| {
+            if n > 1 {
+                base * (1.0 + (n - 1 - i) as f64 / (n - 1) as f64)
+            } else {
+                base
+            }
+        })
+        .collect();
+    for (i, layer) in layers.iter().enumerate() {
+        let colour = PALETTE[i % PALETTE.len()];
+        doc.append(layer_group(
+            grid,
+            f,
+            layer.path,
+            colour,
+            widths[i],
+            labels,
+            mode,
+            &[start, goal],
+        ));
+    }
+    doc.append(endpoints(grid, f, start, goal, ("S", "G")));
+    let mut legend = Group::new().set("class", "legend");
+    for (i, layer) in layers.iter().enumerate() {
+        let colour = PALETTE[i % PALETTE.len()];
+        let y = f.oy + h * cell + (i + 1) as f64 * LINE_H;
+        legend.append(swatch(MARGIN, y, colour, widths[i]));
+        let room = width - 2.0 * MARGIN - 22.0;
+        let label = fit_text(layer.label, LABEL_FS * 1.08, room);
+        let room = room - text_width(&label, LABEL_FS) * 1.08 - 8.0;
+        let mut line = text(MARGIN + 22.0, y, String::new(), LABEL_FS).set("fill", INK);
+        line.append(
+            TSpan::new(label)
+                .set("font-weight", "bold")
+                .set("class", "label"),
+        );
+        if room > NOTE_FS {
+            line.append(
+                TSpan::new(fit_text(&layer.note, NOTE_FS, room))
+                    .set("dx", 8)
+                    .set("font-size", num(NOTE_FS))
+                    .set("fill", "#444444")
+                    .set("class", "note"),
+            );
+        }
+        legend.append(line);
+    }
+    doc.append(legend);
+    finish(doc)
+}
+
+/// A path coloured by time with markers.
+pub(crate) fn timeline(
+    grid: &Grid,
+    path: &Path,
+    markers: &[Marker],
+    title: &str,
+    style: &Style,
+) -> String {
+    let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
+    let legend_h = 2.0 * LINE_H + 10.0;
+    let cell = fit_cell(style, w, h, 2.0 * MARGIN, 2.0 * MARGIN + TITLE_H + legend_h);
+    let map_w = w * cell;
+    let width = (map_w + 2.0 * MARGIN)
+        .max((text_width(title, TITLE_FS) * 1.08 + 2.0 * MARGIN).min(max_px(style)))
+        .max(320.0)
+        .ceil();
+    let height = 2.0 * MARGIN + TITLE_H + h * cell + legend_h;
+    let f = Frame {
+        ox: MARGIN + (width - 2.0 * MARGIN - map_w) / 2.0,
+        oy: MARGIN + TITLE_H,
+        cell,
+    };
+    let mut doc = document(width, height);
+    doc.append(title_text(title, width));
+    doc.append(map_group(grid, f));
+
+    let cells = cells_in(grid, Some(path));
+    let last = path.len().saturating_sub(1).max(1) as f64;
+    let colour_at = |i: usize| ramp(i as f64 / last);
+    let labels = labels_on(style, cell);
+    let lw = line_width(cell);
+    let mut g = Group::new().set("class", "layer");
+    // A thin dark casing under the coloured line keeps the light end of the ramp visible;
+    // on small cells the lines of a coverage path touch, and a casing would only darken.
+    if cell >= GRID_LINES_MIN_PX {
+        if let Some(casing) = polyline(f, &vertices(&cells), "#555555", lw + 1.5) {
+            g.append(casing.set("class", "casing"));
+        }
+    }
+    // The moves in TIMELINE_CHUNKS runs of equal length, each in the colour of its middle.
+    let n_moves = cells.len().saturating_sub(1);
+    let chunks = n_moves.min(TIMELINE_CHUNKS);
+    for k in 0..chunks {
+        let (a, b) = (k * n_moves / chunks, (k + 1) * n_moves / chunks);
+        let mid = (cells[a].0 + cells[b].0) / 2;
+        if let Some(line) = polyline(f, &vertices(&cells[a..=b]), &colour_at(mid), lw) {
+            g.append(line.set("class", "path"));
+        }
+    }
+    let mode = arrow_mode(style, cell, MAX_TIMELINE_ARROWS);
+    // Dark edges: the arrows sit on a line of their own colour.
+    g.append(arrows(
+        f,
+        &cells,
+        mode,
+        arrow_len(cell, mode, lw),
+        &colour_at,
+        INK,
+    ));
+    if labels {
+        let ends: Vec<Cell> = [path.start(), path.goal()].into_iter().flatten().collect();
+        g.append(step_labels(f, &cells, &ends, &colour_at));
+    }
+    doc.append(g);
+
+    // Markers: vermillion (a colour viridis lacks). On labelled cells a frame around the
+    // cell with the label in its top-left corner, clear of the step disc; on small cells a
+    // diamond with the label beside it (left of it near the right edge) when few.
+    let shown: Vec<&Marker> = markers.iter().filter(|m| grid.contains(m.cell)).collect();
+    let mut mg = Group::new().set("class", "markers");
+    let framed = labels;
+    let r = (0.5 * cell).max(4.5);
+    let right_edge = f.ox + w * cell;
+    for m in &shown {
+        let (x, y) = f.centre(m.cell);
+        if framed {
+            let t = (0.08 * cell).max(2.0);
+            let (cx, cy) = f.corner(m.cell);
+            mg.append(
+                Rectangle::new()
+                    .set("x", num(cx + t / 2.0))
+                    .set("y", num(cy + t / 2.0))
+                    .set("width", num(cell - t))
+                    .set("height", num(cell - t))
+                    .set("fill", "none")
+                    .set("stroke", PALETTE[1])
+                    .set("stroke-width", num(t))
+                    .set("class", "marker"),
+            );
+        } else {
+            let d = format!(
+                "M{} {}L{} {}L{} {}L{} {}Z",
+                num(x),
+                num(y - r),
+                num(x + r),
+                num(y),
+                num(x),
+                num(y + r),
+                num(x - r),
+                num(y)
+            );
+            mg.append(
+                SvgPath::new()
+                    .set("d", d)
+                    .set("fill", PALETTE[1])
+                    .set("stroke", "#ffffff")
+                    .set("stroke-width", 1)
+                    .set("class", "marker"),
+            );
+        }
+        if m.label.is_empty() || (!framed && shown.len() > MAX_MARKER_LABELS) {
+            continue;
+        }
+        let (fs, lx, ly, anchor, max_w) = if framed {
+            let (cx, cy) = f.corner(m.cell);
+            let fs = (0.24 * cell).min(NOTE_FS);
+            (
+                fs,
+                cx + 0.1 * cell,
+                cy + 0.1 * cell + 0.8 * fs,
+                "start",
+                0.9 * cell,
+            )
+        } else if x + r + 50.0 > right_edge {
+            (NOTE_FS, x - r - 2.0, y - r / 2.0, "end", 120.0)
+        } else {
+            (NOTE_FS, x + r + 2.0, y - r / 2.0, "start", 120.0)
+        };
+        mg.append(
+            text(lx, ly, fit_text(&m.label, fs, max_w), fs)
+                .set("text-anchor", anchor)
+                .set("font-weight", "bold")
+                .set("fill", if framed { PALETTE[1] } else { INK })
+                .set("stroke", "#ffffff")
+                .set("stroke-width", num((fs / 4.0).max(1.0)))
+                .set("stroke-linejoin", "round")
+                .set("paint-order", "stroke")
+                .set("class", "marker-label"),
+        );
+    }
+    doc.append(mg);
+    if let (Some(s), Some(e)) = (path.start(), path.goal()) {
+        doc.append(endpoints(grid, f, s, e, ("S", "E")));
+    }
+
+    // Legend: the colour ramp with its first and last step, then the marker count.
+    let mut legend = Group::new().set("class", "legend");
+    let y = f.oy + h * cell + LINE_H;
+    let bar_w = 160.0;
+    let x = MARGIN + text_width("step 0", NOTE_FS) + 6.0;
+    legend.append(text(MARGIN, y, "step 0".to_owned(), NOTE_FS).set("fill", INK));
+    let steps = 32;
+    for k in 0..steps {
+        legend.append(
+            Rectangle::new()
+                .set("x", num(x + bar_w * k as f64 / steps as f64))
+                .set("y", num(y - 10.0))
+                .set("width", num(bar_w / steps as f64 + 0.3))
+                .set("height", 10)
+                .set("fill", ramp(k as f64 / (steps - 1) as f64)),
+        );
+    }
+    legend.append(
+        text(
+            x + bar_w + 6.0,
+            y,
+            format!("step {}", path.len().saturating_sub(1)),
+            NOTE_FS,
+        )
+        .set("fill", INK),
+    );
+    legend.append(
+        text(
+            MARGIN,
+            y + LINE_H,
+            format!(
+                "{} marked cell{}; S start, E end",
+                shown.len(),
+                if shown.len() == 1 { "" } else { "s" }
+            ),
+            NOTE_FS,
+        )
+        .set("fill", INK),
+    );
+    doc.append(legend);
+    finish(doc)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short_and_stable() {
+        for (x, s) in [
+            (0.0, "0"),
+            (-0.001, "0"),
+            (1.5, "1.5"),
+            (2.0, "2"),
+            (1.0 / 3.0, "0.33"),
+            (12.345, "12.35"),
+            (-7.1, "-7.1"),
+        ] {
+            assert_eq!(num(x), s, "{x}");
+        }
+    }
+
+    #[test]
+    fn text_is_cleaned_and_cut() {
+        assert_eq!(clean("a\u{0}b\tc\u{FFFF}"), "a b c ");
+        // 12 px * 0.62 = 7.44 px per char: 40 px hold 5 chars, so 4 and an ellipsis.
+        assert_eq!(fit_text("abcdefghij", 12.0, 40.0), "abcd…");
+        assert_eq!(fit_text("abc", 12.0, 40.0), "abc");
+    }
+
+    #[test]
+    fn straight_runs_collapse() {
+        let cells: Vec<(usize, Cell)> = [(0, 0), (1, 0), (2, 0), (2, 0), (2, 1), (3, 2), (4, 3)]
+            .iter()
+            .enumerate()
+            .map(|(i, &(x, y))| (i, Cell::new(x, y)))
+            .collect();
+        let v: Vec<(u32, u32)> = vertices(&cells).iter().map(|c| (c.x, c.y)).collect();
+        // Corners at (2,0) and (2,1); the diagonal (2,1)-(3,2)-(4,3) is one segment.
+        assert_eq!(v, [(0, 0), (2, 0), (2, 1), (4, 3)]);
+    }
+
+    #[test]
+    fn cell_fits_max_px() {
+        let style = Style::default();
+        // 6 cells: 48 px wins. 512 cells: (1200 - 24) / 512 = 2.296 -> 2.29.
+        assert_eq!(fit_cell(&style, 6.0, 6.0, 24.0, 24.0), 48.0);
+        assert_eq!(fit_cell(&style, 512.0, 512.0, 24.0, 24.0), 2.29);
+        // 64 cells: 1176 / 64 = 18.375 -> 18.
+        assert_eq!(fit_cell(&style, 64.0, 64.0, 24.0, 24.0), 18.0);
+        let tiny = Style {
+            max_px: 10.0,
+            ..Style::default()
+        };
+        assert_eq!(fit_cell(&tiny, 6.0, 6.0, 24.0, 24.0), 0.01);
+    }
+}
