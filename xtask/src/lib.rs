@@ -6,6 +6,7 @@
 //! - [`run`]: expansion into runs and the parallel sweep.
 //! - [`output`]: runs.csv, runs.json and the atomic write of the results directory.
 //! - [`summary`]: summary.md in the seeds' table layouts.
+//! - [`figures`]: the SVG figures of a sweep.
 //! - [`plan`]: `cargo xtask plan`, one run printed.
 //! - [`scaffold`]: `cargo xtask new-planner`.
 #![deny(missing_docs)]
@@ -13,6 +14,7 @@
 
 pub mod alloc;
 pub mod config;
+pub mod figures;
 pub mod output;
 pub mod plan;
 pub mod registry;
@@ -70,6 +72,8 @@ pub fn experiment(
             contents: summary.into_bytes(),
         },
     ];
+    let mut files = files;
+    files.extend(figures::render(&experiment, &records));
     output::write_atomically(&dir, &files)?;
     Ok(Report {
         n_runs: records.len(),
