@@ -237,3 +237,37 @@ fn a_failed_sweep_leaves_previous_results_and_writes_nothing() {
     assert!(!fresh.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn plan_prints_one_json_object_and_names_bad_input() {
+    let args = xtask::plan::PlanArgs {
+        map: root().join("maps/paper/map01.map"),
+        planner: "astar".into(),
+        ..Default::default()
+    };
+    let json: serde_json::Value =
+        serde_json::from_str(&xtask::plan::run(&args).unwrap().to_json().unwrap()).unwrap();
+    // Seed 000 Tables 3 and 5, map 1: D 10, T 2, Score 12, 15 expansions.
+    assert_eq!(json["status"], "found");
+    assert_eq!(json["metrics"]["steps"], 10);
+    assert_eq!(json["metrics"]["turns"], 2);
+    assert_eq!(json["metrics"]["score"], 12);
+    assert_eq!(json["counters"]["n_expanded"], 15);
+    assert_eq!(json["path"][0], serde_json::json!([0, 0]));
+    let blocked = xtask::plan::PlanArgs {
+        map: root().join("maps/wpi/map2.txt"),
+        planner: "bfs".into(),
+        problem: Some(2),
+        ..Default::default()
+    };
+    let error = xtask::plan::run(&blocked).err().unwrap();
+    assert!(error.ends_with("goal (12, 3) is blocked"), "{error}");
+    let unknown = xtask::plan::PlanArgs {
+        set: vec!["beta=2".into()],
+        ..args
+    };
+    assert!(xtask::plan::run(&unknown)
+        .err()
+        .unwrap()
+        .contains("unknown field `beta`"));
+}
