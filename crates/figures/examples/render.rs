@@ -5,6 +5,12 @@
 //! for f in /tmp/gridplan-figures/*.svg; do rsvg-convert "$f" -o "${f%.svg}.png"; done
 //! ```
 //!
+//! Figures: `map01_bfs` (one path, seed 000's map 1), `map10_comparison` (two shortest
+//! paths in panels), `map10_three` (three panels, one without a path, a label needing
+//! escapes), `room_any_angle` (8-connected and any-angle paths), `random512_overlay` and
+//! `random512_bfs` (a 512x512 map, overlay and single), `map10_coverage`,
+//! `den520d_coverage` and `random512_coverage` (timelines with markers).
+//!
 //! Paths are made here with a plain breadth-first search (two neighbour orders give two
 //! different shortest paths), a greedy line-of-sight shortcut of one of them (an
 //! any-angle path) and a row-by-row sweep (a coverage path); no planner crate is used.
@@ -13,7 +19,7 @@ use std::collections::VecDeque;
 use std::error::Error;
 use std::path::{Path as FsPath, PathBuf};
 
-use planner_api::{segment_is_free, Cell, Grid, Path};
+use planner_api::{segment_is_free, Cell, Connectivity, Grid, MoveSet, Path};
 use planner_figures::{draw_comparison, draw_path, draw_timeline, Layer, Marker, Style};
 
 /// A Moving AI map: four header lines, then rows where `.`, `G` and `S` are free.
@@ -59,6 +65,35 @@ fn bfs(grid: &Grid, start: Cell, goal: Cell, order: &[(i32, i32)]) -> Option<Pat
         for &(dx, dy) in order {
             if let Some(n) = grid.offset(c, dx, dy) {
                 if grid.is_free(n) && parent[grid.index(n)] == usize::MAX {
+                    parent[grid.index(n)] = grid.index(c);
+                    queue.push_back(n);
+                }
+            }
+        }
+    }
+    None
+}
+
+/// Breadth-first search on 8-connected moves without corner cutting: fewest moves.
+fn bfs8(grid: &Grid, start: Cell, goal: Cell) -> Option<Path> {
+    let moves = MoveSet::standard(Connectivity::Eight);
+    let mut parent = vec![usize::MAX; grid.len()];
+    let mut queue = VecDeque::from([start]);
+    parent[grid.index(start)] = grid.index(start);
+    while let Some(c) = queue.pop_front() {
+        if c == goal {
+            let mut cells = vec![c];
+            let mut i = grid.index(c);
+            while parent[i] != i {
+                i = parent[i];
+                cells.push(grid.cell(i));
+            }
+            cells.reverse();
+            return Some(Path::new(cells));
+        }
+        for mv in moves.moves() {
+            if let Some(n) = moves.apply(grid, c, mv) {
+                if parent[grid.index(n)] == usize::MAX {
                     parent[grid.index(n)] = grid.index(c);
                     queue.push_back(n);
                 }
@@ -191,6 +226,47 @@ fn main() -> Result<(), Box<dyn Error>> {
         &out,
         "map10_three.svg",
         &draw_comparison(&grid, s, g, &layers3, "map10 · three layers", &style),
+    )?;
+
+    // Diagonal and any-angle moves on a roomier hand-made 12x12 map: an 8-connected
+    // breadth-first path (corners not cut) and its line-of-sight shortcut.
+    let grid = Grid::from_ascii(
+        "
+        ............
+        ............
+        ..#######...
+        ........#...
+        ........#...
+        ...##...#...
+        ...##.......
+        ............
+        ######..####
+        ............
+        ............
+        ............
+        ",
+    )?;
+    let eight = bfs8(&grid, s, g).ok_or("hand-made: no 8-connected path")?;
+    let any = shortcut(&grid, &eight);
+    let layers = [
+        Layer::new("8-connected", Some(&eight), note(&eight)),
+        Layer::new(
+            "any-angle",
+            Some(&any),
+            format!("{}, length {:.2}", note(&any), any.metrics().length),
+        ),
+    ];
+    write(
+        &out,
+        "room_any_angle.svg",
+        &draw_comparison(
+            &grid,
+            s,
+            g,
+            &layers,
+            "12x12 room · diagonal and any-angle",
+            &style,
+        ),
     )?;
 
     // 3. A 512x512 random Moving AI map: overlay of a 4-connected and an any-angle path.

@@ -24,8 +24,9 @@
 //! [`LABEL_MIN_CELL_PX`] per cell, step indices are left out (unless [`StepLabels::Always`])
 //! and arrows become sparse: one every 60 px along the path, at most 60 per path, instead
 //! of one per move. Obstacles are drawn as few rectangles (runs of blocked cells in a row,
-//! merged downwards with identical runs below) in one scaled group, so a 512x512 Moving AI
-//! map stays well under a megabyte and a 30 %-random one under three.
+//! merged downwards with identical runs below) in one scaled group: the 512x512 Moving AI
+//! map `random512-10-0` (10 % blocked, scattered) draws in about 1 MB, a 30 %-random
+//! 512x512 map in about 2.5 MB, maps of rooms and walls in far less.
 //!
 //! Paths are drawn through the centres of the listed cells, so any-angle paths (moves
 //! longer than one cell) draw as straight segments between their waypoints; step indices

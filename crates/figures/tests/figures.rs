@@ -485,3 +485,23 @@ fn sparse_arrows_are_evenly_spaced() {
     );
     assert_eq!(counts(&svg, &["arrow"]), [18]);
 }
+
+#[test]
+fn style_reads_from_config() {
+    let style: Style = toml::from_str(
+        r#"
+        max_px = 800.0
+        step_labels = "never"
+        layout = "overlay"
+        "#,
+    )
+    .unwrap();
+    let expect = Style {
+        max_px: 800.0,
+        step_labels: StepLabels::Never,
+        layout: Layout::Overlay,
+        ..Style::default()
+    };
+    assert_eq!(style, expect);
+    assert!(toml::from_str::<Style>("colour = 1").is_err());
+}
