@@ -29,6 +29,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+pub mod adjacency;
 pub mod counters;
 pub mod error;
 pub mod grid;
@@ -36,6 +37,7 @@ pub mod moves;
 pub mod path;
 pub mod planner;
 
+pub use adjacency::Adjacency;
 pub use counters::{Counter, Counters, SearchStats};
 pub use error::{Endpoint, GridError, MoveOrderError, PathError, ProblemError};
 pub use grid::{Cell, Grid};

@@ -115,8 +115,6 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-mod adjacency;
-
 use planner_api::{
     Budget, BudgetClock, Cell, Connectivity, Counter, MoveOrderError, MoveSet, NeighborOrder,
     Outcome, Path, PathRank, Planner, Problem, SearchStats,
@@ -124,7 +122,7 @@ use planner_api::{
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::adjacency::{Adjacency, VISITED};
+use planner_api::adjacency::{Adjacency, SCRATCH as VISITED};
 
 /// Optional pruning beyond the paper; every mode other than [`Prune::Off`] changes the counters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
@@ -260,7 +258,7 @@ impl Backtracking {
 
     fn run(&mut self, problem: &Problem<'_>, budget: &Budget) -> Run {
         let grid = problem.grid();
-        let adjacency = adjacency::cached(&mut self.adjacency, grid, &self.moves);
+        let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         let start = adjacency.index(problem.start());
         let goal = adjacency.index(problem.goal());
         // The path holds each cell at most once, so at most `len - 1` frames are ever below
@@ -272,7 +270,7 @@ impl Backtracking {
         if self.config.prune == Prune::Bound {
             fill_lower_bound(&mut self.lower_bound, adjacency, &self.moves, problem);
         }
-        let root_moves = adjacency.safe[start] & adjacency.all;
+        let root_moves = adjacency.mask(start) & adjacency.all();
         let parallel = self.config.parallel
             && self.config.prune == Prune::Off
             && budget.max_expansions.is_none()
@@ -282,11 +280,13 @@ impl Backtracking {
         if parallel {
             return run_parallel(adjacency, start, goal, &mut self.best, grid.len());
         }
+        let (n_moves, all) = (adjacency.n_moves(), adjacency.all());
+        let (cells, delta) = adjacency.split_mut();
         let mut search = Search {
-            cells: &mut adjacency.safe,
-            delta: &adjacency.delta,
-            n_moves: adjacency.n_moves,
-            all: adjacency.all,
+            cells,
+            delta,
+            n_moves,
+            all,
             stack: &mut self.stack,
             best: &mut self.best,
             lower_bound: &self.lower_bound,
@@ -308,19 +308,19 @@ fn run_parallel(
     n_cells: usize,
 ) -> Run {
     use rayon::prelude::*;
-    let root_moves = adjacency.safe[start] & adjacency.all;
+    let root_moves = adjacency.mask(start) & adjacency.all();
     let tasks: Vec<u32> = (0..64).filter(|m| root_moves >> m & 1 == 1).collect();
     let runs: Vec<(Run, Vec<u32>)> = tasks
         .par_iter()
         .map(|&m| {
-            let mut cells = adjacency.safe.clone();
+            let mut cells = adjacency.masks().to_vec();
             let mut stack = vec![Frame::default(); n_cells];
             let mut best = Vec::new();
             let mut search = Search {
                 cells: &mut cells,
-                delta: &adjacency.delta,
-                n_moves: adjacency.n_moves,
-                all: adjacency.all,
+                delta: adjacency.deltas(),
+                n_moves: adjacency.n_moves(),
+                all: adjacency.all(),
                 stack: &mut stack,
                 best: &mut best,
                 lower_bound: &[],
@@ -329,7 +329,7 @@ fn run_parallel(
             (run, best)
         })
         .collect();
-    let k = adjacency.n_moves as u64;
+    let k = adjacency.n_moves() as u64;
     let extra_roots = runs.len() as u64 - 1;
     let root_blocked = k - u64::from(root_moves.count_ones());
     let mut stats = SearchStats::default();

@@ -71,8 +71,6 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-mod adjacency;
-
 use planner_api::{
     Budget, Cell, Connectivity, Counter, MoveOrderError, MoveSet, NeighborOrder, Outcome, Path,
     Planner, Problem, SearchStats,
@@ -80,7 +78,7 @@ use planner_api::{
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::adjacency::Adjacency;
+use planner_api::Adjacency;
 
 /// The planner's configuration (TOML/JSON keys as the field names).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -177,7 +175,7 @@ impl Planner for Dfs {
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
-        let adjacency = adjacency::cached(&mut self.adjacency, grid, &self.moves);
+        let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         let len = adjacency.padded_len();
         if self.mark.len() != len {
             self.mark.clear();
@@ -191,7 +189,7 @@ impl Planner for Dfs {
             self.stamp = 1;
         }
         let stamp = self.stamp;
-        let k = adjacency.n_moves as u64;
+        let k = adjacency.n_moves() as u64;
         let start = adjacency.index(problem.start());
         let goal = adjacency.index(problem.goal());
         let mut clock = budget.start();
@@ -218,7 +216,7 @@ impl Planner for Dfs {
                 found = true;
                 break;
             }
-            let mut safe = adjacency.safe[p];
+            let mut safe = adjacency.mask(p);
             stats.n_neighbor_checks += k;
             stats.n_blocked += k - u64::from(safe.count_ones());
             while safe != 0 {

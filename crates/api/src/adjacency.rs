@@ -1,4 +1,5 @@
-//! Per-cell masks of the safe moves, built once per grid from a [`MoveSet`].
+//! Per-cell masks of the safe moves, built once per grid from a [`MoveSet`]: the hot-loop
+//! form of a neighbourhood for searches that keep per-cell arrays.
 //!
 //! Cells are indexed in a *padded* row-major layout: the grid surrounded by a border of
 //! `reach` cells (the longest move's Chebyshev length), so that every neighbour of every
@@ -9,15 +10,17 @@
 //! needs no obstacle test at all: a clear bit is a blocked check, a set bit gives the
 //! neighbour as `p + delta[m]`. Masks are `u64`, enough for the largest set (48 moves).
 
-use planner_api::{Cell, Grid, MoveSet};
+use crate::grid::{Cell, Grid};
+use crate::moves::MoveSet;
 
-/// The bit of a `safe` word that the search sets while the cell is on the current path
-/// (move masks use bits 0..48 at most).
-pub(crate) const VISITED: u64 = 1 << 63;
+/// A bit of every mask word that searches may use as a per-cell scratch flag (move masks
+/// use bits 0..48 at most). [`Adjacency::build`] leaves it clear; a search that sets it
+/// must clear it again before it returns.
+pub const SCRATCH: u64 = 1 << 63;
 
 /// The safe-move masks of one grid and the padded index offset of each move.
 #[derive(Debug, Clone)]
-pub(crate) struct Adjacency {
+pub struct Adjacency {
     /// The grid the masks were built for: the cache key.
     grid: Grid,
     /// Border width: the longest move's reach.
@@ -25,19 +28,19 @@ pub(crate) struct Adjacency {
     /// Padded row length, `width + 2 * reach`.
     stride: usize,
     /// Bit `m` set when move `m` is safe from the padded cell (0 for blocked and border
-    /// cells). Bit [`VISITED`] is the search's scratch mark, clear between searches.
-    pub(crate) safe: Vec<u64>,
+    /// cells). Bit [`SCRATCH`] is the search's scratch mark, clear between searches.
+    safe: Vec<u64>,
     /// Padded index offset `dy * stride + dx` of move `m`; entries past the set's size are 0.
-    pub(crate) delta: [isize; 64],
+    delta: [isize; 64],
     /// Number of moves in the set.
-    pub(crate) n_moves: usize,
+    n_moves: usize,
     /// All moves of the set: bits `0..n_moves`.
-    pub(crate) all: u64,
+    all: u64,
 }
 
 impl Adjacency {
     /// Builds the masks of `grid` for `moves`.
-    pub(crate) fn build(grid: &Grid, moves: &MoveSet) -> Adjacency {
+    pub fn build(grid: &Grid, moves: &MoveSet) -> Adjacency {
         let width = i64::from(grid.width());
         let height = i64::from(grid.height());
         let free = grid.free_cells();
@@ -94,22 +97,22 @@ impl Adjacency {
     }
 
     /// Whether these masks were built for `grid`.
-    pub(crate) fn is_for(&self, grid: &Grid) -> bool {
+    pub fn is_for(&self, grid: &Grid) -> bool {
         self.grid == *grid
     }
 
     /// Number of padded cells: the length of per-cell arrays indexed like `safe`.
-    pub(crate) fn padded_len(&self) -> usize {
+    pub fn padded_len(&self) -> usize {
         self.safe.len()
     }
 
     /// The padded index of `cell`. Precondition: the cell is in the grid.
-    pub(crate) fn index(&self, cell: Cell) -> usize {
+    pub fn index(&self, cell: Cell) -> usize {
         (cell.y as usize + self.reach) * self.stride + cell.x as usize + self.reach
     }
 
     /// The cell at padded index `p`. Precondition: `p` is a grid cell, not a border cell.
-    pub(crate) fn cell(&self, p: usize) -> Cell {
+    pub fn cell(&self, p: usize) -> Cell {
         // Both coordinates are below the grid's u32 sides.
         Cell::new(
             (p % self.stride - self.reach) as u32,
@@ -118,12 +121,67 @@ impl Adjacency {
     }
 }
 
-/// Returns the cached masks for `grid`, rebuilding them when the grid changed.
-pub(crate) fn cached<'a>(
-    cache: &'a mut Option<Adjacency>,
-    grid: &Grid,
-    moves: &MoveSet,
-) -> &'a mut Adjacency {
+impl Adjacency {
+    /// The padded index reached from `p` by move `m` (`m < n_moves`; only meaningful when
+    /// bit `m` of `mask(p)` is set).
+    #[inline]
+    pub fn neighbor(&self, p: usize, m: u32) -> usize {
+        p.wrapping_add_signed(self.delta[(m & 63) as usize])
+    }
+
+    /// The move mask of padded cell `p` (0 for blocked and border cells).
+    #[inline]
+    pub fn mask(&self, p: usize) -> u64 {
+        self.safe[p]
+    }
+
+    /// Every padded cell's mask.
+    pub fn masks(&self) -> &[u64] {
+        &self.safe
+    }
+
+    /// The masks, mutable for the [`SCRATCH`] bit, and the move deltas.
+    pub fn split_mut(&mut self) -> (&mut [u64], &[isize; 64]) {
+        (&mut self.safe, &self.delta)
+    }
+
+    /// The padded index offset of each move (entries past [`Adjacency::n_moves`] are 0).
+    pub fn deltas(&self) -> &[isize; 64] {
+        &self.delta
+    }
+
+    /// Number of moves in the set.
+    pub fn n_moves(&self) -> usize {
+        self.n_moves
+    }
+
+    /// Bits `0..n_moves`: every move of the set.
+    pub fn all(&self) -> u64 {
+        self.all
+    }
+
+    /// Padded row length, `width + 2 * reach`.
+    pub fn stride(&self) -> usize {
+        self.stride
+    }
+
+    /// Border width.
+    pub fn reach(&self) -> usize {
+        self.reach
+    }
+
+    /// Returns the masks in `cache` when they were built for `grid`, else rebuilds them.
+    /// Precondition: `moves` is the same set every time the cache is used.
+    pub fn cached<'a>(
+        cache: &'a mut Option<Adjacency>,
+        grid: &Grid,
+        moves: &MoveSet,
+    ) -> &'a mut Adjacency {
+        cached(cache, grid, moves)
+    }
+}
+
+fn cached<'a>(cache: &'a mut Option<Adjacency>, grid: &Grid, moves: &MoveSet) -> &'a mut Adjacency {
     match cache {
         Some(adjacency) if adjacency.is_for(grid) => {}
         _ => *cache = Some(Adjacency::build(grid, moves)),
@@ -137,7 +195,7 @@ pub(crate) fn cached<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use planner_api::{Connectivity, NeighborOrder};
+    use crate::moves::{Connectivity, NeighborOrder};
 
     #[test]
     fn masks_agree_with_move_set_apply() {
@@ -167,11 +225,11 @@ mod tests {
                     } else {
                         None
                     };
-                    let bit = adjacency.safe[index] >> m & 1 == 1;
+                    let bit = adjacency.mask(index) >> m & 1 == 1;
                     assert_eq!(bit, expect.is_some(), "{connectivity} {cell} move {m}");
                     if let Some(to) = expect {
                         assert_eq!(
-                            adjacency.cell(index.wrapping_add_signed(adjacency.delta[m])),
+                            adjacency.cell(index.wrapping_add_signed(adjacency.deltas()[m])),
                             to
                         );
                     }
