@@ -28,12 +28,15 @@
 //! reached by a path two steps shorter (the tests find such grids).
 //!
 //! # Design
-//! The main decision is to make every search allocation-free after the first: per-cell
-//! arrays (g, parent, closed) live in the planner and are invalidated by a generation
-//! stamp instead of being cleared, so a query touching 100 cells of a 512 x 512 map costs
-//! 100 cells, not 262,144. OPEN is a binary heap with lazy deletion: an improved node is
-//! pushed again and its stale entry is dropped when popped (it is then CLOSED).
-//! `peak_open` counts nodes in OPEN, not heap entries.
+//! The main decision is to make every search allocation-free after the first: one
+//! per-cell record (g, parent, stamp) lives in the planner and is invalidated by a
+//! generation stamp instead of being cleared, so a query touching 100 cells of a 512 x 512
+//! map costs 100 cells, not 262,144. Moves come from planner-api's [`Adjacency`]: per-cell
+//! masks of the safe moves over a padded grid, built once per grid, so the neighbour loop
+//! has no bounds or obstacle test and walks the set bits in the configured order; the
+//! blocked checks are counted as the clear bits. OPEN is an indexed 4-ary heap with
+//! decrease-key (module `open`): an improved node's entry moves, so every pop is an
+//! expansion and `peak_open` is the heap's largest size.
 //!
 //! # Defaults
 //! The defaults are the paper's: 4-connected moves in the order right, left, down, up,
@@ -62,12 +65,12 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+mod open;
 
+use open::Open;
 use planner_api::{
-    Budget, Cell, Connectivity, Counter, Grid, IndexedMoves, MoveOrderError, MoveSet,
-    NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Counter, MoveOrderError, MoveSet, NeighborOrder,
+    Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -189,13 +192,21 @@ pub struct Search {
 pub struct AStar {
     config: Config,
     moves: MoveSet,
-    compiled: Option<IndexedMoves>,
+    adjacency: Option<Adjacency>,
     generation: u32,
-    seen: Vec<u32>,
-    closed: Vec<bool>,
-    g: Vec<f64>,
-    parent: Vec<u32>,
-    heap: BinaryHeap<Entry>,
+    nodes: Vec<Node>,
+    positions: Vec<u32>,
+    open: Open,
+}
+
+/// Per-cell search state, one record per padded cell so that a relaxation touches one
+/// cache line. `stamp` is `generation << 1 | closed`: a record from an older search
+/// counts as unseen, so nothing is cleared between searches.
+#[derive(Debug, Clone, Copy, Default)]
+struct Node {
+    g: f64,
+    parent: u32,
+    stamp: u32,
 }
 
 impl AStar {
@@ -208,13 +219,11 @@ impl AStar {
         Ok(AStar {
             config,
             moves,
-            compiled: None,
+            adjacency: None,
             generation: 0,
-            seen: Vec::new(),
-            closed: Vec::new(),
-            g: Vec::new(),
-            parent: Vec::new(),
-            heap: BinaryHeap::new(),
+            nodes: Vec::new(),
+            positions: Vec::new(),
+            open: Open::default(),
         })
     }
 
@@ -228,95 +237,77 @@ impl AStar {
         &self.moves
     }
 
-    /// Prepares the per-cell arrays for `grid` and starts a new generation.
-    fn prepare(&mut self, grid: &Grid) {
-        if !self.compiled.as_ref().is_some_and(|c| c.fits(grid)) {
-            self.compiled = Some(IndexedMoves::new(&self.moves, grid));
-        }
-        let len = grid.len();
-        if self.seen.len() != len {
-            self.seen = vec![0; len];
-            self.closed = vec![false; len];
-            self.g = vec![0.0; len];
-            self.parent = vec![0; len];
-            self.generation = 0;
-        }
-        self.generation = self.generation.wrapping_add(1);
-        if self.generation == 0 {
-            self.seen.fill(0);
-            self.generation = 1;
-        }
-        self.heap.clear();
-    }
-
     /// Runs A* on `problem` within `budget` and returns the path with raw counters.
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
         let grid = problem.grid();
-        self.prepare(grid);
-        let AStar {
-            config,
-            compiled,
-            generation,
-            seen,
-            closed,
-            g,
-            parent,
-            heap,
-            ..
-        } = self;
-        let generation = *generation;
-        let Some(compiled) = compiled.as_ref() else {
-            unreachable!("prepare compiles the moves")
-        };
-        let free = grid.free_cells();
-        let width = grid.width() as usize;
+        let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
+        if self.nodes.len() != adjacency.padded_len() {
+            self.nodes = vec![Node::default(); adjacency.padded_len()];
+            self.positions = vec![0; adjacency.padded_len()];
+            self.generation = 0;
+        }
+        self.generation += 1;
+        if self.generation >= 1 << 31 {
+            self.nodes.fill(Node::default());
+            self.generation = 1;
+        }
+        let open_stamp = self.generation << 1;
+        let closed_stamp = open_stamp | 1;
+        let nodes = &mut self.nodes[..];
+        let positions = &mut self.positions[..];
+        let open = &mut self.open;
+        open.clear();
+
+        let n_moves = adjacency.n_moves();
+        let mut dx = [0u32; 64];
+        let mut dy = [0u32; 64];
+        let mut cost = [0.0f64; 64];
+        for (m, mv) in self.moves.moves().iter().enumerate() {
+            // Wrapping offsets: x + dx stays in the grid whenever the move's mask bit is set.
+            dx[m] = mv.dx as u32;
+            dy[m] = mv.dy as u32;
+            cost[m] = mv.cost;
+        }
         let goal = problem.goal();
-        let goal_index = grid.index(goal);
-        let heuristic = config.heuristic;
-        let weight = config.weight;
-        let tie_break = config.tie_break;
-        let h = |index: usize| {
-            let cell = grid.cell(index);
-            weight * heuristic.estimate(cell.x, cell.y, goal.x, goal.y)
+        let goal_index = adjacency.index(goal);
+        let heuristic = self.config.heuristic;
+        let weight = self.config.weight;
+        let tie_break = self.config.tie_break;
+        let mut n_pushed: u64 = 0;
+        // The heap key of a node with `g_node` at (x, y); see `open::Key`.
+        let mut key = |g_node: f64, x: u32, y: u32| -> open::Key {
+            let seq = match tie_break {
+                TieBreak::Lifo => u64::MAX - n_pushed,
+                _ => n_pushed,
+            };
+            n_pushed += 1;
+            // f = g + beta * h >= 0 and g >= 0: their bit patterns order like the numbers
+            // (`+ 0.0` turns -0.0 into +0.0); high-g-first complements g's bits.
+            let tie = match tie_break {
+                TieBreak::LowG => (g_node + 0.0).to_bits(),
+                TieBreak::HighG => !(g_node + 0.0).to_bits(),
+                TieBreak::Fifo | TieBreak::Lifo => 0,
+            };
+            let f = g_node + weight * heuristic.estimate(x, y, goal.x, goal.y);
+            ((f + 0.0).to_bits(), tie, seq)
         };
 
         let mut stats = SearchStats::default();
         let mut clock = budget.start();
-        let mut n_pushed: u64 = 0;
-        let mut n_open: u64 = 0;
-        let push = |heap: &mut BinaryHeap<Entry>, node: usize, g_node: f64, n_pushed: &mut u64| {
-            let seq = match tie_break {
-                TieBreak::Lifo => u64::MAX - *n_pushed,
-                _ => *n_pushed,
-            };
-            let tie = match tie_break {
-                TieBreak::LowG => g_node,
-                TieBreak::HighG => -g_node,
-                TieBreak::Fifo | TieBreak::Lifo => 0.0,
-            };
-            *n_pushed += 1;
-            heap.push(Entry {
-                f: g_node + h(node),
-                tie,
-                seq,
-                node: node as u32,
-            });
+        let start = problem.start();
+        let start_index = adjacency.index(start);
+        nodes[start_index] = Node {
+            g: 0.0,
+            parent: start_index as u32,
+            stamp: open_stamp,
         };
-
-        let start_index = grid.index(problem.start());
-        seen[start_index] = generation;
-        closed[start_index] = false;
-        g[start_index] = 0.0;
-        parent[start_index] = start_index as u32;
-        push(heap, start_index, 0.0, &mut n_pushed);
+        open.push(start_index as u32, key(0.0, start.x, start.y), positions);
         stats.n_open_insertions = 1;
-        n_open += 1;
         stats.peak_open = 1;
 
-        while let Some(entry) = heap.pop() {
-            let node = entry.node as usize;
-            if closed[node] {
-                continue; // A stale entry of a node improved after it was pushed.
+        loop {
+            if open.len() == 0 {
+                break;
             }
             if !clock.allows(stats.n_expanded) {
                 return Search {
@@ -326,45 +317,52 @@ impl AStar {
                     stats,
                 };
             }
-            closed[node] = true;
-            n_open -= 1;
+            let Some(p) = open.pop(positions) else { break };
+            let p = p as usize;
+            nodes[p].stamp = closed_stamp;
             stats.n_expanded += 1;
-            if node == goal_index {
-                let path = reconstruct(grid, parent, start_index, goal_index);
+            if p == goal_index {
+                let path = reconstruct(adjacency, nodes, start_index, goal_index);
                 return Search {
                     status: Status::Found,
                     path: Some(path),
-                    cost: Some(g[node]),
+                    cost: Some(nodes[p].g),
                     stats,
                 };
             }
-            let x = (node % width) as u32;
-            let y = (node / width) as u32;
-            let g_node = g[node];
-            for (k, mv) in compiled.moves().iter().enumerate() {
-                stats.n_neighbor_checks += 1;
-                let Some(next) = compiled.target(free, x, y, node, k) else {
-                    stats.n_blocked += 1;
-                    continue;
-                };
-                let known = seen[next] == generation;
-                if known && closed[next] {
+            let Cell { x, y } = adjacency.cell(p);
+            let g_node = nodes[p].g;
+            let mut mask = adjacency.mask(p);
+            stats.n_neighbor_checks += n_moves as u64;
+            stats.n_blocked += (n_moves - mask.count_ones() as usize) as u64;
+            // Set bits in increasing order are the safe moves in the configured order.
+            while mask != 0 {
+                let m = mask.trailing_zeros();
+                mask &= mask - 1;
+                let q = adjacency.neighbor(p, m);
+                let next = &mut nodes[q];
+                if next.stamp == closed_stamp {
                     stats.n_skipped += 1;
                     continue;
                 }
-                let g_temp = g_node + mv.cost;
-                if !known || g_temp < g[next] {
+                let m = m as usize;
+                let g_temp = g_node + cost[m];
+                let known = next.stamp == open_stamp;
+                if !known || g_temp < next.g {
                     stats.n_relaxations += 1;
-                    if !known {
-                        seen[next] = generation;
-                        closed[next] = false;
+                    *next = Node {
+                        g: g_temp,
+                        parent: p as u32,
+                        stamp: open_stamp,
+                    };
+                    let k = key(g_temp, x.wrapping_add(dx[m]), y.wrapping_add(dy[m]));
+                    if known {
+                        open.update(positions[q], k, positions);
+                    } else {
                         stats.n_open_insertions += 1;
-                        n_open += 1;
-                        stats.peak_open = stats.peak_open.max(n_open);
+                        open.push(q as u32, k, positions);
+                        stats.peak_open = stats.peak_open.max(open.len() as u64);
                     }
-                    g[next] = g_temp;
-                    parent[next] = node as u32;
-                    push(heap, next, g_temp, &mut n_pushed);
                 }
             }
         }
@@ -377,12 +375,12 @@ impl AStar {
     }
 }
 
-fn reconstruct(grid: &Grid, parent: &[u32], start: usize, goal: usize) -> Path {
-    let mut cells: Vec<Cell> = vec![grid.cell(goal)];
+fn reconstruct(adjacency: &Adjacency, nodes: &[Node], start: usize, goal: usize) -> Path {
+    let mut cells: Vec<Cell> = vec![adjacency.cell(goal)];
     let mut node = goal;
     while node != start {
-        node = parent[node] as usize;
-        cells.push(grid.cell(node));
+        node = nodes[node].parent as usize;
+        cells.push(adjacency.cell(node));
     }
     cells.reverse();
     Path::new(cells)
@@ -402,36 +400,3 @@ impl Planner for AStar {
         }
     }
 }
-
-/// An OPEN entry; the heap pops the greatest, so the order is reversed.
-#[derive(Debug, Clone, Copy)]
-struct Entry {
-    f: f64,
-    tie: f64,
-    seq: u64,
-    node: u32,
-}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Entry) -> Ordering {
-        other
-            .f
-            .total_cmp(&self.f)
-            .then_with(|| other.tie.total_cmp(&self.tie))
-            .then_with(|| other.seq.cmp(&self.seq))
-    }
-}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Entry) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl PartialEq for Entry {
-    fn eq(&self, other: &Entry) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-
-impl Eq for Entry {}
