@@ -222,6 +222,56 @@ pub struct PlannerSpec {
     pub params: toml::Table,
     /// The budget for this planner (the experiment's unless overridden).
     pub budget: Budget,
+    /// Which published planner's values to compare with, when not its own.
+    pub compare: Option<Compare>,
+}
+
+/// `compare = { with = "backtracking", metrics = ["steps", "turns", "score"] }`: mark these
+/// metrics of this planner against another planner's published values (lexastar against
+/// Backtracking's best paths). Without it a planner is compared under its registry name.
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Compare {
+    /// The published planner key.
+    pub with: String,
+    /// The metrics to compare; the others are not marked.
+    pub metrics: Vec<String>,
+}
+
+impl PlannerSpec {
+    /// The published key under which `metric` of this planner is compared, if any.
+    pub fn published_key(&self, metric: &str) -> Option<&str> {
+        match &self.compare {
+            Some(c) => c
+                .metrics
+                .iter()
+                .any(|m| m == metric)
+                .then_some(c.with.as_str()),
+            None => Some(self.name),
+        }
+    }
+
+    /// The rule its paths are validated with: the 8-connected moves with corner cutting
+    /// when the planner's `corner_cutting` parameter is true (such paths pass between two
+    /// blocked cells that share a corner), else any-angle segments, which every other
+    /// planner's moves satisfy.
+    pub fn path_rule_moves(&self) -> Option<planner_api::MoveSet> {
+        let cutting = self
+            .params
+            .get("corner_cutting")
+            .and_then(toml::Value::as_bool)
+            == Some(true);
+        cutting
+            .then(|| {
+                planner_api::MoveSet::new(
+                    planner_api::Connectivity::Eight,
+                    true,
+                    &planner_api::NeighborOrder::default(),
+                )
+                .ok()
+            })
+            .flatten()
+    }
 }
 
 /// Published numbers: `[map_stem.planner_key] metric = value`.
@@ -396,9 +446,21 @@ fn planner_spec(
     };
     let mut params = toml::Table::new();
     let mut budget = default_budget;
+    let mut compare = None;
     for (key, value) in table.get_ref() {
         match key.get_ref().as_str() {
             "planner" => {}
+            "compare" => {
+                compare = Some(Compare::deserialize(value.get_ref().clone()).map_err(|e| {
+                    src.error(
+                        Some(value.span()),
+                        format!(
+                            "planner `{label_text}`, key `compare`: {}",
+                            first_line(&e.to_string())
+                        ),
+                    )
+                })?);
+            }
             "budget" => {
                 budget = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
                     src.error(
@@ -436,6 +498,7 @@ fn planner_spec(
         kind: entry.kind,
         params,
         budget,
+        compare,
     })
 }
 

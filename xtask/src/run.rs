@@ -47,7 +47,8 @@ pub struct RunRecord {
     pub length: Option<f64>,
     /// The optimal length the scenario file states, if any.
     pub optimal_length: Option<f64>,
-    /// Whether the path passed planner-api's validity check (any-angle rule).
+    /// Whether the path passed planner-api's validity check (any-angle rule, or 8-connected
+    /// moves with corner cutting for planners configured with `corner_cutting = true`).
     pub valid: Option<bool>,
     /// The planner's counters, in its order.
     pub counters: Counters,
@@ -198,10 +199,12 @@ fn run_one(experiment: &Experiment, spec: &RunSpec) -> Result<RunRecord, String>
         record.score = Some(m.score);
         record.length = Some(m.length);
         let ends_right = path.start() == Some(entry.start) && path.goal() == Some(entry.goal);
-        let valid = ends_right
-            && path
-                .validate(&map.grid, planner_api::PathRule::AnyAngle)
-                .is_ok();
+        let rule_moves = planner_spec.path_rule_moves();
+        let rule = match &rule_moves {
+            Some(moves) => planner_api::PathRule::Moves(moves),
+            None => planner_api::PathRule::AnyAngle,
+        };
+        let valid = ends_right && path.validate(&map.grid, rule).is_ok();
         if !valid {
             tracing::warn!("the planner returned an invalid path");
         }

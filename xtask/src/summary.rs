@@ -185,7 +185,8 @@ fn quality_tables(
                             let published = experiment
                                 .published
                                 .as_ref()
-                                .and_then(|p| p.get(map_stem(map), planner.name, metric));
+                                .zip(planner.published_key(metric))
+                                .and_then(|(p, key)| p.get(map_stem(map), key, metric));
                             mark(value, published, metric, reproduction)
                         }
                         None => "-".into(),

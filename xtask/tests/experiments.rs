@@ -271,3 +271,23 @@ fn plan_prints_one_json_object_and_names_bad_input() {
         .unwrap()
         .contains("unknown field `beta`"));
 }
+
+#[test]
+fn corner_cutting_paths_are_validated_by_their_own_rule() {
+    // Only a corner-cutting diagonal joins (0,0) and (1,1): the any-angle rule rejects it,
+    // the 8-connected rule with corner cutting accepts it.
+    let dir = std::env::temp_dir().join(format!("gridplan-cutting-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("x.map"),
+        "type octile\nheight 2\nwidth 2\nmap\n.@\n@.\n",
+    )
+    .unwrap();
+    let text = "name = \"c\"\n[[maps]]\nfiles = [\"x.map\"]\nproblems = \"corners\"\n[planners.cut]\nplanner = \"astar\"\nmoves = 8\ncorner_cutting = true\nheuristic = \"octile\"\n";
+    let experiment = config::parse(&dir.join("c.toml"), text).unwrap();
+    let records = run_all(&experiment, 1, false).unwrap();
+    assert_eq!(records[0].status, "found");
+    assert_eq!(records[0].steps, Some(1));
+    assert_eq!(records[0].valid, Some(true));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
