@@ -8,7 +8,6 @@
 //! lexastar runs with its default dominance pruning and without it.
 
 use std::hint::black_box;
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use planner_api::{Budget, Cell, Grid, Problem, Status};
@@ -18,40 +17,16 @@ use planner_lexastar::LexAStar;
 const ROUNDS: usize = 5;
 const SCENARIO_STRIDE: usize = 3;
 
-fn maps_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai")
-}
-
-/// Bench-local Moving AI map reader: four header lines, then rows where `.`, `G` and `S`
-/// are free and anything else is blocked.
 fn read_map(name: &str) -> Grid {
-    let path = maps_dir().join(format!("{name}.map"));
-    let text = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    let rows: Vec<&str> = text.lines().skip(4).filter(|row| !row.is_empty()).collect();
-    let width = rows[0].len() as u32;
-    let free = rows
-        .iter()
-        .flat_map(|row| row.bytes().map(|b| matches!(b, b'.' | b'G' | b'S')))
-        .collect();
-    Grid::from_free_cells(width, rows.len() as u32, free).expect("rectangular map")
+    planner_testkit::movingai(&format!("movingai/{name}.map"))
 }
 
-/// Bench-local `.scen` reader: `version 1`, then tab-separated bucket, map, width,
-/// height, sx, sy, gx, gy, optimal length. Keeps every `SCENARIO_STRIDE`-th line.
+/// Every `SCENARIO_STRIDE`-th scenario of `<name>.map.scen`.
 fn read_scenarios(name: &str) -> Vec<(Cell, Cell)> {
-    let path = maps_dir().join(format!("{name}.map.scen"));
-    let text = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    text.lines()
-        .skip(1)
-        .filter(|line| !line.trim().is_empty())
+    planner_testkit::scenarios(&format!("movingai/{name}.map.scen"))
+        .into_iter()
         .step_by(SCENARIO_STRIDE)
-        .map(|line| {
-            let fields: Vec<&str> = line.split('\t').collect();
-            let n = |i: usize| fields[i].trim().parse::<u32>().expect("integer field");
-            (Cell::new(n(4), n(5)), Cell::new(n(6), n(7)))
-        })
+        .map(|s| (s.start, s.goal))
         .collect()
 }
 

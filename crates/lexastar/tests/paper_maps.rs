@@ -8,26 +8,11 @@ use planner_api::{Budget, Cell, Connectivity, Grid, MoveSet, PathRule, Planner, 
 use planner_lexastar::{Config, LexAStar};
 
 fn maps_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/paper")
+    planner_testkit::maps_dir().join("paper")
 }
 
-/// Test-only Moving AI reader: four header lines, then rows of `.` (free) and `@` (blocked).
 fn read_map(name: &str) -> Grid {
-    let text = std::fs::read_to_string(maps_dir().join(name)).unwrap();
-    let rows: Vec<&str> = text.lines().skip(4).filter(|row| !row.is_empty()).collect();
-    let (width, height) = (rows[0].len() as u32, rows.len() as u32);
-    let free = rows
-        .iter()
-        .flat_map(|row| {
-            assert_eq!(row.len() as u32, width, "{name}: ragged row");
-            row.chars().map(|c| match c {
-                '.' => true,
-                '@' => false,
-                other => panic!("{name}: unexpected {other:?}"),
-            })
-        })
-        .collect();
-    Grid::from_free_cells(width, height, free).unwrap()
+    planner_testkit::movingai(&format!("paper/{name}"))
 }
 
 fn number(table: &toml::Value, key: &str) -> u64 {

@@ -1,4 +1,4 @@
-//! Test and bench support: a tiny reader for maps/wpi, a linear-scan nearest-neighbour
+//! Test and bench support: maps/wpi through planner-testkit, a linear-scan nearest-neighbour
 //! index, and an independent BFS. Shared by `tests/` and `benches/` (`#[path]`).
 #![allow(dead_code)]
 
@@ -14,65 +14,20 @@ pub struct WpiMap {
     pub pairs: Vec<(usize, Cell, Cell)>,
 }
 
-/// Reads `maps/wpi/<name>.txt`: `#` header lines (those with `Start: (x,y) | Goal: (x,y)`
-/// give the pairs, x = column, y = row), then rows of `.` free / `X` obstacle; blank
-/// lines are skipped. Test-only: panics on a malformed file.
+/// `maps/wpi/<name>.txt` with its pairs numbered from 1 in file order.
 pub fn wpi(name: &'static str) -> WpiMap {
-    let path = format!("{}/../../maps/wpi/{name}.txt", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let mut pairs = Vec::new();
-    let mut rows: Vec<&str> = Vec::new();
-    for line in text.lines().map(str::trim) {
-        if let Some(header) = line.strip_prefix('#') {
-            if let (Some(s), Some(g)) = (header.find("Start:"), header.find("Goal:")) {
-                let start = parse_cell(&header[s + 6..]);
-                let goal = parse_cell(&header[g + 5..]);
-                pairs.push((pairs.len() + 1, start, goal));
-            }
-        } else if !line.is_empty() {
-            rows.push(line);
-        }
-    }
-    let width = rows[0].len();
-    assert!(rows.iter().all(|r| r.len() == width), "{path}: ragged rows");
-    let free = rows
-        .iter()
-        .flat_map(|r| r.chars())
-        .map(|c| match c {
-            '.' => true,
-            'X' => false,
-            other => panic!("{path}: unexpected {other:?}"),
-        })
+    let (grid, pairs) = planner_testkit::wpi(&format!("wpi/{name}.txt"));
+    let pairs = pairs
+        .into_iter()
+        .enumerate()
+        .map(|(i, (start, goal))| (i + 1, start, goal))
         .collect();
-    let grid = Grid::from_free_cells(width as u32, rows.len() as u32, free).unwrap();
     WpiMap { name, grid, pairs }
 }
 
-/// `(x,y)` at the start of `text` (after optional spaces).
-fn parse_cell(text: &str) -> Cell {
-    let text = text.trim_start();
-    let inner = &text[1..text.find(')').unwrap()];
-    let (x, y) = inner.split_once(',').unwrap();
-    Cell::new(x.trim().parse().unwrap(), y.trim().parse().unwrap())
-}
-
-/// Reads `maps/movingai/<name>`: the four header lines, then rows where `.`, `G` and
-/// `S` are free and anything else (`@`, `O`, `T`, `W`) is blocked. Test-only.
+/// `maps/movingai/<name>`.
 pub fn movingai(name: &str) -> Grid {
-    let path = format!("{}/../../maps/movingai/{name}", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let rows: Vec<&str> = text
-        .lines()
-        .skip(4)
-        .map(str::trim_end)
-        .filter(|r| !r.is_empty())
-        .collect();
-    let free = rows
-        .iter()
-        .flat_map(|r| r.chars())
-        .map(|c| matches!(c, '.' | 'G' | 'S'))
-        .collect();
-    Grid::from_free_cells(rows[0].len() as u32, rows.len() as u32, free).unwrap()
+    planner_testkit::movingai(&format!("movingai/{name}"))
 }
 
 /// The linear scan that seed 003's RRT does: every node, least squared distance, ties to

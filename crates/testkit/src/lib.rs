@@ -1,0 +1,78 @@
+//! Test and benchmark fixtures: the repository's maps under `maps/`, read with
+//! planner-maps, for the tests and benches of every crate (dev-dependency only).
+//!
+//! Every function panics with the file's name on a missing or malformed file: fixtures are
+//! part of the repository, so that is a broken checkout, not user input.
+#![deny(missing_docs)]
+
+use std::path::PathBuf;
+
+use planner_api::{Cell, Grid};
+use planner_maps::Scenario;
+
+/// `maps/` at the repository root.
+pub fn maps_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps")
+}
+
+/// Any map file under `maps/`, by relative path (`paper/map01.map`, `wpi/map1.txt`).
+pub fn map_file(relative: &str) -> planner_maps::MapFile {
+    planner_maps::read_map(&maps_dir().join(relative)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A Moving AI map's grid by relative path (`movingai/arena.map`).
+pub fn movingai(relative: &str) -> Grid {
+    map_file(relative).grid
+}
+
+/// A seed 003 map (`wpi/map1.txt`) with its start-goal pairs in file order.
+pub fn wpi(relative: &str) -> (Grid, Vec<(Cell, Cell)>) {
+    let file = map_file(relative);
+    let pairs = file.problems.iter().map(|p| (p.start, p.goal)).collect();
+    (file.grid, pairs)
+}
+
+/// The scenarios of a `.scen` file by relative path (`movingai/den520d.map.scen`).
+pub fn scenarios(relative: &str) -> Vec<Scenario> {
+    planner_maps::read_scenarios(&maps_dir().join(relative)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Start and goal of a `.scen` file's first scenario.
+pub fn first_scenario(relative: &str) -> (Cell, Cell) {
+    let first = scenarios(relative)
+        .into_iter()
+        .next()
+        .unwrap_or_else(|| panic!("{relative} has no scenario"));
+    (first.start, first.goal)
+}
+
+/// Seed 000's twelve maps as (`mapNN`, grid); each is solved from (0,0) to (N-1,N-1).
+pub fn paper_maps() -> Vec<(String, Grid)> {
+    (1..=12)
+        .map(|i| {
+            let name = format!("map{i:02}");
+            let grid = movingai(&format!("paper/{name}.map"));
+            (name, grid)
+        })
+        .collect()
+}
+
+/// `maps/paper/published.toml`: seed 000's Tables 3-8 as `[mapNN.planner] metric = value`.
+pub fn published() -> toml::Table {
+    let path = maps_dir().join("paper/published.toml");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    text.parse()
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// File names of the Moving AI maps in `maps/movingai/`, sorted.
+pub fn movingai_maps() -> Vec<String> {
+    let dir = maps_dir().join("movingai");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".map"))
+        .collect();
+    names.sort();
+    names
+}
