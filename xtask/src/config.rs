@@ -274,7 +274,8 @@ impl PlannerSpec {
     }
 }
 
-/// Published numbers: `[map_stem.planner_key] metric = value`.
+/// Published numbers: `[map_stem.planner_key] metric = value`, or `["map_stem#k".planner_key]`
+/// for problem `k` of a map with several problems.
 #[derive(Debug, Clone, Default)]
 pub struct Published {
     /// The file they came from.
@@ -284,7 +285,24 @@ pub struct Published {
 }
 
 impl Published {
-    /// The published value of `metric` for `planner` on `map_stem`.
+    /// The published value of `metric` for `planner` on problem `problem` of `map_stem`:
+    /// the table `"<stem>#<problem>"` if the file has it, else `<stem>` for problem 1.
+    pub fn get_problem(
+        &self,
+        map_stem: &str,
+        problem: usize,
+        planner: &str,
+        metric: &str,
+    ) -> Option<f64> {
+        self.get(&format!("{map_stem}#{problem}"), planner, metric)
+            .or_else(|| {
+                (problem == 1)
+                    .then(|| self.get(map_stem, planner, metric))
+                    .flatten()
+            })
+    }
+
+    /// The published value of `metric` for `planner` under the table named `map_stem`.
     pub fn get(&self, map_stem: &str, planner: &str, metric: &str) -> Option<f64> {
         self.values
             .get(map_stem)?

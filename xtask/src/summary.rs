@@ -186,7 +186,9 @@ fn quality_tables(
                                 .published
                                 .as_ref()
                                 .zip(planner.published_key(metric))
-                                .and_then(|(p, key)| p.get(map_stem(map), key, metric));
+                                .and_then(|(p, key)| {
+                                    p.get_problem(map_stem(map), *problem, key, metric)
+                                });
                             mark(value, published, metric, reproduction)
                         }
                         None => "-".into(),

@@ -291,3 +291,14 @@ fn corner_cutting_paths_are_validated_by_their_own_rule() {
     assert_eq!(records[0].valid, Some(true));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Seed 003's Tables I-II path lengths for BFS, DFS and A* (maps/wpi/published.toml).
+#[test]
+fn wpi_config_reproduces_the_reports_path_lengths() {
+    let experiment = config::load(&root().join("configs/wpi.toml"))
+        .unwrap()
+        .trimmed_for_test();
+    let records = run_all(&experiment, 2, false).unwrap();
+    let (_, reproduction) = xtask::summary::render(&experiment, &records);
+    assert_eq!((reproduction.matched, reproduction.compared), (15, 15));
+}
