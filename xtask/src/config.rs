@@ -88,6 +88,7 @@ struct RawConfig {
     budget: Budget,
     #[serde(default)]
     figures: FigureMode,
+    figures_per_map: Option<usize>,
     published: Option<Spanned<String>>,
     #[serde(default)]
     test: TestLimits,
@@ -171,6 +172,8 @@ pub struct Experiment {
     pub seed: u64,
     /// Figures to draw.
     pub figures: FigureMode,
+    /// Draw figures only for the first this-many problems of each map.
+    pub figures_per_map: Option<usize>,
     /// Published values to compare with, if any.
     pub published: Option<Published>,
     /// Test-only limits.
@@ -419,6 +422,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         repeats: *raw.repeats.get_ref(),
         seed: raw.seed,
         figures: raw.figures,
+        figures_per_map: raw.figures_per_map,
         published,
         test: raw.test,
         maps,

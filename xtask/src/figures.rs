@@ -23,7 +23,8 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> Vec<OutputFile>
             .name
             .rsplit_once('.')
             .map_or(map.name.as_str(), |(s, _)| s);
-        for problem in &map.problems {
+        let limit = experiment.figures_per_map.unwrap_or(usize::MAX);
+        for problem in map.problems.iter().take(limit) {
             if problem.invalid.is_some() {
                 continue;
             }

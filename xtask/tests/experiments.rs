@@ -153,7 +153,7 @@ const MAPS: &str = "[[maps]]\nfiles = [\"../maps/paper/map01.map\"]\nproblems = 
 fn config_errors_name_file_line_column_and_key() {
     check_error(
         &format!("name = \"x\"\nthreds = 2\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
-        "bad.toml:2:1: unknown field `threds`, expected one of `name`, `description`, `output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `published`, `test`, `maps`, `planners`",
+        "bad.toml:2:1: unknown field `threds`, expected one of `name`, `description`, `output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, `published`, `test`, `maps`, `planners`",
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
@@ -301,4 +301,31 @@ fn wpi_config_reproduces_the_reports_path_lengths() {
     let records = run_all(&experiment, 2, false).unwrap();
     let (_, reproduction) = xtask::summary::render(&experiment, &records);
     assert_eq!((reproduction.matched, reproduction.compared), (15, 15));
+}
+
+/// A* with the octile heuristic solves the Moving AI problem exactly: every length equals
+/// the scenario file's optimum.
+#[test]
+fn movingai_config_matches_the_scenario_optima() {
+    let experiment = config::load(&root().join("configs/movingai.toml"))
+        .unwrap()
+        .trimmed_for_test();
+    let records = run_all(&experiment, 2, false).unwrap();
+    let exact = ["octile", "octile_high_g", "dijkstra"];
+    let mut checked = 0;
+    for r in records
+        .iter()
+        .filter(|r| exact.contains(&r.planner.as_str()))
+    {
+        let (length, optimal) = (r.length.unwrap(), r.optimal_length.unwrap());
+        assert!(
+            xtask::summary::matches_optimum(length, optimal),
+            "{} {} #{}: {length} vs {optimal}",
+            r.planner,
+            r.map,
+            r.problem
+        );
+        checked += 1;
+    }
+    assert_eq!(checked, 3 * 3 * 12);
 }
