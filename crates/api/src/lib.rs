@@ -30,6 +30,7 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod counters;
+pub mod coverage;
 pub mod error;
 pub mod grid;
 pub mod moves;
@@ -37,6 +38,9 @@ pub mod path;
 pub mod planner;
 
 pub use counters::{Counter, Counters, SearchStats};
+pub use coverage::{
+    reachable_cells, CoverageMetrics, CoverageOutcome, CoveragePlanner, CoverageProblem, ReturnLeg,
+};
 pub use error::{Endpoint, GridError, MoveOrderError, PathError, ProblemError};
 pub use grid::{Cell, Grid};
 pub use moves::{
