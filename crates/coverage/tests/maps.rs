@@ -37,6 +37,16 @@ fn generated() -> Vec<(&'static str, Grid, Cell)> {
         ][seed as usize - 1];
         maps.push((name, grid, corner));
     }
+    for seed in 1..=3 {
+        let mut grid = random_blocks(30, 30, 4, 6, corner, seed).unwrap();
+        keep_component(&mut grid, corner);
+        let name = [
+            "random30-sparse-1.map",
+            "random30-sparse-2.map",
+            "random30-sparse-3.map",
+        ][seed as usize - 1];
+        maps.push((name, grid, corner));
+    }
     let mut grid = random_cells(30, 30, 0.1, corner, 1).unwrap();
     keep_component(&mut grid, corner);
     maps.push(("random30-cells-1.map", grid, corner));
