@@ -110,3 +110,19 @@ fn start_problems_are_checked() {
     assert_eq!(records[0].status, "invalid_problem");
     assert_eq!(records[0].error.as_deref(), Some("start (0, 0) is blocked"));
 }
+
+#[test]
+fn plan_points_coverage_planners_to_configs() {
+    let args = xtask::plan::PlanArgs {
+        map: root().join("maps/coverage/rooms30-1.map"),
+        planner: "coverage".into(),
+        start: Some(planner_api::Cell::new(0, 1)),
+        goal: Some(planner_api::Cell::new(0, 1)),
+        ..Default::default()
+    };
+    let error = xtask::plan::run(&args).err().unwrap();
+    assert!(
+        error.starts_with("`coverage` is a coverage planner"),
+        "{error}"
+    );
+}
