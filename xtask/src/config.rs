@@ -105,6 +105,7 @@ fn one() -> Spanned<u32> {
 struct RawMaps {
     files: Spanned<Vec<String>>,
     problems: Option<Spanned<ProblemSource>>,
+    start: Option<Spanned<[u32; 2]>>,
     pairs: Option<Vec<RawPair>>,
     scen: Option<Spanned<String>>,
     buckets: Option<Vec<u32>>,
@@ -128,6 +129,9 @@ pub enum ProblemSource {
     Corners,
     /// The map file's own start-goal pairs (seed 003's `.txt` header).
     File,
+    /// One problem from the map set's `start = [x, y]`, with no goal (the goal is set to
+    /// the start): for coverage planners (seed 004).
+    Start,
 }
 
 /// Which figures a sweep draws.
@@ -227,6 +231,9 @@ pub struct PlannerSpec {
     pub budget: Budget,
     /// Which published planner's values to compare with, when not its own.
     pub compare: Option<Compare>,
+    /// Whether it is a coverage planner (`registry::COVERAGE`): it covers from each
+    /// problem's start and ignores the goal.
+    pub coverage: bool,
 }
 
 /// `compare = { with = "backtracking", metrics = ["steps", "turns", "score"] }`: mark these
@@ -332,6 +339,13 @@ impl PlannerSpec {
         (entry.build)(params)
     }
 
+    /// A fresh coverage planner (for specs with `coverage` set).
+    pub fn build_coverage(&self) -> Result<Box<dyn planner_api::CoveragePlanner>, String> {
+        let entry = registry::find_coverage(self.name)
+            .ok_or_else(|| format!("unknown coverage planner `{}`", self.name))?;
+        (entry.build)(self.params.clone())
+    }
+
     /// The seed a stochastic planner runs with in `repeat`.
     pub fn seed_for(&self, seed: u64, repeat: u32) -> Option<u64> {
         (self.kind == Kind::Stochastic).then(|| {
@@ -404,6 +418,24 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     if maps.is_empty() {
         return Err(src.error(None, "key `maps`: at least one map is needed"));
     }
+    if let Some(goalless) = raw.maps.iter().find_map(|m| {
+        m.get_ref()
+            .problems
+            .as_ref()
+            .filter(|p| *p.get_ref() == ProblemSource::Start)
+    }) {
+        if let Some(p) = planners.iter().find(|p| !p.coverage) {
+            return Err(src.error(
+                Some(goalless.span()),
+                format!(
+                    "`problems = \"start\"` has no goal, but planner `{}` ({}) is not a coverage planner (coverage planners: {})",
+                    p.label,
+                    p.name,
+                    registry::COVERAGE.iter().map(|c| c.name).collect::<Vec<_>>().join(", ")
+                ),
+            ));
+        }
+    }
 
     let published = match &raw.published {
         Some(p) => Some(load_published(&src, &base.join(p.get_ref()), p.span())?),
@@ -456,7 +488,11 @@ fn planner_spec(
         ));
     };
     let name = name_value.get_ref().as_str().unwrap_or_default();
-    let Some(entry) = registry::find(name) else {
+    let coverage = registry::find_coverage(name);
+    let Some((entry_name, kind)) = registry::find(name)
+        .map(|e| (e.name, e.kind))
+        .or_else(|| coverage.map(|c| (c.name, Kind::Deterministic)))
+    else {
         return Err(src.error(
             Some(name_value.span()),
             format!(
@@ -499,7 +535,12 @@ fn planner_spec(
             }
         }
     }
-    if let Err(message) = (entry.build)(params.clone()) {
+    let checked = match (coverage, registry::find(name)) {
+        (Some(c), _) => (c.build)(params.clone()).map(drop),
+        (None, Some(e)) => (e.build)(params.clone()).map(drop),
+        (None, None) => Ok(()),
+    };
+    if let Err(message) = checked {
         // Point at the key the message names (`unknown field `x``, `in `x``,
         // `parameter `x``), else at the planner's label.
         let span = backticked(&message)
@@ -516,11 +557,12 @@ fn planner_spec(
     }
     Ok(PlannerSpec {
         label: label_text.clone(),
-        name: entry.name,
-        kind: entry.kind,
+        name: entry_name,
+        kind,
         params,
         budget,
         compare,
+        coverage: coverage.is_some(),
     })
 }
 
@@ -567,6 +609,25 @@ fn map_entries(
                 "`problems`, `pairs` and `scen` exclude each other".into(),
             ))
         }
+    }
+    let start_source = raw
+        .problems
+        .as_ref()
+        .is_some_and(|p| *p.get_ref() == ProblemSource::Start);
+    match (&raw.start, start_source) {
+        (None, true) => {
+            return Err(at(
+                spanned.span(),
+                "`problems = \"start\"` needs `start = [x, y]`".into(),
+            ))
+        }
+        (Some(start), false) => {
+            return Err(at(
+                start.span(),
+                "key `start` goes with `problems = \"start\"`".into(),
+            ))
+        }
+        _ => {}
     }
     if raw.scen.is_none() && (raw.buckets.is_some() || raw.lines.is_some() || raw.every.is_some()) {
         return Err(at(
@@ -631,6 +692,12 @@ fn map_entries(
                         ));
                     }
                     pairs.extend(file.problems.iter().map(|p| (p.start, p.goal, None)));
+                }
+                ProblemSource::Start => {
+                    if let Some(start) = &raw.start {
+                        let [x, y] = *start.get_ref();
+                        pairs.push((Cell::new(x, y), Cell::new(x, y), None));
+                    }
                 }
             }
         }

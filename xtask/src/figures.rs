@@ -59,6 +59,15 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> Vec<OutputFile>
             });
             if experiment.figures == FigureMode::All {
                 for (run, layer) in runs.iter().zip(&layers) {
+                    if run.returns.is_some() {
+                        let base = format!(
+                            "figures/{stem}-{}-{}",
+                            problem.index,
+                            file_safe(&run.planner)
+                        );
+                        files.extend(crate::coverage::figures(&map.grid, run, &base, &style));
+                        continue;
+                    }
                     let title =
                         format!("{} on {} problem {}", run.planner, map.name, problem.index);
                     let svg = draw_path(

@@ -7,6 +7,7 @@
 //! - [`output`]: runs.csv, runs.json and the atomic write of the results directory.
 //! - [`summary`]: summary.md in the seeds' table layouts.
 //! - [`figures`]: the SVG figures of a sweep.
+//! - [`coverage`]: coverage planners' runs, figures and summary table (seed 004).
 //! - [`plan`]: `cargo xtask plan`, one run printed.
 //! - [`scaffold`]: `cargo xtask new-planner`.
 #![deny(missing_docs)]
@@ -14,6 +15,7 @@
 
 pub mod alloc;
 pub mod config;
+pub mod coverage;
 pub mod figures;
 pub mod output;
 pub mod plan;

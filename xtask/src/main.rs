@@ -166,6 +166,9 @@ fn run(cli: Cli) -> Result<(), String> {
             for entry in xtask::registry::PLANNERS {
                 println!("{:<14} {}", entry.name, entry.summary);
             }
+            for entry in xtask::registry::COVERAGE {
+                println!("{:<14} {}", entry.name, entry.summary);
+            }
             Ok(())
         }
     }

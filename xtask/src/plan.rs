@@ -85,6 +85,14 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
     let problem =
         Problem::new(&grid, start, goal).map_err(|e| format!("{}: {e}", args.map.display()))?;
 
+    let coverage_only = |name: &str| {
+        registry::find_coverage(name).map(|_| {
+            format!("`{name}` is a coverage planner: run it from an experiment config with `problems = \"start\"` (see configs/coverage.toml)")
+        })
+    };
+    if let Some(message) = coverage_only(&args.planner) {
+        return Err(message);
+    }
     let (name, mut params, mut budget) = match &args.config {
         Some(path) => {
             let experiment = config::load(path).map_err(|e| e.to_string())?;
@@ -118,6 +126,9 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
             (entry.name, toml::Table::new(), Budget::unlimited())
         }
     };
+    if let Some(message) = coverage_only(name) {
+        return Err(message);
+    }
     for assignment in &args.set {
         let (key, value) = assignment
             .split_once('=')

@@ -5,8 +5,9 @@
 //! into it and calls the crate's validating constructor. `cargo xtask new-planner <name>`
 //! adds a line between the markers below.
 
-use planner_api::Planner;
+use planner_api::{CoveragePlanner, Planner};
 use serde::de::DeserializeOwned;
+use serde::Deserialize;
 
 /// How a planner's results vary between repeats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,6 +71,35 @@ pub const PLANNERS: &[Entry] = &[
     },
     // (registry end)
 ];
+
+/// One registered coverage planner: a grid and a start in, a coverage path out
+/// ([`CoveragePlanner`], seed 004). Configs run it on `problems = "start"` map sets (or on
+/// any problem, ignoring the goal).
+pub struct CoverageEntry {
+    /// Registry name (the crate's directory name).
+    pub name: &'static str,
+    /// One line for `--help` and error messages.
+    pub summary: &'static str,
+    /// Builds the planner from its parameters (a TOML table without the `planner` key).
+    pub build: fn(toml::Table) -> Result<Box<dyn CoveragePlanner>, String>,
+}
+
+/// Every coverage planner. All are deterministic.
+pub const COVERAGE: &[CoverageEntry] = &[CoverageEntry {
+    name: planner_coverage::NAME,
+    summary: "coverage (seed 004): spiral or zigzag filling, backtracking points, A* returns",
+    build: |params| {
+        let config = planner_coverage::Config::deserialize(toml::Value::Table(params))
+            .map_err(|e| e.to_string())?;
+        let planner = planner_coverage::Coverage::new(config).map_err(|e| e.to_string())?;
+        Ok(Box::new(planner))
+    },
+}];
+
+/// The coverage planner named `name`.
+pub fn find_coverage(name: &str) -> Option<&'static CoverageEntry> {
+    COVERAGE.iter().find(|e| e.name == name)
+}
 
 /// The entry named `name`.
 pub fn find(name: &str) -> Option<&'static Entry> {

@@ -59,6 +59,9 @@ pub struct RunRecord {
     pub peak_heap_bytes: u64,
     /// The path's cells.
     pub path: Option<Path>,
+    /// Coverage planners only: the stretches of `path` that return to a backtracking point.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub returns: Option<Vec<planner_api::ReturnLeg>>,
 }
 
 /// One run to do.
@@ -171,11 +174,16 @@ fn run_one(experiment: &Experiment, spec: &RunSpec) -> Result<RunRecord, String>
         time_ms: 0.0,
         peak_heap_bytes: 0,
         path: None,
+        returns: None,
     };
     let Ok(problem) = Problem::new(&map.grid, entry.start, entry.goal) else {
         tracing::warn!(error = ?entry.invalid, "skipping an invalid problem");
         return Ok(record);
     };
+    if planner_spec.coverage {
+        crate::coverage::run(&map.grid, entry.start, planner_spec, &mut record)?;
+        return Ok(record);
+    }
     let baseline = alloc::start();
     let mut planner = planner_spec
         .build(experiment.seed, spec.repeat)

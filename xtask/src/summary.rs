@@ -83,6 +83,7 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> (String, Reprod
         out.push('\n');
     }
 
+    out.push_str(&crate::coverage::summary(experiment, records));
     let quality = quality_tables(experiment, records, &mut reproduction);
     if let Some(published) = &experiment.published {
         let _ = writeln!(

@@ -31,6 +31,7 @@
 
 pub mod adjacency;
 pub mod counters;
+pub mod coverage;
 pub mod error;
 pub mod grid;
 pub mod moves;
@@ -39,6 +40,9 @@ pub mod planner;
 
 pub use adjacency::Adjacency;
 pub use counters::{Counter, Counters, SearchStats};
+pub use coverage::{
+    reachable_cells, CoverageMetrics, CoverageOutcome, CoveragePlanner, CoverageProblem, ReturnLeg,
+};
 pub use error::{Endpoint, GridError, MoveOrderError, PathError, ProblemError};
 pub use grid::{Cell, Grid};
 pub use moves::{

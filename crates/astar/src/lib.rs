@@ -121,7 +121,8 @@ impl Heuristic {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum TieBreak {
-    /// The entry pushed first is popped first (the paper's rule).
+    /// The entry pushed first is popped first (the paper's rule). A node whose g improves
+    /// while in OPEN counts as pushed at its improvement.
     #[default]
     Fifo,
     /// The entry pushed last is popped first.

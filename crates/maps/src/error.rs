@@ -96,6 +96,18 @@ pub enum MapErrorKind {
         /// Where it was first given.
         first_line: usize,
     },
+    /// A required key missing from a ROS `map_server` YAML file.
+    #[error("missing key '{key}'")]
+    MissingField {
+        /// The missing key.
+        key: &'static str,
+    },
+    /// An image that cannot be decoded (ROS `map_server` maps).
+    #[error("cannot decode the image: {message}")]
+    Image {
+        /// The decoder's message.
+        message: String,
+    },
     /// Fewer map rows than the declared height.
     #[error("expected {expected} rows (height {expected}), found {found}")]
     RowCount {

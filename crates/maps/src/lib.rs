@@ -11,6 +11,7 @@
 //! | `.scen` | Moving AI scenarios: `version 1`, then 9 tab-separated fields per line | [`parse_scenarios`] | | | every line, with its optimal length |
 //! | `.txt` | seed 003 text map: `#` comment header, rows of `.` and `X` | [`parse_seed003`] | `.` | `X` | `# Start: (x,y) Goal: (x,y)` and `# 1. Start: (x,y) \| Goal: (x,y)` comments |
 //! | `.csv` | 0/1 matrix, seed 000 equation (1) | [`parse_matrix`] | `1` | `0` | none |
+//! | `.yaml`, `.yml` | ROS `map_server` YAML naming a PGM or PNG image (seed 004) | [`read_ros_map`] | value 0 (free) | occupied, unknown | none |
 //!
 //! Coordinates everywhere: `x` = column, `y` = row, `(0, 0)` the top-left cell.
 //!
@@ -66,6 +67,7 @@
 mod error;
 mod matrix;
 mod movingai;
+mod ros;
 mod scen;
 mod seed003;
 mod text;
@@ -78,6 +80,10 @@ use serde::{Deserialize, Serialize};
 pub use error::{MapError, MapErrorKind};
 pub use matrix::parse_matrix;
 pub use movingai::{movingai_passable, parse_movingai, to_movingai};
+pub use ros::{
+    parse_ros_yaml, read_ros_map, ros_grid, ros_occupancy_value, RosMap, RosMode, RosOptions,
+    RosYaml,
+};
 pub use scen::{parse_scenarios, Scenario};
 pub use seed003::parse_seed003;
 
@@ -121,11 +127,13 @@ pub enum MapFormat {
     Seed003,
     /// 0/1 matrix, `.csv` ([`parse_matrix`]).
     Matrix,
+    /// ROS `map_server` YAML and image, `.yaml` or `.yml` ([`read_ros_map`], default options).
+    Ros,
 }
 
 /// The extensions [`read_map`] supports, as listed in errors.
 const MAP_EXTENSIONS: &str =
-    "one of .map (Moving AI), .txt (seed 003), .csv (0/1 matrix); .scen files are read by read_scenarios";
+    "one of .map (Moving AI), .txt (seed 003), .csv (0/1 matrix), .yaml/.yml (ROS map_server); .scen files are read by read_scenarios";
 
 impl MapFormat {
     /// The file extension of this format, without the dot.
@@ -134,6 +142,7 @@ impl MapFormat {
             MapFormat::MovingAi => "map",
             MapFormat::Seed003 => "txt",
             MapFormat::Matrix => "csv",
+            MapFormat::Ros => "yaml",
         }
     }
 
@@ -145,13 +154,19 @@ impl MapFormat {
             Some("map") => Ok(MapFormat::MovingAi),
             Some("txt") => Ok(MapFormat::Seed003),
             Some("csv") => Ok(MapFormat::Matrix),
+            Some("yaml" | "yml") => Ok(MapFormat::Ros),
             other => Err(unsupported(path, other, MAP_EXTENSIONS)),
         }
     }
 
-    /// Parses `text` in this format; `origin` names it in error messages.
+    /// Parses `text` in this format; `origin` names it in error messages. For
+    /// [`MapFormat::Ros`], `text` is the YAML and `origin` its path: the image is read from
+    /// the file the YAML names, relative to `origin`'s directory.
     pub fn parse(self, text: &str, origin: &str) -> Result<MapFile, MapError> {
         let grid = match self {
+            MapFormat::Ros => {
+                ros::ros_map_from_yaml_text(text, Path::new(origin), &RosOptions::default())?.grid
+            }
             MapFormat::Seed003 => return parse_seed003(text, origin),
             MapFormat::MovingAi => parse_movingai(text, origin)?,
             MapFormat::Matrix => parse_matrix(text, origin)?,
@@ -176,7 +191,7 @@ fn unsupported(path: &Path, extension: Option<&str>, supported: &'static str) ->
     )
 }
 
-/// Reads a map file, choosing the format by extension: `.map`, `.txt` or `.csv`
+/// Reads a map file, choosing the format by extension: `.map`, `.txt`, `.csv` or `.yaml`
 /// (see [`MapFormat::from_path`]). Errors name the path as given.
 pub fn read_map(path: &Path) -> Result<MapFile, MapError> {
     let format = MapFormat::from_path(path)?;

@@ -527,7 +527,7 @@ fn tmp(name: &str) -> PathBuf {
 
 #[test]
 fn file_errors() {
-    let map_list = "expected one of .map (Moving AI), .txt (seed 003), .csv (0/1 matrix); .scen files are read by read_scenarios";
+    let map_list = "expected one of .map (Moving AI), .txt (seed 003), .csv (0/1 matrix), .yaml/.yml (ROS map_server); .scen files are read by read_scenarios";
     let err = read_map(Path::new("maps/x.png")).unwrap_err();
     assert_eq!(
         err.to_string(),

@@ -1,0 +1,128 @@
+//! Coverage planners in the runner: `configs/coverage.toml` covers every map completely
+//! with valid paths, and `problems = "start"` configs are checked.
+
+use std::path::{Path, PathBuf};
+
+use planner_api::reachable_cells;
+use xtask::config;
+use xtask::run::run_all;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+#[test]
+fn coverage_config_covers_every_map() {
+    let experiment = config::load(&root().join("configs/coverage.toml")).unwrap();
+    let records = run_all(&experiment, 2, false).unwrap();
+    assert_eq!(
+        records.len(),
+        experiment.maps.len() * experiment.planners.len()
+    );
+    for r in &records {
+        let what = format!("{} on {}", r.planner, r.map);
+        let map = experiment.maps.iter().find(|m| m.name == r.map).unwrap();
+        let reachable = reachable_cells(&map.grid, r.start)
+            .iter()
+            .filter(|&&x| x)
+            .count() as u64;
+        assert_eq!(r.status, "found", "{what}");
+        assert_eq!(r.valid, Some(true), "{what}");
+        assert_eq!(r.counters.get("n_reachable"), Some(reachable), "{what}");
+        assert_eq!(r.counters.get("n_covered"), Some(reachable), "{what}");
+        let path = r.path.as_ref().unwrap();
+        assert_eq!(r.steps, Some(path.len() as u64 - 1), "{what}");
+        // Each return ends where the next filling starts; the legs are in order.
+        let legs = r.returns.as_ref().unwrap();
+        assert_eq!(
+            r.counters.get("n_backtracking_points"),
+            Some(legs.len() as u64)
+        );
+        assert!(legs.windows(2).all(|w| w[0].end < w[1].start), "{what}");
+        let return_moves: usize = legs.iter().map(|l| l.end - l.start).sum();
+        assert_eq!(
+            r.counters.get("n_return_moves"),
+            Some(return_moves as u64),
+            "{what}"
+        );
+    }
+    // The crop of 16room_000 keeps rooms whose doors lead out of it: free but unreachable.
+    let crop = experiment
+        .maps
+        .iter()
+        .find(|m| m.name == "16room_000-crop64.map")
+        .unwrap();
+    assert_eq!(crop.grid.n_free(), 3624);
+    assert_eq!(
+        records
+            .iter()
+            .find(|r| r.map == crop.name)
+            .unwrap()
+            .counters
+            .get("n_reachable"),
+        Some(3399)
+    );
+}
+
+fn error(text: &str) -> String {
+    let path = root().join("configs/bad.toml");
+    config::parse(&path, text)
+        .map(|_| ())
+        .unwrap_err()
+        .to_string()
+        .replace(&path.display().to_string(), "bad.toml")
+}
+
+#[test]
+fn start_problems_are_checked() {
+    let maps = "[[maps]]\nfiles = [\"../maps/coverage/rooms30-1.map\"]\n";
+    assert_eq!(
+        error(&format!(
+            "name = \"x\"\n{maps}problems = \"start\"\n[planners.a]\nplanner = \"coverage\"\n"
+        )),
+        "bad.toml:2:1: maps[0]: `problems = \"start\"` needs `start = [x, y]`"
+    );
+    assert_eq!(
+        error(&format!(
+            "name = \"x\"\n{maps}problems = \"corners\"\nstart = [0, 1]\n[planners.a]\nplanner = \"coverage\"\n"
+        )),
+        "bad.toml:5:9: maps[0]: key `start` goes with `problems = \"start\"`"
+    );
+    assert_eq!(
+        error(&format!(
+            "name = \"x\"\n{maps}problems = \"start\"\nstart = [0, 1]\n[planners.a]\nplanner = \"coverage\"\n[planners.b]\nplanner = \"astar\"\n"
+        )),
+        "bad.toml:4:12: `problems = \"start\"` has no goal, but planner `b` (astar) is not a coverage planner (coverage planners: coverage)"
+    );
+    assert_eq!(
+        error(&format!(
+            "name = \"x\"\n{maps}problems = \"start\"\nstart = [0, 1]\n[planners.a]\nplanner = \"coverage\"\nrotation = \"cw\"\n"
+        )),
+        "bad.toml:8:1: planner `a` (coverage): parameter `rotation` applies only to pattern = \"zigzag\""
+    );
+    // A blocked start is recorded as an invalid problem, not a config error.
+    let experiment = config::parse(
+        &root().join("configs/bad.toml"),
+        &format!("name = \"x\"\n{maps}problems = \"start\"\nstart = [0, 0]\n[planners.a]\nplanner = \"coverage\"\n"),
+    )
+    .unwrap();
+    let records = run_all(&experiment, 1, false).unwrap();
+    assert_eq!(records[0].status, "invalid_problem");
+    assert_eq!(records[0].error.as_deref(), Some("start (0, 0) is blocked"));
+}
+
+#[test]
+fn plan_points_coverage_planners_to_configs() {
+    let args = xtask::plan::PlanArgs {
+        map: root().join("maps/coverage/rooms30-1.map"),
+        planner: "coverage".into(),
+        start: Some(planner_api::Cell::new(0, 1)),
+        goal: Some(planner_api::Cell::new(0, 1)),
+        ..Default::default()
+    };
+    let error = xtask::plan::run(&args).err().unwrap();
+    assert!(
+        error.starts_with("`coverage` is a coverage planner"),
+        "{error}"
+    );
+}
