@@ -8,6 +8,8 @@
 //! - [`summary`]: summary.md in the seeds' table layouts.
 //! - [`figures`]: the SVG figures of a sweep.
 //! - [`coverage`]: coverage planners' runs, figures and summary table (seed 004).
+//! - [`generate`]: `cargo xtask gen-pastar-maps`, seed 002's maps.
+//! - [`pastar_summary`]: seed 002's tables in summary.md (R_length, R_time, timing tests).
 //! - [`plan`]: `cargo xtask plan`, one run printed.
 //! - [`scaffold`]: `cargo xtask new-planner`.
 #![deny(missing_docs)]
@@ -17,7 +19,9 @@ pub mod alloc;
 pub mod config;
 pub mod coverage;
 pub mod figures;
+pub mod generate;
 pub mod output;
+pub mod pastar_summary;
 pub mod plan;
 pub mod registry;
 pub mod run;

@@ -121,8 +121,9 @@ impl Heuristic {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum TieBreak {
-    /// The entry pushed first is popped first (the paper's rule). A node whose g improves
-    /// while in OPEN counts as pushed at its improvement.
+    /// The entry pushed first is popped first (the paper's rule). A node improved while in
+    /// OPEN takes the place its new f and push time give it, unless rounding left f unchanged:
+    /// then it keeps its earlier place (as a lazy-deletion heap would pop its older entry).
     #[default]
     Fifo,
     /// The entry pushed last is popped first.

@@ -39,13 +39,16 @@ impl Open {
         self.sift_up(self.items.len() - 1, positions);
     }
 
-    /// Gives `node`, at `position`, the new `key` (smaller or, after float rounding, equal
-    /// or larger: the entry moves whichever way it must).
+    /// Offers the node at `position` a new `key`; it keeps the smaller of its old and new
+    /// keys. That is exactly when a lazy-deletion heap would pop one of the node's two
+    /// entries: an improvement by a rounding error can leave f unchanged with a later
+    /// sequence number, and the node then keeps its earlier place.
     pub(crate) fn update(&mut self, position: u32, key: Key, positions: &mut [u32]) {
         let i = position as usize;
-        self.items[i].key = key;
-        let i = self.sift_up(i, positions);
-        self.sift_down(i, positions);
+        if key < self.items[i].key {
+            self.items[i].key = key;
+            self.sift_up(i, positions);
+        }
     }
 
     /// Removes and returns the node with the least key.
@@ -60,7 +63,7 @@ impl Open {
         Some(first.node)
     }
 
-    fn sift_up(&mut self, mut i: usize, positions: &mut [u32]) -> usize {
+    fn sift_up(&mut self, mut i: usize, positions: &mut [u32]) {
         let item = self.items[i];
         while i > 0 {
             let parent = (i - 1) / ARITY;
@@ -73,7 +76,6 @@ impl Open {
         }
         self.items[i] = item;
         positions[item.node as usize] = i as u32;
-        i
     }
 
     fn sift_down(&mut self, mut i: usize, positions: &mut [u32]) {
@@ -125,7 +127,7 @@ mod tests {
             let key = (next() % 50, next() % 3, step);
             match reference.iter().position(|&(_, n)| n == node) {
                 Some(at) => {
-                    reference[at].0 = key;
+                    reference[at].0 = reference[at].0.min(key);
                     open.update(positions[node as usize], key, &mut positions);
                 }
                 None => {
