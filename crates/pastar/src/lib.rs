@@ -50,7 +50,7 @@
 //!    [`planner_api::moves`]). A long move is allowed only if its segment crosses no
 //!    blocked cell. There is no second A* here.
 //! 9. **Join** (Step 6): `[S, path(1), ..., path(n), E]`, straight between, and checked
-//!    with [`PathRule::AnyAngle`](planner_api::PathRule::AnyAngle). The length is Euclidean.
+//!    with [`PathRule::AnyAngle`]. The length is Euclidean.
 //!
 //! # Failures, fallback and budget
 //! Every local start is joined to S, and every local goal to E, by free segments and
