@@ -34,9 +34,11 @@
 //! map costs 100 cells, not 262,144. Moves come from planner-api's [`Adjacency`]: per-cell
 //! masks of the safe moves over a padded grid, built once per grid, so the neighbour loop
 //! has no bounds or obstacle test and walks the set bits in the configured order; the
-//! blocked checks are counted as the clear bits. OPEN is an indexed 4-ary heap with
-//! decrease-key (module `open`): an improved node's entry moves, so every pop is an
-//! expansion and `peak_open` is the heap's largest size.
+//! blocked checks are counted as the clear bits. OPEN (module `buckets`) keeps one bucket
+//! per distinct f value behind a small heap of those values, and in each bucket a heap of
+//! (tie, push sequence): entries come out in exactly the order of the full key. An
+//! improved node is pushed again and its older entry is skipped when it comes out (the
+//! node is then CLOSED); `peak_open` counts nodes in OPEN, not entries.
 //!
 //! # Defaults
 //! The defaults are the paper's: 4-connected moves in the order right, left, down, up,
@@ -65,9 +67,9 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-mod open;
+mod buckets;
 
-use open::Open;
+use buckets::Buckets;
 use planner_api::{
     Adjacency, Budget, Cell, Connectivity, Counter, MoveOrderError, MoveSet, NeighborOrder,
     Outcome, Path, Planner, Problem, SearchStats, Status,
@@ -122,8 +124,8 @@ impl Heuristic {
 #[serde(rename_all = "snake_case")]
 pub enum TieBreak {
     /// The entry pushed first is popped first (the paper's rule). A node improved while in
-    /// OPEN takes the place its new f and push time give it, unless rounding left f unchanged:
-    /// then it keeps its earlier place (as a lazy-deletion heap would pop its older entry).
+    /// OPEN is pushed again; if rounding left its f unchanged, its older entry comes out
+    /// first and the node is expanded there, with its improved g.
     #[default]
     Fifo,
     /// The entry pushed last is popped first.
@@ -197,8 +199,7 @@ pub struct AStar {
     adjacency: Option<Adjacency>,
     generation: u32,
     nodes: Vec<Node>,
-    positions: Vec<u32>,
-    open: Open,
+    open: Buckets,
 }
 
 /// Per-cell search state, one record per padded cell so that a relaxation touches one
@@ -224,8 +225,7 @@ impl AStar {
             adjacency: None,
             generation: 0,
             nodes: Vec::new(),
-            positions: Vec::new(),
-            open: Open::default(),
+            open: Buckets::default(),
         })
     }
 
@@ -245,7 +245,6 @@ impl AStar {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         if self.nodes.len() != adjacency.padded_len() {
             self.nodes = vec![Node::default(); adjacency.padded_len()];
-            self.positions = vec![0; adjacency.padded_len()];
             self.generation = 0;
         }
         self.generation += 1;
@@ -256,7 +255,6 @@ impl AStar {
         let open_stamp = self.generation << 1;
         let closed_stamp = open_stamp | 1;
         let nodes = &mut self.nodes[..];
-        let positions = &mut self.positions[..];
         let open = &mut self.open;
         open.clear();
 
@@ -276,8 +274,8 @@ impl AStar {
         let weight = self.config.weight;
         let tie_break = self.config.tie_break;
         let mut n_pushed: u64 = 0;
-        // The heap key of a node with `g_node` at (x, y); see `open::Key`.
-        let mut key = |g_node: f64, x: u32, y: u32| -> open::Key {
+        // The heap key of a node with `g_node` at (x, y); see `buckets::Key`.
+        let mut key = |g_node: f64, x: u32, y: u32| -> buckets::Key {
             let seq = match tie_break {
                 TieBreak::Lifo => u64::MAX - n_pushed,
                 _ => n_pushed,
@@ -303,7 +301,8 @@ impl AStar {
             parent: start_index as u32,
             stamp: open_stamp,
         };
-        open.push(start_index as u32, key(0.0, start.x, start.y), positions);
+        open.push(start_index as u32, key(0.0, start.x, start.y));
+        let mut n_open: u64 = 1;
         stats.n_open_insertions = 1;
         stats.peak_open = 1;
 
@@ -319,9 +318,13 @@ impl AStar {
                     stats,
                 };
             }
-            let Some(p) = open.pop(positions) else { break };
+            let Some(p) = open.pop() else { break };
             let p = p as usize;
+            if nodes[p].stamp == closed_stamp {
+                continue; // The older entry of a node improved while in OPEN.
+            }
             nodes[p].stamp = closed_stamp;
+            n_open -= 1;
             stats.n_expanded += 1;
             if p == goal_index {
                 let path = reconstruct(adjacency, nodes, start_index, goal_index);
@@ -358,12 +361,11 @@ impl AStar {
                         stamp: open_stamp,
                     };
                     let k = key(g_temp, x.wrapping_add(dx[m]), y.wrapping_add(dy[m]));
-                    if known {
-                        open.update(positions[q], k, positions);
-                    } else {
+                    open.push(q as u32, k);
+                    if !known {
                         stats.n_open_insertions += 1;
-                        open.push(q as u32, k, positions);
-                        stats.peak_open = stats.peak_open.max(open.len() as u64);
+                        n_open += 1;
+                        stats.peak_open = stats.peak_open.max(n_open);
                     }
                 }
             }
