@@ -81,7 +81,7 @@ use thiserror::Error;
 
 use planner_api::Adjacency;
 
-/// The planner's configuration (TOML/JSON keys as the field names).
+/// The configuration of BFS and of DFS (TOML/JSON keys as the field names).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
@@ -90,9 +90,11 @@ pub struct Config {
     pub moves: Connectivity,
     /// Whether 8-connected diagonals may cut corners (only with `moves = 8`). Default false.
     pub corner_cutting: bool,
-    /// Order in which the neighbours are checked and enqueued, e.g. `"R L D U"` (see
-    /// [`NeighborOrder`]). Default `R L D U`, seed 000's order; seed 003 lists "left,
-    /// right, up, and down" (`"L R U D"`). Any order gives the same path length.
+    /// Order in which the neighbours are checked and put on the frontier, e.g. `"R L D U"`
+    /// (see [`NeighborOrder`]). Default `R L D U`, seed 000's order; seed 003 lists "left,
+    /// right, up, and down" (`"L R U D"`). For BFS any order gives the same path length;
+    /// for DFS the last one pushed is expanded first, and `"L R U D"` reproduces seed 003's
+    /// DFS lengths.
     pub order: NeighborOrder,
 }
 
@@ -117,13 +119,25 @@ pub enum ConfigError {
     CornerCutting(MoveOrderError),
 }
 
-/// Breadth-first search (registry name `bfs`).
+/// Which end of the frontier is expanded next: the discipline that makes a frontier
+/// search breadth-first or depth-first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Discipline {
+    /// A queue: the cell enqueued first is expanded first (BFS).
+    Fifo,
+    /// A stack: the cell pushed last is expanded first (seed 003's DFS).
+    Lifo,
+}
+
+/// The search shared by BFS and DFS (`planner-dfs` uses it with [`Discipline::Lifo`]): mark
+/// a cell visited when it enters the frontier, test the goal when it leaves, parent links.
+/// The counters are the crate docs' for either discipline.
 ///
-/// Keeps its per-cell buffers between calls to [`Planner::plan`]; the safe-move masks are
-/// rebuilt only when the grid changes.
+/// Keeps its per-cell buffers between searches; the safe-move masks are rebuilt only when
+/// the grid changes.
 #[derive(Debug, Clone)]
-pub struct Bfs {
-    config: Config,
+pub struct FrontierSearch {
+    discipline: Discipline,
     moves: MoveSet,
     adjacency: Option<Adjacency>,
     /// `mark[p] == stamp` when padded cell `p` is visited in the current search.
@@ -131,50 +145,31 @@ pub struct Bfs {
     stamp: u32,
     /// Parent of each visited cell (padded index); the start's is itself.
     parent: Vec<u32>,
-    /// Every cell enqueued, in order; `queue[head..]` is the queue.
-    queue: Vec<u32>,
+    /// The frontier: `frontier[head..]` (a FIFO keeps what it expanded below `head`).
+    frontier: Vec<u32>,
 }
 
-impl Bfs {
-    /// A planner with a validated `config`.
-    ///
-    /// Errors when `order` does not list the moves of `moves` correctly, or when
-    /// `corner_cutting` is set for a neighbourhood other than 8.
-    pub fn new(config: Config) -> Result<Bfs, ConfigError> {
-        let moves = MoveSet::new(config.moves, config.corner_cutting, &config.order).map_err(
-            |e| match e {
-                MoveOrderError::CornerCutting(_) => ConfigError::CornerCutting(e),
-                other => ConfigError::Order(other),
-            },
-        )?;
-        Ok(Bfs {
-            config,
+impl FrontierSearch {
+    /// A search with `moves` in their order and the frontier `discipline`.
+    pub fn new(moves: MoveSet, discipline: Discipline) -> FrontierSearch {
+        FrontierSearch {
+            discipline,
             moves,
             adjacency: None,
             mark: Vec::new(),
             stamp: 0,
             parent: Vec::new(),
-            queue: Vec::new(),
-        })
+            frontier: Vec::new(),
+        }
     }
 
-    /// The configuration.
-    pub fn config(&self) -> &Config {
-        &self.config
-    }
-
-    /// The moves, in the order they are checked.
+    /// The moves, in the order they are checked and put on the frontier.
     pub fn moves(&self) -> &MoveSet {
         &self.moves
     }
-}
 
-impl Planner for Bfs {
-    fn name(&self) -> &str {
-        "bfs"
-    }
-
-    fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+    /// Searches `problem` within `budget`.
+    pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         let len = adjacency.padded_len();
@@ -196,22 +191,31 @@ impl Planner for Bfs {
         let mut clock = budget.start();
         let mut stats = SearchStats::default();
 
-        self.queue.clear();
-        self.queue.reserve(grid.len());
-        self.queue.push(start as u32);
+        self.frontier.clear();
+        self.frontier.reserve(grid.len());
+        self.frontier.push(start as u32);
         self.mark[start] = stamp;
         self.parent[start] = start as u32;
         stats.peak_open = 1;
+        let mut n_insertions = 1u64;
         let mut head = 0usize;
         let mut found = false;
         let mut exhausted = false;
-        while head < self.queue.len() {
+        while head < self.frontier.len() {
             if !clock.allows(stats.n_expanded) {
                 exhausted = true;
                 break;
             }
-            let p = self.queue[head] as usize;
-            head += 1;
+            let p = match self.discipline {
+                Discipline::Fifo => {
+                    head += 1;
+                    self.frontier[head - 1]
+                }
+                Discipline::Lifo => match self.frontier.pop() {
+                    Some(top) => top,
+                    None => break,
+                },
+            } as usize;
             stats.n_expanded += 1;
             if p == goal {
                 found = true;
@@ -229,14 +233,15 @@ impl Planner for Bfs {
                 } else {
                     self.mark[q] = stamp;
                     self.parent[q] = p as u32;
-                    self.queue.push(q as u32);
+                    self.frontier.push(q as u32);
+                    n_insertions += 1;
                 }
             }
-            stats.peak_open = stats.peak_open.max((self.queue.len() - head) as u64);
+            stats.peak_open = stats.peak_open.max((self.frontier.len() - head) as u64);
         }
         let counters = stats
             .report(Counter::FRONTIER)
-            .with(Counter::OpenInsertions.name(), self.queue.len() as u64);
+            .with(Counter::OpenInsertions.name(), n_insertions);
         if found {
             let mut cells: Vec<Cell> = Vec::new();
             let mut p = goal;
@@ -254,5 +259,51 @@ impl Planner for Bfs {
         } else {
             Outcome::no_path(counters)
         }
+    }
+}
+
+/// The move set of a validated `config`.
+pub fn move_set(config: &Config) -> Result<MoveSet, ConfigError> {
+    MoveSet::new(config.moves, config.corner_cutting, &config.order).map_err(|e| match e {
+        MoveOrderError::CornerCutting(_) => ConfigError::CornerCutting(e),
+        other => ConfigError::Order(other),
+    })
+}
+
+/// Breadth-first search (registry name `bfs`): [`FrontierSearch`] with a queue.
+#[derive(Debug, Clone)]
+pub struct Bfs {
+    config: Config,
+    search: FrontierSearch,
+}
+
+impl Bfs {
+    /// A planner with a validated `config`.
+    ///
+    /// Errors when `order` does not list the moves of `moves` correctly, or when
+    /// `corner_cutting` is set for a neighbourhood other than 8.
+    pub fn new(config: Config) -> Result<Bfs, ConfigError> {
+        let search = FrontierSearch::new(move_set(&config)?, Discipline::Fifo);
+        Ok(Bfs { config, search })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// The moves, in the order they are checked.
+    pub fn moves(&self) -> &MoveSet {
+        self.search.moves()
+    }
+}
+
+impl Planner for Bfs {
+    fn name(&self) -> &str {
+        "bfs"
+    }
+
+    fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+        self.search.search(problem, budget)
     }
 }
