@@ -112,6 +112,8 @@ struct RawMaps {
     lines: Option<[usize; 2]>,
     every: Option<Spanned<usize>>,
     limit: Option<usize>,
+    inflation: Option<Spanned<u32>>,
+    inflate_unknown: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -668,10 +670,43 @@ fn map_entries(
         None => None,
     };
 
+    let ros_options = planner_maps::RosOptions {
+        inflation_radius: raw.inflation.as_ref().map_or(0, |r| *r.get_ref()),
+        inflate_unknown: raw.inflate_unknown.unwrap_or(false),
+    };
     let mut entries = Vec::new();
     for path in files {
-        let file =
-            planner_maps::read_map(&path).map_err(|e| at(raw.files.span(), e.to_string()))?;
+        let is_ros = matches!(
+            path.extension()
+                .and_then(|e| e.to_str())
+                .map(str::to_ascii_lowercase)
+                .as_deref(),
+            Some("yaml" | "yml")
+        );
+        if !is_ros && (raw.inflation.is_some() || raw.inflate_unknown.is_some()) {
+            let span = raw
+                .inflation
+                .as_ref()
+                .map_or_else(|| spanned.span(), Spanned::span);
+            return Err(at(
+                span,
+                format!(
+                    "`inflation` and `inflate_unknown` apply to ROS `.yaml` maps, not {}",
+                    path.display()
+                ),
+            ));
+        }
+        let file = if is_ros {
+            let ros = planner_maps::read_ros_map(&path, &ros_options)
+                .map_err(|e| at(raw.files.span(), e.to_string()))?;
+            planner_maps::MapFile {
+                grid: ros.grid,
+                problems: Vec::new(),
+                format: planner_maps::MapFormat::Ros,
+            }
+        } else {
+            planner_maps::read_map(&path).map_err(|e| at(raw.files.span(), e.to_string()))?
+        };
         let grid = file.grid;
         let mut pairs: Vec<(Cell, Cell, Option<f64>)> = Vec::new();
         if let Some(source) = &raw.problems {

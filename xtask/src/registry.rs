@@ -114,7 +114,11 @@ pub fn find(name: &str) -> Option<&'static Entry> {
 
 /// The registered names, for error messages.
 pub fn names() -> Vec<&'static str> {
-    PLANNERS.iter().map(|e| e.name).collect()
+    PLANNERS
+        .iter()
+        .map(|e| e.name)
+        .chain(COVERAGE.iter().map(|e| e.name))
+        .collect()
 }
 
 /// Deserializes `params` into the planner's config `C` and validates it with `new`.

@@ -157,7 +157,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
-        "bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar",
+        "bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar, coverage",
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.fast]\nplanner = \"astar\"\nbeta = 2\n"),
@@ -196,7 +196,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nheuristic = \"octile\"\n"),
-        "bad.toml:5:11: planner `a`: key `planner` is missing (one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar)",
+        "bad.toml:5:11: planner `a`: key `planner` is missing (one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar, coverage)",
     );
 }
 
@@ -328,4 +328,45 @@ fn movingai_config_matches_the_scenario_optima() {
         checked += 1;
     }
     assert_eq!(checked, 3 * 3 * 12);
+}
+
+/// `inflation` blocks every cell within that many cells of an occupied one in a ROS map.
+#[test]
+fn ros_maps_take_an_inflation_radius() {
+    let dir = std::env::temp_dir().join(format!("gridplan-ros-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A 5x5 plain PGM, white (free) but for a black (occupied) centre pixel.
+    let mut pgm = String::from("P2\n5 5\n255\n");
+    for y in 0..5 {
+        let row: Vec<&str> = (0..5)
+            .map(|x| if (x, y) == (2, 2) { "0" } else { "255" })
+            .collect();
+        pgm.push_str(&row.join(" "));
+        pgm.push('\n');
+    }
+    std::fs::write(dir.join("room.pgm"), pgm).unwrap();
+    std::fs::write(
+        dir.join("room.yaml"),
+        "image: room.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\noccupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n",
+    )
+    .unwrap();
+    let config = |extra: &str| {
+        format!("name = \"r\"\n[[maps]]\nfiles = [\"room.yaml\"]\npairs = [{{ start = [0, 0], goal = [4, 4] }}]\n{extra}[planners.b]\nplanner = \"bfs\"\n")
+    };
+    let plain = config::parse(&dir.join("c.toml"), &config("")).unwrap();
+    let inflated = config::parse(&dir.join("c.toml"), &config("inflation = 1\n")).unwrap();
+    // Without inflation only the centre is blocked; radius 1 (Euclidean distance between
+    // cell centres, planner-maps' rule) adds its four edge neighbours.
+    assert_eq!(plain.maps[0].grid.n_free(), 24);
+    assert_eq!(inflated.maps[0].grid.n_free(), 20);
+    let paper = root().join("maps/paper/map01.map").display().to_string();
+    let error = config::parse(
+        &dir.join("c.toml"),
+        &format!("name = \"r\"\n[[maps]]\nfiles = [{paper:?}]\nproblems = \"corners\"\ninflation = 2\n[planners.b]\nplanner = \"bfs\"\n"),
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(error
+        .unwrap_err()
+        .message
+        .contains("apply to ROS `.yaml` maps"));
 }
