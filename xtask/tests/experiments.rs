@@ -370,3 +370,29 @@ fn ros_maps_take_an_inflation_radius() {
         .message
         .contains("apply to ROS `.yaml` maps"));
 }
+
+/// `cargo xtask plan <map> --planner rrt --set seed=7 --json` is reproducible, and the seed
+/// is what varies the result.
+#[test]
+fn plan_with_a_seed_is_reproducible() {
+    let run = |seed: u64| {
+        let args = xtask::plan::PlanArgs {
+            map: root().join("maps/wpi/map3.txt"),
+            planner: "rrt".into(),
+            problem: Some(1),
+            set: vec![format!("seed={seed}")],
+            ..Default::default()
+        };
+        xtask::plan::run(&args).unwrap().to_json().unwrap()
+    };
+    assert_eq!(run(7), run(7));
+    let outputs: std::collections::BTreeSet<String> = (0..5).map(run).collect();
+    assert!(outputs.len() > 1, "five seeds gave one result");
+    let json: serde_json::Value = serde_json::from_str(&run(7)).unwrap();
+    assert_eq!(json["status"], "found");
+    assert_eq!(json["path"][0], serde_json::json!([0, 0]));
+    assert_eq!(
+        json["path"].as_array().unwrap().last().unwrap(),
+        &serde_json::json!([49, 19])
+    );
+}
