@@ -7,6 +7,8 @@
 //! - [`output`]: runs.csv, runs.json and the atomic write of the results directory.
 //! - [`summary`]: summary.md in the seeds' table layouts.
 //! - [`figures`]: the SVG figures of a sweep.
+//! - [`generate`]: `cargo xtask gen-pastar-maps`, seed 002's maps.
+//! - [`pastar_summary`]: seed 002's tables in summary.md (R_length, R_time, timing tests).
 //! - [`plan`]: `cargo xtask plan`, one run printed.
 //! - [`scaffold`]: `cargo xtask new-planner`.
 #![deny(missing_docs)]
@@ -15,7 +17,9 @@
 pub mod alloc;
 pub mod config;
 pub mod figures;
+pub mod generate;
 pub mod output;
+pub mod pastar_summary;
 pub mod plan;
 pub mod registry;
 pub mod run;

@@ -70,6 +70,8 @@ enum Command {
     },
     /// List the registered planners.
     Planners,
+    /// Write seed 002's generated maps to maps/pastar/ (src/generate.rs documents them).
+    GenPastarMaps,
 }
 
 fn parse_cell(text: &str) -> Result<Cell, String> {
@@ -160,6 +162,12 @@ fn run(cli: Cli) -> Result<(), String> {
                 println!("  {file}");
             }
             println!("next: edit crates/{name}/src/lib.rs, then `cargo test -p planner-{name}` and add it to a config under [planners]");
+            Ok(())
+        }
+        Command::GenPastarMaps => {
+            for path in xtask::generate::write_all(&workspace_root().join("maps/pastar"))? {
+                println!("{path}");
+            }
             Ok(())
         }
         Command::Planners => {

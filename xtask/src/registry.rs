@@ -68,6 +68,12 @@ pub const PLANNERS: &[Entry] = &[
         kind: Kind::Stochastic,
         build: |params| build(params, planner_rrt::Rrt::new),
     },
+    Entry {
+        name: planner_pastar::NAME,
+        summary: "PA-star (seed 002): straight line, obstacle size, handover points, merged local A*",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_pastar::PaStar::new),
+    },
     // (registry end)
 ];
 
