@@ -1,8 +1,290 @@
-//! Seed 002's tables (stub).
-use crate::config::Experiment;
-use crate::run::RunRecord;
+//! Seed 002's tables in `summary.md`, for experiments with a planner whose registry name
+//! is `pastar` (PA-star): path lengths with `R_length` and `R_time` per scenario (Tables
+//! 6-10) and, with three or more repeats, the timing tests (Tables 11-14).
+//!
+//! - `R_length = (length_PA - length_ref) / length_PA` and `R_time` likewise with the
+//!   median times (equations 10-11, the paper's sign: negative when PA-star is shorter or
+//!   faster). Each PA-star label is compared with each non-PA-star label. `R_time` is
+//!   unbounded below when PA-star's time is near zero (a free line: no search at all).
+//! - Per scenario, over all planner labels: the Kruskal-Wallis test of the `plan` times
+//!   (H, the paper's "chi-square", with df and p; Table 11); per label the median time
+//!   (IQR), Shapiro-Wilk's W and p, and Dunn's z and p against the first PA-star label
+//!   (Tables 12-14). `z = (mean rank of the planner - mean rank of PA-star) / SE`, so it is
+//!   positive when the planner is slower than PA-star (the paper's sign varies between
+//!   its tables). Dunn's p is Bonferroni-adjusted over all `k (k - 1) / 2` pairs of the
+//!   `k` labels, as the paper's p-values are (see planner-stats).
+//!
+//! A scenario is one (map, problem). Lengths come from repeat 0; times from all repeats.
 
-/// Renders nothing yet.
-pub fn render(_experiment: &Experiment, _records: &[RunRecord]) -> String {
-    String::new()
+use std::fmt::Write as _;
+
+use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
+
+use crate::config::{Experiment, PlannerSpec};
+use crate::run::RunRecord;
+use crate::summary::median_iqr;
+
+/// The registry name that switches these tables on.
+const PASTAR: &str = "pastar";
+
+/// The seed-002 sections of summary.md, or nothing when no planner is PA-star.
+pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
+    let proposed: Vec<&PlannerSpec> = experiment
+        .planners
+        .iter()
+        .filter(|p| p.name == PASTAR)
+        .collect();
+    let Some(base) = proposed.first() else {
+        return String::new();
+    };
+    let references: Vec<&PlannerSpec> = experiment
+        .planners
+        .iter()
+        .filter(|p| p.name != PASTAR)
+        .collect();
+    let mut out = String::from("## PA-star and its references (seed 002, Tables 6-10 layout)\n\n");
+    out.push_str("Path length of repeat 0; `R_length = (L_PA - L_ref) / L_PA` and `R_time = (t_PA - t_ref) / t_PA` with median times (equations 10-11: negative when PA-star is shorter or faster).\n\n");
+    let mut timing = String::new();
+    let mut kw_rows = String::new();
+    for map in &experiment.maps {
+        for problem in map.problems.iter().filter(|p| p.invalid.is_none()) {
+            let runs = |label: &str| -> Vec<&RunRecord> {
+                records
+                    .iter()
+                    .filter(|r| {
+                        r.map == map.name && r.problem == problem.index && r.planner == label
+                    })
+                    .collect()
+            };
+            let length = |label: &str| {
+                runs(label)
+                    .iter()
+                    .find(|r| r.repeat == 0)
+                    .and_then(|r| r.length)
+            };
+            let times =
+                |label: &str| -> Vec<f64> { runs(label).iter().map(|r| r.time_ms).collect() };
+            let median = |label: &str| median_iqr(&times(label)).map(|(m, _, _)| m);
+            let _ = writeln!(
+                out,
+                "### {} problem {}: {} -> {}\n",
+                map.name, problem.index, problem.start, problem.goal
+            );
+            out.push_str("| Planner | Algorithm | Status | Path length | Time ms median (IQR) |\n|---|---|---|---:|---:|\n");
+            for planner in &experiment.planners {
+                let all = runs(&planner.label);
+                let status = all
+                    .iter()
+                    .find(|r| r.repeat == 0)
+                    .map_or("-", |r| r.status.as_str());
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {} | {} |",
+                    planner.label,
+                    planner.name,
+                    status,
+                    length(&planner.label).map_or("-".into(), |l| format!("{l:.2}")),
+                    time_cell(&times(&planner.label)),
+                );
+            }
+            out.push('\n');
+            if !references.is_empty() {
+                out.push_str("| PA-star | Reference | R_length | R_time |\n|---|---|---:|---:|\n");
+                for pa in &proposed {
+                    for reference in &references {
+                        let r_length = ratio(length(&pa.label), length(&reference.label));
+                        let r_time = ratio(median(&pa.label), median(&reference.label));
+                        let _ = writeln!(
+                            out,
+                            "| {} | {} | {} | {} |",
+                            pa.label,
+                            reference.label,
+                            percent(r_length),
+                            percent(r_time)
+                        );
+                    }
+                }
+                out.push('\n');
+            }
+            if experiment.repeats >= 3 && experiment.planners.len() >= 2 {
+                let samples: Vec<Vec<f64>> = experiment
+                    .planners
+                    .iter()
+                    .map(|p| times(&p.label))
+                    .collect();
+                let groups: Vec<&[f64]> = samples.iter().map(Vec::as_slice).collect();
+                let scenario = format!("{} #{}", map.name, problem.index);
+                match kruskal_wallis(&groups) {
+                    Ok(kw) => {
+                        let _ = writeln!(
+                            kw_rows,
+                            "| {scenario} | {:.2} | {} | {:.3e} |",
+                            kw.h, kw.df, kw.p
+                        );
+                    }
+                    Err(e) => {
+                        let _ = writeln!(kw_rows, "| {scenario} | - | - | {e} |");
+                    }
+                }
+                timing.push_str(&timing_table(
+                    experiment, &scenario, &samples, &groups, base,
+                ));
+            }
+        }
+    }
+    if !kw_rows.is_empty() {
+        let _ = writeln!(
+            out,
+            "## Search time tests (seed 002, section 4.4, Tables 11-14 layout)\n\n{} repeats per planner and scenario; times of `plan` in ms (wall clock: not reproducible to the digit).\n\n### Kruskal-Wallis across planners (Table 11)\n\n| Scenario | H (chi-square) | DF | p |\n|---|---:|---:|---:|\n{kw_rows}",
+            experiment.repeats
+        );
+        out.push_str(&timing);
+    }
+    out
+}
+
+fn timing_table(
+    experiment: &Experiment,
+    scenario: &str,
+    samples: &[Vec<f64>],
+    groups: &[&[f64]],
+    base: &PlannerSpec,
+) -> String {
+    let k = experiment.planners.len();
+    let pairs = k * (k - 1) / 2;
+    let base_index = experiment
+        .planners
+        .iter()
+        .position(|p| p.label == base.label)
+        .unwrap_or(0);
+    let mut out = format!(
+        "### {scenario}: times and Dunn's test against {} (Tables 12-14)\n\n| Planner | Time ms median (IQR) | Shapiro-Wilk W | Shapiro-Wilk p | Z | p (Bonferroni, {pairs} pairs) |\n|---|---:|---:|---:|---:|---:|\n",
+        base.label
+    );
+    for (i, planner) in experiment.planners.iter().enumerate() {
+        let (w, p_w) = match shapiro_wilk(&samples[i]) {
+            Ok(sw) => (format!("{:.4}", sw.w), format!("{:.3e}", sw.p)),
+            Err(e) => ("-".into(), e.to_string()),
+        };
+        let (z, p) = if i == base_index {
+            ("-".into(), "-".into())
+        } else {
+            match dunn(groups, base_index, i) {
+                Ok(d) => (
+                    format!("{:.2}", d.z),
+                    format!("{:.3e}", bonferroni(d.p, pairs)),
+                ),
+                Err(e) => ("-".into(), e.to_string()),
+            }
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {} | {w} | {p_w} | {z} | {p} |",
+            planner.label,
+            time_cell(&samples[i])
+        );
+    }
+    out.push('\n');
+    out
+}
+
+fn time_cell(times: &[f64]) -> String {
+    median_iqr(times).map_or("-".into(), |(m, q1, q3)| {
+        format!("{m:.4} ({q1:.4}~{q3:.4})")
+    })
+}
+
+/// Equations 10-11: `(proposed - reference) / proposed`.
+fn ratio(proposed: Option<f64>, reference: Option<f64>) -> Option<f64> {
+    match (proposed, reference) {
+        (Some(p), Some(r)) if p != 0.0 => Some((p - r) / p),
+        _ => None,
+    }
+}
+
+fn percent(value: Option<f64>) -> String {
+    value.map_or("-".into(), |v| format!("{:.2} %", 100.0 * v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use planner_api::{Cell, Counters};
+
+    fn record(planner: &str, algorithm: &str, repeat: u32, length: f64, time_ms: f64) -> RunRecord {
+        RunRecord {
+            map: "open-140x120.map".into(),
+            problem: 1,
+            start: Cell::new(20, 10),
+            goal: Cell::new(70, 110),
+            planner: planner.into(),
+            algorithm: algorithm.into(),
+            repeat,
+            seed: None,
+            status: "found".into(),
+            error: None,
+            steps: Some(1),
+            turns: Some(0),
+            score: Some(1),
+            length: Some(length),
+            optimal_length: None,
+            valid: Some(true),
+            counters: Counters::new(),
+            time_ms,
+            peak_heap_bytes: 0,
+            path: None,
+        }
+    }
+
+    fn experiment(repeats: u32) -> Experiment {
+        let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../maps/pastar/open-140x120.map");
+        let text = format!(
+            "name = \"t\"\nrepeats = {repeats}\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.TA]\nplanner = \"astar\"\nmoves = 8\n",
+            map.display().to_string()
+        );
+        crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap()
+    }
+
+    #[test]
+    fn r_length_and_r_time_follow_equations_10_11() {
+        let experiment = experiment(1);
+        let records = [
+            record("PA", "pastar", 0, 100.0, 2.0),
+            record("TA", "astar", 0, 125.0, 1.0),
+        ];
+        let text = render(&experiment, &records);
+        // (100 - 125) / 100 = -25 %; (2 - 1) / 2 = +50 %.
+        assert!(text.contains("| PA | TA | -25.00 % | 50.00 % |"), "{text}");
+        assert!(text.contains("| TA | astar | found | 125.00 | 1.0000 (1.0000~1.0000) |"));
+        assert!(!text.contains("Kruskal"), "one repeat: no timing tests");
+        // Without PA-star, nothing.
+        let mut plain = experiment.clone();
+        plain.planners.retain(|p| p.name != "pastar");
+        assert_eq!(render(&plain, &records), "");
+    }
+
+    #[test]
+    fn timing_tests_with_repeats() {
+        let experiment = experiment(4);
+        // PA always faster: ranks 1-4 vs 5-8. Mean ranks 2.5 and 6.5, N = 8, no ties:
+        // SE = sqrt(8 * 9 / 12 * (1/4 + 1/4)) = sqrt 3, z = 4 / sqrt 3 = 2.31;
+        // H = 12 / 72 * (10^2 / 4 + 26^2 / 4) - 27 = 5.33 on 1 df.
+        let mut records = Vec::new();
+        for r in 0..4 {
+            records.push(record("PA", "pastar", r, 100.0, 1.0 + f64::from(r)));
+            records.push(record("TA", "astar", r, 125.0, 10.0 + f64::from(r * r)));
+        }
+        let text = render(&experiment, &records);
+        assert!(
+            text.contains("| open-140x120.map #1 | 5.33 | 1 | 2.092e-2 |"),
+            "{text}"
+        );
+        assert!(text.contains("| 2.31 | 2.092e-2 |"), "{text}");
+        // Shapiro-Wilk of 1, 2, 3, 4: W = 0.9929 (SciPy: 0.9929, p = 0.9719).
+        assert!(
+            text.contains("| PA | 2.5000 (1.7500~3.2500) | 0.9929 | 9.719e-1 | - | - |"),
+            "{text}"
+        );
+    }
 }

@@ -98,6 +98,7 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> (String, Reprod
     if experiment.repeats > 1 {
         out.push_str(&repeat_table(experiment, records));
     }
+    out.push_str(&crate::pastar_summary::render(experiment, records));
     (out, reproduction)
 }
 

@@ -1,0 +1,112 @@
+//! Seed 002 through the runner: the generated maps are the committed ones, every PA-star
+//! path of every config is valid, and the paper's length claims on the 140 x 120 maps.
+
+use std::path::{Path, PathBuf};
+
+use xtask::config;
+use xtask::run::{run_all, RunRecord};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn configs() -> Vec<PathBuf> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("configs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    paths.sort();
+    paths
+}
+
+/// `cargo xtask gen-pastar-maps` writes exactly the files in maps/pastar/.
+#[test]
+fn generated_maps_are_the_committed_ones() {
+    for map in xtask::generate::specs() {
+        let path = root().join("maps/pastar").join(map.name);
+        let committed = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            committed == planner_maps::to_movingai(&map.grid),
+            "{} differs from the generator's output: run `cargo xtask gen-pastar-maps`",
+            path.display()
+        );
+        for (start, goal) in &map.pairs {
+            assert!(map.grid.is_free(*start) && map.grid.is_free(*goal));
+        }
+    }
+}
+
+/// Every PA-star configuration of every config finds a valid any-angle path from start
+/// to goal on every one of its problems (one repeat each).
+#[test]
+fn every_pastar_path_in_every_config_is_valid() {
+    let mut checked = 0;
+    for path in configs() {
+        let mut experiment = config::load(&path).unwrap();
+        experiment
+            .planners
+            .retain(|p| p.name == planner_pastar::NAME);
+        if experiment.planners.is_empty() {
+            continue;
+        }
+        experiment.repeats = 1;
+        for record in run_all(&experiment, 2, false).unwrap() {
+            let at = format!(
+                "{} {} #{} {}",
+                path.display(),
+                record.map,
+                record.problem,
+                record.planner
+            );
+            assert_eq!(record.status, "found", "{at}");
+            assert_eq!(record.valid, Some(true), "{at}");
+            assert_eq!(record.counters.get("n_fallbacks"), Some(0), "{at}");
+            checked += 1;
+        }
+    }
+    assert!(checked >= 50, "{checked}");
+}
+
+fn length(records: &[RunRecord], map: &str, planner: &str) -> f64 {
+    records
+        .iter()
+        .find(|r| r.map == map && r.planner == planner && r.repeat == 0)
+        .and_then(|r| r.length)
+        .unwrap_or_else(|| panic!("no {planner} run on {map}"))
+}
+
+/// Tables 6-8: on the no-obstacle and line-obstacle maps PA-star is never longer than
+/// TA-star; without obstacles it is the straight line (111.80) and TA-star 120.71.
+#[test]
+fn pastar_config_lengths_on_the_140x120_maps() {
+    let mut experiment = config::load(&root().join("configs/pastar.toml")).unwrap();
+    experiment.repeats = 1;
+    experiment
+        .maps
+        .retain(|m| m.grid.width() == 140 && m.grid.height() == 120);
+    let records = run_all(&experiment, 2, false).unwrap();
+    let open = "open-140x120.map";
+    assert_eq!(
+        format!("{:.2}", length(&records, open, "PA-star")),
+        "111.80"
+    );
+    assert_eq!(
+        format!("{:.4}", length(&records, open, "TA-star")),
+        "120.7107"
+    );
+    for map in [open, "two-140x120.map", "several-140x120.map"] {
+        for pa in ["PA-star", "PA-star-size"] {
+            assert!(
+                length(&records, map, pa) <= length(&records, map, "TA-star"),
+                "{pa} on {map}"
+            );
+        }
+    }
+    // Without obstacles nothing is searched.
+    let free = records
+        .iter()
+        .find(|r| r.map == open && r.planner == "PA-star")
+        .unwrap();
+    assert_eq!(free.counters.get("n_expanded"), Some(0));
+}
