@@ -94,6 +94,35 @@
 //!   local_start(i)]` and section 3.5 as `[x_M2, x_N2]`; both mean the start of the first
 //!   and the goal of the last segment, as Fig. 5's `[S M1 P3 N2 E]` shows.
 //!
+//! # Where the paper's claim fails
+//! Section 4.3 reports PA-star shorter than TA-star, RA-star1 and RA-star2 in every
+//! scenario. On the generated maps of `configs/pastar.toml` (`maps/pastar/`; lengths):
+//!
+//! | scenario | PA-star (r = 4) | PA-star, r = size | TA-star | RA-star1 | RA-star2 |
+//! |---|---:|---:|---:|---:|---:|
+//! | no obstacle | 111.80 | 111.80 | 120.71 | 120.71 | 120.71 |
+//! | two obstacles on the line | 118.97 | 115.52 | 120.71 | 120.71 | 120.71 |
+//! | several obstacles on the line | 126.93 | 115.84 | 131.25 | 121.30 | 125.40 |
+//! | 200 x 200, 1 | 213.33 | 206.52 | 221.62 | 215.76 | 216.59 |
+//! | 200 x 200, 2 | 211.99 | 197.60 | 213.76 | 202.63 | 214.35 |
+//! | 500 x 500, 1 | 568.85 | 457.02 | 481.17 | 474.30 | 499.91 |
+//! | 500 x 500, 2 | 451.26 | 421.41 | 438.11 | 438.11 | 455.51 |
+//!
+//! PA-star is never longer than TA-star on the no-obstacle and line-obstacle maps (tested),
+//! but with Table 5's `r = 4` it loses to RA-star1 (exact 8-connected A*) on the
+//! several-obstacle map and on one 200 x 200 map, and to every reference on the 500 x 500
+//! map, by up to 20 %. The cause is the fixed radius: around an obstacle much larger
+//! than the circle the handover points are the line's last free cell before it and first
+//! after it, so the local path starts at the obstacle's face and hugs it, and the
+//! straight pieces outside it cannot bend early. The paper's Fig. 5 draws circles that
+//! contain their obstacles, which `r = 4` can do only for obstacles about 8 cells across;
+//! the 140 x 120 maps here are made so (7 x 7 blocks), the others are not. With the
+//! radius equal to the obstacle's size (section 3.1) PA-star is shorter than every
+//! reference in every scenario here (on large obstacles its local search then spans most
+//! of S-E and it becomes a 16-direction A*). Section 4.2 finds small `r` best (Table 4);
+//! on the several-obstacle map `configs/pastar-radius.toml` finds the opposite (129.96
+//! for `r <= 5.1`, 120.49 to 121.85 from `r = 8` up).
+//!
 //! ```
 //! use planner_api::{Budget, Cell, Grid, Planner, Problem, Status};
 //! use planner_pastar::{Config, PaStar};
