@@ -1,9 +1,9 @@
 //! 0/1 matrices (`.csv`), seed 000 equation (1): `1` traversable, `0` obstacle.
 
-use planner_api::{Grid, GridError};
+use planner_api::Grid;
 
-use crate::error::{MapError, MapErrorKind};
-use crate::text::{end_of_file, lines, show_char, show_token, unexpected, Origin};
+use crate::error::MapError;
+use crate::text::{lines, show_char, show_token, unexpected, Origin, RowBlock};
 
 /// Parses a 0/1 matrix: one row per line, values `0` or `1` separated by a comma and/or
 /// whitespace (`1,0,1`, `1 0 1` and `1, 0, 1` all work).
@@ -19,68 +19,30 @@ use crate::text::{end_of_file, lines, show_char, show_token, unexpected, Origin}
 pub fn parse_matrix(text: &str, origin: &str) -> Result<Grid, MapError> {
     let o = Origin(origin);
     let mut free = Vec::new();
-    let mut first_row: Option<(usize, usize)> = None; // (width, line)
-    let mut n_rows: usize = 0;
-    let mut blank_after_rows: Option<usize> = None;
+    let mut rows = RowBlock::default();
     for (number, line) in lines(text) {
         let body = line.trim();
         if body.starts_with('#') {
             continue;
         }
         if body.is_empty() {
-            if n_rows > 0 && blank_after_rows.is_none() {
-                blank_after_rows = Some(number);
-            }
+            rows.blank(number);
             continue;
         }
-        if let Some(blank) = blank_after_rows {
-            return Err(o.at(
-                blank,
-                1,
-                unexpected(
-                    format!("no blank line between matrix rows (rows continue on line {number})"),
-                    "a blank line",
-                ),
-            ));
-        }
+        rows.start_row(o, number, "matrix")?;
         let before = free.len();
         let end_column = parse_row(o, number, line, &mut free)?;
         let len = free.len() - before;
-        match first_row {
-            None => first_row = Some((len, number)),
-            Some((expected, first)) if expected != len => {
-                // Point at the first value too many, or after the last value.
-                let column = if len > expected {
-                    value_column(line, expected)
-                } else {
-                    end_column
-                };
-                return Err(o.at(
-                    number,
-                    column,
-                    MapErrorKind::RowWidth {
-                        expected,
-                        found: len,
-                        reference: format!("as in the first row, line {first}"),
-                    },
-                ));
+        // A width error points at the first value too many, or after the last value.
+        rows.row(o, number, len, |expected| {
+            if len > expected {
+                value_column(line, expected)
+            } else {
+                end_column
             }
-            Some(_) => {}
-        }
-        n_rows += 1;
+        })?;
     }
-    let Some((row_width, first)) = first_row else {
-        let (line, column) = end_of_file(text);
-        return Err(o.at(
-            line,
-            column,
-            unexpected("rows of '0' and '1'", "end of file"),
-        ));
-    };
-    let too_large = || o.at(first, 1, MapErrorKind::Grid(GridError::TooLarge));
-    let w = u32::try_from(row_width).map_err(|_| too_large())?;
-    let h = u32::try_from(n_rows).map_err(|_| too_large())?;
-    Grid::from_free_cells(w, h, free).map_err(|e| o.at(first, 1, MapErrorKind::Grid(e)))
+    rows.grid(o, text, free, "rows of '0' and '1'")
 }
 
 /// Parses one row's values into `free`; returns the column just after the last value.

@@ -1,12 +1,10 @@
 //! The seed-003 text format (`.txt`): `#` comment header with start-goal pairs, rows of
 //! `.` and `X`.
 
-use planner_api::{Cell, Grid, GridError};
+use planner_api::Cell;
 
 use crate::error::{MapError, MapErrorKind};
-use crate::text::{
-    end_of_file, lines, parse_u32, show_char, show_token, unexpected, width, Origin,
-};
+use crate::text::{lines, parse_u32, show_char, show_token, unexpected, width, Origin, RowBlock};
 use crate::{MapFile, MapFormat, ProblemSpec};
 
 /// Parses the seed-003 text format into a grid and its start-goal pairs.
@@ -29,9 +27,7 @@ pub fn parse_seed003(text: &str, origin: &str) -> Result<MapFile, MapError> {
     let o = Origin(origin);
     let mut problems = Vec::new();
     let mut free = Vec::new();
-    let mut first_row: Option<(usize, usize)> = None; // (width, line)
-    let mut n_rows: usize = 0;
-    let mut blank_after_rows: Option<usize> = None;
+    let mut rows = RowBlock::default();
     for (number, raw) in lines(text) {
         let line = raw.trim_end();
         let body = line.trim_start();
@@ -42,37 +38,12 @@ pub fn parse_seed003(text: &str, origin: &str) -> Result<MapFile, MapError> {
             continue;
         }
         if body.is_empty() {
-            if n_rows > 0 && blank_after_rows.is_none() {
-                blank_after_rows = Some(number);
-            }
+            rows.blank(number);
             continue;
         }
-        if let Some(blank) = blank_after_rows {
-            return Err(o.at(
-                blank,
-                1,
-                unexpected(
-                    format!("no blank line between map rows (rows continue on line {number})"),
-                    "a blank line",
-                ),
-            ));
-        }
+        rows.start_row(o, number, "map")?;
         let len = width(line);
-        match first_row {
-            None => first_row = Some((len, number)),
-            Some((expected, first)) if expected != len => {
-                return Err(o.at(
-                    number,
-                    len.min(expected) + 1,
-                    MapErrorKind::RowWidth {
-                        expected,
-                        found: len,
-                        reference: format!("as in the first row, line {first}"),
-                    },
-                ));
-            }
-            Some(_) => {}
-        }
+        rows.row(o, number, len, |expected| len.min(expected) + 1)?;
         for (index, symbol) in line.chars().enumerate() {
             match symbol {
                 '.' => free.push(true),
@@ -86,21 +57,8 @@ pub fn parse_seed003(text: &str, origin: &str) -> Result<MapFile, MapError> {
                 }
             }
         }
-        n_rows += 1;
     }
-    let Some((row_width, first)) = first_row else {
-        let (line, column) = end_of_file(text);
-        return Err(o.at(
-            line,
-            column,
-            unexpected("map rows of '.' and 'X'", "end of file"),
-        ));
-    };
-    let too_large = || o.at(first, 1, MapErrorKind::Grid(GridError::TooLarge));
-    let w = u32::try_from(row_width).map_err(|_| too_large())?;
-    let h = u32::try_from(n_rows).map_err(|_| too_large())?;
-    let grid =
-        Grid::from_free_cells(w, h, free).map_err(|e| o.at(first, 1, MapErrorKind::Grid(e)))?;
+    let grid = rows.grid(o, text, free, "map rows of '.' and 'X'")?;
     Ok(MapFile {
         grid,
         problems,

@@ -1,5 +1,7 @@
 //! Line splitting, tokens, numbers and error positions shared by the parsers.
 
+use planner_api::{Grid, GridError};
+
 use crate::error::{MapError, MapErrorKind};
 
 /// The lines of `text` with their 1-based numbers. A UTF-8 byte-order mark is skipped, and
@@ -145,5 +147,93 @@ mod tests {
         ));
         assert!(parse_u32("+1", "x").is_err());
         assert!(parse_u32("-", "x").is_err());
+    }
+}
+
+/// The body of a grid file (seed 003 `.txt`, `.csv`): one block of rows, each as wide as
+/// the first, with blank lines allowed before and after the block but not inside it.
+#[derive(Debug, Default)]
+pub(crate) struct RowBlock {
+    /// (width, line) of the first row.
+    first: Option<(usize, usize)>,
+    n_rows: usize,
+    /// The first blank line after a row.
+    blank_after: Option<usize>,
+}
+
+impl RowBlock {
+    /// Notes that line `number` is blank.
+    pub(crate) fn blank(&mut self, number: usize) {
+        if self.n_rows > 0 && self.blank_after.is_none() {
+            self.blank_after = Some(number);
+        }
+    }
+
+    /// Checks that a row may start on line `number`: no blank line since the last row.
+    /// `what` names the rows in the message ("map", "matrix").
+    pub(crate) fn start_row(
+        &self,
+        o: Origin<'_>,
+        number: usize,
+        what: &str,
+    ) -> Result<(), MapError> {
+        match self.blank_after {
+            Some(blank) => Err(o.at(
+                blank,
+                1,
+                unexpected(
+                    format!("no blank line between {what} rows (rows continue on line {number})"),
+                    "a blank line",
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Records the row on line `number`, `len` cells wide; a width other than the first
+    /// row's is an error at `column(expected_width)`.
+    pub(crate) fn row(
+        &mut self,
+        o: Origin<'_>,
+        number: usize,
+        len: usize,
+        column: impl FnOnce(usize) -> usize,
+    ) -> Result<(), MapError> {
+        match self.first {
+            None => self.first = Some((len, number)),
+            Some((expected, first)) if expected != len => {
+                return Err(o.at(
+                    number,
+                    column(expected),
+                    MapErrorKind::RowWidth {
+                        expected,
+                        found: len,
+                        reference: format!("as in the first row, line {first}"),
+                    },
+                ));
+            }
+            Some(_) => {}
+        }
+        self.n_rows += 1;
+        Ok(())
+    }
+
+    /// The grid of the rows' row-major `free` flags. Without any row, an error at the end
+    /// of `text` saying that `expected` rows were expected.
+    pub(crate) fn grid(
+        &self,
+        o: Origin<'_>,
+        text: &str,
+        free: Vec<bool>,
+        expected: &str,
+    ) -> Result<Grid, MapError> {
+        let Some((row_width, first)) = self.first else {
+            let (line, column) = end_of_file(text);
+            return Err(o.at(line, column, unexpected(expected, "end of file")));
+        };
+        let too_large = || o.at(first, 1, MapErrorKind::Grid(GridError::TooLarge));
+        let w = u32::try_from(row_width).map_err(|_| too_large())?;
+        let h = u32::try_from(self.n_rows).map_err(|_| too_large())?;
+        Grid::from_free_cells(w, h, free).map_err(|e| o.at(first, 1, MapErrorKind::Grid(e)))
     }
 }
