@@ -396,14 +396,6 @@ impl MoveSet {
         &self.moves
     }
 
-    /// The cheapest move cost (1 for every neighbourhood here).
-    pub fn min_cost(&self) -> f64 {
-        self.moves
-            .iter()
-            .map(|m| m.cost)
-            .fold(f64::INFINITY, f64::min)
-    }
-
     /// The target of `mv` from `from` when the move is allowed on `grid`: target in bounds
     /// and free, and every cell its segment passes through free.
     pub fn apply(&self, grid: &Grid, from: Cell, mv: &Move) -> Option<Cell> {
