@@ -34,11 +34,11 @@
 //! map costs 100 cells, not 262,144. Moves come from planner-api's [`Adjacency`]: per-cell
 //! masks of the safe moves over a padded grid, built once per grid, so the neighbour loop
 //! has no bounds or obstacle test and walks the set bits in the configured order; the
-//! blocked checks are counted as the clear bits. OPEN (module `buckets`) keeps one bucket
-//! per distinct f value behind a small heap of those values, and in each bucket a heap of
-//! (tie, push sequence): entries come out in exactly the order of the full key. An
-//! improved node is pushed again and its older entry is skipped when it comes out (the
-//! node is then CLOSED); `peak_open` counts nodes in OPEN, not entries.
+//! blocked checks are counted as the clear bits. OPEN (module `open`) is a ring of narrow
+//! `f` buckets in front of a small heap that holds the least bucket: most pushes are
+//! appends, and entries come out in exactly the order of the full key (f, tie, push
+//! sequence). An improved node is pushed again and its older entry is skipped when it
+//! comes out (the node is then CLOSED); `peak_open` counts nodes in OPEN, not entries.
 //!
 //! # Defaults
 //! The defaults are the paper's: 4-connected moves in the order right, left, down, up,
@@ -67,9 +67,9 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-mod buckets;
+mod open;
 
-use buckets::Buckets;
+use open::{BucketOpen, Open};
 use planner_api::{
     Adjacency, Budget, Cell, Connectivity, Counter, MoveOrderError, MoveSet, NeighborOrder,
     Outcome, Path, Planner, Problem, SearchStats, Status,
@@ -199,7 +199,17 @@ pub struct AStar {
     adjacency: Option<Adjacency>,
     generation: u32,
     nodes: Vec<Node>,
-    open: Buckets,
+    opens: Opens,
+}
+
+/// One OPEN list per tie rule and implementation; a search uses one of them, and only
+/// that one holds memory.
+#[derive(Debug, Clone, Default)]
+struct Opens {
+    fifo: BucketOpen<{ open::FIFO }>,
+    lifo: BucketOpen<{ open::LIFO }>,
+    low_g: BucketOpen<{ open::LOW_G }>,
+    high_g: BucketOpen<{ open::HIGH_G }>,
 }
 
 /// Per-cell search state, one record per padded cell so that a relaxation touches one
@@ -225,7 +235,7 @@ impl AStar {
             adjacency: None,
             generation: 0,
             nodes: Vec::new(),
-            open: Buckets::default(),
+            opens: Opens::default(),
         })
     }
 
@@ -241,6 +251,38 @@ impl AStar {
 
     /// Runs A* on `problem` within `budget` and returns the path with raw counters.
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+        let mut opens = std::mem::take(&mut self.opens);
+        let max_cost = self
+            .moves
+            .moves()
+            .iter()
+            .map(|m| m.cost)
+            .fold(0.0, f64::max);
+        let weight = self.config.weight;
+        let search = match self.config.tie_break {
+            TieBreak::Fifo => {
+                opens.fifo.configure(max_cost, weight);
+                self.run(&mut opens.fifo, problem, budget)
+            }
+            TieBreak::Lifo => {
+                opens.lifo.configure(max_cost, weight);
+                self.run(&mut opens.lifo, problem, budget)
+            }
+            TieBreak::LowG => {
+                opens.low_g.configure(max_cost, weight);
+                self.run(&mut opens.low_g, problem, budget)
+            }
+            TieBreak::HighG => {
+                opens.high_g.configure(max_cost, weight);
+                self.run(&mut opens.high_g, problem, budget)
+            }
+        };
+        self.opens = opens;
+        search
+    }
+
+    /// The search itself, with the OPEN list `open`.
+    fn run<O: Open>(&mut self, open: &mut O, problem: &Problem<'_>, budget: &Budget) -> Search {
         let grid = problem.grid();
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         if self.nodes.len() != adjacency.padded_len() {
@@ -255,7 +297,6 @@ impl AStar {
         let open_stamp = self.generation << 1;
         let closed_stamp = open_stamp | 1;
         let nodes = &mut self.nodes[..];
-        let open = &mut self.open;
         open.clear();
 
         let n_moves = adjacency.n_moves();
@@ -272,25 +313,7 @@ impl AStar {
         let goal_index = adjacency.index(goal);
         let heuristic = self.config.heuristic;
         let weight = self.config.weight;
-        let tie_break = self.config.tie_break;
-        let mut n_pushed: u64 = 0;
-        // The heap key of a node with `g_node` at (x, y); see `buckets::Key`.
-        let mut key = |g_node: f64, x: u32, y: u32| -> buckets::Key {
-            let seq = match tie_break {
-                TieBreak::Lifo => u64::MAX - n_pushed,
-                _ => n_pushed,
-            };
-            n_pushed += 1;
-            // f = g + beta * h >= 0 and g >= 0: their bit patterns order like the numbers
-            // (`+ 0.0` turns -0.0 into +0.0); high-g-first complements g's bits.
-            let tie = match tie_break {
-                TieBreak::LowG => (g_node + 0.0).to_bits(),
-                TieBreak::HighG => !(g_node + 0.0).to_bits(),
-                TieBreak::Fifo | TieBreak::Lifo => 0,
-            };
-            let f = g_node + weight * heuristic.estimate(x, y, goal.x, goal.y);
-            ((f + 0.0).to_bits(), tie, seq)
-        };
+        let h = |x: u32, y: u32| weight * heuristic.estimate(x, y, goal.x, goal.y);
 
         let mut stats = SearchStats::default();
         let mut clock = budget.start();
@@ -301,14 +324,16 @@ impl AStar {
             parent: start_index as u32,
             stamp: open_stamp,
         };
-        open.push(start_index as u32, key(0.0, start.x, start.y));
+        open.push(start_index as u32, h(start.x, start.y), 0.0);
         let mut n_open: u64 = 1;
         stats.n_open_insertions = 1;
         stats.peak_open = 1;
 
         loop {
-            if open.len() == 0 {
-                break;
+            let Some(p) = open.pop() else { break };
+            let p = p as usize;
+            if nodes[p].stamp == closed_stamp {
+                continue; // The older entry of a node improved while in OPEN.
             }
             if !clock.allows(stats.n_expanded) {
                 return Search {
@@ -317,11 +342,6 @@ impl AStar {
                     cost: None,
                     stats,
                 };
-            }
-            let Some(p) = open.pop() else { break };
-            let p = p as usize;
-            if nodes[p].stamp == closed_stamp {
-                continue; // The older entry of a node improved while in OPEN.
             }
             nodes[p].stamp = closed_stamp;
             n_open -= 1;
@@ -360,8 +380,8 @@ impl AStar {
                         parent: p as u32,
                         stamp: open_stamp,
                     };
-                    let k = key(g_temp, x.wrapping_add(dx[m]), y.wrapping_add(dy[m]));
-                    open.push(q as u32, k);
+                    let f = g_temp + h(x.wrapping_add(dx[m]), y.wrapping_add(dy[m]));
+                    open.push(q as u32, f, g_temp);
                     if !known {
                         stats.n_open_insertions += 1;
                         n_open += 1;

@@ -1,0 +1,422 @@
+//! OPEN lists. Every one pops entries in exactly the order of the full key
+//! `(f, tie, push sequence)` that [`TieBreak`](crate::TieBreak) defines, with lazy deletion:
+//! a node improved while in OPEN gets a second entry and the older one is skipped by the
+//! search when it comes out (the node is then CLOSED).
+//!
+//! Two implementations, chosen per search by what the costs allow:
+//! - [`HeapOpen`], for any `f`: one binary heap of compact entries. `f` and `g` are
+//!   non-negative floats, whose bit patterns order like the numbers, so the key is integers.
+//! - [`BucketOpen`], when every `f` and `g` is a small integer (4-connected moves with an
+//!   integer heuristic and weight): a bucket queue indexed by `f`, each bucket a FIFO queue,
+//!   a stack, or (for the g rules) a queue per `g`. Push and pop are O(1) amortized.
+
+/// The tie rules as const-generic parameters (see [`TieBreak`](crate::TieBreak)).
+pub(crate) const FIFO: u8 = 0;
+pub(crate) const LIFO: u8 = 1;
+pub(crate) const LOW_G: u8 = 2;
+pub(crate) const HIGH_G: u8 = 3;
+
+/// An OPEN list.
+pub(crate) trait Open {
+    /// Empties the list, keeping its memory.
+    fn clear(&mut self);
+    /// Inserts `node` with evaluation `f` and cost so far `g`. Preconditions: both are
+    /// non-negative and not NaN; for [`BucketOpen`], both are integers below 2^32.
+    fn push(&mut self, node: u32, f: f64, g: f64);
+    /// Removes and returns the entry with the least key, stale ones included.
+    fn pop(&mut self) -> Option<u32>;
+}
+
+/// A heap entry: `f`'s bits, the tie value, and the push sequence (high half) with the node
+/// (low half), compared in that order as one 192-bit number. The node never decides, as
+/// sequences are distinct.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Entry {
+    f: u64,
+    tie: u64,
+    seq_node: u64,
+}
+
+impl Entry {
+    /// The entry of the `n_pushed`-th push under tie rule `TIE`. Precondition:
+    /// `n_pushed < 2^32` (see [`BucketOpen::renumber`]).
+    #[inline(always)]
+    fn new<const TIE: u8>(node: u32, f: f64, g: f64, n_pushed: u64) -> Entry {
+        // `+ 0.0` turns -0.0 into +0.0, so that bit order is numeric order.
+        let g_bits = (g + 0.0).to_bits();
+        let (tie, seq) = match TIE {
+            FIFO => (0, n_pushed),
+            LIFO => (0, u64::from(u32::MAX) - n_pushed),
+            LOW_G => (g_bits, n_pushed),
+            _ => (!g_bits, n_pushed),
+        };
+        Entry {
+            f: (f + 0.0).to_bits(),
+            tie,
+            seq_node: seq << 32 | u64::from(node),
+        }
+    }
+
+    /// The node.
+    #[inline(always)]
+    fn node(&self) -> u32 {
+        self.seq_node as u32
+    }
+
+    /// Whether `self` comes before `other`: the borrow out of the 192-bit subtraction
+    /// `self - other`, without a branch.
+    #[inline(always)]
+    fn precedes(&self, other: &Entry) -> bool {
+        let (_, borrow) = self.seq_node.overflowing_sub(other.seq_node);
+        let (tie, b1) = self.tie.overflowing_sub(other.tie);
+        let (_, b2) = tie.overflowing_sub(u64::from(borrow));
+        let (f, b3) = self.f.overflowing_sub(other.f);
+        let (_, b4) = f.overflowing_sub(u64::from(b1 | b2));
+        b3 | b4
+    }
+}
+
+/// OPEN as a ring of buckets of width `1 / scale` in `f`, ahead of a heap that holds the
+/// current (least) bucket: pushes into later buckets are appends, and the heap stays small.
+///
+/// Invariant: the heap holds every entry whose bucket `floor(f * scale)` is at most `cur`,
+/// the ring every entry whose bucket lies in `(cur, cur + ring.len())`, at the slot
+/// `bucket % ring.len()`, and `overflow` (a heap) every entry above. The heap's least entry
+/// is then the least of all, whatever the heuristic: with an inconsistent one, an entry may
+/// land below `cur` and simply joins the heap.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct BucketOpen<const TIE: u8> {
+    /// Buckets per unit of `f`: a power of two, so that `f * scale` is exact.
+    scale: f64,
+    cur: u64,
+    heap: MinHeap,
+    ring: Vec<Vec<Entry>>,
+    in_ring: usize,
+    overflow: MinHeap,
+    n_pushed: u64,
+    /// Sequences are 32 bits: at this many pushes the entries are renumbered.
+    seq_limit: u64,
+}
+
+impl<const TIE: u8> BucketOpen<TIE> {
+    /// Sets the bucket width for moves costing at most `max_cost` and the weight `weight`:
+    /// with a consistent heuristic, the `f` values in OPEN span at most
+    /// `(1 + weight) * max_cost`, which the ring then covers.
+    pub(crate) fn configure(&mut self, max_cost: f64, weight: f64) {
+        const BUCKETS_PER_UNIT: f64 = 16.0;
+        let span = (1.0 + weight) * max_cost * BUCKETS_PER_UNIT;
+        let slots = if span.is_finite() && span < 4096.0 {
+            (span as usize + 2).next_power_of_two()
+        } else {
+            4096
+        };
+        self.scale = BUCKETS_PER_UNIT;
+        self.seq_limit = 1 << 32;
+        self.ring.resize_with(slots, Vec::new);
+        self.clear();
+    }
+
+    /// Places `entry` by its bucket.
+    #[inline(always)]
+    fn place(&mut self, entry: Entry) {
+        let bucket = self.bucket(entry.f);
+        let slots = self.ring.len() as u64;
+        if bucket <= self.cur {
+            self.heap.push(entry);
+        } else if bucket - self.cur < slots {
+            self.ring[(bucket & (slots - 1)) as usize].push(entry);
+            self.in_ring += 1;
+        } else {
+            self.overflow.push(entry);
+        }
+    }
+
+    /// Gives the entries in OPEN the sequences `0..n` (FIFO and the g rules) or the top
+    /// `n` values (LIFO) in their current order, so that 32-bit sequences never wrap.
+    /// Precondition: fewer than 2^32 entries.
+    #[cold]
+    fn renumber(&mut self) {
+        let mut entries = std::mem::take(&mut self.heap.items);
+        entries.append(&mut self.overflow.items);
+        for slot in &mut self.ring {
+            entries.append(slot);
+        }
+        self.in_ring = 0;
+        entries.sort_unstable_by_key(|e| (e.f, e.tie, e.seq_node));
+        let n = entries.len() as u64;
+        let first = if TIE == LIFO {
+            u64::from(u32::MAX) + 1 - n
+        } else {
+            0
+        };
+        for (rank, entry) in (first..).zip(entries) {
+            self.place(Entry {
+                seq_node: rank << 32 | u64::from(entry.node()),
+                ..entry
+            });
+        }
+        self.n_pushed = n;
+    }
+
+    #[inline(always)]
+    fn bucket(&self, f_bits: u64) -> u64 {
+        // Float-to-integer casts saturate, and `f * scale` is exact: monotone in `f`.
+        (f64::from_bits(f_bits) * self.scale) as u64
+    }
+
+    /// Moves the entries of bucket `cur`'s slot into the heap, and from `overflow` the
+    /// entries now inside the ring's window.
+    fn enter_bucket(&mut self) {
+        let slots = self.ring.len() as u64;
+        let mask = slots - 1;
+        while let Some(&entry) = self.overflow.peek() {
+            let bucket = self.bucket(entry.f);
+            if bucket > self.cur && bucket - self.cur >= slots {
+                break;
+            }
+            self.overflow.pop();
+            if bucket <= self.cur {
+                self.heap.items.push(entry);
+            } else {
+                self.ring[(bucket & mask) as usize].push(entry);
+                self.in_ring += 1;
+            }
+        }
+        let slot = &mut self.ring[(self.cur & mask) as usize];
+        if !slot.is_empty() {
+            self.in_ring -= slot.len();
+            self.heap.items.append(slot);
+        }
+        self.heap.heapify();
+    }
+}
+
+impl<const TIE: u8> Open for BucketOpen<TIE> {
+    fn clear(&mut self) {
+        self.heap.clear();
+        self.overflow.clear();
+        if self.in_ring > 0 {
+            for slot in &mut self.ring {
+                slot.clear();
+            }
+        }
+        self.in_ring = 0;
+        self.cur = 0;
+        self.n_pushed = 0;
+    }
+
+    #[inline]
+    fn push(&mut self, node: u32, f: f64, g: f64) {
+        if self.n_pushed == self.seq_limit {
+            self.renumber();
+        }
+        let entry = Entry::new::<TIE>(node, f, g, self.n_pushed);
+        self.n_pushed += 1;
+        self.place(entry);
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<u32> {
+        loop {
+            if let Some(entry) = self.heap.pop() {
+                return Some(entry.node());
+            }
+            if self.in_ring > 0 {
+                self.cur += 1;
+            } else {
+                let &least = self.overflow.peek()?;
+                self.cur = self.bucket(least.f);
+            }
+            self.enter_bucket();
+        }
+    }
+}
+
+/// A binary min-heap of entries. `pop` is Floyd's: the hole left at the root goes down
+/// to a leaf along the lesser children (one comparison per level), and the last entry rises
+/// from there; it usually belongs near the bottom.
+#[derive(Debug, Clone, Default)]
+struct MinHeap {
+    items: Vec<Entry>,
+}
+
+impl MinHeap {
+    fn clear(&mut self) {
+        self.items.clear();
+    }
+
+    fn peek(&self) -> Option<&Entry> {
+        self.items.first()
+    }
+
+    /// Restores the heap order of `items` from scratch, in linear time.
+    fn heapify(&mut self) {
+        let items = &mut self.items[..];
+        let len = items.len();
+        for start in (0..len / 2).rev() {
+            let item = items[start];
+            let mut hole = start;
+            let mut child = 2 * hole + 1;
+            while child < len {
+                if child + 1 < len && items[child + 1].precedes(&items[child]) {
+                    child += 1;
+                }
+                if !items[child].precedes(&item) {
+                    break;
+                }
+                items[hole] = items[child];
+                hole = child;
+                child = 2 * hole + 1;
+            }
+            items[hole] = item;
+        }
+    }
+
+    #[inline]
+    fn push(&mut self, item: Entry) {
+        self.items.push(item);
+        let items = &mut self.items[..];
+        let mut hole = items.len() - 1;
+        while hole > 0 {
+            let parent = (hole - 1) / 2;
+            if !item.precedes(&items[parent]) {
+                break;
+            }
+            items[hole] = items[parent];
+            hole = parent;
+        }
+        items[hole] = item;
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Entry> {
+        let last = self.items.pop()?;
+        let items = &mut self.items[..];
+        let Some(&top) = items.first() else {
+            return Some(last);
+        };
+        let len = items.len();
+        let mut hole = 0;
+        let mut child = 1;
+        while child + 1 < len {
+            child += usize::from(items[child + 1].precedes(&items[child]));
+            items[hole] = items[child];
+            hole = child;
+            child = 2 * hole + 1;
+        }
+        if child + 1 == len {
+            items[hole] = items[child];
+            hole = child;
+        }
+        while hole > 0 {
+            let parent = (hole - 1) / 2;
+            if !last.precedes(&items[parent]) {
+                break;
+            }
+            items[hole] = items[parent];
+            hole = parent;
+        }
+        items[hole] = last;
+        Some(top)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    /// The reference key of a push: `(f, tie, seq)` with the tie rule's meaning, compared
+    /// as numbers (`f` and `g` are non-negative, so their bits order like them).
+    fn reference_key<const TIE: u8>(f: f64, g: f64, seq: u64) -> (u64, i128, i128) {
+        let tie = match TIE {
+            FIFO | LIFO => 0,
+            LOW_G => i128::from((g + 0.0).to_bits()),
+            _ => -i128::from((g + 0.0).to_bits()),
+        };
+        let seq = if TIE == LIFO {
+            -i128::from(seq)
+        } else {
+            i128::from(seq)
+        };
+        ((f + 0.0).to_bits(), tie, seq)
+    }
+
+    /// Pushes and pops pseudo-random entries, interleaved, and checks every pop against an
+    /// ordered set of the reference keys. `f` values come from `fs`, `g` from `gs`.
+    fn check<O: Open + Default, const TIE: u8>(
+        mut open: O,
+        fs: &[f64],
+        gs: &[f64],
+        push_share: u64,
+    ) {
+        let mut reference = BTreeSet::new();
+        let mut state = 99u64;
+        let mut n_pushed = 0u64;
+        for round in 0..20_000u64 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            if state % 100 < push_share || reference.is_empty() {
+                let f = fs[(state >> 8) as usize % fs.len()];
+                let g = gs[(state >> 24) as usize % gs.len()];
+                let node = (round % 700) as u32;
+                open.push(node, f, g);
+                reference.insert((reference_key::<TIE>(f, g, n_pushed), node));
+                n_pushed += 1;
+            } else {
+                let least = reference.pop_first().map(|(_, node)| node);
+                assert_eq!(open.pop(), least, "rule {TIE} round {round}");
+            }
+        }
+        while let Some((_, node)) = reference.pop_first() {
+            assert_eq!(open.pop(), Some(node));
+        }
+        assert_eq!(open.pop(), None);
+    }
+
+    /// A bucket OPEN; `seq_limit` lowers the renumbering threshold to test it.
+    fn bucket_open<const TIE: u8>(max_cost: f64, seq_limit: Option<u64>) -> BucketOpen<TIE> {
+        let mut open = BucketOpen::default();
+        open.configure(max_cost, 1.0);
+        if let Some(limit) = seq_limit {
+            open.seq_limit = limit;
+        }
+        open
+    }
+
+    fn check_every_rule(fs: &[f64], gs: &[f64], max_cost: f64, push_share: u64) {
+        for seq_limit in [None, Some(3000)] {
+            check::<_, FIFO>(bucket_open::<FIFO>(max_cost, seq_limit), fs, gs, push_share);
+            check::<_, LIFO>(bucket_open::<LIFO>(max_cost, seq_limit), fs, gs, push_share);
+            check::<_, LOW_G>(
+                bucket_open::<LOW_G>(max_cost, seq_limit),
+                fs,
+                gs,
+                push_share,
+            );
+            check::<_, HIGH_G>(
+                bucket_open::<HIGH_G>(max_cost, seq_limit),
+                fs,
+                gs,
+                push_share,
+            );
+        }
+    }
+
+    #[test]
+    fn buckets_pop_in_full_key_order() {
+        // Irrational values with exact ties, spread over many buckets and beyond the ring
+        // (overflow), pushed in any order (entries below the current bucket).
+        let fs: Vec<f64> = (0..40).map(|i| f64::from(i) * 0.5f64.sqrt()).collect();
+        let gs = [0.0, 0.25, 1.5, 2.0, 7.0];
+        for push_share in [30, 55, 80] {
+            check_every_rule(&fs, &gs, 1.0, push_share);
+            // A tiny ring: most entries overflow.
+            check_every_rule(&fs, &gs, 0.01, push_share);
+        }
+        // Huge values saturate the bucket index; zero and negative zero are one value.
+        let fs = [0.0, -0.0, 1e300, f64::MAX, 3.0];
+        check_every_rule(&fs, &gs, 1.0, 60);
+    }
+}
