@@ -329,8 +329,7 @@ impl AStar {
         stats.n_open_insertions = 1;
         stats.peak_open = 1;
 
-        loop {
-            let Some(p) = open.pop() else { break };
+        while let Some(p) = open.pop() {
             let p = p as usize;
             if nodes[p].stamp == closed_stamp {
                 continue; // The older entry of a node improved while in OPEN.
