@@ -69,7 +69,7 @@
 
 mod open;
 
-use open::{BucketOpen, Open};
+use open::{BucketOpen, IntOpen, Open};
 use planner_api::{
     Adjacency, Budget, Cell, Connectivity, Counter, MoveOrderError, MoveSet, NeighborOrder,
     Outcome, Path, Planner, Problem, SearchStats, Status,
@@ -100,17 +100,25 @@ pub enum Heuristic {
 }
 
 impl Heuristic {
+    /// Whether the estimate is an integer that changes by at most 1 along a unit move
+    /// (one step right, left, down or up): Manhattan, Chebyshev and zero.
+    pub fn is_consistent_integer_on_unit_moves(self) -> bool {
+        matches!(
+            self,
+            Heuristic::Manhattan | Heuristic::Chebyshev | Heuristic::Zero
+        )
+    }
+
     /// The estimate from `(x, y)` to `(gx, gy)`.
     #[inline]
     pub fn estimate(self, x: u32, y: u32, gx: u32, gy: u32) -> f64 {
-        let dx = f64::from(x.abs_diff(gx));
-        let dy = f64::from(y.abs_diff(gy));
+        let (dx, dy) = (x.abs_diff(gx), y.abs_diff(gy));
         match self {
-            Heuristic::Manhattan => dx + dy,
-            Heuristic::Octile => dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy),
-            Heuristic::Euclidean => dx.hypot(dy),
-            Heuristic::Chebyshev => dx.max(dy),
-            Heuristic::Zero => 0.0,
+            Heuristic::Manhattan => estimate::<MANHATTAN>(dx, dy),
+            Heuristic::Octile => estimate::<OCTILE>(dx, dy),
+            Heuristic::Euclidean => estimate::<EUCLIDEAN>(dx, dy),
+            Heuristic::Chebyshev => estimate::<CHEBYSHEV>(dx, dy),
+            Heuristic::Zero => estimate::<ZERO>(dx, dy),
         }
     }
 }
@@ -203,13 +211,17 @@ pub struct AStar {
 }
 
 /// One OPEN list per tie rule and implementation; a search uses one of them, and only
-/// that one holds memory.
+/// those used hold memory.
 #[derive(Debug, Clone, Default)]
 struct Opens {
     fifo: BucketOpen<{ open::FIFO }>,
     lifo: BucketOpen<{ open::LIFO }>,
     low_g: BucketOpen<{ open::LOW_G }>,
     high_g: BucketOpen<{ open::HIGH_G }>,
+    int_fifo: IntOpen<{ open::FIFO }>,
+    int_lifo: IntOpen<{ open::LIFO }>,
+    int_low_g: IntOpen<{ open::LOW_G }>,
+    int_high_g: IntOpen<{ open::HIGH_G }>,
 }
 
 /// Per-cell search state, one record per padded cell so that a relaxation touches one
@@ -251,6 +263,17 @@ impl AStar {
 
     /// Runs A* on `problem` within `budget` and returns the path with raw counters.
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+        let integral = IntOpen::<{ open::FIFO }>::fits(
+            self.moves.moves().iter().map(|m| m.cost),
+            self.config.weight,
+            self.config.heuristic.is_consistent_integer_on_unit_moves(),
+        );
+        self.search_with(problem, budget, integral)
+    }
+
+    /// [`AStar::search`] with the integer OPEN when `integral` (its precondition checked
+    /// by the caller), else the general one.
+    fn search_with(&mut self, problem: &Problem<'_>, budget: &Budget, integral: bool) -> Search {
         let mut opens = std::mem::take(&mut self.opens);
         let max_cost = self
             .moves
@@ -259,30 +282,56 @@ impl AStar {
             .map(|m| m.cost)
             .fold(0.0, f64::max);
         let weight = self.config.weight;
-        let search = match self.config.tie_break {
-            TieBreak::Fifo => {
+        let search = match (integral, self.config.tie_break) {
+            (true, TieBreak::Fifo) => self.run_with(&mut opens.int_fifo, problem, budget),
+            (true, TieBreak::Lifo) => self.run_with(&mut opens.int_lifo, problem, budget),
+            (true, TieBreak::LowG) => self.run_with(&mut opens.int_low_g, problem, budget),
+            (true, TieBreak::HighG) => self.run_with(&mut opens.int_high_g, problem, budget),
+            (false, TieBreak::Fifo) => {
                 opens.fifo.configure(max_cost, weight);
-                self.run(&mut opens.fifo, problem, budget)
+                self.run_with(&mut opens.fifo, problem, budget)
             }
-            TieBreak::Lifo => {
+            (false, TieBreak::Lifo) => {
                 opens.lifo.configure(max_cost, weight);
-                self.run(&mut opens.lifo, problem, budget)
+                self.run_with(&mut opens.lifo, problem, budget)
             }
-            TieBreak::LowG => {
+            (false, TieBreak::LowG) => {
                 opens.low_g.configure(max_cost, weight);
-                self.run(&mut opens.low_g, problem, budget)
+                self.run_with(&mut opens.low_g, problem, budget)
             }
-            TieBreak::HighG => {
+            (false, TieBreak::HighG) => {
                 opens.high_g.configure(max_cost, weight);
-                self.run(&mut opens.high_g, problem, budget)
+                self.run_with(&mut opens.high_g, problem, budget)
             }
         };
         self.opens = opens;
         search
     }
 
-    /// The search itself, with the OPEN list `open`.
-    fn run<O: Open>(&mut self, open: &mut O, problem: &Problem<'_>, budget: &Budget) -> Search {
+    /// [`AStar::run`] with the configured heuristic as a constant.
+    fn run_with<O: Open>(
+        &mut self,
+        open: &mut O,
+        problem: &Problem<'_>,
+        budget: &Budget,
+    ) -> Search {
+        match self.config.heuristic {
+            Heuristic::Manhattan => self.run::<O, MANHATTAN>(open, problem, budget),
+            Heuristic::Octile => self.run::<O, OCTILE>(open, problem, budget),
+            Heuristic::Euclidean => self.run::<O, EUCLIDEAN>(open, problem, budget),
+            Heuristic::Chebyshev => self.run::<O, CHEBYSHEV>(open, problem, budget),
+            Heuristic::Zero => self.run::<O, ZERO>(open, problem, budget),
+        }
+    }
+
+    /// The search itself, with the OPEN list `open` and heuristic `H` (one of the
+    /// constants [`MANHATTAN`] ... [`ZERO`]). Counters are locals until it returns.
+    fn run<O: Open, const H: u8>(
+        &mut self,
+        open: &mut O,
+        problem: &Problem<'_>,
+        budget: &Budget,
+    ) -> Search {
         let grid = problem.grid();
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         if self.nodes.len() != adjacency.padded_len() {
@@ -299,23 +348,17 @@ impl AStar {
         let nodes = &mut self.nodes[..];
         open.clear();
 
-        let n_moves = adjacency.n_moves();
-        let mut dx = [0u32; 64];
-        let mut dy = [0u32; 64];
-        let mut cost = [0.0f64; 64];
-        for (m, mv) in self.moves.moves().iter().enumerate() {
+        let n_moves = adjacency.n_moves() as u64;
+        let mut step = [(0u32, 0u32, 0.0f64); 64];
+        for (slot, mv) in step.iter_mut().zip(self.moves.moves()) {
             // Wrapping offsets: x + dx stays in the grid whenever the move's mask bit is set.
-            dx[m] = mv.dx as u32;
-            dy[m] = mv.dy as u32;
-            cost[m] = mv.cost;
+            *slot = (mv.dx as u32, mv.dy as u32, mv.cost);
         }
         let goal = problem.goal();
         let goal_index = adjacency.index(goal);
-        let heuristic = self.config.heuristic;
         let weight = self.config.weight;
-        let h = |x: u32, y: u32| weight * heuristic.estimate(x, y, goal.x, goal.y);
+        let h = |x: u32, y: u32| weight * estimate::<H>(x.abs_diff(goal.x), y.abs_diff(goal.y));
 
-        let mut stats = SearchStats::default();
         let mut clock = budget.start();
         let start = problem.start();
         let start_index = adjacency.index(start);
@@ -325,76 +368,140 @@ impl AStar {
             stamp: open_stamp,
         };
         open.push(start_index as u32, h(start.x, start.y), 0.0);
-        let mut n_open: u64 = 1;
-        stats.n_open_insertions = 1;
-        stats.peak_open = 1;
+        // The counters: blocked and neighbour checks follow from the safe moves tried.
+        let mut n_expanded = 0u64;
+        let mut n_safe = 0u64;
+        let mut n_skipped = 0u64;
+        let mut n_relaxations = 0u64;
+        let mut n_open_insertions = 1u64;
+        let mut peak_open = 1u64;
+        let stats = |n_expanded: u64,
+                     n_checked: u64,
+                     n_safe,
+                     n_skipped,
+                     n_relaxations,
+                     n_open_insertions,
+                     peak_open| {
+            let n_neighbor_checks = n_moves * n_checked;
+            SearchStats {
+                n_expanded,
+                n_neighbor_checks,
+                n_blocked: n_neighbor_checks - n_safe,
+                n_skipped,
+                n_open_insertions,
+                n_relaxations,
+                peak_open,
+                ..SearchStats::default()
+            }
+        };
 
         while let Some(p) = open.pop() {
             let p = p as usize;
             if nodes[p].stamp == closed_stamp {
                 continue; // The older entry of a node improved while in OPEN.
             }
-            if !clock.allows(stats.n_expanded) {
+            if !clock.allows(n_expanded) {
                 return Search {
                     status: Status::BudgetExhausted,
                     path: None,
                     cost: None,
-                    stats,
+                    stats: stats(
+                        n_expanded,
+                        n_expanded,
+                        n_safe,
+                        n_skipped,
+                        n_relaxations,
+                        n_open_insertions,
+                        peak_open,
+                    ),
                 };
             }
             nodes[p].stamp = closed_stamp;
-            n_open -= 1;
-            stats.n_expanded += 1;
+            n_expanded += 1;
             if p == goal_index {
                 let path = reconstruct(adjacency, nodes, start_index, goal_index);
                 return Search {
                     status: Status::Found,
                     path: Some(path),
                     cost: Some(nodes[p].g),
-                    stats,
+                    // The goal's moves are not checked.
+                    stats: stats(
+                        n_expanded,
+                        n_expanded - 1,
+                        n_safe,
+                        n_skipped,
+                        n_relaxations,
+                        n_open_insertions,
+                        peak_open,
+                    ),
                 };
             }
             let Cell { x, y } = adjacency.cell(p);
             let g_node = nodes[p].g;
             let mut mask = adjacency.mask(p);
-            stats.n_neighbor_checks += n_moves as u64;
-            stats.n_blocked += (n_moves - mask.count_ones() as usize) as u64;
             // Set bits in increasing order are the safe moves in the configured order.
             while mask != 0 {
                 let m = mask.trailing_zeros();
                 mask &= mask - 1;
+                n_safe += 1;
                 let q = adjacency.neighbor(p, m);
                 let next = &mut nodes[q];
                 if next.stamp == closed_stamp {
-                    stats.n_skipped += 1;
+                    n_skipped += 1;
                     continue;
                 }
-                let m = m as usize;
-                let g_temp = g_node + cost[m];
+                let (dx, dy, cost) = step[(m & 63) as usize];
+                let g_temp = g_node + cost;
                 let known = next.stamp == open_stamp;
                 if !known || g_temp < next.g {
-                    stats.n_relaxations += 1;
+                    n_relaxations += 1;
+                    n_open_insertions += u64::from(!known);
                     *next = Node {
                         g: g_temp,
                         parent: p as u32,
                         stamp: open_stamp,
                     };
-                    let f = g_temp + h(x.wrapping_add(dx[m]), y.wrapping_add(dy[m]));
+                    let f = g_temp + h(x.wrapping_add(dx), y.wrapping_add(dy));
                     open.push(q as u32, f, g_temp);
-                    if !known {
-                        stats.n_open_insertions += 1;
-                        n_open += 1;
-                        stats.peak_open = stats.peak_open.max(n_open);
-                    }
                 }
             }
+            // OPEN only grows while a node's moves are tried: its peak is reached here.
+            peak_open = peak_open.max(n_open_insertions - n_expanded);
         }
         Search {
             status: Status::NoPath,
             path: None,
             cost: None,
-            stats,
+            stats: stats(
+                n_expanded,
+                n_expanded,
+                n_safe,
+                n_skipped,
+                n_relaxations,
+                n_open_insertions,
+                peak_open,
+            ),
         }
+    }
+}
+
+/// The heuristics as const-generic parameters of the search loop.
+const MANHATTAN: u8 = 0;
+const OCTILE: u8 = 1;
+const EUCLIDEAN: u8 = 2;
+const CHEBYSHEV: u8 = 3;
+const ZERO: u8 = 4;
+
+/// Heuristic `H` of the offsets `dx`, `dy` to the goal, as [`Heuristic::estimate`].
+#[inline(always)]
+fn estimate<const H: u8>(dx: u32, dy: u32) -> f64 {
+    let (dx, dy) = (f64::from(dx), f64::from(dy));
+    match H {
+        MANHATTAN => dx + dy,
+        OCTILE => dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy),
+        EUCLIDEAN => dx.hypot(dy),
+        CHEBYSHEV => dx.max(dy),
+        _ => 0.0,
     }
 }
 

@@ -4,11 +4,13 @@
 //! search when it comes out (the node is then CLOSED).
 //!
 //! Two implementations, chosen per search by what the costs allow:
-//! - [`HeapOpen`], for any `f`: one binary heap of compact entries. `f` and `g` are
-//!   non-negative floats, whose bit patterns order like the numbers, so the key is integers.
-//! - [`BucketOpen`], when every `f` and `g` is a small integer (4-connected moves with an
-//!   integer heuristic and weight): a bucket queue indexed by `f`, each bucket a FIFO queue,
-//!   a stack, or (for the g rules) a queue per `g`. Push and pop are O(1) amortized.
+//! - [`BucketOpen`], for any `f`: a ring of narrow `f` buckets in front of a binary heap
+//!   that holds the least bucket. `f` and `g` are non-negative floats, whose bit patterns
+//!   order like the numbers, so keys are integers.
+//! - [`IntOpen`], when `f` is an integer that never decreases along an edge and grows by at
+//!   most 2 (unit moves, an integer consistent heuristic, weight 0 or 1): one slot per `f`
+//!   value in a ring of four, each a FIFO queue, a stack, or (for the g rules) a heap of
+//!   32-bit `g` and sequence. FIFO and LIFO push and pop in O(1).
 
 /// The tie rules as const-generic parameters (see [`TieBreak`](crate::TieBreak)).
 pub(crate) const FIFO: u8 = 0;
@@ -229,6 +231,143 @@ impl<const TIE: u8> Open for BucketOpen<TIE> {
             }
             self.enter_bucket();
         }
+    }
+}
+
+/// OPEN for integral `f` in a window of three values (see the module docs).
+///
+/// Invariant: every entry's `f` lies in `cur..cur + 4` and sits in slot `f % 4`; a slot
+/// holds one `f` value, so its order is the tie rule's alone.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct IntOpen<const TIE: u8> {
+    cur: u64,
+    fresh: bool,
+    len: usize,
+    slots: [Slot; 4],
+}
+
+/// The entries of one `f` value: for FIFO and LIFO `queue[head..]` in push order; for the
+/// g rules a min-heap of `tie << 32 | seq`, where `seq` counts this slot's pushes.
+#[derive(Debug, Clone, Default)]
+struct Slot {
+    queue: Vec<u32>,
+    head: usize,
+    heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, u32)>>,
+    n_pushed: u32,
+}
+
+impl Slot {
+    fn clear(&mut self) {
+        self.queue.clear();
+        self.head = 0;
+        self.heap.clear();
+        self.n_pushed = 0;
+    }
+
+    /// Gives the heap's entries the sequences `0..n` in their current order, so that
+    /// 32-bit sequences never wrap. Precondition: fewer than 2^32 entries.
+    #[cold]
+    fn renumber(&mut self) {
+        let entries = std::mem::take(&mut self.heap).into_sorted_vec();
+        // Sorted by `Reverse`: the least key is last.
+        for (seq, std::cmp::Reverse((key, node))) in (0u32..).zip(entries.into_iter().rev()) {
+            let key = key & !u64::from(u32::MAX) | u64::from(seq);
+            self.heap.push(std::cmp::Reverse((key, node)));
+        }
+        self.n_pushed = self.heap.len() as u32;
+    }
+}
+
+impl<const TIE: u8> IntOpen<TIE> {
+    /// Whether this OPEN can hold `f = g + weight * h` for unit moves (costs `move_costs`),
+    /// the heuristic values being integers that change by at most 1 along a move
+    /// (`consistent_integer_h`).
+    pub(crate) fn fits(
+        move_costs: impl IntoIterator<Item = f64>,
+        weight: f64,
+        consistent_integer_h: bool,
+    ) -> bool {
+        consistent_integer_h
+            && (weight == 0.0 || weight == 1.0)
+            && move_costs.into_iter().all(|cost| cost == 1.0)
+    }
+}
+
+impl<const TIE: u8> Open for IntOpen<TIE> {
+    fn clear(&mut self) {
+        for slot in &mut self.slots {
+            slot.clear();
+        }
+        self.len = 0;
+        self.fresh = true;
+    }
+
+    #[inline]
+    fn push(&mut self, node: u32, f: f64, g: f64) {
+        // Both are integers below 2^33 by the precondition.
+        let f = f as u64;
+        if self.fresh {
+            // The first push after `clear` (the start) opens the window.
+            self.cur = f;
+            self.fresh = false;
+        }
+        debug_assert!(
+            f >= self.cur && f - self.cur < 4,
+            "f {f} outside the window at {}",
+            self.cur
+        );
+        self.len += 1;
+        let slot = &mut self.slots[(f & 3) as usize];
+        match TIE {
+            FIFO | LIFO => slot.queue.push(node),
+            _ => {
+                if slot.n_pushed == u32::MAX {
+                    slot.renumber();
+                }
+                let g = g as u32;
+                let tie = if TIE == LOW_G { g } else { !g };
+                let key = u64::from(tie) << 32 | u64::from(slot.n_pushed);
+                slot.n_pushed += 1;
+                slot.heap.push(std::cmp::Reverse((key, node)));
+            }
+        }
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<u32> {
+        if self.len == 0 {
+            return None;
+        }
+        // The invariant puts an entry within four slots of `cur`.
+        for _ in 0..4 {
+            let slot = &mut self.slots[(self.cur & 3) as usize];
+            let node = match TIE {
+                FIFO if slot.head < slot.queue.len() => {
+                    let node = slot.queue[slot.head];
+                    slot.head += 1;
+                    if slot.head == slot.queue.len() {
+                        slot.queue.clear();
+                        slot.head = 0;
+                    }
+                    Some(node)
+                }
+                LIFO => slot.queue.pop(),
+                LOW_G | HIGH_G => {
+                    let entry = slot.heap.pop().map(|std::cmp::Reverse((_, node))| node);
+                    if slot.heap.is_empty() {
+                        slot.n_pushed = 0;
+                    }
+                    entry
+                }
+                _ => None,
+            };
+            if node.is_some() {
+                self.len -= 1;
+                return node;
+            }
+            self.cur += 1;
+        }
+        None
     }
 }
 
