@@ -240,28 +240,124 @@ impl<const TIE: u8> Open for BucketOpen<TIE> {
 /// holds one `f` value, so its order is the tie rule's alone.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct IntOpen<const TIE: u8> {
+    /// Scratch space for [`Slot::sort_in_pending`].
+    scratch: Vec<(u32, u32)>,
     cur: u64,
     fresh: bool,
     len: usize,
     slots: [Slot; 4],
 }
 
-/// The entries of one `f` value: for FIFO and LIFO `queue[head..]` in push order; for the
-/// g rules a min-heap of `tie << 32 | seq`, where `seq` counts this slot's pushes.
+/// The entries of one `f` value.
+///
+/// - FIFO and LIFO: `queue[head..]` in push order.
+/// - High g first: `levels`, runs of equal `g` in increasing `g` over `queue`, each
+///   popped from its front; the top run ends at the end of `queue`. A push with the top's
+///   `g` or above extends `queue`: in the current slot that is every push, as a child
+///   of the popped node (the highest `g`) has one more. Other pushes wait in `pending`
+///   (in push order, so newer than everything in `levels`) until the next pop sorts them in.
+/// - Low g first: a min-heap of `g << 32 | seq`, where `seq` counts this slot's pushes.
 #[derive(Debug, Clone, Default)]
 struct Slot {
     queue: Vec<u32>,
     head: usize,
+    levels: Vec<Level>,
+    pending: Vec<(u32, u32)>,
     heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, u32)>>,
     n_pushed: u32,
+}
+
+/// A run of entries with one `g` in [`Slot::queue`]: `start..` up to the next run's start,
+/// the entries before `head` already popped.
+#[derive(Debug, Clone, Copy)]
+struct Level {
+    g: u32,
+    start: usize,
+    head: usize,
 }
 
 impl Slot {
     fn clear(&mut self) {
         self.queue.clear();
         self.head = 0;
+        self.levels.clear();
+        self.pending.clear();
         self.heap.clear();
         self.n_pushed = 0;
+    }
+
+    /// High g first: a push of `node` with cost `g`.
+    #[inline]
+    fn push_high_g(&mut self, g: u32, node: u32) {
+        if self.pending.is_empty() {
+            match self.levels.last() {
+                Some(top) if top.g == g => {
+                    self.queue.push(node);
+                    return;
+                }
+                Some(top) if top.g > g => {}
+                _ => {
+                    let start = self.queue.len();
+                    self.levels.push(Level {
+                        g,
+                        start,
+                        head: start,
+                    });
+                    self.queue.push(node);
+                    return;
+                }
+            }
+        }
+        self.pending.push((g, node));
+    }
+
+    /// High g first: the entry with the highest `g`, the first pushed among equals.
+    #[inline]
+    fn pop_high_g(&mut self, scratch: &mut Vec<(u32, u32)>) -> Option<u32> {
+        if !self.pending.is_empty() {
+            self.sort_in_pending(scratch);
+        }
+        let top = self.levels.last_mut()?;
+        let node = self.queue[top.head];
+        top.head += 1;
+        if top.head == self.queue.len() {
+            self.queue.truncate(top.start);
+            self.levels.pop();
+        }
+        Some(node)
+    }
+
+    /// Rebuilds `levels` from their entries and `pending`'s: a stable sort by `g` keeps
+    /// push order among equal `g`, as `pending` is newer than `levels`.
+    #[cold]
+    fn sort_in_pending(&mut self, scratch: &mut Vec<(u32, u32)>) {
+        scratch.clear();
+        for (i, level) in self.levels.iter().enumerate() {
+            let end = self
+                .levels
+                .get(i + 1)
+                .map_or(self.queue.len(), |next| next.start);
+            scratch.extend(
+                self.queue[level.head..end]
+                    .iter()
+                    .map(|&node| (level.g, node)),
+            );
+        }
+        scratch.append(&mut self.pending);
+        scratch.sort_by_key(|&(g, _)| g);
+        self.queue.clear();
+        self.levels.clear();
+        for &(g, node) in scratch.iter() {
+            if self.levels.last().is_none_or(|top| top.g != g) {
+                let start = self.queue.len();
+                self.levels.push(Level {
+                    g,
+                    start,
+                    head: start,
+                });
+            }
+            self.queue.push(node);
+        }
     }
 
     /// Gives the heap's entries the sequences `0..n` in their current order, so that
@@ -320,13 +416,12 @@ impl<const TIE: u8> Open for IntOpen<TIE> {
         let slot = &mut self.slots[(f & 3) as usize];
         match TIE {
             FIFO | LIFO => slot.queue.push(node),
+            HIGH_G => slot.push_high_g(g as u32, node),
             _ => {
                 if slot.n_pushed == u32::MAX {
                     slot.renumber();
                 }
-                let g = g as u32;
-                let tie = if TIE == LOW_G { g } else { !g };
-                let key = u64::from(tie) << 32 | u64::from(slot.n_pushed);
+                let key = u64::from(g as u32) << 32 | u64::from(slot.n_pushed);
                 slot.n_pushed += 1;
                 slot.heap.push(std::cmp::Reverse((key, node)));
             }
@@ -352,7 +447,8 @@ impl<const TIE: u8> Open for IntOpen<TIE> {
                     Some(node)
                 }
                 LIFO => slot.queue.pop(),
-                LOW_G | HIGH_G => {
+                HIGH_G => slot.pop_high_g(&mut self.scratch),
+                LOW_G => {
                     let entry = slot.heap.pop().map(|std::cmp::Reverse((_, node))| node);
                     if slot.heap.is_empty() {
                         slot.n_pushed = 0;
@@ -540,6 +636,60 @@ mod tests {
                 gs,
                 push_share,
             );
+        }
+    }
+
+    /// Like [`check`] for [`IntOpen`]: pushes respect its precondition, `f` from the last
+    /// popped value to 3 above it (as A* with a consistent heuristic pushes children).
+    fn check_int<const TIE: u8>(push_share: u64, g_spread: u64) {
+        let mut open = IntOpen::<TIE>::default();
+        open.clear();
+        let mut reference = BTreeSet::new();
+        let mut state = 7u64;
+        let mut n_pushed = 0u64;
+        let (mut floor, mut last_g) = (10u64, 0u64);
+        for round in 0..20_000u64 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            if state % 100 < push_share || reference.is_empty() {
+                let f = floor + if n_pushed == 0 { 0 } else { (state >> 8) % 4 };
+                // Half the time a child's g, one above the last popped; else anything.
+                let g = if state & 1 << 40 == 0 {
+                    last_g + 1
+                } else {
+                    (state >> 24) % g_spread
+                };
+                let node = (round % 700) as u32;
+                open.push(node, f as f64, g as f64);
+                let key = reference_key::<TIE>(f as f64, g as f64, n_pushed);
+                reference.insert((key, node, g));
+                n_pushed += 1;
+            } else {
+                let least = reference.pop_first();
+                let node = least.map(|(_, node, _)| node);
+                assert_eq!(open.pop(), node, "rule {TIE} round {round}");
+                if let Some(((f_bits, _, _), _, g)) = least {
+                    floor = f64::from_bits(f_bits) as u64;
+                    last_g = g;
+                }
+            }
+        }
+        while let Some((_, node, _)) = reference.pop_first() {
+            assert_eq!(open.pop(), Some(node));
+        }
+        assert_eq!(open.pop(), None);
+    }
+
+    #[test]
+    fn integer_slots_pop_in_full_key_order() {
+        for push_share in [35, 55, 75] {
+            for g_spread in [1, 3, 40] {
+                check_int::<FIFO>(push_share, g_spread);
+                check_int::<LIFO>(push_share, g_spread);
+                check_int::<LOW_G>(push_share, g_spread);
+                check_int::<HIGH_G>(push_share, g_spread);
+            }
         }
     }
 
