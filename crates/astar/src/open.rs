@@ -138,8 +138,9 @@ impl<const TIE: u8> BucketOpen<TIE> {
     /// Precondition: fewer than 2^32 entries.
     #[cold]
     fn renumber(&mut self) {
-        let mut entries = std::mem::take(&mut self.heap.items);
-        entries.append(&mut self.overflow.items);
+        let mut entries = Vec::new();
+        self.heap.drain_into(&mut entries);
+        self.overflow.drain_into(&mut entries);
         for slot in &mut self.ring {
             entries.append(slot);
         }
@@ -467,21 +468,70 @@ impl<const TIE: u8> Open for IntOpen<TIE> {
     }
 }
 
-/// A binary min-heap of entries. `pop` is Floyd's: the hole left at the root goes down
-/// to a leaf along the lesser children (one comparison per level), and the last entry rises
-/// from there; it usually belongs near the bottom.
+/// A binary min-heap of entries behind a short sorted `front`.
+///
+/// An entry that precedes the heap's top goes to `front` instead (sorted, least last),
+/// and `pop` takes the lesser of the two minima. That is A*'s common pattern: a child
+/// that is the new minimum (equal `f`, one more `g`) and is popped next costs a short
+/// insertion instead of a sift to the root and back. When `front` is full its greatest
+/// entry moves to the heap.
+///
+/// The heap's `pop` is Floyd's: the hole left at the root goes down to a leaf along the
+/// lesser children (one comparison per level), and the last entry rises from there; it
+/// usually belongs near the bottom.
 #[derive(Debug, Clone, Default)]
 struct MinHeap {
     items: Vec<Entry>,
+    front: Vec<Entry>,
 }
+
+/// The most entries [`MinHeap::front`] holds.
+const FRONT: usize = 8;
 
 impl MinHeap {
     fn clear(&mut self) {
         self.items.clear();
+        self.front.clear();
     }
 
     fn peek(&self) -> Option<&Entry> {
-        self.items.first()
+        match (self.front.last(), self.items.first()) {
+            (Some(front), Some(top)) if top.precedes(front) => Some(top),
+            (Some(front), _) => Some(front),
+            (None, top) => top,
+        }
+    }
+
+    /// Moves every entry into `entries`, in no particular order.
+    fn drain_into(&mut self, entries: &mut Vec<Entry>) {
+        entries.append(&mut self.items);
+        entries.append(&mut self.front);
+    }
+
+    #[inline]
+    fn push(&mut self, item: Entry) {
+        if self.items.first().is_some_and(|top| !item.precedes(top)) {
+            self.push_heap(item);
+            return;
+        }
+        if self.front.len() == FRONT {
+            let greatest = self.front.remove(0);
+            self.push_heap(greatest);
+        }
+        let mut at = self.front.len();
+        while at > 0 && self.front[at - 1].precedes(&item) {
+            at -= 1;
+        }
+        self.front.insert(at, item);
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Entry> {
+        match (self.front.last(), self.items.first()) {
+            (Some(front), Some(top)) if top.precedes(front) => self.pop_heap(),
+            (Some(_), _) => self.front.pop(),
+            (None, _) => self.pop_heap(),
+        }
     }
 
     /// Restores the heap order of `items` from scratch, in linear time.
@@ -508,7 +558,7 @@ impl MinHeap {
     }
 
     #[inline]
-    fn push(&mut self, item: Entry) {
+    fn push_heap(&mut self, item: Entry) {
         self.items.push(item);
         let items = &mut self.items[..];
         let mut hole = items.len() - 1;
@@ -524,7 +574,7 @@ impl MinHeap {
     }
 
     #[inline]
-    fn pop(&mut self) -> Option<Entry> {
+    fn pop_heap(&mut self) -> Option<Entry> {
         let last = self.items.pop()?;
         let items = &mut self.items[..];
         let Some(&top) = items.first() else {
