@@ -395,7 +395,7 @@ impl AStar {
             }
         };
 
-        while let Some(p) = open.pop() {
+        while let Some(p) = open.pop(|q| nodes[q as usize].stamp == closed_stamp) {
             let p = p as usize;
             if nodes[p].stamp == closed_stamp {
                 continue; // The older entry of a node improved while in OPEN.
