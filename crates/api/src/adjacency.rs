@@ -23,6 +23,8 @@ pub const SCRATCH: u64 = 1 << 63;
 pub struct Adjacency {
     /// The grid the masks were built for: the cache key.
     grid: Grid,
+    /// The revision of the last grid found equal to `grid`: the fast cache check.
+    revision: u64,
     /// Border width: the longest move's reach.
     reach: usize,
     /// Padded row length, `width + 2 * reach`.
@@ -87,6 +89,7 @@ impl Adjacency {
         };
         Adjacency {
             grid: grid.clone(),
+            revision: grid.revision(),
             reach,
             stride,
             safe,
@@ -183,7 +186,9 @@ impl Adjacency {
 
 fn cached<'a>(cache: &'a mut Option<Adjacency>, grid: &Grid, moves: &MoveSet) -> &'a mut Adjacency {
     match cache {
-        Some(adjacency) if adjacency.is_for(grid) => {}
+        // Equal revisions mean equal grids: no need to compare the cells.
+        Some(adjacency) if adjacency.revision == grid.revision() => {}
+        Some(adjacency) if adjacency.is_for(grid) => adjacency.revision = grid.revision(),
         _ => *cache = Some(Adjacency::build(grid, moves)),
     }
     match cache {
@@ -236,5 +241,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_cache_follows_the_grid_through_edits_and_copies() {
+        let moves = MoveSet::new(Connectivity::Four, false, &NeighborOrder::default()).unwrap();
+        let mut grid = Grid::from_ascii("...\n...").unwrap();
+        let centre = |cache: &mut Option<Adjacency>, grid: &Grid| {
+            let adjacency = Adjacency::cached(cache, grid, &moves);
+            adjacency.mask(adjacency.index(Cell::new(1, 0)))
+        };
+        let mut cache = None;
+        // Right, left and down are safe from (1, 0); up leaves the grid.
+        assert_eq!(centre(&mut cache, &grid), 0b0111);
+        // An edit in place gives a new revision, so the masks are rebuilt.
+        grid.set_free(Cell::new(2, 0), false);
+        assert_eq!(centre(&mut cache, &grid), 0b0110);
+        // A clone shares the revision; an equal grid built anew has its own but equal cells.
+        let copy = grid.clone();
+        assert_eq!(copy.revision(), grid.revision());
+        let rebuilt = Grid::from_ascii("..#\n...").unwrap();
+        assert_ne!(rebuilt.revision(), grid.revision());
+        assert_eq!(rebuilt, grid);
+        assert_eq!(centre(&mut cache, &copy), 0b0110);
+        assert_eq!(centre(&mut cache, &rebuilt), 0b0110);
+        grid.set_free(Cell::new(2, 0), true);
+        assert_eq!(centre(&mut cache, &grid), 0b0111);
     }
 }

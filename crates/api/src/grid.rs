@@ -87,11 +87,36 @@ impl<'de> Deserialize<'de> for Cell {
 /// Cell `(x, y)` lives at index `y * width + x`. Planners index the flat
 /// slice from [`Grid::free_cells`] in their hot loops; the methods taking
 /// [`Cell`] are for everything else.
-#[derive(Clone, PartialEq, Eq, Hash)]
+///
+/// Equality and hashing compare the cells only. Every grid also carries a
+/// [`revision`](Grid::revision), so that caches of derived data (move masks) can tell in
+/// O(1) that a grid is the one they were built for.
+#[derive(Clone)]
 pub struct Grid {
     width: u32,
     height: u32,
     free: Vec<bool>,
+    revision: u64,
+}
+
+impl PartialEq for Grid {
+    fn eq(&self, other: &Grid) -> bool {
+        (self.width, self.height) == (other.width, other.height) && self.free == other.free
+    }
+}
+
+impl Eq for Grid {}
+
+impl std::hash::Hash for Grid {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        (self.width, self.height, &self.free).hash(state);
+    }
+}
+
+/// A new process-wide unique grid revision.
+fn next_revision() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl Grid {
@@ -107,6 +132,7 @@ impl Grid {
             width,
             height,
             free: vec![true; len],
+            revision: next_revision(),
         })
     }
 
@@ -125,6 +151,7 @@ impl Grid {
             width,
             height,
             free,
+            revision: next_revision(),
         })
     }
 
@@ -262,6 +289,15 @@ impl Grid {
     pub fn set_free(&mut self, cell: Cell, free: bool) {
         let index = self.index(cell);
         self.free[index] = free;
+        self.revision = next_revision();
+    }
+
+    /// A number that identifies the grid's current cells within this process: it is new
+    /// for every grid built and after every [`Grid::set_free`], and a clone shares its
+    /// original's. Equal revisions therefore mean equal grids (the converse need not
+    /// hold). Caches of data derived from a grid key on it.
+    pub fn revision(&self) -> u64 {
+        self.revision
     }
 
     /// Iterates over every cell in row-major order.
