@@ -247,11 +247,18 @@ impl<const TIE: u8> Open for BucketOpen<TIE> {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct IntOpen<const TIE: u8> {
     /// Scratch space for [`Slot::sort_in_pending`].
-    scratch: Vec<(u32, u32)>,
+    scratch: Scratch,
     cur: u64,
     fresh: bool,
     len: usize,
     slots: [Slot; 4],
+}
+
+/// Scratch space for [`Slot::sort_in_pending`]: entries as `(g, node)`, and counts.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    entries: Vec<(u32, u32)>,
+    counts: Vec<usize>,
 }
 
 /// The entries of one `f` value.
@@ -318,10 +325,16 @@ impl Slot {
     }
 
     /// High g first: the entry with the highest `g`, the first pushed among equals.
+    /// Entries of CLOSED nodes dropped on the way are subtracted from `len`.
     #[inline]
-    fn pop_high_g(&mut self, scratch: &mut Vec<(u32, u32)>) -> Option<u32> {
+    fn pop_high_g(
+        &mut self,
+        scratch: &mut Scratch,
+        is_closed: impl Fn(u32) -> bool,
+        len: &mut usize,
+    ) -> Option<u32> {
         if !self.pending.is_empty() {
-            self.sort_in_pending(scratch);
+            *len -= self.sort_in_pending(scratch, is_closed);
         }
         let top = self.levels.last_mut()?;
         let node = self.queue[top.head];
@@ -333,37 +346,81 @@ impl Slot {
         Some(node)
     }
 
-    /// Rebuilds `levels` from their entries and `pending`'s: a stable sort by `g` keeps
-    /// push order among equal `g`, as `pending` is newer than `levels`.
+    /// Rebuilds `levels` from their entries and `pending`'s, dropping entries of CLOSED
+    /// nodes. Sorting is by `g` alone and stable, which keeps push order among equal `g`
+    /// as `pending` is newer than `levels`: a counting sort when the `g` values are dense
+    /// (the usual case: a slot's `g` values span about its size), else a merge sort.
     #[cold]
-    fn sort_in_pending(&mut self, scratch: &mut Vec<(u32, u32)>) {
-        scratch.clear();
+    /// Returns the number of entries dropped.
+    fn sort_in_pending(&mut self, scratch: &mut Scratch, is_closed: impl Fn(u32) -> bool) -> usize {
+        let entries = &mut scratch.entries;
+        entries.clear();
         for (i, level) in self.levels.iter().enumerate() {
             let end = self
                 .levels
                 .get(i + 1)
                 .map_or(self.queue.len(), |next| next.start);
-            scratch.extend(
+            entries.extend(
                 self.queue[level.head..end]
                     .iter()
                     .map(|&node| (level.g, node)),
             );
         }
-        scratch.append(&mut self.pending);
-        scratch.sort_by_key(|&(g, _)| g);
+        entries.append(&mut self.pending);
+        let n_before = entries.len();
+        entries.retain(|&(_, node)| !is_closed(node));
+        let n_dropped = n_before - entries.len();
         self.queue.clear();
         self.levels.clear();
-        for &(g, node) in scratch.iter() {
-            if self.levels.last().is_none_or(|top| top.g != g) {
-                let start = self.queue.len();
-                self.levels.push(Level {
-                    g,
-                    start,
-                    head: start,
-                });
+        let (Some(low), Some(high)) = (
+            entries.iter().map(|&(g, _)| g).min(),
+            entries.iter().map(|&(g, _)| g).max(),
+        ) else {
+            return n_dropped;
+        };
+        let span = (high - low) as usize + 1;
+        if span <= 4 * entries.len() + 64 {
+            // Counting sort: `next[g - low]` becomes the next free position of `g`'s run.
+            let next = &mut scratch.counts;
+            next.clear();
+            next.resize(span, 0);
+            for &(g, _) in entries.iter() {
+                next[(g - low) as usize] += 1;
             }
-            self.queue.push(node);
+            let mut start = 0;
+            for (g, slot) in (low..).zip(next.iter_mut()) {
+                if *slot > 0 {
+                    self.levels.push(Level {
+                        g,
+                        start,
+                        head: start,
+                    });
+                    let count = *slot;
+                    *slot = start;
+                    start += count;
+                }
+            }
+            self.queue.resize(entries.len(), 0);
+            for &(g, node) in entries.iter() {
+                let at = &mut next[(g - low) as usize];
+                self.queue[*at] = node;
+                *at += 1;
+            }
+        } else {
+            entries.sort_by_key(|&(g, _)| g);
+            for &(g, node) in entries.iter() {
+                if self.levels.last().is_none_or(|top| top.g != g) {
+                    let start = self.queue.len();
+                    self.levels.push(Level {
+                        g,
+                        start,
+                        head: start,
+                    });
+                }
+                self.queue.push(node);
+            }
         }
+        n_dropped
     }
 
     /// Gives the heap's entries the sequences `0..n` in their current order, so that
@@ -435,7 +492,7 @@ impl<const TIE: u8> Open for IntOpen<TIE> {
     }
 
     #[inline]
-    fn pop(&mut self, _is_closed: impl Fn(u32) -> bool) -> Option<u32> {
+    fn pop(&mut self, is_closed: impl Fn(u32) -> bool) -> Option<u32> {
         if self.len == 0 {
             return None;
         }
@@ -453,7 +510,7 @@ impl<const TIE: u8> Open for IntOpen<TIE> {
                     Some(node)
                 }
                 LIFO => slot.queue.pop(),
-                HIGH_G => slot.pop_high_g(&mut self.scratch),
+                HIGH_G => slot.pop_high_g(&mut self.scratch, &is_closed, &mut self.len),
                 LOW_G => {
                     let entry = slot.heap.pop().map(|std::cmp::Reverse((_, node))| node);
                     if slot.heap.is_empty() {
@@ -739,7 +796,8 @@ mod tests {
     #[test]
     fn integer_slots_pop_in_full_key_order() {
         for push_share in [35, 55, 75] {
-            for g_spread in [1, 3, 40] {
+            // Dense g values take the counting sort, sparse ones (100000) the merge sort.
+            for g_spread in [1, 3, 40, 100_000] {
                 check_int::<FIFO>(push_share, g_spread);
                 check_int::<LIFO>(push_share, g_spread);
                 check_int::<LOW_G>(push_share, g_spread);
