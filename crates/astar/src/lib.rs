@@ -34,11 +34,20 @@
 //! map costs 100 cells, not 262,144. Moves come from planner-api's [`Adjacency`]: per-cell
 //! masks of the safe moves over a padded grid, built once per grid, so the neighbour loop
 //! has no bounds or obstacle test and walks the set bits in the configured order; the
-//! blocked checks are counted as the clear bits. OPEN (module `open`) is a ring of narrow
-//! `f` buckets in front of a small heap that holds the least bucket: most pushes are
-//! appends, and entries come out in exactly the order of the full key (f, tie, push
-//! sequence). An improved node is pushed again and its older entry is skipped when it
-//! comes out (the node is then CLOSED); `peak_open` counts nodes in OPEN, not entries.
+//! blocked checks are counted as the clear bits.
+//!
+//! OPEN (module `open`) gives entries out in exactly the order of the full key (f, tie,
+//! push sequence), and is chosen per search by what the costs allow. With unit moves and
+//! an integer heuristic that changes by at most 1 per move (Manhattan, Chebyshev, zero) and
+//! weight 0 or 1, `f` is an integer that never drops along an edge and rises by at most 2,
+//! so OPEN is four slots of one `f` each: a queue (FIFO), a stack (LIFO), or runs of equal
+//! `g` (high g first; a child always lands on top). Otherwise it is a ring of `f` buckets
+//! of width 1/16 in front of a binary heap that holds the least bucket, itself behind a
+//! sorted front of eight entries that catches the common new minimum. An improved node is
+//! pushed again and its older entry is skipped when it comes out (the node is then
+//! CLOSED), or dropped unseen when its bucket comes up; `peak_open` counts nodes in OPEN,
+//! not entries. The tests hold every variant to a plain `BinaryHeap` transcription of
+//! Fig. 4, counter for counter.
 //!
 //! # Defaults
 //! The defaults are the paper's: 4-connected moves in the order right, left, down, up,
