@@ -377,31 +377,10 @@ impl AStar {
             stamp: open_stamp,
         };
         open.push(start_index as u32, h(start.x, start.y), 0.0);
-        // The counters: blocked and neighbour checks follow from the safe moves tried.
-        let mut n_expanded = 0u64;
-        let mut n_safe = 0u64;
-        let mut n_skipped = 0u64;
-        let mut n_relaxations = 0u64;
-        let mut n_open_insertions = 1u64;
-        let mut peak_open = 1u64;
-        let stats = |n_expanded: u64,
-                     n_checked: u64,
-                     n_safe,
-                     n_skipped,
-                     n_relaxations,
-                     n_open_insertions,
-                     peak_open| {
-            let n_neighbor_checks = n_moves * n_checked;
-            SearchStats {
-                n_expanded,
-                n_neighbor_checks,
-                n_blocked: n_neighbor_checks - n_safe,
-                n_skipped,
-                n_open_insertions,
-                n_relaxations,
-                peak_open,
-                ..SearchStats::default()
-            }
+        let mut tally = Tally {
+            n_open_insertions: 1,
+            peak_open: 1,
+            ..Tally::default()
         };
 
         while let Some(p) = open.pop(|q| nodes[q as usize].stamp == closed_stamp) {
@@ -409,24 +388,16 @@ impl AStar {
             if nodes[p].stamp == closed_stamp {
                 continue; // The older entry of a node improved while in OPEN.
             }
-            if !clock.allows(n_expanded) {
+            if !clock.allows(tally.n_expanded) {
                 return Search {
                     status: Status::BudgetExhausted,
                     path: None,
                     cost: None,
-                    stats: stats(
-                        n_expanded,
-                        n_expanded,
-                        n_safe,
-                        n_skipped,
-                        n_relaxations,
-                        n_open_insertions,
-                        peak_open,
-                    ),
+                    stats: tally.stats(n_moves, tally.n_expanded),
                 };
             }
             nodes[p].stamp = closed_stamp;
-            n_expanded += 1;
+            tally.n_expanded += 1;
             if p == goal_index {
                 let path = reconstruct(adjacency, nodes, start_index, goal_index);
                 return Search {
@@ -434,15 +405,7 @@ impl AStar {
                     path: Some(path),
                     cost: Some(nodes[p].g),
                     // The goal's moves are not checked.
-                    stats: stats(
-                        n_expanded,
-                        n_expanded - 1,
-                        n_safe,
-                        n_skipped,
-                        n_relaxations,
-                        n_open_insertions,
-                        peak_open,
-                    ),
+                    stats: tally.stats(n_moves, tally.n_expanded - 1),
                 };
             }
             let Cell { x, y } = adjacency.cell(p);
@@ -452,19 +415,19 @@ impl AStar {
             while mask != 0 {
                 let m = mask.trailing_zeros();
                 mask &= mask - 1;
-                n_safe += 1;
+                tally.n_safe += 1;
                 let q = adjacency.neighbor(p, m);
                 let next = &mut nodes[q];
                 if next.stamp == closed_stamp {
-                    n_skipped += 1;
+                    tally.n_skipped += 1;
                     continue;
                 }
                 let (dx, dy, cost) = step[(m & 63) as usize];
                 let g_temp = g_node + cost;
                 let known = next.stamp == open_stamp;
                 if !known || g_temp < next.g {
-                    n_relaxations += 1;
-                    n_open_insertions += u64::from(!known);
+                    tally.n_relaxations += 1;
+                    tally.n_open_insertions += u64::from(!known);
                     *next = Node {
                         g: g_temp,
                         parent: p as u32,
@@ -475,21 +438,45 @@ impl AStar {
                 }
             }
             // OPEN only grows while a node's moves are tried: its peak is reached here.
-            peak_open = peak_open.max(n_open_insertions - n_expanded);
+            tally.peak_open = tally
+                .peak_open
+                .max(tally.n_open_insertions - tally.n_expanded);
         }
         Search {
             status: Status::NoPath,
             path: None,
             cost: None,
-            stats: stats(
-                n_expanded,
-                n_expanded,
-                n_safe,
-                n_skipped,
-                n_relaxations,
-                n_open_insertions,
-                peak_open,
-            ),
+            stats: tally.stats(n_moves, tally.n_expanded),
+        }
+    }
+}
+
+/// The search loop's counters, kept as plain locals (a `SearchStats` is built once, at
+/// the end). Neighbour checks and blocked moves follow from the safe moves tried.
+#[derive(Debug, Clone, Copy, Default)]
+struct Tally {
+    n_expanded: u64,
+    /// Safe moves tried: the set bits of the expanded nodes' move masks.
+    n_safe: u64,
+    n_skipped: u64,
+    n_relaxations: u64,
+    n_open_insertions: u64,
+    peak_open: u64,
+}
+
+impl Tally {
+    /// The counters, when `n_checked` expanded nodes tried all `n_moves` moves.
+    fn stats(&self, n_moves: u64, n_checked: u64) -> SearchStats {
+        let n_neighbor_checks = n_moves * n_checked;
+        SearchStats {
+            n_expanded: self.n_expanded,
+            n_neighbor_checks,
+            n_blocked: n_neighbor_checks - self.n_safe,
+            n_skipped: self.n_skipped,
+            n_open_insertions: self.n_open_insertions,
+            n_relaxations: self.n_relaxations,
+            peak_open: self.peak_open,
+            ..SearchStats::default()
         }
     }
 }
