@@ -1,7 +1,5 @@
 //! A*'s counters, paths and budgets on hand-checked and random grids.
 
-use std::collections::VecDeque;
-
 use planner_api::{
     Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, Path, PathRule, Planner, Problem,
     Status,
@@ -253,27 +251,6 @@ fn random_grid(rng: &mut ChaCha8Rng, width: u32, height: u32, density: f64) -> G
     Grid::from_free_cells(width, height, free).unwrap()
 }
 
-/// Independent reference: breadth-first search over 4-connected moves (steps).
-fn bfs_steps(grid: &Grid, start: Cell, goal: Cell) -> Option<u64> {
-    let mut dist = vec![u64::MAX; grid.len()];
-    let mut queue = VecDeque::from([start]);
-    dist[grid.index(start)] = 0;
-    while let Some(cell) = queue.pop_front() {
-        if cell == goal {
-            return Some(dist[grid.index(cell)]);
-        }
-        for (dx, dy) in [(0, 1), (1, 0), (0, -1), (-1, 0)] {
-            if let Some(next) = grid.offset(cell, dx, dy) {
-                if grid.is_free(next) && dist[grid.index(next)] == u64::MAX {
-                    dist[grid.index(next)] = dist[grid.index(cell)] + 1;
-                    queue.push_back(next);
-                }
-            }
-        }
-    }
-    None
-}
-
 /// Independent reference: Dijkstra over 8-connected moves without corner cutting, by
 /// repeated linear scans (slow and obviously correct).
 fn dijkstra_octile(grid: &Grid, start: Cell, goal: Cell) -> Option<f64> {
@@ -339,7 +316,7 @@ fn four_connected_matches_bfs_and_obeys_the_identities() {
         let outcome = astar.plan(&problem, &Budget::unlimited());
         let c = |name| outcome.counters.get(name).unwrap();
         assert!(c("n_neighbor_checks") >= c("n_blocked") + c("n_skipped") + c("n_relaxations"));
-        match bfs_steps(&grid, start, goal) {
+        match planner_testkit::fewest_moves(&grid, &four, start, goal) {
             Some(steps) => {
                 found += 1;
                 let path = outcome.path.as_ref().unwrap();

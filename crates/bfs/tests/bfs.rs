@@ -3,8 +3,6 @@
 
 mod common;
 
-use std::collections::VecDeque;
-
 use planner_api::{
     Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, Outcome, PathRule, Planner, Problem,
     Status,
@@ -20,29 +18,6 @@ fn plan(grid: &Grid, start: Cell, goal: Cell, config: Config) -> Outcome {
 
 fn steps(outcome: &Outcome) -> Option<u64> {
     outcome.path.as_ref().map(|p| p.metrics().steps)
-}
-
-/// An independent fewest-moves search: plain BFS over `MoveSet::apply` with a `VecDeque`
-/// and a distance table.
-fn reference_steps(grid: &Grid, moves: &MoveSet, start: Cell, goal: Cell) -> Option<u64> {
-    let mut dist = vec![u64::MAX; grid.len()];
-    let mut queue = VecDeque::from([start]);
-    dist[grid.index(start)] = 0;
-    while let Some(cell) = queue.pop_front() {
-        let d = dist[grid.index(cell)];
-        if cell == goal {
-            return Some(d);
-        }
-        for mv in moves.moves() {
-            if let Some(next) = moves.apply(grid, cell, mv) {
-                if dist[grid.index(next)] == u64::MAX {
-                    dist[grid.index(next)] = d + 1;
-                    queue.push_back(next);
-                }
-            }
-        }
-    }
-    None
 }
 
 #[test]
@@ -96,7 +71,7 @@ fn every_wpi_pair_matches_the_reference_search() {
                 let what = format!("{file} {s}->{g} {connectivity}");
                 assert_eq!(
                     steps(&outcome),
-                    reference_steps(&grid, &moves, s, g),
+                    common::fewest_moves(&grid, &moves, s, g),
                     "{what}"
                 );
                 outcome
@@ -185,7 +160,7 @@ fn identities_on_every_map() {
         let moves = MoveSet::standard(Connectivity::Four);
         assert_eq!(
             steps(&outcome),
-            reference_steps(&grid, &moves, s, g),
+            common::fewest_moves(&grid, &moves, s, g),
             "{map}"
         );
         common::check_frontier_identities(&map, &outcome, 4);
@@ -205,28 +180,10 @@ fn identities_on_every_map() {
 
 #[test]
 fn random_grids_match_the_reference_search() {
-    // A small deterministic generator (xorshift), enough for varied obstacle layouts.
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
-    for round in 0..200 {
-        let (w, h) = (2 + (next() % 9) as u32, 2 + (next() % 9) as u32);
-        let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= 30).collect();
-        let mut grid = Grid::from_free_cells(w, h, free).unwrap();
-        let start = Cell::new(
-            (next() % u64::from(w)) as u32,
-            (next() % u64::from(h)) as u32,
-        );
-        let goal = Cell::new(
-            (next() % u64::from(w)) as u32,
-            (next() % u64::from(h)) as u32,
-        );
-        grid.set_free(start, true);
-        grid.set_free(goal, true);
+    for (round, (grid, start, goal)) in common::small_random_problems(0x9e37_79b9_7f4a_7c15, 200)
+        .into_iter()
+        .enumerate()
+    {
         for (connectivity, cutting, k) in [
             (Connectivity::Four, false, 4),
             (Connectivity::Eight, false, 8),
@@ -242,7 +199,7 @@ fn random_grids_match_the_reference_search() {
             let what = format!("round {round} {connectivity} cutting {cutting}\n{grid:?}");
             assert_eq!(
                 steps(&outcome),
-                reference_steps(&grid, &moves, start, goal),
+                common::fewest_moves(&grid, &moves, start, goal),
                 "{what}"
             );
             if let Some(path) = &outcome.path {

@@ -3,8 +3,6 @@
 
 mod common;
 
-use std::collections::VecDeque;
-
 use planner_api::{
     Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, Outcome, PathRule, Planner, Problem,
     Status,
@@ -27,29 +25,6 @@ fn seed_order() -> Config {
         order: "L R U D".parse().unwrap(),
         ..Config::default()
     }
-}
-
-/// An independent fewest-moves search (plain BFS over `MoveSet::apply`): DFS must find a
-/// path exactly when one exists, and never a shorter one.
-fn reference_steps(grid: &Grid, moves: &MoveSet, start: Cell, goal: Cell) -> Option<u64> {
-    let mut dist = vec![u64::MAX; grid.len()];
-    let mut queue = VecDeque::from([start]);
-    dist[grid.index(start)] = 0;
-    while let Some(cell) = queue.pop_front() {
-        let d = dist[grid.index(cell)];
-        if cell == goal {
-            return Some(d);
-        }
-        for mv in moves.moves() {
-            if let Some(next) = moves.apply(grid, cell, mv) {
-                if dist[grid.index(next)] == u64::MAX {
-                    dist[grid.index(next)] = d + 1;
-                    queue.push_back(next);
-                }
-            }
-        }
-    }
-    None
 }
 
 #[test]
@@ -180,27 +155,10 @@ fn identities_on_every_map() {
 
 #[test]
 fn random_grids_find_a_valid_path_exactly_when_one_exists() {
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
-    for round in 0..200 {
-        let (w, h) = (2 + (next() % 9) as u32, 2 + (next() % 9) as u32);
-        let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= 30).collect();
-        let mut grid = Grid::from_free_cells(w, h, free).unwrap();
-        let start = Cell::new(
-            (next() % u64::from(w)) as u32,
-            (next() % u64::from(h)) as u32,
-        );
-        let goal = Cell::new(
-            (next() % u64::from(w)) as u32,
-            (next() % u64::from(h)) as u32,
-        );
-        grid.set_free(start, true);
-        grid.set_free(goal, true);
+    for (round, (grid, start, goal)) in common::small_random_problems(0x2545_f491_4f6c_dd1d, 200)
+        .into_iter()
+        .enumerate()
+    {
         for (connectivity, cutting, k) in [
             (Connectivity::Four, false, 4),
             (Connectivity::Eight, false, 8),
@@ -214,7 +172,7 @@ fn random_grids_find_a_valid_path_exactly_when_one_exists() {
             let moves = MoveSet::new(connectivity, cutting, &NeighborOrder::default()).unwrap();
             let outcome = plan(&grid, start, goal, config);
             let what = format!("round {round} {connectivity} cutting {cutting}\n{grid:?}");
-            let shortest = reference_steps(&grid, &moves, start, goal);
+            let shortest = common::fewest_moves(&grid, &moves, start, goal);
             assert_eq!(steps(&outcome).is_some(), shortest.is_some(), "{what}");
             if let Some(path) = &outcome.path {
                 path.validate(&grid, PathRule::Moves(&moves)).unwrap();

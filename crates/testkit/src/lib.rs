@@ -111,3 +111,64 @@ pub fn check_frontier_identities(what: &str, outcome: &planner_api::Outcome, k: 
         }
     }
 }
+
+/// An independent fewest-moves search: plain breadth-first search over
+/// [`planner_api::MoveSet::apply`] with a queue and a distance table. The number of moves
+/// of a shortest path from `start` to `goal`, or `None` when there is none.
+pub fn fewest_moves(
+    grid: &Grid,
+    moves: &planner_api::MoveSet,
+    start: Cell,
+    goal: Cell,
+) -> Option<u64> {
+    let mut dist = vec![u64::MAX; grid.len()];
+    let mut queue = std::collections::VecDeque::from([start]);
+    dist[grid.index(start)] = 0;
+    while let Some(cell) = queue.pop_front() {
+        let d = dist[grid.index(cell)];
+        if cell == goal {
+            return Some(d);
+        }
+        for mv in moves.moves() {
+            if let Some(next) = moves.apply(grid, cell, mv) {
+                if dist[grid.index(next)] == u64::MAX {
+                    dist[grid.index(next)] = d + 1;
+                    queue.push_back(next);
+                }
+            }
+        }
+    }
+    None
+}
+
+/// `rounds` small random problems, deterministic in `seed` (a xorshift generator): sides
+/// from 2 to 10 cells, about 30% of cells blocked, then start and goal (drawn uniformly,
+/// possibly equal) made free. Many have no path, which is the point for searches that
+/// must tell.
+pub fn small_random_problems(seed: u64, rounds: usize) -> Vec<(Grid, Cell, Cell)> {
+    let mut state = seed;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    (0..rounds)
+        .map(|_| {
+            let (w, h) = (2 + (next() % 9) as u32, 2 + (next() % 9) as u32);
+            let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= 30).collect();
+            let mut grid =
+                Grid::from_free_cells(w, h, free).unwrap_or_else(|e| panic!("a {w}x{h} grid: {e}"));
+            let mut cell = || {
+                Cell::new(
+                    (next() % u64::from(w)) as u32,
+                    (next() % u64::from(h)) as u32,
+                )
+            };
+            let (start, goal) = (cell(), cell());
+            grid.set_free(start, true);
+            grid.set_free(goal, true);
+            (grid, start, goal)
+        })
+        .collect()
+}
