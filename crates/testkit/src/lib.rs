@@ -172,3 +172,22 @@ pub fn small_random_problems(seed: u64, rounds: usize) -> Vec<(Grid, Cell, Cell)
         })
         .collect()
 }
+
+/// The counters of a BFS or DFS run that hand counts give, in the order `n_expanded`,
+/// `n_neighbor_checks`, `n_blocked`, `n_skipped`, `peak_open`, `n_open_insertions`.
+pub fn frontier_counters(outcome: &planner_api::Outcome) -> [u64; 6] {
+    [
+        "n_expanded",
+        "n_neighbor_checks",
+        "n_blocked",
+        "n_skipped",
+        "peak_open",
+        "n_open_insertions",
+    ]
+    .map(|name| {
+        outcome
+            .counters
+            .get(name)
+            .unwrap_or_else(|| panic!("no {name} in {}", outcome.counters))
+    })
+}
