@@ -330,6 +330,64 @@ fn movingai_config_matches_the_scenario_optima() {
     assert_eq!(checked, 3 * 3 * 12);
 }
 
+/// Every A* run of every config (as snapshotted) has exactly the path and counters of
+/// `planner_testkit::reference_astar`, a plain transcription of seed 000's Fig. 4 with
+/// std's `BinaryHeap`: the snapshot's A* numbers, weighted and 8-connected ones included,
+/// are checked against an independent search, not only pinned.
+#[test]
+fn every_astar_run_matches_the_reference_search() {
+    use planner_testkit::{reference_astar, Tie};
+    let mut n_checked = 0;
+    for path in configs() {
+        let experiment = config::load(&path).unwrap().trimmed_for_test();
+        let records = run_all(&experiment, 2, false).unwrap();
+        // Invalid problems (a blocked goal) never reach the planner.
+        let astar_runs = records
+            .iter()
+            .filter(|r| r.algorithm == "astar" && r.status != "invalid_problem");
+        for r in astar_runs {
+            let spec = experiment
+                .planners
+                .iter()
+                .find(|p| p.label == r.planner)
+                .unwrap();
+            let config: planner_astar::Config = spec.params.clone().try_into().unwrap();
+            let map = experiment.maps.iter().find(|m| m.name == r.map).unwrap();
+            let moves =
+                planner_api::MoveSet::new(config.moves, config.corner_cutting, &config.order)
+                    .unwrap();
+            let (goal, weight, heuristic) = (r.goal, config.weight, config.heuristic);
+            let h = |c: planner_api::Cell| weight * heuristic.estimate(c.x, c.y, goal.x, goal.y);
+            let tie = match config.tie_break {
+                planner_astar::TieBreak::Fifo => Tie::Fifo,
+                planner_astar::TieBreak::Lifo => Tie::Lifo,
+                planner_astar::TieBreak::LowG => Tie::LowG,
+                planner_astar::TieBreak::HighG => Tie::HighG,
+            };
+            let (status, cells, counters) =
+                reference_astar(&map.grid, &moves, h, tie, r.start, r.goal);
+            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+            assert_eq!(r.status, status.as_str(), "{what}");
+            let names = [
+                "n_expanded",
+                "n_neighbor_checks",
+                "n_blocked",
+                "n_skipped",
+                "n_open_insertions",
+                "n_relaxations",
+                "peak_open",
+            ];
+            let actual = names.map(|n| r.counters.get(n).unwrap());
+            assert_eq!(actual, counters, "{what}");
+            assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+            n_checked += 1;
+        }
+    }
+    // paper: 12 maps; wpi: 8 valid problems x 3 test repeats; movingai: 4 A* settings x 36
+    // problems; pastar: TA-star, RA-star1 and RA-star2 x 7 problems x 2 test repeats.
+    assert_eq!(n_checked, 12 + 24 + 144 + 42);
+}
+
 /// `inflation` blocks every cell within that many cells of an occupied one in a ROS map.
 #[test]
 fn ros_maps_take_an_inflation_radius() {

@@ -1,102 +1,26 @@
-//! planner-astar against a plain transcription of seed 000's Fig. 4: std's `BinaryHeap`
-//! with lazy deletion and the full key `(f, tie, push sequence)`, `HashMap`-free but
-//! otherwise written for clarity, not speed. The fast OPEN lists (integer slots, f buckets
-//! with a front, closed entries dropped early) must give the same path and every counter
-//! on every problem, for every tie rule, heuristic, weight and neighbourhood.
-
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+//! planner-astar against `planner_testkit::reference_astar`, a plain transcription of seed
+//! 000's Fig. 4 (std's `BinaryHeap` with lazy deletion and the full key `(f, tie, push
+//! sequence)`). The fast OPEN lists (integer slots, f buckets with a front, closed entries
+//! dropped early) must give the same path and every counter on every problem, for every
+//! tie rule, heuristic, weight and neighbourhood.
 
 use planner_api::{Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, Problem, Status};
 use planner_astar::{AStar, Config, Heuristic, TieBreak};
+use planner_testkit::{reference_astar, ReferenceSearch, Tie};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// What the reference search produced: status, path cells, and the counters in the order
-/// expanded, neighbour checks, blocked, skipped, insertions, relaxations, peak OPEN.
-type Result = (Status, Option<Vec<Cell>>, [u64; 7]);
-
-/// A* as Fig. 4 reads, with `config`'s moves, heuristic, weight and tie rule.
-fn reference(config: &Config, grid: &Grid, start: Cell, goal: Cell) -> Result {
+/// The reference search with `config`'s moves, heuristic, weight and tie rule.
+fn reference(config: &Config, grid: &Grid, start: Cell, goal: Cell) -> ReferenceSearch {
     let moves = MoveSet::new(config.moves, config.corner_cutting, &config.order).unwrap();
     let h = |c: Cell| config.weight * config.heuristic.estimate(c.x, c.y, goal.x, goal.y);
-    // Floats >= 0 order like their bits; the tie value is g's bits (low g first) or their
-    // complement (high g first); LIFO complements the sequence.
-    let key = |f: f64, g: f64, seq: u64| {
-        let g_bits = (g + 0.0).to_bits();
-        let (tie, seq) = match config.tie_break {
-            TieBreak::Fifo => (0, seq),
-            TieBreak::Lifo => (0, u64::MAX - seq),
-            TieBreak::LowG => (g_bits, seq),
-            TieBreak::HighG => (!g_bits, seq),
-        };
-        ((f + 0.0).to_bits(), tie, seq)
+    let tie = match config.tie_break {
+        TieBreak::Fifo => Tie::Fifo,
+        TieBreak::Lifo => Tie::Lifo,
+        TieBreak::LowG => Tie::LowG,
+        TieBreak::HighG => Tie::HighG,
     };
-    let n = grid.len();
-    let mut g = vec![f64::INFINITY; n];
-    let mut parent = vec![usize::MAX; n];
-    let mut in_open = vec![false; n];
-    let mut closed = vec![false; n];
-    let mut heap = BinaryHeap::new();
-    let mut seq = 0u64;
-    let [mut exp, mut checks, mut blocked, mut skipped, mut ins, mut rel, mut peak] = [0u64; 7];
-    let (s, t) = (grid.index(start), grid.index(goal));
-    g[s] = 0.0;
-    in_open[s] = true;
-    heap.push(Reverse((key(h(start), 0.0, seq), s)));
-    seq += 1;
-    ins += 1;
-    peak = peak.max(1);
-    let mut n_open = 1u64;
-    while let Some(Reverse((_, p))) = heap.pop() {
-        if closed[p] {
-            continue;
-        }
-        closed[p] = true;
-        in_open[p] = false;
-        n_open -= 1;
-        exp += 1;
-        if p == t {
-            let mut cells = vec![grid.cell(t)];
-            let mut node = t;
-            while node != s {
-                node = parent[node];
-                cells.push(grid.cell(node));
-            }
-            cells.reverse();
-            let counters = [exp, checks, blocked, skipped, ins, rel, peak];
-            return (Status::Found, Some(cells), counters);
-        }
-        let from = grid.cell(p);
-        for mv in moves.moves() {
-            checks += 1;
-            let Some(to) = moves.apply(grid, from, mv) else {
-                blocked += 1;
-                continue;
-            };
-            let q = grid.index(to);
-            if closed[q] {
-                skipped += 1;
-                continue;
-            }
-            let g_new = g[p] + mv.cost;
-            if !in_open[q] || g_new < g[q] {
-                rel += 1;
-                if !in_open[q] {
-                    ins += 1;
-                    n_open += 1;
-                    peak = peak.max(n_open);
-                }
-                in_open[q] = true;
-                g[q] = g_new;
-                parent[q] = p;
-                heap.push(Reverse((key(g_new + h(to), g_new, seq), q)));
-                seq += 1;
-            }
-        }
-    }
-    let counters = [exp, checks, blocked, skipped, ins, rel, peak];
-    (Status::NoPath, None, counters)
+    reference_astar(grid, &moves, h, tie, start, goal)
 }
 
 fn check(config: &Config, grid: &Grid, start: Cell, goal: Cell) {
@@ -105,7 +29,7 @@ fn check(config: &Config, grid: &Grid, start: Cell, goal: Cell) {
         .unwrap()
         .search(&problem, &Budget::unlimited());
     let stats = search.stats;
-    let actual: Result = (
+    let actual: ReferenceSearch = (
         search.status,
         search.path.map(|path| path.cells().to_vec()),
         [

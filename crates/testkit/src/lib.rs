@@ -191,3 +191,113 @@ pub fn frontier_counters(outcome: &planner_api::Outcome) -> [u64; 6] {
             .unwrap_or_else(|| panic!("no {name} in {}", outcome.counters))
     })
 }
+
+/// Tie rules of [`reference_astar`], as planner-astar's `TieBreak` defines them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tie {
+    /// The entry pushed first among equal `f`.
+    Fifo,
+    /// The entry pushed last among equal `f`.
+    Lifo,
+    /// Lower `g` first, then FIFO.
+    LowG,
+    /// Higher `g` first, then FIFO.
+    HighG,
+}
+
+/// What [`reference_astar`] found: status, path cells, and the counters `n_expanded`,
+/// `n_neighbor_checks`, `n_blocked`, `n_skipped`, `n_open_insertions`, `n_relaxations`,
+/// `peak_open`.
+pub type ReferenceSearch = (planner_api::Status, Option<Vec<Cell>>, [u64; 7]);
+
+/// A* as seed 000's Fig. 4 reads, written for clarity and not speed: std's `BinaryHeap`
+/// with lazy deletion and the full key `(f, tie, push sequence)`, per-cell tables the size
+/// of the grid, moves through [`planner_api::MoveSet::apply`]. `h` is the weighted
+/// heuristic of a cell (`f = g + h`). planner-astar must agree with it on every path and
+/// counter; its OPEN lists are nothing like this one.
+pub fn reference_astar(
+    grid: &Grid,
+    moves: &planner_api::MoveSet,
+    h: impl Fn(Cell) -> f64,
+    tie: Tie,
+    start: Cell,
+    goal: Cell,
+) -> ReferenceSearch {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    // Floats >= 0 order like their bits; the tie value is g's bits (low g first) or their
+    // complement (high g first); LIFO complements the sequence.
+    let key = |f: f64, g: f64, seq: u64| {
+        let g_bits = (g + 0.0).to_bits();
+        let (tie, seq) = match tie {
+            Tie::Fifo => (0, seq),
+            Tie::Lifo => (0, u64::MAX - seq),
+            Tie::LowG => (g_bits, seq),
+            Tie::HighG => (!g_bits, seq),
+        };
+        ((f + 0.0).to_bits(), tie, seq)
+    };
+    let n = grid.len();
+    let mut g = vec![f64::INFINITY; n];
+    let mut parent = vec![usize::MAX; n];
+    let mut in_open = vec![false; n];
+    let mut closed = vec![false; n];
+    let mut heap = BinaryHeap::new();
+    let [mut exp, mut checks, mut blocked, mut skipped, mut ins, mut rel] = [0u64; 6];
+    let (s, t) = (grid.index(start), grid.index(goal));
+    g[s] = 0.0;
+    in_open[s] = true;
+    heap.push(Reverse((key(h(start), 0.0, 0), s)));
+    let mut seq = 1u64;
+    ins += 1;
+    let (mut n_open, mut peak) = (1u64, 1u64);
+    while let Some(Reverse((_, p))) = heap.pop() {
+        if closed[p] {
+            continue;
+        }
+        closed[p] = true;
+        in_open[p] = false;
+        n_open -= 1;
+        exp += 1;
+        if p == t {
+            let mut cells = vec![grid.cell(t)];
+            let mut node = t;
+            while node != s {
+                node = parent[node];
+                cells.push(grid.cell(node));
+            }
+            cells.reverse();
+            let counters = [exp, checks, blocked, skipped, ins, rel, peak];
+            return (planner_api::Status::Found, Some(cells), counters);
+        }
+        let from = grid.cell(p);
+        for mv in moves.moves() {
+            checks += 1;
+            let Some(to) = moves.apply(grid, from, mv) else {
+                blocked += 1;
+                continue;
+            };
+            let q = grid.index(to);
+            if closed[q] {
+                skipped += 1;
+                continue;
+            }
+            let g_new = g[p] + mv.cost;
+            if !in_open[q] || g_new < g[q] {
+                rel += 1;
+                if !in_open[q] {
+                    ins += 1;
+                    n_open += 1;
+                    peak = peak.max(n_open);
+                }
+                in_open[q] = true;
+                g[q] = g_new;
+                parent[q] = p;
+                heap.push(Reverse((key(g_new + h(to), g_new, seq), q)));
+                seq += 1;
+            }
+        }
+    }
+    let counters = [exp, checks, blocked, skipped, ins, rel, peak];
+    (planner_api::Status::NoPath, None, counters)
+}
