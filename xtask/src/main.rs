@@ -34,7 +34,8 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
-    /// Run one planner on one problem and print the path, metrics and counters.
+    /// Run one planner on one problem and print the path, metrics and counters (a coverage
+    /// planner covers from --start and takes no --goal).
     Plan {
         /// The map file (.map, .txt, .csv).
         map: PathBuf,
@@ -50,7 +51,7 @@ enum Command {
         /// Start cell as x,y.
         #[arg(long, value_parser = parse_cell)]
         start: Option<Cell>,
-        /// Goal cell as x,y.
+        /// Goal cell as x,y (not for coverage planners).
         #[arg(long, value_parser = parse_cell)]
         goal: Option<Cell>,
         /// Planner parameter override, key=value (repeatable), e.g. --set heuristic=octile.

@@ -3,7 +3,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use planner_api::{Budget, Cell, Grid, Outcome, Problem};
+use planner_api::{
+    Budget, Cell, CoverageMetrics, CoverageProblem, Grid, Outcome, Problem, ReturnLeg,
+};
 use serde::Serialize;
 
 use crate::config;
@@ -41,6 +43,9 @@ pub struct PlanJson<'a> {
     pub metrics: Option<Metrics>,
     /// The planner's counters.
     pub counters: &'a planner_api::Counters,
+    /// Coverage planners only: coverage metrics and returns.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coverage: Option<CoverageJson<'a>>,
 }
 
 /// Path metrics in `plan --json`.
@@ -56,43 +61,50 @@ pub struct Metrics {
     pub length: f64,
 }
 
+/// Coverage in `plan --json`, for coverage planners.
+#[derive(Debug, Serialize)]
+pub struct CoverageJson<'a> {
+    /// Free cells 4-connected to the start.
+    pub n_reachable: u64,
+    /// Distinct reachable cells on the path.
+    pub n_covered: u64,
+    /// `100 * n_covered / n_reachable`.
+    pub percent: f64,
+    /// Path cells entered when already covered.
+    pub n_revisits: u64,
+    /// The stretches of the path that return to a backtracking point.
+    pub returns: &'a [ReturnLeg],
+}
+
+/// What a coverage planner reports beyond a path planner's outcome.
+pub struct CoverageReport {
+    /// Coverage, revisits and path metrics.
+    pub metrics: CoverageMetrics,
+    /// The path's returns to backtracking points.
+    pub returns: Vec<ReturnLeg>,
+}
+
 /// One finished run.
 pub struct PlanResult {
     /// The grid.
     pub grid: Grid,
     /// Start.
     pub start: Cell,
-    /// Goal.
-    pub goal: Cell,
+    /// Goal (a coverage planner has none: `None`).
+    pub goal: Option<Cell>,
     /// Planner label or name.
     pub planner: String,
-    /// The outcome.
+    /// The outcome: for a coverage planner its status, path and counters.
     pub outcome: Outcome,
+    /// For a coverage planner, its coverage metrics and returns.
+    pub coverage: Option<CoverageReport>,
 }
 
-/// Runs `args`.
+/// Runs `args`. A coverage planner covers from the start (`--start`, or the problem's)
+/// and takes no `--goal`.
 pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
     let file = planner_maps::read_map(&args.map).map_err(|e| e.to_string())?;
     let grid = file.grid;
-    let (start, goal) = match (args.start, args.goal, args.problem) {
-        (Some(start), Some(goal), None) => (start, goal),
-        (None, None, problem) => pick_problem(&args.map, &grid, &file.problems, problem)?,
-        (_, _, Some(_)) => {
-            return Err("give either --problem or --start and --goal, not both".into())
-        }
-        _ => return Err("--start and --goal go together".into()),
-    };
-    let problem =
-        Problem::new(&grid, start, goal).map_err(|e| format!("{}: {e}", args.map.display()))?;
-
-    let coverage_only = |name: &str| {
-        registry::find_coverage(name).map(|_| {
-            format!("`{name}` is a coverage planner: run it from an experiment config with `problems = \"start\"` (see configs/coverage.toml)")
-        })
-    };
-    if let Some(message) = coverage_only(&args.planner) {
-        return Err(message);
-    }
     let (name, mut params, mut budget) = match &args.config {
         Some(path) => {
             let experiment = config::load(path).map_err(|e| e.to_string())?;
@@ -116,19 +128,19 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
             (spec.name, spec.params.clone(), spec.budget)
         }
         None => {
-            let entry = registry::find(&args.planner).ok_or_else(|| {
-                format!(
-                    "unknown planner `{}`, expected one of {}",
-                    args.planner,
-                    registry::names().join(", ")
-                )
-            })?;
-            (entry.name, toml::Table::new(), Budget::unlimited())
+            let name = registry::find(&args.planner)
+                .map(|e| e.name)
+                .or_else(|| registry::find_coverage(&args.planner).map(|e| e.name))
+                .ok_or_else(|| {
+                    format!(
+                        "unknown planner `{}`, expected one of {}",
+                        args.planner,
+                        registry::names().join(", ")
+                    )
+                })?;
+            (name, toml::Table::new(), Budget::unlimited())
         }
     };
-    if let Some(message) = coverage_only(name) {
-        return Err(message);
-    }
     for assignment in &args.set {
         let (key, value) = assignment
             .split_once('=')
@@ -144,16 +156,62 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
     if let Some(n) = args.max_expansions {
         budget.max_expansions = Some(n);
     }
+    let planner_error = |e: String| format!("planner `{name}`: {}", e.replace('\n', " ").trim());
+
+    if let Some(entry) = registry::find_coverage(name) {
+        let start = match (args.start, args.goal, args.problem) {
+            (_, Some(_), _) => {
+                return Err(format!(
+                    "`{name}` is a coverage planner: it covers from --start and takes no --goal"
+                ))
+            }
+            (Some(start), None, None) => start,
+            (None, None, problem) => pick_problem(&args.map, &grid, &file.problems, problem)?.0,
+            (Some(_), None, Some(_)) => {
+                return Err("give either --problem or --start, not both".into())
+            }
+        };
+        let problem = CoverageProblem::new(&grid, start)
+            .map_err(|e| format!("{}: {e}", args.map.display()))?;
+        let mut planner = (entry.build)(params).map_err(planner_error)?;
+        let covered = planner.cover(&problem, &budget);
+        return Ok(PlanResult {
+            start,
+            goal: None,
+            planner: args.planner.clone(),
+            outcome: Outcome {
+                status: covered.status,
+                path: Some(covered.path),
+                counters: covered.counters,
+            },
+            coverage: Some(CoverageReport {
+                metrics: covered.metrics,
+                returns: covered.returns,
+            }),
+            grid,
+        });
+    }
+
+    let (start, goal) = match (args.start, args.goal, args.problem) {
+        (Some(start), Some(goal), None) => (start, goal),
+        (None, None, problem) => pick_problem(&args.map, &grid, &file.problems, problem)?,
+        (_, _, Some(_)) => {
+            return Err("give either --problem or --start and --goal, not both".into())
+        }
+        _ => return Err("--start and --goal go together".into()),
+    };
+    let problem =
+        Problem::new(&grid, start, goal).map_err(|e| format!("{}: {e}", args.map.display()))?;
     let entry = registry::find(name).ok_or_else(|| format!("unknown planner `{name}`"))?;
-    let mut planner = (entry.build)(params)
-        .map_err(|e| format!("planner `{name}`: {}", e.replace('\n', " ").trim()))?;
+    let mut planner = (entry.build)(params).map_err(planner_error)?;
     let outcome = planner.plan(&problem, &budget);
     Ok(PlanResult {
         grid,
         start,
-        goal,
+        goal: Some(goal),
         planner: args.planner.clone(),
         outcome,
+        coverage: None,
     })
 }
 
@@ -204,6 +262,13 @@ impl PlanResult {
                 }
             }),
             counters: &self.outcome.counters,
+            coverage: self.coverage.as_ref().map(|c| CoverageJson {
+                n_reachable: c.metrics.n_reachable,
+                n_covered: c.metrics.n_covered,
+                percent: c.metrics.percent,
+                n_revisits: c.metrics.n_revisits,
+                returns: &c.returns,
+            }),
         };
         serde_json::to_string(&json).map_err(|e| e.to_string())
     }
@@ -211,14 +276,16 @@ impl PlanResult {
     /// The run for a person: header, the map with the path drawn, metrics, counters.
     pub fn to_text(&self) -> String {
         let mut out = String::new();
+        let route = match self.goal {
+            Some(goal) => format!("{} -> {goal}", self.start),
+            None => format!("covering from {}", self.start),
+        };
         let _ = writeln!(
             out,
-            "{} on a {}x{} grid, {} -> {}: {}",
+            "{} on a {}x{} grid, {route}: {}",
             self.planner,
             self.grid.width(),
             self.grid.height(),
-            self.start,
-            self.goal,
             self.outcome.status.as_str()
         );
         if let Some(path) = &self.outcome.path {
@@ -227,6 +294,17 @@ impl PlanResult {
                 out,
                 "steps (D) {}, turns (T) {}, score {}, length {:.4}",
                 m.steps, m.turns, m.score, m.length
+            );
+        }
+        if let Some(c) = &self.coverage {
+            let _ = writeln!(
+                out,
+                "covered {} of {} reachable cells ({:.2}%), {} revisits, {} returns",
+                c.metrics.n_covered,
+                c.metrics.n_reachable,
+                c.metrics.percent,
+                c.metrics.n_revisits,
+                c.returns.len()
             );
         }
         if self.grid.width() <= 120 && self.grid.height() <= 120 {
@@ -244,10 +322,16 @@ impl PlanResult {
     }
 }
 
-/// The grid as text: `#` blocked, `.` free, `S` start, `G` goal, and the path: an arrow
-/// (`>` `<` `v` `^`, diagonals `\` `/`) on each cell for the move leaving it, `*` on the
-/// cells where a longer move starts.
-pub fn draw_text(grid: &Grid, start: Cell, goal: Cell, path: Option<&planner_api::Path>) -> String {
+/// The grid as text: `#` blocked, `.` free, `S` start, `G` goal (if any), and the path: an
+/// arrow (`>` `<` `v` `^`, diagonals `\` `/`) on each cell for the move leaving it (the last
+/// one when a coverage path leaves a cell several times), `*` on the cells where a longer
+/// move starts.
+pub fn draw_text(
+    grid: &Grid,
+    start: Cell,
+    goal: Option<Cell>,
+    path: Option<&planner_api::Path>,
+) -> String {
     let mut canvas: Vec<Vec<char>> = (0..grid.height())
         .map(|y| {
             (0..grid.width())
@@ -278,7 +362,9 @@ pub fn draw_text(grid: &Grid, start: Cell, goal: Cell, path: Option<&planner_api
         }
     }
     canvas[start.y as usize][start.x as usize] = 'S';
-    canvas[goal.y as usize][goal.x as usize] = 'G';
+    if let Some(goal) = goal {
+        canvas[goal.y as usize][goal.x as usize] = 'G';
+    }
     let mut out = String::new();
     for row in canvas {
         out.extend(row);

@@ -111,18 +111,47 @@ fn start_problems_are_checked() {
     assert_eq!(records[0].error.as_deref(), Some("start (0, 0) is blocked"));
 }
 
+/// `cargo xtask plan` runs a coverage planner from --start: the same path, counters and
+/// returns as the config's run of that planner, and 100% coverage; --goal is refused.
 #[test]
-fn plan_points_coverage_planners_to_configs() {
+fn plan_runs_coverage_planners_like_the_config() {
+    let config_path = root().join("configs/coverage.toml");
+    let experiment = config::load(&config_path).unwrap();
+    let records = run_all(&experiment, 1, false).unwrap();
+    let record = records
+        .iter()
+        .find(|r| r.map == "rooms30-1.map" && r.planner == "zigzag")
+        .unwrap();
     let args = xtask::plan::PlanArgs {
         map: root().join("maps/coverage/rooms30-1.map"),
-        planner: "coverage".into(),
+        planner: "zigzag".into(),
+        config: Some(config_path),
         start: Some(planner_api::Cell::new(0, 1)),
-        goal: Some(planner_api::Cell::new(0, 1)),
         ..Default::default()
     };
-    let error = xtask::plan::run(&args).err().unwrap();
+    let result = xtask::plan::run(&args).unwrap();
+    assert_eq!(result.goal, None);
+    assert_eq!(result.outcome.path, record.path);
+    assert_eq!(result.outcome.counters, record.counters);
+    let json: serde_json::Value = serde_json::from_str(&result.to_json().unwrap()).unwrap();
+    assert_eq!(json["status"], "found");
+    assert_eq!(json["coverage"]["percent"], 100.0);
+    let returns = json["coverage"]["returns"].as_array().unwrap().len();
+    assert_eq!(Some(returns), record.returns.as_ref().map(Vec::len));
+    let text = result.to_text();
     assert!(
-        error.starts_with("`coverage` is a coverage planner"),
-        "{error}"
+        text.contains("zigzag on a 30x30 grid, covering from (0, 1): found"),
+        "{text}"
+    );
+    assert!(text.contains("reachable cells (100.00%)"), "{text}");
+
+    let with_goal = xtask::plan::PlanArgs {
+        goal: Some(planner_api::Cell::new(5, 5)),
+        ..args
+    };
+    let error = xtask::plan::run(&with_goal).err().unwrap();
+    assert_eq!(
+        error,
+        "`coverage` is a coverage planner: it covers from --start and takes no --goal"
     );
 }
