@@ -103,11 +103,7 @@ fn layer(run: &RunRecord) -> Layer<'_> {
         ),
         _ => run.status.replace('_', " "),
     };
-    Layer {
-        label: &run.planner,
-        path: run.path.as_ref(),
-        note,
-    }
+    Layer::new(&run.planner, run.path.as_ref(), note).with_markers(&run.marks)
 }
 
 /// Labels come from user configs; keep file names to letters, digits, '-' and '_'.

@@ -234,6 +234,7 @@ mod tests {
             peak_heap_bytes: 0,
             path: None,
             returns: None,
+            marks: Vec::new(),
         }
     }
 

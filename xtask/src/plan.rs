@@ -183,6 +183,7 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
                 status: covered.status,
                 path: Some(covered.path),
                 counters: covered.counters,
+                marks: Vec::new(),
             },
             coverage: Some(CoverageReport {
                 metrics: covered.metrics,

@@ -62,6 +62,9 @@ pub struct RunRecord {
     /// Coverage planners only: the stretches of `path` that return to a backtracking point.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub returns: Option<Vec<planner_api::ReturnLeg>>,
+    /// The cells the planner marked in its outcome (PA-star's handover points), if any.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub marks: Vec<planner_api::Mark>,
 }
 
 /// One run to do.
@@ -175,6 +178,7 @@ fn run_one(experiment: &Experiment, spec: &RunSpec) -> Result<RunRecord, String>
         peak_heap_bytes: 0,
         path: None,
         returns: None,
+        marks: Vec::new(),
     };
     let Ok(problem) = Problem::new(&map.grid, entry.start, entry.goal) else {
         tracing::warn!(error = ?entry.invalid, "skipping an invalid problem");
@@ -200,6 +204,7 @@ fn run_one(experiment: &Experiment, spec: &RunSpec) -> Result<RunRecord, String>
     );
     record.status = outcome.status.as_str().into();
     record.counters = outcome.counters;
+    record.marks = outcome.marks;
     if let Some(path) = outcome.path {
         let m = path.metrics();
         record.steps = Some(m.steps);

@@ -65,6 +65,14 @@ fn compact(records: &[RunRecord]) -> Vec<serde_json::Value> {
                     .into(),
                 None => serde_json::Value::Null,
             };
+            if !r.marks.is_empty() {
+                let marks: Vec<String> = r
+                    .marks
+                    .iter()
+                    .map(|m| format!("{}@{}", m.label, cell(m.cell)))
+                    .collect();
+                value["marks"] = marks.join(" ").into();
+            }
             value
         })
         .collect()

@@ -40,7 +40,7 @@ fn generated_maps_are_the_committed_ones() {
 /// Every PA-star configuration of every config finds a valid any-angle path from start
 /// to goal on every one of its problems (one repeat each).
 #[test]
-fn every_pastar_path_in_every_config_is_valid() {
+fn every_pastar_path_in_every_config_is_valid_and_passes_its_marks() {
     let mut checked = 0;
     for path in configs() {
         let mut experiment = config::load(&path).unwrap();
@@ -62,6 +62,15 @@ fn every_pastar_path_in_every_config_is_valid() {
             assert_eq!(record.status, "found", "{at}");
             assert_eq!(record.valid, Some(true), "{at}");
             assert_eq!(record.counters.get("n_fallbacks"), Some(0), "{at}");
+            // Its marks are the local segments' ends, in pairs along the path.
+            let segments = record.counters.get("n_local_segments").unwrap() as usize;
+            assert_eq!(record.marks.len(), 2 * segments, "{at}");
+            let cells = record.path.as_ref().unwrap().cells();
+            let mut from = 0;
+            for mark in &record.marks {
+                let k = cells[from..].iter().position(|&c| c == mark.cell);
+                from += k.unwrap_or_else(|| panic!("{at}: {mark:?} not on the path after {from}"));
+            }
             checked += 1;
         }
     }

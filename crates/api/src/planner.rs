@@ -198,6 +198,30 @@ pub struct Outcome {
     pub path: Option<Path>,
     /// The counters that apply to this planner, in its order.
     pub counters: Counters,
+    /// Cells the planner points out in its result, in its order (PA-star's handover
+    /// points); usually none. Figures draw them and run records list them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub marks: Vec<Mark>,
+}
+
+/// A cell a planner points out in its result, with a short label (a few characters, as
+/// figures write it beside the cell).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Mark {
+    /// The marked cell.
+    pub cell: Cell,
+    /// Its label, e.g. `H1`.
+    pub label: String,
+}
+
+impl Mark {
+    /// A mark from its parts.
+    pub fn new(cell: Cell, label: impl Into<String>) -> Mark {
+        Mark {
+            cell,
+            label: label.into(),
+        }
+    }
 }
 
 impl Outcome {
@@ -207,6 +231,7 @@ impl Outcome {
             status: Status::Found,
             path: Some(path),
             counters,
+            marks: Vec::new(),
         }
     }
 
@@ -216,6 +241,7 @@ impl Outcome {
             status: Status::NoPath,
             path: None,
             counters,
+            marks: Vec::new(),
         }
     }
 
@@ -225,6 +251,7 @@ impl Outcome {
             status: Status::BudgetExhausted,
             path,
             counters,
+            marks: Vec::new(),
         }
     }
 }

@@ -523,6 +523,7 @@ impl Planner for AStar {
             status: search.status,
             path: search.path,
             counters: search.stats.report(Counter::ASTAR),
+            marks: Vec::new(),
         }
     }
 }

@@ -148,6 +148,10 @@ pub struct Layer<'a> {
     pub path: Option<&'a Path>,
     /// Text shown with the label, e.g. `"found, D=10 T=2 Score=12"` or `"budget exhausted"`.
     pub note: String,
+    /// Cells to mark on this layer's path, e.g. the planner's [`Outcome`] marks.
+    ///
+    /// [`Outcome`]: planner_api::Outcome
+    pub markers: &'a [Marker],
 }
 
 impl<'a> Layer<'a> {
@@ -157,18 +161,20 @@ impl<'a> Layer<'a> {
             label,
             path,
             note: note.into(),
+            markers: &[],
         }
+    }
+
+    /// The layer with `markers` drawn on it.
+    pub fn with_markers(self, markers: &'a [Marker]) -> Layer<'a> {
+        Layer { markers, ..self }
     }
 }
 
-/// An extra marked cell with a short label, e.g. a coverage backtracking point.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub struct Marker {
-    /// The marked cell; markers outside the grid are not drawn.
-    pub cell: Cell,
-    /// Text written beside the mark (left out when there are more than 40 markers).
-    pub label: String,
-}
+/// An extra marked cell with a short label, e.g. a coverage backtracking point or a
+/// planner's [`Mark`](planner_api::Mark) (the same type). Markers outside the grid are not
+/// drawn; labels are left out when there are more than 40 markers.
+pub use planner_api::Mark as Marker;
 
 /// One planner's path on the grid, as an SVG document.
 ///

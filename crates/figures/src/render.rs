@@ -643,6 +643,86 @@ fn layer_group(
     g
 }
 
+/// `markers` on the map in `colour`: with `framed` (cells large enough for step labels) a
+/// frame around each cell with its label in the top-left corner, clear of the step disc;
+/// on small cells a diamond with the label beside it (left of it near the right edge),
+/// labels only when there are at most [`MAX_MARKER_LABELS`] markers.
+fn marker_group(grid: &Grid, f: Frame, markers: &[Marker], framed: bool, colour: &str) -> Group {
+    let shown: Vec<&Marker> = markers.iter().filter(|m| grid.contains(m.cell)).collect();
+    let mut mg = Group::new().set("class", "markers");
+    let cell = f.cell;
+    let r = (0.5 * cell).max(4.5);
+    let right_edge = f.ox + f64::from(grid.width()) * cell;
+    for m in &shown {
+        let (x, y) = f.centre(m.cell);
+        if framed {
+            let t = (0.08 * cell).max(2.0);
+            let (cx, cy) = f.corner(m.cell);
+            mg.append(
+                Rectangle::new()
+                    .set("x", num(cx + t / 2.0))
+                    .set("y", num(cy + t / 2.0))
+                    .set("width", num(cell - t))
+                    .set("height", num(cell - t))
+                    .set("fill", "none")
+                    .set("stroke", colour)
+                    .set("stroke-width", num(t))
+                    .set("class", "marker"),
+            );
+        } else {
+            let d = format!(
+                "M{} {}L{} {}L{} {}L{} {}Z",
+                num(x),
+                num(y - r),
+                num(x + r),
+                num(y),
+                num(x),
+                num(y + r),
+                num(x - r),
+                num(y)
+            );
+            mg.append(
+                SvgPath::new()
+                    .set("d", d)
+                    .set("fill", colour)
+                    .set("stroke", "#ffffff")
+                    .set("stroke-width", 1)
+                    .set("class", "marker"),
+            );
+        }
+        if m.label.is_empty() || (!framed && shown.len() > MAX_MARKER_LABELS) {
+            continue;
+        }
+        let (fs, lx, ly, anchor, max_w) = if framed {
+            let (cx, cy) = f.corner(m.cell);
+            let fs = (0.24 * cell).min(NOTE_FS);
+            (
+                fs,
+                cx + 0.1 * cell,
+                cy + 0.1 * cell + 0.8 * fs,
+                "start",
+                0.9 * cell,
+            )
+        } else if x + r + 50.0 > right_edge {
+            (NOTE_FS, x - r - 2.0, y - r / 2.0, "end", 120.0)
+        } else {
+            (NOTE_FS, x + r + 2.0, y - r / 2.0, "start", 120.0)
+        };
+        mg.append(
+            text(lx, ly, fit_text(&m.label, fs, max_w), fs)
+                .set("text-anchor", anchor)
+                .set("font-weight", "bold")
+                .set("fill", if framed { colour } else { INK })
+                .set("stroke", "#ffffff")
+                .set("stroke-width", num((fs / 4.0).max(1.0)))
+                .set("stroke-linejoin", "round")
+                .set("paint-order", "stroke")
+                .set("class", "marker-label"),
+        );
+    }
+    mg
+}
+
 /// A colour swatch: a short thick line ending at `x + 16`, centred on the text line `y`.
 fn swatch(x: f64, y: f64, colour: &str, width: f64) -> Line {
     Line::new()
@@ -731,6 +811,7 @@ pub(crate) fn panels(
                 mode,
                 &[start, goal],
             ));
+            panel.append(marker_group(grid, f, layer.markers, labels, colour));
             panel.append(endpoints(grid, f, start, goal, ("S", "G")));
             // Legend: swatch and label, then the note; may use the gap beside the panel.
             let room = if col as usize + 1 < cols {
@@ -823,6 +904,10 @@ pub(crate) fn overlay(
             mode,
             &[start, goal],
         ));
+    }
+    for (i, layer) in layers.iter().enumerate() {
+        let colour = PALETTE[i % PALETTE.len()];
+        doc.append(marker_group(grid, f, layer.markers, labels, colour));
     }
     doc.append(endpoints(grid, f, start, goal, ("S", "G")));
     let mut legend = Group::new().set("class", "legend");
@@ -919,82 +1004,9 @@ pub(crate) fn timeline(
     }
     doc.append(g);
 
-    // Markers: vermillion (a colour viridis lacks). On labelled cells a frame around the
-    // cell with the label in its top-left corner, clear of the step disc; on small cells a
-    // diamond with the label beside it (left of it near the right edge) when few.
-    let shown: Vec<&Marker> = markers.iter().filter(|m| grid.contains(m.cell)).collect();
-    let mut mg = Group::new().set("class", "markers");
-    let framed = labels;
-    let r = (0.5 * cell).max(4.5);
-    let right_edge = f.ox + w * cell;
-    for m in &shown {
-        let (x, y) = f.centre(m.cell);
-        if framed {
-            let t = (0.08 * cell).max(2.0);
-            let (cx, cy) = f.corner(m.cell);
-            mg.append(
-                Rectangle::new()
-                    .set("x", num(cx + t / 2.0))
-                    .set("y", num(cy + t / 2.0))
-                    .set("width", num(cell - t))
-                    .set("height", num(cell - t))
-                    .set("fill", "none")
-                    .set("stroke", PALETTE[1])
-                    .set("stroke-width", num(t))
-                    .set("class", "marker"),
-            );
-        } else {
-            let d = format!(
-                "M{} {}L{} {}L{} {}L{} {}Z",
-                num(x),
-                num(y - r),
-                num(x + r),
-                num(y),
-                num(x),
-                num(y + r),
-                num(x - r),
-                num(y)
-            );
-            mg.append(
-                SvgPath::new()
-                    .set("d", d)
-                    .set("fill", PALETTE[1])
-                    .set("stroke", "#ffffff")
-                    .set("stroke-width", 1)
-                    .set("class", "marker"),
-            );
-        }
-        if m.label.is_empty() || (!framed && shown.len() > MAX_MARKER_LABELS) {
-            continue;
-        }
-        let (fs, lx, ly, anchor, max_w) = if framed {
-            let (cx, cy) = f.corner(m.cell);
-            let fs = (0.24 * cell).min(NOTE_FS);
-            (
-                fs,
-                cx + 0.1 * cell,
-                cy + 0.1 * cell + 0.8 * fs,
-                "start",
-                0.9 * cell,
-            )
-        } else if x + r + 50.0 > right_edge {
-            (NOTE_FS, x - r - 2.0, y - r / 2.0, "end", 120.0)
-        } else {
-            (NOTE_FS, x + r + 2.0, y - r / 2.0, "start", 120.0)
-        };
-        mg.append(
-            text(lx, ly, fit_text(&m.label, fs, max_w), fs)
-                .set("text-anchor", anchor)
-                .set("font-weight", "bold")
-                .set("fill", if framed { PALETTE[1] } else { INK })
-                .set("stroke", "#ffffff")
-                .set("stroke-width", num((fs / 4.0).max(1.0)))
-                .set("stroke-linejoin", "round")
-                .set("paint-order", "stroke")
-                .set("class", "marker-label"),
-        );
-    }
-    doc.append(mg);
+    // Markers: vermillion (a colour viridis lacks).
+    doc.append(marker_group(grid, f, markers, labels, PALETTE[1]));
+    let n_shown = markers.iter().filter(|m| grid.contains(m.cell)).count();
     if let (Some(s), Some(e)) = (path.start(), path.goal()) {
         doc.append(endpoints(grid, f, s, e, ("S", "E")));
     }
@@ -1031,8 +1043,8 @@ pub(crate) fn timeline(
             y + LINE_H,
             format!(
                 "{} marked cell{}; S start, E end",
-                shown.len(),
-                if shown.len() == 1 { "" } else { "s" }
+                n_shown,
+                if n_shown == 1 { "" } else { "s" }
             ),
             NOTE_FS,
         )

@@ -663,6 +663,7 @@ impl Planner for LexAStar {
             status: search.status,
             path: search.path,
             counters,
+            marks: Vec::new(),
         }
     }
 }

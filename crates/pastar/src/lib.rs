@@ -159,7 +159,7 @@ use std::time::{Duration, Instant};
 
 use planner_api::{
     for_each_segment_cell, segment_is_free, Budget, Cell, Connectivity, Counter, Counters, Grid,
-    MoveSet, NeighborOrder, Outcome, Path, PathRule, Planner, Problem, SearchStats, Status,
+    Mark, MoveSet, NeighborOrder, Outcome, Path, PathRule, Planner, Problem, SearchStats, Status,
 };
 use planner_astar::{AStar, Heuristic, TieBreak};
 use serde::de::{self, Visitor};
@@ -434,7 +434,30 @@ impl PaStar {
     }
 
     /// Runs PA-star on `problem` within `budget` and reports every intermediate result.
+    ///
+    /// The outcome marks the handover points the path uses: each local segment's start
+    /// `H<k>` and goal `H<k>'`, in order along the line (after merging, so one pair may
+    /// serve several obstacles). There are none when the line is free, and none after a
+    /// fallback to one A* search from S to E, whose path need not pass them.
     pub fn plan_detailed(&mut self, problem: &Problem<'_>, budget: &Budget) -> Report {
+        let mut report = self.run(problem, budget);
+        if report.stats.n_fallbacks > 0 {
+            return report;
+        }
+        report.outcome.marks = (1..)
+            .zip(&report.segments)
+            .flat_map(|(k, segment)| {
+                [
+                    Mark::new(segment.start, format!("H{k}")),
+                    Mark::new(segment.goal, format!("H{k}'")),
+                ]
+            })
+            .collect();
+        report
+    }
+
+    /// [`PaStar::plan_detailed`] without the marks.
+    fn run(&mut self, problem: &Problem<'_>, budget: &Budget) -> Report {
         let grid = problem.grid();
         let (s, e) = (problem.start(), problem.goal());
         let mut line = Vec::new();
@@ -516,6 +539,7 @@ impl PaStar {
             status: search.status,
             path: search.path,
             counters,
+            marks: Vec::new(),
         };
         report
     }

@@ -215,6 +215,28 @@ fn merging_follows_r_threshold() {
     assert_eq!(merged.segments[0].n_obstacles, 2);
     assert_eq!(counter(&merged, "n_merged"), 1);
     assert_eq!(counter(&merged, "n_local_segments"), 1);
+    // The outcome marks the handover cells the path uses, after merging.
+    let marks = |report: &planner_pastar::Report| -> Vec<(String, Cell)> {
+        let marks = &report.outcome.marks;
+        marks.iter().map(|m| (m.label.clone(), m.cell)).collect()
+    };
+    let named = |pairs: &[(&str, (u32, u32))]| -> Vec<(String, Cell)> {
+        let cell = |(x, y)| Cell::new(x, y);
+        pairs
+            .iter()
+            .map(|&(l, c)| (l.to_string(), cell(c)))
+            .collect()
+    };
+    assert_eq!(
+        marks(&apart),
+        named(&[
+            ("H1", (4, 1)),
+            ("H1'", (6, 1)),
+            ("H2", (11, 1)),
+            ("H2'", (13, 1))
+        ])
+    );
+    assert_eq!(marks(&merged), named(&[("H1", (4, 1)), ("H1'", (13, 1))]));
     // One search over both: up, along row 0, down: 1 + 9 + 1 at most.
     assert!(length(&merged) <= 4.0 + 11.0 + 6.0 + 1e-9);
 }
@@ -329,6 +351,8 @@ fn failed_local_search_falls_back() {
     let report = run(&grid, (2, 2), (4, 4), Config::default());
     assert_eq!(report.outcome.status, Status::NoPath);
     assert_eq!(counter(&report, "n_fallbacks"), 1);
+    // The path need not pass the handover cells: none are marked.
+    assert!(report.outcome.marks.is_empty());
     assert_eq!(counter(&report, "n_local_segments"), 1);
     // The start cell alone is expanded, once by the local search and once by the fallback.
     assert_eq!(counter(&report, "n_expanded"), 2);

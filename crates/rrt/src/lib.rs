@@ -405,6 +405,7 @@ impl<I: NearestIndex> Planner for Rrt<I> {
             },
             path: found.then(|| self.path_to_last()),
             counters: stats.counters(),
+            marks: Vec::new(),
         }
     }
 }
