@@ -396,6 +396,43 @@ fn every_astar_run_matches_the_reference_search() {
     assert_eq!(n_checked, 12 + 24 + 144 + 42);
 }
 
+/// Every lexastar run of every config (as snapshotted) finds the best (D, T), hence
+/// Score, that `planner_testkit::fewest_moves_then_turns` (plain Dijkstra over (cell,
+/// heading) states) finds, and a valid path: its snapshot metrics are checked against an
+/// independent search, on the Moving AI maps too, where enumerating paths is hopeless.
+#[test]
+fn every_lexastar_run_is_best_by_steps_then_turns() {
+    let mut n_checked = 0;
+    for path in configs() {
+        let experiment = config::load(&path).unwrap().trimmed_for_test();
+        let records = run_all(&experiment, 2, false).unwrap();
+        let lexastar_runs = records
+            .iter()
+            .filter(|r| r.algorithm == "lexastar" && r.status != "invalid_problem");
+        for r in lexastar_runs {
+            let spec = experiment
+                .planners
+                .iter()
+                .find(|p| p.label == r.planner)
+                .unwrap();
+            let config: planner_lexastar::Config = spec.params.clone().try_into().unwrap();
+            assert_eq!(config.objective, planner_lexastar::Objective::Lexicographic);
+            let map = experiment.maps.iter().find(|m| m.name == r.map).unwrap();
+            let moves =
+                planner_api::MoveSet::new(config.moves, config.corner_cutting, &config.order)
+                    .unwrap();
+            let best = planner_testkit::fewest_moves_then_turns(&map.grid, &moves, r.start, r.goal);
+            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+            assert_eq!(r.steps.zip(r.turns), best, "{what}");
+            assert_eq!(r.score, best.map(|(d, t)| d + t), "{what}");
+            assert_eq!(r.valid, best.map(|_| true), "{what}");
+            n_checked += 1;
+        }
+    }
+    // paper: 12 maps; movingai: 36 problems.
+    assert_eq!(n_checked, 12 + 36);
+}
+
 /// `inflation` blocks every cell within that many cells of an occupied one in a ROS map.
 #[test]
 fn ros_maps_take_an_inflation_radius() {

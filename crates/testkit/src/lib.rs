@@ -301,3 +301,48 @@ pub fn reference_astar(
     let counters = [exp, checks, blocked, skipped, ins, rel, peak];
     (planner_api::Status::NoPath, None, counters)
 }
+
+/// An independent search for seed 000's best path by (D, T): plain Dijkstra over states
+/// (cell, direction of the last move), where a move costs one step plus one turn when its
+/// direction differs from the last (the first move never turns), with pair costs compared
+/// lexicographically. Returns `(D, T)` of a best path, or `None` when there is none. Score
+/// is `D + T` for such a path, so this also fixes the best Score.
+pub fn fewest_moves_then_turns(
+    grid: &Grid,
+    moves: &planner_api::MoveSet,
+    start: Cell,
+    goal: Cell,
+) -> Option<(u64, u64)> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    // State `cell * slots + heading`; heading `n` (one past the moves) is "no move yet".
+    let n = moves.moves().len();
+    let slots = n + 1;
+    let mut best = vec![(u64::MAX, u64::MAX); grid.len() * slots];
+    let mut heap = BinaryHeap::new();
+    let first = grid.index(start) * slots + n;
+    best[first] = (0, 0);
+    heap.push(Reverse(((0u64, 0u64), first)));
+    while let Some(Reverse((cost, state))) = heap.pop() {
+        if cost > best[state] {
+            continue;
+        }
+        let (cell, heading) = (grid.cell(state / slots), state % slots);
+        if cell == goal {
+            return Some(cost);
+        }
+        for (direction, mv) in moves.moves().iter().enumerate() {
+            let Some(next) = moves.apply(grid, cell, mv) else {
+                continue;
+            };
+            let turn = u64::from(heading != n && heading != direction);
+            let next_cost = (cost.0 + 1, cost.1 + turn);
+            let next_state = grid.index(next) * slots + direction;
+            if next_cost < best[next_state] {
+                best[next_state] = next_cost;
+                heap.push(Reverse((next_cost, next_state)));
+            }
+        }
+    }
+    None
+}
