@@ -1,5 +1,6 @@
 //! Seed 002 through the runner: the generated maps are the committed ones, every PA-star
-//! path of every config is valid, and the paper's length claims on the 140 x 120 maps.
+//! path of every config is valid and its counters are those of its local searches, and the
+//! paper's length claims on the 140 x 120 maps.
 
 use std::path::{Path, PathBuf};
 
@@ -118,4 +119,73 @@ fn pastar_config_lengths_on_the_140x120_maps() {
         .find(|r| r.map == open && r.planner == "PA-star")
         .unwrap();
     assert_eq!(free.counters.get("n_expanded"), Some(0));
+}
+
+/// PA-star's A* counters are the sums of its local searches (peak OPEN their maximum). The
+/// marks give each local search's start and goal, so every PA-star run of every config (as
+/// snapshotted) is replayed here through `planner_testkit::reference_astar` with the local
+/// search's settings (Algorithm 2's neighbourhood, Euclidean h, weight beta, the tie rule):
+/// the snapshot's PA-star counters are checked against an independent search.
+#[test]
+fn pastar_counters_are_the_reference_local_searches() {
+    use planner_testkit::{reference_astar, Tie};
+    let mut n_checked = 0;
+    for path in configs() {
+        let experiment = config::load(&path).unwrap().trimmed_for_test();
+        let records = run_all(&experiment, 2, false).unwrap();
+        for r in records
+            .iter()
+            .filter(|r| r.algorithm == planner_pastar::NAME)
+        {
+            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+            let spec = experiment
+                .planners
+                .iter()
+                .find(|p| p.label == r.planner)
+                .unwrap();
+            let config: planner_pastar::Config = spec.params.clone().try_into().unwrap();
+            let planner = planner_pastar::PaStar::new(config.clone()).unwrap();
+            let map = experiment.maps.iter().find(|m| m.name == r.map).unwrap();
+            let tie = match config.tie_break {
+                planner_astar::TieBreak::Fifo => Tie::Fifo,
+                planner_astar::TieBreak::Lifo => Tie::Lifo,
+                planner_astar::TieBreak::LowG => Tie::LowG,
+                planner_astar::TieBreak::HighG => Tie::HighG,
+            };
+            assert_eq!(r.counters.get("n_fallbacks"), Some(0), "{what}");
+            let mut sums = [0u64; 6];
+            let mut peak = 0;
+            for pair in r.marks.chunks(2) {
+                let (start, goal) = (pair[0].cell, pair[1].cell);
+                let h = |c: planner_api::Cell| {
+                    let (dx, dy) = (
+                        f64::from(c.x.abs_diff(goal.x)),
+                        f64::from(c.y.abs_diff(goal.y)),
+                    );
+                    config.beta * dx.hypot(dy)
+                };
+                let (status, _, counters) =
+                    reference_astar(&map.grid, planner.local_moves(), h, tie, start, goal);
+                assert_eq!(status, planner_api::Status::Found, "{what}");
+                for (sum, value) in sums.iter_mut().zip(counters) {
+                    *sum += value;
+                }
+                peak = peak.max(counters[6]);
+            }
+            let names = [
+                "n_expanded",
+                "n_neighbor_checks",
+                "n_blocked",
+                "n_skipped",
+                "n_open_insertions",
+                "n_relaxations",
+            ];
+            assert_eq!(names.map(|n| r.counters.get(n).unwrap()), sums, "{what}");
+            assert_eq!(r.counters.get("peak_open"), Some(peak), "{what}");
+            n_checked += 1;
+        }
+    }
+    // pastar.toml: PA-star and PA-star-size x 7 problems x 2 test repeats = 28; the beta,
+    // connecting-distance, radius and threshold studies: 56.
+    assert_eq!(n_checked, 28 + 56);
 }
