@@ -1,15 +1,12 @@
 //! Coverage planners in the runner: `configs/coverage.toml` covers every map completely
 //! with valid paths, and `problems = "start"` configs are checked.
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use common::root;
 use planner_api::reachable_cells;
 use xtask::config;
 use xtask::run::run_all;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
 
 #[test]
 fn coverage_config_covers_every_map() {

@@ -1,24 +1,11 @@
 //! The experiment runner end to end: every config snapshotted, the paper's numbers,
 //! thread-count independence, config errors, atomic output.
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use common::{configs, root};
 use xtask::config;
 use xtask::run::{run_all, RunRecord};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn configs() -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("configs"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    paths.sort();
-    paths
-}
 
 /// Every counter and metric of every run of every config (trimmed by its `[test]`
 /// limits), with timing and memory redacted. Review changes with `cargo insta review`.
@@ -344,53 +331,33 @@ fn movingai_config_matches_the_scenario_optima() {
 /// are checked against an independent search, not only pinned.
 #[test]
 fn every_astar_run_matches_the_reference_search() {
-    use planner_testkit::{reference_astar, Tie};
-    let mut n_checked = 0;
-    for path in configs() {
-        let experiment = config::load(&path).unwrap().trimmed_for_test();
-        let records = run_all(&experiment, 2, false).unwrap();
-        // Invalid problems (a blocked goal) never reach the planner.
-        let astar_runs = records
-            .iter()
-            .filter(|r| r.algorithm == "astar" && r.status != "invalid_problem");
-        for r in astar_runs {
-            let spec = experiment
-                .planners
-                .iter()
-                .find(|p| p.label == r.planner)
-                .unwrap();
-            let config: planner_astar::Config = spec.params.clone().try_into().unwrap();
-            let map = experiment.maps.iter().find(|m| m.name == r.map).unwrap();
-            let moves =
-                planner_api::MoveSet::new(config.moves, config.corner_cutting, &config.order)
-                    .unwrap();
-            let (goal, weight, heuristic) = (r.goal, config.weight, config.heuristic);
-            let h = |c: planner_api::Cell| weight * heuristic.estimate(c.x, c.y, goal.x, goal.y);
-            let tie = match config.tie_break {
-                planner_astar::TieBreak::Fifo => Tie::Fifo,
-                planner_astar::TieBreak::Lifo => Tie::Lifo,
-                planner_astar::TieBreak::LowG => Tie::LowG,
-                planner_astar::TieBreak::HighG => Tie::HighG,
-            };
-            let (status, cells, counters) =
-                reference_astar(&map.grid, &moves, h, tie, r.start, r.goal);
-            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
-            assert_eq!(r.status, status.as_str(), "{what}");
-            let names = [
-                "n_expanded",
-                "n_neighbor_checks",
-                "n_blocked",
-                "n_skipped",
-                "n_open_insertions",
-                "n_relaxations",
-                "peak_open",
-            ];
-            let actual = names.map(|n| r.counters.get(n).unwrap());
-            assert_eq!(actual, counters, "{what}");
-            assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
-            n_checked += 1;
-        }
-    }
+    let n_checked = common::for_each_snapshotted_run("astar", |path, map, params, r| {
+        let config: planner_astar::Config = params.clone().try_into().unwrap();
+        let moves =
+            planner_api::MoveSet::new(config.moves, config.corner_cutting, &config.order).unwrap();
+        let (goal, weight, heuristic) = (r.goal, config.weight, config.heuristic);
+        let h = |c: planner_api::Cell| weight * heuristic.estimate(c.x, c.y, goal.x, goal.y);
+        let tie = common::tie(config.tie_break);
+        let (status, cells, counters) =
+            planner_testkit::reference_astar(&map.grid, &moves, h, tie, r.start, r.goal);
+        let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+        assert_eq!(r.status, status.as_str(), "{what}");
+        let names = [
+            "n_expanded",
+            "n_neighbor_checks",
+            "n_blocked",
+            "n_skipped",
+            "n_open_insertions",
+            "n_relaxations",
+            "peak_open",
+        ];
+        assert_eq!(
+            names.map(|n| r.counters.get(n).unwrap()),
+            counters,
+            "{what}"
+        );
+        assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+    });
     // paper: 12 maps; wpi: 8 valid problems x 3 test repeats; movingai: 4 A* settings x 36
     // problems; pastar: TA-star, RA-star1 and RA-star2 x 7 problems x 2 test repeats.
     assert_eq!(n_checked, 12 + 24 + 144 + 42);
@@ -402,33 +369,17 @@ fn every_astar_run_matches_the_reference_search() {
 /// independent search, on the Moving AI maps too, where enumerating paths is hopeless.
 #[test]
 fn every_lexastar_run_is_best_by_steps_then_turns() {
-    let mut n_checked = 0;
-    for path in configs() {
-        let experiment = config::load(&path).unwrap().trimmed_for_test();
-        let records = run_all(&experiment, 2, false).unwrap();
-        let lexastar_runs = records
-            .iter()
-            .filter(|r| r.algorithm == "lexastar" && r.status != "invalid_problem");
-        for r in lexastar_runs {
-            let spec = experiment
-                .planners
-                .iter()
-                .find(|p| p.label == r.planner)
-                .unwrap();
-            let config: planner_lexastar::Config = spec.params.clone().try_into().unwrap();
-            assert_eq!(config.objective, planner_lexastar::Objective::Lexicographic);
-            let map = experiment.maps.iter().find(|m| m.name == r.map).unwrap();
-            let moves =
-                planner_api::MoveSet::new(config.moves, config.corner_cutting, &config.order)
-                    .unwrap();
-            let best = planner_testkit::fewest_moves_then_turns(&map.grid, &moves, r.start, r.goal);
-            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
-            assert_eq!(r.steps.zip(r.turns), best, "{what}");
-            assert_eq!(r.score, best.map(|(d, t)| d + t), "{what}");
-            assert_eq!(r.valid, best.map(|_| true), "{what}");
-            n_checked += 1;
-        }
-    }
+    let n_checked = common::for_each_snapshotted_run("lexastar", |path, map, params, r| {
+        let config: planner_lexastar::Config = params.clone().try_into().unwrap();
+        assert_eq!(config.objective, planner_lexastar::Objective::Lexicographic);
+        let moves =
+            planner_api::MoveSet::new(config.moves, config.corner_cutting, &config.order).unwrap();
+        let best = planner_testkit::fewest_moves_then_turns(&map.grid, &moves, r.start, r.goal);
+        let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+        assert_eq!(r.steps.zip(r.turns), best, "{what}");
+        assert_eq!(r.score, best.map(|(d, t)| d + t), "{what}");
+        assert_eq!(r.valid, best.map(|_| true), "{what}");
+    });
     // paper: 12 maps; movingai: 36 problems.
     assert_eq!(n_checked, 12 + 36);
 }

@@ -2,24 +2,11 @@
 //! path of every config is valid and its counters are those of its local searches, and the
 //! paper's length claims on the 140 x 120 maps.
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use common::{configs, root};
 use xtask::config;
 use xtask::run::{run_all, RunRecord};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn configs() -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("configs"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    paths.sort();
-    paths
-}
 
 /// `cargo xtask gen-pastar-maps` writes exactly the files in maps/pastar/.
 #[test]
@@ -128,44 +115,30 @@ fn pastar_config_lengths_on_the_140x120_maps() {
 /// the snapshot's PA-star counters are checked against an independent search.
 #[test]
 fn pastar_counters_are_the_reference_local_searches() {
-    use planner_testkit::{reference_astar, Tie};
-    let mut n_checked = 0;
-    for path in configs() {
-        let experiment = config::load(&path).unwrap().trimmed_for_test();
-        let records = run_all(&experiment, 2, false).unwrap();
-        for r in records
-            .iter()
-            .filter(|r| r.algorithm == planner_pastar::NAME)
-        {
+    let n_checked =
+        common::for_each_snapshotted_run(planner_pastar::NAME, |path, map, params, r| {
             let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
-            let spec = experiment
-                .planners
-                .iter()
-                .find(|p| p.label == r.planner)
-                .unwrap();
-            let config: planner_pastar::Config = spec.params.clone().try_into().unwrap();
+            let config: planner_pastar::Config = params.clone().try_into().unwrap();
             let planner = planner_pastar::PaStar::new(config.clone()).unwrap();
-            let map = experiment.maps.iter().find(|m| m.name == r.map).unwrap();
-            let tie = match config.tie_break {
-                planner_astar::TieBreak::Fifo => Tie::Fifo,
-                planner_astar::TieBreak::Lifo => Tie::Lifo,
-                planner_astar::TieBreak::LowG => Tie::LowG,
-                planner_astar::TieBreak::HighG => Tie::HighG,
-            };
+            let tie = common::tie(config.tie_break);
             assert_eq!(r.counters.get("n_fallbacks"), Some(0), "{what}");
             let mut sums = [0u64; 6];
             let mut peak = 0;
             for pair in r.marks.chunks(2) {
                 let (start, goal) = (pair[0].cell, pair[1].cell);
                 let h = |c: planner_api::Cell| {
-                    let (dx, dy) = (
-                        f64::from(c.x.abs_diff(goal.x)),
-                        f64::from(c.y.abs_diff(goal.y)),
-                    );
+                    let dx = f64::from(c.x.abs_diff(goal.x));
+                    let dy = f64::from(c.y.abs_diff(goal.y));
                     config.beta * dx.hypot(dy)
                 };
-                let (status, _, counters) =
-                    reference_astar(&map.grid, planner.local_moves(), h, tie, start, goal);
+                let (status, _, counters) = planner_testkit::reference_astar(
+                    &map.grid,
+                    planner.local_moves(),
+                    h,
+                    tie,
+                    start,
+                    goal,
+                );
                 assert_eq!(status, planner_api::Status::Found, "{what}");
                 for (sum, value) in sums.iter_mut().zip(counters) {
                     *sum += value;
@@ -182,9 +155,7 @@ fn pastar_counters_are_the_reference_local_searches() {
             ];
             assert_eq!(names.map(|n| r.counters.get(n).unwrap()), sums, "{what}");
             assert_eq!(r.counters.get("peak_open"), Some(peak), "{what}");
-            n_checked += 1;
-        }
-    }
+        });
     // pastar.toml: PA-star and PA-star-size x 7 problems x 2 test repeats = 28; the beta,
     // connecting-distance, radius and threshold studies: 56.
     assert_eq!(n_checked, 28 + 56);

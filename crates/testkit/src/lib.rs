@@ -205,10 +205,20 @@ pub enum Tie {
     HighG,
 }
 
-/// What [`reference_astar`] found: status, path cells, and the counters `n_expanded`,
-/// `n_neighbor_checks`, `n_blocked`, `n_skipped`, `n_open_insertions`, `n_relaxations`,
-/// `peak_open`.
+/// What [`reference_astar`] found: status, path cells, and the counters named in
+/// [`REFERENCE_COUNTERS`], in that order.
 pub type ReferenceSearch = (planner_api::Status, Option<Vec<Cell>>, [u64; 7]);
+
+/// The counters of a [`ReferenceSearch`], in its order (peak OPEN last).
+pub const REFERENCE_COUNTERS: [&str; 7] = [
+    "n_expanded",
+    "n_neighbor_checks",
+    "n_blocked",
+    "n_skipped",
+    "n_open_insertions",
+    "n_relaxations",
+    "peak_open",
+];
 
 /// A* as seed 000's Fig. 4 reads, written for clarity and not speed: std's `BinaryHeap`
 /// with lazy deletion and the full key `(f, tie, push sequence)`, per-cell tables the size

@@ -1,0 +1,60 @@
+//! Helpers shared by the runner's test files.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+/// The repository root.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// Every experiment config under `configs/`, sorted.
+pub fn configs() -> Vec<PathBuf> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("configs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    paths.sort();
+    paths
+}
+
+/// planner-astar's tie rule as `planner_testkit::reference_astar` takes it.
+pub fn tie(rule: planner_astar::TieBreak) -> planner_testkit::Tie {
+    use planner_astar::TieBreak;
+    use planner_testkit::Tie;
+    match rule {
+        TieBreak::Fifo => Tie::Fifo,
+        TieBreak::Lifo => Tie::Lifo,
+        TieBreak::LowG => Tie::LowG,
+        TieBreak::HighG => Tie::HighG,
+    }
+}
+
+/// Calls `check(config file, map, planner parameters, record)` for every run of the
+/// registry planner `algorithm` in every config, trimmed by its `[test]` limits as the
+/// snapshots are, except invalid problems (they never reach the planner). Returns how
+/// many runs it checked.
+pub fn for_each_snapshotted_run(
+    algorithm: &str,
+    mut check: impl FnMut(&Path, &xtask::config::MapEntry, &toml::Table, &xtask::run::RunRecord),
+) -> usize {
+    let mut n_checked = 0;
+    for path in configs() {
+        let experiment = xtask::config::load(&path).unwrap().trimmed_for_test();
+        let records = xtask::run::run_all(&experiment, 2, false).unwrap();
+        let runs = records
+            .iter()
+            .filter(|r| r.algorithm == algorithm && r.status != "invalid_problem");
+        for record in runs {
+            let spec = experiment
+                .planners
+                .iter()
+                .find(|p| p.label == record.planner);
+            let map = experiment.maps.iter().find(|m| m.name == record.map);
+            check(&path, map.unwrap(), &spec.unwrap().params, record);
+            n_checked += 1;
+        }
+    }
+    n_checked
+}
