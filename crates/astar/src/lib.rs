@@ -216,6 +216,8 @@ pub struct AStar {
     adjacency: Option<Adjacency>,
     generation: u32,
     nodes: Vec<Node>,
+    /// Whether the integer OPEN fits the moves, heuristic and weight (else the buckets).
+    integral: bool,
     opens: Opens,
 }
 
@@ -250,13 +252,28 @@ impl AStar {
             return Err(ConfigError::Weight(config.weight));
         }
         let moves = MoveSet::new(config.moves, config.corner_cutting, &config.order)?;
+        let costs = || moves.moves().iter().map(|m| m.cost);
+        let integral = IntOpen::<{ open::FIFO }>::fits(
+            costs(),
+            config.weight,
+            config.heuristic.is_consistent_integer_on_unit_moves(),
+        );
+        let mut opens = Opens::default();
+        if !integral {
+            let max_cost = costs().fold(0.0, f64::max);
+            opens.fifo.configure(max_cost, config.weight);
+            opens.lifo.configure(max_cost, config.weight);
+            opens.low_g.configure(max_cost, config.weight);
+            opens.high_g.configure(max_cost, config.weight);
+        }
         Ok(AStar {
+            integral,
             config,
             moves,
             adjacency: None,
             generation: 0,
             nodes: Vec::new(),
-            opens: Opens::default(),
+            opens,
         })
     }
 
@@ -272,46 +289,16 @@ impl AStar {
 
     /// Runs A* on `problem` within `budget` and returns the path with raw counters.
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
-        let integral = IntOpen::<{ open::FIFO }>::fits(
-            self.moves.moves().iter().map(|m| m.cost),
-            self.config.weight,
-            self.config.heuristic.is_consistent_integer_on_unit_moves(),
-        );
-        self.search_with(problem, budget, integral)
-    }
-
-    /// [`AStar::search`] with the integer OPEN when `integral` (its precondition checked
-    /// by the caller), else the general one.
-    fn search_with(&mut self, problem: &Problem<'_>, budget: &Budget, integral: bool) -> Search {
         let mut opens = std::mem::take(&mut self.opens);
-        let max_cost = self
-            .moves
-            .moves()
-            .iter()
-            .map(|m| m.cost)
-            .fold(0.0, f64::max);
-        let weight = self.config.weight;
-        let search = match (integral, self.config.tie_break) {
+        let search = match (self.integral, self.config.tie_break) {
             (true, TieBreak::Fifo) => self.run_with(&mut opens.int_fifo, problem, budget),
             (true, TieBreak::Lifo) => self.run_with(&mut opens.int_lifo, problem, budget),
             (true, TieBreak::LowG) => self.run_with(&mut opens.int_low_g, problem, budget),
             (true, TieBreak::HighG) => self.run_with(&mut opens.int_high_g, problem, budget),
-            (false, TieBreak::Fifo) => {
-                opens.fifo.configure(max_cost, weight);
-                self.run_with(&mut opens.fifo, problem, budget)
-            }
-            (false, TieBreak::Lifo) => {
-                opens.lifo.configure(max_cost, weight);
-                self.run_with(&mut opens.lifo, problem, budget)
-            }
-            (false, TieBreak::LowG) => {
-                opens.low_g.configure(max_cost, weight);
-                self.run_with(&mut opens.low_g, problem, budget)
-            }
-            (false, TieBreak::HighG) => {
-                opens.high_g.configure(max_cost, weight);
-                self.run_with(&mut opens.high_g, problem, budget)
-            }
+            (false, TieBreak::Fifo) => self.run_with(&mut opens.fifo, problem, budget),
+            (false, TieBreak::Lifo) => self.run_with(&mut opens.lifo, problem, budget),
+            (false, TieBreak::LowG) => self.run_with(&mut opens.low_g, problem, budget),
+            (false, TieBreak::HighG) => self.run_with(&mut opens.high_g, problem, budget),
         };
         self.opens = opens;
         search
