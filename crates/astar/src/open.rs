@@ -97,6 +97,8 @@ impl Entry {
 /// `bucket % ring.len()`, and `overflow` (a heap) every entry above. The heap's least entry
 /// is then the least of all, whatever the heuristic: with an inconsistent one, an entry may
 /// land below `cur` and simply joins the heap.
+///
+/// Precondition: [`BucketOpen::configure`] before the first push.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct BucketOpen<const TIE: u8> {
     /// Buckets per unit of `f`: a power of two, so that `f * scale` is exact.
@@ -258,7 +260,8 @@ pub(crate) struct IntOpen<const TIE: u8> {
     /// Scratch space for [`Slot::sort_in_pending`].
     scratch: Scratch,
     cur: u64,
-    fresh: bool,
+    /// Whether a push since `clear` has set `cur` (the first one, the start, does).
+    started: bool,
     len: usize,
     slots: [Slot; 4],
 }
@@ -467,17 +470,17 @@ impl<const TIE: u8> Open for IntOpen<TIE> {
             slot.clear();
         }
         self.len = 0;
-        self.fresh = true;
+        self.started = false;
     }
 
     #[inline]
     fn push(&mut self, node: u32, f: f64, g: f64) {
         // Both are integers below 2^33 by the precondition.
         let f = f as u64;
-        if self.fresh {
+        if !self.started {
             // The first push after `clear` (the start) opens the window.
             self.cur = f;
-            self.fresh = false;
+            self.started = true;
         }
         debug_assert!(
             f >= self.cur && f - self.cur < 4,
