@@ -321,6 +321,56 @@ fn timeline_counts() {
     assert_eq!(strokes[13], planner_figures_ramp(13.0 / 14.0));
 }
 
+/// A layer's markers (a planner's marks) are drawn in panels and overlays alike, in the
+/// layer's colour; those outside the grid are left out.
+#[test]
+fn layer_markers_in_panels_and_overlays() {
+    let grid = Grid::new(12, 12).unwrap();
+    let a = cells(&[(0, 0), (1, 0), (2, 0), (3, 0)]);
+    let b = cells(&[(0, 0), (0, 1), (0, 2)]);
+    let marks_a = [
+        Marker::new(Cell::new(1, 0), "H1"),
+        Marker::new(Cell::new(3, 0), "H1'"),
+        Marker::new(Cell::new(40, 0), "outside"),
+    ];
+    let marks_b = [Marker::new(Cell::new(0, 1), "X")];
+    let layers = [
+        Layer::new("a", Some(&a), "x").with_markers(&marks_a),
+        Layer::new("b", Some(&b), "y").with_markers(&marks_b),
+    ];
+    let (s, g) = (Cell::new(0, 0), Cell::new(11, 11));
+    for layout in [Layout::Panels, Layout::Overlay] {
+        let style = Style {
+            layout,
+            ..Style::default()
+        };
+        let svg = draw_comparison(&grid, s, g, &layers, "t", &style);
+        assert_eq!(
+            counts(&svg, &["marker", "marker-label"]),
+            [3, 3],
+            "{layout:?}"
+        );
+        assert_eq!(
+            texts(&svg, "marker-label"),
+            ["H1", "H1'", "X"],
+            "{layout:?}"
+        );
+        // Each layer's marks in its own colour: the palette's first two.
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        let colours: Vec<&str> = doc
+            .descendants()
+            .filter(|n| n.attribute("class") == Some("marker"))
+            // Frames (labelled cells) are stroked, diamonds filled.
+            .map(|n| match n.attribute("fill") {
+                Some("none") | None => n.attribute("stroke").unwrap(),
+                Some(fill) => fill,
+            })
+            .collect();
+        assert_eq!(colours[0], colours[1], "{layout:?}");
+        assert_ne!(colours[0], colours[2], "{layout:?}");
+    }
+}
+
 /// Viridis between the anchors, recomputed independently of the crate for the test.
 fn planner_figures_ramp(t: f64) -> String {
     let anchors = [
