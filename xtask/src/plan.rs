@@ -46,6 +46,9 @@ pub struct PlanJson<'a> {
     /// Coverage planners only: coverage metrics and returns.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub coverage: Option<CoverageJson<'a>>,
+    /// The cells the planner marked (PA-star's handover points), if any.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub marks: &'a [planner_api::Mark],
 }
 
 /// Path metrics in `plan --json`.
@@ -270,6 +273,7 @@ impl PlanResult {
                 n_revisits: c.metrics.n_revisits,
                 returns: &c.returns,
             }),
+            marks: &self.outcome.marks,
         };
         serde_json::to_string(&json).map_err(|e| e.to_string())
     }
@@ -317,6 +321,15 @@ impl PlanResult {
             ));
         } else {
             out.push_str("(map wider or taller than 120 cells: not drawn)\n");
+        }
+        if !self.outcome.marks.is_empty() {
+            let marks: Vec<String> = self
+                .outcome
+                .marks
+                .iter()
+                .map(|m| format!("{} {}", m.label, m.cell))
+                .collect();
+            let _ = writeln!(out, "marks: {}", marks.join(", "));
         }
         let _ = writeln!(out, "{}", self.outcome.counters);
         out

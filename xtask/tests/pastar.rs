@@ -152,3 +152,39 @@ fn pastar_counters_are_the_reference_local_searches() {
     // connecting-distance, radius and threshold studies: 56.
     assert_eq!(n_checked, 28 + 56);
 }
+
+/// `cargo xtask plan` prints PA-star's marks (text and JSON): its local segments' ends.
+#[test]
+fn plan_prints_pastar_marks() {
+    let args = xtask::plan::PlanArgs {
+        map: root().join("maps/pastar/two-140x120.map"),
+        planner: planner_pastar::NAME.into(),
+        start: Some(planner_api::Cell::new(20, 10)),
+        goal: Some(planner_api::Cell::new(70, 110)),
+        ..Default::default()
+    };
+    let result = xtask::plan::run(&args).unwrap();
+    let problem = planner_api::Problem::new(
+        &result.grid,
+        planner_api::Cell::new(20, 10),
+        planner_api::Cell::new(70, 110),
+    )
+    .unwrap();
+    let report = planner_pastar::PaStar::new(planner_pastar::Config::default())
+        .unwrap()
+        .plan_detailed(&problem, &planner_api::Budget::unlimited());
+    let ends: Vec<String> = report
+        .segments
+        .iter()
+        .map(|s| format!("{}, {}", s.start, s.goal))
+        .collect();
+    assert_eq!(ends, ["(38, 46), (51, 73)"]);
+    let text = result.to_text();
+    assert!(
+        text.contains("marks: H1 (38, 46), H1' (51, 73)\n"),
+        "{text}"
+    );
+    let json: serde_json::Value = serde_json::from_str(&result.to_json().unwrap()).unwrap();
+    assert_eq!(json["marks"][1]["label"], "H1'");
+    assert_eq!(json["marks"][1]["cell"], serde_json::json!([51, 73]));
+}
