@@ -1,12 +1,14 @@
 //! A* on full Moving AI scenario files, beside the `pathfinding` crate's A* in the same run.
 //!
 //! `cargo bench -p planner-astar --bench movingai` prints one line per map and move set:
-//! `map=<name> moves=<n> scenarios=<n> mismatches=<n> gridplan_ms=<t> pathfinding_ms=<t> ratio=<pathfinding/gridplan>`.
+//! `map=<name> scenarios=<n> mismatches=<n> gridplan_ms=<t> pathfinding_ms=<t> ratio=<pathfinding/gridplan>`,
+//! then `moves=<8 or 4> expansions=<gridplan's total>`.
 //! 8-connected runs (octile heuristic, no corner cutting, the benchmark's own rules) check
 //! every length against the scenario's optimum (relative tolerance 1e-4); 4-connected runs
 //! (Manhattan) check that both planners find the same number of steps. gridplan runs with
 //! all its counters on, and with the peer's tie-breaking (larger g first among equal f).
-//! Pass map names as arguments to run a subset.
+//! Each side runs the whole scenario file `--repeats=N` times (default 3), alternating, and
+//! its best time counts. Pass map names as arguments to run a subset.
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -89,12 +91,12 @@ fn run(name: &str, grid: &Grid, scenarios: &[Scenario], moves: Connectivity) {
         }
     }
     println!(
-        "map={name} moves={} scenarios={} mismatches={mismatches} gridplan_ms={} pathfinding_ms={} ratio={:.2} expansions={n_expanded}",
-        moves.n_directions(),
+        "map={name} scenarios={} mismatches={mismatches} gridplan_ms={} pathfinding_ms={} ratio={:.2} moves={} expansions={n_expanded}",
         scenarios.len(),
         ms(gridplan),
         ms(pathfinding),
         pathfinding.as_secs_f64() / gridplan.as_secs_f64(),
+        moves.n_directions(),
     );
 }
 
