@@ -221,8 +221,8 @@ pub struct AStar {
     opens: Opens,
 }
 
-/// One OPEN list per tie rule and implementation; a search uses one of them, and only
-/// those used hold memory.
+/// One OPEN list per tie rule and implementation. The configuration picks one (see
+/// `AStar::new`), and only that one is ever configured or holds memory.
 #[derive(Debug, Clone, Default)]
 struct Opens {
     fifo: BucketOpen<{ open::FIFO }>,
@@ -261,10 +261,12 @@ impl AStar {
         let mut opens = Opens::default();
         if !integral {
             let max_cost = costs().fold(0.0, f64::max);
-            opens.fifo.configure(max_cost, config.weight);
-            opens.lifo.configure(max_cost, config.weight);
-            opens.low_g.configure(max_cost, config.weight);
-            opens.high_g.configure(max_cost, config.weight);
+            match config.tie_break {
+                TieBreak::Fifo => opens.fifo.configure(max_cost, config.weight),
+                TieBreak::Lifo => opens.lifo.configure(max_cost, config.weight),
+                TieBreak::LowG => opens.low_g.configure(max_cost, config.weight),
+                TieBreak::HighG => opens.high_g.configure(max_cost, config.weight),
+            }
         }
         Ok(AStar {
             integral,
