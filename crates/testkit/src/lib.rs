@@ -356,3 +356,26 @@ pub fn fewest_moves_then_turns(
     }
     None
 }
+
+/// Runs `planner` on `problem` without a budget, then again within half the expansions
+/// that took, and checks the cut run: budget exhausted after exactly that many expansions,
+/// and the BFS/DFS counter identities with `k` moves per cell
+/// ([`check_frontier_identities`]). Returns the full run's outcome.
+pub fn check_budget_cut(
+    planner: &mut dyn planner_api::Planner,
+    problem: &planner_api::Problem<'_>,
+    what: &str,
+    k: u64,
+) -> planner_api::Outcome {
+    use planner_api::{Budget, Status};
+    let full = planner.plan(problem, &Budget::unlimited());
+    check_frontier_identities(what, &full, k);
+    let cut = full.counters.get("n_expanded").unwrap_or(0) / 2;
+    if cut > 0 {
+        let outcome = planner.plan(problem, &Budget::expansions(cut));
+        assert_eq!(outcome.status, Status::BudgetExhausted, "{what}");
+        assert_eq!(outcome.counters.get("n_expanded"), Some(cut), "{what}");
+        check_frontier_identities(&format!("{what} cut"), &outcome, k);
+    }
+    full
+}

@@ -2,6 +2,6 @@
 #![allow(unused_imports)]
 
 pub use planner_testkit::{
-    check_frontier_identities, fewest_moves, first_scenario, frontier_counters, maps_dir, movingai,
-    movingai_maps, paper_maps, published, small_random_problems, wpi,
+    check_budget_cut, check_frontier_identities, fewest_moves, first_scenario, frontier_counters,
+    maps_dir, movingai, movingai_maps, paper_maps, published, small_random_problems, wpi,
 };
