@@ -16,20 +16,7 @@ fn check(map: &str, start: (u32, u32), goal: (u32, u32), config: Config, expect:
     let outcome = AStar::new(config)
         .unwrap()
         .plan(&problem, &Budget::unlimited());
-    let path = match &outcome.path {
-        Some(path) => path
-            .cells()
-            .iter()
-            .map(|c| format!("({},{})", c.x, c.y))
-            .collect::<Vec<_>>()
-            .join(" "),
-        None => "-".to_string(),
-    };
-    let actual = format!(
-        "status {}\npath {path}\n{}",
-        outcome.status.as_str(),
-        outcome.counters
-    );
+    let actual = planner_testkit::outcome_text(&outcome);
     assert_eq!(actual.trim(), expect.trim(), "\n{actual}");
 }
 

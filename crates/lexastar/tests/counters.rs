@@ -21,20 +21,7 @@ fn check(
         ..Config::default()
     };
     let outcome = LexAStar::new(config).unwrap().plan(&problem, &budget);
-    let path = match &outcome.path {
-        Some(path) => path
-            .cells()
-            .iter()
-            .map(|c| format!("({},{})", c.x, c.y))
-            .collect::<Vec<_>>()
-            .join(" "),
-        None => "-".to_string(),
-    };
-    let actual = format!(
-        "status {}\npath {path}\n{}",
-        outcome.status.as_str(),
-        outcome.counters
-    );
+    let actual = planner_testkit::outcome_text(&outcome);
     assert_eq!(actual.trim(), expect.trim(), "\n{actual}");
 }
 

@@ -379,3 +379,22 @@ pub fn check_budget_cut(
     }
     full
 }
+
+/// An outcome as hand-checked tests write it: `status <s>`, then `path (x,y) (x,y) ...`
+/// (`-` without a path), then the counters as `name=value` pairs.
+pub fn outcome_text(outcome: &planner_api::Outcome) -> String {
+    let path = match &outcome.path {
+        Some(path) => path
+            .cells()
+            .iter()
+            .map(|c| format!("({},{})", c.x, c.y))
+            .collect::<Vec<_>>()
+            .join(" "),
+        None => "-".to_string(),
+    };
+    format!(
+        "status {}\npath {path}\n{}",
+        outcome.status.as_str(),
+        outcome.counters
+    )
+}
