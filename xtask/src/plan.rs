@@ -182,12 +182,7 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, String> {
             start,
             goal: None,
             planner: args.planner.clone(),
-            outcome: Outcome {
-                status: covered.status,
-                path: Some(covered.path),
-                counters: covered.counters,
-                marks: Vec::new(),
-            },
+            outcome: Outcome::new(covered.status, Some(covered.path), covered.counters),
             coverage: Some(CoverageReport {
                 metrics: covered.metrics,
                 returns: covered.returns,

@@ -21,16 +21,7 @@ pub struct Scaffolded {
 
 /// Creates planner `name` in the workspace at `root`.
 pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
-    let valid = name.len() >= 2
-        && name.starts_with(|c: char| c.is_ascii_lowercase())
-        && name
-            .chars()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit());
-    if !valid {
-        return Err(format!(
-            "planner name {name:?}: use 2 or more lowercase letters and digits, starting with a letter (it is the directory crates/<name> and the registry name)"
-        ));
-    }
+    check_name(name)?;
     let crate_dir = root.join("crates").join(name);
     if crate_dir.exists() {
         return Err(format!("{} already exists", crate_dir.display()));
@@ -58,13 +49,16 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     }
     let package = format!("planner-{name}");
     let ident = format!("planner_{name}");
-    let type_name = {
-        let mut chars = name.chars();
-        chars
-            .next()
-            .map(|c| c.to_ascii_uppercase().to_string() + chars.as_str())
-            .unwrap_or_default()
-    };
+    let type_name: String = name
+        .split('_')
+        .map(|word| {
+            let mut chars = word.chars();
+            chars
+                .next()
+                .map(|c| c.to_ascii_uppercase().to_string() + chars.as_str())
+                .unwrap_or_default()
+        })
+        .collect();
     let cargo = cargo.replacen(
         DEPS_MARKER,
         &format!("{package} = {{ path = \"../crates/{name}\" }}\n{DEPS_MARKER}"),
@@ -102,6 +96,41 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     written.push("xtask/Cargo.toml".into());
     written.push("xtask/src/registry.rs".into());
     Ok(Scaffolded { files: written })
+}
+
+/// Rust keywords and names a crate or type cannot take.
+const RESERVED: &[&str] = &[
+    "as", "async", "await", "break", "const", "continue", "crate", "dyn", "else", "enum",
+    "extern", "false", "fn", "for", "if", "impl", "in", "let", "loop", "match", "mod", "move",
+    "mut", "pub", "ref", "return", "self", "static", "struct", "super", "trait", "true", "type",
+    "unsafe", "use", "where", "while", "abstract", "become", "box", "do", "final", "macro",
+    "override", "priv", "typeof", "unsized", "virtual", "yield", "try", "gen", "api", "maps",
+    "runner", "testkit", "figures", "stats", "cli", "bench", "test", "core", "std", "alloc",
+];
+
+/// A planner name is snake case (lowercase words of letters and digits joined by single
+/// underscores, starting with a letter, at least 2 characters) and not reserved: it becomes
+/// the directory `crates/<name>`, the package `planner-<name>`, the registry name and, in
+/// CamelCase, a Rust type.
+fn check_name(name: &str) -> Result<(), String> {
+    let shape = name.len() >= 2
+        && name.starts_with(|c: char| c.is_ascii_lowercase())
+        && !name.ends_with('_')
+        && !name.contains("__")
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+    if !shape {
+        return Err(format!(
+            "planner name {name:?}: use 2 or more lowercase letters, digits and single underscores, starting with a letter (it is the directory crates/<name> and the registry name)"
+        ));
+    }
+    if RESERVED.contains(&name) {
+        return Err(format!(
+            "planner name {name:?} is reserved (a Rust keyword or a workspace crate's directory); choose another"
+        ));
+    }
+    Ok(())
 }
 
 fn manifest(name: &str, package: &str) -> String {
@@ -289,7 +318,10 @@ mod tests {
     #[test]
     fn rejects_bad_names_and_writes_nothing() {
         let root = std::env::temp_dir().join(format!("gridplan-scaffold-{}", std::process::id()));
-        for bad in ["", "A", "x", "my-planner", "9lives", "astar"] {
+        for bad in [
+            "", "A", "x", "my-planner", "-x", "9lives", "astar", "self", "crate", "x_", "a__b", "_ab",
+            "runner",
+        ] {
             assert!(new_planner(&root, bad).is_err(), "{bad:?}");
         }
         assert!(!root.exists());
@@ -328,6 +360,9 @@ mod tests {
             new_planner(&root, "greedy2").is_err(),
             "a second scaffold must not overwrite"
         );
+        new_planner(&root, "theta_star").unwrap();
+        let registry = fs::read_to_string(root.join("xtask/src/registry.rs")).unwrap();
+        assert!(registry.contains("build(params, planner_theta_star::ThetaStar::new)"));
         fs::remove_dir_all(&root).unwrap();
     }
 }

@@ -50,4 +50,4 @@ pub use moves::{
     Move, MoveSet, NeighborOrder,
 };
 pub use path::{Path, PathMetrics, PathRank, PathRule};
-pub use planner::{Budget, BudgetClock, Mark, Outcome, Planner, Problem, Status};
+pub use planner::{Budget, BudgetClock, Mark, Outcome, Planner, Problem, Series, Status};

@@ -202,6 +202,34 @@ pub struct Outcome {
     /// points); usually none. Figures draw them and run records list them.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub marks: Vec<Mark>,
+    /// Named sequences a planner records along its search, such as a swarm's best fitness
+    /// per iteration or an optimising planner's cost after each improvement; usually none.
+    /// Reports chart them and run records keep them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub series: Vec<Series>,
+}
+
+/// A named sequence of (x, y) points a planner records during one search, for example
+/// (iteration, best cost). Points are in the order they were recorded.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Series {
+    /// What the sequence is, e.g. `best_fitness`.
+    pub name: String,
+    /// What x counts, e.g. `iteration`.
+    pub x: String,
+    /// The points.
+    pub points: Vec<[f64; 2]>,
+}
+
+impl Series {
+    /// An empty series named `name` whose x axis counts `x`.
+    pub fn new(name: impl Into<String>, x: impl Into<String>) -> Series {
+        Series {
+            name: name.into(),
+            x: x.into(),
+            points: Vec::new(),
+        }
+    }
 }
 
 /// A cell a planner points out in its result, with a short label (a few characters, as
@@ -225,6 +253,17 @@ impl Mark {
 }
 
 impl Outcome {
+    /// An outcome from its status, path and counters, without marks or series.
+    pub fn new(status: Status, path: Option<Path>, counters: Counters) -> Outcome {
+        Outcome {
+            status,
+            path,
+            counters,
+            marks: Vec::new(),
+            series: Vec::new(),
+        }
+    }
+
     /// A found path.
     pub fn found(path: Path, counters: Counters) -> Outcome {
         Outcome {
@@ -232,6 +271,7 @@ impl Outcome {
             path: Some(path),
             counters,
             marks: Vec::new(),
+            series: Vec::new(),
         }
     }
 
@@ -242,6 +282,7 @@ impl Outcome {
             path: None,
             counters,
             marks: Vec::new(),
+            series: Vec::new(),
         }
     }
 
@@ -252,6 +293,7 @@ impl Outcome {
             path,
             counters,
             marks: Vec::new(),
+            series: Vec::new(),
         }
     }
 }

@@ -508,11 +508,10 @@ impl Planner for AStar {
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let search = self.search(problem, budget);
-        Outcome {
-            status: search.status,
-            path: search.path,
-            counters: search.stats.report(Counter::ASTAR),
-            marks: Vec::new(),
-        }
+        Outcome::new(
+            search.status,
+            search.path,
+            search.stats.report(Counter::ASTAR),
+        )
     }
 }

@@ -659,12 +659,7 @@ impl Planner for LexAStar {
             .report(Counter::ASTAR)
             .with("n_dominated", search.n_dominated)
             .with("n_cells_expanded", search.n_cells_expanded);
-        Outcome {
-            status: search.status,
-            path: search.path,
-            counters,
-            marks: Vec::new(),
-        }
+        Outcome::new(search.status, search.path, counters)
     }
 }
 

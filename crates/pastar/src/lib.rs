@@ -535,12 +535,7 @@ impl PaStar {
         let search = self.astar.search(problem, &left);
         report.stats.search += search.stats;
         let counters = report.stats.counters();
-        report.outcome = Outcome {
-            status: search.status,
-            path: search.path,
-            counters,
-            marks: Vec::new(),
-        };
+        report.outcome = Outcome::new(search.status, search.path, counters);
         report
     }
 

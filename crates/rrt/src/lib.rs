@@ -397,16 +397,15 @@ impl<I: NearestIndex> Planner for Rrt<I> {
         }
         stats.tree_size = self.cells.len() as u64;
         self.stats = stats;
-        Outcome {
-            status: if found {
+        Outcome::new(
+            if found {
                 Status::Found
             } else {
                 Status::BudgetExhausted
             },
-            path: found.then(|| self.path_to_last()),
-            counters: stats.counters(),
-            marks: Vec::new(),
-        }
+            found.then(|| self.path_to_last()),
+            stats.counters(),
+        )
     }
 }
 
