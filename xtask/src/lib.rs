@@ -4,7 +4,8 @@
 //! - [`config`]: experiment configs (TOML) with positioned errors.
 //! - [`registry`]: the one list of planners.
 //! - [`run`]: expansion into runs and the parallel sweep.
-//! - [`output`]: runs.csv, runs.json and the atomic write of the results directory.
+//! - [`output`]: runs.csv and runs.json.
+//! - [`outdir`]: the results directory: its marker, its lock and the atomic swap.
 //! - [`summary`]: summary.md in the seeds' table layouts.
 //! - [`figures`]: the SVG figures of a sweep.
 //! - [`coverage`]: coverage planners' runs, figures and summary table (seed 004).
@@ -20,6 +21,7 @@ pub mod config;
 pub mod coverage;
 pub mod figures;
 pub mod generate;
+pub mod outdir;
 pub mod output;
 pub mod pastar_summary;
 pub mod plan;
@@ -61,6 +63,7 @@ pub fn experiment(
     let started = Instant::now();
     let experiment = config::load(config).map_err(|e| e.to_string())?;
     let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
+    outdir::check(&dir).map_err(|e| e.to_string())?;
     tracing::info!(experiment = %experiment.name, runs = experiment.n_runs(), "sweep");
     let records = run::run_all(&experiment, threads, progress)?;
     let (summary, reproduction) = summary::render(&experiment, &records);
@@ -80,7 +83,8 @@ pub fn experiment(
     ];
     let mut files = files;
     files.extend(figures::render(&experiment, &records));
-    output::write_atomically(&dir, &files)?;
+    outdir::write_results(&dir, &experiment.name, &files, outdir::DEFAULT_LOCK_WAIT)
+        .map_err(|e| e.to_string())?;
     Ok(Report {
         n_runs: records.len(),
         output: dir,
