@@ -690,3 +690,72 @@ fn still_at(file: &File, path: &Path) -> bool {
 fn still_at(_file: &File, path: &Path) -> bool {
     exists(path)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fresh directory holding a marked `r` (old results) and a marked `.r.partial` (new).
+    fn old_and_new(name: &str) -> Location {
+        let base =
+            std::env::temp_dir().join(format!("gridplan-outdir-{}-{name}", std::process::id()));
+        let _ = fs::remove_dir_all(&base);
+        let location = locate(&base.join("r"), true).unwrap();
+        for (dir, text) in [
+            (location.dir.clone(), "old"),
+            (location.sibling("partial"), "new"),
+        ] {
+            fs::create_dir_all(dir.join("figures")).unwrap();
+            fs::write(dir.join(MARKER), Marker::new("t").to_text()).unwrap();
+            fs::write(dir.join("figures/a.svg"), text).unwrap();
+        }
+        location
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn both_swaps_put_the_new_results_in_place_and_remove_the_old() {
+        for exchange in [true, false] {
+            let location = old_and_new(&format!("swap-{exchange}"));
+            swap(&location, exchange).unwrap();
+            let figure = fs::read_to_string(location.dir.join("figures/a.svg")).unwrap();
+            assert_eq!(figure, "new", "exchange: {exchange}");
+            assert_eq!(names(&location.parent), ["r"], "exchange: {exchange}");
+            fs::remove_dir_all(&location.parent).unwrap();
+        }
+    }
+
+    #[test]
+    fn a_previous_without_its_directory_is_restored() {
+        let location = old_and_new("restore");
+        let previous = location.sibling("previous");
+        fs::rename(&location.dir, &previous).unwrap();
+        recover_leftovers(&location).unwrap();
+        // The old results are back; the half-done partial is gone.
+        let figure = fs::read_to_string(location.dir.join("figures/a.svg")).unwrap();
+        assert_eq!(figure, "old");
+        assert_eq!(names(&location.parent), ["r"]);
+        fs::remove_dir_all(&location.parent).unwrap();
+    }
+
+    #[test]
+    fn the_marker_reads_back() {
+        let location = old_and_new("marker");
+        assert_eq!(Marker::read(&location.dir).unwrap(), Marker::new("t"));
+        fs::write(location.dir.join(MARKER), "format = \"one\"\n").unwrap();
+        let error = Marker::read(&location.dir).unwrap_err();
+        assert!(
+            error.to_string().contains("is not a gridplan marker"),
+            "{error}"
+        );
+        fs::remove_dir_all(&location.parent).unwrap();
+    }
+}
