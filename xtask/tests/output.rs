@@ -514,16 +514,25 @@ fn a_killed_run_leaves_the_old_results_or_the_new_ones() {
     let expected = result_files(&config);
     let dir = scratch("killed");
     let output = dir.join("results");
+    let started = std::time::Instant::now();
     let first = experiment(&config, &output);
+    let mut run_time = started.elapsed();
     assert!(first.status.success(), "{}", stderr(&first));
-    for (round, signal) in ["KILL", "TERM", "INT"].iter().cycle().take(12).enumerate() {
+    // Kills spread from mid-sweep to past the end, where the writing is, as a share of the
+    // last whole run's time (the machine's load varies).
+    let n_rounds = 12;
+    let signals = ["KILL", "TERM", "INT"];
+    let mut seen = BTreeMap::new();
+    for round in 0..n_rounds {
+        let signal = signals[round % signals.len()];
         let old = fs::read(output.join("runs.json")).unwrap();
+        let delay = run_time.mul_f64(0.5 + 0.7 * round as f64 / n_rounds as f64);
         let mut child = command(&config, &output)
             .stdout(Stdio::null())
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
-        std::thread::sleep(Duration::from_millis(25 * round as u64));
+        std::thread::sleep(delay);
         let killed = Command::new("kill")
             .arg(format!("-{signal}"))
             .arg(child.id().to_string())
@@ -533,17 +542,23 @@ fn a_killed_run_leaves_the_old_results_or_the_new_ones() {
         child.wait().unwrap();
         // Old or new, complete either way.
         assert_complete(&output, "paper", &expected);
-        let now = fs::read(output.join("runs.json")).unwrap();
-        println!(
-            "round {round} (SIG{signal}): {}",
-            if now == old { "old" } else { "new" }
-        );
+        let which = if fs::read(output.join("runs.json")).unwrap() == old {
+            "old"
+        } else {
+            "new"
+        };
+        let left: Vec<String> = names(&dir).into_iter().filter(|n| n != "results").collect();
+        println!("round {round} (SIG{signal} after {delay:?}): {which} results, left {left:?}");
+        *seen.entry(which).or_insert(0) += 1;
         // The next run is never stopped by what the killed one left.
+        let started = std::time::Instant::now();
         let next = experiment(&config, &output);
+        run_time = started.elapsed();
         assert!(next.status.success(), "round {round}: {}", stderr(&next));
         assert_complete(&output, "paper", &expected);
         assert_eq!(names(&dir), ["results"], "round {round}");
     }
+    println!("{seen:?}");
     fs::remove_dir_all(&dir).unwrap();
 }
 
