@@ -23,7 +23,8 @@
 //!   touched. The rule reads the permission bits, so it holds for root too, whom the bits
 //!   would not stop.
 //! - **Missing parents are created**, as `mkdir -p` would (creating a directory destroys
-//!   nothing). A parent that is a file is an [`OutdirError::Io`] naming it.
+//!   nothing). A file among the parents is an [`OutdirError::Io`] naming the output ("Not a
+//!   directory"), and nothing is created.
 //! - **One writer at a time.** The write holds an exclusive OS file lock (flock) on
 //!   `.<name>.lock` beside the directory, taken before anything is written and released (and
 //!   the file removed) when the write ends. The kernel drops the lock of a process that dies,
@@ -287,14 +288,14 @@ pub fn write_results(
     // Looked at again under the lock: another run may have written it meanwhile.
     inspect(&location)?;
     let partial = location.sibling("partial");
-    write_partial(&partial, experiment, files).inspect_err(|_| {
-        let _ = remove_results(&partial);
-    })?;
-    swap(&location, cfg!(target_os = "linux")).inspect_err(|_| {
+    // On failure the partial results go, but only if they are still recognisably ours.
+    let discard = |_: &OutdirError| {
         if exists(&partial) && ensure_ours(&partial, &location).is_ok() {
             let _ = remove_results(&partial);
         }
-    })?;
+    };
+    write_partial(&partial, experiment, files).inspect_err(discard)?;
+    swap(&location, cfg!(target_os = "linux")).inspect_err(discard)?;
     Ok(location.dir)
 }
 

@@ -249,6 +249,19 @@ fn a_file_is_refused_and_kept() {
 }
 
 #[test]
+fn a_parent_that_is_a_file_is_refused_and_kept() {
+    check(
+        "parent-file",
+        |dir| {
+            write(&dir.join("notes"), "mine\n");
+            dir.join("notes/results")
+        },
+        "Not a directory",
+        |dir| fs::remove_file(dir.join("notes")).unwrap(),
+    );
+}
+
+#[test]
 fn a_link_to_an_unrelated_directory_is_refused_and_its_target_kept() {
     check(
         "link-unrelated",
