@@ -75,6 +75,18 @@ pub const PLANNERS: &[Entry] = &[
         kind: Kind::Deterministic,
         build: |params| build(params, planner_pastar::PaStar::new),
     },
+    Entry {
+        name: planner_rrt_star::NAME,
+        summary: "RRT* (Karaman and Frazzoli 2011): RRT plus choose-parent and rewiring; cost series",
+        kind: Kind::Stochastic,
+        build: |params| build(params, planner_rrt_star::RrtStar::new),
+    },
+    Entry {
+        name: planner_rrt_connect::NAME,
+        summary: "RRT-Connect (Kuffner and LaValle 2000): two trees, extend and connect",
+        kind: Kind::Stochastic,
+        build: |params| build(params, planner_rrt_connect::RrtConnect::new),
+    },
     // (registry end)
 ];
 
