@@ -152,7 +152,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
-        "bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar, coverage",
+        "bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar, rrt_star, rrt_connect, coverage",
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.fast]\nplanner = \"astar\"\nbeta = 2\n"),
