@@ -427,6 +427,32 @@ mod tests {
         check((9, 9), (0, 7), Eight, 3, (6, 7));
     }
 
+    /// An extension never goes farther than [`Steer::reach_squared`] says (RRT*'s cap).
+    #[test]
+    fn steering_stays_within_its_reach() {
+        for how in [Steer::Four, Steer::Eight] {
+            for step in 1..6 {
+                for (fx, fy, tx, ty) in [(0, 0, 9, 3), (5, 5, 0, 0), (3, 8, 4, 0), (7, 7, 7, 7)] {
+                    let from = Cell::new(fx, fy);
+                    let new = steer(from, Cell::new(tx, ty), how, step);
+                    assert!(squared_distance(from, new) <= how.reach_squared(step));
+                }
+            }
+        }
+        // The longest extensions reach it exactly: straight for four, diagonal for eight.
+        let origin = Cell::new(0, 0);
+        let straight = steer(origin, Cell::new(20, 0), Steer::Four, 3);
+        assert_eq!(
+            squared_distance(origin, straight),
+            Steer::Four.reach_squared(3)
+        );
+        let diagonal = steer(origin, Cell::new(20, 20), Steer::Eight, 3);
+        assert_eq!(
+            squared_distance(origin, diagonal),
+            Steer::Eight.reach_squared(3)
+        );
+    }
+
     #[test]
     fn config_validation_names_the_parameter() {
         let bad = |config: Config| {

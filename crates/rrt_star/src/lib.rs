@@ -45,9 +45,11 @@
 //! `gamma* = sqrt(3 n_free / pi)` ([`gamma_lower_bound`]). The `gamma` parameter sets the
 //! constant; without it the planner uses `1.1 * gamma*` of the map it plans on (OMPL's
 //! default `rewire_factor` of 1.1). A smaller `gamma` is accepted (any positive value) but
-//! loses the guarantee. With `step = 1` the cap `eta` is below `gamma * (ln n / n)^(1/2)`
-//! for every tree the grids here allow, so the radius is `eta` and `gamma` matters only for
-//! longer steps.
+//! loses the guarantee. With the default, `gamma^2 ln n / n = 1.1555 (n_free / n) ln n >=
+//! 1.1555 ln n` (a tree has at most `n_free` nodes), so with `step = 1` the cap binds from
+//! `n = 3` on for four-way steering (`eta^2 = 1`) and from `n = 6` on for eight-way
+//! (`eta^2 = 2`): `gamma` matters for longer steps (with `step = 4` and eight-way steering
+//! on seed 003's map3, 760 free cells, once the tree has 135 nodes).
 //!
 //! # Choices where the paper leaves room
 //! - Grid nodes are distinct cells (as in planner-rrt), so the tree holds at most every
@@ -612,6 +614,21 @@ mod tests {
         assert_eq!(Steer::Eight.reach_squared(3), 18);
         // The default gamma on a 10 x 10 free grid: 1.1 * sqrt(300 / pi) = 10.75.
         assert!((1.1 * gamma_lower_bound(100) - 10.749).abs() < 1e-3);
+        // The crate docs' claims: map3's 760 free cells, eight-way steering with step 4
+        // (cap 32): the radius shrinks below the cap from 135 nodes on; with step 1 the
+        // cap binds from n = 3 (four) and n = 6 (eight) even when n = n_free.
+        let gamma = 1.1 * gamma_lower_bound(760);
+        assert_eq!(near_radius_squared(gamma, 134, 32), 32);
+        assert!(near_radius_squared(gamma, 135, 32) < 32);
+        for n_free in 3..2000 {
+            let gamma = 1.1 * gamma_lower_bound(n_free);
+            assert_eq!(near_radius_squared(gamma, n_free, 1), 1, "{n_free}");
+            if n_free >= 6 {
+                assert_eq!(near_radius_squared(gamma, n_free, 2), 2, "{n_free}");
+                assert_eq!(near_radius_squared(gamma, 6, 2), 2, "{n_free}");
+            }
+            assert_eq!(near_radius_squared(gamma, 3, 1), 1, "{n_free}");
+        }
     }
 
     #[test]
