@@ -98,20 +98,34 @@
 //! use planner_rrt_star::{Config, RrtStar};
 //!
 //! let grid = Grid::from_ascii("
-//!     .....
-//!     .###.
-//!     .....
+//!     ..........
+//!     ..######..
+//!     ..........
+//!     ..........
 //! ").unwrap();
-//! let problem = Problem::new(&grid, Cell::new(0, 1), Cell::new(4, 1)).unwrap();
-//! let mut planner = RrtStar::new(Config { seed: 3, ..Config::default() }).unwrap();
-//! let outcome = planner.plan(&problem, &Budget::unlimited());
-//! assert_eq!(outcome.status, Status::Found);
-//! // Around the wall: 6 unit moves, the 4-connected optimum.
-//! let length = outcome.path.as_ref().unwrap().metrics().length;
-//! assert_eq!(length, 6.0);
-//! let series = &outcome.series[0];
-//! assert_eq!((series.name.as_str(), series.x.as_str()), ("best_cost", "iteration"));
-//! assert_eq!(series.points.last().unwrap()[1], length);
+//! let problem = Problem::new(&grid, Cell::new(0, 1), Cell::new(9, 1)).unwrap();
+//! for seed in 0..5 {
+//!     let config = Config { seed, steer: planner_rrt::Steer::Eight, step: 3, ..Config::default() };
+//!     let outcome = RrtStar::new(config).unwrap().plan(&problem, &Budget::unlimited());
+//!     assert_eq!(outcome.status, Status::Found);
+//!     let length = outcome.path.as_ref().unwrap().metrics().length;
+//!     // The cost series ends at the returned path's length...
+//!     let series = &outcome.series[0];
+//!     assert_eq!((series.name.as_str(), series.x.as_str()), ("best_cost", "iteration"));
+//!     assert_eq!(series.points.last().unwrap()[1], length);
+//!     // ...which is never above RRT's with the same seed, steering and step.
+//!     let rrt = planner_rrt::Rrt::new(planner_rrt::Config {
+//!         seed,
+//!         steer: planner_rrt::Steer::Eight,
+//!         step: 3,
+//!         ..planner_rrt::Config::default()
+//!     })
+//!     .unwrap()
+//!     .plan(&problem, &Budget::unlimited());
+//!     assert!(length <= rrt.path.unwrap().metrics().length);
+//!     // Over the wall's corners: no shorter than (0, 1) -> (2, 0) -> (7, 0) -> (9, 1).
+//!     assert!(length >= 2.0 * 5f64.sqrt() + 5.0 - 1e-9);
+//! }
 //! ```
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
