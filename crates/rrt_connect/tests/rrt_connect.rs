@@ -324,3 +324,21 @@ fn solves_every_wpi_problem_rrt_solves() {
         }
     }
 }
+
+/// A wall-clock budget of zero stops the search at the clock's first reading, after
+/// `TIME_CHECK_INTERVAL - 1` extensions (seed 0 on map3's first pair needs more).
+#[test]
+fn time_budget_is_honoured() {
+    let (grid, pairs) = planner_testkit::wpi("wpi/map3.txt");
+    let (start, goal) = pairs[0];
+    let full = run(&grid, start, goal, &Config::default(), &Budget::unlimited());
+    let interval = u64::from(planner_api::BudgetClock::TIME_CHECK_INTERVAL);
+    assert!(counter(&full, "n_extensions") > interval);
+    let budget = Budget::unlimited().with_time(std::time::Duration::ZERO);
+    let outcome = run(&grid, start, goal, &Config::default(), &budget);
+    assert_eq!(
+        (outcome.status, outcome.path.as_ref()),
+        (Status::BudgetExhausted, None)
+    );
+    assert_eq!(counter(&outcome, "n_expanded"), interval - 1);
+}

@@ -511,3 +511,21 @@ fn improves_after_the_first_solution() {
         "{improved} of {runs} runs improved after the first solution"
     );
 }
+
+/// A wall-clock budget of zero stops the search at the clock's first reading, after
+/// `TIME_CHECK_INTERVAL - 1` iterations (seed 0 on map3's first pair needs more than that
+/// to find the goal, so there is no path yet).
+#[test]
+fn time_budget_is_honoured() {
+    let (grid, pairs) = wpi("map3");
+    let (start, goal) = pairs[0];
+    let budget = Budget::unlimited().with_time(std::time::Duration::ZERO);
+    let outcome = run(&grid, start, goal, &Config::default(), &budget);
+    check_outcome("time", &outcome, start, goal);
+    assert_eq!(
+        (outcome.status, outcome.path.as_ref()),
+        (Status::BudgetExhausted, None)
+    );
+    let interval = u64::from(planner_api::BudgetClock::TIME_CHECK_INTERVAL);
+    assert_eq!(counter(&outcome, "n_expanded"), interval - 1);
+}
