@@ -21,7 +21,7 @@
 //! edge joins them, and the path is the first tree's path to the extended node followed by
 //! the other tree's path from the met node back to its root, oriented start to goal. A
 //! `CONNECT` toward a node of `T_a` always ends by meeting (its last step lands on that
-//! node) unless it is trapped first; an `EXTEND` toward a sample may meet the other tree
+//! node) unless it is trapped or the budget runs out first; an `EXTEND` toward a sample may meet the other tree
 //! on its way, which also ends the search (a choice for grids, where nodes are cells: the
 //! paper's continuous trees never share a configuration). So the two trees never hold
 //! the same cell, and the joined path visits every cell at most once.
@@ -49,7 +49,8 @@
 //! `n_iterations` (= samples drawn), `n_extensions` (extension attempts, also
 //! `n_expanded`), `n_collisions` (trapped extensions), `n_duplicates` (samples already in
 //! the active tree), `start_tree_size`, `goal_tree_size` (roots included),
-//! `n_connect_steps` (extensions made by `CONNECT`), `n_segment_checks`,
+//! `n_connect_steps` (`CONNECT` extensions that advanced or met; trapped ones count only
+//! as collisions), `n_segment_checks`,
 //! `n_segment_cells`. Identity: `n_extensions = n_collisions + n_duplicates +
 //! (start_tree_size - 1) + (goal_tree_size - 1) + [met]`, where `[met]` is 1 when found
 //! with start != goal. Start = goal is found at once, with one root in each tree.
@@ -156,7 +157,7 @@ pub struct RrtConnectStats {
     pub start_tree_size: u64,
     /// Nodes of the tree rooted at the goal.
     pub goal_tree_size: u64,
-    /// Extensions made by `CONNECT`.
+    /// `CONNECT` extensions that advanced or met the other tree.
     pub n_connect_steps: u64,
     /// Segments checked for collision.
     pub n_segment_checks: u64,
