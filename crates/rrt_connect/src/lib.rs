@@ -21,9 +21,9 @@
 //! edge joins them, and the path is the first tree's path to the extended node followed by
 //! the other tree's path from the met node back to its root, oriented start to goal. A
 //! `CONNECT` toward a node of `T_a` always ends by meeting (its last step lands on that
-//! node) unless it is trapped or the budget runs out first; an `EXTEND` toward a sample may meet the other tree
-//! on its way, which also ends the search (a choice for grids, where nodes are cells: the
-//! paper's continuous trees never share a configuration). So the two trees never hold
+//! node) unless it is trapped or the budget runs out first; an `EXTEND` toward a sample
+//! may meet the other tree on its way, which also ends the search (a choice for grids,
+//! where nodes are cells: the paper's continuous trees never share a configuration). So the two trees never hold
 //! the same cell, and the joined path visits every cell at most once.
 //!
 //! The search stops when the trees meet ([`Status::Found`]), after `max_iterations`
