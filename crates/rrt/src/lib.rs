@@ -32,7 +32,7 @@
 //!
 //! A k-d tree crate (`kiddo` 6.3) was considered and not taken: tree nodes are integer
 //! cells, so equal distances are common and the result must not depend on how a
-//! library orders ties; it needs Rust 1.89, above the workspace's 1.80; and the bucket
+//! library orders ties; it needs Rust 1.89, above the workspace's 1.85; and the bucket
 //! grid is a hundred lines over flat arrays that are reused between searches. Measured
 //! with `cargo bench -p planner-rrt` on map3 pair 1 (100 seeds), a search takes a median
 //! of about 0.45 ms, 3-4x less than with a linear scan; on Moving AI's den520d
