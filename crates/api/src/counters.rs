@@ -58,6 +58,21 @@ pub enum Counter {
 }
 
 impl Counter {
+    /// Every standard counter, in Table 2's order (then the memory indicators).
+    pub const ALL: &'static [Counter] = &[
+        Counter::Expanded,
+        Counter::NeighborChecks,
+        Counter::Blocked,
+        Counter::Skipped,
+        Counter::OpenInsertions,
+        Counter::Relaxations,
+        Counter::Solutions,
+        Counter::DeadEnds,
+        Counter::Backtracks,
+        Counter::PeakOpen,
+        Counter::MaxDepth,
+    ];
+
     /// What A* reports (seed 000 Tables 5 and 7, plus `peak_open`).
     pub const ASTAR: &'static [Counter] = &[
         Counter::Expanded,

@@ -22,6 +22,11 @@ pub struct PlannerSpecs {
     pub seeded: bool,
     /// The rule every path the planner returns obeys, checked by the runner.
     pub path_rule: PathSpec,
+    /// For heuristic searches: whether the heuristic, times its weight, never overestimates
+    /// the remaining cost under the planner's moves, so that found paths are optimal by
+    /// design. `Some(false)` marks configurations that trade optimality on purpose (seed
+    /// 002's TA-star: Manhattan with 8 moves; weighted A*). `None`: no such claim.
+    pub admissible: Option<bool>,
 }
 
 impl PlannerSpecs {
@@ -30,6 +35,7 @@ impl PlannerSpecs {
         PlannerSpecs {
             seeded: false,
             path_rule,
+            admissible: None,
         }
     }
 
@@ -38,6 +44,16 @@ impl PlannerSpecs {
         PlannerSpecs {
             seeded: true,
             path_rule,
+            admissible: None,
+        }
+    }
+
+    /// These specs, declaring whether the heuristic is admissible (see
+    /// [`PlannerSpecs::admissible`]).
+    pub fn with_admissible(self, admissible: bool) -> PlannerSpecs {
+        PlannerSpecs {
+            admissible: Some(admissible),
+            ..self
         }
     }
 }

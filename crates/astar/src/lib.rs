@@ -515,8 +515,21 @@ impl Planner for AStar {
         NAME
     }
 
+    /// Unseeded; every step is one of the configured moves. Admissible when the weight is
+    /// at most 1 (or the heuristic is zero) and the heuristic never overestimates under the
+    /// moves: Euclidean, Chebyshev and zero always; octile for 4 and 8 directions; Manhattan
+    /// for 4 only.
     fn specs(&self) -> planner_api::PlannerSpecs {
+        let heuristic = self.config.heuristic;
+        let directions = self.config.moves;
+        let fits = match heuristic {
+            Heuristic::Euclidean | Heuristic::Chebyshev | Heuristic::Zero => true,
+            Heuristic::Octile => matches!(directions, Connectivity::Four | Connectivity::Eight),
+            Heuristic::Manhattan => directions == Connectivity::Four,
+        };
+        let admissible = heuristic == Heuristic::Zero || (fits && self.config.weight <= 1.0);
         planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
+            .with_admissible(admissible)
     }
 
     fn prepare(&mut self, grid: &planner_api::Grid) {

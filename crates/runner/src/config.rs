@@ -361,6 +361,19 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let mut maps: Vec<MapEntry> = Vec::new();
     for (i, spanned) in raw.maps.iter().enumerate() {
         for entry in map_entries(&src, &base, i, spanned)? {
+            let stem = crate::report::map_stem(&entry.name);
+            if let Some(other) = maps
+                .iter()
+                .find(|m| m.name != entry.name && crate::report::map_stem(&m.name) == stem)
+            {
+                return Err(src.error(
+                    Some(spanned.span()),
+                    format!(
+                        "maps[{i}]: `{}` and `{}` have the same stem `{stem}`, which names their figures and published tables; rename one",
+                        other.name, entry.name
+                    ),
+                ));
+            }
             if maps.iter().any(|m| m.name == entry.name) {
                 return Err(src.error(
                     Some(spanned.span()),
@@ -485,7 +498,7 @@ fn planner_spec(
         match key.get_ref().as_str() {
             "planner" => {}
             "compare" => {
-                compare = Some(Compare::deserialize(value.get_ref().clone()).map_err(|e| {
+                let parsed = Compare::deserialize(value.get_ref().clone()).map_err(|e| {
                     src.error(
                         Some(value.span()),
                         format!(
@@ -493,7 +506,18 @@ fn planner_spec(
                             first_line(&e.to_string())
                         ),
                     )
-                })?);
+                })?;
+                let known = published_metrics();
+                if let Some(bad) = parsed.metrics.iter().find(|m| !known.contains(&m.as_str())) {
+                    return Err(src.error(
+                        Some(value.span()),
+                        format!(
+                            "planner `{label_text}`, key `compare`: unknown metric `{bad}`, expected some of {}",
+                            known.join(", ")
+                        ),
+                    ));
+                }
+                compare = Some(parsed);
             }
             "budget" => {
                 budget = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
@@ -759,6 +783,17 @@ fn map_entries(
                 }
                 pairs.push((s.start, s.goal, Some(s.optimal_length)));
             }
+            let name = path.file_name().map(|n| n.to_string_lossy().to_string());
+            if let (Some(first), Some(name)) = (scenarios.first(), name) {
+                let scen_map = first.map.rsplit(['/', '\\']).next().unwrap_or(&first.map);
+                if scen_map != name {
+                    tracing::warn!(
+                        "{}: maps[{index}]: the scenarios name map {}, not {name} (same size, so used)",
+                        src.file.display(),
+                        first.map
+                    );
+                }
+            }
         }
         let problems = pairs
             .into_iter()
@@ -810,6 +845,18 @@ fn select_scenarios(
     Ok(selected)
 }
 
+/// The metrics a published-values file may give: the path metrics and the standard
+/// counters ([`planner_api::Counter`]).
+pub fn published_metrics() -> Vec<&'static str> {
+    let mut names = vec!["steps", "turns", "score", "length"];
+    names.extend(planner_api::Counter::ALL.iter().map(|c| c.name()));
+    names
+}
+
+/// Reads a published-values file strictly: `[<map>] file = "..."` (optional) and
+/// `[<map>.<planner>] <metric> = <number>`; an unknown metric, a value that is not a number
+/// or any other shape is an error naming the file, line and column, so a typo can never
+/// switch the reproduction check off.
 fn load_published(
     src: &Source<'_>,
     path: &Path,
@@ -821,33 +868,63 @@ fn load_published(
             format!("key `published`: cannot read {}: {e}", path.display()),
         )
     })?;
-    let table: toml::Table = toml::from_str(&text).map_err(|e| {
-        let inner = Source {
-            file: path,
-            text: &text,
-        };
-        inner.error(e.span(), e.message().trim())
-    })?;
+    let inner = Source {
+        file: path,
+        text: &text,
+    };
+    let doc = toml_edit::ImDocument::parse(text.as_str())
+        .map_err(|e| inner.error(e.span(), e.message().trim()))?;
+    let known = published_metrics();
     let mut values = IndexMap::new();
-    for (map, entry) in &table {
-        let Some(entry) = entry.as_table() else {
-            continue;
+    for (map, entry) in doc.as_table().iter() {
+        let Some(entry) = entry.as_table_like() else {
+            return Err(inner.error(
+                doc.as_table()
+                    .get_key_value(map)
+                    .and_then(|(k, _)| k.span()),
+                format!("`{map}` must be a table of planners, `[{map}.<planner>]`"),
+            ));
         };
         let mut planners = IndexMap::new();
-        for (planner, metrics) in entry {
-            let Some(metrics) = metrics.as_table() else {
+        for (planner, metrics) in entry.iter() {
+            if planner == "file" && metrics.as_str().is_some() {
                 continue;
+            }
+            let Some(metrics) = metrics.as_table_like() else {
+                return Err(inner.error(
+                    entry.get_key_value(planner).and_then(|(k, _)| k.span()),
+                    format!("`{map}.{planner}` must be a table of metrics (or `file = \"...\"`)"),
+                ));
             };
-            let metrics = metrics
-                .iter()
-                .filter_map(|(k, v)| {
-                    let value = v.as_float().or_else(|| v.as_integer().map(|i| i as f64))?;
-                    Some((k.clone(), value))
-                })
-                .collect();
-            planners.insert(planner.clone(), metrics);
+            let mut numbers = IndexMap::new();
+            for (metric, value) in metrics.iter() {
+                if !known.contains(&metric) {
+                    let at = metrics.get_key_value(metric).and_then(|(k, _)| k.span());
+                    return Err(inner.error(
+                        at.or_else(|| value.span()),
+                        format!(
+                            "`{map}.{planner}`: unknown metric `{metric}`, expected one of {}",
+                            known.join(", ")
+                        ),
+                    ));
+                }
+                let number = value
+                    .as_float()
+                    .or_else(|| value.as_integer().map(|i| i as f64))
+                    .ok_or_else(|| {
+                        inner.error(
+                            value.span(),
+                            format!(
+                                "`{map}.{planner}.{metric}` must be a number, not {}",
+                                value.type_name()
+                            ),
+                        )
+                    })?;
+                numbers.insert(metric.to_string(), number);
+            }
+            planners.insert(planner.to_string(), numbers);
         }
-        values.insert(map.clone(), planners);
+        values.insert(map.to_string(), planners);
     }
     Ok(Published {
         path: path.to_path_buf(),

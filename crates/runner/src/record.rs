@@ -81,6 +81,10 @@ pub struct RunRecord {
     /// Whether the path starts and ends at the problem's cells and obeys the rule the
     /// planner declares in its specs (its moves, or any-angle segments).
     pub valid: Option<bool>,
+    /// `false` when the planner declares its heuristic inadmissible for its moves (not
+    /// optimal by design, such as seed 002's TA-star); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub admissible: Option<bool>,
     /// The planner's counters, in its order.
     pub counters: Counters,
     /// Wall time of the search alone (`plan` or `cover`), in milliseconds (timing: not

@@ -243,6 +243,7 @@ fn blank_record(
         length: None,
         optimal_length: entry.optimal_length,
         valid: None,
+        admissible: (planner.factory.specs().admissible == Some(false)).then_some(false),
         counters: Counters::new(),
         time_ms: 0.0,
         setup_ms: 0.0,

@@ -116,6 +116,19 @@ fn header(context: &Context<'_>, out: &mut String) {
         experiment.repeats,
         context.records.len()
     );
+    let inadmissible: Vec<String> = experiment
+        .planners
+        .iter()
+        .filter(|p| p.factory.specs().admissible == Some(false))
+        .map(|p| format!("`{}`", p.label))
+        .collect();
+    if !inadmissible.is_empty() {
+        let _ = writeln!(
+            out,
+            "Not optimal by design: {} use a heuristic that can overestimate under their moves (or a weight above 1); their runs are recorded `admissible = false`.\n",
+            inadmissible.join(", ")
+        );
+    }
     let invalid: Vec<&RunRecord> = context
         .records
         .iter()

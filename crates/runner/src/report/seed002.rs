@@ -246,6 +246,7 @@ mod tests {
             length: Some(length),
             optimal_length: None,
             valid: Some(true),
+            admissible: None,
             counters: Counters::new(),
             time_ms,
             setup_ms: 0.0,

@@ -1,0 +1,243 @@
+//! Bad and extreme input to the runner: each case is refused with a positioned error, or
+//! handled within bounded time and memory, never accepted silently.
+
+use std::path::{Path, PathBuf};
+
+use planner_runner::config;
+use planner_runner::plan::{PlanArgs, DEFAULT_PLAN_EXPANSIONS};
+use planner_runner::run::RunList;
+use planner_runner::{run_all, RunOptions, RunStatus};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "gridplan-reliability-{name}-{}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn paper_map() -> String {
+    root().join("maps/paper/map01.map").display().to_string()
+}
+
+/// The error of a config with `published` pointing at a file holding `published`.
+fn published_error(published: &str) -> String {
+    let dir = scratch("published");
+    std::fs::write(dir.join("p.toml"), published).unwrap();
+    let text = format!(
+        "name = \"p\"\npublished = \"p.toml\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
+        paper_map()
+    );
+    let result = config::parse(&dir.join("c.toml"), &text);
+    std::fs::remove_dir_all(&dir).unwrap();
+    result
+        .err()
+        .map(|e| e.to_string().replace(&dir.display().to_string(), "DIR"))
+        .unwrap_or_default()
+}
+
+#[test]
+fn published_values_are_read_strictly() {
+    assert_eq!(
+        published_error("[map01.astar]\nsteps = \"5\"\n"),
+        "DIR/p.toml:2:9: `map01.astar.steps` must be a number, not string"
+    );
+    assert!(
+        published_error("[map01.astar]\nturnz = 1\n")
+            .starts_with("DIR/p.toml:2:1: `map01.astar`: unknown metric `turnz`, expected one of steps, turns, score, length, n_expanded"),
+        "{}",
+        published_error("[map01.astar]\nturnz = 1\n")
+    );
+    assert!(published_error("[map01]\nastar = 3\n")
+        .starts_with("DIR/p.toml:2:1: `map01.astar` must be a table"));
+    assert_eq!(
+        published_error("[map01]\nfile = \"map01.map\"\n[map01.astar]\nsteps = 10\n"),
+        ""
+    );
+}
+
+fn config_error(text: &str) -> String {
+    config::parse(Path::new("c.toml"), text)
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default()
+}
+
+#[test]
+fn misspelt_compare_metrics_are_refused() {
+    let text = format!(
+        "name = \"c\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.l]\nplanner = \"lexastar\"\ncompare = {{ with = \"backtracking\", metrics = [\"steps\", \"turnz\"] }}\n",
+        paper_map()
+    );
+    let error = config_error(&text);
+    assert!(
+        error.starts_with("c.toml:7:11: planner `l`, key `compare`: unknown metric `turnz`"),
+        "{error}"
+    );
+}
+
+#[test]
+fn thread_counts_are_capped() {
+    let text = format!(
+        "name = \"t\"\nthreads = 100000\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
+        paper_map()
+    );
+    assert_eq!(
+        config_error(&text),
+        "c.toml:2:11: key `threads`: 100000 is more than 256; use 0 for one per core"
+    );
+    let experiment = config::parse(Path::new("c.toml"), &text.replace("100000", "1")).unwrap();
+    let options = RunOptions {
+        threads: 100_000,
+        ..Default::default()
+    };
+    let error = run_all(&experiment, &options).err().unwrap().to_string();
+    assert!(
+        error.starts_with("100000 worker threads asked for"),
+        "{error}"
+    );
+}
+
+#[test]
+fn maps_with_one_stem_are_refused() {
+    let dir = scratch("stem");
+    std::fs::write(
+        dir.join("ok.map"),
+        "type octile\nheight 2\nwidth 2\nmap\n..\n..\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("ok.txt"), "..\n..\n").unwrap();
+    let text = "name = \"s\"\n[[maps]]\nfiles = [\"ok.map\", \"ok.txt\"]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n";
+    let error = config::parse(&dir.join("c.toml"), text)
+        .err()
+        .unwrap()
+        .to_string();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(
+        error.contains("`ok.map` and `ok.txt` have the same stem `ok`"),
+        "{error}"
+    );
+}
+
+/// Four billion repeats: the run list is computed, not stored.
+#[test]
+fn huge_repeat_counts_are_not_materialised() {
+    let text = format!(
+        "name = \"r\"\nrepeats = 4_000_000_000\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n[planners.b]\nplanner = \"bfs\"\n",
+        paper_map()
+    );
+    let experiment = config::parse(Path::new("c.toml"), &text).unwrap();
+    assert_eq!(experiment.n_runs(), 8_000_000_000);
+    let list = RunList::new(&experiment);
+    assert_eq!(list.len(), 8_000_000_000);
+    let last = list.get(7_999_999_999).unwrap();
+    assert_eq!((last.planner, last.repeat), (1, 3_999_999_999));
+    assert!(list.get(8_000_000_000).is_none());
+}
+
+/// Seeds are u64 end to end: the largest TOML integer as the base seed, plus a repeat.
+#[test]
+fn seeds_past_the_largest_toml_integer_run() {
+    let map = root().join("maps/wpi/map1.txt").display().to_string();
+    let text = format!(
+        "name = \"s\"\nseed = 9223372036854775807\nrepeats = 2\n[[maps]]\nfiles = [{map:?}]\nproblems = \"file\"\n[planners.r]\nplanner = \"rrt\"\n"
+    );
+    let experiment = config::parse(Path::new("c.toml"), &text).unwrap();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    let seeds: Vec<Option<u64>> = records.iter().take(2).map(|r| r.seed).collect();
+    assert_eq!(
+        seeds,
+        [
+            Some(9_223_372_036_854_775_807),
+            Some(9_223_372_036_854_775_808)
+        ]
+    );
+    assert!(records.iter().all(|r| r.status == RunStatus::Found));
+}
+
+/// `plan` always ends: Backtracking on an open 30x30 map stops at the default budget and
+/// says so.
+#[test]
+fn plan_has_a_default_budget() {
+    let dir = scratch("budget");
+    let rows = ".".repeat(30);
+    let map = format!(
+        "type octile\nheight 30\nwidth 30\nmap\n{}",
+        format!("{rows}\n").repeat(30)
+    );
+    std::fs::write(dir.join("open.map"), map).unwrap();
+    let args = PlanArgs {
+        map: dir.join("open.map"),
+        planner: "backtracking".into(),
+        ..Default::default()
+    };
+    let result = planner_runner::plan::run(&args).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(result.record.status, RunStatus::BudgetExhausted);
+    assert_eq!(
+        result.record.counters.get("n_expanded"),
+        Some(DEFAULT_PLAN_EXPANSIONS)
+    );
+    assert!(result.hit_default_budget());
+    assert!(result
+        .to_text()
+        .contains("default budget of 10000000 expansions"));
+}
+
+/// A `.scen` beside a map but written for another map size is refused by `plan`, as by
+/// `experiment`.
+#[test]
+fn plan_refuses_scenarios_for_another_map_size() {
+    let dir = scratch("scen");
+    std::fs::write(
+        dir.join("small.map"),
+        "type octile\nheight 2\nwidth 2\nmap\n..\n..\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("small.map.scen"),
+        "version 1\n0\tsmall.map\t3\t3\t0\t0\t1\t1\t1.41421356\n",
+    )
+    .unwrap();
+    let args = PlanArgs {
+        map: dir.join("small.map"),
+        planner: "astar".into(),
+        problem: Some(1),
+        ..Default::default()
+    };
+    let error = planner_runner::plan::run(&args).err().unwrap().to_string();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(
+        error.contains("the scenario is for a 3x3 map, but"),
+        "{error}"
+    );
+}
+
+/// Seed 002's TA-star (Manhattan with 8 moves) is recorded as inadmissible, and the
+/// summary says such runs are not optimal by design.
+#[test]
+fn inadmissible_heuristics_are_recorded() {
+    let experiment = config::load(&root().join("configs/pastar.toml"))
+        .unwrap()
+        .trimmed_for_test();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    let flag = |label: &str| {
+        records
+            .iter()
+            .find(|r| r.planner == label)
+            .unwrap()
+            .admissible
+    };
+    assert_eq!(flag("TA-star"), Some(false));
+    assert_eq!(flag("RA-star1"), None);
+    let (summary, _) = planner_runner::report::render(&experiment, &records);
+    assert!(
+        summary.contains("Not optimal by design: `TA-star`"),
+        "{summary}"
+    );
+}
