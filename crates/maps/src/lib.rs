@@ -10,8 +10,9 @@
 //! | `.map` | Moving AI map: `type octile`, `height H`, `width W` (any order), `map`, `H` rows | [`parse_movingai`] | `.` `G` `S` | `@` `O` `T` `W` | none (they live in the `.scen`) |
 //! | `.scen` | Moving AI scenarios: `version 1`, then 9 tab-separated fields per line | [`parse_scenarios`] | | | every line, with its optimal length |
 //! | `.txt` | seed 003 text map: `#` comment header, rows of `.` and `X` | [`parse_seed003`] | `.` | `X` | `# Start: (x,y) Goal: (x,y)` and `# 1. Start: (x,y) \| Goal: (x,y)` comments |
-//! | `.csv` | 0/1 matrix, seed 000 equation (1) | [`parse_matrix`] | `1` | `0` | none |
-//! | `.yaml`, `.yml` | ROS `map_server` YAML naming a PGM or PNG image (seed 004) | [`read_ros_map`] | value 0 (free) | occupied, unknown | none |
+//! | `.csv` | 0/1 matrix, seed 000 equation (1) | [`parse_matrix`] | `1` (default; `0` with [`CsvConvention::OneIsObstacle`]) | `0` (default) | none |
+//! | `.yaml`, `.yml` | ROS `map_server` YAML naming a PGM or PNG image (seed 004) | [`read_ros_map`], [`parse_ros_yaml`] | value 0 (free) | occupied, unknown | none |
+//! | `.pgm`, `.png` | an occupancy image alone, read with `map_server`'s defaults ([`RosYaml::defaults`]) | [`ros_map_from_image_bytes`] | value 0 (free) | occupied, unknown | none |
 //!
 //! Coordinates everywhere: `x` = column, `y` = row, `(0, 0)` the top-left cell.
 //!
@@ -24,17 +25,22 @@
 //!   `T` (trees) are blocked. None of the repository's maps contain `S` or `W`.
 //! - In a `.txt` map every line starting with `#` is a comment (seed 003, section II.B
 //!   "Input Parsing"), so `#` can never mean an obstacle there.
-//! - In a `.csv` matrix `1` is traversable and `0` an obstacle, exactly as seed 000
-//!   (section 2.1, equation (1): `m(x, y) = 1` denotes a traversable cell). This is the
-//!   opposite of many occupancy-grid conventions, seed 003's included (1 = obstacle).
+//! - In a `.csv` matrix `1` is traversable and `0` an obstacle by default, exactly as seed
+//!   000 (section 2.1, equation (1): `m(x, y) = 1` denotes a traversable cell). This is the
+//!   opposite of many occupancy-grid conventions, seed 003's included (1 = obstacle), so
+//!   [`ReadOptions::csv`] chooses, and [`csv_inversion_hint`] says when a problem looks
+//!   written for the other convention.
 //! - [`to_movingai`] writes only `.` and `@`.
 //!
 //! # Design
 //! Parsing and validation are separate. A parser accepts exactly its format and reports
 //! anything else as a [`MapError`] naming the file, line and column (1-based) and what was
 //! expected, for example `maps/wpi/bad.txt:7:12: expected '.' or 'X', found 'Q'`; no input
-//! makes a parser panic, and a header declaring a huge map allocates nothing before the
-//! rows are there. Start-goal pairs, however, are returned as they are written
+//! makes a parser panic (each has a fuzz target, `fuzz/README.md`). Memory is bounded by
+//! [`ReadOptions`]: only regular files are read, up to [`ReadOptions::max_file_bytes`],
+//! and a map or image declaring more than [`ReadOptions::max_cells`] cells is an error
+//! before anything is allocated for its cells. What a reader accepts but ignores (a ROS
+//! YAML key `map_server` does not read) is a [`MapWarning`] ([`read_map_with`]). Start-goal pairs, however, are returned as they are written
 //! ([`ProblemSpec`]): a pair on an obstacle (map2.txt's second goal, `(12, 3)`) is a
 //! specification like any other, and [`ProblemSpec::problem`] (that is,
 //! [`planner_api::Problem::new`]) rejects it later with an error naming the cell.

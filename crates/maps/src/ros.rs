@@ -887,7 +887,12 @@ pub fn ros_map_from_image_bytes(
                 })
             })
     };
-    let (width, height) = reader()?.into_dimensions().map_err(image_error)?;
+    // The header only: without the decoder's default allocation limit, so that a huge
+    // declared size is reported as such below (reading a header allocates at most what
+    // the bytes hold).
+    let mut header = reader()?;
+    header.no_limits();
+    let (width, height) = header.into_dimensions().map_err(image_error)?;
     if u64::from(width) * u64::from(height) > options.max_cells {
         return Err(whole(MapErrorKind::TooManyCells {
             width: u64::from(width),
