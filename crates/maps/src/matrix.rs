@@ -103,7 +103,7 @@ impl fmt::Display for InversionHint {
 ///      the map looks written with 1 = obstacle"
 /// );
 /// // A free start is no sign of inversion.
-/// assert_eq!(csv_inversion_hint(&grid, CsvConvention::ZeroIsObstacle, Cell::new(1, 0), goal), None);
+/// assert_eq!(csv_inversion_hint(&grid, CsvConvention::ZeroIsObstacle, Cell::new(2, 0), goal), None);
 /// ```
 pub fn csv_inversion_hint(
     grid: &Grid,
