@@ -38,9 +38,12 @@
 //! expected, for example `maps/wpi/bad.txt:7:12: expected '.' or 'X', found 'Q'`; no input
 //! makes a parser panic (each has a fuzz target, `fuzz/README.md`). Memory is bounded by
 //! [`ReadOptions`]: only regular files are read, up to [`ReadOptions::max_file_bytes`],
-//! and a map or image declaring more than [`ReadOptions::max_cells`] cells is an error
-//! before anything is allocated for its cells. What a reader accepts but ignores (a ROS
-//! YAML key `map_server` does not read) is a [`MapWarning`] ([`read_map_with`]). Start-goal pairs, however, are returned as they are written
+//! a `.map` header or an image declaring more than [`ReadOptions::max_cells`] cells is an
+//! error before anything is allocated for its cells, and `.txt` and `.csv` reading stops
+//! at the row that passes the limit. What a reader accepts but ignores (a ROS YAML key
+//! `map_server` does not read) is a [`MapWarning`] ([`read_map_with`]).
+//!
+//! Start-goal pairs are returned as they are written
 //! ([`ProblemSpec`]): a pair on an obstacle (map2.txt's second goal, `(12, 3)`) is a
 //! specification like any other, and [`ProblemSpec::problem`] (that is,
 //! [`planner_api::Problem::new`]) rejects it later with an error naming the cell.

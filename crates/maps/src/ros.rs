@@ -266,10 +266,22 @@ fn load(text: &str, o: Origin<'_>) -> Result<(Option<Rc<Node>>, Vec<MapWarning>)
     let mut anchors: HashMap<usize, Rc<Node>> = HashMap::new();
     let mut root: Option<Rc<Node>> = None;
     let mut warnings = Vec::new();
+    // The scanner may place an error at the end of the stream one line past the text's
+    // last line: such a position is the end of the text.
+    let (last_line, end_column) = crate::text::end_of_file(text);
+    let within = |marker: &saphyr_parser::Marker| {
+        let position = (marker.line(), marker.col() + 1);
+        if position > (last_line, end_column) {
+            (last_line, end_column)
+        } else {
+            position
+        }
+    };
     let scan_error = |e: saphyr_parser::ScanError| {
+        let (line, column) = within(e.marker());
         o.at(
-            e.marker().line(),
-            e.marker().col() + 1,
+            line,
+            column,
             MapErrorKind::Yaml {
                 message: e.info().to_owned(),
             },
@@ -292,8 +304,8 @@ fn load(text: &str, o: Origin<'_>) -> Result<(Option<Rc<Node>>, Vec<MapWarning>)
                     }),
                     Some(Err(e)) => warnings.push(MapWarning {
                         file: o.0.to_owned(),
-                        line: e.marker().line(),
-                        column: e.marker().col() + 1,
+                        line: within(e.marker()).0,
+                        column: within(e.marker()).1,
                         message: format!(
                             "the text after the first YAML document is ignored, as map_server does (it is not valid YAML: {})",
                             e.info()

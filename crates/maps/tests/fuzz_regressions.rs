@@ -85,6 +85,18 @@ fn yaml_odd_bytes() {
 }
 
 #[test]
+fn yaml_errors_stay_inside_the_text() {
+    // Found by `fuzz/run.sh ros_yaml` (crash-4fdd356c...): the scanner put this error on
+    // line 3 of a 2-line text; it now points at the end of the text.
+    let text = "image: \"testmap/png\"\nresolmua :geit";
+    let err = parse_ros_yaml(text, "f.yaml").unwrap_err();
+    assert_eq!(err.to_string(), "f.yaml:2:15: invalid YAML: simple key expected");
+    // The same with a final newline: the end is line 3, column 1.
+    let err = parse_ros_yaml(&format!("{text}\n"), "f.yaml").unwrap_err();
+    assert_eq!(err.to_string(), "f.yaml:3:1: invalid YAML: simple key expect ':'");
+}
+
+#[test]
 fn text_formats_hostile_input() {
     check(
         MapFormat::MovingAi,
