@@ -1,5 +1,6 @@
 //! ROS `map_server` YAML reader (no image is read): never panics; errors and warnings
-//! name lines inside the text; a file it reads has finite numbers.
+//! name lines inside the text (counted with YAML's line breaks); a file it reads has
+//! finite numbers.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -9,7 +10,8 @@ fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    let n_lines = text.split('\n').count();
+    // YAML's line breaks: \n, \r\n and a lone \r.
+    let n_lines = text.replace("\r\n", "\n").split(['\n', '\r']).count();
     match parse_ros_yaml(text, "fuzz.yaml") {
         Ok(yaml) => {
             assert!(!yaml.image.is_empty());

@@ -28,7 +28,8 @@
 //!   meaningless;
 //! - a second YAML document after the first: ignored, as yaml-cpp's `LoadFile` does.
 //!
-//! Errors, naming the file, line and column (1-based, in characters): invalid YAML; a top
+//! Errors, naming the file, line and column (1-based, in characters; lines are ended by
+//! YAML's line breaks, `\n`, `\r\n` or a lone `\r`): invalid YAML; a top
 //! level that is not a mapping; a missing required key; a value of the wrong kind (a
 //! sequence for `image`, text for a number, fewer than three `origin` numbers, an unknown
 //! `mode`, an empty `image`); and two choices stricter than `map_server`: a key given twice
@@ -268,7 +269,7 @@ fn load(text: &str, o: Origin<'_>) -> Result<(Option<Rc<Node>>, Vec<MapWarning>)
     let mut warnings = Vec::new();
     // The scanner may place an error at the end of the stream one line past the text's
     // last line: such a position is the end of the text.
-    let (last_line, end_column) = crate::text::end_of_file(text);
+    let (last_line, end_column) = yaml_end(text);
     let within = |marker: &saphyr_parser::Marker| {
         let position = (marker.line(), marker.col() + 1);
         if position > (last_line, end_column) {
@@ -396,6 +397,23 @@ fn load(text: &str, o: Origin<'_>) -> Result<(Option<Rc<Node>>, Vec<MapWarning>)
     Ok((root, warnings))
 }
 
+/// The 1-based position just after the text's last character, with YAML's line breaks
+/// (`\n`, `\r\n` and a lone `\r`, YAML 1.2 section 5.4) and a byte-order mark that is
+/// no column, as the YAML parser counts them.
+fn yaml_end(text: &str) -> Position {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let (mut line, mut column) = (1, 1);
+    let mut chars = text.chars().peekable();
+    while let Some(ch) = chars.next() {
+        match ch {
+            '\r' if chars.peek() == Some(&'\n') => {}
+            '\r' | '\n' => (line, column) = (line + 1, 1),
+            _ => column += 1,
+        }
+    }
+    (line, column)
+}
+
 /// Parses the text of a `map_server` YAML file. `origin` names it in error messages and
 /// warnings.
 ///
@@ -420,7 +438,7 @@ pub fn parse_ros_yaml(text: &str, origin: &str) -> Result<RosYaml, MapError> {
     let o = Origin(origin);
     let (root, mut trailing) = load(text, o)?;
     let Some(root) = root else {
-        let (line, column) = crate::text::end_of_file(text);
+        let (line, column) = yaml_end(text);
         return Err(o.at(
             line,
             column,

@@ -90,10 +90,34 @@ fn yaml_errors_stay_inside_the_text() {
     // line 3 of a 2-line text; it now points at the end of the text.
     let text = "image: \"testmap/png\"\nresolmua :geit";
     let err = parse_ros_yaml(text, "f.yaml").unwrap_err();
-    assert_eq!(err.to_string(), "f.yaml:2:15: invalid YAML: simple key expected");
+    assert_eq!(
+        err.to_string(),
+        "f.yaml:2:15: invalid YAML: simple key expected"
+    );
     // The same with a final newline: the end is line 3, column 1.
     let err = parse_ros_yaml(&format!("{text}\n"), "f.yaml").unwrap_err();
-    assert_eq!(err.to_string(), "f.yaml:3:1: invalid YAML: simple key expect ':'");
+    assert_eq!(
+        err.to_string(),
+        "f.yaml:3:1: invalid YAML: simple key expect ':'"
+    );
+    // The second input `fuzz/run.sh ros_yaml` flagged, "\rJ*": a lone carriage return is
+    // a YAML line break, which the target's line count missed. Positions and the end of
+    // the text count it (the reader was right; the target now counts as YAML does).
+    let err = parse_ros_yaml("\rJ*", "f.yaml").unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "f.yaml:2:1: expected a mapping of map_server keys (image, resolution, ...), found 'J*'"
+    );
+    let err = parse_ros_yaml("# a\r# b\r\n", "f.yaml").unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "f.yaml:3:1: expected a mapping of map_server keys (image, resolution, ...), found end of file"
+    );
+    let err = parse_ros_yaml("image: \"a\rb", "f.yaml").unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "f.yaml:1:8: invalid YAML: invalid indentation in quoted scalar"
+    );
 }
 
 #[test]
