@@ -435,6 +435,30 @@ fn yaml_end(text: &str) -> Position {
 /// assert!(err.to_string().starts_with("map.yaml:2:1: invalid YAML: "), "{err}");
 /// ```
 pub fn parse_ros_yaml(text: &str, origin: &str) -> Result<RosYaml, MapError> {
+    // The parser may place a node or an error at the end of the stream, one line past the
+    // text's last line (an empty document after `---`, say): such a position is the end.
+    let end = yaml_end(text);
+    let clamp = |line: &mut usize, column: &mut usize| {
+        if (*line, *column) > end {
+            (*line, *column) = end;
+        }
+    };
+    match parse_yaml_document(text, origin) {
+        Ok(mut yaml) => {
+            for w in &mut yaml.warnings {
+                clamp(&mut w.line, &mut w.column);
+            }
+            Ok(yaml)
+        }
+        Err(mut e) => {
+            clamp(&mut e.line, &mut e.column);
+            Err(e)
+        }
+    }
+}
+
+/// [`parse_ros_yaml`] before positions are clamped to the text.
+fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
     let o = Origin(origin);
     let (root, mut trailing) = load(text, o)?;
     let Some(root) = root else {

@@ -113,6 +113,12 @@ fn yaml_errors_stay_inside_the_text() {
         err.to_string(),
         "f.yaml:3:1: expected a mapping of map_server keys (image, resolution, ...), found end of file"
     );
+    // The third: "---" alone, an empty document the parser placed on line 2.
+    let err = parse_ros_yaml("---", "f.yaml").unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "f.yaml:1:4: expected a mapping of map_server keys (image, resolution, ...), found null"
+    );
     let err = parse_ros_yaml("image: \"a\rb", "f.yaml").unwrap_err();
     assert_eq!(
         err.to_string(),
