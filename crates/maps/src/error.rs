@@ -47,6 +47,34 @@ impl fmt::Display for MapError {
 
 impl std::error::Error for MapError {}
 
+/// Something a reader accepted but ignored or doubts, with its position: a key that
+/// `map_server` does not read, a value it reads in a surprising way. The file is still
+/// read; the caller decides whether to print the warning.
+///
+/// Displays like [`MapError`]: `file:line:column: message`, `file:line: message` or
+/// `file: message`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MapWarning {
+    /// The file name given by the caller or the path that was read.
+    pub file: String,
+    /// 1-based line, or 0 when the warning concerns the whole file.
+    pub line: usize,
+    /// 1-based column in characters, or 0 when the warning concerns the whole line.
+    pub column: usize,
+    /// What was ignored or doubted, lowercase.
+    pub message: String,
+}
+
+impl fmt::Display for MapWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (self.line, self.column) {
+            (0, _) => write!(f, "{}: {}", self.file, self.message),
+            (line, 0) => write!(f, "{}:{}: {}", self.file, line, self.message),
+            (line, column) => write!(f, "{}:{}:{}: {}", self.file, line, column, self.message),
+        }
+    }
+}
+
 /// What went wrong while reading a map or scenario file. Messages are lowercase and say
 /// what was expected.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -57,6 +85,32 @@ pub enum MapErrorKind {
     Io {
         /// The operating system's message.
         message: String,
+    },
+    /// The path names something other than a regular file (a directory, a device such as
+    /// `/dev/zero`, a FIFO, a socket): such a file may never end, so it is not read.
+    #[error("not a regular file ({what}): maps, images and scenarios are read from regular files")]
+    NotRegularFile {
+        /// What the path names (`a directory`, `a character device`, ...).
+        what: &'static str,
+    },
+    /// A file larger than the reader's limit ([`crate::ReadOptions::max_file_bytes`]).
+    #[error("the file has {bytes} bytes, more than the limit of {max_bytes} bytes")]
+    FileTooLarge {
+        /// The file's size.
+        bytes: u64,
+        /// The limit.
+        max_bytes: u64,
+    },
+    /// A map or image declaring more cells than the reader's limit
+    /// ([`crate::ReadOptions::max_cells`]); nothing was allocated for them.
+    #[error("a {width}x{height} map has {cells} cells, more than the limit of {max_cells} cells", cells = u128::from(*width) * u128::from(*height))]
+    TooManyCells {
+        /// Declared (or, for row formats, counted so far) width.
+        width: u64,
+        /// Declared (or counted so far) height.
+        height: u64,
+        /// The limit.
+        max_cells: u64,
     },
     /// The extension names no supported format.
     #[error("unsupported file extension {found}, expected {supported}")]
@@ -95,6 +149,12 @@ pub enum MapErrorKind {
         key: &'static str,
         /// Where it was first given.
         first_line: usize,
+    },
+    /// Text that is not valid YAML (ROS `map_server` files), as the YAML parser says.
+    #[error("invalid YAML: {message}")]
+    Yaml {
+        /// The parser's message.
+        message: String,
     },
     /// A required key missing from a ROS `map_server` YAML file.
     #[error("missing key '{key}'")]

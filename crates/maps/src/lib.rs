@@ -10,8 +10,9 @@
 //! | `.map` | Moving AI map: `type octile`, `height H`, `width W` (any order), `map`, `H` rows | [`parse_movingai`] | `.` `G` `S` | `@` `O` `T` `W` | none (they live in the `.scen`) |
 //! | `.scen` | Moving AI scenarios: `version 1`, then 9 tab-separated fields per line | [`parse_scenarios`] | | | every line, with its optimal length |
 //! | `.txt` | seed 003 text map: `#` comment header, rows of `.` and `X` | [`parse_seed003`] | `.` | `X` | `# Start: (x,y) Goal: (x,y)` and `# 1. Start: (x,y) \| Goal: (x,y)` comments |
-//! | `.csv` | 0/1 matrix, seed 000 equation (1) | [`parse_matrix`] | `1` | `0` | none |
-//! | `.yaml`, `.yml` | ROS `map_server` YAML naming a PGM or PNG image (seed 004) | [`read_ros_map`] | value 0 (free) | occupied, unknown | none |
+//! | `.csv` | 0/1 matrix, seed 000 equation (1) | [`parse_matrix`] | `1` (default; `0` with [`CsvConvention::OneIsObstacle`]) | `0` (default) | none |
+//! | `.yaml`, `.yml` | ROS `map_server` YAML naming a PGM or PNG image (seed 004) | [`read_ros_map`], [`parse_ros_yaml`] | value 0 (free) | occupied, unknown | none |
+//! | `.pgm`, `.png` | an occupancy image alone, read with `map_server`'s defaults ([`RosYaml::defaults`]) | [`ros_map_from_image_bytes`] | value 0 (free) | occupied, unknown | none |
 //!
 //! Coordinates everywhere: `x` = column, `y` = row, `(0, 0)` the top-left cell.
 //!
@@ -24,17 +25,25 @@
 //!   `T` (trees) are blocked. None of the repository's maps contain `S` or `W`.
 //! - In a `.txt` map every line starting with `#` is a comment (seed 003, section II.B
 //!   "Input Parsing"), so `#` can never mean an obstacle there.
-//! - In a `.csv` matrix `1` is traversable and `0` an obstacle, exactly as seed 000
-//!   (section 2.1, equation (1): `m(x, y) = 1` denotes a traversable cell). This is the
-//!   opposite of many occupancy-grid conventions, seed 003's included (1 = obstacle).
+//! - In a `.csv` matrix `1` is traversable and `0` an obstacle by default, exactly as seed
+//!   000 (section 2.1, equation (1): `m(x, y) = 1` denotes a traversable cell). This is the
+//!   opposite of many occupancy-grid conventions, seed 003's included (1 = obstacle), so
+//!   [`ReadOptions::csv`] chooses, and [`csv_inversion_hint`] says when a problem looks
+//!   written for the other convention.
 //! - [`to_movingai`] writes only `.` and `@`.
 //!
 //! # Design
 //! Parsing and validation are separate. A parser accepts exactly its format and reports
 //! anything else as a [`MapError`] naming the file, line and column (1-based) and what was
 //! expected, for example `maps/wpi/bad.txt:7:12: expected '.' or 'X', found 'Q'`; no input
-//! makes a parser panic, and a header declaring a huge map allocates nothing before the
-//! rows are there. Start-goal pairs, however, are returned as they are written
+//! makes a parser panic (each has a fuzz target, `fuzz/README.md`). Memory is bounded by
+//! [`ReadOptions`]: only regular files are read, up to [`ReadOptions::max_file_bytes`],
+//! a `.map` header or an image declaring more than [`ReadOptions::max_cells`] cells is an
+//! error before anything is allocated for its cells, and `.txt` and `.csv` reading stops
+//! at the row that passes the limit. What a reader accepts but ignores (a ROS YAML key
+//! `map_server` does not read) is a [`MapWarning`] ([`read_map_with`]).
+//!
+//! Start-goal pairs are returned as they are written
 //! ([`ProblemSpec`]): a pair on an obstacle (map2.txt's second goal, `(12, 3)`) is a
 //! specification like any other, and [`ProblemSpec::problem`] (that is,
 //! [`planner_api::Problem::new`]) rejects it later with an error naming the cell.
@@ -77,12 +86,12 @@ use std::path::Path;
 use planner_api::{Cell, Grid, Problem, ProblemError};
 use serde::{Deserialize, Serialize};
 
-pub use error::{MapError, MapErrorKind};
-pub use matrix::parse_matrix;
+pub use error::{MapError, MapErrorKind, MapWarning};
+pub use matrix::{csv_inversion_hint, parse_matrix, CsvConvention, InversionHint};
 pub use movingai::{movingai_passable, parse_movingai, to_movingai};
 pub use ros::{
-    parse_ros_yaml, read_ros_map, ros_grid, ros_occupancy_value, RosMap, RosMode, RosOptions,
-    RosYaml,
+    parse_ros_yaml, read_ros_map, read_ros_map_with, ros_grid, ros_map_from_image_bytes,
+    ros_occupancy_value, RosMap, RosMode, RosOptions, RosYaml,
 };
 pub use scen::{parse_scenarios, Scenario};
 pub use seed003::parse_seed003;
@@ -125,24 +134,79 @@ pub enum MapFormat {
     MovingAi,
     /// Seed 003's text format, `.txt` ([`parse_seed003`]).
     Seed003,
-    /// 0/1 matrix, `.csv` ([`parse_matrix`]).
+    /// 0/1 matrix, `.csv` ([`parse_matrix`]; [`ReadOptions::csv`] says which value is an
+    /// obstacle).
     Matrix,
     /// ROS `map_server` YAML and image, `.yaml` or `.yml` ([`read_ros_map`], default options).
     Ros,
+    /// A PGM or PNG image given directly, `.pgm` or `.png`: read like a `map_server` image
+    /// with `map_server`'s defaults ([`RosYaml::defaults`]: trinary mode, occupied above
+    /// 0.65, free below 0.196, not negated).
+    Image,
 }
 
 /// The extensions [`read_map`] supports, as listed in errors.
 const MAP_EXTENSIONS: &str =
-    "one of .map (Moving AI), .txt (seed 003), .csv (0/1 matrix), .yaml/.yml (ROS map_server); .scen files are read by read_scenarios";
+    "one of .map (Moving AI), .txt (seed 003), .csv (0/1 matrix), .yaml/.yml (ROS map_server), .pgm/.png (an occupancy image); .scen files hold scenarios, not maps";
+
+/// The default of [`ReadOptions::max_cells`]: 2^28 = 268435456 cells (a 16384 x 16384
+/// map), whose grid takes 256 MiB.
+pub const DEFAULT_MAX_CELLS: u64 = 1 << 28;
+
+/// The default of [`ReadOptions::max_file_bytes`]: 2^30 bytes (1 GiB).
+pub const DEFAULT_MAX_FILE_BYTES: u64 = 1 << 30;
+
+/// How [`read_map_with`] and [`MapFormat::parse_with`] read: limits that bound the memory
+/// any input can make a reader use, and the choices a format leaves open.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ReadOptions {
+    /// The most cells a map may have ([`DEFAULT_MAX_CELLS`] by default). A header or image
+    /// declaring more is an error ([`MapErrorKind::TooManyCells`]) before anything is
+    /// allocated for the cells; row formats (`.txt`, `.csv`) stop at the row that passes it.
+    pub max_cells: u64,
+    /// The largest file, in bytes, that is read ([`DEFAULT_MAX_FILE_BYTES`] by default);
+    /// larger is [`MapErrorKind::FileTooLarge`]. Files other than regular files (devices
+    /// such as `/dev/zero`, FIFOs, directories) are never read
+    /// ([`MapErrorKind::NotRegularFile`]).
+    pub max_file_bytes: u64,
+    /// Which value of a `.csv` matrix is an obstacle (default `0`, seed 000).
+    pub csv: CsvConvention,
+    /// Inflation for ROS `map_server` maps and images (default none).
+    pub ros: RosOptions,
+}
+
+impl Default for ReadOptions {
+    fn default() -> ReadOptions {
+        ReadOptions {
+            max_cells: DEFAULT_MAX_CELLS,
+            max_file_bytes: DEFAULT_MAX_FILE_BYTES,
+            csv: CsvConvention::default(),
+            ros: RosOptions::default(),
+        }
+    }
+}
+
+/// A map file as [`read_map_with`] reads it: the file, and what the reader ignored or
+/// doubts (today only ROS `map_server` YAML files have warnings: keys `map_server` does not
+/// read, values it reads in a surprising way).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MapRead {
+    /// The map.
+    pub file: MapFile,
+    /// Warnings in file order, each naming file, line and column.
+    pub warnings: Vec<MapWarning>,
+}
 
 impl MapFormat {
-    /// The file extension of this format, without the dot.
+    /// The file extension of this format, without the dot (`png` for [`MapFormat::Image`],
+    /// which also reads `.pgm`).
     pub fn extension(self) -> &'static str {
         match self {
             MapFormat::MovingAi => "map",
             MapFormat::Seed003 => "txt",
             MapFormat::Matrix => "csv",
             MapFormat::Ros => "yaml",
+            MapFormat::Image => "png",
         }
     }
 
@@ -155,27 +219,86 @@ impl MapFormat {
             Some("txt") => Ok(MapFormat::Seed003),
             Some("csv") => Ok(MapFormat::Matrix),
             Some("yaml" | "yml") => Ok(MapFormat::Ros),
+            Some("png" | "pgm") => Ok(MapFormat::Image),
             other => Err(unsupported(path, other, MAP_EXTENSIONS)),
         }
     }
 
-    /// Parses `text` in this format; `origin` names it in error messages. For
-    /// [`MapFormat::Ros`], `text` is the YAML and `origin` its path: the image is read from
-    /// the file the YAML names, relative to `origin`'s directory.
+    /// Parses `text` in this format with the default [`ReadOptions`]; `origin` names it in
+    /// error messages. For [`MapFormat::Ros`], `text` is the YAML and `origin` its path:
+    /// the image is read from the file the YAML names, relative to `origin`'s directory.
+    /// For [`MapFormat::Image`], `text` is the image (an ASCII PGM, say).
     pub fn parse(self, text: &str, origin: &str) -> Result<MapFile, MapError> {
+        self.parse_with(text, origin, &ReadOptions::default())
+            .map(|read| read.file)
+    }
+
+    /// [`MapFormat::parse`] with `options`, keeping the warnings.
+    pub fn parse_with(
+        self,
+        text: &str,
+        origin: &str,
+        options: &ReadOptions,
+    ) -> Result<MapRead, MapError> {
+        let max_cells = options.max_cells;
         let grid = match self {
-            MapFormat::Ros => {
-                ros::ros_map_from_yaml_text(text, Path::new(origin), &RosOptions::default())?.grid
+            MapFormat::Ros | MapFormat::Image => {
+                let map = if self == MapFormat::Ros {
+                    ros::ros_map_from_yaml_text(text, Path::new(origin), options)?
+                } else {
+                    ros::ros_map_from_image_bytes(text.as_bytes(), origin, None, options)?
+                };
+                let file = MapFile {
+                    grid: map.grid,
+                    problems: Vec::new(),
+                    format: self,
+                };
+                return Ok(MapRead {
+                    file,
+                    warnings: map.yaml.warnings,
+                });
             }
-            MapFormat::Seed003 => return parse_seed003(text, origin),
-            MapFormat::MovingAi => parse_movingai(text, origin)?,
-            MapFormat::Matrix => parse_matrix(text, origin)?,
+            MapFormat::Seed003 => {
+                return seed003::parse(text, origin, max_cells).map(|file| MapRead {
+                    file,
+                    warnings: Vec::new(),
+                })
+            }
+            MapFormat::MovingAi => movingai::parse(text, origin, max_cells)?,
+            MapFormat::Matrix => matrix::parse(text, origin, options.csv, max_cells)?,
         };
-        Ok(MapFile {
-            grid,
-            problems: Vec::new(),
-            format: self,
+        Ok(MapRead {
+            file: MapFile {
+                grid,
+                problems: Vec::new(),
+                format: self,
+            },
+            warnings: Vec::new(),
         })
+    }
+
+    /// Parses the bytes of a file in this format: the text formats must be UTF-8 (an error
+    /// at the first byte that is not), an image is decoded. The entry point for input that
+    /// is not in a file (the fuzz targets use it); `origin` names the bytes in messages and,
+    /// for [`MapFormat::Ros`], is the path the image is resolved against.
+    pub fn parse_bytes(
+        self,
+        bytes: &[u8],
+        origin: &str,
+        options: &ReadOptions,
+    ) -> Result<MapRead, MapError> {
+        if self == MapFormat::Image {
+            let map = ros::ros_map_from_image_bytes(bytes, origin, None, options)?;
+            return Ok(MapRead {
+                file: MapFile {
+                    grid: map.grid,
+                    problems: Vec::new(),
+                    format: self,
+                },
+                warnings: map.yaml.warnings,
+            });
+        }
+        self.parse_with(utf8(bytes, origin)?, origin, options)
     }
 }
 
@@ -191,30 +314,43 @@ fn unsupported(path: &Path, extension: Option<&str>, supported: &'static str) ->
     )
 }
 
-/// Reads a map file, choosing the format by extension: `.map`, `.txt`, `.csv` or `.yaml`
-/// (see [`MapFormat::from_path`]). Errors name the path as given.
+/// Reads a map file with the default [`ReadOptions`], choosing the format by extension:
+/// `.map`, `.txt`, `.csv`, `.yaml`, `.pgm` or `.png` (see [`MapFormat::from_path`]). Errors
+/// name the path as given.
 pub fn read_map(path: &Path) -> Result<MapFile, MapError> {
+    read_map_with(path, &ReadOptions::default()).map(|read| read.file)
+}
+
+/// Reads a map file with `options`, keeping the warnings (see [`read_map`]). Only regular
+/// files are read, and only up to [`ReadOptions::max_file_bytes`].
+pub fn read_map_with(path: &Path, options: &ReadOptions) -> Result<MapRead, MapError> {
     let format = MapFormat::from_path(path)?;
     let origin = path.display().to_string();
-    let text = read_text(path, &origin)?;
-    format.parse(&text, &origin)
+    let bytes = read_file(path, &origin, options.max_file_bytes)?;
+    format.parse_bytes(&bytes, &origin, options)
 }
 
 /// Reads a Moving AI `.scen` file (see [`parse_scenarios`]); any other extension is an
-/// error. Errors name the path as given.
+/// error. Errors name the path as given. Only regular files of at most
+/// [`DEFAULT_MAX_FILE_BYTES`] are read.
 pub fn read_scenarios(path: &Path) -> Result<Vec<Scenario>, MapError> {
     let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase());
     if extension.as_deref() != Some("scen") {
         return Err(unsupported(path, extension.as_deref(), ".scen"));
     }
     let origin = path.display().to_string();
-    let text = read_text(path, &origin)?;
-    parse_scenarios(&text, &origin)
+    let bytes = read_file(path, &origin, DEFAULT_MAX_FILE_BYTES)?;
+    parse_scenarios(utf8(&bytes, &origin)?, &origin)
 }
 
-/// The file's text; an error at the first byte that is not UTF-8.
-fn read_text(path: &Path, origin: &str) -> Result<String, MapError> {
-    let bytes = std::fs::read(path).map_err(|e| {
+/// The bytes of the regular file at `path`, at most `max_bytes` of them; errors name
+/// `origin`. A path that names anything but a regular file (after following symbolic
+/// links) is refused before it is opened, so a FIFO cannot block and a device cannot
+/// stream forever; the size is checked again on the open file, and reading stops after
+/// `max_bytes + 1` bytes whatever the file does meanwhile.
+pub(crate) fn read_file(path: &Path, origin: &str, max_bytes: u64) -> Result<Vec<u8>, MapError> {
+    use std::io::Read;
+    let io = |e: std::io::Error| {
         MapError::new(
             origin,
             0,
@@ -223,10 +359,68 @@ fn read_text(path: &Path, origin: &str) -> Result<String, MapError> {
                 message: e.to_string(),
             },
         )
-    })?;
-    String::from_utf8(bytes).map_err(|e| {
-        let bytes = e.as_bytes();
-        let valid = e.utf8_error().valid_up_to();
+    };
+    let whole = |kind| MapError::new(origin, 0, 0, kind);
+    let check = |metadata: &std::fs::Metadata| -> Result<(), MapError> {
+        if !metadata.is_file() {
+            return Err(whole(MapErrorKind::NotRegularFile {
+                what: file_kind(&metadata.file_type()),
+            }));
+        }
+        if metadata.len() > max_bytes {
+            return Err(whole(MapErrorKind::FileTooLarge {
+                bytes: metadata.len(),
+                max_bytes,
+            }));
+        }
+        Ok(())
+    };
+    check(&std::fs::metadata(path).map_err(io)?)?;
+    let file = std::fs::File::open(path).map_err(io)?;
+    let metadata = file.metadata().map_err(io)?;
+    check(&metadata)?;
+    let mut bytes = Vec::with_capacity(usize::try_from(metadata.len()).unwrap_or(0));
+    file.take(max_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(whole(MapErrorKind::FileTooLarge {
+            bytes: bytes.len() as u64,
+            max_bytes,
+        }));
+    }
+    Ok(bytes)
+}
+
+/// What a file type that is not a regular file is, for messages.
+fn file_kind(file_type: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if file_type.is_char_device() {
+            return "a character device";
+        }
+        if file_type.is_block_device() {
+            return "a block device";
+        }
+        if file_type.is_fifo() {
+            return "a FIFO";
+        }
+        if file_type.is_socket() {
+            return "a socket";
+        }
+    }
+    if file_type.is_dir() {
+        "a directory"
+    } else {
+        "neither a file nor a directory"
+    }
+}
+
+/// The bytes as UTF-8 text; an error at the first byte that is not UTF-8.
+pub(crate) fn utf8<'b>(bytes: &'b [u8], origin: &str) -> Result<&'b str, MapError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let valid = e.valid_up_to();
         let prefix = String::from_utf8_lossy(&bytes[..valid]);
         let line = prefix.matches('\n').count() + 1;
         let column = prefix.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;

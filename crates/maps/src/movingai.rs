@@ -32,10 +32,15 @@ pub fn movingai_passable(symbol: char) -> Option<bool> {
 ///
 /// Errors, with line and column, on anything else: an unknown or repeated key, a missing
 /// key, a `type` other than `octile`, a size that is not a positive 32-bit integer or
-/// exceeds [`Grid::MAX_CELLS`] cells, too few or too many rows, a short or long row, or an
-/// unknown symbol. Never panics, and allocates no more than the text's size, whatever the
-/// header declares.
+/// exceeds [`crate::DEFAULT_MAX_CELLS`] cells (see [`crate::ReadOptions::max_cells`]), too
+/// few or too many rows, a short or long row, or an unknown symbol. Never panics, and
+/// allocates no more than the text's size, whatever the header declares.
 pub fn parse_movingai(text: &str, origin: &str) -> Result<Grid, MapError> {
+    parse(text, origin, crate::DEFAULT_MAX_CELLS)
+}
+
+/// [`parse_movingai`] with at most `max_cells` cells.
+pub(crate) fn parse(text: &str, origin: &str, max_cells: u64) -> Result<Grid, MapError> {
     let o = Origin(origin);
     let mut all = lines(text);
     let mut kind_line = None;
@@ -140,6 +145,17 @@ pub fn parse_movingai(text: &str, origin: &str) -> Result<Grid, MapError> {
     let (height, _) = height.ok_or_else(|| missing("height"))?;
     let (width_, _) = width_.ok_or_else(|| missing("width"))?;
     let cells = u64::from(width_) * u64::from(height);
+    if cells > max_cells {
+        return Err(o.at(
+            map_line,
+            1,
+            MapErrorKind::TooManyCells {
+                width: u64::from(width_),
+                height: u64::from(height),
+                max_cells,
+            },
+        ));
+    }
     if cells > Grid::MAX_CELLS {
         return Err(o.at(map_line, 1, MapErrorKind::Grid(GridError::TooLarge)));
     }

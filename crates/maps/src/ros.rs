@@ -1,25 +1,41 @@
 //! ROS `map_server` maps: a YAML file naming an image (PGM or PNG), read into a grid.
 //!
 //! # The YAML file
-//! The flat `key: value` file `map_server` and `map_saver` use
-//! (<https://wiki.ros.org/map_server#YAML_format>):
+//! The file `map_server` and `map_saver` use (<https://wiki.ros.org/map_server#YAML_format>,
+//! and ROS 2's `nav2_map_server`), parsed as YAML 1.2 by `saphyr-parser`: any layout YAML
+//! allows (block or flow mappings and sequences, quoted or plain scalars, comments,
+//! anchors and aliases, `---`) is read. The top level is a mapping with these keys:
 //!
 //! | key | value | required |
 //! |---|---|---|
 //! | `image` | image path, relative to the YAML file's directory unless absolute | yes |
-//! | `resolution` | metres per cell, > 0 | yes |
+//! | `resolution` | metres per cell | yes |
 //! | `origin` | `[x, y, yaw]`: the pose of the lower-left cell in metres and radians | yes |
-//! | `occupied_thresh` | in [0, 1] | yes |
-//! | `free_thresh` | in [0, 1], at most `occupied_thresh` | yes |
-//! | `negate` | `0`/`1` or `true`/`false` | yes |
+//! | `occupied_thresh` | occupancy probability above which a cell is occupied | yes |
+//! | `free_thresh` | occupancy probability below which a cell is free | yes |
+//! | `negate` | an integer (non-zero: negate) or a boolean (`true`, `yes`, `on`, ...) | yes |
 //! | `mode` | `trinary` (default), `scale` or `raw` | no |
 //!
-//! Comments (`#`), blank lines, `---`, quoted scalars and flow sequences (`[a, b, c]`) are
-//! read; anything else (indented or nested values, block sequences, unknown or repeated
-//! keys) is an error naming the file, line and column. The parser is written here rather
-//! than taken from a YAML crate: the format is flat, a hand parser gives exact positions
-//! for every key and value, and the serde YAML crates are in flux (`serde_yaml` is archived
-//! and `serde_yml` deprecated).
+//! The rules are `map_server`'s (ROS 1 `map_server` and ROS 2 `nav2_map_server`, both on
+//! yaml-cpp): a value is read from its text whether quoted or not (`"0.05"` is a number,
+//! `mode: "trinary"` a mode), and every file either of them accepts is accepted here.
+//! What they accept silently is read with a [`MapWarning`] ([`RosYaml::warnings`]):
+//! - a key neither reads (`map_type`, `map_name`, a misspelt `free_tresh`): ignored;
+//! - `negate` other than `0` or `1`: non-zero negates, as in `map_server`;
+//! - `origin` with more than three numbers: ROS 1 reads the first three (ROS 2 refuses);
+//! - `resolution` not positive, a threshold outside [0, 1], `free_thresh` above
+//!   `occupied_thresh`: read as written, though the map frame or the thresholds are then
+//!   meaningless;
+//! - a second YAML document after the first: ignored, as yaml-cpp's `LoadFile` does.
+//!
+//! Errors, naming the file, line and column (1-based, in characters; lines are ended by
+//! YAML's line breaks, `\n`, `\r\n` or a lone `\r`): invalid YAML; a top
+//! level that is not a mapping; a missing required key; a value of the wrong kind (a
+//! sequence for `image`, text for a number, fewer than three `origin` numbers, an unknown
+//! `mode`, an empty `image`); and two choices stricter than `map_server`: a key given twice
+//! (YAML 1.2 requires unique keys; which value yaml-cpp uses is an implementation detail)
+//! and a number that is not finite (`.inf`, `.nan`), which makes no usable map. Nesting
+//! deeper than 64 levels is refused, which bounds the reader's stack use.
 //!
 //! # The threshold rule
 //! That of ROS 1 `map_server` (`image_loader.cpp`), which ROS 2's `nav2_map_server`
@@ -35,25 +51,41 @@
 //! - `raw` mode skips the thresholds: the value is `v` itself, as a signed byte (so 255
 //!   reads as `-1`, unknown).
 //!
+//! An image given directly (`.pgm`, `.png`, without a YAML file) is read with
+//! [`RosYaml::defaults`]: `map_server`'s default thresholds (occupied 0.65, free 0.196),
+//! not negated, trinary.
+//!
 //! A cell of the [`Grid`] is free exactly when its value is `0`; occupied, partly occupied
 //! and **unknown cells are blocked**, since seed 004 plans "on grid cells that are entirely
 //! vacant" (section 3). [`RosOptions::inflation_radius`] then blocks every cell whose
 //! centre lies within that many cells (Euclidean, centre to centre) of an occupied cell
 //! (value >= 100; and of an unknown one with [`RosOptions::inflate_unknown`]), like the
-//! inflation layer of the ROS cost map (seed 004, Fig. 10b).
+//! inflation layer of the ROS cost map (seed 004, Fig. 10b). Inflation is an exact
+//! Euclidean distance transform (Meijster, Roerdink and Hesselink 2000, "A general
+//! algorithm for computing distance transforms in linear time"): its cost is linear in the
+//! number of cells, whatever the radius.
 //!
 //! Grid row `y` is image row `y`, the top row first, so the grid looks like the image;
 //! ROS's `OccupancyGrid` stores the bottom row first instead. [`RosMap::world`] gives a
 //! cell centre's position in the map frame (the yaw of `origin` is ignored, as
 //! `map_server` does).
+//!
+//! # Limits
+//! Image dimensions are read from the header and checked against
+//! [`ReadOptions::max_cells`] before the pixels are decoded; YAML and image files are read
+//! only if they are regular files of at most [`ReadOptions::max_file_bytes`].
 
+use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use planner_api::{Cell, Grid};
+use saphyr_parser::{Event, Parser, ScalarStyle, Span};
 
-use crate::error::{MapError, MapErrorKind};
-use crate::text::{lines, show_token, unexpected, Origin};
+use crate::error::{MapError, MapErrorKind, MapWarning};
+use crate::text::{show_token, unexpected, Origin};
+use crate::ReadOptions;
 
 /// How the image's values become occupancy, the YAML's `mode`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -84,6 +116,28 @@ pub struct RosYaml {
     pub negate: bool,
     /// Trinary, scale or raw.
     pub mode: RosMode,
+    /// What the file has that `map_server` ignores or reads surprisingly (module docs), in
+    /// file order.
+    pub warnings: Vec<MapWarning>,
+}
+
+impl RosYaml {
+    /// The description `map_server` would give an image without a YAML file: occupied
+    /// above 0.65, free below 0.196 (`map_server`'s defaults), not negated, trinary; one
+    /// metre per cell and the origin at `[0, 0, 0]` (`map_server` has no default for
+    /// these; they only place the map frame).
+    pub fn defaults(image: &str) -> RosYaml {
+        RosYaml {
+            image: image.to_owned(),
+            resolution: 1.0,
+            origin: [0.0; 3],
+            occupied_thresh: 0.65,
+            free_thresh: 0.196,
+            negate: false,
+            mode: RosMode::Trinary,
+            warnings: Vec::new(),
+        }
+    }
 }
 
 /// Options of [`read_ros_map`] beyond what the YAML says.
@@ -104,7 +158,8 @@ pub struct RosMap {
     /// 100 occupied; raw mode may give others), row-major in grid order (top row first),
     /// before inflation.
     pub occupancy: Vec<i8>,
-    /// The YAML file's contents.
+    /// The YAML file's contents (with its warnings), or [`RosYaml::defaults`] for an image
+    /// read directly.
     pub yaml: RosYaml,
     /// The image file, resolved against the YAML file's directory.
     pub image_path: PathBuf,
@@ -124,313 +179,543 @@ impl RosMap {
     }
 }
 
-/// The keys of the YAML file, as listed in messages.
-const KEYS: &str = "image, resolution, origin, occupied_thresh, free_thresh, negate, mode";
+/// The keys `map_server` reads.
+const KEYS: [&str; 7] = [
+    "image",
+    "resolution",
+    "origin",
+    "occupied_thresh",
+    "free_thresh",
+    "negate",
+    "mode",
+];
 
-/// A value as written: a scalar (quotes removed) or a flow sequence of scalars, each with
-/// its 1-based column.
-enum Raw {
-    Scalar(String),
-    Sequence(Vec<(usize, String)>),
+/// The deepest nesting of YAML sequences and mappings read.
+const MAX_DEPTH: usize = 64;
+
+/// A 1-based (line, column) position.
+type Position = (usize, usize);
+
+/// A YAML node with its position: as much of YAML as the format needs. Aliases share the
+/// anchored node, so no input makes the tree larger than the text.
+#[derive(Debug)]
+enum Node {
+    /// A scalar's text; `plain` when unquoted (only a plain scalar can be null).
+    Scalar {
+        text: String,
+        plain: bool,
+        at: Position,
+    },
+    Sequence {
+        items: Vec<Rc<Node>>,
+        at: Position,
+    },
+    Mapping {
+        entries: Vec<(Rc<Node>, Rc<Node>)>,
+        at: Position,
+    },
 }
 
-/// Parses the text of a `map_server` YAML file. `origin` names it in error messages.
-///
-/// Errors, with line and column: a line that is not `key: value` at the top level, an
-/// unknown or repeated key, a missing required key, or a value of the wrong type or out of
-/// range (module docs). Never panics.
-pub fn parse_ros_yaml(text: &str, origin: &str) -> Result<RosYaml, MapError> {
-    let o = Origin(origin);
-    let mut image = None;
-    let mut resolution = None;
-    let mut origin_pose = None;
-    let mut occupied = None;
-    let mut free = None;
-    let mut negate = None;
-    let mut mode = None;
-    // (key, line) of the keys seen, for duplicate errors.
-    let mut seen: Vec<(&'static str, usize)> = Vec::new();
-    for (line_no, line) in lines(text) {
-        let line = strip_comment(line);
-        let trimmed = line.trim_end();
-        if trimmed.trim_start().is_empty() || trimmed == "---" || trimmed == "..." {
-            continue;
-        }
-        if trimmed.starts_with(char::is_whitespace) {
-            return Err(o.at(
-                line_no,
-                1,
-                unexpected(
-                    "a top-level 'key: value' (a map_server YAML file is flat)",
-                    "an indented line",
-                ),
-            ));
-        }
-        let Some(colon) = trimmed.find(':') else {
-            return Err(o.at(line_no, 1, unexpected("'key: value'", show_token(trimmed))));
-        };
-        let key_text = &trimmed[..colon];
-        let after = &trimmed[colon + 1..];
-        if !after.is_empty() && !after.starts_with(char::is_whitespace) {
-            return Err(o.at(
-                line_no,
-                colon + 2,
-                unexpected("a space after ':'", show_token(after)),
-            ));
-        }
-        let key: &'static str = match key_text {
-            "image" => "image",
-            "resolution" => "resolution",
-            "origin" => "origin",
-            "occupied_thresh" => "occupied_thresh",
-            "free_thresh" => "free_thresh",
-            "negate" => "negate",
-            "mode" => "mode",
-            other => {
-                return Err(o.at(
-                    line_no,
-                    1,
-                    unexpected(format!("one of the keys {KEYS}"), show_token(other)),
-                ))
-            }
-        };
-        if let Some(&(_, first_line)) = seen.iter().find(|(k, _)| *k == key) {
-            return Err(o.at(line_no, 1, MapErrorKind::DuplicateKey { key, first_line }));
-        }
-        seen.push((key, line_no));
-        let value_column = colon + 2 + (after.len() - after.trim_start().len());
-        let value_text = after.trim();
-        let at = |column: usize, kind: MapErrorKind| o.at(line_no, column, kind);
-        if value_text.is_empty() {
-            return Err(at(
-                value_column,
-                unexpected(format!("a value for '{key}'"), "end of line"),
-            ));
-        }
-        let raw = parse_value(value_text, value_column).map_err(|(c, k)| at(c, k))?;
-        let number = |raw: &Raw, what: &str| -> Result<f64, MapError> {
-            match raw {
-                Raw::Scalar(s) => parse_number(s).ok_or_else(|| {
-                    at(
-                        value_column,
-                        unexpected(format!("a number for '{what}'"), show_token(s)),
-                    )
-                }),
-                Raw::Sequence(_) => Err(at(
-                    value_column,
-                    unexpected(format!("a number for '{what}'"), "a sequence"),
-                )),
-            }
-        };
-        let probability = |raw: &Raw| -> Result<f64, MapError> {
-            let p = number(raw, key)?;
-            if (0.0..=1.0).contains(&p) {
-                Ok(p)
-            } else {
-                Err(at(
-                    value_column,
-                    unexpected(
-                        format!("a number in [0, 1] for '{key}'"),
-                        show_token(value_text),
-                    ),
-                ))
-            }
-        };
-        match key {
-            "image" => match raw {
-                Raw::Scalar(s) => image = Some(s),
-                Raw::Sequence(_) => {
-                    return Err(at(
-                        value_column,
-                        unexpected("an image file name", "a sequence"),
-                    ))
-                }
-            },
-            "resolution" => {
-                let r = number(&raw, key)?;
-                if r <= 0.0 {
-                    return Err(at(
-                        value_column,
-                        unexpected("a positive number for 'resolution'", show_token(value_text)),
-                    ));
-                }
-                resolution = Some(r);
-            }
-            "origin" => {
-                let Raw::Sequence(items) = &raw else {
-                    return Err(at(
-                        value_column,
-                        unexpected(
-                            "a sequence [x, y, yaw] for 'origin'",
-                            show_token(value_text),
-                        ),
-                    ));
-                };
-                if items.len() != 3 {
-                    return Err(at(
-                        value_column,
-                        unexpected(
-                            "three numbers [x, y, yaw] for 'origin'",
-                            format!("{} items", items.len()),
-                        ),
-                    ));
-                }
-                let mut pose = [0.0; 3];
-                for (slot, (column, item)) in pose.iter_mut().zip(items) {
-                    *slot = parse_number(item).ok_or_else(|| {
-                        at(
-                            *column,
-                            unexpected("a number in 'origin'", show_token(item)),
-                        )
-                    })?;
-                }
-                origin_pose = Some(pose);
-            }
-            "occupied_thresh" => occupied = Some((probability(&raw)?, line_no, value_column)),
-            "free_thresh" => free = Some((probability(&raw)?, line_no, value_column)),
-            "negate" => {
-                let flag = match &raw {
-                    Raw::Scalar(s) => match s.as_str() {
-                        "0" | "false" | "False" | "FALSE" => Some(false),
-                        "1" | "true" | "True" | "TRUE" => Some(true),
-                        _ => None,
-                    },
-                    Raw::Sequence(_) => None,
-                };
-                negate = Some(flag.ok_or_else(|| {
-                    at(
-                        value_column,
-                        unexpected("0, 1, true or false for 'negate'", show_token(value_text)),
-                    )
-                })?);
-            }
-            _ => {
-                let m = match &raw {
-                    Raw::Scalar(s) => match s.as_str() {
-                        "trinary" => Some(RosMode::Trinary),
-                        "scale" => Some(RosMode::Scale),
-                        "raw" => Some(RosMode::Raw),
-                        _ => None,
-                    },
-                    Raw::Sequence(_) => None,
-                };
-                mode = Some(m.ok_or_else(|| {
-                    at(
-                        value_column,
-                        unexpected("trinary, scale or raw for 'mode'", show_token(value_text)),
-                    )
-                })?);
-            }
+impl Node {
+    fn at(&self) -> Position {
+        match self {
+            Node::Scalar { at, .. } | Node::Sequence { at, .. } | Node::Mapping { at, .. } => *at,
         }
     }
-    let missing = |key: &'static str| o.at(0, 0, MapErrorKind::MissingField { key });
-    let (occupied_thresh, _, _) = occupied.ok_or_else(|| missing("occupied_thresh"))?;
-    let (free_thresh, free_line, free_column) = free.ok_or_else(|| missing("free_thresh"))?;
-    if free_thresh > occupied_thresh {
+
+    /// What the node is, for messages.
+    fn describe(&self) -> String {
+        match self {
+            Node::Scalar { text, plain, .. } if *plain && is_null(text) => "null".to_owned(),
+            Node::Scalar { text, .. } => show_token(text),
+            Node::Sequence { .. } => "a sequence".to_owned(),
+            Node::Mapping { .. } => "a mapping".to_owned(),
+        }
+    }
+}
+
+/// YAML's null spellings for a plain scalar (the empty value included).
+fn is_null(text: &str) -> bool {
+    matches!(text, "" | "~" | "null" | "Null" | "NULL")
+}
+
+/// The 1-based position of a span's start.
+fn start(span: &Span) -> Position {
+    (span.start.line(), span.start.col() + 1)
+}
+
+/// A sequence or mapping being built.
+enum Frame {
+    Sequence {
+        items: Vec<Rc<Node>>,
+        at: Position,
+        anchor: usize,
+    },
+    Mapping {
+        entries: Vec<(Rc<Node>, Rc<Node>)>,
+        key: Option<Rc<Node>>,
+        at: Position,
+        anchor: usize,
+    },
+}
+
+/// The first YAML document of `text` (`None` for a stream without one) and a warning when
+/// more follows it.
+fn load(text: &str, o: Origin<'_>) -> Result<(Option<Rc<Node>>, Vec<MapWarning>), MapError> {
+    let mut parser = Parser::new_from_str(text);
+    let mut stack: Vec<Frame> = Vec::new();
+    let mut anchors: HashMap<usize, Rc<Node>> = HashMap::new();
+    let mut root: Option<Rc<Node>> = None;
+    let mut warnings = Vec::new();
+    // The scanner may place an error at the end of the stream one line past the text's
+    // last line: such a position is the end of the text.
+    let (last_line, end_column) = yaml_end(text);
+    let within = |marker: &saphyr_parser::Marker| {
+        let position = (marker.line(), marker.col() + 1);
+        if position > (last_line, end_column) {
+            (last_line, end_column)
+        } else {
+            position
+        }
+    };
+    let scan_error = |e: saphyr_parser::ScanError| {
+        let (line, column) = within(e.marker());
+        o.at(
+            line,
+            column,
+            MapErrorKind::Yaml {
+                message: e.info().to_owned(),
+            },
+        )
+    };
+    while let Some(next) = parser.next_event() {
+        let (event, span) = next.map_err(scan_error)?;
+        let at = start(&span);
+        let node = match event {
+            Event::DocumentEnd => {
+                // yaml-cpp's LoadFile reads the first document only.
+                match parser.next_event() {
+                    None | Some(Ok((Event::StreamEnd, _))) => {}
+                    Some(Ok((_, span))) => warnings.push(MapWarning {
+                        file: o.0.to_owned(),
+                        line: start(&span).0,
+                        column: start(&span).1,
+                        message: "a second YAML document is ignored, as map_server does"
+                            .to_owned(),
+                    }),
+                    Some(Err(e)) => warnings.push(MapWarning {
+                        file: o.0.to_owned(),
+                        line: within(e.marker()).0,
+                        column: within(e.marker()).1,
+                        message: format!(
+                            "the text after the first YAML document is ignored, as map_server does (it is not valid YAML: {})",
+                            e.info()
+                        ),
+                    }),
+                }
+                break;
+            }
+            Event::Nothing | Event::StreamStart | Event::StreamEnd | Event::DocumentStart(_) => {
+                continue
+            }
+            Event::Alias(id) => anchors.get(&id).cloned().ok_or_else(|| {
+                o.at(
+                    at.0,
+                    at.1,
+                    unexpected(
+                        "an alias of a complete anchored node",
+                        "an alias inside its own anchor",
+                    ),
+                )
+            })?,
+            Event::Scalar(value, style, anchor, _tag) => {
+                let node = Rc::new(Node::Scalar {
+                    text: value.into_owned(),
+                    plain: style == ScalarStyle::Plain,
+                    at,
+                });
+                if anchor > 0 {
+                    anchors.insert(anchor, Rc::clone(&node));
+                }
+                node
+            }
+            Event::SequenceStart(anchor, _) | Event::MappingStart(anchor, _) => {
+                if stack.len() >= MAX_DEPTH {
+                    return Err(o.at(
+                        at.0,
+                        at.1,
+                        unexpected(
+                            format!("at most {MAX_DEPTH} nested sequences and mappings"),
+                            "more",
+                        ),
+                    ));
+                }
+                stack.push(if matches!(event, Event::SequenceStart(..)) {
+                    Frame::Sequence {
+                        items: Vec::new(),
+                        at,
+                        anchor,
+                    }
+                } else {
+                    Frame::Mapping {
+                        entries: Vec::new(),
+                        key: None,
+                        at,
+                        anchor,
+                    }
+                });
+                continue;
+            }
+            Event::SequenceEnd | Event::MappingEnd => {
+                let (node, anchor) = match stack.pop() {
+                    Some(Frame::Sequence { items, at, anchor }) => {
+                        (Rc::new(Node::Sequence { items, at }), anchor)
+                    }
+                    Some(Frame::Mapping {
+                        entries,
+                        at,
+                        anchor,
+                        ..
+                    }) => (Rc::new(Node::Mapping { entries, at }), anchor),
+                    None => continue,
+                };
+                if anchor > 0 {
+                    anchors.insert(anchor, Rc::clone(&node));
+                }
+                node
+            }
+        };
+        match stack.last_mut() {
+            None => root = Some(node),
+            Some(Frame::Sequence { items, .. }) => items.push(node),
+            Some(Frame::Mapping { entries, key, .. }) => match key.take() {
+                Some(k) => entries.push((k, node)),
+                None => *key = Some(node),
+            },
+        }
+    }
+    Ok((root, warnings))
+}
+
+/// The 1-based position just after the text's last character, with YAML's line breaks
+/// (`\n`, `\r\n` and a lone `\r`, YAML 1.2 section 5.4) and a byte-order mark that is
+/// no column, as the YAML parser counts them.
+fn yaml_end(text: &str) -> Position {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let (mut line, mut column) = (1, 1);
+    let mut chars = text.chars().peekable();
+    while let Some(ch) = chars.next() {
+        match ch {
+            '\r' if chars.peek() == Some(&'\n') => {}
+            '\r' | '\n' => (line, column) = (line + 1, 1),
+            _ => column += 1,
+        }
+    }
+    (line, column)
+}
+
+/// Parses the text of a `map_server` YAML file. `origin` names it in error messages and
+/// warnings.
+///
+/// Errors, with line and column, and warnings as in the module docs. Never panics.
+///
+/// ```
+/// use planner_maps::parse_ros_yaml;
+///
+/// let text = "image: map.pgm\nresolution: 0.05\norigin:\n  - -10\n  - -10\n  - 0\n\
+///             negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\nmap_type: occupancy\n";
+/// let yaml = parse_ros_yaml(text, "map.yaml").unwrap();
+/// assert_eq!(yaml.origin, [-10.0, -10.0, 0.0]);
+/// assert_eq!(
+///     yaml.warnings[0].to_string(),
+///     "map.yaml:10:1: key 'map_type' is not one map_server reads (image, resolution, \
+///      origin, occupied_thresh, free_thresh, negate, mode): ignored"
+/// );
+/// let err = parse_ros_yaml("image: [map.pgm\n", "map.yaml").unwrap_err();
+/// assert!(err.to_string().starts_with("map.yaml:2:1: invalid YAML: "), "{err}");
+/// ```
+pub fn parse_ros_yaml(text: &str, origin: &str) -> Result<RosYaml, MapError> {
+    // The parser may place a node or an error at the end of the stream, one line past the
+    // text's last line (an empty document after `---`, say): such a position is the end.
+    let end = yaml_end(text);
+    let clamp = |line: &mut usize, column: &mut usize| {
+        if (*line, *column) > end {
+            (*line, *column) = end;
+        }
+    };
+    match parse_yaml_document(text, origin) {
+        Ok(mut yaml) => {
+            for w in &mut yaml.warnings {
+                clamp(&mut w.line, &mut w.column);
+            }
+            Ok(yaml)
+        }
+        Err(mut e) => {
+            clamp(&mut e.line, &mut e.column);
+            Err(e)
+        }
+    }
+}
+
+/// [`parse_ros_yaml`] before positions are clamped to the text.
+fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
+    let o = Origin(origin);
+    let (root, mut trailing) = load(text, o)?;
+    let Some(root) = root else {
+        let (line, column) = yaml_end(text);
         return Err(o.at(
-            free_line,
-            free_column,
+            line,
+            column,
             unexpected(
-                format!("'free_thresh' at most 'occupied_thresh' ({occupied_thresh})"),
-                free_thresh.to_string(),
+                "a mapping of map_server keys (image, resolution, ...)",
+                "end of file",
+            ),
+        ));
+    };
+    let Node::Mapping { entries, at: top } = &*root else {
+        let (line, column) = root.at();
+        return Err(o.at(
+            line,
+            column,
+            unexpected(
+                "a mapping of map_server keys (image, resolution, ...)",
+                root.describe(),
+            ),
+        ));
+    };
+    let mut warnings = Vec::new();
+    let warn = |warnings: &mut Vec<MapWarning>, (line, column): Position, message: String| {
+        warnings.push(MapWarning {
+            file: origin.to_owned(),
+            line,
+            column,
+            message,
+        })
+    };
+    let error = |(line, column): Position, kind: MapErrorKind| o.at(line, column, kind);
+    // The value of each known key, with the key's position.
+    let mut values: [Option<(&Node, Position)>; 7] = [None; 7];
+    for (key, value) in entries {
+        let Node::Scalar { text: name, .. } = &**key else {
+            warn(
+                &mut warnings,
+                key.at(),
+                format!(
+                    "{} as a key is not one map_server reads: ignored",
+                    key.describe()
+                ),
+            );
+            continue;
+        };
+        let Some(index) = KEYS.iter().position(|k| k == name) else {
+            warn(
+                &mut warnings,
+                key.at(),
+                format!(
+                    "key {} is not one map_server reads ({}): ignored",
+                    show_token(name),
+                    KEYS.join(", ")
+                ),
+            );
+            continue;
+        };
+        if let Some((_, (first_line, _))) = values[index] {
+            return Err(error(
+                key.at(),
+                MapErrorKind::DuplicateKey {
+                    key: KEYS[index],
+                    first_line,
+                },
+            ));
+        }
+        values[index] = Some((&**value, key.at()));
+    }
+    let required = |index: usize| -> Result<&Node, MapError> {
+        values[index]
+            .map(|(node, _)| node)
+            .ok_or_else(|| error(*top, MapErrorKind::MissingField { key: KEYS[index] }))
+    };
+    // A scalar's text, or an error naming what was expected.
+    let scalar = |node: &Node, expected: &str| -> Result<String, MapError> {
+        match node {
+            Node::Scalar { text, plain, .. } if !(*plain && is_null(text)) => Ok(text.clone()),
+            other => Err(error(other.at(), unexpected(expected, other.describe()))),
+        }
+    };
+    let number = |node: &Node, what: &str| -> Result<f64, MapError> {
+        let expected = format!("a number for '{what}'");
+        let text = scalar(node, &expected)?;
+        match parse_number(&text) {
+            Some(v) if v.is_finite() => Ok(v),
+            Some(_) => Err(error(
+                node.at(),
+                unexpected(format!("a finite number for '{what}'"), show_token(&text)),
+            )),
+            None => Err(error(node.at(), unexpected(expected, show_token(&text)))),
+        }
+    };
+
+    let image_node = required(0)?;
+    let image = scalar(image_node, "an image file name for 'image'")?;
+    if image.is_empty() {
+        return Err(error(
+            image_node.at(),
+            unexpected("an image file name for 'image'", "an empty string"),
+        ));
+    }
+    let resolution_node = required(1)?;
+    let resolution = number(resolution_node, "resolution")?;
+    if resolution <= 0.0 {
+        warn(
+            &mut warnings,
+            resolution_node.at(),
+            format!("resolution {resolution} is not positive: map positions are meaningless"),
+        );
+    }
+    let origin_node = required(2)?;
+    let Node::Sequence { items, .. } = origin_node else {
+        return Err(error(
+            origin_node.at(),
+            unexpected(
+                "a sequence [x, y, yaw] for 'origin'",
+                origin_node.describe(),
+            ),
+        ));
+    };
+    if items.len() < 3 {
+        return Err(error(
+            origin_node.at(),
+            unexpected(
+                "three numbers [x, y, yaw] for 'origin'",
+                format!("{} items", items.len()),
             ),
         ));
     }
+    if items.len() > 3 {
+        warn(
+            &mut warnings,
+            origin_node.at(),
+            format!(
+                "'origin' has {} items: the first three are read, as ROS 1 map_server does",
+                items.len()
+            ),
+        );
+    }
+    let mut pose = [0.0; 3];
+    for (slot, item) in pose.iter_mut().zip(items) {
+        *slot = number(item, "origin")?;
+    }
+    let occupied_node = required(3)?;
+    let occupied_thresh = number(occupied_node, "occupied_thresh")?;
+    let free_node = required(4)?;
+    let free_thresh = number(free_node, "free_thresh")?;
+    for (node, key, value) in [
+        (occupied_node, "occupied_thresh", occupied_thresh),
+        (free_node, "free_thresh", free_thresh),
+    ] {
+        if !(0.0..=1.0).contains(&value) {
+            warn(
+                &mut warnings,
+                node.at(),
+                format!("'{key}' {value} is outside [0, 1]: read as written"),
+            );
+        }
+    }
+    if free_thresh > occupied_thresh {
+        warn(
+            &mut warnings,
+            free_node.at(),
+            format!(
+                "'free_thresh' {free_thresh} is above 'occupied_thresh' {occupied_thresh}: read as written"
+            ),
+        );
+    }
+    let negate_node = required(5)?;
+    let negate_expected = "an integer or a boolean (0, 1, true, false) for 'negate'";
+    let negate_text = scalar(negate_node, negate_expected)?;
+    let negate = match parse_integer(&negate_text) {
+        Some(value) => {
+            if value != 0 && value != 1 {
+                warn(
+                    &mut warnings,
+                    negate_node.at(),
+                    format!("'negate' {value} is neither 0 nor 1: non-zero negates, as map_server reads it"),
+                );
+            }
+            value != 0
+        }
+        None => parse_bool(&negate_text).ok_or_else(|| {
+            error(
+                negate_node.at(),
+                unexpected(negate_expected, show_token(&negate_text)),
+            )
+        })?,
+    };
+    let mode = match values[6] {
+        None => RosMode::default(),
+        Some((node, _)) => {
+            let expected = "trinary, scale or raw for 'mode'";
+            match scalar(node, expected)?.as_str() {
+                "trinary" => RosMode::Trinary,
+                "scale" => RosMode::Scale,
+                "raw" => RosMode::Raw,
+                other => return Err(error(node.at(), unexpected(expected, show_token(other)))),
+            }
+        }
+    };
+    warnings.sort_by_key(|w| (w.line, w.column));
+    warnings.append(&mut trailing);
     Ok(RosYaml {
-        image: image.ok_or_else(|| missing("image"))?,
-        resolution: resolution.ok_or_else(|| missing("resolution"))?,
-        origin: origin_pose.ok_or_else(|| missing("origin"))?,
+        image,
+        resolution,
+        origin: pose,
         occupied_thresh,
         free_thresh,
-        negate: negate.ok_or_else(|| missing("negate"))?,
-        mode: mode.unwrap_or_default(),
+        negate,
+        mode,
+        warnings,
     })
 }
 
-/// The line without a comment: `#` at its start or after whitespace, outside quotes.
-fn strip_comment(line: &str) -> &str {
-    let mut quote: Option<char> = None;
-    let mut previous_blank = true;
-    for (byte, ch) in line.char_indices() {
-        match quote {
-            Some(q) if ch == q => quote = None,
-            Some(_) => {}
-            None if ch == '"' || ch == '\'' => quote = Some(ch),
-            None if ch == '#' && previous_blank => return &line[..byte],
-            None => {}
-        }
-        previous_blank = ch.is_whitespace();
-    }
-    line
-}
-
-/// Parses a value starting at 1-based `column`: a flow sequence, a quoted or a plain
-/// scalar. Errors carry the column.
-fn parse_value(text: &str, column: usize) -> Result<Raw, (usize, MapErrorKind)> {
-    if let Some(inner) = text.strip_prefix('[') {
-        let Some(inner) = inner.strip_suffix(']') else {
-            return Err((
-                column,
-                unexpected("a flow sequence closed by ']'", show_token(text)),
-            ));
-        };
-        let mut items = Vec::new();
-        if inner.trim().is_empty() {
-            return Ok(Raw::Sequence(items));
-        }
-        let mut offset = column + 1;
-        for part in inner.split(',') {
-            let lead = part.chars().take_while(|c| c.is_whitespace()).count();
-            let item = part.trim();
-            if item.is_empty() {
-                return Err((offset + lead, unexpected("a sequence item", "nothing")));
-            }
-            match parse_value(item, offset + lead)? {
-                Raw::Scalar(s) => items.push((offset + lead, s)),
-                Raw::Sequence(_) => {
-                    return Err((
-                        offset + lead,
-                        unexpected("a scalar item", "a nested sequence"),
-                    ))
-                }
-            }
-            offset += part.chars().count() + 1;
-        }
-        return Ok(Raw::Sequence(items));
-    }
-    for quote in ['"', '\''] {
-        if let Some(inner) = text.strip_prefix(quote) {
-            return match inner.strip_suffix(quote) {
-                Some(body) if !body.contains(quote) => Ok(Raw::Scalar(body.to_owned())),
-                _ => Err((
-                    column,
-                    unexpected(
-                        format!("a string closed by {quote} at the end of the line (escapes are not supported)"),
-                        show_token(text),
-                    ),
-                )),
-            };
-        }
-    }
-    if text.starts_with(['{', '|', '>', '&', '*', '!']) {
-        return Err((
-            column,
-            unexpected(
-                "a plain scalar, a quoted string or [a, b, c]",
-                show_token(text),
-            ),
-        ));
-    }
-    Ok(Raw::Scalar(text.to_owned()))
-}
-
-/// A finite number in YAML's usual spellings (`0.05`, `-10`, `1e-3`, `+2`).
+/// A number as yaml-cpp reads a `double`: a decimal (`0.05`, `-10`, `1e-3`, `+2`, `.5`) or
+/// YAML's `.inf`, `-.inf`, `.nan` spellings; surrounding spaces are ignored.
 fn parse_number(text: &str) -> Option<f64> {
+    let text = text.trim();
+    match text {
+        ".inf" | ".Inf" | ".INF" | "+.inf" | "+.Inf" | "+.INF" => return Some(f64::INFINITY),
+        "-.inf" | "-.Inf" | "-.INF" => return Some(f64::NEG_INFINITY),
+        ".nan" | ".NaN" | ".NAN" => return Some(f64::NAN),
+        _ => {}
+    }
     let ok = !text.is_empty()
         && text
             .chars()
             .all(|c| c.is_ascii_digit() || matches!(c, '.' | '-' | '+' | 'e' | 'E'));
-    text.parse::<f64>().ok().filter(|v| ok && v.is_finite())
+    text.parse::<f64>().ok().filter(|_| ok)
+}
+
+/// A decimal integer, optionally signed, as yaml-cpp reads an `int` (surrounding spaces
+/// ignored; hexadecimal and octal are not read).
+fn parse_integer(text: &str) -> Option<i64> {
+    let text = text.trim();
+    let digits = text.strip_prefix(['+', '-']).unwrap_or(text);
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    text.parse().ok()
+}
+
+/// A boolean as yaml-cpp reads one.
+fn parse_bool(text: &str) -> Option<bool> {
+    match text.trim() {
+        "y" | "Y" | "yes" | "Yes" | "YES" | "true" | "True" | "TRUE" | "on" | "On" | "ON" => {
+            Some(true)
+        }
+        "n" | "N" | "no" | "No" | "NO" | "false" | "False" | "FALSE" | "off" | "Off" | "OFF" => {
+            Some(false)
+        }
+        _ => None,
+    }
 }
 
 /// The ROS occupancy value of one pixel given as 8-bit channels (1 grey, 2 grey and
@@ -470,7 +755,8 @@ pub fn ros_occupancy_value(yaml: &RosYaml, pixel: &[u8]) -> i8 {
 }
 
 /// The grid of `occupancy` values (row-major, `width` x `height`): free exactly where the
-/// value is 0, then inflated by `options` (module docs).
+/// value is 0, then inflated by `options` (module docs) in time linear in the number of
+/// cells, whatever the radius.
 ///
 /// Precondition: `occupancy.len() == width * height`; errors as [`Grid::from_free_cells`]
 /// otherwise.
@@ -481,74 +767,205 @@ pub fn ros_grid(
     options: &RosOptions,
 ) -> Result<Grid, planner_api::GridError> {
     let mut free: Vec<bool> = occupancy.iter().map(|&v| v == 0).collect();
-    let r = i64::from(options.inflation_radius);
-    if r > 0 {
-        let (w, h) = (i64::from(width), i64::from(height));
-        for (index, &v) in occupancy.iter().enumerate() {
-            let source = v >= 100 || (options.inflate_unknown && v < 0);
-            if !source {
-                continue;
-            }
-            let (x, y) = (index as i64 % w, index as i64 / w);
-            for dy in -r..=r {
-                for dx in -r..=r {
-                    let (nx, ny) = (x + dx, y + dy);
-                    if dx * dx + dy * dy <= r * r && nx >= 0 && ny >= 0 && nx < w && ny < h {
-                        free[(ny * w + nx) as usize] = false;
-                    }
-                }
-            }
+    let (w, h) = (width as usize, height as usize);
+    if options.inflation_radius > 0 && w.checked_mul(h) == Some(occupancy.len()) {
+        let source: Vec<bool> = occupancy
+            .iter()
+            .map(|&v| v >= 100 || (options.inflate_unknown && v < 0))
+            .collect();
+        let near = within_radius(w, h, options.inflation_radius, &source);
+        for (cell, near) in free.iter_mut().zip(near) {
+            *cell &= !near;
         }
     }
     Grid::from_free_cells(width, height, free)
 }
 
-/// Reads a `map_server` map: the YAML at `path`, then its image (PGM or PNG, found by
-/// content) relative to the YAML's directory, into a grid with `options`.
+/// For each cell of a `w` x `h` row-major grid, whether a `source` cell's centre lies
+/// within Euclidean distance `radius` of its centre: Meijster, Roerdink and Hesselink's
+/// exact distance transform (2000), in O(w h) time for any radius.
 ///
-/// Errors name the YAML file (line and column for its contents) or the image file.
-pub fn read_ros_map(path: &Path, options: &RosOptions) -> Result<RosMap, MapError> {
-    let origin = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        MapError::new(
-            &origin,
-            0,
-            0,
-            MapErrorKind::Io {
-                message: e.to_string(),
-            },
-        )
-    })?;
-    ros_map_from_yaml_text(&text, path, options)
+/// Column distances beyond `radius + 1` are capped there: a capped term is more than
+/// `radius^2` and so is the true one, and the uncapped terms are exact, so the minimum is
+/// at most `radius^2` exactly when the true squared distance is. With the radius itself
+/// capped at `w + h` (beyond the grid's diagonal), every square fits comfortably in `i128`.
+fn within_radius(w: usize, h: usize, radius: u32, source: &[bool]) -> Vec<bool> {
+    let mut out = vec![false; source.len()];
+    if w == 0 || h == 0 || source.len() != w * h {
+        return out;
+    }
+    let r = i128::from(radius).min(w as i128 + h as i128);
+    let r_squared = r * r;
+    let cap = r + 1;
+    // Phase 1: g = distance to the nearest source in the same column, capped.
+    let mut g = vec![cap; w * h];
+    for x in 0..w {
+        let mut d = cap;
+        for y in 0..h {
+            let i = y * w + x;
+            d = if source[i] { 0 } else { (d + 1).min(cap) };
+            g[i] = d;
+        }
+        let mut d = cap;
+        for y in (0..h).rev() {
+            let i = y * w + x;
+            d = if g[i] == 0 { 0 } else { (d + 1).min(cap) };
+            g[i] = g[i].min(d);
+        }
+    }
+    // Phase 2: per row, the lower envelope of the parabolas (x - i)^2 + g(i)^2.
+    let mut s = vec![0usize; w];
+    let mut t = vec![0usize; w];
+    for y in 0..h {
+        let row = &g[y * w..(y + 1) * w];
+        let f = |x: usize, i: usize| {
+            let dx = x as i128 - i as i128;
+            dx * dx + row[i] * row[i]
+        };
+        let sep = |i: usize, u: usize| {
+            let (i2, u2) = (i as i128 * i as i128, u as i128 * u as i128);
+            (u2 - i2 + row[u] * row[u] - row[i] * row[i]).div_euclid(2 * (u as i128 - i as i128))
+        };
+        let mut q: usize = 0;
+        s[0] = 0;
+        t[0] = 0;
+        for u in 1..w {
+            // Pop the segments whose parabola lies above u's at their start.
+            let mut empty = false;
+            while f(t[q], s[q]) > f(t[q], u) {
+                if q == 0 {
+                    empty = true;
+                    break;
+                }
+                q -= 1;
+            }
+            if empty {
+                s[0] = u;
+            } else {
+                let start = 1 + sep(s[q], u);
+                if start < w as i128 {
+                    q += 1;
+                    s[q] = u;
+                    t[q] = start.max(0) as usize;
+                }
+            }
+        }
+        for u in (0..w).rev() {
+            out[y * w + u] = f(u, s[q]) <= r_squared;
+            if u == t[q] && q > 0 {
+                q -= 1;
+            }
+        }
+    }
+    out
 }
 
-/// [`read_ros_map`] for YAML text already read from `path` (the image is resolved against
-/// `path`'s directory).
+/// Reads a `map_server` map with default limits and `options` (see [`read_ros_map_with`]).
+pub fn read_ros_map(path: &Path, options: &RosOptions) -> Result<RosMap, MapError> {
+    read_ros_map_with(
+        path,
+        &ReadOptions {
+            ros: *options,
+            ..ReadOptions::default()
+        },
+    )
+}
+
+/// Reads a `map_server` map: the YAML at `path`, then its image (PGM or PNG, found by
+/// content) relative to the YAML's directory, into a grid with `options.ros`, within
+/// `options`' limits.
+///
+/// Errors name the YAML file (line and column for its contents) or the image file.
+pub fn read_ros_map_with(path: &Path, options: &ReadOptions) -> Result<RosMap, MapError> {
+    let origin = path.display().to_string();
+    let bytes = crate::read_file(path, &origin, options.max_file_bytes)?;
+    ros_map_from_yaml_text(crate::utf8(&bytes, &origin)?, path, options)
+}
+
+/// [`read_ros_map_with`] for YAML text already read from `path` (the image is resolved
+/// against `path`'s directory).
 pub(crate) fn ros_map_from_yaml_text(
     text: &str,
     path: &Path,
-    options: &RosOptions,
+    options: &ReadOptions,
 ) -> Result<RosMap, MapError> {
     let yaml = parse_ros_yaml(text, &path.display().to_string())?;
     let image_path = path.parent().unwrap_or(Path::new("")).join(&yaml.image);
     let image_origin = image_path.display().to_string();
-    let image_error =
-        |message: String| MapError::new(&image_origin, 0, 0, MapErrorKind::Image { message });
-    let bytes = std::fs::read(&image_path).map_err(|e| {
-        MapError::new(
-            &image_origin,
-            0,
-            0,
-            MapErrorKind::Io {
-                message: e.to_string(),
-            },
-        )
-    })?;
-    let decoded = image::ImageReader::new(Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| image_error(e.to_string()))?
-        .decode()
-        .map_err(|e| image_error(e.to_string()))?;
+    let bytes = crate::read_file(&image_path, &image_origin, options.max_file_bytes)?;
+    ros_map_from_image_bytes(&bytes, &image_origin, Some(yaml), options)
+}
+
+/// Decodes the image `bytes` (PGM or PNG, found by content) into a map with `yaml`'s
+/// thresholds ([`RosYaml::defaults`] when `None`) and `options.ros`' inflation. `origin`
+/// names the image in errors and becomes [`RosMap::image_path`].
+///
+/// The dimensions are read from the header first: an image of more than
+/// [`ReadOptions::max_cells`] pixels is an error before any pixel is decoded.
+///
+/// ```
+/// use planner_maps::{ros_map_from_image_bytes, ReadOptions};
+///
+/// // A 3 x 1 ASCII PGM: white (free), black (occupied), map_saver's grey 205 (unknown).
+/// let map = ros_map_from_image_bytes(b"P2 3 1 255 255 0 205", "m.pgm", None, &ReadOptions::default()).unwrap();
+/// assert_eq!(map.occupancy, [0, 100, -1]);
+/// assert_eq!(map.grid.to_ascii(), ".##\n");
+/// let small = ReadOptions { max_cells: 2, ..ReadOptions::default() };
+/// let err = ros_map_from_image_bytes(b"P2 3 1 255 255 0 205", "m.pgm", None, &small).unwrap_err();
+/// assert_eq!(err.to_string(), "m.pgm: a 3x1 map has 3 cells, more than the limit of 2 cells");
+/// ```
+pub fn ros_map_from_image_bytes(
+    bytes: &[u8],
+    origin: &str,
+    yaml: Option<RosYaml>,
+    options: &ReadOptions,
+) -> Result<RosMap, MapError> {
+    let yaml = yaml.unwrap_or_else(|| {
+        let name = Path::new(origin)
+            .file_name()
+            .map_or_else(|| origin.to_owned(), |n| n.to_string_lossy().into_owned());
+        RosYaml::defaults(&name)
+    });
+    let whole = |kind| MapError::new(origin, 0, 0, kind);
+    let image_error = |e: image::ImageError| {
+        whole(MapErrorKind::Image {
+            message: e.to_string(),
+        })
+    };
+    let reader = || {
+        image::ImageReader::new(Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| {
+                whole(MapErrorKind::Image {
+                    message: e.to_string(),
+                })
+            })
+    };
+    // The header only: without the decoder's default allocation limit, so that a huge
+    // declared size is reported as such below (reading a header allocates at most what
+    // the bytes hold).
+    let mut header = reader()?;
+    header.no_limits();
+    let (width, height) = header.into_dimensions().map_err(image_error)?;
+    if u64::from(width) * u64::from(height) > options.max_cells {
+        return Err(whole(MapErrorKind::TooManyCells {
+            width: u64::from(width),
+            height: u64::from(height),
+            max_cells: options.max_cells,
+        }));
+    }
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(width);
+    limits.max_image_height = Some(height);
+    // Room for the decoded pixels at 16-bit RGBA and the decoder's own buffers.
+    limits.max_alloc = Some(
+        (u64::from(width) * u64::from(height))
+            .saturating_mul(16)
+            .saturating_add(1 << 24),
+    );
+    let mut decoder = reader()?;
+    decoder.limits(limits);
+    let decoded = decoder.decode().map_err(image_error)?;
     let (width, height) = (decoded.width(), decoded.height());
     let (channels, pixels): (usize, Vec<u8>) = match decoded {
         image::DynamicImage::ImageLuma8(img) => (1, img.into_raw()),
@@ -569,13 +986,13 @@ pub(crate) fn ros_map_from_yaml_text(
         .chunks_exact(channels)
         .map(|pixel| ros_occupancy_value(&yaml, pixel))
         .collect();
-    let grid = ros_grid(width, height, &occupancy, options)
-        .map_err(|e| MapError::new(&image_origin, 0, 0, MapErrorKind::Grid(e)))?;
+    let grid = ros_grid(width, height, &occupancy, &options.ros)
+        .map_err(|e| whole(MapErrorKind::Grid(e)))?;
     Ok(RosMap {
         grid,
         occupancy,
         yaml,
-        image_path,
+        image_path: PathBuf::from(origin),
     })
 }
 
@@ -592,6 +1009,7 @@ mod tests {
             free_thresh: 0.196,
             negate,
             mode,
+            warnings: Vec::new(),
         }
     }
 
@@ -648,5 +1066,88 @@ mod tests {
             inflate_unknown: true,
         };
         assert_eq!(ros_grid(5, 5, &occ, &both).unwrap().n_free(), 20);
+    }
+
+    /// Whether a source lies within `radius` of each cell, by trying every pair.
+    fn brute_force(w: usize, h: usize, radius: u32, source: &[bool]) -> Vec<bool> {
+        let r = i128::from(radius);
+        (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as i128, (i / w) as i128);
+                (0..w * h).any(|j| {
+                    let (sx, sy) = ((j % w) as i128, (j / w) as i128);
+                    source[j] && (x - sx).pow(2) + (y - sy).pow(2) <= r * r
+                })
+            })
+            .collect()
+    }
+
+    #[test]
+    fn distance_transform_matches_brute_force() {
+        // A small deterministic generator (64-bit LCG, Knuth's MMIX constants).
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            state >> 33
+        };
+        let mut n_checked = 0;
+        for _ in 0..300 {
+            let w = 1 + (next() % 12) as usize;
+            let h = 1 + (next() % 12) as usize;
+            let density = next() % 5; // 0: no source at all
+            let source: Vec<bool> = (0..w * h).map(|_| next() % 10 < density).collect();
+            for radius in [1, 2, 3, 5, 8, 20, u32::MAX] {
+                assert_eq!(
+                    within_radius(w, h, radius, &source),
+                    brute_force(w, h, radius, &source),
+                    "{w}x{h} radius {radius} sources {source:?}"
+                );
+                n_checked += 1;
+            }
+        }
+        assert_eq!(n_checked, 2100);
+    }
+
+    #[test]
+    fn huge_radius_is_clipped_to_the_grid() {
+        // Issue 18: radius 100000 on a 6 x 4 map hung. One occupied cell blocks all.
+        let mut occ = vec![0i8; 24];
+        occ[7] = 100;
+        let options = RosOptions {
+            inflation_radius: 100_000,
+            inflate_unknown: false,
+        };
+        assert_eq!(ros_grid(6, 4, &occ, &options).unwrap().n_free(), 0);
+        let options = RosOptions {
+            inflation_radius: u32::MAX,
+            inflate_unknown: false,
+        };
+        assert_eq!(ros_grid(6, 4, &occ, &options).unwrap().n_free(), 0);
+        // No source: nothing is blocked, whatever the radius.
+        assert_eq!(ros_grid(6, 4, &[0; 24], &options).unwrap().n_free(), 24);
+    }
+
+    #[test]
+    fn inflation_cost_is_linear_in_the_grid() {
+        // A 1000 x 1000 map, a third of it occupied, radius 100000: the old per-source
+        // window would visit about 3.3e5 sources x 1e6 cells; the transform visits each
+        // cell a few times. All cells are within reach of some source.
+        let (w, h) = (1000u32, 1000u32);
+        let occ: Vec<i8> = (0..w * h)
+            .map(|i| if i % 3 == 0 { 100 } else { 0 })
+            .collect();
+        let options = RosOptions {
+            inflation_radius: 100_000,
+            inflate_unknown: false,
+        };
+        assert_eq!(ros_grid(w, h, &occ, &options).unwrap().n_free(), 0);
+        // Radius 1 on the same map: every cell has an occupied 4-neighbour or is one.
+        let options = RosOptions {
+            inflation_radius: 1,
+            inflate_unknown: false,
+        };
+        assert_eq!(ros_grid(w, h, &occ, &options).unwrap().n_free(), 0);
     }
 }

@@ -22,12 +22,18 @@ use crate::{MapFile, MapFormat, ProblemSpec};
 /// Pairs are not checked against the grid: a pair on an obstacle or outside the map is a
 /// problem specification like any other, and [`planner_api::Problem::new`] rejects it
 /// naming the cell. Errors, with line and column, on a malformed pair line, a symbol
-/// other than `.` or `X`, a ragged row, a blank line between rows, or no rows at all.
+/// other than `.` or `X`, a ragged row, a blank line between rows, no rows at all, or more
+/// than [`crate::DEFAULT_MAX_CELLS`] cells (see [`crate::ReadOptions::max_cells`]).
 pub fn parse_seed003(text: &str, origin: &str) -> Result<MapFile, MapError> {
+    parse(text, origin, crate::DEFAULT_MAX_CELLS)
+}
+
+/// [`parse_seed003`] with at most `max_cells` cells.
+pub(crate) fn parse(text: &str, origin: &str, max_cells: u64) -> Result<MapFile, MapError> {
     let o = Origin(origin);
     let mut problems = Vec::new();
     let mut free = Vec::new();
-    let mut rows = RowBlock::default();
+    let mut rows = RowBlock::new(max_cells);
     for (number, raw) in lines(text) {
         let line = raw.trim_end();
         let body = line.trim_start();

@@ -152,8 +152,10 @@ mod tests {
 
 /// The body of a grid file (seed 003 `.txt`, `.csv`): one block of rows, each as wide as
 /// the first, with blank lines allowed before and after the block but not inside it.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(crate) struct RowBlock {
+    /// The most cells the block may have ([`crate::ReadOptions::max_cells`]).
+    max_cells: u64,
     /// (width, line) of the first row.
     first: Option<(usize, usize)>,
     n_rows: usize,
@@ -162,6 +164,16 @@ pub(crate) struct RowBlock {
 }
 
 impl RowBlock {
+    /// An empty block that may grow to `max_cells` cells.
+    pub(crate) fn new(max_cells: u64) -> RowBlock {
+        RowBlock {
+            max_cells,
+            first: None,
+            n_rows: 0,
+            blank_after: None,
+        }
+    }
+
     /// Notes that line `number` is blank.
     pub(crate) fn blank(&mut self, number: usize) {
         if self.n_rows > 0 && self.blank_after.is_none() {
@@ -215,6 +227,18 @@ impl RowBlock {
             Some(_) => {}
         }
         self.n_rows += 1;
+        let (width, height) = (len as u64, self.n_rows as u64);
+        if width.saturating_mul(height) > self.max_cells {
+            return Err(o.at(
+                number,
+                1,
+                MapErrorKind::TooManyCells {
+                    width,
+                    height,
+                    max_cells: self.max_cells,
+                },
+            ));
+        }
         Ok(())
     }
 

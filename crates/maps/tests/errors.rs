@@ -128,17 +128,17 @@ fn movingai_errors() {
         "type octile\nheight 1\nwidth 1\nmap extra\n.\n",
         "t.map:4:5: expected end of line after 'map', found 'extra'",
     );
-    // 65536 * 65536 = 2^32 cells > Grid::MAX_CELLS = 2^31.
+    // 65536 * 65536 = 2^32 cells > the default limit of 2^28 cells.
     check(
         M,
         "type octile\nheight 65536\nwidth 65536\nmap\n",
-        "t.map:4:1: invalid grid: grid too large: at most 2^31 cells are supported",
+        "t.map:4:1: a 65536x65536 map has 4294967296 cells, more than the limit of 268435456 cells",
     );
-    // 40000 * 40000 = 1.6e9 cells is allowed; the missing rows are reported, nothing is allocated.
+    // 16384 * 16384 = 2^28 cells is allowed; the missing rows are reported, nothing is allocated.
     check(
         M,
-        "type octile\nheight 40000\nwidth 40000\nmap\n",
-        "t.map:5:1: expected 40000 rows (height 40000), found 0",
+        "type octile\nheight 16384\nwidth 16384\nmap\n",
+        "t.map:5:1: expected 16384 rows (height 16384), found 0",
     );
     // Too few rows: with a trailing newline (line 7 is the empty last line) and without.
     check(
@@ -527,11 +527,11 @@ fn tmp(name: &str) -> PathBuf {
 
 #[test]
 fn file_errors() {
-    let map_list = "expected one of .map (Moving AI), .txt (seed 003), .csv (0/1 matrix), .yaml/.yml (ROS map_server); .scen files are read by read_scenarios";
-    let err = read_map(Path::new("maps/x.png")).unwrap_err();
+    let map_list = "expected one of .map (Moving AI), .txt (seed 003), .csv (0/1 matrix), .yaml/.yml (ROS map_server), .pgm/.png (an occupancy image); .scen files hold scenarios, not maps";
+    let err = read_map(Path::new("maps/x.gif")).unwrap_err();
     assert_eq!(
         err.to_string(),
-        format!("maps/x.png: unsupported file extension '.png', {map_list}")
+        format!("maps/x.gif: unsupported file extension '.gif', {map_list}")
     );
     let err = read_map(Path::new("maps/noext")).unwrap_err();
     assert_eq!(

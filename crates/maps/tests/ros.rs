@@ -112,63 +112,174 @@ fn png_scale_with_alpha() {
     assert_eq!(map.grid.to_ascii(), ".###\n");
 }
 
-/// Parses `text` and compares the error's display with `expect`.
+/// What reading `text` gives: `error: <message>`, or `ok` followed by one
+/// `warning: <message>` line per warning.
+fn outcome(text: &str) -> String {
+    match parse_ros_yaml(text, "m.yaml") {
+        Err(err) => format!("error: {err}"),
+        Ok(yaml) => {
+            let mut out = "ok".to_owned();
+            for w in &yaml.warnings {
+                out.push_str(&format!("\nwarning: {w}"));
+            }
+            out
+        }
+    }
+}
+
+/// Reads `text` and compares the outcome (see [`outcome`]) with `expect`.
 fn check(text: &str, expect: &str) {
-    let err = parse_ros_yaml(text, "m.yaml").unwrap_err();
-    assert_eq!(err.to_string(), expect, "{text}");
+    assert_eq!(outcome(text), expect, "input:\n{text}");
 }
 
 #[test]
 fn yaml_errors_name_line_and_column() {
     check(
         &YAML.replace("resolution: 0.050000", "resolution: fast"),
-        "m.yaml:3:13: expected a number for 'resolution', found 'fast'",
+        "error: m.yaml:3:13: expected a number for 'resolution', found 'fast'",
     );
     check(
-        &YAML.replace("negate: 0", "negate: 2"),
-        "m.yaml:5:9: expected 0, 1, true or false for 'negate', found '2'",
+        &YAML.replace("negate: 0", "negate: maybe"),
+        "error: m.yaml:5:9: expected an integer or a boolean (0, 1, true, false) for 'negate', found 'maybe'",
     );
     check(
         &YAML.replace("[-1.000000, -2.000000, 0.000000]", "[-1.0, x, 0.0]"),
-        "m.yaml:4:16: expected a number in 'origin', found 'x'",
+        "error: m.yaml:4:16: expected a number for 'origin', found 'x'",
     );
     check(
         &YAML.replace("[-1.000000, -2.000000, 0.000000]", "[-1.0, 2.0]"),
-        "m.yaml:4:9: expected three numbers [x, y, yaw] for 'origin', found 2 items",
+        "error: m.yaml:4:9: expected three numbers [x, y, yaw] for 'origin', found 2 items",
     );
     check(
-        &YAML.replace("free_thresh: 0.196", "free_tresh: 0.196"),
-        "m.yaml:7:1: expected one of the keys image, resolution, origin, occupied_thresh, free_thresh, negate, mode, found 'free_tresh'",
+        &YAML.replace("[-1.000000, -2.000000, 0.000000]", "-1.0"),
+        "error: m.yaml:4:9: expected a sequence [x, y, yaw] for 'origin', found '-1.0'",
     );
     check(
         &YAML.replace("free_thresh: 0.196\n", ""),
-        "m.yaml: missing key 'free_thresh'",
+        "error: m.yaml:2:1: missing key 'free_thresh'",
     );
     check(
         &(YAML.to_owned() + "image: other.pgm\n"),
-        "m.yaml:8:1: duplicate header key 'image', already given on line 2",
+        "error: m.yaml:8:1: duplicate header key 'image', already given on line 2",
     );
     check(
-        &YAML.replace("negate: 0", "negate:\n  - 0"),
-        "m.yaml:5:8: expected a value for 'negate', found end of line",
+        &YAML.replace("negate: 0", "negate:"),
+        "error: m.yaml:5:7: expected an integer or a boolean (0, 1, true, false) for 'negate', found null",
     );
     check(
-        &YAML.replace("free_thresh: 0.196", "free_thresh: 0.8"),
-        "m.yaml:7:14: expected 'free_thresh' at most 'occupied_thresh' (0.65), found 0.8",
+        &YAML.replace("image: map.pgm", "image: ''"),
+        "error: m.yaml:2:8: expected an image file name for 'image', found an empty string",
     );
     check(
-        &YAML.replace("occupied_thresh: 0.65", "occupied_thresh: 1.5"),
-        "m.yaml:6:18: expected a number in [0, 1] for 'occupied_thresh', found '1.5'",
+        &YAML.replace("image: map.pgm", "image: [a.pgm]"),
+        "error: m.yaml:2:8: expected an image file name for 'image', found a sequence",
     );
+    check(
+        &YAML.replace("resolution: 0.050000", "resolution: .nan"),
+        "error: m.yaml:3:13: expected a finite number for 'resolution', found '.nan'",
+    );
+    check(
+        &(YAML.to_owned() + "mode: ternary\n"),
+        "error: m.yaml:8:7: expected trinary, scale or raw for 'mode', found 'ternary'",
+    );
+    check(
+        "- image: a.pgm\n",
+        "error: m.yaml:1:1: expected a mapping of map_server keys (image, resolution, ...), found a sequence",
+    );
+    check(
+        "# nothing\n",
+        "error: m.yaml:2:1: expected a mapping of map_server keys (image, resolution, ...), found end of file",
+    );
+    // Invalid YAML: the parser's message at its position.
+    check(
+        &YAML.replace("[-1.000000, -2.000000, 0.000000]", "[-1.0, 2.0, 0.0"),
+        "error: m.yaml:5:7: invalid YAML: illegal placement of ':' indicator",
+    );
+    check(
+        "image: a.pgm\n  resolution: 1\n",
+        "error: m.yaml:2:13: invalid YAML: mapping values are not allowed in this context",
+    );
+    check(
+        &format!("a: {}1{}\n", "[".repeat(70), "]".repeat(70)),
+        "error: m.yaml:1:67: expected at most 64 nested sequences and mappings, found more",
+    );
+}
+
+#[test]
+fn yaml_accepts_what_map_server_accepts() {
+    // Issue 18: these valid files were rejected by the hand-written reader.
+    // A block-sequence origin, nav2's test file style.
+    let block = YAML.replace(
+        "[-1.000000, -2.000000, 0.000000]",
+        "\n  - -1.0\n  - -2.0\n  - 0.0",
+    );
+    check(&block, "ok");
+    assert_eq!(
+        parse_ros_yaml(&block, "m.yaml").unwrap().origin,
+        [-1.0, -2.0, 0.0]
+    );
+    // A flow mapping, quoted numbers, an explicit document start, tags.
+    let flow = "--- {image: \"map.pgm\", resolution: '0.05', origin: [0, 0, 0], negate: false, \
+                occupied_thresh: !!float 0.65, free_thresh: 0.196, mode: \"scale\"}\n";
+    check(flow, "ok");
+    let yaml = parse_ros_yaml(flow, "m.yaml").unwrap();
+    assert_eq!(
+        (yaml.resolution, yaml.mode, yaml.negate),
+        (0.05, RosMode::Scale, false)
+    );
+    // Anchors and aliases.
+    let alias = YAML.replace("occupied_thresh: 0.65", "occupied_thresh: &t 0.65\nx: *t");
+    check(
+        &alias,
+        "ok\nwarning: m.yaml:7:1: key 'x' is not one map_server reads (image, resolution, origin, occupied_thresh, free_thresh, negate, mode): ignored",
+    );
+    // Extra keys are read with a warning naming them: map_type (nav2's map_circular),
+    // map_name, a misspelt key, a non-scalar key.
+    check(
+        &(YAML.to_owned() + "map_type: occupancy\nmap_name: depot\nfree_tresh: 0.2\n? [a]\n: 1\n"),
+        "ok\n\
+         warning: m.yaml:8:1: key 'map_type' is not one map_server reads (image, resolution, origin, occupied_thresh, free_thresh, negate, mode): ignored\n\
+         warning: m.yaml:9:1: key 'map_name' is not one map_server reads (image, resolution, origin, occupied_thresh, free_thresh, negate, mode): ignored\n\
+         warning: m.yaml:10:1: key 'free_tresh' is not one map_server reads (image, resolution, origin, occupied_thresh, free_thresh, negate, mode): ignored\n\
+         warning: m.yaml:11:3: a sequence as a key is not one map_server reads: ignored",
+    );
+    // Values map_server reads as written, with a warning each.
     check(
         &YAML
-            .replace("mode", "x")
-            .replace("negate: 0", "negate: 0\nmode: ternary"),
-        "m.yaml:6:7: expected trinary, scale or raw for 'mode', found 'ternary'",
+            .replace("negate: 0", "negate: 2")
+            .replace("occupied_thresh: 0.65", "occupied_thresh: 1.5")
+            .replace("free_thresh: 0.196", "free_thresh: 1.6")
+            .replace("resolution: 0.050000", "resolution: 0")
+            .replace("0.000000]", "0.0, 7]"),
+        "ok\n\
+         warning: m.yaml:3:13: resolution 0 is not positive: map positions are meaningless\n\
+         warning: m.yaml:4:9: 'origin' has 4 items: the first three are read, as ROS 1 map_server does\n\
+         warning: m.yaml:5:9: 'negate' 2 is neither 0 nor 1: non-zero negates, as map_server reads it\n\
+         warning: m.yaml:6:18: 'occupied_thresh' 1.5 is outside [0, 1]: read as written\n\
+         warning: m.yaml:7:14: 'free_thresh' 1.6 is outside [0, 1]: read as written\n\
+         warning: m.yaml:7:14: 'free_thresh' 1.6 is above 'occupied_thresh' 1.5: read as written",
     );
+    let negated = parse_ros_yaml(&YAML.replace("negate: 0", "negate: 2"), "m.yaml").unwrap();
+    assert!(negated.negate);
+    for (text, negate) in [
+        ("true", true),
+        ("yes", true),
+        ("On", true),
+        ("0", false),
+        ("off", false),
+        ("-1", true),
+    ] {
+        let yaml = parse_ros_yaml(
+            &YAML.replace("negate: 0", &format!("negate: {text}")),
+            "m.yaml",
+        )
+        .unwrap();
+        assert_eq!(yaml.negate, negate, "{text}");
+    }
+    // A second document is ignored, as yaml-cpp's LoadFile does.
     check(
-        "  image: a.pgm\n",
-        "m.yaml:1:1: expected a top-level 'key: value' (a map_server YAML file is flat), found an indented line",
+        &(YAML.to_owned() + "---\nimage: other.pgm\n"),
+        "ok\nwarning: m.yaml:8:1: a second YAML document is ignored, as map_server does",
     );
     // Comments after values and quoted '#' are fine.
     let ok = parse_ros_yaml(

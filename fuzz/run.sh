@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Runs one fuzz target for a bounded time: fuzz/run.sh TARGET SECONDS [extra libFuzzer flags]
+#
+# TARGET is one of: movingai scen seed003 csv ros_yaml image (see README.md).
+# Seeds are copied from ../maps (by extension) into seeds/TARGET; libFuzzer keeps what it
+# finds in corpus/TARGET and writes crashing inputs to artifacts/TARGET. Both are ignored
+# by git. Needs cargo-fuzz (`cargo install cargo-fuzz`); on a stable toolchain
+# RUSTC_BOOTSTRAP=1 lets it pass the nightly flags (-Z sanitizer, coverage) it needs.
+set -euo pipefail
+cd "$(dirname "$0")"
+if [ $# -lt 2 ]; then
+  echo "usage: $0 TARGET SECONDS [libFuzzer flags...]" >&2
+  exit 2
+fi
+target=$1
+seconds=$2
+shift 2
+seeds=seeds/$target
+mkdir -p "corpus/$target" "$seeds" "artifacts/$target"
+copy() { # copy maps/ files matching $1 and smaller than $2 into the seed folder
+  find ../maps -name "$1" -size "-$2" -exec cp {} "$seeds/" \;
+}
+max_len=16384
+case $target in
+  movingai) copy '*.map' 64k ;;
+  scen) copy '*.scen' 64k ;;
+  seed003) copy '*.txt' 64k ;;
+  csv)
+    # No .csv maps in maps/: the seed-003 maps as 0/1 matrices, and two by hand.
+    for txt in ../maps/wpi/*.txt; do
+      grep -v '^#' "$txt" | sed -e 's/\./1,/g' -e 's/X/0,/g' -e 's/,$//' \
+        > "$seeds/$(basename "$txt" .txt).csv"
+    done
+    printf '1,0,1\n0,1,0\n' > "$seeds/small.csv"
+    printf '# comment\n1 0 1\r\n1 1 1\r\n\n' > "$seeds/spaces.csv"
+    ;;
+  ros_yaml) copy '*.yaml' 64k ;;
+  image)
+    copy '*.pgm' 2M
+    copy '*.png' 2M
+    max_len=65536
+    ;;
+  *)
+    echo "unknown target $target (movingai scen seed003 csv ros_yaml image)" >&2
+    exit 2
+    ;;
+esac
+# -s none: the readers are safe Rust, so AddressSanitizer adds cost and no checks;
+# -a: debug assertions and overflow checks on, so an overflow is a crash.
+RUSTC_BOOTSTRAP=1 exec nice -n 10 cargo fuzz run -s none -a "$target" \
+  "corpus/$target" "$seeds" -- \
+  -max_total_time="$seconds" -max_len="$max_len" -rss_limit_mb=2048 \
+  -artifact_prefix="artifacts/$target/" -print_final_stats=1 "$@"
