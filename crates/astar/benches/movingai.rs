@@ -1,6 +1,6 @@
 //! A* on full Moving AI scenario files, beside the `pathfinding` crate's A* in the same run.
 //!
-//! `cargo bench -p planner-astar --bench movingai [-- --repeats=N] [map ...]` prints one
+//! `cargo bench -p planner-astar --bench movingai [-- --repeats=N --clock=cpu] [map ...]` prints one
 //! line per map and move set:
 //! `map=<name> moves=<8|4> scenarios=<n> mismatches=<n> expansions=<gridplan total>
 //! peer_expansions=<pathfinding total> gridplan_ms=<t> pathfinding_ms=<t>
@@ -13,7 +13,9 @@
 //! two sides' step counts differ. gridplan runs with all its counters on and with the
 //! peer's tie rule (larger g first among equal f). Each side runs the whole scenario file
 //! `--repeats=N` times (default 3), alternating, and its best time counts; every pass
-//! must give the same lengths and counts. Map names as arguments run a subset.
+//! must give the same lengths and counts. Times are wall time, or with `--clock=cpu` the
+//! thread's time on a CPU (Linux; a loaded machine's waits for a core do not count). Map
+//! names as arguments run a subset.
 
 use planner_api::{Budget, Connectivity, Grid, Problem};
 use planner_astar::{AStar, Config, Heuristic, TieBreak};

@@ -28,13 +28,19 @@
 //! reached by a path two steps shorter (the tests find such grids).
 //!
 //! # Design
-//! The main decision is to make every search allocation-free after the first: one
-//! per-cell record (g, parent, stamp) lives in the planner and is invalidated by a
-//! generation stamp instead of being cleared, so a query touching 100 cells of a 512 x 512
-//! map costs 100 cells, not 262,144. Moves come from planner-api's [`Adjacency`]: per-cell
-//! masks of the safe moves over a padded grid, built once per grid, so the neighbour loop
-//! has no bounds or obstacle test and walks the set bits in the configured order; the
-//! blocked checks are counted as the clear bits.
+//! The main decision is to make every search allocation-free after the first: the
+//! per-cell arrays live in the planner and are not cleared between searches but reset
+//! through the list of cells the last search inserted into OPEN, so a query touching 100
+//! cells of a 512 x 512 map costs 100 cells, not 262,144. They are small, so that a
+//! search's neighbour tests hit the cache: one status byte per cell (unseen, OPEN, CLOSED,
+//! and the move it was reached by, which gives the path back), and `g`, read only for
+//! cells already in OPEN. Moves come from planner-api's [`Adjacency`] (padded layout and
+//! per-move index offsets, so the neighbour loop has no bounds test). For 4 and 8
+//! directions the safe moves of a cell come from a bit-packed copy of the grid instead of
+//! the adjacency's 8-byte masks: its 3 x 3 neighbourhood (three 2-byte loads) indexes a
+//! 512-entry table; the same code of a bit-packed CLOSED set masks out the moves to
+//! CLOSED cells at once (they are the skipped checks), so the loop over the remaining
+//! moves has no branch on CLOSED. The blocked checks are counted as the clear bits.
 //!
 //! Costs are [`planner_api::Cost`]s, fixed point in units of `2^-32`: every path cost
 //! is an integer sum of its moves' costs, so equal path costs are equal numbers and tie
@@ -239,6 +245,8 @@ pub struct AStar {
     g: Vec<Cost>,
     /// The cells the last search inserted into OPEN: the next one resets exactly those.
     touched: Vec<u32>,
+    /// With the bit grid ([`FreeBits`]): the CLOSED cells as bits in its layout.
+    closed: Vec<u8>,
     bits: FreeBits,
     /// Whether the integer OPEN fits the moves, heuristic and weight (else the buckets).
     integral: bool,
@@ -257,6 +265,42 @@ struct Opens {
     int_lifo: IntOpen<{ open::LIFO }>,
     int_low_g: IntOpen<{ open::LOW_G }>,
     int_high_g: IntOpen<{ open::HIGH_G }>,
+}
+
+/// Padded index to cell coordinates without a division instruction: for `p < 2^32`,
+/// `floor(p / stride) = (p * ceil(2^64 / stride)) >> 64` exactly (Lemire, Kaser and Kurz,
+/// "Faster remainder by direct computation", 2019, Theorem 1: 64 bits of reciprocal
+/// suffice for 32-bit numerators and divisors).
+#[derive(Debug, Clone, Copy)]
+struct Rows {
+    stride: u64,
+    reciprocal: u64,
+    reach: u64,
+}
+
+impl Rows {
+    /// Precondition: `stride >= 2`.
+    fn new(stride: usize, reach: usize) -> Rows {
+        let stride = stride as u64;
+        Rows {
+            stride,
+            reciprocal: u64::MAX / stride + 1,
+            reach: reach as u64,
+        }
+    }
+
+    /// The grid cell `(x, y)` of padded index `p`, as [`Adjacency::cell`].
+    #[inline(always)]
+    fn cell(&self, p: usize) -> (u32, u32) {
+        let p = p as u64;
+        let row = if p <= u64::from(u32::MAX) {
+            ((u128::from(self.reciprocal) * u128::from(p)) >> 64) as u64
+        } else {
+            p / self.stride
+        };
+        let column = p - row * self.stride;
+        ((column - self.reach) as u32, (row - self.reach) as u32)
+    }
 }
 
 /// A cell's status bits in `AStar::state`: not yet seen by this search.
@@ -284,6 +328,8 @@ struct FreeBits {
     /// Safe-move mask by neighbourhood code: bit `3 * (dy + 1) + (dx + 1)` is the cell at
     /// offset `(dx, dy)`.
     table: Vec<u8>,
+    /// By neighbourhood code: the moves whose target is set in the code.
+    target_table: Vec<u8>,
 }
 
 impl FreeBits {
@@ -320,25 +366,47 @@ impl FreeBits {
                     mask
                 })
                 .collect();
+            self.target_table = (0..512u32)
+                .map(|code| {
+                    let mut mask = 0u8;
+                    for (m, mv) in moves.moves().iter().enumerate() {
+                        if code >> (3 * (mv.dy + 1) + mv.dx + 1) & 1 == 1 {
+                            mask |= 1 << m;
+                        }
+                    }
+                    mask
+                })
+                .collect();
             self.revision = Some(grid.revision());
         }
         Some(self)
     }
 
-    /// Three bits of the padded cells `p .. p + 3`.
+    /// Three bits of `bits` (this layout) at the padded cells `p .. p + 3`.
     #[inline(always)]
-    fn three(&self, p: usize) -> usize {
-        let pair = [self.bytes[p / 8], self.bytes[p / 8 + 1]];
+    fn three(bits: &[u8], p: usize) -> usize {
+        let pair = [bits[p / 8], bits[p / 8 + 1]];
         (usize::from(u16::from_le_bytes(pair)) >> (p % 8)) & 7
+    }
+
+    /// The 3 x 3 neighbourhood code of padded cell `p` in `bits`.
+    #[inline(always)]
+    fn code(&self, bits: &[u8], p: usize) -> usize {
+        Self::three(bits, p - self.stride - 1)
+            | Self::three(bits, p - 1) << 3
+            | Self::three(bits, p + self.stride - 1) << 6
     }
 
     /// The safe moves from padded cell `p` (a free grid cell), as [`Adjacency::mask`].
     #[inline(always)]
     fn mask(&self, p: usize) -> u64 {
-        let code = self.three(p - self.stride - 1)
-            | self.three(p - 1) << 3
-            | self.three(p + self.stride - 1) << 6;
-        u64::from(self.table[code])
+        u64::from(self.table[self.code(&self.bytes, p)])
+    }
+
+    /// The moves from padded cell `p` whose target is set in `bits` (this layout).
+    #[inline(always)]
+    fn targets(&self, bits: &[u8], p: usize) -> u64 {
+        u64::from(self.target_table[self.code(bits, p)])
     }
 }
 
@@ -373,6 +441,7 @@ impl AStar {
             state: Vec::new(),
             g: Vec::new(),
             touched: Vec::new(),
+            closed: Vec::new(),
             bits: FreeBits::default(),
             opens,
         })
@@ -435,14 +504,22 @@ impl AStar {
         if self.state.len() != adjacency.padded_len() {
             self.state = vec![UNSEEN; adjacency.padded_len()];
             self.g = vec![Cost::ZERO; adjacency.padded_len()];
+            self.closed.clear();
             self.touched.clear();
+        }
+        if bits.is_some() && self.closed.len() != self.state.len() / 8 + 3 {
+            self.closed = vec![0; self.state.len() / 8 + 3];
         }
         // Every cell the last search saw went through OPEN: reset those, and only those.
         for &q in &self.touched {
             self.state[q as usize] = UNSEEN;
+            if let Some(byte) = self.closed.get_mut(q as usize / 8) {
+                *byte = 0;
+            }
         }
         self.touched.clear();
         let (state, g, touched) = (&mut self.state[..], &mut self.g[..], &mut self.touched);
+        let closed = &mut self.closed[..];
         open.clear();
 
         let n_moves = adjacency.n_moves() as u64;
@@ -454,8 +531,16 @@ impl AStar {
         let goal = problem.goal();
         let goal_index = adjacency.index(goal);
         let weight = self.config.weight;
-        let h =
-            |x: u32, y: u32| estimate::<H>(x.abs_diff(goal.x), y.abs_diff(goal.y)).scaled(weight);
+        let unweighted = weight == 1.0;
+        let h = |x: u32, y: u32| {
+            let h = estimate::<H>(x.abs_diff(goal.x), y.abs_diff(goal.y));
+            if unweighted {
+                h
+            } else {
+                h.scaled(weight)
+            }
+        };
+        let rows = Rows::new(adjacency.stride(), adjacency.reach());
 
         let mut clock = budget.start();
         let start = problem.start();
@@ -495,17 +580,29 @@ impl AStar {
                     stats: tally.stats(n_moves, tally.n_expanded - 1),
                 };
             }
-            let Cell { x, y } = adjacency.cell(p);
+            let (x, y) = rows.cell(p);
             let g_node = g[p];
+            // Set bits in increasing order are the safe moves in the configured order. With
+            // the bit grid, the moves to CLOSED cells are masked out at once (no branch per
+            // move): they are the skipped ones.
             let mut mask = match bits {
-                Some(bits) => bits.mask(p),
-                None => adjacency.mask(p),
+                Some(bits) => {
+                    let safe = bits.mask(p);
+                    closed[p / 8] |= 1 << (p % 8);
+                    let to_closed = safe & bits.targets(closed, p);
+                    tally.n_safe += u64::from(safe.count_ones());
+                    tally.n_skipped += u64::from(to_closed.count_ones());
+                    safe & !to_closed
+                }
+                None => {
+                    let safe = adjacency.mask(p);
+                    tally.n_safe += u64::from(safe.count_ones());
+                    safe
+                }
             };
-            // Set bits in increasing order are the safe moves in the configured order.
             while mask != 0 {
                 let m = mask.trailing_zeros();
                 mask &= mask - 1;
-                tally.n_safe += 1;
                 let q = adjacency.neighbor(p, m);
                 let status = state[q] & STATUS;
                 if status == CLOSED {
@@ -615,5 +712,36 @@ impl Planner for AStar {
             search.path,
             search.stats.report(Counter::ASTAR),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_divide_exactly() {
+        for stride in [3usize, 4, 5, 7, 514, 1026, 65_537, 1 << 20, (1 << 31) + 3] {
+            let rows = Rows::new(stride, 1);
+            let mut state = 0x9E37_79B9_7F4A_7C15u64;
+            for k in 0..20_000u64 {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                // Small indices, random 32-bit ones, the top of the range, and beyond it.
+                let p = match k % 4 {
+                    0 => k as usize + stride + 1,
+                    1 => (state as u32) as usize,
+                    2 => u32::MAX as usize - (k as usize % 1000),
+                    _ => (state % (1 << 40)) as usize,
+                };
+                let (row, column) = (p / stride, p % stride);
+                if row == 0 || column == 0 {
+                    continue;
+                }
+                let expect = ((column - 1) as u32, (row - 1) as u32);
+                assert_eq!(rows.cell(p), expect, "p {p} stride {stride}");
+            }
+        }
     }
 }

@@ -155,33 +155,74 @@ impl Peer {
     }
 }
 
-/// How many times each side of a benchmark runs its whole workload.
+/// How many times each side of a benchmark runs its whole workload, and with which clock.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Repeats(pub u32);
+pub struct Repeats(pub u32, pub Clock);
 
 impl Default for Repeats {
     fn default() -> Repeats {
-        Repeats(3)
+        Repeats(3, Clock::Wall)
     }
 }
 
+/// What a pass's time is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Clock {
+    /// Elapsed wall time (`std::time::Instant`), the default.
+    #[default]
+    Wall,
+    /// The benchmark thread's time on a CPU, from Linux's `/proc/thread-self/schedstat`
+    /// (nanoseconds): on a machine shared with other work, time spent waiting for a core
+    /// does not count (cache contention still does).
+    Cpu,
+}
+
+impl Clock {
+    /// The current reading, or `None` when this clock is unavailable.
+    pub fn now(self) -> Option<Duration> {
+        match self {
+            Clock::Wall => Some(START.with(|start| start.elapsed())),
+            Clock::Cpu => {
+                let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+                let nanos: u64 = text.split_whitespace().next()?.parse().ok()?;
+                Some(Duration::from_nanos(nanos))
+            }
+        }
+    }
+}
+
+thread_local! {
+    /// The wall clock's origin.
+    static START: Instant = Instant::now();
+}
+
 impl Repeats {
-    /// `--repeats=N` (N >= 1; default 3) from `args` (the program name excluded), and the
-    /// arguments that are not options, in order (a bench's filters). Other `--` options,
-    /// such as the `--bench` that `cargo bench` passes, are ignored.
+    /// `--repeats=N` (N >= 1; default 3) and `--clock=wall|cpu` (default wall) from `args`
+    /// (the program name excluded), and the arguments that are not options, in order (a
+    /// bench's filters). Other `--` options, such as the `--bench` that `cargo bench`
+    /// passes, are ignored.
     pub fn parse(args: impl IntoIterator<Item = String>) -> Result<(Repeats, Vec<String>), String> {
         let mut repeats = Repeats::default();
         let mut rest = Vec::new();
         for arg in args {
             if let Some(value) = arg.strip_prefix("--repeats=") {
                 match value.parse::<u32>() {
-                    Ok(n) if n >= 1 => repeats = Repeats(n),
+                    Ok(n) if n >= 1 => repeats.0 = n,
                     _ => {
                         return Err(format!(
                             "--repeats: expected an integer >= 1, got {value:?}"
                         ))
                     }
                 }
+            } else if let Some(value) = arg.strip_prefix("--clock=") {
+                repeats.1 = match value {
+                    "wall" => Clock::Wall,
+                    "cpu" if Clock::Cpu.now().is_some() => Clock::Cpu,
+                    "cpu" => {
+                        return Err("--clock=cpu: /proc/thread-self/schedstat is unreadable".into())
+                    }
+                    _ => return Err(format!("--clock: expected wall or cpu, got {value:?}")),
+                };
             } else if !arg.starts_with("--") {
                 rest.push(arg);
             }
@@ -207,11 +248,17 @@ pub fn best_of_alternating<A: PartialEq, B: PartialEq>(
     mut ours: impl FnMut() -> A,
     mut peer: impl FnMut() -> B,
 ) -> Result<(Timed<A>, Timed<B>), String> {
-    fn pass<T: PartialEq>(run: &mut impl FnMut() -> T, side: &mut Option<Timed<T>>) -> bool {
-        let t = Instant::now();
+    /// Runs one pass; `Ok(false)` when its result differs from the first pass's.
+    fn pass<T: PartialEq>(
+        clock: Clock,
+        run: &mut impl FnMut() -> T,
+        side: &mut Option<Timed<T>>,
+    ) -> Result<bool, String> {
+        let unavailable = || "the clock became unavailable".to_string();
+        let start = clock.now().ok_or_else(unavailable)?;
         let result = run();
-        let elapsed = t.elapsed();
-        match side {
+        let elapsed = clock.now().ok_or_else(unavailable)?.saturating_sub(start);
+        Ok(match side {
             None => {
                 *side = Some(Timed {
                     result,
@@ -223,11 +270,12 @@ pub fn best_of_alternating<A: PartialEq, B: PartialEq>(
                 timed.best = timed.best.min(elapsed);
                 timed.result == result
             }
-        }
+        })
     }
+    let clock = repeats.1;
     let (mut a, mut b) = (None, None);
     for round in 0..repeats.0.max(1) {
-        if !pass(&mut ours, &mut a) || !pass(&mut peer, &mut b) {
+        if !pass(clock, &mut ours, &mut a)? || !pass(clock, &mut peer, &mut b)? {
             return Err(format!(
                 "pass {} gave a different result than pass 1",
                 round + 1
@@ -300,10 +348,18 @@ mod tests {
         let check = |input: &[&str], expect: Result<(Repeats, Vec<String>), String>| {
             assert_eq!(Repeats::parse(args(input)), expect, "{input:?}");
         };
-        check(&["--bench"], Ok((Repeats(3), vec![])));
+        check(&["--bench"], Ok((Repeats(3, Clock::Wall), vec![])));
+        check(
+            &["--clock=wall", "--repeats=2"],
+            Ok((Repeats(2, Clock::Wall), vec![])),
+        );
+        check(
+            &["--clock=x"],
+            Err("--clock: expected wall or cpu, got \"x\"".into()),
+        );
         check(
             &["--repeats=1", "den520d"],
-            Ok((Repeats(1), args(&["den520d"]))),
+            Ok((Repeats(1, Clock::Wall), args(&["den520d"]))),
         );
         check(
             &["--repeats=0"],
@@ -319,7 +375,7 @@ mod tests {
     fn each_side_runs_once_per_repeat_and_must_agree() {
         let (mut n_ours, mut n_peer) = (0, 0);
         let timed = best_of_alternating(
-            Repeats(4),
+            Repeats(4, Clock::Wall),
             || {
                 n_ours += 1;
                 7
@@ -334,7 +390,7 @@ mod tests {
         assert_eq!((timed.0.result, timed.1.result), (7, "x"));
         let mut n = 0;
         let drifting = best_of_alternating(
-            Repeats(2),
+            Repeats(2, Clock::Wall),
             || 1,
             || {
                 n += 1;
