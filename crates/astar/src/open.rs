@@ -138,13 +138,22 @@ impl<const TIE: u8> BucketOpen<TIE> {
         let bucket = self.bucket(entry.f);
         let slots = self.ring.len() as u64;
         if bucket <= self.cur {
-            self.heap.push(entry);
+            Self::push_parts(&mut self.heap, entry.f, entry.tie, entry.seq_node);
         } else if bucket - self.cur < slots {
             self.ring[(bucket & (slots - 1)) as usize].push(entry);
             self.in_ring += 1;
         } else {
-            self.overflow.push(entry);
+            Self::push_parts(&mut self.overflow, entry.f, entry.tie, entry.seq_node);
         }
+    }
+
+    /// `heap.push` of the entry with these fields. The fields are passed as scalars (in
+    /// registers) so that the caller need not build the entry in memory: a 24-byte entry
+    /// stored on the stack field by field and then copied into a ring slot with wider
+    /// loads stalled store-to-load forwarding (the profile's hottest instruction).
+    #[inline(never)]
+    fn push_parts(heap: &mut MinHeap, f: u64, tie: u64, seq_node: u64) {
+        heap.push(Entry { f, tie, seq_node });
     }
 
     /// Gives the entries in OPEN the sequences `0..n` (FIFO and the g rules) or the top
