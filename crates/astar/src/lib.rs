@@ -231,22 +231,22 @@ pub struct Search {
     pub stats: SearchStats,
 }
 
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Weight(_) => "weight",
+            ConfigError::Moves(e) => e.param_key(),
+        }
+    }
+}
+
 /// The A* planner. Build with [`AStar::new`]; reuse it for many queries.
 #[derive(Debug, Clone)]
 pub struct AStar {
     config: Config,
     moves: MoveSet,
     adjacency: Option<Adjacency>,
-    /// Per padded cell: `parent move << 2 | status` (`UNSEEN`, `OPEN` or `OPEN | CLOSED`),
-    /// one byte so that the neighbour tests read an array a quarter of a megabyte for
-    /// 512 x 512 cells, which stays in cache.
-    state: Vec<u8>,
-    /// Per padded cell: `g`, valid where `state` is not `UNSEEN`.
-    g: Vec<Cost>,
-    /// The cells the last search inserted into OPEN: the next one resets exactly those.
-    touched: Vec<u32>,
-    /// With the bit grid ([`FreeBits`]): the CLOSED cells as bits in its layout.
-    closed: Vec<u8>,
+    cells: Cells,
     bits: FreeBits,
     /// Whether the integer OPEN fits the moves, heuristic and weight (else the buckets).
     integral: bool,
@@ -322,6 +322,45 @@ const OPEN: u8 = 1;
 const CLOSED: u8 = 3;
 /// The status bits.
 const STATUS: u8 = 3;
+
+/// The per-cell search state, kept between searches.
+#[derive(Debug, Clone, Default)]
+struct Cells {
+    /// Per padded cell: `parent move << 2 | status` (`UNSEEN`, `OPEN` or `OPEN | CLOSED`),
+    /// one byte so that the neighbour tests read an array a quarter of a megabyte for
+    /// 512 x 512 cells, which stays in cache.
+    state: Vec<u8>,
+    /// Per padded cell: `g`, valid where `state` is not `UNSEEN`.
+    g: Vec<Cost>,
+    /// The cells the last search inserted into OPEN: [`Cells::fit`] resets exactly those.
+    touched: Vec<u32>,
+    /// With the bit grid ([`FreeBits`]): the CLOSED cells as bits in its layout.
+    closed: Vec<u8>,
+}
+
+impl Cells {
+    /// Sizes the arrays for `padded_len` cells (and the CLOSED bits when `with_bits`),
+    /// and resets the cells the last search touched, so that every cell is unseen.
+    fn fit(&mut self, padded_len: usize, with_bits: bool) {
+        if self.state.len() != padded_len {
+            self.state = vec![UNSEEN; padded_len];
+            self.g = vec![Cost::ZERO; padded_len];
+            self.closed.clear();
+            self.touched.clear();
+        }
+        if with_bits && self.closed.len() != padded_len / 8 + 3 {
+            self.closed = vec![0; padded_len / 8 + 3];
+        }
+        // Every cell the last search saw went through OPEN: reset those, and only those.
+        for &q in &self.touched {
+            self.state[q as usize] = UNSEEN;
+            if let Some(byte) = self.closed.get_mut(q as usize / 8) {
+                *byte = 0;
+            }
+        }
+        self.touched.clear();
+    }
+}
 
 /// The free cells of the grid as one bit per padded cell (the layout of [`Adjacency`]),
 /// and for move sets of reach 1 (4 and 8 directions) a table from the 3 x 3
@@ -449,10 +488,7 @@ impl AStar {
             config,
             moves,
             adjacency: None,
-            state: Vec::new(),
-            g: Vec::new(),
-            touched: Vec::new(),
-            closed: Vec::new(),
+            cells: Cells::default(),
             bits: FreeBits::default(),
             opens,
         })
@@ -512,25 +548,14 @@ impl AStar {
         let grid = problem.grid();
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         let bits = self.bits.get_or_build(grid, adjacency, &self.moves);
-        if self.state.len() != adjacency.padded_len() {
-            self.state = vec![UNSEEN; adjacency.padded_len()];
-            self.g = vec![Cost::ZERO; adjacency.padded_len()];
-            self.closed.clear();
-            self.touched.clear();
-        }
-        if bits.is_some() && self.closed.len() != self.state.len() / 8 + 3 {
-            self.closed = vec![0; self.state.len() / 8 + 3];
-        }
-        // Every cell the last search saw went through OPEN: reset those, and only those.
-        for &q in &self.touched {
-            self.state[q as usize] = UNSEEN;
-            if let Some(byte) = self.closed.get_mut(q as usize / 8) {
-                *byte = 0;
-            }
-        }
-        self.touched.clear();
-        let (state, g, touched) = (&mut self.state[..], &mut self.g[..], &mut self.touched);
-        let closed = &mut self.closed[..];
+        self.cells.fit(adjacency.padded_len(), bits.is_some());
+        let Cells {
+            state,
+            g,
+            touched,
+            closed,
+        } = &mut self.cells;
+        let (state, g, closed) = (&mut state[..], &mut g[..], &mut closed[..]);
         open.clear();
 
         let n_moves = adjacency.n_moves() as u64;
@@ -716,6 +741,19 @@ fn reconstruct(adjacency: &Adjacency, state: &[u8], start: usize, goal: usize) -
 impl Planner for AStar {
     fn name(&self) -> &str {
         NAME
+    }
+
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
+    }
+
+    fn prepare(&mut self, grid: &planner_api::Grid) {
+        let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
+        let with_bits = self
+            .bits
+            .get_or_build(grid, adjacency, &self.moves)
+            .is_some();
+        self.cells.fit(adjacency.padded_len(), with_bits);
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
