@@ -151,3 +151,33 @@ fn plan_runs_coverage_planners_like_the_config() {
         "`coverage` is a coverage planner: it covers from --start and takes no --goal"
     );
 }
+
+/// Every return leg of every coverage run of every config (as snapshotted) is the path
+/// `planner_testkit::reference_astar` finds between the leg's ends with coverage's A*
+/// settings (8-connected, octile, FIFO, exact costs): the snapshot's paths, turns and
+/// scores are checked against an independent search, not only pinned.
+#[test]
+fn every_return_leg_is_the_reference_search_path() {
+    let moves = planner_api::MoveSet::standard(planner_api::Connectivity::Eight);
+    let mut n_legs = 0;
+    let n_runs = common::for_each_snapshotted_run("coverage", |path, map, _, r| {
+        let what = format!("{} {} {}", path.display(), r.map, r.planner);
+        let cells = r.path.as_ref().unwrap().cells();
+        for leg in r.returns.as_ref().unwrap() {
+            let (start, goal) = (cells[leg.start], cells[leg.end]);
+            let h = |c: planner_api::Cell| {
+                planner_api::Cost::octile_distance(c.x.abs_diff(goal.x), c.y.abs_diff(goal.y))
+            };
+            let tie = planner_testkit::Tie::Fifo;
+            let (_, found, _) =
+                planner_testkit::reference_astar(&map.grid, &moves, h, tie, start, goal);
+            let leg_cells = cells[leg.start..=leg.end].to_vec();
+            assert_eq!(found, Some(leg_cells), "{what}: leg {leg:?}");
+            n_legs += 1;
+        }
+    });
+    assert!(
+        n_runs >= 10 && n_legs >= n_runs,
+        "{n_runs} runs, {n_legs} legs"
+    );
+}

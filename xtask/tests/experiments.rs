@@ -343,7 +343,7 @@ fn every_astar_run_matches_the_reference_search() {
         let moves =
             planner_api::MoveSet::new(config.moves, config.corner_cutting, &config.order).unwrap();
         let (goal, weight, heuristic) = (r.goal, config.weight, config.heuristic);
-        let h = |c: planner_api::Cell| weight * heuristic.estimate(c.x, c.y, goal.x, goal.y);
+        let h = |c: planner_api::Cell| heuristic.cost(c.x, c.y, goal.x, goal.y).scaled(weight);
         let tie = common::tie(config.tie_break);
         let (status, cells, counters) =
             planner_testkit::reference_astar(&map.grid, &moves, h, tie, r.start, r.goal);

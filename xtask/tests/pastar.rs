@@ -127,9 +127,8 @@ fn pastar_counters_are_the_reference_local_searches() {
             for pair in r.marks.chunks(2) {
                 let (start, goal) = (pair[0].cell, pair[1].cell);
                 let h = |c: planner_api::Cell| {
-                    let dx = f64::from(c.x.abs_diff(goal.x));
-                    let dy = f64::from(c.y.abs_diff(goal.y));
-                    config.beta * dx.hypot(dy)
+                    let (dx, dy) = (c.x.abs_diff(goal.x), c.y.abs_diff(goal.y));
+                    planner_api::Cost::euclidean(dx, dy).scaled(config.beta)
                 };
                 let (status, _, counters) = planner_testkit::reference_astar(
                     &map.grid,

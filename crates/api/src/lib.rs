@@ -30,6 +30,7 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod adjacency;
+pub mod cost;
 pub mod counters;
 pub mod coverage;
 pub mod error;
@@ -40,6 +41,7 @@ pub mod planner;
 pub mod specs;
 
 pub use adjacency::Adjacency;
+pub use cost::Cost;
 pub use counters::{Counter, Counters, SearchStats};
 pub use coverage::{
     reachable_cells, CoverageMetrics, CoverageOutcome, CoveragePlanner, CoverageProblem, ReturnLeg,

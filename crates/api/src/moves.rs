@@ -30,13 +30,15 @@
 //! `corner_cutting = true` (8-connected only) the side cells are not checked.
 //!
 //! Costs: 1 per step on the 4-connected grid; the Euclidean length `sqrt(dx^2 + dy^2)`
-//! of the move otherwise.
+//! of the move otherwise ([`Move::cost`] as `f64`, [`Move::exact_cost`] in the fixed
+//! point of [`crate::cost`], in which equal path costs are equal).
 
 use std::fmt;
 use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
+use crate::cost::Cost;
 use crate::error::MoveOrderError;
 use crate::grid::{Cell, Grid};
 
@@ -282,6 +284,14 @@ pub struct Move {
     /// Offsets of the cells strictly between origin and target that must be free
     /// (empty for axis moves and for diagonals with corner cutting allowed).
     pub via: Vec<(i32, i32)>,
+}
+
+impl Move {
+    /// The cost in fixed point, [`Cost::of_move`] of the offset: exactly [`Cost::ONE`]
+    /// for axis moves and [`Cost::SQRT_2`] for diagonals (see [`crate::cost`]).
+    pub fn exact_cost(&self) -> Cost {
+        Cost::of_move(self.dx, self.dy)
+    }
 }
 
 /// A neighbourhood with its moves in a fixed, documented order.

@@ -28,13 +28,26 @@
 //! reached by a path two steps shorter (the tests find such grids).
 //!
 //! # Design
-//! The main decision is to make every search allocation-free after the first: one
-//! per-cell record (g, parent, stamp) lives in the planner and is invalidated by a
-//! generation stamp instead of being cleared, so a query touching 100 cells of a 512 x 512
-//! map costs 100 cells, not 262,144. Moves come from planner-api's [`Adjacency`]: per-cell
-//! masks of the safe moves over a padded grid, built once per grid, so the neighbour loop
-//! has no bounds or obstacle test and walks the set bits in the configured order; the
-//! blocked checks are counted as the clear bits.
+//! The main decision is to make every search allocation-free after the first: the
+//! per-cell arrays live in the planner and are not cleared between searches but reset
+//! through the list of cells the last search inserted into OPEN, so a query touching 100
+//! cells of a 512 x 512 map costs 100 cells, not 262,144. They are small, so that a
+//! search's neighbour tests hit the cache: one status byte per cell (unseen, OPEN, CLOSED,
+//! and the move it was reached by, which gives the path back), and `g`, read only for
+//! cells already in OPEN. Moves come from planner-api's [`Adjacency`] (padded layout and
+//! per-move index offsets, so the neighbour loop has no bounds test). For 4 and 8
+//! directions the safe moves of a cell come from a bit-packed copy of the grid instead of
+//! the adjacency's 8-byte masks: its 3 x 3 neighbourhood (three 2-byte loads) indexes a
+//! 512-entry table; the same code of a bit-packed CLOSED set masks out the moves to
+//! CLOSED cells at once (they are the skipped checks), so the loop over the remaining
+//! moves has no branch on CLOSED. The blocked checks are counted as the clear bits.
+//!
+//! Costs are [`planner_api::Cost`]s, fixed point in units of `2^-32`: every path cost
+//! is an integer sum of its moves' costs, so equal path costs are equal numbers and tie
+//! exactly, whatever the order of the moves (proven exact for 4 and 8 directions up to
+//! costs of 251,797; ties exact and an epsilon of half a unit per move for longer moves;
+//! see [`planner_api::cost`]). With `f64` sums of `sqrt 2`, rounding noise broke ties and
+//! high-g-first expanded 25 % more nodes on the Moving AI random maps.
 //!
 //! OPEN (module `open`) gives entries out in exactly the order of the full key (f, tie,
 //! push sequence), and is chosen per search by what the costs allow. With unit moves and
@@ -80,7 +93,7 @@ mod open;
 
 use open::{BucketOpen, IntOpen, Open};
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Counter, MoveOrderError, MoveSet, NeighborOrder,
+    Adjacency, Budget, Cell, Connectivity, Cost, Counter, MoveOrderError, MoveSet, NeighborOrder,
     Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
@@ -118,9 +131,17 @@ impl Heuristic {
         )
     }
 
-    /// The estimate from `(x, y)` to `(gx, gy)`.
-    #[inline]
+    /// The estimate from `(x, y)` to `(gx, gy)`, as `f64`.
     pub fn estimate(self, x: u32, y: u32, gx: u32, gy: u32) -> f64 {
+        self.cost(x, y, gx, gy).to_f64()
+    }
+
+    /// The estimate from `(x, y)` to `(gx, gy)` in the fixed point A* searches with:
+    /// exact for Manhattan, Chebyshev, zero and octile (`(max - min) + min * sqrt 2` as
+    /// [`Cost::octile`], the same sum as the costs of the moves), Euclidean rounded to the
+    /// nearest unit of `2^-32` ([`Cost::euclidean`]).
+    #[inline]
+    pub fn cost(self, x: u32, y: u32, gx: u32, gy: u32) -> Cost {
         let (dx, dy) = (x.abs_diff(gx), y.abs_diff(gy));
         match self {
             Heuristic::Manhattan => estimate::<MANHATTAN>(dx, dy),
@@ -135,14 +156,16 @@ impl Heuristic {
 /// Which of several OPEN nodes with equal `f` is popped first.
 ///
 /// It decides which of several shortest paths comes out, and so T and Score.
-/// Equality of `f` is exact floating-point equality (exact for the 4-connected grid with
-/// Manhattan; for irrational costs, values that differ in the last bit are not ties).
+/// `f` and `g` are [`Cost`]s, so equality is exact: two paths of equal length, whatever
+/// the order of their moves, tie (see [`planner_api::cost`] for the proof and its limits).
+/// With the Euclidean heuristic or a weight other than 0 and 1, `h` is rounded to the
+/// nearest `2^-32`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum TieBreak {
     /// The entry pushed first is popped first (the paper's rule). A node improved while in
-    /// OPEN is pushed again; if rounding left its f unchanged, its older entry comes out
-    /// first and the node is expanded there, with its improved g.
+    /// OPEN is pushed again with a lower f (its h is unchanged), so its newer entry comes
+    /// out first.
     #[default]
     Fifo,
     /// The entry pushed last is popped first.
@@ -223,8 +246,8 @@ pub struct AStar {
     config: Config,
     moves: MoveSet,
     adjacency: Option<Adjacency>,
-    generation: u32,
-    nodes: Vec<Node>,
+    cells: Cells,
+    bits: FreeBits,
     /// Whether the integer OPEN fits the moves, heuristic and weight (else the buckets).
     integral: bool,
     opens: Opens,
@@ -244,14 +267,197 @@ struct Opens {
     int_high_g: IntOpen<{ open::HIGH_G }>,
 }
 
-/// Per-cell search state, one record per padded cell so that a relaxation touches one
-/// cache line. `stamp` is `generation << 1 | closed`: a record from an older search
-/// counts as unseen, so nothing is cleared between searches.
-#[derive(Debug, Clone, Copy, Default)]
-struct Node {
-    g: f64,
-    parent: u32,
-    stamp: u32,
+/// Padded index to cell coordinates without a division instruction: for `p < 2^32`,
+/// `floor(p / stride) = (p * ceil(2^64 / stride)) >> 64` exactly (Lemire, Kaser and Kurz,
+/// "Faster remainder by direct computation", 2019, Theorem 1: 64 bits of reciprocal
+/// suffice for 32-bit numerators and divisors).
+#[derive(Debug, Clone, Copy)]
+struct Rows {
+    stride: u64,
+    reciprocal: u64,
+    reach: u64,
+}
+
+impl Rows {
+    /// Precondition: `stride >= 2`.
+    fn new(stride: usize, reach: usize) -> Rows {
+        let stride = stride as u64;
+        Rows {
+            stride,
+            reciprocal: u64::MAX / stride + 1,
+            reach: reach as u64,
+        }
+    }
+
+    /// The grid cell `(x, y)` of padded index `p`, as [`Adjacency::cell`].
+    #[inline(always)]
+    fn cell(&self, p: usize) -> (u32, u32) {
+        let p = p as u64;
+        let row = if p <= u64::from(u32::MAX) {
+            ((u128::from(self.reciprocal) * u128::from(p)) >> 64) as u64
+        } else {
+            p / self.stride
+        };
+        let column = p - row * self.stride;
+        ((column - self.reach) as u32, (row - self.reach) as u32)
+    }
+}
+
+/// The number of set bits of every byte.
+const BIT_COUNT: [u8; 256] = {
+    let mut counts = [0u8; 256];
+    let mut byte = 0;
+    while byte < 256 {
+        counts[byte] = (byte as u8).count_ones() as u8;
+        byte += 1;
+    }
+    counts
+};
+
+/// A cell's status bits in `AStar::state`: not yet seen by this search.
+const UNSEEN: u8 = 0;
+/// Inserted into OPEN (and still there unless also `CLOSED`).
+const OPEN: u8 = 1;
+/// Expanded (set together with `OPEN`).
+const CLOSED: u8 = 3;
+/// The status bits.
+const STATUS: u8 = 3;
+
+/// The per-cell search state, kept between searches.
+#[derive(Debug, Clone, Default)]
+struct Cells {
+    /// Per padded cell: `parent move << 2 | status` (`UNSEEN`, `OPEN` or `OPEN | CLOSED`),
+    /// one byte so that the neighbour tests read an array a quarter of a megabyte for
+    /// 512 x 512 cells, which stays in cache.
+    state: Vec<u8>,
+    /// Per padded cell: `g`, valid where `state` is not `UNSEEN`.
+    g: Vec<Cost>,
+    /// The cells the last search inserted into OPEN: [`Cells::fit`] resets exactly those.
+    touched: Vec<u32>,
+    /// With the bit grid ([`FreeBits`]): the CLOSED cells as bits in its layout.
+    closed: Vec<u8>,
+}
+
+impl Cells {
+    /// Sizes the arrays for `padded_len` cells (and the CLOSED bits when `with_bits`),
+    /// and resets the cells the last search touched, so that every cell is unseen.
+    fn fit(&mut self, padded_len: usize, with_bits: bool) {
+        if self.state.len() != padded_len {
+            self.state = vec![UNSEEN; padded_len];
+            self.g = vec![Cost::ZERO; padded_len];
+            self.closed.clear();
+            self.touched.clear();
+        }
+        if with_bits && self.closed.len() != padded_len / 8 + 3 {
+            self.closed = vec![0; padded_len / 8 + 3];
+        }
+        // Every cell the last search saw went through OPEN: reset those, and only those.
+        for &q in &self.touched {
+            self.state[q as usize] = UNSEEN;
+            if let Some(byte) = self.closed.get_mut(q as usize / 8) {
+                *byte = 0;
+            }
+        }
+        self.touched.clear();
+    }
+}
+
+/// The free cells of the grid as one bit per padded cell (the layout of [`Adjacency`]),
+/// and for move sets of reach 1 (4 and 8 directions) a table from the 3 x 3
+/// neighbourhood of a cell to its safe moves: a node's move mask then comes from three
+/// 2-byte loads from an array of `padded cells / 8` bytes (33 KB for 512 x 512, which stays
+/// in the L1 cache) instead of an 8-byte load per cell from the masks (2 MB).
+#[derive(Debug, Clone, Default)]
+struct FreeBits {
+    /// The grid revision the bits were built for.
+    revision: Option<u64>,
+    /// Bit `p % 8` of byte `p / 8` is set when padded cell `p` is free; two bytes of slack.
+    bytes: Vec<u8>,
+    /// Padded row length.
+    stride: usize,
+    /// Safe-move mask by neighbourhood code: bit `3 * (dy + 1) + (dx + 1)` is the cell at
+    /// offset `(dx, dy)`.
+    table: Vec<u8>,
+    /// By neighbourhood code: the moves whose target is set in the code.
+    target_table: Vec<u8>,
+}
+
+impl FreeBits {
+    /// The bits of `grid` when `moves` reach one cell (built on first use of a grid), else
+    /// `None` (the search then reads the adjacency masks).
+    fn get_or_build(
+        &mut self,
+        grid: &planner_api::Grid,
+        adjacency: &Adjacency,
+        moves: &MoveSet,
+    ) -> Option<&FreeBits> {
+        if adjacency.reach() != 1 || moves.moves().len() > 8 {
+            return None;
+        }
+        if self.revision != Some(grid.revision()) || self.stride != adjacency.stride() {
+            self.stride = adjacency.stride();
+            self.bytes.clear();
+            self.bytes.resize(adjacency.padded_len() / 8 + 3, 0);
+            for (i, &free) in grid.free_cells().iter().enumerate() {
+                if free {
+                    let p = adjacency.index(grid.cell(i));
+                    self.bytes[p / 8] |= 1 << (p % 8);
+                }
+            }
+            self.table = (0..512u32)
+                .map(|code| {
+                    let free = |dx: i32, dy: i32| code >> (3 * (dy + 1) + dx + 1) & 1 == 1;
+                    let mut mask = 0u8;
+                    for (m, mv) in moves.moves().iter().enumerate() {
+                        if free(mv.dx, mv.dy) && mv.via.iter().all(|&(vx, vy)| free(vx, vy)) {
+                            mask |= 1 << m;
+                        }
+                    }
+                    mask
+                })
+                .collect();
+            self.target_table = (0..512u32)
+                .map(|code| {
+                    let mut mask = 0u8;
+                    for (m, mv) in moves.moves().iter().enumerate() {
+                        if code >> (3 * (mv.dy + 1) + mv.dx + 1) & 1 == 1 {
+                            mask |= 1 << m;
+                        }
+                    }
+                    mask
+                })
+                .collect();
+            self.revision = Some(grid.revision());
+        }
+        Some(self)
+    }
+
+    /// Three bits of `bits` (this layout) at the padded cells `p .. p + 3`.
+    #[inline(always)]
+    fn three(bits: &[u8], p: usize) -> usize {
+        let pair = [bits[p / 8], bits[p / 8 + 1]];
+        (usize::from(u16::from_le_bytes(pair)) >> (p % 8)) & 7
+    }
+
+    /// The 3 x 3 neighbourhood code of padded cell `p` in `bits`.
+    #[inline(always)]
+    fn code(&self, bits: &[u8], p: usize) -> usize {
+        Self::three(bits, p - self.stride - 1)
+            | Self::three(bits, p - 1) << 3
+            | Self::three(bits, p + self.stride - 1) << 6
+    }
+
+    /// The safe moves from padded cell `p` (a free grid cell), as [`Adjacency::mask`].
+    #[inline(always)]
+    fn mask(&self, p: usize) -> u64 {
+        u64::from(self.table[self.code(&self.bytes, p)])
+    }
+
+    /// The moves from padded cell `p` whose target is set in `bits` (this layout).
+    #[inline(always)]
+    fn targets(&self, bits: &[u8], p: usize) -> u64 {
+        u64::from(self.target_table[self.code(bits, p)])
+    }
 }
 
 impl AStar {
@@ -261,7 +467,7 @@ impl AStar {
             return Err(ConfigError::Weight(config.weight));
         }
         let moves = MoveSet::new(config.moves, config.corner_cutting, &config.order)?;
-        let costs = || moves.moves().iter().map(|m| m.cost);
+        let costs = || moves.moves().iter().map(|m| m.exact_cost());
         let integral = IntOpen::<{ open::FIFO }>::fits(
             costs(),
             config.weight,
@@ -269,7 +475,7 @@ impl AStar {
         );
         let mut opens = Opens::default();
         if !integral {
-            let max_cost = costs().fold(0.0, f64::max);
+            let max_cost = costs().max().unwrap_or(Cost::ONE);
             match config.tie_break {
                 TieBreak::Fifo => opens.fifo.configure(max_cost, config.weight),
                 TieBreak::Lifo => opens.lifo.configure(max_cost, config.weight),
@@ -282,8 +488,8 @@ impl AStar {
             config,
             moves,
             adjacency: None,
-            generation: 0,
-            nodes: Vec::new(),
+            cells: Cells::default(),
+            bits: FreeBits::default(),
             opens,
         })
     }
@@ -341,49 +547,53 @@ impl AStar {
     ) -> Search {
         let grid = problem.grid();
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
-        if self.nodes.len() != adjacency.padded_len() {
-            self.nodes = vec![Node::default(); adjacency.padded_len()];
-            self.generation = 0;
-        }
-        self.generation += 1;
-        if self.generation >= 1 << 31 {
-            self.nodes.fill(Node::default());
-            self.generation = 1;
-        }
-        let open_stamp = self.generation << 1;
-        let closed_stamp = open_stamp | 1;
-        let nodes = &mut self.nodes[..];
+        let bits = self.bits.get_or_build(grid, adjacency, &self.moves);
+        self.cells.fit(adjacency.padded_len(), bits.is_some());
+        let Cells {
+            state,
+            g,
+            touched,
+            closed,
+        } = &mut self.cells;
+        let (state, g, closed) = (&mut state[..], &mut g[..], &mut closed[..]);
         open.clear();
 
         let n_moves = adjacency.n_moves() as u64;
-        let mut step = [(0u32, 0u32, 0.0f64); 64];
+        let mut step = [(0u32, 0u32, Cost::ZERO); 64];
         for (slot, mv) in step.iter_mut().zip(self.moves.moves()) {
             // Wrapping offsets: x + dx stays in the grid whenever the move's mask bit is set.
-            *slot = (mv.dx as u32, mv.dy as u32, mv.cost);
+            *slot = (mv.dx as u32, mv.dy as u32, mv.exact_cost());
         }
         let goal = problem.goal();
         let goal_index = adjacency.index(goal);
         let weight = self.config.weight;
-        let h = |x: u32, y: u32| weight * estimate::<H>(x.abs_diff(goal.x), y.abs_diff(goal.y));
+        let unweighted = weight == 1.0;
+        let h = |x: u32, y: u32| {
+            let h = estimate::<H>(x.abs_diff(goal.x), y.abs_diff(goal.y));
+            if unweighted {
+                h
+            } else {
+                h.scaled(weight)
+            }
+        };
+        let rows = Rows::new(adjacency.stride(), adjacency.reach());
 
         let mut clock = budget.start();
         let start = problem.start();
         let start_index = adjacency.index(start);
-        nodes[start_index] = Node {
-            g: 0.0,
-            parent: start_index as u32,
-            stamp: open_stamp,
-        };
-        open.push(start_index as u32, h(start.x, start.y), 0.0);
+        state[start_index] = OPEN;
+        touched.push(start_index as u32);
+        g[start_index] = Cost::ZERO;
+        open.push(start_index as u32, h(start.x, start.y), Cost::ZERO);
         let mut tally = Tally {
             n_open_insertions: 1,
             peak_open: 1,
             ..Tally::default()
         };
 
-        while let Some(p) = open.pop(|q| nodes[q as usize].stamp == closed_stamp) {
+        while let Some(p) = open.pop(|q| state[q as usize] & STATUS == CLOSED) {
             let p = p as usize;
-            if nodes[p].stamp == closed_stamp {
+            if state[p] & STATUS == CLOSED {
                 continue; // The older entry of a node improved while in OPEN.
             }
             if !clock.allows(tally.n_expanded) {
@@ -394,43 +604,60 @@ impl AStar {
                     stats: tally.stats(n_moves, tally.n_expanded),
                 };
             }
-            nodes[p].stamp = closed_stamp;
+            state[p] |= CLOSED;
             tally.n_expanded += 1;
             if p == goal_index {
-                let path = reconstruct(adjacency, nodes, start_index, goal_index);
+                let path = reconstruct(adjacency, state, start_index, goal_index);
                 return Search {
                     status: Status::Found,
                     path: Some(path),
-                    cost: Some(nodes[p].g),
+                    cost: Some(g[p].to_f64()),
                     // The goal's moves are not checked.
                     stats: tally.stats(n_moves, tally.n_expanded - 1),
                 };
             }
-            let Cell { x, y } = adjacency.cell(p);
-            let g_node = nodes[p].g;
-            let mut mask = adjacency.mask(p);
-            // Set bits in increasing order are the safe moves in the configured order.
+            let (x, y) = rows.cell(p);
+            let g_node = g[p];
+            // Set bits in increasing order are the safe moves in the configured order. With
+            // the bit grid, the moves to CLOSED cells are masked out at once (no branch per
+            // move): they are the skipped ones.
+            let mut mask = match bits {
+                Some(bits) => {
+                    let safe = bits.mask(p);
+                    closed[p / 8] |= 1 << (p % 8);
+                    let to_closed = safe & bits.targets(closed, p);
+                    // Masks of reach-1 sets fit in a byte; a table counts their bits (the
+                    // baseline x86-64 target has no popcount instruction).
+                    tally.n_safe += u64::from(BIT_COUNT[safe as usize & 255]);
+                    tally.n_skipped += u64::from(BIT_COUNT[to_closed as usize & 255]);
+                    safe & !to_closed
+                }
+                None => {
+                    let safe = adjacency.mask(p);
+                    tally.n_safe += u64::from(safe.count_ones());
+                    safe
+                }
+            };
             while mask != 0 {
                 let m = mask.trailing_zeros();
                 mask &= mask - 1;
-                tally.n_safe += 1;
                 let q = adjacency.neighbor(p, m);
-                let next = &mut nodes[q];
-                if next.stamp == closed_stamp {
+                let status = state[q] & STATUS;
+                if status == CLOSED {
                     tally.n_skipped += 1;
                     continue;
                 }
                 let (dx, dy, cost) = step[(m & 63) as usize];
                 let g_temp = g_node + cost;
-                let known = next.stamp == open_stamp;
-                if !known || g_temp < next.g {
+                let known = status == OPEN;
+                if !known || g_temp < g[q] {
                     tally.n_relaxations += 1;
                     tally.n_open_insertions += u64::from(!known);
-                    *next = Node {
-                        g: g_temp,
-                        parent: p as u32,
-                        stamp: open_stamp,
-                    };
+                    if !known {
+                        touched.push(q as u32);
+                    }
+                    state[q] = OPEN | (m as u8) << 2;
+                    g[q] = g_temp;
                     let f = g_temp + h(x.wrapping_add(dx), y.wrapping_add(dy));
                     open.push(q as u32, f, g_temp);
                 }
@@ -486,24 +713,25 @@ const EUCLIDEAN: u8 = 2;
 const CHEBYSHEV: u8 = 3;
 const ZERO: u8 = 4;
 
-/// Heuristic `H` of the offsets `dx`, `dy` to the goal, as [`Heuristic::estimate`].
+/// Heuristic `H` of the offsets `dx`, `dy` to the goal, as [`Heuristic::cost`].
 #[inline(always)]
-fn estimate<const H: u8>(dx: u32, dy: u32) -> f64 {
-    let (dx, dy) = (f64::from(dx), f64::from(dy));
+fn estimate<const H: u8>(dx: u32, dy: u32) -> Cost {
     match H {
-        MANHATTAN => dx + dy,
-        OCTILE => dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy),
-        EUCLIDEAN => dx.hypot(dy),
-        CHEBYSHEV => dx.max(dy),
-        _ => 0.0,
+        MANHATTAN => Cost::steps(u64::from(dx) + u64::from(dy)),
+        OCTILE => Cost::octile_distance(dx, dy),
+        EUCLIDEAN => Cost::euclidean(dx, dy),
+        CHEBYSHEV => Cost::steps(u64::from(dx.max(dy))),
+        _ => Cost::ZERO,
     }
 }
 
-fn reconstruct(adjacency: &Adjacency, nodes: &[Node], start: usize, goal: usize) -> Path {
+/// The path from `start` to `goal` by the parent moves in `state` (its high six bits).
+fn reconstruct(adjacency: &Adjacency, state: &[u8], start: usize, goal: usize) -> Path {
     let mut cells: Vec<Cell> = vec![adjacency.cell(goal)];
     let mut node = goal;
     while node != start {
-        node = nodes[node].parent as usize;
+        let m = state[node] >> 2;
+        node = node.wrapping_add_signed(-adjacency.deltas()[m as usize]);
         cells.push(adjacency.cell(node));
     }
     cells.reverse();
@@ -534,10 +762,11 @@ impl Planner for AStar {
 
     fn prepare(&mut self, grid: &planner_api::Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
-        if self.nodes.len() != adjacency.padded_len() {
-            self.nodes = vec![Node::default(); adjacency.padded_len()];
-            self.generation = 0;
-        }
+        let with_bits = self
+            .bits
+            .get_or_build(grid, adjacency, &self.moves)
+            .is_some();
+        self.cells.fit(adjacency.padded_len(), with_bits);
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
@@ -547,5 +776,36 @@ impl Planner for AStar {
             search.path,
             search.stats.report(Counter::ASTAR),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_divide_exactly() {
+        for stride in [3usize, 4, 5, 7, 514, 1026, 65_537, 1 << 20, (1 << 31) + 3] {
+            let rows = Rows::new(stride, 1);
+            let mut state = 0x9E37_79B9_7F4A_7C15u64;
+            for k in 0..20_000u64 {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                // Small indices, random 32-bit ones, the top of the range, and beyond it.
+                let p = match k % 4 {
+                    0 => k as usize + stride + 1,
+                    1 => (state as u32) as usize,
+                    2 => u32::MAX as usize - (k as usize % 1000),
+                    _ => (state % (1 << 40)) as usize,
+                };
+                let (row, column) = (p / stride, p % stride);
+                if row == 0 || column == 0 {
+                    continue;
+                }
+                let expect = ((column - 1) as u32, (row - 1) as u32);
+                assert_eq!(rows.cell(p), expect, "p {p} stride {stride}");
+            }
+        }
     }
 }

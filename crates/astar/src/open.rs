@@ -6,8 +6,8 @@
 //!
 //! Two implementations, chosen per search by what the costs allow:
 //! - [`BucketOpen`], for any `f`: a ring of narrow `f` buckets in front of a binary heap
-//!   that holds the least bucket, behind a short sorted front. `f` and `g` are non-negative
-//!   floats, whose bit patterns order like the numbers, so keys are integers.
+//!   that holds the least bucket, behind a short sorted front. `f` and `g` are
+//!   [`Cost`]s, so keys are their integer units.
 //! - [`IntOpen`], when `f` is an integer that never decreases along an edge and grows by at
 //!   most 2 (unit moves, an integer consistent heuristic, weight 0 or 1): one slot per `f`
 //!   value in a ring of four, each a FIFO queue, a stack, runs of equal `g` (high g first)
@@ -20,6 +20,8 @@
 //! runs); and an improved node's older entry, which lies in a later bucket than its newer
 //! one, is dropped before it costs a heap operation.
 
+use planner_api::Cost;
+
 /// The tie rules as const-generic parameters (see [`TieBreak`](crate::TieBreak)).
 pub(crate) const FIFO: u8 = 0;
 pub(crate) const LIFO: u8 = 1;
@@ -30,17 +32,17 @@ pub(crate) const HIGH_G: u8 = 3;
 pub(crate) trait Open {
     /// Empties the list, keeping its memory.
     fn clear(&mut self);
-    /// Inserts `node` with evaluation `f` and cost so far `g`. Preconditions: both are
-    /// non-negative and not NaN; for [`IntOpen`], both are integers, `g` below 2^32, and
-    /// `f` at least the last popped entry's `f` and at most 3 above it.
-    fn push(&mut self, node: u32, f: f64, g: f64);
+    /// Inserts `node` with evaluation `f` and cost so far `g`. Preconditions for
+    /// [`IntOpen`]: both are whole numbers, `g` below 2^32, and `f` at least the last
+    /// popped entry's `f` and at most 3 above it.
+    fn push(&mut self, node: u32, f: Cost, g: Cost);
     /// Removes and returns the entry with the least key, stale ones included, except that
     /// entries whose node `is_closed` says is CLOSED may be dropped unseen (the search
     /// would skip them). Precondition: a node once CLOSED stays CLOSED until `clear`.
     fn pop(&mut self, is_closed: impl Fn(u32) -> bool) -> Option<u32>;
 }
 
-/// A heap entry: `f`'s bits, the tie value, and the push sequence (high half) with the node
+/// A heap entry: `f`'s units, the tie value, and the push sequence (high half) with the node
 /// (low half), compared in that order as one 192-bit number. The node never decides, as
 /// sequences are distinct.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,17 +56,16 @@ impl Entry {
     /// The entry of the `n_pushed`-th push under tie rule `TIE`. Precondition:
     /// `n_pushed < 2^32` (see [`BucketOpen::renumber`]).
     #[inline(always)]
-    fn new<const TIE: u8>(node: u32, f: f64, g: f64, n_pushed: u64) -> Entry {
-        // `+ 0.0` turns -0.0 into +0.0, so that bit order is numeric order.
-        let g_bits = (g + 0.0).to_bits();
+    fn new<const TIE: u8>(node: u32, f: Cost, g: Cost, n_pushed: u64) -> Entry {
+        let g = g.units();
         let (tie, seq) = match TIE {
             FIFO => (0, n_pushed),
             LIFO => (0, u64::from(u32::MAX) - n_pushed),
-            LOW_G => (g_bits, n_pushed),
-            _ => (!g_bits, n_pushed),
+            LOW_G => (g, n_pushed),
+            _ => (!g, n_pushed),
         };
         Entry {
-            f: (f + 0.0).to_bits(),
+            f: f.units(),
             tie,
             seq_node: seq << 32 | u64::from(node),
         }
@@ -89,10 +90,10 @@ impl Entry {
     }
 }
 
-/// OPEN as a ring of buckets of width `1 / scale` in `f`, ahead of a heap that holds the
+/// OPEN as a ring of buckets of width `2^-shift` in `f`, ahead of a heap that holds the
 /// current (least) bucket: pushes into later buckets are appends, and the heap stays small.
 ///
-/// Invariant: the heap holds every entry whose bucket `floor(f * scale)` is at most `cur`,
+/// Invariant: the heap holds every entry whose bucket `floor(f * 2^shift)` is at most `cur`,
 /// the ring every entry whose bucket lies in `(cur, cur + ring.len())`, at the slot
 /// `bucket % ring.len()`, and `overflow` (a heap) every entry above. The heap's least entry
 /// is then the least of all, whatever the heuristic: with an inconsistent one, an entry may
@@ -101,8 +102,8 @@ impl Entry {
 /// Precondition: [`BucketOpen::configure`] before the first push.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct BucketOpen<const TIE: u8> {
-    /// Buckets per unit of `f`: a power of two, so that `f * scale` is exact.
-    scale: f64,
+    /// A bucket is `f`'s units shifted right by this much.
+    shift: u32,
     cur: u64,
     heap: MinHeap,
     ring: Vec<Vec<Entry>>,
@@ -117,15 +118,15 @@ impl<const TIE: u8> BucketOpen<TIE> {
     /// Sets the bucket width for moves costing at most `max_cost` and the weight `weight`:
     /// with a consistent heuristic, the `f` values in OPEN span at most
     /// `(1 + weight) * max_cost`, which the ring then covers.
-    pub(crate) fn configure(&mut self, max_cost: f64, weight: f64) {
+    pub(crate) fn configure(&mut self, max_cost: Cost, weight: f64) {
         const BUCKETS_PER_UNIT: f64 = 16.0;
-        let span = (1.0 + weight) * max_cost * BUCKETS_PER_UNIT;
+        let span = (1.0 + weight) * max_cost.to_f64() * BUCKETS_PER_UNIT;
         let slots = if span.is_finite() && span < 4096.0 {
             (span as usize + 2).next_power_of_two()
         } else {
             4096
         };
-        self.scale = BUCKETS_PER_UNIT;
+        self.shift = Cost::FRACTION_BITS - BUCKETS_PER_UNIT.log2() as u32;
         self.seq_limit = 1 << 32;
         self.ring.resize_with(slots, Vec::new);
         self.clear();
@@ -137,13 +138,22 @@ impl<const TIE: u8> BucketOpen<TIE> {
         let bucket = self.bucket(entry.f);
         let slots = self.ring.len() as u64;
         if bucket <= self.cur {
-            self.heap.push(entry);
+            Self::push_parts(&mut self.heap, entry.f, entry.tie, entry.seq_node);
         } else if bucket - self.cur < slots {
             self.ring[(bucket & (slots - 1)) as usize].push(entry);
             self.in_ring += 1;
         } else {
-            self.overflow.push(entry);
+            Self::push_parts(&mut self.overflow, entry.f, entry.tie, entry.seq_node);
         }
+    }
+
+    /// `heap.push` of the entry with these fields. The fields are passed as scalars (in
+    /// registers) so that the caller need not build the entry in memory: a 24-byte entry
+    /// stored on the stack field by field and then copied into a ring slot with wider
+    /// loads stalled store-to-load forwarding (the profile's hottest instruction).
+    #[inline(never)]
+    fn push_parts(heap: &mut MinHeap, f: u64, tie: u64, seq_node: u64) {
+        heap.push(Entry { f, tie, seq_node });
     }
 
     /// Gives the entries in OPEN the sequences `0..n` (FIFO and the g rules) or the top
@@ -175,9 +185,8 @@ impl<const TIE: u8> BucketOpen<TIE> {
     }
 
     #[inline(always)]
-    fn bucket(&self, f_bits: u64) -> u64 {
-        // Float-to-integer casts saturate, and `f * scale` is exact: monotone in `f`.
-        (f64::from_bits(f_bits) * self.scale) as u64
+    fn bucket(&self, f_units: u64) -> u64 {
+        f_units >> self.shift
     }
 
     /// Moves the entries of bucket `cur`'s slot into the heap, and from `overflow` the
@@ -225,7 +234,7 @@ impl<const TIE: u8> Open for BucketOpen<TIE> {
     }
 
     #[inline]
-    fn push(&mut self, node: u32, f: f64, g: f64) {
+    fn push(&mut self, node: u32, f: Cost, g: Cost) {
         if self.n_pushed == self.seq_limit {
             self.renumber();
         }
@@ -454,13 +463,13 @@ impl<const TIE: u8> IntOpen<TIE> {
     /// the heuristic values being integers that change by at most 1 along a move
     /// (`consistent_integer_h`).
     pub(crate) fn fits(
-        move_costs: impl IntoIterator<Item = f64>,
+        move_costs: impl IntoIterator<Item = Cost>,
         weight: f64,
         consistent_integer_h: bool,
     ) -> bool {
         consistent_integer_h
             && (weight == 0.0 || weight == 1.0)
-            && move_costs.into_iter().all(|cost| cost == 1.0)
+            && move_costs.into_iter().all(|cost| cost == Cost::ONE)
     }
 }
 
@@ -474,9 +483,9 @@ impl<const TIE: u8> Open for IntOpen<TIE> {
     }
 
     #[inline]
-    fn push(&mut self, node: u32, f: f64, g: f64) {
-        // Both are integers below 2^33 by the precondition.
-        let f = f as u64;
+    fn push(&mut self, node: u32, f: Cost, g: Cost) {
+        // Both are whole numbers by the precondition.
+        let (f, g) = (f.whole(), g.whole());
         if !self.started {
             // The first push after `clear` (the start) opens the window.
             self.cur = f;
@@ -686,19 +695,20 @@ mod tests {
     use std::collections::BTreeSet;
 
     /// The reference key of a push: `(f, tie, seq)` with the tie rule's meaning, compared
-    /// as numbers (`f` and `g` are non-negative, so their bits order like them).
+    /// as numbers (`f` and `g` as [`Cost`]s, rounded from the test's floats).
     fn reference_key<const TIE: u8>(f: f64, g: f64, seq: u64) -> (u64, i128, i128) {
+        let g = i128::from(Cost::from_f64(g).units());
         let tie = match TIE {
             FIFO | LIFO => 0,
-            LOW_G => i128::from((g + 0.0).to_bits()),
-            _ => -i128::from((g + 0.0).to_bits()),
+            LOW_G => g,
+            _ => -g,
         };
         let seq = if TIE == LIFO {
             -i128::from(seq)
         } else {
             i128::from(seq)
         };
-        ((f + 0.0).to_bits(), tie, seq)
+        (Cost::from_f64(f).units(), tie, seq)
     }
 
     /// Pushes and pops pseudo-random entries, interleaved, and checks every pop against an
@@ -720,7 +730,7 @@ mod tests {
                 let f = fs[(state >> 8) as usize % fs.len()];
                 let g = gs[(state >> 24) as usize % gs.len()];
                 let node = (round % 700) as u32;
-                open.push(node, f, g);
+                open.push(node, Cost::from_f64(f), Cost::from_f64(g));
                 reference.insert((reference_key::<TIE>(f, g, n_pushed), node));
                 n_pushed += 1;
             } else {
@@ -737,7 +747,7 @@ mod tests {
     /// A bucket OPEN; `seq_limit` lowers the renumbering threshold to test it.
     fn bucket_open<const TIE: u8>(max_cost: f64, seq_limit: Option<u64>) -> BucketOpen<TIE> {
         let mut open = BucketOpen::default();
-        open.configure(max_cost, 1.0);
+        open.configure(Cost::from_f64(max_cost), 1.0);
         if let Some(limit) = seq_limit {
             open.seq_limit = limit;
         }
@@ -785,7 +795,7 @@ mod tests {
                     (state >> 24) % g_spread
                 };
                 let node = (round % 700) as u32;
-                open.push(node, f as f64, g as f64);
+                open.push(node, Cost::steps(f), Cost::steps(g));
                 let key = reference_key::<TIE>(f as f64, g as f64, n_pushed);
                 reference.insert((key, node, g));
                 n_pushed += 1;
@@ -794,7 +804,7 @@ mod tests {
                 let node = least.map(|(_, node, _)| node);
                 assert_eq!(open.pop(|_| false), node, "rule {TIE} round {round}");
                 if let Some(((f_bits, _, _), _, g)) = least {
-                    floor = f64::from_bits(f_bits) as u64;
+                    floor = Cost::from_units(f_bits).whole();
                     last_g = g;
                 }
             }
@@ -829,7 +839,7 @@ mod tests {
             // A tiny ring: most entries overflow.
             check_every_rule(&fs, &gs, 0.01, push_share);
         }
-        // Huge values saturate the bucket index; zero and negative zero are one value.
+        // Huge values saturate at the largest cost; zero and negative zero are one value.
         let fs = [0.0, -0.0, 1e300, f64::MAX, 3.0];
         check_every_rule(&fs, &gs, 1.0, 60);
     }

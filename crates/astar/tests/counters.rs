@@ -144,6 +144,39 @@ fn tie_break_decides_expansions_on_an_open_grid() {
 }
 
 #[test]
+fn eight_connected_ties_are_exact() {
+    // On an open 40x30 grid every cell of the parallelogram between (0,0) and (39,17) lies
+    // on a shortest path (22 axis moves and 17 diagonals in any order), so all their f
+    // values are equal; with exact costs they tie, and high-g-first dives along one path,
+    // expanding its 40 cells only. FIFO expands every cell of equal f before the goal
+    // (inserted last): the cells (x, y) with y <= x <= y + 22, 18 * 23 = 414 of them. With
+    // f64 sums of sqrt 2 high-g-first expanded 72 here, as equal paths got unequal f.
+    let grid = Grid::new(40, 30).unwrap();
+    let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(39, 17)).unwrap();
+    for (tie_break, expanded) in [(TieBreak::HighG, 40), (TieBreak::Fifo, 414)] {
+        let config = Config {
+            moves: Connectivity::Eight,
+            heuristic: Heuristic::Octile,
+            tie_break,
+            ..Config::default()
+        };
+        let outcome = AStar::new(config)
+            .unwrap()
+            .plan(&problem, &Budget::unlimited());
+        let length = outcome.path.unwrap().metrics().length;
+        assert!(
+            (length - (22.0 + 17.0 * 2f64.sqrt())).abs() < 1e-9,
+            "{tie_break:?}"
+        );
+        assert_eq!(
+            outcome.counters.get("n_expanded"),
+            Some(expanded),
+            "{tie_break:?}"
+        );
+    }
+}
+
+#[test]
 fn tie_break_changes_turns_but_never_steps() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let mut differing = 0;

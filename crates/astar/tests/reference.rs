@@ -13,7 +13,10 @@ use rand_chacha::ChaCha8Rng;
 /// The reference search with `config`'s moves, heuristic, weight and tie rule.
 fn reference(config: &Config, grid: &Grid, start: Cell, goal: Cell) -> ReferenceSearch {
     let moves = MoveSet::new(config.moves, config.corner_cutting, &config.order).unwrap();
-    let h = |c: Cell| config.weight * config.heuristic.estimate(c.x, c.y, goal.x, goal.y);
+    let h = |c: Cell| {
+        let h = config.heuristic.cost(c.x, c.y, goal.x, goal.y);
+        h.scaled(config.weight)
+    };
     let tie = match config.tie_break {
         TieBreak::Fifo => Tie::Fifo,
         TieBreak::Lifo => Tie::Lifo,

@@ -222,42 +222,45 @@ pub const REFERENCE_COUNTERS: [&str; 7] = [
 
 /// A* as seed 000's Fig. 4 reads, written for clarity and not speed: std's `BinaryHeap`
 /// with lazy deletion and the full key `(f, tie, push sequence)`, per-cell tables the size
-/// of the grid, moves through [`planner_api::MoveSet::apply`]. `h` is the weighted
-/// heuristic of a cell (`f = g + h`). planner-astar must agree with it on every path and
-/// counter; its OPEN lists are nothing like this one.
+/// of the grid, moves through [`planner_api::MoveSet::apply`]. Costs are exact
+/// [`planner_api::Cost`]s ([`planner_api::Move::exact_cost`] per move), so equal path
+/// costs tie exactly; `h` is the weighted heuristic of a cell (`f = g + h`).
+/// planner-astar must agree with it on every path and counter; its OPEN lists are nothing
+/// like this one.
 pub fn reference_astar(
     grid: &Grid,
     moves: &planner_api::MoveSet,
-    h: impl Fn(Cell) -> f64,
+    h: impl Fn(Cell) -> planner_api::Cost,
     tie: Tie,
     start: Cell,
     goal: Cell,
 ) -> ReferenceSearch {
+    use planner_api::Cost;
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
-    // Floats >= 0 order like their bits; the tie value is g's bits (low g first) or their
-    // complement (high g first); LIFO complements the sequence.
-    let key = |f: f64, g: f64, seq: u64| {
-        let g_bits = (g + 0.0).to_bits();
+    // The tie value is g (low g first) or its negation (high g first); LIFO negates the
+    // sequence.
+    let key = |f: Cost, g: Cost, seq: u64| {
+        let g = i128::from(g.units());
         let (tie, seq) = match tie {
-            Tie::Fifo => (0, seq),
-            Tie::Lifo => (0, u64::MAX - seq),
-            Tie::LowG => (g_bits, seq),
-            Tie::HighG => (!g_bits, seq),
+            Tie::Fifo => (0, i128::from(seq)),
+            Tie::Lifo => (0, -i128::from(seq)),
+            Tie::LowG => (g, i128::from(seq)),
+            Tie::HighG => (-g, i128::from(seq)),
         };
-        ((f + 0.0).to_bits(), tie, seq)
+        (f, tie, seq)
     };
     let n = grid.len();
-    let mut g = vec![f64::INFINITY; n];
+    let mut g = vec![Cost::MAX; n];
     let mut parent = vec![usize::MAX; n];
     let mut in_open = vec![false; n];
     let mut closed = vec![false; n];
     let mut heap = BinaryHeap::new();
     let [mut exp, mut checks, mut blocked, mut skipped, mut ins, mut rel] = [0u64; 6];
     let (s, t) = (grid.index(start), grid.index(goal));
-    g[s] = 0.0;
+    g[s] = Cost::ZERO;
     in_open[s] = true;
-    heap.push(Reverse((key(h(start), 0.0, 0), s)));
+    heap.push(Reverse((key(h(start), Cost::ZERO, 0), s)));
     let mut seq = 1u64;
     ins += 1;
     let (mut n_open, mut peak) = (1u64, 1u64);
@@ -292,7 +295,7 @@ pub fn reference_astar(
                 skipped += 1;
                 continue;
             }
-            let g_new = g[p] + mv.cost;
+            let g_new = g[p] + mv.exact_cost();
             if !in_open[q] || g_new < g[q] {
                 rel += 1;
                 if !in_open[q] {
