@@ -75,6 +75,12 @@ pub const PLANNERS: &[Entry] = &[
         kind: Kind::Deterministic,
         build: |params| build(params, planner_pastar::PaStar::new),
     },
+    Entry {
+        name: planner_capso::NAME,
+        summary: "CAPSO (seed 002's reference [44]): cubic spline through control points, chaotic adaptive PSO with beetle antennae search; seeded",
+        kind: Kind::Stochastic,
+        build: |params| build(params, planner_capso::Capso::new),
+    },
     // (registry end)
 ];
 
