@@ -14,21 +14,38 @@
 //!   its tables). Dunn's p is Bonferroni-adjusted over all `k (k - 1) / 2` pairs of the
 //!   `k` labels, as the paper's p-values are (see planner-stats).
 //!
-//! A scenario is one (map, problem). Lengths come from repeat 0; times from all repeats.
+//! A scenario is one (map, problem). Lengths come from repeat 0, except for seeded
+//! planners (CAPSO), whose length is the mean over the repeats that found a path (the
+//! status column then counts them); times come from all repeats.
+//!
+//! With a planner whose registry name is `capso` (with or without PA-star), a CAPSO
+//! section follows (seed 002 section 4.2.2, Fig. 11): per scenario and CAPSO label its
+//! control points and the found count, mean, min and max length over the repeats, then
+//! the mean over the repeats of the `best_fitness` series (Fig. 11 b) every 10 iterations.
 
 use std::fmt::Write as _;
 
 use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
 
 use crate::config::{Experiment, PlannerSpec};
+use crate::registry::Kind;
 use crate::run::RunRecord;
 use crate::summary::median_iqr;
 
 /// The registry name that switches these tables on.
 const PASTAR: &str = "pastar";
 
-/// The seed-002 sections of summary.md, or nothing when no planner is PA-star.
+/// The registry name that switches the CAPSO section on.
+const CAPSO: &str = "capso";
+
+/// The seed-002 sections of summary.md, or nothing when no planner is PA-star or CAPSO.
 pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
+    let mut out = render_pastar(experiment, records);
+    out.push_str(&render_capso(experiment, records));
+    out
+}
+
+fn render_pastar(experiment: &Experiment, records: &[RunRecord]) -> String {
     let proposed: Vec<&PlannerSpec> = experiment
         .planners
         .iter()
@@ -43,7 +60,7 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
         .filter(|p| p.name != PASTAR)
         .collect();
     let mut out = String::from("## PA-star and its references (seed 002, Tables 6-10 layout)\n\n");
-    out.push_str("Path length of repeat 0; `R_length = (L_PA - L_ref) / L_PA` and `R_time = (t_PA - t_ref) / t_PA` with median times (equations 10-11: negative when PA-star is shorter or faster).\n\n");
+    out.push_str("Path length of repeat 0 (seeded planners: the mean over the repeats that found a path, their count in the status column); `R_length = (L_PA - L_ref) / L_PA` and `R_time = (t_PA - t_ref) / t_PA` with median times (equations 10-11: negative when PA-star is shorter or faster).\n\n");
     let mut timing = String::new();
     let mut kw_rows = String::new();
     for map in &experiment.maps {
@@ -56,11 +73,20 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
                     })
                     .collect()
             };
-            let length = |label: &str| {
-                runs(label)
+            let stochastic = |label: &str| {
+                experiment
+                    .planners
                     .iter()
-                    .find(|r| r.repeat == 0)
-                    .and_then(|r| r.length)
+                    .any(|p| p.label == label && p.kind == Kind::Stochastic)
+            };
+            let length = |label: &str| {
+                let all = runs(label);
+                if stochastic(label) {
+                    let found: Vec<f64> = all.iter().filter_map(|r| r.length).collect();
+                    (!found.is_empty()).then(|| found.iter().sum::<f64>() / found.len() as f64)
+                } else {
+                    all.iter().find(|r| r.repeat == 0).and_then(|r| r.length)
+                }
             };
             let times =
                 |label: &str| -> Vec<f64> { runs(label).iter().map(|r| r.time_ms).collect() };
@@ -73,10 +99,14 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
             out.push_str("| Planner | Algorithm | Status | Path length | Time ms median (IQR) |\n|---|---|---|---:|---:|\n");
             for planner in &experiment.planners {
                 let all = runs(&planner.label);
-                let status = all
-                    .iter()
-                    .find(|r| r.repeat == 0)
-                    .map_or("-", |r| r.status.as_str());
+                let status = if stochastic(&planner.label) {
+                    let n_found = all.iter().filter(|r| r.status == "found").count();
+                    format!("found {n_found}/{}", all.len())
+                } else {
+                    all.iter()
+                        .find(|r| r.repeat == 0)
+                        .map_or("-".into(), |r| r.status.clone())
+                };
                 let _ = writeln!(
                     out,
                     "| {} | {} | {} | {} | {} |",
@@ -141,6 +171,108 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
         out.push_str(&timing);
     }
     out
+}
+
+/// The CAPSO section (module docs), or nothing without a `capso` planner.
+fn render_capso(experiment: &Experiment, records: &[RunRecord]) -> String {
+    let labels: Vec<&PlannerSpec> = experiment
+        .planners
+        .iter()
+        .filter(|p| p.name == CAPSO)
+        .collect();
+    if labels.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from("## CAPSO: lengths and convergence (seed 002 section 4.2.2, Fig. 11)\n\nLengths over the repeats that found a path; the curve is the mean over all repeats of the best fitness (length + penalty x collision) after each iteration.\n\n");
+    for map in &experiment.maps {
+        for problem in map.problems.iter().filter(|p| p.invalid.is_none()) {
+            let runs = |label: &str| -> Vec<&RunRecord> {
+                records
+                    .iter()
+                    .filter(|r| {
+                        r.map == map.name && r.problem == problem.index && r.planner == label
+                    })
+                    .collect()
+            };
+            let _ = writeln!(
+                out,
+                "### {} problem {}: {} -> {}\n\n| Planner | Control points | Found | Mean length | Min | Max |\n|---|---:|---:|---:|---:|---:|",
+                map.name, problem.index, problem.start, problem.goal
+            );
+            let mut curves: Vec<Vec<(f64, f64)>> = Vec::new();
+            for planner in &labels {
+                let all = runs(&planner.label);
+                let lengths: Vec<f64> = all.iter().filter_map(|r| r.length).collect();
+                let stat = |f: fn(&[f64]) -> f64| {
+                    if lengths.is_empty() {
+                        "-".to_string()
+                    } else {
+                        format!("{:.2}", f(&lengths))
+                    }
+                };
+                let control_points = planner
+                    .params
+                    .get("control_points")
+                    .map_or("6 (default)".into(), |v| v.to_string());
+                let _ = writeln!(
+                    out,
+                    "| {} | {control_points} | {}/{} | {} | {} | {} |",
+                    planner.label,
+                    lengths.len(),
+                    all.len(),
+                    stat(|v| v.iter().sum::<f64>() / v.len() as f64),
+                    stat(|v| v.iter().copied().fold(f64::INFINITY, f64::min)),
+                    stat(|v| v.iter().copied().fold(f64::NEG_INFINITY, f64::max)),
+                );
+                curves.push(mean_curve(&all));
+            }
+            out.push_str("\n| Iteration |");
+            for planner in &labels {
+                let _ = write!(out, " {} |", planner.label);
+            }
+            out.push_str("\n|---:|");
+            out.push_str(&"---:|".repeat(labels.len()));
+            out.push('\n');
+            let last = curves
+                .iter()
+                .filter_map(|c| c.last().map(|p| p.0))
+                .fold(0.0, f64::max);
+            let mut iteration = 0.0;
+            while iteration <= last {
+                let _ = write!(out, "| {iteration} |");
+                for curve in &curves {
+                    match curve.iter().find(|p| p.0 == iteration) {
+                        Some(p) => {
+                            let _ = write!(out, " {:.2} |", p.1);
+                        }
+                        None => out.push_str(" - |"),
+                    }
+                }
+                out.push('\n');
+                iteration += 10.0;
+            }
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// The mean over `runs` of their `best_fitness` series, point by point (x taken from the
+/// first run; only the x values every run has).
+fn mean_curve(runs: &[&RunRecord]) -> Vec<(f64, f64)> {
+    let series: Vec<&planner_api::Series> = runs
+        .iter()
+        .filter_map(|r| r.series.iter().find(|s| s.name == "best_fitness"))
+        .collect();
+    let Some(shortest) = series.iter().map(|s| s.points.len()).min() else {
+        return Vec::new();
+    };
+    (0..shortest)
+        .map(|i| {
+            let sum: f64 = series.iter().map(|s| s.points[i][1]).sum();
+            (series[0].points[i][0], sum / series.len() as f64)
+        })
+        .collect()
 }
 
 fn timing_table(
@@ -235,6 +367,7 @@ mod tests {
             path: None,
             returns: None,
             marks: Vec::new(),
+            series: Vec::new(),
         }
     }
 
@@ -288,5 +421,45 @@ mod tests {
             text.contains("| PA | 2.5000 (1.7500~3.2500) | 0.9929 | 9.719e-1 | - | - |"),
             "{text}"
         );
+    }
+
+    #[test]
+    fn seeded_planners_report_the_mean_length_and_capso_its_curve() {
+        let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../maps/pastar/open-140x120.map");
+        let text = format!(
+            "name = \"t\"\nrepeats = 3\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.C4]\nplanner = \"capso\"\ncontrol_points = 4\n",
+            map.display().to_string()
+        );
+        let experiment = crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
+        let mut records = Vec::new();
+        for r in 0..3 {
+            records.push(record("PA", "pastar", r, 100.0, 1.0));
+            let mut capso = record("C4", "capso", r, 95.0 + 10.0 * f64::from(r), 50.0);
+            capso.seed = Some(u64::from(r));
+            let mut curve = planner_api::Series::new("best_fitness", "iteration");
+            for k in 0..=10 {
+                curve
+                    .points
+                    .push([f64::from(k), 200.0 - f64::from(k) + f64::from(r)]);
+            }
+            capso.series.push(curve);
+            records.push(capso);
+        }
+        // Repeat 2 found nothing: the mean is over 95 and 105.
+        records[5].status = "no_path".into();
+        records[5].length = None;
+        let text = render(&experiment, &records);
+        assert!(
+            text.contains("| C4 | capso | found 2/3 | 100.00 |"),
+            "{text}"
+        );
+        assert!(text.contains("| PA | C4 | 0.00 % | -4900.00 % |"), "{text}");
+        assert!(
+            text.contains("| C4 | 4 | 2/3 | 100.00 | 95.00 | 105.00 |"),
+            "{text}"
+        );
+        // Mean of 200 + r over r = 0, 1, 2 at iteration 0, and of 190 + r at 10.
+        assert!(text.contains("| 0 | 201.00 |\n| 10 | 191.00 |"), "{text}");
     }
 }

@@ -65,6 +65,9 @@ pub struct RunRecord {
     /// The cells the planner marked in its outcome (PA-star's handover points), if any.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub marks: Vec<planner_api::Mark>,
+    /// The sequences the planner recorded (CAPSO's best fitness per iteration), if any.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub series: Vec<planner_api::Series>,
 }
 
 /// One run to do.
@@ -179,6 +182,7 @@ fn run_one(experiment: &Experiment, spec: &RunSpec) -> Result<RunRecord, String>
         path: None,
         returns: None,
         marks: Vec::new(),
+        series: Vec::new(),
     };
     let Ok(problem) = Problem::new(&map.grid, entry.start, entry.goal) else {
         tracing::warn!(error = ?entry.invalid, "skipping an invalid problem");
@@ -205,6 +209,7 @@ fn run_one(experiment: &Experiment, spec: &RunSpec) -> Result<RunRecord, String>
     record.status = outcome.status.as_str().into();
     record.counters = outcome.counters;
     record.marks = outcome.marks;
+    record.series = outcome.series;
     if let Some(path) = outcome.path {
         let m = path.metrics();
         record.steps = Some(m.steps);

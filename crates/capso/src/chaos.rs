@@ -50,7 +50,9 @@ impl ChaoticMap {
             }
             ChaoticMap::Sine => (PI * z).sin(),
             ChaoticMap::Sinusoidal => 2.3 * z * z * (PI * z).sin(),
-            ChaoticMap::Circle => (z + 0.2 - 0.5 / (2.0 * PI) * (2.0 * PI * z).sin()).rem_euclid(1.0),
+            ChaoticMap::Circle => {
+                (z + 0.2 - 0.5 / (2.0 * PI) * (2.0 * PI * z).sin()).rem_euclid(1.0)
+            }
             ChaoticMap::Gauss => (1.0 / z).rem_euclid(1.0),
         }
     }

@@ -108,9 +108,7 @@ pub mod chaos;
 pub mod collision;
 pub mod spline;
 
-use planner_api::{
-    Budget, Cell, Counters, Grid, Outcome, Path, Planner, Problem, Series, Status,
-};
+use planner_api::{Budget, Cell, Counters, Grid, Outcome, Path, Planner, Problem, Series, Status};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -228,7 +226,13 @@ impl Config {
                 bad(parameter, expected, value.to_string())
             }
         };
-        int("control_points", self.control_points, 1, MAX_CONTROL_POINTS, "in 1..=20")?;
+        int(
+            "control_points",
+            self.control_points,
+            1,
+            MAX_CONTROL_POINTS,
+            "in 1..=20",
+        )?;
         int("population", self.population, 1, 10_000, "in 1..=10000")?;
         int("iterations", self.iterations, 0, 100_000, "in 0..=100000")?;
         int(
@@ -246,21 +250,36 @@ impl Config {
             }
         };
         let nonneg = "a finite number >= 0";
-        real("inertia_max", self.inertia_max, self.inertia_max >= 0.0, nonneg)?;
+        real(
+            "inertia_max",
+            self.inertia_max,
+            self.inertia_max >= 0.0,
+            nonneg,
+        )?;
         real(
             "inertia_min",
             self.inertia_min,
             (0.0..=self.inertia_max).contains(&self.inertia_min),
             "a finite number in 0..=inertia_max",
         )?;
-        real("cognitive_max", self.cognitive_max, self.cognitive_max >= 0.0, nonneg)?;
+        real(
+            "cognitive_max",
+            self.cognitive_max,
+            self.cognitive_max >= 0.0,
+            nonneg,
+        )?;
         real(
             "cognitive_min",
             self.cognitive_min,
             (0.0..=self.cognitive_max).contains(&self.cognitive_min),
             "a finite number in 0..=cognitive_max",
         )?;
-        real("social_min", self.social_min, self.social_min >= 0.0, nonneg)?;
+        real(
+            "social_min",
+            self.social_min,
+            self.social_min >= 0.0,
+            nonneg,
+        )?;
         real(
             "social_max",
             self.social_max,
@@ -344,11 +363,8 @@ impl Decoder {
         self.order.clear();
         self.order.extend(0..n);
         let projection = |k: usize| (position[2 * k] - sx) * ux + (position[2 * k + 1] - sy) * uy;
-        self.order.sort_unstable_by(|&a, &b| {
-            projection(a)
-                .total_cmp(&projection(b))
-                .then(a.cmp(&b))
-        });
+        self.order
+            .sort_unstable_by(|&a, &b| projection(a).total_cmp(&projection(b)).then(a.cmp(&b)));
         self.knots.clear();
         self.knots.push((sx, sy));
         for &k in &self.order {
@@ -364,7 +380,10 @@ impl Decoder {
         self.cells.clear();
         for &(x, y) in &self.samples {
             // Clamped into the grid, so the casts are exact and in range.
-            let cell = Cell::new(x.round().clamp(0.0, max_x) as u32, y.round().clamp(0.0, max_y) as u32);
+            let cell = Cell::new(
+                x.round().clamp(0.0, max_x) as u32,
+                y.round().clamp(0.0, max_y) as u32,
+            );
             if self.cells.last() != Some(&cell) {
                 self.cells.push(cell);
             }
@@ -745,8 +764,14 @@ mod tests {
             bad(with(|c| c.population = 0)),
             "parameter `population` must be in 1..=10000, got 0"
         );
-        assert_eq!(bad(with(|c| c.lambda = 1.5)), "parameter `lambda` must be in 0..=1, got 1.5");
-        assert_eq!(bad(with(|c| c.inertia_min = 1.0)).split(' ').nth(1), Some("`inertia_min`"));
+        assert_eq!(
+            bad(with(|c| c.lambda = 1.5)),
+            "parameter `lambda` must be in 0..=1, got 1.5"
+        );
+        assert_eq!(
+            bad(with(|c| c.inertia_min = 1.0)).split(' ').nth(1),
+            Some("`inertia_min`")
+        );
         assert!(bad(with(|c| c.penalty = f64::NAN)).contains("`penalty`"));
         assert!(bad(with(|c| c.beetle_decay = 0.0)).contains("`beetle_decay`"));
         assert!(bad(with(|c| c.beetle_step = 0.0)).contains("`beetle_step`"));
@@ -783,7 +808,10 @@ mod tests {
         assert_eq!(simplify_cells(&stairs, 1.0), cells(&[(0, 0), (3, 3)]));
         // A corner 4 away from the chord (0,0)-(8,0)... (4, 4) is kept.
         let corner = cells(&[(0, 0), (2, 2), (4, 4), (6, 2), (8, 0)]);
-        assert_eq!(simplify_cells(&corner, 1.0), cells(&[(0, 0), (4, 4), (8, 0)]));
+        assert_eq!(
+            simplify_cells(&corner, 1.0),
+            cells(&[(0, 0), (4, 4), (8, 0)])
+        );
         // Tolerance 0 keeps every cell off the chord.
         assert_eq!(simplify_cells(&stairs, 0.0).len(), 7);
     }

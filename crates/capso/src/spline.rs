@@ -123,7 +123,11 @@ fn second_derivatives(t: &[f64], v: &[f64], m: &mut Vec<f64>, c: &mut Vec<f64>) 
         let h1 = t[i + 1] - t[i];
         let rhs = 6.0 * ((v[i + 1] - v[i]) / h1 - (v[i] - v[i - 1]) / h0);
         let diag = 2.0 * (h0 + h1);
-        let (prev_c, prev_m) = if i > 1 { (c[i - 1], m[i - 1]) } else { (0.0, 0.0) };
+        let (prev_c, prev_m) = if i > 1 {
+            (c[i - 1], m[i - 1])
+        } else {
+            (0.0, 0.0)
+        };
         let denom = diag - h0 * prev_c;
         c[i] = h1 / denom;
         m[i] = (rhs - h0 * prev_m) / denom;
@@ -152,7 +156,10 @@ mod tests {
             .find(|&i| t <= spline.knot_parameter(i + 1))
             .unwrap_or(spline.n_knots() - 2);
         let got = spline.eval(segment, t);
-        assert!(close(got, expect), "{knots:?} at {t}: {got:?} vs {expect:?}");
+        assert!(
+            close(got, expect),
+            "{knots:?} at {t}: {got:?} vs {expect:?}"
+        );
     }
 
     #[test]
