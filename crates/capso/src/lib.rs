@@ -1,6 +1,6 @@
 //! CAPSO: a cubic spline through the start, `n` control points and the goal, whose control
 //! points a chaotic adaptive particle swarm optimises (seed 002's fourth reference
-//! planner, its reference [44]).
+//! planner, its reference \[44\]).
 //!
 //! The method is Lian, Yu, Xiao and Liu, "Cubic spline interpolation-based robot path
 //! planning using a chaotic adaptive particle swarm optimization algorithm", Mathematical
@@ -415,9 +415,9 @@ impl Decoder {
     }
 }
 
-/// Ramer-Douglas-Peucker on `cells`: marks in `keep` the first and last cell and every
-/// cell farther than `tolerance` from the segment between its kept neighbours (the
-/// farthest first, recursively). `keep` and `stack` are scratch, resized here.
+/// Ramer-Douglas-Peucker on `cells`: keeps the first and last cell and every cell farther
+/// than `tolerance` from the segment between its kept neighbours (the farthest first,
+/// recursively), as a particle's sampled cells are simplified.
 pub fn simplify_cells(cells: &[Cell], tolerance: f64) -> Vec<Cell> {
     let (mut keep, mut stack) = (Vec::new(), Vec::new());
     simplify(cells, tolerance, &mut keep, &mut stack);
@@ -428,6 +428,8 @@ pub fn simplify_cells(cells: &[Cell], tolerance: f64) -> Vec<Cell> {
         .collect()
 }
 
+/// [`simplify_cells`] into the flags `keep` (one per cell); `keep` and `stack` are scratch,
+/// resized here.
 fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Vec<(usize, usize)>) {
     keep.clear();
     keep.resize(cells.len(), false);
