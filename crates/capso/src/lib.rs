@@ -27,7 +27,8 @@
 //! 4. The cell polyline is simplified by Ramer-Douglas-Peucker with tolerance `tolerance`
 //!    cells (every dropped cell lies within that distance of the kept segment): rounding
 //!    makes a polyline through every sample zigzag by up to half a cell per sample, which
-//!    would add several percent to the length of a straight line. The kept cells are the
+//!    adds to the length of a straight line (2.5 % on seed 002's open map: 114.65 instead
+//!    of 111.80 with `tolerance = 0`, tested). The kept cells are the
 //!    path's waypoints: an any-angle path ([`PathRule::AnyAngle`](planner_api::PathRule)).
 //!
 //! Its fitness is `length + penalty * collision`, where `length` is the polyline's

@@ -120,6 +120,14 @@ fn the_open_map_gives_the_straight_line() {
             "seed {seed}: {length}"
         );
     }
+    // Without the simplification the rounded samples of the same line zigzag.
+    let config = Config {
+        tolerance: 0.0,
+        ..Config::default()
+    };
+    let unsimplified = run(&file.grid, (20, 10), (70, 110), config);
+    let length = unsimplified.path.unwrap().metrics().length;
+    assert!(length > 1.02 * 111.80, "{length}");
 }
 
 #[test]
