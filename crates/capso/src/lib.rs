@@ -210,6 +210,12 @@ pub struct ConfigError {
     pub got: String,
 }
 
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        self.parameter
+    }
+}
+
 impl Config {
     /// Checks every parameter's range; the error names the first bad key.
     pub fn validate(&self) -> Result<(), ConfigError> {
@@ -564,6 +570,16 @@ impl Capso {
 impl Planner for Capso {
     fn name(&self) -> &str {
         NAME
+    }
+
+    /// Seeded; paths are waypoints joined by segments checked by exact traversal, so they
+    /// obey the any-angle rule.
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::seeded(planner_api::PathSpec::AnyAngle)
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.config.seed = seed;
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

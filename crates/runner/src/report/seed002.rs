@@ -1,5 +1,5 @@
 //! Seed 002's tables in `summary.md`, for experiments with a planner whose registry name
-//! is `pastar` (PA-star): path lengths with `R_length` and `R_time` per scenario (Tables
+//! is the section's `proposed` one (the registry sets PA-star): path lengths with `R_length` and `R_time` per scenario (Tables
 //! 6-10) and, with three or more repeats, the timing tests (Tables 11-14).
 //!
 //! - `R_length = (length_PA - length_ref) / length_PA` and `R_time` likewise with the
@@ -18,38 +18,78 @@
 //! planners (CAPSO), whose length is the mean over the repeats that found a path (the
 //! status column then counts them); times come from all repeats.
 //!
-//! With a planner whose registry name is `capso` (with or without PA-star), a CAPSO
-//! section follows (seed 002 section 4.2.2, Fig. 11): per scenario and CAPSO label its
-//! control points and the found count, mean, min and max length over the repeats, then
-//! the mean over the repeats of the `best_fitness` series (Fig. 11 b) every 10 iterations.
+//! [`Seed002Capso`] (section `seed002_capso`, for labels running the registry's CAPSO)
+//! follows seed 002 section 4.2.2 (Fig. 11): per scenario and CAPSO label its control
+//! points and the found count, mean, min and max length over the repeats, then the mean
+//! over the repeats of the `best_fitness` series (Fig. 11 b) every 10 iterations.
 
 use std::fmt::Write as _;
 
 use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
 
+use super::{median_iqr, Context, Reproduction, Section};
 use crate::config::{Experiment, PlannerSpec};
-use crate::registry::Kind;
-use crate::run::RunRecord;
-use crate::summary::median_iqr;
+use crate::index::ResultsIndex;
+use crate::record::{RunRecord, RunStatus};
 
-/// The registry name that switches these tables on.
-const PASTAR: &str = "pastar";
-
-/// The registry name that switches the CAPSO section on.
-const CAPSO: &str = "capso";
-
-/// The seed-002 sections of summary.md, or nothing when no planner is PA-star or CAPSO.
-pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
-    let mut out = render_pastar(experiment, records);
-    out.push_str(&render_capso(experiment, records));
-    out
+/// Seed 002's comparison of a proposed planner with its references (section name
+/// `seed002`).
+pub struct Seed002 {
+    /// The registry name of the proposed planner; every other label is a reference.
+    pub proposed: &'static str,
 }
 
-fn render_pastar(experiment: &Experiment, records: &[RunRecord]) -> String {
+impl Section for Seed002 {
+    fn name(&self) -> &'static str {
+        "seed002"
+    }
+
+    /// When some label runs the proposed planner.
+    fn applies(&self, context: &Context<'_>) -> bool {
+        context
+            .experiment
+            .planners
+            .iter()
+            .any(|p| p.name == self.proposed)
+    }
+
+    fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
+        out.push_str(&render(context.experiment, context.index, self.proposed));
+    }
+}
+
+/// Seed 002's CAPSO lengths and mean convergence curve (section name `seed002_capso`;
+/// module docs).
+pub struct Seed002Capso {
+    /// The registry name of CAPSO.
+    pub capso: &'static str,
+}
+
+impl Section for Seed002Capso {
+    fn name(&self) -> &'static str {
+        "seed002_capso"
+    }
+
+    /// When some label runs CAPSO.
+    fn applies(&self, context: &Context<'_>) -> bool {
+        context
+            .experiment
+            .planners
+            .iter()
+            .any(|p| p.name == self.capso)
+    }
+
+    fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
+        out.push_str(&render_capso(context.experiment, context.index, self.capso));
+    }
+}
+
+/// The seed-002 sections of summary.md, or nothing when no label runs `proposed_name`.
+fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str) -> String {
     let proposed: Vec<&PlannerSpec> = experiment
         .planners
         .iter()
-        .filter(|p| p.name == PASTAR)
+        .filter(|p| p.name == proposed_name)
         .collect();
     let Some(base) = proposed.first() else {
         return String::new();
@@ -57,7 +97,7 @@ fn render_pastar(experiment: &Experiment, records: &[RunRecord]) -> String {
     let references: Vec<&PlannerSpec> = experiment
         .planners
         .iter()
-        .filter(|p| p.name != PASTAR)
+        .filter(|p| p.name != proposed_name)
         .collect();
     let mut out = String::from("## PA-star and its references (seed 002, Tables 6-10 layout)\n\n");
     out.push_str("Path length of repeat 0 (seeded planners: the mean over the repeats that found a path, their count in the status column); `R_length = (L_PA - L_ref) / L_PA` and `R_time = (t_PA - t_ref) / t_PA` with median times (equations 10-11: negative when PA-star is shorter or faster).\n\n");
@@ -65,19 +105,12 @@ fn render_pastar(experiment: &Experiment, records: &[RunRecord]) -> String {
     let mut kw_rows = String::new();
     for map in &experiment.maps {
         for problem in map.problems.iter().filter(|p| p.invalid.is_none()) {
-            let runs = |label: &str| -> Vec<&RunRecord> {
-                records
-                    .iter()
-                    .filter(|r| {
-                        r.map == map.name && r.problem == problem.index && r.planner == label
-                    })
-                    .collect()
-            };
+            let runs = |label: &str| index.runs(&map.name, problem.index, label);
             let stochastic = |label: &str| {
                 experiment
                     .planners
                     .iter()
-                    .any(|p| p.label == label && p.kind == Kind::Stochastic)
+                    .any(|p| p.label == label && p.factory.specs().seeded)
             };
             let length = |label: &str| {
                 let all = runs(label);
@@ -100,12 +133,12 @@ fn render_pastar(experiment: &Experiment, records: &[RunRecord]) -> String {
             for planner in &experiment.planners {
                 let all = runs(&planner.label);
                 let status = if stochastic(&planner.label) {
-                    let n_found = all.iter().filter(|r| r.status == "found").count();
+                    let n_found = all.iter().filter(|r| r.status == RunStatus::Found).count();
                     format!("found {n_found}/{}", all.len())
                 } else {
                     all.iter()
                         .find(|r| r.repeat == 0)
-                        .map_or("-".into(), |r| r.status.clone())
+                        .map_or("-".into(), |r| r.status.as_str().to_string())
                 };
                 let _ = writeln!(
                     out,
@@ -173,12 +206,12 @@ fn render_pastar(experiment: &Experiment, records: &[RunRecord]) -> String {
     out
 }
 
-/// The CAPSO section (module docs), or nothing without a `capso` planner.
-fn render_capso(experiment: &Experiment, records: &[RunRecord]) -> String {
+/// The CAPSO section (module docs), or nothing without a label running `capso_name`.
+fn render_capso(experiment: &Experiment, index: &ResultsIndex<'_>, capso_name: &str) -> String {
     let labels: Vec<&PlannerSpec> = experiment
         .planners
         .iter()
-        .filter(|p| p.name == CAPSO)
+        .filter(|p| p.name == capso_name)
         .collect();
     if labels.is_empty() {
         return String::new();
@@ -186,14 +219,6 @@ fn render_capso(experiment: &Experiment, records: &[RunRecord]) -> String {
     let mut out = String::from("## CAPSO: lengths and convergence (seed 002 section 4.2.2, Fig. 11)\n\nLengths over the repeats that found a path; the curve is the mean over all repeats of the best fitness (length + penalty x collision) after each iteration.\n\n");
     for map in &experiment.maps {
         for problem in map.problems.iter().filter(|p| p.invalid.is_none()) {
-            let runs = |label: &str| -> Vec<&RunRecord> {
-                records
-                    .iter()
-                    .filter(|r| {
-                        r.map == map.name && r.problem == problem.index && r.planner == label
-                    })
-                    .collect()
-            };
             let _ = writeln!(
                 out,
                 "### {} problem {}: {} -> {}\n\n| Planner | Control points | Found | Mean length | Min | Max |\n|---|---:|---:|---:|---:|---:|",
@@ -201,7 +226,7 @@ fn render_capso(experiment: &Experiment, records: &[RunRecord]) -> String {
             );
             let mut curves: Vec<Vec<(f64, f64)>> = Vec::new();
             for planner in &labels {
-                let all = runs(&planner.label);
+                let all = index.runs(&map.name, problem.index, &planner.label);
                 let lengths: Vec<f64> = all.iter().filter_map(|r| r.length).collect();
                 let stat = |f: fn(&[f64]) -> f64| {
                     if lengths.is_empty() {
@@ -258,7 +283,7 @@ fn render_capso(experiment: &Experiment, records: &[RunRecord]) -> String {
 }
 
 /// The mean over `runs` of their `best_fitness` series, point by point (x taken from the
-/// first run; only the x values every run has).
+/// first run; only as many points as the shortest series has).
 fn mean_curve(runs: &[&RunRecord]) -> Vec<(f64, f64)> {
     let series: Vec<&planner_api::Series> = runs
         .iter()
@@ -353,7 +378,7 @@ mod tests {
             algorithm: algorithm.into(),
             repeat,
             seed: None,
-            status: "found".into(),
+            status: RunStatus::Found,
             error: None,
             steps: Some(1),
             turns: Some(0),
@@ -363,6 +388,7 @@ mod tests {
             valid: Some(true),
             counters: Counters::new(),
             time_ms,
+            setup_ms: 0.0,
             peak_heap_bytes: 0,
             path: None,
             returns: None,
@@ -373,7 +399,7 @@ mod tests {
 
     fn experiment(repeats: u32) -> Experiment {
         let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../maps/pastar/open-140x120.map");
+            .join("../../maps/pastar/open-140x120.map");
         let text = format!(
             "name = \"t\"\nrepeats = {repeats}\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.TA]\nplanner = \"astar\"\nmoves = 8\n",
             map.display().to_string()
@@ -388,7 +414,7 @@ mod tests {
             record("PA", "pastar", 0, 100.0, 2.0),
             record("TA", "astar", 0, 125.0, 1.0),
         ];
-        let text = render(&experiment, &records);
+        let text = render(&experiment, &ResultsIndex::new(&records), "pastar");
         // (100 - 125) / 100 = -25 %; (2 - 1) / 2 = +50 %.
         assert!(text.contains("| PA | TA | -25.00 % | 50.00 % |"), "{text}");
         assert!(text.contains("| TA | astar | found | 125.00 | 1.0000 (1.0000~1.0000) |"));
@@ -396,7 +422,7 @@ mod tests {
         // Without PA-star, nothing.
         let mut plain = experiment.clone();
         plain.planners.retain(|p| p.name != "pastar");
-        assert_eq!(render(&plain, &records), "");
+        assert_eq!(render(&plain, &ResultsIndex::new(&records), "pastar"), "");
     }
 
     #[test]
@@ -410,7 +436,7 @@ mod tests {
             records.push(record("PA", "pastar", r, 100.0, 1.0 + f64::from(r)));
             records.push(record("TA", "astar", r, 125.0, 10.0 + f64::from(r * r)));
         }
-        let text = render(&experiment, &records);
+        let text = render(&experiment, &ResultsIndex::new(&records), "pastar");
         assert!(
             text.contains("| open-140x120.map #1 | 5.33 | 1 | 2.092e-2 |"),
             "{text}"
@@ -426,7 +452,7 @@ mod tests {
     #[test]
     fn seeded_planners_report_the_mean_length_and_capso_its_curve() {
         let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../maps/pastar/open-140x120.map");
+            .join("../../maps/pastar/open-140x120.map");
         let text = format!(
             "name = \"t\"\nrepeats = 3\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.C4]\nplanner = \"capso\"\ncontrol_points = 4\n",
             map.display().to_string()
@@ -447,19 +473,22 @@ mod tests {
             records.push(capso);
         }
         // Repeat 2 found nothing: the mean is over 95 and 105.
-        records[5].status = "no_path".into();
+        records[5].status = RunStatus::NoPath;
         records[5].length = None;
-        let text = render(&experiment, &records);
+        let index = ResultsIndex::new(&records);
+        let text = render(&experiment, &index, "pastar");
         assert!(
             text.contains("| C4 | capso | found 2/3 | 100.00 |"),
             "{text}"
         );
         assert!(text.contains("| PA | C4 | 0.00 % | -4900.00 % |"), "{text}");
+        let text = render_capso(&experiment, &index, "capso");
         assert!(
             text.contains("| C4 | 4 | 2/3 | 100.00 | 95.00 | 105.00 |"),
             "{text}"
         );
         // Mean of 200 + r over r = 0, 1, 2 at iteration 0, and of 190 + r at 10.
         assert!(text.contains("| 0 | 201.00 |\n| 10 | 191.00 |"), "{text}");
+        assert_eq!(render_capso(&experiment, &index, "rrt"), "");
     }
 }
