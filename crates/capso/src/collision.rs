@@ -44,19 +44,29 @@ impl Collision {
 /// cannot occur when `a` and `b` are in the grid.
 pub fn segment_collision(grid: &Grid, a: Cell, b: Cell) -> Collision {
     let mut collision = Collision::default();
+    let mut fraction = 0.0;
     for_each_segment_cell(a, b, |cell| {
         if !grid.is_free(cell) {
             collision.cells += 1;
-            collision.length += clipped_length(a, b, cell);
+            fraction += clipped_fraction(a, b, cell);
         }
         true
     });
+    if fraction > 0.0 {
+        collision.length = fraction * a.euclidean(b);
+    }
     collision
 }
 
 /// The length of the segment between the centres of `a` and `b` inside the square of
 /// `cell` (side 1, centred on the cell's centre), by Liang-Barsky clipping.
 pub fn clipped_length(a: Cell, b: Cell, cell: Cell) -> f64 {
+    clipped_fraction(a, b, cell) * a.euclidean(b)
+}
+
+/// The fraction of the segment between the centres of `a` and `b` that lies inside the
+/// square of `cell`: the parameter interval `[t0, t1]` of Liang-Barsky clipping.
+fn clipped_fraction(a: Cell, b: Cell, cell: Cell) -> f64 {
     let (ax, ay) = (f64::from(a.x), f64::from(a.y));
     let (dx, dy) = (f64::from(b.x) - ax, f64::from(b.y) - ay);
     let (cx, cy) = (f64::from(cell.x), f64::from(cell.y));
@@ -82,7 +92,7 @@ pub fn clipped_length(a: Cell, b: Cell, cell: Cell) -> f64 {
         }
     }
     if t1 > t0 {
-        (t1 - t0) * dx.hypot(dy)
+        t1 - t0
     } else {
         0.0
     }

@@ -451,14 +451,15 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
         if b <= a + 1 {
             continue;
         }
+        // Squared distances: the same order as distances, without a square root.
         let (mut farthest, mut distance) = (a, -1.0);
         for (k, &cell) in cells.iter().enumerate().take(b).skip(a + 1) {
-            let d = point_segment_distance(cell, cells[a], cells[b]);
+            let d = squared_point_segment_distance(cell, cells[a], cells[b]);
             if d > distance {
                 (farthest, distance) = (k, d);
             }
         }
-        if distance > tolerance {
+        if distance > tolerance * tolerance {
             keep[farthest] = true;
             stack.push((farthest, b));
             stack.push((a, farthest));
@@ -466,9 +467,9 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
     }
 }
 
-/// The Euclidean distance from the centre of `p` to the segment between the centres of
-/// `a` and `b`.
-fn point_segment_distance(p: Cell, a: Cell, b: Cell) -> f64 {
+/// The squared Euclidean distance from the centre of `p` to the segment between the
+/// centres of `a` and `b`.
+fn squared_point_segment_distance(p: Cell, a: Cell, b: Cell) -> f64 {
     let (px, py) = (f64::from(p.x), f64::from(p.y));
     let (ax, ay) = (f64::from(a.x), f64::from(a.y));
     let (dx, dy) = (f64::from(b.x) - ax, f64::from(b.y) - ay);
@@ -478,7 +479,8 @@ fn point_segment_distance(p: Cell, a: Cell, b: Cell) -> f64 {
     } else {
         (((px - ax) * dx + (py - ay) * dy) / squared).clamp(0.0, 1.0)
     };
-    (px - ax - t * dx).hypot(py - ay - t * dy)
+    let (ex, ey) = (px - ax - t * dx, py - ay - t * dy);
+    ex * ex + ey * ey
 }
 
 /// CAPSO's counters as plain integers (crate docs, "Outcome and counters").
