@@ -10,7 +10,8 @@
 use planner_api::ParamError;
 
 use crate::factory::{Factory, Task};
-use crate::report::{seed002::Seed002, Section};
+use crate::report::seed002::{Seed002, Seed002Capso};
+use crate::report::Section;
 
 /// One registered planner.
 pub struct Entry {
@@ -83,6 +84,12 @@ pub const PLANNERS: &[Entry] = &[
         factory: |params| Factory::path(planner_pastar::NAME, params, planner_pastar::PaStar::new),
     },
     Entry {
+        name: planner_capso::NAME,
+        summary: "CAPSO (seed 002's reference [44]): cubic spline through control points, chaotic adaptive PSO with beetle antennae search; seeded",
+        task: Task::StartGoal,
+        factory: |params| Factory::path(planner_capso::NAME, params, planner_capso::Capso::new),
+    },
+    Entry {
         name: planner_coverage::NAME,
         summary: "coverage (seed 004): spiral or zigzag filling, backtracking points, A* returns",
         task: Task::Coverage,
@@ -118,11 +125,16 @@ pub const PLANNERS: &[Entry] = &[
 ];
 
 /// The report sections that belong to a planner, beside the generic ones: seed 002's
-/// tables compare PA-star with its references.
+/// tables compare PA-star with its references, and CAPSO's lengths and convergence curve.
 pub fn planner_sections() -> Vec<Box<dyn Section>> {
-    vec![Box::new(Seed002 {
-        proposed: planner_pastar::NAME,
-    })]
+    vec![
+        Box::new(Seed002 {
+            proposed: planner_pastar::NAME,
+        }),
+        Box::new(Seed002Capso {
+            capso: planner_capso::NAME,
+        }),
+    ]
 }
 
 /// The entry named `name`.

@@ -14,7 +14,14 @@
 //!   its tables). Dunn's p is Bonferroni-adjusted over all `k (k - 1) / 2` pairs of the
 //!   `k` labels, as the paper's p-values are (see planner-stats).
 //!
-//! A scenario is one (map, problem). Lengths come from repeat 0; times from all repeats.
+//! A scenario is one (map, problem). Lengths come from repeat 0, except for seeded
+//! planners (CAPSO), whose length is the mean over the repeats that found a path (the
+//! status column then counts them); times come from all repeats.
+//!
+//! [`Seed002Capso`] (section `seed002_capso`, for labels running the registry's CAPSO)
+//! follows seed 002 section 4.2.2 (Fig. 11): per scenario and CAPSO label its control
+//! points and the found count, mean, min and max length over the repeats, then the mean
+//! over the repeats of the `best_fitness` series (Fig. 11 b) every 10 iterations.
 
 use std::fmt::Write as _;
 
@@ -23,6 +30,7 @@ use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
 use super::{median_iqr, Context, Reproduction, Section};
 use crate::config::{Experiment, PlannerSpec};
 use crate::index::ResultsIndex;
+use crate::record::{RunRecord, RunStatus};
 
 /// Seed 002's comparison of a proposed planner with its references (section name
 /// `seed002`).
@@ -50,6 +58,32 @@ impl Section for Seed002 {
     }
 }
 
+/// Seed 002's CAPSO lengths and mean convergence curve (section name `seed002_capso`;
+/// module docs).
+pub struct Seed002Capso {
+    /// The registry name of CAPSO.
+    pub capso: &'static str,
+}
+
+impl Section for Seed002Capso {
+    fn name(&self) -> &'static str {
+        "seed002_capso"
+    }
+
+    /// When some label runs CAPSO.
+    fn applies(&self, context: &Context<'_>) -> bool {
+        context
+            .experiment
+            .planners
+            .iter()
+            .any(|p| p.name == self.capso)
+    }
+
+    fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
+        out.push_str(&render_capso(context.experiment, context.index, self.capso));
+    }
+}
+
 /// The seed-002 sections of summary.md, or nothing when no label runs `proposed_name`.
 fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str) -> String {
     let proposed: Vec<&PlannerSpec> = experiment
@@ -66,17 +100,26 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
         .filter(|p| p.name != proposed_name)
         .collect();
     let mut out = String::from("## PA-star and its references (seed 002, Tables 6-10 layout)\n\n");
-    out.push_str("Path length of repeat 0; `R_length = (L_PA - L_ref) / L_PA` and `R_time = (t_PA - t_ref) / t_PA` with median times (equations 10-11: negative when PA-star is shorter or faster).\n\n");
+    out.push_str("Path length of repeat 0 (seeded planners: the mean over the repeats that found a path, their count in the status column); `R_length = (L_PA - L_ref) / L_PA` and `R_time = (t_PA - t_ref) / t_PA` with median times (equations 10-11: negative when PA-star is shorter or faster).\n\n");
     let mut timing = String::new();
     let mut kw_rows = String::new();
     for map in &experiment.maps {
         for problem in map.problems.iter().filter(|p| p.invalid.is_none()) {
             let runs = |label: &str| index.runs(&map.name, problem.index, label);
-            let length = |label: &str| {
-                runs(label)
+            let stochastic = |label: &str| {
+                experiment
+                    .planners
                     .iter()
-                    .find(|r| r.repeat == 0)
-                    .and_then(|r| r.length)
+                    .any(|p| p.label == label && p.factory.specs().seeded)
+            };
+            let length = |label: &str| {
+                let all = runs(label);
+                if stochastic(label) {
+                    let found: Vec<f64> = all.iter().filter_map(|r| r.length).collect();
+                    (!found.is_empty()).then(|| found.iter().sum::<f64>() / found.len() as f64)
+                } else {
+                    all.iter().find(|r| r.repeat == 0).and_then(|r| r.length)
+                }
             };
             let times =
                 |label: &str| -> Vec<f64> { runs(label).iter().map(|r| r.time_ms).collect() };
@@ -89,10 +132,14 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
             out.push_str("| Planner | Algorithm | Status | Path length | Time ms median (IQR) |\n|---|---|---|---:|---:|\n");
             for planner in &experiment.planners {
                 let all = runs(&planner.label);
-                let status = all
-                    .iter()
-                    .find(|r| r.repeat == 0)
-                    .map_or("-", |r| r.status.as_str());
+                let status = if stochastic(&planner.label) {
+                    let n_found = all.iter().filter(|r| r.status == RunStatus::Found).count();
+                    format!("found {n_found}/{}", all.len())
+                } else {
+                    all.iter()
+                        .find(|r| r.repeat == 0)
+                        .map_or("-".into(), |r| r.status.as_str().to_string())
+                };
                 let _ = writeln!(
                     out,
                     "| {} | {} | {} | {} | {} |",
@@ -157,6 +204,100 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
         out.push_str(&timing);
     }
     out
+}
+
+/// The CAPSO section (module docs), or nothing without a label running `capso_name`.
+fn render_capso(experiment: &Experiment, index: &ResultsIndex<'_>, capso_name: &str) -> String {
+    let labels: Vec<&PlannerSpec> = experiment
+        .planners
+        .iter()
+        .filter(|p| p.name == capso_name)
+        .collect();
+    if labels.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from("## CAPSO: lengths and convergence (seed 002 section 4.2.2, Fig. 11)\n\nLengths over the repeats that found a path; the curve is the mean over all repeats of the best fitness (length + penalty x collision) after each iteration.\n\n");
+    for map in &experiment.maps {
+        for problem in map.problems.iter().filter(|p| p.invalid.is_none()) {
+            let _ = writeln!(
+                out,
+                "### {} problem {}: {} -> {}\n\n| Planner | Control points | Found | Mean length | Min | Max |\n|---|---:|---:|---:|---:|---:|",
+                map.name, problem.index, problem.start, problem.goal
+            );
+            let mut curves: Vec<Vec<(f64, f64)>> = Vec::new();
+            for planner in &labels {
+                let all = index.runs(&map.name, problem.index, &planner.label);
+                let lengths: Vec<f64> = all.iter().filter_map(|r| r.length).collect();
+                let stat = |f: fn(&[f64]) -> f64| {
+                    if lengths.is_empty() {
+                        "-".to_string()
+                    } else {
+                        format!("{:.2}", f(&lengths))
+                    }
+                };
+                let control_points = planner
+                    .params
+                    .get("control_points")
+                    .map_or("6 (default)".into(), |v| v.to_string());
+                let _ = writeln!(
+                    out,
+                    "| {} | {control_points} | {}/{} | {} | {} | {} |",
+                    planner.label,
+                    lengths.len(),
+                    all.len(),
+                    stat(|v| v.iter().sum::<f64>() / v.len() as f64),
+                    stat(|v| v.iter().copied().fold(f64::INFINITY, f64::min)),
+                    stat(|v| v.iter().copied().fold(f64::NEG_INFINITY, f64::max)),
+                );
+                curves.push(mean_curve(&all));
+            }
+            out.push_str("\n| Iteration |");
+            for planner in &labels {
+                let _ = write!(out, " {} |", planner.label);
+            }
+            out.push_str("\n|---:|");
+            out.push_str(&"---:|".repeat(labels.len()));
+            out.push('\n');
+            let last = curves
+                .iter()
+                .filter_map(|c| c.last().map(|p| p.0))
+                .fold(0.0, f64::max);
+            let mut iteration = 0.0;
+            while iteration <= last {
+                let _ = write!(out, "| {iteration} |");
+                for curve in &curves {
+                    match curve.iter().find(|p| p.0 == iteration) {
+                        Some(p) => {
+                            let _ = write!(out, " {:.2} |", p.1);
+                        }
+                        None => out.push_str(" - |"),
+                    }
+                }
+                out.push('\n');
+                iteration += 10.0;
+            }
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// The mean over `runs` of their `best_fitness` series, point by point (x taken from the
+/// first run; only as many points as the shortest series has).
+fn mean_curve(runs: &[&RunRecord]) -> Vec<(f64, f64)> {
+    let series: Vec<&planner_api::Series> = runs
+        .iter()
+        .filter_map(|r| r.series.iter().find(|s| s.name == "best_fitness"))
+        .collect();
+    let Some(shortest) = series.iter().map(|s| s.points.len()).min() else {
+        return Vec::new();
+    };
+    (0..shortest)
+        .map(|i| {
+            let sum: f64 = series.iter().map(|s| s.points[i][1]).sum();
+            (series[0].points[i][0], sum / series.len() as f64)
+        })
+        .collect()
 }
 
 fn timing_table(
@@ -225,7 +366,6 @@ fn percent(value: Option<f64>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::RunRecord;
     use planner_api::{Cell, Counters};
 
     fn record(planner: &str, algorithm: &str, repeat: u32, length: f64, time_ms: f64) -> RunRecord {
@@ -238,7 +378,7 @@ mod tests {
             algorithm: algorithm.into(),
             repeat,
             seed: None,
-            status: crate::record::RunStatus::Found,
+            status: RunStatus::Found,
             error: None,
             steps: Some(1),
             turns: Some(0),
@@ -308,5 +448,48 @@ mod tests {
             text.contains("| PA | 2.5000 (1.7500~3.2500) | 0.9929 | 9.719e-1 | - | - |"),
             "{text}"
         );
+    }
+
+    #[test]
+    fn seeded_planners_report_the_mean_length_and_capso_its_curve() {
+        let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../maps/pastar/open-140x120.map");
+        let text = format!(
+            "name = \"t\"\nrepeats = 3\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.C4]\nplanner = \"capso\"\ncontrol_points = 4\n",
+            map.display().to_string()
+        );
+        let experiment = crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
+        let mut records = Vec::new();
+        for r in 0..3 {
+            records.push(record("PA", "pastar", r, 100.0, 1.0));
+            let mut capso = record("C4", "capso", r, 95.0 + 10.0 * f64::from(r), 50.0);
+            capso.seed = Some(u64::from(r));
+            let mut curve = planner_api::Series::new("best_fitness", "iteration");
+            for k in 0..=10 {
+                curve
+                    .points
+                    .push([f64::from(k), 200.0 - f64::from(k) + f64::from(r)]);
+            }
+            capso.series.push(curve);
+            records.push(capso);
+        }
+        // Repeat 2 found nothing: the mean is over 95 and 105.
+        records[5].status = RunStatus::NoPath;
+        records[5].length = None;
+        let index = ResultsIndex::new(&records);
+        let text = render(&experiment, &index, "pastar");
+        assert!(
+            text.contains("| C4 | capso | found 2/3 | 100.00 |"),
+            "{text}"
+        );
+        assert!(text.contains("| PA | C4 | 0.00 % | -4900.00 % |"), "{text}");
+        let text = render_capso(&experiment, &index, "capso");
+        assert!(
+            text.contains("| C4 | 4 | 2/3 | 100.00 | 95.00 | 105.00 |"),
+            "{text}"
+        );
+        // Mean of 200 + r over r = 0, 1, 2 at iteration 0, and of 190 + r at 10.
+        assert!(text.contains("| 0 | 201.00 |\n| 10 | 191.00 |"), "{text}");
+        assert_eq!(render_capso(&experiment, &index, "rrt"), "");
     }
 }

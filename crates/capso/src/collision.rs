@@ -1,0 +1,225 @@
+//! The collision cost of a path segment, exact against the grid.
+//!
+//! A segment joins two cell centres. The cells it touches are those that
+//! [`planner_api::for_each_segment_cell`] visits: every cell whose closed square meets the
+//! segment, including the two side cells where it passes exactly through a grid vertex
+//! (the rule [`planner_api::PathRule::AnyAngle`] checks). For the blocked ones among them
+//! the cost counts the cells and the length of the segment inside each cell's square
+//! (Liang-Barsky clipping), so a segment that only grazes a blocked corner still costs one
+//! cell although its length inside is 0. A segment costs nothing exactly when
+//! [`planner_api::segment_is_free`] holds for it.
+
+use planner_api::{for_each_segment_cell, Cell, Grid};
+
+/// What a segment or a path crosses of the blocked cells.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Collision {
+    /// Blocked cells touched (per segment; a waypoint cell shared by two segments counts
+    /// in both).
+    pub cells: u64,
+    /// Length inside blocked cells, in cell widths.
+    pub length: f64,
+}
+
+impl Collision {
+    /// Whether nothing blocked is touched.
+    pub fn is_free(&self) -> bool {
+        self.cells == 0
+    }
+
+    /// The penalty measure: one per blocked cell touched plus the length inside them.
+    pub fn cost(&self) -> f64 {
+        self.cells as f64 + self.length
+    }
+
+    /// Adds `other`'s cells and length.
+    pub fn add(&mut self, other: Collision) {
+        self.cells += other.cells;
+        self.length += other.length;
+    }
+}
+
+/// The blocked cells the segment between the centres of `a` and `b` touches and its length
+/// inside them. Cells outside the grid count as blocked (as in `segment_is_free`); they
+/// cannot occur when `a` and `b` are in the grid.
+pub fn segment_collision(grid: &Grid, a: Cell, b: Cell) -> Collision {
+    let mut collision = Collision::default();
+    let mut fraction = 0.0;
+    for_each_segment_cell(a, b, |cell| {
+        if !grid.is_free(cell) {
+            collision.cells += 1;
+            fraction += clipped_fraction(a, b, cell);
+        }
+        true
+    });
+    if fraction > 0.0 {
+        collision.length = fraction * a.euclidean(b);
+    }
+    collision
+}
+
+/// The length of the segment between the centres of `a` and `b` inside the square of
+/// `cell` (side 1, centred on the cell's centre), by Liang-Barsky clipping.
+pub fn clipped_length(a: Cell, b: Cell, cell: Cell) -> f64 {
+    clipped_fraction(a, b, cell) * a.euclidean(b)
+}
+
+/// The fraction of the segment between the centres of `a` and `b` that lies inside the
+/// square of `cell`: the parameter interval `[t0, t1]` of Liang-Barsky clipping.
+fn clipped_fraction(a: Cell, b: Cell, cell: Cell) -> f64 {
+    let (ax, ay) = (f64::from(a.x), f64::from(a.y));
+    let (dx, dy) = (f64::from(b.x) - ax, f64::from(b.y) - ay);
+    let (cx, cy) = (f64::from(cell.x), f64::from(cell.y));
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    // Each side: p t <= q must hold for the point a + t (dx, dy) to be inside.
+    for (p, q) in [
+        (-dx, ax - (cx - 0.5)),
+        (dx, (cx + 0.5) - ax),
+        (-dy, ay - (cy - 0.5)),
+        (dy, (cy + 0.5) - ay),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return 0.0;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    if t1 > t0 {
+        t1 - t0
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Whether the closed square of `cell` meets the closed segment between the centres
+    /// of `a` and `b`, in exact integer arithmetic (coordinates doubled so that square
+    /// corners are integers): the bounding boxes overlap and the square's corners are not
+    /// all strictly on one side of the segment's line (the separating axis test).
+    fn touches(a: Cell, b: Cell, cell: Cell) -> bool {
+        let (ax, ay) = (2 * i64::from(a.x), 2 * i64::from(a.y));
+        let (bx, by) = (2 * i64::from(b.x), 2 * i64::from(b.y));
+        let (cx, cy) = (2 * i64::from(cell.x), 2 * i64::from(cell.y));
+        if ax.max(bx) < cx - 1 || ax.min(bx) > cx + 1 || ay.max(by) < cy - 1 || ay.min(by) > cy + 1
+        {
+            return false;
+        }
+        let side = |px: i64, py: i64| ((bx - ax) * (py - ay) - (by - ay) * (px - ax)).signum();
+        let sides = [
+            side(cx - 1, cy - 1),
+            side(cx + 1, cy - 1),
+            side(cx - 1, cy + 1),
+            side(cx + 1, cy + 1),
+        ];
+        !(sides.iter().all(|&s| s > 0) || sides.iter().all(|&s| s < 0))
+    }
+
+    /// The brute force: every cell of the grid tested for contact, and the length inside
+    /// every blocked cell clipped, without the traversal.
+    fn brute_force(grid: &Grid, a: Cell, b: Cell) -> Collision {
+        let mut collision = Collision::default();
+        for cell in grid.cells() {
+            if !grid.is_free(cell) && touches(a, b, cell) {
+                collision.cells += 1;
+            }
+            if !grid.is_free(cell) {
+                collision.length += clipped_length(a, b, cell);
+            }
+        }
+        collision
+    }
+
+    fn check(grid: &Grid, a: Cell, b: Cell) {
+        let fast = segment_collision(grid, a, b);
+        let slow = brute_force(grid, a, b);
+        assert_eq!(fast.cells, slow.cells, "{a:?} -> {b:?}");
+        assert!(
+            (fast.length - slow.length).abs() < 1e-9,
+            "{a:?} -> {b:?}: {} vs {}",
+            fast.length,
+            slow.length
+        );
+        assert_eq!(
+            fast.is_free(),
+            planner_api::segment_is_free(grid, a, b),
+            "{a:?} -> {b:?}"
+        );
+    }
+
+    #[test]
+    fn by_hand() {
+        let grid = Grid::from_ascii(
+            "
+            ....
+            .#..
+            ..#.
+            ....
+            ",
+        )
+        .unwrap();
+        let c = |x, y| Cell::new(x, y);
+        // Along row 1 through the blocked (1, 1): one cell, length 1.
+        let hit = segment_collision(&grid, c(0, 1), c(3, 1));
+        assert_eq!((hit.cells, hit.length), (1, 1.0));
+        // The diagonal (0,0) -> (3,3) crosses both blocked cells, sqrt 2 inside each.
+        let diagonal = segment_collision(&grid, c(0, 0), c(3, 3));
+        assert_eq!(diagonal.cells, 2);
+        assert!((diagonal.length - 2.0 * 2f64.sqrt()).abs() < 1e-12);
+        // (2, 0) -> (0, 2) crosses (1, 1) through its centre along the anti-diagonal;
+        // the side cells at the two vertices it passes are free.
+        let anti = segment_collision(&grid, c(2, 0), c(0, 2));
+        assert_eq!(anti.cells, 1);
+        assert!((anti.length - 2f64.sqrt()).abs() < 1e-12);
+        // (1, 0) -> (3, 2) passes the vertices (1.5, 0.5) and (2.5, 1.5): it touches the
+        // blocked (1, 1) and (2, 2) at a corner each, with length 0 inside.
+        let graze = segment_collision(&grid, c(1, 0), c(3, 2));
+        assert_eq!((graze.cells, graze.length), (2, 0.0));
+        assert!(!planner_api::segment_is_free(&grid, c(1, 0), c(3, 2)));
+        // (0, 3) -> (3, 0) passes the vertex (1.5, 1.5) between the two blocked cells.
+        let between = segment_collision(&grid, c(0, 3), c(3, 0));
+        assert_eq!((between.cells, between.length), (2, 0.0));
+        // Free.
+        assert_eq!(
+            segment_collision(&grid, c(0, 3), c(3, 3)),
+            Collision {
+                cells: 0,
+                length: 0.0
+            }
+        );
+    }
+
+    #[test]
+    fn traversal_agrees_with_a_brute_force_cell_walk() {
+        // A xorshift generator: random 12 x 9 grids with about 35% blocked, random segments.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut n_hits = 0;
+        for _ in 0..40 {
+            let (w, h) = (12u32, 9u32);
+            let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= 35).collect();
+            let grid = Grid::from_free_cells(w, h, free).unwrap();
+            for _ in 0..50 {
+                let a = Cell::new((next() % 12) as u32, (next() % 9) as u32);
+                let b = Cell::new((next() % 12) as u32, (next() % 9) as u32);
+                check(&grid, a, b);
+                n_hits += u64::from(!segment_collision(&grid, a, b).is_free());
+            }
+        }
+        assert!(n_hits > 500, "too few colliding segments to test: {n_hits}");
+    }
+}

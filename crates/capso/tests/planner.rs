@@ -1,0 +1,157 @@
+//! CAPSO end to end: reproducibility, validity on random maps, seed 002's open map.
+
+use planner_api::{Budget, Cell, Grid, PathRule, Planner, Problem, Status};
+use planner_capso::{Capso, Config};
+
+fn run(grid: &Grid, start: (u32, u32), goal: (u32, u32), config: Config) -> planner_api::Outcome {
+    let problem = Problem::new(grid, start.into(), goal.into()).unwrap();
+    Capso::new(config)
+        .unwrap()
+        .plan(&problem, &Budget::unlimited())
+}
+
+fn small(seed: u64) -> Config {
+    Config {
+        seed,
+        control_points: 3,
+        population: 12,
+        iterations: 25,
+        ..Config::default()
+    }
+}
+
+#[test]
+fn same_seed_same_path_bit_for_bit() {
+    let file = planner_testkit::map_file("pastar/two-140x120.map");
+    let a = run(&file.grid, (20, 10), (70, 110), small(5));
+    let b = run(&file.grid, (20, 10), (70, 110), small(5));
+    assert_eq!(a, b);
+    let bits = |o: &planner_api::Outcome| -> Vec<u64> {
+        o.series[0].points.iter().map(|p| p[1].to_bits()).collect()
+    };
+    assert_eq!(bits(&a), bits(&b));
+    // Another seed takes another route through the search.
+    let c = run(&file.grid, (20, 10), (70, 110), small(6));
+    assert_ne!(bits(&a), bits(&c));
+}
+
+#[test]
+fn every_found_path_is_valid_on_random_maps() {
+    // A xorshift generator: 40 x 30 grids with random blocked rectangles.
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let (mut n_found, mut n_other) = (0, 0);
+    for round in 0..12 {
+        let (w, h) = (40u32, 30u32);
+        let mut grid = Grid::new(w, h).unwrap();
+        for _ in 0..8 {
+            let (x0, y0) = ((next() % 36) as u32, (next() % 26) as u32);
+            let (rw, rh) = (1 + (next() % 6) as u32, 1 + (next() % 8) as u32);
+            for y in y0..(y0 + rh).min(h) {
+                for x in x0..(x0 + rw).min(w) {
+                    grid.set_free(Cell::new(x, y), false);
+                }
+            }
+        }
+        let (start, goal) = (Cell::new(1, 1), Cell::new(38, 28));
+        grid.set_free(start, true);
+        grid.set_free(goal, true);
+        let outcome = run(&grid, (1, 1), (38, 28), small(round));
+        match outcome.status {
+            Status::Found => {
+                let path = outcome.path.unwrap();
+                assert_eq!(
+                    path.validate(&grid, PathRule::AnyAngle),
+                    Ok(()),
+                    "round {round}"
+                );
+                assert_eq!((path.start(), path.goal()), (Some(start), Some(goal)));
+                assert_eq!(outcome.counters.get("final_collision_cells"), Some(0));
+                assert_eq!(
+                    outcome.counters.get("final_collision_length_milli"),
+                    Some(0)
+                );
+                n_found += 1;
+            }
+            Status::NoPath => {
+                assert!(outcome.path.is_none());
+                assert!(outcome.counters.get("final_collision_cells").unwrap() > 0);
+                n_other += 1;
+            }
+            Status::BudgetExhausted => panic!("round {round}: unlimited budget ran out"),
+        }
+        // 12 + 25 * 12 * 3 evaluations, 26 curve points, non-increasing.
+        assert_eq!(outcome.counters.get("n_fitness_evaluations"), Some(912));
+        assert_eq!(outcome.counters.get("n_expanded"), Some(912));
+        let curve = &outcome.series[0];
+        assert_eq!(
+            (curve.name.as_str(), curve.x.as_str()),
+            ("best_fitness", "iteration")
+        );
+        assert_eq!(curve.points.len(), 26);
+        assert!(curve.points.windows(2).all(|p| p[1][1] <= p[0][1]));
+    }
+    assert!(n_found >= 6, "found {n_found}, not found {n_other}");
+}
+
+#[test]
+fn the_open_map_gives_the_straight_line() {
+    // Seed 002 Table 6: CAPSO 111.84 against PA-star's straight 111.80.
+    let file = planner_testkit::map_file("pastar/open-140x120.map");
+    for seed in 0..3 {
+        let outcome = run(
+            &file.grid,
+            (20, 10),
+            (70, 110),
+            Config {
+                seed,
+                ..Config::default()
+            },
+        );
+        assert_eq!(outcome.status, Status::Found);
+        let length = outcome.path.unwrap().metrics().length;
+        assert!(
+            (length - 111.80).abs() <= 0.001 * 111.80,
+            "seed {seed}: {length}"
+        );
+    }
+    // Without the simplification the rounded samples of the same line zigzag.
+    let config = Config {
+        tolerance: 0.0,
+        ..Config::default()
+    };
+    let unsimplified = run(&file.grid, (20, 10), (70, 110), config);
+    let length = unsimplified.path.unwrap().metrics().length;
+    assert!(length > 1.02 * 111.80, "{length}");
+}
+
+#[test]
+fn the_budget_counts_fitness_evaluations() {
+    let file = planner_testkit::map_file("pastar/two-140x120.map");
+    let problem = Problem::new(&file.grid, Cell::new(20, 10), Cell::new(70, 110)).unwrap();
+    let mut capso = Capso::new(small(1)).unwrap();
+    let outcome = capso.plan(&problem, &Budget::expansions(100));
+    assert_eq!(outcome.status, Status::BudgetExhausted);
+    assert_eq!(outcome.counters.get("n_fitness_evaluations"), Some(100));
+    if let Some(path) = outcome.path {
+        assert_eq!(path.validate(&file.grid, PathRule::AnyAngle), Ok(()));
+    }
+    // 12 initial evaluations, then 36 per iteration: 12 + 2 * 36 = 84, and the third
+    // iteration is cut after 16 more.
+    assert_eq!(outcome.counters.get("n_iterations"), Some(2));
+    let none = capso.plan(&problem, &Budget::expansions(0));
+    assert_eq!((none.status, none.path), (Status::BudgetExhausted, None));
+}
+
+#[test]
+fn start_equal_to_goal_is_the_one_cell_path() {
+    let grid = Grid::new(3, 3).unwrap();
+    let outcome = run(&grid, (1, 1), (1, 1), Config::default());
+    assert_eq!(outcome.status, Status::Found);
+    assert_eq!(outcome.path.unwrap().cells(), [Cell::new(1, 1)]);
+}
