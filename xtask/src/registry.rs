@@ -75,6 +75,12 @@ pub const PLANNERS: &[Entry] = &[
         kind: Kind::Deterministic,
         build: |params| build(params, planner_pastar::PaStar::new),
     },
+    Entry {
+        name: planner_jps::NAME,
+        summary: "Jump Point Search, 8-connected without corner cutting: jps, jps_prime, jps_plus (exact octile costs)",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_jps::Jps::new),
+    },
     // (registry end)
 ];
 
