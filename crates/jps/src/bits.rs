@@ -184,7 +184,9 @@ impl BitGrid {
     /// Whether this is the bit grid of `grid`.
     pub(crate) fn is_for(&self, grid: &Grid) -> bool {
         (self.width, self.height) == (grid.width(), grid.height())
-            && grid.cells().all(|c| self.free(c.x as i32, c.y as i32) == grid.is_free(c))
+            && grid
+                .cells()
+                .all(|c| self.free(c.x as i32, c.y as i32) == grid.is_free(c))
     }
 
     /// The width in cells.
@@ -201,8 +203,7 @@ impl BitGrid {
     /// (the padding, blocked).
     #[inline(always)]
     pub(crate) fn free(&self, x: i32, y: i32) -> bool {
-        self.rows
-            .bit((y + 1) as usize, (x + PAD as i32) as usize)
+        self.rows.bit((y + 1) as usize, (x + PAD as i32) as usize)
     }
 
     /// The straight jump from `(x, y)` in direction `dir` (0 to 3): `(true, k)` when it
@@ -291,7 +292,13 @@ mod tests {
             state ^= state << 17;
             state
         };
-        for (w, h, density) in [(1, 1, 0), (70, 3, 5), (130, 5, 2), (64, 64, 20), (200, 9, 60)] {
+        for (w, h, density) in [
+            (1, 1, 0),
+            (70, 3, 5),
+            (130, 5, 2),
+            (64, 64, 20),
+            (200, 9, 60),
+        ] {
             let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= density).collect();
             let grid = Grid::from_free_cells(w, h, free).unwrap();
             let bits = BitGrid::build(&grid);
