@@ -44,7 +44,7 @@
 //!   of the node being expanded and the diagonal walk goes on.
 //! - `jps_plus` (2014's JPS+ with pruned intermediate points, "JPS+'"): the jump
 //!   distances of every cell and direction are computed once per grid (see
-//!   [`Jps::prepare`]; 32 bytes per cell) and reused for every query on that grid, so a
+//!   [`Jps::prepare`]; 16 bytes per cell) and reused for every query on that grid, so a
 //!   jump is a table read. Where the goal is not on a jump's way the results are the
 //!   online ones; where it is, a straight jump stops at the goal, and a diagonal walk
 //!   with the goal in its quadrant at `m` diagonal steps (`m` = the smaller of the goal's
@@ -231,19 +231,32 @@ pub struct Jps {
     table: Option<JumpTable>,
     nodes: Vec<Node>,
     generation: u32,
-    open: BinaryHeap<Reverse<(u128, u32)>>,
+    open: BinaryHeap<Reverse<Entry>>,
 }
 
-/// Per-cell search state. `stamp` is `generation << 1 | closed`: a record from an older
+/// An OPEN entry: the bits of `f` (non-negative floats order like their bits), a tie
+/// value that is smaller for larger `g`, and the node.
+type Entry = (u64, u32, u32);
+
+/// Per-cell search state, 16 bytes. `tag` is `generation << 9 | incoming << 1 | closed`,
+/// where `incoming` holds the directions of the moves that reached the node at cost `g`
+/// (bit `d`; 0 for the start, which expands all directions). A record from an older
 /// search counts as unseen, so nothing is cleared between searches.
 #[derive(Debug, Clone, Copy, Default)]
 struct Node {
     g: Cost,
     parent: u32,
-    stamp: u32,
-    /// The directions of the moves that reached the node at cost `g` (bit `d`); 0 for
-    /// the start (all directions are expanded).
-    incoming: u8,
+    tag: u32,
+}
+
+/// The low bits of [`Node::tag`] below the generation.
+const TAG_LOW: u32 = (1 << 9) - 1;
+
+impl Node {
+    #[inline(always)]
+    fn incoming(self) -> u8 {
+        (self.tag >> 1) as u8
+    }
 }
 
 /// The search's counters as plain integers.
@@ -309,7 +322,7 @@ impl Jps {
             self.generation = 0;
         }
         self.generation += 1;
-        if self.generation >= 1 << 31 {
+        if self.generation >= 1 << 23 {
             self.nodes.fill(Node::default());
             self.generation = 1;
         }
@@ -321,8 +334,7 @@ impl Jps {
             open: &mut self.open,
             width: grid.width(),
             goal: problem.goal(),
-            open_stamp: self.generation << 1,
-            closed_stamp: self.generation << 1 | 1,
+            generation: self.generation << 9,
             tally: Tally::default(),
         };
         let start = problem.start();
@@ -330,8 +342,7 @@ impl Jps {
         search.nodes[start_index as usize] = Node {
             g: Cost::default(),
             parent: start_index,
-            stamp: search.open_stamp,
-            incoming: 0,
+            tag: search.generation,
         };
         search.push(start_index, Cost::default(), start.x, start.y);
         search.tally.n_open_insertions = 1;
@@ -340,17 +351,17 @@ impl Jps {
         let goal_index = search.index(goal.x, goal.y);
         let mut clock = budget.start();
         let status = loop {
-            let Some(Reverse((_, p))) = search.open.pop() else {
+            let Some(Reverse((_, _, p))) = search.open.pop() else {
                 break Status::NoPath;
             };
             let node = search.nodes[p as usize];
-            if node.stamp == search.closed_stamp {
+            if node.tag & 1 != 0 {
                 continue; // An older entry of a node improved while in OPEN.
             }
             if !clock.allows(search.tally.n_expanded) {
                 break Status::BudgetExhausted;
             }
-            search.nodes[p as usize].stamp = search.closed_stamp;
+            search.nodes[p as usize].tag |= 1;
             search.tally.n_expanded += 1;
             if p == goal_index {
                 break Status::Found;
@@ -423,11 +434,11 @@ struct Search<'a> {
     bits: &'a BitGrid,
     table: Option<&'a JumpTable>,
     nodes: &'a mut [Node],
-    open: &'a mut BinaryHeap<Reverse<(u128, u32)>>,
+    open: &'a mut BinaryHeap<Reverse<Entry>>,
     width: u32,
     goal: Cell,
-    open_stamp: u32,
-    closed_stamp: u32,
+    /// The generation in the tag's position (`generation << 9`).
+    generation: u32,
     tally: Tally,
 }
 
@@ -458,8 +469,9 @@ impl Search<'_> {
     fn push(&mut self, i: u32, g: Cost, x: u32, y: u32) {
         let h = Cost::octile(x.abs_diff(self.goal.x), y.abs_diff(self.goal.y));
         let f = (g + h).value();
-        let key = (u128::from(f.to_bits()) << 64) | u128::from(!g.value().to_bits());
-        self.open.push(Reverse((key, i)));
+        // Larger g first among equal f, to 1/1024 (a tie rule, not a cost).
+        let tie = u32::MAX - (g.value() * 1024.0) as u32;
+        self.open.push(Reverse((f.to_bits(), tie, i)));
     }
 
     /// Offers `(tx, ty)` as a successor of node `parent` at `(x, y)` with cost `g`.
@@ -467,24 +479,23 @@ impl Search<'_> {
     fn relax(&mut self, parent: u32, g: Cost, x: u32, y: u32, tx: u32, ty: u32) {
         let i = self.index(tx, ty);
         let node = self.nodes[i as usize];
-        if node.stamp == self.closed_stamp {
-            return;
+        let known = node.tag & !TAG_LOW == self.generation;
+        if known && node.tag & 1 != 0 {
+            return; // Closed.
         }
         let g_new = g + Cost::octile(tx.abs_diff(x), ty.abs_diff(y));
-        let direction = 1u8 << last_direction(x, y, tx, ty);
-        let known = node.stamp == self.open_stamp;
+        let direction = 2u32 << last_direction(x, y, tx, ty);
         if !known || g_new < node.g {
             self.tally.n_relaxations += 1;
             self.tally.n_open_insertions += u64::from(!known);
             self.nodes[i as usize] = Node {
                 g: g_new,
                 parent,
-                stamp: self.open_stamp,
-                incoming: direction,
+                tag: self.generation | direction,
             };
             self.push(i, g_new, tx, ty);
         } else if g_new == node.g {
-            self.nodes[i as usize].incoming |= direction;
+            self.nodes[i as usize].tag |= direction;
         }
     }
 
@@ -527,7 +538,7 @@ impl Search<'_> {
     #[inline(always)]
     fn expand<const VARIANT: u8>(&mut self, p: u32, node: Node) {
         let (x, y) = (p % self.width, p / self.width);
-        let mut directions = self.directions(x, y, node.incoming);
+        let mut directions = self.directions(x, y, node.incoming());
         while directions != 0 {
             let d = directions.trailing_zeros() as usize;
             directions &= directions - 1;
@@ -591,9 +602,6 @@ impl Search<'_> {
     #[inline(always)]
     fn plus_straight(&mut self, x: u32, y: u32, d: usize) -> Option<(u32, u32)> {
         let table = self.table?;
-        self.tally.n_scanned += 1;
-        let entry = table.entries(x, y)[d];
-        let reach = entry.unsigned_abs();
         let goal = self.goal;
         let to_goal = match d {
             0 if goal.y == y && goal.x > x => goal.x - x,
@@ -602,12 +610,27 @@ impl Search<'_> {
             3 if goal.x == x && goal.y < y => y - goal.y,
             _ => u32::MAX,
         };
-        if to_goal <= reach {
-            Some((goal.x, goal.y))
-        } else if entry > 0 {
-            Some(step(x, y, d, reach))
-        } else {
-            None
+        // Cells moved by far entries so far.
+        let mut base = 0;
+        loop {
+            self.tally.n_scanned += 1;
+            let (cx, cy) = step(x, y, d, base);
+            let entry = table.entry(cx, cy, d);
+            if entry == plus::FAR_JUMP || entry == plus::FAR_WALL {
+                if to_goal <= base + plus::SPAN {
+                    return Some((goal.x, goal.y));
+                }
+                base += plus::SPAN;
+                continue;
+            }
+            let reach = base + u32::from(entry.unsigned_abs());
+            return if to_goal <= reach {
+                Some((goal.x, goal.y))
+            } else if entry > 0 {
+                Some(step(x, y, d, reach))
+            } else {
+                None
+            };
         }
     }
 
@@ -623,19 +646,29 @@ impl Search<'_> {
         let (mut cx, mut cy) = (x, y);
         loop {
             self.tally.n_scanned += 1;
-            let entry = table.entries(cx, cy)[d];
-            let reach = entry.unsigned_abs();
+            let entry = table.entry(cx, cy, d);
+            let far = entry == plus::FAR_JUMP || entry == plus::FAR_WALL;
+            let reach = if far {
+                plus::SPAN
+            } else {
+                u32::from(entry.unsigned_abs())
+            };
             let (gdx, gdy) = (goal.x as i64 - cx as i64, goal.y as i64 - cy as i64);
             let in_quadrant = gdx * i64::from(dx) > 0 && gdy * i64::from(dy) > 0;
             let target = gdx.unsigned_abs().min(gdy.unsigned_abs());
-            let k = if in_quadrant && target <= u64::from(reach) {
-                target as u32
+            let (k, stops) = if in_quadrant && target <= u64::from(reach) {
+                (target as u32, true)
+            } else if far {
+                (reach, false)
             } else if entry > 0 {
-                reach
+                (reach, true)
             } else {
                 return;
             };
             (cx, cy) = step(cx, cy, d, k);
+            if !stops {
+                continue;
+            }
             if (cx, cy) == (goal.x, goal.y) {
                 self.relax(p, g, x, y, cx, cy);
                 return;

@@ -3,7 +3,9 @@
 //! cell ends when the goal is not on the way.
 //!
 //! An entry `k > 0` says the jump reaches a jump point `k` cells on; `k <= 0` says it
-//! ends at a wall after `-k` free cells (0: the first move is not allowed). A straight
+//! ends at a wall after `-k` free cells (0: the first move is not allowed). Entries are
+//! 16 bits; a jump longer than 32,766 cells is stored as a *far* entry ([`FAR_JUMP`],
+//! [`FAR_WALL`]) that says to move [`SPAN`] cells and read again, so any grid size works. A straight
 //! jump point is a forced cell (`BitGrid::forced`); a diagonal one is a cell from which a
 //! straight jump along one of the two component directions reaches a jump point. These are
 //! the online jumps' rules exactly, so JPS+ expands the same jump points as online JPS
@@ -11,20 +13,31 @@
 
 use crate::bits::{diagonal, BitGrid, DX, DY};
 
-/// The jump distances of one grid, eight per cell, row-major.
+/// An entry meaning "the jump goes on for more than 32,766 cells, towards a jump point":
+/// move [`SPAN`] cells and read the entry there.
+pub(crate) const FAR_JUMP: i16 = i16::MAX;
+/// As [`FAR_JUMP`], towards a wall.
+pub(crate) const FAR_WALL: i16 = i16::MIN;
+/// How far a far entry moves before the next read. Less than half the far threshold, so
+/// the cell it reaches lies strictly before the jump's end and its entry keeps the sign.
+pub(crate) const SPAN: u32 = 16_384;
+
+/// The jump distances of one grid, eight 16-bit entries per cell (16 bytes), row-major.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct JumpTable {
     width: usize,
-    distances: Vec<[i32; 8]>,
+    distances: Vec<[i16; 8]>,
 }
 
 impl JumpTable {
     /// The distances for `bits`, computed by dynamic programming in eight sweeps (each
-    /// direction's entry depends on the neighbour's in that direction).
+    /// direction's entry depends on the neighbour's in that direction), the straight
+    /// directions first since the diagonal ones read them.
     pub(crate) fn build(bits: &BitGrid) -> JumpTable {
         let (w, h) = (bits.width() as usize, bits.height() as usize);
-        let mut distances = vec![[0i32; 8]; w * h];
-        // Straight directions first: the diagonal ones read them.
+        let mut distances = vec![[0i16; 8]; w * h];
+        // The current direction's exact distances, before they are encoded.
+        let mut exact = vec![0i32; w * h];
         for dir in 0..8 {
             let (dx, dy) = (DX[dir], DY[dir]);
             // Visit every cell after its neighbour in direction `dir`.
@@ -46,39 +59,46 @@ impl JumpTable {
                     let entry = if !allowed {
                         0
                     } else {
-                        let next = &distances[ny as usize * w + nx as usize];
+                        let next = ny as usize * w + nx as usize;
                         let stops = if dir < 4 {
                             bits.forced(nx, ny, dir)
                         } else {
-                            next[usize::from(dx < 0)] > 0 || next[2 + usize::from(dy < 0)] > 0
+                            let straight = &distances[next];
+                            straight[usize::from(dx < 0)] > 0
+                                || straight[2 + usize::from(dy < 0)] > 0
                         };
                         if stops {
                             1
-                        } else if next[dir] > 0 {
-                            next[dir] + 1
+                        } else if exact[next] > 0 {
+                            exact[next] + 1
                         } else {
-                            next[dir] - 1
+                            exact[next] - 1
                         }
                     };
-                    distances[y * w + x][dir] = entry;
+                    exact[y * w + x] = entry;
+                    distances[y * w + x][dir] = match entry {
+                        e if e > 32_766 => FAR_JUMP,
+                        e if e < -32_766 => FAR_WALL,
+                        e => e as i16,
+                    };
                 }
             }
         }
-        debug_assert!((0..8).all(|d| d < 4 || diagonal(DX[d], DY[d]) == d));
+        debug_assert!((4..8).all(|d| diagonal(DX[d], DY[d]) == d));
         JumpTable {
             width: w,
             distances,
         }
     }
 
-    /// The eight entries of cell `(x, y)`.
+    /// The entry of cell `(x, y)` in direction `dir`.
     #[inline(always)]
-    pub(crate) fn entries(&self, x: u32, y: u32) -> &[i32; 8] {
-        &self.distances[y as usize * self.width + x as usize]
+    pub(crate) fn entry(&self, x: u32, y: u32, dir: usize) -> i16 {
+        self.distances[y as usize * self.width + x as usize][dir]
     }
 
     /// Bytes held.
     pub(crate) fn memory_bytes(&self) -> usize {
-        self.distances.len() * std::mem::size_of::<[i32; 8]>()
+        self.distances.len() * std::mem::size_of::<[i16; 8]>()
     }
 }

@@ -187,3 +187,37 @@ fn an_edited_grid_is_planned_afresh() {
         assert_eq!(length(&mut planner, &grid), Some(4.0));
     }
 }
+
+#[test]
+fn jumps_longer_than_the_table_entries_agree() {
+    // A 70,000-cell corridor with a few pillars: JPS+'s 16-bit entries must chain far
+    // entries (more than 32,766 cells) to give the online variants' answers.
+    let (w, h) = (70_000u32, 3u32);
+    let mut free = vec![true; (w * h) as usize];
+    for x in [5u32, 40_000, 69_990] {
+        free[(w + x) as usize] = false; // Pillars in the middle row.
+    }
+    let grid = Grid::from_free_cells(w, h, free).unwrap();
+    for (start, goal) in [
+        (Cell::new(0, 1), Cell::new(69_999, 1)),
+        (Cell::new(69_999, 0), Cell::new(0, 2)),
+        (Cell::new(3, 0), Cell::new(50_000, 2)),
+        (Cell::new(2, 2), Cell::new(36_000, 2)),
+    ] {
+        let problem = Problem::new(&grid, start, goal).unwrap();
+        let lengths: Vec<f64> = VARIANTS
+            .iter()
+            .map(|&v| {
+                let outcome = jps(v).plan(&problem, &Budget::unlimited());
+                assert_eq!(outcome.status, Status::Found, "{v:?} {start} -> {goal}");
+                outcome.path.unwrap().metrics().length
+            })
+            .collect();
+        let (dx, dy) = (start.x.abs_diff(goal.x), start.y.abs_diff(goal.y));
+        assert!(lengths[0] >= start.octile(goal) - 1e-9 && lengths[0] <= f64::from(dx + dy) + 4.0);
+        assert!(
+            (lengths[1] - lengths[0]).abs() < 1e-6 && (lengths[2] - lengths[0]).abs() < 1e-6,
+            "{start} -> {goal}: {lengths:?}"
+        );
+    }
+}
