@@ -134,16 +134,15 @@
 
 mod bits;
 mod cost;
+mod open;
 mod plus;
-
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 
 use bits::{diagonal, BitGrid, DX, DY};
 pub use cost::Cost;
 use planner_api::{
     Budget, Cell, Connectivity, Counters, Grid, Mark, Outcome, Path, Planner, Problem, Status,
 };
+use open::Open;
 use plus::JumpTable;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -231,12 +230,8 @@ pub struct Jps {
     table: Option<JumpTable>,
     nodes: Vec<Node>,
     generation: u32,
-    open: BinaryHeap<Reverse<Entry>>,
+    open: Open,
 }
-
-/// An OPEN entry: the bits of `f` (non-negative floats order like their bits), a tie
-/// value that is smaller for larger `g`, and the node.
-type Entry = (u64, u32, u32);
 
 /// Per-cell search state, 16 bytes. `tag` is `generation << 9 | incoming << 1 | closed`,
 /// where `incoming` holds the directions of the moves that reached the node at cost `g`
@@ -288,7 +283,7 @@ impl Jps {
             table: None,
             nodes: Vec::new(),
             generation: 0,
-            open: BinaryHeap::new(),
+            open: Open::default(),
         })
     }
 
@@ -351,9 +346,10 @@ impl Jps {
         let goal_index = search.index(goal.x, goal.y);
         let mut clock = budget.start();
         let status = loop {
-            let Some(Reverse((_, _, p))) = search.open.pop() else {
+            let Some((_, tie_and_node)) = search.open.pop() else {
                 break Status::NoPath;
             };
+            let p = tie_and_node as u32;
             let node = search.nodes[p as usize];
             if node.tag & 1 != 0 {
                 continue; // An older entry of a node improved while in OPEN.
@@ -434,7 +430,7 @@ struct Search<'a> {
     bits: &'a BitGrid,
     table: Option<&'a JumpTable>,
     nodes: &'a mut [Node],
-    open: &'a mut BinaryHeap<Reverse<Entry>>,
+    open: &'a mut Open,
     width: u32,
     goal: Cell,
     /// The generation in the tag's position (`generation << 9`).
@@ -471,7 +467,8 @@ impl Search<'_> {
         let f = (g + h).value();
         // Larger g first among equal f, to 1/1024 (a tie rule, not a cost).
         let tie = u32::MAX - (g.value() * 1024.0) as u32;
-        self.open.push(Reverse((f.to_bits(), tie, i)));
+        self.open
+            .push((f.to_bits(), u64::from(tie) << 32 | u64::from(i)));
     }
 
     /// Offers `(tx, ty)` as a successor of node `parent` at `(x, y)` with cost `g`.
