@@ -20,7 +20,7 @@ fn main() {
         ..Config::default()
     })
     .unwrap();
-    p.prepare(&grid);
+    p.precompute(&grid);
     let t = Instant::now();
     let (mut exp, mut ins, mut peak, mut rel) = (0, 0, 0, 0);
     for s in &sc {

@@ -16,7 +16,7 @@ fn main() {
             })
             .unwrap();
             let t = Instant::now();
-            let prep = p.prepare(&grid);
+            let prep = p.precompute(&grid);
             let tp = t.elapsed();
             let mut best = f64::MAX;
             let mut exp = 0;

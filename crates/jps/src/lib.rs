@@ -44,7 +44,7 @@
 //!   of the node being expanded and the diagonal walk goes on.
 //! - `jps_plus` (2014's JPS+ with pruned intermediate points, "JPS+'"): the jump
 //!   distances of every cell and direction are computed once per grid (see
-//!   [`Jps::prepare`]; 16 bytes per cell) and reused for every query on that grid, so a
+//!   [`Jps::precompute`]; 16 bytes per cell) and reused for every query on that grid, so a
 //!   jump is a table read. Where the goal is not on a jump's way the results are the
 //!   online ones; where it is, a straight jump stops at the goal, and a diagonal walk
 //!   with the goal in its quadrant at `m` diagonal steps (`m` = the smaller of the goal's
@@ -139,10 +139,11 @@ mod plus;
 
 use bits::{diagonal, BitGrid, DX, DY};
 pub use cost::Cost;
-use planner_api::{
-    Budget, Cell, Connectivity, Counters, Grid, Mark, Outcome, Path, Planner, Problem, Status,
-};
 use open::Open;
+use planner_api::{
+    Budget, Cell, Connectivity, Counters, Grid, Mark, MoveSet, Outcome, ParamKey, Path, PathSpec,
+    Planner, PlannerSpecs, Problem, Status,
+};
 use plus::JumpTable;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -213,7 +214,16 @@ pub enum ConfigError {
     CornerCutting,
 }
 
-/// What the grid's precomputation holds, from [`Jps::prepare`].
+impl ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Moves(_) => "moves",
+            ConfigError::CornerCutting => "corner_cutting",
+        }
+    }
+}
+
+/// What the grid's precomputation holds, from [`Jps::precompute`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Prepared {
     /// Bytes of the bit-packed rows and columns (every variant).
@@ -226,6 +236,8 @@ pub struct Prepared {
 #[derive(Debug, Clone)]
 pub struct Jps {
     config: Config,
+    /// The moves the paths are made of (for [`PlannerSpecs`]).
+    moves: MoveSet,
     bits: Option<BitGrid>,
     table: Option<JumpTable>,
     nodes: Vec<Node>,
@@ -279,6 +291,7 @@ impl Jps {
         }
         Ok(Jps {
             config,
+            moves: MoveSet::standard(Connectivity::Eight),
             bits: None,
             table: None,
             nodes: Vec::new(),
@@ -294,8 +307,8 @@ impl Jps {
 
     /// Builds (or finds cached) the grid's derived data: the bit grid, and for `jps_plus`
     /// the jump table. [`Planner::plan`] calls it; call it first to time the
-    /// precomputation apart from the queries.
-    pub fn prepare(&mut self, grid: &Grid) -> Prepared {
+    /// precomputation apart from the queries ([`Planner::prepare`] calls it too).
+    pub fn precompute(&mut self, grid: &Grid) -> Prepared {
         let (bits, rebuilt) = BitGrid::cached(&mut self.bits, grid);
         if self.config.variant == Variant::JpsPlus && (rebuilt || self.table.is_none()) {
             self.table = Some(JumpTable::build(bits));
@@ -308,9 +321,9 @@ impl Jps {
 
     fn search<const VARIANT: u8>(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
-        self.prepare(grid);
+        self.precompute(grid);
         let (Some(bits), table) = (&self.bits, &self.table) else {
-            unreachable!("prepare fills the bit grid")
+            unreachable!("precompute fills the bit grid")
         };
         if self.nodes.len() != grid.len() {
             self.nodes = vec![Node::default(); grid.len()];
@@ -691,6 +704,18 @@ fn step(x: u32, y: u32, d: usize, k: u32) -> (u32, u32) {
 impl Planner for Jps {
     fn name(&self) -> &str {
         NAME
+    }
+
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone()))
+    }
+
+    fn prepare(&mut self, grid: &Grid) {
+        self.precompute(grid);
+        if self.nodes.len() != grid.len() {
+            self.nodes = vec![Node::default(); grid.len()];
+            self.generation = 0;
+        }
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

@@ -77,7 +77,9 @@ mod tests {
         let mut reference = Vec::new();
         let mut state = 12345u64;
         for round in 0..2000u64 {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             if state >> 62 == 0 {
                 let expected = reference.iter().min().copied();
                 if let Some(e) = expected {
