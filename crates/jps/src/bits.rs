@@ -63,14 +63,18 @@ impl Rows {
     /// `(false, k)` when the jump ends at a wall after `k` free cells.
     #[inline(always)]
     fn jump<const FORWARD: bool>(&self, r: usize, p0: usize, target: usize) -> (bool, usize) {
+        // The rows beside are read once per window; their bits one step back along the
+        // jump are the window shifted by one, plus the bit carried from the last window.
         if FORWARD {
             let mut p = p0 + 1;
+            let mut up_carry = u64::from(self.bit(r - 1, p - 1));
+            let mut down_carry = u64::from(self.bit(r + 1, p - 1));
             loop {
                 let cur = self.window(r, p);
                 let up = self.window(r - 1, p);
-                let up_behind = self.window(r - 1, p - 1);
                 let down = self.window(r + 1, p);
-                let down_behind = self.window(r + 1, p - 1);
+                let up_behind = (up << 1) | up_carry;
+                let down_behind = (down << 1) | down_carry;
                 let stop = !cur | (up & !up_behind) | (down & !down_behind);
                 let end = if stop == 0 {
                     p + 64
@@ -87,17 +91,21 @@ impl Rows {
                         (true, end - p0)
                     };
                 }
+                up_carry = up >> 63;
+                down_carry = down >> 63;
                 p += 64;
             }
         } else {
             // The window of positions p - 63 ..= p; bit 63 is position p.
             let mut p = p0 - 1;
+            let mut up_carry = u64::from(self.bit(r - 1, p + 1)) << 63;
+            let mut down_carry = u64::from(self.bit(r + 1, p + 1)) << 63;
             loop {
                 let cur = self.window(r, p - 63);
                 let up = self.window(r - 1, p - 63);
-                let up_behind = self.window(r - 1, p - 62);
                 let down = self.window(r + 1, p - 63);
-                let down_behind = self.window(r + 1, p - 62);
+                let up_behind = (up >> 1) | up_carry;
+                let down_behind = (down >> 1) | down_carry;
                 let stop = !cur | (up & !up_behind) | (down & !down_behind);
                 // The stop position, or one below the window when none.
                 let end = if stop == 0 {
@@ -115,6 +123,8 @@ impl Rows {
                         (true, p0 - end)
                     };
                 }
+                up_carry = (up & 1) << 63;
+                down_carry = (down & 1) << 63;
                 p -= 64;
             }
         }

@@ -243,6 +243,8 @@ pub struct Jps {
     nodes: Vec<Node>,
     generation: u32,
     open: Open,
+    /// The jump points of the last path found, start to goal (a reused buffer).
+    chain: Vec<u32>,
 }
 
 /// Per-cell search state, 16 bytes. `tag` is `generation << 9 | incoming << 1 | closed`,
@@ -297,6 +299,7 @@ impl Jps {
             nodes: Vec::new(),
             generation: 0,
             open: Open::default(),
+            chain: Vec::new(),
         })
     }
 
@@ -406,15 +409,22 @@ impl Jps {
 
     /// The cell-by-cell path through the parent chain, each leg diagonal first, and the
     /// chain's interior jump points as marks (when configured).
-    fn reconstruct(&self, grid: &Grid, start: u32, goal: u32) -> (Path, Vec<Mark>) {
-        let mut chain = vec![goal];
+    fn reconstruct(&mut self, grid: &Grid, start: u32, goal: u32) -> (Path, Vec<Mark>) {
+        let chain = &mut self.chain;
+        chain.clear();
+        chain.push(goal);
         let mut at = goal;
+        let mut n_cells = 1;
         while at != start {
-            at = self.nodes[at as usize].parent;
+            let parent = self.nodes[at as usize].parent;
+            let (a, b) = (grid.cell(at as usize), grid.cell(parent as usize));
+            n_cells += a.x.abs_diff(b.x).max(a.y.abs_diff(b.y)) as usize;
+            at = parent;
             chain.push(at);
         }
         chain.reverse();
-        let mut cells = vec![grid.cell(start as usize)];
+        let mut cells = Vec::with_capacity(n_cells);
+        cells.push(grid.cell(start as usize));
         for leg in chain.windows(2) {
             let (from, to) = (grid.cell(leg[0] as usize), grid.cell(leg[1] as usize));
             let (mut x, mut y) = (from.x as i64, from.y as i64);
