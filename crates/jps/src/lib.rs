@@ -115,8 +115,8 @@
 //! (1, 1) behind adds south and south-east). East: (3, 0), then the border: 1 cell.
 //! South: (2, 1), then (2, 2), forced by (1, 2) free and (1, 1) blocked: 2 cells, a jump
 //! point with f = 4 + 1 = 5. South-east: one diagonal step to (3, 1) (1 cell), whose east
-//! jump fails (0) and whose south jump reaches G (1): (3, 1) is a jump point, f = 2 + sqrt 2
-//! + 1 = 4.41. Now 9 scanned, 5 insertions, 4 relaxations, and OPEN holds 5 - 2 = 3
+//! jump fails (0) and whose south jump reaches G (1): (3, 1) is a jump point with
+//! f = (2 + sqrt 2) + 1 = 4.41. Now 9 scanned, 5 insertions, 4 relaxations, and OPEN holds 5 - 2 = 3
 //! nodes (`peak_open`). (3, 1) is expanded (reached diagonally: south-east, east, south):
 //! south reaches G after 1 cell (10 scanned; G inserted, f = 4.41), east and south-east
 //! leave the grid. G is popped and is the fourth expansion. Path cost `3 + sqrt 2`; the
