@@ -251,6 +251,14 @@ pub struct Jps {
     nodes: Vec<Node>,
     generation: u32,
     open: Open,
+    /// One byte per node record: equal to `closed_mark` when the node is closed in this
+    /// search: a quarter-megabyte for 512 x 512, which stays in cache, so relaxing a jump
+    /// point that is already closed (3.9 million times in random512-10-0's scenarios with
+    /// `jps`) reads no node record.
+    closed: Vec<u8>,
+    /// The current search's mark in `closed`; it cycles through 1 to 255, and the array
+    /// is cleared when it wraps.
+    closed_mark: u8,
     /// The jump points of the last path found, start to goal (a reused buffer).
     chain: Vec<u32>,
 }
@@ -307,6 +315,8 @@ impl Jps {
             nodes: Vec::new(),
             generation: 0,
             open: Open::default(),
+            closed: Vec::new(),
+            closed_mark: 0,
             chain: Vec::new(),
         })
     }
@@ -342,11 +352,18 @@ impl Jps {
             self.nodes.fill(Node::default());
             self.generation = 1;
         }
+        self.closed_mark = self.closed_mark.wrapping_add(1);
+        if self.closed_mark == 0 {
+            self.closed.fill(0);
+            self.closed_mark = 1;
+        }
         self.open.clear();
         let mut search = Search {
             bits,
             table: table.as_ref(),
             nodes: &mut self.nodes,
+            closed: &mut self.closed,
+            closed_mark: self.closed_mark,
             open: &mut self.open,
             shift: index_shift(grid),
             goal: problem.goal(),
@@ -379,6 +396,7 @@ impl Jps {
                 break Status::BudgetExhausted;
             }
             search.nodes[p as usize].tag |= 1;
+            search.closed[p as usize] = search.closed_mark;
             search.tally.n_expanded += 1;
             if p == goal_index {
                 break Status::Found;
@@ -419,6 +437,8 @@ impl Jps {
         if self.nodes.len() != len {
             self.nodes = vec![Node::default(); len];
             self.generation = 0;
+            self.closed = vec![0; len];
+            self.closed_mark = 0;
         }
     }
 
@@ -470,6 +490,8 @@ struct Search<'a> {
     bits: &'a BitGrid,
     table: Option<&'a JumpTable>,
     nodes: &'a mut [Node],
+    closed: &'a mut [u8],
+    closed_mark: u8,
     open: &'a mut Open,
     /// Node `(x, y)` is record `y << shift | x`.
     shift: u32,
@@ -522,11 +544,11 @@ impl Search<'_> {
     #[inline(always)]
     fn relax(&mut self, parent: u32, g: Cost, x: u32, y: u32, tx: u32, ty: u32) {
         let i = self.index(tx, ty);
+        if self.closed[i as usize] == self.closed_mark {
+            return; // Closed: known without reading the larger node record.
+        }
         let node = self.nodes[i as usize];
         let known = node.tag & !TAG_LOW == self.generation;
-        if known && node.tag & 1 != 0 {
-            return; // Closed.
-        }
         let g_new = g + Cost::octile(tx.abs_diff(x), ty.abs_diff(y));
         let direction = 2u32 << last_direction(x, y, tx, ty);
         if !known || g_new < node.g {
