@@ -44,7 +44,7 @@
 //!   of the node being expanded and the diagonal walk goes on.
 //! - `jps_plus` (2014's JPS+ with pruned intermediate points, "JPS+'"): the jump
 //!   distances of every cell and direction are computed once per grid (see
-//!   [`Jps::precompute`]; 16 bytes per cell) and reused for every query on that grid, so a
+//!   [`Jps::precompute`]; 8 bytes per cell) and reused for every query on that grid, so a
 //!   jump is a table read. Where the goal is not on a jump's way the results are the
 //!   online ones; where it is, a straight jump stops at the goal, and a diagonal walk
 //!   with the goal in its quadrant at `m` diagonal steps (`m` = the smaller of the goal's
@@ -57,11 +57,12 @@
 //!
 //! # Precomputation and memory
 //! Every variant keeps the bit grid: two bit copies with padding, 90,464 bytes for a
-//! 512 x 512 map. `jps_plus` adds the jump table, 16 bytes per cell: 4,194,304 bytes for
-//! 512 x 512 (random512-10-0), built in about 15 ms on the 2-core test machine (plus a
-//! transient 4 bytes per cell while it is built); `cargo bench -p planner-jps --bench
-//! movingai` prints the time and sizes on each run. The per-query state is 16 bytes per
-//! cell (cost, parent, and a generation tag, so nothing is cleared between queries).
+//! 512 x 512 map. `jps_plus` adds the jump table, 8 bytes per cell: 2,097,152 bytes for
+//! 512 x 512 (random512-10-0), built in 15 to 40 ms on the shared 2-core test machine
+//! (plus a transient 4 bytes per cell while it is built); `cargo bench -p planner-jps --bench
+//! movingai` prints the time and sizes on each run. The per-query state is 17 bytes per
+//! cell (cost, parent, a generation tag, so nothing is cleared between queries, and a
+//! closed mark).
 //!
 //! # Costs
 //! Costs are exact: `g` is a [`Cost`], a count of straight and of diagonal moves compared

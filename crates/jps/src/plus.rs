@@ -4,8 +4,10 @@
 //!
 //! An entry `k > 0` says the jump reaches a jump point `k` cells on; `k <= 0` says it
 //! ends at a wall after `-k` free cells (0: the first move is not allowed). Entries are
-//! 16 bits; a jump longer than 32,766 cells is stored as a *far* entry ([`FAR_JUMP`],
-//! [`FAR_WALL`]) that says to move [`SPAN`] cells and read again, so any grid size works. A straight
+//! one byte (the table is read once or more per expansion, so its size is what decides
+//! how much of it the cache holds); a jump of 127 cells or more is stored as a *far*
+//! entry ([`FAR_JUMP`], [`FAR_WALL`]) that says to move [`SPAN`] = 63 cells and read
+//! again, so any grid size works. A straight
 //! jump point is a forced cell (`BitGrid::forced`); a diagonal one is a cell from which a
 //! straight jump along one of the two component directions reaches a jump point. These are
 //! the online jumps' rules exactly, so JPS+ expands the same jump points as online JPS
@@ -13,20 +15,23 @@
 
 use crate::bits::{diagonal, BitGrid, DX, DY};
 
-/// An entry meaning "the jump goes on for more than 32,766 cells, towards a jump point":
+/// An entry meaning "the jump goes on for 127 cells or more, towards a jump point":
 /// move [`SPAN`] cells and read the entry there.
-pub(crate) const FAR_JUMP: i16 = i16::MAX;
+pub(crate) const FAR_JUMP: Entry = Entry::MAX;
 /// As [`FAR_JUMP`], towards a wall.
-pub(crate) const FAR_WALL: i16 = i16::MIN;
+pub(crate) const FAR_WALL: Entry = Entry::MIN;
 /// How far a far entry moves before the next read. Less than half the far threshold, so
 /// the cell it reaches lies strictly before the jump's end and its entry keeps the sign.
-pub(crate) const SPAN: u32 = 16_384;
+pub(crate) const SPAN: u32 = (Entry::MAX as u32).div_ceil(2) - 1;
 
-/// The jump distances of one grid, eight 16-bit entries per cell (16 bytes), row-major.
+/// A table entry.
+pub(crate) type Entry = i8;
+
+/// The jump distances of one grid, eight one-byte entries per cell, row-major.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct JumpTable {
     width: usize,
-    distances: Vec<[i16; 8]>,
+    distances: Vec<[Entry; 8]>,
 }
 
 impl JumpTable {
@@ -35,7 +40,7 @@ impl JumpTable {
     /// directions first since the diagonal ones read them.
     pub(crate) fn build(bits: &BitGrid) -> JumpTable {
         let (w, h) = (bits.width() as usize, bits.height() as usize);
-        let mut distances = vec![[0i16; 8]; w * h];
+        let mut distances = vec![[0; 8]; w * h];
         // The current direction's exact distances, before they are encoded.
         let mut exact = vec![0i32; w * h];
         for dir in 0..8 {
@@ -77,9 +82,9 @@ impl JumpTable {
                     };
                     exact[y * w + x] = entry;
                     distances[y * w + x][dir] = match entry {
-                        e if e > 32_766 => FAR_JUMP,
-                        e if e < -32_766 => FAR_WALL,
-                        e => e as i16,
+                        e if e >= i32::from(FAR_JUMP) => FAR_JUMP,
+                        e if e <= -i32::from(FAR_JUMP) => FAR_WALL,
+                        e => e as Entry,
                     };
                 }
             }
@@ -93,12 +98,12 @@ impl JumpTable {
 
     /// The entry of cell `(x, y)` in direction `dir`.
     #[inline(always)]
-    pub(crate) fn entry(&self, x: u32, y: u32, dir: usize) -> i16 {
+    pub(crate) fn entry(&self, x: u32, y: u32, dir: usize) -> Entry {
         self.distances[y as usize * self.width + x as usize][dir]
     }
 
     /// Bytes held.
     pub(crate) fn memory_bytes(&self) -> usize {
-        self.distances.len() * std::mem::size_of::<[i16; 8]>()
+        self.distances.len() * std::mem::size_of::<[Entry; 8]>()
     }
 }
