@@ -2,14 +2,15 @@
 //!
 //! The runner (configs, registry, sweeps, reports) is the `planner-runner` library; this
 //! crate adds what a binary owns: the counting allocator behind the runner's peak-heap
-//! hook ([`alloc`]), the progress bar, writing the results directory ([`output`]), and the
+//! hook ([`alloc`]), the progress bar, writing the results directory safely ([`outdir`]:
+//! its marker, its lock and the atomic swap), and the
 //! repository's own tasks: `new-planner` ([`scaffold`]) and `gen-pastar-maps`
 //! ([`write_pastar_maps`]).
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod alloc;
-pub mod output;
+pub mod outdir;
 pub mod scaffold;
 
 use std::path::{Path, PathBuf};
@@ -48,6 +49,7 @@ pub fn experiment(
     let started = Instant::now();
     let experiment = config::load(config).map_err(|e| e.to_string())?;
     let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
+    outdir::check(&dir).map_err(|e| e.to_string())?;
     tracing::info!(experiment = %experiment.name, runs = experiment.n_runs(), "sweep");
     let bar = if progress {
         let bar =
@@ -85,7 +87,8 @@ pub fn experiment(
         },
     ];
     files.extend(figures::render(&experiment, &records));
-    output::write_atomically(&dir, &files)?;
+    outdir::write_results(&dir, &experiment.name, &files, outdir::DEFAULT_LOCK_WAIT)
+        .map_err(|e| e.to_string())?;
     Ok(Report {
         n_runs: records.len(),
         output: dir,

@@ -4,8 +4,6 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use serde::Serialize;
-
 use crate::config::Experiment;
 use crate::record::RunRecord;
 use crate::RunnerError;
@@ -19,24 +17,23 @@ pub struct OutputFile {
     pub contents: Vec<u8>,
 }
 
-#[derive(Serialize)]
-struct RunsJson<'a> {
-    experiment: &'a str,
-    config: String,
-    runs: &'a [RunRecord],
-}
-
-/// The runs as JSON: `{"experiment": ..., "config": ..., "runs": [...]}`, each record's
-/// fields and counters in their order (the planner's, for counters).
+/// The runs as JSON: `{"experiment": ..., "config": ..., "runs": [...]}`, one record per
+/// line (compact: a sweep's file stays a few times the CSV's size), each record's fields
+/// and counters in their order (the planner's, for counters).
 pub fn runs_json(experiment: &Experiment, records: &[RunRecord]) -> Result<Vec<u8>, RunnerError> {
-    let value = RunsJson {
-        experiment: &experiment.name,
-        config: experiment.source.display().to_string(),
-        runs: records,
-    };
-    let mut text = serde_json::to_string_pretty(&value).map_err(RunnerError::Json)?;
-    text.push('\n');
-    Ok(text.into_bytes())
+    let mut out = Vec::with_capacity(records.len() * 256 + 128);
+    out.extend_from_slice(b"{\"experiment\":");
+    serde_json::to_writer(&mut out, &experiment.name).map_err(RunnerError::Json)?;
+    out.extend_from_slice(b",\"config\":");
+    serde_json::to_writer(&mut out, &experiment.source.display().to_string())
+        .map_err(RunnerError::Json)?;
+    out.extend_from_slice(b",\"runs\":[");
+    for (i, record) in records.iter().enumerate() {
+        out.extend_from_slice(if i == 0 { b"\n" } else { b",\n" });
+        serde_json::to_writer(&mut out, record).map_err(RunnerError::Json)?;
+    }
+    out.extend_from_slice(b"\n]}\n");
+    Ok(out)
 }
 
 /// The runs as CSV: fixed columns, then one column per counter name in order of first

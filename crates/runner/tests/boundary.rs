@@ -1,0 +1,215 @@
+//! The typed planner boundary end to end: `plan` and `experiment` agree (seeds included),
+//! the runner validates paths by the rule a planner declares, parameter errors point at
+//! their key for every registered planner, and run records keep the planner's counter order.
+
+use std::path::{Path, PathBuf};
+
+use planner_api::{
+    Budget, Cell, Connectivity, Counters, MoveSet, Outcome, ParamKey, PathSpec, Planner,
+    PlannerSpecs, Problem,
+};
+use planner_runner::factory::Factory;
+use planner_runner::plan::PlanArgs;
+use planner_runner::registry::PLANNERS;
+use planner_runner::{config, output, run_all, RunOptions};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gridplan-boundary-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A config's top-level `seed` reaches RRT the same way through `plan --config` as through
+/// `experiment` (it did not: `plan` ran seed 0 while `experiment` ran seed 5).
+#[test]
+fn plan_and_experiment_run_the_same_run() {
+    let dir = scratch("seed");
+    let map = root().join("maps/wpi/map3.txt");
+    let config = dir.join("c.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "name = \"s\"\nseed = 5\n[[maps]]\nfiles = [{:?}]\nproblems = \"file\"\n[planners.r]\nplanner = \"rrt\"\n[planners.a]\nplanner = \"astar\"\nmoves = 8\nheuristic = \"octile\"\n",
+            map.display().to_string()
+        ),
+    )
+    .unwrap();
+    let experiment = config::load(&config).unwrap();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    for label in ["r", "a"] {
+        for problem in 1..=3 {
+            let swept = records
+                .iter()
+                .find(|r| r.planner == label && r.problem == problem && r.repeat == 0)
+                .unwrap();
+            let args = PlanArgs {
+                map: map.clone(),
+                planner: label.into(),
+                config: Some(config.clone()),
+                problem: Some(problem),
+                ..Default::default()
+            };
+            let planned = planner_runner::plan::run(&args).unwrap().record;
+            let what = format!("{label} problem {problem}");
+            assert_eq!(planned.seed, swept.seed, "{what}");
+            assert_eq!(planned.counters, swept.counters, "{what}");
+            assert_eq!(planned.path, swept.path, "{what}");
+            assert_eq!(planned.status, swept.status, "{what}");
+        }
+    }
+    let rrt = records.iter().find(|r| r.planner == "r").unwrap();
+    assert_eq!(rrt.seed, Some(5));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A planner that declares 4-connected moves and returns a diagonal step.
+struct Liar;
+
+#[derive(Debug, Clone, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LiarConfig {}
+
+#[derive(Debug, thiserror::Error)]
+#[error("never")]
+struct Never;
+
+impl ParamKey for Never {
+    fn param_key(&self) -> &str {
+        ""
+    }
+}
+
+impl Liar {
+    fn new(_: LiarConfig) -> Result<Liar, Never> {
+        Ok(Liar)
+    }
+}
+
+impl Planner for Liar {
+    fn name(&self) -> &str {
+        "liar"
+    }
+
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::Moves(MoveSet::standard(Connectivity::Four)))
+    }
+
+    fn plan(&mut self, problem: &Problem<'_>, _budget: &Budget) -> Outcome {
+        let (s, g) = (problem.start(), problem.goal());
+        // A straight diagonal from start to goal: fine under the any-angle rule on an
+        // open map, not a 4-connected path.
+        let cells = (0..=g.x - s.x)
+            .map(|i| Cell::new(s.x + i, s.y + i))
+            .collect();
+        Outcome::found(planner_api::Path::new(cells), Counters::new())
+    }
+}
+
+#[test]
+fn a_path_breaking_the_declared_rule_is_recorded_invalid() {
+    let dir = scratch("liar");
+    std::fs::write(
+        dir.join("open.map"),
+        "type octile\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\n",
+    )
+    .unwrap();
+    let text = "name = \"l\"\n[[maps]]\nfiles = [\"open.map\"]\nproblems = \"corners\"\n[planners.x]\nplanner = \"astar\"\n";
+    let mut experiment = config::parse(&dir.join("c.toml"), text).unwrap();
+    let honest = run_all(&experiment, &RunOptions::default()).unwrap();
+    assert_eq!(honest[0].valid, Some(true));
+    experiment.planners[0].factory = Factory::path("liar", &toml::Table::new(), Liar::new).unwrap();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    assert_eq!(records[0].steps, Some(3));
+    assert_eq!(
+        records[0].valid,
+        Some(false),
+        "a diagonal path from a 4-connected planner"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A bad parameter, for every planner: an unknown key, and for the planners listed a value
+/// its constructor rejects. The error points at the key's line and column.
+#[test]
+fn parameter_errors_point_at_their_key_for_every_planner() {
+    let bad_values = [
+        ("astar", "weight = -2.0"),
+        ("astar", "order = \"R\""),
+        ("backtracking", "order = \"R\""),
+        ("backtracking", "corner_cutting = true"),
+        ("bfs", "order = \"R L\""),
+        ("dfs", "order = \"R L D\""),
+        ("lexastar", "moves = 16"),
+        ("rrt", "goal_bias = 2.0"),
+        ("rrt", "seed = -1"),
+        ("pastar", "beta = -1.0"),
+        ("coverage", "pattern = \"diagonal\""),
+    ];
+    let map = root().join("maps/paper/map01.map").display().to_string();
+    let check = |name: &str, line: &str| {
+        let text = format!(
+            "name = \"k\"\n[[maps]]\nfiles = [{map:?}]\nproblems = \"corners\"\n[planners.x]\nplanner = \"{name}\"\n{line}\n"
+        );
+        let error = config::parse(Path::new("k.toml"), &text)
+            .err()
+            .unwrap_or_else(|| panic!("{name}: `{line}` was accepted"));
+        assert_eq!(
+            (error.line, error.column),
+            (7, 1),
+            "{name}: `{line}` reported at {}:{} ({error})",
+            error.line,
+            error.column
+        );
+        assert!(error.message.starts_with("planner `x`"), "{error}");
+    };
+    for entry in PLANNERS {
+        check(entry.name, "no_such_parameter = 1");
+    }
+    for (name, line) in bad_values {
+        check(name, line);
+    }
+}
+
+/// runs.json lists A*'s counters in seed 000 Table 2's order (then `peak_open`), not
+/// alphabetically.
+#[test]
+fn run_records_keep_the_planners_counter_order() {
+    let experiment = config::load(&root().join("configs/paper.toml")).unwrap();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    let json = output::runs_json(&experiment, &records).unwrap();
+    let value: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    let astar = value["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["algorithm"] == "astar")
+        .unwrap();
+    let names: Vec<&str> = astar["counters"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "n_expanded",
+            "n_neighbor_checks",
+            "n_blocked",
+            "n_skipped",
+            "n_open_insertions",
+            "n_relaxations",
+            "peak_open"
+        ]
+    );
+    let csv = String::from_utf8(output::runs_csv(&records)).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(
+        header.contains(",peak_heap_bytes,n_expanded,n_neighbor_checks,n_blocked,n_skipped,n_open_insertions,n_relaxations,peak_open,"),
+        "{header}"
+    );
+}

@@ -1,0 +1,157 @@
+//! Every registered planner against the contract of `planner_api::Planner` (and
+//! `CoveragePlanner`), on seeded random grids: no panic; the expansion budget honoured
+//! (the search stops within it and says so); every returned path valid under the rule the
+//! planner declares in its specs, from the start (to the goal); a reused planner gives the
+//! outcome of a fresh one; two runs give the same counters. A planner gets this by being
+//! registered.
+
+use planner_api::{Budget, Cell, CoverageProblem, Grid, Problem, Status};
+use planner_runner::factory::{Built, Factory};
+use planner_runner::registry::PLANNERS;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// The expansion budget of every run: enough for these grids, small enough that
+/// exhaustive planners stay quick.
+const BUDGET: u64 = 20_000;
+
+/// Seeded random problems: several sizes and obstacle densities, start and goal made free
+/// (possibly equal, often disconnected).
+fn problems() -> Vec<(Grid, Cell, Cell)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(2026);
+    let mut out = Vec::new();
+    for (w, h) in [(5, 5), (12, 9), (30, 20)] {
+        for density in [0.0, 0.15, 0.3, 0.45] {
+            for _ in 0..25 {
+                let free: Vec<bool> = (0..w * h).map(|_| !rng.gen_bool(density)).collect();
+                let mut grid = Grid::from_free_cells(w, h, free).unwrap();
+                let start = Cell::new(rng.gen_range(0..w), rng.gen_range(0..h));
+                let goal = Cell::new(rng.gen_range(0..w), rng.gen_range(0..h));
+                grid.set_free(start, true);
+                grid.set_free(goal, true);
+                out.push((grid, start, goal));
+            }
+        }
+    }
+    out
+}
+
+/// The configurations tried for each planner: its defaults, and 8-connected moves where
+/// its config takes `moves = 8`.
+fn variants(factory: fn(&toml::Table) -> Result<Factory, planner_api::ParamError>) -> Vec<Factory> {
+    let mut out = vec![factory(&toml::Table::new()).expect("defaults must be valid")];
+    let eight: toml::Table = toml::from_str("moves = 8").unwrap();
+    if let Ok(f) = factory(&eight) {
+        out.push(f);
+    }
+    out
+}
+
+/// One run's observable result.
+#[derive(Debug, Clone, PartialEq)]
+struct Seen {
+    status: Status,
+    cells: Option<Vec<Cell>>,
+    counters: planner_api::Counters,
+}
+
+fn run(
+    built: &mut Built,
+    grid: &Grid,
+    start: Cell,
+    goal: Cell,
+    seed: Option<u64>,
+    budget: &Budget,
+) -> Seen {
+    match built {
+        Built::Path(p) => {
+            if let Some(seed) = seed {
+                p.reseed(seed);
+            }
+            p.prepare(grid);
+            let problem = Problem::new(grid, start, goal).unwrap();
+            let o = p.plan(&problem, budget);
+            Seen {
+                status: o.status,
+                cells: o.path.map(|p| p.cells().to_vec()),
+                counters: o.counters,
+            }
+        }
+        Built::Coverage(c) => {
+            let problem = CoverageProblem::new(grid, start).unwrap();
+            let o = c.cover(&problem, budget);
+            Seen {
+                status: o.status,
+                cells: Some(o.path.cells().to_vec()),
+                counters: o.counters,
+            }
+        }
+    }
+}
+
+#[test]
+fn every_registered_planner_keeps_the_contract() {
+    let problems = problems();
+    let budget = Budget::expansions(BUDGET);
+    let mut n_checked = 0;
+    for entry in PLANNERS {
+        for (v, factory) in variants(entry.factory).into_iter().enumerate() {
+            let specs = factory.specs().clone();
+            let rule = specs.path_rule.clone();
+            let coverage = matches!(factory.task(), planner_runner::Task::Coverage);
+            let mut reused = factory.build().unwrap();
+            for (i, (grid, start, goal)) in problems.iter().enumerate() {
+                let what = format!("{} (variant {v}) problem {i}", entry.name);
+                let seed = factory.seed_for(7, i as u32);
+                let first = run(&mut reused, grid, *start, *goal, seed, &budget);
+                let mut fresh = factory.build().unwrap();
+                let again = run(&mut fresh, grid, *start, *goal, seed, &budget);
+                assert_eq!(
+                    first, again,
+                    "{what}: a reused planner differs from a fresh one"
+                );
+                let twice = run(&mut fresh, grid, *start, *goal, seed, &budget);
+                assert_eq!(again, twice, "{what}: two runs differ");
+
+                if let Some(expanded) = first.counters.get("n_expanded") {
+                    assert!(
+                        expanded <= BUDGET,
+                        "{what}: {expanded} expansions over the budget"
+                    );
+                    if expanded >= 2 {
+                        let cut = Budget::expansions(expanded / 2);
+                        let short = run(&mut reused, grid, *start, *goal, seed, &cut);
+                        let n = short.counters.get("n_expanded").unwrap_or(0);
+                        assert!(
+                            n <= expanded / 2,
+                            "{what}: {n} expansions over a budget of {}",
+                            expanded / 2
+                        );
+                        if short.status != Status::BudgetExhausted {
+                            // Stopping early without saying so is allowed only with a
+                            // complete answer that needed no more work.
+                            assert_eq!(short, first, "{what}: cut short without saying so");
+                        }
+                    }
+                }
+
+                if let Some(cells) = &first.cells {
+                    let path = planner_api::Path::new(cells.clone());
+                    assert_eq!(
+                        path.start(),
+                        Some(*start),
+                        "{what}: path does not leave the start"
+                    );
+                    if !coverage && first.status == Status::Found {
+                        assert_eq!(path.goal(), Some(*goal), "{what}: path misses the goal");
+                    }
+                    if let Err(e) = path.validate(grid, rule.rule()) {
+                        panic!("{what}: the path breaks the declared rule: {e}");
+                    }
+                }
+                n_checked += 1;
+            }
+        }
+    }
+    assert!(n_checked >= PLANNERS.len() * problems.len());
+}

@@ -1,0 +1,218 @@
+//! The workspace's invariants (ARCHITECTURE.md), checked from `cargo metadata` and the
+//! source tree, as rust-analyzer's tidy test does. Each check names what to fix.
+
+mod common;
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use common::root;
+use planner_runner::registry::PLANNERS;
+
+/// The crates under `crates/` that are not planners.
+const SUPPORT_CRATES: &[&str] = &[
+    "api", "bench", "cli", "figures", "maps", "runner", "stats", "testkit",
+];
+
+/// What planner-api may depend on (normal dependencies).
+const API_DEPENDENCIES: &[&str] = &["serde", "thiserror"];
+
+/// What no planner crate may depend on (normal dependencies): planners do no I/O and
+/// know nothing of the runner.
+const PLANNER_FORBIDDEN: &[&str] = &[
+    "planner-maps",
+    "planner-runner",
+    "xtask",
+    "tracing",
+    "gridplan",
+];
+
+struct Package {
+    name: String,
+    dir: PathBuf,
+    /// Normal (not dev, not build) dependencies.
+    dependencies: Vec<String>,
+}
+
+fn packages() -> Vec<Package> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args([
+            "metadata",
+            "--format-version",
+            "1",
+            "--no-deps",
+            "--offline",
+        ])
+        .current_dir(root())
+        .output()
+        .expect("cargo metadata runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let metadata: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    metadata["packages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| Package {
+            name: p["name"].as_str().unwrap().to_string(),
+            dir: PathBuf::from(p["manifest_path"].as_str().unwrap())
+                .parent()
+                .unwrap()
+                .to_path_buf(),
+            dependencies: p["dependencies"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|d| d["kind"].is_null())
+                .map(|d| d["name"].as_str().unwrap().to_string())
+                .collect(),
+        })
+        .collect()
+}
+
+fn crate_dirs() -> BTreeSet<String> {
+    std::fs::read_dir(root().join("crates"))
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.path().join("Cargo.toml").is_file())
+        .map(|e| e.file_name().to_string_lossy().to_string())
+        .collect()
+}
+
+#[test]
+fn planner_api_depends_only_on_its_listed_dependencies() {
+    let api = packages()
+        .into_iter()
+        .find(|p| p.name == "planner-api")
+        .unwrap();
+    for dep in &api.dependencies {
+        assert!(
+            API_DEPENDENCIES.contains(&dep.as_str()),
+            "planner-api depends on {dep}; it may depend only on {API_DEPENDENCIES:?} (it is the vocabulary every planner shares)"
+        );
+    }
+}
+
+#[test]
+fn planner_crates_do_no_io_and_know_no_runner() {
+    let packages = packages();
+    for entry in PLANNERS {
+        let package = format!("planner-{}", entry.name);
+        let p = packages
+            .iter()
+            .find(|p| p.name == package)
+            .unwrap_or_else(|| panic!("registry name `{}` has no package {package}", entry.name));
+        for dep in &p.dependencies {
+            assert!(
+                !PLANNER_FORBIDDEN.contains(&dep.as_str()),
+                "{package} depends on {dep}: planner crates may not depend on {PLANNER_FORBIDDEN:?} (dev-dependencies are fine)"
+            );
+        }
+    }
+}
+
+#[test]
+fn registry_crate_directories_and_runner_dependencies_match() {
+    let names: BTreeSet<String> = PLANNERS.iter().map(|e| e.name.to_string()).collect();
+    assert_eq!(names.len(), PLANNERS.len(), "a registry name appears twice");
+    let dirs = crate_dirs();
+    let planner_dirs: BTreeSet<String> = dirs
+        .iter()
+        .filter(|d| !SUPPORT_CRATES.contains(&d.as_str()))
+        .cloned()
+        .collect();
+    assert_eq!(
+        names, planner_dirs,
+        "registry names (crates/runner/src/registry.rs) and the planner directories under crates/ differ"
+    );
+    let packages = packages();
+    for dir in &dirs {
+        let p = packages
+            .iter()
+            .find(|p| p.dir.file_name().is_some_and(|n| n == dir.as_str()))
+            .unwrap_or_else(|| panic!("crates/{dir} is not a workspace member"));
+        assert_eq!(
+            p.name,
+            format!("planner-{dir}"),
+            "crates/{dir}'s package name"
+        );
+    }
+    let runner = packages
+        .iter()
+        .find(|p| p.name == "planner-runner")
+        .unwrap();
+    let runner_planners: BTreeSet<String> = runner
+        .dependencies
+        .iter()
+        .filter_map(|d| d.strip_prefix("planner-"))
+        .filter(|d| !SUPPORT_CRATES.contains(d))
+        .map(String::from)
+        .collect();
+    assert_eq!(
+        names, runner_planners,
+        "planner-runner's planner dependencies and the registry differ"
+    );
+}
+
+#[test]
+fn every_registered_planner_is_in_some_config() {
+    let texts: Vec<String> = common::configs()
+        .iter()
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect();
+    for entry in PLANNERS {
+        let key = format!("planner = \"{}\"", entry.name);
+        assert!(
+            texts.iter().any(|t| t.contains(&key)),
+            "no config under configs/ runs `{}`: add a label with {key}",
+            entry.name
+        );
+    }
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if path.is_dir() {
+            if name != "target" && !name.starts_with('.') {
+                rust_files(&path, out);
+            }
+        } else if name.ends_with(".rs") {
+            out.push(path);
+        }
+    }
+}
+
+#[test]
+fn every_rust_file_opens_with_a_module_doc() {
+    let mut files = Vec::new();
+    for dir in ["crates", "xtask"] {
+        rust_files(&root().join(dir), &mut files);
+    }
+    assert!(files.len() > 50);
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap();
+        assert!(
+            text.starts_with("//!"),
+            "{} does not open with a `//!` doc comment saying what it is",
+            file.display()
+        );
+    }
+}
+
+#[test]
+fn architecture_names_every_crate() {
+    let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
+    for dir in crate_dirs() {
+        let package = format!("planner-{dir}");
+        assert!(
+            text.contains(&format!("crates/{dir}")) && text.contains(&package),
+            "ARCHITECTURE.md's code map does not name crates/{dir} ({package})"
+        );
+    }
+}
