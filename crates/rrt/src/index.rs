@@ -1,10 +1,10 @@
-//! Nearest-neighbour indexes over the tree's cells.
+//! Nearest-neighbour indexes over a tree's cells.
 //!
-//! Every index answers the same exact question: the node whose cell centre has the least
-//! squared Euclidean distance to the query, in integer arithmetic, with ties broken
-//! towards the node added first (the smallest node id). Because the answer is exact and
-//! the tie rule is fixed, the choice of index changes the speed of a search, never its
-//! result.
+//! Every index answers the same two exact questions: the node whose cell centre has the
+//! least squared Euclidean distance to the query, in integer arithmetic, with ties broken
+//! towards the node added first (the smallest node id); and every node within a squared
+//! distance of the query (RRT*'s near set). Because the answers are exact and the tie rule
+//! is fixed, the choice of index changes the speed of a search, never its result.
 
 use planner_api::Cell;
 
@@ -37,6 +37,11 @@ pub trait NearestIndex: Send + Sync {
     /// The id of the node nearest to `query`, ties to the smallest id; `None` when empty.
     /// Precondition: `query` lies inside the grid given to [`NearestIndex::clear`].
     fn nearest(&self, query: Cell) -> Option<u32>;
+
+    /// Appends to `out` the id of every node whose squared distance to `query` is at most
+    /// `max_squared`, in no particular order (callers that need an order sort them).
+    /// Precondition: `query` lies inside the grid given to [`NearestIndex::clear`].
+    fn within(&self, query: Cell, max_squared: u64, out: &mut Vec<u32>);
 
     /// Number of nodes.
     fn len(&self) -> usize;
@@ -184,6 +189,37 @@ impl NearestIndex for BucketGrid {
         (best.1 != NONE).then_some(best.1)
     }
 
+    fn within(&self, query: Cell, max_squared: u64, out: &mut Vec<u32>) {
+        let Some((x0, y0, x1, y1)) = self.bounds else {
+            return;
+        };
+        // Every cell within the distance lies in the square of half side `reach` around
+        // the query; visit the blocks that square meets, clipped to the occupied bounds.
+        let reach = i64::from(max_squared.isqrt().min(u64::from(u32::MAX)) as u32);
+        let side = i64::from(self.side);
+        let (qx, qy) = (i64::from(query.x), i64::from(query.y));
+        let (bx0, bx1) = (
+            ((qx - reach).max(0) / side).max(x0),
+            ((qx + reach) / side).min(x1),
+        );
+        let (by0, by1) = (
+            ((qy - reach).max(0) / side).max(y0),
+            ((qy + reach) / side).min(y1),
+        );
+        for by in by0..=by1 {
+            for bx in bx0..=bx1 {
+                let block = by as usize * self.blocks_x as usize + bx as usize;
+                let mut node = self.head[block];
+                while node != NONE {
+                    if squared_distance(query, self.cells[node as usize]) <= max_squared {
+                        out.push(node);
+                    }
+                    node = self.next[node as usize];
+                }
+            }
+        }
+    }
+
     fn len(&self) -> usize {
         self.cells.len()
     }
@@ -215,6 +251,39 @@ mod tests {
         assert_eq!(index.nearest(Cell::new(2, 2)), Some(1));
         assert_eq!(index.nearest(Cell::new(0, 8)), Some(2));
         assert_eq!(index.len(), 4);
+    }
+
+    #[test]
+    fn within_agrees_with_a_linear_scan() {
+        let mut rng = ChaCha8Rng::from_seed([11; 32]);
+        let mut below = |n: u32| (rng.next_u64() % u64::from(n)) as u32;
+        let mut out = Vec::new();
+        for case in 0..200 {
+            let (width, height) = (1 + below(30), 1 + below(30));
+            let side = 1 + case % 6;
+            let mut index = BucketGrid::with_block_side(side);
+            index.clear(width, height);
+            let mut cells = Vec::new();
+            out.clear();
+            index.within(Cell::new(0, 0), 100, &mut out);
+            assert!(out.is_empty());
+            for _ in 0..1 + below(60) {
+                let cell = Cell::new(below(width), below(height));
+                index.insert(cell);
+                cells.push(cell);
+                for _ in 0..3 {
+                    let query = Cell::new(below(width), below(height));
+                    let max_squared = u64::from(below(80));
+                    out.clear();
+                    index.within(query, max_squared, &mut out);
+                    out.sort_unstable();
+                    let expect: Vec<u32> = (0..cells.len() as u32)
+                        .filter(|&i| squared_distance(query, cells[i as usize]) <= max_squared)
+                        .collect();
+                    assert_eq!(out, expect, "case {case}, query {query}, r2 {max_squared}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -12,7 +12,7 @@
 //!    the axis of the larger of `|dx|`, `|dy|` (ties: along x).
 //! 5. If the new cell is already in the tree, nothing happens (`n_duplicates`); else if
 //!    the segment between the two cell centres crosses a blocked cell
-//!    ([`planner_api::segment_is_free`], exact traversal) the step is rejected
+//!    ([`SegmentChecker`], planner-api's exact traversal) the step is rejected
 //!    (`n_collisions`); else the new cell joins the tree with the nearest node as parent.
 //! 6. When the new cell is the goal, the path is read back along the parent links.
 //!    Otherwise the search stops after `max_iterations` iterations, or when the
@@ -32,7 +32,7 @@
 //!
 //! A k-d tree crate (`kiddo` 6.3) was considered and not taken: tree nodes are integer
 //! cells, so equal distances are common and the result must not depend on how a
-//! library orders ties; it needs Rust 1.89, above the workspace's 1.80; and the bucket
+//! library orders ties; it needs Rust 1.89, above the workspace's 1.85; and the bucket
 //! grid is a hundred lines over flat arrays that are reused between searches. Measured
 //! with `cargo bench -p planner-rrt` on map3 pair 1 (100 seeds), a search takes a median
 //! of about 0.45 ms, 3-4x less than with a linear scan; on Moving AI's den520d
@@ -46,6 +46,13 @@
 //! with `goal_bias`, and the free cell is chosen by Lemire's multiply-shift with
 //! rejection (exactly uniform). Each iteration draws the coin, then (without goal) the
 //! cell. Nothing depends on `rand`'s distributions, on the machine or on threads.
+//!
+//! # Shared pieces
+//! RRT* (`planner-rrt_star`) and RRT-Connect (`planner-rrt_connect`) are built from this
+//! crate's parts rather than copies of them: the seeded generator and the free-cell
+//! [`Sampler`] ([`sample`]), [`steer`], the [`Tree`] of distinct cells with its
+//! [`NearestIndex`] ([`BucketGrid`], which also answers RRT*'s radius queries), the
+//! [`SegmentChecker`] and [`check_sampling`] for the parameters they share.
 //!
 //! # Steering
 //! [`Steer::Four`] and [`Steer::Eight`] choose the unit moves; `step` is how many unit
@@ -90,21 +97,22 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+mod collision;
 mod index;
-mod sample;
+pub mod sample;
+mod tree;
 
+pub use collision::SegmentChecker;
 pub use index::{squared_distance, BucketGrid, NearestIndex};
+pub use sample::Sampler;
+pub use tree::{NodeId, Tree};
 
-use planner_api::{
-    segment_is_free, Budget, Cell, Connectivity, Counters, Outcome, Path, Planner, Problem, Status,
-};
+use planner_api::{Budget, Cell, Connectivity, Counters, Outcome, Path, Planner, Problem, Status};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 /// The registry name of this planner.
 pub const NAME: &str = "rrt";
-
-const NONE: u32 = u32::MAX;
 
 /// The unit moves that steering takes toward a sample.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
@@ -115,6 +123,31 @@ pub enum Steer {
     Four,
     /// The four axis moves and the four diagonals. Config value `"eight"`.
     Eight,
+}
+
+impl Steer {
+    /// The neighbourhood whose moves join the cells of a tree whose edges are extensions
+    /// of `step` unit moves: 4 or 8-connected when `step = 1`, `None` (any-angle edges)
+    /// when `step > 1`. Edges are checked by [`SegmentChecker`], so a diagonal unit edge
+    /// never cuts a blocked corner.
+    pub fn path_moves(self, step: u32) -> Option<Connectivity> {
+        match (step, self) {
+            (1, Steer::Four) => Some(Connectivity::Four),
+            (1, Steer::Eight) => Some(Connectivity::Eight),
+            _ => None,
+        }
+    }
+
+    /// The squared Euclidean length of the longest extension `step` unit moves can make:
+    /// `step^2` for [`Steer::Four`] (the walk stays within `step` of its start) and
+    /// `2 step^2` for [`Steer::Eight`] (`step` diagonals). RRT*'s radius cap.
+    pub fn reach_squared(self, step: u32) -> u64 {
+        let step = u64::from(step);
+        match self {
+            Steer::Four => step * step,
+            Steer::Eight => 2 * step * step,
+        }
+    }
 }
 
 /// RRT's parameters.
@@ -154,11 +187,7 @@ impl Config {
     /// [`PathRule::Moves`](planner_api::PathRule::Moves): 4 or 8-connected when `step = 1`; `None` when `step > 1`,
     /// where paths satisfy [`PathRule::AnyAngle`](planner_api::PathRule::AnyAngle) (every RRT path does).
     pub fn path_moves(&self) -> Option<Connectivity> {
-        match (self.step, self.steer) {
-            (1, Steer::Four) => Some(Connectivity::Four),
-            (1, Steer::Eight) => Some(Connectivity::Eight),
-            _ => None,
-        }
+        self.steer.path_moves(self.step)
     }
 }
 
@@ -257,19 +286,13 @@ pub fn steer(from: Cell, toward: Cell, steer: Steer, step: u32) -> Cell {
 /// The RRT planner, generic over its nearest-neighbour index (a [`BucketGrid`] unless
 /// built with [`Rrt::with_index`]).
 ///
-/// Keeps its buffers (free-cell list, tree arrays, per-cell node map, index) between
-/// calls: after the first search on a grid size nothing is allocated but the path.
+/// Keeps its buffers (sampler, tree, index) between calls: after the first search on a
+/// grid size nothing is allocated but the path.
 #[derive(Debug, Clone)]
 pub struct Rrt<I: NearestIndex = BucketGrid> {
     config: Config,
-    index: I,
-    /// Flat indices of the free cells, the uniform sampling population.
-    free: Vec<u32>,
-    /// Per node: its cell and its parent's node id (`NONE` for the root).
-    cells: Vec<Cell>,
-    parents: Vec<u32>,
-    /// Per grid cell: the node there, or `NONE`.
-    node_at: Vec<u32>,
+    sampler: Sampler,
+    tree: Tree<I>,
     stats: RrtStats,
 }
 
@@ -281,22 +304,26 @@ impl Rrt {
     }
 }
 
+/// Checks the parameters RRT, RRT* and RRT-Connect share: `goal_bias` in `0..=1` (not
+/// NaN) and `step` at least 1.
+pub fn check_sampling(goal_bias: f64, step: u32) -> Result<(), ConfigError> {
+    if !(0.0..=1.0).contains(&goal_bias) {
+        return Err(ConfigError::GoalBias(goal_bias));
+    }
+    if step == 0 {
+        return Err(ConfigError::Step(step));
+    }
+    Ok(())
+}
+
 impl<I: NearestIndex> Rrt<I> {
     /// An RRT that finds nearest nodes with `index`; validates `config` as [`Rrt::new`].
     pub fn with_index(config: Config, index: I) -> Result<Rrt<I>, ConfigError> {
-        if !(0.0..=1.0).contains(&config.goal_bias) {
-            return Err(ConfigError::GoalBias(config.goal_bias));
-        }
-        if config.step == 0 {
-            return Err(ConfigError::Step(config.step));
-        }
+        check_sampling(config.goal_bias, config.step)?;
         Ok(Rrt {
             config,
-            index,
-            free: Vec::new(),
-            cells: Vec::new(),
-            parents: Vec::new(),
-            node_at: Vec::new(),
+            sampler: Sampler::default(),
+            tree: Tree::with_index(index),
             stats: RrtStats::default(),
         })
     }
@@ -314,32 +341,7 @@ impl<I: NearestIndex> Rrt<I> {
     /// The last search's tree: each node's cell and its parent's cell (`None` for the
     /// start), in the order the nodes were added.
     pub fn tree(&self) -> impl Iterator<Item = (Cell, Option<Cell>)> + '_ {
-        self.cells
-            .iter()
-            .zip(&self.parents)
-            .map(|(&cell, &parent)| {
-                let parent = (parent != NONE).then(|| self.cells[parent as usize]);
-                (cell, parent)
-            })
-    }
-
-    fn add_node(&mut self, grid_index: usize, cell: Cell, parent: u32) {
-        self.node_at[grid_index] = self.cells.len() as u32;
-        self.cells.push(cell);
-        self.parents.push(parent);
-        self.index.insert(cell);
-    }
-
-    /// The path from the root to the last node added.
-    fn path_to_last(&self) -> Path {
-        let mut cells = Vec::new();
-        let mut node = self.cells.len() as u32 - 1;
-        while node != NONE {
-            cells.push(self.cells[node as usize]);
-            node = self.parents[node as usize];
-        }
-        cells.reverse();
-        Path::new(cells)
+        self.tree.edges()
     }
 }
 
@@ -365,61 +367,43 @@ impl<I: NearestIndex> Planner for Rrt<I> {
         let (goal_bias, steering, step) = (config.goal_bias, config.steer, config.step);
         let max_iterations = config.max_iterations;
 
-        self.free.clear();
-        self.free.extend(
-            (0u32..)
-                .zip(grid.free_cells())
-                .filter_map(|(index, &free)| free.then_some(index)),
-        );
-        self.node_at.clear();
-        self.node_at.resize(grid.len(), NONE);
-        self.cells.clear();
-        self.parents.clear();
-        // The tree holds distinct free cells, so this is all the room it can need.
-        self.cells.reserve(self.free.len());
-        self.parents.reserve(self.free.len());
-        self.index.clear(grid.width(), grid.height());
-        self.add_node(grid.index(start), start, NONE);
-
+        self.sampler.reset(grid);
+        self.tree.reset(grid, start);
+        let mut checker = SegmentChecker::default();
         let mut stats = RrtStats::default();
         let mut clock = budget.start();
         let mut rng = sample::rng_for_seed(self.config.seed);
-        // At least the start is free.
-        let n_free = self.free.len() as u64;
         let mut found = start == goal;
         while !found && stats.n_iterations < max_iterations && clock.allows(stats.n_iterations) {
             stats.n_iterations += 1;
             stats.n_samples += 1;
-            let target = if sample::coin(&mut rng, goal_bias) {
-                stats.n_goal_samples += 1;
-                goal
-            } else {
-                grid.cell(self.free[sample::below(&mut rng, n_free) as usize] as usize)
-            };
-            let Some(near) = self.index.nearest(target) else {
+            // At least the start is free, so the sampler's population is not empty.
+            let (target, is_goal) = self.sampler.goal_biased(&mut rng, grid, goal, goal_bias);
+            stats.n_goal_samples += u64::from(is_goal);
+            let Some(near) = self.tree.nearest(target) else {
                 break; // unreachable: the start is always in the tree
             };
-            let from = self.cells[near as usize];
+            let from = self.tree.cell(near);
             let new = steer(from, target, steering, step);
-            let new_index = grid.index(new);
-            if self.node_at[new_index] != NONE {
+            if self.tree.node_at(new).is_some() {
                 stats.n_duplicates += 1;
-            } else if !segment_is_free(grid, from, new) {
+            } else if !checker.is_free(grid, from, new) {
                 stats.n_collisions += 1;
             } else {
-                self.add_node(new_index, new, near);
+                self.tree.add(new, near);
                 found = new == goal;
             }
         }
-        stats.tree_size = self.cells.len() as u64;
+        stats.tree_size = self.tree.len() as u64;
         self.stats = stats;
+        let last = self.tree.len() as u32 - 1;
         Outcome::new(
             if found {
                 Status::Found
             } else {
                 Status::BudgetExhausted
             },
-            found.then(|| self.path_to_last()),
+            found.then(|| Path::new(self.tree.path_to(last))),
             stats.counters(),
         )
     }
@@ -457,6 +441,32 @@ mod tests {
         check((5, 5), (5, 9), Eight, 1, (5, 6));
         check((0, 0), (4, 1), Eight, 2, (2, 1));
         check((9, 9), (0, 7), Eight, 3, (6, 7));
+    }
+
+    /// An extension never goes farther than [`Steer::reach_squared`] says (RRT*'s cap).
+    #[test]
+    fn steering_stays_within_its_reach() {
+        for how in [Steer::Four, Steer::Eight] {
+            for step in 1..6 {
+                for (fx, fy, tx, ty) in [(0, 0, 9, 3), (5, 5, 0, 0), (3, 8, 4, 0), (7, 7, 7, 7)] {
+                    let from = Cell::new(fx, fy);
+                    let new = steer(from, Cell::new(tx, ty), how, step);
+                    assert!(squared_distance(from, new) <= how.reach_squared(step));
+                }
+            }
+        }
+        // The longest extensions reach it exactly: straight for four, diagonal for eight.
+        let origin = Cell::new(0, 0);
+        let straight = steer(origin, Cell::new(20, 0), Steer::Four, 3);
+        assert_eq!(
+            squared_distance(origin, straight),
+            Steer::Four.reach_squared(3)
+        );
+        let diagonal = steer(origin, Cell::new(20, 20), Steer::Eight, 3);
+        assert_eq!(
+            squared_distance(origin, diagonal),
+            Steer::Eight.reach_squared(3)
+        );
     }
 
     #[test]

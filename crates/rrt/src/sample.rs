@@ -1,18 +1,70 @@
-//! Version-stable random draws built on `RngCore::next_u64` alone.
+//! Version-stable random draws built on `RngCore::next_u64` alone, and the sampler of
+//! free cells that RRT, RRT* and RRT-Connect share.
 //!
 //! `rand`'s distributions (`gen_range`, `gen_bool`) may change their algorithms between
-//! versions, so RRT uses only the raw 64-bit output of ChaCha8 (whose stream is fixed by
-//! the cipher) and reduces it with the two functions below.
+//! versions, so the planners use only the raw 64-bit output of ChaCha8 (whose stream is
+//! fixed by the cipher) and reduce it with [`below`] and [`coin`].
 
+use planner_api::{Cell, Grid};
 use rand_chacha::rand_core::RngCore;
 use rand_chacha::ChaCha8Rng;
+
+/// Draws sample cells: the goal with a given probability, else a free cell uniformly.
+///
+/// Keeps the flat indices of the grid's free cells between searches, so refilling it for
+/// a grid of the same size allocates nothing.
+#[derive(Debug, Clone, Default)]
+pub struct Sampler {
+    free: Vec<u32>,
+}
+
+impl Sampler {
+    /// Refills the population with `grid`'s free cells, in flat-index order.
+    pub fn reset(&mut self, grid: &Grid) {
+        self.free.clear();
+        self.free.extend(
+            (0u32..)
+                .zip(grid.free_cells())
+                .filter_map(|(index, &free)| free.then_some(index)),
+        );
+    }
+
+    /// Number of free cells in the population.
+    pub fn n_free(&self) -> usize {
+        self.free.len()
+    }
+
+    /// A free cell of `grid` drawn uniformly with one [`below`] draw.
+    /// Preconditions: [`Sampler::reset`] was called with `grid`, which has a free cell.
+    pub fn uniform(&self, rng: &mut impl RngCore, grid: &Grid) -> Cell {
+        let n_free = self.free.len() as u64;
+        grid.cell(self.free[below(rng, n_free) as usize] as usize)
+    }
+
+    /// With probability `goal_bias` (one [`coin`] draw) `(goal, true)`; otherwise a
+    /// [`Sampler::uniform`] free cell (which may be the goal) and `false`. Same
+    /// preconditions as [`Sampler::uniform`].
+    pub fn goal_biased(
+        &self,
+        rng: &mut impl RngCore,
+        grid: &Grid,
+        goal: Cell,
+        goal_bias: f64,
+    ) -> (Cell, bool) {
+        if coin(rng, goal_bias) {
+            (goal, true)
+        } else {
+            (self.uniform(rng, grid), false)
+        }
+    }
+}
 
 /// The generator for `seed`: ChaCha8 with the 32-byte key `seed.to_le_bytes()` followed
 /// by 24 zero bytes, stream 0, block counter 0.
 ///
 /// The key is spelled out rather than taken from `SeedableRng::seed_from_u64`, whose
 /// seed expansion is not part of ChaCha and could change between `rand_core` versions.
-pub(crate) fn rng_for_seed(seed: u64) -> ChaCha8Rng {
+pub fn rng_for_seed(seed: u64) -> ChaCha8Rng {
     use rand_chacha::rand_core::SeedableRng;
     let mut key = [0u8; 32];
     key[..8].copy_from_slice(&seed.to_le_bytes());
@@ -23,7 +75,7 @@ pub(crate) fn rng_for_seed(seed: u64) -> ChaCha8Rng {
 /// Integer Generation in an Interval", 2019): the high 64 bits of `r * n` are the result;
 /// draws whose low 64 bits fall below `2^64 mod n` are redrawn, which makes the result
 /// exactly uniform. Precondition: `n >= 1`.
-pub(crate) fn below(rng: &mut impl RngCore, n: u64) -> u64 {
+pub fn below(rng: &mut impl RngCore, n: u64) -> u64 {
     let mut m = u128::from(rng.next_u64()) * u128::from(n);
     if (m as u64) < n {
         let threshold = n.wrapping_neg() % n;
@@ -37,7 +89,7 @@ pub(crate) fn below(rng: &mut impl RngCore, n: u64) -> u64 {
 /// True with probability `p` (`0 <= p <= 1`): the top 53 bits of one draw as the
 /// uniform `u = k / 2^53` in `[0, 1)`, and `u < p`. Exact in `f64`, so `p = 0` never and
 /// `p = 1` always holds.
-pub(crate) fn coin(rng: &mut impl RngCore, p: f64) -> bool {
+pub fn coin(rng: &mut impl RngCore, p: f64) -> bool {
     let u = (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
     u < p
 }

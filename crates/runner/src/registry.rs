@@ -95,6 +95,26 @@ pub const PLANNERS: &[Entry] = &[
         },
     },
     Entry {
+        name: planner_rrt_star::NAME,
+        summary: "RRT* (Karaman and Frazzoli 2011): RRT plus choose-parent and rewiring; cost series",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(planner_rrt_star::NAME, params, planner_rrt_star::RrtStar::new)
+        },
+    },
+    Entry {
+        name: planner_rrt_connect::NAME,
+        summary: "RRT-Connect (Kuffner and LaValle 2000): two trees, extend and connect",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(
+                planner_rrt_connect::NAME,
+                params,
+                planner_rrt_connect::RrtConnect::new,
+            )
+        },
+    },
+    Entry {
         name: planner_jps::NAME,
         summary: "Jump Point Search, 8-connected without corner cutting: jps, jps_prime, jps_plus (exact octile costs)",
         task: Task::StartGoal,

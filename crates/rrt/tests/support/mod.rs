@@ -57,6 +57,14 @@ impl NearestIndex for LinearScan {
         best.map(|(_, id)| id)
     }
 
+    fn within(&self, query: Cell, max_squared: u64, out: &mut Vec<u32>) {
+        for (id, &cell) in self.cells.iter().enumerate() {
+            if squared_distance(query, cell) <= max_squared {
+                out.push(id as u32);
+            }
+        }
+    }
+
     fn len(&self) -> usize {
         self.cells.len()
     }
