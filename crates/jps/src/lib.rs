@@ -30,9 +30,12 @@
 //!
 //! **Choices where the papers leave room.** A node reached at equal cost by moves in
 //! different directions expands the union of their directions (each relaxation that ties
-//! adds its direction); OPEN pops the least `f`, then the largest `g` (as the
-//! `pathfinding` crate's A* does), then the lower cell index. The path between a node and
-//! its successor is diagonal first, then straight, which is how every jump reaches it.
+//! adds its direction). OPEN pops the least `f`. Among equal `f`, entries pushed with the
+//! `f` of the entry last taken from the heap come first, last in first out (a successor
+//! on the way to the goal keeps its parent's `f`, so this skips most heap operations);
+//! the others come by larger `g` (to 1/1024, as the `pathfinding` crate's A* prefers
+//! larger `g`), then lower record index. The path between a node and its successor is
+//! diagonal first, then straight, which is how every jump reaches it.
 //!
 //! # Variants ([`Variant`])
 //! - `jps`: the 2011 algorithm with the 2014 paper's block-based straight jumps: the grid
