@@ -121,6 +121,12 @@ pub const PLANNERS: &[Entry] = &[
             )
         },
     },
+    Entry {
+        name: planner_jps::NAME,
+        summary: "Jump Point Search, 8-connected without corner cutting: jps, jps_prime, jps_plus (exact octile costs)",
+        task: Task::StartGoal,
+        factory: |params| Factory::path(planner_jps::NAME, params, planner_jps::Jps::new),
+    },
     // (registry end)
 ];
 

@@ -1,0 +1,135 @@
+//! Jump Point Search on full Moving AI scenario files, beside the `pathfinding` crate's A*
+//! (planner-bench's integer-cost peer, the A* bench's) in the same run.
+//!
+//! `cargo bench -p planner-jps --bench movingai` runs every scenario of den520d (888) and
+//! random512-10-0 (1670) with each variant and prints one line per map and variant:
+//! `map=<name> variant=<jps|jps_prime|jps_plus> scenarios=<n> mismatches=<n> expansions=<n>
+//! jps_ms=<t> pathfinding_ms=<t> ratio=<pathfinding/jps>`. A scenario is a mismatch unless
+//! both JPS's path length and the peer's cost equal the scenario's optimum (relative
+//! 1e-4). `expansions` is JPS's total `n_expanded` (jump points); the peer's expansions
+//! (cells) are printed once per map as `map=<name> peer_expansions=<n>`. For `jps_plus`, a
+//! line `map=<name> variant=jps_plus precompute_ms=<t> jump_table_bytes=<n>
+//! bit_grid_bytes=<n>` gives the one-off precomputation (on a fresh planner), which the
+//! timed queries then reuse. Marks are off (`marks = false`), so JPS builds the path
+//! cell by cell but no labels.
+//!
+//! Each side runs the whole file `--repeats=N` times (default 3), alternating, and its best
+//! time counts (planner-bench's `best_of_alternating`). Pass map names to run a subset.
+
+use std::time::Instant;
+
+use planner_api::{Budget, Grid, Planner, Problem};
+use planner_bench::{best_of_alternating, close, load_movingai, Peer, Repeats, STRAIGHT};
+use planner_jps::{Config, Jps, Variant};
+use planner_maps::Scenario;
+
+const MAPS: [&str; 2] = ["den520d", "random512-10-0"];
+
+fn main() {
+    let (repeats, filters) = Repeats::parse(std::env::args().skip(1)).unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(2)
+    });
+    for name in MAPS
+        .iter()
+        .filter(|m| filters.is_empty() || filters.iter().any(|f| f == *m))
+    {
+        let (grid, scenarios) = load_movingai(name).unwrap_or_else(|e| panic!("{e}"));
+        let mut peer_expansions = None;
+        for variant in [Variant::Jps, Variant::JpsPrime, Variant::JpsPlus] {
+            let n = run(name, &grid, &scenarios, variant, repeats);
+            peer_expansions.get_or_insert(n);
+        }
+        println!(
+            "map={name} peer_expansions={}",
+            peer_expansions.unwrap_or(0)
+        );
+    }
+}
+
+/// One map and variant; returns the peer's expansions.
+fn run(name: &str, grid: &Grid, scenarios: &[Scenario], variant: Variant, repeats: Repeats) -> u64 {
+    let config = Config {
+        variant,
+        marks: false,
+        ..Config::default()
+    };
+    let new = || Jps::new(config.clone()).unwrap_or_else(|e| panic!("{e}"));
+    if variant == Variant::JpsPlus {
+        let mut fresh = new();
+        let t = Instant::now();
+        let prepared = fresh.precompute(grid);
+        let elapsed = t.elapsed();
+        println!(
+            "map={name} variant=jps_plus precompute_ms={:.2} jump_table_bytes={} bit_grid_bytes={}",
+            elapsed.as_secs_f64() * 1e3,
+            prepared.jump_table_bytes,
+            prepared.bit_grid_bytes
+        );
+    }
+    let mut jps = new();
+    jps.prepare(grid);
+    let problems: Vec<Problem<'_>> = scenarios
+        .iter()
+        .map(|s| Problem::new(grid, s.start, s.goal).unwrap_or_else(|e| panic!("{e}")))
+        .collect();
+    let peer = Peer::new(grid);
+    let (ours, theirs) = best_of_alternating(
+        repeats,
+        || {
+            let mut n_expanded = 0;
+            let lengths: Vec<Option<f64>> = problems
+                .iter()
+                .map(|problem| {
+                    let outcome = jps.plan(problem, &Budget::unlimited());
+                    n_expanded += outcome.counters.get("n_expanded").unwrap_or(0);
+                    outcome.path.map(|path| path.metrics().length)
+                })
+                .collect();
+            (lengths, n_expanded)
+        },
+        || {
+            let mut n_expanded = 0;
+            let costs: Vec<Option<u64>> = scenarios
+                .iter()
+                .map(|s| {
+                    peer.octile(s.start, s.goal).map(|(cost, n)| {
+                        n_expanded += n;
+                        cost
+                    })
+                })
+                .collect();
+            (costs, n_expanded)
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let mut mismatches = 0;
+    for ((s, length), cost) in scenarios.iter().zip(&ours.result.0).zip(&theirs.result.0) {
+        let agree = match (length, cost) {
+            (Some(length), Some(cost)) => {
+                close(*length, s.optimal_length)
+                    && close(*cost as f64 / STRAIGHT as f64, s.optimal_length)
+            }
+            _ => false,
+        };
+        if !agree {
+            mismatches += 1;
+            eprintln!(
+                "mismatch {name} line {} {}: jps {length:?} peer {cost:?} optimum {}",
+                s.line,
+                variant.as_str(),
+                s.optimal_length
+            );
+        }
+    }
+    println!(
+        "map={name} variant={} scenarios={} mismatches={mismatches} expansions={} jps_ms={:.1} pathfinding_ms={:.1} ratio={:.2}",
+        variant.as_str(),
+        scenarios.len(),
+        ours.result.1,
+        ours.best.as_secs_f64() * 1e3,
+        theirs.best.as_secs_f64() * 1e3,
+        theirs.best.as_secs_f64() / ours.best.as_secs_f64().max(1e-12),
+    );
+    theirs.result.1
+}
