@@ -193,7 +193,10 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nheuristic = \"octile\"\n"),
-        &format!("bad.toml:5:11: planner `a`: key `planner` is missing (one of {})", planner_runner::registry::names().join(", ")),
+        &format!(
+            "bad.toml:5:11: planner `a`: key `planner` is missing (one of {})",
+            planner_runner::registry::names().join(", ")
+        ),
     );
 }
 
