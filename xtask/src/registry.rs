@@ -75,6 +75,24 @@ pub const PLANNERS: &[Entry] = &[
         kind: Kind::Deterministic,
         build: |params| build(params, planner_pastar::PaStar::new),
     },
+    Entry {
+        name: planner_theta_star::NAME,
+        summary: "theta_star: describe it in one line",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_theta_star::ThetaStar::new),
+    },
+    Entry {
+        name: planner_lazy_theta_star::NAME,
+        summary: "lazy_theta_star: describe it in one line",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_lazy_theta_star::LazyThetaStar::new),
+    },
+    Entry {
+        name: planner_bidirectional_astar::NAME,
+        summary: "bidirectional_astar: describe it in one line",
+        kind: Kind::Deterministic,
+        build: |params| build(params, planner_bidirectional_astar::BidirectionalAstar::new),
+    },
     // (registry end)
 ];
 
