@@ -77,21 +77,21 @@ pub const PLANNERS: &[Entry] = &[
     },
     Entry {
         name: planner_theta_star::NAME,
-        summary: "theta_star: describe it in one line",
+        summary: "Theta* (Nash et al. 2007): any-angle A* on cell centres, line of sight on relaxation",
         kind: Kind::Deterministic,
         build: |params| build(params, planner_theta_star::ThetaStar::new),
     },
     Entry {
         name: planner_lazy_theta_star::NAME,
-        summary: "lazy_theta_star: describe it in one line",
+        summary: "Lazy Theta* (Nash et al. 2010): any-angle, line of sight checked on expansion",
         kind: Kind::Deterministic,
         build: |params| build(params, planner_lazy_theta_star::LazyThetaStar::new),
     },
     Entry {
         name: planner_bidirectional_astar::NAME,
-        summary: "bidirectional_astar: describe it in one line",
+        summary: "bidirectional A*, 4 or 8 directions, Pohl's stopping rule; A*'s lengths",
         kind: Kind::Deterministic,
-        build: |params| build(params, planner_bidirectional_astar::BidirectionalAstar::new),
+        build: |params| build(params, planner_bidirectional_astar::BidirectionalAStar::new),
     },
     // (registry end)
 ];

@@ -100,12 +100,12 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
 
 /// Rust keywords and names a crate or type cannot take.
 const RESERVED: &[&str] = &[
-    "as", "async", "await", "break", "const", "continue", "crate", "dyn", "else", "enum",
-    "extern", "false", "fn", "for", "if", "impl", "in", "let", "loop", "match", "mod", "move",
-    "mut", "pub", "ref", "return", "self", "static", "struct", "super", "trait", "true", "type",
-    "unsafe", "use", "where", "while", "abstract", "become", "box", "do", "final", "macro",
-    "override", "priv", "typeof", "unsized", "virtual", "yield", "try", "gen", "api", "maps",
-    "runner", "testkit", "figures", "stats", "cli", "bench", "test", "core", "std", "alloc",
+    "as", "async", "await", "break", "const", "continue", "crate", "dyn", "else", "enum", "extern",
+    "false", "fn", "for", "if", "impl", "in", "let", "loop", "match", "mod", "move", "mut", "pub",
+    "ref", "return", "self", "static", "struct", "super", "trait", "true", "type", "unsafe", "use",
+    "where", "while", "abstract", "become", "box", "do", "final", "macro", "override", "priv",
+    "typeof", "unsized", "virtual", "yield", "try", "gen", "api", "maps", "runner", "testkit",
+    "figures", "stats", "cli", "bench", "test", "core", "std", "alloc",
 ];
 
 /// A planner name is snake case (lowercase words of letters and digits joined by single
@@ -319,7 +319,18 @@ mod tests {
     fn rejects_bad_names_and_writes_nothing() {
         let root = std::env::temp_dir().join(format!("gridplan-scaffold-{}", std::process::id()));
         for bad in [
-            "", "A", "x", "my-planner", "-x", "9lives", "astar", "self", "crate", "x_", "a__b", "_ab",
+            "",
+            "A",
+            "x",
+            "my-planner",
+            "-x",
+            "9lives",
+            "astar",
+            "self",
+            "crate",
+            "x_",
+            "a__b",
+            "_ab",
             "runner",
         ] {
             assert!(new_planner(&root, bad).is_err(), "{bad:?}");

@@ -133,10 +133,14 @@ impl Default for Config {
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 pub enum ConfigError {
     /// `moves` is not 8.
-    #[error("parameter `moves`: any-angle search expands the 8-connected moves; {0} is not supported")]
+    #[error(
+        "parameter `moves`: any-angle search expands the 8-connected moves; {0} is not supported"
+    )]
     Moves(Connectivity),
     /// `corner_cutting` is true.
-    #[error("parameter `corner_cutting`: any-angle search never cuts corners; true is not supported")]
+    #[error(
+        "parameter `corner_cutting`: any-angle search never cuts corners; true is not supported"
+    )]
     CornerCutting,
 }
 
@@ -279,7 +283,10 @@ impl AnyAngle {
         let goal = problem.goal();
         let goal_index = adjacency.index(goal);
         let h = |c: Cell| {
-            let (dx, dy) = (f64::from(c.x.abs_diff(goal.x)), f64::from(c.y.abs_diff(goal.y)));
+            let (dx, dy) = (
+                f64::from(c.x.abs_diff(goal.x)),
+                f64::from(c.y.abs_diff(goal.y)),
+            );
             (dx * dx + dy * dy).sqrt()
         };
         let key = |f: f64| Reverse((f / EPSILON).round() as u64);

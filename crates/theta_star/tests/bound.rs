@@ -32,9 +32,18 @@ fn scenario_stride() -> usize {
 /// Checks a found any-angle path: from start to goal, valid by `PathRule::AnyAngle`, its
 /// length equal to the search's g(goal), and returns the length.
 fn check_found(what: &str, grid: &Grid, start: Cell, goal: Cell, outcome: &Outcome) -> f64 {
-    assert_eq!(outcome.status, Status::Found, "{what}: {}", outcome.counters);
+    assert_eq!(
+        outcome.status,
+        Status::Found,
+        "{what}: {}",
+        outcome.counters
+    );
     let path = outcome.path.as_ref().expect("a found outcome has a path");
-    assert_eq!((path.start(), path.goal()), (Some(start), Some(goal)), "{what}");
+    assert_eq!(
+        (path.start(), path.goal()),
+        (Some(start), Some(goal)),
+        "{what}"
+    );
     if let Err(e) = path.validate(grid, PathRule::AnyAngle) {
         panic!("{what}: invalid any-angle path: {e}: {:?}", path.cells());
     }
@@ -72,7 +81,9 @@ fn never_longer_than_the_movingai_optimum() {
 }
 
 fn random_grid(rng: &mut ChaCha8Rng, width: u32, height: u32, density: f64) -> Grid {
-    let free = (0..width * height).map(|_| !rng.gen_bool(density)).collect();
+    let free = (0..width * height)
+        .map(|_| !rng.gen_bool(density))
+        .collect();
     Grid::from_free_cells(width, height, free).unwrap()
 }
 
@@ -136,7 +147,10 @@ fn never_longer_than_astar_on_random_maps() {
         // The comparison means something: many problems are solvable and on a third or more
         // of them the any-angle path is strictly shorter.
         assert!(n_found >= 30, "seed {seed}: {n_found} found");
-        assert!(n_shorter * 3 >= n_found, "seed {seed}: {n_shorter} of {n_found} shorter");
+        assert!(
+            n_shorter * 3 >= n_found,
+            "seed {seed}: {n_shorter} of {n_found} shorter"
+        );
     }
 }
 
@@ -254,7 +268,10 @@ fn budget_is_honoured() {
             assert_eq!(part.stats.search.n_neighbor_checks, 8 * cut);
         }
         let exact = search.search(&problem, &Budget::expansions(n), variant);
-        assert_eq!(exact, full, "{variant:?}: a budget of exactly n expansions suffices");
+        assert_eq!(
+            exact, full,
+            "{variant:?}: a budget of exactly n expansions suffices"
+        );
     }
 }
 
@@ -280,7 +297,10 @@ fn reproducible_and_independent_of_earlier_queries() {
 fn bad_parameters_are_errors_naming_the_key() {
     let check = |config: Config, key: &str| {
         let err = ThetaStar::new(config).unwrap_err();
-        assert!(err.to_string().contains(&format!("parameter `{key}`")), "{err}");
+        assert!(
+            err.to_string().contains(&format!("parameter `{key}`")),
+            "{err}"
+        );
     };
     check(
         Config {
