@@ -10,12 +10,12 @@ use planner_api::{
     Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, PathRule, Planner, Problem, Status,
 };
 use planner_astar::{AStar, Heuristic, TieBreak};
-use planner_bidirectional_astar::{BidirectionalAStar, Config};
+use planner_bidirectional_astar::{BidirectionalAStar, Config, Search};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// The stride through each `.scen` file in debug builds.
-const DEBUG_EVERY: usize = 25;
+const DEBUG_EVERY: usize = 80;
 
 fn scenario_stride() -> usize {
     if cfg!(debug_assertions) && std::env::var_os("GRIDPLAN_ALL_SCENARIOS").is_none() {
@@ -47,22 +47,22 @@ fn astar(moves: Connectivity) -> AStar {
 }
 
 /// Runs both planners on `problem` and checks: the same status; when found, a valid path
-/// from start to goal whose length equals A*'s cost and the search's `mu`. Returns
-/// whether a path was found.
+/// from start to goal whose length equals A*'s cost and the search's `mu`. Returns the
+/// search when a path was found.
 fn check(
     what: &str,
     problem: &Problem<'_>,
     moves: Connectivity,
     bidirectional: &mut BidirectionalAStar,
     reference: &mut AStar,
-) -> bool {
+) -> Option<Search> {
     let expect = reference.search(problem, &Budget::unlimited());
     let found = bidirectional.search(problem, &Budget::unlimited());
     let counters = found.counters();
     assert_eq!(found.status, expect.status, "{what}: {counters}");
     let Some(optimum) = expect.cost else {
         assert_eq!(found.path, None, "{what}");
-        return false;
+        return None;
     };
     let path = found.path.as_ref().expect("found has a path");
     assert_eq!(
@@ -85,7 +85,7 @@ fn check(
     if moves == Connectivity::Four {
         assert_eq!(path.metrics().steps as f64, optimum, "{what}");
     }
-    true
+    Some(found)
 }
 
 #[test]
@@ -101,26 +101,16 @@ fn lengths_equal_astar_on_every_scen_file() {
             for scenario in scenarios.iter().step_by(stride) {
                 let what = format!("{map} line {} {moves}", scenario.line);
                 let problem = Problem::new(&grid, scenario.start, scenario.goal).unwrap();
-                assert!(
-                    check(&what, &problem, moves, &mut bidirectional, &mut reference),
-                    "{what}: solvable"
-                );
+                let found = check(&what, &problem, moves, &mut bidirectional, &mut reference)
+                    .unwrap_or_else(|| panic!("{what}: solvable"));
                 if moves == Connectivity::Eight {
-                    let length = bidirectional
-                        .search(&problem, &Budget::unlimited())
-                        .cost
-                        .unwrap();
-                    let optimum = scenario.optimal_length;
+                    let (length, optimum) = (found.cost.unwrap(), scenario.optimal_length);
                     assert!(
                         (length - optimum).abs() <= 1e-4 * optimum.max(1.0),
                         "{what}: {length} vs stated {optimum}"
                     );
                 }
-                let counters = bidirectional.plan(&problem, &Budget::unlimited()).counters;
-                n_both_sides += usize::from(
-                    counters.get("backward_n_expanded").unwrap() > 0
-                        && counters.get("forward_n_expanded").unwrap() > 0,
-                );
+                n_both_sides += usize::from(found.stats.iter().all(|s| s.n_expanded > 0));
                 n_checked += 1;
             }
         }
@@ -145,13 +135,9 @@ fn lengths_equal_astar_on_random_maps() {
             .enumerate()
         {
             let problem = Problem::new(grid, *start, *goal).unwrap();
-            n_found += usize::from(check(
-                &format!("small {round} {moves}"),
-                &problem,
-                moves,
-                &mut bidirectional,
-                &mut reference,
-            ));
+            let what = format!("small {round} {moves}");
+            let found = check(&what, &problem, moves, &mut bidirectional, &mut reference);
+            n_found += usize::from(found.is_some());
         }
         assert!((100..350).contains(&n_found), "{n_found} of 400 found");
         // Larger maps.
