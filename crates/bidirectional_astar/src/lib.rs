@@ -1,8 +1,8 @@
 //! Bidirectional A\*: one A\* forward from the start towards the goal and one backward
 //! from the goal towards the start, stopped by Pohl's rule (I. Pohl, "Bi-directional
-//! Search", Machine Intelligence 6, 1971, pp. 127-140; stated and proved as the standard
-//! criterion in Holte, Felner, Sharon and Sturtevant, "Bidirectional Search That Is
-//! Guaranteed to Meet in the Middle", AAAI 2016, <https://ojs.aaai.org/index.php/AAAI/article/view/10436>).
+//! Search", Machine Intelligence 6, 1971, pp. 127-140): stop when the best meeting cost is
+//! at most the larger of the two frontiers' least `f`. The proof for this implementation is
+//! below.
 //!
 //! # The search
 //! - Grid: 4-connected moves with cost 1 and the Manhattan heuristic, or 8-connected moves

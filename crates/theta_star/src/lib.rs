@@ -1,6 +1,8 @@
 //! Theta\*: any-angle path planning on grid cell centres (Nash, Daniel, Koenig and Felner,
-//! "Theta\*: Any-Angle Path Planning on Grids", AAAI 2007,
-//! <https://cdn.aaai.org/AAAI/2007/AAAI07-187.pdf>).
+//! "Theta\*: Any-Angle Path Planning on Grids", AAAI 2007, pp. 1177-1183,
+//! <http://idm-lab.org/bib/abstracts/Koen07f.html>; the journal version, Daniel, Nash, Koenig
+//! and Felner, JAIR 39, 2010, <https://jair.org/index.php/jair/article/view/10676>, calls it
+//! Basic Theta\*).
 //!
 //! Theta\* is A\* on the 8-connected grid whose relaxation may take a shortcut: when the
 //! node `s` being expanded has a parent `p = parent(s)` that sees the neighbour `s'`,
@@ -11,10 +13,10 @@
 //! # Definitions used here
 //! - Nodes are cell centres; edges are the 8-connected moves without corner cutting
 //!   (planner-api's [`Adjacency`] over [`MoveSet`] `8`), costing 1 and `sqrt 2`.
-//! - Line of sight between two cells is [`planner_api::segment_is_free`]'s exact segment traversal
-//!   ([`planner_api::for_each_segment_cell`]), the same function [`Path::validate`]
-//!   applies with [`planner_api::PathRule::AnyAngle`], so every path this crate returns
-//!   passes that check. A segment through a grid vertex needs both side cells free, so a
+//! - Line of sight between two cells is planner-api's exact segment traversal
+//!   ([`planner_api::for_each_segment_cell`]) in its fast form, [`walk_segment`], the
+//!   function behind [`planner_api::segment_is_free`] and so behind [`Path::validate`] with
+//!   [`planner_api::PathRule::AnyAngle`]: every path this crate returns passes that check. A segment through a grid vertex needs both side cells free, so a
 //!   diagonal grid move without corner cutting is itself a segment with line of sight.
 //! - `c(a, b)` is the Euclidean distance between cell centres ([`Cell::euclidean`]), and
 //!   `h(s) = |s goal|`, which is consistent: `h(a) <= |a b| + h(b)` by the triangle
@@ -56,8 +58,8 @@
 //!
 //! The tests check the bound on every scenario of every `.scen` file in `maps/movingai`
 //! against the scenario's stated optimum, and on seeded random maps against planner-astar.
-//! The bound is against the 8-connected optimum, not the true any-angle optimum, which
-//! Theta\* may miss (the paper's section "Properties").
+//! The bound is against the 8-connected optimum. The true shortest any-angle path can be
+//! shorter still, and Theta\* is not guaranteed to find it (the JAIR paper says so).
 //!
 //! # Counters
 //! A\*'s (`n_expanded`, `n_neighbor_checks`, `n_blocked`, `n_skipped`,
@@ -95,8 +97,8 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use planner_api::{
-    for_each_segment_cell, Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet,
-    NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
+    walk_segment, Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder,
+    Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -294,11 +296,10 @@ impl AnyAngle {
         let mut stats = AnyAngleStats::default();
         let mut n_safe = 0u64;
         let line_of_sight = |stats: &mut AnyAngleStats, a: Cell, b: Cell| {
+            let walk = walk_segment(grid, a, b);
             stats.n_los_checks += 1;
-            for_each_segment_cell(a, b, |cell| {
-                stats.n_los_cells += 1;
-                grid.is_free(cell)
-            })
+            stats.n_los_cells += walk.n_cells;
+            walk.free
         };
 
         let mut clock = budget.start();
