@@ -91,13 +91,17 @@ fn main() {
             n.parse::<usize>()
                 .unwrap_or_else(|e| panic!("--repeats: {e}"))
         });
-    let filter: Vec<&String> = args.iter().filter(|a| !a.starts_with("--")).collect();
+    let filter: Vec<String> = args
+        .iter()
+        .filter(|a| !a.starts_with("--"))
+        .cloned()
+        .collect();
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai");
     let mut names: Vec<String> = std::fs::read_dir(&root)
         .unwrap_or_else(|e| panic!("{}: {e}", root.display()))
         .filter_map(|e| e.ok()?.file_name().into_string().ok())
         .filter_map(|n| n.strip_suffix(".map").map(str::to_string))
-        .filter(|n| filter.is_empty() || filter.iter().any(|f| *f == n))
+        .filter(|n| filter.is_empty() || filter.contains(n))
         .collect();
     names.sort();
     let mut all: [Run; 3] = Default::default();
