@@ -152,7 +152,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
-        "bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar, coverage",
+        "bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar, theta_star, lazy_theta_star, bidirectional_astar, coverage",
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.fast]\nplanner = \"astar\"\nbeta = 2\n"),
@@ -191,7 +191,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nheuristic = \"octile\"\n"),
-        "bad.toml:5:11: planner `a`: key `planner` is missing (one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar, coverage)",
+        "bad.toml:5:11: planner `a`: key `planner` is missing (one of astar, backtracking, bfs, dfs, lexastar, rrt, pastar, theta_star, lazy_theta_star, bidirectional_astar, coverage)",
     );
 }
 
