@@ -76,3 +76,20 @@ pub fn start() -> isize {
 pub fn peak_since_start(baseline: isize) -> u64 {
     (PEAK.with(Cell::get) - baseline).max(0) as u64
 }
+
+/// The counting allocator as planner-runner's peak-heap hook.
+pub struct Meter;
+
+impl planner_runner::run::HeapMeter for Meter {
+    fn current(&self) -> i64 {
+        CURRENT.with(Cell::get) as i64
+    }
+
+    fn start(&self) -> i64 {
+        start() as i64
+    }
+
+    fn peak_since(&self, baseline: i64) -> u64 {
+        peak_since_start(baseline as isize)
+    }
+}

@@ -1,37 +1,25 @@
-//! gridplan's task runner as a library: the `cargo xtask` binary and the snapshot tests
-//! share it.
+//! `cargo xtask`: the command-line front of planner-runner, and the repository's tasks.
 //!
-//! - [`config`]: experiment configs (TOML) with positioned errors.
-//! - [`registry`]: the one list of planners.
-//! - [`run`]: expansion into runs and the parallel sweep.
-//! - [`output`]: runs.csv, runs.json and the atomic write of the results directory.
-//! - [`summary`]: summary.md in the seeds' table layouts.
-//! - [`figures`]: the SVG figures of a sweep.
-//! - [`coverage`]: coverage planners' runs, figures and summary table (seed 004).
-//! - [`generate`]: `cargo xtask gen-pastar-maps`, seed 002's maps.
-//! - [`pastar_summary`]: seed 002's tables in summary.md (R_length, R_time, timing tests).
-//! - [`plan`]: `cargo xtask plan`, one run printed.
-//! - [`scaffold`]: `cargo xtask new-planner`.
+//! The runner (configs, registry, sweeps, reports) is the `planner-runner` library; this
+//! crate adds what a binary owns: the counting allocator behind the runner's peak-heap
+//! hook ([`alloc`]), the progress bar, writing the results directory safely ([`outdir`]:
+//! its marker, its lock and the atomic swap), and the
+//! repository's own tasks: `new-planner` ([`scaffold`]) and `gen-pastar-maps`
+//! ([`write_pastar_maps`]).
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod alloc;
-pub mod config;
-pub mod coverage;
-pub mod figures;
-pub mod generate;
-pub mod output;
-pub mod pastar_summary;
-pub mod plan;
-pub mod registry;
-pub mod run;
+pub mod outdir;
 pub mod scaffold;
-pub mod summary;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use output::OutputFile;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use planner_runner::output::OutputFile;
+use planner_runner::report::Reproduction;
+use planner_runner::{config, figures, output as results, report, run_all, RunOptions};
 
 #[global_allocator]
 static ALLOCATOR: alloc::Counting = alloc::Counting;
@@ -42,9 +30,9 @@ pub struct Report {
     /// Runs done.
     pub n_runs: usize,
     /// Output directory written.
-    pub output: std::path::PathBuf,
+    pub output: PathBuf,
     /// Published numbers compared and matched.
-    pub reproduction: summary::Reproduction,
+    pub reproduction: Reproduction,
     /// Wall time of the sweep and the writing, in seconds.
     pub seconds: f64,
 }
@@ -61,30 +49,64 @@ pub fn experiment(
     let started = Instant::now();
     let experiment = config::load(config).map_err(|e| e.to_string())?;
     let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
+    outdir::check(&dir).map_err(|e| e.to_string())?;
     tracing::info!(experiment = %experiment.name, runs = experiment.n_runs(), "sweep");
-    let records = run::run_all(&experiment, threads, progress)?;
-    let (summary, reproduction) = summary::render(&experiment, &records);
-    let files = vec![
+    let bar = if progress {
+        let bar =
+            ProgressBar::with_draw_target(Some(experiment.n_runs()), ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} runs ({eta})",
+        ) {
+            bar.set_style(style);
+        }
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let tick = |done: u64| bar.set_position(done);
+    let options = RunOptions {
+        threads,
+        progress: Some(&tick),
+        heap: Some(&alloc::Meter),
+    };
+    let records = run_all(&experiment, &options).map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
+    let (summary, reproduction) = report::render(&experiment, &records);
+    let mut files = vec![
         OutputFile {
             path: "runs.json".into(),
-            contents: output::runs_json(&experiment, &records)?,
+            contents: results::runs_json(&experiment, &records).map_err(|e| e.to_string())?,
         },
         OutputFile {
             path: "runs.csv".into(),
-            contents: output::runs_csv(&records),
+            contents: results::runs_csv(&records),
         },
         OutputFile {
             path: "summary.md".into(),
             contents: summary.into_bytes(),
         },
     ];
-    let mut files = files;
     files.extend(figures::render(&experiment, &records));
-    output::write_atomically(&dir, &files)?;
+    outdir::write_results(&dir, &experiment.name, &files, outdir::DEFAULT_LOCK_WAIT)
+        .map_err(|e| e.to_string())?;
     Ok(Report {
         n_runs: records.len(),
         output: dir,
         reproduction,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// Writes seed 002's generated maps ([`planner_pastar::generate::specs`]) to `dir` as
+/// Moving AI `.map` files; returns the paths.
+pub fn write_pastar_maps(dir: &Path) -> Result<Vec<String>, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mut written = Vec::new();
+    for map in planner_pastar::generate::specs() {
+        let path = dir.join(map.name);
+        std::fs::write(&path, planner_maps::to_movingai(&map.grid))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        written.push(path.display().to_string());
+    }
+    Ok(written)
 }

@@ -5,8 +5,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use planner_api::Cell;
+use planner_runner::plan::PlanArgs;
 use tracing_subscriber::EnvFilter;
-use xtask::plan::PlanArgs;
 
 #[derive(Parser)]
 #[command(
@@ -37,7 +37,7 @@ enum Command {
     /// Run one planner on one problem and print the path, metrics and counters (a coverage
     /// planner covers from --start and takes no --goal).
     Plan {
-        /// The map file (.map, .txt, .csv).
+        /// The map file (.map, .txt, .csv, or a ROS map_server .yaml).
         map: PathBuf,
         /// Registry name (astar, backtracking, ...), or a label of --config.
         #[arg(long)]
@@ -57,7 +57,7 @@ enum Command {
         /// Planner parameter override, key=value (repeatable), e.g. --set heuristic=octile.
         #[arg(long = "set")]
         set: Vec<String>,
-        /// Expansion budget.
+        /// Expansion budget (default: the config label's, else 10,000,000, so every run ends).
         #[arg(long)]
         max_expansions: Option<u64>,
         /// Print exactly one JSON object.
@@ -147,11 +147,17 @@ fn run(cli: Cli) -> Result<(), String> {
                 set,
                 max_expansions,
             };
-            let result = xtask::plan::run(&args)?;
+            let result = planner_runner::plan::run(&args).map_err(|e| e.to_string())?;
             if json {
-                println!("{}", result.to_json()?);
+                println!("{}", result.to_json().map_err(|e| e.to_string())?);
             } else {
                 print!("{}", result.to_text());
+            }
+            if result.hit_default_budget() {
+                eprintln!(
+                    "note: stopped at plan's default budget of {} expansions; raise it with --max-expansions",
+                    planner_runner::plan::DEFAULT_PLAN_EXPANSIONS
+                );
             }
             Ok(())
         }
@@ -166,17 +172,14 @@ fn run(cli: Cli) -> Result<(), String> {
             Ok(())
         }
         Command::GenPastarMaps => {
-            for path in xtask::generate::write_all(&workspace_root().join("maps/pastar"))? {
+            for path in xtask::write_pastar_maps(&workspace_root().join("maps/pastar"))? {
                 println!("{path}");
             }
             Ok(())
         }
         Command::Planners => {
-            for entry in xtask::registry::PLANNERS {
-                println!("{:<14} {}", entry.name, entry.summary);
-            }
-            for entry in xtask::registry::COVERAGE {
-                println!("{:<14} {}", entry.name, entry.summary);
+            for entry in planner_runner::registry::PLANNERS {
+                println!("{:<20} {}", entry.name, entry.summary);
             }
             Ok(())
         }

@@ -2,7 +2,8 @@
 //!
 //! Writes `crates/<name>/` (Cargo.toml, src/lib.rs with a config struct and a working
 //! greedy best-first search to replace, tests/smoke.rs), adds the dependency to
-//! `xtask/Cargo.toml` and the entry to `xtask/src/registry.rs` between their markers.
+//! `crates/runner/Cargo.toml` and the entry to `crates/runner/src/registry.rs` between
+//! their markers.
 //! Nothing is written unless every step can be done: the name is checked and both markers
 //! are found first.
 
@@ -26,11 +27,11 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     if crate_dir.exists() {
         return Err(format!("{} already exists", crate_dir.display()));
     }
-    if crate::registry::find(name).is_some() {
+    if planner_runner::registry::find(name).is_some() {
         return Err(format!("planner `{name}` is already registered"));
     }
-    let cargo_path = root.join("xtask/Cargo.toml");
-    let registry_path = root.join("xtask/src/registry.rs");
+    let cargo_path = root.join("crates/runner/Cargo.toml");
+    let registry_path = root.join("crates/runner/src/registry.rs");
     let cargo =
         fs::read_to_string(&cargo_path).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
     let registry = fs::read_to_string(&registry_path)
@@ -61,11 +62,11 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
         .collect();
     let cargo = cargo.replacen(
         DEPS_MARKER,
-        &format!("{package} = {{ path = \"../crates/{name}\" }}\n{DEPS_MARKER}"),
+        &format!("{package} = {{ path = \"../{name}\" }}\n{DEPS_MARKER}"),
         1,
     );
     let entry = format!(
-        "    Entry {{\n        name: {ident}::NAME,\n        summary: \"{name}: describe it in one line\",\n        kind: Kind::Deterministic,\n        build: |params| build(params, {ident}::{type_name}::new),\n    }},\n"
+        "    Entry {{\n        name: {ident}::NAME,\n        summary: \"{name}: describe it in one line\",\n        task: Task::StartGoal,\n        factory: |params| Factory::path({ident}::NAME, params, {ident}::{type_name}::new),\n    }},\n"
     );
     let registry = registry.replacen(REGISTRY_MARKER, &format!("{entry}{REGISTRY_MARKER}"), 1);
 
@@ -93,8 +94,8 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     fs::write(&cargo_path, cargo).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
     fs::write(&registry_path, registry).map_err(|e| format!("{}: {e}", registry_path.display()))?;
     let mut written: Vec<String> = files.into_iter().map(|(p, _)| p).collect();
-    written.push("xtask/Cargo.toml".into());
-    written.push("xtask/src/registry.rs".into());
+    written.push("crates/runner/Cargo.toml".into());
+    written.push("crates/runner/src/registry.rs".into());
     Ok(Scaffolded { files: written })
 }
 
@@ -202,7 +203,7 @@ use std::collections::BinaryHeap;
 
 use planner_api::{
     Budget, Cell, Connectivity, Counter, IndexedMoves, MoveOrderError, MoveSet, NeighborOrder,
-    Outcome, Path, Planner, Problem, SearchStats,
+    Outcome, ParamKey, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -237,6 +238,14 @@ pub enum ConfigError {
     Moves(#[from] MoveOrderError),
 }
 
+impl ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Moves(e) => e.param_key(),
+        }
+    }
+}
+
 /// The planner.
 #[derive(Debug, Clone)]
 pub struct __TYPE__ {
@@ -255,6 +264,11 @@ impl __TYPE__ {
 impl Planner for __TYPE__ {
     fn name(&self) -> &str {
         NAME
+    }
+
+    /// Unseeded; every step is one of the configured moves.
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone()))
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
@@ -343,25 +357,23 @@ mod tests {
         let root =
             std::env::temp_dir().join(format!("gridplan-scaffold-ok-{}", std::process::id()));
         let _ = fs::remove_dir_all(&root);
-        fs::create_dir_all(root.join("xtask/src")).unwrap();
+        fs::create_dir_all(root.join("crates/runner/src")).unwrap();
         fs::write(
-            root.join("xtask/Cargo.toml"),
+            root.join("crates/runner/Cargo.toml"),
             format!("[dependencies]\n{DEPS_MARKER}\n"),
         )
         .unwrap();
         fs::write(
-            root.join("xtask/src/registry.rs"),
+            root.join("crates/runner/src/registry.rs"),
             format!("const X: &[Entry] = &[\n{REGISTRY_MARKER}\n];\n"),
         )
         .unwrap();
         let done = new_planner(&root, "greedy2").unwrap();
         assert_eq!(done.files.len(), 5);
-        let cargo = fs::read_to_string(root.join("xtask/Cargo.toml")).unwrap();
-        assert!(
-            cargo.contains("planner-greedy2 = { path = \"../crates/greedy2\" }\n# (planners end)")
-        );
-        let registry = fs::read_to_string(root.join("xtask/src/registry.rs")).unwrap();
-        assert!(registry.contains("build(params, planner_greedy2::Greedy2::new)"));
+        let cargo = fs::read_to_string(root.join("crates/runner/Cargo.toml")).unwrap();
+        assert!(cargo.contains("planner-greedy2 = { path = \"../greedy2\" }\n# (planners end)"));
+        let registry = fs::read_to_string(root.join("crates/runner/src/registry.rs")).unwrap();
+        assert!(registry.contains("params, planner_greedy2::Greedy2::new)"));
         let lib = fs::read_to_string(root.join("crates/greedy2/src/lib.rs")).unwrap();
         assert!(
             lib.contains("pub struct Greedy2")
@@ -372,8 +384,8 @@ mod tests {
             "a second scaffold must not overwrite"
         );
         new_planner(&root, "greedy_best").unwrap();
-        let registry = fs::read_to_string(root.join("xtask/src/registry.rs")).unwrap();
-        assert!(registry.contains("build(params, planner_greedy_best::GreedyBest::new)"));
+        let registry = fs::read_to_string(root.join("crates/runner/src/registry.rs")).unwrap();
+        assert!(registry.contains("params, planner_greedy_best::GreedyBest::new)"));
         fs::remove_dir_all(&root).unwrap();
     }
 }

@@ -5,13 +5,12 @@ mod common;
 
 use common::root;
 use planner_api::reachable_cells;
-use xtask::config;
-use xtask::run::run_all;
+use planner_runner::config;
 
 #[test]
 fn coverage_config_covers_every_map() {
     let experiment = config::load(&root().join("configs/coverage.toml")).unwrap();
-    let records = run_all(&experiment, 2, false).unwrap();
+    let records = common::run(&experiment, 2);
     assert_eq!(
         records.len(),
         experiment.maps.len() * experiment.planners.len()
@@ -23,7 +22,7 @@ fn coverage_config_covers_every_map() {
             .iter()
             .filter(|&&x| x)
             .count() as u64;
-        assert_eq!(r.status, "found", "{what}");
+        assert_eq!(r.status.as_str(), "found", "{what}");
         assert_eq!(r.valid, Some(true), "{what}");
         assert_eq!(r.counters.get("n_reachable"), Some(reachable), "{what}");
         assert_eq!(r.counters.get("n_covered"), Some(reachable), "{what}");
@@ -103,8 +102,8 @@ fn start_problems_are_checked() {
         &format!("name = \"x\"\n{maps}problems = \"start\"\nstart = [0, 0]\n[planners.a]\nplanner = \"coverage\"\n"),
     )
     .unwrap();
-    let records = run_all(&experiment, 1, false).unwrap();
-    assert_eq!(records[0].status, "invalid_problem");
+    let records = common::run(&experiment, 1);
+    assert_eq!(records[0].status.as_str(), "invalid_problem");
     assert_eq!(records[0].error.as_deref(), Some("start (0, 0) is blocked"));
 }
 
@@ -114,22 +113,22 @@ fn start_problems_are_checked() {
 fn plan_runs_coverage_planners_like_the_config() {
     let config_path = root().join("configs/coverage.toml");
     let experiment = config::load(&config_path).unwrap();
-    let records = run_all(&experiment, 1, false).unwrap();
+    let records = common::run(&experiment, 1);
     let record = records
         .iter()
         .find(|r| r.map == "rooms30-1.map" && r.planner == "zigzag")
         .unwrap();
-    let args = xtask::plan::PlanArgs {
+    let args = planner_runner::plan::PlanArgs {
         map: root().join("maps/coverage/rooms30-1.map"),
         planner: "zigzag".into(),
         config: Some(config_path),
         start: Some(planner_api::Cell::new(0, 1)),
         ..Default::default()
     };
-    let result = xtask::plan::run(&args).unwrap();
-    assert_eq!(result.goal, None);
-    assert_eq!(result.outcome.path, record.path);
-    assert_eq!(result.outcome.counters, record.counters);
+    let result = planner_runner::plan::run(&args).unwrap();
+    assert!(result.coverage);
+    assert_eq!(result.record.path, record.path);
+    assert_eq!(result.record.counters, record.counters);
     let json: serde_json::Value = serde_json::from_str(&result.to_json().unwrap()).unwrap();
     assert_eq!(json["status"], "found");
     assert_eq!(json["coverage"]["percent"], 100.0);
@@ -142,13 +141,13 @@ fn plan_runs_coverage_planners_like_the_config() {
     );
     assert!(text.contains("reachable cells (100.00%)"), "{text}");
 
-    let with_goal = xtask::plan::PlanArgs {
+    let with_goal = planner_runner::plan::PlanArgs {
         goal: Some(planner_api::Cell::new(5, 5)),
         ..args
     };
-    let error = xtask::plan::run(&with_goal).err().unwrap();
+    let error = planner_runner::plan::run(&with_goal).err().unwrap();
     assert_eq!(
-        error,
+        error.to_string(),
         "`coverage` is a coverage planner: it covers from --start and takes no --goal"
     );
 }

@@ -4,8 +4,8 @@
 mod common;
 
 use common::{configs, root};
-use xtask::config;
-use xtask::run::{run_all, RunRecord};
+use planner_runner::config;
+use planner_runner::RunRecord;
 
 /// Every counter and metric of every run of every config (trimmed by its `[test]`
 /// limits), with timing and memory redacted. Review changes with `cargo insta review`.
@@ -15,7 +15,7 @@ fn every_config_is_snapshotted() {
     assert!(!paths.is_empty());
     for path in paths {
         let experiment = config::load(&path).unwrap().trimmed_for_test();
-        let records = compact(&run_all(&experiment, 2, false).unwrap());
+        let records = compact(&common::run(&experiment, 2));
         let name = experiment.name.clone();
         let file = path.file_name().unwrap().to_string_lossy().to_string();
         // insta's settings are thread-local: assert here, after the parallel runs.
@@ -28,6 +28,7 @@ fn every_config_is_snapshotted() {
             insta::assert_yaml_snapshot!(name, records, {
                 "[].time_ms" => "[time]",
                 "[].peak_heap_bytes" => "[memory]",
+                "[].setup_ms" => "[time]",
             });
         });
     }
@@ -71,6 +72,7 @@ fn deterministic_fields(records: &[RunRecord]) -> Vec<RunRecord> {
         .cloned()
         .map(|mut r| {
             r.time_ms = 0.0;
+            r.setup_ms = 0.0;
             r.peak_heap_bytes = 0;
             r
         })
@@ -81,8 +83,8 @@ fn deterministic_fields(records: &[RunRecord]) -> Vec<RunRecord> {
 fn thread_count_does_not_change_results() {
     for path in configs() {
         let experiment = config::load(&path).unwrap().trimmed_for_test();
-        let one = run_all(&experiment, 1, false).unwrap();
-        let three = run_all(&experiment, 3, false).unwrap();
+        let one = common::run(&experiment, 1);
+        let three = common::run(&experiment, 3);
         let a = serde_json::to_string(&deterministic_fields(&one)).unwrap();
         let b = serde_json::to_string(&deterministic_fields(&three)).unwrap();
         assert_eq!(a, b, "{}", path.display());
@@ -94,7 +96,7 @@ fn thread_count_does_not_change_results() {
 #[test]
 fn paper_config_reproduces_every_published_number() {
     let experiment = config::load(&root().join("configs/paper.toml")).unwrap();
-    let records = run_all(&experiment, 2, false).unwrap();
+    let records = common::run(&experiment, 2);
     let manifest: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(root().join("maps/paper/manifest.json")).unwrap(),
     )
@@ -148,7 +150,7 @@ const MAPS: &str = "[[maps]]\nfiles = [\"../maps/paper/map01.map\"]\nproblems = 
 fn config_errors_name_file_line_column_and_key() {
     check_error(
         &format!("name = \"x\"\nthreds = 2\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
-        "bad.toml:2:1: unknown field `threds`, expected one of `name`, `description`, `output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, `published`, `test`, `maps`, `planners`",
+        "bad.toml:2:1: unknown field `threds`, expected one of `name`, `description`, `output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, `published`, `test`, `sections`, `maps`, `planners`",
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
@@ -160,7 +162,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astar\"\nmoves = 4\nweight = \"heavy\"\n"),
-        "bad.toml:8:1: planner `a` (astar): invalid type: string \"heavy\", expected f64 in `weight`",
+        "bad.toml:8:1: planner `a` (astar): parameter `weight`: invalid type: string \"heavy\", expected f64",
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astar\"\nweight = -2.0\n"),
@@ -168,7 +170,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astar\"\nmoves = 6\n"),
-        "bad.toml:7:1: planner `a` (astar): unsupported connectivity 6, expected one of 4, 8, 16, 32, 48 in `moves`",
+        "bad.toml:7:1: planner `a` (astar): parameter `moves`: unsupported connectivity 6, expected one of 4, 8, 16, 32, 48",
     );
     check_error(
         "name = \"x\"\n[[maps]]\nfiles = [\"../maps/nowhere/*.map\"]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
@@ -235,13 +237,14 @@ fn a_failed_sweep_leaves_previous_results_and_writes_nothing() {
 
 #[test]
 fn plan_prints_one_json_object_and_names_bad_input() {
-    let args = xtask::plan::PlanArgs {
+    let args = planner_runner::plan::PlanArgs {
         map: root().join("maps/paper/map01.map"),
         planner: "astar".into(),
         ..Default::default()
     };
     let json: serde_json::Value =
-        serde_json::from_str(&xtask::plan::run(&args).unwrap().to_json().unwrap()).unwrap();
+        serde_json::from_str(&planner_runner::plan::run(&args).unwrap().to_json().unwrap())
+            .unwrap();
     // Seed 000 Tables 3 and 5, map 1: D 10, T 2, Score 12, 15 expansions.
     assert_eq!(json["status"], "found");
     assert_eq!(json["metrics"]["steps"], 10);
@@ -249,21 +252,25 @@ fn plan_prints_one_json_object_and_names_bad_input() {
     assert_eq!(json["metrics"]["score"], 12);
     assert_eq!(json["counters"]["n_expanded"], 15);
     assert_eq!(json["path"][0], serde_json::json!([0, 0]));
-    let blocked = xtask::plan::PlanArgs {
+    let blocked = planner_runner::plan::PlanArgs {
         map: root().join("maps/wpi/map2.txt"),
         planner: "bfs".into(),
         problem: Some(2),
         ..Default::default()
     };
-    let error = xtask::plan::run(&blocked).err().unwrap();
+    let error = planner_runner::plan::run(&blocked)
+        .err()
+        .unwrap()
+        .to_string();
     assert!(error.ends_with("goal (12, 3) is blocked"), "{error}");
-    let unknown = xtask::plan::PlanArgs {
+    let unknown = planner_runner::plan::PlanArgs {
         set: vec!["beta=2".into()],
         ..args
     };
-    assert!(xtask::plan::run(&unknown)
+    assert!(planner_runner::plan::run(&unknown)
         .err()
         .unwrap()
+        .to_string()
         .contains("unknown field `beta`"));
 }
 
@@ -280,8 +287,8 @@ fn corner_cutting_paths_are_validated_by_their_own_rule() {
     .unwrap();
     let text = "name = \"c\"\n[[maps]]\nfiles = [\"x.map\"]\nproblems = \"corners\"\n[planners.cut]\nplanner = \"astar\"\nmoves = 8\ncorner_cutting = true\nheuristic = \"octile\"\n";
     let experiment = config::parse(&dir.join("c.toml"), text).unwrap();
-    let records = run_all(&experiment, 1, false).unwrap();
-    assert_eq!(records[0].status, "found");
+    let records = common::run(&experiment, 1);
+    assert_eq!(records[0].status.as_str(), "found");
     assert_eq!(records[0].steps, Some(1));
     assert_eq!(records[0].valid, Some(true));
     std::fs::remove_dir_all(&dir).unwrap();
@@ -293,8 +300,8 @@ fn wpi_config_reproduces_the_reports_path_lengths() {
     let experiment = config::load(&root().join("configs/wpi.toml"))
         .unwrap()
         .trimmed_for_test();
-    let records = run_all(&experiment, 2, false).unwrap();
-    let (_, reproduction) = xtask::summary::render(&experiment, &records);
+    let records = common::run(&experiment, 2);
+    let (_, reproduction) = planner_runner::report::render(&experiment, &records);
     assert_eq!((reproduction.matched, reproduction.compared), (15, 15));
 }
 
@@ -305,7 +312,7 @@ fn movingai_config_matches_the_scenario_optima() {
     let experiment = config::load(&root().join("configs/movingai.toml"))
         .unwrap()
         .trimmed_for_test();
-    let records = run_all(&experiment, 2, false).unwrap();
+    let records = common::run(&experiment, 2);
     let exact = ["octile", "octile_high_g", "dijkstra"];
     let mut checked = 0;
     for r in records
@@ -314,7 +321,7 @@ fn movingai_config_matches_the_scenario_optima() {
     {
         let (length, optimal) = (r.length.unwrap(), r.optimal_length.unwrap());
         assert!(
-            xtask::summary::matches_optimum(length, optimal),
+            planner_runner::report::optimum::matches_optimum(length, optimal),
             "{} {} #{}: {length} vs {optimal}",
             r.planner,
             r.map,
@@ -341,7 +348,7 @@ fn every_astar_run_matches_the_reference_search() {
         let (status, cells, counters) =
             planner_testkit::reference_astar(&map.grid, &moves, h, tie, r.start, r.goal);
         let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
-        assert_eq!(r.status, status.as_str(), "{what}");
+        assert_eq!(r.status.as_str(), status.as_str(), "{what}");
         let actual = planner_testkit::REFERENCE_COUNTERS.map(|n| r.counters.get(n).unwrap());
         assert_eq!(actual, counters, "{what}");
         assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
@@ -418,14 +425,14 @@ fn ros_maps_take_an_inflation_radius() {
 #[test]
 fn plan_with_a_seed_is_reproducible() {
     let run = |seed: u64| {
-        let args = xtask::plan::PlanArgs {
+        let args = planner_runner::plan::PlanArgs {
             map: root().join("maps/wpi/map3.txt"),
             planner: "rrt".into(),
             problem: Some(1),
             set: vec![format!("seed={seed}")],
             ..Default::default()
         };
-        xtask::plan::run(&args).unwrap().to_json().unwrap()
+        planner_runner::plan::run(&args).unwrap().to_json().unwrap()
     };
     assert_eq!(run(7), run(7));
     let outputs: std::collections::BTreeSet<String> = (0..5).map(run).collect();

@@ -5,13 +5,13 @@
 mod common;
 
 use common::{configs, root};
-use xtask::config;
-use xtask::run::{run_all, RunRecord};
+use planner_runner::config;
+use planner_runner::RunRecord;
 
 /// `cargo xtask gen-pastar-maps` writes exactly the files in maps/pastar/.
 #[test]
 fn generated_maps_are_the_committed_ones() {
-    for map in xtask::generate::specs() {
+    for map in planner_pastar::generate::specs() {
         let path = root().join("maps/pastar").join(map.name);
         let committed = std::fs::read_to_string(&path).unwrap();
         assert!(
@@ -39,7 +39,7 @@ fn every_pastar_path_in_every_config_is_valid_and_passes_its_marks() {
             continue;
         }
         experiment.repeats = 1;
-        for record in run_all(&experiment, 2, false).unwrap() {
+        for record in common::run(&experiment, 2) {
             let at = format!(
                 "{} {} #{} {}",
                 path.display(),
@@ -47,7 +47,7 @@ fn every_pastar_path_in_every_config_is_valid_and_passes_its_marks() {
                 record.problem,
                 record.planner
             );
-            assert_eq!(record.status, "found", "{at}");
+            assert_eq!(record.status.as_str(), "found", "{at}");
             assert_eq!(record.valid, Some(true), "{at}");
             assert_eq!(record.counters.get("n_fallbacks"), Some(0), "{at}");
             // Its marks are the local segments' ends, in pairs along the path.
@@ -82,7 +82,7 @@ fn pastar_config_lengths_on_the_140x120_maps() {
     experiment
         .maps
         .retain(|m| m.grid.width() == 140 && m.grid.height() == 120);
-    let records = run_all(&experiment, 2, false).unwrap();
+    let records = common::run(&experiment, 2);
     let open = "open-140x120.map";
     assert_eq!(
         format!("{:.2}", length(&records, open, "PA-star")),
@@ -156,14 +156,14 @@ fn pastar_counters_are_the_reference_local_searches() {
 /// `cargo xtask plan` prints PA-star's marks (text and JSON): its local segments' ends.
 #[test]
 fn plan_prints_pastar_marks() {
-    let args = xtask::plan::PlanArgs {
+    let args = planner_runner::plan::PlanArgs {
         map: root().join("maps/pastar/two-140x120.map"),
         planner: planner_pastar::NAME.into(),
         start: Some(planner_api::Cell::new(20, 10)),
         goal: Some(planner_api::Cell::new(70, 110)),
         ..Default::default()
     };
-    let result = xtask::plan::run(&args).unwrap();
+    let result = planner_runner::plan::run(&args).unwrap();
     let problem = planner_api::Problem::new(
         &result.grid,
         planner_api::Cell::new(20, 10),

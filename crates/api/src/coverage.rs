@@ -222,6 +222,9 @@ pub trait CoveragePlanner: Send + Sync {
     /// The planner's registry name, e.g. `coverage`.
     fn name(&self) -> &str;
 
+    /// What the planner is: seeded or not, and the rule its paths obey.
+    fn specs(&self) -> crate::specs::PlannerSpecs;
+
     /// Covers from `problem`'s start within `budget`. Never panics on a valid problem.
     fn cover(&mut self, problem: &CoverageProblem<'_>, budget: &Budget) -> CoverageOutcome;
 }

@@ -37,6 +37,7 @@ pub mod grid;
 pub mod moves;
 pub mod path;
 pub mod planner;
+pub mod specs;
 
 pub use adjacency::Adjacency;
 pub use counters::{Counter, Counters, SearchStats};
@@ -51,3 +52,4 @@ pub use moves::{
 };
 pub use path::{Path, PathMetrics, PathRank, PathRule};
 pub use planner::{Budget, BudgetClock, Mark, Outcome, Planner, Problem, Series, Status};
+pub use specs::{ParamError, ParamKey, PathSpec, PlannerSpecs, SEED_PARAM};

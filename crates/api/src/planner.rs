@@ -8,6 +8,7 @@ use crate::counters::Counters;
 use crate::error::{Endpoint, ProblemError};
 use crate::grid::{Cell, Grid};
 use crate::path::Path;
+use crate::specs::PlannerSpecs;
 
 /// A start-goal query on a grid. Construction validates both cells.
 #[derive(Debug, Clone, Copy)]
@@ -304,9 +305,26 @@ impl Outcome {
 /// `#[serde(deny_unknown_fields)]` config struct), may keep scratch buffers that they
 /// reuse across calls (hence `&mut self`), do no I/O, and return counters that are a pure
 /// function of (grid, problem, config, seed) whenever the budget has no wall-clock limit.
+///
+/// A planner is built once and may serve many queries, on one grid or several: the
+/// runner calls [`Planner::prepare`] for a grid before timing queries on it (so per-grid
+/// tables are setup, not planning time) and, for a seeded planner, [`Planner::reseed`]
+/// before each query.
 pub trait Planner: Send + Sync {
     /// The planner's registry name, e.g. `astar`.
     fn name(&self) -> &str;
+
+    /// What the planner is: seeded or not, and the rule its paths obey.
+    fn specs(&self) -> PlannerSpecs;
+
+    /// Sets the seed of the next [`Planner::plan`] call. Seeded planners must override
+    /// it; the default, for unseeded ones, does nothing.
+    fn reseed(&mut self, _seed: u64) {}
+
+    /// Builds whatever per-grid tables the planner keeps (move masks, node arrays), so a
+    /// following [`Planner::plan`] on `grid` does not. Optional: `plan` must work without
+    /// it. The default does nothing.
+    fn prepare(&mut self, _grid: &Grid) {}
 
     /// Searches `problem` within `budget`. Never panics on a valid problem.
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome;

@@ -208,6 +208,15 @@ pub struct Search {
     pub stats: SearchStats,
 }
 
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Weight(_) => "weight",
+            ConfigError::Moves(e) => e.param_key(),
+        }
+    }
+}
+
 /// The A* planner. Build with [`AStar::new`]; reuse it for many queries.
 #[derive(Debug, Clone)]
 pub struct AStar {
@@ -504,6 +513,18 @@ fn reconstruct(adjacency: &Adjacency, nodes: &[Node], start: usize, goal: usize)
 impl Planner for AStar {
     fn name(&self) -> &str {
         NAME
+    }
+
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
+    }
+
+    fn prepare(&mut self, grid: &planner_api::Grid) {
+        let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
+        if self.nodes.len() != adjacency.padded_len() {
+            self.nodes = vec![Node::default(); adjacency.padded_len()];
+            self.generation = 0;
+        }
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

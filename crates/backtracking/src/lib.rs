@@ -173,11 +173,20 @@ impl Default for Config {
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 pub enum ConfigError {
     /// `order` does not fit `moves`.
-    #[error("invalid order: {0}")]
+    #[error("parameter `order`: {0}")]
     Order(MoveOrderError),
     /// `corner_cutting` was asked for a neighbourhood other than 8.
-    #[error("invalid corner_cutting: {0}")]
+    #[error("parameter `corner_cutting`: {0}")]
     CornerCutting(MoveOrderError),
+}
+
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Order(_) => "order",
+            ConfigError::CornerCutting(_) => "corner_cutting",
+        }
+    }
 }
 
 /// Builds the move set of a config, naming the offending parameter on error.
@@ -757,6 +766,10 @@ impl Search<'_> {
 impl Planner for Backtracking {
     fn name(&self) -> &str {
         "backtracking"
+    }
+
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

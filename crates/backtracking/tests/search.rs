@@ -670,7 +670,7 @@ fn config_keys_and_errors() {
     })
     .unwrap_err();
     assert!(matches!(err, ConfigError::Order(_)));
-    assert!(err.to_string().starts_with("invalid order: "), "{err}");
+    assert!(err.to_string().starts_with("parameter `order`: "), "{err}");
     let err = Backtracking::new(Config {
         corner_cutting: true,
         ..Config::default()
@@ -678,7 +678,7 @@ fn config_keys_and_errors() {
     .unwrap_err();
     assert!(matches!(err, ConfigError::CornerCutting(_)));
     assert!(
-        err.to_string().starts_with("invalid corner_cutting: "),
+        err.to_string().starts_with("parameter `corner_cutting`: "),
         "{err}"
     );
     assert_eq!(

@@ -112,11 +112,20 @@ impl Default for Config {
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 pub enum ConfigError {
     /// `order` does not fit `moves`.
-    #[error("invalid order: {0}")]
+    #[error("parameter `order`: {0}")]
     Order(MoveOrderError),
     /// `corner_cutting` was asked for a neighbourhood other than 8.
-    #[error("invalid corner_cutting: {0}")]
+    #[error("parameter `corner_cutting`: {0}")]
     CornerCutting(MoveOrderError),
+}
+
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Order(_) => "order",
+            ConfigError::CornerCutting(_) => "corner_cutting",
+        }
+    }
 }
 
 /// Which end of the frontier is expanded next: the discipline that makes a frontier
@@ -150,6 +159,11 @@ pub struct FrontierSearch {
 }
 
 impl FrontierSearch {
+    /// The move set in use.
+    pub fn move_set(&self) -> &MoveSet {
+        &self.moves
+    }
+
     /// A search with `moves` in their order and the frontier `discipline`.
     pub fn new(moves: MoveSet, discipline: Discipline) -> FrontierSearch {
         FrontierSearch {
@@ -301,6 +315,12 @@ impl Bfs {
 impl Planner for Bfs {
     fn name(&self) -> &str {
         "bfs"
+    }
+
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(
+            self.search.move_set().clone(),
+        ))
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

@@ -227,14 +227,14 @@ fn config_keys_and_errors() {
     })
     .unwrap_err();
     assert!(matches!(err, ConfigError::Order(_)));
-    assert!(err.to_string().starts_with("invalid order: "), "{err}");
+    assert!(err.to_string().starts_with("parameter `order`: "), "{err}");
     let err = Bfs::new(Config {
         corner_cutting: true,
         ..Config::default()
     })
     .unwrap_err();
     assert!(
-        err.to_string().starts_with("invalid corner_cutting: "),
+        err.to_string().starts_with("parameter `corner_cutting`: "),
         "{err}"
     );
     assert_eq!(Bfs::new(Config::default()).unwrap().name(), "bfs");

@@ -74,8 +74,8 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveOrderError, MoveSet,
-    NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Counter, Counters, Grid, MoveOrderError, MoveSet,
+    NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -119,6 +119,16 @@ pub enum ConfigError {
     /// `order` does not fit `moves`.
     #[error("parameter `order`: {0}")]
     Order(#[from] MoveOrderError),
+}
+
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Moves(_) => "moves",
+            ConfigError::CornerCutting => "corner_cutting",
+            ConfigError::Order(_) => "order",
+        }
+    }
 }
 
 const FORWARD: usize = 0;
@@ -212,14 +222,22 @@ impl BidirectionalAStar {
         })
     }
 
-    /// Runs the search on `problem` within `budget`.
-    pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
-        let grid = problem.grid();
+    /// Builds the move masks and node arrays for `grid` (done by the first search on a
+    /// grid otherwise).
+    pub fn prepare(&mut self, grid: &Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         if self.nodes.len() != adjacency.padded_len() {
             self.nodes = vec![Node::default(); adjacency.padded_len()];
             self.generation = 0;
         }
+    }
+
+    /// Runs the search on `problem` within `budget`.
+    pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+        self.prepare(problem.grid());
+        let Some(adjacency) = self.adjacency.as_ref() else {
+            unreachable!("prepare fills the adjacency cache");
+        };
         self.generation += 1;
         if self.generation >= 1 << 31 {
             self.nodes.fill(Node::default());
@@ -400,6 +418,15 @@ fn in_open(stats: &[SearchStats; 2], d: usize) -> u64 {
 impl Planner for BidirectionalAStar {
     fn name(&self) -> &str {
         NAME
+    }
+
+    /// Deterministic; every step is one of the configured 4 or 8 moves.
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone()))
+    }
+
+    fn prepare(&mut self, grid: &Grid) {
+        BidirectionalAStar::prepare(self, grid);
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

@@ -203,6 +203,14 @@ pub enum ConfigError {
     },
 }
 
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::OtherPattern { parameter, .. } => parameter,
+        }
+    }
+}
+
 /// The exact cost `straight + diagonal * sqrt 2` of an 8-connected path or octile distance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Octile {
@@ -390,6 +398,14 @@ impl Remaining {
 impl CoveragePlanner for Coverage {
     fn name(&self) -> &str {
         NAME
+    }
+
+    /// Fill moves are 4-connected and A* returns 8-connected without corner cutting: every
+    /// step is an 8-connected move.
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(
+            planner_api::MoveSet::standard(planner_api::Connectivity::Eight),
+        ))
     }
 
     fn cover(&mut self, problem: &CoverageProblem<'_>, budget: &Budget) -> CoverageOutcome {

@@ -110,6 +110,12 @@ impl Planner for Dfs {
         "dfs"
     }
 
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(
+            self.search.move_set().clone(),
+        ))
+    }
+
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         self.search.search(problem, budget)
     }

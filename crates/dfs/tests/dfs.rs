@@ -206,7 +206,7 @@ fn config_keys_and_errors() {
     })
     .unwrap_err();
     assert!(
-        err.to_string().starts_with("invalid corner_cutting: "),
+        err.to_string().starts_with("parameter `corner_cutting`: "),
         "{err}"
     );
     assert_eq!(Dfs::new(Config::default()).unwrap().name(), "dfs");

@@ -46,7 +46,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-use planner_api::{Budget, Outcome, Planner, Problem};
+use planner_api::{Budget, Grid, Outcome, PathSpec, Planner, PlannerSpecs, Problem};
 use planner_theta_star::AnyAngle;
 
 pub use planner_theta_star::{Config, ConfigError, Search, Variant, EPSILON};
@@ -77,6 +77,15 @@ impl LazyThetaStar {
 impl Planner for LazyThetaStar {
     fn name(&self) -> &str {
         NAME
+    }
+
+    /// Deterministic; paths are waypoints joined by segments with line of sight.
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::AnyAngle)
+    }
+
+    fn prepare(&mut self, grid: &Grid) {
+        self.search.prepare(grid);
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

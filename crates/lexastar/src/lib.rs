@@ -227,6 +227,16 @@ pub enum ConfigError {
     Order(#[from] MoveOrderError),
 }
 
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Moves(_) => "moves",
+            ConfigError::Lambda(_) => "lambda",
+            ConfigError::Order(e) => e.param_key(),
+        }
+    }
+}
+
 /// A cost or cost estimate: steps and turns, ordered lexicographically (steps first).
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default, Serialize, Deserialize,
@@ -650,6 +660,10 @@ fn reconstruct(
 impl Planner for LexAStar {
     fn name(&self) -> &str {
         NAME
+    }
+
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

@@ -152,6 +152,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+pub mod generate;
 pub mod geometry;
 
 use std::fmt;
@@ -284,6 +285,18 @@ pub enum ConfigError {
     /// The local A* rejected its configuration.
     #[error("local A*: {0}")]
     AStar(#[from] planner_astar::ConfigError),
+}
+
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::ConnectingDistance(_) => "connecting_distance",
+            ConfigError::Beta(_) => "beta",
+            ConfigError::Radius(_) => "radius",
+            ConfigError::RThreshold(_) => "r_threshold",
+            ConfigError::AStar(e) => e.param_key(),
+        }
+    }
 }
 
 /// One obstacle the line S-E crosses.
@@ -753,6 +766,13 @@ fn circle_line(s: Cell, e: Cell, centre: (f64, f64), radius: f64) -> Option<(f64
 impl Planner for PaStar {
     fn name(&self) -> &str {
         NAME
+    }
+
+    /// Paths join straight-line stretches (exact traversal cells) and local A* paths
+    /// (moves up to the 48-direction neighbourhood), so they are checked by the any-angle
+    /// rule.
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::AnyAngle)
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

@@ -173,6 +173,12 @@ pub enum ConfigError {
     Step(u32),
 }
 
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        self.parameter()
+    }
+}
+
 impl ConfigError {
     /// The name of the offending parameter, as in the config: `goal_bias` or `step`.
     pub fn parameter(&self) -> &'static str {
@@ -340,6 +346,16 @@ impl<I: NearestIndex> Rrt<I> {
 impl<I: NearestIndex> Planner for Rrt<I> {
     fn name(&self) -> &str {
         NAME
+    }
+
+    /// Seeded; paths are the tree's vertices, joined by free segments of up to `step`
+    /// cells, so they are checked by the any-angle rule.
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        planner_api::PlannerSpecs::seeded(planner_api::PathSpec::AnyAngle)
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.config.seed = seed;
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

@@ -98,7 +98,7 @@ use std::collections::BinaryHeap;
 
 use planner_api::{
     walk_segment, Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder,
-    Outcome, Path, Planner, Problem, SearchStats, Status,
+    Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -144,6 +144,15 @@ pub enum ConfigError {
         "parameter `corner_cutting`: any-angle search never cuts corners; true is not supported"
     )]
     CornerCutting,
+}
+
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Moves(_) => "moves",
+            ConfigError::CornerCutting => "corner_cutting",
+        }
+    }
 }
 
 impl Config {
@@ -258,15 +267,24 @@ impl AnyAngle {
         })
     }
 
-    /// Runs `variant` on `problem` within `budget` (one expansion is one node taken from
-    /// OPEN and CLOSED).
-    pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget, variant: Variant) -> Search {
-        let grid = problem.grid();
+    /// Builds the move masks and node arrays for `grid` (done by the first search on a
+    /// grid otherwise).
+    pub fn prepare(&mut self, grid: &planner_api::Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         if self.nodes.len() != adjacency.padded_len() {
             self.nodes = vec![Node::default(); adjacency.padded_len()];
             self.generation = 0;
         }
+    }
+
+    /// Runs `variant` on `problem` within `budget` (one expansion is one node taken from
+    /// OPEN and CLOSED).
+    pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget, variant: Variant) -> Search {
+        let grid = problem.grid();
+        self.prepare(grid);
+        let Some(adjacency) = self.adjacency.as_ref() else {
+            unreachable!("prepare fills the adjacency cache");
+        };
         self.generation += 1;
         if self.generation >= 1 << 31 {
             self.nodes.fill(Node::default());
@@ -471,6 +489,15 @@ impl ThetaStar {
 impl Planner for ThetaStar {
     fn name(&self) -> &str {
         NAME
+    }
+
+    /// Deterministic; paths are waypoints joined by segments with line of sight.
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::AnyAngle)
+    }
+
+    fn prepare(&mut self, grid: &planner_api::Grid) {
+        self.search.prepare(grid);
     }
 
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {

@@ -3,6 +3,18 @@
 
 use std::path::{Path, PathBuf};
 
+/// Runs `experiment` on `threads` threads, without progress or heap measurement.
+pub fn run(
+    experiment: &planner_runner::Experiment,
+    threads: usize,
+) -> Vec<planner_runner::RunRecord> {
+    let options = planner_runner::RunOptions {
+        threads,
+        ..Default::default()
+    };
+    planner_runner::run_all(experiment, &options).unwrap()
+}
+
 /// The repository root.
 pub fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -37,15 +49,22 @@ pub fn tie(rule: planner_astar::TieBreak) -> planner_testkit::Tie {
 /// many runs it checked.
 pub fn for_each_snapshotted_run(
     algorithm: &str,
-    mut check: impl FnMut(&Path, &xtask::config::MapEntry, &toml::Table, &xtask::run::RunRecord),
+    mut check: impl FnMut(
+        &Path,
+        &planner_runner::config::MapEntry,
+        &toml::Table,
+        &planner_runner::RunRecord,
+    ),
 ) -> usize {
     let mut n_checked = 0;
     for path in configs() {
-        let experiment = xtask::config::load(&path).unwrap().trimmed_for_test();
-        let records = xtask::run::run_all(&experiment, 2, false).unwrap();
+        let experiment = planner_runner::config::load(&path)
+            .unwrap()
+            .trimmed_for_test();
+        let records = run(&experiment, 2);
         let runs = records
             .iter()
-            .filter(|r| r.algorithm == algorithm && r.status != "invalid_problem");
+            .filter(|r| r.algorithm == algorithm && !r.is_invalid());
         for record in runs {
             let spec = experiment
                 .planners

@@ -1,4 +1,5 @@
-//! `cargo xtask gen-pastar-maps`: the maps of seed 002's section 4 (PA-star), generated.
+//! The maps of seed 002's section 4 (PA-star), generated (`cargo xtask gen-pastar-maps`
+//! writes them to `maps/pastar/`).
 //!
 //! The paper's maps were lost with its figures, so these are maps *in the shape* of
 //! section 4.1 and Table 2, made by a fixed recipe (the rectangles of the 140 x 120 maps
@@ -19,8 +20,6 @@
 //! Every start and goal keeps a free disc of radius 3 around it, and a map is accepted
 //! only if each of its goals is 4-connected to its start (else the next seed is tried; the
 //! seeds that were taken are the ones in [`specs`]).
-
-use std::path::Path;
 
 use planner_api::{Cell, Grid};
 use rand::{Rng, SeedableRng};
@@ -216,17 +215,4 @@ pub fn specs() -> Vec<GeneratedMap> {
         pairs: LARGE_PAIRS.to_vec(),
     });
     maps
-}
-
-/// Writes every map of [`specs`] to `dir` as a Moving AI `.map` file; returns the paths.
-pub fn write_all(dir: &Path) -> Result<Vec<String>, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let mut written = Vec::new();
-    for map in specs() {
-        let path = dir.join(map.name);
-        std::fs::write(&path, planner_maps::to_movingai(&map.grid))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        written.push(path.display().to_string());
-    }
-    Ok(written)
 }

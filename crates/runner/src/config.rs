@@ -3,7 +3,6 @@
 //! `configs/README.md` documents every key. Relative paths in a config are relative to
 //! the config file's directory. Every error names the file, line and column, and the key.
 
-use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -12,10 +11,16 @@ use planner_api::{Budget, Cell, Grid, Problem};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::registry::{self, Kind};
+use crate::factory::{Factory, Task};
+use crate::registry;
 
-/// A config error with its position.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// Most worker threads a config or command line may ask for.
+pub const MAX_THREADS: usize = 256;
+
+/// A config error with its position: `file:line:column: message`, or `file: message` when
+/// it has no position (line 0).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{}{}: {message}", file.display(), position(*line, *column))]
 pub struct ConfigError {
     /// The config file.
     pub file: PathBuf,
@@ -27,24 +32,13 @@ pub struct ConfigError {
     pub message: String,
 }
 
-impl fmt::Display for ConfigError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.line == 0 {
-            write!(f, "{}: {}", self.file.display(), self.message)
-        } else {
-            write!(
-                f,
-                "{}:{}:{}: {}",
-                self.file.display(),
-                self.line,
-                self.column,
-                self.message
-            )
-        }
+fn position(line: usize, column: usize) -> String {
+    if line == 0 {
+        String::new()
+    } else {
+        format!(":{line}:{column}")
     }
 }
-
-impl std::error::Error for ConfigError {}
 
 /// Locates byte offsets of one source text as lines and columns.
 struct Source<'a> {
@@ -78,8 +72,8 @@ struct RawConfig {
     name: Spanned<String>,
     description: Option<String>,
     output: Option<String>,
-    #[serde(default)]
-    threads: usize,
+    #[serde(default = "zero")]
+    threads: Spanned<usize>,
     #[serde(default = "one")]
     repeats: Spanned<u32>,
     #[serde(default)]
@@ -92,8 +86,13 @@ struct RawConfig {
     published: Option<Spanned<String>>,
     #[serde(default)]
     test: TestLimits,
+    sections: Option<Spanned<Vec<String>>>,
     maps: Vec<Spanned<RawMaps>>,
     planners: IndexMap<Spanned<String>, Spanned<RawParams>>,
+}
+
+fn zero() -> Spanned<usize> {
+    Spanned::new(0..0, 0)
 }
 
 fn one() -> Spanned<u32> {
@@ -188,6 +187,9 @@ pub struct Experiment {
     pub maps: Vec<MapEntry>,
     /// Planner configurations, in config order.
     pub planners: Vec<PlannerSpec>,
+    /// The summary.md sections the config names (`sections = [...]`); `None` lets each
+    /// section decide whether it applies.
+    pub sections: Option<Vec<String>>,
 }
 
 /// One map with its problems.
@@ -225,17 +227,14 @@ pub struct PlannerSpec {
     pub label: String,
     /// Registry name.
     pub name: &'static str,
-    /// Deterministic or stochastic.
-    pub kind: Kind,
-    /// Parameters, as given (without `planner` and `budget`).
+    /// The validated planner configuration: builds planners, knows their specs.
+    pub factory: Factory,
+    /// Parameters, as given (without `planner`, `budget` and `compare`).
     pub params: toml::Table,
     /// The budget for this planner (the experiment's unless overridden).
     pub budget: Budget,
     /// Which published planner's values to compare with, when not its own.
     pub compare: Option<Compare>,
-    /// Whether it is a coverage planner (`registry::COVERAGE`): it covers from each
-    /// problem's start and ignores the goal.
-    pub coverage: bool,
 }
 
 /// `compare = { with = "backtracking", metrics = ["steps", "turns", "score"] }`: mark these
@@ -263,26 +262,10 @@ impl PlannerSpec {
         }
     }
 
-    /// The rule its paths are validated with: the 8-connected moves with corner cutting
-    /// when the planner's `corner_cutting` parameter is true (such paths pass between two
-    /// blocked cells that share a corner), else any-angle segments, which every other
-    /// planner's moves satisfy.
-    pub fn path_rule_moves(&self) -> Option<planner_api::MoveSet> {
-        let cutting = self
-            .params
-            .get("corner_cutting")
-            .and_then(toml::Value::as_bool)
-            == Some(true);
-        cutting
-            .then(|| {
-                planner_api::MoveSet::new(
-                    planner_api::Connectivity::Eight,
-                    true,
-                    &planner_api::NeighborOrder::default(),
-                )
-                .ok()
-            })
-            .flatten()
+    /// Whether it is a coverage planner: it covers from each problem's start and ignores
+    /// the goal.
+    pub fn is_coverage(&self) -> bool {
+        self.factory.task() == Task::Coverage
     }
 }
 
@@ -324,42 +307,6 @@ impl Published {
     }
 }
 
-impl PlannerSpec {
-    /// A fresh planner for repeat `repeat` (stochastic planners get `seed + repeat`).
-    pub fn build(&self, seed: u64, repeat: u32) -> Result<Box<dyn planner_api::Planner>, String> {
-        let mut params = self.params.clone();
-        if self.kind == Kind::Stochastic {
-            let base = params
-                .get("seed")
-                .and_then(toml::Value::as_integer)
-                .map_or(seed, |s| s as u64);
-            let seed = base.wrapping_add(u64::from(repeat));
-            params.insert("seed".into(), toml::Value::Integer(seed as i64));
-        }
-        let entry =
-            registry::find(self.name).ok_or_else(|| format!("unknown planner `{}`", self.name))?;
-        (entry.build)(params)
-    }
-
-    /// A fresh coverage planner (for specs with `coverage` set).
-    pub fn build_coverage(&self) -> Result<Box<dyn planner_api::CoveragePlanner>, String> {
-        let entry = registry::find_coverage(self.name)
-            .ok_or_else(|| format!("unknown coverage planner `{}`", self.name))?;
-        (entry.build)(self.params.clone())
-    }
-
-    /// The seed a stochastic planner runs with in `repeat`.
-    pub fn seed_for(&self, seed: u64, repeat: u32) -> Option<u64> {
-        (self.kind == Kind::Stochastic).then(|| {
-            self.params
-                .get("seed")
-                .and_then(toml::Value::as_integer)
-                .map_or(seed, |s| s as u64)
-                .wrapping_add(u64::from(repeat))
-        })
-    }
-}
-
 /// Reads and validates the experiment config at `path`.
 pub fn load(path: &Path) -> Result<Experiment, ConfigError> {
     let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
@@ -392,6 +339,15 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     }
     if *raw.repeats.get_ref() == 0 {
         return Err(src.error(Some(raw.repeats.span()), "key `repeats` must be at least 1"));
+    }
+    if *raw.threads.get_ref() > MAX_THREADS {
+        return Err(src.error(
+            Some(raw.threads.span()),
+            format!(
+                "key `threads`: {} is more than {MAX_THREADS}; use 0 for one per core",
+                raw.threads.get_ref()
+            ),
+        ));
     }
 
     let mut planners = Vec::new();
@@ -426,19 +382,40 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
             .as_ref()
             .filter(|p| *p.get_ref() == ProblemSource::Start)
     }) {
-        if let Some(p) = planners.iter().find(|p| !p.coverage) {
+        if let Some(p) = planners.iter().find(|p| !p.is_coverage()) {
             return Err(src.error(
                 Some(goalless.span()),
                 format!(
                     "`problems = \"start\"` has no goal, but planner `{}` ({}) is not a coverage planner (coverage planners: {})",
                     p.label,
                     p.name,
-                    registry::COVERAGE.iter().map(|c| c.name).collect::<Vec<_>>().join(", ")
+                    registry::PLANNERS
+                        .iter()
+                        .filter(|e| e.task == Task::Coverage)
+                        .map(|e| e.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
             ));
         }
     }
 
+    if let Some(sections) = &raw.sections {
+        let known = crate::report::section_names();
+        if let Some(bad) = sections
+            .get_ref()
+            .iter()
+            .find(|s| !known.contains(&s.as_str()))
+        {
+            return Err(src.error(
+                Some(sections.span()),
+                format!(
+                    "key `sections`: unknown section {bad:?}, expected some of {}",
+                    known.join(", ")
+                ),
+            ));
+        }
+    }
     let published = match &raw.published {
         Some(p) => Some(load_published(&src, &base.join(p.get_ref()), p.span())?),
         None => None,
@@ -452,7 +429,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
             .unwrap_or_else(|| Path::new("results").join(&name)),
         name,
         description: raw.description,
-        threads: raw.threads,
+        threads: *raw.threads.get_ref(),
         repeats: *raw.repeats.get_ref(),
         seed: raw.seed,
         figures: raw.figures,
@@ -461,6 +438,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         test: raw.test,
         maps,
         planners,
+        sections: raw.sections.map(Spanned::into_inner),
     })
 }
 
@@ -490,11 +468,7 @@ fn planner_spec(
         ));
     };
     let name = name_value.get_ref().as_str().unwrap_or_default();
-    let coverage = registry::find_coverage(name);
-    let Some((entry_name, kind)) = registry::find(name)
-        .map(|e| (e.name, e.kind))
-        .or_else(|| coverage.map(|c| (c.name, Kind::Deterministic)))
-    else {
+    let Some(entry) = registry::find(name) else {
         return Err(src.error(
             Some(name_value.span()),
             format!(
@@ -537,48 +511,85 @@ fn planner_spec(
             }
         }
     }
-    let checked = match (coverage, registry::find(name)) {
-        (Some(c), _) => (c.build)(params.clone()).map(drop),
-        (None, Some(e)) => (e.build)(params.clone()).map(drop),
-        (None, None) => Ok(()),
-    };
-    if let Err(message) = checked {
-        // Point at the key the message names (`unknown field `x``, `in `x``,
-        // `parameter `x``), else at the planner's label.
-        let span = backticked(&message)
-            .into_iter()
-            .find_map(|key| key_span(&key))
-            .unwrap_or_else(|| label.span());
-        return Err(src.error(
+    let factory = (entry.factory)(&params).map_err(|e| {
+        // The error names its key; point there, else at the label.
+        let span = key_span(&e.key).unwrap_or_else(|| label.span());
+        let message = if e.key.is_empty() || e.message.contains(&format!("`{}`", e.key)) {
+            e.message.clone()
+        } else {
+            format!("parameter `{}`: {}", e.key, e.message)
+        };
+        src.error(
             Some(span),
             format!(
-                "planner `{label_text}` ({name}): {}",
+                "planner `{label_text}` ({}): {}",
+                entry.name,
                 message.replace('\n', " ").trim()
             ),
-        ));
-    }
+        )
+    })?;
     Ok(PlannerSpec {
         label: label_text.clone(),
-        name: entry_name,
-        kind,
+        name: entry.name,
+        factory,
         params,
         budget,
         compare,
-        coverage: coverage.is_some(),
     })
+}
+
+/// The planner spec of `label` running registry planner `name` with `params`: the path
+/// `plan` takes for registry names and `--set` overrides.
+pub fn planner_from_table(
+    label: &str,
+    name: &str,
+    params: toml::Table,
+    budget: Budget,
+) -> Result<PlannerSpec, crate::RunnerError> {
+    let entry = registry::find(name).ok_or_else(|| crate::RunnerError::UnknownPlanner {
+        name: name.to_string(),
+    })?;
+    let factory =
+        (entry.factory)(&params).map_err(|e| crate::RunnerError::Param(label.to_string(), e))?;
+    Ok(PlannerSpec {
+        label: label.to_string(),
+        name: entry.name,
+        factory,
+        params,
+        budget,
+        compare: None,
+    })
+}
+
+/// Reads a map file of any format planner-maps knows, ROS `.yaml` maps with `ros`.
+pub fn read_map_file(
+    path: &Path,
+    ros: &planner_maps::RosOptions,
+) -> Result<planner_maps::MapFile, planner_maps::MapError> {
+    if is_ros(path) {
+        let map = planner_maps::read_ros_map(path, ros)?;
+        Ok(planner_maps::MapFile {
+            grid: map.grid,
+            problems: Vec::new(),
+            format: planner_maps::MapFormat::Ros,
+        })
+    } else {
+        planner_maps::read_map(path)
+    }
+}
+
+fn is_ros(path: &Path) -> bool {
+    matches!(
+        path.extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref(),
+        Some("yaml" | "yml")
+    )
 }
 
 fn first_line(text: &str) -> &str {
     text.lines().next().unwrap_or_default()
-}
-
-/// The words between backticks in `text`, in order.
-fn backticked(text: &str) -> Vec<String> {
-    text.split('`')
-        .enumerate()
-        .filter(|(i, _)| i % 2 == 1)
-        .map(|(_, word)| word.to_string())
-        .collect()
 }
 
 fn map_entries(
@@ -676,13 +687,7 @@ fn map_entries(
     };
     let mut entries = Vec::new();
     for path in files {
-        let is_ros = matches!(
-            path.extension()
-                .and_then(|e| e.to_str())
-                .map(str::to_ascii_lowercase)
-                .as_deref(),
-            Some("yaml" | "yml")
-        );
+        let is_ros = is_ros(&path);
         if !is_ros && (raw.inflation.is_some() || raw.inflate_unknown.is_some()) {
             let span = raw
                 .inflation
@@ -696,17 +701,8 @@ fn map_entries(
                 ),
             ));
         }
-        let file = if is_ros {
-            let ros = planner_maps::read_ros_map(&path, &ros_options)
-                .map_err(|e| at(raw.files.span(), e.to_string()))?;
-            planner_maps::MapFile {
-                grid: ros.grid,
-                problems: Vec::new(),
-                format: planner_maps::MapFormat::Ros,
-            }
-        } else {
-            planner_maps::read_map(&path).map_err(|e| at(raw.files.span(), e.to_string()))?
-        };
+        let file =
+            read_map_file(&path, &ros_options).map_err(|e| at(raw.files.span(), e.to_string()))?;
         let grid = file.grid;
         let mut pairs: Vec<(Cell, Cell, Option<f64>)> = Vec::new();
         if let Some(source) = &raw.problems {
@@ -767,14 +763,8 @@ fn map_entries(
         let problems = pairs
             .into_iter()
             .enumerate()
-            .map(|(i, (start, goal, optimal_length))| ProblemEntry {
-                index: i + 1,
-                start,
-                goal,
-                optimal_length,
-                invalid: Problem::new(&grid, start, goal)
-                    .err()
-                    .map(|e| e.to_string()),
+            .map(|(i, (start, goal, optimal_length))| {
+                ProblemEntry::new(&grid, i + 1, start, goal, optimal_length)
             })
             .collect();
         let name = path
@@ -865,7 +855,62 @@ fn load_published(
     })
 }
 
+impl ProblemEntry {
+    /// Problem `index` (1-based) from `start` to `goal` on `grid`, checked: `invalid` says
+    /// why it cannot be planned, if so.
+    pub fn new(
+        grid: &Grid,
+        index: usize,
+        start: Cell,
+        goal: Cell,
+        optimal_length: Option<f64>,
+    ) -> ProblemEntry {
+        ProblemEntry {
+            index,
+            start,
+            goal,
+            optimal_length,
+            invalid: Problem::new(grid, start, goal).err().map(|e| e.to_string()),
+        }
+    }
+}
+
 impl Experiment {
+    /// An experiment of one run: `planner` on problem `problem` of `map`, with base seed
+    /// `seed` (what `plan` runs).
+    pub fn single(
+        mut map: MapEntry,
+        problem: ProblemEntry,
+        planner: PlannerSpec,
+        seed: u64,
+    ) -> Experiment {
+        map.problems = vec![problem];
+        Experiment {
+            source: PathBuf::new(),
+            name: "plan".into(),
+            description: None,
+            output: PathBuf::new(),
+            threads: 1,
+            repeats: 1,
+            seed,
+            figures: FigureMode::None,
+            figures_per_map: None,
+            published: None,
+            test: TestLimits::default(),
+            maps: vec![map],
+            planners: vec![planner],
+            sections: None,
+        }
+    }
+
+    /// The map whose file is `path` (compared after resolving both), if the experiment has it.
+    pub fn find_map(&self, path: &Path) -> Option<&MapEntry> {
+        let wanted = path.canonicalize().ok()?;
+        self.maps
+            .iter()
+            .find(|m| m.path.canonicalize().ok().as_ref() == Some(&wanted))
+    }
+
     /// Applies the `[test]` limits (for the snapshot test).
     pub fn trimmed_for_test(mut self) -> Experiment {
         if let Some(n) = self.test.problems_per_map {
@@ -881,7 +926,7 @@ impl Experiment {
 
     /// Number of runs: maps x problems x planners x repeats (invalid problems count once
     /// per planner, unrepeated).
-    pub fn n_runs(&self) -> usize {
+    pub fn n_runs(&self) -> u64 {
         self.maps
             .iter()
             .flat_map(|m| &m.problems)
@@ -889,10 +934,10 @@ impl Experiment {
                 if p.invalid.is_some() {
                     1
                 } else {
-                    self.repeats as usize
+                    u64::from(self.repeats)
                 }
             })
-            .sum::<usize>()
-            * self.planners.len()
+            .sum::<u64>()
+            * self.planners.len() as u64
     }
 }

@@ -1,5 +1,5 @@
 //! Seed 002's tables in `summary.md`, for experiments with a planner whose registry name
-//! is `pastar` (PA-star): path lengths with `R_length` and `R_time` per scenario (Tables
+//! is the section's `proposed` one (the registry sets PA-star): path lengths with `R_length` and `R_time` per scenario (Tables
 //! 6-10) and, with three or more repeats, the timing tests (Tables 11-14).
 //!
 //! - `R_length = (length_PA - length_ref) / length_PA` and `R_time` likewise with the
@@ -20,19 +20,42 @@ use std::fmt::Write as _;
 
 use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
 
+use super::{median_iqr, Context, Reproduction, Section};
 use crate::config::{Experiment, PlannerSpec};
-use crate::run::RunRecord;
-use crate::summary::median_iqr;
+use crate::index::ResultsIndex;
 
-/// The registry name that switches these tables on.
-const PASTAR: &str = "pastar";
+/// Seed 002's comparison of a proposed planner with its references (section name
+/// `seed002`).
+pub struct Seed002 {
+    /// The registry name of the proposed planner; every other label is a reference.
+    pub proposed: &'static str,
+}
 
-/// The seed-002 sections of summary.md, or nothing when no planner is PA-star.
-pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
+impl Section for Seed002 {
+    fn name(&self) -> &'static str {
+        "seed002"
+    }
+
+    /// When some label runs the proposed planner.
+    fn applies(&self, context: &Context<'_>) -> bool {
+        context
+            .experiment
+            .planners
+            .iter()
+            .any(|p| p.name == self.proposed)
+    }
+
+    fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
+        out.push_str(&render(context.experiment, context.index, self.proposed));
+    }
+}
+
+/// The seed-002 sections of summary.md, or nothing when no label runs `proposed_name`.
+fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str) -> String {
     let proposed: Vec<&PlannerSpec> = experiment
         .planners
         .iter()
-        .filter(|p| p.name == PASTAR)
+        .filter(|p| p.name == proposed_name)
         .collect();
     let Some(base) = proposed.first() else {
         return String::new();
@@ -40,7 +63,7 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
     let references: Vec<&PlannerSpec> = experiment
         .planners
         .iter()
-        .filter(|p| p.name != PASTAR)
+        .filter(|p| p.name != proposed_name)
         .collect();
     let mut out = String::from("## PA-star and its references (seed 002, Tables 6-10 layout)\n\n");
     out.push_str("Path length of repeat 0; `R_length = (L_PA - L_ref) / L_PA` and `R_time = (t_PA - t_ref) / t_PA` with median times (equations 10-11: negative when PA-star is shorter or faster).\n\n");
@@ -48,14 +71,7 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> String {
     let mut kw_rows = String::new();
     for map in &experiment.maps {
         for problem in map.problems.iter().filter(|p| p.invalid.is_none()) {
-            let runs = |label: &str| -> Vec<&RunRecord> {
-                records
-                    .iter()
-                    .filter(|r| {
-                        r.map == map.name && r.problem == problem.index && r.planner == label
-                    })
-                    .collect()
-            };
+            let runs = |label: &str| index.runs(&map.name, problem.index, label);
             let length = |label: &str| {
                 runs(label)
                     .iter()
@@ -209,6 +225,7 @@ fn percent(value: Option<f64>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::record::RunRecord;
     use planner_api::{Cell, Counters};
 
     fn record(planner: &str, algorithm: &str, repeat: u32, length: f64, time_ms: f64) -> RunRecord {
@@ -221,7 +238,7 @@ mod tests {
             algorithm: algorithm.into(),
             repeat,
             seed: None,
-            status: "found".into(),
+            status: crate::record::RunStatus::Found,
             error: None,
             steps: Some(1),
             turns: Some(0),
@@ -231,16 +248,18 @@ mod tests {
             valid: Some(true),
             counters: Counters::new(),
             time_ms,
+            setup_ms: 0.0,
             peak_heap_bytes: 0,
             path: None,
             returns: None,
             marks: Vec::new(),
+            series: Vec::new(),
         }
     }
 
     fn experiment(repeats: u32) -> Experiment {
         let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../maps/pastar/open-140x120.map");
+            .join("../../maps/pastar/open-140x120.map");
         let text = format!(
             "name = \"t\"\nrepeats = {repeats}\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.TA]\nplanner = \"astar\"\nmoves = 8\n",
             map.display().to_string()
@@ -255,7 +274,7 @@ mod tests {
             record("PA", "pastar", 0, 100.0, 2.0),
             record("TA", "astar", 0, 125.0, 1.0),
         ];
-        let text = render(&experiment, &records);
+        let text = render(&experiment, &ResultsIndex::new(&records), "pastar");
         // (100 - 125) / 100 = -25 %; (2 - 1) / 2 = +50 %.
         assert!(text.contains("| PA | TA | -25.00 % | 50.00 % |"), "{text}");
         assert!(text.contains("| TA | astar | found | 125.00 | 1.0000 (1.0000~1.0000) |"));
@@ -263,7 +282,7 @@ mod tests {
         // Without PA-star, nothing.
         let mut plain = experiment.clone();
         plain.planners.retain(|p| p.name != "pastar");
-        assert_eq!(render(&plain, &records), "");
+        assert_eq!(render(&plain, &ResultsIndex::new(&records), "pastar"), "");
     }
 
     #[test]
@@ -277,7 +296,7 @@ mod tests {
             records.push(record("PA", "pastar", r, 100.0, 1.0 + f64::from(r)));
             records.push(record("TA", "astar", r, 125.0, 10.0 + f64::from(r * r)));
         }
-        let text = render(&experiment, &records);
+        let text = render(&experiment, &ResultsIndex::new(&records), "pastar");
         assert!(
             text.contains("| open-140x120.map #1 | 5.33 | 1 | 2.092e-2 |"),
             "{text}"

@@ -8,8 +8,9 @@
 use planner_figures::{draw_comparison, draw_path, Layer, Style};
 
 use crate::config::{Experiment, FigureMode};
+use crate::index::ResultsIndex;
 use crate::output::OutputFile;
-use crate::run::RunRecord;
+use crate::record::RunRecord;
 
 /// The figure files of `records`.
 pub fn render(experiment: &Experiment, records: &[RunRecord]) -> Vec<OutputFile> {
@@ -18,6 +19,7 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> Vec<OutputFile>
         return files;
     }
     let style = Style::default();
+    let index = ResultsIndex::new(records);
     for map in &experiment.maps {
         let stem = map
             .name
@@ -31,14 +33,7 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> Vec<OutputFile>
             let runs: Vec<&RunRecord> = experiment
                 .planners
                 .iter()
-                .filter_map(|p| {
-                    records.iter().find(|r| {
-                        r.map == map.name
-                            && r.problem == problem.index
-                            && r.planner == p.label
-                            && r.repeat == 0
-                    })
-                })
+                .filter_map(|p| index.first(&map.name, problem.index, &p.label))
                 .collect();
             let layers: Vec<Layer<'_>> = runs.iter().map(|r| layer(r)).collect();
             let title = format!(
@@ -101,7 +96,7 @@ fn layer(run: &RunRecord) -> Layer<'_> {
             run.status,
             run.length.unwrap_or(0.0)
         ),
-        _ => run.status.replace('_', " "),
+        _ => run.status.as_str().replace('_', " "),
     };
     Layer::new(&run.planner, run.path.as_ref(), note).with_markers(&run.marks)
 }

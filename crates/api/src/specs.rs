@@ -1,0 +1,108 @@
+//! What a planner declares about itself, and typed parameter errors.
+//!
+//! In the spirit of OMPL's `PlannerSpecs`: the runner never guesses what a planner is from
+//! its parameter names. A planner says whether it is seeded and which rule its paths obey
+//! ([`PlannerSpecs`]); a planner's constructor reports a bad parameter as a
+//! [`ParamError`] that names the key, so a config reader can point at it without reading
+//! the message.
+
+use thiserror::Error;
+
+use crate::moves::MoveSet;
+use crate::path::PathRule;
+
+/// The parameter name under which every seeded planner takes its seed (a `u64`).
+pub const SEED_PARAM: &str = "seed";
+
+/// What a planner declares about itself.
+#[derive(Debug, Clone)]
+pub struct PlannerSpecs {
+    /// Whether results depend on a seed ([`crate::Planner::reseed`] sets it per run);
+    /// otherwise counters are a pure function of (grid, problem, config).
+    pub seeded: bool,
+    /// The rule every path the planner returns obeys, checked by the runner.
+    pub path_rule: PathSpec,
+}
+
+impl PlannerSpecs {
+    /// An unseeded planner whose paths obey `path_rule`.
+    pub fn deterministic(path_rule: PathSpec) -> PlannerSpecs {
+        PlannerSpecs {
+            seeded: false,
+            path_rule,
+        }
+    }
+
+    /// A seeded planner whose paths obey `path_rule`.
+    pub fn seeded(path_rule: PathSpec) -> PlannerSpecs {
+        PlannerSpecs {
+            seeded: true,
+            path_rule,
+        }
+    }
+}
+
+/// The owned form of a [`PathRule`]: which consecutive cells a planner's paths may join.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PathSpec {
+    /// Every step is one move of this set (4-connected, 8-connected with or without corner
+    /// cutting, or the 16, 32, 48 directions), valid on the grid.
+    Moves(MoveSet),
+    /// Any-angle: waypoints joined by segments that cross no blocked cell.
+    AnyAngle,
+}
+
+impl PathSpec {
+    /// The rule as [`crate::Path::validate`] takes it.
+    pub fn rule(&self) -> PathRule<'_> {
+        match self {
+            PathSpec::Moves(moves) => PathRule::Moves(moves),
+            PathSpec::AnyAngle => PathRule::AnyAngle,
+        }
+    }
+}
+
+/// A parameter a planner cannot run with, and the key it belongs to.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("{message}")]
+pub struct ParamError {
+    /// The parameter's key in the planner's table, e.g. `weight`; empty when the error
+    /// concerns the table as a whole.
+    pub key: String,
+    /// What is wrong, e.g. "parameter `weight` must be a finite number >= 0, got -2".
+    pub message: String,
+}
+
+impl ParamError {
+    /// An error about parameter `key`.
+    pub fn new(key: impl Into<String>, message: impl Into<String>) -> ParamError {
+        ParamError {
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// A planner's configuration error that knows which parameter it is about.
+///
+/// Each planner crate implements it for its `ConfigError`, so the registry turns any
+/// constructor error into a [`ParamError`] with the right key.
+pub trait ParamKey: std::fmt::Display {
+    /// The parameter the error is about.
+    fn param_key(&self) -> &str;
+
+    /// The error as a [`ParamError`].
+    fn to_param_error(&self) -> ParamError {
+        ParamError::new(self.param_key(), self.to_string())
+    }
+}
+
+impl ParamKey for crate::error::MoveOrderError {
+    fn param_key(&self) -> &str {
+        use crate::error::MoveOrderError;
+        match self {
+            MoveOrderError::CornerCutting(_) => "corner_cutting",
+            _ => "order",
+        }
+    }
+}

@@ -1,0 +1,103 @@
+//! gridplan's experiment runner as a library: the `cargo xtask` and `gridplan` command
+//! lines and the Python package all call it.
+//!
+//! # Design
+//! The boundary between the runner and the planners is typed. When a config is read,
+//! the [`registry`] turns each label's parameter table into a [`Factory`], once: the
+//! table is deserialized into the planner crate's own config and validated there, errors
+//! name the parameter's key, and the planner declares what it is
+//! ([`planner_api::PlannerSpecs`]: seeded or not, the rule its paths obey) and whether it
+//! plans start-goal queries or covers ([`Task`]). After that the runner never reads a
+//! planner's parameters: the generic modules ([`run`], [`report`], [`figures`],
+//! [`output`]) name no planner, and the registry is the one place that does.
+//!
+//! - [`config`]: experiment configs (TOML) with positioned errors; map sets.
+//! - [`registry`] and [`factory`]: the one list of planners and the typed boundary.
+//! - [`run`]: the lazy run list and the parallel sweep; planners built once per worker
+//!   and label, reused across runs; [`run::run_one`], the one function that runs a run.
+//! - [`record`] and [`index`]: the results model and lookups into it.
+//! - [`report`]: summary.md as sections in the seeds' table layouts.
+//! - [`figures`] and [`coverage`]: the sweep's SVG figures.
+//! - [`output`]: runs.csv and runs.json as bytes.
+//! - [`plan`]: one run of one planner, for `plan`.
+//!
+//! The library installs no global allocator, draws no progress bar and writes no file:
+//! progress is a callback and peak-heap measurement a hook ([`run::RunOptions`]), and the
+//! binaries write the results directory.
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+pub mod config;
+pub mod coverage;
+pub mod factory;
+pub mod figures;
+pub mod index;
+pub mod output;
+pub mod plan;
+pub mod record;
+pub mod registry;
+pub mod report;
+pub mod run;
+
+use std::path::PathBuf;
+
+pub use config::{ConfigError, Experiment};
+pub use factory::{Factory, Task};
+pub use record::{RunRecord, RunStatus};
+pub use run::{run_all, RunOptions};
+
+/// Everything the runner can fail with.
+#[derive(Debug, thiserror::Error)]
+pub enum RunnerError {
+    /// A config file is malformed or invalid (with its position).
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// A map or scenario file could not be read (with its position).
+    #[error(transparent)]
+    Map(#[from] planner_maps::MapError),
+    /// A planner's parameters are invalid.
+    #[error("planner `{0}`: {1}")]
+    Param(String, planner_api::ParamError),
+    /// A planner could not be built for a run.
+    #[error("planner `{0}`: {1}")]
+    Build(String, planner_api::ParamError),
+    /// An unknown registry name.
+    #[error("unknown planner `{name}`, expected one of {}", registry::names().join(", "))]
+    UnknownPlanner {
+        /// The name given.
+        name: String,
+    },
+    /// A label that the config does not define.
+    #[error("{}: no planner labelled `{label}` (labels: {})", config.display(), labels.join(", "))]
+    UnknownLabel {
+        /// The config file.
+        config: PathBuf,
+        /// The label given.
+        label: String,
+        /// The labels it defines.
+        labels: Vec<String>,
+    },
+    /// A start or goal that cannot be planned.
+    #[error("{}: {error}", map.display())]
+    Problem {
+        /// The map file.
+        map: PathBuf,
+        /// What is wrong with the start or goal.
+        error: planner_api::ProblemError,
+    },
+    /// Command-line arguments that do not fit together.
+    #[error("{0}")]
+    Usage(String),
+    /// Too many worker threads asked for.
+    #[error("{0} worker threads asked for; at most {max} (0 = one per core)", max = config::MAX_THREADS)]
+    Threads(usize),
+    /// The thread pool could not start.
+    #[error("cannot start the worker threads: {0}")]
+    Pool(String),
+    /// A run index past the end of the run list (a bug).
+    #[error("run index {0} is past the end of the run list")]
+    RunIndex(u64),
+    /// Serializing results failed.
+    #[error("cannot serialize the results: {0}")]
+    Json(serde_json::Error),
+}

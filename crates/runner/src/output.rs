@@ -1,0 +1,103 @@
+//! The sweep's result files as bytes: runs.csv and runs.json. Writing them to disk (and
+//! replacing a results directory safely) is the binary's job.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use serde::Serialize;
+
+use crate::config::Experiment;
+use crate::record::RunRecord;
+use crate::RunnerError;
+
+/// A file of the results directory.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct OutputFile {
+    /// Relative path, e.g. `figures/map01-1-astar.svg`.
+    pub path: PathBuf,
+    /// Contents.
+    pub contents: Vec<u8>,
+}
+
+#[derive(Serialize)]
+struct RunsJson<'a> {
+    experiment: &'a str,
+    config: String,
+    runs: &'a [RunRecord],
+}
+
+/// The runs as JSON: `{"experiment": ..., "config": ..., "runs": [...]}`, each record's
+/// fields and counters in their order (the planner's, for counters).
+pub fn runs_json(experiment: &Experiment, records: &[RunRecord]) -> Result<Vec<u8>, RunnerError> {
+    let value = RunsJson {
+        experiment: &experiment.name,
+        config: experiment.source.display().to_string(),
+        runs: records,
+    };
+    let mut text = serde_json::to_string_pretty(&value).map_err(RunnerError::Json)?;
+    text.push('\n');
+    Ok(text.into_bytes())
+}
+
+/// The runs as CSV: fixed columns, then one column per counter name in order of first
+/// appearance; a run without that counter leaves the cell empty.
+pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
+    let mut counter_names: Vec<String> = Vec::new();
+    for record in records {
+        for (name, _) in record.counters.iter() {
+            if !counter_names.iter().any(|n| n == name) {
+                counter_names.push(name.to_string());
+            }
+        }
+    }
+    let mut out = String::from(
+        "map,problem,start_x,start_y,goal_x,goal_y,planner,algorithm,repeat,seed,status,steps,turns,score,length,optimal_length,valid,time_ms,setup_ms,peak_heap_bytes",
+    );
+    for name in &counter_names {
+        out.push(',');
+        out.push_str(name);
+    }
+    out.push('\n');
+    let opt = |v: Option<String>| v.unwrap_or_default();
+    for r in records {
+        let fields = [
+            csv_field(&r.map),
+            r.problem.to_string(),
+            r.start.x.to_string(),
+            r.start.y.to_string(),
+            r.goal.x.to_string(),
+            r.goal.y.to_string(),
+            csv_field(&r.planner),
+            csv_field(&r.algorithm),
+            r.repeat.to_string(),
+            opt(r.seed.map(|s| s.to_string())),
+            r.status.to_string(),
+            opt(r.steps.map(|v| v.to_string())),
+            opt(r.turns.map(|v| v.to_string())),
+            opt(r.score.map(|v| v.to_string())),
+            opt(r.length.map(|v| format!("{v:.6}"))),
+            opt(r.optimal_length.map(|v| format!("{v:.6}"))),
+            opt(r.valid.map(|v| v.to_string())),
+            format!("{:.6}", r.time_ms),
+            format!("{:.6}", r.setup_ms),
+            r.peak_heap_bytes.to_string(),
+        ];
+        out.push_str(&fields.join(","));
+        for name in &counter_names {
+            out.push(',');
+            if let Some(v) = r.counters.get(name) {
+                let _ = write!(out, "{v}");
+            }
+        }
+        out.push('\n');
+    }
+    out.into_bytes()
+}
+
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}

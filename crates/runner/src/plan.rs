@@ -1,0 +1,458 @@
+//! One run of one planner on one problem, printed for a person or as one JSON object for
+//! scripts (`plan`). It goes through [`crate::run::run_one`], the function every sweep run
+//! goes through, so `plan --config C --planner L --problem k` gives exactly the path,
+//! counters and seed of the experiment's record for that problem's repeat 0.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use planner_api::{Budget, Cell, Grid, Problem, ReturnLeg};
+use serde::Serialize;
+
+use crate::config::{self, Experiment, MapEntry, ProblemEntry};
+use crate::record::RunRecord;
+use crate::run::{run_one, RunSpec, Workspace};
+use crate::RunnerError;
+
+/// The expansion budget `plan` applies when neither `--max-expansions` nor the config
+/// label sets one, so that every `plan` ends (Backtracking on an open 30x30 map would
+/// not): ten million expansions, a few seconds for any planner here.
+pub const DEFAULT_PLAN_EXPANSIONS: u64 = 10_000_000;
+
+/// What to run.
+#[derive(Debug, Clone, Default)]
+pub struct PlanArgs {
+    /// The map file.
+    pub map: PathBuf,
+    /// Registry name, or a label of `config`.
+    pub planner: String,
+    /// An experiment config whose `[planners]` labels `planner` may name.
+    pub config: Option<PathBuf>,
+    /// 1-based problem of the map's own pairs, or of the `.scen` beside a `.map`; with a
+    /// config listing this map, the problem of the config's map set.
+    pub problem: Option<usize>,
+    /// Explicit start.
+    pub start: Option<Cell>,
+    /// Explicit goal.
+    pub goal: Option<Cell>,
+    /// `key=value` parameter overrides; values are TOML (`1.5`, `"octile"`) or bare words.
+    pub set: Vec<String>,
+    /// Expansion budget.
+    pub max_expansions: Option<u64>,
+}
+
+/// The JSON form of `plan --json`.
+#[derive(Debug, Serialize)]
+pub struct PlanJson<'a> {
+    /// `found`, `no_path` or `budget_exhausted`.
+    pub status: &'a str,
+    /// The path's cells as `[x, y]` pairs (empty when there is none).
+    pub path: Vec<Cell>,
+    /// Path metrics (null without a path).
+    pub metrics: Option<Metrics>,
+    /// The planner's counters, in its order.
+    pub counters: &'a planner_api::Counters,
+    /// The seed a seeded planner ran with.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    /// Coverage planners only: coverage metrics and returns.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coverage: Option<CoverageJson<'a>>,
+    /// The cells the planner marked (PA-star's handover points), if any.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub marks: &'a [planner_api::Mark],
+}
+
+/// Path metrics in `plan --json`.
+#[derive(Debug, Serialize)]
+pub struct Metrics {
+    /// D.
+    pub steps: u64,
+    /// T.
+    pub turns: u64,
+    /// Score.
+    pub score: u64,
+    /// Euclidean length.
+    pub length: f64,
+}
+
+/// Coverage in `plan --json`, for coverage planners.
+#[derive(Debug, Serialize)]
+pub struct CoverageJson<'a> {
+    /// Free cells 4-connected to the start.
+    pub n_reachable: u64,
+    /// Distinct reachable cells on the path.
+    pub n_covered: u64,
+    /// `100 * n_covered / n_reachable`.
+    pub percent: f64,
+    /// Path cells entered when already covered.
+    pub n_revisits: u64,
+    /// The stretches of the path that return to a backtracking point.
+    pub returns: &'a [ReturnLeg],
+}
+
+/// One finished run.
+pub struct PlanResult {
+    /// The grid.
+    pub grid: Grid,
+    /// Planner label or name.
+    pub planner: String,
+    /// Whether the planner covers (no goal).
+    pub coverage: bool,
+    /// The budget the run had.
+    pub budget: Budget,
+    /// The run's record, as a sweep records it.
+    pub record: RunRecord,
+}
+
+/// Runs `args`. A coverage planner covers from the start (`--start`, or the problem's)
+/// and takes no `--goal`.
+pub fn run(args: &PlanArgs) -> Result<PlanResult, RunnerError> {
+    let experiment = match &args.config {
+        Some(path) => Some(config::load(path)?),
+        None => None,
+    };
+    let mut spec = match &experiment {
+        Some(experiment) => experiment
+            .planners
+            .iter()
+            .find(|p| p.label == args.planner)
+            .cloned()
+            .ok_or_else(|| RunnerError::UnknownLabel {
+                config: experiment.source.clone(),
+                label: args.planner.clone(),
+                labels: experiment
+                    .planners
+                    .iter()
+                    .map(|p| p.label.clone())
+                    .collect(),
+            })?,
+        None => config::planner_from_table(
+            &args.planner,
+            &args.planner,
+            toml::Table::new(),
+            Budget::unlimited(),
+        )?,
+    };
+    if !args.set.is_empty() {
+        let mut params = spec.params.clone();
+        for assignment in &args.set {
+            let (key, value) = assignment.split_once('=').ok_or_else(|| {
+                RunnerError::Usage(format!("--set {assignment:?}: expected key=value"))
+            })?;
+            let value = value.trim();
+            let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
+                .ok()
+                .and_then(|mut t| t.remove("v"))
+                .unwrap_or_else(|| toml::Value::String(value.to_string()));
+            params.insert(key.trim().to_string(), parsed);
+        }
+        spec = config::planner_from_table(&spec.label, spec.name, params, spec.budget)?;
+    }
+    if let Some(n) = args.max_expansions {
+        spec.budget.max_expansions = Some(n);
+    }
+    if spec.budget.max_expansions.is_none() {
+        spec.budget.max_expansions = Some(DEFAULT_PLAN_EXPANSIONS);
+    }
+    let coverage = spec.is_coverage();
+    let listed = experiment
+        .as_ref()
+        .and_then(|e| e.find_map(&args.map))
+        .cloned();
+    let (map, own_problems) = match listed {
+        Some(map) => {
+            let problems = map.problems.clone();
+            (map, Some(problems))
+        }
+        None => {
+            let file = config::read_map_file(&args.map, &planner_maps::RosOptions::default())?;
+            let map = MapEntry {
+                name: file_name(&args.map),
+                path: args.map.clone(),
+                grid: file.grid,
+                problems: Vec::new(),
+            };
+            let pairs = own_pairs(&args.map, &map.grid, &file.problems)?;
+            let problems = pairs
+                .into_iter()
+                .enumerate()
+                .map(|(i, (start, goal, optimal_length))| {
+                    ProblemEntry::new(&map.grid, i + 1, start, goal, optimal_length)
+                })
+                .collect();
+            (map, Some(problems))
+        }
+    };
+    let problems = own_problems.unwrap_or_default();
+    let entry = match (args.start, args.goal, args.problem) {
+        (Some(_), Some(_), Some(_)) | (Some(_), None, Some(_)) | (None, Some(_), Some(_)) => {
+            return Err(RunnerError::Usage(
+                "give either --problem or --start (and --goal), not both".into(),
+            ))
+        }
+        (_, Some(_), None) if coverage => {
+            return Err(RunnerError::Usage(format!(
+                "`{}` is a coverage planner: it covers from --start and takes no --goal",
+                spec.name
+            )))
+        }
+        (Some(start), None, None) if coverage => {
+            ProblemEntry::new(&map.grid, 1, start, start, None)
+        }
+        (Some(start), Some(goal), None) => ProblemEntry::new(&map.grid, 1, start, goal, None),
+        (Some(_), None, None) | (None, Some(_), None) => {
+            return Err(RunnerError::Usage("--start and --goal go together".into()))
+        }
+        (None, None, Some(k)) => problems.get(k.wrapping_sub(1)).cloned().ok_or_else(|| {
+            RunnerError::Usage(format!(
+                "--problem {k}: {} has {} problem(s), numbered from 1",
+                args.map.display(),
+                problems.len()
+            ))
+        })?,
+        (None, None, None) => problems.first().cloned().unwrap_or_else(|| {
+            let corner = Cell::new(map.grid.width() - 1, map.grid.height() - 1);
+            ProblemEntry::new(&map.grid, 1, Cell::new(0, 0), corner, None)
+        }),
+    };
+    let check_goal = if coverage { entry.start } else { entry.goal };
+    Problem::new(&map.grid, entry.start, check_goal).map_err(|error| RunnerError::Problem {
+        map: args.map.clone(),
+        error,
+    })?;
+    let seed = experiment.as_ref().map_or(0, |e| e.seed);
+    let mut single = Experiment::single(map, entry, spec.clone(), seed);
+    let record = run_one(
+        &single,
+        &RunSpec {
+            map: 0,
+            problem: 0,
+            planner: 0,
+            repeat: 0,
+        },
+        &mut Workspace::default(),
+        None,
+    )?;
+    let grid = single.maps.swap_remove(0).grid;
+    Ok(PlanResult {
+        grid,
+        planner: args.planner.clone(),
+        coverage,
+        budget: spec.budget,
+        record,
+    })
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_else(|| path.display().to_string())
+}
+
+/// The map's own start-goal pairs, else those of the `.scen` file beside it (checked
+/// against the map's size; a scenario naming another map file is warned about).
+fn own_pairs(
+    map: &Path,
+    grid: &Grid,
+    own: &[planner_maps::ProblemSpec],
+) -> Result<Vec<(Cell, Cell, Option<f64>)>, RunnerError> {
+    if !own.is_empty() {
+        return Ok(own.iter().map(|p| (p.start, p.goal, None)).collect());
+    }
+    let scen = PathBuf::from(format!("{}.scen", map.display()));
+    if !scen.is_file() {
+        return Ok(Vec::new());
+    }
+    let scenarios = planner_maps::read_scenarios(&scen)?;
+    let name = file_name(map);
+    let mut warned = false;
+    let mut pairs = Vec::with_capacity(scenarios.len());
+    for s in &scenarios {
+        if (s.width, s.height) != (grid.width(), grid.height()) {
+            return Err(RunnerError::Usage(format!(
+                "{}:{}: the scenario is for a {}x{} map, but {} is {}x{}",
+                scen.display(),
+                s.line,
+                s.width,
+                s.height,
+                map.display(),
+                grid.width(),
+                grid.height()
+            )));
+        }
+        let scen_map = s.map.rsplit(['/', '\\']).next().unwrap_or(&s.map);
+        if !warned && scen_map != name {
+            tracing::warn!(
+                "{}:{}: the scenario names map {}, not {}",
+                scen.display(),
+                s.line,
+                s.map,
+                name
+            );
+            warned = true;
+        }
+        pairs.push((s.start, s.goal, Some(s.optimal_length)));
+    }
+    Ok(pairs)
+}
+
+impl PlanResult {
+    /// The one JSON object of `--json`.
+    pub fn to_json(&self) -> Result<String, RunnerError> {
+        let r = &self.record;
+        let path = r.path.as_ref();
+        let json = PlanJson {
+            status: r.status.as_str(),
+            path: path.map(|p| p.cells().to_vec()).unwrap_or_default(),
+            metrics: path.map(|p| {
+                let m = p.metrics();
+                Metrics {
+                    steps: m.steps,
+                    turns: m.turns,
+                    score: m.score,
+                    length: m.length,
+                }
+            }),
+            counters: &r.counters,
+            seed: r.seed,
+            coverage: self.coverage_json(),
+            marks: &r.marks,
+        };
+        serde_json::to_string(&json).map_err(RunnerError::Json)
+    }
+
+    fn coverage_json(&self) -> Option<CoverageJson<'_>> {
+        let returns = self.record.returns.as_deref()?;
+        let counter = |name: &str| self.record.counters.get(name).unwrap_or(0);
+        let (covered, reachable) = (counter("n_covered"), counter("n_reachable"));
+        Some(CoverageJson {
+            n_reachable: reachable,
+            n_covered: covered,
+            percent: if reachable == 0 {
+                0.0
+            } else {
+                100.0 * covered as f64 / reachable as f64
+            },
+            n_revisits: counter("n_revisits"),
+            returns,
+        })
+    }
+
+    /// Whether the run stopped at the budget `plan` applies by default.
+    pub fn hit_default_budget(&self) -> bool {
+        self.record.status == crate::record::RunStatus::BudgetExhausted
+            && self.budget.max_expansions == Some(DEFAULT_PLAN_EXPANSIONS)
+    }
+
+    /// The run for a person: header, the map with the path drawn, metrics, counters.
+    pub fn to_text(&self) -> String {
+        let r = &self.record;
+        let mut out = String::new();
+        let route = if self.coverage {
+            format!("covering from {}", r.start)
+        } else {
+            format!("{} -> {}", r.start, r.goal)
+        };
+        let _ = writeln!(
+            out,
+            "{} on a {}x{} grid, {route}: {}",
+            self.planner,
+            self.grid.width(),
+            self.grid.height(),
+            r.status
+        );
+        if self.hit_default_budget() {
+            let _ = writeln!(
+                out,
+                "(stopped at plan's default budget of {DEFAULT_PLAN_EXPANSIONS} expansions; raise it with --max-expansions)"
+            );
+        }
+        if let Some(path) = &r.path {
+            let m = path.metrics();
+            let _ = writeln!(
+                out,
+                "steps (D) {}, turns (T) {}, score {}, length {:.4}",
+                m.steps, m.turns, m.score, m.length
+            );
+        }
+        if let Some(c) = self.coverage_json() {
+            let _ = writeln!(
+                out,
+                "covered {} of {} reachable cells ({:.2}%), {} revisits, {} returns",
+                c.n_covered,
+                c.n_reachable,
+                c.percent,
+                c.n_revisits,
+                c.returns.len()
+            );
+        }
+        if self.grid.width() <= 120 && self.grid.height() <= 120 {
+            let goal = (!self.coverage).then_some(r.goal);
+            out.push_str(&draw_text(&self.grid, r.start, goal, r.path.as_ref()));
+        } else {
+            out.push_str("(map wider or taller than 120 cells: not drawn)\n");
+        }
+        if !r.marks.is_empty() {
+            let marks: Vec<String> = r
+                .marks
+                .iter()
+                .map(|m| format!("{} {}", m.label, m.cell))
+                .collect();
+            let _ = writeln!(out, "marks: {}", marks.join(", "));
+        }
+        let _ = writeln!(out, "{}", r.counters);
+        out
+    }
+}
+
+/// The grid as text: `#` blocked, `.` free, `S` start, `G` goal (if any), and the path: an
+/// arrow (`>` `<` `v` `^`, diagonals `\` `/`) on each cell for the move leaving it (the last
+/// one when a coverage path leaves a cell several times), `*` on the cells where a longer
+/// move starts.
+pub fn draw_text(
+    grid: &Grid,
+    start: Cell,
+    goal: Option<Cell>,
+    path: Option<&planner_api::Path>,
+) -> String {
+    let mut canvas: Vec<Vec<char>> = (0..grid.height())
+        .map(|y| {
+            (0..grid.width())
+                .map(|x| {
+                    if grid.is_free(Cell::new(x, y)) {
+                        '.'
+                    } else {
+                        '#'
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    if let Some(path) = path {
+        for pair in path.cells().windows(2) {
+            let dx = i64::from(pair[1].x) - i64::from(pair[0].x);
+            let dy = i64::from(pair[1].y) - i64::from(pair[0].y);
+            let mark = match (dx, dy) {
+                (1, 0) => '>',
+                (-1, 0) => '<',
+                (0, 1) => 'v',
+                (0, -1) => '^',
+                (1, 1) | (-1, -1) => '\\',
+                (1, -1) | (-1, 1) => '/',
+                _ => '*',
+            };
+            canvas[pair[0].y as usize][pair[0].x as usize] = mark;
+        }
+    }
+    canvas[start.y as usize][start.x as usize] = 'S';
+    if let Some(goal) = goal {
+        canvas[goal.y as usize][goal.x as usize] = 'G';
+    }
+    let mut out = String::new();
+    for row in canvas {
+        out.extend(row);
+        out.push('\n');
+    }
+    out
+}

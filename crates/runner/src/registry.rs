@@ -1,0 +1,152 @@
+//! The one registry of planners: registry name -> [`Factory`] from a TOML parameter table.
+//!
+//! This is the only module of the runner that names planners. Names are the planner
+//! crates' directory names. Each planner crate owns its `#[serde(deny_unknown_fields)]`
+//! `Config` and a validating constructor whose error implements
+//! [`planner_api::ParamKey`]; [`Factory::path`] and [`Factory::coverage`] do the rest.
+//! `cargo xtask new-planner <name>` adds an entry between the markers below, and the
+//! crate to this crate's `Cargo.toml`.
+
+use planner_api::ParamError;
+
+use crate::factory::{Factory, Task};
+use crate::report::{seed002::Seed002, Section};
+
+/// One registered planner.
+pub struct Entry {
+    /// Registry name (the crate's directory name).
+    pub name: &'static str,
+    /// One line for `planners` and error messages.
+    pub summary: &'static str,
+    /// Start-goal planning or coverage.
+    pub task: Task,
+    /// Builds the factory from the label's parameters (the table without the runner's own
+    /// keys `planner`, `budget` and `compare`).
+    pub factory: fn(&toml::Table) -> Result<Factory, ParamError>,
+}
+
+/// Every planner, in the order `planners` lists them.
+pub const PLANNERS: &[Entry] = &[
+    // (registry start)
+    Entry {
+        name: planner_astar::NAME,
+        summary: "A* with seed 000's counters; heuristics, weight, tie-breaking, 4-48 directions",
+        task: Task::StartGoal,
+        factory: |params| Factory::path(planner_astar::NAME, params, planner_astar::AStar::new),
+    },
+    Entry {
+        name: "backtracking",
+        summary: "exhaustive Backtracking (seed 000): every simple path, best by (D, T, Score)",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(
+                "backtracking",
+                params,
+                planner_backtracking::Backtracking::new,
+            )
+        },
+    },
+    Entry {
+        name: "bfs",
+        summary: "breadth-first search (seed 003): FIFO, visited on enqueue; shortest in steps",
+        task: Task::StartGoal,
+        factory: |params| Factory::path("bfs", params, planner_bfs::Bfs::new),
+    },
+    Entry {
+        name: "dfs",
+        summary: "depth-first search (seed 003): LIFO, visited on push; a path, not the shortest",
+        task: Task::StartGoal,
+        factory: |params| Factory::path("dfs", params, planner_dfs::Dfs::new),
+    },
+    Entry {
+        name: planner_lexastar::NAME,
+        summary: "A* over (cell, heading) with lexicographic (steps, turns): Backtracking's best in polynomial time",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(
+                planner_lexastar::NAME,
+                params,
+                planner_lexastar::LexAStar::new,
+            )
+        },
+    },
+    Entry {
+        name: planner_rrt::NAME,
+        summary: "RRT (seed 003) on grid cells: seeded, goal bias, 4/8 steering, longer steps",
+        task: Task::StartGoal,
+        factory: |params| Factory::path(planner_rrt::NAME, params, planner_rrt::Rrt::new),
+    },
+    Entry {
+        name: planner_pastar::NAME,
+        summary: "PA-star (seed 002): straight line, obstacle size, handover points, merged local A*",
+        task: Task::StartGoal,
+        factory: |params| Factory::path(planner_pastar::NAME, params, planner_pastar::PaStar::new),
+    },
+    Entry {
+        name: planner_theta_star::NAME,
+        summary: "Theta* (Nash et al. 2007): any-angle A* on cell centres, line of sight on relaxation",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(
+                planner_theta_star::NAME,
+                params,
+                planner_theta_star::ThetaStar::new,
+            )
+        },
+    },
+    Entry {
+        name: planner_lazy_theta_star::NAME,
+        summary: "Lazy Theta* (Nash et al. 2010): any-angle, line of sight checked on expansion",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(
+                planner_lazy_theta_star::NAME,
+                params,
+                planner_lazy_theta_star::LazyThetaStar::new,
+            )
+        },
+    },
+    Entry {
+        name: planner_bidirectional_astar::NAME,
+        summary: "bidirectional A*, 4 or 8 directions, Pohl's stopping rule; A*'s lengths",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(
+                planner_bidirectional_astar::NAME,
+                params,
+                planner_bidirectional_astar::BidirectionalAStar::new,
+            )
+        },
+    },
+    Entry {
+        name: planner_coverage::NAME,
+        summary: "coverage (seed 004): spiral or zigzag filling, backtracking points, A* returns",
+        task: Task::Coverage,
+        factory: |params| {
+            Factory::coverage(
+                planner_coverage::NAME,
+                params,
+                planner_coverage::Coverage::new,
+            )
+        },
+    },
+    // (registry end)
+];
+
+/// The report sections that belong to a planner, beside the generic ones: seed 002's
+/// tables compare PA-star with its references.
+pub fn planner_sections() -> Vec<Box<dyn Section>> {
+    vec![Box::new(Seed002 {
+        proposed: planner_pastar::NAME,
+    })]
+}
+
+/// The entry named `name`.
+pub fn find(name: &str) -> Option<&'static Entry> {
+    PLANNERS.iter().find(|e| e.name == name)
+}
+
+/// The registered names, for error messages.
+pub fn names() -> Vec<&'static str> {
+    PLANNERS.iter().map(|e| e.name).collect()
+}

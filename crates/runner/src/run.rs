@@ -1,0 +1,327 @@
+//! Expanding an experiment into runs and running them in parallel.
+//!
+//! Runs are numbered in a fixed order (map, problem, planner label, repeat) by
+//! [`RunList`], which computes the k-th run from the experiment without listing them, so
+//! a sweep's memory does not grow with its repeats. They execute on a rayon pool and are
+//! collected by index, so the records do not depend on the thread count; only the timing
+//! and memory fields do.
+//!
+//! Each worker keeps one planner per label and reuses it across its runs ([`Workspace`]),
+//! calling [`planner_api::Planner::prepare`] when the grid changes and
+//! [`planner_api::Planner::reseed`] before each run of a seeded planner. [`run_one`] is
+//! the one function that executes a run: `experiment` and `plan` both go through it.
+
+use std::time::Instant;
+
+use planner_api::{Budget, Counters, CoverageProblem, Grid, Problem};
+use rayon::prelude::*;
+
+use crate::config::{Experiment, MapEntry, PlannerSpec, ProblemEntry};
+use crate::factory::Built;
+use crate::record::{RunRecord, RunStatus};
+use crate::RunnerError;
+
+/// One run to do: indices into the experiment's maps, problems and planners.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct RunSpec {
+    /// Index into [`Experiment::maps`].
+    pub map: usize,
+    /// Index into the map's problems.
+    pub problem: usize,
+    /// Index into [`Experiment::planners`].
+    pub planner: usize,
+    /// 0-based repeat.
+    pub repeat: u32,
+}
+
+/// The runs of an experiment in their fixed order, computed on demand.
+///
+/// Holds one offset per (map, problem), so its size is the number of problems, whatever
+/// the number of repeats.
+#[derive(Debug, Clone)]
+pub struct RunList {
+    /// For each (map, problem) in order: (map, problem, first run index, runs per planner).
+    blocks: Vec<(usize, usize, u64, u64)>,
+    n_runs: u64,
+}
+
+impl RunList {
+    /// The run list of `experiment`: maps x problems x planners x repeats, where an
+    /// invalid problem gets one run per planner (it is recorded, not planned).
+    pub fn new(experiment: &Experiment) -> RunList {
+        let n_planners = experiment.planners.len() as u64;
+        let mut blocks = Vec::new();
+        let mut next = 0u64;
+        for (m, map) in experiment.maps.iter().enumerate() {
+            for (p, problem) in map.problems.iter().enumerate() {
+                let repeats = if problem.invalid.is_some() {
+                    1
+                } else {
+                    u64::from(experiment.repeats)
+                };
+                blocks.push((m, p, next, repeats));
+                next += repeats * n_planners;
+            }
+        }
+        RunList {
+            blocks,
+            n_runs: next,
+        }
+    }
+
+    /// How many runs.
+    pub fn len(&self) -> u64 {
+        self.n_runs
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.n_runs == 0
+    }
+
+    /// The run with index `index` (< [`RunList::len`]).
+    pub fn get(&self, index: u64) -> Option<RunSpec> {
+        if index >= self.n_runs {
+            return None;
+        }
+        let block = self.blocks.partition_point(|b| b.2 <= index) - 1;
+        let (map, problem, first, repeats) = self.blocks[block];
+        let offset = index - first;
+        Some(RunSpec {
+            map,
+            problem,
+            planner: (offset / repeats) as usize,
+            repeat: (offset % repeats) as u32,
+        })
+    }
+}
+
+/// Measures the heap a run uses. The runner library installs no allocator; a binary that
+/// counts allocations (xtask's counting allocator) provides this hook.
+pub trait HeapMeter: Sync {
+    /// Bytes currently allocated on this thread.
+    fn current(&self) -> i64;
+    /// Starts a peak measurement on this thread; returns the current bytes.
+    fn start(&self) -> i64;
+    /// The peak bytes on this thread since [`HeapMeter::start`], above `baseline`.
+    fn peak_since(&self, baseline: i64) -> u64;
+}
+
+/// How to run a sweep.
+#[derive(Clone, Copy, Default)]
+pub struct RunOptions<'a> {
+    /// Worker threads: 0 takes the experiment's `threads`, where 0 means one per core.
+    pub threads: usize,
+    /// Called with the number of runs done so far, after each run (from worker threads).
+    pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
+    /// Measures peak heap per run; without it `peak_heap_bytes` is 0.
+    pub heap: Option<&'a dyn HeapMeter>,
+}
+
+/// One worker's planners, one per label, reused across its runs.
+#[derive(Default)]
+pub struct Workspace {
+    slots: Vec<Option<Slot>>,
+}
+
+struct Slot {
+    planner: Built,
+    /// The map index the planner was last prepared for.
+    grid: Option<usize>,
+    /// Heap the planner held after its last setup.
+    retained: u64,
+}
+
+/// Runs every run of `experiment` and returns the records in the fixed order.
+pub fn run_all(
+    experiment: &Experiment,
+    options: &RunOptions<'_>,
+) -> Result<Vec<RunRecord>, RunnerError> {
+    let list = RunList::new(experiment);
+    let threads = match options.threads {
+        0 => experiment.threads,
+        n => n,
+    };
+    if threads > crate::config::MAX_THREADS {
+        return Err(RunnerError::Threads(threads));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| RunnerError::Pool(e.to_string()))?;
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let records: Vec<Result<RunRecord, RunnerError>> = pool.install(|| {
+        (0..list.len())
+            .into_par_iter()
+            .map_init(Workspace::default, |workspace, index| {
+                let spec = list.get(index).ok_or(RunnerError::RunIndex(index))?;
+                let record = run_one(experiment, &spec, workspace, options.heap);
+                if let Some(progress) = options.progress {
+                    progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+                }
+                record
+            })
+            .collect()
+    });
+    records.into_iter().collect()
+}
+
+/// Executes run `spec` of `experiment`, reusing `workspace`'s planner for its label.
+pub fn run_one(
+    experiment: &Experiment,
+    spec: &RunSpec,
+    workspace: &mut Workspace,
+    heap: Option<&dyn HeapMeter>,
+) -> Result<RunRecord, RunnerError> {
+    let map = &experiment.maps[spec.map];
+    let entry = &map.problems[spec.problem];
+    let planner = &experiment.planners[spec.planner];
+    let seed = planner.factory.seed_for(experiment.seed, spec.repeat);
+    let mut record = blank_record(map, entry, planner, spec.repeat, seed);
+    if entry.invalid.is_some() {
+        tracing::warn!(
+            "{} problem {}: {}; not run",
+            map.name,
+            entry.index,
+            entry.invalid.as_deref().unwrap_or("invalid")
+        );
+        return Ok(record);
+    }
+    if workspace.slots.len() < experiment.planners.len() {
+        workspace
+            .slots
+            .resize_with(experiment.planners.len(), || None);
+    }
+    let setup_started = Instant::now();
+    let baseline = heap.map(HeapMeter::current);
+    let slot = match &mut workspace.slots[spec.planner] {
+        Some(slot) => slot,
+        empty => empty.insert(Slot {
+            planner: planner
+                .factory
+                .build()
+                .map_err(|e| RunnerError::Build(planner.label.clone(), e))?,
+            grid: None,
+            retained: 0,
+        }),
+    };
+    if slot.grid != Some(spec.map) {
+        if let Built::Path(p) = &mut slot.planner {
+            p.prepare(&map.grid);
+        }
+        slot.grid = Some(spec.map);
+        if let (Some(heap), Some(baseline)) = (heap, baseline) {
+            slot.retained += (heap.current() - baseline).max(0) as u64;
+        }
+    }
+    record.setup_ms = setup_started.elapsed().as_secs_f64() * 1e3;
+    execute(&map.grid, entry, planner, slot, seed, heap, &mut record);
+    Ok(record)
+}
+
+fn blank_record(
+    map: &MapEntry,
+    entry: &ProblemEntry,
+    planner: &PlannerSpec,
+    repeat: u32,
+    seed: Option<u64>,
+) -> RunRecord {
+    RunRecord {
+        map: map.name.clone(),
+        problem: entry.index,
+        start: entry.start,
+        goal: entry.goal,
+        planner: planner.label.clone(),
+        algorithm: planner.name.to_string(),
+        repeat,
+        seed,
+        status: RunStatus::InvalidProblem,
+        error: entry.invalid.clone(),
+        steps: None,
+        turns: None,
+        score: None,
+        length: None,
+        optimal_length: entry.optimal_length,
+        valid: None,
+        counters: Counters::new(),
+        time_ms: 0.0,
+        setup_ms: 0.0,
+        peak_heap_bytes: 0,
+        path: None,
+        returns: None,
+        marks: Vec::new(),
+        series: Vec::new(),
+    }
+}
+
+/// Plans (or covers) with the slot's planner and fills `record`.
+fn execute(
+    grid: &Grid,
+    entry: &ProblemEntry,
+    planner: &PlannerSpec,
+    slot: &mut Slot,
+    seed: Option<u64>,
+    heap: Option<&dyn HeapMeter>,
+    record: &mut RunRecord,
+) {
+    let start_heap = heap.map(HeapMeter::start);
+    let budget: &Budget = &planner.budget;
+    let rule = planner.factory.specs().path_rule.clone();
+    let (status, path) = match &mut slot.planner {
+        Built::Path(p) => {
+            let Ok(problem) = Problem::new(grid, entry.start, entry.goal) else {
+                return;
+            };
+            if let Some(seed) = seed {
+                p.reseed(seed);
+            }
+            let started = Instant::now();
+            let outcome = p.plan(&problem, budget);
+            record.time_ms = started.elapsed().as_secs_f64() * 1e3;
+            record.counters = outcome.counters;
+            record.marks = outcome.marks;
+            record.series = outcome.series;
+            (outcome.status, outcome.path)
+        }
+        Built::Coverage(c) => {
+            let Ok(problem) = CoverageProblem::new(grid, entry.start) else {
+                return;
+            };
+            let started = Instant::now();
+            let outcome = c.cover(&problem, budget);
+            record.time_ms = started.elapsed().as_secs_f64() * 1e3;
+            record.counters = outcome.counters;
+            record.returns = Some(outcome.returns);
+            (outcome.status, Some(outcome.path))
+        }
+    };
+    if let (Some(heap), Some(baseline)) = (heap, start_heap) {
+        record.peak_heap_bytes = slot.retained + heap.peak_since(baseline);
+    }
+    record.status = status.into();
+    if let Some(path) = path {
+        let m = path.metrics();
+        record.steps = Some(m.steps);
+        record.turns = Some(m.turns);
+        record.score = Some(m.score);
+        record.length = Some(m.length);
+        let goal_ok = slot_is_coverage(&slot.planner) || path.goal() == Some(entry.goal);
+        let valid = path.start() == Some(entry.start)
+            && goal_ok
+            && path.validate(grid, rule.rule()).is_ok();
+        if !valid {
+            tracing::warn!(
+                "{} returned a path that breaks its declared rule or misses its ends ({} -> {})",
+                planner.label,
+                entry.start,
+                entry.goal
+            );
+        }
+        record.valid = Some(valid);
+        record.path = Some(path);
+    }
+}
+
+fn slot_is_coverage(built: &Built) -> bool {
+    matches!(built, Built::Coverage(_))
+}

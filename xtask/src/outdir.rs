@@ -1,0 +1,756 @@
+//! The results directory: when gridplan may replace it, the lock that keeps two runs apart,
+//! and the atomic swap of old results for new ones.
+//!
+//! [`write_results`] writes a sweep's files as the whole new contents of an output directory
+//! `dir` under these rules:
+//!
+//! - **Only gridplan's own directories are replaced.** Every results directory carries a
+//!   marker file, [`MARKER`] (`.gridplan-results`, a small TOML [`Marker`]: format version,
+//!   experiment name, gridplan version). `dir` is replaced only if it is absent, empty, or
+//!   carries the marker (a regular file of that name; its contents are informational).
+//!   Anything else is [`OutdirError::NotResults`], which names the directory and what it
+//!   holds, and nothing is touched. A results directory written before the marker existed is
+//!   refused the same way: remove it by hand once.
+//! - **Not a directory.** A file (or anything else that is not a directory) at `dir` is
+//!   [`OutdirError::NotADirectory`]; it is left as it is.
+//! - **Symbolic links are written through.** If `dir` is a symbolic link to a directory, the
+//!   link stays and its target directory is replaced under the same rules (it must be absent,
+//!   empty or marked; the lock and the temporary siblings live beside the target). A link to
+//!   a file is [`OutdirError::NotADirectory`], a dangling link
+//!   [`OutdirError::DanglingSymlink`].
+//! - **Read-only directories are refused.** If `dir`, or any directory inside it, has no
+//!   write permission bit (for anyone), the run is [`OutdirError::ReadOnly`] and nothing is
+//!   touched. The rule reads the permission bits, so it holds for root too, whom the bits
+//!   would not stop.
+//! - **Missing parents are created**, as `mkdir -p` would (creating a directory destroys
+//!   nothing). A file among the parents is an [`OutdirError::Io`] naming the output ("Not a
+//!   directory"), and nothing is created.
+//! - **One writer at a time.** The write holds an exclusive OS file lock (flock) on
+//!   `.<name>.lock` beside the directory, taken before anything is written and released (and
+//!   the file removed) when the write ends. The kernel drops the lock of a process that dies,
+//!   so a crashed run never leaves a lock that blocks the next one; a leftover lock file is
+//!   simply locked again. A second run on the same directory waits for the lock, saying so
+//!   on the log (`tracing::warn!`), for at most the `lock_wait` it is given
+//!   ([`DEFAULT_LOCK_WAIT`] from `cargo xtask experiment`), then fails with
+//!   [`OutdirError::Locked`] naming the holder's pid. Two runs therefore both succeed, one
+//!   after the other, and the directory ends holding the later one's complete results.
+//! - **The swap is atomic.** The files are written into a fresh sibling `.<name>.partial`
+//!   (its marker first), which then takes the place of `dir`. On Linux the two directories
+//!   are exchanged by one `renameat2(RENAME_EXCHANGE)` system call, so at every moment `dir`
+//!   holds either the old results or the new ones, whatever kills the process; the old
+//!   results, now under `.<name>.partial`, are then removed. Where the exchange is not
+//!   supported, the old directory is renamed to `.<name>.previous` and the new one into
+//!   place: a kill between the two renames leaves the old results under `.<name>.previous`,
+//!   and the next run puts them back before doing anything else.
+//! - **Leftovers are cleaned, never foreign files.** Under the lock, a `.<name>.partial` or
+//!   `.<name>.previous` left by a killed run is recognised by its marker (or by being empty,
+//!   as it is for an instant after creation; gridplan writes the marker first and removes it
+//!   last, so a kill while writing or removing leaves it in place) and removed (or, for `.<name>.previous` with no
+//!   `dir`, restored). One that is not gridplan's is [`OutdirError::ForeignLeftover`] and
+//!   stays. If removing the old results after a successful swap fails, the run still
+//!   succeeds (the new results are in place) and warns; the next run removes them.
+//!
+//! [`check`] applies the same rules without writing anything, so a sweep can refuse a bad
+//! output directory before it spends time computing.
+
+use std::ffi::OsString;
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, Read as _, Write as _};
+use std::path::{Component, Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use serde::{Deserialize, Serialize};
+
+/// The marker file's name inside every results directory gridplan writes.
+pub const MARKER: &str = ".gridplan-results";
+
+/// The version of the results layout the marker records.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// How long `cargo xtask experiment` waits for another run's lock on the same output.
+pub const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(120);
+
+/// How often a waiting run tries the lock again.
+const LOCK_POLL: Duration = Duration::from_millis(50);
+
+pub use planner_runner::output::OutputFile;
+
+/// The contents of [`MARKER`]: which gridplan wrote the directory, and for which experiment.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Marker {
+    /// The results layout version, [`FORMAT_VERSION`] when written.
+    pub format: u32,
+    /// The experiment's `name`.
+    pub experiment: String,
+    /// The gridplan version that wrote the directory.
+    pub gridplan: String,
+}
+
+impl Marker {
+    /// The marker this gridplan writes for `experiment`.
+    pub fn new(experiment: &str) -> Self {
+        Self {
+            format: FORMAT_VERSION,
+            experiment: experiment.to_string(),
+            gridplan: env!("CARGO_PKG_VERSION").to_string(),
+        }
+    }
+
+    /// Reads the marker of results directory `dir`.
+    pub fn read(dir: &Path) -> Result<Self, OutdirError> {
+        let path = dir.join(MARKER);
+        let text = fs::read_to_string(&path).map_err(io_error("read", &path))?;
+        toml::from_str(&text).map_err(|e| OutdirError::BadMarker {
+            path,
+            message: e.message().to_string(),
+        })
+    }
+
+    fn to_text(&self) -> String {
+        format!(
+            "# Written by gridplan: this directory holds an experiment's results, and the next\n\
+             # run writing here replaces it whole. Remove this file and gridplan leaves it alone.\n\
+             format = {}\nexperiment = {:?}\ngridplan = {:?}\n",
+            self.format, self.experiment, self.gridplan
+        )
+    }
+}
+
+/// Why an output directory was not written. Each names the path concerned.
+#[derive(Debug, thiserror::Error)]
+pub enum OutdirError {
+    /// The path names no directory (empty, `/`, or ending in `..`).
+    #[error("output directory `{}` has no name: give one such as results/mine", path.display())]
+    NoName {
+        /// The path given.
+        path: PathBuf,
+    },
+    /// Something other than a directory is at the path.
+    #[error(
+        "output `{}` is {what}, not a directory; gridplan writes results only into a directory \
+         and leaves this one alone (choose another --output)",
+        path.display()
+    )]
+    NotADirectory {
+        /// The path given.
+        path: PathBuf,
+        /// What is there, e.g. "a file".
+        what: &'static str,
+    },
+    /// A symbolic link whose target does not exist.
+    #[error(
+        "output `{}` is a symbolic link to `{}`, which does not exist; create that directory \
+         or choose another --output",
+        path.display(), target.display()
+    )]
+    DanglingSymlink {
+        /// The path given.
+        path: PathBuf,
+        /// The link's target.
+        target: PathBuf,
+    },
+    /// A directory that holds something and no marker.
+    #[error(
+        "output `{}` is not a gridplan results directory: it holds {entries} and no `{MARKER}` \
+         marker, so gridplan will not replace it (choose another --output, or empty or remove \
+         it yourself)",
+        path.display()
+    )]
+    NotResults {
+        /// The directory.
+        path: PathBuf,
+        /// What it holds, e.g. "2 entries (chapters, thesis.tex)".
+        entries: String,
+    },
+    /// The results directory, or a directory inside it, has no write permission.
+    #[error(
+        "output `{}` is read-only: directory `{}` has no write permission, so gridplan will not \
+         replace it; make it writable or choose another --output",
+        path.display(), dir.display()
+    )]
+    ReadOnly {
+        /// The output directory.
+        path: PathBuf,
+        /// The read-only directory (the output or one inside it).
+        dir: PathBuf,
+    },
+    /// A `.<name>.partial` or `.<name>.previous` that gridplan did not make.
+    #[error(
+        "`{}` is in the way of writing `{}` but is not gridplan's (not a directory with a \
+         `{MARKER}` marker), so gridplan leaves it alone; move or remove it yourself",
+        path.display(), output.display()
+    )]
+    ForeignLeftover {
+        /// The sibling in the way.
+        path: PathBuf,
+        /// The output directory.
+        output: PathBuf,
+    },
+    /// Another run kept the lock longer than the wait allowed.
+    #[error(
+        "output `{}` is being written by another gridplan run{holder} (it holds `{}`); gave up \
+         after waiting {seconds} s",
+        path.display(), lock.display()
+    )]
+    Locked {
+        /// The output directory.
+        path: PathBuf,
+        /// The lock file.
+        lock: PathBuf,
+        /// " (pid N)" when the lock file names its holder, else empty.
+        holder: String,
+        /// Seconds waited.
+        seconds: u64,
+    },
+    /// A result file path that is not a plain relative path, or is the marker's.
+    #[error(
+        "result file `{}` must be a relative path of plain names other than `{MARKER}`",
+        path.display()
+    )]
+    BadFile {
+        /// The file's path.
+        path: PathBuf,
+    },
+    /// A marker file that is not a marker.
+    #[error("marker `{}` is not a gridplan marker: {message}", path.display())]
+    BadMarker {
+        /// The marker file.
+        path: PathBuf,
+        /// The parse error.
+        message: String,
+    },
+    /// A file system operation failed.
+    #[error("cannot {action} `{}`: {source}", path.display())]
+    Io {
+        /// What was being done, e.g. "create".
+        action: &'static str,
+        /// The path it was done to.
+        path: PathBuf,
+        /// The error.
+        #[source]
+        source: io::Error,
+    },
+}
+
+fn io_error(action: &'static str, path: &Path) -> impl FnOnce(io::Error) -> OutdirError {
+    let path = path.to_path_buf();
+    move |source| OutdirError::Io {
+        action,
+        path,
+        source,
+    }
+}
+
+/// Checks that `output` may be written by [`write_results`], without writing anything:
+/// the directory rules of the module docs, and the leftovers beside it.
+pub fn check(output: &Path) -> Result<(), OutdirError> {
+    let location = locate(output, false)?;
+    inspect(&location)?;
+    for leftover in [location.sibling("partial"), location.sibling("previous")] {
+        if exists(&leftover) {
+            ensure_ours(&leftover, &location)?;
+        }
+    }
+    Ok(())
+}
+
+/// Writes `files` as the whole new contents of `output`, marked as results of `experiment`,
+/// under the rules of the module docs; waits at most `lock_wait` for another run's lock.
+/// Returns the directory written: `output` itself, or a symbolic link's target.
+pub fn write_results(
+    output: &Path,
+    experiment: &str,
+    files: &[OutputFile],
+    lock_wait: Duration,
+) -> Result<PathBuf, OutdirError> {
+    for file in files {
+        let plain = file
+            .path
+            .components()
+            .all(|c| matches!(c, Component::Normal(_)));
+        if !plain || file.path.as_os_str().is_empty() || file.path == Path::new(MARKER) {
+            return Err(OutdirError::BadFile {
+                path: file.path.clone(),
+            });
+        }
+    }
+    let location = locate(output, true)?;
+    inspect(&location)?;
+    let _lock = OutputLock::acquire(&location, lock_wait)?;
+    recover_leftovers(&location)?;
+    // Looked at again under the lock: another run may have written it meanwhile.
+    inspect(&location)?;
+    let partial = location.sibling("partial");
+    // On failure the partial results go, but only if they are still recognisably ours.
+    let discard = |_: &OutdirError| {
+        if exists(&partial) && ensure_ours(&partial, &location).is_ok() {
+            let _ = remove_results(&partial);
+        }
+    };
+    write_partial(&partial, experiment, files).inspect_err(discard)?;
+    swap(&location, cfg!(target_os = "linux")).inspect_err(discard)?;
+    Ok(location.dir)
+}
+
+/// Where the results go, once links are followed.
+struct Location {
+    /// The path as given, for messages.
+    output: PathBuf,
+    /// The directory to replace (a link's target; absolute when it or its parent exists).
+    dir: PathBuf,
+    /// Its parent, where the lock and the temporary siblings live.
+    parent: PathBuf,
+    /// Its file name.
+    name: OsString,
+}
+
+impl Location {
+    /// `.<name>.<suffix>` beside the directory.
+    fn sibling(&self, suffix: &str) -> PathBuf {
+        let mut name = OsString::from(".");
+        name.push(&self.name);
+        name.push(".");
+        name.push(suffix);
+        self.parent.join(name)
+    }
+}
+
+/// Whether anything, even a dangling link, is at `path`.
+fn exists(path: &Path) -> bool {
+    fs::symlink_metadata(path).is_ok()
+}
+
+/// Follows `output` to the directory to replace; creates missing parents if `create`.
+fn locate(output: &Path, create: bool) -> Result<Location, OutdirError> {
+    let no_name = || OutdirError::NoName {
+        path: output.to_path_buf(),
+    };
+    if output.as_os_str().is_empty() {
+        return Err(no_name());
+    }
+    let metadata = match fs::symlink_metadata(output) {
+        Ok(metadata) => metadata,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            let name = output.file_name().ok_or_else(no_name)?.to_os_string();
+            let parent = match output.parent() {
+                Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+                _ => PathBuf::from("."),
+            };
+            if create {
+                fs::create_dir_all(&parent).map_err(io_error("create the parent of", output))?;
+            }
+            // A parent still missing (when checking only) is created by the write.
+            let parent = fs::canonicalize(&parent).unwrap_or(parent);
+            return Ok(Location {
+                output: output.to_path_buf(),
+                dir: parent.join(&name),
+                parent,
+                name,
+            });
+        }
+        Err(e) => return Err(io_error("read", output)(e)),
+    };
+    let what_else = |metadata: &fs::Metadata| {
+        if metadata.is_file() {
+            "a file"
+        } else {
+            "a special file"
+        }
+    };
+    if metadata.file_type().is_symlink() {
+        match fs::metadata(output) {
+            Ok(target) if target.is_dir() => {}
+            Ok(target) => {
+                return Err(OutdirError::NotADirectory {
+                    path: output.to_path_buf(),
+                    what: if target.is_file() {
+                        "a symbolic link to a file"
+                    } else {
+                        "a symbolic link to a special file"
+                    },
+                })
+            }
+            Err(e) if e.kind() == io::ErrorKind::NotFound => {
+                return Err(OutdirError::DanglingSymlink {
+                    path: output.to_path_buf(),
+                    target: fs::read_link(output).map_err(io_error("read the link", output))?,
+                })
+            }
+            Err(e) => return Err(io_error("follow the link", output)(e)),
+        }
+    } else if !metadata.is_dir() {
+        return Err(OutdirError::NotADirectory {
+            path: output.to_path_buf(),
+            what: what_else(&metadata),
+        });
+    }
+    let dir = fs::canonicalize(output).map_err(io_error("resolve", output))?;
+    let (Some(parent), Some(name)) = (dir.parent(), dir.file_name()) else {
+        return Err(no_name());
+    };
+    Ok(Location {
+        output: output.to_path_buf(),
+        parent: parent.to_path_buf(),
+        name: name.to_os_string(),
+        dir,
+    })
+}
+
+/// Whether the directory `dir` carries the marker or is empty.
+fn marked_or_empty(dir: &Path) -> Result<bool, OutdirError> {
+    if fs::symlink_metadata(dir.join(MARKER)).is_ok_and(|m| m.is_file()) {
+        return Ok(true);
+    }
+    let mut entries = fs::read_dir(dir).map_err(io_error("list", dir))?;
+    Ok(entries.next().is_none())
+}
+
+/// Checks that the directory to replace is absent, or empty or marked, and writable.
+fn inspect(location: &Location) -> Result<(), OutdirError> {
+    let dir = &location.dir;
+    if !fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir()) {
+        // Absent (`locate` refused anything else; a race is caught by the renames).
+        return Ok(());
+    }
+    if !marked_or_empty(dir)? {
+        let mut names: Vec<String> = fs::read_dir(dir)
+            .map_err(io_error("list", dir))?
+            .filter_map(Result::ok)
+            .map(|entry| entry.file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        let shown: Vec<&str> = names.iter().take(3).map(String::as_str).collect();
+        let more = if names.len() > shown.len() {
+            ", ..."
+        } else {
+            ""
+        };
+        let count = match names.len() {
+            1 => "1 entry".to_string(),
+            n => format!("{n} entries"),
+        };
+        return Err(OutdirError::NotResults {
+            path: location.output.clone(),
+            entries: format!("{count} ({}{more})", shown.join(", ")),
+        });
+    }
+    if let Some(read_only) = read_only_dir(dir)? {
+        return Err(OutdirError::ReadOnly {
+            path: location.output.clone(),
+            dir: read_only,
+        });
+    }
+    Ok(())
+}
+
+/// The first directory in the tree at `dir` (links not followed) with no write permission.
+fn read_only_dir(dir: &Path) -> Result<Option<PathBuf>, OutdirError> {
+    let metadata = fs::symlink_metadata(dir).map_err(io_error("read", dir))?;
+    if metadata.permissions().readonly() {
+        return Ok(Some(dir.to_path_buf()));
+    }
+    for entry in fs::read_dir(dir).map_err(io_error("list", dir))? {
+        let entry = entry.map_err(io_error("list", dir))?;
+        if entry.file_type().is_ok_and(|t| t.is_dir()) {
+            if let Some(found) = read_only_dir(&entry.path())? {
+                return Ok(Some(found));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// Refuses a leftover sibling that is not a real directory carrying the marker or empty.
+fn ensure_ours(leftover: &Path, location: &Location) -> Result<(), OutdirError> {
+    let is_dir = fs::symlink_metadata(leftover).is_ok_and(|m| m.is_dir());
+    if is_dir && marked_or_empty(leftover)? {
+        Ok(())
+    } else {
+        Err(OutdirError::ForeignLeftover {
+            path: leftover.to_path_buf(),
+            output: location.output.clone(),
+        })
+    }
+}
+
+/// Puts back or removes what a killed run left; called under the lock.
+fn recover_leftovers(location: &Location) -> Result<(), OutdirError> {
+    let previous = location.sibling("previous");
+    if exists(&previous) {
+        ensure_ours(&previous, location)?;
+        if exists(&location.dir) {
+            remove_results(&previous).map_err(io_error("remove the leftover", &previous))?;
+        } else {
+            tracing::warn!(
+                "restoring the results that a killed run left in {}",
+                previous.display()
+            );
+            fs::rename(&previous, &location.dir)
+                .map_err(io_error("restore the previous results from", &previous))?;
+        }
+    }
+    let partial = location.sibling("partial");
+    if exists(&partial) {
+        ensure_ours(&partial, location)?;
+        remove_results(&partial).map_err(io_error("remove the leftover", &partial))?;
+    }
+    Ok(())
+}
+
+/// Creates `partial` holding the marker, then `files`.
+fn write_partial(
+    partial: &Path,
+    experiment: &str,
+    files: &[OutputFile],
+) -> Result<(), OutdirError> {
+    fs::create_dir(partial).map_err(io_error("create", partial))?;
+    let marker = partial.join(MARKER);
+    fs::write(&marker, Marker::new(experiment).to_text()).map_err(io_error("write", &marker))?;
+    for file in files {
+        let target = partial.join(&file.path);
+        if let Some(dir) = target.parent() {
+            fs::create_dir_all(dir).map_err(io_error("create", dir))?;
+        }
+        fs::write(&target, &file.contents).map_err(io_error("write", &target))?;
+    }
+    Ok(())
+}
+
+/// Puts `.<name>.partial` in the place of the directory; by one exchange if `exchange` and
+/// the system supports it, else by two renames.
+fn swap(location: &Location, exchange: bool) -> Result<(), OutdirError> {
+    let dir = &location.dir;
+    let partial = location.sibling("partial");
+    if !exists(dir) {
+        return fs::rename(&partial, dir).map_err(io_error("move the results into", dir));
+    }
+    if exchange && exchange_dirs(&partial, dir)? {
+        // The old results are now under `partial`.
+        remove_old(&partial);
+        return Ok(());
+    }
+    let previous = location.sibling("previous");
+    fs::rename(dir, &previous).map_err(io_error("move aside the old results in", dir))?;
+    if let Err(e) = fs::rename(&partial, dir) {
+        let _ = fs::rename(&previous, dir);
+        return Err(io_error("move the results into", dir)(e));
+    }
+    remove_old(&previous);
+    Ok(())
+}
+
+/// Removes a results directory of gridplan's, its marker last, so a kill midway leaves a
+/// directory still recognised as gridplan's (and cleaned by the next run).
+fn remove_results(dir: &Path) -> io::Result<()> {
+    for entry in fs::read_dir(dir)? {
+        let entry = entry?;
+        if entry.file_name() == MARKER {
+            continue;
+        }
+        if entry.file_type()?.is_dir() {
+            fs::remove_dir_all(entry.path())?;
+        } else {
+            fs::remove_file(entry.path())?;
+        }
+    }
+    match fs::remove_file(dir.join(MARKER)) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+        _ => {}
+    }
+    fs::remove_dir(dir)
+}
+
+/// Removes the replaced results; a failure only warns, as the new results are in place and
+/// the next run removes the leftover.
+fn remove_old(old: &Path) {
+    if let Err(e) = remove_results(old) {
+        tracing::warn!(
+            "the new results are written, but the old ones in {} could not be removed: {e}",
+            old.display()
+        );
+    }
+}
+
+/// Exchanges two directories atomically. `Ok(false)` if the file system cannot.
+#[cfg(target_os = "linux")]
+fn exchange_dirs(a: &Path, b: &Path) -> Result<bool, OutdirError> {
+    use rustix::fs::{renameat_with, RenameFlags, CWD};
+    use rustix::io::Errno;
+    match renameat_with(CWD, a, CWD, b, RenameFlags::EXCHANGE) {
+        Ok(()) => Ok(true),
+        Err(Errno::INVAL | Errno::NOSYS | Errno::OPNOTSUPP) => Ok(false),
+        Err(e) => Err(io_error("exchange the new results with", b)(e.into())),
+    }
+}
+
+/// Exchanges two directories atomically. `Ok(false)` if the file system cannot.
+#[cfg(not(target_os = "linux"))]
+fn exchange_dirs(_a: &Path, _b: &Path) -> Result<bool, OutdirError> {
+    Ok(false)
+}
+
+/// The exclusive lock on an output directory: an OS file lock on `.<name>.lock` beside it,
+/// whose file holds the holder's pid. Dropping it removes the file, then unlocks.
+struct OutputLock {
+    file: File,
+    path: PathBuf,
+}
+
+impl OutputLock {
+    /// Takes the lock, waiting at most `wait` for another holder.
+    fn acquire(location: &Location, wait: Duration) -> Result<Self, OutdirError> {
+        let path = location.sibling("lock");
+        let started = Instant::now();
+        let mut told = false;
+        loop {
+            let mut file = OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(&path)
+                .map_err(io_error("open the lock file", &path))?;
+            match fs4::FileExt::try_lock(&file) {
+                Ok(()) => {
+                    if !still_at(&file, &path) {
+                        // The previous holder removed this file after we opened it.
+                        continue;
+                    }
+                    let pid = format!("{}\n", std::process::id());
+                    file.set_len(0)
+                        .and_then(|()| file.write_all(pid.as_bytes()))
+                        .map_err(io_error("write the lock file", &path))?;
+                    return Ok(Self { file, path });
+                }
+                Err(fs4::TryLockError::WouldBlock) => {
+                    let holder = holder(&mut file);
+                    if started.elapsed() >= wait {
+                        return Err(OutdirError::Locked {
+                            path: location.output.clone(),
+                            lock: path,
+                            holder,
+                            seconds: started.elapsed().as_secs(),
+                        });
+                    }
+                    if !told {
+                        tracing::warn!(
+                            "output {} is being written by another gridplan run{holder}; \
+                             waiting up to {} s for its lock {}",
+                            location.output.display(),
+                            wait.as_secs(),
+                            path.display()
+                        );
+                        told = true;
+                    }
+                    std::thread::sleep(LOCK_POLL);
+                }
+                Err(fs4::TryLockError::Error(e)) => return Err(io_error("lock", &path)(e)),
+            }
+        }
+    }
+}
+
+impl Drop for OutputLock {
+    fn drop(&mut self) {
+        // Removed while still locked, so a run that opened this file meanwhile finds it gone
+        // once it gets the lock, and starts over with a fresh file.
+        let _ = fs::remove_file(&self.path);
+        let _ = fs4::FileExt::unlock(&self.file);
+    }
+}
+
+/// " (pid N)" from a lock file's contents, or "" if it names none.
+fn holder(file: &mut File) -> String {
+    let mut text = String::new();
+    let _ = file.read_to_string(&mut text);
+    match text.trim().parse::<u32>() {
+        Ok(pid) => format!(" (pid {pid})"),
+        Err(_) => String::new(),
+    }
+}
+
+/// Whether the open `file` is still the one at `path`.
+#[cfg(unix)]
+fn still_at(file: &File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt as _;
+    match (file.metadata(), fs::metadata(path)) {
+        (Ok(open), Ok(named)) => open.dev() == named.dev() && open.ino() == named.ino(),
+        _ => false,
+    }
+}
+
+/// Whether the open `file` is still the one at `path` (assumed where inodes are not known).
+#[cfg(not(unix))]
+fn still_at(_file: &File, path: &Path) -> bool {
+    exists(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fresh directory holding a marked `r` (old results) and a marked `.r.partial` (new).
+    fn old_and_new(name: &str) -> Location {
+        let base =
+            std::env::temp_dir().join(format!("gridplan-outdir-{}-{name}", std::process::id()));
+        let _ = fs::remove_dir_all(&base);
+        let location = locate(&base.join("r"), true).unwrap();
+        for (dir, text) in [
+            (location.dir.clone(), "old"),
+            (location.sibling("partial"), "new"),
+        ] {
+            fs::create_dir_all(dir.join("figures")).unwrap();
+            fs::write(dir.join(MARKER), Marker::new("t").to_text()).unwrap();
+            fs::write(dir.join("figures/a.svg"), text).unwrap();
+        }
+        location
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn both_swaps_put_the_new_results_in_place_and_remove_the_old() {
+        for exchange in [true, false] {
+            let location = old_and_new(&format!("swap-{exchange}"));
+            swap(&location, exchange).unwrap();
+            let figure = fs::read_to_string(location.dir.join("figures/a.svg")).unwrap();
+            assert_eq!(figure, "new", "exchange: {exchange}");
+            assert_eq!(names(&location.parent), ["r"], "exchange: {exchange}");
+            fs::remove_dir_all(&location.parent).unwrap();
+        }
+    }
+
+    #[test]
+    fn a_previous_without_its_directory_is_restored() {
+        let location = old_and_new("restore");
+        let previous = location.sibling("previous");
+        fs::rename(&location.dir, &previous).unwrap();
+        recover_leftovers(&location).unwrap();
+        // The old results are back; the half-done partial is gone.
+        let figure = fs::read_to_string(location.dir.join("figures/a.svg")).unwrap();
+        assert_eq!(figure, "old");
+        assert_eq!(names(&location.parent), ["r"]);
+        fs::remove_dir_all(&location.parent).unwrap();
+    }
+
+    #[test]
+    fn the_marker_reads_back() {
+        let location = old_and_new("marker");
+        assert_eq!(Marker::read(&location.dir).unwrap(), Marker::new("t"));
+        fs::write(location.dir.join(MARKER), "format = \"one\"\n").unwrap();
+        let error = Marker::read(&location.dir).unwrap_err();
+        assert!(
+            error.to_string().contains("is not a gridplan marker"),
+            "{error}"
+        );
+        fs::remove_dir_all(&location.parent).unwrap();
+    }
+}
