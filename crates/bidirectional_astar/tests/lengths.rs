@@ -7,7 +7,8 @@
 //! or `GRIDPLAN_ALL_SCENARIOS=1` runs all of them.
 
 use planner_api::{
-    Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, PathRule, Planner, Problem, Status,
+    Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, ParamKey, PathRule, PathSpec,
+    Planner, Problem, Status,
 };
 use planner_astar::{AStar, Heuristic, TieBreak};
 use planner_bidirectional_astar::{BidirectionalAStar, Config, Search};
@@ -293,4 +294,9 @@ fn bad_parameters_are_errors_naming_the_key() {
         err.to_string(),
         "parameter `corner_cutting`: corner cutting is not supported"
     );
+    for moves in [Connectivity::Four, Connectivity::Eight] {
+        let planner = BidirectionalAStar::new(config(moves)).unwrap();
+        let set = MoveSet::new(moves, false, &NeighborOrder::default()).unwrap();
+        assert_eq!(planner.specs().path_rule, PathSpec::Moves(set));
+    }
 }

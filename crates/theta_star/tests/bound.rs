@@ -7,7 +7,8 @@
 //! or `GRIDPLAN_ALL_SCENARIOS=1` runs all of them.
 
 use planner_api::{
-    Budget, Cell, Connectivity, Grid, Outcome, Path, PathRule, Planner, Problem, Status,
+    Budget, Cell, Connectivity, Grid, Outcome, ParamKey, Path, PathRule, PathSpec, Planner,
+    Problem, Status,
 };
 use planner_astar::{AStar, Heuristic, TieBreak};
 use planner_theta_star::{AnyAngle, Config, ConfigError, ThetaStar, Variant};
@@ -335,4 +336,8 @@ fn bad_parameters_are_errors_naming_the_key() {
     assert!(unknown.unwrap_err().to_string().contains("heuristic"));
     let eight: Config = toml::from_str("moves = 8\ncorner_cutting = false").unwrap();
     assert_eq!(eight, Config::default());
+    let theta = ThetaStar::new(eight).unwrap();
+    let specs = theta.specs();
+    assert!(!specs.seeded);
+    assert_eq!(specs.path_rule, PathSpec::AnyAngle);
 }
