@@ -383,9 +383,9 @@ mod tests {
             new_planner(&root, "greedy2").is_err(),
             "a second scaffold must not overwrite"
         );
-        new_planner(&root, "theta_star").unwrap();
+        new_planner(&root, "greedy_best").unwrap();
         let registry = fs::read_to_string(root.join("crates/runner/src/registry.rs")).unwrap();
-        assert!(registry.contains("params, planner_theta_star::ThetaStar::new)"));
+        assert!(registry.contains("params, planner_greedy_best::GreedyBest::new)"));
         fs::remove_dir_all(&root).unwrap();
     }
 }

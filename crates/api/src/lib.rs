@@ -49,8 +49,8 @@ pub use coverage::{
 pub use error::{Endpoint, GridError, MoveOrderError, PathError, ProblemError};
 pub use grid::{Cell, Grid};
 pub use moves::{
-    for_each_segment_cell, segment_is_free, Connectivity, Direction, IndexedMove, IndexedMoves,
-    Move, MoveSet, NeighborOrder,
+    for_each_segment_cell, segment_is_free, walk_segment, Connectivity, Direction, IndexedMove,
+    IndexedMoves, Move, MoveSet, NeighborOrder, SegmentWalk,
 };
 pub use path::{Path, PathMetrics, PathRank, PathRule};
 pub use planner::{Budget, BudgetClock, Mark, Outcome, Planner, Problem, Series, Status};

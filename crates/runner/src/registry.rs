@@ -90,6 +90,42 @@ pub const PLANNERS: &[Entry] = &[
         factory: |params| Factory::path(planner_capso::NAME, params, planner_capso::Capso::new),
     },
     Entry {
+        name: planner_theta_star::NAME,
+        summary: "Theta* (Nash et al. 2007): any-angle A* on cell centres, line of sight on relaxation",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(
+                planner_theta_star::NAME,
+                params,
+                planner_theta_star::ThetaStar::new,
+            )
+        },
+    },
+    Entry {
+        name: planner_lazy_theta_star::NAME,
+        summary: "Lazy Theta* (Nash et al. 2010): any-angle, line of sight checked on expansion",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(
+                planner_lazy_theta_star::NAME,
+                params,
+                planner_lazy_theta_star::LazyThetaStar::new,
+            )
+        },
+    },
+    Entry {
+        name: planner_bidirectional_astar::NAME,
+        summary: "bidirectional A*, 4 or 8 directions, Pohl's stopping rule; A*'s lengths",
+        task: Task::StartGoal,
+        factory: |params| {
+            Factory::path(
+                planner_bidirectional_astar::NAME,
+                params,
+                planner_bidirectional_astar::BidirectionalAStar::new,
+            )
+        },
+    },
+    Entry {
         name: planner_coverage::NAME,
         summary: "coverage (seed 004): spiral or zigzag filling, backtracking points, A* returns",
         task: Task::Coverage,

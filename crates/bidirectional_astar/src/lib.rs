@@ -1,0 +1,437 @@
+//! Bidirectional A\*: one A\* forward from the start towards the goal and one backward
+//! from the goal towards the start, stopped by Pohl's rule (I. Pohl, "Bi-directional
+//! Search", Machine Intelligence 6, 1971, pp. 127-140): stop when the best meeting cost is
+//! at most the larger of the two frontiers' least `f`. The proof for this implementation is
+//! below.
+//!
+//! # The search
+//! - Grid: 4-connected moves with cost 1 and the Manhattan heuristic, or 8-connected moves
+//!   without corner cutting with costs 1 and `sqrt 2` and the octile heuristic. Both
+//!   heuristics are consistent, and the moves are symmetric (a move is safe from `a` to `b`
+//!   exactly when its reverse is safe from `b` to `a`), so the backward search runs the
+//!   same moves from the goal, with `h` the distance estimate to the start.
+//! - Each direction is A\* with its own OPEN, CLOSED, g and parents: OPEN ordered by `f`,
+//!   then larger `g`, then first pushed; CLOSED nodes are never reopened (with a consistent
+//!   heuristic a closed node's g is optimal in its direction).
+//! - Meeting: whenever a node's g improves in one direction and the node has been reached
+//!   in the other (it is in that direction's OPEN or CLOSED), `g_F + g_B` is a start-goal
+//!   path's cost; the least such cost is `mu`, and its node the meeting point
+//!   (`n_meeting_updates` counts the improvements of `mu`). The start is reached forward and
+//!   the goal backward from the beginning, so `start = goal` meets at once with `mu = 0`.
+//! - Which side expands: the one whose OPEN holds fewer nodes, forward on ties (Pohl's
+//!   cardinality criterion).
+//! - Stopping rule (Pohl): before each expansion, stop when `mu <= max(fmin_F, fmin_B)`,
+//!   the least `f` in either OPEN, or when either OPEN is empty. The path is the forward
+//!   parents from the start to the meeting point, then the backward parents to the goal.
+//!
+//! # Why the stopping rule is correct
+//! Let `C*` be the optimal cost and `P` an optimal path, and suppose the rule stops with
+//! `mu > C*`. Take the first node `n` of `P` not CLOSED forward. If there is none, the goal
+//! is CLOSED forward, and when its g last improved (to its optimal value `C*`) it was
+//! reached backward (`g_B(goal) = 0`), so `mu <= C*`. Otherwise `n` is the start or its
+//! predecessor on `P` is CLOSED forward with optimal g, so `n` is in the forward OPEN with
+//! optimal `g_F(n)`, and `f_F(n) = g_F(n) + h_F(n) <= g_F(n) + d(n, goal) = C*` since
+//! `h_F` is admissible. So `fmin_F <= C* < mu`, and the forward OPEN is not empty; the same
+//! holds backward, so neither stopping condition held: a contradiction. Hence the search
+//! stops with `mu = C*`, the length A\* finds (tested on every `.scen` file in
+//! `maps/movingai`, 4- and 8-connected).
+//!
+//! # Counters
+//! Totals under A\*'s names (`n_expanded`, `n_neighbor_checks`, `n_blocked`, `n_skipped`,
+//! `n_open_insertions` (start and goal both counted), `n_relaxations`, and `peak_open`, the
+//! most nodes in both OPENs together), then the same seven for each direction prefixed
+//! `forward_` and `backward_` (`peak_open` there is that direction's own peak), then
+//! `n_meeting_updates`. Every expanded node checks all its moves (the search never stops
+//! on an expansion), so `n_neighbor_checks = k * n_expanded` with `k` moves. One expansion
+//! of the budget is one expansion in either direction.
+//!
+//! ```
+//! use planner_api::{Budget, Cell, Grid, Planner, Problem, Status};
+//! use planner_bidirectional_astar::{BidirectionalAStar, Config};
+//!
+//! let grid = Grid::from_ascii("
+//!     .....
+//!     ..#..
+//!     .....
+//! ").unwrap();
+//! let problem = Problem::new(&grid, Cell::new(0, 1), Cell::new(4, 1)).unwrap();
+//! let mut search = BidirectionalAStar::new(Config::default()).unwrap();
+//! let outcome = search.plan(&problem, &Budget::unlimited());
+//! assert_eq!(outcome.status, Status::Found);
+//! // Around the block: a diagonal, two straight moves, a diagonal: 2 + 2 sqrt 2.
+//! let length = outcome.path.unwrap().metrics().length;
+//! assert!((length - (2.0 + 2.0 * 2f64.sqrt())).abs() < 1e-12);
+//! let c = &outcome.counters;
+//! assert_eq!(
+//!     c.get("n_expanded"),
+//!     Some(c.get("forward_n_expanded").unwrap() + c.get("backward_n_expanded").unwrap())
+//! );
+//! ```
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use planner_api::{
+    Adjacency, Budget, Cell, Connectivity, Counter, Counters, Grid, MoveOrderError, MoveSet,
+    NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// The registry name of this planner.
+pub const NAME: &str = "bidirectional_astar";
+
+/// Parameters; every field has a default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Config {
+    /// 4 (Manhattan heuristic) or 8 (octile heuristic) directions. Default 8.
+    pub moves: Connectivity,
+    /// Diagonal moves past a blocked corner: must be false (the Moving AI benchmark's
+    /// rule). Default false.
+    pub corner_cutting: bool,
+    /// Neighbour order, e.g. `"R L D U"` (see [`NeighborOrder`]), the same in both
+    /// directions. Default `"R L D U"`, diagonals after.
+    pub order: NeighborOrder,
+}
+
+impl Default for Config {
+    fn default() -> Config {
+        Config {
+            moves: Connectivity::Eight,
+            corner_cutting: false,
+            order: NeighborOrder::default(),
+        }
+    }
+}
+
+/// A parameter bidirectional A\* cannot run with.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ConfigError {
+    /// `moves` is neither 4 nor 8.
+    #[error("parameter `moves`: bidirectional A* runs 4 or 8 directions; {0} is not supported")]
+    Moves(Connectivity),
+    /// `corner_cutting` is true.
+    #[error("parameter `corner_cutting`: corner cutting is not supported")]
+    CornerCutting,
+    /// `order` does not fit `moves`.
+    #[error("parameter `order`: {0}")]
+    Order(#[from] MoveOrderError),
+}
+
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Moves(_) => "moves",
+            ConfigError::CornerCutting => "corner_cutting",
+            ConfigError::Order(_) => "order",
+        }
+    }
+}
+
+const FORWARD: usize = 0;
+const BACKWARD: usize = 1;
+
+/// Per-cell state of both directions; `stamp[d]` is `generation << 1 | closed`.
+#[derive(Debug, Clone, Copy, Default)]
+struct Node {
+    g: [f64; 2],
+    parent: [u32; 2],
+    stamp: [u32; 2],
+}
+
+/// An OPEN entry, a max-heap key: least `f`, then largest `g`, then first pushed. Costs
+/// are non-negative, so their bit patterns order as the numbers do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Entry {
+    f: Reverse<u64>,
+    g_bits: u64,
+    seq: Reverse<u64>,
+    node: u32,
+}
+
+/// The bidirectional A\* planner. Build with [`BidirectionalAStar::new`]; reuse it for many
+/// queries (per-cell arrays and OPEN lists are kept).
+#[derive(Debug, Clone)]
+pub struct BidirectionalAStar {
+    moves: MoveSet,
+    eight: bool,
+    adjacency: Option<Adjacency>,
+    nodes: Vec<Node>,
+    generation: u32,
+    open: [BinaryHeap<Entry>; 2],
+}
+
+/// What one search produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Search {
+    /// How it ended.
+    pub status: Status,
+    /// The path when found (or the best one met when the budget ran out).
+    pub path: Option<Path>,
+    /// `mu`, the path's cost, when there is a path.
+    pub cost: Option<f64>,
+    /// Counters of the forward and the backward search.
+    pub stats: [SearchStats; 2],
+    /// Most nodes in both OPENs together.
+    pub peak_open: u64,
+    /// Improvements of the best meeting cost.
+    pub n_meeting_updates: u64,
+}
+
+impl Search {
+    /// The reported counters (crate docs, "Counters").
+    pub fn counters(&self) -> Counters {
+        let mut total = self.stats[FORWARD];
+        total += self.stats[BACKWARD];
+        total.peak_open = self.peak_open;
+        let mut counters = total.report(Counter::ASTAR);
+        for (prefix, stats) in [
+            ("forward_", &self.stats[FORWARD]),
+            ("backward_", &self.stats[BACKWARD]),
+        ] {
+            for &counter in Counter::ASTAR {
+                counters.push(format!("{prefix}{}", counter.name()), stats.get(counter));
+            }
+        }
+        counters.push("n_meeting_updates", self.n_meeting_updates);
+        counters
+    }
+}
+
+impl BidirectionalAStar {
+    /// A planner with `config`, validated.
+    pub fn new(config: Config) -> Result<BidirectionalAStar, ConfigError> {
+        let eight = match config.moves {
+            Connectivity::Four => false,
+            Connectivity::Eight => true,
+            other => return Err(ConfigError::Moves(other)),
+        };
+        if config.corner_cutting {
+            return Err(ConfigError::CornerCutting);
+        }
+        Ok(BidirectionalAStar {
+            moves: MoveSet::new(config.moves, false, &config.order)?,
+            eight,
+            adjacency: None,
+            nodes: Vec::new(),
+            generation: 0,
+            open: [BinaryHeap::new(), BinaryHeap::new()],
+        })
+    }
+
+    /// Builds the move masks and node arrays for `grid` (done by the first search on a
+    /// grid otherwise).
+    pub fn prepare(&mut self, grid: &Grid) {
+        let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
+        if self.nodes.len() != adjacency.padded_len() {
+            self.nodes = vec![Node::default(); adjacency.padded_len()];
+            self.generation = 0;
+        }
+    }
+
+    /// Runs the search on `problem` within `budget`.
+    pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+        self.prepare(problem.grid());
+        let Some(adjacency) = self.adjacency.as_ref() else {
+            unreachable!("prepare fills the adjacency cache");
+        };
+        self.generation += 1;
+        if self.generation >= 1 << 31 {
+            self.nodes.fill(Node::default());
+            self.generation = 1;
+        }
+        let open_stamp = self.generation << 1;
+        let closed_stamp = open_stamp | 1;
+        let nodes = &mut self.nodes[..];
+        let open = &mut self.open;
+        open[FORWARD].clear();
+        open[BACKWARD].clear();
+
+        let n_moves = adjacency.n_moves() as u64;
+        let mut costs = [0.0f64; 8];
+        for (slot, mv) in costs.iter_mut().zip(self.moves.moves()) {
+            *slot = mv.cost;
+        }
+        let eight = self.eight;
+        // Direction d heads for targets[d].
+        let targets = [problem.goal(), problem.start()];
+        let h = |d: usize, c: Cell| {
+            if eight {
+                c.octile(targets[d])
+            } else {
+                c.manhattan(targets[d]) as f64
+            }
+        };
+        let mut seq = 0u64;
+        let mut stats = [SearchStats::default(); 2];
+        let mut n_safe = [0u64; 2];
+        let mut peak_open = 0u64;
+        let mut n_meeting_updates = 0u64;
+        let mut mu = f64::INFINITY;
+        let mut meet = usize::MAX;
+
+        for (d, cell) in [(FORWARD, problem.start()), (BACKWARD, problem.goal())] {
+            let p = adjacency.index(cell);
+            let node = &mut nodes[p];
+            node.g[d] = 0.0;
+            node.parent[d] = p as u32;
+            node.stamp[d] = open_stamp;
+            open[d].push(Entry {
+                f: Reverse(h(d, cell).to_bits()),
+                g_bits: 0,
+                seq: Reverse(seq),
+                node: p as u32,
+            });
+            seq += 1;
+            stats[d].n_open_insertions = 1;
+            stats[d].peak_open = 1;
+        }
+        let start_index = adjacency.index(problem.start());
+        if start_index == adjacency.index(problem.goal()) {
+            mu = 0.0;
+            meet = start_index;
+            n_meeting_updates = 1;
+        }
+        peak_open = peak_open.max(2);
+
+        let mut clock = budget.start();
+        let status = loop {
+            // The least live f of each OPEN, dropping entries of CLOSED or improved nodes.
+            let mut fmin = [f64::INFINITY; 2];
+            for d in [FORWARD, BACKWARD] {
+                while let Some(top) = open[d].peek() {
+                    let node = &nodes[top.node as usize];
+                    if node.stamp[d] == closed_stamp || node.g[d].to_bits() != top.g_bits {
+                        open[d].pop();
+                    } else {
+                        fmin[d] = f64::from_bits(top.f.0);
+                        break;
+                    }
+                }
+            }
+            if open[FORWARD].is_empty() || open[BACKWARD].is_empty() || mu <= fmin[0].max(fmin[1]) {
+                break if mu.is_finite() {
+                    Status::Found
+                } else {
+                    Status::NoPath
+                };
+            }
+            let d = if in_open(&stats, BACKWARD) < in_open(&stats, FORWARD) {
+                BACKWARD
+            } else {
+                FORWARD
+            };
+            let other = 1 - d;
+            if !clock.allows(stats[FORWARD].n_expanded + stats[BACKWARD].n_expanded) {
+                break Status::BudgetExhausted;
+            }
+            let Some(entry) = open[d].pop() else {
+                unreachable!("OPEN {d} was checked to be non-empty");
+            };
+            let p = entry.node as usize;
+            nodes[p].stamp[d] = closed_stamp;
+            stats[d].n_expanded += 1;
+            let g_node = nodes[p].g[d];
+            let mut mask = adjacency.mask(p);
+            while mask != 0 {
+                let m = mask.trailing_zeros();
+                mask &= mask - 1;
+                n_safe[d] += 1;
+                let q = adjacency.neighbor(p, m);
+                let next = &mut nodes[q];
+                if next.stamp[d] == closed_stamp {
+                    stats[d].n_skipped += 1;
+                    continue;
+                }
+                let g_new = g_node + costs[(m & 7) as usize];
+                let known = next.stamp[d] == open_stamp;
+                if known && g_new >= next.g[d] {
+                    continue;
+                }
+                stats[d].n_relaxations += 1;
+                stats[d].n_open_insertions += u64::from(!known);
+                next.g[d] = g_new;
+                next.parent[d] = p as u32;
+                next.stamp[d] = open_stamp;
+                if next.stamp[other] >> 1 == self.generation && g_new + next.g[other] < mu {
+                    mu = g_new + next.g[other];
+                    meet = q;
+                    n_meeting_updates += 1;
+                }
+                open[d].push(Entry {
+                    f: Reverse((g_new + h(d, adjacency.cell(q))).to_bits()),
+                    g_bits: g_new.to_bits(),
+                    seq: Reverse(seq),
+                    node: q as u32,
+                });
+                seq += 1;
+            }
+            stats[d].peak_open = stats[d].peak_open.max(in_open(&stats, d));
+            peak_open = peak_open.max(in_open(&stats, FORWARD) + in_open(&stats, BACKWARD));
+        };
+        for d in [FORWARD, BACKWARD] {
+            stats[d].n_neighbor_checks = n_moves * stats[d].n_expanded;
+            stats[d].n_blocked = stats[d].n_neighbor_checks - n_safe[d];
+        }
+        let path = mu.is_finite().then(|| {
+            let mut cells = Vec::new();
+            let mut node = meet;
+            loop {
+                cells.push(adjacency.cell(node));
+                let parent = nodes[node].parent[FORWARD] as usize;
+                if parent == node {
+                    break;
+                }
+                node = parent;
+            }
+            cells.reverse();
+            node = meet;
+            loop {
+                let parent = nodes[node].parent[BACKWARD] as usize;
+                if parent == node {
+                    break;
+                }
+                node = parent;
+                cells.push(adjacency.cell(node));
+            }
+            Path::new(cells)
+        });
+        Search {
+            status,
+            cost: path.as_ref().map(|_| mu),
+            path,
+            stats,
+            peak_open,
+            n_meeting_updates,
+        }
+    }
+}
+
+/// Nodes in direction `d`'s OPEN: each inserted node is expanded at most once.
+fn in_open(stats: &[SearchStats; 2], d: usize) -> u64 {
+    stats[d].n_open_insertions - stats[d].n_expanded
+}
+
+impl Planner for BidirectionalAStar {
+    fn name(&self) -> &str {
+        NAME
+    }
+
+    /// Deterministic; every step is one of the configured 4 or 8 moves.
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone()))
+    }
+
+    fn prepare(&mut self, grid: &Grid) {
+        BidirectionalAStar::prepare(self, grid);
+    }
+
+    fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+        let search = self.search(problem, budget);
+        let counters = search.counters();
+        Outcome::new(search.status, search.path, counters)
+    }
+}

@@ -1,0 +1,511 @@
+//! Theta\*: any-angle path planning on grid cell centres (Nash, Daniel, Koenig and Felner,
+//! "Theta\*: Any-Angle Path Planning on Grids", AAAI 2007, pp. 1177-1183,
+//! <http://idm-lab.org/bib/abstracts/Koen07f.html>; the journal version, Daniel, Nash, Koenig
+//! and Felner, JAIR 39, 2010, <https://jair.org/index.php/jair/article/view/10676>, calls it
+//! Basic Theta\*).
+//!
+//! Theta\* is A\* on the 8-connected grid whose relaxation may take a shortcut: when the
+//! node `s` being expanded has a parent `p = parent(s)` that sees the neighbour `s'`,
+//! `s'` is offered `g(p) + |p s'|` with parent `p` ("path 2"); otherwise it is offered
+//! `g(s) + c(s, s')` with parent `s` ("path 1"), exactly A\*'s. Paths are therefore
+//! sequences of waypoints joined by straight segments at any angle.
+//!
+//! # Definitions used here
+//! - Nodes are cell centres; edges are the 8-connected moves without corner cutting
+//!   (planner-api's [`Adjacency`] over [`MoveSet`] `8`), costing 1 and `sqrt 2`.
+//! - Line of sight between two cells is planner-api's exact segment traversal
+//!   ([`planner_api::for_each_segment_cell`]) in its fast form, [`walk_segment`], the
+//!   function behind [`planner_api::segment_is_free`] and so behind [`Path::validate`] with
+//!   [`planner_api::PathRule::AnyAngle`]: every path this crate returns passes that check. A segment through a grid vertex needs both side cells free, so a
+//!   diagonal grid move without corner cutting is itself a segment with line of sight.
+//! - `c(a, b)` is the Euclidean distance between cell centres ([`Cell::euclidean`]), and
+//!   `h(s) = |s goal|`, which is consistent: `h(a) <= |a b| + h(b)` by the triangle
+//!   inequality.
+//! - The start is its own parent. When `parent(s) = s` (the start only) no line of sight is
+//!   checked: path 2 would be path 1.
+//! - CLOSED nodes are never reopened; the search stops when the goal is popped.
+//!
+//! # Costs and the epsilon
+//! Lengths are sums of square roots, so costs are `f64` and two mathematically equal
+//! lengths may differ in their last bits. [`EPSILON`] (`2^-24`, about `6e-8`) absorbs that
+//! in two places: a node's g is replaced only by one smaller by more than `EPSILON`, and
+//! OPEN orders by `f` rounded to a multiple of `EPSILON`, then larger `g` first, then the
+//! order of insertion. Each of the two can leave a length `EPSILON` longer than the exact
+//! rule would, so a path of `k` waypoint updates is within `k * EPSILON` (below `1e-4`
+//! for every path of fewer than 1600 segments) of what exact arithmetic gives; the tests
+//! use a relative slack of `1e-4`.
+//!
+//! # Never longer than the 8-connected optimum
+//! Claim: with these edges and this `h`, every node `s` that Theta\* expands has
+//! `g(s) <= d8(s)`, the 8-connected shortest distance from the start (in exact arithmetic;
+//! with the epsilon above, up to `EPSILON` per node on the way). In particular the goal's
+//! path is never longer than the 8-connected optimum (A\*'s on the same grid).
+//!
+//! 1. `g(s) = g(parent(s)) + |parent(s) s|` for every node reached, and parents are
+//!    CLOSED nodes, whose g never changes again.
+//! 2. Relaxing `s'` from `s` offers at most `g(s) + c(s, s')`: path 1 offers exactly that,
+//!    and path 2 offers `g(p) + |p s'| <= g(p) + |p s| + |s s'| = g(s) + c(s, s')` by the
+//!    triangle inequality and step 1. Since g only decreases, after `s` is expanded
+//!    `g(s') <= g(s) + c(s, s')` for every neighbour `s'` not CLOSED.
+//! 3. Suppose `s` is the first node expanded with `g(s) > d8(s)`. Take a shortest
+//!    8-connected path `π` from the start to `s`, and on it the last node `n` that is
+//!    CLOSED (the start is); its successor `m` on `π` is not CLOSED. `n` was expanded
+//!    before `s`, so `g(n) <= d8(n)`, and by step 2 `g(m) <= d8(n) + c(n, m) = d8(m)`. If
+//!    `m = s` this contradicts `g(s) > d8(s)`. Otherwise `m` is in OPEN with
+//!    `f(m) = g(m) + h(m) <= d8(m) + d8(m, s) + h(s) = d8(s) + h(s) < g(s) + h(s) = f(s)`
+//!    (`h(m) <= |m s| + h(s) <= d8(m, s) + h(s)`), so OPEN would have given out `m`
+//!    before `s`: a contradiction either way.
+//!
+//! The tests check the bound on every scenario of every `.scen` file in `maps/movingai`
+//! against the scenario's stated optimum, and on seeded random maps against planner-astar.
+//! The bound is against the 8-connected optimum. The true shortest any-angle path can be
+//! shorter still, and Theta\* is not guaranteed to find it (the JAIR paper says so).
+//!
+//! # Counters
+//! A\*'s (`n_expanded`, `n_neighbor_checks`, `n_blocked`, `n_skipped`,
+//! `n_open_insertions`, `n_relaxations`, `peak_open`, with A\*'s meanings for the 8 grid
+//! moves), then `n_los_checks` (line-of-sight checks made) and `n_los_cells` (cells those
+//! checks visited, both ends included, up to and including the first blocked cell).
+//! planner-lazy_theta_star reuses this search ([`AnyAngle`]) and adds
+//! `n_parent_repairs`.
+//!
+//! ```
+//! use planner_api::{Budget, Cell, Grid, Path, PathRule, Planner, Problem, Status};
+//! use planner_theta_star::{Config, ThetaStar};
+//!
+//! let grid = Grid::from_ascii("
+//!     ......
+//!     .###..
+//!     ......
+//! ").unwrap();
+//! let problem = Problem::new(&grid, Cell::new(0, 2), Cell::new(5, 0)).unwrap();
+//! let mut theta = ThetaStar::new(Config::default()).unwrap();
+//! let outcome = theta.plan(&problem, &Budget::unlimited());
+//! assert_eq!(outcome.status, Status::Found);
+//! let path = outcome.path.unwrap();
+//! assert!(path.validate(&grid, PathRule::AnyAngle).is_ok());
+//! // Along the bottom row, then one straight segment past the wall's right end:
+//! // 4 + sqrt 5, shorter than the 8-connected optimum 5 + sqrt 2.
+//! assert_eq!(path.cells(), &[Cell::new(0, 2), Cell::new(4, 2), Cell::new(5, 0)]);
+//! assert!((path.metrics().length - (4.0 + 5f64.sqrt())).abs() < 1e-12);
+//! assert!(outcome.counters.get("n_los_checks").unwrap() > 0);
+//! ```
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use planner_api::{
+    walk_segment, Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder,
+    Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// The registry name of this planner.
+pub const NAME: &str = "theta_star";
+
+/// The tolerance of cost comparisons, `2^-24` (module docs, "Costs and the epsilon").
+pub const EPSILON: f64 = 1.0 / 16_777_216.0;
+
+/// Parameters of Theta\* and Lazy Theta\*. Both exist so that a configuration copied from
+/// 8-connected A\* is accepted, and anything else is refused by name.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Config {
+    /// The grid edges: must be 8 (the 8-connected moves). Default 8.
+    pub moves: Connectivity,
+    /// Diagonal grid edges past a blocked corner: must be false (line of sight never cuts
+    /// a corner, and the length bound needs the grid edges to be segments with line of
+    /// sight). Default false.
+    pub corner_cutting: bool,
+}
+
+impl Default for Config {
+    fn default() -> Config {
+        Config {
+            moves: Connectivity::Eight,
+            corner_cutting: false,
+        }
+    }
+}
+
+/// A parameter Theta\* or Lazy Theta\* cannot run with.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum ConfigError {
+    /// `moves` is not 8.
+    #[error(
+        "parameter `moves`: any-angle search expands the 8-connected moves; {0} is not supported"
+    )]
+    Moves(Connectivity),
+    /// `corner_cutting` is true.
+    #[error(
+        "parameter `corner_cutting`: any-angle search never cuts corners; true is not supported"
+    )]
+    CornerCutting,
+}
+
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        match self {
+            ConfigError::Moves(_) => "moves",
+            ConfigError::CornerCutting => "corner_cutting",
+        }
+    }
+}
+
+impl Config {
+    /// Checks the parameters (see [`ConfigError`]).
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if self.moves != Connectivity::Eight {
+            return Err(ConfigError::Moves(self.moves));
+        }
+        if self.corner_cutting {
+            return Err(ConfigError::CornerCutting);
+        }
+        Ok(())
+    }
+}
+
+/// Where line of sight is checked: the one difference between the two planners.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Variant {
+    /// Theta\*: when a neighbour is relaxed, between the expanded node's parent and the
+    /// neighbour.
+    Theta,
+    /// Lazy Theta\* (Nash, Koenig and Tovey, AAAI 2010): a neighbour is given the expanded
+    /// node's parent unchecked; when it is expanded, line of sight to its parent is
+    /// checked, and if blocked, the parent becomes the CLOSED grid neighbour `n` with the
+    /// least `g(n) + c(n, s)` ("SetVertex"; the first such neighbour in move order on ties).
+    Lazy,
+}
+
+/// The counters of one any-angle search.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct AnyAngleStats {
+    /// A\*'s counters for the grid moves.
+    pub search: SearchStats,
+    /// Line-of-sight checks made.
+    pub n_los_checks: u64,
+    /// Cells visited by those checks (both ends included, up to the first blocked one).
+    pub n_los_cells: u64,
+    /// Lazy Theta\* only: expanded nodes whose parent had no line of sight and was replaced.
+    pub n_parent_repairs: u64,
+}
+
+impl AnyAngleStats {
+    /// The reported counters: A\*'s, then `n_los_checks`, `n_los_cells`, and for Lazy
+    /// Theta\* `n_parent_repairs`.
+    pub fn report(&self, variant: Variant) -> Counters {
+        let mut counters = self
+            .search
+            .report(Counter::ASTAR)
+            .with("n_los_checks", self.n_los_checks)
+            .with("n_los_cells", self.n_los_cells);
+        if variant == Variant::Lazy {
+            counters.push("n_parent_repairs", self.n_parent_repairs);
+        }
+        counters
+    }
+}
+
+/// What one search produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Search {
+    /// How it ended.
+    pub status: Status,
+    /// The waypoints when found.
+    pub path: Option<Path>,
+    /// `g(goal)`, the path's length as summed during the search, when found.
+    pub cost: Option<f64>,
+    /// The counters.
+    pub stats: AnyAngleStats,
+}
+
+/// Per-cell state; `stamp` is `generation << 1 | closed`, so nothing is cleared between
+/// searches.
+#[derive(Debug, Clone, Copy, Default)]
+struct Node {
+    g: f64,
+    parent: u32,
+    stamp: u32,
+}
+
+/// An OPEN entry, a max-heap key: least rounded `f`, then largest `g`, then first pushed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Entry {
+    f: Reverse<u64>,
+    g_bits: u64,
+    seq: Reverse<u64>,
+    node: u32,
+}
+
+/// The search shared by Theta\* and Lazy Theta\*: per-cell arrays kept between queries,
+/// the grid's move masks cached, OPEN reused.
+#[derive(Debug, Clone)]
+pub struct AnyAngle {
+    moves: MoveSet,
+    adjacency: Option<Adjacency>,
+    nodes: Vec<Node>,
+    generation: u32,
+    open: BinaryHeap<Entry>,
+}
+
+impl AnyAngle {
+    /// A search with `config`, validated.
+    pub fn new(config: &Config) -> Result<AnyAngle, ConfigError> {
+        config.validate()?;
+        let moves = MoveSet::new(Connectivity::Eight, false, &NeighborOrder::default())
+            .map_err(|_| ConfigError::Moves(config.moves))?;
+        Ok(AnyAngle {
+            moves,
+            adjacency: None,
+            nodes: Vec::new(),
+            generation: 0,
+            open: BinaryHeap::new(),
+        })
+    }
+
+    /// Builds the move masks and node arrays for `grid` (done by the first search on a
+    /// grid otherwise).
+    pub fn prepare(&mut self, grid: &planner_api::Grid) {
+        let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
+        if self.nodes.len() != adjacency.padded_len() {
+            self.nodes = vec![Node::default(); adjacency.padded_len()];
+            self.generation = 0;
+        }
+    }
+
+    /// Runs `variant` on `problem` within `budget` (one expansion is one node taken from
+    /// OPEN and CLOSED).
+    pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget, variant: Variant) -> Search {
+        let grid = problem.grid();
+        self.prepare(grid);
+        let Some(adjacency) = self.adjacency.as_ref() else {
+            unreachable!("prepare fills the adjacency cache");
+        };
+        self.generation += 1;
+        if self.generation >= 1 << 31 {
+            self.nodes.fill(Node::default());
+            self.generation = 1;
+        }
+        let open_stamp = self.generation << 1;
+        let closed_stamp = open_stamp | 1;
+        let nodes = &mut self.nodes[..];
+        let open = &mut self.open;
+        open.clear();
+
+        let mut costs = [0.0f64; 8];
+        for (slot, mv) in costs.iter_mut().zip(self.moves.moves()) {
+            *slot = mv.cost;
+        }
+        let goal = problem.goal();
+        let goal_index = adjacency.index(goal);
+        let h = |c: Cell| {
+            let (dx, dy) = (
+                f64::from(c.x.abs_diff(goal.x)),
+                f64::from(c.y.abs_diff(goal.y)),
+            );
+            (dx * dx + dy * dy).sqrt()
+        };
+        let key = |f: f64| Reverse((f / EPSILON).round() as u64);
+        let mut seq = 0u64;
+        let mut stats = AnyAngleStats::default();
+        let mut n_safe = 0u64;
+        let line_of_sight = |stats: &mut AnyAngleStats, a: Cell, b: Cell| {
+            let walk = walk_segment(grid, a, b);
+            stats.n_los_checks += 1;
+            stats.n_los_cells += walk.n_cells;
+            walk.free
+        };
+
+        let mut clock = budget.start();
+        let start = problem.start();
+        let start_index = adjacency.index(start);
+        nodes[start_index] = Node {
+            g: 0.0,
+            parent: start_index as u32,
+            stamp: open_stamp,
+        };
+        open.push(Entry {
+            f: key(h(start)),
+            g_bits: 0.0f64.to_bits(),
+            seq: Reverse(seq),
+            node: start_index as u32,
+        });
+        stats.search.n_open_insertions = 1;
+        stats.search.peak_open = 1;
+
+        let finish = |stats: &mut AnyAngleStats, n_safe: u64, n_checked: u64| {
+            let s = &mut stats.search;
+            s.n_neighbor_checks = 8 * n_checked;
+            s.n_blocked = s.n_neighbor_checks - n_safe;
+        };
+
+        while let Some(entry) = open.pop() {
+            let p = entry.node as usize;
+            if nodes[p].stamp == closed_stamp || nodes[p].g.to_bits() != entry.g_bits {
+                continue; // An older entry of a node improved while in OPEN.
+            }
+            if !clock.allows(stats.search.n_expanded) {
+                let n = stats.search.n_expanded;
+                finish(&mut stats, n_safe, n);
+                return Search {
+                    status: Status::BudgetExhausted,
+                    path: None,
+                    cost: None,
+                    stats,
+                };
+            }
+            let cell = adjacency.cell(p);
+            if variant == Variant::Lazy && nodes[p].parent as usize != p {
+                let parent_cell = adjacency.cell(nodes[p].parent as usize);
+                if !line_of_sight(&mut stats, parent_cell, cell) {
+                    // SetVertex: the best CLOSED grid neighbour. One exists: the node that
+                    // put `p` into OPEN (moves are symmetric).
+                    stats.n_parent_repairs += 1;
+                    let mut best: Option<(f64, usize)> = None;
+                    let mut mask = adjacency.mask(p);
+                    while mask != 0 {
+                        let m = mask.trailing_zeros();
+                        mask &= mask - 1;
+                        let q = adjacency.neighbor(p, m);
+                        if nodes[q].stamp == closed_stamp {
+                            let g = nodes[q].g + costs[(m & 7) as usize];
+                            if best.is_none_or(|(b, _)| g < b) {
+                                best = Some((g, q));
+                            }
+                        }
+                    }
+                    if let Some((g, q)) = best {
+                        nodes[p].g = g;
+                        nodes[p].parent = q as u32;
+                    }
+                }
+            }
+            nodes[p].stamp = closed_stamp;
+            stats.search.n_expanded += 1;
+            if p == goal_index {
+                let n = stats.search.n_expanded - 1;
+                finish(&mut stats, n_safe, n);
+                let path = reconstruct(adjacency, nodes, start_index, goal_index);
+                return Search {
+                    status: Status::Found,
+                    path: Some(path),
+                    cost: Some(nodes[p].g),
+                    stats,
+                };
+            }
+            let g_node = nodes[p].g;
+            let parent = nodes[p].parent as usize;
+            let g_parent = nodes[parent].g;
+            let parent_cell = adjacency.cell(parent);
+            let mut mask = adjacency.mask(p);
+            while mask != 0 {
+                let m = mask.trailing_zeros();
+                mask &= mask - 1;
+                n_safe += 1;
+                let q = adjacency.neighbor(p, m);
+                if nodes[q].stamp == closed_stamp {
+                    stats.search.n_skipped += 1;
+                    continue;
+                }
+                let q_cell = adjacency.cell(q);
+                let via_parent = parent != p
+                    && match variant {
+                        Variant::Theta => line_of_sight(&mut stats, parent_cell, q_cell),
+                        Variant::Lazy => true,
+                    };
+                let (g_new, new_parent) = if via_parent {
+                    (g_parent + parent_cell.euclidean(q_cell), parent)
+                } else {
+                    (g_node + costs[(m & 7) as usize], p)
+                };
+                let known = nodes[q].stamp == open_stamp;
+                if !known || g_new < nodes[q].g - EPSILON {
+                    stats.search.n_relaxations += 1;
+                    stats.search.n_open_insertions += u64::from(!known);
+                    nodes[q] = Node {
+                        g: g_new,
+                        parent: new_parent as u32,
+                        stamp: open_stamp,
+                    };
+                    seq += 1;
+                    open.push(Entry {
+                        f: key(g_new + h(q_cell)),
+                        g_bits: g_new.to_bits(),
+                        seq: Reverse(seq),
+                        node: q as u32,
+                    });
+                }
+            }
+            // Nodes in OPEN: every inserted node is expanded at most once.
+            let s = &mut stats.search;
+            s.peak_open = s.peak_open.max(s.n_open_insertions - s.n_expanded);
+        }
+        let n = stats.search.n_expanded;
+        finish(&mut stats, n_safe, n);
+        Search {
+            status: Status::NoPath,
+            path: None,
+            cost: None,
+            stats,
+        }
+    }
+}
+
+fn reconstruct(adjacency: &Adjacency, nodes: &[Node], start: usize, goal: usize) -> Path {
+    let mut cells = vec![adjacency.cell(goal)];
+    let mut node = goal;
+    while node != start {
+        node = nodes[node].parent as usize;
+        cells.push(adjacency.cell(node));
+    }
+    cells.reverse();
+    Path::new(cells)
+}
+
+/// The Theta\* planner. Build with [`ThetaStar::new`]; reuse it for many queries.
+#[derive(Debug, Clone)]
+pub struct ThetaStar {
+    search: AnyAngle,
+}
+
+impl ThetaStar {
+    /// A planner with `config`, validated.
+    pub fn new(config: Config) -> Result<ThetaStar, ConfigError> {
+        Ok(ThetaStar {
+            search: AnyAngle::new(&config)?,
+        })
+    }
+
+    /// Runs Theta\* and returns the path with its cost and raw counters.
+    pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+        self.search.search(problem, budget, Variant::Theta)
+    }
+}
+
+impl Planner for ThetaStar {
+    fn name(&self) -> &str {
+        NAME
+    }
+
+    /// Deterministic; paths are waypoints joined by segments with line of sight.
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::AnyAngle)
+    }
+
+    fn prepare(&mut self, grid: &planner_api::Grid) {
+        self.search.prepare(grid);
+    }
+
+    fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+        let search = self.search(problem, budget);
+        Outcome::new(
+            search.status,
+            search.path,
+            search.stats.report(Variant::Theta),
+        )
+    }
+}
