@@ -7,8 +7,8 @@
 //! or `GRIDPLAN_ALL_SCENARIOS=1` runs all of them.
 
 use planner_api::{
-    Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, ParamKey, PathRule, PathSpec,
-    Planner, Problem, Status,
+    Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, PathRule, PathSpec, Planner, Problem,
+    Status,
 };
 use planner_astar::{AStar, Heuristic, TieBreak};
 use planner_bidirectional_astar::{BidirectionalAStar, Config, Search};

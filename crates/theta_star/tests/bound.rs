@@ -7,8 +7,7 @@
 //! or `GRIDPLAN_ALL_SCENARIOS=1` runs all of them.
 
 use planner_api::{
-    Budget, Cell, Connectivity, Grid, Outcome, ParamKey, Path, PathRule, PathSpec, Planner,
-    Problem, Status,
+    Budget, Cell, Connectivity, Grid, Outcome, Path, PathRule, PathSpec, Planner, Problem, Status,
 };
 use planner_astar::{AStar, Heuristic, TieBreak};
 use planner_theta_star::{AnyAngle, Config, ConfigError, ThetaStar, Variant};
