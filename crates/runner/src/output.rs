@@ -48,7 +48,7 @@ pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
         }
     }
     let mut out = String::from(
-        "map,problem,start_x,start_y,goal_x,goal_y,planner,algorithm,repeat,seed,status,steps,turns,score,length,optimal_length,valid,time_ms,setup_ms,peak_heap_bytes",
+        "map,problem,start_x,start_y,goal_x,goal_y,planner,algorithm,repeat,seed,status,steps,turns,score,length,optimal_length,valid,time_ms,setup_ms,peak_heap_bytes,bucket",
     );
     for name in &counter_names {
         out.push(',');
@@ -78,6 +78,7 @@ pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
             format!("{:.6}", r.time_ms),
             format!("{:.6}", r.setup_ms),
             r.peak_heap_bytes.to_string(),
+            opt(r.bucket.map(|b| b.to_string())),
         ];
         out.push_str(&fields.join(","));
         for name in &counter_names {

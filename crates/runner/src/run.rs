@@ -242,6 +242,7 @@ fn blank_record(
         score: None,
         length: None,
         optimal_length: entry.optimal_length,
+        bucket: entry.bucket,
         valid: None,
         counters: Counters::new(),
         time_ms: 0.0,

@@ -245,6 +245,7 @@ mod tests {
             score: Some(1),
             length: Some(length),
             optimal_length: None,
+            bucket: None,
             valid: Some(true),
             counters: Counters::new(),
             time_ms,
