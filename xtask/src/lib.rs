@@ -18,8 +18,8 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use planner_runner::output::OutputFile;
-use planner_runner::report::Reproduction;
 use planner_runner::provenance::Provenance;
+use planner_runner::report::Reproduction;
 use planner_runner::{
     charts, config, figures, html, ompl, output as results, report, run_all, RunOptions,
 };

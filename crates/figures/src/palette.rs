@@ -25,7 +25,11 @@ pub fn colour(i: usize) -> String {
     }
     let k = (i - PALETTE.len()) as f64;
     let hue = (k * 137.507_764).rem_euclid(360.0);
-    let lightness = if (i - PALETTE.len()) % 2 == 0 { 0.42 } else { 0.58 };
+    let lightness = if (i - PALETTE.len()) % 2 == 0 {
+        0.42
+    } else {
+        0.58
+    };
     let (r, g, b) = hsl_to_rgb(hue, 0.75, lightness);
     format!("#{r:02x}{g:02x}{b:02x}")
 }

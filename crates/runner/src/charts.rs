@@ -32,14 +32,27 @@ pub fn charts(experiment: &Experiment, records: &[RunRecord]) -> Vec<Chart> {
     if valid.is_empty() {
         return Vec::new();
     }
-    let labels: Vec<&str> = experiment.planners.iter().map(|p| p.label.as_str()).collect();
+    let labels: Vec<&str> = experiment
+        .planners
+        .iter()
+        .map(|p| p.label.as_str())
+        .collect();
     let runs_of = |label: &str| -> Vec<&RunRecord> {
-        valid.iter().copied().filter(|r| r.planner == label).collect()
+        valid
+            .iter()
+            .copied()
+            .filter(|r| r.planner == label)
+            .collect()
     };
     let mut out = Vec::new();
     let time: Vec<(String, Vec<f64>)> = labels
         .iter()
-        .map(|l| (l.to_string(), runs_of(l).iter().map(|r| r.time_ms).collect()))
+        .map(|l| {
+            (
+                l.to_string(),
+                runs_of(l).iter().map(|r| r.time_ms).collect(),
+            )
+        })
         .collect();
     let expansions: Vec<(String, Vec<f64>)> = labels
         .iter()
@@ -67,29 +80,30 @@ pub fn charts(experiment: &Experiment, records: &[RunRecord]) -> Vec<Chart> {
         ));
     }
     if valid.iter().any(|r| r.bucket.is_some()) {
-        let by_bucket = |value: &dyn Fn(&RunRecord) -> Option<f64>| -> Vec<(String, Vec<(f64, f64)>)> {
-            labels
-                .iter()
-                .map(|l| {
-                    let runs = runs_of(l);
-                    let mut buckets: Vec<u32> = runs.iter().filter_map(|r| r.bucket).collect();
-                    buckets.sort_unstable();
-                    buckets.dedup();
-                    let points = buckets
-                        .into_iter()
-                        .filter_map(|b| {
-                            let values: Vec<f64> = runs
-                                .iter()
-                                .filter(|r| r.bucket == Some(b))
-                                .filter_map(|r| value(r))
-                                .collect();
-                            median_iqr(&values).map(|(m, _, _)| (f64::from(b), m))
-                        })
-                        .collect();
-                    (l.to_string(), points)
-                })
-                .collect()
-        };
+        let by_bucket =
+            |value: &dyn Fn(&RunRecord) -> Option<f64>| -> Vec<(String, Vec<(f64, f64)>)> {
+                labels
+                    .iter()
+                    .map(|l| {
+                        let runs = runs_of(l);
+                        let mut buckets: Vec<u32> = runs.iter().filter_map(|r| r.bucket).collect();
+                        buckets.sort_unstable();
+                        buckets.dedup();
+                        let points = buckets
+                            .into_iter()
+                            .filter_map(|b| {
+                                let values: Vec<f64> = runs
+                                    .iter()
+                                    .filter(|r| r.bucket == Some(b))
+                                    .filter_map(|r| value(r))
+                                    .collect();
+                                median_iqr(&values).map(|(m, _, _)| (f64::from(b), m))
+                            })
+                            .collect();
+                        (l.to_string(), points)
+                    })
+                    .collect()
+            };
         out.push(line_chart(
             "expansions-by-bucket.svg",
             "Median expansions against scenario bucket (optimal length / 4)",
@@ -188,14 +202,15 @@ fn default_study(experiment: &Experiment) -> Option<ChartSpec> {
     let [key] = varying.as_slice() else {
         return None;
     };
-    objects.iter().all(|o| o.get(*key).is_some_and(serde_json::Value::is_number)).then(|| {
-        ChartSpec {
+    objects
+        .iter()
+        .all(|o| o.get(*key).is_some_and(serde_json::Value::is_number))
+        .then(|| ChartSpec {
             x: (*key).clone(),
             y: "length".into(),
             group: None,
             title: None,
-        }
-    })
+        })
 }
 
 /// The value of `x` or `group` for a run: a resolved parameter, `bucket`, `map` or `planner`.
@@ -228,7 +243,12 @@ pub fn metric(record: &RunRecord, y: &str) -> Option<f64> {
     }
 }
 
-fn study_chart(i: usize, spec: &ChartSpec, experiment: &Experiment, records: &[RunRecord]) -> Chart {
+fn study_chart(
+    i: usize,
+    spec: &ChartSpec,
+    experiment: &Experiment,
+    records: &[RunRecord],
+) -> Chart {
     let group_key = spec.group.as_deref().unwrap_or("map");
     let mut groups: Vec<(String, Vec<(f64, Vec<f64>)>)> = Vec::new();
     let index = ResultsIndex::new(records);
@@ -295,7 +315,13 @@ fn axis_label(y: &str) -> String {
 
 fn file_safe(text: &str) -> String {
     text.chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect()
 }
 
@@ -309,7 +335,11 @@ fn colour(i: usize) -> RGBColor {
 fn padded(lo: f64, hi: f64, from_zero: bool) -> std::ops::Range<f64> {
     let lo = if from_zero { lo.min(0.0) } else { lo };
     let span = if hi > lo { hi - lo } else { 1.0 };
-    let low = if from_zero && lo >= 0.0 { 0.0 } else { lo - 0.05 * span };
+    let low = if from_zero && lo >= 0.0 {
+        0.0
+    } else {
+        lo - 0.05 * span
+    };
     low..hi + 0.05 * span
 }
 
@@ -394,7 +424,10 @@ fn draw_box_plot(
             vec![(x - 0.15, max), (x + 0.15, max)],
             vec![(x - 0.15, min), (x + 0.15, min)],
         ] {
-            chart.draw_series(std::iter::once(PathElement::new(segment, c.stroke_width(2))))?;
+            chart.draw_series(std::iter::once(PathElement::new(
+                segment,
+                c.stroke_width(2),
+            )))?;
         }
     }
     chart
@@ -435,8 +468,14 @@ fn draw_line_chart(
     let fold = |f: fn(f64, f64) -> f64, init: f64, pick: fn(&(f64, f64)) -> f64| {
         points.iter().map(pick).fold(init, f)
     };
-    let (x_lo, x_hi) = (fold(f64::min, f64::MAX, |p| p.0), fold(f64::max, f64::MIN, |p| p.0));
-    let (y_lo, y_hi) = (fold(f64::min, f64::MAX, |p| p.1), fold(f64::max, f64::MIN, |p| p.1));
+    let (x_lo, x_hi) = (
+        fold(f64::min, f64::MAX, |p| p.0),
+        fold(f64::max, f64::MIN, |p| p.0),
+    );
+    let (y_lo, y_hi) = (
+        fold(f64::min, f64::MAX, |p| p.1),
+        fold(f64::max, f64::MIN, |p| p.1),
+    );
     let (x_range, y_range) = if points.is_empty() {
         (0.0..1.0, 0.0..1.0)
     } else {
@@ -448,13 +487,19 @@ fn draw_line_chart(
         .x_label_area_size(50)
         .y_label_area_size(80)
         .build_cartesian_2d(x_range, y_range)?;
-    chart.configure_mesh().x_desc(x_desc).y_desc(y_desc).draw()?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .draw()?;
     for (i, (label, line)) in series.iter().enumerate() {
         let c = colour(i);
         chart
             .draw_series(LineSeries::new(line.iter().copied(), c.stroke_width(2)))?
             .label(label.clone())
-            .legend(move |(px, py)| PathElement::new(vec![(px, py), (px + 18, py)], c.stroke_width(2)));
+            .legend(move |(px, py)| {
+                PathElement::new(vec![(px, py), (px + 18, py)], c.stroke_width(2))
+            });
         chart.draw_series(line.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
     }
     chart
@@ -521,7 +566,10 @@ fn draw_bar_chart(
         let bars = data.iter().enumerate().filter_map(|(i, (_, values))| {
             let v = *values.get(s)?;
             let x0 = i as f64 - 0.4 + s as f64 * width;
-            Some(Rectangle::new([(x0, 0.0), (x0 + width * 0.9, v)], c.filled()))
+            Some(Rectangle::new(
+                [(x0, 0.0), (x0 + width * 0.9, v)],
+                c.filled(),
+            ))
         });
         chart
             .draw_series(bars)?

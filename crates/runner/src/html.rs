@@ -91,7 +91,8 @@ const STYLE: &str = "body{font-family:sans-serif;margin:0;display:flex}nav{posit
 
 /// An SVG file's `<svg ...>` element without its XML declaration or doctype.
 fn strip_prolog(svg: &str) -> String {
-    svg.find("<svg").map_or_else(|| svg.to_string(), |i| svg[i..].to_string())
+    svg.find("<svg")
+        .map_or_else(|| svg.to_string(), |i| svg[i..].to_string())
 }
 
 fn escape(text: &str) -> String {

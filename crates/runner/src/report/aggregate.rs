@@ -49,7 +49,12 @@ pub fn tables(context: &Context<'_>, measured: Measured) -> String {
     out.push_str(HEADER);
     for planner in &experiment.planners {
         for map in &experiment.maps {
-            let runs = runs_of(context, planner, map.problems.iter().map(|p| p.index), &map.name);
+            let runs = runs_of(
+                context,
+                planner,
+                map.problems.iter().map(|p| p.index),
+                &map.name,
+            );
             let mut buckets: Vec<u32> = map.problems.iter().filter_map(|p| p.bucket).collect();
             buckets.sort_unstable();
             buckets.dedup();
@@ -109,7 +114,14 @@ fn label_runs<'r>(context: &Context<'r>, planner: &PlannerSpec) -> Vec<&'r RunRe
         .experiment
         .maps
         .iter()
-        .flat_map(|m| runs_of(context, planner, m.problems.iter().map(|p| p.index), &m.name))
+        .flat_map(|m| {
+            runs_of(
+                context,
+                planner,
+                m.problems.iter().map(|p| p.index),
+                &m.name,
+            )
+        })
         .collect()
 }
 
@@ -161,12 +173,21 @@ fn row(
     };
     let subopt: Vec<f64> = with_optimum
         .iter()
-        .map(|(l, o)| if matches_optimum(*l, *o) { 0.0 } else { l / o - 1.0 })
+        .map(|(l, o)| {
+            if matches_optimum(*l, *o) {
+                0.0
+            } else {
+                l / o - 1.0
+            }
+        })
         .collect();
     let (median_subopt, max_subopt) = match median_iqr(&subopt) {
         Some((median, _, _)) => (
             format!("{:.2} %", 100.0 * median),
-            format!("{:.2} %", 100.0 * subopt.iter().copied().fold(0.0, f64::max)),
+            format!(
+                "{:.2} %",
+                100.0 * subopt.iter().copied().fold(0.0, f64::max)
+            ),
         ),
         None => ("-".into(), "-".into()),
     };
@@ -262,7 +283,12 @@ fn seeds(context: &Context<'_>) -> String {
     let mut out = format!("Seeded planners over their {} seeds per problem: the success rate, and the median, smallest and largest length and `n_expanded` over the seeds (per map, over every problem).\n\n| Planner | Map | Seeds | Success rate | Median length | Length range | Median expansions | Expansions range |\n|---|---|---:|---:|---:|---:|---:|---:|\n", experiment.repeats);
     for planner in seeded {
         for map in &experiment.maps {
-            let runs = runs_of(context, planner, map.problems.iter().map(|p| p.index), &map.name);
+            let runs = runs_of(
+                context,
+                planner,
+                map.problems.iter().map(|p| p.index),
+                &map.name,
+            );
             if runs.is_empty() {
                 continue;
             }
