@@ -243,6 +243,9 @@ pub fn metric(record: &RunRecord, y: &str) -> Option<f64> {
     }
 }
 
+/// The y values measured at one x.
+type XValues = (f64, Vec<f64>);
+
 fn study_chart(
     i: usize,
     spec: &ChartSpec,
@@ -250,7 +253,7 @@ fn study_chart(
     records: &[RunRecord],
 ) -> Chart {
     let group_key = spec.group.as_deref().unwrap_or("map");
-    let mut groups: Vec<(String, Vec<(f64, Vec<f64>)>)> = Vec::new();
+    let mut groups: Vec<(String, Vec<XValues>)> = Vec::new();
     let index = ResultsIndex::new(records);
     for record in index.records().iter().filter(|r| !r.is_invalid()) {
         let (Some(x), Some(y)) = (
@@ -271,12 +274,10 @@ fn study_chart(
                 groups.len() - 1
             }
         };
-        {
-            let points = &mut groups[k].1;
-            match points.iter_mut().find(|(px, _)| *px == x) {
-                Some((_, ys)) => ys.push(y),
-                None => points.push((x, vec![y])),
-            }
+        let points = &mut groups[k].1;
+        match points.iter_mut().find(|(px, _)| *px == x) {
+            Some((_, ys)) => ys.push(y),
+            None => points.push((x, vec![y])),
         }
     }
     let series: Vec<(String, Vec<(f64, f64)>)> = groups

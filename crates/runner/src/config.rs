@@ -185,7 +185,7 @@ pub struct ChartSpec {
     /// the x parameter, or `map`); default `map`.
     #[serde(default)]
     pub group: Option<String>,
-    /// The chart's title; default "<y> against <x>".
+    /// The chart's title; default "`y` against `x`".
     #[serde(default)]
     pub title: Option<String>,
 }
