@@ -95,8 +95,9 @@ mod tests {
         assert_eq!(distinct.len(), colours.len());
         assert_eq!(colours[0], PALETTE[0]);
         assert_eq!(colours[7], PALETTE[7]);
-        // Layer 8: hue 0, saturation 0.75, lightness 0.42 -> (188, 27, 27).
-        assert_eq!(colours[8], "#bc1b1b");
+        // Layer 8: hue 0, saturation 0.75, lightness 0.42: chroma 0.63, m 0.105, so
+        // red (0.63 + 0.105) * 255 = 187.4 -> 187, green and blue 0.105 * 255 = 26.8 -> 27.
+        assert_eq!(colours[8], "#bb1b1b");
     }
 
     #[test]
