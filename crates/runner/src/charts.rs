@@ -179,8 +179,9 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> Vec<OutputFile>
         .collect()
 }
 
-/// When every label runs one planner and they differ in exactly one numeric parameter:
-/// length against that parameter, one line per map.
+/// When every label runs one planner and they differ in exactly one parameter, numeric
+/// for at least three labels: length against that parameter, one line per map (labels
+/// with a non-numeric value, such as PA-star's `radius = "size"`, are left out).
 fn default_study(experiment: &Experiment) -> Option<ChartSpec> {
     if experiment.planners.len() < 3 {
         return None;
@@ -202,15 +203,16 @@ fn default_study(experiment: &Experiment) -> Option<ChartSpec> {
     let [key] = varying.as_slice() else {
         return None;
     };
-    objects
+    let numeric = objects
         .iter()
-        .all(|o| o.get(*key).is_some_and(serde_json::Value::is_number))
-        .then(|| ChartSpec {
-            x: (*key).clone(),
-            y: "length".into(),
-            group: None,
-            title: None,
-        })
+        .filter(|o| o.get(*key).is_some_and(serde_json::Value::is_number))
+        .count();
+    (numeric >= 3).then(|| ChartSpec {
+        x: (*key).clone(),
+        y: "length".into(),
+        group: None,
+        title: None,
+    })
 }
 
 /// The value of `x` or `group` for a run: a resolved parameter, `bucket`, `map` or `planner`.
