@@ -18,8 +18,11 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use planner_runner::output::OutputFile;
+use planner_runner::provenance::Provenance;
 use planner_runner::report::Reproduction;
-use planner_runner::{config, figures, output as results, report, run_all, RunOptions};
+use planner_runner::{
+    charts, config, figures, html, ompl, output as results, report, run_all, RunOptions,
+};
 
 #[global_allocator]
 static ALLOCATOR: alloc::Counting = alloc::Counting;
@@ -71,11 +74,13 @@ pub fn experiment(
     };
     let records = run_all(&experiment, &options).map_err(|e| e.to_string())?;
     bar.finish_and_clear();
-    let (summary, reproduction) = report::render(&experiment, &records);
+    let provenance = Provenance::collect(config, rayon_threads(threads, experiment.threads));
+    let (summary, reproduction) = report::render_with(&experiment, &records, Some(&provenance));
     let mut files = vec![
         OutputFile {
             path: "runs.json".into(),
-            contents: results::runs_json(&experiment, &records).map_err(|e| e.to_string())?,
+            contents: results::runs_json_with(&experiment, &records, Some(&provenance))
+                .map_err(|e| e.to_string())?,
         },
         OutputFile {
             path: "runs.csv".into(),
@@ -83,10 +88,20 @@ pub fn experiment(
         },
         OutputFile {
             path: "summary.md".into(),
-            contents: summary.into_bytes(),
+            contents: summary.clone().into_bytes(),
         },
     ];
     files.extend(figures::render(&experiment, &records));
+    files.extend(charts::render(&experiment, &records));
+    let page = html::report_html(&experiment.name, &summary, &files);
+    files.push(OutputFile {
+        path: "report.html".into(),
+        contents: page.into_bytes(),
+    });
+    if experiment.ompl {
+        let seconds = started.elapsed().as_secs_f64();
+        files.extend(ompl::logs(&experiment, &records, &provenance, seconds));
+    }
     outdir::write_results(&dir, &experiment.name, &files, outdir::DEFAULT_LOCK_WAIT)
         .map_err(|e| e.to_string())?;
     Ok(Report {
@@ -95,6 +110,15 @@ pub fn experiment(
         reproduction,
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The worker count a sweep ran with: the argument, else the config's, else one per core.
+fn rayon_threads(argument: usize, configured: usize) -> usize {
+    match (argument, configured) {
+        (0, 0) => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        (0, c) => c,
+        (a, _) => a,
+    }
 }
 
 /// Writes seed 002's generated maps ([`planner_pastar::generate::specs`]) to `dir` as

@@ -150,7 +150,7 @@ const MAPS: &str = "[[maps]]\nfiles = [\"../maps/paper/map01.map\"]\nproblems = 
 fn config_errors_name_file_line_column_and_key() {
     check_error(
         &format!("name = \"x\"\nthreds = 2\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
-        "bad.toml:2:1: unknown field `threds`, expected one of `name`, `description`, `output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, `published`, `test`, `sections`, `maps`, `planners`",
+        "bad.toml:2:1: unknown field `threds`, expected one of `name`, `description`, `output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, `figures_pick`, `charts`, `ompl`, `published`, `test`, `sections`, `maps`, `planners`",
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
@@ -447,4 +447,38 @@ fn plan_with_a_seed_is_reproducible() {
         json["path"].as_array().unwrap().last().unwrap(),
         &serde_json::json!([49, 19])
     );
+}
+
+/// The aggregate tables of configs/movingai.toml (trimmed by its `[test]` limits), with
+/// time and memory redacted: every count, expansion and suboptimality is a pure function
+/// of the records, themselves snapshotted and checked against the scenario optima.
+#[test]
+fn movingai_aggregates_are_snapshotted() {
+    let experiment = config::load(&root().join("configs/movingai.toml"))
+        .unwrap()
+        .trimmed_for_test();
+    let records = common::run(&experiment, 2);
+    let index = planner_runner::index::ResultsIndex::new(&records);
+    let context = planner_runner::report::Context {
+        experiment: &experiment,
+        records: &records,
+        index: &index,
+    };
+    let tables = planner_runner::report::aggregate::tables(
+        &context,
+        planner_runner::report::aggregate::Measured::Redacted,
+    );
+    // The overall row of A* with the octile heuristic: 36 runs, all found and optimal.
+    assert!(
+        tables.contains("| octile | all | all | 36 | 36 | 36 |"),
+        "{tables}"
+    );
+    insta::with_settings!({
+        snapshot_path => "../../snapshots",
+        prepend_module_to_snapshot => false,
+        description => "aggregate tables of configs/movingai.toml (time and memory redacted)",
+        omit_expression => true,
+    }, {
+        insta::assert_snapshot!("movingai-aggregates", tables);
+    });
 }

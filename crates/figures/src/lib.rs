@@ -69,7 +69,7 @@ mod render;
 use planner_api::{Cell, Grid, Path};
 use serde::{Deserialize, Serialize};
 
-pub use palette::PALETTE;
+pub use palette::{colour, PALETTE};
 
 /// Maps with at most this many cells on each side are compared in panels side by side
 /// under [`Layout::Auto`]; larger ones are overlaid.

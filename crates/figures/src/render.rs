@@ -13,7 +13,7 @@ use svg::node::Value;
 use svg::{Document, Node};
 
 use crate::obstacles::blocks;
-use crate::palette::{ramp, PALETTE};
+use crate::palette::{colour, ramp, PALETTE};
 use crate::{Layer, Marker, StepLabels, Style, LABEL_MIN_CELL_PX};
 
 const FONT: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
@@ -800,7 +800,7 @@ pub(crate) fn panels(
         let mut panel = Group::new().set("class", "panel");
         panel.append(map_group(grid, f));
         if let Some(layer) = layers.get(k) {
-            let colour = PALETTE[k % PALETTE.len()];
+            let colour = &colour(k);
             panel.append(layer_group(
                 grid,
                 f,
@@ -893,7 +893,7 @@ pub(crate) fn overlay(
         })
         .collect();
     for (i, layer) in layers.iter().enumerate() {
-        let colour = PALETTE[i % PALETTE.len()];
+        let colour = &colour(i);
         doc.append(layer_group(
             grid,
             f,
@@ -906,13 +906,13 @@ pub(crate) fn overlay(
         ));
     }
     for (i, layer) in layers.iter().enumerate() {
-        let colour = PALETTE[i % PALETTE.len()];
+        let colour = &colour(i);
         doc.append(marker_group(grid, f, layer.markers, labels, colour));
     }
     doc.append(endpoints(grid, f, start, goal, ("S", "G")));
     let mut legend = Group::new().set("class", "legend");
     for (i, layer) in layers.iter().enumerate() {
-        let colour = PALETTE[i % PALETTE.len()];
+        let colour = &colour(i);
         let y = f.oy + h * cell + (i + 1) as f64 * LINE_H;
         legend.append(swatch(MARGIN, y, colour, widths[i]));
         let room = width - 2.0 * MARGIN - 22.0;

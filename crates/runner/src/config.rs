@@ -83,6 +83,12 @@ struct RawConfig {
     #[serde(default)]
     figures: FigureMode,
     figures_per_map: Option<usize>,
+    #[serde(default)]
+    figures_pick: FigurePick,
+    #[serde(default)]
+    charts: Vec<ChartSpec>,
+    #[serde(default)]
+    ompl: bool,
     published: Option<Spanned<String>>,
     #[serde(default)]
     test: TestLimits,
@@ -148,6 +154,42 @@ pub enum FigureMode {
     None,
 }
 
+/// Which problems of a map get figures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FigurePick {
+    /// The first `figures_per_map` problems, in order.
+    #[default]
+    First,
+    /// The hardest problems: the largest stated optimum (else the largest straight-line
+    /// distance from start to goal) first, up to `figures_per_map`.
+    Hardest,
+    /// One problem per scenario bucket (the first of each), spread evenly over the
+    /// buckets when there are more than `figures_per_map`.
+    Buckets,
+}
+
+/// A `[[charts]]` entry: one line chart of `y` against `x`, one line per group.
+///
+/// `x` and `group` name a planner parameter (as resolved, e.g. `beta`, `radius`) or
+/// `bucket`; `y` names a record metric (`length`, `steps`, `turns`, `score`, `time_ms`,
+/// `optimal_length`) or a counter (`n_expanded`). Values are medians over a label's runs.
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChartSpec {
+    /// The horizontal axis: a planner parameter or `bucket`.
+    pub x: String,
+    /// The vertical axis: a metric or a counter.
+    pub y: String,
+    /// One line per value of this (a planner parameter, `planner` for the label without
+    /// the x parameter, or `map`); default `map`.
+    #[serde(default)]
+    pub group: Option<String>,
+    /// The chart's title; default "`y` against `x`".
+    #[serde(default)]
+    pub title: Option<String>,
+}
+
 /// Limits the snapshot test applies to keep large sweeps fast (ignored by `experiment`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -179,6 +221,12 @@ pub struct Experiment {
     pub figures: FigureMode,
     /// Draw figures only for the first this-many problems of each map.
     pub figures_per_map: Option<usize>,
+    /// Which problems get figures (`figures_pick`).
+    pub figures_pick: FigurePick,
+    /// The parameter-study charts the config asks for (`[[charts]]`).
+    pub charts: Vec<ChartSpec>,
+    /// Whether `experiment` writes OMPL benchmark logs (`ompl = true`).
+    pub ompl: bool,
     /// Published values to compare with, if any.
     pub published: Option<Published>,
     /// Test-only limits.
@@ -216,6 +264,8 @@ pub struct ProblemEntry {
     pub goal: Cell,
     /// The optimal length a scenario file states, if any.
     pub optimal_length: Option<f64>,
+    /// The scenario file's bucket, for problems from a `.scen` file.
+    pub bucket: Option<u32>,
     /// Why the problem cannot be planned (start or goal blocked or out of bounds), if so.
     pub invalid: Option<String>,
 }
@@ -447,6 +497,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         seed: raw.seed,
         figures: raw.figures,
         figures_per_map: raw.figures_per_map,
+        figures_pick: raw.figures_pick,
+        charts: raw.charts,
+        ompl: raw.ompl,
         published,
         test: raw.test,
         maps,
@@ -729,6 +782,7 @@ fn map_entries(
             read_map_file(&path, &ros_options).map_err(|e| at(raw.files.span(), e.to_string()))?;
         let grid = file.grid;
         let mut pairs: Vec<(Cell, Cell, Option<f64>)> = Vec::new();
+        let mut buckets: Vec<Option<u32>> = Vec::new();
         if let Some(source) = &raw.problems {
             match source.get_ref() {
                 ProblemSource::Corners => pairs.push((
@@ -781,7 +835,9 @@ fn map_entries(
                         ),
                     ));
                 }
+                buckets.resize(pairs.len(), None);
                 pairs.push((s.start, s.goal, Some(s.optimal_length)));
+                buckets.push(Some(s.bucket));
             }
             let name = path.file_name().map(|n| n.to_string_lossy().to_string());
             if let (Some(first), Some(name)) = (scenarios.first(), name) {
@@ -798,8 +854,9 @@ fn map_entries(
         let problems = pairs
             .into_iter()
             .enumerate()
-            .map(|(i, (start, goal, optimal_length))| {
-                ProblemEntry::new(&grid, i + 1, start, goal, optimal_length)
+            .map(|(i, (start, goal, optimal_length))| ProblemEntry {
+                bucket: buckets.get(i).copied().flatten(),
+                ..ProblemEntry::new(&grid, i + 1, start, goal, optimal_length)
             })
             .collect();
         let name = path
@@ -947,6 +1004,7 @@ impl ProblemEntry {
             start,
             goal,
             optimal_length,
+            bucket: None,
             invalid: Problem::new(grid, start, goal).err().map(|e| e.to_string()),
         }
     }
@@ -972,6 +1030,9 @@ impl Experiment {
             seed,
             figures: FigureMode::None,
             figures_per_map: None,
+            figures_pick: FigurePick::First,
+            charts: Vec::new(),
+            ompl: false,
             published: None,
             test: TestLimits::default(),
             maps: vec![map],

@@ -12,6 +12,7 @@ use std::sync::Arc;
 
 use planner_api::{CoveragePlanner, ParamError, ParamKey, Planner, PlannerSpecs, SEED_PARAM};
 use serde::de::DeserializeOwned;
+use serde::Serialize;
 
 /// What a planner does with a problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,6 +40,7 @@ pub struct Factory {
     task: Task,
     specs: PlannerSpecs,
     own_seed: Option<u64>,
+    resolved: serde_json::Value,
     make: Arc<Make>,
 }
 
@@ -80,6 +82,12 @@ impl Factory {
         })
     }
 
+    /// The planner's configuration as resolved: every parameter, the defaults included,
+    /// as the planner crate's `Config` serializes it (for summary.md and runs.json).
+    pub fn resolved(&self) -> &serde_json::Value {
+        &self.resolved
+    }
+
     /// A new planner.
     pub fn build(&self) -> Result<Built, ParamError> {
         (self.make)()
@@ -92,11 +100,12 @@ impl Factory {
         new: fn(C) -> Result<P, E>,
     ) -> Result<Factory, ParamError>
     where
-        C: DeserializeOwned + Clone + Send + Sync + 'static,
+        C: DeserializeOwned + Serialize + Clone + Send + Sync + 'static,
         P: Planner + 'static,
         E: ParamKey + 'static,
     {
         let config: C = deserialize(params)?;
+        let resolved = serde_json::to_value(&config).unwrap_or(serde_json::Value::Null);
         let planner = new(config.clone()).map_err(|e| e.to_param_error())?;
         let specs = planner.specs();
         let make = move || -> Result<Built, ParamError> {
@@ -107,6 +116,7 @@ impl Factory {
             name,
             task: Task::StartGoal,
             own_seed: own_seed(&specs, params)?,
+            resolved,
             specs,
             make: Arc::new(make),
         })
@@ -119,11 +129,12 @@ impl Factory {
         new: fn(C) -> Result<P, E>,
     ) -> Result<Factory, ParamError>
     where
-        C: DeserializeOwned + Clone + Send + Sync + 'static,
+        C: DeserializeOwned + Serialize + Clone + Send + Sync + 'static,
         P: CoveragePlanner + 'static,
         E: ParamKey + 'static,
     {
         let config: C = deserialize(params)?;
+        let resolved = serde_json::to_value(&config).unwrap_or(serde_json::Value::Null);
         let planner = new(config.clone()).map_err(|e| e.to_param_error())?;
         let specs = planner.specs();
         let make = move || -> Result<Built, ParamError> {
@@ -134,6 +145,7 @@ impl Factory {
             name,
             task: Task::Coverage,
             own_seed: own_seed(&specs, params)?,
+            resolved,
             specs,
             make: Arc::new(make),
         })

@@ -20,6 +20,7 @@
 //! - [`figures`] and [`coverage`]: the sweep's SVG figures.
 //! - [`output`]: runs.csv and runs.json as bytes.
 //! - [`plan`]: one run of one planner, for `plan`.
+//! - [`provenance`]: version, commit, date, host, CPU and config hash of a sweep.
 //!
 //! The library installs no global allocator, draws no progress bar and writes no file:
 //! progress is a callback and peak-heap measurement a hook ([`run::RunOptions`]), and the
@@ -27,13 +28,17 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+pub mod charts;
 pub mod config;
 pub mod coverage;
 pub mod factory;
 pub mod figures;
+pub mod html;
 pub mod index;
+pub mod ompl;
 pub mod output;
 pub mod plan;
+pub mod provenance;
 pub mod record;
 pub mod registry;
 pub mod report;

@@ -20,13 +20,43 @@ pub struct OutputFile {
 /// The runs as JSON: `{"experiment": ..., "config": ..., "runs": [...]}`, one record per
 /// line (compact: a sweep's file stays a few times the CSV's size), each record's fields
 /// and counters in their order (the planner's, for counters).
+///
+/// With `provenance`, the header also holds it (`"provenance"`) and every label's resolved
+/// parameters (`"planners"`).
 pub fn runs_json(experiment: &Experiment, records: &[RunRecord]) -> Result<Vec<u8>, RunnerError> {
+    runs_json_with(experiment, records, None)
+}
+
+/// [`runs_json`] with the sweep's provenance and the labels' resolved parameters.
+pub fn runs_json_with(
+    experiment: &Experiment,
+    records: &[RunRecord],
+    provenance: Option<&crate::provenance::Provenance>,
+) -> Result<Vec<u8>, RunnerError> {
     let mut out = Vec::with_capacity(records.len() * 256 + 128);
     out.extend_from_slice(b"{\"experiment\":");
     serde_json::to_writer(&mut out, &experiment.name).map_err(RunnerError::Json)?;
     out.extend_from_slice(b",\"config\":");
     serde_json::to_writer(&mut out, &experiment.source.display().to_string())
         .map_err(RunnerError::Json)?;
+    if let Some(provenance) = provenance {
+        out.extend_from_slice(b",\"provenance\":");
+        serde_json::to_writer(&mut out, provenance).map_err(RunnerError::Json)?;
+        let planners: serde_json::Map<String, serde_json::Value> = experiment
+            .planners
+            .iter()
+            .map(|p| {
+                let entry = serde_json::json!({
+                    "planner": p.name,
+                    "parameters": p.factory.resolved(),
+                    "budget": p.budget,
+                });
+                (p.label.clone(), entry)
+            })
+            .collect();
+        out.extend_from_slice(b",\"planners\":");
+        serde_json::to_writer(&mut out, &planners).map_err(RunnerError::Json)?;
+    }
     out.extend_from_slice(b",\"runs\":[");
     for (i, record) in records.iter().enumerate() {
         out.extend_from_slice(if i == 0 { b"\n" } else { b",\n" });
@@ -48,7 +78,7 @@ pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
         }
     }
     let mut out = String::from(
-        "map,problem,start_x,start_y,goal_x,goal_y,planner,algorithm,repeat,seed,status,steps,turns,score,length,optimal_length,valid,time_ms,setup_ms,peak_heap_bytes",
+        "map,problem,start_x,start_y,goal_x,goal_y,planner,algorithm,repeat,seed,status,steps,turns,score,length,optimal_length,valid,time_ms,setup_ms,peak_heap_bytes,bucket",
     );
     for name in &counter_names {
         out.push(',');
@@ -78,6 +108,7 @@ pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
             format!("{:.6}", r.time_ms),
             format!("{:.6}", r.setup_ms),
             r.peak_heap_bytes.to_string(),
+            opt(r.bucket.map(|b| b.to_string())),
         ];
         out.push_str(&fields.join(","));
         for name in &counter_names {

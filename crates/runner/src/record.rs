@@ -78,6 +78,9 @@ pub struct RunRecord {
     pub length: Option<f64>,
     /// The optimal length the scenario file states, if any.
     pub optimal_length: Option<f64>,
+    /// The scenario file's bucket, for problems from a `.scen` file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bucket: Option<u32>,
     /// Whether the path starts and ends at the problem's cells and obeys the rule the
     /// planner declares in its specs (its moves, or any-angle segments).
     pub valid: Option<bool>,

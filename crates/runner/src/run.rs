@@ -242,6 +242,7 @@ fn blank_record(
         score: None,
         length: None,
         optimal_length: entry.optimal_length,
+        bucket: entry.bucket,
         valid: None,
         admissible: (planner.factory.specs().admissible == Some(false)).then_some(false),
         counters: Counters::new(),

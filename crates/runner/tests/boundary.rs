@@ -69,7 +69,7 @@ fn plan_and_experiment_run_the_same_run() {
 /// A planner that declares 4-connected moves and returns a diagonal step.
 struct Liar;
 
-#[derive(Debug, Clone, Default, serde::Deserialize)]
+#[derive(Debug, Clone, Default, serde::Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 struct LiarConfig {}
 
@@ -209,7 +209,7 @@ fn run_records_keep_the_planners_counter_order() {
     let csv = String::from_utf8(output::runs_csv(&records)).unwrap();
     let header = csv.lines().next().unwrap();
     assert!(
-        header.contains(",peak_heap_bytes,n_expanded,n_neighbor_checks,n_blocked,n_skipped,n_open_insertions,n_relaxations,peak_open,"),
+        header.contains(",peak_heap_bytes,bucket,n_expanded,n_neighbor_checks,n_blocked,n_skipped,n_open_insertions,n_relaxations,peak_open,"),
         "{header}"
     );
 }

@@ -77,5 +77,66 @@ fn summary(context: &Context<'_>) -> String {
         }
     }
     out.push('\n');
+    out.push_str(&means(context, &planners));
+    out
+}
+
+/// One row per coverage planner: its metrics averaged over every map and problem
+/// (repeat 0), so spiral and zigzag compare at a glance.
+fn means(context: &Context<'_>, planners: &[&PlannerSpec]) -> String {
+    let experiment = context.experiment;
+    let mut out = String::from("Mean per planner over every map (repeat 0):
+
+| Planner | Maps | Coverage | Backtracking points | Marked | Moves | Length | Turns | Revisits | Return moves | A* expansions |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for planner in planners {
+        let runs: Vec<&crate::record::RunRecord> = experiment
+            .maps
+            .iter()
+            .flat_map(|m| {
+                m.problems
+                    .iter()
+                    .filter_map(|p| context.index.first(&m.name, p.index, &planner.label))
+            })
+            .filter(|r| !r.is_invalid())
+            .collect();
+        if runs.is_empty() {
+            continue;
+        }
+        let mean = |value: &dyn Fn(&crate::record::RunRecord) -> Option<f64>| {
+            let values: Vec<f64> = runs.iter().filter_map(|r| value(r)).collect();
+            if values.is_empty() {
+                "-".to_string()
+            } else {
+                format!("{:.2}", values.iter().sum::<f64>() / values.len() as f64)
+            }
+        };
+        let counter = |name: &'static str| {
+            mean(&move |r: &crate::record::RunRecord| r.counters.get(name).map(|v| v as f64))
+        };
+        let coverage = mean(
+            &|r| match (r.counters.get("n_covered"), r.counters.get("n_reachable")) {
+                (Some(covered), Some(reachable)) if reachable > 0 => {
+                    Some(100.0 * covered as f64 / reachable as f64)
+                }
+                _ => None,
+            },
+        );
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} % | {} | {} | {} | {} | {} | {} | {} | {} |",
+            planner.label,
+            runs.len(),
+            coverage,
+            counter("n_backtracking_points"),
+            counter("n_marked_points"),
+            mean(&|r| r.steps.map(|v| v as f64)),
+            mean(&|r| r.length),
+            counter("n_turns"),
+            counter("n_revisits"),
+            counter("n_return_moves"),
+            counter("n_return_expansions"),
+        );
+    }
+    out.push('\n');
     out
 }

@@ -2,12 +2,15 @@
 //!
 //! Each section is one kind of table: seed 000's Tables 3-8 ([`seed000`]), seed 003's
 //! Tables I-II ([`seed003`]), the scenario optima ([`optimum`]), repeated runs
-//! ([`repeats`]), seed 004's coverage table ([`coverage`]) and seed 002's PA-star tables
-//! ([`seed002`], registered by the registry with the planner it compares). A config names
+//! ([`repeats`]), seed 004's coverage table ([`coverage`]), seed 002's PA-star tables
+//! ([`seed002`], registered by the registry with the planner it compares), the aggregates
+//! of any sweep ([`aggregate`]) and its charts ([`charts`]). A config names
 //! the sections it wants with `sections = [...]`; without the key every section decides
 //! from the experiment and its records whether it applies. Deterministic values come from
 //! repeat 0; times are medians over repeats.
 
+pub mod aggregate;
+pub mod charts;
 pub mod coverage;
 pub mod optimum;
 pub mod repeats;
@@ -19,6 +22,7 @@ use std::fmt::Write as _;
 
 use crate::config::Experiment;
 use crate::index::ResultsIndex;
+use crate::provenance::Provenance;
 use crate::record::RunRecord;
 
 /// Largest number of map columns in one seed-000 style table, and of problems per map in
@@ -68,6 +72,8 @@ pub fn sections() -> Vec<Box<dyn Section>> {
         Box::new(repeats::Repeats),
     ];
     all.extend(crate::registry::planner_sections());
+    all.push(Box::new(aggregate::Aggregate));
+    all.push(Box::new(charts::Charts));
     all
 }
 
@@ -78,6 +84,15 @@ pub fn section_names() -> Vec<&'static str> {
 
 /// Renders summary.md and returns it with the reproduction counts.
 pub fn render(experiment: &Experiment, records: &[RunRecord]) -> (String, Reproduction) {
+    render_with(experiment, records, None)
+}
+
+/// Renders summary.md with the sweep's provenance at the top, if given.
+pub fn render_with(
+    experiment: &Experiment,
+    records: &[RunRecord],
+    provenance: Option<&Provenance>,
+) -> (String, Reproduction) {
     let index = ResultsIndex::new(records);
     let context = Context {
         experiment,
@@ -87,6 +102,9 @@ pub fn render(experiment: &Experiment, records: &[RunRecord]) -> (String, Reprod
     let mut out = String::new();
     let mut reproduction = Reproduction::default();
     header(&context, &mut out);
+    if let Some(provenance) = provenance {
+        out.push_str(&provenance.markdown());
+    }
     for section in sections() {
         let wanted = match &experiment.sections {
             Some(names) => names.iter().any(|n| n == section.name()),

@@ -385,6 +385,7 @@ mod tests {
             score: Some(1),
             length: Some(length),
             optimal_length: None,
+            bucket: None,
             valid: Some(true),
             admissible: None,
             counters: Counters::new(),

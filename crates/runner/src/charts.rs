@@ -1,0 +1,589 @@
+//! The sweep's charts as SVG, drawn with plotters' SVG backend (text as `<text>`
+//! elements, so no font files are read): box plots of time and expansions per planner
+//! label, expansions and time against the scenario bucket (one line per label, the
+//! Moving AI picture), success and optimality bars, and the parameter-study line charts
+//! of `[[charts]]` (or the default one when the labels differ in one numeric parameter).
+
+use plotters::prelude::*;
+
+use crate::config::{ChartSpec, Experiment};
+use crate::index::ResultsIndex;
+use crate::output::OutputFile;
+use crate::record::RunRecord;
+use crate::report::median_iqr;
+use crate::report::optimum::matches_optimum;
+
+/// One chart: its file (under `charts/`), title and SVG text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chart {
+    /// File name under `charts/`, e.g. `time-box.svg`.
+    pub file: String,
+    /// The chart's title.
+    pub title: String,
+    /// The SVG document.
+    pub svg: String,
+}
+
+const SIZE: (u32, u32) = (900, 520);
+
+/// Every chart of the sweep, in summary order.
+pub fn charts(experiment: &Experiment, records: &[RunRecord]) -> Vec<Chart> {
+    let valid: Vec<&RunRecord> = records.iter().filter(|r| !r.is_invalid()).collect();
+    if valid.is_empty() {
+        return Vec::new();
+    }
+    let labels: Vec<&str> = experiment
+        .planners
+        .iter()
+        .map(|p| p.label.as_str())
+        .collect();
+    let runs_of = |label: &str| -> Vec<&RunRecord> {
+        valid
+            .iter()
+            .copied()
+            .filter(|r| r.planner == label)
+            .collect()
+    };
+    let mut out = Vec::new();
+    let time: Vec<(String, Vec<f64>)> = labels
+        .iter()
+        .map(|l| {
+            (
+                l.to_string(),
+                runs_of(l).iter().map(|r| r.time_ms).collect(),
+            )
+        })
+        .collect();
+    let expansions: Vec<(String, Vec<f64>)> = labels
+        .iter()
+        .map(|l| {
+            let values = runs_of(l)
+                .iter()
+                .filter_map(|r| r.counters.get("n_expanded"))
+                .map(|v| v as f64)
+                .collect();
+            (l.to_string(), values)
+        })
+        .collect();
+    out.push(box_plot(
+        "time-box.svg",
+        "Search time per planner (every run)",
+        "time (ms)",
+        &time,
+    ));
+    if expansions.iter().any(|(_, v)| !v.is_empty()) {
+        out.push(box_plot(
+            "expansions-box.svg",
+            "Expansions per planner (every run)",
+            "n_expanded (cells)",
+            &expansions,
+        ));
+    }
+    if valid.iter().any(|r| r.bucket.is_some()) {
+        let by_bucket =
+            |value: &dyn Fn(&RunRecord) -> Option<f64>| -> Vec<(String, Vec<(f64, f64)>)> {
+                labels
+                    .iter()
+                    .map(|l| {
+                        let runs = runs_of(l);
+                        let mut buckets: Vec<u32> = runs.iter().filter_map(|r| r.bucket).collect();
+                        buckets.sort_unstable();
+                        buckets.dedup();
+                        let points = buckets
+                            .into_iter()
+                            .filter_map(|b| {
+                                let values: Vec<f64> = runs
+                                    .iter()
+                                    .filter(|r| r.bucket == Some(b))
+                                    .filter_map(|r| value(r))
+                                    .collect();
+                                median_iqr(&values).map(|(m, _, _)| (f64::from(b), m))
+                            })
+                            .collect();
+                        (l.to_string(), points)
+                    })
+                    .collect()
+            };
+        out.push(line_chart(
+            "expansions-by-bucket.svg",
+            "Median expansions against scenario bucket (optimal length / 4)",
+            "scenario bucket",
+            "median n_expanded (cells)",
+            &by_bucket(&|r| r.counters.get("n_expanded").map(|v| v as f64)),
+        ));
+        out.push(line_chart(
+            "time-by-bucket.svg",
+            "Median search time against scenario bucket (optimal length / 4)",
+            "scenario bucket",
+            "median time (ms)",
+            &by_bucket(&|r| Some(r.time_ms)),
+        ));
+    }
+    let stated = valid.iter().any(|r| r.optimal_length.is_some());
+    let bars: Vec<(String, Vec<f64>)> = labels
+        .iter()
+        .map(|l| {
+            let runs = runs_of(l);
+            let n = runs.len().max(1) as f64;
+            let found = runs.iter().filter(|r| r.is_found()).count() as f64;
+            let mut values = vec![100.0 * found / n];
+            if stated {
+                let optimal = runs
+                    .iter()
+                    .filter(|r| {
+                        r.length
+                            .zip(r.optimal_length)
+                            .is_some_and(|(len, opt)| matches_optimum(len, opt))
+                    })
+                    .count() as f64;
+                values.push(100.0 * optimal / n);
+            }
+            (l.to_string(), values)
+        })
+        .collect();
+    let series: &[&str] = if stated {
+        &["found", "optimal"]
+    } else {
+        &["found"]
+    };
+    out.push(bar_chart(
+        "success.svg",
+        if stated {
+            "Success and optimality per planner"
+        } else {
+            "Success per planner"
+        },
+        "share of runs (%)",
+        series,
+        &bars,
+    ));
+    let specs: Vec<ChartSpec> = if experiment.charts.is_empty() {
+        default_study(experiment).into_iter().collect()
+    } else {
+        experiment.charts.clone()
+    };
+    for (i, spec) in specs.iter().enumerate() {
+        out.push(study_chart(i, spec, experiment, records));
+    }
+    out
+}
+
+/// The chart files of the sweep.
+pub fn render(experiment: &Experiment, records: &[RunRecord]) -> Vec<OutputFile> {
+    charts(experiment, records)
+        .into_iter()
+        .map(|c| OutputFile {
+            path: format!("charts/{}", c.file).into(),
+            contents: c.svg.into_bytes(),
+        })
+        .collect()
+}
+
+/// When every label runs one planner and they differ in exactly one parameter, numeric
+/// for at least three labels: length against that parameter, one line per map (labels
+/// with a non-numeric value, such as PA-star's `radius = "size"`, are left out).
+fn default_study(experiment: &Experiment) -> Option<ChartSpec> {
+    if experiment.planners.len() < 3 {
+        return None;
+    }
+    let first = experiment.planners[0].name;
+    if experiment.planners.iter().any(|p| p.name != first) {
+        return None;
+    }
+    let objects: Vec<&serde_json::Map<String, serde_json::Value>> = experiment
+        .planners
+        .iter()
+        .filter_map(|p| p.factory.resolved().as_object())
+        .collect();
+    let varying: Vec<&String> = objects
+        .first()?
+        .keys()
+        .filter(|k| objects.iter().any(|o| o.get(*k) != objects[0].get(*k)))
+        .collect();
+    let [key] = varying.as_slice() else {
+        return None;
+    };
+    let numeric = objects
+        .iter()
+        .filter(|o| o.get(*key).is_some_and(serde_json::Value::is_number))
+        .count();
+    (numeric >= 3).then(|| ChartSpec {
+        x: (*key).clone(),
+        y: "length".into(),
+        group: None,
+        title: None,
+    })
+}
+
+/// The value of `x` or `group` for a run: a resolved parameter, `bucket`, `map` or `planner`.
+fn key_value(experiment: &Experiment, record: &RunRecord, key: &str) -> Option<serde_json::Value> {
+    match key {
+        "bucket" => record.bucket.map(serde_json::Value::from),
+        "map" => Some(record.map.clone().into()),
+        "planner" => Some(record.algorithm.clone().into()),
+        _ => experiment
+            .planners
+            .iter()
+            .find(|p| p.label == record.planner)?
+            .factory
+            .resolved()
+            .get(key)
+            .cloned(),
+    }
+}
+
+/// The metric `y` of a run: a record field or a counter.
+pub fn metric(record: &RunRecord, y: &str) -> Option<f64> {
+    match y {
+        "length" => record.length,
+        "optimal_length" => record.optimal_length,
+        "steps" => record.steps.map(|v| v as f64),
+        "turns" => record.turns.map(|v| v as f64),
+        "score" => record.score.map(|v| v as f64),
+        "time_ms" => Some(record.time_ms),
+        counter => record.counters.get(counter).map(|v| v as f64),
+    }
+}
+
+/// The y values measured at one x.
+type XValues = (f64, Vec<f64>);
+
+fn study_chart(
+    i: usize,
+    spec: &ChartSpec,
+    experiment: &Experiment,
+    records: &[RunRecord],
+) -> Chart {
+    let group_key = spec.group.as_deref().unwrap_or("map");
+    let mut groups: Vec<(String, Vec<XValues>)> = Vec::new();
+    let index = ResultsIndex::new(records);
+    for record in index.records().iter().filter(|r| !r.is_invalid()) {
+        let (Some(x), Some(y)) = (
+            key_value(experiment, record, &spec.x).and_then(|v| v.as_f64()),
+            metric(record, &spec.y),
+        ) else {
+            continue;
+        };
+        let group = match key_value(experiment, record, group_key) {
+            Some(serde_json::Value::String(s)) => s,
+            Some(other) => format!("{group_key} = {other}"),
+            None => "-".into(),
+        };
+        let k = match groups.iter().position(|(g, _)| *g == group) {
+            Some(k) => k,
+            None => {
+                groups.push((group, Vec::new()));
+                groups.len() - 1
+            }
+        };
+        let points = &mut groups[k].1;
+        match points.iter_mut().find(|(px, _)| *px == x) {
+            Some((_, ys)) => ys.push(y),
+            None => points.push((x, vec![y])),
+        }
+    }
+    let series: Vec<(String, Vec<(f64, f64)>)> = groups
+        .into_iter()
+        .map(|(g, mut points)| {
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let line = points
+                .into_iter()
+                .filter_map(|(x, ys)| median_iqr(&ys).map(|(m, _, _)| (x, m)))
+                .collect();
+            (g, line)
+        })
+        .collect();
+    let title = spec
+        .title
+        .clone()
+        .unwrap_or_else(|| format!("{} against {}", spec.y, spec.x));
+    let file = format!(
+        "study-{}-{}-{}.svg",
+        i + 1,
+        file_safe(&spec.y),
+        file_safe(&spec.x)
+    );
+    line_chart(&file, &title, &spec.x, &axis_label(&spec.y), &series)
+}
+
+fn axis_label(y: &str) -> String {
+    match y {
+        "length" | "optimal_length" => format!("{y} (cells, Euclidean)"),
+        "time_ms" => "time (ms)".into(),
+        "steps" => "steps D (moves)".into(),
+        "turns" => "turns T".into(),
+        other => format!("median {other}"),
+    }
+}
+
+fn file_safe(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+fn colour(i: usize) -> RGBColor {
+    let hex = planner_figures::colour(i);
+    let byte = |k: usize| u8::from_str_radix(hex.get(k..k + 2).unwrap_or("00"), 16).unwrap_or(0);
+    RGBColor(byte(1), byte(3), byte(5))
+}
+
+/// A range `[lo, hi]` padded by 5 % (or 1 when flat) for an axis.
+fn padded(lo: f64, hi: f64, from_zero: bool) -> std::ops::Range<f64> {
+    let lo = if from_zero { lo.min(0.0) } else { lo };
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let low = if from_zero && lo >= 0.0 {
+        0.0
+    } else {
+        lo - 0.05 * span
+    };
+    low..hi + 0.05 * span
+}
+
+fn finish(file: &str, title: &str, svg: String) -> Chart {
+    Chart {
+        file: file.to_string(),
+        title: title.to_string(),
+        svg,
+    }
+}
+
+/// Box plots (median, quartiles by type 7, whiskers to the extremes), one per label.
+fn box_plot(file: &str, title: &str, y_desc: &str, data: &[(String, Vec<f64>)]) -> Chart {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        let _ = draw_box_plot(&root, title, y_desc, data);
+        let _ = root.present();
+    }
+    finish(file, title, svg)
+}
+
+type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+fn draw_box_plot(
+    root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    title: &str,
+    y_desc: &str,
+    data: &[(String, Vec<f64>)],
+) -> DrawResult {
+    root.fill(&WHITE)?;
+    let all: Vec<f64> = data.iter().flat_map(|(_, v)| v.iter().copied()).collect();
+    let hi = all.iter().copied().fold(f64::MIN, f64::max).max(0.0);
+    let lo = all.iter().copied().fold(f64::MAX, f64::min).min(hi);
+    let n = data.len();
+    let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 22))
+        .margin(14)
+        .x_label_area_size(60)
+        .y_label_area_size(80)
+        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), padded(lo, hi, true))?;
+    let label_of = |x: &f64| -> String {
+        let k = x.round();
+        if (x - k).abs() < 1e-9 && k >= 0.0 {
+            names.get(k as usize).cloned().unwrap_or_default()
+        } else {
+            String::new()
+        }
+    };
+    chart
+        .configure_mesh()
+        .x_labels(n.max(1))
+        .x_label_formatter(&label_of)
+        .x_desc("planner label")
+        .y_desc(y_desc)
+        .disable_x_mesh()
+        .draw()?;
+    for (i, (label, values)) in data.iter().enumerate() {
+        let Some((median, q1, q3)) = median_iqr(values) else {
+            continue;
+        };
+        let min = values.iter().copied().fold(f64::MAX, f64::min);
+        let max = values.iter().copied().fold(f64::MIN, f64::max);
+        let x = i as f64;
+        let c = colour(i);
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(x - 0.3, q1), (x + 0.3, q3)],
+                c.mix(0.35).filled(),
+            )))?
+            .label(format!("{label} (median {median:.3})"))
+            .legend(move |(px, py)| Rectangle::new([(px, py - 5), (px + 14, py + 5)], c.filled()));
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(x - 0.3, q1), (x + 0.3, q3)],
+            c.stroke_width(2),
+        )))?;
+        for segment in [
+            vec![(x - 0.3, median), (x + 0.3, median)],
+            vec![(x, q3), (x, max)],
+            vec![(x, q1), (x, min)],
+            vec![(x - 0.15, max), (x + 0.15, max)],
+            vec![(x - 0.15, min), (x + 0.15, min)],
+        ] {
+            chart.draw_series(std::iter::once(PathElement::new(
+                segment,
+                c.stroke_width(2),
+            )))?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()?;
+    Ok(())
+}
+
+/// A line chart, one line (with point markers) per series.
+fn line_chart(
+    file: &str,
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    series: &[(String, Vec<(f64, f64)>)],
+) -> Chart {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        let _ = draw_line_chart(&root, title, x_desc, y_desc, series);
+        let _ = root.present();
+    }
+    finish(file, title, svg)
+}
+
+fn draw_line_chart(
+    root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    series: &[(String, Vec<(f64, f64)>)],
+) -> DrawResult {
+    root.fill(&WHITE)?;
+    let points: Vec<(f64, f64)> = series.iter().flat_map(|(_, p)| p.iter().copied()).collect();
+    let fold = |f: fn(f64, f64) -> f64, init: f64, pick: fn(&(f64, f64)) -> f64| {
+        points.iter().map(pick).fold(init, f)
+    };
+    let (x_lo, x_hi) = (
+        fold(f64::min, f64::MAX, |p| p.0),
+        fold(f64::max, f64::MIN, |p| p.0),
+    );
+    let (y_lo, y_hi) = (
+        fold(f64::min, f64::MAX, |p| p.1),
+        fold(f64::max, f64::MIN, |p| p.1),
+    );
+    let (x_range, y_range) = if points.is_empty() {
+        (0.0..1.0, 0.0..1.0)
+    } else {
+        (padded(x_lo, x_hi, false), padded(y_lo, y_hi, false))
+    };
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 22))
+        .margin(14)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x_range, y_range)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .draw()?;
+    for (i, (label, line)) in series.iter().enumerate() {
+        let c = colour(i);
+        chart
+            .draw_series(LineSeries::new(line.iter().copied(), c.stroke_width(2)))?
+            .label(label.clone())
+            .legend(move |(px, py)| {
+                PathElement::new(vec![(px, py), (px + 18, py)], c.stroke_width(2))
+            });
+        chart.draw_series(line.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()?;
+    Ok(())
+}
+
+/// Grouped bars: per label, one bar per named series.
+fn bar_chart(
+    file: &str,
+    title: &str,
+    y_desc: &str,
+    series: &[&str],
+    data: &[(String, Vec<f64>)],
+) -> Chart {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        let _ = draw_bar_chart(&root, title, y_desc, series, data);
+        let _ = root.present();
+    }
+    finish(file, title, svg)
+}
+
+fn draw_bar_chart(
+    root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    title: &str,
+    y_desc: &str,
+    series: &[&str],
+    data: &[(String, Vec<f64>)],
+) -> DrawResult {
+    root.fill(&WHITE)?;
+    let n = data.len();
+    let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 22))
+        .margin(14)
+        .x_label_area_size(60)
+        .y_label_area_size(80)
+        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), 0f64..115f64)?;
+    let label_of = |x: &f64| -> String {
+        let k = x.round();
+        if (x - k).abs() < 1e-9 && k >= 0.0 {
+            names.get(k as usize).cloned().unwrap_or_default()
+        } else {
+            String::new()
+        }
+    };
+    chart
+        .configure_mesh()
+        .x_labels(n.max(1))
+        .x_label_formatter(&label_of)
+        .x_desc("planner label")
+        .y_desc(y_desc)
+        .disable_x_mesh()
+        .draw()?;
+    let width = 0.8 / series.len().max(1) as f64;
+    for (s, name) in series.iter().enumerate() {
+        let c = colour(s);
+        let bars = data.iter().enumerate().filter_map(|(i, (_, values))| {
+            let v = *values.get(s)?;
+            let x0 = i as f64 - 0.4 + s as f64 * width;
+            Some(Rectangle::new(
+                [(x0, 0.0), (x0 + width * 0.9, v)],
+                c.filled(),
+            ))
+        });
+        chart
+            .draw_series(bars)?
+            .label(name.to_string())
+            .legend(move |(px, py)| Rectangle::new([(px, py - 5), (px + 14, py + 5)], c.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()?;
+    Ok(())
+}

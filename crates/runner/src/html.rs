@@ -1,0 +1,126 @@
+//! `report.html`: one self-contained page (no network, no scripts) with summary.md's
+//! provenance and tables rendered to HTML (pulldown-cmark), the charts and the figures
+//! inline as SVG, and a table of contents linking every section.
+
+use std::fmt::Write as _;
+
+use pulldown_cmark::{html, Event, HeadingLevel, Options, Parser, Tag, TagEnd};
+
+use crate::output::OutputFile;
+
+/// The page: `summary` (markdown) with every `![title](charts/x.svg)` image replaced by
+/// that file's SVG from `files`, then a Figures section with every `figures/*.svg`.
+pub fn report_html(title: &str, summary: &str, files: &[OutputFile]) -> String {
+    let svg_of = |path: &str| {
+        files
+            .iter()
+            .find(|f| f.path.to_string_lossy() == path)
+            .map(|f| strip_prolog(&String::from_utf8_lossy(&f.contents)))
+    };
+    let mut headings: Vec<(String, String)> = Vec::new();
+    let mut events: Vec<Event<'_>> = Vec::new();
+    let mut in_heading = false;
+    let mut heading_text = String::new();
+    let mut skip_image = false;
+    for event in Parser::new_ext(summary, Options::ENABLE_TABLES) {
+        match event {
+            Event::Start(Tag::Heading {
+                level: HeadingLevel::H2,
+                ..
+            }) => {
+                in_heading = true;
+                heading_text.clear();
+            }
+            Event::End(TagEnd::Heading(HeadingLevel::H2)) if in_heading => {
+                in_heading = false;
+                let id = format!("s{}", headings.len() + 1);
+                events.push(Event::Html(
+                    format!("<h2 id=\"{id}\">{}</h2>\n", escape(&heading_text)).into(),
+                ));
+                headings.push((id, heading_text.clone()));
+            }
+            Event::Text(text) if in_heading => heading_text.push_str(&text),
+            Event::Code(code) if in_heading => heading_text.push_str(&code),
+            _ if in_heading => {}
+            Event::Start(Tag::Image { dest_url, .. }) => match svg_of(&dest_url) {
+                Some(svg) => {
+                    events.push(Event::Html(format!("<figure>{svg}</figure>").into()));
+                    skip_image = true;
+                }
+                None => events.push(Event::Text(format!("(missing {dest_url})").into())),
+            },
+            Event::End(TagEnd::Image) => skip_image = false,
+            _ if skip_image => {}
+            other => events.push(other),
+        }
+    }
+    let mut body = String::new();
+    html::push_html(&mut body, events.into_iter());
+    let figures: Vec<&OutputFile> = files
+        .iter()
+        .filter(|f| {
+            let p = f.path.to_string_lossy();
+            p.starts_with("figures/") && p.ends_with(".svg")
+        })
+        .collect();
+    if !figures.is_empty() {
+        let id = format!("s{}", headings.len() + 1);
+        let _ = writeln!(body, "<h2 id=\"{id}\">Figures</h2>");
+        headings.push((id, "Figures".into()));
+        for f in figures {
+            let _ = writeln!(
+                body,
+                "<figure>{}<figcaption>{}</figcaption></figure>",
+                strip_prolog(&String::from_utf8_lossy(&f.contents)),
+                escape(&f.path.to_string_lossy())
+            );
+        }
+    }
+    let mut nav = String::from("<nav><strong>Sections</strong><ul>");
+    for (id, text) in &headings {
+        let _ = write!(nav, "<li><a href=\"#{id}\">{}</a></li>", escape(text));
+    }
+    nav.push_str("</ul></nav>");
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n{nav}\n<main>\n{body}</main>\n</body>\n</html>\n",
+        escape(title)
+    )
+}
+
+const STYLE: &str = "body{font-family:sans-serif;margin:0;display:flex}nav{position:sticky;top:0;height:100vh;overflow:auto;width:14em;padding:1em;background:#f3f3f3;flex:none}main{padding:1em 2em;overflow-x:auto;min-width:0}table{border-collapse:collapse;margin:1em 0;font-size:0.85em}th,td{border:1px solid #bbb;padding:2px 6px}th{background:#eee}figure{margin:1em 0}figure svg{max-width:100%;height:auto}";
+
+/// An SVG file's `<svg ...>` element without its XML declaration or doctype.
+fn strip_prolog(svg: &str) -> String {
+    svg.find("<svg")
+        .map_or_else(|| svg.to_string(), |i| svg[i..].to_string())
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tables_charts_and_sections_are_inlined() {
+        let files = vec![OutputFile {
+            path: "charts/a.svg".into(),
+            contents: b"<?xml version=\"1.0\"?>\n<svg width=\"1\"></svg>".to_vec(),
+        }];
+        let page = report_html(
+            "t",
+            "# T\n\n## One `x`\n\n| a | b |\n|---|---|\n| 1 | 2 |\n\n![c](charts/a.svg)\n",
+            &files,
+        );
+        assert!(page.contains("<h2 id=\"s1\">One x</h2>"), "{page}");
+        assert!(page.contains("<a href=\"#s1\">One x</a>"));
+        assert!(page.contains("<td>1</td>"));
+        assert!(page.contains("<figure><svg width=\"1\"></svg></figure>"));
+        assert!(!page.contains("<img") && !page.contains("<?xml") && !page.contains("<script"));
+    }
+}

@@ -1,0 +1,168 @@
+//! Where and from what a sweep's results came: gridplan's version and git commit, the
+//! date, the host, its CPU and thread count, and the config file's hash.
+//!
+//! The binaries collect it ([`Provenance::collect`]) and pass it to the report and to
+//! runs.json; it is never part of a [`crate::RunRecord`], so snapshots of records stay a
+//! pure function of the config.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::Serialize;
+use sha2::{Digest, Sha256};
+
+/// The provenance of one sweep.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Provenance {
+    /// gridplan's version (the runner crate's version).
+    pub version: String,
+    /// The git commit of the working directory at run time (`git rev-parse HEAD`), with
+    /// `-dirty` when it has uncommitted changes; `None` outside a git repository.
+    pub commit: Option<String>,
+    /// The date and time the sweep was run, UTC, RFC 3339 (seconds).
+    pub date: String,
+    /// The host name (`/proc/sys/kernel/hostname`, else `$HOSTNAME`), if known.
+    pub host: Option<String>,
+    /// The CPU model (`model name` in `/proc/cpuinfo`), if known.
+    pub cpu: Option<String>,
+    /// Worker threads the sweep ran with.
+    pub threads: usize,
+    /// SHA-256 of the config file's bytes, hex; `None` if it could not be read.
+    pub config_sha256: Option<String>,
+}
+
+impl Provenance {
+    /// Collects the provenance of a sweep of `config` run with `threads` workers.
+    pub fn collect(config: &Path, threads: usize) -> Provenance {
+        Provenance {
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            commit: git_commit(config),
+            date: rfc3339_utc(
+                std::time::SystemTime::now()
+                    .duration_since(std::time::UNIX_EPOCH)
+                    .map_or(0, |d| d.as_secs()),
+            ),
+            host: std::fs::read_to_string("/proc/sys/kernel/hostname")
+                .ok()
+                .map(|h| h.trim().to_string())
+                .filter(|h| !h.is_empty())
+                .or_else(|| std::env::var("HOSTNAME").ok()),
+            cpu: std::fs::read_to_string("/proc/cpuinfo")
+                .ok()
+                .and_then(|text| cpu_model(&text)),
+            threads,
+            config_sha256: std::fs::read(config).ok().map(|bytes| sha256_hex(&bytes)),
+        }
+    }
+
+    /// The provenance as a markdown list (the top of summary.md).
+    pub fn markdown(&self) -> String {
+        let unknown = |v: &Option<String>| v.clone().unwrap_or_else(|| "unknown".into());
+        let mut out = String::from("## Provenance\n\n");
+        let _ = writeln!(out, "- gridplan {}", self.version);
+        let _ = writeln!(out, "- commit: {}", unknown(&self.commit));
+        let _ = writeln!(out, "- date: {}", self.date);
+        let _ = writeln!(out, "- host: {}", unknown(&self.host));
+        let _ = writeln!(out, "- CPU: {}", unknown(&self.cpu));
+        let _ = writeln!(out, "- threads: {}", self.threads);
+        let _ = writeln!(out, "- config SHA-256: {}", unknown(&self.config_sha256));
+        out.push('\n');
+        out
+    }
+}
+
+/// SHA-256 of `bytes` as lowercase hex.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .fold(String::with_capacity(64), |mut hex, b| {
+            let _ = write!(hex, "{b:02x}");
+            hex
+        })
+}
+
+/// The first `model name` of a `/proc/cpuinfo` text.
+fn cpu_model(cpuinfo: &str) -> Option<String> {
+    cpuinfo
+        .lines()
+        .filter_map(|line| line.split_once(':'))
+        .find(|(key, _)| key.trim() == "model name")
+        .map(|(_, value)| value.trim().to_string())
+}
+
+/// The commit of the repository holding `config`'s directory, `-dirty` if it has changes.
+fn git_commit(config: &Path) -> Option<String> {
+    let dir = config
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .arg("-C")
+            .arg(dir)
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let commit = git(&["rev-parse", "HEAD"]).filter(|c| !c.is_empty())?;
+    let dirty =
+        git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+    Some(if dirty {
+        format!("{commit}-dirty")
+    } else {
+        commit
+    })
+}
+
+/// `seconds` since the Unix epoch as `YYYY-MM-DDThh:mm:ssZ` (Howard Hinnant's
+/// days-to-civil algorithm, proleptic Gregorian calendar).
+fn rfc3339_utc(seconds: u64) -> String {
+    let days = (seconds / 86_400) as i64;
+    let rest = seconds % 86_400;
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        rest / 3600,
+        rest % 3600 / 60,
+        rest % 60
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dates_are_utc_civil_dates() {
+        assert_eq!(rfc3339_utc(0), "1970-01-01T00:00:00Z");
+        // `date -u -d @951782400` = 2000-02-29 00:00:00 (a leap day of a century year).
+        assert_eq!(rfc3339_utc(951_782_400), "2000-02-29T00:00:00Z");
+        // `date -u -d @1735689599` = 2024-12-31 23:59:59.
+        assert_eq!(rfc3339_utc(1_735_689_599), "2024-12-31T23:59:59Z");
+    }
+
+    #[test]
+    fn sha256_of_abc_is_the_fips_vector() {
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+    }
+
+    #[test]
+    fn cpu_model_is_the_first_model_name() {
+        let text = "processor\t: 0\nmodel name\t: Example CPU @ 2.0GHz\nprocessor\t: 1\nmodel name\t: Other\n";
+        assert_eq!(cpu_model(text).as_deref(), Some("Example CPU @ 2.0GHz"));
+        assert_eq!(cpu_model("processor: 0\n"), None);
+    }
+}

@@ -1,0 +1,365 @@
+//! Aggregates for any sweep: per planner label and map (and scenario bucket), counts,
+//! expansions, times, suboptimality and memory; an overall row per label; the spread over
+//! seeds of seeded planners; and every label's resolved parameters.
+
+use std::fmt::Write as _;
+
+use super::optimum::matches_optimum;
+use super::{median_iqr, Context, Reproduction, Section};
+use crate::config::PlannerSpec;
+use crate::record::RunRecord;
+
+/// The aggregate tables (section name `aggregate`).
+pub struct Aggregate;
+
+impl Section for Aggregate {
+    fn name(&self) -> &'static str {
+        "aggregate"
+    }
+
+    /// For every sweep.
+    fn applies(&self, _context: &Context<'_>) -> bool {
+        true
+    }
+
+    fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
+        out.push_str(&tables(context, Measured::Shown));
+    }
+}
+
+/// Whether the measured (not deterministic) columns, time and memory, are shown.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Measured {
+    /// Shown as measured.
+    Shown,
+    /// Written `[time]` and `[memory]`, for snapshots.
+    Redacted,
+}
+
+/// The aggregate section's markdown: parameters, the per-map table (by bucket for
+/// scenario maps), the overall rows, counters and the seeds' spread.
+pub fn tables(context: &Context<'_>, measured: Measured) -> String {
+    let experiment = context.experiment;
+    let mut out = String::from("## Aggregates\n\n");
+    out.push_str(&parameters(context));
+    if experiment.repeats == 1 {
+        out.push_str("> **Timing warning:** `repeats = 1`, so each run's time is a single measurement; the IQR below spreads over problems, not over repeated measurements of one problem.\n\n");
+    }
+    out.push_str("Per planner label and map (and scenario bucket, for `.scen` maps), over every run, repeats included: runs, runs that found a path, runs whose length equals the stated optimum (relative tolerance 1e-4; `-` without optima), the median and mean `n_expanded`, the median wall time of the search with its interquartile range (type 7 quartiles), the median and largest suboptimality (length / optimum - 1, over found runs with an optimum), and the largest peak heap of a run.\n\n");
+    out.push_str(HEADER);
+    for planner in &experiment.planners {
+        for map in &experiment.maps {
+            let runs = runs_of(
+                context,
+                planner,
+                map.problems.iter().map(|p| p.index),
+                &map.name,
+            );
+            let mut buckets: Vec<u32> = map.problems.iter().filter_map(|p| p.bucket).collect();
+            buckets.sort_unstable();
+            buckets.dedup();
+            if buckets.is_empty() {
+                row(&mut out, &planner.label, &map.name, "-", &runs, measured);
+                continue;
+            }
+            for bucket in buckets {
+                let problems = map
+                    .problems
+                    .iter()
+                    .filter(|p| p.bucket == Some(bucket))
+                    .map(|p| p.index);
+                let in_bucket = runs_of(context, planner, problems, &map.name);
+                row(
+                    &mut out,
+                    &planner.label,
+                    &map.name,
+                    &bucket.to_string(),
+                    &in_bucket,
+                    measured,
+                );
+            }
+            row(&mut out, &planner.label, &map.name, "all", &runs, measured);
+        }
+    }
+    out.push('\n');
+    out.push_str("Overall, per planner label: every run on every map.\n\n");
+    out.push_str(HEADER);
+    for planner in &experiment.planners {
+        let runs = label_runs(context, planner);
+        row(&mut out, &planner.label, "all", "all", &runs, measured);
+    }
+    out.push('\n');
+    out.push_str(&counters(context));
+    out.push_str(&seeds(context));
+    out
+}
+
+const HEADER: &str = "| Planner | Map | Bucket | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Peak heap |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+
+/// The valid runs of `planner` on the given problems of `map`, every repeat.
+fn runs_of<'r>(
+    context: &Context<'r>,
+    planner: &PlannerSpec,
+    problems: impl Iterator<Item = usize>,
+    map: &str,
+) -> Vec<&'r RunRecord> {
+    problems
+        .flat_map(|p| context.index.runs(map, p, &planner.label))
+        .filter(|r| !r.is_invalid())
+        .collect()
+}
+
+fn label_runs<'r>(context: &Context<'r>, planner: &PlannerSpec) -> Vec<&'r RunRecord> {
+    context
+        .experiment
+        .maps
+        .iter()
+        .flat_map(|m| {
+            runs_of(
+                context,
+                planner,
+                m.problems.iter().map(|p| p.index),
+                &m.name,
+            )
+        })
+        .collect()
+}
+
+fn row(
+    out: &mut String,
+    label: &str,
+    map: &str,
+    bucket: &str,
+    runs: &[&RunRecord],
+    measured: Measured,
+) {
+    if runs.is_empty() {
+        return;
+    }
+    let found = runs.iter().filter(|r| r.is_found()).count();
+    let with_optimum: Vec<(f64, f64)> = runs
+        .iter()
+        .filter_map(|r| Some((r.length?, r.optimal_length?)))
+        .collect();
+    let stated = runs.iter().any(|r| r.optimal_length.is_some());
+    let optimal = if stated {
+        with_optimum
+            .iter()
+            .filter(|(l, o)| matches_optimum(*l, *o))
+            .count()
+            .to_string()
+    } else {
+        "-".into()
+    };
+    let expansions: Vec<f64> = runs
+        .iter()
+        .filter_map(|r| r.counters.get("n_expanded"))
+        .map(|v| v as f64)
+        .collect();
+    let (median_expansions, mean_expansions) = match median_iqr(&expansions) {
+        Some((median, _, _)) => (
+            format_number(median),
+            format_number(expansions.iter().sum::<f64>() / expansions.len() as f64),
+        ),
+        None => ("-".into(), "-".into()),
+    };
+    let times: Vec<f64> = runs.iter().map(|r| r.time_ms).collect();
+    let (time, iqr) = match (measured, median_iqr(&times)) {
+        (Measured::Redacted, _) => ("[time]".to_string(), "[time]".to_string()),
+        (Measured::Shown, Some((median, q1, q3))) => {
+            (format!("{median:.3}"), format!("{q1:.3} - {q3:.3}"))
+        }
+        (Measured::Shown, None) => ("-".into(), "-".into()),
+    };
+    let subopt: Vec<f64> = with_optimum
+        .iter()
+        .map(|(l, o)| {
+            if matches_optimum(*l, *o) {
+                0.0
+            } else {
+                l / o - 1.0
+            }
+        })
+        .collect();
+    let (median_subopt, max_subopt) = match median_iqr(&subopt) {
+        Some((median, _, _)) => (
+            format!("{:.2} %", 100.0 * median),
+            format!(
+                "{:.2} %",
+                100.0 * subopt.iter().copied().fold(0.0, f64::max)
+            ),
+        ),
+        None => ("-".into(), "-".into()),
+    };
+    let heap = match measured {
+        Measured::Redacted => "[memory]".to_string(),
+        Measured::Shown => format_bytes(runs.iter().map(|r| r.peak_heap_bytes).max().unwrap_or(0)),
+    };
+    let _ = writeln!(
+        out,
+        "| {label} | {map} | {bucket} | {} | {found} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} | {heap} |",
+        runs.len()
+    );
+}
+
+/// Every label's resolved parameters (defaults included) and budget.
+fn parameters(context: &Context<'_>) -> String {
+    let mut out = String::from("Planner parameters, as resolved (defaults included):\n\n| Label | Planner | Parameters | Budget |\n|---|---|---|---|\n");
+    for planner in &context.experiment.planners {
+        let params = match planner.factory.resolved() {
+            serde_json::Value::Object(map) => map
+                .iter()
+                .map(|(k, v)| format!("{k} = {v}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            other => other.to_string(),
+        };
+        let budget = serde_json::to_string(&planner.budget).unwrap_or_default();
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} |",
+            planner.label,
+            planner.name,
+            escape(&params),
+            escape(&budget)
+        );
+    }
+    out.push('\n');
+    out
+}
+
+/// Medians of every counter per label, over its valid runs.
+fn counters(context: &Context<'_>) -> String {
+    let mut out = String::from("Median of each counter per planner label, over every run:\n\n| Planner | Counter | Median | Mean | Max |\n|---|---|---:|---:|---:|\n");
+    for planner in &context.experiment.planners {
+        let runs = label_runs(context, planner);
+        let mut names: Vec<&str> = Vec::new();
+        for r in &runs {
+            for (name, _) in r.counters.iter() {
+                if !names.contains(&name) {
+                    names.push(name);
+                }
+            }
+        }
+        for name in names {
+            let values: Vec<f64> = runs
+                .iter()
+                .filter_map(|r| r.counters.get(name))
+                .map(|v| v as f64)
+                .collect();
+            let Some((median, _, _)) = median_iqr(&values) else {
+                continue;
+            };
+            let mean = values.iter().sum::<f64>() / values.len() as f64;
+            let max = values.iter().copied().fold(f64::MIN, f64::max);
+            let _ = writeln!(
+                out,
+                "| {} | {name} | {} | {} | {} |",
+                planner.label,
+                format_number(median),
+                format_number(mean),
+                format_number(max)
+            );
+        }
+    }
+    out.push('\n');
+    out
+}
+
+/// Success rate and spread over seeds, for seeded planners with more than one repeat.
+fn seeds(context: &Context<'_>) -> String {
+    let experiment = context.experiment;
+    if experiment.repeats < 2 {
+        return String::new();
+    }
+    let seeded: Vec<&PlannerSpec> = experiment
+        .planners
+        .iter()
+        .filter(|p| p.factory.specs().seeded)
+        .collect();
+    if seeded.is_empty() {
+        return String::new();
+    }
+    let mut out = format!("Seeded planners over their {} seeds per problem: the success rate, and the median, smallest and largest length and `n_expanded` over the seeds (per map, over every problem).\n\n| Planner | Map | Seeds | Success rate | Median length | Length range | Median expansions | Expansions range |\n|---|---|---:|---:|---:|---:|---:|---:|\n", experiment.repeats);
+    for planner in seeded {
+        for map in &experiment.maps {
+            let runs = runs_of(
+                context,
+                planner,
+                map.problems.iter().map(|p| p.index),
+                &map.name,
+            );
+            if runs.is_empty() {
+                continue;
+            }
+            let found = runs.iter().filter(|r| r.is_found()).count();
+            let lengths: Vec<f64> = runs.iter().filter_map(|r| r.length).collect();
+            let expansions: Vec<f64> = runs
+                .iter()
+                .filter_map(|r| r.counters.get("n_expanded"))
+                .map(|v| v as f64)
+                .collect();
+            let spread = |values: &[f64], digits: usize| match median_iqr(values) {
+                Some((median, _, _)) => {
+                    let lo = values.iter().copied().fold(f64::MAX, f64::min);
+                    let hi = values.iter().copied().fold(f64::MIN, f64::max);
+                    (
+                        format!("{median:.digits$}"),
+                        format!("{lo:.digits$} - {hi:.digits$}"),
+                    )
+                }
+                None => ("-".into(), "-".into()),
+            };
+            let (length, length_range) = spread(&lengths, 2);
+            let (expanded, expanded_range) = spread(&expansions, 0);
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {:.1} % | {length} | {length_range} | {expanded} | {expanded_range} |",
+                planner.label,
+                map.name,
+                experiment.repeats,
+                100.0 * found as f64 / runs.len() as f64,
+            );
+        }
+    }
+    out.push('\n');
+    out
+}
+
+/// An integer as is, else two decimals.
+fn format_number(value: f64) -> String {
+    if value.fract() == 0.0 && value.abs() < 1e15 {
+        format!("{value:.0}")
+    } else {
+        format!("{value:.2}")
+    }
+}
+
+fn format_bytes(bytes: u64) -> String {
+    if bytes >= 1 << 20 {
+        format!("{:.1} MiB", bytes as f64 / f64::from(1u32 << 20))
+    } else if bytes >= 1 << 10 {
+        format!("{:.1} KiB", bytes as f64 / 1024.0)
+    } else {
+        format!("{bytes} B")
+    }
+}
+
+/// Escapes `|` for a markdown table cell.
+fn escape(text: &str) -> String {
+    text.replace('|', "\\|")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{format_bytes, format_number};
+
+    #[test]
+    fn numbers_and_bytes_are_formatted_for_tables() {
+        assert_eq!(format_number(12.0), "12");
+        assert_eq!(format_number(12.345), "12.35");
+        assert_eq!(format_bytes(512), "512 B");
+        assert_eq!(format_bytes(2048), "2.0 KiB");
+        assert_eq!(format_bytes(3 << 20), "3.0 MiB");
+    }
+}

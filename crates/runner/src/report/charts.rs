@@ -1,0 +1,30 @@
+//! The charts section of summary.md: links to the SVG charts of [`crate::charts`].
+
+use std::fmt::Write as _;
+
+use super::{Context, Reproduction, Section};
+
+/// The charts (section name `charts`).
+pub struct Charts;
+
+impl Section for Charts {
+    fn name(&self) -> &'static str {
+        "charts"
+    }
+
+    /// For every sweep with a valid run.
+    fn applies(&self, context: &Context<'_>) -> bool {
+        context.records.iter().any(|r| !r.is_invalid())
+    }
+
+    fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
+        let charts = crate::charts::charts(context.experiment, context.records);
+        if charts.is_empty() {
+            return;
+        }
+        out.push_str("## Charts\n\n");
+        for chart in charts {
+            let _ = writeln!(out, "![{}](charts/{})\n", chart.title, chart.file);
+        }
+    }
+}
