@@ -83,6 +83,8 @@ struct RawConfig {
     #[serde(default)]
     figures: FigureMode,
     figures_per_map: Option<usize>,
+    #[serde(default)]
+    paths: PathsMode,
     published: Option<Spanned<String>>,
     #[serde(default)]
     test: TestLimits,
@@ -148,6 +150,30 @@ pub enum FigureMode {
     None,
 }
 
+/// Which runs' paths a sweep keeps in its results (`paths.jsonl`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PathsMode {
+    /// Every run's path.
+    All,
+    /// The paths the figures draw: repeat 0 of every (map, problem, planner).
+    #[default]
+    Figures,
+    /// None (figures then draw no paths).
+    None,
+}
+
+impl PathsMode {
+    /// Whether the path of a run with repeat `repeat` is kept.
+    pub fn keeps(self, repeat: u32) -> bool {
+        match self {
+            PathsMode::All => true,
+            PathsMode::Figures => repeat == 0,
+            PathsMode::None => false,
+        }
+    }
+}
+
 /// Limits the snapshot test applies to keep large sweeps fast (ignored by `experiment`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -179,6 +205,8 @@ pub struct Experiment {
     pub figures: FigureMode,
     /// Draw figures only for the first this-many problems of each map.
     pub figures_per_map: Option<usize>,
+    /// Which paths the results keep (`paths = "all" | "figures" | "none"`).
+    pub paths: PathsMode,
     /// Published values to compare with, if any.
     pub published: Option<Published>,
     /// Test-only limits.
@@ -434,6 +462,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         seed: raw.seed,
         figures: raw.figures,
         figures_per_map: raw.figures_per_map,
+        paths: raw.paths,
         published,
         test: raw.test,
         maps,
@@ -895,6 +924,7 @@ impl Experiment {
             seed,
             figures: FigureMode::None,
             figures_per_map: None,
+            paths: PathsMode::All,
             published: None,
             test: TestLimits::default(),
             maps: vec![map],
