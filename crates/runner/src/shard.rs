@@ -72,10 +72,9 @@ impl Shard {
                 "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N",
             )?;
             let min = number("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
-            let index = id
-                .checked_sub(min)
-                .ok_or(format!("SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"))?
-                + 1;
+            let index = id.checked_sub(min).ok_or(format!(
+                "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
+            ))? + 1;
             return Shard::new(index, count).map(Some);
         }
         if let Some(index) = number("JOB_COMPLETION_INDEX")? {
@@ -215,8 +214,14 @@ mod tests {
             ("SLURM_ARRAY_TASK_COUNT", "3"),
             ("SLURM_ARRAY_TASK_MIN", "1"),
         ]);
-        assert_eq!(Shard::from_env(slurm), Ok(Some(Shard { index: 3, count: 3 })));
-        let zero_based = env(&[("SLURM_ARRAY_TASK_ID", "0"), ("SLURM_ARRAY_TASK_COUNT", "2")]);
+        assert_eq!(
+            Shard::from_env(slurm),
+            Ok(Some(Shard { index: 3, count: 3 }))
+        );
+        let zero_based = env(&[
+            ("SLURM_ARRAY_TASK_ID", "0"),
+            ("SLURM_ARRAY_TASK_COUNT", "2"),
+        ]);
         assert_eq!(
             Shard::from_env(zero_based),
             Ok(Some(Shard { index: 1, count: 2 }))

@@ -186,8 +186,9 @@ impl<R: BufRead> StreamReader<R> {
             what: what.to_string(),
         };
         let header = match stream.next_line()? {
-            Some(line) => serde_json::from_slice::<StreamHeader>(line)
-                .map_err(|e| RunnerError::Stream(format!("{what} line 1: not a gridplan stream header: {e}")))?,
+            Some(line) => serde_json::from_slice::<StreamHeader>(line).map_err(|e| {
+                RunnerError::Stream(format!("{what} line 1: not a gridplan stream header: {e}"))
+            })?,
             None => {
                 return Err(RunnerError::Stream(format!(
                     "{what}: empty or cut before its header"
@@ -226,9 +227,8 @@ impl<R: BufRead> StreamReader<R> {
         if self.next_line()?.is_none() {
             return Ok(None);
         }
-        let parsed: Line = serde_json::from_slice(&self.buffer).map_err(|e| {
-            RunnerError::Stream(format!("{} line {}: {e}", self.what, self.line))
-        })?;
+        let parsed: Line = serde_json::from_slice(&self.buffer)
+            .map_err(|e| RunnerError::Stream(format!("{} line {}: {e}", self.what, self.line)))?;
         Ok(Some((parsed.run, parsed.record)))
     }
 
@@ -266,8 +266,9 @@ pub fn run_stream(
         .build()
         .map_err(|e| RunnerError::Pool(e.to_string()))?;
     let workers = pool.current_num_threads();
-    let workspaces: Vec<Mutex<Workspace>> =
-        (0..workers).map(|_| Mutex::new(Workspace::default())).collect();
+    let workspaces: Vec<Mutex<Workspace>> = (0..workers)
+        .map(|_| Mutex::new(Workspace::default()))
+        .collect();
     let batch_size = workers * BATCH_PER_WORKER;
     let done = AtomicU64::new(0);
     let mut runs = runs.peekable();
@@ -327,7 +328,9 @@ mod tests {
             ..Default::default()
         };
         let collected = crate::run_all(&experiment, &options).unwrap();
-        let mut bytes = StreamHeader::new(&experiment, Shard::ALL, 6).to_line().unwrap();
+        let mut bytes = StreamHeader::new(&experiment, Shard::ALL, 6)
+            .to_line()
+            .unwrap();
         let n = run_stream(&experiment, 0..6, &options, |batch| {
             for (run, record) in batch {
                 encode(&mut bytes, *run, record)?;
