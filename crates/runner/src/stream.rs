@@ -374,4 +374,24 @@ mod tests {
         assert_ne!(base, config_hash(&experiment("repeats = 3")));
         assert_ne!(base, config_hash(&experiment("repeats = 2\nseed = 1")));
     }
+
+    #[test]
+    fn four_billion_repeats_run_lazily() {
+        let experiment = experiment("repeats = 4_000_000_000");
+        assert_eq!(RunList::new(&experiment).len(), 8_000_000_000);
+        let runs = crate::shard::ShardRuns::new(&experiment, Shard::parse("2/3").unwrap());
+        assert_eq!(runs.len(), 2_666_666_667);
+        let mut n = 0;
+        run_stream(
+            &experiment,
+            runs.iter().take(5),
+            &RunOptions::default(),
+            |batch| {
+                n += batch.len();
+                Ok(())
+            },
+        )
+        .unwrap();
+        assert_eq!(n, 5);
+    }
 }
