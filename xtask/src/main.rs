@@ -33,6 +33,49 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Keep the runs an interrupted sweep on the same output recorded and run the rest
+        /// (a changed config is refused).
+        #[arg(long)]
+        resume: bool,
+        /// Run only shard K of N (1-based), e.g. 2/3; without it, SLURM_ARRAY_TASK_ID with
+        /// SLURM_ARRAY_TASK_COUNT, or JOB_COMPLETION_INDEX with GRIDPLAN_SHARD_COUNT, give it.
+        #[arg(long)]
+        shard: Option<String>,
+    },
+    /// Combine shard outputs (`experiment --shard`) into the one sweep's results.
+    Merge {
+        /// The shard directories, every shard once.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output directory (default: the config's `output`).
+        #[arg(long)]
+        output: Option<PathBuf>,
+        /// The config (default: the one the shards name).
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
+    /// Write (and with --submit submit) a Slurm job array of N shards plus a merge job.
+    Slurm {
+        /// The experiment config.
+        config: PathBuf,
+        /// Array tasks.
+        #[arg(long)]
+        shards: u64,
+        /// The merged results directory (default: the config's `output`).
+        #[arg(long)]
+        output: Option<PathBuf>,
+        /// sbatch --partition.
+        #[arg(long)]
+        partition: Option<String>,
+        /// sbatch --time.
+        #[arg(long)]
+        time: Option<String>,
+        /// sbatch --cpus-per-task (also the tasks' worker threads).
+        #[arg(long)]
+        cpus_per_task: Option<u32>,
+        /// Submit both jobs and print their ids.
+        #[arg(long)]
+        submit: bool,
     },
     /// Run one planner on one problem and print the path, metrics and counters (a coverage
     /// planner covers from --start and takes no --goal).
@@ -113,8 +156,21 @@ fn run(cli: Cli) -> Result<(), String> {
             threads,
             output,
             quiet,
+            resume,
+            shard,
         } => {
-            let report = xtask::experiment(&config, threads, output.as_deref(), !quiet)?;
+            let shard = match shard {
+                Some(text) => Some(planner_runner::shard::Shard::parse(&text)?),
+                None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())?,
+            };
+            let report = xtask::sweep::experiment(&xtask::sweep::SweepArgs {
+                config,
+                threads,
+                output,
+                progress: !quiet,
+                resume,
+                shard,
+            })?;
             println!(
                 "{} runs in {:.2} s -> {}",
                 report.n_runs,
@@ -126,6 +182,46 @@ fn run(cli: Cli) -> Result<(), String> {
                     "published numbers reproduced: {} of {}",
                     report.reproduction.matched, report.reproduction.compared
                 );
+            }
+            Ok(())
+        }
+        Command::Merge {
+            dirs,
+            output,
+            config,
+        } => {
+            let report = xtask::sweep::merge(&dirs, output.as_deref(), config.as_deref())?;
+            println!(
+                "{} runs merged from {} shards -> {}",
+                report.n_runs,
+                dirs.len(),
+                report.output.display()
+            );
+            Ok(())
+        }
+        Command::Slurm {
+            config,
+            shards,
+            output,
+            partition,
+            time,
+            cpus_per_task,
+            submit,
+        } => {
+            let jobs = xtask::slurm::slurm(&xtask::slurm::SlurmArgs {
+                config,
+                shards,
+                output,
+                partition,
+                time,
+                cpus_per_task,
+                submit,
+            })?;
+            println!("array script: {}", jobs.array_script.display());
+            println!("merge script: {}", jobs.merge_script.display());
+            if let Some((array, merge)) = jobs.ids {
+                println!("array job {array}");
+                println!("merge job {merge}");
             }
             Ok(())
         }

@@ -592,6 +592,28 @@ fn exchange_dirs(_a: &Path, _b: &Path) -> Result<bool, OutdirError> {
 
 /// The exclusive lock on an output directory: an OS file lock on `.<name>.lock` beside it,
 /// whose file holds the holder's pid. Dropping it removes the file, then unlocks.
+/// The working area of a streamed sweep that writes to an output directory: the directory
+/// `.<name>.stream` beside it (where the sweep appends its records, so a killed sweep can be
+/// resumed), held under its own exclusive lock `.<name>.stream.lock` (the same flock rules
+/// as the output's lock) while this value lives. The area is not a results directory and
+/// the swap never touches it; the sweep removes it once its results are in place.
+pub struct StreamArea {
+    /// The stream directory (it may not exist yet).
+    pub dir: PathBuf,
+    _lock: OutputLock,
+}
+
+/// Locks the stream area of `output` (creating missing parents, as [`write_results`]
+/// would), waiting at most `wait` for another sweep on the same output.
+pub fn stream_area(output: &Path, wait: Duration) -> Result<StreamArea, OutdirError> {
+    let location = locate(output, true)?;
+    let lock = OutputLock::acquire_named(&location, "stream.lock", wait)?;
+    Ok(StreamArea {
+        dir: location.sibling("stream"),
+        _lock: lock,
+    })
+}
+
 struct OutputLock {
     file: File,
     path: PathBuf,
@@ -600,7 +622,16 @@ struct OutputLock {
 impl OutputLock {
     /// Takes the lock, waiting at most `wait` for another holder.
     fn acquire(location: &Location, wait: Duration) -> Result<Self, OutdirError> {
-        let path = location.sibling("lock");
+        Self::acquire_named(location, "lock", wait)
+    }
+
+    /// Takes the lock `.<name>.<suffix>` beside the directory.
+    fn acquire_named(
+        location: &Location,
+        suffix: &str,
+        wait: Duration,
+    ) -> Result<Self, OutdirError> {
+        let path = location.sibling(suffix);
         let started = Instant::now();
         let mut told = false;
         loop {

@@ -89,6 +89,8 @@ struct RawConfig {
     charts: Vec<ChartSpec>,
     #[serde(default)]
     ompl: bool,
+    #[serde(default)]
+    paths: PathsMode,
     published: Option<Spanned<String>>,
     #[serde(default)]
     test: TestLimits,
@@ -190,6 +192,30 @@ pub struct ChartSpec {
     pub title: Option<String>,
 }
 
+/// Which runs' paths a sweep keeps in its results (`paths.jsonl`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PathsMode {
+    /// Every run's path.
+    All,
+    /// The paths the figures draw: repeat 0 of every (map, problem, planner).
+    #[default]
+    Figures,
+    /// None (figures then draw no paths).
+    None,
+}
+
+impl PathsMode {
+    /// Whether the path of a run with repeat `repeat` is kept.
+    pub fn keeps(self, repeat: u32) -> bool {
+        match self {
+            PathsMode::All => true,
+            PathsMode::Figures => repeat == 0,
+            PathsMode::None => false,
+        }
+    }
+}
+
 /// Limits the snapshot test applies to keep large sweeps fast (ignored by `experiment`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -227,6 +253,8 @@ pub struct Experiment {
     pub charts: Vec<ChartSpec>,
     /// Whether `experiment` writes OMPL benchmark logs (`ompl = true`).
     pub ompl: bool,
+    /// Which paths the results keep (`paths = "all" | "figures" | "none"`).
+    pub paths: PathsMode,
     /// Published values to compare with, if any.
     pub published: Option<Published>,
     /// Test-only limits.
@@ -500,6 +528,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         figures_pick: raw.figures_pick,
         charts: raw.charts,
         ompl: raw.ompl,
+        paths: raw.paths,
         published,
         test: raw.test,
         maps,
@@ -1033,6 +1062,7 @@ impl Experiment {
             figures_pick: FigurePick::First,
             charts: Vec::new(),
             ompl: false,
+            paths: PathsMode::All,
             published: None,
             test: TestLimits::default(),
             maps: vec![map],

@@ -21,6 +21,9 @@
 //! - [`output`]: runs.csv and runs.json as bytes.
 //! - [`plan`]: one run of one planner, for `plan`.
 //! - [`provenance`]: version, commit, date, host, CPU and config hash of a sweep.
+//! - [`stream`] and [`shard`]: streamed sweeps (records in run order, batch by batch, as
+//!   JSON Lines that survive a kill), resumable and merged; deterministic cost-balanced
+//!   shards of a run list for job arrays.
 //!
 //! The library installs no global allocator, draws no progress bar and writes no file:
 //! progress is a callback and peak-heap measurement a hook ([`run::RunOptions`]), and the
@@ -43,6 +46,8 @@ pub mod record;
 pub mod registry;
 pub mod report;
 pub mod run;
+pub mod shard;
+pub mod stream;
 
 use std::path::PathBuf;
 
@@ -102,6 +107,9 @@ pub enum RunnerError {
     /// A run index past the end of the run list (a bug).
     #[error("run index {0} is past the end of the run list")]
     RunIndex(u64),
+    /// A record stream (a resumed sweep's, a shard's) is unreadable or does not fit.
+    #[error("{0}")]
+    Stream(String),
     /// Serializing results failed.
     #[error("cannot serialize the results: {0}")]
     Json(serde_json::Error),

@@ -129,3 +129,32 @@ fn csv_field(text: &str) -> String {
         text.to_string()
     }
 }
+
+/// The kept paths as JSON Lines, one `{"map","problem","planner","repeat","path"}` object per
+/// record that has a path, in record order (`paths.jsonl`; runs.json then leaves `path`
+/// null). `None` when no record has a path.
+pub fn paths_jsonl(records: &[RunRecord]) -> Result<Option<Vec<u8>>, RunnerError> {
+    #[derive(serde::Serialize)]
+    struct Line<'a> {
+        map: &'a str,
+        problem: usize,
+        planner: &'a str,
+        repeat: u32,
+        path: &'a planner_api::Path,
+    }
+    let mut out = Vec::new();
+    for r in records {
+        if let Some(path) = &r.path {
+            let line = Line {
+                map: &r.map,
+                problem: r.problem,
+                planner: &r.planner,
+                repeat: r.repeat,
+                path,
+            };
+            serde_json::to_writer(&mut out, &line).map_err(RunnerError::Json)?;
+            out.push(b'\n');
+        }
+    }
+    Ok((!out.is_empty()).then_some(out))
+}

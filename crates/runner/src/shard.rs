@@ -1,0 +1,245 @@
+//! Deterministic, cost-balanced slices of a run list, for sweeps spread over machines.
+//!
+//! Shard `K/N` (1-based `K`) holds some runs of every (map, problem) block of the
+//! [`RunList`]. A block's runs (its planners x repeats) are dealt round-robin over the N
+//! shards, starting at the shard that has the least expected cost so far, so each shard
+//! gets the same number of a block's runs, give or take one, and a block's leftover runs go
+//! where there is the least work. A run's expected cost is its problem's stated optimal
+//! length (a scenario file's bucket is that length divided by four), else the octile
+//! distance from start to goal, plus one; invalid problems cost one. The slicing is a pure
+//! function of the run list and N: every machine computes the same slices, every run is in
+//! exactly one shard, and a shard iterates its runs in increasing run index, lazily (its
+//! memory is one offset per block, whatever the repeats).
+
+use crate::config::Experiment;
+use crate::run::RunList;
+
+/// Which slice of a sweep to run: shard `index` (1-based) of `count`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Shard {
+    /// 1-based shard number, at most `count`.
+    pub index: u64,
+    /// Number of shards, at least 1.
+    pub count: u64,
+}
+
+impl Shard {
+    /// The whole sweep as one shard.
+    pub const ALL: Shard = Shard { index: 1, count: 1 };
+
+    /// Shard `index` of `count`, checked (1 <= index <= count).
+    pub fn new(index: u64, count: u64) -> Result<Shard, String> {
+        if count == 0 || index == 0 || index > count {
+            return Err(format!(
+                "shard {index}/{count}: expected K/N with 1 <= K <= N"
+            ));
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// Parses `K/N`, e.g. `2/3`.
+    pub fn parse(text: &str) -> Result<Shard, String> {
+        let (k, n) = text
+            .split_once('/')
+            .ok_or_else(|| format!("shard {text:?}: expected K/N, e.g. 2/3"))?;
+        let number = |s: &str| {
+            s.trim()
+                .parse::<u64>()
+                .map_err(|e| format!("shard {text:?}: {s:?} is not a number: {e}"))
+        };
+        Shard::new(number(k)?, number(n)?)
+    }
+
+    /// The shard that the environment of a job array names, if any: Slurm's
+    /// `SLURM_ARRAY_TASK_ID` with `SLURM_ARRAY_TASK_COUNT` (shard
+    /// `ID - SLURM_ARRAY_TASK_MIN + 1`, the minimum taken as 0 when unset, so `--array=1-N`
+    /// and `--array=0-(N-1)` both give shards 1..N), or Kubernetes' 0-based
+    /// `JOB_COMPLETION_INDEX` with `GRIDPLAN_SHARD_COUNT`. `get` reads one variable
+    /// (`std::env::var` in the binary; a map in tests).
+    pub fn from_env(get: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, String> {
+        let number = |key: &str| -> Result<Option<u64>, String> {
+            match get(key) {
+                None => Ok(None),
+                Some(v) => v
+                    .trim()
+                    .parse::<u64>()
+                    .map(Some)
+                    .map_err(|e| format!("environment variable {key}={v:?}: {e}")),
+            }
+        };
+        if let Some(id) = number("SLURM_ARRAY_TASK_ID")? {
+            let count = number("SLURM_ARRAY_TASK_COUNT")?.ok_or(
+                "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N",
+            )?;
+            let min = number("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
+            let index = id.checked_sub(min).ok_or(format!(
+                "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
+            ))? + 1;
+            return Shard::new(index, count).map(Some);
+        }
+        if let Some(index) = number("JOB_COMPLETION_INDEX")? {
+            let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or(
+                "JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N",
+            )?;
+            return Shard::new(index + 1, count).map(Some);
+        }
+        Ok(None)
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+/// The runs of one shard: for each block of the run list, where its round-robin starts.
+#[derive(Debug, Clone)]
+pub struct ShardRuns {
+    /// Per block: (first run index, runs in the block, shard offset of the block's first run).
+    blocks: Vec<(u64, u64, u64)>,
+    shard: Shard,
+    n_runs: u64,
+}
+
+impl ShardRuns {
+    /// The runs of `shard` in `experiment`'s run list.
+    pub fn new(experiment: &Experiment, shard: Shard) -> ShardRuns {
+        let n = shard.count;
+        let mut load = vec![0.0f64; n as usize];
+        let mut blocks = Vec::new();
+        let mut next = 0u64;
+        let n_planners = experiment.planners.len() as u64;
+        let mut n_runs = 0u64;
+        for map in &experiment.maps {
+            for problem in &map.problems {
+                let repeats = if problem.invalid.is_some() {
+                    1
+                } else {
+                    u64::from(experiment.repeats)
+                };
+                let size = repeats * n_planners;
+                let cost = if problem.invalid.is_some() {
+                    1.0
+                } else {
+                    1.0 + problem
+                        .optimal_length
+                        .unwrap_or_else(|| problem.start.octile(problem.goal))
+                };
+                let offset = (0..n)
+                    .min_by(|&a, &b| load[a as usize].total_cmp(&load[b as usize]))
+                    .unwrap_or(0);
+                for s in 0..n {
+                    let share = count_in(size, offset, s, n);
+                    load[s as usize] += share as f64 * cost;
+                    if s == shard.index - 1 {
+                        n_runs += share;
+                    }
+                }
+                blocks.push((next, size, offset));
+                next += size;
+            }
+        }
+        debug_assert_eq!(next, RunList::new(experiment).len());
+        ShardRuns {
+            blocks,
+            shard,
+            n_runs,
+        }
+    }
+
+    /// How many runs the shard holds.
+    pub fn len(&self) -> u64 {
+        self.n_runs
+    }
+
+    /// Whether it holds none.
+    pub fn is_empty(&self) -> bool {
+        self.n_runs == 0
+    }
+
+    /// The shard.
+    pub fn shard(&self) -> Shard {
+        self.shard
+    }
+
+    /// The shard's run indices, increasing.
+    pub fn iter(&self) -> impl Iterator<Item = u64> + '_ {
+        let n = self.shard.count;
+        let s = self.shard.index - 1;
+        self.blocks.iter().flat_map(move |&(first, size, offset)| {
+            // Run r of the block goes to shard (offset + r) mod n.
+            let r0 = (s + n - offset) % n;
+            (r0..size).step_by(n as usize).map(move |r| first + r)
+        })
+    }
+}
+
+/// How many of a block's `size` runs, dealt from shard `offset` round-robin over `n`,
+/// shard `s` gets.
+fn count_in(size: u64, offset: u64, s: u64, n: u64) -> u64 {
+    let r0 = (s + n - offset) % n;
+    if r0 >= size {
+        0
+    } else {
+        (size - r0).div_ceil(n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_and_checks() {
+        assert_eq!(Shard::parse("2/3"), Ok(Shard { index: 2, count: 3 }));
+        for bad in ["0/3", "4/3", "1/0", "x/3", "3"] {
+            assert!(Shard::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn reads_job_array_environments() {
+        let env = |pairs: &'static [(&'static str, &'static str)]| {
+            move |k: &str| {
+                pairs
+                    .iter()
+                    .find(|(key, _)| *key == k)
+                    .map(|(_, v)| v.to_string())
+            }
+        };
+        assert_eq!(Shard::from_env(env(&[])), Ok(None));
+        let slurm = env(&[
+            ("SLURM_ARRAY_TASK_ID", "3"),
+            ("SLURM_ARRAY_TASK_COUNT", "3"),
+            ("SLURM_ARRAY_TASK_MIN", "1"),
+        ]);
+        assert_eq!(
+            Shard::from_env(slurm),
+            Ok(Some(Shard { index: 3, count: 3 }))
+        );
+        let zero_based = env(&[
+            ("SLURM_ARRAY_TASK_ID", "0"),
+            ("SLURM_ARRAY_TASK_COUNT", "2"),
+        ]);
+        assert_eq!(
+            Shard::from_env(zero_based),
+            Ok(Some(Shard { index: 1, count: 2 }))
+        );
+        let k8s = env(&[("JOB_COMPLETION_INDEX", "1"), ("GRIDPLAN_SHARD_COUNT", "4")]);
+        assert_eq!(Shard::from_env(k8s), Ok(Some(Shard { index: 2, count: 4 })));
+        assert!(Shard::from_env(env(&[("SLURM_ARRAY_TASK_ID", "1")])).is_err());
+    }
+
+    #[test]
+    fn dealing_counts_add_up() {
+        for size in 0..20 {
+            for n in 1..6 {
+                for offset in 0..n {
+                    let total: u64 = (0..n).map(|s| count_in(size, offset, s, n)).sum();
+                    assert_eq!(total, size, "size {size} n {n} offset {offset}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,397 @@
+//! Streamed sweeps: records handed out in run order, batch by batch, as JSON Lines.
+//!
+//! [`run_stream`] runs any increasing sequence of run indices (the whole run list, a
+//! [`crate::shard::ShardRuns`] slice, or what a resumed sweep has left) in batches on a
+//! rayon pool, each worker reusing its planners across batches, and hands each finished
+//! batch to a sink in run order, so memory is bounded by the batch (a few records per
+//! worker), not by the sweep. Paths the config does not keep
+//! ([`crate::config::PathsMode`]) are dropped in the worker.
+//!
+//! The stream format is one line per run, `{"run":INDEX,"record":RECORD}` ([`encode`]),
+//! the [`RunRecord`] as serde writes it. A binary appends each batch to a file and flushes
+//! it; a process killed mid-write leaves complete lines and at most one cut line at the
+//! end, which [`StreamReader`] stops at (and reports, so a resumed sweep truncates it).
+//! A stream file starts with a [`StreamHeader`] line naming the experiment, the shard and
+//! the [`config_hash`] of the resolved config, so a resumed or merged stream from another
+//! config is recognised.
+//!
+//! The runner writes no file: the sink and the reader work on bytes and `std::io` traits.
+
+use std::io::BufRead;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::config::Experiment;
+use crate::record::RunRecord;
+use crate::run::{run_one, RunList, RunOptions, Workspace};
+use crate::shard::Shard;
+use crate::RunnerError;
+
+/// The stream format's version.
+pub const STREAM_FORMAT: u32 = 1;
+
+/// Runs per worker in one batch.
+const BATCH_PER_WORKER: usize = 512;
+
+/// The first line of a stream file.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StreamHeader {
+    /// [`STREAM_FORMAT`].
+    pub format: u32,
+    /// The experiment's name.
+    pub experiment: String,
+    /// The config file as given to the command.
+    pub config: String,
+    /// [`config_hash`] of the resolved config.
+    pub config_hash: String,
+    /// 1-based shard number.
+    pub shard: u64,
+    /// Number of shards.
+    pub shards: u64,
+    /// Runs in this shard.
+    pub runs: u64,
+    /// Runs in the whole sweep.
+    pub total_runs: u64,
+}
+
+impl StreamHeader {
+    /// The header of `shard` of `experiment`, which holds `runs` runs.
+    pub fn new(experiment: &Experiment, shard: Shard, runs: u64) -> StreamHeader {
+        StreamHeader {
+            format: STREAM_FORMAT,
+            experiment: experiment.name.clone(),
+            config: experiment.source.display().to_string(),
+            config_hash: config_hash(experiment),
+            shard: shard.index,
+            shards: shard.count,
+            runs,
+            total_runs: RunList::new(experiment).len(),
+        }
+    }
+
+    /// The header as one JSON line.
+    pub fn to_line(&self) -> Result<Vec<u8>, RunnerError> {
+        let mut line = serde_json::to_vec(self).map_err(RunnerError::Json)?;
+        line.push(b'\n');
+        Ok(line)
+    }
+}
+
+/// A 64-bit FNV-1a hash (hex) of everything that decides an experiment's records and
+/// outputs: name, repeats, seed, budget-bearing planner settings (label, registry name,
+/// parameters, budget, compare), figures, paths and sections, and every map's name, size,
+/// free cells and problems (start, goal, stated optimum, invalidity). Worker threads,
+/// the output directory and the config's own path are left out: they change no record.
+pub fn config_hash(experiment: &Experiment) -> String {
+    let mut h = Fnv::default();
+    h.text(&experiment.name);
+    h.text(&experiment.repeats.to_string());
+    h.text(&experiment.seed.to_string());
+    h.text(&format!(
+        "{:?} {:?} {:?} {:?}",
+        experiment.figures, experiment.figures_per_map, experiment.paths, experiment.sections
+    ));
+    for planner in &experiment.planners {
+        h.text(&planner.label);
+        h.text(planner.name);
+        h.text(&planner.params.to_string());
+        h.text(&format!("{:?} {:?}", planner.budget, planner.compare));
+    }
+    for map in &experiment.maps {
+        h.text(&map.name);
+        h.text(&format!("{}x{}", map.grid.width(), map.grid.height()));
+        h.bytes(
+            &map.grid
+                .free_cells()
+                .iter()
+                .map(|&f| u8::from(f))
+                .collect::<Vec<u8>>(),
+        );
+        for p in &map.problems {
+            h.text(&format!(
+                "{} {} {} {:?} {:?}",
+                p.index, p.start, p.goal, p.optimal_length, p.invalid
+            ));
+        }
+    }
+    format!("{:016x}", h.0)
+}
+
+struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Fnv {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        // A separator, so ("ab", "c") and ("a", "bc") differ.
+        self.0 ^= 0xff;
+        self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+
+    fn text(&mut self, text: &str) {
+        self.bytes(text.as_bytes());
+    }
+}
+
+/// Appends run `run`'s line, `{"run":INDEX,"record":RECORD}` and a newline, to `out`.
+pub fn encode(out: &mut Vec<u8>, run: u64, record: &RunRecord) -> Result<(), RunnerError> {
+    out.extend_from_slice(b"{\"run\":");
+    out.extend_from_slice(run.to_string().as_bytes());
+    out.extend_from_slice(b",\"record\":");
+    serde_json::to_writer(&mut *out, record).map_err(RunnerError::Json)?;
+    out.extend_from_slice(b"}\n");
+    Ok(())
+}
+
+#[derive(Deserialize)]
+struct Line {
+    run: u64,
+    record: RunRecord,
+}
+
+/// Reads a stream file: its header, then its runs in order, stopping at a cut last line.
+pub struct StreamReader<R> {
+    reader: R,
+    buffer: Vec<u8>,
+    line: u64,
+    /// Bytes of complete lines read so far (header included).
+    complete_bytes: u64,
+    /// Whether the stream ended in a cut line (a process killed mid-write).
+    cut: bool,
+    what: String,
+}
+
+impl<R: BufRead> StreamReader<R> {
+    /// Opens a stream read from `reader` (`what` names it in errors, e.g. the file) and
+    /// reads its header.
+    pub fn new(reader: R, what: &str) -> Result<(StreamHeader, StreamReader<R>), RunnerError> {
+        let mut stream = StreamReader {
+            reader,
+            buffer: Vec::new(),
+            line: 0,
+            complete_bytes: 0,
+            cut: false,
+            what: what.to_string(),
+        };
+        let header = match stream.next_line()? {
+            Some(line) => serde_json::from_slice::<StreamHeader>(line).map_err(|e| {
+                RunnerError::Stream(format!("{what} line 1: not a gridplan stream header: {e}"))
+            })?,
+            None => {
+                return Err(RunnerError::Stream(format!(
+                    "{what}: empty or cut before its header"
+                )))
+            }
+        };
+        if header.format != STREAM_FORMAT {
+            return Err(RunnerError::Stream(format!(
+                "{what}: stream format {} (this gridplan reads {STREAM_FORMAT})",
+                header.format
+            )));
+        }
+        Ok((header, stream))
+    }
+
+    fn next_line(&mut self) -> Result<Option<&[u8]>, RunnerError> {
+        self.buffer.clear();
+        let n = self
+            .reader
+            .read_until(b'\n', &mut self.buffer)
+            .map_err(|e| RunnerError::Stream(format!("{}: {e}", self.what)))?;
+        if n == 0 {
+            return Ok(None);
+        }
+        if self.buffer.last() != Some(&b'\n') {
+            self.cut = true;
+            return Ok(None);
+        }
+        self.line += 1;
+        self.complete_bytes += n as u64;
+        Ok(Some(&self.buffer))
+    }
+
+    /// The next run and its record, or `None` at the end (or at a cut last line).
+    pub fn next_run(&mut self) -> Result<Option<(u64, RunRecord)>, RunnerError> {
+        if self.next_line()?.is_none() {
+            return Ok(None);
+        }
+        let parsed: Line = serde_json::from_slice(&self.buffer)
+            .map_err(|e| RunnerError::Stream(format!("{} line {}: {e}", self.what, self.line)))?;
+        Ok(Some((parsed.run, parsed.record)))
+    }
+
+    /// Bytes of the complete lines read so far: where a resumed sweep appends.
+    pub fn complete_bytes(&self) -> u64 {
+        self.complete_bytes
+    }
+
+    /// Whether the stream ended in a cut line.
+    pub fn was_cut(&self) -> bool {
+        self.cut
+    }
+}
+
+/// Runs the runs `runs` (increasing indices into `experiment`'s [`RunList`]) and calls
+/// `sink` with each finished batch of (index, record), in order. The records of one
+/// sweep do not depend on the thread count or the batch size. Progress counts runs done
+/// in this call.
+pub fn run_stream(
+    experiment: &Experiment,
+    runs: impl Iterator<Item = u64>,
+    options: &RunOptions<'_>,
+    mut sink: impl FnMut(&[(u64, RunRecord)]) -> Result<(), RunnerError>,
+) -> Result<u64, RunnerError> {
+    let list = RunList::new(experiment);
+    let threads = match options.threads {
+        0 => experiment.threads,
+        n => n,
+    };
+    if threads > crate::config::MAX_THREADS {
+        return Err(RunnerError::Threads(threads));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| RunnerError::Pool(e.to_string()))?;
+    let workers = pool.current_num_threads();
+    let workspaces: Vec<Mutex<Workspace>> = (0..workers)
+        .map(|_| Mutex::new(Workspace::default()))
+        .collect();
+    let batch_size = workers * BATCH_PER_WORKER;
+    let done = AtomicU64::new(0);
+    let mut runs = runs.peekable();
+    let mut batch: Vec<u64> = Vec::with_capacity(batch_size);
+    let mut n_done = 0u64;
+    while runs.peek().is_some() {
+        batch.clear();
+        batch.extend(runs.by_ref().take(batch_size));
+        let records: Vec<Result<(u64, RunRecord), RunnerError>> = pool.install(|| {
+            batch
+                .par_iter()
+                .map(|&index| {
+                    let spec = list.get(index).ok_or(RunnerError::RunIndex(index))?;
+                    let worker = rayon::current_thread_index().unwrap_or(0) % workers;
+                    let mut workspace = workspaces[worker]
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner);
+                    let mut record = run_one(experiment, &spec, &mut workspace, options.heap)?;
+                    drop(workspace);
+                    if !experiment.paths.keeps(spec.repeat) {
+                        record.path = None;
+                    }
+                    if let Some(progress) = options.progress {
+                        progress(done.fetch_add(1, Ordering::Relaxed) + 1);
+                    }
+                    Ok((index, record))
+                })
+                .collect()
+        });
+        let records: Vec<(u64, RunRecord)> = records.into_iter().collect::<Result<_, _>>()?;
+        n_done += records.len() as u64;
+        sink(&records)?;
+    }
+    Ok(n_done)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn experiment(text: &str) -> Experiment {
+        let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../maps/paper/map01.map")
+            .display()
+            .to_string();
+        let text = format!(
+            "name = \"t\"\n{text}\n[[maps]]\nfiles = [{map:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n[planners.b]\nplanner = \"bfs\"\n"
+        );
+        crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap()
+    }
+
+    #[test]
+    fn streamed_records_equal_collected_ones_and_read_back() {
+        let experiment = experiment("repeats = 3\npaths = \"all\"");
+        let options = RunOptions {
+            threads: 2,
+            ..Default::default()
+        };
+        let collected = crate::run_all(&experiment, &options).unwrap();
+        let mut bytes = StreamHeader::new(&experiment, Shard::ALL, 6)
+            .to_line()
+            .unwrap();
+        let n = run_stream(&experiment, 0..6, &options, |batch| {
+            for (run, record) in batch {
+                encode(&mut bytes, *run, record)?;
+            }
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(n, 6);
+        // Cut the last line, as a kill mid-write would.
+        bytes.truncate(bytes.len() - 10);
+        let (header, mut reader) = StreamReader::new(&bytes[..], "test").unwrap();
+        assert_eq!(header.config_hash, config_hash(&experiment));
+        let mut read = Vec::new();
+        while let Some((run, mut record)) = reader.next_run().unwrap() {
+            assert_eq!(run, read.len() as u64);
+            record.time_ms = collected[read.len()].time_ms;
+            record.setup_ms = collected[read.len()].setup_ms;
+            read.push(record);
+        }
+        assert!(reader.was_cut());
+        assert_eq!(read.len(), 5);
+        assert_eq!(&read[..], &collected[..5]);
+    }
+
+    #[test]
+    fn paths_mode_figures_keeps_repeat_zero_only() {
+        let experiment = experiment("repeats = 2");
+        let mut kept = Vec::new();
+        run_stream(&experiment, 0..4, &RunOptions::default(), |batch| {
+            kept.extend(batch.iter().map(|(_, r)| (r.repeat, r.path.is_some())));
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(kept, [(0, true), (1, false), (0, true), (1, false)]);
+    }
+
+    #[test]
+    fn the_hash_sees_parameters_and_repeats_not_threads() {
+        let base = config_hash(&experiment("repeats = 2"));
+        assert_eq!(base, config_hash(&experiment("repeats = 2\nthreads = 3")));
+        assert_ne!(base, config_hash(&experiment("repeats = 3")));
+        assert_ne!(base, config_hash(&experiment("repeats = 2\nseed = 1")));
+    }
+
+    #[test]
+    fn four_billion_repeats_run_lazily() {
+        let experiment = experiment("repeats = 4_000_000_000");
+        assert_eq!(RunList::new(&experiment).len(), 8_000_000_000);
+        let runs = crate::shard::ShardRuns::new(&experiment, Shard::parse("2/3").unwrap());
+        assert_eq!(runs.len(), 2_666_666_667);
+        let mut n = 0;
+        run_stream(
+            &experiment,
+            runs.iter().take(5),
+            &RunOptions::default(),
+            |batch| {
+                n += batch.len();
+                Ok(())
+            },
+        )
+        .unwrap();
+        assert_eq!(n, 5);
+    }
+}

@@ -1,0 +1,12 @@
+#!/bin/bash
+# Benchmark-scale sweep: configs/bench/arena-200k.toml (200,000 A* runs, no paths) through
+# the release binary, measured with /usr/bin/time -v (wall, user+sys CPU, peak RSS) and
+# the size of the results directory.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release -p xtask --quiet
+out="${1:-/tmp/gridplan-bench-arena-200k}"
+/usr/bin/time -v target/release/xtask experiment configs/bench/arena-200k.toml \
+    --threads 2 --quiet --output "$out" 2> "$out.time" || { cat "$out.time"; exit 1; }
+grep -E "Elapsed|User time|System time|Maximum resident" "$out.time"
+du -sb "$out" | awk '{printf "output: %.1f MB\n", $1 / 1e6}'

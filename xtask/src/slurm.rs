@@ -1,0 +1,165 @@
+//! Slurm job arrays for a sweep: `slurm CONFIG --shards N` writes two sbatch scripts, a
+//! job array of N tasks (task K runs `experiment CONFIG --shard K/N`) and a merge job, and
+//! with `--submit` submits the merge with `--dependency=afterok:<array>` and
+//! `--kill-on-invalid-dep=yes` (so a failed task cancels the merge instead of leaving it
+//! pending forever) and prints both job ids.
+//!
+//! For an output directory `DIR` (default: the config's), the scripts, the shards'
+//! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`.
+//! The scripts call this very binary and the config by absolute path, so they run from
+//! any directory on a cluster whose nodes share the file system.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use planner_runner::config;
+
+/// What `slurm` is asked to do.
+#[derive(Debug, Clone, Default)]
+pub struct SlurmArgs {
+    /// The experiment config.
+    pub config: PathBuf,
+    /// Array tasks (shards).
+    pub shards: u64,
+    /// The merged results directory (default: the config's `output`).
+    pub output: Option<PathBuf>,
+    /// `--partition`.
+    pub partition: Option<String>,
+    /// `--time`.
+    pub time: Option<String>,
+    /// `--cpus-per-task` (and the tasks' worker threads).
+    pub cpus_per_task: Option<u32>,
+    /// Submit the jobs.
+    pub submit: bool,
+}
+
+/// What `slurm` wrote and submitted.
+#[derive(Debug, Clone)]
+pub struct Jobs {
+    /// The array job's script.
+    pub array_script: PathBuf,
+    /// The merge job's script.
+    pub merge_script: PathBuf,
+    /// (array job id, merge job id) when submitted.
+    pub ids: Option<(String, String)>,
+}
+
+fn absolute(path: &Path) -> Result<PathBuf, String> {
+    if path.is_absolute() {
+        return Ok(path.to_path_buf());
+    }
+    Ok(std::env::current_dir()
+        .map_err(|e| format!("current directory: {e}"))?
+        .join(path))
+}
+
+/// Single-quotes `text` for the shell.
+fn quote(text: &str) -> String {
+    format!("'{}'", text.replace('\'', "'\\''"))
+}
+
+/// Writes the scripts (and submits them if asked).
+pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
+    if args.shards == 0 {
+        return Err("--shards: at least 1".into());
+    }
+    let experiment = config::load(&args.config).map_err(|e| e.to_string())?;
+    let config_path = args
+        .config
+        .canonicalize()
+        .map_err(|e| format!("{}: {e}", args.config.display()))?;
+    let output = absolute(args.output.as_deref().unwrap_or(&experiment.output))?;
+    let mut work = output.as_os_str().to_os_string();
+    work.push("-slurm");
+    let work = PathBuf::from(work);
+    std::fs::create_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
+    let binary = std::env::current_exe().map_err(|e| format!("this binary's path: {e}"))?;
+    let n = args.shards;
+    let mut options = String::new();
+    if let Some(p) = &args.partition {
+        options.push_str(&format!("#SBATCH --partition={p}\n"));
+    }
+    if let Some(t) = &args.time {
+        options.push_str(&format!("#SBATCH --time={t}\n"));
+    }
+    if let Some(c) = args.cpus_per_task {
+        options.push_str(&format!("#SBATCH --cpus-per-task={c}\n"));
+    }
+    let threads = args
+        .cpus_per_task
+        .map_or(String::new(), |c| format!(" --threads {c}"));
+    let bin = quote(&binary.display().to_string());
+    let cfg = quote(&config_path.display().to_string());
+    let dir = quote(&work.display().to_string());
+    let name = &experiment.name;
+    let array = format!(
+        "#!/bin/bash\n\
+         # Written by `gridplan slurm`: shard K of {n} of experiment {name}.\n\
+         #SBATCH --job-name=gridplan-{name}\n\
+         #SBATCH --array=1-{n}\n\
+         #SBATCH --output={w}/task-%a.log\n\
+         {options}\
+         set -euo pipefail\n\
+         exec {bin} experiment {cfg} --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --output {dir}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet{threads}\n",
+        w = work.display(),
+    );
+    let shard_dirs: Vec<String> = (1..=n)
+        .map(|k| quote(&work.join(format!("shard-{k}")).display().to_string()))
+        .collect();
+    let merge = format!(
+        "#!/bin/bash\n\
+         # Written by `gridplan slurm`: merges the {n} shards of experiment {name}.\n\
+         #SBATCH --job-name=gridplan-{name}-merge\n\
+         #SBATCH --output={w}/merge.log\n\
+         {options}\
+         set -euo pipefail\n\
+         exec {bin} merge {dirs} --config {cfg} --output {out}\n",
+        w = work.display(),
+        dirs = shard_dirs.join(" "),
+        out = quote(&output.display().to_string()),
+    );
+    let array_script = work.join("array.sbatch");
+    let merge_script = work.join("merge.sbatch");
+    for (path, text) in [(&array_script, &array), (&merge_script, &merge)] {
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let ids = if args.submit {
+        let array_id = sbatch(&[&array_script.display().to_string()])?;
+        let merge_id = sbatch(&[
+            &format!("--dependency=afterok:{array_id}"),
+            "--kill-on-invalid-dep=yes",
+            &merge_script.display().to_string(),
+        ])?;
+        Some((array_id, merge_id))
+    } else {
+        None
+    };
+    Ok(Jobs {
+        array_script,
+        merge_script,
+        ids,
+    })
+}
+
+/// Runs `sbatch --parsable ARGS` and returns the job id.
+fn sbatch(args: &[&str]) -> Result<String, String> {
+    let out = Command::new("sbatch")
+        .arg("--parsable")
+        .args(args)
+        .output()
+        .map_err(|e| format!("cannot run sbatch (is Slurm installed?): {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "sbatch {} failed: {}",
+            args.join(" "),
+            String::from_utf8_lossy(&out.stderr).trim()
+        ));
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    // `--parsable` prints `id` or `id;cluster`.
+    let id = text.trim().split(';').next().unwrap_or("").to_string();
+    if id.is_empty() {
+        return Err(format!("sbatch {} printed no job id", args.join(" ")));
+    }
+    Ok(id)
+}

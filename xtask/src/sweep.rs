@@ -1,0 +1,434 @@
+//! Streamed, resumable and sharded sweeps on disk, and merging shards.
+//!
+//! A sweep appends each batch of records, as it completes, to `records.jsonl` in the
+//! output's stream area (`.<name>.stream/` beside the output directory, under its own lock:
+//! [`outdir::stream_area`]), flushing after each batch, so a killed sweep leaves every
+//! finished batch readable. `--resume` reads that file back: if its header's config hash
+//! matches the config's, the runs it holds are kept (a cut last line is dropped) and the
+//! sweep continues after them; a changed config is refused. Without `--resume` an old
+//! stream is discarded.
+//!
+//! When the sweep is whole, the final outputs are rendered from the stream, in run order,
+//! and written atomically by [`outdir::write_results`]: `runs.json` (paths null),
+//! `runs.csv`, `summary.md`, figures, and `paths.jsonl` with the paths the config keeps
+//! (`paths`). Then the stream area is removed. A shard (`--shard K/N`) instead writes its
+//! stream as `shard.jsonl` into its output directory; [`merge`] checks that a set of shard
+//! directories is complete and of one config and renders the one sweep's outputs from them.
+
+use std::fs::{self, File, OpenOptions};
+use std::io::{BufReader, Seek as _, SeekFrom, Write as _};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use planner_runner::output::OutputFile;
+use planner_runner::provenance::Provenance;
+use planner_runner::report::Reproduction;
+use planner_runner::shard::{Shard, ShardRuns};
+use planner_runner::stream::{self, StreamHeader, StreamReader};
+use planner_runner::{
+    charts, config, figures, html, ompl, output as results, report, Experiment, RunOptions,
+    RunRecord,
+};
+
+use crate::{alloc, outdir, Report};
+
+/// The stream file of a sweep's stream area, and of a shard's results directory.
+const RECORDS: &str = "records.jsonl";
+
+/// A shard's stream in its results directory.
+pub const SHARD_FILE: &str = "shard.jsonl";
+
+/// What `experiment` is asked to do.
+#[derive(Debug, Clone, Default)]
+pub struct SweepArgs {
+    /// The config file.
+    pub config: PathBuf,
+    /// Worker threads (0: the config's).
+    pub threads: usize,
+    /// Output directory (default: the config's; for a shard, `<that>-shard-K-of-N`).
+    pub output: Option<PathBuf>,
+    /// Draw a progress bar.
+    pub progress: bool,
+    /// Keep the runs an interrupted sweep recorded.
+    pub resume: bool,
+    /// Run one shard only.
+    pub shard: Option<Shard>,
+}
+
+/// Runs (or resumes) a sweep and writes its results directory (or its shard's).
+pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
+    let started = Instant::now();
+    let experiment = config::load(&args.config).map_err(|e| e.to_string())?;
+    let shard = args.shard.unwrap_or(Shard::ALL);
+    let dir = match (&args.output, args.shard) {
+        (Some(dir), _) => dir.clone(),
+        (None, Some(s)) => {
+            let mut name = experiment.output.as_os_str().to_os_string();
+            name.push(format!("-shard-{}-of-{}", s.index, s.count));
+            PathBuf::from(name)
+        }
+        (None, None) => experiment.output.clone(),
+    };
+    outdir::check(&dir).map_err(|e| e.to_string())?;
+    let area = outdir::stream_area(&dir, outdir::DEFAULT_LOCK_WAIT).map_err(|e| e.to_string())?;
+    let runs = ShardRuns::new(&experiment, shard);
+    let header = StreamHeader::new(&experiment, shard, runs.len());
+    fs::create_dir_all(&area.dir).map_err(|e| format!("{}: {e}", area.dir.display()))?;
+    let path = area.dir.join(RECORDS);
+    let done = if args.resume {
+        resume_point(&path, &header, &runs)?
+    } else {
+        None
+    };
+    let (mut file, n_done) = match done {
+        Some((bytes, n)) => {
+            let mut file = OpenOptions::new()
+                .write(true)
+                .open(&path)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            file.set_len(bytes)
+                .and_then(|()| file.seek(SeekFrom::End(0)).map(drop))
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            eprintln!("resuming: {n} of {} runs already recorded", runs.len());
+            (file, n)
+        }
+        None => {
+            if args.resume {
+                eprintln!("nothing to resume for {}: running every run", dir.display());
+            }
+            let mut file = File::create(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            file.write_all(&header.to_line().map_err(|e| e.to_string())?)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            (file, 0)
+        }
+    };
+    tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
+    let bar = progress_bar(args.progress, runs.len(), n_done);
+    let tick = |n: u64| bar.set_position(n_done + n);
+    let options = RunOptions {
+        threads: args.threads,
+        progress: Some(&tick),
+        heap: Some(&alloc::Meter),
+    };
+    let mut buffer = Vec::new();
+    stream::run_stream(
+        &experiment,
+        runs.iter().skip(n_done as usize),
+        &options,
+        |batch| {
+            buffer.clear();
+            for (run, record) in batch {
+                stream::encode(&mut buffer, *run, record)?;
+            }
+            file.write_all(&buffer)
+                .and_then(|()| file.flush())
+                .map_err(|e| {
+                    planner_runner::RunnerError::Stream(format!("{}: {e}", path.display()))
+                })
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
+    drop(file);
+    let reproduction = if args.shard.is_some() {
+        let contents = fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let files = [OutputFile {
+            path: SHARD_FILE.into(),
+            contents,
+        }];
+        outdir::write_results(&dir, &experiment.name, &files, outdir::DEFAULT_LOCK_WAIT)
+            .map_err(|e| e.to_string())?;
+        Reproduction::default()
+    } else {
+        let records = read_stream(&path, &header)?;
+        let threads = crate::rayon_threads(args.threads, experiment.threads);
+        let provenance = Provenance::collect(&args.config, threads);
+        let seconds = started.elapsed().as_secs_f64();
+        finish(&experiment, records, &dir, &provenance, seconds)?
+    };
+    let _ = fs::remove_dir_all(&area.dir);
+    Ok(Report {
+        n_runs: runs.len() as usize,
+        output: dir,
+        reproduction,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+fn progress_bar(show: bool, len: u64, done: u64) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} runs ({eta})",
+    ) {
+        bar.set_style(style);
+    }
+    bar.set_position(done);
+    bar
+}
+
+/// Where an interrupted sweep's stream `path` ends: (bytes of complete lines, runs), or
+/// `None` if there is no stream. Refuses a stream of another config or shard.
+fn resume_point(
+    path: &Path,
+    header: &StreamHeader,
+    runs: &ShardRuns,
+) -> Result<Option<(u64, u64)>, String> {
+    let file = match File::open(path) {
+        Ok(file) => file,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(format!("{}: {e}", path.display())),
+    };
+    let what = path.display().to_string();
+    let (found, mut reader) = match StreamReader::new(BufReader::new(file), &what) {
+        Ok(opened) => opened,
+        // Killed before its header was complete: nothing was recorded.
+        Err(_) if fs::metadata(path).map(|m| m.len()).unwrap_or(0) < 4096 => return Ok(None),
+        Err(e) => return Err(e.to_string()),
+    };
+    if found.config_hash != header.config_hash || found.experiment != header.experiment {
+        return Err(format!(
+            "--resume: {what} was recorded by a different config (experiment {:?}, config hash {}); \
+             {} resolves to experiment {:?}, hash {}. Run without --resume to start over.",
+            found.experiment, found.config_hash, header.config, header.experiment, header.config_hash
+        ));
+    }
+    if (found.shard, found.shards) != (header.shard, header.shards) {
+        return Err(format!(
+            "--resume: {what} holds shard {}/{}, not {}/{}",
+            found.shard, found.shards, header.shard, header.shards
+        ));
+    }
+    let mut expected = runs.iter();
+    let mut n = 0u64;
+    while let Some((run, _)) = reader.next_run().map_err(|e| e.to_string())? {
+        if expected.next() != Some(run) {
+            return Err(format!(
+                "--resume: {what}: run {run} is out of order; run without --resume"
+            ));
+        }
+        n += 1;
+    }
+    Ok(Some((reader.complete_bytes(), n)))
+}
+
+/// The records of a complete stream file, checked against `header`.
+fn read_stream(path: &Path, header: &StreamHeader) -> Result<Vec<RunRecord>, String> {
+    let file = File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let what = path.display().to_string();
+    let (_, mut reader) =
+        StreamReader::new(BufReader::new(file), &what).map_err(|e| e.to_string())?;
+    let mut records = Vec::with_capacity(header.runs.min(1 << 24) as usize);
+    while let Some((_, record)) = reader.next_run().map_err(|e| e.to_string())? {
+        records.push(record);
+    }
+    if records.len() as u64 != header.runs {
+        return Err(format!(
+            "{what}: {} of {} runs recorded",
+            records.len(),
+            header.runs
+        ));
+    }
+    Ok(records)
+}
+
+/// Renders the outputs of a whole sweep's `records` (in run order): runs.json, runs.csv,
+/// paths.jsonl, summary.md, figures, charts, report.html and, when the config asks, OMPL
+/// logs; and writes them to `dir`. `seconds` is the sweep's wall time so far (OMPL's
+/// experiment time).
+fn finish(
+    experiment: &Experiment,
+    mut records: Vec<RunRecord>,
+    dir: &Path,
+    provenance: &Provenance,
+    seconds: f64,
+) -> Result<Reproduction, String> {
+    let (summary, reproduction) = report::render_with(experiment, &records, Some(provenance));
+    let mut files = figures::render(experiment, &records);
+    files.extend(charts::render(experiment, &records));
+    if experiment.ompl {
+        files.extend(ompl::logs(experiment, &records, provenance, seconds));
+    }
+    if let Some(paths) = results::paths_jsonl(&records).map_err(|e| e.to_string())? {
+        files.push(OutputFile {
+            path: "paths.jsonl".into(),
+            contents: paths,
+        });
+    }
+    for record in &mut records {
+        record.path = None;
+    }
+    let json = results::runs_json_with(experiment, &records, Some(provenance))
+        .map_err(|e| e.to_string())?;
+    let csv = results::runs_csv(&records);
+    drop(records);
+    let mut all = vec![
+        OutputFile {
+            path: "runs.json".into(),
+            contents: json,
+        },
+        OutputFile {
+            path: "runs.csv".into(),
+            contents: csv,
+        },
+        OutputFile {
+            path: "summary.md".into(),
+            contents: summary.into_bytes(),
+        },
+    ];
+    all.append(&mut files);
+    let page = html::report_html(&experiment.name, &summary_text(&all), &all);
+    all.push(OutputFile {
+        path: "report.html".into(),
+        contents: page.into_bytes(),
+    });
+    outdir::write_results(dir, &experiment.name, &all, outdir::DEFAULT_LOCK_WAIT)
+        .map_err(|e| e.to_string())?;
+    Ok(reproduction)
+}
+
+/// Merges the shard directories `dirs` into the one sweep's results in `output` (default:
+/// the config's). `config` overrides the config file the shards name.
+pub fn merge(
+    dirs: &[PathBuf],
+    output: Option<&Path>,
+    config: Option<&Path>,
+) -> Result<Report, String> {
+    let started = Instant::now();
+    if dirs.is_empty() {
+        return Err("merge: no shard directories given".into());
+    }
+    let mut shards: Vec<(PathBuf, StreamHeader, StreamReader<BufReader<File>>)> = Vec::new();
+    for dir in dirs {
+        let path = dir.join(SHARD_FILE);
+        let file = File::open(&path).map_err(|e| {
+            format!(
+                "merge: {} is not a shard's output ({}: {e})",
+                dir.display(),
+                SHARD_FILE
+            )
+        })?;
+        let (header, reader) = StreamReader::new(BufReader::new(file), &path.display().to_string())
+            .map_err(|e| e.to_string())?;
+        shards.push((dir.clone(), header, reader));
+    }
+    let first = shards[0].1.clone();
+    for (dir, header, _) in &shards[1..] {
+        if header.config_hash != first.config_hash
+            || header.shards != first.shards
+            || header.experiment != first.experiment
+        {
+            return Err(format!(
+                "merge: {} (experiment {:?}, config hash {}, {} shards) and {} (experiment {:?}, config hash {}, {} shards) are shards of different sweeps",
+                shards[0].0.display(), first.experiment, first.config_hash, first.shards,
+                dir.display(), header.experiment, header.config_hash, header.shards
+            ));
+        }
+    }
+    let mut missing = Vec::new();
+    for k in 1..=first.shards {
+        let holders: Vec<&PathBuf> = shards
+            .iter()
+            .filter(|(_, h, _)| h.shard == k)
+            .map(|(d, _, _)| d)
+            .collect();
+        match holders.len() {
+            0 => missing.push(format!("{k}/{}", first.shards)),
+            1 => {}
+            _ => {
+                return Err(format!(
+                    "merge: shard {k}/{} given twice: {}",
+                    first.shards,
+                    holders
+                        .iter()
+                        .map(|d| d.display().to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            }
+        }
+    }
+    if !missing.is_empty() {
+        return Err(format!(
+            "merge: shards {} of experiment {:?} are missing (given: {})",
+            missing.join(", "),
+            first.experiment,
+            dirs.iter()
+                .map(|d| d.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    let config_path = config.map_or_else(|| PathBuf::from(&first.config), Path::to_path_buf);
+    let experiment = config::load(&config_path).map_err(|e| format!("merge: {e}"))?;
+    let hash = stream::config_hash(&experiment);
+    if hash != first.config_hash {
+        return Err(format!(
+            "merge: {} now resolves to config hash {hash}, but the shards were run with {}; \
+             rerun the shards or pass the config they ran with (--config)",
+            config_path.display(),
+            first.config_hash
+        ));
+    }
+    // K-way merge by run index: every index 0..total exactly once.
+    let mut heads: Vec<Option<(u64, RunRecord)>> = Vec::with_capacity(shards.len());
+    for (_, _, reader) in &mut shards {
+        heads.push(reader.next_run().map_err(|e| e.to_string())?);
+    }
+    let mut records = Vec::with_capacity(first.total_runs.min(1 << 24) as usize);
+    for expected in 0..first.total_runs {
+        let Some(i) = heads
+            .iter()
+            .position(|h| h.as_ref().is_some_and(|(run, _)| *run == expected))
+        else {
+            return Err(format!(
+                "merge: run {expected} of {} is in no shard (a shard is incomplete: {})",
+                first.total_runs,
+                shards
+                    .iter()
+                    .map(|(d, h, _)| format!(
+                        "{} holds shard {}/{}",
+                        d.display(),
+                        h.shard,
+                        h.shards
+                    ))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        };
+        let next = shards[i].2.next_run().map_err(|e| e.to_string())?;
+        if let Some((_, record)) = std::mem::replace(&mut heads[i], next) {
+            records.push(record);
+        }
+    }
+    if let Some(i) = heads.iter().position(Option::is_some) {
+        return Err(format!(
+            "merge: {} holds runs past the sweep's end",
+            shards[i].0.display()
+        ));
+    }
+    let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
+    outdir::check(&dir).map_err(|e| e.to_string())?;
+    let n_runs = records.len();
+    let provenance = Provenance::collect(&config_path, crate::rayon_threads(0, experiment.threads));
+    let seconds = started.elapsed().as_secs_f64();
+    let reproduction = finish(&experiment, records, &dir, &provenance, seconds)?;
+    Ok(Report {
+        n_runs,
+        output: dir,
+        reproduction,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The summary.md among `files`, as text.
+fn summary_text(files: &[OutputFile]) -> String {
+    files
+        .iter()
+        .find(|f| f.path.as_os_str() == "summary.md")
+        .map(|f| String::from_utf8_lossy(&f.contents).into_owned())
+        .unwrap_or_default()
+}
