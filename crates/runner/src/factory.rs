@@ -104,21 +104,8 @@ impl Factory {
         P: Planner + 'static,
         E: ParamKey + 'static,
     {
-        let config: C = deserialize(params)?;
-        let resolved = serde_json::to_value(&config).unwrap_or(serde_json::Value::Null);
-        let planner = new(config.clone()).map_err(|e| e.to_param_error())?;
-        let specs = planner.specs();
-        let make = move || -> Result<Built, ParamError> {
-            let planner = new(config.clone()).map_err(|e| e.to_param_error())?;
-            Ok(Built::Path(Box::new(planner)))
-        };
-        Ok(Factory {
-            name,
-            task: Task::StartGoal,
-            own_seed: own_seed(&specs, params)?,
-            resolved,
-            specs,
-            make: Arc::new(make),
+        Factory::typed(name, Task::StartGoal, params, new, P::specs, |p| {
+            Built::Path(Box::new(p))
         })
     }
 
@@ -133,17 +120,38 @@ impl Factory {
         P: CoveragePlanner + 'static,
         E: ParamKey + 'static,
     {
+        Factory::typed(name, Task::Coverage, params, new, P::specs, |p| {
+            Built::Coverage(Box::new(p))
+        })
+    }
+
+    /// The factory of either task: deserializes and validates `params` into `C` once,
+    /// reads the planner's specs, and builds planners with `new`, wrapped by `wrap`.
+    fn typed<C, P, E>(
+        name: &'static str,
+        task: Task,
+        params: &toml::Table,
+        new: fn(C) -> Result<P, E>,
+        specs_of: fn(&P) -> PlannerSpecs,
+        wrap: fn(P) -> Built,
+    ) -> Result<Factory, ParamError>
+    where
+        C: DeserializeOwned + Serialize + Clone + Send + Sync + 'static,
+        P: 'static,
+        E: ParamKey + 'static,
+    {
         let config: C = deserialize(params)?;
         let resolved = serde_json::to_value(&config).unwrap_or(serde_json::Value::Null);
         let planner = new(config.clone()).map_err(|e| e.to_param_error())?;
-        let specs = planner.specs();
+        let specs = specs_of(&planner);
         let make = move || -> Result<Built, ParamError> {
-            let planner = new(config.clone()).map_err(|e| e.to_param_error())?;
-            Ok(Built::Coverage(Box::new(planner)))
+            new(config.clone())
+                .map(wrap)
+                .map_err(|e| e.to_param_error())
         };
         Ok(Factory {
             name,
-            task: Task::Coverage,
+            task,
             own_seed: own_seed(&specs, params)?,
             resolved,
             specs,
