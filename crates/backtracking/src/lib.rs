@@ -125,7 +125,9 @@ use thiserror::Error;
 use planner_api::adjacency::{Adjacency, SCRATCH as VISITED};
 
 /// Optional pruning beyond the paper; every mode other than [`Prune::Off`] changes the counters.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Prune {
     /// The paper's exhaustive enumeration (default).
@@ -136,7 +138,7 @@ pub enum Prune {
 }
 
 /// The planner's configuration (TOML/JSON keys as the field names).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood, written as its number of directions (`moves = 4` or `8`, also 16, 32, 48).

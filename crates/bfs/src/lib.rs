@@ -82,7 +82,7 @@ use thiserror::Error;
 use planner_api::Adjacency;
 
 /// The configuration of BFS and of DFS (TOML/JSON keys as the field names).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood, written as its number of directions (`moves = 4` or `8`, also 16, 32, 48).

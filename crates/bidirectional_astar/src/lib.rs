@@ -84,7 +84,7 @@ use thiserror::Error;
 pub const NAME: &str = "bidirectional_astar";
 
 /// Parameters; every field has a default.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// 4 (Manhattan heuristic) or 8 (octile heuristic) directions. Default 8.
