@@ -217,8 +217,10 @@ pub const NAME: &str = "__NAME__";
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood: 4, 8, 16, 32 or 48 directions. Default 4.
+    #[schemars(with = "u32", extend("enum" = [4, 8, 16, 32, 48]))]
     pub moves: Connectivity,
     /// Neighbour order, e.g. `"R L D U"`. Default `"R L D U"`.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
 }
 

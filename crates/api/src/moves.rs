@@ -104,18 +104,6 @@ impl Connectivity {
     }
 }
 
-/// In configs an integer: 4, 8, 16, 32 or 48 (the number of directions).
-impl schemars::JsonSchema for Connectivity {
-    fn schema_name() -> std::borrow::Cow<'static, str> {
-        "Connectivity".into()
-    }
-
-    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
-        let directions: Vec<u32> = Connectivity::ALL.iter().map(|c| c.n_directions()).collect();
-        schemars::json_schema!({ "type": "integer", "enum": directions })
-    }
-}
-
 impl TryFrom<u32> for Connectivity {
     type Error = String;
 
@@ -266,18 +254,6 @@ impl fmt::Display for NeighborOrder {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let tokens: Vec<&str> = self.0.iter().map(|d| d.token()).collect();
         f.write_str(&tokens.join(" "))
-    }
-}
-
-/// In configs a string of direction tokens (`R L D U DR DL UR UL`, any case) separated by
-/// spaces or commas.
-impl schemars::JsonSchema for NeighborOrder {
-    fn schema_name() -> std::borrow::Cow<'static, str> {
-        "NeighborOrder".into()
-    }
-
-    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
-        schemars::json_schema!({ "type": "string", "pattern": "^[RLDUrldu, \\t]*$" })
     }
 }
 

@@ -185,10 +185,12 @@ pub enum TieBreak {
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood: 4, 8, 16, 32 or 48 directions. Default 4.
+    #[schemars(with = "u32", extend("enum" = [4, 8, 16, 32, 48]))]
     pub moves: Connectivity,
     /// Allow diagonal moves between two blocked orthogonal cells' corner (8 only). Default false.
     pub corner_cutting: bool,
     /// Neighbour order, e.g. `"R L D U"` (see [`NeighborOrder`]). Default `"R L D U"`.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
     /// Heuristic. Default Manhattan.
     pub heuristic: Heuristic,

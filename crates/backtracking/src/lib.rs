@@ -143,11 +143,13 @@ pub enum Prune {
 pub struct Config {
     /// Neighbourhood, written as its number of directions (`moves = 4` or `8`, also 16, 32, 48).
     /// Default 4, the paper's.
+    #[schemars(with = "u32", extend("enum" = [4, 8, 16, 32, 48]))]
     pub moves: Connectivity,
     /// Whether 8-connected diagonals may cut corners (only with `moves = 8`). Default false.
     pub corner_cutting: bool,
     /// Order in which the moves are tried, e.g. `"R L D U"` (see [`NeighborOrder`]).
     /// Default `R L D U`, the paper's right, left, down, up.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
     /// Pruning mode. Default [`Prune::Off`], the paper's exhaustive search.
     pub prune: Prune,

@@ -196,6 +196,7 @@ pub struct Config {
     /// The variant: `"jps"`, `"jps_prime"` or `"jps_plus"`. Default `"jps"`.
     pub variant: Variant,
     /// Neighbourhood; JPS is defined here for 8 only (any other value is an error). Default 8.
+    #[schemars(with = "u32", extend("enum" = [8]))]
     pub moves: Connectivity,
     /// Corner cutting; must be false (the Moving AI rule). Default false.
     pub corner_cutting: bool,

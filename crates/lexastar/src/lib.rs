@@ -186,10 +186,12 @@ pub enum Objective {
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood: 4 or 8 directions. Default 4.
+    #[schemars(with = "u32", extend("enum" = [4, 8]))]
     pub moves: Connectivity,
     /// Allow diagonal moves past a blocked corner (8 only). Default false.
     pub corner_cutting: bool,
     /// Neighbour order, e.g. `"R L D U"` (see [`NeighborOrder`]). Default `"R L D U"`.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
     /// What to minimise. Default [`Objective::Lexicographic`].
     pub objective: Objective,
