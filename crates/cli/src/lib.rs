@@ -46,9 +46,10 @@ pub enum Command {
     Experiment {
         /// The TOML config, e.g. configs/paper.toml (keys: configs/README.md).
         config: PathBuf,
-        /// Worker threads (default: the config's `threads`, 0 = one per core).
-        #[arg(long, default_value_t = 0)]
-        threads: usize,
+        /// Worker threads. Without it (or with 0) the config's `threads` key decides, and
+        /// when that is absent or 0, one thread per core. Results do not depend on it.
+        #[arg(long, value_name = "N")]
+        threads: Option<usize>,
         /// Output directory (default: the config's `output`, else `results/<name>`).
         #[arg(long)]
         output: Option<PathBuf>,
@@ -102,7 +103,9 @@ pub enum Command {
     /// Run one planner on one problem and print the path, metrics and counters (a coverage
     /// planner covers from --start and takes no --goal).
     Plan {
-        /// The map file (.map, .txt, .csv, or a ROS map_server .yaml).
+        /// The map file: Moving AI .map (problems from a .scen beside it), seed 003 .txt
+        /// (its own start-goal pairs), 0/1 matrix .csv, ROS map_server .yaml (with its
+        /// PGM/PNG image), or a .png/.pgm image (dark cells blocked).
         map: PathBuf,
         /// Registry name (astar, backtracking, ...), or a label of --config.
         #[arg(long)]
@@ -128,6 +131,9 @@ pub enum Command {
         /// Print exactly one JSON object.
         #[arg(long)]
         json: bool,
+        /// Also write the run's figure (the SVG a sweep draws for one run) to FILE.
+        #[arg(long, value_name = "FILE")]
+        svg: Option<PathBuf>,
     },
     /// List the registered planners; with a name, every parameter of that planner (type,
     /// default, allowed values, doc), from its declared parameters.
@@ -229,7 +235,7 @@ pub fn run(command: Command) -> Result<(), String> {
             let bar = Bar::default();
             let report = sweep::experiment(&sweep::SweepArgs {
                 config: &config,
-                threads,
+                threads: threads.unwrap_or(0),
                 output: output.as_deref(),
                 progress: (!quiet).then_some(&bar as &dyn sweep::Progress),
                 heap: Some(&alloc::Meter),
@@ -300,6 +306,7 @@ pub fn run(command: Command) -> Result<(), String> {
             set,
             max_expansions,
             json,
+            svg,
         } => {
             let args = PlanArgs {
                 map,
@@ -312,10 +319,14 @@ pub fn run(command: Command) -> Result<(), String> {
                 max_expansions,
             };
             let result = planner_runner::plan::run(&args).map_err(|e| e.to_string())?;
+            if let Some(file) = &svg {
+                std::fs::write(file, result.to_svg())
+                    .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+            }
             if json {
                 println!("{}", result.to_json().map_err(|e| e.to_string())?);
             } else {
-                print!("{}", result.to_text());
+                print!("{}", result.to_text_within(text_columns()));
             }
             if result.hit_default_budget() {
                 eprintln!(
@@ -348,6 +359,18 @@ pub fn run(command: Command) -> Result<(), String> {
             write_stdout(&script)
         }
     }
+}
+
+/// The widest map `plan` draws as text: the terminal's width when stdout is a terminal,
+/// else [`planner_runner::plan::TEXT_COLUMNS`] (200).
+fn text_columns() -> usize {
+    let stdout = std::io::stdout();
+    if std::io::IsTerminal::is_terminal(&stdout) {
+        if let Some((terminal_size::Width(width), _)) = terminal_size::terminal_size_of(&stdout) {
+            return usize::from(width);
+        }
+    }
+    planner_runner::plan::TEXT_COLUMNS
 }
 
 /// Writes `bytes` to stdout; a closed pipe (`gridplan schema | head`) is not an error.
