@@ -157,3 +157,68 @@ fn bad_input_is_an_error_message_not_a_panic() {
     }
     let _ = std::fs::remove_dir_all(&work);
 }
+
+#[test]
+fn plan_marks_a_coverage_paths_end_and_refuses_maps_wider_than_200_columns() {
+    let work = scratch("text");
+    let gridplan = Path::new(env!("CARGO_BIN_EXE_gridplan"));
+    std::fs::write(
+        work.join("open.map"),
+        "type octile\nheight 2\nwidth 3\nmap\n...\n...\n",
+    )
+    .expect("write");
+    let text = run(
+        gridplan,
+        &work,
+        &[
+            "plan",
+            "open.map",
+            "--planner",
+            "coverage",
+            "--start",
+            "0,0",
+        ],
+    );
+    let drawing: Vec<&str> = text
+        .lines()
+        .filter(|l| l.len() == 3 && !l.contains(' '))
+        .collect();
+    assert_eq!(drawing.len(), 2, "{text}");
+    assert_eq!(drawing.concat().matches('E').count(), 1, "{text}");
+    assert!(drawing[0].starts_with('S'), "{text}");
+
+    // Off a terminal the limit is 200 columns: 200 cells are drawn, 201 are not.
+    for (width, drawn) in [(200, true), (201, false)] {
+        let row = ".".repeat(width);
+        std::fs::write(
+            work.join("wide.map"),
+            format!("type octile\nheight 1\nwidth {width}\nmap\n{row}\n"),
+        )
+        .expect("write");
+        let text = run(
+            gridplan,
+            &work,
+            &[
+                "plan",
+                "wide.map",
+                "--planner",
+                "bfs",
+                "--start",
+                "0,0",
+                "--goal",
+                "9,0",
+            ],
+        );
+        assert_eq!(
+            text.contains(&format!("S{}", ">".repeat(8))),
+            drawn,
+            "{text}"
+        );
+        assert_eq!(
+            text.contains("more than the 200 columns here: not drawn; --svg FILE draws it"),
+            !drawn,
+            "{text}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&work);
+}
