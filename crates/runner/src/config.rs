@@ -539,6 +539,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
 
 type RawParams = IndexMap<Spanned<String>, Spanned<toml::Value>>;
 
+/// A planner table with its label, as the config spells them (spans kept).
+type LabelledTable = (Spanned<String>, Spanned<RawParams>);
+
 /// Most labels one planner table may sweep into.
 pub const MAX_SWEEP_LABELS: usize = 100_000;
 
@@ -552,8 +555,8 @@ pub const MAX_SWEEP_LABELS: usize = 100_000;
 fn expand_sweeps(
     src: &Source<'_>,
     planners: &IndexMap<Spanned<String>, Spanned<RawParams>>,
-) -> Result<Vec<(Spanned<String>, Spanned<RawParams>)>, ConfigError> {
-    let mut expanded: Vec<(Spanned<String>, Spanned<RawParams>)> = Vec::new();
+) -> Result<Vec<LabelledTable>, ConfigError> {
+    let mut expanded: Vec<LabelledTable> = Vec::new();
     for (label, table) in planners {
         let declared = table
             .get_ref()
