@@ -397,6 +397,10 @@ pub fn load(path: &Path) -> Result<Experiment, ConfigError> {
     parse(path, &text)
 }
 
+/// The longest experiment `name`: it names the output directory and its lock and stream
+/// files, which must fit a file name (255 bytes on common file systems).
+pub const MAX_NAME_LEN: usize = 100;
+
 /// The largest config or published-values file read: 16 MiB. Like the map readers, only
 /// regular files are read, so `/dev/zero` or a FIFO is an error, not a hang.
 pub const MAX_TEXT_BYTES: u64 = 16 << 20;
@@ -410,6 +414,15 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
     let name = raw.name.get_ref().clone();
+    if name.len() > MAX_NAME_LEN {
+        return Err(src.error(
+            Some(raw.name.span()),
+            format!(
+                "key `name`: {} characters, more than {MAX_NAME_LEN} (it names the output directory)",
+                name.len()
+            ),
+        ));
+    }
     let name_ok = !name.is_empty()
         && name
             .chars()
@@ -660,8 +673,18 @@ pub fn planner_from_table(
     let entry = registry::find(name).ok_or_else(|| crate::RunnerError::UnknownPlanner {
         name: name.to_string(),
     })?;
-    let factory =
-        (entry.factory)(&params).map_err(|e| crate::RunnerError::Param(label.to_string(), e))?;
+    let factory = (entry.factory)(&params).map_err(|e| {
+        // Name the key, as config errors do (`--set moves=7`: "parameter `moves`: ...").
+        let message = if e.key.is_empty() || e.message.contains(&format!("`{}`", e.key)) {
+            e.message
+        } else {
+            format!("parameter `{}`: {}", e.key, e.message)
+        };
+        crate::RunnerError::Param(
+            label.to_string(),
+            planner_api::ParamError::new(e.key, message),
+        )
+    })?;
     Ok(PlannerSpec {
         label: label.to_string(),
         name: entry.name,
@@ -775,10 +798,15 @@ fn map_entries(
         }
         _ => {}
     }
-    if raw.scen.is_none() && (raw.buckets.is_some() || raw.lines.is_some() || raw.every.is_some()) {
+    if raw.scen.is_none()
+        && (raw.buckets.is_some()
+            || raw.lines.is_some()
+            || raw.every.is_some()
+            || raw.limit.is_some())
+    {
         return Err(at(
             spanned.span(),
-            "`buckets`, `lines` and `every` select scenarios and need `scen`".into(),
+            "`buckets`, `lines`, `every` and `limit` select scenarios and need `scen`".into(),
         ));
     }
     let mut files = Vec::new();
