@@ -114,6 +114,13 @@ fn check(case: usize, files: &[(&str, &[u8])], args: &[&str], expect: Expect) ->
         Expect::Usage(text) => (2, text),
         Expect::Warn(text) => (0, text),
     };
+    // Plain text for a pipe: no ANSI colour codes, no Rust debug formatting.
+    if out.stderr.contains('\u{1b}') {
+        problems.push("ANSI escape codes in stderr".to_owned());
+    }
+    if out.stderr.contains("Some(") || out.stderr.contains("None") {
+        problems.push("Rust debug formatting in stderr".to_owned());
+    }
     if out.code != Some(code) {
         problems.push(format!("exit code {:?}, expected {code}", out.code));
     }
@@ -447,6 +454,34 @@ fn careless_inputs_fail_cleanly() {
         Warn("map.yaml:7:1: key 'map_type' is not one map_server reads"),
     ));
 
+    // A .scen naming another map file of the same size: used, with a warning naming both.
+    let scen = "name = \"sc\"\n[[maps]]\nfiles = [\"small.map\"]\nscen = \"s.scen\"\n[planners.a]\nplanner = \"astar\"\n";
+    cases.push((
+        owned(vec![
+            ("c.toml", scen.as_bytes().to_vec()),
+            ("small.map", SMALL.to_vec()),
+            (
+                "s.scen",
+                b"version 1\n0\tother.map\t3\t3\t0\t0\t2\t2\t3.4\n".to_vec(),
+            ),
+        ]),
+        args(&exp),
+        Warn("maps[0]: the scenarios name map other.map, not small.map (same size, so used)"),
+    ));
+    // The same .scen for a 5x5 map: refused, naming the line and both sizes.
+    cases.push((
+        owned(vec![
+            ("c.toml", scen.as_bytes().to_vec()),
+            ("small.map", SMALL.to_vec()),
+            (
+                "s.scen",
+                b"version 1\n0\tsmall.map\t5\t5\t0\t0\t2\t2\t3.4\n".to_vec(),
+            ),
+        ]),
+        args(&exp),
+        Error("scenario line 2 is for a 5x5 map, but small.map is 3x3"),
+    ));
+
     let n_cases = cases.len();
     let failures: Vec<String> = cases
         .into_iter()
@@ -466,4 +501,53 @@ fn careless_inputs_fail_cleanly() {
         failures.len(),
         failures.join("\n")
     );
+}
+
+/// Ctrl-C on a running `plan` (Backtracking on an open 30x30 map, which would run for
+/// hours) prints "interrupted" and exits with 130.
+#[test]
+fn plan_stops_on_ctrl_c() {
+    let dir = scratch(10_000);
+    let rows = format!("{}\n", ".".repeat(30)).repeat(30);
+    std::fs::write(
+        dir.join("open.map"),
+        format!("type octile\nheight 30\nwidth 30\nmap\n{rows}"),
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args([
+            "plan",
+            "open.map",
+            "--planner",
+            "backtracking",
+            "--max-expansions",
+            "100000000000000",
+        ])
+        .current_dir(&dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Long enough for the map to be read and the search to run.
+    std::thread::sleep(Duration::from_millis(1500));
+    assert!(child.try_wait().unwrap().is_none(), "plan ended early");
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let started = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > Duration::from_secs(30) {
+            child.kill().unwrap();
+            panic!("plan did not stop within 30 s of SIGINT");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let output = child.wait_with_output().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(output.status.code(), Some(130));
+    assert_eq!(String::from_utf8_lossy(&output.stderr), "interrupted\n");
+    assert!(output.stdout.is_empty());
 }
