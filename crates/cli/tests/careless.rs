@@ -21,6 +21,9 @@ enum Expect {
     Warn(&'static str),
 }
 
+/// One case: the files to write (name, bytes), the arguments, what must happen.
+type Case = (Vec<(String, Vec<u8>)>, Vec<String>, Expect);
+
 /// A 3x3 Moving AI map with a wall cell in the middle.
 const SMALL: &[u8] = b"type octile\nheight 3\nwidth 3\nmap\n...\n.@.\n...\n";
 
@@ -299,7 +302,7 @@ fn careless_inputs_fail_cleanly() {
         (format!("published = \"/dev/zero\"\n{CONFIG}"), Error("not a regular file")),
         (format!("published = \".\"\n{CONFIG}"), Error("not a regular file")),
     ];
-    let mut cases: Vec<(Vec<(String, Vec<u8>)>, Vec<String>, Expect)> = Vec::new();
+    let mut cases: Vec<Case> = Vec::new();
     let owned = |files: Vec<(&str, Vec<u8>)>| -> Vec<(String, Vec<u8>)> {
         files.into_iter().map(|(n, b)| (n.to_owned(), b)).collect()
     };
@@ -358,7 +361,7 @@ fn careless_inputs_fail_cleanly() {
     let small = || owned(vec![("small.map", SMALL.to_vec())]);
     let scen_other = b"version 1\n0\tother.map\t5\t5\t0\t0\t1\t1\t1.4\n".to_vec();
     let scen_same = b"version 1\n0\tother.map\t3\t3\t0\t0\t2\t2\t3.4\n".to_vec();
-    let plan_cases: Vec<(Vec<(String, Vec<u8>)>, Vec<String>, Expect)> = vec![
+    let plan_cases: Vec<Case> = vec![
         (small(), plan("missing.map", &["--planner", "astar"]), Error("missing.map: cannot read the file")),
         (small(), plan(".", &["--planner", "astar"]), Error("unsupported file extension")),
         (
