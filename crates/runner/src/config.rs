@@ -392,9 +392,18 @@ pub fn load(path: &Path) -> Result<Experiment, ConfigError> {
         file: path.to_path_buf(),
         line: e.line,
         column: e.column,
-        message: format!("cannot read the config: {}", e.kind),
+        message: format!("cannot read the config: {}", read_failure(&e)),
     })?;
     parse(path, &text)
+}
+
+/// Why [`planner_maps::read_text_file`] failed, without its "cannot read the file" for
+/// an operating-system error (the callers say what they could not read).
+fn read_failure(error: &planner_maps::MapError) -> String {
+    match &error.kind {
+        planner_maps::MapErrorKind::Io { message } => message.clone(),
+        other => other.to_string(),
+    }
 }
 
 /// The longest experiment `name`: it names the output directory and its lock and stream
@@ -1041,7 +1050,19 @@ fn load_published(
     let text = planner_maps::read_text_file(path, MAX_TEXT_BYTES).map_err(|e| {
         src.error(
             Some(span.clone()),
-            format!("key `published`: cannot read {e}"),
+            match e.line {
+                0 => format!(
+                    "key `published`: cannot read {}: {}",
+                    path.display(),
+                    read_failure(&e)
+                ),
+                line => format!(
+                    "key `published`: cannot read {}:{line}:{}: {}",
+                    path.display(),
+                    e.column,
+                    read_failure(&e)
+                ),
+            },
         )
     })?;
     parse_published(path, &text)
