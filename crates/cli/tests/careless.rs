@@ -457,6 +457,16 @@ fn careless_inputs_fail_cleanly() {
         Warn("map.yaml:7:1: key 'map_type' is not one map_server reads"),
     ));
 
+    // A pair outside the grid: recorded as an invalid problem, with a warning naming map,
+    // problem and cell (configs/README.md).
+    cases.push((
+        owned(experiment(&edit(
+            "problems = \"corners\"",
+            "pairs = [{ start = [0, 0], goal = [5, 5] }]",
+        ))),
+        args(&exp),
+        Warn("small.map problem 1: goal (5, 5) is outside the 3x3 grid; not run"),
+    ));
     // A .scen naming another map file of the same size: used, with a warning naming both.
     let scen = "name = \"sc\"\n[[maps]]\nfiles = [\"small.map\"]\nscen = \"s.scen\"\n[planners.a]\nplanner = \"astar\"\n";
     cases.push((
