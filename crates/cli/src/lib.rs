@@ -105,7 +105,7 @@ pub enum Command {
     Plan {
         /// The map file: Moving AI .map (problems from a .scen beside it), seed 003 .txt
         /// (its own start-goal pairs), 0/1 matrix .csv, ROS map_server .yaml (with its
-        /// PGM/PNG image), or a .png/.pgm image (dark cells blocked).
+        /// PGM/PNG image), or a .png/.pgm image read with map_server's defaults (dark = occupied).
         map: PathBuf,
         /// Registry name (astar, backtracking, ...), or a label of --config.
         #[arg(long)]

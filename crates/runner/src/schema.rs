@@ -302,7 +302,9 @@ pub fn experiment_schema() -> Result<Value, String> {
             "every": { "type": "integer", "minimum": 1 },
             "limit": count,
             "inflation": count,
-            "inflate_unknown": { "type": "boolean" }
+            "inflate_unknown": { "type": "boolean" },
+            "obstacle": { "enum": [0, 1],
+                          "description": ".csv maps only: the value of a cell that is an obstacle (default 0)." }
         }
     });
     let schema = json!({

@@ -229,6 +229,7 @@ fn the_schemas_runner_keys_are_the_parsers() {
         &GOOD.replace("name = \"mine\"", "name = \"mine\"\nzz_unknown = 1"),
     )
     .expect_err("an unknown key");
+    // A key added to the parser needs its line in src/schema.rs (and configs/README.md).
     assert_eq!(schema_keys(&schema), expected_keys(&top.message));
     let maps = config::parse(
         Path::new("t.toml"),
