@@ -1,6 +1,8 @@
 //! Streamed sweeps through the real binary: 3 shards merged equal one run, and a sweep
 //! killed (SIGKILL) mid-way and resumed equals an uninterrupted one (timing and memory
-//! columns aside).
+//! columns aside); a real Slurm job array of 3 tasks plus its afterok merge equals a
+//! local run (skipped, saying why, without a running Slurm, unless
+//! `GRIDPLAN_SLURM_TEST=1`, which CI sets after `scripts/slurm-start.sh`).
 
 mod common;
 
@@ -11,7 +13,8 @@ use std::time::{Duration, Instant};
 
 use common::root;
 
-fn xtask(args: &[&str]) {
+/// Runs xtask with `args` from the repository root; returns its stdout.
+fn xtask(args: &[&str]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_xtask"))
         .args(args)
         .current_dir(root())
@@ -22,6 +25,7 @@ fn xtask(args: &[&str]) {
         "{args:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -163,4 +167,131 @@ fn killed_and_resumed_equals_uninterrupted() {
         &out.display().to_string(),
     ]);
     assert_eq!(deterministic_csv(Path::new(&full)), deterministic_csv(&out));
+}
+
+/// runs.json's records without their timing and memory fields.
+fn deterministic_records(dir: &Path) -> Vec<serde_json::Value> {
+    let text = fs::read_to_string(dir.join("runs.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    json["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|record| {
+            let mut record = record.clone();
+            for field in ["time_ms", "setup_ms", "peak_heap_bytes"] {
+                record.as_object_mut().unwrap().remove(field);
+            }
+            record
+        })
+        .collect()
+}
+
+/// Why the Slurm test cannot run here (no sbatch, or no controller answering), if so.
+fn slurm_missing() -> Option<String> {
+    let ping = match Command::new("scontrol").arg("ping").output() {
+        Err(e) => return Some(format!("no Slurm here (scontrol: {e})")),
+        Ok(out) => String::from_utf8_lossy(&out.stdout).into_owned(),
+    };
+    if Command::new("sbatch").arg("--version").output().is_err() {
+        return Some("no sbatch on PATH".into());
+    }
+    if !ping.contains("UP") {
+        return Some(format!("no Slurm controller answers: {}", ping.trim()));
+    }
+    None
+}
+
+/// squeue's lines for `jobs`: empty once they have all left the queue.
+fn queued(jobs: &str) -> String {
+    let out = Command::new("squeue")
+        .args(["-h", "-j", jobs, "-o", "%i %T %r"])
+        .output()
+        .unwrap();
+    String::from_utf8_lossy(&out.stdout).trim().to_string()
+}
+
+#[test]
+fn slurm_array_and_merge_equal_a_local_run() {
+    if let Some(reason) = slurm_missing() {
+        assert!(
+            std::env::var("GRIDPLAN_SLURM_TEST").as_deref() != Ok("1"),
+            "GRIDPLAN_SLURM_TEST=1 but {reason}; start one with scripts/slurm-start.sh"
+        );
+        eprintln!("skipped: {reason} (scripts/slurm-start.sh starts a one-node cluster)");
+        return;
+    }
+    let dir = scratch("slurm");
+    // The absolute config path, as the Slurm scripts name it (summary.md quotes it).
+    let config = root()
+        .join("configs/movingai.toml")
+        .canonicalize()
+        .unwrap()
+        .display()
+        .to_string();
+    let merged = dir.join("merged");
+    let printed = xtask(&[
+        "slurm",
+        &config,
+        "--shards",
+        "3",
+        "--output",
+        &merged.display().to_string(),
+        "--submit",
+    ]);
+    let id = |what: &str| {
+        printed
+            .lines()
+            .find_map(|l| l.strip_prefix(what))
+            .unwrap_or_else(|| panic!("no {what:?} in {printed}"))
+            .trim()
+            .to_string()
+    };
+    let (array, merge) = (id("array job "), id("merge job "));
+    let local = dir.join("local").display().to_string();
+    xtask(&["experiment", &config, "--quiet", "--output", &local]);
+    let jobs = format!("{array},{merge}");
+    let started = Instant::now();
+    let logs = || {
+        let work = dir.join("merged-slurm");
+        let mut text = String::new();
+        for entry in fs::read_dir(&work).into_iter().flatten().flatten() {
+            if entry.path().extension().is_some_and(|e| e == "log") {
+                text += &format!(
+                    "--- {}\n{}\n",
+                    entry.path().display(),
+                    fs::read_to_string(entry.path()).unwrap_or_default()
+                );
+            }
+        }
+        text
+    };
+    while !queued(&jobs).is_empty() {
+        if started.elapsed() > Duration::from_secs(300) {
+            let _ = Command::new("scancel").arg(&array).arg(&merge).status();
+            panic!("jobs {jobs} still queued after 300 s: {}\n{}", queued(&jobs), logs());
+        }
+        std::thread::sleep(Duration::from_millis(250));
+    }
+    let show = Command::new("scontrol")
+        .args(["show", "job", &merge])
+        .output()
+        .unwrap();
+    let show = String::from_utf8_lossy(&show.stdout);
+    assert!(
+        show.contains("JobState=COMPLETED"),
+        "merge job {merge}: {show}\n{}",
+        logs()
+    );
+    let records = deterministic_records(Path::new(&local));
+    assert!(records.len() > 1000);
+    assert!(records == deterministic_records(&merged), "records differ");
+    assert_eq!(deterministic_csv(Path::new(&local)), deterministic_csv(&merged));
+    assert_eq!(
+        deterministic_summary(Path::new(&local)),
+        deterministic_summary(&merged)
+    );
+    for k in 1..=3 {
+        assert!(dir.join(format!("merged-slurm/shard-{k}/shard.jsonl")).exists());
+    }
 }
