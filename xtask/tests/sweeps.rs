@@ -1,6 +1,8 @@
 //! Streamed sweeps through the real binary: 3 shards merged equal one run, and a sweep
 //! killed (SIGKILL) mid-way and resumed equals an uninterrupted one (timing and memory
-//! columns aside); a real Slurm job array of 3 tasks plus its afterok merge equals a
+//! columns aside); SIGINT and SIGTERM stop a sweep with exit status 130, the finished
+//! runs recorded and the old results untouched, and resuming then equals an
+//! uninterrupted run; a real Slurm job array of 3 tasks plus its afterok merge equals a
 //! local run (skipped, saying why, without a running Slurm, unless
 //! `GRIDPLAN_SLURM_TEST=1`, which CI sets after `scripts/slurm-start.sh`).
 
@@ -167,6 +169,82 @@ fn killed_and_resumed_equals_uninterrupted() {
         &out.display().to_string(),
     ]);
     assert_eq!(deterministic_csv(Path::new(&full)), deterministic_csv(&out));
+}
+
+/// The stream's recorded runs (its lines but the header).
+fn recorded(stream: &Path) -> usize {
+    fs::read(stream)
+        .map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count())
+        .saturating_sub(1)
+}
+
+/// Starts `experiment config --threads 2 --output out` (with `extra`), waits until its
+/// stream holds a few batches, sends `signal` and returns its exit status and stderr.
+fn interrupt(config: &str, out: &Path, extra: &[&str], signal: &str) -> (Option<i32>, String) {
+    let child = Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args(["experiment", config, "--quiet", "--threads", "2"])
+        .args(extra)
+        .arg("--output")
+        .arg(out)
+        .current_dir(root())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stream = out.with_file_name(".res.stream/records.jsonl");
+    let before = recorded(&stream);
+    let started = Instant::now();
+    while recorded(&stream) < before + 2048 {
+        assert!(started.elapsed() < Duration::from_secs(120), "no progress");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let status = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn sigint_and_sigterm_stop_cleanly_and_resume_equals_uninterrupted() {
+    let dir = scratch("signals");
+    let config = "configs/bench/arena-repeats.toml";
+    let full = dir.join("full").display().to_string();
+    xtask(&["experiment", config, "--quiet", "--threads", "2", "--output", &full]);
+    // An older result in the output, which an interrupted sweep must leave as it was.
+    let out = dir.join("res");
+    let paper = "configs/paper.toml";
+    xtask(&["experiment", paper, "--quiet", "--output", &out.display().to_string()]);
+    let old_csv = fs::read(out.join("runs.csv")).unwrap();
+    let stream = dir.join(".res.stream/records.jsonl");
+    for (signal, extra) in [("-INT", &[][..]), ("-TERM", &["--resume"][..])] {
+        let (code, stderr) = interrupt(config, &out, extra, signal);
+        assert_eq!(code, Some(130), "{signal}: {stderr}");
+        let n = recorded(&stream);
+        assert!(n < 16_000, "{signal}: the sweep finished first");
+        assert!(
+            stderr.contains(&format!(
+                "interrupted after {n} of 16000 runs; rerun with --resume to continue"
+            )),
+            "{signal}: {n} recorded; {stderr}"
+        );
+        // Complete lines only: the stop came between runs, not mid-write.
+        assert_eq!(fs::read(&stream).unwrap().last(), Some(&b'\n'));
+        assert_eq!(fs::read(out.join("runs.csv")).unwrap(), old_csv, "{signal}");
+    }
+    xtask(&[
+        "experiment",
+        config,
+        "--quiet",
+        "--threads",
+        "2",
+        "--resume",
+        "--output",
+        &out.display().to_string(),
+    ]);
+    assert_eq!(deterministic_csv(Path::new(&full)), deterministic_csv(&out));
+    assert!(!stream.exists());
 }
 
 /// runs.json's records without their timing and memory fields.

@@ -9,6 +9,7 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -162,6 +163,33 @@ pub fn exit(result: Result<(), String>) -> ExitCode {
     }
 }
 
+/// The exit status of a sweep stopped by SIGINT or SIGTERM (128 + SIGINT, the shell's).
+pub const EXIT_INTERRUPTED: i32 = 130;
+
+/// Raised by the first SIGINT or SIGTERM.
+static STOP: AtomicBool = AtomicBool::new(false);
+
+/// Installs the handler of SIGINT and SIGTERM (Ctrl-C; Slurm's `scancel`): the first
+/// raises [`STOP`], so the sweep starts no new run and records the finished ones; a
+/// second exits at once with [`EXIT_INTERRUPTED`] (the stream may then end in a cut line,
+/// which `--resume` drops). `None` (with a warning) if no handler can be installed.
+fn stop_on_signals() -> Option<&'static AtomicBool> {
+    let installed = ctrlc::try_set_handler(|| {
+        if STOP.swap(true, Ordering::SeqCst) {
+            eprintln!("interrupted again: quitting now");
+            std::process::exit(EXIT_INTERRUPTED);
+        }
+        eprintln!("stopping: finishing the runs in progress (interrupt again to quit at once)");
+    });
+    match installed {
+        Ok(()) | Err(ctrlc::Error::MultipleHandlers) => Some(&STOP),
+        Err(e) => {
+            tracing::warn!("no SIGINT/SIGTERM handler, a signal will kill the sweep: {e}");
+            None
+        }
+    }
+}
+
 /// A sweep's progress bar on stderr (hidden when stderr is not a terminal).
 #[derive(Default)]
 struct Bar(std::sync::OnceLock<ProgressBar>);
@@ -207,6 +235,7 @@ pub fn run(command: Command) -> Result<(), String> {
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())?,
             };
             let bar = Bar::default();
+            let stop = stop_on_signals();
             let report = sweep::experiment(&sweep::SweepArgs {
                 config: &config,
                 threads,
@@ -215,7 +244,15 @@ pub fn run(command: Command) -> Result<(), String> {
                 heap: Some(&alloc::Meter),
                 resume,
                 shard,
+                stop,
             })?;
+            if let Some(n_recorded) = report.interrupted {
+                eprintln!(
+                    "interrupted after {n_recorded} of {} runs; rerun with --resume to continue",
+                    report.n_runs
+                );
+                std::process::exit(EXIT_INTERRUPTED);
+            }
             println!(
                 "{} runs in {:.2} s -> {}",
                 report.n_runs,

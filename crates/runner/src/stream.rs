@@ -244,9 +244,11 @@ impl<R: BufRead> StreamReader<R> {
 }
 
 /// Runs the runs `runs` (increasing indices into `experiment`'s [`RunList`]) and calls
-/// `sink` with each finished batch of (index, record), in order. The records of one
-/// sweep do not depend on the thread count or the batch size. Progress counts runs done
-/// in this call.
+/// `sink` with each finished batch of (index, record), in order, and returns how many
+/// ran. The records of one sweep do not depend on the thread count or the batch size.
+/// Progress counts runs done in this call. Once [`RunOptions::stop`] is set, no new run
+/// starts: the last batch handed to `sink` holds the runs finished before the first one
+/// skipped, and the count is short of the runs asked for.
 pub fn run_stream(
     experiment: &Experiment,
     runs: impl Iterator<Item = u64>,
@@ -277,10 +279,14 @@ pub fn run_stream(
     while runs.peek().is_some() {
         batch.clear();
         batch.extend(runs.by_ref().take(batch_size));
-        let records: Vec<Result<(u64, RunRecord), RunnerError>> = pool.install(|| {
+        let stopped = || options.stop.is_some_and(|stop| stop.load(Ordering::Relaxed));
+        let records: Vec<Result<Option<(u64, RunRecord)>, RunnerError>> = pool.install(|| {
             batch
                 .par_iter()
                 .map(|&index| {
+                    if stopped() {
+                        return Ok(None);
+                    }
                     let spec = list.get(index).ok_or(RunnerError::RunIndex(index))?;
                     let worker = rayon::current_thread_index().unwrap_or(0) % workers;
                     let mut workspace = workspaces[worker]
@@ -294,13 +300,24 @@ pub fn run_stream(
                     if let Some(progress) = options.progress {
                         progress(done.fetch_add(1, Ordering::Relaxed) + 1);
                     }
-                    Ok((index, record))
+                    Ok(Some((index, record)))
                 })
                 .collect()
         });
-        let records: Vec<(u64, RunRecord)> = records.into_iter().collect::<Result<_, _>>()?;
-        n_done += records.len() as u64;
-        sink(&records)?;
+        // After a stop, the runs finished before the first skipped one: the stream stays
+        // an unbroken prefix of the run order.
+        let mut finished = Vec::with_capacity(records.len());
+        for record in records {
+            match record? {
+                Some(record) => finished.push(record),
+                None => break,
+            }
+        }
+        n_done += finished.len() as u64;
+        sink(&finished)?;
+        if finished.len() < batch.len() || stopped() {
+            break;
+        }
     }
     Ok(n_done)
 }

@@ -14,10 +14,16 @@
 //! (`paths`). Then the stream area is removed. A shard (`--shard K/N`) instead writes its
 //! stream as `shard.jsonl` into its output directory; [`merge`] checks that a set of shard
 //! directories is complete and of one config and renders the one sweep's outputs from them.
+//!
+//! A sweep whose stop flag ([`SweepArgs::stop`], set by the command line on SIGINT or
+//! SIGTERM) is raised starts no new run, appends the runs finished before the first one
+//! it skipped, and returns a [`Report`] with [`Report::interrupted`] set: nothing is
+//! rendered, the old results stay as they were, and the stream stays for `--resume`.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{BufReader, Seek as _, SeekFrom, Write as _};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use crate::output::OutputFile;
@@ -48,6 +54,9 @@ pub struct Report {
     pub reproduction: Reproduction,
     /// Wall time of the sweep and the writing, in seconds.
     pub seconds: f64,
+    /// `Some(n)` when the stop flag ended the sweep with `n` of its `n_runs` runs
+    /// recorded (in the stream, for `--resume`); no results were written.
+    pub interrupted: Option<u64>,
 }
 
 /// A sweep's progress display (a command line's progress bar); the sweep calls it from
@@ -80,6 +89,8 @@ pub struct SweepArgs<'a> {
     pub resume: bool,
     /// Run one shard only.
     pub shard: Option<Shard>,
+    /// Once set, the sweep stops (see the module docs).
+    pub stop: Option<&'a AtomicBool>,
 }
 
 impl<'a> SweepArgs<'a> {
@@ -94,6 +105,7 @@ impl<'a> SweepArgs<'a> {
             heap: None,
             resume: false,
             shard: None,
+            stop: None,
         }
     }
 }
@@ -158,9 +170,10 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         threads: args.threads,
         progress: Some(&tick),
         heap: args.heap,
+        stop: args.stop,
     };
     let mut buffer = Vec::new();
-    stream::run_stream(
+    let n_ran = stream::run_stream(
         &experiment,
         runs.iter().skip(n_done as usize),
         &options,
@@ -179,6 +192,15 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         progress.finish();
     }
     drop(file);
+    if n_done + n_ran < runs.len() {
+        return Ok(Report {
+            n_runs: runs.len() as usize,
+            output: dir,
+            reproduction: Reproduction::default(),
+            seconds: started.elapsed().as_secs_f64(),
+            interrupted: Some(n_done + n_ran),
+        });
+    }
     let reproduction = if args.shard.is_some() {
         let contents = fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let files = [OutputFile {
@@ -201,6 +223,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         output: dir,
         reproduction,
         seconds: started.elapsed().as_secs_f64(),
+        interrupted: None,
     })
 }
 
@@ -464,6 +487,7 @@ pub fn merge(
         output: dir,
         reproduction,
         seconds: started.elapsed().as_secs_f64(),
+        interrupted: None,
     })
 }
 
