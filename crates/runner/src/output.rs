@@ -187,8 +187,8 @@ pub fn write_runs_json(
         if optional[4] {
             cell(&mut row, &(!r.series.is_empty()).then_some(&r.series))?;
         }
-        for name in &counter_names {
-            cell(&mut row, &r.counters.get(name))?;
+        for value in counter_values(&r.counters, &counter_names) {
+            cell(&mut row, &value)?;
         }
         // The last cell's comma closes the row.
         if let Some(last) = row.last_mut() {
@@ -222,6 +222,23 @@ mod erased {
             serde_json::to_writer(out, self).map_err(RunnerError::Json)
         }
     }
+}
+
+/// The values of `counters` under `names`, in that order (`None` where absent). A run
+/// usually reports its counters in the order of `names`: each is then found at the next
+/// position, with one comparison.
+fn counter_values<'a>(
+    counters: &'a planner_api::Counters,
+    names: &'a [String],
+) -> impl Iterator<Item = Option<u64>> + 'a {
+    let mut reported = counters.iter().peekable();
+    names.iter().map(move |name| match reported.peek() {
+        Some(&(next, value)) if next == name => {
+            reported.next();
+            Some(value)
+        }
+        _ => counters.get(name),
+    })
 }
 
 /// Every counter name of `records`, in order of first appearance.
@@ -283,9 +300,9 @@ pub fn write_runs_csv(out: &mut dyn Write, records: &[RunRecord]) -> Result<(), 
         ];
         line.clear();
         line.push_str(&fields.join(","));
-        for name in &counter_names {
+        for value in counter_values(&r.counters, &counter_names) {
             line.push(',');
-            if let Some(v) = r.counters.get(name) {
+            if let Some(v) = value {
                 let _ = write!(line, "{v}");
             }
         }

@@ -271,7 +271,8 @@ impl<R: BufRead> StreamReader<R> {
 
 /// Runs the runs `runs` (increasing indices into `experiment`'s [`RunList`]) and calls
 /// `sink` with each finished batch of (index, record), in order (the sink owns them, to
-/// write or keep), and returns how many
+/// write or keep; it runs in the sweep's thread pool, so rayon's parallel iterators in it
+/// use the sweep's workers), and returns how many
 /// ran. The records of one sweep do not depend on the thread count or the batch size.
 /// Progress counts runs done in this call. Once [`RunOptions::stop`] is set, no new run
 /// starts: the last batch handed to `sink` holds the runs finished before the first one
@@ -280,7 +281,7 @@ pub fn run_stream(
     experiment: &Experiment,
     runs: impl Iterator<Item = u64>,
     options: &RunOptions<'_>,
-    mut sink: impl FnMut(Vec<(u64, RunRecord)>) -> Result<(), RunnerError>,
+    mut sink: impl FnMut(Vec<(u64, RunRecord)>) -> Result<(), RunnerError> + Send,
 ) -> Result<u64, RunnerError> {
     let list = RunList::new(experiment);
     let threads = match options.threads {
@@ -346,7 +347,8 @@ pub fn run_stream(
         }
         n_done += finished.len() as u64;
         let cut_short = finished.len() < batch.len();
-        sink(finished)?;
+        // In the pool, so that a sink's parallel work runs on the sweep's workers.
+        pool.install(|| sink(finished))?;
         if cut_short || stopped() {
             break;
         }

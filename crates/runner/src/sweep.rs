@@ -29,6 +29,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use crate::output::{OutputFile, StreamedFile};
 use crate::provenance::Provenance;
 use crate::report::Reproduction;
@@ -180,7 +182,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
     let keep = args.shard.is_none();
     let mut records: Vec<RunRecord> = Vec::new();
     if keep {
-        records.reserve_exact(runs.len().min(1 << 24) as usize);
+        records.reserve_exact(runs.len().min(1 << 20) as usize);
         if n_done > 0 {
             file.flush()
                 .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -193,9 +195,17 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         runs.iter().skip(n_done as usize),
         &options,
         |batch| {
+            // Encoded in parallel on the sweep's workers (the sink runs in their pool).
+            let lines: Vec<Vec<u8>> = batch
+                .par_iter()
+                .map(|(run, record)| {
+                    let mut line = Vec::with_capacity(512);
+                    stream::encode(&mut line, *run, record).map(|()| line)
+                })
+                .collect::<Result<_, _>>()?;
             buffer.clear();
-            for (run, record) in &batch {
-                stream::encode(&mut buffer, *run, record)?;
+            for line in &lines {
+                buffer.extend_from_slice(line);
             }
             file.write_all(&buffer)
                 .and_then(|()| file.flush())
