@@ -117,6 +117,10 @@ pub enum Command {
         /// Expansion budget (default: the config label's, else 10,000,000, so every run ends).
         #[arg(long)]
         max_expansions: Option<u64>,
+        /// The value of a .csv map's cell that is an obstacle: 0 (the default, seed 000's
+        /// convention) or 1 (the common occupancy-grid convention).
+        #[arg(long, value_parser = clap::value_parser!(u8).range(0..=1))]
+        obstacle: Option<u8>,
         /// Print exactly one JSON object.
         #[arg(long)]
         json: bool,
@@ -163,28 +167,52 @@ pub fn exit(result: Result<(), String>) -> ExitCode {
     }
 }
 
-/// The exit status of a sweep stopped by SIGINT or SIGTERM (128 + SIGINT, the shell's).
-pub const EXIT_INTERRUPTED: i32 = 130;
+/// The exit code of a command stopped by Ctrl-C (SIGINT) or SIGTERM: 128 + 2, as shells
+/// report Ctrl-C.
+pub const EXIT_INTERRUPTED: u8 = 130;
 
-/// Raised by the first SIGINT or SIGTERM.
+/// Raised by the first SIGINT or SIGTERM while a sweep watches it.
 static STOP: AtomicBool = AtomicBool::new(false);
 
-/// Installs the handler of SIGINT and SIGTERM (Ctrl-C; Slurm's `scancel`): the first
-/// raises [`STOP`], so the sweep starts no new run and records the finished ones; a
-/// second exits at once with [`EXIT_INTERRUPTED`] (the stream may then end in a cut line,
-/// which `--resume` drops). `None` (with a warning) if no handler can be installed.
-fn stop_on_signals() -> Option<&'static AtomicBool> {
+/// Whether a sweep watches [`STOP`] (else a signal ends the process at once).
+static GRACEFUL: AtomicBool = AtomicBool::new(false);
+
+/// Installs the one handler of SIGINT and SIGTERM (Ctrl-C; Slurm's `scancel`). While a
+/// sweep watches [`STOP`], the first signal raises it, so the sweep starts no new run and
+/// records the finished ones; otherwise (`plan`, which writes nothing, or a second
+/// signal) it prints "interrupted" and exits at once with [`EXIT_INTERRUPTED`] (a sweep's
+/// stream may then end in a cut line, which `--resume` drops). A handler installed first
+/// is kept.
+fn install_handler() -> Result<(), ctrlc::Error> {
     let installed = ctrlc::try_set_handler(|| {
-        if STOP.swap(true, Ordering::SeqCst) {
-            eprintln!("interrupted again: quitting now");
-            std::process::exit(EXIT_INTERRUPTED);
+        if GRACEFUL.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
+            eprintln!("stopping: finishing the runs in progress (interrupt again to quit at once)");
+            return;
         }
-        eprintln!("stopping: finishing the runs in progress (interrupt again to quit at once)");
+        eprintln!("interrupted");
+        std::process::exit(i32::from(EXIT_INTERRUPTED));
     });
     match installed {
-        Ok(()) | Err(ctrlc::Error::MultipleHandlers) => Some(&STOP),
-        Err(e) => {
-            tracing::warn!("no SIGINT/SIGTERM handler, a signal will kill the sweep: {e}");
+        Ok(()) | Err(ctrlc::Error::MultipleHandlers) => Ok(()),
+        Err(error) => Err(error),
+    }
+}
+
+/// Makes Ctrl-C end the process at once with "interrupted" and [`EXIT_INTERRUPTED`]: for
+/// `plan`, which writes nothing, so stopping anywhere is clean.
+fn stop_on_interrupt() -> Result<(), String> {
+    install_handler().map_err(|error| format!("cannot handle Ctrl-C: {error}"))
+}
+
+/// Makes SIGINT and SIGTERM stop a sweep cleanly: the flag it watches, or `None` (with a
+/// warning) if no handler can be installed.
+fn stop_on_signals() -> Option<&'static AtomicBool> {
+    GRACEFUL.store(true, Ordering::SeqCst);
+    match install_handler() {
+        Ok(()) => Some(&STOP),
+        Err(error) => {
+            GRACEFUL.store(false, Ordering::SeqCst);
+            tracing::warn!("no SIGINT/SIGTERM handler, a signal will kill the sweep: {error}");
             None
         }
     }
@@ -251,7 +279,7 @@ pub fn run(command: Command) -> Result<(), String> {
                     "interrupted after {n_recorded} of {} runs; rerun with --resume to continue",
                     report.n_runs
                 );
-                std::process::exit(EXIT_INTERRUPTED);
+                std::process::exit(i32::from(EXIT_INTERRUPTED));
             }
             println!(
                 "{} runs in {:.2} s -> {}",
@@ -316,8 +344,10 @@ pub fn run(command: Command) -> Result<(), String> {
             goal,
             set,
             max_expansions,
+            obstacle,
             json,
         } => {
+            stop_on_interrupt()?;
             let args = PlanArgs {
                 map,
                 planner,
@@ -327,6 +357,7 @@ pub fn run(command: Command) -> Result<(), String> {
                 goal,
                 set,
                 max_expansions,
+                obstacle: obstacle.and_then(planner_maps::CsvConvention::from_obstacle_value),
             };
             let result = planner_runner::plan::run(&args).map_err(|e| e.to_string())?;
             if json {
