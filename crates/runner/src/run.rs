@@ -116,6 +116,10 @@ pub struct RunOptions<'a> {
     pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
     /// Measures peak heap per run; without it `peak_heap_bytes` is 0.
     pub heap: Option<&'a dyn HeapMeter>,
+    /// Once set (by a binary's signal handler), a streamed sweep
+    /// ([`crate::stream::run_stream`]) starts no new run and hands its sink the finished
+    /// prefix of the batch in progress; [`run_all`] ignores it.
+    pub stop: Option<&'a std::sync::atomic::AtomicBool>,
 }
 
 /// One worker's planners, one per label, reused across its runs.
