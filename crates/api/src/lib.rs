@@ -53,5 +53,7 @@ pub use moves::{
     IndexedMoves, Move, MoveSet, NeighborOrder, SegmentWalk,
 };
 pub use path::{Path, PathMetrics, PathRank, PathRule};
-pub use planner::{Budget, BudgetClock, Mark, Outcome, Planner, Problem, Series, Status};
+pub use planner::{
+    Budget, BudgetClock, Mark, MemoryShortfall, Outcome, Planner, Problem, Series, Status,
+};
 pub use specs::{ParamError, ParamKey, PathSpec, PlannerSpecs, SEED_PARAM};
