@@ -36,6 +36,7 @@ pub mod coverage;
 pub mod error;
 pub mod grid;
 pub mod moves;
+pub mod pages;
 pub mod path;
 pub mod planner;
 pub mod specs;
