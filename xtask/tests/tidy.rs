@@ -14,6 +14,14 @@ const SUPPORT_CRATES: &[&str] = &[
     "api", "bench", "cli", "figures", "maps", "runner", "stats", "testkit",
 ];
 
+/// The package of `crates/<dir>`: `planner-<dir>`, but for the command line, `gridplan`.
+fn package_name(dir: &str) -> String {
+    match dir {
+        "cli" => "gridplan".to_string(),
+        _ => format!("planner-{dir}"),
+    }
+}
+
 /// What planner-api may depend on (normal dependencies).
 const API_DEPENDENCIES: &[&str] = &["serde", "thiserror"];
 
@@ -135,11 +143,7 @@ fn registry_crate_directories_and_runner_dependencies_match() {
             .iter()
             .find(|p| p.dir.file_name().is_some_and(|n| n == dir.as_str()))
             .unwrap_or_else(|| panic!("crates/{dir} is not a workspace member"));
-        assert_eq!(
-            p.name,
-            format!("planner-{dir}"),
-            "crates/{dir}'s package name"
-        );
+        assert_eq!(p.name, package_name(dir), "crates/{dir}'s package name");
     }
     let runner = packages
         .iter()
@@ -209,7 +213,7 @@ fn every_rust_file_opens_with_a_module_doc() {
 fn architecture_names_every_crate() {
     let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
     for dir in crate_dirs() {
-        let package = format!("planner-{dir}");
+        let package = package_name(&dir);
         assert!(
             text.contains(&format!("crates/{dir}")) && text.contains(&package),
             "ARCHITECTURE.md's code map does not name crates/{dir} ({package})"
