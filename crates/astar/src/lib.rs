@@ -52,8 +52,8 @@
 //!
 //! With [`Budget::record_expanded`] set, [`Outcome::expanded`] lists the expanded cells in
 //! expansion order (the goal last when found), one per `n_expanded`; the search is
-//! otherwise the same, and with it off the only cost is one test of a local flag per
-//! expansion.
+//! otherwise the same. The flag is a constant of the search loop (two copies of it are
+//! compiled), so with it off the loop has no recording code.
 //!
 //! Costs are [`planner_api::Cost`]s, fixed point in units of `2^-32`: every path cost
 //! is an integer sum of its moves' costs, so equal path costs are equal numbers and tie
@@ -639,25 +639,32 @@ impl AStar {
         search
     }
 
-    /// [`AStar::run`] with the configured heuristic as a constant.
+    /// [`AStar::run`] with the configured heuristic and the budget's recording flag as
+    /// constants, so that a search that records nothing has no recording code at all.
     fn run_with<O: Open>(
         &mut self,
         open: &mut O,
         problem: &Problem<'_>,
         budget: &Budget,
     ) -> Search {
-        match self.config.heuristic {
-            Heuristic::Manhattan => self.run::<O, MANHATTAN>(open, problem, budget),
-            Heuristic::Octile => self.run::<O, OCTILE>(open, problem, budget),
-            Heuristic::Euclidean => self.run::<O, EUCLIDEAN>(open, problem, budget),
-            Heuristic::Chebyshev => self.run::<O, CHEBYSHEV>(open, problem, budget),
-            Heuristic::Zero => self.run::<O, ZERO>(open, problem, budget),
+        match (self.config.heuristic, budget.record_expanded) {
+            (Heuristic::Manhattan, false) => self.run::<O, MANHATTAN, false>(open, problem, budget),
+            (Heuristic::Octile, false) => self.run::<O, OCTILE, false>(open, problem, budget),
+            (Heuristic::Euclidean, false) => self.run::<O, EUCLIDEAN, false>(open, problem, budget),
+            (Heuristic::Chebyshev, false) => self.run::<O, CHEBYSHEV, false>(open, problem, budget),
+            (Heuristic::Zero, false) => self.run::<O, ZERO, false>(open, problem, budget),
+            (Heuristic::Manhattan, true) => self.run::<O, MANHATTAN, true>(open, problem, budget),
+            (Heuristic::Octile, true) => self.run::<O, OCTILE, true>(open, problem, budget),
+            (Heuristic::Euclidean, true) => self.run::<O, EUCLIDEAN, true>(open, problem, budget),
+            (Heuristic::Chebyshev, true) => self.run::<O, CHEBYSHEV, true>(open, problem, budget),
+            (Heuristic::Zero, true) => self.run::<O, ZERO, true>(open, problem, budget),
         }
     }
 
-    /// The search itself, with the OPEN list `open` and heuristic `H` (one of the
-    /// constants [`MANHATTAN`] ... [`ZERO`]). Counters are locals until it returns.
-    fn run<O: Open, const H: u8>(
+    /// The search itself, with the OPEN list `open`, heuristic `H` (one of the constants
+    /// [`MANHATTAN`] ... [`ZERO`]) and `RECORD` true to list the expanded cells. Counters
+    /// are locals until it returns.
+    fn run<O: Open, const H: u8, const RECORD: bool>(
         &mut self,
         open: &mut O,
         problem: &Problem<'_>,
@@ -680,7 +687,6 @@ impl AStar {
         };
         let bits = self.bits.get_or_build(grid, &layout, &self.moves);
         self.cells.fit(layout.padded_len, bits.is_some());
-        let record = budget.record_expanded;
         let mut expanded = Vec::new();
         let Cells {
             state,
@@ -739,7 +745,7 @@ impl AStar {
             }
             state[p] |= CLOSED;
             tally.n_expanded += 1;
-            if record {
+            if RECORD {
                 expanded.push(layout.cell(p));
             }
             if p == goal_index {
