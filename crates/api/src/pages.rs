@@ -27,7 +27,8 @@ const PAGE_BITS: u32 = 10;
 /// A lazily allocated array of `len` records of `T`; see the module docs.
 #[derive(Debug, Clone, Default)]
 pub struct Pages<T> {
-    pages: Vec<Option<Box<[T]>>>,
+    /// One thin pointer (8 bytes, `None` a null) per page.
+    pages: Vec<Option<Box<[T; PAGE_LEN]>>>,
     len: usize,
     n_allocated: usize,
 }
@@ -72,7 +73,7 @@ impl<T: Copy + Default> Pages<T> {
         if page.is_none() {
             self.n_allocated += 1;
         }
-        let page = page.get_or_insert_with(|| vec![T::default(); PAGE_LEN].into_boxed_slice());
+        let page = page.get_or_insert_with(|| Box::new([T::default(); PAGE_LEN]));
         &mut page[i & (PAGE_LEN - 1)]
     }
 
@@ -91,14 +92,14 @@ impl<T: Copy + Default> Pages<T> {
     /// The bytes held: the allocated pages and the table of page pointers.
     pub fn resident_bytes(&self) -> usize {
         self.n_allocated * PAGE_LEN * std::mem::size_of::<T>()
-            + self.pages.len() * std::mem::size_of::<Option<Box<[T]>>>()
+            + self.pages.len() * std::mem::size_of::<Option<Box<[T; PAGE_LEN]>>>()
     }
 
     /// The bytes `len` records would hold with every page allocated.
     pub fn full_bytes(len: usize) -> u64 {
         let n_pages = len.div_ceil(PAGE_LEN) as u64;
         n_pages * (PAGE_LEN * std::mem::size_of::<T>()) as u64
-            + n_pages * std::mem::size_of::<Option<Box<[T]>>>() as u64
+            + n_pages * std::mem::size_of::<Option<Box<[T; PAGE_LEN]>>>() as u64
     }
 }
 

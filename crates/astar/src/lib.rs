@@ -622,6 +622,18 @@ impl AStar {
         &self.moves
     }
 
+    /// The bytes of the per-grid tables the planner holds, which are written in full
+    /// when built: the bit grid (4 and 8 directions) or the adjacency's masks and copy of
+    /// the grid (more directions). The per-cell search arrays are not counted: they are
+    /// allocated zeroed and committed by the system only where searches write them.
+    pub fn table_bytes(&self) -> usize {
+        let adjacency = self
+            .adjacency
+            .as_ref()
+            .map_or(0, |a| 8 * a.padded_len() + a.padded_len() / 8);
+        adjacency + self.bits.bytes.len() + self.bits.table.len() + self.bits.target_table.len()
+    }
+
     /// Runs A* on `problem` within `budget` and returns the path with raw counters.
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
         let mut opens = std::mem::take(&mut self.opens);

@@ -165,3 +165,23 @@ fn a_tiny_memory_budget_refuses_before_allocating() {
         assert!(outcome.memory.is_none());
     }
 }
+
+#[test]
+fn tables_are_sized_by_bits_not_by_eight_bytes_per_cell() {
+    // Issue 18: one query on a large open grid held 8 bytes of move masks per cell (and
+    // 8 of g, written in full) before the search began. With 8 moves the tables are now
+    // the bit grid alone: one bit per padded cell (4002 x 4002 / 8 bytes, and 2 x 512
+    // bytes of neighbourhood tables).
+    let grid = Grid::new(4000, 4000).unwrap();
+    let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(3999, 3999)).unwrap();
+    let mut astar = AStar::new(Config {
+        moves: Connectivity::Eight,
+        heuristic: Heuristic::Octile,
+        tie_break: TieBreak::HighG,
+        ..Config::default()
+    })
+    .unwrap();
+    let outcome = astar.plan(&problem, &Budget::expansions(1000));
+    assert_eq!(outcome.status, Status::BudgetExhausted);
+    assert_eq!(astar.table_bytes(), 4002 * 4002 / 8 + 3 + 2 * 512);
+}
