@@ -45,7 +45,7 @@
 //! ```
 //!
 //! # Budget
-//! The planner honours the expansion and time limits of its [`Budget`](planner_api::Budget)
+//! The planner honours the expansion and time limits of its [`planner_api::Budget`]
 //! but does not record expanded cells ([`planner_api::Outcome::expanded`] stays empty
 //! whatever [`Budget::record_expanded`](planner_api::Budget::record_expanded) says; search
 //! effort figures say "not recorded") and does not check

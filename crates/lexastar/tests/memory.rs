@@ -20,7 +20,10 @@ fn a_thousand_expansions_on_a_4000_square_hold_megabytes_not_gigabytes() {
     // 24 KiB pages: a page holds 256 cells of one row, and this search runs down the
     // first column (straight lines have no turns), so it touches one page per row.
     assert!(resident > 625_000, "{resident}");
-    assert!(resident < 40_000_000, "{resident} bytes after 1000 expansions");
+    assert!(
+        resident < 40_000_000,
+        "{resident} bytes after 1000 expansions"
+    );
     // A second search on the same grid reuses the pages.
     planner.plan(&problem, &Budget::expansions(1000));
     assert_eq!(planner.resident_bytes(), resident);
