@@ -391,6 +391,7 @@ impl Remaining {
                 d.saturating_duration_since(Instant::now())
                     .max(Duration::ZERO)
             }),
+            ..Budget::default()
         }
     }
 }

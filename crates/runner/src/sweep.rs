@@ -357,7 +357,7 @@ fn finish(
     seconds: f64,
 ) -> Result<Reproduction, String> {
     let (summary, reproduction) = report::render_with(experiment, &records, Some(provenance));
-    let mut files = figures::render(experiment, &records);
+    let mut files = figures::render_checked(experiment, &records).map_err(|e| e.to_string())?;
     files.extend(charts::render(experiment, &records));
     if experiment.ompl {
         files.extend(ompl::logs(experiment, &records, provenance, seconds));
