@@ -20,7 +20,18 @@ import glob, json, sqlite3, sys
 results, db = sys.argv[1], sys.argv[2]
 with open(f"{results}/runs.json") as f:
     data = json.load(f)
-runs = data["runs"]
+# runs.json's table (columns, data rows) as one dict per run, its counters gathered.
+table = data["runs"]
+not_counters = {"map", "problem", "start_x", "start_y", "goal_x", "goal_y", "planner",
+                "algorithm", "repeat", "seed", "status", "steps", "turns", "score", "length",
+                "optimal_length", "valid", "time_ms", "setup_ms", "peak_heap_bytes", "bucket",
+                "error", "admissible", "returns", "marks", "series"}
+counter_columns = [c for c in table["columns"] if c not in not_counters]
+runs = []
+for row in table["data"]:
+    run = dict(zip(table["columns"], row))
+    run["counters"] = {k: run[k] for k in counter_columns if run[k] is not None}
+    runs.append(run)
 conn = sqlite3.connect(db)
 c = conn.cursor()
 n_runs = c.execute("SELECT COUNT(*) FROM runs").fetchone()[0]

@@ -166,7 +166,7 @@ fn assert_complete(dir: &Path, experiment: &str, expected: &[PathBuf]) {
         .unwrap()
         .lines()
         .count();
-    assert_eq!(json["runs"].as_array().unwrap().len() + 1, n_rows);
+    assert_eq!(json["runs"]["data"].as_array().unwrap().len() + 1, n_rows);
     assert!(n_rows > 1);
 }
 

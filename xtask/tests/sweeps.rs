@@ -1,6 +1,10 @@
 //! Streamed sweeps through the real binary: 3 shards merged equal one run, and a sweep
 //! killed (SIGKILL) mid-way and resumed equals an uninterrupted one (timing and memory
-//! columns aside).
+//! columns aside); SIGINT and SIGTERM stop a sweep with exit status 130, the finished
+//! runs recorded and the old results untouched, and resuming then equals an
+//! uninterrupted run; a real Slurm job array of 3 tasks plus its afterok merge equals a
+//! local run (skipped, saying why, without a running Slurm, unless
+//! `GRIDPLAN_SLURM_TEST=1`, which CI sets after `scripts/slurm-start.sh`).
 
 mod common;
 
@@ -11,7 +15,8 @@ use std::time::{Duration, Instant};
 
 use common::root;
 
-fn xtask(args: &[&str]) {
+/// Runs xtask with `args` from the repository root; returns its stdout.
+fn xtask(args: &[&str]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_xtask"))
         .args(args)
         .current_dir(root())
@@ -22,6 +27,7 @@ fn xtask(args: &[&str]) {
         "{args:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -163,4 +169,234 @@ fn killed_and_resumed_equals_uninterrupted() {
         &out.display().to_string(),
     ]);
     assert_eq!(deterministic_csv(Path::new(&full)), deterministic_csv(&out));
+}
+
+/// The stream's recorded runs (its lines but the header).
+fn recorded(stream: &Path) -> usize {
+    fs::read(stream)
+        .map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count())
+        .saturating_sub(1)
+}
+
+/// Starts `experiment config --threads 2 --output out` (with `extra`), waits until its
+/// stream holds a few batches, sends `signal` and returns its exit status and stderr.
+fn interrupt(config: &str, out: &Path, extra: &[&str], signal: &str) -> (Option<i32>, String) {
+    let child = Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args(["experiment", config, "--quiet", "--threads", "2"])
+        .args(extra)
+        .arg("--output")
+        .arg(out)
+        .current_dir(root())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stream = out.with_file_name(".res.stream/records.jsonl");
+    let before = recorded(&stream);
+    let started = Instant::now();
+    while recorded(&stream) < before + 2048 {
+        assert!(started.elapsed() < Duration::from_secs(120), "no progress");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let status = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn sigint_and_sigterm_stop_cleanly_and_resume_equals_uninterrupted() {
+    let dir = scratch("signals");
+    let config = "configs/bench/arena-repeats.toml";
+    let full = dir.join("full").display().to_string();
+    xtask(&[
+        "experiment",
+        config,
+        "--quiet",
+        "--threads",
+        "2",
+        "--output",
+        &full,
+    ]);
+    // An older result in the output, which an interrupted sweep must leave as it was.
+    let out = dir.join("res");
+    let paper = "configs/paper.toml";
+    xtask(&[
+        "experiment",
+        paper,
+        "--quiet",
+        "--output",
+        &out.display().to_string(),
+    ]);
+    let old_csv = fs::read(out.join("runs.csv")).unwrap();
+    let stream = dir.join(".res.stream/records.jsonl");
+    for (signal, extra) in [("-INT", &[][..]), ("-TERM", &["--resume"][..])] {
+        let (code, stderr) = interrupt(config, &out, extra, signal);
+        assert_eq!(code, Some(130), "{signal}: {stderr}");
+        let n = recorded(&stream);
+        assert!(n < 16_000, "{signal}: the sweep finished first");
+        assert!(
+            stderr.contains(&format!(
+                "interrupted after {n} of 16000 runs; rerun with --resume to continue"
+            )),
+            "{signal}: {n} recorded; {stderr}"
+        );
+        // Complete lines only: the stop came between runs, not mid-write.
+        assert_eq!(fs::read(&stream).unwrap().last(), Some(&b'\n'));
+        assert_eq!(fs::read(out.join("runs.csv")).unwrap(), old_csv, "{signal}");
+    }
+    xtask(&[
+        "experiment",
+        config,
+        "--quiet",
+        "--threads",
+        "2",
+        "--resume",
+        "--output",
+        &out.display().to_string(),
+    ]);
+    assert_eq!(deterministic_csv(Path::new(&full)), deterministic_csv(&out));
+    assert!(!stream.exists());
+}
+
+/// runs.json's table without its timing and memory columns: (columns, rows).
+fn deterministic_records(dir: &Path) -> (Vec<serde_json::Value>, Vec<Vec<serde_json::Value>>) {
+    let text = fs::read_to_string(dir.join("runs.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let columns = json["runs"]["columns"].as_array().unwrap();
+    let keep: Vec<usize> = (0..columns.len())
+        .filter(|&i| {
+            !["time_ms", "setup_ms", "peak_heap_bytes"].contains(&columns[i].as_str().unwrap())
+        })
+        .collect();
+    let rows = json["runs"]["data"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| keep.iter().map(|&i| row[i].clone()).collect())
+        .collect();
+    (keep.iter().map(|&i| columns[i].clone()).collect(), rows)
+}
+
+/// Why the Slurm test cannot run here (no sbatch, or no controller answering), if so.
+fn slurm_missing() -> Option<String> {
+    let ping = match Command::new("scontrol").arg("ping").output() {
+        Err(e) => return Some(format!("no Slurm here (scontrol: {e})")),
+        Ok(out) => String::from_utf8_lossy(&out.stdout).into_owned(),
+    };
+    if Command::new("sbatch").arg("--version").output().is_err() {
+        return Some("no sbatch on PATH".into());
+    }
+    if !ping.contains("UP") {
+        return Some(format!("no Slurm controller answers: {}", ping.trim()));
+    }
+    None
+}
+
+/// squeue's lines for `jobs`: empty once they have all left the queue.
+fn queued(jobs: &str) -> String {
+    let out = Command::new("squeue")
+        .args(["-h", "-j", jobs, "-o", "%i %T %r"])
+        .output()
+        .unwrap();
+    String::from_utf8_lossy(&out.stdout).trim().to_string()
+}
+
+#[test]
+fn slurm_array_and_merge_equal_a_local_run() {
+    if let Some(reason) = slurm_missing() {
+        assert!(
+            std::env::var("GRIDPLAN_SLURM_TEST").as_deref() != Ok("1"),
+            "GRIDPLAN_SLURM_TEST=1 but {reason}; start one with scripts/slurm-start.sh"
+        );
+        eprintln!("skipped: {reason} (scripts/slurm-start.sh starts a one-node cluster)");
+        return;
+    }
+    let dir = scratch("slurm");
+    // The absolute config path, as the Slurm scripts name it (summary.md quotes it).
+    let config = root()
+        .join("configs/movingai.toml")
+        .canonicalize()
+        .unwrap()
+        .display()
+        .to_string();
+    let merged = dir.join("merged");
+    let printed = xtask(&[
+        "slurm",
+        &config,
+        "--shards",
+        "3",
+        "--output",
+        &merged.display().to_string(),
+        "--submit",
+    ]);
+    let id = |what: &str| {
+        printed
+            .lines()
+            .find_map(|l| l.strip_prefix(what))
+            .unwrap_or_else(|| panic!("no {what:?} in {printed}"))
+            .trim()
+            .to_string()
+    };
+    let (array, merge) = (id("array job "), id("merge job "));
+    let local = dir.join("local").display().to_string();
+    xtask(&["experiment", &config, "--quiet", "--output", &local]);
+    let jobs = format!("{array},{merge}");
+    let started = Instant::now();
+    let logs = || {
+        let work = dir.join("merged-slurm");
+        let mut text = String::new();
+        for entry in fs::read_dir(&work).into_iter().flatten().flatten() {
+            if entry.path().extension().is_some_and(|e| e == "log") {
+                text += &format!(
+                    "--- {}\n{}\n",
+                    entry.path().display(),
+                    fs::read_to_string(entry.path()).unwrap_or_default()
+                );
+            }
+        }
+        text
+    };
+    while !queued(&jobs).is_empty() {
+        if started.elapsed() > Duration::from_secs(300) {
+            let _ = Command::new("scancel").arg(&array).arg(&merge).status();
+            panic!(
+                "jobs {jobs} still queued after 300 s: {}\n{}",
+                queued(&jobs),
+                logs()
+            );
+        }
+        std::thread::sleep(Duration::from_millis(250));
+    }
+    let show = Command::new("scontrol")
+        .args(["show", "job", &merge])
+        .output()
+        .unwrap();
+    let show = String::from_utf8_lossy(&show.stdout);
+    assert!(
+        show.contains("JobState=COMPLETED"),
+        "merge job {merge}: {show}\n{}",
+        logs()
+    );
+    let records = deterministic_records(Path::new(&local));
+    assert!(records.1.len() > 1000);
+    assert!(records == deterministic_records(&merged), "records differ");
+    assert_eq!(
+        deterministic_csv(Path::new(&local)),
+        deterministic_csv(&merged)
+    );
+    assert_eq!(
+        deterministic_summary(Path::new(&local)),
+        deterministic_summary(&merged)
+    );
+    for k in 1..=3 {
+        assert!(dir
+            .join(format!("merged-slurm/shard-{k}/shard.jsonl"))
+            .exists());
+    }
 }

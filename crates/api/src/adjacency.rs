@@ -46,14 +46,9 @@ impl Adjacency {
         let width = i64::from(grid.width());
         let height = i64::from(grid.height());
         let free = grid.free_cells();
-        let reach = moves
-            .moves()
-            .iter()
-            .map(|m| m.dx.unsigned_abs().max(m.dy.unsigned_abs()) as usize)
-            .max()
-            .unwrap_or(1);
+        let reach = reach_of(moves);
         let stride = grid.width() as usize + 2 * reach;
-        let padded_len = stride * (grid.height() as usize + 2 * reach);
+        let padded_len = Adjacency::padded_len_for(grid, moves);
         let mut delta = [0isize; 64];
         for (slot, mv) in delta.iter_mut().zip(moves.moves()) {
             // |dy * stride + dx| < 2^33, far inside isize on every supported target.
@@ -97,6 +92,20 @@ impl Adjacency {
             n_moves,
             all,
         }
+    }
+
+    /// The number of padded cells an adjacency of `grid` and `moves` has (its
+    /// [`Adjacency::padded_len`]), computed without building it.
+    pub fn padded_len_for(grid: &Grid, moves: &MoveSet) -> usize {
+        let reach = reach_of(moves);
+        (grid.width() as usize + 2 * reach) * (grid.height() as usize + 2 * reach)
+    }
+
+    /// The bytes an adjacency of `grid` and `moves` takes (its masks and its copy of the
+    /// grid), computed without building it: what a planner adds up before a
+    /// [`Budget::check_memory`](crate::Budget::check_memory).
+    pub fn bytes_for(grid: &Grid, moves: &MoveSet) -> u64 {
+        8 * Adjacency::padded_len_for(grid, moves) as u64 + grid.len() as u64
     }
 
     /// Whether these masks were built for `grid`.
@@ -182,6 +191,16 @@ impl Adjacency {
     ) -> &'a mut Adjacency {
         cached(cache, grid, moves)
     }
+}
+
+/// The longest move's Chebyshev length (1 for an empty set): the border's width.
+fn reach_of(moves: &MoveSet) -> usize {
+    moves
+        .moves()
+        .iter()
+        .map(|m| m.dx.unsigned_abs().max(m.dy.unsigned_abs()) as usize)
+        .max()
+        .unwrap_or(1)
 }
 
 fn cached<'a>(cache: &'a mut Option<Adjacency>, grid: &Grid, moves: &MoveSet) -> &'a mut Adjacency {

@@ -36,6 +36,7 @@ pub mod coverage;
 pub mod error;
 pub mod grid;
 pub mod moves;
+pub mod pages;
 pub mod path;
 pub mod planner;
 pub mod specs;
@@ -53,5 +54,7 @@ pub use moves::{
     IndexedMoves, Move, MoveSet, NeighborOrder, SegmentWalk,
 };
 pub use path::{Path, PathMetrics, PathRank, PathRule};
-pub use planner::{Budget, BudgetClock, Mark, Outcome, Planner, Problem, Series, Status};
+pub use planner::{
+    Budget, BudgetClock, Mark, MemoryShortfall, Outcome, Planner, Problem, Series, Status,
+};
 pub use specs::{ParamError, ParamKey, PathSpec, PlannerSpecs, SEED_PARAM};

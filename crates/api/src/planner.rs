@@ -57,11 +57,26 @@ impl<'g> Problem<'g> {
     }
 }
 
-/// Limits on one search. The default is unlimited.
+/// Limits on one search, and what it records besides its counters. The default is
+/// unlimited and records nothing.
 ///
 /// An expansion limit keeps results deterministic; a wall-clock limit does not (what a
 /// search reaches in a given time depends on the machine), so configs that snapshot
 /// counters should use expansions.
+///
+/// A memory limit ([`Budget::max_memory_mb`]) bounds what a planner allocates for its
+/// per-cell state: before allocating, a planner adds up the bytes its per-cell arrays
+/// take for the grid (their full size, what a search that touches every cell commits,
+/// even where the arrays are committed lazily) and, when that is over the limit, returns
+/// [`Outcome::over_memory`] (status [`Status::BudgetExhausted`], no expansion, and a
+/// [`MemoryShortfall`] saying how much it needs) instead of allocating; see
+/// [`Budget::check_memory`].
+///
+/// With [`Budget::record_expanded`] on, a planner that supports it lists the cells it
+/// expanded, in expansion order, in [`Outcome::expanded`]. It is off by default and
+/// never part of a config (the runner turns it on to draw search-effort figures, in a
+/// run apart from the timed one); a planner that does not support it leaves the list
+/// empty and says so in its docs.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Budget {
@@ -70,6 +85,14 @@ pub struct Budget {
     /// Stop after this much wall-clock time, checked every [`BudgetClock::TIME_CHECK_INTERVAL`] expansions.
     #[serde(default, with = "optional_millis", rename = "max_time_ms")]
     pub max_time: Option<Duration>,
+    /// Refuse to plan when the planner's per-cell state for the grid would take more
+    /// than this many MiB (2^20 bytes). `None`: no limit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_memory_mb: Option<u64>,
+    /// List the expanded cells in [`Outcome::expanded`]. Not a config key (skipped by
+    /// serde); off in timed runs.
+    #[serde(skip)]
+    pub record_expanded: bool,
 }
 
 impl Budget {
@@ -82,7 +105,50 @@ impl Budget {
     pub fn expansions(n: u64) -> Budget {
         Budget {
             max_expansions: Some(n),
-            max_time: None,
+            ..Budget::default()
+        }
+    }
+
+    /// This budget with a memory limit of `mb` MiB for the planner's per-cell state.
+    pub fn with_memory_mb(self, mb: u64) -> Budget {
+        Budget {
+            max_memory_mb: Some(mb),
+            ..self
+        }
+    }
+
+    /// This budget with [`Budget::record_expanded`] set to `on`.
+    pub fn recording_expanded(self, on: bool) -> Budget {
+        Budget {
+            record_expanded: on,
+            ..self
+        }
+    }
+
+    /// Whether per-cell state of `bytes` bytes for `grid` fits [`Budget::max_memory_mb`].
+    /// Planners call it before allocating and return [`Outcome::over_memory`] with the
+    /// error.
+    ///
+    /// ```
+    /// use planner_api::{Budget, Grid};
+    /// let grid = Grid::new(4000, 4000).unwrap();
+    /// let budget = Budget::unlimited().with_memory_mb(10);
+    /// assert!(budget.check_memory(10 << 20, &grid).is_ok());
+    /// let err = budget.check_memory(16_000_000 * 9, &grid).unwrap_err();
+    /// assert_eq!(
+    ///     err.to_string(),
+    ///     "needs 138 MB for a 4000 x 4000 grid, over the max_memory_mb = 10 budget"
+    /// );
+    /// ```
+    pub fn check_memory(&self, bytes: u64, grid: &Grid) -> Result<(), MemoryShortfall> {
+        match self.max_memory_mb {
+            Some(mb) if bytes > mb.saturating_mul(1 << 20) => Err(MemoryShortfall {
+                needed_bytes: bytes,
+                max_memory_mb: mb,
+                width: grid.width(),
+                height: grid.height(),
+            }),
+            _ => Ok(()),
         }
     }
 
@@ -167,6 +233,35 @@ impl BudgetClock {
     }
 }
 
+/// A planner's per-cell state for a grid that does not fit [`Budget::max_memory_mb`]:
+/// the planner did not allocate it and did not search.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct MemoryShortfall {
+    /// The bytes the planner's per-cell state would take.
+    pub needed_bytes: u64,
+    /// The limit, in MiB.
+    pub max_memory_mb: u64,
+    /// The grid's width.
+    pub width: u32,
+    /// The grid's height.
+    pub height: u32,
+}
+
+impl std::fmt::Display for MemoryShortfall {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "needs {} MB for a {} x {} grid, over the max_memory_mb = {} budget",
+            self.needed_bytes.div_ceil(1 << 20),
+            self.width,
+            self.height,
+            self.max_memory_mb
+        )
+    }
+}
+
+impl std::error::Error for MemoryShortfall {}
+
 /// How a search ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -208,6 +303,16 @@ pub struct Outcome {
     /// Reports chart them and run records keep them.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub series: Vec<Series>,
+    /// The cells the search expanded, in expansion order, when the budget asked for them
+    /// ([`Budget::record_expanded`]) and the planner records them; otherwise empty. Its
+    /// length is then the planner's `n_expanded` counter, unless the planner's docs say
+    /// what it lists instead (JPS lists its expanded jump points).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub expanded: Vec<Cell>,
+    /// Set when the planner refused to search because its per-cell state would not fit
+    /// [`Budget::max_memory_mb`] (the status is then [`Status::BudgetExhausted`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub memory: Option<MemoryShortfall>,
 }
 
 /// A named sequence of (x, y) points a planner records during one search, for example
@@ -262,6 +367,8 @@ impl Outcome {
             counters,
             marks: Vec::new(),
             series: Vec::new(),
+            expanded: Vec::new(),
+            memory: None,
         }
     }
 
@@ -273,6 +380,8 @@ impl Outcome {
             counters,
             marks: Vec::new(),
             series: Vec::new(),
+            expanded: Vec::new(),
+            memory: None,
         }
     }
 
@@ -284,7 +393,23 @@ impl Outcome {
             counters,
             marks: Vec::new(),
             series: Vec::new(),
+            expanded: Vec::new(),
+            memory: None,
         }
+    }
+
+    /// A refused search: the planner's per-cell state would not fit the memory budget.
+    /// Status [`Status::BudgetExhausted`], no path, and `counters` (usually all zero).
+    pub fn over_memory(shortfall: MemoryShortfall, counters: Counters) -> Outcome {
+        Outcome {
+            memory: Some(shortfall),
+            ..Outcome::budget_exhausted(None, counters)
+        }
+    }
+
+    /// This outcome with `expanded` as its list of expanded cells.
+    pub fn with_expanded(self, expanded: Vec<Cell>) -> Outcome {
+        Outcome { expanded, ..self }
     }
 
     /// An exhausted budget, with the best path so far if any.
@@ -295,6 +420,8 @@ impl Outcome {
             counters,
             marks: Vec::new(),
             series: Vec::new(),
+            expanded: Vec::new(),
+            memory: None,
         }
     }
 }
@@ -327,6 +454,14 @@ pub trait Planner: Send + Sync {
     fn prepare(&mut self, _grid: &Grid) {}
 
     /// Searches `problem` within `budget`. Never panics on a valid problem.
+    ///
+    /// Honours every part of the budget: the expansion and time limits through
+    /// [`Budget::start`]; the memory limit by checking the per-cell state it is about to
+    /// allocate with [`Budget::check_memory`] and returning [`Outcome::over_memory`] when it
+    /// does not fit; and, when [`Budget::record_expanded`] is set and the planner supports
+    /// it, by listing its expanded cells in [`Outcome::expanded`] (the planner's docs say
+    /// whether it does). Recording must not change the search: the counters, status and
+    /// path are the same with it on or off.
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome;
 }
 

@@ -42,6 +42,19 @@
 //! CLOSED cells at once (they are the skipped checks), so the loop over the remaining
 //! moves has no branch on CLOSED. The blocked checks are counted as the clear bits.
 //!
+//! Memory is bounded by the work, not the grid, except for the bit grid (one bit per
+//! cell): the per-cell arrays (status byte, `g`, CLOSED bits) are allocated zeroed, so the
+//! operating system commits their pages only when a search first writes them, and with
+//! the bit grid A* builds no [`Adjacency`] (whose masks take 8 bytes per cell). Before
+//! sizing them for a grid, a search checks their full size (what a search touching every
+//! cell would commit) against [`Budget::max_memory_mb`] and, when it does not fit,
+//! returns [`Outcome::over_memory`] without allocating.
+//!
+//! With [`Budget::record_expanded`] set, [`Outcome::expanded`] lists the expanded cells in
+//! expansion order (the goal last when found), one per `n_expanded`; the search is
+//! otherwise the same. The flag is a constant of the search loop (two copies of it are
+//! compiled), so with it off the loop has no recording code.
+//!
 //! Costs are [`planner_api::Cost`]s, fixed point in units of `2^-32`: every path cost
 //! is an integer sum of its moves' costs, so equal path costs are equal numbers and tie
 //! exactly, whatever the order of the moves (proven exact for 4 and 8 directions up to
@@ -93,8 +106,8 @@ mod open;
 
 use open::{BucketOpen, IntOpen, Open};
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Cost, Counter, MoveOrderError, MoveSet, NeighborOrder,
-    Outcome, Path, Planner, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Cost, Counter, Grid, MemoryShortfall, MoveOrderError,
+    MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -235,6 +248,25 @@ pub struct Search {
     pub cost: Option<f64>,
     /// The counters.
     pub stats: SearchStats,
+    /// The expanded cells in expansion order, when the budget asked for them
+    /// ([`Budget::record_expanded`]); else empty.
+    pub expanded: Vec<Cell>,
+    /// Set when the per-cell state did not fit [`Budget::max_memory_mb`] (nothing was
+    /// allocated or searched).
+    pub memory: Option<MemoryShortfall>,
+}
+
+impl Search {
+    fn new(status: Status, path: Option<Path>, cost: Option<f64>, stats: SearchStats) -> Search {
+        Search {
+            status,
+            path,
+            cost,
+            stats,
+            expanded: Vec::new(),
+            memory: None,
+        }
+    }
 }
 
 impl planner_api::ParamKey for ConfigError {
@@ -336,8 +368,11 @@ struct Cells {
     /// one byte so that the neighbour tests read an array a quarter of a megabyte for
     /// 512 x 512 cells, which stays in cache.
     state: Vec<u8>,
-    /// Per padded cell: `g`, valid where `state` is not `UNSEEN`.
-    g: Vec<Cost>,
+    /// Per padded cell: `g` in [`Cost`] units, valid where `state` is not `UNSEEN`. Raw
+    /// `u64`s so that the array is allocated zeroed (`calloc`): like `state` and `closed`,
+    /// the operating system commits its pages when a search first writes them, so a
+    /// search that touches few cells of a large grid commits little of it.
+    g: Vec<u64>,
     /// The cells the last search inserted into OPEN: [`Cells::fit`] resets exactly those.
     touched: Vec<u32>,
     /// With the bit grid ([`FreeBits`]): the CLOSED cells as bits in its layout.
@@ -345,12 +380,16 @@ struct Cells {
 }
 
 impl Cells {
+    /// Bytes per padded cell of the per-cell arrays at their full size (what a search
+    /// that reaches every cell commits): state, `g`, `touched`, and the CLOSED bits.
+    const BYTES_PER_CELL: f64 = 1.0 + 8.0 + 4.0 + 0.125;
+
     /// Sizes the arrays for `padded_len` cells (and the CLOSED bits when `with_bits`),
     /// and resets the cells the last search touched, so that every cell is unseen.
     fn fit(&mut self, padded_len: usize, with_bits: bool) {
         if self.state.len() != padded_len {
             self.state = vec![UNSEEN; padded_len];
-            self.g = vec![Cost::ZERO; padded_len];
+            self.g = vec![0; padded_len];
             self.closed.clear();
             self.touched.clear();
         }
@@ -367,6 +406,85 @@ impl Cells {
         self.touched.clear();
     }
 }
+
+/// The padded layout of planner-api's [`Adjacency`] (the grid inside a border of `reach`
+/// cells, row-major) without its per-cell move masks: what the search needs to index cells
+/// and follow moves. With the bit grid ([`FreeBits`]) the masks are not needed, so A*
+/// then builds no [`Adjacency`], which would take 8 bytes per cell up front.
+#[derive(Debug, Clone, Copy)]
+struct Layout {
+    reach: usize,
+    stride: usize,
+    padded_len: usize,
+    delta: [isize; 64],
+    n_moves: usize,
+}
+
+impl Layout {
+    /// The layout [`Adjacency::build`] gives `grid` and `moves` (the same formulas).
+    fn new(grid: &Grid, moves: &MoveSet) -> Layout {
+        let reach = moves
+            .moves()
+            .iter()
+            .map(|m| m.dx.unsigned_abs().max(m.dy.unsigned_abs()) as usize)
+            .max()
+            .unwrap_or(1);
+        let stride = grid.width() as usize + 2 * reach;
+        let padded_len = stride * (grid.height() as usize + 2 * reach);
+        let mut delta = [0isize; 64];
+        for (slot, mv) in delta.iter_mut().zip(moves.moves()) {
+            *slot = (i64::from(mv.dy) * stride as i64 + i64::from(mv.dx)) as isize;
+        }
+        Layout {
+            reach,
+            stride,
+            padded_len,
+            delta,
+            n_moves: moves.moves().len(),
+        }
+    }
+
+    /// Whether the search uses the bit grid (moves of reach 1: 4 and 8 directions).
+    fn uses_bits(&self) -> bool {
+        self.reach == 1 && self.n_moves <= 8
+    }
+
+    /// The padded index of `cell`, as [`Adjacency::index`].
+    #[inline]
+    fn index(&self, cell: Cell) -> usize {
+        (cell.y as usize + self.reach) * self.stride + cell.x as usize + self.reach
+    }
+
+    /// The cell of padded index `p`, as [`Adjacency::cell`].
+    fn cell(&self, p: usize) -> Cell {
+        Cell::new(
+            (p % self.stride - self.reach) as u32,
+            (p / self.stride - self.reach) as u32,
+        )
+    }
+
+    /// The target of move `m` from padded cell `p`, as [`Adjacency::neighbor`].
+    #[inline(always)]
+    fn neighbor(&self, p: usize, m: u32) -> usize {
+        p.wrapping_add_signed(self.delta[(m & 63) as usize])
+    }
+
+    /// The bytes A* needs for `grid` at most: the per-cell arrays at full size, the bit
+    /// grid or the adjacency's masks (and its copy of the grid).
+    fn state_bytes(&self, grid: &Grid) -> u64 {
+        let padded = self.padded_len as f64;
+        let tables = if self.uses_bits() {
+            padded / 8.0
+        } else {
+            8.0 * padded + grid.len() as f64
+        };
+        (padded * Cells::BYTES_PER_CELL + tables).ceil() as u64
+    }
+}
+
+/// `prepare` builds an [`Adjacency`] (16 directions and more) only up to this many bytes
+/// of masks; a larger one is built by the first search, after its memory check.
+const PREPARE_ADJACENCY_LIMIT: usize = 256 << 20;
 
 /// The free cells of the grid as one bit per padded cell (the layout of [`Adjacency`]),
 /// and for move sets of reach 1 (4 and 8 directions) a table from the 3 x 3
@@ -394,19 +512,19 @@ impl FreeBits {
     fn get_or_build(
         &mut self,
         grid: &planner_api::Grid,
-        adjacency: &Adjacency,
+        layout: &Layout,
         moves: &MoveSet,
     ) -> Option<&FreeBits> {
-        if adjacency.reach() != 1 || moves.moves().len() > 8 {
+        if !layout.uses_bits() {
             return None;
         }
-        if self.revision != Some(grid.revision()) || self.stride != adjacency.stride() {
-            self.stride = adjacency.stride();
+        if self.revision != Some(grid.revision()) || self.stride != layout.stride {
+            self.stride = layout.stride;
             self.bytes.clear();
-            self.bytes.resize(adjacency.padded_len() / 8 + 3, 0);
+            self.bytes.resize(layout.padded_len / 8 + 3, 0);
             for (i, &free) in grid.free_cells().iter().enumerate() {
                 if free {
-                    let p = adjacency.index(grid.cell(i));
+                    let p = layout.index(grid.cell(i));
                     self.bytes[p / 8] |= 1 << (p % 8);
                 }
             }
@@ -510,6 +628,18 @@ impl AStar {
         &self.moves
     }
 
+    /// The bytes of the per-grid tables the planner holds, which are written in full
+    /// when built: the bit grid (4 and 8 directions) or the adjacency's masks and copy of
+    /// the grid (more directions). The per-cell search arrays are not counted: they are
+    /// allocated zeroed and committed by the system only where searches write them.
+    pub fn table_bytes(&self) -> usize {
+        let adjacency = self
+            .adjacency
+            .as_ref()
+            .map_or(0, |a| 8 * a.padded_len() + a.padded_len() / 8);
+        adjacency + self.bits.bytes.len() + self.bits.table.len() + self.bits.target_table.len()
+    }
+
     /// Runs A* on `problem` within `budget` and returns the path with raw counters.
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
         let mut opens = std::mem::take(&mut self.opens);
@@ -527,34 +657,55 @@ impl AStar {
         search
     }
 
-    /// [`AStar::run`] with the configured heuristic as a constant.
+    /// [`AStar::run`] with the configured heuristic and the budget's recording flag as
+    /// constants, so that a search that records nothing has no recording code at all.
     fn run_with<O: Open>(
         &mut self,
         open: &mut O,
         problem: &Problem<'_>,
         budget: &Budget,
     ) -> Search {
-        match self.config.heuristic {
-            Heuristic::Manhattan => self.run::<O, MANHATTAN>(open, problem, budget),
-            Heuristic::Octile => self.run::<O, OCTILE>(open, problem, budget),
-            Heuristic::Euclidean => self.run::<O, EUCLIDEAN>(open, problem, budget),
-            Heuristic::Chebyshev => self.run::<O, CHEBYSHEV>(open, problem, budget),
-            Heuristic::Zero => self.run::<O, ZERO>(open, problem, budget),
+        match (self.config.heuristic, budget.record_expanded) {
+            (Heuristic::Manhattan, false) => self.run::<O, MANHATTAN, false>(open, problem, budget),
+            (Heuristic::Octile, false) => self.run::<O, OCTILE, false>(open, problem, budget),
+            (Heuristic::Euclidean, false) => self.run::<O, EUCLIDEAN, false>(open, problem, budget),
+            (Heuristic::Chebyshev, false) => self.run::<O, CHEBYSHEV, false>(open, problem, budget),
+            (Heuristic::Zero, false) => self.run::<O, ZERO, false>(open, problem, budget),
+            (Heuristic::Manhattan, true) => self.run::<O, MANHATTAN, true>(open, problem, budget),
+            (Heuristic::Octile, true) => self.run::<O, OCTILE, true>(open, problem, budget),
+            (Heuristic::Euclidean, true) => self.run::<O, EUCLIDEAN, true>(open, problem, budget),
+            (Heuristic::Chebyshev, true) => self.run::<O, CHEBYSHEV, true>(open, problem, budget),
+            (Heuristic::Zero, true) => self.run::<O, ZERO, true>(open, problem, budget),
         }
     }
 
-    /// The search itself, with the OPEN list `open` and heuristic `H` (one of the
-    /// constants [`MANHATTAN`] ... [`ZERO`]). Counters are locals until it returns.
-    fn run<O: Open, const H: u8>(
+    /// The search itself, with the OPEN list `open`, heuristic `H` (one of the constants
+    /// [`MANHATTAN`] ... [`ZERO`]) and `RECORD` true to list the expanded cells. Counters
+    /// are locals until it returns.
+    fn run<O: Open, const H: u8, const RECORD: bool>(
         &mut self,
         open: &mut O,
         problem: &Problem<'_>,
         budget: &Budget,
     ) -> Search {
         let grid = problem.grid();
-        let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
-        let bits = self.bits.get_or_build(grid, adjacency, &self.moves);
-        self.cells.fit(adjacency.padded_len(), bits.is_some());
+        let layout = Layout::new(grid, &self.moves);
+        if let Err(shortfall) = budget.check_memory(layout.state_bytes(grid), grid) {
+            let mut search =
+                Search::new(Status::BudgetExhausted, None, None, SearchStats::default());
+            search.memory = Some(shortfall);
+            return search;
+        }
+        let adjacency = match layout.uses_bits() {
+            true => {
+                self.adjacency = None;
+                None
+            }
+            false => Some(&*Adjacency::cached(&mut self.adjacency, grid, &self.moves)),
+        };
+        let bits = self.bits.get_or_build(grid, &layout, &self.moves);
+        self.cells.fit(layout.padded_len, bits.is_some());
+        let mut expanded = Vec::new();
         let Cells {
             state,
             g,
@@ -564,14 +715,14 @@ impl AStar {
         let (state, g, closed) = (&mut state[..], &mut g[..], &mut closed[..]);
         open.clear();
 
-        let n_moves = adjacency.n_moves() as u64;
+        let n_moves = layout.n_moves as u64;
         let mut step = [(0u32, 0u32, Cost::ZERO); 64];
         for (slot, mv) in step.iter_mut().zip(self.moves.moves()) {
             // Wrapping offsets: x + dx stays in the grid whenever the move's mask bit is set.
             *slot = (mv.dx as u32, mv.dy as u32, mv.exact_cost());
         }
         let goal = problem.goal();
-        let goal_index = adjacency.index(goal);
+        let goal_index = layout.index(goal);
         let weight = self.config.weight;
         let unweighted = weight == 1.0;
         let h = |x: u32, y: u32| {
@@ -582,15 +733,17 @@ impl AStar {
                 h.scaled(weight)
             }
         };
-        let rows = Rows::new(adjacency.stride(), adjacency.reach());
+        let rows = Rows::new(layout.stride, layout.reach);
 
         let mut clock = budget.start();
         let start = problem.start();
-        let start_index = adjacency.index(start);
+        let start_index = layout.index(start);
         state[start_index] = OPEN;
         touched.push(start_index as u32);
-        g[start_index] = Cost::ZERO;
+        g[start_index] = Cost::ZERO.units();
         open.push(start_index as u32, h(start.x, start.y), Cost::ZERO);
+        // Without the bit grid, the safe moves come from the adjacency's masks.
+        let masks: &[u64] = adjacency.map_or(&[], Adjacency::masks);
         let mut tally = Tally {
             n_open_insertions: 1,
             peak_open: 1,
@@ -603,27 +756,27 @@ impl AStar {
                 continue; // The older entry of a node improved while in OPEN.
             }
             if !clock.allows(tally.n_expanded) {
-                return Search {
-                    status: Status::BudgetExhausted,
-                    path: None,
-                    cost: None,
-                    stats: tally.stats(n_moves, tally.n_expanded),
-                };
+                let stats = tally.stats(n_moves, tally.n_expanded);
+                let mut search = Search::new(Status::BudgetExhausted, None, None, stats);
+                search.expanded = expanded;
+                return search;
             }
             state[p] |= CLOSED;
             tally.n_expanded += 1;
+            if RECORD {
+                expanded.push(layout.cell(p));
+            }
             if p == goal_index {
-                let path = reconstruct(adjacency, state, start_index, goal_index);
-                return Search {
-                    status: Status::Found,
-                    path: Some(path),
-                    cost: Some(g[p].to_f64()),
-                    // The goal's moves are not checked.
-                    stats: tally.stats(n_moves, tally.n_expanded - 1),
-                };
+                let path = reconstruct(&layout, state, start_index, goal_index);
+                let cost = Cost::from_units(g[p]).to_f64();
+                // The goal's moves are not checked.
+                let stats = tally.stats(n_moves, tally.n_expanded - 1);
+                let mut search = Search::new(Status::Found, Some(path), Some(cost), stats);
+                search.expanded = expanded;
+                return search;
             }
             let (x, y) = rows.cell(p);
-            let g_node = g[p];
+            let g_node = Cost::from_units(g[p]);
             // Set bits in increasing order are the safe moves in the configured order. With
             // the bit grid, the moves to CLOSED cells are masked out at once (no branch per
             // move): they are the skipped ones.
@@ -639,7 +792,7 @@ impl AStar {
                     safe & !to_closed
                 }
                 None => {
-                    let safe = adjacency.mask(p);
+                    let safe = masks[p];
                     tally.n_safe += u64::from(safe.count_ones());
                     safe
                 }
@@ -647,7 +800,7 @@ impl AStar {
             while mask != 0 {
                 let m = mask.trailing_zeros();
                 mask &= mask - 1;
-                let q = adjacency.neighbor(p, m);
+                let q = layout.neighbor(p, m);
                 let status = state[q] & STATUS;
                 if status == CLOSED {
                     tally.n_skipped += 1;
@@ -656,14 +809,14 @@ impl AStar {
                 let (dx, dy, cost) = step[(m & 63) as usize];
                 let g_temp = g_node + cost;
                 let known = status == OPEN;
-                if !known || g_temp < g[q] {
+                if !known || g_temp.units() < g[q] {
                     tally.n_relaxations += 1;
                     tally.n_open_insertions += u64::from(!known);
                     if !known {
                         touched.push(q as u32);
                     }
                     state[q] = OPEN | (m as u8) << 2;
-                    g[q] = g_temp;
+                    g[q] = g_temp.units();
                     let f = g_temp + h(x.wrapping_add(dx), y.wrapping_add(dy));
                     open.push(q as u32, f, g_temp);
                 }
@@ -673,12 +826,10 @@ impl AStar {
                 .peak_open
                 .max(tally.n_open_insertions - tally.n_expanded);
         }
-        Search {
-            status: Status::NoPath,
-            path: None,
-            cost: None,
-            stats: tally.stats(n_moves, tally.n_expanded),
-        }
+        let stats = tally.stats(n_moves, tally.n_expanded);
+        let mut search = Search::new(Status::NoPath, None, None, stats);
+        search.expanded = expanded;
+        search
     }
 }
 
@@ -732,13 +883,13 @@ fn estimate<const H: u8>(dx: u32, dy: u32) -> Cost {
 }
 
 /// The path from `start` to `goal` by the parent moves in `state` (its high six bits).
-fn reconstruct(adjacency: &Adjacency, state: &[u8], start: usize, goal: usize) -> Path {
-    let mut cells: Vec<Cell> = vec![adjacency.cell(goal)];
+fn reconstruct(layout: &Layout, state: &[u8], start: usize, goal: usize) -> Path {
+    let mut cells: Vec<Cell> = vec![layout.cell(goal)];
     let mut node = goal;
     while node != start {
         let m = state[node] >> 2;
-        node = node.wrapping_add_signed(-adjacency.deltas()[m as usize]);
-        cells.push(adjacency.cell(node));
+        node = node.wrapping_add_signed(-layout.delta[m as usize]);
+        cells.push(layout.cell(node));
     }
     cells.reverse();
     Path::new(cells)
@@ -766,22 +917,36 @@ impl Planner for AStar {
             .with_admissible(admissible)
     }
 
+    /// Builds the bit grid (4 and 8 directions) or the adjacency (more directions, when
+    /// its masks take at most 256 MiB; a larger one is built by the first search, after
+    /// checking the memory budget) and sizes the per-cell arrays, which are allocated
+    /// zeroed and committed by the operating system as searches touch them.
     fn prepare(&mut self, grid: &planner_api::Grid) {
-        let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
-        let with_bits = self
-            .bits
-            .get_or_build(grid, adjacency, &self.moves)
-            .is_some();
-        self.cells.fit(adjacency.padded_len(), with_bits);
+        let layout = Layout::new(grid, &self.moves);
+        if layout.uses_bits() {
+            self.adjacency = None;
+            self.bits.get_or_build(grid, &layout, &self.moves);
+        } else if layout.padded_len.saturating_mul(8) <= PREPARE_ADJACENCY_LIMIT {
+            Adjacency::cached(&mut self.adjacency, grid, &self.moves);
+        } else {
+            return;
+        }
+        self.cells.fit(layout.padded_len, layout.uses_bits());
     }
 
+    /// Records the expanded cells when the budget asks ([`Budget::record_expanded`]);
+    /// refuses with [`Outcome::over_memory`] when its per-cell state for the grid (13.1
+    /// bytes per padded cell, and 9 more per cell for more than 8 directions) is over
+    /// [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let search = self.search(problem, budget);
-        Outcome::new(
-            search.status,
-            search.path,
-            search.stats.report(Counter::ASTAR),
-        )
+        let counters = search.stats.report(Counter::ASTAR);
+        match search.memory {
+            Some(shortfall) => Outcome::over_memory(shortfall, counters),
+            None => {
+                Outcome::new(search.status, search.path, counters).with_expanded(search.expanded)
+            }
+        }
     }
 }
 

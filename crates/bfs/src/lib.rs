@@ -184,17 +184,30 @@ impl FrontierSearch {
         &self.moves
     }
 
-    /// Searches `problem` within `budget`.
+    /// Searches `problem` within `budget`. Lists the dequeued cells in
+    /// [`Outcome::expanded`] when the budget asks ([`Budget::record_expanded`]), and refuses
+    /// with [`Outcome::over_memory`] when the adjacency and the per-cell arrays (20 bytes
+    /// per padded cell and the grid's copy) are over [`Budget::max_memory_mb`].
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
+        let needed = Adjacency::bytes_for(grid, &self.moves)
+            + 12 * Adjacency::padded_len_for(grid, &self.moves) as u64;
+        if let Err(shortfall) = budget.check_memory(needed, grid) {
+            let counters = SearchStats::default()
+                .report(Counter::FRONTIER)
+                .with(Counter::OpenInsertions.name(), 0);
+            return Outcome::over_memory(shortfall, counters);
+        }
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         let len = adjacency.padded_len();
         if self.mark.len() != len {
-            self.mark.clear();
-            self.mark.resize(len, 0);
-            self.parent.resize(len, 0);
+            // Allocated zeroed: the system commits the pages a search writes.
+            self.mark = vec![0; len];
+            self.parent = vec![0; len];
             self.stamp = 0;
         }
+        let record = budget.record_expanded;
+        let mut expanded = Vec::new();
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             self.mark.fill(0);
@@ -233,6 +246,9 @@ impl FrontierSearch {
                 },
             } as usize;
             stats.n_expanded += 1;
+            if record {
+                expanded.push(adjacency.cell(p));
+            }
             if p == goal {
                 found = true;
                 break;
@@ -275,6 +291,7 @@ impl FrontierSearch {
         } else {
             Outcome::no_path(counters)
         }
+        .with_expanded(expanded)
     }
 }
 

@@ -74,8 +74,9 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Counter, Counters, Grid, MoveOrderError, MoveSet,
-    NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Counter, Counters, Grid, MemoryShortfall,
+    MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs,
+    Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -181,6 +182,13 @@ pub struct Search {
     pub peak_open: u64,
     /// Improvements of the best meeting cost.
     pub n_meeting_updates: u64,
+    /// The expanded cells of both directions in expansion order, when the budget asked
+    /// for them ([`Budget::record_expanded`]); else empty. A cell expanded by both
+    /// directions is listed twice.
+    pub expanded: Vec<Cell>,
+    /// Set when the per-cell state did not fit [`Budget::max_memory_mb`] (nothing was
+    /// allocated or searched).
+    pub memory: Option<MemoryShortfall>,
 }
 
 impl Search {
@@ -234,9 +242,31 @@ impl BidirectionalAStar {
         }
     }
 
+    /// The bytes of the adjacency and the node records (32 bytes per padded cell) for
+    /// `grid`.
+    pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
+        let padded = Adjacency::padded_len_for(grid, &self.moves) as u64;
+        Adjacency::bytes_for(grid, &self.moves) + padded * std::mem::size_of::<Node>() as u64
+    }
+
     /// Runs the search on `problem` within `budget`.
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
-        self.prepare(problem.grid());
+        let grid = problem.grid();
+        if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
+            return Search {
+                status: Status::BudgetExhausted,
+                path: None,
+                cost: None,
+                stats: [SearchStats::default(); 2],
+                peak_open: 0,
+                n_meeting_updates: 0,
+                expanded: Vec::new(),
+                memory: Some(shortfall),
+            };
+        }
+        let record = budget.record_expanded;
+        let mut expanded = Vec::new();
+        self.prepare(grid);
         let Some(adjacency) = self.adjacency.as_ref() else {
             unreachable!("prepare fills the adjacency cache");
         };
@@ -336,6 +366,9 @@ impl BidirectionalAStar {
             let p = entry.node as usize;
             nodes[p].stamp[d] = closed_stamp;
             stats[d].n_expanded += 1;
+            if record {
+                expanded.push(adjacency.cell(p));
+            }
             let g_node = nodes[p].g[d];
             let mut mask = adjacency.mask(p);
             while mask != 0 {
@@ -408,6 +441,8 @@ impl BidirectionalAStar {
             stats,
             peak_open,
             n_meeting_updates,
+            expanded,
+            memory: None,
         }
     }
 }
@@ -431,9 +466,18 @@ impl Planner for BidirectionalAStar {
         BidirectionalAStar::prepare(self, grid);
     }
 
+    /// Lists the expanded cells of both directions in expansion order when the budget
+    /// asks ([`Budget::record_expanded`]), one per `n_expanded` (a cell both directions
+    /// expand twice); refuses with [`Outcome::over_memory`] when
+    /// [`BidirectionalAStar::memory_bytes_for`] the grid is over [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let search = self.search(problem, budget);
         let counters = search.counters();
-        Outcome::new(search.status, search.path, counters)
+        match search.memory {
+            Some(shortfall) => Outcome::over_memory(shortfall, counters),
+            None => {
+                Outcome::new(search.status, search.path, counters).with_expanded(search.expanded)
+            }
+        }
     }
 }

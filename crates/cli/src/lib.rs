@@ -9,6 +9,7 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -192,19 +193,54 @@ pub fn exit(result: Result<(), String>) -> ExitCode {
     }
 }
 
-/// The exit code of a command stopped by Ctrl-C (SIGINT): 128 + 2, as shells report it.
+/// The exit code of a command stopped by Ctrl-C (SIGINT) or SIGTERM: 128 + 2, as shells
+/// report Ctrl-C.
 pub const EXIT_INTERRUPTED: u8 = 130;
 
-/// Makes Ctrl-C (SIGINT) end the process at once with "interrupted" on stderr and exit
-/// code [`EXIT_INTERRUPTED`]: for `plan`, which writes nothing, so stopping anywhere is
-/// clean. A handler another command installed first is kept.
-fn stop_on_interrupt() -> Result<(), String> {
-    match ctrlc::set_handler(|| {
+/// Raised by the first SIGINT or SIGTERM while a sweep watches it.
+static STOP: AtomicBool = AtomicBool::new(false);
+
+/// Whether a sweep watches [`STOP`] (else a signal ends the process at once).
+static GRACEFUL: AtomicBool = AtomicBool::new(false);
+
+/// Installs the one handler of SIGINT and SIGTERM (Ctrl-C; Slurm's `scancel`). While a
+/// sweep watches [`STOP`], the first signal raises it, so the sweep starts no new run and
+/// records the finished ones; otherwise (`plan`, which writes nothing, or a second
+/// signal) it prints "interrupted" and exits at once with [`EXIT_INTERRUPTED`] (a sweep's
+/// stream may then end in a cut line, which `--resume` drops). A handler installed first
+/// is kept.
+fn install_handler() -> Result<(), ctrlc::Error> {
+    let installed = ctrlc::try_set_handler(|| {
+        if GRACEFUL.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
+            eprintln!("stopping: finishing the runs in progress (interrupt again to quit at once)");
+            return;
+        }
         eprintln!("interrupted");
         std::process::exit(i32::from(EXIT_INTERRUPTED));
-    }) {
+    });
+    match installed {
         Ok(()) | Err(ctrlc::Error::MultipleHandlers) => Ok(()),
-        Err(error) => Err(format!("cannot handle Ctrl-C: {error}")),
+        Err(error) => Err(error),
+    }
+}
+
+/// Makes Ctrl-C end the process at once with "interrupted" and [`EXIT_INTERRUPTED`]: for
+/// `plan`, which writes nothing, so stopping anywhere is clean.
+fn stop_on_interrupt() -> Result<(), String> {
+    install_handler().map_err(|error| format!("cannot handle Ctrl-C: {error}"))
+}
+
+/// Makes SIGINT and SIGTERM stop a sweep cleanly: the flag it watches, or `None` (with a
+/// warning) if no handler can be installed.
+fn stop_on_signals() -> Option<&'static AtomicBool> {
+    GRACEFUL.store(true, Ordering::SeqCst);
+    match install_handler() {
+        Ok(()) => Some(&STOP),
+        Err(error) => {
+            GRACEFUL.store(false, Ordering::SeqCst);
+            tracing::warn!("no SIGINT/SIGTERM handler, a signal will kill the sweep: {error}");
+            None
+        }
     }
 }
 
@@ -253,6 +289,7 @@ pub fn run(command: Command) -> Result<(), String> {
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())?,
             };
             let bar = Bar::default();
+            let stop = stop_on_signals();
             let report = sweep::experiment(&sweep::SweepArgs {
                 config: &config,
                 threads: threads.unwrap_or(0),
@@ -261,7 +298,15 @@ pub fn run(command: Command) -> Result<(), String> {
                 heap: Some(&alloc::Meter),
                 resume,
                 shard,
+                stop,
             })?;
+            if let Some(n_recorded) = report.interrupted {
+                eprintln!(
+                    "interrupted after {n_recorded} of {} runs; rerun with --resume to continue",
+                    report.n_runs
+                );
+                std::process::exit(i32::from(EXIT_INTERRUPTED));
+            }
             println!(
                 "{} runs in {:.2} s -> {}",
                 report.n_runs,

@@ -411,6 +411,7 @@ impl Remaining {
                 d.saturating_duration_since(Instant::now())
                     .max(Duration::ZERO)
             }),
+            ..Budget::default()
         }
     }
 }

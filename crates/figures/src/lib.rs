@@ -152,6 +152,12 @@ pub struct Layer<'a> {
     ///
     /// [`Outcome`]: planner_api::Outcome
     pub markers: &'a [Marker],
+    /// The cells the planner expanded ([`Outcome::expanded`]), drawn as a light fill of
+    /// the layer's colour under its path in panels, with a legend line giving their
+    /// number; empty for none. Overlays do not draw them.
+    ///
+    /// [`Outcome::expanded`]: planner_api::Outcome::expanded
+    pub expanded: &'a [Cell],
 }
 
 impl<'a> Layer<'a> {
@@ -162,7 +168,13 @@ impl<'a> Layer<'a> {
             path,
             note: note.into(),
             markers: &[],
+            expanded: &[],
         }
+    }
+
+    /// The layer with `expanded` drawn under its path.
+    pub fn with_expanded(self, expanded: &'a [Cell]) -> Layer<'a> {
+        Layer { expanded, ..self }
     }
 
     /// The layer with `markers` drawn on it.
@@ -179,7 +191,7 @@ pub use planner_api::Mark as Marker;
 /// One planner's path on the grid, as an SVG document.
 ///
 /// Draws the grid (free cells white, blocked cells dark, grid lines when cells are at
-/// least 6 px), the path as a polyline through the centres of its cells in the first
+/// least 6 px), the layer's expanded cells (if any) as a light fill, the path as a polyline through the centres of its cells in the first
 /// palette colour, the step index in each path cell and an arrow on each move (sparser on
 /// small cells, see the crate docs), `S` on `start` and `G` on `goal`, `title` above and
 /// the layer's label and note below. `start` and `goal` outside the grid are not drawn.
@@ -200,8 +212,9 @@ pub fn draw_path(
 /// palette colour), arranged side by side (wrapping into rows when that gives larger
 /// cells); with [`Layout::Overlay`] all paths share one map, earlier layers drawn wider
 /// underneath so that shared stretches stay visible, with one legend line per layer;
-/// [`Layout::Auto`] picks panels for maps up to [`PANEL_LIMIT`] a side. Overlays write
-/// step indices only with [`StepLabels::Always`]. With no layer, draws the map alone.
+/// [`Layout::Auto`] picks panels for maps up to [`PANEL_LIMIT`] a side, and whenever a
+/// layer has expanded cells (overlays do not draw them). Overlays write step indices
+/// only with [`StepLabels::Always`]. With no layer, draws the map alone.
 pub fn draw_comparison(
     grid: &Grid,
     start: Cell,
@@ -214,7 +227,9 @@ pub fn draw_comparison(
         Layout::Panels => true,
         Layout::Overlay => false,
         Layout::Auto => {
-            layers.len() <= 1 || (grid.width() <= PANEL_LIMIT && grid.height() <= PANEL_LIMIT)
+            layers.len() <= 1
+                || (grid.width() <= PANEL_LIMIT && grid.height() <= PANEL_LIMIT)
+                || layers.iter().any(|l| !l.expanded.is_empty())
         }
     };
     if panels {

@@ -444,6 +444,64 @@ fn arrows(
     g
 }
 
+/// The fill opacity of expanded cells: light enough that the path, obstacles and step
+/// labels on top stay readable.
+const EXPANDED_OPACITY: f64 = 0.3;
+
+/// Expanded cells as a light fill of `colour`: one rectangle per run of consecutive
+/// cells in a row, in a group scaled to cell units (as the obstacles), so a search that
+/// expands 100,000 cells draws a few thousand rectangles. Cells outside the grid and
+/// repeats are left out.
+fn expanded_group(grid: &Grid, f: Frame, cells: &[Cell], colour: &str) -> Group {
+    let mut g = Group::new()
+        .set("class", "expanded")
+        .set("fill", colour)
+        .set("fill-opacity", EXPANDED_OPACITY)
+        .set("shape-rendering", "crispEdges")
+        .set(
+            "transform",
+            format!(
+                "translate({} {}) scale({})",
+                num(f.ox),
+                num(f.oy),
+                num(f.cell)
+            ),
+        );
+    let mut sorted: Vec<Cell> = cells
+        .iter()
+        .copied()
+        .filter(|&c| grid.contains(c))
+        .collect();
+    sorted.sort_unstable_by_key(|c| (c.y, c.x));
+    sorted.dedup();
+    let mut i = 0;
+    while i < sorted.len() {
+        let first = sorted[i];
+        let mut j = i + 1;
+        while j < sorted.len() && sorted[j].y == first.y && sorted[j].x == first.x + (j - i) as u32
+        {
+            j += 1;
+        }
+        g.append(
+            Rectangle::new()
+                .set("x", first.x)
+                .set("y", first.y)
+                .set("width", j - i)
+                .set("height", 1),
+        );
+        i = j;
+    }
+    g
+}
+
+/// The number of distinct cells among `cells`.
+fn n_distinct(cells: &[Cell]) -> usize {
+    let mut sorted = cells.to_vec();
+    sorted.sort_unstable_by_key(|c| (c.y, c.x));
+    sorted.dedup();
+    sorted.len()
+}
+
 /// Pale cells under a labelled path.
 fn tint(f: Frame, cells: &[(usize, Cell)], colour: &str) -> Group {
     let mut g = Group::new()
@@ -745,8 +803,11 @@ pub(crate) fn panels(
 ) -> String {
     let n = layers.len().max(1);
     let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
+    let with_expanded = layers.iter().any(|l| !l.expanded.is_empty());
     let foot_h = if layers.is_empty() {
         0.0
+    } else if with_expanded {
+        3.0 * LINE_H + 6.0
     } else {
         2.0 * LINE_H + 6.0
     };
@@ -801,6 +862,9 @@ pub(crate) fn panels(
         panel.append(map_group(grid, f));
         if let Some(layer) = layers.get(k) {
             let colour = &colour(k);
+            if !layer.expanded.is_empty() {
+                panel.append(expanded_group(grid, f, layer.expanded, colour));
+            }
             panel.append(layer_group(
                 grid,
                 f,
@@ -842,6 +906,40 @@ pub(crate) fn panels(
                 .set("fill", "#444444")
                 .set("class", "note"),
             );
+            if with_expanded {
+                let y3 = y1 + 2.0 * LINE_H;
+                let line = if layer.expanded.is_empty() {
+                    "expanded cells: not recorded".to_owned()
+                } else {
+                    let distinct = n_distinct(layer.expanded);
+                    let n = layer.expanded.len();
+                    if distinct == n {
+                        format!("expanded: {n} cells")
+                    } else {
+                        format!("expanded: {n} ({distinct} distinct cells)")
+                    }
+                };
+                panel.append(
+                    Rectangle::new()
+                        .set("x", num(f.ox + 3.0))
+                        .set("y", num(y3 - 10.0))
+                        .set("width", 11)
+                        .set("height", 11)
+                        .set("fill", colour.as_str())
+                        .set("fill-opacity", EXPANDED_OPACITY)
+                        .set("stroke", colour.as_str()),
+                );
+                panel.append(
+                    text(
+                        f.ox + 22.0,
+                        y3,
+                        fit_text(&line, NOTE_FS, room - 22.0),
+                        NOTE_FS,
+                    )
+                    .set("fill", "#444444")
+                    .set("class", "expanded-note"),
+                );
+            }
         } else {
             panel.append(endpoints(grid, f, start, goal, ("S", "G")));
         }

@@ -347,8 +347,43 @@ impl Jps {
         }
     }
 
+    /// The bytes of the grid's derived data and the per-query state for `grid`, at most:
+    /// two bit copies (with a 64-bit word of padding per row and column, rounded up to 3
+    /// words), the node records and closed marks (17 bytes each, rows of a power-of-two
+    /// length), and for `jps_plus` the jump table and its transient (12 bytes per cell).
+    pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
+        let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
+        let bit_grid = 8 * ((w.div_ceil(64) + 3) * (h + 2) + (h.div_ceil(64) + 3) * (w + 2));
+        let records = (h << index_shift(grid)) * 17;
+        let table = match self.config.variant {
+            Variant::JpsPlus => 12 * w * h,
+            _ => 0,
+        };
+        bit_grid + records + table
+    }
+
     fn search<const VARIANT: u8>(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
+        let counter_names = [
+            "n_expanded",
+            if VARIANT == JPS_PLUS {
+                "n_lookups"
+            } else {
+                "n_scanned"
+            },
+            "n_open_insertions",
+            "n_relaxations",
+            "peak_open",
+        ];
+        if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
+            let mut counters = Counters::new();
+            for name in counter_names {
+                counters.push(name, 0);
+            }
+            return Outcome::over_memory(shortfall, counters);
+        }
+        let record = budget.record_expanded;
+        let mut expanded = Vec::new();
         self.precompute(grid);
         self.size_nodes(grid);
         let (Some(bits), table) = (&self.bits, &self.table) else {
@@ -405,6 +440,9 @@ impl Jps {
             search.nodes[p as usize].tag |= 1;
             search.closed[p as usize] = search.closed_mark;
             search.tally.n_expanded += 1;
+            if record {
+                expanded.push(Cell::new(p & ((1 << search.shift) - 1), p >> search.shift));
+            }
             if p == goal_index {
                 break Status::Found;
             }
@@ -413,19 +451,17 @@ impl Jps {
             t.peak_open = t.peak_open.max(t.n_open_insertions - t.n_expanded);
         };
         let tally = search.tally;
-        let mut counters = Counters::new().with("n_expanded", tally.n_expanded);
-        counters.push(
-            if VARIANT == JPS_PLUS {
-                "n_lookups"
-            } else {
-                "n_scanned"
-            },
+        let mut counters = Counters::new();
+        for (name, value) in counter_names.into_iter().zip([
+            tally.n_expanded,
             tally.n_scanned,
-        );
-        counters.push("n_open_insertions", tally.n_open_insertions);
-        counters.push("n_relaxations", tally.n_relaxations);
-        counters.push("peak_open", tally.peak_open);
-        match status {
+            tally.n_open_insertions,
+            tally.n_relaxations,
+            tally.peak_open,
+        ]) {
+            counters.push(name, value);
+        }
+        let outcome = match status {
             Status::Found => {
                 let (path, marks) = self.reconstruct(grid, start_index, goal_index);
                 let mut outcome = Outcome::found(path, counters);
@@ -434,7 +470,8 @@ impl Jps {
             }
             Status::NoPath => Outcome::no_path(counters),
             Status::BudgetExhausted => Outcome::budget_exhausted(None, counters),
-        }
+        };
+        outcome.with_expanded(expanded)
     }
 
     /// Sizes the node records for `grid`: rows of a power-of-two length, so that a
@@ -778,6 +815,10 @@ impl Planner for Jps {
         self.size_nodes(grid);
     }
 
+    /// Lists the expanded jump points (not the cells scanned between them) in
+    /// [`Outcome::expanded`] when the budget asks ([`Budget::record_expanded`]), one per
+    /// `n_expanded`; refuses with [`Outcome::over_memory`] when
+    /// [`Jps::memory_bytes_for`] the grid is over [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         match self.config.variant {
             Variant::Jps => self.search::<JPS>(problem, budget),

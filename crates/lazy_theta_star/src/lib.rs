@@ -43,6 +43,13 @@
 //! assert!(path.validate(&grid, PathRule::AnyAngle).is_ok());
 //! assert!(outcome.counters.get("n_parent_repairs").is_some());
 //! ```
+//!
+//! # Budget
+//! The planner honours the expansion and time limits of its [`planner_api::Budget`]
+//! but does not record expanded cells ([`planner_api::Outcome::expanded`] stays empty
+//! whatever [`Budget::record_expanded`](planner_api::Budget::record_expanded) says; search
+//! effort figures say "not recorded") and does not check
+//! [`Budget::max_memory_mb`](planner_api::Budget::max_memory_mb).
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 

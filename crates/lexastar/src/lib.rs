@@ -27,7 +27,9 @@
 //! too.
 //!
 //! A per-state record (g, parent heading, closed) and a per-cell record (best g of its
-//! states, expanded) live in the planner and are invalidated by a generation stamp, OPEN
+//! states, expanded) live in the planner, in pages allocated on first write
+//! ([`planner_api::pages::Pages`]: memory follows the states a search touches, not the
+//! grid), and are invalidated by a generation stamp, OPEN
 //! is a binary heap with lazy deletion, and moves come from [`IndexedMoves`], as in
 //! `planner-astar`. The parent of a state is stored as one byte, the heading of the
 //! previous state (its cell is `cell - heading`). The start state has no slot: it is a
@@ -158,9 +160,10 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
+use planner_api::pages::Pages;
 use planner_api::{
-    Budget, Cell, Connectivity, Counter, Grid, IndexedMoves, MoveOrderError, MoveSet,
-    NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
+    Budget, Cell, Connectivity, Counter, Grid, IndexedMoves, MemoryShortfall, MoveOrderError,
+    MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -348,6 +351,13 @@ pub struct Search {
     pub n_cells_expanded: u64,
     /// Generated states discarded by dominance (see [`Config::dominance`]).
     pub n_dominated: u64,
+    /// The cells of the expanded states in expansion order, when the budget asked for
+    /// them ([`Budget::record_expanded`]); else empty. A cell is listed once per expanded
+    /// state of it, so the list has `n_expanded` entries.
+    pub expanded: Vec<Cell>,
+    /// Set when the records did not fit [`Budget::max_memory_mb`] (nothing was allocated
+    /// or searched).
+    pub memory: Option<MemoryShortfall>,
 }
 
 /// The lexicographic A* planner. Build with [`LexAStar::new`]; reuse it for many queries.
@@ -357,10 +367,12 @@ pub struct LexAStar {
     moves: MoveSet,
     compiled: Option<IndexedMoves>,
     generation: u32,
-    /// Per state, at `cell * n_headings + heading`; one record, so one cache line per state.
-    states: Vec<Slot>,
-    /// Per cell: the best `g` of its states and when a state was first expanded.
-    cells: Vec<CellSlot>,
+    /// Per state, at `cell * n_headings + heading`; one record, so one cache line per
+    /// state. Allocated in pages on first write, so memory follows the states touched.
+    states: Pages<Slot>,
+    /// Per cell: the best `g` of its states and when a state was first expanded (pages
+    /// allocated on first write).
+    cells: Pages<CellSlot>,
     lex_heap: BinaryHeap<Entry<u128>>,
     weighted_heap: BinaryHeap<Entry<Weighted>>,
 }
@@ -421,8 +433,8 @@ impl LexAStar {
             moves,
             compiled: None,
             generation: 0,
-            states: Vec::new(),
-            cells: Vec::new(),
+            states: Pages::default(),
+            cells: Pages::default(),
             lex_heap: BinaryHeap::new(),
             weighted_heap: BinaryHeap::new(),
         })
@@ -445,23 +457,52 @@ impl LexAStar {
         }
         let n_states = grid.len() * self.moves.moves().len();
         if self.states.len() != n_states || self.cells.len() != grid.len() {
-            self.states = vec![Slot::default(); n_states];
-            self.cells = vec![CellSlot::default(); grid.len()];
+            self.states = Pages::new(n_states);
+            self.cells = Pages::new(grid.len());
             self.generation = 0;
         }
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 {
-            self.states.fill(Slot::default());
-            self.cells.fill(CellSlot::default());
+            self.states.fill_default();
+            self.cells.fill_default();
             self.generation = 1;
         }
         self.lex_heap.clear();
         self.weighted_heap.clear();
     }
 
+    /// The bytes of the per-state and per-cell records for `grid` with every page
+    /// allocated (what a search touching every state holds): 24 bytes per state (4 or 8
+    /// per cell) and 24 per cell, and the page tables.
+    pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
+        Pages::<Slot>::full_bytes(grid.len() * self.moves.moves().len())
+            + Pages::<CellSlot>::full_bytes(grid.len())
+    }
+
+    /// The bytes the per-state and per-cell records hold now: the pages the searches on
+    /// the current grid have written, and the page tables.
+    pub fn resident_bytes(&self) -> usize {
+        self.states.resident_bytes() + self.cells.resident_bytes()
+    }
+
     /// Runs the search on `problem` within `budget` (counting state expansions) and returns
-    /// the path with raw counters. With an exhausted budget there is no path.
+    /// the path with raw counters. With an exhausted budget there is no path. When
+    /// [`LexAStar::memory_bytes_for`] the grid is over [`Budget::max_memory_mb`], allocates
+    /// nothing, expands nothing and sets [`Search::memory`].
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+        let grid = problem.grid();
+        if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
+            return Search {
+                status: Status::BudgetExhausted,
+                path: None,
+                cost: None,
+                stats: SearchStats::default(),
+                n_cells_expanded: 0,
+                n_dominated: 0,
+                expanded: Vec::new(),
+                memory: Some(shortfall),
+            };
+        }
         match self.config.objective {
             Objective::Lexicographic => self.run::<u128>(problem, budget),
             Objective::Weighted => self.run::<Weighted>(problem, budget),
@@ -510,8 +551,11 @@ impl LexAStar {
             goal.x,
             goal.y,
         );
-        cells[start_index].best = Cost::default();
-        cells[start_index].best_seen = generation;
+        let record = budget.record_expanded;
+        let mut expanded = Vec::new();
+        let start_cell = cells.get_mut(start_index);
+        start_cell.best = Cost::default();
+        start_cell.best_seen = generation;
         heap.push(Entry {
             key: K::key(Cost::new(m0, t0), lambda),
             seq: 0,
@@ -526,14 +570,11 @@ impl LexAStar {
             let (node, heading, g_state) = if state == START_STATE {
                 (start_index, NO_HEADING, Cost::default())
             } else {
-                if states[state].closed {
+                let slot = states.get(state);
+                if slot.closed {
                     continue; // A stale entry of a state improved after it was pushed.
                 }
-                (
-                    state / n_headings,
-                    (state % n_headings) as u8,
-                    states[state].g,
-                )
+                (state / n_headings, (state % n_headings) as u8, slot.g)
             };
             if !clock.allows(stats.n_expanded) {
                 return Search {
@@ -543,15 +584,21 @@ impl LexAStar {
                     stats,
                     n_cells_expanded,
                     n_dominated,
+                    expanded,
+                    memory: None,
                 };
             }
             if state != START_STATE {
-                states[state].closed = true;
+                states.get_mut(state).closed = true;
             }
             n_open -= 1;
             stats.n_expanded += 1;
-            if cells[node].expanded != generation {
-                cells[node].expanded = generation;
+            if record {
+                expanded.push(grid.cell(node));
+            }
+            let node_cell = cells.get_mut(node);
+            if node_cell.expanded != generation {
+                node_cell.expanded = generation;
                 n_cells_expanded += 1;
             }
             if node == goal_index {
@@ -563,6 +610,8 @@ impl LexAStar {
                     stats,
                     n_cells_expanded,
                     n_dominated,
+                    expanded,
+                    memory: None,
                 };
             }
             let x = (node % width) as u32;
@@ -574,7 +623,7 @@ impl LexAStar {
                     continue;
                 };
                 let next_state = next * n_headings + k;
-                let slot = &mut states[next_state];
+                let slot = states.get_mut(next_state);
                 let known = slot.seen == generation;
                 if known && slot.closed {
                     stats.n_skipped += 1;
@@ -582,7 +631,7 @@ impl LexAStar {
                 }
                 let turn = u64::from(heading != NO_HEADING && usize::from(heading) != k);
                 let g_next = Cost::new(g_state.steps + 1, g_state.turns + turn);
-                let cell = &mut cells[next];
+                let cell = cells.get_mut(next);
                 if dominance && cell.best_seen == generation {
                     // Another state of this cell, plus one turn, is at least as good.
                     let with_turn = Cost::new(cell.best.steps, cell.best.turns + 1);
@@ -625,6 +674,8 @@ impl LexAStar {
             stats,
             n_cells_expanded,
             n_dominated,
+            expanded,
+            memory: None,
         }
     }
 }
@@ -634,7 +685,7 @@ impl LexAStar {
 fn reconstruct(
     grid: &Grid,
     compiled: &IndexedMoves,
-    states: &[Slot],
+    states: &Pages<Slot>,
     state: usize,
     start_index: usize,
 ) -> Path {
@@ -649,7 +700,7 @@ fn reconstruct(
     loop {
         // The predecessor is one move back along this state's heading, with the heading
         // stored as this state's parent.
-        let previous = states[node * n_headings + heading].parent;
+        let previous = states.get(node * n_headings + heading).parent;
         node = (node as isize - moves[heading].delta) as usize;
         cells.push(grid.cell(node));
         if previous == NO_HEADING {
@@ -670,6 +721,11 @@ impl Planner for LexAStar {
         planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
     }
 
+    /// Lists the cells of the expanded states when the budget asks
+    /// ([`Budget::record_expanded`]), one per `n_expanded` (a cell once per expanded state
+    /// of it; `n_cells_expanded` counts the distinct ones); refuses with
+    /// [`Outcome::over_memory`] when [`LexAStar::memory_bytes_for`] the grid is over
+    /// [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let search = self.search(problem, budget);
         let counters = search
@@ -677,7 +733,12 @@ impl Planner for LexAStar {
             .report(Counter::ASTAR)
             .with("n_dominated", search.n_dominated)
             .with("n_cells_expanded", search.n_cells_expanded);
-        Outcome::new(search.status, search.path, counters)
+        match search.memory {
+            Some(shortfall) => Outcome::over_memory(shortfall, counters),
+            None => {
+                Outcome::new(search.status, search.path, counters).with_expanded(search.expanded)
+            }
+        }
     }
 }
 

@@ -740,6 +740,7 @@ fn remaining(budget: &Budget, deadline: Option<Instant>, used: u64) -> Budget {
             d.saturating_duration_since(Instant::now())
                 .max(Duration::ZERO)
         }),
+        ..*budget
     }
 }
 

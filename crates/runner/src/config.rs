@@ -86,6 +86,8 @@ struct RawConfig {
     #[serde(default)]
     figures_pick: FigurePick,
     #[serde(default)]
+    figures_expanded: bool,
+    #[serde(default)]
     charts: Vec<ChartSpec>,
     #[serde(default)]
     ompl: bool,
@@ -250,6 +252,9 @@ pub struct Experiment {
     pub figures_per_map: Option<usize>,
     /// Which problems get figures (`figures_pick`).
     pub figures_pick: FigurePick,
+    /// Whether figures draw each planner's expanded cells under its path
+    /// (`figures_expanded`), from a run with recording on apart from the timed one.
+    pub figures_expanded: bool,
     /// The parameter-study charts the config asks for (`[[charts]]`).
     pub charts: Vec<ChartSpec>,
     /// Whether `experiment` writes OMPL benchmark logs (`ompl = true`).
@@ -553,6 +558,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         figures: raw.figures,
         figures_per_map: raw.figures_per_map,
         figures_pick: raw.figures_pick,
+        figures_expanded: raw.figures_expanded,
         charts: raw.charts,
         ompl: raw.ompl,
         paths: raw.paths,
@@ -1279,6 +1285,7 @@ impl Experiment {
             figures: FigureMode::None,
             figures_per_map: None,
             figures_pick: FigurePick::First,
+            figures_expanded: false,
             charts: Vec::new(),
             ompl: false,
             paths: PathsMode::All,

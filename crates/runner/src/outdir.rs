@@ -73,7 +73,7 @@ pub const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(120);
 /// How often a waiting run tries the lock again.
 const LOCK_POLL: Duration = Duration::from_millis(50);
 
-pub use crate::output::OutputFile;
+pub use crate::output::{OutputFile, StreamedFile};
 
 /// The contents of [`MARKER`]: which gridplan wrote the directory, and for which experiment.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -264,15 +264,27 @@ pub fn write_results(
     files: &[OutputFile],
     lock_wait: Duration,
 ) -> Result<PathBuf, OutdirError> {
-    for file in files {
-        let plain = file
-            .path
-            .components()
-            .all(|c| matches!(c, Component::Normal(_)));
-        if !plain || file.path.as_os_str().is_empty() || file.path == Path::new(MARKER) {
-            return Err(OutdirError::BadFile {
-                path: file.path.clone(),
-            });
+    write_results_streamed(output, experiment, files, &[], lock_wait)
+}
+
+/// [`write_results`] with, besides `files`, the `streamed` files, each written by its
+/// function straight into the new directory through a buffered writer (so a large
+/// table is never held whole); a function's error fails the write like an I/O error.
+pub fn write_results_streamed(
+    output: &Path,
+    experiment: &str,
+    files: &[OutputFile],
+    streamed: &[StreamedFile<'_>],
+    lock_wait: Duration,
+) -> Result<PathBuf, OutdirError> {
+    for path in files
+        .iter()
+        .map(|f| &f.path)
+        .chain(streamed.iter().map(|f| &f.path))
+    {
+        let plain = path.components().all(|c| matches!(c, Component::Normal(_)));
+        if !plain || path.as_os_str().is_empty() || path == Path::new(MARKER) {
+            return Err(OutdirError::BadFile { path: path.clone() });
         }
     }
     let location = locate(output, true)?;
@@ -288,7 +300,7 @@ pub fn write_results(
             let _ = remove_results(&partial);
         }
     };
-    write_partial(&partial, experiment, files).inspect_err(discard)?;
+    write_partial(&partial, experiment, files, streamed).inspect_err(discard)?;
     swap(&location, cfg!(target_os = "linux")).inspect_err(discard)?;
     Ok(location.dir)
 }
@@ -503,6 +515,7 @@ fn write_partial(
     partial: &Path,
     experiment: &str,
     files: &[OutputFile],
+    streamed: &[StreamedFile<'_>],
 ) -> Result<(), OutdirError> {
     fs::create_dir(partial).map_err(io_error("create", partial))?;
     let marker = partial.join(MARKER);
@@ -513,6 +526,17 @@ fn write_partial(
             fs::create_dir_all(dir).map_err(io_error("create", dir))?;
         }
         fs::write(&target, &file.contents).map_err(io_error("write", &target))?;
+    }
+    for file in streamed {
+        let target = partial.join(&file.path);
+        if let Some(dir) = target.parent() {
+            fs::create_dir_all(dir).map_err(io_error("create", dir))?;
+        }
+        let mut out =
+            io::BufWriter::new(File::create(&target).map_err(io_error("create", &target))?);
+        (file.write)(&mut out)
+            .map_err(|e| io_error("write", &target)(io::Error::other(e.to_string())))?;
+        out.flush().map_err(io_error("write", &target))?;
     }
     Ok(())
 }

@@ -1,7 +1,9 @@
-//! The sweep's result files as bytes: runs.csv and runs.json. Writing them to disk (and
-//! replacing a results directory safely) is the binary's job.
+//! The sweep's result tables, runs.csv and runs.json, as bytes or written row by row to
+//! a writer ([`StreamedFile`]); replacing a results directory safely is
+//! [`crate::outdir`]'s job.
 
 use std::fmt::Write as _;
+use std::io::Write;
 use std::path::PathBuf;
 
 use crate::config::Experiment;
@@ -17,9 +19,54 @@ pub struct OutputFile {
     pub contents: Vec<u8>,
 }
 
-/// The runs as JSON: `{"experiment": ..., "config": ..., "runs": [...]}`, one record per
-/// line (compact: a sweep's file stays a few times the CSV's size), each record's fields
-/// and counters in their order (the planner's, for counters).
+/// A results file written straight to disk by a function (the large tables), instead
+/// of held as bytes: [`crate::outdir::write_results_streamed`] calls `write` with a
+/// buffered writer on the file.
+pub struct StreamedFile<'a> {
+    /// Relative path, e.g. `runs.csv`.
+    pub path: PathBuf,
+    /// Writes the contents.
+    #[allow(clippy::type_complexity)]
+    pub write: Box<dyn Fn(&mut dyn Write) -> Result<(), RunnerError> + 'a>,
+}
+
+/// The columns of runs.csv and of runs.json's table that every run has (counters and, in
+/// runs.json, the optional columns follow).
+pub const FIXED_COLUMNS: [&str; 21] = [
+    "map",
+    "problem",
+    "start_x",
+    "start_y",
+    "goal_x",
+    "goal_y",
+    "planner",
+    "algorithm",
+    "repeat",
+    "seed",
+    "status",
+    "steps",
+    "turns",
+    "score",
+    "length",
+    "optimal_length",
+    "valid",
+    "time_ms",
+    "setup_ms",
+    "peak_heap_bytes",
+    "bucket",
+];
+
+/// Columns of runs.json that appear only when some record has a value in them.
+const OPTIONAL_COLUMNS: [&str; 5] = ["error", "admissible", "returns", "marks", "series"];
+
+/// The runs as JSON (`runs.json`): `{"experiment", "config", "runs": {"columns": [...],
+/// "data": [[...], ...]}}`, one run per row, one row per line, in run order. The table
+/// is runs.csv's, typed (numbers, `true`/`false`, strings, `null` for an empty cell): the
+/// [`FIXED_COLUMNS`], then `error`, `admissible`, `returns`, `marks` and `series` when
+/// some run has one (a value or `null`), then one column per counter in order of first
+/// appearance (`null` where a run lacks it). Paths are not in it (`paths.jsonl`). Times
+/// are rounded to the nanosecond (1e-6 ms), the clock's resolution. `runs` is pandas'
+/// "split" layout: `pandas.DataFrame(**json.load(f)["runs"])` is the table.
 ///
 /// With `provenance`, the header also holds it (`"provenance"`) and every label's resolved
 /// parameters (`"planners"`).
@@ -33,15 +80,30 @@ pub fn runs_json_with(
     records: &[RunRecord],
     provenance: Option<&crate::provenance::Provenance>,
 ) -> Result<Vec<u8>, RunnerError> {
-    let mut out = Vec::with_capacity(records.len() * 256 + 128);
-    out.extend_from_slice(b"{\"experiment\":");
-    serde_json::to_writer(&mut out, &experiment.name).map_err(RunnerError::Json)?;
-    out.extend_from_slice(b",\"config\":");
-    serde_json::to_writer(&mut out, &experiment.source.display().to_string())
-        .map_err(RunnerError::Json)?;
+    let mut out = Vec::with_capacity(records.len() * 160 + 1024);
+    write_runs_json(&mut out, experiment, records, provenance)?;
+    Ok(out)
+}
+
+fn io(e: std::io::Error) -> RunnerError {
+    RunnerError::Json(serde_json::Error::io(e))
+}
+
+/// Writes [`runs_json_with`]'s bytes to `out`, row by row.
+pub fn write_runs_json(
+    out: &mut dyn Write,
+    experiment: &Experiment,
+    records: &[RunRecord],
+    provenance: Option<&crate::provenance::Provenance>,
+) -> Result<(), RunnerError> {
+    let json = |out: &mut dyn Write, value: &dyn erased::Value| value.write_json(out);
+    out.write_all(b"{\"experiment\":").map_err(io)?;
+    json(out, &experiment.name)?;
+    out.write_all(b",\"config\":").map_err(io)?;
+    json(out, &experiment.source.display().to_string())?;
     if let Some(provenance) = provenance {
-        out.extend_from_slice(b",\"provenance\":");
-        serde_json::to_writer(&mut out, provenance).map_err(RunnerError::Json)?;
+        out.write_all(b",\"provenance\":").map_err(io)?;
+        serde_json::to_writer(&mut *out, provenance).map_err(RunnerError::Json)?;
         let planners: serde_json::Map<String, serde_json::Value> = experiment
             .planners
             .iter()
@@ -54,37 +116,163 @@ pub fn runs_json_with(
                 (p.label.clone(), entry)
             })
             .collect();
-        out.extend_from_slice(b",\"planners\":");
-        serde_json::to_writer(&mut out, &planners).map_err(RunnerError::Json)?;
+        out.write_all(b",\"planners\":").map_err(io)?;
+        serde_json::to_writer(&mut *out, &planners).map_err(RunnerError::Json)?;
     }
-    out.extend_from_slice(b",\"runs\":[");
-    for (i, record) in records.iter().enumerate() {
-        out.extend_from_slice(if i == 0 { b"\n" } else { b",\n" });
-        serde_json::to_writer(&mut out, record).map_err(RunnerError::Json)?;
+    let counter_names = counter_names(records);
+    let optional = [
+        records.iter().any(|r| r.error.is_some()),
+        records.iter().any(|r| r.admissible.is_some()),
+        records.iter().any(|r| r.returns.is_some()),
+        records.iter().any(|r| !r.marks.is_empty()),
+        records.iter().any(|r| !r.series.is_empty()),
+    ];
+    let columns: Vec<&str> = FIXED_COLUMNS
+        .iter()
+        .copied()
+        .chain(
+            OPTIONAL_COLUMNS
+                .iter()
+                .zip(optional)
+                .filter(|(_, used)| *used)
+                .map(|(c, _)| *c),
+        )
+        .chain(counter_names.iter().map(String::as_str))
+        .collect();
+    out.write_all(b",\"runs\":{\"columns\":").map_err(io)?;
+    serde_json::to_writer(&mut *out, &columns).map_err(RunnerError::Json)?;
+    out.write_all(b",\"data\":[").map_err(io)?;
+    let mut row = Vec::with_capacity(512);
+    for (i, r) in records.iter().enumerate() {
+        row.clear();
+        row.extend_from_slice(if i == 0 { b"\n[" } else { b",\n[" });
+        let cell = |row: &mut Vec<u8>, value: &dyn erased::Value| -> Result<(), RunnerError> {
+            value.write_json(row)?;
+            row.push(b',');
+            Ok(())
+        };
+        cell(&mut row, &r.map)?;
+        cell(&mut row, &r.problem)?;
+        cell(&mut row, &r.start.x)?;
+        cell(&mut row, &r.start.y)?;
+        cell(&mut row, &r.goal.x)?;
+        cell(&mut row, &r.goal.y)?;
+        cell(&mut row, &r.planner)?;
+        cell(&mut row, &r.algorithm)?;
+        cell(&mut row, &r.repeat)?;
+        cell(&mut row, &r.seed)?;
+        cell(&mut row, &r.status.as_str())?;
+        cell(&mut row, &r.steps)?;
+        cell(&mut row, &r.turns)?;
+        cell(&mut row, &r.score)?;
+        cell(&mut row, &r.length)?;
+        cell(&mut row, &r.optimal_length)?;
+        cell(&mut row, &r.valid)?;
+        cell(&mut row, &nanoseconds(r.time_ms))?;
+        cell(&mut row, &nanoseconds(r.setup_ms))?;
+        cell(&mut row, &r.peak_heap_bytes)?;
+        cell(&mut row, &r.bucket)?;
+        if optional[0] {
+            cell(&mut row, &r.error)?;
+        }
+        if optional[1] {
+            cell(&mut row, &r.admissible)?;
+        }
+        if optional[2] {
+            cell(&mut row, &r.returns)?;
+        }
+        if optional[3] {
+            cell(&mut row, &(!r.marks.is_empty()).then_some(&r.marks))?;
+        }
+        if optional[4] {
+            cell(&mut row, &(!r.series.is_empty()).then_some(&r.series))?;
+        }
+        for value in counter_values(&r.counters, &counter_names) {
+            cell(&mut row, &value)?;
+        }
+        // The last cell's comma closes the row.
+        if let Some(last) = row.last_mut() {
+            *last = b']';
+        }
+        out.write_all(&row).map_err(io)?;
     }
-    out.extend_from_slice(b"\n]}\n");
-    Ok(out)
+    out.write_all(b"\n]}}\n").map_err(io)?;
+    Ok(())
 }
 
-/// The runs as CSV: fixed columns, then one column per counter name in order of first
-/// appearance; a run without that counter leaves the cell empty.
-pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
-    let mut counter_names: Vec<String> = Vec::new();
+/// `ms` rounded to the nanosecond.
+fn nanoseconds(ms: f64) -> f64 {
+    (ms * 1e6).round() / 1e6
+}
+
+/// Values written as JSON, through one object-safe trait.
+mod erased {
+    use std::io::Write;
+
+    use crate::RunnerError;
+
+    /// A value serde writes as JSON.
+    pub trait Value {
+        /// Writes the value's JSON to `out`.
+        fn write_json(&self, out: &mut dyn Write) -> Result<(), RunnerError>;
+    }
+
+    impl<T: serde::Serialize + ?Sized> Value for T {
+        fn write_json(&self, out: &mut dyn Write) -> Result<(), RunnerError> {
+            serde_json::to_writer(out, self).map_err(RunnerError::Json)
+        }
+    }
+}
+
+/// The values of `counters` under `names`, in that order (`None` where absent). A run
+/// usually reports its counters in the order of `names`: each is then found at the next
+/// position, with one comparison.
+fn counter_values<'a>(
+    counters: &'a planner_api::Counters,
+    names: &'a [String],
+) -> impl Iterator<Item = Option<u64>> + 'a {
+    let mut reported = counters.iter().peekable();
+    names.iter().map(move |name| match reported.peek() {
+        Some(&(next, value)) if next == name => {
+            reported.next();
+            Some(value)
+        }
+        _ => counters.get(name),
+    })
+}
+
+/// Every counter name of `records`, in order of first appearance.
+fn counter_names(records: &[RunRecord]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
     for record in records {
         for (name, _) in record.counters.iter() {
-            if !counter_names.iter().any(|n| n == name) {
-                counter_names.push(name.to_string());
+            if !names.iter().any(|n| n == name) {
+                names.push(name.to_string());
             }
         }
     }
-    let mut out = String::from(
-        "map,problem,start_x,start_y,goal_x,goal_y,planner,algorithm,repeat,seed,status,steps,turns,score,length,optimal_length,valid,time_ms,setup_ms,peak_heap_bytes,bucket",
-    );
+    names
+}
+
+/// The runs as CSV: the [`FIXED_COLUMNS`], then one column per counter name in order of
+/// first appearance; a run without that counter leaves the cell empty.
+pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(records.len() * 140 + 512);
+    // Writing to a Vec cannot fail.
+    let _ = write_runs_csv(&mut out, records);
+    out
+}
+
+/// Writes [`runs_csv`]'s bytes to `out`, row by row.
+pub fn write_runs_csv(out: &mut dyn Write, records: &[RunRecord]) -> Result<(), RunnerError> {
+    let counter_names = counter_names(records);
+    let mut line = FIXED_COLUMNS.join(",");
     for name in &counter_names {
-        out.push(',');
-        out.push_str(name);
+        line.push(',');
+        line.push_str(name);
     }
-    out.push('\n');
+    line.push('\n');
+    out.write_all(line.as_bytes()).map_err(io)?;
     let opt = |v: Option<String>| v.unwrap_or_default();
     for r in records {
         let fields = [
@@ -110,16 +298,18 @@ pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
             r.peak_heap_bytes.to_string(),
             opt(r.bucket.map(|b| b.to_string())),
         ];
-        out.push_str(&fields.join(","));
-        for name in &counter_names {
-            out.push(',');
-            if let Some(v) = r.counters.get(name) {
-                let _ = write!(out, "{v}");
+        line.clear();
+        line.push_str(&fields.join(","));
+        for value in counter_values(&r.counters, &counter_names) {
+            line.push(',');
+            if let Some(v) = value {
+                let _ = write!(line, "{v}");
             }
         }
-        out.push('\n');
+        line.push('\n');
+        out.write_all(line.as_bytes()).map_err(io)?;
     }
-    out.into_bytes()
+    Ok(())
 }
 
 fn csv_field(text: &str) -> String {
@@ -157,4 +347,68 @@ pub fn paths_jsonl(records: &[RunRecord]) -> Result<Option<Vec<u8>>, RunnerError
         }
     }
     Ok((!out.is_empty()).then_some(out))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// runs.json's table holds what runs.csv holds, typed, plus the optional columns a
+    /// run uses (PA-star's marks), and no path.
+    #[test]
+    fn the_json_table_matches_the_records_and_the_csv() {
+        let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../maps/paper/map01.map")
+            .display()
+            .to_string();
+        let text = format!(
+            "name = \"t\"\nrepeats = 2\npaths = \"all\"\n[[maps]]\nfiles = [{map:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n[planners.p]\nplanner = \"pastar\"\n"
+        );
+        let experiment = crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
+        let records = crate::run_all(&experiment, &crate::RunOptions::default()).unwrap();
+        let json: serde_json::Value =
+            serde_json::from_slice(&runs_json(&experiment, &records).unwrap()).unwrap();
+        let columns: Vec<&str> = json["runs"]["columns"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c.as_str().unwrap())
+            .collect();
+        let csv = String::from_utf8(runs_csv(&records)).unwrap();
+        let csv_columns: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        // The CSV's columns, with `marks` (PA-star's handover points) before the counters.
+        let marks = columns.iter().position(|&c| c == "marks").unwrap();
+        assert_eq!(marks, FIXED_COLUMNS.len());
+        let without_marks: Vec<&str> = columns
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != marks)
+            .map(|(_, c)| *c)
+            .collect();
+        assert_eq!(without_marks, csv_columns);
+        assert!(!columns.contains(&"path"));
+        let rows = json["runs"]["data"].as_array().unwrap();
+        assert_eq!(rows.len(), records.len());
+        let at = |name: &str| columns.iter().position(|&c| c == name).unwrap();
+        for (row, record) in rows.iter().zip(&records) {
+            assert_eq!(row.as_array().unwrap().len(), columns.len());
+            assert_eq!(row[at("map")], record.map.as_str());
+            assert_eq!(row[at("repeat")], record.repeat);
+            assert_eq!(row[at("status")], record.status.as_str());
+            assert_eq!(row[at("steps")].as_u64(), record.steps);
+            assert_eq!(row[at("length")].as_f64(), record.length);
+            assert_eq!(
+                row[at("n_expanded")].as_u64(),
+                record.counters.get("n_expanded")
+            );
+            let time = row[at("time_ms")].as_f64().unwrap();
+            assert!(
+                (time - record.time_ms).abs() <= 5e-7,
+                "{time} {}",
+                record.time_ms
+            );
+            assert_eq!(row[marks].is_null(), record.marks.is_empty());
+        }
+        assert!(records.iter().any(|r| !r.marks.is_empty()));
+    }
 }

@@ -47,6 +47,20 @@ pub struct PlanArgs {
     pub obstacle: Option<planner_maps::CsvConvention>,
 }
 
+/// What `plan` does besides [`PlanArgs`]: options of the planning run itself, kept apart
+/// so that adding one does not change how `PlanArgs` is built.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PlanOptions {
+    /// The memory limit of the planner's per-cell state, in MiB (`--max-memory-mb`);
+    /// `None`: the label's `budget.max_memory_mb`, else the runner's default
+    /// ([`crate::run::default_max_memory_mb`], half the machine's memory).
+    pub max_memory_mb: Option<u64>,
+    /// Run once more, after the timed run, with the expanded cells recorded
+    /// ([`PlanResult::expanded`], drawn by [`PlanResult::to_svg`]); the second run must
+    /// give the same counters, status and path (else an error).
+    pub record_expanded: bool,
+}
+
 /// The JSON form of `plan --json`.
 #[derive(Debug, Serialize)]
 pub struct PlanJson<'a> {
@@ -109,11 +123,19 @@ pub struct PlanResult {
     pub budget: Budget,
     /// The run's record, as a sweep records it.
     pub record: RunRecord,
+    /// The cells the planner expanded, in order, when [`PlanOptions::record_expanded`]
+    /// asked for them and the planner records them; else empty.
+    pub expanded: Vec<Cell>,
 }
 
 /// Runs `args`. A coverage planner covers from the start (`--start`, or the problem's)
 /// and takes no `--goal`.
 pub fn run(args: &PlanArgs) -> Result<PlanResult, RunnerError> {
+    run_with(args, &PlanOptions::default())
+}
+
+/// Runs `args` with `options` (see [`run`]).
+pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, RunnerError> {
     let experiment = match &args.config {
         Some(path) => Some(config::load(path)?),
         None => None,
@@ -160,6 +182,9 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, RunnerError> {
     }
     if spec.budget.max_expansions.is_none() {
         spec.budget.max_expansions = Some(DEFAULT_PLAN_EXPANSIONS);
+    }
+    if let Some(mb) = options.max_memory_mb {
+        spec.budget.max_memory_mb = Some(mb);
     }
     let coverage = spec.is_coverage();
     let listed = experiment
@@ -276,6 +301,13 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, RunnerError> {
         &mut Workspace::default(),
         None,
     )?;
+    let expanded = if options.record_expanded {
+        let (map, planner) = (&single.maps[0], &single.planners[0]);
+        crate::figures::record_expanded(&single, map, &map.problems[0], planner, &record)
+            .map_err(|e| RunnerError::Usage(e.to_string()))?
+    } else {
+        Vec::new()
+    };
     let grid = single.maps.swap_remove(0).grid;
     Ok(PlanResult {
         grid,
@@ -283,6 +315,7 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, RunnerError> {
         coverage,
         budget: spec.budget,
         record,
+        expanded,
     })
 }
 
@@ -381,31 +414,10 @@ impl PlanResult {
         })
     }
 
-    /// The run's figure as an SVG document: the path the runner draws for one run
-    /// (planner-figures' `draw_path`, step indices, arrows and the planner's marks), or for
-    /// a coverage planner the runner's coverage timeline with its backtracking points.
+    /// The run's figure as an SVG document ([`crate::figures::draw_run`]): grid, path,
+    /// marks, and the expanded cells when they were recorded.
     pub fn to_svg(&self) -> String {
-        let style = planner_figures::Style::default();
-        let r = &self.record;
-        if self.coverage {
-            if let Some(figure) = crate::coverage::figures(&self.grid, r, "plan", &style)
-                .into_iter()
-                .next()
-            {
-                return String::from_utf8_lossy(&figure.contents).into_owned();
-            }
-        }
-        let note = match r.path.as_ref().map(planner_api::Path::metrics) {
-            Some(m) => format!(
-                "{}: D={} T={} Score={} length={:.2}",
-                r.status, m.steps, m.turns, m.score, m.length
-            ),
-            None => r.status.as_str().replace('_', " "),
-        };
-        let layer = planner_figures::Layer::new(&self.planner, r.path.as_ref(), note)
-            .with_markers(&r.marks);
-        let title = format!("{} on {}", self.planner, r.map);
-        planner_figures::draw_path(&self.grid, r.start, r.goal, &layer, &title, &style)
+        crate::figures::draw_run(&self.grid, &self.record, &self.expanded)
     }
 
     /// Whether the run stopped at the budget `plan` applies by default.
@@ -443,6 +455,9 @@ impl PlanResult {
                 out,
                 "(stopped at plan's default budget of {DEFAULT_PLAN_EXPANSIONS} expansions; raise it with --max-expansions)"
             );
+        }
+        if let (crate::record::RunStatus::BudgetExhausted, Some(error)) = (r.status, &r.error) {
+            let _ = writeln!(out, "(not run: {error}; raise it with --max-memory-mb)");
         }
         if let Some(path) = &r.path {
             let m = path.metrics();

@@ -116,6 +116,10 @@ pub struct RunOptions<'a> {
     pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
     /// Measures peak heap per run; without it `peak_heap_bytes` is 0.
     pub heap: Option<&'a dyn HeapMeter>,
+    /// Once set (by a binary's signal handler), a streamed sweep
+    /// ([`crate::stream::run_stream`]) starts no new run and hands its sink the finished
+    /// prefix of the batch in progress; [`run_all`] ignores it.
+    pub stop: Option<&'a std::sync::atomic::AtomicBool>,
 }
 
 /// One worker's planners, one per label, reused across its runs.
@@ -267,7 +271,7 @@ fn execute(
     record: &mut RunRecord,
 ) {
     let start_heap = heap.map(HeapMeter::start);
-    let budget: &Budget = &planner.budget;
+    let budget = &effective_budget(planner);
     let rule = planner.factory.specs().path_rule.clone();
     let (status, path) = match &mut slot.planner {
         Built::Path(p) => {
@@ -283,6 +287,15 @@ fn execute(
             record.counters = outcome.counters;
             record.marks = outcome.marks;
             record.series = outcome.series;
+            if let Some(shortfall) = outcome.memory {
+                tracing::warn!(
+                    "{} on {} problem {}: {shortfall}; not run",
+                    planner.label,
+                    record.map,
+                    entry.index
+                );
+                record.error = Some(shortfall.to_string());
+            }
             (outcome.status, outcome.path)
         }
         Built::Coverage(c) => {
@@ -324,6 +337,49 @@ fn execute(
     }
 }
 
+/// The budget a run of `planner` gets: its own, with the memory limit
+/// [`default_max_memory_mb`] when it sets none (`max_memory_mb` in its `budget`).
+pub fn effective_budget(planner: &PlannerSpec) -> Budget {
+    let mut budget = planner.budget;
+    if budget.max_memory_mb.is_none() {
+        budget.max_memory_mb = default_max_memory_mb();
+    }
+    budget
+}
+
+/// The memory limit runs get unless their budget sets `max_memory_mb`: half the
+/// machine's memory (`MemTotal` of `/proc/meminfo`, read once), in MiB; `None` (no
+/// limit) where it cannot be read. Planners do no I/O, so the runner reads it for them.
+pub fn default_max_memory_mb() -> Option<u64> {
+    static DEFAULT: std::sync::OnceLock<Option<u64>> = std::sync::OnceLock::new();
+    *DEFAULT.get_or_init(|| {
+        let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+        mem_total_kib(&text).map(|kib| kib / 1024 / 2)
+    })
+}
+
+/// The `MemTotal:` value of a `/proc/meminfo` text, in KiB.
+fn mem_total_kib(meminfo: &str) -> Option<u64> {
+    let line = meminfo.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let mut words = line.split_whitespace().skip(1);
+    let value: u64 = words.next()?.parse().ok()?;
+    (words.next() == Some("kB")).then_some(value)
+}
+
 fn slot_is_coverage(built: &Built) -> bool {
     matches!(built, Built::Coverage(_))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mem_total_is_read_from_meminfo() {
+        let text = "MemTotal:       24592716 kB\nMemFree:         1413016 kB\n";
+        assert_eq!(mem_total_kib(text), Some(24_592_716));
+        assert_eq!(mem_total_kib("MemFree: 5 kB\n"), None);
+        assert_eq!(mem_total_kib("MemTotal: many kB\n"), None);
+        assert_eq!(mem_total_kib("MemTotal: 5 MB\n"), None);
+    }
 }

@@ -24,6 +24,8 @@ use std::sync::Mutex;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use planner_api::{Counter, Counters};
+
 use crate::config::Experiment;
 use crate::record::RunRecord;
 use crate::run::{run_one, RunList, RunOptions, Workspace};
@@ -161,6 +163,29 @@ struct Line {
     record: RunRecord,
 }
 
+/// Gives a record read back the standard counter names as static strings (as the
+/// planner reported them), not one allocation per name and record: a sweep's records
+/// read back are held for its summary, and the names are most of their heap.
+fn intern_counter_names(counters: &mut Counters) {
+    let standard = |name: &str| {
+        Counter::ALL
+            .iter()
+            .map(|c| c.name())
+            .find(|standard| *standard == name)
+    };
+    if counters.iter().all(|(name, _)| standard(name).is_none()) {
+        return;
+    }
+    let mut interned = Counters::new();
+    for (name, value) in counters.iter() {
+        match standard(name) {
+            Some(name) => interned.push(name, value),
+            None => interned.push(name.to_string(), value),
+        }
+    }
+    *counters = interned;
+}
+
 /// Reads a stream file: its header, then its runs in order, stopping at a cut last line.
 pub struct StreamReader<R> {
     reader: R,
@@ -227,8 +252,9 @@ impl<R: BufRead> StreamReader<R> {
         if self.next_line()?.is_none() {
             return Ok(None);
         }
-        let parsed: Line = serde_json::from_slice(&self.buffer)
+        let mut parsed: Line = serde_json::from_slice(&self.buffer)
             .map_err(|e| RunnerError::Stream(format!("{} line {}: {e}", self.what, self.line)))?;
+        intern_counter_names(&mut parsed.record.counters);
         Ok(Some((parsed.run, parsed.record)))
     }
 
@@ -244,14 +270,18 @@ impl<R: BufRead> StreamReader<R> {
 }
 
 /// Runs the runs `runs` (increasing indices into `experiment`'s [`RunList`]) and calls
-/// `sink` with each finished batch of (index, record), in order. The records of one
-/// sweep do not depend on the thread count or the batch size. Progress counts runs done
-/// in this call.
+/// `sink` with each finished batch of (index, record), in order (the sink owns them, to
+/// write or keep; it runs in the sweep's thread pool, so rayon's parallel iterators in it
+/// use the sweep's workers), and returns how many
+/// ran. The records of one sweep do not depend on the thread count or the batch size.
+/// Progress counts runs done in this call. Once [`RunOptions::stop`] is set, no new run
+/// starts: the last batch handed to `sink` holds the runs finished before the first one
+/// skipped, and the count is short of the runs asked for.
 pub fn run_stream(
     experiment: &Experiment,
     runs: impl Iterator<Item = u64>,
     options: &RunOptions<'_>,
-    mut sink: impl FnMut(&[(u64, RunRecord)]) -> Result<(), RunnerError>,
+    mut sink: impl FnMut(Vec<(u64, RunRecord)>) -> Result<(), RunnerError> + Send,
 ) -> Result<u64, RunnerError> {
     let list = RunList::new(experiment);
     let threads = match options.threads {
@@ -277,10 +307,18 @@ pub fn run_stream(
     while runs.peek().is_some() {
         batch.clear();
         batch.extend(runs.by_ref().take(batch_size));
-        let records: Vec<Result<(u64, RunRecord), RunnerError>> = pool.install(|| {
+        let stopped = || {
+            options
+                .stop
+                .is_some_and(|stop| stop.load(Ordering::Relaxed))
+        };
+        let records: Vec<Result<Option<(u64, RunRecord)>, RunnerError>> = pool.install(|| {
             batch
                 .par_iter()
                 .map(|&index| {
+                    if stopped() {
+                        return Ok(None);
+                    }
                     let spec = list.get(index).ok_or(RunnerError::RunIndex(index))?;
                     let worker = rayon::current_thread_index().unwrap_or(0) % workers;
                     let mut workspace = workspaces[worker]
@@ -294,13 +332,26 @@ pub fn run_stream(
                     if let Some(progress) = options.progress {
                         progress(done.fetch_add(1, Ordering::Relaxed) + 1);
                     }
-                    Ok((index, record))
+                    Ok(Some((index, record)))
                 })
                 .collect()
         });
-        let records: Vec<(u64, RunRecord)> = records.into_iter().collect::<Result<_, _>>()?;
-        n_done += records.len() as u64;
-        sink(&records)?;
+        // After a stop, the runs finished before the first skipped one: the stream stays
+        // an unbroken prefix of the run order.
+        let mut finished = Vec::with_capacity(records.len());
+        for record in records {
+            match record? {
+                Some(record) => finished.push(record),
+                None => break,
+            }
+        }
+        n_done += finished.len() as u64;
+        let cut_short = finished.len() < batch.len();
+        // In the pool, so that a sink's parallel work runs on the sweep's workers.
+        pool.install(|| sink(finished))?;
+        if cut_short || stopped() {
+            break;
+        }
     }
     Ok(n_done)
 }
@@ -332,7 +383,7 @@ mod tests {
             .to_line()
             .unwrap();
         let n = run_stream(&experiment, 0..6, &options, |batch| {
-            for (run, record) in batch {
+            for (run, record) in &batch {
                 encode(&mut bytes, *run, record)?;
             }
             Ok(())

@@ -8,19 +8,30 @@
 //! sweep continues after them; a changed config is refused. Without `--resume` an old
 //! stream is discarded.
 //!
-//! When the sweep is whole, the final outputs are rendered from the stream, in run order,
-//! and written atomically by [`outdir::write_results`]: `runs.json` (paths null),
-//! `runs.csv`, `summary.md`, figures, and `paths.jsonl` with the paths the config keeps
+//! When the sweep is whole, the final outputs are rendered, in run order, from its records
+//! (those of this process, after those a resumed sweep reads back from the stream; the
+//! standard counter names of records read back are static strings, not one allocation
+//! each) and written atomically by [`outdir::write_results_streamed`]: `runs.json` (a
+//! table without paths, [`crate::output::runs_json`]) and `runs.csv` row by row into their
+//! files, `summary.md`, figures, and `paths.jsonl` with the paths the config keeps
 //! (`paths`). Then the stream area is removed. A shard (`--shard K/N`) instead writes its
 //! stream as `shard.jsonl` into its output directory; [`merge`] checks that a set of shard
 //! directories is complete and of one config and renders the one sweep's outputs from them.
+//!
+//! A sweep whose stop flag ([`SweepArgs::stop`], set by the command line on SIGINT or
+//! SIGTERM) is raised starts no new run, appends the runs finished before the first one
+//! it skipped, and returns a [`Report`] with [`Report::interrupted`] set: nothing is
+//! rendered, the old results stay as they were, and the stream stays for `--resume`.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{BufReader, Seek as _, SeekFrom, Write as _};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use crate::output::OutputFile;
+use rayon::prelude::*;
+
+use crate::output::{OutputFile, StreamedFile};
 use crate::provenance::Provenance;
 use crate::report::Reproduction;
 use crate::run::HeapMeter;
@@ -48,6 +59,9 @@ pub struct Report {
     pub reproduction: Reproduction,
     /// Wall time of the sweep and the writing, in seconds.
     pub seconds: f64,
+    /// `Some(n)` when the stop flag ended the sweep with `n` of its `n_runs` runs
+    /// recorded (in the stream, for `--resume`); no results were written.
+    pub interrupted: Option<u64>,
 }
 
 /// A sweep's progress display (a command line's progress bar); the sweep calls it from
@@ -80,6 +94,8 @@ pub struct SweepArgs<'a> {
     pub resume: bool,
     /// Run one shard only.
     pub shard: Option<Shard>,
+    /// Once set, the sweep stops (see the module docs).
+    pub stop: Option<&'a AtomicBool>,
 }
 
 impl<'a> SweepArgs<'a> {
@@ -94,6 +110,7 @@ impl<'a> SweepArgs<'a> {
             heap: None,
             resume: false,
             shard: None,
+            stop: None,
         }
     }
 }
@@ -162,20 +179,45 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         threads: args.threads,
         progress: Some(&tick),
         heap: args.heap,
+        stop: args.stop,
     };
+    // A whole sweep keeps its records for the final outputs (a resumed one reads back
+    // those recorded before); a shard only streams them.
+    let keep = args.shard.is_none();
+    let mut records: Vec<RunRecord> = Vec::new();
+    if keep {
+        records.reserve_exact(runs.len().min(1 << 20) as usize);
+        if n_done > 0 {
+            file.flush()
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            records = read_records(&path, records)?;
+        }
+    }
     let mut buffer = Vec::new();
-    stream::run_stream(
+    let n_ran = stream::run_stream(
         &experiment,
         runs.iter().skip(n_done as usize),
         &options,
         |batch| {
+            // Encoded in parallel on the sweep's workers (the sink runs in their pool).
+            let lines: Vec<Vec<u8>> = batch
+                .par_iter()
+                .map(|(run, record)| {
+                    let mut line = Vec::with_capacity(512);
+                    stream::encode(&mut line, *run, record).map(|()| line)
+                })
+                .collect::<Result<_, _>>()?;
             buffer.clear();
-            for (run, record) in batch {
-                stream::encode(&mut buffer, *run, record)?;
+            for line in &lines {
+                buffer.extend_from_slice(line);
             }
             file.write_all(&buffer)
                 .and_then(|()| file.flush())
-                .map_err(|e| crate::RunnerError::Stream(format!("{}: {e}", path.display())))
+                .map_err(|e| crate::RunnerError::Stream(format!("{}: {e}", path.display())))?;
+            if keep {
+                records.extend(batch.into_iter().map(|(_, record)| record));
+            }
+            Ok(())
         },
     )
     .map_err(|e| e.to_string())?;
@@ -183,17 +225,45 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         progress.finish();
     }
     drop(file);
-    let reproduction = if args.shard.is_some() {
-        let contents = fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let files = [OutputFile {
+    if n_done + n_ran < runs.len() {
+        return Ok(Report {
+            n_runs: runs.len() as usize,
+            output: dir,
+            reproduction: Reproduction::default(),
+            seconds: started.elapsed().as_secs_f64(),
+            interrupted: Some(n_done + n_ran),
+        });
+    }
+    let reproduction = if !keep {
+        // The stream is copied, not read into memory.
+        let copy = StreamedFile {
             path: SHARD_FILE.into(),
-            contents,
-        }];
-        outdir::write_results(&dir, &experiment.name, &files, outdir::DEFAULT_LOCK_WAIT)
-            .map_err(|e| e.to_string())?;
+            write: Box::new(|out| {
+                let mut file = File::open(&path)
+                    .map_err(|e| crate::RunnerError::Stream(format!("{}: {e}", path.display())))?;
+                std::io::copy(&mut file, out)
+                    .map(drop)
+                    .map_err(|e| crate::RunnerError::Stream(format!("{}: {e}", path.display())))
+            }),
+        };
+        outdir::write_results_streamed(
+            &dir,
+            &experiment.name,
+            &[],
+            &[copy],
+            outdir::DEFAULT_LOCK_WAIT,
+        )
+        .map_err(|e| e.to_string())?;
         Reproduction::default()
     } else {
-        let records = read_stream(&path, &header)?;
+        if records.len() as u64 != header.runs {
+            return Err(format!(
+                "{}: {} of {} runs recorded",
+                path.display(),
+                records.len(),
+                header.runs
+            ));
+        }
         let threads = worker_threads(args.threads, experiment.threads);
         let provenance = Provenance::collect(args.config, threads);
         let seconds = started.elapsed().as_secs_f64();
@@ -205,6 +275,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         output: dir,
         reproduction,
         seconds: started.elapsed().as_secs_f64(),
+        interrupted: None,
     })
 }
 
@@ -262,30 +333,22 @@ fn resume_point(
     Ok(Some((reader.complete_bytes(), n)))
 }
 
-/// The records of a complete stream file, checked against `header`.
-fn read_stream(path: &Path, header: &StreamHeader) -> Result<Vec<RunRecord>, String> {
+/// The records of the stream file `path`, appended to `records`.
+fn read_records(path: &Path, mut records: Vec<RunRecord>) -> Result<Vec<RunRecord>, String> {
     let file = File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let what = path.display().to_string();
     let (_, mut reader) =
         StreamReader::new(BufReader::new(file), &what).map_err(|e| e.to_string())?;
-    let mut records = Vec::with_capacity(header.runs.min(1 << 24) as usize);
     while let Some((_, record)) = reader.next_run().map_err(|e| e.to_string())? {
         records.push(record);
-    }
-    if records.len() as u64 != header.runs {
-        return Err(format!(
-            "{what}: {} of {} runs recorded",
-            records.len(),
-            header.runs
-        ));
     }
     Ok(records)
 }
 
 /// Renders the outputs of a whole sweep's `records` (in run order): runs.json, runs.csv,
 /// paths.jsonl, summary.md, figures, charts, report.html and, when the config asks, OMPL
-/// logs; and writes them to `dir`. `seconds` is the sweep's wall time so far (OMPL's
-/// experiment time).
+/// logs; and writes them to `dir`, runs.json and runs.csv row by row into their files.
+/// `seconds` is the sweep's wall time so far (OMPL's experiment time).
 fn finish(
     experiment: &Experiment,
     mut records: Vec<RunRecord>,
@@ -294,7 +357,7 @@ fn finish(
     seconds: f64,
 ) -> Result<Reproduction, String> {
     let (summary, reproduction) = report::render_with(experiment, &records, Some(provenance));
-    let mut files = figures::render(experiment, &records);
+    let mut files = figures::render_checked(experiment, &records).map_err(|e| e.to_string())?;
     files.extend(charts::render(experiment, &records));
     if experiment.ompl {
         files.extend(ompl::logs(experiment, &records, provenance, seconds));
@@ -308,32 +371,37 @@ fn finish(
     for record in &mut records {
         record.path = None;
     }
-    let json = results::runs_json_with(experiment, &records, Some(provenance))
-        .map_err(|e| e.to_string())?;
-    let csv = results::runs_csv(&records);
-    drop(records);
-    let mut all = vec![
-        OutputFile {
-            path: "runs.json".into(),
-            contents: json,
-        },
-        OutputFile {
-            path: "runs.csv".into(),
-            contents: csv,
-        },
-        OutputFile {
-            path: "summary.md".into(),
-            contents: summary.into_bytes(),
-        },
-    ];
+    let mut all = vec![OutputFile {
+        path: "summary.md".into(),
+        contents: summary.into_bytes(),
+    }];
     all.append(&mut files);
     let page = html::report_html(&experiment.name, &summary_text(&all), &all);
     all.push(OutputFile {
         path: "report.html".into(),
         contents: page.into_bytes(),
     });
-    outdir::write_results(dir, &experiment.name, &all, outdir::DEFAULT_LOCK_WAIT)
-        .map_err(|e| e.to_string())?;
+    let records = &records;
+    let tables = [
+        StreamedFile {
+            path: "runs.json".into(),
+            write: Box::new(move |out| {
+                results::write_runs_json(out, experiment, records, Some(provenance))
+            }),
+        },
+        StreamedFile {
+            path: "runs.csv".into(),
+            write: Box::new(move |out| results::write_runs_csv(out, records)),
+        },
+    ];
+    outdir::write_results_streamed(
+        dir,
+        &experiment.name,
+        &all,
+        &tables,
+        outdir::DEFAULT_LOCK_WAIT,
+    )
+    .map_err(|e| e.to_string())?;
     Ok(reproduction)
 }
 
@@ -468,6 +536,7 @@ pub fn merge(
         output: dir,
         reproduction,
         seconds: started.elapsed().as_secs_f64(),
+        interrupted: None,
     })
 }
 

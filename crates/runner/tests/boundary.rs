@@ -182,17 +182,25 @@ fn run_records_keep_the_planners_counter_order() {
     let records = run_all(&experiment, &RunOptions::default()).unwrap();
     let json = output::runs_json(&experiment, &records).unwrap();
     let value: serde_json::Value = serde_json::from_slice(&json).unwrap();
-    let astar = value["runs"]
+    let table = &value["runs"];
+    let columns: Vec<&str> = table["columns"]
         .as_array()
         .unwrap()
         .iter()
-        .find(|r| r["algorithm"] == "astar")
-        .unwrap();
-    let names: Vec<&str> = astar["counters"]
-        .as_object()
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    let algorithm = columns.iter().position(|&c| c == "algorithm").unwrap();
+    let astar = table["data"]
+        .as_array()
         .unwrap()
-        .keys()
-        .map(String::as_str)
+        .iter()
+        .find(|row| row[algorithm] == "astar")
+        .unwrap();
+    // The counter columns (after the fixed ones) that A*'s row fills, in column order.
+    let first_counter = columns.iter().position(|&c| c == "n_expanded").unwrap();
+    let names: Vec<&str> = (first_counter..columns.len())
+        .filter(|&i| !astar[i].is_null())
+        .map(|i| columns[i])
         .collect();
     assert_eq!(
         names,

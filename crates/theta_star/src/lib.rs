@@ -90,6 +90,13 @@
 //! assert!((path.metrics().length - (4.0 + 5f64.sqrt())).abs() < 1e-12);
 //! assert!(outcome.counters.get("n_los_checks").unwrap() > 0);
 //! ```
+//!
+//! # Budget
+//! The planner honours the expansion and time limits of its [`planner_api::Budget`]
+//! but does not record expanded cells ([`planner_api::Outcome::expanded`] stays empty
+//! whatever [`Budget::record_expanded`](planner_api::Budget::record_expanded) says; search
+//! effort figures say "not recorded") and does not check
+//! [`Budget::max_memory_mb`](planner_api::Budget::max_memory_mb).
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
