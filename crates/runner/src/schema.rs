@@ -187,6 +187,10 @@ fn budget_schema() -> Value {
             "max_time_ms": {
                 "type": "integer", "minimum": 0,
                 "description": "Stop after this much wall-clock time (not deterministic)."
+            },
+            "max_memory_mb": {
+                "type": "integer", "minimum": 0,
+                "description": "Refuse to plan when the planner's per-cell state for the grid would take more than this many MiB."
             }
         }
     })
@@ -263,6 +267,7 @@ pub const TOP_LEVEL_KEYS: &[&str] = &[
     "figures",
     "figures_per_map",
     "figures_pick",
+    "figures_expanded",
     "charts",
     "ompl",
     "paths",
@@ -330,6 +335,8 @@ pub fn experiment_schema() -> Result<Value, String> {
             "figures": { "enum": ["all", "comparisons", "none"] },
             "figures_per_map": count,
             "figures_pick": { "enum": ["first", "hardest", "buckets"] },
+            "figures_expanded": { "type": "boolean",
+                                  "description": "Also draw each drawn run's expanded cells." },
             "charts": { "type": "array", "items": {
                 "type": "object", "additionalProperties": false, "required": ["x", "y"],
                 "properties": {
