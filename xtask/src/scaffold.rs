@@ -147,6 +147,7 @@ license.workspace = true
 [dependencies]
 planner-api.workspace = true
 serde.workspace = true
+schemars.workspace = true
 thiserror.workspace = true
 
 [lints]
@@ -212,12 +213,14 @@ use thiserror::Error;
 pub const NAME: &str = "__NAME__";
 
 /// Parameters; every field has a default.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood: 4, 8, 16, 32 or 48 directions. Default 4.
+    #[schemars(with = "u32", extend("enum" = [4, 8, 16, 32, 48]))]
     pub moves: Connectivity,
     /// Neighbour order, e.g. `"R L D U"`. Default `"R L D U"`.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
 }
 

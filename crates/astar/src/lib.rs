@@ -116,7 +116,9 @@ use thiserror::Error;
 pub const NAME: &str = "astar";
 
 /// The heuristic `h(n)`, a distance estimate from `n` to the goal.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Heuristic {
     /// `|dx| + |dy|` (seed 000 equation 7). Admissible and consistent on 4-connected grids only.
@@ -173,7 +175,9 @@ impl Heuristic {
 /// the order of their moves, tie (see [`planner_api::cost`] for the proof and its limits).
 /// With the Euclidean heuristic or a weight other than 0 and 1, `h` is rounded to the
 /// nearest `2^-32`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum TieBreak {
     /// The entry pushed first is popped first (the paper's rule). A node improved while in
@@ -190,14 +194,16 @@ pub enum TieBreak {
 }
 
 /// A*'s parameters. Every field has a default; see [`Config::default`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood: 4, 8, 16, 32 or 48 directions. Default 4.
+    #[schemars(with = "u32", extend("enum" = [4, 8, 16, 32, 48]))]
     pub moves: Connectivity,
     /// Allow diagonal moves between two blocked orthogonal cells' corner (8 only). Default false.
     pub corner_cutting: bool,
     /// Neighbour order, e.g. `"R L D U"` (see [`NeighborOrder`]). Default `"R L D U"`.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
     /// Heuristic. Default Manhattan.
     pub heuristic: Heuristic,

@@ -125,7 +125,9 @@ use thiserror::Error;
 use planner_api::adjacency::{Adjacency, SCRATCH as VISITED};
 
 /// Optional pruning beyond the paper; every mode other than [`Prune::Off`] changes the counters.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Prune {
     /// The paper's exhaustive enumeration (default).
@@ -136,16 +138,18 @@ pub enum Prune {
 }
 
 /// The planner's configuration (TOML/JSON keys as the field names).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood, written as its number of directions (`moves = 4` or `8`, also 16, 32, 48).
     /// Default 4, the paper's.
+    #[schemars(with = "u32", extend("enum" = [4, 8, 16, 32, 48]))]
     pub moves: Connectivity,
     /// Whether 8-connected diagonals may cut corners (only with `moves = 8`). Default false.
     pub corner_cutting: bool,
     /// Order in which the moves are tried, e.g. `"R L D U"` (see [`NeighborOrder`]).
     /// Default `R L D U`, the paper's right, left, down, up.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
     /// Pruning mode. Default [`Prune::Off`], the paper's exhaustive search.
     pub prune: Prune,

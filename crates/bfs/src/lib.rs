@@ -82,11 +82,12 @@ use thiserror::Error;
 use planner_api::Adjacency;
 
 /// The configuration of BFS and of DFS (TOML/JSON keys as the field names).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood, written as its number of directions (`moves = 4` or `8`, also 16, 32, 48).
     /// Default 4, seed 003's.
+    #[schemars(with = "u32", extend("enum" = [4, 8, 16, 32, 48]))]
     pub moves: Connectivity,
     /// Whether 8-connected diagonals may cut corners (only with `moves = 8`). Default false.
     pub corner_cutting: bool,
@@ -95,6 +96,7 @@ pub struct Config {
     /// right, up, and down" (`"L R U D"`). For BFS any order gives the same path length;
     /// for DFS the last one pushed is expanded first, and `"L R U D"` reproduces seed 003's
     /// DFS lengths.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
 }
 

@@ -85,16 +85,18 @@ use thiserror::Error;
 pub const NAME: &str = "bidirectional_astar";
 
 /// Parameters; every field has a default.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// 4 (Manhattan heuristic) or 8 (octile heuristic) directions. Default 8.
+    #[schemars(with = "u32", extend("enum" = [4, 8]))]
     pub moves: Connectivity,
     /// Diagonal moves past a blocked corner: must be false (the Moving AI benchmark's
     /// rule). Default false.
     pub corner_cutting: bool,
     /// Neighbour order, e.g. `"R L D U"` (see [`NeighborOrder`]), the same in both
     /// directions. Default `"R L D U"`, diagonals after.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
 }
 

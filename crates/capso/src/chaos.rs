@@ -16,7 +16,9 @@ use serde::{Deserialize, Serialize};
 pub const EDGE: f64 = 1e-10;
 
 /// The chaotic map of the sequence (config key `chaotic_map`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum ChaoticMap {
     /// `z' = 4 z (1 - z)`. Config value `"logistic"`.

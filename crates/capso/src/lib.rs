@@ -125,7 +125,7 @@ pub const NAME: &str = "capso";
 pub const MAX_CONTROL_POINTS: u32 = 20;
 
 /// CAPSO's parameters; every field has a default (seed 002's settings where it has them).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Seed of the generator (initial positions, the chaotic sequence's start and reseeds).

@@ -18,11 +18,20 @@ use planner_runner::plan::PlanArgs;
 use planner_runner::{alloc, slurm, sweep};
 use tracing_subscriber::EnvFilter;
 
+/// `gridplan --version`: the package version and the git commit it was built from
+/// (`unknown` when built outside a git checkout; build.rs).
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("GRIDPLAN_GIT_COMMIT"),
+    ")"
+);
+
 /// The `gridplan` command line.
 #[derive(Parser)]
 #[command(
     name = "gridplan",
-    version,
+    version = VERSION,
     about = "gridplan: sweep experiment configs over maps and planners, run one planner on one map"
 )]
 pub struct Cli {
@@ -38,9 +47,10 @@ pub enum Command {
     Experiment {
         /// The TOML config, e.g. configs/paper.toml (keys: configs/README.md).
         config: PathBuf,
-        /// Worker threads (default: the config's `threads`, 0 = one per core).
-        #[arg(long, default_value_t = 0)]
-        threads: usize,
+        /// Worker threads. Without it (or with 0) the config's `threads` key decides, and
+        /// when that is absent or 0, one thread per core. Results do not depend on it.
+        #[arg(long, value_name = "N")]
+        threads: Option<usize>,
         /// Output directory (default: the config's `output`, else `results/<name>`).
         #[arg(long)]
         output: Option<PathBuf>,
@@ -94,7 +104,9 @@ pub enum Command {
     /// Run one planner on one problem and print the path, metrics and counters (a coverage
     /// planner covers from --start and takes no --goal).
     Plan {
-        /// The map file (.map, .txt, .csv, or a ROS map_server .yaml).
+        /// The map file: Moving AI .map (problems from a .scen beside it), seed 003 .txt
+        /// (its own start-goal pairs), 0/1 matrix .csv, ROS map_server .yaml (with its
+        /// PGM/PNG image), or a .png/.pgm image read with map_server's defaults (dark = occupied).
         map: PathBuf,
         /// Registry name (astar, backtracking, ...), or a label of --config.
         #[arg(long)]
@@ -124,9 +136,23 @@ pub enum Command {
         /// Print exactly one JSON object.
         #[arg(long)]
         json: bool,
+        /// Also write the run's figure (the SVG a sweep draws for one run) to FILE.
+        #[arg(long, value_name = "FILE")]
+        svg: Option<PathBuf>,
     },
-    /// List the registered planners.
-    Planners,
+    /// List the registered planners; with a name, every parameter of that planner (type,
+    /// default, allowed values, doc), from its declared parameters.
+    Planners {
+        /// A registry name, e.g. astar.
+        name: Option<String>,
+    },
+    /// Print the JSON Schema of experiment configs (for editors: configs/README.md).
+    Schema,
+    /// Print a shell completion script, e.g. `gridplan completions bash > ~/.local/share/bash-completion/completions/gridplan`.
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
 }
 
 /// Parses `x,y` into a cell.
@@ -266,7 +292,7 @@ pub fn run(command: Command) -> Result<(), String> {
             let stop = stop_on_signals();
             let report = sweep::experiment(&sweep::SweepArgs {
                 config: &config,
-                threads,
+                threads: threads.unwrap_or(0),
                 output: output.as_deref(),
                 progress: (!quiet).then_some(&bar as &dyn sweep::Progress),
                 heap: Some(&alloc::Meter),
@@ -346,6 +372,7 @@ pub fn run(command: Command) -> Result<(), String> {
             max_expansions,
             obstacle,
             json,
+            svg,
         } => {
             stop_on_interrupt()?;
             let args = PlanArgs {
@@ -360,10 +387,14 @@ pub fn run(command: Command) -> Result<(), String> {
                 obstacle: obstacle.and_then(planner_maps::CsvConvention::from_obstacle_value),
             };
             let result = planner_runner::plan::run(&args).map_err(|e| e.to_string())?;
+            if let Some(file) = &svg {
+                std::fs::write(file, result.to_svg())
+                    .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+            }
             if json {
                 println!("{}", result.to_json().map_err(|e| e.to_string())?);
             } else {
-                print!("{}", result.to_text());
+                print!("{}", result.to_text_within(text_columns()));
             }
             if result.hit_default_budget() {
                 eprintln!(
@@ -373,11 +404,100 @@ pub fn run(command: Command) -> Result<(), String> {
             }
             Ok(())
         }
-        Command::Planners => {
+        Command::Planners { name: None } => {
             for entry in planner_runner::registry::PLANNERS {
                 println!("{:<20} {}", entry.name, entry.summary);
             }
+            println!("\n`gridplan planners <name>` lists a planner's parameters.");
             Ok(())
         }
+        Command::Planners { name: Some(name) } => {
+            print!("{}", describe_planner(&name)?);
+            Ok(())
+        }
+        Command::Schema => {
+            let schema = planner_runner::schema::experiment_schema()?;
+            let text = serde_json::to_string_pretty(&schema).map_err(|e| e.to_string())?;
+            write_stdout(format!("{text}\n").as_bytes())
+        }
+        Command::Completions { shell } => {
+            let mut command = <Cli as clap::CommandFactory>::command();
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut command, "gridplan", &mut script);
+            write_stdout(&script)
+        }
+    }
+}
+
+/// The widest map `plan` draws as text: the terminal's width when stdout is a terminal,
+/// else [`planner_runner::plan::TEXT_COLUMNS`] (200).
+fn text_columns() -> usize {
+    let stdout = std::io::stdout();
+    if std::io::IsTerminal::is_terminal(&stdout) {
+        if let Some((terminal_size::Width(width), _)) = terminal_size::terminal_size_of(&stdout) {
+            return usize::from(width);
+        }
+    }
+    planner_runner::plan::TEXT_COLUMNS
+}
+
+/// Writes `bytes` to stdout; a closed pipe (`gridplan schema | head`) is not an error.
+fn write_stdout(bytes: &[u8]) -> Result<(), String> {
+    use std::io::Write as _;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(bytes).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write to stdout: {e}"))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// `gridplan planners <name>`: the planner's summary, then each declared parameter as
+/// `key: type = default`, its allowed values and its doc line.
+pub fn describe_planner(name: &str) -> Result<String, String> {
+    use std::fmt::Write as _;
+    let entry = planner_runner::registry::find(name).ok_or_else(|| {
+        format!(
+            "unknown planner `{name}`, expected one of {}",
+            planner_runner::registry::names().join(", ")
+        )
+    })?;
+    let task = match entry.task {
+        planner_runner::Task::StartGoal => "start-goal",
+        planner_runner::Task::Coverage => "coverage",
+    };
+    let mut out = format!("{} ({task}): {}\n", entry.name, entry.summary);
+    let params = planner_runner::schema::declared(name)?;
+    if params.is_empty() {
+        out.push_str("no parameters\n");
+    } else {
+        let _ = writeln!(
+            out,
+            "parameters (a list of values in a config's planner table sweeps them):"
+        );
+    }
+    for param in params {
+        let default = param
+            .default
+            .as_ref()
+            .map_or_else(|| "unset".to_string(), show_value);
+        let _ = writeln!(out, "  {}: {} = {default}", param.key, param.kind);
+        if !param.allowed.is_empty() {
+            let allowed: Vec<String> = param.allowed.iter().map(show_value).collect();
+            let _ = writeln!(out, "      one of: {}", allowed.join(", "));
+        }
+        if !param.doc.is_empty() {
+            let _ = writeln!(out, "      {}", param.doc);
+        }
+    }
+    Ok(out)
+}
+
+/// A parameter value as a config writes it (TOML): strings quoted, numbers as they are.
+fn show_value(value: &serde_json::Value) -> String {
+    match value {
+        serde_json::Value::Null => "unset".to_string(),
+        other => other.to_string(),
     }
 }

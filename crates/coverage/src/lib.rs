@@ -108,7 +108,9 @@ use crate::fill::Field;
 pub const NAME: &str = "coverage";
 
 /// The filling pattern.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Pattern {
     /// Section 2.1: follow obstacles on the reference lateral side.
@@ -119,7 +121,9 @@ pub enum Pattern {
 }
 
 /// The spiral's reference lateral side (RLS); the opposite lateral side (OLS) is the other.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Side {
     /// Obstacles on the left: a clockwise spiral on screen.
@@ -147,8 +151,24 @@ pub enum Heading {
     Up,
 }
 
+/// In configs `"R"`, `"D"`, `"L"`, `"U"` or their aliases `"right"`, `"down"`, `"left"`, `"up"`.
+impl schemars::JsonSchema for Heading {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Heading".into()
+    }
+
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "type": "string",
+            "enum": ["R", "D", "L", "U", "right", "down", "left", "up"]
+        })
+    }
+}
+
 /// The zigzag's rotation order, as seen on screen.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Rotation {
     /// Right, up, left, down from right (section 2.2's rule).
@@ -162,7 +182,7 @@ pub enum Rotation {
 
 /// The planner's parameters. Pattern-specific ones are optional and rejected with the
 /// other pattern, so a config cannot set a parameter that does nothing.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// `"spiral"` (default) or `"zigzag"`.

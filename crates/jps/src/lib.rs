@@ -164,7 +164,9 @@ use thiserror::Error;
 pub const NAME: &str = "jps";
 
 /// Which Jump Point Search runs (see the crate docs).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Variant {
     /// Online JPS (2011) with block-based jumps (2014).
@@ -188,12 +190,13 @@ impl Variant {
 }
 
 /// JPS's parameters. Every field has a default; see [`Config::default`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// The variant: `"jps"`, `"jps_prime"` or `"jps_plus"`. Default `"jps"`.
     pub variant: Variant,
     /// Neighbourhood; JPS is defined here for 8 only (any other value is an error). Default 8.
+    #[schemars(with = "u32", extend("enum" = [8]))]
     pub moves: Connectivity,
     /// Corner cutting; must be false (the Moving AI rule). Default false.
     pub corner_cutting: bool,

@@ -172,7 +172,9 @@ use thiserror::Error;
 pub const NAME: &str = "lexastar";
 
 /// What the search minimises.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Objective {
     /// `(D, T)` lexicographically, with exact integer pairs: seed 000's best-path rule.
@@ -183,14 +185,16 @@ pub enum Objective {
 }
 
 /// Lexicographic A*'s parameters. Every field has a default; see [`Config::default`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Neighbourhood: 4 or 8 directions. Default 4.
+    #[schemars(with = "u32", extend("enum" = [4, 8]))]
     pub moves: Connectivity,
     /// Allow diagonal moves past a blocked corner (8 only). Default false.
     pub corner_cutting: bool,
     /// Neighbour order, e.g. `"R L D U"` (see [`NeighborOrder`]). Default `"R L D U"`.
+    #[schemars(with = "String")]
     pub order: NeighborOrder,
     /// What to minimise. Default [`Objective::Lexicographic`].
     pub objective: Objective,

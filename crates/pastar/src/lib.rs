@@ -200,6 +200,17 @@ impl fmt::Display for Radius {
     }
 }
 
+/// In configs `"size"` or a number of cells.
+impl schemars::JsonSchema for Radius {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Radius".into()
+    }
+
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({ "anyOf": [{ "type": "number" }, { "const": "size" }] })
+    }
+}
+
 impl Serialize for Radius {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         match self {
@@ -239,7 +250,7 @@ impl<'de> Deserialize<'de> for Radius {
 }
 
 /// PA-star's parameters; the defaults are the paper's final choice (Table 5, 4.3.2).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// `Connecting_distance` of the local A* (Algorithm 2): 1, 2, 3 or 4 for 8, 16, 32 or

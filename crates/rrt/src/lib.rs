@@ -115,7 +115,9 @@ use thiserror::Error;
 pub const NAME: &str = "rrt";
 
 /// The unit moves that steering takes toward a sample.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Steer {
     /// Right, left, down, up: seed 003's "one step in a 4-connected manner". Config value `"four"`.
@@ -151,7 +153,7 @@ impl Steer {
 }
 
 /// RRT's parameters.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Seed of the random generator; the same seed gives the same tree, path and counters

@@ -90,7 +90,7 @@ use thiserror::Error;
 pub const NAME: &str = "rrt_connect";
 
 /// RRT-Connect's parameters.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Seed of the random generator (as RRT's); the same seed gives the same trees, path

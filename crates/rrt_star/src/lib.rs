@@ -146,7 +146,7 @@ pub const NAME: &str = "rrt_star";
 const NONE: u32 = u32::MAX;
 
 /// RRT*'s parameters.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// Seed of the random generator (as RRT's); the same seed gives the same tree, path,

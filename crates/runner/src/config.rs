@@ -461,7 +461,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     }
 
     let mut planners = Vec::new();
-    for (label, table) in &raw.planners {
+    for (label, table) in &expand_sweeps(&src, &raw.planners)? {
         planners.push(planner_spec(&src, label, table, raw.budget)?);
     }
     if planners.is_empty() {
@@ -571,6 +571,111 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
 }
 
 type RawParams = IndexMap<Spanned<String>, Spanned<toml::Value>>;
+
+/// A planner table with its label, as the config spells them (spans kept).
+type LabelledTable = (Spanned<String>, Spanned<RawParams>);
+
+/// Most labels one planner table may sweep into.
+pub const MAX_SWEEP_LABELS: usize = 100_000;
+
+/// Parameter sweeps: a list value in a planner table, for a parameter whose declared type
+/// is not itself a list ([`crate::schema::declared`]), expands the table into one label per
+/// combination of the listed values, named `<label>[key=value,...]` with the swept keys in
+/// table order (strings unquoted). Combinations run in table order with the last swept
+/// key varying fastest, like nested loops written in that order. Tables without lists,
+/// and tables whose planner is missing or unknown (reported by [`planner_spec`]), pass
+/// unchanged.
+fn expand_sweeps(
+    src: &Source<'_>,
+    planners: &IndexMap<Spanned<String>, Spanned<RawParams>>,
+) -> Result<Vec<LabelledTable>, ConfigError> {
+    let mut expanded: Vec<LabelledTable> = Vec::new();
+    for (label, table) in planners {
+        let declared = table
+            .get_ref()
+            .get("planner")
+            .and_then(|name| name.get_ref().as_str())
+            .and_then(|name| crate::schema::declared(name).ok())
+            .unwrap_or_default();
+        let swept: Vec<(&Spanned<String>, &Spanned<toml::Value>, &Vec<toml::Value>)> = table
+            .get_ref()
+            .iter()
+            .filter(|(key, _)| {
+                declared
+                    .iter()
+                    .any(|p| p.key == *key.get_ref() && !p.is_list)
+            })
+            .filter_map(|(key, value)| value.get_ref().as_array().map(|list| (key, value, list)))
+            .collect();
+        if swept.is_empty() {
+            expanded.push((label.clone(), table.clone()));
+            continue;
+        }
+        let mut n_labels: usize = 1;
+        for (key, value, list) in &swept {
+            if list.is_empty() {
+                return Err(src.error(
+                    Some(value.span()),
+                    format!(
+                        "planner `{}`, key `{}`: an empty list sweeps nothing; give at least one value",
+                        label.get_ref(),
+                        key.get_ref()
+                    ),
+                ));
+            }
+            n_labels = n_labels.saturating_mul(list.len());
+        }
+        if n_labels > MAX_SWEEP_LABELS {
+            return Err(src.error(
+                Some(label.span()),
+                format!(
+                    "planner `{}`: the sweep has {n_labels} combinations, more than {MAX_SWEEP_LABELS}",
+                    label.get_ref()
+                ),
+            ));
+        }
+        // One index per swept key, counted like an odometer (last key fastest).
+        let mut digits = vec![0_usize; swept.len()];
+        for _ in 0..n_labels {
+            let mut params = table.get_ref().clone();
+            let mut names = Vec::new();
+            for ((key, value, list), &digit) in swept.iter().zip(&digits) {
+                let chosen = list[digit].clone();
+                let shown = match &chosen {
+                    toml::Value::String(text) => text.clone(),
+                    other => other.to_string(),
+                };
+                names.push(format!("{}={shown}", key.get_ref()));
+                params.insert((*key).clone(), Spanned::new(value.span(), chosen));
+            }
+            let name = format!("{}[{}]", label.get_ref(), names.join(","));
+            expanded.push((
+                Spanned::new(label.span(), name),
+                Spanned::new(table.span(), params),
+            ));
+            for (digit, (_, _, list)) in digits.iter_mut().zip(&swept).rev() {
+                *digit += 1;
+                if *digit < list.len() {
+                    break;
+                }
+                *digit = 0;
+            }
+        }
+    }
+    let mut seen = std::collections::HashSet::new();
+    for (label, _) in &expanded {
+        if !seen.insert(label.get_ref().as_str()) {
+            return Err(src.error(
+                Some(label.span()),
+                format!(
+                    "planner label `{}` appears twice (a sweep's labels are `<label>[key=value,...]`)",
+                    label.get_ref()
+                ),
+            ));
+        }
+    }
+    Ok(expanded)
+}
 
 fn planner_spec(
     src: &Source<'_>,

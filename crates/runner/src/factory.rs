@@ -11,6 +11,7 @@
 use std::sync::Arc;
 
 use planner_api::{CoveragePlanner, ParamError, ParamKey, Planner, PlannerSpecs, SEED_PARAM};
+use schemars::JsonSchema;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
@@ -41,6 +42,7 @@ pub struct Factory {
     specs: PlannerSpecs,
     own_seed: Option<u64>,
     resolved: serde_json::Value,
+    parameters: fn() -> schemars::Schema,
     make: Arc<Make>,
 }
 
@@ -88,6 +90,12 @@ impl Factory {
         &self.resolved
     }
 
+    /// The JSON Schema of the planner crate's `Config`: its declared parameters, with their
+    /// types, defaults, allowed values and doc comments ([`crate::schema`] reads it).
+    pub fn parameters(&self) -> schemars::Schema {
+        (self.parameters)()
+    }
+
     /// A new planner.
     pub fn build(&self) -> Result<Built, ParamError> {
         (self.make)()
@@ -100,7 +108,7 @@ impl Factory {
         new: fn(C) -> Result<P, E>,
     ) -> Result<Factory, ParamError>
     where
-        C: DeserializeOwned + Serialize + Clone + Send + Sync + 'static,
+        C: DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static,
         P: Planner + 'static,
         E: ParamKey + 'static,
     {
@@ -116,7 +124,7 @@ impl Factory {
         new: fn(C) -> Result<P, E>,
     ) -> Result<Factory, ParamError>
     where
-        C: DeserializeOwned + Serialize + Clone + Send + Sync + 'static,
+        C: DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static,
         P: CoveragePlanner + 'static,
         E: ParamKey + 'static,
     {
@@ -136,7 +144,7 @@ impl Factory {
         wrap: fn(P) -> Built,
     ) -> Result<Factory, ParamError>
     where
-        C: DeserializeOwned + Serialize + Clone + Send + Sync + 'static,
+        C: DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static,
         P: 'static,
         E: ParamKey + 'static,
     {
@@ -154,6 +162,7 @@ impl Factory {
             task,
             own_seed: own_seed(&specs, params)?,
             resolved,
+            parameters: crate::schema::parameters_of::<C>,
             specs,
             make: Arc::new(make),
         })

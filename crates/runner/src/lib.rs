@@ -53,6 +53,7 @@ pub mod record;
 pub mod registry;
 pub mod report;
 pub mod run;
+pub mod schema;
 pub mod shard;
 pub mod slurm;
 pub mod stream;

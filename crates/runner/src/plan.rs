@@ -19,6 +19,9 @@ use crate::RunnerError;
 /// not): ten million expansions, a few seconds for any planner here.
 pub const DEFAULT_PLAN_EXPANSIONS: u64 = 10_000_000;
 
+/// The widest map [`PlanResult::to_text`] draws, in cells (one column each).
+pub const TEXT_COLUMNS: usize = 200;
+
 /// What to run.
 #[derive(Debug, Clone, Default)]
 pub struct PlanArgs {
@@ -423,8 +426,15 @@ impl PlanResult {
             && self.budget.max_expansions == Some(DEFAULT_PLAN_EXPANSIONS)
     }
 
-    /// The run for a person: header, the map with the path drawn, metrics, counters.
+    /// The run for a person ([`PlanResult::to_text_within`] at [`TEXT_COLUMNS`] columns).
     pub fn to_text(&self) -> String {
+        self.to_text_within(TEXT_COLUMNS)
+    }
+
+    /// The run for a person: header, metrics, the map with the path drawn ([`draw_text`]) if
+    /// it is at most `columns` cells wide (else a line saying so, with a hint to `--svg`),
+    /// marks, counters.
+    pub fn to_text_within(&self, columns: usize) -> String {
         let r = &self.record;
         let mut out = String::new();
         let route = if self.coverage {
@@ -468,11 +478,15 @@ impl PlanResult {
                 c.returns.len()
             );
         }
-        if self.grid.width() <= 120 && self.grid.height() <= 120 {
+        if self.grid.width() as usize <= columns {
             let goal = (!self.coverage).then_some(r.goal);
             out.push_str(&draw_text(&self.grid, r.start, goal, r.path.as_ref()));
         } else {
-            out.push_str("(map wider or taller than 120 cells: not drawn)\n");
+            let _ = writeln!(
+                out,
+                "(the map is {} cells wide, more than the {columns} columns here: not drawn; --svg FILE draws it)",
+                self.grid.width()
+            );
         }
         if !r.marks.is_empty() {
             let marks: Vec<String> = r
@@ -490,7 +504,7 @@ impl PlanResult {
 /// The grid as text: `#` blocked, `.` free, `S` start, `G` goal (if any), and the path: an
 /// arrow (`>` `<` `v` `^`, diagonals `\` `/`) on each cell for the move leaving it (the last
 /// one when a coverage path leaves a cell several times), `*` on the cells where a longer
-/// move starts.
+/// move starts. Without a goal (coverage) the path's last cell is `E`, its end.
 pub fn draw_text(
     grid: &Grid,
     start: Cell,
@@ -524,6 +538,11 @@ pub fn draw_text(
                 _ => '*',
             };
             canvas[pair[0].y as usize][pair[0].x as usize] = mark;
+        }
+    }
+    if goal.is_none() {
+        if let Some(end) = path.and_then(|p| p.cells().last()) {
+            canvas[end.y as usize][end.x as usize] = 'E';
         }
     }
     canvas[start.y as usize][start.x as usize] = 'S';

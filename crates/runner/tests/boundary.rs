@@ -69,7 +69,7 @@ fn plan_and_experiment_run_the_same_run() {
 /// A planner that declares 4-connected moves and returns a diagonal step.
 struct Liar;
 
-#[derive(Debug, Clone, Default, serde::Deserialize, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Deserialize, serde::Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 struct LiarConfig {}
 

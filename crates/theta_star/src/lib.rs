@@ -118,10 +118,11 @@ pub const EPSILON: f64 = 1.0 / 16_777_216.0;
 
 /// Parameters of Theta\* and Lazy Theta\*. Both exist so that a configuration copied from
 /// 8-connected A\* is accepted, and anything else is refused by name.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// The grid edges: must be 8 (the 8-connected moves). Default 8.
+    #[schemars(with = "u32", extend("enum" = [8]))]
     pub moves: Connectivity,
     /// Diagonal grid edges past a blocked corner: must be false (line of sight never cuts
     /// a corner, and the length bound needs the grid edges to be segments with line of
