@@ -129,6 +129,11 @@ pub enum Command {
         /// Expansion budget (default: the config label's, else 10,000,000, so every run ends).
         #[arg(long)]
         max_expansions: Option<u64>,
+        /// Memory limit of the planner's per-cell state, in MiB (default: the config
+        /// label's `budget.max_memory_mb`, else half the machine's memory). A planner whose
+        /// arrays would need more does not run, and says how much it needs.
+        #[arg(long, value_name = "MIB")]
+        max_memory_mb: Option<u64>,
         /// The value of a .csv map's cell that is an obstacle: 0 (the default, seed 000's
         /// convention) or 1 (the common occupancy-grid convention).
         #[arg(long, value_parser = clap::value_parser!(u8).range(0..=1))]
@@ -136,7 +141,9 @@ pub enum Command {
         /// Print exactly one JSON object.
         #[arg(long)]
         json: bool,
-        /// Also write the run's figure (the SVG a sweep draws for one run) to FILE.
+        /// Also write the run's figure (the SVG a sweep draws for one run) to FILE, with the
+        /// cells the search expanded (recorded by a second, untimed run that must repeat the
+        /// first: planners that do not record show none).
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,
     },
@@ -370,6 +377,7 @@ pub fn run(command: Command) -> Result<(), String> {
             goal,
             set,
             max_expansions,
+            max_memory_mb,
             obstacle,
             json,
             svg,
@@ -386,7 +394,12 @@ pub fn run(command: Command) -> Result<(), String> {
                 max_expansions,
                 obstacle: obstacle.and_then(planner_maps::CsvConvention::from_obstacle_value),
             };
-            let result = planner_runner::plan::run(&args).map_err(|e| e.to_string())?;
+            let options = planner_runner::plan::PlanOptions {
+                max_memory_mb,
+                record_expanded: svg.is_some(),
+            };
+            let result =
+                planner_runner::plan::run_with(&args, &options).map_err(|e| e.to_string())?;
             if let Some(file) = &svg {
                 std::fs::write(file, result.to_svg())
                     .map_err(|e| format!("cannot write {}: {e}", file.display()))?;

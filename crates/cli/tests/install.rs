@@ -222,3 +222,43 @@ fn plan_marks_a_coverage_paths_end_and_refuses_maps_wider_than_200_columns() {
     }
     let _ = std::fs::remove_dir_all(&work);
 }
+
+/// `plan --max-memory-mb` refuses a planner whose arrays need more, saying how much and
+/// which flag raises it (not the expansion budget's note); `--svg` draws the expanded
+/// cells, as many as the run's `n_expanded`.
+#[test]
+fn plan_takes_a_memory_limit_and_draws_expanded_cells() {
+    let work = scratch("memory");
+    let gridplan = Path::new(env!("CARGO_BIN_EXE_gridplan"));
+    std::fs::write(work.join("wall.map"), MAP).expect("write");
+    let args = [
+        "plan",
+        "wall.map",
+        "--planner",
+        "astar",
+        "--start",
+        "0,0",
+        "--goal",
+        "5,0",
+    ];
+    let mut limited = args.to_vec();
+    limited.extend(["--max-memory-mb", "0"]);
+    let text = run(gridplan, &work, &limited);
+    assert!(text.contains("budget_exhausted"), "{text}");
+    assert!(
+        text.contains("over the max_memory_mb = 0 budget; raise it with --max-memory-mb"),
+        "{text}"
+    );
+    assert!(!text.contains("default budget"), "{text}");
+
+    let mut drawn = args.to_vec();
+    drawn.extend(["--json", "--svg", "run.svg"]);
+    let json: serde_json::Value =
+        serde_json::from_str(run(gridplan, &work, &drawn).trim()).expect("one JSON object");
+    let n_expanded = json["counters"]["n_expanded"].as_u64().expect("n_expanded");
+    let svg = std::fs::read_to_string(work.join("run.svg")).expect("the figure");
+    assert!(
+        svg.contains(&format!("expanded: {n_expanded} cells")),
+        "no legend line for {n_expanded} expanded cells in {svg}"
+    );
+}

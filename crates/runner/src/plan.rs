@@ -423,6 +423,7 @@ impl PlanResult {
     /// Whether the run stopped at the budget `plan` applies by default.
     pub fn hit_default_budget(&self) -> bool {
         self.record.status == crate::record::RunStatus::BudgetExhausted
+            && self.record.error.is_none()
             && self.budget.max_expansions == Some(DEFAULT_PLAN_EXPANSIONS)
     }
 
