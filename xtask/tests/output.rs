@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 use std::time::Duration;
 
 use common::root;
-use xtask::outdir::{self, Marker, OutdirError, OutputFile, MARKER};
+use planner_runner::outdir::{self, Marker, OutdirError, OutputFile, MARKER};
 
 /// A fresh empty directory for one test.
 fn scratch(name: &str) -> PathBuf {

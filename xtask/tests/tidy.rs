@@ -14,6 +14,14 @@ const SUPPORT_CRATES: &[&str] = &[
     "api", "bench", "cli", "figures", "maps", "runner", "stats", "testkit",
 ];
 
+/// The package of `crates/<dir>`: `planner-<dir>`, but for the command line, `gridplan`.
+fn package_name(dir: &str) -> String {
+    match dir {
+        "cli" => "gridplan".to_string(),
+        _ => format!("planner-{dir}"),
+    }
+}
+
 /// What planner-api may depend on (normal dependencies).
 const API_DEPENDENCIES: &[&str] = &["serde", "thiserror"];
 
@@ -135,11 +143,7 @@ fn registry_crate_directories_and_runner_dependencies_match() {
             .iter()
             .find(|p| p.dir.file_name().is_some_and(|n| n == dir.as_str()))
             .unwrap_or_else(|| panic!("crates/{dir} is not a workspace member"));
-        assert_eq!(
-            p.name,
-            format!("planner-{dir}"),
-            "crates/{dir}'s package name"
-        );
+        assert_eq!(p.name, package_name(dir), "crates/{dir}'s package name");
     }
     let runner = packages
         .iter()
@@ -209,10 +213,91 @@ fn every_rust_file_opens_with_a_module_doc() {
 fn architecture_names_every_crate() {
     let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
     for dir in crate_dirs() {
-        let package = format!("planner-{dir}");
+        let package = package_name(&dir);
         assert!(
             text.contains(&format!("crates/{dir}")) && text.contains(&package),
             "ARCHITECTURE.md's code map does not name crates/{dir} ({package})"
         );
     }
+}
+
+/// The workspace's `rust-version` (its MSRV).
+fn workspace_msrv() -> (u32, u32, u32) {
+    let text = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let manifest: toml::Value = toml::from_str(&text).unwrap();
+    let msrv = manifest["workspace"]["package"]["rust-version"]
+        .as_str()
+        .expect("workspace.package.rust-version is set");
+    parse_version(msrv)
+}
+
+/// `1.85` or `1.85.0` as (1, 85, 0).
+fn parse_version(text: &str) -> (u32, u32, u32) {
+    let mut parts = text.split('.').map(|p| p.parse::<u32>().unwrap_or(0));
+    (
+        parts.next().unwrap_or(0),
+        parts.next().unwrap_or(0),
+        parts.next().unwrap_or(0),
+    )
+}
+
+/// No package in the resolved dependency graph (dev and build dependencies included, on
+/// Linux x86-64) declares a `rust-version` above the workspace's. This machine has one
+/// toolchain, so the MSRV cannot be built here; what the dependencies declare is the check
+/// that can run. A failure names the package: pin an older version in Cargo.lock
+/// (`cargo update -p NAME --precise VERSION`). Packages that declare nothing cannot be
+/// checked this way (plotters is one).
+#[test]
+fn no_dependency_declares_a_rust_version_above_the_msrv() {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args([
+            "metadata",
+            "--format-version",
+            "1",
+            "--offline",
+            "--filter-platform",
+            "x86_64-unknown-linux-gnu",
+        ])
+        .current_dir(root())
+        .output()
+        .expect("cargo metadata runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let metadata: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let resolved: BTreeSet<&str> = metadata["resolve"]["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|n| n["id"].as_str())
+        .collect();
+    let msrv = workspace_msrv();
+    let above: Vec<String> = metadata["packages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| p["id"].as_str().is_some_and(|id| resolved.contains(id)))
+        .filter_map(|p| {
+            let declared = p["rust_version"].as_str()?;
+            (parse_version(declared) > msrv).then(|| {
+                format!(
+                    "{} {} (rust-version {declared})",
+                    p["name"].as_str().unwrap_or("?"),
+                    p["version"].as_str().unwrap_or("?")
+                )
+            })
+        })
+        .collect();
+    assert!(
+        above.is_empty(),
+        "dependencies above the workspace's rust-version {msrv:?}: {above:?}"
+    );
+    assert!(
+        resolved.len() > 50,
+        "the graph was read ({} packages)",
+        resolved.len()
+    );
 }

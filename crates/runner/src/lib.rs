@@ -24,13 +24,19 @@
 //! - [`stream`] and [`shard`]: streamed sweeps (records in run order, batch by batch, as
 //!   JSON Lines that survive a kill), resumable and merged; deterministic cost-balanced
 //!   shards of a run list for job arrays.
+//! - [`sweep`]: an experiment on disk: the streamed, resumable, sharded sweep, the merge
+//!   of shards, and the final outputs; [`outdir`] writes a results directory safely (its
+//!   marker, lock and atomic swap); [`slurm`] writes and submits job arrays.
+//! - [`alloc`]: a counting global allocator and its peak-heap hook, for binaries.
 //!
-//! The library installs no global allocator, draws no progress bar and writes no file:
-//! progress is a callback and peak-heap measurement a hook ([`run::RunOptions`]), and the
-//! binaries write the results directory.
+//! The library installs no global allocator and draws no progress bar: progress is a
+//! callback ([`sweep::Progress`], [`run::RunOptions`]) and peak-heap measurement a hook
+//! ([`run::HeapMeter`]; [`alloc::Counting`] for a binary to install). Files are written
+//! only by [`sweep`] (through [`outdir`]) and [`slurm`].
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+pub mod alloc;
 pub mod charts;
 pub mod config;
 pub mod coverage;
@@ -39,6 +45,7 @@ pub mod figures;
 pub mod html;
 pub mod index;
 pub mod ompl;
+pub mod outdir;
 pub mod output;
 pub mod plan;
 pub mod provenance;
@@ -47,7 +54,9 @@ pub mod registry;
 pub mod report;
 pub mod run;
 pub mod shard;
+pub mod slurm;
 pub mod stream;
+pub mod sweep;
 
 use std::path::PathBuf;
 

@@ -1,4 +1,4 @@
-//! Aggregates for any sweep: per planner label and map (and scenario bucket), counts,
+//! Aggregates for any sweep: per planner label and map (and scenario bucket range), counts,
 //! expansions, times, suboptimality and memory; an overall row per label; the spread over
 //! seeds of seeded planners; and every label's resolved parameters.
 
@@ -36,8 +36,8 @@ pub enum Measured {
     Redacted,
 }
 
-/// The aggregate section's markdown: parameters, the per-map table (by bucket for
-/// scenario maps), the overall rows, counters and the seeds' spread.
+/// The aggregate section's markdown: parameters, the per-map table, the overall rows, the
+/// by-bucket medians of scenario maps, counters and the seeds' spread.
 pub fn tables(context: &Context<'_>, measured: Measured) -> String {
     let experiment = context.experiment;
     let mut out = String::from("## Aggregates\n\n");
@@ -45,7 +45,7 @@ pub fn tables(context: &Context<'_>, measured: Measured) -> String {
     if experiment.repeats == 1 {
         out.push_str("> **Timing warning:** `repeats = 1`, so each run's time is a single measurement; the IQR below spreads over problems, not over repeated measurements of one problem.\n\n");
     }
-    out.push_str("Per planner label and map (and scenario bucket, for `.scen` maps), over every run, repeats included: runs, runs that found a path, runs whose length equals the stated optimum (relative tolerance 1e-4; `-` without optima), the median and mean `n_expanded`, the median wall time of the search with its interquartile range (type 7 quartiles), the median and largest suboptimality (length / optimum - 1, over found runs with an optimum), and the largest peak heap of a run.\n\n");
+    out.push_str("Per planner label and map, over every run, repeats included: runs, runs that found a path, runs whose length equals the stated optimum (relative tolerance 1e-4; `-` without optima), the median and mean `n_expanded`, the median wall time of the search with its interquartile range (type 7 quartiles), the median and largest suboptimality (length / optimum - 1, over found runs with an optimum), and the largest peak heap of a run.\n\n");
     out.push_str(HEADER);
     for planner in &experiment.planners {
         for map in &experiment.maps {
@@ -55,30 +55,7 @@ pub fn tables(context: &Context<'_>, measured: Measured) -> String {
                 map.problems.iter().map(|p| p.index),
                 &map.name,
             );
-            let mut buckets: Vec<u32> = map.problems.iter().filter_map(|p| p.bucket).collect();
-            buckets.sort_unstable();
-            buckets.dedup();
-            if buckets.is_empty() {
-                row(&mut out, &planner.label, &map.name, "-", &runs, measured);
-                continue;
-            }
-            for bucket in buckets {
-                let problems = map
-                    .problems
-                    .iter()
-                    .filter(|p| p.bucket == Some(bucket))
-                    .map(|p| p.index);
-                let in_bucket = runs_of(context, planner, problems, &map.name);
-                row(
-                    &mut out,
-                    &planner.label,
-                    &map.name,
-                    &bucket.to_string(),
-                    &in_bucket,
-                    measured,
-                );
-            }
-            row(&mut out, &planner.label, &map.name, "all", &runs, measured);
+            row(&mut out, &planner.label, &map.name, &runs, measured);
         }
     }
     out.push('\n');
@@ -86,15 +63,110 @@ pub fn tables(context: &Context<'_>, measured: Measured) -> String {
     out.push_str(HEADER);
     for planner in &experiment.planners {
         let runs = label_runs(context, planner);
-        row(&mut out, &planner.label, "all", "all", &runs, measured);
+        row(&mut out, &planner.label, "all", &runs, measured);
     }
     out.push('\n');
+    out.push_str(&by_bucket(context, measured));
     out.push_str(&counters(context));
     out.push_str(&seeds(context));
     out
 }
 
-const HEADER: &str = "| Planner | Map | Bucket | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Peak heap |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+const HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Peak heap |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+
+/// At most this many bucket rows per map in the by-bucket tables: more buckets are grouped
+/// into ranges of equal width.
+pub const MAX_BUCKET_ROWS: u32 = 8;
+
+/// The bucket ranges of a map's `buckets` (sorted, distinct): each bucket alone when there
+/// are at most [`MAX_BUCKET_ROWS`], else at most that many ranges of equal width over
+/// first..=last, empty ranges left out.
+fn bucket_ranges(buckets: &[u32]) -> Vec<(u32, u32)> {
+    let (Some(&first), Some(&last)) = (buckets.first(), buckets.last()) else {
+        return Vec::new();
+    };
+    if buckets.len() as u32 <= MAX_BUCKET_ROWS {
+        return buckets.iter().map(|&b| (b, b)).collect();
+    }
+    let width = (last - first) / MAX_BUCKET_ROWS + 1;
+    (0..MAX_BUCKET_ROWS)
+        .map(|k| (first + k * width, (first + (k + 1) * width - 1).min(last)))
+        .filter(|&(lo, hi)| lo <= last && buckets.iter().any(|&b| lo <= b && b <= hi))
+        .collect()
+}
+
+/// Scenario maps' medians by bucket (Moving AI's picture of effort against path length):
+/// one row per map and bucket range, one column per label; median `n_expanded`, then the
+/// median search time.
+fn by_bucket(context: &Context<'_>, measured: Measured) -> String {
+    let experiment = context.experiment;
+    let mut rows: Vec<(&str, (u32, u32), Vec<Vec<&RunRecord>>)> = Vec::new();
+    for map in &experiment.maps {
+        let mut buckets: Vec<u32> = map.problems.iter().filter_map(|p| p.bucket).collect();
+        buckets.sort_unstable();
+        buckets.dedup();
+        for range in bucket_ranges(&buckets) {
+            let per_label = experiment
+                .planners
+                .iter()
+                .map(|planner| {
+                    let problems = map
+                        .problems
+                        .iter()
+                        .filter(|p| p.bucket.is_some_and(|b| range.0 <= b && b <= range.1))
+                        .map(|p| p.index);
+                    runs_of(context, planner, problems, &map.name)
+                })
+                .collect();
+            rows.push((&map.name, range, per_label));
+        }
+    }
+    if rows.is_empty() {
+        return String::new();
+    }
+    let labels: Vec<&str> = experiment
+        .planners
+        .iter()
+        .map(|p| p.label.as_str())
+        .collect();
+    let head = format!(
+        "| Map | Bucket | Runs | {} |\n|---|---|---:|{}\n",
+        labels.join(" | "),
+        "---:|".repeat(labels.len())
+    );
+    let mut out = format!("By scenario bucket (a `.scen` bucket holds problems of optimal length 4b to 4b + 4; more than {MAX_BUCKET_ROWS} buckets are grouped into ranges of equal width; every bucket is in runs.csv's `bucket` column). Median `n_expanded` per label:\n\n{head}");
+    let table = |out: &mut String, cell: &dyn Fn(&[&RunRecord]) -> String| {
+        for (map, (lo, hi), per_label) in &rows {
+            let bucket = if lo == hi {
+                lo.to_string()
+            } else {
+                format!("{lo}-{hi}")
+            };
+            let runs = per_label.iter().map(Vec::len).max().unwrap_or(0);
+            let cells: Vec<String> = per_label.iter().map(|r| cell(r)).collect();
+            let _ = writeln!(out, "| {map} | {bucket} | {runs} | {} |", cells.join(" | "));
+        }
+        out.push('\n');
+    };
+    table(&mut out, &|runs| {
+        let expansions: Vec<f64> = runs
+            .iter()
+            .filter_map(|r| r.counters.get("n_expanded"))
+            .map(|v| v as f64)
+            .collect();
+        median_iqr(&expansions).map_or("-".into(), |(m, _, _)| format_number(m))
+    });
+    out.push_str(&format!("Median search time (ms) per label:\n\n{head}"));
+    table(&mut out, &|runs| {
+        let times: Vec<f64> = runs.iter().map(|r| r.time_ms).collect();
+        match (measured, median_iqr(&times)) {
+            (Measured::Redacted, _) => "[time]".into(),
+            (Measured::Shown, Some((m, _, _))) => format!("{m:.3}"),
+            (Measured::Shown, None) => "-".into(),
+        }
+    });
+    out
+}
 
 /// The valid runs of `planner` on the given problems of `map`, every repeat.
 fn runs_of<'r>(
@@ -125,14 +197,7 @@ fn label_runs<'r>(context: &Context<'r>, planner: &PlannerSpec) -> Vec<&'r RunRe
         .collect()
 }
 
-fn row(
-    out: &mut String,
-    label: &str,
-    map: &str,
-    bucket: &str,
-    runs: &[&RunRecord],
-    measured: Measured,
-) {
+fn row(out: &mut String, label: &str, map: &str, runs: &[&RunRecord], measured: Measured) {
     if runs.is_empty() {
         return;
     }
@@ -197,7 +262,7 @@ fn row(
     };
     let _ = writeln!(
         out,
-        "| {label} | {map} | {bucket} | {} | {found} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} | {heap} |",
+        "| {label} | {map} | {} | {found} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} | {heap} |",
         runs.len()
     );
 }
@@ -352,7 +417,38 @@ fn escape(text: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{format_bytes, format_number};
+    use super::{bucket_ranges, format_bytes, format_number};
+
+    #[test]
+    fn buckets_are_grouped_into_at_most_eight_ranges() {
+        assert_eq!(bucket_ranges(&[]), vec![]);
+        assert_eq!(bucket_ranges(&[0, 3, 5]), vec![(0, 0), (3, 3), (5, 5)]);
+        let sixteen: Vec<u32> = (0..16).collect();
+        assert_eq!(
+            bucket_ranges(&sixteen),
+            vec![
+                (0, 1),
+                (2, 3),
+                (4, 5),
+                (6, 7),
+                (8, 9),
+                (10, 11),
+                (12, 13),
+                (14, 15)
+            ]
+        );
+        // 0..=99: width 13; the last range is cut at the last bucket.
+        let hundred: Vec<u32> = (0..100).collect();
+        let ranges = bucket_ranges(&hundred);
+        assert_eq!(ranges.len(), 8);
+        assert_eq!(ranges[0], (0, 12));
+        assert_eq!(ranges[7], (91, 99));
+        // Ranges with no bucket are left out.
+        assert_eq!(
+            bucket_ranges(&[0, 1, 2, 3, 4, 5, 6, 7, 80]),
+            vec![(0, 10), (77, 80)]
+        );
+    }
 
     #[test]
     fn numbers_and_bytes_are_formatted_for_tables() {

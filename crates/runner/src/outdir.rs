@@ -73,7 +73,7 @@ pub const DEFAULT_LOCK_WAIT: Duration = Duration::from_secs(120);
 /// How often a waiting run tries the lock again.
 const LOCK_POLL: Duration = Duration::from_millis(50);
 
-pub use planner_runner::output::OutputFile;
+pub use crate::output::OutputFile;
 
 /// The contents of [`MARKER`]: which gridplan wrote the directory, and for which experiment.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]

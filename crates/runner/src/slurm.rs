@@ -12,7 +12,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use planner_runner::config;
+use crate::config;
 
 /// What `slurm` is asked to do.
 #[derive(Debug, Clone, Default)]

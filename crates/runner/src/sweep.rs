@@ -20,18 +20,16 @@ use std::io::{BufReader, Seek as _, SeekFrom, Write as _};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use planner_runner::output::OutputFile;
-use planner_runner::provenance::Provenance;
-use planner_runner::report::Reproduction;
-use planner_runner::shard::{Shard, ShardRuns};
-use planner_runner::stream::{self, StreamHeader, StreamReader};
-use planner_runner::{
-    charts, config, figures, html, ompl, output as results, report, Experiment, RunOptions,
+use crate::output::OutputFile;
+use crate::provenance::Provenance;
+use crate::report::Reproduction;
+use crate::run::HeapMeter;
+use crate::shard::{Shard, ShardRuns};
+use crate::stream::{self, StreamHeader, StreamReader};
+use crate::{
+    charts, config, figures, html, ompl, outdir, output as results, report, Experiment, RunOptions,
     RunRecord,
 };
-
-use crate::{alloc, outdir, Report};
 
 /// The stream file of a sweep's stream area, and of a shard's results directory.
 const RECORDS: &str = "records.jsonl";
@@ -39,30 +37,74 @@ const RECORDS: &str = "records.jsonl";
 /// A shard's stream in its results directory.
 pub const SHARD_FILE: &str = "shard.jsonl";
 
+/// What `experiment` did.
+#[derive(Debug, Clone)]
+pub struct Report {
+    /// Runs done.
+    pub n_runs: usize,
+    /// Output directory written.
+    pub output: PathBuf,
+    /// Published numbers compared and matched.
+    pub reproduction: Reproduction,
+    /// Wall time of the sweep and the writing, in seconds.
+    pub seconds: f64,
+}
+
+/// A sweep's progress display (a command line's progress bar); the sweep calls it from
+/// its own thread, in order: [`Progress::start`], [`Progress::set`] any number of times,
+/// [`Progress::finish`].
+pub trait Progress: Sync {
+    /// The sweep has `total` runs, of which `done` were recorded before (a resume).
+    fn start(&self, total: u64, done: u64);
+    /// `done` of the runs are recorded.
+    fn set(&self, done: u64);
+    /// The runs are done (the outputs are being written).
+    fn finish(&self);
+}
+
 /// What `experiment` is asked to do.
-#[derive(Debug, Clone, Default)]
-pub struct SweepArgs {
+#[derive(Clone, Copy)]
+pub struct SweepArgs<'a> {
     /// The config file.
-    pub config: PathBuf,
+    pub config: &'a Path,
     /// Worker threads (0: the config's).
     pub threads: usize,
     /// Output directory (default: the config's; for a shard, `<that>-shard-K-of-N`).
-    pub output: Option<PathBuf>,
-    /// Draw a progress bar.
-    pub progress: bool,
+    pub output: Option<&'a Path>,
+    /// Where progress goes (none: nowhere).
+    pub progress: Option<&'a dyn Progress>,
+    /// Peak-heap measurement per run (none: `peak_heap_bytes` is 0); [`crate::alloc::Meter`]
+    /// when the binary installs [`crate::alloc::Counting`].
+    pub heap: Option<&'a dyn HeapMeter>,
     /// Keep the runs an interrupted sweep recorded.
     pub resume: bool,
     /// Run one shard only.
     pub shard: Option<Shard>,
 }
 
+impl<'a> SweepArgs<'a> {
+    /// A plain sweep of `config`: the config's threads and output, no progress, no heap
+    /// measurement, not resumed, not sharded.
+    pub fn new(config: &'a Path) -> SweepArgs<'a> {
+        SweepArgs {
+            config,
+            threads: 0,
+            output: None,
+            progress: None,
+            heap: None,
+            resume: false,
+            shard: None,
+        }
+    }
+}
+
 /// Runs (or resumes) a sweep and writes its results directory (or its shard's).
 pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
     let started = Instant::now();
-    let experiment = config::load(&args.config).map_err(|e| e.to_string())?;
+    let experiment = config::load(args.config).map_err(|e| e.to_string())?;
     let shard = args.shard.unwrap_or(Shard::ALL);
-    let dir = match (&args.output, args.shard) {
-        (Some(dir), _) => dir.clone(),
+    let dir = match (args.output, args.shard) {
+        (Some(dir), _) => dir.to_path_buf(),
         (None, Some(s)) => {
             let mut name = experiment.output.as_os_str().to_os_string();
             name.push(format!("-shard-{}-of-{}", s.index, s.count));
@@ -104,12 +146,18 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         }
     };
     tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
-    let bar = progress_bar(args.progress, runs.len(), n_done);
-    let tick = |n: u64| bar.set_position(n_done + n);
+    if let Some(progress) = args.progress {
+        progress.start(runs.len(), n_done);
+    }
+    let tick = |n: u64| {
+        if let Some(progress) = args.progress {
+            progress.set(n_done + n);
+        }
+    };
     let options = RunOptions {
         threads: args.threads,
         progress: Some(&tick),
-        heap: Some(&alloc::Meter),
+        heap: args.heap,
     };
     let mut buffer = Vec::new();
     stream::run_stream(
@@ -123,13 +171,13 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
             }
             file.write_all(&buffer)
                 .and_then(|()| file.flush())
-                .map_err(|e| {
-                    planner_runner::RunnerError::Stream(format!("{}: {e}", path.display()))
-                })
+                .map_err(|e| crate::RunnerError::Stream(format!("{}: {e}", path.display())))
         },
     )
     .map_err(|e| e.to_string())?;
-    bar.finish_and_clear();
+    if let Some(progress) = args.progress {
+        progress.finish();
+    }
     drop(file);
     let reproduction = if args.shard.is_some() {
         let contents = fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -142,8 +190,8 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         Reproduction::default()
     } else {
         let records = read_stream(&path, &header)?;
-        let threads = crate::rayon_threads(args.threads, experiment.threads);
-        let provenance = Provenance::collect(&args.config, threads);
+        let threads = worker_threads(args.threads, experiment.threads);
+        let provenance = Provenance::collect(args.config, threads);
         let seconds = started.elapsed().as_secs_f64();
         finish(&experiment, records, &dir, &provenance, seconds)?
     };
@@ -156,18 +204,13 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
     })
 }
 
-fn progress_bar(show: bool, len: u64, done: u64) -> ProgressBar {
-    if !show {
-        return ProgressBar::hidden();
+/// The worker count a sweep runs with: the argument, else the config's, else one per core.
+fn worker_threads(argument: usize, configured: usize) -> usize {
+    match (argument, configured) {
+        (0, 0) => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        (0, c) => c,
+        (a, _) => a,
     }
-    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template(
-        "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} runs ({eta})",
-    ) {
-        bar.set_style(style);
-    }
-    bar.set_position(done);
-    bar
 }
 
 /// Where an interrupted sweep's stream `path` ends: (bytes of complete lines, runs), or
@@ -413,7 +456,7 @@ pub fn merge(
     let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
     outdir::check(&dir).map_err(|e| e.to_string())?;
     let n_runs = records.len();
-    let provenance = Provenance::collect(&config_path, crate::rayon_threads(0, experiment.threads));
+    let provenance = Provenance::collect(&config_path, worker_threads(0, experiment.threads));
     let seconds = started.elapsed().as_secs_f64();
     let reproduction = finish(&experiment, records, &dir, &provenance, seconds)?;
     Ok(Report {

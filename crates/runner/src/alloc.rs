@@ -10,7 +10,8 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
-/// The allocator; installed by the `xtask` library for every binary that links it.
+/// The allocator. A binary installs it (`#[global_allocator] static A: Counting = Counting;`)
+/// and passes [`Meter`] to the runner; the library itself installs none.
 pub struct Counting;
 
 thread_local! {
@@ -80,7 +81,7 @@ pub fn peak_since_start(baseline: isize) -> u64 {
 /// The counting allocator as planner-runner's peak-heap hook.
 pub struct Meter;
 
-impl planner_runner::run::HeapMeter for Meter {
+impl crate::run::HeapMeter for Meter {
     fn current(&self) -> i64 {
         CURRENT.with(Cell::get) as i64
     }

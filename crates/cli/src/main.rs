@@ -1,0 +1,13 @@
+//! `gridplan`: the installable command line (`cargo install --path crates/cli`).
+
+use std::process::ExitCode;
+
+use clap::Parser as _;
+
+#[global_allocator]
+static ALLOCATOR: planner_runner::alloc::Counting = planner_runner::alloc::Counting;
+
+fn main() -> ExitCode {
+    gridplan::init_logging();
+    gridplan::exit(gridplan::run(gridplan::Cli::parse().command))
+}
