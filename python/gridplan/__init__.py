@@ -11,10 +11,21 @@ Coordinates: ``(x, y)`` = (column, row), ``(0, 0)`` the top-left cell; arrays ar
 ``[y, x]``.
 """
 
-import os
-from typing import Any, Dict, List, Optional, Union
+import os as _os
+from typing import Any as _Any
+from typing import Dict as _Dict
+from typing import List as _List
+from typing import Optional as _Optional
+from typing import Union as _Union
 
-from ._errors import ConfigError, GridplanError, MapError, ParameterError, ProblemError
+from ._errors import (
+    ConfigError,
+    GridplanError,
+    MapError,
+    OutputError,
+    ParameterError,
+    ProblemError,
+)
 from ._gridplan import (
     DEFAULT_PLAN_EXPANSIONS,
     Grid,
@@ -34,6 +45,7 @@ __all__ = [
     "GridplanError",
     "MapError",
     "Outcome",
+    "OutputError",
     "ParameterError",
     "PlannerInfo",
     "Problem",
@@ -46,19 +58,29 @@ __all__ = [
 
 
 def run_experiment(
-    config: Union[str, "os.PathLike[str]"],
+    config: _Union[str, "_os.PathLike[str]"],
     *,
     threads: int = 0,
-) -> Union["pandas.DataFrame", List[Dict[str, Any]]]:  # noqa: F821
+    output: _Optional[_Union[str, "_os.PathLike[str]"]] = None,
+) -> _Union["pandas.DataFrame", _List[_Dict[str, _Any]]]:  # noqa: F821
     """Runs the experiment config ``config`` (a ``configs/*.toml`` file) and returns its
     records in the run order (map, problem, planner label, repeat), one per run, with
     runs.csv's columns: a pandas DataFrame when pandas is installed, else a list of dicts.
 
     ``threads``: worker threads, 0 for the config's ``threads`` (where 0 means one per
-    core); records do not depend on it. ``peak_heap_bytes`` is 0 (the command line counts
-    allocations with its own allocator; the Python package does not).
+    core); records do not depend on it (their times and ``peak_heap_bytes`` aside).
+
+    ``output``: a results directory to write as ``gridplan experiment --output`` does
+    (runs.csv, runs.json, summary.md, figures, ...), under the same rules: only an absent,
+    empty or gridplan-marked directory is replaced, atomically; anything else raises
+    ``OutputError`` and is left untouched. The records returned are then runs.json's.
+    Without it nothing is written.
     """
-    columns, rows = _run_experiment_rows(os.fspath(config), threads=threads)
+    columns, rows = _run_experiment_rows(
+        _os.fspath(config),
+        threads=threads,
+        output=None if output is None else _os.fspath(output),
+    )
     try:
         import pandas
     except ImportError:

@@ -7,7 +7,7 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
-Cell = Tuple[int, int]
+_Cell = Tuple[int, int]
 
 DEFAULT_PLAN_EXPANSIONS: int
 """The expansion budget ``plan`` applies when ``budget`` sets none (as the command line)."""
@@ -29,11 +29,14 @@ class MapError(GridplanError):
     column: int
     def __init__(self, message: str, *, file: str = ..., line: int = ..., column: int = ...) -> None: ...
 
+class OutputError(GridplanError):
+    """A results directory gridplan may not replace; nothing was written."""
+
 class ProblemError(GridplanError, ValueError):
     """A start or goal outside the grid or on a blocked cell."""
     endpoint: str
-    cell: Cell
-    def __init__(self, message: str, *, endpoint: str = ..., cell: Cell = ...) -> None: ...
+    cell: _Cell
+    def __init__(self, message: str, *, endpoint: str = ..., cell: _Cell = ...) -> None: ...
 
 class ParameterError(GridplanError, ValueError):
     """A planner name, parameter or budget that is unknown or invalid; ``key`` names it."""
@@ -59,16 +62,16 @@ class Grid:
         """``(height, width)``."""
     @property
     def n_free(self) -> int: ...
-    def is_free(self, cell: Cell) -> bool:
+    def is_free(self, cell: _Cell) -> bool:
         """Whether ``(x, y)`` lies on the grid and is free."""
     def __eq__(self, other: object) -> bool: ...
 
 class Problem:
     """A start-goal pair a map file states (or the ``.scen`` file beside a ``.map``)."""
     @property
-    def start(self) -> Cell: ...
+    def start(self) -> _Cell: ...
     @property
-    def goal(self) -> Cell: ...
+    def goal(self) -> _Cell: ...
     @property
     def optimal_length(self) -> Optional[float]: ...
     @property
@@ -90,7 +93,7 @@ class Outcome:
     def counters(self) -> Dict[str, int]:
         """The planner's counters, in its order."""
     @property
-    def marks(self) -> List[Tuple[str, Cell]]:
+    def marks(self) -> List[Tuple[str, _Cell]]:
         """``(label, (x, y))`` of the cells the planner marks."""
     @property
     def series(self) -> Dict[str, npt.NDArray[np.float64]]:
@@ -125,8 +128,8 @@ def planners() -> List[PlannerInfo]:
 
 def plan(
     grid: Grid,
-    start: Cell,
-    goal: Optional[Cell] = None,
+    start: _Cell,
+    goal: Optional[_Cell] = None,
     *,
     planner: str = "astar",
     budget: Union[None, int, Dict[str, int]] = None,
@@ -141,6 +144,7 @@ def run_experiment(
     config: Union[str, "os.PathLike[str]"],
     *,
     threads: int = 0,
+    output: Optional[Union[str, "os.PathLike[str]"]] = None,
 ) -> Any:
     """Runs an experiment config; its records with runs.csv's columns, as a pandas
     DataFrame when pandas is installed, else a list of dicts."""

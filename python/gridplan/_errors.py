@@ -34,6 +34,11 @@ class MapError(GridplanError):
         self.column = column
 
 
+class OutputError(GridplanError):
+    """A results directory gridplan may not replace (not its own, a file, read-only,
+    locked by another run); nothing was written."""
+
+
 class ProblemError(GridplanError, ValueError):
     """A start or goal outside the grid or on a blocked cell."""
 

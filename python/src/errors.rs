@@ -48,6 +48,10 @@ pub enum Failure {
     Value(String),
     /// A value of the wrong type (`TypeError`).
     Type(String),
+    /// A results directory gridplan may not write (not its own, read-only, locked, ...).
+    Output(String),
+    /// A sweep to a results directory failed (the command line's message).
+    Sweep(String),
     /// Rust code panicked; the panic was caught.
     Panic(String),
     /// A Python error raised while talking to Python.
@@ -104,6 +108,8 @@ impl Failure {
                 &[],
             ),
             Failure::Map(error) => map_error(py, &error),
+            Failure::Output(message) => raise(py, "OutputError", message, &[]),
+            Failure::Sweep(message) => raise(py, "GridplanError", message, &[]),
             Failure::MapMismatch {
                 file,
                 line,

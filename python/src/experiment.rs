@@ -6,10 +6,11 @@
 //! the rows cannot drift from runs.csv: a column this module cannot fill is an error,
 //! which the package's tests would show.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use planner_runner::record::RunRecord;
-use planner_runner::RunOptions;
+use planner_runner::sweep::SweepArgs;
+use planner_runner::{RunOptions, RunnerError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use pyo3::IntoPyObjectExt;
@@ -19,22 +20,24 @@ use crate::errors::{guarded, Failure};
 /// Runs the experiment config at `config` with `threads` workers (0: the config's
 /// `threads`, where 0 means one per core) and returns `(columns, rows)`: runs.csv's
 /// column names, and one dict per record in the run order, keyed by those columns.
+///
+/// With `output`, the sweep is the command line's ([`planner_runner::sweep::experiment`]:
+/// the results directory written under [`planner_runner::outdir`]'s rules) and the rows
+/// are the records of the runs.json it wrote.
 #[pyfunction]
-#[pyo3(signature = (config, *, threads = 0))]
+#[pyo3(signature = (config, *, threads = 0, output = None))]
 pub fn run_experiment_rows(
     py: Python<'_>,
     config: PathBuf,
     threads: usize,
+    output: Option<PathBuf>,
 ) -> PyResult<Py<PyTuple>> {
     let (columns, records) = py.detach(move || {
         guarded(|| {
-            let experiment =
-                planner_runner::config::load(&config).map_err(planner_runner::RunnerError::from)?;
-            let options = RunOptions {
-                threads,
-                ..RunOptions::default()
+            let records = match &output {
+                None => sweep(&config, threads)?,
+                Some(dir) => sweep_to(&config, threads, dir)?,
             };
-            let records = planner_runner::run_all(&experiment, &options)?;
             Ok((csv_columns(&records), records))
         })
     })?;
@@ -48,6 +51,42 @@ pub fn run_experiment_rows(
         rows.append(row)?;
     }
     Ok((columns, rows).into_pyobject(py)?.unbind())
+}
+
+/// The records of a sweep of `config`, in memory.
+fn sweep(config: &Path, threads: usize) -> Result<Vec<RunRecord>, Failure> {
+    let experiment = planner_runner::config::load(config).map_err(RunnerError::from)?;
+    let options = RunOptions {
+        threads,
+        progress: None,
+        heap: Some(&planner_runner::alloc::Meter),
+    };
+    Ok(planner_runner::run_all(&experiment, &options)?)
+}
+
+/// The records of a sweep of `config` written to the results directory `dir`, as the
+/// command line writes it.
+fn sweep_to(config: &Path, threads: usize, dir: &Path) -> Result<Vec<RunRecord>, Failure> {
+    // The config and the output directory are checked first, for their typed errors.
+    planner_runner::config::load(config).map_err(RunnerError::from)?;
+    planner_runner::outdir::check(dir).map_err(|e| Failure::Output(e.to_string()))?;
+    let args = SweepArgs {
+        threads,
+        output: Some(dir),
+        heap: Some(&planner_runner::alloc::Meter),
+        ..SweepArgs::new(config)
+    };
+    let report = planner_runner::sweep::experiment(&args).map_err(Failure::Sweep)?;
+    let runs_json = report.output.join("runs.json");
+    let text = std::fs::read(&runs_json)
+        .map_err(|e| Failure::Sweep(format!("{}: {e}", runs_json.display())))?;
+    #[derive(serde::Deserialize)]
+    struct RunsJson {
+        runs: Vec<RunRecord>,
+    }
+    let parsed: RunsJson = serde_json::from_slice(&text)
+        .map_err(|e| Failure::Sweep(format!("{}: {e}", runs_json.display())))?;
+    Ok(parsed.runs)
 }
 
 /// runs.csv's header for `records`, as planner-runner writes it.

@@ -22,6 +22,11 @@ mod values;
 
 use pyo3::prelude::*;
 
+/// Counts heap bytes per thread, as the command lines do, so that `peak_heap_bytes` is
+/// measured ([`planner_runner::alloc`]).
+#[global_allocator]
+static ALLOCATOR: planner_runner::alloc::Counting = planner_runner::alloc::Counting;
+
 /// The native module: classes `Grid`, `Problem`, `Outcome`, `PlannerInfo`; functions
 /// `read_map`, `planners`, `plan` and `run_experiment_rows`.
 #[pymodule]
