@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs one fuzz target for a bounded time: fuzz/run.sh TARGET SECONDS [extra libFuzzer flags]
 #
-# TARGET is one of: movingai scen seed003 csv ros_yaml image (see README.md).
+# TARGET is one of: movingai scen seed003 csv ros_yaml image config (see README.md).
 # Seeds are copied from ../maps (by extension) into seeds/TARGET; libFuzzer keeps what it
 # finds in corpus/TARGET and writes crashing inputs to artifacts/TARGET. Both are ignored
 # by git. Needs cargo-fuzz (`cargo install cargo-fuzz`); on a stable toolchain
@@ -35,13 +35,20 @@ case $target in
     printf '# comment\n1 0 1\r\n1 1 1\r\n\n' > "$seeds/spaces.csv"
     ;;
   ros_yaml) copy '*.yaml' 64k ;;
+  config)
+    # Every experiment config and published-values file.
+    find ../configs -name '*.toml' -exec cp {} "$seeds/" \;
+    for published in ../maps/*/published.toml; do
+      cp "$published" "$seeds/published-$(basename "$(dirname "$published")").toml"
+    done
+    ;;
   image)
     copy '*.pgm' 2M
     copy '*.png' 2M
     max_len=65536
     ;;
   *)
-    echo "unknown target $target (movingai scen seed003 csv ros_yaml image)" >&2
+    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config)" >&2
     exit 2
     ;;
 esac

@@ -116,6 +116,10 @@ pub enum Command {
         /// Expansion budget (default: the config label's, else 10,000,000, so every run ends).
         #[arg(long)]
         max_expansions: Option<u64>,
+        /// The value of a .csv map's cell that is an obstacle: 0 (the default, seed 000's
+        /// convention) or 1 (the common occupancy-grid convention).
+        #[arg(long, value_parser = clap::value_parser!(u8).range(0..=1))]
+        obstacle: Option<u8>,
         /// Print exactly one JSON object.
         #[arg(long)]
         json: bool,
@@ -159,6 +163,22 @@ pub fn exit(result: Result<(), String>) -> ExitCode {
             eprintln!("error: {message}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// The exit code of a command stopped by Ctrl-C (SIGINT): 128 + 2, as shells report it.
+pub const EXIT_INTERRUPTED: u8 = 130;
+
+/// Makes Ctrl-C (SIGINT) end the process at once with "interrupted" on stderr and exit
+/// code [`EXIT_INTERRUPTED`]: for `plan`, which writes nothing, so stopping anywhere is
+/// clean. A handler another command installed first is kept.
+fn stop_on_interrupt() -> Result<(), String> {
+    match ctrlc::set_handler(|| {
+        eprintln!("interrupted");
+        std::process::exit(i32::from(EXIT_INTERRUPTED));
+    }) {
+        Ok(()) | Err(ctrlc::Error::MultipleHandlers) => Ok(()),
+        Err(error) => Err(format!("cannot handle Ctrl-C: {error}")),
     }
 }
 
@@ -279,8 +299,10 @@ pub fn run(command: Command) -> Result<(), String> {
             goal,
             set,
             max_expansions,
+            obstacle,
             json,
         } => {
+            stop_on_interrupt()?;
             let args = PlanArgs {
                 map,
                 planner,
@@ -290,6 +312,7 @@ pub fn run(command: Command) -> Result<(), String> {
                 goal,
                 set,
                 max_expansions,
+                obstacle: obstacle.and_then(planner_maps::CsvConvention::from_obstacle_value),
             };
             let result = planner_runner::plan::run(&args).map_err(|e| e.to_string())?;
             if json {

@@ -343,6 +343,36 @@ pub fn read_scenarios(path: &Path) -> Result<Vec<Scenario>, MapError> {
     parse_scenarios(utf8(&bytes, &origin)?, &origin)
 }
 
+/// The text of the regular file at `path` (at most `max_bytes` bytes, UTF-8), read with the
+/// same guards as the map readers: anything but a regular file (a directory, `/dev/zero`, a
+/// FIFO) is refused before it is opened, a larger file is [`MapErrorKind::FileTooLarge`],
+/// and a byte that is not UTF-8 is an error at its line and column. Errors name the path
+/// as given. For the other text files a project reads (experiment configs, published
+/// values).
+///
+/// ```
+/// use std::path::Path;
+/// use planner_maps::{read_text_file, MapErrorKind};
+///
+/// let error = read_text_file(Path::new("/dev/zero"), 1 << 20).unwrap_err();
+/// assert!(matches!(error.kind, MapErrorKind::NotRegularFile { .. }));
+/// ```
+pub fn read_text_file(path: &Path, max_bytes: u64) -> Result<String, MapError> {
+    let origin = path.display().to_string();
+    let bytes = read_file(path, &origin, max_bytes)?;
+    utf8(&bytes, &origin)?;
+    String::from_utf8(bytes).map_err(|e| {
+        MapError::new(
+            &origin,
+            0,
+            0,
+            MapErrorKind::Io {
+                message: e.to_string(),
+            },
+        )
+    })
+}
+
 /// The bytes of the regular file at `path`, at most `max_bytes` of them; errors name
 /// `origin`. A path that names anything but a regular file (after following symbolic
 /// links) is refused before it is opened, so a FIFO cannot block and a device cannot

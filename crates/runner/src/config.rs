@@ -121,6 +121,7 @@ struct RawMaps {
     limit: Option<usize>,
     inflation: Option<Spanned<u32>>,
     inflate_unknown: Option<bool>,
+    obstacle: Option<Spanned<i64>>,
 }
 
 #[derive(Deserialize)]
@@ -387,14 +388,31 @@ impl Published {
 
 /// Reads and validates the experiment config at `path`.
 pub fn load(path: &Path) -> Result<Experiment, ConfigError> {
-    let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
+    let text = planner_maps::read_text_file(path, MAX_TEXT_BYTES).map_err(|e| ConfigError {
         file: path.to_path_buf(),
-        line: 0,
-        column: 0,
-        message: format!("cannot read the config: {e}"),
+        line: e.line,
+        column: e.column,
+        message: format!("cannot read the config: {}", read_failure(&e)),
     })?;
     parse(path, &text)
 }
+
+/// Why [`planner_maps::read_text_file`] failed, without its "cannot read the file" for
+/// an operating-system error (the callers say what they could not read).
+fn read_failure(error: &planner_maps::MapError) -> String {
+    match &error.kind {
+        planner_maps::MapErrorKind::Io { message } => message.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// The longest experiment `name`: it names the output directory and its lock and stream
+/// files, which must fit a file name (255 bytes on common file systems).
+pub const MAX_NAME_LEN: usize = 100;
+
+/// The largest config or published-values file read: 16 MiB. Like the map readers, only
+/// regular files are read, so `/dev/zero` or a FIFO is an error, not a hang.
+pub const MAX_TEXT_BYTES: u64 = 16 << 20;
 
 /// Parses and validates config `text`, read from `path` (relative paths resolve against
 /// its directory).
@@ -405,6 +423,15 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
     let name = raw.name.get_ref().clone();
+    if name.len() > MAX_NAME_LEN {
+        return Err(src.error(
+            Some(raw.name.span()),
+            format!(
+                "key `name`: {} characters, more than {MAX_NAME_LEN} (it names the output directory)",
+                name.len()
+            ),
+        ));
+    }
     let name_ok = !name.is_empty()
         && name
             .chars()
@@ -655,8 +682,18 @@ pub fn planner_from_table(
     let entry = registry::find(name).ok_or_else(|| crate::RunnerError::UnknownPlanner {
         name: name.to_string(),
     })?;
-    let factory =
-        (entry.factory)(&params).map_err(|e| crate::RunnerError::Param(label.to_string(), e))?;
+    let factory = (entry.factory)(&params).map_err(|e| {
+        // Name the key, as config errors do (`--set moves=7`: "parameter `moves`: ...").
+        let message = if e.key.is_empty() || e.message.contains(&format!("`{}`", e.key)) {
+            e.message
+        } else {
+            format!("parameter `{}`: {}", e.key, e.message)
+        };
+        crate::RunnerError::Param(
+            label.to_string(),
+            planner_api::ParamError::new(e.key, message),
+        )
+    })?;
     Ok(PlannerSpec {
         label: label.to_string(),
         name: entry.name,
@@ -667,21 +704,43 @@ pub fn planner_from_table(
     })
 }
 
-/// Reads a map file of any format planner-maps knows, ROS `.yaml` maps with `ros`.
+/// Reads a map file of any format planner-maps knows with `options` (ROS inflation, the
+/// `.csv` convention), and prints its warnings (ROS YAML keys `map_server` ignores, each
+/// naming file, line and column) as `tracing` warnings.
 pub fn read_map_file(
     path: &Path,
-    ros: &planner_maps::RosOptions,
+    options: &planner_maps::ReadOptions,
 ) -> Result<planner_maps::MapFile, planner_maps::MapError> {
-    if is_ros(path) {
-        let map = planner_maps::read_ros_map(path, ros)?;
-        Ok(planner_maps::MapFile {
-            grid: map.grid,
-            problems: Vec::new(),
-            format: planner_maps::MapFormat::Ros,
-        })
-    } else {
-        planner_maps::read_map(path)
+    let read = planner_maps::read_map_with(path, options)?;
+    for warning in &read.warnings {
+        tracing::warn!("{warning}");
     }
+    Ok(read.file)
+}
+
+/// Whether `path` is a `.csv` matrix (the maps the `obstacle` key and `plan --obstacle`
+/// apply to).
+pub fn is_csv(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+}
+
+/// `entry` with, when it is invalid on a `.csv` map read with `convention` and its start
+/// and goal would both be free in the other convention, that hint appended to `invalid`.
+pub fn with_inversion_hint(
+    mut entry: ProblemEntry,
+    grid: &Grid,
+    convention: Option<planner_maps::CsvConvention>,
+) -> ProblemEntry {
+    if let (Some(why), Some(convention)) = (&entry.invalid, convention) {
+        if let Some(hint) =
+            planner_maps::csv_inversion_hint(grid, convention, entry.start, entry.goal)
+        {
+            entry.invalid = Some(format!("{why}; {hint}"));
+        }
+    }
+    entry
 }
 
 fn is_ros(path: &Path) -> bool {
@@ -748,10 +807,15 @@ fn map_entries(
         }
         _ => {}
     }
-    if raw.scen.is_none() && (raw.buckets.is_some() || raw.lines.is_some() || raw.every.is_some()) {
+    if raw.scen.is_none()
+        && (raw.buckets.is_some()
+            || raw.lines.is_some()
+            || raw.every.is_some()
+            || raw.limit.is_some())
+    {
         return Err(at(
             spanned.span(),
-            "`buckets`, `lines` and `every` select scenarios and need `scen`".into(),
+            "`buckets`, `lines`, `every` and `limit` select scenarios and need `scen`".into(),
         ));
     }
     let mut files = Vec::new();
@@ -791,9 +855,40 @@ fn map_entries(
         inflation_radius: raw.inflation.as_ref().map_or(0, |r| *r.get_ref()),
         inflate_unknown: raw.inflate_unknown.unwrap_or(false),
     };
+    let csv = match &raw.obstacle {
+        Some(value) => Some(
+            u8::try_from(*value.get_ref())
+                .ok()
+                .and_then(planner_maps::CsvConvention::from_obstacle_value)
+                .ok_or_else(|| {
+                    at(
+                        value.span(),
+                        format!(
+                            "key `obstacle`: {} is neither 0 nor 1 (the value of a `.csv` cell that is an obstacle)",
+                            value.get_ref()
+                        ),
+                    )
+                })?,
+        ),
+        None => None,
+    };
+    let read_options = planner_maps::ReadOptions {
+        csv: csv.unwrap_or_default(),
+        ros: ros_options,
+        ..planner_maps::ReadOptions::default()
+    };
     let mut entries = Vec::new();
     for path in files {
         let is_ros = is_ros(&path);
+        if let (Some(value), false) = (&raw.obstacle, is_csv(&path)) {
+            return Err(at(
+                value.span(),
+                format!(
+                    "key `obstacle` applies to `.csv` maps, not {}",
+                    path.display()
+                ),
+            ));
+        }
         if !is_ros && (raw.inflation.is_some() || raw.inflate_unknown.is_some()) {
             let span = raw
                 .inflation
@@ -808,7 +903,7 @@ fn map_entries(
             ));
         }
         let file =
-            read_map_file(&path, &ros_options).map_err(|e| at(raw.files.span(), e.to_string()))?;
+            read_map_file(&path, &read_options).map_err(|e| at(raw.files.span(), e.to_string()))?;
         let grid = file.grid;
         let mut pairs: Vec<(Cell, Cell, Option<f64>)> = Vec::new();
         let mut buckets: Vec<Option<u32>> = Vec::new();
@@ -880,12 +975,16 @@ fn map_entries(
                 }
             }
         }
+        let convention = is_csv(&path).then_some(read_options.csv);
         let problems = pairs
             .into_iter()
             .enumerate()
-            .map(|(i, (start, goal, optimal_length))| ProblemEntry {
-                bucket: buckets.get(i).copied().flatten(),
-                ..ProblemEntry::new(&grid, i + 1, start, goal, optimal_length)
+            .map(|(i, (start, goal, optimal_length))| {
+                let entry = ProblemEntry {
+                    bucket: buckets.get(i).copied().flatten(),
+                    ..ProblemEntry::new(&grid, i + 1, start, goal, optimal_length)
+                };
+                with_inversion_hint(entry, &grid, convention)
             })
             .collect();
         let name = path
@@ -948,17 +1047,32 @@ fn load_published(
     path: &Path,
     span: Range<usize>,
 ) -> Result<Published, ConfigError> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = planner_maps::read_text_file(path, MAX_TEXT_BYTES).map_err(|e| {
         src.error(
             Some(span.clone()),
-            format!("key `published`: cannot read {}: {e}", path.display()),
+            match e.line {
+                0 => format!(
+                    "key `published`: cannot read {}: {}",
+                    path.display(),
+                    read_failure(&e)
+                ),
+                line => format!(
+                    "key `published`: cannot read {}:{line}:{}: {}",
+                    path.display(),
+                    e.column,
+                    read_failure(&e)
+                ),
+            },
         )
     })?;
-    let inner = Source {
-        file: path,
-        text: &text,
-    };
-    let doc = toml_edit::ImDocument::parse(text.as_str())
+    parse_published(path, &text)
+}
+
+/// Parses published-values `text`, read from `path` (see the `published` key in
+/// configs/README.md); errors as in [`parse`], positioned in `path`.
+pub fn parse_published(path: &Path, text: &str) -> Result<Published, ConfigError> {
+    let inner = Source { file: path, text };
+    let doc = toml_edit::ImDocument::parse(text)
         .map_err(|e| inner.error(e.span(), e.message().trim()))?;
     let known = published_metrics();
     let mut values = IndexMap::new();

@@ -104,6 +104,17 @@ pub enum RunnerError {
         /// What is wrong with the start or goal.
         error: planner_api::ProblemError,
     },
+    /// A start or goal that cannot be planned on a `.csv` map that looks written in the
+    /// other convention: the hint says so, and how to read it the other way.
+    #[error("{}: {error}; {hint} (--obstacle {})", map.display(), hint.convention.other().obstacle_value())]
+    InvertedProblem {
+        /// The map file.
+        map: PathBuf,
+        /// What is wrong with the start or goal.
+        error: planner_api::ProblemError,
+        /// Why the map looks inverted.
+        hint: planner_maps::InversionHint,
+    },
     /// Command-line arguments that do not fit together.
     #[error("{0}")]
     Usage(String),

@@ -39,6 +39,9 @@ pub struct PlanArgs {
     pub set: Vec<String>,
     /// Expansion budget.
     pub max_expansions: Option<u64>,
+    /// Which value of a `.csv` matrix is an obstacle (`--obstacle 0|1`; default `0`, as a
+    /// config's `obstacle` key); refused for other maps and for a map the config lists.
+    pub obstacle: Option<planner_maps::CsvConvention>,
 }
 
 /// The JSON form of `plan --json`.
@@ -160,13 +163,37 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, RunnerError> {
         .as_ref()
         .and_then(|e| e.find_map(&args.map))
         .cloned();
+    if let Some(convention) = args.obstacle {
+        let value = convention.obstacle_value();
+        if !config::is_csv(&args.map) {
+            return Err(RunnerError::Usage(format!(
+                "--obstacle {value} applies to .csv maps, not {}",
+                args.map.display()
+            )));
+        }
+        if listed.is_some() {
+            return Err(RunnerError::Usage(format!(
+                "--obstacle {value}: {} lists {}; set `obstacle` on its map set instead",
+                experiment
+                    .as_ref()
+                    .map_or_else(String::new, |e| e.source.display().to_string()),
+                args.map.display()
+            )));
+        }
+    }
+    let convention =
+        (listed.is_none() && config::is_csv(&args.map)).then(|| args.obstacle.unwrap_or_default());
     let (map, own_problems) = match listed {
         Some(map) => {
             let problems = map.problems.clone();
             (map, Some(problems))
         }
         None => {
-            let file = config::read_map_file(&args.map, &planner_maps::RosOptions::default())?;
+            let options = planner_maps::ReadOptions {
+                csv: args.obstacle.unwrap_or_default(),
+                ..planner_maps::ReadOptions::default()
+            };
+            let file = config::read_map_file(&args.map, &options)?;
             let map = MapEntry {
                 name: file_name(&args.map),
                 path: args.map.clone(),
@@ -217,10 +244,22 @@ pub fn run(args: &PlanArgs) -> Result<PlanResult, RunnerError> {
         }),
     };
     let check_goal = if coverage { entry.start } else { entry.goal };
-    Problem::new(&map.grid, entry.start, check_goal).map_err(|error| RunnerError::Problem {
-        map: args.map.clone(),
-        error,
-    })?;
+    if let Err(error) = Problem::new(&map.grid, entry.start, check_goal) {
+        let hint = convention.and_then(|convention| {
+            planner_maps::csv_inversion_hint(&map.grid, convention, entry.start, check_goal)
+        });
+        return Err(match hint {
+            Some(hint) => RunnerError::InvertedProblem {
+                map: args.map.clone(),
+                error,
+                hint,
+            },
+            None => RunnerError::Problem {
+                map: args.map.clone(),
+                error,
+            },
+        });
+    }
     let seed = experiment.as_ref().map_or(0, |e| e.seed);
     let mut single = Experiment::single(map, entry, spec.clone(), seed);
     let record = run_one(

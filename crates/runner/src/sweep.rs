@@ -102,6 +102,10 @@ impl<'a> SweepArgs<'a> {
 pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
     let started = Instant::now();
     let experiment = config::load(args.config).map_err(|e| e.to_string())?;
+    if args.threads > config::MAX_THREADS {
+        // Refused before the output's stream area is made, so nothing is written.
+        return Err(crate::RunnerError::Threads(args.threads).to_string());
+    }
     let shard = args.shard.unwrap_or(Shard::ALL);
     let dir = match (args.output, args.shard) {
         (Some(dir), _) => dir.to_path_buf(),

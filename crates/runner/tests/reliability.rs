@@ -241,3 +241,136 @@ fn inadmissible_heuristics_are_recorded() {
         "{summary}"
     );
 }
+
+/// A config for one `.csv` map `m.csv` holding `matrix`, with `extra` keys on the map set.
+fn csv_config(name: &str, matrix: &str, extra: &str) -> Result<config::Experiment, String> {
+    let dir = scratch(name);
+    std::fs::write(dir.join("m.csv"), matrix).unwrap();
+    let text = format!(
+        "name = \"m\"\n[[maps]]\nfiles = [\"m.csv\"]\nproblems = \"corners\"\n{extra}\n[planners.a]\nplanner = \"astar\"\n"
+    );
+    let result = config::parse(&dir.join("c.toml"), &text).map_err(|e| e.to_string());
+    std::fs::remove_dir_all(&dir).unwrap();
+    result
+}
+
+/// `obstacle = 1` reads a `.csv` matrix with 1 = obstacle; the default (0) finds the
+/// corners blocked and says the map looks inverted; other values and other formats are
+/// refused, naming the key.
+#[test]
+fn csv_obstacle_convention() {
+    let matrix = "0,1,1\n1,1,0\n";
+    let one = csv_config("csv1", matrix, "obstacle = 1").unwrap();
+    let grid = &one.maps[0].grid;
+    assert_eq!(grid.to_ascii(), ".##\n##.\n");
+    assert_eq!(one.maps[0].problems[0].invalid, None);
+    let records = run_all(&one, &RunOptions::default()).unwrap();
+    assert_eq!(records[0].status, RunStatus::NoPath);
+
+    let zero = csv_config("csv0", matrix, "").unwrap();
+    assert_eq!(
+        zero.maps[0].problems[0].invalid.as_deref(),
+        Some(
+            "start (0, 0) is blocked; start (0, 0) and goal (2, 1) are blocked with obstacle = 0 \
+             but free with obstacle = 1: the map looks written with 1 = obstacle"
+        )
+    );
+    let explicit = csv_config("csv0e", matrix, "obstacle = 0").unwrap();
+    assert_eq!(explicit.maps[0].grid, zero.maps[0].grid);
+
+    let error = csv_config("csv2", matrix, "obstacle = 2").unwrap_err();
+    assert!(
+        error.ends_with("c.toml:5:12: maps[0]: key `obstacle`: 2 is neither 0 nor 1 (the value of a `.csv` cell that is an obstacle)"),
+        "{error}"
+    );
+    let error = csv_config("csvs", matrix, "obstacle = \"1\"").unwrap_err();
+    assert!(error.contains("c.toml:5:12"), "{error}");
+
+    let text = format!(
+        "name = \"m\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\nobstacle = 1\n[planners.a]\nplanner = \"astar\"\n",
+        paper_map()
+    );
+    let error = config_error(&text);
+    assert!(
+        error.starts_with("c.toml:5:12: maps[0]: key `obstacle` applies to `.csv` maps, not"),
+        "{error}"
+    );
+}
+
+/// `plan --obstacle 1` reads the matrix the other way; without it the error says the
+/// start and goal would be free with `--obstacle 1`.
+#[test]
+fn plan_obstacle_option() {
+    let dir = scratch("plan-csv");
+    std::fs::write(dir.join("m.csv"), "0,0,1\n1,0,0\n").unwrap();
+    let args = PlanArgs {
+        map: dir.join("m.csv"),
+        planner: "astar".into(),
+        ..Default::default()
+    };
+    let error = planner_runner::plan::run(&args).err().unwrap().to_string();
+    let one = planner_runner::plan::run(&PlanArgs {
+        obstacle: planner_maps::CsvConvention::from_obstacle_value(1),
+        ..args.clone()
+    })
+    .unwrap();
+    let not_csv = planner_runner::plan::run(&PlanArgs {
+        map: root().join("maps/paper/map01.map"),
+        obstacle: planner_maps::CsvConvention::from_obstacle_value(1),
+        ..args.clone()
+    })
+    .err()
+    .unwrap()
+    .to_string();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(
+        error.ends_with(
+            "m.csv: start (0, 0) is blocked; start (0, 0) and goal (2, 1) are blocked with \
+             obstacle = 0 but free with obstacle = 1: the map looks written with 1 = obstacle \
+             (--obstacle 1)"
+        ),
+        "{error}"
+    );
+    assert_eq!(one.record.status, RunStatus::Found);
+    assert_eq!(one.record.path.unwrap().metrics().steps, 3);
+    assert!(
+        not_csv.starts_with("--obstacle 1 applies to .csv maps, not"),
+        "{not_csv}"
+    );
+}
+
+/// Configs and published-values files are read like maps: a device, a FIFO or a
+/// directory is refused before it is read (`/dev/zero` used to be read until memory ran
+/// out).
+#[test]
+fn configs_and_published_files_must_be_regular_files() {
+    let error = config::load(Path::new("/dev/zero"))
+        .err()
+        .unwrap()
+        .to_string();
+    assert_eq!(
+        error,
+        "/dev/zero: cannot read the config: not a regular file (a character device): maps, images and scenarios are read from regular files"
+    );
+    let text = format!(
+        "name = \"p\"\npublished = \"/dev/zero\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
+        paper_map()
+    );
+    assert_eq!(
+        config_error(&text),
+        "c.toml:2:13: key `published`: cannot read /dev/zero: not a regular file (a character device): maps, images and scenarios are read from regular files"
+    );
+}
+
+/// `limit` without `scen` used to be accepted and ignored.
+#[test]
+fn scenario_selection_needs_a_scen() {
+    let text = format!(
+        "name = \"l\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\nlimit = 3\n[planners.a]\nplanner = \"astar\"\n",
+        paper_map()
+    );
+    assert_eq!(
+        config_error(&text),
+        "c.toml:2:1: maps[0]: `buckets`, `lines`, `every` and `limit` select scenarios and need `scen`"
+    );
+}

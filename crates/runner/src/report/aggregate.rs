@@ -95,12 +95,15 @@ fn bucket_ranges(buckets: &[u32]) -> Vec<(u32, u32)> {
         .collect()
 }
 
+/// One row of the by-bucket tables: the map, the bucket range, and each label's runs in it.
+type BucketRow<'r> = (&'r str, (u32, u32), Vec<Vec<&'r RunRecord>>);
+
 /// Scenario maps' medians by bucket (Moving AI's picture of effort against path length):
 /// one row per map and bucket range, one column per label; median `n_expanded`, then the
 /// median search time.
 fn by_bucket(context: &Context<'_>, measured: Measured) -> String {
     let experiment = context.experiment;
-    let mut rows: Vec<(&str, (u32, u32), Vec<Vec<&RunRecord>>)> = Vec::new();
+    let mut rows: Vec<BucketRow<'_>> = Vec::new();
     for map in &experiment.maps {
         let mut buckets: Vec<u32> = map.problems.iter().filter_map(|p| p.bucket).collect();
         buckets.sort_unstable();

@@ -1,0 +1,566 @@
+//! The careless user: many bad inputs through the real `gridplan` binary. Every one must
+//! end (a timeout per command), never panic (no "panicked", no exit code 101), fail with
+//! exit code 1 (2 for arguments clap refuses) and a message naming the file and position,
+//! the key or the cell, and write nothing (the working directory is unchanged).
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// How long one command may take before the test calls it a hang.
+const TIMEOUT: Duration = Duration::from_secs(120);
+
+/// What a case must give.
+enum Expect {
+    /// Exit code 1, this text in stderr, nothing written.
+    Error(&'static str),
+    /// Exit code 2 (clap refused the arguments), this text in stderr, nothing written.
+    Usage(&'static str),
+    /// Success (exit 0), with this warning text in stderr.
+    Warn(&'static str),
+}
+
+/// One case: the files to write (name, bytes), the arguments, what must happen.
+type Case = (Vec<(String, Vec<u8>)>, Vec<String>, Expect);
+
+/// A 3x3 Moving AI map with a wall cell in the middle.
+const SMALL: &[u8] = b"type octile\nheight 3\nwidth 3\nmap\n...\n.@.\n...\n";
+
+/// A valid config on `small.map`; cases edit it.
+const CONFIG: &str = "name = \"c\"\n[[maps]]\nfiles = [\"small.map\"]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n";
+
+fn scratch(case: usize) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gridplan-careless-{}-{case}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Every path under `dir`, relative to it.
+fn listing(dir: &Path) -> BTreeSet<PathBuf> {
+    let mut out = BTreeSet::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(at) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&at) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            out.insert(path.strip_prefix(dir).unwrap().to_path_buf());
+            if entry.file_type().is_ok_and(|t| t.is_dir()) {
+                stack.push(path);
+            }
+        }
+    }
+    out
+}
+
+struct Output {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+}
+
+/// Runs `gridplan args` in `dir`, killing it after [`TIMEOUT`].
+fn gridplan(dir: &Path, args: &[&str]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("RUST_LOG")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        if started.elapsed() > TIMEOUT {
+            child.kill().unwrap();
+            let _ = child.wait();
+            panic!("gridplan {args:?} did not end within {TIMEOUT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let output = child.wait_with_output().unwrap();
+    Output {
+        code: output.status.code(),
+        stdout: String::from_utf8_lossy(&output.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
+    }
+}
+
+/// Writes `files` into a fresh directory, runs `gridplan args` there and checks `expect`;
+/// returns a description of what is wrong, if anything.
+fn check(case: usize, files: &[(&str, &[u8])], args: &[&str], expect: Expect) -> Option<String> {
+    let dir = scratch(case);
+    for (name, bytes) in files {
+        let path = dir.join(name);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).unwrap();
+        }
+        std::fs::write(path, bytes).unwrap();
+    }
+    let before = listing(&dir);
+    let out = gridplan(&dir, args);
+    let after = listing(&dir);
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut problems = Vec::new();
+    if out.stderr.contains("panicked") || out.code == Some(101) {
+        problems.push("panicked".to_owned());
+    }
+    let (code, text) = match expect {
+        Expect::Error(text) => (1, text),
+        Expect::Usage(text) => (2, text),
+        Expect::Warn(text) => (0, text),
+    };
+    // Plain text for a pipe: no ANSI colour codes, no Rust debug formatting.
+    if out.stderr.contains('\u{1b}') {
+        problems.push("ANSI escape codes in stderr".to_owned());
+    }
+    if out.stderr.contains("Some(") || out.stderr.contains("None") {
+        problems.push("Rust debug formatting in stderr".to_owned());
+    }
+    if out.code != Some(code) {
+        problems.push(format!("exit code {:?}, expected {code}", out.code));
+    }
+    if !out.stderr.contains(text) {
+        problems.push(format!("stderr lacks {text:?}"));
+    }
+    if code != 0 {
+        if before != after {
+            let new: Vec<_> = after.difference(&before).collect();
+            problems.push(format!("wrote {new:?} on failure"));
+        }
+        if !out.stdout.is_empty() {
+            problems.push(format!("printed {:?} on failure", out.stdout));
+        }
+    }
+    (!problems.is_empty()).then(|| {
+        format!(
+            "case {case}: gridplan {args:?}: {}\n  stderr: {}",
+            problems.join("; "),
+            out.stderr.trim_end().replace('\n', "\n          ")
+        )
+    })
+}
+
+/// `experiment c.toml` on `config` with `small.map` beside it.
+fn experiment(config: &str) -> Vec<(&'static str, Vec<u8>)> {
+    vec![
+        ("c.toml", config.as_bytes().to_vec()),
+        ("small.map", SMALL.to_vec()),
+    ]
+}
+
+/// [`CONFIG`] with `from` replaced by `to` (which must occur).
+fn edit(from: &str, to: &str) -> String {
+    assert!(CONFIG.contains(from), "{from}");
+    CONFIG.replacen(from, to, 1)
+}
+
+#[test]
+fn careless_inputs_fail_cleanly() {
+    use Expect::{Error, Usage, Warn};
+    let exp = ["experiment", "c.toml", "--quiet"];
+    let long_name = "x".repeat(300);
+    let experiments: Vec<(String, Expect)> = vec![
+        // Malformed TOML.
+        ("".into(), Error("c.toml:1:1: missing field `name`")),
+        ("name = \"c\"\n[[maps]\n".into(), Error("c.toml:2:")),
+        ("name = \"c\nfoo".into(), Error("c.toml:1:")),
+        ("name = c\n".into(), Error("c.toml:1:8")),
+        (CONFIG.replace("astar\"", "astar"), Error("c.toml:6:")),
+        (format!("name = \"d\"\n{CONFIG}"), Error("c.toml:2:1: duplicate key")),
+        (format!("{CONFIG}name = \"d\"\n"), Error("c.toml:7:1: planner `a` (astar): unknown field `name`")),
+        ("\u{feff}\u{1F600} = 1\n".into(), Error("c.toml:1:")),
+        // Wrong types and values.
+        (edit("name = \"c\"", "name = 5"), Error("c.toml:1:8")),
+        (edit("name = \"c\"", "name = \"\""), Error("key `name`")),
+        (edit("name = \"c\"", "name = \"../x\""), Error("key `name`")),
+        (edit("name = \"c\"", "name = \"caf\u{e9}\""), Error("key `name`")),
+        (
+            edit("name = \"c\"", &format!("name = \"{long_name}\"")),
+            Error("key `name`"),
+        ),
+        (format!("repeats = 0\n{CONFIG}"), Error("key `repeats`")),
+        (format!("repeats = -1\n{CONFIG}"), Error("c.toml:1:11")),
+        (format!("repeats = 1.5\n{CONFIG}"), Error("c.toml:1:11")),
+        (
+            format!("repeats = 99999999999999999999\n{CONFIG}"),
+            Error("c.toml:1:11"),
+        ),
+        (format!("threads = -3\n{CONFIG}"), Error("c.toml:1:11")),
+        (format!("threads = 100000\n{CONFIG}"), Error("key `threads`")),
+        (format!("seed = -1\n{CONFIG}"), Error("c.toml:1:8")),
+        (format!("seed = \"7\"\n{CONFIG}"), Error("c.toml:1:8")),
+        (format!("figures = \"some\"\n{CONFIG}"), Error("c.toml:1:11")),
+        (format!("sections = [\"nope\"]\n{CONFIG}"), Error("c.toml:1:")),
+        (format!("colour = 1\n{CONFIG}"), Error("c.toml:1:1: unknown field `colour`")),
+        (format!("{CONFIG}[budget]\nmax_expansions = -5\n"), Error("c.toml:8:")),
+        (format!("{CONFIG}[budget]\nmax_expansions = \"lots\"\n"), Error("c.toml:8:")),
+        (format!("{CONFIG}[budget]\nmax_hours = 1\n"), Error("c.toml:8:")),
+        // Map sets.
+        (edit("files = [\"small.map\"]", "files = []"), Error("c.toml:")),
+        (edit("files = [\"small.map\"]", "files = \"small.map\""), Error("c.toml:3:9")),
+        (edit("small.map\"]", "missing.map\"]"), Error("nothing matches \"missing.map\"")),
+        (edit("small.map\"]", "[\"]"), Error("key `files`: bad pattern")),
+        (edit("small.map\"]", "c.toml\"]"), Error("unsupported file extension '.toml'")),
+        (edit("small.map\"]", "small.map\", \"small.map\"]"), Error("c.toml:2:1: maps[0]: map name `small.map` appears twice")),
+        (edit("problems = \"corners\"", "problems = \"all\""), Error("c.toml:4:12")),
+        (edit("problems = \"corners\"", ""), Error("give exactly one of `problems`")),
+        (
+            edit("problems = \"corners\"", "problems = \"corners\"\npairs = []"),
+            Error("exclude each other"),
+        ),
+        (
+            edit("problems = \"corners\"", "problems = \"file\""),
+            Error("lists no start-goal pairs"),
+        ),
+        (edit("problems = \"corners\"", "problems = \"start\""), Error("needs `start = [x, y]`")),
+        (
+            edit(
+                "problems = \"corners\"",
+                "pairs = [{ start = [0, 0], goal = [-1, 2] }]",
+            ),
+            Error("c.toml:4:"),
+        ),
+        (
+            edit(
+                "problems = \"corners\"",
+                "pairs = [{ start = [0, 0], goal = [2, 2], via = [1, 1] }]",
+            ),
+            Error("c.toml:4:"),
+        ),
+        (
+            edit(
+                "problems = \"corners\"",
+                "pairs = [{ start = [0, 0], goal = [4294967296, 0] }]",
+            ),
+            Error("c.toml:4:"),
+        ),
+        (edit("problems = \"corners\"", "scen = \"none.scen\""), Error("key `scen`")),
+        (
+            edit("problems = \"corners\"", "problems = \"corners\"\ninflation = 2"),
+            Error("apply to ROS `.yaml` maps"),
+        ),
+        (
+            edit("problems = \"corners\"", "problems = \"corners\"\nobstacle = 1"),
+            Error("key `obstacle` applies to `.csv` maps"),
+        ),
+        (
+            edit("problems = \"corners\"", "problems = \"corners\"\nlimit = 3"),
+            Error("need `scen`"),
+        ),
+        (edit("[[maps]]", "[maps]"), Error("c.toml:2:")),
+        // Planners.
+        (edit("planner = \"astar\"", "planner = \"astra\""), Error("unknown planner \"astra\"")),
+        (edit("planner = \"astar\"", "planner = 3"), Error("c.toml:6:")),
+        (edit("planner = \"astar\"", ""), Error("key `planner` is missing")),
+        (
+            edit("planner = \"astar\"", "planner = \"astar\"\nmoves = 7"),
+            Error("parameter `moves`"),
+        ),
+        (
+            edit("planner = \"astar\"", "planner = \"astar\"\nheuristic = \"manhatan\""),
+            Error("c.toml:7:"),
+        ),
+        (
+            edit("planner = \"astar\"", "planner = \"astar\"\nweight = -2.0"),
+            Error("`weight`"),
+        ),
+        (
+            edit("planner = \"astar\"", "planner = \"astar\"\nweight = nan"),
+            Error("`weight`"),
+        ),
+        (
+            edit("planner = \"astar\"", "planner = \"astar\"\nspeed = 3"),
+            Error("c.toml:7:"),
+        ),
+        (
+            edit("planner = \"astar\"", "planner = \"rrt\"\nmax_iterations = -1"),
+            Error("c.toml:7:"),
+        ),
+        (
+            edit("planner = \"astar\"", "planner = \"astar\"\nbudget = { max_expansions = -1 }"),
+            Error("key `budget`"),
+        ),
+        (
+            edit(
+                "planner = \"astar\"",
+                "planner = \"lexastar\"\ncompare = { with = \"backtracking\", metrics = [\"stepz\"] }",
+            ),
+            Error("unknown metric `stepz`"),
+        ),
+        (edit("[planners.a]\nplanner = \"astar\"\n", ""), Error("c.toml:")),
+        // Published values.
+        (format!("published = \"none.toml\"\n{CONFIG}"), Error("key `published`")),
+        (format!("published = \"small.map\"\n{CONFIG}"), Error("small.map:1:")),
+        (format!("published = \"/dev/zero\"\n{CONFIG}"), Error("not a regular file")),
+        (format!("published = \".\"\n{CONFIG}"), Error("not a regular file")),
+    ];
+    let mut cases: Vec<Case> = Vec::new();
+    let owned = |files: Vec<(&str, Vec<u8>)>| -> Vec<(String, Vec<u8>)> {
+        files.into_iter().map(|(n, b)| (n.to_owned(), b)).collect()
+    };
+    let args = |list: &[&str]| -> Vec<String> { list.iter().map(|s| s.to_string()).collect() };
+    for (config, expect) in experiments {
+        cases.push((owned(experiment(&config)), args(&exp), expect));
+    }
+
+    // Map files as the config's maps.
+    let bad_maps: Vec<(&str, &[u8], Expect)> = vec![
+        ("bad.map", b"", Error("bad.map:1:1")),
+        ("bad.map", b"type octile\nheight 3\nwidth 3\nmap\n...\n", Error("bad.map:")),
+        ("bad.map", b"type octile\nheight 2\nwidth 2\nmap\n.Q\n..\n", Error("bad.map:5:2")),
+        (
+            "bad.map",
+            b"type octile\nheight 100000\nwidth 100000\nmap\n",
+            Error("more than the limit"),
+        ),
+        (
+            "bad.map",
+            b"type octile\nheight 99999999999\nwidth 2\nmap\n",
+            Error("bad.map:2:"),
+        ),
+        ("bad.map", b"type octile\nheight -2\nwidth 2\nmap\n", Error("bad.map:2:")),
+        ("bad.map", b"\x00\xff\xfe\x01junk", Error("bad.map:1:")),
+        ("bad.map", b"type octile\nheight 0\nwidth 0\nmap\n", Error("bad.map:")),
+        ("bad.txt", b"..X\n.Q.\n", Error("bad.txt:2:2")),
+        ("bad.txt", b"# only a comment\n", Error("bad.txt:")),
+        ("bad.txt", "..\u{2588}\n...\n".as_bytes(), Error("bad.txt:1:3")),
+        ("bad.csv", b"1,0\n1\n", Error("bad.csv:2:")),
+        ("bad.csv", b"1,2\n", Error("bad.csv:1:3")),
+        ("bad.csv", b"1,,0\n", Error("bad.csv:1:3")),
+        ("bad.csv", b"", Error("bad.csv:")),
+        ("bad.yaml", b"image: [\n", Error("bad.yaml:")),
+        ("bad.yaml", b"resolution: 0.05\n", Error("c.toml:3:9: maps[0]: bad.yaml:1:1: missing key 'image'")),
+        (
+            "bad.yaml",
+            b"image: none.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
+            Error("none.pgm"),
+        ),
+        ("bad.pgm", b"P5 3 3 255 \x00", Error("bad.pgm")),
+        ("bad.pgm", b"P2 100000 100000 255\n", Error("more than the limit")),
+        ("bad.png", b"\x89PNG\r\n\x1a\nnot really", Error("bad.png")),
+    ];
+    for (name, bytes, expect) in bad_maps {
+        let config = edit("small.map", name);
+        let files = vec![("c.toml", config.into_bytes()), (name, bytes.to_vec())];
+        cases.push((owned(files), args(&exp), expect));
+    }
+    // The same bad maps given to `plan` would repeat these; a few through plan.
+    let plan = |map: &str, rest: &[&str]| {
+        let mut a = vec!["plan", map];
+        a.extend_from_slice(rest);
+        args(&a)
+    };
+    let small = || owned(vec![("small.map", SMALL.to_vec())]);
+    let scen_other = b"version 1\n0\tother.map\t5\t5\t0\t0\t1\t1\t1.4\n".to_vec();
+    let scen_same = b"version 1\n0\tother.map\t3\t3\t0\t0\t2\t2\t3.4\n".to_vec();
+    let plan_cases: Vec<Case> = vec![
+        (small(), plan("missing.map", &["--planner", "astar"]), Error("missing.map: cannot read the file")),
+        (small(), plan(".", &["--planner", "astar"]), Error("unsupported file extension")),
+        (
+            owned(vec![("dir.map/x", b"".to_vec())]),
+            plan("dir.map", &["--planner", "astar"]),
+            Error("dir.map: not a regular file (a directory)"),
+        ),
+        (small(), plan("/dev/zero", &["--planner", "astar"]), Error("unsupported file extension")),
+        (small(), plan("small.map", &["--planner", "astra"]), Error("unknown planner `astra`")),
+        (small(), plan("small.map", &["--planner", ""]), Error("unknown planner ``")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "1,1", "--goal", "2,2"]), Error("small.map: start (1, 1) is blocked")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "0,0", "--goal", "3,0"]), Error("(3, 0)")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "4294967295,4294967295", "--goal", "0,0"]), Error("(4294967295, 4294967295)")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "0;0", "--goal", "2,2"]), Usage("expected x,y")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "-1,0", "--goal", "2,2"]), Usage("unexpected argument '-1'")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "4294967296,0", "--goal", "2,2"]), Usage("not a cell coordinate")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "0,0"]), Error("--start and --goal go together")),
+        (small(), plan("small.map", &["--planner", "astar", "--problem", "1", "--start", "0,0", "--goal", "2,2"]), Error("not both")),
+        (small(), plan("small.map", &["--planner", "astar", "--problem", "0"]), Error("--problem 0: small.map has 0 problem(s)")),
+        (small(), plan("small.map", &["--planner", "astar", "--problem", "-1"]), Usage("unexpected argument '-1'")),
+        (small(), plan("small.map", &["--planner", "astar", "--problem", "99999999999999999999999"]), Usage("--problem")),
+        (small(), plan("small.map", &["--planner", "astar", "--set", "moves"]), Error("--set \"moves\": expected key=value")),
+        (small(), plan("small.map", &["--planner", "astar", "--set", "moves=7"]), Error("planner `astar`: parameter `moves`: unsupported connectivity 7")),
+        (small(), plan("small.map", &["--planner", "astar", "--set", "nonsense=1"]), Error("nonsense")),
+        (small(), plan("small.map", &["--planner", "astar", "--set", "heuristic=[1,"]), Error("planner `astar`: parameter `heuristic`")),
+        (small(), plan("small.map", &["--planner", "astar", "--set", "=3"]), Error("planner `astar`")),
+        (small(), plan("small.map", &["--planner", "astar", "--max-expansions", "-1"]), Usage("unexpected argument '-1'")),
+        (small(), plan("small.map", &["--planner", "astar", "--obstacle", "2"]), Usage("--obstacle")),
+        (small(), plan("small.map", &["--planner", "astar", "--obstacle", "1"]), Error("--obstacle 1 applies to .csv maps")),
+        (small(), plan("small.map", &["--planner", "coverage", "--start", "0,0", "--goal", "2,2"]), Error("takes no --goal")),
+        (small(), plan("small.map", &["--planner", "astar", "--config", "none.toml"]), Error("none.toml: cannot read the config")),
+        (small(), plan("small.map", &["--planner", "astar", "--config", "/dev/zero"]), Error("/dev/zero: cannot read the config: not a regular file")),
+        (owned(experiment(CONFIG)), plan("small.map", &["--planner", "b", "--config", "c.toml"]), Error("no planner labelled `b` (labels: a)")),
+        // A .scen beside the map, for another map size: refused; for another map of the
+        // same size: a warning naming both.
+        (
+            owned(vec![("small.map", SMALL.to_vec()), ("small.map.scen", scen_other)]),
+            plan("small.map", &["--planner", "astar", "--problem", "1"]),
+            Error("small.map.scen:2: the scenario is for a 5x5 map, but small.map is 3x3"),
+        ),
+        (
+            owned(vec![("small.map", SMALL.to_vec()), ("small.map.scen", scen_same)]),
+            plan("small.map", &["--planner", "astar", "--problem", "1"]),
+            Warn("small.map.scen:2: the scenario names map other.map, not small.map"),
+        ),
+        // Blocked starts on a .csv map written the other way round: the hint says so.
+        (
+            owned(vec![("inv.csv", b"0,1,1\n1,1,0\n".to_vec())]),
+            plan("inv.csv", &["--planner", "astar"]),
+            Error("inv.csv: start (0, 0) is blocked; start (0, 0) and goal (2, 1) are blocked with obstacle = 0 but free with obstacle = 1: the map looks written with 1 = obstacle (--obstacle 1)"),
+        ),
+        (
+            owned(vec![("map.yaml", b"image: map.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\nmap_name: x\n".to_vec()), ("map.pgm", b"P2 2 2 255 255 255 255 255".to_vec())]),
+            plan("map.yaml", &["--planner", "astar"]),
+            Warn("map.yaml:7:1: key 'map_name' is not one map_server reads"),
+        ),
+        // Unknown commands and flags.
+        (small(), args(&["plan"]), Usage("required")),
+        (small(), args(&["frobnicate"]), Usage("unrecognized subcommand")),
+        (small(), plan("small.map", &["--planner", "astar", "--colour"]), Usage("--colour")),
+        (small(), args(&["experiment", "missing.toml"]), Error("missing.toml: cannot read the config")),
+        (small(), args(&["experiment", "small.map"]), Error("small.map:1:")),
+        (small(), args(&["experiment", "/dev/zero"]), Error("not a regular file")),
+        (small(), args(&["experiment", "."]), Error("not a regular file (a directory)")),
+        (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--shard", "3/2"]), Error("3/2")),
+        (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--shard", "0/0"]), Error("0/0")),
+        (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--threads", "100000"]), Error("100000 worker threads")),
+        (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--output", "c.toml"]), Error("c.toml")),
+        (owned(experiment(CONFIG)), args(&["merge", "nowhere"]), Error("nowhere")),
+    ];
+    cases.extend(plan_cases);
+
+    // An experiment whose .csv map is written with 1 = obstacle: the run is recorded as
+    // invalid with the hint, and the warning says it.
+    let inverted = "name = \"inv\"\n[[maps]]\nfiles = [\"inv.csv\"]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n";
+    cases.push((
+        owned(vec![
+            ("c.toml", inverted.as_bytes().to_vec()),
+            ("inv.csv", b"0,1,1\n1,1,0\n".to_vec()),
+        ]),
+        args(&exp),
+        Warn("the map looks written with 1 = obstacle"),
+    ));
+    // A ROS map with a key map_server ignores: the experiment warns, naming file and line.
+    let ros = "name = \"ros\"\n[[maps]]\nfiles = [\"map.yaml\"]\npairs = [{ start = [0, 0], goal = [1, 1] }]\n[planners.a]\nplanner = \"astar\"\n";
+    cases.push((
+        owned(vec![
+            ("c.toml", ros.as_bytes().to_vec()),
+            ("map.yaml", b"image: map.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\nmap_type: occupancy\n".to_vec()),
+            ("map.pgm", b"P2 2 2 255 255 255 255 255".to_vec()),
+        ]),
+        args(&exp),
+        Warn("map.yaml:7:1: key 'map_type' is not one map_server reads"),
+    ));
+
+    // A pair outside the grid: recorded as an invalid problem, with a warning naming map,
+    // problem and cell (configs/README.md).
+    cases.push((
+        owned(experiment(&edit(
+            "problems = \"corners\"",
+            "pairs = [{ start = [0, 0], goal = [5, 5] }]",
+        ))),
+        args(&exp),
+        Warn("small.map problem 1: goal (5, 5) is outside the 3x3 grid; not run"),
+    ));
+    // A .scen naming another map file of the same size: used, with a warning naming both.
+    let scen = "name = \"sc\"\n[[maps]]\nfiles = [\"small.map\"]\nscen = \"s.scen\"\n[planners.a]\nplanner = \"astar\"\n";
+    cases.push((
+        owned(vec![
+            ("c.toml", scen.as_bytes().to_vec()),
+            ("small.map", SMALL.to_vec()),
+            (
+                "s.scen",
+                b"version 1\n0\tother.map\t3\t3\t0\t0\t2\t2\t3.4\n".to_vec(),
+            ),
+        ]),
+        args(&exp),
+        Warn("maps[0]: the scenarios name map other.map, not small.map (same size, so used)"),
+    ));
+    // The same .scen for a 5x5 map: refused, naming the line and both sizes.
+    cases.push((
+        owned(vec![
+            ("c.toml", scen.as_bytes().to_vec()),
+            ("small.map", SMALL.to_vec()),
+            (
+                "s.scen",
+                b"version 1\n0\tsmall.map\t5\t5\t0\t0\t2\t2\t3.4\n".to_vec(),
+            ),
+        ]),
+        args(&exp),
+        Error("scenario line 2 is for a 5x5 map, but small.map is 3x3"),
+    ));
+
+    let n_cases = cases.len();
+    let failures: Vec<String> = cases
+        .into_iter()
+        .enumerate()
+        .filter_map(|(i, (files, args, expect))| {
+            let files: Vec<(&str, &[u8])> = files
+                .iter()
+                .map(|(n, b)| (n.as_str(), b.as_slice()))
+                .collect();
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            check(i, &files, &args, expect)
+        })
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {n_cases} cases failed:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// Ctrl-C on a running `plan` (Backtracking on an open 30x30 map, which would run for
+/// hours) prints "interrupted" and exits with 130.
+#[test]
+fn plan_stops_on_ctrl_c() {
+    let dir = scratch(10_000);
+    let rows = format!("{}\n", ".".repeat(30)).repeat(30);
+    std::fs::write(
+        dir.join("open.map"),
+        format!("type octile\nheight 30\nwidth 30\nmap\n{rows}"),
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args([
+            "plan",
+            "open.map",
+            "--planner",
+            "backtracking",
+            "--max-expansions",
+            "100000000000000",
+        ])
+        .current_dir(&dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Long enough for the map to be read and the search to run.
+    std::thread::sleep(Duration::from_millis(1500));
+    assert!(child.try_wait().unwrap().is_none(), "plan ended early");
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let started = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > Duration::from_secs(30) {
+            child.kill().unwrap();
+            panic!("plan did not stop within 30 s of SIGINT");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let output = child.wait_with_output().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(output.status.code(), Some(130));
+    assert_eq!(String::from_utf8_lossy(&output.stderr), "interrupted\n");
+    assert!(output.stdout.is_empty());
+}
