@@ -120,8 +120,9 @@ class PlannerInfo:
     def parameters(self) -> Dict[str, Any]:
         """Every parameter with its default."""
 
-def read_map(path: Union[str, "os.PathLike[str]"]) -> Tuple[Grid, List[Problem]]:
-    """Reads a ``.map``, ``.txt``, ``.csv`` or ROS ``.yaml`` map: the grid and its problems."""
+def read_map(path: Union[str, "os.PathLike[str]"], *, obstacle: int = 0) -> Tuple[Grid, List[Problem]]:
+    """Reads a ``.map``, ``.txt``, ``.csv`` or ROS ``.yaml`` map: the grid and its problems.
+    ``obstacle``: the value marking obstacles in a ``.csv`` matrix (0 or 1)."""
 
 def planners() -> List[PlannerInfo]:
     """Every registered planner with its declared parameters and their defaults."""

@@ -191,10 +191,22 @@ impl MapProblem {
 
 /// Reads a map file of any format the command line reads (`.map`, `.txt`, `.csv`, ROS
 /// `.yaml`) and returns `(grid, problems)`: the file's own start-goal pairs, else those of
-/// the `.scen` file beside a `.map` (as `plan` uses them), else none.
+/// the `.scen` file beside a `.map` (as `plan` uses them), else none. `obstacle` is the
+/// value that marks an obstacle in a `.csv` matrix (0, seed 000's default, or 1), as
+/// `plan --obstacle` takes it.
 #[pyfunction]
-pub fn read_map(py: Python<'_>, path: PathBuf) -> PyResult<Py<PyTuple>> {
-    let (grid, problems) = py.detach(|| guarded(|| read(&path)))?;
+#[pyo3(signature = (path, *, obstacle = 0))]
+pub fn read_map(py: Python<'_>, path: PathBuf, obstacle: u8) -> PyResult<Py<PyTuple>> {
+    let csv = planner_maps::CsvConvention::from_obstacle_value(obstacle).ok_or_else(|| {
+        Failure::Value(format!(
+            "read_map: obstacle={obstacle}; the obstacle value of a .csv matrix is 0 or 1"
+        ))
+    })?;
+    let options = planner_maps::ReadOptions {
+        csv,
+        ..planner_maps::ReadOptions::default()
+    };
+    let (grid, problems) = py.detach(|| guarded(|| read(&path, &options)))?;
     let grid = Py::new(
         py,
         Grid {
@@ -208,8 +220,11 @@ pub fn read_map(py: Python<'_>, path: PathBuf) -> PyResult<Py<PyTuple>> {
     Ok((grid, problems).into_pyobject(py)?.unbind())
 }
 
-fn read(path: &Path) -> Result<(planner_api::Grid, Vec<MapProblem>), Failure> {
-    let file = planner_runner::config::read_map_file(path, &planner_maps::RosOptions::default())?;
+fn read(
+    path: &Path,
+    options: &planner_maps::ReadOptions,
+) -> Result<(planner_api::Grid, Vec<MapProblem>), Failure> {
+    let file = planner_runner::config::read_map_file(path, options)?;
     let mut problems: Vec<MapProblem> = file
         .problems
         .iter()

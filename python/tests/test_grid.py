@@ -86,3 +86,8 @@ def test_read_map_csv(tmp_path):
     path.write_text("1,1,0\n0,1,1\n")
     grid, _ = gridplan.read_map(path)
     assert grid.to_numpy().tolist() == [[True, True, False], [False, True, True]]
+    # The other convention, as `plan --obstacle 1` reads it.
+    grid, _ = gridplan.read_map(path, obstacle=1)
+    assert grid.to_numpy().tolist() == [[False, False, True], [True, False, False]]
+    with pytest.raises(ValueError):
+        gridplan.read_map(path, obstacle=2)
