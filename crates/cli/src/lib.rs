@@ -298,7 +298,6 @@ pub fn run(command: Command) -> Result<(), String> {
             let bar = Bar::default();
             let stop = stop_on_signals();
             let report = sweep::experiment(&sweep::SweepArgs {
-                config: &config,
                 threads: threads.unwrap_or(0),
                 output: output.as_deref(),
                 progress: (!quiet).then_some(&bar as &dyn sweep::Progress),
@@ -306,6 +305,7 @@ pub fn run(command: Command) -> Result<(), String> {
                 resume,
                 shard,
                 stop,
+                ..sweep::SweepArgs::new(&config)
             })?;
             if let Some(n_recorded) = report.interrupted {
                 eprintln!(

@@ -62,6 +62,9 @@ pub struct Report {
     /// `Some(n)` when the stop flag ended the sweep with `n` of its `n_runs` runs
     /// recorded (in the stream, for `--resume`); no results were written.
     pub interrupted: Option<u64>,
+    /// The records written (paths left out, as in runs.json), when [`SweepArgs::keep_records`]
+    /// asked for them; else empty.
+    pub records: Vec<RunRecord>,
 }
 
 /// A sweep's progress display (a command line's progress bar); the sweep calls it from
@@ -96,6 +99,9 @@ pub struct SweepArgs<'a> {
     pub shard: Option<Shard>,
     /// Once set, the sweep stops (see the module docs).
     pub stop: Option<&'a AtomicBool>,
+    /// Return the records in [`Report::records`] (for a library caller; a whole sweep
+    /// holds them anyway to write its reports).
+    pub keep_records: bool,
 }
 
 impl<'a> SweepArgs<'a> {
@@ -110,6 +116,7 @@ impl<'a> SweepArgs<'a> {
             heap: None,
             resume: false,
             shard: None,
+            keep_records: false,
             stop: None,
         }
     }
@@ -232,9 +239,10 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
             reproduction: Reproduction::default(),
             seconds: started.elapsed().as_secs_f64(),
             interrupted: Some(n_done + n_ran),
+            records: Vec::new(),
         });
     }
-    let reproduction = if !keep {
+    let (reproduction, records) = if !keep {
         // The stream is copied, not read into memory.
         let copy = StreamedFile {
             path: SHARD_FILE.into(),
@@ -254,7 +262,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
             outdir::DEFAULT_LOCK_WAIT,
         )
         .map_err(|e| e.to_string())?;
-        Reproduction::default()
+        (Reproduction::default(), Vec::new())
     } else {
         if records.len() as u64 != header.runs {
             return Err(format!(
@@ -267,7 +275,15 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         let threads = worker_threads(args.threads, experiment.threads);
         let provenance = Provenance::collect(args.config, threads);
         let seconds = started.elapsed().as_secs_f64();
-        finish(&experiment, records, &dir, &provenance, seconds)?
+        let (reproduction, records) = finish(&experiment, records, &dir, &provenance, seconds)?;
+        (
+            reproduction,
+            if args.keep_records {
+                records
+            } else {
+                Vec::new()
+            },
+        )
     };
     let _ = fs::remove_dir_all(&area.dir);
     Ok(Report {
@@ -276,6 +292,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         reproduction,
         seconds: started.elapsed().as_secs_f64(),
         interrupted: None,
+        records,
     })
 }
 
@@ -355,7 +372,7 @@ fn finish(
     dir: &Path,
     provenance: &Provenance,
     seconds: f64,
-) -> Result<Reproduction, String> {
+) -> Result<(Reproduction, Vec<RunRecord>), String> {
     let (summary, reproduction) = report::render_with(experiment, &records, Some(provenance));
     let mut files = figures::render_checked(experiment, &records).map_err(|e| e.to_string())?;
     files.extend(charts::render(experiment, &records));
@@ -381,17 +398,17 @@ fn finish(
         path: "report.html".into(),
         contents: page.into_bytes(),
     });
-    let records = &records;
+    let rows = &records;
     let tables = [
         StreamedFile {
             path: "runs.json".into(),
             write: Box::new(move |out| {
-                results::write_runs_json(out, experiment, records, Some(provenance))
+                results::write_runs_json(out, experiment, rows, Some(provenance))
             }),
         },
         StreamedFile {
             path: "runs.csv".into(),
-            write: Box::new(move |out| results::write_runs_csv(out, records)),
+            write: Box::new(move |out| results::write_runs_csv(out, rows)),
         },
     ];
     outdir::write_results_streamed(
@@ -402,7 +419,8 @@ fn finish(
         outdir::DEFAULT_LOCK_WAIT,
     )
     .map_err(|e| e.to_string())?;
-    Ok(reproduction)
+    drop(tables);
+    Ok((reproduction, records))
 }
 
 /// Merges the shard directories `dirs` into the one sweep's results in `output` (default:
@@ -530,13 +548,14 @@ pub fn merge(
     let n_runs = records.len();
     let provenance = Provenance::collect(&config_path, worker_threads(0, experiment.threads));
     let seconds = started.elapsed().as_secs_f64();
-    let reproduction = finish(&experiment, records, &dir, &provenance, seconds)?;
+    let (reproduction, _) = finish(&experiment, records, &dir, &provenance, seconds)?;
     Ok(Report {
         n_runs,
         output: dir,
         reproduction,
         seconds: started.elapsed().as_secs_f64(),
         interrupted: None,
+        records: Vec::new(),
     })
 }
 

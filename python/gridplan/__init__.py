@@ -1,0 +1,88 @@
+"""gridplan from Python: grid path planners and the experiment runner.
+
+Grids come from NumPy (``Grid.from_numpy``) or map files (``read_map``); ``plan`` runs one
+registered planner (``planners()`` lists them with their parameters) and returns an
+``Outcome`` with the path as an (N, 2) array and the planner's counters;
+``run_experiment`` sweeps an experiment config (``configs/*.toml``) and returns its records
+with runs.csv's columns, as a pandas DataFrame when pandas is installed. The planning runs
+in Rust with the GIL released, so Python threads plan in parallel.
+
+Coordinates: ``(x, y)`` = (column, row), ``(0, 0)`` the top-left cell; arrays are indexed
+``[y, x]``.
+"""
+
+import os as _os
+from typing import Any as _Any
+from typing import Dict as _Dict
+from typing import List as _List
+from typing import Optional as _Optional
+from typing import Union as _Union
+
+from ._errors import (
+    ConfigError,
+    GridplanError,
+    MapError,
+    OutputError,
+    ParameterError,
+    ProblemError,
+)
+from ._gridplan import (
+    DEFAULT_PLAN_EXPANSIONS,
+    Grid,
+    Outcome,
+    PlannerInfo,
+    Problem,
+    plan,
+    planners,
+    read_map,
+)
+from ._gridplan import run_experiment_rows as _run_experiment_rows
+
+__all__ = [
+    "DEFAULT_PLAN_EXPANSIONS",
+    "ConfigError",
+    "Grid",
+    "GridplanError",
+    "MapError",
+    "Outcome",
+    "OutputError",
+    "ParameterError",
+    "PlannerInfo",
+    "Problem",
+    "ProblemError",
+    "plan",
+    "planners",
+    "read_map",
+    "run_experiment",
+]
+
+
+def run_experiment(
+    config: _Union[str, "_os.PathLike[str]"],
+    *,
+    threads: int = 0,
+    output: _Optional[_Union[str, "_os.PathLike[str]"]] = None,
+) -> _Union["pandas.DataFrame", _List[_Dict[str, _Any]]]:  # noqa: F821
+    """Runs the experiment config ``config`` (a ``configs/*.toml`` file) and returns its
+    records in the run order (map, problem, planner label, repeat), one per run, with
+    runs.csv's columns: a pandas DataFrame when pandas is installed, else a list of dicts.
+
+    ``threads``: worker threads, 0 for the config's ``threads`` (where 0 means one per
+    core); records do not depend on it (their times and ``peak_heap_bytes`` aside).
+
+    ``output``: a results directory to write as ``gridplan experiment --output`` does
+    (runs.csv, runs.json, summary.md, figures, ...), under the same rules: only an absent,
+    empty or gridplan-marked directory is replaced, atomically; anything else raises
+    ``OutputError`` and is left untouched. The records returned are then runs.json's.
+    Without it nothing is written.
+    """
+    columns, rows = _run_experiment_rows(
+        _os.fspath(config),
+        threads=threads,
+        output=None if output is None else _os.fspath(output),
+    )
+    try:
+        import pandas
+    except ImportError:
+        return rows
+    return pandas.DataFrame.from_records(rows, columns=columns)

@@ -1,0 +1,151 @@
+"""Type stubs of the ``gridplan`` package (the native module's classes and functions, and
+the Python half's)."""
+
+import os
+from typing import Any, Dict, List, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+_Cell = Tuple[int, int]
+
+DEFAULT_PLAN_EXPANSIONS: int
+"""The expansion budget ``plan`` applies when ``budget`` sets none (as the command line)."""
+
+class GridplanError(Exception):
+    """Base class of every error gridplan raises (besides ValueError and TypeError)."""
+
+class ConfigError(GridplanError):
+    """An experiment config that cannot be read: ``file:line:column: message``."""
+    file: str
+    line: int
+    column: int
+    def __init__(self, message: str, *, file: str = ..., line: int = ..., column: int = ...) -> None: ...
+
+class MapError(GridplanError):
+    """A map or scenario file that cannot be read: ``file:line:column: message``."""
+    file: str
+    line: int
+    column: int
+    def __init__(self, message: str, *, file: str = ..., line: int = ..., column: int = ...) -> None: ...
+
+class OutputError(GridplanError):
+    """A results directory gridplan may not replace; nothing was written."""
+
+class ProblemError(GridplanError, ValueError):
+    """A start or goal outside the grid or on a blocked cell."""
+    endpoint: str
+    cell: _Cell
+    def __init__(self, message: str, *, endpoint: str = ..., cell: _Cell = ...) -> None: ...
+
+class ParameterError(GridplanError, ValueError):
+    """A planner name, parameter or budget that is unknown or invalid; ``key`` names it."""
+    key: Optional[str]
+    def __init__(self, message: str, *, key: Optional[str] = ...) -> None: ...
+
+class Grid:
+    """An occupancy grid, ``width`` columns by ``height`` rows; cell ``(x, y)`` is
+    ``array[y, x]`` of ``to_numpy()``."""
+    @classmethod
+    def from_numpy(cls, array: npt.ArrayLike, *, free: bool) -> "Grid":
+        """A grid from a 2-D array of shape (height, width) of bools or 0/1 numbers.
+        ``free=True``: True/1 marks free cells; ``free=False``: True/1 marks obstacles."""
+    def to_numpy(self, *, free: bool = True) -> npt.NDArray[np.bool_]:
+        """A bool array of shape (height, width): True marks free cells (``free=True``) or
+        obstacles (``free=False``)."""
+    @property
+    def width(self) -> int: ...
+    @property
+    def height(self) -> int: ...
+    @property
+    def shape(self) -> Tuple[int, int]:
+        """``(height, width)``."""
+    @property
+    def n_free(self) -> int: ...
+    def is_free(self, cell: _Cell) -> bool:
+        """Whether ``(x, y)`` lies on the grid and is free."""
+    def __eq__(self, other: object) -> bool: ...
+
+class Problem:
+    """A start-goal pair a map file states (or the ``.scen`` file beside a ``.map``)."""
+    @property
+    def start(self) -> _Cell: ...
+    @property
+    def goal(self) -> _Cell: ...
+    @property
+    def optimal_length(self) -> Optional[float]: ...
+    @property
+    def bucket(self) -> Optional[int]: ...
+    def __eq__(self, other: object) -> bool: ...
+
+class Outcome:
+    """The result of ``plan``."""
+    @property
+    def status(self) -> str:
+        """``"found"``, ``"no_path"`` or ``"budget_exhausted"``."""
+    @property
+    def path(self) -> npt.NDArray[np.int64]:
+        """(N, 2) array of ``(x, y)`` rows; (0, 2) without a path."""
+    @property
+    def metrics(self) -> Optional[Dict[str, Union[int, float]]]:
+        """``steps``, ``turns``, ``score`` (seed 000's D, T, Score) and ``length``."""
+    @property
+    def counters(self) -> Dict[str, int]:
+        """The planner's counters, in its order."""
+    @property
+    def marks(self) -> List[Tuple[str, _Cell]]:
+        """``(label, (x, y))`` of the cells the planner marks."""
+    @property
+    def series(self) -> Dict[str, npt.NDArray[np.float64]]:
+        """Recorded sequences: name -> (N, 2) array of points."""
+    @property
+    def seed(self) -> Optional[int]: ...
+    @property
+    def valid(self) -> Optional[bool]: ...
+    @property
+    def time_ms(self) -> float: ...
+
+class PlannerInfo:
+    """A registered planner."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def summary(self) -> str: ...
+    @property
+    def task(self) -> str:
+        """``"start_goal"`` or ``"coverage"``."""
+    @property
+    def seeded(self) -> bool: ...
+    @property
+    def parameters(self) -> Dict[str, Any]:
+        """Every parameter with its default."""
+
+def read_map(path: Union[str, "os.PathLike[str]"], *, obstacle: int = 0) -> Tuple[Grid, List[Problem]]:
+    """Reads a ``.map``, ``.txt``, ``.csv`` or ROS ``.yaml`` map: the grid and its problems.
+    ``obstacle``: the value marking obstacles in a ``.csv`` matrix (0 or 1)."""
+
+def planners() -> List[PlannerInfo]:
+    """Every registered planner with its declared parameters and their defaults."""
+
+def plan(
+    grid: Grid,
+    start: _Cell,
+    goal: Optional[_Cell] = None,
+    *,
+    planner: str = "astar",
+    budget: Union[None, int, Dict[str, int]] = None,
+    **params: Any,
+) -> Outcome:
+    """Plans from ``start`` to ``goal`` (no goal for coverage planners) with registry
+    planner ``planner`` and its parameters. ``budget``: a number of expansions, or a dict
+    of ``max_expansions`` and ``max_time_ms``; without ``max_expansions``,
+    ``DEFAULT_PLAN_EXPANSIONS``."""
+
+def run_experiment(
+    config: Union[str, "os.PathLike[str]"],
+    *,
+    threads: int = 0,
+    output: Optional[Union[str, "os.PathLike[str]"]] = None,
+) -> Any:
+    """Runs an experiment config; its records with runs.csv's columns, as a pandas
+    DataFrame when pandas is installed, else a list of dicts."""

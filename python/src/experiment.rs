@@ -1,0 +1,138 @@
+//! `run_experiment`: a config's sweep through [`planner_runner::run_all`], its records as
+//! rows with runs.csv's columns.
+//!
+//! The columns are the header [`planner_runner::output::runs_csv`] writes for these
+//! records (its fixed columns, then one per counter in order of first appearance), so
+//! the rows cannot drift from runs.csv: a column this module cannot fill is an error,
+//! which the package's tests would show.
+
+use std::path::{Path, PathBuf};
+
+use planner_runner::record::RunRecord;
+use planner_runner::sweep::SweepArgs;
+use planner_runner::{RunOptions, RunnerError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::IntoPyObjectExt;
+
+use crate::errors::{guarded, Failure};
+
+/// Runs the experiment config at `config` with `threads` workers (0: the config's
+/// `threads`, where 0 means one per core) and returns `(columns, rows)`: runs.csv's
+/// column names, and one dict per record in the run order, keyed by those columns.
+///
+/// With `output`, the sweep is the command line's ([`planner_runner::sweep::experiment`]:
+/// the results directory written under [`planner_runner::outdir`]'s rules) and the rows
+/// are the records of the runs.json it wrote.
+#[pyfunction]
+#[pyo3(signature = (config, *, threads = 0, output = None))]
+pub fn run_experiment_rows(
+    py: Python<'_>,
+    config: PathBuf,
+    threads: usize,
+    output: Option<PathBuf>,
+) -> PyResult<Py<PyTuple>> {
+    let (columns, records) = py.detach(move || {
+        guarded(|| {
+            let records = match &output {
+                None => sweep(&config, threads)?,
+                Some(dir) => sweep_to(&config, threads, dir)?,
+            };
+            Ok((csv_columns(&records), records))
+        })
+    })?;
+    let fixed = csv_columns(&[]);
+    let rows = PyList::empty(py);
+    for record in &records {
+        let row = PyDict::new(py);
+        for column in &columns {
+            row.set_item(column, value(py, record, column, &fixed)?)?;
+        }
+        rows.append(row)?;
+    }
+    Ok((columns, rows).into_pyobject(py)?.unbind())
+}
+
+/// The records of a sweep of `config`, in memory.
+fn sweep(config: &Path, threads: usize) -> Result<Vec<RunRecord>, Failure> {
+    let experiment = planner_runner::config::load(config).map_err(RunnerError::from)?;
+    let options = RunOptions {
+        threads,
+        progress: None,
+        heap: Some(&planner_runner::alloc::Meter),
+        stop: None,
+    };
+    Ok(planner_runner::run_all(&experiment, &options)?)
+}
+
+/// The records of a sweep of `config` written to the results directory `dir`, as the
+/// command line writes it.
+fn sweep_to(config: &Path, threads: usize, dir: &Path) -> Result<Vec<RunRecord>, Failure> {
+    // The config and the output directory are checked first, for their typed errors.
+    planner_runner::config::load(config).map_err(RunnerError::from)?;
+    planner_runner::outdir::check(dir).map_err(|e| Failure::Output(e.to_string()))?;
+    let args = SweepArgs {
+        threads,
+        output: Some(dir),
+        heap: Some(&planner_runner::alloc::Meter),
+        keep_records: true,
+        ..SweepArgs::new(config)
+    };
+    let report = planner_runner::sweep::experiment(&args).map_err(Failure::Sweep)?;
+    Ok(report.records)
+}
+
+/// runs.csv's header for `records`, as planner-runner writes it.
+pub fn csv_columns(records: &[RunRecord]) -> Vec<String> {
+    let csv = planner_runner::output::runs_csv(records);
+    let header = csv.split(|b| *b == b'\n').next().unwrap_or_default();
+    String::from_utf8_lossy(header)
+        .split(',')
+        .map(str::to_string)
+        .collect()
+}
+
+/// The value of `column` for `record`: runs.csv's cell, typed (None for an empty cell).
+/// `fixed` are runs.csv's columns before the counters.
+fn value<'py>(
+    py: Python<'py>,
+    r: &RunRecord,
+    column: &str,
+    fixed: &[String],
+) -> PyResult<Bound<'py, PyAny>> {
+    fn some<'py, T: IntoPyObject<'py>>(py: Python<'py>, v: T) -> PyResult<Bound<'py, PyAny>> {
+        v.into_bound_py_any(py)
+    }
+    match column {
+        "map" => some(py, r.map.as_str()),
+        "problem" => some(py, r.problem),
+        "start_x" => some(py, r.start.x),
+        "start_y" => some(py, r.start.y),
+        "goal_x" => some(py, r.goal.x),
+        "goal_y" => some(py, r.goal.y),
+        "planner" => some(py, r.planner.as_str()),
+        "algorithm" => some(py, r.algorithm.as_str()),
+        "repeat" => some(py, r.repeat),
+        "seed" => some(py, r.seed),
+        "status" => some(py, r.status.as_str()),
+        "steps" => some(py, r.steps),
+        "turns" => some(py, r.turns),
+        "score" => some(py, r.score),
+        "length" => some(py, r.length),
+        "optimal_length" => some(py, r.optimal_length),
+        "valid" => some(py, r.valid),
+        "time_ms" => some(py, r.time_ms),
+        "setup_ms" => some(py, r.setup_ms),
+        "peak_heap_bytes" => some(py, r.peak_heap_bytes),
+        "bucket" => some(py, r.bucket),
+        counter => match r.counters.get(counter) {
+            Some(v) => some(py, v),
+            // A counter this record's planner does not report: an empty cell.
+            None if !fixed.iter().any(|c| c == counter) => Ok(py.None().into_bound(py)),
+            None => Err(Failure::Panic(format!(
+                "runs.csv has a column `{counter}` that gridplan's Python package does not know"
+            ))
+            .into()),
+        },
+    }
+}

@@ -1,0 +1,266 @@
+//! `Grid` (to and from NumPy), `Problem` and `read_map`.
+//!
+//! Arrays are indexed `[row, column]` = `[y, x]`, the way the map files are laid out
+//! (row 0 at the top), so `array.shape == (height, width)` and cell `(x, y)` is
+//! `array[y, x]`.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use numpy::ndarray::Array2;
+use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use planner_api::Cell;
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+
+use crate::errors::{guarded, Failure};
+
+/// An occupancy grid: free and blocked cells, `width` columns by `height` rows.
+#[pyclass(module = "gridplan", frozen, eq)]
+pub struct Grid {
+    /// The grid, shared with the runs planned on it.
+    pub inner: Arc<planner_api::Grid>,
+}
+
+impl PartialEq for Grid {
+    fn eq(&self, other: &Grid) -> bool {
+        self.inner.width() == other.inner.width()
+            && self.inner.height() == other.inner.height()
+            && self.inner.free_cells() == other.inner.free_cells()
+    }
+}
+
+#[pymethods]
+impl Grid {
+    /// A grid from a 2-D array of shape (height, width): bools, or numbers that are all 0
+    /// or 1. `free=True`: True/1 marks a free cell (seed 000's matrices); `free=False`:
+    /// True/1 marks an obstacle (occupancy grids).
+    #[classmethod]
+    #[pyo3(signature = (array, *, free))]
+    fn from_numpy(
+        _cls: &Bound<'_, pyo3::types::PyType>,
+        array: &Bound<'_, PyAny>,
+        free: bool,
+    ) -> PyResult<Grid> {
+        let py = array.py();
+        let numpy = py.import("numpy")?;
+        let array = numpy.call_method1("asarray", (array,))?;
+        let ndim: usize = array.getattr("ndim")?.extract()?;
+        if ndim != 2 {
+            let shape = array.getattr("shape")?;
+            return Err(Failure::Value(format!(
+                "Grid.from_numpy: expected a 2-D array of shape (height, width), got shape {}",
+                shape.str()?
+            ))
+            .into());
+        }
+        let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+        let marked: Vec<bool>;
+        let (height, width);
+        match kind.as_str() {
+            "b" => {
+                let view: PyReadonlyArray2<'_, bool> = array.extract()?;
+                [height, width] = view.shape().try_into().unwrap_or([0, 0]);
+                marked = view.as_array().iter().copied().collect();
+            }
+            "i" | "u" | "f" => {
+                let converted = array.call_method1("astype", ("float64",))?;
+                let view: PyReadonlyArray2<'_, f64> = converted.extract()?;
+                [height, width] = view.shape().try_into().unwrap_or([0, 0]);
+                let values = view.as_array();
+                if let Some(((y, x), value)) = values
+                    .indexed_iter()
+                    .find(|(_, v)| **v != 0.0 && **v != 1.0)
+                {
+                    return Err(Failure::Value(format!(
+                        "Grid.from_numpy: cell ({x}, {y}) (array[{y}, {x}]) is {value}, expected 0 or 1"
+                    ))
+                    .into());
+                }
+                marked = values.iter().map(|v| *v == 1.0).collect();
+            }
+            _ => {
+                return Err(Failure::Type(format!(
+                    "Grid.from_numpy: expected a bool or 0/1 numeric array, got dtype {}",
+                    array.getattr("dtype")?.str()?
+                ))
+                .into())
+            }
+        }
+        let (Ok(width), Ok(height)) = (u32::try_from(width), u32::try_from(height)) else {
+            return Err(Failure::Value(format!(
+                "Grid.from_numpy: a {width}x{height} array is too large"
+            ))
+            .into());
+        };
+        let cells = marked.into_iter().map(|m| m == free).collect();
+        let grid = planner_api::Grid::from_free_cells(width, height, cells)
+            .map_err(|e| Failure::Value(format!("Grid.from_numpy: {e}")))?;
+        Ok(Grid {
+            inner: Arc::new(grid),
+        })
+    }
+
+    /// The grid as a bool array of shape (height, width). `free=True` (the default): True
+    /// marks free cells; `free=False`: True marks obstacles.
+    #[pyo3(signature = (*, free = true))]
+    fn to_numpy<'py>(&self, py: Python<'py>, free: bool) -> Bound<'py, PyArray2<bool>> {
+        let grid = &self.inner;
+        let array =
+            Array2::from_shape_fn((grid.height() as usize, grid.width() as usize), |(y, x)| {
+                grid.is_free(Cell::new(x as u32, y as u32)) == free
+            });
+        PyArray2::from_owned_array(py, array)
+    }
+
+    /// Columns.
+    #[getter]
+    fn width(&self) -> u32 {
+        self.inner.width()
+    }
+
+    /// Rows.
+    #[getter]
+    fn height(&self) -> u32 {
+        self.inner.height()
+    }
+
+    /// `(height, width)`, the shape of `to_numpy()`.
+    #[getter]
+    fn shape(&self) -> (u32, u32) {
+        (self.inner.height(), self.inner.width())
+    }
+
+    /// The number of free cells.
+    #[getter]
+    fn n_free(&self) -> usize {
+        self.inner.n_free()
+    }
+
+    /// Whether cell `(x, y)` lies on the grid and is free.
+    fn is_free(&self, cell: (i64, i64)) -> bool {
+        match to_cell(cell) {
+            Some(c) => self.inner.contains(c) && self.inner.is_free(c),
+            None => false,
+        }
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Grid(width={}, height={}, n_free={})",
+            self.inner.width(),
+            self.inner.height(),
+            self.inner.n_free()
+        )
+    }
+}
+
+/// `(x, y)` as a cell, if both fit.
+pub fn to_cell((x, y): (i64, i64)) -> Option<Cell> {
+    Some(Cell::new(u32::try_from(x).ok()?, u32::try_from(y).ok()?))
+}
+
+/// A start-goal problem a map file states: its own pairs (seed 003's `.txt` header), or a
+/// Moving AI `.scen` file's beside a `.map`.
+#[pyclass(module = "gridplan", name = "Problem", frozen, eq, get_all)]
+#[derive(Clone, PartialEq)]
+pub struct MapProblem {
+    /// `(x, y)` of the start.
+    pub start: (u32, u32),
+    /// `(x, y)` of the goal.
+    pub goal: (u32, u32),
+    /// The optimal length the scenario file states, if any.
+    pub optimal_length: Option<f64>,
+    /// The scenario file's bucket, if any.
+    pub bucket: Option<u32>,
+}
+
+#[pymethods]
+impl MapProblem {
+    fn __repr__(&self) -> String {
+        let mut text = format!("Problem(start={:?}, goal={:?}", self.start, self.goal);
+        if let Some(length) = self.optimal_length {
+            text.push_str(&format!(", optimal_length={length}"));
+        }
+        if let Some(bucket) = self.bucket {
+            text.push_str(&format!(", bucket={bucket}"));
+        }
+        text + ")"
+    }
+}
+
+/// Reads a map file of any format the command line reads (`.map`, `.txt`, `.csv`, ROS
+/// `.yaml`) and returns `(grid, problems)`: the file's own start-goal pairs, else those of
+/// the `.scen` file beside a `.map` (as `plan` uses them), else none. `obstacle` is the
+/// value that marks an obstacle in a `.csv` matrix (0, seed 000's default, or 1), as
+/// `plan --obstacle` takes it.
+#[pyfunction]
+#[pyo3(signature = (path, *, obstacle = 0))]
+pub fn read_map(py: Python<'_>, path: PathBuf, obstacle: u8) -> PyResult<Py<PyTuple>> {
+    let csv = planner_maps::CsvConvention::from_obstacle_value(obstacle).ok_or_else(|| {
+        Failure::Value(format!(
+            "read_map: obstacle={obstacle}; the obstacle value of a .csv matrix is 0 or 1"
+        ))
+    })?;
+    let options = planner_maps::ReadOptions {
+        csv,
+        ..planner_maps::ReadOptions::default()
+    };
+    let (grid, problems) = py.detach(|| guarded(|| read(&path, &options)))?;
+    let grid = Py::new(
+        py,
+        Grid {
+            inner: Arc::new(grid),
+        },
+    )?;
+    let problems: Vec<Py<MapProblem>> = problems
+        .into_iter()
+        .map(|p| Py::new(py, p))
+        .collect::<PyResult<_>>()?;
+    Ok((grid, problems).into_pyobject(py)?.unbind())
+}
+
+fn read(
+    path: &Path,
+    options: &planner_maps::ReadOptions,
+) -> Result<(planner_api::Grid, Vec<MapProblem>), Failure> {
+    let file = planner_runner::config::read_map_file(path, options)?;
+    let mut problems: Vec<MapProblem> = file
+        .problems
+        .iter()
+        .map(|p| MapProblem {
+            start: (p.start.x, p.start.y),
+            goal: (p.goal.x, p.goal.y),
+            optimal_length: None,
+            bucket: None,
+        })
+        .collect();
+    let scen = PathBuf::from(format!("{}.scen", path.display()));
+    if problems.is_empty() && scen.is_file() {
+        for s in planner_maps::read_scenarios(&scen)? {
+            if (s.width, s.height) != (file.grid.width(), file.grid.height()) {
+                return Err(Failure::MapMismatch {
+                    file: scen.display().to_string(),
+                    line: s.line,
+                    message: format!(
+                        "{}:{}: the scenario is for a {}x{} map, but {} is {}x{}",
+                        scen.display(),
+                        s.line,
+                        s.width,
+                        s.height,
+                        path.display(),
+                        file.grid.width(),
+                        file.grid.height()
+                    ),
+                });
+            }
+            problems.push(MapProblem {
+                start: (s.start.x, s.start.y),
+                goal: (s.goal.x, s.goal.y),
+                optimal_length: Some(s.optimal_length),
+                bucket: Some(s.bucket),
+            });
+        }
+    }
+    Ok((file.grid, problems))
+}

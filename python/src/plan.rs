@@ -1,0 +1,304 @@
+//! `planners()`, `plan()` and its `Outcome`.
+//!
+//! `plan` builds the planner exactly as a config label is built
+//! ([`planner_runner::config::planner_from_table`]: the registry's factory, the planner
+//! crate's own config with its `deny_unknown_fields` and validation) and runs it through
+//! [`planner_runner::run::run_one`], the function every run of `plan` and `experiment`
+//! goes through, with the GIL released.
+
+use std::sync::Arc;
+
+use numpy::ndarray::Array2;
+use numpy::PyArray2;
+use planner_api::{Budget, Problem};
+use planner_runner::config::{self, Experiment, MapEntry, ProblemEntry};
+use planner_runner::record::RunRecord;
+use planner_runner::registry;
+use planner_runner::run::{run_one, RunSpec, Workspace};
+use planner_runner::Task;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::errors::{guarded, Failure};
+use crate::grid::{to_cell, Grid};
+use crate::values::{json_to_py, to_table, to_toml};
+
+/// What a registered planner is, from the registry and its factory.
+#[pyclass(module = "gridplan", frozen, get_all)]
+pub struct PlannerInfo {
+    /// The registry name (`planner=` of `plan`, `planner =` in a config).
+    pub name: &'static str,
+    /// One line about it.
+    pub summary: &'static str,
+    /// `"start_goal"` or `"coverage"` (covers from a start; no goal).
+    pub task: &'static str,
+    /// Whether its results depend on a seed (parameter `seed`).
+    pub seeded: bool,
+    /// Every parameter with its default, as the planner crate's config resolves an empty
+    /// table.
+    pub parameters: Py<PyDict>,
+}
+
+#[pymethods]
+impl PlannerInfo {
+    fn __repr__(&self) -> String {
+        format!(
+            "PlannerInfo(name={:?}, task={:?}, seeded={})",
+            self.name,
+            self.task,
+            if self.seeded { "True" } else { "False" }
+        )
+    }
+}
+
+/// Every registered planner, in the registry's order, with its declared parameters.
+#[pyfunction]
+pub fn planners(py: Python<'_>) -> PyResult<Vec<PlannerInfo>> {
+    let mut out = Vec::with_capacity(registry::PLANNERS.len());
+    for entry in registry::PLANNERS {
+        let factory = guarded(|| {
+            (entry.factory)(&toml::Table::new()).map_err(|e| {
+                Failure::from(planner_runner::RunnerError::Param(entry.name.into(), e))
+            })
+        })?;
+        let parameters = json_to_py(py, factory.resolved())?;
+        let parameters = match parameters.cast_into::<PyDict>() {
+            Ok(dict) => dict,
+            Err(_) => PyDict::new(py),
+        };
+        out.push(PlannerInfo {
+            name: entry.name,
+            summary: entry.summary,
+            task: task_name(entry.task),
+            seeded: factory.specs().seeded,
+            parameters: parameters.unbind(),
+        });
+    }
+    Ok(out)
+}
+
+fn task_name(task: Task) -> &'static str {
+    match task {
+        Task::StartGoal => "start_goal",
+        Task::Coverage => "coverage",
+    }
+}
+
+/// The result of one `plan`.
+#[pyclass(module = "gridplan", frozen, get_all)]
+pub struct Outcome {
+    /// `"found"`, `"no_path"` or `"budget_exhausted"`.
+    pub status: &'static str,
+    /// The path's cells as an (N, 2) int64 array of `(x, y)` rows; (0, 2) without a path.
+    pub path: Py<PyAny>,
+    /// `{"steps", "turns", "score", "length"}` of the path (seed 000's D, T, Score and the
+    /// Euclidean length), or None without a path.
+    pub metrics: Py<PyAny>,
+    /// The planner's counters in its order (`n_expanded`, `n_neighbor_checks`, ...).
+    pub counters: Py<PyDict>,
+    /// The cells the planner marks, as `(label, (x, y))` pairs (PA-star's handover points).
+    pub marks: Py<PyList>,
+    /// Sequences the planner recorded (CAPSO's `best_fitness`, RRT*'s `best_cost`): name ->
+    /// (N, 2) float64 array of points.
+    pub series: Py<PyDict>,
+    /// The seed a seeded planner ran with, else None.
+    pub seed: Option<u64>,
+    /// Whether the path joins start and goal and obeys the planner's declared rule; None
+    /// without a path.
+    pub valid: Option<bool>,
+    /// Wall time of the search alone, in milliseconds.
+    pub time_ms: f64,
+}
+
+#[pymethods]
+impl Outcome {
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let n = self
+            .path
+            .bind(py)
+            .getattr("shape")?
+            .get_item(0)?
+            .extract::<usize>()?;
+        Ok(format!(
+            "Outcome(status={:?}, path=<{n} cells>)",
+            self.status
+        ))
+    }
+}
+
+/// Plans from `start` to `goal` on `grid` with registry planner `planner` and its
+/// parameters; see the stub (`gridplan/__init__.pyi`) for the arguments.
+#[pyfunction]
+#[pyo3(signature = (grid, start, goal = None, *, planner = "astar", budget = None, **params))]
+pub fn plan(
+    py: Python<'_>,
+    grid: &Bound<'_, Grid>,
+    start: (i64, i64),
+    goal: Option<(i64, i64)>,
+    planner: &str,
+    budget: Option<&Bound<'_, PyAny>>,
+    params: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Outcome> {
+    let table = match params {
+        Some(dict) => to_table(dict, "")?,
+        None => toml::Table::new(),
+    };
+    let budget = to_budget(budget)?;
+    let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
+    let planner = planner.to_string();
+    let record = py.detach(move || guarded(|| run(&grid, start, goal, &planner, table, budget)))?;
+    outcome(py, record)
+}
+
+/// `budget`: None (plan's default, as on the command line), a maximum number of
+/// expansions, or a dict with a config's `[budget]` keys.
+fn to_budget(budget: Option<&Bound<'_, PyAny>>) -> Result<Budget, Failure> {
+    let mut parsed = match budget {
+        None => Budget::unlimited(),
+        Some(value) if value.is_none() => Budget::unlimited(),
+        Some(value) => match to_toml("budget", value)? {
+            toml::Value::Integer(n) => Budget::expansions(u64::try_from(n).map_err(|_| {
+                Failure::Param {
+                    key: "budget".into(),
+                    message: format!("budget: {n} expansions; a budget is at least 0"),
+                }
+            })?),
+            toml::Value::Table(table) => {
+                serde::Deserialize::deserialize(toml::Value::Table(table)).map_err(
+                    |e: toml::de::Error| Failure::Param {
+                        key: "budget".into(),
+                        message: format!("budget: {}", e.message().trim()),
+                    },
+                )?
+            }
+            other => {
+                return Err(Failure::Param {
+                    key: "budget".into(),
+                    message: format!(
+                        "budget: expected a number of expansions or a dict of `max_expansions` and `max_time_ms`, got {}",
+                        other.type_str()
+                    ),
+                })
+            }
+        },
+    };
+    if parsed.max_expansions.is_none() {
+        parsed.max_expansions = Some(planner_runner::plan::DEFAULT_PLAN_EXPANSIONS);
+    }
+    Ok(parsed)
+}
+
+fn problem_error(endpoint: &'static str, cell: (i64, i64), grid: &planner_api::Grid) -> Failure {
+    Failure::Problem {
+        endpoint,
+        cell,
+        message: format!(
+            "{endpoint} ({}, {}) is outside the {}x{} grid",
+            cell.0,
+            cell.1,
+            grid.width(),
+            grid.height()
+        ),
+    }
+}
+
+fn run(
+    grid: &planner_api::Grid,
+    start: (i64, i64),
+    goal: Option<(i64, i64)>,
+    planner: &str,
+    params: toml::Table,
+    budget: Budget,
+) -> Result<RunRecord, Failure> {
+    let spec = config::planner_from_table(planner, planner, params, budget)?;
+    let start_cell = to_cell(start).ok_or_else(|| problem_error("start", start, grid))?;
+    let goal_cell = match (goal, spec.is_coverage()) {
+        (Some(_), true) => {
+            return Err(Failure::Value(format!(
+                "`{}` is a coverage planner: it covers from the start and takes no goal",
+                spec.name
+            )))
+        }
+        (None, true) => start_cell,
+        (None, false) => {
+            return Err(Failure::Value(format!(
+                "`{}` plans from a start to a goal: give the goal",
+                spec.name
+            )))
+        }
+        (Some(goal), false) => to_cell(goal).ok_or_else(|| problem_error("goal", goal, grid))?,
+    };
+    Problem::new(grid, start_cell, goal_cell).map_err(|error| {
+        let (endpoint, cell) = match &error {
+            planner_api::ProblemError::OutOfBounds { endpoint, cell, .. }
+            | planner_api::ProblemError::Blocked { endpoint, cell } => (*endpoint, *cell),
+        };
+        Failure::Problem {
+            endpoint: match endpoint {
+                planner_api::Endpoint::Start => "start",
+                planner_api::Endpoint::Goal => "goal",
+            },
+            cell: (i64::from(cell.x), i64::from(cell.y)),
+            message: error.to_string(),
+        }
+    })?;
+    let map = MapEntry {
+        name: "grid".into(),
+        path: Default::default(),
+        grid: grid.clone(),
+        problems: Vec::new(),
+    };
+    let entry = ProblemEntry::new(grid, 1, start_cell, goal_cell, None);
+    let single = Experiment::single(map, entry, spec, 0);
+    let spec = RunSpec {
+        map: 0,
+        problem: 0,
+        planner: 0,
+        repeat: 0,
+    };
+    Ok(run_one(&single, &spec, &mut Workspace::default(), None)?)
+}
+
+fn outcome(py: Python<'_>, record: RunRecord) -> PyResult<Outcome> {
+    let cells = record.path.as_ref().map(|p| p.cells()).unwrap_or_default();
+    let path = Array2::from_shape_fn((cells.len(), 2), |(i, j)| {
+        i64::from(if j == 0 { cells[i].x } else { cells[i].y })
+    });
+    let path = PyArray2::from_owned_array(py, path).into_any().unbind();
+    let metrics = match &record.path {
+        Some(p) => {
+            let m = p.metrics();
+            let dict = PyDict::new(py);
+            dict.set_item("steps", m.steps)?;
+            dict.set_item("turns", m.turns)?;
+            dict.set_item("score", m.score)?;
+            dict.set_item("length", m.length)?;
+            dict.into_any().unbind()
+        }
+        None => py.None(),
+    };
+    let counters = PyDict::new(py);
+    for (name, value) in record.counters.iter() {
+        counters.set_item(name, value)?;
+    }
+    let marks = PyList::empty(py);
+    for mark in &record.marks {
+        marks.append((mark.label.as_str(), (mark.cell.x, mark.cell.y)))?;
+    }
+    let series = PyDict::new(py);
+    for s in &record.series {
+        let points = Array2::from_shape_fn((s.points.len(), 2), |(i, j)| s.points[i][j]);
+        series.set_item(s.name.as_str(), PyArray2::from_owned_array(py, points))?;
+    }
+    Ok(Outcome {
+        status: record.status.as_str(),
+        path,
+        metrics,
+        counters: counters.unbind(),
+        marks: marks.unbind(),
+        series: series.unbind(),
+        seed: record.seed,
+        valid: record.valid,
+        time_ms: record.time_ms,
+    })
+}

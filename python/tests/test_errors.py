@@ -1,0 +1,169 @@
+"""Every error kind as its exception, with the command line's message."""
+
+import numpy as np
+import pytest
+
+import gridplan
+from conftest import MAPS
+
+ASTAR_KEYS = "`moves`, `corner_cutting`, `order`, `heuristic`, `weight`, `tie_break`"
+
+
+def check(call, exception, message):
+    """`call()` raises `exception` with exactly `message`; returns the exception."""
+    with pytest.raises(exception) as info:
+        call()
+    assert str(info.value) == message
+    assert isinstance(info.value, (gridplan.GridplanError, ValueError, TypeError))
+    return info.value
+
+
+def test_config_errors_name_file_line_column(tmp_path):
+    config = tmp_path / "bad.toml"
+    config.write_text('name = "bad"\nthreds = 2\n')
+    error = check(
+        lambda: gridplan.run_experiment(config),
+        gridplan.ConfigError,
+        f"{config}:2:1: unknown field `threds`, expected one of `name`, `description`, "
+        "`output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, "
+        "`figures_pick`, `charts`, `ompl`, `paths`, `published`, `test`, `sections`, "
+        "`maps`, `planners`",
+    )
+    assert (error.file, error.line, error.column) == (str(config), 2, 1)
+    assert isinstance(error, gridplan.GridplanError)
+
+
+def test_config_planner_parameter_errors_are_positioned(tmp_path):
+    config = tmp_path / "badparam.toml"
+    map01 = (MAPS / "paper" / "map01.map").as_posix()
+    config.write_text(
+        f'name = "bad"\n[[maps]]\nfiles = ["{map01}"]\nproblems = "corners"\n'
+        '[planners.a]\nplanner = "astar"\nwieght = 2\n'
+    )
+    check(
+        lambda: gridplan.run_experiment(config),
+        gridplan.ConfigError,
+        f"{config}:7:1: planner `a` (astar): unknown field `wieght`, expected one of {ASTAR_KEYS}",
+    )
+
+
+def test_missing_config():
+    error = check(
+        lambda: gridplan.run_experiment("/nonexistent/x.toml"),
+        gridplan.ConfigError,
+        "/nonexistent/x.toml: cannot read the config: No such file or directory (os error 2)",
+    )
+    assert error.line == 0
+
+
+def test_map_errors_name_file_line_column(tmp_path):
+    path = tmp_path / "bad.map"
+    path.write_text("type octile\nheight 2\nwidth 3\nmap\n..x\n...\n")
+    error = check(
+        lambda: gridplan.read_map(path),
+        gridplan.MapError,
+        f"{path}:5:3: expected one of '.', 'G', 'S' (passable) or '@', 'O', 'T', 'W' "
+        "(blocked), found 'x'",
+    )
+    assert (error.file, error.line, error.column) == (str(path), 5, 3)
+    check(
+        lambda: gridplan.read_map(tmp_path / "m.bmp"),
+        gridplan.MapError,
+        f"{tmp_path / 'm.bmp'}: unsupported file extension '.bmp', expected one of "
+        ".map (Moving AI), .txt (seed 003), .csv (0/1 matrix), .yaml/.yml (ROS map_server), "
+        ".pgm/.png (an occupancy image); .scen files hold scenarios, not maps",
+    )
+
+
+def test_problem_errors_name_the_cell(map10):
+    error = check(
+        lambda: gridplan.plan(map10, (10, 0), (11, 11)),
+        gridplan.ProblemError,
+        "start (10, 0) is blocked",
+    )
+    assert (error.endpoint, error.cell) == ("start", (10, 0))
+    assert isinstance(error, ValueError)
+    check(
+        lambda: gridplan.plan(map10, (0, 0), (12, 3)),
+        gridplan.ProblemError,
+        "goal (12, 3) is outside the 12x12 grid",
+    )
+    error = check(
+        lambda: gridplan.plan(map10, (-1, 0), (11, 11)),
+        gridplan.ProblemError,
+        "start (-1, 0) is outside the 12x12 grid",
+    )
+    assert error.cell == (-1, 0)
+
+
+def test_parameter_errors_name_the_key(map10):
+    error = check(
+        lambda: gridplan.plan(map10, (0, 0), (11, 11), wieght=2),
+        gridplan.ParameterError,
+        f"planner `astar`: unknown field `wieght`, expected one of {ASTAR_KEYS}",
+    )
+    assert error.key == "wieght"
+    assert isinstance(error, ValueError)
+    error = check(
+        lambda: gridplan.plan(map10, (0, 0), (11, 11), weight=-2),
+        gridplan.ParameterError,
+        "planner `astar`: parameter `weight` must be a finite number >= 0, got -2",
+    )
+    assert error.key == "weight"
+    error = check(
+        lambda: gridplan.plan(map10, (0, 0), (11, 11), planner="nope"),
+        gridplan.ParameterError,
+        "unknown planner `nope`, expected one of "
+        + ", ".join(p.name for p in gridplan.planners()),
+    )
+    assert error.key == "planner"
+    check(
+        lambda: gridplan.plan(map10, (0, 0), (11, 11), heuristic=object()),
+        gridplan.ParameterError,
+        "parameter `heuristic`: a planner parameter is a bool, int, float, str, list or dict, got object",
+    )
+    check(
+        lambda: gridplan.plan(map10, (0, 0), (11, 11), budget={"max_expansion": 3}),
+        gridplan.ParameterError,
+        "budget: unknown field `max_expansion`, expected `max_expansions` or `max_time_ms`",
+    )
+
+
+def test_goal_rules(map10):
+    check(
+        lambda: gridplan.plan(map10, (0, 0)),
+        ValueError,
+        "`astar` plans from a start to a goal: give the goal",
+    )
+    check(
+        lambda: gridplan.plan(map10, (0, 0), (11, 11), planner="coverage"),
+        ValueError,
+        "`coverage` is a coverage planner: it covers from the start and takes no goal",
+    )
+
+
+def test_array_errors():
+    check(
+        lambda: gridplan.Grid.from_numpy(np.zeros((2, 3, 4)), free=True),
+        ValueError,
+        "Grid.from_numpy: expected a 2-D array of shape (height, width), got shape (2, 3, 4)",
+    )
+    array = np.ones((3, 4))
+    array[1, 2] = 2
+    check(
+        lambda: gridplan.Grid.from_numpy(array, free=True),
+        ValueError,
+        "Grid.from_numpy: cell (2, 1) (array[1, 2]) is 2, expected 0 or 1",
+    )
+    check(
+        lambda: gridplan.Grid.from_numpy(np.array([["a"]]), free=True),
+        TypeError,
+        "Grid.from_numpy: expected a bool or 0/1 numeric array, got dtype <U1",
+    )
+    check(
+        lambda: gridplan.Grid.from_numpy(np.zeros((0, 3), dtype=bool), free=True),
+        ValueError,
+        "Grid.from_numpy: a grid needs at least one row and one column",
+    )
+    with pytest.raises(TypeError):
+        gridplan.Grid.from_numpy(np.ones((2, 2)))  # the convention is not optional

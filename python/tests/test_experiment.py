@@ -1,0 +1,108 @@
+"""run_experiment: the paper config's records as a DataFrame with runs.csv's columns,
+seed 000's Table 5, the list-of-dicts form without pandas, and output directories."""
+
+import csv
+import sys
+
+import pytest
+
+import gridplan
+from conftest import CONFIGS
+
+# Seed 000, Table 5: A* on the 6x6 maps 1-6 (expanded, neighbour checks, blocked or
+# out-of-bound rejections, skipped as closed, OPEN insertions, cost relaxations).
+TABLE5 = {
+    "n_expanded": [15, 21, 16, 17, 20, 14],
+    "n_neighbor_checks": [56, 80, 60, 64, 76, 52],
+    "n_blocked": [24, 36, 25, 26, 33, 25],
+    "n_skipped": [15, 21, 16, 18, 21, 12],
+    "n_open_insertions": [16, 22, 18, 17, 20, 16],
+    "n_relaxations": [15, 21, 17, 16, 19, 15],
+}
+DETERMINISTIC = lambda c: c not in ("time_ms", "setup_ms", "peak_heap_bytes")  # noqa: E731
+
+
+@pytest.fixture(scope="module")
+def paper():
+    pytest.importorskip("pandas")
+    return gridplan.run_experiment(CONFIGS / "paper.toml")
+
+
+def test_paper_config_has_60_rows(paper):
+    assert len(paper) == 60  # 12 maps x 5 planners
+    assert set(paper["planner"]) == {"astar", "backtracking", "bfs", "dfs", "lexastar"}
+    assert (paper["status"] == "found").all()
+    assert paper["valid"].all()
+    assert (paper["peak_heap_bytes"] > 0).all()
+
+
+def test_table5_from_the_dataframe(paper):
+    maps = [f"map0{i}.map" for i in range(1, 7)]
+    astar = paper[(paper["planner"] == "astar") & paper["map"].isin(maps)]
+    table = astar.set_index("map")[list(TABLE5)].T
+    assert list(table.columns) == [f"map0{i}.map" for i in range(1, 7)]
+    assert {k: list(v) for k, v in table.iterrows()} == TABLE5
+
+
+def test_columns_and_values_are_runs_csvs(tmp_path):
+    pandas = pytest.importorskip("pandas")
+    frame = gridplan.run_experiment(CONFIGS / "paper.toml", output=tmp_path / "paper")
+    written = pandas.read_csv(tmp_path / "paper" / "runs.csv")
+    assert list(frame.columns) == list(written.columns)
+    assert len(frame) == len(written) == 60
+    for column in filter(DETERMINISTIC, frame.columns):
+        ours, theirs = frame[column], written[column]
+        assert (ours.isna() == theirs.isna()).all(), column
+        ours, theirs = ours[ours.notna()], theirs[theirs.notna()]
+        if theirs.dtype.kind in "if":
+            # runs.csv writes lengths with 6 decimals.
+            assert ((ours.astype(float) - theirs.astype(float)).abs() < 1e-6).all(), column
+        else:
+            assert (ours == theirs).all(), column
+    # The command line's results directory: marker, summary with the reproduction.
+    summary = (tmp_path / "paper" / "summary.md").read_text()
+    assert "Published numbers reproduced" in summary
+    assert (tmp_path / "paper" / ".gridplan-results").is_file()
+
+
+def test_without_pandas_a_list_of_dicts(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)  # `import pandas` raises ImportError
+    rows = gridplan.run_experiment(CONFIGS / "paper.toml", threads=1)
+    assert isinstance(rows, list) and len(rows) == 60
+    header = next(csv.reader([rows_header(rows)]))
+    assert header[:3] == ["map", "problem", "start_x"]
+    map10 = next(r for r in rows if r["map"] == "map10.map" and r["planner"] == "astar")
+    assert (map10["n_expanded"], map10["n_neighbor_checks"]) == (70, 276)
+    assert (map10["steps"], map10["turns"], map10["score"]) == (22, 6, 28)
+    # Backtracking has no `peak_open`: an empty runs.csv cell is None.
+    backtracking = next(r for r in rows if r["planner"] == "backtracking")
+    assert backtracking["peak_open"] is None and backtracking["n_solutions"] > 0
+
+
+def rows_header(rows):
+    return ",".join(rows[0])
+
+
+def test_threads_do_not_change_the_records(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    one = gridplan.run_experiment(CONFIGS / "paper.toml", threads=1)
+    two = gridplan.run_experiment(CONFIGS / "paper.toml", threads=2)
+    strip = lambda rows: [{k: v for k, v in r.items() if DETERMINISTIC(k)} for r in rows]  # noqa: E731
+    assert strip(one) == strip(two)
+
+
+def test_output_directory_rules(tmp_path):
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("my own file")
+    with pytest.raises(gridplan.OutputError) as info:
+        gridplan.run_experiment(CONFIGS / "paper.toml", output=mine)
+    assert str(mine) in str(info.value)
+    assert isinstance(info.value, gridplan.GridplanError)
+    assert [p.name for p in mine.iterdir()] == ["notes.txt"]
+    # A results directory gridplan wrote is replaced.
+    out = tmp_path / "out"
+    gridplan.run_experiment(CONFIGS / "paper.toml", output=out)
+    first = (out / "runs.csv").read_text().splitlines()[0]
+    gridplan.run_experiment(CONFIGS / "paper.toml", output=out)
+    assert (out / "runs.csv").read_text().splitlines()[0] == first
