@@ -26,7 +26,7 @@ def test_config_errors_name_file_line_column(tmp_path):
         gridplan.ConfigError,
         f"{config}:2:1: unknown field `threds`, expected one of `name`, `description`, "
         "`output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, "
-        "`figures_pick`, `charts`, `ompl`, `paths`, `published`, `test`, `sections`, "
+        "`figures_pick`, `figures_expanded`, `charts`, `ompl`, `paths`, `published`, `test`, `sections`, "
         "`maps`, `planners`",
     )
     assert (error.file, error.line, error.column) == (str(config), 2, 1)
@@ -125,7 +125,8 @@ def test_parameter_errors_name_the_key(map10):
     check(
         lambda: gridplan.plan(map10, (0, 0), (11, 11), budget={"max_expansion": 3}),
         gridplan.ParameterError,
-        "budget: unknown field `max_expansion`, expected `max_expansions` or `max_time_ms`",
+        "budget: unknown field `max_expansion`, expected one of `max_expansions`, `max_time_ms`, "
+            "`max_memory_mb`",
     )
 
 
