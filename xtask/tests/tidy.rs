@@ -42,16 +42,12 @@ struct Package {
     dependencies: Vec<String>,
 }
 
-fn packages() -> Vec<Package> {
+/// `cargo metadata --format-version 1 --offline` with `args`, parsed.
+fn cargo_metadata(args: &[&str]) -> serde_json::Value {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let output = std::process::Command::new(cargo)
-        .args([
-            "metadata",
-            "--format-version",
-            "1",
-            "--no-deps",
-            "--offline",
-        ])
+        .args(["metadata", "--format-version", "1", "--offline"])
+        .args(args)
         .current_dir(root())
         .output()
         .expect("cargo metadata runs");
@@ -60,7 +56,11 @@ fn packages() -> Vec<Package> {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let metadata: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    serde_json::from_slice(&output.stdout).unwrap()
+}
+
+fn packages() -> Vec<Package> {
+    let metadata = cargo_metadata(&["--no-deps"]);
     metadata["packages"]
         .as_array()
         .unwrap()
@@ -249,25 +249,7 @@ fn parse_version(text: &str) -> (u32, u32, u32) {
 /// checked this way (plotters is one).
 #[test]
 fn no_dependency_declares_a_rust_version_above_the_msrv() {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let output = std::process::Command::new(cargo)
-        .args([
-            "metadata",
-            "--format-version",
-            "1",
-            "--offline",
-            "--filter-platform",
-            "x86_64-unknown-linux-gnu",
-        ])
-        .current_dir(root())
-        .output()
-        .expect("cargo metadata runs");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let metadata: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let metadata = cargo_metadata(&["--filter-platform", "x86_64-unknown-linux-gnu"]);
     let resolved: BTreeSet<&str> = metadata["resolve"]["nodes"]
         .as_array()
         .unwrap()
