@@ -72,8 +72,14 @@ pub struct BitGrid {
     height: u32,
     words_per_row: usize,
     blocked: Vec<u64>,
+    /// Per cell, the Chebyshev distance to the nearest blocked cell, capped at
+    /// [`MAX_CLEARANCE`] (0 for a blocked cell; cells outside the grid do not count).
+    clearance: Vec<u8>,
     revision: Option<u64>,
 }
+
+/// The cap of the stored clearance.
+pub const MAX_CLEARANCE: u8 = 255;
 
 impl BitGrid {
     /// An empty bit grid; [`BitGrid::load`] fills it.
@@ -81,9 +87,11 @@ impl BitGrid {
         BitGrid::default()
     }
 
-    /// The bytes [`BitGrid::load`] allocates for `grid`.
+    /// The bytes [`BitGrid::load`] allocates for `grid`: the packed rows and a clearance
+    /// byte per cell.
     pub fn bytes_for(grid: &Grid) -> u64 {
-        u64::from(grid.width()).div_ceil(64) * 8 * u64::from(grid.height())
+        (u64::from(grid.width()).div_ceil(64) * 8 + u64::from(grid.width()))
+            * u64::from(grid.height())
     }
 
     /// Makes this the packed copy of `grid` (nothing to do when it already is).
@@ -107,7 +115,66 @@ impl BitGrid {
                 }
             }
         }
+        self.load_clearance(grid);
         self.revision = Some(grid.revision());
+    }
+
+    /// The chessboard distance transform (Rosenfeld and Pfaltz 1966): a forward pass over
+    /// the rows with the four neighbours before a cell and a backward pass with the four
+    /// after it give every cell its exact Chebyshev distance to the nearest blocked cell.
+    fn load_clearance(&mut self, grid: &Grid) {
+        let (w, h) = (grid.width() as usize, grid.height() as usize);
+        let c = &mut self.clearance;
+        c.clear();
+        c.extend(
+            grid.free_cells()
+                .iter()
+                .map(|&free| if free { MAX_CLEARANCE } else { 0 }),
+        );
+        for y in 0..h {
+            for x in 0..w {
+                let i = y * w + x;
+                let mut d = c[i];
+                if x > 0 {
+                    d = d.min(c[i - 1].saturating_add(1));
+                }
+                if y > 0 {
+                    d = d.min(c[i - w].saturating_add(1));
+                    if x > 0 {
+                        d = d.min(c[i - w - 1].saturating_add(1));
+                    }
+                    if x + 1 < w {
+                        d = d.min(c[i - w + 1].saturating_add(1));
+                    }
+                }
+                c[i] = d;
+            }
+        }
+        for y in (0..h).rev() {
+            for x in (0..w).rev() {
+                let i = y * w + x;
+                let mut d = c[i];
+                if x + 1 < w {
+                    d = d.min(c[i + 1].saturating_add(1));
+                }
+                if y + 1 < h {
+                    d = d.min(c[i + w].saturating_add(1));
+                    if x + 1 < w {
+                        d = d.min(c[i + w + 1].saturating_add(1));
+                    }
+                    if x > 0 {
+                        d = d.min(c[i + w - 1].saturating_add(1));
+                    }
+                }
+                c[i] = d;
+            }
+        }
+    }
+
+    /// The Chebyshev distance from `(x, y)` to the nearest blocked cell, capped at
+    /// [`MAX_CLEARANCE`]. Precondition: the cell lies in the grid.
+    pub fn clearance(&self, x: u32, y: u32) -> u8 {
+        self.clearance[y as usize * self.width as usize + x as usize]
     }
 
     /// Width in cells.
@@ -129,48 +196,70 @@ impl BitGrid {
 
     /// [`segment_collision`] on the packed grid: the blocked cells that the segment
     /// between the centres of `a` and `b` touches (the cells of
-    /// [`for_each_segment_cell`], visited in the same order by the same integer decision
+    /// [`for_each_segment_cell`], in the same order, by the same integer decision
     /// variable) and its length inside them. Precondition: `a` and `b` lie in the grid, so
     /// every visited cell does (they lie in the two cells' bounding box).
+    ///
+    /// Free stretches are skipped by clearance: at a cell of clearance `r >= 3` every
+    /// cell within Chebyshev distance `r - 1` is free, and the walk's next cells up to
+    /// `j = r - 2` crossings further along the major axis lie within it (the minor
+    /// coordinate advances at most once between two major crossings, so at most `j + 1`),
+    /// so the walk jumps to the state right after the `j`-th major crossing: major count
+    /// `k`, and minor count the number of minor crossings at or before it,
+    /// `floor(((2 k - 1) n_minor + n_major) / (2 n_major))` (crossing `k` of an axis with
+    /// `n` steps is at parameter `(2 k - 1) / (2 n)`). The blocked cells visited, and
+    /// their order, are those of the full walk (tested against it).
     pub fn segment_collision(&self, a: Cell, b: Cell) -> Collision {
         let nx = i64::from(a.x.abs_diff(b.x));
         let ny = i64::from(a.y.abs_diff(b.y));
         let sx: i64 = if b.x >= a.x { 1 } else { -1 };
         let sy: i64 = if b.y >= a.y { 1 } else { -1 };
-        let (mut x, mut y) = (i64::from(a.x), i64::from(a.y));
+        let (ax, ay) = (i64::from(a.x), i64::from(a.y));
+        let width = self.width as usize;
         let mut collision = Collision::default();
         let mut fraction = 0.0;
-        // In the bounding box of a and b, so the casts are exact.
+        // In the bounding box of a and b, so the casts are exact; returns the clearance.
         let mut touch = |x: i64, y: i64| {
-            if self.is_blocked(x as u32, y as u32) {
+            let clearance = self.clearance[y as usize * width + x as usize];
+            if clearance == 0 {
                 collision.cells += 1;
                 fraction += clipped_fraction(a, b, Cell::new(x as u32, y as u32));
             }
+            clearance
         };
-        touch(x, y);
+        let mut clearance = touch(ax, ay);
         let (mut ix, mut iy) = (0i64, 0i64);
-        // The decision variable (1 + 2 ix) ny - (1 + 2 iy) nx of `for_each_segment_cell`,
-        // updated incrementally.
-        let mut decision = ny - nx;
         while ix < nx || iy < ny {
+            if clearance >= 3 {
+                let j = i64::from(clearance) - 2;
+                if nx >= ny && ix < nx {
+                    ix = (ix + j).min(nx);
+                    iy = (((2 * ix - 1) * ny + nx) / (2 * nx)).min(ny);
+                    clearance = touch(ax + sx * ix, ay + sy * iy);
+                    continue;
+                }
+                if ny > nx && iy < ny {
+                    iy = (iy + j).min(ny);
+                    ix = (((2 * iy - 1) * nx + ny) / (2 * ny)).min(nx);
+                    clearance = touch(ax + sx * ix, ay + sy * iy);
+                    continue;
+                }
+            }
+            // Compare the parameter at which the segment crosses the next vertical line,
+            // (0.5 + ix) / nx, with the next horizontal line, (0.5 + iy) / ny.
+            let decision = (1 + 2 * ix) * ny - (1 + 2 * iy) * nx;
+            let (x, y) = (ax + sx * ix, ay + sy * iy);
             if decision == 0 {
                 touch(x + sx, y);
                 touch(x, y + sy);
-                x += sx;
-                y += sy;
                 ix += 1;
                 iy += 1;
-                decision += 2 * ny - 2 * nx;
             } else if decision < 0 {
-                x += sx;
                 ix += 1;
-                decision += 2 * ny;
             } else {
-                y += sy;
                 iy += 1;
-                decision -= 2 * nx;
             }
-            touch(x, y);
+            clearance = touch(ax + sx * ix, ay + sy * iy);
         }
         if fraction > 0.0 {
             collision.length = fraction * a.euclidean(b);
@@ -360,6 +449,66 @@ mod tests {
                 let b = Cell::new((next() % u64::from(w)) as u32, (next() % 9) as u32);
                 check(&grid, a, b);
                 n_hits += u64::from(!segment_collision(&grid, a, b).is_free());
+            }
+        }
+        assert!(n_hits > 500, "too few colliding segments to test: {n_hits}");
+    }
+
+    #[test]
+    fn clearance_jumps_skip_only_free_cells() {
+        // Sparse random grids (about 2% blocked, some blocked squares), where the walk
+        // jumps: the packed walk must still agree with the full traversal bit for bit.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let (w, h) = (150u32, 90u32);
+        let mut n_hits = 0;
+        for _ in 0..10 {
+            let mut free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= 2).collect();
+            for _ in 0..6 {
+                let (x0, y0, side) = (next() % 140, next() % 80, 1 + next() % 9);
+                for y in y0..(y0 + side).min(u64::from(h)) {
+                    for x in x0..(x0 + side).min(u64::from(w)) {
+                        free[(y * u64::from(w) + x) as usize] = false;
+                    }
+                }
+            }
+            let grid = Grid::from_free_cells(w, h, free).unwrap();
+            let mut bits = BitGrid::new();
+            bits.load(&grid);
+            // The clearance is the brute-force Chebyshev distance to a blocked cell.
+            for cell in grid.cells().step_by(37) {
+                let brute = grid
+                    .cells()
+                    .filter(|&c| !grid.is_free(c))
+                    .map(|c| c.x.abs_diff(cell.x).max(c.y.abs_diff(cell.y)))
+                    .min()
+                    .unwrap_or(u32::MAX)
+                    .min(u32::from(MAX_CLEARANCE));
+                assert_eq!(u32::from(bits.clearance(cell.x, cell.y)), brute, "{cell:?}");
+            }
+            for _ in 0..300 {
+                let a = Cell::new(
+                    (next() % u64::from(w)) as u32,
+                    (next() % u64::from(h)) as u32,
+                );
+                let b = Cell::new(
+                    (next() % u64::from(w)) as u32,
+                    (next() % u64::from(h)) as u32,
+                );
+                let exact = segment_collision(&grid, a, b);
+                let packed = bits.segment_collision(a, b);
+                assert_eq!(packed.cells, exact.cells, "{a:?} -> {b:?}");
+                assert_eq!(
+                    packed.length.to_bits(),
+                    exact.length.to_bits(),
+                    "{a:?} -> {b:?}"
+                );
+                n_hits += u64::from(!exact.is_free());
             }
         }
         assert!(n_hits > 500, "too few colliding segments to test: {n_hits}");

@@ -448,10 +448,11 @@ impl Decoder {
         let (max_x, max_y) = (f64::from(grid.width() - 1), f64::from(grid.height() - 1));
         self.cells.clear();
         for &(x, y) in &self.samples {
-            // Clamped into the grid, so the casts are exact and in range.
+            // Clamped into the grid, so the casts are in range. Rounding half up by truncation (the values are >= 0 after the clamp): the
+            // same as `round` there, without its library call.
             let cell = Cell::new(
-                x.round().clamp(0.0, max_x) as u32,
-                y.round().clamp(0.0, max_y) as u32,
+                (x.clamp(0.0, max_x) + 0.5) as u32,
+                (y.clamp(0.0, max_y) + 0.5) as u32,
             );
             if self.cells.last() != Some(&cell) {
                 self.cells.push(cell);

@@ -41,7 +41,9 @@ impl Spline {
         for &(x, y) in knots {
             match (self.x.last(), self.y.last(), self.t.last()) {
                 (Some(&px), Some(&py), Some(&pt)) => {
-                    let chord = (x - px).hypot(y - py);
+                    // sqrt of the sum of squares rather than `hypot`, whose overflow care
+                    // costs a library call per knot; coordinates are grid-sized.
+                    let chord = ((x - px) * (x - px) + (y - py) * (y - py)).sqrt();
                     if chord < MIN_CHORD {
                         continue;
                     }
