@@ -474,7 +474,7 @@ impl Decoder {
         let mut length = 0.0;
         let mut collision = Collision::default();
         for pair in self.path.windows(2) {
-            length += pair[0].euclidean(pair[1]);
+            length += distance(pair[0], pair[1]);
             collision.add(grid.segment_collision(pair[0], pair[1]));
         }
         Evaluation {
@@ -484,6 +484,15 @@ impl Decoder {
         }
     }
 }
+/// The Euclidean distance between the centres of `a` and `b` as the square root of the
+/// sum of squares (exact in the integers below it; `Cell::euclidean`'s `hypot` is a library
+/// call, and this runs once per segment of every evaluation).
+fn distance(a: Cell, b: Cell) -> f64 {
+    let dx = f64::from(a.x.abs_diff(b.x));
+    let dy = f64::from(a.y.abs_diff(b.y));
+    (dx * dx + dy * dy).sqrt()
+}
+
 /// Ramer-Douglas-Peucker on `cells`: keeps the first and last cell and every cell farther
 /// than `tolerance` from the segment between its kept neighbours (the farthest first,
 /// recursively), as a particle's sampled cells are simplified.
@@ -513,10 +522,30 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
         if b <= a + 1 {
             continue;
         }
-        // Squared distances: the same order as distances, without a square root.
+        // Squared distances (the same order as distances, without a square root), in
+        // integers but for one multiplication by the precomputed 1 / |b - a|^2.
+        let (ax, ay) = (i64::from(cells[a].x), i64::from(cells[a].y));
+        let (bx, by) = (i64::from(cells[b].x), i64::from(cells[b].y));
+        let (dx, dy) = (bx - ax, by - ay);
+        let squared = dx * dx + dy * dy;
+        let inverse = if squared > 0 {
+            1.0 / squared as f64
+        } else {
+            0.0
+        };
         let (mut farthest, mut distance) = (a, -1.0);
         for (k, &cell) in cells.iter().enumerate().take(b).skip(a + 1) {
-            let d = squared_point_segment_distance(cell, cells[a], cells[b]);
+            let (px, py) = (i64::from(cell.x), i64::from(cell.y));
+            let (wx, wy) = (px - ax, py - ay);
+            let dot = wx * dx + wy * dy;
+            let d = if dot <= 0 || squared == 0 {
+                (wx * wx + wy * wy) as f64
+            } else if dot >= squared {
+                ((px - bx) * (px - bx) + (py - by) * (py - by)) as f64
+            } else {
+                let cross = wx * dy - wy * dx;
+                (cross * cross) as f64 * inverse
+            };
             if d > distance {
                 (farthest, distance) = (k, d);
             }
@@ -527,22 +556,6 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
             stack.push((a, farthest));
         }
     }
-}
-
-/// The squared Euclidean distance from the centre of `p` to the segment between the
-/// centres of `a` and `b`.
-fn squared_point_segment_distance(p: Cell, a: Cell, b: Cell) -> f64 {
-    let (px, py) = (f64::from(p.x), f64::from(p.y));
-    let (ax, ay) = (f64::from(a.x), f64::from(a.y));
-    let (dx, dy) = (f64::from(b.x) - ax, f64::from(b.y) - ay);
-    let squared = dx * dx + dy * dy;
-    let t = if squared == 0.0 {
-        0.0
-    } else {
-        (((px - ax) * dx + (py - ay) * dy) / squared).clamp(0.0, 1.0)
-    };
-    let (ex, ey) = (px - ax - t * dx, py - ay - t * dy);
-    ex * ex + ey * ey
 }
 
 /// CAPSO's counters as plain integers (crate docs, "Outcome and counters").
