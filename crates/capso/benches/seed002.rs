@@ -6,13 +6,17 @@
 //! Per scenario, repeat `r` (seed `r`, as the runner's repeats) runs PA-star and then
 //! CAPSO in the same process, alternating, so that load affects both alike. It prints how
 //! many CAPSO runs found a collision-free path, their mean, best and worst length beside
-//! seed 002's CAPSO length, the median search time of each planner and their ratio, and
-//! both sides' work (PA-star's expansions, CAPSO's fitness evaluations).
+//! seed 002's CAPSO length, the median search time of each planner and their ratio, both
+//! as wall time and as the thread's CPU time (on a shared, oversubscribed machine a long
+//! search is preempted many times and a short one rarely, which wall time charges to the
+//! long one), and both sides' work (PA-star's expansions, CAPSO's fitness evaluations).
 //!
 //! `cargo bench -p planner-capso --bench seed002 [-- --repeats=N] [-- --control-points]`
 //! (default 50 repeats, seed 002's count).
 
 use std::time::Instant;
+
+use cpu_time::ThreadTime;
 
 use planner_api::{Budget, Cell, Planner, Problem, Status};
 use planner_capso::{Capso, Config};
@@ -51,7 +55,7 @@ fn main() {
                         control_points: n,
                         ..Config::default()
                     };
-                    (format!("{n} points"), several, config)
+                    (format!(", {n} control points"), several, config)
                 })
                 .collect()
         } else {
@@ -61,7 +65,7 @@ fn main() {
                 .collect()
         };
     println!(
-        "scenario | CAPSO found | mean length (seed 002) | best | worst | PA-star ms | CAPSO ms | ratio | PA-star expansions | CAPSO evaluations"
+        "scenario | CAPSO found | mean length (seed 002) | best | worst | PA-star ms | CAPSO ms | ratio | PA-star CPU ms | CAPSO CPU ms | CPU ratio | PA-star expansions | CAPSO evaluations"
     );
     for (label, (map, (sx, sy), (gx, gy), seed_length), config) in runs {
         let grid = planner_testkit::map_file(map).grid;
@@ -71,16 +75,19 @@ fn main() {
         let mut pastar =
             PaStar::new(planner_pastar::Config::default()).expect("the defaults are valid");
         let (mut capso_ms, mut pastar_ms, mut lengths) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut capso_cpu, mut pastar_cpu) = (Vec::new(), Vec::new());
         let (mut expansions, mut evaluations) = (0, 0);
         for seed in 0..repeats {
-            let started = Instant::now();
+            let (started, cpu) = (Instant::now(), ThreadTime::now());
             let outcome = pastar.plan(&problem, &Budget::unlimited());
+            pastar_cpu.push(cpu.elapsed().as_secs_f64() * 1e3);
             pastar_ms.push(started.elapsed().as_secs_f64() * 1e3);
             expansions = outcome.counters.get("n_expanded").unwrap_or(0);
 
             capso.reseed(seed);
-            let started = Instant::now();
+            let (started, cpu) = (Instant::now(), ThreadTime::now());
             let outcome = capso.plan(&problem, &Budget::unlimited());
+            capso_cpu.push(cpu.elapsed().as_secs_f64() * 1e3);
             capso_ms.push(started.elapsed().as_secs_f64() * 1e3);
             evaluations = outcome.counters.get("n_fitness_evaluations").unwrap_or(0);
             if let (Status::Found, Some(path)) = (outcome.status, &outcome.path) {
@@ -92,10 +99,12 @@ fn main() {
         let best = lengths.iter().copied().fold(f64::INFINITY, f64::min);
         let worst = lengths.iter().copied().fold(0.0, f64::max);
         let (p, c) = (median(&mut pastar_ms), median(&mut capso_ms));
+        let (pc, cc) = (median(&mut pastar_cpu), median(&mut capso_cpu));
         println!(
-            "{map} ({sx},{sy})->({gx},{gy}){label} | {n_found}/{repeats} | {mean:.2} ({seed_length:.2}, {:+.1}%) | {best:.2} | {worst:.2} | {p:.3} | {c:.2} | {:.1} | {expansions} | {evaluations}",
+            "{map} ({sx},{sy})->({gx},{gy}){label} | {n_found}/{repeats} | {mean:.2} ({seed_length:.2}, {:+.1}%) | {best:.2} | {worst:.2} | {p:.3} | {c:.2} | {:.1} | {pc:.3} | {cc:.2} | {:.1} | {expansions} | {evaluations}",
             100.0 * (mean / seed_length - 1.0),
-            c / p
+            c / p,
+            cc / pc
         );
     }
 }

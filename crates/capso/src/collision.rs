@@ -214,57 +214,87 @@ impl BitGrid {
         let ny = i64::from(a.y.abs_diff(b.y));
         let sx: i64 = if b.x >= a.x { 1 } else { -1 };
         let sy: i64 = if b.y >= a.y { 1 } else { -1 };
-        let (ax, ay) = (i64::from(a.x), i64::from(a.y));
-        let width = self.width as usize;
+        let width = self.width as i64;
+        // Flat index steps; every visited cell lies in the bounding box of a and b, so
+        // every index is in range.
+        let (step_x, step_y) = (sx, sy * width);
+        let mut index = i64::from(a.y) * width + i64::from(a.x);
         let mut collision = Collision::default();
         let mut fraction = 0.0;
-        // In the bounding box of a and b, so the casts are exact; returns the clearance.
-        let mut touch = |x: i64, y: i64| {
-            let clearance = self.clearance[y as usize * width + x as usize];
-            if clearance == 0 {
-                collision.cells += 1;
-                fraction += clipped_fraction(a, b, Cell::new(x as u32, y as u32));
-            }
-            clearance
-        };
-        let mut clearance = touch(ax, ay);
         let (mut ix, mut iy) = (0i64, 0i64);
-        while ix < nx || iy < ny {
+        // (1 + 2 ix) ny - (1 + 2 iy) nx, kept up to date with ix and iy.
+        let mut decision = ny - nx;
+        loop {
+            let clearance = self.clearance[index as usize];
+            if clearance == 0 {
+                self.blocked_cell(a, b, index, &mut collision, &mut fraction);
+            }
+            if ix >= nx && iy >= ny {
+                break;
+            }
             if clearance >= 3 {
                 let j = i64::from(clearance) - 2;
-                if nx >= ny && ix < nx {
+                let jumped = if nx >= ny && ix < nx {
                     ix = (ix + j).min(nx);
                     iy = (((2 * ix - 1) * ny + nx) / (2 * nx)).min(ny);
-                    clearance = touch(ax + sx * ix, ay + sy * iy);
-                    continue;
-                }
-                if ny > nx && iy < ny {
+                    true
+                } else if ny > nx && iy < ny {
                     iy = (iy + j).min(ny);
                     ix = (((2 * iy - 1) * nx + ny) / (2 * ny)).min(nx);
-                    clearance = touch(ax + sx * ix, ay + sy * iy);
+                    true
+                } else {
+                    false
+                };
+                if jumped {
+                    index = (i64::from(a.y) + sy * iy) * width + i64::from(a.x) + sx * ix;
+                    decision = (1 + 2 * ix) * ny - (1 + 2 * iy) * nx;
                     continue;
                 }
             }
-            // Compare the parameter at which the segment crosses the next vertical line,
-            // (0.5 + ix) / nx, with the next horizontal line, (0.5 + iy) / ny.
-            let decision = (1 + 2 * ix) * ny - (1 + 2 * iy) * nx;
-            let (x, y) = (ax + sx * ix, ay + sy * iy);
+            // The next crossing: a vertical grid line when decision < 0, a horizontal one
+            // when > 0, both at a vertex (the two side cells first).
             if decision == 0 {
-                touch(x + sx, y);
-                touch(x, y + sy);
+                for side in [index + step_x, index + step_y] {
+                    if self.clearance[side as usize] == 0 {
+                        self.blocked_cell(a, b, side, &mut collision, &mut fraction);
+                    }
+                }
+                index += step_x + step_y;
                 ix += 1;
                 iy += 1;
+                decision += 2 * (ny - nx);
             } else if decision < 0 {
+                index += step_x;
                 ix += 1;
+                decision += 2 * ny;
             } else {
+                index += step_y;
                 iy += 1;
+                decision -= 2 * nx;
             }
-            clearance = touch(ax + sx * ix, ay + sy * iy);
         }
         if fraction > 0.0 {
             collision.length = fraction * a.euclidean(b);
         }
         collision
+    }
+
+    /// Counts the blocked cell at flat `index` for the segment `a` -> `b`.
+    #[cold]
+    #[inline(never)]
+    fn blocked_cell(
+        &self,
+        a: Cell,
+        b: Cell,
+        index: i64,
+        collision: &mut Collision,
+        fraction: &mut f64,
+    ) {
+        let width = self.width as i64;
+        // A visited cell's flat index: in the grid, so the casts are exact.
+        let cell = Cell::new((index % width) as u32, (index / width) as u32);
+        collision.cells += 1;
+        *fraction += clipped_fraction(a, b, cell);
     }
 
     /// Whether the segment between the centres of `a` and `b` touches no blocked cell
