@@ -22,6 +22,9 @@ use planner_api::{Budget, Cell, Planner, Problem, Status};
 use planner_capso::{Capso, Config};
 use planner_pastar::PaStar;
 
+/// A scenario: map file, start, goal, and seed 002's CAPSO length on it.
+type Scenario = (&'static str, (u32, u32), (u32, u32), f64);
+
 /// The median of `times` (sorted here); the upper middle for an even count.
 fn median(times: &mut [f64]) -> f64 {
     times.sort_by(f64::total_cmp);
@@ -37,7 +40,7 @@ fn main() {
             n.parse().expect("--repeats=N takes a positive integer")
         });
     assert!(repeats > 0, "--repeats=N takes a positive integer");
-    let several = ("pastar/several-140x120.map", (20, 10), (70, 110), 114.46);
+    let several: Scenario = ("pastar/several-140x120.map", (20, 10), (70, 110), 114.46);
     let scenarios = [
         ("pastar/open-140x120.map", (20, 10), (70, 110), 111.84),
         ("pastar/two-140x120.map", (20, 10), (70, 110), 112.85),
@@ -47,23 +50,22 @@ fn main() {
         ("pastar/random200-1.map", (25, 35), (140, 190), 210.89),
         ("pastar/random200-2.map", (25, 35), (140, 190), 215.09),
     ];
-    let runs: Vec<(String, (&str, (u32, u32), (u32, u32), f64), Config)> =
-        if args.iter().any(|a| a == "--control-points") {
-            (3..=6)
-                .map(|n| {
-                    let config = Config {
-                        control_points: n,
-                        ..Config::default()
-                    };
-                    (format!(", {n} control points"), several, config)
-                })
-                .collect()
-        } else {
-            scenarios
-                .iter()
-                .map(|&s| (String::new(), s, Config::default()))
-                .collect()
-        };
+    let runs: Vec<(String, Scenario, Config)> = if args.iter().any(|a| a == "--control-points") {
+        (3..=6)
+            .map(|n| {
+                let config = Config {
+                    control_points: n,
+                    ..Config::default()
+                };
+                (format!(", {n} control points"), several, config)
+            })
+            .collect()
+    } else {
+        scenarios
+            .iter()
+            .map(|&s| (String::new(), s, Config::default()))
+            .collect()
+    };
     println!(
         "scenario | CAPSO found | mean length (seed 002) | best | worst | PA-star ms | CAPSO ms | ratio | PA-star CPU ms | CAPSO CPU ms | CPU ratio | PA-star expansions | CAPSO evaluations"
     );

@@ -63,8 +63,9 @@
 //! 3. *Beetle.* Beetle swarm optimisation (Wang, Yang and Liu, Filomat 34(15) 2020; the
 //!    rBAS documentation above) moves the particle by
 //!    `x + lambda v + (1 - lambda) xi` with `lambda = 0.4` and
-//!    `xi = delta v sign(f(x_r) - f(x_l))` for the antennae `x_r, x_l = x -/+ v d / 2`
-//!    (signs for minimisation: a step toward the better antenna). Evaluating two antennae
+//!    `xi = delta v sign(f(x_r) - f(x_l))` for the antennae `x_r = x + v d / 2` and
+//!    `x_l = x - v d / 2`; for minimisation the step goes toward the better antenna,
+//!    `xi = -delta v sign(f(x_r) - f(x_l))`. Evaluating two antennae
 //!    would triple the work (three fitness evaluations per particle and iteration); here
 //!    the antennae are the particle's last two positions, which are already evaluated:
 //!    with `u = x_k - x_{k-1}` the last move and `df = f(x_k) - f(x_{k-1})`, the
@@ -192,8 +193,9 @@ pub struct Config {
     /// `lambda`, the PSO velocity's share of the position update (the beetle step has
     /// `1 - lambda`), in `0 ..= 1`. Default 0.4.
     pub lambda: f64,
-    /// The beetle's initial step `delta_0` (relative to the velocity; the antennae are
-    /// `delta v / 2` either side), finite and `> 0`. Default 0.9.
+    /// The beetle's initial step `delta_0`, relative to the velocity (the beetle term is
+    /// `xi = +/- delta v`), finite and `> 0`. Default 0.9 (a choice: the paper's value is
+    /// not in its stored abstract).
     pub beetle_step: f64,
     /// The step's decay per iteration, `eta` in `(0, 1]`. Default 0.95.
     pub beetle_decay: f64,
