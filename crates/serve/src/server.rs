@@ -11,16 +11,19 @@
 //! | `POST /api/cancel?run=ID` | cancels the plan request with that `run` id |
 //! | `GET /api/results?path=P` | results directory `P`: runs.json's table, the kept paths, the maps it names |
 //!
-//! Safety: paths go through [`crate::safe::Root`] (403/404 before anything is read); a
-//! request body over [`ServeOptions::max_body_bytes`] is refused with 413, by its
-//! `Content-Length` before a byte of it is read, else once that many bytes have come;
+//! HTTP/1.1 on plain TCP: a fixed pool of threads, one request per connection (answered
+//! with `Connection: close`), heads parsed by httparse. Safety: paths go through
+//! [`crate::safe::Root`] (403/404 before anything is read); a request head over 16 KiB is
+//! refused (431), and a body over [`ServeOptions::max_body_bytes`] is refused with 413 by
+//! its `Content-Length`, before a byte of it is read (a body without a length, chunked, is
+//! refused with 411); memory per connection is bounded by those limits;
 //! planning runs get [`crate::query::Caps`]; at most [`ServeOptions::max_running`] plans
 //! run at once (503 beyond). A cancelled plan answers at once (409) and its worker thread
 //! ends within its capped budget, its result dropped.
 
 use std::collections::HashMap;
-use std::io::Read as _;
-use std::net::{IpAddr, SocketAddr};
+use std::io::{Read as _, Write as _};
+use std::net::{IpAddr, Shutdown, SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
@@ -28,7 +31,6 @@ use std::time::Duration;
 
 use planner_api::Cell;
 use serde::Deserialize;
-use tiny_http::{Header, Method, Request, Response};
 
 use crate::query::{self, Caps, Query};
 use crate::safe::{Refusal, Root};
@@ -90,16 +92,17 @@ pub enum ServeError {
     Bind {
         /// The address.
         addr: SocketAddr,
-        /// tiny_http's message.
+        /// The system's message.
         message: String,
     },
 }
 
 /// A bound server, not yet answering.
 pub struct Server {
-    http: Arc<tiny_http::Server>,
+    listener: TcpListener,
     state: Arc<State>,
     threads: usize,
+    stop: Arc<AtomicBool>,
 }
 
 struct State {
@@ -119,12 +122,12 @@ impl Server {
             source,
         })?;
         let addr = SocketAddr::new(options.host, options.port);
-        let http = tiny_http::Server::http(addr).map_err(|e| ServeError::Bind {
+        let listener = TcpListener::bind(addr).map_err(|e| ServeError::Bind {
             addr,
             message: e.to_string(),
         })?;
         Ok(Server {
-            http: Arc::new(http),
+            listener,
             state: Arc::new(State {
                 root,
                 max_body_bytes: options.max_body_bytes,
@@ -134,27 +137,47 @@ impl Server {
                 cancels: Mutex::new(HashMap::new()),
             }),
             threads: options.threads.max(1),
+            stop: Arc::new(AtomicBool::new(false)),
         })
     }
 
     /// The address it listens on (with the port chosen when 0 was asked for).
     pub fn addr(&self) -> Option<SocketAddr> {
-        self.http.server_addr().to_ip()
+        self.listener.local_addr().ok()
     }
 
-    /// Answers requests until [`Server::stopper`]'s handle is called (forever otherwise).
+    /// Answers connections until [`Server::stopper`]'s handle is called (forever
+    /// otherwise): a fixed pool of threads, each answering one request per connection; at
+    /// most 64 connections wait, more are closed at once.
     pub fn run(self) {
+        let (send, receive) = mpsc::sync_channel::<TcpStream>(64);
+        let receive = Arc::new(Mutex::new(receive));
         let workers: Vec<_> = (0..self.threads)
             .map(|_| {
-                let http = Arc::clone(&self.http);
+                let receive = Arc::clone(&receive);
                 let state = Arc::clone(&self.state);
-                std::thread::spawn(move || {
-                    while let Ok(request) = http.recv() {
-                        handle(&state, request);
+                std::thread::spawn(move || loop {
+                    let next = match receive.lock() {
+                        Ok(receive) => receive.recv(),
+                        Err(_) => return,
+                    };
+                    match next {
+                        Ok(stream) => connection(&state, stream),
+                        Err(_) => return,
                     }
                 })
             })
             .collect();
+        for stream in self.listener.incoming() {
+            if self.stop.load(Ordering::SeqCst) {
+                break;
+            }
+            if let Ok(stream) = stream {
+                // A full queue drops (closes) the connection.
+                let _ = send.try_send(stream);
+            }
+        }
+        drop(send);
         for worker in workers {
             let _ = worker.join();
         }
@@ -162,11 +185,13 @@ impl Server {
 
     /// A handle that stops [`Server::run`] (its threads return after their request).
     pub fn stopper(&self) -> impl Fn() + Send + 'static {
-        let http = Arc::clone(&self.http);
-        let threads = self.threads;
+        let stop = Arc::clone(&self.stop);
+        let addr = self.addr();
         move || {
-            for _ in 0..threads {
-                http.unblock();
+            stop.store(true, Ordering::SeqCst);
+            // Wake the accept loop.
+            if let Some(addr) = addr {
+                let _ = TcpStream::connect_timeout(&addr, Duration::from_secs(1));
             }
         }
     }
@@ -205,81 +230,171 @@ impl Answer {
     }
 }
 
-fn handle(state: &Arc<State>, mut request: Request) {
-    let url = request.url().to_string();
-    let (path, query) = url.split_once('?').unwrap_or((&url, ""));
-    let params = parse_query(query);
-    let method = request.method().clone();
-    let answer = match (&method, path) {
-        (Method::Get, "/" | "/index.html") => Answer::asset("text/html; charset=utf-8", INDEX_HTML),
-        (Method::Get, "/app.js") => Answer::asset("text/javascript; charset=utf-8", APP_JS),
-        (Method::Get, "/style.css") => Answer::asset("text/css; charset=utf-8", STYLE_CSS),
-        (Method::Get, "/api/planners") => planners(),
-        (Method::Get, "/api/maps") => maps(state),
-        (Method::Get, "/api/map") => map(state, params.get("path").map_or("", String::as_str)),
-        (Method::Get, "/api/results") => {
-            results(state, params.get("path").map_or("", String::as_str))
-        }
-        (Method::Post, "/api/plan") => match read_body(state, &mut request) {
-            Ok(body) => plan(state, &body),
-            Err(answer) => answer,
-        },
-        (Method::Post | Method::Get, "/api/cancel") => {
-            cancel(state, params.get("run").map_or("", String::as_str))
-        }
-        (_, "/" | "/index.html" | "/app.js" | "/style.css" | "/api/planners" | "/api/maps")
-        | (_, "/api/map" | "/api/results" | "/api/plan") => {
-            Answer::error(405, "method not allowed")
-        }
-        _ => Answer::error(404, "not found"),
+/// The longest request head (request line and headers) read, in bytes.
+const MAX_HEAD_BYTES: usize = 16 << 10;
+
+/// How long a connection may take to send its request.
+const READ_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// One connection: one request (head parsed by httparse, body read only up to the limit),
+/// one answer, then the connection closes.
+fn connection(state: &Arc<State>, mut stream: TcpStream) {
+    let _ = stream.set_read_timeout(Some(READ_TIMEOUT));
+    let _ = stream.set_write_timeout(Some(Duration::from_secs(60)));
+    let answer = match read_request(state, &mut stream) {
+        Ok(Some((method, target, body))) => handle(state, &method, &target, &body),
+        Ok(None) => return,
+        Err(answer) => answer,
     };
-    let mut response = Response::from_data(answer.body).with_status_code(answer.status);
-    for (name, value) in [
-        ("Content-Type", answer.kind),
-        ("Cache-Control", "no-store"),
-        ("X-Content-Type-Options", "nosniff"),
-        (
-            "Content-Security-Policy",
-            "default-src 'self'; img-src 'self' data:; style-src 'self'; script-src 'self'",
-        ),
-    ] {
-        if let Ok(header) = Header::from_bytes(name.as_bytes(), value.as_bytes()) {
-            response.add_header(header);
-        }
+    let reason = match answer.status {
+        200 => "OK",
+        400 => "Bad Request",
+        403 => "Forbidden",
+        404 => "Not Found",
+        405 => "Method Not Allowed",
+        409 => "Conflict",
+        411 => "Length Required",
+        413 => "Content Too Large",
+        431 => "Request Header Fields Too Large",
+        503 => "Service Unavailable",
+        _ => "Error",
+    };
+    let head = format!(
+        "HTTP/1.1 {} {reason}\r\nContent-Type: {}\r\nContent-Length: {}\r\nConnection: close\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nContent-Security-Policy: default-src 'self'; style-src 'self'; script-src 'self'\r\n\r\n",
+        answer.status,
+        answer.kind,
+        answer.body.len()
+    );
+    if stream
+        .write_all(head.as_bytes())
+        .and_then(|()| stream.write_all(&answer.body))
+        .and_then(|()| stream.flush())
+        .is_err()
+    {
+        return;
     }
-    if answer.status == 413 {
-        if let Ok(header) = Header::from_bytes(&b"Connection"[..], &b"close"[..]) {
-            response.add_header(header);
+    // A lingering close: stop writing, then read (and drop) what the client still sends,
+    // at most 1 MiB or one second, so that closing with unread data (a refused body) does
+    // not reset the connection before the client has read the answer.
+    let _ = stream.shutdown(Shutdown::Write);
+    let _ = stream.set_read_timeout(Some(Duration::from_secs(1)));
+    let mut sink = [0u8; 16 << 10];
+    let mut drained = 0usize;
+    while drained < (1 << 20) {
+        match stream.read(&mut sink) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => drained += n,
         }
-    }
-    if let Err(error) = request.respond(response) {
-        tracing::debug!("{method} {path}: cannot answer: {error}");
     }
 }
 
-/// The body, at most `max_body_bytes` of it: 413 when `Content-Length` says more (before
-/// reading any) or when more arrives.
-fn read_body(state: &State, request: &mut Request) -> Result<Vec<u8>, Answer> {
-    let cap = state.max_body_bytes;
-    let too_large = || {
-        Answer::error(
-            413,
-            &format!("request body over the server's limit of {cap} bytes"),
-        )
+/// Reads one request: method, target and body, or the refusal to answer (400 malformed,
+/// 411 no length for a body, 413 body over the limit, 431 head too long); `None` when the
+/// client sent nothing.
+#[allow(clippy::type_complexity)]
+fn read_request(
+    state: &State,
+    stream: &mut TcpStream,
+) -> Result<Option<(String, String, Vec<u8>)>, Answer> {
+    let mut buffer = Vec::with_capacity(4096);
+    let mut chunk = [0u8; 4096];
+    let head_end = loop {
+        if let Some(at) = find_head_end(&buffer) {
+            if at > MAX_HEAD_BYTES {
+                return Err(Answer::error(431, "request head too long"));
+            }
+            break at;
+        }
+        if buffer.len() > MAX_HEAD_BYTES {
+            return Err(Answer::error(431, "request head too long"));
+        }
+        match stream.read(&mut chunk) {
+            Ok(0) if buffer.is_empty() => return Ok(None),
+            Ok(0) => return Err(Answer::error(400, "incomplete request")),
+            Ok(n) => buffer.extend_from_slice(&chunk[..n]),
+            Err(_) if buffer.is_empty() => return Ok(None),
+            Err(e) => return Err(Answer::error(400, &format!("reading the request: {e}"))),
+        }
     };
-    if request.body_length().is_some_and(|n| n as u64 > cap) {
-        return Err(too_large());
+    let mut headers = [httparse::EMPTY_HEADER; 64];
+    let mut request = httparse::Request::new(&mut headers);
+    match request.parse(&buffer[..head_end]) {
+        Ok(httparse::Status::Complete(_)) => {}
+        Ok(httparse::Status::Partial) => return Err(Answer::error(400, "incomplete request head")),
+        Err(httparse::Error::TooManyHeaders) => {
+            return Err(Answer::error(431, "too many request headers"))
+        }
+        Err(e) => return Err(Answer::error(400, &format!("malformed request: {e}"))),
     }
-    let mut body = Vec::new();
-    request
-        .as_reader()
-        .take(cap + 1)
-        .read_to_end(&mut body)
-        .map_err(|e| Answer::error(400, &format!("cannot read the request body: {e}")))?;
-    if body.len() as u64 > cap {
-        return Err(too_large());
+    let method = request.method.unwrap_or("").to_string();
+    let target = request.path.unwrap_or("").to_string();
+    let header = |name: &str| {
+        request
+            .headers
+            .iter()
+            .find(|h| h.name.eq_ignore_ascii_case(name))
+            .map(|h| String::from_utf8_lossy(h.value).trim().to_string())
+    };
+    if header("Transfer-Encoding").is_some() {
+        return Err(Answer::error(
+            411,
+            "request bodies need a Content-Length (no transfer encoding)",
+        ));
     }
-    Ok(body)
+    let length = match header("Content-Length") {
+        None => 0,
+        Some(text) => text
+            .parse::<u64>()
+            .map_err(|_| Answer::error(400, &format!("Content-Length {text:?} is not a number")))?,
+    };
+    let cap = state.max_body_bytes;
+    if length > cap {
+        return Err(Answer::error(
+            413,
+            &format!("request body of {length} bytes, over the server's limit of {cap} bytes"),
+        ));
+    }
+    let length = length as usize;
+    let mut body = buffer.split_off(head_end);
+    body.truncate(length);
+    body.reserve(length - body.len());
+    while body.len() < length {
+        let want = (length - body.len()).min(chunk.len());
+        match stream.read(&mut chunk[..want]) {
+            Ok(0) => return Err(Answer::error(400, "the request body ended early")),
+            Ok(n) => body.extend_from_slice(&chunk[..n]),
+            Err(e) => return Err(Answer::error(400, &format!("reading the request body: {e}"))),
+        }
+    }
+    Ok(Some((method, target, body)))
+}
+
+/// The offset just past the blank line that ends a request head.
+fn find_head_end(buffer: &[u8]) -> Option<usize> {
+    buffer.windows(4).position(|w| w == b"\r\n\r\n").map(|at| at + 4)
+}
+
+fn handle(state: &Arc<State>, method: &str, url: &str, body: &[u8]) -> Answer {
+    let (path, query) = url.split_once('?').unwrap_or((url, ""));
+    let params = parse_query(query);
+    match (method, path) {
+        ("GET", "/" | "/index.html") => Answer::asset("text/html; charset=utf-8", INDEX_HTML),
+        ("GET", "/app.js") => Answer::asset("text/javascript; charset=utf-8", APP_JS),
+        ("GET", "/style.css") => Answer::asset("text/css; charset=utf-8", STYLE_CSS),
+        ("GET", "/api/planners") => planners(),
+        ("GET", "/api/maps") => maps(state),
+        ("GET", "/api/map") => map(state, params.get("path").map_or("", String::as_str)),
+        ("GET", "/api/results") => results(state, params.get("path").map_or("", String::as_str)),
+        ("POST", "/api/plan") => plan(state, body),
+        ("POST" | "GET", "/api/cancel") => {
+            cancel(state, params.get("run").map_or("", String::as_str))
+        }
+        (_, "/" | "/index.html" | "/app.js" | "/style.css" | "/api/planners" | "/api/maps")
+        | (_, "/api/map" | "/api/results" | "/api/plan" | "/api/cancel") => {
+            Answer::error(405, "method not allowed")
+        }
+        _ => Answer::error(404, "not found"),
+    }
 }
 
 /// `a=b&c=d`, percent-decoded (`+` is a space).
@@ -424,7 +539,7 @@ fn read_map(state: &State, relative: &str) -> Result<(PathBuf, planner_maps::Map
         // The image a ROS YAML names must lie under the root too (checked before reading it).
         let text = planner_maps::read_text_file(&path, 1 << 20)
             .map_err(|e| Answer::error(400, &e.to_string()))?;
-        let yaml = planner_maps::ros::parse_ros_yaml(&text, relative)
+        let yaml = planner_maps::parse_ros_yaml(&text, relative)
             .map_err(|e| Answer::error(400, &e.to_string()))?;
         let image = path
             .parent()
@@ -567,7 +682,6 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
     let (send, receive) = mpsc::channel();
     let caps = state.caps;
     std::thread::spawn(move || {
-        let _guard = guard;
         let name = path
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
@@ -584,6 +698,8 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
             Ok(result) => plan_answer(&result),
             Err(e) => Answer::error(400, &e.to_string()),
         };
+        // Not running any more once the answer is out (dropped on a panic too).
+        drop(guard);
         let _ = send.send(answer);
     });
     let answer = loop {

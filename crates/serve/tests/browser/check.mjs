@@ -141,12 +141,12 @@ try {
   // A* in slot 1, BFS in slot 2, side by side; play at full speed.
   await page.selectOption('.slot[data-slot="0"] select.planner', "astar");
   await page.selectOption('.slot[data-slot="1"] select.planner', "bfs");
-  await page.fill("#speed", "0");
+  await page.$eval("#speed", (e) => { e.value = "0"; });
   await page.click("#run");
   await page.waitForFunction(() => window.gridplan.state.results.length === 2, null, { timeout: 30000 });
   // At the slowest speed the playback is still under way a moment later.
   const early = await page.evaluate(() => window.gridplan.state.results.map((r) => [r.shown, r.expanded.length]));
-  await page.fill("#speed", "100");
+  await page.$eval("#speed", (e) => { e.value = "100"; });
   await page.waitForFunction(() => window.gridplan.state.results.every((r) => r.shown >= r.expanded.length), null, { timeout: 30000 });
   check(early.every(([shown, total]) => shown < total), `the playback is under way at the slowest speed (${JSON.stringify(early)} shown of expanded)`);
 
