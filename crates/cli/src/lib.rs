@@ -425,7 +425,12 @@ pub fn run(command: Command) -> Result<(), String> {
             };
             let result =
                 planner_runner::plan::run_with(&args, &options).map_err(|e| e.to_string())?;
-            planner_serve::write_pictures(&result, svg.as_deref(), trace.as_deref(), gif.as_deref())?;
+            planner_serve::write_pictures(
+                &result,
+                svg.as_deref(),
+                trace.as_deref(),
+                gif.as_deref(),
+            )?;
             if let Some(file) = &svg {
                 std::fs::write(file, result.to_svg())
                     .map_err(|e| format!("cannot write {}: {e}", file.display()))?;

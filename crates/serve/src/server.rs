@@ -363,7 +363,12 @@ fn read_request(
         match stream.read(&mut chunk[..want]) {
             Ok(0) => return Err(Answer::error(400, "the request body ended early")),
             Ok(n) => body.extend_from_slice(&chunk[..n]),
-            Err(e) => return Err(Answer::error(400, &format!("reading the request body: {e}"))),
+            Err(e) => {
+                return Err(Answer::error(
+                    400,
+                    &format!("reading the request body: {e}"),
+                ))
+            }
         }
     }
     Ok(Some((method, target, body)))
@@ -371,7 +376,10 @@ fn read_request(
 
 /// The offset just past the blank line that ends a request head.
 fn find_head_end(buffer: &[u8]) -> Option<usize> {
-    buffer.windows(4).position(|w| w == b"\r\n\r\n").map(|at| at + 4)
+    buffer
+        .windows(4)
+        .position(|w| w == b"\r\n\r\n")
+        .map(|at| at + 4)
 }
 
 fn handle(state: &Arc<State>, method: &str, url: &str, body: &[u8]) -> Answer {
@@ -417,16 +425,14 @@ pub fn percent_decode(text: &str) -> String {
     while i < bytes.len() {
         let hex = |b: u8| (b as char).to_digit(16);
         match bytes[i] {
-            b'%' if i + 2 < bytes.len() => {
-                match (hex(bytes[i + 1]), hex(bytes[i + 2])) {
-                    (Some(h), Some(l)) => {
-                        out.push((h * 16 + l) as u8);
-                        i += 3;
-                        continue;
-                    }
-                    _ => out.push(b'%'),
+            b'%' if i + 2 < bytes.len() => match (hex(bytes[i + 1]), hex(bytes[i + 2])) {
+                (Some(h), Some(l)) => {
+                    out.push((h * 16 + l) as u8);
+                    i += 3;
+                    continue;
                 }
-            }
+                _ => out.push(b'%'),
+            },
             b'+' => out.push(b' '),
             b => out.push(b),
         }
@@ -675,7 +681,10 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
     // The worker owns the guard: the count drops when the worker ends, cancelled or not.
     let guard = Running(Arc::clone(state));
     let cancelled = Arc::new(AtomicBool::new(false));
-    let run_id = request.run.clone().filter(|id| !id.is_empty() && id.len() <= 64);
+    let run_id = request
+        .run
+        .clone()
+        .filter(|id| !id.is_empty() && id.len() <= 64);
     if let (Some(id), Ok(mut cancels)) = (&run_id, state.cancels.lock()) {
         cancels.insert(id.clone(), Arc::clone(&cancelled));
     }
@@ -772,7 +781,10 @@ fn results(state: &State, relative: &str) -> Answer {
         Err(refusal) => return Answer::refusal(&refusal),
     };
     if !dir.join(".gridplan-results").is_file() {
-        return Answer::error(404, &format!("{relative:?} is not a gridplan results directory"));
+        return Answer::error(
+            404,
+            &format!("{relative:?} is not a gridplan results directory"),
+        );
     }
     let read = |name: &str| -> Result<Option<String>, Answer> {
         let file = format!("{relative}/{name}");
@@ -808,8 +820,7 @@ fn results(state: &State, relative: &str) -> Answer {
             .get("columns")
             .and_then(|c| c.as_array())
             .and_then(|c| c.iter().position(|v| v == "map"));
-        if let (Some(column), Some(rows)) = (column, table.get("data").and_then(|d| d.as_array()))
-        {
+        if let (Some(column), Some(rows)) = (column, table.get("data").and_then(|d| d.as_array())) {
             for row in rows {
                 if let Some(name) = row.get(column).and_then(|v| v.as_str()) {
                     if !names.iter().any(|n| n == name) {
@@ -852,4 +863,3 @@ fn results(state: &State, relative: &str) -> Answer {
         .to_string(),
     )
 }
-

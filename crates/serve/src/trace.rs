@@ -96,9 +96,17 @@ pub fn trace(width: u32, start: Cell, goal: Cell, expanded: &[Cell], found: bool
 
 /// The trace of a `plan` run as JSON text (`plan --trace FILE`): the run needs its expanded
 /// cells recorded ([`planner_runner::plan::PlanOptions::record_expanded`]).
-pub fn plan_trace_json(result: &planner_runner::plan::PlanResult) -> Result<String, serde_json::Error> {
+pub fn plan_trace_json(
+    result: &planner_runner::plan::PlanResult,
+) -> Result<String, serde_json::Error> {
     let r = &result.record;
     let found = r.status == planner_runner::record::RunStatus::Found;
-    let trace = trace(result.grid.width(), r.start, r.goal, &result.expanded, found);
+    let trace = trace(
+        result.grid.width(),
+        r.start,
+        r.goal,
+        &result.expanded,
+        found,
+    );
     serde_json::to_string(&trace)
 }

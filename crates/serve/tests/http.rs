@@ -43,7 +43,11 @@ fn served() -> (PathBuf, PathBuf) {
         open.push('\n');
     }
     std::fs::write(dir.join("open30.map"), open).unwrap();
-    std::fs::write(top.join("secret.map"), "type octile\nheight 1\nwidth 1\nmap\n.\n").unwrap();
+    std::fs::write(
+        top.join("secret.map"),
+        "type octile\nheight 1\nwidth 1\nmap\n.\n",
+    )
+    .unwrap();
     std::fs::write(top.join("secret.pgm"), "P2\n1 1\n255\n0\n").unwrap();
     std::fs::write(
         dir.join("outside.yaml"),
@@ -117,7 +121,10 @@ fn the_page_and_the_lists_are_served() {
     let (addr, stop) = start(&ServeOptions::new(&dir, 0));
     let (status, page) = get(addr, "/");
     assert_eq!(status, 200);
-    assert!(page.contains("<canvas") || page.contains("app.js"), "{page}");
+    assert!(
+        page.contains("<canvas") || page.contains("app.js"),
+        "{page}"
+    );
     assert_eq!(get(addr, "/app.js").0, 200);
     assert_eq!(get(addr, "/style.css").0, 200);
     assert_eq!(get(addr, "/nothing").0, 404);
@@ -133,7 +140,12 @@ fn the_page_and_the_lists_are_served() {
     assert!(listed.contains(&"paper/map10.map"), "{listed:?}");
     assert!(listed.contains(&"open30.map"), "{listed:?}");
     // Links leading out of the directory are not listed.
-    assert!(!listed.iter().any(|m| m.contains("passwd") || m.contains("link") || m.starts_with("etc")), "{listed:?}");
+    assert!(
+        !listed
+            .iter()
+            .any(|m| m.contains("passwd") || m.contains("link") || m.starts_with("etc")),
+        "{listed:?}"
+    );
     let (status, planners) = get(addr, "/api/planners");
     assert_eq!(status, 200);
     let planners: serde_json::Value = serde_json::from_str(&planners).unwrap();
@@ -151,7 +163,10 @@ fn the_page_and_the_lists_are_served() {
     let (status, map) = get(addr, "/api/map?path=paper%2Fmap10.map");
     assert_eq!(status, 200);
     let map: serde_json::Value = serde_json::from_str(&map).unwrap();
-    assert_eq!((map["width"].as_u64(), map["height"].as_u64()), (Some(12), Some(12)));
+    assert_eq!(
+        (map["width"].as_u64(), map["height"].as_u64()),
+        (Some(12), Some(12))
+    );
     assert_eq!(map["cells"].as_str().map(str::len), Some(144));
     stop();
 }
@@ -173,17 +188,17 @@ fn paths_out_of_the_directory_are_refused() {
         "outside.yaml",
     ] {
         let (status, body) = get(addr, &format!("/api/map?path={path}"));
-        assert!(
-            status == 403 || status == 404,
-            "{path}: {status} {body}"
-        );
+        assert!(status == 403 || status == 404, "{path}: {status} {body}");
         assert!(!body.contains("root:"), "{path}: {body}");
         let plan = format!(
             r#"{{"map":{},"start":[0,0],"goal":[0,0],"planner":"astar"}}"#,
             serde_json::Value::String(planner_serve::server::percent_decode(path))
         );
         let (status, body) = post(addr, "/api/plan", &plan);
-        assert!(status == 403 || status == 404, "plan {path}: {status} {body}");
+        assert!(
+            status == 403 || status == 404,
+            "plan {path}: {status} {body}"
+        );
     }
     for path in ["..", "%2Ftmp", "etc"] {
         let (status, _) = get(addr, &format!("/api/results?path={path}"));
@@ -217,7 +232,11 @@ fn a_body_over_the_limit_is_refused_before_it_is_read() {
         b"bb8\r\n",
     );
     assert_eq!(status, 411, "{text}");
-    let (status, text) = send(small, "POST /api/plan HTTP/1.1\r\nContent-Length: 1001", &[b' '; 1001]);
+    let (status, text) = send(
+        small,
+        "POST /api/plan HTTP/1.1\r\nContent-Length: 1001",
+        &[b' '; 1001],
+    );
     assert_eq!(status, 413, "{text}");
     let long = format!("GET / HTTP/1.1\r\nX-Long: {}", "a".repeat(20_000));
     assert_eq!(send(small, &long, b"").0, 431);
@@ -229,7 +248,11 @@ fn a_body_over_the_limit_is_refused_before_it_is_read() {
 fn planning_gives_plan_json_and_the_expanded_cells() {
     let (_top, dir) = served();
     let (addr, stop) = start(&ServeOptions::new(&dir, 0));
-    for (planner, set) in [("astar", ""), ("bfs", ""), ("astar", r#""heuristic=octile","moves=8""#)] {
+    for (planner, set) in [
+        ("astar", ""),
+        ("bfs", ""),
+        ("astar", r#""heuristic=octile","moves=8""#),
+    ] {
         let body = format!(
             r#"{{"map":"paper/map10.map","start":[0,0],"goal":[11,11],"planner":"{planner}","set":[{set}]}}"#
         );
@@ -253,7 +276,10 @@ fn planning_gives_plan_json_and_the_expanded_cells() {
                 .unwrap();
         assert_eq!(answer["plan"], cli, "{planner} {set}");
         let n_expanded = cli["counters"]["n_expanded"].as_u64().unwrap();
-        assert_eq!(answer["expanded"].as_array().unwrap().len() as u64, n_expanded);
+        assert_eq!(
+            answer["expanded"].as_array().unwrap().len() as u64,
+            n_expanded
+        );
         assert_eq!(answer["expanded_total"].as_u64(), Some(n_expanded));
     }
     // A wall across the map's first column changes the answer; an edit off the grid is an error.
@@ -262,7 +288,9 @@ fn planning_gives_plan_json_and_the_expanded_cells() {
     assert_eq!(status, 200, "{answer}");
     let answer: serde_json::Value = serde_json::from_str(&answer).unwrap();
     let path = answer["plan"]["path"].as_array().unwrap();
-    assert!(!path.iter().any(|c| c == &serde_json::json!([0, 10]) || c == &serde_json::json!([1, 10])));
+    assert!(!path
+        .iter()
+        .any(|c| c == &serde_json::json!([0, 10]) || c == &serde_json::json!([1, 10])));
     assert_eq!(answer["plan"]["metrics"]["steps"].as_u64(), Some(33));
     let (status, answer) = post(
         addr,
@@ -272,13 +300,25 @@ fn planning_gives_plan_json_and_the_expanded_cells() {
     assert_eq!(status, 400, "{answer}");
     assert!(answer.contains("outside the 30x30 grid"), "{answer}");
     // Unknown planner and parameter name themselves; a wall start names the cell.
-    let (status, answer) = post(addr, "/api/plan", r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"nope"}"#);
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"nope"}"#,
+    );
     assert_eq!(status, 400);
     assert!(answer.contains("nope"), "{answer}");
-    let (status, answer) = post(addr, "/api/plan", r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"astar","set":["colour=red"]}"#);
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"astar","set":["colour=red"]}"#,
+    );
     assert_eq!(status, 400);
     assert!(answer.contains("colour"), "{answer}");
-    let (status, answer) = post(addr, "/api/plan", r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"astar","edits":[[1,1,0]]}"#);
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"astar","edits":[[1,1,0]]}"#,
+    );
     assert_eq!(status, 400);
     assert!(answer.contains("(1, 1)"), "{answer}");
     let (status, _) = post(addr, "/api/plan", "{not json");

@@ -61,7 +61,9 @@ fn a_den520d_trace_follows_posthocs_schema() {
         assert!(x < width && y < height, "{event}");
         assert_eq!(id, y * width + x, "{event}");
         assert!(
-            result.grid.is_free(planner_api::Cell::new(x as u32, y as u32)),
+            result
+                .grid
+                .is_free(planner_api::Cell::new(x as u32, y as u32)),
             "{event}"
         );
         expanding += u64::from(kind == "expanding");
@@ -71,11 +73,17 @@ fn a_den520d_trace_follows_posthocs_schema() {
     assert!(expanding > 100, "a real search: {expanding}");
     let first = &events[0];
     assert_eq!(first["type"], "source");
-    assert_eq!((first["x"].as_u64(), first["y"].as_u64()), (Some(u64::from(r.start.x)), Some(u64::from(r.start.y))));
+    assert_eq!(
+        (first["x"].as_u64(), first["y"].as_u64()),
+        (Some(u64::from(r.start.x)), Some(u64::from(r.start.y)))
+    );
     assert_eq!(events[1]["type"], "destination");
     let last = events.last().unwrap();
     assert_eq!(last["type"], "end");
-    assert_eq!((last["x"].as_u64(), last["y"].as_u64()), (Some(u64::from(r.goal.x)), Some(u64::from(r.goal.y))));
+    assert_eq!(
+        (last["x"].as_u64(), last["y"].as_u64()),
+        (Some(u64::from(r.goal.x)), Some(u64::from(r.goal.y)))
+    );
     // The expanding events are the recorded expansions, in order.
     let ids: Vec<u64> = events[2..events.len() - 1]
         .iter()
@@ -93,14 +101,24 @@ fn a_den520d_trace_follows_posthocs_schema() {
 fn a_den520d_gif_fits_and_ends_on_the_path() {
     let result = den520d(600);
     let bytes = planner_serve::anim::plan_gif(&result).unwrap();
-    assert!(bytes.len() <= planner_serve::anim::MAX_GIF_BYTES, "{}", bytes.len());
+    assert!(
+        bytes.len() <= planner_serve::anim::MAX_GIF_BYTES,
+        "{}",
+        bytes.len()
+    );
     let mut options = gif::DecodeOptions::new();
     options.set_color_output(gif::ColorOutput::Indexed);
     let mut decoder = options.read_info(bytes.as_slice()).unwrap();
     let (w, h) = (decoder.width() as usize, decoder.height() as usize);
     let grid = &result.grid;
     let scale = w / grid.width() as usize;
-    assert_eq!((w, h), (grid.width() as usize * scale, grid.height() as usize * scale));
+    assert_eq!(
+        (w, h),
+        (
+            grid.width() as usize * scale,
+            grid.height() as usize * scale
+        )
+    );
     let mut frames = 0;
     let mut last = Vec::new();
     while let Some(frame) = decoder.read_next_frame().unwrap() {
