@@ -142,7 +142,7 @@ fn encode(search: &Search<'_>, scale: u32, frames: usize) -> Result<Vec<u8>, Ani
         let n = search.expanded.len();
         let mut shown = 0;
         for k in 1..=frames {
-            let upto = if frames == 0 { n } else { k * n / frames };
+            let upto = (k * n).checked_div(frames).unwrap_or(n);
             for &cell in &search.expanded[shown..upto] {
                 cells[index(cell)] = EXPANDED;
             }
