@@ -354,3 +354,56 @@ fn a_running_plan_is_cancelled() {
     assert_eq!(post(addr, "/api/cancel?run=slow-1", "").0, 404);
     stop();
 }
+
+#[test]
+fn a_results_directory_opens_with_its_runs_and_paths() {
+    let (_top, dir) = served();
+    std::fs::write(
+        dir.join("mine.toml"),
+        "name = \"mine\"\n[[maps]]\nfiles = [\"paper/map10.map\"]\npairs = [{ start = [0, 0], goal = [11, 11] }]\n[planners.astar]\nplanner = \"astar\"\n[planners.bfs]\nplanner = \"bfs\"\n",
+    )
+    .unwrap();
+    let config = dir.join("mine.toml");
+    let output = dir.join("results/mine");
+    let report = planner_runner::sweep::experiment(&planner_runner::sweep::SweepArgs {
+        threads: 1,
+        output: Some(&output),
+        ..planner_runner::sweep::SweepArgs::new(&config)
+    })
+    .unwrap();
+    assert_eq!(report.n_runs, 2);
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let (status, maps) = get(addr, "/api/maps");
+    assert_eq!(status, 200);
+    assert!(maps.contains("\"results/mine\""), "{maps}");
+    let (status, results) = get(addr, "/api/results?path=results%2Fmine");
+    assert_eq!(status, 200, "{results}");
+    let results: serde_json::Value = serde_json::from_str(&results).unwrap();
+    let columns = results["runs"]["columns"].as_array().unwrap();
+    let rows = results["runs"]["data"].as_array().unwrap();
+    assert_eq!(rows.len(), 2);
+    let planner = columns.iter().position(|c| c == "planner").unwrap();
+    let labels: Vec<&str> = rows.iter().map(|r| r[planner].as_str().unwrap()).collect();
+    assert_eq!(labels, ["astar", "bfs"]);
+    // The map the runs name is found under the served directory, and each kept path is
+    // the one `plan` finds.
+    assert_eq!(results["maps"]["map10.map"], "paper/map10.map");
+    let paths = results["paths"].as_array().unwrap();
+    assert_eq!(paths.len(), 2);
+    for kept in paths {
+        let args = planner_runner::plan::PlanArgs {
+            map: dir.join("paper/map10.map"),
+            planner: kept["planner"].as_str().unwrap().to_string(),
+            start: Some(planner_api::Cell::new(0, 0)),
+            goal: Some(planner_api::Cell::new(11, 11)),
+            ..planner_runner::plan::PlanArgs::default()
+        };
+        let cli: serde_json::Value =
+            serde_json::from_str(&planner_runner::plan::run(&args).unwrap().to_json().unwrap())
+                .unwrap();
+        assert_eq!(kept["path"], cli["path"]);
+    }
+    // A directory that is not a results directory is refused.
+    assert_eq!(get(addr, "/api/results?path=paper").0, 404);
+    stop();
+}

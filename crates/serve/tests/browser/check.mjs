@@ -197,6 +197,7 @@ try {
     check(on > 0 && off === 0 && seen.size === cells.size - 2,
       `${name}: screenshot path pixels on path cells (${on} on, ${off} off; ${seen.size} of ${cells.size - 2} cells between start and goal)`);
   }
+  if (process.env.SCREENSHOT_DIR) await page.screenshot({ path: path.join(process.env.SCREENSHOT_DIR, "page.png") });
   check(errors.length === 0, `no page errors ${errors.join("; ")}`);
 
   // ---- refusals ----
