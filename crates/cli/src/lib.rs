@@ -146,6 +146,29 @@ pub enum Command {
         /// first: planners that do not record show none).
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,
+        /// Also write the search as a Posthoc search trace (JSON) to FILE: source,
+        /// destination, one `expanding` event per expanded cell, `end` (planner-serve's
+        /// `trace` module).
+        #[arg(long, value_name = "FILE")]
+        trace: Option<PathBuf>,
+        /// Also write an animated GIF of the search (expanded cells in order, then the
+        /// path) to FILE, at most 5 MB.
+        #[arg(long, value_name = "FILE")]
+        gif: Option<PathBuf>,
+    },
+    /// Serve a local web page on DIR's maps: draw walls, set start and goal, run up to
+    /// four planners and play their searches back; open results directories.
+    Serve {
+        /// The directory whose maps and results directories the page may open (only
+        /// files under it are read).
+        #[arg(default_value = ".")]
+        dir: PathBuf,
+        /// The port (0: any free port; the one chosen is printed).
+        #[arg(long, default_value_t = 8080)]
+        port: u16,
+        /// The address to listen on.
+        #[arg(long, default_value = "127.0.0.1")]
+        host: std::net::IpAddr,
     },
     /// List the registered planners; with a name, every parameter of that planner (type,
     /// default, allowed values, doc), from its declared parameters.
@@ -381,6 +404,8 @@ pub fn run(command: Command) -> Result<(), String> {
             obstacle,
             json,
             svg,
+            trace,
+            gif,
         } => {
             stop_on_interrupt()?;
             let args = PlanArgs {
@@ -396,10 +421,16 @@ pub fn run(command: Command) -> Result<(), String> {
             };
             let options = planner_runner::plan::PlanOptions {
                 max_memory_mb,
-                record_expanded: svg.is_some(),
+                record_expanded: svg.is_some() || trace.is_some() || gif.is_some(),
             };
             let result =
                 planner_runner::plan::run_with(&args, &options).map_err(|e| e.to_string())?;
+            planner_serve::write_pictures(
+                &result,
+                svg.as_deref(),
+                trace.as_deref(),
+                gif.as_deref(),
+            )?;
             if let Some(file) = &svg {
                 std::fs::write(file, result.to_svg())
                     .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
@@ -417,6 +448,10 @@ pub fn run(command: Command) -> Result<(), String> {
             }
             Ok(())
         }
+        Command::Serve { dir, port, host } => planner_serve::serve(&planner_serve::ServeOptions {
+            host,
+            ..planner_serve::ServeOptions::new(&dir, port)
+        }),
         Command::Planners { name: None } => {
             for entry in planner_runner::registry::PLANNERS {
                 println!("{:<20} {}", entry.name, entry.summary);

@@ -1,0 +1,773 @@
+// gridplan serve: the page. Maps, planning and results come from the server's JSON API;
+// every string from there is put in the page with textContent, never as HTML.
+"use strict";
+
+const SLOTS = 4;
+// One colour per planner slot: path (opaque) and expanded cells (light, drawn under it).
+const PATH_COLORS = ["#e6194b", "#3c3cdc", "#f58231", "#911eb4"];
+const EXPANDED_COLORS = [[255, 205, 210], [200, 210, 255], [255, 225, 190], [230, 205, 240]];
+const FREE_RGB = [255, 255, 255];
+const BLOCKED_RGB = [45, 45, 45];
+const START_COLOR = "#00a03c";
+const GOAL_COLOR = "#00b4c8";
+
+const state = {
+  planners: [],
+  map: null, // {path, name, width, height, blocked: Uint8Array, problems}
+  edits: new Map(), // cell index -> free (0 or 1)
+  start: null,
+  goal: null,
+  base: null, // offscreen canvas, one pixel per cell
+  baseData: null,
+  view: { cell: 1, x: 0, y: 0 },
+  results: [], // {slot, name, label, plan, expanded: Int32Array, shown, canvas, data, pixels}
+  playing: false,
+  runId: null,
+  cancelled: false,
+  runs: null, // the open results directory
+};
+
+const $ = (id) => document.getElementById(id);
+
+function setStatus(text, isError) {
+  const status = $("status");
+  status.textContent = text;
+  status.className = isError ? "error" : "";
+}
+
+async function getJson(url, options) {
+  const response = await fetch(url, options);
+  let body = null;
+  try {
+    body = await response.json();
+  } catch (_) {
+    body = null;
+  }
+  if (!response.ok) {
+    const message = body && body.error ? body.error : `${response.status} ${response.statusText}`;
+    const error = new Error(message);
+    error.status = response.status;
+    error.body = body;
+    throw error;
+  }
+  return body;
+}
+
+function option(select, value, text) {
+  const o = document.createElement("option");
+  o.value = value;
+  o.textContent = text;
+  select.appendChild(o);
+  return o;
+}
+
+// ---- planners and their parameters -------------------------------------------------
+
+function tomlValue(value) {
+  return typeof value === "string" ? JSON.stringify(value) : String(value);
+}
+
+function buildSlots() {
+  const box = $("planner-slots");
+  for (let i = 0; i < SLOTS; i++) {
+    const slot = document.createElement("div");
+    slot.className = "slot";
+    slot.dataset.slot = String(i);
+    const swatch = document.createElement("span");
+    swatch.className = "swatch";
+    swatch.style.background = PATH_COLORS[i];
+    const select = document.createElement("select");
+    select.className = "planner";
+    select.setAttribute("aria-label", `planner ${i + 1}`);
+    option(select, "", "(none)");
+    for (const p of state.planners) option(select, p.name, p.name).title = p.summary;
+    const params = document.createElement("div");
+    params.className = "params";
+    select.addEventListener("change", () => buildParams(params, select.value));
+    slot.append(swatch, select, params);
+    box.appendChild(slot);
+  }
+  const first = box.querySelector(".planner");
+  if (first && state.planners.some((p) => p.name === "astar")) {
+    first.value = "astar";
+    buildParams(first.parentElement.querySelector(".params"), "astar");
+  }
+}
+
+function buildParams(box, name) {
+  box.replaceChildren();
+  const planner = state.planners.find((p) => p.name === name);
+  if (!planner) return;
+  for (const param of planner.params) {
+    const label = document.createElement("label");
+    label.title = param.doc || "";
+    label.append(document.createTextNode(`${param.key} `));
+    let input;
+    if (param.allowed && param.allowed.length > 0) {
+      input = document.createElement("select");
+      for (const value of param.allowed) {
+        const o = option(input, tomlValue(value), String(value));
+        if (JSON.stringify(value) === JSON.stringify(param.default)) o.selected = true;
+      }
+      input.dataset.default = param.default === null ? "" : tomlValue(param.default);
+    } else {
+      input = document.createElement("input");
+      input.type = "text";
+      input.placeholder = param.default === null || param.default === undefined ? "unset" : String(param.default);
+      input.dataset.default = "";
+    }
+    input.dataset.key = param.key;
+    label.appendChild(input);
+    box.appendChild(label);
+  }
+}
+
+// The slot's `key=value` settings: only values changed from the default.
+function slotSettings(slot) {
+  const set = [];
+  for (const input of slot.querySelectorAll(".params [data-key]")) {
+    const value = input.value.trim();
+    if (value === "" || value === input.dataset.default) continue;
+    set.push(`${input.dataset.key}=${value}`);
+  }
+  return set;
+}
+
+// ---- maps --------------------------------------------------------------------------
+
+async function loadLists() {
+  const lists = await getJson("/api/maps");
+  for (const path of lists.maps) option($("map-select"), path, path);
+  for (const path of lists.results) option($("results-select"), path, path);
+}
+
+async function loadMap(path) {
+  setStatus(`loading ${path} ...`);
+  const map = await getJson(`/api/map?path=${encodeURIComponent(path)}`);
+  const blocked = new Uint8Array(map.width * map.height);
+  for (let i = 0; i < blocked.length; i++) blocked[i] = map.cells.charCodeAt(i) === 49 ? 1 : 0;
+  state.map = { path: map.path, name: map.name, width: map.width, height: map.height, blocked, problems: map.problems };
+  state.edits = new Map();
+  state.start = null;
+  state.goal = null;
+  state.results = [];
+  const base = document.createElement("canvas");
+  base.width = map.width;
+  base.height = map.height;
+  state.base = base;
+  state.baseData = base.getContext("2d").createImageData(map.width, map.height);
+  for (let i = 0; i < blocked.length; i++) paintBase(i);
+  base.getContext("2d").putImageData(state.baseData, 0, 0);
+  const problems = $("problem-select");
+  problems.replaceChildren();
+  option(problems, "", `(none of ${map.problems.length})`);
+  map.problems.forEach((p, i) => {
+    const bucket = p[4] === null ? "" : `, bucket ${p[4]}`;
+    option(problems, String(i), `${i + 1}: (${p[0]}, ${p[1]}) -> (${p[2]}, ${p[3]})${bucket}`);
+  });
+  $("map-select").value = map.path;
+  state.viewSize = null;
+  layoutViews();
+  updateEnds();
+  draw();
+  setStatus(`${map.name}: ${map.width} x ${map.height}`);
+}
+
+function paintBase(i) {
+  const rgb = state.map.blocked[i] ? BLOCKED_RGB : FREE_RGB;
+  const d = state.baseData.data;
+  d[4 * i] = rgb[0];
+  d[4 * i + 1] = rgb[1];
+  d[4 * i + 2] = rgb[2];
+  d[4 * i + 3] = 255;
+}
+
+function setWall(x, y, blocked) {
+  const map = state.map;
+  const i = y * map.width + x;
+  if (map.blocked[i] === blocked) return;
+  if ((state.start && state.start[0] === x && state.start[1] === y) || (state.goal && state.goal[0] === x && state.goal[1] === y)) return;
+  map.blocked[i] = blocked;
+  state.edits.set(i, blocked ? 0 : 1);
+  paintBase(i);
+  state.base.getContext("2d").putImageData(state.baseData, 0, 0, x, y, 1, 1);
+}
+
+function updateEnds() {
+  $("start-out").textContent = state.start ? `(${state.start[0]}, ${state.start[1]})` : "-";
+  $("goal-out").textContent = state.goal ? `(${state.goal[0]}, ${state.goal[1]})` : "-";
+}
+
+// ---- views: canvases, zoom and pan ---------------------------------------------------
+
+function layout() {
+  const checked = document.querySelector('input[name="layout"]:checked');
+  return checked ? checked.value : "side";
+}
+
+function layoutViews() {
+  const views = $("views");
+  views.replaceChildren();
+  const overlay = layout() === "overlay" || state.results.length <= 1;
+  const panels = overlay ? [state.results] : state.results.map((r) => [r]);
+  const size = panels.length <= 1 ? 720 : panels.length === 2 ? 560 : 420;
+  const resized = state.viewSize !== size;
+  state.viewSize = size;
+  panels.forEach((results, k) => {
+    const view = document.createElement("div");
+    view.className = "view";
+    view.dataset.view = String(k);
+    const title = document.createElement("h3");
+    title.textContent = results.length === 0 ? (state.map ? state.map.name : "no map") : results.map((r) => r.label).join(" + ");
+    const canvas = document.createElement("canvas");
+    canvas.width = size;
+    canvas.height = size;
+    canvas.addEventListener("contextmenu", (e) => e.preventDefault());
+    canvas.addEventListener("pointerdown", (e) => pointerDown(e, canvas));
+    canvas.addEventListener("pointermove", (e) => pointerMove(e, canvas));
+    canvas.addEventListener("pointerup", () => pointerUp());
+    canvas.addEventListener("wheel", (e) => wheel(e, canvas), { passive: false });
+    view.append(title, canvas);
+    for (const r of results) {
+      r.canvasEl = canvas;
+      r.viewEl = view;
+      view.appendChild(countersTable(r));
+    }
+    views.appendChild(view);
+  });
+  if (resized) fitView();
+}
+
+function canvases() {
+  return Array.from(document.querySelectorAll("#views canvas"));
+}
+
+function fitView() {
+  const canvas = canvases()[0];
+  if (!canvas || !state.map) return;
+  const { width, height } = state.map;
+  let cell = Math.min(canvas.width / width, canvas.height / height);
+  if (cell >= 1) cell = Math.floor(cell);
+  state.view.cell = cell;
+  state.view.x = Math.round((canvas.width - width * cell) / 2);
+  state.view.y = Math.round((canvas.height - height * cell) / 2);
+}
+
+function cellAt(e) {
+  const v = state.view;
+  const x = Math.floor((e.offsetX - v.x) / v.cell);
+  const y = Math.floor((e.offsetY - v.y) / v.cell);
+  if (!state.map || x < 0 || y < 0 || x >= state.map.width || y >= state.map.height) return null;
+  return [x, y];
+}
+
+let drag = null;
+
+function tool() {
+  const checked = document.querySelector('input[name="tool"]:checked');
+  return checked ? checked.value : "start";
+}
+
+function pointerDown(e, canvas) {
+  if (!state.map) return;
+  canvas.setPointerCapture(e.pointerId);
+  const t = tool();
+  if (e.button === 2 || t === "pan") {
+    drag = { kind: "pan", x: e.offsetX, y: e.offsetY };
+    return;
+  }
+  const cell = cellAt(e);
+  if (!cell) return;
+  if (t === "start" || t === "goal") {
+    if (state.map.blocked[cell[1] * state.map.width + cell[0]]) {
+      setStatus(`(${cell[0]}, ${cell[1]}) is a wall`, true);
+      return;
+    }
+    state[t] = cell;
+    updateEnds();
+    draw();
+    return;
+  }
+  drag = { kind: t };
+  setWall(cell[0], cell[1], t === "wall" ? 1 : 0);
+  draw();
+}
+
+function pointerMove(e) {
+  if (!drag) return;
+  if (drag.kind === "pan") {
+    state.view.x += e.offsetX - drag.x;
+    state.view.y += e.offsetY - drag.y;
+    drag.x = e.offsetX;
+    drag.y = e.offsetY;
+    draw();
+    return;
+  }
+  const cell = cellAt(e);
+  if (cell) {
+    setWall(cell[0], cell[1], drag.kind === "wall" ? 1 : 0);
+    draw();
+  }
+}
+
+function pointerUp() {
+  drag = null;
+}
+
+function wheel(e) {
+  e.preventDefault();
+  const v = state.view;
+  const factor = e.deltaY < 0 ? 1.25 : 0.8;
+  let cell = Math.min(64, Math.max(0.05, v.cell * factor));
+  if (cell >= 1) cell = Math.round(cell);
+  if (cell === v.cell) cell = e.deltaY < 0 ? v.cell + 1 : Math.max(0.05, v.cell - 1);
+  v.x = Math.round(e.offsetX - ((e.offsetX - v.x) * cell) / v.cell);
+  v.y = Math.round(e.offsetY - ((e.offsetY - v.y) * cell) / v.cell);
+  v.cell = cell;
+  draw();
+}
+
+// ---- drawing -----------------------------------------------------------------------
+
+// The cells a straight segment between two cell centres passes (sampled every quarter
+// cell), for any-angle paths.
+function segmentCells(a, b) {
+  const dx = b[0] - a[0];
+  const dy = b[1] - a[1];
+  const steps = Math.max(1, Math.ceil(Math.max(Math.abs(dx), Math.abs(dy)) * 4));
+  const cells = [];
+  for (let i = 0; i <= steps; i++) {
+    const t = i / steps;
+    cells.push([Math.round(a[0] + dx * t), Math.round(a[1] + dy * t)]);
+  }
+  return cells;
+}
+
+function pathCells(path) {
+  if (path.length === 1) return [path[0]];
+  const cells = [];
+  for (let i = 1; i < path.length; i++) cells.push(...segmentCells(path[i - 1], path[i]));
+  return cells;
+}
+
+function fillCell(ctx, x, y, color) {
+  const v = state.view;
+  ctx.fillStyle = color;
+  const px = v.x + x * v.cell;
+  const py = v.y + y * v.cell;
+  const size = Math.max(v.cell, 1);
+  ctx.fillRect(px, py, size, size);
+}
+
+function draw() {
+  if (!state.map) return;
+  const v = state.view;
+  const width = state.map.width * v.cell;
+  const height = state.map.height * v.cell;
+  for (const canvas of canvases()) {
+    const ctx = canvas.getContext("2d");
+    ctx.setTransform(1, 0, 0, 1, 0, 0);
+    ctx.imageSmoothingEnabled = false;
+    ctx.fillStyle = "#d8d8d8";
+    ctx.fillRect(0, 0, canvas.width, canvas.height);
+    ctx.drawImage(state.base, v.x, v.y, width, height);
+    const results = state.results.filter((r) => r.canvasEl === canvas);
+    for (const r of results) {
+      if (r.dirty) {
+        r.search.getContext("2d").putImageData(r.searchData, 0, 0);
+        r.dirty = false;
+      }
+      ctx.drawImage(r.search, v.x, v.y, width, height);
+    }
+    for (const r of results) {
+      if (r.shown >= r.expanded.length && r.plan.path.length > 0) {
+        for (const [x, y] of pathCells(r.plan.path)) fillCell(ctx, x, y, PATH_COLORS[r.slot]);
+      }
+    }
+    if (state.start) fillCell(ctx, state.start[0], state.start[1], START_COLOR);
+    if (state.goal) fillCell(ctx, state.goal[0], state.goal[1], GOAL_COLOR);
+  }
+  for (const r of state.results) {
+    const done = r.shown >= r.expanded.length;
+    r.viewEl.dataset[`done${r.slot}`] = done ? "1" : "0";
+    const row = r.viewEl.querySelector(`table[data-slot="${r.slot}"] .shown`);
+    if (row) row.textContent = `${r.shown} of ${r.expandedTotal}`;
+  }
+}
+
+// ---- planning ----------------------------------------------------------------------
+
+function countersTable(r) {
+  const table = document.createElement("table");
+  table.className = "counters";
+  table.dataset.slot = String(r.slot);
+  table.dataset.planner = r.name;
+  const caption = document.createElement("caption");
+  const swatch = document.createElement("span");
+  swatch.className = "swatch";
+  swatch.style.background = PATH_COLORS[r.slot];
+  caption.append(swatch, document.createTextNode(r.label));
+  table.appendChild(caption);
+  const body = document.createElement("tbody");
+  const row = (key, value, cls) => {
+    const tr = document.createElement("tr");
+    const th = document.createElement("th");
+    th.textContent = key;
+    const td = document.createElement("td");
+    td.textContent = value;
+    td.dataset.key = key;
+    if (cls) td.className = cls;
+    tr.append(th, td);
+    body.appendChild(tr);
+  };
+  const plan = r.plan;
+  row("status", plan.status);
+  if (plan.metrics) {
+    for (const key of ["steps", "turns", "score", "length"]) row(key, String(plan.metrics[key]));
+  }
+  for (const [key, value] of Object.entries(plan.counters)) row(key, String(value));
+  row("time_ms", r.timeMs.toFixed(3));
+  row("expanded shown", "", "shown");
+  table.appendChild(body);
+  return table;
+}
+
+function newResult(slot, name, label, response) {
+  const { width, height } = state.map;
+  const search = document.createElement("canvas");
+  search.width = width;
+  search.height = height;
+  const searchData = search.getContext("2d").createImageData(width, height);
+  return {
+    slot,
+    name,
+    label,
+    plan: response.plan,
+    timeMs: response.time_ms,
+    expanded: Int32Array.from(response.expanded),
+    expandedTotal: response.expanded_total,
+    shown: 0,
+    search,
+    searchData,
+    dirty: false,
+  };
+}
+
+// Shows the first `upto` expanded cells of `r`.
+function showUpTo(r, upto) {
+  upto = Math.min(upto, r.expanded.length);
+  const d = r.searchData.data;
+  const rgb = EXPANDED_COLORS[r.slot];
+  for (let k = r.shown; k < upto; k++) {
+    const i = 4 * r.expanded[k];
+    d[i] = rgb[0];
+    d[i + 1] = rgb[1];
+    d[i + 2] = rgb[2];
+    d[i + 3] = layout() === "overlay" && state.results.length > 1 ? 150 : 255;
+  }
+  if (upto > r.shown) r.dirty = true;
+  r.shown = upto;
+}
+
+function newRunId() {
+  return `run-${Date.now()}-${Math.floor(Math.random() * 1e9)}`;
+}
+
+async function planOne(slot, name, set) {
+  const edits = Array.from(state.edits, ([i, free]) => [i % state.map.width, Math.floor(i / state.map.width), free]);
+  const max = $("max-expansions").value.trim();
+  state.runId = newRunId();
+  const request = {
+    map: state.map.path,
+    edits,
+    start: state.start,
+    goal: state.goal,
+    planner: name,
+    set,
+    run: state.runId,
+  };
+  if (max !== "") request.max_expansions = Number(max);
+  const response = await getJson("/api/plan", {
+    method: "POST",
+    headers: { "Content-Type": "application/json" },
+    body: JSON.stringify(request),
+  });
+  const label = set.length ? `${name}[${set.join(", ")}]` : name;
+  return newResult(slot, name, label, response);
+}
+
+async function runAll(options) {
+  if (!state.map || !state.start || !state.goal) {
+    setStatus("load a map and set start and goal first", true);
+    return;
+  }
+  const jobs = [];
+  for (const slot of document.querySelectorAll("#planner-slots .slot")) {
+    const name = slot.querySelector(".planner").value;
+    if (name) jobs.push([Number(slot.dataset.slot), name, slotSettings(slot)]);
+  }
+  if (jobs.length === 0) {
+    setStatus("choose a planner", true);
+    return;
+  }
+  state.playing = false;
+  state.cancelled = false;
+  $("cancel").disabled = false;
+  $("run").disabled = true;
+  const results = [];
+  try {
+    for (const [slot, name, set] of jobs) {
+      if (state.cancelled) break;
+      setStatus(`planning with ${name} ...`);
+      results.push(await planOne(slot, name, set));
+    }
+    setStatus(results.map((r) => `${r.label}: ${r.plan.status}`).join("; "));
+  } catch (error) {
+    setStatus(error.status === 409 ? "cancelled" : `error: ${error.message}`, error.status !== 409);
+  } finally {
+    $("cancel").disabled = true;
+    $("run").disabled = false;
+    state.runId = null;
+  }
+  state.results = results;
+  layoutViews();
+  if (options && options.instant) {
+    for (const r of results) showUpTo(r, r.expanded.length);
+  } else {
+    state.playing = true;
+  }
+  draw();
+}
+
+async function cancelRun() {
+  state.cancelled = true;
+  if (state.runId) {
+    try {
+      await getJson(`/api/cancel?run=${encodeURIComponent(state.runId)}`, { method: "POST" });
+    } catch (_) {
+      // The run may have finished meanwhile.
+    }
+  }
+}
+
+// ---- playback ----------------------------------------------------------------------
+
+function perFrame() {
+  const speed = Number($("speed").value);
+  return Math.max(1, Math.round(Math.pow(10, speed / 25)));
+}
+
+function tick() {
+  if (state.playing) {
+    let busy = false;
+    for (const r of state.results) {
+      showUpTo(r, r.shown + perFrame());
+      if (r.shown < r.expanded.length) busy = true;
+    }
+    draw();
+    if (!busy) state.playing = false;
+  }
+  requestAnimationFrame(tick);
+}
+
+// ---- results directories -----------------------------------------------------------
+
+const FILTERS = ["planner", "map", "status", "bucket"];
+const SHOWN_COLUMNS = ["map", "problem", "planner", "repeat", "status", "steps", "turns", "length", "bucket", "n_expanded", "time_ms"];
+
+async function openResults(path) {
+  setStatus(`opening ${path} ...`);
+  const results = await getJson(`/api/results?path=${encodeURIComponent(path)}`);
+  state.runs = results;
+  const columns = results.runs.columns;
+  const col = (name) => columns.indexOf(name);
+  const filters = $("filters");
+  filters.replaceChildren();
+  for (const name of FILTERS) {
+    const c = col(name);
+    if (c < 0) continue;
+    const values = Array.from(new Set(results.runs.data.map((row) => row[c]))).sort();
+    const label = document.createElement("label");
+    label.append(document.createTextNode(`${name} `));
+    const select = document.createElement("select");
+    select.dataset.filter = name;
+    option(select, "", "(all)");
+    for (const v of values) option(select, JSON.stringify(v), v === null ? "(none)" : String(v));
+    select.addEventListener("change", renderRuns);
+    label.appendChild(select);
+    filters.appendChild(label);
+  }
+  const head = $("runs-table").querySelector("thead");
+  head.replaceChildren();
+  const tr = document.createElement("tr");
+  for (const name of SHOWN_COLUMNS) {
+    if (col(name) < 0) continue;
+    const th = document.createElement("th");
+    th.textContent = name;
+    tr.appendChild(th);
+  }
+  head.appendChild(tr);
+  $("results").hidden = false;
+  renderRuns();
+  setStatus(`${path}: ${results.runs.data.length} runs`);
+}
+
+function renderRuns() {
+  const results = state.runs;
+  const columns = results.runs.columns;
+  const col = (name) => columns.indexOf(name);
+  const active = Array.from(document.querySelectorAll("#filters select"))
+    .filter((s) => s.value !== "")
+    .map((s) => [col(s.dataset.filter), s.value]);
+  const body = $("runs-table").querySelector("tbody");
+  body.replaceChildren();
+  let n = 0;
+  for (const row of results.runs.data) {
+    if (!active.every(([c, v]) => JSON.stringify(row[c]) === v)) continue;
+    n++;
+    if (n > 2000) continue;
+    const tr = document.createElement("tr");
+    for (const name of SHOWN_COLUMNS) {
+      const c = col(name);
+      if (c < 0) continue;
+      const td = document.createElement("td");
+      td.textContent = row[c] === null ? "" : String(row[c]);
+      tr.appendChild(td);
+    }
+    tr.addEventListener("click", () => showRun(row, tr));
+    body.appendChild(tr);
+  }
+  $("results-count").textContent = n > 2000 ? `${n} runs (the first 2000 shown)` : `${n} runs`;
+}
+
+async function showRun(row, tr) {
+  for (const other of document.querySelectorAll("#runs-table tr.selected")) other.classList.remove("selected");
+  tr.classList.add("selected");
+  const results = state.runs;
+  const columns = results.runs.columns;
+  const get = (name) => row[columns.indexOf(name)];
+  const mapPath = results.maps[get("map")];
+  if (!mapPath) {
+    setStatus(`map ${get("map")} is not under the served directory`, true);
+    return;
+  }
+  if (!state.map || state.map.path !== mapPath) await loadMap(mapPath);
+  state.start = [get("start_x"), get("start_y")];
+  state.goal = [get("goal_x"), get("goal_y")];
+  updateEnds();
+  const kept = results.paths.find(
+    (p) => p.map === get("map") && p.problem === get("problem") && p.planner === get("planner") && p.repeat === get("repeat"),
+  );
+  const path = kept ? kept.path : [];
+  const counters = {};
+  for (const name of columns) if (name.startsWith("n_")) counters[name] = get(name);
+  const plan = {
+    status: get("status"),
+    path,
+    metrics: get("steps") === null ? null : { steps: get("steps"), turns: get("turns"), score: get("score"), length: get("length") },
+    counters,
+  };
+  const r = newResult(0, get("algorithm"), `${get("planner")} (recorded run)`, {
+    plan,
+    time_ms: Number(get("time_ms")) || 0,
+    expanded: [],
+    expanded_total: 0,
+  });
+  state.results = [r];
+  layoutViews();
+  draw();
+  setStatus(kept ? `${get("planner")} on ${get("map")} problem ${get("problem")}` : "this run's path was not kept (paths.jsonl)");
+}
+
+// ---- wiring ------------------------------------------------------------------------
+
+async function init() {
+  try {
+    state.planners = await getJson("/api/planners");
+    buildSlots();
+    await loadLists();
+    layoutViews();
+  } catch (error) {
+    setStatus(`error: ${error.message}`, true);
+  }
+  $("load-map").addEventListener("click", () => {
+    const path = $("map-select").value;
+    if (path) loadMap(path).catch((e) => setStatus(`error: ${e.message}`, true));
+  });
+  $("load-results").addEventListener("click", () => {
+    const path = $("results-select").value;
+    if (path) openResults(path).catch((e) => setStatus(`error: ${e.message}`, true));
+  });
+  $("problem-select").addEventListener("change", () => {
+    const i = $("problem-select").value;
+    if (i === "" || !state.map) return;
+    const p = state.map.problems[Number(i)];
+    state.start = [p[0], p[1]];
+    state.goal = [p[2], p[3]];
+    updateEnds();
+    draw();
+  });
+  $("run").addEventListener("click", () => runAll());
+  $("cancel").addEventListener("click", () => cancelRun());
+  $("play").addEventListener("click", () => {
+    state.playing = true;
+  });
+  $("pause").addEventListener("click", () => {
+    state.playing = false;
+  });
+  $("step").addEventListener("click", () => {
+    state.playing = false;
+    for (const r of state.results) showUpTo(r, r.shown + 1);
+    draw();
+  });
+  $("to-end").addEventListener("click", () => {
+    state.playing = false;
+    for (const r of state.results) showUpTo(r, r.expanded.length);
+    draw();
+  });
+  for (const radio of document.querySelectorAll('input[name="layout"]')) {
+    radio.addEventListener("change", () => {
+      layoutViews();
+      for (const r of state.results) {
+        const upto = r.shown;
+        r.shown = 0;
+        showUpTo(r, upto);
+      }
+      draw();
+    });
+  }
+  requestAnimationFrame(tick);
+}
+
+// What the browser test and a curious user can call from the console.
+window.gridplan = {
+  state,
+  loadMap,
+  runAll,
+  PATH_COLORS,
+  START_COLOR,
+  GOAL_COLOR,
+  // The client coordinates of a cell's centre in the first view's canvas.
+  cellToClient(x, y) {
+    const canvas = canvases()[0];
+    const rect = canvas.getBoundingClientRect();
+    const v = state.view;
+    return [rect.left + v.x + (x + 0.5) * v.cell, rect.top + v.y + (y + 0.5) * v.cell];
+  },
+  // Plans start -> goal with one planner and draws the whole search and path at once;
+  // the milliseconds from the request to the frame that shows it.
+  async timeQuery(name, start, goal) {
+    const t0 = performance.now();
+    state.start = start;
+    state.goal = goal;
+    const r = await planOne(0, name, []);
+    state.results = [r];
+    layoutViews();
+    showUpTo(r, r.expanded.length);
+    draw();
+    await new Promise((resolve) => requestAnimationFrame(() => resolve()));
+    return { ms: performance.now() - t0, counters: r.plan.counters, status: r.plan.status };
+  },
+};
+
+init();

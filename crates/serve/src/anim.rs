@@ -1,0 +1,201 @@
+//! GIF animations of one search (`gridplan plan --gif FILE`): the map, the expanded cells
+//! appearing in expansion order, then the path, looping.
+//!
+//! Each cell is a square of `scale` pixels, `scale` = 512 / the map's longer side, between
+//! 1 and 8. The expansions are shown in at most [`MAX_FRAMES`] frames (the k-th frame shows
+//! the first `k * n / frames` expanded cells), then one frame with the path held for two
+//! seconds. When the file would be larger than the size limit (5 MB for `plan --gif`), the
+//! frame count is halved until it fits; a map so large that two frames do not fit is an
+//! error.
+
+use std::borrow::Cow;
+
+use planner_api::{Cell, Grid};
+
+/// The most frames of expansions.
+pub const MAX_FRAMES: usize = 64;
+
+/// The size limit of `plan --gif` files: 5 MB.
+pub const MAX_GIF_BYTES: usize = 5_000_000;
+
+/// Why no animation was written.
+#[derive(Debug, thiserror::Error)]
+pub enum AnimError {
+    /// The encoder failed.
+    #[error("GIF encoding: {0}")]
+    Encoding(#[from] gif::EncodingError),
+    /// The map is larger than a GIF can be (65535 pixels a side).
+    #[error("a {width}x{height} map is too large for a GIF")]
+    TooLarge {
+        /// Map width.
+        width: u32,
+        /// Map height.
+        height: u32,
+    },
+    /// Even two frames exceed the size limit.
+    #[error("even a two-frame animation of this map is over {limit} bytes")]
+    OverLimit {
+        /// The limit.
+        limit: usize,
+    },
+}
+
+/// Palette indices.
+const FREE: u8 = 0;
+const BLOCKED: u8 = 1;
+const EXPANDED: u8 = 2;
+const PATH: u8 = 3;
+const START: u8 = 4;
+const GOAL: u8 = 5;
+
+/// RGB of the palette (8 entries; the last two unused).
+const PALETTE: [u8; 24] = [
+    255, 255, 255, // free
+    40, 40, 40, // blocked
+    150, 200, 255, // expanded
+    230, 80, 20, // path
+    0, 160, 60, // start
+    200, 0, 0, // goal
+    0, 0, 0, 0, 0, 0,
+];
+
+/// What to animate.
+#[derive(Debug, Clone, Copy)]
+pub struct Search<'a> {
+    /// The map.
+    pub grid: &'a Grid,
+    /// Start.
+    pub start: Cell,
+    /// Goal.
+    pub goal: Cell,
+    /// Expanded cells in order.
+    pub expanded: &'a [Cell],
+    /// The path's cells (waypoints; consecutive ones joined by straight segments).
+    pub path: &'a [Cell],
+}
+
+/// The animation of `search` as GIF bytes, at most `limit` bytes (module docs).
+pub fn gif(search: &Search<'_>, limit: usize) -> Result<Vec<u8>, AnimError> {
+    let (width, height) = (search.grid.width(), search.grid.height());
+    let longer = width.max(height).max(1);
+    let scale = (512 / longer).clamp(1, 8);
+    if u64::from(width) * u64::from(scale) > 65_535 || u64::from(height) * u64::from(scale) > 65_535
+    {
+        return Err(AnimError::TooLarge { width, height });
+    }
+    let mut frames = MAX_FRAMES.min(search.expanded.len().max(1));
+    loop {
+        let bytes = encode(search, scale, frames)?;
+        if bytes.len() <= limit {
+            return Ok(bytes);
+        }
+        if frames <= 1 {
+            return Err(AnimError::OverLimit { limit });
+        }
+        frames /= 2;
+    }
+}
+
+/// Encodes `frames` expansion frames and the path frame.
+fn encode(search: &Search<'_>, scale: u32, frames: usize) -> Result<Vec<u8>, AnimError> {
+    let grid = search.grid;
+    let (width, height) = (grid.width() as usize, grid.height() as usize);
+    let mut cells: Vec<u8> = grid
+        .free_cells()
+        .iter()
+        .map(|&free| if free { FREE } else { BLOCKED })
+        .collect();
+    let index = |cell: Cell| cell.y as usize * width + cell.x as usize;
+    let s = scale as usize;
+    let (pixel_width, pixel_height) = (width * s, height * s);
+    let mut out = Vec::new();
+    {
+        let mut encoder =
+            gif::Encoder::new(&mut out, pixel_width as u16, pixel_height as u16, &PALETTE)?;
+        encoder.set_repeat(gif::Repeat::Infinite)?;
+        let mut pixels = vec![0u8; pixel_width * pixel_height];
+        let mut write = |cells: &[u8], delay: u16| -> Result<(), AnimError> {
+            for y in 0..height {
+                let row = &cells[y * width..(y + 1) * width];
+                let first = y * s * pixel_width;
+                for (x, &value) in row.iter().enumerate() {
+                    pixels[first + x * s..first + (x + 1) * s].fill(value);
+                }
+                for k in 1..s {
+                    pixels.copy_within(first..first + pixel_width, first + k * pixel_width);
+                }
+            }
+            let frame = gif::Frame {
+                width: pixel_width as u16,
+                height: pixel_height as u16,
+                delay,
+                buffer: Cow::Borrowed(&pixels),
+                ..gif::Frame::default()
+            };
+            encoder.write_frame(&frame)?;
+            Ok(())
+        };
+        let mark_ends = |cells: &mut [u8]| {
+            cells[index(search.start)] = START;
+            cells[index(search.goal)] = GOAL;
+        };
+        let n = search.expanded.len();
+        let mut shown = 0;
+        for k in 1..=frames {
+            let upto = (k * n).checked_div(frames).unwrap_or(n);
+            for &cell in &search.expanded[shown..upto] {
+                cells[index(cell)] = EXPANDED;
+            }
+            shown = upto;
+            mark_ends(&mut cells);
+            write(&cells, 6)?;
+        }
+        for pair in search.path.windows(2) {
+            for cell in segment(pair[0], pair[1]) {
+                cells[index(cell)] = PATH;
+            }
+        }
+        if let [only] = search.path {
+            cells[index(*only)] = PATH;
+        }
+        mark_ends(&mut cells);
+        write(&cells, 200)?;
+    }
+    Ok(out)
+}
+
+/// The cells a straight segment between two cell centres passes, sampled every quarter
+/// cell (for drawing only).
+fn segment(a: Cell, b: Cell) -> Vec<Cell> {
+    let (dx, dy) = (
+        f64::from(b.x) - f64::from(a.x),
+        f64::from(b.y) - f64::from(a.y),
+    );
+    let steps = ((dx.abs().max(dy.abs())) * 4.0).ceil().max(1.0) as u32;
+    (0..=steps)
+        .map(|i| {
+            let t = f64::from(i) / f64::from(steps);
+            Cell::new(
+                (f64::from(a.x) + dx * t).round() as u32,
+                (f64::from(a.y) + dy * t).round() as u32,
+            )
+        })
+        .collect()
+}
+
+/// The animation of a `plan` run (`plan --gif FILE`), at most [`MAX_GIF_BYTES`]; the run
+/// needs its expanded cells recorded.
+pub fn plan_gif(result: &planner_runner::plan::PlanResult) -> Result<Vec<u8>, AnimError> {
+    let r = &result.record;
+    let path = r.path.as_ref().map_or(&[][..], |p| p.cells());
+    gif(
+        &Search {
+            grid: &result.grid,
+            start: r.start,
+            goal: r.goal,
+            expanded: &result.expanded,
+            path,
+        },
+        MAX_GIF_BYTES,
+    )
+}

@@ -1,0 +1,179 @@
+//! One planning query from the page: a map (read with planner-maps, then the page's wall
+//! edits applied), a start and goal, a registry planner with `key=value` parameters,
+//! planned through planner-runner's [`run_one`] exactly as `gridplan plan` plans it, so
+//! the counters equal `plan --json`'s; then once more with the expanded cells recorded
+//! ([`planner_runner::figures::record_expanded`], which checks that the second run
+//! repeats the first), for the playback.
+//!
+//! These are the only call sites of the runner's planning API in this crate (the
+//! registry, [`run_one`], the plan result's JSON), so a move of the runner's modules
+//! changes this file alone.
+
+use std::path::Path;
+
+use planner_api::{Budget, Cell, Grid};
+use planner_runner::config::{self, Experiment, MapEntry, ProblemEntry};
+use planner_runner::plan::{PlanResult, DEFAULT_PLAN_EXPANSIONS};
+use planner_runner::run::{run_one, RunSpec, Workspace};
+
+/// Limits a query gets whatever it asks for.
+#[derive(Debug, Clone, Copy)]
+pub struct Caps {
+    /// The most expansions one run may do.
+    pub max_expansions: u64,
+    /// The most memory a planner's per-cell state may take, in MiB.
+    pub max_memory_mb: u64,
+}
+
+impl Default for Caps {
+    /// `plan`'s default expansion budget (ten million expansions, a few seconds for any
+    /// planner here) and 2 GiB. No wall-clock limit: with one, counters would depend on
+    /// the machine, and the recording run could not be checked against the timed one.
+    fn default() -> Caps {
+        Caps {
+            max_expansions: DEFAULT_PLAN_EXPANSIONS,
+            max_memory_mb: 2048,
+        }
+    }
+}
+
+/// What can go wrong with a query (all are the user's input: HTTP 400).
+#[derive(Debug, thiserror::Error)]
+pub enum QueryError {
+    /// The runner refused it (unknown planner or parameter, bad cell, ...).
+    #[error(transparent)]
+    Runner(#[from] planner_runner::RunnerError),
+    /// A `key=value` setting without `=`.
+    #[error("parameter {0:?}: expected key=value")]
+    Setting(String),
+    /// A wall edit outside the grid.
+    #[error("wall edit at ({x}, {y}): outside the {width}x{height} grid")]
+    Edit {
+        /// Column.
+        x: u32,
+        /// Row.
+        y: u32,
+        /// Grid width.
+        width: u32,
+        /// Grid height.
+        height: u32,
+    },
+    /// A coverage planner (the page plans start-goal queries).
+    #[error("`{0}` is a coverage planner; the page plans start-goal queries")]
+    Coverage(String),
+}
+
+/// One query.
+#[derive(Debug, Clone)]
+pub struct Query<'a> {
+    /// The map's name (shown in the record).
+    pub map_name: &'a str,
+    /// The map's file (resolved under the served directory).
+    pub map_path: &'a Path,
+    /// Start cell.
+    pub start: Cell,
+    /// Goal cell.
+    pub goal: Cell,
+    /// Registry name.
+    pub planner: &'a str,
+    /// `key=value` settings, as `plan --set` takes them.
+    pub set: &'a [String],
+    /// Expansion budget asked for (capped by [`Caps::max_expansions`]).
+    pub max_expansions: Option<u64>,
+}
+
+/// The grid `grid` with `edits` applied: `(x, y, free)` each.
+pub fn apply_edits(grid: &mut Grid, edits: &[(u32, u32, bool)]) -> Result<(), QueryError> {
+    for &(x, y, free) in edits {
+        let cell = Cell::new(x, y);
+        if !grid.contains(cell) {
+            return Err(QueryError::Edit {
+                x,
+                y,
+                width: grid.width(),
+                height: grid.height(),
+            });
+        }
+        grid.set_free(cell, free);
+    }
+    Ok(())
+}
+
+/// The `key=value` settings as a planner table, parsed as `plan --set` parses them: a
+/// value is TOML (`1.5`, `true`, `"octile"`) or else a bare string.
+pub fn settings_table(set: &[String]) -> Result<toml::Table, QueryError> {
+    let mut params = toml::Table::new();
+    for assignment in set {
+        let (key, value) = assignment
+            .split_once('=')
+            .ok_or_else(|| QueryError::Setting(assignment.clone()))?;
+        let value = value.trim();
+        let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
+            .ok()
+            .and_then(|mut t| t.remove("v"))
+            .unwrap_or_else(|| toml::Value::String(value.to_string()));
+        params.insert(key.trim().to_string(), parsed);
+    }
+    Ok(params)
+}
+
+/// Plans `query` on `grid` within `caps`: the run's result (its JSON is `plan --json`'s)
+/// with the expanded cells recorded.
+pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, QueryError> {
+    let budget = Budget {
+        max_expansions: Some(
+            query
+                .max_expansions
+                .unwrap_or(DEFAULT_PLAN_EXPANSIONS)
+                .min(caps.max_expansions),
+        ),
+        max_time: None,
+        max_memory_mb: Some(caps.max_memory_mb),
+        record_expanded: false,
+    };
+    let params = settings_table(query.set)?;
+    let spec = config::planner_from_table(query.planner, query.planner, params, budget)?;
+    if spec.is_coverage() {
+        return Err(QueryError::Coverage(query.planner.to_string()));
+    }
+    let entry = ProblemEntry::new(&grid, 1, query.start, query.goal, None);
+    if let Err(error) = planner_api::Problem::new(&grid, query.start, query.goal) {
+        return Err(planner_runner::RunnerError::Problem {
+            map: query.map_path.to_path_buf(),
+            error,
+        }
+        .into());
+    }
+    let map = MapEntry {
+        name: query.map_name.to_string(),
+        path: query.map_path.to_path_buf(),
+        grid,
+        problems: Vec::new(),
+    };
+    let mut single = Experiment::single(map, entry, spec.clone(), 0);
+    let record = run_one(
+        &single,
+        &RunSpec {
+            map: 0,
+            problem: 0,
+            planner: 0,
+            repeat: 0,
+        },
+        &mut Workspace::default(),
+        None,
+    )?;
+    let expanded = {
+        let (map, planner) = (&single.maps[0], &single.planners[0]);
+        planner_runner::figures::record_expanded(&single, map, &map.problems[0], planner, &record)
+            .map_err(|e| planner_runner::RunnerError::Usage(e.to_string()))?
+    };
+    let grid = single.maps.swap_remove(0).grid;
+    Ok(PlanResult {
+        grid,
+        planner: query.planner.to_string(),
+        coverage: false,
+        budget: spec.budget,
+        record,
+        expanded,
+    })
+}

@@ -1,0 +1,409 @@
+//! The server over real HTTP on 127.0.0.1: the page and API answer, planning gives
+//! `plan --json`'s object, paths out of the served directory and oversized bodies are
+//! refused, a run is cancelled.
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use planner_serve::{ServeOptions, Server};
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A fresh directory under the system's temp dir.
+fn scratch(name: &str) -> PathBuf {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let dir = std::env::temp_dir().join(format!(
+        "planner-serve-{name}-{}-{nanos}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A served directory: map10, an open 30x30 map, a link to /etc/passwd, a link to /etc,
+/// a ROS YAML naming an image outside; beside it (outside) a secret file.
+fn served() -> (PathBuf, PathBuf) {
+    let top = scratch("dir");
+    let dir = top.join("served");
+    std::fs::create_dir_all(dir.join("paper")).unwrap();
+    std::fs::copy(
+        repo().join("maps/paper/map10.map"),
+        dir.join("paper/map10.map"),
+    )
+    .unwrap();
+    let mut open = String::from("type octile\nheight 30\nwidth 30\nmap\n");
+    for _ in 0..30 {
+        open.push_str(&".".repeat(30));
+        open.push('\n');
+    }
+    std::fs::write(dir.join("open30.map"), open).unwrap();
+    std::fs::write(
+        top.join("secret.map"),
+        "type octile\nheight 1\nwidth 1\nmap\n.\n",
+    )
+    .unwrap();
+    std::fs::write(top.join("secret.pgm"), "P2\n1 1\n255\n0\n").unwrap();
+    std::fs::write(
+        dir.join("outside.yaml"),
+        "image: ../secret.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\noccupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n",
+    )
+    .unwrap();
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("/etc/passwd", dir.join("passwd.map")).unwrap();
+        std::os::unix::fs::symlink("/etc", dir.join("etc")).unwrap();
+        std::os::unix::fs::symlink(top.join("secret.map"), dir.join("link.map")).unwrap();
+    }
+    (top, dir)
+}
+
+fn start(options: &ServeOptions) -> (SocketAddr, impl Fn()) {
+    let server = Server::bind(options).unwrap();
+    let addr = server.addr().unwrap();
+    let stop = server.stopper();
+    std::thread::spawn(move || server.run());
+    (addr, stop)
+}
+
+/// Sends `head` (request line and headers, without the blank line) and `body`; the status
+/// and the body of the answer.
+fn send(addr: SocketAddr, head: &str, body: &[u8]) -> (u16, String) {
+    let mut stream = TcpStream::connect(addr).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_secs(60)))
+        .unwrap();
+    let mut request = format!("{head}\r\nHost: {addr}\r\nConnection: close\r\n");
+    if !head.contains("Content-Length") && !body.is_empty() {
+        request.push_str(&format!("Content-Length: {}\r\n", body.len()));
+    }
+    request.push_str("\r\n");
+    stream.write_all(request.as_bytes()).unwrap();
+    let _ = stream.write_all(body);
+    read_answer(&mut stream)
+}
+
+fn read_answer(stream: &mut TcpStream) -> (u16, String) {
+    let mut answer = Vec::new();
+    let _ = stream.read_to_end(&mut answer);
+    let text = String::from_utf8_lossy(&answer).into_owned();
+    let status = text
+        .split_whitespace()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0);
+    let body = text
+        .split_once("\r\n\r\n")
+        .map_or(String::new(), |(_, b)| b.to_string());
+    (status, body)
+}
+
+fn get(addr: SocketAddr, url: &str) -> (u16, String) {
+    send(addr, &format!("GET {url} HTTP/1.1"), b"")
+}
+
+fn post(addr: SocketAddr, url: &str, body: &str) -> (u16, String) {
+    send(
+        addr,
+        &format!("POST {url} HTTP/1.1\r\nContent-Type: application/json"),
+        body.as_bytes(),
+    )
+}
+
+#[test]
+fn the_page_and_the_lists_are_served() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let (status, page) = get(addr, "/");
+    assert_eq!(status, 200);
+    assert!(
+        page.contains("<canvas") || page.contains("app.js"),
+        "{page}"
+    );
+    assert_eq!(get(addr, "/app.js").0, 200);
+    assert_eq!(get(addr, "/style.css").0, 200);
+    assert_eq!(get(addr, "/nothing").0, 404);
+    let (status, maps) = get(addr, "/api/maps");
+    assert_eq!(status, 200);
+    let maps: serde_json::Value = serde_json::from_str(&maps).unwrap();
+    let listed: Vec<&str> = maps["maps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|v| v.as_str())
+        .collect();
+    assert!(listed.contains(&"paper/map10.map"), "{listed:?}");
+    assert!(listed.contains(&"open30.map"), "{listed:?}");
+    // Links leading out of the directory are not listed.
+    assert!(
+        !listed
+            .iter()
+            .any(|m| m.contains("passwd") || m.contains("link") || m.starts_with("etc")),
+        "{listed:?}"
+    );
+    let (status, planners) = get(addr, "/api/planners");
+    assert_eq!(status, 200);
+    let planners: serde_json::Value = serde_json::from_str(&planners).unwrap();
+    let astar = planners
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "astar")
+        .unwrap();
+    assert!(astar["params"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|p| p["key"] == "heuristic"));
+    let (status, map) = get(addr, "/api/map?path=paper%2Fmap10.map");
+    assert_eq!(status, 200);
+    let map: serde_json::Value = serde_json::from_str(&map).unwrap();
+    assert_eq!(
+        (map["width"].as_u64(), map["height"].as_u64()),
+        (Some(12), Some(12))
+    );
+    assert_eq!(map["cells"].as_str().map(str::len), Some(144));
+    stop();
+}
+
+#[test]
+fn paths_out_of_the_directory_are_refused() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    for path in [
+        "../../etc/passwd",
+        "..%2F..%2Fetc%2Fpasswd",
+        "%2Fetc%2Fpasswd",
+        "/etc/passwd",
+        "..%2Fsecret.map",
+        "paper/../../secret.map",
+        "passwd.map",
+        "etc/passwd",
+        "link.map",
+        "outside.yaml",
+    ] {
+        let (status, body) = get(addr, &format!("/api/map?path={path}"));
+        assert!(status == 403 || status == 404, "{path}: {status} {body}");
+        assert!(!body.contains("root:"), "{path}: {body}");
+        let plan = format!(
+            r#"{{"map":{},"start":[0,0],"goal":[0,0],"planner":"astar"}}"#,
+            serde_json::Value::String(planner_serve::server::percent_decode(path))
+        );
+        let (status, body) = post(addr, "/api/plan", &plan);
+        assert!(
+            status == 403 || status == 404,
+            "plan {path}: {status} {body}"
+        );
+    }
+    for path in ["..", "%2Ftmp", "etc"] {
+        let (status, _) = get(addr, &format!("/api/results?path={path}"));
+        assert!(status == 403 || status == 404, "results {path}: {status}");
+    }
+    // The raw URL path is never a file path.
+    assert_eq!(get(addr, "/../../etc/passwd").0, 404);
+    stop();
+}
+
+#[test]
+fn a_body_over_the_limit_is_refused_before_it_is_read() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    // A declared 100 MB body: refused on the header, with only a few bytes sent.
+    let (status, body) = send(
+        addr,
+        "POST /api/plan HTTP/1.1\r\nContent-Type: application/json\r\nContent-Length: 104857600",
+        &[b' '; 4096],
+    );
+    assert_eq!(status, 413, "{body}");
+    // A body without a length (chunked) is refused; so is a head that never ends.
+    let options = ServeOptions {
+        max_body_bytes: 1000,
+        ..ServeOptions::new(&dir, 0)
+    };
+    let (small, stop_small) = start(&options);
+    let (status, text) = send(
+        small,
+        "POST /api/plan HTTP/1.1\r\nContent-Type: application/json\r\nTransfer-Encoding: chunked",
+        b"bb8\r\n",
+    );
+    assert_eq!(status, 411, "{text}");
+    let (status, text) = send(
+        small,
+        "POST /api/plan HTTP/1.1\r\nContent-Length: 1001",
+        &[b' '; 1001],
+    );
+    assert_eq!(status, 413, "{text}");
+    let long = format!("GET / HTTP/1.1\r\nX-Long: {}", "a".repeat(20_000));
+    assert_eq!(send(small, &long, b"").0, 431);
+    stop();
+    stop_small();
+}
+
+#[test]
+fn planning_gives_plan_json_and_the_expanded_cells() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    for (planner, set) in [
+        ("astar", ""),
+        ("bfs", ""),
+        ("astar", r#""heuristic=octile","moves=8""#),
+    ] {
+        let body = format!(
+            r#"{{"map":"paper/map10.map","start":[0,0],"goal":[11,11],"planner":"{planner}","set":[{set}]}}"#
+        );
+        let (status, answer) = post(addr, "/api/plan", &body);
+        assert_eq!(status, 200, "{answer}");
+        let answer: serde_json::Value = serde_json::from_str(&answer).unwrap();
+        let args = planner_runner::plan::PlanArgs {
+            map: dir.join("paper/map10.map"),
+            planner: planner.to_string(),
+            start: Some(planner_api::Cell::new(0, 0)),
+            goal: Some(planner_api::Cell::new(11, 11)),
+            set: set
+                .split(',')
+                .filter(|s| !s.is_empty())
+                .map(|s| s.trim_matches('"').to_string())
+                .collect(),
+            ..planner_runner::plan::PlanArgs::default()
+        };
+        let cli: serde_json::Value =
+            serde_json::from_str(&planner_runner::plan::run(&args).unwrap().to_json().unwrap())
+                .unwrap();
+        assert_eq!(answer["plan"], cli, "{planner} {set}");
+        let n_expanded = cli["counters"]["n_expanded"].as_u64().unwrap();
+        assert_eq!(
+            answer["expanded"].as_array().unwrap().len() as u64,
+            n_expanded
+        );
+        assert_eq!(answer["expanded_total"].as_u64(), Some(n_expanded));
+    }
+    // A wall across the map's first column changes the answer; an edit off the grid is an error.
+    let walled = r#"{"map":"open30.map","start":[0,0],"goal":[0,29],"planner":"astar","edits":[[0,10,0],[1,10,0]]}"#;
+    let (status, answer) = post(addr, "/api/plan", walled);
+    assert_eq!(status, 200, "{answer}");
+    let answer: serde_json::Value = serde_json::from_str(&answer).unwrap();
+    let path = answer["plan"]["path"].as_array().unwrap();
+    assert!(!path
+        .iter()
+        .any(|c| c == &serde_json::json!([0, 10]) || c == &serde_json::json!([1, 10])));
+    assert_eq!(answer["plan"]["metrics"]["steps"].as_u64(), Some(33));
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"open30.map","start":[0,0],"goal":[0,29],"planner":"astar","edits":[[30,0,0]]}"#,
+    );
+    assert_eq!(status, 400, "{answer}");
+    assert!(answer.contains("outside the 30x30 grid"), "{answer}");
+    // Unknown planner and parameter name themselves; a wall start names the cell.
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"nope"}"#,
+    );
+    assert_eq!(status, 400);
+    assert!(answer.contains("nope"), "{answer}");
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"astar","set":["colour=red"]}"#,
+    );
+    assert_eq!(status, 400);
+    assert!(answer.contains("colour"), "{answer}");
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"astar","edits":[[1,1,0]]}"#,
+    );
+    assert_eq!(status, 400);
+    assert!(answer.contains("(1, 1)"), "{answer}");
+    let (status, _) = post(addr, "/api/plan", "{not json");
+    assert_eq!(status, 400);
+    stop();
+}
+
+#[test]
+fn a_running_plan_is_cancelled() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    // Backtracking enumerates the simple paths of an open 30x30 map: it runs until its
+    // ten-million-expansion budget, seconds.
+    let body = r#"{"map":"open30.map","start":[0,0],"goal":[29,29],"planner":"backtracking","run":"slow-1"}"#;
+    let planning = std::thread::spawn(move || {
+        let started = std::time::Instant::now();
+        let answer = post(addr, "/api/plan", body);
+        (answer, started.elapsed())
+    });
+    let mut cancelled = false;
+    for _ in 0..100 {
+        std::thread::sleep(Duration::from_millis(20));
+        if post(addr, "/api/cancel?run=slow-1", "").0 == 200 {
+            cancelled = true;
+            break;
+        }
+    }
+    let ((status, answer), elapsed) = planning.join().unwrap();
+    assert!(cancelled, "the cancel request found no run");
+    assert_eq!(status, 409, "{answer}");
+    assert!(answer.contains("cancelled"));
+    assert!(elapsed < Duration::from_secs(3), "{elapsed:?}");
+    assert_eq!(post(addr, "/api/cancel?run=slow-1", "").0, 404);
+    stop();
+}
+
+#[test]
+fn a_results_directory_opens_with_its_runs_and_paths() {
+    let (_top, dir) = served();
+    std::fs::write(
+        dir.join("mine.toml"),
+        "name = \"mine\"\n[[maps]]\nfiles = [\"paper/map10.map\"]\npairs = [{ start = [0, 0], goal = [11, 11] }]\n[planners.astar]\nplanner = \"astar\"\n[planners.bfs]\nplanner = \"bfs\"\n",
+    )
+    .unwrap();
+    let config = dir.join("mine.toml");
+    let output = dir.join("results/mine");
+    let report = planner_runner::sweep::experiment(&planner_runner::sweep::SweepArgs {
+        threads: 1,
+        output: Some(&output),
+        ..planner_runner::sweep::SweepArgs::new(&config)
+    })
+    .unwrap();
+    assert_eq!(report.n_runs, 2);
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let (status, maps) = get(addr, "/api/maps");
+    assert_eq!(status, 200);
+    assert!(maps.contains("\"results/mine\""), "{maps}");
+    let (status, results) = get(addr, "/api/results?path=results%2Fmine");
+    assert_eq!(status, 200, "{results}");
+    let results: serde_json::Value = serde_json::from_str(&results).unwrap();
+    let columns = results["runs"]["columns"].as_array().unwrap();
+    let rows = results["runs"]["data"].as_array().unwrap();
+    assert_eq!(rows.len(), 2);
+    let planner = columns.iter().position(|c| c == "planner").unwrap();
+    let labels: Vec<&str> = rows.iter().map(|r| r[planner].as_str().unwrap()).collect();
+    assert_eq!(labels, ["astar", "bfs"]);
+    // The map the runs name is found under the served directory, and each kept path is
+    // the one `plan` finds.
+    assert_eq!(results["maps"]["map10.map"], "paper/map10.map");
+    let paths = results["paths"].as_array().unwrap();
+    assert_eq!(paths.len(), 2);
+    for kept in paths {
+        let args = planner_runner::plan::PlanArgs {
+            map: dir.join("paper/map10.map"),
+            planner: kept["planner"].as_str().unwrap().to_string(),
+            start: Some(planner_api::Cell::new(0, 0)),
+            goal: Some(planner_api::Cell::new(11, 11)),
+            ..planner_runner::plan::PlanArgs::default()
+        };
+        let cli: serde_json::Value =
+            serde_json::from_str(&planner_runner::plan::run(&args).unwrap().to_json().unwrap())
+                .unwrap();
+        assert_eq!(kept["path"], cli["path"]);
+    }
+    // A directory that is not a results directory is refused.
+    assert_eq!(get(addr, "/api/results?path=paper").0, 404);
+    stop();
+}

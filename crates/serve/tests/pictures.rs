@@ -1,0 +1,142 @@
+//! `plan --trace` and `plan --gif` on den520d: the trace follows Posthoc's documented
+//! layout (version 1.4.0: `version`, `views`, `pivot`, `events` of known types with `id`,
+//! `x`, `y`) with one `expanding` event per expansion, and the GIF decodes, fits 5 MB and
+//! ends on a frame with the path drawn on the path's cells.
+
+use std::path::Path;
+
+use planner_runner::plan::{PlanArgs, PlanOptions, PlanResult};
+
+fn den520d(problem: usize) -> PlanResult {
+    let args = PlanArgs {
+        map: Path::new(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai/den520d.map"),
+        planner: "astar".into(),
+        problem: Some(problem),
+        ..PlanArgs::default()
+    };
+    let options = PlanOptions {
+        record_expanded: true,
+        ..PlanOptions::default()
+    };
+    planner_runner::plan::run_with(&args, &options).unwrap()
+}
+
+#[test]
+fn a_den520d_trace_follows_posthocs_schema() {
+    let result = den520d(600);
+    let text = planner_serve::trace::plan_trace_json(&result).unwrap();
+    let trace: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let top: Vec<&str> = trace
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(top, ["version", "views", "pivot", "events"]);
+    assert_eq!(trace["version"], "1.4.0");
+    // A view is a list of primitives, each naming its component with `$`.
+    let main = trace["views"]["main"].as_array().unwrap();
+    assert!(!main.is_empty());
+    for primitive in main {
+        assert!(primitive["$"].is_string(), "{primitive}");
+    }
+    assert!(trace["pivot"]["x"].is_string() && trace["pivot"]["y"].is_string());
+    let (width, height) = (
+        u64::from(result.grid.width()),
+        u64::from(result.grid.height()),
+    );
+    let events = trace["events"].as_array().unwrap();
+    let mut expanding = 0u64;
+    for event in events {
+        let kind = event["type"].as_str().unwrap();
+        assert!(
+            ["source", "destination", "expanding", "end"].contains(&kind),
+            "{event}"
+        );
+        let (id, x, y) = (
+            event["id"].as_u64().unwrap(),
+            event["x"].as_u64().unwrap(),
+            event["y"].as_u64().unwrap(),
+        );
+        assert!(x < width && y < height, "{event}");
+        assert_eq!(id, y * width + x, "{event}");
+        assert!(
+            result
+                .grid
+                .is_free(planner_api::Cell::new(x as u32, y as u32)),
+            "{event}"
+        );
+        expanding += u64::from(kind == "expanding");
+    }
+    let r = &result.record;
+    assert_eq!(Some(expanding), r.counters.get("n_expanded"));
+    assert!(expanding > 100, "a real search: {expanding}");
+    let first = &events[0];
+    assert_eq!(first["type"], "source");
+    assert_eq!(
+        (first["x"].as_u64(), first["y"].as_u64()),
+        (Some(u64::from(r.start.x)), Some(u64::from(r.start.y)))
+    );
+    assert_eq!(events[1]["type"], "destination");
+    let last = events.last().unwrap();
+    assert_eq!(last["type"], "end");
+    assert_eq!(
+        (last["x"].as_u64(), last["y"].as_u64()),
+        (Some(u64::from(r.goal.x)), Some(u64::from(r.goal.y)))
+    );
+    // The expanding events are the recorded expansions, in order.
+    let ids: Vec<u64> = events[2..events.len() - 1]
+        .iter()
+        .map(|e| e["id"].as_u64().unwrap())
+        .collect();
+    let recorded: Vec<u64> = result
+        .expanded
+        .iter()
+        .map(|c| u64::from(c.y) * width + u64::from(c.x))
+        .collect();
+    assert_eq!(ids, recorded);
+}
+
+#[test]
+fn a_den520d_gif_fits_and_ends_on_the_path() {
+    let result = den520d(600);
+    let bytes = planner_serve::anim::plan_gif(&result).unwrap();
+    assert!(
+        bytes.len() <= planner_serve::anim::MAX_GIF_BYTES,
+        "{}",
+        bytes.len()
+    );
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::Indexed);
+    let mut decoder = options.read_info(bytes.as_slice()).unwrap();
+    let (w, h) = (decoder.width() as usize, decoder.height() as usize);
+    let grid = &result.grid;
+    let scale = w / grid.width() as usize;
+    assert_eq!(
+        (w, h),
+        (
+            grid.width() as usize * scale,
+            grid.height() as usize * scale
+        )
+    );
+    let mut frames = 0;
+    let mut last = Vec::new();
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        frames += 1;
+        last = frame.buffer.to_vec();
+    }
+    assert!(frames >= 2, "{frames}");
+    // In the last frame, palette index 3 (the path) lies exactly on the path's cells
+    // (minus start and goal, drawn over it).
+    let path = result.record.path.as_ref().unwrap().cells();
+    let on_path = |x: usize, y: usize| path.iter().any(|c| c.x as usize == x && c.y as usize == y);
+    let mut path_pixels = 0;
+    for (i, &value) in last.iter().enumerate() {
+        let (x, y) = ((i % w) / scale, (i / w) / scale);
+        if value == 3 {
+            path_pixels += 1;
+            assert!(on_path(x, y), "path colour at cell ({x}, {y})");
+        }
+    }
+    assert_eq!(path_pixels, (path.len() - 2) * scale * scale);
+}
