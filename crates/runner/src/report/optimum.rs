@@ -2,6 +2,7 @@
 
 use std::fmt::Write as _;
 
+use crate::report::md_cell;
 use super::{Context, Reproduction, Section};
 use crate::record::RunRecord;
 
@@ -74,8 +75,8 @@ Per planner and map: runs with a stated optimum, how many found a path, how many
             let _ = writeln!(
                 out,
                 "| {} | {} | {} | {} | {} | {:.2} % |",
-                planner.label,
-                map.name,
+                md_cell(&planner.label),
+                md_cell(&map.name),
                 runs.len(),
                 found.len(),
                 optimal,
