@@ -125,10 +125,10 @@ fn slurm_values_with_line_breaks_are_refused_naming_the_key() {
     // No script was written anywhere.
     for d in [&dir, &bad] {
         assert!(
-            fs::read_dir(d).unwrap().flatten().all(|e| !e
-                .file_name()
-                .to_string_lossy()
-                .ends_with("-slurm")),
+            fs::read_dir(d)
+                .unwrap()
+                .flatten()
+                .all(|e| !e.file_name().to_string_lossy().ends_with("-slurm")),
             "a -slurm directory was written in {}",
             d.display()
         );
@@ -143,7 +143,10 @@ fn slurm_checks_the_output_directory_like_experiment() {
     let out = gridplan(&dir, &["slurm", "cfg.toml", "--shards", "2"]);
     refused(&out, "not a gridplan results directory");
     assert!(!dir.join("res-slurm").exists());
-    assert_eq!(fs::read_to_string(dir.join("res/thesis.tex")).unwrap(), "mine");
+    assert_eq!(
+        fs::read_to_string(dir.join("res/thesis.tex")).unwrap(),
+        "mine"
+    );
 }
 
 #[test]
@@ -303,7 +306,7 @@ fn report_html_has_no_live_script() {
     fs::write(
         dir.join("cfg.toml"),
         "name = \"c\"\noutput = \"res\"\n\
-         description = \"<script>alert(1)</script> <img src=x onerror=alert(2)> [x](javascript:alert(3)) <javascript:alert(4)> [ok](https://example.org)\"\n\
+         description = \"<script>alert(1)</script> <img src=x onerror=alert(2)> [x](javascript:alert(3)) <javascript:alert(4)>\\n\\nA [link](javascript:alert(8)) and [ok](https://example.org).\"\n\
          [[maps]]\nfiles = [\"small.map\"]\nproblems = \"corners\"\n\
          [planners.\"<script>alert(5)</script>\"]\nplanner = \"astar\"\n\
          [planners.\"[l](javascript:alert(6))\"]\nplanner = \"bfs\"\n\
@@ -406,7 +409,10 @@ fn merge_refuses_foreign_records_and_mixed_versions() {
     let version = env!("CARGO_PKG_VERSION");
     fs::write(
         &marker,
-        text.replace(&format!("gridplan = \"{version}\""), "gridplan = \"0.0.0-other\""),
+        text.replace(
+            &format!("gridplan = \"{version}\""),
+            "gridplan = \"0.0.0-other\"",
+        ),
     )
     .unwrap();
     let out = gridplan(&dir, &["merge", "s1", "s2", "--output", "m3"]);
@@ -421,7 +427,15 @@ fn resume_refuses_foreign_records() {
     // A whole sweep's stream, as a killed sweep leaves it in the stream area.
     succeeded(&gridplan(
         &dir,
-        &["experiment", "cfg.toml", "--quiet", "--shard", "1/1", "--output", "whole"],
+        &[
+            "experiment",
+            "cfg.toml",
+            "--quiet",
+            "--shard",
+            "1/1",
+            "--output",
+            "whole",
+        ],
     ));
     fs::create_dir(dir.join(".res.stream")).unwrap();
     fs::write(dir.join(".res.stream/.gridplan-stream"), "").unwrap();
@@ -433,7 +447,10 @@ fn resume_refuses_foreign_records() {
     assert!(!dir.join("res").exists());
     // The same stream unforged resumes (nothing left to run) and writes the results.
     fs::copy(dir.join("whole/shard.jsonl"), &stream).unwrap();
-    succeeded(&gridplan(&dir, &["experiment", "cfg.toml", "--quiet", "--resume"]));
+    succeeded(&gridplan(
+        &dir,
+        &["experiment", "cfg.toml", "--quiet", "--resume"],
+    ));
     assert!(dir.join("res/runs.json").is_file());
 }
 

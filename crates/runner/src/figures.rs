@@ -253,7 +253,9 @@ fn render_with(
                         for mut file in crate::coverage::figures(&map.grid, run, &base, &style) {
                             let wanted = file.path.to_string_lossy().into_owned();
                             let suffix = wanted.strip_prefix(&base).unwrap_or_default();
-                            file.path = names.claim(wanted.clone(), &format!("{key}{suffix}")).into();
+                            file.path = names
+                                .claim(wanted.clone(), &format!("{key}{suffix}"))
+                                .into();
                             files.push(file);
                         }
                         continue;

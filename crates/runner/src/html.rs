@@ -185,9 +185,18 @@ mod tests {
             &[],
         );
         assert!(!page.contains("<script") && !page.contains("<b "), "{page}");
-        assert!(page.contains("&lt;script&gt;alert(1)&lt;/script&gt;"), "{page}");
-        assert!(!page.to_ascii_lowercase().contains("href=\"javascript"), "{page}");
-        assert!(page.contains("<a href=\"https://example.org\">d</a>"), "{page}");
+        assert!(
+            page.contains("&lt;script&gt;alert(1)&lt;/script&gt;"),
+            "{page}"
+        );
+        assert!(
+            !page.to_ascii_lowercase().contains("href=\"javascript"),
+            "{page}"
+        );
+        assert!(
+            page.contains("<a href=\"https://example.org\">d</a>"),
+            "{page}"
+        );
         assert!(page.contains(" c "), "{page}");
     }
 }

@@ -158,9 +158,7 @@ pub fn logs(
             out.push_str(".\n");
         }
         files.push(OutputFile {
-            path: names
-                .claim(format!("ompl/{stem}.log"), &map.name)
-                .into(),
+            path: names.claim(format!("ompl/{stem}.log"), &map.name).into(),
             contents: out.into_bytes(),
         });
     }
@@ -184,10 +182,7 @@ fn line(text: &str) -> String {
 /// `_`; if anything changed, `-` and a short hash of `text` follow, so distinct names stay
 /// distinct.
 fn one_word(text: &str) -> String {
-    let word: String = line(text)
-        .split_whitespace()
-        .collect::<Vec<_>>()
-        .join("_");
+    let word: String = line(text).split_whitespace().collect::<Vec<_>>().join("_");
     if word == text && !word.is_empty() {
         word
     } else {

@@ -724,8 +724,7 @@ pub fn stream_area(output: &Path, wait: Duration) -> Result<StreamArea, OutdirEr
         Err(e) => return Err(io_error("read", &dir)(e)),
         Ok(metadata) if !metadata.is_dir() => return Err(foreign()),
         Ok(_) => {
-            let marked =
-                fs::symlink_metadata(dir.join(STREAM_MARKER)).is_ok_and(|m| m.is_file());
+            let marked = fs::symlink_metadata(dir.join(STREAM_MARKER)).is_ok_and(|m| m.is_file());
             let empty = fs::read_dir(&dir)
                 .map_err(io_error("list", &dir))?
                 .next()
@@ -952,7 +951,9 @@ mod tests {
         fs::write(&victim, "precious").unwrap();
         std::os::unix::fs::symlink(&victim, location.sibling("lock")).unwrap();
         // Opened directly (as after a race with `check`): O_NOFOLLOW refuses it.
-        let error = OutputLock::acquire(&location, Duration::ZERO).err().unwrap();
+        let error = OutputLock::acquire(&location, Duration::ZERO)
+            .err()
+            .unwrap();
         assert!(matches!(error, OutdirError::LinkedLock { .. }), "{error}");
         assert_eq!(fs::read_to_string(&victim).unwrap(), "precious");
         fs::remove_dir_all(&location.parent).unwrap();

@@ -81,9 +81,9 @@ pub fn quote(text: &str) -> String {
 /// quoting), or, in an `#SBATCH` directive (`directive`), a backslash (which sbatch's
 /// parser drops and bash keeps).
 pub fn script_value(key: &str, value: &str, directive: bool) -> Result<String, String> {
-    let bad = value.chars().find(|&c| {
-        matches!(c, '\n' | '\r' | '\0') || (directive && c == '\\')
-    });
+    let bad = value
+        .chars()
+        .find(|&c| matches!(c, '\n' | '\r' | '\0') || (directive && c == '\\'));
     match bad {
         None => Ok(quote(value)),
         Some(c) => Err(format!(
@@ -153,7 +153,11 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
         let text = work
             .to_str()
             .ok_or_else(|| format!("{output_key}: {} is not valid UTF-8", work.display()))?;
-        script_value(&output_key, &format!("{}/{file}", text.replace('%', "%%")), true)
+        script_value(
+            &output_key,
+            &format!("{}/{file}", text.replace('%', "%%")),
+            true,
+        )
     };
     let task_log = log("task-%a.log")?;
     let merge_log = log("merge.log")?;

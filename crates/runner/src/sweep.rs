@@ -163,9 +163,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
     };
     let (mut file, n_done) = match done {
         Some((bytes, n)) => {
-            let mut file = area
-                .open_write(RECORDS, false)
-                .map_err(|e| e.to_string())?;
+            let mut file = area.open_write(RECORDS, false).map_err(|e| e.to_string())?;
             file.set_len(bytes)
                 .and_then(|()| file.seek(SeekFrom::End(0)).map(drop))
                 .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -176,9 +174,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
             if args.resume {
                 eprintln!("nothing to resume for {}: running every run", dir.display());
             }
-            let mut file = area
-                .open_write(RECORDS, true)
-                .map_err(|e| e.to_string())?;
+            let mut file = area.open_write(RECORDS, true).map_err(|e| e.to_string())?;
             file.write_all(&header.to_line().map_err(|e| e.to_string())?)
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             (file, 0)
@@ -352,7 +348,10 @@ fn resume_point(
         return Err(format!(
             "--resume: {what} was written by gridplan {}, this is gridplan {}; records of two \
              versions are not mixed in one sweep. Run without --resume to start over.",
-            found.gridplan.as_deref().unwrap_or("of unknown version (its header names none)"),
+            found
+                .gridplan
+                .as_deref()
+                .unwrap_or("of unknown version (its header names none)"),
             header.gridplan.as_deref().unwrap_or("?")
         ));
     }
@@ -372,12 +371,8 @@ fn resume_point(
             ));
         }
         // The header line is line 1: record n is line n + 2.
-        stream::check_record(experiment, &list, run, &record).map_err(|e| {
-            format!(
-                "--resume: {what} line {}: {e}; run without --resume",
-                n + 2
-            )
-        })?;
+        stream::check_record(experiment, &list, run, &record)
+            .map_err(|e| format!("--resume: {what} line {}: {e}; run without --resume", n + 2))?;
         n += 1;
     }
     Ok(Some((reader.complete_bytes(), n)))

@@ -4,11 +4,11 @@
 
 use std::fmt::Write as _;
 
-use crate::report::md_cell;
 use super::optimum::matches_optimum;
 use super::{median_iqr, Context, Reproduction, Section};
 use crate::config::PlannerSpec;
 use crate::record::RunRecord;
+use crate::report::md_cell;
 
 /// The aggregate tables (section name `aggregate`).
 pub struct Aggregate;
@@ -148,7 +148,12 @@ fn by_bucket(context: &Context<'_>, measured: Measured) -> String {
             };
             let runs = per_label.iter().map(Vec::len).max().unwrap_or(0);
             let cells: Vec<String> = per_label.iter().map(|r| cell(r)).collect();
-            let _ = writeln!(out, "| {} | {bucket} | {runs} | {} |", md_cell(map), cells.join(" | "));
+            let _ = writeln!(
+                out,
+                "| {} | {bucket} | {runs} | {} |",
+                md_cell(map),
+                cells.join(" | ")
+            );
         }
         out.push('\n');
     };

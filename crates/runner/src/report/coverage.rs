@@ -2,9 +2,9 @@
 
 use std::fmt::Write as _;
 
-use crate::report::md_cell;
 use super::{Context, Reproduction, Section};
 use crate::config::PlannerSpec;
+use crate::report::md_cell;
 
 /// The coverage table (section name `coverage`).
 pub struct Coverage;

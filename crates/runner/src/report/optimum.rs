@@ -2,9 +2,9 @@
 
 use std::fmt::Write as _;
 
-use crate::report::md_cell;
 use super::{Context, Reproduction, Section};
 use crate::record::RunRecord;
+use crate::report::md_cell;
 
 /// Relative tolerance for comparing a length with a scenario file's stated optimum: the
 /// older Moving AI files round it to 5-6 significant digits.

@@ -2,9 +2,9 @@
 
 use std::fmt::Write as _;
 
-use crate::report::md_cell;
 use super::{median_iqr, Context, Reproduction, Section};
 use crate::record::RunRecord;
+use crate::report::md_cell;
 
 /// The repeats table (section name `repeats`).
 pub struct Repeats;

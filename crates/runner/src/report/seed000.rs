@@ -5,9 +5,9 @@
 
 use std::fmt::Write as _;
 
-use crate::report::md_cell;
 use super::{map_stem, Context, Reproduction, Section, MAX_COLUMNS};
 use crate::record::RunRecord;
+use crate::report::md_cell;
 
 /// Seed 000's quality and search-effort tables (section name `seed000`).
 pub struct Seed000;
@@ -69,7 +69,8 @@ fn quality_tables(context: &Context<'_>, reproduction: &mut Reproduction) -> Str
             let _ = writeln!(
                 out,
                 "### {} ({}) on {w}x{h} maps\n",
-                md_cell(&planner.label), planner.name
+                md_cell(&planner.label),
+                planner.name
             );
             out.push_str("| Metric |");
             for (map, problem) in &columns {

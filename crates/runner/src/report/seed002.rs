@@ -27,11 +27,11 @@ use std::fmt::Write as _;
 
 use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
 
-use crate::report::md_cell;
 use super::{median_iqr, Context, Reproduction, Section};
 use crate::config::{Experiment, PlannerSpec};
 use crate::index::ResultsIndex;
 use crate::record::{RunRecord, RunStatus};
+use crate::report::md_cell;
 
 /// Seed 002's comparison of a proposed planner with its references (section name
 /// `seed002`).
@@ -128,7 +128,10 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
             let _ = writeln!(
                 out,
                 "### {} problem {}: {} -> {}\n",
-                md_cell(&map.name), problem.index, problem.start, problem.goal
+                md_cell(&map.name),
+                problem.index,
+                problem.start,
+                problem.goal
             );
             out.push_str("| Planner | Algorithm | Status | Path length | Time ms median (IQR) |\n|---|---|---|---:|---:|\n");
             for planner in &experiment.planners {

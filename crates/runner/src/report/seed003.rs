@@ -3,8 +3,8 @@
 
 use std::fmt::Write as _;
 
-use crate::report::md_cell;
 use super::{median_iqr, Context, Reproduction, Section, MAX_COLUMNS};
+use crate::report::md_cell;
 
 /// Seed 003's time, memory and length tables (section name `seed003`).
 pub struct Seed003;
