@@ -70,6 +70,7 @@ use planner_api::{Cell, Grid, Path};
 use serde::{Deserialize, Serialize};
 
 pub use palette::{colour, PALETTE};
+pub use render::clean as xml_text;
 
 /// Maps with at most this many cells on each side are compared in panels side by side
 /// under [`Layout::Auto`]; larger ones are overlaid.

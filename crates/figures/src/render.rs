@@ -69,8 +69,9 @@ pub(crate) fn num(x: f64) -> String {
 
 /// User text made safe for XML: control characters (forbidden in XML 1.0 even escaped)
 /// and the non-characters U+FFFE/U+FFFF become spaces. `&`, `<` and `>` are escaped by
-/// the svg crate when the text is written.
-fn clean(s: &str) -> String {
+/// the svg crate when the text is written. Also used by the runner's charts, so every
+/// SVG gridplan writes cleans user text one way.
+pub fn clean(s: &str) -> String {
     s.chars()
         .map(|c| {
             if c.is_control() || c == '\u{FFFE}' || c == '\u{FFFF}' {

@@ -3,7 +3,13 @@
 //! label, expansions and time against the scenario bucket (one line per label, the
 //! Moving AI picture), success and optimality bars, and the parameter-study line charts
 //! of `[[charts]]` (or the default one when the labels differ in one numeric parameter).
+//!
+//! Text from the config (labels, map names, chart titles and keys) goes through
+//! [`planner_figures::xml_text`], the cleaning the figures use (control characters, which
+//! XML 1.0 forbids even escaped, become spaces), before plotters writes it escaped; so
+//! every chart is well-formed XML whatever the labels hold.
 
+use planner_figures::xml_text;
 use plotters::prelude::*;
 
 use crate::config::{ChartSpec, Experiment};
@@ -328,6 +334,13 @@ fn file_safe(text: &str) -> String {
         .collect()
 }
 
+/// `data` with every series name cleaned for XML.
+fn cleaned<T: Clone>(data: &[(String, T)]) -> Vec<(String, T)> {
+    data.iter()
+        .map(|(name, values)| (xml_text(name), values.clone()))
+        .collect()
+}
+
 fn colour(i: usize) -> RGBColor {
     let hex = planner_figures::colour(i);
     let byte = |k: usize| u8::from_str_radix(hex.get(k..k + 2).unwrap_or("00"), 16).unwrap_or(0);
@@ -356,10 +369,12 @@ fn finish(file: &str, title: &str, svg: String) -> Chart {
 
 /// Box plots (median, quartiles by type 7, whiskers to the extremes), one per label.
 fn box_plot(file: &str, title: &str, y_desc: &str, data: &[(String, Vec<f64>)]) -> Chart {
+    let title = &xml_text(title);
+    let data = &cleaned(data);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let _ = draw_box_plot(&root, title, y_desc, data);
+        let _ = draw_box_plot(&root, title, &xml_text(y_desc), data);
         let _ = root.present();
     }
     finish(file, title, svg)
@@ -450,10 +465,12 @@ fn line_chart(
     y_desc: &str,
     series: &[(String, Vec<(f64, f64)>)],
 ) -> Chart {
+    let title = &xml_text(title);
+    let series = &cleaned(series);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let _ = draw_line_chart(&root, title, x_desc, y_desc, series);
+        let _ = draw_line_chart(&root, title, &xml_text(x_desc), &xml_text(y_desc), series);
         let _ = root.present();
     }
     finish(file, title, svg)
@@ -522,10 +539,12 @@ fn bar_chart(
     series: &[&str],
     data: &[(String, Vec<f64>)],
 ) -> Chart {
+    let title = &xml_text(title);
+    let data = &cleaned(data);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let _ = draw_bar_chart(&root, title, y_desc, series, data);
+        let _ = draw_bar_chart(&root, title, &xml_text(y_desc), series, data);
         let _ = root.present();
     }
     finish(file, title, svg)

@@ -16,6 +16,13 @@
 //! that record none say so), and the per-run figures of `figures = "all"` draw them too.
 //! The comparison figures stay as they are. [`draw_run`] draws one run's figure, for
 //! `plan --svg`.
+//!
+//! File names: `<map>` is the map's file name without its extension and `<planner>` the
+//! label, each through [`crate::report::file_part`] (kept when made of letters, digits,
+//! `-`, `_` and `.`; else those characters with `_` for the rest and a short hash of the
+//! original, so `p q.map` and `p_q.map` stay apart), and a name another figure of the sweep
+//! took already gets a hash of its map, problem and label ([`crate::report::FileNames`]):
+//! two figures never share a file.
 
 use planner_api::{Cell, Grid, Problem};
 use planner_figures::{draw_comparison, draw_path, Layer, Style};
@@ -25,6 +32,7 @@ use crate::factory::Built;
 use crate::index::ResultsIndex;
 use crate::output::OutputFile;
 use crate::record::{RunRecord, RunStatus};
+use crate::report::{file_part, FileNames};
 
 /// Why the figures with expanded cells could not be drawn.
 #[derive(Debug, thiserror::Error)]
@@ -157,11 +165,9 @@ fn render_with(
     }
     let style = Style::default();
     let index = ResultsIndex::new(records);
+    let mut names = FileNames::default();
     for map in &experiment.maps {
-        let stem = map
-            .name
-            .rsplit_once('.')
-            .map_or(map.name.as_str(), |(s, _)| s);
+        let stem = file_part(crate::report::map_stem(&map.name));
         let limit = experiment.figures_per_map.unwrap_or(usize::MAX);
         for problem in pick(&map.problems, experiment.figures_pick, limit) {
             if problem.invalid.is_some() {
@@ -194,8 +200,11 @@ fn render_with(
                 &title,
                 &style,
             );
+            let key = format!("{}\n{}", map.name, problem.index);
             files.push(OutputFile {
-                path: format!("figures/{stem}-{}.svg", problem.index).into(),
+                path: names
+                    .claim(format!("figures/{stem}-{}.svg", problem.index), &key)
+                    .into(),
                 contents: svg.into_bytes(),
             });
             let layers: Vec<Layer<'_>> = if with_expanded {
@@ -220,7 +229,12 @@ fn render_with(
                     },
                 );
                 files.push(OutputFile {
-                    path: format!("figures/{stem}-{}-expanded.svg", problem.index).into(),
+                    path: names
+                        .claim(
+                            format!("figures/{stem}-{}-expanded.svg", problem.index),
+                            &format!("{key}\nexpanded"),
+                        )
+                        .into(),
                     contents: svg.into_bytes(),
                 });
                 effort
@@ -229,13 +243,21 @@ fn render_with(
             };
             if experiment.figures == FigureMode::All {
                 for (run, layer) in runs.iter().zip(&layers) {
+                    let key = format!("{key}\n{}", run.planner);
                     if run.returns.is_some() {
                         let base = format!(
                             "figures/{stem}-{}-{}",
                             problem.index,
-                            file_safe(&run.planner)
+                            file_part(&run.planner)
                         );
-                        files.extend(crate::coverage::figures(&map.grid, run, &base, &style));
+                        for mut file in crate::coverage::figures(&map.grid, run, &base, &style) {
+                            let wanted = file.path.to_string_lossy().into_owned();
+                            let suffix = wanted.strip_prefix(&base).unwrap_or_default();
+                            file.path = names
+                                .claim(wanted.clone(), &format!("{key}{suffix}"))
+                                .into();
+                            files.push(file);
+                        }
                         continue;
                     }
                     let title =
@@ -249,12 +271,16 @@ fn render_with(
                         &style,
                     );
                     files.push(OutputFile {
-                        path: format!(
-                            "figures/{stem}-{}-{}.svg",
-                            problem.index,
-                            file_safe(&run.planner)
-                        )
-                        .into(),
+                        path: names
+                            .claim(
+                                format!(
+                                    "figures/{stem}-{}-{}.svg",
+                                    problem.index,
+                                    file_part(&run.planner)
+                                ),
+                                &key,
+                            )
+                            .into(),
                         contents: svg.into_bytes(),
                     });
                 }
@@ -274,20 +300,6 @@ fn layer(run: &RunRecord) -> Layer<'_> {
         _ => run.status.as_str().replace('_', " "),
     };
     Layer::new(&run.planner, run.path.as_ref(), note).with_markers(&run.marks)
-}
-
-/// Labels come from user configs; keep file names to letters, digits, '-' and '_'.
-fn file_safe(label: &str) -> String {
-    label
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
 }
 
 /// The problems of a map to draw, at most `limit`, in map order.

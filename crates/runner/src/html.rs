@@ -1,6 +1,13 @@
 //! `report.html`: one self-contained page (no network, no scripts) with summary.md's
 //! provenance and tables rendered to HTML (pulldown-cmark), the charts and the figures
 //! inline as SVG, and a table of contents linking every section.
+//!
+//! Config text (the description, labels, map names) reaches the page through the markdown
+//! and is data, never markup: raw HTML in the markdown (block or inline) is rendered as
+//! text, links keep only the safe schemes of [`safe_link`] (`http`, `https`, `mailto`, or
+//! none: a relative link or `#fragment`) and any other link becomes its plain text, and
+//! every string the page adds itself goes through [`escape`]. The inlined SVG files are
+//! gridplan's own, whose text the figure and chart writers escape.
 
 use std::fmt::Write as _;
 
@@ -22,7 +29,14 @@ pub fn report_html(title: &str, summary: &str, files: &[OutputFile]) -> String {
     let mut in_heading = false;
     let mut heading_text = String::new();
     let mut skip_image = false;
+    // For each open link: whether it was kept (a safe scheme).
+    let mut links: Vec<bool> = Vec::new();
     for event in Parser::new_ext(summary, Options::ENABLE_TABLES) {
+        // Raw HTML is shown as the text it is.
+        let event = match event {
+            Event::Html(text) | Event::InlineHtml(text) => Event::Text(text),
+            other => other,
+        };
         match event {
             Event::Start(Tag::Heading {
                 level: HeadingLevel::H2,
@@ -51,6 +65,18 @@ pub fn report_html(title: &str, summary: &str, files: &[OutputFile]) -> String {
             },
             Event::End(TagEnd::Image) => skip_image = false,
             _ if skip_image => {}
+            Event::Start(Tag::Link { ref dest_url, .. }) => {
+                let keep = safe_link(dest_url);
+                links.push(keep);
+                if keep {
+                    events.push(event);
+                }
+            }
+            Event::End(TagEnd::Link) => {
+                if links.pop().unwrap_or(true) {
+                    events.push(event);
+                }
+            }
             other => events.push(other),
         }
     }
@@ -95,11 +121,37 @@ fn strip_prolog(svg: &str) -> String {
         .map_or_else(|| svg.to_string(), |i| svg[i..].to_string())
 }
 
-fn escape(text: &str) -> String {
+/// `text` escaped for HTML text and double-quoted attribute values.
+pub fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
+        .replace('\'', "&#39;")
+}
+
+/// Whether a link to `url` may stay a link: its scheme (what precedes a `:` that comes
+/// before any `/`, `?` or `#`, ASCII case and the whitespace and control characters
+/// browsers skip ignored) is `http`, `https` or `mailto`, or it has none (a relative link
+/// or a `#fragment`).
+///
+/// ```
+/// use planner_runner::html::safe_link;
+/// assert!(safe_link("https://example.org/a") && safe_link("charts/a.svg") && safe_link("#s1"));
+/// assert!(!safe_link("javascript:alert(1)") && !safe_link(" JaVa\tScRiPt:x") && !safe_link("data:text/html,x"));
+/// ```
+pub fn safe_link(url: &str) -> bool {
+    let cleaned: String = url
+        .chars()
+        .filter(|c| !c.is_whitespace() && !c.is_control())
+        .collect();
+    match cleaned.find([':', '/', '?', '#']) {
+        Some(i) if cleaned[i..].starts_with(':') => {
+            let scheme = cleaned[..i].to_ascii_lowercase();
+            matches!(scheme.as_str(), "http" | "https" | "mailto")
+        }
+        _ => true,
+    }
 }
 
 #[cfg(test)]
@@ -122,5 +174,29 @@ mod tests {
         assert!(page.contains("<td>1</td>"));
         assert!(page.contains("<figure><svg width=\"1\"></svg></figure>"));
         assert!(!page.contains("<img") && !page.contains("<?xml") && !page.contains("<script"));
+    }
+
+    #[test]
+    fn raw_html_is_text_and_unsafe_links_are_plain_text() {
+        let page = report_html(
+            "t",
+            "<script>alert(1)</script>\n\nA <b onclick=\"x()\">b</b> [c](javascript:alert(2)) \
+             [d](https://example.org) <javascript:alert(3)>\n",
+            &[],
+        );
+        assert!(!page.contains("<script") && !page.contains("<b "), "{page}");
+        assert!(
+            page.contains("&lt;script&gt;alert(1)&lt;/script&gt;"),
+            "{page}"
+        );
+        assert!(
+            !page.to_ascii_lowercase().contains("href=\"javascript"),
+            "{page}"
+        );
+        assert!(
+            page.contains("<a href=\"https://example.org\">d</a>"),
+            "{page}"
+        );
+        assert!(page.contains(" c "), "{page}");
     }
 }

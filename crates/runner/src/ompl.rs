@@ -6,6 +6,16 @@
 //! one run line, with `problem`, `repeat` and gridplan's metrics and counters as run
 //! properties: `time` (s), `solved`, `memory` (MB), `solution length`, and one INTEGER
 //! property per counter (empty where a planner does not report it).
+//!
+//! Config text is data here too. OMPL's reader is line-oriented (Python's universal
+//! newlines: `\n`, `\r` and `\r\n` end a line) and takes some values as one word, so
+//! free text (the config path, map name, CPU) goes through `line`, which turns every
+//! control character into a space, and names (labels, counters, host) through `one_word`,
+//! which also joins whitespace with `_` and, when it changed anything, appends a short hash
+//! of the original so `x y` and `x_y` stay two planners. The log of a map is
+//! `ompl/<map>.log` with `<map>` derived by [`crate::report::file_part`], and a name
+//! another map's log took already gets a hash of the map's name
+//! ([`crate::report::FileNames`]): every map's runs reach a log of their own.
 
 use std::fmt::Write as _;
 
@@ -37,33 +47,33 @@ pub fn logs(
     seconds: f64,
 ) -> Vec<OutputFile> {
     let mut files = Vec::new();
+    let mut names = crate::report::FileNames::default();
     for map in &experiment.maps {
+        let stem = crate::report::file_part(crate::report::map_stem(&map.name));
         let runs: Vec<&RunRecord> = records.iter().filter(|r| r.map == map.name).collect();
         let mut out = String::new();
         let _ = writeln!(out, "gridplan version {}", provenance.version);
-        let _ = writeln!(
-            out,
-            "Experiment {}-{}",
-            experiment.name,
-            one_word(crate::report::map_stem(&map.name))
-        );
+        let _ = writeln!(out, "Experiment {}-{stem}", experiment.name);
         let _ = writeln!(
             out,
             "Running on {}",
             one_word(provenance.host.as_deref().unwrap_or("unknown"))
         );
-        let _ = writeln!(out, "Starting at {}", provenance.date);
+        let _ = writeln!(out, "Starting at {}", line(&provenance.date));
         let _ = writeln!(
             out,
-            "<<<|\nconfig {} (sha256 {}), map {}, {} problems, commit {}\n|>>>",
-            experiment.source.display(),
-            provenance.config_sha256.as_deref().unwrap_or("unknown"),
-            map.name,
-            map.problems.len(),
-            provenance.commit.as_deref().unwrap_or("unknown")
+            "<<<|\n{}\n|>>>",
+            line(&format!(
+                "config {} (sha256 {}), map {}, {} problems, commit {}",
+                experiment.source.display(),
+                provenance.config_sha256.as_deref().unwrap_or("unknown"),
+                map.name,
+                map.problems.len(),
+                provenance.commit.as_deref().unwrap_or("unknown")
+            ))
         );
         if let Some(cpu) = &provenance.cpu {
-            let _ = writeln!(out, "<<<|\n{cpu}\n|>>>");
+            let _ = writeln!(out, "<<<|\n{}\n|>>>", line(cpu));
         }
         let _ = writeln!(out, "{} is the random seed", experiment.seed);
         let time_limit = experiment
@@ -97,7 +107,7 @@ pub fn logs(
             };
             let _ = writeln!(out, "{} common properties", settings.len());
             for s in &settings {
-                let _ = writeln!(out, "{}", s.replace('\n', " "));
+                let _ = writeln!(out, "{}", line(s));
             }
             let mut counters: Vec<&str> = Vec::new();
             for r in &mine {
@@ -148,14 +158,47 @@ pub fn logs(
             out.push_str(".\n");
         }
         files.push(OutputFile {
-            path: format!("ompl/{}.log", one_word(crate::report::map_stem(&map.name))).into(),
+            path: names.claim(format!("ompl/{stem}.log"), &map.name).into(),
             contents: out.into_bytes(),
         });
     }
     files
 }
 
-/// `text` with whitespace replaced by `_` (OMPL's parser splits lines on spaces).
+/// `text` on one line: every control character (line breaks included) becomes a space.
+fn line(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
+                ' '
+            } else {
+                c
+            }
+        })
+        .collect()
+}
+
+/// `text` as one word for OMPL's parser: whitespace runs and control characters become
+/// `_`; if anything changed, `-` and a short hash of `text` follow, so distinct names stay
+/// distinct.
 fn one_word(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join("_")
+    let word: String = line(text).split_whitespace().collect::<Vec<_>>().join("_");
+    if word == text && !word.is_empty() {
+        word
+    } else {
+        format!("{word}-{}", crate::report::short_hash(text))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_one_word_and_text_one_line() {
+        assert_eq!(one_word("astar"), "astar");
+        assert_ne!(one_word("x y"), one_word("x_y"));
+        assert!(!one_word("a\nb c").contains(char::is_whitespace));
+        assert_eq!(line("a\r\n|>>>b"), "a  |>>>b");
+    }
 }

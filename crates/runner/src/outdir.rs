@@ -27,7 +27,10 @@
 //!   directory"), and nothing is created.
 //! - **One writer at a time.** The write holds an exclusive OS file lock (flock) on
 //!   `.<name>.lock` beside the directory, taken before anything is written and released (and
-//!   the file removed) when the write ends. The kernel drops the lock of a process that dies,
+//!   the file removed) when the write ends. Lock files are opened without following
+//!   symbolic links (`O_NOFOLLOW`): a link planted at a lock's name (in a shared parent
+//!   directory, say) is [`OutdirError::LinkedLock`], and the file it points to is never
+//!   opened, truncated or written. The kernel drops the lock of a process that dies,
 //!   so a crashed run never leaves a lock that blocks the next one; a leftover lock file is
 //!   simply locked again. A second run on the same directory waits for the lock, saying so
 //!   on the log (`tracing::warn!`), for at most the `lock_wait` it is given
@@ -50,8 +53,8 @@
 //!   stays. If removing the old results after a successful swap fails, the run still
 //!   succeeds (the new results are in place) and warns; the next run removes them.
 //!
-//! [`check`] applies the same rules without writing anything, so a sweep can refuse a bad
-//! output directory before it spends time computing.
+//! [`check`] applies the same rules without writing anything (a lock file planted as a link
+//! included), so a sweep can refuse a bad output directory before it spends time computing.
 
 use std::ffi::OsString;
 use std::fs::{self, File, OpenOptions};
@@ -63,6 +66,10 @@ use serde::{Deserialize, Serialize};
 
 /// The marker file's name inside every results directory gridplan writes.
 pub const MARKER: &str = ".gridplan-results";
+
+/// The marker file's name inside every stream area (`.<name>.stream/`) gridplan creates;
+/// only a stream area carrying it is written into or removed.
+pub const STREAM_MARKER: &str = ".gridplan-stream";
 
 /// The version of the results layout the marker records.
 pub const FORMAT_VERSION: u32 = 1;
@@ -203,6 +210,31 @@ pub enum OutdirError {
         /// Seconds waited.
         seconds: u64,
     },
+    /// A lock file that is a symbolic link (never followed).
+    #[error(
+        "lock file `{}` of output `{}` is a symbolic link; gridplan does not follow links \
+         to its lock files (the file it points to is left untouched): remove the link",
+        lock.display(), path.display()
+    )]
+    LinkedLock {
+        /// The output directory.
+        path: PathBuf,
+        /// The lock file.
+        lock: PathBuf,
+    },
+    /// A `.<name>.stream` that gridplan did not make.
+    #[error(
+        "`{}` is in the way of the sweep's stream area for `{}` but is not gridplan's (not a \
+         directory with a `{STREAM_MARKER}` marker), so gridplan neither writes into it nor \
+         removes it; move or remove it yourself",
+        path.display(), output.display()
+    )]
+    ForeignStream {
+        /// The stream directory in the way.
+        path: PathBuf,
+        /// The output directory.
+        output: PathBuf,
+    },
     /// A result file path that is not a plain relative path, or is the marker's.
     #[error(
         "result file `{}` must be a relative path of plain names other than `{MARKER}`",
@@ -247,6 +279,15 @@ fn io_error(action: &'static str, path: &Path) -> impl FnOnce(io::Error) -> Outd
 pub fn check(output: &Path) -> Result<(), OutdirError> {
     let location = locate(output, false)?;
     inspect(&location)?;
+    for suffix in ["lock", "stream.lock"] {
+        let lock = location.sibling(suffix);
+        if fs::symlink_metadata(&lock).is_ok_and(|m| m.file_type().is_symlink()) {
+            return Err(OutdirError::LinkedLock {
+                path: location.output.clone(),
+                lock,
+            });
+        }
+    }
     for leftover in [location.sibling("partial"), location.sibling("previous")] {
         if exists(&leftover) {
             ensure_ours(&leftover, &location)?;
@@ -614,30 +655,122 @@ fn exchange_dirs(_a: &Path, _b: &Path) -> Result<bool, OutdirError> {
     Ok(false)
 }
 
-/// The exclusive lock on an output directory: an OS file lock on `.<name>.lock` beside it,
-/// whose file holds the holder's pid. Dropping it removes the file, then unlocks.
 /// The working area of a streamed sweep that writes to an output directory: the directory
 /// `.<name>.stream` beside it (where the sweep appends its records, so a killed sweep can be
 /// resumed), held under its own exclusive lock `.<name>.stream.lock` (the same flock rules
 /// as the output's lock) while this value lives. The area is not a results directory and
 /// the swap never touches it; the sweep removes it once its results are in place.
+///
+/// gridplan writes the marker [`STREAM_MARKER`] into the area when it creates it, and uses
+/// or removes an existing `.<name>.stream` only if it carries that marker (or is empty):
+/// anything else there, a symbolic link included, is [`OutdirError::ForeignStream`] and is
+/// left as it is. Files in the area are opened without following links.
 pub struct StreamArea {
-    /// The stream directory (it may not exist yet).
+    /// The stream directory (created, with its marker, by [`stream_area`]).
     pub dir: PathBuf,
     _lock: OutputLock,
 }
 
+impl StreamArea {
+    /// Opens file `name` of the area for writing, without following a link: created
+    /// empty (`truncate`) or the existing file as it is.
+    pub fn open_write(&self, name: &str, truncate: bool) -> Result<File, OutdirError> {
+        let path = self.dir.join(name);
+        let mut options = OpenOptions::new();
+        options.write(true).create(truncate).truncate(truncate);
+        no_follow(&mut options);
+        options.open(&path).map_err(io_error("open", &path))
+    }
+
+    /// Removes the area, if it still carries gridplan's marker (its contents first, the
+    /// marker last).
+    pub fn remove(&self) -> io::Result<()> {
+        if !fs::symlink_metadata(&self.dir).is_ok_and(|m| m.is_dir())
+            || !fs::symlink_metadata(self.dir.join(STREAM_MARKER)).is_ok_and(|m| m.is_file())
+        {
+            return Ok(());
+        }
+        for entry in fs::read_dir(&self.dir)? {
+            let entry = entry?;
+            if entry.file_name() == STREAM_MARKER {
+                continue;
+            }
+            if entry.file_type()?.is_dir() {
+                fs::remove_dir_all(entry.path())?;
+            } else {
+                fs::remove_file(entry.path())?;
+            }
+        }
+        fs::remove_file(self.dir.join(STREAM_MARKER))?;
+        fs::remove_dir(&self.dir)
+    }
+}
+
 /// Locks the stream area of `output` (creating missing parents, as [`write_results`]
-/// would), waiting at most `wait` for another sweep on the same output.
+/// would), waiting at most `wait` for another sweep on the same output, and creates it
+/// with its marker, or checks that an existing one is gridplan's.
 pub fn stream_area(output: &Path, wait: Duration) -> Result<StreamArea, OutdirError> {
     let location = locate(output, true)?;
     let lock = OutputLock::acquire_named(&location, "stream.lock", wait)?;
-    Ok(StreamArea {
-        dir: location.sibling("stream"),
-        _lock: lock,
-    })
+    let dir = location.sibling("stream");
+    let foreign = || OutdirError::ForeignStream {
+        path: dir.clone(),
+        output: location.output.clone(),
+    };
+    match fs::symlink_metadata(&dir) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            fs::create_dir(&dir).map_err(io_error("create", &dir))?;
+        }
+        Err(e) => return Err(io_error("read", &dir)(e)),
+        Ok(metadata) if !metadata.is_dir() => return Err(foreign()),
+        Ok(_) => {
+            let marked = fs::symlink_metadata(dir.join(STREAM_MARKER)).is_ok_and(|m| m.is_file());
+            let empty = fs::read_dir(&dir)
+                .map_err(io_error("list", &dir))?
+                .next()
+                .is_none();
+            if !marked && !empty {
+                return Err(foreign());
+            }
+        }
+    }
+    let marker = dir.join(STREAM_MARKER);
+    if !fs::symlink_metadata(&marker).is_ok_and(|m| m.is_file()) {
+        fs::write(
+            &marker,
+            "# Written by gridplan: a sweep's records, kept for --resume; gridplan removes\n\
+             # this directory when the sweep's results are written.\n",
+        )
+        .map_err(io_error("write", &marker))?;
+    }
+    Ok(StreamArea { dir, _lock: lock })
 }
 
+/// Makes `options` refuse to open a symbolic link (`O_NOFOLLOW`).
+#[cfg(unix)]
+fn no_follow(options: &mut OpenOptions) {
+    use std::os::unix::fs::OpenOptionsExt as _;
+    options.custom_flags(libc::O_NOFOLLOW);
+}
+
+/// Makes `options` refuse to open a symbolic link (checked before opening elsewhere).
+#[cfg(not(unix))]
+fn no_follow(_options: &mut OpenOptions) {}
+
+/// Whether `error`, from opening with [`no_follow`], means the path is a symbolic link.
+fn is_link_error(error: &io::Error, path: &Path) -> bool {
+    #[cfg(unix)]
+    let loop_error = error.raw_os_error() == Some(libc::ELOOP);
+    #[cfg(not(unix))]
+    let loop_error = {
+        let _ = error;
+        false
+    };
+    loop_error || fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
+}
+
+/// The exclusive lock on an output directory: an OS file lock on `.<name>.lock` beside it,
+/// whose file holds the holder's pid. Dropping it removes the file, then unlocks.
 struct OutputLock {
     file: File,
     path: PathBuf,
@@ -659,13 +792,27 @@ impl OutputLock {
         let started = Instant::now();
         let mut told = false;
         loop {
-            let mut file = OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .open(&path)
-                .map_err(io_error("open the lock file", &path))?;
+            // Where O_NOFOLLOW is not known, a link is looked for first.
+            #[cfg(not(unix))]
+            if fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
+                return Err(OutdirError::LinkedLock {
+                    path: location.output.clone(),
+                    lock: path,
+                });
+            }
+            let mut options = OpenOptions::new();
+            options.read(true).write(true).create(true).truncate(false);
+            no_follow(&mut options);
+            let mut file = match options.open(&path) {
+                Ok(file) => file,
+                Err(e) if is_link_error(&e, &path) => {
+                    return Err(OutdirError::LinkedLock {
+                        path: location.output.clone(),
+                        lock: path,
+                    })
+                }
+                Err(e) => return Err(io_error("open the lock file", &path)(e)),
+            };
             match fs4::FileExt::try_lock(&file) {
                 Ok(()) => {
                     if !still_at(&file, &path) {
@@ -729,7 +876,7 @@ fn holder(file: &mut File) -> String {
 #[cfg(unix)]
 fn still_at(file: &File, path: &Path) -> bool {
     use std::os::unix::fs::MetadataExt as _;
-    match (file.metadata(), fs::metadata(path)) {
+    match (file.metadata(), fs::symlink_metadata(path)) {
         (Ok(open), Ok(named)) => open.dev() == named.dev() && open.ino() == named.ino(),
         _ => false,
     }
@@ -793,6 +940,22 @@ mod tests {
         let figure = fs::read_to_string(location.dir.join("figures/a.svg")).unwrap();
         assert_eq!(figure, "old");
         assert_eq!(names(&location.parent), ["r"]);
+        fs::remove_dir_all(&location.parent).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_lock_planted_as_a_link_is_not_followed() {
+        let location = old_and_new("linked-lock");
+        let victim = location.parent.join("victim");
+        fs::write(&victim, "precious").unwrap();
+        std::os::unix::fs::symlink(&victim, location.sibling("lock")).unwrap();
+        // Opened directly (as after a race with `check`): O_NOFOLLOW refuses it.
+        let error = OutputLock::acquire(&location, Duration::ZERO)
+            .err()
+            .unwrap();
+        assert!(matches!(error, OutdirError::LinkedLock { .. }), "{error}");
+        assert_eq!(fs::read_to_string(&victim).unwrap(), "precious");
         fs::remove_dir_all(&location.parent).unwrap();
     }
 

@@ -8,6 +8,19 @@
 //! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`.
 //! The scripts call this very binary and the config by absolute path, so they run from
 //! any directory on a cluster whose nodes share the file system.
+//!
+//! Every value that reaches a script is data, never code. One function, [`quote`], quotes
+//! it: in single quotes, a `'` written as `'\''`. Bash reads that as the value in the
+//! command lines, and sbatch's own parser of `#SBATCH` lines (quotes and backslash escapes,
+//! `#` outside quotes starting a comment) reads it as the same value in the directives.
+//! Values that no quoting keeps on their `#SBATCH` line, or that the two parsers read
+//! differently, are refused with an error naming the key they came from (`--partition`,
+//! `--time`, `--output` or the config's `output`): a newline, carriage return or NUL
+//! anywhere, and a backslash in a directive value (sbatch drops it, bash would not). In
+//! the `--output` directives a `%` of the directory is written `%%`, so Slurm's file name
+//! patterns (`%j`, `%a`) apply only to the log's own name. Before writing anything,
+//! `slurm` checks the results directory under the rules of `experiment`
+//! ([`crate::outdir::check`]), so a directory that `merge` would refuse is refused now.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -53,9 +66,45 @@ fn absolute(path: &Path) -> Result<PathBuf, String> {
         .join(path))
 }
 
-/// Single-quotes `text` for the shell.
-fn quote(text: &str) -> String {
+/// Single-quotes `text` for bash and for sbatch's `#SBATCH` parser: `'...'` with each `'`
+/// written `'\''`. Check a value with [`script_value`] first.
+///
+/// ```
+/// assert_eq!(planner_runner::slurm::quote("it's"), "'it'\\''s'");
+/// ```
+pub fn quote(text: &str) -> String {
     format!("'{}'", text.replace('\'', "'\\''"))
+}
+
+/// `value` (from the option or key `key`) checked for a script and quoted by [`quote`]:
+/// refused if it holds a newline, carriage return or NUL (which end a line whatever the
+/// quoting), or, in an `#SBATCH` directive (`directive`), a backslash (which sbatch's
+/// parser drops and bash keeps).
+pub fn script_value(key: &str, value: &str, directive: bool) -> Result<String, String> {
+    let bad = value
+        .chars()
+        .find(|&c| matches!(c, '\n' | '\r' | '\0') || (directive && c == '\\'));
+    match bad {
+        None => Ok(quote(value)),
+        Some(c) => Err(format!(
+            "{key}: {value:?} holds {}, which cannot be written safely into a Slurm script; \
+             choose a value without it",
+            match c {
+                '\n' => "a newline",
+                '\r' => "a carriage return",
+                '\0' => "a NUL character",
+                _ => "a backslash (sbatch reads it differently from bash)",
+            }
+        )),
+    }
+}
+
+/// A path as text for a script, checked by [`script_value`].
+fn path_value(key: &str, path: &Path, directive: bool) -> Result<String, String> {
+    let text = path
+        .to_str()
+        .ok_or_else(|| format!("{key}: {} is not valid UTF-8", path.display()))?;
+    script_value(key, text, directive)
 }
 
 /// Writes the scripts (and submits them if asked).
@@ -68,18 +117,25 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
         .config
         .canonicalize()
         .map_err(|e| format!("{}: {e}", args.config.display()))?;
+    // The key a bad output value is reported under.
+    let output_key = if args.output.is_some() {
+        "--output".to_string()
+    } else {
+        format!("{}: key `output`", args.config.display())
+    };
     let output = absolute(args.output.as_deref().unwrap_or(&experiment.output))?;
     let mut work = output.as_os_str().to_os_string();
     work.push("-slurm");
     let work = PathBuf::from(work);
-    std::fs::create_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
     let binary = std::env::current_exe().map_err(|e| format!("this binary's path: {e}"))?;
     let n = args.shards;
     let mut options = String::new();
     if let Some(p) = &args.partition {
+        let p = script_value("--partition", p, true)?;
         options.push_str(&format!("#SBATCH --partition={p}\n"));
     }
     if let Some(t) = &args.time {
+        let t = script_value("--time", t, true)?;
         options.push_str(&format!("#SBATCH --time={t}\n"));
     }
     if let Some(c) = args.cpus_per_task {
@@ -88,35 +144,49 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
     let threads = args
         .cpus_per_task
         .map_or(String::new(), |c| format!(" --threads {c}"));
-    let bin = quote(&binary.display().to_string());
-    let cfg = quote(&config_path.display().to_string());
-    let dir = quote(&work.display().to_string());
+    let bin = path_value("this binary's path", &binary, false)?;
+    let cfg = path_value("the config's path", &config_path, false)?;
+    let dir = path_value(&output_key, &work, false)?;
+    let out = path_value(&output_key, &output, false)?;
+    // Slurm's file name patterns apply to the log name only: `%` of the directory is `%%`.
+    let log = |file: &str| -> Result<String, String> {
+        let text = work
+            .to_str()
+            .ok_or_else(|| format!("{output_key}: {} is not valid UTF-8", work.display()))?;
+        script_value(
+            &output_key,
+            &format!("{}/{file}", text.replace('%', "%%")),
+            true,
+        )
+    };
+    let task_log = log("task-%a.log")?;
+    let merge_log = log("merge.log")?;
+    let shard_dirs: Vec<String> = (1..=n)
+        .map(|k| path_value(&output_key, &work.join(format!("shard-{k}")), false))
+        .collect::<Result<_, _>>()?;
+    // The results directory must be one `merge` may write, before anything is written.
+    crate::outdir::check(&output).map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
     let name = &experiment.name;
     let array = format!(
         "#!/bin/bash\n\
          # Written by `gridplan slurm`: shard K of {n} of experiment {name}.\n\
          #SBATCH --job-name=gridplan-{name}\n\
          #SBATCH --array=1-{n}\n\
-         #SBATCH --output={w}/task-%a.log\n\
+         #SBATCH --output={task_log}\n\
          {options}\
          set -euo pipefail\n\
          exec {bin} experiment {cfg} --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --output {dir}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet{threads}\n",
-        w = work.display(),
     );
-    let shard_dirs: Vec<String> = (1..=n)
-        .map(|k| quote(&work.join(format!("shard-{k}")).display().to_string()))
-        .collect();
     let merge = format!(
         "#!/bin/bash\n\
          # Written by `gridplan slurm`: merges the {n} shards of experiment {name}.\n\
          #SBATCH --job-name=gridplan-{name}-merge\n\
-         #SBATCH --output={w}/merge.log\n\
+         #SBATCH --output={merge_log}\n\
          {options}\
          set -euo pipefail\n\
          exec {bin} merge {dirs} --config {cfg} --output {out}\n",
-        w = work.display(),
         dirs = shard_dirs.join(" "),
-        out = quote(&output.display().to_string()),
     );
     let array_script = work.join("array.sbatch");
     let merge_script = work.join("merge.sbatch");

@@ -13,7 +13,8 @@
 //! end, which [`StreamReader`] stops at (and reports, so a resumed sweep truncates it).
 //! A stream file starts with a [`StreamHeader`] line naming the experiment, the shard and
 //! the [`config_hash`] of the resolved config, so a resumed or merged stream from another
-//! config is recognised.
+//! config is recognised, and the gridplan version that wrote it. [`check_record`] checks
+//! each record read back against the config's run list (map, problem, label, repeat).
 //!
 //! The runner writes no file: the sink and the reader work on bytes and `std::io` traits.
 
@@ -58,6 +59,10 @@ pub struct StreamHeader {
     pub runs: u64,
     /// Runs in the whole sweep.
     pub total_runs: u64,
+    /// The gridplan version that wrote the stream (absent in streams written before the
+    /// field existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gridplan: Option<String>,
 }
 
 impl StreamHeader {
@@ -72,6 +77,7 @@ impl StreamHeader {
             shards: shard.count,
             runs,
             total_runs: RunList::new(experiment).len(),
+            gridplan: Some(env!("CARGO_PKG_VERSION").to_string()),
         }
     }
 
@@ -354,6 +360,39 @@ pub fn run_stream(
         }
     }
     Ok(n_done)
+}
+
+/// Checks that `record`, read back as run `run` of a stream, is that run of `experiment`'s
+/// run list `list`: the same map, problem, planner label and repeat. A record of another
+/// config at a valid index (a foreign shard or stream) is refused; the message says which
+/// field differs, for the caller to prefix with the file and line.
+pub fn check_record(
+    experiment: &Experiment,
+    list: &RunList,
+    run: u64,
+    record: &RunRecord,
+) -> Result<(), String> {
+    let spec = list
+        .get(run)
+        .ok_or_else(|| format!("run {run} is past the sweep's {} runs", list.len()))?;
+    let map = &experiment.maps[spec.map];
+    let problem = map.problems[spec.problem].index;
+    let label = &experiment.planners[spec.planner].label;
+    let fields: [(&str, String, String); 4] = [
+        ("map", record.map.clone(), map.name.clone()),
+        ("problem", record.problem.to_string(), problem.to_string()),
+        ("planner label", record.planner.clone(), label.clone()),
+        ("repeat", record.repeat.to_string(), spec.repeat.to_string()),
+    ];
+    for (what, found, expected) in fields {
+        if found != expected {
+            return Err(format!(
+                "run {run} has {what} {found:?}, but run {run} of the config is {what} \
+                 {expected:?} (a record of another config)"
+            ));
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -14,16 +14,27 @@
 //! each) and written atomically by [`outdir::write_results_streamed`]: `runs.json` (a
 //! table without paths, [`crate::output::runs_json`]) and `runs.csv` row by row into their
 //! files, `summary.md`, figures, and `paths.jsonl` with the paths the config keeps
-//! (`paths`). Then the stream area is removed. A shard (`--shard K/N`) instead writes its
+//! (`paths`). Then the stream area is removed (only while it carries gridplan's marker:
+//! [`outdir::StreamArea`]). A shard (`--shard K/N`) instead writes its
 //! stream as `shard.jsonl` into its output directory; [`merge`] checks that a set of shard
 //! directories is complete and of one config and renders the one sweep's outputs from them.
+//!
+//! Records read back are checked, not trusted. `--resume` and [`merge`] check every record
+//! against the config's run list (its map, problem, planner label and repeat must be those
+//! of its run index: [`stream::check_record`]), after the stream header's experiment,
+//! config hash and shard, and refuse a mismatch naming the stream or shard file and its
+//! line. Versions: a stream header names the gridplan that wrote it; `--resume` refuses a
+//! stream of another version (or of none), naming both, so one sweep's records come from
+//! one program. `merge` refuses shards whose results markers or stream headers name
+//! different gridplan versions, naming both shards and versions, and merges shards all of
+//! one other version with a warning naming it and its own.
 //!
 //! A sweep whose stop flag ([`SweepArgs::stop`], set by the command line on SIGINT or
 //! SIGTERM) is raised starts no new run, appends the runs finished before the first one
 //! it skipped, and returns a [`Report`] with [`Report::interrupted`] set: nothing is
 //! rendered, the old results stay as they were, and the stream stays for `--resume`.
 
-use std::fs::{self, File, OpenOptions};
+use std::fs::{self, File};
 use std::io::{BufReader, Seek as _, SeekFrom, Write as _};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -34,7 +45,7 @@ use rayon::prelude::*;
 use crate::output::{OutputFile, StreamedFile};
 use crate::provenance::Provenance;
 use crate::report::Reproduction;
-use crate::run::HeapMeter;
+use crate::run::{HeapMeter, RunList};
 use crate::shard::{Shard, ShardRuns};
 use crate::stream::{self, StreamHeader, StreamReader};
 use crate::{
@@ -144,19 +155,15 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
     let area = outdir::stream_area(&dir, outdir::DEFAULT_LOCK_WAIT).map_err(|e| e.to_string())?;
     let runs = ShardRuns::new(&experiment, shard);
     let header = StreamHeader::new(&experiment, shard, runs.len());
-    fs::create_dir_all(&area.dir).map_err(|e| format!("{}: {e}", area.dir.display()))?;
     let path = area.dir.join(RECORDS);
     let done = if args.resume {
-        resume_point(&path, &header, &runs)?
+        resume_point(&path, &header, &runs, &experiment)?
     } else {
         None
     };
     let (mut file, n_done) = match done {
         Some((bytes, n)) => {
-            let mut file = OpenOptions::new()
-                .write(true)
-                .open(&path)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let mut file = area.open_write(RECORDS, false).map_err(|e| e.to_string())?;
             file.set_len(bytes)
                 .and_then(|()| file.seek(SeekFrom::End(0)).map(drop))
                 .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -167,7 +174,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
             if args.resume {
                 eprintln!("nothing to resume for {}: running every run", dir.display());
             }
-            let mut file = File::create(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let mut file = area.open_write(RECORDS, true).map_err(|e| e.to_string())?;
             file.write_all(&header.to_line().map_err(|e| e.to_string())?)
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             (file, 0)
@@ -285,7 +292,12 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
             },
         )
     };
-    let _ = fs::remove_dir_all(&area.dir);
+    if let Err(e) = area.remove() {
+        tracing::warn!(
+            "the results are written, but the stream area {} could not be removed: {e}",
+            area.dir.display()
+        );
+    }
     Ok(Report {
         n_runs: runs.len() as usize,
         output: dir,
@@ -311,6 +323,7 @@ fn resume_point(
     path: &Path,
     header: &StreamHeader,
     runs: &ShardRuns,
+    experiment: &Experiment,
 ) -> Result<Option<(u64, u64)>, String> {
     let file = match File::open(path) {
         Ok(file) => file,
@@ -331,20 +344,35 @@ fn resume_point(
             found.experiment, found.config_hash, header.config, header.experiment, header.config_hash
         ));
     }
+    if found.gridplan != header.gridplan {
+        return Err(format!(
+            "--resume: {what} was written by gridplan {}, this is gridplan {}; records of two \
+             versions are not mixed in one sweep. Run without --resume to start over.",
+            found
+                .gridplan
+                .as_deref()
+                .unwrap_or("of unknown version (its header names none)"),
+            header.gridplan.as_deref().unwrap_or("?")
+        ));
+    }
     if (found.shard, found.shards) != (header.shard, header.shards) {
         return Err(format!(
             "--resume: {what} holds shard {}/{}, not {}/{}",
             found.shard, found.shards, header.shard, header.shards
         ));
     }
+    let list = RunList::new(experiment);
     let mut expected = runs.iter();
     let mut n = 0u64;
-    while let Some((run, _)) = reader.next_run().map_err(|e| e.to_string())? {
+    while let Some((run, record)) = reader.next_run().map_err(|e| e.to_string())? {
         if expected.next() != Some(run) {
             return Err(format!(
                 "--resume: {what}: run {run} is out of order; run without --resume"
             ));
         }
+        // The header line is line 1: record n is line n + 2.
+        stream::check_record(experiment, &list, run, &record)
+            .map_err(|e| format!("--resume: {what} line {}: {e}; run without --resume", n + 2))?;
         n += 1;
     }
     Ok(Some((reader.complete_bytes(), n)))
@@ -495,6 +523,7 @@ pub fn merge(
                 .join(", ")
         ));
     }
+    check_versions(&shards)?;
     let config_path = config.map_or_else(|| PathBuf::from(&first.config), Path::to_path_buf);
     let experiment = config::load(&config_path).map_err(|e| format!("merge: {e}"))?;
     let hash = stream::config_hash(&experiment);
@@ -506,7 +535,11 @@ pub fn merge(
             first.config_hash
         ));
     }
-    // K-way merge by run index: every index 0..total exactly once.
+    // K-way merge by run index: every index 0..total exactly once, each record checked
+    // against the config's run list.
+    let list = RunList::new(&experiment);
+    // Per shard: the line of its head record (the header is line 1).
+    let mut lines: Vec<u64> = vec![2; shards.len()];
     let mut heads: Vec<Option<(u64, RunRecord)>> = Vec::with_capacity(shards.len());
     for (_, _, reader) in &mut shards {
         heads.push(reader.next_run().map_err(|e| e.to_string())?);
@@ -533,7 +566,15 @@ pub fn merge(
             ));
         };
         let next = shards[i].2.next_run().map_err(|e| e.to_string())?;
-        if let Some((_, record)) = std::mem::replace(&mut heads[i], next) {
+        if let Some((run, record)) = std::mem::replace(&mut heads[i], next) {
+            stream::check_record(&experiment, &list, run, &record).map_err(|e| {
+                format!(
+                    "merge: {} line {}: {e}",
+                    shards[i].0.join(SHARD_FILE).display(),
+                    lines[i]
+                )
+            })?;
+            lines[i] += 1;
             records.push(record);
         }
     }
@@ -557,6 +598,39 @@ pub fn merge(
         interrupted: None,
         records: Vec::new(),
     })
+}
+
+/// The gridplan version of each shard: its results marker's (`.gridplan-results`) and its
+/// stream header's. Shards written by different versions are refused, naming both (their
+/// planners may count differently, so the merged tables would mix two programs); shards
+/// of one version other than this gridplan's are merged with a warning naming both.
+fn check_versions(
+    shards: &[(PathBuf, StreamHeader, StreamReader<BufReader<File>>)],
+) -> Result<(), String> {
+    let mut seen: Vec<(String, String)> = Vec::new();
+    for (dir, header, _) in shards {
+        let marker = outdir::Marker::read(dir).ok().map(|m| m.gridplan);
+        for version in [marker, header.gridplan.clone()].into_iter().flatten() {
+            match seen.iter().find(|(v, _)| *v != version) {
+                Some((other, other_dir)) => {
+                    return Err(format!(
+                        "merge: {other_dir} was written by gridplan {other} and {} by gridplan \
+                         {version}; rerun the shards with one gridplan version",
+                        dir.display()
+                    ))
+                }
+                None => seen.push((version, dir.display().to_string())),
+            }
+        }
+    }
+    let this = env!("CARGO_PKG_VERSION");
+    if let Some((version, dir)) = seen.iter().find(|(v, _)| v != this) {
+        tracing::warn!(
+            "merging shards written by gridplan {version} ({dir}) with gridplan {this}: the \
+             records are kept as that version computed them"
+        );
+    }
+    Ok(())
 }
 
 /// The summary.md among `files`, as text.

@@ -8,6 +8,7 @@ use super::optimum::matches_optimum;
 use super::{median_iqr, Context, Reproduction, Section};
 use crate::config::PlannerSpec;
 use crate::record::RunRecord;
+use crate::report::md_cell;
 
 /// The aggregate tables (section name `aggregate`).
 pub struct Aggregate;
@@ -127,10 +128,10 @@ fn by_bucket(context: &Context<'_>, measured: Measured) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let labels: Vec<&str> = experiment
+    let labels: Vec<String> = experiment
         .planners
         .iter()
-        .map(|p| p.label.as_str())
+        .map(|p| md_cell(&p.label))
         .collect();
     let head = format!(
         "| Map | Bucket | Runs | {} |\n|---|---|---:|{}\n",
@@ -147,7 +148,12 @@ fn by_bucket(context: &Context<'_>, measured: Measured) -> String {
             };
             let runs = per_label.iter().map(Vec::len).max().unwrap_or(0);
             let cells: Vec<String> = per_label.iter().map(|r| cell(r)).collect();
-            let _ = writeln!(out, "| {map} | {bucket} | {runs} | {} |", cells.join(" | "));
+            let _ = writeln!(
+                out,
+                "| {} | {bucket} | {runs} | {} |",
+                md_cell(map),
+                cells.join(" | ")
+            );
         }
         out.push('\n');
     };
@@ -265,7 +271,9 @@ fn row(out: &mut String, label: &str, map: &str, runs: &[&RunRecord], measured: 
     };
     let _ = writeln!(
         out,
-        "| {label} | {map} | {} | {found} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} | {heap} |",
+        "| {} | {} | {} | {found} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} | {heap} |",
+        md_cell(label),
+        md_cell(map),
         runs.len()
     );
 }
@@ -286,7 +294,7 @@ fn parameters(context: &Context<'_>) -> String {
         let _ = writeln!(
             out,
             "| {} | {} | {} | {} |",
-            planner.label,
+            md_cell(&planner.label),
             planner.name,
             escape(&params),
             escape(&budget)
@@ -323,7 +331,7 @@ fn counters(context: &Context<'_>) -> String {
             let _ = writeln!(
                 out,
                 "| {} | {name} | {} | {} | {} |",
-                planner.label,
+                md_cell(&planner.label),
                 format_number(median),
                 format_number(mean),
                 format_number(max)
@@ -383,8 +391,8 @@ fn seeds(context: &Context<'_>) -> String {
             let _ = writeln!(
                 out,
                 "| {} | {} | {} | {:.1} % | {length} | {length_range} | {expanded} | {expanded_range} |",
-                planner.label,
-                map.name,
+                md_cell(&planner.label),
+                md_cell(&map.name),
                 experiment.repeats,
                 100.0 * found as f64 / runs.len() as f64,
             );
@@ -415,7 +423,7 @@ fn format_bytes(bytes: u64) -> String {
 
 /// Escapes `|` for a markdown table cell.
 fn escape(text: &str) -> String {
-    text.replace('|', "\\|")
+    md_cell(text)
 }
 
 #[cfg(test)]

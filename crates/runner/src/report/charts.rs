@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use super::{Context, Reproduction, Section};
+use super::{md_cell, Context, Reproduction, Section};
 
 /// The charts (section name `charts`).
 pub struct Charts;
@@ -24,7 +24,11 @@ impl Section for Charts {
         }
         out.push_str("## Charts\n\n");
         for chart in charts {
-            let _ = writeln!(out, "![{}](charts/{})\n", chart.title, chart.file);
+            // The title is config text: one line, and no `]` to end the image's text.
+            let title = md_cell(&chart.title)
+                .replace('[', "\\[")
+                .replace(']', "\\]");
+            let _ = writeln!(out, "![{title}](charts/{})\n", chart.file);
         }
     }
 }

@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 
 use super::{Context, Reproduction, Section};
 use crate::config::PlannerSpec;
+use crate::report::md_cell;
 
 /// The coverage table (section name `coverage`).
 pub struct Coverage;
@@ -58,9 +59,9 @@ fn summary(context: &Context<'_>) -> String {
                 let _ = writeln!(
                     out,
                     "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-                    map.name,
+                    md_cell(&map.name),
                     problem.start,
-                    planner.label,
+                    md_cell(&planner.label),
                     r.status.as_str(),
                     coverage,
                     c("n_reachable"),
@@ -124,7 +125,7 @@ fn means(context: &Context<'_>, planners: &[&PlannerSpec]) -> String {
         let _ = writeln!(
             out,
             "| {} | {} | {} % | {} | {} | {} | {} | {} | {} | {} | {} |",
-            planner.label,
+            md_cell(&planner.label),
             runs.len(),
             coverage,
             counter("n_backtracking_points"),

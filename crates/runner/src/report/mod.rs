@@ -158,7 +158,7 @@ fn header(context: &Context<'_>, out: &mut String) {
             let _ = writeln!(
                 out,
                 "- {} problem {} {} -> {}: {}",
-                r.map,
+                md_cell(&r.map),
                 r.problem,
                 r.start,
                 r.goal,
@@ -189,6 +189,93 @@ pub fn median_iqr(values: &[f64]) -> Option<(f64, f64, f64)> {
 /// A map's file name without its extension.
 pub fn map_stem(name: &str) -> &str {
     name.rsplit_once('.').map_or(name, |(stem, _)| stem)
+}
+
+/// `text` as part of a file name: ASCII letters, digits, `-`, `_` and `.` are kept and any
+/// other character becomes `_`; if any did, a `-` and the first 8 hex digits of the
+/// SHA-256 of `text` follow, so that names differing only in replaced characters (`p q`
+/// and `p_q`) stay apart. Names of plain characters are unchanged. [`FileNames`] also
+/// catches the names that would still meet (one output per name).
+///
+/// ```
+/// use planner_runner::report::file_part;
+/// assert_eq!(file_part("map01"), "map01");
+/// assert_ne!(file_part("p q"), file_part("p_q"));
+/// assert!(file_part("p q").starts_with("p_q-"));
+/// ```
+pub fn file_part(text: &str) -> String {
+    let safe: String = text
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if safe == text && !text.is_empty() && !text.starts_with('.') {
+        return safe;
+    }
+    format!("{safe}-{}", short_hash(text))
+}
+
+/// The first 8 hex digits of the SHA-256 of `text`.
+pub(crate) fn short_hash(text: &str) -> String {
+    use sha2::{Digest, Sha256};
+    Sha256::digest(text.as_bytes())
+        .iter()
+        .take(4)
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// The output file names of one kind handed out so far, so that two outputs never share
+/// one: [`FileNames::claim`] returns the name asked for, or, when another output took it
+/// already, that name with the hash of what this output is (its `key`, e.g. map, problem
+/// and label) before the extension, and a counter should that be taken too.
+#[derive(Debug, Default)]
+pub struct FileNames {
+    used: std::collections::HashSet<String>,
+}
+
+impl FileNames {
+    /// A name for the output `key`, `wanted` if free (`wanted` ends in `.ext`).
+    pub fn claim(&mut self, wanted: String, key: &str) -> String {
+        if self.used.insert(wanted.clone()) {
+            return wanted;
+        }
+        let (stem, ext) = wanted
+            .rsplit_once('.')
+            .map_or((wanted.as_str(), ""), |(s, e)| (s, e));
+        let dot = if ext.is_empty() { "" } else { "." };
+        let hashed = format!("{stem}-{}", short_hash(key));
+        let mut candidate = format!("{hashed}{dot}{ext}");
+        let mut n = 2;
+        while !self.used.insert(candidate.clone()) {
+            candidate = format!("{hashed}-{n}{dot}{ext}");
+            n += 1;
+        }
+        candidate
+    }
+}
+
+/// `text` for one cell of a markdown table: `|` escaped, line breaks and other control
+/// characters as spaces, so it cannot end the row or add a column.
+///
+/// ```
+/// assert_eq!(planner_runner::report::md_cell("a|b\nc"), "a\\|b c");
+/// ```
+pub fn md_cell(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '|' => out.push_str("\\|"),
+            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') => out.push(' '),
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 
 use super::{Context, Reproduction, Section};
 use crate::record::RunRecord;
+use crate::report::md_cell;
 
 /// Relative tolerance for comparing a length with a scenario file's stated optimum: the
 /// older Moving AI files round it to 5-6 significant digits.
@@ -74,8 +75,8 @@ Per planner and map: runs with a stated optimum, how many found a path, how many
             let _ = writeln!(
                 out,
                 "| {} | {} | {} | {} | {} | {:.2} % |",
-                planner.label,
-                map.name,
+                md_cell(&planner.label),
+                md_cell(&map.name),
                 runs.len(),
                 found.len(),
                 optimal,

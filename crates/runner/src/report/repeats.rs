@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 
 use super::{median_iqr, Context, Reproduction, Section};
 use crate::record::RunRecord;
+use crate::report::md_cell;
 
 /// The repeats table (section name `repeats`).
 pub struct Repeats;
@@ -54,8 +55,8 @@ fn repeat_table(context: &Context<'_>) -> String {
             let _ = writeln!(
                 out,
                 "| {} | {} | {} | {:.1} % | {length} | {time} |",
-                planner.label,
-                map.name,
+                md_cell(&planner.label),
+                md_cell(&map.name),
                 runs.len(),
                 100.0 * found.len() as f64 / runs.len() as f64,
             );

@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 
 use super::{map_stem, Context, Reproduction, Section, MAX_COLUMNS};
 use crate::record::RunRecord;
+use crate::report::md_cell;
 
 /// Seed 000's quality and search-effort tables (section name `seed000`).
 pub struct Seed000;
@@ -68,14 +69,15 @@ fn quality_tables(context: &Context<'_>, reproduction: &mut Reproduction) -> Str
             let _ = writeln!(
                 out,
                 "### {} ({}) on {w}x{h} maps\n",
-                planner.label, planner.name
+                md_cell(&planner.label),
+                planner.name
             );
             out.push_str("| Metric |");
             for (map, problem) in &columns {
                 if single {
-                    let _ = write!(out, " {} |", map_stem(map));
+                    let _ = write!(out, " {} |", md_cell(map_stem(map)));
                 } else {
-                    let _ = write!(out, " {} #{problem} |", map_stem(map));
+                    let _ = write!(out, " {} #{problem} |", md_cell(map_stem(map)));
                 }
             }
             out.push_str("\n|---|");

@@ -31,6 +31,7 @@ use super::{median_iqr, Context, Reproduction, Section};
 use crate::config::{Experiment, PlannerSpec};
 use crate::index::ResultsIndex;
 use crate::record::{RunRecord, RunStatus};
+use crate::report::md_cell;
 
 /// Seed 002's comparison of a proposed planner with its references (section name
 /// `seed002`).
@@ -127,7 +128,10 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
             let _ = writeln!(
                 out,
                 "### {} problem {}: {} -> {}\n",
-                map.name, problem.index, problem.start, problem.goal
+                md_cell(&map.name),
+                problem.index,
+                problem.start,
+                problem.goal
             );
             out.push_str("| Planner | Algorithm | Status | Path length | Time ms median (IQR) |\n|---|---|---|---:|---:|\n");
             for planner in &experiment.planners {
@@ -143,7 +147,7 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
                 let _ = writeln!(
                     out,
                     "| {} | {} | {} | {} | {} |",
-                    planner.label,
+                    md_cell(&planner.label),
                     planner.name,
                     status,
                     length(&planner.label).map_or("-".into(), |l| format!("{l:.2}")),
@@ -160,8 +164,8 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
                         let _ = writeln!(
                             out,
                             "| {} | {} | {} | {} |",
-                            pa.label,
-                            reference.label,
+                            md_cell(&pa.label),
+                            md_cell(&reference.label),
                             percent(r_length),
                             percent(r_time)
                         );
@@ -176,7 +180,7 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
                     .map(|p| times(&p.label))
                     .collect();
                 let groups: Vec<&[f64]> = samples.iter().map(Vec::as_slice).collect();
-                let scenario = format!("{} #{}", map.name, problem.index);
+                let scenario = format!("{} #{}", md_cell(&map.name), problem.index);
                 match kruskal_wallis(&groups) {
                     Ok(kw) => {
                         let _ = writeln!(
@@ -222,7 +226,7 @@ fn render_capso(experiment: &Experiment, index: &ResultsIndex<'_>, capso_name: &
             let _ = writeln!(
                 out,
                 "### {} problem {}: {} -> {}\n\n| Planner | Control points | Found | Mean length | Min | Max |\n|---|---:|---:|---:|---:|---:|",
-                map.name, problem.index, problem.start, problem.goal
+                md_cell(&map.name), problem.index, problem.start, problem.goal
             );
             let mut curves: Vec<Vec<(f64, f64)>> = Vec::new();
             for planner in &labels {
@@ -242,7 +246,7 @@ fn render_capso(experiment: &Experiment, index: &ResultsIndex<'_>, capso_name: &
                 let _ = writeln!(
                     out,
                     "| {} | {control_points} | {}/{} | {} | {} | {} |",
-                    planner.label,
+                    md_cell(&planner.label),
                     lengths.len(),
                     all.len(),
                     stat(|v| v.iter().sum::<f64>() / v.len() as f64),
@@ -253,7 +257,7 @@ fn render_capso(experiment: &Experiment, index: &ResultsIndex<'_>, capso_name: &
             }
             out.push_str("\n| Iteration |");
             for planner in &labels {
-                let _ = write!(out, " {} |", planner.label);
+                let _ = write!(out, " {} |", md_cell(&planner.label));
             }
             out.push_str("\n|---:|");
             out.push_str(&"---:|".repeat(labels.len()));
@@ -316,7 +320,7 @@ fn timing_table(
         .unwrap_or(0);
     let mut out = format!(
         "### {scenario}: times and Dunn's test against {} (Tables 12-14)\n\n| Planner | Time ms median (IQR) | Shapiro-Wilk W | Shapiro-Wilk p | Z | p (Bonferroni, {pairs} pairs) |\n|---|---:|---:|---:|---:|---:|\n",
-        base.label
+        md_cell(&base.label)
     );
     for (i, planner) in experiment.planners.iter().enumerate() {
         let (w, p_w) = match shapiro_wilk(&samples[i]) {
@@ -337,7 +341,7 @@ fn timing_table(
         let _ = writeln!(
             out,
             "| {} | {} | {w} | {p_w} | {z} | {p} |",
-            planner.label,
+            md_cell(&planner.label),
             time_cell(&samples[i])
         );
     }

@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 
 use super::{median_iqr, Context, Reproduction, Section, MAX_COLUMNS};
+use crate::report::md_cell;
 
 /// Seed 003's time, memory and length tables (section name `seed003`).
 pub struct Seed003;
@@ -33,7 +34,7 @@ fn time_tables(context: &Context<'_>) -> String {
             let _ = writeln!(
                 out,
                 "{}: {} problems, see runs.csv.\n",
-                map.name,
+                md_cell(&map.name),
                 map.problems.len()
             );
             continue;
@@ -41,7 +42,7 @@ fn time_tables(context: &Context<'_>) -> String {
         let _ = writeln!(
             out,
             "### {} ({}x{})\n",
-            map.name,
+            md_cell(&map.name),
             map.grid.width(),
             map.grid.height()
         );
@@ -64,7 +65,7 @@ fn time_tables(context: &Context<'_>) -> String {
                 let _ = writeln!(
                     out,
                     "| {} | {} {} -> {} | {} | {} | {} | {} | {} | {} |",
-                    planner.label,
+                    md_cell(&planner.label),
                     problem.index,
                     problem.start,
                     problem.goal,

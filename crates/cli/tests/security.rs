@@ -1,0 +1,559 @@
+//! Security and data loss through the real `gridplan` binary (issue 26): config and option
+//! values never run as commands in the Slurm scripts (run by bash here, and submitted to a
+//! real Slurm when one answers, as in CI's `== slurm` block), report.html holds no live
+//! script, lock files planted as links are refused with their target untouched, a foreign
+//! stream directory survives, records of another config or gridplan version are refused
+//! by merge and --resume, and distinct maps and labels never share an output file, every
+//! SVG is well-formed XML and summary.md's tables keep their columns.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// A 3x3 Moving AI map with a wall cell in the middle.
+const SMALL: &[u8] = b"type octile\nheight 3\nwidth 3\nmap\n...\n.@.\n...\n";
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gridplan-security-{}-{name}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir.canonicalize().unwrap()
+}
+
+/// Runs `gridplan args` in `dir`.
+fn gridplan(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("RUST_LOG")
+        .stdin(Stdio::null())
+        .output()
+        .unwrap()
+}
+
+fn text(out: &Output) -> String {
+    format!(
+        "exit {:?}\nstdout: {}\nstderr: {}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    )
+}
+
+/// Asserts exit code 1 with `needle` in stderr.
+fn refused(out: &Output, needle: &str) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.code() == Some(1) && stderr.contains(needle),
+        "expected a refusal naming {needle:?}: {}",
+        text(out)
+    );
+}
+
+fn succeeded(out: &Output) {
+    assert!(out.status.success(), "{}", text(out));
+}
+
+/// A scratch directory with `small.map` and `cfg.toml` (`extra` added to its top level,
+/// `output = "res"` unless `extra` sets it).
+fn setup(name: &str, extra: &str) -> PathBuf {
+    let dir = scratch(name);
+    fs::write(dir.join("small.map"), SMALL).unwrap();
+    let output = if extra.contains("output =") {
+        ""
+    } else {
+        "output = \"res\"\n"
+    };
+    fs::write(
+        dir.join("cfg.toml"),
+        format!(
+            "name = \"c\"\n{output}{extra}\n[[maps]]\nfiles = [\"small.map\"]\nproblems = \"corners\"\n\
+             [planners.a]\nplanner = \"astar\"\n[planners.b]\nplanner = \"bfs\"\n"
+        ),
+    )
+    .unwrap();
+    dir
+}
+
+/// The marker files an injected `touch` would create, anywhere under `dir`.
+fn injected(dir: &Path) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(at) = stack.pop() {
+        for entry in fs::read_dir(&at).into_iter().flatten().flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if name.starts_with("INJECTED") {
+                found.push(entry.path());
+            }
+            if entry.file_type().is_ok_and(|t| t.is_dir()) {
+                stack.push(entry.path());
+            }
+        }
+    }
+    found
+}
+
+/// An output directory name holding every character that means something to bash or to
+/// sbatch's `#SBATCH` parser, and commands that would run if it were not quoted.
+const HOSTILE_DIR: &str = "o q'u\"o $(touch INJECTED1) `touch INJECTED2` ;touch INJECTED3 #%j";
+
+#[test]
+fn slurm_values_with_line_breaks_are_refused_naming_the_key() {
+    let dir = setup("slurm-refused", "");
+    for (option, key) in [
+        ("--partition", "--partition"),
+        ("--time", "--time"),
+        ("--output", "--output"),
+    ] {
+        for value in ["p\ntouch INJECTED #", "p\rtouch INJECTED #"] {
+            let out = gridplan(&dir, &["slurm", "cfg.toml", "--shards", "2", option, value]);
+            refused(&out, key);
+            assert!(injected(&dir).is_empty());
+        }
+    }
+    // A backslash reads differently to sbatch and bash: refused in a directive.
+    let out = gridplan(
+        &dir,
+        &["slurm", "cfg.toml", "--shards", "2", "--partition", "a\\b"],
+    );
+    refused(&out, "--partition");
+    // The config's own `output` key.
+    let bad = setup("slurm-refused-config", "output = \"r\\ntouch INJECTED #\"");
+    let out = gridplan(&bad, &["slurm", "cfg.toml", "--shards", "2"]);
+    refused(&out, "key `output`");
+    // No script was written anywhere.
+    for d in [&dir, &bad] {
+        assert!(
+            fs::read_dir(d)
+                .unwrap()
+                .flatten()
+                .all(|e| !e.file_name().to_string_lossy().ends_with("-slurm")),
+            "a -slurm directory was written in {}",
+            d.display()
+        );
+    }
+}
+
+#[test]
+fn slurm_checks_the_output_directory_like_experiment() {
+    let dir = setup("slurm-outdir", "");
+    fs::create_dir(dir.join("res")).unwrap();
+    fs::write(dir.join("res/thesis.tex"), "mine").unwrap();
+    let out = gridplan(&dir, &["slurm", "cfg.toml", "--shards", "2"]);
+    refused(&out, "not a gridplan results directory");
+    assert!(!dir.join("res-slurm").exists());
+    assert_eq!(
+        fs::read_to_string(dir.join("res/thesis.tex")).unwrap(),
+        "mine"
+    );
+}
+
+#[test]
+fn slurm_scripts_run_by_bash_run_no_injected_command() {
+    let dir = setup("slurm-bash", "");
+    let output = dir.join(HOSTILE_DIR);
+    let out = gridplan(
+        &dir,
+        &[
+            "slurm",
+            "cfg.toml",
+            "--shards",
+            "2",
+            "--output",
+            &output.display().to_string(),
+            "--partition",
+            "p q'\"$(touch INJECTED4)",
+            "--time",
+            "1:00 `touch INJECTED5`",
+        ],
+    );
+    succeeded(&out);
+    let mut work = output.clone().into_os_string();
+    work.push("-slurm");
+    let work = PathBuf::from(work);
+    for k in 1..=2 {
+        let run = Command::new("bash")
+            .arg(work.join("array.sbatch"))
+            .env("SLURM_ARRAY_TASK_ID", k.to_string())
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        succeeded(&run);
+    }
+    let run = Command::new("bash")
+        .arg(work.join("merge.sbatch"))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    succeeded(&run);
+    assert!(injected(&dir).is_empty(), "{:?}", injected(&dir));
+    // The results went to the directory of that very name.
+    assert!(output.join("runs.json").is_file());
+}
+
+/// Why the Slurm test cannot run here (no sbatch, or no controller answering), if so.
+fn slurm_missing() -> Option<String> {
+    let ping = match Command::new("scontrol").arg("ping").output() {
+        Err(e) => return Some(format!("no Slurm here (scontrol: {e})")),
+        Ok(out) => String::from_utf8_lossy(&out.stdout).into_owned(),
+    };
+    if Command::new("sbatch").arg("--version").output().is_err() {
+        return Some("no sbatch on PATH".into());
+    }
+    if !ping.contains("UP") {
+        return Some(format!("no Slurm controller answers: {}", ping.trim()));
+    }
+    None
+}
+
+#[test]
+fn slurm_submitted_jobs_run_no_injected_command() {
+    if let Some(reason) = slurm_missing() {
+        assert!(
+            std::env::var("GRIDPLAN_SLURM_TEST").as_deref() != Ok("1"),
+            "GRIDPLAN_SLURM_TEST=1 but {reason}; start one with scripts/slurm-start.sh"
+        );
+        eprintln!("skipped: {reason} (scripts/slurm-start.sh starts a one-node cluster)");
+        return;
+    }
+    let dir = setup("slurm-submit", "");
+    let output = dir.join(HOSTILE_DIR);
+    let out = gridplan(
+        &dir,
+        &[
+            "slurm",
+            "cfg.toml",
+            "--shards",
+            "2",
+            "--output",
+            &output.display().to_string(),
+            "--time",
+            "10:00",
+            "--submit",
+        ],
+    );
+    succeeded(&out);
+    let printed = String::from_utf8_lossy(&out.stdout).into_owned();
+    let id = |what: &str| {
+        printed
+            .lines()
+            .find_map(|l| l.strip_prefix(what))
+            .unwrap_or_else(|| panic!("no {what:?} in {printed}"))
+            .trim()
+            .to_string()
+    };
+    let jobs = format!("{},{}", id("array job "), id("merge job "));
+    let started = Instant::now();
+    loop {
+        let queue = Command::new("squeue")
+            .args(["-h", "-j", &jobs, "-o", "%i %T"])
+            .output()
+            .unwrap();
+        if String::from_utf8_lossy(&queue.stdout).trim().is_empty() {
+            break;
+        }
+        if started.elapsed() > Duration::from_secs(180) {
+            let _ = Command::new("scancel").args(jobs.split(',')).status();
+            panic!("jobs {jobs} still queued after 180 s");
+        }
+        std::thread::sleep(Duration::from_millis(250));
+    }
+    assert!(injected(&dir).is_empty(), "{:?}", injected(&dir));
+    assert!(
+        output.join("runs.json").is_file(),
+        "the merge wrote no results into {}",
+        output.display()
+    );
+    // `%j` of the directory reached Slurm as `%%j`: the logs are in the directory as named.
+    let mut work = output.into_os_string();
+    work.push("-slurm");
+    assert!(PathBuf::from(work).join("merge.log").is_file());
+}
+
+/// Every element of `html` with a `<script>`, an `on*` attribute or a `javascript:` link.
+fn live_script(html: &str) -> Vec<String> {
+    let page = scraper::Html::parse_document(html);
+    let mut found = Vec::new();
+    for node in page.tree.nodes() {
+        let Some(element) = node.value().as_element() else {
+            continue;
+        };
+        if element.name().eq_ignore_ascii_case("script") {
+            found.push(format!("<{}>", element.name()));
+        }
+        for (name, value) in element.attrs() {
+            let compact: String = value
+                .chars()
+                .filter(|c| !c.is_whitespace() && !c.is_control())
+                .collect::<String>()
+                .to_ascii_lowercase();
+            if name.to_ascii_lowercase().starts_with("on")
+                || compact.starts_with("javascript:")
+                || compact.starts_with("data:")
+            {
+                found.push(format!("<{} {name}={value:?}>", element.name()));
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn report_html_has_no_live_script() {
+    let dir = scratch("report");
+    fs::write(dir.join("small.map"), SMALL).unwrap();
+    fs::write(
+        dir.join("cfg.toml"),
+        "name = \"c\"\noutput = \"res\"\n\
+         description = \"<script>alert(1)</script> <img src=x onerror=alert(2)> [x](javascript:alert(3)) <javascript:alert(4)>\\n\\nA [link](javascript:alert(8)) and [ok](https://example.org).\"\n\
+         [[maps]]\nfiles = [\"small.map\"]\nproblems = \"corners\"\n\
+         [planners.\"<script>alert(5)</script>\"]\nplanner = \"astar\"\n\
+         [planners.\"[l](javascript:alert(6))\"]\nplanner = \"bfs\"\n\
+         [planners.\"<b onmouseover=alert(7)>b</b>\"]\nplanner = \"dfs\"\n",
+    )
+    .unwrap();
+    succeeded(&gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]));
+    let html = fs::read_to_string(dir.join("res/report.html")).unwrap();
+    assert_eq!(live_script(&html), Vec::<String>::new());
+    // The text is there, as text; the safe link stays a link.
+    assert!(html.contains("&lt;script&gt;alert(5)&lt;/script&gt;"));
+    assert!(html.contains("<a href=\"https://example.org\">ok</a>"));
+    // The check itself finds what it looks for.
+    assert_eq!(
+        live_script("<p><script>x</script><a href=\" JavaScript:x\">a</a><b onclick=x>b</b></p>")
+            .len(),
+        3
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn lock_files_planted_as_links_are_refused_and_their_targets_untouched() {
+    for lock in [".res.lock", ".res.stream.lock"] {
+        let dir = setup(&format!("lock{lock}"), "");
+        fs::write(dir.join("victim.txt"), "precious\n").unwrap();
+        std::os::unix::fs::symlink(dir.join("victim.txt"), dir.join(lock)).unwrap();
+        let out = gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]);
+        refused(&out, lock);
+        refused(&out, "symbolic link");
+        assert_eq!(
+            fs::read_to_string(dir.join("victim.txt")).unwrap(),
+            "precious\n"
+        );
+        assert!(!dir.join("res").exists());
+    }
+}
+
+#[test]
+fn a_foreign_stream_directory_survives() {
+    let dir = setup("stream", "");
+    fs::create_dir(dir.join(".res.stream")).unwrap();
+    fs::write(dir.join(".res.stream/notes.txt"), "mine\n").unwrap();
+    let out = gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]);
+    refused(&out, ".res.stream");
+    assert_eq!(
+        fs::read_to_string(dir.join(".res.stream/notes.txt")).unwrap(),
+        "mine\n"
+    );
+    // gridplan's own stream area is removed after a sweep.
+    fs::remove_dir_all(dir.join(".res.stream")).unwrap();
+    succeeded(&gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]));
+    assert!(!dir.join(".res.stream").exists());
+    assert!(dir.join("res/runs.json").is_file());
+}
+
+/// Replaces the first `"planner":"a"` after line 1 of `file` with another label; returns
+/// the line it changed (1-based).
+fn forge_label(file: &Path) -> usize {
+    let text = fs::read_to_string(file).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let k = (1..lines.len())
+        .find(|&k| lines[k].contains("\"planner\":\"a\""))
+        .expect("a record of label a");
+    lines[k] = lines[k].replace("\"planner\":\"a\"", "\"planner\":\"other\"");
+    fs::write(file, lines.join("\n") + "\n").unwrap();
+    k + 1
+}
+
+#[test]
+fn merge_refuses_foreign_records_and_mixed_versions() {
+    let dir = setup("merge", "repeats = 2");
+    for k in 1..=2 {
+        succeeded(&gridplan(
+            &dir,
+            &[
+                "experiment",
+                "cfg.toml",
+                "--quiet",
+                "--shard",
+                &format!("{k}/2"),
+                "--output",
+                &format!("s{k}"),
+            ],
+        ));
+    }
+    // Untouched, they merge.
+    succeeded(&gridplan(&dir, &["merge", "s1", "s2", "--output", "m"]));
+    // A record of another label at a valid run index is refused, naming file and line.
+    let original = fs::read(dir.join("s2/shard.jsonl")).unwrap();
+    let line = forge_label(&dir.join("s2/shard.jsonl"));
+    let out = gridplan(&dir, &["merge", "s1", "s2", "--output", "m2"]);
+    refused(&out, &format!("shard.jsonl line {line}"));
+    refused(&out, "\"other\"");
+    assert!(!dir.join("m2").exists());
+    fs::write(dir.join("s2/shard.jsonl"), original).unwrap();
+    // Shards of two gridplan versions are refused, naming both.
+    let marker = dir.join("s2/.gridplan-results");
+    let text = fs::read_to_string(&marker).unwrap();
+    let version = env!("CARGO_PKG_VERSION");
+    fs::write(
+        &marker,
+        text.replace(
+            &format!("gridplan = \"{version}\""),
+            "gridplan = \"0.0.0-other\"",
+        ),
+    )
+    .unwrap();
+    let out = gridplan(&dir, &["merge", "s1", "s2", "--output", "m3"]);
+    refused(&out, "0.0.0-other");
+    refused(&out, version);
+    assert!(!dir.join("m3").exists());
+}
+
+#[test]
+fn resume_refuses_foreign_records() {
+    let dir = setup("resume", "repeats = 2");
+    // A whole sweep's stream, as a killed sweep leaves it in the stream area.
+    succeeded(&gridplan(
+        &dir,
+        &[
+            "experiment",
+            "cfg.toml",
+            "--quiet",
+            "--shard",
+            "1/1",
+            "--output",
+            "whole",
+        ],
+    ));
+    fs::create_dir(dir.join(".res.stream")).unwrap();
+    fs::write(dir.join(".res.stream/.gridplan-stream"), "").unwrap();
+    let stream = dir.join(".res.stream/records.jsonl");
+    fs::copy(dir.join("whole/shard.jsonl"), &stream).unwrap();
+    let line = forge_label(&stream);
+    let out = gridplan(&dir, &["experiment", "cfg.toml", "--quiet", "--resume"]);
+    refused(&out, &format!("records.jsonl line {line}"));
+    assert!(!dir.join("res").exists());
+    // The same stream unforged resumes (nothing left to run) and writes the results.
+    fs::copy(dir.join("whole/shard.jsonl"), &stream).unwrap();
+    succeeded(&gridplan(
+        &dir,
+        &["experiment", "cfg.toml", "--quiet", "--resume"],
+    ));
+    assert!(dir.join("res/runs.json").is_file());
+}
+
+/// Every file under `dir` whose name ends in `ext`.
+fn files_with(dir: &Path, ext: &str) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(at) = stack.pop() {
+        for entry in fs::read_dir(&at).into_iter().flatten().flatten() {
+            if entry.file_type().is_ok_and(|t| t.is_dir()) {
+                stack.push(entry.path());
+            } else if entry.file_name().to_string_lossy().ends_with(ext) {
+                found.push(entry.path());
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
+/// `|` not escaped by a backslash in `line`.
+fn columns(line: &str) -> usize {
+    let mut n = 0;
+    let mut escaped = false;
+    for c in line.chars() {
+        match c {
+            '\\' if !escaped => escaped = true,
+            '|' if !escaped => n += 1,
+            _ => escaped = false,
+        }
+        if c != '\\' {
+            escaped = false;
+        }
+    }
+    n
+}
+
+#[test]
+fn names_never_collide_and_every_svg_is_xml() {
+    let dir = scratch("names");
+    for map in ["p q.map", "p_q.map", "p\n|>>>.map"] {
+        fs::write(dir.join(map), SMALL).unwrap();
+    }
+    fs::write(
+        dir.join("cfg.toml"),
+        "name = \"c\"\noutput = \"res\"\nfigures = \"all\"\nompl = true\n\
+         [[maps]]\nfiles = [\"p q.map\", \"p_q.map\", \"p\\n|>>>.map\"]\nproblems = \"corners\"\n\
+         [planners.\"x y\"]\nplanner = \"astar\"\n[planners.\"x_y\"]\nplanner = \"astar\"\n\
+         [planners.\"c\\u0001d\"]\nplanner = \"bfs\"\n[planners.\"e|f\"]\nplanner = \"dfs\"\n",
+    )
+    .unwrap();
+    succeeded(&gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]));
+    let res = dir.join("res");
+    let runs: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(res.join("runs.json")).unwrap()).unwrap();
+    let n_runs = runs["runs"]["data"].as_array().map_or(0, Vec::len);
+    assert_eq!(n_runs, 3 * 4, "3 maps x 4 labels x 1 problem");
+    // One OMPL log per map, each with every run of its map, its lines unbroken.
+    let logs = files_with(&res.join("ompl"), ".log");
+    assert_eq!(logs.len(), 3, "{logs:?}");
+    for log in &logs {
+        let text = fs::read_to_string(log).unwrap();
+        let counted: usize = text
+            .lines()
+            .filter_map(|l| l.strip_suffix(" runs")?.parse::<usize>().ok())
+            .sum();
+        assert_eq!(counted, 4, "{}: {text}", log.display());
+        // A `|>>>` only closes a block that `<<<|` opened.
+        let mut open = false;
+        for line in text.lines() {
+            if line.starts_with("<<<|") {
+                open = true;
+            } else if line.starts_with("|>>>") {
+                assert!(open, "{}: stray |>>>", log.display());
+                open = false;
+            }
+        }
+        assert_eq!(text.matches("planner = ").count(), 4, "{}", log.display());
+    }
+    // A comparison figure per map and a figure per run, no two sharing a file.
+    let svgs = files_with(&res, ".svg");
+    let figures = files_with(&res.join("figures"), ".svg");
+    assert_eq!(figures.len(), 3 + 3 * 4, "{figures:?}");
+    for svg in &svgs {
+        let text = fs::read_to_string(svg).unwrap();
+        if let Err(e) = roxmltree::Document::parse(&text) {
+            panic!("{} is not XML: {e}", svg.display());
+        }
+    }
+    assert!(files_with(&res.join("charts"), ".svg").len() >= 3);
+    // summary.md's table rows have their header's columns.
+    let summary = fs::read_to_string(res.join("summary.md")).unwrap();
+    let mut header: Option<usize> = None;
+    for line in summary.lines() {
+        if line.starts_with('|') {
+            let n = columns(line);
+            match header {
+                None => header = Some(n),
+                Some(h) => assert_eq!(n, h, "row {line:?} of summary.md"),
+            }
+        } else {
+            header = None;
+        }
+    }
+    assert!(summary.contains("e\\|f"));
+}
