@@ -13,16 +13,22 @@
 //!   its path blocked, and moves one cell.
 //! - [`toggles`]: seeded scripted changes: k random cells toggled near the agent or on its
 //!   current path between replans.
+//! - [`gppc`]: the GPPC 2023 dynamic track's scenarios replayed query by query, and
+//!   incremental planners carried across their patches.
 //! - [`planners`]: the compared planners by name.
+//! - [`report`]: medians, percentiles and the SVG chart of expansions per replan against
+//!   A* from scratch.
 //!
 //! Every run returns plain records (per run and per replan: expansions, counters, times),
 //! so a test, an example or a runner can sum them or draw their distribution.
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+pub mod gppc;
 pub mod navigate;
 pub mod oracle;
 pub mod planners;
+pub mod report;
 pub mod restart;
 pub mod toggles;
 
@@ -45,6 +51,9 @@ pub struct ReplanRecord {
     pub expansions: u64,
     /// The exact cost of the path it returned.
     pub cost: Option<Cost>,
+    /// A*'s expansions from scratch on the same map and start (the oracle's search), when
+    /// an oracle checked the replan.
+    pub oracle_expansions: Option<u64>,
     /// Wall-clock time of telling the planner the changes and the move (apply, move_start).
     pub update_time: Duration,
     /// Wall-clock time of the replan itself.

@@ -256,8 +256,11 @@ fn replan(
     let replan_time = started.elapsed();
     let mut cost = outcome.path.as_ref().map(planner_api::path_cost);
     let mut failed = false;
+    let mut oracle_expansions = None;
     if let Some(oracle) = oracle {
-        match oracle.check(known, agent, goal, &outcome, step) {
+        let checked = oracle.check(known, agent, goal, &outcome, step);
+        oracle_expansions = Some(oracle.last_expansions());
+        match checked {
             Ok(checked) => cost = checked,
             Err(m) => {
                 out.mismatches.push(m);
@@ -271,6 +274,7 @@ fn replan(
         expansions: outcome.counters.get("n_expanded").unwrap_or(0),
         counters: outcome.counters.clone(),
         cost,
+        oracle_expansions,
         update_time,
         replan_time,
     });

@@ -71,6 +71,7 @@ impl fmt::Display for Mismatch {
 pub struct Oracle {
     astar: AStar,
     moves: MoveSet,
+    last_expansions: u64,
 }
 
 impl Oracle {
@@ -95,7 +96,11 @@ impl Oracle {
             Err(e) => unreachable!("the oracle's A* configuration is valid: {e}"),
         };
         let moves = astar.move_set().clone();
-        Oracle { astar, moves }
+        Oracle {
+            astar,
+            moves,
+            last_expansions: 0,
+        }
     }
 
     /// The move set paths are checked against.
@@ -106,9 +111,22 @@ impl Oracle {
     /// The optimal cost from `start` to `goal` on `grid` (`None`: no path, including a
     /// blocked start or goal).
     pub fn optimum(&mut self, grid: &Grid, start: Cell, goal: Cell) -> Option<Cost> {
+        self.last_expansions = 0;
         let problem = Problem::new(grid, start, goal).ok()?;
         let outcome = self.astar.plan(&problem, &Budget::unlimited());
+        self.last_expansions = outcome.counters.get("n_expanded").unwrap_or(0);
         outcome.path.as_ref().map(path_cost)
+    }
+
+    /// A*'s expansions in the last [`Oracle::optimum`] or [`Oracle::check`]: what A* from
+    /// scratch spends on that replan.
+    pub fn last_expansions(&self) -> u64 {
+        self.last_expansions
+    }
+
+    /// Builds A*'s per-grid tables for `grid` ahead of a timed [`Oracle::optimum`].
+    pub fn prepare(&mut self, grid: &Grid) {
+        self.astar.prepare(grid);
     }
 
     /// Checks a replan's `outcome` from `start` to `goal` on `grid`; returns the exact cost
@@ -121,6 +139,7 @@ impl Oracle {
         outcome: &Outcome,
         step: u64,
     ) -> Result<Option<Cost>, Mismatch> {
+        self.last_expansions = 0;
         let fail = |kind| Mismatch { step, start, kind };
         if outcome.status == Status::BudgetExhausted {
             return Err(fail(MismatchKind::Unfinished));

@@ -139,7 +139,9 @@ fn replan_checked(
     let started = Instant::now();
     let outcome = planner.replan(budget);
     let replan_time = started.elapsed();
-    let cost = match oracle.check(map, agent, goal, &outcome, step) {
+    let checked = oracle.check(map, agent, goal, &outcome, step);
+    let oracle_expansions = Some(oracle.last_expansions());
+    let cost = match checked {
         Ok(cost) => cost,
         Err(mismatch) => {
             out.mismatches.push(mismatch);
@@ -152,6 +154,7 @@ fn replan_checked(
         expansions: outcome.counters.get("n_expanded").unwrap_or(0),
         counters: outcome.counters.clone(),
         cost,
+        oracle_expansions,
         update_time,
         replan_time,
     });
