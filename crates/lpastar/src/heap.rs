@@ -33,6 +33,7 @@ impl Heap {
         self.entries.clear();
     }
 
+    #[cfg(test)]
     pub(crate) fn len(&self) -> usize {
         self.entries.len()
     }

@@ -22,11 +22,11 @@ fn sample_reads_and_replays_exactly() {
     let p = scenario.commands.iter().filter(|c| matches!(c, GppcCommand::Patch { .. })).count();
     let q = scenario.commands.len() - p;
     assert_eq!((p, q), (7390, 2200));
-    // Every 150th query by A* against the recorded optimum; every 300th carried by D* Lite.
+    // Every 440th query by A* against the recorded optimum; every 880th carried by D* Lite.
     let mut dstar = planners::by_name("dstar_lite", true).unwrap();
-    let replay = replay(&scenario, &patches, dstar.as_mut(), 150, 300);
+    let replay = replay(&scenario, &patches, dstar.as_mut(), 440, 880);
     assert_eq!(replay.patches_applied, 7390);
-    assert_eq!(replay.queries.len(), 2200 / 150);
+    assert_eq!(replay.queries.len(), 2200 / 440);
     for query in &replay.queries {
         assert!(query.agrees, "line {}: recorded {:?}, A* {:?}", query.line, query.recorded, query.astar.map(|c| c.to_f64()));
     }

@@ -121,7 +121,7 @@ fn navigation_on_small_grids_is_exact_at_every_change() {
         }
     }
     eprintln!("{runs} navigation runs, {replans} replans, {extra} extra checks, {reached} reached");
-    assert!(replans > 2 * runs && extra > 1_000);
+    assert!(replans > runs + 3_000 && extra > 1_000 && reached > runs / 2);
 }
 
 /// The oracle can fail: a planner that ignores the changes it is told is caught.
