@@ -94,21 +94,69 @@ struct Step {
 }
 
 const STEPS_4: [Step; 4] = [
-    Step { dx: 1, dy: 0, cost: Cost::ONE.units() },
-    Step { dx: -1, dy: 0, cost: Cost::ONE.units() },
-    Step { dx: 0, dy: 1, cost: Cost::ONE.units() },
-    Step { dx: 0, dy: -1, cost: Cost::ONE.units() },
+    Step {
+        dx: 1,
+        dy: 0,
+        cost: Cost::ONE.units(),
+    },
+    Step {
+        dx: -1,
+        dy: 0,
+        cost: Cost::ONE.units(),
+    },
+    Step {
+        dx: 0,
+        dy: 1,
+        cost: Cost::ONE.units(),
+    },
+    Step {
+        dx: 0,
+        dy: -1,
+        cost: Cost::ONE.units(),
+    },
 ];
 
 const STEPS_8: [Step; 8] = [
-    Step { dx: 1, dy: 0, cost: Cost::ONE.units() },
-    Step { dx: -1, dy: 0, cost: Cost::ONE.units() },
-    Step { dx: 0, dy: 1, cost: Cost::ONE.units() },
-    Step { dx: 0, dy: -1, cost: Cost::ONE.units() },
-    Step { dx: 1, dy: 1, cost: Cost::SQRT_2.units() },
-    Step { dx: 1, dy: -1, cost: Cost::SQRT_2.units() },
-    Step { dx: -1, dy: 1, cost: Cost::SQRT_2.units() },
-    Step { dx: -1, dy: -1, cost: Cost::SQRT_2.units() },
+    Step {
+        dx: 1,
+        dy: 0,
+        cost: Cost::ONE.units(),
+    },
+    Step {
+        dx: -1,
+        dy: 0,
+        cost: Cost::ONE.units(),
+    },
+    Step {
+        dx: 0,
+        dy: 1,
+        cost: Cost::ONE.units(),
+    },
+    Step {
+        dx: 0,
+        dy: -1,
+        cost: Cost::ONE.units(),
+    },
+    Step {
+        dx: 1,
+        dy: 1,
+        cost: Cost::SQRT_2.units(),
+    },
+    Step {
+        dx: 1,
+        dy: -1,
+        cost: Cost::SQRT_2.units(),
+    },
+    Step {
+        dx: -1,
+        dy: 1,
+        cost: Cost::SQRT_2.units(),
+    },
+    Step {
+        dx: -1,
+        dy: -1,
+        cost: Cost::SQRT_2.units(),
+    },
 ];
 
 /// The incremental search (see the [module docs](self)).
@@ -291,10 +339,7 @@ impl Engine {
         }
         let mut clock = budget.start();
         let mut expanded = 0u64;
-        loop {
-            let Some((k1, k2, u)) = self.heap.top() else {
-                break;
-            };
+        while let Some((k1, k2, u)) = self.heap.top() {
             let target_key = self.key(self.target);
             let t = self.target as usize;
             if (k1, k2) >= target_key && self.rhs_of(t) == self.g_of(t) {
@@ -329,7 +374,10 @@ impl Engine {
             } else {
                 self.set_g(u, INF);
                 self.for_each_neighbour(u, |engine, s, cost| {
-                    if s != engine.root && g_u != INF && engine.rhs_of(s as usize) == cost.saturating_add(g_u) {
+                    if s != engine.root
+                        && g_u != INF
+                        && engine.rhs_of(s as usize) == cost.saturating_add(g_u)
+                    {
                         let value = engine.fresh_rhs(s);
                         engine.set_rhs(s, value);
                     }
@@ -439,7 +487,10 @@ impl Engine {
     /// `rhs(u)` from scratch: 0 at a free root, else the least `c(u, s) + g(s)`.
     fn fresh_rhs(&self, u: u32) -> u64 {
         if u == self.root {
-            let free = self.grid.as_ref().is_some_and(|g| g.free_cells()[u as usize]);
+            let free = self
+                .grid
+                .as_ref()
+                .is_some_and(|g| g.free_cells()[u as usize]);
             return if free { 0 } else { INF };
         }
         let mut best = INF;
@@ -513,7 +564,10 @@ impl Engine {
             if !free[s] {
                 continue;
             }
-            if step.dx != 0 && step.dy != 0 && !(free[(y * w + nx) as usize] && free[(ny * w + x) as usize]) {
+            if step.dx != 0
+                && step.dy != 0
+                && !(free[(y * w + nx) as usize] && free[(ny * w + x) as usize])
+            {
                 continue;
             }
             visit(s as u32, step.cost);

@@ -179,7 +179,10 @@ impl LpaStar {
 
 /// The exact cost of a found outcome's path, from its `path_cost_units` counter.
 pub fn outcome_cost(outcome: &Outcome) -> Option<Cost> {
-    outcome.counters.get("path_cost_units").map(Cost::from_units)
+    outcome
+        .counters
+        .get("path_cost_units")
+        .map(Cost::from_units)
 }
 
 impl IncrementalPlanner for LpaStar {

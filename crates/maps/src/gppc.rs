@@ -230,7 +230,11 @@ fn header<'a>(
     match toks.first() {
         Some(&(_, k)) if k == key => {}
         Some(&(column, other)) => {
-            return Err(o.at(number, column, unexpected(format!("'{key}'"), show_token(other))))
+            return Err(o.at(
+                number,
+                column,
+                unexpected(format!("'{key}'"), show_token(other)),
+            ))
         }
         None => return Err(o.at(number, 1, unexpected(format!("'{key}'"), "an empty line"))),
     }
@@ -268,7 +272,12 @@ fn next_line<'a>(
 }
 
 /// A positive 32-bit size value.
-fn positive(o: Origin<'_>, number: usize, (column, token): (usize, &str), what: &'static str) -> Result<u32, MapError> {
+fn positive(
+    o: Origin<'_>,
+    number: usize,
+    (column, token): (usize, &str),
+    what: &'static str,
+) -> Result<u32, MapError> {
     let n = parse_u32(token, what).map_err(|kind| o.at(number, column, kind))?;
     if n == 0 {
         return Err(o.at(
@@ -288,16 +297,32 @@ pub fn parse_gppc_scenario(text: &str, origin: &str) -> Result<GppcScenario, Map
     let (number, line) = next_line(o, text, &mut all, "'version 2'")?;
     let version = header(o, number, line, "version", 1)?;
     if version[0].1 != "2" {
-        return Err(o.at(number, version[0].0, unexpected("version '2'", show_token(version[0].1))));
+        return Err(o.at(
+            number,
+            version[0].0,
+            unexpected("version '2'", show_token(version[0].1)),
+        ));
     }
     let (number, line) = next_line(o, text, &mut all, "'height H'")?;
-    let height = positive(o, number, header(o, number, line, "height", 1)?[0], "height")?;
+    let height = positive(
+        o,
+        number,
+        header(o, number, line, "height", 1)?[0],
+        "height",
+    )?;
     let (number, line) = next_line(o, text, &mut all, "'width W'")?;
     let width_ = positive(o, number, header(o, number, line, "width", 1)?[0], "width")?;
     let (number, line) = next_line(o, text, &mut all, "'cost 1 octile'")?;
     let cost = header(o, number, line, "cost", 2)?;
     if cost[0].1 != "1" || cost[1].1 != "octile" {
-        return Err(o.at(number, cost[0].0, unexpected("'1 octile' (the only cost model)", show_token(&line[cost[0].0 - 1..]))));
+        return Err(o.at(
+            number,
+            cost[0].0,
+            unexpected(
+                "'1 octile' (the only cost model)",
+                show_token(&line[cost[0].0 - 1..]),
+            ),
+        ));
     }
     let (number, line) = next_line(o, text, &mut all, "'patch FILE'")?;
     let patch_file = header(o, number, line, "patch", 1)?[0].1.to_owned();
@@ -314,13 +339,19 @@ pub fn parse_gppc_scenario(text: &str, origin: &str) -> Result<GppcScenario, Map
             "P" => 4,
             "Q" => 6,
             other => {
-                return Err(o.at(number, column, unexpected("a command 'P' or 'Q'", show_token(other))))
+                return Err(o.at(
+                    number,
+                    column,
+                    unexpected("a command 'P' or 'Q'", show_token(other)),
+                ))
             }
         };
         if toks.len() != n + 1 {
             let (column, found) = toks
                 .get(n + 1)
-                .map_or((width(line) + 1, "end of line".to_owned()), |&(c, t)| (c, show_token(t)));
+                .map_or((width(line) + 1, "end of line".to_owned()), |&(c, t)| {
+                    (c, show_token(t))
+                });
             let expected = if n == 4 {
                 "'P batch patch x y' (4 numbers)"
             } else {
@@ -345,12 +376,21 @@ pub fn parse_gppc_scenario(text: &str, origin: &str) -> Result<GppcScenario, Map
             let cost = match token {
                 "-1" => None,
                 _ => match token.parse::<f64>() {
-                    Ok(c) if c.is_finite() && c >= 0.0 && token.bytes().all(|b| b.is_ascii_digit() || b == b'.') => Some(c),
+                    Ok(c)
+                        if c.is_finite()
+                            && c >= 0.0
+                            && token.bytes().all(|b| b.is_ascii_digit() || b == b'.') =>
+                    {
+                        Some(c)
+                    }
                     _ => {
                         return Err(o.at(
                             number,
                             column,
-                            unexpected("a cost (a non-negative decimal number, or -1 for no path)", show_token(token)),
+                            unexpected(
+                                "a cost (a non-negative decimal number, or -1 for no path)",
+                                show_token(token),
+                            ),
                         ))
                     }
                 },
@@ -380,20 +420,34 @@ pub fn parse_gppc_patches(text: &str, origin: &str) -> Result<PatchSet, MapError
     let (number, line) = next_line(o, text, &mut all, "'type patch'")?;
     let kind = header(o, number, line, "type", 1)?;
     if kind[0].1 != "patch" {
-        return Err(o.at(number, kind[0].0, unexpected("'patch' as the type", show_token(kind[0].1))));
+        return Err(o.at(
+            number,
+            kind[0].0,
+            unexpected("'patch' as the type", show_token(kind[0].1)),
+        ));
     }
     let (number, line) = next_line(o, text, &mut all, "'patches N'")?;
     let count_token = header(o, number, line, "patches", 1)?[0];
-    let count = parse_u32(count_token.1, "patches").map_err(|kind| o.at(number, count_token.0, kind))?;
+    let count =
+        parse_u32(count_token.1, "patches").map_err(|kind| o.at(number, count_token.0, kind))?;
     let mut patches = Vec::new();
     for index in 0..count {
         let (number, line) = next_line(o, text, &mut all, &format!("'patch {index}'"))?;
         let id = header(o, number, line, "patch", 1)?[0];
         if id.1 != index.to_string() {
-            return Err(o.at(number, id.0, unexpected(format!("patch number {index}"), show_token(id.1))));
+            return Err(o.at(
+                number,
+                id.0,
+                unexpected(format!("patch number {index}"), show_token(id.1)),
+            ));
         }
         let (number, line) = next_line(o, text, &mut all, "'height H'")?;
-        let h = positive(o, number, header(o, number, line, "height", 1)?[0], "height")?;
+        let h = positive(
+            o,
+            number,
+            header(o, number, line, "height", 1)?[0],
+            "height",
+        )?;
         let (number, line) = next_line(o, text, &mut all, "'width W'")?;
         let w = positive(o, number, header(o, number, line, "width", 1)?[0], "width")?;
         let (number, line) = next_line(o, text, &mut all, "'map'")?;
@@ -402,7 +456,14 @@ pub fn parse_gppc_patches(text: &str, origin: &str) -> Result<PatchSet, MapError
         for row in 0..h {
             let Some((number, line)) = all.next() else {
                 let (line, column) = end_of_file(text);
-                return Err(o.at(line, column, MapErrorKind::RowCount { expected: h as usize, found: row as usize }));
+                return Err(o.at(
+                    line,
+                    column,
+                    MapErrorKind::RowCount {
+                        expected: h as usize,
+                        found: row as usize,
+                    },
+                ));
             };
             let len = width(line);
             if len != w as usize {
@@ -423,20 +484,30 @@ pub fn parse_gppc_patches(text: &str, origin: &str) -> Result<PatchSet, MapError
                         return Err(o.at(
                             number,
                             column + 1,
-                            unexpected("a Moving AI map symbol ('.', 'G', 'S', '@', 'O', 'T', 'W')", show_char(symbol)),
+                            unexpected(
+                                "a Moving AI map symbol ('.', 'G', 'S', '@', 'O', 'T', 'W')",
+                                show_char(symbol),
+                            ),
                         ))
                     }
                 }
             }
         }
-        patches.push(Patch { width: w, height: h, free });
+        patches.push(Patch {
+            width: w,
+            height: h,
+            free,
+        });
     }
     if let Some((number, line)) = all.find(|&(_, l)| !is_blank(l)) {
         let column = line.chars().take_while(|c| c.is_whitespace()).count() + 1;
         return Err(o.at(
             number,
             column,
-            unexpected(format!("end of file after the last of {count} patches"), show_token(line.trim())),
+            unexpected(
+                format!("end of file after the last of {count} patches"),
+                show_token(line.trim()),
+            ),
         ));
     }
     Ok(PatchSet { patches })
@@ -452,20 +523,32 @@ mod tests {
     #[test]
     fn reads_and_applies() {
         let scen = parse_gppc_scenario(SCEN, "t.scen").unwrap();
-        assert_eq!((scen.width, scen.height, scen.patch_file.as_str()), (4, 3, "t.patch"));
+        assert_eq!(
+            (scen.width, scen.height, scen.patch_file.as_str()),
+            (4, 3, "t.patch")
+        );
         assert_eq!(
             scen.commands[1],
-            GppcCommand::Query { batch: 0, start: Cell::new(0, 0), goal: Cell::new(3, 2), cost: Some(4.5), line: 8 }
+            GppcCommand::Query {
+                batch: 0,
+                start: Cell::new(0, 0),
+                goal: Cell::new(3, 2),
+                cost: Some(4.5),
+                line: 8
+            }
         );
         let set = parse_gppc_patches(PATCHES, "t.patch").unwrap();
         let mut grid = Grid::new(4, 3).unwrap();
         assert!(set.apply(&mut grid, 0, 0, 0).is_empty());
         let changes = set.apply(&mut grid, 1, 2, 1);
-        assert_eq!(changes, vec![
-            CellChange::blocked(Cell::new(2, 1)),
-            CellChange::blocked(Cell::new(3, 1)),
-            CellChange::blocked(Cell::new(2, 2)),
-        ]);
+        assert_eq!(
+            changes,
+            vec![
+                CellChange::blocked(Cell::new(2, 1)),
+                CellChange::blocked(Cell::new(3, 1)),
+                CellChange::blocked(Cell::new(2, 2)),
+            ]
+        );
         // Placing patch 0 again frees them: a patch replaces every cell it covers.
         assert_eq!(set.apply(&mut grid, 0, 0, 0).len(), 3);
     }
@@ -473,19 +556,40 @@ mod tests {
     #[test]
     fn errors_name_file_line_column_and_cell() {
         let err = |text: &str| parse_gppc_scenario(text, "s.scen").unwrap_err().to_string();
-        assert_eq!(err("version 1\n"), "s.scen:1:9: expected version '2', found '1'");
+        assert_eq!(
+            err("version 1\n"),
+            "s.scen:1:9: expected version '2', found '1'"
+        );
         assert_eq!(
             err(&SCEN.replace("Q 0 0 0 3 2 4.5", "Q 0 0 0 3 2 x")),
             "s.scen:8:13: expected a cost (a non-negative decimal number, or -1 for no path), found 'x'"
         );
-        assert_eq!(err(&SCEN.replace("P 0 0 0 0", "P 0 0 0")), "s.scen:7:8: expected 'P batch patch x y' (4 numbers), found end of line");
-        assert_eq!(err(&SCEN.replace("P 0 0 0 0", "R 0 0 0 0")), "s.scen:7:1: expected a command 'P' or 'Q', found 'R'");
-        assert_eq!(err(&SCEN.replace("P 0 0 0 0", "P 0 0 -4 0")), "s.scen:7:7: expected a non-negative integer for x, found '-4'");
+        assert_eq!(
+            err(&SCEN.replace("P 0 0 0 0", "P 0 0 0")),
+            "s.scen:7:8: expected 'P batch patch x y' (4 numbers), found end of line"
+        );
+        assert_eq!(
+            err(&SCEN.replace("P 0 0 0 0", "R 0 0 0 0")),
+            "s.scen:7:1: expected a command 'P' or 'Q', found 'R'"
+        );
+        assert_eq!(
+            err(&SCEN.replace("P 0 0 0 0", "P 0 0 -4 0")),
+            "s.scen:7:7: expected a non-negative integer for x, found '-4'"
+        );
         let perr = |text: &str| parse_gppc_patches(text, "p.patch").unwrap_err().to_string();
         assert_eq!(perr(&PATCHES.replace("@.", "@Q")), "p.patch:15:2: expected a Moving AI map symbol ('.', 'G', 'S', '@', 'O', 'T', 'W'), found 'Q'");
-        assert_eq!(perr(&PATCHES.replace("@.", "@")), "p.patch:15:2: expected 2 cells (width 2 of patch 1), found 1");
-        assert_eq!(perr(&PATCHES.replace("patch 1", "patch 7")), "p.patch:10:7: expected patch number 1, found '7'");
-        assert_eq!(perr(&PATCHES.replace("patches 2", "patches 3")), "p.patch:16:1: expected 'patch 2', found end of file");
+        assert_eq!(
+            perr(&PATCHES.replace("@.", "@")),
+            "p.patch:15:2: expected 2 cells (width 2 of patch 1), found 1"
+        );
+        assert_eq!(
+            perr(&PATCHES.replace("patch 1", "patch 7")),
+            "p.patch:10:7: expected patch number 1, found '7'"
+        );
+        assert_eq!(
+            perr(&PATCHES.replace("patches 2", "patches 3")),
+            "p.patch:16:1: expected 'patch 2', found end of file"
+        );
         let set = parse_gppc_patches(PATCHES, "p.patch").unwrap();
         let scen = parse_gppc_scenario(&SCEN.replace("P 0 0 0 0", "P 0 1 3 2"), "s.scen").unwrap();
         assert_eq!(
@@ -493,8 +597,15 @@ mod tests {
             "s.scen:7: patch 1 (2x2) placed at (3, 2) puts its cell (4, 2) outside the 4x3 map"
         );
         let scen = parse_gppc_scenario(&SCEN.replace("P 0 0 0 0", "P 0 5 0 0"), "s.scen").unwrap();
-        assert_eq!(scen.validate(&set, "s.scen").unwrap_err().to_string(), "s.scen:7: patch 5 does not exist: the patch file has 2 patches");
-        let scen = parse_gppc_scenario(&SCEN.replace("Q 0 0 0 3 2", "Q 0 0 0 3 9"), "s.scen").unwrap();
-        assert_eq!(scen.validate(&set, "s.scen").unwrap_err().to_string(), "s.scen:8: goal (3, 9) is outside the 4x3 map");
+        assert_eq!(
+            scen.validate(&set, "s.scen").unwrap_err().to_string(),
+            "s.scen:7: patch 5 does not exist: the patch file has 2 patches"
+        );
+        let scen =
+            parse_gppc_scenario(&SCEN.replace("Q 0 0 0 3 2", "Q 0 0 0 3 9"), "s.scen").unwrap();
+        assert_eq!(
+            scen.validate(&set, "s.scen").unwrap_err().to_string(),
+            "s.scen:8: goal (3, 9) is outside the 4x3 map"
+        );
     }
 }

@@ -37,9 +37,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let patches = parse_gppc_patches(&std::fs::read_to_string(&patch_path)?, &patch_name)?;
     scenario.validate(&patches, &scen_name)?;
     let mut planner = planners::by_name(&name, true)?;
-    let replay = replay(&scenario, &patches, planner.as_mut(), query_every, carry_every);
+    let replay = replay(
+        &scenario,
+        &patches,
+        planner.as_mut(),
+        query_every,
+        carry_every,
+    );
     let agree = replay.queries.iter().filter(|q| q.agrees).count();
-    let no_path = replay.queries.iter().filter(|q| q.recorded.is_none()).count();
+    let no_path = replay
+        .queries
+        .iter()
+        .filter(|q| q.recorded.is_none())
+        .count();
     println!(
         "{} patch commands applied, {} queries checked ({no_path} recorded as no path): {agree} agree with the recorded optimum and A* on the patched map, {} disagree",
         replay.patches_applied,
@@ -47,10 +57,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         replay.queries.len() - agree
     );
     for q in replay.queries.iter().filter(|q| !q.agrees).take(10) {
-        println!("  line {}: recorded {:?}, A* {:?}", q.line, q.recorded, q.astar.map(|c| c.to_f64()));
+        println!(
+            "  line {}: recorded {:?}, A* {:?}",
+            q.line,
+            q.recorded,
+            q.astar.map(|c| c.to_f64())
+        );
     }
     let carried = &replay.carried;
-    let sum = |f: &dyn Fn(&planner_replan::gppc::CarryRecord) -> u64| carried.iter().map(f).sum::<u64>();
+    let sum =
+        |f: &dyn Fn(&planner_replan::gppc::CarryRecord) -> u64| carried.iter().map(f).sum::<u64>();
     let ratios: Vec<f64> = carried
         .iter()
         .filter(|c| c.astar_expansions > 0)

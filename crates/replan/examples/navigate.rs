@@ -40,7 +40,10 @@ fn micros(d: Duration) -> u128 {
 }
 
 fn loadavg() -> String {
-    std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim().to_owned()
+    std::fs::read_to_string("/proc/loadavg")
+        .unwrap_or_default()
+        .trim()
+        .to_owned()
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -57,7 +60,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         planners::by_name(name, true)?;
     }
     for map in &maps {
-        if !map.chars().all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c)) {
+        if !map
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+        {
             return Err(format!("map name {map:?}: letters, digits, '-', '_' and '.' only").into());
         }
     }
@@ -75,7 +81,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|i| &scenarios[i * scenarios.len() / n_scenarios.min(scenarios.len())])
             .collect();
         for &radius in &radii {
-            let config = NavConfig { radius, ..NavConfig::default() };
+            let config = NavConfig {
+                radius,
+                ..NavConfig::default()
+            };
             // Per scenario: planner name -> run.
             let mut table: Vec<Vec<(String, NavRun)>> = Vec::new();
             let mut oracle = Oracle::new(true);
@@ -94,7 +103,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         &Budget::unlimited(),
                     )?;
                     for m in &run.mismatches {
-                        eprintln!("MISMATCH {map} line {} r={radius} {name}: {m}", scenario.line);
+                        eprintln!(
+                            "MISMATCH {map} line {} r={radius} {name}: {m}",
+                            scenario.line
+                        );
                     }
                     let _ = writeln!(
                         runs_csv,
@@ -134,7 +146,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 row.iter().find(|(n, _)| n == name).map(|(_, r)| r.clone())
             };
             let replans: usize = table.iter().flatten().map(|(_, r)| r.replans.len()).sum();
-            let mismatches: usize = table.iter().flatten().map(|(_, r)| r.mismatches.len()).sum();
+            let mismatches: usize = table
+                .iter()
+                .flatten()
+                .map(|(_, r)| r.mismatches.len())
+                .sum();
             println!(
                 "{map} radius {radius}: {} scenarios, {} runs, {replans} replans, {mismatches} mismatches",
                 table.len(),
@@ -142,7 +158,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
             for name in ["dstar_lite", "lpastar", "astar_backward"] {
                 for base in ["astar", "astar_backward"] {
-                    if name == base || !names.iter().any(|n| n == name) || !names.iter().any(|n| n == base) {
+                    if name == base
+                        || !names.iter().any(|n| n == name)
+                        || !names.iter().any(|n| n == base)
+                    {
                         continue;
                     }
                     let (mut exp, mut time, mut replan_time) = (Vec::new(), Vec::new(), Vec::new());
@@ -154,14 +173,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                             exp.push(a.total_expansions() as f64 / b.total_expansions() as f64);
                         }
                         if !b.planning_time().is_zero() {
-                            time.push(a.planning_time().as_secs_f64() / b.planning_time().as_secs_f64());
+                            time.push(
+                                a.planning_time().as_secs_f64() / b.planning_time().as_secs_f64(),
+                            );
                         }
-                        let rt = |r: &NavRun| r.replans.iter().map(|x| x.replan_time).sum::<Duration>().as_secs_f64();
+                        let rt = |r: &NavRun| {
+                            r.replans
+                                .iter()
+                                .map(|x| x.replan_time)
+                                .sum::<Duration>()
+                                .as_secs_f64()
+                        };
                         if rt(&b) > 0.0 {
                             replan_time.push(rt(&a) / rt(&b));
                         }
                     }
-                    let pct = |v: Option<f64>| v.map_or("-".into(), |x| format!("{:.1} %", 100.0 * x));
+                    let pct =
+                        |v: Option<f64>| v.map_or("-".into(), |x| format!("{:.1} %", 100.0 * x));
                     println!(
                         "  {name} / {base}: median total expansions {}, median planning time {} (replan only {}) [p10-p90 expansions {} - {}]",
                         pct(quantile(&exp, 0.5)),

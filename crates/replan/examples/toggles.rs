@@ -33,7 +33,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let names = ["dstar_lite", "lpastar", "astar"];
     let mut total_mismatches = 0;
     for map in arg(&args, "--maps", "den520d,random512-10-0").split(',') {
-        if !map.chars().all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c)) {
+        if !map
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+        {
             return Err(format!("map name {map:?}: letters, digits, '-', '_' and '.' only").into());
         }
         let grid = planner_maps::read_map(&root.join(format!("{map}.map")))?.grid;
@@ -46,17 +49,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for i in 0..count {
             let s = &scenarios[i * scenarios.len() / count];
             let problem = Problem::new(&grid, s.start, s.goal)?;
-            let config = ToggleConfig { events, k, radius, drive, seed: i as u64 };
+            let config = ToggleConfig {
+                events,
+                k,
+                radius,
+                drive,
+                seed: i as u64,
+            };
             for (j, name) in names.iter().enumerate() {
                 let mut planner = planners::by_name(name, true)?;
-                let run = toggles::run(planner.as_mut(), &mut oracle, &problem, &config, &Budget::unlimited());
+                let run = toggles::run(
+                    planner.as_mut(),
+                    &mut oracle,
+                    &problem,
+                    &config,
+                    &Budget::unlimited(),
+                );
                 for m in &run.mismatches {
                     eprintln!("MISMATCH {map} line {} {name}: {m}", s.line);
                 }
                 replans += run.replans.len();
                 mismatches += run.mismatches.len();
                 let own: u64 = run.replans.iter().skip(1).map(|r| r.expansions).sum();
-                let scratch: u64 = run.replans.iter().skip(1).filter_map(|r| r.oracle_expansions).sum();
+                let scratch: u64 = run
+                    .replans
+                    .iter()
+                    .skip(1)
+                    .filter_map(|r| r.oracle_expansions)
+                    .sum();
                 if scratch > 0 {
                     ratios[j].push(own as f64 / scratch as f64);
                 }
@@ -64,7 +84,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         println!("{map}: {count} scenarios x {events} events of {k} toggles (radius {radius}, drive {drive}): {replans} replans, {mismatches} mismatches");
         for (j, name) in names.iter().enumerate() {
-            let f = |q| quantile(&ratios[j], q).map_or("-".into(), |v| format!("{:.1} %", 100.0 * v));
+            let f =
+                |q| quantile(&ratios[j], q).map_or("-".into(), |v| format!("{:.1} %", 100.0 * v));
             println!("  {name}: repair expansions / A* from scratch at the same replans, per run: median {} (p10 {}, p90 {})", f(0.5), f(0.1), f(0.9));
         }
         total_mismatches += mismatches;

@@ -67,6 +67,15 @@ pub struct Replay {
     pub mismatches: Vec<Mismatch>,
 }
 
+/// A query as the replay keeps it: line, batch, start, goal, recorded cost.
+type Query = (
+    usize,
+    u32,
+    planner_api::Cell,
+    planner_api::Cell,
+    Option<f64>,
+);
+
 /// Whether A*'s exact cost agrees with the recorded optimum.
 pub fn agrees(recorded: Option<f64>, exact: Option<planner_api::Cost>) -> bool {
     match (recorded, exact) {
@@ -93,8 +102,8 @@ pub fn replay(
         Ok(grid) => grid,
         Err(_) => return out,
     };
-    // The net changes from one query batch's map to the next: the maps at each query.
-    let mut batches: Vec<(Grid, Vec<(usize, u32, planner_api::Cell, planner_api::Cell, Option<f64>)>)> = Vec::new();
+    // Each run of consecutive queries with the map they are asked on.
+    let mut batches: Vec<(Grid, Vec<Query>)> = Vec::new();
     let mut querying = false;
     for command in &scenario.commands {
         match *command {
@@ -103,7 +112,13 @@ pub fn replay(
                 out.patches_applied += 1;
                 querying = false;
             }
-            GppcCommand::Query { batch, start, goal, cost, line } => {
+            GppcCommand::Query {
+                batch,
+                start,
+                goal,
+                cost,
+                line,
+            } => {
                 if !querying {
                     batches.push((map.clone(), Vec::new()));
                     querying = true;
@@ -124,7 +139,10 @@ pub fn replay(
                 .zip(next.free_cells())
                 .enumerate()
                 .filter(|(_, (a, b))| a != b)
-                .map(|(i, (_, &free))| CellChange { cell: grid.cell(i), free })
+                .map(|(i, (_, &free))| CellChange {
+                    cell: grid.cell(i),
+                    free,
+                })
                 .collect();
             (next, changes)
         });
@@ -151,7 +169,11 @@ pub fn replay(
             let Ok(problem) = Problem::new(grid, start, goal) else {
                 continue;
             };
-            let fail = |kind| Mismatch { step: line as u64, start, kind };
+            let fail = |kind| Mismatch {
+                step: line as u64,
+                start,
+                kind,
+            };
             planner.reset(&problem);
             let first = planner.replan(&Budget::unlimited());
             if let Err(mut m) = oracle.check(grid, start, goal, &first, line as u64) {
@@ -161,7 +183,8 @@ pub fn replay(
             }
             let started = Instant::now();
             if let Err(e) = planner.apply(changes) {
-                out.mismatches.push(fail(MismatchKind::Rejected(e.to_string())));
+                out.mismatches
+                    .push(fail(MismatchKind::Rejected(e.to_string())));
                 continue;
             }
             let repair = planner.replan(&Budget::unlimited());

@@ -105,7 +105,13 @@ impl NavRun {
 
 /// Senses around `at`: marks in `known` every cell within `radius` that is blocked in
 /// `truth` but free in `known`, and lists it.
-fn sense(truth: &Grid, known: &mut Grid, at: Cell, radius: u32, seen: &mut Vec<CellChange>) -> bool {
+fn sense(
+    truth: &Grid,
+    known: &mut Grid,
+    at: Cell,
+    radius: u32,
+    seen: &mut Vec<CellChange>,
+) -> bool {
     let r = i64::from(radius);
     let before = seen.len();
     for dy in -r..=r {
@@ -159,9 +165,7 @@ pub fn run(
         planner_api::PathSpec::Moves(moves) => moves,
         planner_api::PathSpec::AnyAngle => MoveSet::standard(planner_api::Connectivity::Eight),
     };
-    let max_steps = config
-        .max_steps
-        .unwrap_or(10 * truth.len() as u64 + 1000);
+    let max_steps = config.max_steps.unwrap_or(10 * truth.len() as u64 + 1000);
     let mut out = NavRun {
         path: vec![start],
         ..NavRun::default()

@@ -54,13 +54,25 @@ impl fmt::Display for Mismatch {
                 expected.map(Cost::to_f64)
             ),
             MismatchKind::InvalidPath(why) => {
-                write!(f, "step {} from {}: invalid path: {why}", self.step, self.start)
+                write!(
+                    f,
+                    "step {} from {}: invalid path: {why}",
+                    self.step, self.start
+                )
             }
             MismatchKind::Rejected(why) => {
-                write!(f, "step {} from {}: change rejected: {why}", self.step, self.start)
+                write!(
+                    f,
+                    "step {} from {}: change rejected: {why}",
+                    self.step, self.start
+                )
             }
             MismatchKind::Unfinished => {
-                write!(f, "step {} from {}: the replan did not finish", self.step, self.start)
+                write!(
+                    f,
+                    "step {} from {}: the replan did not finish",
+                    self.step, self.start
+                )
             }
         }
     }

@@ -10,8 +10,8 @@
 //! as update time, apart from the replan (see [`crate::ReplanRecord`]).
 
 use planner_api::{
-    Budget, Cell, CellChange, ChangeError, Connectivity, Grid, IncrementalPlanner, Outcome,
-    Path, PathSpec, Planner, PlannerSpecs, Problem,
+    Budget, Cell, CellChange, ChangeError, Connectivity, Grid, IncrementalPlanner, Outcome, Path,
+    PathSpec, Planner, PlannerSpecs, Problem,
 };
 use planner_astar::{AStar, Config, Heuristic};
 

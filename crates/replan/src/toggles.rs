@@ -75,7 +75,17 @@ pub fn run(
     let started = Instant::now();
     planner.reset(problem);
     let update_time = started.elapsed();
-    let mut path = replan_checked(planner, oracle, &map, agent, goal, 0, update_time, budget, &mut out);
+    let mut path = replan_checked(
+        planner,
+        oracle,
+        &map,
+        agent,
+        goal,
+        0,
+        update_time,
+        budget,
+        &mut out,
+    );
     for event in 1..=u64::from(config.events) {
         let remaining: &[Cell] = match &path {
             Some(cells) => {
@@ -118,7 +128,17 @@ pub fn run(
             });
             break;
         }
-        path = replan_checked(planner, oracle, &map, agent, goal, event, update_time, budget, &mut out);
+        path = replan_checked(
+            planner,
+            oracle,
+            &map,
+            agent,
+            goal,
+            event,
+            update_time,
+            budget,
+            &mut out,
+        );
     }
     out
 }

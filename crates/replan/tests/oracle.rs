@@ -57,12 +57,26 @@ fn ten_thousand_grids_every_replan_exact() {
         for name in ["lpastar", "dstar_lite"] {
             for (eight, oracle) in [false, true].into_iter().zip(oracles.iter_mut()) {
                 let mut planner = planners::by_name(name, eight).unwrap();
-                let run = toggles::run(planner.as_mut(), oracle, &problem, &config, &Budget::unlimited());
+                let run = toggles::run(
+                    planner.as_mut(),
+                    oracle,
+                    &problem,
+                    &config,
+                    &Budget::unlimited(),
+                );
                 tally.runs += 1;
                 tally.replans += run.replans.len() as u64;
                 tally.toggled += run.toggled;
-                tally.found += run.replans.iter().filter(|r| r.status == Status::Found).count() as u64;
-                tally.no_path += run.replans.iter().filter(|r| r.status == Status::NoPath).count() as u64;
+                tally.found += run
+                    .replans
+                    .iter()
+                    .filter(|r| r.status == Status::Found)
+                    .count() as u64;
+                tally.no_path += run
+                    .replans
+                    .iter()
+                    .filter(|r| r.status == Status::NoPath)
+                    .count() as u64;
                 for m in run.mismatches {
                     tally.mismatches.push((seed, name, eight, m));
                 }
@@ -84,7 +98,12 @@ fn ten_thousand_grids_every_replan_exact() {
     assert!(tally.mismatches.is_empty());
     assert_eq!(tally.runs, 40_000);
     // The sequences exercise both outcomes many times.
-    assert!(tally.found > 100_000 && tally.no_path > 1_000, "{} {}", tally.found, tally.no_path);
+    assert!(
+        tally.found > 100_000 && tally.no_path > 1_000,
+        "{} {}",
+        tally.found,
+        tally.no_path
+    );
 }
 
 #[test]
@@ -105,14 +124,33 @@ fn navigation_on_small_grids_is_exact_at_every_change() {
                     max_steps: None,
                     check_every_change: true,
                 };
-                let run = navigate::run(planner.as_mut(), Some(oracle), &truth, start, goal, &config, &Budget::unlimited()).unwrap();
-                assert!(run.mismatches.is_empty(), "seed {seed} {name} eight={eight}: {}", run.mismatches[0]);
+                let run = navigate::run(
+                    planner.as_mut(),
+                    Some(oracle),
+                    &truth,
+                    start,
+                    goal,
+                    &config,
+                    &Budget::unlimited(),
+                )
+                .unwrap();
+                assert!(
+                    run.mismatches.is_empty(),
+                    "seed {seed} {name} eight={eight}: {}",
+                    run.mismatches[0]
+                );
                 assert!(!run.hit_step_limit);
                 // The driven path is made of legal moves on the true map.
                 let driven = planner_api::Path::new(run.path.clone());
-                driven.validate(&truth, planner_api::PathRule::Moves(oracle.moves())).unwrap();
+                driven
+                    .validate(&truth, planner_api::PathRule::Moves(oracle.moves()))
+                    .unwrap();
                 // Reached exactly when the goal is reachable on the true map.
-                assert_eq!(run.reached, oracle.optimum(&truth, start, goal).is_some(), "seed {seed} {name}");
+                assert_eq!(
+                    run.reached,
+                    oracle.optimum(&truth, start, goal).is_some(),
+                    "seed {seed} {name}"
+                );
                 runs += 1;
                 replans += run.replans.len() as u64;
                 extra += run.extra_checks;
@@ -161,11 +199,26 @@ fn a_planner_that_ignores_changes_is_caught() {
             continue;
         };
         let problem = Problem::new(&grid, start, goal).unwrap();
-        let config = toggles::ToggleConfig { events: 6, k: 3, radius: 2, drive: 1, seed };
+        let config = toggles::ToggleConfig {
+            events: 6,
+            k: 3,
+            radius: 2,
+            drive: 1,
+            seed,
+        };
         let mut deaf = Deaf(planners::by_name("dstar_lite", true).unwrap());
-        let run = toggles::run(&mut deaf, &mut Oracle::new(true), &problem, &config, &Budget::unlimited());
+        let run = toggles::run(
+            &mut deaf,
+            &mut Oracle::new(true),
+            &problem,
+            &config,
+            &Budget::unlimited(),
+        );
         caught += run.mismatches.len();
-        assert!(run.mismatches.iter().all(|m| !matches!(m.kind, MismatchKind::Rejected(_))));
+        assert!(run
+            .mismatches
+            .iter()
+            .all(|m| !matches!(m.kind, MismatchKind::Rejected(_))));
     }
     assert!(caught > 50, "{caught}");
 }
@@ -187,11 +240,16 @@ fn repairs_instead_of_restarting() {
             let repair = planner.replan(&Budget::unlimited());
             let repaired = repair.counters.get("n_expanded").unwrap();
             assert_eq!(repair.status, Status::Found);
-            assert!(repaired * 2 < first_expanded, "{name} {eight}: {repaired} vs {first_expanded}");
+            assert!(
+                repaired * 2 < first_expanded,
+                "{name} {eight}: {repaired} vs {first_expanded}"
+            );
             // And the repaired cost is A*'s.
             let mut oracle = Oracle::new(eight);
             let map = planner.grid().unwrap().clone();
-            oracle.check(&map, Cell::new(2, 30), Cell::new(61, 34), &repair, 1).unwrap();
+            oracle
+                .check(&map, Cell::new(2, 30), Cell::new(61, 34), &repair, 1)
+                .unwrap();
         }
     }
 }
@@ -209,7 +267,9 @@ fn a_budget_stops_and_the_next_replan_continues() {
         assert_eq!(stopped.counters.get("n_expanded"), Some(5));
         let finished = planner.replan(&Budget::unlimited());
         let mut oracle = Oracle::new(true);
-        oracle.check(&grid, Cell::new(0, 0), Cell::new(39, 39), &finished, 1).unwrap();
+        oracle
+            .check(&grid, Cell::new(0, 0), Cell::new(39, 39), &finished, 1)
+            .unwrap();
     }
 }
 
@@ -221,14 +281,24 @@ fn bad_changes_are_errors() {
     for name in planners::NAMES {
         let mut planner = planners::by_name(name, true).unwrap();
         assert_eq!(
-            planner.apply(&[CellChange::blocked(Cell::new(0, 0))]).unwrap_err(),
+            planner
+                .apply(&[CellChange::blocked(Cell::new(0, 0))])
+                .unwrap_err(),
             planner_api::ChangeError::NotStarted
         );
         planner.reset(&problem);
-        let err = planner.apply(&[CellChange::blocked(Cell::new(3, 1))]).unwrap_err();
-        assert_eq!(err.to_string(), "changed cell (3, 1) is outside the 3x3 map");
+        let err = planner
+            .apply(&[CellChange::blocked(Cell::new(3, 1))])
+            .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "changed cell (3, 1) is outside the 3x3 map"
+        );
         let err = planner.move_start(Cell::new(1, 1)).unwrap_err();
-        assert_eq!(err.to_string(), "new start (1, 1) is outside the map or blocked");
+        assert_eq!(
+            err.to_string(),
+            "new start (1, 1) is outside the map or blocked"
+        );
     }
     assert!(planners::by_name("dstar", true).is_err());
 }
