@@ -25,6 +25,12 @@
 //!   recomputed over all neighbours and are re-queued (UpdateVertex). This is the basic
 //!   version's rule (Fig. 3 of D* Lite) rather than Fig. 4's test per changed edge, since
 //!   one cell changes up to 20 edges at once; the result is the same `rhs`.
+//! - UpdateVertex runs only for a vertex whose `rhs` changed (or, in ComputeShortestPath,
+//!   whose `g` did): the papers call it for every neighbour, but a vertex whose `g` and
+//!   `rhs` are unchanged keeps its consistency, so it stays in or out of the queue as it
+//!   was, and its queued key stays a lower bound of its current key (`km` only grows to
+//!   keep it so), which is all the lazy re-keying on pop needs. This saves most key
+//!   updates; the counters count the operations actually done.
 //! - Ties: the queue orders by `(k1, k2, row-major index)`, a total order (module `heap`).
 //!   The path is traced from the target by the neighbour minimising `c + g`, the first of
 //!   equal ones in the move order right, left, down, up, then the diagonals.
@@ -295,8 +301,9 @@ impl Engine {
         let affected = std::mem::take(&mut self.affected);
         for &u in &affected {
             let value = self.fresh_rhs(u);
-            self.set_rhs(u, value);
-            self.update_vertex(u);
+            if self.set_rhs(u, value) {
+                self.update_vertex(u);
+            }
         }
         self.affected = affected;
     }
@@ -367,8 +374,8 @@ impl Engine {
                         let through = cost.saturating_add(rhs_u);
                         if through < engine.rhs_of(s as usize) {
                             engine.set_rhs(s, through);
+                            engine.update_vertex(s);
                         }
-                        engine.update_vertex(s);
                     }
                 });
             } else {
@@ -379,9 +386,10 @@ impl Engine {
                         && engine.rhs_of(s as usize) == cost.saturating_add(g_u)
                     {
                         let value = engine.fresh_rhs(s);
-                        engine.set_rhs(s, value);
+                        if engine.set_rhs(s, value) {
+                            engine.update_vertex(s);
+                        }
                     }
-                    engine.update_vertex(s);
                 });
                 // u's own rhs does not depend on its g; it is re-queued or dropped.
                 if self.heap.contains(u) {
@@ -475,13 +483,16 @@ impl Engine {
         self.g[i] = value;
     }
 
-    fn set_rhs(&mut self, u: u32, value: u64) {
+    /// Sets `rhs(u)`; whether it changed.
+    fn set_rhs(&mut self, u: u32, value: u64) -> bool {
         let i = u as usize;
         self.touch(i);
-        if self.rhs[i] != value {
+        let changed = self.rhs[i] != value;
+        if changed {
             self.rhs[i] = value;
             self.stats.rhs_changes += 1;
         }
+        changed
     }
 
     /// `rhs(u)` from scratch: 0 at a free root, else the least `c(u, s) + g(s)`.

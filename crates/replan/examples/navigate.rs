@@ -70,7 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(&out)?;
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai");
     let mut runs_csv = String::from("map,scenario_line,radius,planner,reached,steps,replans,total_expansions,time_to_first_move_us,planning_time_us,replan_time_us,mismatches\n");
-    let mut replans_csv = String::from("map,scenario_line,radius,planner,replan,step,expansions,astar_expansions,update_us,replan_us\n");
+    let mut replans_csv = String::from("map,scenario_line,radius,planner,replan,step,expansions,astar_expansions,update_us,replan_us,counters\n");
     let mut chart = Vec::new();
     let (mut all_replans, mut all_mismatches) = (0u64, 0u64);
     println!("load average at start: {}", loadavg());
@@ -124,13 +124,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     for (i, r) in run.replans.iter().enumerate() {
                         let _ = writeln!(
                             replans_csv,
-                            "{map},{},{radius},{name},{i},{},{},{},{},{}",
+                            "{map},{},{radius},{name},{i},{},{},{},{},{},{}",
                             scenario.line,
                             r.step,
                             r.expansions,
                             r.oracle_expansions.unwrap_or(0),
                             micros(r.update_time),
-                            micros(r.replan_time)
+                            micros(r.replan_time),
+                            r.counters
+                                .iter()
+                                .map(|(k, v)| format!("{k}={v}"))
+                                .collect::<Vec<_>>()
+                                .join(";")
                         );
                         if name == "dstar_lite" {
                             chart.push((r.oracle_expansions.unwrap_or(0), r.expansions));
