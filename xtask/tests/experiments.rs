@@ -357,8 +357,9 @@ fn every_astar_run_matches_the_reference_search() {
         assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
     });
     // paper: 12 maps; wpi: 8 valid problems x 3 test repeats; movingai: 4 A* settings x 36
-    // problems; pastar: TA-star, RA-star1 and RA-star2 x 7 problems x 2 test repeats.
-    assert_eq!(n_checked, 12 + 24 + 144 + 42);
+    // problems; pastar: TA-star, RA-star1 and RA-star2 x 7 problems x 2 test repeats;
+    // incremental: 16 problems.
+    assert_eq!(n_checked, 12 + 24 + 144 + 42 + 16);
 }
 
 /// Every lexastar run of every config (as snapshotted) finds the best (D, T), hence

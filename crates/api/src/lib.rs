@@ -35,6 +35,7 @@ pub mod counters;
 pub mod coverage;
 pub mod error;
 pub mod grid;
+pub mod incremental;
 pub mod moves;
 pub mod pages;
 pub mod path;
@@ -49,6 +50,7 @@ pub use coverage::{
 };
 pub use error::{Endpoint, GridError, MoveOrderError, PathError, ProblemError};
 pub use grid::{Cell, Grid};
+pub use incremental::{path_cost, CellChange, ChangeError, IncrementalPlanner};
 pub use moves::{
     for_each_segment_cell, segment_is_free, walk_segment, Connectivity, Direction, IndexedMove,
     IndexedMoves, Move, MoveSet, NeighborOrder, SegmentWalk,

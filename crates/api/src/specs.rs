@@ -27,6 +27,10 @@ pub struct PlannerSpecs {
     /// design. `Some(false)` marks configurations that trade optimality on purpose (seed
     /// 002's TA-star: Manhattan with 8 moves; weighted A*). `None`: no such claim.
     pub admissible: Option<bool>,
+    /// Whether the planner also implements
+    /// [`IncrementalPlanner`](crate::incremental::IncrementalPlanner): it can be fed map
+    /// changes and repairs its search instead of restarting.
+    pub incremental: bool,
 }
 
 impl PlannerSpecs {
@@ -36,6 +40,7 @@ impl PlannerSpecs {
             seeded: false,
             path_rule,
             admissible: None,
+            incremental: false,
         }
     }
 
@@ -45,6 +50,7 @@ impl PlannerSpecs {
             seeded: true,
             path_rule,
             admissible: None,
+            incremental: false,
         }
     }
 
@@ -53,6 +59,14 @@ impl PlannerSpecs {
     pub fn with_admissible(self, admissible: bool) -> PlannerSpecs {
         PlannerSpecs {
             admissible: Some(admissible),
+            ..self
+        }
+    }
+
+    /// These specs, declaring the planner incremental (see [`PlannerSpecs::incremental`]).
+    pub fn with_incremental(self) -> PlannerSpecs {
+        PlannerSpecs {
+            incremental: true,
             ..self
         }
     }

@@ -195,6 +195,47 @@ pub enum MapErrorKind {
     /// The rows parse but make no valid [`planner_api::Grid`] (too many cells).
     #[error("invalid grid: {0}")]
     Grid(GridError),
+    /// A GPPC dynamic scenario's patch command whose patch does not fit the map: names
+    /// the first patch cell that falls outside.
+    #[error("patch {patch} ({patch_width}x{patch_height}) placed at ({x}, {y}) puts its cell {cell} outside the {width}x{height} map")]
+    PatchOutside {
+        /// The patch's number.
+        patch: u32,
+        /// The patch's width.
+        patch_width: u32,
+        /// The patch's height.
+        patch_height: u32,
+        /// Column of the patch's top-left cell.
+        x: u32,
+        /// Row of the patch's top-left cell.
+        y: u32,
+        /// The first cell (row-major) outside the map.
+        cell: planner_api::Cell,
+        /// Map width.
+        width: u32,
+        /// Map height.
+        height: u32,
+    },
+    /// A GPPC dynamic scenario's command naming a patch the patch file does not have.
+    #[error("patch {patch} does not exist: the patch file has {patches} patches")]
+    UnknownPatch {
+        /// The patch number named.
+        patch: u32,
+        /// Patches in the file.
+        patches: usize,
+    },
+    /// A GPPC dynamic scenario's query whose start or goal lies outside the map.
+    #[error("{endpoint} {cell} is outside the {width}x{height} map")]
+    QueryOutside {
+        /// `start` or `goal`.
+        endpoint: &'static str,
+        /// The cell.
+        cell: planner_api::Cell,
+        /// Map width.
+        width: u32,
+        /// Map height.
+        height: u32,
+    },
     /// A scenario whose declared map size differs from the grid's.
     #[error(
         "the scenario is for a {scen_width}x{scen_height} map, but the grid is {width}x{height}"

@@ -74,6 +74,7 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 mod error;
+pub mod gppc;
 mod matrix;
 mod movingai;
 mod ros;

@@ -1,0 +1,246 @@
+//! Lifelong Planning A* (LPA*) on 4- and 8-connected grids, with exact costs.
+//!
+//! Koenig, Likhachev and Furcy, "Lifelong Planning A*", Artificial Intelligence 155
+//! (2004) 93-146, <https://doi.org/10.1016/j.artint.2003.12.001>: the pseudocode of its
+//! Fig. 3 (CalculateKey, UpdateVertex, ComputeShortestPath) with the start as the root of
+//! the search. LPA* keeps its g- and rhs-values between searches: after cells change
+//! ([`IncrementalPlanner::apply`]) only the vertices whose distance from the start changed,
+//! and those the heuristic cannot rule out, are expanded again. The search is the
+//! [`engine`] shared with D* Lite (planner-dstar_lite), whose docs give the rules, the
+//! tie-breaking and the counters. A moved start re-roots the search, so LPA* starts over
+//! ([`IncrementalPlanner::move_start`]); D* Lite is the variant that keeps its search.
+//!
+//! Moves follow the Moving AI rule: 4 moves of cost 1, or 8 with diagonals of cost
+//! `sqrt 2` ([`Cost::SQRT_2`]) only when both cells beside the diagonal are free (no
+//! corner cutting). The heuristic is Manhattan (4 moves) or octile (8), both consistent.
+//! Costs are exact [`planner_api::Cost`] integers, so the path cost equals A*'s from
+//! scratch bit for bit (tested on random grids and change sequences in planner-replan).
+//!
+//! ```
+//! use planner_api::{Budget, Cell, CellChange, Grid, IncrementalPlanner, Problem, Status};
+//! use planner_lpastar::{Config, LpaStar};
+//!
+//! let grid = Grid::from_ascii("
+//!     .....
+//!     .....
+//!     .....
+//! ").unwrap();
+//! let problem = Problem::new(&grid, Cell::new(0, 1), Cell::new(4, 1)).unwrap();
+//! let mut lpa = LpaStar::new(Config { moves: 4 }).unwrap();
+//! lpa.reset(&problem);
+//! let first = lpa.replan(&Budget::unlimited());
+//! assert_eq!(first.path.unwrap().len(), 5);
+//! // Block the middle of the straight path: the repair finds the 6-step detour.
+//! lpa.apply(&[CellChange::blocked(Cell::new(2, 1))]).unwrap();
+//! let repaired = lpa.replan(&Budget::unlimited());
+//! assert_eq!(repaired.status, Status::Found);
+//! assert_eq!(repaired.path.unwrap().len(), 7);
+//! // The repair's counters are its own: 6 + 1 axis moves in exact units.
+//! assert_eq!(repaired.counters.get("path_cost_units"), Some(6 << 32));
+//! ```
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+pub mod engine;
+mod heap;
+
+use engine::{Computed, Engine};
+use planner_api::{
+    Budget, Cell, CellChange, ChangeError, Connectivity, Cost, Grid, IncrementalPlanner, MoveSet,
+    Outcome, PathSpec, Planner, PlannerSpecs, Problem,
+};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// The registry name of this planner.
+pub const NAME: &str = "lpastar";
+
+/// LPA*'s parameters (shared by D* Lite).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct Config {
+    /// Neighbourhood: 4, or 8 without corner cutting (the Moving AI rule). Default 8.
+    #[schemars(extend("enum" = [4, 8]))]
+    pub moves: u32,
+}
+
+impl Default for Config {
+    fn default() -> Config {
+        Config { moves: 8 }
+    }
+}
+
+/// A parameter the incremental planners cannot run with.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum ConfigError {
+    /// `moves` is not 4 or 8.
+    #[error("parameter `moves` must be 4 or 8, got {0}")]
+    Moves(u32),
+}
+
+impl planner_api::ParamKey for ConfigError {
+    fn param_key(&self) -> &str {
+        "moves"
+    }
+}
+
+impl Config {
+    /// Whether the configuration is 8-connected, after validating it.
+    pub fn eight(&self) -> Result<bool, ConfigError> {
+        match self.moves {
+            4 => Ok(false),
+            8 => Ok(true),
+            other => Err(ConfigError::Moves(other)),
+        }
+    }
+
+    /// The move set paths obey: 4, or 8 without corner cutting.
+    pub fn move_set(&self) -> MoveSet {
+        MoveSet::standard(if self.moves == 8 {
+            Connectivity::Eight
+        } else {
+            Connectivity::Four
+        })
+    }
+}
+
+/// Checks `changes` against `grid` and turns them into the engine's form.
+pub fn checked_changes(
+    grid: Option<&Grid>,
+    changes: &[CellChange],
+) -> Result<Vec<(Cell, bool)>, ChangeError> {
+    let grid = grid.ok_or(ChangeError::NotStarted)?;
+    changes
+        .iter()
+        .map(|c| {
+            if grid.contains(c.cell) {
+                Ok((c.cell, c.free))
+            } else {
+                Err(ChangeError::OutOfBounds {
+                    cell: c.cell,
+                    width: grid.width(),
+                    height: grid.height(),
+                })
+            }
+        })
+        .collect()
+}
+
+/// Checks that `cell` can be the agent's new cell on `grid`.
+pub fn checked_start(grid: Option<&Grid>, cell: Cell) -> Result<(), ChangeError> {
+    let grid = grid.ok_or(ChangeError::NotStarted)?;
+    if grid.contains(cell) && grid.is_free(cell) {
+        Ok(())
+    } else {
+        Err(ChangeError::BadStart { cell })
+    }
+}
+
+/// The outcome of a finished [`Engine::compute`]: the traced path (`root_first` when the
+/// root is the start) checked against `g(target)`, with the repair's counters.
+pub fn outcome(engine: &mut Engine, computed: Computed, root_first: bool) -> Outcome {
+    let stats = engine.take_stats();
+    let mut counters = stats.report();
+    match computed {
+        Computed::OverMemory(shortfall) => Outcome::over_memory(shortfall, counters),
+        Computed::Exhausted => Outcome::budget_exhausted(None, counters),
+        Computed::Done => match (engine.target_distance(), engine.path(root_first)) {
+            (Some(distance), Some(path)) => {
+                counters.push("path_cost_units", distance.units());
+                Outcome::found(path, counters)
+            }
+            _ => Outcome::no_path(counters),
+        },
+    }
+}
+
+/// The LPA* planner. Build with [`LpaStar::new`].
+#[derive(Debug, Clone)]
+pub struct LpaStar {
+    config: Config,
+    engine: Engine,
+}
+
+impl LpaStar {
+    /// A planner with `config`, validated.
+    pub fn new(config: Config) -> Result<LpaStar, ConfigError> {
+        let eight = config.eight()?;
+        Ok(LpaStar {
+            config,
+            engine: Engine::new(eight),
+        })
+    }
+
+    /// The engine, for inspection (g-values, km).
+    pub fn engine(&self) -> &Engine {
+        &self.engine
+    }
+}
+
+/// The exact cost of a found outcome's path, from its `path_cost_units` counter.
+pub fn outcome_cost(outcome: &Outcome) -> Option<Cost> {
+    outcome
+        .counters
+        .get("path_cost_units")
+        .map(Cost::from_units)
+}
+
+impl IncrementalPlanner for LpaStar {
+    fn name(&self) -> &str {
+        NAME
+    }
+
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::Moves(self.config.move_set()))
+            .with_admissible(true)
+            .with_incremental()
+    }
+
+    fn reset(&mut self, problem: &Problem<'_>) {
+        self.engine
+            .reset(problem.grid(), problem.start(), problem.goal());
+    }
+
+    fn grid(&self) -> Option<&Grid> {
+        self.engine.grid()
+    }
+
+    fn start(&self) -> Option<Cell> {
+        self.engine.root()
+    }
+
+    /// Re-roots the search at `cell`: the next replan starts over.
+    fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
+        checked_start(self.engine.grid(), cell)?;
+        self.engine.move_root(cell);
+        Ok(())
+    }
+
+    fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
+        let changes = checked_changes(self.engine.grid(), changes)?;
+        self.engine.apply(&changes);
+        Ok(())
+    }
+
+    fn replan(&mut self, budget: &Budget) -> Outcome {
+        let computed = self.engine.compute(budget);
+        outcome(&mut self.engine, computed, true)
+    }
+}
+
+impl Planner for LpaStar {
+    fn name(&self) -> &str {
+        NAME
+    }
+
+    /// Unseeded and admissible; paths are moves of the configured set; incremental.
+    fn specs(&self) -> PlannerSpecs {
+        IncrementalPlanner::specs(self)
+    }
+
+    /// A first LPA* search from scratch (the same as A* with LPA*'s counters).
+    fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+        IncrementalPlanner::reset(self, problem);
+        IncrementalPlanner::replan(self, budget)
+    }
+}

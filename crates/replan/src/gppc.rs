@@ -1,0 +1,213 @@
+//! The GPPC 2023 dynamic track's scenarios replayed with the oracle, and incremental
+//! planners carried across their patches.
+//!
+//! [`replay`] applies a scenario's commands in order to a map that starts all free.
+//! Every query is answered by A* from scratch (planner-astar, 8 moves without corner
+//! cutting, exact costs) on the map as patched so far, and its cost must equal the
+//! recorded optimum (to 1e-6, the recorded values being decimals with about ten
+//! significant digits) or both must say "no path". Then, for the queries selected by
+//! `carry_every`, an incremental planner solves the query from scratch on that map, is
+//! told the net cell changes of the next batch's patches, repairs, and must match A* from
+//! scratch on the next batch's map for the same query: that is the repair measured against
+//! restarting ([`CarryRecord`]).
+
+use std::time::{Duration, Instant};
+
+use planner_api::{Budget, CellChange, Grid, IncrementalPlanner, Problem};
+use planner_maps::gppc::{GppcCommand, GppcScenario, PatchSet};
+
+use crate::oracle::{Mismatch, MismatchKind, Oracle};
+
+/// One query's check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct QueryRecord {
+    /// The scenario line.
+    pub line: usize,
+    /// The batch.
+    pub batch: u32,
+    /// The recorded optimum (`None`: no path).
+    pub recorded: Option<f64>,
+    /// A*'s exact cost.
+    pub astar: Option<planner_api::Cost>,
+    /// A*'s expansions.
+    pub astar_expansions: u64,
+    /// Whether they agree.
+    pub agrees: bool,
+}
+
+/// One query carried across the next batch's patches.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CarryRecord {
+    /// The scenario line of the query.
+    pub line: usize,
+    /// Cells the next batch changed (net).
+    pub changed_cells: usize,
+    /// The incremental planner's expansions for the query from scratch.
+    pub first_expansions: u64,
+    /// Its expansions for the repair after the patches.
+    pub repair_expansions: u64,
+    /// A*'s expansions from scratch on the patched map.
+    pub astar_expansions: u64,
+    /// Time of the repair (apply and replan).
+    pub repair_time: Duration,
+    /// Time of A* from scratch on the patched map (its bit-grid build excluded).
+    pub astar_time: Duration,
+}
+
+/// A replay's records.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Replay {
+    /// Patch commands applied.
+    pub patches_applied: u64,
+    /// Every query's check.
+    pub queries: Vec<QueryRecord>,
+    /// The carried queries.
+    pub carried: Vec<CarryRecord>,
+    /// Every failed check of the incremental planner (by scenario line).
+    pub mismatches: Vec<Mismatch>,
+}
+
+/// A query as the replay keeps it: line, batch, start, goal, recorded cost.
+type Query = (
+    usize,
+    u32,
+    planner_api::Cell,
+    planner_api::Cell,
+    Option<f64>,
+);
+
+/// Whether A*'s exact cost agrees with the recorded optimum.
+pub fn agrees(recorded: Option<f64>, exact: Option<planner_api::Cost>) -> bool {
+    match (recorded, exact) {
+        (None, None) => true,
+        (Some(r), Some(c)) => (c.to_f64() - r).abs() <= 1e-6 * r.max(1.0),
+        _ => false,
+    }
+}
+
+/// Replays `scenario` (validated against `patches`) as the [module docs](self) say;
+/// `planner` is carried across the patches for every `carry_every`-th query (0: none),
+/// and only every `query_every`-th query is checked at all (1: all).
+pub fn replay(
+    scenario: &GppcScenario,
+    patches: &PatchSet,
+    planner: &mut dyn IncrementalPlanner,
+    query_every: usize,
+    carry_every: usize,
+) -> Replay {
+    let mut out = Replay::default();
+    let mut oracle = Oracle::new(true);
+    // The map before every batch's first query: patches applied in command order.
+    let mut map = match Grid::new(scenario.width, scenario.height) {
+        Ok(grid) => grid,
+        Err(_) => return out,
+    };
+    // Each run of consecutive queries with the map they are asked on.
+    let mut batches: Vec<(Grid, Vec<Query>)> = Vec::new();
+    let mut querying = false;
+    for command in &scenario.commands {
+        match *command {
+            GppcCommand::Patch { patch, x, y, .. } => {
+                patches.apply(&mut map, patch, x, y);
+                out.patches_applied += 1;
+                querying = false;
+            }
+            GppcCommand::Query {
+                batch,
+                start,
+                goal,
+                cost,
+                line,
+            } => {
+                if !querying {
+                    batches.push((map.clone(), Vec::new()));
+                    querying = true;
+                }
+                if let Some(last) = batches.last_mut() {
+                    last.1.push((line, batch, start, goal, cost));
+                }
+            }
+        }
+    }
+    let mut index = 0usize;
+    for b in 0..batches.len() {
+        let (grid, queries) = &batches[b];
+        let next = batches.get(b + 1).map(|(next, _)| {
+            let changes: Vec<CellChange> = grid
+                .free_cells()
+                .iter()
+                .zip(next.free_cells())
+                .enumerate()
+                .filter(|(_, (a, b))| a != b)
+                .map(|(i, (_, &free))| CellChange {
+                    cell: grid.cell(i),
+                    free,
+                })
+                .collect();
+            (next, changes)
+        });
+        for &(line, batch, start, goal, recorded) in queries {
+            index += 1;
+            if query_every > 1 && index % query_every != 0 {
+                continue;
+            }
+            let astar = oracle.optimum(grid, start, goal);
+            out.queries.push(QueryRecord {
+                line,
+                batch,
+                recorded,
+                astar,
+                astar_expansions: oracle.last_expansions(),
+                agrees: agrees(recorded, astar),
+            });
+            let Some((next, changes)) = &next else {
+                continue;
+            };
+            if carry_every == 0 || index % carry_every != 0 {
+                continue;
+            }
+            let Ok(problem) = Problem::new(grid, start, goal) else {
+                continue;
+            };
+            let fail = |kind| Mismatch {
+                step: line as u64,
+                start,
+                kind,
+            };
+            planner.reset(&problem);
+            let first = planner.replan(&Budget::unlimited());
+            if let Err(mut m) = oracle.check(grid, start, goal, &first, line as u64) {
+                m.step = line as u64;
+                out.mismatches.push(m);
+                continue;
+            }
+            let started = Instant::now();
+            if let Err(e) = planner.apply(changes) {
+                out.mismatches
+                    .push(fail(MismatchKind::Rejected(e.to_string())));
+                continue;
+            }
+            let repair = planner.replan(&Budget::unlimited());
+            let repair_time = started.elapsed();
+            // A* from scratch on the patched map, timed without its bit-grid build.
+            oracle.prepare(next);
+            let astar_started = Instant::now();
+            let _ = oracle.optimum(next, start, goal);
+            let astar_time = astar_started.elapsed();
+            let astar_expansions = oracle.last_expansions();
+            if let Err(m) = oracle.check(next, start, goal, &repair, line as u64) {
+                out.mismatches.push(m);
+            }
+            out.carried.push(CarryRecord {
+                line,
+                changed_cells: changes.len(),
+                first_expansions: first.counters.get("n_expanded").unwrap_or(0),
+                repair_expansions: repair.counters.get("n_expanded").unwrap_or(0),
+                astar_expansions,
+                repair_time,
+                astar_time,
+            });
+        }
+    }
+    out
+}

@@ -1,0 +1,291 @@
+//! Navigation in unknown terrain, as in the D* Lite paper's experiments.
+//!
+//! The agent knows the size of the map and nothing else: it assumes every cell free
+//! (the free-space assumption). Each step it senses the true state of every cell within
+//! `radius` of its cell (a square: `max(|dx|, |dy|) <= radius`), and before its first plan
+//! it senses from the start. It plans on what it knows, follows its path one cell per
+//! step, and replans when a sensed cell lies on its remaining path or makes one of its
+//! diagonal moves cut a corner; it then tells the planner where it stands
+//! ([`IncrementalPlanner::move_start`]) and every cell it has seen blocked since the last
+//! replan ([`IncrementalPlanner::apply`]).
+//!
+//! Replanning only then is exact: the known map only gains blocked cells, so the rest of
+//! a shortest path that is still free keeps its cost and no other path got cheaper.
+//! With [`NavConfig::check_every_change`] the oracle checks that claim too, on every step
+//! that sensed a change without a replan. The run ends at the goal, when no path is left
+//! (the goal is unreachable: a normal outcome), or at [`NavConfig::max_steps`].
+//!
+//! ```
+//! use planner_api::{Budget, Cell, Grid};
+//! use planner_replan::{navigate, planners, Oracle};
+//!
+//! let truth = Grid::from_ascii("
+//!     .......
+//!     ...#...
+//!     ...#...
+//!     ...#...
+//!     .......
+//! ").unwrap();
+//! let mut dstar = planners::by_name("dstar_lite", true).unwrap();
+//! let config = navigate::NavConfig { radius: 1, ..Default::default() };
+//! let run = navigate::run(dstar.as_mut(), Some(&mut Oracle::new(true)), &truth, Cell::new(0, 2), Cell::new(6, 2), &config, &Budget::unlimited()).unwrap();
+//! assert!(run.reached && run.mismatches.is_empty());
+//! assert_eq!(run.path.first(), Some(&Cell::new(0, 2)));
+//! assert_eq!(run.path.last(), Some(&Cell::new(6, 2)));
+//! assert!(run.replans.len() >= 2); // the wall is found on the way
+//! ```
+
+use std::time::{Duration, Instant};
+
+use planner_api::{
+    Budget, Cell, CellChange, Grid, IncrementalPlanner, MoveSet, Problem, ProblemError,
+};
+
+use crate::oracle::{Mismatch, MismatchKind, Oracle};
+use crate::ReplanRecord;
+
+/// The run's parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NavConfig {
+    /// Sensor radius (a square of half-width `radius` around the agent).
+    pub radius: u32,
+    /// Stop after this many steps (`None`: 10 per cell of the map, plus 1,000).
+    pub max_steps: Option<u64>,
+    /// Also check steps that sensed a change but kept the path (see the module docs).
+    pub check_every_change: bool,
+}
+
+impl Default for NavConfig {
+    fn default() -> NavConfig {
+        NavConfig {
+            radius: 1,
+            max_steps: None,
+            check_every_change: false,
+        }
+    }
+}
+
+/// One navigation run's records.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct NavRun {
+    /// Whether the agent reached the goal.
+    pub reached: bool,
+    /// Whether the run stopped at [`NavConfig::max_steps`].
+    pub hit_step_limit: bool,
+    /// Steps driven.
+    pub steps: u64,
+    /// The first plan and every replan.
+    pub replans: Vec<ReplanRecord>,
+    /// The cells driven through, the start first.
+    pub path: Vec<Cell>,
+    /// Every failed check (empty without an oracle).
+    pub mismatches: Vec<Mismatch>,
+    /// Checks of steps without a replan ([`NavConfig::check_every_change`]).
+    pub extra_checks: u64,
+}
+
+impl NavRun {
+    /// Vertex expansions over all replans.
+    pub fn total_expansions(&self) -> u64 {
+        self.replans.iter().map(|r| r.expansions).sum()
+    }
+
+    /// Planning time (updates and replans) over all replans.
+    pub fn planning_time(&self) -> Duration {
+        self.replans.iter().map(ReplanRecord::planning_time).sum()
+    }
+
+    /// Time before the first move: setting up the planner and its first plan.
+    pub fn time_to_first_move(&self) -> Duration {
+        self.replans
+            .first()
+            .map_or(Duration::ZERO, ReplanRecord::planning_time)
+    }
+}
+
+/// Senses around `at`: marks in `known` every cell within `radius` that is blocked in
+/// `truth` but free in `known`, and lists it.
+fn sense(
+    truth: &Grid,
+    known: &mut Grid,
+    at: Cell,
+    radius: u32,
+    seen: &mut Vec<CellChange>,
+) -> bool {
+    let r = i64::from(radius);
+    let before = seen.len();
+    for dy in -r..=r {
+        for dx in -r..=r {
+            let (x, y) = (i64::from(at.x) + dx, i64::from(at.y) + dy);
+            if !truth.contains_signed(x, y) {
+                continue;
+            }
+            let cell = Cell::new(x as u32, y as u32);
+            if !truth.is_free(cell) && known.is_free(cell) {
+                known.set_free(cell, false);
+                seen.push(CellChange::blocked(cell));
+            }
+        }
+    }
+    seen.len() > before
+}
+
+/// Whether every step of `path` is still a legal move on `known`.
+fn still_free(known: &Grid, moves: &MoveSet, path: &[Cell]) -> bool {
+    path.windows(2).all(|w| {
+        moves
+            .find(w[0], w[1])
+            .and_then(|mv| moves.apply(known, w[0], mv))
+            == Some(w[1])
+    })
+}
+
+/// Runs `planner` from `start` to `goal` on the unknown map `truth` (see the
+/// [module docs](self)); the oracle, when given, checks every replan. Errors only when
+/// `start` or `goal` is outside `truth` or blocked in it.
+pub fn run(
+    planner: &mut dyn IncrementalPlanner,
+    mut oracle: Option<&mut Oracle>,
+    truth: &Grid,
+    start: Cell,
+    goal: Cell,
+    config: &NavConfig,
+    budget: &Budget,
+) -> Result<NavRun, ProblemError> {
+    Problem::new(truth, start, goal)?;
+    let started = Instant::now();
+    let mut known = Grid::from_free_cells(truth.width(), truth.height(), vec![true; truth.len()])
+        .unwrap_or_else(|_| unreachable!("a copy of a valid grid's size is valid"));
+    let mut pending = Vec::new();
+    sense(truth, &mut known, start, config.radius, &mut pending);
+    pending.clear();
+    let problem = Problem::new(&known, start, goal)?;
+    planner.reset(&problem);
+    let moves = match planner.specs().path_rule {
+        planner_api::PathSpec::Moves(moves) => moves,
+        planner_api::PathSpec::AnyAngle => MoveSet::standard(planner_api::Connectivity::Eight),
+    };
+    let max_steps = config.max_steps.unwrap_or(10 * truth.len() as u64 + 1000);
+    let mut out = NavRun {
+        path: vec![start],
+        ..NavRun::default()
+    };
+    let mut agent = start;
+    let mut path = replan(
+        planner,
+        oracle.as_deref_mut(),
+        &known,
+        agent,
+        goal,
+        0,
+        started.elapsed(),
+        budget,
+        &mut out,
+    );
+    let mut at = 0usize;
+    while agent != goal {
+        let Some(cells) = &path else {
+            break;
+        };
+        if out.steps >= max_steps {
+            out.hit_step_limit = true;
+            break;
+        }
+        at += 1;
+        agent = cells[at];
+        out.steps += 1;
+        out.path.push(agent);
+        if !sense(truth, &mut known, agent, config.radius, &mut pending) {
+            continue;
+        }
+        if still_free(&known, &moves, &cells[at..]) {
+            if config.check_every_change {
+                if let Some(oracle) = oracle.as_deref_mut() {
+                    out.extra_checks += 1;
+                    let rest = planner_api::Path::new(cells[at..].to_vec());
+                    let outcome = planner_api::Outcome::found(rest, planner_api::Counters::new());
+                    if let Err(m) = oracle.check(&known, agent, goal, &outcome, out.steps) {
+                        out.mismatches.push(m);
+                    }
+                }
+            }
+            continue;
+        }
+        let told = Instant::now();
+        let result = planner
+            .move_start(agent)
+            .and_then(|()| planner.apply(&pending));
+        pending.clear();
+        let update_time = told.elapsed();
+        if let Err(e) = result {
+            out.mismatches.push(Mismatch {
+                step: out.steps,
+                start: agent,
+                kind: MismatchKind::Rejected(e.to_string()),
+            });
+            break;
+        }
+        path = replan(
+            planner,
+            oracle.as_deref_mut(),
+            &known,
+            agent,
+            goal,
+            out.steps,
+            update_time,
+            budget,
+            &mut out,
+        );
+        at = 0;
+    }
+    out.reached = agent == goal;
+    Ok(out)
+}
+
+/// One replan, timed and (with an oracle) checked; its path's cells when found.
+#[allow(clippy::too_many_arguments)]
+fn replan(
+    planner: &mut dyn IncrementalPlanner,
+    oracle: Option<&mut Oracle>,
+    known: &Grid,
+    agent: Cell,
+    goal: Cell,
+    step: u64,
+    update_time: Duration,
+    budget: &Budget,
+    out: &mut NavRun,
+) -> Option<Vec<Cell>> {
+    let started = Instant::now();
+    let outcome = planner.replan(budget);
+    let replan_time = started.elapsed();
+    let mut cost = outcome.path.as_ref().map(planner_api::path_cost);
+    let mut failed = false;
+    let mut oracle_expansions = None;
+    if let Some(oracle) = oracle {
+        let checked = oracle.check(known, agent, goal, &outcome, step);
+        oracle_expansions = Some(oracle.last_expansions());
+        match checked {
+            Ok(checked) => cost = checked,
+            Err(m) => {
+                out.mismatches.push(m);
+                failed = true;
+            }
+        }
+    }
+    out.replans.push(ReplanRecord {
+        step,
+        status: outcome.status,
+        expansions: outcome.counters.get("n_expanded").unwrap_or(0),
+        counters: outcome.counters.clone(),
+        cost,
+        oracle_expansions,
+        update_time,
+        replan_time,
+    });
+    // A failed check ends the run (the mismatch is recorded with its step).
+    outcome
+        .path
+        .filter(|_| !failed)
+        .map(|p| p.into_cells())
+        .filter(|cells| cells.first() == Some(&agent))
+}

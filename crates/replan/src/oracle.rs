@@ -1,0 +1,182 @@
+//! The exact oracle: A* from scratch on the planner's current map.
+//!
+//! planner-astar with the same moves (4, or 8 without corner cutting), the consistent
+//! heuristic (Manhattan or octile) and exact [`Cost`]s finds an optimal path; its cost,
+//! summed exactly over its moves ([`path_cost`]), is the truth every replan is held to.
+
+use std::fmt;
+
+use planner_api::{
+    path_cost, Budget, Cell, Connectivity, Cost, Grid, MoveSet, Outcome, PathRule, Planner,
+    Problem, Status,
+};
+use planner_astar::{AStar, Config, Heuristic};
+
+/// What went wrong in a replan.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum MismatchKind {
+    /// The path's exact cost differs from A*'s (`None`: no path).
+    Cost {
+        /// A*'s cost.
+        expected: Option<Cost>,
+        /// The planner's.
+        got: Option<Cost>,
+    },
+    /// The path is not valid on the current map (a blocked cell, an illegal move, or not
+    /// from the start to the goal).
+    InvalidPath(String),
+    /// The planner ran out of budget, so the replan has no answer to check.
+    Unfinished,
+    /// The planner refused a change or a move the driver made.
+    Rejected(String),
+}
+
+/// A failed check, with the step it happened at.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Mismatch {
+    /// The step (or event) of the replan.
+    pub step: u64,
+    /// The start the replan planned from.
+    pub start: Cell,
+    /// What went wrong.
+    pub kind: MismatchKind,
+}
+
+impl fmt::Display for Mismatch {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.kind {
+            MismatchKind::Cost { expected, got } => write!(
+                f,
+                "step {} from {}: cost {:?} but A* from scratch finds {:?}",
+                self.step,
+                self.start,
+                got.map(Cost::to_f64),
+                expected.map(Cost::to_f64)
+            ),
+            MismatchKind::InvalidPath(why) => {
+                write!(
+                    f,
+                    "step {} from {}: invalid path: {why}",
+                    self.step, self.start
+                )
+            }
+            MismatchKind::Rejected(why) => {
+                write!(
+                    f,
+                    "step {} from {}: change rejected: {why}",
+                    self.step, self.start
+                )
+            }
+            MismatchKind::Unfinished => {
+                write!(
+                    f,
+                    "step {} from {}: the replan did not finish",
+                    self.step, self.start
+                )
+            }
+        }
+    }
+}
+
+/// The oracle for one move set.
+#[derive(Debug, Clone)]
+pub struct Oracle {
+    astar: AStar,
+    moves: MoveSet,
+    last_expansions: u64,
+}
+
+impl Oracle {
+    /// An oracle for 8 moves without corner cutting (`eight`) or 4 moves.
+    pub fn new(eight: bool) -> Oracle {
+        let config = Config {
+            moves: if eight {
+                Connectivity::Eight
+            } else {
+                Connectivity::Four
+            },
+            heuristic: if eight {
+                Heuristic::Octile
+            } else {
+                Heuristic::Manhattan
+            },
+            ..Config::default()
+        };
+        // The configuration is valid by construction (4 or 8 moves, weight 1).
+        let astar = match AStar::new(config) {
+            Ok(astar) => astar,
+            Err(e) => unreachable!("the oracle's A* configuration is valid: {e}"),
+        };
+        let moves = astar.move_set().clone();
+        Oracle {
+            astar,
+            moves,
+            last_expansions: 0,
+        }
+    }
+
+    /// The move set paths are checked against.
+    pub fn moves(&self) -> &MoveSet {
+        &self.moves
+    }
+
+    /// The optimal cost from `start` to `goal` on `grid` (`None`: no path, including a
+    /// blocked start or goal).
+    pub fn optimum(&mut self, grid: &Grid, start: Cell, goal: Cell) -> Option<Cost> {
+        self.last_expansions = 0;
+        let problem = Problem::new(grid, start, goal).ok()?;
+        let outcome = self.astar.plan(&problem, &Budget::unlimited());
+        self.last_expansions = outcome.counters.get("n_expanded").unwrap_or(0);
+        outcome.path.as_ref().map(path_cost)
+    }
+
+    /// A*'s expansions in the last [`Oracle::optimum`] or [`Oracle::check`]: what A* from
+    /// scratch spends on that replan.
+    pub fn last_expansions(&self) -> u64 {
+        self.last_expansions
+    }
+
+    /// Builds A*'s per-grid tables for `grid` ahead of a timed [`Oracle::optimum`].
+    pub fn prepare(&mut self, grid: &Grid) {
+        self.astar.prepare(grid);
+    }
+
+    /// Checks a replan's `outcome` from `start` to `goal` on `grid`; returns the exact cost
+    /// of its path.
+    pub fn check(
+        &mut self,
+        grid: &Grid,
+        start: Cell,
+        goal: Cell,
+        outcome: &Outcome,
+        step: u64,
+    ) -> Result<Option<Cost>, Mismatch> {
+        self.last_expansions = 0;
+        let fail = |kind| Mismatch { step, start, kind };
+        if outcome.status == Status::BudgetExhausted {
+            return Err(fail(MismatchKind::Unfinished));
+        }
+        let got = match &outcome.path {
+            Some(path) => {
+                if path.start() != Some(start) || path.goal() != Some(goal) {
+                    return Err(fail(MismatchKind::InvalidPath(format!(
+                        "runs from {:?} to {:?}",
+                        path.start(),
+                        path.goal()
+                    ))));
+                }
+                if let Err(e) = path.validate(grid, PathRule::Moves(&self.moves)) {
+                    return Err(fail(MismatchKind::InvalidPath(e.to_string())));
+                }
+                Some(path_cost(path))
+            }
+            None => None,
+        };
+        let expected = self.optimum(grid, start, goal);
+        if got == expected {
+            Ok(got)
+        } else {
+            Err(fail(MismatchKind::Cost { expected, got }))
+        }
+    }
+}

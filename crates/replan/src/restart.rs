@@ -1,0 +1,137 @@
+//! A* from scratch behind the incremental interface: the baseline every incremental
+//! planner is compared with.
+//!
+//! [`Restart`] keeps its own copy of the map, applies changes to it, and answers each
+//! replan with a new planner-astar search (exact costs, the consistent heuristic of the
+//! moves, the paper's FIFO ties), from the agent to the goal (forward) or from the goal to
+//! the agent (backward, the direction D* Lite searches in), the path then reversed. A*
+//! builds a bit-packed copy of a changed map before it searches
+//! ([`Planner::prepare`]); that happens in [`IncrementalPlanner::apply`], so drivers time it
+//! as update time, apart from the replan (see [`crate::ReplanRecord`]).
+
+use planner_api::{
+    Budget, Cell, CellChange, ChangeError, Connectivity, Grid, IncrementalPlanner, Outcome, Path,
+    PathSpec, Planner, PlannerSpecs, Problem,
+};
+use planner_astar::{AStar, Config, Heuristic};
+
+/// A* from scratch at every replan (see the [module docs](self)).
+#[derive(Debug, Clone)]
+pub struct Restart {
+    astar: AStar,
+    backward: bool,
+    grid: Option<Grid>,
+    start: Cell,
+    goal: Cell,
+}
+
+impl Restart {
+    /// Forward (`backward = false`) or backward A* with 8 moves without corner cutting
+    /// (`eight`) or 4 moves.
+    pub fn new(eight: bool, backward: bool) -> Restart {
+        let config = Config {
+            moves: if eight {
+                Connectivity::Eight
+            } else {
+                Connectivity::Four
+            },
+            heuristic: if eight {
+                Heuristic::Octile
+            } else {
+                Heuristic::Manhattan
+            },
+            ..Config::default()
+        };
+        let astar = match AStar::new(config) {
+            Ok(astar) => astar,
+            Err(e) => unreachable!("the restart A* configuration is valid: {e}"),
+        };
+        Restart {
+            astar,
+            backward,
+            grid: None,
+            start: Cell::new(0, 0),
+            goal: Cell::new(0, 0),
+        }
+    }
+}
+
+impl IncrementalPlanner for Restart {
+    fn name(&self) -> &str {
+        if self.backward {
+            "astar_backward"
+        } else {
+            "astar"
+        }
+    }
+
+    /// Not incremental: every replan is a search from scratch.
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::Moves(self.astar.move_set().clone()))
+            .with_admissible(true)
+    }
+
+    fn reset(&mut self, problem: &Problem<'_>) {
+        self.grid = Some(problem.grid().clone());
+        self.start = problem.start();
+        self.goal = problem.goal();
+        self.astar.prepare(problem.grid());
+    }
+
+    fn grid(&self) -> Option<&Grid> {
+        self.grid.as_ref()
+    }
+
+    fn start(&self) -> Option<Cell> {
+        self.grid.as_ref().map(|_| self.start)
+    }
+
+    fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
+        planner_lpastar::checked_start(self.grid.as_ref(), cell)?;
+        self.start = cell;
+        Ok(())
+    }
+
+    /// Applies the changes and rebuilds A*'s bit-packed map when a cell changed.
+    fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
+        let changes = planner_lpastar::checked_changes(self.grid.as_ref(), changes)?;
+        let Some(grid) = self.grid.as_mut() else {
+            return Err(ChangeError::NotStarted);
+        };
+        let mut changed = false;
+        for (cell, free) in changes {
+            if grid.is_free(cell) != free {
+                grid.set_free(cell, free);
+                changed = true;
+            }
+        }
+        if changed {
+            self.astar.prepare(grid);
+        }
+        Ok(())
+    }
+
+    fn replan(&mut self, budget: &Budget) -> Outcome {
+        let Some(grid) = self.grid.as_ref() else {
+            return Outcome::no_path(planner_api::Counters::new());
+        };
+        let (from, to) = if self.backward {
+            (self.goal, self.start)
+        } else {
+            (self.start, self.goal)
+        };
+        let Ok(problem) = Problem::new(grid, from, to) else {
+            // A blocked start or goal: no path, and nothing searched.
+            return Outcome::no_path(planner_api::Counters::new().with("n_expanded", 0));
+        };
+        let mut outcome = self.astar.plan(&problem, budget);
+        if self.backward {
+            outcome.path = outcome.path.map(|p| {
+                let mut cells = p.into_cells();
+                cells.reverse();
+                Path::new(cells)
+            });
+        }
+        outcome
+    }
+}

@@ -1,0 +1,304 @@
+//! The oracle on every replan: 10,000 seeded small random grids with random change
+//! sequences, LPA* and D* Lite, 4- and 8-connected, every replan's cost equal to A* from
+//! scratch and every path valid; and navigation in unknown terrain on small grids.
+
+use planner_api::{Budget, Cell, CellChange, Grid, IncrementalPlanner, Outcome, Problem, Status};
+use planner_replan::{navigate, planners, toggles, Mismatch, MismatchKind, Oracle};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A random grid of 3..=10 columns and rows with 0-35 % blocked cells, and two free
+/// cells (start, goal; they may coincide); `None` when fewer than one cell is free.
+fn random_problem(rng: &mut ChaCha8Rng) -> Option<(Grid, Cell, Cell)> {
+    let (w, h) = (rng.gen_range(3..=10u32), rng.gen_range(3..=10u32));
+    let density = rng.gen_range(0.0..0.35);
+    let free: Vec<bool> = (0..w * h).map(|_| !rng.gen_bool(density)).collect();
+    let grid = Grid::from_free_cells(w, h, free).ok()?;
+    let cells: Vec<Cell> = grid.cells().filter(|&c| grid.is_free(c)).collect();
+    if cells.is_empty() {
+        return None;
+    }
+    let start = cells[rng.gen_range(0..cells.len())];
+    let goal = cells[rng.gen_range(0..cells.len())];
+    Some((grid, start, goal))
+}
+
+#[derive(Default)]
+struct Tally {
+    runs: u64,
+    replans: u64,
+    found: u64,
+    no_path: u64,
+    toggled: u64,
+    mismatches: Vec<(u64, &'static str, bool, Mismatch)>,
+}
+
+#[test]
+fn ten_thousand_grids_every_replan_exact() {
+    let mut tally = Tally::default();
+    let mut oracles = [Oracle::new(false), Oracle::new(true)];
+    let mut grids = 0u64;
+    let mut seed = 0u64;
+    while grids < 10_000 {
+        seed += 1;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let Some((grid, start, goal)) = random_problem(&mut rng) else {
+            continue;
+        };
+        grids += 1;
+        let problem = Problem::new(&grid, start, goal).unwrap();
+        let config = toggles::ToggleConfig {
+            events: rng.gen_range(4..=10),
+            k: rng.gen_range(1..=4),
+            radius: rng.gen_range(1..=3),
+            drive: rng.gen_range(0..=2),
+            seed,
+        };
+        for name in ["lpastar", "dstar_lite"] {
+            for (eight, oracle) in [false, true].into_iter().zip(oracles.iter_mut()) {
+                let mut planner = planners::by_name(name, eight).unwrap();
+                let run = toggles::run(
+                    planner.as_mut(),
+                    oracle,
+                    &problem,
+                    &config,
+                    &Budget::unlimited(),
+                );
+                tally.runs += 1;
+                tally.replans += run.replans.len() as u64;
+                tally.toggled += run.toggled;
+                tally.found += run
+                    .replans
+                    .iter()
+                    .filter(|r| r.status == Status::Found)
+                    .count() as u64;
+                tally.no_path += run
+                    .replans
+                    .iter()
+                    .filter(|r| r.status == Status::NoPath)
+                    .count() as u64;
+                for m in run.mismatches {
+                    tally.mismatches.push((seed, name, eight, m));
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{grids} grids, {} runs, {} replans ({} found, {} no path), {} cells toggled, {} mismatches",
+        tally.runs,
+        tally.replans,
+        tally.found,
+        tally.no_path,
+        tally.toggled,
+        tally.mismatches.len()
+    );
+    for (seed, name, eight, m) in tally.mismatches.iter().take(10) {
+        eprintln!("seed {seed} {name} eight={eight}: {m}");
+    }
+    assert!(tally.mismatches.is_empty());
+    assert_eq!(tally.runs, 40_000);
+    // The sequences exercise both outcomes many times.
+    assert!(
+        tally.found > 100_000 && tally.no_path > 1_000,
+        "{} {}",
+        tally.found,
+        tally.no_path
+    );
+}
+
+#[test]
+fn navigation_on_small_grids_is_exact_at_every_change() {
+    let mut oracles = [Oracle::new(false), Oracle::new(true)];
+    let (mut runs, mut replans, mut extra, mut reached) = (0u64, 0u64, 0u64, 0u64);
+    for seed in 0..1_500u64 {
+        let mut rng = ChaCha8Rng::seed_from_u64(1_000_000 + seed);
+        let Some((truth, start, goal)) = random_problem(&mut rng) else {
+            continue;
+        };
+        let radius = rng.gen_range(1..=3);
+        for name in planners::NAMES {
+            for (eight, oracle) in [false, true].into_iter().zip(oracles.iter_mut()) {
+                let mut planner = planners::by_name(name, eight).unwrap();
+                let config = navigate::NavConfig {
+                    radius,
+                    max_steps: None,
+                    check_every_change: true,
+                };
+                let run = navigate::run(
+                    planner.as_mut(),
+                    Some(oracle),
+                    &truth,
+                    start,
+                    goal,
+                    &config,
+                    &Budget::unlimited(),
+                )
+                .unwrap();
+                assert!(
+                    run.mismatches.is_empty(),
+                    "seed {seed} {name} eight={eight}: {}",
+                    run.mismatches[0]
+                );
+                assert!(!run.hit_step_limit);
+                // The driven path is made of legal moves on the true map.
+                let driven = planner_api::Path::new(run.path.clone());
+                driven
+                    .validate(&truth, planner_api::PathRule::Moves(oracle.moves()))
+                    .unwrap();
+                // Reached exactly when the goal is reachable on the true map.
+                assert_eq!(
+                    run.reached,
+                    oracle.optimum(&truth, start, goal).is_some(),
+                    "seed {seed} {name}"
+                );
+                runs += 1;
+                replans += run.replans.len() as u64;
+                extra += run.extra_checks;
+                reached += u64::from(run.reached);
+            }
+        }
+    }
+    eprintln!("{runs} navigation runs, {replans} replans, {extra} extra checks, {reached} reached");
+    assert!(replans > runs + 3_000 && extra > 1_000 && reached > runs / 2);
+}
+
+/// The oracle can fail: a planner that ignores the changes it is told is caught.
+#[test]
+fn a_planner_that_ignores_changes_is_caught() {
+    struct Deaf(Box<dyn IncrementalPlanner>);
+    impl IncrementalPlanner for Deaf {
+        fn name(&self) -> &str {
+            "deaf"
+        }
+        fn specs(&self) -> planner_api::PlannerSpecs {
+            self.0.specs()
+        }
+        fn reset(&mut self, problem: &Problem<'_>) {
+            self.0.reset(problem)
+        }
+        fn grid(&self) -> Option<&Grid> {
+            self.0.grid()
+        }
+        fn start(&self) -> Option<Cell> {
+            self.0.start()
+        }
+        fn move_start(&mut self, cell: Cell) -> Result<(), planner_api::ChangeError> {
+            self.0.move_start(cell)
+        }
+        fn apply(&mut self, _: &[CellChange]) -> Result<(), planner_api::ChangeError> {
+            Ok(())
+        }
+        fn replan(&mut self, budget: &Budget) -> Outcome {
+            self.0.replan(budget)
+        }
+    }
+    let mut caught = 0;
+    for seed in 0..200u64 {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let Some((grid, start, goal)) = random_problem(&mut rng) else {
+            continue;
+        };
+        let problem = Problem::new(&grid, start, goal).unwrap();
+        let config = toggles::ToggleConfig {
+            events: 6,
+            k: 3,
+            radius: 2,
+            drive: 1,
+            seed,
+        };
+        let mut deaf = Deaf(planners::by_name("dstar_lite", true).unwrap());
+        let run = toggles::run(
+            &mut deaf,
+            &mut Oracle::new(true),
+            &problem,
+            &config,
+            &Budget::unlimited(),
+        );
+        caught += run.mismatches.len();
+        assert!(run
+            .mismatches
+            .iter()
+            .all(|m| !matches!(m.kind, MismatchKind::Rejected(_))));
+    }
+    assert!(caught > 50, "{caught}");
+}
+
+/// A change far from the path is repaired with a handful of expansions, not a new search.
+#[test]
+fn repairs_instead_of_restarting() {
+    let grid = Grid::new(64, 64).unwrap();
+    let problem = Problem::new(&grid, Cell::new(2, 30), Cell::new(61, 34)).unwrap();
+    for name in ["lpastar", "dstar_lite"] {
+        for eight in [false, true] {
+            let mut planner = planners::by_name(name, eight).unwrap();
+            planner.reset(&problem);
+            let first = planner.replan(&Budget::unlimited());
+            let first_expanded = first.counters.get("n_expanded").unwrap();
+            // Block a cell on the path: the repair is a fraction of the first search.
+            let on_path = first.path.unwrap().cells()[30];
+            planner.apply(&[CellChange::blocked(on_path)]).unwrap();
+            let repair = planner.replan(&Budget::unlimited());
+            let repaired = repair.counters.get("n_expanded").unwrap();
+            assert_eq!(repair.status, Status::Found);
+            assert!(
+                repaired * 2 < first_expanded,
+                "{name} {eight}: {repaired} vs {first_expanded}"
+            );
+            // And the repaired cost is A*'s.
+            let mut oracle = Oracle::new(eight);
+            let map = planner.grid().unwrap().clone();
+            oracle
+                .check(&map, Cell::new(2, 30), Cell::new(61, 34), &repair, 1)
+                .unwrap();
+        }
+    }
+}
+
+/// An expansion budget stops a repair part-way; the next replan finishes it exactly.
+#[test]
+fn a_budget_stops_and_the_next_replan_continues() {
+    let grid = Grid::new(40, 40).unwrap();
+    let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(39, 39)).unwrap();
+    for name in ["lpastar", "dstar_lite"] {
+        let mut planner = planners::by_name(name, true).unwrap();
+        planner.reset(&problem);
+        let stopped = planner.replan(&Budget::expansions(5));
+        assert_eq!(stopped.status, Status::BudgetExhausted);
+        assert_eq!(stopped.counters.get("n_expanded"), Some(5));
+        let finished = planner.replan(&Budget::unlimited());
+        let mut oracle = Oracle::new(true);
+        oracle
+            .check(&grid, Cell::new(0, 0), Cell::new(39, 39), &finished, 1)
+            .unwrap();
+    }
+}
+
+/// Changes outside the map and moves onto blocked cells are errors naming the cell.
+#[test]
+fn bad_changes_are_errors() {
+    let grid = Grid::from_ascii("...\n.#.\n...").unwrap();
+    let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(2, 2)).unwrap();
+    for name in planners::NAMES {
+        let mut planner = planners::by_name(name, true).unwrap();
+        assert_eq!(
+            planner
+                .apply(&[CellChange::blocked(Cell::new(0, 0))])
+                .unwrap_err(),
+            planner_api::ChangeError::NotStarted
+        );
+        planner.reset(&problem);
+        let err = planner
+            .apply(&[CellChange::blocked(Cell::new(3, 1))])
+            .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "changed cell (3, 1) is outside the 3x3 map"
+        );
+        let err = planner.move_start(Cell::new(1, 1)).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "new start (1, 1) is outside the map or blocked"
+        );
+    }
+    assert!(planners::by_name("dstar", true).is_err());
+}
