@@ -13,7 +13,7 @@
 //! | `origin` | `[x, y, yaw]`: the pose of the lower-left cell in metres and radians | yes |
 //! | `occupied_thresh` | occupancy probability above which a cell is occupied | yes |
 //! | `free_thresh` | occupancy probability below which a cell is free | yes |
-//! | `negate` | an integer (non-zero: negate) or a boolean (`true`, `yes`, `on`, ...) | yes |
+//! | `negate` | an integer (non-zero: negate); not a boolean, which `map_server` refuses | yes |
 //! | `mode` | `trinary` (default), `scale` or `raw` | no |
 //!
 //! The rules are `map_server`'s (ROS 1 `map_server` and ROS 2 `nav2_map_server`, both on
@@ -631,7 +631,10 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
         );
     }
     let negate_node = required(5)?;
-    let negate_expected = "an integer or a boolean (0, 1, true, false) for 'negate'";
+    // Both map_servers read `negate` as an `int` (yaml-cpp's `as<int>`), which fails on
+    // `true` or `yes`: ROS 1 exits with "The map does not contain a negate tag or it is
+    // invalid", so a boolean is an error here too, not a silently inverted map.
+    let negate_expected = "an integer (0 or 1) for 'negate', as map_server requires";
     let negate_text = scalar(negate_node, negate_expected)?;
     let negate = match parse_integer(&negate_text) {
         Some(value) => {
@@ -644,12 +647,12 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
             }
             value != 0
         }
-        None => parse_bool(&negate_text).ok_or_else(|| {
-            error(
+        None => {
+            return Err(error(
                 negate_node.at(),
                 unexpected(negate_expected, show_token(&negate_text)),
-            )
-        })?,
+            ))
+        }
     };
     let mode = match values[6] {
         None => RosMode::default(),
@@ -703,19 +706,6 @@ fn parse_integer(text: &str) -> Option<i64> {
         return None;
     }
     text.parse().ok()
-}
-
-/// A boolean as yaml-cpp reads one.
-fn parse_bool(text: &str) -> Option<bool> {
-    match text.trim() {
-        "y" | "Y" | "yes" | "Yes" | "YES" | "true" | "True" | "TRUE" | "on" | "On" | "ON" => {
-            Some(true)
-        }
-        "n" | "N" | "no" | "No" | "NO" | "false" | "False" | "FALSE" | "off" | "Off" | "OFF" => {
-            Some(false)
-        }
-        _ => None,
-    }
 }
 
 /// The ROS occupancy value of one pixel given as 8-bit channels (1 grey, 2 grey and
@@ -982,10 +972,20 @@ pub fn ros_map_from_image_bytes(
         other if other.color().has_alpha() => (2, other.to_luma_alpha8().into_raw()),
         other => (1, other.to_luma8().into_raw()),
     };
-    let occupancy: Vec<i8> = pixels
-        .chunks_exact(channels)
-        .map(|pixel| ros_occupancy_value(&yaml, pixel))
-        .collect();
+    let occupancy: Vec<i8> = if channels == 1 {
+        // A grey image's pixel buffer becomes the occupancy values (a byte for a byte:
+        // Vec's collect reuses the allocation), so the decoded image costs no extra byte
+        // a cell (`crate::READ_BYTES_PER_CELL`).
+        pixels
+            .into_iter()
+            .map(|value| ros_occupancy_value(&yaml, &[value]))
+            .collect()
+    } else {
+        pixels
+            .chunks_exact(channels)
+            .map(|pixel| ros_occupancy_value(&yaml, pixel))
+            .collect()
+    };
     let grid = ros_grid(width, height, &occupancy, &options.ros)
         .map_err(|e| whole(MapErrorKind::Grid(e)))?;
     Ok(RosMap {

@@ -140,8 +140,16 @@ fn yaml_errors_name_line_and_column() {
     );
     check(
         &YAML.replace("negate: 0", "negate: maybe"),
-        "error: m.yaml:5:9: expected an integer or a boolean (0, 1, true, false) for 'negate', found 'maybe'",
+        "error: m.yaml:5:9: expected an integer (0 or 1) for 'negate', as map_server requires, found 'maybe'",
     );
+    // Issue 27: map_server reads `negate` as an int, so a boolean is refused, not read as
+    // true (which inverted the map).
+    for boolean in ["yes", "true", "on", "false"] {
+        check(
+            &YAML.replace("negate: 0", &format!("negate: {boolean}")),
+            &format!("error: m.yaml:5:9: expected an integer (0 or 1) for 'negate', as map_server requires, found '{boolean}'"),
+        );
+    }
     check(
         &YAML.replace("[-1.000000, -2.000000, 0.000000]", "[-1.0, x, 0.0]"),
         "error: m.yaml:4:16: expected a number for 'origin', found 'x'",
@@ -219,7 +227,7 @@ fn yaml_accepts_what_map_server_accepts() {
         [-1.0, -2.0, 0.0]
     );
     // A flow mapping, quoted numbers, an explicit document start, tags.
-    let flow = "--- {image: \"map.pgm\", resolution: '0.05', origin: [0, 0, 0], negate: false, \
+    let flow = "--- {image: \"map.pgm\", resolution: '0.05', origin: [0, 0, 0], negate: 0, \
                 occupied_thresh: !!float 0.65, free_thresh: 0.196, mode: \"scale\"}\n";
     check(flow, "ok");
     let yaml = parse_ros_yaml(flow, "m.yaml").unwrap();

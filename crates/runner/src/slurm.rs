@@ -5,7 +5,9 @@
 //! pending forever) and prints both job ids.
 //!
 //! For an output directory `DIR` (default: the config's), the scripts, the shards'
-//! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`.
+//! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`
+//! (`merge --shards-in DIR-slurm`, so its command line has the same length for any N).
+//! N is at most the sweep's run count and [`Shard::MAX_COUNT`].
 //! The scripts call this very binary and the config by absolute path, so they run from
 //! any directory on a cluster whose nodes share the file system.
 
@@ -13,6 +15,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use crate::config;
+use crate::run::RunList;
+use crate::shard::Shard;
 
 /// What `slurm` is asked to do.
 #[derive(Debug, Clone, Default)]
@@ -63,7 +67,23 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
     if args.shards == 0 {
         return Err("--shards: at least 1".into());
     }
+    if args.shards > Shard::MAX_COUNT {
+        return Err(format!(
+            "--shards {}: at most {} shards",
+            args.shards,
+            Shard::MAX_COUNT
+        ));
+    }
     let experiment = config::load(&args.config).map_err(|e| e.to_string())?;
+    // A shard with no run would be an array task that does nothing; more shards than runs
+    // is refused rather than capped, so the array has the size the user asked for.
+    let n_runs = RunList::new(&experiment).len();
+    if args.shards > n_runs {
+        return Err(format!(
+            "--shards {}: the sweep has {n_runs} runs, so at most {n_runs} shards",
+            args.shards
+        ));
+    }
     let config_path = args
         .config
         .canonicalize()
@@ -103,9 +123,6 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
          exec {bin} experiment {cfg} --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --output {dir}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet{threads}\n",
         w = work.display(),
     );
-    let shard_dirs: Vec<String> = (1..=n)
-        .map(|k| quote(&work.join(format!("shard-{k}")).display().to_string()))
-        .collect();
     let merge = format!(
         "#!/bin/bash\n\
          # Written by `gridplan slurm`: merges the {n} shards of experiment {name}.\n\
@@ -113,9 +130,8 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
          #SBATCH --output={w}/merge.log\n\
          {options}\
          set -euo pipefail\n\
-         exec {bin} merge {dirs} --config {cfg} --output {out}\n",
+         exec {bin} merge --shards-in {dir} --config {cfg} --output {out}\n",
         w = work.display(),
-        dirs = shard_dirs.join(" "),
         out = quote(&output.display().to_string()),
     );
     let array_script = work.join("array.sbatch");
