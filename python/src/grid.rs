@@ -68,7 +68,9 @@ impl Grid {
         // At most 2^31 cells, so this fits a usize on any platform with 64-bit pointers and
         // is refused as too large elsewhere.
         let n_cells = usize::try_from(n_cells).map_err(|_| {
-            Failure::Value(format!("Grid.from_numpy: a {width}x{height} array is too large"))
+            Failure::Value(format!(
+                "Grid.from_numpy: a {width}x{height} array is too large"
+            ))
         })?;
         // One byte a cell, reserved fallibly: MemoryError, not an abort, when it cannot be had.
         let mut cells: Vec<bool> = Vec::new();

@@ -348,7 +348,8 @@ pub fn run(command: Command) -> Result<(), String> {
         } => {
             let shard = match shard {
                 Some(text) => Some(
-                    planner_runner::shard::Shard::parse(&text).map_err(|e| format!("--shard: {e}"))?,
+                    planner_runner::shard::Shard::parse(&text)
+                        .map_err(|e| format!("--shard: {e}"))?,
                 ),
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())?,
             };
@@ -536,8 +537,8 @@ fn write_stdout(bytes: &[u8]) -> Result<(), String> {
 
 /// The directories `shard-K` (K a decimal number) in `parent`, by K.
 fn shard_dirs_in(parent: &std::path::Path) -> Result<Vec<PathBuf>, String> {
-    let entries = std::fs::read_dir(parent)
-        .map_err(|e| format!("--shards-in {}: {e}", parent.display()))?;
+    let entries =
+        std::fs::read_dir(parent).map_err(|e| format!("--shards-in {}: {e}", parent.display()))?;
     let mut found = Vec::new();
     for entry in entries {
         let entry = entry.map_err(|e| format!("--shards-in {}: {e}", parent.display()))?;

@@ -606,15 +606,24 @@ fn job_array_environments_are_checked_and_named() {
     let exp = ["experiment", "c.toml", "--quiet"];
     for (env, text) in [
         (
-            [("JOB_COMPLETION_INDEX", "18446744073709551615"), ("GRIDPLAN_SHARD_COUNT", "3")],
+            [
+                ("JOB_COMPLETION_INDEX", "18446744073709551615"),
+                ("GRIDPLAN_SHARD_COUNT", "3"),
+            ],
             "JOB_COMPLETION_INDEX=18446744073709551615 (0-based), GRIDPLAN_SHARD_COUNT=3",
         ),
         (
-            [("JOB_COMPLETION_INDEX", "0"), ("GRIDPLAN_SHARD_COUNT", "1000000000000")],
+            [
+                ("JOB_COMPLETION_INDEX", "0"),
+                ("GRIDPLAN_SHARD_COUNT", "1000000000000"),
+            ],
             "GRIDPLAN_SHARD_COUNT=1000000000000: shard 1/1000000000000: at most 1048576 shards",
         ),
         (
-            [("SLURM_ARRAY_TASK_ID", "18446744073709551615"), ("SLURM_ARRAY_TASK_COUNT", "3")],
+            [
+                ("SLURM_ARRAY_TASK_ID", "18446744073709551615"),
+                ("SLURM_ARRAY_TASK_COUNT", "3"),
+            ],
             "SLURM_ARRAY_TASK_ID=18446744073709551615",
         ),
     ] {
@@ -635,7 +644,15 @@ fn stream_readers_refuse_special_files() {
     let dir = with_config(20_001);
     let out = run_with(
         &dir,
-        &["experiment", "c.toml", "--quiet", "--shard", "1/2", "--output", "s1"],
+        &[
+            "experiment",
+            "c.toml",
+            "--quiet",
+            "--shard",
+            "1/2",
+            "--output",
+            "s1",
+        ],
         &[],
         Stdio::piped(),
     );
@@ -653,11 +670,20 @@ fn stream_readers_refuse_special_files() {
     zero(&shard);
     let out = run_with(&dir, &["merge", "s1", "--output", "m"], &[], Stdio::piped());
     assert_eq!(out.code, Some(1), "{}", out.stderr);
-    assert!(out.stderr.contains("not a regular file (a character device)"), "{}", out.stderr);
+    assert!(
+        out.stderr
+            .contains("not a regular file (a character device)"),
+        "{}",
+        out.stderr
+    );
     fifo(&shard);
     let out = run_with(&dir, &["merge", "s1", "--output", "m"], &[], Stdio::piped());
     assert_eq!(out.code, Some(1), "{}", out.stderr);
-    assert!(out.stderr.contains("not a regular file (a FIFO)"), "{}", out.stderr);
+    assert!(
+        out.stderr.contains("not a regular file (a FIFO)"),
+        "{}",
+        out.stderr
+    );
     // The stream a sweep on output `r` appends to, and --resume reads: `.r.stream/records.jsonl`.
     std::fs::create_dir_all(dir.join(".r.stream")).unwrap();
     let records = dir.join(".r.stream/records.jsonl");
@@ -668,12 +694,24 @@ fn stream_readers_refuse_special_files() {
         make(&records);
         let out = run_with(
             &dir,
-            &["experiment", "c.toml", "--quiet", "--resume", "--output", "r"],
+            &[
+                "experiment",
+                "c.toml",
+                "--quiet",
+                "--resume",
+                "--output",
+                "r",
+            ],
             &[],
             Stdio::piped(),
         );
         assert_eq!(out.code, Some(1), "{}", out.stderr);
-        assert!(out.stderr.contains(&format!("records.jsonl: not a regular file ({what})")), "{}", out.stderr);
+        assert!(
+            out.stderr
+                .contains(&format!("records.jsonl: not a regular file ({what})")),
+            "{}",
+            out.stderr
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -701,7 +739,17 @@ fn closed_pipe() -> Stdio {
 #[test]
 fn a_closed_stdout_ends_quietly() {
     let dir = with_config(20_002);
-    let plan = ["plan", "small.map", "--planner", "astar", "--start", "0,0", "--goal", "2,2", "--json"];
+    let plan = [
+        "plan",
+        "small.map",
+        "--planner",
+        "astar",
+        "--start",
+        "0,0",
+        "--goal",
+        "2,2",
+        "--json",
+    ];
     let commands: [&[&str]; 4] = [
         &["planners"],
         &["planners", "astar"],
@@ -712,10 +760,17 @@ fn a_closed_stdout_ends_quietly() {
         let out = run_with(&dir, args, &[], closed_pipe());
         assert_eq!(out.code, Some(0), "{args:?}: {}", out.stderr);
         assert_eq!(out.stderr, "", "{args:?}");
-        let full = std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
         let out = run_with(&dir, args, &[], Stdio::from(full));
         assert_eq!(out.code, Some(1), "{args:?}: {}", out.stderr);
-        assert!(out.stderr.contains("error: cannot write to stdout"), "{args:?}: {}", out.stderr);
+        assert!(
+            out.stderr.contains("error: cannot write to stdout"),
+            "{args:?}: {}",
+            out.stderr
+        );
         assert!(!out.stderr.contains("panicked"), "{}", out.stderr);
     }
     // The sweep's results were written before the closed pipe was found.
@@ -735,7 +790,12 @@ fn slurm_scripts_merge_with_a_bounded_command_line() {
     std::fs::write(dir.join("c.toml"), config).unwrap();
     std::fs::write(dir.join("small.map"), SMALL).unwrap();
     let slurm = |n: &str| {
-        let out = run_with(&dir, &["slurm", "c.toml", "--shards", n, "--output", "merged"], &[], Stdio::piped());
+        let out = run_with(
+            &dir,
+            &["slurm", "c.toml", "--shards", n, "--output", "merged"],
+            &[],
+            Stdio::piped(),
+        );
         assert_eq!(out.code, Some(0), "{}", out.stderr);
         std::fs::read_to_string(dir.join("merged-slurm/merge.sbatch")).unwrap()
     };
@@ -752,7 +812,11 @@ fn slurm_scripts_merge_with_a_bounded_command_line() {
             .current_dir(&dir)
             .output()
             .unwrap();
-        assert!(task.status.success(), "{}", String::from_utf8_lossy(&task.stderr));
+        assert!(
+            task.status.success(),
+            "{}",
+            String::from_utf8_lossy(&task.stderr)
+        );
     }
     let merge = Command::new("bash")
         .arg(dir.join("merged-slurm/merge.sbatch"))
@@ -760,8 +824,15 @@ fn slurm_scripts_merge_with_a_bounded_command_line() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&merge.stdout);
-    assert!(merge.status.success(), "{}", String::from_utf8_lossy(&merge.stderr));
-    assert!(stdout.starts_with("4000 runs merged from 3 shards"), "{stdout}");
+    assert!(
+        merge.status.success(),
+        "{}",
+        String::from_utf8_lossy(&merge.stderr)
+    );
+    assert!(
+        stdout.starts_with("4000 runs merged from 3 shards"),
+        "{stdout}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -780,7 +851,11 @@ fn running_plan(case: usize, ignored: bool) -> (PathBuf, std::process::Child) {
         format!("type octile\nheight 30\nwidth 30\nmap\n{rows}"),
     )
     .unwrap();
-    let disposition = if ignored { libc::SIG_IGN } else { libc::SIG_DFL };
+    let disposition = if ignored {
+        libc::SIG_IGN
+    } else {
+        libc::SIG_DFL
+    };
     let mut command = Command::new(env!("CARGO_BIN_EXE_gridplan"));
     command
         .args([
@@ -864,4 +939,94 @@ fn an_inherited_ignored_sigint_stays_ignored() {
     let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(output.status.code(), Some(130));
     assert_eq!(String::from_utf8_lossy(&output.stderr), "interrupted\n");
+}
+
+/// Issue 27: a valid 20000 x 20000 PNG (a 1 km square at 5 cm) was refused at a fixed
+/// 2^28-cell limit. Read within `--max-memory-mb 1000`, A* plans a 10-step query on it,
+/// and the process's peak resident memory stays under 1 GB (the grid is one byte a cell,
+/// 400 MB; the decoded pixels become the occupancy values in place).
+#[cfg(target_os = "linux")]
+#[allow(unsafe_code)]
+#[test]
+fn a_20000_square_png_plans_within_the_memory_budget() {
+    let dir = scratch(20_004);
+    let side = 20_000u32;
+    {
+        let file = std::io::BufWriter::new(std::fs::File::create(dir.join("big.png")).unwrap());
+        let mut encoder = png::Encoder::new(file, side, side);
+        encoder.set_color(png::ColorType::Grayscale);
+        encoder.set_depth(png::BitDepth::One);
+        let mut writer = encoder
+            .write_header()
+            .unwrap()
+            .into_stream_writer()
+            .unwrap();
+        // White (free) rows, with a wall across row 1 but for its last cell, so the
+        // path from (0, 0) to (10, 0) is 10 steps along row 0 either way.
+        let white = vec![0xffu8; side as usize / 8];
+        let mut wall = vec![0u8; side as usize / 8];
+        *wall.last_mut().unwrap() = 1;
+        use std::io::Write as _;
+        for y in 0..side {
+            writer
+                .write_all(if y == 1 { &wall } else { &white })
+                .unwrap();
+        }
+        writer.finish().unwrap();
+    }
+    let child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args([
+            "plan",
+            "big.png",
+            "--planner",
+            "astar",
+            "--start",
+            "0,0",
+            "--goal",
+            "10,0",
+            "--max-memory-mb",
+            "1000",
+            "--json",
+        ])
+        .current_dir(&dir)
+        .env_remove("RUST_LOG")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let pid = child.id() as libc::pid_t;
+    let output = {
+        use std::io::Read as _;
+        let (mut stdout, mut stderr) = (child.stdout.unwrap(), child.stderr.unwrap());
+        let err = std::thread::spawn(move || {
+            let mut text = String::new();
+            stderr.read_to_string(&mut text).unwrap();
+            text
+        });
+        let mut out = String::new();
+        stdout.read_to_string(&mut out).unwrap();
+        (out, err.join().unwrap())
+    };
+    // The child's own resource use: wait4 reaps it and reports its peak RSS (KiB).
+    let mut status = 0;
+    // SAFETY: a zeroed rusage is a valid value for wait4 to fill; `pid` is our child,
+    // reaped here once (std's Child was consumed above without waiting).
+    let usage = unsafe {
+        let mut usage: libc::rusage = std::mem::zeroed();
+        assert_eq!(libc::wait4(pid, &mut status, 0, &mut usage), pid);
+        usage
+    };
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
+        "{}",
+        output.1
+    );
+    let json: serde_json::Value = serde_json::from_str(&output.0).unwrap();
+    assert_eq!(json["status"], "found", "{json}");
+    assert_eq!(json["metrics"]["steps"], 10, "{json}");
+    let peak_mb = usage.ru_maxrss / 1024;
+    eprintln!("plan on a 20000 x 20000 PNG: peak RSS {peak_mb} MiB");
+    assert!(peak_mb < 1000, "peak RSS {peak_mb} MiB");
 }

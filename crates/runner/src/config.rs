@@ -499,7 +499,10 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         .iter()
         .map(|p| crate::run::effective_budget(p).max_memory_mb)
         .try_fold(0, |most: u64, mb| mb.map(|mb| most.max(mb)))
-        .map_or(planner_maps::DEFAULT_MAX_CELLS, planner_maps::max_cells_for_memory_mb);
+        .map_or(
+            planner_maps::DEFAULT_MAX_CELLS,
+            planner_maps::max_cells_for_memory_mb,
+        );
     let mut maps: Vec<MapEntry> = Vec::new();
     for (i, spanned) in raw.maps.iter().enumerate() {
         for entry in map_entries(&src, &base, i, spanned, max_cells)? {

@@ -265,7 +265,10 @@ mod tests {
             ("GRIDPLAN_SHARD_COUNT", "3"),
         ]);
         let error = Shard::from_env(wrapped).unwrap_err();
-        assert!(error.contains("JOB_COMPLETION_INDEX=18446744073709551615"), "{error}");
+        assert!(
+            error.contains("JOB_COMPLETION_INDEX=18446744073709551615"),
+            "{error}"
+        );
         let past = env(&[("JOB_COMPLETION_INDEX", "3"), ("GRIDPLAN_SHARD_COUNT", "3")]);
         let error = Shard::from_env(past).unwrap_err();
         assert!(error.contains("JOB_COMPLETION_INDEX=3"), "{error}");

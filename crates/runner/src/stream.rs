@@ -457,7 +457,10 @@ mod tests {
             .err()
             .unwrap()
             .to_string();
-        assert!(error.contains("long line 1: longer than 268435456 bytes"), "{error}");
+        assert!(
+            error.contains("long line 1: longer than 268435456 bytes"),
+            "{error}"
+        );
         let error = open_regular(std::path::Path::new("/dev/zero")).unwrap_err();
         assert_eq!(error.kind(), std::io::ErrorKind::InvalidInput);
         assert!(error.to_string().contains("a character device"), "{error}");
