@@ -224,25 +224,31 @@ static GRACEFUL: AtomicBool = AtomicBool::new(false);
 /// stream may then end in a cut line, which `--resume` drops). A handler installed first
 /// is kept.
 ///
-/// A SIGINT that the process inherited ignored (started by `nohup`, in the background of
-/// a non-interactive shell, under `trap '' INT`) stays ignored, the POSIX convention for
-/// programs that catch it: whoever started gridplan that way asked for Ctrl-C not to reach
-/// it. SIGTERM is handled either way.
+/// A SIGINT or SIGHUP that the process inherited ignored (started by `nohup`, in the
+/// background of a non-interactive shell, under `trap '' INT`) stays ignored, the POSIX
+/// convention for programs that catch them: whoever started gridplan that way asked for
+/// Ctrl-C (or the terminal's hangup) not to reach it. SIGTERM is handled either way.
 fn install_handler() -> Result<(), ctrlc::Error> {
-    let sigint_ignored = signals::sigint_ignored();
-    let installed = ctrlc::try_set_handler(|| {
+    let ignored = signals::inherited_ignored();
+    let handler = || {
         if GRACEFUL.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
             eprintln!("stopping: finishing the runs in progress (interrupt again to quit at once)");
             return;
         }
         eprintln!("interrupted");
         std::process::exit(i32::from(EXIT_INTERRUPTED));
-    });
+    };
+    // `try_set_handler` refuses when a signal's disposition is not the default, which an
+    // ignored one is not: then the handler is set over the ignored dispositions, and
+    // those are ignored again at once.
+    let installed = if ignored.is_empty() {
+        ctrlc::try_set_handler(handler)
+    } else {
+        ctrlc::set_handler(handler)
+    };
     match installed {
         Ok(()) => {
-            if sigint_ignored {
-                signals::ignore_sigint();
-            }
+            signals::ignore(&ignored);
             Ok(())
         }
         Err(ctrlc::Error::MultipleHandlers) => Ok(()),
@@ -250,40 +256,55 @@ fn install_handler() -> Result<(), ctrlc::Error> {
     }
 }
 
-/// The disposition of SIGINT, read and set with the C library (the one place gridplan
-/// calls it directly; `ctrlc` installs the handler itself).
+/// Signal dispositions, read and set with the C library (the one place gridplan calls it
+/// directly; `ctrlc` installs the handler itself).
 #[cfg(unix)]
 #[allow(unsafe_code)]
 mod signals {
-    /// Whether SIGINT is ignored (`SIG_IGN`) now.
-    pub(super) fn sigint_ignored() -> bool {
-        // SAFETY: sigaction with a null new action only reads the current one into
-        // `current`, a zeroed `struct sigaction` owned by this frame.
-        unsafe {
-            let mut current: libc::sigaction = std::mem::zeroed();
-            libc::sigaction(libc::SIGINT, std::ptr::null(), &mut current) == 0
-                && current.sa_sigaction == libc::SIG_IGN
+    /// The signals among SIGINT and SIGHUP that are ignored (`SIG_IGN`) now, if every
+    /// signal ctrlc handles (those two and SIGTERM) is either ignored or at its default;
+    /// empty otherwise (another handler is installed: it is kept).
+    pub(super) fn inherited_ignored() -> Vec<libc::c_int> {
+        let mut ignored = Vec::new();
+        for signal in [libc::SIGINT, libc::SIGHUP, libc::SIGTERM] {
+            // SAFETY: sigaction with a null new action only reads the current one into
+            // `current`, a zeroed `struct sigaction` owned by this frame.
+            let handler = unsafe {
+                let mut current: libc::sigaction = std::mem::zeroed();
+                if libc::sigaction(signal, std::ptr::null(), &mut current) != 0 {
+                    return Vec::new();
+                }
+                current.sa_sigaction
+            };
+            match handler {
+                libc::SIG_DFL => {}
+                libc::SIG_IGN if signal != libc::SIGTERM => ignored.push(signal),
+                _ => return Vec::new(),
+            }
         }
+        ignored
     }
 
-    /// Sets SIGINT back to ignored (after `ctrlc` installed its handler for it).
-    pub(super) fn ignore_sigint() {
-        // SAFETY: SIG_IGN installs no Rust code as a handler; signal(2) only changes the
-        // disposition.
-        unsafe {
-            libc::signal(libc::SIGINT, libc::SIG_IGN);
+    /// Sets `signals` back to ignored (after `ctrlc` installed its handler for them).
+    pub(super) fn ignore(signals: &[libc::c_int]) {
+        for &signal in signals {
+            // SAFETY: SIG_IGN installs no code as a handler; signal(2) only changes the
+            // disposition.
+            unsafe {
+                libc::signal(signal, libc::SIG_IGN);
+            }
         }
     }
 }
 
-/// Elsewhere SIGINT is never taken as inherited ignored.
+/// Elsewhere no signal is taken as inherited ignored.
 #[cfg(not(unix))]
 mod signals {
-    pub(super) fn sigint_ignored() -> bool {
-        false
+    pub(super) fn inherited_ignored() -> Vec<i32> {
+        Vec::new()
     }
 
-    pub(super) fn ignore_sigint() {}
+    pub(super) fn ignore(_: &[i32]) {}
 }
 
 /// Makes Ctrl-C end the process at once with "interrupted" and [`EXIT_INTERRUPTED`]: for

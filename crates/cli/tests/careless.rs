@@ -444,9 +444,9 @@ fn careless_inputs_fail_cleanly() {
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--shard", "1/1000000000000"]), Error("--shard: shard 1/1000000000000: at most 1048576 shards")),
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--shard", "1/18446744073709551615"]), Error("--shard: shard 1/18446744073709551615: at most 1048576 shards")),
         (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "1000000000000"]), Error("--shards 1000000000000: at most 1048576 shards")),
-        // The config has 4 runs (4 corner problems x 1 planner): an array of 100000 tasks
-        // would be 99996 empty ones, and its merge line 4.4 MB.
-        (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "100000"]), Error("--shards 100000: the sweep has 4 runs, so at most 4 shards")),
+        // The config has 1 run (the corner problem of small.map x 1 planner): an array of
+        // 100000 tasks would be 99999 empty ones, and its merge line 4.4 MB.
+        (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "100000"]), Error("--shards 100000: the sweep has 1 run(s), so at most 1 shard(s)")),
         (owned(experiment(CONFIG)), args(&["merge", "--shards-in", "nowhere"]), Error("--shards-in nowhere")),
         (owned(experiment(CONFIG)), args(&["merge", "--shards-in", "."]), Error("--shards-in .: no shard-K directories in it")),
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--threads", "100000"]), Error("100000 worker threads")),
@@ -799,12 +799,12 @@ fn slurm_scripts_merge_with_a_bounded_command_line() {
         assert_eq!(out.code, Some(0), "{}", out.stderr);
         std::fs::read_to_string(dir.join("merged-slurm/merge.sbatch")).unwrap()
     };
-    // 4 problems x 1000 repeats: 4000 runs, so 4000 shards are allowed.
-    let wide = slurm("4000");
+    // 1 problem x 1000 repeats: 1000 runs, so 1000 shards are allowed.
+    let wide = slurm("1000");
     assert!(wide.len() < 1024, "{} bytes:\n{wide}", wide.len());
     assert!(wide.contains(" merge --shards-in "), "{wide}");
     let narrow = slurm("3");
-    assert_eq!(wide.len(), narrow.len() + 1, "{wide}\n{narrow}");
+    assert_eq!(wide.len(), narrow.len() + 3, "{wide}\n{narrow}");
     for k in 1..=3 {
         let task = Command::new("bash")
             .arg(dir.join("merged-slurm/array.sbatch"))
@@ -830,7 +830,7 @@ fn slurm_scripts_merge_with_a_bounded_command_line() {
         String::from_utf8_lossy(&merge.stderr)
     );
     assert!(
-        stdout.starts_with("4000 runs merged from 3 shards"),
+        stdout.starts_with("1000 runs merged from 3 shards"),
         "{stdout}"
     );
     let _ = std::fs::remove_dir_all(&dir);

@@ -84,18 +84,19 @@ impl Shard {
                 "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N",
             )?;
             let min = number("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
-            let index = id
-                .checked_sub(min)
-                .and_then(|i| i.checked_add(1))
-                .ok_or(format!(
-                    "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
-                ))?;
-            return Shard::new(index, count).map(Some).map_err(|e| {
+            let named = |e: String| {
                 format!(
                     "environment variables SLURM_ARRAY_TASK_ID={id}, SLURM_ARRAY_TASK_MIN={min}, \
                      SLURM_ARRAY_TASK_COUNT={count}: {e}"
                 )
-            });
+            };
+            let offset = id.checked_sub(min).ok_or_else(|| {
+                named(format!("SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"))
+            })?;
+            let index = offset
+                .checked_add(1)
+                .ok_or_else(|| named(format!("task {offset} is not below the count {count}")))?;
+            return Shard::new(index, count).map(Some).map_err(named);
         }
         if let Some(index) = number("JOB_COMPLETION_INDEX")? {
             let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or(

@@ -80,7 +80,7 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
     let n_runs = RunList::new(&experiment).len();
     if args.shards > n_runs {
         return Err(format!(
-            "--shards {}: the sweep has {n_runs} runs, so at most {n_runs} shards",
+            "--shards {}: the sweep has {n_runs} run(s), so at most {n_runs} shard(s)",
             args.shards
         ));
     }
