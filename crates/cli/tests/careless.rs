@@ -424,11 +424,13 @@ fn careless_inputs_fail_cleanly() {
             plan("map.yaml", &["--planner", "astar"]),
             Warn("map.yaml:7:1: key 'map_name' is not one map_server reads"),
         ),
-        // Issue 27: map_server requires an integer `negate`; `yes` inverted the map.
+        // Issue 27: `negate: yes` was read as true without a word; ROS 1's map_server
+        // refuses it (an int only), ROS 2's nav2 reads it as true: read as nav2 does, with
+        // a warning saying both.
         (
-            owned(vec![("map.yaml", b"image: map.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: yes\noccupied_thresh: 0.65\nfree_thresh: 0.196\n".to_vec()), ("map.pgm", b"P2 2 2 255 255 255 255 255".to_vec())]),
+            owned(vec![("map.yaml", b"image: map.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: yes\noccupied_thresh: 0.65\nfree_thresh: 0.196\n".to_vec()), ("map.pgm", b"P2 2 2 255 0 0 0 0".to_vec())]),
             plan("map.yaml", &["--planner", "astar"]),
-            Error("map.yaml:4:9: expected an integer (0 or 1) for 'negate', as map_server requires, found 'yes'"),
+            Warn("map.yaml:4:9: 'negate' yes is a boolean: ROS 2's nav2_map_server reads it as true (and so does gridplan), ROS 1's map_server refuses the file; write 1"),
         ),
         // Unknown commands and flags.
         (small(), args(&["plan"]), Usage("required")),

@@ -13,7 +13,7 @@
 //! | `origin` | `[x, y, yaw]`: the pose of the lower-left cell in metres and radians | yes |
 //! | `occupied_thresh` | occupancy probability above which a cell is occupied | yes |
 //! | `free_thresh` | occupancy probability below which a cell is free | yes |
-//! | `negate` | an integer (non-zero: negate); not a boolean, which `map_server` refuses | yes |
+//! | `negate` | an integer (non-zero: negate), or a boolean (`true`, `yes`, `on`, ...) with a warning | yes |
 //! | `mode` | `trinary` (default), `scale` or `raw` | no |
 //!
 //! The rules are `map_server`'s (ROS 1 `map_server` and ROS 2 `nav2_map_server`, both on
@@ -22,6 +22,9 @@
 //! What they accept silently is read with a [`MapWarning`] ([`RosYaml::warnings`]):
 //! - a key neither reads (`map_type`, `map_name`, a misspelt `free_tresh`): ignored;
 //! - `negate` other than `0` or `1`: non-zero negates, as in `map_server`;
+//! - `negate` as a boolean (`yes`, `true`, `on`, ...): ROS 2's `nav2_map_server` reads it
+//!   as that boolean (it tries `int`, then `bool`), ROS 1's `map_server` refuses the file
+//!   (it reads an `int` only); read as ROS 2 does, with a warning saying both;
 //! - `origin` with more than three numbers: ROS 1 reads the first three (ROS 2 refuses);
 //! - `resolution` not positive, a threshold outside [0, 1], `free_thresh` above
 //!   `occupied_thresh`: read as written, though the map frame or the thresholds are then
@@ -631,10 +634,7 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
         );
     }
     let negate_node = required(5)?;
-    // Both map_servers read `negate` as an `int` (yaml-cpp's `as<int>`), which fails on
-    // `true` or `yes`: ROS 1 exits with "The map does not contain a negate tag or it is
-    // invalid", so a boolean is an error here too, not a silently inverted map.
-    let negate_expected = "an integer (0 or 1) for 'negate', as map_server requires";
+    let negate_expected = "an integer or a boolean (0, 1, true, false) for 'negate'";
     let negate_text = scalar(negate_node, negate_expected)?;
     let negate = match parse_integer(&negate_text) {
         Some(value) => {
@@ -648,10 +648,27 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
             value != 0
         }
         None => {
-            return Err(error(
+            // ROS 1 reads `negate` as an int only (`doc["negate"] >> negate` into an int,
+            // exiting with "The map does not contain a negate tag or it is invalid");
+            // nav2 (map_io.cpp, loadMapYaml) tries `as<int>` and then `as<bool>`. A
+            // boolean is read as nav2 reads it, never silently: which map a file means
+            // depends on the map_server that reads it.
+            let value = parse_bool(&negate_text).ok_or_else(|| {
+                error(
+                    negate_node.at(),
+                    unexpected(negate_expected, show_token(&negate_text)),
+                )
+            })?;
+            warn(
+                &mut warnings,
                 negate_node.at(),
-                unexpected(negate_expected, show_token(&negate_text)),
-            ))
+                format!(
+                    "'negate' {} is a boolean: ROS 2's nav2_map_server reads it as {value} (and so does gridplan), ROS 1's map_server refuses the file; write {}",
+                    negate_text.trim(),
+                    u8::from(value)
+                ),
+            );
+            value
         }
     };
     let mode = match values[6] {
@@ -706,6 +723,19 @@ fn parse_integer(text: &str) -> Option<i64> {
         return None;
     }
     text.parse().ok()
+}
+
+/// A boolean as yaml-cpp reads one.
+fn parse_bool(text: &str) -> Option<bool> {
+    match text.trim() {
+        "y" | "Y" | "yes" | "Yes" | "YES" | "true" | "True" | "TRUE" | "on" | "On" | "ON" => {
+            Some(true)
+        }
+        "n" | "N" | "no" | "No" | "NO" | "false" | "False" | "FALSE" | "off" | "Off" | "OFF" => {
+            Some(false)
+        }
+        _ => None,
+    }
 }
 
 /// The ROS occupancy value of one pixel given as 8-bit channels (1 grey, 2 grey and
