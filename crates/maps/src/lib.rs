@@ -161,18 +161,26 @@ pub const DEFAULT_MAX_CELLS: u64 = Grid::MAX_CELLS;
 /// more while they are decoded, and `inflation_radius` adds its distance transform.
 pub const READ_BYTES_PER_CELL: u64 = 2;
 
+/// The fewest cells [`max_cells_for_memory_mb`] allows, whatever the budget: 2^24 (a
+/// 4096 x 4096 map, 32 MiB to read). A budget too small for a planner's arrays (even 0)
+/// still reads an ordinary map, so that the planner can say what it would need.
+pub const MIN_BUDGET_CELLS: u64 = 1 << 24;
+
 /// The most cells a map read within a budget of `max_memory_mb` MiB may have:
-/// `max_memory_mb` MiB / [`READ_BYTES_PER_CELL`], at most [`Grid::MAX_CELLS`].
+/// `max_memory_mb` MiB / [`READ_BYTES_PER_CELL`], at least [`MIN_BUDGET_CELLS`] and at
+/// most [`Grid::MAX_CELLS`].
 ///
 /// ```
-/// use planner_maps::{max_cells_for_memory_mb, DEFAULT_MAX_CELLS};
+/// use planner_maps::{max_cells_for_memory_mb, DEFAULT_MAX_CELLS, MIN_BUDGET_CELLS};
 /// // A 20000 x 20000 map (4 * 10^8 cells) is read within 1000 MiB, not within 500.
 /// assert!(max_cells_for_memory_mb(1000) >= 20_000 * 20_000);
 /// assert!(max_cells_for_memory_mb(500) < 20_000 * 20_000);
+/// assert_eq!(max_cells_for_memory_mb(0), MIN_BUDGET_CELLS);
 /// assert_eq!(max_cells_for_memory_mb(u64::MAX), DEFAULT_MAX_CELLS);
 /// ```
 pub fn max_cells_for_memory_mb(max_memory_mb: u64) -> u64 {
-    (max_memory_mb.saturating_mul(1 << 20) / READ_BYTES_PER_CELL).min(Grid::MAX_CELLS)
+    (max_memory_mb.saturating_mul(1 << 20) / READ_BYTES_PER_CELL)
+        .clamp(MIN_BUDGET_CELLS, Grid::MAX_CELLS)
 }
 
 /// The default of [`ReadOptions::max_file_bytes`]: 2^30 bytes (1 GiB).
