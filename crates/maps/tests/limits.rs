@@ -157,7 +157,11 @@ fn declared_sizes_are_checked_before_allocating() {
     // header declaring 2 * 10^9 cells over a few bytes is still refused at once, without
     // reserving more than the file's size.
     let err = MapFormat::MovingAi
-        .parse_with("type octile\nheight 40000\nwidth 50000\nmap\n..\n", "t.map", &ReadOptions::default())
+        .parse_with(
+            "type octile\nheight 40000\nwidth 50000\nmap\n..\n",
+            "t.map",
+            &ReadOptions::default(),
+        )
         .unwrap_err();
     assert!(err.to_string().starts_with("t.map:5:"), "{err}");
     // Image headers: a PGM claiming 100000 x 100000 pixels with no data, and a PNG

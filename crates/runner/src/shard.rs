@@ -91,7 +91,9 @@ impl Shard {
                 )
             };
             let offset = id.checked_sub(min).ok_or_else(|| {
-                named(format!("SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"))
+                named(format!(
+                    "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
+                ))
             })?;
             let index = offset
                 .checked_add(1)
