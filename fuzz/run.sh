@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs one fuzz target for a bounded time: fuzz/run.sh TARGET SECONDS [extra libFuzzer flags]
 #
-# TARGET is one of: movingai scen seed003 csv ros_yaml image config (see README.md).
+# TARGET is one of: movingai scen seed003 csv ros_yaml image config stream (see README.md).
 # Seeds are copied from ../maps (by extension) into seeds/TARGET; libFuzzer keeps what it
 # finds in corpus/TARGET and writes crashing inputs to artifacts/TARGET. Both are ignored
 # by git. Needs cargo-fuzz (`cargo install cargo-fuzz`); on a stable toolchain
@@ -47,8 +47,19 @@ case $target in
     copy '*.png' 2M
     max_len=65536
     ;;
+  stream)
+    # Stream files as `experiment --shard` writes them: a few shards of configs/paper.toml
+    # (every planner of seed 000), each cut to the first 16 KiB.
+    streams=$(mktemp -d)
+    for k in 1 2 3; do
+      (cd .. && cargo run -q --release -p xtask -- experiment configs/paper.toml --shard "$k/40" \
+        --output "$streams/s$k" --quiet >/dev/null)
+      head -c 16384 "$streams/s$k/shard.jsonl" > "$seeds/shard-$k.jsonl"
+    done
+    rm -rf "$streams"
+    ;;
   *)
-    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config)" >&2
+    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream)" >&2
     exit 2
     ;;
 esac

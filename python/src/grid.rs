@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use numpy::ndarray::Array2;
-use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray2, PyReadonlyArray2};
 use planner_api::Cell;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -54,19 +54,40 @@ impl Grid {
             ))
             .into());
         }
+        // The size is checked before any cell is read or converted: a zero-stride view
+        // (`np.broadcast_to(True, (100000, 100000))`) holds 10^10 cells in a few bytes.
+        let (height, width): (u64, u64) = array.getattr("shape")?.extract()?;
+        let n_cells = height.saturating_mul(width);
+        if n_cells > planner_api::Grid::MAX_CELLS {
+            return Err(Failure::Value(format!(
+                "Grid.from_numpy: a {width}x{height} array has {n_cells} cells, more than a grid's limit of {}",
+                planner_api::Grid::MAX_CELLS
+            ))
+            .into());
+        }
+        // At most 2^31 cells, so this fits a usize on any platform with 64-bit pointers and
+        // is refused as too large elsewhere.
+        let n_cells = usize::try_from(n_cells).map_err(|_| {
+            Failure::Value(format!(
+                "Grid.from_numpy: a {width}x{height} array is too large"
+            ))
+        })?;
+        // One byte a cell, reserved fallibly: MemoryError, not an abort, when it cannot be had.
+        let mut cells: Vec<bool> = Vec::new();
+        cells.try_reserve_exact(n_cells).map_err(|_| {
+            pyo3::exceptions::PyMemoryError::new_err(format!(
+                "Grid.from_numpy: no memory for the {n_cells} cells of a {width}x{height} grid"
+            ))
+        })?;
         let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
-        let marked: Vec<bool>;
-        let (height, width);
         match kind.as_str() {
             "b" => {
                 let view: PyReadonlyArray2<'_, bool> = array.extract()?;
-                [height, width] = view.shape().try_into().unwrap_or([0, 0]);
-                marked = view.as_array().iter().copied().collect();
+                cells.extend(view.as_array().iter().map(|&marked| marked == free));
             }
             "i" | "u" | "f" => {
                 let converted = array.call_method1("astype", ("float64",))?;
                 let view: PyReadonlyArray2<'_, f64> = converted.extract()?;
-                [height, width] = view.shape().try_into().unwrap_or([0, 0]);
                 let values = view.as_array();
                 if let Some(((y, x), value)) = values
                     .indexed_iter()
@@ -77,7 +98,7 @@ impl Grid {
                     ))
                     .into());
                 }
-                marked = values.iter().map(|v| *v == 1.0).collect();
+                cells.extend(values.iter().map(|v| (*v == 1.0) == free));
             }
             _ => {
                 return Err(Failure::Type(format!(
@@ -93,7 +114,6 @@ impl Grid {
             ))
             .into());
         };
-        let cells = marked.into_iter().map(|m| m == free).collect();
         let grid = planner_api::Grid::from_free_cells(width, height, cells)
             .map_err(|e| Failure::Value(format!("Grid.from_numpy: {e}")))?;
         Ok(Grid {

@@ -168,3 +168,20 @@ def test_array_errors():
     )
     with pytest.raises(TypeError):
         gridplan.Grid.from_numpy(np.ones((2, 2)))  # the convention is not optional
+
+
+def test_huge_zero_stride_arrays_are_refused():
+    # Issue 27: a zero-stride view of 10^10 cells aborted the interpreter (a 10 GB
+    # allocation); the size is checked before any cell is read.
+    for value in (True, 1, 1.0):
+        check(
+            lambda: gridplan.Grid.from_numpy(
+                np.broadcast_to(value, (100000, 100000)), free=True
+            ),
+            ValueError,
+            "Grid.from_numpy: a 100000x100000 array has 10000000000 cells, "
+            "more than a grid's limit of 2147483648",
+        )
+    # A zero-stride view within the limit is read cell by cell, like any array.
+    grid = gridplan.Grid.from_numpy(np.broadcast_to(False, (300, 200)), free=False)
+    assert (grid.width, grid.height, grid.n_free) == (200, 300, 60000)

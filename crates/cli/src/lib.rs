@@ -32,7 +32,10 @@ pub const VERSION: &str = concat!(
 #[command(
     name = "gridplan",
     version = VERSION,
-    about = "gridplan: sweep experiment configs over maps and planners, run one planner on one map"
+    about = "gridplan: sweep experiment configs over maps and planners, run one planner on one map",
+    after_help = "Ctrl-C (SIGINT) or SIGTERM stops a command (a sweep cleanly, keeping its finished runs for --resume; exit status 130). \
+A SIGINT inherited ignored (nohup, trap '' INT) stays ignored; SIGTERM still stops. \
+Output closed early (a pipe into `head`) ends a command quietly with status 0."
 )]
 pub struct Cli {
     /// What to do.
@@ -69,8 +72,12 @@ pub enum Command {
     /// Combine shard outputs (`experiment --shard`) into the one sweep's results.
     Merge {
         /// The shard directories, every shard once.
-        #[arg(required = true)]
+        #[arg(required_unless_present = "shards_in")]
         dirs: Vec<PathBuf>,
+        /// Also merge every directory `shard-K` (K a number) in DIR, as `slurm` lays them
+        /// out; the merge job passes this instead of N paths, so its command line stays short.
+        #[arg(long, value_name = "DIR")]
+        shards_in: Option<PathBuf>,
         /// Output directory (default: the config's `output`).
         #[arg(long)]
         output: Option<PathBuf>,
@@ -239,19 +246,88 @@ static GRACEFUL: AtomicBool = AtomicBool::new(false);
 /// signal) it prints "interrupted" and exits at once with [`EXIT_INTERRUPTED`] (a sweep's
 /// stream may then end in a cut line, which `--resume` drops). A handler installed first
 /// is kept.
+///
+/// A SIGINT or SIGHUP that the process inherited ignored (started by `nohup`, in the
+/// background of a non-interactive shell, under `trap '' INT`) stays ignored, the POSIX
+/// convention for programs that catch them: whoever started gridplan that way asked for
+/// Ctrl-C (or the terminal's hangup) not to reach it. SIGTERM is handled either way.
 fn install_handler() -> Result<(), ctrlc::Error> {
-    let installed = ctrlc::try_set_handler(|| {
+    let ignored = signals::inherited_ignored();
+    let handler = || {
         if GRACEFUL.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
             eprintln!("stopping: finishing the runs in progress (interrupt again to quit at once)");
             return;
         }
         eprintln!("interrupted");
         std::process::exit(i32::from(EXIT_INTERRUPTED));
-    });
+    };
+    // `try_set_handler` refuses when a signal's disposition is not the default, which an
+    // ignored one is not: then the handler is set over the ignored dispositions, and
+    // those are ignored again at once.
+    let installed = if ignored.is_empty() {
+        ctrlc::try_set_handler(handler)
+    } else {
+        ctrlc::set_handler(handler)
+    };
     match installed {
-        Ok(()) | Err(ctrlc::Error::MultipleHandlers) => Ok(()),
+        Ok(()) => {
+            signals::ignore(&ignored);
+            Ok(())
+        }
+        Err(ctrlc::Error::MultipleHandlers) => Ok(()),
         Err(error) => Err(error),
     }
+}
+
+/// Signal dispositions, read and set with the C library (the one place gridplan calls it
+/// directly; `ctrlc` installs the handler itself).
+#[cfg(unix)]
+#[allow(unsafe_code)]
+mod signals {
+    /// The signals among SIGINT and SIGHUP that are ignored (`SIG_IGN`) now, if every
+    /// signal ctrlc handles (those two and SIGTERM) is either ignored or at its default;
+    /// empty otherwise (another handler is installed: it is kept).
+    pub(super) fn inherited_ignored() -> Vec<libc::c_int> {
+        let mut ignored = Vec::new();
+        for signal in [libc::SIGINT, libc::SIGHUP, libc::SIGTERM] {
+            // SAFETY: sigaction with a null new action only reads the current one into
+            // `current`, a zeroed `struct sigaction` owned by this frame.
+            let handler = unsafe {
+                let mut current: libc::sigaction = std::mem::zeroed();
+                if libc::sigaction(signal, std::ptr::null(), &mut current) != 0 {
+                    return Vec::new();
+                }
+                current.sa_sigaction
+            };
+            match handler {
+                libc::SIG_DFL => {}
+                libc::SIG_IGN if signal != libc::SIGTERM => ignored.push(signal),
+                _ => return Vec::new(),
+            }
+        }
+        ignored
+    }
+
+    /// Sets `signals` back to ignored (after `ctrlc` installed its handler for them).
+    pub(super) fn ignore(signals: &[libc::c_int]) {
+        for &signal in signals {
+            // SAFETY: SIG_IGN installs no code as a handler; signal(2) only changes the
+            // disposition.
+            unsafe {
+                libc::signal(signal, libc::SIG_IGN);
+            }
+        }
+    }
+}
+
+/// Elsewhere no signal is taken as inherited ignored.
+#[cfg(not(unix))]
+mod signals {
+    pub(super) fn inherited_ignored() -> Vec<i32> {
+        Vec::new()
+    }
+
+    pub(super) fn ignore(_: &[i32]) {}
 }
 
 /// Makes Ctrl-C end the process at once with "interrupted" and [`EXIT_INTERRUPTED`]: for
@@ -315,7 +391,10 @@ pub fn run(command: Command) -> Result<(), String> {
             shard,
         } => {
             let shard = match shard {
-                Some(text) => Some(planner_runner::shard::Shard::parse(&text)?),
+                Some(text) => Some(
+                    planner_runner::shard::Shard::parse(&text)
+                        .map_err(|e| format!("--shard: {e}"))?,
+                ),
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())?,
             };
             let bar = Bar::default();
@@ -337,33 +416,39 @@ pub fn run(command: Command) -> Result<(), String> {
                 );
                 std::process::exit(i32::from(EXIT_INTERRUPTED));
             }
-            println!(
-                "{} runs in {:.2} s -> {}",
+            let mut out = format!(
+                "{} runs in {:.2} s -> {}\n",
                 report.n_runs,
                 report.seconds,
                 report.output.display()
             );
             if report.reproduction.compared > 0 {
-                println!(
-                    "published numbers reproduced: {} of {}",
+                out.push_str(&format!(
+                    "published numbers reproduced: {} of {}\n",
                     report.reproduction.matched, report.reproduction.compared
-                );
+                ));
             }
-            Ok(())
+            write_stdout(out.as_bytes())
         }
         Command::Merge {
-            dirs,
+            mut dirs,
+            shards_in,
             output,
             config,
         } => {
+            if let Some(parent) = &shards_in {
+                dirs.extend(shard_dirs_in(parent)?);
+            }
             let report = sweep::merge(&dirs, output.as_deref(), config.as_deref())?;
-            println!(
-                "{} runs merged from {} shards -> {}",
-                report.n_runs,
-                dirs.len(),
-                report.output.display()
-            );
-            Ok(())
+            write_stdout(
+                format!(
+                    "{} runs merged from {} shards -> {}\n",
+                    report.n_runs,
+                    dirs.len(),
+                    report.output.display()
+                )
+                .as_bytes(),
+            )
         }
         Command::Slurm {
             config,
@@ -383,13 +468,15 @@ pub fn run(command: Command) -> Result<(), String> {
                 cpus_per_task,
                 submit,
             })?;
-            println!("array script: {}", jobs.array_script.display());
-            println!("merge script: {}", jobs.merge_script.display());
+            let mut out = format!(
+                "array script: {}\nmerge script: {}\n",
+                jobs.array_script.display(),
+                jobs.merge_script.display()
+            );
             if let Some((array, merge)) = jobs.ids {
-                println!("array job {array}");
-                println!("merge job {merge}");
+                out.push_str(&format!("array job {array}\nmerge job {merge}\n"));
             }
-            Ok(())
+            write_stdout(out.as_bytes())
         }
         Command::Plan {
             map,
@@ -435,11 +522,12 @@ pub fn run(command: Command) -> Result<(), String> {
                 std::fs::write(file, result.to_svg())
                     .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
             }
-            if json {
-                println!("{}", result.to_json().map_err(|e| e.to_string())?);
+            let out = if json {
+                format!("{}\n", result.to_json().map_err(|e| e.to_string())?)
             } else {
-                print!("{}", result.to_text_within(text_columns()));
-            }
+                result.to_text_within(text_columns())
+            };
+            write_stdout(out.as_bytes())?;
             if result.hit_default_budget() {
                 eprintln!(
                     "note: stopped at plan's default budget of {} expansions; raise it with --max-expansions",
@@ -453,16 +541,14 @@ pub fn run(command: Command) -> Result<(), String> {
             ..planner_serve::ServeOptions::new(&dir, port)
         }),
         Command::Planners { name: None } => {
+            let mut out = String::new();
             for entry in planner_runner::registry::PLANNERS {
-                println!("{:<20} {}", entry.name, entry.summary);
+                out.push_str(&format!("{:<20} {}\n", entry.name, entry.summary));
             }
-            println!("\n`gridplan planners <name>` lists a planner's parameters.");
-            Ok(())
+            out.push_str("\n`gridplan planners <name>` lists a planner's parameters.\n");
+            write_stdout(out.as_bytes())
         }
-        Command::Planners { name: Some(name) } => {
-            print!("{}", describe_planner(&name)?);
-            Ok(())
-        }
+        Command::Planners { name: Some(name) } => write_stdout(describe_planner(&name)?.as_bytes()),
         Command::Schema => {
             let schema = planner_runner::schema::experiment_schema()?;
             let text = serde_json::to_string_pretty(&schema).map_err(|e| e.to_string())?;
@@ -489,7 +575,11 @@ fn text_columns() -> usize {
     planner_runner::plan::TEXT_COLUMNS
 }
 
-/// Writes `bytes` to stdout; a closed pipe (`gridplan schema | head`) is not an error.
+/// Writes `bytes` (a command's whole output, written once at its end) to stdout. A closed
+/// pipe (`gridplan planners | head -1`) is not an error: the reader has what it wanted, so
+/// the command ends quietly with status 0, as `head`-style pipelines expect (a sweep's
+/// results are on disk by then). Any other write error (a full disk, `>/dev/full`) is an
+/// error, status 1.
 fn write_stdout(bytes: &[u8]) -> Result<(), String> {
     use std::io::Write as _;
     let mut stdout = std::io::stdout().lock();
@@ -499,6 +589,35 @@ fn write_stdout(bytes: &[u8]) -> Result<(), String> {
         }
         _ => Ok(()),
     }
+}
+
+/// The directories `shard-K` (K a decimal number) in `parent`, by K.
+fn shard_dirs_in(parent: &std::path::Path) -> Result<Vec<PathBuf>, String> {
+    let entries =
+        std::fs::read_dir(parent).map_err(|e| format!("--shards-in {}: {e}", parent.display()))?;
+    let mut found = Vec::new();
+    for entry in entries {
+        let entry = entry.map_err(|e| format!("--shards-in {}: {e}", parent.display()))?;
+        let name = entry.file_name();
+        let number = name
+            .to_str()
+            .and_then(|n| n.strip_prefix("shard-"))
+            .filter(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|k| k.parse::<u64>().ok());
+        if let Some(k) = number {
+            if entry.path().is_dir() {
+                found.push((k, entry.path()));
+            }
+        }
+    }
+    if found.is_empty() {
+        return Err(format!(
+            "--shards-in {}: no shard-K directories in it",
+            parent.display()
+        ));
+    }
+    found.sort();
+    Ok(found.into_iter().map(|(_, path)| path).collect())
 }
 
 /// `gridplan planners <name>`: the planner's summary, then each declared parameter as

@@ -296,6 +296,12 @@ fn careless_inputs_fail_cleanly() {
             Error("unknown metric `stepz`"),
         ),
         (edit("[planners.a]\nplanner = \"astar\"\n", ""), Error("c.toml:")),
+        // Issue 27: an inadmissible heuristic ran without a word; now a warning at config
+        // time (the runs are recorded `admissible = false`, summary.md says so).
+        (
+            edit("planner = \"astar\"\n", "planner = \"astar\"\nmoves = 16\nheuristic = \"manhattan\"\n"),
+            Warn("c.toml:5:11: planner `a` (astar): its heuristic can overestimate under its moves"),
+        ),
         // Published values.
         (format!("published = \"none.toml\"\n{CONFIG}"), Error("key `published`")),
         (format!("published = \"small.map\"\n{CONFIG}"), Error("small.map:1:")),
@@ -418,6 +424,14 @@ fn careless_inputs_fail_cleanly() {
             plan("map.yaml", &["--planner", "astar"]),
             Warn("map.yaml:7:1: key 'map_name' is not one map_server reads"),
         ),
+        // Issue 27: `negate: yes` was read as true without a word; ROS 1's map_server
+        // refuses it (an int only), ROS 2's nav2 reads it as true: read as nav2 does, with
+        // a warning saying both.
+        (
+            owned(vec![("map.yaml", b"image: map.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: yes\noccupied_thresh: 0.65\nfree_thresh: 0.196\n".to_vec()), ("map.pgm", b"P2 2 2 255 0 0 0 0".to_vec())]),
+            plan("map.yaml", &["--planner", "astar"]),
+            Warn("map.yaml:4:9: 'negate' yes is a boolean: ROS 2's nav2_map_server reads it as true (and so does gridplan), ROS 1's map_server refuses the file; write 1"),
+        ),
         // Unknown commands and flags.
         (small(), args(&["plan"]), Usage("required")),
         (small(), args(&["frobnicate"]), Usage("unrecognized subcommand")),
@@ -428,6 +442,15 @@ fn careless_inputs_fail_cleanly() {
         (small(), args(&["experiment", "."]), Error("not a regular file (a directory)")),
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--shard", "3/2"]), Error("3/2")),
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--shard", "0/0"]), Error("0/0")),
+        // Issue 27: these aborted (an 8 TB allocation) or panicked (capacity overflow).
+        (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--shard", "1/1000000000000"]), Error("--shard: shard 1/1000000000000: at most 1048576 shards")),
+        (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--shard", "1/18446744073709551615"]), Error("--shard: shard 1/18446744073709551615: at most 1048576 shards")),
+        (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "1000000000000"]), Error("--shards 1000000000000: at most 1048576 shards")),
+        // The config has 1 run (the corner problem of small.map x 1 planner): an array of
+        // 100000 tasks would be 99999 empty ones, and its merge line 4.4 MB.
+        (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "100000"]), Error("--shards 100000: the sweep has 1 run(s), so at most 1 shard(s)")),
+        (owned(experiment(CONFIG)), args(&["merge", "--shards-in", "nowhere"]), Error("--shards-in nowhere")),
+        (owned(experiment(CONFIG)), args(&["merge", "--shards-in", "."]), Error("--shards-in .: no shard-K directories in it")),
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--threads", "100000"]), Error("100000 worker threads")),
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--output", "c.toml"]), Error("c.toml")),
         (owned(experiment(CONFIG)), args(&["merge", "nowhere"]), Error("nowhere")),
@@ -496,18 +519,40 @@ fn careless_inputs_fail_cleanly() {
     ));
 
     let n_cases = cases.len();
-    let failures: Vec<String> = cases
-        .into_iter()
-        .enumerate()
-        .filter_map(|(i, (files, args, expect))| {
-            let files: Vec<(&str, &[u8])> = files
-                .iter()
-                .map(|(n, b)| (n.as_str(), b.as_slice()))
-                .collect();
-            let args: Vec<&str> = args.iter().map(String::as_str).collect();
-            check(i, &files, &args, expect)
-        })
-        .collect();
+    // The cases are independent (each in its own directory), so they run on a few
+    // threads: most of a case is the binary starting and reading a tiny file.
+    let cases: Vec<(usize, Case)> = cases.into_iter().enumerate().collect();
+    let next = std::sync::Mutex::new(cases.into_iter());
+    let threads = std::thread::available_parallelism().map_or(2, |n| n.get().clamp(2, 8));
+    let mut failures: Vec<(usize, String)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut failed = Vec::new();
+                    loop {
+                        let Some((i, (files, args, expect))) = next.lock().unwrap().next() else {
+                            break;
+                        };
+                        let files: Vec<(&str, &[u8])> = files
+                            .iter()
+                            .map(|(n, b)| (n.as_str(), b.as_slice()))
+                            .collect();
+                        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+                        if let Some(failure) = check(i, &files, &args, expect) {
+                            failed.push((i, failure));
+                        }
+                    }
+                    failed
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().unwrap())
+            .collect()
+    });
+    failures.sort();
+    let failures: Vec<String> = failures.into_iter().map(|(_, f)| f).collect();
     assert!(
         failures.is_empty(),
         "{} of {n_cases} cases failed:\n{}",
@@ -516,18 +561,305 @@ fn careless_inputs_fail_cleanly() {
     );
 }
 
-/// Ctrl-C on a running `plan` (Backtracking on an open 30x30 map, which would run for
-/// hours) prints "interrupted" and exits with 130.
+/// Runs the binary with `args` in `dir`, `env` added and stdout as given; waits at most
+/// [`TIMEOUT`].
+fn run_with(dir: &Path, args: &[&str], env: &[(&str, &str)], stdout: Stdio) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("RUST_LOG")
+        .envs(env.iter().copied())
+        .stdin(Stdio::null())
+        .stdout(stdout)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > TIMEOUT {
+            child.kill().unwrap();
+            let _ = child.wait();
+            panic!("gridplan {args:?} did not end within {TIMEOUT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let output = child.wait_with_output().unwrap();
+    Output {
+        code: output.status.code(),
+        stdout: String::from_utf8_lossy(&output.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
+    }
+}
+
+/// A scratch directory holding [`CONFIG`] as `c.toml` and `small.map`.
+fn with_config(case: usize) -> PathBuf {
+    let dir = scratch(case);
+    for (name, bytes) in experiment(CONFIG) {
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+    dir
+}
+
+/// Issue 27: the largest JOB_COMPLETION_INDEX wrapped to "shard 0/3", an error naming no
+/// variable; one past the count is refused naming both variables.
 #[test]
-fn plan_stops_on_ctrl_c() {
-    let dir = scratch(10_000);
+fn job_array_environments_are_checked_and_named() {
+    let dir = with_config(20_000);
+    let exp = ["experiment", "c.toml", "--quiet"];
+    for (env, text) in [
+        (
+            [
+                ("JOB_COMPLETION_INDEX", "18446744073709551615"),
+                ("GRIDPLAN_SHARD_COUNT", "3"),
+            ],
+            "JOB_COMPLETION_INDEX=18446744073709551615 (0-based), GRIDPLAN_SHARD_COUNT=3",
+        ),
+        (
+            [
+                ("JOB_COMPLETION_INDEX", "0"),
+                ("GRIDPLAN_SHARD_COUNT", "1000000000000"),
+            ],
+            "GRIDPLAN_SHARD_COUNT=1000000000000: shard 1/1000000000000: at most 1048576 shards",
+        ),
+        (
+            [
+                ("SLURM_ARRAY_TASK_ID", "18446744073709551615"),
+                ("SLURM_ARRAY_TASK_COUNT", "3"),
+            ],
+            "SLURM_ARRAY_TASK_ID=18446744073709551615",
+        ),
+    ] {
+        let out = run_with(&dir, &exp, &env, Stdio::piped());
+        assert_eq!(out.code, Some(1), "{env:?}: {}", out.stderr);
+        assert!(out.stderr.contains(text), "{env:?}: {}", out.stderr);
+        assert!(!out.stderr.contains("panicked"), "{}", out.stderr);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 27: `merge` of a shard whose stream is a link to /dev/zero aborted (a 2 GB
+/// allocation) and a FIFO hung; `--resume` on either did the same. Both are refused as
+/// not regular files, at once.
+#[cfg(unix)]
+#[test]
+fn stream_readers_refuse_special_files() {
+    let dir = with_config(20_001);
+    let out = run_with(
+        &dir,
+        &[
+            "experiment",
+            "c.toml",
+            "--quiet",
+            "--shard",
+            "1/2",
+            "--output",
+            "s1",
+        ],
+        &[],
+        Stdio::piped(),
+    );
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
+    let shard = dir.join("s1/shard.jsonl");
+    let fifo = |path: &Path| {
+        let _ = std::fs::remove_file(path);
+        let made = Command::new("mkfifo").arg(path).status().unwrap();
+        assert!(made.success());
+    };
+    let zero = |path: &Path| {
+        let _ = std::fs::remove_file(path);
+        std::os::unix::fs::symlink("/dev/zero", path).unwrap();
+    };
+    zero(&shard);
+    let out = run_with(&dir, &["merge", "s1", "--output", "m"], &[], Stdio::piped());
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    assert!(
+        out.stderr
+            .contains("not a regular file (a character device)"),
+        "{}",
+        out.stderr
+    );
+    fifo(&shard);
+    let out = run_with(&dir, &["merge", "s1", "--output", "m"], &[], Stdio::piped());
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    assert!(
+        out.stderr.contains("not a regular file (a FIFO)"),
+        "{}",
+        out.stderr
+    );
+    // The stream a sweep on output `r` appends to, and --resume reads: `.r.stream/records.jsonl`.
+    std::fs::create_dir_all(dir.join(".r.stream")).unwrap();
+    let records = dir.join(".r.stream/records.jsonl");
+    for (make, what) in [
+        (&zero as &dyn Fn(&Path), "a character device"),
+        (&fifo as &dyn Fn(&Path), "a FIFO"),
+    ] {
+        make(&records);
+        let out = run_with(
+            &dir,
+            &[
+                "experiment",
+                "c.toml",
+                "--quiet",
+                "--resume",
+                "--output",
+                "r",
+            ],
+            &[],
+            Stdio::piped(),
+        );
+        assert_eq!(out.code, Some(1), "{}", out.stderr);
+        assert!(
+            out.stderr
+                .contains(&format!("records.jsonl: not a regular file ({what})")),
+            "{}",
+            out.stderr
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A pipe whose reading end is already closed, as the writing end for a child's stdout.
+#[cfg(unix)]
+#[allow(unsafe_code)]
+fn closed_pipe() -> Stdio {
+    use std::os::fd::FromRawFd as _;
+    let mut fds = [0; 2];
+    // SAFETY: pipe(2) fills the two descriptors; the reading one is closed at once and the
+    // writing one is owned by the returned value alone.
+    unsafe {
+        assert_eq!(libc::pipe(fds.as_mut_ptr()), 0);
+        libc::close(fds[0]);
+        Stdio::from(std::os::fd::OwnedFd::from_raw_fd(fds[1]))
+    }
+}
+
+/// Issue 27: with stdout a pipe whose reader has gone, `planners`, `plan --json` and
+/// `experiment` panicked ("failed printing to stdout: Broken pipe", exit 101). The rule
+/// (README): a closed pipe ends the command quietly with status 0, as `head`-style
+/// pipelines expect; any other stdout error (a full disk) is an error, status 1.
+#[cfg(unix)]
+#[test]
+fn a_closed_stdout_ends_quietly() {
+    let dir = with_config(20_002);
+    let plan = [
+        "plan",
+        "small.map",
+        "--planner",
+        "astar",
+        "--start",
+        "0,0",
+        "--goal",
+        "2,2",
+        "--json",
+    ];
+    let commands: [&[&str]; 4] = [
+        &["planners"],
+        &["planners", "astar"],
+        &plan,
+        &["experiment", "c.toml", "--quiet", "--output", "out"],
+    ];
+    for args in commands {
+        let out = run_with(&dir, args, &[], closed_pipe());
+        assert_eq!(out.code, Some(0), "{args:?}: {}", out.stderr);
+        assert_eq!(out.stderr, "", "{args:?}");
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = run_with(&dir, args, &[], Stdio::from(full));
+        assert_eq!(out.code, Some(1), "{args:?}: {}", out.stderr);
+        assert!(
+            out.stderr.contains("error: cannot write to stdout"),
+            "{args:?}: {}",
+            out.stderr
+        );
+        assert!(!out.stderr.contains("panicked"), "{}", out.stderr);
+    }
+    // The sweep's results were written before the closed pipe was found.
+    assert!(dir.join("out/runs.csv").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 27: `slurm --shards N` wrote a merge job with N shard paths on its command line
+/// (4.4 MB for N = 100000, over the argument limit). The merge job now names the
+/// directory (`merge --shards-in`): its script has the same size for any N. The scripts
+/// run here with bash, as Slurm would, task by task.
+#[cfg(unix)]
+#[test]
+fn slurm_scripts_merge_with_a_bounded_command_line() {
+    let dir = scratch(20_003);
+    let config = CONFIG.replace("name = \"c\"", "name = \"c\"\nrepeats = 1000");
+    std::fs::write(dir.join("c.toml"), config).unwrap();
+    std::fs::write(dir.join("small.map"), SMALL).unwrap();
+    let slurm = |n: &str| {
+        let out = run_with(
+            &dir,
+            &["slurm", "c.toml", "--shards", n, "--output", "merged"],
+            &[],
+            Stdio::piped(),
+        );
+        assert_eq!(out.code, Some(0), "{}", out.stderr);
+        std::fs::read_to_string(dir.join("merged-slurm/merge.sbatch")).unwrap()
+    };
+    // 1 problem x 1000 repeats: 1000 runs, so 1000 shards are allowed.
+    let wide = slurm("1000");
+    assert!(wide.len() < 1024, "{} bytes:\n{wide}", wide.len());
+    assert!(wide.contains(" merge --shards-in "), "{wide}");
+    let narrow = slurm("3");
+    assert_eq!(wide.len(), narrow.len() + 3, "{wide}\n{narrow}");
+    for k in 1..=3 {
+        let task = Command::new("bash")
+            .arg(dir.join("merged-slurm/array.sbatch"))
+            .env("SLURM_ARRAY_TASK_ID", k.to_string())
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert!(
+            task.status.success(),
+            "{}",
+            String::from_utf8_lossy(&task.stderr)
+        );
+    }
+    let merge = Command::new("bash")
+        .arg(dir.join("merged-slurm/merge.sbatch"))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&merge.stdout);
+    assert!(
+        merge.status.success(),
+        "{}",
+        String::from_utf8_lossy(&merge.stderr)
+    );
+    assert!(
+        stdout.starts_with("1000 runs merged from 3 shards"),
+        "{stdout}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A running `plan` (Backtracking on an open 30x30 map, which would run for hours) in a
+/// fresh directory numbered `case`, its SIGINT disposition set in the child before it
+/// starts: `ignored` as a `nohup`-style launcher or `trap '' INT` leaves it, else the
+/// default, whatever this test inherited.
+#[cfg(unix)]
+#[allow(unsafe_code)]
+fn running_plan(case: usize, ignored: bool) -> (PathBuf, std::process::Child) {
+    use std::os::unix::process::CommandExt as _;
+    let dir = scratch(case);
     let rows = format!("{}\n", ".".repeat(30)).repeat(30);
     std::fs::write(
         dir.join("open.map"),
         format!("type octile\nheight 30\nwidth 30\nmap\n{rows}"),
     )
     .unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+    let disposition = if ignored {
+        libc::SIG_IGN
+    } else {
+        libc::SIG_DFL
+    };
+    let mut command = Command::new(env!("CARGO_BIN_EXE_gridplan"));
+    command
         .args([
             "plan",
             "open.map",
@@ -539,28 +871,171 @@ fn plan_stops_on_ctrl_c() {
         .current_dir(&dir)
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+        .stderr(Stdio::piped());
+    // SAFETY: signal(2) is async-signal-safe, as code between fork and exec must be.
+    unsafe {
+        command.pre_exec(move || {
+            libc::signal(libc::SIGINT, disposition);
+            Ok(())
+        });
+    }
+    let child = command.spawn().unwrap();
     // Long enough for the map to be read and the search to run.
     std::thread::sleep(Duration::from_millis(1500));
-    assert!(child.try_wait().unwrap().is_none(), "plan ended early");
+    (dir, child)
+}
+
+/// Sends `signal` (`INT`, `TERM`) to `child` and waits at most `wait` for it to end.
+fn signal_and_wait(child: &mut std::process::Child, signal: &str, wait: Duration) -> bool {
     let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
+        .args([&format!("-{signal}"), &child.id().to_string()])
         .status()
         .unwrap();
     assert!(status.success());
     let started = Instant::now();
     while child.try_wait().unwrap().is_none() {
-        if started.elapsed() > Duration::from_secs(30) {
-            child.kill().unwrap();
-            panic!("plan did not stop within 30 s of SIGINT");
+        if started.elapsed() > wait {
+            return false;
         }
         std::thread::sleep(Duration::from_millis(20));
+    }
+    true
+}
+
+/// Ctrl-C on a running `plan` prints "interrupted" and exits with 130, also when the test
+/// itself runs with SIGINT ignored (`(trap '' INT; cargo test)`): the child's disposition
+/// is set to the default before it starts.
+#[cfg(unix)]
+#[test]
+fn plan_stops_on_ctrl_c() {
+    let (dir, mut child) = running_plan(10_000, false);
+    assert!(child.try_wait().unwrap().is_none(), "plan ended early");
+    if !signal_and_wait(&mut child, "INT", Duration::from_secs(30)) {
+        child.kill().unwrap();
+        panic!("plan did not stop within 30 s of SIGINT");
     }
     let output = child.wait_with_output().unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(output.status.code(), Some(130));
     assert_eq!(String::from_utf8_lossy(&output.stderr), "interrupted\n");
     assert!(output.stdout.is_empty());
+}
+
+/// The rule for a SIGINT inherited ignored (README, `--help`): it stays ignored, the POSIX
+/// convention; SIGTERM still stops the command.
+#[cfg(unix)]
+#[test]
+fn an_inherited_ignored_sigint_stays_ignored() {
+    let (dir, mut child) = running_plan(10_001, true);
+    assert!(child.try_wait().unwrap().is_none(), "plan ended early");
+    let ended = signal_and_wait(&mut child, "INT", Duration::from_secs(2));
+    if ended {
+        let output = child.wait_with_output().unwrap();
+        panic!("plan ended on an ignored SIGINT: {output:?}");
+    }
+    if !signal_and_wait(&mut child, "TERM", Duration::from_secs(30)) {
+        child.kill().unwrap();
+        panic!("plan did not stop within 30 s of SIGTERM");
+    }
+    let output = child.wait_with_output().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(output.status.code(), Some(130));
+    assert_eq!(String::from_utf8_lossy(&output.stderr), "interrupted\n");
+}
+
+/// Issue 27: a valid 20000 x 20000 PNG (a 1 km square at 5 cm) was refused at a fixed
+/// 2^28-cell limit. Within `--max-memory-mb 6000` (A* declares 13.125 bytes a cell for
+/// its arrays at full size, 5.3 GB here, allocated zeroed and committed only where the
+/// search goes), A* plans a 10-step query on it, and the process's peak resident memory
+/// stays under 1 GB: the grid is one byte a cell (400 MB), the decoded pixels become the
+/// occupancy values in place (400 MB more while the map is read), the search touches a
+/// few pages. Unoptimised it takes minutes, so it runs on the release profile, as CI does
+/// (`cargo test --release -p gridplan --test careless -- --ignored`).
+#[cfg(target_os = "linux")]
+#[allow(unsafe_code)]
+#[test]
+#[ignore = "minutes unoptimised; CI runs it on the release profile"]
+// The child is reaped by wait4, which reports its own peak RSS, not by Child::wait.
+#[allow(clippy::zombie_processes)]
+fn a_20000_square_png_plans_within_the_memory_budget() {
+    let dir = scratch(20_004);
+    let side = 20_000u32;
+    {
+        let file = std::io::BufWriter::new(std::fs::File::create(dir.join("big.png")).unwrap());
+        let mut encoder = png::Encoder::new(file, side, side);
+        encoder.set_color(png::ColorType::Grayscale);
+        encoder.set_depth(png::BitDepth::One);
+        let mut writer = encoder
+            .write_header()
+            .unwrap()
+            .into_stream_writer()
+            .unwrap();
+        // White (free) rows, with a wall across row 1 but for its last cell, so the
+        // path from (0, 0) to (10, 0) is 10 steps along row 0 either way.
+        let white = vec![0xffu8; side as usize / 8];
+        let mut wall = vec![0u8; side as usize / 8];
+        *wall.last_mut().unwrap() = 1;
+        use std::io::Write as _;
+        for y in 0..side {
+            writer
+                .write_all(if y == 1 { &wall } else { &white })
+                .unwrap();
+        }
+        writer.finish().unwrap();
+    }
+    let child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args([
+            "plan",
+            "big.png",
+            "--planner",
+            "astar",
+            "--start",
+            "0,0",
+            "--goal",
+            "10,0",
+            "--max-memory-mb",
+            "6000",
+            "--json",
+        ])
+        .current_dir(&dir)
+        .env_remove("RUST_LOG")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let pid = child.id() as libc::pid_t;
+    let output = {
+        use std::io::Read as _;
+        let (mut stdout, mut stderr) = (child.stdout.unwrap(), child.stderr.unwrap());
+        let err = std::thread::spawn(move || {
+            let mut text = String::new();
+            stderr.read_to_string(&mut text).unwrap();
+            text
+        });
+        let mut out = String::new();
+        stdout.read_to_string(&mut out).unwrap();
+        (out, err.join().unwrap())
+    };
+    // The child's own resource use: wait4 reaps it and reports its peak RSS (KiB).
+    let mut status = 0;
+    // SAFETY: a zeroed rusage is a valid value for wait4 to fill; `pid` is our child,
+    // reaped here once (std's Child was consumed above without waiting).
+    let usage = unsafe {
+        let mut usage: libc::rusage = std::mem::zeroed();
+        assert_eq!(libc::wait4(pid, &mut status, 0, &mut usage), pid);
+        usage
+    };
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
+        "{}",
+        output.1
+    );
+    let json: serde_json::Value = serde_json::from_str(&output.0).unwrap();
+    assert_eq!(json["status"], "found", "{json}");
+    assert_eq!(json["metrics"]["steps"], 10, "{json}");
+    let peak_mb = usage.ru_maxrss / 1024;
+    eprintln!("plan on a 20000 x 20000 PNG: peak RSS {peak_mb} MiB");
+    assert!(peak_mb < 1000, "peak RSS {peak_mb} MiB");
 }

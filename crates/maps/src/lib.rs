@@ -150,9 +150,39 @@ pub enum MapFormat {
 const MAP_EXTENSIONS: &str =
     "one of .map (Moving AI), .txt (seed 003), .csv (0/1 matrix), .yaml/.yml (ROS map_server), .pgm/.png (an occupancy image); .scen files hold scenarios, not maps";
 
-/// The default of [`ReadOptions::max_cells`]: 2^28 = 268435456 cells (a 16384 x 16384
-/// map), whose grid takes 256 MiB.
-pub const DEFAULT_MAX_CELLS: u64 = 1 << 28;
+/// The default of [`ReadOptions::max_cells`]: [`Grid::MAX_CELLS`] (2^31 cells), the largest
+/// grid there is. A caller with a memory budget lowers it with [`max_cells_for_memory_mb`]
+/// (the runner does, from `max_memory_mb`), so real large maps are read when they fit the
+/// budget instead of being refused at a fixed size.
+pub const DEFAULT_MAX_CELLS: u64 = Grid::MAX_CELLS;
+
+/// Bytes per cell a reader holds at its peak, besides the file's own bytes: the grid (one
+/// byte a cell) and one value a cell it is built from (a grey image's decoded pixel, reused
+/// in place as the ROS occupancy value; a text format's row). Colour or 16-bit images hold
+/// more while they are decoded, and `inflation_radius` adds its distance transform.
+pub const READ_BYTES_PER_CELL: u64 = 2;
+
+/// The fewest cells [`max_cells_for_memory_mb`] allows, whatever the budget: 2^24 (a
+/// 4096 x 4096 map, 32 MiB to read). A budget too small for a planner's arrays (even 0)
+/// still reads an ordinary map, so that the planner can say what it would need.
+pub const MIN_BUDGET_CELLS: u64 = 1 << 24;
+
+/// The most cells a map read within a budget of `max_memory_mb` MiB may have:
+/// `max_memory_mb` MiB / [`READ_BYTES_PER_CELL`], at least [`MIN_BUDGET_CELLS`] and at
+/// most [`Grid::MAX_CELLS`].
+///
+/// ```
+/// use planner_maps::{max_cells_for_memory_mb, DEFAULT_MAX_CELLS, MIN_BUDGET_CELLS};
+/// // A 20000 x 20000 map (4 * 10^8 cells) is read within 1000 MiB, not within 500.
+/// assert!(max_cells_for_memory_mb(1000) >= 20_000 * 20_000);
+/// assert!(max_cells_for_memory_mb(500) < 20_000 * 20_000);
+/// assert_eq!(max_cells_for_memory_mb(0), MIN_BUDGET_CELLS);
+/// assert_eq!(max_cells_for_memory_mb(u64::MAX), DEFAULT_MAX_CELLS);
+/// ```
+pub fn max_cells_for_memory_mb(max_memory_mb: u64) -> u64 {
+    (max_memory_mb.saturating_mul(1 << 20) / READ_BYTES_PER_CELL)
+        .clamp(MIN_BUDGET_CELLS, Grid::MAX_CELLS)
+}
 
 /// The default of [`ReadOptions::max_file_bytes`]: 2^30 bytes (1 GiB).
 pub const DEFAULT_MAX_FILE_BYTES: u64 = 1 << 30;
@@ -161,9 +191,11 @@ pub const DEFAULT_MAX_FILE_BYTES: u64 = 1 << 30;
 /// any input can make a reader use, and the choices a format leaves open.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ReadOptions {
-    /// The most cells a map may have ([`DEFAULT_MAX_CELLS`] by default). A header or image
-    /// declaring more is an error ([`MapErrorKind::TooManyCells`]) before anything is
-    /// allocated for the cells; row formats (`.txt`, `.csv`) stop at the row that passes it.
+    /// The most cells a map may have ([`DEFAULT_MAX_CELLS`] by default; a memory budget's
+    /// with [`max_cells_for_memory_mb`]). A header or image declaring more is an error
+    /// ([`MapErrorKind::TooManyCells`]) before anything is allocated for the cells; row
+    /// formats (`.txt`, `.csv`) stop at the row that passes it. A `.map` header declaring
+    /// more cells than its file has bytes reserves no more than the file's size.
     pub max_cells: u64,
     /// The largest file, in bytes, that is read ([`DEFAULT_MAX_FILE_BYTES`] by default);
     /// larger is [`MapErrorKind::FileTooLarge`]. Files other than regular files (devices
@@ -423,8 +455,9 @@ pub(crate) fn read_file(path: &Path, origin: &str, max_bytes: u64) -> Result<Vec
     Ok(bytes)
 }
 
-/// What a file type that is not a regular file is, for messages.
-fn file_kind(file_type: &std::fs::FileType) -> &'static str {
+/// What a file type that is not a regular file is, for messages ("a FIFO", "a character
+/// device", ...).
+pub fn file_kind(file_type: &std::fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;

@@ -13,7 +13,7 @@
 //! | `origin` | `[x, y, yaw]`: the pose of the lower-left cell in metres and radians | yes |
 //! | `occupied_thresh` | occupancy probability above which a cell is occupied | yes |
 //! | `free_thresh` | occupancy probability below which a cell is free | yes |
-//! | `negate` | an integer (non-zero: negate) or a boolean (`true`, `yes`, `on`, ...) | yes |
+//! | `negate` | an integer (non-zero: negate), or a boolean (`true`, `yes`, `on`, ...) with a warning | yes |
 //! | `mode` | `trinary` (default), `scale` or `raw` | no |
 //!
 //! The rules are `map_server`'s (ROS 1 `map_server` and ROS 2 `nav2_map_server`, both on
@@ -22,6 +22,9 @@
 //! What they accept silently is read with a [`MapWarning`] ([`RosYaml::warnings`]):
 //! - a key neither reads (`map_type`, `map_name`, a misspelt `free_tresh`): ignored;
 //! - `negate` other than `0` or `1`: non-zero negates, as in `map_server`;
+//! - `negate` as a boolean (`yes`, `true`, `on`, ...): ROS 2's `nav2_map_server` reads it
+//!   as that boolean (it tries `int`, then `bool`), ROS 1's `map_server` refuses the file
+//!   (it reads an `int` only); read as ROS 2 does, with a warning saying both;
 //! - `origin` with more than three numbers: ROS 1 reads the first three (ROS 2 refuses);
 //! - `resolution` not positive, a threshold outside [0, 1], `free_thresh` above
 //!   `occupied_thresh`: read as written, though the map frame or the thresholds are then
@@ -644,12 +647,29 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
             }
             value != 0
         }
-        None => parse_bool(&negate_text).ok_or_else(|| {
-            error(
+        None => {
+            // ROS 1 reads `negate` as an int only (`doc["negate"] >> negate` into an int,
+            // exiting with "The map does not contain a negate tag or it is invalid");
+            // nav2 (map_io.cpp, loadMapYaml) tries `as<int>` and then `as<bool>`. A
+            // boolean is read as nav2 reads it, never silently: which map a file means
+            // depends on the map_server that reads it.
+            let value = parse_bool(&negate_text).ok_or_else(|| {
+                error(
+                    negate_node.at(),
+                    unexpected(negate_expected, show_token(&negate_text)),
+                )
+            })?;
+            warn(
+                &mut warnings,
                 negate_node.at(),
-                unexpected(negate_expected, show_token(&negate_text)),
-            )
-        })?,
+                format!(
+                    "'negate' {} is a boolean: ROS 2's nav2_map_server reads it as {value} (and so does gridplan), ROS 1's map_server refuses the file; write {}",
+                    negate_text.trim(),
+                    u8::from(value)
+                ),
+            );
+            value
+        }
     };
     let mode = match values[6] {
         None => RosMode::default(),
@@ -982,10 +1002,20 @@ pub fn ros_map_from_image_bytes(
         other if other.color().has_alpha() => (2, other.to_luma_alpha8().into_raw()),
         other => (1, other.to_luma8().into_raw()),
     };
-    let occupancy: Vec<i8> = pixels
-        .chunks_exact(channels)
-        .map(|pixel| ros_occupancy_value(&yaml, pixel))
-        .collect();
+    let occupancy: Vec<i8> = if channels == 1 {
+        // A grey image's pixel buffer becomes the occupancy values (a byte for a byte:
+        // Vec's collect reuses the allocation), so the decoded image costs no extra byte
+        // a cell (`crate::READ_BYTES_PER_CELL`).
+        pixels
+            .into_iter()
+            .map(|value| ros_occupancy_value(&yaml, &[value]))
+            .collect()
+    } else {
+        pixels
+            .chunks_exact(channels)
+            .map(|pixel| ros_occupancy_value(&yaml, pixel))
+            .collect()
+    };
     let grid = ros_grid(width, height, &occupancy, &options.ros)
         .map_err(|e| whole(MapErrorKind::Grid(e)))?;
     Ok(RosMap {

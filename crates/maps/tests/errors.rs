@@ -128,11 +128,11 @@ fn movingai_errors() {
         "type octile\nheight 1\nwidth 1\nmap extra\n.\n",
         "t.map:4:5: expected end of line after 'map', found 'extra'",
     );
-    // 65536 * 65536 = 2^32 cells > the default limit of 2^28 cells.
+    // 65536 * 65536 = 2^32 cells > the default limit of 2^31 cells (the largest grid).
     check(
         M,
         "type octile\nheight 65536\nwidth 65536\nmap\n",
-        "t.map:4:1: a 65536x65536 map has 4294967296 cells, more than the limit of 268435456 cells",
+        "t.map:4:1: a 65536x65536 map has 4294967296 cells, more than the limit of 2147483648 cells",
     );
     // 16384 * 16384 = 2^28 cells is allowed; the missing rows are reported, nothing is allocated.
     check(

@@ -136,7 +136,7 @@ fn text_formats_hostile_input() {
     check(
         MapFormat::MovingAi,
         b"type octile\nheight 4294967295\nwidth 4294967295\nmap\n",
-        "f:4:1: a 4294967295x4294967295 map has 18446744065119617025 cells, more than the limit of 268435456 cells",
+        "f:4:1: a 4294967295x4294967295 map has 18446744065119617025 cells, more than the limit of 2147483648 cells",
     );
     check(
         MapFormat::Seed003,

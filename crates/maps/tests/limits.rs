@@ -153,6 +153,17 @@ fn declared_sizes_are_checked_before_allocating() {
         parse(MapFormat::Matrix, "1,1,1,1,1,1,1\n"),
         Err("t:1:1: a 7x1 map has 7 cells, more than the limit of 6 cells".to_owned())
     );
+    // Issue 27: the default limit is the largest grid (2^31 cells), no longer 2^28; a
+    // header declaring 2 * 10^9 cells over a few bytes is still refused at once, without
+    // reserving more than the file's size.
+    let err = MapFormat::MovingAi
+        .parse_with(
+            "type octile\nheight 40000\nwidth 50000\nmap\n..\n",
+            "t.map",
+            &ReadOptions::default(),
+        )
+        .unwrap_err();
+    assert!(err.to_string().starts_with("t.map:5:"), "{err}");
     // Image headers: a PGM claiming 100000 x 100000 pixels with no data, and a PNG
     // header claiming 2^31 - 1 squared; neither is decoded.
     let default = ReadOptions::default();
@@ -161,7 +172,7 @@ fn declared_sizes_are_checked_before_allocating() {
         .unwrap_err();
     assert_eq!(
         err.to_string(),
-        "huge.pgm: a 100000x100000 map has 10000000000 cells, more than the limit of 268435456 cells"
+        "huge.pgm: a 100000x100000 map has 10000000000 cells, more than the limit of 2147483648 cells"
     );
     let mut png = b"\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR".to_vec();
     png.extend(0x7fff_ffffu32.to_be_bytes());

@@ -221,7 +221,10 @@ fn yaml_accepts_what_map_server_accepts() {
     // A flow mapping, quoted numbers, an explicit document start, tags.
     let flow = "--- {image: \"map.pgm\", resolution: '0.05', origin: [0, 0, 0], negate: false, \
                 occupied_thresh: !!float 0.65, free_thresh: 0.196, mode: \"scale\"}\n";
-    check(flow, "ok");
+    check(
+        flow,
+        "ok\nwarning: m.yaml:1:71: 'negate' false is a boolean: ROS 2's nav2_map_server reads it as false (and so does gridplan), ROS 1's map_server refuses the file; write 0",
+    );
     let yaml = parse_ros_yaml(flow, "m.yaml").unwrap();
     assert_eq!(
         (yaml.resolution, yaml.mode, yaml.negate),
@@ -275,6 +278,15 @@ fn yaml_accepts_what_map_server_accepts() {
         )
         .unwrap();
         assert_eq!(yaml.negate, negate, "{text}");
+        // Issue 27: a boolean was read silently, though ROS 1's map_server refuses it.
+        let warned = yaml.warnings.iter().any(|w| {
+            w.to_string().contains(&format!(
+                "m.yaml:5:9: 'negate' {text} is a boolean: ROS 2's nav2_map_server reads it as {negate} (and so does gridplan), ROS 1's map_server refuses the file; write {}",
+                u8::from(negate)
+            ))
+        });
+        let is_integer = text.parse::<i64>().is_ok();
+        assert_eq!(warned, !is_integer, "{text}: {:?}", yaml.warnings);
     }
     // A second document is ignored, as yaml-cpp's LoadFile does.
     check(

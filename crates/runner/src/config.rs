@@ -419,8 +419,14 @@ pub const MAX_NAME_LEN: usize = 100;
 /// regular files are read, so `/dev/zero` or a FIFO is an error, not a hang.
 pub const MAX_TEXT_BYTES: u64 = 16 << 20;
 
+/// The most planner labels [`parse`] warns about one by one when their specs declare them
+/// not admissible (`moves = 16` with the Manhattan heuristic, a weight above 1).
+const MAX_ADMISSIBILITY_WARNINGS: usize = 10;
+
 /// Parses and validates config `text`, read from `path` (relative paths resolve against
-/// its directory).
+/// its directory). A planner whose specs declare it not admissible
+/// ([`planner_api::PlannerSpecs::admissible`]) is accepted with a `tracing` warning naming
+/// its label's line and column.
 pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let src = Source { file: path, text };
     let raw: RawConfig =
@@ -461,16 +467,45 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     }
 
     let mut planners = Vec::new();
+    let mut inadmissible = Vec::new();
     for (label, table) in &expand_sweeps(&src, &raw.planners)? {
-        planners.push(planner_spec(&src, label, table, raw.budget)?);
+        let planner = planner_spec(&src, label, table, raw.budget)?;
+        if planner.factory.specs().admissible == Some(false) {
+            inadmissible.push(src.error(Some(label.span()), format!(
+                "planner `{}` ({}): its heuristic can overestimate under its moves (or its weight is above 1), so its paths need not be shortest; its runs are recorded `admissible = false` and summary.md says so",
+                planner.label, planner.name
+            )));
+        }
+        planners.push(planner);
+    }
+    // Said at config time, before anything runs (a sweep of many labels: the first few).
+    for warning in inadmissible.iter().take(MAX_ADMISSIBILITY_WARNINGS) {
+        tracing::warn!("{warning}");
+    }
+    if inadmissible.len() > MAX_ADMISSIBILITY_WARNINGS {
+        tracing::warn!(
+            "{}: {} more planner labels are not admissible",
+            path.display(),
+            inadmissible.len() - MAX_ADMISSIBILITY_WARNINGS
+        );
     }
     if planners.is_empty() {
         return Err(src.error(None, "key `planners`: at least one planner is needed"));
     }
 
+    // Maps are read within the largest memory budget of the planners that run on them
+    // (each planner's `max_memory_mb`, else half the machine's memory), not a fixed size.
+    let max_cells = planners
+        .iter()
+        .map(|p| crate::run::effective_budget(p).max_memory_mb)
+        .try_fold(0, |most: u64, mb| mb.map(|mb| most.max(mb)))
+        .map_or(
+            planner_maps::DEFAULT_MAX_CELLS,
+            planner_maps::max_cells_for_memory_mb,
+        );
     let mut maps: Vec<MapEntry> = Vec::new();
     for (i, spanned) in raw.maps.iter().enumerate() {
-        for entry in map_entries(&src, &base, i, spanned)? {
+        for entry in map_entries(&src, &base, i, spanned, max_cells)? {
             let stem = crate::report::map_stem(&entry.name);
             if let Some(other) = maps
                 .iter()
@@ -873,6 +908,7 @@ fn map_entries(
     base: &Path,
     index: usize,
     spanned: &Spanned<RawMaps>,
+    max_cells: u64,
 ) -> Result<Vec<MapEntry>, ConfigError> {
     let raw = spanned.get_ref();
     let at = |span: Range<usize>, message: String| {
@@ -986,6 +1022,7 @@ fn map_entries(
     let read_options = planner_maps::ReadOptions {
         csv: csv.unwrap_or_default(),
         ros: ros_options,
+        max_cells,
         ..planner_maps::ReadOptions::default()
     };
     let mut entries = Vec::new();

@@ -217,8 +217,15 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
             (map, Some(problems))
         }
         None => {
+            // The map is read within the run's memory budget (--max-memory-mb, the
+            // label's, else half the machine's memory), not a fixed size.
+            let max_cells = crate::run::effective_budget(&spec).max_memory_mb.map_or(
+                planner_maps::DEFAULT_MAX_CELLS,
+                planner_maps::max_cells_for_memory_mb,
+            );
             let options = planner_maps::ReadOptions {
                 csv: args.obstacle.unwrap_or_default(),
+                max_cells,
                 ..planner_maps::ReadOptions::default()
             };
             let file = config::read_map_file(&args.map, &options)?;

@@ -27,11 +27,23 @@ impl Shard {
     /// The whole sweep as one shard.
     pub const ALL: Shard = Shard { index: 1, count: 1 };
 
-    /// Shard `index` of `count`, checked (1 <= index <= count).
+    /// The most shards a sweep may be cut into: 2^20 = 1048576. [`ShardRuns::new`] keeps
+    /// one load figure per shard (8 MiB at this count), and a merge opens every shard's
+    /// stream, so a count is checked against this before anything is allocated. Slurm's
+    /// own array limit (`MaxArraySize`) defaults to 1001.
+    pub const MAX_COUNT: u64 = 1 << 20;
+
+    /// Shard `index` of `count`, checked (1 <= index <= count <= [`Shard::MAX_COUNT`]).
     pub fn new(index: u64, count: u64) -> Result<Shard, String> {
         if count == 0 || index == 0 || index > count {
             return Err(format!(
                 "shard {index}/{count}: expected K/N with 1 <= K <= N"
+            ));
+        }
+        if count > Self::MAX_COUNT {
+            return Err(format!(
+                "shard {index}/{count}: at most {} shards",
+                Self::MAX_COUNT
             ));
         }
         Ok(Shard { index, count })
@@ -72,16 +84,36 @@ impl Shard {
                 "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N",
             )?;
             let min = number("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
-            let index = id.checked_sub(min).ok_or(format!(
-                "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
-            ))? + 1;
-            return Shard::new(index, count).map(Some);
+            let named = |e: String| {
+                format!(
+                    "environment variables SLURM_ARRAY_TASK_ID={id}, SLURM_ARRAY_TASK_MIN={min}, \
+                     SLURM_ARRAY_TASK_COUNT={count}: {e}"
+                )
+            };
+            let offset = id.checked_sub(min).ok_or_else(|| {
+                named(format!(
+                    "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
+                ))
+            })?;
+            let index = offset
+                .checked_add(1)
+                .ok_or_else(|| named(format!("task {offset} is not below the count {count}")))?;
+            return Shard::new(index, count).map(Some).map_err(named);
         }
         if let Some(index) = number("JOB_COMPLETION_INDEX")? {
             let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or(
                 "JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N",
             )?;
-            return Shard::new(index + 1, count).map(Some);
+            let named = |e: String| {
+                format!(
+                    "environment variables JOB_COMPLETION_INDEX={index} (0-based), \
+                     GRIDPLAN_SHARD_COUNT={count}: {e}"
+                )
+            };
+            let shard = index
+                .checked_add(1)
+                .ok_or_else(|| named(format!("index {index} is not below the count {count}")))?;
+            return Shard::new(shard, count).map(Some).map_err(named);
         }
         Ok(None)
     }
@@ -229,6 +261,33 @@ mod tests {
         let k8s = env(&[("JOB_COMPLETION_INDEX", "1"), ("GRIDPLAN_SHARD_COUNT", "4")]);
         assert_eq!(Shard::from_env(k8s), Ok(Some(Shard { index: 2, count: 4 })));
         assert!(Shard::from_env(env(&[("SLURM_ARRAY_TASK_ID", "1")])).is_err());
+        // Issue 27: the largest index wrapped to shard 0/N, and the error did not name
+        // the variable.
+        let wrapped = env(&[
+            ("JOB_COMPLETION_INDEX", "18446744073709551615"),
+            ("GRIDPLAN_SHARD_COUNT", "3"),
+        ]);
+        let error = Shard::from_env(wrapped).unwrap_err();
+        assert!(
+            error.contains("JOB_COMPLETION_INDEX=18446744073709551615"),
+            "{error}"
+        );
+        let past = env(&[("JOB_COMPLETION_INDEX", "3"), ("GRIDPLAN_SHARD_COUNT", "3")]);
+        let error = Shard::from_env(past).unwrap_err();
+        assert!(error.contains("JOB_COMPLETION_INDEX=3"), "{error}");
+        assert!(error.contains("shard 4/3"), "{error}");
+    }
+
+    #[test]
+    fn absurd_counts_are_refused_before_allocating() {
+        for bad in ["1/1000000000000", "1/18446744073709551615", "1/1048577"] {
+            let error = Shard::parse(bad).unwrap_err();
+            assert!(error.contains("at most 1048576 shards"), "{bad}: {error}");
+        }
+        assert_eq!(
+            Shard::parse("1048576/1048576").map(|s| s.count),
+            Ok(Shard::MAX_COUNT)
+        );
     }
 
     #[test]

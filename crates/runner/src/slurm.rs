@@ -5,7 +5,9 @@
 //! pending forever) and prints both job ids.
 //!
 //! For an output directory `DIR` (default: the config's), the scripts, the shards'
-//! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`.
+//! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`
+//! (`merge --shards-in DIR-slurm`, so its command line has the same length for any N).
+//! N is at most the sweep's run count and [`Shard::MAX_COUNT`].
 //! The scripts call this very binary and the config by absolute path, so they run from
 //! any directory on a cluster whose nodes share the file system.
 //!
@@ -26,6 +28,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use crate::config;
+use crate::run::RunList;
+use crate::shard::Shard;
 
 /// What `slurm` is asked to do.
 #[derive(Debug, Clone, Default)]
@@ -112,7 +116,23 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
     if args.shards == 0 {
         return Err("--shards: at least 1".into());
     }
+    if args.shards > Shard::MAX_COUNT {
+        return Err(format!(
+            "--shards {}: at most {} shards",
+            args.shards,
+            Shard::MAX_COUNT
+        ));
+    }
     let experiment = config::load(&args.config).map_err(|e| e.to_string())?;
+    // A shard with no run would be an array task that does nothing; more shards than runs
+    // is refused rather than capped, so the array has the size the user asked for.
+    let n_runs = RunList::new(&experiment).len();
+    if args.shards > n_runs {
+        return Err(format!(
+            "--shards {}: the sweep has {n_runs} run(s), so at most {n_runs} shard(s)",
+            args.shards
+        ));
+    }
     let config_path = args
         .config
         .canonicalize()
@@ -161,9 +181,6 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
     };
     let task_log = log("task-%a.log")?;
     let merge_log = log("merge.log")?;
-    let shard_dirs: Vec<String> = (1..=n)
-        .map(|k| path_value(&output_key, &work.join(format!("shard-{k}")), false))
-        .collect::<Result<_, _>>()?;
     // The results directory must be one `merge` may write, before anything is written.
     crate::outdir::check(&output).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
@@ -185,8 +202,8 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
          #SBATCH --output={merge_log}\n\
          {options}\
          set -euo pipefail\n\
-         exec {bin} merge {dirs} --config {cfg} --output {out}\n",
-        dirs = shard_dirs.join(" "),
+         exec {bin} merge --shards-in {dir} --config {cfg} --output {out}
+",
     );
     let array_script = work.join("array.sbatch");
     let merge_script = work.join("merge.sbatch");

@@ -17,8 +17,11 @@
 //! each record read back against the config's run list (map, problem, label, repeat).
 //!
 //! The runner writes no file: the sink and the reader work on bytes and `std::io` traits.
+//! [`open_regular`] opens a stream file for reading, refusing anything but a regular file
+//! (a link to `/dev/zero`, a FIFO nobody writes), and [`StreamReader`] refuses a line
+//! longer than [`MAX_LINE_BYTES`], so a reader's memory is bounded whatever the file holds.
 
-use std::io::BufRead;
+use std::io::{BufRead, Read as _};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
@@ -38,6 +41,35 @@ pub const STREAM_FORMAT: u32 = 1;
 
 /// Runs per worker in one batch.
 const BATCH_PER_WORKER: usize = 512;
+
+/// The longest line [`StreamReader`] reads: 256 MiB (a record keeps its path, about 14
+/// bytes a cell, so this is a path of some 19 million cells). A longer line is an error,
+/// not an allocation as large as the file.
+pub const MAX_LINE_BYTES: u64 = 256 << 20;
+
+/// Opens the stream file `path` for reading: only a regular file (after following
+/// symbolic links), checked before it is opened, so that a FIFO cannot block the open and
+/// a device cannot stream forever, and again on the open file. Anything else is an error
+/// of kind [`std::io::ErrorKind::InvalidInput`] saying what the path is.
+pub fn open_regular(path: &std::path::Path) -> std::io::Result<std::fs::File> {
+    let check = |metadata: std::fs::Metadata| {
+        if metadata.is_file() {
+            Ok(())
+        } else {
+            Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!(
+                    "not a regular file ({}): gridplan reads streams from regular files only",
+                    planner_maps::file_kind(&metadata.file_type())
+                ),
+            ))
+        }
+    };
+    check(std::fs::metadata(path)?)?;
+    let file = std::fs::File::open(path)?;
+    check(file.metadata()?)?;
+    Ok(file)
+}
 
 /// The first line of a stream file.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -232,17 +264,27 @@ impl<R: BufRead> StreamReader<R> {
                 header.format
             )));
         }
+        // A shard count no command accepts (a merge would loop over it) is refused here.
+        Shard::new(header.shard, header.shards)
+            .map_err(|e| RunnerError::Stream(format!("{what} line 1: {e}")))?;
         Ok((header, stream))
     }
 
     fn next_line(&mut self) -> Result<Option<&[u8]>, RunnerError> {
         self.buffer.clear();
-        let n = self
-            .reader
+        let n = (&mut self.reader)
+            .take(MAX_LINE_BYTES)
             .read_until(b'\n', &mut self.buffer)
             .map_err(|e| RunnerError::Stream(format!("{}: {e}", self.what)))?;
         if n == 0 {
             return Ok(None);
+        }
+        if n as u64 == MAX_LINE_BYTES && self.buffer.last() != Some(&b'\n') {
+            return Err(RunnerError::Stream(format!(
+                "{} line {}: longer than {MAX_LINE_BYTES} bytes; not a gridplan stream",
+                self.what,
+                self.line + 1
+            )));
         }
         if self.buffer.last() != Some(&b'\n') {
             self.cut = true;
@@ -443,6 +485,24 @@ mod tests {
         assert!(reader.was_cut());
         assert_eq!(read.len(), 5);
         assert_eq!(&read[..], &collected[..5]);
+    }
+
+    #[test]
+    fn lines_are_bounded_and_special_files_refused() {
+        // A header line of MAX_LINE_BYTES without a newline: an error, read in bounded
+        // memory, not a cut line.
+        let long = std::io::repeat(b'x').take(MAX_LINE_BYTES + 10);
+        let error = StreamReader::new(std::io::BufReader::new(long), "long")
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            error.contains("long line 1: longer than 268435456 bytes"),
+            "{error}"
+        );
+        let error = open_regular(std::path::Path::new("/dev/zero")).unwrap_err();
+        assert_eq!(error.kind(), std::io::ErrorKind::InvalidInput);
+        assert!(error.to_string().contains("a character device"), "{error}");
     }
 
     #[test]

@@ -325,7 +325,7 @@ fn resume_point(
     runs: &ShardRuns,
     experiment: &Experiment,
 ) -> Result<Option<(u64, u64)>, String> {
-    let file = match File::open(path) {
+    let file = match stream::open_regular(path) {
         Ok(file) => file,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
         Err(e) => return Err(format!("{}: {e}", path.display())),
@@ -380,7 +380,7 @@ fn resume_point(
 
 /// The records of the stream file `path`, appended to `records`.
 fn read_records(path: &Path, mut records: Vec<RunRecord>) -> Result<Vec<RunRecord>, String> {
-    let file = File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let file = stream::open_regular(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let what = path.display().to_string();
     let (_, mut reader) =
         StreamReader::new(BufReader::new(file), &what).map_err(|e| e.to_string())?;
@@ -465,7 +465,7 @@ pub fn merge(
     let mut shards: Vec<(PathBuf, StreamHeader, StreamReader<BufReader<File>>)> = Vec::new();
     for dir in dirs {
         let path = dir.join(SHARD_FILE);
-        let file = File::open(&path).map_err(|e| {
+        let file = stream::open_regular(&path).map_err(|e| {
             format!(
                 "merge: {} is not a shard's output ({}: {e})",
                 dir.display(),
