@@ -11,7 +11,7 @@ use planner_runner::registry::PLANNERS;
 
 /// The crates under `crates/` that are not planners.
 const SUPPORT_CRATES: &[&str] = &[
-    "api", "bench", "cli", "figures", "maps", "runner", "stats", "testkit",
+    "api", "bench", "cli", "figures", "maps", "runner", "search", "stats", "testkit",
 ];
 
 /// The package of `crates/<dir>`: `planner-<dir>`, but for the command line, `gridplan`.
