@@ -188,7 +188,11 @@ pub(crate) fn to_budget(budget: Option<&Bound<'_, PyAny>>) -> Result<Budget, Fai
     Ok(parsed)
 }
 
-pub(crate) fn problem_error(endpoint: &'static str, cell: (i64, i64), grid: &planner_api::Grid) -> Failure {
+pub(crate) fn problem_error(
+    endpoint: &'static str,
+    cell: (i64, i64),
+    grid: &planner_api::Grid,
+) -> Failure {
     Failure::Problem {
         endpoint,
         cell,

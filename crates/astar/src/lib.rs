@@ -102,11 +102,11 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
 use planner_api::{
     Adjacency, Budget, Cell, Connectivity, Cost, Counter, Grid, MemoryShortfall, MoveOrderError,
     MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
+use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 

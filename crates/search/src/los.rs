@@ -139,7 +139,11 @@ impl SightGrid {
                     None
                 }
                 Some(x) => {
-                    let at = if forward { x as i64 - x0 } else { x1 - x as i64 };
+                    let at = if forward {
+                        x as i64 - x0
+                    } else {
+                        x1 - x as i64
+                    };
                     Some(SegmentWalk {
                         free: false,
                         n_cells: n_cells + at as u64 + 1,

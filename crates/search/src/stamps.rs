@@ -92,7 +92,11 @@ mod tests {
         assert_eq!(stamps.generation, 1);
         assert_eq!(records[0], 0, "records reset at the wrap");
         nodes.fit(4);
-        assert_eq!(nodes.begin().0.generation, 2, "same size keeps the generation");
+        assert_eq!(
+            nodes.begin().0.generation,
+            2,
+            "same size keeps the generation"
+        );
         nodes.fit(5);
         assert_eq!(nodes.begin().0.generation, 1);
         assert_eq!(nodes.len(), 5);

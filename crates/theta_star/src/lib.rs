@@ -14,7 +14,7 @@
 //! - Nodes are cell centres; edges are the 8-connected moves without corner cutting
 //!   (planner-api's [`Adjacency`] over [`MoveSet`] `8`), costing 1 and `sqrt 2`.
 //! - Line of sight between two cells is planner-api's exact segment traversal
-//!   ([`planner_api::for_each_segment_cell`]) in its fast form, [`walk_segment`], the
+//!   ([`planner_api::for_each_segment_cell`]) in its fast form, [`planner_api::walk_segment`], the
 //!   function behind [`planner_api::segment_is_free`] and so behind [`Path::validate`] with
 //!   [`planner_api::PathRule::AnyAngle`]: every path this crate returns passes that check. A segment through a grid vertex needs both side cells free, so a
 //!   diagonal grid move without corner cutting is itself a segment with line of sight.
@@ -106,8 +106,8 @@
 use planner_search::{QuadHeap, SightGrid, Stamped};
 
 use planner_api::{
-    walk_segment, Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder,
-    Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder, Outcome,
+    Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
