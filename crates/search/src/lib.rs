@@ -8,8 +8,6 @@
 //!   slots of one integer `f` each, for unit moves and integer consistent heuristics).
 //! - [`QuadHeap`], a 4-ary min-heap of any ordered entry, and [`FrontHeap`], the same
 //!   behind a stack of entries with the last popped key (Jump Point Search's common case).
-//! - [`SightGrid`]: line of sight on a bit-packed grid, a row span per word mask, with
-//!   [`planner_api::walk_segment`]'s cells and counts (Theta*).
 //! - [`Stamped`]: per-cell node records with generation stamps, so a search costs the
 //!   cells it touches, not the grid.
 //!
@@ -20,10 +18,8 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod bucket;
-mod los;
 mod quad;
 mod stamps;
 
-pub use los::SightGrid;
 pub use quad::{FrontEntry, FrontHeap, QuadHeap};
 pub use stamps::{Stamped, Stamps};

@@ -14,13 +14,10 @@
 //! - Nodes are cell centres; edges are the 8-connected moves without corner cutting
 //!   (planner-api's [`Adjacency`] over [`MoveSet`] `8`), costing 1 and `sqrt 2`.
 //! - Line of sight between two cells is planner-api's exact segment traversal
-//!   ([`planner_api::for_each_segment_cell`]) in its fast form, [`planner_api::walk_segment`], the
+//!   ([`planner_api::for_each_segment_cell`]) in its fast form, [`walk_segment`], the
 //!   function behind [`planner_api::segment_is_free`] and so behind [`Path::validate`] with
 //!   [`planner_api::PathRule::AnyAngle`]: every path this crate returns passes that check. A segment through a grid vertex needs both side cells free, so a
 //!   diagonal grid move without corner cutting is itself a segment with line of sight.
-//!   The search walks segments on a bit-packed copy of the grid a row span at a time
-//!   (planner-search's [`planner_search::SightGrid`]), which visits and counts exactly the
-//!   cells `walk_segment` does.
 //! - `c(a, b)` is the Euclidean distance between cell centres ([`Cell::euclidean`]), and
 //!   `h(s) = |s goal|`, which is consistent: `h(a) <= |a b| + h(b)` by the triangle
 //!   inequality.
@@ -103,11 +100,11 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-use planner_search::{QuadHeap, SightGrid, Stamped};
+use planner_search::{QuadHeap, Stamped};
 
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder, Outcome,
-    Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+    walk_segment, Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder,
+    Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -261,8 +258,6 @@ pub struct AnyAngle {
     adjacency: Option<Adjacency>,
     nodes: Stamped<Node>,
     open: QuadHeap<Entry>,
-    /// The grid's free cells as bits, for line-of-sight walks.
-    sight: SightGrid,
 }
 
 impl AnyAngle {
@@ -276,7 +271,6 @@ impl AnyAngle {
             adjacency: None,
             nodes: Stamped::default(),
             open: QuadHeap::default(),
-            sight: SightGrid::default(),
         })
     }
 
@@ -285,7 +279,6 @@ impl AnyAngle {
     pub fn prepare(&mut self, grid: &planner_api::Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         self.nodes.fit(adjacency.padded_len());
-        self.sight.get_or_build(grid);
     }
 
     /// Runs `variant` on `problem` within `budget` (one expansion is one node taken from
@@ -298,7 +291,6 @@ impl AnyAngle {
         };
         let (stamps, nodes) = self.nodes.begin();
         let (open_stamp, closed_stamp) = (stamps.open, stamps.closed);
-        let sight = self.sight.get_or_build(grid);
         let open = &mut self.open;
         open.clear();
 
@@ -320,7 +312,7 @@ impl AnyAngle {
         let mut stats = AnyAngleStats::default();
         let mut n_safe = 0u64;
         let line_of_sight = |stats: &mut AnyAngleStats, a: Cell, b: Cell| {
-            let walk = sight.walk(grid, a, b);
+            let walk = walk_segment(grid, a, b);
             stats.n_los_checks += 1;
             stats.n_los_cells += walk.n_cells;
             walk.free
