@@ -58,11 +58,11 @@ def test_plan_many_reports_no_path_and_budget_as_rows():
     grid = gridplan.Grid.from_numpy(
         np.array([[1, 0, 1], [1, 0, 1], [1, 0, 1]], dtype=bool), free=True
     )
-    planner = gridplan.Planner(grid, "astar", budget=2)
-    out = planner.plan_many([[0, 0], [0, 0]], [[2, 2], [0, 2]])
-    assert list(out["status"]) == ["no_path", "budget_exhausted"]
-    assert np.isnan(out["length"]).all()
-    assert list(out["steps"]) == [-1, -1]
+    for budget, goal, status in [(None, [2, 2], "no_path"), (1, [0, 2], "budget_exhausted")]:
+        out = gridplan.Planner(grid, "astar", budget=budget).plan_many([[0, 0]], [goal])
+        assert list(out["status"]) == [status]
+        assert np.isnan(out["length"]).all()
+        assert list(out["steps"]) == [-1]
 
 
 def test_bad_queries_raise_and_name_the_query(map10):
