@@ -3,7 +3,8 @@
 Grids come from NumPy (``Grid.from_numpy``) or map files (``read_map``); ``plan`` runs one
 registered planner (``planners()`` lists them with their parameters) and returns an
 ``Outcome`` with the path as an (N, 2) array and the planner's counters;
-``run_experiment`` sweeps an experiment config (``configs/*.toml``) and returns its records
+``Planner`` keeps a planner and its per-grid tables for many queries (``plan_many``
+runs a batch on threads and returns arrays); ``run_experiment`` sweeps an experiment config (``configs/*.toml``) and returns its records
 with runs.csv's columns, as a pandas DataFrame when pandas is installed. The planning runs
 in Rust with the GIL released, so Python threads plan in parallel.
 
@@ -30,6 +31,7 @@ from ._gridplan import (
     DEFAULT_PLAN_EXPANSIONS,
     Grid,
     Outcome,
+    Planner,
     PlannerInfo,
     Problem,
     plan,
@@ -47,6 +49,7 @@ __all__ = [
     "Outcome",
     "OutputError",
     "ParameterError",
+    "Planner",
     "PlannerInfo",
     "Problem",
     "ProblemError",

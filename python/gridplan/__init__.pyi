@@ -120,6 +120,40 @@ class PlannerInfo:
     def parameters(self) -> Dict[str, Any]:
         """Every parameter with its default."""
 
+class Planner:
+    """A registry planner built once for ``grid`` with its parameters; its per-grid tables
+    are built by the first query and reused by every later one (``plan`` rebuilds them on
+    every call). Results are the same as ``gridplan.plan``'s."""
+    def __init__(
+        self,
+        grid: Grid,
+        planner: str = "astar",
+        *,
+        budget: Union[None, int, Dict[str, int]] = None,
+        **params: Any,
+    ) -> None: ...
+    @property
+    def name(self) -> str:
+        """The registry name."""
+    def plan(self, start: _Cell, goal: Optional[_Cell] = None) -> Outcome:
+        """One query, as ``gridplan.plan(grid, start, goal, planner=..., **params)``."""
+    def plan_many(
+        self,
+        starts: npt.ArrayLike,
+        goals: Optional[npt.ArrayLike] = None,
+        *,
+        threads: int = 0,
+        paths: bool = False,
+    ) -> Dict[str, Any]:
+        """Plans query ``i`` from ``starts[i]`` to ``goals[i]`` (``(N, 2)`` arrays of
+        ``(x, y)``; no goals for coverage planners) on ``threads`` threads (0: one per
+        core) with the GIL released. Returns arrays in query order: ``status`` (str),
+        ``length`` (float64, NaN without a path), ``steps`` and ``turns`` (int64, -1
+        without a path), ``time_ms`` (float64, the search alone), ``counters`` (name ->
+        int64 array) and, with ``paths=True``, ``paths`` (a list of (N, 2) arrays).
+        Counters do not depend on ``threads``. A start or goal off the grid or blocked
+        raises ``ProblemError`` naming the query."""
+
 def read_map(path: Union[str, "os.PathLike[str]"], *, obstacle: int = 0) -> Tuple[Grid, List[Problem]]:
     """Reads a ``.map``, ``.txt``, ``.csv`` or ROS ``.yaml`` map: the grid and its problems.
     ``obstacle``: the value marking obstacles in a ``.csv`` matrix (0 or 1)."""

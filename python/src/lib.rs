@@ -18,6 +18,7 @@ mod errors;
 mod experiment;
 mod grid;
 mod plan;
+mod planner;
 mod values;
 
 use pyo3::prelude::*;
@@ -27,7 +28,7 @@ use pyo3::prelude::*;
 #[global_allocator]
 static ALLOCATOR: planner_runner::alloc::Counting = planner_runner::alloc::Counting;
 
-/// The native module: classes `Grid`, `Problem`, `Outcome`, `PlannerInfo`; functions
+/// The native module: classes `Grid`, `Problem`, `Outcome`, `PlannerInfo`, `Planner`; functions
 /// `read_map`, `planners`, `plan` and `run_experiment_rows`.
 #[pymodule]
 fn _gridplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -35,6 +36,7 @@ fn _gridplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<grid::MapProblem>()?;
     m.add_class::<plan::Outcome>()?;
     m.add_class::<plan::PlannerInfo>()?;
+    m.add_class::<planner::Planner>()?;
     m.add_function(wrap_pyfunction!(grid::read_map, m)?)?;
     m.add_function(wrap_pyfunction!(plan::planners, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;

@@ -152,7 +152,7 @@ pub fn plan(
 
 /// `budget`: None (plan's default, as on the command line), a maximum number of
 /// expansions, or a dict with a config's `[budget]` keys.
-fn to_budget(budget: Option<&Bound<'_, PyAny>>) -> Result<Budget, Failure> {
+pub(crate) fn to_budget(budget: Option<&Bound<'_, PyAny>>) -> Result<Budget, Failure> {
     let mut parsed = match budget {
         None => Budget::unlimited(),
         Some(value) if value.is_none() => Budget::unlimited(),
@@ -188,7 +188,11 @@ fn to_budget(budget: Option<&Bound<'_, PyAny>>) -> Result<Budget, Failure> {
     Ok(parsed)
 }
 
-fn problem_error(endpoint: &'static str, cell: (i64, i64), grid: &planner_api::Grid) -> Failure {
+pub(crate) fn problem_error(
+    endpoint: &'static str,
+    cell: (i64, i64),
+    grid: &planner_api::Grid,
+) -> Failure {
     Failure::Problem {
         endpoint,
         cell,
@@ -259,7 +263,7 @@ fn run(
     Ok(run_one(&single, &spec, &mut Workspace::default(), None)?)
 }
 
-fn outcome(py: Python<'_>, record: RunRecord) -> PyResult<Outcome> {
+pub(crate) fn outcome(py: Python<'_>, record: RunRecord) -> PyResult<Outcome> {
     let cells = record.path.as_ref().map(|p| p.cells()).unwrap_or_default();
     let path = Array2::from_shape_fn((cells.len(), 2), |(i, j)| {
         i64::from(if j == 0 { cells[i].x } else { cells[i].y })

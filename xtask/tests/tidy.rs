@@ -11,7 +11,8 @@ use planner_runner::registry::PLANNERS;
 
 /// The crates under `crates/` that are not planners.
 const SUPPORT_CRATES: &[&str] = &[
-    "api", "bench", "cli", "figures", "maps", "replan", "runner", "serve", "stats", "testkit",
+    "api", "bench", "cli", "figures", "maps", "replan", "runner", "search", "serve", "stats",
+    "testkit",
 ];
 
 /// The package of `crates/<dir>`: `planner-<dir>`, but for the command line, `gridplan`.

@@ -62,7 +62,7 @@
 //! see [`planner_api::cost`]). With `f64` sums of `sqrt 2`, rounding noise broke ties and
 //! high-g-first expanded 25 % more nodes on the Moving AI random maps.
 //!
-//! OPEN (module `open`) gives entries out in exactly the order of the full key (f, tie,
+//! OPEN (planner-search's `bucket` module) gives entries out in exactly the order of the full key (f, tie,
 //! push sequence), and is chosen per search by what the costs allow. With unit moves and
 //! an integer heuristic that changes by at most 1 per move (Manhattan, Chebyshev, zero) and
 //! weight 0 or 1, `f` is an integer that never drops along an edge and rises by at most 2,
@@ -102,13 +102,11 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-mod open;
-
-use open::{BucketOpen, IntOpen, Open};
 use planner_api::{
     Adjacency, Budget, Cell, Connectivity, Cost, Counter, Grid, MemoryShortfall, MoveOrderError,
     MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
+use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 

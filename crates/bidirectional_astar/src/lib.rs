@@ -70,8 +70,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use planner_search::{QuadHeap, Stamped};
 
 use planner_api::{
     Adjacency, Budget, Cell, Connectivity, Counter, Counters, Grid, MemoryShortfall,
@@ -145,13 +144,14 @@ struct Node {
     stamp: [u32; 2],
 }
 
-/// An OPEN entry, a max-heap key: least `f`, then largest `g`, then first pushed. Costs
-/// are non-negative, so their bit patterns order as the numbers do.
+/// An OPEN entry, a min-heap key: least `f`, then largest `g` (`g_rev` is the complement
+/// of its bits), then first pushed. Costs are non-negative, so their bit patterns order as
+/// the numbers do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 struct Entry {
-    f: Reverse<u64>,
-    g_bits: u64,
-    seq: Reverse<u64>,
+    f: u64,
+    g_rev: u64,
+    seq: u64,
     node: u32,
 }
 
@@ -162,9 +162,8 @@ pub struct BidirectionalAStar {
     moves: MoveSet,
     eight: bool,
     adjacency: Option<Adjacency>,
-    nodes: Vec<Node>,
-    generation: u32,
-    open: [BinaryHeap<Entry>; 2],
+    nodes: Stamped<Node>,
+    open: [QuadHeap<Entry>; 2],
 }
 
 /// What one search produced.
@@ -226,9 +225,8 @@ impl BidirectionalAStar {
             moves: MoveSet::new(config.moves, false, &config.order)?,
             eight,
             adjacency: None,
-            nodes: Vec::new(),
-            generation: 0,
-            open: [BinaryHeap::new(), BinaryHeap::new()],
+            nodes: Stamped::default(),
+            open: [QuadHeap::default(), QuadHeap::default()],
         })
     }
 
@@ -236,10 +234,7 @@ impl BidirectionalAStar {
     /// grid otherwise).
     pub fn prepare(&mut self, grid: &Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
-        if self.nodes.len() != adjacency.padded_len() {
-            self.nodes = vec![Node::default(); adjacency.padded_len()];
-            self.generation = 0;
-        }
+        self.nodes.fit(adjacency.padded_len());
     }
 
     /// The bytes of the adjacency and the node records (32 bytes per padded cell) for
@@ -270,14 +265,8 @@ impl BidirectionalAStar {
         let Some(adjacency) = self.adjacency.as_ref() else {
             unreachable!("prepare fills the adjacency cache");
         };
-        self.generation += 1;
-        if self.generation >= 1 << 31 {
-            self.nodes.fill(Node::default());
-            self.generation = 1;
-        }
-        let open_stamp = self.generation << 1;
-        let closed_stamp = open_stamp | 1;
-        let nodes = &mut self.nodes[..];
+        let (stamps, nodes) = self.nodes.begin();
+        let (open_stamp, closed_stamp) = (stamps.open, stamps.closed);
         let open = &mut self.open;
         open[FORWARD].clear();
         open[BACKWARD].clear();
@@ -312,9 +301,9 @@ impl BidirectionalAStar {
             node.parent[d] = p as u32;
             node.stamp[d] = open_stamp;
             open[d].push(Entry {
-                f: Reverse(h(d, cell).to_bits()),
-                g_bits: 0,
-                seq: Reverse(seq),
+                f: h(d, cell).to_bits(),
+                g_rev: !0,
+                seq,
                 node: p as u32,
             });
             seq += 1;
@@ -336,10 +325,10 @@ impl BidirectionalAStar {
             for d in [FORWARD, BACKWARD] {
                 while let Some(top) = open[d].peek() {
                     let node = &nodes[top.node as usize];
-                    if node.stamp[d] == closed_stamp || node.g[d].to_bits() != top.g_bits {
+                    if node.stamp[d] == closed_stamp || node.g[d].to_bits() != !top.g_rev {
                         open[d].pop();
                     } else {
-                        fmin[d] = f64::from_bits(top.f.0);
+                        fmin[d] = f64::from_bits(top.f);
                         break;
                     }
                 }
@@ -391,15 +380,15 @@ impl BidirectionalAStar {
                 next.g[d] = g_new;
                 next.parent[d] = p as u32;
                 next.stamp[d] = open_stamp;
-                if next.stamp[other] >> 1 == self.generation && g_new + next.g[other] < mu {
+                if next.stamp[other] >> 1 == stamps.generation && g_new + next.g[other] < mu {
                     mu = g_new + next.g[other];
                     meet = q;
                     n_meeting_updates += 1;
                 }
                 open[d].push(Entry {
-                    f: Reverse((g_new + h(d, adjacency.cell(q))).to_bits()),
-                    g_bits: g_new.to_bits(),
-                    seq: Reverse(seq),
+                    f: (g_new + h(d, adjacency.cell(q))).to_bits(),
+                    g_rev: !g_new.to_bits(),
+                    seq,
                     node: q as u32,
                 });
                 seq += 1;

@@ -146,16 +146,15 @@
 
 mod bits;
 mod cost;
-mod open;
 mod plus;
 
 use bits::{diagonal, BitGrid, DX, DY};
 pub use cost::Cost;
-use open::Open;
 use planner_api::{
     Budget, Cell, Connectivity, Counters, Grid, Mark, MoveSet, Outcome, ParamKey, Path, PathSpec,
     Planner, PlannerSpecs, Problem, Status,
 };
+use planner_search::FrontHeap as Open;
 use plus::JumpTable;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;

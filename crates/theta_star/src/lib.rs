@@ -100,8 +100,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use planner_search::{QuadHeap, Stamped};
 
 use planner_api::{
     walk_segment, Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder,
@@ -240,12 +239,14 @@ struct Node {
     stamp: u32,
 }
 
-/// An OPEN entry, a max-heap key: least rounded `f`, then largest `g`, then first pushed.
+/// An OPEN entry, a min-heap key: least rounded `f`, then largest `g` (`g_rev` is the
+/// complement of its bits: costs are non-negative, so their bits order as they do), then
+/// first pushed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 struct Entry {
-    f: Reverse<u64>,
-    g_bits: u64,
-    seq: Reverse<u64>,
+    f: u64,
+    g_rev: u64,
+    seq: u64,
     node: u32,
 }
 
@@ -255,9 +256,8 @@ struct Entry {
 pub struct AnyAngle {
     moves: MoveSet,
     adjacency: Option<Adjacency>,
-    nodes: Vec<Node>,
-    generation: u32,
-    open: BinaryHeap<Entry>,
+    nodes: Stamped<Node>,
+    open: QuadHeap<Entry>,
 }
 
 impl AnyAngle {
@@ -269,9 +269,8 @@ impl AnyAngle {
         Ok(AnyAngle {
             moves,
             adjacency: None,
-            nodes: Vec::new(),
-            generation: 0,
-            open: BinaryHeap::new(),
+            nodes: Stamped::default(),
+            open: QuadHeap::default(),
         })
     }
 
@@ -279,10 +278,7 @@ impl AnyAngle {
     /// grid otherwise).
     pub fn prepare(&mut self, grid: &planner_api::Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
-        if self.nodes.len() != adjacency.padded_len() {
-            self.nodes = vec![Node::default(); adjacency.padded_len()];
-            self.generation = 0;
-        }
+        self.nodes.fit(adjacency.padded_len());
     }
 
     /// Runs `variant` on `problem` within `budget` (one expansion is one node taken from
@@ -293,14 +289,8 @@ impl AnyAngle {
         let Some(adjacency) = self.adjacency.as_ref() else {
             unreachable!("prepare fills the adjacency cache");
         };
-        self.generation += 1;
-        if self.generation >= 1 << 31 {
-            self.nodes.fill(Node::default());
-            self.generation = 1;
-        }
-        let open_stamp = self.generation << 1;
-        let closed_stamp = open_stamp | 1;
-        let nodes = &mut self.nodes[..];
+        let (stamps, nodes) = self.nodes.begin();
+        let (open_stamp, closed_stamp) = (stamps.open, stamps.closed);
         let open = &mut self.open;
         open.clear();
 
@@ -317,7 +307,7 @@ impl AnyAngle {
             );
             (dx * dx + dy * dy).sqrt()
         };
-        let key = |f: f64| Reverse((f / EPSILON).round() as u64);
+        let key = |f: f64| (f / EPSILON).round() as u64;
         let mut seq = 0u64;
         let mut stats = AnyAngleStats::default();
         let mut n_safe = 0u64;
@@ -338,8 +328,8 @@ impl AnyAngle {
         };
         open.push(Entry {
             f: key(h(start)),
-            g_bits: 0.0f64.to_bits(),
-            seq: Reverse(seq),
+            g_rev: !0.0f64.to_bits(),
+            seq,
             node: start_index as u32,
         });
         stats.search.n_open_insertions = 1;
@@ -353,7 +343,7 @@ impl AnyAngle {
 
         while let Some(entry) = open.pop() {
             let p = entry.node as usize;
-            if nodes[p].stamp == closed_stamp || nodes[p].g.to_bits() != entry.g_bits {
+            if nodes[p].stamp == closed_stamp || nodes[p].g.to_bits() != !entry.g_rev {
                 continue; // An older entry of a node improved while in OPEN.
             }
             if !clock.allows(stats.search.n_expanded) {
@@ -442,8 +432,8 @@ impl AnyAngle {
                     seq += 1;
                     open.push(Entry {
                         f: key(g_new + h(q_cell)),
-                        g_bits: g_new.to_bits(),
-                        seq: Reverse(seq),
+                        g_rev: !g_new.to_bits(),
+                        seq,
                         node: q as u32,
                     });
                 }

@@ -1,5 +1,5 @@
 //! OPEN lists. Every one pops entries in exactly the order of the full key
-//! `(f, tie, push sequence)` that [`TieBreak`](crate::TieBreak) defines, with lazy deletion:
+//! `(f, tie, push sequence)` of a tie rule ([`FIFO`], [`LIFO`], [`LOW_G`], [`HIGH_G`]), with lazy deletion:
 //! a node improved while in OPEN gets a second entry and the older one is skipped by the
 //! search when it comes out (the node is then CLOSED), or dropped unseen when its bucket
 //! comes up after its node was expanded.
@@ -22,14 +22,19 @@
 
 use planner_api::Cost;
 
-/// The tie rules as const-generic parameters (see [`TieBreak`](crate::TieBreak)).
-pub(crate) const FIFO: u8 = 0;
-pub(crate) const LIFO: u8 = 1;
-pub(crate) const LOW_G: u8 = 2;
-pub(crate) const HIGH_G: u8 = 3;
+// The tie rules among entries of equal `f`, as const-generic parameters. Each rule ends
+// with the push sequence, so no two entries tie.
+/// Tie rule: the entry pushed first comes out first.
+pub const FIFO: u8 = 0;
+/// Tie rule: the entry pushed last comes out first.
+pub const LIFO: u8 = 1;
+/// Tie rule: lower `g` first, then first pushed.
+pub const LOW_G: u8 = 2;
+/// Tie rule: higher `g` first, then first pushed.
+pub const HIGH_G: u8 = 3;
 
 /// An OPEN list.
-pub(crate) trait Open {
+pub trait Open {
     /// Empties the list, keeping its memory.
     fn clear(&mut self);
     /// Inserts `node` with evaluation `f` and cost so far `g`. Preconditions for
@@ -101,7 +106,7 @@ impl Entry {
 ///
 /// Precondition: [`BucketOpen::configure`] before the first push.
 #[derive(Debug, Clone, Default)]
-pub(crate) struct BucketOpen<const TIE: u8> {
+pub struct BucketOpen<const TIE: u8> {
     /// A bucket is `f`'s units shifted right by this much.
     shift: u32,
     cur: u64,
@@ -118,7 +123,7 @@ impl<const TIE: u8> BucketOpen<TIE> {
     /// Sets the bucket width for moves costing at most `max_cost` and the weight `weight`:
     /// with a consistent heuristic, the `f` values in OPEN span at most
     /// `(1 + weight) * max_cost`, which the ring then covers.
-    pub(crate) fn configure(&mut self, max_cost: Cost, weight: f64) {
+    pub fn configure(&mut self, max_cost: Cost, weight: f64) {
         const BUCKETS_PER_UNIT: f64 = 16.0;
         let span = (1.0 + weight) * max_cost.to_f64() * BUCKETS_PER_UNIT;
         let slots = if span.is_finite() && span < 4096.0 {
@@ -265,7 +270,7 @@ impl<const TIE: u8> Open for BucketOpen<TIE> {
 /// Invariant: every entry's `f` lies in `cur..cur + 4` and sits in slot `f % 4`; a slot
 /// holds one `f` value, so its order is the tie rule's alone.
 #[derive(Debug, Clone, Default)]
-pub(crate) struct IntOpen<const TIE: u8> {
+pub struct IntOpen<const TIE: u8> {
     /// Scratch space for [`Slot::sort_in_pending`].
     scratch: Scratch,
     cur: u64,
@@ -462,7 +467,7 @@ impl<const TIE: u8> IntOpen<TIE> {
     /// Whether this OPEN can hold `f = g + weight * h` for unit moves (costs `move_costs`),
     /// the heuristic values being integers that change by at most 1 along a move
     /// (`consistent_integer_h`).
-    pub(crate) fn fits(
+    pub fn fits(
         move_costs: impl IntoIterator<Item = Cost>,
         weight: f64,
         consistent_integer_h: bool,

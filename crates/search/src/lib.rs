@@ -1,0 +1,25 @@
+//! The OPEN lists and per-cell node arrays of gridplan's best-first searches, shared by
+//! A* (planner-astar), Jump Point Search (planner-jps), Theta* and Lazy Theta*
+//! (planner-theta_star) and bidirectional A* (planner-bidirectional_astar).
+//!
+//! - [`bucket`]: OPEN lists that pop in exactly the order of the full key
+//!   `(f, tie rule, push sequence)`: [`bucket::BucketOpen`] (a ring of narrow `f` buckets in
+//!   front of a binary heap, for any [`planner_api::Cost`]) and [`bucket::IntOpen`] (four
+//!   slots of one integer `f` each, for unit moves and integer consistent heuristics).
+//! - [`QuadHeap`], a 4-ary min-heap of any ordered entry, and [`FrontHeap`], the same
+//!   behind a stack of entries with the last popped key (Jump Point Search's common case).
+//! - [`Stamped`]: per-cell node records with generation stamps, so a search costs the
+//!   cells it touches, not the grid.
+//!
+//! All of them keep their memory between searches: after the first query on a grid, a
+//! search allocates nothing. Deletion is lazy everywhere: an improved node is pushed
+//! again and the search skips the older entry when it comes out.
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+pub mod bucket;
+mod quad;
+mod stamps;
+
+pub use quad::{FrontEntry, FrontHeap, QuadHeap};
+pub use stamps::{Stamped, Stamps};

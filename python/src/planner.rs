@@ -1,0 +1,391 @@
+//! `Planner`: a registry planner built and prepared for one grid once, then asked many
+//! queries without per-call setup.
+//!
+//! `gridplan.plan` builds the planner and its per-grid tables (A*'s bit grid, JPS's
+//! jump table, ...) on every call. A `Planner` keeps them: its runs go through the same
+//! [`run_one`] as `plan`'s, with a [`Workspace`] that lives as long as the object, so the
+//! planner is built and prepared for the grid by the first query and reused after.
+//! `plan_many` runs a batch of queries on a rayon pool with the GIL released, one
+//! workspace per pool thread (each prepared once), threads taking the next query as they
+//! finish one, and returns the results as NumPy arrays in query order. Counters do not
+//! depend on the number of threads: each is a pure function of (grid, query, planner).
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use numpy::ndarray::{Array1, Array2};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use planner_api::Budget;
+use planner_runner::config::{self, Experiment, MapEntry, ProblemEntry};
+use planner_runner::record::RunRecord;
+use planner_runner::run::{run_one, RunSpec, Workspace};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::errors::{guarded, Failure};
+use crate::grid::{to_cell, Grid};
+use crate::plan::{outcome, problem_error, to_budget, Outcome};
+use crate::values::to_table;
+
+/// The experiment (one map, one planner; its problems are the current call's queries)
+/// and the workspaces: one for `plan`, one per thread of `plan_many`'s pool.
+struct State {
+    experiment: Experiment,
+    single: Workspace,
+    workers: Vec<Mutex<Workspace>>,
+    pool: Option<rayon::ThreadPool>,
+}
+
+/// A planner prepared for one grid (see the stub, `gridplan/__init__.pyi`).
+#[pyclass(module = "gridplan", frozen)]
+pub struct Planner {
+    state: Mutex<State>,
+    /// The registry name.
+    name: String,
+    coverage: bool,
+}
+
+/// One query's cells, checked: a negative or too large coordinate is a `ProblemError`
+/// naming the endpoint (and the query's index in a batch).
+fn cells(
+    grid: &planner_api::Grid,
+    start: (i64, i64),
+    goal: Option<(i64, i64)>,
+    query: Option<usize>,
+) -> Result<(planner_api::Cell, Option<planner_api::Cell>), Failure> {
+    let name = |failure: Failure| match (failure, query) {
+        (
+            Failure::Problem {
+                endpoint,
+                cell,
+                message,
+            },
+            Some(i),
+        ) => Failure::Problem {
+            endpoint,
+            cell,
+            message: format!("query {i}: {message}"),
+        },
+        (failure, _) => failure,
+    };
+    let start_cell = to_cell(start).ok_or_else(|| name(problem_error("start", start, grid)))?;
+    let goal_cell = match goal {
+        Some(goal) => Some(to_cell(goal).ok_or_else(|| name(problem_error("goal", goal, grid)))?),
+        None => None,
+    };
+    Ok((start_cell, goal_cell))
+}
+
+impl Planner {
+    fn lock(&self) -> MutexGuard<'_, State> {
+        // A panic while planning is caught inside the lock's holder (`guarded`); a
+        // poisoned lock still holds consistent state, as every call replaces the problems.
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The problem entry of one query, or the error `plan` raises for it.
+    fn entry(
+        &self,
+        grid: &planner_api::Grid,
+        index: usize,
+        (start, goal): (planner_api::Cell, Option<planner_api::Cell>),
+        query: Option<usize>,
+    ) -> Result<ProblemEntry, Failure> {
+        let goal = match (goal, self.coverage) {
+            (Some(_), true) => {
+                return Err(Failure::Value(format!(
+                    "`{}` is a coverage planner: it covers from the start and takes no goal",
+                    self.name
+                )))
+            }
+            (None, true) => start,
+            (None, false) => {
+                return Err(Failure::Value(format!(
+                    "`{}` plans from a start to a goal: give the goal",
+                    self.name
+                )))
+            }
+            (Some(goal), false) => goal,
+        };
+        let entry = ProblemEntry::new(grid, index, start, goal, None);
+        if entry.invalid.is_some() {
+            if let Err(error) = planner_api::Problem::new(grid, start, goal) {
+                let (endpoint, cell) = match &error {
+                    planner_api::ProblemError::OutOfBounds { endpoint, cell, .. }
+                    | planner_api::ProblemError::Blocked { endpoint, cell } => (*endpoint, *cell),
+                };
+                let prefix = query.map(|i| format!("query {i}: ")).unwrap_or_default();
+                return Err(Failure::Problem {
+                    endpoint: match endpoint {
+                        planner_api::Endpoint::Start => "start",
+                        planner_api::Endpoint::Goal => "goal",
+                    },
+                    cell: (i64::from(cell.x), i64::from(cell.y)),
+                    message: format!("{prefix}{error}"),
+                });
+            }
+        }
+        Ok(entry)
+    }
+}
+
+/// `(N, 2)` integer cells from any array-like (`None` stays `None`).
+fn cell_array(
+    py: Python<'_>,
+    name: &str,
+    value: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<Vec<(i64, i64)>>> {
+    let Some(value) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    let numpy = py.import("numpy")?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", "int64")?;
+    let array = numpy.call_method("asarray", (value,), Some(&kwargs))?;
+    let array = match array.extract::<PyReadonlyArray2<'_, i64>>() {
+        Ok(view) if view.shape()[1] == 2 => view,
+        _ => {
+            return Err(Failure::Value(format!(
+                "{name}: expected an (N, 2) array of (x, y) cells, got shape {}",
+                array.getattr("shape")?.repr()?
+            ))
+            .into_pyerr(py))
+        }
+    };
+    let view = array.as_array();
+    Ok(Some(
+        view.outer_iter().map(|row| (row[0], row[1])).collect(),
+    ))
+}
+
+#[pymethods]
+impl Planner {
+    /// Builds registry planner `planner` with its parameters for `grid`.
+    #[new]
+    #[pyo3(signature = (grid, planner = "astar", *, budget = None, **params))]
+    fn new(
+        grid: &Bound<'_, Grid>,
+        planner: &str,
+        budget: Option<&Bound<'_, PyAny>>,
+        params: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Planner> {
+        let py = grid.py();
+        let table = match params {
+            Some(dict) => to_table(dict, "")?,
+            None => toml::Table::new(),
+        };
+        let budget: Budget = to_budget(budget).map_err(|e| e.into_pyerr(py))?;
+        let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
+        let name = planner.to_string();
+        let built = py.detach(move || {
+            guarded(|| {
+                let spec = config::planner_from_table(&name, &name, table, budget)?;
+                let coverage = spec.is_coverage();
+                let map = MapEntry {
+                    name: "grid".into(),
+                    path: Default::default(),
+                    grid: (*grid).clone(),
+                    problems: Vec::new(),
+                };
+                let origin = planner_api::Cell::new(0, 0);
+                let entry = ProblemEntry::new(&map.grid, 1, origin, origin, None);
+                let experiment = Experiment::single(map, entry, spec, 0);
+                Ok((experiment, coverage, name))
+            })
+        });
+        let (experiment, coverage, name) = built.map_err(|e| e.into_pyerr(py))?;
+        Ok(Planner {
+            state: Mutex::new(State {
+                experiment,
+                single: Workspace::default(),
+                workers: Vec::new(),
+                pool: None,
+            }),
+            name,
+            coverage,
+        })
+    }
+
+    /// The registry name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Plans one query, as `gridplan.plan` would with this planner and parameters.
+    #[pyo3(signature = (start, goal = None))]
+    fn plan(
+        &self,
+        py: Python<'_>,
+        start: (i64, i64),
+        goal: Option<(i64, i64)>,
+    ) -> PyResult<Outcome> {
+        let record = py.detach(|| {
+            guarded(|| {
+                let mut state = self.lock();
+                let State {
+                    experiment, single, ..
+                } = &mut *state;
+                let grid = &experiment.maps[0].grid;
+                let query = cells(grid, start, goal, None)?;
+                let entry = self.entry(grid, 1, query, None)?;
+                experiment.maps[0].problems = vec![entry];
+                Ok(run_one(experiment, &SPEC_0, single, None)?)
+            })
+        });
+        outcome(py, record.map_err(|e| e.into_pyerr(py))?)
+    }
+
+    /// Plans every query `(starts[i], goals[i])` on `threads` threads (0: one per core)
+    /// with the GIL released; the results as arrays in query order.
+    #[pyo3(signature = (starts, goals = None, *, threads = 0, paths = false))]
+    fn plan_many<'py>(
+        &self,
+        py: Python<'py>,
+        starts: &Bound<'py, PyAny>,
+        goals: Option<&Bound<'py, PyAny>>,
+        threads: usize,
+        paths: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let Some(starts) = cell_array(py, "starts", Some(starts))? else {
+            return Err(Failure::Value("starts: expected an (N, 2) array".into()).into_pyerr(py));
+        };
+        let goals = cell_array(py, "goals", goals)?;
+        if let Some(goals) = &goals {
+            if goals.len() != starts.len() {
+                return Err(Failure::Value(format!(
+                    "goals: {} goals for {} starts",
+                    goals.len(),
+                    starts.len()
+                ))
+                .into_pyerr(py));
+            }
+        }
+        let records = py.detach(|| {
+            guarded(|| {
+                let mut state = self.lock();
+                let State {
+                    experiment,
+                    workers,
+                    pool,
+                    ..
+                } = &mut *state;
+                let grid = &experiment.maps[0].grid;
+                let mut entries = Vec::with_capacity(starts.len());
+                for (i, &start) in starts.iter().enumerate() {
+                    let goal = goals.as_ref().map(|g| g[i]);
+                    let query = cells(grid, start, goal, Some(i))?;
+                    entries.push(self.entry(grid, i + 1, query, Some(i))?);
+                }
+                experiment.maps[0].problems = entries;
+                let threads = match threads {
+                    0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+                    n => n,
+                };
+                if pool
+                    .as_ref()
+                    .is_none_or(|p| p.current_num_threads() != threads)
+                {
+                    let built = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .map_err(|e| Failure::Value(format!("threads: {e}")))?;
+                    *pool = Some(built);
+                }
+                if workers.len() < threads {
+                    workers.resize_with(threads, || Mutex::new(Workspace::default()));
+                }
+                let Some(pool) = pool.as_ref() else {
+                    unreachable!("the pool was built above");
+                };
+                let experiment = &*experiment;
+                let n = experiment.maps[0].problems.len();
+                let next = AtomicUsize::new(0);
+                let workers = &workers[..];
+                // Each thread takes the next query until none is left; results carry
+                // their index, so their order does not depend on the threads.
+                let parts = pool.broadcast(|ctx| {
+                    let mut workspace = workers[ctx.index()]
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner());
+                    let mut done = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        if i >= n {
+                            break;
+                        }
+                        let spec = RunSpec {
+                            problem: i,
+                            ..SPEC_0
+                        };
+                        done.push((i, run_one(experiment, &spec, &mut workspace, None)));
+                    }
+                    done
+                });
+                let mut records: Vec<Option<RunRecord>> = (0..n).map(|_| None).collect();
+                for (i, record) in parts.into_iter().flatten() {
+                    records[i] = Some(record?);
+                }
+                Ok(records.into_iter().flatten().collect::<Vec<_>>())
+            })
+        });
+        let records = records.map_err(|e| e.into_pyerr(py))?;
+        arrays(py, &records, paths)
+    }
+}
+
+/// Run 0 of problem 0 with the only planner on the only map.
+const SPEC_0: RunSpec = RunSpec {
+    map: 0,
+    problem: 0,
+    planner: 0,
+    repeat: 0,
+};
+
+/// The records as a dict of arrays (see the stub).
+fn arrays<'py>(
+    py: Python<'py>,
+    records: &[RunRecord],
+    with_paths: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    let status = PyList::new(py, records.iter().map(|r| r.status.as_str()))?;
+    let numpy = py.import("numpy")?;
+    out.set_item("status", numpy.call_method1("asarray", (status,))?)?;
+    let floats = |f: &dyn Fn(&RunRecord) -> f64| {
+        PyArray1::from_owned_array(py, Array1::from_iter(records.iter().map(f)))
+    };
+    out.set_item("length", floats(&|r| r.length.unwrap_or(f64::NAN)))?;
+    out.set_item("time_ms", floats(&|r| r.time_ms))?;
+    let ints = |f: &dyn Fn(&RunRecord) -> i64| {
+        PyArray1::from_owned_array(py, Array1::from_iter(records.iter().map(f)))
+    };
+    let or_minus_one = |v: Option<u64>| v.map_or(-1, |v| i64::try_from(v).unwrap_or(i64::MAX));
+    out.set_item("steps", ints(&|r| or_minus_one(r.steps)))?;
+    out.set_item("turns", ints(&|r| or_minus_one(r.turns)))?;
+    let counters = PyDict::new(py);
+    let mut names: Vec<String> = Vec::new();
+    for record in records {
+        for (name, _) in record.counters.iter() {
+            if !names.iter().any(|n| n == name) {
+                names.push(name.to_string());
+            }
+        }
+    }
+    for name in &names {
+        counters.set_item(name, ints(&|r| or_minus_one(r.counters.get(name))))?;
+    }
+    out.set_item("counters", counters)?;
+    if with_paths {
+        let list = PyList::empty(py);
+        for record in records {
+            let cells = record.path.as_ref().map(|p| p.cells()).unwrap_or_default();
+            let path = Array2::from_shape_fn((cells.len(), 2), |(i, j)| {
+                i64::from(if j == 0 { cells[i].x } else { cells[i].y })
+            });
+            list.append(PyArray2::from_owned_array(py, path))?;
+        }
+        out.set_item("paths", list)?;
+    }
+    Ok(out)
+}

@@ -1,0 +1,86 @@
+"""Planner: prepared once, then plan() and plan_many() give gridplan.plan's results."""
+
+import numpy as np
+import pytest
+
+import gridplan
+from conftest import MAPS
+
+ARENA = MAPS / "movingai" / "arena.map"
+PARAMS = dict(moves=8, heuristic="octile", tie_break="high_g")
+
+
+@pytest.fixture(scope="module")
+def arena():
+    return gridplan.read_map(ARENA)
+
+
+def test_plan_equals_gridplan_plan(arena):
+    grid, problems = arena
+    planner = gridplan.Planner(grid, "astar", **PARAMS)
+    assert planner.name == "astar"
+    for p in problems[:40]:
+        ours = planner.plan(p.start, p.goal)
+        theirs = gridplan.plan(grid, p.start, p.goal, planner="astar", **PARAMS)
+        assert ours.status == theirs.status
+        assert ours.counters == theirs.counters
+        assert ours.metrics == theirs.metrics
+        assert np.array_equal(ours.path, theirs.path)
+        assert ours.valid is True
+
+
+def test_plan_many_equals_plan_for_any_thread_count(arena):
+    grid, problems = arena
+    chosen = problems[::4]
+    starts = np.array([p.start for p in chosen])
+    goals = np.array([p.goal for p in chosen])
+    planner = gridplan.Planner(grid, "jps", variant="jps_plus")
+    one = planner.plan_many(starts, goals, threads=1, paths=True)
+    two = planner.plan_many(starts, goals, threads=2, paths=True)
+    assert list(one["status"]) == ["found"] * len(chosen)
+    for key in ["length", "steps", "turns"]:
+        assert np.array_equal(one[key], two[key]), key
+    assert one["counters"].keys() == two["counters"].keys()
+    for name, values in one["counters"].items():
+        assert values.dtype == np.int64
+        assert np.array_equal(values, two["counters"][name]), name
+    for i, p in enumerate(chosen):
+        single = planner.plan(p.start, p.goal)
+        assert one["length"][i] == pytest.approx(single.metrics["length"], abs=0)
+        assert one["counters"]["n_expanded"][i] == single.counters["n_expanded"]
+        assert np.array_equal(one["paths"][i], single.path)
+        # The scenario file's optimum (8-connected, no corner cutting).
+        assert one["length"][i] == pytest.approx(p.optimal_length, rel=1e-4)
+    assert "paths" not in planner.plan_many(starts, goals)
+
+
+def test_plan_many_reports_no_path_and_budget_as_rows():
+    grid = gridplan.Grid.from_numpy(
+        np.array([[1, 0, 1], [1, 0, 1], [1, 0, 1]], dtype=bool), free=True
+    )
+    for budget, goal, status in [(None, [2, 2], "no_path"), (1, [0, 2], "budget_exhausted")]:
+        out = gridplan.Planner(grid, "astar", budget=budget).plan_many([[0, 0]], [goal])
+        assert list(out["status"]) == [status]
+        assert np.isnan(out["length"]).all()
+        assert list(out["steps"]) == [-1]
+
+
+def test_bad_queries_raise_and_name_the_query(map10):
+    planner = gridplan.Planner(map10, "astar")
+    with pytest.raises(gridplan.ProblemError, match="query 1") as error:
+        planner.plan_many([[0, 0], [-1, 0]], [[11, 11], [11, 11]])
+    assert error.value.endpoint == "start"
+    with pytest.raises(gridplan.ProblemError):
+        planner.plan((0, 0), (12, 0))
+    with pytest.raises(ValueError, match=r"\(N, 2\)"):
+        planner.plan_many([0, 0, 1], [[1, 1]])
+    with pytest.raises(ValueError, match="2 starts"):
+        planner.plan_many([[0, 0], [0, 0]], [[1, 1]])
+    with pytest.raises(ValueError, match="give the goal"):
+        planner.plan((0, 0))
+    with pytest.raises(gridplan.ParameterError):
+        gridplan.Planner(map10, "astar", moves=7)
+    with pytest.raises(gridplan.ParameterError):
+        gridplan.Planner(map10, "no_such_planner")
+    # The planner stays usable after errors.
+    assert planner.plan((0, 0), (11, 11)).status == "found"
