@@ -227,7 +227,13 @@ impl BitGrid {
         loop {
             let clearance = self.clearance[index as usize];
             if clearance == 0 {
-                self.blocked_cell(a, b, index, &mut collision, &mut fraction);
+                blocked_cell(
+                    a,
+                    b,
+                    walk_cell(a, sx, sy, ix, iy),
+                    &mut collision,
+                    &mut fraction,
+                );
             }
             if ix >= nx && iy >= ny {
                 break;
@@ -254,9 +260,13 @@ impl BitGrid {
             // The next crossing: a vertical grid line when decision < 0, a horizontal one
             // when > 0, both at a vertex (the two side cells first).
             if decision == 0 {
-                for side in [index + step_x, index + step_y] {
+                for (side, (jx, jy)) in [
+                    (index + step_x, (ix + 1, iy)),
+                    (index + step_y, (ix, iy + 1)),
+                ] {
                     if self.clearance[side as usize] == 0 {
-                        self.blocked_cell(a, b, side, &mut collision, &mut fraction);
+                        let cell = walk_cell(a, sx, sy, jx, jy);
+                        blocked_cell(a, b, cell, &mut collision, &mut fraction);
                     }
                 }
                 index += step_x + step_y;
@@ -279,30 +289,30 @@ impl BitGrid {
         collision
     }
 
-    /// Counts the blocked cell at flat `index` for the segment `a` -> `b`.
-    #[cold]
-    #[inline(never)]
-    fn blocked_cell(
-        &self,
-        a: Cell,
-        b: Cell,
-        index: i64,
-        collision: &mut Collision,
-        fraction: &mut f64,
-    ) {
-        let width = self.width as i64;
-        // A visited cell's flat index: in the grid, so the casts are exact.
-        let cell = Cell::new((index % width) as u32, (index / width) as u32);
-        collision.cells += 1;
-        *fraction += clipped_fraction(a, b, cell);
-    }
-
     /// Whether the segment between the centres of `a` and `b` touches no blocked cell
     /// ([`planner_api::segment_is_free`] on the packed grid). Precondition as
     /// [`BitGrid::segment_collision`].
     pub fn segment_is_free(&self, a: Cell, b: Cell) -> bool {
         self.segment_collision(a, b).is_free()
     }
+}
+
+/// The cell `ix` steps along x (direction `sx`) and `iy` along y (`sy`) from `a`: a cell
+/// the walk visits, so in the grid and the casts are exact.
+#[inline]
+fn walk_cell(a: Cell, sx: i64, sy: i64, ix: i64, iy: i64) -> Cell {
+    Cell::new(
+        (i64::from(a.x) + sx * ix) as u32,
+        (i64::from(a.y) + sy * iy) as u32,
+    )
+}
+
+/// Counts the blocked `cell` for the segment `a` -> `b`.
+#[cold]
+#[inline(never)]
+fn blocked_cell(a: Cell, b: Cell, cell: Cell, collision: &mut Collision, fraction: &mut f64) {
+    collision.cells += 1;
+    *fraction += clipped_fraction(a, b, cell);
 }
 
 /// The length of the segment between the centres of `a` and `b` inside the square of
@@ -313,31 +323,38 @@ pub fn clipped_length(a: Cell, b: Cell, cell: Cell) -> f64 {
 
 /// The fraction of the segment between the centres of `a` and `b` that lies inside the
 /// square of `cell`: the parameter interval `[t0, t1]` of Liang-Barsky clipping.
+///
+/// Each axis with `b != a` bounds `t` below by `(c - a - s/2) / (b - a)` and above by
+/// `(c - a + s/2) / (b - a)` (`s` the axis' direction); on an axis with `b == a` the
+/// segment meets the square only if `a == c`. The bounds are compared exactly as integer
+/// fractions (coordinates doubled) and only the two that win are divided, so `t0` and
+/// `t1` are the same floating-point values as Liang-Barsky's four divisions give (rounding
+/// is monotone, and a quotient's rounding does not depend on scaling both sides by 2;
+/// tested bit for bit against them).
 fn clipped_fraction(a: Cell, b: Cell, cell: Cell) -> f64 {
-    let (ax, ay) = (f64::from(a.x), f64::from(a.y));
-    let (dx, dy) = (f64::from(b.x) - ax, f64::from(b.y) - ay);
-    let (cx, cy) = (f64::from(cell.x), f64::from(cell.y));
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    // Each side: p t <= q must hold for the point a + t (dx, dy) to be inside.
-    for (p, q) in [
-        (-dx, ax - (cx - 0.5)),
-        (dx, (cx + 0.5) - ax),
-        (-dy, ay - (cy - 0.5)),
-        (dy, (cy + 0.5) - ay),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
+    // The lower and upper bound as fractions `(numerator, denominator > 0)`.
+    let (mut low, mut high) = ((0i64, 1i64), (1i64, 1i64));
+    for (a, b, c) in [(a.x, b.x, cell.x), (a.y, b.y, cell.y)] {
+        let (a, b, c) = (i64::from(a), i64::from(b), i64::from(c));
+        if a == b {
+            if a != c {
                 return 0.0;
             }
-        } else {
-            let r = q / p;
-            if p < 0.0 {
-                t0 = t0.max(r);
-            } else {
-                t1 = t1.min(r);
-            }
+            continue;
+        }
+        let offset = if b > a { 2 * (c - a) } else { 2 * (a - c) };
+        let denominator = 2 * (b - a).abs();
+        let (l, u) = (offset - 1, offset + 1);
+        if l * low.1 > low.0 * denominator {
+            low = (l, denominator);
+        }
+        if u * high.1 < high.0 * denominator {
+            high = (u, denominator);
         }
     }
+    // Exact integers (|values| < 2^53), so the conversions are exact.
+    let t0 = low.0 as f64 / low.1 as f64;
+    let t1 = high.0 as f64 / high.1 as f64;
     if t1 > t0 {
         t1 - t0
     } else {
@@ -348,6 +365,65 @@ fn clipped_fraction(a: Cell, b: Cell, cell: Cell) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Reference: the fraction of the segment between the centres of `a` and `b` that lies inside the
+    /// square of `cell`: the parameter interval `[t0, t1]` of Liang-Barsky clipping.
+    fn liang_barsky(a: Cell, b: Cell, cell: Cell) -> f64 {
+        let (ax, ay) = (f64::from(a.x), f64::from(a.y));
+        let (dx, dy) = (f64::from(b.x) - ax, f64::from(b.y) - ay);
+        let (cx, cy) = (f64::from(cell.x), f64::from(cell.y));
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        // Each side: p t <= q must hold for the point a + t (dx, dy) to be inside.
+        for (p, q) in [
+            (-dx, ax - (cx - 0.5)),
+            (dx, (cx + 0.5) - ax),
+            (-dy, ay - (cy - 0.5)),
+            (dy, (cy + 0.5) - ay),
+        ] {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return 0.0;
+                }
+            } else {
+                let r = q / p;
+                if p < 0.0 {
+                    t0 = t0.max(r);
+                } else {
+                    t1 = t1.min(r);
+                }
+            }
+        }
+        if t1 > t0 {
+            t1 - t0
+        } else {
+            0.0
+        }
+    }
+
+    #[test]
+    fn clipping_equals_four_division_liang_barsky_bit_for_bit() {
+        let mut state = 0x0bad_5eed_1234_5678u64;
+        let mut next = move |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n) as u32
+        };
+        let mut n_inside = 0;
+        for _ in 0..200_000 {
+            let a = Cell::new(next(40), next(40));
+            let b = Cell::new(next(40), next(40));
+            // Near the segment's box, so that many cells are met.
+            let cell = Cell::new(
+                (a.x.min(b.x) + next(u64::from(a.x.abs_diff(b.x)) + 3)).saturating_sub(1),
+                (a.y.min(b.y) + next(u64::from(a.y.abs_diff(b.y)) + 3)).saturating_sub(1),
+            );
+            let (fast, slow) = (clipped_fraction(a, b, cell), liang_barsky(a, b, cell));
+            assert_eq!(fast.to_bits(), slow.to_bits(), "{a:?} -> {b:?} in {cell:?}");
+            n_inside += u64::from(slow > 0.0);
+        }
+        assert!(n_inside > 20_000, "too few cells met: {n_inside}");
+    }
 
     /// Whether the closed square of `cell` meets the closed segment between the centres
     /// of `a` and `b`, in exact integer arithmetic (coordinates doubled so that square
