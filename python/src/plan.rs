@@ -13,7 +13,7 @@ use numpy::PyArray2;
 use planner_api::{Budget, Problem};
 use planner_runner::config::{self, Experiment, MapEntry, ProblemEntry};
 use planner_runner::record::RunRecord;
-use planner_runner::registry;
+use planner_registry as registry;
 use planner_runner::run::{run_one, RunSpec, Workspace};
 use planner_runner::Task;
 use pyo3::prelude::*;

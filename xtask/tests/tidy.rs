@@ -7,11 +7,12 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use common::root;
-use planner_runner::registry::PLANNERS;
+use planner_registry::PLANNERS;
 
 /// The crates under `crates/` that are not planners.
 const SUPPORT_CRATES: &[&str] = &[
-    "api", "bench", "cli", "figures", "maps", "runner", "stats", "testkit",
+    "api", "bench", "cli", "figures", "maps", "paper", "registry", "report", "runner", "stats",
+    "testkit",
 ];
 
 /// The package of `crates/<dir>`: `planner-<dir>`, but for the command line, `gridplan`.
@@ -29,7 +30,10 @@ const API_DEPENDENCIES: &[&str] = &["serde", "thiserror"];
 /// know nothing of the runner.
 const PLANNER_FORBIDDEN: &[&str] = &[
     "planner-maps",
+    "planner-registry",
     "planner-runner",
+    "planner-report",
+    "planner-paper",
     "xtask",
     "tracing",
     "gridplan",
@@ -135,7 +139,7 @@ fn registry_crate_directories_and_runner_dependencies_match() {
         .collect();
     assert_eq!(
         names, planner_dirs,
-        "registry names (crates/runner/src/registry.rs) and the planner directories under crates/ differ"
+        "registry names (crates/registry/src/lib.rs) and the planner directories under crates/ differ"
     );
     let packages = packages();
     for dir in &dirs {
@@ -145,11 +149,11 @@ fn registry_crate_directories_and_runner_dependencies_match() {
             .unwrap_or_else(|| panic!("crates/{dir} is not a workspace member"));
         assert_eq!(p.name, package_name(dir), "crates/{dir}'s package name");
     }
-    let runner = packages
+    let registry = packages
         .iter()
-        .find(|p| p.name == "planner-runner")
+        .find(|p| p.name == "planner-registry")
         .unwrap();
-    let runner_planners: BTreeSet<String> = runner
+    let registry_planners: BTreeSet<String> = registry
         .dependencies
         .iter()
         .filter_map(|d| d.strip_prefix("planner-"))
@@ -157,9 +161,110 @@ fn registry_crate_directories_and_runner_dependencies_match() {
         .map(String::from)
         .collect();
     assert_eq!(
-        names, runner_planners,
-        "planner-runner's planner dependencies and the registry differ"
+        names, registry_planners,
+        "planner-registry's planner dependencies and its list differ"
     );
+}
+
+/// The packages that are planners (a registry name's `planner-<name>`).
+fn planner_packages() -> BTreeSet<String> {
+    PLANNERS
+        .iter()
+        .map(|e| format!("planner-{}", e.name))
+        .collect()
+}
+
+/// What the layered crates may not depend on (normal dependencies), beside any planner
+/// crate: dependencies point down (ARCHITECTURE.md, "Layers").
+const LAYER_FORBIDDEN: &[(&str, &[&str])] = &[
+    (
+        "planner-registry",
+        &["planner-maps", "planner-runner", "planner-report", "planner-paper", "rayon"],
+    ),
+    (
+        "planner-runner",
+        &[
+            "plotters",
+            "pulldown-cmark",
+            "planner-figures",
+            "planner-stats",
+            "planner-report",
+            "planner-paper",
+        ],
+    ),
+    ("planner-report", &["planner-registry", "planner-paper"]),
+    ("planner-paper", &["planner-registry"]),
+];
+
+/// Packages that may depend on planner crates directly: the registry (the one list),
+/// planner crates themselves (one planner may build on another), and xtask (which runs
+/// PA-star's map generator).
+const MAY_NAME_PLANNERS: &[&str] = &["planner-registry", "xtask"];
+
+#[test]
+fn dependencies_point_down_and_only_the_registry_names_planners() {
+    let packages = packages();
+    let planners = planner_packages();
+    for p in &packages {
+        if planners.contains(&p.name) || MAY_NAME_PLANNERS.contains(&p.name.as_str()) {
+            continue;
+        }
+        for dep in &p.dependencies {
+            assert!(
+                !planners.contains(dep),
+                "{} depends on the planner crate {dep}: only planner-registry names planners (add the planner to crates/registry instead)",
+                p.name
+            );
+        }
+    }
+    for (package, forbidden) in LAYER_FORBIDDEN {
+        let p = packages
+            .iter()
+            .find(|p| p.name == *package)
+            .unwrap_or_else(|| panic!("no package {package}"));
+        for dep in &p.dependencies {
+            assert!(
+                !forbidden.contains(&dep.as_str()),
+                "{package} depends on {dep}; it may not depend on {forbidden:?} (dependencies point down: ARCHITECTURE.md)"
+            );
+        }
+    }
+}
+
+/// What the report and paper crates' sources may not name: they render a results
+/// directory and never run a planner or read the planner list.
+const RENDER_FORBIDDEN: &[&str] = &[
+    "run_one",
+    "run_all",
+    "run_stream",
+    "record_expanded",
+    "record_all",
+    "planner_registry",
+    "PLANNERS",
+    ".build()",
+];
+
+#[test]
+fn report_and_paper_never_run_a_planner() {
+    for dir in ["crates/report/src", "crates/paper/src"] {
+        let mut files = Vec::new();
+        rust_files(&root().join(dir), &mut files);
+        assert!(!files.is_empty(), "{dir} has no Rust files");
+        for file in files {
+            let text = std::fs::read_to_string(&file).unwrap();
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or_default();
+                for word in RENDER_FORBIDDEN {
+                    assert!(
+                        !code.contains(word),
+                        "{}:{}: `{word}`: the report renders a results directory and never runs a planner or reads the planner list",
+                        file.display(),
+                        n + 1
+                    );
+                }
+            }
+        }
+    }
 }
 
 #[test]

@@ -1,5 +1,6 @@
-//! Seed 002's tables in `summary.md`, for experiments with a planner whose registry name
-//! is the section's `proposed` one (the registry sets PA-star): path lengths with `R_length` and `R_time` per scenario (Tables
+//! Seed 002's tables in `summary.md`, comparing the labels that run the planner the config
+//! names as the section's `proposed` one (`{ name = "seed002", proposed = "pastar" }`)
+//! with every other label: path lengths with `R_length` and `R_time` per scenario (Tables
 //! 6-10) and, with three or more repeats, the timing tests (Tables 11-14).
 //!
 //! - `R_length = (length_PA - length_ref) / length_PA` and `R_time` likewise with the
@@ -18,7 +19,8 @@
 //! planners (CAPSO), whose length is the mean over the repeats that found a path (the
 //! status column then counts them); times come from all repeats.
 //!
-//! [`Seed002Capso`] (section `seed002_capso`, for labels running the registry's CAPSO)
+//! [`Seed002Capso`] (section `seed002_capso`, for the labels running the planner the
+//! config names, `{ name = "seed002_capso", planner = "capso" }`)
 //! follows seed 002 section 4.2.2 (Fig. 11): per scenario and CAPSO label its control
 //! points and the found count, mean, min and max length over the repeats, then the mean
 //! over the repeats of the `best_fitness` series (Fig. 11 b) every 10 iterations.
@@ -27,60 +29,81 @@ use std::fmt::Write as _;
 
 use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
 
-use super::{median_iqr, Context, Reproduction, Section};
-use crate::config::{Experiment, PlannerSpec};
-use crate::index::ResultsIndex;
-use crate::record::{RunRecord, RunStatus};
+use planner_report::{median_iqr, Context, Reproduction, Section};
+use planner_runner::config::{Experiment, PlannerSpec};
+use planner_runner::index::ResultsIndex;
+use planner_runner::record::{RunRecord, RunStatus};
 
 /// Seed 002's comparison of a proposed planner with its references (section name
-/// `seed002`).
-pub struct Seed002 {
-    /// The registry name of the proposed planner; every other label is a reference.
-    pub proposed: &'static str,
-}
+/// `seed002`; option `proposed`: the registry name of the proposed planner, every other
+/// label is a reference).
+pub struct Seed002;
 
 impl Section for Seed002 {
     fn name(&self) -> &'static str {
         "seed002"
     }
 
-    /// When some label runs the proposed planner.
-    fn applies(&self, context: &Context<'_>) -> bool {
-        context
-            .experiment
-            .planners
-            .iter()
-            .any(|p| p.name == self.proposed)
+    /// Never by itself: a paper layout shows when a config names it.
+    fn applies(&self, _context: &Context<'_>) -> bool {
+        false
+    }
+
+    fn check(&self, options: &toml::Table) -> Result<(), String> {
+        planner_option(self.name(), options, "proposed").map(drop)
     }
 
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
-        out.push_str(&render(context.experiment, context.index, self.proposed));
+        if let Ok(proposed) = planner_option(self.name(), context.options, "proposed") {
+            out.push_str(&render(context.experiment, context.index, proposed));
+        }
     }
 }
 
 /// Seed 002's CAPSO lengths and mean convergence curve (section name `seed002_capso`;
-/// module docs).
-pub struct Seed002Capso {
-    /// The registry name of CAPSO.
-    pub capso: &'static str,
-}
+/// option `planner`: the registry name of the planner to show; module docs).
+pub struct Seed002Capso;
 
 impl Section for Seed002Capso {
     fn name(&self) -> &'static str {
         "seed002_capso"
     }
 
-    /// When some label runs CAPSO.
-    fn applies(&self, context: &Context<'_>) -> bool {
-        context
-            .experiment
-            .planners
-            .iter()
-            .any(|p| p.name == self.capso)
+    /// Never by itself: a paper layout shows when a config names it.
+    fn applies(&self, _context: &Context<'_>) -> bool {
+        false
+    }
+
+    fn check(&self, options: &toml::Table) -> Result<(), String> {
+        planner_option(self.name(), options, "planner").map(drop)
     }
 
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
-        out.push_str(&render_capso(context.experiment, context.index, self.capso));
+        if let Ok(capso) = planner_option(self.name(), context.options, "planner") {
+            out.push_str(&render_capso(context.experiment, context.index, capso));
+        }
+    }
+}
+
+/// The one option of a section that names a planner: `key`, a string, and nothing else.
+fn planner_option<'a>(
+    section: &str,
+    options: &'a toml::Table,
+    key: &str,
+) -> Result<&'a str, String> {
+    if let Some(other) = options.keys().find(|k| *k != key) {
+        return Err(format!(
+            "section {section:?} takes no option `{other}` (only `{key}`)"
+        ));
+    }
+    match options.get(key) {
+        Some(toml::Value::String(name)) => Ok(name),
+        Some(_) => Err(format!(
+            "section {section:?}: `{key}` is a planner's registry name, a string"
+        )),
+        None => Err(format!(
+            "section {section:?} needs `{key}`, the registry name of the planner it shows, e.g. {{ name = {section:?}, {key} = \"...\" }}"
+        )),
     }
 }
 
@@ -406,7 +429,7 @@ mod tests {
             "name = \"t\"\nrepeats = {repeats}\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.TA]\nplanner = \"astar\"\nmoves = 8\n",
             map.display().to_string()
         );
-        crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap()
+        planner_runner::config::parse(std::path::Path::new("t.toml"), &text).unwrap()
     }
 
     #[test]
@@ -459,7 +482,7 @@ mod tests {
             "name = \"t\"\nrepeats = 3\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.C4]\nplanner = \"capso\"\ncontrol_points = 4\n",
             map.display().to_string()
         );
-        let experiment = crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
+        let experiment = planner_runner::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
         let mut records = Vec::new();
         for r in 0..3 {
             records.push(record("PA", "pastar", r, 100.0, 1.0));

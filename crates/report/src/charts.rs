@@ -6,12 +6,12 @@
 
 use plotters::prelude::*;
 
-use crate::config::{ChartSpec, Experiment};
-use crate::index::ResultsIndex;
-use crate::output::OutputFile;
-use crate::record::RunRecord;
-use crate::report::median_iqr;
-use crate::report::optimum::matches_optimum;
+use planner_runner::config::{ChartSpec, Experiment};
+use planner_runner::index::ResultsIndex;
+use planner_runner::output::OutputFile;
+use planner_runner::record::RunRecord;
+use crate::median_iqr;
+use crate::optimum::matches_optimum;
 
 /// One chart: its file (under `charts/`), title and SVG text.
 #[derive(Debug, Clone, PartialEq)]

@@ -6,50 +6,22 @@
 //! step indices and direction arrows. Repeat 0 is drawn. `figures_pick` chooses the
 //! problems: the first `figures_per_map`, the hardest, or one per scenario bucket.
 //!
-//! With `figures_expanded = true`, each drawn (map, problem, label) is run once more with
-//! [`planner_api::Budget::record_expanded`] on, apart from the timed runs (whose records
-//! stay as they were), and its counters, status and path must equal the timed repeat 0's:
-//! a difference is a determinism bug and an error ([`FigureError::Mismatch`]; not
-//! checked for budgets with a wall-clock limit, whose counters depend on the machine).
-//! `figures/<map>-<problem>-expanded.svg` then draws one panel per planner with its
+//! With `figures_expanded = true`, the sweep records each drawn run's expanded cells at
+//! run time ([`planner_runner::expanded`]; this module runs no planner), and
+//! `figures/<map>-<problem>-expanded.svg` draws one panel per planner with its
 //! expanded cells in a light fill under its path and their number in its legend (planners
 //! that record none say so), and the per-run figures of `figures = "all"` draw them too.
 //! The comparison figures stay as they are. [`draw_run`] draws one run's figure, for
 //! `plan --svg`.
 
-use planner_api::{Cell, Grid, Problem};
+use planner_api::{Cell, Grid};
 use planner_figures::{draw_comparison, draw_path, Layer, Style};
 
-use crate::config::{Experiment, FigureMode, FigurePick, MapEntry, PlannerSpec, ProblemEntry};
-use crate::factory::Built;
-use crate::index::ResultsIndex;
-use crate::output::OutputFile;
-use crate::record::{RunRecord, RunStatus};
-
-/// Why the figures with expanded cells could not be drawn.
-#[derive(Debug, thiserror::Error)]
-pub enum FigureError {
-    /// The run with recording on did not repeat the timed run.
-    #[error(
-        "{label} on {map} problem {problem}: the run recording expanded cells gave \
-         {recorded}, the timed run {timed}; runs must be deterministic (a bug)"
-    )]
-    Mismatch {
-        /// The planner label.
-        label: String,
-        /// The map file name.
-        map: String,
-        /// The 1-based problem.
-        problem: usize,
-        /// The timed run's status and counters.
-        timed: String,
-        /// The recording run's status and counters.
-        recorded: String,
-    },
-    /// The planner could not be built again (its config built for the timed run).
-    #[error("planner `{0}`: {1}")]
-    Build(String, planner_api::ParamError),
-}
+use planner_runner::config::{Experiment, FigureMode};
+use planner_runner::expanded::{pick, ExpandedCells};
+use planner_runner::index::ResultsIndex;
+use planner_runner::output::OutputFile;
+use planner_runner::record::RunRecord;
 
 /// The style of the figures with expanded cells: up to 1800 pixels a side, so that a
 /// panel per planner keeps the cells of a 512 x 512 map visible.
@@ -58,49 +30,6 @@ fn expanded_style() -> Style {
         max_px: 1800.0,
         ..Style::default()
     }
-}
-
-/// Runs `planner` on `problem` of `map` again with [`planner_api::Budget::record_expanded`]
-/// on (with the seed and budget of `timed`'s run) and returns the expanded cells, after
-/// checking that status, counters and path equal `timed`'s. Coverage planners and
-/// invalid problems give none.
-pub fn record_expanded(
-    experiment: &Experiment,
-    map: &MapEntry,
-    problem: &ProblemEntry,
-    planner: &PlannerSpec,
-    timed: &RunRecord,
-) -> Result<Vec<Cell>, FigureError> {
-    let Ok(query) = Problem::new(&map.grid, problem.start, problem.goal) else {
-        return Ok(Vec::new());
-    };
-    let built = planner
-        .factory
-        .build()
-        .map_err(|e| FigureError::Build(planner.label.clone(), e))?;
-    let Built::Path(mut p) = built else {
-        return Ok(Vec::new());
-    };
-    p.prepare(&map.grid);
-    if let Some(seed) = planner.factory.seed_for(experiment.seed, timed.repeat) {
-        p.reseed(seed);
-    }
-    let budget = crate::run::effective_budget(planner).recording_expanded(true);
-    let outcome = p.plan(&query, &budget);
-    let same = RunStatus::from(outcome.status) == timed.status
-        && outcome.counters == timed.counters
-        // Records keep paths only as `paths` says: compare a kept one.
-        && (timed.path.is_none() || outcome.path == timed.path);
-    if !same && budget.max_time.is_none() {
-        return Err(FigureError::Mismatch {
-            label: planner.label.clone(),
-            map: map.name.clone(),
-            problem: problem.index,
-            timed: format!("{} {}", timed.status, timed.counters),
-            recorded: format!("{} {}", outcome.status.as_str(), outcome.counters),
-        });
-    }
-    Ok(outcome.expanded)
 }
 
 /// One run's figure as an SVG document: the grid, the run's path with step indices and
@@ -124,36 +53,17 @@ pub fn draw_run(grid: &Grid, record: &RunRecord, expanded: &[Cell]) -> String {
     )
 }
 
-/// The figure files of `records`. With `figures_expanded`, a recording run that does not
-/// repeat its timed run is logged as an error and the figures are drawn without expanded
-/// cells; [`render_checked`] returns the error instead.
-pub fn render(experiment: &Experiment, records: &[RunRecord]) -> Vec<OutputFile> {
-    match render_checked(experiment, records) {
-        Ok(files) => files,
-        Err(e) => {
-            tracing::error!("{e}; figures drawn without expanded cells");
-            render_with(experiment, records, false).unwrap_or_default()
-        }
-    }
-}
-
-/// The figure files of `records`, or the error of a recording run (`figures_expanded`)
-/// that did not repeat its timed run.
-pub fn render_checked(
+/// The figure files of `records`; with `figures_expanded`, the expanded cells drawn come
+/// from `expanded` (recorded by the sweep; a run without any draws none).
+pub fn render(
     experiment: &Experiment,
     records: &[RunRecord],
-) -> Result<Vec<OutputFile>, FigureError> {
-    render_with(experiment, records, experiment.figures_expanded)
-}
-
-fn render_with(
-    experiment: &Experiment,
-    records: &[RunRecord],
-    with_expanded: bool,
-) -> Result<Vec<OutputFile>, FigureError> {
+    expanded: &ExpandedCells,
+) -> Vec<OutputFile> {
+    let with_expanded = experiment.figures_expanded;
     let mut files = Vec::new();
     if experiment.figures == FigureMode::None {
-        return Ok(files);
+        return files;
     }
     let style = Style::default();
     let index = ResultsIndex::new(records);
@@ -167,20 +77,19 @@ fn render_with(
             if problem.invalid.is_some() {
                 continue;
             }
-            let (specs, runs): (Vec<&PlannerSpec>, Vec<&RunRecord>) = experiment
+            let runs: Vec<&RunRecord> = experiment
                 .planners
                 .iter()
-                .filter_map(|p| Some((p, index.first(&map.name, problem.index, &p.label)?)))
-                .unzip();
-            let expanded: Vec<Vec<Cell>> = if with_expanded {
-                specs
-                    .iter()
-                    .zip(&runs)
-                    .map(|(spec, run)| record_expanded(experiment, map, problem, spec, run))
-                    .collect::<Result<_, _>>()?
-            } else {
-                Vec::new()
-            };
+                .filter_map(|p| index.first(&map.name, problem.index, &p.label))
+                .collect();
+            let cells: Vec<&[Cell]> = runs
+                .iter()
+                .map(|r| {
+                    expanded
+                        .get(&map.name, problem.index, &r.planner)
+                        .unwrap_or_default()
+                })
+                .collect();
             let layers: Vec<Layer<'_>> = runs.iter().map(|r| layer(r)).collect();
             let title = format!(
                 "{} problem {}: {} -> {}",
@@ -201,7 +110,7 @@ fn render_with(
             let layers: Vec<Layer<'_>> = if with_expanded {
                 let effort: Vec<Layer<'_>> = layers
                     .into_iter()
-                    .zip(&expanded)
+                    .zip(&cells)
                     .map(|(layer, cells)| layer.with_expanded(cells))
                     .collect();
                 let title = format!(
@@ -235,7 +144,7 @@ fn render_with(
                             problem.index,
                             file_safe(&run.planner)
                         );
-                        files.extend(crate::coverage::figures(&map.grid, run, &base, &style));
+                        files.extend(crate::coverage_figures::figures(&map.grid, run, &base, &style));
                         continue;
                     }
                     let title =
@@ -261,7 +170,7 @@ fn render_with(
             }
         }
     }
-    Ok(files)
+    files
 }
 
 fn layer(run: &RunRecord) -> Layer<'_> {
@@ -288,88 +197,4 @@ fn file_safe(label: &str) -> String {
             }
         })
         .collect()
-}
-
-/// The problems of a map to draw, at most `limit`, in map order.
-fn pick(problems: &[ProblemEntry], how: FigurePick, limit: usize) -> Vec<&ProblemEntry> {
-    let valid = problems.iter().filter(|p| p.invalid.is_none());
-    let mut chosen: Vec<&ProblemEntry> = match how {
-        FigurePick::First => return problems.iter().take(limit).collect(),
-        FigurePick::Hardest => {
-            let hardness = |p: &ProblemEntry| {
-                p.optimal_length.unwrap_or_else(|| {
-                    let dx = f64::from(p.start.x) - f64::from(p.goal.x);
-                    let dy = f64::from(p.start.y) - f64::from(p.goal.y);
-                    dx.hypot(dy)
-                })
-            };
-            let mut all: Vec<&ProblemEntry> = valid.collect();
-            // Hardest first; ties keep map order (the sort is stable).
-            all.sort_by(|a, b| hardness(b).total_cmp(&hardness(a)));
-            all.truncate(limit);
-            all
-        }
-        FigurePick::Buckets => {
-            let mut firsts: Vec<&ProblemEntry> = Vec::new();
-            for p in valid {
-                if !firsts.iter().any(|f| f.bucket == p.bucket) {
-                    firsts.push(p);
-                }
-            }
-            firsts.sort_by_key(|p| p.bucket);
-            if firsts.len() > limit && limit > 0 {
-                let n = firsts.len();
-                let step = (n - 1) as f64 / (limit.max(2) - 1) as f64;
-                let mut spread: Vec<&ProblemEntry> = (0..limit)
-                    .map(|i| firsts[((i as f64 * step).round() as usize).min(n - 1)])
-                    .collect();
-                spread.dedup_by_key(|p| p.index);
-                spread
-            } else {
-                firsts.truncate(limit);
-                firsts
-            }
-        }
-    };
-    chosen.sort_by_key(|p| p.index);
-    chosen
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use planner_api::{Cell, Grid};
-
-    fn problems() -> Vec<ProblemEntry> {
-        let grid = Grid::new(10, 1).unwrap();
-        (0..6)
-            .map(|i| ProblemEntry {
-                bucket: Some(i / 2),
-                ..ProblemEntry::new(
-                    &grid,
-                    i as usize + 1,
-                    Cell::new(0, 0),
-                    Cell::new(i, 0),
-                    Some(f64::from(i)),
-                )
-            })
-            .collect()
-    }
-
-    fn check(how: FigurePick, limit: usize, expect: &[usize]) {
-        let all = problems();
-        let got: Vec<usize> = pick(&all, how, limit).iter().map(|p| p.index).collect();
-        assert_eq!(got, expect, "{how:?} {limit}");
-    }
-
-    #[test]
-    fn figures_pick_first_hardest_and_one_per_bucket() {
-        check(FigurePick::First, 2, &[1, 2]);
-        // Optima 0..5: the two largest are problems 6 and 5.
-        check(FigurePick::Hardest, 2, &[5, 6]);
-        // Buckets 0, 1, 2 begin at problems 1, 3, 5.
-        check(FigurePick::Buckets, 3, &[1, 3, 5]);
-        // Two of three buckets: the first and the last.
-        check(FigurePick::Buckets, 2, &[1, 5]);
-    }
 }

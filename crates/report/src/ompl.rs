@@ -9,10 +9,10 @@
 
 use std::fmt::Write as _;
 
-use crate::config::Experiment;
-use crate::output::OutputFile;
-use crate::provenance::Provenance;
-use crate::record::RunRecord;
+use planner_runner::config::Experiment;
+use planner_runner::output::OutputFile;
+use planner_runner::provenance::Provenance;
+use planner_runner::record::RunRecord;
 
 /// The fixed run properties, before the counters: name and SQL type.
 const FIXED: [(&str, &str); 11] = [
@@ -45,7 +45,7 @@ pub fn logs(
             out,
             "Experiment {}-{}",
             experiment.name,
-            one_word(crate::report::map_stem(&map.name))
+            one_word(planner_runner::config::map_stem(&map.name))
         );
         let _ = writeln!(
             out,
@@ -148,7 +148,7 @@ pub fn logs(
             out.push_str(".\n");
         }
         files.push(OutputFile {
-            path: format!("ompl/{}.log", one_word(crate::report::map_stem(&map.name))).into(),
+            path: format!("ompl/{}.log", one_word(planner_runner::config::map_stem(&map.name))).into(),
             contents: out.into_bytes(),
         });
     }

@@ -56,7 +56,7 @@ pub struct PlanOptions {
     /// ([`crate::run::default_max_memory_mb`], half the machine's memory).
     pub max_memory_mb: Option<u64>,
     /// Run once more, after the timed run, with the expanded cells recorded
-    /// ([`PlanResult::expanded`], drawn by [`PlanResult::to_svg`]); the second run must
+    /// ([`PlanResult::expanded`], drawn by planner-report's `figures::draw_run`); the second run must
     /// give the same counters, status and path (else an error).
     pub record_expanded: bool,
 }
@@ -303,7 +303,7 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
     )?;
     let expanded = if options.record_expanded {
         let (map, planner) = (&single.maps[0], &single.planners[0]);
-        crate::figures::record_expanded(&single, map, &map.problems[0], planner, &record)
+        crate::expanded::record_expanded(&single, map, &map.problems[0], planner, &record)
             .map_err(|e| RunnerError::Usage(e.to_string()))?
     } else {
         Vec::new()
@@ -412,12 +412,6 @@ impl PlanResult {
             n_revisits: counter("n_revisits"),
             returns,
         })
-    }
-
-    /// The run's figure as an SVG document ([`crate::figures::draw_run`]): grid, path,
-    /// marks, and the expanded cells when they were recorded.
-    pub fn to_svg(&self) -> String {
-        crate::figures::draw_run(&self.grid, &self.record, &self.expanded)
     }
 
     /// Whether the run stopped at the budget `plan` applies by default.

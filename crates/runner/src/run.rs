@@ -17,7 +17,7 @@ use planner_api::{Budget, Counters, CoverageProblem, Grid, Problem};
 use rayon::prelude::*;
 
 use crate::config::{Experiment, MapEntry, PlannerSpec, ProblemEntry};
-use crate::factory::Built;
+use planner_registry::Built;
 use crate::record::{RunRecord, RunStatus};
 use crate::RunnerError;
 
