@@ -539,6 +539,8 @@ fn write_stream(
 /// results directory, under its lock, atomically).
 pub fn report(dir: &Path, config: Option<&Path>, render: &dyn Render) -> Result<Report, RunnerError> {
     let started = Instant::now();
+    // Only gridplan's own results directory: its marker, as `experiment` requires.
+    outdir::check(dir)?;
     outdir::Marker::read(dir).map_err(|e| RunnerError::during("report", e.into()))?;
     let path = dir.join(RESULTS_RECORDS);
     let file = File::open(&path).map_err(|e| {
