@@ -388,3 +388,129 @@ fn no_dependency_declares_a_rust_version_above_the_msrv() {
         resolved.len()
     );
 }
+
+/// The crates whose functions stay short and whose public errors are typed.
+const LAYERED_SOURCES: &[&str] = &["crates/runner/src", "crates/report/src", "crates/paper/src"];
+
+/// Functions of those crates still over 100 lines, each to be split (issue 28's
+/// leftovers, named so that no new one joins them and a split one leaves the list).
+const KNOWN_LONG: &[(&str, &str)] = &[
+    ("crates/paper/src/seed002.rs", "render"),
+    ("crates/report/src/charts.rs", "charts"),
+    ("crates/report/src/figures.rs", "render"),
+    ("crates/report/src/ompl.rs", "logs"),
+    ("crates/runner/src/config.rs", "parse"),
+    ("crates/runner/src/config.rs", "planner_spec"),
+    ("crates/runner/src/config.rs", "map_entries"),
+    ("crates/runner/src/output.rs", "write_runs_json"),
+    ("crates/runner/src/plan.rs", "run_with"),
+];
+
+/// Public functions of those crates that still return `Result<_, String>` (slurm.rs
+/// spawns `sbatch` and belongs in the command line; issue 28's leftover).
+const KNOWN_STRING_ERRORS: &[(&str, &str)] = &[("crates/runner/src/slurm.rs", "slurm")];
+
+/// Every function of `text`: (name, first line, number of lines), a function ending at the
+/// first line that is its indentation followed by `}` (rustfmt's layout).
+fn functions(text: &str) -> Vec<(String, usize, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let trimmed = line.trim_start();
+        let indent = &line[..line.len() - trimmed.len()];
+        let rest = trimmed
+            .strip_prefix("pub(crate) ")
+            .or_else(|| trimmed.strip_prefix("pub "))
+            .unwrap_or(trimmed);
+        let Some(after) = rest.strip_prefix("fn ") else {
+            continue;
+        };
+        let name: String = after
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        let close = format!("{indent}}}");
+        if let Some(end) = lines[i..].iter().position(|l| *l == close) {
+            out.push((name, i + 1, end + 1));
+        }
+    }
+    out
+}
+
+#[test]
+fn no_function_of_the_runner_report_or_paper_is_over_100_lines() {
+    let mut long = Vec::new();
+    for dir in LAYERED_SOURCES {
+        let mut files = Vec::new();
+        rust_files(&root().join(dir), &mut files);
+        for file in files {
+            let relative = file
+                .strip_prefix(root())
+                .unwrap()
+                .display()
+                .to_string();
+            let text = std::fs::read_to_string(&file).unwrap();
+            for (name, line, n) in functions(&text) {
+                if n > 100 {
+                    long.push((relative.clone(), name, line, n));
+                }
+            }
+        }
+    }
+    for (file, name, line, n) in &long {
+        assert!(
+            KNOWN_LONG.contains(&(file.as_str(), name.as_str())),
+            "{file}:{line}: fn {name} has {n} lines; split it (at most 100)"
+        );
+    }
+    for (file, name) in KNOWN_LONG {
+        assert!(
+            long.iter().any(|(f, n, _, _)| f == file && n == name),
+            "{file}: fn {name} is no longer over 100 lines; remove it from KNOWN_LONG"
+        );
+    }
+}
+
+#[test]
+fn public_functions_of_the_runner_report_and_paper_return_typed_errors() {
+    for dir in LAYERED_SOURCES {
+        let mut files = Vec::new();
+        rust_files(&root().join(dir), &mut files);
+        for file in files {
+            let relative = file
+                .strip_prefix(root())
+                .unwrap()
+                .display()
+                .to_string();
+            let text = std::fs::read_to_string(&file).unwrap();
+            let lines: Vec<&str> = text.lines().collect();
+            for (i, line) in lines.iter().enumerate() {
+                let Some(after) = line.trim_start().strip_prefix("pub fn ") else {
+                    continue;
+                };
+                let name: String = after
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                // The signature: up to the line that opens the body.
+                let signature: String = lines[i..]
+                    .iter()
+                    .take_while(|l| !l.trim_end().ends_with('{') && !l.trim_end().ends_with(';'))
+                    .chain(lines[i..].iter().find(|l| {
+                        l.trim_end().ends_with('{') || l.trim_end().ends_with(';')
+                    }))
+                    .copied()
+                    .collect::<Vec<_>>()
+                    .join(" ");
+                let stringly = signature.contains(", String>")
+                    && signature.contains("Result<");
+                if stringly && !KNOWN_STRING_ERRORS.contains(&(relative.as_str(), name.as_str())) {
+                    panic!(
+                        "{relative}:{}: pub fn {name} returns Result<_, String>; give it a thiserror type",
+                        i + 1
+                    );
+                }
+            }
+        }
+    }
+}

@@ -359,10 +359,10 @@ pub fn run(command: Command) -> Result<(), CliError> {
         } => {
             let shard = match shard {
                 Some(text) => {
-                    Some(planner_runner::shard::Shard::parse(&text).map_err(CliError::Usage)?)
+                    Some(planner_runner::shard::Shard::parse(&text).map_err(|e| CliError::Usage(e.0))?)
                 }
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())
-                    .map_err(CliError::Usage)?,
+                    .map_err(|e| CliError::Usage(e.0))?,
             };
             let bar = Bar::default();
             let stop = stop_on_signals();
@@ -517,7 +517,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
             let schema = planner_runner::schema::experiment_schema(
                 &planner_paper::renderer().section_names(),
             )
-            .map_err(CliError::Failed)?;
+            .map_err(|e| CliError::Failed(e.to_string()))?;
             let text = serde_json::to_string_pretty(&schema)
                 .map_err(|e| CliError::Failed(e.to_string()))?;
             write_stdout(format!("{text}\n").as_bytes())
@@ -567,7 +567,8 @@ pub fn describe_planner(name: &str) -> Result<String, CliError> {
         planner_registry::Task::Coverage => "coverage",
     };
     let mut out = format!("{} ({task}): {}\n", entry.name, entry.summary);
-    let params = planner_registry::schema::declared(name).map_err(CliError::Failed)?;
+    let params = planner_registry::schema::declared(name)
+        .map_err(|e| CliError::Failed(e.to_string()))?;
     if params.is_empty() {
         out.push_str("no parameters\n");
     } else {

@@ -29,7 +29,7 @@ use std::fmt::Write as _;
 
 use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
 
-use planner_report::{median_iqr, Context, Reproduction, Section};
+use planner_report::{median_iqr, Context, OptionError, Reproduction, Section};
 use planner_runner::config::{Experiment, PlannerSpec};
 use planner_runner::index::ResultsIndex;
 use planner_runner::record::{RunRecord, RunStatus};
@@ -49,7 +49,7 @@ impl Section for Seed002 {
         false
     }
 
-    fn check(&self, options: &toml::Table) -> Result<(), String> {
+    fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
         planner_option(self.name(), options, "proposed").map(drop)
     }
 
@@ -74,7 +74,7 @@ impl Section for Seed002Capso {
         false
     }
 
-    fn check(&self, options: &toml::Table) -> Result<(), String> {
+    fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
         planner_option(self.name(), options, "planner").map(drop)
     }
 
@@ -90,20 +90,20 @@ fn planner_option<'a>(
     section: &str,
     options: &'a toml::Table,
     key: &str,
-) -> Result<&'a str, String> {
+) -> Result<&'a str, OptionError> {
     if let Some(other) = options.keys().find(|k| *k != key) {
-        return Err(format!(
+        return Err(OptionError(format!(
             "section {section:?} takes no option `{other}` (only `{key}`)"
-        ));
+        )));
     }
     match options.get(key) {
         Some(toml::Value::String(name)) => Ok(name),
-        Some(_) => Err(format!(
+        Some(_) => Err(OptionError(format!(
             "section {section:?}: `{key}` is a planner's registry name, a string"
-        )),
-        None => Err(format!(
+        ))),
+        None => Err(OptionError(format!(
             "section {section:?} needs `{key}`, the registry name of the planner it shows, e.g. {{ name = {section:?}, {key} = \"...\" }}"
-        )),
+        ))),
     }
 }
 

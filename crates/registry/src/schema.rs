@@ -40,8 +40,27 @@ pub struct Param {
     pub schema: Value,
 }
 
+/// Why a planner's declared parameters could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum RegistryError {
+    /// No planner has this registry name.
+    #[error("unknown planner `{name}`, expected one of {}", registry::names().join(", "))]
+    UnknownPlanner {
+        /// The name given.
+        name: String,
+    },
+    /// The planner refuses its own default config (a bug in the planner crate).
+    #[error("planner `{name}`: its default config fails: {error}")]
+    DefaultConfig {
+        /// The registry name.
+        name: String,
+        /// The planner's error.
+        error: planner_api::ParamError,
+    },
+}
+
 /// The parameters registry planner `name` declares, in declaration order.
-pub fn declared(name: &str) -> Result<Vec<Param>, String> {
+pub fn declared(name: &str) -> Result<Vec<Param>, RegistryError> {
     let schema = planner_schema(name)?;
     let properties = schema
         .get("properties")
@@ -55,15 +74,15 @@ pub fn declared(name: &str) -> Result<Vec<Param>, String> {
 }
 
 /// The JSON Schema of registry planner `name`'s `Config`.
-fn planner_schema(name: &str) -> Result<Value, String> {
-    let entry = registry::find(name).ok_or_else(|| {
-        format!(
-            "unknown planner `{name}`, expected one of {}",
-            registry::names().join(", ")
-        )
+fn planner_schema(name: &str) -> Result<Value, RegistryError> {
+    let entry = registry::find(name).ok_or_else(|| RegistryError::UnknownPlanner {
+        name: name.to_string(),
     })?;
-    let factory = (entry.factory)(&toml::Table::new())
-        .map_err(|e| format!("planner `{name}`: its default config fails: {e}"))?;
+    let factory =
+        (entry.factory)(&toml::Table::new()).map_err(|error| RegistryError::DefaultConfig {
+            name: name.to_string(),
+            error,
+        })?;
     Ok(factory.parameters().to_value())
 }
 

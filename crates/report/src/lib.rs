@@ -66,12 +66,12 @@ pub trait Section: Send + Sync {
 
     /// Checks the section's options (the config's table for it without `name`); by
     /// default a section takes none.
-    fn check(&self, options: &toml::Table) -> Result<(), String> {
+    fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
         match options.keys().next() {
-            Some(key) => Err(format!(
+            Some(key) => Err(OptionError(format!(
                 "section {:?} takes no option `{key}`",
                 self.name()
-            )),
+            ))),
             None => Ok(()),
         }
     }
@@ -79,6 +79,11 @@ pub trait Section: Send + Sync {
     /// Appends the section's markdown to `out` and counts compared published numbers.
     fn render(&self, context: &Context<'_>, out: &mut String, reproduction: &mut Reproduction);
 }
+
+/// A section's options that do not fit it (reported at the config's `sections` key).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct OptionError(pub String);
 
 /// The generic sections of this crate, by name: `optimum`, `repeats`, `aggregate` and
 /// `charts`. A catalogue (planner-paper's) places them among the seeds' layouts.

@@ -7,7 +7,7 @@
 //! summary.md section names are the report's, passed in by the caller.
 
 use planner_registry as registry;
-use planner_registry::schema::{declared, Param};
+use planner_registry::schema::{declared, Param, RegistryError};
 use serde_json::{json, Map, Value};
 
 /// The schema of a `budget` table (planner-api's `Budget`).
@@ -59,7 +59,7 @@ fn sweepable(param: &Param) -> Value {
 }
 
 /// The schema of one planner table for registry planner `name`.
-fn planner_table_schema(name: &str, summary: &str) -> Result<Value, String> {
+fn planner_table_schema(name: &str, summary: &str) -> Result<Value, RegistryError> {
     let mut properties = Map::new();
     properties.insert(
         "planner".into(),
@@ -119,7 +119,7 @@ pub const TOP_LEVEL_KEYS: &[&str] = &[
 /// editors: the top-level keys, the `[[maps]]` sets, and the planner tables as a `oneOf`
 /// over `planner = "<name>"`, each with that planner's declared parameters. `sections` are
 /// the names `sections = [...]` may use (the report's catalogue).
-pub fn experiment_schema(sections: &[&str]) -> Result<Value, String> {
+pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
     let mut planners = Vec::new();
     for entry in registry::PLANNERS {
         planners.push(planner_table_schema(entry.name, entry.summary)?);

@@ -176,34 +176,103 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     let header = StreamHeader::new(&experiment, shard, runs.len());
     fs::create_dir_all(&area.dir).map_err(|e| RunnerError::io(&area.dir, e))?;
     let path = area.dir.join(RECORDS);
+    let (file, n_done) = open_stream(args, &path, &header, &runs, &dir)?;
+    tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
+    let (records, n_ran) = stream_runs(args, &experiment, &runs, file, n_done, &path)?;
+    if n_done + n_ran < runs.len() {
+        return Ok(Report {
+            n_runs: runs.len() as usize,
+            output: dir,
+            reproduction: Reproduction::default(),
+            seconds: started.elapsed().as_secs_f64(),
+            interrupted: Some(n_done + n_ran),
+            records: Vec::new(),
+        });
+    }
+    let (reproduction, records) = if args.shard.is_some() {
+        finish_shard(&experiment, &path, &dir)?;
+        (Reproduction::default(), Vec::new())
+    } else {
+        if records.len() as u64 != header.runs {
+            return Err(RunnerError::Stream(format!(
+                "{}: {} of {} runs recorded",
+                path.display(),
+                records.len(),
+                header.runs
+            )));
+        }
+        let threads = worker_threads(args.threads, experiment.threads);
+        let provenance = Provenance::collect(args.config, threads);
+        let seconds = started.elapsed().as_secs_f64();
+        let (reproduction, records) =
+            finish(args.render, &experiment, records, None, &dir, &provenance, seconds)?;
+        let kept = if args.keep_records {
+            records
+        } else {
+            Vec::new()
+        };
+        (reproduction, kept)
+    };
+    let _ = fs::remove_dir_all(&area.dir);
+    Ok(Report {
+        n_runs: runs.len() as usize,
+        output: dir,
+        reproduction,
+        seconds: started.elapsed().as_secs_f64(),
+        interrupted: None,
+        records,
+    })
+}
+
+/// The sweep's stream file `path`, open for appending, and the runs it already holds: a
+/// resumed sweep's, cut back to its last complete run; else a new one with `header`.
+fn open_stream(
+    args: &SweepArgs,
+    path: &Path,
+    header: &StreamHeader,
+    runs: &ShardRuns,
+    dir: &Path,
+) -> Result<(File, u64), RunnerError> {
     let done = if args.resume {
-        resume_point(&path, &header, &runs)?
+        resume_point(path, header, runs)?
     } else {
         None
     };
-    let (mut file, n_done) = match done {
+    match done {
         Some((bytes, n)) => {
             let mut file = OpenOptions::new()
                 .write(true)
-                .open(&path)
-                .map_err(|e| RunnerError::io(&path, e))?;
+                .open(path)
+                .map_err(|e| RunnerError::io(path, e))?;
             file.set_len(bytes)
                 .and_then(|()| file.seek(SeekFrom::End(0)).map(drop))
-                .map_err(|e| RunnerError::io(&path, e))?;
+                .map_err(|e| RunnerError::io(path, e))?;
             eprintln!("resuming: {n} of {} runs already recorded", runs.len());
-            (file, n)
+            Ok((file, n))
         }
         None => {
             if args.resume {
                 eprintln!("nothing to resume for {}: running every run", dir.display());
             }
-            let mut file = File::create(&path).map_err(|e| RunnerError::io(&path, e))?;
+            let mut file = File::create(path).map_err(|e| RunnerError::io(path, e))?;
             file.write_all(&header.to_line()?)
-                .map_err(|e| RunnerError::io(&path, e))?;
-            (file, 0)
+                .map_err(|e| RunnerError::io(path, e))?;
+            Ok((file, 0))
         }
-    };
-    tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
+    }
+}
+
+/// Runs the sweep's runs after the `n_done` already in its stream, appending each batch to
+/// `file` (the stream at `path`) as it completes. Returns the records of a whole sweep (a
+/// resumed one's read back first; a shard keeps none) and how many runs this call ran.
+fn stream_runs(
+    args: &SweepArgs,
+    experiment: &Experiment,
+    runs: &ShardRuns,
+    mut file: File,
+    n_done: u64,
+    path: &Path,
+) -> Result<(Vec<RunRecord>, u64), RunnerError> {
     if let Some(progress) = args.progress {
         progress.start(runs.len(), n_done);
     }
@@ -225,14 +294,13 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     if keep {
         records.reserve_exact(runs.len().min(1 << 20) as usize);
         if n_done > 0 {
-            file.flush()
-                .map_err(|e| RunnerError::io(&path, e))?;
-            records = read_records(&path, records)?;
+            file.flush().map_err(|e| RunnerError::io(path, e))?;
+            records = read_records(path, records)?;
         }
     }
     let mut buffer = Vec::new();
     let n_ran = stream::run_stream(
-        &experiment,
+        experiment,
         runs.iter().skip(n_done as usize),
         &options,
         |batch| {
@@ -250,90 +318,48 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
             }
             file.write_all(&buffer)
                 .and_then(|()| file.flush())
-                .map_err(|e| RunnerError::io(&path, e))?;
+                .map_err(|e| RunnerError::io(path, e))?;
             if keep {
                 records.extend(batch.into_iter().map(|(_, record)| record));
             }
             Ok(())
         },
-    )
-    ?;
+    )?;
     if let Some(progress) = args.progress {
         progress.finish();
     }
-    drop(file);
-    if n_done + n_ran < runs.len() {
-        return Ok(Report {
-            n_runs: runs.len() as usize,
-            output: dir,
-            reproduction: Reproduction::default(),
-            seconds: started.elapsed().as_secs_f64(),
-            interrupted: Some(n_done + n_ran),
-            records: Vec::new(),
-        });
-    }
-    let (reproduction, records) = if !keep {
-        // The stream is copied, not read into memory.
-        let copy = StreamedFile {
-            path: SHARD_FILE.into(),
-            write: Box::new(|out| {
-                let mut file = File::open(&path)
-                    .map_err(|e| RunnerError::io(&path, e))?;
-                std::io::copy(&mut file, out)
-                    .map(drop)
-                    .map_err(|e| RunnerError::io(&path, e))
-            }),
-        };
-        let cells = shard_expanded(&experiment, &path)?;
-        let files = if cells.is_empty() {
-            Vec::new()
-        } else {
-            vec![OutputFile {
-                path: EXPANDED_FILE.into(),
-                contents: cells.to_jsonl()?,
-            }]
-        };
-        outdir::write_results_streamed(
-            &dir,
-            &experiment.name,
-            &files,
-            &[copy],
-            outdir::DEFAULT_LOCK_WAIT,
-        )
-        ?;
-        (Reproduction::default(), Vec::new())
-    } else {
-        if records.len() as u64 != header.runs {
-            return Err(RunnerError::Stream(format!(
-                "{}: {} of {} runs recorded",
-                path.display(),
-                records.len(),
-                header.runs
-            )));
-        }
-        let threads = worker_threads(args.threads, experiment.threads);
-        let provenance = Provenance::collect(args.config, threads);
-        let seconds = started.elapsed().as_secs_f64();
-        let (reproduction, records) =
-            finish(args.render, &experiment, records, None, &dir, &provenance, seconds)?;
-        (
-            reproduction,
-            if args.keep_records {
-                records
-            } else {
-                Vec::new()
-            },
-        )
+    Ok((records, n_ran))
+}
+
+/// Writes a whole shard's results directory `dir`: its stream `path` copied (not read into
+/// memory) as shard.jsonl, and the expanded cells of the drawn runs it holds.
+fn finish_shard(experiment: &Experiment, path: &Path, dir: &Path) -> Result<(), RunnerError> {
+    let copy = StreamedFile {
+        path: SHARD_FILE.into(),
+        write: Box::new(|out| {
+            let mut file = File::open(path).map_err(|e| RunnerError::io(path, e))?;
+            std::io::copy(&mut file, out)
+                .map(drop)
+                .map_err(|e| RunnerError::io(path, e))
+        }),
     };
-    let _ = fs::remove_dir_all(&area.dir);
-    Ok(Report {
-        n_runs: runs.len() as usize,
-        output: dir,
-        reproduction,
-        seconds: started.elapsed().as_secs_f64(),
-        interrupted: None,
-        records,
-    })
+    let cells = shard_expanded(experiment, path)?;
+    let files = if cells.is_empty() {
+        Vec::new()
+    } else {
+        vec![OutputFile {
+            path: EXPANDED_FILE.into(),
+            contents: cells.to_jsonl()?,
+        }]
+    };
+    outdir::write_results_streamed(
+        dir,
+        &experiment.name,
+        &files,
+        &[copy],
+        outdir::DEFAULT_LOCK_WAIT,
+    )?;
+    Ok(())
 }
 
 /// The expanded cells of the drawn runs a shard holds (its stream `path`), when the
@@ -651,10 +677,49 @@ pub fn merge(
     render: &dyn Render,
 ) -> Result<Report, RunnerError> {
     let started = Instant::now();
+    let mut shards = open_shards(dirs)?;
+    let first = shards[0].1.clone();
+    check_shard_set(&shards, &first, dirs)?;
+    let experiment = load_checked(&first, config, render, "merge")?;
+    let config_path = config.map_or_else(|| PathBuf::from(&first.config), Path::to_path_buf);
+    let mut expanded = ExpandedCells::default();
+    for (dir, _, _) in &shards {
+        expanded.extend(read_expanded(dir, &experiment)?);
+    }
+    let records = merge_records(&mut shards, &first)?;
+    let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
+    outdir::check(&dir)?;
+    let n_runs = records.len();
+    let provenance = Provenance::collect(&config_path, worker_threads(0, experiment.threads));
+    let seconds = started.elapsed().as_secs_f64();
+    let (reproduction, _) = finish(
+        render,
+        &experiment,
+        records,
+        Some(expanded),
+        &dir,
+        &provenance,
+        seconds,
+    )?;
+    Ok(Report {
+        n_runs,
+        output: dir,
+        reproduction,
+        seconds: started.elapsed().as_secs_f64(),
+        interrupted: None,
+        records: Vec::new(),
+    })
+}
+
+/// A shard directory with its stream's header and a reader after it.
+type OpenShard = (PathBuf, StreamHeader, StreamReader<BufReader<File>>);
+
+/// The streams of the shard directories `dirs` (at least one), opened.
+fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
     if dirs.is_empty() {
         return Err(RunnerError::Usage("merge: no shard directories given".into()));
     }
-    let mut shards: Vec<(PathBuf, StreamHeader, StreamReader<BufReader<File>>)> = Vec::new();
+    let mut shards = Vec::new();
     for dir in dirs {
         let path = dir.join(SHARD_FILE);
         let file = File::open(&path).map_err(|e| {
@@ -664,11 +729,19 @@ pub fn merge(
                 SHARD_FILE
             ))
         })?;
-        let (header, reader) = StreamReader::new(BufReader::new(file), &path.display().to_string())
-            ?;
+        let (header, reader) =
+            StreamReader::new(BufReader::new(file), &path.display().to_string())?;
         shards.push((dir.clone(), header, reader));
     }
-    let first = shards[0].1.clone();
+    Ok(shards)
+}
+
+/// Checks that `shards` are of one sweep (`first`'s) and hold each of its shards once.
+fn check_shard_set(
+    shards: &[OpenShard],
+    first: &StreamHeader,
+    dirs: &[PathBuf],
+) -> Result<(), RunnerError> {
     for (dir, header, _) in &shards[1..] {
         if header.config_hash != first.config_hash
             || header.shards != first.shards
@@ -715,15 +788,17 @@ pub fn merge(
                 .join(", ")
         )));
     }
-    let experiment = load_checked(&first, config, render, "merge")?;
-    let config_path = config.map_or_else(|| PathBuf::from(&first.config), Path::to_path_buf);
-    let mut expanded = ExpandedCells::default();
-    for (dir, _, _) in &shards {
-        expanded.extend(read_expanded(dir, &experiment)?);
-    }
-    // K-way merge by run index: every index 0..total exactly once.
+    Ok(())
+}
+
+/// The shards' records in run order: a k-way merge by run index, every index of the
+/// sweep (`first.total_runs`) exactly once.
+fn merge_records(
+    shards: &mut [OpenShard],
+    first: &StreamHeader,
+) -> Result<Vec<RunRecord>, RunnerError> {
     let mut heads: Vec<Option<(u64, RunRecord)>> = Vec::with_capacity(shards.len());
-    for (_, _, reader) in &mut shards {
+    for (_, _, reader) in shards.iter_mut() {
         heads.push(reader.next_run()?);
     }
     let mut records = Vec::with_capacity(first.total_runs.min(1 << 24) as usize);
@@ -758,26 +833,5 @@ pub fn merge(
             shards[i].0.display()
         )));
     }
-    let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
-    outdir::check(&dir)?;
-    let n_runs = records.len();
-    let provenance = Provenance::collect(&config_path, worker_threads(0, experiment.threads));
-    let seconds = started.elapsed().as_secs_f64();
-    let (reproduction, _) = finish(
-        render,
-        &experiment,
-        records,
-        Some(expanded),
-        &dir,
-        &provenance,
-        seconds,
-    )?;
-    Ok(Report {
-        n_runs,
-        output: dir,
-        reproduction,
-        seconds: started.elapsed().as_secs_f64(),
-        interrupted: None,
-        records: Vec::new(),
-    })
+    Ok(records)
 }
