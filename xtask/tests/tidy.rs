@@ -395,15 +395,9 @@ const LAYERED_SOURCES: &[&str] = &["crates/runner/src", "crates/report/src", "cr
 /// Functions of those crates still over 100 lines, each to be split (issue 28's
 /// leftovers, named so that no new one joins them and a split one leaves the list).
 const KNOWN_LONG: &[(&str, &str)] = &[
-    ("crates/paper/src/seed002.rs", "render"),
-    ("crates/report/src/charts.rs", "charts"),
-    ("crates/report/src/figures.rs", "render"),
-    ("crates/report/src/ompl.rs", "logs"),
     ("crates/runner/src/config.rs", "parse"),
     ("crates/runner/src/config.rs", "planner_spec"),
     ("crates/runner/src/config.rs", "map_entries"),
-    ("crates/runner/src/output.rs", "write_runs_json"),
-    ("crates/runner/src/plan.rs", "run_with"),
 ];
 
 /// Public functions of those crates that still return `Result<_, String>` (slurm.rs

@@ -30,7 +30,7 @@ use std::fmt::Write as _;
 use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
 
 use planner_report::{median_iqr, Context, OptionError, Reproduction, Section};
-use planner_runner::config::{Experiment, PlannerSpec};
+use planner_runner::config::{Experiment, MapEntry, PlannerSpec, ProblemEntry};
 use planner_runner::index::ResultsIndex;
 use planner_runner::record::{RunRecord, RunStatus};
 
@@ -128,93 +128,15 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
     let mut kw_rows = String::new();
     for map in &experiment.maps {
         for problem in map.problems.iter().filter(|p| p.invalid.is_none()) {
-            let runs = |label: &str| index.runs(&map.name, problem.index, label);
-            let stochastic = |label: &str| {
-                experiment
-                    .planners
-                    .iter()
-                    .any(|p| p.label == label && p.factory.specs().seeded)
+            let scenario = Scenario {
+                experiment,
+                index,
+                map,
+                problem,
             };
-            let length = |label: &str| {
-                let all = runs(label);
-                if stochastic(label) {
-                    let found: Vec<f64> = all.iter().filter_map(|r| r.length).collect();
-                    (!found.is_empty()).then(|| found.iter().sum::<f64>() / found.len() as f64)
-                } else {
-                    all.iter().find(|r| r.repeat == 0).and_then(|r| r.length)
-                }
-            };
-            let times =
-                |label: &str| -> Vec<f64> { runs(label).iter().map(|r| r.time_ms).collect() };
-            let median = |label: &str| median_iqr(&times(label)).map(|(m, _, _)| m);
-            let _ = writeln!(
-                out,
-                "### {} problem {}: {} -> {}\n",
-                map.name, problem.index, problem.start, problem.goal
-            );
-            out.push_str("| Planner | Algorithm | Status | Path length | Time ms median (IQR) |\n|---|---|---|---:|---:|\n");
-            for planner in &experiment.planners {
-                let all = runs(&planner.label);
-                let status = if stochastic(&planner.label) {
-                    let n_found = all.iter().filter(|r| r.status == RunStatus::Found).count();
-                    format!("found {n_found}/{}", all.len())
-                } else {
-                    all.iter()
-                        .find(|r| r.repeat == 0)
-                        .map_or("-".into(), |r| r.status.as_str().to_string())
-                };
-                let _ = writeln!(
-                    out,
-                    "| {} | {} | {} | {} | {} |",
-                    planner.label,
-                    planner.name,
-                    status,
-                    length(&planner.label).map_or("-".into(), |l| format!("{l:.2}")),
-                    time_cell(&times(&planner.label)),
-                );
-            }
-            out.push('\n');
-            if !references.is_empty() {
-                out.push_str("| PA-star | Reference | R_length | R_time |\n|---|---|---:|---:|\n");
-                for pa in &proposed {
-                    for reference in &references {
-                        let r_length = ratio(length(&pa.label), length(&reference.label));
-                        let r_time = ratio(median(&pa.label), median(&reference.label));
-                        let _ = writeln!(
-                            out,
-                            "| {} | {} | {} | {} |",
-                            pa.label,
-                            reference.label,
-                            percent(r_length),
-                            percent(r_time)
-                        );
-                    }
-                }
-                out.push('\n');
-            }
+            scenario.lengths(&mut out, &proposed, &references);
             if experiment.repeats >= 3 && experiment.planners.len() >= 2 {
-                let samples: Vec<Vec<f64>> = experiment
-                    .planners
-                    .iter()
-                    .map(|p| times(&p.label))
-                    .collect();
-                let groups: Vec<&[f64]> = samples.iter().map(Vec::as_slice).collect();
-                let scenario = format!("{} #{}", map.name, problem.index);
-                match kruskal_wallis(&groups) {
-                    Ok(kw) => {
-                        let _ = writeln!(
-                            kw_rows,
-                            "| {scenario} | {:.2} | {} | {:.3e} |",
-                            kw.h, kw.df, kw.p
-                        );
-                    }
-                    Err(e) => {
-                        let _ = writeln!(kw_rows, "| {scenario} | - | - | {e} |");
-                    }
-                }
-                timing.push_str(&timing_table(
-                    experiment, &scenario, &samples, &groups, base,
-                ));
+                scenario.timing_tests(&mut kw_rows, &mut timing, base);
             }
         }
     }
@@ -227,6 +149,128 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
         out.push_str(&timing);
     }
     out
+}
+
+/// One scenario (map, problem) of a seed-002 comparison and the lookups its tables share.
+struct Scenario<'a> {
+    experiment: &'a Experiment,
+    index: &'a ResultsIndex<'a>,
+    map: &'a MapEntry,
+    problem: &'a ProblemEntry,
+}
+
+impl Scenario<'_> {
+    fn runs(&self, label: &str) -> Vec<&RunRecord> {
+        self.index.runs(&self.map.name, self.problem.index, label)
+    }
+
+    /// Whether `label` runs a seeded planner (its length is a mean over the repeats).
+    fn stochastic(&self, label: &str) -> bool {
+        self.experiment
+            .planners
+            .iter()
+            .any(|p| p.label == label && p.factory.specs().seeded)
+    }
+
+    fn length(&self, label: &str) -> Option<f64> {
+        let all = self.runs(label);
+        if self.stochastic(label) {
+            let found: Vec<f64> = all.iter().filter_map(|r| r.length).collect();
+            (!found.is_empty()).then(|| found.iter().sum::<f64>() / found.len() as f64)
+        } else {
+            all.iter().find(|r| r.repeat == 0).and_then(|r| r.length)
+        }
+    }
+
+    fn times(&self, label: &str) -> Vec<f64> {
+        self.runs(label).iter().map(|r| r.time_ms).collect()
+    }
+
+    fn median(&self, label: &str) -> Option<f64> {
+        median_iqr(&self.times(label)).map(|(m, _, _)| m)
+    }
+
+    /// The scenario's length table (Tables 6-10) and its `R_length`, `R_time` rows.
+    fn lengths(&self, out: &mut String, proposed: &[&PlannerSpec], references: &[&PlannerSpec]) {
+        let (map, problem) = (self.map, self.problem);
+        let _ = writeln!(
+            out,
+            "### {} problem {}: {} -> {}\n",
+            map.name, problem.index, problem.start, problem.goal
+        );
+        out.push_str("| Planner | Algorithm | Status | Path length | Time ms median (IQR) |\n|---|---|---|---:|---:|\n");
+        for planner in &self.experiment.planners {
+            let all = self.runs(&planner.label);
+            let status = if self.stochastic(&planner.label) {
+                let n_found = all.iter().filter(|r| r.status == RunStatus::Found).count();
+                format!("found {n_found}/{}", all.len())
+            } else {
+                all.iter()
+                    .find(|r| r.repeat == 0)
+                    .map_or("-".into(), |r| r.status.as_str().to_string())
+            };
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {} | {} |",
+                planner.label,
+                planner.name,
+                status,
+                self.length(&planner.label)
+                    .map_or("-".into(), |l| format!("{l:.2}")),
+                time_cell(&self.times(&planner.label)),
+            );
+        }
+        out.push('\n');
+        if !references.is_empty() {
+            out.push_str("| PA-star | Reference | R_length | R_time |\n|---|---|---:|---:|\n");
+            for pa in proposed {
+                for reference in references {
+                    let r_length = ratio(self.length(&pa.label), self.length(&reference.label));
+                    let r_time = ratio(self.median(&pa.label), self.median(&reference.label));
+                    let _ = writeln!(
+                        out,
+                        "| {} | {} | {} | {} |",
+                        pa.label,
+                        reference.label,
+                        percent(r_length),
+                        percent(r_time)
+                    );
+                }
+            }
+            out.push('\n');
+        }
+    }
+
+    /// The scenario's Kruskal-Wallis row (Table 11) and its timing table (Tables 12-14).
+    fn timing_tests(&self, kw_rows: &mut String, timing: &mut String, base: &PlannerSpec) {
+        let samples: Vec<Vec<f64>> = self
+            .experiment
+            .planners
+            .iter()
+            .map(|p| self.times(&p.label))
+            .collect();
+        let groups: Vec<&[f64]> = samples.iter().map(Vec::as_slice).collect();
+        let scenario = format!("{} #{}", self.map.name, self.problem.index);
+        match kruskal_wallis(&groups) {
+            Ok(kw) => {
+                let _ = writeln!(
+                    kw_rows,
+                    "| {scenario} | {:.2} | {} | {:.3e} |",
+                    kw.h, kw.df, kw.p
+                );
+            }
+            Err(e) => {
+                let _ = writeln!(kw_rows, "| {scenario} | - | - | {e} |");
+            }
+        }
+        timing.push_str(&timing_table(
+            self.experiment,
+            &scenario,
+            &samples,
+            &groups,
+            base,
+        ));
+    }
 }
 
 /// The CAPSO section (module docs), or nothing without a label running `capso_name`.

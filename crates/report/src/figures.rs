@@ -17,7 +17,7 @@
 use planner_api::{Cell, Grid};
 use planner_figures::{draw_comparison, draw_path, Layer, Style};
 
-use planner_runner::config::{Experiment, FigureMode};
+use planner_runner::config::{Experiment, FigureMode, MapEntry, ProblemEntry};
 use planner_runner::expanded::{pick, ExpandedCells};
 use planner_runner::index::ResultsIndex;
 use planner_runner::output::OutputFile;
@@ -60,115 +60,144 @@ pub fn render(
     records: &[RunRecord],
     expanded: &ExpandedCells,
 ) -> Vec<OutputFile> {
-    let with_expanded = experiment.figures_expanded;
     let mut files = Vec::new();
     if experiment.figures == FigureMode::None {
         return files;
     }
-    let style = Style::default();
     let index = ResultsIndex::new(records);
     for map in &experiment.maps {
-        let stem = map
-            .name
-            .rsplit_once('.')
-            .map_or(map.name.as_str(), |(s, _)| s);
         let limit = experiment.figures_per_map.unwrap_or(usize::MAX);
         for problem in pick(&map.problems, experiment.figures_pick, limit) {
             if problem.invalid.is_some() {
                 continue;
             }
-            let runs: Vec<&RunRecord> = experiment
-                .planners
-                .iter()
-                .filter_map(|p| index.first(&map.name, problem.index, &p.label))
-                .collect();
-            let cells: Vec<&[Cell]> = runs
-                .iter()
-                .map(|r| {
-                    expanded
-                        .get(&map.name, problem.index, &r.planner)
-                        .unwrap_or_default()
-                })
-                .collect();
-            let layers: Vec<Layer<'_>> = runs.iter().map(|r| layer(r)).collect();
-            let title = format!(
-                "{} problem {}: {} -> {}",
-                map.name, problem.index, problem.start, problem.goal
-            );
-            let svg = draw_comparison(
-                &map.grid,
-                problem.start,
-                problem.goal,
-                &layers,
-                &title,
-                &style,
-            );
-            files.push(OutputFile {
-                path: format!("figures/{stem}-{}.svg", problem.index).into(),
-                contents: svg.into_bytes(),
-            });
-            let layers: Vec<Layer<'_>> = if with_expanded {
-                let effort: Vec<Layer<'_>> = layers
-                    .into_iter()
-                    .zip(&cells)
-                    .map(|(layer, cells)| layer.with_expanded(cells))
-                    .collect();
-                let title = format!(
-                    "Expanded cells, {} problem {}: {} -> {}",
-                    map.name, problem.index, problem.start, problem.goal
-                );
-                let svg = draw_comparison(
-                    &map.grid,
-                    problem.start,
-                    problem.goal,
-                    &effort,
-                    &title,
-                    &Style {
-                        layout: planner_figures::Layout::Panels,
-                        ..expanded_style()
-                    },
-                );
-                files.push(OutputFile {
-                    path: format!("figures/{stem}-{}-expanded.svg", problem.index).into(),
-                    contents: svg.into_bytes(),
-                });
-                effort
-            } else {
-                layers
-            };
-            if experiment.figures == FigureMode::All {
-                for (run, layer) in runs.iter().zip(&layers) {
-                    if run.returns.is_some() {
-                        let base = format!(
-                            "figures/{stem}-{}-{}",
-                            problem.index,
-                            file_safe(&run.planner)
-                        );
-                        files.extend(crate::coverage_figures::figures(&map.grid, run, &base, &style));
-                        continue;
-                    }
-                    let title =
-                        format!("{} on {} problem {}", run.planner, map.name, problem.index);
-                    let svg = draw_path(
-                        &map.grid,
-                        problem.start,
-                        problem.goal,
-                        layer,
-                        &title,
-                        &style,
-                    );
-                    files.push(OutputFile {
-                        path: format!(
-                            "figures/{stem}-{}-{}.svg",
-                            problem.index,
-                            file_safe(&run.planner)
-                        )
-                        .into(),
-                        contents: svg.into_bytes(),
-                    });
-                }
-            }
+            files.extend(problem_figures(experiment, &index, expanded, map, problem));
         }
+    }
+    files
+}
+
+/// The figures of one drawn problem: the comparison, the expanded cells' panels (with
+/// `figures_expanded`) and, with `figures = "all"`, one per run.
+fn problem_figures(
+    experiment: &Experiment,
+    index: &ResultsIndex<'_>,
+    expanded: &ExpandedCells,
+    map: &MapEntry,
+    problem: &ProblemEntry,
+) -> Vec<OutputFile> {
+    let with_expanded = experiment.figures_expanded;
+    let style = Style::default();
+    let stem = map
+        .name
+        .rsplit_once('.')
+        .map_or(map.name.as_str(), |(s, _)| s);
+    let mut files = Vec::new();
+    let runs: Vec<&RunRecord> = experiment
+        .planners
+        .iter()
+        .filter_map(|p| index.first(&map.name, problem.index, &p.label))
+        .collect();
+    let cells: Vec<&[Cell]> = runs
+        .iter()
+        .map(|r| {
+            expanded
+                .get(&map.name, problem.index, &r.planner)
+                .unwrap_or_default()
+        })
+        .collect();
+    let layers: Vec<Layer<'_>> = runs.iter().map(|r| layer(r)).collect();
+    let title = format!(
+        "{} problem {}: {} -> {}",
+        map.name, problem.index, problem.start, problem.goal
+    );
+    let svg = draw_comparison(
+        &map.grid,
+        problem.start,
+        problem.goal,
+        &layers,
+        &title,
+        &style,
+    );
+    files.push(OutputFile {
+        path: format!("figures/{stem}-{}.svg", problem.index).into(),
+        contents: svg.into_bytes(),
+    });
+    let layers: Vec<Layer<'_>> = if with_expanded {
+        let effort: Vec<Layer<'_>> = layers
+            .into_iter()
+            .zip(&cells)
+            .map(|(layer, cells)| layer.with_expanded(cells))
+            .collect();
+        let title = format!(
+            "Expanded cells, {} problem {}: {} -> {}",
+            map.name, problem.index, problem.start, problem.goal
+        );
+        let svg = draw_comparison(
+            &map.grid,
+            problem.start,
+            problem.goal,
+            &effort,
+            &title,
+            &Style {
+                layout: planner_figures::Layout::Panels,
+                ..expanded_style()
+            },
+        );
+        files.push(OutputFile {
+            path: format!("figures/{stem}-{}-expanded.svg", problem.index).into(),
+            contents: svg.into_bytes(),
+        });
+        effort
+    } else {
+        layers
+    };
+    if experiment.figures == FigureMode::All {
+        files.extend(run_figures(map, problem, &runs, &layers, stem, &style));
+    }
+    files
+}
+
+/// The per-run figures of `figures = "all"`: each run of `runs` alone (a coverage run's
+/// own figures), drawn with its layer.
+fn run_figures(
+    map: &MapEntry,
+    problem: &ProblemEntry,
+    runs: &[&RunRecord],
+    layers: &[Layer<'_>],
+    stem: &str,
+    style: &Style,
+) -> Vec<OutputFile> {
+    let mut files = Vec::new();
+    for (run, layer) in runs.iter().zip(layers) {
+        if run.returns.is_some() {
+            let base = format!(
+                "figures/{stem}-{}-{}",
+                problem.index,
+                file_safe(&run.planner)
+            );
+            files.extend(crate::coverage_figures::figures(&map.grid, run, &base, style));
+            continue;
+        }
+        let title =
+            format!("{} on {} problem {}", run.planner, map.name, problem.index);
+        let svg = draw_path(
+            &map.grid,
+            problem.start,
+            problem.goal,
+            layer,
+            &title,
+            style,
+        );
+        files.push(OutputFile {
+            path: format!(
+                "figures/{stem}-{}-{}.svg",
+                problem.index,
+                file_safe(&run.planner)
+            )
+            .into(),
+            contents: svg.into_bytes(),
+        });
     }
     files
 }
