@@ -56,7 +56,10 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     }
     let config_rel = format!("configs/{name}.toml");
     if root.join(&config_rel).exists() {
-        return Err(format!("{} already exists", root.join(&config_rel).display()));
+        return Err(format!(
+            "{} already exists",
+            root.join(&config_rel).display()
+        ));
     }
     let architecture_path = root.join("ARCHITECTURE.md");
     let architecture = fs::read_to_string(&architecture_path)
@@ -136,8 +139,8 @@ const RESERVED: &[&str] = &[
     "ref", "return", "self", "static", "struct", "super", "trait", "true", "type", "unsafe", "use",
     "where", "while", "abstract", "become", "box", "do", "final", "macro", "override", "priv",
     "typeof", "unsized", "virtual", "yield", "try", "gen", "api", "maps", "runner", "testkit",
-    "registry", "report", "paper", "search",
-    "figures", "stats", "cli", "bench", "test", "core", "std", "alloc",
+    "registry", "report", "paper", "search", "figures", "stats", "cli", "bench", "test", "core",
+    "std", "alloc",
 ];
 
 /// A planner name is snake case (lowercase words of letters and digits joined by single

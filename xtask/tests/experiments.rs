@@ -466,10 +466,8 @@ fn movingai_aggregates_are_snapshotted() {
         index: &index,
         options: &options,
     };
-    let tables = planner_report::aggregate::tables(
-        &context,
-        planner_report::aggregate::Measured::Redacted,
-    );
+    let tables =
+        planner_report::aggregate::tables(&context, planner_report::aggregate::Measured::Redacted);
     // The overall row of A* with the octile heuristic: 36 runs, all found and optimal.
     assert!(
         tables.contains("| octile | all | 36 | 36 | 36 |"),

@@ -139,16 +139,25 @@ fn three_shards_merged_equal_one_run() {
     // Merged shards draw the same figures, the expanded cells included (each shard
     // records those of the drawn runs it holds; the merge runs no planner).
     let one_files = files(&dir.join("one"));
-    assert_eq!(one_files.keys().collect::<Vec<_>>(), files(&dir.join("merged")).keys().collect::<Vec<_>>());
+    assert_eq!(
+        one_files.keys().collect::<Vec<_>>(),
+        files(&dir.join("merged")).keys().collect::<Vec<_>>()
+    );
     assert!(one_files.keys().any(|f| f.ends_with("-expanded.svg")));
     assert_eq!(figures(&dir.join("one")), figures(&dir.join("merged")));
     // `report` re-renders a results directory in place from what it holds, byte for byte
     // (its provenance and times are the recorded ones); on the merged shards too.
     xtask(&["report", &d("one")]);
-    assert!(one_files == files(&dir.join("one")), "report changed a file of one run");
+    assert!(
+        one_files == files(&dir.join("one")),
+        "report changed a file of one run"
+    );
     let merged_files = files(&dir.join("merged"));
     xtask(&["report", &d("merged")]);
-    assert!(merged_files == files(&dir.join("merged")), "report changed a merged file");
+    assert!(
+        merged_files == files(&dir.join("merged")),
+        "report changed a merged file"
+    );
     let missing = Command::new(env!("CARGO_BIN_EXE_xtask"))
         .args(["merge", &d("s1"), &d("s3")])
         .output()

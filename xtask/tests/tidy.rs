@@ -179,7 +179,13 @@ fn planner_packages() -> BTreeSet<String> {
 const LAYER_FORBIDDEN: &[(&str, &[&str])] = &[
     (
         "planner-registry",
-        &["planner-maps", "planner-runner", "planner-report", "planner-paper", "rayon"],
+        &[
+            "planner-maps",
+            "planner-runner",
+            "planner-report",
+            "planner-paper",
+            "rayon",
+        ],
     ),
     (
         "planner-runner",
@@ -438,11 +444,7 @@ fn no_function_of_the_runner_report_or_paper_is_over_100_lines() {
         let mut files = Vec::new();
         rust_files(&root().join(dir), &mut files);
         for file in files {
-            let relative = file
-                .strip_prefix(root())
-                .unwrap()
-                .display()
-                .to_string();
+            let relative = file.strip_prefix(root()).unwrap().display().to_string();
             let text = std::fs::read_to_string(&file).unwrap();
             for (name, line, n) in functions(&text) {
                 if n > 100 {
@@ -471,11 +473,7 @@ fn public_functions_of_the_runner_report_and_paper_return_typed_errors() {
         let mut files = Vec::new();
         rust_files(&root().join(dir), &mut files);
         for file in files {
-            let relative = file
-                .strip_prefix(root())
-                .unwrap()
-                .display()
-                .to_string();
+            let relative = file.strip_prefix(root()).unwrap().display().to_string();
             let text = std::fs::read_to_string(&file).unwrap();
             let lines: Vec<&str> = text.lines().collect();
             for (i, line) in lines.iter().enumerate() {
@@ -490,14 +488,15 @@ fn public_functions_of_the_runner_report_and_paper_return_typed_errors() {
                 let signature: String = lines[i..]
                     .iter()
                     .take_while(|l| !l.trim_end().ends_with('{') && !l.trim_end().ends_with(';'))
-                    .chain(lines[i..].iter().find(|l| {
-                        l.trim_end().ends_with('{') || l.trim_end().ends_with(';')
-                    }))
+                    .chain(
+                        lines[i..]
+                            .iter()
+                            .find(|l| l.trim_end().ends_with('{') || l.trim_end().ends_with(';')),
+                    )
                     .copied()
                     .collect::<Vec<_>>()
                     .join(" ");
-                let stringly = signature.contains(", String>")
-                    && signature.contains("Result<");
+                let stringly = signature.contains(", String>") && signature.contains("Result<");
                 if stringly && !KNOWN_STRING_ERRORS.contains(&(relative.as_str(), name.as_str())) {
                     panic!(
                         "{relative}:{}: pub fn {name} returns Result<_, String>; give it a thiserror type",

@@ -358,9 +358,9 @@ pub fn run(command: Command) -> Result<(), CliError> {
             shard,
         } => {
             let shard = match shard {
-                Some(text) => {
-                    Some(planner_runner::shard::Shard::parse(&text).map_err(|e| CliError::Usage(e.0))?)
-                }
+                Some(text) => Some(
+                    planner_runner::shard::Shard::parse(&text).map_err(|e| CliError::Usage(e.0))?,
+                ),
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())
                     .map_err(|e| CliError::Usage(e.0))?,
             };
@@ -485,9 +485,14 @@ pub fn run(command: Command) -> Result<(), CliError> {
             };
             let result = planner_runner::plan::run_with(&args, &options)?;
             if let Some(file) = &svg {
-                let svg = planner_report::figures::draw_run(&result.grid, &result.record, &result.expanded);
-                std::fs::write(file, svg)
-                    .map_err(|e| CliError::Failed(format!("cannot write {}: {e}", file.display())))?;
+                let svg = planner_report::figures::draw_run(
+                    &result.grid,
+                    &result.record,
+                    &result.expanded,
+                );
+                std::fs::write(file, svg).map_err(|e| {
+                    CliError::Failed(format!("cannot write {}: {e}", file.display()))
+                })?;
             }
             if json {
                 println!("{}", result.to_json()?);
@@ -567,8 +572,8 @@ pub fn describe_planner(name: &str) -> Result<String, CliError> {
         planner_registry::Task::Coverage => "coverage",
     };
     let mut out = format!("{} ({task}): {}\n", entry.name, entry.summary);
-    let params = planner_registry::schema::declared(name)
-        .map_err(|e| CliError::Failed(e.to_string()))?;
+    let params =
+        planner_registry::schema::declared(name).map_err(|e| CliError::Failed(e.to_string()))?;
     if params.is_empty() {
         out.push_str("no parameters\n");
     } else {

@@ -67,7 +67,10 @@ fn config_errors_exit_3_with_their_position() {
     // An unknown summary section is the report's to refuse, still a config error at its key.
     let (code, err) = gridplan(&["experiment", &config(&dir, "sections = [\"nosuch\"]")]);
     assert_eq!(code, 3, "{err}");
-    assert!(err.contains("c.toml:2:12: key `sections`: unknown section \"nosuch\""), "{err}");
+    assert!(
+        err.contains("c.toml:2:12: key `sections`: unknown section \"nosuch\""),
+        "{err}"
+    );
     let (code, err) = gridplan(&["experiment", &config(&dir, "sections = [\"seed002\"]")]);
     assert_eq!(code, 3, "{err}");
     assert!(err.contains("needs `proposed`"), "{err}");

@@ -25,7 +25,8 @@ use planner_report::{generic_section, Renderer, Section};
 
 /// Every section, generic and paper, in the order summary.md places them.
 pub fn catalogue() -> Vec<Box<dyn Section>> {
-    let mut all: Vec<Box<dyn Section>> = vec![Box::new(seed004::Coverage), Box::new(seed000::Seed000)];
+    let mut all: Vec<Box<dyn Section>> =
+        vec![Box::new(seed004::Coverage), Box::new(seed000::Seed000)];
     all.extend(generic_section("optimum"));
     all.push(Box::new(seed003::Seed003));
     all.extend(generic_section("repeats"));

@@ -5,8 +5,8 @@
 
 use std::fmt::Write as _;
 
-use planner_runner::config::map_stem;
 use planner_report::{Context, Reproduction, Section, MAX_COLUMNS};
+use planner_runner::config::map_stem;
 use planner_runner::record::RunRecord;
 
 /// Seed 000's quality and search-effort tables (section name `seed000`).

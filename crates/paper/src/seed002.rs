@@ -526,7 +526,8 @@ mod tests {
             "name = \"t\"\nrepeats = 3\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.C4]\nplanner = \"capso\"\ncontrol_points = 4\n",
             map.display().to_string()
         );
-        let experiment = planner_runner::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
+        let experiment =
+            planner_runner::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
         let mut records = Vec::new();
         for r in 0..3 {
             records.push(record("PA", "pastar", r, 100.0, 1.0));

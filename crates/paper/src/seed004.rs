@@ -111,7 +111,9 @@ fn means(context: &Context<'_>, planners: &[&PlannerSpec]) -> String {
             }
         };
         let counter = |name: &'static str| {
-            mean(&move |r: &planner_runner::record::RunRecord| r.counters.get(name).map(|v| v as f64))
+            mean(&move |r: &planner_runner::record::RunRecord| {
+                r.counters.get(name).map(|v| v as f64)
+            })
         };
         let coverage = mean(
             &|r| match (r.counters.get("n_covered"), r.counters.get("n_reachable")) {

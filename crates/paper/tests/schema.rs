@@ -15,7 +15,8 @@ fn repo() -> PathBuf {
 }
 
 fn validator() -> jsonschema::Validator {
-    let schema = schema::experiment_schema(&planner_paper::renderer().section_names()).expect("the schema builds");
+    let schema = schema::experiment_schema(&planner_paper::renderer().section_names())
+        .expect("the schema builds");
     jsonschema::draft202012::new(&schema).expect("the schema is a valid draft 2020-12 schema")
 }
 
@@ -224,7 +225,8 @@ fn schema_keys(schema: &Value) -> Vec<String> {
 
 #[test]
 fn the_schemas_runner_keys_are_the_parsers() {
-    let schema = schema::experiment_schema(&planner_paper::renderer().section_names()).expect("schema");
+    let schema =
+        schema::experiment_schema(&planner_paper::renderer().section_names()).expect("schema");
     let top = config::parse(
         Path::new("t.toml"),
         &GOOD.replace("name = \"mine\"", "name = \"mine\"\nzz_unknown = 1"),

@@ -6,12 +6,12 @@
 
 use plotters::prelude::*;
 
+use crate::median_iqr;
+use crate::optimum::matches_optimum;
 use planner_runner::config::{ChartSpec, Experiment};
 use planner_runner::index::ResultsIndex;
 use planner_runner::output::OutputFile;
 use planner_runner::record::RunRecord;
-use crate::median_iqr;
-use crate::optimum::matches_optimum;
 
 /// One chart: its file (under `charts/`), title and SVG text.
 #[derive(Debug, Clone, PartialEq)]
@@ -100,30 +100,29 @@ fn runs_of<'a>(valid: &[&'a RunRecord], label: &str) -> Vec<&'a RunRecord> {
 /// Median expansions and time against the scenario bucket, one line per label.
 fn bucket_charts(valid: &[&RunRecord], labels: &[&str]) -> Vec<Chart> {
     let mut charts = Vec::new();
-    let by_bucket =
-        |value: &dyn Fn(&RunRecord) -> Option<f64>| -> Vec<(String, Vec<(f64, f64)>)> {
-            labels
-                .iter()
-                .map(|l| {
-                    let runs = runs_of(valid, l);
-                    let mut buckets: Vec<u32> = runs.iter().filter_map(|r| r.bucket).collect();
-                    buckets.sort_unstable();
-                    buckets.dedup();
-                    let points = buckets
-                        .into_iter()
-                        .filter_map(|b| {
-                            let values: Vec<f64> = runs
-                                .iter()
-                                .filter(|r| r.bucket == Some(b))
-                                .filter_map(|r| value(r))
-                                .collect();
-                            median_iqr(&values).map(|(m, _, _)| (f64::from(b), m))
-                        })
-                        .collect();
-                    (l.to_string(), points)
-                })
-                .collect()
-        };
+    let by_bucket = |value: &dyn Fn(&RunRecord) -> Option<f64>| -> Vec<(String, Vec<(f64, f64)>)> {
+        labels
+            .iter()
+            .map(|l| {
+                let runs = runs_of(valid, l);
+                let mut buckets: Vec<u32> = runs.iter().filter_map(|r| r.bucket).collect();
+                buckets.sort_unstable();
+                buckets.dedup();
+                let points = buckets
+                    .into_iter()
+                    .filter_map(|b| {
+                        let values: Vec<f64> = runs
+                            .iter()
+                            .filter(|r| r.bucket == Some(b))
+                            .filter_map(|r| value(r))
+                            .collect();
+                        median_iqr(&values).map(|(m, _, _)| (f64::from(b), m))
+                    })
+                    .collect();
+                (l.to_string(), points)
+            })
+            .collect()
+    };
     charts.push(line_chart(
         "expansions-by-bucket.svg",
         "Median expansions against scenario bucket (optimal length / 4)",

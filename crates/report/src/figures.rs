@@ -176,19 +176,13 @@ fn run_figures(
                 problem.index,
                 file_safe(&run.planner)
             );
-            files.extend(crate::coverage_figures::figures(&map.grid, run, &base, style));
+            files.extend(crate::coverage_figures::figures(
+                &map.grid, run, &base, style,
+            ));
             continue;
         }
-        let title =
-            format!("{} on {} problem {}", run.planner, map.name, problem.index);
-        let svg = draw_path(
-            &map.grid,
-            problem.start,
-            problem.goal,
-            layer,
-            &title,
-            style,
-        );
+        let title = format!("{} on {} problem {}", run.planner, map.name, problem.index);
+        let svg = draw_path(&map.grid, problem.start, problem.goal, layer, &title, style);
         files.push(OutputFile {
             path: format!(
                 "figures/{stem}-{}-{}.svg",

@@ -33,8 +33,8 @@ use planner_runner::config::{ConfigError, Experiment};
 use planner_runner::index::ResultsIndex;
 use planner_runner::output::OutputFile;
 use planner_runner::provenance::Provenance;
-use planner_runner::record::RunRecord;
 pub use planner_runner::record::Reproduction;
+use planner_runner::record::RunRecord;
 use planner_runner::sweep::{Render, Results};
 use planner_runner::RunnerError;
 
@@ -115,7 +115,11 @@ impl Renderer {
     }
 
     /// Renders summary.md and returns it with the reproduction counts.
-    pub fn summary(&self, experiment: &Experiment, records: &[RunRecord]) -> (String, Reproduction) {
+    pub fn summary(
+        &self,
+        experiment: &Experiment,
+        records: &[RunRecord],
+    ) -> (String, Reproduction) {
         self.summary_with(experiment, records, None)
     }
 
@@ -158,7 +162,10 @@ impl Renderer {
     /// Every report file of a whole sweep's results, in the order they are written:
     /// summary.md, figures, charts, OMPL logs (when the config asks), paths.jsonl (when
     /// the config keeps paths) and report.html.
-    pub fn files(&self, results: &Results<'_>) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
+    pub fn files(
+        &self,
+        results: &Results<'_>,
+    ) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
         let experiment = results.experiment;
         let records = results.records;
         let (summary, reproduction) =
@@ -207,12 +214,17 @@ impl Render for Renderer {
                     self.section_names().join(", ")
                 )));
             };
-            section.check(&request.options).map_err(|e| asked.error(e))?;
+            section
+                .check(&request.options)
+                .map_err(|e| asked.error(e))?;
         }
         Ok(())
     }
 
-    fn render(&self, results: &Results<'_>) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
+    fn render(
+        &self,
+        results: &Results<'_>,
+    ) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
         self.files(results)
     }
 }

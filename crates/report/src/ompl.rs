@@ -84,7 +84,11 @@ pub fn logs(
             planner_block(&mut out, planner, &runs);
         }
         files.push(OutputFile {
-            path: format!("ompl/{}.log", one_word(planner_runner::config::map_stem(&map.name))).into(),
+            path: format!(
+                "ompl/{}.log",
+                one_word(planner_runner::config::map_stem(&map.name))
+            )
+            .into(),
             contents: out.into_bytes(),
         });
     }

@@ -5,11 +5,11 @@
 use std::path::{Path, PathBuf};
 
 use planner_api::{Budget, Problem, Status};
-use planner_runner::config;
 use planner_report::figures;
+use planner_runner::config;
 use planner_runner::expanded::{self, ExpandedError};
-use planner_runner::Built;
 use planner_runner::plan::{PlanArgs, PlanOptions};
+use planner_runner::Built;
 use planner_runner::{run_all, RunOptions, RunStatus};
 
 fn root() -> PathBuf {

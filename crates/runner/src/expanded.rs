@@ -11,8 +11,8 @@
 
 use indexmap::IndexMap;
 use planner_api::{Cell, Problem};
-use serde::{Deserialize, Serialize};
 use planner_registry::Built;
+use serde::{Deserialize, Serialize};
 
 use crate::config::{Experiment, FigureMode, FigurePick, MapEntry, PlannerSpec, ProblemEntry};
 use crate::index::ResultsIndex;
@@ -105,9 +105,8 @@ impl ExpandedCells {
     pub fn from_jsonl(text: &str, what: &str) -> Result<ExpandedCells, crate::RunnerError> {
         let mut all = ExpandedCells::default();
         for (n, line) in text.lines().enumerate() {
-            let line: Line = serde_json::from_str(line).map_err(|e| {
-                crate::RunnerError::Stream(format!("{what}:{}: {e}", n + 1))
-            })?;
+            let line: Line = serde_json::from_str(line)
+                .map_err(|e| crate::RunnerError::Stream(format!("{what}:{}: {e}", n + 1)))?;
             all.insert(&line.map, line.problem, &line.planner, line.expanded);
         }
         Ok(all)

@@ -176,50 +176,50 @@ fn encode_row(
     optional: &[bool; 5],
     counter_names: &[String],
 ) -> Result<(), RunnerError> {
-        let cell = |row: &mut Vec<u8>, value: &dyn erased::Value| -> Result<(), RunnerError> {
-            value.write_json(row)?;
-            row.push(b',');
-            Ok(())
-        };
-        cell(row, &r.map)?;
-        cell(row, &r.problem)?;
-        cell(row, &r.start.x)?;
-        cell(row, &r.start.y)?;
-        cell(row, &r.goal.x)?;
-        cell(row, &r.goal.y)?;
-        cell(row, &r.planner)?;
-        cell(row, &r.algorithm)?;
-        cell(row, &r.repeat)?;
-        cell(row, &r.seed)?;
-        cell(row, &r.status.as_str())?;
-        cell(row, &r.steps)?;
-        cell(row, &r.turns)?;
-        cell(row, &r.score)?;
-        cell(row, &r.length)?;
-        cell(row, &r.optimal_length)?;
-        cell(row, &r.valid)?;
-        cell(row, &nanoseconds(r.time_ms))?;
-        cell(row, &nanoseconds(r.setup_ms))?;
-        cell(row, &r.peak_heap_bytes)?;
-        cell(row, &r.bucket)?;
-        if optional[0] {
-            cell(row, &r.error)?;
-        }
-        if optional[1] {
-            cell(row, &r.admissible)?;
-        }
-        if optional[2] {
-            cell(row, &r.returns)?;
-        }
-        if optional[3] {
-            cell(row, &(!r.marks.is_empty()).then_some(&r.marks))?;
-        }
-        if optional[4] {
-            cell(row, &(!r.series.is_empty()).then_some(&r.series))?;
-        }
-        for value in counter_values(&r.counters, counter_names) {
-            cell(row, &value)?;
-        }
+    let cell = |row: &mut Vec<u8>, value: &dyn erased::Value| -> Result<(), RunnerError> {
+        value.write_json(row)?;
+        row.push(b',');
+        Ok(())
+    };
+    cell(row, &r.map)?;
+    cell(row, &r.problem)?;
+    cell(row, &r.start.x)?;
+    cell(row, &r.start.y)?;
+    cell(row, &r.goal.x)?;
+    cell(row, &r.goal.y)?;
+    cell(row, &r.planner)?;
+    cell(row, &r.algorithm)?;
+    cell(row, &r.repeat)?;
+    cell(row, &r.seed)?;
+    cell(row, &r.status.as_str())?;
+    cell(row, &r.steps)?;
+    cell(row, &r.turns)?;
+    cell(row, &r.score)?;
+    cell(row, &r.length)?;
+    cell(row, &r.optimal_length)?;
+    cell(row, &r.valid)?;
+    cell(row, &nanoseconds(r.time_ms))?;
+    cell(row, &nanoseconds(r.setup_ms))?;
+    cell(row, &r.peak_heap_bytes)?;
+    cell(row, &r.bucket)?;
+    if optional[0] {
+        cell(row, &r.error)?;
+    }
+    if optional[1] {
+        cell(row, &r.admissible)?;
+    }
+    if optional[2] {
+        cell(row, &r.returns)?;
+    }
+    if optional[3] {
+        cell(row, &(!r.marks.is_empty()).then_some(&r.marks))?;
+    }
+    if optional[4] {
+        cell(row, &(!r.series.is_empty()).then_some(&r.series))?;
+    }
+    for value in counter_values(&r.counters, counter_names) {
+        cell(row, &value)?;
+    }
     Ok(())
 }
 

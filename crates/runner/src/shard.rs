@@ -82,7 +82,9 @@ impl Shard {
         }
         if let Some(index) = number("JOB_COMPLETION_INDEX")? {
             let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or_else(|| {
-                error("JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N")
+                error(
+                    "JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N",
+                )
             })?;
             return Shard::new(index + 1, count).map(Some);
         }

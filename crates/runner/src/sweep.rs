@@ -204,8 +204,15 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         let threads = worker_threads(args.threads, experiment.threads);
         let provenance = Provenance::collect(args.config, threads);
         let seconds = started.elapsed().as_secs_f64();
-        let (reproduction, records) =
-            finish(args.render, &experiment, records, None, &dir, &provenance, seconds)?;
+        let (reproduction, records) = finish(
+            args.render,
+            &experiment,
+            records,
+            None,
+            &dir,
+            &provenance,
+            seconds,
+        )?;
         let kept = if args.keep_records {
             records
         } else {
@@ -368,10 +375,9 @@ fn shard_expanded(experiment: &Experiment, path: &Path) -> Result<ExpandedCells,
     if !experiment.figures_expanded || experiment.figures == config::FigureMode::None {
         return Ok(ExpandedCells::default());
     }
-    let file = File::open(path).map_err(|e| RunnerError::io(&path, e))?;
+    let file = File::open(path).map_err(|e| RunnerError::io(path, e))?;
     let what = path.display().to_string();
-    let (_, mut reader) =
-        StreamReader::new(BufReader::new(file), &what)?;
+    let (_, mut reader) = StreamReader::new(BufReader::new(file), &what)?;
     let mut firsts = Vec::new();
     while let Some((_, record)) = reader.next_run()? {
         if record.repeat == 0 {
@@ -437,10 +443,9 @@ fn resume_point(
 
 /// The records of the stream file `path`, appended to `records`.
 fn read_records(path: &Path, mut records: Vec<RunRecord>) -> Result<Vec<RunRecord>, RunnerError> {
-    let file = File::open(path).map_err(|e| RunnerError::io(&path, e))?;
+    let file = File::open(path).map_err(|e| RunnerError::io(path, e))?;
     let what = path.display().to_string();
-    let (_, mut reader) =
-        StreamReader::new(BufReader::new(file), &what)?;
+    let (_, mut reader) = StreamReader::new(BufReader::new(file), &what)?;
     while let Some((_, record)) = reader.next_run()? {
         records.push(record);
     }
@@ -531,8 +536,7 @@ fn finish(
         &all,
         &tables,
         outdir::DEFAULT_LOCK_WAIT,
-    )
-    ?;
+    )?;
     drop(tables);
     for record in &mut records {
         record.path = None;
@@ -563,7 +567,11 @@ fn write_stream(
 /// charts, report.html, OMPL logs, and the tables again. No planner runs. The directory is
 /// replaced under the same rules as `experiment` writes it ([`outdir`]: only a gridplan
 /// results directory, under its lock, atomically).
-pub fn report(dir: &Path, config: Option<&Path>, render: &dyn Render) -> Result<Report, RunnerError> {
+pub fn report(
+    dir: &Path,
+    config: Option<&Path>,
+    render: &dyn Render,
+) -> Result<Report, RunnerError> {
     let started = Instant::now();
     // Only gridplan's own results directory: its marker, as `experiment` requires.
     outdir::check(dir)?;
@@ -576,8 +584,7 @@ pub fn report(dir: &Path, config: Option<&Path>, render: &dyn Render) -> Result<
         ))
     })?;
     let what = path.display().to_string();
-    let (header, mut reader) =
-        StreamReader::new(BufReader::new(file), &what)?;
+    let (header, mut reader) = StreamReader::new(BufReader::new(file), &what)?;
     let mut records = Vec::with_capacity(header.runs.min(1 << 24) as usize);
     while let Some((_, record)) = reader.next_run()? {
         records.push(record);
@@ -592,9 +599,8 @@ pub fn report(dir: &Path, config: Option<&Path>, render: &dyn Render) -> Result<
     let experiment = load_checked(&header, config, render, "report")?;
     let info_path = dir.join(PROVENANCE_FILE);
     let bytes = fs::read(&info_path).map_err(|e| RunnerError::io(&info_path, e))?;
-    let info: RunInfo = serde_json::from_slice(&bytes).map_err(|e| {
-        RunnerError::Results(format!("report: {}: {e}", info_path.display()))
-    })?;
+    let info: RunInfo = serde_json::from_slice(&bytes)
+        .map_err(|e| RunnerError::Results(format!("report: {}: {e}", info_path.display())))?;
     let expanded = read_expanded(dir, &experiment)?;
     let n_runs = records.len();
     let (reproduction, _) = finish(
@@ -625,8 +631,7 @@ fn load_checked(
     what: &'static str,
 ) -> Result<Experiment, RunnerError> {
     let config_path = config.map_or_else(|| PathBuf::from(&header.config), Path::to_path_buf);
-    let experiment =
-        config::load(&config_path).map_err(|e| RunnerError::during(what, e.into()))?;
+    let experiment = config::load(&config_path).map_err(|e| RunnerError::during(what, e.into()))?;
     render
         .check(&experiment)
         .map_err(|e| RunnerError::during(what, e.into()))?;
@@ -648,8 +653,7 @@ fn load_checked(
 fn read_expanded(dir: &Path, experiment: &Experiment) -> Result<ExpandedCells, RunnerError> {
     let path = dir.join(EXPANDED_FILE);
     match fs::read_to_string(&path) {
-        Ok(text) => ExpandedCells::from_jsonl(&text, &path.display().to_string())
-            .map_err(RunnerError::from),
+        Ok(text) => ExpandedCells::from_jsonl(&text, &path.display().to_string()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             let drawn = experiment.figures_expanded
                 && experiment.figures != config::FigureMode::None
@@ -717,7 +721,9 @@ type OpenShard = (PathBuf, StreamHeader, StreamReader<BufReader<File>>);
 /// The streams of the shard directories `dirs` (at least one), opened.
 fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
     if dirs.is_empty() {
-        return Err(RunnerError::Usage("merge: no shard directories given".into()));
+        return Err(RunnerError::Usage(
+            "merge: no shard directories given".into(),
+        ));
     }
     let mut shards = Vec::new();
     for dir in dirs {

@@ -9,8 +9,8 @@ use planner_api::{
     PlannerSpecs, Problem,
 };
 use planner_registry::Factory;
-use planner_runner::plan::PlanArgs;
 use planner_registry::PLANNERS;
+use planner_runner::plan::PlanArgs;
 use planner_runner::{config, output, run_all, RunOptions};
 
 fn root() -> PathBuf {
