@@ -482,38 +482,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         toml::from_str(text).map_err(|e| src.error(e.span(), e.message().trim()))?;
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
-    let name = raw.name.get_ref().clone();
-    if name.len() > MAX_NAME_LEN {
-        return Err(src.error(
-            Some(raw.name.span()),
-            format!(
-                "key `name`: {} characters, more than {MAX_NAME_LEN} (it names the output directory)",
-                name.len()
-            ),
-        ));
-    }
-    let name_ok = !name.is_empty()
-        && name
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
-    if !name_ok {
-        return Err(src.error(
-            Some(raw.name.span()),
-            format!("key `name`: {name:?} must be non-empty letters, digits, '-' or '_' (it names the output directory)"),
-        ));
-    }
-    if *raw.repeats.get_ref() == 0 {
-        return Err(src.error(Some(raw.repeats.span()), "key `repeats` must be at least 1"));
-    }
-    if *raw.threads.get_ref() > MAX_THREADS {
-        return Err(src.error(
-            Some(raw.threads.span()),
-            format!(
-                "key `threads`: {} is more than {MAX_THREADS}; use 0 for one per core",
-                raw.threads.get_ref()
-            ),
-        ));
-    }
+    let name = check_top_level(&src, &raw)?;
 
     let mut planners = Vec::new();
     for (label, table) in &expand_sweeps(&src, &raw.planners)? {
@@ -523,34 +492,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         return Err(src.error(None, "key `planners`: at least one planner is needed"));
     }
 
-    let mut maps: Vec<MapEntry> = Vec::new();
-    for (i, spanned) in raw.maps.iter().enumerate() {
-        for entry in map_entries(&src, &base, i, spanned)? {
-            let stem = map_stem(&entry.name);
-            if let Some(other) = maps
-                .iter()
-                .find(|m| m.name != entry.name && map_stem(&m.name) == stem)
-            {
-                return Err(src.error(
-                    Some(spanned.span()),
-                    format!(
-                        "maps[{i}]: `{}` and `{}` have the same stem `{stem}`, which names their figures and published tables; rename one",
-                        other.name, entry.name
-                    ),
-                ));
-            }
-            if maps.iter().any(|m| m.name == entry.name) {
-                return Err(src.error(
-                    Some(spanned.span()),
-                    format!(
-                        "maps[{i}]: map name `{}` appears twice; map file names must be unique",
-                        entry.name
-                    ),
-                ));
-            }
-            maps.push(entry);
-        }
-    }
+    let maps = collect_maps(&src, &base, &raw.maps)?;
     if maps.is_empty() {
         return Err(src.error(None, "key `maps`: at least one map is needed"));
     }
@@ -611,6 +553,80 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         planners,
         sections,
     })
+}
+
+/// Checks the top-level keys `name`, `repeats` and `threads`; returns the name.
+fn check_top_level(src: &Source<'_>, raw: &RawConfig) -> Result<String, ConfigError> {
+    let name = raw.name.get_ref().clone();
+    if name.len() > MAX_NAME_LEN {
+        return Err(src.error(
+            Some(raw.name.span()),
+            format!(
+                "key `name`: {} characters, more than {MAX_NAME_LEN} (it names the output directory)",
+                name.len()
+            ),
+        ));
+    }
+    let name_ok = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
+    if !name_ok {
+        return Err(src.error(
+            Some(raw.name.span()),
+            format!("key `name`: {name:?} must be non-empty letters, digits, '-' or '_' (it names the output directory)"),
+        ));
+    }
+    if *raw.repeats.get_ref() == 0 {
+        return Err(src.error(Some(raw.repeats.span()), "key `repeats` must be at least 1"));
+    }
+    if *raw.threads.get_ref() > MAX_THREADS {
+        return Err(src.error(
+            Some(raw.threads.span()),
+            format!(
+                "key `threads`: {} is more than {MAX_THREADS}; use 0 for one per core",
+                raw.threads.get_ref()
+            ),
+        ));
+    }
+    Ok(name)
+}
+
+/// The maps of every `[[maps]]` set, in config order, their names and stems unique.
+fn collect_maps(
+    src: &Source<'_>,
+    base: &Path,
+    sets: &[Spanned<RawMaps>],
+) -> Result<Vec<MapEntry>, ConfigError> {
+    let mut maps: Vec<MapEntry> = Vec::new();
+    for (i, spanned) in sets.iter().enumerate() {
+        for entry in map_entries(src, base, i, spanned)? {
+            let stem = map_stem(&entry.name);
+            if let Some(other) = maps
+                .iter()
+                .find(|m| m.name != entry.name && map_stem(&m.name) == stem)
+            {
+                return Err(src.error(
+                    Some(spanned.span()),
+                    format!(
+                        "maps[{i}]: `{}` and `{}` have the same stem `{stem}`, which names their figures and published tables; rename one",
+                        other.name, entry.name
+                    ),
+                ));
+            }
+            if maps.iter().any(|m| m.name == entry.name) {
+                return Err(src.error(
+                    Some(spanned.span()),
+                    format!(
+                        "maps[{i}]: map name `{}` appears twice; map file names must be unique",
+                        entry.name
+                    ),
+                ));
+            }
+            maps.push(entry);
+        }
+    }
+    Ok(maps)
 }
 
 /// The `sections` entries as requests, with the key's position for later errors.
