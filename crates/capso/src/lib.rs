@@ -9,75 +9,113 @@
 //! ingredients: the particles' position update is modified by the beetle foraging (beetle
 //! antennae search) strategy; the inertia weight and acceleration coefficients follow a
 //! trigonometric schedule over the iterations (large steps early, fine search late); and a
-//! chaotic map replaces PSO's uniform random coefficients. Only the abstract could be read
-//! in the stored copies of the paper, so its equations and constants below are this
-//! crate's transcription of the standard forms those words name, each a [`Config`] key;
-//! seed 002 (section 4.2.2) fixes 6 control points, 30 particles and 100 iterations, the
-//! defaults.
+//! chaotic map replaces PSO's uniform random coefficients. The stored copies of the paper
+//! (the publisher's page and a vdocuments.net transcript) hold only its abstract, searched
+//! again for issue 34; so the equations below are the published forms those words name,
+//! each with its source, and each constant a [`Config`] key. Seed 002 (section 4.2.2)
+//! fixes 6 control points, 30 particles and 100 iterations, the defaults.
 //!
 //! # A particle and its path
 //! A particle is the `2 n` coordinates of `n` control points in the grid's box
-//! `[0, W - 1] x [0, H - 1]` (cell centres at integers). It is decoded into a path so:
-//! 1. The control points are ordered by their projection on the line start -> goal (ties
-//!    by index), so that a swarm of unordered points does not draw loops.
-//! 2. The natural cubic spline through start, control points and goal, parameterised by
-//!    chord length ([`spline`]), is sampled `samples_per_segment` times per knot interval.
-//! 3. Each sample is rounded to the nearest cell (clamped into the grid); repeated cells
+//! `[0, W - 1] x [0, H - 1]` (cell centres at integers), in path order. It is decoded so:
+//! 1. The natural cubic spline through start, the control points in order and goal,
+//!    parameterised by chord length ([`spline`]), is sampled `samples_per_segment` times
+//!    per knot interval.
+//! 2. Each sample is rounded to the nearest cell (clamped into the grid); repeated cells
 //!    are dropped.
-//! 4. The cell polyline is simplified by Ramer-Douglas-Peucker with tolerance `tolerance`
+//! 3. The cell polyline is simplified by Ramer-Douglas-Peucker with tolerance `tolerance`
 //!    cells (every dropped cell lies within that distance of the kept segment): rounding
 //!    makes a polyline through every sample zigzag by up to half a cell per sample, which
-//!    adds to the length of a straight line (2.5 % on seed 002's open map: 114.65 instead
-//!    of 111.80 with `tolerance = 0`, tested). The kept cells are the
+//!    adds to the length of a straight line (2.4 % on seed 002's open map: 114.43 instead
+//!    of 111.80 with `tolerance = 0` and 10 samples per interval, tested). The kept cells are the
 //!    path's waypoints: an any-angle path ([`PathRule::AnyAngle`](planner_api::PathRule)).
 //!
 //! Its fitness is `length + penalty * collision`, where `length` is the polyline's
 //! Euclidean length and `collision` is, over its segments, the number of blocked cells
-//! touched plus the length inside them, both exact ([`collision`]). `collision = 0`
-//! exactly when every segment passes [`planner_api::segment_is_free`], so a path of
-//! fitness below `penalty` is valid. The fitness is that of the returned path itself.
+//! touched plus the length inside them, both exact ([`collision`]): the penalty grows with
+//! the length in collision, so the swarm is pulled out of obstacles gradually rather than
+//! facing a flat wall of infeasible paths. `collision = 0` exactly when every segment
+//! passes [`planner_api::segment_is_free`], so a path of fitness below `penalty` is valid.
+//! The fitness is that of the returned path itself. The segments are walked on a
+//! bit-packed copy of the grid ([`collision::BitGrid`], built once per grid), and the
+//! decoding reuses its buffers, so an evaluation allocates nothing.
 //!
 //! # The swarm
 //! For iteration `k = 1 ..= T` with `s = sin(pi k / (2 T))`, `c = cos(pi k / (2 T))`:
 //! - inertia `w = w_min + (w_max - w_min) c`, cognitive `c1 = c1_max - (c1_max - c1_min) s`,
-//!   social `c2 = c2_min + (c2_max - c2_min) s` (the trigonometric schedule: large
-//!   inertia and self-confidence early, the swarm's pull late);
-//! - beetle step `delta = beetle_step * beetle_decay^(k - 1)`.
+//!   social `c2 = c2_min + (c2_max - c2_min) s` (the trigonometric schedule of the
+//!   abstract: large inertia and self-confidence early, the swarm's pull late; the bounds
+//!   0.9 and 0.4 of `w` are Shi and Eberhart's, also the default of the rBAS package's
+//!   beetle swarm, <https://jywang2016.github.io/rBAS/reference/BSOoptim.html>; 2.5 and
+//!   0.5 for `c1`, `c2` are Ratnaweera et al.'s time-varying coefficients, 2004);
+//! - beetle step `delta = beetle_step * beetle_decay^(k - 1)` (beetle antennae search,
+//!   Jiang and Li 2017: `delta_{k+1} = eta delta_k`, `eta = 0.95`).
 //!
-//! Each particle, in order, per coordinate: `v = w v + c1 r1 (pbest - x) + c2 r2 (gbest - x)`,
-//! clamped to `max_speed` times the grid's extent on that axis, where `r1` and `r2` are the
-//! next two values of the chaotic sequence ([`chaos`]). Then the beetle: its antennae
-//! `x_r = x + v delta / 2` and `x_l = x - v delta / 2` are evaluated, and with
-//! `xi = -delta v sign(f(x_r) - f(x_l))` (a step toward the better antenna; beetle swarm
-//! optimisation's form for minimisation) the position becomes
-//! `x + lambda v + (1 - lambda) xi`, clamped into the box (a clamped coordinate's velocity
-//! is set to 0). The new position is evaluated and the personal best updated; the global
-//! best is updated after the whole swarm has moved. Antenna positions never become
-//! personal bests.
+//! Each particle, in order:
+//! 1. *Restart.* When its personal best has not improved for `restart_after` iterations,
+//!    its position is redrawn uniformly within `jitter` times the grid's extent of the
+//!    global best (clamped into the box), its velocity and last move set to 0; its personal
+//!    best is kept (issue 34; a choice, not from the paper).
+//! 2. *Velocity* (per coordinate): `v = w v + c1 r1 (pbest - x) + c2 r2 (gbest - x)`,
+//!    clamped to `max_speed` times the grid's extent on that axis, where `r1` and `r2` are
+//!    the next two values of the chaotic sequence ([`chaos`]; the logistic map by
+//!    default).
+//! 3. *Beetle.* Beetle swarm optimisation (Wang, Yang and Liu, Filomat 34(15) 2020; the
+//!    rBAS documentation above) moves the particle by
+//!    `x + lambda v + (1 - lambda) xi` with `lambda = 0.4` and
+//!    `xi = delta v sign(f(x_r) - f(x_l))` for the antennae `x_r = x + v d / 2` and
+//!    `x_l = x - v d / 2`; for minimisation the step goes toward the better antenna,
+//!    `xi = -delta v sign(f(x_r) - f(x_l))`. Evaluating two antennae
+//!    would triple the work (three fitness evaluations per particle and iteration); here
+//!    the antennae are the particle's last two positions, which are already evaluated:
+//!    with `u = x_k - x_{k-1}` the last move and `df = f(x_k) - f(x_{k-1})`, the
+//!    directional estimate of the slope along `v` has the sign of `df (u . v)`, and
+//!    `xi = -delta v sign(df (u . v))` (0 before the first move and after a restart). This
+//!    substitution is this crate's choice.
+//! 4. The position is clamped into the box (a clamped coordinate's velocity is set to 0)
+//!    and evaluated, and the personal best updated. The global best is updated after the
+//!    whole swarm has moved.
 //!
-//! Initialisation: particle 0 has its control points evenly spaced on the straight line
-//! start -> goal (so a free line is found at once, and CAPSO "produces paths identical to
-//! PA-star in obstacle-free environments", seed 002 section 4.3.1); the others are uniform
-//! in the box. Velocities start at 0.
+//! # Initialisation
+//! First the [`guide`]: an A* route over blocks of cells (at most 64 per side), shortened
+//! by line of sight. Lian et al.'s initialisation is not in the stored abstract; seeding
+//! part of the swarm on a free route is issue 34's answer to random control points missing
+//! every free corridor on seed 002's 500 x 500 map. When no route exists even over single
+//! cells, the goal is unreachable and the search stops with `no_path` before any
+//! evaluation.
+//! - Particle 0 has its control points evenly spaced on the straight line start -> goal
+//!   (so a free line is found at once, and CAPSO "produces paths identical to PA-star in
+//!   obstacle-free environments", seed 002 section 4.3.1).
+//! - Particles `1 ..= round(guided_share (P - 1))`: particle 1 has the guide's control
+//!   points ([`guide::control_points`]), the others the same plus uniform noise of
+//!   `jitter` times the extent per coordinate.
+//! - The rest: control points uniform in the box whose nearest cell is free (up to
+//!   [`FREE_POINT_ATTEMPTS`] draws each), ordered by their projection on start -> goal so
+//!   that they start without loops.
 //!
-//! Randomness: the initial positions, the chaotic sequence's start value and its reseeds
-//! come from ChaCha8 keyed by `seed` ([`chaos::rng_for_seed`]); nothing else is random, so
-//! the same seed gives the same path and counters bit for bit.
+//! Velocities start at 0.
+//!
+//! Randomness: the initial positions, the chaotic sequence's start value and its reseeds,
+//! and the restarts come from ChaCha8 keyed by `seed` ([`chaos::rng_for_seed`]); the guide
+//! is deterministic, so the same seed gives the same path and counters bit for bit.
 //!
 //! # Outcome and counters
 //! After the last iteration the global best is decoded: `found` when its collision is 0,
 //! else `no_path` (the search may have missed a path; the best attempt's collision is in
 //! the counters). The budget counts fitness evaluations as expansions (`n_expanded`):
-//! `30 + 100 * 30 * 3 = 9030` with the defaults (one per particle at the start, then three
-//! per particle and iteration: two antennae and the new position). When it runs out the
-//! outcome is `budget_exhausted`, with the best path so far if that one is collision-free.
+//! `30 + 100 * 30 = 3030` with the defaults (one per particle at the start and one per
+//! particle and iteration). The guide's block search is not counted (at most the grid's
+//! cells per level; `n_guide_expanded`). When the budget runs out the outcome is
+//! `budget_exhausted`, with the best path so far if that one is collision-free. A memory
+//! budget is checked for the bit grid and the guide's finest level (9 bytes a cell).
 //!
 //! Counters, in this order: `n_iterations`, `n_fitness_evaluations`,
 //! `final_collision_cells` and `final_collision_length_milli` (the returned global best's
 //! blocked cells touched and its length inside them in thousandths of a cell; 0 for a
-//! found path), `n_chaos_reseeds`, `n_expanded` (= `n_fitness_evaluations`). The
-//! outcome's series `best_fitness` (x: `iteration`) is the global best fitness after
-//! initialisation (iteration 0) and after each iteration.
+//! found path), `n_chaos_reseeds`, `n_restarts`, `n_guide_expanded`, `guide_block` (the
+//! guide's block size in cells, 0 when there is no route), `n_expanded`
+//! (= `n_fitness_evaluations`). The outcome's series `best_fitness` (x: `iteration`) is
+//! the global best fitness after initialisation (iteration 0) and after each iteration.
 //!
 //! ```
 //! use planner_api::{Budget, Cell, Grid, PathRule, Planner, Problem, Status};
@@ -98,8 +136,8 @@
 //! let path = outcome.path.unwrap();
 //! assert!(path.validate(&grid, PathRule::AnyAngle).is_ok());
 //! assert_eq!(outcome.counters.get("final_collision_cells"), Some(0));
-//! // 10 + 30 * 10 * 3 fitness evaluations; 31 points of the convergence curve.
-//! assert_eq!(outcome.counters.get("n_fitness_evaluations"), Some(910));
+//! // 10 + 30 * 10 fitness evaluations; 31 points of the convergence curve.
+//! assert_eq!(outcome.counters.get("n_fitness_evaluations"), Some(310));
 //! assert_eq!(outcome.series[0].points.len(), 31);
 //! ```
 #![deny(missing_docs)]
@@ -107,15 +145,18 @@
 
 pub mod chaos;
 pub mod collision;
+pub mod guide;
 pub mod spline;
 
-use planner_api::{Budget, Cell, Counters, Grid, Outcome, Path, Planner, Problem, Series, Status};
+use planner_api::{Budget, Cell, Counters, Outcome, Path, Planner, Problem, Series, Status};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 pub use chaos::ChaoticMap;
 use chaos::{rng_for_seed, unit, Chaos};
-use collision::{segment_collision, Collision};
+use collision::{BitGrid, Collision};
+use guide::Guide;
+use rand_chacha::ChaCha8Rng;
 use spline::Spline;
 
 /// The registry name.
@@ -152,8 +193,9 @@ pub struct Config {
     /// `lambda`, the PSO velocity's share of the position update (the beetle step has
     /// `1 - lambda`), in `0 ..= 1`. Default 0.4.
     pub lambda: f64,
-    /// The beetle's initial step `delta_0` (relative to the velocity; the antennae are
-    /// `delta v / 2` either side), finite and `> 0`. Default 0.9.
+    /// The beetle's initial step `delta_0`, relative to the velocity (the beetle term is
+    /// `xi = +/- delta v`), finite and `> 0`. Default 0.9 (a choice: the paper's value is
+    /// not in its stored abstract).
     pub beetle_step: f64,
     /// The step's decay per iteration, `eta` in `(0, 1]`. Default 0.95.
     pub beetle_decay: f64,
@@ -166,11 +208,20 @@ pub struct Config {
     /// Penalty weight per unit of collision (blocked cells touched plus length inside),
     /// finite and `>= 0`. Default 100.
     pub penalty: f64,
-    /// Spline samples per knot interval, `1 ..= 1000`. Default 10.
+    /// Spline samples per knot interval, `1 ..= 1000`. Default 5 (issue 34: 10 gave the same lengths on seed 002's maps at 1.3 times the CPU time per evaluation).
     pub samples_per_segment: u32,
     /// Ramer-Douglas-Peucker tolerance in cells for the sampled polyline, `0 ..= 16`.
     /// Default 1.
     pub tolerance: f64,
+    /// Iterations without a better personal best after which a particle restarts near the
+    /// global best, `0 ..= 100_000` (0: never). Default 10.
+    pub restart_after: u32,
+    /// The share of particles 1 .. P - 1 seeded on the guide (one exactly, the others
+    /// jittered), in `0 ..= 1`. Default 0.5.
+    pub guided_share: f64,
+    /// Half-width of the uniform noise of jittered guide particles and restarts, as a
+    /// fraction of the grid's extent on each axis, in `0 ..= 1`. Default 0.05.
+    pub jitter: f64,
 }
 
 impl Default for Config {
@@ -192,8 +243,11 @@ impl Default for Config {
             max_speed: 0.1,
             chaotic_map: ChaoticMap::Logistic,
             penalty: 100.0,
-            samples_per_segment: 10,
+            samples_per_segment: 5,
             tolerance: 1.0,
+            restart_after: 10,
+            guided_share: 0.5,
+            jitter: 0.05,
         }
     }
 }
@@ -242,6 +296,13 @@ impl Config {
         )?;
         int("population", self.population, 1, 10_000, "in 1..=10000")?;
         int("iterations", self.iterations, 0, 100_000, "in 0..=100000")?;
+        int(
+            "restart_after",
+            self.restart_after,
+            0,
+            100_000,
+            "in 0..=100000",
+        )?;
         int(
             "samples_per_segment",
             self.samples_per_segment,
@@ -319,6 +380,18 @@ impl Config {
         )?;
         real("penalty", self.penalty, self.penalty >= 0.0, nonneg)?;
         real(
+            "guided_share",
+            self.guided_share,
+            (0.0..=1.0).contains(&self.guided_share),
+            "in 0..=1",
+        )?;
+        real(
+            "jitter",
+            self.jitter,
+            (0.0..=1.0).contains(&self.jitter),
+            "in 0..=1",
+        )?;
+        real(
             "tolerance",
             self.tolerance,
             (0.0..=16.0).contains(&self.tolerance),
@@ -348,36 +421,27 @@ struct Decoder {
     cells: Vec<Cell>,
     keep: Vec<bool>,
     stack: Vec<(usize, usize)>,
-    order: Vec<usize>,
     path: Vec<Cell>,
 }
 
 impl Decoder {
-    /// Decodes the control points `position` (`x_0, y_0, x_1, y_1, ...`) into the path in
-    /// `self.path` and evaluates it (crate docs, "A particle and its path").
+    /// Decodes the control points `position` (`x_0, y_0, x_1, y_1, ...`, in path order)
+    /// into the path in `self.path` and evaluates it (crate docs, "A particle and its
+    /// path"). Allocates nothing once the buffers have grown to the path's size.
     fn evaluate(
         &mut self,
-        grid: &Grid,
+        grid: &BitGrid,
         start: Cell,
         goal: Cell,
         position: &[f64],
         config: &Config,
     ) -> Evaluation {
-        let (sx, sy) = (f64::from(start.x), f64::from(start.y));
-        let (gx, gy) = (f64::from(goal.x), f64::from(goal.y));
-        let (ux, uy) = (gx - sx, gy - sy);
-        let n = position.len() / 2;
-        self.order.clear();
-        self.order.extend(0..n);
-        let projection = |k: usize| (position[2 * k] - sx) * ux + (position[2 * k + 1] - sy) * uy;
-        self.order
-            .sort_unstable_by(|&a, &b| projection(a).total_cmp(&projection(b)).then(a.cmp(&b)));
         self.knots.clear();
-        self.knots.push((sx, sy));
-        for &k in &self.order {
-            self.knots.push((position[2 * k], position[2 * k + 1]));
+        self.knots.push((f64::from(start.x), f64::from(start.y)));
+        for point in position.chunks_exact(2) {
+            self.knots.push((point[0], point[1]));
         }
-        self.knots.push((gx, gy));
+        self.knots.push((f64::from(goal.x), f64::from(goal.y)));
         self.spline.fit(&self.knots);
         self.samples.clear();
         self.spline
@@ -386,10 +450,11 @@ impl Decoder {
         let (max_x, max_y) = (f64::from(grid.width() - 1), f64::from(grid.height() - 1));
         self.cells.clear();
         for &(x, y) in &self.samples {
-            // Clamped into the grid, so the casts are exact and in range.
+            // Clamped into the grid, so the casts are in range. Rounding half up by truncation (the values are >= 0 after the clamp): the
+            // same as `round` there, without its library call.
             let cell = Cell::new(
-                x.round().clamp(0.0, max_x) as u32,
-                y.round().clamp(0.0, max_y) as u32,
+                (x.clamp(0.0, max_x) + 0.5) as u32,
+                (y.clamp(0.0, max_y) + 0.5) as u32,
             );
             if self.cells.last() != Some(&cell) {
                 self.cells.push(cell);
@@ -411,8 +476,8 @@ impl Decoder {
         let mut length = 0.0;
         let mut collision = Collision::default();
         for pair in self.path.windows(2) {
-            length += pair[0].euclidean(pair[1]);
-            collision.add(segment_collision(grid, pair[0], pair[1]));
+            length += distance(pair[0], pair[1]);
+            collision.add(grid.segment_collision(pair[0], pair[1]));
         }
         Evaluation {
             fitness: length + config.penalty * collision.cost(),
@@ -420,6 +485,14 @@ impl Decoder {
             collision,
         }
     }
+}
+/// The Euclidean distance between the centres of `a` and `b` as the square root of the
+/// sum of squares (exact in the integers below it; `Cell::euclidean`'s `hypot` is a library
+/// call, and this runs once per segment of every evaluation).
+fn distance(a: Cell, b: Cell) -> f64 {
+    let dx = f64::from(a.x.abs_diff(b.x));
+    let dy = f64::from(a.y.abs_diff(b.y));
+    (dx * dx + dy * dy).sqrt()
 }
 
 /// Ramer-Douglas-Peucker on `cells`: keeps the first and last cell and every cell farther
@@ -451,10 +524,30 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
         if b <= a + 1 {
             continue;
         }
-        // Squared distances: the same order as distances, without a square root.
+        // Squared distances (the same order as distances, without a square root), in
+        // integers but for one multiplication by the precomputed 1 / |b - a|^2.
+        let (ax, ay) = (i64::from(cells[a].x), i64::from(cells[a].y));
+        let (bx, by) = (i64::from(cells[b].x), i64::from(cells[b].y));
+        let (dx, dy) = (bx - ax, by - ay);
+        let squared = dx * dx + dy * dy;
+        let inverse = if squared > 0 {
+            1.0 / squared as f64
+        } else {
+            0.0
+        };
         let (mut farthest, mut distance) = (a, -1.0);
         for (k, &cell) in cells.iter().enumerate().take(b).skip(a + 1) {
-            let d = squared_point_segment_distance(cell, cells[a], cells[b]);
+            let (px, py) = (i64::from(cell.x), i64::from(cell.y));
+            let (wx, wy) = (px - ax, py - ay);
+            let dot = wx * dx + wy * dy;
+            let d = if dot <= 0 || squared == 0 {
+                (wx * wx + wy * wy) as f64
+            } else if dot >= squared {
+                ((px - bx) * (px - bx) + (py - by) * (py - by)) as f64
+            } else {
+                let cross = wx * dy - wy * dx;
+                (cross * cross) as f64 * inverse
+            };
             if d > distance {
                 (farthest, distance) = (k, d);
             }
@@ -467,28 +560,12 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
     }
 }
 
-/// The squared Euclidean distance from the centre of `p` to the segment between the
-/// centres of `a` and `b`.
-fn squared_point_segment_distance(p: Cell, a: Cell, b: Cell) -> f64 {
-    let (px, py) = (f64::from(p.x), f64::from(p.y));
-    let (ax, ay) = (f64::from(a.x), f64::from(a.y));
-    let (dx, dy) = (f64::from(b.x) - ax, f64::from(b.y) - ay);
-    let squared = dx * dx + dy * dy;
-    let t = if squared == 0.0 {
-        0.0
-    } else {
-        (((px - ax) * dx + (py - ay) * dy) / squared).clamp(0.0, 1.0)
-    };
-    let (ex, ey) = (px - ax - t * dx, py - ay - t * dy);
-    ex * ex + ey * ey
-}
-
 /// CAPSO's counters as plain integers (crate docs, "Outcome and counters").
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize)]
 pub struct CapsoStats {
     /// Iterations completed.
     pub n_iterations: u64,
-    /// Fitness evaluations (initial particles, antennae, moved particles).
+    /// Fitness evaluations (one per particle at the start and per particle and iteration).
     pub n_fitness_evaluations: u64,
     /// Blocked cells the returned global best touches (0 for a found path).
     pub final_collision_cells: u64,
@@ -496,6 +573,12 @@ pub struct CapsoStats {
     pub final_collision_length_milli: u64,
     /// Chaotic values replaced by a fresh draw (see [`chaos`]).
     pub n_chaos_reseeds: u64,
+    /// Stagnating particles restarted.
+    pub n_restarts: u64,
+    /// Blocks expanded by the guide's searches ([`guide`]).
+    pub n_guide_expanded: u64,
+    /// The guide's block size in cells (0 when the guide found no route).
+    pub guide_block: u64,
 }
 
 impl CapsoStats {
@@ -510,21 +593,40 @@ impl CapsoStats {
                 self.final_collision_length_milli,
             )
             .with("n_chaos_reseeds", self.n_chaos_reseeds)
+            .with("n_restarts", self.n_restarts)
+            .with("n_guide_expanded", self.n_guide_expanded)
+            .with("guide_block", self.guide_block)
             .with("n_expanded", self.n_fitness_evaluations)
     }
 }
 
-/// The CAPSO planner. Keeps its swarm and decoding buffers between calls.
+/// The swarm's state, flat per particle and coordinate (`particle * dims + d`), kept
+/// between searches so that a search allocates only when it needs more room.
+#[derive(Debug, Clone, Default)]
+struct Swarm {
+    positions: Vec<f64>,
+    velocities: Vec<f64>,
+    /// The last move of each particle, `x_k - x_{k-1}` (0 before the first move and after a
+    /// restart).
+    moved: Vec<f64>,
+    best_positions: Vec<f64>,
+    best_fitness: Vec<f64>,
+    /// The fitness at the current and at the previous position.
+    fitness: Vec<f64>,
+    previous_fitness: Vec<f64>,
+    /// Iterations since the personal best last improved.
+    stagnation: Vec<u32>,
+    global: Vec<f64>,
+}
+
+/// The CAPSO planner. Keeps its grid copy, swarm and decoding buffers between calls.
 #[derive(Debug, Clone)]
 pub struct Capso {
     config: Config,
+    bits: BitGrid,
+    guide: Guide,
     decoder: Decoder,
-    positions: Vec<f64>,
-    velocities: Vec<f64>,
-    best_positions: Vec<f64>,
-    best_fitness: Vec<f64>,
-    global: Vec<f64>,
-    antenna: Vec<f64>,
+    swarm: Swarm,
     stats: CapsoStats,
 }
 
@@ -534,13 +636,10 @@ impl Capso {
         config.validate()?;
         Ok(Capso {
             config,
+            bits: BitGrid::new(),
+            guide: Guide::default(),
             decoder: Decoder::default(),
-            positions: Vec::new(),
-            velocities: Vec::new(),
-            best_positions: Vec::new(),
-            best_fitness: Vec::new(),
-            global: Vec::new(),
-            antenna: Vec::new(),
+            swarm: Swarm::default(),
             stats: CapsoStats::default(),
         })
     }
@@ -555,11 +654,13 @@ impl Capso {
         self.stats
     }
 
-    /// Decodes and evaluates control points `position` (`x_0, y_0, x_1, y_1, ...`) for
-    /// `problem` as a particle is (crate docs), returning the evaluation and the path.
+    /// Decodes and evaluates control points `position` (`x_0, y_0, x_1, y_1, ...`, in path
+    /// order) for `problem` as a particle is (crate docs), returning the evaluation and the
+    /// path.
     pub fn evaluate(&mut self, problem: &Problem<'_>, position: &[f64]) -> (Evaluation, Path) {
+        self.bits.load(problem.grid());
         let e = self.decoder.evaluate(
-            problem.grid(),
+            &self.bits,
             problem.start(),
             problem.goal(),
             position,
@@ -567,7 +668,74 @@ impl Capso {
         );
         (e, Path::new(self.decoder.path.clone()))
     }
+
+    /// The initial positions (crate docs, "Initialisation") into `self.swarm.positions`.
+    fn initialise(&mut self, start: Cell, goal: Cell, rng: &mut ChaCha8Rng) {
+        let config = &self.config;
+        let n = config.control_points as usize;
+        let particles = config.population as usize;
+        let extent = [
+            f64::from(self.bits.width() - 1),
+            f64::from(self.bits.height() - 1),
+        ];
+        let jitter = [config.jitter * extent[0], config.jitter * extent[1]];
+        let guided = (config.guided_share * (particles - 1) as f64).round() as usize;
+        let positions = &mut self.swarm.positions;
+        positions.clear();
+        // Particle 0: the straight line.
+        let (sx, sy) = (f64::from(start.x), f64::from(start.y));
+        let (gx, gy) = (f64::from(goal.x), f64::from(goal.y));
+        for k in 0..n {
+            let f = (k + 1) as f64 / (n + 1) as f64;
+            positions.push(sx + f * (gx - sx));
+            positions.push(sy + f * (gy - sy));
+        }
+        // Particles 1 ..= guided: the guide's control points, then jittered copies.
+        let mut guide_points = Vec::with_capacity(2 * n);
+        guide::control_points(&self.guide.polyline, n, &mut guide_points);
+        for p in 1..particles.min(guided + 1) {
+            for (d, &v) in guide_points.iter().enumerate() {
+                let noise = if p == 1 {
+                    0.0
+                } else {
+                    (2.0 * unit(rng) - 1.0) * jitter[d % 2]
+                };
+                positions.push((v + noise).clamp(0.0, extent[d % 2]));
+            }
+        }
+        // The rest: control points uniform in free space, in order along start -> goal.
+        let mut points: Vec<(f64, f64)> = Vec::with_capacity(n);
+        for _ in (guided + 1).max(1)..particles {
+            points.clear();
+            for _ in 0..n {
+                points.push(free_point(&self.bits, rng, extent));
+            }
+            let projection = |p: &(f64, f64)| (p.0 - sx) * (gx - sx) + (p.1 - sy) * (gy - sy);
+            points.sort_by(|a, b| projection(a).total_cmp(&projection(b)));
+            for &(x, y) in &points {
+                positions.push(x);
+                positions.push(y);
+            }
+        }
+    }
 }
+
+/// A point uniform in the box `[0, extent[0]] x [0, extent[1]]` whose nearest cell is
+/// free: up to [`FREE_POINT_ATTEMPTS`] draws, else the last draw.
+fn free_point(bits: &BitGrid, rng: &mut ChaCha8Rng, extent: [f64; 2]) -> (f64, f64) {
+    let mut point = (0.0, 0.0);
+    for _ in 0..FREE_POINT_ATTEMPTS {
+        point = (unit(rng) * extent[0], unit(rng) * extent[1]);
+        // In the box, so the rounded casts are in range.
+        if !bits.is_blocked(point.0.round() as u32, point.1.round() as u32) {
+            break;
+        }
+    }
+    point
+}
+
+/// Draws per uniform free-space control point before the last draw is kept.
+pub const FREE_POINT_ATTEMPTS: u32 = 64;
 
 impl Planner for Capso {
     fn name(&self) -> &str {
@@ -587,43 +755,55 @@ impl Planner for Capso {
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
         let (start, goal) = (problem.start(), problem.goal());
-        let config = self.config.clone();
         let mut stats = CapsoStats::default();
         let mut series = Series::new("best_fitness", "iteration");
         if start == goal {
             self.stats = stats;
             return Outcome::found(Path::new(vec![start]), stats.counters());
         }
+        let cells = u64::from(grid.width()) * u64::from(grid.height());
+        let bytes = BitGrid::bytes_for(grid) + cells * guide::BYTES_PER_BLOCK;
+        if let Err(shortfall) = budget.check_memory(bytes, grid) {
+            self.stats = stats;
+            return Outcome::over_memory(shortfall, stats.counters());
+        }
+        self.bits.load(grid);
+        let reachable = self.guide.find(&self.bits, start, goal);
+        stats.n_guide_expanded = self.guide.n_expanded;
+        stats.guide_block = u64::from(self.guide.block);
+        if !reachable {
+            self.stats = stats;
+            return Outcome::new(Status::NoPath, None, stats.counters());
+        }
+
+        let config = self.config.clone();
         let n = config.control_points as usize;
         let dims = 2 * n;
         let particles = config.population as usize;
         let extent = [f64::from(grid.width() - 1), f64::from(grid.height() - 1)];
         let speed = [config.max_speed * extent[0], config.max_speed * extent[1]];
+        let jitter = [config.jitter * extent[0], config.jitter * extent[1]];
         let mut rng = rng_for_seed(config.seed);
         let mut clock = budget.start();
 
-        self.positions.clear();
-        for p in 0..particles {
-            for k in 0..n {
-                let (x, y) = if p == 0 {
-                    let f = (k + 1) as f64 / (n + 1) as f64;
-                    (
-                        f64::from(start.x) + f * (f64::from(goal.x) - f64::from(start.x)),
-                        f64::from(start.y) + f * (f64::from(goal.y) - f64::from(start.y)),
-                    )
-                } else {
-                    (unit(&mut rng) * extent[0], unit(&mut rng) * extent[1])
-                };
-                self.positions.push(x);
-                self.positions.push(y);
-            }
-        }
+        self.initialise(start, goal, &mut rng);
         let mut chaos = Chaos::new(config.chaotic_map, &mut rng);
-        self.velocities.clear();
-        self.velocities.resize(particles * dims, 0.0);
-        self.best_positions.clone_from(&self.positions);
-        self.best_fitness.clear();
-        self.global.clear();
+        let bits = &self.bits;
+        let decoder = &mut self.decoder;
+        let s = &mut self.swarm;
+        let zeros = |v: &mut Vec<f64>| {
+            v.clear();
+            v.resize(particles * dims, 0.0);
+        };
+        zeros(&mut s.velocities);
+        zeros(&mut s.moved);
+        s.best_positions.clone_from(&s.positions);
+        s.best_fitness.clear();
+        s.fitness.clear();
+        s.previous_fitness.clear();
+        s.stagnation.clear();
+        s.stagnation.resize(particles, 0);
+        s.global.clear();
         let mut global_fitness = f64::INFINITY;
         let mut exhausted = false;
 
@@ -633,13 +813,15 @@ impl Planner for Capso {
                 break;
             }
             stats.n_fitness_evaluations += 1;
-            let x = &self.positions[p * dims..(p + 1) * dims];
-            let f = self.decoder.evaluate(grid, start, goal, x, &config).fitness;
-            self.best_fitness.push(f);
+            let x = &s.positions[p * dims..(p + 1) * dims];
+            let f = decoder.evaluate(bits, start, goal, x, &config).fitness;
+            s.best_fitness.push(f);
+            s.fitness.push(f);
+            s.previous_fitness.push(f);
             if f < global_fitness {
                 global_fitness = f;
-                self.global.clear();
-                self.global.extend_from_slice(x);
+                s.global.clear();
+                s.global.extend_from_slice(x);
             }
         }
         if !exhausted {
@@ -652,77 +834,84 @@ impl Planner for Capso {
                 break;
             }
             let phase = std::f64::consts::FRAC_PI_2 * f64::from(k) / total;
-            let (s, c) = phase.sin_cos();
-            let w = config.inertia_min + (config.inertia_max - config.inertia_min) * c;
-            let c1 = config.cognitive_max - (config.cognitive_max - config.cognitive_min) * s;
-            let c2 = config.social_min + (config.social_max - config.social_min) * s;
+            let (sin, cos) = phase.sin_cos();
+            let w = config.inertia_min + (config.inertia_max - config.inertia_min) * cos;
+            let c1 = config.cognitive_max - (config.cognitive_max - config.cognitive_min) * sin;
+            let c2 = config.social_min + (config.social_max - config.social_min) * sin;
             let delta = config.beetle_step * config.beetle_decay.powi(k as i32 - 1);
             for p in 0..particles {
                 let range = p * dims..(p + 1) * dims;
+                if config.restart_after > 0 && s.stagnation[p] >= config.restart_after {
+                    // Restart around the global best; the personal best is kept.
+                    stats.n_restarts += 1;
+                    s.stagnation[p] = 0;
+                    for d in 0..dims {
+                        let i = range.start + d;
+                        let noise = (2.0 * unit(&mut rng) - 1.0) * jitter[d % 2];
+                        s.positions[i] = (s.global[d] + noise).clamp(0.0, extent[d % 2]);
+                        s.velocities[i] = 0.0;
+                        s.moved[i] = 0.0;
+                    }
+                }
+                let mut along = 0.0;
                 for d in 0..dims {
                     let i = range.start + d;
                     let (r1, r2) = (chaos.next(&mut rng), chaos.next(&mut rng));
-                    let x = self.positions[i];
-                    let v = w * self.velocities[i]
-                        + c1 * r1 * (self.best_positions[i] - x)
-                        + c2 * r2 * (self.global[d] - x);
-                    self.velocities[i] = v.clamp(-speed[d % 2], speed[d % 2]);
+                    let x = s.positions[i];
+                    let v = w * s.velocities[i]
+                        + c1 * r1 * (s.best_positions[i] - x)
+                        + c2 * r2 * (s.global[d] - x);
+                    let v = v.clamp(-speed[d % 2], speed[d % 2]);
+                    s.velocities[i] = v;
+                    along += s.moved[i] * v;
                 }
-                // The antennae, each side of x along v.
-                let mut antenna_fitness = [0.0; 2];
-                for (side, sign) in [(0, 1.0), (1, -1.0)] {
-                    if !clock.allows(stats.n_fitness_evaluations) {
-                        exhausted = true;
-                        break 'iterations;
-                    }
-                    stats.n_fitness_evaluations += 1;
-                    self.antenna.clear();
-                    for d in 0..dims {
-                        let i = range.start + d;
-                        let a = self.positions[i] + sign * self.velocities[i] * delta / 2.0;
-                        self.antenna.push(a.clamp(0.0, extent[d % 2]));
-                    }
-                    antenna_fitness[side] = self
-                        .decoder
-                        .evaluate(grid, start, goal, &self.antenna, &config)
-                        .fitness;
-                }
-                let toward = match antenna_fitness[0].total_cmp(&antenna_fitness[1]) {
-                    std::cmp::Ordering::Less => 1.0,
-                    std::cmp::Ordering::Greater => -1.0,
-                    std::cmp::Ordering::Equal => 0.0,
+                // The antennae are the last two positions: the fitness change along the
+                // last move, projected on v, says which side of x along v is downhill.
+                let signal = (s.fitness[p] - s.previous_fitness[p]) * along;
+                let toward = if signal > 0.0 {
+                    -1.0
+                } else if signal < 0.0 {
+                    1.0
+                } else {
+                    0.0
                 };
                 for d in 0..dims {
                     let i = range.start + d;
-                    let v = self.velocities[i];
+                    let v = s.velocities[i];
                     let xi = toward * delta * v;
-                    let x = self.positions[i] + config.lambda * v + (1.0 - config.lambda) * xi;
+                    let old = s.positions[i];
+                    let x = old + config.lambda * v + (1.0 - config.lambda) * xi;
                     let clamped = x.clamp(0.0, extent[d % 2]);
                     if clamped != x {
-                        self.velocities[i] = 0.0;
+                        s.velocities[i] = 0.0;
                     }
-                    self.positions[i] = clamped;
+                    s.positions[i] = clamped;
+                    s.moved[i] = clamped - old;
                 }
                 if !clock.allows(stats.n_fitness_evaluations) {
                     exhausted = true;
                     break 'iterations;
                 }
                 stats.n_fitness_evaluations += 1;
-                let f = self
-                    .decoder
-                    .evaluate(grid, start, goal, &self.positions[range.clone()], &config)
+                let f = decoder
+                    .evaluate(bits, start, goal, &s.positions[range.clone()], &config)
                     .fitness;
-                if f < self.best_fitness[p] {
-                    self.best_fitness[p] = f;
-                    self.best_positions[range.clone()].copy_from_slice(&self.positions[range]);
+                s.previous_fitness[p] = s.fitness[p];
+                s.fitness[p] = f;
+                if f < s.best_fitness[p] {
+                    s.best_fitness[p] = f;
+                    s.stagnation[p] = 0;
+                    s.best_positions[range.clone()].copy_from_slice(&s.positions[range]);
+                } else {
+                    s.stagnation[p] += 1;
                 }
             }
             for p in 0..particles {
-                if self.best_fitness[p] < global_fitness {
-                    global_fitness = self.best_fitness[p];
-                    self.global.clear();
-                    self.global
-                        .extend_from_slice(&self.best_positions[p * dims..(p + 1) * dims]);
+                if s.best_fitness[p] < global_fitness {
+                    global_fitness = s.best_fitness[p];
+                    s.global.clear();
+                    s.global
+                        .extend_from_slice(&s.best_positions[p * dims..(p + 1) * dims]);
                 }
             }
             stats.n_iterations += 1;
@@ -730,11 +919,9 @@ impl Planner for Capso {
         }
         stats.n_chaos_reseeds = chaos.n_reseeds;
 
-        let best = (!self.global.is_empty()).then(|| {
-            let e = self
-                .decoder
-                .evaluate(grid, start, goal, &self.global, &config);
-            (e, Path::new(self.decoder.path.clone()))
+        let best = (!s.global.is_empty()).then(|| {
+            let e = decoder.evaluate(bits, start, goal, &s.global, &config);
+            (e, Path::new(decoder.path.clone()))
         });
         let (status, path) = match best {
             Some((e, path)) => {
@@ -756,7 +943,6 @@ impl Planner for Capso {
         outcome
     }
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;

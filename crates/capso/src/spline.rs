@@ -41,7 +41,9 @@ impl Spline {
         for &(x, y) in knots {
             match (self.x.last(), self.y.last(), self.t.last()) {
                 (Some(&px), Some(&py), Some(&pt)) => {
-                    let chord = (x - px).hypot(y - py);
+                    // sqrt of the sum of squares rather than `hypot`, whose overflow care
+                    // costs a library call per knot; coordinates are grid-sized.
+                    let chord = ((x - px) * (x - px) + (y - py) * (y - py)).sqrt();
                     if chord < MIN_CHORD {
                         continue;
                     }
@@ -93,10 +95,25 @@ impl Spline {
         }
         for i in 0..n - 1 {
             out.push((self.x[i], self.y[i]));
+            // The segment's cubic in powers of u = t - t_i (the same polynomial as
+            // `eval`'s form, expanded once per segment and evaluated by Horner's rule):
+            // v(u) = v_i + b u + (m_i / 2) u^2 + ((m_{i+1} - m_i) / (6 h)) u^3 with
+            // b = (v_{i+1} - v_i) / h - h (2 m_i + m_{i+1}) / 6.
             let h = self.t[i + 1] - self.t[i];
+            let cubic = |v: &[f64], m: &[f64]| {
+                [
+                    v[i],
+                    (v[i + 1] - v[i]) / h - h * (2.0 * m[i] + m[i + 1]) / 6.0,
+                    m[i] / 2.0,
+                    (m[i + 1] - m[i]) / (6.0 * h),
+                ]
+            };
+            let (cx, cy) = (cubic(&self.x, &self.mx), cubic(&self.y, &self.my));
+            let step = h / per_segment as f64;
             for k in 1..per_segment {
-                let t = self.t[i] + h * k as f64 / per_segment as f64;
-                out.push(self.eval(i, t));
+                let u = step * k as f64;
+                let horner = |c: [f64; 4]| c[0] + u * (c[1] + u * (c[2] + u * c[3]));
+                out.push((horner(cx), horner(cy)));
             }
         }
         out.push((self.x[n - 1], self.y[n - 1]));

@@ -1,0 +1,303 @@
+//! The guide: a coarse free-space path from start to goal that seeds part of the swarm
+//! with control points on a feasible route (issue 34; Lian et al.'s own initialisation is
+//! not in the stored copies of their paper, see the crate docs).
+//!
+//! 1. The grid is covered by square blocks of `b` cells, `b = ceil(max(W, H) / 64)` (at
+//!    most 64 x 64 blocks: 3 on seed 002's 140 x 120 maps, 4 on 200 x 200, 8 on 500 x 500).
+//!    A block is free when all its cells are; the blocks of the start and the goal count
+//!    as free.
+//! 2. A* over the blocks, 8-connected without corner cutting (a diagonal step needs both
+//!    side blocks free), step costs 5 and 7 (1 and 1.4, near the Euclidean 1 and sqrt 2)
+//!    and the matching octile heuristic, which is consistent; ties broken by the block
+//!    index, so the route is a pure function of the grid.
+//! 3. When no route exists at block size `b`, `b` is halved, down to 1 (the cells
+//!    themselves). At `b = 1` no route means the goal is unreachable by any any-angle path
+//!    either (a valid any-angle path's cells form an 8-connected chain of free cells in
+//!    which every diagonal step has a free side cell, because the segment walk visits a
+//!    side cell at every change of row and column), so the planner stops with `no_path`.
+//! 4. The route is the start, the centre cells of the inner blocks, and the goal; it is
+//!    shortened greedily by line of sight on the cells (from an anchor, the farthest next
+//!    waypoint whose segment is free is kept), which leaves its corners.
+//! 5. [`control_points`] puts `n` control points on that polyline: its corners when there
+//!    are at most `n` of them, the others splitting the longest pieces in half; with more
+//!    than `n` corners, `n` points at equal arc-length steps.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use planner_api::Cell;
+
+use crate::collision::BitGrid;
+
+/// At most this many blocks along the grid's longer side at the first attempt.
+pub const MAX_BLOCKS_PER_SIDE: u32 = 64;
+
+/// Bytes per block of the search's state (g, parent, closed flag) at the finest level,
+/// for the budget's memory check.
+pub const BYTES_PER_BLOCK: u64 = 9;
+
+/// Scratch of the guide's search, reused between plans.
+#[derive(Debug, Clone, Default)]
+pub struct Guide {
+    free: Vec<bool>,
+    g: Vec<u32>,
+    parent: Vec<u32>,
+    closed: Vec<bool>,
+    heap: BinaryHeap<Reverse<(u32, u32)>>,
+    route: Vec<Cell>,
+    /// The shortened polyline of the last successful [`Guide::find`].
+    pub polyline: Vec<Cell>,
+    /// Blocks expanded by the searches of the last [`Guide::find`] (all levels).
+    pub n_expanded: u64,
+    /// The block size of the level that found the route (0 when none did).
+    pub block: u32,
+}
+
+impl Guide {
+    /// Finds the guide polyline from `start` to `goal` into [`Guide::polyline`] (module
+    /// docs). Returns false when there is none, which means the goal is unreachable.
+    pub fn find(&mut self, grid: &BitGrid, start: Cell, goal: Cell) -> bool {
+        self.n_expanded = 0;
+        self.block = 0;
+        self.polyline.clear();
+        let longest = grid.width().max(grid.height());
+        let mut block = longest.div_ceil(MAX_BLOCKS_PER_SIDE).max(1);
+        loop {
+            if self.search(grid, start, goal, block) {
+                self.block = block;
+                self.shorten(grid);
+                return true;
+            }
+            if block == 1 {
+                return false;
+            }
+            block /= 2;
+        }
+    }
+
+    /// A* over blocks of `b` cells; on success the route's cells are in `self.route`.
+    fn search(&mut self, grid: &BitGrid, start: Cell, goal: Cell, b: u32) -> bool {
+        let (bw, bh) = (grid.width().div_ceil(b), grid.height().div_ceil(b));
+        let n = bw as usize * bh as usize;
+        self.free.clear();
+        self.free.resize(n, true);
+        for y in 0..grid.height() {
+            for x in 0..grid.width() {
+                if grid.is_blocked(x, y) {
+                    self.free[(y / b) as usize * bw as usize + (x / b) as usize] = false;
+                }
+            }
+        }
+        let block_of = |c: Cell| (c.y / b) * bw + c.x / b;
+        let (s, t) = (block_of(start), block_of(goal));
+        self.free[s as usize] = true;
+        self.free[t as usize] = true;
+        self.g.clear();
+        self.g.resize(n, u32::MAX);
+        self.parent.clear();
+        self.parent.resize(n, u32::MAX);
+        self.closed.clear();
+        self.closed.resize(n, false);
+        self.heap.clear();
+        let (tx, ty) = (t % bw, t / bw);
+        let h = |i: u32| {
+            let (dx, dy) = ((i % bw).abs_diff(tx), (i / bw).abs_diff(ty));
+            7 * dx.min(dy) + 5 * dx.abs_diff(dy)
+        };
+        self.g[s as usize] = 0;
+        self.heap.push(Reverse((h(s), s)));
+        let mut found = false;
+        while let Some(Reverse((_, i))) = self.heap.pop() {
+            if self.closed[i as usize] {
+                continue;
+            }
+            self.closed[i as usize] = true;
+            self.n_expanded += 1;
+            if i == t {
+                found = true;
+                break;
+            }
+            let (x, y) = (i % bw, i / bw);
+            let free = |x: i64, y: i64| {
+                x >= 0
+                    && y >= 0
+                    && x < i64::from(bw)
+                    && y < i64::from(bh)
+                    && self.free[y as usize * bw as usize + x as usize]
+            };
+            for (dx, dy) in [
+                (1i64, 0i64),
+                (-1, 0),
+                (0, 1),
+                (0, -1),
+                (1, 1),
+                (1, -1),
+                (-1, 1),
+                (-1, -1),
+            ] {
+                let (nx, ny) = (i64::from(x) + dx, i64::from(y) + dy);
+                if !free(nx, ny) {
+                    continue;
+                }
+                let diagonal = dx != 0 && dy != 0;
+                if diagonal
+                    && !(free(i64::from(x) + dx, i64::from(y))
+                        && free(i64::from(x), i64::from(y) + dy))
+                {
+                    continue;
+                }
+                // Inside the block grid, so the casts are exact.
+                let j = ny as u32 * bw + nx as u32;
+                let g = self.g[i as usize] + if diagonal { 7 } else { 5 };
+                if g < self.g[j as usize] {
+                    self.g[j as usize] = g;
+                    self.parent[j as usize] = i;
+                    self.heap.push(Reverse((g + h(j), j)));
+                }
+            }
+        }
+        if !found {
+            return false;
+        }
+        // The route backwards: goal, inner block centres, start.
+        self.route.clear();
+        self.route.push(goal);
+        let mut i = self.parent[t as usize];
+        while i != u32::MAX && i != s {
+            let (x0, y0) = ((i % bw) * b, (i / bw) * b);
+            // The centre of the block's part inside the grid (a free block's cells are all free).
+            let cx = x0 + (b.min(grid.width() - x0) - 1) / 2;
+            let cy = y0 + (b.min(grid.height() - y0) - 1) / 2;
+            self.route.push(Cell::new(cx, cy));
+            i = self.parent[i as usize];
+        }
+        if start != goal {
+            self.route.push(start);
+        }
+        self.route.reverse();
+        true
+    }
+
+    /// Greedy line-of-sight shortening of `self.route` into `self.polyline`.
+    fn shorten(&mut self, grid: &BitGrid) {
+        let route = &self.route;
+        self.polyline.clear();
+        let Some(&first) = route.first() else {
+            return;
+        };
+        self.polyline.push(first);
+        let mut anchor = 0;
+        let mut next = 1;
+        while next < route.len() {
+            // Advance while the anchor sees the waypoint after `next`.
+            while next + 1 < route.len() && grid.segment_is_free(route[anchor], route[next + 1]) {
+                next += 1;
+            }
+            self.polyline.push(route[next]);
+            anchor = next;
+            next += 1;
+        }
+    }
+}
+
+/// `n` control points (`x_0, y_0, x_1, y_1, ...`) on the polyline `line`, appended to
+/// `out` (module docs, step 5). `line` has at least two points.
+pub fn control_points(line: &[Cell], n: usize, out: &mut Vec<f64>) {
+    let point = |c: Cell| (f64::from(c.x), f64::from(c.y));
+    let corners = line.len().saturating_sub(2);
+    if corners <= n {
+        // Corners, then split the longest piece until there are n inner points.
+        let mut points: Vec<(f64, f64)> = line.iter().map(|&c| point(c)).collect();
+        while points.len() < n + 2 {
+            let (mut longest, mut at) = (-1.0, 0);
+            for (k, pair) in points.windows(2).enumerate() {
+                let d = (pair[1].0 - pair[0].0).hypot(pair[1].1 - pair[0].1);
+                if d > longest {
+                    (longest, at) = (d, k);
+                }
+            }
+            let (a, b) = (points[at], points[at + 1]);
+            points.insert(at + 1, ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0));
+        }
+        for &(x, y) in &points[1..=n] {
+            out.push(x);
+            out.push(y);
+        }
+        return;
+    }
+    let length: f64 = line.windows(2).map(|p| p[0].euclidean(p[1])).sum();
+    let mut piece = 0;
+    let mut before = 0.0;
+    for k in 1..=n {
+        let target = length * k as f64 / (n + 1) as f64;
+        while piece + 2 < line.len() && before + line[piece].euclidean(line[piece + 1]) < target {
+            before += line[piece].euclidean(line[piece + 1]);
+            piece += 1;
+        }
+        let (a, b) = (point(line[piece]), point(line[piece + 1]));
+        let d = line[piece].euclidean(line[piece + 1]);
+        let f = if d > 0.0 {
+            ((target - before) / d).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        out.push(a.0 + f * (b.0 - a.0));
+        out.push(a.1 + f * (b.1 - a.1));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use planner_api::Grid;
+
+    fn bits(grid: &Grid) -> BitGrid {
+        let mut b = BitGrid::new();
+        b.load(grid);
+        b
+    }
+
+    #[test]
+    fn a_wall_with_a_gap_is_passed_through_the_gap() {
+        // 20 x 10, a wall in column 10 except row 8.
+        let mut grid = Grid::new(20, 10).unwrap();
+        for y in 0..10 {
+            if y != 8 {
+                grid.set_free(Cell::new(10, y), false);
+            }
+        }
+        let mut guide = Guide::default();
+        assert!(guide.find(&bits(&grid), Cell::new(1, 1), Cell::new(18, 1)));
+        let line = &guide.polyline;
+        assert_eq!(line.first(), Some(&Cell::new(1, 1)));
+        assert_eq!(line.last(), Some(&Cell::new(18, 1)));
+        // Every piece of the shortened line is free, and it goes through the gap's row.
+        let b = bits(&grid);
+        assert!(line.windows(2).all(|p| b.segment_is_free(p[0], p[1])));
+        assert!(line.iter().any(|c| c.y >= 7), "{line:?}");
+        // Unreachable: close the gap.
+        grid.set_free(Cell::new(10, 8), false);
+        assert!(!guide.find(&bits(&grid), Cell::new(1, 1), Cell::new(18, 1)));
+        assert_eq!(guide.block, 0);
+    }
+
+    #[test]
+    fn control_points_by_hand() {
+        let c = |x, y| Cell::new(x, y);
+        let mut out = Vec::new();
+        // One corner, three points: the corner and the midpoints of the two pieces
+        // (the longer first: (0,0)-(0,8) is 8, (0,8)-(4,8) is 4; then (0,0)-(0,4) is 4 and
+        // (0,4)-(0,8) is 4, tied, and (0,8)-(4,8) is 4: the first of the longest splits).
+        control_points(&[c(0, 0), c(0, 8), c(4, 8)], 3, &mut out);
+        assert_eq!(out, [0.0, 2.0, 0.0, 4.0, 0.0, 8.0]);
+        // No corner and two points: thirds of the segment... by halving: the middle, then
+        // the first half's middle.
+        out.clear();
+        control_points(&[c(0, 0), c(8, 0)], 2, &mut out);
+        assert_eq!(out, [2.0, 0.0, 4.0, 0.0]);
+        // Three corners, one point: equal arc length, the middle of the length 4+4+4+4.
+        out.clear();
+        control_points(&[c(0, 0), c(4, 0), c(4, 4), c(8, 4), c(8, 8)], 1, &mut out);
+        assert_eq!(out, [4.0, 4.0]);
+    }
+}
