@@ -49,7 +49,7 @@ fn run(command: Command) -> Result<(), gridplan::CliError> {
             for file in &done.files {
                 println!("  {file}");
             }
-            println!("next: edit crates/{name}/src/lib.rs, then `cargo test -p planner-{name}` and add it to a config under [planners]");
+            println!("next: edit crates/{name}/src/lib.rs, then `cargo test -p planner-{name}` and `cargo xtask experiment configs/{name}.toml`");
             Ok(())
         }
         Command::GenPastarMaps => {
