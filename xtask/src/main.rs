@@ -20,6 +20,8 @@ struct Cli {
     command: Command,
 }
 
+// The command line is parsed once per process: the user commands' size costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     #[command(flatten)]
