@@ -690,7 +690,11 @@ fn stream_readers_refuse_special_files() {
     // The area carries gridplan's marker, as a killed sweep leaves it (issue 26: an
     // unmarked one is refused before its records are read).
     std::fs::create_dir_all(dir.join(".r.stream")).unwrap();
-    std::fs::write(dir.join(".r.stream/.gridplan-stream"), "# Written by gridplan\n").unwrap();
+    std::fs::write(
+        dir.join(".r.stream/.gridplan-stream"),
+        "# Written by gridplan\n",
+    )
+    .unwrap();
     let records = dir.join(".r.stream/records.jsonl");
     for (make, what) in [
         (&zero as &dyn Fn(&Path), "a character device"),
