@@ -11,8 +11,8 @@ use planner_api::{Budget, Cell, Grid, Problem};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::factory::{Factory, Task};
-use crate::registry;
+use planner_registry as registry;
+use planner_registry::{Factory, Task};
 
 /// Most worker threads a config or command line may ask for.
 pub const MAX_THREADS: usize = 256;
@@ -96,9 +96,18 @@ struct RawConfig {
     published: Option<Spanned<String>>,
     #[serde(default)]
     test: TestLimits,
-    sections: Option<Spanned<Vec<String>>>,
+    sections: Option<Spanned<Vec<RawSection>>>,
     maps: Vec<Spanned<RawMaps>>,
     planners: IndexMap<Spanned<String>, Spanned<RawParams>>,
+}
+
+/// One entry of `sections = [...]`: a section name, or a table with its `name` and the
+/// section's own options (e.g. `{ name = "seed002", proposed = "pastar" }`).
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawSection {
+    Name(String),
+    Table(toml::Table),
 }
 
 fn zero() -> Spanned<usize> {
@@ -270,8 +279,54 @@ pub struct Experiment {
     /// Planner configurations, in config order.
     pub planners: Vec<PlannerSpec>,
     /// The summary.md sections the config names (`sections = [...]`); `None` lets each
-    /// section decide whether it applies.
-    pub sections: Option<Vec<String>>,
+    /// generic section decide whether it applies. The names are not checked here: the
+    /// report knows its sections and checks them ([`Sections::error`]).
+    pub sections: Option<Sections>,
+}
+
+/// The summary.md sections a config asks for, with the position of the `sections` key.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sections {
+    /// The sections, in config order.
+    pub requests: Vec<SectionRequest>,
+    /// The config file.
+    pub file: PathBuf,
+    /// 1-based line of the `sections` key's value.
+    pub line: usize,
+    /// 1-based column.
+    pub column: usize,
+}
+
+impl Sections {
+    /// Whether the config asks for section `name`.
+    pub fn wants(&self, name: &str) -> bool {
+        self.requests.iter().any(|r| r.name == name)
+    }
+
+    /// The request for section `name`, if the config makes one.
+    pub fn get(&self, name: &str) -> Option<&SectionRequest> {
+        self.requests.iter().find(|r| r.name == name)
+    }
+
+    /// A config error at the `sections` key, `key `sections`: {message}`.
+    pub fn error(&self, message: impl std::fmt::Display) -> ConfigError {
+        ConfigError {
+            file: self.file.clone(),
+            line: self.line,
+            column: self.column,
+            message: format!("key `sections`: {message}"),
+        }
+    }
+}
+
+/// One section a config asks for: its name and its options (the planners it names, as
+/// data: e.g. which label's planner is the proposed method).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectionRequest {
+    /// The section's name.
+    pub name: String,
+    /// The section's options (the entry's table without `name`; empty for a bare name).
+    pub options: toml::Table,
 }
 
 /// One map with its problems.
@@ -427,6 +482,81 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         toml::from_str(text).map_err(|e| src.error(e.span(), e.message().trim()))?;
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
+    let name = check_top_level(&src, &raw)?;
+
+    let mut planners = Vec::new();
+    for (label, table) in &expand_sweeps(&src, &raw.planners)? {
+        planners.push(planner_spec(&src, label, table, raw.budget)?);
+    }
+    if planners.is_empty() {
+        return Err(src.error(None, "key `planners`: at least one planner is needed"));
+    }
+
+    let maps = collect_maps(&src, &base, &raw.maps)?;
+    if maps.is_empty() {
+        return Err(src.error(None, "key `maps`: at least one map is needed"));
+    }
+    if let Some(goalless) = raw.maps.iter().find_map(|m| {
+        m.get_ref()
+            .problems
+            .as_ref()
+            .filter(|p| *p.get_ref() == ProblemSource::Start)
+    }) {
+        if let Some(p) = planners.iter().find(|p| !p.is_coverage()) {
+            return Err(src.error(
+                Some(goalless.span()),
+                format!(
+                    "`problems = \"start\"` has no goal, but planner `{}` ({}) is not a coverage planner (coverage planners: {})",
+                    p.label,
+                    p.name,
+                    registry::PLANNERS
+                        .iter()
+                        .filter(|e| e.task == Task::Coverage)
+                        .map(|e| e.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+        }
+    }
+
+    let sections = match raw.sections {
+        Some(sections) => Some(read_sections(&src, sections)?),
+        None => None,
+    };
+    let published = match &raw.published {
+        Some(p) => Some(load_published(&src, &base.join(p.get_ref()), p.span())?),
+        None => None,
+    };
+
+    Ok(Experiment {
+        source: path.to_path_buf(),
+        output: raw
+            .output
+            .map(PathBuf::from)
+            .unwrap_or_else(|| Path::new("results").join(&name)),
+        name,
+        description: raw.description,
+        threads: *raw.threads.get_ref(),
+        repeats: *raw.repeats.get_ref(),
+        seed: raw.seed,
+        figures: raw.figures,
+        figures_per_map: raw.figures_per_map,
+        figures_pick: raw.figures_pick,
+        figures_expanded: raw.figures_expanded,
+        charts: raw.charts,
+        ompl: raw.ompl,
+        paths: raw.paths,
+        published,
+        test: raw.test,
+        maps,
+        planners,
+        sections,
+    })
+}
+
+/// Checks the top-level keys `name`, `repeats` and `threads`; returns the name.
+fn check_top_level(src: &Source<'_>, raw: &RawConfig) -> Result<String, ConfigError> {
     let name = raw.name.get_ref().clone();
     if name.len() > MAX_NAME_LEN {
         return Err(src.error(
@@ -459,22 +589,22 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
             ),
         ));
     }
+    Ok(name)
+}
 
-    let mut planners = Vec::new();
-    for (label, table) in &expand_sweeps(&src, &raw.planners)? {
-        planners.push(planner_spec(&src, label, table, raw.budget)?);
-    }
-    if planners.is_empty() {
-        return Err(src.error(None, "key `planners`: at least one planner is needed"));
-    }
-
+/// The maps of every `[[maps]]` set, in config order, their names and stems unique.
+fn collect_maps(
+    src: &Source<'_>,
+    base: &Path,
+    sets: &[Spanned<RawMaps>],
+) -> Result<Vec<MapEntry>, ConfigError> {
     let mut maps: Vec<MapEntry> = Vec::new();
-    for (i, spanned) in raw.maps.iter().enumerate() {
-        for entry in map_entries(&src, &base, i, spanned)? {
-            let stem = crate::report::map_stem(&entry.name);
+    for (i, spanned) in sets.iter().enumerate() {
+        for entry in map_entries(src, base, i, spanned)? {
+            let stem = map_stem(&entry.name);
             if let Some(other) = maps
                 .iter()
-                .find(|m| m.name != entry.name && crate::report::map_stem(&m.name) == stem)
+                .find(|m| m.name != entry.name && map_stem(&m.name) == stem)
             {
                 return Err(src.error(
                     Some(spanned.span()),
@@ -496,78 +626,45 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
             maps.push(entry);
         }
     }
-    if maps.is_empty() {
-        return Err(src.error(None, "key `maps`: at least one map is needed"));
-    }
-    if let Some(goalless) = raw.maps.iter().find_map(|m| {
-        m.get_ref()
-            .problems
-            .as_ref()
-            .filter(|p| *p.get_ref() == ProblemSource::Start)
-    }) {
-        if let Some(p) = planners.iter().find(|p| !p.is_coverage()) {
-            return Err(src.error(
-                Some(goalless.span()),
-                format!(
-                    "`problems = \"start\"` has no goal, but planner `{}` ({}) is not a coverage planner (coverage planners: {})",
-                    p.label,
-                    p.name,
-                    registry::PLANNERS
-                        .iter()
-                        .filter(|e| e.task == Task::Coverage)
-                        .map(|e| e.name)
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ));
-        }
-    }
+    Ok(maps)
+}
 
-    if let Some(sections) = &raw.sections {
-        let known = crate::report::section_names();
-        if let Some(bad) = sections
-            .get_ref()
-            .iter()
-            .find(|s| !known.contains(&s.as_str()))
-        {
-            return Err(src.error(
-                Some(sections.span()),
-                format!(
-                    "key `sections`: unknown section {bad:?}, expected some of {}",
-                    known.join(", ")
-                ),
-            ));
-        }
+/// The `sections` entries as requests, with the key's position for later errors.
+fn read_sections(
+    src: &Source<'_>,
+    sections: Spanned<Vec<RawSection>>,
+) -> Result<Sections, ConfigError> {
+    let at = src.error(Some(sections.span()), "");
+    let mut requests = Vec::new();
+    for entry in sections.into_inner() {
+        requests.push(match entry {
+            RawSection::Name(name) => SectionRequest {
+                name,
+                options: toml::Table::new(),
+            },
+            RawSection::Table(mut options) => match options.remove("name") {
+                Some(toml::Value::String(name)) => SectionRequest { name, options },
+                _ => {
+                    return Err(ConfigError {
+                        message: "key `sections`: a section table needs a string `name`".into(),
+                        ..at
+                    })
+                }
+            },
+        });
     }
-    let published = match &raw.published {
-        Some(p) => Some(load_published(&src, &base.join(p.get_ref()), p.span())?),
-        None => None,
-    };
-
-    Ok(Experiment {
-        source: path.to_path_buf(),
-        output: raw
-            .output
-            .map(PathBuf::from)
-            .unwrap_or_else(|| Path::new("results").join(&name)),
-        name,
-        description: raw.description,
-        threads: *raw.threads.get_ref(),
-        repeats: *raw.repeats.get_ref(),
-        seed: raw.seed,
-        figures: raw.figures,
-        figures_per_map: raw.figures_per_map,
-        figures_pick: raw.figures_pick,
-        figures_expanded: raw.figures_expanded,
-        charts: raw.charts,
-        ompl: raw.ompl,
-        paths: raw.paths,
-        published,
-        test: raw.test,
-        maps,
-        planners,
-        sections: raw.sections.map(Spanned::into_inner),
+    Ok(Sections {
+        requests,
+        file: at.file,
+        line: at.line,
+        column: at.column,
     })
+}
+
+/// A map's file name without its extension (the table name of published values, and
+/// of its figures and logs).
+pub fn map_stem(name: &str) -> &str {
+    name.rsplit_once('.').map_or(name, |(stem, _)| stem)
 }
 
 type RawParams = IndexMap<Spanned<String>, Spanned<toml::Value>>;
@@ -595,7 +692,7 @@ fn expand_sweeps(
             .get_ref()
             .get("planner")
             .and_then(|name| name.get_ref().as_str())
-            .and_then(|name| crate::schema::declared(name).ok())
+            .and_then(|name| planner_registry::schema::declared(name).ok())
             .unwrap_or_default();
         let swept: Vec<(&Spanned<String>, &Spanned<toml::Value>, &Vec<toml::Value>)> = table
             .get_ref()

@@ -28,24 +28,24 @@ impl Shard {
     pub const ALL: Shard = Shard { index: 1, count: 1 };
 
     /// Shard `index` of `count`, checked (1 <= index <= count).
-    pub fn new(index: u64, count: u64) -> Result<Shard, String> {
+    pub fn new(index: u64, count: u64) -> Result<Shard, ShardError> {
         if count == 0 || index == 0 || index > count {
-            return Err(format!(
+            return Err(ShardError(format!(
                 "shard {index}/{count}: expected K/N with 1 <= K <= N"
-            ));
+            )));
         }
         Ok(Shard { index, count })
     }
 
     /// Parses `K/N`, e.g. `2/3`.
-    pub fn parse(text: &str) -> Result<Shard, String> {
+    pub fn parse(text: &str) -> Result<Shard, ShardError> {
         let (k, n) = text
             .split_once('/')
-            .ok_or_else(|| format!("shard {text:?}: expected K/N, e.g. 2/3"))?;
+            .ok_or_else(|| ShardError(format!("shard {text:?}: expected K/N, e.g. 2/3")))?;
         let number = |s: &str| {
             s.trim()
                 .parse::<u64>()
-                .map_err(|e| format!("shard {text:?}: {s:?} is not a number: {e}"))
+                .map_err(|e| ShardError(format!("shard {text:?}: {s:?} is not a number: {e}")))
         };
         Shard::new(number(k)?, number(n)?)
     }
@@ -56,36 +56,47 @@ impl Shard {
     /// and `--array=0-(N-1)` both give shards 1..N), or Kubernetes' 0-based
     /// `JOB_COMPLETION_INDEX` with `GRIDPLAN_SHARD_COUNT`. `get` reads one variable
     /// (`std::env::var` in the binary; a map in tests).
-    pub fn from_env(get: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, String> {
-        let number = |key: &str| -> Result<Option<u64>, String> {
+    pub fn from_env(get: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, ShardError> {
+        let error = |message: &str| ShardError(message.to_string());
+        let number = |key: &str| -> Result<Option<u64>, ShardError> {
             match get(key) {
                 None => Ok(None),
                 Some(v) => v
                     .trim()
                     .parse::<u64>()
                     .map(Some)
-                    .map_err(|e| format!("environment variable {key}={v:?}: {e}")),
+                    .map_err(|e| ShardError(format!("environment variable {key}={v:?}: {e}"))),
             }
         };
         if let Some(id) = number("SLURM_ARRAY_TASK_ID")? {
-            let count = number("SLURM_ARRAY_TASK_COUNT")?.ok_or(
-                "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N",
-            )?;
+            let count = number("SLURM_ARRAY_TASK_COUNT")?.ok_or_else(|| {
+                error("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N")
+            })?;
             let min = number("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
-            let index = id.checked_sub(min).ok_or(format!(
-                "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
-            ))? + 1;
+            let index = id.checked_sub(min).ok_or_else(|| {
+                ShardError(format!(
+                    "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
+                ))
+            })? + 1;
             return Shard::new(index, count).map(Some);
         }
         if let Some(index) = number("JOB_COMPLETION_INDEX")? {
-            let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or(
-                "JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N",
-            )?;
+            let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or_else(|| {
+                error(
+                    "JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N",
+                )
+            })?;
             return Shard::new(index + 1, count).map(Some);
         }
         Ok(None)
     }
 }
+
+/// A shard that cannot be: `K/N` malformed or out of range, or a job array's environment
+/// that names none (a usage error).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct ShardError(pub String);
 
 impl std::fmt::Display for Shard {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

@@ -95,7 +95,10 @@ pub fn config_hash(experiment: &Experiment) -> String {
     h.text(&experiment.seed.to_string());
     h.text(&format!(
         "{:?} {:?} {:?} {:?}",
-        experiment.figures, experiment.figures_per_map, experiment.paths, experiment.sections
+        experiment.figures,
+        experiment.figures_per_map,
+        experiment.paths,
+        experiment.sections.as_ref().map(|s| &s.requests)
     ));
     for planner in &experiment.planners {
         h.text(&planner.label);

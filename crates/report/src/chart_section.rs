@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use super::{Context, Reproduction, Section};
+use crate::{Context, Reproduction, Section};
 
 /// The charts (section name `charts`).
 pub struct Charts;

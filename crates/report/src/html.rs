@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use pulldown_cmark::{html, Event, HeadingLevel, Options, Parser, Tag, TagEnd};
 
-use crate::output::OutputFile;
+use planner_runner::output::OutputFile;
 
 /// The page: `summary` (markdown) with every `![title](charts/x.svg)` image replaced by
 /// that file's SVG from `files`, then a Figures section with every `figures/*.svg`.
