@@ -21,6 +21,7 @@ from typing import Union as _Union
 
 from ._errors import (
     ConfigError,
+    DeterminismError,
     GridplanError,
     MapError,
     OutputError,
@@ -43,6 +44,7 @@ from ._gridplan import run_experiment_rows as _run_experiment_rows
 __all__ = [
     "DEFAULT_PLAN_EXPANSIONS",
     "ConfigError",
+    "DeterminismError",
     "Grid",
     "GridplanError",
     "MapError",

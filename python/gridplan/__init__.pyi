@@ -32,6 +32,9 @@ class MapError(GridplanError):
 class OutputError(GridplanError):
     """A results directory gridplan may not replace; nothing was written."""
 
+class DeterminismError(GridplanError):
+    """A run repeated to record expanded cells did not repeat its timed run (a bug)."""
+
 class ProblemError(GridplanError, ValueError):
     """A start or goal outside the grid or on a blocked cell."""
     endpoint: str

@@ -39,6 +39,11 @@ class OutputError(GridplanError):
     locked by another run); nothing was written."""
 
 
+class DeterminismError(GridplanError):
+    """A run repeated to record its expanded cells (``figures_expanded``) did not give the
+    timed run's status, counters and path: a bug in a planner; nothing was written."""
+
+
 class ProblemError(GridplanError, ValueError):
     """A start or goal outside the grid or on a blocked cell."""
 

@@ -48,10 +48,6 @@ pub enum Failure {
     Value(String),
     /// A value of the wrong type (`TypeError`).
     Type(String),
-    /// A results directory gridplan may not write (not its own, read-only, locked, ...).
-    Output(String),
-    /// A sweep to a results directory failed (the command line's message).
-    Sweep(String),
     /// Rust code panicked; the panic was caught.
     Panic(String),
     /// A Python error raised while talking to Python.
@@ -108,8 +104,6 @@ impl Failure {
                 &[],
             ),
             Failure::Map(error) => map_error(py, &error),
-            Failure::Output(message) => raise(py, "OutputError", message, &[]),
-            Failure::Sweep(message) => raise(py, "GridplanError", message, &[]),
             Failure::MapMismatch {
                 file,
                 line,
@@ -159,9 +153,11 @@ fn map_error(py: Python<'_>, error: &planner_maps::MapError) -> PyResult<PyErr> 
     )
 }
 
+/// The exception of a runner error: its class from the innermost error (a `merge:` or
+/// `report:` context keeps it), its message the whole one.
 fn runner_error(py: Python<'_>, error: RunnerError) -> PyResult<PyErr> {
     let message = error.to_string();
-    match error {
+    match error.innermost() {
         RunnerError::Config(e) => raise(
             py,
             "ConfigError",
@@ -172,10 +168,13 @@ fn runner_error(py: Python<'_>, error: RunnerError) -> PyResult<PyErr> {
                 ("column", Attr::from(e.column)),
             ],
         ),
-        RunnerError::Map(e) => map_error(py, &e),
-        RunnerError::Param(_, e) | RunnerError::Build(_, e) => {
-            raise(py, "ParameterError", message, &[("key", Attr::from(e.key))])
-        }
+        RunnerError::Map(e) => map_error(py, e),
+        RunnerError::Param(_, e) | RunnerError::Build(_, e) => raise(
+            py,
+            "ParameterError",
+            message,
+            &[("key", Attr::from(e.key.clone()))],
+        ),
         RunnerError::UnknownPlanner { .. } => raise(
             py,
             "ParameterError",
@@ -183,7 +182,7 @@ fn runner_error(py: Python<'_>, error: RunnerError) -> PyResult<PyErr> {
             &[("key", Attr::from("planner"))],
         ),
         RunnerError::Problem { error, .. } => {
-            let (endpoint, cell) = match error {
+            let (endpoint, cell) = match *error {
                 planner_api::ProblemError::OutOfBounds { endpoint, cell, .. }
                 | planner_api::ProblemError::Blocked { endpoint, cell } => (endpoint, cell),
             };
@@ -198,6 +197,8 @@ fn runner_error(py: Python<'_>, error: RunnerError) -> PyResult<PyErr> {
             )
         }
         RunnerError::Usage(_) | RunnerError::Threads(_) => Ok(PyValueError::new_err(message)),
+        RunnerError::Output(_) => raise(py, "OutputError", message, &[]),
+        RunnerError::Expanded(_) => raise(py, "DeterminismError", message, &[]),
         _ => raise(py, "GridplanError", message, &[]),
     }
 }

@@ -68,17 +68,17 @@ fn sweep(config: &Path, threads: usize) -> Result<Vec<RunRecord>, Failure> {
 /// The records of a sweep of `config` written to the results directory `dir`, as the
 /// command line writes it.
 fn sweep_to(config: &Path, threads: usize, dir: &Path) -> Result<Vec<RunRecord>, Failure> {
-    // The config and the output directory are checked first, for their typed errors.
-    planner_runner::config::load(config).map_err(RunnerError::from)?;
-    planner_runner::outdir::check(dir).map_err(|e| Failure::Output(e.to_string()))?;
+    // The sweep's errors are typed (the config's, the output's, a figure mismatch found
+    // late): each becomes its exception class.
+    let renderer = planner_paper::renderer();
     let args = SweepArgs {
         threads,
         output: Some(dir),
         heap: Some(&planner_runner::alloc::Meter),
         keep_records: true,
-        ..SweepArgs::new(config)
+        ..SweepArgs::new(config, &renderer)
     };
-    let report = planner_runner::sweep::experiment(&args).map_err(Failure::Sweep)?;
+    let report = planner_runner::sweep::experiment(&args)?;
     Ok(report.records)
 }
 

@@ -5,7 +5,7 @@
 //! from here by name), and the DataFrame of `run_experiment` (pandas is optional).
 //!
 //! Everything goes through planner-runner, the library the command lines use: planners
-//! are built by the registry's factories ([`planner_runner::registry`]), one plan is one
+//! are built by the registry's factories ([`planner_registry`]), one plan is one
 //! [`planner_runner::run::run_one`], an experiment is [`planner_runner::run_all`], and the
 //! records' columns are runs.csv's ([`planner_runner::output::runs_csv`]). The GIL is
 //! released while maps are read, while planning and while an experiment runs, and a

@@ -40,21 +40,24 @@ fn main() -> ExitCode {
     gridplan::exit(run(Cli::parse().command))
 }
 
-fn run(command: Command) -> Result<(), String> {
+fn run(command: Command) -> Result<(), gridplan::CliError> {
     match command {
         Command::User(command) => gridplan::run(command),
         Command::NewPlanner { name } => {
             let root = workspace_root();
-            let done = xtask::scaffold::new_planner(&root, &name)?;
+            let done =
+                xtask::scaffold::new_planner(&root, &name).map_err(gridplan::CliError::Usage)?;
             println!("created planner `{name}`:");
             for file in &done.files {
                 println!("  {file}");
             }
-            println!("next: edit crates/{name}/src/lib.rs, then `cargo test -p planner-{name}` and add it to a config under [planners]");
+            println!("next: edit crates/{name}/src/lib.rs, then `cargo test -p planner-{name}` and `cargo xtask experiment configs/{name}.toml`");
             Ok(())
         }
         Command::GenPastarMaps => {
-            for path in xtask::write_pastar_maps(&workspace_root().join("maps/pastar"))? {
+            let written = xtask::write_pastar_maps(&workspace_root().join("maps/pastar"))
+                .map_err(gridplan::CliError::Failed)?;
+            for path in written {
                 println!("{path}");
             }
             Ok(())

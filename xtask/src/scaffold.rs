@@ -2,8 +2,11 @@
 //!
 //! Writes `crates/<name>/` (Cargo.toml, src/lib.rs with a config struct and a working
 //! greedy best-first search to replace, tests/smoke.rs), adds the dependency to
-//! `crates/runner/Cargo.toml` and the entry to `crates/runner/src/registry.rs` between
-//! their markers.
+//! `crates/registry/Cargo.toml` and the entry to `crates/registry/src/lib.rs` between
+//! their markers, a config that runs it (`configs/<name>.toml`, on seed 000's maps) and
+//! its paragraph in ARCHITECTURE.md's code map (before planner-figures'). The result
+//! passes tidy, clippy, the docs and the conformance test as generated; its snapshot is
+//! written once accepted (`INSTA_UPDATE=always cargo test -p xtask --test experiments`).
 //! Nothing is written unless every step can be done: the name is checked and both markers
 //! are found first.
 
@@ -12,6 +15,9 @@ use std::path::Path;
 
 const DEPS_MARKER: &str = "# (planners end)";
 const REGISTRY_MARKER: &str = "    // (registry end)";
+
+/// The paragraph of ARCHITECTURE.md's code map a new planner's paragraph goes before.
+const ARCHITECTURE_MARKER: &str = "**`crates/figures` (`planner-figures`).**";
 
 /// What was written.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -27,11 +33,11 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     if crate_dir.exists() {
         return Err(format!("{} already exists", crate_dir.display()));
     }
-    if planner_runner::registry::find(name).is_some() {
+    if planner_registry::find(name).is_some() {
         return Err(format!("planner `{name}` is already registered"));
     }
-    let cargo_path = root.join("crates/runner/Cargo.toml");
-    let registry_path = root.join("crates/runner/src/registry.rs");
+    let cargo_path = root.join("crates/registry/Cargo.toml");
+    let registry_path = root.join("crates/registry/src/lib.rs");
     let cargo =
         fs::read_to_string(&cargo_path).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
     let registry = fs::read_to_string(&registry_path)
@@ -46,6 +52,22 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
         return Err(format!(
             "{}: marker line {REGISTRY_MARKER:?} not found",
             registry_path.display()
+        ));
+    }
+    let config_rel = format!("configs/{name}.toml");
+    if root.join(&config_rel).exists() {
+        return Err(format!(
+            "{} already exists",
+            root.join(&config_rel).display()
+        ));
+    }
+    let architecture_path = root.join("ARCHITECTURE.md");
+    let architecture = fs::read_to_string(&architecture_path)
+        .map_err(|e| format!("{}: {e}", architecture_path.display()))?;
+    if !architecture.contains(ARCHITECTURE_MARKER) {
+        return Err(format!(
+            "{}: marker {ARCHITECTURE_MARKER:?} not found",
+            architecture_path.display()
         ));
     }
     let package = format!("planner-{name}");
@@ -69,6 +91,13 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
         "    Entry {{\n        name: {ident}::NAME,\n        summary: \"{name}: describe it in one line\",\n        task: Task::StartGoal,\n        factory: |params| Factory::path({ident}::NAME, params, {ident}::{type_name}::new),\n    }},\n"
     );
     let registry = registry.replacen(REGISTRY_MARKER, &format!("{entry}{REGISTRY_MARKER}"), 1);
+    let architecture = architecture.replacen(
+        ARCHITECTURE_MARKER,
+        &format!(
+            "**`crates/{name}` (`{package}`).** Scaffolded by `cargo xtask new-planner {name}`: a greedy\nbest-first search to replace; `configs/{name}.toml` runs it.\n\n{ARCHITECTURE_MARKER}"
+        ),
+        1,
+    );
 
     let files = [
         (
@@ -83,6 +112,7 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
             format!("crates/{name}/tests/smoke.rs"),
             smoke_test(&ident, &type_name),
         ),
+        (config_rel.clone(), config(name)),
     ];
     for (path, contents) in &files {
         let full = root.join(path);
@@ -93,9 +123,12 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     }
     fs::write(&cargo_path, cargo).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
     fs::write(&registry_path, registry).map_err(|e| format!("{}: {e}", registry_path.display()))?;
+    fs::write(&architecture_path, architecture)
+        .map_err(|e| format!("{}: {e}", architecture_path.display()))?;
     let mut written: Vec<String> = files.into_iter().map(|(p, _)| p).collect();
-    written.push("crates/runner/Cargo.toml".into());
-    written.push("crates/runner/src/registry.rs".into());
+    written.push("crates/registry/Cargo.toml".into());
+    written.push("crates/registry/src/lib.rs".into());
+    written.push("ARCHITECTURE.md".into());
     Ok(Scaffolded { files: written })
 }
 
@@ -106,7 +139,8 @@ const RESERVED: &[&str] = &[
     "ref", "return", "self", "static", "struct", "super", "trait", "true", "type", "unsafe", "use",
     "where", "while", "abstract", "become", "box", "do", "final", "macro", "override", "priv",
     "typeof", "unsized", "virtual", "yield", "try", "gen", "api", "maps", "runner", "testkit",
-    "figures", "stats", "cli", "bench", "test", "core", "std", "alloc",
+    "registry", "report", "paper", "search", "figures", "stats", "cli", "bench", "test", "core",
+    "std", "alloc",
 ];
 
 /// A planner name is snake case (lowercase words of letters and digits joined by single
@@ -163,9 +197,30 @@ fn library(name: &str, ident: &str, type_name: &str) -> String {
         .replace("__TYPE__", type_name)
 }
 
+/// A config that runs the new planner on seed 000's maps (tidy wants every planner in
+/// some config; the snapshot test then pins its counters).
+fn config(name: &str) -> String {
+    format!(
+        r#"# The {name} planner on seed 000's maps, corner to corner (written by
+# `cargo xtask new-planner {name}`; its snapshot pins the counters).
+name = "{name}"
+figures = "none"
+
+[[maps]]
+files = ["../maps/paper/map0*.map"]
+problems = "corners"
+
+[planners.{name}]
+planner = "{name}"
+"#
+    )
+}
+
 fn smoke_test(ident: &str, type_name: &str) -> String {
     format!(
-        r#"use planner_api::{{Budget, Cell, Grid, Planner, Problem, Status}};
+        r#"//! The scaffolded planner finds a path around a wall.
+
+use planner_api::{{Budget, Cell, Grid, Planner, Problem, Status}};
 use {ident}::{{Config, {type_name}}};
 
 #[test]
@@ -360,22 +415,34 @@ mod tests {
         let root =
             std::env::temp_dir().join(format!("gridplan-scaffold-ok-{}", std::process::id()));
         let _ = fs::remove_dir_all(&root);
-        fs::create_dir_all(root.join("crates/runner/src")).unwrap();
+        fs::create_dir_all(root.join("crates/registry/src")).unwrap();
         fs::write(
-            root.join("crates/runner/Cargo.toml"),
+            root.join("crates/registry/Cargo.toml"),
             format!("[dependencies]\n{DEPS_MARKER}\n"),
         )
         .unwrap();
         fs::write(
-            root.join("crates/runner/src/registry.rs"),
+            root.join("crates/registry/src/lib.rs"),
             format!("const X: &[Entry] = &[\n{REGISTRY_MARKER}\n];\n"),
         )
         .unwrap();
+        fs::write(
+            root.join("ARCHITECTURE.md"),
+            format!("# Code map\n\n{ARCHITECTURE_MARKER} Drawings.\n"),
+        )
+        .unwrap();
         let done = new_planner(&root, "greedy2").unwrap();
-        assert_eq!(done.files.len(), 5);
-        let cargo = fs::read_to_string(root.join("crates/runner/Cargo.toml")).unwrap();
+        assert_eq!(done.files.len(), 7);
+        let architecture = fs::read_to_string(root.join("ARCHITECTURE.md")).unwrap();
+        assert!(architecture.contains("**`crates/greedy2` (`planner-greedy2`).**"));
+        assert!(architecture.ends_with(&format!("{ARCHITECTURE_MARKER} Drawings.\n")));
+        let config = fs::read_to_string(root.join("configs/greedy2.toml")).unwrap();
+        assert!(config.contains("planner = \"greedy2\""));
+        let smoke = fs::read_to_string(root.join("crates/greedy2/tests/smoke.rs")).unwrap();
+        assert!(smoke.starts_with("//! "));
+        let cargo = fs::read_to_string(root.join("crates/registry/Cargo.toml")).unwrap();
         assert!(cargo.contains("planner-greedy2 = { path = \"../greedy2\" }\n# (planners end)"));
-        let registry = fs::read_to_string(root.join("crates/runner/src/registry.rs")).unwrap();
+        let registry = fs::read_to_string(root.join("crates/registry/src/lib.rs")).unwrap();
         assert!(registry.contains("params, planner_greedy2::Greedy2::new)"));
         let lib = fs::read_to_string(root.join("crates/greedy2/src/lib.rs")).unwrap();
         assert!(
@@ -387,7 +454,7 @@ mod tests {
             "a second scaffold must not overwrite"
         );
         new_planner(&root, "greedy_best").unwrap();
-        let registry = fs::read_to_string(root.join("crates/runner/src/registry.rs")).unwrap();
+        let registry = fs::read_to_string(root.join("crates/registry/src/lib.rs")).unwrap();
         assert!(registry.contains("params, planner_greedy_best::GreedyBest::new)"));
         fs::remove_dir_all(&root).unwrap();
     }

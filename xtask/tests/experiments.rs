@@ -154,7 +154,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
-        &format!("bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of {}", planner_runner::registry::names().join(", ")),
+        &format!("bad.toml:6:11: planner `a`: unknown planner \"astr\" in key `planner`, expected one of {}", planner_registry::names().join(", ")),
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.fast]\nplanner = \"astar\"\nbeta = 2\n"),
@@ -195,7 +195,7 @@ fn config_errors_name_file_line_column_and_key() {
         &format!("name = \"x\"\n{MAPS}[planners.a]\nheuristic = \"octile\"\n"),
         &format!(
             "bad.toml:5:11: planner `a`: key `planner` is missing (one of {})",
-            planner_runner::registry::names().join(", ")
+            planner_registry::names().join(", ")
         ),
     );
 }
@@ -304,7 +304,7 @@ fn wpi_config_reproduces_the_reports_path_lengths() {
         .unwrap()
         .trimmed_for_test();
     let records = common::run(&experiment, 2);
-    let (_, reproduction) = planner_runner::report::render(&experiment, &records);
+    let (_, reproduction) = planner_paper::renderer().summary(&experiment, &records);
     assert_eq!((reproduction.matched, reproduction.compared), (15, 15));
 }
 
@@ -324,7 +324,7 @@ fn movingai_config_matches_the_scenario_optima() {
     {
         let (length, optimal) = (r.length.unwrap(), r.optimal_length.unwrap());
         assert!(
-            planner_runner::report::optimum::matches_optimum(length, optimal),
+            planner_report::optimum::matches_optimum(length, optimal),
             "{} {} #{}: {length} vs {optimal}",
             r.planner,
             r.map,
@@ -460,15 +460,15 @@ fn movingai_aggregates_are_snapshotted() {
         .trimmed_for_test();
     let records = common::run(&experiment, 2);
     let index = planner_runner::index::ResultsIndex::new(&records);
-    let context = planner_runner::report::Context {
+    let options = toml::Table::new();
+    let context = planner_report::Context {
         experiment: &experiment,
         records: &records,
         index: &index,
+        options: &options,
     };
-    let tables = planner_runner::report::aggregate::tables(
-        &context,
-        planner_runner::report::aggregate::Measured::Redacted,
-    );
+    let tables =
+        planner_report::aggregate::tables(&context, planner_report::aggregate::Measured::Redacted);
     // The overall row of A* with the octile heuristic: 36 runs, all found and optimal.
     assert!(
         tables.contains("| octile | all | 36 | 36 | 36 |"),
@@ -489,9 +489,11 @@ fn experiment(
     config: &std::path::Path,
     output: &std::path::Path,
 ) -> Result<planner_runner::sweep::Report, String> {
+    let renderer = planner_paper::renderer();
     planner_runner::sweep::experiment(&planner_runner::sweep::SweepArgs {
         threads: 1,
         output: Some(output),
-        ..planner_runner::sweep::SweepArgs::new(config)
+        ..planner_runner::sweep::SweepArgs::new(config, &renderer)
     })
+    .map_err(|e| e.to_string())
 }

@@ -1,4 +1,5 @@
-//! Streamed sweeps through the real binary: 3 shards merged equal one run, and a sweep
+//! Streamed sweeps through the real binary: 3 shards merged equal one run (figures with
+//! expanded cells included), `report` re-renders a results directory byte for byte, and a sweep
 //! killed (SIGKILL) mid-way and resumed equals an uninterrupted one (timing and memory
 //! columns aside); SIGINT and SIGTERM stop a sweep with exit status 130, the finished
 //! runs recorded and the old results untouched, and resuming then equals an
@@ -58,6 +59,34 @@ fn deterministic_summary(dir: &Path) -> Vec<String> {
     out
 }
 
+/// Every file of a results directory (but its marker) by relative path, with its bytes.
+fn files(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    fn walk(base: &Path, dir: &Path, out: &mut std::collections::BTreeMap<String, Vec<u8>>) {
+        for entry in fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                walk(base, &path, out);
+            } else {
+                let name = path.strip_prefix(base).unwrap().display().to_string();
+                if name != ".gridplan-results" {
+                    out.insert(name, fs::read(&path).unwrap());
+                }
+            }
+        }
+    }
+    let mut out = std::collections::BTreeMap::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+/// The figures of a results directory (drawn from deterministic values only).
+fn figures(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    files(dir)
+        .into_iter()
+        .filter(|(name, _)| name.starts_with("figures/"))
+        .collect()
+}
+
 fn deterministic_csv(dir: &Path) -> Vec<String> {
     fs::read_to_string(dir.join("runs.csv"))
         .unwrap()
@@ -106,6 +135,28 @@ fn three_shards_merged_equal_one_run() {
     assert_eq!(
         deterministic_summary(&dir.join("one")),
         deterministic_summary(&dir.join("merged"))
+    );
+    // Merged shards draw the same figures, the expanded cells included (each shard
+    // records those of the drawn runs it holds; the merge runs no planner).
+    let one_files = files(&dir.join("one"));
+    assert_eq!(
+        one_files.keys().collect::<Vec<_>>(),
+        files(&dir.join("merged")).keys().collect::<Vec<_>>()
+    );
+    assert!(one_files.keys().any(|f| f.ends_with("-expanded.svg")));
+    assert_eq!(figures(&dir.join("one")), figures(&dir.join("merged")));
+    // `report` re-renders a results directory in place from what it holds, byte for byte
+    // (its provenance and times are the recorded ones); on the merged shards too.
+    xtask(&["report", &d("one")]);
+    assert!(
+        one_files == files(&dir.join("one")),
+        "report changed a file of one run"
+    );
+    let merged_files = files(&dir.join("merged"));
+    xtask(&["report", &d("merged")]);
+    assert!(
+        merged_files == files(&dir.join("merged")),
+        "report changed a merged file"
     );
     let missing = Command::new(env!("CARGO_BIN_EXE_xtask"))
         .args(["merge", &d("s1"), &d("s3")])

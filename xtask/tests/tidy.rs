@@ -7,12 +7,12 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use common::root;
-use planner_runner::registry::PLANNERS;
+use planner_registry::PLANNERS;
 
 /// The crates under `crates/` that are not planners.
 const SUPPORT_CRATES: &[&str] = &[
-    "api", "bench", "cli", "figures", "maps", "replan", "runner", "search", "serve", "stats",
-    "testkit",
+    "api", "bench", "cli", "figures", "maps", "paper", "registry", "replan", "report", "runner",
+    "search", "serve", "stats", "testkit",
 ];
 
 /// The package of `crates/<dir>`: `planner-<dir>`, but for the command line, `gridplan`.
@@ -30,7 +30,10 @@ const API_DEPENDENCIES: &[&str] = &["serde", "thiserror"];
 /// know nothing of the runner.
 const PLANNER_FORBIDDEN: &[&str] = &[
     "planner-maps",
+    "planner-registry",
     "planner-runner",
+    "planner-report",
+    "planner-paper",
     "xtask",
     "tracing",
     "gridplan",
@@ -136,7 +139,7 @@ fn registry_crate_directories_and_runner_dependencies_match() {
         .collect();
     assert_eq!(
         names, planner_dirs,
-        "registry names (crates/runner/src/registry.rs) and the planner directories under crates/ differ"
+        "registry names (crates/registry/src/lib.rs) and the planner directories under crates/ differ"
     );
     let packages = packages();
     for dir in &dirs {
@@ -146,11 +149,11 @@ fn registry_crate_directories_and_runner_dependencies_match() {
             .unwrap_or_else(|| panic!("crates/{dir} is not a workspace member"));
         assert_eq!(p.name, package_name(dir), "crates/{dir}'s package name");
     }
-    let runner = packages
+    let registry = packages
         .iter()
-        .find(|p| p.name == "planner-runner")
+        .find(|p| p.name == "planner-registry")
         .unwrap();
-    let runner_planners: BTreeSet<String> = runner
+    let registry_planners: BTreeSet<String> = registry
         .dependencies
         .iter()
         .filter_map(|d| d.strip_prefix("planner-"))
@@ -158,9 +161,129 @@ fn registry_crate_directories_and_runner_dependencies_match() {
         .map(String::from)
         .collect();
     assert_eq!(
-        names, runner_planners,
-        "planner-runner's planner dependencies and the registry differ"
+        names, registry_planners,
+        "planner-registry's planner dependencies and its list differ"
     );
+}
+
+/// The packages that are planners (a registry name's `planner-<name>`).
+fn planner_packages() -> BTreeSet<String> {
+    PLANNERS
+        .iter()
+        .map(|e| format!("planner-{}", e.name))
+        .collect()
+}
+
+/// What the layered crates may not depend on (normal dependencies), beside any planner
+/// crate: dependencies point down (ARCHITECTURE.md, "Layers").
+const LAYER_FORBIDDEN: &[(&str, &[&str])] = &[
+    (
+        "planner-registry",
+        &[
+            "planner-maps",
+            "planner-runner",
+            "planner-report",
+            "planner-paper",
+            "rayon",
+        ],
+    ),
+    (
+        "planner-runner",
+        &[
+            "plotters",
+            "pulldown-cmark",
+            "planner-figures",
+            "planner-stats",
+            "planner-report",
+            "planner-paper",
+        ],
+    ),
+    ("planner-report", &["planner-registry", "planner-paper"]),
+    ("planner-paper", &["planner-registry"]),
+    (
+        "planner-replan",
+        &[
+            "planner-registry",
+            "planner-runner",
+            "planner-report",
+            "planner-paper",
+        ],
+    ),
+    ("planner-serve", &["planner-report", "planner-paper"]),
+];
+
+/// Packages that may depend on planner crates directly: the registry (the one list),
+/// planner crates themselves (one planner may build on another), xtask (which runs
+/// PA-star's map generator), and planner-replan, which builds planners of its own from
+/// others as a planner crate may (A* restarted at every replan behind the incremental
+/// interface, which the registry's factories do not offer) and checks every replan
+/// against an exact A* oracle that must not be a user's configuration.
+const MAY_NAME_PLANNERS: &[&str] = &["planner-registry", "xtask", "planner-replan"];
+
+#[test]
+fn dependencies_point_down_and_only_the_registry_names_planners() {
+    let packages = packages();
+    let planners = planner_packages();
+    for p in &packages {
+        if planners.contains(&p.name) || MAY_NAME_PLANNERS.contains(&p.name.as_str()) {
+            continue;
+        }
+        for dep in &p.dependencies {
+            assert!(
+                !planners.contains(dep),
+                "{} depends on the planner crate {dep}: only planner-registry names planners (add the planner to crates/registry instead)",
+                p.name
+            );
+        }
+    }
+    for (package, forbidden) in LAYER_FORBIDDEN {
+        let p = packages
+            .iter()
+            .find(|p| p.name == *package)
+            .unwrap_or_else(|| panic!("no package {package}"));
+        for dep in &p.dependencies {
+            assert!(
+                !forbidden.contains(&dep.as_str()),
+                "{package} depends on {dep}; it may not depend on {forbidden:?} (dependencies point down: ARCHITECTURE.md)"
+            );
+        }
+    }
+}
+
+/// What the report and paper crates' sources may not name: they render a results
+/// directory and never run a planner or read the planner list.
+const RENDER_FORBIDDEN: &[&str] = &[
+    "run_one",
+    "run_all",
+    "run_stream",
+    "record_expanded",
+    "record_all",
+    "planner_registry",
+    "PLANNERS",
+    ".build()",
+];
+
+#[test]
+fn report_and_paper_never_run_a_planner() {
+    for dir in ["crates/report/src", "crates/paper/src"] {
+        let mut files = Vec::new();
+        rust_files(&root().join(dir), &mut files);
+        assert!(!files.is_empty(), "{dir} has no Rust files");
+        for file in files {
+            let text = std::fs::read_to_string(&file).unwrap();
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or_default();
+                for word in RENDER_FORBIDDEN {
+                    assert!(
+                        !code.contains(word),
+                        "{}:{}: `{word}`: the report renders a results directory and never runs a planner or reads the planner list",
+                        file.display(),
+                        n + 1
+                    );
+                }
+            }
+        }
+    }
 }
 
 #[test]
@@ -283,4 +406,96 @@ fn no_dependency_declares_a_rust_version_above_the_msrv() {
         "the graph was read ({} packages)",
         resolved.len()
     );
+}
+
+/// The crates whose functions stay short and whose public errors are typed.
+const LAYERED_SOURCES: &[&str] = &["crates/runner/src", "crates/report/src", "crates/paper/src"];
+
+/// Every function of `text`: (name, first line, number of lines), a function ending at the
+/// first line that is its indentation followed by `}` (rustfmt's layout).
+fn functions(text: &str) -> Vec<(String, usize, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let trimmed = line.trim_start();
+        let indent = &line[..line.len() - trimmed.len()];
+        let rest = trimmed
+            .strip_prefix("pub(crate) ")
+            .or_else(|| trimmed.strip_prefix("pub "))
+            .unwrap_or(trimmed);
+        let Some(after) = rest.strip_prefix("fn ") else {
+            continue;
+        };
+        let name: String = after
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        let close = format!("{indent}}}");
+        if let Some(end) = lines[i..].iter().position(|l| *l == close) {
+            out.push((name, i + 1, end + 1));
+        }
+    }
+    out
+}
+
+#[test]
+fn no_function_of_the_runner_report_or_paper_is_over_100_lines() {
+    let mut long = Vec::new();
+    for dir in LAYERED_SOURCES {
+        let mut files = Vec::new();
+        rust_files(&root().join(dir), &mut files);
+        for file in files {
+            let relative = file.strip_prefix(root()).unwrap().display().to_string();
+            let text = std::fs::read_to_string(&file).unwrap();
+            for (name, line, n) in functions(&text) {
+                if n > 100 {
+                    long.push((relative.clone(), name, line, n));
+                }
+            }
+        }
+    }
+    if let Some((file, name, line, n)) = long.first() {
+        panic!("{file}:{line}: fn {name} has {n} lines; split it (at most 100)");
+    }
+}
+
+#[test]
+fn public_functions_of_the_runner_report_and_paper_return_typed_errors() {
+    for dir in LAYERED_SOURCES {
+        let mut files = Vec::new();
+        rust_files(&root().join(dir), &mut files);
+        for file in files {
+            let relative = file.strip_prefix(root()).unwrap().display().to_string();
+            let text = std::fs::read_to_string(&file).unwrap();
+            let lines: Vec<&str> = text.lines().collect();
+            for (i, line) in lines.iter().enumerate() {
+                let Some(after) = line.trim_start().strip_prefix("pub fn ") else {
+                    continue;
+                };
+                let name: String = after
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                // The signature: up to the line that opens the body.
+                let signature: String = lines[i..]
+                    .iter()
+                    .take_while(|l| !l.trim_end().ends_with('{') && !l.trim_end().ends_with(';'))
+                    .chain(
+                        lines[i..]
+                            .iter()
+                            .find(|l| l.trim_end().ends_with('{') || l.trim_end().ends_with(';')),
+                    )
+                    .copied()
+                    .collect::<Vec<_>>()
+                    .join(" ");
+                let stringly = signature.contains(", String>") && signature.contains("Result<");
+                if stringly {
+                    panic!(
+                        "{relative}:{}: pub fn {name} returns Result<_, String>; give it a thiserror type",
+                        i + 1
+                    );
+                }
+            }
+        }
+    }
 }

@@ -1,8 +1,10 @@
 //! gridplan's command line as a library: the `gridplan` binary and `cargo xtask` (which
 //! adds the repository's own tasks) parse the same [`Command`]s and run them with [`run`].
 //!
-//! Everything a command does is planner-runner's ([`planner_runner::sweep`],
-//! [`planner_runner::plan`], [`planner_runner::registry`]); this crate adds the argument
+//! Everything a command does is the libraries': sweeps and plans are planner-runner's
+//! ([`planner_runner::sweep`], [`planner_runner::plan`]), the planner list
+//! planner-registry's, and the report files planner-report's with planner-paper's
+//! sections ([`planner_paper::renderer`]); this crate wires them and adds the argument
 //! parsing, the progress bar and the log output.
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
@@ -15,6 +17,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use planner_api::Cell;
 use planner_runner::plan::PlanArgs;
+use planner_runner::RunnerError;
 use planner_runner::{alloc, slurm, sweep};
 use tracing_subscriber::EnvFilter;
 
@@ -82,6 +85,17 @@ pub enum Command {
         #[arg(long)]
         output: Option<PathBuf>,
         /// The config (default: the one the shards name).
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
+    /// Re-render a results directory in place from its records (records.jsonl,
+    /// expanded.jsonl, provenance.json): summary.md, figures, charts, report.html, OMPL
+    /// logs. No planner runs; the directory is replaced as `experiment` replaces it.
+    Report {
+        /// The results directory (`experiment`'s or `merge`'s output).
+        dir: PathBuf,
+        /// The config (default: the one the records name; it must resolve to the config
+        /// hash the runs were made with).
         #[arg(long)]
         config: Option<PathBuf>,
     },
@@ -219,20 +233,84 @@ pub fn init_logging() {
         .init();
 }
 
-/// The exit code of a command's result; prints the error.
-pub fn exit(result: Result<(), String>) -> ExitCode {
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            ExitCode::FAILURE
+/// Why a command failed. [`CliError::exit_code`] is the exit status the command ends with
+/// (the `EXIT_*` constants; README.md lists them).
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// The runner's error, typed (its class decides the exit status).
+    #[error(transparent)]
+    Runner(#[from] RunnerError),
+    /// Command-line arguments that do not fit (beside those clap refuses, also exit 2).
+    #[error("{0}")]
+    Usage(String),
+    /// `slurm` could not write its scripts.
+    #[error(transparent)]
+    Slurm(#[from] slurm::SlurmError),
+    /// Anything else (writing a file or stdout, a job submission).
+    #[error("{0}")]
+    Failed(String),
+}
+
+/// Any other failure (an I/O error, a stream or shard set that cannot be read, a
+/// determinism bug found while drawing expanded cells).
+pub const EXIT_FAILURE: u8 = 1;
+/// Command-line arguments that do not fit (clap's own usage errors exit 2 too), and values
+/// that `slurm` cannot write safely into a script.
+pub const EXIT_USAGE: u8 = 2;
+/// An experiment config that cannot be read or is invalid.
+pub const EXIT_CONFIG: u8 = 3;
+/// A map or scenario file that cannot be read, or a start or goal that cannot be planned.
+pub const EXIT_INPUT: u8 = 4;
+/// An output directory gridplan may not write: not its own results, or held by another
+/// sweep's lock.
+pub const EXIT_OUTPUT: u8 = 5;
+/// The exit code of a command stopped by Ctrl-C (SIGINT) or SIGTERM: 128 + 2, as shells
+/// report Ctrl-C.
+pub const EXIT_INTERRUPTED: u8 = 130;
+
+impl CliError {
+    /// The exit status of this failure.
+    pub fn exit_code(&self) -> u8 {
+        let runner = match self {
+            CliError::Usage(_) => return EXIT_USAGE,
+            CliError::Slurm(error) => {
+                return match error {
+                    slurm::SlurmError::Config(_) => EXIT_CONFIG,
+                    slurm::SlurmError::Output(_) => EXIT_OUTPUT,
+                    slurm::SlurmError::Io { .. } => EXIT_FAILURE,
+                    _ => EXIT_USAGE,
+                }
+            }
+            CliError::Failed(_) => return EXIT_FAILURE,
+            CliError::Runner(error) => error.innermost(),
+        };
+        match runner {
+            RunnerError::Config(_) => EXIT_CONFIG,
+            RunnerError::Map(_)
+            | RunnerError::Problem { .. }
+            | RunnerError::InvertedProblem { .. } => EXIT_INPUT,
+            RunnerError::Output(_) => EXIT_OUTPUT,
+            RunnerError::Usage(_)
+            | RunnerError::Threads(_)
+            | RunnerError::Param(..)
+            | RunnerError::UnknownPlanner { .. }
+            | RunnerError::UnknownLabel { .. }
+            | RunnerError::Resume(_) => EXIT_USAGE,
+            _ => EXIT_FAILURE,
         }
     }
 }
 
-/// The exit code of a command stopped by Ctrl-C (SIGINT) or SIGTERM: 128 + 2, as shells
-/// report Ctrl-C.
-pub const EXIT_INTERRUPTED: u8 = 130;
+/// The exit code of a command's result; prints the error.
+pub fn exit(result: Result<(), CliError>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::from(error.exit_code())
+        }
+    }
+}
 
 /// Raised by the first SIGINT or SIGTERM while a sweep watches it.
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -332,8 +410,8 @@ mod signals {
 
 /// Makes Ctrl-C end the process at once with "interrupted" and [`EXIT_INTERRUPTED`]: for
 /// `plan`, which writes nothing, so stopping anywhere is clean.
-fn stop_on_interrupt() -> Result<(), String> {
-    install_handler().map_err(|error| format!("cannot handle Ctrl-C: {error}"))
+fn stop_on_interrupt() -> Result<(), CliError> {
+    install_handler().map_err(|error| CliError::Failed(format!("cannot handle Ctrl-C: {error}")))
 }
 
 /// Makes SIGINT and SIGTERM stop a sweep cleanly: the flag it watches, or `None` (with a
@@ -380,7 +458,7 @@ impl sweep::Progress for Bar {
 }
 
 /// Runs one user command.
-pub fn run(command: Command) -> Result<(), String> {
+pub fn run(command: Command) -> Result<(), CliError> {
     match command {
         Command::Experiment {
             config,
@@ -393,12 +471,14 @@ pub fn run(command: Command) -> Result<(), String> {
             let shard = match shard {
                 Some(text) => Some(
                     planner_runner::shard::Shard::parse(&text)
-                        .map_err(|e| format!("--shard: {e}"))?,
+                        .map_err(|e| CliError::Usage(format!("--shard: {e}")))?,
                 ),
-                None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())?,
+                None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())
+                    .map_err(|e| CliError::Usage(e.0))?,
             };
             let bar = Bar::default();
             let stop = stop_on_signals();
+            let renderer = planner_paper::renderer();
             let report = sweep::experiment(&sweep::SweepArgs {
                 threads: threads.unwrap_or(0),
                 output: output.as_deref(),
@@ -407,7 +487,7 @@ pub fn run(command: Command) -> Result<(), String> {
                 resume,
                 shard,
                 stop,
-                ..sweep::SweepArgs::new(&config)
+                ..sweep::SweepArgs::new(&config, &renderer)
             })?;
             if let Some(n_recorded) = report.interrupted {
                 eprintln!(
@@ -439,12 +519,28 @@ pub fn run(command: Command) -> Result<(), String> {
             if let Some(parent) = &shards_in {
                 dirs.extend(shard_dirs_in(parent)?);
             }
-            let report = sweep::merge(&dirs, output.as_deref(), config.as_deref())?;
+            let report = sweep::merge(
+                &dirs,
+                output.as_deref(),
+                config.as_deref(),
+                &planner_paper::renderer(),
+            )?;
             write_stdout(
                 format!(
                     "{} runs merged from {} shards -> {}\n",
                     report.n_runs,
                     dirs.len(),
+                    report.output.display()
+                )
+                .as_bytes(),
+            )
+        }
+        Command::Report { dir, config } => {
+            let report = sweep::report(&dir, config.as_deref(), &planner_paper::renderer())?;
+            write_stdout(
+                format!(
+                    "{} runs reported -> {}\n",
+                    report.n_runs,
                     report.output.display()
                 )
                 .as_bytes(),
@@ -466,14 +562,15 @@ pub fn run(command: Command) -> Result<(), String> {
                 partition,
                 time,
                 cpus_per_task,
-                submit,
             })?;
             let mut out = format!(
                 "array script: {}\nmerge script: {}\n",
                 jobs.array_script.display(),
                 jobs.merge_script.display()
             );
-            if let Some((array, merge)) = jobs.ids {
+            if submit {
+                let array = sbatch(&jobs.array_args())?;
+                let merge = sbatch(&jobs.merge_args(&array))?;
                 out.push_str(&format!("array job {array}\nmerge job {merge}\n"));
             }
             write_stdout(out.as_bytes())
@@ -510,20 +607,26 @@ pub fn run(command: Command) -> Result<(), String> {
                 max_memory_mb,
                 record_expanded: svg.is_some() || trace.is_some() || gif.is_some(),
             };
-            let result =
-                planner_runner::plan::run_with(&args, &options).map_err(|e| e.to_string())?;
+            let result = planner_runner::plan::run_with(&args, &options)?;
             planner_serve::write_pictures(
                 &result,
                 svg.as_deref(),
                 trace.as_deref(),
                 gif.as_deref(),
-            )?;
+            )
+            .map_err(CliError::Failed)?;
             if let Some(file) = &svg {
-                std::fs::write(file, result.to_svg())
-                    .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+                let svg = planner_report::figures::draw_run(
+                    &result.grid,
+                    &result.record,
+                    &result.expanded,
+                );
+                std::fs::write(file, svg).map_err(|e| {
+                    CliError::Failed(format!("cannot write {}: {e}", file.display()))
+                })?;
             }
             let out = if json {
-                format!("{}\n", result.to_json().map_err(|e| e.to_string())?)
+                format!("{}\n", result.to_json()?)
             } else {
                 result.to_text_within(text_columns())
             };
@@ -539,10 +642,11 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Serve { dir, port, host } => planner_serve::serve(&planner_serve::ServeOptions {
             host,
             ..planner_serve::ServeOptions::new(&dir, port)
-        }),
+        })
+        .map_err(CliError::Failed),
         Command::Planners { name: None } => {
             let mut out = String::new();
-            for entry in planner_runner::registry::PLANNERS {
+            for entry in planner_registry::PLANNERS {
                 out.push_str(&format!("{:<20} {}\n", entry.name, entry.summary));
             }
             out.push_str("\n`gridplan planners <name>` lists a planner's parameters.\n");
@@ -550,8 +654,12 @@ pub fn run(command: Command) -> Result<(), String> {
         }
         Command::Planners { name: Some(name) } => write_stdout(describe_planner(&name)?.as_bytes()),
         Command::Schema => {
-            let schema = planner_runner::schema::experiment_schema()?;
-            let text = serde_json::to_string_pretty(&schema).map_err(|e| e.to_string())?;
+            let schema = planner_runner::schema::experiment_schema(
+                &planner_paper::renderer().section_names(),
+            )
+            .map_err(|e| CliError::Failed(e.to_string()))?;
+            let text = serde_json::to_string_pretty(&schema)
+                .map_err(|e| CliError::Failed(e.to_string()))?;
             write_stdout(format!("{text}\n").as_bytes())
         }
         Command::Completions { shell } => {
@@ -580,24 +688,51 @@ fn text_columns() -> usize {
 /// the command ends quietly with status 0, as `head`-style pipelines expect (a sweep's
 /// results are on disk by then). Any other write error (a full disk, `>/dev/full`) is an
 /// error, status 1.
-fn write_stdout(bytes: &[u8]) -> Result<(), String> {
+fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
     use std::io::Write as _;
     let mut stdout = std::io::stdout().lock();
     match stdout.write_all(bytes).and_then(|()| stdout.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            Err(format!("cannot write to stdout: {e}"))
+            Err(CliError::Failed(format!("cannot write to stdout: {e}")))
         }
         _ => Ok(()),
     }
 }
 
+/// Runs `sbatch --parsable ARGS` and returns the job id.
+fn sbatch(args: &[String]) -> Result<String, CliError> {
+    let out = std::process::Command::new("sbatch")
+        .arg("--parsable")
+        .args(args)
+        .output()
+        .map_err(|e| CliError::Failed(format!("cannot run sbatch (is Slurm installed?): {e}")))?;
+    if !out.status.success() {
+        return Err(CliError::Failed(format!(
+            "sbatch {} failed: {}",
+            args.join(" "),
+            String::from_utf8_lossy(&out.stderr).trim()
+        )));
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    // `--parsable` prints `id` or `id;cluster`.
+    let id = text.trim().split(';').next().unwrap_or("").to_string();
+    if id.is_empty() {
+        return Err(CliError::Failed(format!(
+            "sbatch {} printed no job id",
+            args.join(" ")
+        )));
+    }
+    Ok(id)
+}
+
 /// The directories `shard-K` (K a decimal number) in `parent`, by K.
-fn shard_dirs_in(parent: &std::path::Path) -> Result<Vec<PathBuf>, String> {
-    let entries =
-        std::fs::read_dir(parent).map_err(|e| format!("--shards-in {}: {e}", parent.display()))?;
+fn shard_dirs_in(parent: &std::path::Path) -> Result<Vec<PathBuf>, CliError> {
+    let failed =
+        |e: std::io::Error| CliError::Failed(format!("--shards-in {}: {e}", parent.display()));
+    let entries = std::fs::read_dir(parent).map_err(failed)?;
     let mut found = Vec::new();
     for entry in entries {
-        let entry = entry.map_err(|e| format!("--shards-in {}: {e}", parent.display()))?;
+        let entry = entry.map_err(failed)?;
         let name = entry.file_name();
         let number = name
             .to_str()
@@ -611,10 +746,10 @@ fn shard_dirs_in(parent: &std::path::Path) -> Result<Vec<PathBuf>, String> {
         }
     }
     if found.is_empty() {
-        return Err(format!(
+        return Err(CliError::Usage(format!(
             "--shards-in {}: no shard-K directories in it",
             parent.display()
-        ));
+        )));
     }
     found.sort();
     Ok(found.into_iter().map(|(_, path)| path).collect())
@@ -622,20 +757,18 @@ fn shard_dirs_in(parent: &std::path::Path) -> Result<Vec<PathBuf>, String> {
 
 /// `gridplan planners <name>`: the planner's summary, then each declared parameter as
 /// `key: type = default`, its allowed values and its doc line.
-pub fn describe_planner(name: &str) -> Result<String, String> {
+pub fn describe_planner(name: &str) -> Result<String, CliError> {
     use std::fmt::Write as _;
-    let entry = planner_runner::registry::find(name).ok_or_else(|| {
-        format!(
-            "unknown planner `{name}`, expected one of {}",
-            planner_runner::registry::names().join(", ")
-        )
+    let entry = planner_registry::find(name).ok_or_else(|| RunnerError::UnknownPlanner {
+        name: name.to_string(),
     })?;
     let task = match entry.task {
-        planner_runner::Task::StartGoal => "start-goal",
-        planner_runner::Task::Coverage => "coverage",
+        planner_registry::Task::StartGoal => "start-goal",
+        planner_registry::Task::Coverage => "coverage",
     };
     let mut out = format!("{} ({task}): {}\n", entry.name, entry.summary);
-    let params = planner_runner::schema::declared(name)?;
+    let params =
+        planner_registry::schema::declared(name).map_err(|e| CliError::Failed(e.to_string()))?;
     if params.is_empty() {
         out.push_str("no parameters\n");
     } else {

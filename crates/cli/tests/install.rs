@@ -140,10 +140,11 @@ fn the_installed_binary_runs_outside_the_repository() {
 fn bad_input_is_an_error_message_not_a_panic() {
     let work = scratch("errors");
     let gridplan = env!("CARGO_BIN_EXE_gridplan");
-    for args in [
-        &["planners", "no_such_planner"][..],
-        &["plan", "missing.map", "--planner", "astar"],
-        &["experiment", "missing.toml"],
+    // The documented exit codes (README.md): 2 usage, 4 map, 3 config.
+    for (args, code) in [
+        (&["planners", "no_such_planner"][..], 2),
+        (&["plan", "missing.map", "--planner", "astar"], 4),
+        (&["experiment", "missing.toml"], 3),
     ] {
         let output = Command::new(gridplan)
             .args(args)
@@ -151,7 +152,7 @@ fn bad_input_is_an_error_message_not_a_panic() {
             .output()
             .expect("run gridplan");
         let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+        assert_eq!(output.status.code(), Some(code), "{args:?}: {stderr}");
         assert!(stderr.starts_with("error: "), "{args:?}: {stderr}");
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }

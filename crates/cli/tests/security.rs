@@ -41,12 +41,20 @@ fn text(out: &Output) -> String {
     )
 }
 
-/// Asserts exit code 1 with `needle` in stderr.
-fn refused(out: &Output, needle: &str) {
+/// The documented exit status of a failure that is none of the classes below.
+const FAILURE: i32 = 1;
+/// The documented exit status of arguments that do not fit (a refused `--resume`, a
+/// value that cannot be written into a Slurm script).
+const USAGE: i32 = 2;
+/// The documented exit status of an output directory gridplan may not write.
+const OUTPUT: i32 = 5;
+
+/// Asserts exit code `code` (README, "exit status") with `needle` in stderr.
+fn refused(out: &Output, code: i32, needle: &str) {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        out.status.code() == Some(1) && stderr.contains(needle),
-        "expected a refusal naming {needle:?}: {}",
+        out.status.code() == Some(code) && stderr.contains(needle),
+        "expected a refusal with exit {code} naming {needle:?}: {}",
         text(out)
     );
 }
@@ -108,7 +116,7 @@ fn slurm_values_with_line_breaks_are_refused_naming_the_key() {
     ] {
         for value in ["p\ntouch INJECTED #", "p\rtouch INJECTED #"] {
             let out = gridplan(&dir, &["slurm", "cfg.toml", "--shards", "2", option, value]);
-            refused(&out, key);
+            refused(&out, USAGE, key);
             assert!(injected(&dir).is_empty());
         }
     }
@@ -117,11 +125,11 @@ fn slurm_values_with_line_breaks_are_refused_naming_the_key() {
         &dir,
         &["slurm", "cfg.toml", "--shards", "2", "--partition", "a\\b"],
     );
-    refused(&out, "--partition");
+    refused(&out, USAGE, "--partition");
     // The config's own `output` key.
     let bad = setup("slurm-refused-config", "output = \"r\\ntouch INJECTED #\"");
     let out = gridplan(&bad, &["slurm", "cfg.toml", "--shards", "2"]);
-    refused(&out, "key `output`");
+    refused(&out, USAGE, "key `output`");
     // No script was written anywhere.
     for d in [&dir, &bad] {
         assert!(
@@ -141,7 +149,7 @@ fn slurm_checks_the_output_directory_like_experiment() {
     fs::create_dir(dir.join("res")).unwrap();
     fs::write(dir.join("res/thesis.tex"), "mine").unwrap();
     let out = gridplan(&dir, &["slurm", "cfg.toml", "--shards", "2"]);
-    refused(&out, "not a gridplan results directory");
+    refused(&out, OUTPUT, "not a gridplan results directory");
     assert!(!dir.join("res-slurm").exists());
     assert_eq!(
         fs::read_to_string(dir.join("res/thesis.tex")).unwrap(),
@@ -335,8 +343,8 @@ fn lock_files_planted_as_links_are_refused_and_their_targets_untouched() {
         fs::write(dir.join("victim.txt"), "precious\n").unwrap();
         std::os::unix::fs::symlink(dir.join("victim.txt"), dir.join(lock)).unwrap();
         let out = gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]);
-        refused(&out, lock);
-        refused(&out, "symbolic link");
+        refused(&out, OUTPUT, lock);
+        refused(&out, OUTPUT, "symbolic link");
         assert_eq!(
             fs::read_to_string(dir.join("victim.txt")).unwrap(),
             "precious\n"
@@ -351,7 +359,7 @@ fn a_foreign_stream_directory_survives() {
     fs::create_dir(dir.join(".res.stream")).unwrap();
     fs::write(dir.join(".res.stream/notes.txt"), "mine\n").unwrap();
     let out = gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]);
-    refused(&out, ".res.stream");
+    refused(&out, OUTPUT, ".res.stream");
     assert_eq!(
         fs::read_to_string(dir.join(".res.stream/notes.txt")).unwrap(),
         "mine\n"
@@ -399,8 +407,8 @@ fn merge_refuses_foreign_records_and_mixed_versions() {
     let original = fs::read(dir.join("s2/shard.jsonl")).unwrap();
     let line = forge_label(&dir.join("s2/shard.jsonl"));
     let out = gridplan(&dir, &["merge", "s1", "s2", "--output", "m2"]);
-    refused(&out, &format!("shard.jsonl line {line}"));
-    refused(&out, "\"other\"");
+    refused(&out, FAILURE, &format!("shard.jsonl line {line}"));
+    refused(&out, FAILURE, "\"other\"");
     assert!(!dir.join("m2").exists());
     fs::write(dir.join("s2/shard.jsonl"), original).unwrap();
     // Shards of two gridplan versions are refused, naming both.
@@ -416,8 +424,8 @@ fn merge_refuses_foreign_records_and_mixed_versions() {
     )
     .unwrap();
     let out = gridplan(&dir, &["merge", "s1", "s2", "--output", "m3"]);
-    refused(&out, "0.0.0-other");
-    refused(&out, version);
+    refused(&out, FAILURE, "0.0.0-other");
+    refused(&out, FAILURE, version);
     assert!(!dir.join("m3").exists());
 }
 
@@ -443,7 +451,7 @@ fn resume_refuses_foreign_records() {
     fs::copy(dir.join("whole/shard.jsonl"), &stream).unwrap();
     let line = forge_label(&stream);
     let out = gridplan(&dir, &["experiment", "cfg.toml", "--quiet", "--resume"]);
-    refused(&out, &format!("records.jsonl line {line}"));
+    refused(&out, USAGE, &format!("records.jsonl line {line}"));
     assert!(!dir.join("res").exists());
     // The same stream unforged resumes (nothing left to run) and writes the results.
     fs::copy(dir.join("whole/shard.jsonl"), &stream).unwrap();

@@ -11,8 +11,8 @@ use planner_api::{Budget, Cell, Grid, Problem};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::factory::{Factory, Task};
-use crate::registry;
+use planner_registry as registry;
+use planner_registry::{Factory, Task};
 
 /// Most worker threads a config or command line may ask for.
 pub const MAX_THREADS: usize = 256;
@@ -96,9 +96,18 @@ struct RawConfig {
     published: Option<Spanned<String>>,
     #[serde(default)]
     test: TestLimits,
-    sections: Option<Spanned<Vec<String>>>,
+    sections: Option<Spanned<Vec<RawSection>>>,
     maps: Vec<Spanned<RawMaps>>,
     planners: IndexMap<Spanned<String>, Spanned<RawParams>>,
+}
+
+/// One entry of `sections = [...]`: a section name, or a table with its `name` and the
+/// section's own options (e.g. `{ name = "seed002", proposed = "pastar" }`).
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawSection {
+    Name(String),
+    Table(toml::Table),
 }
 
 fn zero() -> Spanned<usize> {
@@ -270,8 +279,54 @@ pub struct Experiment {
     /// Planner configurations, in config order.
     pub planners: Vec<PlannerSpec>,
     /// The summary.md sections the config names (`sections = [...]`); `None` lets each
-    /// section decide whether it applies.
-    pub sections: Option<Vec<String>>,
+    /// generic section decide whether it applies. The names are not checked here: the
+    /// report knows its sections and checks them ([`Sections::error`]).
+    pub sections: Option<Sections>,
+}
+
+/// The summary.md sections a config asks for, with the position of the `sections` key.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sections {
+    /// The sections, in config order.
+    pub requests: Vec<SectionRequest>,
+    /// The config file.
+    pub file: PathBuf,
+    /// 1-based line of the `sections` key's value.
+    pub line: usize,
+    /// 1-based column.
+    pub column: usize,
+}
+
+impl Sections {
+    /// Whether the config asks for section `name`.
+    pub fn wants(&self, name: &str) -> bool {
+        self.requests.iter().any(|r| r.name == name)
+    }
+
+    /// The request for section `name`, if the config makes one.
+    pub fn get(&self, name: &str) -> Option<&SectionRequest> {
+        self.requests.iter().find(|r| r.name == name)
+    }
+
+    /// A config error at the `sections` key, `key `sections`: {message}`.
+    pub fn error(&self, message: impl std::fmt::Display) -> ConfigError {
+        ConfigError {
+            file: self.file.clone(),
+            line: self.line,
+            column: self.column,
+            message: format!("key `sections`: {message}"),
+        }
+    }
+}
+
+/// One section a config asks for: its name and its options (the planners it names, as
+/// data: e.g. which label's planner is the proposed method).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectionRequest {
+    /// The section's name.
+    pub name: String,
+    /// The section's options (the entry's table without `name`; empty for a bare name).
+    pub options: toml::Table,
 }
 
 /// One map with its problems.
@@ -433,6 +488,74 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         toml::from_str(text).map_err(|e| src.error(e.span(), e.message().trim()))?;
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
+    let name = check_top_level(&src, &raw)?;
+
+    let planners = collect_planners(&src, &raw)?;
+    let maps = collect_maps(&src, &base, &raw.maps, map_cell_limit(&planners))?;
+    if maps.is_empty() {
+        return Err(src.error(None, "key `maps`: at least one map is needed"));
+    }
+    if let Some(goalless) = raw.maps.iter().find_map(|m| {
+        m.get_ref()
+            .problems
+            .as_ref()
+            .filter(|p| *p.get_ref() == ProblemSource::Start)
+    }) {
+        if let Some(p) = planners.iter().find(|p| !p.is_coverage()) {
+            return Err(src.error(
+                Some(goalless.span()),
+                format!(
+                    "`problems = \"start\"` has no goal, but planner `{}` ({}) is not a coverage planner (coverage planners: {})",
+                    p.label,
+                    p.name,
+                    registry::PLANNERS
+                        .iter()
+                        .filter(|e| e.task == Task::Coverage)
+                        .map(|e| e.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+        }
+    }
+
+    let sections = match raw.sections {
+        Some(sections) => Some(read_sections(&src, sections)?),
+        None => None,
+    };
+    let published = match &raw.published {
+        Some(p) => Some(load_published(&src, &base.join(p.get_ref()), p.span())?),
+        None => None,
+    };
+
+    Ok(Experiment {
+        source: path.to_path_buf(),
+        output: raw
+            .output
+            .map(PathBuf::from)
+            .unwrap_or_else(|| Path::new("results").join(&name)),
+        name,
+        description: raw.description,
+        threads: *raw.threads.get_ref(),
+        repeats: *raw.repeats.get_ref(),
+        seed: raw.seed,
+        figures: raw.figures,
+        figures_per_map: raw.figures_per_map,
+        figures_pick: raw.figures_pick,
+        figures_expanded: raw.figures_expanded,
+        charts: raw.charts,
+        ompl: raw.ompl,
+        paths: raw.paths,
+        published,
+        test: raw.test,
+        maps,
+        planners,
+        sections,
+    })
+}
+
+/// Checks the top-level keys `name`, `repeats` and `threads`; returns the name.
+fn check_top_level(src: &Source<'_>, raw: &RawConfig) -> Result<String, ConfigError> {
     let name = raw.name.get_ref().clone();
     if name.len() > MAX_NAME_LEN {
         return Err(src.error(
@@ -465,11 +588,18 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
             ),
         ));
     }
+    Ok(name)
+}
 
+/// The planner labels of `raw`, sweeps expanded. A label whose specs declare it not
+/// admissible is accepted with a `tracing` warning (the first
+/// [`MAX_ADMISSIBILITY_WARNINGS`] one by one, then their count), said at config time,
+/// before anything runs.
+fn collect_planners(src: &Source<'_>, raw: &RawConfig) -> Result<Vec<PlannerSpec>, ConfigError> {
     let mut planners = Vec::new();
     let mut inadmissible = Vec::new();
-    for (label, table) in &expand_sweeps(&src, &raw.planners)? {
-        let planner = planner_spec(&src, label, table, raw.budget)?;
+    for (label, table) in &expand_sweeps(src, &raw.planners)? {
+        let planner = planner_spec(src, label, table, raw.budget)?;
         if planner.factory.specs().admissible == Some(false) {
             inadmissible.push(src.error(Some(label.span()), format!(
                 "planner `{}` ({}): its heuristic can overestimate under its moves (or its weight is above 1), so its paths need not be shortest; its runs are recorded `admissible = false` and summary.md says so",
@@ -478,38 +608,50 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         }
         planners.push(planner);
     }
-    // Said at config time, before anything runs (a sweep of many labels: the first few).
     for warning in inadmissible.iter().take(MAX_ADMISSIBILITY_WARNINGS) {
         tracing::warn!("{warning}");
     }
     if inadmissible.len() > MAX_ADMISSIBILITY_WARNINGS {
         tracing::warn!(
             "{}: {} more planner labels are not admissible",
-            path.display(),
+            src.file.display(),
             inadmissible.len() - MAX_ADMISSIBILITY_WARNINGS
         );
     }
     if planners.is_empty() {
         return Err(src.error(None, "key `planners`: at least one planner is needed"));
     }
+    Ok(planners)
+}
 
-    // Maps are read within the largest memory budget of the planners that run on them
-    // (each planner's `max_memory_mb`, else half the machine's memory), not a fixed size.
-    let max_cells = planners
+/// The most cells a map of the config may have: maps are read within the largest memory
+/// budget of the planners that run on them (each planner's `max_memory_mb`, else half the
+/// machine's memory), not a fixed size.
+fn map_cell_limit(planners: &[PlannerSpec]) -> u64 {
+    planners
         .iter()
         .map(|p| crate::run::effective_budget(p).max_memory_mb)
         .try_fold(0, |most: u64, mb| mb.map(|mb| most.max(mb)))
         .map_or(
             planner_maps::DEFAULT_MAX_CELLS,
             planner_maps::max_cells_for_memory_mb,
-        );
+        )
+}
+
+/// The maps of every `[[maps]]` set, in config order, their names and stems unique.
+fn collect_maps(
+    src: &Source<'_>,
+    base: &Path,
+    sets: &[Spanned<RawMaps>],
+    max_cells: u64,
+) -> Result<Vec<MapEntry>, ConfigError> {
     let mut maps: Vec<MapEntry> = Vec::new();
-    for (i, spanned) in raw.maps.iter().enumerate() {
-        for entry in map_entries(&src, &base, i, spanned, max_cells)? {
-            let stem = crate::report::map_stem(&entry.name);
+    for (i, spanned) in sets.iter().enumerate() {
+        for entry in map_entries(src, base, i, spanned, max_cells)? {
+            let stem = map_stem(&entry.name);
             if let Some(other) = maps
                 .iter()
-                .find(|m| m.name != entry.name && crate::report::map_stem(&m.name) == stem)
+                .find(|m| m.name != entry.name && map_stem(&m.name) == stem)
             {
                 return Err(src.error(
                     Some(spanned.span()),
@@ -531,78 +673,45 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
             maps.push(entry);
         }
     }
-    if maps.is_empty() {
-        return Err(src.error(None, "key `maps`: at least one map is needed"));
-    }
-    if let Some(goalless) = raw.maps.iter().find_map(|m| {
-        m.get_ref()
-            .problems
-            .as_ref()
-            .filter(|p| *p.get_ref() == ProblemSource::Start)
-    }) {
-        if let Some(p) = planners.iter().find(|p| !p.is_coverage()) {
-            return Err(src.error(
-                Some(goalless.span()),
-                format!(
-                    "`problems = \"start\"` has no goal, but planner `{}` ({}) is not a coverage planner (coverage planners: {})",
-                    p.label,
-                    p.name,
-                    registry::PLANNERS
-                        .iter()
-                        .filter(|e| e.task == Task::Coverage)
-                        .map(|e| e.name)
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ));
-        }
-    }
+    Ok(maps)
+}
 
-    if let Some(sections) = &raw.sections {
-        let known = crate::report::section_names();
-        if let Some(bad) = sections
-            .get_ref()
-            .iter()
-            .find(|s| !known.contains(&s.as_str()))
-        {
-            return Err(src.error(
-                Some(sections.span()),
-                format!(
-                    "key `sections`: unknown section {bad:?}, expected some of {}",
-                    known.join(", ")
-                ),
-            ));
-        }
+/// The `sections` entries as requests, with the key's position for later errors.
+fn read_sections(
+    src: &Source<'_>,
+    sections: Spanned<Vec<RawSection>>,
+) -> Result<Sections, ConfigError> {
+    let at = src.error(Some(sections.span()), "");
+    let mut requests = Vec::new();
+    for entry in sections.into_inner() {
+        requests.push(match entry {
+            RawSection::Name(name) => SectionRequest {
+                name,
+                options: toml::Table::new(),
+            },
+            RawSection::Table(mut options) => match options.remove("name") {
+                Some(toml::Value::String(name)) => SectionRequest { name, options },
+                _ => {
+                    return Err(ConfigError {
+                        message: "key `sections`: a section table needs a string `name`".into(),
+                        ..at
+                    })
+                }
+            },
+        });
     }
-    let published = match &raw.published {
-        Some(p) => Some(load_published(&src, &base.join(p.get_ref()), p.span())?),
-        None => None,
-    };
-
-    Ok(Experiment {
-        source: path.to_path_buf(),
-        output: raw
-            .output
-            .map(PathBuf::from)
-            .unwrap_or_else(|| Path::new("results").join(&name)),
-        name,
-        description: raw.description,
-        threads: *raw.threads.get_ref(),
-        repeats: *raw.repeats.get_ref(),
-        seed: raw.seed,
-        figures: raw.figures,
-        figures_per_map: raw.figures_per_map,
-        figures_pick: raw.figures_pick,
-        figures_expanded: raw.figures_expanded,
-        charts: raw.charts,
-        ompl: raw.ompl,
-        paths: raw.paths,
-        published,
-        test: raw.test,
-        maps,
-        planners,
-        sections: raw.sections.map(Spanned::into_inner),
+    Ok(Sections {
+        requests,
+        file: at.file,
+        line: at.line,
+        column: at.column,
     })
+}
+
+/// A map's file name without its extension (the table name of published values, and
+/// of its figures and logs).
+pub fn map_stem(name: &str) -> &str {
+    name.rsplit_once('.').map_or(name, |(stem, _)| stem)
 }
 
 type RawParams = IndexMap<Spanned<String>, Spanned<toml::Value>>;
@@ -630,7 +739,7 @@ fn expand_sweeps(
             .get_ref()
             .get("planner")
             .and_then(|name| name.get_ref().as_str())
-            .and_then(|name| crate::schema::declared(name).ok())
+            .and_then(|name| planner_registry::schema::declared(name).ok())
             .unwrap_or_default();
         let swept: Vec<(&Spanned<String>, &Spanned<toml::Value>, &Vec<toml::Value>)> = table
             .get_ref()
@@ -752,28 +861,7 @@ fn planner_spec(
     for (key, value) in table.get_ref() {
         match key.get_ref().as_str() {
             "planner" => {}
-            "compare" => {
-                let parsed = Compare::deserialize(value.get_ref().clone()).map_err(|e| {
-                    src.error(
-                        Some(value.span()),
-                        format!(
-                            "planner `{label_text}`, key `compare`: {}",
-                            first_line(&e.to_string())
-                        ),
-                    )
-                })?;
-                let known = published_metrics();
-                if let Some(bad) = parsed.metrics.iter().find(|m| !known.contains(&m.as_str())) {
-                    return Err(src.error(
-                        Some(value.span()),
-                        format!(
-                            "planner `{label_text}`, key `compare`: unknown metric `{bad}`, expected some of {}",
-                            known.join(", ")
-                        ),
-                    ));
-                }
-                compare = Some(parsed);
-            }
+            "compare" => compare = Some(read_compare(src, label_text, value)?),
             "budget" => {
                 budget = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
                     src.error(
@@ -793,19 +881,7 @@ fn planner_spec(
     let factory = (entry.factory)(&params).map_err(|e| {
         // The error names its key; point there, else at the label.
         let span = key_span(&e.key).unwrap_or_else(|| label.span());
-        let message = if e.key.is_empty() || e.message.contains(&format!("`{}`", e.key)) {
-            e.message.clone()
-        } else {
-            format!("parameter `{}`: {}", e.key, e.message)
-        };
-        src.error(
-            Some(span),
-            format!(
-                "planner `{label_text}` ({}): {}",
-                entry.name,
-                message.replace('\n', " ").trim()
-            ),
-        )
+        param_error(src, span, label_text, entry.name, &e)
     })?;
     Ok(PlannerSpec {
         label: label_text.clone(),
@@ -815,6 +891,57 @@ fn planner_spec(
         budget,
         compare,
     })
+}
+
+/// The `compare` key of label `label` (`value`), its metrics checked.
+fn read_compare(
+    src: &Source<'_>,
+    label: &str,
+    value: &Spanned<toml::Value>,
+) -> Result<Compare, ConfigError> {
+    let parsed = Compare::deserialize(value.get_ref().clone()).map_err(|e| {
+        src.error(
+            Some(value.span()),
+            format!(
+                "planner `{label}`, key `compare`: {}",
+                first_line(&e.to_string())
+            ),
+        )
+    })?;
+    let known = published_metrics();
+    if let Some(bad) = parsed.metrics.iter().find(|m| !known.contains(&m.as_str())) {
+        return Err(src.error(
+            Some(value.span()),
+            format!(
+                "planner `{label}`, key `compare`: unknown metric `{bad}`, expected some of {}",
+                known.join(", ")
+            ),
+        ));
+    }
+    Ok(parsed)
+}
+
+/// A planner factory's parameter error `e` for label `label` (planner `name`) at `span`;
+/// the message names the parameter unless it does already.
+fn param_error(
+    src: &Source<'_>,
+    span: Range<usize>,
+    label: &str,
+    name: &str,
+    e: &planner_api::ParamError,
+) -> ConfigError {
+    let message = if e.key.is_empty() || e.message.contains(&format!("`{}`", e.key)) {
+        e.message.clone()
+    } else {
+        format!("parameter `{}`: {}", e.key, e.message)
+    };
+    src.error(
+        Some(span),
+        format!(
+            "planner `{label}` ({name}): {}",
+            message.replace('\n', " ").trim()
+        ),
+    )
 }
 
 /// The planner spec of `label` running registry planner `name` with `params`: the path
@@ -903,6 +1030,26 @@ fn first_line(text: &str) -> &str {
     text.lines().next().unwrap_or_default()
 }
 
+/// One `[[maps]]` set being read (the `index`-th), for errors that point into it.
+struct MapSet<'a> {
+    src: &'a Source<'a>,
+    index: usize,
+    spanned: &'a Spanned<RawMaps>,
+}
+
+impl MapSet<'_> {
+    /// An error at `span`, prefixed with the set's `maps[index]`.
+    fn at(&self, span: Range<usize>, message: String) -> ConfigError {
+        self.src
+            .error(Some(span), format!("maps[{}]: {message}", self.index))
+    }
+
+    /// The whole set's span.
+    fn span(&self) -> Range<usize> {
+        self.spanned.span()
+    }
+}
+
 fn map_entries(
     src: &Source<'_>,
     base: &Path,
@@ -910,219 +1057,31 @@ fn map_entries(
     spanned: &Spanned<RawMaps>,
     max_cells: u64,
 ) -> Result<Vec<MapEntry>, ConfigError> {
-    let raw = spanned.get_ref();
-    let at = |span: Range<usize>, message: String| {
-        src.error(Some(span), format!("maps[{index}]: {message}"))
+    let set = MapSet {
+        src,
+        index,
+        spanned,
     };
-    let sources = [
-        raw.problems.is_some(),
-        raw.pairs.is_some(),
-        raw.scen.is_some(),
-    ];
-    match sources.iter().filter(|&&s| s).count() {
-        1 => {}
-        0 => {
-            return Err(at(
-                spanned.span(),
-                "give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, or `scen`"
-                    .into(),
-            ))
-        }
-        _ => {
-            return Err(at(
-                spanned.span(),
-                "`problems`, `pairs` and `scen` exclude each other".into(),
-            ))
-        }
-    }
-    let start_source = raw
-        .problems
-        .as_ref()
-        .is_some_and(|p| *p.get_ref() == ProblemSource::Start);
-    match (&raw.start, start_source) {
-        (None, true) => {
-            return Err(at(
-                spanned.span(),
-                "`problems = \"start\"` needs `start = [x, y]`".into(),
-            ))
-        }
-        (Some(start), false) => {
-            return Err(at(
-                start.span(),
-                "key `start` goes with `problems = \"start\"`".into(),
-            ))
-        }
-        _ => {}
-    }
-    if raw.scen.is_none()
-        && (raw.buckets.is_some()
-            || raw.lines.is_some()
-            || raw.every.is_some()
-            || raw.limit.is_some())
-    {
-        return Err(at(
-            spanned.span(),
-            "`buckets`, `lines`, `every` and `limit` select scenarios and need `scen`".into(),
-        ));
-    }
-    let mut files = Vec::new();
-    for pattern in raw.files.get_ref() {
-        let full = base.join(pattern);
-        let full_text = full.to_string_lossy().to_string();
-        let matches: Vec<PathBuf> = match glob::glob(&full_text) {
-            Ok(paths) => paths.filter_map(Result::ok).collect(),
-            Err(e) => {
-                return Err(at(
-                    raw.files.span(),
-                    format!("key `files`: bad pattern {pattern:?}: {e}"),
-                ))
-            }
-        };
-        if matches.is_empty() {
-            return Err(at(
-                raw.files.span(),
-                format!("key `files`: nothing matches {pattern:?} (looked for {full_text})"),
-            ));
-        }
-        let mut matches = matches;
-        matches.sort();
-        files.extend(matches);
-    }
-
+    let raw = spanned.get_ref();
+    check_map_keys(&set)?;
+    let files = map_files(&set, base)?;
     let scenarios = match &raw.scen {
         Some(scen) => {
             let all = planner_maps::read_scenarios(&base.join(scen.get_ref()))
-                .map_err(|e| at(scen.span(), format!("key `scen`: {e}")))?;
-            Some(select_scenarios(all, raw).map_err(|m| at(spanned.span(), m))?)
+                .map_err(|e| set.at(scen.span(), format!("key `scen`: {e}")))?;
+            Some(select_scenarios(all, raw).map_err(|m| set.at(set.span(), m))?)
         }
         None => None,
     };
-
-    let ros_options = planner_maps::RosOptions {
-        inflation_radius: raw.inflation.as_ref().map_or(0, |r| *r.get_ref()),
-        inflate_unknown: raw.inflate_unknown.unwrap_or(false),
-    };
-    let csv = match &raw.obstacle {
-        Some(value) => Some(
-            u8::try_from(*value.get_ref())
-                .ok()
-                .and_then(planner_maps::CsvConvention::from_obstacle_value)
-                .ok_or_else(|| {
-                    at(
-                        value.span(),
-                        format!(
-                            "key `obstacle`: {} is neither 0 nor 1 (the value of a `.csv` cell that is an obstacle)",
-                            value.get_ref()
-                        ),
-                    )
-                })?,
-        ),
-        None => None,
-    };
-    let read_options = planner_maps::ReadOptions {
-        csv: csv.unwrap_or_default(),
-        ros: ros_options,
-        max_cells,
-        ..planner_maps::ReadOptions::default()
-    };
+    let read_options = map_read_options(&set, max_cells)?;
     let mut entries = Vec::new();
     for path in files {
-        let is_ros = is_ros(&path);
-        if let (Some(value), false) = (&raw.obstacle, is_csv(&path)) {
-            return Err(at(
-                value.span(),
-                format!(
-                    "key `obstacle` applies to `.csv` maps, not {}",
-                    path.display()
-                ),
-            ));
-        }
-        if !is_ros && (raw.inflation.is_some() || raw.inflate_unknown.is_some()) {
-            let span = raw
-                .inflation
-                .as_ref()
-                .map_or_else(|| spanned.span(), Spanned::span);
-            return Err(at(
-                span,
-                format!(
-                    "`inflation` and `inflate_unknown` apply to ROS `.yaml` maps, not {}",
-                    path.display()
-                ),
-            ));
-        }
-        let file =
-            read_map_file(&path, &read_options).map_err(|e| at(raw.files.span(), e.to_string()))?;
+        check_file_options(&set, &path)?;
+        let file = read_map_file(&path, &read_options)
+            .map_err(|e| set.at(raw.files.span(), e.to_string()))?;
         let grid = file.grid;
-        let mut pairs: Vec<(Cell, Cell, Option<f64>)> = Vec::new();
-        let mut buckets: Vec<Option<u32>> = Vec::new();
-        if let Some(source) = &raw.problems {
-            match source.get_ref() {
-                ProblemSource::Corners => pairs.push((
-                    Cell::new(0, 0),
-                    Cell::new(grid.width() - 1, grid.height() - 1),
-                    None,
-                )),
-                ProblemSource::File => {
-                    if file.problems.is_empty() {
-                        return Err(at(
-                            source.span(),
-                            format!(
-                                "`problems = \"file\"`, but {} lists no start-goal pairs",
-                                path.display()
-                            ),
-                        ));
-                    }
-                    pairs.extend(file.problems.iter().map(|p| (p.start, p.goal, None)));
-                }
-                ProblemSource::Start => {
-                    if let Some(start) = &raw.start {
-                        let [x, y] = *start.get_ref();
-                        pairs.push((Cell::new(x, y), Cell::new(x, y), None));
-                    }
-                }
-            }
-        }
-        if let Some(list) = &raw.pairs {
-            pairs.extend(list.iter().map(|p| {
-                (
-                    Cell::new(p.start[0], p.start[1]),
-                    Cell::new(p.goal[0], p.goal[1]),
-                    None,
-                )
-            }));
-        }
-        if let Some(scenarios) = &scenarios {
-            for s in scenarios {
-                if (s.width, s.height) != (grid.width(), grid.height()) {
-                    return Err(at(
-                        spanned.span(),
-                        format!(
-                            "scenario line {} is for a {}x{} map, but {} is {}x{}",
-                            s.line,
-                            s.width,
-                            s.height,
-                            path.display(),
-                            grid.width(),
-                            grid.height()
-                        ),
-                    ));
-                }
-                buckets.resize(pairs.len(), None);
-                pairs.push((s.start, s.goal, Some(s.optimal_length)));
-                buckets.push(Some(s.bucket));
-            }
-            let name = path.file_name().map(|n| n.to_string_lossy().to_string());
-            if let (Some(first), Some(name)) = (scenarios.first(), name) {
-                let scen_map = first.map.rsplit(['/', '\\']).next().unwrap_or(&first.map);
-                if scen_map != name {
-                    tracing::warn!(
-                        "{}: maps[{index}]: the scenarios name map {}, not {name} (same size, so used)",
-                        src.file.display(),
-                        first.map
-                    );
-                }
-            }
-        }
+        let (pairs, buckets) =
+            file_pairs(&set, &path, &grid, &file.problems, scenarios.as_deref())?;
         let convention = is_csv(&path).then_some(read_options.csv);
         let problems = pairs
             .into_iter()
@@ -1147,6 +1106,245 @@ fn map_entries(
         });
     }
     Ok(entries)
+}
+
+/// Checks that the set names its problems exactly one way (`problems`, `pairs`, `scen`),
+/// `start` exactly with `problems = "start"`, and scenario selections only with `scen`.
+fn check_map_keys(set: &MapSet<'_>) -> Result<(), ConfigError> {
+    let raw = set.spanned.get_ref();
+    let sources = [
+        raw.problems.is_some(),
+        raw.pairs.is_some(),
+        raw.scen.is_some(),
+    ];
+    match sources.iter().filter(|&&s| s).count() {
+        1 => {}
+        0 => {
+            return Err(set.at(
+                set.span(),
+                "give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, or `scen`"
+                    .into(),
+            ))
+        }
+        _ => {
+            return Err(set.at(
+                set.span(),
+                "`problems`, `pairs` and `scen` exclude each other".into(),
+            ))
+        }
+    }
+    let start_source = raw
+        .problems
+        .as_ref()
+        .is_some_and(|p| *p.get_ref() == ProblemSource::Start);
+    match (&raw.start, start_source) {
+        (None, true) => {
+            return Err(set.at(
+                set.span(),
+                "`problems = \"start\"` needs `start = [x, y]`".into(),
+            ))
+        }
+        (Some(start), false) => {
+            return Err(set.at(
+                start.span(),
+                "key `start` goes with `problems = \"start\"`".into(),
+            ))
+        }
+        _ => {}
+    }
+    if raw.scen.is_none()
+        && (raw.buckets.is_some()
+            || raw.lines.is_some()
+            || raw.every.is_some()
+            || raw.limit.is_some())
+    {
+        return Err(set.at(
+            set.span(),
+            "`buckets`, `lines`, `every` and `limit` select scenarios and need `scen`".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The map files the set's `files` patterns match (relative to `base`), each pattern's
+/// matches sorted; a pattern that matches nothing is an error.
+fn map_files(set: &MapSet<'_>, base: &Path) -> Result<Vec<PathBuf>, ConfigError> {
+    let raw = set.spanned.get_ref();
+    let mut files = Vec::new();
+    for pattern in raw.files.get_ref() {
+        let full = base.join(pattern);
+        let full_text = full.to_string_lossy().to_string();
+        let matches: Vec<PathBuf> = match glob::glob(&full_text) {
+            Ok(paths) => paths.filter_map(Result::ok).collect(),
+            Err(e) => {
+                return Err(set.at(
+                    raw.files.span(),
+                    format!("key `files`: bad pattern {pattern:?}: {e}"),
+                ))
+            }
+        };
+        if matches.is_empty() {
+            return Err(set.at(
+                raw.files.span(),
+                format!("key `files`: nothing matches {pattern:?} (looked for {full_text})"),
+            ));
+        }
+        let mut matches = matches;
+        matches.sort();
+        files.extend(matches);
+    }
+    Ok(files)
+}
+
+/// How the set's maps are read: its `.csv` convention (`obstacle`), ROS options
+/// (`inflation`, `inflate_unknown`) and at most `max_cells` cells.
+fn map_read_options(
+    set: &MapSet<'_>,
+    max_cells: u64,
+) -> Result<planner_maps::ReadOptions, ConfigError> {
+    let raw = set.spanned.get_ref();
+    let ros_options = planner_maps::RosOptions {
+        inflation_radius: raw.inflation.as_ref().map_or(0, |r| *r.get_ref()),
+        inflate_unknown: raw.inflate_unknown.unwrap_or(false),
+    };
+    let csv = match &raw.obstacle {
+        Some(value) => Some(
+            u8::try_from(*value.get_ref())
+                .ok()
+                .and_then(planner_maps::CsvConvention::from_obstacle_value)
+                .ok_or_else(|| {
+                    set.at(
+                        value.span(),
+                        format!(
+                            "key `obstacle`: {} is neither 0 nor 1 (the value of a `.csv` cell that is an obstacle)",
+                            value.get_ref()
+                        ),
+                    )
+                })?,
+        ),
+        None => None,
+    };
+    Ok(planner_maps::ReadOptions {
+        csv: csv.unwrap_or_default(),
+        ros: ros_options,
+        max_cells,
+        ..planner_maps::ReadOptions::default()
+    })
+}
+
+/// Checks that the set's format options fit map file `path`: `obstacle` only for `.csv`,
+/// `inflation` and `inflate_unknown` only for ROS `.yaml`.
+fn check_file_options(set: &MapSet<'_>, path: &Path) -> Result<(), ConfigError> {
+    let raw = set.spanned.get_ref();
+    if let (Some(value), false) = (&raw.obstacle, is_csv(path)) {
+        return Err(set.at(
+            value.span(),
+            format!(
+                "key `obstacle` applies to `.csv` maps, not {}",
+                path.display()
+            ),
+        ));
+    }
+    if !is_ros(path) && (raw.inflation.is_some() || raw.inflate_unknown.is_some()) {
+        let span = raw
+            .inflation
+            .as_ref()
+            .map_or_else(|| set.span(), Spanned::span);
+        return Err(set.at(
+            span,
+            format!(
+                "`inflation` and `inflate_unknown` apply to ROS `.yaml` maps, not {}",
+                path.display()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The start-goal pairs (with any stated optimal length) of map file `path` (its `grid`
+/// and the problems the file lists), from the set's `problems`, `pairs` and the selected
+/// `scenarios`, and each pair's scenario bucket.
+#[allow(clippy::type_complexity)]
+fn file_pairs(
+    set: &MapSet<'_>,
+    path: &Path,
+    grid: &Grid,
+    listed: &[planner_maps::ProblemSpec],
+    scenarios: Option<&[planner_maps::Scenario]>,
+) -> Result<(Vec<(Cell, Cell, Option<f64>)>, Vec<Option<u32>>), ConfigError> {
+    let raw = set.spanned.get_ref();
+    let mut pairs: Vec<(Cell, Cell, Option<f64>)> = Vec::new();
+    let mut buckets: Vec<Option<u32>> = Vec::new();
+    if let Some(source) = &raw.problems {
+        match source.get_ref() {
+            ProblemSource::Corners => pairs.push((
+                Cell::new(0, 0),
+                Cell::new(grid.width() - 1, grid.height() - 1),
+                None,
+            )),
+            ProblemSource::File => {
+                if listed.is_empty() {
+                    return Err(set.at(
+                        source.span(),
+                        format!(
+                            "`problems = \"file\"`, but {} lists no start-goal pairs",
+                            path.display()
+                        ),
+                    ));
+                }
+                pairs.extend(listed.iter().map(|p| (p.start, p.goal, None)));
+            }
+            ProblemSource::Start => {
+                if let Some(start) = &raw.start {
+                    let [x, y] = *start.get_ref();
+                    pairs.push((Cell::new(x, y), Cell::new(x, y), None));
+                }
+            }
+        }
+    }
+    if let Some(list) = &raw.pairs {
+        pairs.extend(list.iter().map(|p| {
+            (
+                Cell::new(p.start[0], p.start[1]),
+                Cell::new(p.goal[0], p.goal[1]),
+                None,
+            )
+        }));
+    }
+    if let Some(scenarios) = scenarios {
+        for s in scenarios {
+            if (s.width, s.height) != (grid.width(), grid.height()) {
+                return Err(set.at(
+                    set.span(),
+                    format!(
+                        "scenario line {} is for a {}x{} map, but {} is {}x{}",
+                        s.line,
+                        s.width,
+                        s.height,
+                        path.display(),
+                        grid.width(),
+                        grid.height()
+                    ),
+                ));
+            }
+            buckets.resize(pairs.len(), None);
+            pairs.push((s.start, s.goal, Some(s.optimal_length)));
+            buckets.push(Some(s.bucket));
+        }
+        let name = path.file_name().map(|n| n.to_string_lossy().to_string());
+        if let (Some(first), Some(name)) = (scenarios.first(), name) {
+            let scen_map = first.map.rsplit(['/', '\\']).next().unwrap_or(&first.map);
+            if scen_map != name {
+                tracing::warn!(
+                    "{}: maps[{}]: the scenarios name map {}, not {name} (same size, so used)",
+                    set.src.file.display(),
+                    set.index,
+                    first.map
+                );
+            }
+        }
+    }
+    Ok((pairs, buckets))
 }
 
 fn select_scenarios(

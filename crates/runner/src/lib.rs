@@ -3,22 +3,22 @@
 //!
 //! # Design
 //! The boundary between the runner and the planners is typed. When a config is read,
-//! the [`registry`] turns each label's parameter table into a [`Factory`], once: the
+//! planner-registry turns each label's parameter table into a [`Factory`], once: the
 //! table is deserialized into the planner crate's own config and validated there, errors
 //! name the parameter's key, and the planner declares what it is
 //! ([`planner_api::PlannerSpecs`]: seeded or not, the rule its paths obey) and whether it
 //! plans start-goal queries or covers ([`Task`]). After that the runner never reads a
-//! planner's parameters: the generic modules ([`run`], [`report`], [`figures`],
-//! [`output`]) name no planner, and the registry is the one place that does.
+//! planner's parameters and names no planner; the registry is the one crate that does.
+//! The runner draws nothing either: a sweep hands its results to a report step
+//! ([`sweep::Render`], planner-report's) and writes the files it returns.
 //!
 //! - [`config`]: experiment configs (TOML) with positioned errors; map sets.
-//! - [`registry`] and [`factory`]: the one list of planners and the typed boundary.
+//! - [`schema`]: the JSON Schema of experiment configs.
 //! - [`run`]: the lazy run list and the parallel sweep; planners built once per worker
 //!   and label, reused across runs; [`run::run_one`], the one function that runs a run.
+//! - [`expanded`]: the expanded cells of the runs the figures draw, recorded at run time.
 //! - [`record`] and [`index`]: the results model and lookups into it.
-//! - [`report`]: summary.md as sections in the seeds' table layouts.
-//! - [`figures`] and [`coverage`]: the sweep's SVG figures.
-//! - [`output`]: runs.csv and runs.json as bytes.
+//! - [`output`]: runs.csv, runs.json and paths.jsonl as bytes.
 //! - [`plan`]: one run of one planner, for `plan`.
 //! - [`provenance`]: version, commit, date, host, CPU and config hash of a sweep.
 //! - [`stream`] and [`shard`]: streamed sweeps (records in run order, batch by batch, as
@@ -26,7 +26,8 @@
 //!   shards of a run list for job arrays.
 //! - [`sweep`]: an experiment on disk: the streamed, resumable, sharded sweep, the merge
 //!   of shards, and the final outputs; [`outdir`] writes a results directory safely (its
-//!   marker, lock and atomic swap); [`slurm`] writes and submits job arrays.
+//!   marker, lock and atomic swap); [`slurm`] writes job arrays (the command line submits
+//!   them).
 //! - [`alloc`]: a counting global allocator and its peak-heap hook, for binaries.
 //!
 //! The library installs no global allocator and draws no progress bar: progress is a
@@ -37,21 +38,14 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod alloc;
-pub mod charts;
 pub mod config;
-pub mod coverage;
-pub mod factory;
-pub mod figures;
-pub mod html;
+pub mod expanded;
 pub mod index;
-pub mod ompl;
 pub mod outdir;
 pub mod output;
 pub mod plan;
 pub mod provenance;
 pub mod record;
-pub mod registry;
-pub mod report;
 pub mod run;
 pub mod schema;
 pub mod shard;
@@ -62,7 +56,8 @@ pub mod sweep;
 use std::path::PathBuf;
 
 pub use config::{ConfigError, Experiment};
-pub use factory::{Factory, Task};
+use planner_registry as registry;
+pub use planner_registry::{Built, Factory, Task};
 pub use record::{RunRecord, RunStatus};
 pub use run::{run_all, RunOptions};
 
@@ -134,4 +129,60 @@ pub enum RunnerError {
     /// Serializing results failed.
     #[error("cannot serialize the results: {0}")]
     Json(serde_json::Error),
+    /// A results directory that may not be written (not gridplan's own, held by another
+    /// sweep's lock, ...).
+    #[error(transparent)]
+    Output(#[from] outdir::OutdirError),
+    /// A run recording expanded cells did not repeat its timed run (a determinism bug).
+    #[error(transparent)]
+    Expanded(#[from] expanded::ExpandedError),
+    /// A file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        source: std::io::Error,
+    },
+    /// `--resume` refused the stream it found (another config or shard, runs out of order).
+    #[error("{0}")]
+    Resume(String),
+    /// Shards that do not make one sweep (`merge`), or a results directory that `report`
+    /// cannot read back.
+    #[error("{0}")]
+    Results(String),
+    /// An error met while doing `context` (`merge`, `report`), said with that prefix.
+    #[error("{context}: {source}")]
+    During {
+        /// What was being done.
+        context: &'static str,
+        /// The error.
+        source: Box<RunnerError>,
+    },
+}
+
+impl RunnerError {
+    /// A file error at `path`.
+    pub fn io(path: &std::path::Path, source: std::io::Error) -> RunnerError {
+        RunnerError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    /// `error`, met while doing `context`.
+    pub fn during(context: &'static str, error: RunnerError) -> RunnerError {
+        RunnerError::During {
+            context,
+            source: Box::new(error),
+        }
+    }
+
+    /// The error itself, without the [`RunnerError::During`] contexts around it.
+    pub fn innermost(&self) -> &RunnerError {
+        match self {
+            RunnerError::During { source, .. } => source.innermost(),
+            other => other,
+        }
+    }
 }

@@ -96,29 +96,7 @@ pub fn write_runs_json(
     records: &[RunRecord],
     provenance: Option<&crate::provenance::Provenance>,
 ) -> Result<(), RunnerError> {
-    let json = |out: &mut dyn Write, value: &dyn erased::Value| value.write_json(out);
-    out.write_all(b"{\"experiment\":").map_err(io)?;
-    json(out, &experiment.name)?;
-    out.write_all(b",\"config\":").map_err(io)?;
-    json(out, &experiment.source.display().to_string())?;
-    if let Some(provenance) = provenance {
-        out.write_all(b",\"provenance\":").map_err(io)?;
-        serde_json::to_writer(&mut *out, provenance).map_err(RunnerError::Json)?;
-        let planners: serde_json::Map<String, serde_json::Value> = experiment
-            .planners
-            .iter()
-            .map(|p| {
-                let entry = serde_json::json!({
-                    "planner": p.name,
-                    "parameters": p.factory.resolved(),
-                    "budget": p.budget,
-                });
-                (p.label.clone(), entry)
-            })
-            .collect();
-        out.write_all(b",\"planners\":").map_err(io)?;
-        serde_json::to_writer(&mut *out, &planners).map_err(RunnerError::Json)?;
-    }
+    write_header(out, experiment, provenance)?;
     let counter_names = counter_names(records);
     let optional = [
         records.iter().any(|r| r.error.is_some()),
@@ -146,50 +124,7 @@ pub fn write_runs_json(
     for (i, r) in records.iter().enumerate() {
         row.clear();
         row.extend_from_slice(if i == 0 { b"\n[" } else { b",\n[" });
-        let cell = |row: &mut Vec<u8>, value: &dyn erased::Value| -> Result<(), RunnerError> {
-            value.write_json(row)?;
-            row.push(b',');
-            Ok(())
-        };
-        cell(&mut row, &r.map)?;
-        cell(&mut row, &r.problem)?;
-        cell(&mut row, &r.start.x)?;
-        cell(&mut row, &r.start.y)?;
-        cell(&mut row, &r.goal.x)?;
-        cell(&mut row, &r.goal.y)?;
-        cell(&mut row, &r.planner)?;
-        cell(&mut row, &r.algorithm)?;
-        cell(&mut row, &r.repeat)?;
-        cell(&mut row, &r.seed)?;
-        cell(&mut row, &r.status.as_str())?;
-        cell(&mut row, &r.steps)?;
-        cell(&mut row, &r.turns)?;
-        cell(&mut row, &r.score)?;
-        cell(&mut row, &r.length)?;
-        cell(&mut row, &r.optimal_length)?;
-        cell(&mut row, &r.valid)?;
-        cell(&mut row, &nanoseconds(r.time_ms))?;
-        cell(&mut row, &nanoseconds(r.setup_ms))?;
-        cell(&mut row, &r.peak_heap_bytes)?;
-        cell(&mut row, &r.bucket)?;
-        if optional[0] {
-            cell(&mut row, &r.error)?;
-        }
-        if optional[1] {
-            cell(&mut row, &r.admissible)?;
-        }
-        if optional[2] {
-            cell(&mut row, &r.returns)?;
-        }
-        if optional[3] {
-            cell(&mut row, &(!r.marks.is_empty()).then_some(&r.marks))?;
-        }
-        if optional[4] {
-            cell(&mut row, &(!r.series.is_empty()).then_some(&r.series))?;
-        }
-        for value in counter_values(&r.counters, &counter_names) {
-            cell(&mut row, &value)?;
-        }
+        encode_row(&mut row, r, &optional, &counter_names)?;
         // The last cell's comma closes the row.
         if let Some(last) = row.last_mut() {
             *last = b']';
@@ -197,6 +132,94 @@ pub fn write_runs_json(
         out.write_all(&row).map_err(io)?;
     }
     out.write_all(b"\n]}}\n").map_err(io)?;
+    Ok(())
+}
+
+/// runs.json's header: the experiment, its config, and with `provenance` that and every
+/// label's planner, resolved parameters and budget.
+fn write_header(
+    out: &mut dyn Write,
+    experiment: &Experiment,
+    provenance: Option<&crate::provenance::Provenance>,
+) -> Result<(), RunnerError> {
+    let json = |out: &mut dyn Write, value: &dyn erased::Value| value.write_json(out);
+    out.write_all(b"{\"experiment\":").map_err(io)?;
+    json(out, &experiment.name)?;
+    out.write_all(b",\"config\":").map_err(io)?;
+    json(out, &experiment.source.display().to_string())?;
+    if let Some(provenance) = provenance {
+        out.write_all(b",\"provenance\":").map_err(io)?;
+        serde_json::to_writer(&mut *out, provenance).map_err(RunnerError::Json)?;
+        let planners: serde_json::Map<String, serde_json::Value> = experiment
+            .planners
+            .iter()
+            .map(|p| {
+                let entry = serde_json::json!({
+                    "planner": p.name,
+                    "parameters": p.factory.resolved(),
+                    "budget": p.budget,
+                });
+                (p.label.clone(), entry)
+            })
+            .collect();
+        out.write_all(b",\"planners\":").map_err(io)?;
+        serde_json::to_writer(&mut *out, &planners).map_err(RunnerError::Json)?;
+    }
+    Ok(())
+}
+
+/// One row of runs.json's table into `row`, each cell followed by a comma: the fixed
+/// columns, the `optional` ones in use, the counters named `counter_names`.
+fn encode_row(
+    row: &mut Vec<u8>,
+    r: &RunRecord,
+    optional: &[bool; 5],
+    counter_names: &[String],
+) -> Result<(), RunnerError> {
+    let cell = |row: &mut Vec<u8>, value: &dyn erased::Value| -> Result<(), RunnerError> {
+        value.write_json(row)?;
+        row.push(b',');
+        Ok(())
+    };
+    cell(row, &r.map)?;
+    cell(row, &r.problem)?;
+    cell(row, &r.start.x)?;
+    cell(row, &r.start.y)?;
+    cell(row, &r.goal.x)?;
+    cell(row, &r.goal.y)?;
+    cell(row, &r.planner)?;
+    cell(row, &r.algorithm)?;
+    cell(row, &r.repeat)?;
+    cell(row, &r.seed)?;
+    cell(row, &r.status.as_str())?;
+    cell(row, &r.steps)?;
+    cell(row, &r.turns)?;
+    cell(row, &r.score)?;
+    cell(row, &r.length)?;
+    cell(row, &r.optimal_length)?;
+    cell(row, &r.valid)?;
+    cell(row, &nanoseconds(r.time_ms))?;
+    cell(row, &nanoseconds(r.setup_ms))?;
+    cell(row, &r.peak_heap_bytes)?;
+    cell(row, &r.bucket)?;
+    if optional[0] {
+        cell(row, &r.error)?;
+    }
+    if optional[1] {
+        cell(row, &r.admissible)?;
+    }
+    if optional[2] {
+        cell(row, &r.returns)?;
+    }
+    if optional[3] {
+        cell(row, &(!r.marks.is_empty()).then_some(&r.marks))?;
+    }
+    if optional[4] {
+        cell(row, &(!r.series.is_empty()).then_some(&r.series))?;
+    }
+    for value in counter_values(&r.counters, counter_names) {
+        cell(row, &value)?;
+    }
     Ok(())
 }
 

@@ -7,9 +7,10 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use planner_api::{Budget, Cell, Grid, Problem, ReturnLeg};
+use planner_maps::CsvConvention;
 use serde::Serialize;
 
-use crate::config::{self, Experiment, MapEntry, ProblemEntry};
+use crate::config::{self, Experiment, MapEntry, PlannerSpec, ProblemEntry};
 use crate::record::RunRecord;
 use crate::run::{run_one, RunSpec, Workspace};
 use crate::RunnerError;
@@ -56,7 +57,7 @@ pub struct PlanOptions {
     /// ([`crate::run::default_max_memory_mb`], half the machine's memory).
     pub max_memory_mb: Option<u64>,
     /// Run once more, after the timed run, with the expanded cells recorded
-    /// ([`PlanResult::expanded`], drawn by [`PlanResult::to_svg`]); the second run must
+    /// ([`PlanResult::expanded`], drawn by planner-report's `figures::draw_run`); the second run must
     /// give the same counters, status and path (else an error).
     pub record_expanded: bool,
 }
@@ -140,7 +141,65 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
         Some(path) => Some(config::load(path)?),
         None => None,
     };
-    let mut spec = match &experiment {
+    let spec = resolve_spec(args, options, experiment.as_ref())?;
+    let coverage = spec.is_coverage();
+    let (map, problems, convention) = resolve_map(args, &spec, experiment.as_ref())?;
+    let entry = pick_problem(args, &spec, &map, &problems)?;
+    let check_goal = if coverage { entry.start } else { entry.goal };
+    if let Err(error) = Problem::new(&map.grid, entry.start, check_goal) {
+        let hint = convention.and_then(|convention| {
+            planner_maps::csv_inversion_hint(&map.grid, convention, entry.start, check_goal)
+        });
+        return Err(match hint {
+            Some(hint) => RunnerError::InvertedProblem {
+                map: args.map.clone(),
+                error,
+                hint,
+            },
+            None => RunnerError::Problem {
+                map: args.map.clone(),
+                error,
+            },
+        });
+    }
+    let seed = experiment.as_ref().map_or(0, |e| e.seed);
+    let mut single = Experiment::single(map, entry, spec.clone(), seed);
+    let record = run_one(
+        &single,
+        &RunSpec {
+            map: 0,
+            problem: 0,
+            planner: 0,
+            repeat: 0,
+        },
+        &mut Workspace::default(),
+        None,
+    )?;
+    let expanded = if options.record_expanded {
+        let (map, planner) = (&single.maps[0], &single.planners[0]);
+        crate::expanded::record_expanded(&single, map, &map.problems[0], planner, &record)?
+    } else {
+        Vec::new()
+    };
+    let grid = single.maps.swap_remove(0).grid;
+    Ok(PlanResult {
+        grid,
+        planner: args.planner.clone(),
+        coverage,
+        budget: spec.budget,
+        record,
+        expanded,
+    })
+}
+
+/// The planner `args` name (a registry name, or a label of `experiment`), with the
+/// `--set` overrides and the budget `plan` applies.
+fn resolve_spec(
+    args: &PlanArgs,
+    options: &PlanOptions,
+    experiment: Option<&Experiment>,
+) -> Result<PlannerSpec, RunnerError> {
+    let mut spec = match experiment {
         Some(experiment) => experiment
             .planners
             .iter()
@@ -186,11 +245,17 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
     if let Some(mb) = options.max_memory_mb {
         spec.budget.max_memory_mb = Some(mb);
     }
-    let coverage = spec.is_coverage();
-    let listed = experiment
-        .as_ref()
-        .and_then(|e| e.find_map(&args.map))
-        .cloned();
+    Ok(spec)
+}
+
+/// The map `args` names with its own problems (the config's entry when `experiment` lists
+/// it, else the file read), and the `.csv` convention it was read with, if any.
+fn resolve_map(
+    args: &PlanArgs,
+    spec: &PlannerSpec,
+    experiment: Option<&Experiment>,
+) -> Result<(MapEntry, Vec<ProblemEntry>, Option<CsvConvention>), RunnerError> {
+    let listed = experiment.and_then(|e| e.find_map(&args.map)).cloned();
     if let Some(convention) = args.obstacle {
         let value = convention.obstacle_value();
         if !config::is_csv(&args.map) {
@@ -202,52 +267,56 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
         if listed.is_some() {
             return Err(RunnerError::Usage(format!(
                 "--obstacle {value}: {} lists {}; set `obstacle` on its map set instead",
-                experiment
-                    .as_ref()
-                    .map_or_else(String::new, |e| e.source.display().to_string()),
+                experiment.map_or_else(String::new, |e| e.source.display().to_string()),
                 args.map.display()
             )));
         }
     }
     let convention =
         (listed.is_none() && config::is_csv(&args.map)).then(|| args.obstacle.unwrap_or_default());
-    let (map, own_problems) = match listed {
-        Some(map) => {
-            let problems = map.problems.clone();
-            (map, Some(problems))
-        }
-        None => {
-            // The map is read within the run's memory budget (--max-memory-mb, the
-            // label's, else half the machine's memory), not a fixed size.
-            let max_cells = crate::run::effective_budget(&spec).max_memory_mb.map_or(
-                planner_maps::DEFAULT_MAX_CELLS,
-                planner_maps::max_cells_for_memory_mb,
-            );
-            let options = planner_maps::ReadOptions {
-                csv: args.obstacle.unwrap_or_default(),
-                max_cells,
-                ..planner_maps::ReadOptions::default()
-            };
-            let file = config::read_map_file(&args.map, &options)?;
-            let map = MapEntry {
-                name: file_name(&args.map),
-                path: args.map.clone(),
-                grid: file.grid,
-                problems: Vec::new(),
-            };
-            let pairs = own_pairs(&args.map, &map.grid, &file.problems)?;
-            let problems = pairs
-                .into_iter()
-                .enumerate()
-                .map(|(i, (start, goal, optimal_length))| {
-                    ProblemEntry::new(&map.grid, i + 1, start, goal, optimal_length)
-                })
-                .collect();
-            (map, Some(problems))
-        }
+    if let Some(map) = listed {
+        let problems = map.problems.clone();
+        return Ok((map, problems, convention));
+    }
+    // The map is read within the run's memory budget (--max-memory-mb, the label's, else
+    // half the machine's memory), not a fixed size.
+    let max_cells = crate::run::effective_budget(spec).max_memory_mb.map_or(
+        planner_maps::DEFAULT_MAX_CELLS,
+        planner_maps::max_cells_for_memory_mb,
+    );
+    let options = planner_maps::ReadOptions {
+        csv: args.obstacle.unwrap_or_default(),
+        max_cells,
+        ..planner_maps::ReadOptions::default()
     };
-    let problems = own_problems.unwrap_or_default();
-    let entry = match (args.start, args.goal, args.problem) {
+    let file = config::read_map_file(&args.map, &options)?;
+    let map = MapEntry {
+        name: file_name(&args.map),
+        path: args.map.clone(),
+        grid: file.grid,
+        problems: Vec::new(),
+    };
+    let pairs = own_pairs(&args.map, &map.grid, &file.problems)?;
+    let problems = pairs
+        .into_iter()
+        .enumerate()
+        .map(|(i, (start, goal, optimal_length))| {
+            ProblemEntry::new(&map.grid, i + 1, start, goal, optimal_length)
+        })
+        .collect();
+    Ok((map, problems, convention))
+}
+
+/// The problem `args` asks for: `--problem K` of the map's own, `--start` (and `--goal`),
+/// else the map's first problem, else corner to corner.
+fn pick_problem(
+    args: &PlanArgs,
+    spec: &PlannerSpec,
+    map: &MapEntry,
+    problems: &[ProblemEntry],
+) -> Result<ProblemEntry, RunnerError> {
+    let coverage = spec.is_coverage();
+    Ok(match (args.start, args.goal, args.problem) {
         (Some(_), Some(_), Some(_)) | (Some(_), None, Some(_)) | (None, Some(_), Some(_)) => {
             return Err(RunnerError::Usage(
                 "give either --problem or --start (and --goal), not both".into(),
@@ -277,52 +346,6 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
             let corner = Cell::new(map.grid.width() - 1, map.grid.height() - 1);
             ProblemEntry::new(&map.grid, 1, Cell::new(0, 0), corner, None)
         }),
-    };
-    let check_goal = if coverage { entry.start } else { entry.goal };
-    if let Err(error) = Problem::new(&map.grid, entry.start, check_goal) {
-        let hint = convention.and_then(|convention| {
-            planner_maps::csv_inversion_hint(&map.grid, convention, entry.start, check_goal)
-        });
-        return Err(match hint {
-            Some(hint) => RunnerError::InvertedProblem {
-                map: args.map.clone(),
-                error,
-                hint,
-            },
-            None => RunnerError::Problem {
-                map: args.map.clone(),
-                error,
-            },
-        });
-    }
-    let seed = experiment.as_ref().map_or(0, |e| e.seed);
-    let mut single = Experiment::single(map, entry, spec.clone(), seed);
-    let record = run_one(
-        &single,
-        &RunSpec {
-            map: 0,
-            problem: 0,
-            planner: 0,
-            repeat: 0,
-        },
-        &mut Workspace::default(),
-        None,
-    )?;
-    let expanded = if options.record_expanded {
-        let (map, planner) = (&single.maps[0], &single.planners[0]);
-        crate::figures::record_expanded(&single, map, &map.problems[0], planner, &record)
-            .map_err(|e| RunnerError::Usage(e.to_string()))?
-    } else {
-        Vec::new()
-    };
-    let grid = single.maps.swap_remove(0).grid;
-    Ok(PlanResult {
-        grid,
-        planner: args.planner.clone(),
-        coverage,
-        budget: spec.budget,
-        record,
-        expanded,
     })
 }
 
@@ -419,12 +442,6 @@ impl PlanResult {
             n_revisits: counter("n_revisits"),
             returns,
         })
-    }
-
-    /// The run's figure as an SVG document ([`crate::figures::draw_run`]): grid, path,
-    /// marks, and the expanded cells when they were recorded.
-    pub fn to_svg(&self) -> String {
-        crate::figures::draw_run(&self.grid, &self.record, &self.expanded)
     }
 
     /// Whether the run stopped at the budget `plan` applies by default.

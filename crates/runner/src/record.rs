@@ -125,3 +125,12 @@ impl RunRecord {
         self.status == RunStatus::InvalidProblem
     }
 }
+
+/// Counts of compared published numbers (a report's comparison with the seeds' values).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Reproduction {
+    /// Numbers compared.
+    pub compared: usize,
+    /// Numbers equal to the published value.
+    pub matched: usize,
+}

@@ -17,9 +17,9 @@ use planner_api::{Budget, Counters, CoverageProblem, Grid, Problem};
 use rayon::prelude::*;
 
 use crate::config::{Experiment, MapEntry, PlannerSpec, ProblemEntry};
-use crate::factory::Built;
 use crate::record::{RunRecord, RunStatus};
 use crate::RunnerError;
+use planner_registry::Built;
 
 /// One run to do: indices into the experiment's maps, problems and planners.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

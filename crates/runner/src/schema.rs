@@ -1,177 +1,14 @@
-//! Every planner's declared parameters, and the JSON Schema of experiment configs.
+//! The JSON Schema of experiment configs, for `gridplan schema` and editors.
 //!
-//! A planner declares its parameters once, in its crate's `Config` struct: the
-//! `schemars::JsonSchema` derive reads the field types, the serde attributes
-//! (`rename_all`, `default`, `deny_unknown_fields`) and the doc comments, so the parameter
-//! list that `gridplan planners <name>` prints ([`declared`]) and the config schema that
-//! `gridplan schema` prints ([`experiment_schema`]) cannot drift from what the planner
+//! The planner tables come from each planner's declared parameters
+//! ([`planner_registry::schema::declared`]), so they cannot drift from what the planner
 //! accepts. The schema's top level (the runner's own keys) is written here by hand; the
-//! runner's tests compare its key lists with the ones the config parser accepts.
+//! runner's tests compare its key lists with the ones the config parser accepts. The
+//! summary.md section names are the report's, passed in by the caller.
 
-use schemars::generate::SchemaSettings;
-use schemars::{JsonSchema, Schema};
+use planner_registry as registry;
+use planner_registry::schema::{declared, Param, RegistryError};
 use serde_json::{json, Map, Value};
-
-use crate::registry;
-
-/// The JSON Schema of a planner config type `C`, subschemas inlined (no `$ref`s).
-pub fn parameters_of<C: JsonSchema>() -> Schema {
-    SchemaSettings::draft2020_12()
-        .with(|s| s.inline_subschemas = true)
-        .into_generator()
-        .into_root_schema_for::<C>()
-}
-
-/// One declared parameter of a planner.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Param {
-    /// The key in a planner table.
-    pub key: String,
-    /// The type, e.g. `integer`, `number`, `string`, `boolean`, `number or "size"`.
-    pub kind: String,
-    /// The default value (as the planner's default `Config` serializes it), if declared.
-    pub default: Option<Value>,
-    /// The values it allows, when it allows only a fixed set (else empty).
-    pub allowed: Vec<Value>,
-    /// The first paragraph of its doc comment.
-    pub doc: String,
-    /// Whether a value of it is itself a list (a list there is then no sweep).
-    pub is_list: bool,
-    /// The parameter's own JSON Schema.
-    pub schema: Value,
-}
-
-/// The parameters registry planner `name` declares, in declaration order.
-pub fn declared(name: &str) -> Result<Vec<Param>, String> {
-    let schema = planner_schema(name)?;
-    let properties = schema
-        .get("properties")
-        .and_then(Value::as_object)
-        .cloned()
-        .unwrap_or_default();
-    Ok(properties
-        .iter()
-        .map(|(key, schema)| describe(key, schema))
-        .collect())
-}
-
-/// The JSON Schema of registry planner `name`'s `Config`.
-fn planner_schema(name: &str) -> Result<Value, String> {
-    let entry = registry::find(name).ok_or_else(|| {
-        format!(
-            "unknown planner `{name}`, expected one of {}",
-            registry::names().join(", ")
-        )
-    })?;
-    let factory = (entry.factory)(&toml::Table::new())
-        .map_err(|e| format!("planner `{name}`: its default config fails: {e}"))?;
-    Ok(factory.parameters().to_value())
-}
-
-/// Reads one property schema into a [`Param`].
-fn describe(key: &str, schema: &Value) -> Param {
-    let doc = first_paragraph(
-        schema
-            .get("description")
-            .and_then(Value::as_str)
-            .unwrap_or_default(),
-    );
-    let (kind, allowed) = kind_of(schema);
-    Param {
-        key: key.to_string(),
-        is_list: types_of(schema).iter().any(|t| t == "array"),
-        kind,
-        default: schema.get("default").cloned(),
-        allowed: allowed.unwrap_or_default(),
-        doc,
-        schema: schema.clone(),
-    }
-}
-
-/// The JSON types a schema names (`type`, or the types of its alternatives), `null` left out.
-fn types_of(schema: &Value) -> Vec<String> {
-    let mut types = match schema.get("type") {
-        Some(Value::String(t)) => vec![t.clone()],
-        Some(Value::Array(ts)) => ts
-            .iter()
-            .filter_map(Value::as_str)
-            .map(str::to_string)
-            .collect(),
-        _ => Vec::new(),
-    };
-    for key in ["anyOf", "oneOf"] {
-        for alternative in schema
-            .get(key)
-            .and_then(Value::as_array)
-            .into_iter()
-            .flatten()
-        {
-            types.extend(types_of(alternative));
-        }
-    }
-    types.retain(|t| t != "null");
-    types.dedup();
-    types
-}
-
-/// A readable type of `schema`, and the values it allows when it allows only a fixed set.
-fn kind_of(schema: &Value) -> (String, Option<Vec<Value>>) {
-    if let Some(value) = schema.get("const") {
-        return (value.to_string(), Some(vec![value.clone()]));
-    }
-    let alternatives = ["anyOf", "oneOf"]
-        .iter()
-        .find_map(|key| schema.get(*key).and_then(Value::as_array));
-    if let Some(alternatives) = alternatives {
-        let mut kinds: Vec<String> = Vec::new();
-        let mut allowed = Some(Vec::new());
-        for alternative in alternatives {
-            if alternative.get("type").and_then(Value::as_str) == Some("null") {
-                continue;
-            }
-            let (kind, values) = kind_of(alternative);
-            if !kinds.contains(&kind) {
-                kinds.push(kind);
-            }
-            allowed = match (allowed, values) {
-                (Some(mut all), Some(values)) => {
-                    all.extend(values);
-                    Some(all)
-                }
-                _ => None,
-            };
-        }
-        // An enum written as one `const` per value reads as its type.
-        if alternatives.iter().all(|a| a.get("const").is_some()) {
-            return (types_of(schema).join(" or "), allowed);
-        }
-        return (kinds.join(" or "), allowed);
-    }
-    let allowed = schema
-        .get("enum")
-        .and_then(Value::as_array)
-        .map(|values| values.iter().filter(|v| !v.is_null()).cloned().collect());
-    let mut kind = types_of(schema).join(" or ");
-    if kind.is_empty() {
-        kind = "any".to_string();
-    }
-    match schema.get("format").and_then(Value::as_str) {
-        Some("double") | None => {}
-        Some(format) => kind = format!("{kind} ({format})"),
-    }
-    (kind, allowed)
-}
-
-/// A doc comment's first paragraph on one line, rustdoc links as plain code.
-fn first_paragraph(description: &str) -> String {
-    description
-        .split("\n\n")
-        .next()
-        .unwrap_or_default()
-        .replace('\n', " ")
-        .replace("[`", "`")
-        .replace("`]", "`")
-}
 
 /// The schema of a `budget` table (planner-api's `Budget`).
 fn budget_schema() -> Value {
@@ -222,7 +59,7 @@ fn sweepable(param: &Param) -> Value {
 }
 
 /// The schema of one planner table for registry planner `name`.
-fn planner_table_schema(name: &str, summary: &str) -> Result<Value, String> {
+fn planner_table_schema(name: &str, summary: &str) -> Result<Value, RegistryError> {
     let mut properties = Map::new();
     properties.insert(
         "planner".into(),
@@ -280,8 +117,9 @@ pub const TOP_LEVEL_KEYS: &[&str] = &[
 
 /// The JSON Schema (draft 2020-12) of experiment configs, for `gridplan schema` and
 /// editors: the top-level keys, the `[[maps]]` sets, and the planner tables as a `oneOf`
-/// over `planner = "<name>"`, each with that planner's declared parameters.
-pub fn experiment_schema() -> Result<Value, String> {
+/// over `planner = "<name>"`, each with that planner's declared parameters. `sections` are
+/// the names `sections = [...]` may use (the report's catalogue).
+pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
     let mut planners = Vec::new();
     for entry in registry::PLANNERS {
         planners.push(planner_table_schema(entry.name, entry.summary)?);
@@ -352,7 +190,13 @@ pub fn experiment_schema() -> Result<Value, String> {
                 "problems_per_map": count, "repeats": count
             }},
             "sections": { "type": "array",
-                          "items": { "enum": crate::report::section_names() } },
+                          "description": "The summary.md sections to write (configs/README.md).",
+                          "items": { "anyOf": [
+                              { "enum": sections },
+                              { "type": "object", "required": ["name"],
+                                "description": "A section with its options, e.g. { name = \"seed002\", proposed = \"pastar\" }.",
+                                "properties": { "name": { "enum": sections } } }
+                          ] } },
             "maps": { "type": "array", "minItems": 1, "items": map_set },
             "planners": {
                 "type": "object",

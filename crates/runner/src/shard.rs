@@ -34,30 +34,30 @@ impl Shard {
     pub const MAX_COUNT: u64 = 1 << 20;
 
     /// Shard `index` of `count`, checked (1 <= index <= count <= [`Shard::MAX_COUNT`]).
-    pub fn new(index: u64, count: u64) -> Result<Shard, String> {
+    pub fn new(index: u64, count: u64) -> Result<Shard, ShardError> {
         if count == 0 || index == 0 || index > count {
-            return Err(format!(
+            return Err(ShardError(format!(
                 "shard {index}/{count}: expected K/N with 1 <= K <= N"
-            ));
+            )));
         }
         if count > Self::MAX_COUNT {
-            return Err(format!(
+            return Err(ShardError(format!(
                 "shard {index}/{count}: at most {} shards",
                 Self::MAX_COUNT
-            ));
+            )));
         }
         Ok(Shard { index, count })
     }
 
     /// Parses `K/N`, e.g. `2/3`.
-    pub fn parse(text: &str) -> Result<Shard, String> {
+    pub fn parse(text: &str) -> Result<Shard, ShardError> {
         let (k, n) = text
             .split_once('/')
-            .ok_or_else(|| format!("shard {text:?}: expected K/N, e.g. 2/3"))?;
+            .ok_or_else(|| ShardError(format!("shard {text:?}: expected K/N, e.g. 2/3")))?;
         let number = |s: &str| {
             s.trim()
                 .parse::<u64>()
-                .map_err(|e| format!("shard {text:?}: {s:?} is not a number: {e}"))
+                .map_err(|e| ShardError(format!("shard {text:?}: {s:?} is not a number: {e}")))
         };
         Shard::new(number(k)?, number(n)?)
     }
@@ -68,56 +68,69 @@ impl Shard {
     /// and `--array=0-(N-1)` both give shards 1..N), or Kubernetes' 0-based
     /// `JOB_COMPLETION_INDEX` with `GRIDPLAN_SHARD_COUNT`. `get` reads one variable
     /// (`std::env::var` in the binary; a map in tests).
-    pub fn from_env(get: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, String> {
-        let number = |key: &str| -> Result<Option<u64>, String> {
+    pub fn from_env(get: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, ShardError> {
+        let error = |message: &str| ShardError(message.to_string());
+        let number = |key: &str| -> Result<Option<u64>, ShardError> {
             match get(key) {
                 None => Ok(None),
                 Some(v) => v
                     .trim()
                     .parse::<u64>()
                     .map(Some)
-                    .map_err(|e| format!("environment variable {key}={v:?}: {e}")),
+                    .map_err(|e| ShardError(format!("environment variable {key}={v:?}: {e}"))),
             }
         };
         if let Some(id) = number("SLURM_ARRAY_TASK_ID")? {
-            let count = number("SLURM_ARRAY_TASK_COUNT")?.ok_or(
-                "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N",
-            )?;
+            let count = number("SLURM_ARRAY_TASK_COUNT")?.ok_or_else(|| {
+                error("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N")
+            })?;
             let min = number("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
-            let named = |e: String| {
-                format!(
+            let named = |e: ShardError| {
+                ShardError(format!(
                     "environment variables SLURM_ARRAY_TASK_ID={id}, SLURM_ARRAY_TASK_MIN={min}, \
                      SLURM_ARRAY_TASK_COUNT={count}: {e}"
-                )
+                ))
             };
             let offset = id.checked_sub(min).ok_or_else(|| {
-                named(format!(
+                named(ShardError(format!(
                     "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
-                ))
+                )))
             })?;
-            let index = offset
-                .checked_add(1)
-                .ok_or_else(|| named(format!("task {offset} is not below the count {count}")))?;
+            let index = offset.checked_add(1).ok_or_else(|| {
+                named(ShardError(format!(
+                    "task {offset} is not below the count {count}"
+                )))
+            })?;
             return Shard::new(index, count).map(Some).map_err(named);
         }
         if let Some(index) = number("JOB_COMPLETION_INDEX")? {
-            let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or(
-                "JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N",
-            )?;
-            let named = |e: String| {
-                format!(
+            let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or_else(|| {
+                error(
+                    "JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N",
+                )
+            })?;
+            let named = |e: ShardError| {
+                ShardError(format!(
                     "environment variables JOB_COMPLETION_INDEX={index} (0-based), \
                      GRIDPLAN_SHARD_COUNT={count}: {e}"
-                )
+                ))
             };
-            let shard = index
-                .checked_add(1)
-                .ok_or_else(|| named(format!("index {index} is not below the count {count}")))?;
+            let shard = index.checked_add(1).ok_or_else(|| {
+                named(ShardError(format!(
+                    "index {index} is not below the count {count}"
+                )))
+            })?;
             return Shard::new(shard, count).map(Some).map_err(named);
         }
         Ok(None)
     }
 }
+
+/// A shard that cannot be: `K/N` malformed or out of range, or a job array's environment
+/// that names none (a usage error).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct ShardError(pub String);
 
 impl std::fmt::Display for Shard {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -267,13 +280,13 @@ mod tests {
             ("JOB_COMPLETION_INDEX", "18446744073709551615"),
             ("GRIDPLAN_SHARD_COUNT", "3"),
         ]);
-        let error = Shard::from_env(wrapped).unwrap_err();
+        let error = Shard::from_env(wrapped).unwrap_err().to_string();
         assert!(
             error.contains("JOB_COMPLETION_INDEX=18446744073709551615"),
             "{error}"
         );
         let past = env(&[("JOB_COMPLETION_INDEX", "3"), ("GRIDPLAN_SHARD_COUNT", "3")]);
-        let error = Shard::from_env(past).unwrap_err();
+        let error = Shard::from_env(past).unwrap_err().to_string();
         assert!(error.contains("JOB_COMPLETION_INDEX=3"), "{error}");
         assert!(error.contains("shard 4/3"), "{error}");
     }
@@ -281,7 +294,7 @@ mod tests {
     #[test]
     fn absurd_counts_are_refused_before_allocating() {
         for bad in ["1/1000000000000", "1/18446744073709551615", "1/1048577"] {
-            let error = Shard::parse(bad).unwrap_err();
+            let error = Shard::parse(bad).unwrap_err().to_string();
             assert!(error.contains("at most 1048576 shards"), "{bad}: {error}");
         }
         assert_eq!(

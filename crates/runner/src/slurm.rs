@@ -1,8 +1,9 @@
 //! Slurm job arrays for a sweep: `slurm CONFIG --shards N` writes two sbatch scripts, a
-//! job array of N tasks (task K runs `experiment CONFIG --shard K/N`) and a merge job, and
-//! with `--submit` submits the merge with `--dependency=afterok:<array>` and
-//! `--kill-on-invalid-dep=yes` (so a failed task cancels the merge instead of leaving it
-//! pending forever) and prints both job ids.
+//! job array of N tasks (task K runs `experiment CONFIG --shard K/N`) and a merge job.
+//! Submitting them (`--submit`: the merge with `--dependency=afterok:<array>` and
+//! `--kill-on-invalid-dep=yes`, so a failed task cancels the merge instead of leaving it
+//! pending forever) spawns `sbatch`, which the command line does ([`Jobs::submit_args`]
+//! gives the arguments); this module writes files only.
 //!
 //! For an output directory `DIR` (default: the config's), the scripts, the shards'
 //! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`
@@ -25,9 +26,9 @@
 //! ([`crate::outdir::check`]), so a directory that `merge` would refuse is refused now.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use crate::config;
+use crate::config::{self, ConfigError};
+use crate::outdir::OutdirError;
 use crate::run::RunList;
 use crate::shard::Shard;
 
@@ -46,27 +47,94 @@ pub struct SlurmArgs {
     pub time: Option<String>,
     /// `--cpus-per-task` (and the tasks' worker threads).
     pub cpus_per_task: Option<u32>,
-    /// Submit the jobs.
-    pub submit: bool,
 }
 
-/// What `slurm` wrote and submitted.
+/// What `slurm` wrote.
 #[derive(Debug, Clone)]
 pub struct Jobs {
     /// The array job's script.
     pub array_script: PathBuf,
     /// The merge job's script.
     pub merge_script: PathBuf,
-    /// (array job id, merge job id) when submitted.
-    pub ids: Option<(String, String)>,
 }
 
-fn absolute(path: &Path) -> Result<PathBuf, String> {
+impl Jobs {
+    /// The arguments of `sbatch --parsable` that submit the array job.
+    pub fn array_args(&self) -> Vec<String> {
+        vec![self.array_script.display().to_string()]
+    }
+
+    /// The arguments of `sbatch --parsable` that submit the merge job after the array job
+    /// `array_id` (cancelled if a task fails).
+    pub fn merge_args(&self, array_id: &str) -> Vec<String> {
+        vec![
+            format!("--dependency=afterok:{array_id}"),
+            "--kill-on-invalid-dep=yes".to_string(),
+            self.merge_script.display().to_string(),
+        ]
+    }
+}
+
+/// Why the scripts could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum SlurmError {
+    /// A shard count out of range (`--shards`).
+    #[error("--shards {shards}: {reason}")]
+    Shards {
+        /// The count asked for.
+        shards: u64,
+        /// Why it cannot be.
+        reason: String,
+    },
+    /// A value that cannot be written safely into a script.
+    #[error(
+        "{key}: {value:?} holds {what}, which cannot be written safely into a Slurm script; \
+         choose a value without it"
+    )]
+    Unsafe {
+        /// The option or key it came from.
+        key: String,
+        /// The value.
+        value: String,
+        /// The character refused, in words.
+        what: &'static str,
+    },
+    /// A path that is not UTF-8 (a script is text).
+    #[error("{key}: {} is not valid UTF-8", path.display())]
+    NotUtf8 {
+        /// The option or key it came from.
+        key: String,
+        /// The path.
+        path: PathBuf,
+    },
+    /// The config cannot be read or is invalid.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The results directory may not be written.
+    #[error(transparent)]
+    Output(#[from] OutdirError),
+    /// A file or directory could not be read or written.
+    #[error("{what}: {source}")]
+    Io {
+        /// The file, or what was looked up (the current directory, this binary's path).
+        what: String,
+        /// What went wrong.
+        source: std::io::Error,
+    },
+}
+
+/// An I/O error about `what`.
+fn io(what: impl std::fmt::Display) -> impl FnOnce(std::io::Error) -> SlurmError {
+    let what = what.to_string();
+    move |source| SlurmError::Io { what, source }
+}
+
+fn absolute(path: &Path) -> Result<PathBuf, SlurmError> {
     if path.is_absolute() {
         return Ok(path.to_path_buf());
     }
     Ok(std::env::current_dir()
-        .map_err(|e| format!("current directory: {e}"))?
+        .map_err(io("current directory"))?
         .join(path))
 }
 
@@ -84,71 +152,36 @@ pub fn quote(text: &str) -> String {
 /// refused if it holds a newline, carriage return or NUL (which end a line whatever the
 /// quoting), or, in an `#SBATCH` directive (`directive`), a backslash (which sbatch's
 /// parser drops and bash keeps).
-pub fn script_value(key: &str, value: &str, directive: bool) -> Result<String, String> {
+pub fn script_value(key: &str, value: &str, directive: bool) -> Result<String, SlurmError> {
     let bad = value
         .chars()
         .find(|&c| matches!(c, '\n' | '\r' | '\0') || (directive && c == '\\'));
     match bad {
         None => Ok(quote(value)),
-        Some(c) => Err(format!(
-            "{key}: {value:?} holds {}, which cannot be written safely into a Slurm script; \
-             choose a value without it",
-            match c {
+        Some(c) => Err(SlurmError::Unsafe {
+            key: key.to_string(),
+            value: value.to_string(),
+            what: match c {
                 '\n' => "a newline",
                 '\r' => "a carriage return",
                 '\0' => "a NUL character",
                 _ => "a backslash (sbatch reads it differently from bash)",
-            }
-        )),
+            },
+        }),
     }
 }
 
 /// A path as text for a script, checked by [`script_value`].
-fn path_value(key: &str, path: &Path, directive: bool) -> Result<String, String> {
-    let text = path
-        .to_str()
-        .ok_or_else(|| format!("{key}: {} is not valid UTF-8", path.display()))?;
+fn path_value(key: &str, path: &Path, directive: bool) -> Result<String, SlurmError> {
+    let text = path.to_str().ok_or_else(|| SlurmError::NotUtf8 {
+        key: key.to_string(),
+        path: path.to_path_buf(),
+    })?;
     script_value(key, text, directive)
 }
 
-/// Writes the scripts (and submits them if asked).
-pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
-    if args.shards == 0 {
-        return Err("--shards: at least 1".into());
-    }
-    if args.shards > Shard::MAX_COUNT {
-        return Err(format!(
-            "--shards {}: at most {} shards",
-            args.shards,
-            Shard::MAX_COUNT
-        ));
-    }
-    let experiment = config::load(&args.config).map_err(|e| e.to_string())?;
-    // A shard with no run would be an array task that does nothing; more shards than runs
-    // is refused rather than capped, so the array has the size the user asked for.
-    let n_runs = RunList::new(&experiment).len();
-    if args.shards > n_runs {
-        return Err(format!(
-            "--shards {}: the sweep has {n_runs} run(s), so at most {n_runs} shard(s)",
-            args.shards
-        ));
-    }
-    let config_path = args
-        .config
-        .canonicalize()
-        .map_err(|e| format!("{}: {e}", args.config.display()))?;
-    // The key a bad output value is reported under.
-    let output_key = if args.output.is_some() {
-        "--output".to_string()
-    } else {
-        format!("{}: key `output`", args.config.display())
-    };
-    let output = absolute(args.output.as_deref().unwrap_or(&experiment.output))?;
-    let mut work = output.as_os_str().to_os_string();
-    work.push("-slurm");
-    let work = PathBuf::from(work);
-    let binary = std::env::current_exe().map_err(|e| format!("this binary's path: {e}"))?;
-    let n = args.shards;
+/// The `#SBATCH` option lines (`--partition`, `--time`, `--cpus-per-task`) of both scripts.
+fn options(args: &SlurmArgs) -> Result<String, SlurmError> {
     let mut options = String::new();
     if let Some(p) = &args.partition {
         let p = script_value("--partition", p, true)?;
@@ -161,6 +194,50 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
     if let Some(c) = args.cpus_per_task {
         options.push_str(&format!("#SBATCH --cpus-per-task={c}\n"));
     }
+    Ok(options)
+}
+
+/// Checks the shard count against the sweep's `n_runs` and [`Shard::MAX_COUNT`].
+fn check_shards(shards: u64, n_runs: u64) -> Result<(), SlurmError> {
+    let reason = if shards == 0 {
+        "at least 1".to_string()
+    } else if shards > Shard::MAX_COUNT {
+        format!("at most {} shards", Shard::MAX_COUNT)
+    } else if shards > n_runs {
+        // A shard with no run would be an array task that does nothing; more shards than
+        // runs is refused rather than capped, so the array has the size the user asked for.
+        format!("the sweep has {n_runs} run(s), so at most {n_runs} shard(s)")
+    } else {
+        return Ok(());
+    };
+    Err(SlurmError::Shards { shards, reason })
+}
+
+/// Writes the scripts (the caller submits them if asked: [`Jobs::array_args`]).
+pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
+    if args.shards == 0 || args.shards > Shard::MAX_COUNT {
+        // Refused before the config is read.
+        check_shards(args.shards, u64::MAX)?;
+    }
+    let experiment = config::load(&args.config)?;
+    check_shards(args.shards, RunList::new(&experiment).len())?;
+    let config_path = args
+        .config
+        .canonicalize()
+        .map_err(io(args.config.display()))?;
+    // The key a bad output value is reported under.
+    let output_key = if args.output.is_some() {
+        "--output".to_string()
+    } else {
+        format!("{}: key `output`", args.config.display())
+    };
+    let output = absolute(args.output.as_deref().unwrap_or(&experiment.output))?;
+    let mut work = output.as_os_str().to_os_string();
+    work.push("-slurm");
+    let work = PathBuf::from(work);
+    let binary = std::env::current_exe().map_err(io("this binary's path"))?;
+    let n = args.shards;
+    let options = options(args)?;
     let threads = args
         .cpus_per_task
         .map_or(String::new(), |c| format!(" --threads {c}"));
@@ -169,10 +246,11 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
     let dir = path_value(&output_key, &work, false)?;
     let out = path_value(&output_key, &output, false)?;
     // Slurm's file name patterns apply to the log name only: `%` of the directory is `%%`.
-    let log = |file: &str| -> Result<String, String> {
-        let text = work
-            .to_str()
-            .ok_or_else(|| format!("{output_key}: {} is not valid UTF-8", work.display()))?;
+    let log = |file: &str| -> Result<String, SlurmError> {
+        let text = work.to_str().ok_or_else(|| SlurmError::NotUtf8 {
+            key: output_key.clone(),
+            path: work.clone(),
+        })?;
         script_value(
             &output_key,
             &format!("{}/{file}", text.replace('%', "%%")),
@@ -182,8 +260,8 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
     let task_log = log("task-%a.log")?;
     let merge_log = log("merge.log")?;
     // The results directory must be one `merge` may write, before anything is written.
-    crate::outdir::check(&output).map_err(|e| e.to_string())?;
-    std::fs::create_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
+    crate::outdir::check(&output)?;
+    std::fs::create_dir_all(&work).map_err(io(work.display()))?;
     let name = &experiment.name;
     let array = format!(
         "#!/bin/bash\n\
@@ -208,45 +286,10 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, String> {
     let array_script = work.join("array.sbatch");
     let merge_script = work.join("merge.sbatch");
     for (path, text) in [(&array_script, &array), (&merge_script, &merge)] {
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(path, text).map_err(io(path.display()))?;
     }
-    let ids = if args.submit {
-        let array_id = sbatch(&[&array_script.display().to_string()])?;
-        let merge_id = sbatch(&[
-            &format!("--dependency=afterok:{array_id}"),
-            "--kill-on-invalid-dep=yes",
-            &merge_script.display().to_string(),
-        ])?;
-        Some((array_id, merge_id))
-    } else {
-        None
-    };
     Ok(Jobs {
         array_script,
         merge_script,
-        ids,
     })
-}
-
-/// Runs `sbatch --parsable ARGS` and returns the job id.
-fn sbatch(args: &[&str]) -> Result<String, String> {
-    let out = Command::new("sbatch")
-        .arg("--parsable")
-        .args(args)
-        .output()
-        .map_err(|e| format!("cannot run sbatch (is Slurm installed?): {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "sbatch {} failed: {}",
-            args.join(" "),
-            String::from_utf8_lossy(&out.stderr).trim()
-        ));
-    }
-    let text = String::from_utf8_lossy(&out.stdout);
-    // `--parsable` prints `id` or `id;cluster`.
-    let id = text.trim().split(';').next().unwrap_or("").to_string();
-    if id.is_empty() {
-        return Err(format!("sbatch {} printed no job id", args.join(" ")));
-    }
-    Ok(id)
 }

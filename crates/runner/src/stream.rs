@@ -133,7 +133,10 @@ pub fn config_hash(experiment: &Experiment) -> String {
     h.text(&experiment.seed.to_string());
     h.text(&format!(
         "{:?} {:?} {:?} {:?}",
-        experiment.figures, experiment.figures_per_map, experiment.paths, experiment.sections
+        experiment.figures,
+        experiment.figures_per_map,
+        experiment.paths,
+        experiment.sections.as_ref().map(|s| &s.requests)
     ));
     for planner in &experiment.planners {
         h.text(&planner.label);
@@ -404,19 +407,48 @@ pub fn run_stream(
     Ok(n_done)
 }
 
+/// A record read back that is not the run of the config its index names.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RecordMismatch {
+    /// The run index is past the end of the sweep.
+    #[error("run {run} is past the sweep's {runs} runs")]
+    PastEnd {
+        /// The record's run index.
+        run: u64,
+        /// The sweep's runs.
+        runs: u64,
+    },
+    /// One of the record's fields is not its run's.
+    #[error(
+        "run {run} has {field} {found:?}, but run {run} of the config is {field} {expected:?} \
+         (a record of another config)"
+    )]
+    Field {
+        /// The record's run index.
+        run: u64,
+        /// Which field: `map`, `problem`, `planner label` or `repeat`.
+        field: &'static str,
+        /// The record's value.
+        found: String,
+        /// The run's value in the config.
+        expected: String,
+    },
+}
+
 /// Checks that `record`, read back as run `run` of a stream, is that run of `experiment`'s
 /// run list `list`: the same map, problem, planner label and repeat. A record of another
-/// config at a valid index (a foreign shard or stream) is refused; the message says which
+/// config at a valid index (a foreign shard or stream) is refused; the error says which
 /// field differs, for the caller to prefix with the file and line.
 pub fn check_record(
     experiment: &Experiment,
     list: &RunList,
     run: u64,
     record: &RunRecord,
-) -> Result<(), String> {
-    let spec = list
-        .get(run)
-        .ok_or_else(|| format!("run {run} is past the sweep's {} runs", list.len()))?;
+) -> Result<(), RecordMismatch> {
+    let spec = list.get(run).ok_or(RecordMismatch::PastEnd {
+        run,
+        runs: list.len(),
+    })?;
     let map = &experiment.maps[spec.map];
     let problem = map.problems[spec.problem].index;
     let label = &experiment.planners[spec.planner].label;
@@ -426,12 +458,14 @@ pub fn check_record(
         ("planner label", record.planner.clone(), label.clone()),
         ("repeat", record.repeat.to_string(), spec.repeat.to_string()),
     ];
-    for (what, found, expected) in fields {
+    for (field, found, expected) in fields {
         if found != expected {
-            return Err(format!(
-                "run {run} has {what} {found:?}, but run {run} of the config is {what} \
-                 {expected:?} (a record of another config)"
-            ));
+            return Err(RecordMismatch::Field {
+                run,
+                field,
+                found,
+                expected,
+            });
         }
     }
     Ok(())

@@ -42,22 +42,48 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use crate::config::ConfigError;
+use crate::expanded::{self, ExpandedCells};
 use crate::output::{OutputFile, StreamedFile};
 use crate::provenance::Provenance;
-use crate::report::Reproduction;
+use crate::record::Reproduction;
 use crate::run::{HeapMeter, RunList};
 use crate::shard::{Shard, ShardRuns};
 use crate::stream::{self, StreamHeader, StreamReader};
-use crate::{
-    charts, config, figures, html, ompl, outdir, output as results, report, Experiment, RunOptions,
-    RunRecord,
-};
+use crate::{config, outdir, output as results, Experiment, RunOptions, RunRecord, RunnerError};
 
 /// The stream file of a sweep's stream area, and of a shard's results directory.
 const RECORDS: &str = "records.jsonl";
 
 /// A shard's stream in its results directory.
 pub const SHARD_FILE: &str = "shard.jsonl";
+
+/// A whole sweep's results, as the report reads them.
+pub struct Results<'a> {
+    /// The experiment.
+    pub experiment: &'a Experiment,
+    /// Its records, in run order (paths as the config keeps them).
+    pub records: &'a [RunRecord],
+    /// The expanded cells of the drawn runs, recorded at run time (`figures_expanded`).
+    pub expanded: &'a ExpandedCells,
+    /// Where, when and how the sweep ran.
+    pub provenance: &'a Provenance,
+    /// The sweep's wall time so far, in seconds (OMPL's experiment time).
+    pub seconds: f64,
+}
+
+/// The report step of a sweep: the runner hands a whole sweep's [`Results`] to it and
+/// writes the files it returns beside runs.json and runs.csv. planner-report implements
+/// it; the runner knows no section, figure or chart.
+pub trait Render: Sync {
+    /// Checks what the config asks of the report (its `sections`), right after the
+    /// config is read, so a sweep with a bad request runs nothing.
+    fn check(&self, experiment: &Experiment) -> Result<(), ConfigError>;
+
+    /// The report files of `results` and the published numbers they compared.
+    fn render(&self, results: &Results<'_>)
+        -> Result<(Vec<OutputFile>, Reproduction), RunnerError>;
+}
 
 /// What `experiment` did.
 #[derive(Debug, Clone)]
@@ -113,12 +139,14 @@ pub struct SweepArgs<'a> {
     /// Return the records in [`Report::records`] (for a library caller; a whole sweep
     /// holds them anyway to write its reports).
     pub keep_records: bool,
+    /// The report step (summary.md, figures, ...).
+    pub render: &'a dyn Render,
 }
 
 impl<'a> SweepArgs<'a> {
-    /// A plain sweep of `config`: the config's threads and output, no progress, no heap
-    /// measurement, not resumed, not sharded.
-    pub fn new(config: &'a Path) -> SweepArgs<'a> {
+    /// A plain sweep of `config` reported by `render`: the config's threads and output, no
+    /// progress, no heap measurement, not resumed, not sharded.
+    pub fn new(config: &'a Path, render: &'a dyn Render) -> SweepArgs<'a> {
         SweepArgs {
             config,
             threads: 0,
@@ -129,17 +157,19 @@ impl<'a> SweepArgs<'a> {
             shard: None,
             keep_records: false,
             stop: None,
+            render,
         }
     }
 }
 
 /// Runs (or resumes) a sweep and writes its results directory (or its shard's).
-pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
+pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     let started = Instant::now();
-    let experiment = config::load(args.config).map_err(|e| e.to_string())?;
+    let experiment = config::load(args.config)?;
+    args.render.check(&experiment)?;
     if args.threads > config::MAX_THREADS {
         // Refused before the output's stream area is made, so nothing is written.
-        return Err(crate::RunnerError::Threads(args.threads).to_string());
+        return Err(RunnerError::Threads(args.threads));
     }
     let shard = args.shard.unwrap_or(Shard::ALL);
     let dir = match (args.output, args.shard) {
@@ -151,36 +181,119 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
         }
         (None, None) => experiment.output.clone(),
     };
-    outdir::check(&dir).map_err(|e| e.to_string())?;
-    let area = outdir::stream_area(&dir, outdir::DEFAULT_LOCK_WAIT).map_err(|e| e.to_string())?;
+    outdir::check(&dir)?;
+    let area = outdir::stream_area(&dir, outdir::DEFAULT_LOCK_WAIT)?;
     let runs = ShardRuns::new(&experiment, shard);
     let header = StreamHeader::new(&experiment, shard, runs.len());
     let path = area.dir.join(RECORDS);
+    let (file, n_done) = open_stream(args, &area, &header, &experiment, &runs, &dir)?;
+    tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
+    let (records, n_ran) = stream_runs(args, &experiment, &runs, file, n_done, &path)?;
+    if n_done + n_ran < runs.len() {
+        return Ok(Report {
+            n_runs: runs.len() as usize,
+            output: dir,
+            reproduction: Reproduction::default(),
+            seconds: started.elapsed().as_secs_f64(),
+            interrupted: Some(n_done + n_ran),
+            records: Vec::new(),
+        });
+    }
+    let (reproduction, records) = if args.shard.is_some() {
+        finish_shard(&experiment, &path, &dir)?;
+        (Reproduction::default(), Vec::new())
+    } else {
+        if records.len() as u64 != header.runs {
+            return Err(RunnerError::Stream(format!(
+                "{}: {} of {} runs recorded",
+                path.display(),
+                records.len(),
+                header.runs
+            )));
+        }
+        let threads = worker_threads(args.threads, experiment.threads);
+        let provenance = Provenance::collect(args.config, threads);
+        let seconds = started.elapsed().as_secs_f64();
+        let (reproduction, records) = finish(
+            args.render,
+            &experiment,
+            records,
+            None,
+            &dir,
+            &provenance,
+            seconds,
+        )?;
+        let kept = if args.keep_records {
+            records
+        } else {
+            Vec::new()
+        };
+        (reproduction, kept)
+    };
+    if let Err(e) = area.remove() {
+        tracing::warn!(
+            "the results are written, but the stream area {} could not be removed: {e}",
+            area.dir.display()
+        );
+    }
+    Ok(Report {
+        n_runs: runs.len() as usize,
+        output: dir,
+        reproduction,
+        seconds: started.elapsed().as_secs_f64(),
+        interrupted: None,
+        records,
+    })
+}
+
+/// The sweep's stream file `path`, open for appending, and the runs it already holds: a
+/// resumed sweep's, cut back to its last complete run; else a new one with `header`.
+fn open_stream(
+    args: &SweepArgs,
+    area: &outdir::StreamArea,
+    header: &StreamHeader,
+    experiment: &Experiment,
+    runs: &ShardRuns,
+    dir: &Path,
+) -> Result<(File, u64), RunnerError> {
+    let path = area.dir.join(RECORDS);
     let done = if args.resume {
-        resume_point(&path, &header, &runs, &experiment)?
+        resume_point(&path, header, runs, experiment)?
     } else {
         None
     };
-    let (mut file, n_done) = match done {
+    match done {
         Some((bytes, n)) => {
-            let mut file = area.open_write(RECORDS, false).map_err(|e| e.to_string())?;
+            let mut file = area.open_write(RECORDS, false)?;
             file.set_len(bytes)
                 .and_then(|()| file.seek(SeekFrom::End(0)).map(drop))
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+                .map_err(|e| RunnerError::io(&path, e))?;
             eprintln!("resuming: {n} of {} runs already recorded", runs.len());
-            (file, n)
+            Ok((file, n))
         }
         None => {
             if args.resume {
                 eprintln!("nothing to resume for {}: running every run", dir.display());
             }
-            let mut file = area.open_write(RECORDS, true).map_err(|e| e.to_string())?;
-            file.write_all(&header.to_line().map_err(|e| e.to_string())?)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
-            (file, 0)
+            let mut file = area.open_write(RECORDS, true)?;
+            file.write_all(&header.to_line()?)
+                .map_err(|e| RunnerError::io(&path, e))?;
+            Ok((file, 0))
         }
-    };
-    tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
+    }
+}
+
+/// Runs the sweep's runs after the `n_done` already in its stream, appending each batch to
+/// `file` (the stream at `path`) as it completes. Returns the records of a whole sweep (a
+/// resumed one's read back first; a shard keeps none) and how many runs this call ran.
+fn stream_runs(
+    args: &SweepArgs,
+    experiment: &Experiment,
+    runs: &ShardRuns,
+    mut file: File,
+    n_done: u64,
+    path: &Path,
+) -> Result<(Vec<RunRecord>, u64), RunnerError> {
     if let Some(progress) = args.progress {
         progress.start(runs.len(), n_done);
     }
@@ -202,14 +315,13 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
     if keep {
         records.reserve_exact(runs.len().min(1 << 20) as usize);
         if n_done > 0 {
-            file.flush()
-                .map_err(|e| format!("{}: {e}", path.display()))?;
-            records = read_records(&path, records)?;
+            file.flush().map_err(|e| RunnerError::io(path, e))?;
+            records = read_records(path, records)?;
         }
     }
     let mut buffer = Vec::new();
     let n_ran = stream::run_stream(
-        &experiment,
+        experiment,
         runs.iter().skip(n_done as usize),
         &options,
         |batch| {
@@ -227,85 +339,66 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, String> {
             }
             file.write_all(&buffer)
                 .and_then(|()| file.flush())
-                .map_err(|e| crate::RunnerError::Stream(format!("{}: {e}", path.display())))?;
+                .map_err(|e| RunnerError::io(path, e))?;
             if keep {
                 records.extend(batch.into_iter().map(|(_, record)| record));
             }
             Ok(())
         },
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     if let Some(progress) = args.progress {
         progress.finish();
     }
-    drop(file);
-    if n_done + n_ran < runs.len() {
-        return Ok(Report {
-            n_runs: runs.len() as usize,
-            output: dir,
-            reproduction: Reproduction::default(),
-            seconds: started.elapsed().as_secs_f64(),
-            interrupted: Some(n_done + n_ran),
-            records: Vec::new(),
-        });
-    }
-    let (reproduction, records) = if !keep {
-        // The stream is copied, not read into memory.
-        let copy = StreamedFile {
-            path: SHARD_FILE.into(),
-            write: Box::new(|out| {
-                let mut file = File::open(&path)
-                    .map_err(|e| crate::RunnerError::Stream(format!("{}: {e}", path.display())))?;
-                std::io::copy(&mut file, out)
-                    .map(drop)
-                    .map_err(|e| crate::RunnerError::Stream(format!("{}: {e}", path.display())))
-            }),
-        };
-        outdir::write_results_streamed(
-            &dir,
-            &experiment.name,
-            &[],
-            &[copy],
-            outdir::DEFAULT_LOCK_WAIT,
-        )
-        .map_err(|e| e.to_string())?;
-        (Reproduction::default(), Vec::new())
-    } else {
-        if records.len() as u64 != header.runs {
-            return Err(format!(
-                "{}: {} of {} runs recorded",
-                path.display(),
-                records.len(),
-                header.runs
-            ));
-        }
-        let threads = worker_threads(args.threads, experiment.threads);
-        let provenance = Provenance::collect(args.config, threads);
-        let seconds = started.elapsed().as_secs_f64();
-        let (reproduction, records) = finish(&experiment, records, &dir, &provenance, seconds)?;
-        (
-            reproduction,
-            if args.keep_records {
-                records
-            } else {
-                Vec::new()
-            },
-        )
+    Ok((records, n_ran))
+}
+
+/// Writes a whole shard's results directory `dir`: its stream `path` copied (not read into
+/// memory) as shard.jsonl, and the expanded cells of the drawn runs it holds.
+fn finish_shard(experiment: &Experiment, path: &Path, dir: &Path) -> Result<(), RunnerError> {
+    let copy = StreamedFile {
+        path: SHARD_FILE.into(),
+        write: Box::new(|out| {
+            let mut file = File::open(path).map_err(|e| RunnerError::io(path, e))?;
+            std::io::copy(&mut file, out)
+                .map(drop)
+                .map_err(|e| RunnerError::io(path, e))
+        }),
     };
-    if let Err(e) = area.remove() {
-        tracing::warn!(
-            "the results are written, but the stream area {} could not be removed: {e}",
-            area.dir.display()
-        );
+    let cells = shard_expanded(experiment, path)?;
+    let files = if cells.is_empty() {
+        Vec::new()
+    } else {
+        vec![OutputFile {
+            path: EXPANDED_FILE.into(),
+            contents: cells.to_jsonl()?,
+        }]
+    };
+    outdir::write_results_streamed(
+        dir,
+        &experiment.name,
+        &files,
+        &[copy],
+        outdir::DEFAULT_LOCK_WAIT,
+    )?;
+    Ok(())
+}
+
+/// The expanded cells of the drawn runs a shard holds (its stream `path`), when the
+/// config asks for them: repeat 0 of the drawn problems, recorded once more.
+fn shard_expanded(experiment: &Experiment, path: &Path) -> Result<ExpandedCells, RunnerError> {
+    if !experiment.figures_expanded || experiment.figures == config::FigureMode::None {
+        return Ok(ExpandedCells::default());
     }
-    Ok(Report {
-        n_runs: runs.len() as usize,
-        output: dir,
-        reproduction,
-        seconds: started.elapsed().as_secs_f64(),
-        interrupted: None,
-        records,
-    })
+    let file = stream::open_regular(path).map_err(|e| RunnerError::io(path, e))?;
+    let what = path.display().to_string();
+    let (_, mut reader) = StreamReader::new(BufReader::new(file), &what)?;
+    let mut firsts = Vec::new();
+    while let Some((_, record)) = reader.next_run()? {
+        if record.repeat == 0 {
+            firsts.push(record);
+        }
+    }
+    Ok(expanded::record_all(experiment, &firsts)?)
 }
 
 /// The worker count a sweep runs with: the argument, else the config's, else one per core.
@@ -324,28 +417,28 @@ fn resume_point(
     header: &StreamHeader,
     runs: &ShardRuns,
     experiment: &Experiment,
-) -> Result<Option<(u64, u64)>, String> {
+) -> Result<Option<(u64, u64)>, RunnerError> {
     let file = match stream::open_regular(path) {
         Ok(file) => file,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(format!("{}: {e}", path.display())),
+        Err(e) => return Err(RunnerError::io(path, e)),
     };
     let what = path.display().to_string();
     let (found, mut reader) = match StreamReader::new(BufReader::new(file), &what) {
         Ok(opened) => opened,
         // Killed before its header was complete: nothing was recorded.
         Err(_) if fs::metadata(path).map(|m| m.len()).unwrap_or(0) < 4096 => return Ok(None),
-        Err(e) => return Err(e.to_string()),
+        Err(e) => return Err(e),
     };
     if found.config_hash != header.config_hash || found.experiment != header.experiment {
-        return Err(format!(
+        return Err(RunnerError::Resume(format!(
             "--resume: {what} was recorded by a different config (experiment {:?}, config hash {}); \
              {} resolves to experiment {:?}, hash {}. Run without --resume to start over.",
             found.experiment, found.config_hash, header.config, header.experiment, header.config_hash
-        ));
+        )));
     }
     if found.gridplan != header.gridplan {
-        return Err(format!(
+        return Err(RunnerError::Resume(format!(
             "--resume: {what} was written by gridplan {}, this is gridplan {}; records of two \
              versions are not mixed in one sweep. Run without --resume to start over.",
             found
@@ -353,79 +446,107 @@ fn resume_point(
                 .as_deref()
                 .unwrap_or("of unknown version (its header names none)"),
             header.gridplan.as_deref().unwrap_or("?")
-        ));
+        )));
     }
     if (found.shard, found.shards) != (header.shard, header.shards) {
-        return Err(format!(
+        return Err(RunnerError::Resume(format!(
             "--resume: {what} holds shard {}/{}, not {}/{}",
             found.shard, found.shards, header.shard, header.shards
-        ));
+        )));
     }
     let list = RunList::new(experiment);
     let mut expected = runs.iter();
     let mut n = 0u64;
-    while let Some((run, record)) = reader.next_run().map_err(|e| e.to_string())? {
+    while let Some((run, record)) = reader.next_run()? {
         if expected.next() != Some(run) {
-            return Err(format!(
+            return Err(RunnerError::Resume(format!(
                 "--resume: {what}: run {run} is out of order; run without --resume"
-            ));
+            )));
         }
         // The header line is line 1: record n is line n + 2.
-        stream::check_record(experiment, &list, run, &record)
-            .map_err(|e| format!("--resume: {what} line {}: {e}; run without --resume", n + 2))?;
+        stream::check_record(experiment, &list, run, &record).map_err(|e| {
+            RunnerError::Resume(format!(
+                "--resume: {what} line {}: {e}; run without --resume",
+                n + 2
+            ))
+        })?;
         n += 1;
     }
     Ok(Some((reader.complete_bytes(), n)))
 }
 
 /// The records of the stream file `path`, appended to `records`.
-fn read_records(path: &Path, mut records: Vec<RunRecord>) -> Result<Vec<RunRecord>, String> {
-    let file = stream::open_regular(path).map_err(|e| format!("{}: {e}", path.display()))?;
+fn read_records(path: &Path, mut records: Vec<RunRecord>) -> Result<Vec<RunRecord>, RunnerError> {
+    let file = stream::open_regular(path).map_err(|e| RunnerError::io(path, e))?;
     let what = path.display().to_string();
-    let (_, mut reader) =
-        StreamReader::new(BufReader::new(file), &what).map_err(|e| e.to_string())?;
-    while let Some((_, record)) = reader.next_run().map_err(|e| e.to_string())? {
+    let (_, mut reader) = StreamReader::new(BufReader::new(file), &what)?;
+    while let Some((_, record)) = reader.next_run()? {
         records.push(record);
     }
     Ok(records)
 }
 
-/// Renders the outputs of a whole sweep's `records` (in run order): runs.json, runs.csv,
-/// paths.jsonl, summary.md, figures, charts, report.html and, when the config asks, OMPL
-/// logs; and writes them to `dir`, runs.json and runs.csv row by row into their files.
-/// `seconds` is the sweep's wall time so far (OMPL's experiment time).
+/// A results directory's own record of its runs, in run order, with the paths the
+/// config keeps: a stream file (header, then one run per line) that `report` reads back.
+pub const RESULTS_RECORDS: &str = "records.jsonl";
+
+/// The expanded cells of the drawn runs, in a results directory or a shard's
+/// (`figures_expanded`; [`ExpandedCells::to_jsonl`]).
+pub const EXPANDED_FILE: &str = "expanded.jsonl";
+
+/// The sweep's provenance and wall time in a results directory, for `report`.
+pub const PROVENANCE_FILE: &str = "provenance.json";
+
+/// `provenance.json`: what a results directory's report shows of where and how long it ran.
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RunInfo {
+    provenance: Provenance,
+    seconds: f64,
+}
+
+/// Renders the outputs of a whole sweep's `records` (in run order): records the expanded
+/// cells its figures draw (when the config asks and `expanded` is `None`: the sweep's
+/// own step, the one that runs planners again), hands the results to `render` for the
+/// report files, and writes those, runs.json, runs.csv, records.jsonl, expanded.jsonl and
+/// provenance.json to `dir`. `seconds` is the sweep's wall time so far (OMPL's
+/// experiment time).
 fn finish(
+    render: &dyn Render,
     experiment: &Experiment,
     mut records: Vec<RunRecord>,
+    expanded: Option<ExpandedCells>,
     dir: &Path,
     provenance: &Provenance,
     seconds: f64,
-) -> Result<(Reproduction, Vec<RunRecord>), String> {
-    let (summary, reproduction) = report::render_with(experiment, &records, Some(provenance));
-    let mut files = figures::render_checked(experiment, &records).map_err(|e| e.to_string())?;
-    files.extend(charts::render(experiment, &records));
-    if experiment.ompl {
-        files.extend(ompl::logs(experiment, &records, provenance, seconds));
-    }
-    if let Some(paths) = results::paths_jsonl(&records).map_err(|e| e.to_string())? {
-        files.push(OutputFile {
-            path: "paths.jsonl".into(),
-            contents: paths,
+) -> Result<(Reproduction, Vec<RunRecord>), RunnerError> {
+    let expanded = match expanded {
+        Some(cells) => cells,
+        None => expanded::record_all(experiment, &records)?,
+    };
+    let results = Results {
+        experiment,
+        records: &records,
+        expanded: &expanded,
+        provenance,
+        seconds,
+    };
+    let (mut all, reproduction) = render.render(&results)?;
+    if !expanded.is_empty() {
+        all.push(OutputFile {
+            path: EXPANDED_FILE.into(),
+            contents: expanded.to_jsonl()?,
         });
     }
-    for record in &mut records {
-        record.path = None;
-    }
-    let mut all = vec![OutputFile {
-        path: "summary.md".into(),
-        contents: summary.into_bytes(),
-    }];
-    all.append(&mut files);
-    let page = html::report_html(&experiment.name, &summary_text(&all), &all);
+    let info = RunInfo {
+        provenance: provenance.clone(),
+        seconds,
+    };
     all.push(OutputFile {
-        path: "report.html".into(),
-        contents: page.into_bytes(),
+        path: PROVENANCE_FILE.into(),
+        contents: serde_json::to_vec_pretty(&info).map_err(RunnerError::Json)?,
     });
+    let header = StreamHeader::new(experiment, Shard::ALL, records.len() as u64);
     let rows = &records;
     let tables = [
         StreamedFile {
@@ -438,6 +559,10 @@ fn finish(
             path: "runs.csv".into(),
             write: Box::new(move |out| results::write_runs_csv(out, rows)),
         },
+        StreamedFile {
+            path: RESULTS_RECORDS.into(),
+            write: Box::new(move |out| write_stream(out, &header, rows)),
+        },
     ];
     outdir::write_results_streamed(
         dir,
@@ -445,10 +570,181 @@ fn finish(
         &all,
         &tables,
         outdir::DEFAULT_LOCK_WAIT,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     drop(tables);
+    for record in &mut records {
+        record.path = None;
+    }
     Ok((reproduction, records))
+}
+
+/// Writes `records` (a whole sweep's, in run order) as a stream file with `header`.
+fn write_stream(
+    out: &mut dyn std::io::Write,
+    header: &StreamHeader,
+    records: &[RunRecord],
+) -> Result<(), RunnerError> {
+    let io = |e: std::io::Error| RunnerError::io(Path::new(RESULTS_RECORDS), e);
+    out.write_all(&header.to_line()?).map_err(io)?;
+    let mut line = Vec::with_capacity(512);
+    for (run, record) in records.iter().enumerate() {
+        line.clear();
+        stream::encode(&mut line, run as u64, record)?;
+        out.write_all(&line).map_err(io)?;
+    }
+    Ok(())
+}
+
+/// Re-renders the results directory `dir` in place from what it holds (records.jsonl,
+/// expanded.jsonl, provenance.json) and its config (`config`, default the one its records
+/// name; it must resolve to the config hash they were run with): summary.md, figures,
+/// charts, report.html, OMPL logs, and the tables again. No planner runs. The directory is
+/// replaced under the same rules as `experiment` writes it ([`outdir`]: only a gridplan
+/// results directory, under its lock, atomically).
+pub fn report(
+    dir: &Path,
+    config: Option<&Path>,
+    render: &dyn Render,
+) -> Result<Report, RunnerError> {
+    let started = Instant::now();
+    // Only gridplan's own results directory: its marker, as `experiment` requires.
+    outdir::check(dir)?;
+    outdir::Marker::read(dir).map_err(|e| RunnerError::during("report", e.into()))?;
+    let path = dir.join(RESULTS_RECORDS);
+    let file = stream::open_regular(&path).map_err(|e| {
+        RunnerError::Results(format!(
+            "report: {} has no {RESULTS_RECORDS} ({e}); rerun the experiment with this version to re-render it",
+            dir.display()
+        ))
+    })?;
+    let what = path.display().to_string();
+    let (header, reader) = StreamReader::new(BufReader::new(file), &what)?;
+    let experiment = load_checked(&header, config, render, "report")?;
+    let records = read_results_records(&experiment, &header, reader, &what)?;
+    let info_path = dir.join(PROVENANCE_FILE);
+    let bytes = read_regular(&info_path)?;
+    let info: RunInfo = serde_json::from_slice(&bytes)
+        .map_err(|e| RunnerError::Results(format!("report: {}: {e}", info_path.display())))?;
+    let expanded = read_expanded(dir, &experiment)?;
+    let n_runs = records.len();
+    let (reproduction, _) = finish(
+        render,
+        &experiment,
+        records,
+        Some(expanded),
+        dir,
+        &info.provenance,
+        info.seconds,
+    )?;
+    Ok(Report {
+        n_runs,
+        output: dir.to_path_buf(),
+        reproduction,
+        seconds: started.elapsed().as_secs_f64(),
+        interrupted: None,
+        records: Vec::new(),
+    })
+}
+
+/// The records of a results directory's records.jsonl (`what`; its `header` read, the rest
+/// in `reader`), every one checked against `experiment`'s run list
+/// ([`stream::check_record`]) and all of the sweep's runs there. Records of another
+/// gridplan version are kept as that version computed them, with a warning naming both.
+fn read_results_records(
+    experiment: &Experiment,
+    header: &StreamHeader,
+    mut reader: StreamReader<BufReader<File>>,
+    what: &str,
+) -> Result<Vec<RunRecord>, RunnerError> {
+    let this = env!("CARGO_PKG_VERSION");
+    if header.gridplan.as_deref() != Some(this) {
+        tracing::warn!(
+            "{what} was written by gridplan {}, this is gridplan {this}: the records are kept \
+             as that version computed them",
+            header.gridplan.as_deref().unwrap_or("of unknown version")
+        );
+    }
+    let list = RunList::new(experiment);
+    let mut records = Vec::with_capacity(header.runs.min(1 << 24) as usize);
+    while let Some((run, record)) = reader.next_run()? {
+        // The header line is line 1: record n is line n + 2.
+        stream::check_record(experiment, &list, run, &record).map_err(|e| {
+            RunnerError::Results(format!("report: {what} line {}: {e}", records.len() + 2))
+        })?;
+        records.push(record);
+    }
+    if records.len() as u64 != header.total_runs || reader.was_cut() {
+        return Err(RunnerError::Results(format!(
+            "report: {what} holds {} of {} runs",
+            records.len(),
+            header.total_runs
+        )));
+    }
+    Ok(records)
+}
+
+/// The whole of the regular file `path` (never a FIFO or a device: [`stream::open_regular`]).
+fn read_regular(path: &Path) -> Result<Vec<u8>, RunnerError> {
+    let mut bytes = Vec::new();
+    stream::open_regular(path)
+        .and_then(|mut file| std::io::Read::read_to_end(&mut file, &mut bytes))
+        .map_err(|e| RunnerError::io(path, e))?;
+    Ok(bytes)
+}
+
+/// The config `header`'s records were run with (`config` overrides its path), checked by
+/// `render` and against the records' config hash; `what` prefixes errors.
+fn load_checked(
+    header: &StreamHeader,
+    config: Option<&Path>,
+    render: &dyn Render,
+    what: &'static str,
+) -> Result<Experiment, RunnerError> {
+    let config_path = config.map_or_else(|| PathBuf::from(&header.config), Path::to_path_buf);
+    let experiment = config::load(&config_path).map_err(|e| RunnerError::during(what, e.into()))?;
+    render
+        .check(&experiment)
+        .map_err(|e| RunnerError::during(what, e.into()))?;
+    let hash = stream::config_hash(&experiment);
+    if hash != header.config_hash {
+        return Err(RunnerError::Results(format!(
+            "{what}: {} now resolves to config hash {hash}, but the {runs} were run with {}; \
+             rerun the {runs} or pass the config they ran with (--config)",
+            config_path.display(),
+            header.config_hash,
+            runs = if what == "merge" { "shards" } else { "runs" }
+        )));
+    }
+    Ok(experiment)
+}
+
+/// The expanded cells recorded in `dir` (none when the file is absent and the config
+/// asks for none).
+fn read_expanded(dir: &Path, experiment: &Experiment) -> Result<ExpandedCells, RunnerError> {
+    let path = dir.join(EXPANDED_FILE);
+    let mut bytes = Vec::new();
+    match stream::open_regular(&path) {
+        Ok(mut file) => std::io::Read::read_to_end(&mut file, &mut bytes)
+            .map_err(|e| RunnerError::io(&path, e))?,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            let drawn = experiment.figures_expanded
+                && experiment.figures != config::FigureMode::None
+                && !experiment.planners.is_empty();
+            if drawn && experiment.maps.iter().any(|m| !m.problems.is_empty()) {
+                // The sweep writes the file whenever it recorded a cell; a config that
+                // asks for them and draws some runs without any file is not this sweep's.
+                tracing::warn!(
+                    "{}: no {EXPANDED_FILE}; figures are drawn without expanded cells",
+                    dir.display()
+                );
+            }
+            return Ok(ExpandedCells::default());
+        }
+        Err(e) => return Err(RunnerError::io(&path, e)),
+    };
+    let text = String::from_utf8(bytes)
+        .map_err(|e| RunnerError::Results(format!("{}: {e}", path.display())))?;
+    ExpandedCells::from_jsonl(&text, &path.display().to_string())
 }
 
 /// Merges the shard directories `dirs` into the one sweep's results in `output` (default:
@@ -457,36 +753,87 @@ pub fn merge(
     dirs: &[PathBuf],
     output: Option<&Path>,
     config: Option<&Path>,
-) -> Result<Report, String> {
+    render: &dyn Render,
+) -> Result<Report, RunnerError> {
     let started = Instant::now();
-    if dirs.is_empty() {
-        return Err("merge: no shard directories given".into());
+    let mut shards = open_shards(dirs)?;
+    let first = shards[0].1.clone();
+    check_shard_set(&shards, &first, dirs)?;
+    check_versions(&shards)?;
+    let experiment = load_checked(&first, config, render, "merge")?;
+    let config_path = config.map_or_else(|| PathBuf::from(&first.config), Path::to_path_buf);
+    let mut expanded = ExpandedCells::default();
+    for (dir, _, _) in &shards {
+        expanded.extend(read_expanded(dir, &experiment)?);
     }
-    let mut shards: Vec<(PathBuf, StreamHeader, StreamReader<BufReader<File>>)> = Vec::new();
+    let records = merge_records(&mut shards, &first, &experiment)?;
+    let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
+    outdir::check(&dir)?;
+    let n_runs = records.len();
+    let provenance = Provenance::collect(&config_path, worker_threads(0, experiment.threads));
+    let seconds = started.elapsed().as_secs_f64();
+    let (reproduction, _) = finish(
+        render,
+        &experiment,
+        records,
+        Some(expanded),
+        &dir,
+        &provenance,
+        seconds,
+    )?;
+    Ok(Report {
+        n_runs,
+        output: dir,
+        reproduction,
+        seconds: started.elapsed().as_secs_f64(),
+        interrupted: None,
+        records: Vec::new(),
+    })
+}
+
+/// A shard directory with its stream's header and a reader after it.
+type OpenShard = (PathBuf, StreamHeader, StreamReader<BufReader<File>>);
+
+/// The streams of the shard directories `dirs` (at least one), opened.
+fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
+    if dirs.is_empty() {
+        return Err(RunnerError::Usage(
+            "merge: no shard directories given".into(),
+        ));
+    }
+    let mut shards = Vec::new();
     for dir in dirs {
         let path = dir.join(SHARD_FILE);
         let file = stream::open_regular(&path).map_err(|e| {
-            format!(
+            RunnerError::Results(format!(
                 "merge: {} is not a shard's output ({}: {e})",
                 dir.display(),
                 SHARD_FILE
-            )
+            ))
         })?;
-        let (header, reader) = StreamReader::new(BufReader::new(file), &path.display().to_string())
-            .map_err(|e| e.to_string())?;
+        let (header, reader) =
+            StreamReader::new(BufReader::new(file), &path.display().to_string())?;
         shards.push((dir.clone(), header, reader));
     }
-    let first = shards[0].1.clone();
+    Ok(shards)
+}
+
+/// Checks that `shards` are of one sweep (`first`'s) and hold each of its shards once.
+fn check_shard_set(
+    shards: &[OpenShard],
+    first: &StreamHeader,
+    dirs: &[PathBuf],
+) -> Result<(), RunnerError> {
     for (dir, header, _) in &shards[1..] {
         if header.config_hash != first.config_hash
             || header.shards != first.shards
             || header.experiment != first.experiment
         {
-            return Err(format!(
+            return Err(RunnerError::Results(format!(
                 "merge: {} (experiment {:?}, config hash {}, {} shards) and {} (experiment {:?}, config hash {}, {} shards) are shards of different sweeps",
                 shards[0].0.display(), first.experiment, first.config_hash, first.shards,
                 dir.display(), header.experiment, header.config_hash, header.shards
-            ));
+            )));
         }
     }
     let mut missing = Vec::new();
@@ -500,7 +847,7 @@ pub fn merge(
             0 => missing.push(format!("{k}/{}", first.shards)),
             1 => {}
             _ => {
-                return Err(format!(
+                return Err(RunnerError::Results(format!(
                     "merge: shard {k}/{} given twice: {}",
                     first.shards,
                     holders
@@ -508,12 +855,12 @@ pub fn merge(
                         .map(|d| d.display().to_string())
                         .collect::<Vec<_>>()
                         .join(", ")
-                ))
+                )))
             }
         }
     }
     if !missing.is_empty() {
-        return Err(format!(
+        return Err(RunnerError::Results(format!(
             "merge: shards {} of experiment {:?} are missing (given: {})",
             missing.join(", "),
             first.experiment,
@@ -521,28 +868,26 @@ pub fn merge(
                 .map(|d| d.display().to_string())
                 .collect::<Vec<_>>()
                 .join(", ")
-        ));
+        )));
     }
-    check_versions(&shards)?;
-    let config_path = config.map_or_else(|| PathBuf::from(&first.config), Path::to_path_buf);
-    let experiment = config::load(&config_path).map_err(|e| format!("merge: {e}"))?;
-    let hash = stream::config_hash(&experiment);
-    if hash != first.config_hash {
-        return Err(format!(
-            "merge: {} now resolves to config hash {hash}, but the shards were run with {}; \
-             rerun the shards or pass the config they ran with (--config)",
-            config_path.display(),
-            first.config_hash
-        ));
-    }
-    // K-way merge by run index: every index 0..total exactly once, each record checked
-    // against the config's run list.
-    let list = RunList::new(&experiment);
+    Ok(())
+}
+
+/// The shards' records in run order: a k-way merge by run index, every index of the
+/// sweep (`first.total_runs`) exactly once, each record checked against `experiment`'s
+/// run list ([`stream::check_record`]).
+fn merge_records(
+    shards: &mut [OpenShard],
+    first: &StreamHeader,
+    experiment: &Experiment,
+) -> Result<Vec<RunRecord>, RunnerError> {
+    // Each record is checked against the config's run list.
+    let list = RunList::new(experiment);
     // Per shard: the line of its head record (the header is line 1).
     let mut lines: Vec<u64> = vec![2; shards.len()];
     let mut heads: Vec<Option<(u64, RunRecord)>> = Vec::with_capacity(shards.len());
-    for (_, _, reader) in &mut shards {
-        heads.push(reader.next_run().map_err(|e| e.to_string())?);
+    for (_, _, reader) in shards.iter_mut() {
+        heads.push(reader.next_run()?);
     }
     let mut records = Vec::with_capacity(first.total_runs.min(1 << 24) as usize);
     for expected in 0..first.total_runs {
@@ -550,7 +895,7 @@ pub fn merge(
             .iter()
             .position(|h| h.as_ref().is_some_and(|(run, _)| *run == expected))
         else {
-            return Err(format!(
+            return Err(RunnerError::Results(format!(
                 "merge: run {expected} of {} is in no shard (a shard is incomplete: {})",
                 first.total_runs,
                 shards
@@ -563,61 +908,46 @@ pub fn merge(
                     ))
                     .collect::<Vec<_>>()
                     .join(", ")
-            ));
+            )));
         };
-        let next = shards[i].2.next_run().map_err(|e| e.to_string())?;
+        let next = shards[i].2.next_run()?;
         if let Some((run, record)) = std::mem::replace(&mut heads[i], next) {
-            stream::check_record(&experiment, &list, run, &record).map_err(|e| {
-                format!(
+            stream::check_record(experiment, &list, run, &record).map_err(|e| {
+                RunnerError::Results(format!(
                     "merge: {} line {}: {e}",
                     shards[i].0.join(SHARD_FILE).display(),
                     lines[i]
-                )
+                ))
             })?;
             lines[i] += 1;
             records.push(record);
         }
     }
     if let Some(i) = heads.iter().position(Option::is_some) {
-        return Err(format!(
+        return Err(RunnerError::Results(format!(
             "merge: {} holds runs past the sweep's end",
             shards[i].0.display()
-        ));
+        )));
     }
-    let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
-    outdir::check(&dir).map_err(|e| e.to_string())?;
-    let n_runs = records.len();
-    let provenance = Provenance::collect(&config_path, worker_threads(0, experiment.threads));
-    let seconds = started.elapsed().as_secs_f64();
-    let (reproduction, _) = finish(&experiment, records, &dir, &provenance, seconds)?;
-    Ok(Report {
-        n_runs,
-        output: dir,
-        reproduction,
-        seconds: started.elapsed().as_secs_f64(),
-        interrupted: None,
-        records: Vec::new(),
-    })
+    Ok(records)
 }
 
 /// The gridplan version of each shard: its results marker's (`.gridplan-results`) and its
 /// stream header's. Shards written by different versions are refused, naming both (their
 /// planners may count differently, so the merged tables would mix two programs); shards
 /// of one version other than this gridplan's are merged with a warning naming both.
-fn check_versions(
-    shards: &[(PathBuf, StreamHeader, StreamReader<BufReader<File>>)],
-) -> Result<(), String> {
+fn check_versions(shards: &[OpenShard]) -> Result<(), RunnerError> {
     let mut seen: Vec<(String, String)> = Vec::new();
     for (dir, header, _) in shards {
         let marker = outdir::Marker::read(dir).ok().map(|m| m.gridplan);
         for version in [marker, header.gridplan.clone()].into_iter().flatten() {
             match seen.iter().find(|(v, _)| *v != version) {
                 Some((other, other_dir)) => {
-                    return Err(format!(
+                    return Err(RunnerError::Results(format!(
                         "merge: {other_dir} was written by gridplan {other} and {} by gridplan \
                          {version}; rerun the shards with one gridplan version",
                         dir.display()
-                    ))
+                    )))
                 }
                 None => seen.push((version, dir.display().to_string())),
             }
@@ -631,13 +961,4 @@ fn check_versions(
         );
     }
     Ok(())
-}
-
-/// The summary.md among `files`, as text.
-fn summary_text(files: &[OutputFile]) -> String {
-    files
-        .iter()
-        .find(|f| f.path.as_os_str() == "summary.md")
-        .map(|f| String::from_utf8_lossy(&f.contents).into_owned())
-        .unwrap_or_default()
 }

@@ -8,9 +8,9 @@ use planner_api::{
     Budget, Cell, Connectivity, Counters, MoveSet, Outcome, ParamKey, PathSpec, Planner,
     PlannerSpecs, Problem,
 };
-use planner_runner::factory::Factory;
+use planner_registry::Factory;
+use planner_registry::PLANNERS;
 use planner_runner::plan::PlanArgs;
-use planner_runner::registry::PLANNERS;
 use planner_runner::{config, output, run_all, RunOptions};
 
 fn root() -> PathBuf {

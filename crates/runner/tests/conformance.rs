@@ -6,8 +6,8 @@
 //! registered.
 
 use planner_api::{Budget, Cell, CoverageProblem, Grid, Problem, Status};
-use planner_runner::factory::{Built, Factory};
-use planner_runner::registry::PLANNERS;
+use planner_registry::PLANNERS;
+use planner_registry::{Built, Factory};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

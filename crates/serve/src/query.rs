@@ -2,7 +2,7 @@
 //! edits applied), a start and goal, a registry planner with `key=value` parameters,
 //! planned through planner-runner's [`run_one`] exactly as `gridplan plan` plans it, so
 //! the counters equal `plan --json`'s; then once more with the expanded cells recorded
-//! ([`planner_runner::figures::record_expanded`], which checks that the second run
+//! ([`planner_runner::expanded::record_expanded`], which checks that the second run
 //! repeats the first), for the playback.
 //!
 //! These are the only call sites of the runner's planning API in this crate (the
@@ -164,7 +164,7 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
     )?;
     let expanded = {
         let (map, planner) = (&single.maps[0], &single.planners[0]);
-        planner_runner::figures::record_expanded(&single, map, &map.problems[0], planner, &record)
+        planner_runner::expanded::record_expanded(&single, map, &map.problems[0], planner, &record)
             .map_err(|e| planner_runner::RunnerError::Usage(e.to_string()))?
     };
     let grid = single.maps.swap_remove(0).grid;

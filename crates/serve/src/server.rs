@@ -443,13 +443,13 @@ pub fn percent_decode(text: &str) -> String {
 
 fn planners() -> Answer {
     let mut list = Vec::new();
-    for entry in planner_runner::registry::PLANNERS {
-        if entry.task != planner_runner::Task::StartGoal {
+    for entry in planner_registry::PLANNERS {
+        if entry.task != planner_registry::Task::StartGoal {
             continue;
         }
-        let params = match planner_runner::schema::declared(entry.name) {
+        let params = match planner_registry::schema::declared(entry.name) {
             Ok(params) => params,
-            Err(message) => return Answer::error(500, &message),
+            Err(error) => return Answer::error(500, &error.to_string()),
         };
         let params: Vec<serde_json::Value> = params
             .into_iter()

@@ -365,10 +365,11 @@ fn a_results_directory_opens_with_its_runs_and_paths() {
     .unwrap();
     let config = dir.join("mine.toml");
     let output = dir.join("results/mine");
+    let renderer = planner_paper::renderer();
     let report = planner_runner::sweep::experiment(&planner_runner::sweep::SweepArgs {
         threads: 1,
         output: Some(&output),
-        ..planner_runner::sweep::SweepArgs::new(&config)
+        ..planner_runner::sweep::SweepArgs::new(&config, &renderer)
     })
     .unwrap();
     assert_eq!(report.n_runs, 2);

@@ -13,7 +13,7 @@ use std::fmt::Write as _;
 
 use pulldown_cmark::{html, Event, HeadingLevel, Options, Parser, Tag, TagEnd};
 
-use crate::output::OutputFile;
+use planner_runner::output::OutputFile;
 
 /// The page: `summary` (markdown) with every `![title](charts/x.svg)` image replaced by
 /// that file's SVG from `files`, then a Figures section with every `figures/*.svg`.
@@ -136,7 +136,7 @@ pub fn escape(text: &str) -> String {
 /// or a `#fragment`).
 ///
 /// ```
-/// use planner_runner::html::safe_link;
+/// use planner_report::html::safe_link;
 /// assert!(safe_link("https://example.org/a") && safe_link("charts/a.svg") && safe_link("#s1"));
 /// assert!(!safe_link("javascript:alert(1)") && !safe_link(" JaVa\tScRiPt:x") && !safe_link("data:text/html,x"));
 /// ```

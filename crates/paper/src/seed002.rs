@@ -1,5 +1,6 @@
-//! Seed 002's tables in `summary.md`, for experiments with a planner whose registry name
-//! is the section's `proposed` one (the registry sets PA-star): path lengths with `R_length` and `R_time` per scenario (Tables
+//! Seed 002's tables in `summary.md`, comparing the labels that run the planner the config
+//! names as the section's `proposed` one (`{ name = "seed002", proposed = "pastar" }`)
+//! with every other label: path lengths with `R_length` and `R_time` per scenario (Tables
 //! 6-10) and, with three or more repeats, the timing tests (Tables 11-14).
 //!
 //! - `R_length = (length_PA - length_ref) / length_PA` and `R_time` likewise with the
@@ -18,7 +19,8 @@
 //! planners (CAPSO), whose length is the mean over the repeats that found a path (the
 //! status column then counts them); times come from all repeats.
 //!
-//! [`Seed002Capso`] (section `seed002_capso`, for labels running the registry's CAPSO)
+//! [`Seed002Capso`] (section `seed002_capso`, for the labels running the planner the
+//! config names, `{ name = "seed002_capso", planner = "capso" }`)
 //! follows seed 002 section 4.2.2 (Fig. 11): per scenario and CAPSO label its control
 //! points and the found count, mean, min and max length over the repeats, then the mean
 //! over the repeats of the `best_fitness` series (Fig. 11 b) every 10 iterations.
@@ -27,61 +29,82 @@ use std::fmt::Write as _;
 
 use planner_stats::{bonferroni, dunn, kruskal_wallis, shapiro_wilk};
 
-use super::{median_iqr, Context, Reproduction, Section};
-use crate::config::{Experiment, PlannerSpec};
-use crate::index::ResultsIndex;
-use crate::record::{RunRecord, RunStatus};
-use crate::report::md_cell;
+use planner_report::md_cell;
+use planner_report::{median_iqr, Context, OptionError, Reproduction, Section};
+use planner_runner::config::{Experiment, MapEntry, PlannerSpec, ProblemEntry};
+use planner_runner::index::ResultsIndex;
+use planner_runner::record::{RunRecord, RunStatus};
 
 /// Seed 002's comparison of a proposed planner with its references (section name
-/// `seed002`).
-pub struct Seed002 {
-    /// The registry name of the proposed planner; every other label is a reference.
-    pub proposed: &'static str,
-}
+/// `seed002`; option `proposed`: the registry name of the proposed planner, every other
+/// label is a reference).
+pub struct Seed002;
 
 impl Section for Seed002 {
     fn name(&self) -> &'static str {
         "seed002"
     }
 
-    /// When some label runs the proposed planner.
-    fn applies(&self, context: &Context<'_>) -> bool {
-        context
-            .experiment
-            .planners
-            .iter()
-            .any(|p| p.name == self.proposed)
+    /// Never by itself: a paper layout shows when a config names it.
+    fn applies(&self, _context: &Context<'_>) -> bool {
+        false
+    }
+
+    fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
+        planner_option(self.name(), options, "proposed").map(drop)
     }
 
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
-        out.push_str(&render(context.experiment, context.index, self.proposed));
+        if let Ok(proposed) = planner_option(self.name(), context.options, "proposed") {
+            out.push_str(&render(context.experiment, context.index, proposed));
+        }
     }
 }
 
 /// Seed 002's CAPSO lengths and mean convergence curve (section name `seed002_capso`;
-/// module docs).
-pub struct Seed002Capso {
-    /// The registry name of CAPSO.
-    pub capso: &'static str,
-}
+/// option `planner`: the registry name of the planner to show; module docs).
+pub struct Seed002Capso;
 
 impl Section for Seed002Capso {
     fn name(&self) -> &'static str {
         "seed002_capso"
     }
 
-    /// When some label runs CAPSO.
-    fn applies(&self, context: &Context<'_>) -> bool {
-        context
-            .experiment
-            .planners
-            .iter()
-            .any(|p| p.name == self.capso)
+    /// Never by itself: a paper layout shows when a config names it.
+    fn applies(&self, _context: &Context<'_>) -> bool {
+        false
+    }
+
+    fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
+        planner_option(self.name(), options, "planner").map(drop)
     }
 
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
-        out.push_str(&render_capso(context.experiment, context.index, self.capso));
+        if let Ok(capso) = planner_option(self.name(), context.options, "planner") {
+            out.push_str(&render_capso(context.experiment, context.index, capso));
+        }
+    }
+}
+
+/// The one option of a section that names a planner: `key`, a string, and nothing else.
+fn planner_option<'a>(
+    section: &str,
+    options: &'a toml::Table,
+    key: &str,
+) -> Result<&'a str, OptionError> {
+    if let Some(other) = options.keys().find(|k| *k != key) {
+        return Err(OptionError(format!(
+            "section {section:?} takes no option `{other}` (only `{key}`)"
+        )));
+    }
+    match options.get(key) {
+        Some(toml::Value::String(name)) => Ok(name),
+        Some(_) => Err(OptionError(format!(
+            "section {section:?}: `{key}` is a planner's registry name, a string"
+        ))),
+        None => Err(OptionError(format!(
+            "section {section:?} needs `{key}`, the registry name of the planner it shows, e.g. {{ name = {section:?}, {key} = \"...\" }}"
+        ))),
     }
 }
 
@@ -106,96 +129,15 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
     let mut kw_rows = String::new();
     for map in &experiment.maps {
         for problem in map.problems.iter().filter(|p| p.invalid.is_none()) {
-            let runs = |label: &str| index.runs(&map.name, problem.index, label);
-            let stochastic = |label: &str| {
-                experiment
-                    .planners
-                    .iter()
-                    .any(|p| p.label == label && p.factory.specs().seeded)
+            let scenario = Scenario {
+                experiment,
+                index,
+                map,
+                problem,
             };
-            let length = |label: &str| {
-                let all = runs(label);
-                if stochastic(label) {
-                    let found: Vec<f64> = all.iter().filter_map(|r| r.length).collect();
-                    (!found.is_empty()).then(|| found.iter().sum::<f64>() / found.len() as f64)
-                } else {
-                    all.iter().find(|r| r.repeat == 0).and_then(|r| r.length)
-                }
-            };
-            let times =
-                |label: &str| -> Vec<f64> { runs(label).iter().map(|r| r.time_ms).collect() };
-            let median = |label: &str| median_iqr(&times(label)).map(|(m, _, _)| m);
-            let _ = writeln!(
-                out,
-                "### {} problem {}: {} -> {}\n",
-                md_cell(&map.name),
-                problem.index,
-                problem.start,
-                problem.goal
-            );
-            out.push_str("| Planner | Algorithm | Status | Path length | Time ms median (IQR) |\n|---|---|---|---:|---:|\n");
-            for planner in &experiment.planners {
-                let all = runs(&planner.label);
-                let status = if stochastic(&planner.label) {
-                    let n_found = all.iter().filter(|r| r.status == RunStatus::Found).count();
-                    format!("found {n_found}/{}", all.len())
-                } else {
-                    all.iter()
-                        .find(|r| r.repeat == 0)
-                        .map_or("-".into(), |r| r.status.as_str().to_string())
-                };
-                let _ = writeln!(
-                    out,
-                    "| {} | {} | {} | {} | {} |",
-                    md_cell(&planner.label),
-                    planner.name,
-                    status,
-                    length(&planner.label).map_or("-".into(), |l| format!("{l:.2}")),
-                    time_cell(&times(&planner.label)),
-                );
-            }
-            out.push('\n');
-            if !references.is_empty() {
-                out.push_str("| PA-star | Reference | R_length | R_time |\n|---|---|---:|---:|\n");
-                for pa in &proposed {
-                    for reference in &references {
-                        let r_length = ratio(length(&pa.label), length(&reference.label));
-                        let r_time = ratio(median(&pa.label), median(&reference.label));
-                        let _ = writeln!(
-                            out,
-                            "| {} | {} | {} | {} |",
-                            md_cell(&pa.label),
-                            md_cell(&reference.label),
-                            percent(r_length),
-                            percent(r_time)
-                        );
-                    }
-                }
-                out.push('\n');
-            }
+            scenario.lengths(&mut out, &proposed, &references);
             if experiment.repeats >= 3 && experiment.planners.len() >= 2 {
-                let samples: Vec<Vec<f64>> = experiment
-                    .planners
-                    .iter()
-                    .map(|p| times(&p.label))
-                    .collect();
-                let groups: Vec<&[f64]> = samples.iter().map(Vec::as_slice).collect();
-                let scenario = format!("{} #{}", md_cell(&map.name), problem.index);
-                match kruskal_wallis(&groups) {
-                    Ok(kw) => {
-                        let _ = writeln!(
-                            kw_rows,
-                            "| {scenario} | {:.2} | {} | {:.3e} |",
-                            kw.h, kw.df, kw.p
-                        );
-                    }
-                    Err(e) => {
-                        let _ = writeln!(kw_rows, "| {scenario} | - | - | {e} |");
-                    }
-                }
-                timing.push_str(&timing_table(
-                    experiment, &scenario, &samples, &groups, base,
-                ));
+                scenario.timing_tests(&mut kw_rows, &mut timing, base);
             }
         }
     }
@@ -208,6 +150,131 @@ fn render(experiment: &Experiment, index: &ResultsIndex<'_>, proposed_name: &str
         out.push_str(&timing);
     }
     out
+}
+
+/// One scenario (map, problem) of a seed-002 comparison and the lookups its tables share.
+struct Scenario<'a> {
+    experiment: &'a Experiment,
+    index: &'a ResultsIndex<'a>,
+    map: &'a MapEntry,
+    problem: &'a ProblemEntry,
+}
+
+impl Scenario<'_> {
+    fn runs(&self, label: &str) -> Vec<&RunRecord> {
+        self.index.runs(&self.map.name, self.problem.index, label)
+    }
+
+    /// Whether `label` runs a seeded planner (its length is a mean over the repeats).
+    fn stochastic(&self, label: &str) -> bool {
+        self.experiment
+            .planners
+            .iter()
+            .any(|p| p.label == label && p.factory.specs().seeded)
+    }
+
+    fn length(&self, label: &str) -> Option<f64> {
+        let all = self.runs(label);
+        if self.stochastic(label) {
+            let found: Vec<f64> = all.iter().filter_map(|r| r.length).collect();
+            (!found.is_empty()).then(|| found.iter().sum::<f64>() / found.len() as f64)
+        } else {
+            all.iter().find(|r| r.repeat == 0).and_then(|r| r.length)
+        }
+    }
+
+    fn times(&self, label: &str) -> Vec<f64> {
+        self.runs(label).iter().map(|r| r.time_ms).collect()
+    }
+
+    fn median(&self, label: &str) -> Option<f64> {
+        median_iqr(&self.times(label)).map(|(m, _, _)| m)
+    }
+
+    /// The scenario's length table (Tables 6-10) and its `R_length`, `R_time` rows.
+    fn lengths(&self, out: &mut String, proposed: &[&PlannerSpec], references: &[&PlannerSpec]) {
+        let (map, problem) = (self.map, self.problem);
+        let _ = writeln!(
+            out,
+            "### {} problem {}: {} -> {}\n",
+            md_cell(&map.name),
+            problem.index,
+            problem.start,
+            problem.goal
+        );
+        out.push_str("| Planner | Algorithm | Status | Path length | Time ms median (IQR) |\n|---|---|---|---:|---:|\n");
+        for planner in &self.experiment.planners {
+            let all = self.runs(&planner.label);
+            let status = if self.stochastic(&planner.label) {
+                let n_found = all.iter().filter(|r| r.status == RunStatus::Found).count();
+                format!("found {n_found}/{}", all.len())
+            } else {
+                all.iter()
+                    .find(|r| r.repeat == 0)
+                    .map_or("-".into(), |r| r.status.as_str().to_string())
+            };
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {} | {} |",
+                md_cell(&planner.label),
+                planner.name,
+                status,
+                self.length(&planner.label)
+                    .map_or("-".into(), |l| format!("{l:.2}")),
+                time_cell(&self.times(&planner.label)),
+            );
+        }
+        out.push('\n');
+        if !references.is_empty() {
+            out.push_str("| PA-star | Reference | R_length | R_time |\n|---|---|---:|---:|\n");
+            for pa in proposed {
+                for reference in references {
+                    let r_length = ratio(self.length(&pa.label), self.length(&reference.label));
+                    let r_time = ratio(self.median(&pa.label), self.median(&reference.label));
+                    let _ = writeln!(
+                        out,
+                        "| {} | {} | {} | {} |",
+                        md_cell(&pa.label),
+                        md_cell(&reference.label),
+                        percent(r_length),
+                        percent(r_time)
+                    );
+                }
+            }
+            out.push('\n');
+        }
+    }
+
+    /// The scenario's Kruskal-Wallis row (Table 11) and its timing table (Tables 12-14).
+    fn timing_tests(&self, kw_rows: &mut String, timing: &mut String, base: &PlannerSpec) {
+        let samples: Vec<Vec<f64>> = self
+            .experiment
+            .planners
+            .iter()
+            .map(|p| self.times(&p.label))
+            .collect();
+        let groups: Vec<&[f64]> = samples.iter().map(Vec::as_slice).collect();
+        let scenario = format!("{} #{}", md_cell(&self.map.name), self.problem.index);
+        match kruskal_wallis(&groups) {
+            Ok(kw) => {
+                let _ = writeln!(
+                    kw_rows,
+                    "| {scenario} | {:.2} | {} | {:.3e} |",
+                    kw.h, kw.df, kw.p
+                );
+            }
+            Err(e) => {
+                let _ = writeln!(kw_rows, "| {scenario} | - | - | {e} |");
+            }
+        }
+        timing.push_str(&timing_table(
+            self.experiment,
+            &scenario,
+            &samples,
+            &groups,
+            base,
+        ));
+    }
 }
 
 /// The CAPSO section (module docs), or nothing without a label running `capso_name`.
@@ -410,7 +477,7 @@ mod tests {
             "name = \"t\"\nrepeats = {repeats}\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.TA]\nplanner = \"astar\"\nmoves = 8\n",
             map.display().to_string()
         );
-        crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap()
+        planner_runner::config::parse(std::path::Path::new("t.toml"), &text).unwrap()
     }
 
     #[test]
@@ -463,7 +530,8 @@ mod tests {
             "name = \"t\"\nrepeats = 3\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [20, 10], goal = [70, 110] }}]\n[planners.PA]\nplanner = \"pastar\"\n[planners.C4]\nplanner = \"capso\"\ncontrol_points = 4\n",
             map.display().to_string()
         );
-        let experiment = crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
+        let experiment =
+            planner_runner::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
         let mut records = Vec::new();
         for r in 0..3 {
             records.push(record("PA", "pastar", r, 100.0, 1.0));

@@ -5,10 +5,11 @@
 use std::path::{Path, PathBuf};
 
 use planner_api::{Budget, Problem, Status};
+use planner_report::figures;
 use planner_runner::config;
-use planner_runner::factory::Built;
-use planner_runner::figures::{self, FigureError};
+use planner_runner::expanded::{self, ExpandedError};
 use planner_runner::plan::{PlanArgs, PlanOptions};
+use planner_runner::Built;
 use planner_runner::{run_all, RunOptions, RunStatus};
 
 fn root() -> PathBuf {
@@ -133,7 +134,7 @@ fn plan_reports_the_memory_budget_and_draws_the_expanded_cells() {
     .unwrap();
     let n_expanded = result.record.counters.get("n_expanded").unwrap();
     assert_eq!(result.expanded.len() as u64, n_expanded);
-    let svg = result.to_svg();
+    let svg = figures::draw_run(&result.grid, &result.record, &result.expanded);
     assert!(svg.contains(r#"class="expanded""#), "no expanded group");
     assert!(svg.contains(&format!("expanded: {n_expanded} cells")));
 }
@@ -159,7 +160,8 @@ fn figures_draw_the_expanded_cells_of_a_rerun_that_repeats_the_timed_run() {
          [planners.theta]\nplanner = \"theta_star\"\n",
     );
     let records = run_all(&experiment, &RunOptions::default()).unwrap();
-    let files = figures::render_checked(&experiment, &records).unwrap();
+    let cells = expanded::record_all(&experiment, &records).unwrap();
+    let files = figures::render(&experiment, &records, &cells);
     let effort: Vec<_> = files
         .iter()
         .filter(|f| f.path.to_string_lossy().ends_with("-expanded.svg"))
@@ -216,16 +218,18 @@ fn figures_draw_the_expanded_cells_of_a_rerun_that_repeats_the_timed_run() {
         .unwrap();
     let n = record.counters.get("n_expanded").unwrap();
     record.counters = record.counters.clone().with("n_expanded", n + 1);
-    match figures::render_checked(&experiment, &tampered) {
-        Err(FigureError::Mismatch { label, problem, .. }) => {
+    match expanded::record_all(&experiment, &tampered) {
+        Err(ExpandedError::Mismatch { label, problem, .. }) => {
             assert_eq!((label.as_str(), problem), ("bfs", drawn));
         }
-        other => panic!("expected a mismatch, got {:?}", other.map(|f| f.len())),
+        other => panic!("expected a mismatch, got {other:?}"),
     }
     // Without `figures_expanded` nothing is rerun and no such figure is written.
     let mut plain = experiment.clone();
     plain.figures_expanded = false;
-    let files = figures::render_checked(&plain, &tampered).unwrap();
+    let cells = expanded::record_all(&plain, &tampered).unwrap();
+    assert!(cells.is_empty());
+    let files = figures::render(&plain, &tampered, &cells);
     assert!(files
         .iter()
         .all(|f| !f.path.to_string_lossy().ends_with("-expanded.svg")));

@@ -4,11 +4,11 @@
 
 use std::fmt::Write as _;
 
-use super::optimum::matches_optimum;
-use super::{median_iqr, Context, Reproduction, Section};
-use crate::config::PlannerSpec;
-use crate::record::RunRecord;
-use crate::report::md_cell;
+use crate::md_cell;
+use crate::optimum::matches_optimum;
+use crate::{median_iqr, Context, Reproduction, Section};
+use planner_runner::config::PlannerSpec;
+use planner_runner::record::RunRecord;
 
 /// The aggregate tables (section name `aggregate`).
 pub struct Aggregate;

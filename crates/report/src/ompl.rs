@@ -13,16 +13,16 @@
 //! control character into a space, and names (labels, counters, host) through `one_word`,
 //! which also joins whitespace with `_` and, when it changed anything, appends a short hash
 //! of the original so `x y` and `x_y` stay two planners. The log of a map is
-//! `ompl/<map>.log` with `<map>` derived by [`crate::report::file_part`], and a name
+//! `ompl/<map>.log` with `<map>` derived by [`crate::file_part`], and a name
 //! another map's log took already gets a hash of the map's name
-//! ([`crate::report::FileNames`]): every map's runs reach a log of their own.
+//! ([`crate::FileNames`]): every map's runs reach a log of their own.
 
 use std::fmt::Write as _;
 
-use crate::config::Experiment;
-use crate::output::OutputFile;
-use crate::provenance::Provenance;
-use crate::record::RunRecord;
+use planner_runner::config::{Experiment, PlannerSpec};
+use planner_runner::output::OutputFile;
+use planner_runner::provenance::Provenance;
+use planner_runner::record::RunRecord;
 
 /// The fixed run properties, before the counters: name and SQL type.
 const FIXED: [(&str, &str); 11] = [
@@ -47,9 +47,9 @@ pub fn logs(
     seconds: f64,
 ) -> Vec<OutputFile> {
     let mut files = Vec::new();
-    let mut names = crate::report::FileNames::default();
+    let mut names = crate::FileNames::default();
     for map in &experiment.maps {
-        let stem = crate::report::file_part(crate::report::map_stem(&map.name));
+        let stem = crate::file_part(planner_runner::config::map_stem(&map.name));
         let runs: Vec<&RunRecord> = records.iter().filter(|r| r.map == map.name).collect();
         let mut out = String::new();
         let _ = writeln!(out, "gridplan version {}", provenance.version);
@@ -91,71 +91,7 @@ pub fn logs(
         let _ = writeln!(out, "{seconds:.3} seconds spent to collect the data");
         let _ = writeln!(out, "{} planners", experiment.planners.len());
         for planner in &experiment.planners {
-            let mine: Vec<&RunRecord> = runs
-                .iter()
-                .copied()
-                .filter(|r| r.planner == planner.label)
-                .collect();
-            let _ = writeln!(out, "{}", one_word(&planner.label));
-            let settings: Vec<String> = match planner.factory.resolved() {
-                serde_json::Value::Object(m) => m
-                    .iter()
-                    .map(|(k, v)| format!("{k} = {v}"))
-                    .chain(std::iter::once(format!("planner = {}", planner.name)))
-                    .collect(),
-                _ => vec![format!("planner = {}", planner.name)],
-            };
-            let _ = writeln!(out, "{} common properties", settings.len());
-            for s in &settings {
-                let _ = writeln!(out, "{}", line(s));
-            }
-            let mut counters: Vec<&str> = Vec::new();
-            for r in &mine {
-                for (name, _) in r.counters.iter() {
-                    if !counters.contains(&name) {
-                        counters.push(name);
-                    }
-                }
-            }
-            let _ = writeln!(
-                out,
-                "{} properties for each run",
-                FIXED.len() + counters.len()
-            );
-            for (name, kind) in FIXED {
-                let _ = writeln!(out, "{name} {kind}");
-            }
-            for name in &counters {
-                let _ = writeln!(out, "{} INTEGER", one_word(name));
-            }
-            let _ = writeln!(out, "{} runs", mine.len());
-            for r in &mine {
-                let opt = |v: Option<String>| v.unwrap_or_default();
-                let mut values = vec![
-                    r.problem.to_string(),
-                    r.repeat.to_string(),
-                    opt(r.seed.map(|s| s.to_string())),
-                    format!("{:.9}", r.time_ms / 1e3),
-                    u8::from(r.is_found()).to_string(),
-                    format!("{:.6}", r.peak_heap_bytes as f64 / 1048576.0),
-                    opt(r.length.map(|v| format!("{v:.6}"))),
-                    opt(r.optimal_length.map(|v| format!("{v:.6}"))),
-                    opt(r.steps.map(|v| v.to_string())),
-                    opt(r.turns.map(|v| v.to_string())),
-                    opt(r.valid.map(|v| u8::from(v).to_string())),
-                ];
-                values.extend(
-                    counters
-                        .iter()
-                        .map(|n| opt(r.counters.get(n).map(|v| v.to_string()))),
-                );
-                for v in values {
-                    out.push_str(&v);
-                    out.push_str("; ");
-                }
-                out.push('\n');
-            }
-            out.push_str(".\n");
+            planner_block(&mut out, planner, &runs);
         }
         files.push(OutputFile {
             path: names.claim(format!("ompl/{stem}.log"), &map.name).into(),
@@ -163,6 +99,76 @@ pub fn logs(
         });
     }
     files
+}
+
+/// One planner's block of a log: its name, its settings as common properties, the
+/// properties of each run, and one line per run of `runs` (the map's) it made.
+fn planner_block(out: &mut String, planner: &PlannerSpec, runs: &[&RunRecord]) {
+    let mine: Vec<&RunRecord> = runs
+        .iter()
+        .copied()
+        .filter(|r| r.planner == planner.label)
+        .collect();
+    let _ = writeln!(out, "{}", one_word(&planner.label));
+    let settings: Vec<String> = match planner.factory.resolved() {
+        serde_json::Value::Object(m) => m
+            .iter()
+            .map(|(k, v)| format!("{k} = {v}"))
+            .chain(std::iter::once(format!("planner = {}", planner.name)))
+            .collect(),
+        _ => vec![format!("planner = {}", planner.name)],
+    };
+    let _ = writeln!(out, "{} common properties", settings.len());
+    for s in &settings {
+        let _ = writeln!(out, "{}", line(s));
+    }
+    let mut counters: Vec<&str> = Vec::new();
+    for r in &mine {
+        for (name, _) in r.counters.iter() {
+            if !counters.contains(&name) {
+                counters.push(name);
+            }
+        }
+    }
+    let _ = writeln!(
+        out,
+        "{} properties for each run",
+        FIXED.len() + counters.len()
+    );
+    for (name, kind) in FIXED {
+        let _ = writeln!(out, "{name} {kind}");
+    }
+    for name in &counters {
+        let _ = writeln!(out, "{} INTEGER", one_word(name));
+    }
+    let _ = writeln!(out, "{} runs", mine.len());
+    for r in &mine {
+        let opt = |v: Option<String>| v.unwrap_or_default();
+        let mut values = vec![
+            r.problem.to_string(),
+            r.repeat.to_string(),
+            opt(r.seed.map(|s| s.to_string())),
+            format!("{:.9}", r.time_ms / 1e3),
+            u8::from(r.is_found()).to_string(),
+            format!("{:.6}", r.peak_heap_bytes as f64 / 1048576.0),
+            opt(r.length.map(|v| format!("{v:.6}"))),
+            opt(r.optimal_length.map(|v| format!("{v:.6}"))),
+            opt(r.steps.map(|v| v.to_string())),
+            opt(r.turns.map(|v| v.to_string())),
+            opt(r.valid.map(|v| u8::from(v).to_string())),
+        ];
+        values.extend(
+            counters
+                .iter()
+                .map(|n| opt(r.counters.get(n).map(|v| v.to_string()))),
+        );
+        for v in values {
+            out.push_str(&v);
+            out.push_str("; ");
+        }
+        out.push('\n');
+    }
+    out.push_str(".\n");
 }
 
 /// `text` on one line: every control character (line breaks included) becomes a space.
@@ -186,7 +192,7 @@ fn one_word(text: &str) -> String {
     if word == text && !word.is_empty() {
         word
     } else {
-        format!("{word}-{}", crate::report::short_hash(text))
+        format!("{word}-{}", crate::short_hash(text))
     }
 }
 

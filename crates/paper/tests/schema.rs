@@ -6,7 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
-use planner_runner::{config, registry, schema};
+use planner_registry as registry;
+use planner_runner::{config, schema};
 use serde_json::Value;
 
 fn repo() -> PathBuf {
@@ -14,7 +15,8 @@ fn repo() -> PathBuf {
 }
 
 fn validator() -> jsonschema::Validator {
-    let schema = schema::experiment_schema().expect("the schema builds");
+    let schema = schema::experiment_schema(&planner_paper::renderer().section_names())
+        .expect("the schema builds");
     jsonschema::draft202012::new(&schema).expect("the schema is a valid draft 2020-12 schema")
 }
 
@@ -29,7 +31,7 @@ fn listed_parameters_are_each_configs_serialized_keys_and_defaults() {
     for entry in registry::PLANNERS {
         let factory = (entry.factory)(&toml::Table::new()).expect("default config");
         let resolved = factory.resolved().as_object().expect("a table").clone();
-        let declared = schema::declared(entry.name).expect("declared");
+        let declared = planner_registry::schema::declared(entry.name).expect("declared");
         let keys: Vec<&str> = declared.iter().map(|p| p.key.as_str()).collect();
         let serialized: Vec<&str> = resolved.keys().map(String::as_str).collect();
         // Options left unset serialize as null: still keys of the config.
@@ -66,7 +68,7 @@ fn allowed_values_are_what_the_planner_accepts() {
     // Every listed value of every fixed-set parameter builds the planner alone, and a
     // value outside the set fails, for each planner.
     for entry in registry::PLANNERS {
-        for param in schema::declared(entry.name).expect("declared") {
+        for param in planner_registry::schema::declared(entry.name).expect("declared") {
             for value in &param.allowed {
                 let mut table = toml::Table::new();
                 let value: toml::Value =
@@ -223,7 +225,8 @@ fn schema_keys(schema: &Value) -> Vec<String> {
 
 #[test]
 fn the_schemas_runner_keys_are_the_parsers() {
-    let schema = schema::experiment_schema().expect("schema");
+    let schema =
+        schema::experiment_schema(&planner_paper::renderer().section_names()).expect("schema");
     let top = config::parse(
         Path::new("t.toml"),
         &GOOD.replace("name = \"mine\"", "name = \"mine\"\nzz_unknown = 1"),

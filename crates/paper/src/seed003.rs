@@ -3,8 +3,8 @@
 
 use std::fmt::Write as _;
 
-use super::{median_iqr, Context, Reproduction, Section, MAX_COLUMNS};
-use crate::report::md_cell;
+use planner_report::md_cell;
+use planner_report::{median_iqr, Context, Reproduction, Section, MAX_COLUMNS};
 
 /// Seed 003's time, memory and length tables (section name `seed003`).
 pub struct Seed003;
@@ -14,9 +14,10 @@ impl Section for Seed003 {
         "seed003"
     }
 
-    /// Always: maps with too many problems get a one-line note instead.
+    /// Never by itself: a paper layout shows when a config names it (maps with too many
+    /// problems then get a one-line note instead).
     fn applies(&self, _context: &Context<'_>) -> bool {
-        true
+        false
     }
 
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {

@@ -2,14 +2,16 @@
 //! 160 scenarios x 100 repeats of 8-connected A*) swept by `run_all`, against the same
 //! queries planned in a plain loop with one reused planner, in the same process.
 //!
-//! `cargo bench -p planner-runner --bench sweep` prints, per phase, the wall time, and the
+//! `cargo bench -p gridplan --bench sweep` prints, per phase, the wall time, and the
 //! sum of the records' `time_ms` (the search alone) beside the plain loop's time.
 
 use std::path::Path;
 use std::time::Instant;
 
 use planner_api::{Budget, Planner, Problem};
-use planner_runner::{config, figures, output, report, run_all, RunOptions};
+use planner_report::figures;
+use planner_runner::expanded::ExpandedCells;
+use planner_runner::{config, output, run_all, RunOptions};
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -31,7 +33,7 @@ fn main() {
     let sweep = t.elapsed();
 
     let t = Instant::now();
-    let (summary, _) = report::render(&experiment, &records);
+    let (summary, _) = planner_paper::renderer().summary(&experiment, &records);
     let summary_time = t.elapsed();
     let t = Instant::now();
     let json = output::runs_json(&experiment, &records).unwrap_or_else(|e| panic!("{e}"));
@@ -40,7 +42,7 @@ fn main() {
     let csv = output::runs_csv(&records);
     let csv_time = t.elapsed();
     let t = Instant::now();
-    let n_figures = figures::render(&experiment, &records).len();
+    let n_figures = figures::render(&experiment, &records, &ExpandedCells::default()).len();
     let figures_time = t.elapsed();
 
     let time_ms: f64 = records.iter().map(|r| r.time_ms).sum();

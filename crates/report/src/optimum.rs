@@ -2,9 +2,9 @@
 
 use std::fmt::Write as _;
 
-use super::{Context, Reproduction, Section};
-use crate::record::RunRecord;
-use crate::report::md_cell;
+use crate::md_cell;
+use crate::{Context, Reproduction, Section};
+use planner_runner::record::RunRecord;
 
 /// Relative tolerance for comparing a length with a scenario file's stated optimum: the
 /// older Moving AI files round it to 5-6 significant digits.

@@ -2,9 +2,9 @@
 
 use std::fmt::Write as _;
 
-use super::{median_iqr, Context, Reproduction, Section};
-use crate::record::RunRecord;
-use crate::report::md_cell;
+use crate::md_cell;
+use crate::{median_iqr, Context, Reproduction, Section};
+use planner_runner::record::RunRecord;
 
 /// The repeats table (section name `repeats`).
 pub struct Repeats;

@@ -2,9 +2,9 @@
 
 use std::fmt::Write as _;
 
-use super::{Context, Reproduction, Section};
-use crate::config::PlannerSpec;
-use crate::report::md_cell;
+use planner_report::md_cell;
+use planner_report::{Context, Reproduction, Section};
+use planner_runner::config::PlannerSpec;
 
 /// The coverage table (section name `coverage`).
 pub struct Coverage;
@@ -14,9 +14,9 @@ impl Section for Coverage {
         "coverage"
     }
 
-    /// When the experiment has a coverage planner.
-    fn applies(&self, context: &Context<'_>) -> bool {
-        context.experiment.planners.iter().any(|p| p.is_coverage())
+    /// Never by itself: a paper layout shows when a config names it.
+    fn applies(&self, _context: &Context<'_>) -> bool {
+        false
     }
 
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
@@ -90,7 +90,7 @@ fn means(context: &Context<'_>, planners: &[&PlannerSpec]) -> String {
 
 | Planner | Maps | Coverage | Backtracking points | Marked | Moves | Length | Turns | Revisits | Return moves | A* expansions |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for planner in planners {
-        let runs: Vec<&crate::record::RunRecord> = experiment
+        let runs: Vec<&planner_runner::record::RunRecord> = experiment
             .maps
             .iter()
             .flat_map(|m| {
@@ -103,7 +103,7 @@ fn means(context: &Context<'_>, planners: &[&PlannerSpec]) -> String {
         if runs.is_empty() {
             continue;
         }
-        let mean = |value: &dyn Fn(&crate::record::RunRecord) -> Option<f64>| {
+        let mean = |value: &dyn Fn(&planner_runner::record::RunRecord) -> Option<f64>| {
             let values: Vec<f64> = runs.iter().filter_map(|r| value(r)).collect();
             if values.is_empty() {
                 "-".to_string()
@@ -112,7 +112,9 @@ fn means(context: &Context<'_>, planners: &[&PlannerSpec]) -> String {
             }
         };
         let counter = |name: &'static str| {
-            mean(&move |r: &crate::record::RunRecord| r.counters.get(name).map(|v| v as f64))
+            mean(&move |r: &planner_runner::record::RunRecord| {
+                r.counters.get(name).map(|v| v as f64)
+            })
         };
         let coverage = mean(
             &|r| match (r.counters.get("n_covered"), r.counters.get("n_reachable")) {

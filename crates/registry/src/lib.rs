@@ -1,17 +1,26 @@
 //! The one registry of planners: registry name -> [`Factory`] from a TOML parameter table.
 //!
-//! This is the only module of the runner that names planners. Names are the planner
+//! This is the only crate of the workspace that names planners (tidy checks it: no other
+//! library crate depends on a planner crate, and a planner crate never depends on this
+//! one). The experiment runner, the reports and the paper sections take planners as data
+//! (a [`Factory`] and its registry name) from here. Names are the planner
 //! crates' directory names. Each planner crate owns its `#[serde(deny_unknown_fields)]`
 //! `Config` and a validating constructor whose error implements
 //! [`planner_api::ParamKey`]; [`Factory::path`] and [`Factory::coverage`] do the rest.
 //! `cargo xtask new-planner <name>` adds an entry between the markers below, and the
 //! crate to this crate's `Cargo.toml`.
+//!
+//! - [`factory`]: the typed boundary ([`Factory`], [`Task`], [`Built`]).
+//! - [`schema`]: every planner's declared parameters, from its `Config`.
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+pub mod factory;
+pub mod schema;
 
 use planner_api::ParamError;
 
-use crate::factory::{Factory, Task};
-use crate::report::seed002::{Seed002, Seed002Capso};
-use crate::report::Section;
+pub use factory::{Built, Factory, Task};
 
 /// One registered planner.
 pub struct Entry {
@@ -177,19 +186,6 @@ pub const PLANNERS: &[Entry] = &[
     },
     // (registry end)
 ];
-
-/// The report sections that belong to a planner, beside the generic ones: seed 002's
-/// tables compare PA-star with its references, and CAPSO's lengths and convergence curve.
-pub fn planner_sections() -> Vec<Box<dyn Section>> {
-    vec![
-        Box::new(Seed002 {
-            proposed: planner_pastar::NAME,
-        }),
-        Box::new(Seed002Capso {
-            capso: planner_capso::NAME,
-        }),
-    ]
-}
 
 /// The entry named `name`.
 pub fn find(name: &str) -> Option<&'static Entry> {

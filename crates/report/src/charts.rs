@@ -12,12 +12,12 @@
 use planner_figures::xml_text;
 use plotters::prelude::*;
 
-use crate::config::{ChartSpec, Experiment};
-use crate::index::ResultsIndex;
-use crate::output::OutputFile;
-use crate::record::RunRecord;
-use crate::report::median_iqr;
-use crate::report::optimum::matches_optimum;
+use crate::median_iqr;
+use crate::optimum::matches_optimum;
+use planner_runner::config::{ChartSpec, Experiment};
+use planner_runner::index::ResultsIndex;
+use planner_runner::output::OutputFile;
+use planner_runner::record::RunRecord;
 
 /// One chart: its file (under `charts/`), title and SVG text.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,13 +43,7 @@ pub fn charts(experiment: &Experiment, records: &[RunRecord]) -> Vec<Chart> {
         .iter()
         .map(|p| p.label.as_str())
         .collect();
-    let runs_of = |label: &str| -> Vec<&RunRecord> {
-        valid
-            .iter()
-            .copied()
-            .filter(|r| r.planner == label)
-            .collect()
-    };
+    let runs_of = |label: &str| runs_of(&valid, label);
     let mut out = Vec::new();
     let time: Vec<(String, Vec<f64>)> = labels
         .iter()
@@ -86,50 +80,80 @@ pub fn charts(experiment: &Experiment, records: &[RunRecord]) -> Vec<Chart> {
         ));
     }
     if valid.iter().any(|r| r.bucket.is_some()) {
-        let by_bucket =
-            |value: &dyn Fn(&RunRecord) -> Option<f64>| -> Vec<(String, Vec<(f64, f64)>)> {
-                labels
-                    .iter()
-                    .map(|l| {
-                        let runs = runs_of(l);
-                        let mut buckets: Vec<u32> = runs.iter().filter_map(|r| r.bucket).collect();
-                        buckets.sort_unstable();
-                        buckets.dedup();
-                        let points = buckets
-                            .into_iter()
-                            .filter_map(|b| {
-                                let values: Vec<f64> = runs
-                                    .iter()
-                                    .filter(|r| r.bucket == Some(b))
-                                    .filter_map(|r| value(r))
-                                    .collect();
-                                median_iqr(&values).map(|(m, _, _)| (f64::from(b), m))
-                            })
-                            .collect();
-                        (l.to_string(), points)
-                    })
-                    .collect()
-            };
-        out.push(line_chart(
-            "expansions-by-bucket.svg",
-            "Median expansions against scenario bucket (optimal length / 4)",
-            "scenario bucket",
-            "median n_expanded (cells)",
-            &by_bucket(&|r| r.counters.get("n_expanded").map(|v| v as f64)),
-        ));
-        out.push(line_chart(
-            "time-by-bucket.svg",
-            "Median search time against scenario bucket (optimal length / 4)",
-            "scenario bucket",
-            "median time (ms)",
-            &by_bucket(&|r| Some(r.time_ms)),
-        ));
+        out.extend(bucket_charts(&valid, &labels));
     }
+    out.push(success_chart(&valid, &labels));
+    let specs: Vec<ChartSpec> = if experiment.charts.is_empty() {
+        default_study(experiment).into_iter().collect()
+    } else {
+        experiment.charts.clone()
+    };
+    for (i, spec) in specs.iter().enumerate() {
+        out.push(study_chart(i, spec, experiment, records));
+    }
+    out
+}
+
+/// The valid runs of `label` among `valid`.
+fn runs_of<'a>(valid: &[&'a RunRecord], label: &str) -> Vec<&'a RunRecord> {
+    valid
+        .iter()
+        .copied()
+        .filter(|r| r.planner == label)
+        .collect()
+}
+
+/// Median expansions and time against the scenario bucket, one line per label.
+fn bucket_charts(valid: &[&RunRecord], labels: &[&str]) -> Vec<Chart> {
+    let mut charts = Vec::new();
+    let by_bucket = |value: &dyn Fn(&RunRecord) -> Option<f64>| -> Vec<(String, Vec<(f64, f64)>)> {
+        labels
+            .iter()
+            .map(|l| {
+                let runs = runs_of(valid, l);
+                let mut buckets: Vec<u32> = runs.iter().filter_map(|r| r.bucket).collect();
+                buckets.sort_unstable();
+                buckets.dedup();
+                let points = buckets
+                    .into_iter()
+                    .filter_map(|b| {
+                        let values: Vec<f64> = runs
+                            .iter()
+                            .filter(|r| r.bucket == Some(b))
+                            .filter_map(|r| value(r))
+                            .collect();
+                        median_iqr(&values).map(|(m, _, _)| (f64::from(b), m))
+                    })
+                    .collect();
+                (l.to_string(), points)
+            })
+            .collect()
+    };
+    charts.push(line_chart(
+        "expansions-by-bucket.svg",
+        "Median expansions against scenario bucket (optimal length / 4)",
+        "scenario bucket",
+        "median n_expanded (cells)",
+        &by_bucket(&|r| r.counters.get("n_expanded").map(|v| v as f64)),
+    ));
+    charts.push(line_chart(
+        "time-by-bucket.svg",
+        "Median search time against scenario bucket (optimal length / 4)",
+        "scenario bucket",
+        "median time (ms)",
+        &by_bucket(&|r| Some(r.time_ms)),
+    ));
+    charts
+}
+
+/// The share of each label's runs that found a path (and, with stated optima, that
+/// found an optimal one).
+fn success_chart(valid: &[&RunRecord], labels: &[&str]) -> Chart {
     let stated = valid.iter().any(|r| r.optimal_length.is_some());
     let bars: Vec<(String, Vec<f64>)> = labels
         .iter()
         .map(|l| {
-            let runs = runs_of(l);
+            let runs = runs_of(valid, l);
             let n = runs.len().max(1) as f64;
             let found = runs.iter().filter(|r| r.is_found()).count() as f64;
             let mut values = vec![100.0 * found / n];
@@ -152,7 +176,7 @@ pub fn charts(experiment: &Experiment, records: &[RunRecord]) -> Vec<Chart> {
     } else {
         &["found"]
     };
-    out.push(bar_chart(
+    bar_chart(
         "success.svg",
         if stated {
             "Success and optimality per planner"
@@ -162,16 +186,7 @@ pub fn charts(experiment: &Experiment, records: &[RunRecord]) -> Vec<Chart> {
         "share of runs (%)",
         series,
         &bars,
-    ));
-    let specs: Vec<ChartSpec> = if experiment.charts.is_empty() {
-        default_study(experiment).into_iter().collect()
-    } else {
-        experiment.charts.clone()
-    };
-    for (i, spec) in specs.iter().enumerate() {
-        out.push(study_chart(i, spec, experiment, records));
-    }
-    out
+    )
 }
 
 /// The chart files of the sweep.

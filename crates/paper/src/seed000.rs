@@ -5,9 +5,10 @@
 
 use std::fmt::Write as _;
 
-use super::{map_stem, Context, Reproduction, Section, MAX_COLUMNS};
-use crate::record::RunRecord;
-use crate::report::md_cell;
+use planner_report::md_cell;
+use planner_report::{Context, Reproduction, Section, MAX_COLUMNS};
+use planner_runner::config::map_stem;
+use planner_runner::record::RunRecord;
 
 /// Seed 000's quality and search-effort tables (section name `seed000`).
 pub struct Seed000;
@@ -17,9 +18,10 @@ impl Section for Seed000 {
         "seed000"
     }
 
-    /// Always: maps with too many problems get a one-line note instead.
+    /// Never by itself: a paper layout shows when a config names it (maps with too many
+    /// problems then get a one-line note instead).
     fn applies(&self, _context: &Context<'_>) -> bool {
-        true
+        false
     }
 
     fn render(&self, context: &Context<'_>, out: &mut String, reproduction: &mut Reproduction) {

@@ -10,8 +10,8 @@ use std::path::PathBuf;
 use planner_api::{Grid, Path};
 use planner_figures::{draw_comparison, draw_timeline, Layer, Layout, Marker, Style};
 
-use crate::output::OutputFile;
-use crate::record::RunRecord;
+use planner_runner::output::OutputFile;
+use planner_runner::record::RunRecord;
 
 /// The figures of one coverage run, `<base>.svg` and `<base>-returns.svg`: the path
 /// coloured by time with the backtracking points returned to marked `B1`, `B2`, ... in

@@ -2,7 +2,8 @@
 
 use std::fmt::Write as _;
 
-use super::{md_cell, Context, Reproduction, Section};
+use crate::md_cell;
+use crate::{Context, Reproduction, Section};
 
 /// The charts (section name `charts`).
 pub struct Charts;

@@ -1,0 +1,120 @@
+//! The command line's documented exit codes (README.md): 2 usage, 3 config, 4 map or
+//! problem, 5 output refused, 1 anything else; 130 (interrupted) is xtask's sweeps test's.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gridplan-exit-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs gridplan with `args`; returns its exit code and stderr.
+fn gridplan(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A config of one seed-000 map and BFS, with `extra` top-level keys.
+fn config(dir: &Path, extra: &str) -> String {
+    let map = root().join("maps/paper/map01.map");
+    let path = dir.join("c.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "name = \"c\"\n{extra}\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"bfs\"\n",
+            map.display().to_string()
+        ),
+    )
+    .unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    assert_eq!(gridplan(&[]).0, 2, "clap's own usage error");
+    let (code, err) = gridplan(&["plan", "maps/paper/map01.map", "--planner", "nosuch"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("unknown planner `nosuch`"), "{err}");
+    let (code, err) = gridplan(&["planners", "nosuch"]);
+    assert_eq!(code, 2, "{err}");
+    let dir = scratch("usage");
+    let (code, err) = gridplan(&["experiment", &config(&dir, ""), "--shard", "3/2"]);
+    assert_eq!(code, 2, "{err}");
+}
+
+#[test]
+fn config_errors_exit_3_with_their_position() {
+    let dir = scratch("config");
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "name = 5\n").unwrap();
+    let (code, err) = gridplan(&["experiment", &bad.display().to_string()]);
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("bad.toml:1:"), "{err}");
+    // An unknown summary section is the report's to refuse, still a config error at its key.
+    let (code, err) = gridplan(&["experiment", &config(&dir, "sections = [\"nosuch\"]")]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("c.toml:2:12: key `sections`: unknown section \"nosuch\""),
+        "{err}"
+    );
+    let (code, err) = gridplan(&["experiment", &config(&dir, "sections = [\"seed002\"]")]);
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("needs `proposed`"), "{err}");
+}
+
+#[test]
+fn map_and_problem_errors_exit_4() {
+    let dir = scratch("map");
+    let map = dir.join("bad.map");
+    std::fs::write(&map, "type octile\nheight x\n").unwrap();
+    let (code, err) = gridplan(&["plan", &map.display().to_string(), "--planner", "astar"]);
+    assert_eq!(code, 4, "{err}");
+    let (code, err) = gridplan(&[
+        "plan",
+        "maps/paper/map01.map",
+        "--planner",
+        "astar",
+        "--start",
+        "0,0",
+        "--goal",
+        "9999,9999",
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert!(err.contains("goal"), "{err}");
+}
+
+#[test]
+fn a_refused_output_exits_5_and_is_left_alone() {
+    let dir = scratch("output");
+    let file = dir.join("not-a-dir");
+    std::fs::write(&file, "mine").unwrap();
+    let (code, err) = gridplan(&[
+        "experiment",
+        &config(&dir, ""),
+        "--quiet",
+        "--output",
+        &file.display().to_string(),
+    ]);
+    assert_eq!(code, 5, "{err}");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+    // `report` refuses a directory that is not gridplan's results the same way.
+    let mine = dir.join("mine");
+    std::fs::create_dir_all(&mine).unwrap();
+    std::fs::write(mine.join("notes.txt"), "mine").unwrap();
+    let (code, err) = gridplan(&["report", &mine.display().to_string()]);
+    assert_eq!(code, 5, "{err}");
+}

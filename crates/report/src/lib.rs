@@ -1,0 +1,397 @@
+//! gridplan's reports: a pure function from a sweep's results to its report files.
+//!
+//! summary.md is a list of [`Section`]s, each one kind of table: the scenario optima
+//! ([`optimum`]), repeated runs ([`repeats`]), the aggregates of any sweep ([`aggregate`])
+//! and its charts ([`chart_section`]) here; the seeds' table layouts are planner-paper's.
+//! A config names the sections it wants with `sections = [...]` (a name, or a table with
+//! its `name` and the section's options); without the key every section decides from the
+//! experiment and its records whether it applies. Deterministic values come from repeat 0;
+//! times are medians over repeats.
+//!
+//! [`Renderer`] turns a whole sweep's results ([`planner_runner::sweep::Results`]: the
+//! experiment, its records, the expanded cells recorded at run time, the provenance) into
+//! summary.md, the figures ([`figures`], [`coverage_figures`]), the charts ([`charts`]),
+//! the OMPL logs ([`ompl`]), paths.jsonl and report.html ([`html`]). It runs no planner:
+//! a results directory renders the same wherever it comes from (one run, merged shards,
+//! `gridplan report DIR`).
+#![deny(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::unwrap_used))]
+
+pub mod aggregate;
+pub mod chart_section;
+pub mod charts;
+pub mod coverage_figures;
+pub mod figures;
+pub mod html;
+pub mod ompl;
+pub mod optimum;
+pub mod repeats;
+
+use std::fmt::Write as _;
+
+use planner_runner::config::{ConfigError, Experiment};
+use planner_runner::index::ResultsIndex;
+use planner_runner::output::OutputFile;
+use planner_runner::provenance::Provenance;
+pub use planner_runner::record::Reproduction;
+use planner_runner::record::RunRecord;
+use planner_runner::sweep::{Render, Results};
+use planner_runner::RunnerError;
+
+/// Largest number of map columns in one seed-000 style table, and of problems per map in
+/// the per-problem tables.
+pub const MAX_COLUMNS: usize = 12;
+
+/// What a section reads.
+pub struct Context<'a> {
+    /// The experiment.
+    pub experiment: &'a Experiment,
+    /// Its records, in the run list's order.
+    pub records: &'a [RunRecord],
+    /// Lookups into the records.
+    pub index: &'a ResultsIndex<'a>,
+    /// The section's options from the config (`sections = [{ name = ..., ... }]`; empty
+    /// when the config names the section bare or names no sections).
+    pub options: &'a toml::Table,
+}
+
+/// One part of summary.md.
+pub trait Section: Send + Sync {
+    /// The name configs use in `sections = [...]`.
+    fn name(&self) -> &'static str;
+
+    /// Whether the section has anything to say about this experiment (used when the
+    /// config names no sections).
+    fn applies(&self, context: &Context<'_>) -> bool;
+
+    /// Checks the section's options (the config's table for it without `name`); by
+    /// default a section takes none.
+    fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
+        match options.keys().next() {
+            Some(key) => Err(OptionError(format!(
+                "section {:?} takes no option `{key}`",
+                self.name()
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// Appends the section's markdown to `out` and counts compared published numbers.
+    fn render(&self, context: &Context<'_>, out: &mut String, reproduction: &mut Reproduction);
+}
+
+/// A section's options that do not fit it (reported at the config's `sections` key).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct OptionError(pub String);
+
+/// The generic sections of this crate, by name: `optimum`, `repeats`, `aggregate` and
+/// `charts`. A catalogue (planner-paper's) places them among the seeds' layouts.
+pub fn generic_section(name: &str) -> Option<Box<dyn Section>> {
+    let section: Box<dyn Section> = match name {
+        "optimum" => Box::new(optimum::Optimum),
+        "repeats" => Box::new(repeats::Repeats),
+        "aggregate" => Box::new(aggregate::Aggregate),
+        "charts" => Box::new(chart_section::Charts),
+        _ => return None,
+    };
+    Some(section)
+}
+
+/// A report: its catalogue of sections, in the order summary.md places them.
+pub struct Renderer {
+    sections: Vec<Box<dyn Section>>,
+}
+
+impl Renderer {
+    /// A report with `sections`, in the order summary.md places them.
+    pub fn new(sections: Vec<Box<dyn Section>>) -> Renderer {
+        Renderer { sections }
+    }
+
+    /// The names of every section, for config errors and the config schema.
+    pub fn section_names(&self) -> Vec<&'static str> {
+        self.sections.iter().map(|s| s.name()).collect()
+    }
+
+    /// Renders summary.md and returns it with the reproduction counts.
+    pub fn summary(
+        &self,
+        experiment: &Experiment,
+        records: &[RunRecord],
+    ) -> (String, Reproduction) {
+        self.summary_with(experiment, records, None)
+    }
+
+    /// Renders summary.md with the sweep's provenance at the top, if given.
+    pub fn summary_with(
+        &self,
+        experiment: &Experiment,
+        records: &[RunRecord],
+        provenance: Option<&Provenance>,
+    ) -> (String, Reproduction) {
+        let index = ResultsIndex::new(records);
+        let empty = toml::Table::new();
+        let mut out = String::new();
+        let mut reproduction = Reproduction::default();
+        header(experiment, records, &mut out);
+        if let Some(provenance) = provenance {
+            out.push_str(&provenance.markdown());
+        }
+        for section in &self.sections {
+            let options = match &experiment.sections {
+                Some(asked) => match asked.get(section.name()) {
+                    Some(request) => &request.options,
+                    None => continue,
+                },
+                None => &empty,
+            };
+            let context = Context {
+                experiment,
+                records,
+                index: &index,
+                options,
+            };
+            if experiment.sections.is_some() || section.applies(&context) {
+                section.render(&context, &mut out, &mut reproduction);
+            }
+        }
+        (out, reproduction)
+    }
+
+    /// Every report file of a whole sweep's results, in the order they are written:
+    /// summary.md, figures, charts, OMPL logs (when the config asks), paths.jsonl (when
+    /// the config keeps paths) and report.html.
+    pub fn files(
+        &self,
+        results: &Results<'_>,
+    ) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
+        let experiment = results.experiment;
+        let records = results.records;
+        let (summary, reproduction) =
+            self.summary_with(experiment, records, Some(results.provenance));
+        let mut all = vec![OutputFile {
+            path: "summary.md".into(),
+            contents: summary.into_bytes(),
+        }];
+        all.extend(figures::render(experiment, records, results.expanded));
+        all.extend(charts::render(experiment, records));
+        if experiment.ompl {
+            all.extend(ompl::logs(
+                experiment,
+                records,
+                results.provenance,
+                results.seconds,
+            ));
+        }
+        if let Some(paths) = planner_runner::output::paths_jsonl(records)? {
+            all.push(OutputFile {
+                path: "paths.jsonl".into(),
+                contents: paths,
+            });
+        }
+        let summary = String::from_utf8_lossy(&all[0].contents).into_owned();
+        let page = html::report_html(&experiment.name, &summary, &all);
+        all.push(OutputFile {
+            path: "report.html".into(),
+            contents: page.into_bytes(),
+        });
+        Ok((all, reproduction))
+    }
+}
+
+impl Render for Renderer {
+    /// The config's `sections` name known sections, each with options it takes.
+    fn check(&self, experiment: &Experiment) -> Result<(), ConfigError> {
+        let Some(asked) = &experiment.sections else {
+            return Ok(());
+        };
+        for request in &asked.requests {
+            let Some(section) = self.sections.iter().find(|s| s.name() == request.name) else {
+                return Err(asked.error(format!(
+                    "unknown section {:?}, expected some of {}",
+                    request.name,
+                    self.section_names().join(", ")
+                )));
+            };
+            section
+                .check(&request.options)
+                .map_err(|e| asked.error(e))?;
+        }
+        Ok(())
+    }
+
+    fn render(
+        &self,
+        results: &Results<'_>,
+    ) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
+        self.files(results)
+    }
+}
+
+fn header(experiment: &Experiment, records: &[RunRecord], out: &mut String) {
+    let _ = writeln!(out, "# Experiment `{}`\n", experiment.name);
+    if let Some(description) = &experiment.description {
+        let _ = writeln!(out, "{}\n", description.trim());
+    }
+    let n_problems: usize = experiment.maps.iter().map(|m| m.problems.len()).sum();
+    let _ = writeln!(
+        out,
+        "Config `{}`: {} maps, {} problems, {} planner configurations, {} repeat(s), {} runs.\n",
+        experiment.source.display(),
+        experiment.maps.len(),
+        n_problems,
+        experiment.planners.len(),
+        experiment.repeats,
+        records.len()
+    );
+    let inadmissible: Vec<String> = experiment
+        .planners
+        .iter()
+        .filter(|p| p.factory.specs().admissible == Some(false))
+        .map(|p| format!("`{}`", p.label))
+        .collect();
+    if !inadmissible.is_empty() {
+        let _ = writeln!(
+            out,
+            "Not optimal by design: {} use a heuristic that can overestimate under their moves (or a weight above 1); their runs are recorded `admissible = false`.\n",
+            inadmissible.join(", ")
+        );
+    }
+    let invalid: Vec<&RunRecord> = records
+        .iter()
+        .filter(|r| r.is_invalid() && r.planner == experiment.planners[0].label)
+        .collect();
+    if !invalid.is_empty() {
+        let _ = writeln!(out, "Invalid problems (not run):\n");
+        for r in invalid {
+            let _ = writeln!(
+                out,
+                "- {} problem {} {} -> {}: {}",
+                md_cell(&r.map),
+                r.problem,
+                r.start,
+                r.goal,
+                r.error.as_deref().unwrap_or("invalid")
+            );
+        }
+        out.push('\n');
+    }
+}
+
+/// The median and interquartile range (quartiles by linear interpolation between order
+/// statistics, the "type 7" rule of R and numpy's default) of `values`.
+pub fn median_iqr(values: &[f64]) -> Option<(f64, f64, f64)> {
+    if values.is_empty() {
+        return None;
+    }
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let q = |p: f64| {
+        let h = (sorted.len() - 1) as f64 * p;
+        let lo = h.floor() as usize;
+        let hi = h.ceil() as usize;
+        sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
+    };
+    Some((q(0.5), q(0.25), q(0.75)))
+}
+
+/// `text` as part of a file name: ASCII letters, digits, `-`, `_` and `.` are kept and any
+/// other character becomes `_`; if any did, a `-` and the first 8 hex digits of the
+/// SHA-256 of `text` follow, so that names differing only in replaced characters (`p q`
+/// and `p_q`) stay apart. Names of plain characters are unchanged. [`FileNames`] also
+/// catches the names that would still meet (one output per name).
+///
+/// ```
+/// use planner_report::file_part;
+/// assert_eq!(file_part("map01"), "map01");
+/// assert_ne!(file_part("p q"), file_part("p_q"));
+/// assert!(file_part("p q").starts_with("p_q-"));
+/// ```
+pub fn file_part(text: &str) -> String {
+    let safe: String = text
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if safe == text && !text.is_empty() && !text.starts_with('.') {
+        return safe;
+    }
+    format!("{safe}-{}", short_hash(text))
+}
+
+/// The first 8 hex digits of the SHA-256 of `text`.
+pub(crate) fn short_hash(text: &str) -> String {
+    use sha2::{Digest, Sha256};
+    Sha256::digest(text.as_bytes())
+        .iter()
+        .take(4)
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// The output file names of one kind handed out so far, so that two outputs never share
+/// one: [`FileNames::claim`] returns the name asked for, or, when another output took it
+/// already, that name with the hash of what this output is (its `key`, e.g. map, problem
+/// and label) before the extension, and a counter should that be taken too.
+#[derive(Debug, Default)]
+pub struct FileNames {
+    used: std::collections::HashSet<String>,
+}
+
+impl FileNames {
+    /// A name for the output `key`, `wanted` if free (`wanted` ends in `.ext`).
+    pub fn claim(&mut self, wanted: String, key: &str) -> String {
+        if self.used.insert(wanted.clone()) {
+            return wanted;
+        }
+        let (stem, ext) = wanted
+            .rsplit_once('.')
+            .map_or((wanted.as_str(), ""), |(s, e)| (s, e));
+        let dot = if ext.is_empty() { "" } else { "." };
+        let hashed = format!("{stem}-{}", short_hash(key));
+        let mut candidate = format!("{hashed}{dot}{ext}");
+        let mut n = 2;
+        while !self.used.insert(candidate.clone()) {
+            candidate = format!("{hashed}-{n}{dot}{ext}");
+            n += 1;
+        }
+        candidate
+    }
+}
+
+/// `text` for one cell of a markdown table: `|` escaped, line breaks and other control
+/// characters as spaces, so it cannot end the row or add a column.
+///
+/// ```
+/// assert_eq!(planner_report::md_cell("a|b\nc"), "a\\|b c");
+/// ```
+pub fn md_cell(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '|' => out.push_str("\\|"),
+            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') => out.push(' '),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::median_iqr;
+
+    #[test]
+    fn quartiles_follow_type_7() {
+        // numpy.percentile([1, 2, 3, 4], [25, 50, 75]) = [1.75, 2.5, 3.25].
+        assert_eq!(median_iqr(&[4.0, 1.0, 3.0, 2.0]), Some((2.5, 1.75, 3.25)));
+        assert_eq!(median_iqr(&[7.0]), Some((7.0, 7.0, 7.0)));
+        assert_eq!(median_iqr(&[]), None);
+    }
+}
