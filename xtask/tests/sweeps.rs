@@ -87,6 +87,34 @@ fn figures(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
         .collect()
 }
 
+/// The OMPL logs of a results directory without what timing decides: the `Starting at`
+/// and `seconds spent` lines, and the `time` and `memory` values (fields 4 and 6) of each
+/// run line.
+fn ompl_logs(dir: &Path) -> std::collections::BTreeMap<String, Vec<String>> {
+    let logs: std::collections::BTreeMap<String, Vec<String>> = files(dir)
+        .into_iter()
+        .filter(|(name, _)| name.starts_with("ompl/"))
+        .map(|(name, bytes)| {
+            let text = String::from_utf8(bytes).unwrap();
+            let lines = text
+                .lines()
+                .filter(|l| !l.starts_with("Starting at ") && !l.contains("seconds spent"))
+                .map(|l| {
+                    let mut fields: Vec<&str> = l.split("; ").collect();
+                    if fields.len() > 6 {
+                        fields[3] = "";
+                        fields[5] = "";
+                    }
+                    fields.join("; ")
+                })
+                .collect();
+            (name, lines)
+        })
+        .collect();
+    assert!(!logs.is_empty(), "no OMPL logs in {}", dir.display());
+    logs
+}
+
 fn deterministic_csv(dir: &Path) -> Vec<String> {
     fs::read_to_string(dir.join("runs.csv"))
         .unwrap()
@@ -145,6 +173,9 @@ fn three_shards_merged_equal_one_run() {
     );
     assert!(one_files.keys().any(|f| f.ends_with("-expanded.svg")));
     assert_eq!(figures(&dir.join("one")), figures(&dir.join("merged")));
+    // The OMPL logs too, timing aside (the collection time and start date, and each
+    // run's time and memory, as runs.csv's comparison leaves them out).
+    assert_eq!(ompl_logs(&dir.join("one")), ompl_logs(&dir.join("merged")));
     // `report` re-renders a results directory in place from what it holds, byte for byte
     // (its provenance and times are the recorded ones); on the merged shards too.
     xtask(&["report", &d("one")]);

@@ -2,8 +2,8 @@
 //! job array of N tasks (task K runs `experiment CONFIG --shard K/N`) and a merge job.
 //! Submitting them (`--submit`: the merge with `--dependency=afterok:<array>` and
 //! `--kill-on-invalid-dep=yes`, so a failed task cancels the merge instead of leaving it
-//! pending forever) spawns `sbatch`, which the command line does ([`Jobs::submit_args`]
-//! gives the arguments); this module writes files only.
+//! pending forever) spawns `sbatch`, which the command line does ([`Jobs::array_args`] and
+//! [`Jobs::merge_args`] give the arguments); this module writes files only.
 //!
 //! For an output directory `DIR` (default: the config's), the scripts, the shards'
 //! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`
