@@ -11,8 +11,8 @@
 //!
 //! [`BitGrid`] is the planner's copy of the grid, one bit per cell, and
 //! [`BitGrid::segment_collision`] the same measure as [`segment_collision`] (tested equal)
-//! with the traversal stepped inline on the packed rows: a fitness evaluation walks every
-//! segment of its path, so this loop is most of CAPSO's time.
+//! computed a row (or column) at a time with word masks: a fitness evaluation walks every
+//! segment of its path, so this is a large part of CAPSO's time.
 
 use planner_api::{for_each_segment_cell, Cell, Grid};
 
@@ -63,23 +63,22 @@ pub fn segment_collision(grid: &Grid, a: Cell, b: Cell) -> Collision {
     collision
 }
 
-/// The grid's blocked cells packed one bit per cell, row by row (each row padded to whole
-/// 64-bit words), kept between searches and rebuilt only when the grid's
-/// [`revision`](Grid::revision) changes.
+/// The grid's blocked cells packed one bit per cell twice: row by row and column by
+/// column (each line padded to whole 64-bit words), kept between searches and rebuilt
+/// only when the grid's [`revision`](Grid::revision) changes.
 #[derive(Debug, Clone, Default)]
 pub struct BitGrid {
     width: u32,
     height: u32,
+    /// Words per row of `rows` and per column of `columns`.
     words_per_row: usize,
-    blocked: Vec<u64>,
-    /// Per cell, the Chebyshev distance to the nearest blocked cell, capped at
-    /// [`MAX_CLEARANCE`] (0 for a blocked cell; cells outside the grid do not count).
-    clearance: Vec<u8>,
+    words_per_column: usize,
+    /// Bit `x % 64` of word `y * words_per_row + x / 64` is set when `(x, y)` is blocked.
+    rows: Vec<u64>,
+    /// Bit `y % 64` of word `x * words_per_column + y / 64` is set when `(x, y)` is blocked.
+    columns: Vec<u64>,
     revision: Option<u64>,
 }
-
-/// The cap of the stored clearance.
-pub const MAX_CLEARANCE: u8 = 255;
 
 impl BitGrid {
     /// An empty bit grid; [`BitGrid::load`] fills it.
@@ -87,11 +86,10 @@ impl BitGrid {
         BitGrid::default()
     }
 
-    /// The bytes [`BitGrid::load`] allocates for `grid`: the packed rows and a clearance
-    /// byte per cell.
+    /// The bytes [`BitGrid::load`] allocates for `grid`: the packed rows and columns.
     pub fn bytes_for(grid: &Grid) -> u64 {
-        (u64::from(grid.width()).div_ceil(64) * 8 + u64::from(grid.width()))
-            * u64::from(grid.height())
+        let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
+        (w.div_ceil(64) * h + h.div_ceil(64) * w) * 8
     }
 
     /// Makes this the packed copy of `grid` (nothing to do when it already is).
@@ -103,78 +101,22 @@ impl BitGrid {
         }
         self.width = grid.width();
         self.height = grid.height();
-        self.words_per_row = (grid.width() as usize).div_ceil(64);
-        self.blocked.clear();
-        self.blocked
-            .resize(self.words_per_row * grid.height() as usize, 0);
-        for (row, free) in grid.free_cells().chunks(grid.width() as usize).enumerate() {
-            let words = &mut self.blocked[row * self.words_per_row..(row + 1) * self.words_per_row];
+        let (w, h) = (grid.width() as usize, grid.height() as usize);
+        self.words_per_row = w.div_ceil(64);
+        self.words_per_column = h.div_ceil(64);
+        self.rows.clear();
+        self.rows.resize(self.words_per_row * h, 0);
+        self.columns.clear();
+        self.columns.resize(self.words_per_column * w, 0);
+        for (y, free) in grid.free_cells().chunks(w).enumerate() {
             for (x, &free) in free.iter().enumerate() {
                 if !free {
-                    words[x / 64] |= 1 << (x % 64);
+                    self.rows[y * self.words_per_row + x / 64] |= 1 << (x % 64);
+                    self.columns[x * self.words_per_column + y / 64] |= 1 << (y % 64);
                 }
             }
         }
-        self.load_clearance(grid);
         self.revision = Some(grid.revision());
-    }
-
-    /// The chessboard distance transform (Rosenfeld and Pfaltz 1966): a forward pass over
-    /// the rows with the four neighbours before a cell and a backward pass with the four
-    /// after it give every cell its exact Chebyshev distance to the nearest blocked cell.
-    fn load_clearance(&mut self, grid: &Grid) {
-        let (w, h) = (grid.width() as usize, grid.height() as usize);
-        let c = &mut self.clearance;
-        c.clear();
-        c.extend(
-            grid.free_cells()
-                .iter()
-                .map(|&free| if free { MAX_CLEARANCE } else { 0 }),
-        );
-        for y in 0..h {
-            for x in 0..w {
-                let i = y * w + x;
-                let mut d = c[i];
-                if x > 0 {
-                    d = d.min(c[i - 1].saturating_add(1));
-                }
-                if y > 0 {
-                    d = d.min(c[i - w].saturating_add(1));
-                    if x > 0 {
-                        d = d.min(c[i - w - 1].saturating_add(1));
-                    }
-                    if x + 1 < w {
-                        d = d.min(c[i - w + 1].saturating_add(1));
-                    }
-                }
-                c[i] = d;
-            }
-        }
-        for y in (0..h).rev() {
-            for x in (0..w).rev() {
-                let i = y * w + x;
-                let mut d = c[i];
-                if x + 1 < w {
-                    d = d.min(c[i + 1].saturating_add(1));
-                }
-                if y + 1 < h {
-                    d = d.min(c[i + w].saturating_add(1));
-                    if x + 1 < w {
-                        d = d.min(c[i + w + 1].saturating_add(1));
-                    }
-                    if x > 0 {
-                        d = d.min(c[i + w - 1].saturating_add(1));
-                    }
-                }
-                c[i] = d;
-            }
-        }
-    }
-
-    /// The Chebyshev distance from `(x, y)` to the nearest blocked cell, capped at
-    /// [`MAX_CLEARANCE`]. Precondition: the cell lies in the grid.
-    pub fn clearance(&self, x: u32, y: u32) -> u8 {
-        self.clearance[y as usize * self.width as usize + x as usize]
     }
 
     /// Width in cells.
@@ -190,97 +132,89 @@ impl BitGrid {
     /// Whether the cell `(x, y)` is blocked. Precondition: it lies in the grid.
     #[inline]
     pub fn is_blocked(&self, x: u32, y: u32) -> bool {
-        let word = self.blocked[y as usize * self.words_per_row + x as usize / 64];
+        let word = self.rows[y as usize * self.words_per_row + x as usize / 64];
         word >> (x % 64) & 1 == 1
     }
 
     /// [`segment_collision`] on the packed grid: the blocked cells that the segment
     /// between the centres of `a` and `b` touches (the cells of
-    /// [`for_each_segment_cell`], in the same order, by the same integer decision
-    /// variable) and its length inside them. Precondition: `a` and `b` lie in the grid, so
-    /// every visited cell does (they lie in the two cells' bounding box).
+    /// [`for_each_segment_cell`]) and its length inside them. Precondition: `a` and `b`
+    /// lie in the grid, so every touched cell does (they lie in the two cells' bounding
+    /// box).
     ///
-    /// Free stretches are skipped by clearance: at a cell of clearance `r >= 3` every
-    /// cell within Chebyshev distance `r - 1` is free, and the walk's next cells up to
-    /// `j = r - 2` crossings further along the major axis lie within it (the minor
-    /// coordinate advances at most once between two major crossings, so at most `j + 1`),
-    /// so the walk jumps to the state right after the `j`-th major crossing: major count
-    /// `k`, and minor count the number of minor crossings at or before it,
-    /// `floor(((2 k - 1) n_minor + n_major) / (2 n_major))` (crossing `k` of an axis with
-    /// `n` steps is at parameter `(2 k - 1) / (2 n)`). The blocked cells visited, and
-    /// their order, are those of the full walk (tested against it).
+    /// The segment is cut along its major axis `M` (the longer extent `n_M`; x on a tie)
+    /// into the lines of its minor axis `m` (`n_m + 1` rows or columns). On line `j` it
+    /// spans the major parameter `[n_M (2 j - 1), n_M (2 j + 1)] / (2 n_m)` (clipped to
+    /// `[0, n_M]`), so the closed squares it meets there are the major offsets from
+    /// `ceil((n_M (2 j - 1) - n_m) / (2 n_m))` to `floor((n_M (2 j + 1) + n_m) / (2 n_m))`,
+    /// kept exactly by an integer quotient and remainder stepped once per line. Each such
+    /// run is tested with one or two word masks on the packed line ([`BitGrid`] keeps the
+    /// columns packed too, for segments whose major axis is y), and only its blocked cells
+    /// are visited, in order along the segment. The blocked cells with length inside come
+    /// in the same order as in the cell-by-cell walk, so the length is the same sum, bit
+    /// for bit (tested).
     pub fn segment_collision(&self, a: Cell, b: Cell) -> Collision {
-        let nx = i64::from(a.x.abs_diff(b.x));
-        let ny = i64::from(a.y.abs_diff(b.y));
-        let sx: i64 = if b.x >= a.x { 1 } else { -1 };
-        let sy: i64 = if b.y >= a.y { 1 } else { -1 };
-        let width = self.width as i64;
-        // Flat index steps; every visited cell lies in the bounding box of a and b, so
-        // every index is in range.
-        let (step_x, step_y) = (sx, sy * width);
-        let mut index = i64::from(a.y) * width + i64::from(a.x);
+        let (nx, ny) = (a.x.abs_diff(b.x), a.y.abs_diff(b.y));
+        let x_major = nx >= ny;
+        let (n_major, n_minor, a_major, a_minor, major_forward, minor_forward) = if x_major {
+            (nx, ny, a.x, a.y, b.x >= a.x, b.y >= a.y)
+        } else {
+            (ny, nx, a.y, a.x, b.y >= a.y, b.x >= a.x)
+        };
+        let (lines, words_per_line) = if x_major {
+            (&self.rows, self.words_per_row)
+        } else {
+            (&self.columns, self.words_per_column)
+        };
         let mut collision = Collision::default();
         let mut fraction = 0.0;
-        let (mut ix, mut iy) = (0i64, 0i64);
-        // (1 + 2 ix) ny - (1 + 2 iy) nx, kept up to date with ix and iy.
-        let mut decision = ny - nx;
-        loop {
-            let clearance = self.clearance[index as usize];
-            if clearance == 0 {
-                blocked_cell(
-                    a,
-                    b,
-                    walk_cell(a, sx, sy, ix, iy),
-                    &mut collision,
-                    &mut fraction,
-                );
-            }
-            if ix >= nx && iy >= ny {
-                break;
-            }
-            if clearance >= 3 {
-                let j = i64::from(clearance) - 2;
-                let jumped = if nx >= ny && ix < nx {
-                    ix = (ix + j).min(nx);
-                    iy = (((2 * ix - 1) * ny + nx) / (2 * nx)).min(ny);
-                    true
-                } else if ny > nx && iy < ny {
-                    iy = (iy + j).min(ny);
-                    ix = (((2 * iy - 1) * nx + ny) / (2 * ny)).min(nx);
-                    true
-                } else {
-                    false
-                };
-                if jumped {
-                    index = (i64::from(a.y) + sy * iy) * width + i64::from(a.x) + sx * ix;
-                    decision = (1 + 2 * ix) * ny - (1 + 2 * iy) * nx;
-                    continue;
-                }
-            }
-            // The next crossing: a vertical grid line when decision < 0, a horizontal one
-            // when > 0, both at a vertex (the two side cells first).
-            if decision == 0 {
-                for (side, (jx, jy)) in [
-                    (index + step_x, (ix + 1, iy)),
-                    (index + step_y, (ix, iy + 1)),
-                ] {
-                    if self.clearance[side as usize] == 0 {
-                        let cell = walk_cell(a, sx, sy, jx, jy);
-                        blocked_cell(a, b, cell, &mut collision, &mut fraction);
-                    }
-                }
-                index += step_x + step_y;
-                ix += 1;
-                iy += 1;
-                decision += 2 * (ny - nx);
-            } else if decision < 0 {
-                index += step_x;
-                ix += 1;
-                decision += 2 * ny;
+        let d = 2 * n_minor;
+        // (q, r) = divmod(n_M (2 j + 1), 2 n_m) for the current line j.
+        let (step_q, step_r) = if d > 0 {
+            (2 * n_major / d, 2 * n_major % d)
+        } else {
+            (0, 0)
+        };
+        let (mut q, mut r) = if d > 0 {
+            (n_major / d, n_major % d)
+        } else {
+            (0, 0)
+        };
+        let mut low = 0;
+        for j in 0..=n_minor {
+            let high = if j == n_minor {
+                n_major
             } else {
-                index += step_y;
-                iy += 1;
-                decision -= 2 * nx;
+                q + u32::from(r + n_minor >= d)
+            };
+            let line = if minor_forward {
+                a_minor + j
+            } else {
+                a_minor - j
+            };
+            let (first, last) = if major_forward {
+                (a_major + low, a_major + high)
+            } else {
+                (a_major - high, a_major - low)
+            };
+            let words =
+                &lines[line as usize * words_per_line..(line as usize + 1) * words_per_line];
+            for_each_set_bit(words, first, last, major_forward, |m| {
+                let cell = if x_major {
+                    Cell::new(m, line)
+                } else {
+                    Cell::new(line, m)
+                };
+                blocked_cell(a, b, cell, &mut collision, &mut fraction);
+            });
+            if j < n_minor {
+                low = q + u32::from(r > n_minor);
+                q += step_q;
+                r += step_r;
+                if r >= d {
+                    r -= d;
+                    q += 1;
+                }
             }
         }
         if fraction > 0.0 {
@@ -297,14 +231,47 @@ impl BitGrid {
     }
 }
 
-/// The cell `ix` steps along x (direction `sx`) and `iy` along y (`sy`) from `a`: a cell
-/// the walk visits, so in the grid and the casts are exact.
+/// Calls `visit` with the position of every set bit of `words` in `first ..= last`, in
+/// increasing order when `forward`, else decreasing. Precondition: `first <= last < 64
+/// words.len()`.
 #[inline]
-fn walk_cell(a: Cell, sx: i64, sy: i64, ix: i64, iy: i64) -> Cell {
-    Cell::new(
-        (i64::from(a.x) + sx * ix) as u32,
-        (i64::from(a.y) + sy * iy) as u32,
-    )
+fn for_each_set_bit(
+    words: &[u64],
+    first: u32,
+    last: u32,
+    forward: bool,
+    mut visit: impl FnMut(u32),
+) {
+    let (w0, w1) = ((first / 64) as usize, (last / 64) as usize);
+    let mask = |w: usize| {
+        let mut word = words[w];
+        if w == w0 {
+            word &= !0u64 << (first % 64);
+        }
+        if w == w1 {
+            word &= !0u64 >> (63 - last % 64);
+        }
+        word
+    };
+    let base = |w: usize| (w * 64) as u32;
+    if forward {
+        for w in w0..=w1 {
+            let mut word = mask(w);
+            while word != 0 {
+                visit(base(w) + word.trailing_zeros());
+                word &= word - 1;
+            }
+        }
+    } else {
+        for w in (w0..=w1).rev() {
+            let mut word = mask(w);
+            while word != 0 {
+                let bit = 63 - word.leading_zeros();
+                visit(base(w) + bit);
+                word &= !(1u64 << bit);
+            }
+        }
+    }
 }
 
 /// Counts the blocked `cell` for the segment `a` -> `b`.
@@ -532,8 +499,8 @@ mod tests {
 
     #[test]
     fn traversal_agrees_with_a_brute_force_cell_walk() {
-        // A xorshift generator: random 12 x 9 and 70 x 9 grids (the packed rows span two
-        // words) with about 35% blocked, random segments.
+        // A xorshift generator: random 12 x 9, 70 x 9 and 9 x 70 grids (the packed lines
+        // span up to two words) with about 35% blocked, random segments.
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         let mut next = move || {
             state ^= state << 13;
@@ -543,16 +510,19 @@ mod tests {
         };
         let mut n_hits = 0;
         for round in 0..40 {
-            let (w, h) = if round % 2 == 0 {
-                (12u32, 9u32)
-            } else {
-                (70, 9)
-            };
+            // Columns of more than one word too (9 x 70).
+            let (w, h) = [(12u32, 9u32), (70, 9), (9, 70)][round % 3];
             let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= 35).collect();
             let grid = Grid::from_free_cells(w, h, free).unwrap();
             for _ in 0..50 {
-                let a = Cell::new((next() % u64::from(w)) as u32, (next() % 9) as u32);
-                let b = Cell::new((next() % u64::from(w)) as u32, (next() % 9) as u32);
+                let a = Cell::new(
+                    (next() % u64::from(w)) as u32,
+                    (next() % u64::from(h)) as u32,
+                );
+                let b = Cell::new(
+                    (next() % u64::from(w)) as u32,
+                    (next() % u64::from(h)) as u32,
+                );
                 check(&grid, a, b);
                 n_hits += u64::from(!segment_collision(&grid, a, b).is_free());
             }
@@ -561,9 +531,10 @@ mod tests {
     }
 
     #[test]
-    fn clearance_jumps_skip_only_free_cells() {
-        // Sparse random grids (about 2% blocked, some blocked squares), where the walk
-        // jumps: the packed walk must still agree with the full traversal bit for bit.
+    fn long_runs_on_sparse_grids_agree_with_the_traversal() {
+        // Sparse random grids (about 2% blocked, some blocked squares) 150 x 90, where the
+        // runs of a line span up to three words: the packed walk must agree with the full
+        // traversal bit for bit.
         let mut state = 0x2545_f491_4f6c_dd1du64;
         let mut next = move || {
             state ^= state << 13;
@@ -586,17 +557,6 @@ mod tests {
             let grid = Grid::from_free_cells(w, h, free).unwrap();
             let mut bits = BitGrid::new();
             bits.load(&grid);
-            // The clearance is the brute-force Chebyshev distance to a blocked cell.
-            for cell in grid.cells().step_by(37) {
-                let brute = grid
-                    .cells()
-                    .filter(|&c| !grid.is_free(c))
-                    .map(|c| c.x.abs_diff(cell.x).max(c.y.abs_diff(cell.y)))
-                    .min()
-                    .unwrap_or(u32::MAX)
-                    .min(u32::from(MAX_CLEARANCE));
-                assert_eq!(u32::from(bits.clearance(cell.x, cell.y)), brute, "{cell:?}");
-            }
             for _ in 0..300 {
                 let a = Cell::new(
                     (next() % u64::from(w)) as u32,
