@@ -11,8 +11,9 @@
 //! search is preempted many times and a short one rarely, which wall time charges to the
 //! long one), and both sides' work (PA-star's expansions, CAPSO's fitness evaluations).
 //!
-//! `cargo bench -p planner-capso --bench seed002 [-- --repeats=N] [-- --control-points]`
-//! (default 50 repeats, seed 002's count).
+//! `cargo bench -p planner-capso --bench seed002 -- [--repeats=N] [--control-points]
+//! [--only=TEXT]` (default 50 repeats, seed 002's count; `--only` keeps the scenarios whose
+//! map file name contains TEXT).
 
 use std::time::Instant;
 
@@ -40,6 +41,11 @@ fn main() {
             n.parse().expect("--repeats=N takes a positive integer")
         });
     assert!(repeats > 0, "--repeats=N takes a positive integer");
+    // Only the scenarios whose map file name contains this text.
+    let only = args
+        .iter()
+        .find_map(|a| a.strip_prefix("--only=").map(str::to_owned))
+        .unwrap_or_default();
     let several: Scenario = ("pastar/several-140x120.map", (20, 10), (70, 110), 114.46);
     let scenarios = [
         ("pastar/open-140x120.map", (20, 10), (70, 110), 111.84),
@@ -70,6 +76,9 @@ fn main() {
         "scenario | CAPSO found | mean length (seed 002) | best | worst | PA-star ms | CAPSO ms | ratio | PA-star CPU ms | CAPSO CPU ms | CPU ratio | PA-star expansions | CAPSO evaluations"
     );
     for (label, (map, (sx, sy), (gx, gy), seed_length), config) in runs {
+        if !map.contains(&only) {
+            continue;
+        }
         let grid = planner_testkit::map_file(map).grid;
         let problem = Problem::new(&grid, Cell::new(sx, sy), Cell::new(gx, gy))
             .expect("the configs' problems are valid");

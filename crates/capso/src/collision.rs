@@ -162,52 +162,59 @@ impl BitGrid {
             (ny, nx, a.y, a.x, b.y >= a.y, b.x >= a.x)
         };
         let (lines, words_per_line) = if x_major {
-            (&self.rows, self.words_per_row)
+            (&self.rows[..], self.words_per_row)
         } else {
-            (&self.columns, self.words_per_column)
+            (&self.columns[..], self.words_per_column)
         };
-        let mut collision = Collision::default();
-        let mut fraction = 0.0;
+        let mut hits = Hits {
+            a,
+            b,
+            x_major,
+            collision: Collision::default(),
+            fraction: 0.0,
+        };
         let d = 2 * n_minor;
-        // (q, r) = divmod(n_M (2 j + 1), 2 n_m) for the current line j.
-        let (step_q, step_r) = if d > 0 {
-            (2 * n_major / d, 2 * n_major % d)
-        } else {
-            (0, 0)
-        };
+        // (q, r) = divmod(n_M (2 j + 1), 2 n_m) for the current line j, stepped by
+        // divmod(2 n_M, 2 n_m) (derived from the first quotient: one division).
         let (mut q, mut r) = if d > 0 {
             (n_major / d, n_major % d)
         } else {
             (0, 0)
         };
+        let (step_q, step_r) = if d > 0 && 2 * r >= d {
+            (2 * q + 1, 2 * r - d)
+        } else {
+            (2 * q, 2 * r)
+        };
         let mut low = 0;
+        let mut line = a_minor;
         for j in 0..=n_minor {
             let high = if j == n_minor {
                 n_major
             } else {
                 q + u32::from(r + n_minor >= d)
             };
-            let line = if minor_forward {
-                a_minor + j
-            } else {
-                a_minor - j
-            };
             let (first, last) = if major_forward {
                 (a_major + low, a_major + high)
             } else {
                 (a_major - high, a_major - low)
             };
-            let words =
-                &lines[line as usize * words_per_line..(line as usize + 1) * words_per_line];
-            for_each_set_bit(words, first, last, major_forward, |m| {
-                let cell = if x_major {
-                    Cell::new(m, line)
-                } else {
-                    Cell::new(line, m)
-                };
-                blocked_cell(a, b, cell, &mut collision, &mut fraction);
-            });
+            let start = line as usize * words_per_line;
+            let (w0, w1) = (first / 64, last / 64);
+            // The run's bits when it lies in one word (else the slow path reads them).
+            let word =
+                lines[start + w0 as usize] & (!0u64 << (first % 64)) & (!0u64 >> (63 - last % 64));
+            if w0 != w1 || word != 0 {
+                hits.run(
+                    &lines[start..start + words_per_line],
+                    line,
+                    first,
+                    last,
+                    major_forward,
+                );
+            }
             if j < n_minor {
+                line = if minor_forward { line + 1 } else { line - 1 };
                 low = q + u32::from(r > n_minor);
                 q += step_q;
                 r += step_r;
@@ -217,8 +224,9 @@ impl BitGrid {
                 }
             }
         }
-        if fraction > 0.0 {
-            collision.length = fraction * a.euclidean(b);
+        let mut collision = hits.collision;
+        if hits.fraction > 0.0 {
+            collision.length = hits.fraction * a.euclidean(b);
         }
         collision
     }
@@ -231,55 +239,66 @@ impl BitGrid {
     }
 }
 
-/// Calls `visit` with the position of every set bit of `words` in `first ..= last`, in
-/// increasing order when `forward`, else decreasing. Precondition: `first <= last < 64
-/// words.len()`.
-#[inline]
-fn for_each_set_bit(
-    words: &[u64],
-    first: u32,
-    last: u32,
-    forward: bool,
-    mut visit: impl FnMut(u32),
-) {
-    let (w0, w1) = ((first / 64) as usize, (last / 64) as usize);
-    let mask = |w: usize| {
-        let mut word = words[w];
-        if w == w0 {
-            word &= !0u64 << (first % 64);
-        }
-        if w == w1 {
-            word &= !0u64 >> (63 - last % 64);
-        }
-        word
-    };
-    let base = |w: usize| (w * 64) as u32;
-    if forward {
-        for w in w0..=w1 {
-            let mut word = mask(w);
-            while word != 0 {
-                visit(base(w) + word.trailing_zeros());
-                word &= word - 1;
+/// The blocked cells met so far by the segment `a` -> `b` of
+/// [`BitGrid::segment_collision`].
+struct Hits {
+    a: Cell,
+    b: Cell,
+    /// Whether the lines are rows (else columns).
+    x_major: bool,
+    collision: Collision,
+    /// The sum of the blocked cells' fractions of the segment, in order along it.
+    fraction: f64,
+}
+
+impl Hits {
+    /// Counts the blocked cells of `words` (the packed line `line`) at major coordinates
+    /// `first ..= last`, in increasing order when `forward`, else decreasing.
+    /// Precondition: `first <= last < 64 words.len()`.
+    #[cold]
+    #[inline(never)]
+    fn run(&mut self, words: &[u64], line: u32, first: u32, last: u32, forward: bool) {
+        let (w0, w1) = ((first / 64) as usize, (last / 64) as usize);
+        let mask = |w: usize| {
+            let mut word = words[w];
+            if w == w0 {
+                word &= !0u64 << (first % 64);
             }
-        }
-    } else {
-        for w in (w0..=w1).rev() {
-            let mut word = mask(w);
-            while word != 0 {
-                let bit = 63 - word.leading_zeros();
-                visit(base(w) + bit);
-                word &= !(1u64 << bit);
+            if w == w1 {
+                word &= !0u64 >> (63 - last % 64);
+            }
+            word
+        };
+        if forward {
+            for w in w0..=w1 {
+                let mut word = mask(w);
+                while word != 0 {
+                    self.blocked((w * 64) as u32 + word.trailing_zeros(), line);
+                    word &= word - 1;
+                }
+            }
+        } else {
+            for w in (w0..=w1).rev() {
+                let mut word = mask(w);
+                while word != 0 {
+                    let bit = 63 - word.leading_zeros();
+                    self.blocked((w * 64) as u32 + bit, line);
+                    word &= !(1u64 << bit);
+                }
             }
         }
     }
-}
 
-/// Counts the blocked `cell` for the segment `a` -> `b`.
-#[cold]
-#[inline(never)]
-fn blocked_cell(a: Cell, b: Cell, cell: Cell, collision: &mut Collision, fraction: &mut f64) {
-    collision.cells += 1;
-    *fraction += clipped_fraction(a, b, cell);
+    /// Counts the blocked cell at `major` on `line`.
+    fn blocked(&mut self, major: u32, line: u32) {
+        let cell = if self.x_major {
+            Cell::new(major, line)
+        } else {
+            Cell::new(line, major)
+        };
+        self.collision.cells += 1;
+        self.fraction += clipped_fraction(self.a, self.b, cell);
+    }
 }
 
 /// The length of the segment between the centres of `a` and `b` inside the square of
