@@ -12,8 +12,9 @@
 //! long one), and both sides' work (PA-star's expansions, CAPSO's fitness evaluations).
 //!
 //! `cargo bench -p planner-capso --bench seed002 -- [--repeats=N] [--control-points]
-//! [--only=TEXT]` (default 50 repeats, seed 002's count; `--only` keeps the scenarios whose
-//! map file name contains TEXT).
+//! [--only=TEXT] [--set=KEY=VALUE ...]` (default 50 repeats, seed 002's count; `--only`
+//! keeps the scenarios whose map file name contains TEXT; `--set` changes a CAPSO
+//! parameter, in TOML: `--set=samples_per_segment=3`).
 
 use std::time::Instant;
 
@@ -56,12 +57,19 @@ fn main() {
         ("pastar/random200-1.map", (25, 35), (140, 190), 210.89),
         ("pastar/random200-2.map", (25, 35), (140, 190), 215.09),
     ];
+    // CAPSO parameters other than the defaults, as TOML lines `key=value`.
+    let set: String = args
+        .iter()
+        .filter_map(|a| a.strip_prefix("--set="))
+        .map(|kv| format!("{kv}\n"))
+        .collect();
+    let base: Config = toml::from_str(&set).expect("--set=KEY=VALUE takes CAPSO parameters");
     let runs: Vec<(String, Scenario, Config)> = if args.iter().any(|a| a == "--control-points") {
         (3..=6)
             .map(|n| {
                 let config = Config {
                     control_points: n,
-                    ..Config::default()
+                    ..base.clone()
                 };
                 (format!(", {n} control points"), several, config)
             })
@@ -69,7 +77,7 @@ fn main() {
     } else {
         scenarios
             .iter()
-            .map(|&s| (String::new(), s, Config::default()))
+            .map(|&s| (String::new(), s, base.clone()))
             .collect()
     };
     println!(

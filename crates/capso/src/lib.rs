@@ -37,8 +37,10 @@
 //! facing a flat wall of infeasible paths. `collision = 0` exactly when every segment
 //! passes [`planner_api::segment_is_free`], so a path of fitness below `penalty` is valid.
 //! The fitness is that of the returned path itself. The segments are walked on a
-//! bit-packed copy of the grid ([`collision::BitGrid`], built once per grid), and the
-//! decoding reuses its buffers, so an evaluation allocates nothing.
+//! bit-packed copy of the grid ([`collision::BitGrid`], built once per grid), a segment
+//! already measured in the same search is answered by a cache
+//! ([`collision::SegmentCache`]), and the decoding reuses its buffers, so an evaluation
+//! allocates nothing.
 //!
 //! # The swarm
 //! For iteration `k = 1 ..= T` with `s = sin(pi k / (2 T))`, `c = cos(pi k / (2 T))`:
@@ -113,7 +115,9 @@
 //! `final_collision_cells` and `final_collision_length_milli` (the returned global best's
 //! blocked cells touched and its length inside them in thousandths of a cell; 0 for a
 //! found path), `n_chaos_reseeds`, `n_restarts`, `n_guide_expanded`, `guide_block` (the
-//! guide's block size in cells, 0 when there is no route), `n_expanded`
+//! guide's block size in cells, 0 when there is no route), `n_segments` and
+//! `n_segment_cache_hits` (path segments measured over all evaluations, and those the
+//! per-search segment cache answered, [`collision::SegmentCache`]), `n_expanded`
 //! (= `n_fitness_evaluations`). The outcome's series `best_fitness` (x: `iteration`) is
 //! the global best fitness after initialisation (iteration 0) and after each iteration.
 //!
@@ -154,7 +158,7 @@ use thiserror::Error;
 
 pub use chaos::ChaoticMap;
 use chaos::{rng_for_seed, unit, Chaos};
-use collision::{BitGrid, Collision};
+use collision::{BitGrid, Collision, SegmentCache};
 use guide::Guide;
 use rand_chacha::ChaCha8Rng;
 use spline::Spline;
@@ -422,6 +426,8 @@ struct Decoder {
     keep: Vec<bool>,
     stack: Vec<(usize, usize)>,
     path: Vec<Cell>,
+    /// Collision per segment, cleared per search (the grid may change between them).
+    cache: SegmentCache,
 }
 
 impl Decoder {
@@ -477,7 +483,7 @@ impl Decoder {
         let mut collision = Collision::default();
         for pair in self.path.windows(2) {
             length += distance(pair[0], pair[1]);
-            collision.add(grid.segment_collision(pair[0], pair[1]));
+            collision.add(self.cache.segment_collision(grid, pair[0], pair[1]));
         }
         Evaluation {
             fitness: length + config.penalty * collision.cost(),
@@ -579,6 +585,10 @@ pub struct CapsoStats {
     pub n_guide_expanded: u64,
     /// The guide's block size in cells (0 when the guide found no route).
     pub guide_block: u64,
+    /// Path segments measured for collision over all evaluations.
+    pub n_segments: u64,
+    /// Those answered by the segment cache ([`collision::SegmentCache`]).
+    pub n_segment_cache_hits: u64,
 }
 
 impl CapsoStats {
@@ -596,6 +606,8 @@ impl CapsoStats {
             .with("n_restarts", self.n_restarts)
             .with("n_guide_expanded", self.n_guide_expanded)
             .with("guide_block", self.guide_block)
+            .with("n_segments", self.n_segments)
+            .with("n_segment_cache_hits", self.n_segment_cache_hits)
             .with("n_expanded", self.n_fitness_evaluations)
     }
 }
@@ -659,6 +671,7 @@ impl Capso {
     /// path.
     pub fn evaluate(&mut self, problem: &Problem<'_>, position: &[f64]) -> (Evaluation, Path) {
         self.bits.load(problem.grid());
+        self.decoder.cache.clear();
         let e = self.decoder.evaluate(
             &self.bits,
             problem.start(),
@@ -768,6 +781,7 @@ impl Planner for Capso {
             return Outcome::over_memory(shortfall, stats.counters());
         }
         self.bits.load(grid);
+        self.decoder.cache.clear();
         let reachable = self.guide.find(&self.bits, start, goal);
         stats.n_guide_expanded = self.guide.n_expanded;
         stats.guide_block = u64::from(self.guide.block);
@@ -918,6 +932,8 @@ impl Planner for Capso {
             series.points.push([f64::from(k), global_fitness]);
         }
         stats.n_chaos_reseeds = chaos.n_reseeds;
+        stats.n_segments = decoder.cache.lookups;
+        stats.n_segment_cache_hits = decoder.cache.hits;
 
         let best = (!s.global.is_empty()).then(|| {
             let e = decoder.evaluate(bits, start, goal, &s.global, &config);
