@@ -24,7 +24,8 @@
 //! 2. Each sample is rounded to the nearest cell (clamped into the grid); repeated cells
 //!    are dropped.
 //! 3. The cell polyline is simplified by Ramer-Douglas-Peucker with tolerance `tolerance`
-//!    cells (every dropped cell lies within that distance of the kept segment): rounding
+//!    cells (every dropped cell lies within that distance of the line through its kept
+//!    neighbours, Douglas and Peucker's perpendicular distance): rounding
 //!    makes a polyline through every sample zigzag by up to half a cell per sample, which
 //!    adds to the length of a straight line (2.4 % on seed 002's open map: 114.43 instead
 //!    of 111.80 with `tolerance = 0` and 10 samples per interval, tested). The kept cells are the
@@ -212,7 +213,11 @@ pub struct Config {
     /// Penalty weight per unit of collision (blocked cells touched plus length inside),
     /// finite and `>= 0`. Default 100.
     pub penalty: f64,
-    /// Spline samples per knot interval, `1 ..= 1000`. Default 5 (issue 34: 10 gave the same lengths on seed 002's maps at 1.3 times the CPU time per evaluation).
+    /// Spline samples per knot interval, `1 ..= 1000`. Default 2 (issue 34: on seed 002's
+    /// maps 2, 3, 4 and 5 gave mean lengths within 0.1 % of each other, 20 repeats,
+    /// while the CPU time per evaluation grows with the samples: 5 took 1.24 to 1.32
+    /// times as long as 2, `cargo bench -p planner-capso --bench seed002 --
+    /// --set=samples_per_segment=5`).
     pub samples_per_segment: u32,
     /// Ramer-Douglas-Peucker tolerance in cells for the sampled polyline, `0 ..= 16`.
     /// Default 1.
@@ -247,7 +252,7 @@ impl Default for Config {
             max_speed: 0.1,
             chaotic_map: ChaoticMap::Logistic,
             penalty: 100.0,
-            samples_per_segment: 5,
+            samples_per_segment: 2,
             tolerance: 1.0,
             restart_after: 10,
             guided_share: 0.5,
@@ -502,7 +507,7 @@ fn distance(a: Cell, b: Cell) -> f64 {
 }
 
 /// Ramer-Douglas-Peucker on `cells`: keeps the first and last cell and every cell farther
-/// than `tolerance` from the segment between its kept neighbours (the farthest first,
+/// than `tolerance` from the line through its kept neighbours (the farthest first,
 /// recursively), as a particle's sampled cells are simplified.
 pub fn simplify_cells(cells: &[Cell], tolerance: f64) -> Vec<Cell> {
     let (mut keep, mut stack) = (Vec::new(), Vec::new());
@@ -530,34 +535,32 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
         if b <= a + 1 {
             continue;
         }
-        // Squared distances (the same order as distances, without a square root), in
-        // integers but for one multiplication by the precomputed 1 / |b - a|^2.
+        // The perpendicular distance to the line through cells a and b (Douglas and
+        // Peucker 1973) is |cross| / |b - a|, so the farthest cell has the largest |cross|
+        // (exact integers); only the winner is compared with the tolerance. When a and b
+        // are the same cell (a path that returns to a cell), the distance to it.
         let (ax, ay) = (i64::from(cells[a].x), i64::from(cells[a].y));
         let (bx, by) = (i64::from(cells[b].x), i64::from(cells[b].y));
         let (dx, dy) = (bx - ax, by - ay);
         let squared = dx * dx + dy * dy;
-        let inverse = if squared > 0 {
-            1.0 / squared as f64
-        } else {
-            0.0
-        };
-        let (mut farthest, mut distance) = (a, -1.0);
+        let (mut farthest, mut largest) = (a, -1i64);
         for (k, &cell) in cells.iter().enumerate().take(b).skip(a + 1) {
-            let (px, py) = (i64::from(cell.x), i64::from(cell.y));
-            let (wx, wy) = (px - ax, py - ay);
-            let dot = wx * dx + wy * dy;
-            let d = if dot <= 0 || squared == 0 {
-                (wx * wx + wy * wy) as f64
-            } else if dot >= squared {
-                ((px - bx) * (px - bx) + (py - by) * (py - by)) as f64
+            let (wx, wy) = (i64::from(cell.x) - ax, i64::from(cell.y) - ay);
+            let d = if squared == 0 {
+                wx * wx + wy * wy
             } else {
-                let cross = wx * dy - wy * dx;
-                (cross * cross) as f64 * inverse
+                (wx * dy - wy * dx).abs()
             };
-            if d > distance {
-                (farthest, distance) = (k, d);
+            if d > largest {
+                (farthest, largest) = (k, d);
             }
         }
+        // Squared distance of the farthest cell.
+        let distance = if squared == 0 {
+            largest as f64
+        } else {
+            (largest as f64) * (largest as f64) / squared as f64
+        };
         if distance > tolerance * tolerance {
             keep[farthest] = true;
             stack.push((farthest, b));
