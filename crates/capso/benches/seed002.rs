@@ -9,7 +9,8 @@
 //! seed 002's CAPSO length, the median search time of each planner and their ratio, both
 //! as wall time and as the thread's CPU time (on a shared, oversubscribed machine a long
 //! search is preempted many times and a short one rarely, which wall time charges to the
-//! long one), and both sides' work (PA-star's expansions, CAPSO's fitness evaluations).
+//! long one), both sides' work (PA-star's expansions, CAPSO's fitness evaluations), and
+//! the share of CAPSO's path segments that its segment cache answered.
 //!
 //! `cargo bench -p planner-capso --bench seed002 -- [--repeats=N] [--control-points]
 //! [--only=TEXT] [--set=KEY=VALUE ...]` (default 50 repeats, seed 002's count; `--only`
@@ -81,7 +82,7 @@ fn main() {
             .collect()
     };
     println!(
-        "scenario | CAPSO found | mean length (seed 002) | best | worst | PA-star ms | CAPSO ms | ratio | PA-star CPU ms | CAPSO CPU ms | CPU ratio | PA-star expansions | CAPSO evaluations"
+        "scenario | CAPSO found | mean length (seed 002) | best | worst | PA-star ms | CAPSO ms | ratio | PA-star CPU ms | CAPSO CPU ms | CPU ratio | PA-star expansions | CAPSO evaluations | segments cached"
     );
     for (label, (map, (sx, sy), (gx, gy), seed_length), config) in runs {
         if !map.contains(&only) {
@@ -96,6 +97,7 @@ fn main() {
         let (mut capso_ms, mut pastar_ms, mut lengths) = (Vec::new(), Vec::new(), Vec::new());
         let (mut capso_cpu, mut pastar_cpu) = (Vec::new(), Vec::new());
         let (mut expansions, mut evaluations) = (0, 0);
+        let (mut segments, mut cached) = (0, 0);
         for seed in 0..repeats {
             let (started, cpu) = (Instant::now(), ThreadTime::now());
             let outcome = pastar.plan(&problem, &Budget::unlimited());
@@ -109,6 +111,8 @@ fn main() {
             capso_cpu.push(cpu.elapsed().as_secs_f64() * 1e3);
             capso_ms.push(started.elapsed().as_secs_f64() * 1e3);
             evaluations = outcome.counters.get("n_fitness_evaluations").unwrap_or(0);
+            segments += outcome.counters.get("n_segments").unwrap_or(0);
+            cached += outcome.counters.get("n_segment_cache_hits").unwrap_or(0);
             if let (Status::Found, Some(path)) = (outcome.status, &outcome.path) {
                 lengths.push(path.metrics().length);
             }
@@ -120,10 +124,11 @@ fn main() {
         let (p, c) = (median(&mut pastar_ms), median(&mut capso_ms));
         let (pc, cc) = (median(&mut pastar_cpu), median(&mut capso_cpu));
         println!(
-            "{map} ({sx},{sy})->({gx},{gy}){label} | {n_found}/{repeats} | {mean:.2} ({seed_length:.2}, {:+.1}%) | {best:.2} | {worst:.2} | {p:.3} | {c:.2} | {:.1} | {pc:.3} | {cc:.2} | {:.1} | {expansions} | {evaluations}",
+            "{map} ({sx},{sy})->({gx},{gy}){label} | {n_found}/{repeats} | {mean:.2} ({seed_length:.2}, {:+.1}%) | {best:.2} | {worst:.2} | {p:.3} | {c:.2} | {:.1} | {pc:.3} | {cc:.2} | {:.1} | {expansions} | {evaluations} | {:.1}%",
             100.0 * (mean / seed_length - 1.0),
             c / p,
-            cc / pc
+            cc / pc,
+            100.0 * cached as f64 / segments.max(1) as f64
         );
     }
 }

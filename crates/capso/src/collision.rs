@@ -192,6 +192,7 @@ impl BitGrid {
         };
         let mut low = 0;
         let mut line = a_minor;
+        let mut start = line as usize * words_per_line;
         for j in 0..=n_minor {
             let high = if j == n_minor {
                 n_major
@@ -203,7 +204,6 @@ impl BitGrid {
             } else {
                 (a_major - high, a_major - low)
             };
-            let start = line as usize * words_per_line;
             let (w0, w1) = (first / 64, last / 64);
             // The run's bits when it lies in one word (else the slow path reads them).
             let word =
@@ -212,7 +212,13 @@ impl BitGrid {
                 hits.run(&lines[start..start + words_per_line], line, first, last);
             }
             if j < n_minor {
-                line = if minor_forward { line + 1 } else { line - 1 };
+                if minor_forward {
+                    line += 1;
+                    start += words_per_line;
+                } else {
+                    line -= 1;
+                    start -= words_per_line;
+                }
                 low = q + u32::from(r > n_minor);
                 q += step_q;
                 r += step_r;
@@ -224,10 +230,7 @@ impl BitGrid {
         }
         let mut collision = hits.collision;
         if hits.fraction > 0.0 {
-            // The square root of the sum of squares (exact integers below it) rather than
-            // `Cell::euclidean`'s `hypot`, a library call.
-            let (dx, dy) = (f64::from(nx), f64::from(ny));
-            collision.length = hits.fraction * (dx * dx + dy * dy).sqrt();
+            collision.length = hits.fraction * distance(a, b);
         }
         collision
     }
@@ -261,6 +264,7 @@ struct Entry {
     generation: u32,
     a: Cell,
     b: Cell,
+    length: f64,
     collision: Collision,
 }
 
@@ -294,11 +298,12 @@ impl SegmentCache {
         self.lookups = 0;
     }
 
+    /// The length of the segment between the centres of `a` and `b` and
     /// `grid.segment_collision(a, b)`, from the cache when this generation measured the
     /// segment already and the entry was not overwritten since. Precondition: cleared at
     /// least once, and not since `grid` changed.
     #[inline]
-    pub fn segment_collision(&mut self, grid: &BitGrid, a: Cell, b: Cell) -> Collision {
+    pub fn segment(&mut self, grid: &BitGrid, a: Cell, b: Cell) -> (f64, Collision) {
         self.lookups += 1;
         let hash =
             (u64::from(a.x) << 48 ^ u64::from(a.y) << 32 ^ u64::from(b.x) << 16 ^ u64::from(b.y))
@@ -307,17 +312,28 @@ impl SegmentCache {
         let entry = &mut self.entries[slot];
         if entry.generation == self.generation && entry.a == a && entry.b == b {
             self.hits += 1;
-            return entry.collision;
+            return (entry.length, entry.collision);
         }
         let collision = grid.segment_collision(a, b);
+        let length = distance(a, b);
         *entry = Entry {
             generation: self.generation,
             a,
             b,
+            length,
             collision,
         };
-        collision
+        (length, collision)
     }
+}
+
+/// The Euclidean distance between the centres of `a` and `b` as the square root of the
+/// sum of squares (exact in the integers below it; `Cell::euclidean`'s `hypot` is a library
+/// call, and this runs once per new segment of every evaluation).
+pub fn distance(a: Cell, b: Cell) -> f64 {
+    let dx = f64::from(a.x.abs_diff(b.x));
+    let dy = f64::from(a.y.abs_diff(b.y));
+    (dx * dx + dy * dy).sqrt()
 }
 
 /// The blocked cells met so far by the segment `a` -> `b` of

@@ -487,8 +487,9 @@ impl Decoder {
         let mut length = 0.0;
         let mut collision = Collision::default();
         for pair in self.path.windows(2) {
-            length += distance(pair[0], pair[1]);
-            collision.add(self.cache.segment_collision(grid, pair[0], pair[1]));
+            let (l, c) = self.cache.segment(grid, pair[0], pair[1]);
+            length += l;
+            collision.add(c);
         }
         Evaluation {
             fitness: length + config.penalty * collision.cost(),
@@ -497,15 +498,6 @@ impl Decoder {
         }
     }
 }
-/// The Euclidean distance between the centres of `a` and `b` as the square root of the
-/// sum of squares (exact in the integers below it; `Cell::euclidean`'s `hypot` is a library
-/// call, and this runs once per segment of every evaluation).
-fn distance(a: Cell, b: Cell) -> f64 {
-    let dx = f64::from(a.x.abs_diff(b.x));
-    let dy = f64::from(a.y.abs_diff(b.y));
-    (dx * dx + dy * dy).sqrt()
-}
-
 /// Ramer-Douglas-Peucker on `cells`: keeps the first and last cell and every cell farther
 /// than `tolerance` from the line through its kept neighbours (the farthest first,
 /// recursively), as a particle's sampled cells are simplified.
