@@ -158,10 +158,17 @@ impl BitGrid {
     pub fn segment_collision(&self, a: Cell, b: Cell) -> Collision {
         let (nx, ny) = (a.x.abs_diff(b.x), a.y.abs_diff(b.y));
         let x_major = nx >= ny;
-        let (n_major, n_minor, a_major, a_minor, major_forward, minor_forward) = if x_major {
-            (nx, ny, a.x, a.y, b.x >= a.x, b.y >= a.y)
+        // The touched cells and the length inside them do not depend on the direction,
+        // so the segment is taken from the end with the smaller major coordinate.
+        let (a, b) = if (x_major && b.x < a.x) || (!x_major && b.y < a.y) {
+            (b, a)
         } else {
-            (ny, nx, a.y, a.x, b.y >= a.y, b.x >= a.x)
+            (a, b)
+        };
+        let (n_major, n_minor, a_major, a_minor, minor_forward) = if x_major {
+            (nx, ny, a.x, a.y, b.y >= a.y)
+        } else {
+            (ny, nx, a.y, a.x, b.x >= a.x)
         };
         let (lines, words_per_line) = if x_major {
             (&self.rows[..], self.words_per_row)
@@ -173,13 +180,13 @@ impl BitGrid {
             a_minor,
             n_major,
             n_minor,
-            major_forward,
             collision: Collision::default(),
             fraction: 0.0,
         };
         let d = 2 * n_minor;
-        // (q, r) = divmod(n_M (2 j + 1), 2 n_m) for the current line j, stepped by
-        // divmod(2 n_M, 2 n_m) (derived from the first quotient: one division).
+        // (q, r) = divmod(n_M (2 j + 1), 2 n_m) for the current line j, q offset by a's
+        // major coordinate, stepped by divmod(2 n_M, 2 n_m) (derived from the first
+        // quotient: one division).
         let (mut q, mut r) = if d > 0 {
             (n_major / d, n_major % d)
         } else {
@@ -190,44 +197,39 @@ impl BitGrid {
         } else {
             (2 * q, 2 * r)
         };
-        let mut low = 0;
+        q += a_major;
         let mut line = a_minor;
         let mut start = line as usize * words_per_line;
-        for j in 0..=n_minor {
-            let high = if j == n_minor {
-                n_major
-            } else {
-                q + u32::from(r + n_minor >= d)
-            };
-            let (first, last) = if major_forward {
-                (a_major + low, a_major + high)
-            } else {
-                (a_major - high, a_major - low)
-            };
+        let mut first = a_major;
+        // Tests the cells first ..= last of the line that starts at word `start`.
+        let test = |start: usize, line: u32, first: u32, last: u32, hits: &mut Hits| {
             let (w0, w1) = (first / 64, last / 64);
             // The run's bits when it lies in one word (else the slow path reads them).
             let word =
                 lines[start + w0 as usize] & (!0u64 << (first % 64)) & (!0u64 >> (63 - last % 64));
-            if w0 != w1 || word != 0 {
+            if (w0 != w1) | (word != 0) {
                 hits.run(&lines[start..start + words_per_line], line, first, last);
             }
-            if j < n_minor {
-                if minor_forward {
-                    line += 1;
-                    start += words_per_line;
-                } else {
-                    line -= 1;
-                    start -= words_per_line;
-                }
-                low = q + u32::from(r > n_minor);
-                q += step_q;
-                r += step_r;
-                if r >= d {
-                    r -= d;
-                    q += 1;
-                }
+        };
+        for _ in 0..n_minor {
+            let last = q + u32::from(r + n_minor >= d);
+            test(start, line, first, last, &mut hits);
+            first = q + u32::from(r > n_minor);
+            q += step_q;
+            r += step_r;
+            if r >= d {
+                r -= d;
+                q += 1;
+            }
+            if minor_forward {
+                line += 1;
+                start += words_per_line;
+            } else {
+                line -= 1;
+                start -= words_per_line;
             }
         }
+        test(start, line, first, a_major + n_major, &mut hits);
         let mut collision = hits.collision;
         if hits.fraction > 0.0 {
             collision.length = hits.fraction * distance(a, b);
@@ -269,7 +271,7 @@ struct Entry {
 }
 
 /// The cache's entries (a power of two).
-pub const SEGMENT_CACHE_ENTRIES: usize = 4096;
+pub const SEGMENT_CACHE_ENTRIES: usize = 512;
 
 impl Default for SegmentCache {
     fn default() -> SegmentCache {
@@ -337,13 +339,13 @@ pub fn distance(a: Cell, b: Cell) -> f64 {
 }
 
 /// The blocked cells met so far by the segment `a` -> `b` of
-/// [`BitGrid::segment_collision`], in its major and minor axes.
+/// [`BitGrid::segment_collision`], in its major and minor axes (`a` the end with the
+/// smaller major coordinate).
 struct Hits {
     a_major: u32,
     a_minor: u32,
     n_major: u32,
     n_minor: u32,
-    major_forward: bool,
     collision: Collision,
     /// The sum of the blocked runs' fractions of the segment.
     fraction: f64,
@@ -391,11 +393,7 @@ impl Hits {
             // A single point: no length.
             return 0.0;
         }
-        let (o0, o1) = if self.major_forward {
-            (low - self.a_major, high - self.a_major)
-        } else {
-            (self.a_major - high, self.a_major - low)
-        };
+        let (o0, o1) = (low - self.a_major, high - self.a_major);
         let m = 2.0 * f64::from(self.n_major);
         let mut t0 = ((2.0 * f64::from(o0) - 1.0) / m).max(0.0);
         let mut t1 = ((2.0 * f64::from(o1) + 1.0) / m).min(1.0);
