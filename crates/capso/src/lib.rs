@@ -220,7 +220,10 @@ pub struct Config {
     /// --set=samples_per_segment=5`).
     pub samples_per_segment: u32,
     /// Ramer-Douglas-Peucker tolerance in cells for the sampled polyline, `0 ..= 16`.
-    /// Default 1.
+    /// Default 2 (issue 34: on seed 002's maps 1, 1.5 and 2 gave mean lengths within
+    /// 0.3 % of each other, 30 repeats, and 2 took 6 % fewer instructions per search than 1
+    /// on the 200 x 200 maps, callgrind: fewer waypoints, so fewer segments to measure and
+    /// a shorter simplification; every path is checked exactly whatever the tolerance).
     pub tolerance: f64,
     /// Iterations without a better personal best after which a particle restarts near the
     /// global best, `0 ..= 100_000` (0: never). Default 10.
@@ -253,7 +256,7 @@ impl Default for Config {
             chaotic_map: ChaoticMap::Logistic,
             penalty: 100.0,
             samples_per_segment: 2,
-            tolerance: 1.0,
+            tolerance: 2.0,
             restart_after: 10,
             guided_share: 0.5,
             jitter: 0.05,
@@ -536,7 +539,7 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
         let (dx, dy) = (bx - ax, by - ay);
         let squared = dx * dx + dy * dy;
         let (mut farthest, mut largest) = (a, -1i64);
-        for (k, &cell) in cells.iter().enumerate().take(b).skip(a + 1) {
+        for (k, &cell) in (a + 1..).zip(&cells[a + 1..b]) {
             let (wx, wy) = (i64::from(cell.x) - ax, i64::from(cell.y) - ay);
             let d = if squared == 0 {
                 wx * wx + wy * wy
