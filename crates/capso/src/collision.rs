@@ -77,8 +77,14 @@ pub struct BitGrid {
     rows: Vec<u64>,
     /// Bit `y % 64` of word `x * words_per_column + y / 64` is set when `(x, y)` is blocked.
     columns: Vec<u64>,
+    /// The summed-area table: entry `y (W + 1) + x` counts the blocked cells in
+    /// `[0, x) x [0, y)`.
+    prefix: Vec<u32>,
     revision: Option<u64>,
 }
+
+/// Lines per chunk whose bounding box [`BitGrid::segment_collision`] tests at once.
+pub const CHUNK_LINES: u32 = 8;
 
 impl BitGrid {
     /// An empty bit grid; [`BitGrid::load`] fills it.
@@ -89,7 +95,7 @@ impl BitGrid {
     /// The bytes [`BitGrid::load`] allocates for `grid`: the packed rows and columns.
     pub fn bytes_for(grid: &Grid) -> u64 {
         let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
-        (w.div_ceil(64) * h + h.div_ceil(64) * w) * 8
+        (w.div_ceil(64) * h + h.div_ceil(64) * w) * 8 + (w + 1) * (h + 1) * 4
     }
 
     /// Makes this the packed copy of `grid` (nothing to do when it already is).
@@ -116,7 +122,31 @@ impl BitGrid {
                 }
             }
         }
+        let stride = w + 1;
+        self.prefix.clear();
+        self.prefix.resize(stride * (h + 1), 0);
+        for (y, free) in grid.free_cells().chunks(w).enumerate() {
+            let mut row = 0;
+            for (x, &free) in free.iter().enumerate() {
+                row += u32::from(!free);
+                self.prefix[(y + 1) * stride + x + 1] = self.prefix[y * stride + x + 1] + row;
+            }
+        }
         self.revision = Some(grid.revision());
+    }
+
+    /// The blocked cells in the rectangle `x0 ..= x1` by `y0 ..= y1`, from the summed-area
+    /// table. Precondition: `x0 <= x1 < W` and `y0 <= y1 < H`.
+    #[inline]
+    pub fn blocked_in(&self, x0: u32, x1: u32, y0: u32, y1: u32) -> u32 {
+        let stride = self.width as usize + 1;
+        let (x0, x1, y0, y1) = (x0 as usize, x1 as usize + 1, y0 as usize, y1 as usize + 1);
+        // The inclusion-exclusion sum is the (non-negative) count; wrapping arithmetic
+        // only for the order of the terms.
+        self.prefix[y1 * stride + x1]
+            .wrapping_sub(self.prefix[y0 * stride + x1])
+            .wrapping_sub(self.prefix[y1 * stride + x0])
+            .wrapping_add(self.prefix[y0 * stride + x0])
     }
 
     /// Width in cells.
@@ -154,7 +184,9 @@ impl BitGrid {
     /// cells at a time: the segment's length inside a run is clipped once against the
     /// run's rectangle (the cells' pieces are consecutive intervals of the segment, so
     /// their sum is the rectangle's piece). The cells are those of the cell-by-cell walk
-    /// and the length equals its sum to rounding (tested).
+    /// and the length equals its sum to rounding (tested). Free stretches are skipped by
+    /// the summed-area table: first the segment's bounding box, then a box around each
+    /// chunk of [`CHUNK_LINES`] lines; a box without a blocked cell skips its lines' tests.
     pub fn segment_collision(&self, a: Cell, b: Cell) -> Collision {
         let (nx, ny) = (a.x.abs_diff(b.x), a.y.abs_diff(b.y));
         let x_major = nx >= ny;
@@ -165,10 +197,10 @@ impl BitGrid {
         } else {
             (a, b)
         };
-        let (n_major, n_minor, a_major, a_minor, minor_forward) = if x_major {
-            (nx, ny, a.x, a.y, b.y >= a.y)
+        let (n_major, n_minor, a_major, a_minor, b_minor, minor_forward) = if x_major {
+            (nx, ny, a.x, a.y, b.y, b.y >= a.y)
         } else {
-            (ny, nx, a.y, a.x, b.x >= a.x)
+            (ny, nx, a.y, a.x, b.x, b.x >= a.x)
         };
         let (lines, words_per_line) = if x_major {
             (&self.rows[..], self.words_per_row)
@@ -211,25 +243,66 @@ impl BitGrid {
                 hits.run(&lines[start..start + words_per_line], line, first, last);
             }
         };
-        for _ in 0..n_minor {
-            let last = q + u32::from(r + n_minor >= d);
-            test(start, line, first, last, &mut hits);
-            first = q + u32::from(r > n_minor);
-            q += step_q;
-            r += step_r;
-            if r >= d {
-                r -= d;
-                q += 1;
-            }
-            if minor_forward {
-                line += 1;
-                start += words_per_line;
+        let end = a_major + n_major;
+        // The rectangle major0 ..= major1 by the minor lines m0 ..= m1 (in either order),
+        // as x and y ranges for the summed-area table.
+        let blocked_in = |major0: u32, major1: u32, m0: u32, m1: u32| {
+            let (m0, m1) = (m0.min(m1), m0.max(m1));
+            if x_major {
+                self.blocked_in(major0, major1, m0, m1)
             } else {
-                line -= 1;
-                start -= words_per_line;
+                self.blocked_in(m0, m1, major0, major1)
             }
+        };
+        if blocked_in(a_major, end, a_minor, b_minor) == 0 {
+            return Collision::default();
         }
-        test(start, line, first, a_major + n_major, &mut hits);
+        let n_lines = n_minor + 1;
+        let mut j = 0;
+        while j < n_lines {
+            let k = CHUNK_LINES.min(n_lines - j);
+            // A box around the chunk's cells: line j' >= j ends at most at
+            // q_j' + 1 <= q_j + (j' - j) (step_q + 1) + 1, and the last line at the end.
+            let high = if j + k == n_lines {
+                end
+            } else {
+                (q + (k - 1) * (step_q + 1) + 1).min(end)
+            };
+            let far = if minor_forward {
+                line + (k - 1)
+            } else {
+                line - (k - 1)
+            };
+            let free = blocked_in(first, high, line, far) == 0;
+            for i in 0..k {
+                let last = if j + i == n_minor {
+                    end
+                } else {
+                    q + u32::from(r + n_minor >= d)
+                };
+                if !free {
+                    test(start, line, first, last, &mut hits);
+                }
+                if j + i == n_minor {
+                    break;
+                }
+                first = q + u32::from(r > n_minor);
+                q += step_q;
+                r += step_r;
+                if r >= d {
+                    r -= d;
+                    q += 1;
+                }
+                if minor_forward {
+                    line += 1;
+                    start += words_per_line;
+                } else {
+                    line -= 1;
+                    start -= words_per_line;
+                }
+            }
+            j += k;
+        }
         let mut collision = hits.collision;
         if hits.fraction > 0.0 {
             collision.length = hits.fraction * distance(a, b);
@@ -654,6 +727,40 @@ mod tests {
             }
         }
         assert!(n_hits > 500, "too few colliding segments to test: {n_hits}");
+    }
+
+    #[test]
+    fn summed_area_counts_by_brute_force() {
+        let grid = Grid::from_ascii(
+            "
+            #....
+            .#..#
+            ..#..
+            ",
+        )
+        .unwrap();
+        let mut bits = BitGrid::new();
+        bits.load(&grid);
+        for (x0, x1, y0, y1) in [
+            (0, 4, 0, 2),
+            (1, 2, 1, 2),
+            (3, 3, 0, 2),
+            (2, 4, 0, 0),
+            (0, 0, 0, 0),
+        ] {
+            let brute = grid
+                .cells()
+                .filter(|c| {
+                    (x0..=x1).contains(&c.x) && (y0..=y1).contains(&c.y) && !grid.is_free(*c)
+                })
+                .count();
+            assert_eq!(
+                bits.blocked_in(x0, x1, y0, y1) as usize,
+                brute,
+                "{x0} {x1} {y0} {y1}"
+            );
+        }
+        assert_eq!(bits.blocked_in(0, 4, 0, 2), 4);
     }
 
     #[test]
