@@ -219,10 +219,9 @@ impl BitGrid {
         // (q, r) = divmod(n_M (2 j + 1), 2 n_m) for the current line j, q offset by a's
         // major coordinate, stepped by divmod(2 n_M, 2 n_m) (derived from the first
         // quotient: one division).
-        let (mut q, mut r) = if d > 0 {
-            (n_major / d, n_major % d)
-        } else {
-            (0, 0)
+        let (mut q, mut r) = match (n_major.checked_div(d), n_major.checked_rem(d)) {
+            (Some(q), Some(r)) => (q, r),
+            _ => (0, 0),
         };
         let (step_q, step_r) = if d > 0 && 2 * r >= d {
             (2 * q + 1, 2 * r - d)
@@ -324,7 +323,7 @@ impl BitGrid {
 /// counted for issue 34). An entry is valid in one generation only; [`SegmentCache::clear`]
 /// starts a new one, which a search must do whenever the grid may have changed. A hit
 /// returns the value the walk computed, so the cache changes no result.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct SegmentCache {
     entries: Vec<Entry>,
     generation: u32,
@@ -345,17 +344,6 @@ struct Entry {
 
 /// The cache's entries (a power of two).
 pub const SEGMENT_CACHE_ENTRIES: usize = 512;
-
-impl Default for SegmentCache {
-    fn default() -> SegmentCache {
-        SegmentCache {
-            entries: Vec::new(),
-            generation: 0,
-            hits: 0,
-            lookups: 0,
-        }
-    }
-}
 
 impl SegmentCache {
     /// Forgets every entry (a new generation) and zeroes the counts.
