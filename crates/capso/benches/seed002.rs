@@ -9,10 +9,13 @@
 //! seed 002's CAPSO length, the median search time of each planner and their ratio, both
 //! as wall time and as the thread's CPU time (on a shared, oversubscribed machine a long
 //! search is preempted many times and a short one rarely, which wall time charges to the
-//! long one), and both sides' work (PA-star's expansions, CAPSO's fitness evaluations).
+//! long one), both sides' work (PA-star's expansions, CAPSO's fitness evaluations), and
+//! the share of CAPSO's path segments that its segment cache answered.
 //!
-//! `cargo bench -p planner-capso --bench seed002 [-- --repeats=N] [-- --control-points]`
-//! (default 50 repeats, seed 002's count).
+//! `cargo bench -p planner-capso --bench seed002 -- [--repeats=N] [--control-points]
+//! [--only=TEXT] [--set=KEY=VALUE ...]` (default 50 repeats, seed 002's count; `--only`
+//! keeps the scenarios whose map file name contains TEXT; `--set` changes a CAPSO
+//! parameter, in TOML: `--set=samples_per_segment=3`).
 
 use std::time::Instant;
 
@@ -40,6 +43,11 @@ fn main() {
             n.parse().expect("--repeats=N takes a positive integer")
         });
     assert!(repeats > 0, "--repeats=N takes a positive integer");
+    // Only the scenarios whose map file name contains this text.
+    let only = args
+        .iter()
+        .find_map(|a| a.strip_prefix("--only=").map(str::to_owned))
+        .unwrap_or_default();
     let several: Scenario = ("pastar/several-140x120.map", (20, 10), (70, 110), 114.46);
     let scenarios = [
         ("pastar/open-140x120.map", (20, 10), (70, 110), 111.84),
@@ -50,12 +58,19 @@ fn main() {
         ("pastar/random200-1.map", (25, 35), (140, 190), 210.89),
         ("pastar/random200-2.map", (25, 35), (140, 190), 215.09),
     ];
+    // CAPSO parameters other than the defaults, as TOML lines `key=value`.
+    let set: String = args
+        .iter()
+        .filter_map(|a| a.strip_prefix("--set="))
+        .map(|kv| format!("{kv}\n"))
+        .collect();
+    let base: Config = toml::from_str(&set).expect("--set=KEY=VALUE takes CAPSO parameters");
     let runs: Vec<(String, Scenario, Config)> = if args.iter().any(|a| a == "--control-points") {
         (3..=6)
             .map(|n| {
                 let config = Config {
                     control_points: n,
-                    ..Config::default()
+                    ..base.clone()
                 };
                 (format!(", {n} control points"), several, config)
             })
@@ -63,13 +78,16 @@ fn main() {
     } else {
         scenarios
             .iter()
-            .map(|&s| (String::new(), s, Config::default()))
+            .map(|&s| (String::new(), s, base.clone()))
             .collect()
     };
     println!(
-        "scenario | CAPSO found | mean length (seed 002) | best | worst | PA-star ms | CAPSO ms | ratio | PA-star CPU ms | CAPSO CPU ms | CPU ratio | PA-star expansions | CAPSO evaluations"
+        "scenario | CAPSO found | mean length (seed 002) | best | worst | PA-star ms | CAPSO ms | ratio | PA-star CPU ms | CAPSO CPU ms | CPU ratio | PA-star expansions | CAPSO evaluations | segments cached"
     );
     for (label, (map, (sx, sy), (gx, gy), seed_length), config) in runs {
+        if !map.contains(&only) {
+            continue;
+        }
         let grid = planner_testkit::map_file(map).grid;
         let problem = Problem::new(&grid, Cell::new(sx, sy), Cell::new(gx, gy))
             .expect("the configs' problems are valid");
@@ -79,6 +97,7 @@ fn main() {
         let (mut capso_ms, mut pastar_ms, mut lengths) = (Vec::new(), Vec::new(), Vec::new());
         let (mut capso_cpu, mut pastar_cpu) = (Vec::new(), Vec::new());
         let (mut expansions, mut evaluations) = (0, 0);
+        let (mut segments, mut cached) = (0, 0);
         for seed in 0..repeats {
             let (started, cpu) = (Instant::now(), ThreadTime::now());
             let outcome = pastar.plan(&problem, &Budget::unlimited());
@@ -92,6 +111,8 @@ fn main() {
             capso_cpu.push(cpu.elapsed().as_secs_f64() * 1e3);
             capso_ms.push(started.elapsed().as_secs_f64() * 1e3);
             evaluations = outcome.counters.get("n_fitness_evaluations").unwrap_or(0);
+            segments += outcome.counters.get("n_segments").unwrap_or(0);
+            cached += outcome.counters.get("n_segment_cache_hits").unwrap_or(0);
             if let (Status::Found, Some(path)) = (outcome.status, &outcome.path) {
                 lengths.push(path.metrics().length);
             }
@@ -103,10 +124,11 @@ fn main() {
         let (p, c) = (median(&mut pastar_ms), median(&mut capso_ms));
         let (pc, cc) = (median(&mut pastar_cpu), median(&mut capso_cpu));
         println!(
-            "{map} ({sx},{sy})->({gx},{gy}){label} | {n_found}/{repeats} | {mean:.2} ({seed_length:.2}, {:+.1}%) | {best:.2} | {worst:.2} | {p:.3} | {c:.2} | {:.1} | {pc:.3} | {cc:.2} | {:.1} | {expansions} | {evaluations}",
+            "{map} ({sx},{sy})->({gx},{gy}){label} | {n_found}/{repeats} | {mean:.2} ({seed_length:.2}, {:+.1}%) | {best:.2} | {worst:.2} | {p:.3} | {c:.2} | {:.1} | {pc:.3} | {cc:.2} | {:.1} | {expansions} | {evaluations} | {:.1}%",
             100.0 * (mean / seed_length - 1.0),
             c / p,
-            cc / pc
+            cc / pc,
+            100.0 * cached as f64 / segments.max(1) as f64
         );
     }
 }

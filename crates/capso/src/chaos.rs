@@ -39,6 +39,7 @@ pub enum ChaoticMap {
 
 impl ChaoticMap {
     /// One step of the map (values outside `(0, 1)` may come out; see [`Chaos::next`]).
+    #[inline]
     pub fn step(self, z: f64) -> f64 {
         use std::f64::consts::PI;
         match self {
@@ -104,6 +105,7 @@ impl Chaos {
     }
 
     /// The next value in `[EDGE, 1 - EDGE]`.
+    #[inline]
     pub fn next(&mut self, rng: &mut impl RngCore) -> f64 {
         let z = self.map.step(self.z);
         self.z = if (EDGE..=1.0 - EDGE).contains(&z) && z != self.z {

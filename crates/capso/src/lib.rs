@@ -24,7 +24,8 @@
 //! 2. Each sample is rounded to the nearest cell (clamped into the grid); repeated cells
 //!    are dropped.
 //! 3. The cell polyline is simplified by Ramer-Douglas-Peucker with tolerance `tolerance`
-//!    cells (every dropped cell lies within that distance of the kept segment): rounding
+//!    cells (every dropped cell lies within that distance of the line through its kept
+//!    neighbours, Douglas and Peucker's perpendicular distance): rounding
 //!    makes a polyline through every sample zigzag by up to half a cell per sample, which
 //!    adds to the length of a straight line (2.4 % on seed 002's open map: 114.43 instead
 //!    of 111.80 with `tolerance = 0` and 10 samples per interval, tested). The kept cells are the
@@ -37,8 +38,10 @@
 //! facing a flat wall of infeasible paths. `collision = 0` exactly when every segment
 //! passes [`planner_api::segment_is_free`], so a path of fitness below `penalty` is valid.
 //! The fitness is that of the returned path itself. The segments are walked on a
-//! bit-packed copy of the grid ([`collision::BitGrid`], built once per grid), and the
-//! decoding reuses its buffers, so an evaluation allocates nothing.
+//! bit-packed copy of the grid ([`collision::BitGrid`], built once per grid), a segment
+//! already measured in the same search is answered by a cache
+//! ([`collision::SegmentCache`]), and the decoding reuses its buffers, so an evaluation
+//! allocates nothing.
 //!
 //! # The swarm
 //! For iteration `k = 1 ..= T` with `s = sin(pi k / (2 T))`, `c = cos(pi k / (2 T))`:
@@ -113,7 +116,9 @@
 //! `final_collision_cells` and `final_collision_length_milli` (the returned global best's
 //! blocked cells touched and its length inside them in thousandths of a cell; 0 for a
 //! found path), `n_chaos_reseeds`, `n_restarts`, `n_guide_expanded`, `guide_block` (the
-//! guide's block size in cells, 0 when there is no route), `n_expanded`
+//! guide's block size in cells, 0 when there is no route), `n_segments` and
+//! `n_segment_cache_hits` (path segments measured over all evaluations, and those the
+//! per-search segment cache answered, [`collision::SegmentCache`]), `n_expanded`
 //! (= `n_fitness_evaluations`). The outcome's series `best_fitness` (x: `iteration`) is
 //! the global best fitness after initialisation (iteration 0) and after each iteration.
 //!
@@ -154,7 +159,7 @@ use thiserror::Error;
 
 pub use chaos::ChaoticMap;
 use chaos::{rng_for_seed, unit, Chaos};
-use collision::{BitGrid, Collision};
+use collision::{BitGrid, Collision, SegmentCache};
 use guide::Guide;
 use rand_chacha::ChaCha8Rng;
 use spline::Spline;
@@ -208,10 +213,17 @@ pub struct Config {
     /// Penalty weight per unit of collision (blocked cells touched plus length inside),
     /// finite and `>= 0`. Default 100.
     pub penalty: f64,
-    /// Spline samples per knot interval, `1 ..= 1000`. Default 5 (issue 34: 10 gave the same lengths on seed 002's maps at 1.3 times the CPU time per evaluation).
+    /// Spline samples per knot interval, `1 ..= 1000`. Default 2 (issue 34: on seed 002's
+    /// maps 2, 3, 4 and 5 gave mean lengths within 0.1 % of each other, 20 repeats,
+    /// while the CPU time per evaluation grows with the samples: 5 took 1.24 to 1.32
+    /// times as long as 2, `cargo bench -p planner-capso --bench seed002 --
+    /// --set=samples_per_segment=5`).
     pub samples_per_segment: u32,
     /// Ramer-Douglas-Peucker tolerance in cells for the sampled polyline, `0 ..= 16`.
-    /// Default 1.
+    /// Default 2 (issue 34: on seed 002's maps 1, 1.5 and 2 gave mean lengths within
+    /// 0.3 % of each other, 30 repeats, and 2 took 6 % fewer instructions per search than 1
+    /// on the 200 x 200 maps, callgrind: fewer waypoints, so fewer segments to measure and
+    /// a shorter simplification; every path is checked exactly whatever the tolerance).
     pub tolerance: f64,
     /// Iterations without a better personal best after which a particle restarts near the
     /// global best, `0 ..= 100_000` (0: never). Default 10.
@@ -243,8 +255,8 @@ impl Default for Config {
             max_speed: 0.1,
             chaotic_map: ChaoticMap::Logistic,
             penalty: 100.0,
-            samples_per_segment: 5,
-            tolerance: 1.0,
+            samples_per_segment: 2,
+            tolerance: 2.0,
             restart_after: 10,
             guided_share: 0.5,
             jitter: 0.05,
@@ -422,6 +434,8 @@ struct Decoder {
     keep: Vec<bool>,
     stack: Vec<(usize, usize)>,
     path: Vec<Cell>,
+    /// Collision per segment, cleared per search (the grid may change between them).
+    cache: SegmentCache,
 }
 
 impl Decoder {
@@ -476,8 +490,9 @@ impl Decoder {
         let mut length = 0.0;
         let mut collision = Collision::default();
         for pair in self.path.windows(2) {
-            length += distance(pair[0], pair[1]);
-            collision.add(grid.segment_collision(pair[0], pair[1]));
+            let (l, c) = self.cache.segment(grid, pair[0], pair[1]);
+            length += l;
+            collision.add(c);
         }
         Evaluation {
             fitness: length + config.penalty * collision.cost(),
@@ -486,17 +501,8 @@ impl Decoder {
         }
     }
 }
-/// The Euclidean distance between the centres of `a` and `b` as the square root of the
-/// sum of squares (exact in the integers below it; `Cell::euclidean`'s `hypot` is a library
-/// call, and this runs once per segment of every evaluation).
-fn distance(a: Cell, b: Cell) -> f64 {
-    let dx = f64::from(a.x.abs_diff(b.x));
-    let dy = f64::from(a.y.abs_diff(b.y));
-    (dx * dx + dy * dy).sqrt()
-}
-
 /// Ramer-Douglas-Peucker on `cells`: keeps the first and last cell and every cell farther
-/// than `tolerance` from the segment between its kept neighbours (the farthest first,
+/// than `tolerance` from the line through its kept neighbours (the farthest first,
 /// recursively), as a particle's sampled cells are simplified.
 pub fn simplify_cells(cells: &[Cell], tolerance: f64) -> Vec<Cell> {
     let (mut keep, mut stack) = (Vec::new(), Vec::new());
@@ -524,34 +530,32 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
         if b <= a + 1 {
             continue;
         }
-        // Squared distances (the same order as distances, without a square root), in
-        // integers but for one multiplication by the precomputed 1 / |b - a|^2.
+        // The perpendicular distance to the line through cells a and b (Douglas and
+        // Peucker 1973) is |cross| / |b - a|, so the farthest cell has the largest |cross|
+        // (exact integers); only the winner is compared with the tolerance. When a and b
+        // are the same cell (a path that returns to a cell), the distance to it.
         let (ax, ay) = (i64::from(cells[a].x), i64::from(cells[a].y));
         let (bx, by) = (i64::from(cells[b].x), i64::from(cells[b].y));
         let (dx, dy) = (bx - ax, by - ay);
         let squared = dx * dx + dy * dy;
-        let inverse = if squared > 0 {
-            1.0 / squared as f64
-        } else {
-            0.0
-        };
-        let (mut farthest, mut distance) = (a, -1.0);
-        for (k, &cell) in cells.iter().enumerate().take(b).skip(a + 1) {
-            let (px, py) = (i64::from(cell.x), i64::from(cell.y));
-            let (wx, wy) = (px - ax, py - ay);
-            let dot = wx * dx + wy * dy;
-            let d = if dot <= 0 || squared == 0 {
-                (wx * wx + wy * wy) as f64
-            } else if dot >= squared {
-                ((px - bx) * (px - bx) + (py - by) * (py - by)) as f64
+        let (mut farthest, mut largest) = (a, -1i64);
+        for (k, &cell) in (a + 1..).zip(&cells[a + 1..b]) {
+            let (wx, wy) = (i64::from(cell.x) - ax, i64::from(cell.y) - ay);
+            let d = if squared == 0 {
+                wx * wx + wy * wy
             } else {
-                let cross = wx * dy - wy * dx;
-                (cross * cross) as f64 * inverse
+                (wx * dy - wy * dx).abs()
             };
-            if d > distance {
-                (farthest, distance) = (k, d);
+            if d > largest {
+                (farthest, largest) = (k, d);
             }
         }
+        // Squared distance of the farthest cell.
+        let distance = if squared == 0 {
+            largest as f64
+        } else {
+            (largest as f64) * (largest as f64) / squared as f64
+        };
         if distance > tolerance * tolerance {
             keep[farthest] = true;
             stack.push((farthest, b));
@@ -579,6 +583,10 @@ pub struct CapsoStats {
     pub n_guide_expanded: u64,
     /// The guide's block size in cells (0 when the guide found no route).
     pub guide_block: u64,
+    /// Path segments measured for collision over all evaluations.
+    pub n_segments: u64,
+    /// Those answered by the segment cache ([`collision::SegmentCache`]).
+    pub n_segment_cache_hits: u64,
 }
 
 impl CapsoStats {
@@ -596,6 +604,8 @@ impl CapsoStats {
             .with("n_restarts", self.n_restarts)
             .with("n_guide_expanded", self.n_guide_expanded)
             .with("guide_block", self.guide_block)
+            .with("n_segments", self.n_segments)
+            .with("n_segment_cache_hits", self.n_segment_cache_hits)
             .with("n_expanded", self.n_fitness_evaluations)
     }
 }
@@ -659,6 +669,7 @@ impl Capso {
     /// path.
     pub fn evaluate(&mut self, problem: &Problem<'_>, position: &[f64]) -> (Evaluation, Path) {
         self.bits.load(problem.grid());
+        self.decoder.cache.clear();
         let e = self.decoder.evaluate(
             &self.bits,
             problem.start(),
@@ -768,6 +779,7 @@ impl Planner for Capso {
             return Outcome::over_memory(shortfall, stats.counters());
         }
         self.bits.load(grid);
+        self.decoder.cache.clear();
         let reachable = self.guide.find(&self.bits, start, goal);
         stats.n_guide_expanded = self.guide.n_expanded;
         stats.guide_block = u64::from(self.guide.block);
@@ -918,6 +930,8 @@ impl Planner for Capso {
             series.points.push([f64::from(k), global_fitness]);
         }
         stats.n_chaos_reseeds = chaos.n_reseeds;
+        stats.n_segments = decoder.cache.lookups;
+        stats.n_segment_cache_hits = decoder.cache.hits;
 
         let best = (!s.global.is_empty()).then(|| {
             let e = decoder.evaluate(bits, start, goal, &s.global, &config);

@@ -55,8 +55,12 @@ impl Spline {
             self.y.push(y);
         }
         let n = self.t.len();
-        second_derivatives(&self.t, &self.x, &mut self.mx, &mut self.scratch);
-        second_derivatives(&self.t, &self.y, &mut self.my, &mut self.scratch);
+        second_derivatives(
+            &self.t,
+            [&self.x, &self.y],
+            [&mut self.mx, &mut self.my],
+            &mut self.scratch,
+        );
         n
     }
 
@@ -123,38 +127,42 @@ impl Spline {
 /// The natural spline's second derivatives `m` at the knots `(t_i, v_i)`: `m_0 = m_n = 0`
 /// and, for the inner knots, `h_{i-1} m_{i-1} + 2 (h_{i-1} + h_i) m_i + h_i m_{i+1} =
 /// 6 ((v_{i+1} - v_i) / h_i - (v_i - v_{i-1}) / h_{i-1})`, solved by the Thomas algorithm
-/// (the system is strictly diagonally dominant).
-fn second_derivatives(t: &[f64], v: &[f64], m: &mut Vec<f64>, c: &mut Vec<f64>) {
+/// (the system is strictly diagonally dominant). The matrix depends on `t` only, so both
+/// coordinates' right-hand sides `v` are solved in one sweep into `m`.
+fn second_derivatives(t: &[f64], v: [&[f64]; 2], m: [&mut Vec<f64>; 2], c: &mut Vec<f64>) {
     let n = t.len();
-    m.clear();
-    m.resize(n, 0.0);
+    let [mx, my] = m;
+    for m in [&mut *mx, &mut *my] {
+        m.clear();
+        m.resize(n, 0.0);
+    }
     if n < 3 {
         return;
     }
     c.clear();
     c.resize(n, 0.0);
     // Forward sweep over inner knots 1 ..= n - 2: c holds the modified super-diagonal,
-    // m the modified right-hand side.
+    // m the modified right-hand sides.
     for i in 1..n - 1 {
         let h0 = t[i] - t[i - 1];
         let h1 = t[i + 1] - t[i];
-        let rhs = 6.0 * ((v[i + 1] - v[i]) / h1 - (v[i] - v[i - 1]) / h0);
         let diag = 2.0 * (h0 + h1);
-        let (prev_c, prev_m) = if i > 1 {
-            (c[i - 1], m[i - 1])
+        let (prev_c, prev_x, prev_y) = if i > 1 {
+            (c[i - 1], mx[i - 1], my[i - 1])
         } else {
-            (0.0, 0.0)
+            (0.0, 0.0, 0.0)
         };
-        let denom = diag - h0 * prev_c;
-        c[i] = h1 / denom;
-        m[i] = (rhs - h0 * prev_m) / denom;
+        let inverse = 1.0 / (diag - h0 * prev_c);
+        c[i] = h1 * inverse;
+        let rhs = |v: &[f64]| 6.0 * ((v[i + 1] - v[i]) / h1 - (v[i] - v[i - 1]) / h0);
+        mx[i] = (rhs(v[0]) - h0 * prev_x) * inverse;
+        my[i] = (rhs(v[1]) - h0 * prev_y) * inverse;
     }
     // The last inner knot's super-diagonal term multiplies m_{n-1} = 0.
-    m[n - 1] = 0.0;
     for i in (1..n - 1).rev() {
-        m[i] -= c[i] * m[i + 1];
+        mx[i] -= c[i] * mx[i + 1];
+        my[i] -= c[i] * my[i + 1];
     }
-    m[0] = 0.0;
 }
 
 #[cfg(test)]
