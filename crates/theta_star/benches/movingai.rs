@@ -19,14 +19,16 @@
 //! among equal f, no corner cutting), with all counters on, and every A\* length is
 //! checked against the scenario's stated optimum (relative `1e-4`; a mismatch aborts).
 //! Each planner runs the whole file `--repeats=N` times (default 3), the three
-//! alternating, and its best time counts. Pass map names (`arena`, `den520d`) as arguments
-//! to run a subset.
+//! alternating, and its best time counts. Times are wall time, or with `--clock=cpu` the
+//! thread's time on a CPU (planner-bench's clocks, as in the A* and JPS benches). Pass map
+//! names (`arena`, `den520d`) as arguments to run a subset.
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use planner_api::{Budget, Connectivity, Grid, Problem};
 use planner_astar::{AStar, Config as AStarConfig, Heuristic, TieBreak};
+use planner_bench::Repeats;
 use planner_maps::{read_map, read_scenarios, Scenario};
 use planner_theta_star::{AnyAngle, Config, Variant};
 
@@ -83,19 +85,10 @@ fn against(lengths: &[f64], reference: &[f64]) -> Against {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let repeats = args
-        .iter()
-        .find_map(|a| a.strip_prefix("--repeats="))
-        .map_or(3, |n| {
-            n.parse::<usize>()
-                .unwrap_or_else(|e| panic!("--repeats: {e}"))
-        });
-    let filter: Vec<String> = args
-        .iter()
-        .filter(|a| !a.starts_with("--"))
-        .cloned()
-        .collect();
+    let (repeats, filter) = Repeats::parse(std::env::args().skip(1)).unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(2)
+    });
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai");
     let mut names: Vec<String> = std::fs::read_dir(&root)
         .unwrap_or_else(|e| panic!("{}: {e}", root.display()))
@@ -127,7 +120,13 @@ fn main() {
 }
 
 /// A*, Theta* and Lazy Theta* over `scenarios`, `repeats` times each, alternating.
-fn run(grid: &Grid, scenarios: &[Scenario], repeats: usize) -> [Run; 3] {
+fn run(grid: &Grid, scenarios: &[Scenario], Repeats(repeats, clock): Repeats) -> [Run; 3] {
+    // The clock was read once by `Repeats::parse`; it stays readable.
+    let now = || {
+        clock
+            .now()
+            .unwrap_or_else(|| panic!("the clock became unavailable"))
+    };
     let mut astar = AStar::new(AStarConfig {
         moves: Connectivity::Eight,
         heuristic: Heuristic::Octile,
@@ -143,7 +142,7 @@ fn run(grid: &Grid, scenarios: &[Scenario], repeats: usize) -> [Run; 3] {
     let mut runs: [Run; 3] = Default::default();
     for repeat in 0..repeats {
         let first = repeat == 0;
-        let t = Instant::now();
+        let t = now();
         for (s, problem) in scenarios.iter().zip(&problems) {
             let search = astar.search(problem, &Budget::unlimited());
             if first {
@@ -158,9 +157,9 @@ fn run(grid: &Grid, scenarios: &[Scenario], repeats: usize) -> [Run; 3] {
                 runs[0].n_expanded += search.stats.n_expanded;
             }
         }
-        runs[0].time(t.elapsed());
+        runs[0].time(now().saturating_sub(t));
         for (slot, variant) in [(1, Variant::Theta), (2, Variant::Lazy)] {
-            let t = Instant::now();
+            let t = now();
             for problem in &problems {
                 let search = any_angle.search(problem, &Budget::unlimited(), variant);
                 if first {
@@ -171,7 +170,7 @@ fn run(grid: &Grid, scenarios: &[Scenario], repeats: usize) -> [Run; 3] {
                     run.n_los_cells += search.stats.n_los_cells;
                 }
             }
-            runs[slot].time(t.elapsed());
+            runs[slot].time(now().saturating_sub(t));
         }
     }
     runs
