@@ -1,0 +1,145 @@
+//! Planning time of navigation in unknown terrain: D* Lite (and LPA*) against A* from
+//! scratch at every replan, forward and backward, on Moving AI maps, without the oracle
+//! (the `navigate` example checks every replan of the same runs; counters are
+//! deterministic, so the expansions here are the checked ones).
+//!
+//! ```text
+//! cargo bench -p planner-replan --bench navigate -- [--scenarios 100] \
+//!     [--maps den520d,random512-10-0] [--radius 1,5] [--planners dstar_lite,astar,astar_backward]
+//! ```
+//!
+//! For each map, radius and scenario (spread evenly over the `.scen` file), every planner
+//! drives its own agent, one after the other in an order that rotates per scenario, in
+//! one process, so machine load falls on all alike. Printed per map and radius: the
+//! medians over scenarios of each planner's total expansions and planning time as a share
+//! of A*'s. A planner's planning time is the time of telling it the moves and changes
+//! plus its replans; for A* from scratch two figures are given, its search alone (its
+//! rebuild of a bit-packed map after every change excluded: the strict baseline) and its
+//! search with that rebuild.
+
+use std::time::Duration;
+
+use planner_api::Budget;
+use planner_replan::navigate::{self, NavConfig, NavRun};
+use planner_replan::planners;
+use planner_replan::report::quantile;
+
+fn arg_list(args: &[String], key: &str, default: &str) -> Vec<String> {
+    args.iter()
+        .position(|a| a == key)
+        .and_then(|i| args.get(i + 1))
+        .map_or(default, String::as_str)
+        .split(',')
+        .map(str::to_owned)
+        .collect()
+}
+
+fn loadavg() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .unwrap_or_default()
+        .trim()
+        .to_owned()
+}
+
+/// Replan time alone (the search, without telling the planner the changes).
+fn search_time(run: &NavRun) -> Duration {
+    run.replans.iter().map(|r| r.replan_time).sum()
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let n_scenarios: usize = arg_list(&args, "--scenarios", "100")[0].parse()?;
+    let maps = arg_list(&args, "--maps", "den520d,random512-10-0");
+    let radii: Vec<u32> = arg_list(&args, "--radius", "1,5")
+        .iter()
+        .map(|r| r.parse())
+        .collect::<Result<_, _>>()?;
+    let names = arg_list(&args, "--planners", "dstar_lite,astar,astar_backward");
+    for name in &names {
+        planners::by_name(name, true)?;
+    }
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai");
+    println!("load average at start: {}", loadavg());
+    for map in &maps {
+        let grid = planner_maps::read_map(&root.join(format!("{map}.map")))?.grid;
+        let scenarios = planner_maps::read_scenarios(&root.join(format!("{map}.map.scen")))?;
+        let n = n_scenarios.min(scenarios.len());
+        let picked: Vec<_> = (0..n)
+            .map(|i| &scenarios[i * scenarios.len() / n])
+            .collect();
+        for &radius in &radii {
+            let config = NavConfig {
+                radius,
+                ..NavConfig::default()
+            };
+            let mut table: Vec<Vec<(String, NavRun)>> = Vec::new();
+            for (k, scenario) in picked.iter().enumerate() {
+                let mut row = Vec::new();
+                for j in 0..names.len() {
+                    let name = &names[(k + j) % names.len()];
+                    let mut planner = planners::by_name(name, true)?;
+                    let run = navigate::run(
+                        planner.as_mut(),
+                        None,
+                        &grid,
+                        scenario.start,
+                        scenario.goal,
+                        &config,
+                        &Budget::unlimited(),
+                    )?;
+                    row.push((name.clone(), run));
+                }
+                table.push(row);
+            }
+            let replans: usize = table.iter().flatten().map(|(_, r)| r.replans.len()).sum();
+            println!(
+                "{map} radius {radius}: {} scenarios, {replans} replans",
+                table.len()
+            );
+            let pct = |v: Option<f64>| v.map_or("-".into(), |x| format!("{:.1} %", 100.0 * x));
+            for name in &names {
+                // Shares need the baseline, A* from scratch, in the same run.
+                if name == "astar" || !names.iter().any(|n| n == "astar") {
+                    continue;
+                }
+                let (mut exp, mut strict, mut with_rebuild) = (Vec::new(), Vec::new(), Vec::new());
+                let (mut total_a, mut total_b, mut exp_a, mut exp_b) =
+                    (Duration::ZERO, Duration::ZERO, 0u64, 0u64);
+                for row in &table {
+                    let find = |n: &str| row.iter().find(|(m, _)| m == n).map(|(_, r)| r);
+                    let (Some(a), Some(b)) = (find(name), find("astar")) else {
+                        continue;
+                    };
+                    total_a += a.planning_time();
+                    total_b += search_time(b);
+                    exp_a += a.total_expansions();
+                    exp_b += b.total_expansions();
+                    if b.total_expansions() > 0 {
+                        exp.push(a.total_expansions() as f64 / b.total_expansions() as f64);
+                    }
+                    let time_a = a.planning_time().as_secs_f64();
+                    if !search_time(b).is_zero() {
+                        strict.push(time_a / search_time(b).as_secs_f64());
+                    }
+                    if !b.planning_time().is_zero() {
+                        with_rebuild.push(time_a / b.planning_time().as_secs_f64());
+                    }
+                }
+                println!(
+                    "  {name} / astar: median total expansions {} [p10 {}, p90 {}]; median planning time {} of A*'s search [p10 {}, p90 {}], {} of A*'s search with its map rebuilds; sums: {exp_a} vs {exp_b} expansions, {:.1} ms vs {:.1} ms",
+                    pct(quantile(&exp, 0.5)),
+                    pct(quantile(&exp, 0.1)),
+                    pct(quantile(&exp, 0.9)),
+                    pct(quantile(&strict, 0.5)),
+                    pct(quantile(&strict, 0.1)),
+                    pct(quantile(&strict, 0.9)),
+                    pct(quantile(&with_rebuild, 0.5)),
+                    total_a.as_secs_f64() * 1e3,
+                    total_b.as_secs_f64() * 1e3,
+                );
+            }
+        }
+    }
+    println!("load average at end: {}", loadavg());
+    Ok(())
+}
