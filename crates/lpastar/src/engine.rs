@@ -401,7 +401,8 @@ impl Engine {
             let u = tag_vertex(entry_tag);
             let ui = u as usize;
             let record = self.records[ui];
-            if record[2] as u32 != self.session || (record[2] >> 32) as u32 != tag_generation(entry_tag)
+            if record[2] as u32 != self.session
+                || (record[2] >> 32) as u32 != tag_generation(entry_tag)
             {
                 // A stale entry: the vertex's key changed or it left the queue since.
                 self.heap.pop();

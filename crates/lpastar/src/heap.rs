@@ -35,6 +35,15 @@ pub(crate) fn tag_generation(tag: u64) -> u32 {
     tag as u32
 }
 
+/// Whether `a` orders before `b`: the tuple order, with the two-part key compared as one
+/// 128-bit number (fewer branches than comparing field by field).
+#[inline]
+fn less(a: Entry, b: Entry) -> bool {
+    let key = |e: Entry| u128::from(e.0) << 64 | u128::from(e.1);
+    let (ka, kb) = (key(a), key(b));
+    ka < kb || (ka == kb && a.2 < b.2)
+}
+
 /// A 4-ary min-heap of [`Entry`]s (see the [module docs](self)).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Heap {
@@ -65,7 +74,7 @@ impl Heap {
         self.items.push(entry);
         while i > 0 {
             let parent = (i - 1) / 4;
-            if self.items[parent] <= entry {
+            if !less(entry, self.items[parent]) {
                 break;
             }
             self.items[i] = self.items[parent];
@@ -96,25 +105,27 @@ impl Heap {
     /// Places `entry` at `i` or below, moving lesser children up.
     #[inline]
     fn sift_down(&mut self, mut i: usize, entry: Entry) {
-        let n = self.items.len();
+        let items = &mut self.items[..];
+        let n = items.len();
         loop {
             let first = 4 * i + 1;
             if first >= n {
                 break;
             }
-            let mut least = first;
-            for child in first + 1..(first + 4).min(n) {
-                if self.items[child] < self.items[least] {
-                    least = child;
+            let children = &items[first..(first + 4).min(n)];
+            let (mut least, mut best) = (0, children[0]);
+            for (j, &child) in children.iter().enumerate().skip(1) {
+                if less(child, best) {
+                    (least, best) = (j, child);
                 }
             }
-            if self.items[least] >= entry {
+            if !less(best, entry) {
                 break;
             }
-            self.items[i] = self.items[least];
-            i = least;
+            items[i] = best;
+            i = first + least;
         }
-        self.items[i] = entry;
+        items[i] = entry;
     }
 
     /// Keeps only the entries `is_live` accepts and restores the heap order.
