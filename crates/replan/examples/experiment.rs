@@ -21,7 +21,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .cloned()
     };
     let Some(config) = args.first().filter(|a| !a.starts_with("--")) else {
-        return Err("usage: experiment <config.toml> [--output DIR] [--timing] [--test] [--threads N]".into());
+        return Err(
+            "usage: experiment <config.toml> [--output DIR] [--timing] [--test] [--threads N]"
+                .into(),
+        );
     };
     let config = PathBuf::from(config);
     let output = match value("--output") {

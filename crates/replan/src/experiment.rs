@@ -1,7 +1,7 @@
 //! The `navigate` and `dynamic` experiment kinds: a typed TOML config, its runs (in
 //! parallel, deterministic counters) and a results directory.
 //!
-//! A config is one TOML file (keys in `configs/replan/README.md`):
+//! A config is one TOML file (every key in `configs/replan/README.md`):
 //!
 //! - `kind = "navigate"`: for each map of `[[maps]]` (a Moving AI map and its `.scen`),
 //!   `scenarios` scenarios spread evenly over the file, each sensor radius of `radii` and
@@ -325,13 +325,20 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
         ));
     }
     if config.planners.is_empty() {
-        return Err(invalid(0..0, "planners", "name at least one planner".into()));
+        return Err(invalid(
+            0..0,
+            "planners",
+            "name at least one planner".into(),
+        ));
     }
     for (i, p) in config.planners.iter().enumerate() {
         if let Err(e) = planners::by_name(p.get_ref(), true) {
             return Err(invalid(p.span(), "planners", e.to_string()));
         }
-        if config.planners[..i].iter().any(|q| q.get_ref() == p.get_ref()) {
+        if config.planners[..i]
+            .iter()
+            .any(|q| q.get_ref() == p.get_ref())
+        {
             return Err(invalid(
                 p.span(),
                 "planners",
@@ -357,6 +364,15 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
             ));
         }
     }
+    if let (Some(moves), Some(_)) = (&config.moves, config.gppc.first()) {
+        if *moves.get_ref() != 8 {
+            return Err(invalid(
+                moves.span(),
+                "moves",
+                "GPPC scenarios are 8-connected: [[gppc]] needs moves = 8".into(),
+            ));
+        }
+    }
     for g in &config.gppc {
         if *g.query_every.get_ref() == 0 {
             return Err(invalid(
@@ -369,10 +385,18 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
     match config.kind {
         Kind::Navigate => {
             if config.maps.is_empty() {
-                return Err(invalid(0..0, "maps", "a navigate experiment needs [[maps]]".into()));
+                return Err(invalid(
+                    0..0,
+                    "maps",
+                    "a navigate experiment needs [[maps]]".into(),
+                ));
             }
             if config.radii.is_empty() {
-                return Err(invalid(0..0, "radii", "a navigate experiment needs radii".into()));
+                return Err(invalid(
+                    0..0,
+                    "radii",
+                    "a navigate experiment needs radii".into(),
+                ));
             }
             if let Some(t) = &config.toggles {
                 return Err(invalid(
@@ -607,7 +631,11 @@ pub fn run(
     // The runs, in a fixed order; rayon keeps it in the collected results.
     let mut tasks: Vec<(usize, usize, u64, usize)> = Vec::new();
     let settings: Vec<u64> = match config.kind {
-        Kind::Navigate => config.radii.iter().map(|r| u64::from(*r.get_ref())).collect(),
+        Kind::Navigate => config
+            .radii
+            .iter()
+            .map(|r| u64::from(*r.get_ref()))
+            .collect(),
         Kind::Dynamic => match &config.toggles {
             Some(t) => {
                 let seeds = &t.get_ref().seeds;
@@ -677,8 +705,7 @@ pub fn run(
                         }
                     }
                     Kind::Dynamic => {
-                        let problem = match Problem::new(&map.grid, scenario.start, scenario.goal)
-                        {
+                        let problem = match Problem::new(&map.grid, scenario.start, scenario.goal) {
                             Ok(problem) => problem,
                             Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
                         };
@@ -920,7 +947,10 @@ fn write_results(
             ),
         )?;
     }
-    let mismatches = rows.iter().map(|r| r.mismatches().len() as u64).sum::<u64>()
+    let mismatches = rows
+        .iter()
+        .map(|r| r.mismatches().len() as u64)
+        .sum::<u64>()
         + gppc_runs
             .iter()
             .map(|(_, _, g)| {
