@@ -223,8 +223,24 @@ impl Engine {
                 cost,
             };
         }
-        // The padded map is built by the first compute (after the memory check).
-        self.free.clear();
+        // The padded map (its memory reused when the size is unchanged); left empty for a
+        // grid whose padded cells overflow the 32-bit vertex indices, which compute
+        // refuses.
+        let padded = u64::from(self.stride) * (u64::from(self.height) + 2);
+        if padded <= u64::from(u32::MAX) {
+            let n = padded as usize;
+            if self.free.len() != n {
+                self.free.clear();
+                self.free.resize(n, false);
+            }
+            let (w, stride) = (self.width as usize, self.stride as usize);
+            for (y, row) in grid.free_cells().chunks(w.max(1)).enumerate() {
+                let at = (y + 1) * stride + 1;
+                self.free[at..at + row.len()].copy_from_slice(row);
+            }
+        } else {
+            self.free = Vec::new();
+        }
         self.root = self.vertex(root);
         self.target = self.vertex(target);
         self.target_xy = self.xy(self.target);
@@ -332,7 +348,7 @@ impl Engine {
         std::mem::take(&mut self.stats)
     }
 
-    /// Sizes the per-cell state and the padded map for a new session; the shortfall when
+    /// Sizes the per-cell state for a new session; the shortfall when
     /// they do not fit the budget (or the engine's 32-bit vertex indices).
     fn begin_session(&mut self, budget: &Budget) -> Result<(), MemoryShortfall> {
         let Some(grid) = self.grid.as_ref() else {
@@ -351,15 +367,6 @@ impl Engine {
             });
         }
         let n = padded as usize;
-        if self.free.len() != n {
-            self.free.clear();
-            self.free.resize(n, false);
-            let (w, stride) = (self.width as usize, self.stride as usize);
-            for (y, row) in grid.free_cells().chunks(w.max(1)).enumerate() {
-                let at = (y + 1) * stride + 1;
-                self.free[at..at + row.len()].copy_from_slice(row);
-            }
-        }
         if self.records.len() != n {
             self.records = vec![[0; 3]; n];
             self.session = 0;
