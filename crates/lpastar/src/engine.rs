@@ -111,16 +111,35 @@ const MOVES: [(i32, i32, u64); 8] = [
     (-1, -1, Cost::SQRT_2.units()),
 ];
 
-/// One move on the padded grid: the offset to the neighbour, the offsets of the two cells
-/// a diagonal passes beside (0 for an axis move), the coordinate steps and the cost.
+/// One move on the padded grid: the offset to the neighbour, the coordinate steps and the
+/// cost.
 #[derive(Debug, Clone, Copy, Default)]
 struct Step {
     offset: isize,
-    side_x: isize,
-    side_y: isize,
     dx: i32,
     dy: i32,
     cost: u64,
+}
+
+/// The move table of [`Engine::legal`]: for each 3 x 3 block of free flags, the moves
+/// from its centre, 4 or 8 without corner cutting (none when the centre is blocked).
+fn move_table(eight: bool) -> Vec<u8> {
+    let n_moves = if eight { 8 } else { 4 };
+    (0..512usize)
+        .map(|code| {
+            let free = |dx: i32, dy: i32| code >> (3 * (dy + 1) + dx + 1) & 1 == 1;
+            if !free(0, 0) {
+                return 0;
+            }
+            let mut mask = 0u8;
+            for (k, &(dx, dy, _)) in MOVES.iter().enumerate().take(n_moves) {
+                if free(dx, dy) && (dx == 0 || dy == 0 || (free(dx, 0) && free(0, dy))) {
+                    mask |= 1 << k;
+                }
+            }
+            mask
+        })
+        .collect()
 }
 
 /// A vertex's record: `g`, `rhs`, and `meta` = stamp (low 32 bits) and the generation of
@@ -140,7 +159,9 @@ pub struct Engine {
     /// The padded map: free cells, with a blocked border.
     free: Vec<bool>,
     steps: [Step; 8],
-    n_steps: usize,
+    /// The legal moves (bits in [`MOVES`] order) of each 3 x 3 block of free flags
+    /// (bit `3 * (dy + 1) + dx + 1` for the cell at offset `(dx, dy)`).
+    table: Vec<u8>,
     records: Vec<Record>,
     session: u32,
     heap: Heap,
@@ -171,7 +192,7 @@ impl Engine {
             stride: 2,
             free: Vec::new(),
             steps: [Step::default(); 8],
-            n_steps: if eight { 8 } else { 4 },
+            table: move_table(eight),
             records: Vec::new(),
             session: 0,
             heap: Heap::default(),
@@ -216,8 +237,6 @@ impl Engine {
             let (sx, sy) = (dx as isize, dy as isize * stride);
             *step = Step {
                 offset: sx + sy,
-                side_x: if dy != 0 { sx } else { 0 },
-                side_y: if dx != 0 { sy } else { 0 },
                 dx,
                 dy,
                 cost,
@@ -403,7 +422,7 @@ impl Engine {
         let mut clock = budget.start();
         let mut expanded = 0u64;
         let t = self.target as usize;
-        let (steps, n_steps) = (self.steps, self.n_steps);
+        let steps = self.steps;
         while let Some((k1, k2, entry_tag)) = self.heap.peek() {
             let u = tag_vertex(entry_tag);
             let ui = u as usize;
@@ -439,18 +458,12 @@ impl Engine {
             if g_u > rhs_u {
                 self.stats.heap_pops += 1;
                 self.records[ui][0] = rhs_u;
-                if !self.free[ui] {
-                    continue;
-                }
-                for step in &steps[..n_steps] {
+                let mut legal = self.legal(ui);
+                while legal != 0 {
+                    let step = steps[legal.trailing_zeros() as usize];
+                    legal &= legal - 1;
                     let s = ui.wrapping_add_signed(step.offset);
-                    if !self.free[s] || s == self.root as usize {
-                        continue;
-                    }
-                    if step.side_x != 0
-                        && !(self.free[ui.wrapping_add_signed(step.side_x)]
-                            && self.free[ui.wrapping_add_signed(step.side_y)])
-                    {
+                    if s == self.root as usize {
                         continue;
                     }
                     let through = step.cost.saturating_add(rhs_u);
@@ -465,27 +478,19 @@ impl Engine {
                 }
             } else {
                 self.records[ui][0] = INF;
-                if self.free[ui] {
-                    for step in &steps[..n_steps] {
-                        let s = ui.wrapping_add_signed(step.offset);
-                        if !self.free[s] || s == self.root as usize {
-                            continue;
-                        }
-                        if step.side_x != 0
-                            && !(self.free[ui.wrapping_add_signed(step.side_x)]
-                                && self.free[ui.wrapping_add_signed(step.side_y)])
-                        {
-                            continue;
-                        }
-                        if self.rhs_of(s) == step.cost.saturating_add(g_u) {
-                            let value = self.fresh_rhs(s as u32);
-                            if self.set_rhs(s as u32, value) {
-                                let sxy = (
-                                    xy.0.wrapping_add_signed(step.dx),
-                                    xy.1.wrapping_add_signed(step.dy),
-                                );
-                                self.update_vertex(s as u32, sxy);
-                            }
+                let mut legal = self.legal(ui);
+                while legal != 0 {
+                    let step = steps[legal.trailing_zeros() as usize];
+                    legal &= legal - 1;
+                    let s = ui.wrapping_add_signed(step.offset);
+                    if s != self.root as usize && self.rhs_of(s) == step.cost.saturating_add(g_u) {
+                        let value = self.fresh_rhs(s as u32);
+                        if self.set_rhs(s as u32, value) {
+                            let sxy = (
+                                xy.0.wrapping_add_signed(step.dx),
+                                xy.1.wrapping_add_signed(step.dy),
+                            );
+                            self.update_vertex(s as u32, sxy);
                         }
                     }
                 }
@@ -525,21 +530,15 @@ impl Engine {
         let mut cells = vec![self.cell_of(self.target)];
         let mut u = self.target as usize;
         while u != self.root as usize {
-            if cells.len() > grid.len() || !self.free[u] {
+            if cells.len() > grid.len() {
                 return None;
             }
             let mut best: Option<(u64, usize)> = None;
-            for step in &self.steps[..self.n_steps] {
+            let mut legal = self.legal(u);
+            while legal != 0 {
+                let step = &self.steps[legal.trailing_zeros() as usize];
+                legal &= legal - 1;
                 let s = u.wrapping_add_signed(step.offset);
-                if !self.free[s] {
-                    continue;
-                }
-                if step.side_x != 0
-                    && !(self.free[u.wrapping_add_signed(step.side_x)]
-                        && self.free[u.wrapping_add_signed(step.side_y)])
-                {
-                    continue;
-                }
                 let through = step.cost.saturating_add(self.g_of(s));
                 if through != INF && best.is_none_or(|(b, _)| through < b) {
                     best = Some((through, s));
@@ -637,20 +636,26 @@ impl Engine {
             return 0;
         }
         let mut best = INF;
-        for step in &self.steps[..self.n_steps] {
+        let mut legal = self.legal(ui);
+        while legal != 0 {
+            let step = &self.steps[legal.trailing_zeros() as usize];
+            legal &= legal - 1;
             let s = ui.wrapping_add_signed(step.offset);
-            if !self.free[s] {
-                continue;
-            }
-            if step.side_x != 0
-                && !(self.free[ui.wrapping_add_signed(step.side_x)]
-                    && self.free[ui.wrapping_add_signed(step.side_y)])
-            {
-                continue;
-            }
             best = best.min(step.cost.saturating_add(self.g_of(s)));
         }
         best
+    }
+
+    /// The moves from interior vertex `u`, a bit per move of [`MOVES`] (in their order):
+    /// its 3 x 3 block of the padded map looked up in the move table.
+    #[inline]
+    fn legal(&self, u: usize) -> u8 {
+        let (f, w) = (&self.free, self.stride as usize);
+        let row = |at: usize| {
+            usize::from(f[at - 1]) | usize::from(f[at]) << 1 | usize::from(f[at + 1]) << 2
+        };
+        let code = row(u - w) | row(u) << 3 | row(u + w) << 6;
+        self.table[code]
     }
 
     /// `key = [m + h(xy, target) + km; m]` for `m = min(g, rhs)` of the vertex at `xy`.
