@@ -685,7 +685,7 @@ impl Engine {
             } else {
                 self.stats.heap_pushes += 1;
             }
-            if self.heap.len() > 2 * self.live + 1024 {
+            if self.heap.len() > self.live + self.live / 4 + 64 {
                 self.compact();
             }
         } else if queued {

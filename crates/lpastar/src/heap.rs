@@ -41,7 +41,8 @@ pub(crate) fn tag_generation(tag: u64) -> u32 {
 fn less(a: Entry, b: Entry) -> bool {
     let key = |e: Entry| u128::from(e.0) << 64 | u128::from(e.1);
     let (ka, kb) = (key(a), key(b));
-    ka < kb || (ka == kb && a.2 < b.2)
+    // Non-short-circuit operators: no branch on the outcome.
+    (ka < kb) | ((ka == kb) & (a.2 < b.2))
 }
 
 /// A 4-ary min-heap of [`Entry`]s (see the [module docs](self)).
@@ -109,21 +110,30 @@ impl Heap {
         let n = items.len();
         loop {
             let first = 4 * i + 1;
-            if first >= n {
-                break;
-            }
-            let children = &items[first..(first + 4).min(n)];
-            let (mut least, mut best) = (0, children[0]);
-            for (j, &child) in children.iter().enumerate().skip(1) {
-                if less(child, best) {
-                    (least, best) = (j, child);
+            let least = if first + 4 <= n {
+                // All four children: a tournament of three comparisons.
+                let c = &items[first..first + 4];
+                let a = first + usize::from(less(c[1], c[0]));
+                let b = first + 2 + usize::from(less(c[3], c[2]));
+                let pick_b = less(items[b], items[a]);
+                a + (b - a) * usize::from(pick_b)
+            } else if first < n {
+                let mut least = first;
+                for child in first + 1..n {
+                    if less(items[child], items[least]) {
+                        least = child;
+                    }
                 }
-            }
+                least
+            } else {
+                break;
+            };
+            let best = items[least];
             if !less(best, entry) {
                 break;
             }
             items[i] = best;
-            i = first + least;
+            i = least;
         }
         items[i] = entry;
     }
