@@ -527,26 +527,34 @@ impl Engine {
     pub fn trace(&self) -> Option<Vec<Cell>> {
         let grid = self.grid.as_ref()?;
         self.target_distance()?;
-        let mut cells = vec![self.cell_of(self.target)];
+        let mut at = self.cell_of(self.target);
+        let mut cells = vec![at];
         let mut u = self.target as usize;
         while u != self.root as usize {
             if cells.len() > grid.len() {
                 return None;
             }
-            let mut best: Option<(u64, usize)> = None;
+            // The least c + g, the first of equal ones in move order (strict <).
+            let (mut best, mut best_k) = (INF, 8usize);
             let mut legal = self.legal(u);
             while legal != 0 {
-                let step = &self.steps[legal.trailing_zeros() as usize];
+                let k = legal.trailing_zeros() as usize;
                 legal &= legal - 1;
-                let s = u.wrapping_add_signed(step.offset);
-                let through = step.cost.saturating_add(self.g_of(s));
-                if through != INF && best.is_none_or(|(b, _)| through < b) {
-                    best = Some((through, s));
+                let step = &self.steps[k];
+                let through = step
+                    .cost
+                    .saturating_add(self.g_of(u.wrapping_add_signed(step.offset)));
+                if through < best {
+                    (best, best_k) = (through, k);
                 }
             }
-            let (_, next) = best?;
-            u = next;
-            cells.push(self.cell_of(u as u32));
+            let step = self.steps.get(best_k)?;
+            u = u.wrapping_add_signed(step.offset);
+            at = Cell::new(
+                at.x.wrapping_add_signed(step.dx),
+                at.y.wrapping_add_signed(step.dy),
+            );
+            cells.push(at);
         }
         Some(cells)
     }
@@ -580,16 +588,6 @@ impl Engine {
             self.records[i][1]
         } else {
             INF
-        }
-    }
-
-    /// The generation of `i`'s live queue entry (0: not queued).
-    #[inline]
-    fn queued(&self, i: usize) -> u32 {
-        if self.current(i) {
-            (self.records[i][2] >> 32) as u32
-        } else {
-            0
         }
     }
 
@@ -672,17 +670,22 @@ impl Engine {
     /// is inconsistent, else takes it out of the queue.
     fn update_vertex(&mut self, u: u32, xy: (u32, u32)) {
         let i = u as usize;
-        let (g, rhs) = (self.g_of(i), self.rhs_of(i));
-        let queued = self.queued(i) != 0;
+        let record = self.records[i];
+        let (g, rhs, queued) = if record[2] as u32 == self.session {
+            (record[0], record[1], record[2] >> 32 != 0)
+        } else {
+            (INF, INF, false)
+        };
         if g != rhs {
             let (k1, k2) = self.key_with(g.min(rhs), xy);
             let generation = self.new_generation();
-            self.touch(i);
-            self.set_queued(i, generation);
+            // The record is current: g != rhs means one was set this session.
+            self.records[i][2] = u64::from(generation) << 32 | u64::from(self.session);
             self.heap.push((k1, k2, tag(u, generation)));
             if queued {
                 self.stats.heap_updates += 1;
             } else {
+                self.live += 1;
                 self.stats.heap_pushes += 1;
             }
             if self.heap.len() > self.live + self.live / 4 + 64 {
