@@ -30,7 +30,9 @@
 //!   `rhs` are unchanged keeps its consistency, so it stays in or out of the queue as it
 //!   was, and its queued key stays a lower bound of its current key (`km` only grows to
 //!   keep it so), which is all the lazy re-keying on pop needs. This saves most key
-//!   updates; the counters count the operations actually done.
+//!   updates; the counters count the operations on the papers' queue U actually done
+//!   (insert, update, remove, pop), not how the heap carries them out (a key change is a
+//!   new entry there; the stale entries it skips and drops are not counted).
 //! - Ties: the queue orders by `(k1, k2, row-major index)`, a total order (module `heap`).
 //!   The path is traced from the target by the neighbour minimising `c + g`, the first of
 //!   equal ones in the move order right, left, down, up, then the diagonals.
