@@ -92,7 +92,41 @@ impl Heap {
             return Some(last);
         }
         let top = self.items[0];
-        self.sift_down(0, last);
+        // Bottom-up: the hole at the root descends along the least children to a leaf,
+        // then `last` (usually among the largest) rises from there.
+        let items = &mut self.items[..];
+        let n = items.len();
+        let mut i = 0;
+        loop {
+            let first = 4 * i + 1;
+            let least = if first + 4 <= n {
+                let c = &items[first..first + 4];
+                let a = first + usize::from(less(c[1], c[0]));
+                let b = first + 2 + usize::from(less(c[3], c[2]));
+                a + (b - a) * usize::from(less(items[b], items[a]))
+            } else if first < n {
+                let mut least = first;
+                for child in first + 1..n {
+                    if less(items[child], items[least]) {
+                        least = child;
+                    }
+                }
+                least
+            } else {
+                break;
+            };
+            items[i] = items[least];
+            i = least;
+        }
+        while i > 0 {
+            let parent = (i - 1) / 4;
+            if !less(last, items[parent]) {
+                break;
+            }
+            items[i] = items[parent];
+            i = parent;
+        }
+        items[i] = last;
         Some(top)
     }
 
