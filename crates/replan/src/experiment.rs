@@ -277,6 +277,25 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
+/// The experiment kind a config's `text` declares (`kind = "navigate"` or `"dynamic"`),
+/// without validating the rest: `None` for any other config (such as the runner's, which
+/// have no `kind`) or text that is not TOML. A command that runs both kinds of config
+/// dispatches on it.
+///
+/// ```
+/// use planner_replan::experiment::{kind_of, Kind};
+/// assert_eq!(kind_of("kind = \"navigate\"\nname = \"x\""), Some(Kind::Navigate));
+/// assert_eq!(kind_of("name = \"paper\""), None);
+/// ```
+pub fn kind_of(text: &str) -> Option<Kind> {
+    let table: toml::Table = toml::from_str(text).ok()?;
+    match table.get("kind")?.as_str()? {
+        "navigate" => Some(Kind::Navigate),
+        "dynamic" => Some(Kind::Dynamic),
+        _ => None,
+    }
+}
+
 /// Reads and validates the config at `path`.
 pub fn load(path: &Path) -> Result<ExperimentConfig, ExperimentError> {
     let text = std::fs::read_to_string(path).map_err(|e| ExperimentError::Io {
