@@ -138,8 +138,9 @@ pub struct ExperimentConfig {
     /// Free text, copied to the top of `summary.md`.
     #[serde(default)]
     pub description: String,
-    /// Planners by [`planners::by_name`] name; default all four.
-    #[serde(default = "default_planners")]
+    /// The compared planners by [`planners::by_name`] name (key `compare`; not `planners`,
+    /// which the runner's configs use for a table); default all four.
+    #[serde(default = "default_planners", rename = "compare")]
     pub planners: Vec<Spanned<String>>,
     /// 4, or 8 without corner cutting (default).
     pub moves: Option<Spanned<u32>>,
@@ -344,15 +345,11 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
         ));
     }
     if config.planners.is_empty() {
-        return Err(invalid(
-            0..0,
-            "planners",
-            "name at least one planner".into(),
-        ));
+        return Err(invalid(0..0, "compare", "name at least one planner".into()));
     }
     for (i, p) in config.planners.iter().enumerate() {
         if let Err(e) = planners::by_name(p.get_ref(), true) {
-            return Err(invalid(p.span(), "planners", e.to_string()));
+            return Err(invalid(p.span(), "compare", e.to_string()));
         }
         if config.planners[..i]
             .iter()
@@ -360,7 +357,7 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
         {
             return Err(invalid(
                 p.span(),
-                "planners",
+                "compare",
                 format!("`{}` is listed twice", p.get_ref()),
             ));
         }

@@ -114,9 +114,9 @@ fn config_errors_name_file_line_column_and_key() {
     let e = parse_error("kind = \"walk\"\nname = \"x\"\n");
     assert!(matches!(&e, ExperimentError::Parse { line: 1, .. }), "{e}");
     // An unknown planner: the line and column of its name.
-    let e = parse_error(&format!("planners = [\"astar\", \"dstar\"]\n{base}"));
+    let e = parse_error(&format!("compare = [\"astar\", \"dstar\"]\n{base}"));
     assert!(
-        matches!(&e, ExperimentError::Invalid { line: 1, column: 22, key, .. } if key == "planners"),
+        matches!(&e, ExperimentError::Invalid { line: 1, column: 21, key, .. } if key == "compare"),
         "{e}"
     );
     assert!(
