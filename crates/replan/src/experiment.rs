@@ -5,7 +5,7 @@
 //!
 //! - `kind = "navigate"`: for each map of `[[maps]]` (a Moving AI map and its `.scen`),
 //!   `scenarios` scenarios spread evenly over the file, each sensor radius of `radii` and
-//!   each planner of `planners`, an agent navigates in unknown terrain ([`navigate`]),
+//!   each planner of `compare`, an agent navigates in unknown terrain ([`navigate`]),
 //!   every replan checked by the [`Oracle`].
 //! - `kind = "dynamic"`: scripted changes between queries: `[toggles]` (seeded: `k` random
 //!   cells toggled near the agent or on its path before each of `events` replans, one run
