@@ -30,23 +30,32 @@
 //!   `rhs` are unchanged keeps its consistency, so it stays in or out of the queue as it
 //!   was, and its queued key stays a lower bound of its current key (`km` only grows to
 //!   keep it so), which is all the lazy re-keying on pop needs. This saves most key
-//!   updates; the counters count the operations actually done.
+//!   updates; the counters count the operations on the papers' queue U actually done
+//!   (insert, update, remove, pop), not how the heap carries them out (a key change is a
+//!   new entry there; the stale entries it skips and drops are not counted).
 //! - Ties: the queue orders by `(k1, k2, row-major index)`, a total order (module `heap`).
 //!   The path is traced from the target by the neighbour minimising `c + g`, the first of
 //!   equal ones in the move order right, left, down, up, then the diagonals.
 //!
-//! Per-cell state is `g`, `rhs` and a stamp (the session number in which they were last
-//! written, so a reset is O(1): older stamps read as `g = rhs = inf`), plus the queue's
-//! position table: 24 bytes a cell, allocated zeroed (committed by the system as touched).
+//! Data layout (the search is the papers'; this is how it is stored). Vertices are
+//! indices into a copy of the map padded with one blocked cell on every side, so a
+//! neighbour is a fixed offset and needs no bounds test; the padded row-major order is the
+//! grid's, so ties come out as they would by the grid's own index. Per vertex one 24-byte
+//! record holds `g`, `rhs`, a stamp (the session in which they were last written, so a
+//! reset is O(1): older stamps read as `g = rhs = inf`) and the generation of the
+//! vertex's live queue entry (module `heap`: a 4-ary heap with lazy deletion, no
+//! positions), plus one byte for the padded map: 25 bytes a padded cell, allocated zeroed
+//! (committed by the system as touched). A search allocates nothing per expansion.
 
 use planner_api::{Budget, Cell, Cost, Counters, Grid, MemoryShortfall, Path};
 
-use crate::heap::Heap;
+use crate::heap::{tag, tag_generation, tag_vertex, Heap};
 
 const INF: u64 = u64::MAX;
 
-/// Bytes of per-cell state the engine allocates for a grid (its memory budget check).
-pub const BYTES_PER_CELL: u64 = 24;
+/// Bytes of per-cell state the engine allocates for each cell of the padded grid (its
+/// memory budget check).
+pub const BYTES_PER_CELL: u64 = 25;
 
 /// The counters of one repair (or first search), as plain integers.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -91,94 +100,81 @@ pub enum Computed {
     OverMemory(MemoryShortfall),
 }
 
-/// One offset of the neighbourhood, with the cells a diagonal must find free.
-#[derive(Debug, Clone, Copy)]
+/// The moves in the order the engine tries them (the trace's tie order): right, left,
+/// down, up, then the diagonals; `(dx, dy, cost in Cost units)`.
+const MOVES: [(i32, i32, u64); 8] = [
+    (1, 0, Cost::ONE.units()),
+    (-1, 0, Cost::ONE.units()),
+    (0, 1, Cost::ONE.units()),
+    (0, -1, Cost::ONE.units()),
+    (1, 1, Cost::SQRT_2.units()),
+    (1, -1, Cost::SQRT_2.units()),
+    (-1, 1, Cost::SQRT_2.units()),
+    (-1, -1, Cost::SQRT_2.units()),
+];
+
+/// One move on the padded grid: the offset to the neighbour, the coordinate steps and the
+/// cost.
+#[derive(Debug, Clone, Copy, Default)]
 struct Step {
+    offset: isize,
     dx: i32,
     dy: i32,
     cost: u64,
 }
 
-const STEPS_4: [Step; 4] = [
-    Step {
-        dx: 1,
-        dy: 0,
-        cost: Cost::ONE.units(),
-    },
-    Step {
-        dx: -1,
-        dy: 0,
-        cost: Cost::ONE.units(),
-    },
-    Step {
-        dx: 0,
-        dy: 1,
-        cost: Cost::ONE.units(),
-    },
-    Step {
-        dx: 0,
-        dy: -1,
-        cost: Cost::ONE.units(),
-    },
-];
+/// The move table of [`Engine::legal`]: for each 3 x 3 block of free flags, the moves
+/// from its centre, 4 or 8 without corner cutting (none when the centre is blocked).
+fn move_table(eight: bool) -> Vec<u8> {
+    let n_moves = if eight { 8 } else { 4 };
+    (0..512usize)
+        .map(|code| {
+            let free = |dx: i32, dy: i32| code >> (3 * (dy + 1) + dx + 1) & 1 == 1;
+            if !free(0, 0) {
+                return 0;
+            }
+            let mut mask = 0u8;
+            for (k, &(dx, dy, _)) in MOVES.iter().enumerate().take(n_moves) {
+                if free(dx, dy) && (dx == 0 || dy == 0 || (free(dx, 0) && free(0, dy))) {
+                    mask |= 1 << k;
+                }
+            }
+            mask
+        })
+        .collect()
+}
 
-const STEPS_8: [Step; 8] = [
-    Step {
-        dx: 1,
-        dy: 0,
-        cost: Cost::ONE.units(),
-    },
-    Step {
-        dx: -1,
-        dy: 0,
-        cost: Cost::ONE.units(),
-    },
-    Step {
-        dx: 0,
-        dy: 1,
-        cost: Cost::ONE.units(),
-    },
-    Step {
-        dx: 0,
-        dy: -1,
-        cost: Cost::ONE.units(),
-    },
-    Step {
-        dx: 1,
-        dy: 1,
-        cost: Cost::SQRT_2.units(),
-    },
-    Step {
-        dx: 1,
-        dy: -1,
-        cost: Cost::SQRT_2.units(),
-    },
-    Step {
-        dx: -1,
-        dy: 1,
-        cost: Cost::SQRT_2.units(),
-    },
-    Step {
-        dx: -1,
-        dy: -1,
-        cost: Cost::SQRT_2.units(),
-    },
-];
+/// A vertex's record: `g`, `rhs`, and `meta` = stamp (low 32 bits) and the generation of
+/// its live queue entry (high 32 bits, 0 when not queued). Stored as an array so that a
+/// zeroed allocation is a valid, empty state.
+type Record = [u64; 3];
 
 /// The incremental search (see the [module docs](self)).
 #[derive(Debug, Clone)]
 pub struct Engine {
     eight: bool,
     grid: Option<Grid>,
-    width: i64,
-    height: i64,
-    g: Vec<u64>,
-    rhs: Vec<u64>,
-    stamp: Vec<u32>,
+    width: u32,
+    height: u32,
+    /// Padded width: `width + 2`.
+    stride: u32,
+    /// The padded map: free cells, with a blocked border.
+    free: Vec<bool>,
+    steps: [Step; 8],
+    /// The legal moves (bits in [`MOVES`] order) of each 3 x 3 block of free flags
+    /// (bit `3 * (dy + 1) + dx + 1` for the cell at offset `(dx, dy)`).
+    table: Vec<u8>,
+    records: Vec<Record>,
     session: u32,
     heap: Heap,
+    /// Queued vertices (live heap entries).
+    live: usize,
+    /// The next queue entry's generation (never 0).
+    next_generation: u32,
     root: u32,
     target: u32,
+    /// The target's padded coordinates.
+    target_xy: (u32, u32),
     km: u64,
     /// Whether the per-cell state is sized and the root queued for this session.
     initialized: bool,
@@ -195,13 +191,18 @@ impl Engine {
             grid: None,
             width: 0,
             height: 0,
-            g: Vec::new(),
-            rhs: Vec::new(),
-            stamp: Vec::new(),
+            stride: 2,
+            free: Vec::new(),
+            steps: [Step::default(); 8],
+            table: move_table(eight),
+            records: Vec::new(),
             session: 0,
             heap: Heap::default(),
+            live: 0,
+            next_generation: 1,
             root: 0,
             target: 0,
+            target_xy: (0, 0),
             km: 0,
             initialized: false,
             stats: RepairStats::default(),
@@ -209,14 +210,61 @@ impl Engine {
         }
     }
 
+    /// The padded index of `cell`.
+    fn vertex(&self, cell: Cell) -> u32 {
+        (cell.y + 1) * self.stride + cell.x + 1
+    }
+
+    /// The padded coordinates of vertex `v`.
+    fn xy(&self, v: u32) -> (u32, u32) {
+        let y = v / self.stride;
+        (v - y * self.stride, y)
+    }
+
+    /// The grid cell of vertex `v` (not on the border).
+    fn cell_of(&self, v: u32) -> Cell {
+        let (x, y) = self.xy(v);
+        Cell::new(x - 1, y - 1)
+    }
+
     /// Begins a session on a copy of `grid`, rooted at `root`, towards `target`. Both are
     /// cells of `grid` (the caller validated them). Searches nothing.
     pub fn reset(&mut self, grid: &Grid, root: Cell, target: Cell) {
-        self.width = i64::from(grid.width());
-        self.height = i64::from(grid.height());
+        self.width = grid.width();
+        self.height = grid.height();
+        self.stride = self.width.saturating_add(2);
         self.grid = Some(grid.clone());
-        self.root = grid.index(root) as u32;
-        self.target = grid.index(target) as u32;
+        let stride = self.stride as isize;
+        for (step, &(dx, dy, cost)) in self.steps.iter_mut().zip(&MOVES) {
+            let (sx, sy) = (dx as isize, dy as isize * stride);
+            *step = Step {
+                offset: sx + sy,
+                dx,
+                dy,
+                cost,
+            };
+        }
+        // The padded map (its memory reused when the size is unchanged); left empty for a
+        // grid whose padded cells overflow the 32-bit vertex indices, which compute
+        // refuses.
+        let padded = u64::from(self.stride) * (u64::from(self.height) + 2);
+        if padded <= u64::from(u32::MAX) {
+            let n = padded as usize;
+            if self.free.len() != n {
+                self.free.clear();
+                self.free.resize(n, false);
+            }
+            let (w, stride) = (self.width as usize, self.stride as usize);
+            for (y, row) in grid.free_cells().chunks(w.max(1)).enumerate() {
+                let at = (y + 1) * stride + 1;
+                self.free[at..at + row.len()].copy_from_slice(row);
+            }
+        } else {
+            self.free = Vec::new();
+        }
+        self.root = self.vertex(root);
+        self.target = self.vertex(target);
+        self.target_xy = self.xy(self.target);
         self.km = 0;
         self.initialized = false;
         self.stats = RepairStats::default();
@@ -229,12 +277,12 @@ impl Engine {
 
     /// The root cell.
     pub fn root(&self) -> Option<Cell> {
-        self.grid.as_ref().map(|g| g.cell(self.root as usize))
+        self.grid.as_ref().map(|_| self.cell_of(self.root))
     }
 
     /// The target cell.
     pub fn target(&self) -> Option<Cell> {
-        self.grid.as_ref().map(|g| g.cell(self.target as usize))
+        self.grid.as_ref().map(|_| self.cell_of(self.target))
     }
 
     /// The key modifier `km` in [`Cost`] units.
@@ -245,8 +293,8 @@ impl Engine {
     /// Moves the root to `cell` by starting the search over (LPA*'s answer to a moved
     /// start: its g-values are distances from the old start).
     pub fn move_root(&mut self, cell: Cell) {
-        if let Some(grid) = &self.grid {
-            let v = grid.index(cell) as u32;
+        if self.grid.is_some() {
+            let v = self.vertex(cell);
             if v != self.root {
                 self.root = v;
                 self.initialized = false;
@@ -257,13 +305,15 @@ impl Engine {
     /// Moves the target to `cell`, D* Lite's way: `km += h(old target, new target)`, so
     /// that the keys already queued stay lower bounds without re-keying them all.
     pub fn move_target(&mut self, cell: Cell) {
-        if let Some(grid) = &self.grid {
-            let v = grid.index(cell) as u32;
+        if self.grid.is_some() {
+            let v = self.vertex(cell);
             if v != self.target {
+                let xy = self.xy(v);
                 if self.initialized {
-                    self.km = self.km.saturating_add(self.h_between(self.target, v));
+                    self.km = self.km.saturating_add(self.h(xy, self.target_xy));
                 }
                 self.target = v;
+                self.target_xy = xy;
             }
         }
     }
@@ -275,20 +325,26 @@ impl Engine {
             return;
         };
         self.affected.clear();
+        let (width, height, stride) = (self.width, self.height, self.stride);
+        let padded = !self.free.is_empty();
         for &(cell, free) in changes {
             if grid.is_free(cell) == free {
                 continue;
             }
             grid.set_free(cell, free);
-            let (x, y) = (i64::from(cell.x), i64::from(cell.y));
+            let v = (cell.y + 1) * stride + cell.x + 1;
+            if padded {
+                self.free[v as usize] = free;
+            }
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
                     if !self.eight && dx != 0 && dy != 0 {
                         continue;
                     }
-                    let (nx, ny) = (x + dx, y + dy);
-                    if nx >= 0 && ny >= 0 && nx < self.width && ny < self.height {
-                        self.affected.push((ny * self.width + nx) as u32);
+                    let (nx, ny) = (i64::from(cell.x) + dx, i64::from(cell.y) + dy);
+                    if nx >= 0 && ny >= 0 && nx < i64::from(width) && ny < i64::from(height) {
+                        self.affected
+                            .push(((ny + 1) * i64::from(stride) + nx + 1) as u32);
                     }
                 }
             }
@@ -302,7 +358,7 @@ impl Engine {
         for &u in &affected {
             let value = self.fresh_rhs(u);
             if self.set_rhs(u, value) {
-                self.update_vertex(u);
+                self.update_vertex(u, self.xy(u));
             }
         }
         self.affected = affected;
@@ -313,94 +369,143 @@ impl Engine {
         std::mem::take(&mut self.stats)
     }
 
+    /// Sizes the per-cell state for a new session; the shortfall when
+    /// they do not fit the budget (or the engine's 32-bit vertex indices).
+    fn begin_session(&mut self, budget: &Budget) -> Result<(), MemoryShortfall> {
+        let Some(grid) = self.grid.as_ref() else {
+            return Ok(());
+        };
+        let padded = u64::from(self.stride) * (u64::from(self.height) + 2);
+        let needed = BYTES_PER_CELL.saturating_mul(padded);
+        budget.check_memory(needed, grid)?;
+        if padded > u64::from(u32::MAX) {
+            // Vertices and their queue tags are 32-bit: at most 2^32 - 1 padded cells.
+            return Err(MemoryShortfall {
+                needed_bytes: needed,
+                max_memory_mb: (BYTES_PER_CELL * u64::from(u32::MAX)) >> 20,
+                width: self.width,
+                height: self.height,
+            });
+        }
+        let n = padded as usize;
+        if self.records.len() != n {
+            self.records = vec![[0; 3]; n];
+            self.session = 0;
+        }
+        self.heap.clear();
+        self.live = 0;
+        self.next_generation = 1;
+        self.session = self.session.wrapping_add(1);
+        if self.session == 0 {
+            // After 2^32 sessions the stamps could collide: clear them once.
+            self.records.iter_mut().for_each(|r| r[2] = 0);
+            self.session = 1;
+        }
+        Ok(())
+    }
+
     /// ComputeShortestPath within `budget` (its expansion and time limits; the memory
     /// limit when the per-cell state is first sized).
     pub fn compute(&mut self, budget: &Budget) -> Computed {
-        let Some(grid) = self.grid.as_ref() else {
+        if self.grid.is_none() {
             return Computed::Done;
-        };
+        }
         if !self.initialized {
-            let n = grid.len();
-            if let Err(shortfall) = budget.check_memory(BYTES_PER_CELL * n as u64, grid) {
+            if let Err(shortfall) = self.begin_session(budget) {
                 return Computed::OverMemory(shortfall);
-            }
-            if self.g.len() != n {
-                self.g = vec![0; n];
-                self.rhs = vec![0; n];
-                self.stamp = vec![0; n];
-                self.session = 0;
-            }
-            self.heap.fit(n);
-            self.session = self.session.wrapping_add(1);
-            if self.session == 0 {
-                // After 2^32 sessions the stamps could collide: clear them once.
-                self.stamp.iter_mut().for_each(|s| *s = 0);
-                self.session = 1;
             }
             self.km = 0;
             self.initialized = true;
             let root = self.root;
             let value = self.fresh_rhs(root);
             self.set_rhs(root, value);
-            self.update_vertex(root);
+            self.update_vertex(root, self.xy(root));
         }
         let mut clock = budget.start();
         let mut expanded = 0u64;
-        while let Some((k1, k2, u)) = self.heap.top() {
-            let target_key = self.key(self.target);
-            let t = self.target as usize;
-            if (k1, k2) >= target_key && self.rhs_of(t) == self.g_of(t) {
+        let t = self.target as usize;
+        let steps = self.steps;
+        while let Some((k1, k2, entry_tag)) = self.heap.peek() {
+            let u = tag_vertex(entry_tag);
+            let ui = u as usize;
+            let record = self.records[ui];
+            if record[2] as u32 != self.session
+                || (record[2] >> 32) as u32 != tag_generation(entry_tag)
+            {
+                // A stale entry: the vertex's key changed or it left the queue since.
+                self.heap.pop();
+                continue;
+            }
+            // key(target): h(target, target) = 0.
+            let (g_t, rhs_t) = (self.g_of(t), self.rhs_of(t));
+            let m_t = g_t.min(rhs_t);
+            if (k1, k2) >= (m_t.saturating_add(self.km), m_t) && rhs_t == g_t {
                 break;
             }
-            let new_key = self.key(u);
+            let (g_u, rhs_u) = (record[0], record[1]);
+            let xy = self.xy(u);
+            let new_key = self.key_with(g_u.min(rhs_u), xy);
             if (k1, k2) < new_key {
-                self.heap.update(u, new_key.0, new_key.1);
+                self.heap.replace_top((new_key.0, new_key.1, entry_tag));
                 self.stats.heap_updates += 1;
                 continue;
             }
             if !clock.allows(expanded) {
                 return Computed::Exhausted;
             }
+            self.heap.pop();
             expanded += 1;
             self.stats.expanded += 1;
-            let ui = u as usize;
-            let (g_u, rhs_u) = (self.g_of(ui), self.rhs_of(ui));
+            self.set_queued(ui, 0);
             if g_u > rhs_u {
-                self.set_g(u, rhs_u);
-                self.heap.remove(u);
                 self.stats.heap_pops += 1;
-                self.for_each_neighbour(u, |engine, s, cost| {
-                    if s != engine.root {
-                        let through = cost.saturating_add(rhs_u);
-                        if through < engine.rhs_of(s as usize) {
-                            engine.set_rhs(s, through);
-                            engine.update_vertex(s);
-                        }
+                self.records[ui][0] = rhs_u;
+                let mut legal = self.legal(ui);
+                while legal != 0 {
+                    let step = steps[legal.trailing_zeros() as usize];
+                    legal &= legal - 1;
+                    let s = ui.wrapping_add_signed(step.offset);
+                    if s == self.root as usize {
+                        continue;
                     }
-                });
+                    let through = step.cost.saturating_add(rhs_u);
+                    if through < self.rhs_of(s) {
+                        self.set_rhs(s as u32, through);
+                        let sxy = (
+                            xy.0.wrapping_add_signed(step.dx),
+                            xy.1.wrapping_add_signed(step.dy),
+                        );
+                        self.update_vertex(s as u32, sxy);
+                    }
+                }
             } else {
-                self.set_g(u, INF);
-                self.for_each_neighbour(u, |engine, s, cost| {
-                    if s != engine.root
-                        && g_u != INF
-                        && engine.rhs_of(s as usize) == cost.saturating_add(g_u)
-                    {
-                        let value = engine.fresh_rhs(s);
-                        if engine.set_rhs(s, value) {
-                            engine.update_vertex(s);
+                self.records[ui][0] = INF;
+                let mut legal = self.legal(ui);
+                while legal != 0 {
+                    let step = steps[legal.trailing_zeros() as usize];
+                    legal &= legal - 1;
+                    let s = ui.wrapping_add_signed(step.offset);
+                    if s != self.root as usize && self.rhs_of(s) == step.cost.saturating_add(g_u) {
+                        let value = self.fresh_rhs(s as u32);
+                        if self.set_rhs(s as u32, value) {
+                            let sxy = (
+                                xy.0.wrapping_add_signed(step.dx),
+                                xy.1.wrapping_add_signed(step.dy),
+                            );
+                            self.update_vertex(s as u32, sxy);
                         }
                     }
-                });
+                }
                 // u's own rhs does not depend on its g; it is re-queued or dropped.
-                if self.heap.contains(u) {
-                    let key = self.key(u);
-                    if self.g_of(ui) != self.rhs_of(ui) {
-                        self.heap.update(u, key.0, key.1);
-                        self.stats.heap_updates += 1;
-                    } else {
-                        self.heap.remove(u);
-                        self.stats.heap_pops += 1;
-                    }
+                // (Its entry was popped above: a key change, or the removal of the least.)
+                if rhs_u != INF {
+                    let (k1, k2) = self.key_with(rhs_u, xy);
+                    let generation = self.new_generation();
+                    self.set_queued(ui, generation);
+                    self.heap.push((k1, k2, tag(u, generation)));
+                    self.stats.heap_updates += 1;
+                } else {
+                    self.stats.heap_pops += 1;
                 }
             }
         }
@@ -424,22 +529,34 @@ impl Engine {
     pub fn trace(&self) -> Option<Vec<Cell>> {
         let grid = self.grid.as_ref()?;
         self.target_distance()?;
-        let mut cells = vec![grid.cell(self.target as usize)];
-        let mut u = self.target;
-        while u != self.root {
+        let mut at = self.cell_of(self.target);
+        let mut cells = vec![at];
+        let mut u = self.target as usize;
+        while u != self.root as usize {
             if cells.len() > grid.len() {
                 return None;
             }
-            let mut best: Option<(u64, u32)> = None;
-            self.for_each_neighbour_ro(u, |s, cost| {
-                let through = cost.saturating_add(self.g_of(s as usize));
-                if through != INF && best.is_none_or(|(b, _)| through < b) {
-                    best = Some((through, s));
+            // The least c + g, the first of equal ones in move order (strict <).
+            let (mut best, mut best_k) = (INF, 8usize);
+            let mut legal = self.legal(u);
+            while legal != 0 {
+                let k = legal.trailing_zeros() as usize;
+                legal &= legal - 1;
+                let step = &self.steps[k];
+                let through = step
+                    .cost
+                    .saturating_add(self.g_of(u.wrapping_add_signed(step.offset)));
+                if through < best {
+                    (best, best_k) = (through, k);
                 }
-            });
-            let (_, next) = best?;
-            u = next;
-            cells.push(grid.cell(u as usize));
+            }
+            let step = self.steps.get(best_k)?;
+            u = u.wrapping_add_signed(step.offset);
+            at = Cell::new(
+                at.x.wrapping_add_signed(step.dx),
+                at.y.wrapping_add_signed(step.dy),
+            );
+            cells.push(at);
         }
         Some(cells)
     }
@@ -453,43 +570,57 @@ impl Engine {
         Some(Path::new(cells))
     }
 
+    #[inline]
+    fn current(&self, i: usize) -> bool {
+        self.records[i][2] as u32 == self.session
+    }
+
+    #[inline]
     fn g_of(&self, i: usize) -> u64 {
-        if self.stamp[i] == self.session {
-            self.g[i]
+        if self.current(i) {
+            self.records[i][0]
         } else {
             INF
         }
     }
 
+    #[inline]
     fn rhs_of(&self, i: usize) -> u64 {
-        if self.stamp[i] == self.session {
-            self.rhs[i]
+        if self.current(i) {
+            self.records[i][1]
         } else {
             INF
         }
     }
 
-    fn touch(&mut self, i: usize) {
-        if self.stamp[i] != self.session {
-            self.stamp[i] = self.session;
-            self.g[i] = INF;
-            self.rhs[i] = INF;
+    /// Records `generation` as `i`'s live entry (0: not queued). `i` is current.
+    #[inline]
+    fn set_queued(&mut self, i: usize, generation: u32) {
+        let was = (self.records[i][2] >> 32) as u32;
+        match (was != 0, generation != 0) {
+            (false, true) => self.live += 1,
+            (true, false) => self.live -= 1,
+            _ => {}
         }
+        self.records[i][2] = u64::from(generation) << 32 | u64::from(self.session);
     }
 
-    fn set_g(&mut self, u: u32, value: u64) {
-        let i = u as usize;
-        self.touch(i);
-        self.g[i] = value;
+    /// Makes `i`'s record current: older records read as `g = rhs = inf`, not queued.
+    #[inline]
+    fn touch(&mut self, i: usize) {
+        if !self.current(i) {
+            self.records[i] = [INF, INF, u64::from(self.session)];
+        }
     }
 
     /// Sets `rhs(u)`; whether it changed.
+    #[inline]
     fn set_rhs(&mut self, u: u32, value: u64) -> bool {
         let i = u as usize;
         self.touch(i);
-        let changed = self.rhs[i] != value;
+        let changed = self.records[i][1] != value;
         if changed {
-            self.rhs[i] = value;
+            self.records[i][1] = value;
             self.stats.rhs_changes += 1;
         }
         changed
@@ -497,104 +628,115 @@ impl Engine {
 
     /// `rhs(u)` from scratch: 0 at a free root, else the least `c(u, s) + g(s)`.
     fn fresh_rhs(&self, u: u32) -> u64 {
+        let ui = u as usize;
+        if !self.free[ui] {
+            return INF;
+        }
         if u == self.root {
-            let free = self
-                .grid
-                .as_ref()
-                .is_some_and(|g| g.free_cells()[u as usize]);
-            return if free { 0 } else { INF };
+            return 0;
         }
         let mut best = INF;
-        self.for_each_neighbour_ro(u, |s, cost| {
-            best = best.min(cost.saturating_add(self.g_of(s as usize)));
-        });
+        let mut legal = self.legal(ui);
+        while legal != 0 {
+            let step = &self.steps[legal.trailing_zeros() as usize];
+            legal &= legal - 1;
+            let s = ui.wrapping_add_signed(step.offset);
+            best = best.min(step.cost.saturating_add(self.g_of(s)));
+        }
         best
     }
 
-    fn key(&self, u: u32) -> (u64, u64) {
-        let i = u as usize;
-        let m = self.g_of(i).min(self.rhs_of(i));
-        let h = self.h_between(u, self.target);
-        (m.saturating_add(h).saturating_add(self.km), m)
+    /// The moves from interior vertex `u`, a bit per move of [`MOVES`] (in their order):
+    /// its 3 x 3 block of the padded map looked up in the move table.
+    #[inline]
+    fn legal(&self, u: usize) -> u8 {
+        let (f, w) = (&self.free, self.stride as usize);
+        let row = |at: usize| {
+            usize::from(f[at - 1]) | usize::from(f[at]) << 1 | usize::from(f[at + 1]) << 2
+        };
+        let code = row(u - w) | row(u) << 3 | row(u + w) << 6;
+        self.table[code]
     }
 
-    fn update_vertex(&mut self, u: u32) {
+    /// `key = [m + h(xy, target) + km; m]` for `m = min(g, rhs)` of the vertex at `xy`.
+    #[inline]
+    fn key_with(&self, m: u64, xy: (u32, u32)) -> (u64, u64) {
+        (
+            m.saturating_add(self.h(xy, self.target_xy))
+                .saturating_add(self.km),
+            m,
+        )
+    }
+
+    /// UpdateVertex: queues `u` (at padded coordinates `xy`) with its current key when it
+    /// is inconsistent, else takes it out of the queue.
+    fn update_vertex(&mut self, u: u32, xy: (u32, u32)) {
         let i = u as usize;
-        let inconsistent = self.g_of(i) != self.rhs_of(i);
-        match (inconsistent, self.heap.contains(u)) {
-            (true, true) => {
-                let (k1, k2) = self.key(u);
-                self.heap.update(u, k1, k2);
+        let record = self.records[i];
+        let (g, rhs, queued) = if record[2] as u32 == self.session {
+            (record[0], record[1], record[2] >> 32 != 0)
+        } else {
+            (INF, INF, false)
+        };
+        if g != rhs {
+            let (k1, k2) = self.key_with(g.min(rhs), xy);
+            let generation = self.new_generation();
+            // The record is current: g != rhs means one was set this session.
+            self.records[i][2] = u64::from(generation) << 32 | u64::from(self.session);
+            self.heap.push((k1, k2, tag(u, generation)));
+            if queued {
                 self.stats.heap_updates += 1;
-            }
-            (true, false) => {
-                let (k1, k2) = self.key(u);
-                self.heap.push(u, k1, k2);
+            } else {
+                self.live += 1;
                 self.stats.heap_pushes += 1;
             }
-            (false, true) => {
-                self.heap.remove(u);
-                self.stats.heap_removes += 1;
+            if self.heap.len() > self.live + self.live / 4 + 64 {
+                self.compact();
             }
-            (false, false) => {}
+        } else if queued {
+            self.set_queued(i, 0);
+            self.stats.heap_removes += 1;
         }
     }
 
-    /// The heuristic between two vertices: Manhattan (4 moves) or octile (8), exact.
-    fn h_between(&self, a: u32, b: u32) -> u64 {
-        let w = self.width.max(1) as u32;
-        let (ax, ay) = (a % w, a / w);
-        let (bx, by) = (b % w, b / w);
-        let (dx, dy) = (ax.abs_diff(bx), ay.abs_diff(by));
+    /// A generation for a new queue entry; renumbers the live entries first when the
+    /// counter would wrap.
+    fn new_generation(&mut self) -> u32 {
+        if self.next_generation == u32::MAX {
+            self.compact();
+        }
+        let generation = self.next_generation;
+        self.next_generation += 1;
+        generation
+    }
+
+    /// Drops the stale queue entries and renumbers the live ones from 1.
+    fn compact(&mut self) {
+        let mut next = 1u32;
+        let session = self.session;
+        let records = &mut self.records;
+        self.heap.retain(|entry_tag| {
+            let record = records[tag_vertex(entry_tag) as usize][2];
+            record as u32 == session && (record >> 32) as u32 == tag_generation(entry_tag)
+        });
+        self.heap.retag(|v| {
+            let generation = next;
+            next += 1;
+            records[v as usize][2] = u64::from(generation) << 32 | u64::from(session);
+            tag(v, generation)
+        });
+        self.next_generation = next;
+    }
+
+    /// The heuristic between two padded coordinates: Manhattan (4 moves) or octile (8),
+    /// exact.
+    #[inline]
+    fn h(&self, a: (u32, u32), b: (u32, u32)) -> u64 {
+        let (dx, dy) = (a.0.abs_diff(b.0), a.1.abs_diff(b.1));
         if self.eight {
             Cost::octile_distance(dx, dy).units()
         } else {
             Cost::steps(u64::from(dx) + u64::from(dy)).units()
-        }
-    }
-
-    /// Calls `visit(s, cost)` for every neighbour `s` joined to `u` by a move (both free,
-    /// and for a diagonal both cells beside it free), in the move order.
-    fn for_each_neighbour_ro(&self, u: u32, mut visit: impl FnMut(u32, u64)) {
-        let Some(grid) = self.grid.as_ref() else {
-            return;
-        };
-        let free = grid.free_cells();
-        if !free[u as usize] {
-            return;
-        }
-        let w = self.width;
-        let (x, y) = (i64::from(u) % w, i64::from(u) / w);
-        let steps: &[Step] = if self.eight { &STEPS_8 } else { &STEPS_4 };
-        for step in steps {
-            let (nx, ny) = (x + i64::from(step.dx), y + i64::from(step.dy));
-            if nx < 0 || ny < 0 || nx >= w || ny >= self.height {
-                continue;
-            }
-            let s = (ny * w + nx) as usize;
-            if !free[s] {
-                continue;
-            }
-            if step.dx != 0
-                && step.dy != 0
-                && !(free[(y * w + nx) as usize] && free[(ny * w + x) as usize])
-            {
-                continue;
-            }
-            visit(s as u32, step.cost);
-        }
-    }
-
-    /// [`Engine::for_each_neighbour_ro`] with mutable access to the engine.
-    fn for_each_neighbour(&mut self, u: u32, mut visit: impl FnMut(&mut Engine, u32, u64)) {
-        let mut found = [(0u32, 0u64); 8];
-        let mut n = 0;
-        self.for_each_neighbour_ro(u, |s, cost| {
-            found[n] = (s, cost);
-            n += 1;
-        });
-        for &(s, cost) in &found[..n] {
-            visit(self, s, cost);
         }
     }
 }

@@ -1,130 +1,203 @@
-//! The priority queue U: an indexed binary min-heap with decrease- and increase-key and
-//! removal of any vertex.
+//! The priority queue U: a 4-ary min-heap with lazy deletion.
 //!
-//! Entries are ordered by the full key `(k1, k2, vertex index)`: the papers' two-part key
-//! and then the vertex's row-major index. The papers leave ties of `[k1; k2]` open; the
-//! index makes the order total, so which vertex comes out first never depends on the
-//! heap's insertion history (tested below).
+//! Entries are `(k1, k2, tag)` with `tag = vertex << 32 | generation`, ordered as tuples:
+//! the papers' two-part key `[k1; k2]`, then the vertex's index (row-major, so the order
+//! of the grid's cells), then the generation. The papers leave ties of `[k1; k2]` open;
+//! the index makes the order of the live entries total (a vertex has at most one live
+//! entry), so which vertex comes out first never depends on the heap's history (tested
+//! below).
+//!
+//! The heap holds no positions. The engine records, per vertex, the generation of its one
+//! live entry (0: not queued); changing a queued vertex's key pushes a new entry with a
+//! new generation and removing a vertex only clears its record, so the older entries are
+//! *stale* and skipped when they reach the top. Generations come from one counter, so a
+//! stale entry never matches a later record. [`Heap::retain`] drops the stale entries
+//! and [`Heap::retag`] renumbers the live ones; the engine does so when stale entries outnumber the
+//! live ones (so the heap holds at most about twice the queued vertices) and before the
+//! counter wraps.
 
-/// A key `[k1; k2]` in units of [`planner_api::Cost`], with the vertex index last.
-pub(crate) type Key = (u64, u64, u32);
+/// A queue entry: `(k1, k2, vertex << 32 | generation)`, keys in [`planner_api::Cost`]
+/// units.
+pub(crate) type Entry = (u64, u64, u64);
 
-/// The heap and each vertex's position in it (`pos[v] = index + 1`, 0 when absent).
+/// Packs a vertex and a generation into an entry's tag.
+pub(crate) fn tag(vertex: u32, generation: u32) -> u64 {
+    u64::from(vertex) << 32 | u64::from(generation)
+}
+
+/// The vertex of a tag.
+pub(crate) fn tag_vertex(tag: u64) -> u32 {
+    (tag >> 32) as u32
+}
+
+/// The generation of a tag.
+pub(crate) fn tag_generation(tag: u64) -> u32 {
+    tag as u32
+}
+
+/// Whether `a` orders before `b`: the tuple order, with the two-part key compared as one
+/// 128-bit number (fewer branches than comparing field by field).
+#[inline]
+fn less(a: Entry, b: Entry) -> bool {
+    let key = |e: Entry| u128::from(e.0) << 64 | u128::from(e.1);
+    let (ka, kb) = (key(a), key(b));
+    // Non-short-circuit operators: no branch on the outcome.
+    (ka < kb) | ((ka == kb) & (a.2 < b.2))
+}
+
+/// A 4-ary min-heap of [`Entry`]s (see the [module docs](self)).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Heap {
-    entries: Vec<Key>,
-    pos: Vec<u32>,
+    items: Vec<Entry>,
 }
 
 impl Heap {
-    /// Sizes the position table for `n` vertices and empties the heap.
-    pub(crate) fn fit(&mut self, n: usize) {
-        self.clear();
-        if self.pos.len() != n {
-            self.pos = vec![0; n];
-        }
-    }
-
-    /// Empties the heap (clearing only the positions of the entries it held).
+    /// Empties the heap, keeping its memory.
     pub(crate) fn clear(&mut self) {
-        for &(_, _, v) in &self.entries {
-            self.pos[v as usize] = 0;
-        }
-        self.entries.clear();
+        self.items.clear();
     }
 
-    #[cfg(test)]
+    /// Entries, stale ones included.
     pub(crate) fn len(&self) -> usize {
-        self.entries.len()
-    }
-
-    pub(crate) fn contains(&self, v: u32) -> bool {
-        self.pos[v as usize] != 0
+        self.items.len()
     }
 
     /// The least entry.
-    pub(crate) fn top(&self) -> Option<Key> {
-        self.entries.first().copied()
+    #[inline]
+    pub(crate) fn peek(&self) -> Option<Entry> {
+        self.items.first().copied()
     }
 
-    /// Inserts `v`, which is not in the heap, with key `(k1, k2)`.
-    pub(crate) fn push(&mut self, v: u32, k1: u64, k2: u64) {
-        self.entries.push((k1, k2, v));
-        let i = self.entries.len() - 1;
-        self.pos[v as usize] = i as u32 + 1;
-        self.sift_up(i);
-    }
-
-    /// Sets the key of `v`, which is in the heap.
-    pub(crate) fn update(&mut self, v: u32, k1: u64, k2: u64) {
-        let i = self.pos[v as usize] as usize - 1;
-        let old = self.entries[i];
-        self.entries[i] = (k1, k2, v);
-        if (k1, k2, v) < old {
-            self.sift_up(i);
-        } else {
-            self.sift_down(i);
-        }
-    }
-
-    /// Removes `v`, which is in the heap.
-    pub(crate) fn remove(&mut self, v: u32) {
-        let i = self.pos[v as usize] as usize - 1;
-        self.pos[v as usize] = 0;
-        let last = self.entries.len() - 1;
-        if i != last {
-            let moved = self.entries[last];
-            self.entries[i] = moved;
-            self.pos[moved.2 as usize] = i as u32 + 1;
-            self.entries.pop();
-            if moved < self.entries[i.saturating_sub(1) / 2] && i > 0 {
-                self.sift_up(i);
-            } else {
-                self.sift_down(i);
-            }
-        } else {
-            self.entries.pop();
-        }
-    }
-
-    fn sift_up(&mut self, mut i: usize) {
-        let entry = self.entries[i];
+    /// Inserts `entry`.
+    #[inline]
+    pub(crate) fn push(&mut self, entry: Entry) {
+        let mut i = self.items.len();
+        self.items.push(entry);
         while i > 0 {
-            let parent = (i - 1) / 2;
-            if self.entries[parent] <= entry {
+            let parent = (i - 1) / 4;
+            if !less(entry, self.items[parent]) {
                 break;
             }
-            self.entries[i] = self.entries[parent];
-            self.pos[self.entries[i].2 as usize] = i as u32 + 1;
+            self.items[i] = self.items[parent];
             i = parent;
         }
-        self.entries[i] = entry;
-        self.pos[entry.2 as usize] = i as u32 + 1;
+        self.items[i] = entry;
     }
 
-    fn sift_down(&mut self, mut i: usize) {
-        let entry = self.entries[i];
-        let n = self.entries.len();
-        loop {
-            let left = 2 * i + 1;
-            if left >= n {
-                break;
-            }
-            let right = left + 1;
-            let child = if right < n && self.entries[right] < self.entries[left] {
-                right
-            } else {
-                left
-            };
-            if self.entries[child] >= entry {
-                break;
-            }
-            self.entries[i] = self.entries[child];
-            self.pos[self.entries[i].2 as usize] = i as u32 + 1;
-            i = child;
+    /// Removes the least entry.
+    #[inline]
+    pub(crate) fn pop(&mut self) -> Option<Entry> {
+        let last = self.items.pop()?;
+        if self.items.is_empty() {
+            return Some(last);
         }
-        self.entries[i] = entry;
-        self.pos[entry.2 as usize] = i as u32 + 1;
+        let top = self.items[0];
+        // Bottom-up: the hole at the root descends along the least children to a leaf,
+        // then `last` (usually among the largest) rises from there.
+        let items = &mut self.items[..];
+        let n = items.len();
+        let mut i = 0;
+        loop {
+            let first = 4 * i + 1;
+            let least = if first + 4 <= n {
+                let c = &items[first..first + 4];
+                let a = first + usize::from(less(c[1], c[0]));
+                let b = first + 2 + usize::from(less(c[3], c[2]));
+                a + (b - a) * usize::from(less(items[b], items[a]))
+            } else if first < n {
+                let mut least = first;
+                for child in first + 1..n {
+                    if less(items[child], items[least]) {
+                        least = child;
+                    }
+                }
+                least
+            } else {
+                break;
+            };
+            items[i] = items[least];
+            i = least;
+        }
+        while i > 0 {
+            let parent = (i - 1) / 4;
+            if !less(last, items[parent]) {
+                break;
+            }
+            items[i] = items[parent];
+            i = parent;
+        }
+        items[i] = last;
+        Some(top)
+    }
+
+    /// Replaces the least entry by `entry` (a pop and a push in one pass down).
+    /// Precondition: the heap is not empty.
+    #[inline]
+    pub(crate) fn replace_top(&mut self, entry: Entry) {
+        self.sift_down(0, entry);
+    }
+
+    /// Places `entry` at `i` or below, moving lesser children up.
+    #[inline]
+    fn sift_down(&mut self, mut i: usize, entry: Entry) {
+        let items = &mut self.items[..];
+        let n = items.len();
+        loop {
+            let first = 4 * i + 1;
+            let least = if first + 4 <= n {
+                // All four children: a tournament of three comparisons.
+                let c = &items[first..first + 4];
+                let a = first + usize::from(less(c[1], c[0]));
+                let b = first + 2 + usize::from(less(c[3], c[2]));
+                let pick_b = less(items[b], items[a]);
+                a + (b - a) * usize::from(pick_b)
+            } else if first < n {
+                let mut least = first;
+                for child in first + 1..n {
+                    if less(items[child], items[least]) {
+                        least = child;
+                    }
+                }
+                least
+            } else {
+                break;
+            };
+            let best = items[least];
+            if !less(best, entry) {
+                break;
+            }
+            items[i] = best;
+            i = least;
+        }
+        items[i] = entry;
+    }
+
+    /// Keeps only the entries `is_live` accepts and restores the heap order.
+    pub(crate) fn retain(&mut self, is_live: impl FnMut(u64) -> bool) {
+        let mut is_live = is_live;
+        self.items.retain(|entry| is_live(entry.2));
+        self.heapify();
+    }
+
+    /// Gives every entry the tag `renumber` returns for the vertex of its tag. Only
+    /// after [`Heap::retain`] left one entry a vertex: the order is then decided by
+    /// `(k1, k2, vertex)` alone, so it stays a heap.
+    pub(crate) fn retag(&mut self, mut renumber: impl FnMut(u32) -> u64) {
+        for entry in &mut self.items {
+            entry.2 = renumber(tag_vertex(entry.2));
+        }
+    }
+
+    /// Restores the heap order of all entries.
+    fn heapify(&mut self) {
+        let n = self.items.len();
+        if n < 2 {
+            return;
+        }
+        for i in (0..=(n - 2) / 4).rev() {
+            let entry = self.items[i];
+            self.sift_down(i, entry);
+        }
     }
 }
 
@@ -135,37 +208,58 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
     use std::collections::BTreeMap;
 
-    /// Random pushes, updates and removals against a `BTreeMap` of the same keys: the
-    /// top is always the least `(k1, k2, v)`, so equal `[k1; k2]` come out by index.
+    /// Random pushes, key changes and removals, done lazily with generation records as the
+    /// engine does, against a `BTreeMap` of the live keys: the least live entry is always
+    /// the least `(k1, k2, v)`, so equal `[k1; k2]` come out by index, and compaction
+    /// keeps exactly the live entries.
     #[test]
     fn matches_a_sorted_map() {
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let n = 64;
         let mut heap = Heap::default();
-        heap.fit(n);
+        let mut record = vec![0u32; n];
+        let mut next = 1u32;
         let mut model: BTreeMap<u32, (u64, u64)> = BTreeMap::new();
-        for _ in 0..20_000 {
+        let least_live = |heap: &mut Heap, record: &[u32]| loop {
+            let (k1, k2, t) = heap.peek()?;
+            if record[tag_vertex(t) as usize] == tag_generation(t) {
+                return Some((k1, k2, tag_vertex(t)));
+            }
+            heap.pop();
+        };
+        for round in 0..20_000 {
             let v = rng.gen_range(0..n as u32);
             let (k1, k2) = (rng.gen_range(0..4u64), rng.gen_range(0..3u64));
-            match (heap.contains(v), rng.gen_range(0..3)) {
-                (false, _) => {
-                    heap.push(v, k1, k2);
-                    model.insert(v, (k1, k2));
+            if record[v as usize] != 0 && rng.gen_range(0..3) == 0 {
+                record[v as usize] = 0;
+                model.remove(&v);
+            } else if let (Some((_, _, t)), 0) = (heap.peek(), rng.gen_range(0..4)) {
+                // The engine's re-keying: the top entry, live or stale, gets a new key.
+                let u = tag_vertex(t);
+                heap.replace_top((k1, k2, t));
+                if record[u as usize] == tag_generation(t) {
+                    model.insert(u, (k1, k2));
                 }
-                (true, 0) => {
-                    heap.remove(v);
-                    model.remove(&v);
-                }
-                (true, _) => {
-                    heap.update(v, k1, k2);
-                    model.insert(v, (k1, k2));
-                }
+            } else {
+                record[v as usize] = next;
+                heap.push((k1, k2, tag(v, next)));
+                next += 1;
+                model.insert(v, (k1, k2));
+            }
+            if round % 97 == 0 {
+                next = 1;
+                heap.retain(|t| record[tag_vertex(t) as usize] == tag_generation(t));
+                heap.retag(|v| {
+                    record[v as usize] = next;
+                    next += 1;
+                    tag(v, next - 1)
+                });
+                assert_eq!(heap.len(), model.len());
             }
             let least = model.iter().map(|(&v, &(a, b))| (a, b, v)).min();
-            assert_eq!(heap.top(), least);
-            assert_eq!(heap.len(), model.len());
+            assert_eq!(least_live(&mut heap, &record), least);
         }
         heap.clear();
-        assert!(heap.top().is_none() && (0..n as u32).all(|v| !heap.contains(v)));
+        assert!(heap.peek().is_none());
     }
 }

@@ -15,6 +15,8 @@
 //!   current path between replans.
 //! - [`gppc`]: the GPPC 2023 dynamic track's scenarios replayed query by query, and
 //!   incremental planners carried across their patches.
+//! - [`experiment`]: the `navigate` and `dynamic` experiment kinds: a TOML config, its
+//!   runs in parallel and a results directory (CSV, JSON Lines, summary, chart).
 //! - [`planners`]: the compared planners by name.
 //! - [`report`]: medians, percentiles and the SVG chart of expansions per replan against
 //!   A* from scratch.
@@ -24,6 +26,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+pub mod experiment;
 pub mod gppc;
 pub mod navigate;
 pub mod oracle;

@@ -153,14 +153,17 @@ pub fn run(
     budget: &Budget,
 ) -> Result<NavRun, ProblemError> {
     Problem::new(truth, start, goal)?;
-    let started = Instant::now();
     let mut known = Grid::from_free_cells(truth.width(), truth.height(), vec![true; truth.len()])
         .unwrap_or_else(|_| unreachable!("a copy of a valid grid's size is valid"));
     let mut pending = Vec::new();
     sense(truth, &mut known, start, config.radius, &mut pending);
     pending.clear();
     let problem = Problem::new(&known, start, goal)?;
+    // The first plan's update time is the planner's reset (the driver's own setup, the
+    // agent's map and first sensing, is not planning).
+    let started = Instant::now();
     planner.reset(&problem);
+    let reset_time = started.elapsed();
     let moves = match planner.specs().path_rule {
         planner_api::PathSpec::Moves(moves) => moves,
         planner_api::PathSpec::AnyAngle => MoveSet::standard(planner_api::Connectivity::Eight),
@@ -178,7 +181,7 @@ pub fn run(
         agent,
         goal,
         0,
-        started.elapsed(),
+        reset_time,
         budget,
         &mut out,
     );

@@ -1,0 +1,180 @@
+//! Planning time of navigation in unknown terrain: D* Lite (and LPA*) against A* from
+//! scratch at every replan, forward and backward, on Moving AI maps, without the oracle
+//! (the `navigate` example checks every replan of the same runs; counters are
+//! deterministic, so the expansions here are the checked ones).
+//!
+//! ```text
+//! cargo bench -p planner-replan --bench navigate -- [--scenarios 100] \
+//!     [--maps den520d,random512-10-0] [--radius 1,5] [--planners dstar_lite,astar,astar_backward] \
+//!     [--repeat 3]
+//! ```
+//!
+//! For each map, radius and scenario (spread evenly over the `.scen` file), every planner
+//! drives its own agent, one after the other in an order that rotates per scenario, in
+//! one process, so machine load falls on all alike. Each planner object is kept across
+//! the scenarios of a map and radius (as a robot keeps its planner), so no side allocates
+//! its per-cell arrays per run. Each run is repeated `--repeat` times (the planners
+//! alternating) and every replan keeps its least time over the repeats, so preemption by
+//! other processes, which only adds time, mostly drops out; the counters must agree. Printed per map and radius: the
+//! medians over scenarios of each planner's total expansions and planning time as a share
+//! of A*'s. A planner's planning time is the time of telling it the moves and changes
+//! plus its replans (its reset, the first update, included); for A* from scratch three
+//! figures are given: its searches alone (no map build at all: the strict baseline), its
+//! searches and its reset (the first build of its bit-packed map: A* updating its bits in
+//! place after a change, which costs next to nothing, would cost this), and its searches
+//! with the rebuild of the bit-packed map after every change that planner-astar does.
+
+use std::time::Duration;
+
+use planner_api::Budget;
+use planner_replan::navigate::{self, NavConfig, NavRun};
+use planner_replan::planners;
+use planner_replan::report::quantile;
+
+fn arg_list(args: &[String], key: &str, default: &str) -> Vec<String> {
+    args.iter()
+        .position(|a| a == key)
+        .and_then(|i| args.get(i + 1))
+        .map_or(default, String::as_str)
+        .split(',')
+        .map(str::to_owned)
+        .collect()
+}
+
+fn loadavg() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .unwrap_or_default()
+        .trim()
+        .to_owned()
+}
+
+/// Replan time alone (the search, without telling the planner the changes).
+fn search_time(run: &NavRun) -> Duration {
+    run.replans.iter().map(|r| r.replan_time).sum()
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let n_scenarios: usize = arg_list(&args, "--scenarios", "100")[0].parse()?;
+    let maps = arg_list(&args, "--maps", "den520d,random512-10-0");
+    let radii: Vec<u32> = arg_list(&args, "--radius", "1,5")
+        .iter()
+        .map(|r| r.parse())
+        .collect::<Result<_, _>>()?;
+    let names = arg_list(&args, "--planners", "dstar_lite,astar,astar_backward");
+    let repeats: usize = arg_list(&args, "--repeat", "3")[0].parse()?;
+    let repeats = repeats.max(1);
+    for name in &names {
+        planners::by_name(name, true)?;
+    }
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai");
+    println!("load average at start: {}", loadavg());
+    for map in &maps {
+        let grid = planner_maps::read_map(&root.join(format!("{map}.map")))?.grid;
+        let scenarios = planner_maps::read_scenarios(&root.join(format!("{map}.map.scen")))?;
+        let n = n_scenarios.min(scenarios.len());
+        let picked: Vec<_> = (0..n)
+            .map(|i| &scenarios[i * scenarios.len() / n])
+            .collect();
+        for &radius in &radii {
+            let config = NavConfig {
+                radius,
+                ..NavConfig::default()
+            };
+            let mut table: Vec<Vec<(String, NavRun)>> = Vec::new();
+            // One planner of each kind per map and radius, kept across the scenarios as
+            // a robot keeps its planner: neither side allocates its per-cell arrays per run.
+            let mut kept = names
+                .iter()
+                .map(|name| planners::by_name(name, true))
+                .collect::<Result<Vec<_>, _>>()?;
+            for (k, scenario) in picked.iter().enumerate() {
+                let mut row: Vec<(String, NavRun)> = Vec::new();
+                for repeat in 0..repeats {
+                    for j in 0..names.len() {
+                        let p = (k + j + repeat) % names.len();
+                        let run = navigate::run(
+                            kept[p].as_mut(),
+                            None,
+                            &grid,
+                            scenario.start,
+                            scenario.goal,
+                            &config,
+                            &Budget::unlimited(),
+                        )?;
+                        match row.iter_mut().find(|(n, _)| *n == names[p]) {
+                            None => row.push((names[p].clone(), run)),
+                            Some((_, best)) => {
+                                // Counters are deterministic; each replan keeps its least time
+                                // over the repeats (preemption only ever adds time).
+                                assert_eq!(best.total_expansions(), run.total_expansions());
+                                assert_eq!(best.replans.len(), run.replans.len());
+                                for (b, r) in best.replans.iter_mut().zip(&run.replans) {
+                                    b.update_time = b.update_time.min(r.update_time);
+                                    b.replan_time = b.replan_time.min(r.replan_time);
+                                }
+                            }
+                        }
+                    }
+                }
+                table.push(row);
+            }
+            let replans: usize = table.iter().flatten().map(|(_, r)| r.replans.len()).sum();
+            println!(
+                "{map} radius {radius}: {} scenarios, {replans} replans",
+                table.len()
+            );
+            let pct = |v: Option<f64>| v.map_or("-".into(), |x| format!("{:.1} %", 100.0 * x));
+            for name in &names {
+                // Shares need the baseline, A* from scratch, in the same run.
+                if name == "astar" || !names.iter().any(|n| n == "astar") {
+                    continue;
+                }
+                let (mut exp, mut strict, mut fair, mut with_rebuild) =
+                    (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+                let (mut total_a, mut total_b, mut exp_a, mut exp_b) =
+                    (Duration::ZERO, Duration::ZERO, 0u64, 0u64);
+                for row in &table {
+                    let find = |n: &str| row.iter().find(|(m, _)| m == n).map(|(_, r)| r);
+                    let (Some(a), Some(b)) = (find(name), find("astar")) else {
+                        continue;
+                    };
+                    total_a += a.planning_time();
+                    total_b += search_time(b);
+                    exp_a += a.total_expansions();
+                    exp_b += b.total_expansions();
+                    if b.total_expansions() > 0 {
+                        exp.push(a.total_expansions() as f64 / b.total_expansions() as f64);
+                    }
+                    let time_a = a.planning_time().as_secs_f64();
+                    if !search_time(b).is_zero() {
+                        strict.push(time_a / search_time(b).as_secs_f64());
+                    }
+                    let built = search_time(b)
+                        + b.replans.first().map_or(Duration::ZERO, |r| r.update_time);
+                    if !built.is_zero() {
+                        fair.push(time_a / built.as_secs_f64());
+                    }
+                    if !b.planning_time().is_zero() {
+                        with_rebuild.push(time_a / b.planning_time().as_secs_f64());
+                    }
+                }
+                println!(
+                    "  {name} / astar: median total expansions {} [p10 {}, p90 {}]; median planning time {} of A*'s searches [p10 {}, p90 {}], {} of A*'s searches and first map build, {} of A*'s searches with a map rebuild per replan; sums: {exp_a} vs {exp_b} expansions, {:.1} ms vs {:.1} ms (searches)",
+                    pct(quantile(&exp, 0.5)),
+                    pct(quantile(&exp, 0.1)),
+                    pct(quantile(&exp, 0.9)),
+                    pct(quantile(&strict, 0.5)),
+                    pct(quantile(&strict, 0.1)),
+                    pct(quantile(&strict, 0.9)),
+                    pct(quantile(&fair, 0.5)),
+                    pct(quantile(&with_rebuild, 0.5)),
+                    total_a.as_secs_f64() * 1e3,
+                    total_b.as_secs_f64() * 1e3,
+                );
+            }
+        }
+    }
+    println!("load average at end: {}", loadavg());
+    Ok(())
+}

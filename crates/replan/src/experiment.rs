@@ -1,0 +1,1153 @@
+//! The `navigate` and `dynamic` experiment kinds: a typed TOML config, its runs (in
+//! parallel, deterministic counters) and a results directory.
+//!
+//! A config is one TOML file (every key in `configs/replan/README.md`):
+//!
+//! - `kind = "navigate"`: for each map of `[[maps]]` (a Moving AI map and its `.scen`),
+//!   `scenarios` scenarios spread evenly over the file, each sensor radius of `radii` and
+//!   each planner of `compare`, an agent navigates in unknown terrain ([`navigate`]),
+//!   every replan checked by the [`Oracle`].
+//! - `kind = "dynamic"`: scripted changes between queries: `[toggles]` (seeded: `k` random
+//!   cells toggled near the agent or on its path before each of `events` replans, one run
+//!   per scenario, seed and planner, [`toggles`]) on the scenarios of `[[maps]]`, and
+//!   `[[gppc]]` (the GPPC 2023 dynamic track's scenario files: every query against its
+//!   recorded optimum and A* on the patched map, each planner carried across the next
+//!   batch's patches, [`gppc`]).
+//!
+//! [`run`] writes into the output directory: `runs.csv` (one line per run),
+//! `runs.jsonl` (the same with the path driven, navigate only), `replans.jsonl` (one JSON
+//! line per replan, with its counters and A*'s expansions from scratch at that replan),
+//! `summary.md` (per-run totals and per-replan distributions per map, radius or seed, and
+//! planner) and `expansions.svg` (the first incremental planner's expansions per replan
+//! against A* from scratch at the same replan; at most [`CHART_POINTS`] points, an even
+//! subsample beyond). Times appear only with [`RunOptions::timing`], so that without it
+//! every output is a pure function of the config.
+//!
+//! ```no_run
+//! use planner_replan::experiment::{run, RunOptions};
+//! let done = run("configs/replan/navigate.toml".as_ref(), "results/navigate".as_ref(), &RunOptions::default())?;
+//! assert_eq!(done.mismatches, 0);
+//! # Ok::<(), planner_replan::experiment::ExperimentError>(())
+//! ```
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use planner_api::{Budget, Grid, Problem};
+use planner_maps::gppc::{parse_gppc_patches, parse_gppc_scenario};
+use planner_maps::{MapError, Scenario};
+use rayon::prelude::*;
+use serde::Deserialize;
+use serde_json::json;
+use thiserror::Error;
+use toml::Spanned;
+
+use crate::navigate::{self, NavConfig, NavRun};
+use crate::report::{quantile, scatter_svg};
+use crate::toggles::{self, ToggleConfig, ToggleRun};
+use crate::{gppc, planners, Mismatch, Oracle, ReplanRecord};
+
+/// The most points [`run`] draws in `expansions.svg`.
+pub const CHART_POINTS: usize = 20_000;
+
+/// The file every results directory holds, so that [`run`] replaces only its own outputs
+/// (the same marker the experiment runner writes).
+pub const MARKER: &str = ".gridplan-results";
+
+/// The experiment kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// Navigation in unknown terrain.
+    Navigate,
+    /// Scripted changes: seeded toggles and GPPC dynamic scenarios.
+    Dynamic,
+}
+
+/// A map and its scenarios.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapSpec {
+    /// The Moving AI map, relative to the config's directory.
+    pub map: String,
+    /// Its `.scen` file, relative to the config's directory.
+    pub scen: String,
+    /// Scenarios, spread evenly over the file (at least 1).
+    #[serde(default = "default_scenarios")]
+    pub scenarios: Spanned<usize>,
+}
+
+/// The seeded toggles of a `dynamic` experiment ([`ToggleConfig`], one run per seed).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ToggleSpec {
+    /// Change events after the first plan.
+    pub events: u32,
+    /// Cells toggled per event.
+    pub k: u32,
+    /// Half-width of the square around the agent that off-path toggles fall in.
+    pub radius: u32,
+    /// Cells the agent drives before each event.
+    #[serde(default = "default_drive")]
+    pub drive: u32,
+    /// The seeds (one run per scenario, seed and planner).
+    pub seeds: Vec<u64>,
+}
+
+/// A GPPC 2023 dynamic-track scenario file (its patch file is named inside it, relative
+/// to the scenario's directory).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GppcSpec {
+    /// The `.scen` file, relative to the config's directory.
+    pub scen: String,
+    /// Check every `query_every`-th query (1: all).
+    #[serde(default = "one")]
+    pub query_every: Spanned<usize>,
+    /// Carry each planner across the next batch's patches for every `carry_every`-th
+    /// checked query (0: none).
+    #[serde(default = "default_carry")]
+    pub carry_every: usize,
+}
+
+/// Smaller settings for tests (`[test]`), used with [`RunOptions::test`].
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TestLimits {
+    /// Scenarios per map.
+    pub scenarios: Option<usize>,
+    /// Toggle events per run.
+    pub events: Option<u32>,
+    /// Toggle seeds (the first ones).
+    pub seeds: Option<usize>,
+    /// GPPC: check every n-th query.
+    pub query_every: Option<usize>,
+    /// GPPC: carry every n-th checked query.
+    pub carry_every: Option<usize>,
+}
+
+/// A replanning experiment config (see the [module docs](self)).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentConfig {
+    /// `navigate` or `dynamic`.
+    pub kind: Kind,
+    /// Letters, digits, `-` and `_`.
+    pub name: Spanned<String>,
+    /// Free text, copied to the top of `summary.md`.
+    #[serde(default)]
+    pub description: String,
+    /// The compared planners by [`planners::by_name`] name (key `compare`; not `planners`,
+    /// which the runner's configs use for a table); default all four.
+    #[serde(default = "default_planners", rename = "compare")]
+    pub planners: Vec<Spanned<String>>,
+    /// 4, or 8 without corner cutting (default).
+    pub moves: Option<Spanned<u32>>,
+    /// Maps and scenarios (navigate; dynamic with `[toggles]`).
+    #[serde(default)]
+    pub maps: Vec<MapSpec>,
+    /// Sensor radii (navigate).
+    #[serde(default)]
+    pub radii: Vec<Spanned<u32>>,
+    /// Steps before a navigation stops (default: 10 per cell plus 1,000).
+    pub max_steps: Option<u64>,
+    /// Seeded toggles (dynamic).
+    pub toggles: Option<Spanned<ToggleSpec>>,
+    /// GPPC dynamic scenarios (dynamic).
+    #[serde(default)]
+    pub gppc: Vec<GppcSpec>,
+    /// Settings for tests.
+    #[serde(default)]
+    pub test: TestLimits,
+}
+
+fn default_scenarios() -> Spanned<usize> {
+    Spanned::new(0..0, 10)
+}
+
+fn default_drive() -> u32 {
+    1
+}
+
+fn one() -> Spanned<usize> {
+    Spanned::new(0..0, 1)
+}
+
+fn default_carry() -> usize {
+    10
+}
+
+fn default_planners() -> Vec<Spanned<String>> {
+    planners::NAMES
+        .iter()
+        .map(|n| Spanned::new(0..0, n.to_string()))
+        .collect()
+}
+
+/// What went wrong in [`load`] or [`run`].
+#[derive(Debug, Error)]
+pub enum ExperimentError {
+    /// A file could not be read or written.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The operating system's message.
+        message: String,
+    },
+    /// The config is not valid TOML or has a key or value of the wrong type.
+    #[error("{path}:{line}:{column}: {message}")]
+    Parse {
+        /// The config file.
+        path: String,
+        /// 1-based line (0: the whole file).
+        line: usize,
+        /// 1-based column in characters (0: the whole line).
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A value the experiment cannot run with.
+    #[error("{path}:{line}:{column}: `{key}`: {message}")]
+    Invalid {
+        /// The config file.
+        path: String,
+        /// 1-based line of the value (0: not known).
+        line: usize,
+        /// 1-based column of the value (0: not known).
+        column: usize,
+        /// The key.
+        key: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A map, scenario or patch file is malformed (with its file, line and column).
+    #[error(transparent)]
+    Map(#[from] MapError),
+    /// A scenario's start or goal is not a free cell of its map.
+    #[error("{path} line {line}: {message}")]
+    Problem {
+        /// The scenario file.
+        path: String,
+        /// Its line.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The output directory holds something that is not an earlier run's results.
+    #[error("{path}: the output directory is not empty and not an earlier run's results (no {MARKER} in it); choose another")]
+    Output {
+        /// The directory.
+        path: String,
+    },
+}
+
+/// How [`run`] runs.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RunOptions {
+    /// Use the config's `[test]` limits.
+    pub test: bool,
+    /// Record wall-clock times in the outputs (otherwise they are left out, and every
+    /// output is a pure function of the config).
+    pub timing: bool,
+    /// Worker threads (0: rayon's default, one per core). Results do not depend on it.
+    pub threads: usize,
+}
+
+/// What [`run`] did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ExperimentSummary {
+    /// The experiment's name.
+    pub name: String,
+    /// Runs (navigations, toggle scripts, GPPC replays).
+    pub runs: usize,
+    /// Replans checked by the oracle (GPPC: carried repairs).
+    pub replans: u64,
+    /// Failed checks (GPPC: also queries that disagree with the recorded optimum).
+    pub mismatches: u64,
+    /// The files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// The 1-based line and column of byte `offset` in `text`.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+/// The experiment kind a config's `text` declares (`kind = "navigate"` or `"dynamic"`),
+/// without validating the rest: `None` for any other config (such as the runner's, which
+/// have no `kind`) or text that is not TOML. A command that runs both kinds of config
+/// dispatches on it.
+///
+/// ```
+/// use planner_replan::experiment::{kind_of, Kind};
+/// assert_eq!(kind_of("kind = \"navigate\"\nname = \"x\""), Some(Kind::Navigate));
+/// assert_eq!(kind_of("name = \"paper\""), None);
+/// ```
+pub fn kind_of(text: &str) -> Option<Kind> {
+    let table: toml::Table = toml::from_str(text).ok()?;
+    match table.get("kind")?.as_str()? {
+        "navigate" => Some(Kind::Navigate),
+        "dynamic" => Some(Kind::Dynamic),
+        _ => None,
+    }
+}
+
+/// Reads and validates the config at `path`.
+pub fn load(path: &Path) -> Result<ExperimentConfig, ExperimentError> {
+    let text = std::fs::read_to_string(path).map_err(|e| ExperimentError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    parse(path, &text)
+}
+
+/// Parses and validates a config's `text` (`path` names it in errors).
+pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentError> {
+    let name = path.display().to_string();
+    let config: ExperimentConfig = toml::from_str(text).map_err(|e| {
+        let (line, column) = e.span().map_or((0, 0), |s| line_column(text, s.start));
+        ExperimentError::Parse {
+            path: name.clone(),
+            line,
+            column,
+            message: e.message().to_string(),
+        }
+    })?;
+    let invalid = |span: std::ops::Range<usize>, key: &str, message: String| {
+        let (line, column) = if span.is_empty() && span.start == 0 {
+            (0, 0)
+        } else {
+            line_column(text, span.start)
+        };
+        ExperimentError::Invalid {
+            path: name.clone(),
+            line,
+            column,
+            key: key.to_string(),
+            message,
+        }
+    };
+    let n = config.name.get_ref();
+    if n.is_empty()
+        || !n
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+    {
+        return Err(invalid(
+            config.name.span(),
+            "name",
+            format!("{n:?}: letters, digits, '-' and '_' only"),
+        ));
+    }
+    if config.planners.is_empty() {
+        return Err(invalid(0..0, "compare", "name at least one planner".into()));
+    }
+    for (i, p) in config.planners.iter().enumerate() {
+        if let Err(e) = planners::by_name(p.get_ref(), true) {
+            return Err(invalid(p.span(), "compare", e.to_string()));
+        }
+        if config.planners[..i]
+            .iter()
+            .any(|q| q.get_ref() == p.get_ref())
+        {
+            return Err(invalid(
+                p.span(),
+                "compare",
+                format!("`{}` is listed twice", p.get_ref()),
+            ));
+        }
+    }
+    if let Some(moves) = &config.moves {
+        if !matches!(moves.get_ref(), 4 | 8) {
+            return Err(invalid(
+                moves.span(),
+                "moves",
+                format!("must be 4 or 8, got {}", moves.get_ref()),
+            ));
+        }
+    }
+    for map in &config.maps {
+        if *map.scenarios.get_ref() == 0 {
+            return Err(invalid(
+                map.scenarios.span(),
+                "scenarios",
+                "must be at least 1".into(),
+            ));
+        }
+    }
+    if let (Some(moves), Some(_)) = (&config.moves, config.gppc.first()) {
+        if *moves.get_ref() != 8 {
+            return Err(invalid(
+                moves.span(),
+                "moves",
+                "GPPC scenarios are 8-connected: [[gppc]] needs moves = 8".into(),
+            ));
+        }
+    }
+    for g in &config.gppc {
+        if *g.query_every.get_ref() == 0 {
+            return Err(invalid(
+                g.query_every.span(),
+                "query_every",
+                "must be at least 1".into(),
+            ));
+        }
+    }
+    match config.kind {
+        Kind::Navigate => {
+            if config.maps.is_empty() {
+                return Err(invalid(
+                    0..0,
+                    "maps",
+                    "a navigate experiment needs [[maps]]".into(),
+                ));
+            }
+            if config.radii.is_empty() {
+                return Err(invalid(
+                    0..0,
+                    "radii",
+                    "a navigate experiment needs radii".into(),
+                ));
+            }
+            if let Some(t) = &config.toggles {
+                return Err(invalid(
+                    t.span(),
+                    "toggles",
+                    "only for kind = \"dynamic\"".into(),
+                ));
+            }
+            if !config.gppc.is_empty() {
+                return Err(invalid(0..0, "gppc", "only for kind = \"dynamic\"".into()));
+            }
+        }
+        Kind::Dynamic => {
+            if let Some(r) = config.radii.first() {
+                return Err(invalid(
+                    r.span(),
+                    "radii",
+                    "only for kind = \"navigate\"".into(),
+                ));
+            }
+            if config.toggles.is_none() && config.gppc.is_empty() {
+                return Err(invalid(
+                    0..0,
+                    "toggles",
+                    "a dynamic experiment needs [toggles] (with [[maps]]) or [[gppc]]".into(),
+                ));
+            }
+            if let Some(t) = &config.toggles {
+                if config.maps.is_empty() {
+                    return Err(invalid(
+                        t.span(),
+                        "maps",
+                        "[toggles] runs on the scenarios of [[maps]]".into(),
+                    ));
+                }
+                if t.get_ref().seeds.is_empty() {
+                    return Err(invalid(t.span(), "seeds", "name at least one seed".into()));
+                }
+            }
+            if config.toggles.is_none() && !config.maps.is_empty() {
+                return Err(invalid(
+                    0..0,
+                    "maps",
+                    "[[maps]] of a dynamic experiment need [toggles]".into(),
+                ));
+            }
+        }
+    }
+    Ok(config)
+}
+
+/// A map read with its picked scenarios.
+struct LoadedMap {
+    /// The map's file stem (its name in the outputs).
+    name: String,
+    grid: Grid,
+    scenarios: Vec<Scenario>,
+}
+
+fn load_maps(
+    config: &ExperimentConfig,
+    dir: &Path,
+    options: &RunOptions,
+) -> Result<Vec<LoadedMap>, ExperimentError> {
+    let mut out = Vec::new();
+    for spec in &config.maps {
+        let map_path = dir.join(&spec.map);
+        let scen_path = dir.join(&spec.scen);
+        let grid = planner_maps::read_map(&map_path)?.grid;
+        let all = planner_maps::read_scenarios(&scen_path)?;
+        let mut n = *spec.scenarios.get_ref();
+        if options.test {
+            n = n.min(config.test.scenarios.unwrap_or(n));
+        }
+        let n = n.min(all.len());
+        let scenarios: Vec<Scenario> = (0..n).map(|i| all[i * all.len() / n].clone()).collect();
+        for s in &scenarios {
+            if let Err(e) = Problem::new(&grid, s.start, s.goal) {
+                return Err(ExperimentError::Problem {
+                    path: scen_path.display().to_string(),
+                    line: s.line,
+                    message: e.to_string(),
+                });
+            }
+        }
+        let name = map_path
+            .file_stem()
+            .map_or_else(|| spec.map.clone(), |s| s.to_string_lossy().into_owned());
+        out.push(LoadedMap {
+            name,
+            grid,
+            scenarios,
+        });
+    }
+    Ok(out)
+}
+
+/// Prepares `output`: absent, empty, or an earlier run's results (marked).
+fn prepare_output(output: &Path) -> Result<(), ExperimentError> {
+    let io = |e: std::io::Error| ExperimentError::Io {
+        path: output.display().to_string(),
+        message: e.to_string(),
+    };
+    if output.exists() {
+        let mut entries = std::fs::read_dir(output).map_err(io)?;
+        let empty = entries.next().is_none();
+        if !empty && !output.join(MARKER).is_file() {
+            return Err(ExperimentError::Output {
+                path: output.display().to_string(),
+            });
+        }
+    }
+    std::fs::create_dir_all(output).map_err(io)?;
+    std::fs::write(output.join(MARKER), "planner-replan experiment results\n").map_err(io)
+}
+
+/// One run's identity and records.
+struct RunRow {
+    map: String,
+    line: usize,
+    /// Radius (navigate) or seed (toggles).
+    setting: u64,
+    planner: String,
+    result: RunResult,
+}
+
+enum RunResult {
+    Nav(NavRun),
+    Toggle(ToggleRun),
+}
+
+impl RunRow {
+    fn replans(&self) -> &[ReplanRecord] {
+        match &self.result {
+            RunResult::Nav(r) => &r.replans,
+            RunResult::Toggle(r) => &r.replans,
+        }
+    }
+
+    fn mismatches(&self) -> &[Mismatch] {
+        match &self.result {
+            RunResult::Nav(r) => &r.mismatches,
+            RunResult::Toggle(r) => &r.mismatches,
+        }
+    }
+
+    fn expansions(&self) -> u64 {
+        self.replans().iter().map(|r| r.expansions).sum()
+    }
+
+    fn oracle_expansions(&self) -> u64 {
+        self.replans()
+            .iter()
+            .map(|r| r.oracle_expansions.unwrap_or(0))
+            .sum()
+    }
+
+    fn planning_time(&self) -> Duration {
+        self.replans().iter().map(ReplanRecord::planning_time).sum()
+    }
+}
+
+/// A CSV field: quoted when it holds a comma, quote or line break (RFC 4180).
+fn csv(field: &str) -> String {
+    if field.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", field.replace('"', "\"\""))
+    } else {
+        field.to_string()
+    }
+}
+
+/// Markdown table text: no line breaks, `|` escaped.
+fn md(text: &str) -> String {
+    text.replace(['\n', '\r'], " ").replace('|', "\\|")
+}
+
+fn micros(d: Duration) -> u128 {
+    d.as_micros()
+}
+
+/// Runs the experiment at `path` and writes its results into `output` (see the
+/// [module docs](self)). A mismatch is recorded, counted and reported, not an error.
+pub fn run(
+    path: &Path,
+    output: &Path,
+    options: &RunOptions,
+) -> Result<ExperimentSummary, ExperimentError> {
+    let config = load(path)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads)
+        .build()
+        .map_err(|e| ExperimentError::Io {
+            path: "thread pool".into(),
+            message: e.to_string(),
+        })?;
+    let maps = load_maps(&config, dir, options)?;
+    let eight = config.moves.as_ref().is_none_or(|m| *m.get_ref() == 8);
+    let names: Vec<String> = config
+        .planners
+        .iter()
+        .map(|p| p.get_ref().clone())
+        .collect();
+    // GPPC inputs are read (and checked) before anything runs or is written.
+    let mut gppc_inputs = Vec::new();
+    for spec in &config.gppc {
+        let scen_path = dir.join(&spec.scen);
+        let scen_name = scen_path.display().to_string();
+        let text = std::fs::read_to_string(&scen_path).map_err(|e| ExperimentError::Io {
+            path: scen_name.clone(),
+            message: e.to_string(),
+        })?;
+        let scenario = parse_gppc_scenario(&text, &scen_name)?;
+        let patch_path = scen_path
+            .parent()
+            .unwrap_or(Path::new("."))
+            .join(&scenario.patch_file);
+        let patch_name = patch_path.display().to_string();
+        let text = std::fs::read_to_string(&patch_path).map_err(|e| ExperimentError::Io {
+            path: patch_name.clone(),
+            message: e.to_string(),
+        })?;
+        let patches = parse_gppc_patches(&text, &patch_name)?;
+        scenario.validate(&patches, &scen_name)?;
+        let stem = scen_path
+            .file_stem()
+            .map_or_else(|| spec.scen.clone(), |s| s.to_string_lossy().into_owned());
+        gppc_inputs.push((stem, spec.clone(), scenario, patches));
+    }
+    prepare_output(output)?;
+
+    // The runs, in a fixed order; rayon keeps it in the collected results.
+    let mut tasks: Vec<(usize, usize, u64, usize)> = Vec::new();
+    let settings: Vec<u64> = match config.kind {
+        Kind::Navigate => config
+            .radii
+            .iter()
+            .map(|r| u64::from(*r.get_ref()))
+            .collect(),
+        Kind::Dynamic => match &config.toggles {
+            Some(t) => {
+                let seeds = &t.get_ref().seeds;
+                let n = if options.test {
+                    config.test.seeds.unwrap_or(seeds.len()).min(seeds.len())
+                } else {
+                    seeds.len()
+                };
+                seeds[..n].to_vec()
+            }
+            None => Vec::new(),
+        },
+    };
+    for (m, map) in maps.iter().enumerate() {
+        for s in 0..map.scenarios.len() {
+            for &setting in &settings {
+                for p in 0..names.len() {
+                    tasks.push((m, s, setting, p));
+                }
+            }
+        }
+    }
+    let toggle_config = config.toggles.as_ref().map(|t| {
+        let t = t.get_ref();
+        ToggleConfig {
+            events: if options.test {
+                config.test.events.unwrap_or(t.events).min(t.events)
+            } else {
+                t.events
+            },
+            k: t.k,
+            radius: t.radius,
+            drive: t.drive,
+            seed: 0,
+        }
+    });
+    let rows: Vec<RunRow> = pool.install(|| {
+        tasks
+            .par_iter()
+            .map(|&(m, s, setting, p)| {
+                let map = &maps[m];
+                let scenario = &map.scenarios[s];
+                let name = &names[p];
+                let mut planner = match planners::by_name(name, eight) {
+                    Ok(planner) => planner,
+                    Err(e) => unreachable!("planner names are validated by parse: {e}"),
+                };
+                let mut oracle = Oracle::new(eight);
+                let result = match config.kind {
+                    Kind::Navigate => {
+                        let nav = NavConfig {
+                            radius: setting as u32,
+                            max_steps: config.max_steps,
+                            check_every_change: false,
+                        };
+                        match navigate::run(
+                            planner.as_mut(),
+                            Some(&mut oracle),
+                            &map.grid,
+                            scenario.start,
+                            scenario.goal,
+                            &nav,
+                            &Budget::unlimited(),
+                        ) {
+                            Ok(run) => RunResult::Nav(run),
+                            Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
+                        }
+                    }
+                    Kind::Dynamic => {
+                        let problem = match Problem::new(&map.grid, scenario.start, scenario.goal) {
+                            Ok(problem) => problem,
+                            Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
+                        };
+                        let toggle = ToggleConfig {
+                            seed: setting,
+                            ..toggle_config.unwrap_or(ToggleConfig {
+                                events: 0,
+                                k: 0,
+                                radius: 0,
+                                drive: 0,
+                                seed: 0,
+                            })
+                        };
+                        RunResult::Toggle(toggles::run(
+                            planner.as_mut(),
+                            &mut oracle,
+                            &problem,
+                            &toggle,
+                            &Budget::unlimited(),
+                        ))
+                    }
+                };
+                RunRow {
+                    map: map.name.clone(),
+                    line: scenario.line,
+                    setting,
+                    planner: name.clone(),
+                    result,
+                }
+            })
+            .collect()
+    });
+    let gppc_runs: Vec<(String, String, gppc::Replay)> = pool.install(|| {
+        let jobs: Vec<(usize, usize)> = (0..gppc_inputs.len())
+            .flat_map(|g| (0..names.len()).map(move |p| (g, p)))
+            .collect();
+        jobs.par_iter()
+            .map(|&(g, p)| {
+                let (stem, spec, scenario, patches) = &gppc_inputs[g];
+                let mut planner = match planners::by_name(&names[p], true) {
+                    Ok(planner) => planner,
+                    Err(e) => unreachable!("planner names are validated by parse: {e}"),
+                };
+                let (mut query_every, mut carry_every) =
+                    (*spec.query_every.get_ref(), spec.carry_every);
+                if options.test {
+                    query_every = query_every.max(config.test.query_every.unwrap_or(1));
+                    carry_every = carry_every.max(config.test.carry_every.unwrap_or(0));
+                }
+                let replay = gppc::replay(
+                    scenario,
+                    patches,
+                    planner.as_mut(),
+                    query_every,
+                    carry_every,
+                );
+                (stem.clone(), names[p].clone(), replay)
+            })
+            .collect()
+    });
+    write_results(&config, output, options, &rows, &gppc_runs)
+}
+
+/// Writes every output file (see the [module docs](self)).
+fn write_results(
+    config: &ExperimentConfig,
+    output: &Path,
+    options: &RunOptions,
+    rows: &[RunRow],
+    gppc_runs: &[(String, String, gppc::Replay)],
+) -> Result<ExperimentSummary, ExperimentError> {
+    let setting_key = match config.kind {
+        Kind::Navigate => "radius",
+        Kind::Dynamic => "seed",
+    };
+    let mut runs_csv = format!(
+        "map,scenario_line,{setting_key},planner,reached,steps,replans,total_expansions,astar_expansions,mismatches{}\n",
+        if options.timing {
+            ",time_to_first_move_us,planning_time_us"
+        } else {
+            ""
+        }
+    );
+    let mut runs_jsonl = String::new();
+    let mut replans_jsonl = String::new();
+    for row in rows {
+        let (reached, steps) = match &row.result {
+            RunResult::Nav(r) => (r.reached.to_string(), r.steps),
+            RunResult::Toggle(_) => (String::new(), 0),
+        };
+        let _ = write!(
+            runs_csv,
+            "{},{},{},{},{reached},{steps},{},{},{},{}",
+            csv(&row.map),
+            row.line,
+            row.setting,
+            csv(&row.planner),
+            row.replans().len(),
+            row.expansions(),
+            row.oracle_expansions(),
+            row.mismatches().len(),
+        );
+        if options.timing {
+            let first = row
+                .replans()
+                .first()
+                .map_or(Duration::ZERO, ReplanRecord::planning_time);
+            let _ = write!(
+                runs_csv,
+                ",{},{}",
+                micros(first),
+                micros(row.planning_time())
+            );
+        }
+        runs_csv.push('\n');
+        let mut run = json!({
+            "map": row.map,
+            "scenario_line": row.line,
+            setting_key: row.setting,
+            "planner": row.planner,
+            "replans": row.replans().len(),
+            "total_expansions": row.expansions(),
+            "astar_expansions": row.oracle_expansions(),
+            "mismatches": row.mismatches().iter().map(|m| m.to_string()).collect::<Vec<_>>(),
+        });
+        if let RunResult::Nav(r) = &row.result {
+            run["reached"] = r.reached.into();
+            run["steps"] = r.steps.into();
+            run["path"] = r.path.iter().map(|c| json!([c.x, c.y])).collect();
+        }
+        if let RunResult::Toggle(r) = &row.result {
+            run["toggled"] = r.toggled.into();
+        }
+        if options.timing {
+            run["planning_time_us"] = (micros(row.planning_time()) as u64).into();
+        }
+        runs_jsonl.push_str(&run.to_string());
+        runs_jsonl.push('\n');
+        for (i, r) in row.replans().iter().enumerate() {
+            let counters: serde_json::Map<String, serde_json::Value> = r
+                .counters
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.into()))
+                .collect();
+            let mut line = json!({
+                "map": row.map,
+                "scenario_line": row.line,
+                setting_key: row.setting,
+                "planner": row.planner,
+                "replan": i,
+                "step": r.step,
+                "status": r.status.as_str(),
+                "expansions": r.expansions,
+                "astar_expansions": r.oracle_expansions,
+                "cost_units": r.cost.map(|c| c.units()),
+                "counters": counters,
+            });
+            if options.timing {
+                line["update_us"] = (micros(r.update_time) as u64).into();
+                line["replan_us"] = (micros(r.replan_time) as u64).into();
+            }
+            replans_jsonl.push_str(&line.to_string());
+            replans_jsonl.push('\n');
+        }
+    }
+    let mut gppc_csv = String::from(
+        "scenario,planner,patches_applied,queries,agree,carried,repair_expansions,astar_expansions,first_expansions,mismatches\n",
+    );
+    for (stem, planner, replay) in gppc_runs {
+        let agree = replay.queries.iter().filter(|q| q.agrees).count();
+        let sum = |f: fn(&gppc::CarryRecord) -> u64| replay.carried.iter().map(f).sum::<u64>();
+        let _ = writeln!(
+            gppc_csv,
+            "{},{},{},{},{agree},{},{},{},{},{}",
+            csv(stem),
+            csv(planner),
+            replay.patches_applied,
+            replay.queries.len(),
+            replay.carried.len(),
+            sum(|c| c.repair_expansions),
+            sum(|c| c.astar_expansions),
+            sum(|c| c.first_expansions),
+            replay.mismatches.len()
+        );
+    }
+    let summary = summary_md(config, options, rows, gppc_runs);
+    // The chart: the first incremental planner's replans against A* from scratch.
+    let charted = ["dstar_lite", "lpastar"]
+        .into_iter()
+        .find(|n| config.planners.iter().any(|p| p.get_ref() == n));
+    let mut files = Vec::new();
+    let mut write = |name: &str, text: &str| -> Result<(), ExperimentError> {
+        let path = output.join(name);
+        std::fs::write(&path, text).map_err(|e| ExperimentError::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        files.push(path);
+        Ok(())
+    };
+    write("summary.md", &summary)?;
+    if !rows.is_empty() {
+        write("runs.csv", &runs_csv)?;
+        write("runs.jsonl", &runs_jsonl)?;
+        write("replans.jsonl", &replans_jsonl)?;
+    }
+    if !gppc_runs.is_empty() {
+        write("gppc.csv", &gppc_csv)?;
+    }
+    if let Some(charted) = charted.filter(|_| !rows.is_empty()) {
+        let points: Vec<(u64, u64)> = rows
+            .iter()
+            .filter(|r| r.planner == charted)
+            .flat_map(|r| r.replans().iter().skip(1))
+            .filter_map(|r| r.oracle_expansions.map(|a| (a, r.expansions)))
+            .collect();
+        let every = points.len().div_ceil(CHART_POINTS).max(1);
+        let shown: Vec<(u64, u64)> = points.iter().copied().step_by(every).collect();
+        let title = if every > 1 {
+            format!(
+                "{}: expansions per replan after the first (every {every}th of {})",
+                config.name.get_ref(),
+                points.len()
+            )
+        } else {
+            format!(
+                "{}: expansions per replan after the first ({} replans)",
+                config.name.get_ref(),
+                points.len()
+            )
+        };
+        write(
+            "expansions.svg",
+            &scatter_svg(
+                &shown,
+                "A* from scratch at the replan",
+                &format!("{charted} at the replan"),
+                &title,
+            ),
+        )?;
+    }
+    let mismatches = rows
+        .iter()
+        .map(|r| r.mismatches().len() as u64)
+        .sum::<u64>()
+        + gppc_runs
+            .iter()
+            .map(|(_, _, g)| {
+                g.mismatches.len() as u64 + g.queries.iter().filter(|q| !q.agrees).count() as u64
+            })
+            .sum::<u64>();
+    Ok(ExperimentSummary {
+        name: config.name.get_ref().clone(),
+        runs: rows.len() + gppc_runs.len(),
+        replans: rows.iter().map(|r| r.replans().len() as u64).sum::<u64>()
+            + gppc_runs
+                .iter()
+                .map(|(_, _, g)| g.carried.len() as u64)
+                .sum::<u64>(),
+        mismatches,
+        files,
+    })
+}
+
+fn pct(v: Option<f64>) -> String {
+    v.map_or("-".into(), |x| format!("{:.1} %", 100.0 * x))
+}
+
+fn whole(v: Option<f64>) -> String {
+    v.map_or("-".into(), |x| format!("{x:.0}"))
+}
+
+/// `summary.md`: per map, setting and planner, the runs' totals and the per-replan
+/// distribution; GPPC replays per scenario and planner.
+fn summary_md(
+    config: &ExperimentConfig,
+    options: &RunOptions,
+    rows: &[RunRow],
+    gppc_runs: &[(String, String, gppc::Replay)],
+) -> String {
+    let mut out = format!("# {}\n\n", md(config.name.get_ref()));
+    if !config.description.trim().is_empty() {
+        let _ = writeln!(out, "{}\n", config.description.trim());
+    }
+    let (kind, setting) = match config.kind {
+        Kind::Navigate => ("navigate", "radius"),
+        Kind::Dynamic => ("dynamic", "seed"),
+    };
+    let total_replans: usize = rows.iter().map(|r| r.replans().len()).sum();
+    let total_mismatches: usize = rows.iter().map(|r| r.mismatches().len()).sum();
+    let _ = writeln!(
+        out,
+        "Kind `{kind}`{}: {} runs, {total_replans} replans, each checked against A* from scratch on the same map: **{total_mismatches} mismatches**.\n",
+        if options.test { " (test limits)" } else { "" },
+        rows.len()
+    );
+    if !rows.is_empty() {
+        let _ = writeln!(
+            out,
+            "Per map, {setting} and planner: runs; runs that reached the goal (navigate); replans; mismatches; total expansions over the runs; the median over runs of the planner's total expansions as a share of A* from scratch at the same replans (the oracle's searches); expansions per replan after the first (p50, p90, p99, max){}.\n",
+            if options.timing {
+                "; median planning time per run (ms)"
+            } else {
+                ""
+            }
+        );
+        let _ = writeln!(
+            out,
+            "| map | {setting} | planner | runs | reached | replans | mismatches | expansions | median share of A* | p50 | p90 | p99 | max |{}",
+            if options.timing { " planning ms |" } else { "" }
+        );
+        let _ = writeln!(
+            out,
+            "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|{}",
+            if options.timing { "---:|" } else { "" }
+        );
+        let mut groups: Vec<(&str, u64, &str)> = Vec::new();
+        for r in rows {
+            let key = (r.map.as_str(), r.setting, r.planner.as_str());
+            if !groups.contains(&key) {
+                groups.push(key);
+            }
+        }
+        for (map, s, planner) in groups {
+            let group: Vec<&RunRow> = rows
+                .iter()
+                .filter(|r| r.map == map && r.setting == s && r.planner == planner)
+                .collect();
+            let reached = group
+                .iter()
+                .filter(|r| matches!(&r.result, RunResult::Nav(n) if n.reached))
+                .count();
+            let replans: usize = group.iter().map(|r| r.replans().len()).sum();
+            let mismatches: usize = group.iter().map(|r| r.mismatches().len()).sum();
+            let expansions: u64 = group.iter().map(|r| r.expansions()).sum();
+            let shares: Vec<f64> = group
+                .iter()
+                .filter(|r| r.oracle_expansions() > 0)
+                .map(|r| r.expansions() as f64 / r.oracle_expansions() as f64)
+                .collect();
+            let per: Vec<f64> = group
+                .iter()
+                .flat_map(|r| r.replans().iter().skip(1).map(|x| x.expansions as f64))
+                .collect();
+            let reached = match config.kind {
+                Kind::Navigate => reached.to_string(),
+                Kind::Dynamic => "-".into(),
+            };
+            let _ = write!(
+                out,
+                "| {} | {s} | {} | {} | {reached} | {replans} | {mismatches} | {expansions} | {} | {} | {} | {} | {} |",
+                md(map),
+                md(planner),
+                group.len(),
+                pct(quantile(&shares, 0.5)),
+                whole(quantile(&per, 0.5)),
+                whole(quantile(&per, 0.9)),
+                whole(quantile(&per, 0.99)),
+                whole(quantile(&per, 1.0)),
+            );
+            if options.timing {
+                let times: Vec<f64> = group
+                    .iter()
+                    .map(|r| r.planning_time().as_secs_f64() * 1e3)
+                    .collect();
+                let _ = write!(
+                    out,
+                    " {} |",
+                    quantile(&times, 0.5).map_or("-".into(), |t| format!("{t:.2}"))
+                );
+            }
+            out.push('\n');
+        }
+        out.push('\n');
+        for r in rows {
+            for m in r.mismatches() {
+                let _ = writeln!(
+                    out,
+                    "- MISMATCH {} line {} {setting} {} {}: {}",
+                    md(&r.map),
+                    r.line,
+                    r.setting,
+                    md(&r.planner),
+                    md(&m.to_string())
+                );
+            }
+        }
+    }
+    if !gppc_runs.is_empty() {
+        let _ = writeln!(
+            out,
+            "GPPC dynamic scenarios: per scenario and planner, patch commands applied, queries checked (each against its recorded optimum and A* on the patched map), those that agree, queries carried across the next batch's patches, the planner's mismatches there, and its repair expansions against A*'s from scratch on the patched map.\n"
+        );
+        let _ = writeln!(
+            out,
+            "| scenario | planner | patches | queries | agree | carried | mismatches | repair expansions | A* expansions | share |"
+        );
+        let _ = writeln!(out, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+        for (stem, planner, replay) in gppc_runs {
+            let agree = replay.queries.iter().filter(|q| q.agrees).count();
+            let repair: u64 = replay.carried.iter().map(|c| c.repair_expansions).sum();
+            let astar: u64 = replay.carried.iter().map(|c| c.astar_expansions).sum();
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {} | {agree} | {} | {} | {repair} | {astar} | {} |",
+                md(stem),
+                md(planner),
+                replay.patches_applied,
+                replay.queries.len(),
+                replay.carried.len(),
+                replay.mismatches.len(),
+                pct((astar > 0).then(|| repair as f64 / astar as f64)),
+            );
+        }
+        out.push('\n');
+        for (stem, planner, replay) in gppc_runs {
+            for m in &replay.mismatches {
+                let _ = writeln!(
+                    out,
+                    "- MISMATCH {} {}: {}",
+                    md(stem),
+                    md(planner),
+                    md(&m.to_string())
+                );
+            }
+        }
+    }
+    out
+}

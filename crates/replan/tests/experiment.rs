@@ -1,0 +1,187 @@
+//! The `navigate` and `dynamic` experiment kinds end to end: both configs under
+//! `configs/replan/` run with their `[test]` limits and snapshotted (no times), results
+//! independent of the thread count, and config errors with file, line and column.
+
+use std::path::{Path, PathBuf};
+
+use planner_replan::experiment::{self, ExperimentError, RunOptions};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("replan-experiment-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn test_options(threads: usize) -> RunOptions {
+    RunOptions {
+        test: true,
+        timing: false,
+        threads,
+    }
+}
+
+fn read(dir: &Path, file: &str) -> String {
+    std::fs::read_to_string(dir.join(file)).unwrap_or_default()
+}
+
+/// Every output but the chart and the per-replan lines, for the snapshot.
+fn outputs(dir: &Path) -> String {
+    let mut text = String::new();
+    for file in ["summary.md", "runs.csv", "gppc.csv"] {
+        let body = read(dir, file);
+        if !body.is_empty() {
+            text.push_str(&format!("==> {file}\n{body}\n"));
+        }
+    }
+    text
+}
+
+fn snapshot(config: &str) {
+    let out = scratch(config);
+    let path = root().join(format!("configs/replan/{config}.toml"));
+    let done = experiment::run(&path, &out, &test_options(2)).unwrap();
+    assert_eq!(done.mismatches, 0, "{}", read(&out, "summary.md"));
+    assert!(done.replans > 0);
+    // One JSON line per replan, each with the oracle's expansions.
+    let replans = read(&out, "replans.jsonl");
+    let lines: Vec<serde_json::Value> = replans
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let per_run: u64 = read(&out, "runs.csv")
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(6).unwrap().parse::<u64>().unwrap())
+        .sum();
+    assert_eq!(lines.len() as u64, per_run);
+    assert!(lines.iter().all(|l| l["astar_expansions"].is_u64()));
+    assert!(read(&out, "expansions.svg").starts_with("<svg"));
+    insta::with_settings!({
+        snapshot_path => "../../../snapshots",
+        prepend_module_to_snapshot => false,
+        description => format!("configs/replan/{config}.toml with its [test] limits"),
+        omit_expression => true,
+    }, {
+        insta::assert_snapshot!(format!("replan-{config}"), outputs(&out));
+    });
+}
+
+#[test]
+fn navigate_config_is_snapshotted() {
+    snapshot("navigate");
+}
+
+#[test]
+fn dynamic_config_is_snapshotted() {
+    snapshot("dynamic");
+}
+
+/// Paths, counters and summaries do not depend on the number of threads.
+#[test]
+fn results_do_not_depend_on_threads() {
+    let path = root().join("configs/replan/navigate.toml");
+    let (one, three) = (scratch("threads-1"), scratch("threads-3"));
+    experiment::run(&path, &one, &test_options(1)).unwrap();
+    experiment::run(&path, &three, &test_options(3)).unwrap();
+    for file in ["summary.md", "runs.csv", "runs.jsonl", "replans.jsonl"] {
+        assert_eq!(read(&one, file), read(&three, file), "{file}");
+    }
+}
+
+fn parse_error(text: &str) -> ExperimentError {
+    experiment::parse(Path::new("bad.toml"), text).unwrap_err()
+}
+
+#[test]
+fn config_errors_name_file_line_column_and_key() {
+    let base = "kind = \"navigate\"\nname = \"x\"\nradii = [1]\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n";
+    assert!(experiment::parse(Path::new("ok.toml"), base).is_ok());
+    // An unknown key: toml's span, the key named.
+    let e = parse_error(&format!("{base}colour = 3\n"));
+    assert!(
+        matches!(&e, ExperimentError::Parse { line: 7, column: 1, message, .. } if message.contains("colour")),
+        "{e}"
+    );
+    // A value of the wrong type.
+    let e = parse_error("kind = \"navigate\"\nname = 5\n");
+    assert!(matches!(&e, ExperimentError::Parse { line: 2, .. }), "{e}");
+    assert!(e.to_string().starts_with("bad.toml:2:"), "{e}");
+    // An unknown kind.
+    let e = parse_error("kind = \"walk\"\nname = \"x\"\n");
+    assert!(matches!(&e, ExperimentError::Parse { line: 1, .. }), "{e}");
+    // An unknown planner: the line and column of its name.
+    let e = parse_error(&format!("compare = [\"astar\", \"dstar\"]\n{base}"));
+    assert!(
+        matches!(&e, ExperimentError::Invalid { line: 1, column: 21, key, .. } if key == "compare"),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("unknown replanning planner `dstar`"),
+        "{e}"
+    );
+    // Bad moves, a bad name, a key of the other kind.
+    let e = parse_error(&format!("moves = 6\n{base}"));
+    assert!(
+        matches!(&e, ExperimentError::Invalid { line: 1, column: 9, key, .. } if key == "moves"),
+        "{e}"
+    );
+    let e = parse_error("kind = \"navigate\"\nname = \"a b\"\nradii = [1]\n");
+    assert!(
+        matches!(&e, ExperimentError::Invalid { line: 2, key, .. } if key == "name"),
+        "{e}"
+    );
+    let e = parse_error("kind = \"dynamic\"\nname = \"x\"\nradii = [1]\n");
+    assert!(
+        matches!(&e, ExperimentError::Invalid { line: 3, key, .. } if key == "radii"),
+        "{e}"
+    );
+    let e = parse_error("kind = \"navigate\"\nname = \"x\"\nradii = [1]\n");
+    assert!(
+        matches!(&e, ExperimentError::Invalid { key, .. } if key == "maps"),
+        "{e}"
+    );
+}
+
+/// A malformed map or scenario file is reported with its file, line and column, before
+/// anything is written.
+#[test]
+fn malformed_inputs_are_reported_before_writing() {
+    let dir = scratch("malformed");
+    std::fs::create_dir_all(&dir).unwrap();
+    let maps = root().join("maps/movingai");
+    std::fs::write(
+        dir.join("bad.scen"),
+        "version 1\n0\tarena.map\t49\t49\t1\t1\t2\tx\t1\n",
+    )
+    .unwrap();
+    let config = format!(
+        "kind = \"navigate\"\nname = \"bad\"\nradii = [1]\n[[maps]]\nmap = {:?}\nscen = \"bad.scen\"\n",
+        maps.join("arena.map").display().to_string()
+    );
+    std::fs::write(dir.join("bad.toml"), config).unwrap();
+    let out = dir.join("out");
+    let e = experiment::run(&dir.join("bad.toml"), &out, &test_options(1)).unwrap_err();
+    match &e {
+        ExperimentError::Map(m) => {
+            assert!(m.file.ends_with("bad.scen") && m.line == 2, "{e}");
+        }
+        other => panic!("expected a map error, got {other}"),
+    }
+    assert!(!out.exists());
+}
+
+/// The output directory is replaced only when it is empty or an earlier run's.
+#[test]
+fn foreign_output_directories_are_left_alone() {
+    let out = scratch("foreign");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let path = root().join("configs/replan/navigate.toml");
+    let e = experiment::run(&path, &out, &test_options(1)).unwrap_err();
+    assert!(matches!(e, ExperimentError::Output { .. }), "{e}");
+    assert_eq!(read(&out, "notes.txt"), "mine");
+}
