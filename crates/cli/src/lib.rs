@@ -9,7 +9,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -246,6 +246,9 @@ pub enum CliError {
     /// `slurm` could not write its scripts.
     #[error(transparent)]
     Slurm(#[from] slurm::SlurmError),
+    /// A replanning experiment's error (`kind = "navigate"` or `"dynamic"` configs).
+    #[error(transparent)]
+    Replan(#[from] planner_replan::experiment::ExperimentError),
     /// Anything else (writing a file or stdout, a job submission).
     #[error("{0}")]
     Failed(String),
@@ -282,6 +285,15 @@ impl CliError {
                 }
             }
             CliError::Failed(_) => return EXIT_FAILURE,
+            CliError::Replan(error) => {
+                use planner_replan::experiment::ExperimentError as E;
+                return match error {
+                    E::Parse { .. } | E::Invalid { .. } => EXIT_CONFIG,
+                    E::Map(_) | E::Problem { .. } => EXIT_INPUT,
+                    E::Output { .. } => EXIT_OUTPUT,
+                    _ => EXIT_FAILURE,
+                };
+            }
             CliError::Runner(error) => error.innermost(),
         };
         match runner {
@@ -457,6 +469,53 @@ impl sweep::Progress for Bar {
     }
 }
 
+/// The replanning experiment kind of the config at `path` (`kind = "navigate"` or
+/// `"dynamic"`, run by planner-replan), or `None` for the runner's configs and for a file
+/// that cannot be read (the runner then reports that, typed).
+fn replan_kind(path: &Path) -> Option<planner_replan::experiment::Kind> {
+    let text = std::fs::read_to_string(path).ok()?;
+    planner_replan::experiment::kind_of(&text)
+}
+
+/// Runs a `navigate` or `dynamic` config (issue 31) into `output` (default
+/// `results/<name>`); fails when the oracle found a mismatch.
+fn replan_experiment(
+    config: &Path,
+    output: Option<PathBuf>,
+    threads: Option<usize>,
+) -> Result<(), CliError> {
+    use planner_replan::experiment;
+    let output = match output {
+        Some(output) => output,
+        None => PathBuf::from("results").join(experiment::load(config)?.name.get_ref()),
+    };
+    let options = experiment::RunOptions {
+        test: false,
+        timing: true,
+        threads: threads.unwrap_or(0),
+    };
+    let done = experiment::run(config, &output, &options)?;
+    write_stdout(
+        format!(
+            "{}: {} runs, {} replans checked against A* from scratch, {} mismatches -> {}\n",
+            done.name,
+            done.runs,
+            done.replans,
+            done.mismatches,
+            output.display()
+        )
+        .as_bytes(),
+    )?;
+    if done.mismatches > 0 {
+        return Err(CliError::Failed(format!(
+            "{} replans disagree with A* from scratch (see {})",
+            done.mismatches,
+            output.display()
+        )));
+    }
+    Ok(())
+}
+
 /// Runs one user command.
 pub fn run(command: Command) -> Result<(), CliError> {
     match command {
@@ -468,6 +527,15 @@ pub fn run(command: Command) -> Result<(), CliError> {
             resume,
             shard,
         } => {
+            if replan_kind(&config).is_some() {
+                if resume || shard.is_some() {
+                    return Err(CliError::Usage(format!(
+                        "{}: --resume and --shard do not apply to navigate or dynamic configs",
+                        config.display()
+                    )));
+                }
+                return replan_experiment(&config, output, threads);
+            }
             let shard = match shard {
                 Some(text) => Some(
                     planner_runner::shard::Shard::parse(&text)
