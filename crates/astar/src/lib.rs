@@ -75,6 +75,33 @@
 //! not entries. The tests hold every variant to a plain `BinaryHeap` transcription of
 //! Fig. 4, counter for counter.
 //!
+//! # Weighted grids
+//! On a grid with cell weights ([`planner_api::weights`]) a move costs its length times
+//! the weights by the grid's [`planner_api::CostRule`] (the mean of the two cells' weights
+//! by default, or the entered cell's), in exact integer [`Cost`] units: half the move's
+//! length times `k_from * w(from) + k_to * w(to)`, one multiplication per relaxed move. The
+//! heuristic is multiplied by the grid's smallest weight `w_min`, so it stays admissible
+//! and consistent (every move costs at least its length times `w_min`), and with it found
+//! paths are least-cost (held to the test kit's weighted Dijkstra on 10,000 random grids
+//! in `tests/weighted.rs`). Weighted searches run a second copy of the search loop (a
+//! const generic), always with the bucket OPEN, whose ring is sized for the largest
+//! weighted move; the unweighted loop has no weight code at all, so unweighted searches
+//! and their counters are unchanged. The zero heuristic makes this Dijkstra's algorithm.
+//!
+//! ```
+//! use planner_api::{Budget, Cell, Cost, CostRule, Grid, Problem};
+//! use planner_astar::{AStar, Config};
+//!
+//! // A heavy cell (weight 9) between start and goal: going around it is cheaper.
+//! let grid = Grid::from_ascii("...\n...").unwrap();
+//! let grid = grid.with_weights(vec![1, 9, 1, 1, 1, 1], CostRule::Mean).unwrap();
+//! let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(2, 0)).unwrap();
+//! let search = AStar::new(Config::default()).unwrap().search(&problem, &Budget::unlimited());
+//! // Straight: (1 + 9) / 2 + (9 + 1) / 2 = 10; around: four moves of weight 1 = 4.
+//! assert_eq!(search.exact_cost, Some(Cost::steps(4)));
+//! assert_eq!(search.path.unwrap().cells().len(), 5);
+//! ```
+//!
 //! # Defaults
 //! The defaults are the paper's: 4-connected moves in the order right, left, down, up,
 //! the Manhattan heuristic, `beta = 1`, and FIFO among equal `f` (the node inserted first

@@ -73,6 +73,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+pub mod costs;
 mod error;
 pub mod gppc;
 mod matrix;
@@ -87,6 +88,9 @@ use std::path::Path;
 use planner_api::{Cell, Grid, Problem, ProblemError};
 use serde::{Deserialize, Serialize};
 
+pub use costs::{
+    costmap_cost, parse_weights, read_weights, CostBands, CostOptions, TerrainWeights,
+};
 pub use error::{MapError, MapErrorKind, MapWarning};
 pub use matrix::{csv_inversion_hint, parse_matrix, CsvConvention, InversionHint};
 pub use movingai::{movingai_passable, parse_movingai, to_movingai};
@@ -206,6 +210,8 @@ pub struct ReadOptions {
     pub csv: CsvConvention,
     /// Inflation for ROS `map_server` maps and images (default none).
     pub ros: RosOptions,
+    /// Cell costs: graded ROS maps, Moving AI terrain (default none: unweighted grids).
+    pub costs: CostOptions,
 }
 
 impl Default for ReadOptions {
@@ -215,6 +221,7 @@ impl Default for ReadOptions {
             max_file_bytes: DEFAULT_MAX_FILE_BYTES,
             csv: CsvConvention::default(),
             ros: RosOptions::default(),
+            costs: CostOptions::default(),
         }
     }
 }
@@ -297,7 +304,12 @@ impl MapFormat {
                     warnings: Vec::new(),
                 })
             }
-            MapFormat::MovingAi => movingai::parse(text, origin, max_cells)?,
+            MapFormat::MovingAi => match options.costs.terrain {
+                None => movingai::parse(text, origin, max_cells)?,
+                Some(terrain) => {
+                    movingai::parse_terrain(text, origin, max_cells, terrain, options.costs.rule)?
+                }
+            },
             MapFormat::Matrix => matrix::parse(text, origin, options.csv, max_cells)?,
         };
         Ok(MapRead {
