@@ -245,9 +245,9 @@ impl Grid {
     /// its Euclidean length in [`Cost`] units on an unweighted grid). Precondition: every
     /// cell is inside the grid.
     pub fn path_cost(&self, cells: &[Cell]) -> Cost {
-        cells
-            .windows(2)
-            .fold(Cost::ZERO, |sum, pair| sum + self.move_cost(pair[0], pair[1]))
+        cells.windows(2).fold(Cost::ZERO, |sum, pair| {
+            sum + self.move_cost(pair[0], pair[1])
+        })
     }
 
     /// A grid drawn in ASCII, for tests and examples: one line per row, `.` free, `#` blocked.
