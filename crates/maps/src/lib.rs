@@ -16,6 +16,11 @@
 //!
 //! Coordinates everywhere: `x` = column, `y` = row, `(0, 0)` the top-left cell.
 //!
+//! Cell costs are opt-in ([`ReadOptions::costs`], [`costs`]): graded ROS maps (map_server's
+//! `scale` and `raw` modes) through nav2's costmap cost bands, Moving AI terrain weights
+//! for `S` and `W`, and `.csv` weight files ([`read_weights`]). Without them every reader
+//! gives an unweighted grid.
+//!
 //! ## Symbol choices
 //! - Moving AI `S` (swamp) is **passable** and `W` (water) is **blocked**. The Moving AI
 //!   format ([movingai.com/benchmarks/formats.html](https://movingai.com/benchmarks/formats.html))
