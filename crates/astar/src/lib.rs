@@ -531,7 +531,8 @@ impl Layout {
     }
 
     /// The bytes A* needs for `grid` at most: the per-cell arrays at full size, the bit
-    /// grid or the adjacency's masks (and its copy of the grid).
+    /// grid or the adjacency's masks (and its copy of the grid), and on a weighted grid
+    /// the padded weights (2 bytes a cell).
     fn state_bytes(&self, grid: &Grid) -> u64 {
         let padded = self.padded_len as f64;
         let tables = if self.uses_bits() {
@@ -539,7 +540,12 @@ impl Layout {
         } else {
             8.0 * padded + grid.len() as f64
         };
-        (padded * Cells::BYTES_PER_CELL + tables).ceil() as u64
+        let weights = if grid.is_weighted() {
+            2.0 * padded
+        } else {
+            0.0
+        };
+        (padded * Cells::BYTES_PER_CELL + tables + weights).ceil() as u64
     }
 }
 
@@ -753,11 +759,13 @@ impl AStar {
         if self.weighted_max_cost != Some(max_cost) {
             let weight = self.config.weight;
             let opens = &mut self.weighted_opens;
+            // Buckets as wide, relative to the costs, as the unweighted search's.
+            let scale = u64::from(max_weight);
             match self.config.tie_break {
-                TieBreak::Fifo => opens.fifo.configure(max_cost, weight),
-                TieBreak::Lifo => opens.lifo.configure(max_cost, weight),
-                TieBreak::LowG => opens.low_g.configure(max_cost, weight),
-                TieBreak::HighG => opens.high_g.configure(max_cost, weight),
+                TieBreak::Fifo => opens.fifo.configure_scaled(max_cost, weight, scale),
+                TieBreak::Lifo => opens.lifo.configure_scaled(max_cost, weight, scale),
+                TieBreak::LowG => opens.low_g.configure_scaled(max_cost, weight, scale),
+                TieBreak::HighG => opens.high_g.configure_scaled(max_cost, weight, scale),
             }
             self.weighted_max_cost = Some(max_cost);
         }
@@ -1076,9 +1084,13 @@ impl Planner for AStar {
     /// Builds the bit grid (4 and 8 directions) or the adjacency (more directions, when
     /// its masks take at most 256 MiB; a larger one is built by the first search, after
     /// checking the memory budget) and sizes the per-cell arrays, which are allocated
-    /// zeroed and committed by the operating system as searches touch them.
+    /// zeroed and committed by the operating system as searches touch them; on a weighted
+    /// grid, also its weights in the padded layout.
     fn prepare(&mut self, grid: &planner_api::Grid) {
         let layout = Layout::new(grid, &self.moves);
+        if grid.is_weighted() {
+            self.weight_cells.get_or_build(grid, &layout);
+        }
         if layout.uses_bits() {
             self.adjacency = None;
             self.bits.get_or_build(grid, &layout, &self.moves);

@@ -185,9 +185,9 @@ impl WeightedPeer {
                     u64::from(grid.weight(cell));
             }
         }
-        let (min_weight, factors) = grid.weights().map_or((1, (1, 1)), |w| {
-            (u64::from(w.min()), w.rule().factors())
-        });
+        let (min_weight, factors) = grid
+            .weights()
+            .map_or((1, (1, 1)), |w| (u64::from(w.min()), w.rule().factors()));
         WeightedPeer {
             weights,
             stride,
@@ -219,7 +219,11 @@ impl WeightedPeer {
                     && (straight
                         || (weights[p.wrapping_add_signed(dx)] != 0
                             && weights[p.wrapping_add_signed(dy * stride)] != 0));
-                let half = if straight { HALF_STRAIGHT } else { HALF_DIAGONAL };
+                let half = if straight {
+                    HALF_STRAIGHT
+                } else {
+                    HALF_DIAGONAL
+                };
                 open.then_some((q, half * (from + k_to * w)))
             })
         };
@@ -230,9 +234,10 @@ impl WeightedPeer {
             let (low, high) = (dx.min(dy), dx.max(dy));
             ((high - low) * 2 * HALF_STRAIGHT + low * 2 * HALF_DIAGONAL) * min_weight
         };
-        let found = pathfinding::directed::astar::astar(&index(start), successors, heuristic, |&p| {
-            p == goal_index
-        });
+        let found =
+            pathfinding::directed::astar::astar(&index(start), successors, heuristic, |&p| {
+                p == goal_index
+            });
         found.map(|(_, cost)| (cost, n_expanded))
     }
 }

@@ -249,18 +249,30 @@ impl BidirectionalAStar {
         })
     }
 
-    /// Builds the move masks and node arrays for `grid` (done by the first search on a
-    /// grid otherwise).
+    /// Builds the move masks and node arrays for `grid`, and on a weighted grid its
+    /// weights in the padded layout (done by the first search on a grid otherwise).
     pub fn prepare(&mut self, grid: &Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         self.nodes.fit(adjacency.padded_len());
+        let (revision, cells) = &mut self.weight_cells;
+        if let (Some(weights), false) = (grid.weights(), *revision == Some(grid.revision())) {
+            cells.clear();
+            cells.resize(adjacency.padded_len(), 0);
+            for (i, &w) in weights.cells().iter().enumerate() {
+                cells[adjacency.index(grid.cell(i))] = w;
+            }
+            *revision = Some(grid.revision());
+        }
     }
 
     /// The bytes of the adjacency and the node records (32 bytes per padded cell) for
-    /// `grid`.
+    /// `grid`, and on a weighted grid its padded weights (2 bytes per padded cell).
     pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
         let padded = Adjacency::padded_len_for(grid, &self.moves) as u64;
-        Adjacency::bytes_for(grid, &self.moves) + padded * std::mem::size_of::<Node>() as u64
+        let weights = if grid.is_weighted() { 2 * padded } else { 0 };
+        Adjacency::bytes_for(grid, &self.moves)
+            + padded * std::mem::size_of::<Node>() as u64
+            + weights
     }
 
     /// Runs the search on `problem` within `budget`.
@@ -315,22 +327,8 @@ impl BidirectionalAStar {
         let (min_weight, (k_from, k_to)) = grid
             .weights()
             .map_or((1, (0, 0)), |w| (u64::from(w.min()), w.rule().factors()));
-        let weight_cells: &[u16] = if W {
-            let (revision, cells) = &mut self.weight_cells;
-            if *revision != Some(grid.revision()) {
-                cells.clear();
-                cells.resize(adjacency.padded_len(), 0);
-                if let Some(weights) = grid.weights() {
-                    for (i, &w) in weights.cells().iter().enumerate() {
-                        cells[adjacency.index(grid.cell(i))] = w;
-                    }
-                }
-                *revision = Some(grid.revision());
-            }
-            cells
-        } else {
-            &[]
-        };
+        // `prepare` (just called) built them for this grid.
+        let weight_cells: &[u16] = if W { &self.weight_cells.1 } else { &[] };
         // Sums and infinity in the representation of `g`.
         let add = |a: u64, b: u64| -> u64 {
             if W {
