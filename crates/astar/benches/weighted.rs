@@ -12,7 +12,10 @@
 //! - `map=<name> per_expansion weighted_ns=<t> unweighted_ns=<t> ratio=<weighted/unweighted>
 //!   weighted_expansions=<n> unweighted_expansions=<n>`: A*'s time per expansion on the
 //!   weighted map against A* (the same configuration) on the map without weights, both timed
-//!   alternately in this run.
+//!   alternately in this run;
+//! - `map=<name> uniform_weights ...`: the same with every weight 1 instead of random, so
+//!   that both sides expand exactly the same cells (the cost of the weighted loop alone,
+//!   without the larger OPEN lists of the random weights' weaker heuristic).
 //!
 //! gridplan runs with all its counters on, the octile heuristic times the smallest weight,
 //! and the peer's tie rule (larger g first). Each side runs the whole selection
@@ -55,6 +58,8 @@ fn main() {
             .map(|s| (s.start, s.goal))
             .collect();
         run(name, &grid, &weighted, &pairs, repeats);
+        let uniform = seeded_weights(&grid, SEED, 1, CostRule::Mean);
+        per_expansion(name, "uniform_weights", &grid, &uniform, &pairs, repeats);
     }
 }
 
@@ -91,13 +96,10 @@ fn run(
     pairs: &[(planner_api::Cell, planner_api::Cell)],
     repeats: Repeats,
 ) {
-    let problems = |g| -> Vec<Problem<'_>> {
-        pairs
-            .iter()
-            .map(|&(s, t)| Problem::new(g, s, t).unwrap_or_else(|e| panic!("{e}")))
-            .collect()
-    };
-    let (on_weighted, on_plain) = (problems(weighted), problems(grid));
+    let on_weighted: Vec<Problem<'_>> = pairs
+        .iter()
+        .map(|&(s, t)| Problem::new(weighted, s, t).unwrap_or_else(|e| panic!("{e}")))
+        .collect();
     let mut ours = astar();
     let peer = WeightedPeer::new(weighted);
     let theirs = || -> Pass {
@@ -133,7 +135,26 @@ fn run(
         ms(b.best),
         b.best.as_secs_f64() / a.best.as_secs_f64().max(1e-12)
     );
-    let mut plain = astar();
+    per_expansion(name, "per_expansion", grid, weighted, pairs, repeats);
+}
+
+/// A* per expansion on `weighted` against the unweighted `grid`, alternating, one line.
+fn per_expansion(
+    name: &str,
+    what: &str,
+    grid: &Grid,
+    weighted: &Grid,
+    pairs: &[(planner_api::Cell, planner_api::Cell)],
+    repeats: Repeats,
+) {
+    let problems = |g| -> Vec<Problem<'_>> {
+        pairs
+            .iter()
+            .map(|&(s, t)| Problem::new(g, s, t).unwrap_or_else(|e| panic!("{e}")))
+            .collect()
+    };
+    let (on_weighted, on_plain) = (problems(weighted), problems(grid));
+    let (mut ours, mut plain) = (astar(), astar());
     let (w, u) = best_of_alternating(
         repeats,
         || searches(&mut ours, &on_weighted),
@@ -143,7 +164,7 @@ fn run(
     let per = |t: std::time::Duration, n: u64| t.as_secs_f64() * 1e9 / n.max(1) as f64;
     let (w_ns, u_ns) = (per(w.best, w.result.1), per(u.best, u.result.1));
     println!(
-        "map={name} per_expansion weighted_ns={w_ns:.1} unweighted_ns={u_ns:.1} ratio={:.2} \
+        "map={name} {what} weighted_ns={w_ns:.1} unweighted_ns={u_ns:.1} ratio={:.2} \
          weighted_expansions={} unweighted_expansions={}",
         w_ns / u_ns,
         w.result.1,
