@@ -1227,13 +1227,14 @@ mod tests {
             cell: 10.0,
         };
         let svg = cost_group(&grid, f).unwrap().to_string();
-        // Row 0: weight 1 not drawn, one run of two 3s (opacity 0.6 * 2 / 4 = 0.3); row 1:
-        // the 5 (0.45); the blocked 9 and the 1 not drawn.
+        // Weights span 1 to 9 (the blocked cell's 9 counts). Row 0: weight 1 not drawn,
+        // one run of two 3s (opacity 0.6 * 2 / 8 = 0.15); row 1: the 5 (0.6 * 4 / 8 = 0.3);
+        // the blocked 9 and the 1 not drawn.
         let rects: Vec<&str> = svg.split("<rect").skip(1).collect();
         assert_eq!(rects.len(), 2, "{svg}");
         for (rect, attributes) in rects.iter().zip([
-            ["fill-opacity=\"0.3\"", "width=\"2\"", "x=\"1\"", "y=\"0\""],
-            ["fill-opacity=\"0.45\"", "width=\"1\"", "x=\"0\"", "y=\"1\""],
+            ["fill-opacity=\"0.15\"", "width=\"2\"", "x=\"1\"", "y=\"0\""],
+            ["fill-opacity=\"0.3\"", "width=\"1\"", "x=\"0\"", "y=\"1\""],
         ]) {
             for attribute in attributes {
                 assert!(rect.contains(attribute), "{attribute} in {rect}");
