@@ -341,7 +341,14 @@ fn movingai_config_matches_the_scenario_optima() {
 /// are checked against an independent search, not only pinned.
 #[test]
 fn every_astar_run_matches_the_reference_search() {
+    let mut n_weighted = 0;
     let n_checked = common::for_each_snapshotted_run("astar", |path, map, params, r| {
+        // The reference is unweighted: weighted runs are held to the weighted oracle by
+        // `every_weighted_run_matches_the_oracle`.
+        if map.grid.is_weighted() {
+            n_weighted += 1;
+            return;
+        }
         let config: planner_astar::Config = params.clone().try_into().unwrap();
         let moves =
             planner_api::MoveSet::new(config.moves, config.corner_cutting, &config.order).unwrap();
@@ -358,8 +365,9 @@ fn every_astar_run_matches_the_reference_search() {
     });
     // paper: 12 maps; wpi: 8 valid problems x 3 test repeats; movingai: 4 A* settings x 36
     // problems; pastar: TA-star, RA-star1 and RA-star2 x 7 problems x 2 test repeats;
-    // incremental: 16 problems.
-    assert_eq!(n_checked, 12 + 24 + 144 + 42 + 16);
+    // incremental: 16 problems; weighted (skipped here): 4 A* labels x 10 problems.
+    assert_eq!(n_weighted, 40);
+    assert_eq!(n_checked, 12 + 24 + 144 + 42 + 16 + 40);
 }
 
 /// Every lexastar run of every config (as snapshotted) finds the best (D, T), hence
@@ -496,4 +504,105 @@ fn experiment(
         ..planner_runner::sweep::SweepArgs::new(config, &renderer)
     })
     .map_err(|e| e.to_string())
+}
+
+/// Every run on a weighted map, in every config (as snapshotted), replayed through the
+/// test kit's oracle, a plain Dijkstra over the weighted graph: a planner that honours
+/// cell costs returns a path whose exact weighted cost is the oracle's least cost, and
+/// the record's `cost` is that path's cost; a planner run with `costs = "ignore"` returns
+/// a valid path costing at least as much. Unreachable goals must agree too.
+#[test]
+fn every_weighted_run_matches_the_oracle() {
+    let mut n_checked = 0;
+    for path in configs() {
+        let experiment = config::load(&path).unwrap().trimmed_for_test();
+        if !experiment.maps.iter().any(|m| m.grid.is_weighted()) {
+            continue;
+        }
+        let records = common::run(&experiment, 2);
+        let mut oracle = std::collections::HashMap::new();
+        for r in &records {
+            let Some(map) = experiment.maps.iter().find(|m| m.name == r.map) else {
+                panic!("record of an unknown map {}", r.map);
+            };
+            if !map.grid.is_weighted() || r.status == planner_runner::RunStatus::InvalidProblem {
+                continue;
+            }
+            let planner = experiment
+                .planners
+                .iter()
+                .find(|p| p.label == r.planner)
+                .unwrap();
+            let specs = planner.factory.specs();
+            let planner_api::PathSpec::Moves(moves) = &specs.path_rule else {
+                panic!("{}: weighted runs need a move set", r.planner);
+            };
+            let best = *oracle
+                .entry((r.map.clone(), r.problem, format!("{moves:?}")))
+                .or_insert_with(|| {
+                    planner_testkit::weighted_dijkstra(&map.grid, moves, r.start, r.goal)
+                });
+            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+            match (&r.path, best) {
+                (Some(found), Some(best)) => {
+                    let cost = map.grid.path_cost(found.cells());
+                    assert_eq!(r.cost, Some(cost.to_f64()), "{what}");
+                    assert_eq!(r.valid, Some(true), "{what}");
+                    if specs.cell_costs {
+                        assert_eq!(cost, best, "{what}");
+                    } else {
+                        assert!(planner.ignore_costs && cost >= best, "{what}");
+                    }
+                }
+                (None, None) => assert_eq!(r.status, planner_runner::RunStatus::NoPath, "{what}"),
+                (found, best) => panic!("{what}: path {:?} vs oracle {best:?}", found.is_some()),
+            }
+            n_checked += 1;
+        }
+    }
+    assert!(n_checked >= 70, "{n_checked}");
+}
+
+/// A planner that does not honour cell costs is refused a weighted map at config time, by
+/// an error naming the planner and the map, unless its table says `costs = "ignore"`; bad
+/// `costs` values name their key.
+#[test]
+fn planners_without_cell_costs_refuse_weighted_maps() {
+    let path = root().join("configs/costs-test.toml");
+    let text = |planner: &str| {
+        format!(
+            "name = \"c\"\n[[maps]]\nfiles = [\"../maps/movingai/arena.map\"]\npairs = [{{ start = [3, 1], goal = [46, 47] }}]\ncosts = {{ weights = \"../maps/weighted/arena-weights.csv\" }}\n[planners.p]\n{planner}\n"
+        )
+    };
+    for (planner, name) in [
+        ("planner = \"bfs\"\nmoves = 8", "bfs"),
+        ("planner = \"jps\"", "jps"),
+        ("planner = \"theta_star\"", "theta_star"),
+    ] {
+        let err = config::parse(&path, &text(planner))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(&format!(
+                "planner `p` ({name}) does not honour cell costs, and map `arena.map` has them"
+            )),
+            "{err}"
+        );
+        assert!(err.contains(":6:"), "{err}");
+        let ignored = format!("{planner}\ncosts = \"ignore\"");
+        assert!(config::parse(&path, &text(&ignored)).is_ok());
+    }
+    for planner in ["planner = \"astar\"", "planner = \"bidirectional_astar\""] {
+        assert!(config::parse(&path, &text(planner)).is_ok(), "{planner}");
+    }
+    let err = config::parse(&path, &text("planner = \"bfs\"\ncosts = \"honour\""))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("key `costs`: expected \"ignore\""), "{err}");
+    let bad_weights = text("planner = \"astar\"").replace("arena-weights.csv", "missing.csv");
+    let err = config::parse(&path, &bad_weights).unwrap_err().to_string();
+    assert!(
+        err.contains("key `costs.weights`") && err.contains("missing.csv"),
+        "{err}"
+    );
 }

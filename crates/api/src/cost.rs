@@ -168,6 +168,13 @@ impl Cost {
         }
     }
 
+    /// `self * factor`, an exact integer product (saturating at [`Cost::MAX`]): a
+    /// heuristic times a grid's smallest cell weight ([`crate::weights`]).
+    #[inline]
+    pub const fn times(self, factor: u64) -> Cost {
+        Cost(self.0.saturating_mul(factor))
+    }
+
     /// `self + other`, saturating at [`Cost::MAX`].
     #[inline]
     pub const fn saturating_add(self, other: Cost) -> Cost {

@@ -75,6 +75,12 @@ pub enum GridError {
         /// Width of this row.
         found: usize,
     },
+    /// A cell weight of zero (weights are at least 1; 0-based cell index).
+    #[error("cell {index} has weight 0; weights are integers from 1 to 65535")]
+    ZeroWeight {
+        /// Row-major index of the cell.
+        index: usize,
+    },
     /// A character other than `.` or `#` in an ASCII grid (0-based row and column).
     #[error("row {row}, column {column}: unexpected {found:?}, expected '.' or '#'")]
     UnknownCell {

@@ -4,7 +4,9 @@ use std::fmt;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use crate::cost::Cost;
 use crate::error::GridError;
+use crate::weights::{weighted_move_cost, CostRule, Weights};
 
 /// A grid cell: `x` is the column, `y` the row, `(0, 0)` the top-left cell.
 ///
@@ -88,7 +90,10 @@ impl<'de> Deserialize<'de> for Cell {
 /// slice from [`Grid::free_cells`] in their hot loops; the methods taking
 /// [`Cell`] are for everything else.
 ///
-/// Equality and hashing compare the cells only. Every grid also carries a
+/// A grid may carry a weight per cell ([`Grid::with_weights`], [`crate::weights`]); without
+/// one every free cell has weight 1 and moves cost their length.
+///
+/// Equality and hashing compare the cells and weights. Every grid also carries a
 /// [`revision`](Grid::revision), so that caches of derived data (move masks) can tell in
 /// O(1) that a grid is the one they were built for.
 #[derive(Clone)]
@@ -96,12 +101,15 @@ pub struct Grid {
     width: u32,
     height: u32,
     free: Vec<bool>,
+    weights: Option<Weights>,
     revision: u64,
 }
 
 impl PartialEq for Grid {
     fn eq(&self, other: &Grid) -> bool {
-        (self.width, self.height) == (other.width, other.height) && self.free == other.free
+        (self.width, self.height) == (other.width, other.height)
+            && self.free == other.free
+            && self.weights == other.weights
     }
 }
 
@@ -109,7 +117,7 @@ impl Eq for Grid {}
 
 impl std::hash::Hash for Grid {
     fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
-        (self.width, self.height, &self.free).hash(state);
+        (self.width, self.height, &self.free, &self.weights).hash(state);
     }
 }
 
@@ -132,6 +140,7 @@ impl Grid {
             width,
             height,
             free: vec![true; len],
+            weights: None,
             revision: next_revision(),
         })
     }
@@ -151,7 +160,93 @@ impl Grid {
             width,
             height,
             free,
+            weights: None,
             revision: next_revision(),
+        })
+    }
+
+    /// This grid with a weight per cell (row-major, as [`Grid::free_cells`]) and the move
+    /// cost rule (see [`crate::weights`]).
+    ///
+    /// Errors when the number of weights is not the number of cells, or a weight is 0.
+    pub fn with_weights(mut self, weights: Vec<u16>, rule: CostRule) -> Result<Grid, GridError> {
+        if weights.len() != self.free.len() {
+            return Err(GridError::CellCount {
+                expected: self.free.len(),
+                found: weights.len(),
+            });
+        }
+        if let Some(index) = weights.iter().position(|&w| w == 0) {
+            return Err(GridError::ZeroWeight { index });
+        }
+        self.weights = Some(Weights::new(weights, rule));
+        self.revision = next_revision();
+        Ok(self)
+    }
+
+    /// This grid with its weights' move cost rule replaced by `rule` (unchanged when
+    /// unweighted).
+    pub fn with_rule(mut self, rule: CostRule) -> Grid {
+        if let Some(weights) = &mut self.weights {
+            weights.set_rule(rule);
+            self.revision = next_revision();
+        }
+        self
+    }
+
+    /// The same cells without weights.
+    pub fn without_weights(&self) -> Grid {
+        Grid {
+            width: self.width,
+            height: self.height,
+            free: self.free.clone(),
+            weights: None,
+            revision: next_revision(),
+        }
+    }
+
+    /// The weight layer, when the grid has one.
+    pub fn weights(&self) -> Option<&Weights> {
+        self.weights.as_ref()
+    }
+
+    /// Whether the grid carries weights.
+    pub fn is_weighted(&self) -> bool {
+        self.weights.is_some()
+    }
+
+    /// The weight of `cell` (1 on an unweighted grid). Precondition: `self.contains(cell)`.
+    pub fn weight(&self, cell: Cell) -> u16 {
+        self.weights
+            .as_ref()
+            .map_or(1, |w| w.cells()[self.index(cell)])
+    }
+
+    /// The cost of the move from `from` to `to` (their offsets give its length, as
+    /// [`Cost::of_move`]) under the grid's weights and rule; the length itself on an
+    /// unweighted grid. Whether the move is allowed is not checked. Precondition: both cells
+    /// are inside the grid.
+    pub fn move_cost(&self, from: Cell, to: Cell) -> Cost {
+        let dx = i64::from(to.x) - i64::from(from.x);
+        let dy = i64::from(to.y) - i64::from(from.y);
+        let length = Cost::euclidean(dx.unsigned_abs() as u32, dy.unsigned_abs() as u32);
+        match &self.weights {
+            None => length,
+            Some(w) => weighted_move_cost(
+                length,
+                w.cells()[self.index(from)],
+                w.cells()[self.index(to)],
+                w.rule(),
+            ),
+        }
+    }
+
+    /// The cost of the path through `cells` (the sum of [`Grid::move_cost`] of its steps;
+    /// its Euclidean length in [`Cost`] units on an unweighted grid). Precondition: every
+    /// cell is inside the grid.
+    pub fn path_cost(&self, cells: &[Cell]) -> Cost {
+        cells.windows(2).fold(Cost::ZERO, |sum, pair| {
+            sum + self.move_cost(pair[0], pair[1])
         })
     }
 
@@ -285,7 +380,8 @@ impl Grid {
         cell.checked_offset(dx, dy).filter(|&c| self.contains(c))
     }
 
-    /// Marks `cell` blocked (`free = false`) or free. Precondition: `self.contains(cell)`.
+    /// Marks `cell` blocked (`free = false`) or free (its weight, if any, is kept).
+    /// Precondition: `self.contains(cell)`.
     pub fn set_free(&mut self, cell: Cell, free: bool) {
         let index = self.index(cell);
         self.free[index] = free;

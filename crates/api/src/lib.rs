@@ -41,6 +41,7 @@ pub mod pages;
 pub mod path;
 pub mod planner;
 pub mod specs;
+pub mod weights;
 
 pub use adjacency::Adjacency;
 pub use cost::Cost;
@@ -60,3 +61,4 @@ pub use planner::{
     Budget, BudgetClock, Mark, MemoryShortfall, Outcome, Planner, Problem, Series, Status,
 };
 pub use specs::{ParamError, ParamKey, PathSpec, PlannerSpecs, SEED_PARAM};
+pub use weights::{weighted_move_cost, CostRule, Weights};

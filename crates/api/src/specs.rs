@@ -31,6 +31,12 @@ pub struct PlannerSpecs {
     /// [`IncrementalPlanner`](crate::incremental::IncrementalPlanner): it can be fed map
     /// changes and repairs its search instead of restarting.
     pub incremental: bool,
+    /// Whether the planner honours cell weights ([`crate::weights`]): on a weighted grid
+    /// its paths are least-cost under the grid's move cost rule (or as good as its
+    /// admissibility says). A planner that does not is refused a weighted grid by the
+    /// runner, with an error naming the planner and the map, unless the config says
+    /// `costs = "ignore"`.
+    pub cell_costs: bool,
 }
 
 impl PlannerSpecs {
@@ -41,6 +47,7 @@ impl PlannerSpecs {
             path_rule,
             admissible: None,
             incremental: false,
+            cell_costs: false,
         }
     }
 
@@ -51,6 +58,7 @@ impl PlannerSpecs {
             path_rule,
             admissible: None,
             incremental: false,
+            cell_costs: false,
         }
     }
 
@@ -59,6 +67,15 @@ impl PlannerSpecs {
     pub fn with_admissible(self, admissible: bool) -> PlannerSpecs {
         PlannerSpecs {
             admissible: Some(admissible),
+            ..self
+        }
+    }
+
+    /// These specs, declaring that the planner honours cell weights (see
+    /// [`PlannerSpecs::cell_costs`]).
+    pub fn with_cell_costs(self) -> PlannerSpecs {
+        PlannerSpecs {
+            cell_costs: true,
             ..self
         }
     }

@@ -75,6 +75,33 @@
 //! not entries. The tests hold every variant to a plain `BinaryHeap` transcription of
 //! Fig. 4, counter for counter.
 //!
+//! # Weighted grids
+//! On a grid with cell weights ([`planner_api::weights`]) a move costs its length times
+//! the weights by the grid's [`planner_api::CostRule`] (the mean of the two cells' weights
+//! by default, or the entered cell's), in exact integer [`Cost`] units: half the move's
+//! length times `k_from * w(from) + k_to * w(to)`, one multiplication per relaxed move. The
+//! heuristic is multiplied by the grid's smallest weight `w_min`, so it stays admissible
+//! and consistent (every move costs at least its length times `w_min`), and with it found
+//! paths are least-cost (held to the test kit's weighted Dijkstra on 10,000 random grids
+//! in `tests/weighted.rs`). Weighted searches run a second copy of the search loop (a
+//! const generic), always with the bucket OPEN, whose ring is sized for the largest
+//! weighted move; the unweighted loop has no weight code at all, so unweighted searches
+//! and their counters are unchanged. The zero heuristic makes this Dijkstra's algorithm.
+//!
+//! ```
+//! use planner_api::{Budget, Cell, Cost, CostRule, Grid, Problem};
+//! use planner_astar::{AStar, Config};
+//!
+//! // A heavy cell (weight 9) between start and goal: going around it is cheaper.
+//! let grid = Grid::from_ascii("...\n...").unwrap();
+//! let grid = grid.with_weights(vec![1, 9, 1, 1, 1, 1], CostRule::Mean).unwrap();
+//! let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(2, 0)).unwrap();
+//! let search = AStar::new(Config::default()).unwrap().search(&problem, &Budget::unlimited());
+//! // Straight: (1 + 9) / 2 + (9 + 1) / 2 = 10; around: four moves of weight 1 = 4.
+//! assert_eq!(search.exact_cost, Some(Cost::steps(4)));
+//! assert_eq!(search.path.unwrap().cells().len(), 5);
+//! ```
+//!
 //! # Defaults
 //! The defaults are the paper's: 4-connected moves in the order right, left, down, up,
 //! the Manhattan heuristic, `beta = 1`, and FIFO among equal `f` (the node inserted first
@@ -242,8 +269,11 @@ pub struct Search {
     pub status: Status,
     /// The path when found.
     pub path: Option<Path>,
-    /// The path's cost `g(goal)` when found (steps on 4-connected grids, else Euclidean length).
+    /// The path's cost `g(goal)` when found (steps on 4-connected grids, else Euclidean length;
+    /// on a weighted grid the weighted cost, [`planner_api::weights`]).
     pub cost: Option<f64>,
+    /// `g(goal)` exactly, in [`Cost`] units, when found.
+    pub exact_cost: Option<Cost>,
     /// The counters.
     pub stats: SearchStats,
     /// The expanded cells in expansion order, when the budget asked for them
@@ -260,6 +290,7 @@ impl Search {
             status,
             path,
             cost,
+            exact_cost: None,
             stats,
             expanded: Vec::new(),
             memory: None,
@@ -287,6 +318,38 @@ pub struct AStar {
     /// Whether the integer OPEN fits the moves, heuristic and weight (else the buckets).
     integral: bool,
     opens: Opens,
+    /// The OPEN lists of searches on weighted grids (always the bucket form), configured
+    /// for the largest move cost they were last used with.
+    weighted_opens: Opens,
+    weighted_max_cost: Option<Cost>,
+    /// A weighted grid's weights in the padded layout.
+    weight_cells: WeightCells,
+}
+
+/// A weighted grid's weights in the padded layout (0 outside the grid), rebuilt when the
+/// grid's revision changes.
+#[derive(Debug, Clone, Default)]
+struct WeightCells {
+    revision: Option<u64>,
+    stride: usize,
+    cells: Vec<u16>,
+}
+
+impl WeightCells {
+    fn get_or_build(&mut self, grid: &Grid, layout: &Layout) -> &[u16] {
+        if self.revision != Some(grid.revision()) || self.stride != layout.stride {
+            self.cells.clear();
+            self.cells.resize(layout.padded_len, 0);
+            if let Some(weights) = grid.weights() {
+                for (i, &w) in weights.cells().iter().enumerate() {
+                    self.cells[layout.index(grid.cell(i))] = w;
+                }
+            }
+            self.stride = layout.stride;
+            self.revision = Some(grid.revision());
+        }
+        &self.cells
+    }
 }
 
 /// One OPEN list per tie rule and implementation. The configuration picks one (see
@@ -468,7 +531,8 @@ impl Layout {
     }
 
     /// The bytes A* needs for `grid` at most: the per-cell arrays at full size, the bit
-    /// grid or the adjacency's masks (and its copy of the grid).
+    /// grid or the adjacency's masks (and its copy of the grid), and on a weighted grid
+    /// the padded weights (2 bytes a cell).
     fn state_bytes(&self, grid: &Grid) -> u64 {
         let padded = self.padded_len as f64;
         let tables = if self.uses_bits() {
@@ -476,7 +540,12 @@ impl Layout {
         } else {
             8.0 * padded + grid.len() as f64
         };
-        (padded * Cells::BYTES_PER_CELL + tables).ceil() as u64
+        let weights = if grid.is_weighted() {
+            2.0 * padded
+        } else {
+            0.0
+        };
+        (padded * Cells::BYTES_PER_CELL + tables + weights).ceil() as u64
     }
 }
 
@@ -613,6 +682,9 @@ impl AStar {
             cells: Cells::default(),
             bits: FreeBits::default(),
             opens,
+            weighted_opens: Opens::default(),
+            weighted_max_cost: None,
+            weight_cells: WeightCells::default(),
         })
     }
 
@@ -640,47 +712,115 @@ impl AStar {
 
     /// Runs A* on `problem` within `budget` and returns the path with raw counters.
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+        if let Some(weights) = problem.grid().weights() {
+            return self.search_weighted(problem, budget, weights.max());
+        }
         let mut opens = std::mem::take(&mut self.opens);
         let search = match (self.integral, self.config.tie_break) {
-            (true, TieBreak::Fifo) => self.run_with(&mut opens.int_fifo, problem, budget),
-            (true, TieBreak::Lifo) => self.run_with(&mut opens.int_lifo, problem, budget),
-            (true, TieBreak::LowG) => self.run_with(&mut opens.int_low_g, problem, budget),
-            (true, TieBreak::HighG) => self.run_with(&mut opens.int_high_g, problem, budget),
-            (false, TieBreak::Fifo) => self.run_with(&mut opens.fifo, problem, budget),
-            (false, TieBreak::Lifo) => self.run_with(&mut opens.lifo, problem, budget),
-            (false, TieBreak::LowG) => self.run_with(&mut opens.low_g, problem, budget),
-            (false, TieBreak::HighG) => self.run_with(&mut opens.high_g, problem, budget),
+            (true, TieBreak::Fifo) => {
+                self.run_with::<_, false>(&mut opens.int_fifo, problem, budget)
+            }
+            (true, TieBreak::Lifo) => {
+                self.run_with::<_, false>(&mut opens.int_lifo, problem, budget)
+            }
+            (true, TieBreak::LowG) => {
+                self.run_with::<_, false>(&mut opens.int_low_g, problem, budget)
+            }
+            (true, TieBreak::HighG) => {
+                self.run_with::<_, false>(&mut opens.int_high_g, problem, budget)
+            }
+            (false, TieBreak::Fifo) => self.run_with::<_, false>(&mut opens.fifo, problem, budget),
+            (false, TieBreak::Lifo) => self.run_with::<_, false>(&mut opens.lifo, problem, budget),
+            (false, TieBreak::LowG) => self.run_with::<_, false>(&mut opens.low_g, problem, budget),
+            (false, TieBreak::HighG) => {
+                self.run_with::<_, false>(&mut opens.high_g, problem, budget)
+            }
         };
         self.opens = opens;
         search
     }
 
+    /// [`AStar::search`] on a weighted grid: always the bucket OPEN (weighted move costs
+    /// are not unit steps), its ring sized for the largest weighted move.
+    fn search_weighted(
+        &mut self,
+        problem: &Problem<'_>,
+        budget: &Budget,
+        max_weight: u16,
+    ) -> Search {
+        let max_move = self
+            .moves
+            .moves()
+            .iter()
+            .map(|m| m.exact_cost())
+            .max()
+            .unwrap_or(Cost::ONE);
+        let max_cost = max_move.times(u64::from(max_weight));
+        if self.weighted_max_cost != Some(max_cost) {
+            let weight = self.config.weight;
+            let opens = &mut self.weighted_opens;
+            // Buckets as wide, relative to the costs, as the unweighted search's.
+            let scale = u64::from(max_weight);
+            match self.config.tie_break {
+                TieBreak::Fifo => opens.fifo.configure_scaled(max_cost, weight, scale),
+                TieBreak::Lifo => opens.lifo.configure_scaled(max_cost, weight, scale),
+                TieBreak::LowG => opens.low_g.configure_scaled(max_cost, weight, scale),
+                TieBreak::HighG => opens.high_g.configure_scaled(max_cost, weight, scale),
+            }
+            self.weighted_max_cost = Some(max_cost);
+        }
+        let mut opens = std::mem::take(&mut self.weighted_opens);
+        let search = match self.config.tie_break {
+            TieBreak::Fifo => self.run_with::<_, true>(&mut opens.fifo, problem, budget),
+            TieBreak::Lifo => self.run_with::<_, true>(&mut opens.lifo, problem, budget),
+            TieBreak::LowG => self.run_with::<_, true>(&mut opens.low_g, problem, budget),
+            TieBreak::HighG => self.run_with::<_, true>(&mut opens.high_g, problem, budget),
+        };
+        self.weighted_opens = opens;
+        search
+    }
+
     /// [`AStar::run`] with the configured heuristic and the budget's recording flag as
     /// constants, so that a search that records nothing has no recording code at all.
-    fn run_with<O: Open>(
+    fn run_with<O: Open, const W: bool>(
         &mut self,
         open: &mut O,
         problem: &Problem<'_>,
         budget: &Budget,
     ) -> Search {
         match (self.config.heuristic, budget.record_expanded) {
-            (Heuristic::Manhattan, false) => self.run::<O, MANHATTAN, false>(open, problem, budget),
-            (Heuristic::Octile, false) => self.run::<O, OCTILE, false>(open, problem, budget),
-            (Heuristic::Euclidean, false) => self.run::<O, EUCLIDEAN, false>(open, problem, budget),
-            (Heuristic::Chebyshev, false) => self.run::<O, CHEBYSHEV, false>(open, problem, budget),
-            (Heuristic::Zero, false) => self.run::<O, ZERO, false>(open, problem, budget),
-            (Heuristic::Manhattan, true) => self.run::<O, MANHATTAN, true>(open, problem, budget),
-            (Heuristic::Octile, true) => self.run::<O, OCTILE, true>(open, problem, budget),
-            (Heuristic::Euclidean, true) => self.run::<O, EUCLIDEAN, true>(open, problem, budget),
-            (Heuristic::Chebyshev, true) => self.run::<O, CHEBYSHEV, true>(open, problem, budget),
-            (Heuristic::Zero, true) => self.run::<O, ZERO, true>(open, problem, budget),
+            (Heuristic::Manhattan, false) => {
+                self.run::<O, MANHATTAN, false, W>(open, problem, budget)
+            }
+            (Heuristic::Octile, false) => self.run::<O, OCTILE, false, W>(open, problem, budget),
+            (Heuristic::Euclidean, false) => {
+                self.run::<O, EUCLIDEAN, false, W>(open, problem, budget)
+            }
+            (Heuristic::Chebyshev, false) => {
+                self.run::<O, CHEBYSHEV, false, W>(open, problem, budget)
+            }
+            (Heuristic::Zero, false) => self.run::<O, ZERO, false, W>(open, problem, budget),
+            (Heuristic::Manhattan, true) => {
+                self.run::<O, MANHATTAN, true, W>(open, problem, budget)
+            }
+            (Heuristic::Octile, true) => self.run::<O, OCTILE, true, W>(open, problem, budget),
+            (Heuristic::Euclidean, true) => {
+                self.run::<O, EUCLIDEAN, true, W>(open, problem, budget)
+            }
+            (Heuristic::Chebyshev, true) => {
+                self.run::<O, CHEBYSHEV, true, W>(open, problem, budget)
+            }
+            (Heuristic::Zero, true) => self.run::<O, ZERO, true, W>(open, problem, budget),
         }
     }
 
     /// The search itself, with the OPEN list `open`, heuristic `H` (one of the constants
     /// [`MANHATTAN`] ... [`ZERO`]) and `RECORD` true to list the expanded cells. Counters
-    /// are locals until it returns.
-    fn run<O: Open, const H: u8, const RECORD: bool>(
+    /// are locals until it returns. `W` is true on a weighted grid: moves then cost
+    /// `half * (k_from * w(p) + k_to * w(q))` ([`planner_api::weights`]) and the heuristic is
+    /// multiplied by the grid's smallest weight; false compiles the unweighted loop as it
+    /// was, with no weight code.
+    fn run<O: Open, const H: u8, const RECORD: bool, const W: bool>(
         &mut self,
         open: &mut O,
         problem: &Problem<'_>,
@@ -702,6 +842,14 @@ impl AStar {
             false => Some(&*Adjacency::cached(&mut self.adjacency, grid, &self.moves)),
         };
         let bits = self.bits.get_or_build(grid, &layout, &self.moves);
+        let (weight_cells, min_weight, (k_from, k_to)) = match (W, grid.weights()) {
+            (true, Some(weights)) => (
+                self.weight_cells.get_or_build(grid, &layout),
+                u64::from(weights.min()),
+                weights.rule().factors(),
+            ),
+            _ => (&[][..], 1, (0, 0)),
+        };
         self.cells.fit(layout.padded_len, bits.is_some());
         let mut expanded = Vec::new();
         let Cells {
@@ -717,7 +865,12 @@ impl AStar {
         let mut step = [(0u32, 0u32, Cost::ZERO); 64];
         for (slot, mv) in step.iter_mut().zip(self.moves.moves()) {
             // Wrapping offsets: x + dx stays in the grid whenever the move's mask bit is set.
-            *slot = (mv.dx as u32, mv.dy as u32, mv.exact_cost());
+            // Weighted: half the move's cost, times the weight factor per move below.
+            let cost = match W {
+                true => Cost::from_units(mv.exact_cost().units() / 2),
+                false => mv.exact_cost(),
+            };
+            *slot = (mv.dx as u32, mv.dy as u32, cost);
         }
         let goal = problem.goal();
         let goal_index = layout.index(goal);
@@ -725,6 +878,7 @@ impl AStar {
         let unweighted = weight == 1.0;
         let h = |x: u32, y: u32| {
             let h = estimate::<H>(x.abs_diff(goal.x), y.abs_diff(goal.y));
+            let h = if W { h.times(min_weight) } else { h };
             if unweighted {
                 h
             } else {
@@ -770,11 +924,17 @@ impl AStar {
                 // The goal's moves are not checked.
                 let stats = tally.stats(n_moves, tally.n_expanded - 1);
                 let mut search = Search::new(Status::Found, Some(path), Some(cost), stats);
+                search.exact_cost = Some(Cost::from_units(g[p]));
                 search.expanded = expanded;
                 return search;
             }
             let (x, y) = rows.cell(p);
             let g_node = Cost::from_units(g[p]);
+            let from_factor = if W {
+                k_from * u64::from(weight_cells[p])
+            } else {
+                0
+            };
             // Set bits in increasing order are the safe moves in the configured order. With
             // the bit grid, the moves to CLOSED cells are masked out at once (no branch per
             // move): they are the skipped ones.
@@ -805,6 +965,11 @@ impl AStar {
                     continue;
                 }
                 let (dx, dy, cost) = step[(m & 63) as usize];
+                let cost = if W {
+                    cost.times(from_factor + k_to * u64::from(weight_cells[q]))
+                } else {
+                    cost
+                };
                 let g_temp = g_node + cost;
                 let known = status == OPEN;
                 if !known || g_temp.units() < g[q] {
@@ -913,14 +1078,19 @@ impl Planner for AStar {
         let admissible = heuristic == Heuristic::Zero || (fits && self.config.weight <= 1.0);
         planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
             .with_admissible(admissible)
+            .with_cell_costs()
     }
 
     /// Builds the bit grid (4 and 8 directions) or the adjacency (more directions, when
     /// its masks take at most 256 MiB; a larger one is built by the first search, after
     /// checking the memory budget) and sizes the per-cell arrays, which are allocated
-    /// zeroed and committed by the operating system as searches touch them.
+    /// zeroed and committed by the operating system as searches touch them; on a weighted
+    /// grid, also its weights in the padded layout.
     fn prepare(&mut self, grid: &planner_api::Grid) {
         let layout = Layout::new(grid, &self.moves);
+        if grid.is_weighted() {
+            self.weight_cells.get_or_build(grid, &layout);
+        }
         if layout.uses_bits() {
             self.adjacency = None;
             self.bits.get_or_build(grid, &layout, &self.moves);

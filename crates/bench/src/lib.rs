@@ -10,6 +10,8 @@
 //!   bounds check, and a successor iterator that allocates nothing. Its expansions are
 //!   counted as the calls of its successor closure (the goal, found when popped, is not
 //!   expanded: one fewer than gridplan's `n_expanded` per solved query).
+//! - [`WeightedPeer`] and [`seeded_weights`]: the same peer on a weighted grid, with
+//!   gridplan's own integer move costs, and the weighted benchmark's seeded weights.
 //! - [`Repeats`] and [`best_of_alternating`]: `--repeats=N` from the command line, and
 //!   timing that runs two sides' whole workloads `N` times, alternating, keeping each
 //!   side's best time (a shared machine's slow spells then hit both sides alike).
@@ -153,6 +155,108 @@ impl Peer {
             });
         found.map(|(_, cost)| (cost, n_expanded))
     }
+}
+
+/// The `pathfinding` crate's A* on a weighted grid, used as [`Peer`] is (integer costs,
+/// cell indices as nodes, a padded grid, an allocation-free successor iterator), with the
+/// same integer move costs as gridplan's (`planner_api::weights`): half the move's
+/// [`planner_api::Cost`] units (2^31 straight, 3,037,000,500 diagonal) times
+/// `k_from * w(from) + k_to * w(to)`, and the octile heuristic in those units times the
+/// grid's smallest weight. Both sides therefore compute the same integers, so their costs
+/// must be equal exactly. 8-connected without corner cutting.
+#[derive(Debug, Clone)]
+pub struct WeightedPeer {
+    /// Weights with a border of 0 (blocked) one cell wide, row-major; 0 where blocked.
+    weights: Vec<u64>,
+    stride: usize,
+    min_weight: u64,
+    factors: (u64, u64),
+}
+
+impl WeightedPeer {
+    /// The peer's view of a weighted `grid` (an unweighted grid reads as all weights 1).
+    pub fn new(grid: &Grid) -> WeightedPeer {
+        let (width, height) = (grid.width() as usize, grid.height() as usize);
+        let stride = width + 2;
+        let mut weights = vec![0u64; stride * (height + 2)];
+        for cell in grid.cells() {
+            if grid.is_free(cell) {
+                weights[(cell.y as usize + 1) * stride + cell.x as usize + 1] =
+                    u64::from(grid.weight(cell));
+            }
+        }
+        let (min_weight, factors) = grid
+            .weights()
+            .map_or((1, (1, 1)), |w| (u64::from(w.min()), w.rule().factors()));
+        WeightedPeer {
+            weights,
+            stride,
+            min_weight,
+            factors,
+        }
+    }
+
+    /// 8-connected weighted A* from `start` to `goal`: the least cost in
+    /// [`planner_api::Cost`] units and the peer's expansions (successor calls), or `None`.
+    pub fn octile(&self, start: Cell, goal: Cell) -> Option<(u64, u64)> {
+        const HALF_STRAIGHT: u64 = planner_api::Cost::ONE.units() / 2;
+        const HALF_DIAGONAL: u64 = planner_api::Cost::SQRT_2.units() / 2;
+        let weights = &self.weights[..];
+        let stride = self.stride as isize;
+        let index = |c: Cell| (c.y as usize + 1) * self.stride + c.x as usize + 1;
+        let goal_index = index(goal);
+        let (goal_x, goal_y) = (goal_index % self.stride, goal_index / self.stride);
+        let (k_from, k_to) = self.factors;
+        let mut n_expanded = 0u64;
+        let successors = |&p: &usize| {
+            n_expanded += 1;
+            let from = k_from * weights[p];
+            MOVES.iter().filter_map(move |&(dx, dy)| {
+                let q = p.wrapping_add_signed(dy * stride + dx);
+                let w = weights[q];
+                let straight = dx == 0 || dy == 0;
+                let open = w != 0
+                    && (straight
+                        || (weights[p.wrapping_add_signed(dx)] != 0
+                            && weights[p.wrapping_add_signed(dy * stride)] != 0));
+                let half = if straight {
+                    HALF_STRAIGHT
+                } else {
+                    HALF_DIAGONAL
+                };
+                open.then_some((q, half * (from + k_to * w)))
+            })
+        };
+        let min_weight = self.min_weight;
+        let heuristic = |&p: &usize| {
+            let dx = (p % self.stride).abs_diff(goal_x) as u64;
+            let dy = (p / self.stride).abs_diff(goal_y) as u64;
+            let (low, high) = (dx.min(dy), dx.max(dy));
+            ((high - low) * 2 * HALF_STRAIGHT + low * 2 * HALF_DIAGONAL) * min_weight
+        };
+        let found =
+            pathfinding::directed::astar::astar(&index(start), successors, heuristic, |&p| {
+                p == goal_index
+            });
+        found.map(|(_, cost)| (cost, n_expanded))
+    }
+}
+
+/// Seeded random weights for every cell of `grid`, uniform in `1..=max` (xorshift64 from
+/// `seed`), with the rule `rule`: the weighted benchmark's maps.
+pub fn seeded_weights(grid: &Grid, seed: u64, max: u16, rule: planner_api::CostRule) -> Grid {
+    let mut state = seed | 1;
+    let weights = (0..grid.len())
+        .map(|_| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            1 + (state % u64::from(max)) as u16
+        })
+        .collect();
+    grid.clone()
+        .with_weights(weights, rule)
+        .unwrap_or_else(|e| panic!("weights for a {}x{} grid: {e}", grid.width(), grid.height()))
 }
 
 /// How many times each side of a benchmark runs its whole workload, and with which clock.
@@ -422,6 +526,26 @@ mod tests {
                 .abs_diff(s.goal.x)
                 .max(s.start.y.abs_diff(s.goal.y));
             assert!(n_expanded >= u64::from(n_moves), "line {}", s.line);
+        }
+    }
+
+    #[test]
+    fn the_weighted_peer_agrees_with_the_oracle() {
+        let (grid, scenarios) = load_movingai("arena").unwrap();
+        for rule in [planner_api::CostRule::Mean, planner_api::CostRule::Entered] {
+            let weighted = seeded_weights(&grid, 7, 255, rule);
+            let peer = WeightedPeer::new(&weighted);
+            let moves = planner_api::MoveSet::new(
+                planner_api::Connectivity::Eight,
+                false,
+                &planner_api::NeighborOrder::default(),
+            )
+            .unwrap();
+            for s in scenarios.iter().step_by(7).take(20) {
+                let best = planner_testkit::weighted_dijkstra(&weighted, &moves, s.start, s.goal);
+                let found = peer.octile(s.start, s.goal).map(|(cost, _)| cost);
+                assert_eq!(found, best.map(planner_api::Cost::units), "line {}", s.line);
+            }
         }
     }
 

@@ -36,6 +36,17 @@
 //! stops with `mu = C*`, the length A\* finds (tested on every `.scen` file in
 //! `maps/movingai`, 4- and 8-connected).
 //!
+//! # Weighted grids
+//! On a grid with cell weights ([`planner_api::weights`]) costs are exact integer
+//! [`Cost`] units: a move from `a` to `b` costs half its length times
+//! `k_from * w(a) + k_to * w(b)` by the grid's [`planner_api::CostRule`], and the backward
+//! search, which follows moves in reverse, charges each move what it costs forward (the
+//! entered cell is the one it expands from). Both heuristics are multiplied by the grid's
+//! smallest weight, which keeps them admissible and consistent, so the proof above holds
+//! unchanged (costs are still non-negative). `tests/weighted.rs` holds the costs to the
+//! test kit's weighted Dijkstra on 10,000 random grids. Unweighted grids run in `f64` as
+//! before (the two forms are one search loop with a const generic).
+//!
 //! # Counters
 //! Totals under A\*'s names (`n_expanded`, `n_neighbor_checks`, `n_blocked`, `n_skipped`,
 //! `n_open_insertions` (start and goal both counted), `n_relaxations`, and `peak_open`, the
@@ -73,7 +84,7 @@
 use planner_search::{QuadHeap, Stamped};
 
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Counter, Counters, Grid, MemoryShortfall,
+    Adjacency, Budget, Cell, Connectivity, Cost, Counter, Counters, Grid, MemoryShortfall,
     MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs,
     Problem, SearchStats, Status,
 };
@@ -136,10 +147,12 @@ impl planner_api::ParamKey for ConfigError {
 const FORWARD: usize = 0;
 const BACKWARD: usize = 1;
 
-/// Per-cell state of both directions; `stamp[d]` is `generation << 1 | closed`.
+/// Per-cell state of both directions; `stamp[d]` is `generation << 1 | closed`. `g` holds
+/// the bits of an `f64` on an unweighted grid (non-negative, so the bits order as the
+/// numbers) and [`Cost`] units on a weighted one.
 #[derive(Debug, Clone, Copy, Default)]
 struct Node {
-    g: [f64; 2],
+    g: [u64; 2],
     parent: [u32; 2],
     stamp: [u32; 2],
 }
@@ -164,6 +177,9 @@ pub struct BidirectionalAStar {
     adjacency: Option<Adjacency>,
     nodes: Stamped<Node>,
     open: [QuadHeap<Entry>; 2],
+    /// A weighted grid's weights in the adjacency's padded layout, and the grid revision
+    /// they were built for.
+    weight_cells: (Option<u64>, Vec<u16>),
 }
 
 /// What one search produced.
@@ -175,6 +191,8 @@ pub struct Search {
     pub path: Option<Path>,
     /// `mu`, the path's cost, when there is a path.
     pub cost: Option<f64>,
+    /// On a weighted grid, `mu` exactly in [`Cost`] units, when there is a path.
+    pub exact_cost: Option<Cost>,
     /// Counters of the forward and the backward search.
     pub stats: [SearchStats; 2],
     /// Most nodes in both OPENs together.
@@ -227,21 +245,34 @@ impl BidirectionalAStar {
             adjacency: None,
             nodes: Stamped::default(),
             open: [QuadHeap::default(), QuadHeap::default()],
+            weight_cells: (None, Vec::new()),
         })
     }
 
-    /// Builds the move masks and node arrays for `grid` (done by the first search on a
-    /// grid otherwise).
+    /// Builds the move masks and node arrays for `grid`, and on a weighted grid its
+    /// weights in the padded layout (done by the first search on a grid otherwise).
     pub fn prepare(&mut self, grid: &Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         self.nodes.fit(adjacency.padded_len());
+        let (revision, cells) = &mut self.weight_cells;
+        if let (Some(weights), false) = (grid.weights(), *revision == Some(grid.revision())) {
+            cells.clear();
+            cells.resize(adjacency.padded_len(), 0);
+            for (i, &w) in weights.cells().iter().enumerate() {
+                cells[adjacency.index(grid.cell(i))] = w;
+            }
+            *revision = Some(grid.revision());
+        }
     }
 
     /// The bytes of the adjacency and the node records (32 bytes per padded cell) for
-    /// `grid`.
+    /// `grid`, and on a weighted grid its padded weights (2 bytes per padded cell).
     pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
         let padded = Adjacency::padded_len_for(grid, &self.moves) as u64;
-        Adjacency::bytes_for(grid, &self.moves) + padded * std::mem::size_of::<Node>() as u64
+        let weights = if grid.is_weighted() { 2 * padded } else { 0 };
+        Adjacency::bytes_for(grid, &self.moves)
+            + padded * std::mem::size_of::<Node>() as u64
+            + weights
     }
 
     /// Runs the search on `problem` within `budget`.
@@ -252,6 +283,7 @@ impl BidirectionalAStar {
                 status: Status::BudgetExhausted,
                 path: None,
                 cost: None,
+                exact_cost: None,
                 stats: [SearchStats::default(); 2],
                 peak_open: 0,
                 n_meeting_updates: 0,
@@ -259,9 +291,22 @@ impl BidirectionalAStar {
                 memory: Some(shortfall),
             };
         }
+        self.prepare(grid);
+        match grid.weights() {
+            Some(_) => self.run::<true>(problem, budget),
+            None => self.run::<false>(problem, budget),
+        }
+    }
+
+    /// The search after the memory check. `W` is true on a weighted grid: costs are then
+    /// exact [`Cost`] units, a move from `a` to `b` costs `half * (k_from * w(a) + k_to *
+    /// w(b))` ([`planner_api::weights`]; the backward search, which follows moves in
+    /// reverse, charges the same for the same move) and the heuristics are multiplied by
+    /// the smallest weight; false is the unweighted search in `f64`, as before.
+    fn run<const W: bool>(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+        let grid = problem.grid();
         let record = budget.record_expanded;
         let mut expanded = Vec::new();
-        self.prepare(grid);
         let Some(adjacency) = self.adjacency.as_ref() else {
             unreachable!("prepare fills the adjacency cache");
         };
@@ -272,18 +317,44 @@ impl BidirectionalAStar {
         open[BACKWARD].clear();
 
         let n_moves = adjacency.n_moves() as u64;
-        let mut costs = [0.0f64; 8];
+        let mut costs = [0u64; 8];
         for (slot, mv) in costs.iter_mut().zip(self.moves.moves()) {
-            *slot = mv.cost;
+            *slot = match W {
+                true => mv.exact_cost().units() / 2,
+                false => mv.cost.to_bits(),
+            };
         }
+        let (min_weight, (k_from, k_to)) = grid
+            .weights()
+            .map_or((1, (0, 0)), |w| (u64::from(w.min()), w.rule().factors()));
+        // `prepare` (just called) built them for this grid.
+        let weight_cells: &[u16] = if W { &self.weight_cells.1 } else { &[] };
+        // Sums and infinity in the representation of `g`.
+        let add = |a: u64, b: u64| -> u64 {
+            if W {
+                a.saturating_add(b)
+            } else {
+                (f64::from_bits(a) + f64::from_bits(b)).to_bits()
+            }
+        };
+        let infinity = if W { u64::MAX } else { f64::INFINITY.to_bits() };
+        let zero = 0u64;
         let eight = self.eight;
         // Direction d heads for targets[d].
         let targets = [problem.goal(), problem.start()];
-        let h = |d: usize, c: Cell| {
-            if eight {
-                c.octile(targets[d])
+        let h = |d: usize, c: Cell| -> u64 {
+            let t = targets[d];
+            if W {
+                let estimate = if eight {
+                    Cost::octile_distance(c.x.abs_diff(t.x), c.y.abs_diff(t.y))
+                } else {
+                    Cost::steps(c.manhattan(t))
+                };
+                estimate.times(min_weight).units()
+            } else if eight {
+                c.octile(t).to_bits()
             } else {
-                c.manhattan(targets[d]) as f64
+                (c.manhattan(t) as f64).to_bits()
             }
         };
         let mut seq = 0u64;
@@ -291,17 +362,17 @@ impl BidirectionalAStar {
         let mut n_safe = [0u64; 2];
         let mut peak_open = 0u64;
         let mut n_meeting_updates = 0u64;
-        let mut mu = f64::INFINITY;
+        let mut mu = infinity;
         let mut meet = usize::MAX;
 
         for (d, cell) in [(FORWARD, problem.start()), (BACKWARD, problem.goal())] {
             let p = adjacency.index(cell);
             let node = &mut nodes[p];
-            node.g[d] = 0.0;
+            node.g[d] = zero;
             node.parent[d] = p as u32;
             node.stamp[d] = open_stamp;
             open[d].push(Entry {
-                f: h(d, cell).to_bits(),
+                f: h(d, cell),
                 g_rev: !0,
                 seq,
                 node: p as u32,
@@ -312,7 +383,7 @@ impl BidirectionalAStar {
         }
         let start_index = adjacency.index(problem.start());
         if start_index == adjacency.index(problem.goal()) {
-            mu = 0.0;
+            mu = zero;
             meet = start_index;
             n_meeting_updates = 1;
         }
@@ -321,20 +392,20 @@ impl BidirectionalAStar {
         let mut clock = budget.start();
         let status = loop {
             // The least live f of each OPEN, dropping entries of CLOSED or improved nodes.
-            let mut fmin = [f64::INFINITY; 2];
+            let mut fmin = [infinity; 2];
             for d in [FORWARD, BACKWARD] {
                 while let Some(top) = open[d].peek() {
                     let node = &nodes[top.node as usize];
-                    if node.stamp[d] == closed_stamp || node.g[d].to_bits() != !top.g_rev {
+                    if node.stamp[d] == closed_stamp || node.g[d] != !top.g_rev {
                         open[d].pop();
                     } else {
-                        fmin[d] = f64::from_bits(top.f);
+                        fmin[d] = top.f;
                         break;
                     }
                 }
             }
             if open[FORWARD].is_empty() || open[BACKWARD].is_empty() || mu <= fmin[0].max(fmin[1]) {
-                break if mu.is_finite() {
+                break if mu != infinity {
                     Status::Found
                 } else {
                     Status::NoPath
@@ -359,6 +430,7 @@ impl BidirectionalAStar {
                 expanded.push(adjacency.cell(p));
             }
             let g_node = nodes[p].g[d];
+            let w_p = if W { u64::from(weight_cells[p]) } else { 0 };
             let mut mask = adjacency.mask(p);
             while mask != 0 {
                 let m = mask.trailing_zeros();
@@ -370,7 +442,18 @@ impl BidirectionalAStar {
                     stats[d].n_skipped += 1;
                     continue;
                 }
-                let g_new = g_node + costs[(m & 7) as usize];
+                let cost = costs[(m & 7) as usize];
+                let g_new = if W {
+                    // Forward the move is p -> q; backward it is q -> p.
+                    let w_q = u64::from(weight_cells[q]);
+                    let factor = match d {
+                        FORWARD => k_from * w_p + k_to * w_q,
+                        _ => k_from * w_q + k_to * w_p,
+                    };
+                    g_node.saturating_add(cost.saturating_mul(factor))
+                } else {
+                    add(g_node, cost)
+                };
                 let known = next.stamp[d] == open_stamp;
                 if known && g_new >= next.g[d] {
                     continue;
@@ -380,14 +463,14 @@ impl BidirectionalAStar {
                 next.g[d] = g_new;
                 next.parent[d] = p as u32;
                 next.stamp[d] = open_stamp;
-                if next.stamp[other] >> 1 == stamps.generation && g_new + next.g[other] < mu {
-                    mu = g_new + next.g[other];
+                if next.stamp[other] >> 1 == stamps.generation && add(g_new, next.g[other]) < mu {
+                    mu = add(g_new, next.g[other]);
                     meet = q;
                     n_meeting_updates += 1;
                 }
                 open[d].push(Entry {
-                    f: (g_new + h(d, adjacency.cell(q))).to_bits(),
-                    g_rev: !g_new.to_bits(),
+                    f: add(g_new, h(d, adjacency.cell(q))),
+                    g_rev: !g_new,
                     seq,
                     node: q as u32,
                 });
@@ -400,7 +483,7 @@ impl BidirectionalAStar {
             stats[d].n_neighbor_checks = n_moves * stats[d].n_expanded;
             stats[d].n_blocked = stats[d].n_neighbor_checks - n_safe[d];
         }
-        let path = mu.is_finite().then(|| {
+        let path = (mu != infinity).then(|| {
             let mut cells = Vec::new();
             let mut node = meet;
             loop {
@@ -423,9 +506,18 @@ impl BidirectionalAStar {
             }
             Path::new(cells)
         });
+        let (cost, exact_cost) = match (path.is_some(), W) {
+            (false, _) => (None, None),
+            (true, true) => (
+                Some(Cost::from_units(mu).to_f64()),
+                Some(Cost::from_units(mu)),
+            ),
+            (true, false) => (Some(f64::from_bits(mu)), None),
+        };
         Search {
             status,
-            cost: path.as_ref().map(|_| mu),
+            cost,
+            exact_cost,
             path,
             stats,
             peak_open,
@@ -448,7 +540,7 @@ impl Planner for BidirectionalAStar {
 
     /// Deterministic; every step is one of the configured 4 or 8 moves.
     fn specs(&self) -> PlannerSpecs {
-        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone()))
+        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone())).with_cell_costs()
     }
 
     fn prepare(&mut self, grid: &Grid) {

@@ -229,7 +229,62 @@ fn title_text(title: &str, width: f64) -> Element {
     .set("class", "title")
 }
 
-/// The map: free background, grid lines, obstacles, border.
+/// A weighted grid's free cells shaded by weight (issue 32): runs of equal weight in a row
+/// as one rectangle each, in [`COST_FILL`] at an opacity rising linearly from 0 at the
+/// grid's smallest weight to [`COST_MAX_OPACITY`] at its largest; cells of the smallest
+/// weight are not drawn.
+fn cost_group(grid: &Grid, f: Frame) -> Option<Group> {
+    let weights = grid.weights()?;
+    let (low, high) = (weights.min(), weights.max());
+    if high == low {
+        return None;
+    }
+    let mut g = Group::new()
+        .set("class", "costs")
+        .set("fill", COST_FILL)
+        .set("shape-rendering", "crispEdges")
+        .set(
+            "transform",
+            format!(
+                "translate({} {}) scale({})",
+                num(f.ox),
+                num(f.oy),
+                num(f.cell)
+            ),
+        );
+    let width = grid.width() as usize;
+    let free = grid.free_cells();
+    for (y, row) in weights.cells().chunks(width).enumerate() {
+        let free_row = &free[y * width..(y + 1) * width];
+        let mut x = 0;
+        while x < width {
+            let mut end = x + 1;
+            while end < width && row[end] == row[x] && free_row[end] == free_row[x] {
+                end += 1;
+            }
+            if free_row[x] && row[x] > low {
+                let share = f64::from(row[x] - low) / f64::from(high - low);
+                g.append(
+                    Rectangle::new()
+                        .set("x", x)
+                        .set("y", y)
+                        .set("width", end - x)
+                        .set("height", 1)
+                        .set("fill-opacity", num(COST_MAX_OPACITY * share)),
+                );
+            }
+            x = end;
+        }
+    }
+    Some(g)
+}
+
+/// The colour of cell costs.
+const COST_FILL: &str = "#a0522d";
+/// The opacity of the largest weight's shading.
+const COST_MAX_OPACITY: f64 = 0.6;
+
+/// The map: free background, grid lines, cost shading on weighted grids, obstacles, border.
 fn map_group(grid: &Grid, f: Frame) -> Group {
     let (w, h) = (
         f64::from(grid.width()) * f.cell,
@@ -263,6 +318,9 @@ fn map_group(grid: &Grid, f: Frame) -> Group {
                     .set("fill", "none"),
             );
         }
+    }
+    if let Some(costs) = cost_group(grid, f) {
+        g.append(costs);
     }
     let mut obstacles = Group::new()
         .set("class", "obstacles")
@@ -1156,6 +1214,34 @@ pub(crate) fn timeline(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn weighted_cells_are_shaded_by_weight() {
+        let grid = Grid::from_ascii("...\n.#.").unwrap();
+        let grid = grid
+            .with_weights(vec![1, 3, 3, 5, 9, 1], planner_api::CostRule::Mean)
+            .unwrap();
+        let f = Frame {
+            ox: 0.0,
+            oy: 0.0,
+            cell: 10.0,
+        };
+        let svg = cost_group(&grid, f).unwrap().to_string();
+        // Weights span 1 to 9 (the blocked cell's 9 counts). Row 0: weight 1 not drawn,
+        // one run of two 3s (opacity 0.6 * 2 / 8 = 0.15); row 1: the 5 (0.6 * 4 / 8 = 0.3);
+        // the blocked 9 and the 1 not drawn.
+        let rects: Vec<&str> = svg.split("<rect").skip(1).collect();
+        assert_eq!(rects.len(), 2, "{svg}");
+        for (rect, attributes) in rects.iter().zip([
+            ["fill-opacity=\"0.15\"", "width=\"2\"", "x=\"1\"", "y=\"0\""],
+            ["fill-opacity=\"0.3\"", "width=\"1\"", "x=\"0\"", "y=\"1\""],
+        ]) {
+            for attribute in attributes {
+                assert!(rect.contains(attribute), "{attribute} in {rect}");
+            }
+        }
+        assert!(cost_group(&Grid::new(2, 2).unwrap(), f).is_none());
+    }
 
     #[test]
     fn numbers_are_short_and_stable() {

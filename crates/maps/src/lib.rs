@@ -16,6 +16,11 @@
 //!
 //! Coordinates everywhere: `x` = column, `y` = row, `(0, 0)` the top-left cell.
 //!
+//! Cell costs are opt-in ([`ReadOptions::costs`], [`costs`]): graded ROS maps (map_server's
+//! `scale` and `raw` modes) through nav2's costmap cost bands, Moving AI terrain weights
+//! for `S` and `W`, and `.csv` weight files ([`read_weights`]). Without them every reader
+//! gives an unweighted grid.
+//!
 //! ## Symbol choices
 //! - Moving AI `S` (swamp) is **passable** and `W` (water) is **blocked**. The Moving AI
 //!   format ([movingai.com/benchmarks/formats.html](https://movingai.com/benchmarks/formats.html))
@@ -73,6 +78,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+pub mod costs;
 mod error;
 pub mod gppc;
 mod matrix;
@@ -87,6 +93,9 @@ use std::path::Path;
 use planner_api::{Cell, Grid, Problem, ProblemError};
 use serde::{Deserialize, Serialize};
 
+pub use costs::{
+    costmap_cost, parse_weights, read_weights, CostBands, CostOptions, TerrainWeights,
+};
 pub use error::{MapError, MapErrorKind, MapWarning};
 pub use matrix::{csv_inversion_hint, parse_matrix, CsvConvention, InversionHint};
 pub use movingai::{movingai_passable, parse_movingai, to_movingai};
@@ -206,6 +215,8 @@ pub struct ReadOptions {
     pub csv: CsvConvention,
     /// Inflation for ROS `map_server` maps and images (default none).
     pub ros: RosOptions,
+    /// Cell costs: graded ROS maps, Moving AI terrain (default none: unweighted grids).
+    pub costs: CostOptions,
 }
 
 impl Default for ReadOptions {
@@ -215,6 +226,7 @@ impl Default for ReadOptions {
             max_file_bytes: DEFAULT_MAX_FILE_BYTES,
             csv: CsvConvention::default(),
             ros: RosOptions::default(),
+            costs: CostOptions::default(),
         }
     }
 }
@@ -297,7 +309,12 @@ impl MapFormat {
                     warnings: Vec::new(),
                 })
             }
-            MapFormat::MovingAi => movingai::parse(text, origin, max_cells)?,
+            MapFormat::MovingAi => match options.costs.terrain {
+                None => movingai::parse(text, origin, max_cells)?,
+                Some(terrain) => {
+                    movingai::parse_terrain(text, origin, max_cells, terrain, options.costs.rule)?
+                }
+            },
             MapFormat::Matrix => matrix::parse(text, origin, options.csv, max_cells)?,
         };
         Ok(MapRead {

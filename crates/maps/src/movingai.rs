@@ -1,6 +1,8 @@
 //! Moving AI `.map` files: reader and writer.
 
-use planner_api::{Grid, GridError};
+use planner_api::{CostRule, Grid, GridError};
+
+use crate::costs::TerrainWeights;
 
 use crate::error::{MapError, MapErrorKind};
 use crate::text::{
@@ -21,6 +23,50 @@ pub fn movingai_passable(symbol: char) -> Option<bool> {
         '@' | 'O' | 'T' | 'W' => Some(false),
         _ => None,
     }
+}
+
+/// [`parse`], then weights by terrain letter ([`crate::costs`]): ground `.` and `G` (and
+/// every blocked cell) 1, swamp `S` `terrain.swamp`, water `W` `terrain.water` and free when
+/// given (else blocked, the benchmark's rule).
+pub(crate) fn parse_terrain(
+    text: &str,
+    origin: &str,
+    max_cells: u64,
+    terrain: TerrainWeights,
+    rule: CostRule,
+) -> Result<Grid, MapError> {
+    let mut grid = parse(text, origin, max_cells)?;
+    let (w, h) = (grid.width() as usize, grid.height() as usize);
+    // The text parsed: its rows are the `h` lines after the first line whose first token
+    // is `map` (no other header key starts with it), each of `w` symbols.
+    let rows = lines(text)
+        .skip_while(|(_, line)| tokens(line).first().map(|&(_, t)| t) != Some("map"))
+        .skip(1)
+        .take(h);
+    let mut weights = Vec::with_capacity(w * h);
+    let mut water = Vec::new();
+    for (_, line) in rows {
+        for symbol in line.chars().take(w) {
+            let index = weights.len();
+            weights.push(match symbol {
+                'S' => terrain.swamp,
+                'W' => match terrain.water {
+                    Some(weight) => {
+                        water.push(index);
+                        weight
+                    }
+                    None => 1,
+                },
+                _ => 1,
+            });
+        }
+    }
+    for index in water {
+        let cell = grid.cell(index);
+        grid.set_free(cell, true);
+    }
+    grid.with_weights(weights, rule)
+        .map_err(|e| MapError::new(origin, 0, 0, MapErrorKind::Grid(e)))
 }
 
 /// Parses the text of a Moving AI `.map` file into a grid.

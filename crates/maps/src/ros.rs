@@ -41,18 +41,31 @@
 //! deeper than 64 levels is refused, which bounds the reader's stack use.
 //!
 //! # The threshold rule
-//! That of ROS 1 `map_server` (`image_loader.cpp`), which ROS 2's `nav2_map_server`
-//! shares for grey images. For each pixel, `v` is the mean of its channels (8-bit; a grey
-//! image has one; with `mode: trinary` an alpha channel is averaged in, as `map_server`
-//! does, otherwise it is left out), `v = 255 - v` when `negate`, and `p = (255 - v) / 255`
-//! is the occupancy probability: white is free, black occupied. Then, as ROS values:
-//! - `p > occupied_thresh`: occupied, `100`;
-//! - `p < free_thresh`: free, `0`;
-//! - otherwise unknown, `-1`, in `trinary` mode (and in `scale` mode for a fully
-//!   transparent pixel); in `scale` mode `1 + 98 (p - free_thresh) / (occupied_thresh -
-//!   free_thresh)` truncated, a partly occupied cell;
-//! - `raw` mode skips the thresholds: the value is `v` itself, as a signed byte (so 255
-//!   reads as `-1`, unknown).
+//! That of ROS 2's `nav2_map_server` (`map_io.cpp`, `loadMapFromFile`), which for
+//! `trinary` is also ROS 1 `map_server`'s (`image_loader.cpp`). For each pixel, `v` is the
+//! mean of its channels (8-bit; a grey image has one; with `mode: trinary` an alpha
+//! channel is averaged in, as `map_server` does, otherwise it is left out; for a grey and
+//! alpha image nav2, which averages red, green, blue and alpha, would weigh the grey three
+//! times: not followed here, as before), `v = 255 - v` when `negate`, and
+//! `p = (255 - v) / 255` is the occupancy probability: white is free, black occupied.
+//! Then, as ROS values:
+//! - `trinary` and `scale`: `p > occupied_thresh` is occupied, `100`; `p < free_thresh`
+//!   free, `0`;
+//! - otherwise unknown, `-1`, in `trinary` mode; in `scale` mode the graded value
+//!   `rint(100 (p - free_thresh) / (occupied_thresh - free_thresh))` (C's `rint`: to the
+//!   nearest, halves to even), and unknown for any pixel that is not fully opaque
+//!   (`alpha != 255`; nav2 tests this first);
+//! - `raw` mode skips the thresholds and `negate`, as nav2 does: the value is the
+//!   channels' mean `v` itself when it is at most 100, else unknown `-1`.
+//!
+//! ROS 1 `map_server` differs in the last two (its `scale` is `1 + 98 (...)` truncated with
+//! only a fully transparent pixel unknown, its `raw` the negated value as a signed byte);
+//! gridplan follows ROS 2.
+//!
+//! # Costs (opt-in)
+//! By default a grid is free exactly where the value is `0`. With
+//! [`crate::CostOptions::graded`] the graded values become cell weights the way ROS 2
+//! navigation's costmap does ([`crate::costs`]).
 //!
 //! An image given directly (`.pgm`, `.png`, without a YAML file) is read with
 //! [`RosYaml::defaults`]: `map_server`'s default thresholds (occupied 0.65, free 0.196),
@@ -758,19 +771,24 @@ pub fn ros_occupancy_value(yaml: &RosYaml, pixel: &[u8]) -> i8 {
         v = 255.0 - v;
     }
     if yaml.mode == RosMode::Raw {
-        // map_server stores the double in a signed byte: 255 becomes -1.
-        return (v as u8) as i8;
+        // nav2: round(shade * 255), the un-negated mean, kept when within 0..=100.
+        let raw = (sum / averaged as f64).round();
+        return if raw <= 100.0 { raw as i8 } else { -1 };
     }
     let p = (255.0 - v) / 255.0;
+    if yaml.mode == RosMode::Scale && alpha != 255 {
+        return -1;
+    }
     if p > yaml.occupied_thresh {
         100
     } else if p < yaml.free_thresh {
         0
-    } else if yaml.mode == RosMode::Trinary || alpha == 0 {
+    } else if yaml.mode == RosMode::Trinary {
         -1
     } else {
         let ratio = (p - yaml.free_thresh) / (yaml.occupied_thresh - yaml.free_thresh);
-        (1.0 + 98.0 * ratio) as i8
+        // C's rint in the default rounding mode: to the nearest, halves to even.
+        (100.0 * ratio).round_ties_even() as i8
     }
 }
 
@@ -787,18 +805,30 @@ pub fn ros_grid(
     options: &RosOptions,
 ) -> Result<Grid, planner_api::GridError> {
     let mut free: Vec<bool> = occupancy.iter().map(|&v| v == 0).collect();
-    let (w, h) = (width as usize, height as usize);
-    if options.inflation_radius > 0 && w.checked_mul(h) == Some(occupancy.len()) {
-        let source: Vec<bool> = occupancy
-            .iter()
-            .map(|&v| v >= 100 || (options.inflate_unknown && v < 0))
-            .collect();
-        let near = within_radius(w, h, options.inflation_radius, &source);
+    if let Some(near) = inflated(width, height, occupancy, options) {
         for (cell, near) in free.iter_mut().zip(near) {
             *cell &= !near;
         }
     }
     Grid::from_free_cells(width, height, free)
+}
+
+/// The cells the inflation of `options` blocks (module docs), or `None` without inflation.
+pub(crate) fn inflated(
+    width: u32,
+    height: u32,
+    occupancy: &[i8],
+    options: &RosOptions,
+) -> Option<Vec<bool>> {
+    let (w, h) = (width as usize, height as usize);
+    if options.inflation_radius == 0 || w.checked_mul(h) != Some(occupancy.len()) {
+        return None;
+    }
+    let source: Vec<bool> = occupancy
+        .iter()
+        .map(|&v| v >= 100 || (options.inflate_unknown && v < 0))
+        .collect();
+    Some(within_radius(w, h, options.inflation_radius, &source))
 }
 
 /// For each cell of a `w` x `h` row-major grid, whether a `source` cell's centre lies
@@ -1016,8 +1046,17 @@ pub fn ros_map_from_image_bytes(
             .map(|pixel| ros_occupancy_value(&yaml, pixel))
             .collect()
     };
-    let grid = ros_grid(width, height, &occupancy, &options.ros)
-        .map_err(|e| whole(MapErrorKind::Grid(e)))?;
+    let grid = match options.costs.graded {
+        false => ros_grid(width, height, &occupancy, &options.ros),
+        true => crate::costs::graded_grid(
+            width,
+            height,
+            &occupancy,
+            inflated(width, height, &occupancy, &options.ros),
+            &options.costs,
+        ),
+    }
+    .map_err(|e| whole(MapErrorKind::Grid(e)))?;
     Ok(RosMap {
         grid,
         occupancy,
@@ -1062,17 +1101,24 @@ mod tests {
         check(&yaml(RosMode::Trinary, true), &[0], 0);
         // RGB: the mean (0 + 255 + 255) / 3 = 170 -> p = 1/3, unknown.
         check(&t, &[0, 255, 255], -1);
-        // Scale: p = 1/3 -> 1 + 98 (0.3333 - 0.196) / 0.454 = 30.6 -> 30; transparent -> -1.
+        // Scale (nav2): p = 1/3 -> rint(100 (0.3333 - 0.196) / 0.454) = rint(30.25) = 30;
+        // v = 179 (nav2's TenByTen.pgm) -> p = 76/255 = 0.29804 -> rint(22.476) = 22 (ROS 1
+        // would give 1 + 98 * 0.22476 = 23); not fully opaque -> -1, even when white.
         let s = yaml(RosMode::Scale, false);
         check(&s, &[170, 255], 30);
+        check(&s, &[179], 22);
         check(&s, &[170, 0], -1);
+        check(&s, &[255, 254], -1);
+        check(&s, &[0, 255], 100);
         // Trinary averages alpha in: (170 + 0) / 2 = 85 -> p = 0.667 occupied.
         check(&t, &[170, 0], 100);
-        // Raw: the value itself; 255 reads -1.
+        // Raw (nav2): the value itself when at most 100, else -1; negate is ignored.
         let r = yaml(RosMode::Raw, false);
         check(&r, &[0], 0);
         check(&r, &[100], 100);
+        check(&r, &[101], -1);
         check(&r, &[255], -1);
+        check(&yaml(RosMode::Raw, true), &[40], 40);
     }
 
     #[test]

@@ -441,6 +441,7 @@ mod tests {
 
     fn record(planner: &str, algorithm: &str, repeat: u32, length: f64, time_ms: f64) -> RunRecord {
         RunRecord {
+            cost: None,
             map: "open-140x120.map".into(),
             problem: 1,
             start: Cell::new(20, 10),

@@ -133,6 +133,19 @@ struct RawMaps {
     inflation: Option<Spanned<u32>>,
     inflate_unknown: Option<bool>,
     obstacle: Option<Spanned<i64>>,
+    costs: Option<Spanned<RawCosts>>,
+}
+
+/// A map set's `costs = { ... }` (configs/README.md).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCosts {
+    rule: Option<planner_api::CostRule>,
+    lethal: Option<Spanned<u8>>,
+    unknown: Option<Spanned<u8>>,
+    weights: Option<Spanned<String>>,
+    swamp: Option<Spanned<u16>>,
+    water: Option<Spanned<u16>>,
 }
 
 #[derive(Deserialize)]
@@ -374,6 +387,10 @@ pub struct PlannerSpec {
     pub budget: Budget,
     /// Which published planner's values to compare with, when not its own.
     pub compare: Option<Compare>,
+    /// `costs = "ignore"`: a planner that does not honour cell weights
+    /// ([`planner_api::PlannerSpecs::cell_costs`]) runs on weighted maps with their weights
+    /// left out, instead of being refused.
+    pub ignore_costs: bool,
 }
 
 /// `compare = { with = "backtracking", metrics = ["steps", "turns", "score"] }`: mark these
@@ -494,6 +511,22 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let maps = collect_maps(&src, &base, &raw.maps, map_cell_limit(&planners))?;
     if maps.is_empty() {
         return Err(src.error(None, "key `maps`: at least one map is needed"));
+    }
+    // The one place where planners that cannot honour cell costs meet weighted maps.
+    for map in maps.iter().filter(|m| m.grid.is_weighted()) {
+        if let Some(p) = planners
+            .iter()
+            .find(|p| !p.ignore_costs && !p.factory.specs().cell_costs)
+        {
+            let label = raw.planners.keys().find(|l| l.get_ref() == &p.label);
+            return Err(src.error(
+                label.map(Spanned::span),
+                format!(
+                    "planner `{}` ({}) does not honour cell costs, and map `{}` has them; add `costs = \"ignore\"` to its table to plan without them",
+                    p.label, p.name, map.name
+                ),
+            ));
+        }
     }
     if let Some(goalless) = raw.maps.iter().find_map(|m| {
         m.get_ref()
@@ -858,9 +891,22 @@ fn planner_spec(
     let mut params = toml::Table::new();
     let mut budget = default_budget;
     let mut compare = None;
+    let mut ignore_costs = false;
     for (key, value) in table.get_ref() {
         match key.get_ref().as_str() {
             "planner" => {}
+            "costs" => {
+                if value.get_ref().as_str() != Some("ignore") {
+                    return Err(src.error(
+                        Some(value.span()),
+                        format!(
+                            "planner `{label_text}`, key `costs`: expected \"ignore\" (plan on weighted maps without their weights), found {}",
+                            value.get_ref()
+                        ),
+                    ));
+                }
+                ignore_costs = true;
+            }
             "compare" => compare = Some(read_compare(src, label_text, value)?),
             "budget" => {
                 budget = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
@@ -890,6 +936,7 @@ fn planner_spec(
         params,
         budget,
         compare,
+        ignore_costs,
     })
 }
 
@@ -974,6 +1021,7 @@ pub fn planner_from_table(
         params,
         budget,
         compare: None,
+        ignore_costs: false,
     })
 }
 
@@ -1050,6 +1098,118 @@ impl MapSet<'_> {
     }
 }
 
+/// The reading options of a map set's `costs` table, checked against its files: `lethal`
+/// and `unknown` for ROS maps (which they make graded), `swamp` and `water` for Moving AI
+/// maps, `weights` for a set of one file.
+fn cost_options(
+    costs: &Spanned<RawCosts>,
+    files: &[PathBuf],
+    at: &dyn Fn(Range<usize>, String) -> ConfigError,
+) -> Result<planner_maps::CostOptions, ConfigError> {
+    let raw = costs.get_ref();
+    let all_ros = files.iter().all(|p| is_ros(p));
+    let all_movingai = files
+        .iter()
+        .all(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("map")));
+    let mut options = planner_maps::CostOptions {
+        rule: raw.rule.unwrap_or_default(),
+        ..planner_maps::CostOptions::default()
+    };
+    if let Some(weights) = &raw.weights {
+        if files.len() != 1 {
+            return Err(at(
+                weights.span(),
+                format!(
+                    "key `costs.weights`: a weight file belongs to one map, but `files` gives {}",
+                    files.len()
+                ),
+            ));
+        }
+        if let Some(bad) = raw.lethal.as_ref().or(raw.unknown.as_ref()) {
+            return Err(at(
+                bad.span(),
+                "key `costs`: `lethal` and `unknown` grade ROS maps and do not go with `weights`"
+                    .into(),
+            ));
+        }
+        if let Some(bad) = raw.swamp.as_ref().or(raw.water.as_ref()) {
+            return Err(at(
+                bad.span(),
+                "key `costs`: `swamp` and `water` weigh Moving AI terrain and do not go with `weights`"
+                    .into(),
+            ));
+        }
+        return Ok(options);
+    }
+    if all_ros {
+        if let Some(bad) = raw.swamp.as_ref().or(raw.water.as_ref()) {
+            return Err(at(
+                bad.span(),
+                "key `costs`: `swamp` and `water` apply to Moving AI `.map` files, not ROS maps"
+                    .into(),
+            ));
+        }
+        options.graded = true;
+        if let Some(lethal) = &raw.lethal {
+            if *lethal.get_ref() == 0 {
+                return Err(at(
+                    lethal.span(),
+                    "key `costs.lethal`: 0 would block every cell; costs from `lethal` up are blocked (nav2: 254)".into(),
+                ));
+            }
+            options.bands.lethal = *lethal.get_ref();
+        }
+        if let Some(unknown) = &raw.unknown {
+            if *unknown.get_ref() == 255 {
+                return Err(at(
+                    unknown.span(),
+                    "key `costs.unknown`: the cost of an unknown cell must be below 255 (leave the key out to block unknown cells)".into(),
+                ));
+            }
+            options.bands.unknown = Some(*unknown.get_ref());
+        }
+        return Ok(options);
+    }
+    if all_movingai {
+        if let Some(bad) = raw.lethal.as_ref().or(raw.unknown.as_ref()) {
+            return Err(at(
+                bad.span(),
+                "key `costs`: `lethal` and `unknown` apply to ROS maps, not Moving AI `.map` files"
+                    .into(),
+            ));
+        }
+        let Some(swamp) = &raw.swamp else {
+            return Err(at(
+                costs.span(),
+                "key `costs`: a Moving AI map set needs `swamp` (the weight of `S`; `water` is optional) or `weights`".into(),
+            ));
+        };
+        let positive = |w: &Spanned<u16>, key: &str| {
+            if *w.get_ref() == 0 {
+                Err(at(
+                    w.span(),
+                    format!("key `costs.{key}`: weights are integers from 1 to 65535, found 0"),
+                ))
+            } else {
+                Ok(*w.get_ref())
+            }
+        };
+        options.terrain = Some(planner_maps::TerrainWeights {
+            swamp: positive(swamp, "swamp")?,
+            water: raw
+                .water
+                .as_ref()
+                .map(|w| positive(w, "water"))
+                .transpose()?,
+        });
+        return Ok(options);
+    }
+    Err(at(
+        costs.span(),
+        "key `costs`: graded costs apply to sets of ROS maps (`lethal`, `unknown`) or of Moving AI maps (`swamp`, `water`); other formats take a `weights` file".into(),
+    ))
+}
+
 fn map_entries(
     src: &Source<'_>,
     base: &Path,
@@ -1073,13 +1233,26 @@ fn map_entries(
         }
         None => None,
     };
-    let read_options = map_read_options(&set, max_cells)?;
+    let read_options = map_read_options(&set, &files, max_cells)?;
     let mut entries = Vec::new();
     for path in files {
         check_file_options(&set, &path)?;
         let file = read_map_file(&path, &read_options)
             .map_err(|e| set.at(raw.files.span(), e.to_string()))?;
-        let grid = file.grid;
+        let mut grid = file.grid;
+        if let Some(weights) = raw
+            .costs
+            .as_ref()
+            .and_then(|c| c.get_ref().weights.as_ref())
+        {
+            grid = planner_maps::read_weights(
+                &base.join(weights.get_ref()),
+                grid,
+                read_options.costs.rule,
+                &read_options,
+            )
+            .map_err(|e| set.at(weights.span(), format!("key `costs.weights`: {e}")))?;
+        }
         let (pairs, buckets) =
             file_pairs(&set, &path, &grid, &file.problems, scenarios.as_deref())?;
         let convention = is_csv(&path).then_some(read_options.csv);
@@ -1200,6 +1373,7 @@ fn map_files(set: &MapSet<'_>, base: &Path) -> Result<Vec<PathBuf>, ConfigError>
 /// (`inflation`, `inflate_unknown`) and at most `max_cells` cells.
 fn map_read_options(
     set: &MapSet<'_>,
+    files: &[PathBuf],
     max_cells: u64,
 ) -> Result<planner_maps::ReadOptions, ConfigError> {
     let raw = set.spanned.get_ref();
@@ -1224,10 +1398,15 @@ fn map_read_options(
         ),
         None => None,
     };
+    let costs = match &raw.costs {
+        None => planner_maps::CostOptions::default(),
+        Some(costs) => cost_options(costs, files, &|span, message| set.at(span, message))?,
+    };
     Ok(planner_maps::ReadOptions {
         csv: csv.unwrap_or_default(),
         ros: ros_options,
         max_cells,
+        costs,
         ..planner_maps::ReadOptions::default()
     })
 }

@@ -57,12 +57,13 @@ pub const FIXED_COLUMNS: [&str; 21] = [
 ];
 
 /// Columns of runs.json that appear only when some record has a value in them.
-const OPTIONAL_COLUMNS: [&str; 5] = ["error", "admissible", "returns", "marks", "series"];
+const OPTIONAL_COLUMNS: [&str; 6] = ["error", "admissible", "returns", "marks", "series", "cost"];
 
 /// The runs as JSON (`runs.json`): `{"experiment", "config", "runs": {"columns": [...],
 /// "data": [[...], ...]}}`, one run per row, one row per line, in run order. The table
 /// is runs.csv's, typed (numbers, `true`/`false`, strings, `null` for an empty cell): the
-/// [`FIXED_COLUMNS`], then `error`, `admissible`, `returns`, `marks` and `series` when
+/// [`FIXED_COLUMNS`], then `error`, `admissible`, `returns`, `marks`, `series` and `cost` (a
+/// weighted map's path cost) when
 /// some run has one (a value or `null`), then one column per counter in order of first
 /// appearance (`null` where a run lacks it). Paths are not in it (`paths.jsonl`). Times
 /// are rounded to the nanosecond (1e-6 ms), the clock's resolution. `runs` is pandas'
@@ -104,6 +105,7 @@ pub fn write_runs_json(
         records.iter().any(|r| r.returns.is_some()),
         records.iter().any(|r| !r.marks.is_empty()),
         records.iter().any(|r| !r.series.is_empty()),
+        records.iter().any(|r| r.cost.is_some()),
     ];
     let columns: Vec<&str> = FIXED_COLUMNS
         .iter()
@@ -173,7 +175,7 @@ fn write_header(
 fn encode_row(
     row: &mut Vec<u8>,
     r: &RunRecord,
-    optional: &[bool; 5],
+    optional: &[bool; 6],
     counter_names: &[String],
 ) -> Result<(), RunnerError> {
     let cell = |row: &mut Vec<u8>, value: &dyn erased::Value| -> Result<(), RunnerError> {
@@ -216,6 +218,9 @@ fn encode_row(
     }
     if optional[4] {
         cell(row, &(!r.series.is_empty()).then_some(&r.series))?;
+    }
+    if optional[5] {
+        cell(row, &r.cost)?;
     }
     for value in counter_values(&r.counters, counter_names) {
         cell(row, &value)?;

@@ -112,6 +112,12 @@ pub struct RunRecord {
     /// The sequences the planner recorded (a swarm's convergence curve), if any.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub series: Vec<Series>,
+    /// On a map with cell weights: the path's cost under the map's weights and move cost
+    /// rule (`planner_api::weights`), beside its `length`; absent on unweighted maps. A
+    /// planner run with `costs = "ignore"` plans on the unweighted map, and this is still
+    /// its path's weighted cost.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost: Option<f64>,
 }
 
 impl RunRecord {

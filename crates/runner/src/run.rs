@@ -134,6 +134,9 @@ struct Slot {
     grid: Option<usize>,
     /// Heap the planner held after its last setup.
     retained: u64,
+    /// For a planner run with `costs = "ignore"` on a weighted map: the map without its
+    /// weights, made when the slot moves to the map.
+    unweighted: Option<Grid>,
 }
 
 /// Runs every run of `experiment` and returns the records in the fixed order.
@@ -207,11 +210,14 @@ pub fn run_one(
                 .map_err(|e| RunnerError::Build(planner.label.clone(), e))?,
             grid: None,
             retained: 0,
+            unweighted: None,
         }),
     };
     if slot.grid != Some(spec.map) {
+        slot.unweighted =
+            (planner.ignore_costs && map.grid.is_weighted()).then(|| map.grid.without_weights());
         if let Built::Path(p) = &mut slot.planner {
-            p.prepare(&map.grid);
+            p.prepare(slot.unweighted.as_ref().unwrap_or(&map.grid));
         }
         slot.grid = Some(spec.map);
         if let (Some(heap), Some(baseline)) = (heap, baseline) {
@@ -220,6 +226,9 @@ pub fn run_one(
     }
     record.setup_ms = setup_started.elapsed().as_secs_f64() * 1e3;
     execute(&map.grid, entry, planner, slot, seed, heap, &mut record);
+    if let (Some(path), true) = (&record.path, map.grid.is_weighted()) {
+        record.cost = Some(map.grid.path_cost(path.cells()).to_f64());
+    }
     Ok(record)
 }
 
@@ -257,11 +266,28 @@ fn blank_record(
         returns: None,
         marks: Vec::new(),
         series: Vec::new(),
+        cost: None,
     }
 }
 
 /// Plans (or covers) with the slot's planner and fills `record`.
 fn execute(
+    grid: &Grid,
+    entry: &ProblemEntry,
+    planner: &PlannerSpec,
+    slot: &mut Slot,
+    seed: Option<u64>,
+    heap: Option<&dyn HeapMeter>,
+    record: &mut RunRecord,
+) {
+    let unweighted = slot.unweighted.take();
+    let grid = unweighted.as_ref().unwrap_or(grid);
+    execute_on(grid, entry, planner, slot, seed, heap, record);
+    slot.unweighted = unweighted;
+}
+
+/// [`execute`] on the grid the planner plans on.
+fn execute_on(
     grid: &Grid,
     entry: &ProblemEntry,
     planner: &PlannerSpec,

@@ -67,6 +67,11 @@ fn planner_table_schema(name: &str, summary: &str) -> Result<Value, RegistryErro
     );
     properties.insert("budget".into(), budget_schema());
     properties.insert(
+        "costs".into(),
+        json!({ "const": "ignore",
+                "description": "Run on weighted maps with their weights left out (planners that do not honour cell costs are refused otherwise)." }),
+    );
+    properties.insert(
         "compare".into(),
         json!({
             "type": "object",
@@ -147,7 +152,19 @@ pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
             "inflation": count,
             "inflate_unknown": { "type": "boolean" },
             "obstacle": { "enum": [0, 1],
-                          "description": ".csv maps only: the value of a cell that is an obstacle (default 0)." }
+                          "description": ".csv maps only: the value of a cell that is an obstacle (default 0)." },
+            "costs": {
+                "type": "object", "additionalProperties": false,
+                "description": "Cell costs (weights): graded ROS maps by nav2's cost bands, a weight file, or Moving AI terrain letters.",
+                "properties": {
+                    "rule": { "enum": ["mean", "entered"] },
+                    "lethal": { "type": "integer", "minimum": 1, "maximum": 255 },
+                    "unknown": { "type": "integer", "minimum": 0, "maximum": 254 },
+                    "weights": { "type": "string" },
+                    "swamp": { "type": "integer", "minimum": 1, "maximum": 65535 },
+                    "water": { "type": "integer", "minimum": 1, "maximum": 65535 }
+                }
+            }
         }
     });
     let schema = json!({

@@ -124,14 +124,25 @@ impl<const TIE: u8> BucketOpen<TIE> {
     /// with a consistent heuristic, the `f` values in OPEN span at most
     /// `(1 + weight) * max_cost`, which the ring then covers.
     pub fn configure(&mut self, max_cost: Cost, weight: f64) {
+        self.configure_scaled(max_cost, weight, 1);
+    }
+
+    /// [`BucketOpen::configure`] with buckets `scale` times wider (rounded up to a power
+    /// of two), for costs `scale` times larger than move lengths: a weighted grid's, whose
+    /// move costs are lengths times weights up to `scale`. The buckets per unit of `f`
+    /// then match the unweighted search's per unit of length, so the ring is not walked
+    /// through empty buckets. The order popped is the same for any width.
+    pub fn configure_scaled(&mut self, max_cost: Cost, weight: f64, scale: u64) {
         const BUCKETS_PER_UNIT: f64 = 16.0;
-        let span = (1.0 + weight) * max_cost.to_f64() * BUCKETS_PER_UNIT;
+        let widen = scale.max(1).next_power_of_two().trailing_zeros().min(24);
+        let per_unit = BUCKETS_PER_UNIT / f64::from(1u32 << widen);
+        let span = (1.0 + weight) * max_cost.to_f64() * per_unit;
         let slots = if span.is_finite() && span < 4096.0 {
             (span as usize + 2).next_power_of_two()
         } else {
             4096
         };
-        self.shift = Cost::FRACTION_BITS - BUCKETS_PER_UNIT.log2() as u32;
+        self.shift = Cost::FRACTION_BITS - BUCKETS_PER_UNIT.log2() as u32 + widen;
         self.seq_limit = 1 << 32;
         self.ring.resize_with(slots, Vec::new);
         self.clear();
@@ -749,10 +760,15 @@ mod tests {
         assert_eq!(open.pop(|_| false), None);
     }
 
-    /// A bucket OPEN; `seq_limit` lowers the renumbering threshold to test it.
-    fn bucket_open<const TIE: u8>(max_cost: f64, seq_limit: Option<u64>) -> BucketOpen<TIE> {
+    /// A bucket OPEN; `seq_limit` lowers the renumbering threshold to test it, `scale`
+    /// widens its buckets (weighted grids' [`BucketOpen::configure_scaled`]).
+    fn bucket_open<const TIE: u8>(
+        max_cost: f64,
+        seq_limit: Option<u64>,
+        scale: u64,
+    ) -> BucketOpen<TIE> {
         let mut open = BucketOpen::default();
-        open.configure(Cost::from_f64(max_cost), 1.0);
+        open.configure_scaled(Cost::from_f64(max_cost), 1.0, scale);
         if let Some(limit) = seq_limit {
             open.seq_limit = limit;
         }
@@ -760,17 +776,27 @@ mod tests {
     }
 
     fn check_every_rule(fs: &[f64], gs: &[f64], max_cost: f64, push_share: u64) {
-        for seq_limit in [None, Some(3000)] {
-            check::<_, FIFO>(bucket_open::<FIFO>(max_cost, seq_limit), fs, gs, push_share);
-            check::<_, LIFO>(bucket_open::<LIFO>(max_cost, seq_limit), fs, gs, push_share);
+        for (seq_limit, scale) in [(None, 1), (Some(3000), 1), (None, 255), (Some(3000), 4)] {
+            check::<_, FIFO>(
+                bucket_open::<FIFO>(max_cost, seq_limit, scale),
+                fs,
+                gs,
+                push_share,
+            );
+            check::<_, LIFO>(
+                bucket_open::<LIFO>(max_cost, seq_limit, scale),
+                fs,
+                gs,
+                push_share,
+            );
             check::<_, LOW_G>(
-                bucket_open::<LOW_G>(max_cost, seq_limit),
+                bucket_open::<LOW_G>(max_cost, seq_limit, scale),
                 fs,
                 gs,
                 push_share,
             );
             check::<_, HIGH_G>(
-                bucket_open::<HIGH_G>(max_cost, seq_limit),
+                bucket_open::<HIGH_G>(max_cost, seq_limit, scale),
                 fs,
                 gs,
                 push_share,

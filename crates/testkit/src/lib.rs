@@ -401,3 +401,133 @@ pub fn outcome_text(outcome: &planner_api::Outcome) -> String {
         outcome.counters
     )
 }
+
+/// The least cost from `start` to `goal` on `grid` under `moves` and the grid's cell
+/// weights ([`planner_api::weights`]; plain move lengths on an unweighted grid), in exact
+/// [`Cost`](planner_api::Cost) units, or `None` when the goal is unreachable: a plain
+/// Dijkstra over the weighted graph, the oracle for every weighted search.
+///
+/// Independent of the planners' code: cells by [`Grid::index`], moves applied with
+/// [`MoveSet::apply`](planner_api::MoveSet::apply) (bounds, blocked cells and corner rule
+/// checked cell by cell), a `BinaryHeap` with lazy deletion, and the move cost computed
+/// here from the rule's definition in 128-bit integers: half the move's length in units
+/// (rounded down) times `k_from * w(from) + k_to * w(to)`.
+pub fn weighted_dijkstra(
+    grid: &Grid,
+    moves: &planner_api::MoveSet,
+    start: Cell,
+    goal: Cell,
+) -> Option<planner_api::Cost> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let rule = grid.weights().map(|w| w.rule());
+    let cost = |from: Cell, to: Cell, mv: &planner_api::Move| -> u128 {
+        let length = u128::from(mv.exact_cost().units());
+        match rule {
+            None => length,
+            Some(rule) => {
+                let (k_from, k_to) = rule.factors();
+                let factor = u128::from(k_from) * u128::from(grid.weight(from))
+                    + u128::from(k_to) * u128::from(grid.weight(to));
+                length / 2 * factor
+            }
+        }
+    };
+    let mut dist = vec![u128::MAX; grid.len()];
+    let mut heap = BinaryHeap::new();
+    dist[grid.index(start)] = 0;
+    heap.push(Reverse((0u128, grid.index(start))));
+    while let Some(Reverse((d, i))) = heap.pop() {
+        if d > dist[i] {
+            continue;
+        }
+        let cell = grid.cell(i);
+        if cell == goal {
+            return Some(planner_api::Cost::from_units(u64::try_from(d).ok()?));
+        }
+        for mv in moves.moves() {
+            if let Some(to) = moves.apply(grid, cell, mv) {
+                let next = d + cost(cell, to, mv);
+                let j = grid.index(to);
+                if next < dist[j] {
+                    dist[j] = next;
+                    heap.push(Reverse((next, j)));
+                }
+            }
+        }
+    }
+    None
+}
+
+/// One random weighted problem of [`random_weighted_problems`].
+#[derive(Debug, Clone)]
+pub struct WeightedProblem {
+    /// The grid, with weights.
+    pub grid: Grid,
+    /// Start (free).
+    pub start: Cell,
+    /// Goal (free).
+    pub goal: Cell,
+    /// The density of blocked cells it was drawn with.
+    pub density: f64,
+}
+
+/// `rounds` random weighted problems, deterministic in `seed` (xorshift): sides from 2 to
+/// 24 cells, a blocked-cell density drawn from 0 to 0.4, every cell a weight from 1 to 255
+/// (half the grids uniform, half in patches of equal weight, so that ties and terrain
+/// borders both occur), the cost rule alternating mean and entered, start and goal drawn
+/// uniformly (possibly equal) and made free.
+pub fn random_weighted_problems(seed: u64, rounds: usize) -> Vec<WeightedProblem> {
+    let mut state = seed | 1;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    (0..rounds)
+        .map(|round| {
+            let (w, h) = (2 + (next() % 23) as u32, 2 + (next() % 23) as u32);
+            let density = (next() % 41) as f64 / 100.0;
+            let free: Vec<bool> = (0..w * h)
+                .map(|_| (next() % 10_000) as f64 >= density * 10_000.0)
+                .collect();
+            let weights: Vec<u16> = if round % 2 == 0 {
+                (0..w * h).map(|_| 1 + (next() % 255) as u16).collect()
+            } else {
+                let patch = 2 + (next() % 4) as u32;
+                let cols = w.div_ceil(patch);
+                let rows = h.div_ceil(patch);
+                let patches: Vec<u16> = (0..cols * rows)
+                    .map(|_| 1 + (next() % 255) as u16)
+                    .collect();
+                (0..w * h)
+                    .map(|i| patches[((i / w / patch) * cols + (i % w) / patch) as usize])
+                    .collect()
+            };
+            let rule = if round % 4 < 2 {
+                planner_api::CostRule::Mean
+            } else {
+                planner_api::CostRule::Entered
+            };
+            let mut grid = Grid::from_free_cells(w, h, free)
+                .and_then(|g| g.with_weights(weights, rule))
+                .unwrap_or_else(|e| panic!("a {w}x{h} grid: {e}"));
+            let mut cell = || {
+                Cell::new(
+                    (next() % u64::from(w)) as u32,
+                    (next() % u64::from(h)) as u32,
+                )
+            };
+            let (start, goal) = (cell(), cell());
+            grid.set_free(start, true);
+            grid.set_free(goal, true);
+            WeightedProblem {
+                grid,
+                start,
+                goal,
+                density,
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,156 @@
+//! Cell weights: a cost per cell on top of the free/blocked grid, and the exact move cost.
+//!
+//! A weighted [`Grid`](crate::Grid) carries one integer weight per cell, from 1 (neutral:
+//! a move costs its length, as on an unweighted grid) to 65,535; blocked cells stay
+//! blocked whatever their weight. A grid without weights behaves exactly as before, and
+//! every planner that honours weights declares it
+//! ([`PlannerSpecs::cell_costs`](crate::PlannerSpecs::cell_costs)).
+//!
+//! # The move cost ([`CostRule`])
+//! A move of length `d` (1 for an axis move, `sqrt 2` for a diagonal, `sqrt(dx^2 + dy^2)` for
+//! the longer moves) from a cell of weight `a` to a cell of weight `b` costs
+//! - [`CostRule::Mean`] (the default): `d * (a + b) / 2`, the length times the mean of the
+//!   two cells' weights: half the move in each cell. Issue 32 names it as the rule of
+//!   warthog's weighted grids (Harabor's planning library, the code behind Carlson, Shen,
+//!   Harabor and Stuckey's weighted JPS, JPSW, AAAI 2023); that attribution was not
+//!   checked against warthog's source here. It is symmetric: a path and its reverse cost
+//!   the same.
+//! - [`CostRule::Entered`]: `d * b`, the length times the weight of the cell entered,
+//!   the way ROS 2 navigation's grid planners charge a move (Smac 2D adds the entered
+//!   cell's normalized cost to the move's travel cost; NavFn propagates its potential
+//!   through the cost of the cell reached). Not symmetric.
+//!
+//! Diagonal moves charge only their two end cells (the corner cells they pass are free or
+//! the move is not allowed at all, by the move set's corner rule).
+//!
+//! # Exact integer arithmetic
+//! Costs are [`Cost`]s (units of `2^-32`). Let `half` be the move's [`Cost::of_move`]
+//! halved, rounded down to a whole unit; then the move costs `half * (a + b)` units (mean)
+//! or `half * 2 b` units (entered): one integer product per move ([`CostRule::factors`]).
+//! For 4 and 8 directions the move costs [`Cost::ONE`] and [`Cost::SQRT_2`] are even, so
+//! `half` is exact and a weighted path's cost is exactly `(A * ONE + B * SQRT_2) / 2` for
+//! integers `A, B`: twice an octile cost. Equal real costs are therefore equal integers,
+//! and [`crate::cost`]'s proof applies to the doubled values: **every comparison of
+//! weighted 4- and 8-connected costs up to `Cost::EXACT_LIMIT / 2` = 125,898 is exact**
+//! (beyond it the error bound of [`crate::cost`] holds for the doubled value). For
+//! 16, 32 and 48 directions an odd move cost loses half a unit when halved.
+//!
+//! # Heuristics
+//! Every move costs at least its length times the smallest weight `w_min` of the grid
+//! ([`Weights::min`]), so a distance estimate that never overestimates the length stays
+//! admissible (and consistent, if it was) when multiplied by `w_min`. The multiplication is
+//! an integer one ([`Cost::times`]), exact.
+//!
+//! ```
+//! use planner_api::{Cell, Cost, CostRule, Grid};
+//!
+//! let grid = Grid::from_ascii("...\n...").unwrap();
+//! let grid = grid.with_weights(vec![1, 3, 5, 2, 2, 2], CostRule::Mean).unwrap();
+//! // Right from weight 1 to weight 3: 1 * (1 + 3) / 2 = 2.
+//! assert_eq!(grid.move_cost(Cell::new(0, 0), Cell::new(1, 0)), Cost::steps(2));
+//! // Diagonal from weight 3 to weight 2: sqrt 2 * 5 / 2, exactly.
+//! assert_eq!(
+//!     grid.move_cost(Cell::new(1, 0), Cell::new(2, 1)).units(),
+//!     Cost::SQRT_2.units() / 2 * 5
+//! );
+//! // The entered cell's weight only: 5 for the move onto (2, 0).
+//! let entered = grid.clone().with_rule(CostRule::Entered);
+//! assert_eq!(entered.move_cost(Cell::new(1, 0), Cell::new(2, 0)), Cost::steps(5));
+//! assert_eq!(grid.weights().unwrap().min(), 1);
+//! ```
+
+use serde::{Deserialize, Serialize};
+
+use crate::cost::Cost;
+
+/// How a move's cost follows from its length and the weights of its two cells (see the
+/// [module docs](self)).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, PartialOrd, Ord,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum CostRule {
+    /// Length times the mean of the two cells' weights (module docs).
+    #[default]
+    Mean,
+    /// Length times the weight of the cell entered (module docs).
+    Entered,
+}
+
+impl CostRule {
+    /// `(k_from, k_to)`: a move costs `half * (k_from * a + k_to * b)` units, with `half` its
+    /// length's [`Cost`] units halved (rounded down), `a` the weight of the cell left and
+    /// `b` of the cell entered. `(1, 1)` for the mean, `(0, 2)` for the entered cell.
+    pub const fn factors(self) -> (u64, u64) {
+        match self {
+            CostRule::Mean => (1, 1),
+            CostRule::Entered => (0, 2),
+        }
+    }
+
+    /// The rule's name in configs: `mean` or `entered`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            CostRule::Mean => "mean",
+            CostRule::Entered => "entered",
+        }
+    }
+}
+
+/// The cost of a move whose unweighted cost is `length` from a cell of weight `from` to a
+/// cell of weight `to` under `rule` (module docs), saturating at [`Cost::MAX`].
+#[inline]
+pub fn weighted_move_cost(length: Cost, from: u16, to: u16, rule: CostRule) -> Cost {
+    let (k_from, k_to) = rule.factors();
+    let factor = k_from * u64::from(from) + k_to * u64::from(to);
+    Cost::from_units((length.units() / 2).saturating_mul(factor))
+}
+
+/// The weight layer of a grid: one weight per cell (row-major, as the grid), the rule, and
+/// the extremes.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Weights {
+    cells: Vec<u16>,
+    rule: CostRule,
+    min: u16,
+    max: u16,
+}
+
+impl Weights {
+    /// The weights; precondition (checked by [`crate::Grid::with_weights`]): none is 0.
+    pub(crate) fn new(cells: Vec<u16>, rule: CostRule) -> Weights {
+        let min = cells.iter().copied().min().unwrap_or(1);
+        let max = cells.iter().copied().max().unwrap_or(1);
+        Weights {
+            cells,
+            rule,
+            min,
+            max,
+        }
+    }
+
+    /// The weights, row-major (index with [`crate::Grid::index`]).
+    pub fn cells(&self) -> &[u16] {
+        &self.cells
+    }
+
+    /// The move cost rule.
+    pub fn rule(&self) -> CostRule {
+        self.rule
+    }
+
+    /// The smallest weight of any cell (blocked cells included, so it stays a lower bound
+    /// when cells are freed): what heuristics are multiplied by.
+    pub fn min(&self) -> u16 {
+        self.min
+    }
+
+    /// The largest weight of any cell.
+    pub fn max(&self) -> u16 {
+        self.max
+    }
+
+    pub(crate) fn set_rule(&mut self, rule: CostRule) {
+        self.rule = rule;
+    }
+}
