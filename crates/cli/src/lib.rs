@@ -472,10 +472,21 @@ impl sweep::Progress for Bar {
 /// The replanning experiment kind of the config at `path` (`kind = "navigate"` or
 /// `"dynamic"`, run by planner-replan), or `None` for the runner's configs and for a file
 /// that cannot be read (the runner then reports that, typed).
+/// Only a regular file is read, and at most [`REPLAN_SNIFF_BYTES`] of it: a FIFO, a device or
+/// a huge file is left to the runner's reader, which refuses it with its own error.
 fn replan_kind(path: &Path) -> Option<planner_replan::experiment::Kind> {
-    let text = std::fs::read_to_string(path).ok()?;
+    use std::io::Read;
+    // Opened without blocking on a FIFO, and refused unless a regular file.
+    let file = planner_runner::stream::open_regular(path).ok()?;
+    let mut text = String::new();
+    file.take(REPLAN_SNIFF_BYTES)
+        .read_to_string(&mut text)
+        .ok()?;
     planner_replan::experiment::kind_of(&text)
 }
+
+/// The most of a config [`replan_kind`] reads (configs are a few kilobytes).
+const REPLAN_SNIFF_BYTES: u64 = 1 << 20;
 
 /// Runs a `navigate` or `dynamic` config (issue 31) into `output` (default
 /// `results/<name>`); fails when the oracle found a mismatch.

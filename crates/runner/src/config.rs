@@ -1171,43 +1171,52 @@ fn cost_options(
         return Ok(options);
     }
     if all_movingai {
-        if let Some(bad) = raw.lethal.as_ref().or(raw.unknown.as_ref()) {
-            return Err(at(
-                bad.span(),
-                "key `costs`: `lethal` and `unknown` apply to ROS maps, not Moving AI `.map` files"
-                    .into(),
-            ));
-        }
-        let Some(swamp) = &raw.swamp else {
-            return Err(at(
-                costs.span(),
-                "key `costs`: a Moving AI map set needs `swamp` (the weight of `S`; `water` is optional) or `weights`".into(),
-            ));
-        };
-        let positive = |w: &Spanned<u16>, key: &str| {
-            if *w.get_ref() == 0 {
-                Err(at(
-                    w.span(),
-                    format!("key `costs.{key}`: weights are integers from 1 to 65535, found 0"),
-                ))
-            } else {
-                Ok(*w.get_ref())
-            }
-        };
-        options.terrain = Some(planner_maps::TerrainWeights {
-            swamp: positive(swamp, "swamp")?,
-            water: raw
-                .water
-                .as_ref()
-                .map(|w| positive(w, "water"))
-                .transpose()?,
-        });
+        options.terrain = Some(terrain_weights(costs, at)?);
         return Ok(options);
     }
     Err(at(
         costs.span(),
         "key `costs`: graded costs apply to sets of ROS maps (`lethal`, `unknown`) or of Moving AI maps (`swamp`, `water`); other formats take a `weights` file".into(),
     ))
+}
+
+/// The Moving AI terrain weights of a `costs` table (`swamp` for `S`, `water` for `W`).
+fn terrain_weights(
+    costs: &Spanned<RawCosts>,
+    at: &dyn Fn(Range<usize>, String) -> ConfigError,
+) -> Result<planner_maps::TerrainWeights, ConfigError> {
+    let raw = costs.get_ref();
+    if let Some(bad) = raw.lethal.as_ref().or(raw.unknown.as_ref()) {
+        return Err(at(
+            bad.span(),
+            "key `costs`: `lethal` and `unknown` apply to ROS maps, not Moving AI `.map` files"
+                .into(),
+        ));
+    }
+    let Some(swamp) = &raw.swamp else {
+        return Err(at(
+            costs.span(),
+            "key `costs`: a Moving AI map set needs `swamp` (the weight of `S`; `water` is optional) or `weights`".into(),
+        ));
+    };
+    let positive = |w: &Spanned<u16>, key: &str| {
+        if *w.get_ref() == 0 {
+            Err(at(
+                w.span(),
+                format!("key `costs.{key}`: weights are integers from 1 to 65535, found 0"),
+            ))
+        } else {
+            Ok(*w.get_ref())
+        }
+    };
+    Ok(planner_maps::TerrainWeights {
+        swamp: positive(swamp, "swamp")?,
+        water: raw
+            .water
+            .as_ref()
+            .map(|w| positive(w, "water"))
+            .transpose()?,
+    })
 }
 
 fn map_entries(

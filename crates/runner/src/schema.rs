@@ -120,6 +120,22 @@ pub const TOP_LEVEL_KEYS: &[&str] = &[
     "planners",
 ];
 
+/// The schema of a map set's `costs` table (configs/README.md).
+fn costs_schema() -> Value {
+    json!({
+        "type": "object", "additionalProperties": false,
+        "description": "Cell costs (weights): graded ROS maps by nav2's cost bands, a weight file, or Moving AI terrain letters.",
+        "properties": {
+            "rule": { "enum": ["mean", "entered"] },
+            "lethal": { "type": "integer", "minimum": 1, "maximum": 255 },
+            "unknown": { "type": "integer", "minimum": 0, "maximum": 254 },
+            "weights": { "type": "string" },
+            "swamp": { "type": "integer", "minimum": 1, "maximum": 65535 },
+            "water": { "type": "integer", "minimum": 1, "maximum": 65535 }
+        }
+    })
+}
+
 /// The JSON Schema (draft 2020-12) of experiment configs, for `gridplan schema` and
 /// editors: the top-level keys, the `[[maps]]` sets, and the planner tables as a `oneOf`
 /// over `planner = "<name>"`, each with that planner's declared parameters. `sections` are
@@ -153,18 +169,7 @@ pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
             "inflate_unknown": { "type": "boolean" },
             "obstacle": { "enum": [0, 1],
                           "description": ".csv maps only: the value of a cell that is an obstacle (default 0)." },
-            "costs": {
-                "type": "object", "additionalProperties": false,
-                "description": "Cell costs (weights): graded ROS maps by nav2's cost bands, a weight file, or Moving AI terrain letters.",
-                "properties": {
-                    "rule": { "enum": ["mean", "entered"] },
-                    "lethal": { "type": "integer", "minimum": 1, "maximum": 255 },
-                    "unknown": { "type": "integer", "minimum": 0, "maximum": 254 },
-                    "weights": { "type": "string" },
-                    "swamp": { "type": "integer", "minimum": 1, "maximum": 65535 },
-                    "water": { "type": "integer", "minimum": 1, "maximum": 65535 }
-                }
-            }
+            "costs": costs_schema()
         }
     });
     let schema = json!({
