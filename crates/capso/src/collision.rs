@@ -257,12 +257,29 @@ impl BitGrid {
             return Collision::default();
         }
         let n_lines = n_minor + 1;
+        // The step of (q, r) over CHUNK_LINES - 1 lines, for skipping a free chunk (only
+        // used when there is more than one chunk, so n_minor > 0 and d > 0).
+        let (skip_q, skip_r) = {
+            let (q7, r7) = (
+                u64::from(CHUNK_LINES - 1) * u64::from(step_q),
+                u64::from(CHUNK_LINES - 1) * u64::from(step_r),
+            );
+            let d = u64::from(d.max(1));
+            // Both fit: they are at most the line offsets' span, n_M + 1.
+            ((q7 + r7 / d) as u32, (r7 % d) as u32)
+        };
+        let (line_step, word_step) = if minor_forward {
+            (1i64, words_per_line as i64)
+        } else {
+            (-1, -(words_per_line as i64))
+        };
         let mut j = 0;
         while j < n_lines {
             let k = CHUNK_LINES.min(n_lines - j);
+            let last_chunk = j + k == n_lines;
             // A box around the chunk's cells: line j' >= j ends at most at
             // q_j' + 1 <= q_j + (j' - j) (step_q + 1) + 1, and the last line at the end.
-            let high = if j + k == n_lines {
+            let high = if last_chunk {
                 end
             } else {
                 (q + (k - 1) * (step_q + 1) + 1).min(end)
@@ -272,16 +289,38 @@ impl BitGrid {
             } else {
                 line - (k - 1)
             };
-            let free = blocked_in(first, high, line, far) == 0;
+            if blocked_in(first, high, line, far) == 0 {
+                if last_chunk {
+                    break;
+                }
+                // A free full chunk: (q, r) jumps to its last line, whose range gives the
+                // next chunk's first cell, and steps once more, as the line walk would.
+                q += skip_q;
+                r += skip_r;
+                if r >= d {
+                    r -= d;
+                    q += 1;
+                }
+                first = q + u32::from(r > n_minor);
+                q += step_q;
+                r += step_r;
+                if r >= d {
+                    r -= d;
+                    q += 1;
+                }
+                // In the grid: the chunk's next line is a line of the segment.
+                line = (i64::from(line) + i64::from(k) * line_step) as u32;
+                start = (start as i64 + i64::from(k) * word_step) as usize;
+                j += k;
+                continue;
+            }
             for i in 0..k {
                 let last = if j + i == n_minor {
                     end
                 } else {
                     q + u32::from(r + n_minor >= d)
                 };
-                if !free {
-                    test(start, line, first, last, &mut hits);
-                }
+                test(start, line, first, last, &mut hits);
                 if j + i == n_minor {
                     break;
                 }
