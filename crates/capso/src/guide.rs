@@ -79,13 +79,14 @@ impl Guide {
     fn search(&mut self, grid: &BitGrid, start: Cell, goal: Cell, b: u32) -> bool {
         let (bw, bh) = (grid.width().div_ceil(b), grid.height().div_ceil(b));
         let n = bw as usize * bh as usize;
+        // A block is free when the summed-area table counts no blocked cell in it (one
+        // query a block rather than a test a cell).
         self.free.clear();
-        self.free.resize(n, true);
-        for y in 0..grid.height() {
-            for x in 0..grid.width() {
-                if grid.is_blocked(x, y) {
-                    self.free[(y / b) as usize * bw as usize + (x / b) as usize] = false;
-                }
+        for by in 0..bh {
+            let (y0, y1) = (by * b, ((by + 1) * b).min(grid.height()) - 1);
+            for bx in 0..bw {
+                let (x0, x1) = (bx * b, ((bx + 1) * b).min(grid.width()) - 1);
+                self.free.push(grid.blocked_in(x0, x1, y0, y1) == 0);
             }
         }
         let block_of = |c: Cell| (c.y / b) * bw + c.x / b;

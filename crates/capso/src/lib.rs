@@ -429,7 +429,6 @@ pub struct Evaluation {
 struct Decoder {
     spline: Spline,
     knots: Vec<(f64, f64)>,
-    samples: Vec<(f64, f64)>,
     cells: Vec<Cell>,
     keep: Vec<bool>,
     stack: Vec<(usize, usize)>,
@@ -457,23 +456,22 @@ impl Decoder {
         }
         self.knots.push((f64::from(goal.x), f64::from(goal.y)));
         self.spline.fit(&self.knots);
-        self.samples.clear();
-        self.spline
-            .sample(config.samples_per_segment as usize, &mut self.samples);
-
         let (max_x, max_y) = (f64::from(grid.width() - 1), f64::from(grid.height() - 1));
         self.cells.clear();
-        for &(x, y) in &self.samples {
-            // Clamped into the grid, so the casts are in range. Rounding half up by truncation (the values are >= 0 after the clamp): the
-            // same as `round` there, without its library call.
-            let cell = Cell::new(
-                (x.clamp(0.0, max_x) + 0.5) as u32,
-                (y.clamp(0.0, max_y) + 0.5) as u32,
-            );
-            if self.cells.last() != Some(&cell) {
-                self.cells.push(cell);
-            }
-        }
+        let cells = &mut self.cells;
+        self.spline
+            .for_each_sample(config.samples_per_segment as usize, |x, y| {
+                // Clamped into the grid, so the casts are in range. Rounding half up by
+                // truncation (the values are >= 0 after the clamp): the same as `round`
+                // there, without its library call.
+                let cell = Cell::new(
+                    (x.clamp(0.0, max_x) + 0.5) as u32,
+                    (y.clamp(0.0, max_y) + 0.5) as u32,
+                );
+                if cells.last() != Some(&cell) {
+                    cells.push(cell);
+                }
+            });
         // The spline passes through start and goal exactly.
         simplify(
             &self.cells,

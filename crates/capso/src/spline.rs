@@ -93,12 +93,19 @@ impl Spline {
     /// `k = 0 .. per_segment - 1`) and then the last knot to `out`. With one knot, appends
     /// it alone. `per_segment` must be at least 1.
     pub fn sample(&self, per_segment: usize, out: &mut Vec<(f64, f64)>) {
+        self.for_each_sample(per_segment, |x, y| out.push((x, y)));
+    }
+
+    /// Calls `visit` with the points [`Spline::sample`] appends, in the same order, without
+    /// storing them.
+    #[inline]
+    pub fn for_each_sample(&self, per_segment: usize, mut visit: impl FnMut(f64, f64)) {
         let n = self.t.len();
         if n == 0 {
             return;
         }
         for i in 0..n - 1 {
-            out.push((self.x[i], self.y[i]));
+            visit(self.x[i], self.y[i]);
             // The segment's cubic in powers of u = t - t_i (the same polynomial as
             // `eval`'s form, expanded once per segment and evaluated by Horner's rule):
             // v(u) = v_i + b u + (m_i / 2) u^2 + ((m_{i+1} - m_i) / (6 h)) u^3 with
@@ -117,10 +124,10 @@ impl Spline {
             for k in 1..per_segment {
                 let u = step * k as f64;
                 let horner = |c: [f64; 4]| c[0] + u * (c[1] + u * (c[2] + u * c[3]));
-                out.push((horner(cx), horner(cy)));
+                visit(horner(cx), horner(cy));
             }
         }
-        out.push((self.x[n - 1], self.y[n - 1]));
+        visit(self.x[n - 1], self.y[n - 1]);
     }
 }
 
