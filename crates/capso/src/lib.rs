@@ -863,17 +863,27 @@ impl Planner for Capso {
                         s.moved[i] = 0.0;
                     }
                 }
+                // The coordinates in (x, y) pairs, so that each axis' limits are fixed and
+                // the slices' bounds are checked once.
                 let mut along = 0.0;
-                for d in 0..dims {
-                    let i = range.start + d;
-                    let (r1, r2) = (chaos.next(&mut rng), chaos.next(&mut rng));
-                    let x = s.positions[i];
-                    let v = w * s.velocities[i]
-                        + c1 * r1 * (s.best_positions[i] - x)
-                        + c2 * r2 * (s.global[d] - x);
-                    let v = v.clamp(-speed[d % 2], speed[d % 2]);
-                    s.velocities[i] = v;
-                    along += s.moved[i] * v;
+                let velocities = s.velocities[range.clone()].chunks_exact_mut(2);
+                let positions = s.positions[range.clone()].chunks_exact(2);
+                let bests = s.best_positions[range.clone()].chunks_exact(2);
+                let moves = s.moved[range.clone()].chunks_exact(2);
+                for (((v, x), b), (g, m)) in velocities
+                    .zip(positions)
+                    .zip(bests)
+                    .zip(s.global.chunks_exact(2).zip(moves))
+                {
+                    for axis in 0..2 {
+                        let (r1, r2) = (chaos.next(&mut rng), chaos.next(&mut rng));
+                        let new = w * v[axis]
+                            + c1 * r1 * (b[axis] - x[axis])
+                            + c2 * r2 * (g[axis] - x[axis]);
+                        let new = new.clamp(-speed[axis], speed[axis]);
+                        v[axis] = new;
+                        along += m[axis] * new;
+                    }
                 }
                 // The antennae are the last two positions: the fitness change along the
                 // last move, projected on v, says which side of x along v is downhill.
@@ -885,18 +895,21 @@ impl Planner for Capso {
                 } else {
                     0.0
                 };
-                for d in 0..dims {
-                    let i = range.start + d;
-                    let v = s.velocities[i];
-                    let xi = toward * delta * v;
-                    let old = s.positions[i];
-                    let x = old + config.lambda * v + (1.0 - config.lambda) * xi;
-                    let clamped = x.clamp(0.0, extent[d % 2]);
-                    if clamped != x {
-                        s.velocities[i] = 0.0;
+                let velocities = s.velocities[range.clone()].chunks_exact_mut(2);
+                let positions = s.positions[range.clone()].chunks_exact_mut(2);
+                let moves = s.moved[range.clone()].chunks_exact_mut(2);
+                for ((v, x), m) in velocities.zip(positions).zip(moves) {
+                    for axis in 0..2 {
+                        let xi = toward * delta * v[axis];
+                        let old = x[axis];
+                        let new = old + config.lambda * v[axis] + (1.0 - config.lambda) * xi;
+                        let clamped = new.clamp(0.0, extent[axis]);
+                        if clamped != new {
+                            v[axis] = 0.0;
+                        }
+                        x[axis] = clamped;
+                        m[axis] = clamped - old;
                     }
-                    s.positions[i] = clamped;
-                    s.moved[i] = clamped - old;
                 }
                 if !clock.allows(stats.n_fitness_evaluations) {
                     exhausted = true;
