@@ -428,7 +428,6 @@ pub struct Evaluation {
 #[derive(Debug, Clone, Default)]
 struct Decoder {
     spline: Spline,
-    knots: Vec<(f64, f64)>,
     cells: Vec<Cell>,
     keep: Vec<bool>,
     stack: Vec<(usize, usize)>,
@@ -449,13 +448,12 @@ impl Decoder {
         position: &[f64],
         config: &Config,
     ) -> Evaluation {
-        self.knots.clear();
-        self.knots.push((f64::from(start.x), f64::from(start.y)));
-        for point in position.chunks_exact(2) {
-            self.knots.push((point[0], point[1]));
-        }
-        self.knots.push((f64::from(goal.x), f64::from(goal.y)));
-        self.spline.fit(&self.knots);
+        let point = |c: Cell| (f64::from(c.x), f64::from(c.y));
+        self.spline.fit_iter(
+            std::iter::once(point(start))
+                .chain(position.chunks_exact(2).map(|p| (p[0], p[1])))
+                .chain(std::iter::once(point(goal))),
+        );
         let (max_x, max_y) = (f64::from(grid.width() - 1), f64::from(grid.height() - 1));
         self.cells.clear();
         let cells = &mut self.cells;

@@ -35,22 +35,31 @@ impl Spline {
     /// Fits the spline through `knots` (chord-length parameter, natural end conditions).
     /// Returns the number of knots kept after dropping near-duplicates.
     pub fn fit(&mut self, knots: &[(f64, f64)]) -> usize {
+        self.fit_iter(knots.iter().copied())
+    }
+
+    /// [`Spline::fit`] through the knots `knots` yields, without collecting them first.
+    pub fn fit_iter(&mut self, knots: impl IntoIterator<Item = (f64, f64)>) -> usize {
         self.t.clear();
         self.x.clear();
         self.y.clear();
-        for &(x, y) in knots {
-            match (self.x.last(), self.y.last(), self.t.last()) {
-                (Some(&px), Some(&py), Some(&pt)) => {
+        // The last kept knot and its parameter.
+        let mut last: Option<(f64, f64, f64)> = None;
+        for (x, y) in knots {
+            let t = match last {
+                Some((px, py, pt)) => {
                     // sqrt of the sum of squares rather than `hypot`, whose overflow care
                     // costs a library call per knot; coordinates are grid-sized.
                     let chord = ((x - px) * (x - px) + (y - py) * (y - py)).sqrt();
                     if chord < MIN_CHORD {
                         continue;
                     }
-                    self.t.push(pt + chord);
+                    pt + chord
                 }
-                _ => self.t.push(0.0),
-            }
+                None => 0.0,
+            };
+            last = Some((x, y, t));
+            self.t.push(t);
             self.x.push(x);
             self.y.push(y);
         }
