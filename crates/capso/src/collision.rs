@@ -186,7 +186,8 @@ impl BitGrid {
     /// their sum is the rectangle's piece). The cells are those of the cell-by-cell walk
     /// and the length equals its sum to rounding (tested). Free stretches are skipped by
     /// the summed-area table: first the segment's bounding box, then a box around each
-    /// chunk of [`CHUNK_LINES`] lines; a box without a blocked cell skips its lines' tests.
+    /// chunk of [`CHUNK_LINES`] lines; a box without a blocked cell skips its lines (the
+    /// quotient and remainder jump over the chunk at once, stepped by a third `divmod`).
     pub fn segment_collision(&self, a: Cell, b: Cell) -> Collision {
         let (nx, ny) = (a.x.abs_diff(b.x), a.y.abs_diff(b.y));
         let x_major = nx >= ny;
@@ -273,6 +274,16 @@ impl BitGrid {
         } else {
             (-1, -(words_per_line as i64))
         };
+        // Adds the step (dq, dr) to the quotient and remainder (q, r) of a division by d
+        // (r, dr < d).
+        let advance = |q: &mut u32, r: &mut u32, dq: u32, dr: u32| {
+            *q += dq;
+            *r += dr;
+            if *r >= d {
+                *r -= d;
+                *q += 1;
+            }
+        };
         let mut j = 0;
         while j < n_lines {
             let k = CHUNK_LINES.min(n_lines - j);
@@ -295,19 +306,9 @@ impl BitGrid {
                 }
                 // A free full chunk: (q, r) jumps to its last line, whose range gives the
                 // next chunk's first cell, and steps once more, as the line walk would.
-                q += skip_q;
-                r += skip_r;
-                if r >= d {
-                    r -= d;
-                    q += 1;
-                }
+                advance(&mut q, &mut r, skip_q, skip_r);
                 first = q + u32::from(r > n_minor);
-                q += step_q;
-                r += step_r;
-                if r >= d {
-                    r -= d;
-                    q += 1;
-                }
+                advance(&mut q, &mut r, step_q, step_r);
                 // In the grid: the chunk's next line is a line of the segment.
                 line = (i64::from(line) + i64::from(k) * line_step) as u32;
                 start = (start as i64 + i64::from(k) * word_step) as usize;
@@ -325,12 +326,7 @@ impl BitGrid {
                     break;
                 }
                 first = q + u32::from(r > n_minor);
-                q += step_q;
-                r += step_r;
-                if r >= d {
-                    r -= d;
-                    q += 1;
-                }
+                advance(&mut q, &mut r, step_q, step_r);
                 if minor_forward {
                     line += 1;
                     start += words_per_line;
@@ -562,6 +558,38 @@ fn clipped_fraction(a: Cell, b: Cell, cell: Cell) -> f64 {
 mod tests {
     use super::*;
 
+    /// Marsaglia's xorshift64 generator from the nonzero `state`: the tests' random grids
+    /// and segments.
+    fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        }
+    }
+
+    /// Asserts that the packed walk of `bits` (loaded from `grid`) measures the segment
+    /// `a` -> `b` as the cell-by-cell walk does, and returns the walk's measure.
+    fn assert_packed_agrees(bits: &BitGrid, grid: &Grid, a: Cell, b: Cell) -> Collision {
+        let exact = segment_collision(grid, a, b);
+        let packed = bits.segment_collision(a, b);
+        assert_eq!(packed.cells, exact.cells, "{a:?} -> {b:?}");
+        assert!(
+            (packed.length - exact.length).abs() < 1e-9,
+            "{a:?} -> {b:?}: {} vs {}",
+            packed.length,
+            exact.length
+        );
+        exact
+    }
+
+    /// A cell of the `w` x `h` grid from two draws of `next`.
+    fn random_cell(next: &mut impl FnMut() -> u64, w: u32, h: u32) -> Cell {
+        let x = (next() % u64::from(w)) as u32;
+        Cell::new(x, (next() % u64::from(h)) as u32)
+    }
+
     /// Reference: the fraction of the segment between the centres of `a` and `b` that lies inside the
     /// square of `cell`: the parameter interval `[t0, t1]` of Liang-Barsky clipping.
     fn liang_barsky(a: Cell, b: Cell, cell: Cell) -> f64 {
@@ -598,13 +626,8 @@ mod tests {
 
     #[test]
     fn clipping_equals_four_division_liang_barsky_bit_for_bit() {
-        let mut state = 0x0bad_5eed_1234_5678u64;
-        let mut next = move |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % n) as u32
-        };
+        let mut draw = xorshift(0x0bad_5eed_1234_5678);
+        let mut next = move |n: u64| (draw() % n) as u32;
         let mut n_inside = 0;
         for _ in 0..200_000 {
             let a = Cell::new(next(40), next(40));
@@ -663,14 +686,7 @@ mod tests {
         let slow = brute_force(grid, a, b);
         let mut bits = BitGrid::new();
         bits.load(grid);
-        let packed = bits.segment_collision(a, b);
-        assert_eq!(packed.cells, fast.cells, "{a:?} -> {b:?}");
-        assert!(
-            (packed.length - fast.length).abs() < 1e-9,
-            "{a:?} -> {b:?}: {} vs {}",
-            packed.length,
-            fast.length
-        );
+        assert_packed_agrees(&bits, grid, a, b);
         assert_eq!(fast.cells, slow.cells, "{a:?} -> {b:?}");
         assert!(
             (fast.length - slow.length).abs() < 1e-9,
@@ -731,13 +747,7 @@ mod tests {
     fn traversal_agrees_with_a_brute_force_cell_walk() {
         // A xorshift generator: random 12 x 9, 70 x 9 and 9 x 70 grids (the packed lines
         // span up to two words) with about 35% blocked, random segments.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15u64);
         let mut n_hits = 0;
         for round in 0..40 {
             // Columns of more than one word too (9 x 70).
@@ -745,14 +755,8 @@ mod tests {
             let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= 35).collect();
             let grid = Grid::from_free_cells(w, h, free).unwrap();
             for _ in 0..50 {
-                let a = Cell::new(
-                    (next() % u64::from(w)) as u32,
-                    (next() % u64::from(h)) as u32,
-                );
-                let b = Cell::new(
-                    (next() % u64::from(w)) as u32,
-                    (next() % u64::from(h)) as u32,
-                );
+                let a = random_cell(&mut next, w, h);
+                let b = random_cell(&mut next, w, h);
                 check(&grid, a, b);
                 n_hits += u64::from(!segment_collision(&grid, a, b).is_free());
             }
@@ -799,13 +803,7 @@ mod tests {
         // Sparse random grids (about 2% blocked, some blocked squares) 150 x 90, where the
         // runs of a line span up to three words: the packed walk must agree with the full
         // traversal.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x2545_f491_4f6c_dd1du64);
         let (w, h) = (150u32, 90u32);
         let mut n_hits = 0;
         for _ in 0..10 {
@@ -822,23 +820,9 @@ mod tests {
             let mut bits = BitGrid::new();
             bits.load(&grid);
             for _ in 0..300 {
-                let a = Cell::new(
-                    (next() % u64::from(w)) as u32,
-                    (next() % u64::from(h)) as u32,
-                );
-                let b = Cell::new(
-                    (next() % u64::from(w)) as u32,
-                    (next() % u64::from(h)) as u32,
-                );
-                let exact = segment_collision(&grid, a, b);
-                let packed = bits.segment_collision(a, b);
-                assert_eq!(packed.cells, exact.cells, "{a:?} -> {b:?}");
-                assert!(
-                    (packed.length - exact.length).abs() < 1e-9,
-                    "{a:?} -> {b:?}: {} vs {}",
-                    packed.length,
-                    exact.length
-                );
+                let a = random_cell(&mut next, w, h);
+                let b = random_cell(&mut next, w, h);
+                let exact = assert_packed_agrees(&bits, &grid, a, b);
                 n_hits += u64::from(!exact.is_free());
             }
         }
