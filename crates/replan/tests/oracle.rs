@@ -116,7 +116,7 @@ fn navigation_on_small_grids_is_exact_at_every_change() {
             continue;
         };
         let radius = rng.gen_range(1..=3);
-        for name in planners::NAMES {
+        for name in planners::names() {
             for (eight, oracle) in [false, true].into_iter().zip(oracles.iter_mut()) {
                 let mut planner = planners::by_name(name, eight).unwrap();
                 let config = navigate::NavConfig {
@@ -278,7 +278,7 @@ fn a_budget_stops_and_the_next_replan_continues() {
 fn bad_changes_are_errors() {
     let grid = Grid::from_ascii("...\n.#.\n...").unwrap();
     let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(2, 2)).unwrap();
-    for name in planners::NAMES {
+    for name in planners::names() {
         let mut planner = planners::by_name(name, true).unwrap();
         assert_eq!(
             planner
