@@ -10,10 +10,11 @@
 //! order (key, then row-major index), the path trace (from the agent, each step to the
 //! neighbour minimising `c + g`, ties in move order) and the counters.
 //!
-//! Per the paper's main loop, a driver calls [`IncrementalPlanner::move_start`] with the
-//! agent's cell when it has moved, then [`IncrementalPlanner::apply`] with the cells it
-//! saw change, then [`IncrementalPlanner::replan`]. Moves and costs are LPA*'s: 4 moves,
-//! or 8 without corner cutting, in exact [`planner_api::Cost`] units.
+//! Per the paper's main loop, a driver calls
+//! [`move_start`](planner_api::IncrementalPlanner::move_start) with the agent's cell when
+//! it has moved, then [`apply`](planner_api::IncrementalPlanner::apply) with the cells it
+//! saw change, then [`replan`](planner_api::IncrementalPlanner::replan). Moves and costs
+//! are LPA*'s: 4 moves, or 8 without corner cutting, in exact [`planner_api::Cost`] units.
 //!
 //! ```
 //! use planner_api::{Budget, Cell, CellChange, Grid, IncrementalPlanner, Problem, Status};
