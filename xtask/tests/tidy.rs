@@ -202,22 +202,18 @@ const LAYER_FORBIDDEN: &[(&str, &[&str])] = &[
     ("planner-paper", &["planner-registry"]),
     (
         "planner-replan",
-        &[
-            "planner-registry",
-            "planner-runner",
-            "planner-report",
-            "planner-paper",
-        ],
+        &["planner-runner", "planner-report", "planner-paper"],
     ),
     ("planner-serve", &["planner-report", "planner-paper"]),
 ];
 
 /// Packages that may depend on planner crates directly: the registry (the one list),
 /// planner crates themselves (one planner may build on another), xtask (which runs
-/// PA-star's map generator), and planner-replan, which builds planners of its own from
-/// others as a planner crate may (A* restarted at every replan behind the incremental
-/// interface, which the registry's factories do not offer) and checks every replan
-/// against an exact A* oracle that must not be a user's configuration.
+/// PA-star's map generator), and planner-replan, which takes the incremental planners
+/// from the registry but builds its baseline of its own from A* (restarted at every
+/// replan behind the incremental interface, which the registry's factories do not offer)
+/// and checks every replan against an exact A* oracle that must not be a user's
+/// configuration.
 const MAY_NAME_PLANNERS: &[&str] = &["planner-registry", "xtask", "planner-replan"];
 
 #[test]

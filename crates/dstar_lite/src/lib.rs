@@ -10,10 +10,11 @@
 //! order (key, then row-major index), the path trace (from the agent, each step to the
 //! neighbour minimising `c + g`, ties in move order) and the counters.
 //!
-//! Per the paper's main loop, a driver calls [`IncrementalPlanner::move_start`] with the
-//! agent's cell when it has moved, then [`IncrementalPlanner::apply`] with the cells it
-//! saw change, then [`IncrementalPlanner::replan`]. Moves and costs are LPA*'s: 4 moves,
-//! or 8 without corner cutting, in exact [`planner_api::Cost`] units.
+//! Per the paper's main loop, a driver calls
+//! [`move_start`](planner_api::IncrementalPlanner::move_start) with the agent's cell when
+//! it has moved, then [`apply`](planner_api::IncrementalPlanner::apply) with the cells it
+//! saw change, then [`replan`](planner_api::IncrementalPlanner::replan). Moves and costs
+//! are LPA*'s: 4 moves, or 8 without corner cutting, in exact [`planner_api::Cost`] units.
 //!
 //! ```
 //! use planner_api::{Budget, Cell, CellChange, Grid, IncrementalPlanner, Problem, Status};
@@ -41,97 +42,21 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-use planner_api::{
-    Budget, Cell, CellChange, ChangeError, Grid, IncrementalPlanner, Outcome, PathSpec, Planner,
-    PlannerSpecs, Problem,
-};
-use planner_lpastar::engine::Engine;
-use planner_lpastar::{checked_changes, checked_start, outcome};
-pub use planner_lpastar::{Config, ConfigError};
+pub use planner_lpastar::{Config, ConfigError, Incremental, Rooting};
 
 /// The registry name of this planner.
 pub const NAME: &str = "dstar_lite";
 
-/// The D* Lite planner. Build with [`DStarLite::new`].
-#[derive(Debug, Clone)]
-pub struct DStarLite {
-    config: Config,
-    engine: Engine,
+/// D* Lite's rooting: the search grows from the goal to the agent, so a moved agent keeps
+/// it (`km += h(s_last, s_start)`); the path is traced from the agent.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AtGoal;
+
+impl Rooting for AtGoal {
+    const NAME: &'static str = NAME;
+    const AT_GOAL: bool = true;
 }
 
-impl DStarLite {
-    /// A planner with `config`, validated.
-    pub fn new(config: Config) -> Result<DStarLite, ConfigError> {
-        let eight = config.eight()?;
-        Ok(DStarLite {
-            config,
-            engine: Engine::new(eight),
-        })
-    }
-
-    /// The engine, for inspection (g-values, km).
-    pub fn engine(&self) -> &Engine {
-        &self.engine
-    }
-}
-
-impl IncrementalPlanner for DStarLite {
-    fn name(&self) -> &str {
-        NAME
-    }
-
-    fn specs(&self) -> PlannerSpecs {
-        PlannerSpecs::deterministic(PathSpec::Moves(self.config.move_set()))
-            .with_admissible(true)
-            .with_incremental()
-    }
-
-    /// The search is rooted at the goal, towards the start.
-    fn reset(&mut self, problem: &Problem<'_>) {
-        self.engine
-            .reset(problem.grid(), problem.goal(), problem.start());
-    }
-
-    fn grid(&self) -> Option<&Grid> {
-        self.engine.grid()
-    }
-
-    fn start(&self) -> Option<Cell> {
-        self.engine.target()
-    }
-
-    /// Keeps the search: `km` grows by the heuristic between the old and new start.
-    fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
-        checked_start(self.engine.grid(), cell)?;
-        self.engine.move_target(cell);
-        Ok(())
-    }
-
-    fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
-        let changes = checked_changes(self.engine.grid(), changes)?;
-        self.engine.apply(&changes);
-        Ok(())
-    }
-
-    fn replan(&mut self, budget: &Budget) -> Outcome {
-        let computed = self.engine.compute(budget);
-        outcome(&mut self.engine, computed, false)
-    }
-}
-
-impl Planner for DStarLite {
-    fn name(&self) -> &str {
-        NAME
-    }
-
-    /// Unseeded and admissible; paths are moves of the configured set; incremental.
-    fn specs(&self) -> PlannerSpecs {
-        IncrementalPlanner::specs(self)
-    }
-
-    /// A first D* Lite search from scratch (backward A* with D* Lite's counters).
-    fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
-        IncrementalPlanner::reset(self, problem);
-        IncrementalPlanner::replan(self, budget)
-    }
-}
+/// The D* Lite planner: planner-lpastar's [`Incremental`] search rooted at the goal. Build
+/// with [`DStarLite::new`].
+pub type DStarLite = Incremental<AtGoal>;

@@ -229,11 +229,21 @@ impl Engine {
 
     /// Begins a session on a copy of `grid`, rooted at `root`, towards `target`. Both are
     /// cells of `grid` (the caller validated them). Searches nothing.
+    ///
+    /// When the engine's map has `grid`'s size and weights (a planner kept across runs on
+    /// one map, as a robot keeps its planner), the copy is brought up to date in place:
+    /// the free flags are compared a block at a time and only the cells that differ are
+    /// written, so a reset costs a comparison of the maps rather than a new copy of both
+    /// (the per-cell search state is reset in O(1) by the session stamp).
     pub fn reset(&mut self, grid: &Grid, root: Cell, target: Cell) {
+        let same_shape = self.grid.as_ref().is_some_and(|old| {
+            old.width() == grid.width()
+                && old.height() == grid.height()
+                && old.weights() == grid.weights()
+        });
         self.width = grid.width();
         self.height = grid.height();
         self.stride = self.width.saturating_add(2);
-        self.grid = Some(grid.clone());
         let stride = self.stride as isize;
         for (step, &(dx, dy, cost)) in self.steps.iter_mut().zip(&MOVES) {
             let (sx, sy) = (dx as isize, dy as isize * stride);
@@ -248,19 +258,46 @@ impl Engine {
         // grid whose padded cells overflow the 32-bit vertex indices, which compute
         // refuses.
         let padded = u64::from(self.stride) * (u64::from(self.height) + 2);
-        if padded <= u64::from(u32::MAX) {
-            let n = padded as usize;
-            if self.free.len() != n {
-                self.free.clear();
-                self.free.resize(n, false);
+        let fits = padded <= u64::from(u32::MAX);
+        match self.grid.as_mut() {
+            Some(old) if same_shape && fits && self.free.len() == padded as usize => {
+                let (w, stride) = (self.width as usize, self.stride as usize);
+                const BLOCK: usize = 256;
+                for (b, block) in grid.free_cells().chunks(BLOCK).enumerate() {
+                    let base = b * BLOCK;
+                    if old.free_cells()[base..base + block.len()] == *block {
+                        continue;
+                    }
+                    for (j, &free) in block.iter().enumerate() {
+                        let i = base + j;
+                        if old.free_cells()[i] != free {
+                            let cell = old.cell(i);
+                            old.set_free(cell, free);
+                            self.free[(i / w + 1) * stride + i % w + 1] = free;
+                        }
+                    }
+                }
             }
-            let (w, stride) = (self.width as usize, self.stride as usize);
-            for (y, row) in grid.free_cells().chunks(w.max(1)).enumerate() {
-                let at = (y + 1) * stride + 1;
-                self.free[at..at + row.len()].copy_from_slice(row);
+            _ => {
+                self.grid = Some(grid.clone());
+                if fits {
+                    let n = padded as usize;
+                    if self.free.len() != n {
+                        self.free.clear();
+                        self.free.resize(n, false);
+                    } else {
+                        // The border must be blocked; the interior is overwritten below.
+                        self.free.fill(false);
+                    }
+                    let (w, stride) = (self.width as usize, self.stride as usize);
+                    for (y, row) in grid.free_cells().chunks(w.max(1)).enumerate() {
+                        let at = (y + 1) * stride + 1;
+                        self.free[at..at + row.len()].copy_from_slice(row);
+                    }
+                } else {
+                    self.free = Vec::new();
+                }
             }
-        } else {
-            self.free = Vec::new();
         }
         self.root = self.vertex(root);
         self.target = self.vertex(target);

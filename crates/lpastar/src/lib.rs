@@ -154,20 +154,46 @@ pub fn outcome(engine: &mut Engine, computed: Computed, root_first: bool) -> Out
     }
 }
 
-/// The LPA* planner. Build with [`LpaStar::new`].
-#[derive(Debug, Clone)]
-pub struct LpaStar {
-    config: Config,
-    engine: Engine,
+/// Which end of the problem the [`engine`]'s search is rooted at: the one difference
+/// between LPA* ([`AtStart`]) and D* Lite (planner-dstar_lite's `AtGoal`).
+pub trait Rooting: Clone + std::fmt::Debug + Send + Sync + 'static {
+    /// The planner's registry name.
+    const NAME: &'static str;
+    /// Whether the search is rooted at the goal, towards the agent (D* Lite: a moved
+    /// agent keeps the search, `km` grows), rather than at the start (LPA*: a moved start
+    /// re-roots the search, which starts over).
+    const AT_GOAL: bool;
 }
 
-impl LpaStar {
+/// LPA*'s rooting: the search grows from the start to the goal.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AtStart;
+
+impl Rooting for AtStart {
+    const NAME: &'static str = NAME;
+    const AT_GOAL: bool = false;
+}
+
+/// An incremental planner over the [`engine`], LPA* or D* Lite by its [`Rooting`]. Build
+/// with [`Incremental::new`].
+#[derive(Debug, Clone)]
+pub struct Incremental<R: Rooting> {
+    config: Config,
+    engine: Engine,
+    rooting: std::marker::PhantomData<R>,
+}
+
+/// The LPA* planner. Build with [`LpaStar::new`].
+pub type LpaStar = Incremental<AtStart>;
+
+impl<R: Rooting> Incremental<R> {
     /// A planner with `config`, validated.
-    pub fn new(config: Config) -> Result<LpaStar, ConfigError> {
+    pub fn new(config: Config) -> Result<Incremental<R>, ConfigError> {
         let eight = config.eight()?;
-        Ok(LpaStar {
+        Ok(Incremental {
             config,
             engine: Engine::new(eight),
+            rooting: std::marker::PhantomData,
         })
     }
 
@@ -185,9 +211,9 @@ pub fn outcome_cost(outcome: &Outcome) -> Option<Cost> {
         .map(Cost::from_units)
 }
 
-impl IncrementalPlanner for LpaStar {
+impl<R: Rooting> IncrementalPlanner for Incremental<R> {
     fn name(&self) -> &str {
-        NAME
+        R::NAME
     }
 
     fn specs(&self) -> PlannerSpecs {
@@ -196,9 +222,14 @@ impl IncrementalPlanner for LpaStar {
             .with_incremental()
     }
 
+    /// Roots the search at the start (LPA*) or the goal (D* Lite).
     fn reset(&mut self, problem: &Problem<'_>) {
-        self.engine
-            .reset(problem.grid(), problem.start(), problem.goal());
+        let (root, target) = if R::AT_GOAL {
+            (problem.goal(), problem.start())
+        } else {
+            (problem.start(), problem.goal())
+        };
+        self.engine.reset(problem.grid(), root, target);
     }
 
     fn grid(&self) -> Option<&Grid> {
@@ -206,13 +237,22 @@ impl IncrementalPlanner for LpaStar {
     }
 
     fn start(&self) -> Option<Cell> {
-        self.engine.root()
+        if R::AT_GOAL {
+            self.engine.target()
+        } else {
+            self.engine.root()
+        }
     }
 
-    /// Re-roots the search at `cell`: the next replan starts over.
+    /// LPA* re-roots the search at `cell`, so the next replan starts over; D* Lite keeps
+    /// its search and `km` grows by the heuristic between the old and new start.
     fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
         checked_start(self.engine.grid(), cell)?;
-        self.engine.move_root(cell);
+        if R::AT_GOAL {
+            self.engine.move_target(cell);
+        } else {
+            self.engine.move_root(cell);
+        }
         Ok(())
     }
 
@@ -224,13 +264,13 @@ impl IncrementalPlanner for LpaStar {
 
     fn replan(&mut self, budget: &Budget) -> Outcome {
         let computed = self.engine.compute(budget);
-        outcome(&mut self.engine, computed, true)
+        outcome(&mut self.engine, computed, !R::AT_GOAL)
     }
 }
 
-impl Planner for LpaStar {
+impl<R: Rooting> Planner for Incremental<R> {
     fn name(&self) -> &str {
-        NAME
+        R::NAME
     }
 
     /// Unseeded and admissible; paths are moves of the configured set; incremental.
@@ -238,7 +278,8 @@ impl Planner for LpaStar {
         IncrementalPlanner::specs(self)
     }
 
-    /// A first LPA* search from scratch (the same as A* with LPA*'s counters).
+    /// A first search from scratch: A* (LPA*, forward; D* Lite, backward) with the
+    /// incremental planner's counters.
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         IncrementalPlanner::reset(self, problem);
         IncrementalPlanner::replan(self, budget)

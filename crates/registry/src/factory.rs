@@ -10,7 +10,9 @@
 
 use std::sync::Arc;
 
-use planner_api::{CoveragePlanner, ParamError, ParamKey, Planner, PlannerSpecs, SEED_PARAM};
+use planner_api::{
+    CoveragePlanner, IncrementalPlanner, ParamError, ParamKey, Planner, PlannerSpecs, SEED_PARAM,
+};
 use schemars::JsonSchema;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -33,6 +35,7 @@ pub enum Built {
 }
 
 type Make = dyn Fn() -> Result<Built, ParamError> + Send + Sync;
+type MakeIncremental = dyn Fn() -> Result<Box<dyn IncrementalPlanner>, ParamError> + Send + Sync;
 
 /// A validated planner configuration: builds planners and says what they are.
 #[derive(Clone)]
@@ -44,6 +47,8 @@ pub struct Factory {
     resolved: serde_json::Value,
     parameters: fn() -> schemars::Schema,
     make: Arc<Make>,
+    /// Builds the planner behind [`IncrementalPlanner`], for incremental planners.
+    make_incremental: Option<Arc<MakeIncremental>>,
 }
 
 impl std::fmt::Debug for Factory {
@@ -101,6 +106,18 @@ impl Factory {
         (self.make)()
     }
 
+    /// Whether the planner is incremental: registered with [`Factory::incremental`], so
+    /// [`Factory::build_incremental`] builds it behind [`IncrementalPlanner`].
+    pub fn is_incremental(&self) -> bool {
+        self.make_incremental.is_some()
+    }
+
+    /// A new planner behind the [`IncrementalPlanner`] interface (`None`: the planner is
+    /// not incremental).
+    pub fn build_incremental(&self) -> Option<Result<Box<dyn IncrementalPlanner>, ParamError>> {
+        self.make_incremental.as_ref().map(|make| make())
+    }
+
     /// A start-goal factory for the planner crate whose config is `C` and constructor `new`.
     pub fn path<C, P, E>(
         name: &'static str,
@@ -115,6 +132,40 @@ impl Factory {
         Factory::typed(name, Task::StartGoal, params, new, P::specs, |p| {
             Built::Path(Box::new(p))
         })
+    }
+
+    /// A start-goal factory for an incremental planner crate (one that implements both
+    /// [`Planner`] and [`IncrementalPlanner`]): [`Factory::build`] builds it as a
+    /// one-shot planner, [`Factory::build_incremental`] as an incremental one. A crate
+    /// registered this way is one of the planners the replanning experiments
+    /// (planner-replan) can compare.
+    pub fn incremental<C, P, E>(
+        name: &'static str,
+        params: &toml::Table,
+        new: fn(C) -> Result<P, E>,
+    ) -> Result<Factory, ParamError>
+    where
+        C: DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static,
+        P: Planner + IncrementalPlanner + 'static,
+        E: ParamKey + 'static,
+    {
+        let mut factory = Factory::typed(
+            name,
+            Task::StartGoal,
+            params,
+            new,
+            <P as Planner>::specs,
+            |p| Built::Path(Box::new(p)),
+        )?;
+        let config: C = deserialize(params)?;
+        factory.make_incremental = Some(Arc::new(
+            move || -> Result<Box<dyn IncrementalPlanner>, ParamError> {
+                new(config.clone())
+                    .map(|p| Box::new(p) as Box<dyn IncrementalPlanner>)
+                    .map_err(|e| e.to_param_error())
+            },
+        ));
+        Ok(factory)
     }
 
     /// A coverage factory for the planner crate whose config is `C` and constructor `new`.
@@ -165,6 +216,7 @@ impl Factory {
             parameters: crate::schema::parameters_of::<C>,
             specs,
             make: Arc::new(make),
+            make_incremental: None,
         })
     }
 }

@@ -176,13 +176,13 @@ pub const PLANNERS: &[Entry] = &[
         name: planner_lpastar::NAME,
         summary: "Lifelong Planning A* (Koenig, Likhachev and Furcy 2004), 4 or 8 moves without corner cutting, exact costs; incremental",
         task: Task::StartGoal,
-        factory: |params| Factory::path(planner_lpastar::NAME, params, planner_lpastar::LpaStar::new),
+        factory: |params| Factory::incremental(planner_lpastar::NAME, params, planner_lpastar::LpaStar::new),
     },
     Entry {
         name: planner_dstar_lite::NAME,
         summary: "D* Lite (Koenig and Likhachev 2002, optimized, with km), 4 or 8 moves without corner cutting, exact costs; incremental",
         task: Task::StartGoal,
-        factory: |params| Factory::path(planner_dstar_lite::NAME, params, planner_dstar_lite::DStarLite::new),
+        factory: |params| Factory::incremental(planner_dstar_lite::NAME, params, planner_dstar_lite::DStarLite::new),
     },
     // (registry end)
 ];
@@ -195,4 +195,29 @@ pub fn find(name: &str) -> Option<&'static Entry> {
 /// The registered names, for error messages.
 pub fn names() -> Vec<&'static str> {
     PLANNERS.iter().map(|e| e.name).collect()
+}
+
+/// The incremental planners' names, in registry order: the entries whose factory (with
+/// default parameters) is [`Factory::incremental`]. A planner becomes one of them by its
+/// registry entry alone; the replanning experiments (planner-replan) read this list.
+pub fn incremental_names() -> Vec<&'static str> {
+    PLANNERS
+        .iter()
+        .filter(|e| (e.factory)(&toml::Table::new()).is_ok_and(|f| f.is_incremental()))
+        .map(|e| e.name)
+        .collect()
+}
+
+/// A new incremental planner registered as `name`, with the parameters `params` (`None`:
+/// `name` is not a registered incremental planner).
+pub fn build_incremental(
+    name: &str,
+    params: &toml::Table,
+) -> Option<Result<Box<dyn planner_api::IncrementalPlanner>, ParamError>> {
+    let entry = find(name)?;
+    match (entry.factory)(params) {
+        Ok(factory) => factory.build_incremental(),
+        // Bad parameters: an error only for an incremental planner.
+        Err(e) => incremental_names().contains(&entry.name).then_some(Err(e)),
+    }
 }

@@ -27,26 +27,10 @@
 use std::time::Duration;
 
 use planner_api::Budget;
+use planner_replan::args::{loadavg, movingai_map, spread, Args};
 use planner_replan::navigate::{self, NavConfig, NavRun};
 use planner_replan::planners;
 use planner_replan::report::quantile;
-
-fn arg_list(args: &[String], key: &str, default: &str) -> Vec<String> {
-    args.iter()
-        .position(|a| a == key)
-        .and_then(|i| args.get(i + 1))
-        .map_or(default, String::as_str)
-        .split(',')
-        .map(str::to_owned)
-        .collect()
-}
-
-fn loadavg() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .unwrap_or_default()
-        .trim()
-        .to_owned()
-}
 
 /// Replan time alone (the search, without telling the planner the changes).
 fn search_time(run: &NavRun) -> Duration {
@@ -54,28 +38,19 @@ fn search_time(run: &NavRun) -> Duration {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let n_scenarios: usize = arg_list(&args, "--scenarios", "100")[0].parse()?;
-    let maps = arg_list(&args, "--maps", "den520d,random512-10-0");
-    let radii: Vec<u32> = arg_list(&args, "--radius", "1,5")
-        .iter()
-        .map(|r| r.parse())
-        .collect::<Result<_, _>>()?;
-    let names = arg_list(&args, "--planners", "dstar_lite,astar,astar_backward");
-    let repeats: usize = arg_list(&args, "--repeat", "3")[0].parse()?;
-    let repeats = repeats.max(1);
+    let args = Args::from_env();
+    let n_scenarios: usize = args.parsed("--scenarios", "100")?;
+    let maps = args.list("--maps", "den520d,random512-10-0");
+    let radii: Vec<u32> = args.parsed_list("--radius", "1,5")?;
+    let names = args.list("--planners", "dstar_lite,astar,astar_backward");
+    let repeats = args.parsed::<usize>("--repeat", "3")?.max(1);
     for name in &names {
         planners::by_name(name, true)?;
     }
-    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai");
     println!("load average at start: {}", loadavg());
     for map in &maps {
-        let grid = planner_maps::read_map(&root.join(format!("{map}.map")))?.grid;
-        let scenarios = planner_maps::read_scenarios(&root.join(format!("{map}.map.scen")))?;
-        let n = n_scenarios.min(scenarios.len());
-        let picked: Vec<_> = (0..n)
-            .map(|i| &scenarios[i * scenarios.len() / n])
-            .collect();
+        let (grid, scenarios) = movingai_map(map)?;
+        let picked = spread(&scenarios, n_scenarios);
         for &radius in &radii {
             let config = NavConfig {
                 radius,

@@ -10,35 +10,31 @@
 
 use std::path::PathBuf;
 
+use planner_replan::args::Args;
 use planner_replan::experiment::{run, RunOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let value = |key: &str| {
-        args.iter()
-            .position(|a| a == key)
-            .and_then(|i| args.get(i + 1))
-            .cloned()
-    };
-    let Some(config) = args.first().filter(|a| !a.starts_with("--")) else {
+    let first = std::env::args().nth(1);
+    let args = Args::from_env();
+    let Some(config) = first.filter(|a| !a.starts_with("--")) else {
         return Err(
             "usage: experiment <config.toml> [--output DIR] [--timing] [--test] [--threads N]"
                 .into(),
         );
     };
     let config = PathBuf::from(config);
-    let output = match value("--output") {
-        Some(dir) => PathBuf::from(dir),
-        None => PathBuf::from("results").join(
+    let output = match args.value("--output", "") {
+        "" => PathBuf::from("results").join(
             config
                 .file_stem()
                 .map_or_else(|| "replan".into(), |s| s.to_string_lossy().into_owned()),
         ),
+        dir => PathBuf::from(dir),
     };
     let options = RunOptions {
-        test: args.iter().any(|a| a == "--test"),
-        timing: args.iter().any(|a| a == "--timing"),
-        threads: value("--threads").map_or(Ok(0), |t| t.parse())?,
+        test: args.flag("--test"),
+        timing: args.flag("--timing"),
+        threads: args.parsed("--threads", "0")?,
     };
     let done = run(&config, &output, &options)?;
     println!(

@@ -11,23 +11,16 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use planner_maps::gppc::{parse_gppc_patches, parse_gppc_scenario};
+use planner_replan::args::Args;
 use planner_replan::gppc::replay;
 use planner_replan::planners;
 use planner_replan::report::quantile;
 
-fn arg(args: &[String], key: &str, default: &str) -> String {
-    args.iter()
-        .position(|a| a == key)
-        .and_then(|i| args.get(i + 1))
-        .map_or(default, String::as_str)
-        .to_owned()
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let name = arg(&args, "--planner", "dstar_lite");
-    let query_every: usize = arg(&args, "--query-every", "1").parse()?;
-    let carry_every: usize = arg(&args, "--carry-every", "1").parse()?;
+    let args = Args::from_env();
+    let name = args.value("--planner", "dstar_lite").to_owned();
+    let query_every: usize = args.parsed("--query-every", "1")?;
+    let carry_every: usize = args.parsed("--carry-every", "1")?;
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/gppc-dynamic");
     let scen_path = dir.join("switch_sc1_Aurora_TheFrozenSea.scen");
     let scen_name = scen_path.display().to_string();

@@ -21,65 +21,38 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use planner_api::Budget;
+use planner_replan::args::{loadavg, movingai_map, spread, Args};
 use planner_replan::navigate::{self, NavConfig, NavRun};
 use planner_replan::report::{quantile, scatter_svg};
 use planner_replan::{planners, Oracle};
-
-fn arg_list(args: &[String], key: &str, default: &str) -> Vec<String> {
-    args.iter()
-        .position(|a| a == key)
-        .and_then(|i| args.get(i + 1))
-        .map_or(default, String::as_str)
-        .split(',')
-        .map(str::to_owned)
-        .collect()
-}
 
 fn micros(d: Duration) -> u128 {
     d.as_micros()
 }
 
-fn loadavg() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .unwrap_or_default()
-        .trim()
-        .to_owned()
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let n_scenarios: usize = arg_list(&args, "--scenarios", "100")[0].parse()?;
-    let maps = arg_list(&args, "--maps", "den520d,random512-10-0");
-    let radii: Vec<u32> = arg_list(&args, "--radius", "1,5")
-        .iter()
-        .map(|r| r.parse())
-        .collect::<Result<_, _>>()?;
-    let names = arg_list(&args, "--planners", &planners::NAMES.join(","));
-    let out = PathBuf::from(arg_list(&args, "--out", "target/replan/navigate")[0].clone());
+    let args = Args::from_env();
+    let n_scenarios: usize = args.parsed("--scenarios", "100")?;
+    let maps = args.list("--maps", "den520d,random512-10-0");
+    let radii: Vec<u32> = args.parsed_list("--radius", "1,5")?;
+    let names = args.list("--planners", &planners::names().join(","));
+    let out = PathBuf::from(args.value("--out", "target/replan/navigate"));
     for name in &names {
         planners::by_name(name, true)?;
     }
-    for map in &maps {
-        if !map
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
-        {
-            return Err(format!("map name {map:?}: letters, digits, '-', '_' and '.' only").into());
-        }
-    }
+    // Every map is read (and its name checked) before anything is written.
+    let loaded = maps
+        .iter()
+        .map(|map| movingai_map(map))
+        .collect::<Result<Vec<_>, _>>()?;
     std::fs::create_dir_all(&out)?;
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai");
     let mut runs_csv = String::from("map,scenario_line,radius,planner,reached,steps,replans,total_expansions,time_to_first_move_us,planning_time_us,replan_time_us,mismatches\n");
     let mut replans_csv = String::from("map,scenario_line,radius,planner,replan,step,expansions,astar_expansions,update_us,replan_us,counters\n");
     let mut chart = Vec::new();
     let (mut all_replans, mut all_mismatches) = (0u64, 0u64);
     println!("load average at start: {}", loadavg());
-    for map in &maps {
-        let grid = planner_maps::read_map(&root.join(format!("{map}.map")))?.grid;
-        let scenarios = planner_maps::read_scenarios(&root.join(format!("{map}.map.scen")))?;
-        let picked: Vec<_> = (0..n_scenarios.min(scenarios.len()))
-            .map(|i| &scenarios[i * scenarios.len() / n_scenarios.min(scenarios.len())])
-            .collect();
+    for (map, (grid, scenarios)) in maps.iter().zip(&loaded) {
+        let picked = spread(scenarios, n_scenarios);
         for &radius in &radii {
             let config = NavConfig {
                 radius,
@@ -96,7 +69,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     let run = navigate::run(
                         planner.as_mut(),
                         Some(&mut oracle),
-                        &grid,
+                        grid,
                         scenario.start,
                         scenario.goal,
                         &config,

@@ -7,47 +7,29 @@
 //!     [--maps den520d,random512-10-0] [--events 40] [--k 5] [--radius 5] [--drive 2]
 //! ```
 
-use std::path::PathBuf;
-
 use planner_api::{Budget, Problem};
+use planner_replan::args::{movingai_map, spread, Args};
 use planner_replan::report::quantile;
 use planner_replan::toggles::{self, ToggleConfig};
 use planner_replan::{planners, Oracle};
 
-fn arg(args: &[String], key: &str, default: &str) -> String {
-    args.iter()
-        .position(|a| a == key)
-        .and_then(|i| args.get(i + 1))
-        .map_or(default, String::as_str)
-        .to_owned()
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let n: usize = arg(&args, "--scenarios", "50").parse()?;
-    let events: u32 = arg(&args, "--events", "40").parse()?;
-    let k: u32 = arg(&args, "--k", "5").parse()?;
-    let radius: u32 = arg(&args, "--radius", "5").parse()?;
-    let drive: u32 = arg(&args, "--drive", "2").parse()?;
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai");
+    let args = Args::from_env();
+    let n: usize = args.parsed("--scenarios", "50")?;
+    let events: u32 = args.parsed("--events", "40")?;
+    let k: u32 = args.parsed("--k", "5")?;
+    let radius: u32 = args.parsed("--radius", "5")?;
+    let drive: u32 = args.parsed("--drive", "2")?;
     let names = ["dstar_lite", "lpastar", "astar"];
     let mut total_mismatches = 0;
-    for map in arg(&args, "--maps", "den520d,random512-10-0").split(',') {
-        if !map
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
-        {
-            return Err(format!("map name {map:?}: letters, digits, '-', '_' and '.' only").into());
-        }
-        let grid = planner_maps::read_map(&root.join(format!("{map}.map")))?.grid;
-        let scenarios = planner_maps::read_scenarios(&root.join(format!("{map}.map.scen")))?;
-        let count = n.min(scenarios.len());
+    for map in args.list("--maps", "den520d,random512-10-0") {
+        let (grid, scenarios) = movingai_map(&map)?;
+        let picked = spread(&scenarios, n);
         let mut oracle = Oracle::new(true);
         // Per planner: repair expansions (after the first plan) / A*'s from scratch, per run.
         let mut ratios: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
         let (mut replans, mut mismatches) = (0usize, 0usize);
-        for i in 0..count {
-            let s = &scenarios[i * scenarios.len() / count];
+        for (i, s) in picked.iter().enumerate() {
             let problem = Problem::new(&grid, s.start, s.goal)?;
             let config = ToggleConfig {
                 events,
@@ -82,7 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 }
             }
         }
-        println!("{map}: {count} scenarios x {events} events of {k} toggles (radius {radius}, drive {drive}): {replans} replans, {mismatches} mismatches");
+        println!("{map}: {} scenarios x {events} events of {k} toggles (radius {radius}, drive {drive}): {replans} replans, {mismatches} mismatches", picked.len());
         for (j, name) in names.iter().enumerate() {
             let f =
                 |q| quantile(&ratios[j], q).map_or("-".into(), |v| format!("{:.1} %", 100.0 * v));

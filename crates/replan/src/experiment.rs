@@ -179,7 +179,7 @@ fn default_carry() -> usize {
 }
 
 fn default_planners() -> Vec<Spanned<String>> {
-    planners::NAMES
+    planners::names()
         .iter()
         .map(|n| Spanned::new(0..0, n.to_string()))
         .collect()

@@ -18,6 +18,7 @@
 //! - [`experiment`]: the `navigate` and `dynamic` experiment kinds: a TOML config, its
 //!   runs in parallel and a results directory (CSV, JSON Lines, summary, chart).
 //! - [`planners`]: the compared planners by name.
+//! - [`args`]: the command-line options of the examples and the bench.
 //! - [`report`]: medians, percentiles and the SVG chart of expansions per replan against
 //!   A* from scratch.
 //!
@@ -26,6 +27,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+pub mod args;
 pub mod experiment;
 pub mod gppc;
 pub mod navigate;

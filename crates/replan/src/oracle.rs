@@ -78,6 +78,30 @@ impl fmt::Display for Mismatch {
     }
 }
 
+/// planner-astar with 8 moves without corner cutting (`eight`) or 4, the consistent
+/// heuristic of the moves (octile or Manhattan), exact costs and the default ties: the
+/// oracle's search and the baseline's ([`crate::restart`]).
+pub(crate) fn exact_astar(eight: bool) -> AStar {
+    let config = Config {
+        moves: if eight {
+            Connectivity::Eight
+        } else {
+            Connectivity::Four
+        },
+        heuristic: if eight {
+            Heuristic::Octile
+        } else {
+            Heuristic::Manhattan
+        },
+        ..Config::default()
+    };
+    // The configuration is valid by construction (4 or 8 moves, weight 1).
+    match AStar::new(config) {
+        Ok(astar) => astar,
+        Err(e) => unreachable!("the exact A* configuration is valid: {e}"),
+    }
+}
+
 /// The oracle for one move set.
 #[derive(Debug, Clone)]
 pub struct Oracle {
@@ -89,24 +113,7 @@ pub struct Oracle {
 impl Oracle {
     /// An oracle for 8 moves without corner cutting (`eight`) or 4 moves.
     pub fn new(eight: bool) -> Oracle {
-        let config = Config {
-            moves: if eight {
-                Connectivity::Eight
-            } else {
-                Connectivity::Four
-            },
-            heuristic: if eight {
-                Heuristic::Octile
-            } else {
-                Heuristic::Manhattan
-            },
-            ..Config::default()
-        };
-        // The configuration is valid by construction (4 or 8 moves, weight 1).
-        let astar = match AStar::new(config) {
-            Ok(astar) => astar,
-            Err(e) => unreachable!("the oracle's A* configuration is valid: {e}"),
-        };
+        let astar = exact_astar(eight);
         let moves = astar.move_set().clone();
         Oracle {
             astar,

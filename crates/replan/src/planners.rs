@@ -1,39 +1,72 @@
-//! The compared planners by name: `dstar_lite`, `lpastar` (restarted at the agent when it
-//! moves), `astar` and `astar_backward` (from scratch at every replan).
+//! The compared planners by name: the registry's incremental planners (planner-registry's
+//! entries built with `Factory::incremental`: `lpastar`, restarted at the agent when it
+//! moves, and `dstar_lite`), and this crate's baselines `astar` and `astar_backward` (A*
+//! from scratch at every replan, [`Restart`]).
+//!
+//! The registry is the one list of planners: a new incremental planner joins the
+//! experiments by its registry entry alone.
+//!
+//! ```
+//! use planner_replan::planners;
+//! let names = planners::names();
+//! assert!(names.contains(&"dstar_lite") && names.contains(&"lpastar"));
+//! assert_eq!(&names[names.len() - 2..], ["astar", "astar_backward"]);
+//! assert!(planners::by_name("bfs", true).is_err()); // registered, but not incremental
+//! ```
+
+use std::sync::OnceLock;
 
 use planner_api::IncrementalPlanner;
-use planner_dstar_lite::DStarLite;
-use planner_lpastar::{Config, LpaStar};
 use thiserror::Error;
 
 use crate::restart::Restart;
 
-/// The names [`by_name`] knows, in the order reports list them.
-pub const NAMES: [&str; 4] = ["dstar_lite", "lpastar", "astar", "astar_backward"];
+/// The baselines this crate adds to the registry's incremental planners.
+const BASELINES: [&str; 2] = ["astar", "astar_backward"];
+
+/// The names [`by_name`] knows, in the order reports list them: the registry's
+/// incremental planners in registry order, then the baselines.
+pub fn names() -> Vec<&'static str> {
+    static NAMES: OnceLock<Vec<&'static str>> = OnceLock::new();
+    NAMES
+        .get_or_init(|| {
+            let mut names = planner_registry::incremental_names();
+            names.extend(BASELINES);
+            names
+        })
+        .clone()
+}
 
 /// A planner name [`by_name`] does not know.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
-#[error("unknown replanning planner `{0}` (known: dstar_lite, lpastar, astar, astar_backward)")]
-pub struct UnknownPlanner(pub String);
+#[error("unknown replanning planner `{name}` (known: {known})")]
+pub struct UnknownPlanner {
+    /// The name asked for.
+    pub name: String,
+    /// The known names, comma-separated.
+    pub known: String,
+}
 
 /// The planner called `name`, with 8 moves without corner cutting (`eight`) or 4.
 pub fn by_name(name: &str, eight: bool) -> Result<Box<dyn IncrementalPlanner>, UnknownPlanner> {
-    let config = Config {
-        moves: if eight { 8 } else { 4 },
+    let unknown = || UnknownPlanner {
+        name: name.to_string(),
+        known: names().join(", "),
     };
     match name {
-        "dstar_lite" => Ok(Box::new(valid(DStarLite::new(config)))),
-        "lpastar" => Ok(Box::new(valid(LpaStar::new(config)))),
-        "astar" => Ok(Box::new(Restart::new(eight, false))),
-        "astar_backward" => Ok(Box::new(Restart::new(eight, true))),
-        other => Err(UnknownPlanner(other.to_string())),
+        "astar" => return Ok(Box::new(Restart::new(eight, false))),
+        "astar_backward" => return Ok(Box::new(Restart::new(eight, true))),
+        _ => {}
     }
-}
-
-/// A planner built from a configuration valid by construction (4 or 8 moves).
-fn valid<T>(built: Result<T, planner_lpastar::ConfigError>) -> T {
-    match built {
-        Ok(planner) => planner,
-        Err(e) => unreachable!("4 and 8 moves are valid: {e}"),
+    let mut params = toml::Table::new();
+    params.insert(
+        "moves".into(),
+        toml::Value::Integer(if eight { 8 } else { 4 }),
+    );
+    match planner_registry::build_incremental(name, &params) {
+        Some(Ok(planner)) => Ok(planner),
+        // Every incremental planner takes `moves = 4 or 8`: an error here is a planner
+        // that does not, which the experiments cannot compare.
+        Some(Err(_)) | None => Err(unknown()),
     }
 }

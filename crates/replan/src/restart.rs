@@ -10,10 +10,10 @@
 //! as update time, apart from the replan (see [`crate::ReplanRecord`]).
 
 use planner_api::{
-    Budget, Cell, CellChange, ChangeError, Connectivity, Grid, IncrementalPlanner, Outcome, Path,
-    PathSpec, Planner, PlannerSpecs, Problem,
+    Budget, Cell, CellChange, ChangeError, Grid, IncrementalPlanner, Outcome, Path, PathSpec,
+    Planner, PlannerSpecs, Problem,
 };
-use planner_astar::{AStar, Config, Heuristic};
+use planner_astar::AStar;
 
 /// A* from scratch at every replan (see the [module docs](self)).
 #[derive(Debug, Clone)]
@@ -29,23 +29,7 @@ impl Restart {
     /// Forward (`backward = false`) or backward A* with 8 moves without corner cutting
     /// (`eight`) or 4 moves.
     pub fn new(eight: bool, backward: bool) -> Restart {
-        let config = Config {
-            moves: if eight {
-                Connectivity::Eight
-            } else {
-                Connectivity::Four
-            },
-            heuristic: if eight {
-                Heuristic::Octile
-            } else {
-                Heuristic::Manhattan
-            },
-            ..Config::default()
-        };
-        let astar = match AStar::new(config) {
-            Ok(astar) => astar,
-            Err(e) => unreachable!("the restart A* configuration is valid: {e}"),
-        };
+        let astar = crate::oracle::exact_astar(eight);
         Restart {
             astar,
             backward,

@@ -116,7 +116,7 @@ fn navigation_on_small_grids_is_exact_at_every_change() {
             continue;
         };
         let radius = rng.gen_range(1..=3);
-        for name in planners::NAMES {
+        for name in planners::names() {
             for (eight, oracle) in [false, true].into_iter().zip(oracles.iter_mut()) {
                 let mut planner = planners::by_name(name, eight).unwrap();
                 let config = navigate::NavConfig {
@@ -278,7 +278,7 @@ fn a_budget_stops_and_the_next_replan_continues() {
 fn bad_changes_are_errors() {
     let grid = Grid::from_ascii("...\n.#.\n...").unwrap();
     let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(2, 2)).unwrap();
-    for name in planners::NAMES {
+    for name in planners::names() {
         let mut planner = planners::by_name(name, true).unwrap();
         assert_eq!(
             planner
@@ -301,4 +301,61 @@ fn bad_changes_are_errors() {
         );
     }
     assert!(planners::by_name("dstar", true).is_err());
+}
+
+/// One planner kept across many runs (as the bench and a robot keep it): grids of the
+/// same size (the map brought up to date in place by the reset) and of other shapes with
+/// the same number of padded cells (3 x 5 and 5 x 3: the padded map's border must be
+/// blocked again), every first plan and every replan exact.
+#[test]
+fn a_kept_planner_stays_exact_across_runs_and_shapes() {
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    for name in ["lpastar", "dstar_lite"] {
+        for eight in [false, true] {
+            let mut planner = planners::by_name(name, eight).unwrap();
+            let mut oracle = Oracle::new(eight);
+            let mut checked = 0;
+            for round in 0..400u64 {
+                let (w, h) = match round % 4 {
+                    0 => (3, 5),
+                    1 => (5, 3),
+                    _ => (7, 6),
+                };
+                let density = rng.gen_range(0.0..0.4);
+                let free: Vec<bool> = (0..w * h).map(|_| !rng.gen_bool(density)).collect();
+                let grid = Grid::from_free_cells(w, h, free).unwrap();
+                let cells: Vec<Cell> = grid.cells().filter(|&c| grid.is_free(c)).collect();
+                if cells.is_empty() {
+                    continue;
+                }
+                let start = cells[rng.gen_range(0..cells.len())];
+                let goal = cells[rng.gen_range(0..cells.len())];
+                let problem = Problem::new(&grid, start, goal).unwrap();
+                let config = toggles::ToggleConfig {
+                    events: 4,
+                    k: 2,
+                    radius: 2,
+                    drive: 1,
+                    seed: round,
+                };
+                let run = toggles::run(
+                    planner.as_mut(),
+                    &mut oracle,
+                    &problem,
+                    &config,
+                    &Budget::unlimited(),
+                );
+                assert!(
+                    run.mismatches.is_empty(),
+                    "{name} eight={eight} round {round}: {}",
+                    run.mismatches[0]
+                );
+                checked += run.replans.len();
+                // The run changed the planner's map; a reset brings back exactly `grid`.
+                planner.reset(&problem);
+                assert_eq!(planner.grid(), Some(&grid));
+            }
+            assert!(checked > 1_000, "{checked}");
+        }
+    }
 }
