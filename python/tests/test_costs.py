@@ -67,7 +67,7 @@ def test_weighted_plans_match_the_oracle(rule):
         assert (grid.weights == weights).all()
         goal = (15, 15)
         best = oracle(free, weights, (0, 0), goal, rule)
-        for planner, params in [("astar", {"moves": 8}), ("bidirectional_astar", {"moves": 8})]:
+        for planner, params in [("astar", {"moves": 8, "heuristic": "octile"}), ("bidirectional_astar", {"moves": 8})]:
             out = gridplan.plan(grid, (0, 0), goal, planner=planner, **params)
             if best is None:
                 assert out.status == "no_path"
@@ -89,11 +89,11 @@ def test_unweighted_results_have_no_cost_and_weights_of_one_cost_the_length():
     free, _ = random_weighted(3)
     grid = gridplan.Grid.from_numpy(free, free=True)
     assert grid.weights is None and grid.cost_rule is None
-    plain = gridplan.plan(grid, (0, 0), (15, 15), planner="astar", moves=8)
+    plain = gridplan.plan(grid, (0, 0), (15, 15), planner="astar", moves=8, heuristic="octile")
     assert plain.cost is None
     ones = grid.with_weights(np.ones(free.shape, dtype=np.uint8))
     assert ones != grid
-    out = gridplan.plan(ones, (0, 0), (15, 15), planner="astar", moves=8)
+    out = gridplan.plan(ones, (0, 0), (15, 15), planner="astar", moves=8, heuristic="octile")
     assert out.cost == pytest.approx(plain.metrics["length"], abs=1e-6)
 
 
@@ -110,9 +110,9 @@ def test_planners_that_cannot_honour_costs_are_refused():
     with pytest.raises(gridplan.ParameterError, match="costs"):
         gridplan.plan(grid, (0, 0), (15, 15), planner="bfs", costs="yes")
     # A prepared planner honours the weights too.
-    prepared = gridplan.Planner(grid, "astar", moves=8)
+    prepared = gridplan.Planner(grid, "astar", moves=8, heuristic="octile")
     assert prepared.plan((0, 0), (15, 15)).cost == gridplan.plan(
-        grid, (0, 0), (15, 15), planner="astar", moves=8
+        grid, (0, 0), (15, 15), planner="astar", moves=8, heuristic="octile"
     ).cost
 
 
@@ -140,7 +140,7 @@ def test_read_map_with_a_weight_file_and_a_graded_ros_map(tmp_path):
     assert grid.cost_rule == "mean"
     free = grid.to_numpy()
     best = oracle(free, grid.weights, (3, 1), (46, 47))
-    out = gridplan.plan(grid, (3, 1), (46, 47), planner="astar", moves=8)
+    out = gridplan.plan(grid, (3, 1), (46, 47), planner="astar", moves=8, heuristic="octile")
     assert out.cost == pytest.approx(best / ONE, abs=1e-6)
     graded, _ = gridplan.read_map(ROOT / "maps/ros-graded/TenByTen-scale.yaml", graded=True)
     assert graded.weights is not None and 56 in graded.weights

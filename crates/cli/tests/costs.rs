@@ -51,10 +51,11 @@ fn plan_with_a_weight_file_prints_the_oracle_cost() {
         let oracle = weighted_dijkstra(&grid, &eight, Cell::new(3, 1), Cell::new(46, 47))
             .unwrap()
             .to_f64();
-        for planner in ["astar", "bidirectional_astar"] {
+        for (planner, heuristic) in [("astar", "heuristic=octile"), ("bidirectional_astar", "moves=8")] {
             let (code, out, err) = gridplan(&[
-                "plan", ARENA, "--planner", planner, "--set", "moves=8", "--start", "3,1",
-                "--goal", "46,47", "--weights", WEIGHTS, "--cost-rule", flag, "--json",
+                "plan", ARENA, "--planner", planner, "--set", "moves=8", "--set", heuristic,
+                "--start", "3,1", "--goal", "46,47", "--weights", WEIGHTS, "--cost-rule", flag,
+                "--json",
             ]);
             assert_eq!(code, 0, "{err}");
             let v = json(&out);
@@ -114,7 +115,7 @@ fn plan_with_graded_ros_maps_and_terrain_weights() {
         .unwrap()
         .to_f64();
     let (code, out, err) = gridplan(&[
-        "plan", yaml, "--planner", "astar", "--set", "moves=8", "--start", "0,0", "--goal",
+        "plan", yaml, "--planner", "astar", "--set", "moves=8", "--set", "heuristic=octile", "--start", "0,0", "--goal",
         "9,9", "--unknown", "250", "--json",
     ]);
     assert_eq!(code, 0, "{err}");
@@ -122,7 +123,7 @@ fn plan_with_graded_ros_maps_and_terrain_weights() {
     // Moving AI terrain on a map with swamp: arena has none, so weight 1 everywhere and
     // the cost is the octile length.
     let (code, out, err) = gridplan(&[
-        "plan", ARENA, "--planner", "astar", "--set", "moves=8", "--swamp", "5", "--json",
+        "plan", ARENA, "--planner", "astar", "--set", "moves=8", "--set", "heuristic=octile", "--swamp", "5", "--json",
     ]);
     assert_eq!(code, 0, "{err}");
     let v = json(&out);
@@ -173,5 +174,5 @@ fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
         bad.to_str().unwrap(),
     ]);
     assert_eq!(code, 4, "{err}");
-    assert!(err.contains("bad.csv:2:9: expected a weight (an integer from 1 to 65535), found '-2', a negative number"), "{err}");
+    assert!(err.contains("bad.csv:2:7: expected a weight (an integer from 1 to 65535), found '-2', a negative number"), "{err}");
 }

@@ -1,4 +1,4 @@
-//! Coverage on weighted grids (crate docs, "Weighted grids"): on 1,500 seeded random
+//! Coverage on weighted grids (crate docs, "Weighted grids"): on 500 seeded random
 //! weighted grids (weights 1-255, densities 0-0.4, both cost rules), both patterns, every
 //! return leg costs what the test kit's oracle (a plain Dijkstra over the weighted graph,
 //! 8-connected without corner cutting) says is least between its ends, and goes to a
@@ -46,7 +46,7 @@ fn return_legs_are_least_cost_to_the_cheapest_point_left() {
     ];
     assert!(planners.iter().all(|p| p.specs().cell_costs));
     let (mut legs, mut weighted_choice) = (0u64, 0u64);
-    for (k, p) in random_weighted_problems(0xc0_0032, 1_500).iter().enumerate() {
+    for (k, p) in random_weighted_problems(0xc0_0032, 500).iter().enumerate() {
         let planner = &mut planners[k % 2];
         let problem = CoverageProblem::new(&p.grid, p.start).unwrap();
         let outcome = planner.cover(&problem, &Budget::unlimited());
@@ -88,8 +88,9 @@ fn return_legs_are_least_cost_to_the_cheapest_point_left() {
     }
     // The test means something: many legs, and weights often chose another point than
     // the unweighted rule would.
-    assert!(legs >= 3_000, "{legs} legs");
-    assert!(weighted_choice >= 100, "{weighted_choice} of {legs} legs");
+    eprintln!("{legs} legs, {weighted_choice} to a point the unweighted rule would not choose");
+    assert!(legs >= 5_000, "{legs} legs");
+    assert!(weighted_choice >= 400, "{weighted_choice} of {legs} legs");
 }
 
 #[test]

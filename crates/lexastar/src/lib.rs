@@ -625,6 +625,7 @@ impl LexAStar {
                     status: Status::BudgetExhausted,
                     path: None,
                     cost: None,
+                    weighted_cost: None,
                     stats,
                     n_cells_expanded,
                     n_dominated,

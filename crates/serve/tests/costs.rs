@@ -98,7 +98,7 @@ fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
         planner_testkit::weighted_dijkstra(&grid, &eight, Cell::new(3, 1), Cell::new(46, 47))
             .unwrap()
             .to_f64();
-    let request = r#"{"map":"movingai/arena.map","start":[3,1],"goal":[46,47],"planner":"astar","set":["moves=8"],"costs":{"weights":"weighted/arena-weights.csv"}}"#;
+    let request = r#"{"map":"movingai/arena.map","start":[3,1],"goal":[46,47],"planner":"astar","set":["moves=8","heuristic=octile"],"costs":{"weights":"weighted/arena-weights.csv"}}"#;
     let (status, body) = send(addr, "POST /api/plan HTTP/1.1", request.as_bytes());
     assert_eq!(status, 200, "{body}");
     let cost = json(&body)["plan"]["cost"].as_f64().unwrap();
