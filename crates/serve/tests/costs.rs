@@ -105,7 +105,7 @@ fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
     assert!((cost - oracle).abs() < 1e-6, "{cost} vs {oracle}");
 
     // BFS cannot honour costs: refused, unless told to ignore them.
-    let bfs = request.replace("astar", "bfs");
+    let bfs = request.replace("astar", "bfs").replace(r#","heuristic=octile""#, "");
     let (status, body) = send(addr, "POST /api/plan HTTP/1.1", bfs.as_bytes());
     assert_eq!(status, 400, "{body}");
     assert!(body.contains("does not honour cell costs"), "{body}");
