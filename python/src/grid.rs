@@ -248,7 +248,12 @@ impl Grid {
 
     fn __repr__(&self) -> String {
         let weighted = match self.inner.weights() {
-            Some(w) => format!(", weights {}-{} ({} rule)", w.min(), w.max(), w.rule().name()),
+            Some(w) => format!(
+                ", weights {}-{} ({} rule)",
+                w.min(),
+                w.max(),
+                w.rule().name()
+            ),
             None => String::new(),
         };
         format!(

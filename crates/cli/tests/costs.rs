@@ -51,17 +51,37 @@ fn plan_with_a_weight_file_prints_the_oracle_cost() {
         let oracle = weighted_dijkstra(&grid, &eight, Cell::new(3, 1), Cell::new(46, 47))
             .unwrap()
             .to_f64();
-        for (planner, heuristic) in [("astar", "heuristic=octile"), ("bidirectional_astar", "moves=8")] {
+        for (planner, heuristic) in [
+            ("astar", "heuristic=octile"),
+            ("bidirectional_astar", "moves=8"),
+        ] {
             let (code, out, err) = gridplan(&[
-                "plan", ARENA, "--planner", planner, "--set", "moves=8", "--set", heuristic,
-                "--start", "3,1", "--goal", "46,47", "--weights", WEIGHTS, "--cost-rule", flag,
+                "plan",
+                ARENA,
+                "--planner",
+                planner,
+                "--set",
+                "moves=8",
+                "--set",
+                heuristic,
+                "--start",
+                "3,1",
+                "--goal",
+                "46,47",
+                "--weights",
+                WEIGHTS,
+                "--cost-rule",
+                flag,
                 "--json",
             ]);
             assert_eq!(code, 0, "{err}");
             let v = json(&out);
             assert_eq!(v["status"], "found");
             let cost = v["cost"].as_f64().unwrap();
-            assert!((cost - oracle).abs() < 1e-6, "{planner} {flag}: {cost} vs {oracle}");
+            assert!(
+                (cost - oracle).abs() < 1e-6,
+                "{planner} {flag}: {cost} vs {oracle}"
+            );
             // The cost is that of the path printed.
             let cells: Vec<Cell> = v["path"]
                 .as_array()
@@ -77,14 +97,31 @@ fn plan_with_a_weight_file_prints_the_oracle_cost() {
     let four = MoveSet::standard(Connectivity::Four);
     let oracle = weighted_dijkstra(&grid, &four, Cell::new(3, 1), Cell::new(46, 47)).unwrap();
     let (code, out, err) = gridplan(&[
-        "plan", ARENA, "--planner", "lexastar", "--start", "3,1", "--goal", "46,47",
-        "--weights", WEIGHTS, "--json",
+        "plan",
+        ARENA,
+        "--planner",
+        "lexastar",
+        "--start",
+        "3,1",
+        "--goal",
+        "46,47",
+        "--weights",
+        WEIGHTS,
+        "--json",
     ]);
     assert_eq!(code, 0, "{err}");
     assert!((json(&out)["cost"].as_f64().unwrap() - oracle.to_f64()).abs() < 1e-6);
     // The text output names the cost too.
     let (code, out, err) = gridplan(&[
-        "plan", ARENA, "--planner", "astar", "--start", "3,1", "--goal", "46,47", "--weights",
+        "plan",
+        ARENA,
+        "--planner",
+        "astar",
+        "--start",
+        "3,1",
+        "--goal",
+        "46,47",
+        "--weights",
         WEIGHTS,
     ]);
     assert_eq!(code, 0, "{err}");
@@ -108,22 +145,51 @@ fn plan_with_graded_ros_maps_and_terrain_weights() {
         },
         ..ReadOptions::default()
     };
-    let grid = read_map_with(&root().join(yaml), &options).unwrap().file.grid;
+    let grid = read_map_with(&root().join(yaml), &options)
+        .unwrap()
+        .file
+        .grid;
     assert!(grid.is_weighted());
     let eight = MoveSet::standard(Connectivity::Eight);
     let oracle = weighted_dijkstra(&grid, &eight, Cell::new(0, 0), Cell::new(9, 9))
         .unwrap()
         .to_f64();
     let (code, out, err) = gridplan(&[
-        "plan", yaml, "--planner", "astar", "--set", "moves=8", "--set", "heuristic=octile", "--start", "0,0", "--goal",
-        "9,9", "--unknown", "250", "--json",
+        "plan",
+        yaml,
+        "--planner",
+        "astar",
+        "--set",
+        "moves=8",
+        "--set",
+        "heuristic=octile",
+        "--start",
+        "0,0",
+        "--goal",
+        "9,9",
+        "--unknown",
+        "250",
+        "--json",
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!((json(&out)["cost"].as_f64().unwrap() - oracle).abs() < 1e-6, "{out}");
+    assert!(
+        (json(&out)["cost"].as_f64().unwrap() - oracle).abs() < 1e-6,
+        "{out}"
+    );
     // Moving AI terrain on a map with swamp: arena has none, so weight 1 everywhere and
     // the cost is the octile length.
     let (code, out, err) = gridplan(&[
-        "plan", ARENA, "--planner", "astar", "--set", "moves=8", "--set", "heuristic=octile", "--swamp", "5", "--json",
+        "plan",
+        ARENA,
+        "--planner",
+        "astar",
+        "--set",
+        "moves=8",
+        "--set",
+        "heuristic=octile",
+        "--swamp",
+        "5",
+        "--json",
     ]);
     assert_eq!(code, 0, "{err}");
     let v = json(&out);
@@ -136,24 +202,44 @@ fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
     let (code, _, err) = gridplan(&["plan", ARENA, "--planner", "bfs", "--weights", WEIGHTS]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("planner `bfs` (bfs) does not honour cell costs, and map `arena.map` has them"),
+        err.contains(
+            "planner `bfs` (bfs) does not honour cell costs, and map `arena.map` has them"
+        ),
         "{err}"
     );
     let (code, out, err) = gridplan(&[
-        "plan", ARENA, "--planner", "bfs", "--weights", WEIGHTS, "--ignore-costs", "--json",
+        "plan",
+        ARENA,
+        "--planner",
+        "bfs",
+        "--weights",
+        WEIGHTS,
+        "--ignore-costs",
+        "--json",
     ]);
     assert_eq!(code, 0, "{err}");
     // BFS ran without the weights; the cost printed is still the map's.
     assert!(json(&out)["cost"].as_f64().is_some(), "{out}");
-    let (code, _, err) =
-        gridplan(&["plan", ARENA, "--planner", "lexastar", "--set", "moves=8", "--weights", WEIGHTS]);
+    let (code, _, err) = gridplan(&[
+        "plan",
+        ARENA,
+        "--planner",
+        "lexastar",
+        "--set",
+        "moves=8",
+        "--weights",
+        WEIGHTS,
+    ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("does not honour cell costs"), "{err}");
     for (args, message) in [
         (vec!["--graded"], "apply to ROS maps"),
         (vec!["--water", "3"], "--water needs --swamp"),
         (vec!["--cost-rule", "entered"], "--cost-rule needs costs"),
-        (vec!["--weights", WEIGHTS, "--swamp", "2"], "does not go with"),
+        (
+            vec!["--weights", WEIGHTS, "--swamp", "2"],
+            "does not go with",
+        ),
     ] {
         let mut all = vec!["plan", ARENA, "--planner", "astar"];
         all.extend(args);
@@ -170,7 +256,11 @@ fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
     let bad = dir.join("bad.csv");
     std::fs::write(&bad, "1 1 1 1 1 1\n1 1 1 -2 1 1\n").unwrap();
     let (code, _, err) = gridplan(&[
-        "plan", "maps/paper/map01.map", "--planner", "astar", "--weights",
+        "plan",
+        "maps/paper/map01.map",
+        "--planner",
+        "astar",
+        "--weights",
         bad.to_str().unwrap(),
     ]);
     assert_eq!(code, 4, "{err}");

@@ -9,8 +9,7 @@
 use std::collections::HashSet;
 
 use planner_api::{
-    Budget, Cell, Connectivity, CoveragePlanner, CoverageProblem, Grid, MoveSet, PathRule,
-    Status,
+    Budget, Cell, Connectivity, CoveragePlanner, CoverageProblem, Grid, MoveSet, PathRule, Status,
 };
 use planner_coverage::{Config, Coverage, Pattern};
 use planner_testkit::{random_weighted_problems, weighted_dijkstra};
@@ -27,7 +26,11 @@ fn points_left(grid: &Grid, covered: &HashSet<Cell>) -> Vec<Cell> {
     let mut out: Vec<Cell> = covered
         .iter()
         .copied()
-        .filter(|&c| [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().any(|&(dx, dy)| open(c, dx, dy)))
+        .filter(|&c| {
+            [(1, 0), (-1, 0), (0, 1), (0, -1)]
+                .iter()
+                .any(|&(dx, dy)| open(c, dx, dy))
+        })
         .collect();
     out.sort_by_key(|c| (c.y, c.x));
     out
@@ -74,7 +77,10 @@ fn return_legs_are_least_cost_to_the_cheapest_point_left() {
                 .map(|&c| weighted_dijkstra(&p.grid, &eight, from, c).unwrap())
                 .collect();
             let least = costs.iter().copied().min().unwrap();
-            assert_eq!(cost, least, "problem {k}: leg {leg:?} is not to the cheapest point");
+            assert_eq!(
+                cost, least,
+                "problem {k}: leg {leg:?} is not to the cheapest point"
+            );
             // How often weights changed the choice: the octile-nearest point differs.
             let plain = p.grid.without_weights();
             let octile: Vec<_> = left
@@ -103,8 +109,14 @@ fn unweighted_runs_are_unchanged_by_weights_of_one() {
             .unwrap();
         let mut a = Coverage::new(Config::default()).unwrap();
         let mut b = Coverage::new(Config::default()).unwrap();
-        let x = a.cover(&CoverageProblem::new(&plain, p.start).unwrap(), &Budget::unlimited());
-        let y = b.cover(&CoverageProblem::new(&ones, p.start).unwrap(), &Budget::unlimited());
+        let x = a.cover(
+            &CoverageProblem::new(&plain, p.start).unwrap(),
+            &Budget::unlimited(),
+        );
+        let y = b.cover(
+            &CoverageProblem::new(&ones, p.start).unwrap(),
+            &Budget::unlimited(),
+        );
         assert_eq!(x.path, y.path, "problem {k}");
         assert_eq!(x.returns, y.returns, "problem {k}");
     }

@@ -542,7 +542,11 @@ impl LexAStar {
 
     /// The search; with `WEIGHTED` (a weighted grid, 4-connected moves) D is the doubled
     /// weighted cost (crate docs).
-    fn run<K: Key, const WEIGHTED: bool>(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+    fn run<K: Key, const WEIGHTED: bool>(
+        &mut self,
+        problem: &Problem<'_>,
+        budget: &Budget,
+    ) -> Search {
         let grid = problem.grid();
         self.prepare(grid);
         // Doubled D doubles lambda, so `D + lambda T` keeps its order.
@@ -551,11 +555,10 @@ impl LexAStar {
         } else {
             self.config.lambda
         };
-        let (weights, (k_from, k_to), h_scale): (&[u16], (u64, u64), u64) =
-            match grid.weights() {
-                Some(w) if WEIGHTED => (w.cells(), w.rule().factors(), 2 * u64::from(w.min())),
-                _ => (&[], (0, 0), 1),
-            };
+        let (weights, (k_from, k_to), h_scale): (&[u16], (u64, u64), u64) = match grid.weights() {
+            Some(w) if WEIGHTED => (w.cells(), w.rule().factors(), 2 * u64::from(w.min())),
+            _ => (&[], (0, 0), 1),
+        };
         let dominance = self.config.dominance;
         let four = self.config.moves == Connectivity::Four;
         let generation = self.generation;

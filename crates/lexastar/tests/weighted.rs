@@ -104,7 +104,10 @@ fn four_connected_weighted_runs_match_the_oracle_and_the_state_dijkstra() {
                     assert_eq!(p.grid.path_cost(path.cells()), cost, "problem {k}");
                     let m = path.metrics();
                     let (steps, turns) = (m.steps, m.turns);
-                    assert_eq!(search.cost.map(|c| (c.steps, c.turns)), Some((steps, turns)));
+                    assert_eq!(
+                        search.cost.map(|c| (c.steps, c.turns)),
+                        Some((steps, turns))
+                    );
                     // Least cost first (doubled: cost in half units), then fewest turns.
                     let half = planner_api::Cost::ONE.units() / 2;
                     assert_eq!(best, Some((cost.units() / half, turns)), "problem {k}");
@@ -118,14 +121,18 @@ fn four_connected_weighted_runs_match_the_oracle_and_the_state_dijkstra() {
                 let search = planner.search(&problem, &Budget::unlimited());
                 let want = state_dijkstra(&p.grid, p.start, p.goal, |d, t| (q * d + 2 * p_ * t, 0));
                 let got = search.path.as_ref().map(|path| {
-                    let d2 = p.grid.path_cost(path.cells()).units() / (planner_api::Cost::ONE.units() / 2);
+                    let d2 = p.grid.path_cost(path.cells()).units()
+                        / (planner_api::Cost::ONE.units() / 2);
                     (q * d2 + 2 * p_ * path.metrics().turns, 0)
                 });
                 assert_eq!(got, want, "problem {k}, lambda {p_}/{q}");
             }
         }
     }
-    assert!(compared >= 8_000 && found >= 5_000, "{compared} runs, {found} found");
+    assert!(
+        compared >= 8_000 && found >= 5_000,
+        "{compared} runs, {found} found"
+    );
 }
 
 #[test]
@@ -138,8 +145,14 @@ fn weight_one_everywhere_is_the_unweighted_search() {
             .unwrap();
         let mut a = planner(Objective::Lexicographic, 1.0, true);
         let mut b = planner(Objective::Lexicographic, 1.0, true);
-        let x = a.search(&Problem::new(&plain, p.start, p.goal).unwrap(), &Budget::unlimited());
-        let y = b.search(&Problem::new(&ones, p.start, p.goal).unwrap(), &Budget::unlimited());
+        let x = a.search(
+            &Problem::new(&plain, p.start, p.goal).unwrap(),
+            &Budget::unlimited(),
+        );
+        let y = b.search(
+            &Problem::new(&ones, p.start, p.goal).unwrap(),
+            &Budget::unlimited(),
+        );
         assert_eq!((x.path, x.cost), (y.path, y.cost));
         assert_eq!(x.stats, y.stats);
     }
@@ -158,8 +171,14 @@ fn eight_connected_declares_no_cell_costs_and_ignores_weights() {
     let mut plain = LexAStar::new(config).unwrap();
     for p in random_weighted_problems(11, 200) {
         let unweighted = p.grid.without_weights();
-        let x = eight.search(&Problem::new(&p.grid, p.start, p.goal).unwrap(), &Budget::unlimited());
-        let y = plain.search(&Problem::new(&unweighted, p.start, p.goal).unwrap(), &Budget::unlimited());
+        let x = eight.search(
+            &Problem::new(&p.grid, p.start, p.goal).unwrap(),
+            &Budget::unlimited(),
+        );
+        let y = plain.search(
+            &Problem::new(&unweighted, p.start, p.goal).unwrap(),
+            &Budget::unlimited(),
+        );
         assert_eq!((x.path, x.cost, x.weighted_cost), (y.path, y.cost, None));
     }
 }
@@ -173,9 +192,19 @@ fn a_heavy_cell_is_avoided_at_the_price_of_turns() {
         .with_weights(vec![1, 9, 1, 1, 1, 1], planner_api::CostRule::Mean)
         .unwrap();
     let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(2, 0)).unwrap();
-    let search = planner(Objective::Lexicographic, 1.0, true).search(&problem, &Budget::unlimited());
+    let search =
+        planner(Objective::Lexicographic, 1.0, true).search(&problem, &Budget::unlimited());
     let path = search.path.unwrap();
-    assert_eq!(path.cells(), [Cell::new(0, 0), Cell::new(0, 1), Cell::new(1, 1), Cell::new(2, 1), Cell::new(2, 0)]);
+    assert_eq!(
+        path.cells(),
+        [
+            Cell::new(0, 0),
+            Cell::new(0, 1),
+            Cell::new(1, 1),
+            Cell::new(2, 1),
+            Cell::new(2, 0)
+        ]
+    );
     assert_eq!(search.weighted_cost, Some(planner_api::Cost::steps(4)));
     assert_eq!(search.cost.map(|c| (c.steps, c.turns)), Some((4, 2)));
 }

@@ -152,10 +152,14 @@ impl PlanCosts {
                 )));
             }
             let Some(swamp) = self.swamp else {
-                return Err(usage("--water needs --swamp (the weight of swamp `S`)".into()));
+                return Err(usage(
+                    "--water needs --swamp (the weight of swamp `S`)".into(),
+                ));
             };
             if swamp == 0 || self.water == Some(0) {
-                return Err(usage("--swamp and --water are weights, from 1 to 65535".into()));
+                return Err(usage(
+                    "--swamp and --water are weights, from 1 to 65535".into(),
+                ));
             }
             options.terrain = Some(planner_maps::TerrainWeights {
                 swamp,
@@ -255,7 +259,8 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
     };
     let mut spec = resolve_spec(args, options, experiment.as_ref())?;
     let coverage = spec.is_coverage();
-    let (map, problems, convention) = resolve_map(args, &spec, &options.costs, experiment.as_ref())?;
+    let (map, problems, convention) =
+        resolve_map(args, &spec, &options.costs, experiment.as_ref())?;
     // As a config's check: a planner that cannot honour cell costs is refused a weighted
     // map, unless told to ignore them.
     spec.ignore_costs |= options.costs.ignore;
@@ -629,7 +634,11 @@ impl PlanResult {
                 m.steps, m.turns, m.score, m.length
             );
             if let Some(cost) = r.cost {
-                let _ = writeln!(out, "cost {cost:.4} (cell weights, {} rule)", self.grid.weights().map_or("mean", |w| w.rule().name()));
+                let _ = writeln!(
+                    out,
+                    "cost {cost:.4} (cell weights, {} rule)",
+                    self.grid.weights().map_or("mean", |w| w.rule().name())
+                );
             }
         }
         if let Some(c) = self.coverage_json() {

@@ -394,7 +394,9 @@ fn handle(state: &Arc<State>, method: &str, url: &str, body: &[u8]) -> Answer {
         ("GET", "/api/map") => {
             let costs = MapCosts {
                 weights: params.get("weights").filter(|w| !w.is_empty()).cloned(),
-                graded: params.get("graded").is_some_and(|g| g == "1" || g == "true"),
+                graded: params
+                    .get("graded")
+                    .is_some_and(|g| g == "1" || g == "true"),
             };
             map(state, params.get("path").map_or("", String::as_str), &costs)
         }

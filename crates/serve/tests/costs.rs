@@ -86,7 +86,13 @@ fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
         .iter()
         .map(|w| w.as_u64().unwrap())
         .collect();
-    let expected: Vec<u64> = grid.weights().unwrap().cells().iter().map(|&w| u64::from(w)).collect();
+    let expected: Vec<u64> = grid
+        .weights()
+        .unwrap()
+        .cells()
+        .iter()
+        .map(|&w| u64::from(w))
+        .collect();
     assert_eq!(weights, expected);
     assert_eq!(map["cost_rule"], "mean");
     // Without costs: no weights.
@@ -105,7 +111,9 @@ fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
     assert!((cost - oracle).abs() < 1e-6, "{cost} vs {oracle}");
 
     // BFS cannot honour costs: refused, unless told to ignore them.
-    let bfs = request.replace("astar", "bfs").replace(r#","heuristic=octile""#, "");
+    let bfs = request
+        .replace("astar", "bfs")
+        .replace(r#","heuristic=octile""#, "");
     let (status, body) = send(addr, "POST /api/plan HTTP/1.1", bfs.as_bytes());
     assert_eq!(status, 400, "{body}");
     assert!(body.contains("does not honour cell costs"), "{body}");
@@ -122,7 +130,10 @@ fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
     );
     assert_eq!(status, 200, "{body}");
     let weights = json(&body)["weights"].clone();
-    assert!(weights.as_array().unwrap().iter().any(|w| w == 56), "{weights}");
+    assert!(
+        weights.as_array().unwrap().iter().any(|w| w == 56),
+        "{weights}"
+    );
     // Bad cost options are the user's: 400 or a refusal, never a panic.
     for url in [
         "/api/map?path=movingai%2Farena.map&graded=1",
