@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs one fuzz target for a bounded time: fuzz/run.sh TARGET SECONDS [extra libFuzzer flags]
 #
-# TARGET is one of: movingai scen seed003 csv ros_yaml image config stream (see README.md).
+# TARGET is one of: movingai scen seed003 csv ros_yaml image config stream weights (see README.md).
 # Seeds are copied from ../maps (by extension) into seeds/TARGET; libFuzzer keeps what it
 # finds in corpus/TARGET and writes crashing inputs to artifacts/TARGET. Both are ignored
 # by git. Needs cargo-fuzz (`cargo install cargo-fuzz`); on a stable toolchain
@@ -47,6 +47,16 @@ case $target in
     copy '*.png' 2M
     max_len=65536
     ;;
+  weights)
+    # Five header bytes (width - 1, height - 1, mode, lethal, unknown), then the weight
+    # file or image: the arena weights (49 x 49) and the small PGM/PNG images.
+    { printf '\x30\x30\x00\xfe\xff'; cat ../maps/weighted/arena-weights.csv; } > "$seeds/arena.bin"
+    printf '\x02\x01\x01\xfd\xfa1, 2 3\n4 5,65535\n' > "$seeds/small.bin"
+    for image in $(find ../maps -name '*.pgm' -size -64k); do
+      { printf '\x09\x09\x00\xfe\xfa'; cat "$image"; } > "$seeds/$(basename "$image").bin"
+    done
+    max_len=65536
+    ;;
   stream)
     # Stream files as `experiment --shard` writes them: a few shards of configs/paper.toml
     # (every planner of seed 000), each cut to the first 16 KiB.
@@ -59,7 +69,7 @@ case $target in
     rm -rf "$streams"
     ;;
   *)
-    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream)" >&2
+    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream weights)" >&2
     exit 2
     ;;
 esac

@@ -56,6 +56,17 @@ class Grid:
     def to_numpy(self, *, free: bool = True) -> npt.NDArray[np.bool_]:
         """A bool array of shape (height, width): True marks free cells (``free=True``) or
         obstacles (``free=False``)."""
+    def with_weights(self, weights: npt.ArrayLike, *, cost_rule: str = "mean") -> "Grid":
+        """This grid with a weight per cell: an integer array of shape (height, width),
+        every value from 1 to 65535. ``cost_rule``: ``"mean"`` (a move costs its length
+        times the mean of its two cells' weights) or ``"entered"`` (times the entered
+        cell's weight)."""
+    @property
+    def weights(self) -> Optional[npt.NDArray[np.uint16]]:
+        """The cell weights, shape (height, width); None on an unweighted grid."""
+    @property
+    def cost_rule(self) -> Optional[str]:
+        """``"mean"`` or ``"entered"`` on a weighted grid; else None."""
     @property
     def width(self) -> int: ...
     @property
@@ -107,6 +118,9 @@ class Outcome:
     def valid(self) -> Optional[bool]: ...
     @property
     def time_ms(self) -> float: ...
+    @property
+    def cost(self) -> Optional[float]:
+        """On a weighted grid, the path's cost under the grid's cost rule; else None."""
 
 class PlannerInfo:
     """A registered planner."""
@@ -157,9 +171,18 @@ class Planner:
         Counters do not depend on ``threads``. A start or goal off the grid or blocked
         raises ``ProblemError`` naming the query."""
 
-def read_map(path: Union[str, "os.PathLike[str]"], *, obstacle: int = 0) -> Tuple[Grid, List[Problem]]:
+def read_map(
+    path: Union[str, "os.PathLike[str]"],
+    *,
+    obstacle: int = 0,
+    weights: Union[None, str, "os.PathLike[str]"] = None,
+    graded: bool = False,
+    cost_rule: str = "mean",
+) -> Tuple[Grid, List[Problem]]:
     """Reads a ``.map``, ``.txt``, ``.csv`` or ROS ``.yaml`` map: the grid and its problems.
-    ``obstacle``: the value marking obstacles in a ``.csv`` matrix (0 or 1)."""
+    ``obstacle``: the value marking obstacles in a ``.csv`` matrix (0 or 1). ``weights``:
+    a ``.csv`` of cell weights for the map; ``graded=True``: a ROS map's graded values
+    as costs (nav2's bands); ``cost_rule``: ``"mean"`` or ``"entered"``."""
 
 def planners() -> List[PlannerInfo]:
     """Every registered planner with its declared parameters and their defaults."""
@@ -176,7 +199,8 @@ def plan(
     """Plans from ``start`` to ``goal`` (no goal for coverage planners) with registry
     planner ``planner`` and its parameters. ``budget``: a number of expansions, or a dict
     of ``max_expansions`` and ``max_time_ms``; without ``max_expansions``,
-    ``DEFAULT_PLAN_EXPANSIONS``."""
+    ``DEFAULT_PLAN_EXPANSIONS``. On a weighted grid a planner that cannot honour cell
+    costs is refused (``ParameterError``, key ``costs``) unless ``costs="ignore"``."""
 
 def run_experiment(
     config: Union[str, "os.PathLike[str]"],

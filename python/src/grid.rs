@@ -23,10 +23,23 @@ pub struct Grid {
 }
 
 impl PartialEq for Grid {
+    /// Same size, same free cells, same weights and cost rule (or both unweighted).
     fn eq(&self, other: &Grid) -> bool {
         self.inner.width() == other.inner.width()
             && self.inner.height() == other.inner.height()
             && self.inner.free_cells() == other.inner.free_cells()
+            && self.inner.weights() == other.inner.weights()
+    }
+}
+
+/// `"mean"` or `"entered"` as a [`planner_api::CostRule`].
+pub fn cost_rule(rule: &str, within: &str) -> Result<planner_api::CostRule, Failure> {
+    match rule {
+        "mean" => Ok(planner_api::CostRule::Mean),
+        "entered" => Ok(planner_api::CostRule::Entered),
+        other => Err(Failure::Value(format!(
+            "{within}: cost_rule={other:?}; expected \"mean\" or \"entered\""
+        ))),
     }
 }
 
@@ -121,6 +134,74 @@ impl Grid {
         })
     }
 
+    /// This grid with a weight per cell from a 2-D integer array of the grid's shape
+    /// (height, width), every value from 1 to 65535 (blocked cells too; they stay
+    /// blocked), and the move cost rule: `"mean"` (length times the mean of the two cells'
+    /// weights, the default) or `"entered"` (times the entered cell's weight).
+    #[pyo3(signature = (weights, *, cost_rule = "mean"))]
+    fn with_weights(&self, weights: &Bound<'_, PyAny>, cost_rule: &str) -> PyResult<Grid> {
+        let within = "Grid.with_weights";
+        let rule = self::cost_rule(cost_rule, within)?;
+        let py = weights.py();
+        let array = py.import("numpy")?.call_method1("asarray", (weights,))?;
+        let shape: Vec<u64> = array.getattr("shape")?.extract()?;
+        let (width, height) = (self.inner.width(), self.inner.height());
+        if shape != [u64::from(height), u64::from(width)] {
+            return Err(Failure::Value(format!(
+                "{within}: expected an array of the grid's shape ({height}, {width}), got shape {}",
+                array.getattr("shape")?.str()?
+            ))
+            .into());
+        }
+        let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+        if kind != "i" && kind != "u" {
+            return Err(Failure::Type(format!(
+                "{within}: expected an integer array (weights are integers from 1 to 65535), got dtype {}",
+                array.getattr("dtype")?.str()?
+            ))
+            .into());
+        }
+        let converted = array.call_method1("astype", ("int64",))?;
+        let view: PyReadonlyArray2<'_, i64> = converted.extract()?;
+        let values = view.as_array();
+        if let Some(((y, x), value)) = values
+            .indexed_iter()
+            .find(|(_, v)| !(1..=i64::from(u16::MAX)).contains(*v))
+        {
+            return Err(Failure::Value(format!(
+                "{within}: cell ({x}, {y}) (array[{y}, {x}]) has weight {value}; weights are integers from 1 to 65535"
+            ))
+            .into());
+        }
+        let cells: Vec<u16> = values.iter().map(|&v| v as u16).collect();
+        let grid = (*self.inner)
+            .clone()
+            .with_weights(cells, rule)
+            .map_err(|e| Failure::Value(format!("{within}: {e}")))?;
+        Ok(Grid {
+            inner: Arc::new(grid),
+        })
+    }
+
+    /// The cell weights as a uint16 array of shape (height, width), or None on an
+    /// unweighted grid.
+    #[getter]
+    fn weights<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<u16>>> {
+        let grid = &self.inner;
+        let weights = grid.weights()?.cells();
+        let width = grid.width() as usize;
+        let array = Array2::from_shape_fn((grid.height() as usize, width), |(y, x)| {
+            weights[y * width + x]
+        });
+        Some(PyArray2::from_owned_array(py, array))
+    }
+
+    /// The move cost rule of a weighted grid (`"mean"` or `"entered"`), else None.
+    #[getter]
+    fn cost_rule(&self) -> Option<&'static str> {
+        self.inner.weights().map(|w| w.rule().name())
+    }
+
     /// The grid as a bool array of shape (height, width). `free=True` (the default): True
     /// marks free cells; `free=False`: True marks obstacles.
     #[pyo3(signature = (*, free = true))]
@@ -166,8 +247,17 @@ impl Grid {
     }
 
     fn __repr__(&self) -> String {
+        let weighted = match self.inner.weights() {
+            Some(w) => format!(
+                ", weights {}-{} ({} rule)",
+                w.min(),
+                w.max(),
+                w.rule().name()
+            ),
+            None => String::new(),
+        };
         format!(
-            "Grid(width={}, height={}, n_free={})",
+            "Grid(width={}, height={}, n_free={}{weighted})",
             self.inner.width(),
             self.inner.height(),
             self.inner.n_free()
@@ -213,20 +303,40 @@ impl MapProblem {
 /// `.yaml`) and returns `(grid, problems)`: the file's own start-goal pairs, else those of
 /// the `.scen` file beside a `.map` (as `plan` uses them), else none. `obstacle` is the
 /// value that marks an obstacle in a `.csv` matrix (0, seed 000's default, or 1), as
-/// `plan --obstacle` takes it.
+/// `plan --obstacle` takes it. `weights`: a weight `.csv` for the map (`plan --weights`);
+/// `graded=True`: a ROS map's graded values as costs with nav2's bands (`plan --graded`);
+/// `cost_rule`: the move cost rule of the weighted grid (`plan --cost-rule`).
 #[pyfunction]
-#[pyo3(signature = (path, *, obstacle = 0))]
-pub fn read_map(py: Python<'_>, path: PathBuf, obstacle: u8) -> PyResult<Py<PyTuple>> {
+#[pyo3(signature = (path, *, obstacle = 0, weights = None, graded = false, cost_rule = "mean"))]
+pub fn read_map(
+    py: Python<'_>,
+    path: PathBuf,
+    obstacle: u8,
+    weights: Option<PathBuf>,
+    graded: bool,
+    cost_rule: &str,
+) -> PyResult<Py<PyTuple>> {
     let csv = planner_maps::CsvConvention::from_obstacle_value(obstacle).ok_or_else(|| {
         Failure::Value(format!(
             "read_map: obstacle={obstacle}; the obstacle value of a .csv matrix is 0 or 1"
         ))
     })?;
-    let options = planner_maps::ReadOptions {
+    let mut options = planner_maps::ReadOptions {
         csv,
         ..planner_maps::ReadOptions::default()
     };
-    let (grid, problems) = py.detach(|| guarded(|| read(&path, &options)))?;
+    options.costs.rule = self::cost_rule(cost_rule, "read_map")?;
+    options.costs.graded = graded;
+    let (grid, problems) = py.detach(|| {
+        guarded(|| {
+            let (grid, problems) = read(&path, &options)?;
+            let grid = match &weights {
+                Some(file) => planner_maps::read_weights(file, grid, options.costs.rule, &options)?,
+                None => grid,
+            };
+            Ok((grid, problems))
+        })
+    })?;
     let grid = Py::new(
         py,
         Grid {

@@ -108,6 +108,8 @@ pub struct Outcome {
     pub valid: Option<bool>,
     /// Wall time of the search alone, in milliseconds.
     pub time_ms: f64,
+    /// On a weighted grid, the path's cost under the grid's cost rule; else None.
+    pub cost: Option<f64>,
 }
 
 #[pymethods]
@@ -214,7 +216,7 @@ fn run(
     params: toml::Table,
     budget: Budget,
 ) -> Result<RunRecord, Failure> {
-    let spec = config::planner_from_table(planner, planner, params, budget)?;
+    let spec = planner_spec(grid, planner, params, budget)?;
     let start_cell = to_cell(start).ok_or_else(|| problem_error("start", start, grid))?;
     let goal_cell = match (goal, spec.is_coverage()) {
         (Some(_), true) => {
@@ -263,6 +265,40 @@ fn run(
     Ok(run_one(&single, &spec, &mut Workspace::default(), None)?)
 }
 
+/// Registry planner `planner` with the parameters `params` for `grid`, as a config's
+/// planner table: the key `costs = "ignore"` lets a planner that cannot honour cell costs
+/// plan on a weighted grid without them; without it such a planner is refused one.
+pub(crate) fn planner_spec(
+    grid: &planner_api::Grid,
+    planner: &str,
+    mut params: toml::Table,
+    budget: Budget,
+) -> Result<config::PlannerSpec, Failure> {
+    let ignore = match params.remove("costs") {
+        None => false,
+        Some(toml::Value::String(s)) if s == "ignore" => true,
+        Some(other) => {
+            return Err(Failure::Param {
+                key: "costs".into(),
+                message: format!(
+                    "costs: expected \"ignore\" (plan on a weighted grid without its weights), got {other}"
+                ),
+            })
+        }
+    };
+    let mut spec = config::planner_from_table(planner, planner, params, budget)?;
+    spec.ignore_costs = ignore;
+    if grid.is_weighted() && !ignore && !spec.factory.specs().cell_costs {
+        return Err(Failure::Param {
+            key: "costs".into(),
+            message: format!(
+                "planner `{planner}` does not honour cell costs, and the grid has them; pass costs=\"ignore\" to plan without them"
+            ),
+        });
+    }
+    Ok(spec)
+}
+
 pub(crate) fn outcome(py: Python<'_>, record: RunRecord) -> PyResult<Outcome> {
     let cells = record.path.as_ref().map(|p| p.cells()).unwrap_or_default();
     let path = Array2::from_shape_fn((cells.len(), 2), |(i, j)| {
@@ -304,5 +340,6 @@ pub(crate) fn outcome(py: Python<'_>, record: RunRecord) -> PyResult<Outcome> {
         seed: record.seed,
         valid: record.valid,
         time_ms: record.time_ms,
+        cost: record.cost,
     })
 }

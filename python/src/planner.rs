@@ -179,7 +179,7 @@ impl Planner {
         let name = planner.to_string();
         let built = py.detach(move || {
             guarded(|| {
-                let spec = config::planner_from_table(&name, &name, table, budget)?;
+                let spec = crate::plan::planner_spec(&grid, &name, table, budget)?;
                 let coverage = spec.is_coverage();
                 let map = MapEntry {
                     name: "grid".into(),

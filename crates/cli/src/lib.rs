@@ -159,6 +159,33 @@ pub enum Command {
         /// convention) or 1 (the common occupancy-grid convention).
         #[arg(long, value_parser = clap::value_parser!(u8).range(0..=1))]
         obstacle: Option<u8>,
+        /// Cell weights for the map: a .csv of integers from 1 to 65535, one row per map
+        /// row (a map set's `costs.weights`). The path's cost is then printed.
+        #[arg(long, value_name = "FILE", help_heading = "Cell costs")]
+        weights: Option<PathBuf>,
+        /// The move cost rule on a weighted map: mean (length times the mean of the two
+        /// cells' weights, the default) or entered (times the entered cell's weight).
+        #[arg(long, value_name = "RULE", value_parser = parse_cost_rule, help_heading = "Cell costs")]
+        cost_rule: Option<planner_api::CostRule>,
+        /// Read a ROS map's graded values (mode scale or raw) as costs, with nav2's bands.
+        #[arg(long, help_heading = "Cell costs")]
+        graded: bool,
+        /// ROS maps: costs from N up are blocked (default 254, nav2's lethal; implies --graded).
+        #[arg(long, value_name = "N", help_heading = "Cell costs")]
+        lethal: Option<u8>,
+        /// ROS maps: the cost of unknown cells (default: blocked; implies --graded).
+        #[arg(long, value_name = "N", help_heading = "Cell costs")]
+        unknown: Option<u8>,
+        /// Moving AI maps: the weight of swamp `S` (ground is 1).
+        #[arg(long, value_name = "N", help_heading = "Cell costs")]
+        swamp: Option<u16>,
+        /// Moving AI maps: the weight of water `W`, then passable (needs --swamp).
+        #[arg(long, value_name = "N", help_heading = "Cell costs")]
+        water: Option<u16>,
+        /// Plan on a weighted map without its weights with a planner that cannot honour
+        /// them (else it is refused).
+        #[arg(long, help_heading = "Cell costs")]
+        ignore_costs: bool,
         /// Print exactly one JSON object.
         #[arg(long)]
         json: bool,
@@ -217,6 +244,16 @@ pub fn parse_cell(text: &str) -> Result<Cell, String> {
             .map_err(|e| format!("{text:?}: {s:?} is not a cell coordinate: {e}"))
     };
     Ok(Cell::new(number(x)?, number(y)?))
+}
+
+/// Parses `--cost-rule`: `mean` or `entered` (clap's value parser; a clap error names
+/// the flag).
+pub fn parse_cost_rule(text: &str) -> Result<planner_api::CostRule, String> {
+    match text.trim() {
+        "mean" => Ok(planner_api::CostRule::Mean),
+        "entered" => Ok(planner_api::CostRule::Entered),
+        other => Err(format!("{other:?}: expected mean or entered")),
+    }
 }
 
 /// Sends `tracing` output to stderr, filtered by `RUST_LOG` (default: warnings), plain
@@ -665,6 +702,14 @@ pub fn run(command: Command) -> Result<(), CliError> {
             max_expansions,
             max_memory_mb,
             obstacle,
+            weights,
+            cost_rule,
+            graded,
+            lethal,
+            unknown,
+            swamp,
+            water,
+            ignore_costs,
             json,
             svg,
             trace,
@@ -685,6 +730,16 @@ pub fn run(command: Command) -> Result<(), CliError> {
             let options = planner_runner::plan::PlanOptions {
                 max_memory_mb,
                 record_expanded: svg.is_some() || trace.is_some() || gif.is_some(),
+                costs: planner_runner::plan::PlanCosts {
+                    weights,
+                    rule: cost_rule,
+                    graded,
+                    lethal,
+                    unknown,
+                    swamp,
+                    water,
+                    ignore: ignore_costs,
+                },
             };
             let result = planner_runner::plan::run_with(&args, &options)?;
             planner_serve::write_pictures(

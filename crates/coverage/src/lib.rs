@@ -33,6 +33,16 @@
 //! at the first point whose octile distance exceeds the best cost found. Every A*
 //! expansion counts in `n_return_expansions`, the searches in `n_return_searches`.
 //!
+//! # Weighted grids
+//! On a grid with cell weights ([`planner_api::weights`]) the return legs are least-cost
+//! under the grid's [`planner_api::CostRule`]: A* honours the weights, and the nearest
+//! point is the one with the least weighted cost (in exact [`planner_api::Cost`] units,
+//! ties again to the point marked last). The branch and bound uses the octile distance
+//! times the grid's smallest weight as the lower bound (every move costs at least its
+//! length times it). Filling is unchanged: its moves follow the seed's rules, not costs.
+//! `tests/weighted.rs` holds every return leg to the test kit's weighted Dijkstra, for
+//! its cost and for being the cheapest way to any point left.
+//!
 //! # Completeness
 //! Invariant: every covered cell with an open 4-neighbour is a marked point or the
 //! robot's cell (a cell is checked when left; covering only closes neighbourhoods). When
@@ -286,6 +296,37 @@ impl PartialOrd for Octile {
     }
 }
 
+/// A return's cost, or a lower bound of it: exact octile on an unweighted grid, weighted
+/// [`planner_api::Cost`] units on a weighted one (one kind per run).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Distance {
+    Octile(Octile),
+    Weighted(planner_api::Cost),
+}
+
+impl Distance {
+    /// A lower bound of the cost from `a` to `b`: the octile distance, times the smallest
+    /// weight on a weighted grid.
+    fn bound(grid: &Grid, a: Cell, b: Cell) -> Distance {
+        match grid.weights() {
+            None => Distance::Octile(Octile::between(a, b)),
+            Some(w) => Distance::Weighted(
+                planner_api::Cost::octile_distance(a.x.abs_diff(b.x), a.y.abs_diff(b.y))
+                    .times(u64::from(w.min())),
+            ),
+        }
+    }
+
+    /// The cost of the path `cells`.
+    fn of_path(grid: &Grid, cells: &[Cell]) -> Distance {
+        if grid.is_weighted() {
+            Distance::Weighted(grid.path_cost(cells))
+        } else {
+            Distance::Octile(Octile::of_path(cells))
+        }
+    }
+}
+
 /// Plain-integer counters of one run (see the crate docs).
 #[derive(Debug, Clone, Copy, Default)]
 struct Stats {
@@ -308,7 +349,7 @@ pub struct Coverage {
     visited: Vec<bool>,
     marked: Vec<bool>,
     points: Vec<u32>,
-    candidates: Vec<(Octile, usize)>,
+    candidates: Vec<(Distance, usize)>,
 }
 
 impl Coverage {
@@ -422,11 +463,12 @@ impl CoveragePlanner for Coverage {
     }
 
     /// Fill moves are 4-connected and A* returns 8-connected without corner cutting: every
-    /// step is an 8-connected move.
+    /// step is an 8-connected move. Return legs honour cell weights (crate docs).
     fn specs(&self) -> planner_api::PlannerSpecs {
         planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(
             planner_api::MoveSet::standard(planner_api::Connectivity::Eight),
         ))
+        .with_cell_costs()
     }
 
     fn cover(&mut self, problem: &CoverageProblem<'_>, budget: &Budget) -> CoverageOutcome {
@@ -499,11 +541,11 @@ impl CoveragePlanner for Coverage {
                 self.points
                     .iter()
                     .enumerate()
-                    .map(|(order, &p)| (Octile::between(from, grid.cell(p as usize)), order)),
+                    .map(|(order, &p)| (Distance::bound(grid, from, grid.cell(p as usize)), order)),
             );
             self.candidates
                 .sort_by(|a, b| a.0.cmp(&b.0).then_with(|| b.1.cmp(&a.1)));
-            let mut best: Option<(Octile, usize, Path)> = None;
+            let mut best: Option<(Distance, usize, Path)> = None;
             for k in 0..self.candidates.len() {
                 let (bound, order) = self.candidates[k];
                 if best.as_ref().is_some_and(|(cost, _, _)| bound > *cost) {
@@ -519,7 +561,7 @@ impl CoveragePlanner for Coverage {
                 stats.n_return_searches += 1;
                 match (search.status, search.path) {
                     (Status::Found, Some(found)) => {
-                        let cost = Octile::of_path(found.cells());
+                        let cost = Distance::of_path(grid, found.cells());
                         let better = match &best {
                             None => true,
                             Some((best_cost, best_order, _)) => {

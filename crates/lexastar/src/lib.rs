@@ -113,6 +113,30 @@
 //! This crate does not implement lexicographic mode as a small `λ`, which would need a
 //! bound on D in advance and lose exactness in floating point; it compares integer pairs.
 //!
+//! # Weighted grids
+//! Seed 000's D is the number of moves on a 4-connected grid, each of length 1. On a grid
+//! with cell weights ([`planner_api::weights`]) and 4-connected moves, D becomes the
+//! path's cost under the grid's [`planner_api::CostRule`]: a move from a cell of weight
+//! `a` to one of weight `b` costs `(a + b) / 2` (mean) or `b` (entered) instead of 1, so
+//! with every weight 1 the weighted D is the seed's D. Turns stay as they are: the
+//! search finds the least-cost path, then among those the one with fewest turns
+//! ([`Objective::Weighted`]: the least `D + lambda T` with the weighted D). D is kept in
+//! integers, doubled (`a + b` or `2 b` per move, exact), the steps heuristic is the
+//! Manhattan distance times `2 w_min` (`w_min` the grid's smallest weight: every move
+//! costs at least that, so the heuristic stays consistent and the proofs above carry
+//! over: they use only that a move's D is at least the drop of the steps heuristic, that
+//! a loop costs D > 0, and that a move's D depends on its cells and not on headings), and
+//! `lambda` is doubled with it. [`Search::weighted_cost`] gives the path's cost in
+//! [`planner_api::Cost`] units, what the test kit's weighted Dijkstra computes
+//! (`tests/weighted.rs` checks it on thousands of random weighted grids).
+//!
+//! With 8-connected moves the seed's D counts a diagonal as one step, like an axis move,
+//! while a weighted grid charges a diagonal `sqrt 2` times its weights: weighting D would
+//! either break the seed's D at weight 1 or disagree with the grid's cost rule. So only the
+//! 4-connected planner declares [`planner_api::PlannerSpecs::cell_costs`]; the runner
+//! refuses the 8-connected one a weighted map (unless the config says `costs =
+//! "ignore"`), and called directly it plans as if the grid had no weights.
+//!
 //! # Options
 //! - 4- or 8-connected moves ([`Config::moves`]); with 8, D counts moves (a diagonal is one
 //!   step, as in [`planner_api::PathMetrics`], not `sqrt 2`), and a turn is any change of
@@ -343,8 +367,11 @@ pub struct Search {
     pub status: Status,
     /// The path when found (cells, start first).
     pub path: Option<Path>,
-    /// The path's `(D, T)` when found; its Score is [`Cost::score`].
+    /// The path's `(D, T)` when found, D counting moves; its Score is [`Cost::score`].
     pub cost: Option<Cost>,
+    /// On a weighted grid with 4-connected moves (see the crate docs), the found path's
+    /// cost under the grid's rule, which the search minimised first; `None` otherwise.
+    pub weighted_cost: Option<planner_api::Cost>,
     /// The counters, on states.
     pub stats: SearchStats,
     /// Distinct cells among the expanded states.
@@ -496,6 +523,7 @@ impl LexAStar {
                 status: Status::BudgetExhausted,
                 path: None,
                 cost: None,
+                weighted_cost: None,
                 stats: SearchStats::default(),
                 n_cells_expanded: 0,
                 n_dominated: 0,
@@ -503,16 +531,34 @@ impl LexAStar {
                 memory: Some(shortfall),
             };
         }
-        match self.config.objective {
-            Objective::Lexicographic => self.run::<u128>(problem, budget),
-            Objective::Weighted => self.run::<Weighted>(problem, budget),
+        let weighted = grid.is_weighted() && self.config.moves == Connectivity::Four;
+        match (self.config.objective, weighted) {
+            (Objective::Lexicographic, false) => self.run::<u128, false>(problem, budget),
+            (Objective::Weighted, false) => self.run::<Weighted, false>(problem, budget),
+            (Objective::Lexicographic, true) => self.run::<u128, true>(problem, budget),
+            (Objective::Weighted, true) => self.run::<Weighted, true>(problem, budget),
         }
     }
 
-    fn run<K: Key>(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+    /// The search; with `WEIGHTED` (a weighted grid, 4-connected moves) D is the doubled
+    /// weighted cost (crate docs).
+    fn run<K: Key, const WEIGHTED: bool>(
+        &mut self,
+        problem: &Problem<'_>,
+        budget: &Budget,
+    ) -> Search {
         let grid = problem.grid();
         self.prepare(grid);
-        let lambda = self.config.lambda;
+        // Doubled D doubles lambda, so `D + lambda T` keeps its order.
+        let lambda = if WEIGHTED {
+            2.0 * self.config.lambda
+        } else {
+            self.config.lambda
+        };
+        let (weights, (k_from, k_to), h_scale): (&[u16], (u64, u64), u64) = match grid.weights() {
+            Some(w) if WEIGHTED => (w.cells(), w.rule().factors(), 2 * u64::from(w.min())),
+            _ => (&[], (0, 0), 1),
+        };
         let dominance = self.config.dominance;
         let four = self.config.moves == Connectivity::Four;
         let generation = self.generation;
@@ -551,6 +597,7 @@ impl LexAStar {
             goal.x,
             goal.y,
         );
+        let m0 = if WEIGHTED { m0 * h_scale } else { m0 };
         let record = budget.record_expanded;
         let mut expanded = Vec::new();
         let start_cell = cells.get_mut(start_index);
@@ -581,6 +628,7 @@ impl LexAStar {
                     status: Status::BudgetExhausted,
                     path: None,
                     cost: None,
+                    weighted_cost: None,
                     stats,
                     n_cells_expanded,
                     n_dominated,
@@ -605,8 +653,19 @@ impl LexAStar {
                 let path = reconstruct(grid, compiled, states, state, start_index);
                 return Search {
                     status: Status::Found,
+                    weighted_cost: WEIGHTED.then(|| {
+                        planner_api::Cost::from_units(
+                            g_state
+                                .steps
+                                .saturating_mul(planner_api::Cost::ONE.units() / 2),
+                        )
+                    }),
+                    cost: Some(if WEIGHTED {
+                        Cost::new(path.len() as u64 - 1, g_state.turns)
+                    } else {
+                        g_state
+                    }),
                     path: Some(path),
-                    cost: Some(g_state),
                     stats,
                     n_cells_expanded,
                     n_dominated,
@@ -630,7 +689,12 @@ impl LexAStar {
                     continue;
                 }
                 let turn = u64::from(heading != NO_HEADING && usize::from(heading) != k);
-                let g_next = Cost::new(g_state.steps + 1, g_state.turns + turn);
+                let step = if WEIGHTED {
+                    k_from * u64::from(weights[node]) + k_to * u64::from(weights[next])
+                } else {
+                    1
+                };
+                let g_next = Cost::new(g_state.steps + step, g_state.turns + turn);
                 let cell = cells.get_mut(next);
                 if dominance && cell.best_seen == generation {
                     // Another state of this cell, plus one turn, is at least as good.
@@ -658,6 +722,7 @@ impl LexAStar {
                     let nx = x.wrapping_add_signed(mv.dx);
                     let ny = y.wrapping_add_signed(mv.dy);
                     let (hm, ht) = estimate(four, nx, ny, mv.dx, mv.dy, goal.x, goal.y);
+                    let hm = if WEIGHTED { hm * h_scale } else { hm };
                     heap.push(Entry {
                         key: K::key(g_next.plus(Cost::new(hm, ht)), lambda),
                         seq: n_pushed,
@@ -671,6 +736,7 @@ impl LexAStar {
             status: Status::NoPath,
             path: None,
             cost: None,
+            weighted_cost: None,
             stats,
             n_cells_expanded,
             n_dominated,
@@ -717,8 +783,17 @@ impl Planner for LexAStar {
         NAME
     }
 
+    /// Declares [`planner_api::PlannerSpecs::cell_costs`] with 4-connected moves only (see
+    /// the crate docs).
     fn specs(&self) -> planner_api::PlannerSpecs {
-        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
+        let specs = planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(
+            self.moves.clone(),
+        ));
+        if self.config.moves == Connectivity::Four {
+            specs.with_cell_costs()
+        } else {
+            specs
+        }
     }
 
     /// Lists the cells of the expanded states when the budget asks

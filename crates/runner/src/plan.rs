@@ -50,8 +50,11 @@ pub struct PlanArgs {
 
 /// What `plan` does besides [`PlanArgs`]: options of the planning run itself, kept apart
 /// so that adding one does not change how `PlanArgs` is built.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct PlanOptions {
+    /// Cell costs for a map read from its file (not one a config lists, whose map set's
+    /// `costs` table decides).
+    pub costs: PlanCosts,
     /// The memory limit of the planner's per-cell state, in MiB (`--max-memory-mb`);
     /// `None`: the label's `budget.max_memory_mb`, else the runner's default
     /// ([`crate::run::default_max_memory_mb`], half the machine's memory).
@@ -60,6 +63,116 @@ pub struct PlanOptions {
     /// ([`PlanResult::expanded`], drawn by planner-report's `figures::draw_run`); the second run must
     /// give the same counters, status and path (else an error).
     pub record_expanded: bool,
+}
+
+/// `plan`'s cell cost options, the flags of a map set's `costs` table (configs/README.md):
+/// all off by default, so a map reads unweighted as before.
+#[derive(Debug, Clone, Default)]
+pub struct PlanCosts {
+    /// `--weights FILE`: a `.csv` of cell weights for the map (planner-maps' weight files).
+    pub weights: Option<PathBuf>,
+    /// `--cost-rule mean|entered`: the move cost rule (default mean).
+    pub rule: Option<planner_api::CostRule>,
+    /// `--graded`: read a ROS map's graded values as costs with nav2's bands (implied by
+    /// `lethal` and `unknown`).
+    pub graded: bool,
+    /// `--lethal N`: ROS costs from N up are blocked (default 254).
+    pub lethal: Option<u8>,
+    /// `--unknown N`: the cost of a ROS map's unknown cells (default: blocked).
+    pub unknown: Option<u8>,
+    /// `--swamp N`: the weight of Moving AI swamp `S` (terrain weights).
+    pub swamp: Option<u16>,
+    /// `--water N`: the weight of Moving AI water `W`, passable at it (terrain weights).
+    pub water: Option<u16>,
+    /// `--ignore-costs`: a planner that does not honour cell costs plans on a weighted map
+    /// without them (a config's `costs = "ignore"`), instead of being refused.
+    pub ignore: bool,
+}
+
+impl PlanCosts {
+    /// Whether any option reads costs (all but `ignore`).
+    fn any(&self) -> bool {
+        self.weights.is_some()
+            || self.rule.is_some()
+            || self.graded
+            || self.lethal.is_some()
+            || self.unknown.is_some()
+            || self.swamp.is_some()
+            || self.water.is_some()
+    }
+
+    /// The reading options for `map`, checked as a map set's `costs` table is: ROS bands
+    /// for ROS maps, terrain for Moving AI `.map`s, a weight file for any map but not with
+    /// either.
+    fn read_options(&self, map: &Path) -> Result<planner_maps::CostOptions, RunnerError> {
+        let usage = |message: String| RunnerError::Usage(message);
+        let extension = map
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        let ros = matches!(extension.as_str(), "yaml" | "yml" | "pgm" | "png");
+        let graded = self.graded || self.lethal.is_some() || self.unknown.is_some();
+        let terrain = self.swamp.is_some() || self.water.is_some();
+        let mut options = planner_maps::CostOptions {
+            rule: self.rule.unwrap_or_default(),
+            ..planner_maps::CostOptions::default()
+        };
+        if self.weights.is_some() && (graded || terrain) {
+            return Err(usage(
+                "--weights gives every cell's weight; it does not go with --graded, --lethal, --unknown, --swamp or --water".into(),
+            ));
+        }
+        if graded {
+            if !ros {
+                return Err(usage(format!(
+                    "--graded, --lethal and --unknown apply to ROS maps (.yaml, .pgm, .png), not {}",
+                    map.display()
+                )));
+            }
+            options.graded = true;
+            if let Some(lethal) = self.lethal {
+                if lethal == 0 {
+                    return Err(usage("--lethal 0 would block every cell; costs from --lethal up are blocked (nav2: 254)".into()));
+                }
+                options.bands.lethal = lethal;
+            }
+            if let Some(unknown) = self.unknown {
+                if unknown == 255 {
+                    return Err(usage("--unknown: the cost of an unknown cell must be below 255 (leave it out to block unknown cells)".into()));
+                }
+                options.bands.unknown = Some(unknown);
+            }
+        }
+        if terrain {
+            if extension != "map" {
+                return Err(usage(format!(
+                    "--swamp and --water weigh Moving AI terrain (.map files), not {}",
+                    map.display()
+                )));
+            }
+            let Some(swamp) = self.swamp else {
+                return Err(usage(
+                    "--water needs --swamp (the weight of swamp `S`)".into(),
+                ));
+            };
+            if swamp == 0 || self.water == Some(0) {
+                return Err(usage(
+                    "--swamp and --water are weights, from 1 to 65535".into(),
+                ));
+            }
+            options.terrain = Some(planner_maps::TerrainWeights {
+                swamp,
+                water: self.water,
+            });
+        }
+        if self.rule.is_some() && !graded && !terrain && self.weights.is_none() {
+            return Err(usage(
+                "--cost-rule needs costs to apply to: --weights, --graded (ROS maps) or --swamp (Moving AI maps)".into(),
+            ));
+        }
+        Ok(options)
+    }
 }
 
 /// The JSON form of `plan --json`.
@@ -82,6 +195,9 @@ pub struct PlanJson<'a> {
     /// The cells the planner marked (PA-star's handover points), if any.
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     pub marks: &'a [planner_api::Mark],
+    /// On a weighted map, the path's cost under the map's cost rule (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cost: Option<f64>,
 }
 
 /// Path metrics in `plan --json`.
@@ -141,9 +257,19 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
         Some(path) => Some(config::load(path)?),
         None => None,
     };
-    let spec = resolve_spec(args, options, experiment.as_ref())?;
+    let mut spec = resolve_spec(args, options, experiment.as_ref())?;
     let coverage = spec.is_coverage();
-    let (map, problems, convention) = resolve_map(args, &spec, experiment.as_ref())?;
+    let (map, problems, convention) =
+        resolve_map(args, &spec, &options.costs, experiment.as_ref())?;
+    // As a config's check: a planner that cannot honour cell costs is refused a weighted
+    // map, unless told to ignore them.
+    spec.ignore_costs |= options.costs.ignore;
+    if map.grid.is_weighted() && !spec.ignore_costs && !spec.factory.specs().cell_costs {
+        return Err(RunnerError::Usage(format!(
+            "planner `{}` ({}) does not honour cell costs, and map `{}` has them; add --ignore-costs to plan without them",
+            spec.label, spec.name, map.name
+        )));
+    }
     let entry = pick_problem(args, &spec, &map, &problems)?;
     let check_goal = if coverage { entry.start } else { entry.goal };
     if let Err(error) = Problem::new(&map.grid, entry.start, check_goal) {
@@ -253,9 +379,17 @@ fn resolve_spec(
 fn resolve_map(
     args: &PlanArgs,
     spec: &PlannerSpec,
+    costs: &PlanCosts,
     experiment: Option<&Experiment>,
 ) -> Result<(MapEntry, Vec<ProblemEntry>, Option<CsvConvention>), RunnerError> {
     let listed = experiment.and_then(|e| e.find_map(&args.map)).cloned();
+    if listed.is_some() && costs.any() {
+        return Err(RunnerError::Usage(format!(
+            "cost flags: {} lists {}; set a `costs` table on its map set instead",
+            experiment.map_or_else(String::new, |e| e.source.display().to_string()),
+            args.map.display()
+        )));
+    }
     if let Some(convention) = args.obstacle {
         let value = convention.obstacle_value();
         if !config::is_csv(&args.map) {
@@ -287,13 +421,20 @@ fn resolve_map(
     let options = planner_maps::ReadOptions {
         csv: args.obstacle.unwrap_or_default(),
         max_cells,
+        costs: costs.read_options(&args.map)?,
         ..planner_maps::ReadOptions::default()
     };
     let file = config::read_map_file(&args.map, &options)?;
+    let grid = match &costs.weights {
+        Some(weights) => {
+            planner_maps::read_weights(weights, file.grid, options.costs.rule, &options)?
+        }
+        None => file.grid,
+    };
     let map = MapEntry {
         name: file_name(&args.map),
         path: args.map.clone(),
-        grid: file.grid,
+        grid,
         problems: Vec::new(),
     };
     let pairs = own_pairs(&args.map, &map.grid, &file.problems)?;
@@ -423,6 +564,7 @@ impl PlanResult {
             seed: r.seed,
             coverage: self.coverage_json(),
             marks: &r.marks,
+            cost: r.cost,
         };
         serde_json::to_string(&json).map_err(RunnerError::Json)
     }
@@ -491,6 +633,13 @@ impl PlanResult {
                 "steps (D) {}, turns (T) {}, score {}, length {:.4}",
                 m.steps, m.turns, m.score, m.length
             );
+            if let Some(cost) = r.cost {
+                let _ = writeln!(
+                    out,
+                    "cost {cost:.4} (cell weights, {} rule)",
+                    self.grid.weights().map_or("mean", |w| w.rule().name())
+                );
+            }
         }
         if let Some(c) = self.coverage_json() {
             let _ = writeln!(

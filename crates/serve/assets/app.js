@@ -141,12 +141,32 @@ async function loadLists() {
   for (const path of lists.results) option($("results-select"), path, path);
 }
 
+// The cost options of the map controls, as /api/map and /api/plan take them.
+function mapCosts() {
+  const weights = $("weights").value.trim();
+  const costs = { graded: $("graded").checked };
+  if (weights !== "") costs.weights = weights;
+  return costs;
+}
+
 async function loadMap(path) {
   setStatus(`loading ${path} ...`);
-  const map = await getJson(`/api/map?path=${encodeURIComponent(path)}`);
+  const costs = mapCosts();
+  let url = `/api/map?path=${encodeURIComponent(path)}`;
+  if (costs.weights) url += `&weights=${encodeURIComponent(costs.weights)}`;
+  if (costs.graded) url += "&graded=1";
+  const map = await getJson(url);
   const blocked = new Uint8Array(map.width * map.height);
   for (let i = 0; i < blocked.length; i++) blocked[i] = map.cells.charCodeAt(i) === 49 ? 1 : 0;
-  state.map = { path: map.path, name: map.name, width: map.width, height: map.height, blocked, problems: map.problems };
+  // Weighted maps: free cells shaded from white (the least weight) to dark amber (the most).
+  const weights = map.weights ? Uint16Array.from(map.weights) : null;
+  let range = null;
+  if (weights) {
+    let low = 65535, high = 1;
+    for (let i = 0; i < weights.length; i++) if (!blocked[i]) { low = Math.min(low, weights[i]); high = Math.max(high, weights[i]); }
+    range = [low, Math.max(high, low)];
+  }
+  state.map = { path: map.path, name: map.name, width: map.width, height: map.height, blocked, problems: map.problems, weights, range, costs, rule: map.cost_rule };
   state.edits = new Map();
   state.start = null;
   state.goal = null;
@@ -170,11 +190,17 @@ async function loadMap(path) {
   layoutViews();
   updateEnds();
   draw();
-  setStatus(`${map.name}: ${map.width} x ${map.height}`);
+  const weighted = weights ? `, weights ${range[0]}-${range[1]} (${map.cost_rule} rule; darker costs more)` : "";
+  setStatus(`${map.name}: ${map.width} x ${map.height}${weighted}`);
 }
 
 function paintBase(i) {
-  const rgb = state.map.blocked[i] ? BLOCKED_RGB : FREE_RGB;
+  let rgb = state.map.blocked[i] ? BLOCKED_RGB : FREE_RGB;
+  const { weights, range } = state.map;
+  if (weights && !state.map.blocked[i] && range[1] > range[0]) {
+    const t = (weights[i] - range[0]) / (range[1] - range[0]);
+    rgb = [255 - 80 * t, 255 - 140 * t, 255 - 230 * t].map(Math.round);
+  }
   const d = state.baseData.data;
   d[4 * i] = rgb[0];
   d[4 * i + 1] = rgb[1];
@@ -425,6 +451,7 @@ function countersTable(r) {
   if (plan.metrics) {
     for (const key of ["steps", "turns", "score", "length"]) row(key, String(plan.metrics[key]));
   }
+  if (plan.cost !== undefined) row("cost", String(plan.cost));
   for (const [key, value] of Object.entries(plan.counters)) row(key, String(value));
   row("time_ms", r.timeMs.toFixed(3));
   row("expanded shown", "", "shown");
@@ -485,6 +512,8 @@ async function planOne(slot, name, set) {
     planner: name,
     set,
     run: state.runId,
+    costs: state.map.costs,
+    ignore_costs: $("ignore-costs").checked,
   };
   if (max !== "") request.max_expansions = Number(max);
   const response = await getJson("/api/plan", {

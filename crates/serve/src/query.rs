@@ -61,6 +61,14 @@ pub enum QueryError {
     /// A coverage planner (the page plans start-goal queries).
     #[error("`{0}` is a coverage planner; the page plans start-goal queries")]
     Coverage(String),
+    /// A planner that cannot honour cell costs, on a weighted map.
+    #[error("planner `{planner}` does not honour cell costs, and map `{map}` has them; ask to ignore costs to plan without them")]
+    Costs {
+        /// The planner's registry name.
+        planner: String,
+        /// The map's name.
+        map: String,
+    },
 }
 
 /// One query.
@@ -80,6 +88,9 @@ pub struct Query<'a> {
     pub set: &'a [String],
     /// Expansion budget asked for (capped by [`Caps::max_expansions`]).
     pub max_expansions: Option<u64>,
+    /// On a weighted grid, plan with a planner that cannot honour cell costs on the grid
+    /// without them (else it is refused, as `plan` refuses it).
+    pub ignore_costs: bool,
 }
 
 /// The grid `grid` with `edits` applied: `(x, y, free)` each.
@@ -132,9 +143,16 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         record_expanded: false,
     };
     let params = settings_table(query.set)?;
-    let spec = config::planner_from_table(query.planner, query.planner, params, budget)?;
+    let mut spec = config::planner_from_table(query.planner, query.planner, params, budget)?;
     if spec.is_coverage() {
         return Err(QueryError::Coverage(query.planner.to_string()));
+    }
+    spec.ignore_costs = query.ignore_costs;
+    if grid.is_weighted() && !spec.ignore_costs && !spec.factory.specs().cell_costs {
+        return Err(QueryError::Costs {
+            planner: query.planner.to_string(),
+            map: query.map_name.to_string(),
+        });
     }
     let entry = ProblemEntry::new(&grid, 1, query.start, query.goal, None);
     if let Err(error) = planner_api::Problem::new(&grid, query.start, query.goal) {

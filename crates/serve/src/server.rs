@@ -391,7 +391,15 @@ fn handle(state: &Arc<State>, method: &str, url: &str, body: &[u8]) -> Answer {
         ("GET", "/style.css") => Answer::asset("text/css; charset=utf-8", STYLE_CSS),
         ("GET", "/api/planners") => planners(),
         ("GET", "/api/maps") => maps(state),
-        ("GET", "/api/map") => map(state, params.get("path").map_or("", String::as_str)),
+        ("GET", "/api/map") => {
+            let costs = MapCosts {
+                weights: params.get("weights").filter(|w| !w.is_empty()).cloned(),
+                graded: params
+                    .get("graded")
+                    .is_some_and(|g| g == "1" || g == "true"),
+            };
+            map(state, params.get("path").map_or("", String::as_str), &costs)
+        }
         ("GET", "/api/results") => results(state, params.get("path").map_or("", String::as_str)),
         ("POST", "/api/plan") => plan(state, body),
         ("POST" | "GET", "/api/cancel") => {
@@ -535,8 +543,27 @@ fn maps(state: &State) -> Answer {
     )
 }
 
-/// Reads map `relative` under the root: the file, its grid and problems.
-fn read_map(state: &State, relative: &str) -> Result<(PathBuf, planner_maps::MapFile), Answer> {
+/// A map's cell costs as the page asks for them: a weight file under the served directory
+/// (planner-maps' weight `.csv`), and/or a ROS map's graded values read with nav2's bands.
+/// Both off: the map reads unweighted, as before.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapCosts {
+    /// A weight file, relative to the served directory.
+    #[serde(default)]
+    pub weights: Option<String>,
+    /// Read a ROS map's graded values (map_server `mode: scale` or `raw`) as costs.
+    #[serde(default)]
+    pub graded: bool,
+}
+
+/// Reads map `relative` under the root with `costs`: the file, its grid (weighted when the
+/// costs say so) and problems.
+fn read_map(
+    state: &State,
+    relative: &str,
+    costs: &MapCosts,
+) -> Result<(PathBuf, planner_maps::MapFile), Answer> {
     let path = state.root.file(relative).map_err(|r| Answer::refusal(&r))?;
     let is_yaml = path
         .extension()
@@ -554,16 +581,38 @@ fn read_map(state: &State, relative: &str) -> Result<(PathBuf, planner_maps::Map
             return Err(Answer::refusal(&Refusal::Forbidden(yaml.image.clone())));
         }
     }
-    let read = planner_maps::read_map_with(&path, &planner_maps::ReadOptions::default())
+    let is_ros = is_yaml
+        || path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("pgm") || e.eq_ignore_ascii_case("png"));
+    if costs.graded && !is_ros {
+        return Err(Answer::error(
+            400,
+            &format!("graded costs apply to ROS maps (.yaml, .pgm, .png), not {relative}"),
+        ));
+    }
+    let mut options = planner_maps::ReadOptions::default();
+    options.costs.graded = costs.graded;
+    let mut read = planner_maps::read_map_with(&path, &options)
         .map_err(|e| Answer::error(400, &e.to_string()))?;
+    if let Some(weights) = &costs.weights {
+        let weights = state.root.file(weights).map_err(|r| Answer::refusal(&r))?;
+        read.file.grid = planner_maps::read_weights(
+            &weights,
+            read.file.grid,
+            planner_api::CostRule::default(),
+            &options,
+        )
+        .map_err(|e| Answer::error(400, &e.to_string()))?;
+    }
     Ok((path, read.file))
 }
 
 /// The most problems [`map`] sends.
 const MAX_PROBLEMS: usize = 20_000;
 
-fn map(state: &State, relative: &str) -> Answer {
-    let (path, file) = match read_map(state, relative) {
+fn map(state: &State, relative: &str, costs: &MapCosts) -> Answer {
+    let (path, file) = match read_map(state, relative, costs) {
         Ok(read) => read,
         Err(answer) => return answer,
     };
@@ -616,6 +665,9 @@ fn map(state: &State, relative: &str) -> Answer {
             "height": grid.height(),
             "cells": cells,
             "problems": problems,
+            // Per cell (row-major), on a weighted map only: what the page shades by.
+            "weights": grid.weights().map(|w| w.cells()),
+            "cost_rule": grid.weights().map(|w| w.rule().name()),
         })
         .to_string(),
     )
@@ -645,6 +697,14 @@ pub struct PlanRequest {
     /// The id `POST /api/cancel?run=ID` cancels it by.
     #[serde(default)]
     pub run: Option<String>,
+    /// The map's cell costs (as `GET /api/map` takes them); the answer then has the path's
+    /// `cost`.
+    #[serde(default)]
+    pub costs: MapCosts,
+    /// Plan on a weighted map without its weights with a planner that cannot honour them
+    /// (else it is refused, as `plan --ignore-costs`).
+    #[serde(default)]
+    pub ignore_costs: bool,
 }
 
 /// Decrements the running-plans count when a worker ends.
@@ -661,7 +721,7 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
         Ok(request) => request,
         Err(e) => return Answer::error(400, &format!("plan request: {e}")),
     };
-    let (path, file) = match read_map(state, &request.map) {
+    let (path, file) = match read_map(state, &request.map, &request.costs) {
         Ok(read) => read,
         Err(answer) => return answer,
     };
@@ -702,6 +762,7 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
             planner: &request.planner,
             set: &request.set,
             max_expansions: request.max_expansions,
+            ignore_costs: request.ignore_costs,
         };
         let answer = match query::plan(&query, grid, &caps) {
             Ok(result) => plan_answer(&result),

@@ -1,0 +1,268 @@
+//! `gridplan plan` on maps with cell costs (issue 32): a weight file or graded ROS map, the
+//! cost options as flags, the path cost in `--json` (held to the test kit's weighted
+//! Dijkstra), and the refusal of a planner that cannot honour costs.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use planner_api::{Cell, Connectivity, CostRule, MoveSet};
+use planner_maps::{read_map_with, read_weights, CostOptions, ReadOptions};
+use planner_testkit::weighted_dijkstra;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Runs gridplan with `args`; returns its exit code, stdout and stderr.
+fn gridplan(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn json(stdout: &str) -> serde_json::Value {
+    serde_json::from_str(stdout).unwrap_or_else(|e| panic!("{e}: {stdout}"))
+}
+
+const ARENA: &str = "maps/movingai/arena.map";
+const WEIGHTS: &str = "maps/weighted/arena-weights.csv";
+
+/// The arena map with its weight file, as the test kit reads it, under `rule`.
+fn weighted_arena(rule: CostRule) -> planner_api::Grid {
+    let grid = read_map_with(&root().join(ARENA), &ReadOptions::default())
+        .unwrap()
+        .file
+        .grid;
+    read_weights(&root().join(WEIGHTS), grid, rule, &ReadOptions::default()).unwrap()
+}
+
+#[test]
+fn plan_with_a_weight_file_prints_the_oracle_cost() {
+    for (rule, flag) in [(CostRule::Mean, "mean"), (CostRule::Entered, "entered")] {
+        let grid = weighted_arena(rule);
+        let eight = MoveSet::standard(Connectivity::Eight);
+        let oracle = weighted_dijkstra(&grid, &eight, Cell::new(3, 1), Cell::new(46, 47))
+            .unwrap()
+            .to_f64();
+        for (planner, heuristic) in [
+            ("astar", "heuristic=octile"),
+            ("bidirectional_astar", "moves=8"),
+        ] {
+            let (code, out, err) = gridplan(&[
+                "plan",
+                ARENA,
+                "--planner",
+                planner,
+                "--set",
+                "moves=8",
+                "--set",
+                heuristic,
+                "--start",
+                "3,1",
+                "--goal",
+                "46,47",
+                "--weights",
+                WEIGHTS,
+                "--cost-rule",
+                flag,
+                "--json",
+            ]);
+            assert_eq!(code, 0, "{err}");
+            let v = json(&out);
+            assert_eq!(v["status"], "found");
+            let cost = v["cost"].as_f64().unwrap();
+            assert!(
+                (cost - oracle).abs() < 1e-6,
+                "{planner} {flag}: {cost} vs {oracle}"
+            );
+            // The cost is that of the path printed.
+            let cells: Vec<Cell> = v["path"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| Cell::new(c[0].as_u64().unwrap() as u32, c[1].as_u64().unwrap() as u32))
+                .collect();
+            assert_eq!(grid.path_cost(&cells).to_f64(), cost);
+        }
+    }
+    // lexastar, 4-connected: its first criterion is the cost, the oracle's 4-connected one.
+    let grid = weighted_arena(CostRule::Mean);
+    let four = MoveSet::standard(Connectivity::Four);
+    let oracle = weighted_dijkstra(&grid, &four, Cell::new(3, 1), Cell::new(46, 47)).unwrap();
+    let (code, out, err) = gridplan(&[
+        "plan",
+        ARENA,
+        "--planner",
+        "lexastar",
+        "--start",
+        "3,1",
+        "--goal",
+        "46,47",
+        "--weights",
+        WEIGHTS,
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!((json(&out)["cost"].as_f64().unwrap() - oracle.to_f64()).abs() < 1e-6);
+    // The text output names the cost too.
+    let (code, out, err) = gridplan(&[
+        "plan",
+        ARENA,
+        "--planner",
+        "astar",
+        "--start",
+        "3,1",
+        "--goal",
+        "46,47",
+        "--weights",
+        WEIGHTS,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("(cell weights, mean rule)"), "{out}");
+    // Without costs there is no cost key.
+    let (_, out, _) = gridplan(&["plan", ARENA, "--planner", "astar", "--json"]);
+    assert!(json(&out).get("cost").is_none(), "{out}");
+}
+
+#[test]
+fn plan_with_graded_ros_maps_and_terrain_weights() {
+    let yaml = "maps/ros-graded/TenByTen-raw.yaml";
+    let options = ReadOptions {
+        costs: CostOptions {
+            graded: true,
+            bands: planner_maps::CostBands {
+                lethal: 254,
+                unknown: Some(250),
+            },
+            ..CostOptions::default()
+        },
+        ..ReadOptions::default()
+    };
+    let grid = read_map_with(&root().join(yaml), &options)
+        .unwrap()
+        .file
+        .grid;
+    assert!(grid.is_weighted());
+    let eight = MoveSet::standard(Connectivity::Eight);
+    let oracle = weighted_dijkstra(&grid, &eight, Cell::new(0, 0), Cell::new(9, 9))
+        .unwrap()
+        .to_f64();
+    let (code, out, err) = gridplan(&[
+        "plan",
+        yaml,
+        "--planner",
+        "astar",
+        "--set",
+        "moves=8",
+        "--set",
+        "heuristic=octile",
+        "--start",
+        "0,0",
+        "--goal",
+        "9,9",
+        "--unknown",
+        "250",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        (json(&out)["cost"].as_f64().unwrap() - oracle).abs() < 1e-6,
+        "{out}"
+    );
+    // Moving AI terrain on a map with swamp: arena has none, so weight 1 everywhere and
+    // the cost is the octile length.
+    let (code, out, err) = gridplan(&[
+        "plan",
+        ARENA,
+        "--planner",
+        "astar",
+        "--set",
+        "moves=8",
+        "--set",
+        "heuristic=octile",
+        "--swamp",
+        "5",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    let length = v["metrics"]["length"].as_f64().unwrap();
+    assert!((v["cost"].as_f64().unwrap() - length).abs() < 1e-6, "{out}");
+}
+
+#[test]
+fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
+    let (code, _, err) = gridplan(&["plan", ARENA, "--planner", "bfs", "--weights", WEIGHTS]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(
+            "planner `bfs` (bfs) does not honour cell costs, and map `arena.map` has them"
+        ),
+        "{err}"
+    );
+    let (code, out, err) = gridplan(&[
+        "plan",
+        ARENA,
+        "--planner",
+        "bfs",
+        "--weights",
+        WEIGHTS,
+        "--ignore-costs",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    // BFS ran without the weights; the cost printed is still the map's.
+    assert!(json(&out)["cost"].as_f64().is_some(), "{out}");
+    let (code, _, err) = gridplan(&[
+        "plan",
+        ARENA,
+        "--planner",
+        "lexastar",
+        "--set",
+        "moves=8",
+        "--weights",
+        WEIGHTS,
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("does not honour cell costs"), "{err}");
+    for (args, message) in [
+        (vec!["--graded"], "apply to ROS maps"),
+        (vec!["--water", "3"], "--water needs --swamp"),
+        (vec!["--cost-rule", "entered"], "--cost-rule needs costs"),
+        (
+            vec!["--weights", WEIGHTS, "--swamp", "2"],
+            "does not go with",
+        ),
+    ] {
+        let mut all = vec!["plan", ARENA, "--planner", "astar"];
+        all.extend(args);
+        let (code, _, err) = gridplan(&all);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(message), "{message}: {err}");
+    }
+    let (code, _, err) = gridplan(&["plan", ARENA, "--planner", "astar", "--cost-rule", "median"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("expected mean or entered"), "{err}");
+    // A bad weight file: file, line and column.
+    let dir = std::env::temp_dir().join(format!("gridplan-costs-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.csv");
+    std::fs::write(&bad, "1 1 1 1 1 1\n1 1 1 -2 1 1\n").unwrap();
+    let (code, _, err) = gridplan(&[
+        "plan",
+        "maps/paper/map01.map",
+        "--planner",
+        "astar",
+        "--weights",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 4, "{err}");
+    assert!(err.contains("bad.csv:2:7: expected a weight (an integer from 1 to 65535), found '-2', a negative number"), "{err}");
+}
