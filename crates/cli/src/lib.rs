@@ -206,15 +206,37 @@ pub enum Command {
     },
 }
 
+/// A `--start`/`--goal` value that is not a cell.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CellError {
+    /// No comma.
+    #[error("{0:?}: expected x,y")]
+    Shape(String),
+    /// A coordinate that is not a `u32`.
+    #[error("{text:?}: {part:?} is not a cell coordinate: {source}")]
+    Coordinate {
+        /// The whole value.
+        text: String,
+        /// The coordinate.
+        part: String,
+        /// Why.
+        source: std::num::ParseIntError,
+    },
+}
+
 /// Parses `x,y` into a cell.
-pub fn parse_cell(text: &str) -> Result<Cell, String> {
+pub fn parse_cell(text: &str) -> Result<Cell, CellError> {
     let (x, y) = text
         .split_once(',')
-        .ok_or_else(|| format!("{text:?}: expected x,y"))?;
+        .ok_or_else(|| CellError::Shape(text.to_string()))?;
     let number = |s: &str| {
         s.trim()
             .parse::<u32>()
-            .map_err(|e| format!("{text:?}: {s:?} is not a cell coordinate: {e}"))
+            .map_err(|source| CellError::Coordinate {
+                text: text.to_string(),
+                part: s.to_string(),
+                source,
+            })
     };
     Ok(Cell::new(number(x)?, number(y)?))
 }
@@ -249,6 +271,12 @@ pub enum CliError {
     /// A replanning experiment's error (`kind = "navigate"` or `"dynamic"` configs).
     #[error(transparent)]
     Replan(#[from] planner_replan::experiment::ExperimentError),
+    /// `serve` could not start.
+    #[error(transparent)]
+    Serve(#[from] planner_serve::ServeError),
+    /// `plan --svg/--trace/--gif` wrote no picture.
+    #[error(transparent)]
+    Pictures(#[from] planner_serve::PictureError),
     /// Anything else (writing a file or stdout, a job submission).
     #[error("{0}")]
     Failed(String),
@@ -258,7 +286,8 @@ pub enum CliError {
 /// determinism bug found while drawing expanded cells).
 pub const EXIT_FAILURE: u8 = 1;
 /// Command-line arguments that do not fit (clap's own usage errors exit 2 too), and values
-/// that `slurm` cannot write safely into a script.
+/// that `slurm` cannot write safely into a script, and one file named by two of `plan`'s
+/// `--svg`, `--trace` and `--gif`.
 pub const EXIT_USAGE: u8 = 2;
 /// An experiment config that cannot be read or is invalid.
 pub const EXIT_CONFIG: u8 = 3;
@@ -284,7 +313,13 @@ impl CliError {
                     _ => EXIT_USAGE,
                 }
             }
-            CliError::Failed(_) => return EXIT_FAILURE,
+            CliError::Failed(_) | CliError::Serve(_) => return EXIT_FAILURE,
+            CliError::Pictures(error) => {
+                return match error {
+                    planner_serve::PictureError::SameFile { .. } => EXIT_USAGE,
+                    _ => EXIT_FAILURE,
+                }
+            }
             CliError::Replan(error) => {
                 use planner_replan::experiment::ExperimentError as E;
                 return match error {
@@ -469,12 +504,13 @@ impl sweep::Progress for Bar {
     }
 }
 
-/// The replanning experiment kind of the config at `path` (`kind = "navigate"` or
-/// `"dynamic"`, run by planner-replan), or `None` for the runner's configs and for a file
-/// that cannot be read (the runner then reports that, typed).
+/// The text of the config at `path` if it is a replanning experiment (`kind = "navigate"`
+/// or `"dynamic"`, run by planner-replan), or `None` for the runner's configs and for a file
+/// that cannot be read (the runner then reports that, typed). The text is what
+/// [`replan_experiment`] parses, so the file is read once.
 /// Only a regular file is read, and at most [`REPLAN_SNIFF_BYTES`] of it: a FIFO, a device or
 /// a huge file is left to the runner's reader, which refuses it with its own error.
-fn replan_kind(path: &Path) -> Option<planner_replan::experiment::Kind> {
+fn replan_text(path: &Path) -> Option<String> {
     use std::io::Read;
     // Opened without blocking on a FIFO, and refused unless a regular file.
     let file = planner_runner::stream::open_regular(path).ok()?;
@@ -482,30 +518,30 @@ fn replan_kind(path: &Path) -> Option<planner_replan::experiment::Kind> {
     file.take(REPLAN_SNIFF_BYTES)
         .read_to_string(&mut text)
         .ok()?;
-    planner_replan::experiment::kind_of(&text)
+    planner_replan::experiment::kind_of(&text).map(|_| text)
 }
 
-/// The most of a config [`replan_kind`] reads (configs are a few kilobytes).
+/// The most of a config [`replan_text`] reads (configs are a few kilobytes).
 const REPLAN_SNIFF_BYTES: u64 = 1 << 20;
 
-/// Runs a `navigate` or `dynamic` config (issue 31) into `output` (default
-/// `results/<name>`); fails when the oracle found a mismatch.
+/// Runs the `navigate` or `dynamic` config (issue 31) at `config`, whose `text`
+/// [`replan_text`] read, into `output` (default `results/<name>`); fails when the oracle
+/// found a mismatch.
 fn replan_experiment(
     config: &Path,
+    text: &str,
     output: Option<PathBuf>,
     threads: Option<usize>,
 ) -> Result<(), CliError> {
     use planner_replan::experiment;
-    let output = match output {
-        Some(output) => output,
-        None => PathBuf::from("results").join(experiment::load(config)?.name.get_ref()),
-    };
+    let parsed = experiment::parse(config, text)?;
+    let output = output.unwrap_or_else(|| PathBuf::from("results").join(parsed.name.get_ref()));
     let options = experiment::RunOptions {
         test: false,
         timing: true,
         threads: threads.unwrap_or(0),
     };
-    let done = experiment::run(config, &output, &options)?;
+    let done = experiment::run_config(&parsed, config, &output, &options)?;
     write_stdout(
         format!(
             "{}: {} runs, {} replans checked against A* from scratch, {} mismatches -> {}\n",
@@ -538,14 +574,14 @@ pub fn run(command: Command) -> Result<(), CliError> {
             resume,
             shard,
         } => {
-            if replan_kind(&config).is_some() {
+            if let Some(text) = replan_text(&config) {
                 if resume || shard.is_some() {
                     return Err(CliError::Usage(format!(
                         "{}: --resume and --shard do not apply to navigate or dynamic configs",
                         config.display()
                     )));
                 }
-                return replan_experiment(&config, output, threads);
+                return replan_experiment(&config, &text, output, threads);
             }
             let shard = match shard {
                 Some(text) => Some(
@@ -692,8 +728,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 svg.as_deref(),
                 trace.as_deref(),
                 gif.as_deref(),
-            )
-            .map_err(CliError::Failed)?;
+            )?;
             if let Some(file) = &svg {
                 let svg = planner_report::figures::draw_run(
                     &result.grid,
@@ -718,11 +753,18 @@ pub fn run(command: Command) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Command::Serve { dir, port, host } => planner_serve::serve(&planner_serve::ServeOptions {
-            host,
-            ..planner_serve::ServeOptions::new(&dir, port)
-        })
-        .map_err(CliError::Failed),
+        Command::Serve { dir, port, host } => {
+            let options = planner_serve::ServeOptions {
+                host,
+                ..planner_serve::ServeOptions::new(&dir, port)
+            };
+            planner_serve::serve(&options, |addr| {
+                // Printed as soon as the port is bound, so a script can wait for the line.
+                let line = format!("serving {} at http://{addr}/\n", dir.display());
+                let _ = write_stdout(line.as_bytes());
+            })?;
+            Ok(())
+        }
         Command::Planners { name: None } => {
             let mut out = String::new();
             for entry in planner_registry::PLANNERS {

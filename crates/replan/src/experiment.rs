@@ -600,7 +600,17 @@ pub fn run(
     output: &Path,
     options: &RunOptions,
 ) -> Result<ExperimentSummary, ExperimentError> {
-    let config = load(path)?;
+    run_config(&load(path)?, path, output, options)
+}
+
+/// [`run`] of a config already read from `path` (by [`load`] or [`parse`]), so a caller
+/// that read it to choose the output does not read it again.
+pub fn run_config(
+    config: &ExperimentConfig,
+    path: &Path,
+    output: &Path,
+    options: &RunOptions,
+) -> Result<ExperimentSummary, ExperimentError> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads)
@@ -609,7 +619,7 @@ pub fn run(
             path: "thread pool".into(),
             message: e.to_string(),
         })?;
-    let maps = load_maps(&config, dir, options)?;
+    let maps = load_maps(config, dir, options)?;
     let eight = config.moves.as_ref().is_none_or(|m| *m.get_ref() == 8);
     let names: Vec<String> = config
         .planners
@@ -782,7 +792,7 @@ pub fn run(
             })
             .collect()
     });
-    write_results(&config, output, options, &rows, &gppc_runs)
+    write_results(config, output, options, &rows, &gppc_runs)
 }
 
 /// Writes every output file (see the [module docs](self)).
