@@ -17,7 +17,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use planner_api::Cell;
 use planner_runner::plan::PlanArgs;
-use planner_runner::RunnerError;
+use planner_runner::{ErrorClass, RunnerError};
 use planner_runner::{alloc, slurm, sweep};
 use tracing_subscriber::EnvFilter;
 
@@ -329,21 +329,15 @@ impl CliError {
                     _ => EXIT_FAILURE,
                 };
             }
-            CliError::Runner(error) => error.innermost(),
+            CliError::Runner(error) => error.class(),
         };
+        // The Python package raises its exception class from the same class.
         match runner {
-            RunnerError::Config(_) => EXIT_CONFIG,
-            RunnerError::Map(_)
-            | RunnerError::Problem { .. }
-            | RunnerError::InvertedProblem { .. } => EXIT_INPUT,
-            RunnerError::Output(_) => EXIT_OUTPUT,
-            RunnerError::Usage(_)
-            | RunnerError::Threads(_)
-            | RunnerError::Param(..)
-            | RunnerError::UnknownPlanner { .. }
-            | RunnerError::UnknownLabel { .. }
-            | RunnerError::Resume(_) => EXIT_USAGE,
-            _ => EXIT_FAILURE,
+            ErrorClass::Config => EXIT_CONFIG,
+            ErrorClass::Map | ErrorClass::Problem => EXIT_INPUT,
+            ErrorClass::Output => EXIT_OUTPUT,
+            ErrorClass::Usage | ErrorClass::Parameter => EXIT_USAGE,
+            ErrorClass::Determinism | ErrorClass::Other => EXIT_FAILURE,
         }
     }
 }
@@ -475,12 +469,19 @@ fn stop_on_signals() -> Option<&'static AtomicBool> {
     }
 }
 
-/// A sweep's progress bar on stderr (hidden when stderr is not a terminal).
-#[derive(Default)]
-struct Bar(std::sync::OnceLock<ProgressBar>);
+/// A sweep's progress bar on stderr (hidden when stderr is not a terminal), and what a
+/// resumed sweep found.
+struct Bar {
+    bar: std::sync::OnceLock<ProgressBar>,
+    /// `--quiet`: no bar (what a resume found is still said).
+    quiet: bool,
+}
 
 impl sweep::Progress for Bar {
     fn start(&self, total: u64, done: u64) {
+        if self.quiet {
+            return;
+        }
         let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
         if let Ok(style) = ProgressStyle::with_template(
             "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} runs ({eta})",
@@ -488,20 +489,59 @@ impl sweep::Progress for Bar {
             bar.set_style(style);
         }
         bar.set_position(done);
-        let _ = self.0.set(bar);
+        let _ = self.bar.set(bar);
     }
 
     fn set(&self, done: u64) {
-        if let Some(bar) = self.0.get() {
+        if let Some(bar) = self.bar.get() {
             bar.set_position(done);
         }
     }
 
     fn finish(&self) {
-        if let Some(bar) = self.0.get() {
+        if let Some(bar) = self.bar.get() {
             bar.finish_and_clear();
         }
     }
+
+    fn resumed(&self, done: u64, total: u64, output: &Path) {
+        if done == 0 {
+            eprintln!(
+                "nothing to resume for {}: running every run",
+                output.display()
+            );
+        } else {
+            eprintln!("resuming: {done} of {total} runs already recorded");
+        }
+    }
+}
+
+/// What the provenance of a sweep of `config` needs from the environment and from git
+/// (the runner reads neither): the host name (`/proc/sys/kernel/hostname`, else
+/// `$HOSTNAME`) and the commit of the config's working tree, `-dirty` with changes.
+pub fn machine(config: &Path) -> planner_runner::provenance::Machine {
+    let dir = config
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .arg("-C")
+            .arg(dir)
+            .args(args)
+            .stdin(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+    };
+    planner_runner::provenance::Machine::from_facts(planner_runner::provenance::Facts {
+        hostname_file: std::fs::read_to_string("/proc/sys/kernel/hostname").ok(),
+        hostname_env: std::env::var("HOSTNAME").ok(),
+        git_head: git(&["rev-parse", "HEAD"]),
+        git_status: git(&["status", "--porcelain", "--untracked-files=no"]),
+    })
 }
 
 /// The text of the config at `path` if it is a replanning experiment (`kind = "navigate"`
@@ -591,13 +631,18 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())
                     .map_err(|e| CliError::Usage(e.0))?,
             };
-            let bar = Bar::default();
+            let bar = Bar {
+                bar: std::sync::OnceLock::new(),
+                quiet,
+            };
             let stop = stop_on_signals();
             let renderer = planner_paper::renderer();
+            let machine = machine(&config);
             let report = sweep::experiment(&sweep::SweepArgs {
                 threads: threads.unwrap_or(0),
                 output: output.as_deref(),
-                progress: (!quiet).then_some(&bar as &dyn sweep::Progress),
+                progress: Some(&bar as &dyn sweep::Progress),
+                machine: &machine,
                 heap: Some(&alloc::Meter),
                 resume,
                 shard,
@@ -639,6 +684,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 output.as_deref(),
                 config.as_deref(),
                 &planner_paper::renderer(),
+                &machine,
             )?;
             write_stdout(
                 format!(
@@ -775,11 +821,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
         }
         Command::Planners { name: Some(name) } => write_stdout(describe_planner(&name)?.as_bytes()),
         Command::Schema => {
-            let schema = planner_runner::schema::experiment_schema(
-                &planner_paper::renderer().section_names(),
-            )
-            .map_err(|e| CliError::Failed(e.to_string()))?;
-            let text = serde_json::to_string_pretty(&schema)
+            let text = serde_json::to_string_pretty(&schema()?)
                 .map_err(|e| CliError::Failed(e.to_string()))?;
             write_stdout(format!("{text}\n").as_bytes())
         }
@@ -790,6 +832,47 @@ pub fn run(command: Command) -> Result<(), CliError> {
             write_stdout(&script)
         }
     }
+}
+
+/// `gridplan schema`: the JSON Schema (draft 2020-12) of every config `experiment` runs,
+/// one of the runner's experiment configs ([`planner_runner::schema::experiment_schema`],
+/// with the report's section names) and the replanning experiments' (`kind = "navigate"`
+/// or `"dynamic"`, derived from planner-replan's config type). Each refuses the other's
+/// keys (the runner's knows no `kind`, which the replanning one requires), so a config is
+/// exactly one of them.
+pub fn schema() -> Result<serde_json::Value, CliError> {
+    let mut runner =
+        planner_runner::schema::experiment_schema(&planner_paper::renderer().section_names())
+            .map_err(|e| CliError::Failed(e.to_string()))?;
+    let mut replan = planner_registry::schema::parameters_of::<
+        planner_replan::experiment::ExperimentConfig,
+    >()
+    .to_value();
+    let mut draft = serde_json::Value::Null;
+    for part in [&mut runner, &mut replan] {
+        if let Some(object) = part.as_object_mut() {
+            if let Some(url) = object.remove("$schema") {
+                draft = url;
+            }
+        }
+    }
+    if let Some(object) = replan.as_object_mut() {
+        object.insert(
+            "title".into(),
+            "gridplan replanning experiment config".into(),
+        );
+        object.insert(
+            "description".into(),
+            "A navigate or dynamic experiment of the incremental planners (configs/replan/README.md)."
+                .into(),
+        );
+    }
+    Ok(serde_json::json!({
+        "$schema": draft,
+        "title": "gridplan config",
+        "description": "An experiment config: the runner's (configs/README.md) or a replanning experiment's (kind = \"navigate\" or \"dynamic\").",
+        "oneOf": [runner, replan],
+    }))
 }
 
 /// The widest map `plan` draws as text: the terminal's width when stdout is a terminal,
