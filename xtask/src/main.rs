@@ -46,7 +46,9 @@ fn run(command: Command) -> Result<(), gridplan::CliError> {
         Command::NewPlanner { name } => {
             let root = workspace_root();
             let done = xtask::scaffold::new_planner(&root, &name).map_err(|e| match e {
-                xtask::scaffold::ScaffoldError::Io { .. } => gridplan::CliError::Failed(e.to_string()),
+                xtask::scaffold::ScaffoldError::Io { .. } => {
+                    gridplan::CliError::Failed(e.to_string())
+                }
                 _ => gridplan::CliError::Usage(e.to_string()),
             })?;
             println!("created planner `{name}`:");

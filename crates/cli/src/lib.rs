@@ -17,8 +17,8 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use planner_api::Cell;
 use planner_runner::plan::PlanArgs;
-use planner_runner::{ErrorClass, RunnerError};
 use planner_runner::{alloc, slurm, sweep};
+use planner_runner::{ErrorClass, RunnerError};
 use tracing_subscriber::EnvFilter;
 
 /// `gridplan --version`: the package version and the git commit it was built from
@@ -844,10 +844,9 @@ pub fn schema() -> Result<serde_json::Value, CliError> {
     let mut runner =
         planner_runner::schema::experiment_schema(&planner_paper::renderer().section_names())
             .map_err(|e| CliError::Failed(e.to_string()))?;
-    let mut replan = planner_registry::schema::parameters_of::<
-        planner_replan::experiment::ExperimentConfig,
-    >()
-    .to_value();
+    let mut replan =
+        planner_registry::schema::parameters_of::<planner_replan::experiment::ExperimentConfig>()
+            .to_value();
     let mut draft = serde_json::Value::Null;
     for part in [&mut runner, &mut replan] {
         if let Some(object) = part.as_object_mut() {

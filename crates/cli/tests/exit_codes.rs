@@ -132,12 +132,19 @@ fn slurm_refuses_a_foreign_work_directory() {
     let out_arg = out.display().to_string();
     let (code, err) = gridplan(&["slurm", &cfg, "--shards", "1", "--output", &out_arg]);
     assert_eq!(code, 5, "{err}");
-    assert!(err.contains("r-slurm") && err.contains(".gridplan-slurm"), "{err}");
+    assert!(
+        err.contains("r-slurm") && err.contains(".gridplan-slurm"),
+        "{err}"
+    );
     let names: Vec<_> = std::fs::read_dir(&work)
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
-    assert_eq!(names, ["thesis.tex"], "the foreign directory was written into");
+    assert_eq!(
+        names,
+        ["thesis.tex"],
+        "the foreign directory was written into"
+    );
     // An empty one is claimed (its marker written), and then written again.
     std::fs::remove_file(work.join("thesis.tex")).unwrap();
     for _ in 0..2 {
@@ -165,6 +172,9 @@ fn one_file_for_two_pictures_exits_2() {
         &file,
     ]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("given for two of --svg, --trace and --gif"), "{err}");
+    assert!(
+        err.contains("given for two of --svg, --trace and --gif"),
+        "{err}"
+    );
     assert!(!dir.join("x.svg").exists());
 }

@@ -393,7 +393,11 @@ type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
 /// The chart `file` titled `title` (cleaned for XML): `draw` on an SVG page of [`SIZE`],
 /// given the cleaned title. A drawing error leaves the page as far as it got.
-fn render_chart(file: &str, title: &str, draw: impl FnOnce(&Area<'_>, &str) -> DrawResult) -> Chart {
+fn render_chart(
+    file: &str,
+    title: &str,
+    draw: impl FnOnce(&Area<'_>, &str) -> DrawResult,
+) -> Chart {
     let title = &xml_text(title);
     let mut svg = String::new();
     {
@@ -442,7 +446,7 @@ fn by_label<'a, 'b>(
 }
 
 /// Draws the legend of `chart`'s labelled series at `position`.
-fn legend(chart: &mut Plot<'_, '_>, position: SeriesLabelPosition) -> DrawResult {
+fn legend<'a, 'b: 'a>(chart: &mut Plot<'a, 'b>, position: SeriesLabelPosition) -> DrawResult {
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))

@@ -7,8 +7,8 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use indexmap::IndexMap;
-use schemars::JsonSchema;
 use planner_api::{Budget, Cell, Grid, Problem};
+use schemars::JsonSchema;
 use serde::Deserialize;
 use toml::Spanned;
 
