@@ -7,7 +7,7 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use planner_runner::RunnerError;
+use planner_runner::{ErrorClass, RunnerError};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -153,53 +153,54 @@ fn map_error(py: Python<'_>, error: &planner_maps::MapError) -> PyResult<PyErr> 
     )
 }
 
-/// The exception of a runner error: its class from the innermost error (a `merge:` or
-/// `report:` context keeps it), its message the whole one.
+/// The exception of a runner error: its class from [`RunnerError::class`] (the command
+/// line's exit status follows the same class; a `merge:` or `report:` context keeps it),
+/// its message the whole one, its attributes from the innermost error.
 fn runner_error(py: Python<'_>, error: RunnerError) -> PyResult<PyErr> {
     let message = error.to_string();
-    match error.innermost() {
-        RunnerError::Config(e) => raise(
-            py,
-            "ConfigError",
-            message,
-            &[
-                ("file", Attr::from(e.file.display().to_string())),
-                ("line", Attr::from(e.line)),
-                ("column", Attr::from(e.column)),
-            ],
-        ),
-        RunnerError::Map(e) => map_error(py, e),
-        RunnerError::Param(_, e) | RunnerError::Build(_, e) => raise(
-            py,
-            "ParameterError",
-            message,
-            &[("key", Attr::from(e.key.clone()))],
-        ),
-        RunnerError::UnknownPlanner { .. } => raise(
-            py,
-            "ParameterError",
-            message,
-            &[("key", Attr::from("planner"))],
-        ),
-        RunnerError::Problem { error, .. } => {
+    let class = match error.class() {
+        ErrorClass::Config => "ConfigError",
+        ErrorClass::Map => "MapError",
+        ErrorClass::Problem => "ProblemError",
+        ErrorClass::Parameter => "ParameterError",
+        ErrorClass::Usage => return Ok(PyValueError::new_err(message)),
+        ErrorClass::Output => "OutputError",
+        ErrorClass::Determinism => "DeterminismError",
+        ErrorClass::Other => "GridplanError",
+    };
+    raise(py, class, message, &attributes(error.innermost()))
+}
+
+/// The attributes of the exception of `error` (its class's keyword arguments).
+fn attributes(error: &RunnerError) -> Vec<(&'static str, Attr)> {
+    match error {
+        RunnerError::Config(e) => vec![
+            ("file", Attr::from(e.file.display().to_string())),
+            ("line", Attr::from(e.line)),
+            ("column", Attr::from(e.column)),
+        ],
+        RunnerError::Map(e) => vec![
+            ("file", Attr::from(e.file.as_str())),
+            ("line", Attr::from(e.line)),
+            ("column", Attr::from(e.column)),
+        ],
+        RunnerError::Param(_, e) | RunnerError::Build(_, e) => {
+            vec![("key", Attr::from(e.key.clone()))]
+        }
+        RunnerError::UnknownPlanner { .. } | RunnerError::UnknownLabel { .. } => {
+            vec![("key", Attr::from("planner"))]
+        }
+        RunnerError::Problem { error, .. } | RunnerError::InvertedProblem { error, .. } => {
             let (endpoint, cell) = match *error {
                 planner_api::ProblemError::OutOfBounds { endpoint, cell, .. }
                 | planner_api::ProblemError::Blocked { endpoint, cell } => (endpoint, cell),
             };
-            raise(
-                py,
-                "ProblemError",
-                message,
-                &[
-                    ("endpoint", Attr::from(endpoint.to_string())),
-                    ("cell", Attr::from((cell.x, cell.y))),
-                ],
-            )
+            vec![
+                ("endpoint", Attr::from(endpoint.to_string())),
+                ("cell", Attr::from((cell.x, cell.y))),
+            ]
         }
-        RunnerError::Usage(_) | RunnerError::Threads(_) => Ok(PyValueError::new_err(message)),
-        RunnerError::Output(_) => raise(py, "OutputError", message, &[]),
-        RunnerError::Expanded(_) => raise(py, "DeterminismError", message, &[]),
-        _ => raise(py, "GridplanError", message, &[]),
+        _ => Vec::new(),
     }
 }
 

@@ -8,6 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
+use planner_runner::provenance::{Facts, Machine};
 use planner_runner::record::RunRecord;
 use planner_runner::sweep::SweepArgs;
 use planner_runner::{RunOptions, RunnerError};
@@ -71,15 +72,46 @@ fn sweep_to(config: &Path, threads: usize, dir: &Path) -> Result<Vec<RunRecord>,
     // The sweep's errors are typed (the config's, the output's, a figure mismatch found
     // late): each becomes its exception class.
     let renderer = planner_paper::renderer();
+    let machine = machine(config);
     let args = SweepArgs {
         threads,
         output: Some(dir),
+        machine: &machine,
         heap: Some(&planner_runner::alloc::Meter),
         keep_records: true,
         ..SweepArgs::new(config, &renderer)
     };
     let report = planner_runner::sweep::experiment(&args)?;
     Ok(report.records)
+}
+
+/// The commit and host of a sweep of `config`'s provenance (the runner reads no
+/// environment and starts no process; the command line's `gridplan::machine` does the
+/// same): `/proc/sys/kernel/hostname`, else `$HOSTNAME`, and `git` in the config's
+/// directory.
+fn machine(config: &Path) -> Machine {
+    let dir = config
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .arg("-C")
+            .arg(dir)
+            .args(args)
+            .stdin(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+    };
+    Machine::from_facts(Facts {
+        hostname_file: std::fs::read_to_string("/proc/sys/kernel/hostname").ok(),
+        hostname_env: std::env::var("HOSTNAME").ok(),
+        git_head: git(&["rev-parse", "HEAD"]),
+        git_status: git(&["status", "--porcelain", "--untracked-files=no"]),
+    })
 }
 
 /// runs.csv's header for `records`, as planner-runner writes it.

@@ -10,17 +10,30 @@
 
 pub mod scaffold;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// A file or directory that could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {source}", path.display())]
+pub struct WriteError {
+    /// The path.
+    pub path: PathBuf,
+    /// Why.
+    pub source: std::io::Error,
+}
 
 /// Writes seed 002's generated maps ([`planner_pastar::generate::specs`]) to `dir` as
 /// Moving AI `.map` files; returns the paths.
-pub fn write_pastar_maps(dir: &Path) -> Result<Vec<String>, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+pub fn write_pastar_maps(dir: &Path) -> Result<Vec<String>, WriteError> {
+    let failed = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| WriteError { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(failed(dir))?;
     let mut written = Vec::new();
     for map in planner_pastar::generate::specs() {
         let path = dir.join(map.name);
-        std::fs::write(&path, planner_maps::to_movingai(&map.grid))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(&path, planner_maps::to_movingai(&map.grid)).map_err(failed(&path))?;
         written.push(path.display().to_string());
     }
     Ok(written)

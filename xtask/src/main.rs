@@ -45,8 +45,12 @@ fn run(command: Command) -> Result<(), gridplan::CliError> {
         Command::User(command) => gridplan::run(command),
         Command::NewPlanner { name } => {
             let root = workspace_root();
-            let done =
-                xtask::scaffold::new_planner(&root, &name).map_err(gridplan::CliError::Usage)?;
+            let done = xtask::scaffold::new_planner(&root, &name).map_err(|e| match e {
+                xtask::scaffold::ScaffoldError::Io { .. } => {
+                    gridplan::CliError::Failed(e.to_string())
+                }
+                _ => gridplan::CliError::Usage(e.to_string()),
+            })?;
             println!("created planner `{name}`:");
             for file in &done.files {
                 println!("  {file}");
@@ -56,7 +60,7 @@ fn run(command: Command) -> Result<(), gridplan::CliError> {
         }
         Command::GenPastarMaps => {
             let written = xtask::write_pastar_maps(&workspace_root().join("maps/pastar"))
-                .map_err(gridplan::CliError::Failed)?;
+                .map_err(|e| gridplan::CliError::Failed(e.to_string()))?;
             for path in written {
                 println!("{path}");
             }

@@ -11,7 +11,7 @@
 //! are found first.
 
 use std::fs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 const DEPS_MARKER: &str = "# (planners end)";
 const REGISTRY_MARKER: &str = "    // (registry end)";
@@ -26,49 +26,85 @@ pub struct Scaffolded {
     pub files: Vec<String>,
 }
 
+/// Why no planner was scaffolded.
+#[derive(Debug, thiserror::Error)]
+pub enum ScaffoldError {
+    /// A name that cannot be a planner's.
+    #[error("planner name {name:?}: {reason}")]
+    Name {
+        /// The name given.
+        name: String,
+        /// Why not.
+        reason: &'static str,
+    },
+    /// The crate directory or config exists already.
+    #[error("{} already exists", path.display())]
+    Exists {
+        /// The path.
+        path: PathBuf,
+    },
+    /// The registry has a planner of that name.
+    #[error("planner `{0}` is already registered")]
+    Registered(String),
+    /// A file to edit lacks the marker the new lines go before.
+    #[error("{}: marker {marker:?} not found", path.display())]
+    Marker {
+        /// The file.
+        path: PathBuf,
+        /// The marker.
+        marker: &'static str,
+    },
+    /// A file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+/// An I/O error about `path`.
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ScaffoldError + '_ {
+    move |source| ScaffoldError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
 /// Creates planner `name` in the workspace at `root`.
-pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
+pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, ScaffoldError> {
     check_name(name)?;
     let crate_dir = root.join("crates").join(name);
     if crate_dir.exists() {
-        return Err(format!("{} already exists", crate_dir.display()));
+        return Err(ScaffoldError::Exists { path: crate_dir });
     }
     if planner_registry::find(name).is_some() {
-        return Err(format!("planner `{name}` is already registered"));
+        return Err(ScaffoldError::Registered(name.to_string()));
     }
     let cargo_path = root.join("crates/registry/Cargo.toml");
     let registry_path = root.join("crates/registry/src/lib.rs");
-    let cargo =
-        fs::read_to_string(&cargo_path).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
-    let registry = fs::read_to_string(&registry_path)
-        .map_err(|e| format!("{}: {e}", registry_path.display()))?;
-    if !cargo.contains(DEPS_MARKER) {
-        return Err(format!(
-            "{}: marker line {DEPS_MARKER:?} not found",
-            cargo_path.display()
-        ));
-    }
-    if !registry.contains(REGISTRY_MARKER) {
-        return Err(format!(
-            "{}: marker line {REGISTRY_MARKER:?} not found",
-            registry_path.display()
-        ));
-    }
+    let cargo = fs::read_to_string(&cargo_path).map_err(io(&cargo_path))?;
+    let registry = fs::read_to_string(&registry_path).map_err(io(&registry_path))?;
     let config_rel = format!("configs/{name}.toml");
     if root.join(&config_rel).exists() {
-        return Err(format!(
-            "{} already exists",
-            root.join(&config_rel).display()
-        ));
+        return Err(ScaffoldError::Exists {
+            path: root.join(&config_rel),
+        });
     }
     let architecture_path = root.join("ARCHITECTURE.md");
-    let architecture = fs::read_to_string(&architecture_path)
-        .map_err(|e| format!("{}: {e}", architecture_path.display()))?;
-    if !architecture.contains(ARCHITECTURE_MARKER) {
-        return Err(format!(
-            "{}: marker {ARCHITECTURE_MARKER:?} not found",
-            architecture_path.display()
-        ));
+    let architecture = fs::read_to_string(&architecture_path).map_err(io(&architecture_path))?;
+    for (path, text, marker) in [
+        (&cargo_path, &cargo, DEPS_MARKER),
+        (&registry_path, &registry, REGISTRY_MARKER),
+        (&architecture_path, &architecture, ARCHITECTURE_MARKER),
+    ] {
+        if !text.contains(marker) {
+            return Err(ScaffoldError::Marker {
+                path: path.clone(),
+                marker,
+            });
+        }
     }
     let package = format!("planner-{name}");
     let ident = format!("planner_{name}");
@@ -117,14 +153,13 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, String> {
     for (path, contents) in &files {
         let full = root.join(path);
         if let Some(dir) = full.parent() {
-            fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            fs::create_dir_all(dir).map_err(io(dir))?;
         }
-        fs::write(&full, contents).map_err(|e| format!("{}: {e}", full.display()))?;
+        fs::write(&full, contents).map_err(io(&full))?;
     }
-    fs::write(&cargo_path, cargo).map_err(|e| format!("{}: {e}", cargo_path.display()))?;
-    fs::write(&registry_path, registry).map_err(|e| format!("{}: {e}", registry_path.display()))?;
-    fs::write(&architecture_path, architecture)
-        .map_err(|e| format!("{}: {e}", architecture_path.display()))?;
+    fs::write(&cargo_path, cargo).map_err(io(&cargo_path))?;
+    fs::write(&registry_path, registry).map_err(io(&registry_path))?;
+    fs::write(&architecture_path, architecture).map_err(io(&architecture_path))?;
     let mut written: Vec<String> = files.into_iter().map(|(p, _)| p).collect();
     written.push("crates/registry/Cargo.toml".into());
     written.push("crates/registry/src/lib.rs".into());
@@ -147,7 +182,7 @@ const RESERVED: &[&str] = &[
 /// underscores, starting with a letter, at least 2 characters) and not reserved: it becomes
 /// the directory `crates/<name>`, the package `planner-<name>`, the registry name and, in
 /// CamelCase, a Rust type.
-fn check_name(name: &str) -> Result<(), String> {
+fn check_name(name: &str) -> Result<(), ScaffoldError> {
     let shape = name.len() >= 2
         && name.starts_with(|c: char| c.is_ascii_lowercase())
         && !name.ends_with('_')
@@ -156,14 +191,16 @@ fn check_name(name: &str) -> Result<(), String> {
             .chars()
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
     if !shape {
-        return Err(format!(
-            "planner name {name:?}: use 2 or more lowercase letters, digits and single underscores, starting with a letter (it is the directory crates/<name> and the registry name)"
-        ));
+        return Err(ScaffoldError::Name {
+            name: name.to_string(),
+            reason: "use 2 or more lowercase letters, digits and single underscores, starting with a letter (it is the directory crates/<name> and the registry name)",
+        });
     }
     if RESERVED.contains(&name) {
-        return Err(format!(
-            "planner name {name:?} is reserved (a Rust keyword or a workspace crate's directory); choose another"
-        ));
+        return Err(ScaffoldError::Name {
+            name: name.to_string(),
+            reason: "reserved (a Rust keyword or a workspace crate's directory); choose another",
+        });
     }
     Ok(())
 }

@@ -17,8 +17,8 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use planner_api::Cell;
 use planner_runner::plan::PlanArgs;
-use planner_runner::RunnerError;
 use planner_runner::{alloc, slurm, sweep};
+use planner_runner::{ErrorClass, RunnerError};
 use tracing_subscriber::EnvFilter;
 
 /// `gridplan --version`: the package version and the git commit it was built from
@@ -233,15 +233,37 @@ pub enum Command {
     },
 }
 
+/// A `--start`/`--goal` value that is not a cell.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CellError {
+    /// No comma.
+    #[error("{0:?}: expected x,y")]
+    Shape(String),
+    /// A coordinate that is not a `u32`.
+    #[error("{text:?}: {part:?} is not a cell coordinate: {source}")]
+    Coordinate {
+        /// The whole value.
+        text: String,
+        /// The coordinate.
+        part: String,
+        /// Why.
+        source: std::num::ParseIntError,
+    },
+}
+
 /// Parses `x,y` into a cell.
-pub fn parse_cell(text: &str) -> Result<Cell, String> {
+pub fn parse_cell(text: &str) -> Result<Cell, CellError> {
     let (x, y) = text
         .split_once(',')
-        .ok_or_else(|| format!("{text:?}: expected x,y"))?;
+        .ok_or_else(|| CellError::Shape(text.to_string()))?;
     let number = |s: &str| {
         s.trim()
             .parse::<u32>()
-            .map_err(|e| format!("{text:?}: {s:?} is not a cell coordinate: {e}"))
+            .map_err(|source| CellError::Coordinate {
+                text: text.to_string(),
+                part: s.to_string(),
+                source,
+            })
     };
     Ok(Cell::new(number(x)?, number(y)?))
 }
@@ -286,6 +308,12 @@ pub enum CliError {
     /// A replanning experiment's error (`kind = "navigate"` or `"dynamic"` configs).
     #[error(transparent)]
     Replan(#[from] planner_replan::experiment::ExperimentError),
+    /// `serve` could not start.
+    #[error(transparent)]
+    Serve(#[from] planner_serve::ServeError),
+    /// `plan --svg/--trace/--gif` wrote no picture.
+    #[error(transparent)]
+    Pictures(#[from] planner_serve::PictureError),
     /// Anything else (writing a file or stdout, a job submission).
     #[error("{0}")]
     Failed(String),
@@ -295,7 +323,8 @@ pub enum CliError {
 /// determinism bug found while drawing expanded cells).
 pub const EXIT_FAILURE: u8 = 1;
 /// Command-line arguments that do not fit (clap's own usage errors exit 2 too), and values
-/// that `slurm` cannot write safely into a script.
+/// that `slurm` cannot write safely into a script, and one file named by two of `plan`'s
+/// `--svg`, `--trace` and `--gif`.
 pub const EXIT_USAGE: u8 = 2;
 /// An experiment config that cannot be read or is invalid.
 pub const EXIT_CONFIG: u8 = 3;
@@ -321,7 +350,13 @@ impl CliError {
                     _ => EXIT_USAGE,
                 }
             }
-            CliError::Failed(_) => return EXIT_FAILURE,
+            CliError::Failed(_) | CliError::Serve(_) => return EXIT_FAILURE,
+            CliError::Pictures(error) => {
+                return match error {
+                    planner_serve::PictureError::SameFile { .. } => EXIT_USAGE,
+                    _ => EXIT_FAILURE,
+                }
+            }
             CliError::Replan(error) => {
                 use planner_replan::experiment::ExperimentError as E;
                 return match error {
@@ -331,21 +366,15 @@ impl CliError {
                     _ => EXIT_FAILURE,
                 };
             }
-            CliError::Runner(error) => error.innermost(),
+            CliError::Runner(error) => error.class(),
         };
+        // The Python package raises its exception class from the same class.
         match runner {
-            RunnerError::Config(_) => EXIT_CONFIG,
-            RunnerError::Map(_)
-            | RunnerError::Problem { .. }
-            | RunnerError::InvertedProblem { .. } => EXIT_INPUT,
-            RunnerError::Output(_) => EXIT_OUTPUT,
-            RunnerError::Usage(_)
-            | RunnerError::Threads(_)
-            | RunnerError::Param(..)
-            | RunnerError::UnknownPlanner { .. }
-            | RunnerError::UnknownLabel { .. }
-            | RunnerError::Resume(_) => EXIT_USAGE,
-            _ => EXIT_FAILURE,
+            ErrorClass::Config => EXIT_CONFIG,
+            ErrorClass::Map | ErrorClass::Problem => EXIT_INPUT,
+            ErrorClass::Output => EXIT_OUTPUT,
+            ErrorClass::Usage | ErrorClass::Parameter => EXIT_USAGE,
+            ErrorClass::Determinism | ErrorClass::Other => EXIT_FAILURE,
         }
     }
 }
@@ -477,12 +506,19 @@ fn stop_on_signals() -> Option<&'static AtomicBool> {
     }
 }
 
-/// A sweep's progress bar on stderr (hidden when stderr is not a terminal).
-#[derive(Default)]
-struct Bar(std::sync::OnceLock<ProgressBar>);
+/// A sweep's progress bar on stderr (hidden when stderr is not a terminal), and what a
+/// resumed sweep found.
+struct Bar {
+    bar: std::sync::OnceLock<ProgressBar>,
+    /// `--quiet`: no bar (what a resume found is still said).
+    quiet: bool,
+}
 
 impl sweep::Progress for Bar {
     fn start(&self, total: u64, done: u64) {
+        if self.quiet {
+            return;
+        }
         let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
         if let Ok(style) = ProgressStyle::with_template(
             "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} runs ({eta})",
@@ -490,28 +526,68 @@ impl sweep::Progress for Bar {
             bar.set_style(style);
         }
         bar.set_position(done);
-        let _ = self.0.set(bar);
+        let _ = self.bar.set(bar);
     }
 
     fn set(&self, done: u64) {
-        if let Some(bar) = self.0.get() {
+        if let Some(bar) = self.bar.get() {
             bar.set_position(done);
         }
     }
 
     fn finish(&self) {
-        if let Some(bar) = self.0.get() {
+        if let Some(bar) = self.bar.get() {
             bar.finish_and_clear();
+        }
+    }
+
+    fn resumed(&self, done: u64, total: u64, output: &Path) {
+        if done == 0 {
+            eprintln!(
+                "nothing to resume for {}: running every run",
+                output.display()
+            );
+        } else {
+            eprintln!("resuming: {done} of {total} runs already recorded");
         }
     }
 }
 
-/// The replanning experiment kind of the config at `path` (`kind = "navigate"` or
-/// `"dynamic"`, run by planner-replan), or `None` for the runner's configs and for a file
-/// that cannot be read (the runner then reports that, typed).
+/// What the provenance of a sweep of `config` needs from the environment and from git
+/// (the runner reads neither): the host name (`/proc/sys/kernel/hostname`, else
+/// `$HOSTNAME`) and the commit of the config's working tree, `-dirty` with changes.
+pub fn machine(config: &Path) -> planner_runner::provenance::Machine {
+    let dir = config
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .arg("-C")
+            .arg(dir)
+            .args(args)
+            .stdin(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+    };
+    planner_runner::provenance::Machine::from_facts(planner_runner::provenance::Facts {
+        hostname_file: std::fs::read_to_string("/proc/sys/kernel/hostname").ok(),
+        hostname_env: std::env::var("HOSTNAME").ok(),
+        git_head: git(&["rev-parse", "HEAD"]),
+        git_status: git(&["status", "--porcelain", "--untracked-files=no"]),
+    })
+}
+
+/// The text of the config at `path` if it is a replanning experiment (`kind = "navigate"`
+/// or `"dynamic"`, run by planner-replan), or `None` for the runner's configs and for a file
+/// that cannot be read (the runner then reports that, typed). The text is what
+/// [`replan_experiment`] parses, so the file is read once.
 /// Only a regular file is read, and at most [`REPLAN_SNIFF_BYTES`] of it: a FIFO, a device or
 /// a huge file is left to the runner's reader, which refuses it with its own error.
-fn replan_kind(path: &Path) -> Option<planner_replan::experiment::Kind> {
+fn replan_text(path: &Path) -> Option<String> {
     use std::io::Read;
     // Opened without blocking on a FIFO, and refused unless a regular file.
     let file = planner_runner::stream::open_regular(path).ok()?;
@@ -519,30 +595,30 @@ fn replan_kind(path: &Path) -> Option<planner_replan::experiment::Kind> {
     file.take(REPLAN_SNIFF_BYTES)
         .read_to_string(&mut text)
         .ok()?;
-    planner_replan::experiment::kind_of(&text)
+    planner_replan::experiment::kind_of(&text).map(|_| text)
 }
 
-/// The most of a config [`replan_kind`] reads (configs are a few kilobytes).
+/// The most of a config [`replan_text`] reads (configs are a few kilobytes).
 const REPLAN_SNIFF_BYTES: u64 = 1 << 20;
 
-/// Runs a `navigate` or `dynamic` config (issue 31) into `output` (default
-/// `results/<name>`); fails when the oracle found a mismatch.
+/// Runs the `navigate` or `dynamic` config (issue 31) at `config`, whose `text`
+/// [`replan_text`] read, into `output` (default `results/<name>`); fails when the oracle
+/// found a mismatch.
 fn replan_experiment(
     config: &Path,
+    text: &str,
     output: Option<PathBuf>,
     threads: Option<usize>,
 ) -> Result<(), CliError> {
     use planner_replan::experiment;
-    let output = match output {
-        Some(output) => output,
-        None => PathBuf::from("results").join(experiment::load(config)?.name.get_ref()),
-    };
+    let parsed = experiment::parse(config, text)?;
+    let output = output.unwrap_or_else(|| PathBuf::from("results").join(parsed.name.get_ref()));
     let options = experiment::RunOptions {
         test: false,
         timing: true,
         threads: threads.unwrap_or(0),
     };
-    let done = experiment::run(config, &output, &options)?;
+    let done = experiment::run_config(&parsed, config, &output, &options)?;
     write_stdout(
         format!(
             "{}: {} runs, {} replans checked against A* from scratch, {} mismatches -> {}\n",
@@ -575,14 +651,14 @@ pub fn run(command: Command) -> Result<(), CliError> {
             resume,
             shard,
         } => {
-            if replan_kind(&config).is_some() {
+            if let Some(text) = replan_text(&config) {
                 if resume || shard.is_some() {
                     return Err(CliError::Usage(format!(
                         "{}: --resume and --shard do not apply to navigate or dynamic configs",
                         config.display()
                     )));
                 }
-                return replan_experiment(&config, output, threads);
+                return replan_experiment(&config, &text, output, threads);
             }
             let shard = match shard {
                 Some(text) => Some(
@@ -592,13 +668,18 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())
                     .map_err(|e| CliError::Usage(e.0))?,
             };
-            let bar = Bar::default();
+            let bar = Bar {
+                bar: std::sync::OnceLock::new(),
+                quiet,
+            };
             let stop = stop_on_signals();
             let renderer = planner_paper::renderer();
+            let machine = machine(&config);
             let report = sweep::experiment(&sweep::SweepArgs {
                 threads: threads.unwrap_or(0),
                 output: output.as_deref(),
-                progress: (!quiet).then_some(&bar as &dyn sweep::Progress),
+                progress: Some(&bar as &dyn sweep::Progress),
+                machine: &machine,
                 heap: Some(&alloc::Meter),
                 resume,
                 shard,
@@ -640,6 +721,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 output.as_deref(),
                 config.as_deref(),
                 &planner_paper::renderer(),
+                &machine,
             )?;
             write_stdout(
                 format!(
@@ -747,8 +829,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 svg.as_deref(),
                 trace.as_deref(),
                 gif.as_deref(),
-            )
-            .map_err(CliError::Failed)?;
+            )?;
             if let Some(file) = &svg {
                 let svg = planner_report::figures::draw_run(
                     &result.grid,
@@ -773,11 +854,18 @@ pub fn run(command: Command) -> Result<(), CliError> {
             }
             Ok(())
         }
-        Command::Serve { dir, port, host } => planner_serve::serve(&planner_serve::ServeOptions {
-            host,
-            ..planner_serve::ServeOptions::new(&dir, port)
-        })
-        .map_err(CliError::Failed),
+        Command::Serve { dir, port, host } => {
+            let options = planner_serve::ServeOptions {
+                host,
+                ..planner_serve::ServeOptions::new(&dir, port)
+            };
+            planner_serve::serve(&options, |addr| {
+                // Printed as soon as the port is bound, so a script can wait for the line.
+                let line = format!("serving {} at http://{addr}/\n", dir.display());
+                let _ = write_stdout(line.as_bytes());
+            })?;
+            Ok(())
+        }
         Command::Planners { name: None } => {
             let mut out = String::new();
             for entry in planner_registry::PLANNERS {
@@ -788,11 +876,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
         }
         Command::Planners { name: Some(name) } => write_stdout(describe_planner(&name)?.as_bytes()),
         Command::Schema => {
-            let schema = planner_runner::schema::experiment_schema(
-                &planner_paper::renderer().section_names(),
-            )
-            .map_err(|e| CliError::Failed(e.to_string()))?;
-            let text = serde_json::to_string_pretty(&schema)
+            let text = serde_json::to_string_pretty(&schema()?)
                 .map_err(|e| CliError::Failed(e.to_string()))?;
             write_stdout(format!("{text}\n").as_bytes())
         }
@@ -803,6 +887,46 @@ pub fn run(command: Command) -> Result<(), CliError> {
             write_stdout(&script)
         }
     }
+}
+
+/// `gridplan schema`: the JSON Schema (draft 2020-12) of every config `experiment` runs,
+/// one of the runner's experiment configs ([`planner_runner::schema::experiment_schema`],
+/// with the report's section names) and the replanning experiments' (`kind = "navigate"`
+/// or `"dynamic"`, derived from planner-replan's config type). Each refuses the other's
+/// keys (the runner's knows no `kind`, which the replanning one requires), so a config is
+/// exactly one of them.
+pub fn schema() -> Result<serde_json::Value, CliError> {
+    let mut runner =
+        planner_runner::schema::experiment_schema(&planner_paper::renderer().section_names())
+            .map_err(|e| CliError::Failed(e.to_string()))?;
+    let mut replan =
+        planner_registry::schema::parameters_of::<planner_replan::experiment::ExperimentConfig>()
+            .to_value();
+    let mut draft = serde_json::Value::Null;
+    for part in [&mut runner, &mut replan] {
+        if let Some(object) = part.as_object_mut() {
+            if let Some(url) = object.remove("$schema") {
+                draft = url;
+            }
+        }
+    }
+    if let Some(object) = replan.as_object_mut() {
+        object.insert(
+            "title".into(),
+            "gridplan replanning experiment config".into(),
+        );
+        object.insert(
+            "description".into(),
+            "A navigate or dynamic experiment of the incremental planners (configs/replan/README.md)."
+                .into(),
+        );
+    }
+    Ok(serde_json::json!({
+        "$schema": draft,
+        "title": "gridplan config",
+        "description": "An experiment config: the runner's (configs/README.md) or a replanning experiment's (kind = \"navigate\" or \"dynamic\").",
+        "oneOf": [runner, replan],
+    }))
 }
 
 /// The widest map `plan` draws as text: the terminal's width when stdout is a terminal,

@@ -118,3 +118,63 @@ fn a_refused_output_exits_5_and_is_left_alone() {
     let (code, err) = gridplan(&["report", &mine.display().to_string()]);
     assert_eq!(code, 5, "{err}");
 }
+
+/// `slurm` writes into an existing `DIR-slurm/` only when it is gridplan's (its marker) or
+/// empty: a foreign one exits 5 and is left as it was; its own is written again.
+#[test]
+fn slurm_refuses_a_foreign_work_directory() {
+    let dir = scratch("slurm-foreign");
+    let cfg = config(&dir, "");
+    let out = dir.join("r");
+    let work = dir.join("r-slurm");
+    std::fs::create_dir_all(&work).unwrap();
+    std::fs::write(work.join("thesis.tex"), "mine").unwrap();
+    let out_arg = out.display().to_string();
+    let (code, err) = gridplan(&["slurm", &cfg, "--shards", "1", "--output", &out_arg]);
+    assert_eq!(code, 5, "{err}");
+    assert!(
+        err.contains("r-slurm") && err.contains(".gridplan-slurm"),
+        "{err}"
+    );
+    let names: Vec<_> = std::fs::read_dir(&work)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        names,
+        ["thesis.tex"],
+        "the foreign directory was written into"
+    );
+    // An empty one is claimed (its marker written), and then written again.
+    std::fs::remove_file(work.join("thesis.tex")).unwrap();
+    for _ in 0..2 {
+        let (code, err) = gridplan(&["slurm", &cfg, "--shards", "1", "--output", &out_arg]);
+        assert_eq!(code, 0, "{err}");
+    }
+    assert!(work.join(".gridplan-slurm").is_file());
+    assert!(work.join("array.sbatch").is_file());
+}
+
+/// One file named by two of `plan`'s picture options is a usage error (typed, exit 2),
+/// refused before anything is written.
+#[test]
+fn one_file_for_two_pictures_exits_2() {
+    let dir = scratch("pictures");
+    let file = dir.join("x.svg").display().to_string();
+    let (code, err) = gridplan(&[
+        "plan",
+        "maps/paper/map01.map",
+        "--planner",
+        "astar",
+        "--svg",
+        &file,
+        "--trace",
+        &file,
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("given for two of --svg, --trace and --gif"),
+        "{err}"
+    );
+    assert!(!dir.join("x.svg").exists());
+}

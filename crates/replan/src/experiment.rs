@@ -56,7 +56,7 @@ pub const CHART_POINTS: usize = 20_000;
 pub const MARKER: &str = ".gridplan-results";
 
 /// The experiment kind.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Kind {
     /// Navigation in unknown terrain.
@@ -66,7 +66,7 @@ pub enum Kind {
 }
 
 /// A map and its scenarios.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MapSpec {
     /// The Moving AI map, relative to the config's directory.
@@ -75,11 +75,12 @@ pub struct MapSpec {
     pub scen: String,
     /// Scenarios, spread evenly over the file (at least 1).
     #[serde(default = "default_scenarios")]
+    #[schemars(with = "usize", range(min = 1))]
     pub scenarios: Spanned<usize>,
 }
 
 /// The seeded toggles of a `dynamic` experiment ([`ToggleConfig`], one run per seed).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ToggleSpec {
     /// Change events after the first plan.
@@ -97,13 +98,14 @@ pub struct ToggleSpec {
 
 /// A GPPC 2023 dynamic-track scenario file (its patch file is named inside it, relative
 /// to the scenario's directory).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GppcSpec {
     /// The `.scen` file, relative to the config's directory.
     pub scen: String,
     /// Check every `query_every`-th query (1: all).
     #[serde(default = "one")]
+    #[schemars(with = "usize", range(min = 1))]
     pub query_every: Spanned<usize>,
     /// Carry each planner across the next batch's patches for every `carry_every`-th
     /// checked query (0: none).
@@ -112,7 +114,7 @@ pub struct GppcSpec {
 }
 
 /// Smaller settings for tests (`[test]`), used with [`RunOptions::test`].
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TestLimits {
     /// Scenarios per map.
@@ -128,12 +130,13 @@ pub struct TestLimits {
 }
 
 /// A replanning experiment config (see the [module docs](self)).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentConfig {
     /// `navigate` or `dynamic`.
     pub kind: Kind,
     /// Letters, digits, `-` and `_`.
+    #[schemars(with = "String")]
     pub name: Spanned<String>,
     /// Free text, copied to the top of `summary.md`.
     #[serde(default)]
@@ -141,18 +144,22 @@ pub struct ExperimentConfig {
     /// The compared planners by [`planners::by_name`] name (key `compare`; not `planners`,
     /// which the runner's configs use for a table); default all four.
     #[serde(default = "default_planners", rename = "compare")]
+    #[schemars(with = "Vec<String>")]
     pub planners: Vec<Spanned<String>>,
     /// 4, or 8 without corner cutting (default).
+    #[schemars(with = "Option<u32>", extend("enum" = [4, 8]))]
     pub moves: Option<Spanned<u32>>,
     /// Maps and scenarios (navigate; dynamic with `[toggles]`).
     #[serde(default)]
     pub maps: Vec<MapSpec>,
     /// Sensor radii (navigate).
     #[serde(default)]
+    #[schemars(with = "Vec<u32>")]
     pub radii: Vec<Spanned<u32>>,
     /// Steps before a navigation stops (default: 10 per cell plus 1,000).
     pub max_steps: Option<u64>,
     /// Seeded toggles (dynamic).
+    #[schemars(with = "Option<ToggleSpec>")]
     pub toggles: Option<Spanned<ToggleSpec>>,
     /// GPPC dynamic scenarios (dynamic).
     #[serde(default)]
@@ -600,7 +607,17 @@ pub fn run(
     output: &Path,
     options: &RunOptions,
 ) -> Result<ExperimentSummary, ExperimentError> {
-    let config = load(path)?;
+    run_config(&load(path)?, path, output, options)
+}
+
+/// [`run`] of a config already read from `path` (by [`load`] or [`parse`]), so a caller
+/// that read it to choose the output does not read it again.
+pub fn run_config(
+    config: &ExperimentConfig,
+    path: &Path,
+    output: &Path,
+    options: &RunOptions,
+) -> Result<ExperimentSummary, ExperimentError> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads)
@@ -609,7 +626,7 @@ pub fn run(
             path: "thread pool".into(),
             message: e.to_string(),
         })?;
-    let maps = load_maps(&config, dir, options)?;
+    let maps = load_maps(config, dir, options)?;
     let eight = config.moves.as_ref().is_none_or(|m| *m.get_ref() == 8);
     let names: Vec<String> = config
         .planners
@@ -782,7 +799,7 @@ pub fn run(
             })
             .collect()
     });
-    write_results(&config, output, options, &rows, &gppc_runs)
+    write_results(config, output, options, &rows, &gppc_runs)
 }
 
 /// Writes every output file (see the [module docs](self)).

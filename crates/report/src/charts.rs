@@ -10,6 +10,7 @@
 //! every chart is well-formed XML whatever the labels hold.
 
 use planner_figures::xml_text;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::median_iqr;
@@ -382,39 +383,49 @@ fn finish(file: &str, title: &str, svg: String) -> Chart {
     }
 }
 
-/// Box plots (median, quartiles by type 7, whiskers to the extremes), one per label.
-fn box_plot(file: &str, title: &str, y_desc: &str, data: &[(String, Vec<f64>)]) -> Chart {
+/// The drawing area of one chart.
+type Area<'b> = DrawingArea<SVGBackend<'b>, plotters::coord::Shift>;
+
+/// A chart's coordinates over an [`Area`]: f64 on both axes.
+type Plot<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+/// The chart `file` titled `title` (cleaned for XML): `draw` on an SVG page of [`SIZE`],
+/// given the cleaned title. A drawing error leaves the page as far as it got.
+fn render_chart(
+    file: &str,
+    title: &str,
+    draw: impl FnOnce(&Area<'_>, &str) -> DrawResult,
+) -> Chart {
     let title = &xml_text(title);
-    let data = &cleaned(data);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let _ = draw_box_plot(&root, title, &xml_text(y_desc), data);
+        let _ = draw(&root, title);
         let _ = root.present();
     }
     finish(file, title, svg)
 }
 
-type DrawResult = Result<(), Box<dyn std::error::Error>>;
-
-fn draw_box_plot(
-    root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+/// A white chart titled `title` with one category per name along x (at 0, 1, ...,
+/// labelled "planner label") and `y` up the y axis, described by `y_desc`; its mesh is
+/// drawn.
+fn by_label<'a, 'b>(
+    root: &'a Area<'b>,
     title: &str,
+    names: &[String],
+    y: std::ops::Range<f64>,
     y_desc: &str,
-    data: &[(String, Vec<f64>)],
-) -> DrawResult {
+) -> Result<Plot<'a, 'b>, Box<dyn std::error::Error>> {
     root.fill(&WHITE)?;
-    let all: Vec<f64> = data.iter().flat_map(|(_, v)| v.iter().copied()).collect();
-    let hi = all.iter().copied().fold(f64::MIN, f64::max).max(0.0);
-    let lo = all.iter().copied().fold(f64::MAX, f64::min).min(hi);
-    let n = data.len();
-    let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
+    let n = names.len();
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 22))
         .margin(14)
         .x_label_area_size(60)
         .y_label_area_size(80)
-        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), padded(lo, hi, true))?;
+        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), y)?;
     let label_of = |x: &f64| -> String {
         let k = x.round();
         if (x - k).abs() < 1e-9 && k >= 0.0 {
@@ -431,6 +442,39 @@ fn draw_box_plot(
         .y_desc(y_desc)
         .disable_x_mesh()
         .draw()?;
+    Ok(chart)
+}
+
+/// Draws the legend of `chart`'s labelled series at `position`.
+fn legend<'a, 'b: 'a>(chart: &mut Plot<'a, 'b>, position: SeriesLabelPosition) -> DrawResult {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(position)
+        .draw()?;
+    Ok(())
+}
+
+/// Box plots (median, quartiles by type 7, whiskers to the extremes), one per label.
+fn box_plot(file: &str, title: &str, y_desc: &str, data: &[(String, Vec<f64>)]) -> Chart {
+    let data = &cleaned(data);
+    render_chart(file, title, |root, title| {
+        draw_box_plot(root, title, &xml_text(y_desc), data)
+    })
+}
+
+fn draw_box_plot(
+    root: &Area<'_>,
+    title: &str,
+    y_desc: &str,
+    data: &[(String, Vec<f64>)],
+) -> DrawResult {
+    let all: Vec<f64> = data.iter().flat_map(|(_, v)| v.iter().copied()).collect();
+    let hi = all.iter().copied().fold(f64::MIN, f64::max).max(0.0);
+    let lo = all.iter().copied().fold(f64::MAX, f64::min).min(hi);
+    let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
+    let mut chart = by_label(root, title, &names, padded(lo, hi, true), y_desc)?;
     for (i, (label, values)) in data.iter().enumerate() {
         let Some((median, q1, q3)) = median_iqr(values) else {
             continue;
@@ -463,13 +507,7 @@ fn draw_box_plot(
             )))?;
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()?;
-    Ok(())
+    legend(&mut chart, SeriesLabelPosition::UpperRight)
 }
 
 /// A line chart, one line (with point markers) per series.
@@ -480,19 +518,14 @@ fn line_chart(
     y_desc: &str,
     series: &[(String, Vec<(f64, f64)>)],
 ) -> Chart {
-    let title = &xml_text(title);
     let series = &cleaned(series);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let _ = draw_line_chart(&root, title, &xml_text(x_desc), &xml_text(y_desc), series);
-        let _ = root.present();
-    }
-    finish(file, title, svg)
+    render_chart(file, title, |root, title| {
+        draw_line_chart(root, title, &xml_text(x_desc), &xml_text(y_desc), series)
+    })
 }
 
 fn draw_line_chart(
-    root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    root: &Area<'_>,
     title: &str,
     x_desc: &str,
     y_desc: &str,
@@ -537,13 +570,7 @@ fn draw_line_chart(
             });
         chart.draw_series(line.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()?;
-    Ok(())
+    legend(&mut chart, SeriesLabelPosition::UpperLeft)
 }
 
 /// Grouped bars: per label, one bar per named series.
@@ -554,49 +581,21 @@ fn bar_chart(
     series: &[&str],
     data: &[(String, Vec<f64>)],
 ) -> Chart {
-    let title = &xml_text(title);
     let data = &cleaned(data);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let _ = draw_bar_chart(&root, title, &xml_text(y_desc), series, data);
-        let _ = root.present();
-    }
-    finish(file, title, svg)
+    render_chart(file, title, |root, title| {
+        draw_bar_chart(root, title, &xml_text(y_desc), series, data)
+    })
 }
 
 fn draw_bar_chart(
-    root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    root: &Area<'_>,
     title: &str,
     y_desc: &str,
     series: &[&str],
     data: &[(String, Vec<f64>)],
 ) -> DrawResult {
-    root.fill(&WHITE)?;
-    let n = data.len();
     let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 22))
-        .margin(14)
-        .x_label_area_size(60)
-        .y_label_area_size(80)
-        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), 0f64..115f64)?;
-    let label_of = |x: &f64| -> String {
-        let k = x.round();
-        if (x - k).abs() < 1e-9 && k >= 0.0 {
-            names.get(k as usize).cloned().unwrap_or_default()
-        } else {
-            String::new()
-        }
-    };
-    chart
-        .configure_mesh()
-        .x_labels(n.max(1))
-        .x_label_formatter(&label_of)
-        .x_desc("planner label")
-        .y_desc(y_desc)
-        .disable_x_mesh()
-        .draw()?;
+    let mut chart = by_label(root, title, &names, 0f64..115f64, y_desc)?;
     let width = 0.8 / series.len().max(1) as f64;
     for (s, name) in series.iter().enumerate() {
         let c = colour(s);
@@ -613,11 +612,5 @@ fn draw_bar_chart(
             .label(name.to_string())
             .legend(move |(px, py)| Rectangle::new([(px, py - 5), (px + 14, py + 5)], c.filled()));
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()?;
-    Ok(())
+    legend(&mut chart, SeriesLabelPosition::UpperRight)
 }

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use indexmap::IndexMap;
 use planner_api::{Budget, Cell, Grid, Problem};
+use schemars::JsonSchema;
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -66,38 +67,73 @@ impl Source<'_> {
     }
 }
 
-#[derive(Deserialize)]
+/// An experiment config as written (configs/README.md). Its `JsonSchema` derive is the
+/// experiment schema of `gridplan schema` ([`crate::schema`]), so a key added here is in
+/// the schema; the `sections` and `planners` schemas are filled in there (the report's
+/// section names, the registry's planners).
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
-struct RawConfig {
+#[schemars(
+    title = "gridplan experiment config",
+    description = "An experiment: every map x problem x planner x repeat (configs/README.md)."
+)]
+pub(crate) struct RawConfig {
+    /// The experiment's name; names the output directory.
+    #[schemars(with = "String", pattern(r"^[A-Za-z0-9_-]+$"))]
     name: Spanned<String>,
+    /// Free text, copied to the top of summary.md.
     description: Option<String>,
+    /// Output directory (default results/<name>).
     output: Option<String>,
+    /// Worker threads; 0 = one per core.
     #[serde(default = "zero")]
+    #[schemars(with = "usize", range(max = MAX_THREADS))]
     threads: Spanned<usize>,
+    /// Runs per (map, problem, planner).
     #[serde(default = "one")]
+    #[schemars(with = "u32", range(min = 1))]
     repeats: Spanned<u32>,
+    /// Base seed; seeded planners get seed + repeat.
     #[serde(default)]
     seed: u64,
+    /// Limits per run; a planner table's own `budget` replaces the experiment's.
     #[serde(default)]
+    #[schemars(with = "crate::schema::BudgetKeys")]
     budget: Budget,
+    /// Which figures to draw.
     #[serde(default)]
     figures: FigureMode,
+    /// At most this many problems per map get figures.
     figures_per_map: Option<usize>,
+    /// Which problems of a map get figures.
     #[serde(default)]
     figures_pick: FigurePick,
+    /// Also draw each drawn run's expanded cells.
     #[serde(default)]
     figures_expanded: bool,
+    /// More line charts of a metric against a parameter.
     #[serde(default)]
     charts: Vec<ChartSpec>,
+    /// Write OMPL benchmark logs.
     #[serde(default)]
     ompl: bool,
+    /// Which runs' paths to keep in paths.jsonl.
     #[serde(default)]
     paths: PathsMode,
+    /// A TOML file of published values to compare with.
+    #[schemars(with = "Option<String>")]
     published: Option<Spanned<String>>,
+    /// Limits of the snapshot test.
     #[serde(default)]
     test: TestLimits,
+    /// The summary.md sections to write (configs/README.md).
+    #[schemars(with = "Option<Vec<serde_json::Value>>")]
     sections: Option<Spanned<Vec<RawSection>>>,
+    /// The map sets.
+    #[schemars(with = "Vec<RawMaps>", length(min = 1))]
     maps: Vec<Spanned<RawMaps>>,
+    /// Planner labels; each table runs one registered planner.
+    #[schemars(with = "serde_json::Map<String, serde_json::Value>", length(min = 1))]
     planners: IndexMap<Spanned<String>, Spanned<RawParams>>,
 }
 
@@ -118,45 +154,83 @@ fn one() -> Spanned<u32> {
     Spanned::new(0..0, 1)
 }
 
-#[derive(Deserialize)]
+/// A `[[maps]]` set.
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
-struct RawMaps {
+pub(crate) struct RawMaps {
+    /// Map files or globs, relative to the config.
+    #[schemars(with = "Vec<String>")]
     files: Spanned<Vec<String>>,
+    /// Where the problems come from when no `pairs` or `scen` is given.
+    #[schemars(with = "Option<ProblemSource>")]
     problems: Option<Spanned<ProblemSource>>,
+    /// The start cell of coverage problems (`problems = "start"`).
+    #[schemars(with = "Option<[u32; 2]>")]
     start: Option<Spanned<[u32; 2]>>,
+    /// Start-goal pairs.
     pairs: Option<Vec<RawPair>>,
+    /// A Moving AI scenario file, relative to the config.
+    #[schemars(with = "Option<String>")]
     scen: Option<Spanned<String>>,
+    /// The scenario buckets to keep.
     buckets: Option<Vec<u32>>,
+    /// The scenario lines to keep, first and last (1-based).
     lines: Option<[usize; 2]>,
+    /// Keep every n-th scenario.
+    #[schemars(with = "Option<usize>", range(min = 1))]
     every: Option<Spanned<usize>>,
+    /// At most this many scenarios.
     limit: Option<usize>,
+    /// ROS maps: inflate obstacles by this many cells.
+    #[schemars(with = "Option<u32>")]
     inflation: Option<Spanned<u32>>,
+    /// ROS maps: inflate unknown cells too.
     inflate_unknown: Option<bool>,
+    /// .csv maps only: the value of a cell that is an obstacle (default 0).
+    #[schemars(with = "Option<u8>", extend("enum" = [0, 1]))]
     obstacle: Option<Spanned<i64>>,
+    /// Cell costs (weights): graded ROS maps by nav2's cost bands, a weight file, or Moving
+    /// AI terrain letters.
+    #[schemars(with = "Option<RawCosts>")]
     costs: Option<Spanned<RawCosts>>,
 }
 
 /// A map set's `costs = { ... }` (configs/README.md).
-#[derive(Deserialize)]
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
-struct RawCosts {
+pub(crate) struct RawCosts {
+    /// How a move's cost combines the weights of the cells it joins.
+    #[schemars(with = "Option<crate::schema::CostRuleKeys>")]
     rule: Option<planner_api::CostRule>,
+    /// ROS maps: the cost from which a cell is an obstacle.
+    #[schemars(with = "Option<u8>", range(min = 1))]
     lethal: Option<Spanned<u8>>,
+    /// ROS maps: the cost of an unknown cell.
+    #[schemars(with = "Option<u8>", range(max = 254))]
     unknown: Option<Spanned<u8>>,
+    /// A .csv file of cell weights, relative to the config.
+    #[schemars(with = "Option<String>")]
     weights: Option<Spanned<String>>,
+    /// Moving AI maps: the weight of a swamp cell (`S`).
+    #[schemars(with = "Option<u16>", range(min = 1))]
     swamp: Option<Spanned<u16>>,
+    /// Moving AI maps: the weight of a water cell (`W`).
+    #[schemars(with = "Option<u16>", range(min = 1))]
     water: Option<Spanned<u16>>,
 }
 
-#[derive(Deserialize)]
+/// A start-goal pair of a map set.
+#[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
-struct RawPair {
+pub(crate) struct RawPair {
+    /// The start cell.
     start: [u32; 2],
+    /// The goal cell.
     goal: [u32; 2],
 }
 
 /// Where the problems of a map set come from when no `pairs` or `scen` is given.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ProblemSource {
     /// From the top-left cell (0, 0) to the bottom-right cell (W-1, H-1): seed 000's setup.
@@ -169,7 +243,7 @@ pub enum ProblemSource {
 }
 
 /// Which figures a sweep draws.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum FigureMode {
     /// One SVG per (map, problem, planner) and one comparison per (map, problem).
@@ -182,7 +256,7 @@ pub enum FigureMode {
 }
 
 /// Which problems of a map get figures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum FigurePick {
     /// The first `figures_per_map` problems, in order.
@@ -201,7 +275,7 @@ pub enum FigurePick {
 /// `x` and `group` name a planner parameter (as resolved, e.g. `beta`, `radius`) or
 /// `bucket`; `y` names a record metric (`length`, `steps`, `turns`, `score`, `time_ms`,
 /// `optimal_length`) or a counter (`n_expanded`). Values are medians over a label's runs.
-#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ChartSpec {
     /// The horizontal axis: a planner parameter or `bucket`.
@@ -218,7 +292,7 @@ pub struct ChartSpec {
 }
 
 /// Which runs' paths a sweep keeps in its results (`paths.jsonl`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum PathsMode {
     /// Every run's path.
@@ -242,7 +316,7 @@ impl PathsMode {
 }
 
 /// Limits the snapshot test applies to keep large sweeps fast (ignored by `experiment`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TestLimits {
     /// At most this many problems per map in the test.
@@ -396,7 +470,7 @@ pub struct PlannerSpec {
 /// `compare = { with = "backtracking", metrics = ["steps", "turns", "score"] }`: mark these
 /// metrics of this planner against another planner's published values (lexastar against
 /// Backtracking's best paths). Without it a planner is compared under its registry name.
-#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Compare {
     /// The published planner key.

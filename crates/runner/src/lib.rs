@@ -185,4 +185,64 @@ impl RunnerError {
             other => other,
         }
     }
+
+    /// What kind of failure this is, for the front ends: the command line's exit status
+    /// and the Python package's exception class both follow it, so they cannot disagree.
+    /// The match names every variant, so a new one must be classed.
+    ///
+    /// ```
+    /// use planner_runner::{ErrorClass, RunnerError};
+    /// let error = RunnerError::during("merge", RunnerError::Threads(9999));
+    /// assert_eq!(error.class(), ErrorClass::Usage);
+    /// ```
+    pub fn class(&self) -> ErrorClass {
+        match self {
+            RunnerError::Config(_) => ErrorClass::Config,
+            RunnerError::Map(_) => ErrorClass::Map,
+            RunnerError::Problem { .. } | RunnerError::InvertedProblem { .. } => {
+                ErrorClass::Problem
+            }
+            RunnerError::Param(..)
+            | RunnerError::Build(..)
+            | RunnerError::UnknownPlanner { .. }
+            | RunnerError::UnknownLabel { .. } => ErrorClass::Parameter,
+            RunnerError::Usage(_) | RunnerError::Threads(_) | RunnerError::Resume(_) => {
+                ErrorClass::Usage
+            }
+            RunnerError::Output(_) => ErrorClass::Output,
+            RunnerError::Expanded(_) => ErrorClass::Determinism,
+            RunnerError::Pool(_)
+            | RunnerError::RunIndex(_)
+            | RunnerError::Stream(_)
+            | RunnerError::Json(_)
+            | RunnerError::Io { .. }
+            | RunnerError::Results(_) => ErrorClass::Other,
+            RunnerError::During { source, .. } => source.class(),
+        }
+    }
+}
+
+/// The kinds of [`RunnerError`] ([`RunnerError::class`]): the command line's exit status
+/// (README.md) and the Python package's exception class of each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorClass {
+    /// A config that cannot be read or is invalid (exit 3, `ConfigError`).
+    Config,
+    /// A map or scenario file that cannot be read (exit 4, `MapError`).
+    Map,
+    /// A start or goal that cannot be planned (exit 4, `ProblemError`).
+    Problem,
+    /// An unknown planner or label, or a parameter it refuses (exit 2, `ParameterError`).
+    Parameter,
+    /// Arguments that do not fit: threads, a resume of another config (exit 2,
+    /// `ValueError`).
+    Usage,
+    /// An output directory gridplan may not write, or one another run holds (exit 5,
+    /// `OutputError`).
+    Output,
+    /// A run that did not repeat itself when recorded again (exit 1, `DeterminismError`).
+    Determinism,
+    /// Anything else: a file that cannot be read or written, a stream or shard set that
+    /// cannot be read (exit 1, `GridplanError`).
+    Other,
 }

@@ -235,6 +235,21 @@ pub enum OutdirError {
         /// The output directory.
         output: PathBuf,
     },
+    /// A `DIR-slurm` working directory that gridplan did not make.
+    #[error(
+        "`{}` is in the way of the Slurm scripts for `{}` but is not gridplan's (not an empty \
+         directory or one with a `{marker}` marker), so gridplan neither writes into it nor \
+         removes it; move or remove it yourself, or choose another --output",
+        path.display(), output.display()
+    )]
+    ForeignWorkDir {
+        /// The directory in the way.
+        path: PathBuf,
+        /// The output directory.
+        output: PathBuf,
+        /// The marker it lacks.
+        marker: &'static str,
+    },
     /// A result file path that is not a plain relative path, or is the marker's.
     #[error(
         "result file `{}` must be a relative path of plain names other than `{MARKER}`",
@@ -713,20 +728,39 @@ pub fn stream_area(output: &Path, wait: Duration) -> Result<StreamArea, OutdirEr
     let location = locate(output, true)?;
     let lock = OutputLock::acquire_named(&location, "stream.lock", wait)?;
     let dir = location.sibling("stream");
-    let foreign = || OutdirError::ForeignStream {
-        path: dir.clone(),
-        output: location.output.clone(),
-    };
-    match fs::symlink_metadata(&dir) {
+    claim_dir(
+        &dir,
+        STREAM_MARKER,
+        "# Written by gridplan: a sweep's records, kept for --resume; gridplan removes\n\
+         # this directory when the sweep's results are written.\n",
+        || OutdirError::ForeignStream {
+            path: dir.clone(),
+            output: location.output.clone(),
+        },
+    )?;
+    Ok(StreamArea { dir, _lock: lock })
+}
+
+/// Makes `dir` a working directory of gridplan's, marked by the file `marker` (written
+/// with `text` when missing): created if absent; an existing `dir` is used only if it is a
+/// directory (not a symbolic link) that carries `marker` or is empty, else `foreign()` is
+/// returned and nothing is written.
+pub fn claim_dir(
+    dir: &Path,
+    marker: &str,
+    text: &str,
+    foreign: impl FnOnce() -> OutdirError,
+) -> Result<(), OutdirError> {
+    match fs::symlink_metadata(dir) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => {
-            fs::create_dir(&dir).map_err(io_error("create", &dir))?;
+            fs::create_dir(dir).map_err(io_error("create", dir))?;
         }
-        Err(e) => return Err(io_error("read", &dir)(e)),
+        Err(e) => return Err(io_error("read", dir)(e)),
         Ok(metadata) if !metadata.is_dir() => return Err(foreign()),
         Ok(_) => {
-            let marked = fs::symlink_metadata(dir.join(STREAM_MARKER)).is_ok_and(|m| m.is_file());
-            let empty = fs::read_dir(&dir)
-                .map_err(io_error("list", &dir))?
+            let marked = fs::symlink_metadata(dir.join(marker)).is_ok_and(|m| m.is_file());
+            let empty = fs::read_dir(dir)
+                .map_err(io_error("list", dir))?
                 .next()
                 .is_none();
             if !marked && !empty {
@@ -734,16 +768,11 @@ pub fn stream_area(output: &Path, wait: Duration) -> Result<StreamArea, OutdirEr
             }
         }
     }
-    let marker = dir.join(STREAM_MARKER);
+    let marker = dir.join(marker);
     if !fs::symlink_metadata(&marker).is_ok_and(|m| m.is_file()) {
-        fs::write(
-            &marker,
-            "# Written by gridplan: a sweep's records, kept for --resume; gridplan removes\n\
-             # this directory when the sweep's results are written.\n",
-        )
-        .map_err(io_error("write", &marker))?;
+        fs::write(&marker, text).map_err(io_error("write", &marker))?;
     }
-    Ok(StreamArea { dir, _lock: lock })
+    Ok(())
 }
 
 /// Makes `options` refuse to open a symbolic link (`O_NOFOLLOW`).

@@ -1,9 +1,12 @@
 //! Where and from what a sweep's results came: gridplan's version and git commit, the
 //! date, the host, its CPU and thread count, and the config file's hash.
 //!
-//! The binaries collect it ([`Provenance::collect`]) and pass it to the report and to
+//! The sweep collects it ([`Provenance::collect`]) and passes it to the report and to
 //! runs.json; it is never part of a [`crate::RunRecord`], so snapshots of records stay a
-//! pure function of the config.
+//! pure function of the config. What needs the environment or another process (the host
+//! name's fallback `$HOSTNAME`, `git`) the caller learns and passes in as a [`Machine`]:
+//! the runner reads no environment variable and starts no process. [`Machine::from_facts`]
+//! turns the raw answers into it, so every front end reads them alike.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -16,12 +19,13 @@ use sha2::{Digest, Sha256};
 pub struct Provenance {
     /// gridplan's version (the runner crate's version).
     pub version: String,
-    /// The git commit of the working directory at run time (`git rev-parse HEAD`), with
-    /// `-dirty` when it has uncommitted changes; `None` outside a git repository.
+    /// The git commit of the config's working tree at run time (`git rev-parse HEAD`), with
+    /// `-dirty` when it has uncommitted changes; `None` outside a git repository or when
+    /// the caller did not ask git ([`Machine`]).
     pub commit: Option<String>,
     /// The date and time the sweep was run, UTC, RFC 3339 (seconds).
     pub date: String,
-    /// The host name (`/proc/sys/kernel/hostname`, else `$HOSTNAME`), if known.
+    /// The host name (`/proc/sys/kernel/hostname`, else `$HOSTNAME`; [`Machine`]), if known.
     pub host: Option<String>,
     /// The CPU model (`model name` in `/proc/cpuinfo`), if known.
     pub cpu: Option<String>,
@@ -31,22 +35,80 @@ pub struct Provenance {
     pub config_sha256: Option<String>,
 }
 
+/// The provenance facts only the caller can learn: the git commit of the config's working
+/// tree and the host name. [`Machine::default`] leaves both unknown.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Machine {
+    /// [`Provenance::commit`].
+    pub commit: Option<String>,
+    /// [`Provenance::host`].
+    pub host: Option<String>,
+}
+
+/// The raw answers a front end gathers for a [`Machine`] (each `None` when unavailable).
+#[derive(Debug, Clone, Default)]
+pub struct Facts {
+    /// The contents of `/proc/sys/kernel/hostname`.
+    pub hostname_file: Option<String>,
+    /// `$HOSTNAME`.
+    pub hostname_env: Option<String>,
+    /// The output of `git -C <config's directory> rev-parse HEAD` (when it succeeded).
+    pub git_head: Option<String>,
+    /// The output of `git -C <config's directory> status --porcelain --untracked-files=no`
+    /// (when it succeeded).
+    pub git_status: Option<String>,
+}
+
+impl Machine {
+    /// The [`Machine`] of `facts`: the host from the kernel's file, else `$HOSTNAME`; the
+    /// commit from `git rev-parse HEAD`, with `-dirty` when `git status` lists a change.
+    ///
+    /// ```
+    /// use planner_runner::provenance::{Facts, Machine};
+    /// let machine = Machine::from_facts(Facts {
+    ///     hostname_file: Some(" \n".into()),
+    ///     hostname_env: Some("node7".into()),
+    ///     git_head: Some("abc123\n".into()),
+    ///     git_status: Some(" M README.md\n".into()),
+    /// });
+    /// assert_eq!(machine.host.as_deref(), Some("node7"));
+    /// assert_eq!(machine.commit.as_deref(), Some("abc123-dirty"));
+    /// ```
+    pub fn from_facts(facts: Facts) -> Machine {
+        let host = facts
+            .hostname_file
+            .map(|h| h.trim().to_string())
+            .filter(|h| !h.is_empty())
+            .or(facts.hostname_env);
+        let commit = facts
+            .git_head
+            .map(|c| c.trim().to_string())
+            .filter(|c| !c.is_empty())
+            .map(|commit| {
+                let dirty = facts.git_status.is_some_and(|s| !s.trim().is_empty());
+                if dirty {
+                    format!("{commit}-dirty")
+                } else {
+                    commit
+                }
+            });
+        Machine { commit, host }
+    }
+}
+
 impl Provenance {
-    /// Collects the provenance of a sweep of `config` run with `threads` workers.
-    pub fn collect(config: &Path, threads: usize) -> Provenance {
+    /// Collects the provenance of a sweep of `config` run with `threads` workers on
+    /// `machine` (what the caller learnt of the commit and host).
+    pub fn collect(config: &Path, threads: usize, machine: &Machine) -> Provenance {
         Provenance {
             version: env!("CARGO_PKG_VERSION").to_string(),
-            commit: git_commit(config),
+            commit: machine.commit.clone(),
             date: rfc3339_utc(
                 std::time::SystemTime::now()
                     .duration_since(std::time::UNIX_EPOCH)
                     .map_or(0, |d| d.as_secs()),
             ),
-            host: std::fs::read_to_string("/proc/sys/kernel/hostname")
-                .ok()
-                .map(|h| h.trim().to_string())
-                .filter(|h| !h.is_empty())
-                .or_else(|| std::env::var("HOSTNAME").ok()),
+            host: machine.host.clone(),
             cpu: std::fs::read_to_string("/proc/cpuinfo")
                 .ok()
                 .and_then(|text| cpu_model(&text)),
@@ -88,32 +150,6 @@ fn cpu_model(cpuinfo: &str) -> Option<String> {
         .filter_map(|line| line.split_once(':'))
         .find(|(key, _)| key.trim() == "model name")
         .map(|(_, value)| value.trim().to_string())
-}
-
-/// The commit of the repository holding `config`'s directory, `-dirty` if it has changes.
-fn git_commit(config: &Path) -> Option<String> {
-    let dir = config
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let git = |args: &[&str]| {
-        std::process::Command::new("git")
-            .arg("-C")
-            .arg(dir)
-            .args(args)
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-    };
-    let commit = git(&["rev-parse", "HEAD"]).filter(|c| !c.is_empty())?;
-    let dirty =
-        git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
-    Some(if dirty {
-        format!("{commit}-dirty")
-    } else {
-        commit
-    })
 }
 
 /// `seconds` since the Unix epoch as `YYYY-MM-DDThh:mm:ssZ` (Howard Hinnant's

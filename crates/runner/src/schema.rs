@@ -1,36 +1,56 @@
 //! The JSON Schema of experiment configs, for `gridplan schema` and editors.
 //!
+//! Derived, not written: the experiment's keys, the `[[maps]]` sets, `[[charts]]`, `test`
+//! and `budget` come from the `schemars::JsonSchema` derive on the config parser's own
+//! types (`config::RawConfig` and what it holds: field types, serde's `default` and
+//! `deny_unknown_fields`, doc comments), so a key added to the parser is in the schema.
 //! The planner tables come from each planner's declared parameters
 //! ([`planner_registry::schema::declared`]), so they cannot drift from what the planner
-//! accepts. The schema's top level (the runner's own keys) is written here by hand; the
-//! runner's tests compare its key lists with the ones the config parser accepts. The
-//! summary.md section names are the report's, passed in by the caller.
+//! accepts. The summary.md section names are the report's, passed in by the caller.
 
 use planner_registry as registry;
-use planner_registry::schema::{declared, Param, RegistryError};
+use planner_registry::schema::{declared, parameters_of, Param, RegistryError};
+use schemars::JsonSchema;
 use serde_json::{json, Map, Value};
 
-/// The schema of a `budget` table (planner-api's `Budget`).
-fn budget_schema() -> Value {
-    json!({
-        "type": "object",
-        "description": "Limits per run; a planner table's own `budget` replaces the experiment's.",
-        "additionalProperties": false,
-        "properties": {
-            "max_expansions": {
-                "type": "integer", "minimum": 0,
-                "description": "Stop after this many expansions (each planner says what one expansion is)."
-            },
-            "max_time_ms": {
-                "type": "integer", "minimum": 0,
-                "description": "Stop after this much wall-clock time (not deterministic)."
-            },
-            "max_memory_mb": {
-                "type": "integer", "minimum": 0,
-                "description": "Refuse to plan when the planner's per-cell state for the grid would take more than this many MiB."
-            }
-        }
-    })
+use crate::config::{Compare, RawConfig};
+
+/// The keys of a `budget` table, as the schema declares them: planner-api's `Budget`
+/// (which declares no schema, planner-api depending on serde alone) read by the config
+/// parser; planner-paper's schema test compares them with the keys the parser accepts.
+#[derive(JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(
+    description = "Limits per run; a planner table's own `budget` replaces the experiment's."
+)]
+pub struct BudgetKeys {
+    /// Stop after this many expansions (each planner says what one expansion is).
+    pub max_expansions: Option<u64>,
+    /// Stop after this much wall-clock time (not deterministic).
+    pub max_time_ms: Option<u64>,
+    /// Refuse to plan when the planner's per-cell state for the grid would take more than
+    /// this many MiB.
+    pub max_memory_mb: Option<u64>,
+}
+
+/// The values of a map set's `costs.rule` (planner-api's `CostRule`, as it deserializes).
+#[derive(JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum CostRuleKeys {
+    /// Length times the mean of the two cells' weights.
+    Mean,
+    /// Length times the weight of the cell entered.
+    Entered,
+}
+
+/// The schema of type `T`, inlined, without the root's `$schema` and `title`.
+fn inline_schema<T: JsonSchema>() -> Value {
+    let mut value = parameters_of::<T>().to_value();
+    if let Some(object) = value.as_object_mut() {
+        object.remove("$schema");
+        object.remove("title");
+    }
+    value
 }
 
 /// A parameter's schema in a planner table: its own, or (for a parameter whose values
@@ -65,25 +85,13 @@ fn planner_table_schema(name: &str, summary: &str) -> Result<Value, RegistryErro
         "planner".into(),
         json!({ "const": name, "description": summary }),
     );
-    properties.insert("budget".into(), budget_schema());
+    properties.insert("budget".into(), inline_schema::<BudgetKeys>());
     properties.insert(
         "costs".into(),
         json!({ "const": "ignore",
                 "description": "Run on weighted maps with their weights left out (planners that do not honour cell costs are refused otherwise)." }),
     );
-    properties.insert(
-        "compare".into(),
-        json!({
-            "type": "object",
-            "description": "Mark these metrics against another planner's published values.",
-            "additionalProperties": false,
-            "required": ["with", "metrics"],
-            "properties": {
-                "with": { "type": "string" },
-                "metrics": { "type": "array", "items": { "type": "string" } }
-            }
-        }),
-    );
+    properties.insert("compare".into(), inline_schema::<Compare>());
     for param in declared(name)? {
         properties.insert(param.key.clone(), sweepable(&param));
     }
@@ -96,48 +104,8 @@ fn planner_table_schema(name: &str, summary: &str) -> Result<Value, RegistryErro
     }))
 }
 
-/// The top-level keys of an experiment config that this schema declares (the runner's
-/// tests compare them with the parser's).
-pub const TOP_LEVEL_KEYS: &[&str] = &[
-    "name",
-    "description",
-    "output",
-    "threads",
-    "repeats",
-    "seed",
-    "budget",
-    "figures",
-    "figures_per_map",
-    "figures_pick",
-    "figures_expanded",
-    "charts",
-    "ompl",
-    "paths",
-    "published",
-    "test",
-    "sections",
-    "maps",
-    "planners",
-];
-
-/// The schema of a map set's `costs` table (configs/README.md).
-fn costs_schema() -> Value {
-    json!({
-        "type": "object", "additionalProperties": false,
-        "description": "Cell costs (weights): graded ROS maps by nav2's cost bands, a weight file, or Moving AI terrain letters.",
-        "properties": {
-            "rule": { "enum": ["mean", "entered"] },
-            "lethal": { "type": "integer", "minimum": 1, "maximum": 255 },
-            "unknown": { "type": "integer", "minimum": 0, "maximum": 254 },
-            "weights": { "type": "string" },
-            "swamp": { "type": "integer", "minimum": 1, "maximum": 65535 },
-            "water": { "type": "integer", "minimum": 1, "maximum": 65535 }
-        }
-    })
-}
-
 /// The JSON Schema (draft 2020-12) of experiment configs, for `gridplan schema` and
-/// editors: the top-level keys, the `[[maps]]` sets, and the planner tables as a `oneOf`
+/// editors: derived from the config parser's types, with the planner tables as a `oneOf`
 /// over `planner = "<name>"`, each with that planner's declared parameters. `sections` are
 /// the names `sections = [...]` may use (the report's catalogue).
 pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
@@ -145,88 +113,35 @@ pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
     for entry in registry::PLANNERS {
         planners.push(planner_table_schema(entry.name, entry.summary)?);
     }
-    let cell = json!({ "type": "array", "items": { "type": "integer", "minimum": 0 },
-                       "minItems": 2, "maxItems": 2 });
-    let count = json!({ "type": "integer", "minimum": 0 });
-    let map_set = json!({
-        "type": "object", "additionalProperties": false, "required": ["files"],
-        "properties": {
-            "files": { "type": "array", "items": { "type": "string" },
-                       "description": "Map files or globs, relative to the config." },
-            "problems": { "enum": ["corners", "file", "start"] },
-            "start": cell,
-            "pairs": { "type": "array", "items": {
-                "type": "object", "additionalProperties": false,
-                "required": ["start", "goal"],
-                "properties": { "start": cell, "goal": cell }
-            }},
-            "scen": { "type": "string" },
-            "buckets": { "type": "array", "items": count },
-            "lines": { "type": "array", "items": count, "minItems": 2, "maxItems": 2 },
-            "every": { "type": "integer", "minimum": 1 },
-            "limit": count,
-            "inflation": count,
-            "inflate_unknown": { "type": "boolean" },
-            "obstacle": { "enum": [0, 1],
-                          "description": ".csv maps only: the value of a cell that is an obstacle (default 0)." },
-            "costs": costs_schema()
-        }
-    });
-    let schema = json!({
-        "$schema": "https://json-schema.org/draft/2020-12/schema",
-        "title": "gridplan experiment config",
-        "description": "An experiment: every map x problem x planner x repeat (configs/README.md).",
-        "type": "object",
-        "additionalProperties": false,
-        "required": ["name", "maps", "planners"],
-        "properties": {
-            "name": { "type": "string", "pattern": "^[A-Za-z0-9_-]+$",
-                      "description": "The experiment's name; names the output directory." },
-            "description": { "type": "string" },
-            "output": { "type": "string",
-                        "description": "Output directory (default results/<name>)." },
-            "threads": { "type": "integer", "minimum": 0, "maximum": crate::config::MAX_THREADS,
-                         "description": "Worker threads; 0 = one per core." },
-            "repeats": { "type": "integer", "minimum": 1,
-                         "description": "Runs per (map, problem, planner)." },
-            "seed": { "type": "integer", "minimum": 0,
-                      "description": "Base seed; seeded planners get seed + repeat." },
-            "budget": budget_schema(),
-            "figures": { "enum": ["all", "comparisons", "none"] },
-            "figures_per_map": count,
-            "figures_pick": { "enum": ["first", "hardest", "buckets"] },
-            "figures_expanded": { "type": "boolean",
-                                  "description": "Also draw each drawn run's expanded cells." },
-            "charts": { "type": "array", "items": {
-                "type": "object", "additionalProperties": false, "required": ["x", "y"],
-                "properties": {
-                    "x": { "type": "string" }, "y": { "type": "string" },
-                    "group": { "type": "string" }, "title": { "type": "string" }
-                }
-            }},
-            "ompl": { "type": "boolean", "description": "Write OMPL benchmark logs." },
-            "paths": { "enum": ["all", "figures", "none"] },
-            "published": { "type": "string",
-                           "description": "A TOML file of published values to compare with." },
-            "test": { "type": "object", "additionalProperties": false, "properties": {
-                "problems_per_map": count, "repeats": count
-            }},
-            "sections": { "type": "array",
-                          "description": "The summary.md sections to write (configs/README.md).",
-                          "items": { "anyOf": [
-                              { "enum": sections },
-                              { "type": "object", "required": ["name"],
-                                "description": "A section with its options, e.g. { name = \"seed002\", proposed = \"pastar\" }.",
-                                "properties": { "name": { "enum": sections } } }
-                          ] } },
-            "maps": { "type": "array", "minItems": 1, "items": map_set },
-            "planners": {
-                "type": "object",
-                "minProperties": 1,
-                "description": "Planner labels; each table runs one registered planner.",
-                "additionalProperties": { "oneOf": planners }
-            }
-        }
-    });
+    let mut schema = parameters_of::<RawConfig>().to_value();
+    // The derive of a struct always gives `properties` (planner-paper's schema test reads
+    // them); the two filled in here replace the derive's placeholders.
+    let mut properties = Map::new();
+    if let Some(derived) = schema.get_mut("properties").and_then(Value::as_object_mut) {
+        properties = std::mem::take(derived);
+    }
+    properties.insert(
+        "sections".into(),
+        json!({ "type": "array",
+                "description": "The summary.md sections to write (configs/README.md).",
+                "items": { "anyOf": [
+                    { "enum": sections },
+                    { "type": "object", "required": ["name"],
+                      "description": "A section with its options, e.g. { name = \"seed002\", proposed = \"pastar\" }.",
+                      "properties": { "name": { "enum": sections } } }
+                ] } }),
+    );
+    properties.insert(
+        "planners".into(),
+        json!({
+            "type": "object",
+            "minProperties": 1,
+            "description": "Planner labels; each table runs one registered planner.",
+            "additionalProperties": { "oneOf": planners }
+        }),
+    );
+    if let Some(object) = schema.as_object_mut() {
+        object.insert("properties".into(), Value::Object(properties));
+    }
     Ok(schema)
 }

@@ -23,7 +23,10 @@
 //! the `--output` directives a `%` of the directory is written `%%`, so Slurm's file name
 //! patterns (`%j`, `%a`) apply only to the log's own name. Before writing anything,
 //! `slurm` checks the results directory under the rules of `experiment`
-//! ([`crate::outdir::check`]), so a directory that `merge` would refuse is refused now.
+//! ([`crate::outdir::check`]), so a directory that `merge` would refuse is refused now,
+//! and writes into `DIR-slurm/` only when it is new, empty, or carries [`SLURM_MARKER`]
+//! (which it writes first): a directory of that name that is not gridplan's is refused
+//! ([`OutdirError::ForeignWorkDir`]) and left alone.
 
 use std::path::{Path, PathBuf};
 
@@ -213,6 +216,31 @@ fn check_shards(shards: u64, n_runs: u64) -> Result<(), SlurmError> {
     Err(SlurmError::Shards { shards, reason })
 }
 
+/// The marker file `slurm` writes into its `DIR-slurm/` working directory; an existing
+/// `DIR-slurm/` is written into only if it carries it or is empty.
+pub const SLURM_MARKER: &str = ".gridplan-slurm";
+
+/// Creates `work` (and its missing parents) as `slurm`'s working directory for `output`,
+/// or checks that an existing one is gridplan's (the outdir rules:
+/// [`crate::outdir::claim_dir`]).
+fn claim_work_dir(work: &Path, output: &Path) -> Result<(), SlurmError> {
+    if let Some(parent) = work.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).map_err(io(parent.display()))?;
+    }
+    crate::outdir::claim_dir(
+        work,
+        SLURM_MARKER,
+        "# Written by gridplan slurm: job scripts, shard results and logs of one sweep;\n\
+         # gridplan writes here again only while this file is in it.\n",
+        || OutdirError::ForeignWorkDir {
+            path: work.to_path_buf(),
+            output: output.to_path_buf(),
+            marker: SLURM_MARKER,
+        },
+    )?;
+    Ok(())
+}
+
 /// Writes the scripts (the caller submits them if asked: [`Jobs::array_args`]).
 pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     if args.shards == 0 || args.shards > Shard::MAX_COUNT {
@@ -261,7 +289,7 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     let merge_log = log("merge.log")?;
     // The results directory must be one `merge` may write, before anything is written.
     crate::outdir::check(&output)?;
-    std::fs::create_dir_all(&work).map_err(io(work.display()))?;
+    claim_work_dir(&work, &output)?;
     let name = &experiment.name;
     let array = format!(
         "#!/bin/bash\n\
@@ -286,6 +314,10 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     let array_script = work.join("array.sbatch");
     let merge_script = work.join("merge.sbatch");
     for (path, text) in [(&array_script, &array), (&merge_script, &merge)] {
+        // A script is replaced, never written through a link planted at its name.
+        if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+            std::fs::remove_file(path).map_err(io(path.display()))?;
+        }
         std::fs::write(path, text).map_err(io(path.display()))?;
     }
     Ok(Jobs {

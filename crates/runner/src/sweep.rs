@@ -45,7 +45,7 @@ use rayon::prelude::*;
 use crate::config::ConfigError;
 use crate::expanded::{self, ExpandedCells};
 use crate::output::{OutputFile, StreamedFile};
-use crate::provenance::Provenance;
+use crate::provenance::{Machine, Provenance};
 use crate::record::Reproduction;
 use crate::run::{HeapMeter, RunList};
 use crate::shard::{Shard, ShardRuns};
@@ -114,7 +114,20 @@ pub trait Progress: Sync {
     fn set(&self, done: u64);
     /// The runs are done (the outputs are being written).
     fn finish(&self);
+    /// Before [`Progress::start`] of a sweep asked to resume (`--resume`): `done` of its
+    /// `total` runs were recorded before in the stream of the results directory `output`
+    /// (0: there was nothing to resume, every run runs). By default nothing is shown; the
+    /// command line says it on stderr.
+    fn resumed(&self, done: u64, total: u64, output: &Path) {
+        let _ = (done, total, output);
+    }
 }
+
+/// The machine of a caller that tells none: commit and host unknown.
+static UNKNOWN_MACHINE: Machine = Machine {
+    commit: None,
+    host: None,
+};
 
 /// What `experiment` is asked to do.
 #[derive(Clone, Copy)]
@@ -125,8 +138,11 @@ pub struct SweepArgs<'a> {
     pub threads: usize,
     /// Output directory (default: the config's; for a shard, `<that>-shard-K-of-N`).
     pub output: Option<&'a Path>,
-    /// Where progress goes (none: nowhere).
+    /// Where progress goes (none: nowhere), and what a resume found.
     pub progress: Option<&'a dyn Progress>,
+    /// The commit and host for the provenance, which the caller learns (the runner reads
+    /// no environment and starts no process); [`SweepArgs::new`]: unknown.
+    pub machine: &'a Machine,
     /// Peak-heap measurement per run (none: `peak_heap_bytes` is 0); [`crate::alloc::Meter`]
     /// when the binary installs [`crate::alloc::Counting`].
     pub heap: Option<&'a dyn HeapMeter>,
@@ -145,13 +161,14 @@ pub struct SweepArgs<'a> {
 
 impl<'a> SweepArgs<'a> {
     /// A plain sweep of `config` reported by `render`: the config's threads and output, no
-    /// progress, no heap measurement, not resumed, not sharded.
+    /// progress, no heap measurement, commit and host unknown, not resumed, not sharded.
     pub fn new(config: &'a Path, render: &'a dyn Render) -> SweepArgs<'a> {
         SweepArgs {
             config,
             threads: 0,
             output: None,
             progress: None,
+            machine: &UNKNOWN_MACHINE,
             heap: None,
             resume: false,
             shard: None,
@@ -212,7 +229,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
             )));
         }
         let threads = worker_threads(args.threads, experiment.threads);
-        let provenance = Provenance::collect(args.config, threads);
+        let provenance = Provenance::collect(args.config, threads, args.machine);
         let seconds = started.elapsed().as_secs_f64();
         let (reproduction, records) = finish(
             args.render,
@@ -268,12 +285,14 @@ fn open_stream(
             file.set_len(bytes)
                 .and_then(|()| file.seek(SeekFrom::End(0)).map(drop))
                 .map_err(|e| RunnerError::io(&path, e))?;
-            eprintln!("resuming: {n} of {} runs already recorded", runs.len());
+            if let Some(progress) = args.progress {
+                progress.resumed(n, runs.len(), dir);
+            }
             Ok((file, n))
         }
         None => {
-            if args.resume {
-                eprintln!("nothing to resume for {}: running every run", dir.display());
+            if let (true, Some(progress)) = (args.resume, args.progress) {
+                progress.resumed(0, runs.len(), dir);
             }
             let mut file = area.open_write(RECORDS, true)?;
             file.write_all(&header.to_line()?)
@@ -748,12 +767,15 @@ fn read_expanded(dir: &Path, experiment: &Experiment) -> Result<ExpandedCells, R
 }
 
 /// Merges the shard directories `dirs` into the one sweep's results in `output` (default:
-/// the config's). `config` overrides the config file the shards name.
+/// the config's). `config` overrides the config file the shards name; `machine` gives the
+/// commit and host of the provenance for the config file merged (the caller learns them:
+/// [`SweepArgs::machine`]).
 pub fn merge(
     dirs: &[PathBuf],
     output: Option<&Path>,
     config: Option<&Path>,
     render: &dyn Render,
+    machine: &dyn Fn(&Path) -> Machine,
 ) -> Result<Report, RunnerError> {
     let started = Instant::now();
     let mut shards = open_shards(dirs)?;
@@ -770,7 +792,11 @@ pub fn merge(
     let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
     outdir::check(&dir)?;
     let n_runs = records.len();
-    let provenance = Provenance::collect(&config_path, worker_threads(0, experiment.threads));
+    let provenance = Provenance::collect(
+        &config_path,
+        worker_threads(0, experiment.threads),
+        &machine(&config_path),
+    );
     let seconds = started.elapsed().as_secs_f64();
     let (reproduction, _) = finish(
         render,

@@ -17,20 +17,47 @@ pub mod trace;
 
 pub use server::{ServeError, ServeOptions, Server};
 
-use std::path::Path;
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
 
-/// `gridplan serve`: binds, prints the address (`serving DIR at http://ADDR/`, with the
-/// chosen port when 0 was asked for) and answers until the process ends.
-pub fn serve(options: &ServeOptions) -> Result<(), String> {
-    let server = Server::bind(options).map_err(|e| e.to_string())?;
-    let addr = server
-        .addr()
-        .ok_or_else(|| "the server has no IP address".to_string())?;
-    println!("serving {} at http://{addr}/", options.dir.display());
-    use std::io::Write as _;
-    let _ = std::io::stdout().flush();
+/// `gridplan serve`: binds, hands the address it listens on (with the chosen port when 0
+/// was asked for) to `ready`, where the command line prints it, and answers until the
+/// process ends. This crate prints nothing.
+pub fn serve(options: &ServeOptions, ready: impl FnOnce(SocketAddr)) -> Result<(), ServeError> {
+    let server = Server::bind(options)?;
+    ready(server.addr().ok_or(ServeError::NoAddress)?);
     server.run();
     Ok(())
+}
+
+/// Why `plan --svg/--trace/--gif` wrote no picture.
+#[derive(Debug, thiserror::Error)]
+pub enum PictureError {
+    /// One file named by two of the options.
+    #[error("{}: given for two of --svg, --trace and --gif", path.display())]
+    SameFile {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The trace could not be encoded.
+    #[error("search trace: {0}")]
+    Trace(#[from] serde_json::Error),
+    /// The animation could not be made.
+    #[error("{}: {source}", path.display())]
+    Gif {
+        /// The file asked for.
+        path: PathBuf,
+        /// Why.
+        source: anim::AnimError,
+    },
+    /// A file could not be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
 }
 
 /// `plan --trace FILE` and `plan --gif FILE`: writes the run's Posthoc trace and GIF
@@ -42,25 +69,30 @@ pub fn write_pictures(
     svg: Option<&Path>,
     trace: Option<&Path>,
     gif: Option<&Path>,
-) -> Result<(), String> {
+) -> Result<(), PictureError> {
     let outputs: Vec<&Path> = [svg, trace, gif].into_iter().flatten().collect();
     for (i, a) in outputs.iter().enumerate() {
         if outputs[i + 1..].iter().any(|b| b == a) {
-            return Err(format!(
-                "{}: given for two of --svg, --trace and --gif",
-                a.display()
-            ));
+            return Err(PictureError::SameFile {
+                path: a.to_path_buf(),
+            });
         }
     }
     let write = |file: &Path, bytes: &[u8]| {
-        std::fs::write(file, bytes).map_err(|e| format!("cannot write {}: {e}", file.display()))
+        std::fs::write(file, bytes).map_err(|source| PictureError::Write {
+            path: file.to_path_buf(),
+            source,
+        })
     };
     if let Some(file) = trace {
-        let text = trace::plan_trace_json(result).map_err(|e| e.to_string())?;
+        let text = trace::plan_trace_json(result)?;
         write(file, text.as_bytes())?;
     }
     if let Some(file) = gif {
-        let bytes = anim::plan_gif(result).map_err(|e| format!("{}: {e}", file.display()))?;
+        let bytes = anim::plan_gif(result).map_err(|source| PictureError::Gif {
+            path: file.to_path_buf(),
+            source,
+        })?;
         write(file, &bytes)?;
     }
     Ok(())

@@ -95,6 +95,9 @@ pub enum ServeError {
         /// The system's message.
         message: String,
     },
+    /// The bound socket reports no address.
+    #[error("the server has no IP address")]
+    NoAddress,
 }
 
 /// A bound server, not yet answering.

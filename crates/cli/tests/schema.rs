@@ -1,0 +1,99 @@
+//! `gridplan schema` covers every config `experiment` runs: each config in configs/ (the
+//! runner's and the replanning kinds', `configs/replan/*.toml`) validates against it
+//! (checked by the independent `boon` validator), and an unknown key fails it in either
+//! kind.
+
+use std::path::{Path, PathBuf};
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The composed schema compiled by `boon`.
+struct Validator {
+    schemas: boon::Schemas,
+    index: boon::SchemaIndex,
+}
+
+impl Validator {
+    fn new() -> Validator {
+        let schema = gridplan::schema().expect("the schema builds");
+        let mut schemas = boon::Schemas::new();
+        let mut compiler = boon::Compiler::new();
+        compiler.set_default_draft(boon::Draft::V2020_12);
+        let url = "urn:gridplan:schema";
+        compiler.add_resource(url, schema).expect("JSON");
+        let index = compiler
+            .compile(url, &mut schemas)
+            .expect("a valid draft 2020-12 schema");
+        Validator { schemas, index }
+    }
+
+    fn valid(&self, text: &str) -> Result<(), String> {
+        let table: toml::Table = toml::from_str(text).expect("TOML");
+        let json = serde_json::to_value(table).expect("JSON");
+        self.schemas
+            .validate(&json, self.index)
+            .map_err(|e| format!("{e:#}"))
+    }
+}
+
+/// Every `.toml` under `dir`, recursively.
+fn tomls(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).expect("a directory") {
+        let path = entry.expect("entry").path();
+        if path.is_dir() {
+            tomls(&path, out);
+        } else if path.extension().and_then(|e| e.to_str()) == Some("toml") {
+            out.push(path);
+        }
+    }
+}
+
+#[test]
+fn every_runner_and_replanning_config_validates() {
+    let validator = Validator::new();
+    let mut files = Vec::new();
+    tomls(&repo().join("configs"), &mut files);
+    files.sort();
+    let (mut runner, mut replan) = (0, 0);
+    for path in files {
+        let text = std::fs::read_to_string(&path).expect("read");
+        let table: toml::Table = toml::from_str(&text).expect("TOML");
+        // Only configs `experiment` runs (configs/bench and the like may hold others).
+        if table.contains_key("kind") {
+            replan += 1;
+        } else if table.contains_key("planners") {
+            runner += 1;
+        } else {
+            continue;
+        }
+        if let Err(e) = validator.valid(&text) {
+            panic!("{}: {e}", path.display());
+        }
+    }
+    assert!(runner >= 10, "only {runner} runner configs checked");
+    assert!(replan >= 2, "only {replan} replanning configs checked");
+}
+
+#[test]
+fn unknown_keys_and_wrong_kinds_fail() {
+    let validator = Validator::new();
+    let navigate = std::fs::read_to_string(repo().join("configs/replan/navigate.toml"))
+        .expect("configs/replan/navigate.toml");
+    assert_eq!(validator.valid(&navigate), Ok(()));
+    // The replanning config's keys are its parser's: a misspelt one fails, and so does a
+    // kind that is neither.
+    let misspelt = format!("radius = [1]\n{navigate}");
+    assert!(validator.valid(&misspelt).is_err());
+    let other = navigate.replacen("kind = \"navigate\"", "kind = \"sideways\"", 1);
+    assert_ne!(other, navigate, "the config names its kind");
+    assert!(validator.valid(&other).is_err());
+    // A runner config with a replanning key fails (no config is both).
+    let runner = std::fs::read_to_string(repo().join("configs/paper.toml")).expect("paper");
+    assert_eq!(validator.valid(&runner), Ok(()));
+    assert!(validator
+        .valid(&format!("kind = \"navigate\"\n{runner}"))
+        .is_err());
+    assert!(validator.valid(&format!("threds = 2\n{runner}")).is_err());
+}
