@@ -93,6 +93,7 @@ struct RawConfig {
     ompl: bool,
     #[serde(default)]
     paths: PathsMode,
+    outputs: Option<Spanned<Vec<crate::output::TableFormat>>>,
     published: Option<Spanned<String>>,
     #[serde(default)]
     test: TestLimits,
@@ -283,6 +284,8 @@ pub struct Experiment {
     pub ompl: bool,
     /// Which paths the results keep (`paths = "all" | "figures" | "none"`).
     pub paths: PathsMode,
+    /// Which result tables are written (`outputs = ["csv", "json", "parquet"]`).
+    pub outputs: crate::output::Outputs,
     /// Published values to compare with, if any.
     pub published: Option<Published>,
     /// Test-only limits.
@@ -579,11 +582,28 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         charts: raw.charts,
         ompl: raw.ompl,
         paths: raw.paths,
+        outputs: read_outputs(&src, raw.outputs)?,
         published,
         test: raw.test,
         maps,
         planners,
         sections,
+    })
+}
+
+/// The tables `outputs = [...]` asks for (default: all); an empty list is refused at the key.
+fn read_outputs(
+    src: &Source<'_>,
+    outputs: Option<Spanned<Vec<crate::output::TableFormat>>>,
+) -> Result<crate::output::Outputs, ConfigError> {
+    let Some(outputs) = outputs else {
+        return Ok(crate::output::Outputs::default());
+    };
+    crate::output::Outputs::of(outputs.get_ref()).ok_or_else(|| {
+        src.error(
+            Some(outputs.span()),
+            "key `outputs`: names no table; give at least one of \"csv\", \"json\", \"parquet\"",
+        )
     })
 }
 
@@ -1712,6 +1732,7 @@ impl Experiment {
             charts: Vec::new(),
             ompl: false,
             paths: PathsMode::All,
+            outputs: crate::output::Outputs::default(),
             published: None,
             test: TestLimits::default(),
             maps: vec![map],

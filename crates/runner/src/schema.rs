@@ -113,6 +113,7 @@ pub const TOP_LEVEL_KEYS: &[&str] = &[
     "charts",
     "ompl",
     "paths",
+    "outputs",
     "published",
     "test",
     "sections",
@@ -206,6 +207,8 @@ pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
             }},
             "ompl": { "type": "boolean", "description": "Write OMPL benchmark logs." },
             "paths": { "enum": ["all", "figures", "none"] },
+            "outputs": { "type": "array", "minItems": 1, "items": { "enum": ["csv", "json", "parquet"] },
+                         "description": "The result tables to write (default all three)." },
             "published": { "type": "string",
                            "description": "A TOML file of published values to compare with." },
             "test": { "type": "object", "additionalProperties": false, "properties": {
