@@ -233,7 +233,10 @@ fn killed_and_resumed_equals_uninterrupted() {
     }
     child.kill().unwrap(); // SIGKILL
     child.wait().unwrap();
-    assert!(recorded(&stream) < 16_000, "the sweep finished before the kill");
+    assert!(
+        recorded(&stream) < 16_000,
+        "the sweep finished before the kill"
+    );
     assert!(!out.join("runs.csv").exists());
     xtask(&[
         "experiment",

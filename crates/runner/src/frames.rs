@@ -224,7 +224,10 @@ impl<'a> Payload<'a> {
     fn varint(&mut self) -> Result<u64, Malformed> {
         let mut value = 0u64;
         for shift in (0..64).step_by(7) {
-            let byte = *self.bytes.get(self.at).ok_or(Malformed("ends inside a number"))?;
+            let byte = *self
+                .bytes
+                .get(self.at)
+                .ok_or(Malformed("ends inside a number"))?;
             self.at += 1;
             value |= u64::from(byte & 0x7f) << shift;
             if byte & 0x80 == 0 {

@@ -40,8 +40,6 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use rayon::prelude::*;
-
 use crate::config::ConfigError;
 use crate::expanded::{self, ExpandedCells};
 use crate::output::{OutputFile, StreamedFile};

@@ -16,7 +16,12 @@ fn record(run: u64, full: bool) -> RunRecord {
     counters.push("n_expanded", run * 7 + 1);
     counters.push(format!("own counter {run}"), u64::MAX - run);
     RunRecord {
-        map: if run % 2 == 0 { "a.map" } else { "b \"é\".map" }.into(),
+        map: if run % 2 == 0 {
+            "a.map"
+        } else {
+            "b \"é\".map"
+        }
+        .into(),
         problem: run as usize + 1,
         start: Cell::new(run as u32, 3),
         goal: Cell::new(u32::MAX, 0),
@@ -91,8 +96,7 @@ fn framed(runs: &[(u64, RunRecord)], per_frame: usize) -> (Vec<u8>, Vec<usize>) 
 /// Everything a reader gets from `bytes`: the runs, whether it was cut, and the bytes of
 /// its complete frames; or the error.
 fn read(bytes: &[u8]) -> Result<(Vec<(u64, RunRecord)>, bool, u64), String> {
-    let (_, mut reader) =
-        StreamReader::new(Cursor::new(bytes), "s").map_err(|e| e.to_string())?;
+    let (_, mut reader) = StreamReader::new(Cursor::new(bytes), "s").map_err(|e| e.to_string())?;
     let mut runs = Vec::new();
     while let Some(run) = reader.next_run().map_err(|e| e.to_string())? {
         runs.push(run);
@@ -145,7 +149,10 @@ fn a_damaged_frame_is_dropped_only_at_the_end() {
     let mut first = bytes.clone();
     first[ends[1] - 3] ^= 0x40;
     let error = read(&first).unwrap_err();
-    assert!(error.contains("frame 1") && error.contains("checksum"), "{error}");
+    assert!(
+        error.contains("frame 1") && error.contains("checksum"),
+        "{error}"
+    );
     // A length past the limit is refused before it is allocated.
     let mut huge = bytes[..ends[0]].to_vec();
     huge.extend_from_slice(&u32::MAX.to_le_bytes());

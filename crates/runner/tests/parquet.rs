@@ -26,10 +26,7 @@ impl Render for NoReport {
         Ok(())
     }
 
-    fn render(
-        &self,
-        _: &Results<'_>,
-    ) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
+    fn render(&self, _: &Results<'_>) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
         Ok((Vec::new(), Reproduction::default()))
     }
 }
@@ -389,9 +386,7 @@ fn outputs_choose_the_tables() {
     args.output = Some(&shard);
     args.shard = Some(Shard::new(2, 2).unwrap());
     sweep::experiment(&args).unwrap();
-    assert!(shard
-        .join(part_path(Shard::new(2, 2).unwrap()))
-        .is_file());
+    assert!(shard.join(part_path(Shard::new(2, 2).unwrap())).is_file());
     let csv_only = config_with(&dir, "outputs = [\"csv\"]");
     let mut args = SweepArgs::new(&csv_only, &NoReport);
     let csv_out = dir.join("csv");
