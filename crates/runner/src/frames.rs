@@ -276,19 +276,24 @@ fn decode_payload(bytes: &[u8]) -> Result<Vec<(u64, RunRecord)>, Malformed> {
         let text = std::str::from_utf8(p.take(n)?).map_err(|_| Malformed("a string not UTF-8"))?;
         strings.push(text);
     }
-    let string = |id: u64| {
-        usize::try_from(id)
-            .ok()
-            .and_then(|i| strings.get(i))
-            .copied()
-            .ok_or(Malformed("a string id past the table"))
-    };
     let n_records: usize = p.small()?;
     if n_records > bytes.len() {
         return Err(Malformed("more records than bytes"));
     }
     let mut records = Vec::with_capacity(n_records);
     for _ in 0..n_records {
+        records.push(decode_record(&mut p, &strings)?);
+    }
+    if p.at != bytes.len() {
+        return Err(Malformed("bytes after its last record"));
+    }
+    Ok(records)
+}
+
+/// The next record of `p`, its strings' ids into `strings`.
+fn decode_record(p: &mut Payload<'_>, strings: &[&str]) -> Result<(u64, RunRecord), Malformed> {
+    let string = |id: u64| string_at(strings, id);
+    {
         let run = p.varint()?;
         let map = string(p.varint()?)?.to_string();
         let problem: usize = p.small()?;
@@ -332,19 +337,7 @@ fn decode_payload(bytes: &[u8]) -> Result<Vec<(u64, RunRecord)>, Malformed> {
         let optimal_length = float(OPTIMAL)?;
         let cost = float(COST)?;
         let boolean = |bit: u16, value: u16| has(bit).then(|| has(value));
-        let n_counters: usize = p.small()?;
-        if n_counters > bytes.len() {
-            return Err(Malformed("more counters than bytes"));
-        }
-        let mut counters = Counters::new();
-        for _ in 0..n_counters {
-            let name = string(p.varint()?)?;
-            let value = p.varint()?;
-            match planner_api::Counter::ALL.iter().find(|c| c.name() == name) {
-                Some(standard) => counters.push(standard.name(), value),
-                None => counters.push(name.to_string(), value),
-            }
-        }
+        let counters = decode_counters(p, strings)?;
         let time_ms = p.f64()?;
         let setup_ms = p.f64()?;
         let peak_heap_bytes = p.varint()?;
@@ -354,7 +347,7 @@ fn decode_payload(bytes: &[u8]) -> Result<Vec<(u64, RunRecord)>, Malformed> {
         } else {
             Extras::default()
         };
-        records.push((
+        Ok((
             run,
             RunRecord {
                 map,
@@ -385,12 +378,36 @@ fn decode_payload(bytes: &[u8]) -> Result<Vec<(u64, RunRecord)>, Malformed> {
                 series: extras.series,
                 cost,
             },
-        ));
+        ))
     }
-    if p.at != bytes.len() {
-        return Err(Malformed("bytes after its last record"));
+}
+
+/// String `id` of a batch's string table.
+fn string_at<'s>(strings: &[&'s str], id: u64) -> Result<&'s str, Malformed> {
+    usize::try_from(id)
+        .ok()
+        .and_then(|i| strings.get(i))
+        .copied()
+        .ok_or(Malformed("a string id past the table"))
+}
+
+/// A record's counters: a count, then (name id, value) pairs. The standard names are
+/// static strings, as the planner reported them, not one allocation per record.
+fn decode_counters(p: &mut Payload<'_>, strings: &[&str]) -> Result<Counters, Malformed> {
+    let n_counters: usize = p.small()?;
+    if n_counters > p.bytes.len() {
+        return Err(Malformed("more counters than bytes"));
     }
-    Ok(records)
+    let mut counters = Counters::new();
+    for _ in 0..n_counters {
+        let name = string_at(strings, p.varint()?)?;
+        let value = p.varint()?;
+        match planner_api::Counter::ALL.iter().find(|c| c.name() == name) {
+            Some(standard) => counters.push(standard.name(), value),
+            None => counters.push(name.to_string(), value),
+        }
+    }
+    Ok(counters)
 }
 
 /// Reads the frames of a framed stream after its header line.
