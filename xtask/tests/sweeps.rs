@@ -225,20 +225,18 @@ fn killed_and_resumed_equals_uninterrupted() {
         .current_dir(root())
         .spawn()
         .unwrap();
-    let stream = dir.join(".res.stream/records.jsonl");
+    let stream = dir.join(".res.stream/records.stream");
     let started = Instant::now();
-    while fs::read(&stream).map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count()) < 2 {
+    while recorded(&stream) < 1 {
         assert!(started.elapsed() < Duration::from_secs(60));
         std::thread::sleep(Duration::from_millis(5));
     }
     child.kill().unwrap(); // SIGKILL
     child.wait().unwrap();
-    let lines = fs::read(&stream)
-        .unwrap()
-        .iter()
-        .filter(|&&c| c == b'\n')
-        .count();
-    assert!(lines < 16_001, "the sweep finished before the kill");
+    assert!(
+        recorded(&stream) < 16_000,
+        "the sweep finished before the kill"
+    );
     assert!(!out.join("runs.csv").exists());
     xtask(&[
         "experiment",
@@ -253,11 +251,27 @@ fn killed_and_resumed_equals_uninterrupted() {
     assert_eq!(deterministic_csv(Path::new(&full)), deterministic_csv(&out));
 }
 
-/// The stream's recorded runs (its lines but the header).
+/// The runs a sweep's framed resume stream holds (0 before it has a header), and whether
+/// it ends in a cut frame.
+fn read_stream(stream: &Path) -> (usize, bool) {
+    let Ok(file) = fs::File::open(stream) else {
+        return (0, false);
+    };
+    let Ok((_, mut reader)) =
+        planner_runner::stream::StreamReader::new(std::io::BufReader::new(file), "stream")
+    else {
+        return (0, false);
+    };
+    let mut n = 0;
+    while let Ok(Some(_)) = reader.next_run() {
+        n += 1;
+    }
+    (n, reader.was_cut())
+}
+
+/// The runs a sweep's framed resume stream holds.
 fn recorded(stream: &Path) -> usize {
-    fs::read(stream)
-        .map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count())
-        .saturating_sub(1)
+    read_stream(stream).0
 }
 
 /// Starts `experiment config --threads 2 --output out` (with `extra`), waits until its
@@ -272,7 +286,7 @@ fn interrupt(config: &str, out: &Path, extra: &[&str], signal: &str) -> (Option<
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    let stream = out.with_file_name(".res.stream/records.jsonl");
+    let stream = out.with_file_name(".res.stream/records.stream");
     let before = recorded(&stream);
     let started = Instant::now();
     while recorded(&stream) < before + 2048 {
@@ -316,7 +330,7 @@ fn sigint_and_sigterm_stop_cleanly_and_resume_equals_uninterrupted() {
         &out.display().to_string(),
     ]);
     let old_csv = fs::read(out.join("runs.csv")).unwrap();
-    let stream = dir.join(".res.stream/records.jsonl");
+    let stream = dir.join(".res.stream/records.stream");
     for (signal, extra) in [("-INT", &[][..]), ("-TERM", &["--resume"][..])] {
         let (code, stderr) = interrupt(config, &out, extra, signal);
         assert_eq!(code, Some(130), "{signal}: {stderr}");
@@ -328,8 +342,8 @@ fn sigint_and_sigterm_stop_cleanly_and_resume_equals_uninterrupted() {
             )),
             "{signal}: {n} recorded; {stderr}"
         );
-        // Complete lines only: the stop came between runs, not mid-write.
-        assert_eq!(fs::read(&stream).unwrap().last(), Some(&b'\n'));
+        // Complete frames only: the stop came between batches, not mid-write.
+        assert!(!read_stream(&stream).1, "{signal}: a cut frame");
         assert_eq!(fs::read(out.join("runs.csv")).unwrap(), old_csv, "{signal}");
     }
     xtask(&[

@@ -120,6 +120,9 @@ pub(crate) struct RawConfig {
     /// Which runs' paths to keep in paths.jsonl.
     #[serde(default)]
     paths: PathsMode,
+    /// Which result tables to write (default all: csv, json, parquet).
+    #[schemars(with = "Option<Vec<crate::output::TableFormat>>", length(min = 1))]
+    outputs: Option<Spanned<Vec<crate::output::TableFormat>>>,
     /// A TOML file of published values to compare with.
     #[schemars(with = "Option<String>")]
     published: Option<Spanned<String>>,
@@ -357,6 +360,8 @@ pub struct Experiment {
     pub ompl: bool,
     /// Which paths the results keep (`paths = "all" | "figures" | "none"`).
     pub paths: PathsMode,
+    /// Which result tables are written (`outputs = ["csv", "json", "parquet"]`).
+    pub outputs: crate::output::Outputs,
     /// Published values to compare with, if any.
     pub published: Option<Published>,
     /// Test-only limits.
@@ -653,11 +658,28 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         charts: raw.charts,
         ompl: raw.ompl,
         paths: raw.paths,
+        outputs: read_outputs(&src, raw.outputs)?,
         published,
         test: raw.test,
         maps,
         planners,
         sections,
+    })
+}
+
+/// The tables `outputs = [...]` asks for (default: all); an empty list is refused at the key.
+fn read_outputs(
+    src: &Source<'_>,
+    outputs: Option<Spanned<Vec<crate::output::TableFormat>>>,
+) -> Result<crate::output::Outputs, ConfigError> {
+    let Some(outputs) = outputs else {
+        return Ok(crate::output::Outputs::default());
+    };
+    crate::output::Outputs::of(outputs.get_ref()).ok_or_else(|| {
+        src.error(
+            Some(outputs.span()),
+            "key `outputs`: names no table; give at least one of \"csv\", \"json\", \"parquet\"",
+        )
     })
 }
 
@@ -1786,6 +1808,7 @@ impl Experiment {
             charts: Vec::new(),
             ompl: false,
             paths: PathsMode::All,
+            outputs: crate::output::Outputs::default(),
             published: None,
             test: TestLimits::default(),
             maps: vec![map],

@@ -18,7 +18,8 @@
 //!   and label, reused across runs; [`run::run_one`], the one function that runs a run.
 //! - [`expanded`]: the expanded cells of the runs the figures draw, recorded at run time.
 //! - [`record`] and [`index`]: the results model and lookups into it.
-//! - [`output`]: runs.csv, runs.json and paths.jsonl as bytes.
+//! - [`output`]: runs.csv, runs.json and paths.jsonl as bytes; [`columnar`]: the same
+//!   table as Apache Parquet (`runs.parquet/`).
 //! - [`plan`]: one run of one planner, for `plan`.
 //! - [`provenance`]: version, commit, date, host, CPU and config hash of a sweep.
 //! - [`stream`] and [`shard`]: streamed sweeps (records in run order, batch by batch, as
@@ -38,8 +39,10 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod alloc;
+pub mod columnar;
 pub mod config;
 pub mod expanded;
+pub mod frames;
 pub mod index;
 pub mod outdir;
 pub mod output;
@@ -129,6 +132,9 @@ pub enum RunnerError {
     /// Serializing results failed.
     #[error("cannot serialize the results: {0}")]
     Json(serde_json::Error),
+    /// Writing or reading the Parquet dataset runs.parquet/ failed (issue 29).
+    #[error("runs.parquet: {0}")]
+    Parquet(#[from] ::parquet::errors::ParquetError),
     /// A results directory that may not be written (not gridplan's own, held by another
     /// sweep's lock, ...).
     #[error(transparent)]
@@ -216,6 +222,7 @@ impl RunnerError {
             | RunnerError::Stream(_)
             | RunnerError::Json(_)
             | RunnerError::Io { .. }
+            | RunnerError::Parquet(_)
             | RunnerError::Results(_) => ErrorClass::Other,
             RunnerError::During { source, .. } => source.class(),
         }

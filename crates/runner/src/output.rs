@@ -25,9 +25,56 @@ pub struct OutputFile {
 pub struct StreamedFile<'a> {
     /// Relative path, e.g. `runs.csv`.
     pub path: PathBuf,
-    /// Writes the contents.
+    /// Writes the contents (to a `Send` writer: the Parquet writer needs one).
     #[allow(clippy::type_complexity)]
-    pub write: Box<dyn Fn(&mut dyn Write) -> Result<(), RunnerError> + 'a>,
+    pub write: Box<dyn Fn(&mut (dyn Write + Send)) -> Result<(), RunnerError> + 'a>,
+}
+
+/// One result table format of `outputs = [...]` (issue 29).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum TableFormat {
+    /// runs.csv.
+    Csv,
+    /// runs.json (pandas' "split" table with the header).
+    Json,
+    /// The Parquet dataset `runs.parquet/` ([`crate::columnar`]).
+    Parquet,
+}
+
+/// Which result tables a sweep writes (`outputs = [...]`; default all three). The
+/// records.jsonl that `report` reads, summary.md and the other report files are written
+/// whatever it says. It is not part of the config hash: a sweep resumed or merged with
+/// another `outputs` writes that one's tables from the same records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Outputs {
+    /// runs.csv.
+    pub csv: bool,
+    /// runs.json.
+    pub json: bool,
+    /// runs.parquet/.
+    pub parquet: bool,
+}
+
+impl Default for Outputs {
+    fn default() -> Outputs {
+        Outputs {
+            csv: true,
+            json: true,
+            parquet: true,
+        }
+    }
+}
+
+impl Outputs {
+    /// The tables of `formats` (at least one; a format named twice is written once).
+    pub fn of(formats: &[TableFormat]) -> Option<Outputs> {
+        (!formats.is_empty()).then(|| Outputs {
+            csv: formats.contains(&TableFormat::Csv),
+            json: formats.contains(&TableFormat::Json),
+            parquet: formats.contains(&TableFormat::Parquet),
+        })
+    }
 }
 
 /// The columns of runs.csv and of runs.json's table that every run has (counters and, in

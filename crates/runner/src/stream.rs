@@ -7,7 +7,10 @@
 //! worker), not by the sweep. Paths the config does not keep
 //! ([`crate::config::PathsMode`]) are dropped in the worker.
 //!
-//! The stream format is one line per run, `{"run":INDEX,"record":RECORD}` ([`encode`]),
+//! A sweep's own resume stream is framed binary ([`crate::frames`], format 2, read here
+//! too); the JSON Lines format (1) is that of shard and results files, and of resume
+//! streams written before, which still read.
+//! The JSON Lines format is one line per run, `{"run":INDEX,"record":RECORD}` ([`encode`]),
 //! the [`RunRecord`] as serde writes it. A binary appends each batch to a file and flushes
 //! it; a process killed mid-write leaves complete lines and at most one cut line at the
 //! end, which [`StreamReader`] stops at (and reports, so a resumed sweep truncates it).
@@ -237,6 +240,8 @@ pub struct StreamReader<R> {
     /// Whether the stream ended in a cut line (a process killed mid-write).
     cut: bool,
     what: String,
+    /// A framed stream's frames ([`crate::frames`]; `None`: JSON Lines).
+    frames: Option<crate::frames::FrameReader>,
 }
 
 impl<R: BufRead> StreamReader<R> {
@@ -250,6 +255,7 @@ impl<R: BufRead> StreamReader<R> {
             complete_bytes: 0,
             cut: false,
             what: what.to_string(),
+            frames: None,
         };
         let header = match stream.next_line()? {
             Some(line) => serde_json::from_slice::<StreamHeader>(line).map_err(|e| {
@@ -261,10 +267,13 @@ impl<R: BufRead> StreamReader<R> {
                 )))
             }
         };
-        if header.format != STREAM_FORMAT {
+        if header.format == crate::frames::FRAMED_FORMAT {
+            stream.frames = Some(crate::frames::FrameReader::new());
+        } else if header.format != STREAM_FORMAT {
             return Err(RunnerError::Stream(format!(
-                "{what}: stream format {} (this gridplan reads {STREAM_FORMAT})",
-                header.format
+                "{what}: stream format {} (this gridplan reads {STREAM_FORMAT}, JSON Lines, and {}, framed)",
+                header.format,
+                crate::frames::FRAMED_FORMAT
             )));
         }
         // A shard count no command accepts (a merge would loop over it) is refused here.
@@ -300,6 +309,9 @@ impl<R: BufRead> StreamReader<R> {
 
     /// The next run and its record, or `None` at the end (or at a cut last line).
     pub fn next_run(&mut self) -> Result<Option<(u64, RunRecord)>, RunnerError> {
+        if let Some(frames) = &mut self.frames {
+            return frames.next_run(&mut self.reader, &self.what);
+        }
         if self.next_line()?.is_none() {
             return Ok(None);
         }
@@ -309,14 +321,25 @@ impl<R: BufRead> StreamReader<R> {
         Ok(Some((parsed.run, parsed.record)))
     }
 
-    /// Bytes of the complete lines read so far: where a resumed sweep appends.
+    /// Bytes of the complete lines (or frames) read so far: where a resumed sweep appends.
     pub fn complete_bytes(&self) -> u64 {
-        self.complete_bytes
+        self.complete_bytes + self.frames.as_ref().map_or(0, |f| f.complete_bytes())
     }
 
-    /// Whether the stream ended in a cut line.
+    /// Whether the stream ended in a cut line (or frame).
     pub fn was_cut(&self) -> bool {
-        self.cut
+        self.cut || self.cut_bytes() > 0
+    }
+
+    /// Bytes of the cut last frame of a framed stream that reading stopped at (0: none, or
+    /// a JSON Lines stream).
+    pub fn cut_bytes(&self) -> u64 {
+        self.frames.as_ref().map_or(0, |f| f.cut_bytes())
+    }
+
+    /// Whether the stream is framed ([`crate::frames`]).
+    pub fn is_framed(&self) -> bool {
+        self.frames.is_some()
     }
 }
 

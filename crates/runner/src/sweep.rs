@@ -40,8 +40,6 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use rayon::prelude::*;
-
 use crate::config::ConfigError;
 use crate::expanded::{self, ExpandedCells};
 use crate::output::{OutputFile, StreamedFile};
@@ -52,8 +50,12 @@ use crate::shard::{Shard, ShardRuns};
 use crate::stream::{self, StreamHeader, StreamReader};
 use crate::{config, outdir, output as results, Experiment, RunOptions, RunRecord, RunnerError};
 
-/// The stream file of a sweep's stream area, and of a shard's results directory.
-const RECORDS: &str = "records.jsonl";
+/// The resume stream of a sweep's stream area: framed binary ([`crate::frames`]).
+const RECORDS: &str = "records.stream";
+
+/// The JSON Lines resume stream of earlier versions: `--resume` still reads it, carrying
+/// its runs over into a framed stream ([`crate::frames::write_framed`]).
+const OLD_RECORDS: &str = "records.jsonl";
 
 /// A shard's stream in its results directory.
 pub const SHARD_FILE: &str = "shard.jsonl";
@@ -217,7 +219,9 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         });
     }
     let (reproduction, records) = if args.shard.is_some() {
-        finish_shard(&experiment, &path, &dir)?;
+        let threads = worker_threads(args.threads, experiment.threads);
+        let provenance = Provenance::collect(args.config, threads, args.machine);
+        finish_shard(&experiment, &path, &dir, (shard, &provenance))?;
         (Reproduction::default(), Vec::new())
     } else {
         if records.len() as u64 != header.runs {
@@ -274,10 +278,16 @@ fn open_stream(
     dir: &Path,
 ) -> Result<(File, u64), RunnerError> {
     let path = area.dir.join(RECORDS);
-    let done = if args.resume {
-        resume_point(&path, header, runs, experiment)?
-    } else {
-        None
+    let old = area.dir.join(OLD_RECORDS);
+    let done = match args.resume {
+        true if fs::symlink_metadata(&path).is_err() && fs::symlink_metadata(&old).is_ok() => {
+            match resume_point(&old, header, runs, experiment)? {
+                Some((_, n)) => Some((carry_over(area, &old, n)?, n)),
+                None => None,
+            }
+        }
+        true => resume_point(&path, header, runs, experiment)?,
+        false => None,
     };
     match done {
         Some((bytes, n)) => {
@@ -295,11 +305,31 @@ fn open_stream(
                 progress.resumed(0, runs.len(), dir);
             }
             let mut file = area.open_write(RECORDS, true)?;
-            file.write_all(&header.to_line()?)
+            let framed = StreamHeader {
+                format: crate::frames::FRAMED_FORMAT,
+                ..header.clone()
+            };
+            file.write_all(&framed.to_line()?)
                 .map_err(|e| RunnerError::io(&path, e))?;
             Ok((file, 0))
         }
     }
+}
+
+/// Carries the first `n` runs of the JSON Lines resume stream `old` (an earlier version's)
+/// over into the area's framed stream and removes `old`; returns the framed stream's bytes.
+fn carry_over(area: &outdir::StreamArea, old: &Path, n: u64) -> Result<u64, RunnerError> {
+    let path = area.dir.join(RECORDS);
+    let file = stream::open_regular(old).map_err(|e| RunnerError::io(old, e))?;
+    let mut out = std::io::BufWriter::new(area.open_write(RECORDS, true)?);
+    let what = old.display().to_string();
+    let bytes = crate::frames::write_framed(BufReader::new(file), &what, &mut out, n)?;
+    out.flush()
+        .and_then(|()| out.get_ref().sync_all())
+        .map_err(|e| RunnerError::io(&path, e))?;
+    fs::remove_file(old).map_err(|e| RunnerError::io(old, e))?;
+    eprintln!("--resume: {n} runs carried over from the JSON Lines stream {what} into the framed {RECORDS}");
+    Ok(bytes)
 }
 
 /// Runs the sweep's runs after the `n_done` already in its stream, appending each batch to
@@ -338,24 +368,14 @@ fn stream_runs(
             records = read_records(path, records)?;
         }
     }
-    let mut buffer = Vec::new();
     let n_ran = stream::run_stream(
         experiment,
         runs.iter().skip(n_done as usize),
         &options,
         |batch| {
-            // Encoded in parallel on the sweep's workers (the sink runs in their pool).
-            let lines: Vec<Vec<u8>> = batch
-                .par_iter()
-                .map(|(run, record)| {
-                    let mut line = Vec::with_capacity(512);
-                    stream::encode(&mut line, *run, record).map(|()| line)
-                })
-                .collect::<Result<_, _>>()?;
-            buffer.clear();
-            for line in &lines {
-                buffer.extend_from_slice(line);
-            }
+            // Framed (src/frames.rs), encoded in parallel on the sweep's workers (the sink
+            // runs in their pool).
+            let buffer = crate::frames::encode_frames(&batch)?;
             file.write_all(&buffer)
                 .and_then(|()| file.flush())
                 .map_err(|e| RunnerError::io(path, e))?;
@@ -371,16 +391,21 @@ fn stream_runs(
     Ok((records, n_ran))
 }
 
-/// Writes a whole shard's results directory `dir`: its stream `path` copied (not read into
-/// memory) as shard.jsonl, and the expanded cells of the drawn runs it holds.
-fn finish_shard(experiment: &Experiment, path: &Path, dir: &Path) -> Result<(), RunnerError> {
+/// Writes a whole shard's results directory `dir`: its framed stream `path` as the JSON
+/// Lines shard.jsonl that `merge` reads (one record at a time, never all in memory), the expanded cells of the drawn runs it holds, and (when the
+/// config's `outputs` asks) its Parquet part, from the stream one row group at a time.
+fn finish_shard(
+    experiment: &Experiment,
+    path: &Path,
+    dir: &Path,
+    (shard, provenance): (Shard, &Provenance),
+) -> Result<(), RunnerError> {
     let copy = StreamedFile {
         path: SHARD_FILE.into(),
         write: Box::new(|out| {
-            let mut file = File::open(path).map_err(|e| RunnerError::io(path, e))?;
-            std::io::copy(&mut file, out)
-                .map(drop)
-                .map_err(|e| RunnerError::io(path, e))
+            let file = stream::open_regular(path).map_err(|e| RunnerError::io(path, e))?;
+            let what = path.display().to_string();
+            crate::frames::write_json_lines(BufReader::new(file), &what, out, None).map(drop)
         }),
     };
     let cells = shard_expanded(experiment, path)?;
@@ -392,11 +417,21 @@ fn finish_shard(experiment: &Experiment, path: &Path, dir: &Path) -> Result<(), 
             contents: cells.to_jsonl()?,
         }]
     };
+    // Issue 29: the shard's Parquet part (src/columnar.rs).
+    let header = crate::columnar::Header {
+        experiment,
+        provenance: Some(provenance),
+        shard: Some(shard),
+    };
+    let parquet = crate::columnar::stream_part(header, path);
+    let streamed: Vec<StreamedFile> = std::iter::once(copy)
+        .chain(experiment.outputs.parquet.then_some(parquet))
+        .collect();
     outdir::write_results_streamed(
         dir,
         &experiment.name,
         &files,
-        &[copy],
+        &streamed,
         outdir::DEFAULT_LOCK_WAIT,
     )?;
     Ok(())
@@ -482,14 +517,26 @@ fn resume_point(
                 "--resume: {what}: run {run} is out of order; run without --resume"
             )));
         }
-        // The header line is line 1: record n is line n + 2.
+        // The header line is line 1: record n is line n + 2 (a framed stream's is record n + 1).
         stream::check_record(experiment, &list, run, &record).map_err(|e| {
-            RunnerError::Resume(format!(
-                "--resume: {what} line {}: {e}; run without --resume",
-                n + 2
-            ))
+            let at = if reader.is_framed() {
+                format!("record {}", n + 1)
+            } else {
+                format!("line {}", n + 2)
+            };
+            RunnerError::Resume(format!("--resume: {what} {at}: {e}; run without --resume"))
         })?;
         n += 1;
+    }
+    if reader.was_cut() {
+        // Said, not silent: the runs of the cut batch run again.
+        eprintln!(
+            "--resume: {what} ends in a batch cut short when the sweep was killed ({}); it is dropped and its runs run again",
+            match reader.cut_bytes() {
+                0 => "a cut last line".to_string(),
+                n => format!("{n} bytes"),
+            }
+        );
     }
     Ok(Some((reader.complete_bytes(), n)))
 }
@@ -567,22 +614,28 @@ fn finish(
     });
     let header = StreamHeader::new(experiment, Shard::ALL, records.len() as u64);
     let rows = &records;
-    let tables = [
-        StreamedFile {
+    let outputs = experiment.outputs;
+    let tables: Vec<StreamedFile> = [
+        (outputs.json).then(|| StreamedFile {
             path: "runs.json".into(),
             write: Box::new(move |out| {
                 results::write_runs_json(out, experiment, rows, Some(provenance))
             }),
-        },
-        StreamedFile {
+        }),
+        (outputs.csv).then(|| StreamedFile {
             path: "runs.csv".into(),
             write: Box::new(move |out| results::write_runs_csv(out, rows)),
-        },
-        StreamedFile {
+        }),
+        // Issue 29: the Parquet dataset's one part (src/columnar.rs).
+        (outputs.parquet).then(|| crate::columnar::records_part(experiment, provenance, rows)),
+        Some(StreamedFile {
             path: RESULTS_RECORDS.into(),
             write: Box::new(move |out| write_stream(out, &header, rows)),
-        },
-    ];
+        }),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
     outdir::write_results_streamed(
         dir,
         &experiment.name,

@@ -1,0 +1,449 @@
+//! The runs as Apache Parquet (issue 29): runs.csv's columns, typed, in row groups of at
+//! most [`ROW_GROUP_ROWS`] runs compressed with snappy, with the experiment, its config,
+//! the provenance and the planner table in the file's key-value metadata. Written with the
+//! `parquet` crate's low-level column writer (no Arrow).
+//!
+//! Layout: a results directory holds the Parquet files in their own dataset directory,
+//! [`PARQUET_DIR`] (`runs.parquet/`, as Spark writes a table), one file per shard named
+//! by [`part_name`]: `part-1-of-1.parquet` for a whole sweep or a merge,
+//! `part-K-of-N.parquet` in shard K's directory. So `pandas.read_parquet("x/runs.parquet")`
+//! reads one sweep without tripping on runs.csv beside it, the parts of N shards copied
+//! into one directory never collide, and DuckDB or polars read every shard as one dataset
+//! with a glob (`read_parquet('x-shard-*/runs.parquet/*.parquet')`).
+//!
+//! A whole sweep's file (and a merge's) is written from its records; a shard's from its
+//! record stream, one row group at a time, so a shard never holds more than one row group
+//! of records.
+
+use std::io::{BufRead, Write};
+use std::path::Path;
+use std::sync::Arc;
+
+use ::parquet::basic::{Compression, LogicalType, Repetition, Type as PhysicalType};
+use ::parquet::data_type::{BoolType, ByteArray, ByteArrayType, DoubleType, Int64Type};
+use ::parquet::file::metadata::KeyValue;
+use ::parquet::file::properties::WriterProperties;
+use ::parquet::file::writer::SerializedFileWriter;
+use ::parquet::schema::types::Type;
+
+use crate::config::Experiment;
+use crate::output::{StreamedFile, FIXED_COLUMNS};
+use crate::provenance::Provenance;
+use crate::record::RunRecord;
+use crate::shard::Shard;
+use crate::stream::StreamReader;
+use crate::RunnerError;
+
+/// The dataset directory of a results directory (and of a shard's): its Parquet files.
+pub const PARQUET_DIR: &str = "runs.parquet";
+
+/// The name of shard `shard`'s file in [`PARQUET_DIR`]: `part-K-of-N.parquet`
+/// (`part-1-of-1.parquet` for a whole sweep).
+pub fn part_name(shard: Shard) -> String {
+    format!("part-{}-of-{}.parquet", shard.index, shard.count)
+}
+
+/// The path of shard `shard`'s file relative to its results directory.
+pub fn part_path(shard: Shard) -> std::path::PathBuf {
+    std::path::Path::new(PARQUET_DIR).join(part_name(shard))
+}
+
+/// The most runs in one row group: the records a writer holds at once when it reads a
+/// stream, and the unit a reader skips or reads in parallel.
+pub const ROW_GROUP_ROWS: usize = 65_536;
+
+/// The key-value metadata keys (each value is text; the JSON ones are JSON objects).
+pub mod keys {
+    /// The experiment's name.
+    pub const EXPERIMENT: &str = "gridplan.experiment";
+    /// The config file's path, as runs.json's `config`.
+    pub const CONFIG: &str = "gridplan.config";
+    /// The config file's text, when it still hashes to the provenance's `config_sha256`.
+    pub const CONFIG_TEXT: &str = "gridplan.config_toml";
+    /// The sweep's provenance (version, commit, date, host, CPU, threads, config hash), JSON.
+    pub const PROVENANCE: &str = "gridplan.provenance";
+    /// Every label's planner, resolved parameters and budget, JSON (runs.json's `planners`).
+    pub const PLANNERS: &str = "gridplan.planners";
+    /// The shard a shard's file holds (`k/n`); absent in a whole sweep's file.
+    pub const SHARD: &str = "gridplan.shard";
+}
+
+/// What goes into the file's key-value metadata besides the rows.
+#[derive(Clone, Copy)]
+pub struct Header<'a> {
+    /// The experiment.
+    pub experiment: &'a Experiment,
+    /// The sweep's provenance, if collected.
+    pub provenance: Option<&'a Provenance>,
+    /// The shard, for a shard's file (`None`: a whole sweep's or a merge's).
+    pub shard: Option<Shard>,
+}
+
+/// The physical and logical type of a column.
+#[derive(Clone, Copy)]
+enum Kind {
+    /// UTF-8 text (BYTE_ARRAY, logical String).
+    Text,
+    /// An unsigned integer (INT64, logical UINT64).
+    Unsigned,
+    /// A float (DOUBLE).
+    Float,
+    /// A boolean (BOOLEAN).
+    Boolean,
+}
+
+/// The [`FIXED_COLUMNS`]' kinds and whether each may be empty, in order.
+const FIXED_KINDS: [(Kind, bool); 21] = [
+    (Kind::Text, false),     // map
+    (Kind::Unsigned, false), // problem
+    (Kind::Unsigned, false), // start_x
+    (Kind::Unsigned, false), // start_y
+    (Kind::Unsigned, false), // goal_x
+    (Kind::Unsigned, false), // goal_y
+    (Kind::Text, false),     // planner
+    (Kind::Text, false),     // algorithm
+    (Kind::Unsigned, false), // repeat
+    (Kind::Unsigned, true),  // seed
+    (Kind::Text, false),     // status
+    (Kind::Unsigned, true),  // steps
+    (Kind::Unsigned, true),  // turns
+    (Kind::Unsigned, true),  // score
+    (Kind::Float, true),     // length
+    (Kind::Float, true),     // optimal_length
+    (Kind::Boolean, true),   // valid
+    (Kind::Float, false),    // time_ms
+    (Kind::Float, false),    // setup_ms
+    (Kind::Unsigned, false), // peak_heap_bytes
+    (Kind::Unsigned, true),  // bucket
+];
+
+/// One cell of a row: a column's value for one record (`None` for an empty cell).
+enum Cell<'r> {
+    Text(&'r str),
+    Unsigned(Option<u64>),
+    Float(Option<f64>),
+    Boolean(Option<bool>),
+}
+
+/// Column `i` of [`FIXED_COLUMNS`] for `r`. Times are rounded to the nanosecond, as in
+/// runs.json.
+fn fixed_cell(r: &RunRecord, i: usize) -> Cell<'_> {
+    let u = |v: u64| Cell::Unsigned(Some(v));
+    match i {
+        0 => Cell::Text(&r.map),
+        1 => u(r.problem as u64),
+        2 => u(u64::from(r.start.x)),
+        3 => u(u64::from(r.start.y)),
+        4 => u(u64::from(r.goal.x)),
+        5 => u(u64::from(r.goal.y)),
+        6 => Cell::Text(&r.planner),
+        7 => Cell::Text(&r.algorithm),
+        8 => u(u64::from(r.repeat)),
+        9 => Cell::Unsigned(r.seed),
+        10 => Cell::Text(r.status.as_str()),
+        11 => Cell::Unsigned(r.steps),
+        12 => Cell::Unsigned(r.turns),
+        13 => Cell::Unsigned(r.score),
+        14 => Cell::Float(r.length),
+        15 => Cell::Float(r.optimal_length),
+        16 => Cell::Boolean(r.valid),
+        17 => Cell::Float(Some(nanoseconds(r.time_ms))),
+        18 => Cell::Float(Some(nanoseconds(r.setup_ms))),
+        19 => u(r.peak_heap_bytes),
+        _ => Cell::Unsigned(r.bucket.map(u64::from)),
+    }
+}
+
+/// `ms` rounded to the nanosecond (runs.json's rounding).
+fn nanoseconds(ms: f64) -> f64 {
+    (ms * 1e6).round() / 1e6
+}
+
+/// The file's schema: the [`FIXED_COLUMNS`], then one optional UINT64 column per counter.
+fn schema(counters: &[String]) -> Result<Type, RunnerError> {
+    let column = |name: &str, kind: Kind, optional: bool| {
+        let (physical, logical) = match kind {
+            Kind::Text => (PhysicalType::BYTE_ARRAY, Some(LogicalType::String)),
+            Kind::Unsigned => (PhysicalType::INT64, Some(LogicalType::integer(64, false))),
+            Kind::Float => (PhysicalType::DOUBLE, None),
+            Kind::Boolean => (PhysicalType::BOOLEAN, None),
+        };
+        Type::primitive_type_builder(name, physical)
+            .with_logical_type(logical)
+            .with_repetition(if optional {
+                Repetition::OPTIONAL
+            } else {
+                Repetition::REQUIRED
+            })
+            .build()
+            .map(Arc::new)
+    };
+    let mut fields = Vec::with_capacity(FIXED_COLUMNS.len() + counters.len());
+    for (name, (kind, optional)) in FIXED_COLUMNS.iter().zip(FIXED_KINDS) {
+        fields.push(column(name, kind, optional)?);
+    }
+    for name in counters {
+        fields.push(column(name, Kind::Unsigned, true)?);
+    }
+    Ok(Type::group_type_builder("runs")
+        .with_fields(fields)
+        .build()?)
+}
+
+/// The key-value metadata of `header`.
+fn metadata(header: &Header<'_>) -> Result<Vec<KeyValue>, RunnerError> {
+    let experiment = header.experiment;
+    let mut kv = vec![
+        KeyValue::new(keys::EXPERIMENT.into(), experiment.name.clone()),
+        KeyValue::new(keys::CONFIG.into(), experiment.source.display().to_string()),
+    ];
+    if let Some(provenance) = header.provenance {
+        kv.push(KeyValue::new(
+            keys::PROVENANCE.into(),
+            serde_json::to_string(provenance).map_err(RunnerError::Json)?,
+        ));
+        // The text that ran, only if the file is unchanged since (same SHA-256).
+        if let (Some(hash), Ok(text)) = (
+            &provenance.config_sha256,
+            std::fs::read_to_string(&experiment.source),
+        ) {
+            if &crate::provenance::sha256_hex(text.as_bytes()) == hash {
+                kv.push(KeyValue::new(keys::CONFIG_TEXT.into(), text));
+            }
+        }
+    }
+    let planners: serde_json::Map<String, serde_json::Value> = experiment
+        .planners
+        .iter()
+        .map(|p| {
+            let entry = serde_json::json!({
+                "planner": p.name,
+                "parameters": p.factory.resolved(),
+                "budget": p.budget,
+            });
+            (p.label.clone(), entry)
+        })
+        .collect();
+    kv.push(KeyValue::new(
+        keys::PLANNERS.into(),
+        serde_json::to_string(&planners).map_err(RunnerError::Json)?,
+    ));
+    if let Some(shard) = header.shard {
+        kv.push(KeyValue::new(
+            keys::SHARD.into(),
+            format!("{}/{}", shard.index, shard.count),
+        ));
+    }
+    Ok(kv)
+}
+
+/// Adds the counter names of `record` not yet in `names`, in the record's order.
+fn add_counter_names(names: &mut Vec<String>, record: &RunRecord) {
+    for (name, _) in record.counters.iter() {
+        if !names.iter().any(|n| n == name) {
+            names.push(name.to_string());
+        }
+    }
+}
+
+/// A runs.parquet being written, one row group per [`RunsWriter::write_group`].
+pub struct RunsWriter<W: Write + Send> {
+    writer: SerializedFileWriter<W>,
+    counters: Vec<String>,
+    // Reused per column: definition levels and values.
+    levels: Vec<i16>,
+    texts: Vec<ByteArray>,
+    unsigned: Vec<i64>,
+    floats: Vec<f64>,
+    booleans: Vec<bool>,
+}
+
+impl<W: Write + Send> RunsWriter<W> {
+    /// Starts a file on `out` whose counter columns are `counters`, in that order (a
+    /// record's counter outside them is an error, never dropped silently).
+    pub fn new(out: W, counters: Vec<String>, header: &Header<'_>) -> Result<Self, RunnerError> {
+        let properties = WriterProperties::builder()
+            .set_compression(Compression::SNAPPY)
+            .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
+            .set_key_value_metadata(Some(metadata(header)?))
+            .set_created_by(format!("gridplan {}", env!("CARGO_PKG_VERSION")))
+            .build();
+        let writer =
+            SerializedFileWriter::new(out, Arc::new(schema(&counters)?), Arc::new(properties))?;
+        Ok(RunsWriter {
+            writer,
+            counters,
+            levels: Vec::new(),
+            texts: Vec::new(),
+            unsigned: Vec::new(),
+            floats: Vec::new(),
+            booleans: Vec::new(),
+        })
+    }
+
+    /// Writes `records` as one row group (nothing if empty).
+    pub fn write_group(&mut self, records: &[RunRecord]) -> Result<(), RunnerError> {
+        if records.is_empty() {
+            return Ok(());
+        }
+        for record in records {
+            if let Some((name, _)) = record
+                .counters
+                .iter()
+                .find(|(name, _)| !self.counters.iter().any(|c| c == name))
+            {
+                return Err(RunnerError::Stream(format!(
+                    "{PARQUET_DIR}: run {} of {} on {} has a counter `{name}` the file's columns lack",
+                    record.problem, record.planner, record.map
+                )));
+            }
+        }
+        let mut group = self.writer.next_row_group()?;
+        let mut index = 0;
+        while let Some(mut column) = group.next_column()? {
+            self.levels.clear();
+            self.texts.clear();
+            self.unsigned.clear();
+            self.floats.clear();
+            self.booleans.clear();
+            let kind = FIXED_KINDS.get(index).map_or(Kind::Unsigned, |k| k.0);
+            let counter = index.checked_sub(FIXED_COLUMNS.len());
+            for r in records {
+                let cell = match counter {
+                    None => fixed_cell(r, index),
+                    Some(c) => Cell::Unsigned(r.counters.get(&self.counters[c])),
+                };
+                let present = match cell {
+                    Cell::Text(text) => {
+                        self.texts.push(ByteArray::from(text));
+                        true
+                    }
+                    // A UINT64 is stored in INT64's bits (the Parquet format's rule).
+                    Cell::Unsigned(v) => v.map(|v| self.unsigned.push(v as i64)).is_some(),
+                    Cell::Float(v) => v.map(|v| self.floats.push(v)).is_some(),
+                    Cell::Boolean(v) => v.map(|v| self.booleans.push(v)).is_some(),
+                };
+                self.levels.push(i16::from(present));
+            }
+            let optional = counter.is_some() || FIXED_KINDS[index].1;
+            let levels = optional.then_some(self.levels.as_slice());
+            match kind {
+                Kind::Text => {
+                    column
+                        .typed::<ByteArrayType>()
+                        .write_batch(&self.texts, levels, None)?;
+                }
+                Kind::Unsigned => {
+                    column
+                        .typed::<Int64Type>()
+                        .write_batch(&self.unsigned, levels, None)?;
+                }
+                Kind::Float => {
+                    column
+                        .typed::<DoubleType>()
+                        .write_batch(&self.floats, levels, None)?;
+                }
+                Kind::Boolean => {
+                    column
+                        .typed::<BoolType>()
+                        .write_batch(&self.booleans, levels, None)?;
+                }
+            }
+            column.close()?;
+            index += 1;
+        }
+        group.close()?;
+        Ok(())
+    }
+
+    /// Writes the footer (schema, row group index, key-value metadata).
+    pub fn close(self) -> Result<(), RunnerError> {
+        self.writer.close()?;
+        Ok(())
+    }
+}
+
+/// Writes `records` (a whole sweep's, in run order) as runs.parquet to `out`, in row
+/// groups of [`ROW_GROUP_ROWS`]; the counter columns are runs.csv's (every name in order
+/// of first appearance).
+pub fn write_runs_parquet(
+    out: &mut (dyn Write + Send),
+    header: &Header<'_>,
+    records: &[RunRecord],
+) -> Result<(), RunnerError> {
+    let mut counters = Vec::new();
+    for record in records {
+        add_counter_names(&mut counters, record);
+    }
+    let mut writer = RunsWriter::new(out, counters, header)?;
+    for group in records.chunks(ROW_GROUP_ROWS) {
+        writer.write_group(group)?;
+    }
+    writer.close()
+}
+
+/// Writes the records of a record stream (a shard's) as a Parquet file to `out`, holding at
+/// most [`ROW_GROUP_ROWS`] records at once: `open` opens the stream, which is read twice
+/// (first for the counter names, then for the rows).
+pub fn write_stream_parquet<R: BufRead>(
+    out: &mut (dyn Write + Send),
+    header: &Header<'_>,
+    open: impl Fn() -> Result<R, RunnerError>,
+    what: &str,
+) -> Result<(), RunnerError> {
+    let mut counters = Vec::new();
+    let (_, mut reader) = StreamReader::new(open()?, what)?;
+    while let Some((_, record)) = reader.next_run()? {
+        add_counter_names(&mut counters, &record);
+    }
+    let mut writer = RunsWriter::new(out, counters, header)?;
+    let (_, mut reader) = StreamReader::new(open()?, what)?;
+    let mut group = Vec::with_capacity(ROW_GROUP_ROWS.min(4096));
+    while let Some((_, mut record)) = reader.next_run()? {
+        record.path = None;
+        group.push(record);
+        if group.len() == ROW_GROUP_ROWS {
+            writer.write_group(&group)?;
+            group.clear();
+        }
+    }
+    writer.write_group(&group)?;
+    writer.close()
+}
+
+/// The results file of a whole sweep's (or a merge's) Parquet part, written from its
+/// `records` (in run order).
+pub fn records_part<'a>(
+    experiment: &'a Experiment,
+    provenance: &'a Provenance,
+    records: &'a [RunRecord],
+) -> StreamedFile<'a> {
+    StreamedFile {
+        path: part_path(Shard::ALL),
+        write: Box::new(move |out| {
+            let header = Header {
+                experiment,
+                provenance: Some(provenance),
+                shard: None,
+            };
+            write_runs_parquet(out, &header, records)
+        }),
+    }
+}
+
+/// The results file of a shard's Parquet part, written from its record stream `path`
+/// (read twice, one row group at a time: [`write_stream_parquet`]).
+pub fn stream_part<'a>(header: Header<'a>, path: &'a Path) -> StreamedFile<'a> {
+    let shard = header.shard.unwrap_or(Shard::ALL);
+    StreamedFile {
+        path: part_path(shard),
+        write: Box::new(move |out| {
+            let open = || {
+                crate::stream::open_regular(path)
+                    .map(std::io::BufReader::new)
+                    .map_err(|e| RunnerError::io(path, e))
+            };
+            write_stream_parquet(out, &header, open, &path.display().to_string())
+        }),
+    }
+}

@@ -1,0 +1,233 @@
+//! The framed resume stream (issue 29, src/frames.rs): every field of a record survives the
+//! round trip exactly; a stream cut at any byte reads as the whole frames before the cut
+//! and says it was cut; a damaged frame with frames after it is an error; and a run of A*
+//! on arena.map takes far fewer bytes than its JSON line.
+
+use std::io::Cursor;
+
+use planner_api::{Cell, Counters, Mark, Path, ReturnLeg, Series};
+use planner_runner::frames::{encode_batch, FRAMED_FORMAT};
+use planner_runner::record::{RunRecord, RunStatus};
+use planner_runner::stream::{self, StreamHeader, StreamReader};
+
+/// A record with every optional field set (`full`) or none.
+fn record(run: u64, full: bool) -> RunRecord {
+    let mut counters = Counters::new();
+    counters.push("n_expanded", run * 7 + 1);
+    counters.push(format!("own counter {run}"), u64::MAX - run);
+    RunRecord {
+        map: if run % 2 == 0 {
+            "a.map"
+        } else {
+            "b \"é\".map"
+        }
+        .into(),
+        problem: run as usize + 1,
+        start: Cell::new(run as u32, 3),
+        goal: Cell::new(u32::MAX, 0),
+        planner: format!("label{}", run % 3),
+        algorithm: "astar".into(),
+        repeat: run as u32 % 5,
+        seed: full.then_some(u64::MAX),
+        status: [
+            RunStatus::Found,
+            RunStatus::NoPath,
+            RunStatus::BudgetExhausted,
+            RunStatus::InvalidProblem,
+        ][run as usize % 4],
+        error: full.then(|| "start (1, 2) is blocked\nsecond line".into()),
+        steps: full.then_some(12),
+        turns: full.then_some(0),
+        score: full.then_some(300),
+        length: full.then_some(std::f64::consts::PI * run as f64),
+        optimal_length: full.then_some(-0.0),
+        bucket: full.then_some(u32::MAX),
+        valid: full.then_some(run % 2 == 0),
+        admissible: full.then_some(false),
+        counters,
+        time_ms: 0.1 + run as f64 * 1e-9,
+        setup_ms: f64::MIN_POSITIVE,
+        peak_heap_bytes: run << 40,
+        path: full.then(|| Path::new(vec![Cell::new(0, 0), Cell::new(1, 1)])),
+        returns: full.then(|| vec![ReturnLeg { start: 0, end: 1 }]),
+        marks: if full {
+            vec![Mark::new(Cell::new(1, 1), "H1'")]
+        } else {
+            Vec::new()
+        },
+        series: if full {
+            vec![Series {
+                name: "best".into(),
+                x: "iteration".into(),
+                points: vec![[0.0, 1.5], [1.0, 1e300]],
+            }]
+        } else {
+            Vec::new()
+        },
+        cost: full.then_some(2.25),
+    }
+}
+
+fn header() -> StreamHeader {
+    StreamHeader {
+        format: FRAMED_FORMAT,
+        experiment: "frames".into(),
+        config: "c.toml".into(),
+        config_hash: "0".into(),
+        shard: 1,
+        shards: 1,
+        runs: 40,
+        total_runs: 40,
+        gridplan: Some("test".into()),
+    }
+}
+
+/// A framed stream of `runs` in frames of `per_frame` runs.
+fn framed(runs: &[(u64, RunRecord)], per_frame: usize) -> (Vec<u8>, Vec<usize>) {
+    let mut bytes = header().to_line().unwrap();
+    let mut ends = vec![bytes.len()];
+    for chunk in runs.chunks(per_frame) {
+        encode_batch(&mut bytes, chunk).unwrap();
+        ends.push(bytes.len());
+    }
+    (bytes, ends)
+}
+
+/// Everything a reader gets from `bytes`: the runs, whether it was cut, and the bytes of
+/// its complete frames; or the error.
+fn read(bytes: &[u8]) -> Result<(Vec<(u64, RunRecord)>, bool, u64), String> {
+    let (_, mut reader) = StreamReader::new(Cursor::new(bytes), "s").map_err(|e| e.to_string())?;
+    let mut runs = Vec::new();
+    while let Some(run) = reader.next_run().map_err(|e| e.to_string())? {
+        runs.push(run);
+    }
+    Ok((runs, reader.was_cut(), reader.complete_bytes()))
+}
+
+#[test]
+fn every_field_survives_the_round_trip() {
+    let runs: Vec<(u64, RunRecord)> = (0..40).map(|i| (i * 3, record(i, i % 3 != 1))).collect();
+    let (bytes, ends) = framed(&runs, 16);
+    let (back, cut, complete) = read(&bytes).unwrap();
+    assert_eq!(back, runs);
+    assert!(!cut);
+    assert_eq!(complete, *ends.last().unwrap() as u64);
+    // The JSON forms agree too (-0.0 and the largest floats included).
+    assert_eq!(
+        serde_json::to_string(&back.iter().map(|r| &r.1).collect::<Vec<_>>()).unwrap(),
+        serde_json::to_string(&runs.iter().map(|r| &r.1).collect::<Vec<_>>()).unwrap()
+    );
+}
+
+#[test]
+fn a_stream_cut_anywhere_reads_as_its_whole_frames() {
+    let runs: Vec<(u64, RunRecord)> = (0..12).map(|i| (i, record(i, i % 2 == 0))).collect();
+    let (bytes, ends) = framed(&runs, 4);
+    for cut_at in ends[0]..bytes.len() {
+        let (back, cut, complete) = read(&bytes[..cut_at]).unwrap();
+        // The frames that ended at or before the cut.
+        let whole = ends.iter().filter(|&&e| e <= cut_at).count() - 1;
+        assert_eq!(back.len(), whole * 4, "cut at {cut_at}");
+        assert_eq!(back[..], runs[..whole * 4]);
+        assert_eq!(complete, ends[whole] as u64, "cut at {cut_at}");
+        assert_eq!(cut, !ends.contains(&cut_at), "cut at {cut_at}");
+    }
+}
+
+#[test]
+fn a_damaged_frame_is_dropped_only_at_the_end() {
+    let runs: Vec<(u64, RunRecord)> = (0..8).map(|i| (i, record(i, true))).collect();
+    let (bytes, ends) = framed(&runs, 4);
+    // A byte of the last frame's payload flipped (its length intact): a torn last write.
+    let mut last = bytes.clone();
+    last[ends[2] - 3] ^= 0x40;
+    let (back, cut, complete) = read(&last).unwrap();
+    assert_eq!(back[..], runs[..4]);
+    assert!(cut);
+    assert_eq!(complete, ends[1] as u64);
+    // The same in the first frame, with a frame after it: an error naming the frame.
+    let mut first = bytes.clone();
+    first[ends[1] - 3] ^= 0x40;
+    let error = read(&first).unwrap_err();
+    assert!(
+        error.contains("frame 1") && error.contains("checksum"),
+        "{error}"
+    );
+    // A length past the limit is refused before it is allocated.
+    let mut huge = bytes[..ends[0]].to_vec();
+    huge.extend_from_slice(&u32::MAX.to_le_bytes());
+    huge.extend_from_slice(&[0; 4]);
+    let error = read(&huge).unwrap_err();
+    assert!(error.contains("more than"), "{error}");
+}
+
+/// The bytes per run of a typical record (A* on a scenario map, 8 counters) framed and as
+/// a JSON line: the framed stream is at most a quarter of the JSON Lines one.
+#[test]
+fn a_framed_run_is_a_fraction_of_its_json_line() {
+    let mut counters = Counters::new();
+    for (i, name) in [
+        "n_expanded",
+        "n_generated",
+        "n_reopened",
+        "n_open_max",
+        "n_closed",
+        "n_pushes",
+        "n_pops",
+        "n_stale",
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        counters.push(name, 1000 + i as u64 * 37);
+    }
+    let runs: Vec<(u64, RunRecord)> = (0..1024)
+        .map(|i| {
+            let r = RunRecord {
+                map: "arena.map".into(),
+                problem: 1 + i as usize % 160,
+                start: Cell::new(10 + i as u32 % 40, 20),
+                goal: Cell::new(40, 8 + i as u32 % 30),
+                planner: "astar".into(),
+                algorithm: "astar".into(),
+                repeat: i as u32 / 160,
+                seed: None,
+                status: RunStatus::Found,
+                error: None,
+                steps: Some(40),
+                turns: Some(6),
+                score: Some(46),
+                length: Some(47.213203435596427),
+                optimal_length: Some(47.21320343),
+                bucket: Some(11),
+                valid: Some(true),
+                admissible: None,
+                counters: counters.clone(),
+                time_ms: 0.012345678901,
+                setup_ms: 0.0,
+                peak_heap_bytes: 123_456,
+                path: None,
+                returns: None,
+                marks: Vec::new(),
+                series: Vec::new(),
+                cost: None,
+            };
+            (i, r)
+        })
+        .collect();
+    let mut framed = Vec::new();
+    for chunk in runs.chunks(256) {
+        encode_batch(&mut framed, chunk).unwrap();
+    }
+    let mut lines = Vec::new();
+    for (run, r) in &runs {
+        stream::encode(&mut lines, *run, r).unwrap();
+    }
+    let per_run = |bytes: &[u8]| bytes.len() as f64 / runs.len() as f64;
+    println!(
+        "framed {:.1} bytes per run, JSON Lines {:.1}",
+        per_run(&framed),
+        per_run(&lines)
+    );
+    assert!(per_run(&framed) * 4.0 < per_run(&lines));
+}

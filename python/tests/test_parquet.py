@@ -1,0 +1,123 @@
+"""The Parquet dataset runs.parquet/ (issue 29) read without gridplan: DuckDB's
+median(n_expanded) per planner and map equals summary.md's aggregate table, and pandas
+(pyarrow) reads the directory as one table with runs.csv's rows, runs.csv beside it."""
+
+import csv
+
+# Imported, not skipped when absent: CI installs both (.ci/run's python block).
+import duckdb
+import pandas
+import pytest
+
+import gridplan
+from conftest import MAPS
+
+CONFIG = """name = "pq"
+repeats = 3
+[[maps]]
+files = [{arena!r}]
+scen = {scen!r}
+every = 20
+[[maps]]
+files = [{map01!r}, {map02!r}]
+problems = "corners"
+[planners.astar]
+planner = "astar"
+[planners.bfs]
+planner = "bfs"
+[planners.weighted]
+planner = "astar"
+weight = 2.0
+"""
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    root = tmp_path_factory.mktemp("parquet")
+    config = root / "pq.toml"
+    config.write_text(
+        CONFIG.format(
+            arena=str(MAPS / "movingai" / "arena.map"),
+            scen=str(MAPS / "movingai" / "arena.map.scen"),
+            map01=str(MAPS / "paper" / "map01.map"),
+            map02=str(MAPS / "paper" / "map02.map"),
+        )
+    )
+    out = root / "results"
+    gridplan.run_experiment(config, output=out)
+    return out
+
+
+def format_number(value):
+    """summary.md's number format (crates/report/src/aggregate.rs)."""
+    return f"{value:.0f}" if float(value).is_integer() else f"{value:.2f}"
+
+
+def aggregate_medians(summary):
+    """(label, map) -> the median expansions cell of summary.md's aggregate table."""
+    lines = summary.splitlines()
+    start = next(i for i, l in enumerate(lines) if l.startswith("| Planner | Map | Runs |"))
+    header = [c.strip() for c in lines[start].strip("|").split("|")]
+    column = header.index("Median expansions")
+    cells = {}
+    for line in lines[start + 2 :]:
+        if not line.startswith("|"):
+            break
+        row = [c.strip() for c in line.strip("|").split("|")]
+        cells[(row[0], row[1])] = row[column]
+    return cells
+
+
+def test_duckdb_medians_equal_the_summary(results):
+    rows = duckdb.sql(
+        "SELECT planner, map, median(n_expanded) AS m, count(*) AS n "
+        f"FROM read_parquet('{results}/runs.parquet/*.parquet') GROUP BY planner, map"
+    ).fetchall()
+    table = aggregate_medians((results / "summary.md").read_text())
+    # 3 labels x 3 maps, every one in both.
+    assert len(rows) == 9
+    assert {(p, m) for p, m, _, _ in rows} == set(table)
+    for planner, map_name, median, n in rows:
+        assert n > 0
+        assert format_number(median) == table[(planner, map_name)], (planner, map_name)
+
+
+def test_duckdb_reads_the_types_and_metadata(results):
+    path = f"{results}/runs.parquet/*.parquet"
+    types = dict(
+        duckdb.sql(f"SELECT column_name, column_type FROM (DESCRIBE SELECT * FROM read_parquet('{path}'))").fetchall()
+    )
+    assert types["map"] == "VARCHAR"
+    assert types["n_expanded"] == "UBIGINT"
+    assert types["length"] == "DOUBLE"
+    assert types["valid"] == "BOOLEAN"
+    keys = {
+        k.decode(): v.decode()
+        for k, v in duckdb.sql(f"SELECT key, value FROM parquet_kv_metadata('{path}')").fetchall()
+    }
+    assert keys["gridplan.experiment"] == "pq"
+    assert '"weighted"' in keys["gridplan.planners"]
+
+
+def test_pandas_reads_the_csv_rows(results):
+    frame = pandas.read_parquet(results / "runs.parquet")
+    with open(results / "runs.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert list(frame.columns) == list(rows[0].keys())
+    # 3 labels x (8 of the 160 scenarios, every 20th, and one corner problem on each of
+    # map01 and map02) x 3 repeats.
+    assert len(frame) == len(rows) == 3 * (8 + 2 * 1) * 3
+    for column in frame.columns:
+        for ours, theirs in zip(frame[column], (r[column] for r in rows)):
+            if theirs == "":
+                assert pandas.isna(ours), column
+            elif column in ("time_ms", "setup_ms"):
+                assert abs(float(ours) - float(theirs)) <= 1.5e-6, column
+            elif column in ("length", "optimal_length"):
+                assert f"{ours:.6f}" == theirs, column
+            elif column == "valid":
+                assert str(bool(ours)).lower() == theirs, column
+            elif isinstance(theirs, str) and not theirs.isdigit():
+                assert ours == theirs, column
+            else:
+                assert int(ours) == int(theirs), column
