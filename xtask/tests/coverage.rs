@@ -1,7 +1,7 @@
 //! Coverage planners in the runner: `configs/coverage.toml` covers every map completely
 //! with valid paths, and `problems = "start"` configs are checked.
 
-mod common;
+use crate::common;
 
 use common::root;
 use planner_api::reachable_cells;

@@ -4,7 +4,7 @@
 //! result, a killed run leaves the old results or the new ones, and a crash's leftovers and
 //! stale locks never stop the next run (src/outdir.rs documents the rules).
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::fs;

@@ -2,7 +2,7 @@
 //! path of every config is valid and its counters are those of its local searches, and the
 //! paper's length claims on the 140 x 120 maps.
 
-mod common;
+use crate::common;
 
 use common::{configs, root};
 use planner_runner::config;

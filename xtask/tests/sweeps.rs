@@ -7,7 +7,7 @@
 //! local run (skipped, saying why, without a running Slurm, unless
 //! `GRIDPLAN_SLURM_TEST=1`, which CI sets after `scripts/slurm-start.sh`).
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::{Path, PathBuf};

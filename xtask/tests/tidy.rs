@@ -507,3 +507,130 @@ fn public_functions_of_the_libraries_cli_and_xtask_return_typed_errors() {
         }
     }
 }
+
+/// A package's targets from `cargo metadata`: (kind, name, source path, built for tests).
+fn targets(package: &serde_json::Value) -> Vec<(String, String, PathBuf, bool)> {
+    package["targets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| {
+            (
+                t["kind"][0].as_str().unwrap().to_string(),
+                t["name"].as_str().unwrap().to_string(),
+                PathBuf::from(t["src_path"].as_str().unwrap()),
+                t["test"].as_bool().unwrap_or(true),
+            )
+        })
+        .collect()
+}
+
+/// xtask's test binaries: `tidy` and `experiments` keep their names (the docs, CI and the
+/// snapshot workflow run `--test tidy` and `--test experiments`), the rest is `it`.
+const XTASK_TESTS: &[&str] = &["experiments", "it", "tidy"];
+
+/// One integration-test binary per package (xtask: [`XTASK_TESTS`]), and every file
+/// directly under a package's `tests/` is compiled: the root of a test target or a module
+/// (`mod NAME;`) that a root declares. Each test binary links the package's whole
+/// dependency graph, so a new test file is a module of `tests/it.rs`, not a binary of its
+/// own; and with `autotests = false` an undeclared file would silently never run
+/// (ARCHITECTURE.md, "Tests").
+#[test]
+fn one_test_binary_per_package_and_every_test_file_compiled() {
+    let metadata = cargo_metadata(&["--no-deps"]);
+    for package in metadata["packages"].as_array().unwrap() {
+        let name = package["name"].as_str().unwrap();
+        let dir = Path::new(package["manifest_path"].as_str().unwrap())
+            .parent()
+            .unwrap();
+        let tests: Vec<(String, PathBuf)> = targets(package)
+            .into_iter()
+            .filter(|(kind, ..)| kind == "test")
+            .map(|(_, target, path, _)| (target, path))
+            .collect();
+        let names: BTreeSet<&str> = tests.iter().map(|(t, _)| t.as_str()).collect();
+        if name == "xtask" {
+            assert_eq!(
+                names,
+                XTASK_TESTS.iter().copied().collect(),
+                "xtask's test binaries: new test files are modules of xtask/tests/it.rs"
+            );
+        } else {
+            assert!(
+                names.len() <= 1,
+                "{name} has the test binaries {names:?}: one per package; make each file a module of tests/it.rs (`mod NAME;`), with `autotests = false` and one [[test]] in its Cargo.toml (ARCHITECTURE.md, \"Tests\")"
+            );
+        }
+        let mut declared: BTreeSet<PathBuf> = tests.iter().map(|(_, p)| p.clone()).collect();
+        for (_, root_file) in &tests {
+            let text = std::fs::read_to_string(root_file).unwrap();
+            for line in text.lines() {
+                if let Some(module) = line
+                    .trim()
+                    .strip_prefix("mod ")
+                    .and_then(|m| m.strip_suffix(';'))
+                {
+                    let base = root_file.parent().unwrap();
+                    declared.insert(base.join(format!("{module}.rs")));
+                }
+            }
+        }
+        let Ok(entries) = std::fs::read_dir(dir.join("tests")) else {
+            continue;
+        };
+        for entry in entries {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "rs") {
+                assert!(
+                    declared.contains(&path),
+                    "{} is compiled by no test binary of {name}: declare it in tests/it.rs (`mod NAME;`)",
+                    path.display()
+                );
+            }
+        }
+    }
+}
+
+/// A library or binary built without its test harness (`test = false`, which saves a
+/// second compilation of it in `cargo test`) has no unit tests: they would never run. A
+/// library's files are those under `src/` but the other targets' roots; a binary's, its root.
+#[test]
+fn targets_without_a_test_build_have_no_unit_tests() {
+    let metadata = cargo_metadata(&["--no-deps"]);
+    for package in metadata["packages"].as_array().unwrap() {
+        let name = package["name"].as_str().unwrap();
+        let dir = Path::new(package["manifest_path"].as_str().unwrap())
+            .parent()
+            .unwrap();
+        let targets = targets(package);
+        for (kind, target, root_file, test) in &targets {
+            if *test || (kind != "lib" && kind != "bin") {
+                continue;
+            }
+            let files = if kind == "lib" {
+                let mut files = Vec::new();
+                rust_files(&dir.join("src"), &mut files);
+                files.retain(|f| {
+                    !targets
+                        .iter()
+                        .any(|(_, _, other, _)| other == f && f != root_file)
+                });
+                files
+            } else {
+                vec![root_file.clone()]
+            };
+            for file in files {
+                let text = std::fs::read_to_string(&file).unwrap();
+                for (n, line) in text.lines().enumerate() {
+                    let code = line.split("//").next().unwrap_or_default();
+                    assert!(
+                        !code.contains("#[test]") && !code.contains("#[cfg(test)]"),
+                        "{}:{}: a unit test in {name}'s {kind} {target}, which its Cargo.toml builds with `test = false`: move it to tests/it.rs or drop `test = false`",
+                        file.display(),
+                        n + 1
+                    );
+                }
+            }
+        }
+    }
+}

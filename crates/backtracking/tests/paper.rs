@@ -1,7 +1,7 @@
 //! Seed 000's twelve maps: every published Backtracking number (Tables 3, 4, 6, 8) and the
 //! counter identities.
 
-mod common;
+use crate::common;
 
 use planner_api::{Budget, Cell, Grid, Outcome, Planner, Problem, Status};
 use planner_backtracking::{Backtracking, Config};

@@ -1,7 +1,7 @@
 //! Backtracking against hand counts, against a literal transcription of seed 000's Fig. 5
 //! written here (counters, budgets, best path), against BFS, and under budgets.
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 

@@ -963,7 +963,7 @@ fn an_inherited_ignored_sigint_stays_ignored() {
 /// stays under 1 GB: the grid is one byte a cell (400 MB), the decoded pixels become the
 /// occupancy values in place (400 MB more while the map is read), the search touches a
 /// few pages. Unoptimised it takes minutes, so it runs on the release profile, as CI does
-/// (`cargo test --release -p gridplan --test careless -- --ignored`).
+/// (`cargo test --release -p gridplan --test it -- --ignored careless::`).
 #[cfg(target_os = "linux")]
 #[allow(unsafe_code)]
 #[test]

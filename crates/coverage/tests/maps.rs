@@ -1,6 +1,6 @@
 //! The maps of `configs/coverage.toml` under `maps/coverage/` are exactly what the
 //! documented generators give (`maps/coverage/SOURCE.md`). Regenerate them with
-//! `GRIDPLAN_REGENERATE_MAPS=1 cargo test -p planner-coverage --test maps`.
+//! `GRIDPLAN_REGENERATE_MAPS=1 cargo test -p planner-coverage --test it maps::`.
 
 use std::path::{Path, PathBuf};
 

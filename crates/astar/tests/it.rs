@@ -1,0 +1,11 @@
+//! planner-astar's integration tests, one test binary (`cargo test -p planner-astar --test it`): each
+//! module is a file of this directory that used to be a test binary of its own. A new
+//! test file here is declared below (`mod NAME;`), or tidy refuses it (ARCHITECTURE.md,
+//! "Tests").
+
+mod allocations;
+mod counters;
+mod effort;
+mod paper;
+mod reference;
+mod weighted;

@@ -1,0 +1,11 @@
+//! gridplan's integration tests, one test binary (`cargo test -p gridplan --test it`): each
+//! module is a file of this directory that used to be a test binary of its own. A new
+//! test file here is declared below (`mod NAME;`), or tidy refuses it (ARCHITECTURE.md,
+//! "Tests").
+
+mod careless;
+mod costs;
+mod exit_codes;
+mod install;
+mod schema;
+mod security;

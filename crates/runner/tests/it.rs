@@ -1,0 +1,10 @@
+//! planner-runner's integration tests, one test binary (`cargo test -p planner-runner --test it`): each
+//! module is a file of this directory that used to be a test binary of its own. A new
+//! test file here is declared below (`mod NAME;`), or tidy refuses it (ARCHITECTURE.md,
+//! "Tests").
+
+mod boundary;
+mod conformance;
+mod frames;
+mod parquet;
+mod reliability;
