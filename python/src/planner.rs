@@ -16,7 +16,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use numpy::ndarray::{Array1, Array2};
 use numpy::{PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use planner_api::Budget;
-use planner_runner::config::{self, Experiment, MapEntry, ProblemEntry};
+use planner_runner::config::{Experiment, MapEntry, ProblemEntry};
 use planner_runner::record::RunRecord;
 use planner_runner::run::{run_one, RunSpec, Workspace};
 use pyo3::prelude::*;
