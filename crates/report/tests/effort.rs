@@ -113,6 +113,7 @@ fn plan_reports_the_memory_budget_and_draws_the_expanded_cells() {
         &PlanOptions {
             max_memory_mb: Some(0),
             record_expanded: false,
+            ..Default::default()
         },
     )
     .unwrap();
@@ -129,6 +130,7 @@ fn plan_reports_the_memory_budget_and_draws_the_expanded_cells() {
         &PlanOptions {
             max_memory_mb: None,
             record_expanded: true,
+            ..Default::default()
         },
     )
     .unwrap();
