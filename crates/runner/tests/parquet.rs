@@ -229,7 +229,10 @@ fn shard_files_hold_the_merged_rows() {
         shard_dirs.push(out);
     }
     let merged = dir.join("merged");
-    sweep::merge(&shard_dirs, Some(&merged), None, &NoReport).unwrap();
+    sweep::merge(&shard_dirs, Some(&merged), None, &NoReport, &|_| {
+        planner_runner::provenance::Machine::default()
+    })
+    .unwrap();
     let (columns, merged_rows) = rows_as_csv(&whole(&merged));
     let (_, csv) = csv_rows(&merged.join("runs.csv"));
     assert_same_table(&csv, &merged_rows, &columns);
