@@ -93,9 +93,12 @@ fn framed(runs: &[(u64, RunRecord)], per_frame: usize) -> (Vec<u8>, Vec<usize>) 
     (bytes, ends)
 }
 
+/// The runs read (each with its index), whether the stream was cut, and the bytes read.
+type Read = (Vec<(u64, RunRecord)>, bool, u64);
+
 /// Everything a reader gets from `bytes`: the runs, whether it was cut, and the bytes of
 /// its complete frames; or the error.
-fn read(bytes: &[u8]) -> Result<(Vec<(u64, RunRecord)>, bool, u64), String> {
+fn read(bytes: &[u8]) -> Result<Read, String> {
     let (_, mut reader) = StreamReader::new(Cursor::new(bytes), "s").map_err(|e| e.to_string())?;
     let mut runs = Vec::new();
     while let Some(run) = reader.next_run().map_err(|e| e.to_string())? {
@@ -197,7 +200,7 @@ fn a_framed_run_is_a_fraction_of_its_json_line() {
                 steps: Some(40),
                 turns: Some(6),
                 score: Some(46),
-                length: Some(47.213203435596427),
+                length: Some(47.213_203_435_596_43),
                 optimal_length: Some(47.21320343),
                 bucket: Some(11),
                 valid: Some(true),
