@@ -1,21 +1,21 @@
 //! The compact record stream (issue 29): the resume stream a sweep appends to, as binary
 //! batches with a checksum instead of JSON Lines (about a fifth of the bytes).
 //!
-//! A framed stream file starts with the same [`StreamHeader`] JSON line as a JSON Lines
+//! A framed stream file starts with the same [`StreamHeader`](crate::stream::StreamHeader) JSON line as a JSON Lines
 //! stream, with `"format": 2` ([`FRAMED_FORMAT`]), then one frame per batch:
 //!
 //! - 4 bytes: the payload's length `n`, little-endian (at most [`MAX_FRAME_BYTES`]);
 //! - 4 bytes: the payload's CRC-32 (ISO-HDLC, as zlib's), little-endian;
 //! - `n` bytes: the payload: the batch's string table (map names, labels, registry names,
 //!   counter names: a count, then each as a length and UTF-8 bytes), then its records
-//!   (a count, then each record: [`put_record`]).
+//!   (a count, then each record: `put_record`).
 //!
 //! Integers are LEB128 varints, floats their 8 IEEE bytes (exact, as JSON's shortest
 //! form is). A record's rarely present parts (error text, path, return legs, marks,
 //! series) go as one JSON object after it when present. A frame is appended whole and
 //! flushed, so a process killed mid-write leaves complete frames and at most one cut frame
 //! at the end: [`FrameReader`] stops at a short frame, or at a last frame whose checksum
-//! fails, and reports it ([`FrameReader::was_cut`]); a bad checksum with frames after it
+//! fails, and reports it (`FrameReader::was_cut`); a bad checksum with frames after it
 //! is an error, never dropped silently. A frame longer than [`MAX_FRAME_BYTES`] is refused
 //! before anything is allocated for it.
 
