@@ -127,7 +127,11 @@ fn the_installed_binary_runs_outside_the_repository() {
 
     let schema: serde_json::Value =
         serde_json::from_str(&run(&gridplan, &work, &["schema"])).expect("the schema is JSON");
-    assert_eq!(schema["title"], "gridplan experiment config");
+    assert_eq!(schema["title"], "gridplan config");
+    assert!(
+        schema.to_string().contains("gridplan experiment config"),
+        "the experiment schema is one branch of the composed schema"
+    );
 
     let completions = run(&gridplan, &work, &["completions", "bash"]);
     assert!(completions.contains("_gridplan()"), "{completions:.200}");
