@@ -150,7 +150,7 @@ const MAPS: &str = "[[maps]]\nfiles = [\"../maps/paper/map01.map\"]\nproblems = 
 fn config_errors_name_file_line_column_and_key() {
     check_error(
         &format!("name = \"x\"\nthreds = 2\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
-        "bad.toml:2:1: unknown field `threds`, expected one of `name`, `description`, `output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, `figures_pick`, `figures_expanded`, `charts`, `ompl`, `paths`, `published`, `test`, `sections`, `maps`, `planners`",
+        "bad.toml:2:1: unknown field `threds`, expected one of `name`, `description`, `output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, `figures_pick`, `figures_expanded`, `charts`, `ompl`, `paths`, `outputs`, `published`, `test`, `sections`, `maps`, `planners`",
     );
     check_error(
         &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astr\"\n"),
