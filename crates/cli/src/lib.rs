@@ -270,7 +270,7 @@ pub fn parse_cell(text: &str) -> Result<Cell, CellError> {
 
 /// Parses `--cost-rule`: `mean` or `entered` (clap's value parser; a clap error names
 /// the flag).
-pub fn parse_cost_rule(text: &str) -> Result<planner_api::CostRule, String> {
+fn parse_cost_rule(text: &str) -> Result<planner_api::CostRule, String> {
     match text.trim() {
         "mean" => Ok(planner_api::CostRule::Mean),
         "entered" => Ok(planner_api::CostRule::Entered),
