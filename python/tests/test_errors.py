@@ -26,7 +26,7 @@ def test_config_errors_name_file_line_column(tmp_path):
         gridplan.ConfigError,
         f"{config}:2:1: unknown field `threds`, expected one of `name`, `description`, "
         "`output`, `threads`, `repeats`, `seed`, `budget`, `figures`, `figures_per_map`, "
-        "`figures_pick`, `figures_expanded`, `charts`, `ompl`, `paths`, `published`, `test`, `sections`, "
+        "`figures_pick`, `figures_expanded`, `charts`, `ompl`, `paths`, `outputs`, `published`, `test`, `sections`, "
         "`maps`, `planners`",
     )
     assert (error.file, error.line, error.column) == (str(config), 2, 1)
