@@ -634,3 +634,53 @@ fn targets_without_a_test_build_have_no_unit_tests() {
         }
     }
 }
+
+/// Each package of the dependency graph `cargo tree` prints for `selection` (and
+/// `edges`), as `name version [features]`, one line per build of it.
+fn feature_sets(selection: &[&str], edges: &str) -> BTreeSet<String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args([
+            "tree",
+            "--offline",
+            "--prefix",
+            "none",
+            "--format",
+            "{p} [{f}]",
+            "-e",
+        ])
+        .arg(edges)
+        .args(selection)
+        .current_dir(root())
+        .output()
+        .expect("cargo tree runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .map(|line| line.trim_end_matches(" (*)").to_owned())
+        .filter(|line| !line.is_empty())
+        .collect()
+}
+
+/// Cargo turns on a dependency's features per selection of packages: a dependency that
+/// only a test turns a feature on for is built once for `cargo test --workspace` and again,
+/// without the feature, for `cargo xtask` (and so is everything above it, about 90 s in
+/// CI). The front ends' Cargo.toml files name those dependencies with those features, so
+/// that the main job, `cargo install` and the Python wheel reuse the test build.
+#[test]
+fn front_ends_build_with_the_workspace_test_features() {
+    let workspace = feature_sets(&["--workspace"], "normal,build,dev");
+    for package in ["xtask", "gridplan", "gridplan-python"] {
+        let own = feature_sets(&["-p", package], "normal,build");
+        let differing: Vec<&String> = own.difference(&workspace).collect();
+        assert!(
+            differing.is_empty(),
+            "`cargo build -p {package}` builds these with other features than `cargo test --workspace`: {differing:?}; \
+             name each in crates/cli/Cargo.toml (or python/Cargo.toml) with the workspace's features"
+        );
+    }
+}
