@@ -256,9 +256,11 @@ fn recorded(stream: &Path) -> usize {
 }
 
 /// Starts `experiment CONFIG --quiet --threads 2` with `extra` and `--output OUTPUT`, its
-/// stderr piped, without waiting for it.
+/// stderr piped and its SIGINT disposition the default, without waiting for it.
 fn start_sweep(config: &str, output: &Path, extra: &[&str]) -> std::process::Child {
-    Command::new(env!("CARGO_BIN_EXE_xtask"))
+    let mut command = Command::new(env!("CARGO_BIN_EXE_xtask"));
+    // SIGINT stops it, also when this test runs with SIGINT ignored.
+    common::default_sigint(&mut command)
         .args(["experiment", config, "--quiet", "--threads", "2"])
         .args(extra)
         .arg("--output")

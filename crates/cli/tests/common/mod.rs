@@ -1,6 +1,7 @@
 //! Helpers shared by the CLI's test files: scratch directories, running the real
 //! `gridplan` binary with a timeout, and running the Slurm scripts it writes with bash.
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -62,7 +63,6 @@ pub fn refused(out: &Run, code: i32, needle: &str) {
 /// Waits for `child` (its stdout and stderr read on threads, so a chatty child cannot
 /// block on a full pipe) at most [`TIMEOUT`]; `what` names it in the panic of a hang.
 pub fn finish(mut child: Child, what: &str) -> Run {
-    use std::io::Read as _;
     let reader = |pipe: Option<Box<dyn Read + Send>>| {
         std::thread::spawn(move || {
             let mut bytes = Vec::new();
