@@ -31,6 +31,30 @@ fn xtask(args: &[&str]) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// Runs xtask with each of `runs` at once from the repository root; each must succeed.
+fn xtask_all(runs: &[Vec<&str>]) {
+    let children: Vec<_> = runs
+        .iter()
+        .map(|args| {
+            Command::new(env!("CARGO_BIN_EXE_xtask"))
+                .args(args)
+                .current_dir(root())
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    for (args, child) in runs.iter().zip(children) {
+        let out = child.wait_with_output().unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
 /// Runs `experiment CONFIG --quiet --threads 2` with `extra` and `--output OUTPUT`, which
 /// must succeed.
 fn sweep(config: &str, output: &Path, extra: &[&str]) {
@@ -140,25 +164,30 @@ fn deterministic_csv(dir: &Path) -> Vec<String> {
 fn three_shards_merged_equal_one_run() {
     let dir = scratch("shards");
     let d = |n: &str| dir.join(n).display().to_string();
-    xtask(&[
+    // The whole sweep and its three shards are independent processes: they run at once.
+    let shards: Vec<[String; 2]> = (1..=3)
+        .map(|k| [format!("{k}/3"), d(&format!("s{k}"))])
+        .collect();
+    let one = d("one");
+    let mut runs = vec![vec![
         "experiment",
         "configs/movingai.toml",
         "--quiet",
         "--output",
-        &d("one"),
-    ]);
-    for k in 1..=3 {
-        let shard = format!("{k}/3");
-        xtask(&[
+        &one,
+    ]];
+    for [shard, output] in &shards {
+        runs.push(vec![
             "experiment",
             "configs/movingai.toml",
             "--quiet",
             "--shard",
-            &shard,
+            shard,
             "--output",
-            &d(&format!("s{k}")),
+            output,
         ]);
     }
+    xtask_all(&runs);
     xtask(&[
         "merge",
         &d("s1"),
