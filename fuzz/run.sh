@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs one fuzz target for a bounded time: fuzz/run.sh TARGET SECONDS [extra libFuzzer flags]
 #
-# TARGET is one of: movingai scen seed003 csv ros_yaml image config stream weights (see README.md).
+# TARGET is one of: movingai scen seed003 csv ros_yaml image config stream frames weights (see README.md).
 # Seeds are copied from ../maps (by extension) into seeds/TARGET; libFuzzer keeps what it
 # finds in corpus/TARGET and writes crashing inputs to artifacts/TARGET. Both are ignored
 # by git. Needs cargo-fuzz (`cargo install cargo-fuzz`); on a stable toolchain
@@ -19,6 +19,17 @@ seeds=seeds/$target
 mkdir -p "corpus/$target" "$seeds" "artifacts/$target"
 copy() { # copy maps/ files matching $1 and smaller than $2 into the seed folder
   find ../maps -name "$1" -size "-$2" -exec cp {} "$seeds/" \;
+}
+# Stream files as `experiment --shard` writes them: a few shards of configs/paper.toml
+# (every planner of seed 000), each cut to its first 16 KiB, after the bytes $1.
+shard_streams() {
+  streams=$(mktemp -d)
+  for k in 1 2 3; do
+    (cd .. && cargo run -q --release -p xtask -- experiment configs/paper.toml --shard "$k/40" \
+      --output "$streams/s$k" --quiet >/dev/null)
+    { printf '%b' "$1"; head -c 16384 "$streams/s$k/shard.jsonl"; } > "$seeds/shard-$k.jsonl"
+  done
+  rm -rf "$streams"
 }
 max_len=16384
 case $target in
@@ -57,19 +68,19 @@ case $target in
     done
     max_len=65536
     ;;
-  stream)
-    # Stream files as `experiment --shard` writes them: a few shards of configs/paper.toml
-    # (every planner of seed 000), each cut to the first 16 KiB.
-    streams=$(mktemp -d)
-    for k in 1 2 3; do
-      (cd .. && cargo run -q --release -p xtask -- experiment configs/paper.toml --shard "$k/40" \
-        --output "$streams/s$k" --quiet >/dev/null)
-      head -c 16384 "$streams/s$k/shard.jsonl" > "$seeds/shard-$k.jsonl"
-    done
-    rm -rf "$streams"
+  stream) shard_streams "" ;;
+  frames)
+    # Shape byte 2 (see fuzz_targets/frames.rs): the shard streams, framed by the target;
+    # shape 1: two payloads by hand (no strings and no records; one string, no records);
+    # shape 0: an empty frame with its checksum, and a frame stating 2^32 - 1 bytes.
+    shard_streams '\x02'
+    printf '\x01\x00\x00' > "$seeds/empty-payload.bin"
+    printf '\x01\x01\x03map\x00' > "$seeds/one-string.bin"
+    printf '\x00\x00\x00\x00\x00\x00\x00\x00\x00' > "$seeds/empty-frame.bin"
+    printf '\x00\xff\xff\xff\xff\x00\x00\x00\x00' > "$seeds/huge-frame.bin"
     ;;
   *)
-    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream weights)" >&2
+    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream frames weights)" >&2
     exit 2
     ;;
 esac

@@ -67,7 +67,8 @@ fn paper_config() -> PathBuf {
 
 fn command(config: &Path, output: &Path) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_xtask"));
-    command
+    // The killed-run test stops it with SIGINT too, also when run with SIGINT ignored.
+    common::default_sigint(&mut command)
         .arg("experiment")
         .arg(config)
         .arg("--output")

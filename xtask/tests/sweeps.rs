@@ -31,6 +31,40 @@ fn xtask(args: &[&str]) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// Runs xtask with each of `runs` at once from the repository root; each must succeed.
+fn xtask_all(runs: &[Vec<&str>]) {
+    let children: Vec<_> = runs
+        .iter()
+        .map(|args| {
+            Command::new(env!("CARGO_BIN_EXE_xtask"))
+                .args(args)
+                .current_dir(root())
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    for (args, child) in runs.iter().zip(children) {
+        let out = child.wait_with_output().unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// Runs `experiment CONFIG --quiet --threads 2` with `extra` and `--output OUTPUT`, which
+/// must succeed.
+fn sweep(config: &str, output: &Path, extra: &[&str]) {
+    let output = output.display().to_string();
+    let mut args = vec!["experiment", config, "--quiet", "--threads", "2"];
+    args.extend_from_slice(extra);
+    args.extend(["--output", &output]);
+    xtask(&args);
+}
+
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("gridplan-sweeps-{}-{name}", std::process::id()));
     let _ = fs::remove_dir_all(&dir);
@@ -130,25 +164,30 @@ fn deterministic_csv(dir: &Path) -> Vec<String> {
 fn three_shards_merged_equal_one_run() {
     let dir = scratch("shards");
     let d = |n: &str| dir.join(n).display().to_string();
-    xtask(&[
+    // The whole sweep and its three shards are independent processes: they run at once.
+    let shards: Vec<[String; 2]> = (1..=3)
+        .map(|k| [format!("{k}/3"), d(&format!("s{k}"))])
+        .collect();
+    let one = d("one");
+    let mut runs = vec![vec![
         "experiment",
         "configs/movingai.toml",
         "--quiet",
         "--output",
-        &d("one"),
-    ]);
-    for k in 1..=3 {
-        let shard = format!("{k}/3");
-        xtask(&[
+        &one,
+    ]];
+    for [shard, output] in &shards {
+        runs.push(vec![
             "experiment",
             "configs/movingai.toml",
             "--quiet",
             "--shard",
-            &shard,
+            shard,
             "--output",
-            &d(&format!("s{k}")),
+            output,
         ]);
     }
+    xtask_all(&runs);
     xtask(&[
         "merge",
         &d("s1"),
@@ -201,30 +240,10 @@ fn three_shards_merged_equal_one_run() {
 fn killed_and_resumed_equals_uninterrupted() {
     let dir = scratch("resume");
     let config = "configs/bench/arena-repeats.toml";
-    let full = dir.join("full").display().to_string();
-    xtask(&[
-        "experiment",
-        config,
-        "--quiet",
-        "--threads",
-        "2",
-        "--output",
-        &full,
-    ]);
+    let full = dir.join("full");
+    sweep(config, &full, &[]);
     let out = dir.join("res");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_xtask"))
-        .args([
-            "experiment",
-            config,
-            "--quiet",
-            "--threads",
-            "2",
-            "--output",
-        ])
-        .arg(&out)
-        .current_dir(root())
-        .spawn()
-        .unwrap();
+    let mut child = start_sweep(config, &out, &[]);
     let stream = dir.join(".res.stream/records.stream");
     let started = Instant::now();
     while recorded(&stream) < 1 {
@@ -238,17 +257,8 @@ fn killed_and_resumed_equals_uninterrupted() {
         "the sweep finished before the kill"
     );
     assert!(!out.join("runs.csv").exists());
-    xtask(&[
-        "experiment",
-        config,
-        "--quiet",
-        "--threads",
-        "2",
-        "--resume",
-        "--output",
-        &out.display().to_string(),
-    ]);
-    assert_eq!(deterministic_csv(Path::new(&full)), deterministic_csv(&out));
+    sweep(config, &out, &["--resume"]);
+    assert_eq!(deterministic_csv(&full), deterministic_csv(&out));
 }
 
 /// The runs a sweep's framed resume stream holds (0 before it has a header), and whether
@@ -274,18 +284,26 @@ fn recorded(stream: &Path) -> usize {
     read_stream(stream).0
 }
 
-/// Starts `experiment config --threads 2 --output out` (with `extra`), waits until its
-/// stream holds a few batches, sends `signal` and returns its exit status and stderr.
-fn interrupt(config: &str, out: &Path, extra: &[&str], signal: &str) -> (Option<i32>, String) {
-    let child = Command::new(env!("CARGO_BIN_EXE_xtask"))
+/// Starts `experiment CONFIG --quiet --threads 2` with `extra` and `--output OUTPUT`, its
+/// stderr piped and its SIGINT disposition the default, without waiting for it.
+fn start_sweep(config: &str, output: &Path, extra: &[&str]) -> std::process::Child {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_xtask"));
+    // SIGINT stops it, also when this test runs with SIGINT ignored.
+    common::default_sigint(&mut command)
         .args(["experiment", config, "--quiet", "--threads", "2"])
         .args(extra)
         .arg("--output")
-        .arg(out)
+        .arg(output)
         .current_dir(root())
         .stderr(std::process::Stdio::piped())
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+/// Starts `experiment config --threads 2 --output out` (with `extra`), waits until its
+/// stream holds a few batches, sends `signal` and returns its exit status and stderr.
+fn interrupt(config: &str, out: &Path, extra: &[&str], signal: &str) -> (Option<i32>, String) {
+    let child = start_sweep(config, out, extra);
     let stream = out.with_file_name(".res.stream/records.stream");
     let before = recorded(&stream);
     let started = Instant::now();
@@ -309,16 +327,8 @@ fn interrupt(config: &str, out: &Path, extra: &[&str], signal: &str) -> (Option<
 fn sigint_and_sigterm_stop_cleanly_and_resume_equals_uninterrupted() {
     let dir = scratch("signals");
     let config = "configs/bench/arena-repeats.toml";
-    let full = dir.join("full").display().to_string();
-    xtask(&[
-        "experiment",
-        config,
-        "--quiet",
-        "--threads",
-        "2",
-        "--output",
-        &full,
-    ]);
+    let full = dir.join("full");
+    sweep(config, &full, &[]);
     // An older result in the output, which an interrupted sweep must leave as it was.
     let out = dir.join("res");
     let paper = "configs/paper.toml";
@@ -346,17 +356,8 @@ fn sigint_and_sigterm_stop_cleanly_and_resume_equals_uninterrupted() {
         assert!(!read_stream(&stream).1, "{signal}: a cut frame");
         assert_eq!(fs::read(out.join("runs.csv")).unwrap(), old_csv, "{signal}");
     }
-    xtask(&[
-        "experiment",
-        config,
-        "--quiet",
-        "--threads",
-        "2",
-        "--resume",
-        "--output",
-        &out.display().to_string(),
-    ]);
-    assert_eq!(deterministic_csv(Path::new(&full)), deterministic_csv(&out));
+    sweep(config, &out, &["--resume"]);
+    assert_eq!(deterministic_csv(&full), deterministic_csv(&out));
     assert!(!stream.exists());
 }
 

@@ -44,6 +44,8 @@ struct Package {
     dir: PathBuf,
     /// Normal (not dev, not build) dependencies.
     dependencies: Vec<String>,
+    /// Its targets: [`targets`].
+    targets: Vec<(String, String, PathBuf, bool)>,
 }
 
 /// `cargo metadata --format-version 1 --offline` with `args`, parsed.
@@ -82,6 +84,7 @@ fn packages() -> Vec<Package> {
                 .filter(|d| d["kind"].is_null())
                 .map(|d| d["name"].as_str().unwrap().to_string())
                 .collect(),
+            targets: targets(p),
         })
         .collect()
 }
@@ -537,13 +540,11 @@ const XTASK_TESTS: &[&str] = &["experiments", "it", "tidy"];
 /// (ARCHITECTURE.md, "Tests").
 #[test]
 fn one_test_binary_per_package_and_every_test_file_compiled() {
-    let metadata = cargo_metadata(&["--no-deps"]);
-    for package in metadata["packages"].as_array().unwrap() {
-        let name = package["name"].as_str().unwrap();
-        let dir = Path::new(package["manifest_path"].as_str().unwrap())
-            .parent()
-            .unwrap();
-        let tests: Vec<(String, PathBuf)> = targets(package)
+    for Package {
+        name, dir, targets, ..
+    } in packages()
+    {
+        let tests: Vec<(String, PathBuf)> = targets
             .into_iter()
             .filter(|(kind, ..)| kind == "test")
             .map(|(_, target, path, _)| (target, path))
@@ -596,13 +597,10 @@ fn one_test_binary_per_package_and_every_test_file_compiled() {
 /// library's files are those under `src/` but the other targets' roots; a binary's, its root.
 #[test]
 fn targets_without_a_test_build_have_no_unit_tests() {
-    let metadata = cargo_metadata(&["--no-deps"]);
-    for package in metadata["packages"].as_array().unwrap() {
-        let name = package["name"].as_str().unwrap();
-        let dir = Path::new(package["manifest_path"].as_str().unwrap())
-            .parent()
-            .unwrap();
-        let targets = targets(package);
+    for Package {
+        name, dir, targets, ..
+    } in packages()
+    {
         for (kind, target, root_file, test) in &targets {
             if *test || (kind != "lib" && kind != "bin") {
                 continue;

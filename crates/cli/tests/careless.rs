@@ -9,8 +9,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// How long one command may take before the test calls it a hang.
-const TIMEOUT: Duration = Duration::from_secs(120);
+use crate::common::{
+    self, gridplan, gridplan_with, refused, run_slurm_scripts, shard, succeeded, SMALL,
+};
 
 /// What a case must give.
 enum Expect {
@@ -25,17 +26,11 @@ enum Expect {
 /// One case: the files to write (name, bytes), the arguments, what must happen.
 type Case = (Vec<(String, Vec<u8>)>, Vec<String>, Expect);
 
-/// A 3x3 Moving AI map with a wall cell in the middle.
-const SMALL: &[u8] = b"type octile\nheight 3\nwidth 3\nmap\n...\n.@.\n...\n";
-
 /// A valid config on `small.map`; cases edit it.
 const CONFIG: &str = "name = \"c\"\n[[maps]]\nfiles = [\"small.map\"]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n";
 
 fn scratch(case: usize) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gridplan-careless-{}-{case}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch("careless", case)
 }
 
 /// Every path under `dir`, relative to it.
@@ -55,43 +50,6 @@ fn listing(dir: &Path) -> BTreeSet<PathBuf> {
         }
     }
     out
-}
-
-struct Output {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
-
-/// Runs `gridplan args` in `dir`, killing it after [`TIMEOUT`].
-fn gridplan(dir: &Path, args: &[&str]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
-        .args(args)
-        .current_dir(dir)
-        .env_remove("RUST_LOG")
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let started = Instant::now();
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            break;
-        }
-        if started.elapsed() > TIMEOUT {
-            child.kill().unwrap();
-            let _ = child.wait();
-            panic!("gridplan {args:?} did not end within {TIMEOUT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let output = child.wait_with_output().unwrap();
-    Output {
-        code: output.status.code(),
-        stdout: String::from_utf8_lossy(&output.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
-    }
 }
 
 /// Writes `files` into a fresh directory, runs `gridplan args` there and checks `expect`;
@@ -566,36 +524,6 @@ fn careless_inputs_fail_cleanly() {
     );
 }
 
-/// Runs the binary with `args` in `dir`, `env` added and stdout as given; waits at most
-/// [`TIMEOUT`].
-fn run_with(dir: &Path, args: &[&str], env: &[(&str, &str)], stdout: Stdio) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
-        .args(args)
-        .current_dir(dir)
-        .env_remove("RUST_LOG")
-        .envs(env.iter().copied())
-        .stdin(Stdio::null())
-        .stdout(stdout)
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let started = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if started.elapsed() > TIMEOUT {
-            child.kill().unwrap();
-            let _ = child.wait();
-            panic!("gridplan {args:?} did not end within {TIMEOUT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let output = child.wait_with_output().unwrap();
-    Output {
-        code: output.status.code(),
-        stdout: String::from_utf8_lossy(&output.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
-    }
-}
-
 /// A scratch directory holding [`CONFIG`] as `c.toml` and `small.map`.
 fn with_config(case: usize) -> PathBuf {
     let dir = scratch(case);
@@ -634,7 +562,7 @@ fn job_array_environments_are_checked_and_named() {
             "SLURM_ARRAY_TASK_ID=18446744073709551615",
         ),
     ] {
-        let out = run_with(&dir, &exp, &env, Stdio::piped());
+        let out = gridplan_with(&dir, &exp, &env, Stdio::piped());
         // A job array's environment that names no shard is a usage error (exit 2).
         assert_eq!(out.code, Some(2), "{env:?}: {}", out.stderr);
         assert!(out.stderr.contains(text), "{env:?}: {}", out.stderr);
@@ -650,21 +578,7 @@ fn job_array_environments_are_checked_and_named() {
 #[test]
 fn stream_readers_refuse_special_files() {
     let dir = with_config(20_001);
-    let out = run_with(
-        &dir,
-        &[
-            "experiment",
-            "c.toml",
-            "--quiet",
-            "--shard",
-            "1/2",
-            "--output",
-            "s1",
-        ],
-        &[],
-        Stdio::piped(),
-    );
-    assert_eq!(out.code, Some(0), "{}", out.stderr);
+    shard(&dir, "c.toml", "1/2", "s1");
     let shard = dir.join("s1/shard.jsonl");
     let fifo = |path: &Path| {
         let _ = std::fs::remove_file(path);
@@ -675,23 +589,14 @@ fn stream_readers_refuse_special_files() {
         let _ = std::fs::remove_file(path);
         std::os::unix::fs::symlink("/dev/zero", path).unwrap();
     };
-    zero(&shard);
-    let out = run_with(&dir, &["merge", "s1", "--output", "m"], &[], Stdio::piped());
-    assert_eq!(out.code, Some(1), "{}", out.stderr);
-    assert!(
-        out.stderr
-            .contains("not a regular file (a character device)"),
-        "{}",
-        out.stderr
-    );
-    fifo(&shard);
-    let out = run_with(&dir, &["merge", "s1", "--output", "m"], &[], Stdio::piped());
-    assert_eq!(out.code, Some(1), "{}", out.stderr);
-    assert!(
-        out.stderr.contains("not a regular file (a FIFO)"),
-        "{}",
-        out.stderr
-    );
+    for (make, what) in [
+        (&zero as &dyn Fn(&Path), "a character device"),
+        (&fifo as &dyn Fn(&Path), "a FIFO"),
+    ] {
+        make(&shard);
+        let out = gridplan(&dir, &["merge", "s1", "--output", "m"]);
+        refused(&out, 1, &format!("not a regular file ({what})"));
+    }
     // The stream a sweep on output `r` appends to, and --resume reads: `.r.stream/records.jsonl`.
     // The area carries gridplan's marker, as a killed sweep leaves it (issue 26: an
     // unmarked one is refused before its records are read).
@@ -707,25 +612,19 @@ fn stream_readers_refuse_special_files() {
         (&fifo as &dyn Fn(&Path), "a FIFO"),
     ] {
         make(&records);
-        let out = run_with(
-            &dir,
-            &[
-                "experiment",
-                "c.toml",
-                "--quiet",
-                "--resume",
-                "--output",
-                "r",
-            ],
-            &[],
-            Stdio::piped(),
-        );
-        assert_eq!(out.code, Some(1), "{}", out.stderr);
-        assert!(
-            out.stderr
-                .contains(&format!("records.jsonl: not a regular file ({what})")),
-            "{}",
-            out.stderr
+        let resume = [
+            "experiment",
+            "c.toml",
+            "--quiet",
+            "--resume",
+            "--output",
+            "r",
+        ];
+        let out = gridplan(&dir, &resume);
+        refused(
+            &out,
+            1,
+            &format!("records.jsonl: not a regular file ({what})"),
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
@@ -772,14 +671,14 @@ fn a_closed_stdout_ends_quietly() {
         &["experiment", "c.toml", "--quiet", "--output", "out"],
     ];
     for args in commands {
-        let out = run_with(&dir, args, &[], closed_pipe());
+        let out = gridplan_with(&dir, args, &[], closed_pipe());
         assert_eq!(out.code, Some(0), "{args:?}: {}", out.stderr);
         assert_eq!(out.stderr, "", "{args:?}");
         let full = std::fs::OpenOptions::new()
             .write(true)
             .open("/dev/full")
             .unwrap();
-        let out = run_with(&dir, args, &[], Stdio::from(full));
+        let out = gridplan_with(&dir, args, &[], Stdio::from(full));
         assert_eq!(out.code, Some(1), "{args:?}: {}", out.stderr);
         assert!(
             out.stderr.contains("error: cannot write to stdout"),
@@ -805,13 +704,11 @@ fn slurm_scripts_merge_with_a_bounded_command_line() {
     std::fs::write(dir.join("c.toml"), config).unwrap();
     std::fs::write(dir.join("small.map"), SMALL).unwrap();
     let slurm = |n: &str| {
-        let out = run_with(
+        let out = gridplan(
             &dir,
             &["slurm", "c.toml", "--shards", n, "--output", "merged"],
-            &[],
-            Stdio::piped(),
         );
-        assert_eq!(out.code, Some(0), "{}", out.stderr);
+        succeeded(&out);
         std::fs::read_to_string(dir.join("merged-slurm/merge.sbatch")).unwrap()
     };
     // 1 problem x 1000 repeats: 1000 runs, so 1000 shards are allowed.
@@ -820,30 +717,9 @@ fn slurm_scripts_merge_with_a_bounded_command_line() {
     assert!(wide.contains(" merge --shards-in "), "{wide}");
     let narrow = slurm("3");
     assert_eq!(wide.len(), narrow.len() + 3, "{wide}\n{narrow}");
-    for k in 1..=3 {
-        let task = Command::new("bash")
-            .arg(dir.join("merged-slurm/array.sbatch"))
-            .env("SLURM_ARRAY_TASK_ID", k.to_string())
-            .current_dir(&dir)
-            .output()
-            .unwrap();
-        assert!(
-            task.status.success(),
-            "{}",
-            String::from_utf8_lossy(&task.stderr)
-        );
-    }
-    let merge = Command::new("bash")
-        .arg(dir.join("merged-slurm/merge.sbatch"))
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&merge.stdout);
-    assert!(
-        merge.status.success(),
-        "{}",
-        String::from_utf8_lossy(&merge.stderr)
-    );
+    let merge = run_slurm_scripts(&dir.join("merged-slurm"), &dir, 3);
+    succeeded(&merge);
+    let stdout = merge.stdout;
     assert!(
         stdout.starts_with("1000 runs merged from 3 shards"),
         "{stdout}"

@@ -2,29 +2,32 @@
 //! cost options as flags, the path cost in `--json` (held to the test kit's weighted
 //! Dijkstra), and the refusal of a planner that cannot honour costs.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use crate::common::{self, root};
 
 use planner_api::{Cell, Connectivity, CostRule, MoveSet};
 use planner_maps::{read_map_with, read_weights, CostOptions, ReadOptions};
 use planner_testkit::weighted_dijkstra;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+/// Runs gridplan with `args` from the repository's root; returns its exit code, stdout
+/// and stderr.
+fn gridplan(args: &[&str]) -> (i32, String, String) {
+    let out = common::gridplan(&root(), args);
+    (out.code.unwrap(), out.stdout, out.stderr)
 }
 
-/// Runs gridplan with `args`; returns its exit code, stdout and stderr.
-fn gridplan(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_gridplan"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+/// `plan ARENA --planner PLANNER` and `rest`: its exit code, stdout and stderr.
+fn plan_arena(planner: &str, rest: &[&str]) -> (i32, String, String) {
+    let mut args = vec!["plan", ARENA, "--planner", planner];
+    args.extend_from_slice(rest);
+    gridplan(&args)
+}
+
+/// Asserts that `plan ARENA --planner PLANNER` and `rest` exits with `code`, its stderr
+/// holding `message`.
+fn refused(planner: &str, rest: &[&str], code: i32, message: &str) {
+    let (got, _, err) = plan_arena(planner, rest);
+    assert_eq!(got, code, "{rest:?}: {err}");
+    assert!(err.contains(message), "{message}: {err}");
 }
 
 fn json(stdout: &str) -> serde_json::Value {
@@ -55,25 +58,24 @@ fn plan_with_a_weight_file_prints_the_oracle_cost() {
             ("astar", "heuristic=octile"),
             ("bidirectional_astar", "moves=8"),
         ] {
-            let (code, out, err) = gridplan(&[
-                "plan",
-                ARENA,
-                "--planner",
+            let (code, out, err) = plan_arena(
                 planner,
-                "--set",
-                "moves=8",
-                "--set",
-                heuristic,
-                "--start",
-                "3,1",
-                "--goal",
-                "46,47",
-                "--weights",
-                WEIGHTS,
-                "--cost-rule",
-                flag,
-                "--json",
-            ]);
+                &[
+                    "--set",
+                    "moves=8",
+                    "--set",
+                    heuristic,
+                    "--start",
+                    "3,1",
+                    "--goal",
+                    "46,47",
+                    "--weights",
+                    WEIGHTS,
+                    "--cost-rule",
+                    flag,
+                    "--json",
+                ],
+            );
             assert_eq!(code, 0, "{err}");
             let v = json(&out);
             assert_eq!(v["status"], "found");
@@ -96,38 +98,16 @@ fn plan_with_a_weight_file_prints_the_oracle_cost() {
     let grid = weighted_arena(CostRule::Mean);
     let four = MoveSet::standard(Connectivity::Four);
     let oracle = weighted_dijkstra(&grid, &four, Cell::new(3, 1), Cell::new(46, 47)).unwrap();
-    let (code, out, err) = gridplan(&[
-        "plan",
-        ARENA,
-        "--planner",
-        "lexastar",
-        "--start",
-        "3,1",
-        "--goal",
-        "46,47",
-        "--weights",
-        WEIGHTS,
-        "--json",
-    ]);
+    let query = ["--start", "3,1", "--goal", "46,47", "--weights", WEIGHTS];
+    let (code, out, err) = plan_arena("lexastar", &[&query[..], &["--json"]].concat());
     assert_eq!(code, 0, "{err}");
     assert!((json(&out)["cost"].as_f64().unwrap() - oracle.to_f64()).abs() < 1e-6);
     // The text output names the cost too.
-    let (code, out, err) = gridplan(&[
-        "plan",
-        ARENA,
-        "--planner",
-        "astar",
-        "--start",
-        "3,1",
-        "--goal",
-        "46,47",
-        "--weights",
-        WEIGHTS,
-    ]);
+    let (code, out, err) = plan_arena("astar", &query);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("(cell weights, mean rule)"), "{out}");
     // Without costs there is no cost key.
-    let (_, out, _) = gridplan(&["plan", ARENA, "--planner", "astar", "--json"]);
+    let (_, out, _) = plan_arena("astar", &["--json"]);
     assert!(json(&out).get("cost").is_none(), "{out}");
 }
 
@@ -178,19 +158,18 @@ fn plan_with_graded_ros_maps_and_terrain_weights() {
     );
     // Moving AI terrain on a map with swamp: arena has none, so weight 1 everywhere and
     // the cost is the octile length.
-    let (code, out, err) = gridplan(&[
-        "plan",
-        ARENA,
-        "--planner",
+    let (code, out, err) = plan_arena(
         "astar",
-        "--set",
-        "moves=8",
-        "--set",
-        "heuristic=octile",
-        "--swamp",
-        "5",
-        "--json",
-    ]);
+        &[
+            "--set",
+            "moves=8",
+            "--set",
+            "heuristic=octile",
+            "--swamp",
+            "5",
+            "--json",
+        ],
+    );
     assert_eq!(code, 0, "{err}");
     let v = json(&out);
     let length = v["metrics"]["length"].as_f64().unwrap();
@@ -199,39 +178,22 @@ fn plan_with_graded_ros_maps_and_terrain_weights() {
 
 #[test]
 fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
-    let (code, _, err) = gridplan(&["plan", ARENA, "--planner", "bfs", "--weights", WEIGHTS]);
-    assert_eq!(code, 2, "{err}");
-    assert!(
-        err.contains(
-            "planner `bfs` (bfs) does not honour cell costs, and map `arena.map` has them"
-        ),
-        "{err}"
-    );
-    let (code, out, err) = gridplan(&[
-        "plan",
-        ARENA,
-        "--planner",
+    refused(
         "bfs",
-        "--weights",
-        WEIGHTS,
-        "--ignore-costs",
-        "--json",
-    ]);
+        &["--weights", WEIGHTS],
+        2,
+        "planner `bfs` (bfs) does not honour cell costs, and map `arena.map` has them",
+    );
+    let (code, out, err) = plan_arena("bfs", &["--weights", WEIGHTS, "--ignore-costs", "--json"]);
     assert_eq!(code, 0, "{err}");
     // BFS ran without the weights; the cost printed is still the map's.
     assert!(json(&out)["cost"].as_f64().is_some(), "{out}");
-    let (code, _, err) = gridplan(&[
-        "plan",
-        ARENA,
-        "--planner",
+    refused(
         "lexastar",
-        "--set",
-        "moves=8",
-        "--weights",
-        WEIGHTS,
-    ]);
-    assert_eq!(code, 2, "{err}");
-    assert!(err.contains("does not honour cell costs"), "{err}");
+        &["--set", "moves=8", "--weights", WEIGHTS],
+        2,
+        "does not honour cell costs",
+    );
     for (args, message) in [
         (vec!["--graded"], "apply to ROS maps"),
         (vec!["--water", "3"], "--water needs --swamp"),
@@ -240,16 +202,10 @@ fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
             vec!["--weights", WEIGHTS, "--swamp", "2"],
             "does not go with",
         ),
+        (vec!["--cost-rule", "median"], "expected mean or entered"),
     ] {
-        let mut all = vec!["plan", ARENA, "--planner", "astar"];
-        all.extend(args);
-        let (code, _, err) = gridplan(&all);
-        assert_eq!(code, 2, "{err}");
-        assert!(err.contains(message), "{message}: {err}");
+        refused("astar", &args, 2, message);
     }
-    let (code, _, err) = gridplan(&["plan", ARENA, "--planner", "astar", "--cost-rule", "median"]);
-    assert_eq!(code, 2, "{err}");
-    assert!(err.contains("expected mean or entered"), "{err}");
     // A bad weight file: file, line and column.
     let dir = std::env::temp_dir().join(format!("gridplan-costs-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

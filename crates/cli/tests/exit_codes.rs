@@ -2,30 +2,17 @@
 //! problem, 5 output refused, 1 anything else; 130 (interrupted) is xtask's sweeps test's.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use crate::common::{self, root};
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gridplan-exit-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch("exit", name)
 }
 
-/// Runs gridplan with `args`; returns its exit code and stderr.
+/// Runs gridplan with `args` from the repository's root; returns its exit code and stderr.
 fn gridplan(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_gridplan"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let out = common::gridplan(&root(), args);
+    (out.code.unwrap(), out.stderr)
 }
 
 /// A config of one seed-000 map and BFS, with `extra` top-level keys.

@@ -4,6 +4,7 @@
 //! "Tests").
 
 mod careless;
+mod common;
 mod costs;
 mod exit_codes;
 mod install;

@@ -8,37 +8,13 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
-/// A 3x3 Moving AI map with a wall cell in the middle.
-const SMALL: &[u8] = b"type octile\nheight 3\nwidth 3\nmap\n...\n.@.\n...\n";
+use crate::common::{self, gridplan, refused, run_slurm_scripts, shard, succeeded, SMALL};
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gridplan-security-{}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir.canonicalize().unwrap()
-}
-
-/// Runs `gridplan args` in `dir`.
-fn gridplan(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gridplan"))
-        .args(args)
-        .current_dir(dir)
-        .env_remove("RUST_LOG")
-        .stdin(Stdio::null())
-        .output()
-        .unwrap()
-}
-
-fn text(out: &Output) -> String {
-    format!(
-        "exit {:?}\nstdout: {}\nstderr: {}",
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    )
+    common::scratch("security", name)
 }
 
 /// The documented exit status of a failure that is none of the classes below.
@@ -48,20 +24,6 @@ const FAILURE: i32 = 1;
 const USAGE: i32 = 2;
 /// The documented exit status of an output directory gridplan may not write.
 const OUTPUT: i32 = 5;
-
-/// Asserts exit code `code` (README, "exit status") with `needle` in stderr.
-fn refused(out: &Output, code: i32, needle: &str) {
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        out.status.code() == Some(code) && stderr.contains(needle),
-        "expected a refusal with exit {code} naming {needle:?}: {}",
-        text(out)
-    );
-}
-
-fn succeeded(out: &Output) {
-    assert!(out.status.success(), "{}", text(out));
-}
 
 /// A scratch directory with `small.map` and `cfg.toml` (`extra` added to its top level,
 /// `output = "res"` unless `extra` sets it).
@@ -157,44 +119,45 @@ fn slurm_checks_the_output_directory_like_experiment() {
     );
 }
 
+/// `slurm cfg.toml --shards 2 --output HOSTILE_DIR` (with `extra`) in a fresh [`setup`]
+/// named `name`, which must succeed: the directory, the output path and the stdout.
+fn hostile_slurm(name: &str, extra: &[&str]) -> (PathBuf, PathBuf, String) {
+    let dir = setup(name, "");
+    let output = dir.join(HOSTILE_DIR);
+    let output_arg = output.display().to_string();
+    let mut args = vec![
+        "slurm",
+        "cfg.toml",
+        "--shards",
+        "2",
+        "--output",
+        &output_arg,
+    ];
+    args.extend_from_slice(extra);
+    let out = gridplan(&dir, &args);
+    succeeded(&out);
+    (dir, output, out.stdout)
+}
+
+/// The Slurm work directory of results directory `output`: `OUTPUT-slurm`.
+fn slurm_work(output: &Path) -> PathBuf {
+    let mut work = output.as_os_str().to_os_string();
+    work.push("-slurm");
+    PathBuf::from(work)
+}
+
 #[test]
 fn slurm_scripts_run_by_bash_run_no_injected_command() {
-    let dir = setup("slurm-bash", "");
-    let output = dir.join(HOSTILE_DIR);
-    let out = gridplan(
-        &dir,
+    let (dir, output, _) = hostile_slurm(
+        "slurm-bash",
         &[
-            "slurm",
-            "cfg.toml",
-            "--shards",
-            "2",
-            "--output",
-            &output.display().to_string(),
             "--partition",
             "p q'\"$(touch INJECTED4)",
             "--time",
             "1:00 `touch INJECTED5`",
         ],
     );
-    succeeded(&out);
-    let mut work = output.clone().into_os_string();
-    work.push("-slurm");
-    let work = PathBuf::from(work);
-    for k in 1..=2 {
-        let run = Command::new("bash")
-            .arg(work.join("array.sbatch"))
-            .env("SLURM_ARRAY_TASK_ID", k.to_string())
-            .current_dir(&dir)
-            .output()
-            .unwrap();
-        succeeded(&run);
-    }
-    let run = Command::new("bash")
-        .arg(work.join("merge.sbatch"))
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    succeeded(&run);
+    succeeded(&run_slurm_scripts(&slurm_work(&output), &dir, 2));
     assert!(injected(&dir).is_empty(), "{:?}", injected(&dir));
     // The results went to the directory of that very name.
     assert!(output.join("runs.json").is_file());
@@ -225,24 +188,7 @@ fn slurm_submitted_jobs_run_no_injected_command() {
         eprintln!("skipped: {reason} (scripts/slurm-start.sh starts a one-node cluster)");
         return;
     }
-    let dir = setup("slurm-submit", "");
-    let output = dir.join(HOSTILE_DIR);
-    let out = gridplan(
-        &dir,
-        &[
-            "slurm",
-            "cfg.toml",
-            "--shards",
-            "2",
-            "--output",
-            &output.display().to_string(),
-            "--time",
-            "10:00",
-            "--submit",
-        ],
-    );
-    succeeded(&out);
-    let printed = String::from_utf8_lossy(&out.stdout).into_owned();
+    let (dir, output, printed) = hostile_slurm("slurm-submit", &["--time", "10:00", "--submit"]);
     let id = |what: &str| {
         printed
             .lines()
@@ -274,9 +220,7 @@ fn slurm_submitted_jobs_run_no_injected_command() {
         output.display()
     );
     // `%j` of the directory reached Slurm as `%%j`: the logs are in the directory as named.
-    let mut work = output.into_os_string();
-    work.push("-slurm");
-    assert!(PathBuf::from(work).join("merge.log").is_file());
+    assert!(slurm_work(&output).join("merge.log").is_file());
 }
 
 /// Every element of `html` with a `<script>`, an `on*` attribute or a `javascript:` link.
@@ -388,18 +332,7 @@ fn forge_label(file: &Path) -> usize {
 fn merge_refuses_foreign_records_and_mixed_versions() {
     let dir = setup("merge", "repeats = 2");
     for k in 1..=2 {
-        succeeded(&gridplan(
-            &dir,
-            &[
-                "experiment",
-                "cfg.toml",
-                "--quiet",
-                "--shard",
-                &format!("{k}/2"),
-                "--output",
-                &format!("s{k}"),
-            ],
-        ));
+        shard(&dir, "cfg.toml", &format!("{k}/2"), &format!("s{k}"));
     }
     // Untouched, they merge.
     succeeded(&gridplan(&dir, &["merge", "s1", "s2", "--output", "m"]));
@@ -433,18 +366,7 @@ fn merge_refuses_foreign_records_and_mixed_versions() {
 fn resume_refuses_foreign_records() {
     let dir = setup("resume", "repeats = 2");
     // A whole sweep's stream, as a killed sweep leaves it in the stream area.
-    succeeded(&gridplan(
-        &dir,
-        &[
-            "experiment",
-            "cfg.toml",
-            "--quiet",
-            "--shard",
-            "1/1",
-            "--output",
-            "whole",
-        ],
-    ));
+    shard(&dir, "cfg.toml", "1/1", "whole");
     fs::create_dir(dir.join(".res.stream")).unwrap();
     fs::write(dir.join(".res.stream/.gridplan-stream"), "").unwrap();
     let stream = dir.join(".res.stream/records.jsonl");

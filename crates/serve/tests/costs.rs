@@ -2,58 +2,15 @@
 //! its weights, a plan on it answers the path's cost (held to the test kit's weighted
 //! Dijkstra), and a planner that cannot honour costs is refused unless told to ignore them.
 
-use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpStream};
-use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::path::PathBuf;
 
 use planner_api::{Cell, Connectivity, CostRule, MoveSet};
-use planner_serve::{ServeOptions, Server};
+use planner_serve::ServeOptions;
+
+use crate::common::{get, json, post, repo, start};
 
 fn maps() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../maps")
-}
-
-fn start() -> (SocketAddr, impl Fn()) {
-    let server = Server::bind(&ServeOptions::new(&maps(), 0)).unwrap();
-    let addr = server.addr().unwrap();
-    let stop = server.stopper();
-    std::thread::spawn(move || server.run());
-    (addr, stop)
-}
-
-/// Sends one request; the status and the body of the answer.
-fn send(addr: SocketAddr, head: &str, body: &[u8]) -> (u16, String) {
-    let mut stream = TcpStream::connect(addr).unwrap();
-    stream
-        .set_read_timeout(Some(Duration::from_secs(60)))
-        .unwrap();
-    let mut request = format!("{head}\r\nHost: {addr}\r\nConnection: close\r\n");
-    if !body.is_empty() {
-        request.push_str(&format!(
-            "Content-Type: application/json\r\nContent-Length: {}\r\n",
-            body.len()
-        ));
-    }
-    request.push_str("\r\n");
-    stream.write_all(request.as_bytes()).unwrap();
-    stream.write_all(body).unwrap();
-    let mut answer = Vec::new();
-    let _ = stream.read_to_end(&mut answer);
-    let text = String::from_utf8_lossy(&answer).into_owned();
-    let status = text
-        .split_whitespace()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0);
-    let body = text
-        .split_once("\r\n\r\n")
-        .map_or(String::new(), |(_, b)| b.to_string());
-    (status, body)
-}
-
-fn json(body: &str) -> serde_json::Value {
-    serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"))
+    repo().join("maps")
 }
 
 /// The arena map with its weight file, read as the server reads it.
@@ -74,9 +31,9 @@ fn weighted_arena() -> planner_api::Grid {
 
 #[test]
 fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
-    let (addr, stop) = start();
+    let (addr, stop) = start(&ServeOptions::new(&maps(), 0));
     let url = "/api/map?path=movingai%2Farena.map&weights=weighted%2Farena-weights.csv";
-    let (status, body) = send(addr, &format!("GET {url} HTTP/1.1"), b"");
+    let (status, body) = get(addr, url);
     assert_eq!(status, 200, "{body}");
     let map = json(&body);
     let grid = weighted_arena();
@@ -96,7 +53,7 @@ fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
     assert_eq!(weights, expected);
     assert_eq!(map["cost_rule"], "mean");
     // Without costs: no weights.
-    let (_, body) = send(addr, "GET /api/map?path=movingai%2Farena.map HTTP/1.1", b"");
+    let (_, body) = get(addr, "/api/map?path=movingai%2Farena.map");
     assert!(json(&body)["weights"].is_null(), "{body}");
 
     let eight = MoveSet::standard(Connectivity::Eight);
@@ -105,7 +62,7 @@ fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
             .unwrap()
             .to_f64();
     let request = r#"{"map":"movingai/arena.map","start":[3,1],"goal":[46,47],"planner":"astar","set":["moves=8","heuristic=octile"],"costs":{"weights":"weighted/arena-weights.csv"}}"#;
-    let (status, body) = send(addr, "POST /api/plan HTTP/1.1", request.as_bytes());
+    let (status, body) = post(addr, "/api/plan", request);
     assert_eq!(status, 200, "{body}");
     let cost = json(&body)["plan"]["cost"].as_f64().unwrap();
     assert!((cost - oracle).abs() < 1e-6, "{cost} vs {oracle}");
@@ -114,19 +71,18 @@ fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
     let bfs = request
         .replace("astar", "bfs")
         .replace(r#","heuristic=octile""#, "");
-    let (status, body) = send(addr, "POST /api/plan HTTP/1.1", bfs.as_bytes());
+    let (status, body) = post(addr, "/api/plan", &bfs);
     assert_eq!(status, 400, "{body}");
     assert!(body.contains("does not honour cell costs"), "{body}");
     let ignore = bfs.replace(r#""costs""#, r#""ignore_costs":true,"costs""#);
-    let (status, body) = send(addr, "POST /api/plan HTTP/1.1", ignore.as_bytes());
+    let (status, body) = post(addr, "/api/plan", &ignore);
     assert_eq!(status, 200, "{body}");
     assert!(json(&body)["plan"]["cost"].as_f64().unwrap() >= cost);
 
     // Graded ROS maps: weights 1 + nav2's cost (TenByTen's grey is 55: weight 56).
-    let (status, body) = send(
+    let (status, body) = get(
         addr,
-        "GET /api/map?path=ros-graded%2FTenByTen-scale.yaml&graded=1 HTTP/1.1",
-        b"",
+        "/api/map?path=ros-graded%2FTenByTen-scale.yaml&graded=1",
     );
     assert_eq!(status, 200, "{body}");
     let weights = json(&body)["weights"].clone();
@@ -140,7 +96,7 @@ fn weighted_maps_show_their_weights_and_plans_answer_the_cost() {
         "/api/map?path=movingai%2Farena.map&weights=..%2F..%2FCargo.toml",
         "/api/map?path=movingai%2Farena.map&weights=paper%2Fmap01.map",
     ] {
-        let (status, body) = send(addr, &format!("GET {url} HTTP/1.1"), b"");
+        let (status, body) = get(addr, url);
         assert!(matches!(status, 400 | 403 | 404), "{url}: {status} {body}");
     }
     stop();

@@ -2,16 +2,12 @@
 //! `plan --json`'s object, paths out of the served directory and oversized bodies are
 //! refused, a run is cancelled.
 
-use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpStream};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Duration;
 
-use planner_serve::{ServeOptions, Server};
+use planner_serve::ServeOptions;
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use crate::common::{get, post, repo, send, start};
 
 /// A fresh directory under the system's temp dir.
 fn scratch(name: &str) -> PathBuf {
@@ -61,58 +57,6 @@ fn served() -> (PathBuf, PathBuf) {
         std::os::unix::fs::symlink(top.join("secret.map"), dir.join("link.map")).unwrap();
     }
     (top, dir)
-}
-
-fn start(options: &ServeOptions) -> (SocketAddr, impl Fn()) {
-    let server = Server::bind(options).unwrap();
-    let addr = server.addr().unwrap();
-    let stop = server.stopper();
-    std::thread::spawn(move || server.run());
-    (addr, stop)
-}
-
-/// Sends `head` (request line and headers, without the blank line) and `body`; the status
-/// and the body of the answer.
-fn send(addr: SocketAddr, head: &str, body: &[u8]) -> (u16, String) {
-    let mut stream = TcpStream::connect(addr).unwrap();
-    stream
-        .set_read_timeout(Some(Duration::from_secs(60)))
-        .unwrap();
-    let mut request = format!("{head}\r\nHost: {addr}\r\nConnection: close\r\n");
-    if !head.contains("Content-Length") && !body.is_empty() {
-        request.push_str(&format!("Content-Length: {}\r\n", body.len()));
-    }
-    request.push_str("\r\n");
-    stream.write_all(request.as_bytes()).unwrap();
-    let _ = stream.write_all(body);
-    read_answer(&mut stream)
-}
-
-fn read_answer(stream: &mut TcpStream) -> (u16, String) {
-    let mut answer = Vec::new();
-    let _ = stream.read_to_end(&mut answer);
-    let text = String::from_utf8_lossy(&answer).into_owned();
-    let status = text
-        .split_whitespace()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0);
-    let body = text
-        .split_once("\r\n\r\n")
-        .map_or(String::new(), |(_, b)| b.to_string());
-    (status, body)
-}
-
-fn get(addr: SocketAddr, url: &str) -> (u16, String) {
-    send(addr, &format!("GET {url} HTTP/1.1"), b"")
-}
-
-fn post(addr: SocketAddr, url: &str, body: &str) -> (u16, String) {
-    send(
-        addr,
-        &format!("POST {url} HTTP/1.1\r\nContent-Type: application/json"),
-        body.as_bytes(),
-    )
 }
 
 #[test]
