@@ -507,12 +507,18 @@ impl Jps {
         cells.push(cell(start));
         for leg in chain.windows(2) {
             let (from, to) = (cell(leg[0]), cell(leg[1]));
-            let (mut x, mut y) = (from.x as i64, from.y as i64);
-            let (tx, ty) = (to.x as i64, to.y as i64);
-            while (x, y) != (tx, ty) {
-                x += (tx - x).signum();
-                y += (ty - y).signum();
-                cells.push(Cell::new(x as u32, y as u32));
+            let (sx, sy) = (to.x.cmp(&from.x) as i32, to.y.cmp(&from.y) as i32);
+            let (ax, ay) = (to.x.abs_diff(from.x), to.y.abs_diff(from.y));
+            let (mut x, mut y) = (from.x, from.y);
+            // Diagonal steps while both offsets remain, then straight ones.
+            for _ in 0..ax.min(ay) {
+                (x, y) = (x.wrapping_add_signed(sx), y.wrapping_add_signed(sy));
+                cells.push(Cell::new(x, y));
+            }
+            let (sx, sy) = if ax > ay { (sx, 0) } else { (0, sy) };
+            for _ in 0..ax.abs_diff(ay) {
+                (x, y) = (x.wrapping_add_signed(sx), y.wrapping_add_signed(sy));
+                cells.push(Cell::new(x, y));
             }
         }
         let marks = if self.config.marks && chain.len() > 2 {
@@ -548,6 +554,49 @@ struct Search<'a> {
 /// twice the width, so records number below 2^32 (grids have at most 2^31 cells).
 fn index_shift(grid: &Grid) -> u32 {
     grid.width().next_power_of_two().trailing_zeros()
+}
+
+/// The directions a node keeps after a move in direction `d` (the pruning rules of the
+/// crate docs), for each 3 x 3 neighbourhood of the node (as `BitGrid::neighbourhood`
+/// gives it: bit `3 (dy + 1) + dx + 1` set for a free cell at offset `(dx, dy)`).
+static PRUNED: [[u8; 512]; 8] = pruned_table();
+
+/// Builds [`PRUNED`] from the rules.
+const fn pruned_table() -> [[u8; 512]; 8] {
+    const fn free(around: usize, dx: i32, dy: i32) -> bool {
+        around >> (3 * (dy + 1) + dx + 1) & 1 != 0
+    }
+    let mut table = [[0u8; 512]; 8];
+    let mut d = 0;
+    while d < 8 {
+        let (dx, dy) = (DX[d], DY[d]);
+        let mut around = 0;
+        while around < 512 {
+            let mut out = 1u8 << d;
+            if d < 2 {
+                // Forced: the cell beside free, the one beside it one step back blocked.
+                if free(around, 0, 1) && !free(around, -dx, 1) {
+                    out |= 1 << 2 | 1 << diagonal(dx, 1);
+                }
+                if free(around, 0, -1) && !free(around, -dx, -1) {
+                    out |= 1 << 3 | 1 << diagonal(dx, -1);
+                }
+            } else if d < 4 {
+                if free(around, 1, 0) && !free(around, 1, -dy) {
+                    out |= 1 | 1 << diagonal(1, dy);
+                }
+                if free(around, -1, 0) && !free(around, -1, -dy) {
+                    out |= 1 << 1 | 1 << diagonal(-1, dy);
+                }
+            } else {
+                out |= 1 << (dx < 0) as usize | 1 << (2 + (dy < 0) as usize);
+            }
+            table[d][around] = out;
+            around += 1;
+        }
+        d += 1;
+    }
+    table
 }
 
 /// The direction of the last move on the way from `(x, y)` to `(tx, ty)`, diagonal first:
@@ -608,36 +657,20 @@ impl Search<'_> {
         }
     }
 
-    /// The directions node `(x, y)` expands, by the pruning rules, for its incoming moves.
-    #[inline]
+    /// The directions node `(x, y)` expands, by the pruning rules, for its incoming moves:
+    /// [`PRUNED`]'s entries for its 3 x 3 neighbourhood.
+    #[inline(always)]
     fn directions(&self, x: u32, y: u32, incoming: u8) -> u8 {
         if incoming == 0 {
             return 0xff;
         }
-        let bits = self.bits;
-        let (x, y) = (x as i32, y as i32);
+        let around = self.bits.neighbourhood(x, y);
         let mut out = 0u8;
         let mut rest = incoming;
         while rest != 0 {
             let d = rest.trailing_zeros() as usize;
             rest &= rest - 1;
-            let (dx, dy) = (DX[d], DY[d]);
-            out |= 1 << d;
-            if d < 2 {
-                for (sy, straight) in [(1, 2), (-1, 3)] {
-                    if bits.free(x, y + sy) && !bits.free(x - dx, y + sy) {
-                        out |= 1 << straight | 1 << diagonal(dx, sy);
-                    }
-                }
-            } else if d < 4 {
-                for (sx, straight) in [(1, 0), (-1, 1)] {
-                    if bits.free(x + sx, y) && !bits.free(x + sx, y - dy) {
-                        out |= 1 << straight | 1 << diagonal(sx, dy);
-                    }
-                }
-            } else {
-                out |= 1 << usize::from(dx < 0) | 1 << (2 + usize::from(dy < 0));
-            }
+            out |= PRUNED[d][around];
         }
         out
     }
