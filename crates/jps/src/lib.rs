@@ -871,3 +871,39 @@ impl Planner for Jps {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The open-or-closed marks wrap after 32,767 searches; the array is cleared then, so
+    /// no mark of an earlier search reads as this one's.
+    #[test]
+    fn searches_across_the_mark_wrap_agree() {
+        let grid = Grid::from_ascii(
+            "
+            ....
+            .#..
+            ....
+        ",
+        )
+        .unwrap();
+        let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(3, 2)).unwrap();
+        for variant in [Variant::Jps, Variant::JpsPrime, Variant::JpsPlus] {
+            let mut jps = Jps::new(Config {
+                variant,
+                ..Config::default()
+            })
+            .unwrap();
+            let expected = jps.plan(&problem, &Budget::unlimited()).counters;
+            // The next searches use the last mark before the wrap, then mark 1 again, the
+            // first search's.
+            jps.mark = (1 << 15) - 2;
+            for _ in 0..3 {
+                let outcome = jps.plan(&problem, &Budget::unlimited());
+                assert_eq!(outcome.counters, expected, "{variant:?}");
+            }
+            assert_eq!(jps.mark, 2);
+        }
+    }
+}
