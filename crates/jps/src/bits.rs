@@ -149,8 +149,8 @@ pub(crate) const DY: [i32; 8] = [0, 0, 1, -1, 1, 1, -1, -1];
 
 /// The diagonal direction with signs `dx`, `dy` (both nonzero).
 #[inline(always)]
-pub(crate) fn diagonal(dx: i32, dy: i32) -> usize {
-    4 + usize::from(dx < 0) + 2 * usize::from(dy < 0)
+pub(crate) const fn diagonal(dx: i32, dy: i32) -> usize {
+    4 + (dx < 0) as usize + 2 * (dy < 0) as usize
 }
 
 impl BitGrid {
@@ -214,6 +214,16 @@ impl BitGrid {
     #[inline(always)]
     pub(crate) fn free(&self, x: i32, y: i32) -> bool {
         self.rows.bit((y + 1) as usize, (x + PAD as i32) as usize)
+    }
+
+    /// The 3 x 3 cells around `(x, y)` (a cell of the grid), bit `3 (dy + 1) + dx + 1`
+    /// set for a free cell at offset `(dx, dy)`: one window read per row.
+    #[inline(always)]
+    pub(crate) fn neighbourhood(&self, x: u32, y: u32) -> usize {
+        // Padded row y + 1 holds row y; position x + PAD - 1 is the cell left of (x, y).
+        let (r, p) = (y as usize + 1, x as usize + PAD - 1);
+        let row = |r: usize| (self.rows.window(r, p) & 7) as usize;
+        row(r - 1) | row(r) << 3 | row(r + 1) << 6
     }
 
     /// The straight jump from `(x, y)` in direction `dir` (0 to 3): `(true, k)` when it

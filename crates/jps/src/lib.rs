@@ -63,9 +63,9 @@
 //! 512 x 512 map. `jps_plus` adds the jump table, 8 bytes per cell: 2,097,152 bytes for
 //! 512 x 512 (random512-10-0), built in 15 to 40 ms on the shared 2-core test machine
 //! (plus a transient 4 bytes per cell while it is built); `cargo bench -p planner-jps --bench
-//! movingai` prints the time and sizes on each run. The per-query state is 17 bytes per
+//! movingai` prints the time and sizes on each run. The per-query state is 18 bytes per
 //! cell (cost, parent, a generation tag, so nothing is cleared between queries, and a
-//! closed mark).
+//! two-byte open-or-closed mark).
 //!
 //! # Costs
 //! Costs are exact: `g` is a [`Cost`], a count of straight and of diagonal moves compared
@@ -257,31 +257,30 @@ pub struct Jps {
     nodes: Vec<Node>,
     generation: u32,
     open: Open,
-    /// One byte per node record: equal to `closed_mark` when the node is closed in this
-    /// search: a quarter-megabyte for 512 x 512, which stays in cache, so relaxing a jump
-    /// point that is already closed (3.9 million times in random512-10-0's scenarios with
-    /// `jps`) reads no node record.
-    closed: Vec<u8>,
-    /// The current search's mark in `closed`; it cycles through 1 to 255, and the array
-    /// is cleared when it wraps.
-    closed_mark: u8,
+    /// Two bytes per node record: `2 m` when the node is in OPEN in this search, `2 m + 1`
+    /// when it is closed, anything else when this search has not reached it (`m` =
+    /// `mark`): 128 KiB for 256 x 256, half a megabyte for 512 x 512, which stays in cache,
+    /// so relaxing a jump point that is closed or new (most relaxations) reads no node
+    /// record.
+    state: Vec<u16>,
+    /// The current search's `m` in `state`; it cycles through 1 to 32,767, and the array is
+    /// cleared when it wraps.
+    mark: u16,
     /// The jump points of the last path found, start to goal (a reused buffer).
     chain: Vec<u32>,
 }
 
 /// Per-cell search state, 16 bytes. `tag` is `generation << 9 | incoming << 1 | closed`,
 /// where `incoming` holds the directions of the moves that reached the node at cost `g`
-/// (bit `d`; 0 for the start, which expands all directions). A record from an older
-/// search counts as unseen, so nothing is cleared between searches.
+/// (bit `d`; 0 for the start, which expands all directions). A record is read only when
+/// `Jps::state` says this search has reached the node, so nothing is cleared between
+/// searches.
 #[derive(Debug, Clone, Copy, Default)]
 struct Node {
     g: Cost,
     parent: u32,
     tag: u32,
 }
-
-/// The low bits of [`Node::tag`] below the generation.
-const TAG_LOW: u32 = (1 << 9) - 1;
 
 impl Node {
     #[inline(always)]
@@ -321,8 +320,8 @@ impl Jps {
             nodes: Vec::new(),
             generation: 0,
             open: Open::default(),
-            closed: Vec::new(),
-            closed_mark: 0,
+            state: Vec::new(),
+            mark: 0,
             chain: Vec::new(),
         })
     }
@@ -348,12 +347,12 @@ impl Jps {
 
     /// The bytes of the grid's derived data and the per-query state for `grid`, at most:
     /// two bit copies (with a 64-bit word of padding per row and column, rounded up to 3
-    /// words), the node records and closed marks (17 bytes each, rows of a power-of-two
+    /// words), the node records and open-or-closed marks (18 bytes each, rows of a power-of-two
     /// length), and for `jps_plus` the jump table and its transient (12 bytes per cell).
     pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
         let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
         let bit_grid = 8 * ((w.div_ceil(64) + 3) * (h + 2) + (h.div_ceil(64) + 3) * (w + 2));
-        let records = (h << index_shift(grid)) * 17;
+        let records = (h << index_shift(grid)) * 18;
         let table = match self.config.variant {
             Variant::JpsPlus => 12 * w * h,
             _ => 0,
@@ -393,18 +392,19 @@ impl Jps {
             self.nodes.fill(Node::default());
             self.generation = 1;
         }
-        self.closed_mark = self.closed_mark.wrapping_add(1);
-        if self.closed_mark == 0 {
-            self.closed.fill(0);
-            self.closed_mark = 1;
+        self.mark += 1;
+        if self.mark >= 1 << 15 {
+            self.state.fill(0);
+            self.mark = 1;
         }
         self.open.clear();
         let mut search = Search {
             bits,
             table: table.as_ref(),
             nodes: &mut self.nodes,
-            closed: &mut self.closed,
-            closed_mark: self.closed_mark,
+            state: &mut self.state,
+            open_mark: 2 * self.mark,
+            closed_mark: 2 * self.mark + 1,
             open: &mut self.open,
             shift: index_shift(grid),
             goal: problem.goal(),
@@ -418,6 +418,7 @@ impl Jps {
             parent: start_index,
             tag: search.generation,
         };
+        search.state[start_index as usize] = search.open_mark;
         search.push(start_index, Cost::default(), start.x, start.y);
         search.tally.n_open_insertions = 1;
         search.tally.peak_open = 1;
@@ -437,7 +438,7 @@ impl Jps {
                 break Status::BudgetExhausted;
             }
             search.nodes[p as usize].tag |= 1;
-            search.closed[p as usize] = search.closed_mark;
+            search.state[p as usize] = search.closed_mark;
             search.tally.n_expanded += 1;
             if record {
                 expanded.push(Cell::new(p & ((1 << search.shift) - 1), p >> search.shift));
@@ -480,8 +481,8 @@ impl Jps {
         if self.nodes.len() != len {
             self.nodes = vec![Node::default(); len];
             self.generation = 0;
-            self.closed = vec![0; len];
-            self.closed_mark = 0;
+            self.state = vec![0; len];
+            self.mark = 0;
         }
     }
 
@@ -507,12 +508,18 @@ impl Jps {
         cells.push(cell(start));
         for leg in chain.windows(2) {
             let (from, to) = (cell(leg[0]), cell(leg[1]));
-            let (mut x, mut y) = (from.x as i64, from.y as i64);
-            let (tx, ty) = (to.x as i64, to.y as i64);
-            while (x, y) != (tx, ty) {
-                x += (tx - x).signum();
-                y += (ty - y).signum();
-                cells.push(Cell::new(x as u32, y as u32));
+            let (sx, sy) = (to.x.cmp(&from.x) as i32, to.y.cmp(&from.y) as i32);
+            let (ax, ay) = (to.x.abs_diff(from.x), to.y.abs_diff(from.y));
+            let (mut x, mut y) = (from.x, from.y);
+            // Diagonal steps while both offsets remain, then straight ones.
+            for _ in 0..ax.min(ay) {
+                (x, y) = (x.wrapping_add_signed(sx), y.wrapping_add_signed(sy));
+                cells.push(Cell::new(x, y));
+            }
+            let (sx, sy) = if ax > ay { (sx, 0) } else { (0, sy) };
+            for _ in 0..ax.abs_diff(ay) {
+                (x, y) = (x.wrapping_add_signed(sx), y.wrapping_add_signed(sy));
+                cells.push(Cell::new(x, y));
             }
         }
         let marks = if self.config.marks && chain.len() > 2 {
@@ -533,8 +540,10 @@ struct Search<'a> {
     bits: &'a BitGrid,
     table: Option<&'a JumpTable>,
     nodes: &'a mut [Node],
-    closed: &'a mut [u8],
-    closed_mark: u8,
+    state: &'a mut [u16],
+    /// The values of `state` for a node in OPEN and a closed one.
+    open_mark: u16,
+    closed_mark: u16,
     open: &'a mut Open,
     /// Node `(x, y)` is record `y << shift | x`.
     shift: u32,
@@ -548,6 +557,49 @@ struct Search<'a> {
 /// twice the width, so records number below 2^32 (grids have at most 2^31 cells).
 fn index_shift(grid: &Grid) -> u32 {
     grid.width().next_power_of_two().trailing_zeros()
+}
+
+/// The directions a node keeps after a move in direction `d` (the pruning rules of the
+/// crate docs), for each 3 x 3 neighbourhood of the node (as `BitGrid::neighbourhood`
+/// gives it: bit `3 (dy + 1) + dx + 1` set for a free cell at offset `(dx, dy)`).
+static PRUNED: [[u8; 512]; 8] = pruned_table();
+
+/// Builds [`PRUNED`] from the rules.
+const fn pruned_table() -> [[u8; 512]; 8] {
+    const fn free(around: usize, dx: i32, dy: i32) -> bool {
+        around >> (3 * (dy + 1) + dx + 1) & 1 != 0
+    }
+    let mut table = [[0u8; 512]; 8];
+    let mut d = 0;
+    while d < 8 {
+        let (dx, dy) = (DX[d], DY[d]);
+        let mut around = 0;
+        while around < 512 {
+            let mut out = 1u8 << d;
+            if d < 2 {
+                // Forced: the cell beside free, the one beside it one step back blocked.
+                if free(around, 0, 1) && !free(around, -dx, 1) {
+                    out |= 1 << 2 | 1 << diagonal(dx, 1);
+                }
+                if free(around, 0, -1) && !free(around, -dx, -1) {
+                    out |= 1 << 3 | 1 << diagonal(dx, -1);
+                }
+            } else if d < 4 {
+                if free(around, 1, 0) && !free(around, 1, -dy) {
+                    out |= 1 | 1 << diagonal(1, dy);
+                }
+                if free(around, -1, 0) && !free(around, -1, -dy) {
+                    out |= 1 << 1 | 1 << diagonal(-1, dy);
+                }
+            } else {
+                out |= 1 << (dx < 0) as usize | 1 << (2 + (dy < 0) as usize);
+            }
+            table[d][around] = out;
+            around += 1;
+        }
+        d += 1;
+    }
+    table
 }
 
 /// The direction of the last move on the way from `(x, y)` to `(tx, ty)`, diagonal first:
@@ -587,57 +639,50 @@ impl Search<'_> {
     #[inline(always)]
     fn relax(&mut self, parent: u32, g: Cost, x: u32, y: u32, tx: u32, ty: u32) {
         let i = self.index(tx, ty);
-        if self.closed[i as usize] == self.closed_mark {
+        let state = self.state[i as usize];
+        if state == self.closed_mark {
             return; // Closed: known without reading the larger node record.
         }
-        let node = self.nodes[i as usize];
-        let known = node.tag & !TAG_LOW == self.generation;
         let g_new = g + Cost::octile(tx.abs_diff(x), ty.abs_diff(y));
         let direction = 2u32 << last_direction(x, y, tx, ty);
-        if !known || g_new < node.g {
+        if state != self.open_mark {
+            // First reached in this search: the record is written, never read.
             self.tally.n_relaxations += 1;
-            self.tally.n_open_insertions += u64::from(!known);
-            self.nodes[i as usize] = Node {
-                g: g_new,
-                parent,
-                tag: self.generation | direction,
-            };
-            self.push(i, g_new, tx, ty);
-        } else if g_new == node.g {
-            self.nodes[i as usize].tag |= direction;
+            self.tally.n_open_insertions += 1;
+            self.state[i as usize] = self.open_mark;
+        } else {
+            let node = &mut self.nodes[i as usize];
+            if g_new == node.g {
+                node.tag |= direction;
+                return;
+            }
+            if g_new > node.g {
+                return;
+            }
+            self.tally.n_relaxations += 1;
         }
+        self.nodes[i as usize] = Node {
+            g: g_new,
+            parent,
+            tag: self.generation | direction,
+        };
+        self.push(i, g_new, tx, ty);
     }
 
-    /// The directions node `(x, y)` expands, by the pruning rules, for its incoming moves.
-    #[inline]
+    /// The directions node `(x, y)` expands, by the pruning rules, for its incoming moves:
+    /// [`PRUNED`]'s entries for its 3 x 3 neighbourhood.
+    #[inline(always)]
     fn directions(&self, x: u32, y: u32, incoming: u8) -> u8 {
         if incoming == 0 {
             return 0xff;
         }
-        let bits = self.bits;
-        let (x, y) = (x as i32, y as i32);
+        let around = self.bits.neighbourhood(x, y);
         let mut out = 0u8;
         let mut rest = incoming;
         while rest != 0 {
             let d = rest.trailing_zeros() as usize;
             rest &= rest - 1;
-            let (dx, dy) = (DX[d], DY[d]);
-            out |= 1 << d;
-            if d < 2 {
-                for (sy, straight) in [(1, 2), (-1, 3)] {
-                    if bits.free(x, y + sy) && !bits.free(x - dx, y + sy) {
-                        out |= 1 << straight | 1 << diagonal(dx, sy);
-                    }
-                }
-            } else if d < 4 {
-                for (sx, straight) in [(1, 0), (-1, 1)] {
-                    if bits.free(x + sx, y) && !bits.free(x + sx, y - dy) {
-                        out |= 1 << straight | 1 << diagonal(sx, dy);
-                    }
-                }
-            } else {
-                out |= 1 << usize::from(dx < 0) | 1 << (2 + usize::from(dy < 0));
-            }
+            out |= PRUNED[d][around];
         }
         out
     }
@@ -823,6 +868,42 @@ impl Planner for Jps {
             Variant::Jps => self.search::<JPS>(problem, budget),
             Variant::JpsPrime => self.search::<JPS_PRIME>(problem, budget),
             Variant::JpsPlus => self.search::<JPS_PLUS>(problem, budget),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The open-or-closed marks wrap after 32,767 searches; the array is cleared then, so
+    /// no mark of an earlier search reads as this one's.
+    #[test]
+    fn searches_across_the_mark_wrap_agree() {
+        let grid = Grid::from_ascii(
+            "
+            ....
+            .#..
+            ....
+        ",
+        )
+        .unwrap();
+        let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(3, 2)).unwrap();
+        for variant in [Variant::Jps, Variant::JpsPrime, Variant::JpsPlus] {
+            let mut jps = Jps::new(Config {
+                variant,
+                ..Config::default()
+            })
+            .unwrap();
+            let expected = jps.plan(&problem, &Budget::unlimited()).counters;
+            // The next searches use the last mark before the wrap, then mark 1 again, the
+            // first search's.
+            jps.mark = (1 << 15) - 2;
+            for _ in 0..3 {
+                let outcome = jps.plan(&problem, &Budget::unlimited());
+                assert_eq!(outcome.counters, expected, "{variant:?}");
+            }
+            assert_eq!(jps.mark, 2);
         }
     }
 }
