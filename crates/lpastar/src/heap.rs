@@ -85,11 +85,7 @@ impl Heap {
         let items = &mut self.items[..];
         let n = items.len();
         let mut i = 0;
-        loop {
-            let first = 4 * i + 1;
-            let Some(least) = least_child(items, first, n) else {
-                break;
-            };
+        while let Some(least) = least_child(items, 4 * i + 1, n) {
             items[i] = items[least];
             slots.set_slot(items[i].2, slot(i));
             i = least;
@@ -148,10 +144,7 @@ impl Heap {
     fn sift_down(&mut self, mut i: usize, entry: Entry, slots: &mut impl Slots) {
         let items = &mut self.items[..];
         let n = items.len();
-        loop {
-            let Some(least) = least_child(items, 4 * i + 1, n) else {
-                break;
-            };
+        while let Some(least) = least_child(items, 4 * i + 1, n) {
             let best = items[least];
             if !less(best, entry) {
                 break;
@@ -221,7 +214,7 @@ mod tests {
                     model.remove(&v);
                 }
                 1 => {
-                    let popped = heap.pop(&mut slots).map(|(a, b, u)| (a, b, u));
+                    let popped = heap.pop(&mut slots);
                     let least = model.iter().map(|(&u, &(a, b))| (a, b, u)).min();
                     assert_eq!(popped, least);
                     if let Some((_, _, u)) = least {
