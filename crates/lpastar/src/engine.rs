@@ -30,9 +30,8 @@
 //!   `rhs` are unchanged keeps its consistency, so it stays in or out of the queue as it
 //!   was, and its queued key stays a lower bound of its current key (`km` only grows to
 //!   keep it so), which is all the lazy re-keying on pop needs. This saves most key
-//!   updates; the counters count the operations on the papers' queue U actually done
-//!   (insert, update, remove, pop), not how the heap carries them out (a key change is a
-//!   new entry there; the stale entries it skips and drops are not counted).
+//!   updates; the counters count the operations on the papers' queue U (insert, update,
+//!   remove, pop), which the indexed heap carries out one for one.
 //! - Ties: the queue orders by `(k1, k2, row-major index)`, a total order (module `heap`).
 //!   The path is traced from the target by the neighbour minimising `c + g`, the first of
 //!   equal ones in the move order right, left, down, up, then the diagonals.
@@ -42,14 +41,16 @@
 //! neighbour is a fixed offset and needs no bounds test; the padded row-major order is the
 //! grid's, so ties come out as they would by the grid's own index. Per vertex one 24-byte
 //! record holds `g`, `rhs`, a stamp (the session in which they were last written, so a
-//! reset is O(1): older stamps read as `g = rhs = inf`) and the generation of the
-//! vertex's live queue entry (module `heap`: a 4-ary heap with lazy deletion, no
-//! positions), plus one byte for the padded map: 25 bytes a padded cell, allocated zeroed
-//! (committed by the system as touched). A search allocates nothing per expansion.
+//! reset is O(1): older stamps read as `g = rhs = inf`, not queued) and the vertex's
+//! position in the queue (module `heap`: an indexed 4-ary heap, which writes the positions
+//! of the entries it moves into these records), plus one bit for the padded map: 24 bytes
+//! and a bit a padded cell, allocated zeroed (committed by the system as touched). A
+//! cell's moves come from its 3 x 3 block of map bits (three two-byte loads) looked up in
+//! a table. A search allocates nothing per expansion.
 
 use planner_api::{Budget, Cell, Cost, Counters, Grid, MemoryShortfall, Path};
 
-use crate::heap::{tag, tag_generation, tag_vertex, Heap};
+use crate::heap::{Heap, Slots};
 
 const INF: u64 = u64::MAX;
 
@@ -100,6 +101,24 @@ pub enum Computed {
     OverMemory(MemoryShortfall),
 }
 
+/// Bytes of the bit map of `padded` cells: a bit a cell and two bytes of slack (for the
+/// two-byte loads of [`Engine::legal`]).
+fn bits_len(padded: u64) -> usize {
+    (padded / 8) as usize + 3
+}
+
+/// Sets padded cell `p`'s bit to `free`.
+#[inline]
+fn set_bit(bits: &mut [u8], p: usize, free: bool) {
+    if let Some(byte) = bits.get_mut(p / 8) {
+        if free {
+            *byte |= 1 << (p % 8);
+        } else {
+            *byte &= !(1 << (p % 8));
+        }
+    }
+}
+
 /// The moves in the order the engine tries them (the trace's tie order): right, left,
 /// down, up, then the diagonals; `(dx, dy, cost in Cost units)`.
 const MOVES: [(i32, i32, u64); 8] = [
@@ -144,10 +163,20 @@ fn move_table(eight: bool) -> Vec<u8> {
         .collect()
 }
 
-/// A vertex's record: `g`, `rhs`, and `meta` = stamp (low 32 bits) and the generation of
-/// its live queue entry (high 32 bits, 0 when not queued). Stored as an array so that a
-/// zeroed allocation is a valid, empty state.
+/// A vertex's record: `g`, `rhs`, and `meta` = stamp (low 32 bits) and the vertex's
+/// position in the queue (high 32 bits: index + 1, 0 when not queued). Stored as an array
+/// so that a zeroed allocation is a valid, empty state.
 type Record = [u64; 3];
+
+/// The records as the heap's position store. Only current records are queued, so the
+/// stamp is kept as it is.
+impl Slots for Vec<Record> {
+    #[inline(always)]
+    fn set_slot(&mut self, v: u32, slot: u32) {
+        let meta = &mut self[v as usize][2];
+        *meta = u64::from(slot) << 32 | (*meta & 0xffff_ffff);
+    }
+}
 
 /// The incremental search (see the [module docs](self)).
 #[derive(Debug, Clone)]
@@ -158,8 +187,10 @@ pub struct Engine {
     height: u32,
     /// Padded width: `width + 2`.
     stride: u32,
-    /// The padded map: free cells, with a blocked border.
-    free: Vec<bool>,
+    /// The padded map, a bit per cell (bit `p % 8` of byte `p / 8` set when padded cell
+    /// `p` is free), with a blocked border and two bytes of slack; empty when the grid is
+    /// too large for 32-bit vertex indices.
+    bits: Vec<u8>,
     steps: [Step; 8],
     /// The legal moves (bits in [`MOVES`] order) of each 3 x 3 block of free flags
     /// (bit `3 * (dy + 1) + dx + 1` for the cell at offset `(dx, dy)`).
@@ -167,10 +198,6 @@ pub struct Engine {
     records: Vec<Record>,
     session: u32,
     heap: Heap,
-    /// Queued vertices (live heap entries).
-    live: usize,
-    /// The next queue entry's generation (never 0).
-    next_generation: u32,
     root: u32,
     target: u32,
     /// The target's padded coordinates.
@@ -192,14 +219,12 @@ impl Engine {
             width: 0,
             height: 0,
             stride: 2,
-            free: Vec::new(),
+            bits: Vec::new(),
             steps: [Step::default(); 8],
             table: move_table(eight),
             records: Vec::new(),
             session: 0,
             heap: Heap::default(),
-            live: 0,
-            next_generation: 1,
             root: 0,
             target: 0,
             target_xy: (0, 0),
@@ -260,7 +285,7 @@ impl Engine {
         let padded = u64::from(self.stride) * (u64::from(self.height) + 2);
         let fits = padded <= u64::from(u32::MAX);
         match self.grid.as_mut() {
-            Some(old) if same_shape && fits && self.free.len() == padded as usize => {
+            Some(old) if same_shape && fits && self.bits.len() == bits_len(padded) => {
                 let (w, stride) = (self.width as usize, self.stride as usize);
                 const BLOCK: usize = 256;
                 for (b, block) in grid.free_cells().chunks(BLOCK).enumerate() {
@@ -273,7 +298,7 @@ impl Engine {
                         if old.free_cells()[i] != free {
                             let cell = old.cell(i);
                             old.set_free(cell, free);
-                            self.free[(i / w + 1) * stride + i % w + 1] = free;
+                            set_bit(&mut self.bits, (i / w + 1) * stride + i % w + 1, free);
                         }
                     }
                 }
@@ -281,21 +306,20 @@ impl Engine {
             _ => {
                 self.grid = Some(grid.clone());
                 if fits {
-                    let n = padded as usize;
-                    if self.free.len() != n {
-                        self.free.clear();
-                        self.free.resize(n, false);
-                    } else {
-                        // The border must be blocked; the interior is overwritten below.
-                        self.free.fill(false);
-                    }
+                    // Blocked everywhere, then the free cells set.
+                    self.bits.clear();
+                    self.bits.resize(bits_len(padded), 0);
                     let (w, stride) = (self.width as usize, self.stride as usize);
                     for (y, row) in grid.free_cells().chunks(w.max(1)).enumerate() {
                         let at = (y + 1) * stride + 1;
-                        self.free[at..at + row.len()].copy_from_slice(row);
+                        for (x, &free) in row.iter().enumerate() {
+                            if free {
+                                set_bit(&mut self.bits, at + x, true);
+                            }
+                        }
                     }
                 } else {
-                    self.free = Vec::new();
+                    self.bits = Vec::new();
                 }
             }
         }
@@ -363,7 +387,7 @@ impl Engine {
         };
         self.affected.clear();
         let (width, height, stride) = (self.width, self.height, self.stride);
-        let padded = !self.free.is_empty();
+        let padded = !self.bits.is_empty();
         for &(cell, free) in changes {
             if grid.is_free(cell) == free {
                 continue;
@@ -371,7 +395,7 @@ impl Engine {
             grid.set_free(cell, free);
             let v = (cell.y + 1) * stride + cell.x + 1;
             if padded {
-                self.free[v as usize] = free;
+                set_bit(&mut self.bits, v as usize, free);
             }
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
@@ -416,7 +440,7 @@ impl Engine {
         let needed = BYTES_PER_CELL.saturating_mul(padded);
         budget.check_memory(needed, grid)?;
         if padded > u64::from(u32::MAX) {
-            // Vertices and their queue tags are 32-bit: at most 2^32 - 1 padded cells.
+            // Vertices and queue positions are 32-bit: at most 2^32 - 1 padded cells.
             return Err(MemoryShortfall {
                 needed_bytes: needed,
                 max_memory_mb: (BYTES_PER_CELL * u64::from(u32::MAX)) >> 20,
@@ -429,9 +453,8 @@ impl Engine {
             self.records = vec![[0; 3]; n];
             self.session = 0;
         }
+        // The queued vertices' records are of the old session: they read as not queued.
         self.heap.clear();
-        self.live = 0;
-        self.next_generation = 1;
         self.session = self.session.wrapping_add(1);
         if self.session == 0 {
             // After 2^32 sessions the stamps could collide: clear them once.
@@ -462,17 +485,9 @@ impl Engine {
         let mut expanded = 0u64;
         let t = self.target as usize;
         let steps = self.steps;
-        while let Some((k1, k2, entry_tag)) = self.heap.peek() {
-            let u = tag_vertex(entry_tag);
+        while let Some((k1, k2, u)) = self.heap.peek() {
             let ui = u as usize;
             let record = self.records[ui];
-            if record[2] as u32 != self.session
-                || (record[2] >> 32) as u32 != tag_generation(entry_tag)
-            {
-                // A stale entry: the vertex's key changed or it left the queue since.
-                self.heap.pop();
-                continue;
-            }
             // key(target): h(target, target) = 0.
             let (g_t, rhs_t) = (self.g_of(t), self.rhs_of(t));
             let m_t = g_t.min(rhs_t);
@@ -483,18 +498,18 @@ impl Engine {
             let xy = self.xy(u);
             let new_key = self.key_with(g_u.min(rhs_u), xy);
             if (k1, k2) < new_key {
-                self.heap.replace_top((new_key.0, new_key.1, entry_tag));
+                self.heap
+                    .update(1, (new_key.0, new_key.1, u), &mut self.records);
                 self.stats.heap_updates += 1;
                 continue;
             }
             if !clock.allows(expanded) {
                 return Computed::Exhausted;
             }
-            self.heap.pop();
             expanded += 1;
             self.stats.expanded += 1;
-            self.set_queued(ui, 0);
             if g_u > rhs_u {
+                self.heap.pop(&mut self.records);
                 self.stats.heap_pops += 1;
                 self.records[ui][0] = rhs_u;
                 let mut legal = self.legal(ui);
@@ -533,15 +548,16 @@ impl Engine {
                         }
                     }
                 }
-                // u's own rhs does not depend on its g; it is re-queued or dropped.
-                // (Its entry was popped above: a key change, or the removal of the least.)
+                // u's own rhs does not depend on its g; it stays queued with its new key
+                // (it may no longer be on top) or leaves the queue, counted as the pop
+                // of the least.
+                let at = self.slot_of(ui);
                 if rhs_u != INF {
                     let (k1, k2) = self.key_with(rhs_u, xy);
-                    let generation = self.new_generation();
-                    self.set_queued(ui, generation);
-                    self.heap.push((k1, k2, tag(u, generation)));
+                    self.heap.update(at, (k1, k2, u), &mut self.records);
                     self.stats.heap_updates += 1;
                 } else {
+                    self.heap.remove(at, &mut self.records);
                     self.stats.heap_pops += 1;
                 }
             }
@@ -630,16 +646,14 @@ impl Engine {
         }
     }
 
-    /// Records `generation` as `i`'s live entry (0: not queued). `i` is current.
+    /// `i`'s position in the queue (index + 1), 0 when not queued.
     #[inline]
-    fn set_queued(&mut self, i: usize, generation: u32) {
-        let was = (self.records[i][2] >> 32) as u32;
-        match (was != 0, generation != 0) {
-            (false, true) => self.live += 1,
-            (true, false) => self.live -= 1,
-            _ => {}
+    fn slot_of(&self, i: usize) -> u32 {
+        if self.current(i) {
+            (self.records[i][2] >> 32) as u32
+        } else {
+            0
         }
-        self.records[i][2] = u64::from(generation) << 32 | u64::from(self.session);
     }
 
     /// Makes `i`'s record current: older records read as `g = rhs = inf`, not queued.
@@ -666,7 +680,11 @@ impl Engine {
     /// `rhs(u)` from scratch: 0 at a free root, else the least `c(u, s) + g(s)`.
     fn fresh_rhs(&self, u: u32) -> u64 {
         let ui = u as usize;
-        if !self.free[ui] {
+        if self
+            .bits
+            .get(ui / 8)
+            .is_none_or(|&byte| byte >> (ui % 8) & 1 == 0)
+        {
             return INF;
         }
         if u == self.root {
@@ -687,12 +705,16 @@ impl Engine {
     /// its 3 x 3 block of the padded map looked up in the move table.
     #[inline]
     fn legal(&self, u: usize) -> u8 {
-        let (f, w) = (&self.free, self.stride as usize);
-        let row = |at: usize| {
-            usize::from(f[at - 1]) | usize::from(f[at]) << 1 | usize::from(f[at + 1]) << 2
+        let (bits, w) = (&self.bits[..], self.stride as usize);
+        // Three bits from bit `at` on: one range check and one two-byte load (out of
+        // range cannot happen for an interior vertex, two bytes of slack; it reads as
+        // blocked).
+        let three = |at: usize| match bits.get(at / 8..at / 8 + 2) {
+            Some(&[low, high]) => usize::from(u16::from_le_bytes([low, high])) >> (at % 8) & 7,
+            _ => 0,
         };
-        let code = row(u - w) | row(u) << 3 | row(u + w) << 6;
-        self.table[code]
+        let code = three(u - w - 1) | three(u - 1) << 3 | three(u + w - 1) << 6;
+        self.table.get(code).copied().unwrap_or(0)
     }
 
     /// `key = [m + h(xy, target) + km; m]` for `m = min(g, rhs)` of the vertex at `xy`.
@@ -710,59 +732,25 @@ impl Engine {
     fn update_vertex(&mut self, u: u32, xy: (u32, u32)) {
         let i = u as usize;
         let record = self.records[i];
-        let (g, rhs, queued) = if record[2] as u32 == self.session {
-            (record[0], record[1], record[2] >> 32 != 0)
+        let (g, rhs, at) = if record[2] as u32 == self.session {
+            (record[0], record[1], (record[2] >> 32) as u32)
         } else {
-            (INF, INF, false)
+            (INF, INF, 0)
         };
         if g != rhs {
-            let (k1, k2) = self.key_with(g.min(rhs), xy);
-            let generation = self.new_generation();
             // The record is current: g != rhs means one was set this session.
-            self.records[i][2] = u64::from(generation) << 32 | u64::from(self.session);
-            self.heap.push((k1, k2, tag(u, generation)));
-            if queued {
+            let (k1, k2) = self.key_with(g.min(rhs), xy);
+            if at != 0 {
+                self.heap.update(at, (k1, k2, u), &mut self.records);
                 self.stats.heap_updates += 1;
             } else {
-                self.live += 1;
+                self.heap.push((k1, k2, u), &mut self.records);
                 self.stats.heap_pushes += 1;
             }
-            if self.heap.len() > self.live + self.live / 4 + 64 {
-                self.compact();
-            }
-        } else if queued {
-            self.set_queued(i, 0);
+        } else if at != 0 {
+            self.heap.remove(at, &mut self.records);
             self.stats.heap_removes += 1;
         }
-    }
-
-    /// A generation for a new queue entry; renumbers the live entries first when the
-    /// counter would wrap.
-    fn new_generation(&mut self) -> u32 {
-        if self.next_generation == u32::MAX {
-            self.compact();
-        }
-        let generation = self.next_generation;
-        self.next_generation += 1;
-        generation
-    }
-
-    /// Drops the stale queue entries and renumbers the live ones from 1.
-    fn compact(&mut self) {
-        let mut next = 1u32;
-        let session = self.session;
-        let records = &mut self.records;
-        self.heap.retain(|entry_tag| {
-            let record = records[tag_vertex(entry_tag) as usize][2];
-            record as u32 == session && (record >> 32) as u32 == tag_generation(entry_tag)
-        });
-        self.heap.retag(|v| {
-            let generation = next;
-            next += 1;
-            records[v as usize][2] = u64::from(generation) << 32 | u64::from(session);
-            tag(v, generation)
-        });
-        self.next_generation = next;
     }
 
     /// The heuristic between two padded coordinates: Manhattan (4 moves) or octile (8),

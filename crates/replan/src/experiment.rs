@@ -552,6 +552,17 @@ enum RunResult {
 }
 
 impl RunRow {
+    /// The row's identity, `(map, scenario line, setting, planner)`, the names escaped
+    /// for the output (`csv` or `md`): one rule for every text output that names a run.
+    fn identity(&self, escape: fn(&str) -> String) -> (String, usize, u64, String) {
+        (
+            escape(&self.map),
+            self.line,
+            self.setting,
+            escape(&self.planner),
+        )
+    }
+
     fn replans(&self) -> &[ReplanRecord] {
         match &self.result {
             RunResult::Nav(r) => &r.replans,
@@ -829,13 +840,10 @@ fn write_results(
             RunResult::Nav(r) => (r.reached.to_string(), r.steps),
             RunResult::Toggle(_) => (String::new(), 0),
         };
+        let (map, line, setting, planner) = row.identity(csv);
         let _ = write!(
             runs_csv,
-            "{},{},{},{},{reached},{steps},{},{},{},{}",
-            csv(&row.map),
-            row.line,
-            row.setting,
-            csv(&row.planner),
+            "{map},{line},{setting},{planner},{reached},{steps},{},{},{},{}",
             row.replans().len(),
             row.expansions(),
             row.oracle_expansions(),
@@ -1115,13 +1123,10 @@ fn summary_md(
         out.push('\n');
         for r in rows {
             for m in r.mismatches() {
+                let (map, line, value, planner) = r.identity(md);
                 let _ = writeln!(
                     out,
-                    "- MISMATCH {} line {} {setting} {} {}: {}",
-                    md(&r.map),
-                    r.line,
-                    r.setting,
-                    md(&r.planner),
+                    "- MISMATCH {map} line {line} {setting} {value} {planner}: {}",
                     md(&m.to_string())
                 );
             }
