@@ -67,6 +67,7 @@ def run_experiment(
     *,
     threads: int = 0,
     output: _Optional[_Union[str, "_os.PathLike[str]"]] = None,
+    lock_wait: float = 120.0,
 ) -> _Union["pandas.DataFrame", _List[_Dict[str, _Any]]]:  # noqa: F821
     """Runs the experiment config ``config`` (a ``configs/*.toml`` file) and returns its
     records in the run order (map, problem, planner label, repeat), one per run, with
@@ -80,11 +81,15 @@ def run_experiment(
     empty or gridplan-marked directory is replaced, atomically; anything else raises
     ``OutputError`` and is left untouched. The records returned are then runs.json's.
     Without it nothing is written.
+
+    ``lock_wait``: with ``output``, how many seconds to wait for another sweep writing the
+    same output (which holds its lock from start to end) before raising ``OutputError``.
     """
     columns, rows = _run_experiment_rows(
         _os.fspath(config),
         threads=threads,
         output=None if output is None else _os.fspath(output),
+        lock_wait=lock_wait,
     )
     try:
         import pandas

@@ -207,6 +207,7 @@ def run_experiment(
     *,
     threads: int = 0,
     output: Optional[Union[str, "os.PathLike[str]"]] = None,
+    lock_wait: float = 120.0,
 ) -> Any:
     """Runs an experiment config; its records with runs.csv's columns, as a pandas
     DataFrame when pandas is installed, else a list of dicts."""

@@ -7,11 +7,12 @@
 //! which the package's tests would show.
 
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
-use planner_runner::provenance::{Facts, Machine};
 use planner_runner::record::RunRecord;
 use planner_runner::sweep::SweepArgs;
 use planner_runner::{RunOptions, RunnerError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use pyo3::IntoPyObjectExt;
@@ -24,20 +25,27 @@ use crate::errors::{guarded, Failure};
 ///
 /// With `output`, the sweep is the command line's ([`planner_runner::sweep::experiment`]:
 /// the results directory written under [`planner_runner::outdir`]'s rules) and the rows
-/// are the records of the runs.json it wrote.
+/// are the records of the runs.json it wrote; `lock_wait` is how many seconds it waits
+/// for another sweep on the same output ([`SweepArgs::lock_wait`]).
 #[pyfunction]
-#[pyo3(signature = (config, *, threads = 0, output = None))]
+#[pyo3(signature = (config, *, threads = 0, output = None, lock_wait = 120.0))]
 pub fn run_experiment_rows(
     py: Python<'_>,
     config: PathBuf,
     threads: usize,
     output: Option<PathBuf>,
+    lock_wait: f64,
 ) -> PyResult<Py<PyTuple>> {
+    let lock_wait = Duration::try_from_secs_f64(lock_wait).map_err(|_| {
+        PyValueError::new_err(format!(
+            "lock_wait: {lock_wait} is not a number of seconds (0 or more)"
+        ))
+    })?;
     let (columns, records) = py.detach(move || {
         guarded(|| {
             let records = match &output {
                 None => sweep(&config, threads)?,
-                Some(dir) => sweep_to(&config, threads, dir)?,
+                Some(dir) => sweep_to(&config, threads, dir, lock_wait)?,
             };
             Ok((csv_columns(&records), records))
         })
@@ -68,50 +76,29 @@ fn sweep(config: &Path, threads: usize) -> Result<Vec<RunRecord>, Failure> {
 
 /// The records of a sweep of `config` written to the results directory `dir`, as the
 /// command line writes it.
-fn sweep_to(config: &Path, threads: usize, dir: &Path) -> Result<Vec<RunRecord>, Failure> {
+fn sweep_to(
+    config: &Path,
+    threads: usize,
+    dir: &Path,
+    lock_wait: Duration,
+) -> Result<Vec<RunRecord>, Failure> {
     // The sweep's errors are typed (the config's, the output's, a figure mismatch found
     // late): each becomes its exception class.
     let renderer = planner_paper::renderer();
-    let machine = machine(config);
+    // The commit and host, gathered as the command line gathers them (the runner reads
+    // no environment and starts no process).
+    let machine = gridplan::machine(config);
     let args = SweepArgs {
         threads,
         output: Some(dir),
         machine: &machine,
         heap: Some(&planner_runner::alloc::Meter),
         keep_records: true,
+        lock_wait,
         ..SweepArgs::new(config, &renderer)
     };
     let report = planner_runner::sweep::experiment(&args)?;
     Ok(report.records)
-}
-
-/// The commit and host of a sweep of `config`'s provenance (the runner reads no
-/// environment and starts no process; the command line's `gridplan::machine` does the
-/// same): `/proc/sys/kernel/hostname`, else `$HOSTNAME`, and `git` in the config's
-/// directory.
-fn machine(config: &Path) -> Machine {
-    let dir = config
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let git = |args: &[&str]| {
-        std::process::Command::new("git")
-            .arg("-C")
-            .arg(dir)
-            .args(args)
-            .stdin(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
-    };
-    Machine::from_facts(Facts {
-        hostname_file: std::fs::read_to_string("/proc/sys/kernel/hostname").ok(),
-        hostname_env: std::env::var("HOSTNAME").ok(),
-        git_head: git(&["rev-parse", "HEAD"]),
-        git_status: git(&["status", "--porcelain", "--untracked-files=no"]),
-    })
 }
 
 /// runs.csv's header for `records`, as planner-runner writes it.

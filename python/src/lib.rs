@@ -32,6 +32,8 @@ static ALLOCATOR: planner_runner::alloc::Counting = planner_runner::alloc::Count
 /// `read_map`, `planners`, `plan` and `run_experiment_rows`.
 #[pymodule]
 fn _gridplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // The output locks this process takes name it (the runner reads no process state).
+    planner_runner::outdir::set_lock_holder(std::process::id());
     m.add_class::<grid::Grid>()?;
     m.add_class::<grid::MapProblem>()?;
     m.add_class::<plan::Outcome>()?;

@@ -61,3 +61,36 @@ def test_too_many_threads_is_a_value_error_in_memory_and_on_disk(tmp_path):
             gridplan.run_experiment(CONFIGS / "paper.toml", threads=100_000, output=output)
         assert not isinstance(info.value, gridplan.GridplanError)
         assert "100000 worker threads" in str(info.value)
+
+
+def test_an_output_another_sweep_holds_is_an_output_error(tmp_path):
+    # A sweep writing `out` holds an OS file lock (flock) on `.out.stream.lock` from its
+    # start to its end, the file naming its pid. Taken here as the runner takes it, a
+    # second sweep on `out` waits `lock_wait` seconds for it, then raises OutputError
+    # naming the holder, and writes nothing.
+    import fcntl
+
+    config = small_config(tmp_path, MAPS / "paper" / "map01.map")
+    output = tmp_path / "out"
+    with open(tmp_path / ".out.stream.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        lock.write("4242\n")
+        lock.flush()
+        with pytest.raises(gridplan.OutputError) as info:
+            gridplan.run_experiment(config, output=output, lock_wait=0.5)
+        message = str(info.value)
+        assert "is being written by another gridplan run (pid 4242)" in message, message
+        assert ".out.stream.lock" in message, message
+        assert not output.exists()
+    # Released, the same sweep runs.
+    rows = gridplan.run_experiment(config, output=output, lock_wait=0.5)
+    assert len(rows) == 4
+    assert (output / "runs.csv").is_file()
+
+
+def test_a_negative_lock_wait_is_a_value_error(tmp_path):
+    config = small_config(tmp_path, MAPS / "paper" / "map01.map")
+    with pytest.raises(ValueError) as info:
+        gridplan.run_experiment(config, output=tmp_path / "out", lock_wait=-1)
+    assert "lock_wait" in str(info.value)
+    assert not (tmp_path / "out").exists()

@@ -37,6 +37,8 @@ enum Command {
 
 fn main() -> ExitCode {
     gridplan::init_logging();
+    // The lock files this process takes name it (the runner reads no process state).
+    planner_runner::outdir::set_lock_holder(std::process::id());
     gridplan::exit(run(Cli::parse().command))
 }
 

@@ -410,31 +410,197 @@ fn no_dependency_declares_a_rust_version_above_the_msrv() {
 /// The crates whose functions stay short and whose public errors are typed.
 const LAYERED_SOURCES: &[&str] = &["crates/runner/src", "crates/report/src", "crates/paper/src"];
 
-/// Every function of `text`: (name, first line, number of lines), a function ending at the
-/// first line that is its indentation followed by `}` (rustfmt's layout).
+/// Every function with a body in the Rust source `text`: (name, line of its `fn`,
+/// lines from there to its closing brace, both counted). A scan that matches braces,
+/// passing over comments, string, byte, raw string and char literals (a lifetime is not
+/// a char), so any layout counts, not only rustfmt's; every `fn` counts, nested ones too
+/// (their lines count in the outer one as well), whatever its qualifiers (`pub(super)`,
+/// `const`, `async`, `unsafe`, `extern`). A `fn` without a name (a function pointer type)
+/// or without a body (a trait's declaration) is none.
 fn functions(text: &str) -> Vec<(String, usize, usize)> {
-    let lines: Vec<&str> = text.lines().collect();
+    let chars: Vec<char> = text.chars().collect();
+    // Each char's line (1-based), and a mask of the chars that are code (not comments or
+    // literals): what the brace matching reads.
+    let mut line_of = Vec::with_capacity(chars.len());
+    let mut code = vec![true; chars.len()];
+    let mut line = 1;
+    let mut i = 0;
+    while i < chars.len() {
+        let skip_to = literal_or_comment_end(&chars, i);
+        let end = skip_to.unwrap_or(i + 1);
+        for (j, &c) in chars.iter().enumerate().take(end).skip(i) {
+            line_of.push(line);
+            if skip_to.is_some() {
+                code[j] = false;
+            }
+            if c == '\n' {
+                line += 1;
+            }
+        }
+        i = end;
+    }
+    let is_ident = |c: char| c.is_alphanumeric() || c == '_';
     let mut out = Vec::new();
-    for (i, line) in lines.iter().enumerate() {
-        let trimmed = line.trim_start();
-        let indent = &line[..line.len() - trimmed.len()];
-        let rest = trimmed
-            .strip_prefix("pub(crate) ")
-            .or_else(|| trimmed.strip_prefix("pub "))
-            .unwrap_or(trimmed);
-        let Some(after) = rest.strip_prefix("fn ") else {
+    for i in 0..chars.len() {
+        let word_start = code[i] && (i == 0 || !is_ident(chars[i - 1]));
+        if !(word_start && chars[i] == 'f' && chars.get(i + 1) == Some(&'n')) {
             continue;
-        };
-        let name: String = after
-            .chars()
-            .take_while(|c| c.is_alphanumeric() || *c == '_')
-            .collect();
-        let close = format!("{indent}}}");
-        if let Some(end) = lines[i..].iter().position(|l| *l == close) {
-            out.push((name, i + 1, end + 1));
+        }
+        let mut j = i + 2;
+        if chars.get(j).is_none_or(|c| !c.is_whitespace()) {
+            continue;
+        }
+        while chars.get(j).is_some_and(|c| c.is_whitespace()) {
+            j += 1;
+        }
+        let name: String = chars[j..].iter().take_while(|&&c| is_ident(c)).collect();
+        if name.is_empty() || name.starts_with(|c: char| c.is_ascii_digit()) {
+            continue;
+        }
+        // The body: the first `{` outside parentheses and brackets, unless a `;` comes first.
+        let mut depth = 0i32;
+        let mut open = None;
+        for k in j + name.len()..chars.len() {
+            if !code[k] {
+                continue;
+            }
+            match chars[k] {
+                '(' | '[' => depth += 1,
+                ')' | ']' => depth -= 1,
+                ';' if depth == 0 => break,
+                '{' if depth == 0 => {
+                    open = Some(k);
+                    break;
+                }
+                _ => {}
+            }
+        }
+        let Some(open) = open else { continue };
+        let mut braces = 0i32;
+        for k in open..chars.len() {
+            if !code[k] {
+                continue;
+            }
+            match chars[k] {
+                '{' => braces += 1,
+                '}' => braces -= 1,
+                _ => {}
+            }
+            if braces == 0 {
+                out.push((name, line_of[i], line_of[k] - line_of[i] + 1));
+                break;
+            }
         }
     }
     out
+}
+
+/// Where the comment or literal starting at `chars[i]` ends (one past it), or `None` when
+/// none starts there.
+fn literal_or_comment_end(chars: &[char], i: usize) -> Option<usize> {
+    let at = |k: usize| chars.get(k).copied();
+    let find = |from: usize, pat: &[char]| {
+        (from..chars.len())
+            .find(|&k| chars[k..].starts_with(pat))
+            .map_or(chars.len(), |k| k + pat.len())
+    };
+    let prev_ident = i > 0 && (chars[i - 1].is_alphanumeric() || chars[i - 1] == '_');
+    match (at(i)?, at(i + 1)) {
+        ('/', Some('/')) => Some(find(i, &['\n'])),
+        ('/', Some('*')) => {
+            // Block comments nest.
+            let (mut depth, mut k) = (0, i);
+            while k < chars.len() {
+                if chars[k..].starts_with(&['/', '*']) {
+                    depth += 1;
+                    k += 2;
+                } else if chars[k..].starts_with(&['*', '/']) {
+                    depth -= 1;
+                    k += 2;
+                    if depth == 0 {
+                        return Some(k);
+                    }
+                } else {
+                    k += 1;
+                }
+            }
+            Some(chars.len())
+        }
+        ('r' | 'b', _) if !prev_ident => {
+            // r"..", r#".."#, b"..", br#".."#, b'.'.
+            let mut k = i + 1;
+            if chars[i] == 'b' && at(k) == Some('r') {
+                k += 1;
+            }
+            let raw = chars[i] == 'r' || k == i + 2;
+            if raw {
+                let hashes = chars[k..].iter().take_while(|&&c| c == '#').count();
+                if at(k + hashes) != Some('"') {
+                    return None;
+                }
+                let mut close = vec!['"'];
+                close.extend(std::iter::repeat_n('#', hashes));
+                Some(find(k + hashes + 1, &close))
+            } else {
+                match at(k) {
+                    Some('"') => Some(quoted_end(chars, k, '"')),
+                    Some('\'') => Some(quoted_end(chars, k, '\'')),
+                    _ => None,
+                }
+            }
+        }
+        ('"', _) => Some(quoted_end(chars, i, '"')),
+        // A char literal ('x', '\n', '\u{7f}'), not a lifetime ('a).
+        ('\'', Some('\\')) => Some(quoted_end(chars, i, '\'')),
+        ('\'', Some(_)) if at(i + 2) == Some('\'') => Some(i + 3),
+        _ => None,
+    }
+}
+
+/// One past the closing `quote` of the literal opened at `chars[open]`, escapes skipped.
+fn quoted_end(chars: &[char], open: usize, quote: char) -> usize {
+    let mut k = open + 1;
+    while k < chars.len() {
+        match chars[k] {
+            '\\' => k += 2,
+            c if c == quote => return k + 1,
+            _ => k += 1,
+        }
+    }
+    chars.len()
+}
+
+/// The scan on a fixture with every trap it passes over: braces in strings, raw strings,
+/// chars, comments; lifetimes; a nested fn; a bodiless trait fn with `[u8; 4]`; a
+/// function pointer type; qualifiers; a layout rustfmt would not write.
+#[test]
+fn the_function_scan_matches_braces_past_literals_and_comments() {
+    let fixture = r####"//! Fixture.
+pub(super) const fn a<'x>(s: &'x str) -> &'x str {
+    let _ = "}}}"; let _ = '}'; let _ = '\'';
+    // }
+    /* { /* nested } */ } */
+    let _ = r#"}"#; let _ = b'{'; let _ = br"}";
+    s
+}
+trait T { fn declared(&self, b: [u8; 4]) -> u8; }
+fn takes(f: fn(u8) -> u8) -> u8 { f(1) }
+unsafe extern "C" fn outer() {
+    fn inner() -> char { '{' }
+    inner();
+  }
+async fn last() {}
+"####;
+    assert_eq!(
+        functions(fixture),
+        vec![
+            ("a".to_string(), 2, 7),
+            ("takes".to_string(), 10, 1),
+            ("outer".to_string(), 11, 4),
+            ("inner".to_string(), 12, 1),
+            ("last".to_string(), 15, 1),
+        ]
+    );
 }
 
 #[test]
@@ -455,6 +621,40 @@ fn no_function_of_the_runner_report_or_paper_is_over_100_lines() {
     }
     if let Some((file, name, line, n)) = long.first() {
         panic!("{file}:{line}: fn {name} has {n} lines; split it (at most 100)");
+    }
+}
+
+/// What the layered crates' sources may not name outside their tests: the process's
+/// environment, current directory, executable, id, exit and child processes belong to
+/// the command line, xtask and the Python package, which pass what the library needs as
+/// arguments (ARCHITECTURE.md, "Layers").
+const PROCESS_FORBIDDEN: &[&str] = &["std::env", "std::process"];
+
+#[test]
+fn the_runner_report_and_paper_read_no_process_state() {
+    for dir in LAYERED_SOURCES {
+        let mut files = Vec::new();
+        rust_files(&root().join(dir), &mut files);
+        assert!(!files.is_empty(), "{dir} has no Rust files");
+        for file in files {
+            let relative = file.strip_prefix(root()).unwrap().display().to_string();
+            let text = std::fs::read_to_string(&file).unwrap();
+            // A file's unit tests (its `#[cfg(test)]` module, last by convention) may.
+            for (n, line) in text
+                .lines()
+                .enumerate()
+                .take_while(|(_, l)| l.trim() != "#[cfg(test)]")
+            {
+                let code = line.split("//").next().unwrap_or_default();
+                for word in PROCESS_FORBIDDEN {
+                    assert!(
+                        !code.contains(word),
+                        "{relative}:{}: `{word}`: the runner, report and paper read no process state; take it as an argument from the caller (cli, xtask, python)",
+                        n + 1
+                    );
+                }
+            }
+        }
     }
 }
 

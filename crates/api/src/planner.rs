@@ -1,5 +1,6 @@
 //! The [`Planner`] trait, problems, budgets and outcomes.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
@@ -77,7 +78,14 @@ impl<'g> Problem<'g> {
 /// never part of a config (the runner turns it on to draw search-effort figures, in a
 /// run apart from the timed one); a planner that does not support it leaves the list
 /// empty and says so in its docs.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+///
+/// A [`Budget::cancel`] flag stops a search from another thread (a server's cancel
+/// button, an interrupt): the search ends as if its budget had run out, with status
+/// [`Status::BudgetExhausted`] (a cancelled search is one whose budget the caller cut to
+/// what it had done; [`BudgetClock::is_cancelled`] tells the two apart). The flag is read
+/// where the clock is, every [`BudgetClock::TIME_CHECK_INTERVAL`] expansions, so a search
+/// without one pays nothing per expansion. It is never part of a config.
+#[derive(Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Budget {
     /// Stop after this many expansions (each planner says what one expansion is).
@@ -93,7 +101,95 @@ pub struct Budget {
     /// serde); off in timed runs.
     #[serde(skip)]
     pub record_expanded: bool,
+    /// Stop when this flag is raised (read every [`BudgetClock::TIME_CHECK_INTERVAL`]
+    /// expansions). Not a config key (skipped by serde); `None`: nothing cancels.
+    #[serde(skip)]
+    pub cancel: Option<CancelFlag>,
 }
+
+/// The fields a derived `Debug` would print, `cancel` only when set: runs hash a budget's
+/// `Debug` text to tell whether a resumed sweep is the same, so it must not change for
+/// budgets without one.
+impl std::fmt::Debug for Budget {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut out = f.debug_struct("Budget");
+        out.field("max_expansions", &self.max_expansions)
+            .field("max_time", &self.max_time)
+            .field("max_memory_mb", &self.max_memory_mb)
+            .field("record_expanded", &self.record_expanded);
+        if let Some(cancel) = self.cancel {
+            out.field("cancel", &cancel);
+        }
+        out.finish()
+    }
+}
+
+/// A flag that cancels the searches whose [`Budget::cancel`] holds it: a handle (`Copy`,
+/// as a [`Budget`] is) to an atomic flag that lives as long as the program.
+/// [`CancelFlag::new`] allocates one that is never freed, so a long-running caller keeps
+/// a few and [`CancelFlag::reset`]s them for reuse (the server keeps one per concurrent
+/// plan); [`CancelFlag::from_static`] wraps a `static` (an interrupt handler's).
+///
+/// ```
+/// use planner_api::{Budget, CancelFlag};
+///
+/// let flag = CancelFlag::new();
+/// let budget = Budget::unlimited().with_cancel(flag);
+/// let mut clock = budget.start();
+/// assert!(clock.allows(0));
+/// flag.cancel();
+/// // The flag is read every TIME_CHECK_INTERVAL expansions, as the clock is.
+/// let allowed = (1..10_000).take_while(|&n| clock.allows(n)).count();
+/// assert!(allowed < 2048 && clock.is_exhausted() && clock.is_cancelled());
+/// flag.reset();
+/// assert!(!budget.is_cancelled());
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct CancelFlag(&'static AtomicBool);
+
+impl CancelFlag {
+    /// A new flag, not raised; its one byte is never freed (reuse it: [`CancelFlag::reset`]).
+    pub fn new() -> CancelFlag {
+        CancelFlag(Box::leak(Box::new(AtomicBool::new(false))))
+    }
+
+    /// The flag `flag`, a `static` that the caller raises (say, from a signal handler's
+    /// thread) with [`CancelFlag::cancel`] or by storing `true`.
+    pub const fn from_static(flag: &'static AtomicBool) -> CancelFlag {
+        CancelFlag(flag)
+    }
+
+    /// Raises the flag: every search holding it stops at its next check.
+    pub fn cancel(self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// Lowers the flag, for the next search that holds it.
+    pub fn reset(self) {
+        self.0.store(false, Ordering::Relaxed);
+    }
+
+    /// Whether the flag is raised.
+    pub fn is_cancelled(self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+impl Default for CancelFlag {
+    /// [`CancelFlag::new`].
+    fn default() -> CancelFlag {
+        CancelFlag::new()
+    }
+}
+
+/// Two flags are equal when they are the same flag (copies of one another).
+impl PartialEq for CancelFlag {
+    fn eq(&self, other: &CancelFlag) -> bool {
+        std::ptr::eq(self.0, other.0)
+    }
+}
+
+impl Eq for CancelFlag {}
 
 impl Budget {
     /// No limit.
@@ -160,13 +256,30 @@ impl Budget {
         }
     }
 
+    /// This budget cancelled by `flag` ([`Budget::cancel`]).
+    pub fn with_cancel(self, flag: CancelFlag) -> Budget {
+        Budget {
+            cancel: Some(flag),
+            ..self
+        }
+    }
+
+    /// Whether its [`Budget::cancel`] flag has been raised.
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.is_some_and(CancelFlag::is_cancelled)
+    }
+
     /// Starts the clock for one search.
     pub fn start(&self) -> BudgetClock {
+        let deadline = self.max_time.map(|limit| Instant::now() + limit);
         BudgetClock {
             max_expansions: self.max_expansions.unwrap_or(u64::MAX),
-            deadline: self.max_time.map(|limit| Instant::now() + limit),
+            periodic: deadline.is_some() || self.cancel.is_some(),
+            deadline,
+            cancel: self.cancel,
             until_time_check: BudgetClock::TIME_CHECK_INTERVAL,
             exhausted: false,
+            cancelled: false,
         }
     }
 }
@@ -194,9 +307,13 @@ mod optional_millis {
 #[derive(Debug, Clone)]
 pub struct BudgetClock {
     max_expansions: u64,
+    /// Whether there is a deadline or a cancel flag to look at periodically.
+    periodic: bool,
     deadline: Option<Instant>,
+    cancel: Option<CancelFlag>,
     until_time_check: u32,
     exhausted: bool,
+    cancelled: bool,
 }
 
 impl BudgetClock {
@@ -214,22 +331,43 @@ impl BudgetClock {
             self.exhausted = true;
             return false;
         }
-        if let Some(deadline) = self.deadline {
+        if self.periodic {
             self.until_time_check -= 1;
             if self.until_time_check == 0 {
                 self.until_time_check = Self::TIME_CHECK_INTERVAL;
-                if Instant::now() >= deadline {
-                    self.exhausted = true;
-                    return false;
-                }
+                return self.periodic_check();
             }
         }
         true
     }
 
-    /// Whether the budget has run out.
+    /// The check made every [`BudgetClock::TIME_CHECK_INTERVAL`] expansions: the cancel
+    /// flag, then the deadline.
+    #[cold]
+    fn periodic_check(&mut self) -> bool {
+        if self.cancel.is_some_and(CancelFlag::is_cancelled) {
+            self.cancelled = true;
+            self.exhausted = true;
+            return false;
+        }
+        if self
+            .deadline
+            .is_some_and(|deadline| Instant::now() >= deadline)
+        {
+            self.exhausted = true;
+            return false;
+        }
+        true
+    }
+
+    /// Whether the budget has run out (a cancelled search's too).
     pub fn is_exhausted(&self) -> bool {
         self.exhausted
+    }
+
+    /// Whether the search was stopped by its [`Budget::cancel`] flag.
+    pub fn is_cancelled(&self) -> bool {
+        self.cancelled
     }
 }
 

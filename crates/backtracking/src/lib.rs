@@ -76,8 +76,9 @@
 //! thread CPU time on the development machine.
 //!
 //! # Parallel enumeration (optional)
-//! With `parallel = true`, [`Prune::Off`] and an unlimited budget, the root's subtrees
-//! (one per safe first move) are enumerated on the rayon pool and merged in move order;
+//! With `parallel = true`, [`Prune::Off`] and an unlimited budget (no cancel flag either),
+//! the root's subtrees (one per safe first move) are enumerated on the rayon pool and
+//! merged in move order;
 //! the outcome, counters included, equals the serial run's. Otherwise the search is serial.
 //!
 //! # Pruning (not in the paper)
@@ -288,6 +289,7 @@ impl Backtracking {
             && self.config.prune == Prune::Off
             && budget.max_expansions.is_none()
             && budget.max_time.is_none()
+            && budget.cancel.is_none()
             && start != goal
             && root_moves.count_ones() >= 2;
         if parallel {
@@ -555,9 +557,11 @@ impl Search<'_> {
             K as u64
         };
         let mut clock = budget.start();
-        let timed = budget.max_time.is_some();
+        // A time limit or a cancel flag is read by the clock on its own interval.
+        let timed = budget.max_time.is_some() || budget.cancel.is_some();
         // Expansions are counted locally; the clock is asked when `n_expanded` reaches
-        // `next_check`: at the expansion limit, or at every expansion under a time limit.
+        // `next_check`: at the expansion limit, or at every expansion under a time limit
+        // or a cancel flag.
         let mut next_check = if timed {
             0
         } else {

@@ -555,7 +555,9 @@ impl sweep::Progress for Bar {
 
 /// What the provenance of a sweep of `config` needs from the environment and from git
 /// (the runner reads neither): the host name (`/proc/sys/kernel/hostname`, else
-/// `$HOSTNAME`) and the commit of the config's working tree, `-dirty` with changes.
+/// `$HOSTNAME`) and the commit of the config's working tree, `-dirty` with changes. The
+/// front ends' one gathering of them: the command line, xtask and the Python package
+/// call it.
 pub fn machine(config: &Path) -> planner_runner::provenance::Machine {
     let dir = config
         .parent()
@@ -753,6 +755,11 @@ pub fn run(command: Command) -> Result<(), CliError> {
             cpus_per_task,
             submit,
         } => {
+            // The scripts run this very binary, with paths made absolute from here.
+            let looked_up = |what: &str| {
+                let what = what.to_string();
+                move |source| slurm::SlurmError::Io { what, source }
+            };
             let jobs = slurm::slurm(&slurm::SlurmArgs {
                 config,
                 shards,
@@ -760,6 +767,8 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 partition,
                 time,
                 cpus_per_task,
+                binary: std::env::current_exe().map_err(looked_up("this binary's path"))?,
+                current_dir: std::env::current_dir().map_err(looked_up("current directory"))?,
             })?;
             let mut out = format!(
                 "array script: {}\nmerge script: {}\n",

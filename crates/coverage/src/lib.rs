@@ -437,10 +437,11 @@ fn field<'a>(grid: &'a Grid, visited: &'a [bool]) -> Field<'a> {
     }
 }
 
-/// What is left of a budget: expansions and the deadline.
+/// What is left of a budget: expansions and the deadline, and its cancel flag.
 struct Remaining {
     max_expansions: Option<u64>,
     deadline: Option<Instant>,
+    cancel: Option<planner_api::CancelFlag>,
 }
 
 impl Remaining {
@@ -452,6 +453,7 @@ impl Remaining {
                 d.saturating_duration_since(Instant::now())
                     .max(Duration::ZERO)
             }),
+            cancel: self.cancel,
             ..Budget::default()
         }
     }
@@ -483,6 +485,7 @@ impl CoveragePlanner for Coverage {
         let remaining = Remaining {
             max_expansions: budget.max_expansions,
             deadline: budget.max_time.map(|t| Instant::now() + t),
+            cancel: budget.cancel,
         };
         let mut clock = budget.start();
         let mut stats = Stats::default();

@@ -34,6 +34,19 @@ pub enum Built {
     Coverage(Box<dyn CoveragePlanner>),
 }
 
+/// What a factory needs of a planner crate's `Config`: read from a label's TOML table,
+/// written to runs.json as resolved, described by a JSON Schema, and cloned into each
+/// planner built (from any worker thread). Every type with those traits has it.
+pub trait PlannerConfig:
+    DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static
+{
+}
+
+impl<C> PlannerConfig for C where
+    C: DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static
+{
+}
+
 type Make = dyn Fn() -> Result<Built, ParamError> + Send + Sync;
 type MakeIncremental = dyn Fn() -> Result<Box<dyn IncrementalPlanner>, ParamError> + Send + Sync;
 
@@ -125,7 +138,7 @@ impl Factory {
         new: fn(C) -> Result<P, E>,
     ) -> Result<Factory, ParamError>
     where
-        C: DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static,
+        C: PlannerConfig,
         P: Planner + 'static,
         E: ParamKey + 'static,
     {
@@ -145,18 +158,11 @@ impl Factory {
         new: fn(C) -> Result<P, E>,
     ) -> Result<Factory, ParamError>
     where
-        C: DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static,
+        C: PlannerConfig,
         P: Planner + IncrementalPlanner + 'static,
         E: ParamKey + 'static,
     {
-        let mut factory = Factory::typed(
-            name,
-            Task::StartGoal,
-            params,
-            new,
-            <P as Planner>::specs,
-            |p| Built::Path(Box::new(p)),
-        )?;
+        let mut factory = Factory::path(name, params, new)?;
         let config: C = deserialize(params)?;
         factory.make_incremental = Some(Arc::new(
             move || -> Result<Box<dyn IncrementalPlanner>, ParamError> {
@@ -175,7 +181,7 @@ impl Factory {
         new: fn(C) -> Result<P, E>,
     ) -> Result<Factory, ParamError>
     where
-        C: DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static,
+        C: PlannerConfig,
         P: CoveragePlanner + 'static,
         E: ParamKey + 'static,
     {
@@ -195,7 +201,7 @@ impl Factory {
         wrap: fn(P) -> Built,
     ) -> Result<Factory, ParamError>
     where
-        C: DeserializeOwned + Serialize + JsonSchema + Clone + Send + Sync + 'static,
+        C: PlannerConfig,
         P: 'static,
         E: ParamKey + 'static,
     {

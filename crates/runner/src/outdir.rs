@@ -35,7 +35,8 @@
 //!   simply locked again. A second run on the same directory waits for the lock, saying so
 //!   on the log (`tracing::warn!`), for at most the `lock_wait` it is given
 //!   ([`DEFAULT_LOCK_WAIT`] from `cargo xtask experiment`), then fails with
-//!   [`OutdirError::Locked`] naming the holder's pid. Two runs therefore both succeed, one
+//!   [`OutdirError::Locked`] naming the holder's pid (the lock file holds the pid its
+//!   binary gave [`set_lock_holder`]: the runner reads no process state). Two runs therefore both succeed, one
 //!   after the other, and the directory ends holding the later one's complete results.
 //! - **The swap is atomic.** The files are written into a fresh sibling `.<name>.partial`
 //!   (its marker first), which then takes the place of `dir`. On Linux the two directories
@@ -60,6 +61,7 @@ use std::ffi::OsString;
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Read as _, Write as _};
 use std::path::{Component, Path, PathBuf};
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
@@ -798,8 +800,19 @@ fn is_link_error(error: &io::Error, path: &Path) -> bool {
     loop_error || fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
 }
 
+/// The process id this process's lock files name; 0 until [`set_lock_holder`] sets it.
+static LOCK_HOLDER: AtomicU32 = AtomicU32::new(0);
+
+/// Names `pid` (the caller's `std::process::id()`) in the lock files this process writes,
+/// so that a second run waiting for one of them says whose it is ("pid N"). The command
+/// line, xtask and the Python package call it once at start; the runner reads no process
+/// state, so without it its lock files name no process (the locks work the same).
+pub fn set_lock_holder(pid: u32) {
+    LOCK_HOLDER.store(pid, Ordering::Relaxed);
+}
+
 /// The exclusive lock on an output directory: an OS file lock on `.<name>.lock` beside it,
-/// whose file holds the holder's pid. Dropping it removes the file, then unlocks.
+/// whose file holds the holder's pid ([`set_lock_holder`]; empty when none was set). Dropping it removes the file, then unlocks.
 struct OutputLock {
     file: File,
     path: PathBuf,
@@ -848,7 +861,10 @@ impl OutputLock {
                         // The previous holder removed this file after we opened it.
                         continue;
                     }
-                    let pid = format!("{}\n", std::process::id());
+                    let pid = match LOCK_HOLDER.load(Ordering::Relaxed) {
+                        0 => String::new(),
+                        pid => format!("{pid}\n"),
+                    };
                     file.set_len(0)
                         .and_then(|()| file.write_all(pid.as_bytes()))
                         .map_err(io_error("write the lock file", &path))?;

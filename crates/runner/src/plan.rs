@@ -264,7 +264,7 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
     // As a config's check: a planner that cannot honour cell costs is refused a weighted
     // map, unless told to ignore them.
     spec.ignore_costs |= options.costs.ignore;
-    if map.grid.is_weighted() && !spec.ignore_costs && !spec.factory.specs().cell_costs {
+    if refuses_costs(&spec, &map.grid) {
         return Err(RunnerError::Usage(format!(
             "planner `{}` ({}) does not honour cell costs, and map `{}` has them; add --ignore-costs to plan without them",
             spec.label, spec.name, map.name
@@ -289,7 +289,39 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
         });
     }
     let seed = experiment.as_ref().map_or(0, |e| e.seed);
-    let mut single = Experiment::single(map, entry, spec.clone(), seed);
+    run_single(
+        map,
+        entry,
+        spec,
+        seed,
+        &args.planner,
+        options.record_expanded,
+    )
+}
+
+/// Whether `spec` is refused `grid`: the grid has cell costs, the planner cannot honour
+/// them ([`planner_api::PlannerSpecs::cell_costs`]), and its label does not say
+/// `costs = "ignore"` ([`PlannerSpec::ignore_costs`]). A config makes this check for its
+/// map sets; `plan`, the server and the Python package make it for one run.
+pub fn refuses_costs(spec: &PlannerSpec, grid: &Grid) -> bool {
+    grid.is_weighted() && !spec.ignore_costs && !spec.factory.specs().cell_costs
+}
+
+/// One run of `spec` on `entry` of `map` with `seed`, through [`run_one`] as a sweep's
+/// repeat 0 runs it (`planner` names it in the result); with `record_expanded`, once more
+/// with the expanded cells recorded ([`crate::expanded::record_expanded`], which checks
+/// that the second run repeats the first), unless the first was cancelled
+/// ([`Budget::cancel`]). The start and goal are checked by the caller.
+pub fn run_single(
+    map: MapEntry,
+    entry: ProblemEntry,
+    spec: PlannerSpec,
+    seed: u64,
+    planner: &str,
+    record_expanded: bool,
+) -> Result<PlanResult, RunnerError> {
+    let coverage = spec.is_coverage();
+    let mut single = Experiment::single(map, entry, spec, seed);
     let record = run_one(
         &single,
         &RunSpec {
@@ -301,18 +333,19 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
         &mut Workspace::default(),
         None,
     )?;
-    let expanded = if options.record_expanded {
-        let (map, planner) = (&single.maps[0], &single.planners[0]);
-        crate::expanded::record_expanded(&single, map, &map.problems[0], planner, &record)?
+    let (map, spec) = (&single.maps[0], &single.planners[0]);
+    let expanded = if record_expanded && !spec.budget.is_cancelled() {
+        crate::expanded::record_expanded(&single, map, &map.problems[0], spec, &record)?
     } else {
         Vec::new()
     };
+    let budget = spec.budget;
     let grid = single.maps.swap_remove(0).grid;
     Ok(PlanResult {
         grid,
-        planner: args.planner.clone(),
+        planner: planner.to_string(),
         coverage,
-        budget: spec.budget,
+        budget,
         record,
         expanded,
     })

@@ -50,6 +50,13 @@ pub struct SlurmArgs {
     pub time: Option<String>,
     /// `--cpus-per-task` (and the tasks' worker threads).
     pub cpus_per_task: Option<u32>,
+    /// The binary the scripts run (`gridplan`): the caller's own executable (the command
+    /// line passes `std::env::current_exe`; the runner reads no process state). A relative
+    /// path is taken from [`SlurmArgs::current_dir`].
+    pub binary: PathBuf,
+    /// The directory a relative `config`, `output` or `binary` is taken from: the
+    /// caller's current directory (the scripts name every path absolutely).
+    pub current_dir: PathBuf,
 }
 
 /// What `slurm` wrote.
@@ -119,7 +126,8 @@ pub enum SlurmError {
     /// A file or directory could not be read or written.
     #[error("{what}: {source}")]
     Io {
-        /// The file, or what was looked up (the current directory, this binary's path).
+        /// The file, or what the caller looked up (the current directory, its binary's
+        /// path).
         what: String,
         /// What went wrong.
         source: std::io::Error,
@@ -132,13 +140,13 @@ fn io(what: impl std::fmt::Display) -> impl FnOnce(std::io::Error) -> SlurmError
     move |source| SlurmError::Io { what, source }
 }
 
-fn absolute(path: &Path) -> Result<PathBuf, SlurmError> {
+/// `path`, taken from `current_dir` when relative.
+fn absolute(current_dir: &Path, path: &Path) -> PathBuf {
     if path.is_absolute() {
-        return Ok(path.to_path_buf());
+        path.to_path_buf()
+    } else {
+        current_dir.join(path)
     }
-    Ok(std::env::current_dir()
-        .map_err(io("current directory"))?
-        .join(path))
 }
 
 /// Single-quotes `text` for bash and for sbatch's `#SBATCH` parser: `'...'` with each `'`
@@ -249,8 +257,7 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     }
     let experiment = config::load(&args.config)?;
     check_shards(args.shards, RunList::new(&experiment).len())?;
-    let config_path = args
-        .config
+    let config_path = absolute(&args.current_dir, &args.config)
         .canonicalize()
         .map_err(io(args.config.display()))?;
     // The key a bad output value is reported under.
@@ -259,11 +266,14 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     } else {
         format!("{}: key `output`", args.config.display())
     };
-    let output = absolute(args.output.as_deref().unwrap_or(&experiment.output))?;
+    let output = absolute(
+        &args.current_dir,
+        args.output.as_deref().unwrap_or(&experiment.output),
+    );
     let mut work = output.as_os_str().to_os_string();
     work.push("-slurm");
     let work = PathBuf::from(work);
-    let binary = std::env::current_exe().map_err(io("this binary's path"))?;
+    let binary = absolute(&args.current_dir, &args.binary);
     let n = args.shards;
     let options = options(args)?;
     let threads = args

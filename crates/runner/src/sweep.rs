@@ -38,7 +38,7 @@ use std::fs::{self, File};
 use std::io::{BufReader, Seek as _, SeekFrom, Write as _};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::config::ConfigError;
 use crate::expanded::{self, ExpandedCells};
@@ -159,6 +159,11 @@ pub struct SweepArgs<'a> {
     pub keep_records: bool,
     /// The report step (summary.md, figures, ...).
     pub render: &'a dyn Render,
+    /// How long to wait for another sweep on the same output to end (the lock its stream
+    /// area holds from its start to its end) before failing with
+    /// [`crate::outdir::OutdirError::Locked`]; [`SweepArgs::new`]:
+    /// [`outdir::DEFAULT_LOCK_WAIT`].
+    pub lock_wait: Duration,
 }
 
 impl<'a> SweepArgs<'a> {
@@ -177,6 +182,7 @@ impl<'a> SweepArgs<'a> {
             keep_records: false,
             stop: None,
             render,
+            lock_wait: outdir::DEFAULT_LOCK_WAIT,
         }
     }
 }
@@ -201,7 +207,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         (None, None) => experiment.output.clone(),
     };
     outdir::check(&dir)?;
-    let area = outdir::stream_area(&dir, outdir::DEFAULT_LOCK_WAIT)?;
+    let area = outdir::stream_area(&dir, args.lock_wait)?;
     let runs = ShardRuns::new(&experiment, shard);
     let header = StreamHeader::new(&experiment, shard, runs.len());
     let path = area.dir.join(RECORDS);

@@ -155,3 +155,69 @@ fn every_registered_planner_keeps_the_contract() {
     }
     assert!(n_checked >= PLANNERS.len() * problems.len());
 }
+
+/// A grid of `w` x `h` with a seeded third of its cells blocked and the goal walled in, so
+/// that no planner finds a path and exhaustive ones search every reachable cell.
+fn walled_in(w: u32, h: u32) -> (Grid, Cell, Cell) {
+    let mut rng = ChaCha8Rng::seed_from_u64(28);
+    let free: Vec<bool> = (0..w * h).map(|_| !rng.gen_bool(0.3)).collect();
+    let mut grid = Grid::from_free_cells(w, h, free).unwrap();
+    let (start, goal) = (Cell::new(0, 0), Cell::new(w - 2, h - 2));
+    for y in h - 3..h {
+        for x in w - 3..w {
+            grid.set_free(Cell::new(x, y), false);
+        }
+    }
+    grid.set_free(start, true);
+    grid.set_free(goal, true);
+    (grid, start, goal)
+}
+
+/// A raised [`planner_api::CancelFlag`] stops every planner at its first periodic budget
+/// check (every `BudgetClock::TIME_CHECK_INTERVAL` expansions): the outcome is
+/// `budget_exhausted`, unless the search ended before its first check, when it is the
+/// uncancelled run's. Searches that do more work than one interval must be cut.
+#[test]
+fn every_registered_planner_stops_when_cancelled() {
+    let (grid, start, goal) = walled_in(120, 120);
+    let flag = planner_api::CancelFlag::new();
+    flag.cancel();
+    let budget = Budget::expansions(BUDGET);
+    let cancelled = budget.clone().with_cancel(flag);
+    let interval = u64::from(planner_api::BudgetClock::TIME_CHECK_INTERVAL);
+    let mut n_cut = 0;
+    for entry in PLANNERS {
+        let factory = (entry.factory)(&toml::Table::new()).unwrap();
+        let seed = factory.seed_for(7, 0);
+        let mut planner = factory.build().unwrap();
+        let whole = run(&mut planner, &grid, start, goal, seed, &budget);
+        let cut = run(&mut planner, &grid, start, goal, seed, &cancelled);
+        if cut.status == Status::BudgetExhausted && cut != whole {
+            n_cut += 1;
+            if let (Some(n), Some(all)) = (
+                cut.counters.get("n_expanded"),
+                whole.counters.get("n_expanded"),
+            ) {
+                assert!(
+                    n < all,
+                    "{}: {n} of {all} expansions after a cancel",
+                    entry.name
+                );
+            }
+        } else {
+            assert_eq!(cut, whole, "{}: cancelled, yet not cut short", entry.name);
+            let n = whole.counters.get("n_expanded").unwrap_or(0);
+            assert!(
+                n < interval,
+                "{}: {n} expansions, yet the cancel was never read",
+                entry.name
+            );
+        }
+    }
+    // Most planners search this grid far longer than one interval.
+    assert!(
+        n_cut * 2 > PLANNERS.len(),
+        "{n_cut} of {} cut",
+        PLANNERS.len()
+    );
+}

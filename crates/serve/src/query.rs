@@ -1,20 +1,23 @@
 //! One planning query from the page: a map (read with planner-maps, then the page's wall
 //! edits applied), a start and goal, a registry planner with `key=value` parameters,
-//! planned through planner-runner's [`run_one`] exactly as `gridplan plan` plans it, so
-//! the counters equal `plan --json`'s; then once more with the expanded cells recorded
+//! planned through planner-runner's [`run_single`] exactly as `gridplan plan` plans it
+//! (the same cost refusal, [`refuses_costs`], and the same run through `run_one`), so the
+//! counters equal `plan --json`'s; then once more with the expanded cells recorded
 //! ([`planner_runner::expanded::record_expanded`], which checks that the second run
 //! repeats the first), for the playback.
 //!
 //! These are the only call sites of the runner's planning API in this crate (the
-//! registry, [`run_one`], the plan result's JSON), so a move of the runner's modules
+//! registry, [`run_single`], the plan result's JSON), so a move of the runner's modules
 //! changes this file alone.
+//!
+//! [`run_single`]: planner_runner::plan::run_single
+//! [`refuses_costs`]: planner_runner::plan::refuses_costs
 
 use std::path::Path;
 
-use planner_api::{Budget, Cell, Grid};
-use planner_runner::config::{self, Experiment, MapEntry, ProblemEntry};
+use planner_api::{Budget, CancelFlag, Cell, Grid};
+use planner_runner::config::{self, MapEntry, ProblemEntry};
 use planner_runner::plan::{PlanResult, DEFAULT_PLAN_EXPANSIONS};
-use planner_runner::run::{run_one, RunSpec, Workspace};
 
 /// Limits a query gets whatever it asks for.
 #[derive(Debug, Clone, Copy)]
@@ -91,6 +94,10 @@ pub struct Query<'a> {
     /// On a weighted grid, plan with a planner that cannot honour cell costs on the grid
     /// without them (else it is refused, as `plan` refuses it).
     pub ignore_costs: bool,
+    /// Raised to stop the search ([`planner_api::Budget::cancel`]): the run ends with
+    /// status `budget_exhausted` at the planner's next budget check, and records no
+    /// expanded cells.
+    pub cancel: Option<CancelFlag>,
 }
 
 /// The grid `grid` with `edits` applied: `(x, y, free)` each.
@@ -129,7 +136,7 @@ pub fn settings_table(set: &[String]) -> Result<toml::Table, QueryError> {
 }
 
 /// Plans `query` on `grid` within `caps`: the run's result (its JSON is `plan --json`'s)
-/// with the expanded cells recorded.
+/// with the expanded cells recorded (but for a cancelled run: [`Query::cancel`]).
 pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, QueryError> {
     let budget = Budget {
         max_expansions: Some(
@@ -141,6 +148,7 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         max_time: None,
         max_memory_mb: Some(caps.max_memory_mb),
         record_expanded: false,
+        cancel: query.cancel,
     };
     let params = settings_table(query.set)?;
     let mut spec = config::planner_from_table(query.planner, query.planner, params, budget)?;
@@ -148,7 +156,7 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         return Err(QueryError::Coverage(query.planner.to_string()));
     }
     spec.ignore_costs = query.ignore_costs;
-    if grid.is_weighted() && !spec.ignore_costs && !spec.factory.specs().cell_costs {
+    if planner_runner::plan::refuses_costs(&spec, &grid) {
         return Err(QueryError::Costs {
             planner: query.planner.to_string(),
             map: query.map_name.to_string(),
@@ -168,30 +176,12 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         grid,
         problems: Vec::new(),
     };
-    let mut single = Experiment::single(map, entry, spec.clone(), 0);
-    let record = run_one(
-        &single,
-        &RunSpec {
-            map: 0,
-            problem: 0,
-            planner: 0,
-            repeat: 0,
-        },
-        &mut Workspace::default(),
-        None,
-    )?;
-    let expanded = {
-        let (map, planner) = (&single.maps[0], &single.planners[0]);
-        planner_runner::expanded::record_expanded(&single, map, &map.problems[0], planner, &record)
-            .map_err(|e| planner_runner::RunnerError::Usage(e.to_string()))?
-    };
-    let grid = single.maps.swap_remove(0).grid;
-    Ok(PlanResult {
-        grid,
-        planner: query.planner.to_string(),
-        coverage: false,
-        budget: spec.budget,
-        record,
-        expanded,
-    })
+    Ok(planner_runner::plan::run_single(
+        map,
+        entry,
+        spec,
+        0,
+        query.planner,
+        true,
+    )?)
 }

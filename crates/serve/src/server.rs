@@ -18,8 +18,10 @@
 //! its `Content-Length`, before a byte of it is read (a body without a length, chunked, is
 //! refused with 411); memory per connection is bounded by those limits;
 //! planning runs get [`crate::query::Caps`]; at most [`ServeOptions::max_running`] plans
-//! run at once (503 beyond). A cancelled plan answers at once (409) and its worker thread
-//! ends within its capped budget, its result dropped.
+//! run at once (503 beyond). A cancelled plan answers at once (409); its search stops at
+//! the planner's next budget check (the run's [`planner_api::Budget::cancel`] flag, read
+//! every [`planner_api::BudgetClock::TIME_CHECK_INTERVAL`] expansions), so its worker
+//! thread ends and frees its place, its result dropped.
 
 use std::collections::HashMap;
 use std::io::{Read as _, Write as _};
@@ -29,7 +31,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::time::Duration;
 
-use planner_api::Cell;
+use planner_api::{CancelFlag, Cell};
 use serde::Deserialize;
 
 use crate::query::{self, Caps, Query};
@@ -114,7 +116,10 @@ struct State {
     caps: Caps,
     max_running: usize,
     running: AtomicUsize,
-    cancels: Mutex<HashMap<String, Arc<AtomicBool>>>,
+    cancels: Mutex<HashMap<String, CancelFlag>>,
+    /// Cancel flags no running plan holds, for reuse (a [`CancelFlag`] is never freed):
+    /// at most [`ServeOptions::max_running`] are ever made.
+    flags: Mutex<Vec<CancelFlag>>,
 }
 
 impl Server {
@@ -138,6 +143,7 @@ impl Server {
                 max_running: options.max_running.max(1),
                 running: AtomicUsize::new(0),
                 cancels: Mutex::new(HashMap::new()),
+                flags: Mutex::new(Vec::new()),
             }),
             threads: options.threads.max(1),
             stop: Arc::new(AtomicBool::new(false)),
@@ -710,12 +716,31 @@ pub struct PlanRequest {
     pub ignore_costs: bool,
 }
 
-/// Decrements the running-plans count when a worker ends.
-struct Running(Arc<State>);
+/// A running plan's place: when its worker ends, its id stops naming it, its cancel flag
+/// goes back to the pool and the running-plans count drops, in that order (so a cancel
+/// for the old id never reaches the flag's next run).
+struct Running {
+    state: Arc<State>,
+    run_id: Option<String>,
+    flag: CancelFlag,
+}
 
 impl Drop for Running {
     fn drop(&mut self) {
-        self.0.running.fetch_sub(1, Ordering::SeqCst);
+        forget_run(&self.state, self.run_id.as_deref(), self.flag);
+        if let Ok(mut flags) = self.state.flags.lock() {
+            flags.push(self.flag);
+        }
+        self.state.running.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// Removes `run_id` from the cancellable runs if it still names `flag`'s run.
+fn forget_run(state: &State, run_id: Option<&str>, flag: CancelFlag) {
+    if let (Some(id), Ok(mut cancels)) = (run_id, state.cancels.lock()) {
+        if cancels.get(id) == Some(&flag) {
+            cancels.remove(id);
+        }
     }
 }
 
@@ -741,16 +766,28 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
         state.running.fetch_sub(1, Ordering::SeqCst);
         return Answer::error(503, "busy: other plans are running; try again");
     }
-    // The worker owns the guard: the count drops when the worker ends, cancelled or not.
-    let guard = Running(Arc::clone(state));
-    let cancelled = Arc::new(AtomicBool::new(false));
+    let cancelled = state
+        .flags
+        .lock()
+        .ok()
+        .and_then(|mut flags| flags.pop())
+        .unwrap_or_default();
+    cancelled.reset();
     let run_id = request
         .run
         .clone()
         .filter(|id| !id.is_empty() && id.len() <= 64);
     if let (Some(id), Ok(mut cancels)) = (&run_id, state.cancels.lock()) {
-        cancels.insert(id.clone(), Arc::clone(&cancelled));
+        cancels.insert(id.clone(), cancelled);
     }
+    // Only a run with an id can be cancelled; the others' searches check no flag.
+    let cancel = run_id.is_some().then_some(cancelled);
+    // The worker owns the guard: the place is freed when the worker ends, cancelled or not.
+    let guard = Running {
+        state: Arc::clone(state),
+        run_id: run_id.clone(),
+        flag: cancelled,
+    };
     let (send, receive) = mpsc::channel();
     let caps = state.caps;
     std::thread::spawn(move || {
@@ -766,6 +803,7 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
             set: &request.set,
             max_expansions: request.max_expansions,
             ignore_costs: request.ignore_costs,
+            cancel,
         };
         let answer = match query::plan(&query, grid, &caps) {
             Ok(result) => plan_answer(&result),
@@ -782,15 +820,13 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
                 break Answer::error(500, "the planning thread ended without an answer")
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {
-                if cancelled.load(Ordering::SeqCst) {
+                if cancelled.is_cancelled() {
                     break Answer::json(409, r#"{"cancelled":true}"#.to_string());
                 }
             }
         }
     };
-    if let (Some(id), Ok(mut cancels)) = (&run_id, state.cancels.lock()) {
-        cancels.remove(id);
-    }
+    forget_run(state, run_id.as_deref(), cancelled);
     answer
 }
 
@@ -822,17 +858,16 @@ fn plan_answer(result: &planner_runner::plan::PlanResult) -> Answer {
 }
 
 fn cancel(state: &State, run: &str) -> Answer {
-    let flag = state
+    // Raised under the lock: a flag that `run` names has not gone back to the pool.
+    let raised = state
         .cancels
         .lock()
         .ok()
-        .and_then(|cancels| cancels.get(run).cloned());
-    match flag {
-        Some(flag) => {
-            flag.store(true, Ordering::SeqCst);
-            Answer::json(200, r#"{"cancelled":true}"#.to_string())
-        }
-        None => Answer::error(404, "no running plan with that id"),
+        .is_some_and(|cancels| cancels.get(run).map(|flag| flag.cancel()).is_some());
+    if raised {
+        Answer::json(200, r#"{"cancelled":true}"#.to_string())
+    } else {
+        Answer::error(404, "no running plan with that id")
     }
 }
 

@@ -1,0 +1,136 @@
+//! Cancelling stops the search itself, not only the answer: a search that would run for
+//! hours ends at its next budget check once its flag is raised, with status
+//! `budget_exhausted` and no recorded cells, and the server's worker frees its place.
+
+use std::net::SocketAddr;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use planner_api::{CancelFlag, Cell, Grid};
+use planner_runner::record::RunStatus;
+use planner_serve::query::{self, Caps, Query};
+use planner_serve::{ServeOptions, Server};
+
+/// An open `n` x `n` grid: Backtracking enumerates its simple paths, about forever.
+fn open(n: u32) -> Grid {
+    let row = ".".repeat(n as usize);
+    Grid::from_ascii(&vec![row; n as usize].join("\n")).unwrap()
+}
+
+/// Caps that let a search run far past any test's patience.
+fn unbounded() -> Caps {
+    Caps {
+        max_expansions: u64::MAX,
+        ..Caps::default()
+    }
+}
+
+#[test]
+fn a_cancelled_search_stops_with_budget_exhausted() {
+    let flag = CancelFlag::new();
+    let cancel = flag.clone();
+    let worker = std::thread::spawn(move || {
+        let path = Path::new("open64.map");
+        let set: Vec<String> = Vec::new();
+        let query = Query {
+            map_name: "open64.map",
+            map_path: path,
+            start: Cell::new(0, 0),
+            goal: Cell::new(63, 63),
+            planner: "backtracking",
+            set: &set,
+            max_expansions: Some(u64::MAX),
+            ignore_costs: false,
+            cancel: Some(cancel),
+        };
+        query::plan(&query, open(64), &unbounded())
+    });
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(
+        !worker.is_finished(),
+        "the search ended before it was cancelled"
+    );
+    flag.cancel();
+    let result = worker.join().unwrap().unwrap();
+    assert_eq!(result.record.status, RunStatus::BudgetExhausted);
+    assert!(
+        result.expanded.is_empty(),
+        "a cancelled run records no cells"
+    );
+    let expanded = result.record.counters.get("n_expanded").unwrap();
+    assert!(expanded > 0 && expanded < u64::MAX, "{expanded}");
+}
+
+fn post(addr: SocketAddr, url: &str, body: &str) -> u16 {
+    use std::io::{Read, Write};
+    let mut stream = std::net::TcpStream::connect(addr).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_secs(60)))
+        .unwrap();
+    let request = format!(
+        "POST {url} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
+        body.len()
+    );
+    stream.write_all(request.as_bytes()).unwrap();
+    let mut answer = String::new();
+    let _ = stream.read_to_string(&mut answer);
+    answer
+        .split(' ')
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0)
+}
+
+#[test]
+fn a_cancelled_plan_frees_its_place() {
+    let dir = std::env::temp_dir().join(format!(
+        "planner-serve-cancel-{}-{}",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos())
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut text = String::from("type octile\nheight 64\nwidth 64\nmap\n");
+    for _ in 0..64 {
+        text.push_str(&".".repeat(64));
+        text.push('\n');
+    }
+    std::fs::write(dir.join("open64.map"), text).unwrap();
+    // One plan at a time, and no expansion cap: only the cancel can end the first.
+    let options = ServeOptions {
+        caps: unbounded(),
+        max_running: 1,
+        ..ServeOptions::new(&dir, 0)
+    };
+    let server = Server::bind(&options).unwrap();
+    let addr = server.addr().unwrap();
+    let stop = server.stopper();
+    std::thread::spawn(move || server.run());
+    let slow = r#"{"map":"open64.map","start":[0,0],"goal":[63,63],"planner":"backtracking","max_expansions":18000000000000000000,"run":"forever"}"#;
+    let planning = std::thread::spawn(move || post(addr, "/api/plan", slow));
+    let mut cancelled = false;
+    for _ in 0..500 {
+        std::thread::sleep(Duration::from_millis(20));
+        if post(addr, "/api/cancel?run=forever", "") == 200 {
+            cancelled = true;
+            break;
+        }
+    }
+    assert!(cancelled, "the cancel request found no run");
+    assert_eq!(planning.join().unwrap(), 409);
+    // The worker's place is free once its search has stopped: a new plan is taken (not
+    // 503 busy). Without the search stopping it would stay busy for hours.
+    let quick = r#"{"map":"open64.map","start":[0,0],"goal":[5,5],"planner":"astar"}"#;
+    let started = Instant::now();
+    let status = loop {
+        let status = post(addr, "/api/plan", quick);
+        if status != 503 || started.elapsed() > Duration::from_secs(60) {
+            break status;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert_eq!(status, 200, "still busy after {:?}", started.elapsed());
+    stop();
+    let _ = std::fs::remove_dir_all(&dir);
+}
