@@ -665,7 +665,7 @@ fn stream_readers_refuse_special_files() {
         Stdio::piped(),
     );
     assert_eq!(out.code, Some(0), "{}", out.stderr);
-    let shard = dir.join("s1/shard.jsonl");
+    let shard = dir.join("s1/shard.stream");
     let fifo = |path: &Path| {
         let _ = std::fs::remove_file(path);
         let made = Command::new("mkfifo").arg(path).status().unwrap();

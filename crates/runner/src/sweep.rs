@@ -21,7 +21,7 @@
 //! `report` of such a directory reads its `records.stream` in passes. Then the stream
 //! area is removed (only while it carries gridplan's marker:
 //! [`outdir::StreamArea`]). A shard (`--shard K/N`) instead writes its
-//! stream as `shard.jsonl` into its output directory; [`merge`] checks that a set of shard
+//! stream as `shard.stream` (framed; an earlier version's `shard.jsonl` is still read) into its output directory; [`merge`] checks that a set of shard
 //! directories is complete and of one config and renders the one sweep's outputs from them.
 //!
 //! Records read back are checked, not trusted. `--resume` and [`merge`] check every record
@@ -67,8 +67,13 @@ const OLD_RECORDS: &str = "records.jsonl";
 /// written from it.
 const MERGED: &str = "merged.stream";
 
-/// A shard's stream in its results directory.
-pub const SHARD_FILE: &str = "shard.jsonl";
+/// A shard's stream in its results directory: its framed resume stream, copied (about 80
+/// bytes a run).
+pub const SHARD_FILE: &str = "shard.stream";
+
+/// The JSON Lines shard stream of earlier versions (about 460 bytes a run): `merge` still
+/// reads it from a shard directory without [`SHARD_FILE`].
+pub const OLD_SHARD_FILE: &str = "shard.jsonl";
 
 /// The most runs whose records a whole sweep holds in memory (for its report's sections and
 /// charts that read every record). A larger sweep holds none: its tables are written from
@@ -418,9 +423,10 @@ fn stream_runs(
     Ok((records, n_ran))
 }
 
-/// Writes a whole shard's results directory `dir`: its framed stream `path` as the JSON
-/// Lines shard.jsonl that `merge` reads (one record at a time, never all in memory), the expanded cells of the drawn runs it holds, and (when the
-/// config's `outputs` asks) its Parquet part, from the stream one row group at a time.
+/// Writes a whole shard's results directory `dir`: its framed stream `path` copied as the
+/// shard.stream that `merge` reads, the expanded cells of the drawn runs it holds, and
+/// (when the config's `outputs` asks) its Parquet part, from the stream one row group at
+/// a time.
 fn finish_shard(
     experiment: &Experiment,
     path: &Path,
@@ -430,9 +436,10 @@ fn finish_shard(
     let copy = StreamedFile {
         path: SHARD_FILE.into(),
         write: Box::new(|out| {
-            let file = stream::open_regular(path).map_err(|e| RunnerError::io(path, e))?;
-            let what = path.display().to_string();
-            crate::frames::write_json_lines(BufReader::new(file), &what, out, None).map(drop)
+            let mut file = stream::open_regular(path).map_err(|e| RunnerError::io(path, e))?;
+            std::io::copy(&mut file, out)
+                .map(drop)
+                .map_err(|e| RunnerError::io(path, e))
         }),
     };
     let cells = shard_expanded(experiment, path)?;
@@ -1052,12 +1059,16 @@ fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
     }
     let mut shards = Vec::new();
     for dir in dirs {
-        let path = dir.join(SHARD_FILE);
+        let mut path = dir.join(SHARD_FILE);
+        if fs::symlink_metadata(&path).is_err() && fs::symlink_metadata(dir.join(OLD_SHARD_FILE)).is_ok() {
+            // An earlier version's shard.
+            path = dir.join(OLD_SHARD_FILE);
+        }
         let file = stream::open_regular(&path).map_err(|e| {
             RunnerError::Results(format!(
                 "merge: {} is not a shard's output ({}: {e})",
                 dir.display(),
-                SHARD_FILE
+                path.file_name().map_or(SHARD_FILE.into(), |n| n.to_string_lossy())
             ))
         })?;
         let (header, reader) =
@@ -1163,10 +1174,13 @@ fn merge_records(
         let next = shards[i].2.next_run()?;
         if let Some((run, record)) = std::mem::replace(&mut heads[i], next) {
             stream::check_record(experiment, &list, run, &record).map_err(|e| {
+                let (file, at) = match shards[i].2.is_framed() {
+                    true => (SHARD_FILE, format!("record {}", lines[i] - 1)),
+                    false => (OLD_SHARD_FILE, format!("line {}", lines[i])),
+                };
                 RunnerError::Results(format!(
-                    "merge: {} line {}: {e}",
-                    shards[i].0.join(SHARD_FILE).display(),
-                    lines[i]
+                    "merge: {} {at}: {e}",
+                    shards[i].0.join(file).display()
                 ))
             })?;
             lines[i] += 1;
