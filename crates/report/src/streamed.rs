@@ -1,5 +1,6 @@
-//! The aggregate section computed in passes over the records, in memory bounded by its
-//! groups (label x map, label, map x bucket range x label, label x counter), not by the runs.
+//! The aggregate, optimum and repeats sections computed in passes over the records, in
+//! memory bounded by their groups (label x map, label, map x bucket range x label, label x
+//! counter), not by the runs.
 //!
 //! A first pass sums what needs no order statistic (runs, found, optimal, sums, largest
 //! values) per group; then [`crate::exact::quantiles`] selects every median and quartile
@@ -81,9 +82,13 @@ impl<'e> Layout<'e> {
     /// Calls `visit(label, map, bucket row)` once per map the valid record `r` counts in
     /// (the in-memory tables look records up by map name, problem and label).
     fn place(&self, r: &RunRecord, visit: &mut impl FnMut(usize, usize, Option<usize>)) {
-        if r.is_invalid() {
-            return;
+        if !r.is_invalid() {
+            self.place_any(r, visit);
         }
+    }
+
+    /// [`Layout::place`] for any record, valid or not.
+    fn place_any(&self, r: &RunRecord, visit: &mut impl FnMut(usize, usize, Option<usize>)) {
         let (Some(&l), Some(ms)) = (self.labels.get(r.planner.as_str()), self.maps.get(r.map.as_str()))
         else {
             return;
@@ -480,5 +485,119 @@ pub fn aggregate_tables(
         }
         out.push('\n');
     }
+    Ok(out)
+}
+
+/// The optimum section's markdown (`crate::optimum`'s table), from one pass over the
+/// records: per label and map, repeat 0 of each problem with a stated optimum.
+pub fn optimum_table(
+    experiment: &Experiment,
+    passes: &dyn RecordPasses,
+) -> Result<String, RunnerError> {
+    let layout = Layout::new(experiment);
+    let n_maps = layout.n_maps();
+    // Per label x map: runs, found, optimal, largest excess.
+    let mut groups = vec![(0u64, 0u64, 0u64, 0.0f64); layout.n_labels() * n_maps];
+    passes.pass(&mut |r| {
+        if r.repeat != 0 || r.optimal_length.is_none() {
+            return;
+        }
+        layout.place_any(r, &mut |l, m, _| {
+            let g = &mut groups[l * n_maps + m];
+            g.0 += 1;
+            if let (Some(l), Some(o)) = (r.length, r.optimal_length) {
+                g.1 += 1;
+                g.2 += u64::from(matches_optimum(l, o));
+                g.3 = g.3.max((l - o) / o.max(1.0));
+            }
+        });
+    })?;
+    let mut out = String::from(crate::optimum::HEAD);
+    for (l, planner) in experiment.planners.iter().enumerate() {
+        for (m, map) in experiment.maps.iter().enumerate() {
+            let (runs, found, optimal, excess) = groups[l * n_maps + m];
+            if runs == 0 {
+                continue;
+            }
+            let _ = writeln!(
+                out,
+                "| {} | {} | {runs} | {found} | {optimal} | {:.2} % |",
+                md_cell(&planner.label),
+                md_cell(&map.name),
+                100.0 * excess
+            );
+        }
+    }
+    out.push('\n');
+    Ok(out)
+}
+
+/// The repeats section's markdown (`crate::repeats`'s table), from passes over the
+/// records: per label and map, the success rate, the median length of the found runs and
+/// the median time with its quartiles, exact ([`crate::exact`]).
+pub fn repeats_table(
+    experiment: &Experiment,
+    passes: &dyn RecordPasses,
+) -> Result<String, RunnerError> {
+    let layout = Layout::new(experiment);
+    let n_maps = layout.n_maps();
+    let n_groups = layout.n_labels() * n_maps;
+    // Per label x map: runs, found runs with a length.
+    let mut groups = vec![(0u64, 0u64); n_groups];
+    let found_length = |r: &RunRecord| r.length.filter(|_| r.is_found());
+    passes.pass(&mut |r| {
+        layout.place(r, &mut |l, m, _| {
+            let g = &mut groups[l * n_maps + m];
+            g.0 += 1;
+            g.1 += u64::from(found_length(r).is_some());
+        });
+    })?;
+    // Sets: 2g lengths of found runs, 2g + 1 times.
+    let sizes: Vec<u64> = groups.iter().flat_map(|&(runs, found)| [found, runs]).collect();
+    let wanted: Vec<&[f64]> = (0..2 * n_groups)
+        .map(|s| -> &[f64] {
+            if s % 2 == 0 {
+                &[0.5]
+            } else {
+                &[0.5, 0.25, 0.75]
+            }
+        })
+        .collect();
+    let q = quantiles(&sizes, &wanted, &mut |emit| {
+        passes.pass(&mut |r| {
+            layout.place(r, &mut |l, m, _| {
+                let g = l * n_maps + m;
+                if let Some(length) = found_length(r) {
+                    emit(2 * g, length);
+                }
+                emit(2 * g + 1, r.time_ms);
+            });
+        })
+    })?;
+    let mut out = crate::repeats::head(experiment);
+    for (l, planner) in experiment.planners.iter().enumerate() {
+        for (m, map) in experiment.maps.iter().enumerate() {
+            let g = l * n_maps + m;
+            let (runs, found) = groups[g];
+            if runs == 0 {
+                continue;
+            }
+            let length = q[2 * g]
+                .first()
+                .map_or("-".into(), |m| format!("{m:.2}"));
+            let time = match q[2 * g + 1].as_slice() {
+                &[m, q1, q3] => format!("{m:.4} ({q1:.4}-{q3:.4})"),
+                _ => "-".into(),
+            };
+            let _ = writeln!(
+                out,
+                "| {} | {} | {runs} | {:.1} % | {length} | {time} |",
+                md_cell(&planner.label),
+                md_cell(&map.name),
+                100.0 * found as f64 / runs as f64,
+            );
+        }
+    }
+    out.push('\n');
     Ok(out)
 }

@@ -166,3 +166,22 @@ fn a_stream_shorter_than_stated_is_an_error() {
     let message = result.unwrap_err().to_string();
     assert!(message.contains("read"), "{message}");
 }
+
+/// summary.md of a sweep whose records are not held (its head, `optimum`, `repeats` and
+/// `aggregate`, all from passes) equals the one rendered from the records in memory.
+#[test]
+fn a_summary_from_passes_equals_the_in_memory_summary() {
+    use planner_report::{aggregate::Aggregate, optimum::Optimum, repeats::Repeats, Renderer};
+    let experiment = config::load(&root().join("configs/movingai.toml"))
+        .unwrap()
+        .trimmed_for_test();
+    let (experiment, records) = synthetic(experiment, 40);
+    let renderer = Renderer::new(vec![Box::new(Optimum), Box::new(Repeats), Box::new(Aggregate)]);
+    let (want, _) = renderer.summary(&experiment, &records);
+    assert!(want.contains("## Repeats (40 per planner and problem)"), "{want}");
+    assert!(want.contains("## Lengths against the scenario optima"), "{want}");
+    let (got, _) = renderer
+        .summary_passes(&experiment, &[], &records.as_slice(), None)
+        .unwrap();
+    assert_eq!(got, want);
+}
