@@ -155,7 +155,11 @@ pub fn quantiles(
                     rank,
                     prefix: 0,
                     bits: 0,
-                    counts: if n <= COLLECT { Vec::new() } else { vec![0; 256] },
+                    counts: if n <= COLLECT {
+                        Vec::new()
+                    } else {
+                        vec![0; 256]
+                    },
                     collected: (n <= COLLECT).then(|| Vec::with_capacity(n as usize)),
                     answer: None,
                 });
@@ -245,14 +249,18 @@ mod tests {
             .collect();
         let sets = [&a, &b, &c];
         let ps: &[f64] = &[0.5, 0.25, 0.75, 0.1];
-        let got = quantiles(&[a.len() as u64, b.len() as u64, c.len() as u64], &[ps, ps, ps], &mut |emit| {
-            for (s, values) in sets.iter().enumerate() {
-                for &v in values.iter() {
-                    emit(s, v);
+        let got = quantiles(
+            &[a.len() as u64, b.len() as u64, c.len() as u64],
+            &[ps, ps, ps],
+            &mut |emit| {
+                for (s, values) in sets.iter().enumerate() {
+                    for &v in values.iter() {
+                        emit(s, v);
+                    }
                 }
-            }
-            Ok(())
-        })
+                Ok(())
+            },
+        )
         .unwrap();
         for (s, values) in sets.iter().enumerate() {
             let (m, q1, q3) = median_iqr(values).unwrap();

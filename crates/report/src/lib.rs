@@ -233,6 +233,11 @@ impl Renderer {
                 options,
             };
             if !held && !section.streams() {
+                // Said for a section the config names; the others (whether they apply is
+                // read from the records) are left out silently.
+                if experiment.sections.is_none() {
+                    continue;
+                }
                 let _ = writeln!(
                     out,
                     "Section `{}` is left out: it holds every record in memory, and this sweep's {} runs are more than the {} a report holds (see runs.parquet).\n",
@@ -286,7 +291,11 @@ impl Renderer {
             path: "summary.md".into(),
             contents: summary.into_bytes(),
         }];
-        all.extend(figures::render(experiment, figure_records, results.expanded));
+        all.extend(figures::render(
+            experiment,
+            figure_records,
+            results.expanded,
+        ));
         if held {
             all.extend(charts::render(experiment, records));
             if experiment.ompl {
@@ -338,7 +347,8 @@ fn drawn_records(
             break;
         }
         let limit = experiment.figures_per_map.unwrap_or(usize::MAX);
-        for problem in planner_runner::expanded::pick(&map.problems, experiment.figures_pick, limit) {
+        for problem in planner_runner::expanded::pick(&map.problems, experiment.figures_pick, limit)
+        {
             drawn.insert((map.name.as_str(), problem.index));
         }
     }
@@ -384,7 +394,9 @@ impl Render for Renderer {
 fn header(experiment: &Experiment, records: &[RunRecord], out: &mut String) {
     let invalid: Vec<RunRecord> = records
         .iter()
-        .filter(|r| r.is_invalid() && Some(&r.planner) == experiment.planners.first().map(|p| &p.label))
+        .filter(|r| {
+            r.is_invalid() && Some(&r.planner) == experiment.planners.first().map(|p| &p.label)
+        })
         .cloned()
         .collect();
     header_of(experiment, records.len() as u64, &invalid, out);

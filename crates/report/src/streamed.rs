@@ -17,7 +17,9 @@ use planner_runner::passes::RecordPasses;
 use planner_runner::record::RunRecord;
 use planner_runner::RunnerError;
 
-use crate::aggregate::{bucket_ranges, format_bytes, format_number, parameters, Measured, HEADER, PER_MAP, TIMING_WARNING,
+use crate::aggregate::{
+    bucket_ranges, format_bytes, format_number, parameters, Measured, HEADER, PER_MAP,
+    TIMING_WARNING,
 };
 use crate::exact::quantiles;
 use crate::md_cell;
@@ -89,8 +91,10 @@ impl<'e> Layout<'e> {
 
     /// [`Layout::place`] for any record, valid or not.
     fn place_any(&self, r: &RunRecord, visit: &mut impl FnMut(usize, usize, Option<usize>)) {
-        let (Some(&l), Some(ms)) = (self.labels.get(r.planner.as_str()), self.maps.get(r.map.as_str()))
-        else {
+        let (Some(&l), Some(ms)) = (
+            self.labels.get(r.planner.as_str()),
+            self.maps.get(r.map.as_str()),
+        ) else {
             return;
         };
         for &m in ms {
@@ -144,7 +148,11 @@ impl Default for Acc {
 /// The suboptimality of a run with a length and a stated optimum ([`crate::aggregate`]'s).
 fn subopt(r: &RunRecord) -> Option<f64> {
     let (l, o) = (r.length?, r.optimal_length?);
-    Some(if matches_optimum(l, o) { 0.0 } else { l / o - 1.0 })
+    Some(if matches_optimum(l, o) {
+        0.0
+    } else {
+        l / o - 1.0
+    })
 }
 
 impl Acc {
@@ -418,11 +426,14 @@ pub fn aggregate_tables(
             median(bucket_base + 2 * b).map_or("-".into(), format_number)
         });
         let _ = write!(out, "Median search time (ms) per label:\n\n{head}");
-        table(&mut out, &|b| match (measured, median(bucket_base + 2 * b + 1)) {
-            (Measured::Redacted, _) => "[time]".into(),
-            (Measured::Shown, Some(m)) => format!("{m:.3}"),
-            (Measured::Shown, None) => "-".into(),
-        });
+        table(
+            &mut out,
+            &|b| match (measured, median(bucket_base + 2 * b + 1)) {
+                (Measured::Redacted, _) => "[time]".into(),
+                (Measured::Shown, Some(m)) => format!("{m:.3}"),
+                (Measured::Shown, None) => "-".into(),
+            },
+        );
     }
 
     // Counters.
@@ -553,7 +564,10 @@ pub fn repeats_table(
         });
     })?;
     // Sets: 2g lengths of found runs, 2g + 1 times.
-    let sizes: Vec<u64> = groups.iter().flat_map(|&(runs, found)| [found, runs]).collect();
+    let sizes: Vec<u64> = groups
+        .iter()
+        .flat_map(|&(runs, found)| [found, runs])
+        .collect();
     let wanted: Vec<&[f64]> = (0..2 * n_groups)
         .map(|s| -> &[f64] {
             if s % 2 == 0 {
@@ -582,9 +596,7 @@ pub fn repeats_table(
             if runs == 0 {
                 continue;
             }
-            let length = q[2 * g]
-                .first()
-                .map_or("-".into(), |m| format!("{m:.2}"));
+            let length = q[2 * g].first().map_or("-".into(), |m| format!("{m:.2}"));
             let time = match q[2 * g + 1].as_slice() {
                 &[m, q1, q3] => format!("{m:.4} ({q1:.4}-{q3:.4})"),
                 _ => "-".into(),

@@ -92,8 +92,15 @@ fn in_memory(experiment: &Experiment, records: &[RunRecord], measured: Measured)
 
 /// Writes `records` as a JSON Lines stream file and reads it back, so both computations
 /// see the same (round-tripped) values.
-fn through_file(experiment: &Experiment, records: &[RunRecord], name: &str) -> (PathBuf, Vec<RunRecord>) {
-    let path = std::env::temp_dir().join(format!("gridplan-streamed-{}-{name}.jsonl", std::process::id()));
+fn through_file(
+    experiment: &Experiment,
+    records: &[RunRecord],
+    name: &str,
+) -> (PathBuf, Vec<RunRecord>) {
+    let path = std::env::temp_dir().join(format!(
+        "gridplan-streamed-{}-{name}.jsonl",
+        std::process::id()
+    ));
     let header = StreamHeader::new(experiment, Shard::ALL, records.len() as u64);
     let mut bytes = header.to_line().unwrap();
     for (run, record) in records.iter().enumerate() {
@@ -122,8 +129,9 @@ fn streamed_aggregates_equal_the_in_memory_ones_on_100000_runs() {
     assert!(records.len() >= 100_000, "{} runs", records.len());
     for measured in [Measured::Shown, Measured::Redacted] {
         let want = in_memory(&experiment, &records, measured);
-        let got = planner_report::streamed::aggregate_tables(&experiment, &records.as_slice(), measured)
-            .unwrap();
+        let got =
+            planner_report::streamed::aggregate_tables(&experiment, &records.as_slice(), measured)
+                .unwrap();
         assert_eq!(got, want);
     }
     let want = in_memory(&experiment, &records, Measured::Shown);
@@ -146,9 +154,16 @@ fn streamed_seed_spreads_equal_the_in_memory_ones() {
         .trimmed_for_test();
     let (experiment, records) = synthetic(experiment, 3_000);
     let want = in_memory(&experiment, &records, Measured::Shown);
-    assert!(want.contains("Seeded planners over their 3000 seeds"), "{want}");
-    let got = planner_report::streamed::aggregate_tables(&experiment, &records.as_slice(), Measured::Shown)
-        .unwrap();
+    assert!(
+        want.contains("Seeded planners over their 3000 seeds"),
+        "{want}"
+    );
+    let got = planner_report::streamed::aggregate_tables(
+        &experiment,
+        &records.as_slice(),
+        Measured::Shown,
+    )
+    .unwrap();
     assert_eq!(got, want);
 }
 
@@ -176,10 +191,20 @@ fn a_summary_from_passes_equals_the_in_memory_summary() {
         .unwrap()
         .trimmed_for_test();
     let (experiment, records) = synthetic(experiment, 40);
-    let renderer = Renderer::new(vec![Box::new(Optimum), Box::new(Repeats), Box::new(Aggregate)]);
+    let renderer = Renderer::new(vec![
+        Box::new(Optimum),
+        Box::new(Repeats),
+        Box::new(Aggregate),
+    ]);
     let (want, _) = renderer.summary(&experiment, &records);
-    assert!(want.contains("## Repeats (40 per planner and problem)"), "{want}");
-    assert!(want.contains("## Lengths against the scenario optima"), "{want}");
+    assert!(
+        want.contains("## Repeats (40 per planner and problem)"),
+        "{want}"
+    );
+    assert!(
+        want.contains("## Lengths against the scenario optima"),
+        "{want}"
+    );
     let (got, _) = renderer
         .summary_passes(&experiment, &[], &records.as_slice(), None)
         .unwrap();

@@ -77,8 +77,7 @@ impl RecordPasses for StreamPasses {
     /// Reads the file once; a file that ends early, holds more records than stated or
     /// ends in a cut record (it changed since the sweep) is an error.
     fn pass(&self, visit: &mut dyn FnMut(&RunRecord)) -> Result<(), RunnerError> {
-        let file =
-            stream::open_regular(&self.path).map_err(|e| RunnerError::io(&self.path, e))?;
+        let file = stream::open_regular(&self.path).map_err(|e| RunnerError::io(&self.path, e))?;
         let what = self.path.display().to_string();
         let (_, mut reader) = StreamReader::new(BufReader::with_capacity(1 << 16, file), &what)?;
         let mut n = 0u64;

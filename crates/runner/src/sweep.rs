@@ -793,7 +793,9 @@ pub fn report(
     outdir::check(dir)?;
     outdir::Marker::read(dir).map_err(|e| RunnerError::during("report", e.into()))?;
     let mut path = dir.join(RESULTS_RECORDS);
-    if fs::symlink_metadata(&path).is_err() && fs::symlink_metadata(dir.join(OLD_RESULTS_RECORDS)).is_ok() {
+    if fs::symlink_metadata(&path).is_err()
+        && fs::symlink_metadata(dir.join(OLD_RESULTS_RECORDS)).is_ok()
+    {
         // An earlier version's results directory.
         path = dir.join(OLD_RESULTS_RECORDS);
     }
@@ -1060,7 +1062,9 @@ fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
     let mut shards = Vec::new();
     for dir in dirs {
         let mut path = dir.join(SHARD_FILE);
-        if fs::symlink_metadata(&path).is_err() && fs::symlink_metadata(dir.join(OLD_SHARD_FILE)).is_ok() {
+        if fs::symlink_metadata(&path).is_err()
+            && fs::symlink_metadata(dir.join(OLD_SHARD_FILE)).is_ok()
+        {
             // An earlier version's shard.
             path = dir.join(OLD_SHARD_FILE);
         }
@@ -1068,7 +1072,8 @@ fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
             RunnerError::Results(format!(
                 "merge: {} is not a shard's output ({}: {e})",
                 dir.display(),
-                path.file_name().map_or(SHARD_FILE.into(), |n| n.to_string_lossy())
+                path.file_name()
+                    .map_or(SHARD_FILE.into(), |n| n.to_string_lossy())
             ))
         })?;
         let (header, reader) =

@@ -24,8 +24,14 @@ impl Render for Checked {
         Ok(())
     }
 
-    fn render(&self, results: &Results<'_>) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
-        assert!(results.records.is_empty(), "a large sweep's records are not held");
+    fn render(
+        &self,
+        results: &Results<'_>,
+    ) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
+        assert!(
+            results.records.is_empty(),
+            "a large sweep's records are not held"
+        );
         let mut n = 0u64;
         let mut last = None;
         results.passes.pass(&mut |r| {
@@ -97,7 +103,10 @@ fn a_large_sweep_and_its_merged_shards_equal_row_for_row() {
     let report = sweep::experiment(&args).unwrap();
     let n = HELD_RUNS + 4;
     assert_eq!(report.n_runs as u64, n);
-    assert!(report.records.is_empty(), "records beyond HELD_RUNS are not returned");
+    assert!(
+        report.records.is_empty(),
+        "records beyond HELD_RUNS are not returned"
+    );
     assert_eq!(render.passes_seen.load(Ordering::Relaxed), n);
     assert!(one.join(RESULTS_RECORDS).is_file());
     // The stream area is gone once the results are written.
