@@ -4,15 +4,15 @@
 //! The caller numbers its multisets (a report's groups: label x map x bucket, and a
 //! quantity such as `n_expanded` or the search time), knows each one's size (from a first
 //! pass that counted them) and asks for type 7 quantiles ([`crate::median_iqr`]'s rule:
-//! linear interpolation between the order statistics `floor(h)` and `ceil(h)`, `h = (n -
-//! 1) p`). [`quantiles`] then calls the caller's pass function as often as it needs,
-//! each time receiving every value again as `(set, value)`. Each wanted order statistic
-//! keeps a 256-entry histogram of the next 8 bits of the values' keys (their
-//! `f64::total_cmp` order as a `u64`) among the values that share the bits fixed so far,
-//! and fixes 8 more bits per pass; once at most [`COLLECT`] values share its prefix, the
-//! next pass collects them and sorts. A set of at most [`COLLECT`] values is collected in
-//! the first pass. At most 9 passes, usually 2 to 4; memory is about 6 KiB per wanted
-//! order statistic, whatever the number of values.
+//! linear interpolation between the order statistics `floor(h)` and `ceil(h)`, `h = (n - 1)
+//! p`). [`quantiles`] then calls the caller's pass function as often as it needs, each time
+//! receiving every value again as `(set, value)`. Each wanted order statistic keeps a
+//! 256-entry histogram of the next 8 bits of the values' keys (their `f64::total_cmp` order
+//! as a `u64`) among the values that share the bits fixed so far, and fixes 8 more bits per
+//! pass; once at most [`COLLECT`] values share its prefix, the next pass collects them and
+//! sorts. A set of at most [`COLLECT`] values is collected in the first pass. At most 9
+//! passes, usually 2 to 4; memory is about 6 KiB per wanted order statistic, whatever the
+//! number of values.
 //!
 //! ```
 //! use planner_report::exact::quantiles;
@@ -122,6 +122,9 @@ impl Target {
     }
 }
 
+/// What a pass of [`quantiles`] calls with each value: `(set, value)`.
+pub type Emit<'a> = &'a mut dyn FnMut(usize, f64);
+
 fn changed(set: usize) -> RunnerError {
     RunnerError::Results(format!(
         "exact quantiles: set {set} held other values in another pass (the records changed while the report read them)"
@@ -135,7 +138,7 @@ fn changed(set: usize) -> RunnerError {
 pub fn quantiles(
     sizes: &[u64],
     probabilities: &[&[f64]],
-    pass: &mut dyn FnMut(&mut dyn FnMut(usize, f64)) -> Result<(), RunnerError>,
+    pass: &mut dyn FnMut(Emit<'_>) -> Result<(), RunnerError>,
 ) -> Result<Vec<Vec<f64>>, RunnerError> {
     // Per set: its targets (rank, index into `targets`), ranks deduplicated.
     let mut targets: Vec<Target> = Vec::new();
