@@ -201,12 +201,26 @@ const QUANTITIES: usize = 4;
 
 /// The aggregate section's markdown ([`crate::aggregate::tables`]), from passes over the
 /// records.
-pub fn aggregate_tables(
-    experiment: &Experiment,
-    passes: &dyn RecordPasses,
-    measured: Measured,
-) -> Result<String, RunnerError> {
-    let layout = Layout::new(experiment);
+/// The aggregate section's groups, summed and with their quantiles selected.
+struct Aggregated<'e> {
+    experiment: &'e Experiment,
+    layout: Layout<'e>,
+    groups: Vec<Acc>,
+    buckets: Vec<(u64, u64)>,
+    counters: Vec<Vec<CounterAcc>>,
+    counter_sets: Vec<Vec<usize>>,
+    q: Vec<Vec<f64>>,
+    n_labels: usize,
+    n_maps: usize,
+    bucket_base: usize,
+}
+
+/// The per-group sums of the first pass: label x map and label groups, bucket rows x labels
+/// (runs, expansions), and each label's counters.
+type Sums = (Vec<Acc>, Vec<(u64, u64)>, Vec<Vec<CounterAcc>>);
+
+/// The first pass: [`Sums`].
+fn accumulate(layout: &Layout<'_>, passes: &dyn RecordPasses) -> Result<Sums, RunnerError> {
     let (n_labels, n_maps) = (layout.n_labels(), layout.n_maps());
     // Groups: label x map (l * n_maps + m), then each label overall (n_labels * n_maps + l).
     let n_groups = n_labels * n_maps + n_labels;
@@ -254,119 +268,180 @@ pub fn aggregate_tables(
             }
         });
     })?;
-    // Quantile sets: per group its quantities; per bucket row and label (expansions,
-    // time); per label and counter.
-    let bucket_base = QUANTITIES * n_groups;
-    let counter_base = bucket_base + 2 * buckets.len();
-    let mut counter_sets: Vec<Vec<usize>> = Vec::with_capacity(n_labels);
-    let mut n_sets = counter_base;
-    for names in &counters {
-        counter_sets.push((n_sets..n_sets + names.len()).collect());
-        n_sets += names.len();
-    }
-    let mut sizes = vec![0u64; n_sets];
-    let mut wanted: Vec<&[f64]> = vec![&[0.5]; n_sets];
-    for (g, acc) in groups.iter().enumerate() {
-        sizes[QUANTITIES * g + EXPANSIONS] = acc.expansions;
-        sizes[QUANTITIES * g + TIME] = acc.runs;
-        wanted[QUANTITIES * g + TIME] = &[0.5, 0.25, 0.75];
-        sizes[QUANTITIES * g + SUBOPT] = acc.subopt;
-        sizes[QUANTITIES * g + LENGTH] = acc.lengths;
-    }
-    for (k, &(runs, expansions)) in buckets.iter().enumerate() {
-        sizes[bucket_base + 2 * k] = expansions;
-        sizes[bucket_base + 2 * k + 1] = runs;
-    }
-    for (names, sets) in counters.iter().zip(&counter_sets) {
-        for (c, &s) in names.iter().zip(sets) {
-            sizes[s] = c.n;
-        }
-    }
-    let q = quantiles(&sizes, &wanted, &mut |emit| {
-        passes.pass(&mut |r| {
-            layout.place(r, &mut |l, m, row| {
-                let expansions = r.counters.get("n_expanded").map(|v| v as f64);
-                for g in [l * n_maps + m, n_labels * n_maps + l] {
-                    if let Some(e) = expansions {
-                        emit(QUANTITIES * g + EXPANSIONS, e);
-                    }
-                    emit(QUANTITIES * g + TIME, r.time_ms);
-                    if let Some(s) = subopt(r) {
-                        emit(QUANTITIES * g + SUBOPT, s);
-                    }
-                    if let Some(length) = r.length {
-                        emit(QUANTITIES * g + LENGTH, length);
-                    }
-                }
-                if let Some(k) = row {
-                    if let Some(e) = expansions {
-                        emit(bucket_base + 2 * (k * n_labels + l), e);
-                    }
-                    emit(bucket_base + 2 * (k * n_labels + l) + 1, r.time_ms);
-                }
-                let names = &counters[l];
-                for (j, (name, _)) in r.counters.iter().enumerate() {
-                    if r.counters.iter().take(j).any(|(n, _)| n == name) {
-                        continue;
-                    }
-                    let Some(value) = r.counters.get(name) else {
-                        continue;
-                    };
-                    let at = match names.get(j) {
-                        Some(c) if c.name == name => Some(j),
-                        _ => names.iter().position(|c| c.name == name),
-                    };
-                    if let Some(i) = at {
-                        emit(counter_sets[l][i], value as f64);
-                    }
-                }
-            });
-        })
-    })?;
-    let median = |set: usize| q[set].first().copied();
+    Ok((groups, buckets, counters))
+}
 
-    let mut out = String::from("## Aggregates\n\n");
-    out.push_str(&parameters(experiment));
-    if experiment.repeats == 1 {
-        out.push_str(TIMING_WARNING);
-    }
-    out.push_str(PER_MAP);
-    out.push_str(HEADER);
-    let row = |out: &mut String, label: &str, map: &str, g: usize| {
-        let acc = &groups[g];
-        if acc.runs == 0 {
-            return;
+/// The aggregate section's markdown ([`crate::aggregate::tables`]), from passes over the
+/// records.
+pub fn aggregate_tables(
+    experiment: &Experiment,
+    passes: &dyn RecordPasses,
+    measured: Measured,
+) -> Result<String, RunnerError> {
+    let a = Aggregated::compute(experiment, passes)?;
+    let mut out = a.per_map(measured);
+    a.by_bucket(&mut out, measured);
+    a.counter_table(&mut out);
+    a.seed_table(&mut out);
+    Ok(out)
+}
+
+impl<'e> Aggregated<'e> {
+    /// Sums the groups in one pass and selects their quantiles in a few more.
+    fn compute(
+        experiment: &'e Experiment,
+        passes: &dyn RecordPasses,
+    ) -> Result<Aggregated<'e>, RunnerError> {
+        let layout = Layout::new(experiment);
+        let (n_labels, n_maps) = (layout.n_labels(), layout.n_maps());
+        let n_groups = n_labels * n_maps + n_labels;
+        let (groups, buckets, counters) = accumulate(&layout, passes)?;
+        // Quantile sets: per group its quantities; per bucket row and label (expansions,
+        // time); per label and counter.
+        let bucket_base = QUANTITIES * n_groups;
+        let counter_base = bucket_base + 2 * buckets.len();
+        let mut counter_sets: Vec<Vec<usize>> = Vec::with_capacity(n_labels);
+        let mut n_sets = counter_base;
+        for names in &counters {
+            counter_sets.push((n_sets..n_sets + names.len()).collect());
+            n_sets += names.len();
         }
-        let optimal = if acc.stated {
-            acc.optimal.to_string()
-        } else {
-            "-".into()
-        };
-        let (median_expansions, mean_expansions) = match median(QUANTITIES * g + EXPANSIONS) {
-            Some(m) => (
-                format_number(m),
-                format_number(acc.expansions_sum as f64 / acc.expansions as f64),
-            ),
-            None => ("-".into(), "-".into()),
-        };
-        let times = &q[QUANTITIES * g + TIME];
-        let (time, iqr) = match (measured, times.as_slice()) {
-            (Measured::Redacted, _) => ("[time]".to_string(), "[time]".to_string()),
-            (Measured::Shown, &[m, q1, q3]) => (format!("{m:.3}"), format!("{q1:.3} - {q3:.3}")),
-            (Measured::Shown, _) => ("-".into(), "-".into()),
-        };
-        let (median_subopt, max_subopt) = match median(QUANTITIES * g + SUBOPT) {
-            Some(m) => (
-                format!("{:.2} %", 100.0 * m),
-                format!("{:.2} %", 100.0 * acc.subopt_max),
-            ),
-            None => ("-".into(), "-".into()),
-        };
-        let heap = match measured {
-            Measured::Redacted => "[memory]".to_string(),
-            Measured::Shown => format_bytes(acc.heap),
-        };
-        let _ = writeln!(
+        let mut sizes = vec![0u64; n_sets];
+        let mut wanted: Vec<&[f64]> = vec![&[0.5]; n_sets];
+        for (g, acc) in groups.iter().enumerate() {
+            sizes[QUANTITIES * g + EXPANSIONS] = acc.expansions;
+            sizes[QUANTITIES * g + TIME] = acc.runs;
+            wanted[QUANTITIES * g + TIME] = &[0.5, 0.25, 0.75];
+            sizes[QUANTITIES * g + SUBOPT] = acc.subopt;
+            sizes[QUANTITIES * g + LENGTH] = acc.lengths;
+        }
+        for (k, &(runs, expansions)) in buckets.iter().enumerate() {
+            sizes[bucket_base + 2 * k] = expansions;
+            sizes[bucket_base + 2 * k + 1] = runs;
+        }
+        for (names, sets) in counters.iter().zip(&counter_sets) {
+            for (c, &s) in names.iter().zip(sets) {
+                sizes[s] = c.n;
+            }
+        }
+        let q = quantiles(&sizes, &wanted, &mut |emit| {
+            passes.pass(&mut |r| {
+                layout.place(r, &mut |l, m, row| {
+                    let expansions = r.counters.get("n_expanded").map(|v| v as f64);
+                    for g in [l * n_maps + m, n_labels * n_maps + l] {
+                        if let Some(e) = expansions {
+                            emit(QUANTITIES * g + EXPANSIONS, e);
+                        }
+                        emit(QUANTITIES * g + TIME, r.time_ms);
+                        if let Some(s) = subopt(r) {
+                            emit(QUANTITIES * g + SUBOPT, s);
+                        }
+                        if let Some(length) = r.length {
+                            emit(QUANTITIES * g + LENGTH, length);
+                        }
+                    }
+                    if let Some(k) = row {
+                        if let Some(e) = expansions {
+                            emit(bucket_base + 2 * (k * n_labels + l), e);
+                        }
+                        emit(bucket_base + 2 * (k * n_labels + l) + 1, r.time_ms);
+                    }
+                    let names = &counters[l];
+                    for (j, (name, _)) in r.counters.iter().enumerate() {
+                        if r.counters.iter().take(j).any(|(n, _)| n == name) {
+                            continue;
+                        }
+                        let Some(value) = r.counters.get(name) else {
+                            continue;
+                        };
+                        let at = match names.get(j) {
+                            Some(c) if c.name == name => Some(j),
+                            _ => names.iter().position(|c| c.name == name),
+                        };
+                        if let Some(i) = at {
+                            emit(counter_sets[l][i], value as f64);
+                        }
+                    }
+                });
+            })
+        })?;
+        Ok(Aggregated {
+            experiment,
+            layout,
+            groups,
+            buckets,
+            counters,
+            counter_sets,
+            q,
+            n_labels,
+            n_maps,
+            bucket_base,
+        })
+    }
+
+    /// The parameters, the per-map table and the overall rows.
+    fn per_map(&self, measured: Measured) -> String {
+        let (experiment, layout, groups, buckets) =
+            (self.experiment, &self.layout, &self.groups, &self.buckets);
+        let (counters, counter_sets, q) = (&self.counters, &self.counter_sets, &self.q);
+        let (n_labels, n_maps, bucket_base) = (self.n_labels, self.n_maps, self.bucket_base);
+        let median = |set: usize| q[set].first().copied();
+        let _ = (
+            experiment,
+            layout,
+            groups,
+            buckets,
+            counters,
+            counter_sets,
+            n_labels,
+            n_maps,
+            bucket_base,
+            &median,
+        );
+        let mut out = String::from("## Aggregates\n\n");
+        out.push_str(&parameters(experiment));
+        if experiment.repeats == 1 {
+            out.push_str(TIMING_WARNING);
+        }
+        out.push_str(PER_MAP);
+        out.push_str(HEADER);
+        let row = |out: &mut String, label: &str, map: &str, g: usize| {
+            let acc = &groups[g];
+            if acc.runs == 0 {
+                return;
+            }
+            let optimal = if acc.stated {
+                acc.optimal.to_string()
+            } else {
+                "-".into()
+            };
+            let (median_expansions, mean_expansions) = match median(QUANTITIES * g + EXPANSIONS) {
+                Some(m) => (
+                    format_number(m),
+                    format_number(acc.expansions_sum as f64 / acc.expansions as f64),
+                ),
+                None => ("-".into(), "-".into()),
+            };
+            let times = &q[QUANTITIES * g + TIME];
+            let (time, iqr) = match (measured, times.as_slice()) {
+                (Measured::Redacted, _) => ("[time]".to_string(), "[time]".to_string()),
+                (Measured::Shown, &[m, q1, q3]) => {
+                    (format!("{m:.3}"), format!("{q1:.3} - {q3:.3}"))
+                }
+                (Measured::Shown, _) => ("-".into(), "-".into()),
+            };
+            let (median_subopt, max_subopt) = match median(QUANTITIES * g + SUBOPT) {
+                Some(m) => (
+                    format!("{:.2} %", 100.0 * m),
+                    format!("{:.2} %", 100.0 * acc.subopt_max),
+                ),
+                None => ("-".into(), "-".into()),
+            };
+            let heap = match measured {
+                Measured::Redacted => "[memory]".to_string(),
+                Measured::Shown => format_bytes(acc.heap),
+            };
+            let _ = writeln!(
             out,
             "| {} | {} | {} | {} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} | {heap} |",
             md_cell(label),
@@ -374,117 +449,179 @@ pub fn aggregate_tables(
             acc.runs,
             acc.found
         );
-    };
-    for (l, planner) in experiment.planners.iter().enumerate() {
-        for (m, map) in experiment.maps.iter().enumerate() {
-            row(&mut out, &planner.label, &map.name, l * n_maps + m);
-        }
-    }
-    out.push('\n');
-    out.push_str("Overall, per planner label: every run on every map.\n\n");
-    out.push_str(HEADER);
-    for (l, planner) in experiment.planners.iter().enumerate() {
-        row(&mut out, &planner.label, "all", n_labels * n_maps + l);
-    }
-    out.push('\n');
-
-    // By bucket.
-    if !layout.rows.is_empty() {
-        let labels: Vec<String> = experiment
-            .planners
-            .iter()
-            .map(|p| md_cell(&p.label))
-            .collect();
-        let head = format!(
-            "| Map | Bucket | Runs | {} |\n|---|---|---:|{}\n",
-            labels.join(" | "),
-            "---:|".repeat(labels.len())
-        );
-        let _ = write!(out, "By scenario bucket (a `.scen` bucket holds problems of optimal length 4b to 4b + 4; more than {} buckets are grouped into ranges of equal width; every bucket is in runs.csv's `bucket` column). Median `n_expanded` per label:\n\n{head}", crate::aggregate::MAX_BUCKET_ROWS);
-        let table = |out: &mut String, cell: &dyn Fn(usize) -> String| {
-            for (k, &(m, (lo, hi))) in layout.rows.iter().enumerate() {
-                let bucket = if lo == hi {
-                    lo.to_string()
-                } else {
-                    format!("{lo}-{hi}")
-                };
-                let runs = (0..n_labels)
-                    .map(|l| buckets[k * n_labels + l].0)
-                    .max()
-                    .unwrap_or(0);
-                let cells: Vec<String> = (0..n_labels).map(|l| cell(k * n_labels + l)).collect();
-                let _ = writeln!(
-                    out,
-                    "| {} | {bucket} | {runs} | {} |",
-                    md_cell(&experiment.maps[m].name),
-                    cells.join(" | ")
-                );
-            }
-            out.push('\n');
         };
-        table(&mut out, &|b| {
-            median(bucket_base + 2 * b).map_or("-".into(), format_number)
-        });
-        let _ = write!(out, "Median search time (ms) per label:\n\n{head}");
-        table(
-            &mut out,
-            &|b| match (measured, median(bucket_base + 2 * b + 1)) {
-                (Measured::Redacted, _) => "[time]".into(),
-                (Measured::Shown, Some(m)) => format!("{m:.3}"),
-                (Measured::Shown, None) => "-".into(),
-            },
-        );
+        for (l, planner) in experiment.planners.iter().enumerate() {
+            for (m, map) in experiment.maps.iter().enumerate() {
+                row(&mut out, &planner.label, &map.name, l * n_maps + m);
+            }
+        }
+        out.push('\n');
+        out.push_str("Overall, per planner label: every run on every map.\n\n");
+        out.push_str(HEADER);
+        for (l, planner) in experiment.planners.iter().enumerate() {
+            row(&mut out, &planner.label, "all", n_labels * n_maps + l);
+        }
+        out.push('\n');
+        out
     }
 
-    // Counters.
-    out.push_str("Median of each counter per planner label, over every run:\n\n| Planner | Counter | Median | Mean | Max |\n|---|---|---:|---:|---:|\n");
-    for (l, planner) in experiment.planners.iter().enumerate() {
-        for (c, &set) in counters[l].iter().zip(&counter_sets[l]) {
-            let Some(m) = median(set) else {
-                continue;
+    /// The by-bucket tables of scenario maps.
+    fn by_bucket(&self, out: &mut String, measured: Measured) {
+        let (experiment, layout, groups, buckets) =
+            (self.experiment, &self.layout, &self.groups, &self.buckets);
+        let (counters, counter_sets, q) = (&self.counters, &self.counter_sets, &self.q);
+        let (n_labels, n_maps, bucket_base) = (self.n_labels, self.n_maps, self.bucket_base);
+        let median = |set: usize| q[set].first().copied();
+        let _ = (
+            experiment,
+            layout,
+            groups,
+            buckets,
+            counters,
+            counter_sets,
+            n_labels,
+            n_maps,
+            bucket_base,
+            &median,
+        );
+        // By bucket.
+        if !layout.rows.is_empty() {
+            let labels: Vec<String> = experiment
+                .planners
+                .iter()
+                .map(|p| md_cell(&p.label))
+                .collect();
+            let head = format!(
+                "| Map | Bucket | Runs | {} |\n|---|---|---:|{}\n",
+                labels.join(" | "),
+                "---:|".repeat(labels.len())
+            );
+            let _ = write!(out, "By scenario bucket (a `.scen` bucket holds problems of optimal length 4b to 4b + 4; more than {} buckets are grouped into ranges of equal width; every bucket is in runs.csv's `bucket` column). Median `n_expanded` per label:\n\n{head}", crate::aggregate::MAX_BUCKET_ROWS);
+            let table = |out: &mut String, cell: &dyn Fn(usize) -> String| {
+                for (k, &(m, (lo, hi))) in layout.rows.iter().enumerate() {
+                    let bucket = if lo == hi {
+                        lo.to_string()
+                    } else {
+                        format!("{lo}-{hi}")
+                    };
+                    let runs = (0..n_labels)
+                        .map(|l| buckets[k * n_labels + l].0)
+                        .max()
+                        .unwrap_or(0);
+                    let cells: Vec<String> =
+                        (0..n_labels).map(|l| cell(k * n_labels + l)).collect();
+                    let _ = writeln!(
+                        out,
+                        "| {} | {bucket} | {runs} | {} |",
+                        md_cell(&experiment.maps[m].name),
+                        cells.join(" | ")
+                    );
+                }
+                out.push('\n');
             };
-            let _ = writeln!(
+            table(out, &|b| {
+                median(bucket_base + 2 * b).map_or("-".into(), format_number)
+            });
+            let _ = write!(out, "Median search time (ms) per label:\n\n{head}");
+            table(
                 out,
-                "| {} | {} | {} | {} | {} |",
-                md_cell(&planner.label),
-                c.name,
-                format_number(m),
-                format_number(c.sum as f64 / c.n as f64),
-                format_number(c.max)
+                &|b| match (measured, median(bucket_base + 2 * b + 1)) {
+                    (Measured::Redacted, _) => "[time]".into(),
+                    (Measured::Shown, Some(m)) => format!("{m:.3}"),
+                    (Measured::Shown, None) => "-".into(),
+                },
             );
         }
     }
-    out.push('\n');
 
-    // Seeds.
-    let seeded: Vec<usize> = (0..n_labels)
-        .filter(|&l| experiment.planners[l].factory.specs().seeded)
-        .collect();
-    if experiment.repeats >= 2 && !seeded.is_empty() {
-        let _ = write!(out, "Seeded planners over their {} seeds per problem: the success rate, and the median, smallest and largest length and `n_expanded` over the seeds (per map, over every problem).\n\n| Planner | Map | Seeds | Success rate | Median length | Length range | Median expansions | Expansions range |\n|---|---|---:|---:|---:|---:|---:|---:|\n", experiment.repeats);
-        for l in seeded {
-            for (m, map) in experiment.maps.iter().enumerate() {
-                let g = l * n_maps + m;
-                let acc = &groups[g];
-                if acc.runs == 0 {
+    /// Each counter's median, mean and largest value per label.
+    fn counter_table(&self, out: &mut String) {
+        let (experiment, layout, groups, buckets) =
+            (self.experiment, &self.layout, &self.groups, &self.buckets);
+        let (counters, counter_sets, q) = (&self.counters, &self.counter_sets, &self.q);
+        let (n_labels, n_maps, bucket_base) = (self.n_labels, self.n_maps, self.bucket_base);
+        let median = |set: usize| q[set].first().copied();
+        let _ = (
+            experiment,
+            layout,
+            groups,
+            buckets,
+            counters,
+            counter_sets,
+            n_labels,
+            n_maps,
+            bucket_base,
+            &median,
+        );
+        // Counters.
+        out.push_str("Median of each counter per planner label, over every run:\n\n| Planner | Counter | Median | Mean | Max |\n|---|---|---:|---:|---:|\n");
+        for (l, planner) in experiment.planners.iter().enumerate() {
+            for (c, &set) in counters[l].iter().zip(&counter_sets[l]) {
+                let Some(m) = median(set) else {
                     continue;
-                }
-                let spread = |set: usize, lo: f64, hi: f64, digits: usize| match median(set) {
-                    Some(median) => (
-                        format!("{median:.digits$}"),
-                        format!("{lo:.digits$} - {hi:.digits$}"),
-                    ),
-                    None => ("-".into(), "-".into()),
                 };
-                let (length, length_range) =
-                    spread(QUANTITIES * g + LENGTH, acc.length_min, acc.length_max, 2);
-                let (expanded, expanded_range) = spread(
-                    QUANTITIES * g + EXPANSIONS,
-                    acc.expansions_min,
-                    acc.expansions_max,
-                    0,
-                );
                 let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {} | {} |",
+                    md_cell(&planner.label),
+                    c.name,
+                    format_number(m),
+                    format_number(c.sum as f64 / c.n as f64),
+                    format_number(c.max)
+                );
+            }
+        }
+        out.push('\n');
+    }
+
+    /// Seeded planners' spread over their seeds.
+    fn seed_table(&self, out: &mut String) {
+        let (experiment, layout, groups, buckets) =
+            (self.experiment, &self.layout, &self.groups, &self.buckets);
+        let (counters, counter_sets, q) = (&self.counters, &self.counter_sets, &self.q);
+        let (n_labels, n_maps, bucket_base) = (self.n_labels, self.n_maps, self.bucket_base);
+        let median = |set: usize| q[set].first().copied();
+        let _ = (
+            experiment,
+            layout,
+            groups,
+            buckets,
+            counters,
+            counter_sets,
+            n_labels,
+            n_maps,
+            bucket_base,
+            &median,
+        );
+        // Seeds.
+        let seeded: Vec<usize> = (0..n_labels)
+            .filter(|&l| experiment.planners[l].factory.specs().seeded)
+            .collect();
+        if experiment.repeats >= 2 && !seeded.is_empty() {
+            let _ = write!(out, "Seeded planners over their {} seeds per problem: the success rate, and the median, smallest and largest length and `n_expanded` over the seeds (per map, over every problem).\n\n| Planner | Map | Seeds | Success rate | Median length | Length range | Median expansions | Expansions range |\n|---|---|---:|---:|---:|---:|---:|---:|\n", experiment.repeats);
+            for l in seeded {
+                for (m, map) in experiment.maps.iter().enumerate() {
+                    let g = l * n_maps + m;
+                    let acc = &groups[g];
+                    if acc.runs == 0 {
+                        continue;
+                    }
+                    let spread = |set: usize, lo: f64, hi: f64, digits: usize| match median(set) {
+                        Some(median) => (
+                            format!("{median:.digits$}"),
+                            format!("{lo:.digits$} - {hi:.digits$}"),
+                        ),
+                        None => ("-".into(), "-".into()),
+                    };
+                    let (length, length_range) =
+                        spread(QUANTITIES * g + LENGTH, acc.length_min, acc.length_max, 2);
+                    let (expanded, expanded_range) = spread(
+                        QUANTITIES * g + EXPANSIONS,
+                        acc.expansions_min,
+                        acc.expansions_max,
+                        0,
+                    );
+                    let _ = writeln!(
                     out,
                     "| {} | {} | {} | {:.1} % | {length} | {length_range} | {expanded} | {expanded_range} |",
                     md_cell(&experiment.planners[l].label),
@@ -492,11 +629,11 @@ pub fn aggregate_tables(
                     experiment.repeats,
                     100.0 * acc.found as f64 / acc.runs as f64,
                 );
+                }
             }
+            out.push('\n');
         }
-        out.push('\n');
     }
-    Ok(out)
 }
 
 /// The optimum section's markdown (`crate::optimum`'s table), from one pass over the

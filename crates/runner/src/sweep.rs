@@ -644,23 +644,9 @@ fn finish(
         Some(stream) => stream,
         None => &held,
     };
-    let expanded = match (expanded, &stream) {
-        (Some(cells), _) => cells,
-        (None, None) => expanded::record_all(experiment, &records)?,
-        (None, Some(_)) => {
-            // The figures draw repeat 0 of the drawn problems: those records, from one pass.
-            let mut firsts = Vec::new();
-            if experiment.figures_expanded && experiment.figures != config::FigureMode::None {
-                passes.pass(&mut |r| {
-                    if r.repeat == 0 {
-                        let mut r = r.clone();
-                        r.path = None;
-                        firsts.push(r);
-                    }
-                })?;
-            }
-            expanded::record_all(experiment, &firsts)?
-        }
+    let expanded = match expanded {
+        Some(cells) => cells,
+        None => record_expanded(experiment, &records, stream.is_some(), passes)?,
     };
     let results = Results {
         experiment,
@@ -731,6 +717,30 @@ fn finish(
         record.path = None;
     }
     Ok((reproduction, records))
+}
+
+/// The expanded cells of the runs the figures draw, recorded again ([`expanded::record_all`]):
+/// from the held `records`, or (`streamed`) from repeat 0 of every run, read in one pass.
+fn record_expanded(
+    experiment: &Experiment,
+    records: &[RunRecord],
+    streamed: bool,
+    passes: &dyn RecordPasses,
+) -> Result<ExpandedCells, RunnerError> {
+    if !streamed {
+        return Ok(expanded::record_all(experiment, records)?);
+    }
+    let mut firsts = Vec::new();
+    if experiment.figures_expanded && experiment.figures != config::FigureMode::None {
+        passes.pass(&mut |r| {
+            if r.repeat == 0 {
+                let mut r = r.clone();
+                r.path = None;
+                firsts.push(r);
+            }
+        })?;
+    }
+    Ok(expanded::record_all(experiment, &firsts)?)
 }
 
 /// Writes `records` (a whole sweep's, in run order) as a framed stream file with
