@@ -15,14 +15,20 @@
 #   scripts/scale.sh all             the three, default sizes
 #
 # Work files go to $SCALE_DIR (default /tmp/gridplan-scale), removed as each step ends.
+# Above 100,000 runs (sweep::HELD_RUNS) a sweep holds no record in memory: peak RSS should
+# not grow with N.
 # The machine's load average is printed with the figures: compare timings within one run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root="$PWD"
 work="${SCALE_DIR:-/tmp/gridplan-scale}"
 mkdir -p "$work"
-cargo build --release -p xtask --quiet
-xtask="$root/target/release/xtask"
+# $XTASK: a release xtask binary already built (e.g. with CI's profile); else one is built.
+xtask="${XTASK:-}"
+if [[ -z $xtask ]]; then
+  cargo build --release -p xtask --quiet
+  xtask="$root/target/release/xtask"
+fi
 
 # config NAME N OUTPUTS: writes $work/NAME.toml, N runs (a multiple of 160), and prints it.
 config() {

@@ -473,6 +473,7 @@ fn movingai_aggregates_are_snapshotted() {
         experiment: &experiment,
         records: &records,
         index: &index,
+        passes: &records.as_slice(),
         options: &options,
     };
     let tables =

@@ -493,7 +493,7 @@ fn slurm_array_and_merge_equal_a_local_run() {
     );
     for k in 1..=3 {
         assert!(dir
-            .join(format!("merged-slurm/shard-{k}/shard.jsonl"))
+            .join(format!("merged-slurm/shard-{k}/shard.stream"))
             .exists());
     }
 }

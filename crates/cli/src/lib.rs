@@ -88,7 +88,7 @@ pub enum Command {
         #[arg(long)]
         config: Option<PathBuf>,
     },
-    /// Re-render a results directory in place from its records (records.jsonl,
+    /// Re-render a results directory in place from its records (records.stream,
     /// expanded.jsonl, provenance.json): summary.md, figures, charts, report.html, OMPL
     /// logs. No planner runs; the directory is replaced as `experiment` replaces it.
     Report {

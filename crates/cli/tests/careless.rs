@@ -579,7 +579,7 @@ fn job_array_environments_are_checked_and_named() {
 fn stream_readers_refuse_special_files() {
     let dir = with_config(20_001);
     shard(&dir, "c.toml", "1/2", "s1");
-    let shard = dir.join("s1/shard.jsonl");
+    let shard = dir.join("s1/shard.stream");
     let fifo = |path: &Path| {
         let _ = std::fs::remove_file(path);
         let made = Command::new("mkfifo").arg(path).status().unwrap();

@@ -317,6 +317,14 @@ fn a_foreign_stream_directory_survives() {
 
 /// Replaces the first `"planner":"a"` after line 1 of `file` with another label; returns
 /// the line it changed (1-based).
+/// Writes the framed stream `framed` (a shard's shard.stream) to `out` as a JSON Lines
+/// stream, the format of earlier versions' shard.jsonl and resume stream.
+fn json_lines(framed: &Path, out: &Path) {
+    let reader = std::io::BufReader::new(fs::File::open(framed).unwrap());
+    let mut file = fs::File::create(out).unwrap();
+    planner_runner::frames::write_json_lines(reader, "shard.stream", &mut file, None).unwrap();
+}
+
 fn forge_label(file: &Path) -> usize {
     let text = fs::read_to_string(file).unwrap();
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
@@ -336,14 +344,19 @@ fn merge_refuses_foreign_records_and_mixed_versions() {
     }
     // Untouched, they merge.
     succeeded(&gridplan(&dir, &["merge", "s1", "s2", "--output", "m"]));
-    // A record of another label at a valid run index is refused, naming file and line.
-    let original = fs::read(dir.join("s2/shard.jsonl")).unwrap();
+    // A record of another label at a valid run index is refused, naming file and line
+    // (in an earlier version's JSON Lines shard.jsonl, which merge still reads: the
+    // framed shard.stream's checksums refuse a changed byte before any record is read).
+    let original = fs::read(dir.join("s2/shard.stream")).unwrap();
+    json_lines(&dir.join("s2/shard.stream"), &dir.join("s2/shard.jsonl"));
+    fs::remove_file(dir.join("s2/shard.stream")).unwrap();
     let line = forge_label(&dir.join("s2/shard.jsonl"));
     let out = gridplan(&dir, &["merge", "s1", "s2", "--output", "m2"]);
     refused(&out, FAILURE, &format!("shard.jsonl line {line}"));
     refused(&out, FAILURE, "\"other\"");
     assert!(!dir.join("m2").exists());
-    fs::write(dir.join("s2/shard.jsonl"), original).unwrap();
+    fs::remove_file(dir.join("s2/shard.jsonl")).unwrap();
+    fs::write(dir.join("s2/shard.stream"), original).unwrap();
     // Shards of two gridplan versions are refused, naming both.
     let marker = dir.join("s2/.gridplan-results");
     let text = fs::read_to_string(&marker).unwrap();
@@ -370,13 +383,13 @@ fn resume_refuses_foreign_records() {
     fs::create_dir(dir.join(".res.stream")).unwrap();
     fs::write(dir.join(".res.stream/.gridplan-stream"), "").unwrap();
     let stream = dir.join(".res.stream/records.jsonl");
-    fs::copy(dir.join("whole/shard.jsonl"), &stream).unwrap();
+    json_lines(&dir.join("whole/shard.stream"), &stream);
     let line = forge_label(&stream);
     let out = gridplan(&dir, &["experiment", "cfg.toml", "--quiet", "--resume"]);
     refused(&out, USAGE, &format!("records.jsonl line {line}"));
     assert!(!dir.join("res").exists());
     // The same stream unforged resumes (nothing left to run) and writes the results.
-    fs::copy(dir.join("whole/shard.jsonl"), &stream).unwrap();
+    json_lines(&dir.join("whole/shard.stream"), &stream);
     succeeded(&gridplan(
         &dir,
         &["experiment", "cfg.toml", "--quiet", "--resume"],

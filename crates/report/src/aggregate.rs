@@ -7,8 +7,9 @@ use std::fmt::Write as _;
 use crate::md_cell;
 use crate::optimum::matches_optimum;
 use crate::{median_iqr, Context, Reproduction, Section};
-use planner_runner::config::PlannerSpec;
+use planner_runner::config::{Experiment, PlannerSpec};
 use planner_runner::record::RunRecord;
+use planner_runner::RunnerError;
 
 /// The aggregate tables (section name `aggregate`).
 pub struct Aggregate;
@@ -26,6 +27,26 @@ impl Section for Aggregate {
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
         out.push_str(&tables(context, Measured::Shown));
     }
+
+    /// From passes over the records ([`crate::streamed::aggregate_tables`]), in memory
+    /// bounded by the groups.
+    fn render_passes(
+        &self,
+        context: &Context<'_>,
+        out: &mut String,
+        _reproduction: &mut Reproduction,
+    ) -> Result<(), RunnerError> {
+        out.push_str(&crate::streamed::aggregate_tables(
+            context.experiment,
+            context.passes,
+            Measured::Shown,
+        )?);
+        Ok(())
+    }
+
+    fn streams(&self) -> bool {
+        true
+    }
 }
 
 /// Whether the measured (not deterministic) columns, time and memory, are shown.
@@ -42,11 +63,11 @@ pub enum Measured {
 pub fn tables(context: &Context<'_>, measured: Measured) -> String {
     let experiment = context.experiment;
     let mut out = String::from("## Aggregates\n\n");
-    out.push_str(&parameters(context));
+    out.push_str(&parameters(experiment));
     if experiment.repeats == 1 {
-        out.push_str("> **Timing warning:** `repeats = 1`, so each run's time is a single measurement; the IQR below spreads over problems, not over repeated measurements of one problem.\n\n");
+        out.push_str(TIMING_WARNING);
     }
-    out.push_str("Per planner label and map, over every run, repeats included: runs, runs that found a path, runs whose length equals the stated optimum (relative tolerance 1e-4; `-` without optima), the median and mean `n_expanded`, the median wall time of the search with its interquartile range (type 7 quartiles), the median and largest suboptimality (length / optimum - 1, over found runs with an optimum), and the largest peak heap of a run.\n\n");
+    out.push_str(PER_MAP);
     out.push_str(HEADER);
     for planner in &experiment.planners {
         for map in &experiment.maps {
@@ -73,7 +94,13 @@ pub fn tables(context: &Context<'_>, measured: Measured) -> String {
     out
 }
 
-const HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Peak heap |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+/// The warning of a sweep without repeats.
+pub(crate) const TIMING_WARNING: &str = "> **Timing warning:** `repeats = 1`, so each run's time is a single measurement; the IQR below spreads over problems, not over repeated measurements of one problem.\n\n";
+
+/// What the per-map table shows.
+pub(crate) const PER_MAP: &str = "Per planner label and map, over every run, repeats included: runs, runs that found a path, runs whose length equals the stated optimum (relative tolerance 1e-4; `-` without optima), the median and mean `n_expanded`, the median wall time of the search with its interquartile range (type 7 quartiles), the median and largest suboptimality (length / optimum - 1, over found runs with an optimum), and the largest peak heap of a run.\n\n";
+
+pub(crate) const HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Peak heap |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
 /// At most this many bucket rows per map in the by-bucket tables: more buckets are grouped
 /// into ranges of equal width.
@@ -82,7 +109,7 @@ pub const MAX_BUCKET_ROWS: u32 = 8;
 /// The bucket ranges of a map's `buckets` (sorted, distinct): each bucket alone when there
 /// are at most [`MAX_BUCKET_ROWS`], else at most that many ranges of equal width over
 /// first..=last, empty ranges left out.
-fn bucket_ranges(buckets: &[u32]) -> Vec<(u32, u32)> {
+pub(crate) fn bucket_ranges(buckets: &[u32]) -> Vec<(u32, u32)> {
     let (Some(&first), Some(&last)) = (buckets.first(), buckets.last()) else {
         return Vec::new();
     };
@@ -279,9 +306,9 @@ fn row(out: &mut String, label: &str, map: &str, runs: &[&RunRecord], measured: 
 }
 
 /// Every label's resolved parameters (defaults included) and budget.
-fn parameters(context: &Context<'_>) -> String {
+pub(crate) fn parameters(experiment: &Experiment) -> String {
     let mut out = String::from("Planner parameters, as resolved (defaults included):\n\n| Label | Planner | Parameters | Budget |\n|---|---|---|---|\n");
-    for planner in &context.experiment.planners {
+    for planner in &experiment.planners {
         let params = match planner.factory.resolved() {
             serde_json::Value::Object(map) => map
                 .iter()
@@ -403,7 +430,7 @@ fn seeds(context: &Context<'_>) -> String {
 }
 
 /// An integer as is, else two decimals.
-fn format_number(value: f64) -> String {
+pub(crate) fn format_number(value: f64) -> String {
     if value.fract() == 0.0 && value.abs() < 1e15 {
         format!("{value:.0}")
     } else {
@@ -411,7 +438,7 @@ fn format_number(value: f64) -> String {
     }
 }
 
-fn format_bytes(bytes: u64) -> String {
+pub(crate) fn format_bytes(bytes: u64) -> String {
     if bytes >= 1 << 20 {
         format!("{:.1} MiB", bytes as f64 / f64::from(1u32 << 20))
     } else if bytes >= 1 << 10 {

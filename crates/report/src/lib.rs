@@ -21,17 +21,20 @@ pub mod aggregate;
 pub mod chart_section;
 pub mod charts;
 pub mod coverage_figures;
+pub mod exact;
 pub mod figures;
 pub mod html;
 pub mod ompl;
 pub mod optimum;
 pub mod repeats;
+pub mod streamed;
 
 use std::fmt::Write as _;
 
 use planner_runner::config::{ConfigError, Experiment};
 use planner_runner::index::ResultsIndex;
 use planner_runner::output::OutputFile;
+use planner_runner::passes::RecordPasses;
 use planner_runner::provenance::Provenance;
 pub use planner_runner::record::Reproduction;
 use planner_runner::record::RunRecord;
@@ -50,6 +53,10 @@ pub struct Context<'a> {
     pub records: &'a [RunRecord],
     /// Lookups into the records.
     pub index: &'a ResultsIndex<'a>,
+    /// The same records as passes ([`planner_runner::passes`]): the slice `records`, or,
+    /// for a sweep too large to hold, its records read back from disk (and `records`
+    /// empty; only the sections that [`Section::streams`] render then).
+    pub passes: &'a dyn RecordPasses,
     /// The section's options from the config (`sections = [{ name = ..., ... }]`; empty
     /// when the config names the section bare or names no sections).
     pub options: &'a toml::Table,
@@ -78,6 +85,24 @@ pub trait Section: Send + Sync {
 
     /// Appends the section's markdown to `out` and counts compared published numbers.
     fn render(&self, context: &Context<'_>, out: &mut String, reproduction: &mut Reproduction);
+
+    /// [`Section::render`] from [`Context::passes`] in memory bounded by the section's
+    /// groups, for a section that [`Section::streams`]; by default [`Section::render`].
+    fn render_passes(
+        &self,
+        context: &Context<'_>,
+        out: &mut String,
+        reproduction: &mut Reproduction,
+    ) -> Result<(), RunnerError> {
+        self.render(context, out, reproduction);
+        Ok(())
+    }
+
+    /// Whether [`Section::render_passes`] reads only [`Context::passes`] (not
+    /// `records` or `index`), so that the section renders for a sweep too large to hold.
+    fn streams(&self) -> bool {
+        false
+    }
 }
 
 /// A section's options that do not fit it (reported at the config's `sections` key).
@@ -150,6 +175,7 @@ impl Renderer {
                 experiment,
                 records,
                 index: &index,
+                passes: &records,
                 options,
             };
             if experiment.sections.is_some() || section.applies(&context) {
@@ -159,32 +185,135 @@ impl Renderer {
         (out, reproduction)
     }
 
+    /// summary.md from passes over the records (`passes`; `records` the same records in
+    /// memory, or empty when the sweep is too large to hold them), with the sweep's
+    /// provenance at the top, if given. Sections that [`Section::streams`] render from
+    /// the passes, in memory bounded by their groups; with `records` held the others
+    /// render from them; else each of those is left out with a line that says so.
+    pub fn summary_passes(
+        &self,
+        experiment: &Experiment,
+        records: &[RunRecord],
+        passes: &dyn RecordPasses,
+        provenance: Option<&Provenance>,
+    ) -> Result<(String, Reproduction), RunnerError> {
+        let held = records.len() as u64 == passes.len();
+        let index = ResultsIndex::new(records);
+        let empty = toml::Table::new();
+        let mut out = String::new();
+        let mut reproduction = Reproduction::default();
+        if held {
+            header(experiment, records, &mut out);
+        } else {
+            let first = experiment.planners.first().map(|p| p.label.as_str());
+            let mut invalid = Vec::new();
+            passes.pass(&mut |r| {
+                if r.is_invalid() && Some(r.planner.as_str()) == first {
+                    invalid.push(r.clone());
+                }
+            })?;
+            header_of(experiment, passes.len(), &invalid, &mut out);
+        }
+        if let Some(provenance) = provenance {
+            out.push_str(&provenance.markdown());
+        }
+        for section in &self.sections {
+            let options = match &experiment.sections {
+                Some(asked) => match asked.get(section.name()) {
+                    Some(request) => &request.options,
+                    None => continue,
+                },
+                None => &empty,
+            };
+            let context = Context {
+                experiment,
+                records,
+                index: &index,
+                passes,
+                options,
+            };
+            if !held && !section.streams() {
+                // Said for a section the config names; the others (whether they apply is
+                // read from the records) are left out silently.
+                if experiment.sections.is_none() {
+                    continue;
+                }
+                let _ = writeln!(
+                    out,
+                    "Section `{}` is left out: it holds every record in memory, and this sweep's {} runs are more than the {} a report holds (see runs.parquet).\n",
+                    section.name(),
+                    passes.len(),
+                    HELD_RUNS
+                );
+                continue;
+            }
+            if experiment.sections.is_some() || section.applies(&context) {
+                section.render_passes(&context, &mut out, &mut reproduction)?;
+            }
+        }
+        Ok((out, reproduction))
+    }
+
     /// Every report file of a whole sweep's results, in the order they are written:
     /// summary.md, figures, charts, OMPL logs (when the config asks), paths.jsonl (when
-    /// the config keeps paths) and report.html.
+    /// the config keeps paths) and report.html. A sweep whose records are not held
+    /// ([`Results::records`] empty: more than [`HELD_RUNS`] runs) gets summary.md's
+    /// streamed sections and the figures of its drawn problems (their records collected in
+    /// one pass); its charts and OMPL logs, which hold every record, are left out and
+    /// summary.md says so.
     pub fn files(
         &self,
         results: &Results<'_>,
     ) -> Result<(Vec<OutputFile>, Reproduction), RunnerError> {
         let experiment = results.experiment;
         let records = results.records;
-        let (summary, reproduction) =
-            self.summary_with(experiment, records, Some(results.provenance));
+        let passes = results.passes;
+        let held = records.len() as u64 == passes.len();
+        let (mut summary, reproduction) =
+            self.summary_passes(experiment, records, passes, Some(results.provenance))?;
+        let drawn;
+        let figure_records = if held {
+            records
+        } else {
+            drawn = drawn_records(experiment, passes)?;
+            drawn.as_slice()
+        };
+        if !held {
+            let _ = writeln!(
+                summary,
+                "Charts{}{} are left out: they hold every record in memory, and this sweep's {} runs are more than the {HELD_RUNS} a report holds.\n",
+                if experiment.ompl { ", OMPL logs" } else { "" },
+                if experiment.paths == planner_runner::config::PathsMode::All { ", paths.jsonl" } else { "" },
+                passes.len()
+            );
+        }
         let mut all = vec![OutputFile {
             path: "summary.md".into(),
             contents: summary.into_bytes(),
         }];
-        all.extend(figures::render(experiment, records, results.expanded));
-        all.extend(charts::render(experiment, records));
-        if experiment.ompl {
-            all.extend(ompl::logs(
-                experiment,
-                records,
-                results.provenance,
-                results.seconds,
-            ));
+        all.extend(figures::render(
+            experiment,
+            figure_records,
+            results.expanded,
+        ));
+        if held {
+            all.extend(charts::render(experiment, records));
+            if experiment.ompl {
+                all.extend(ompl::logs(
+                    experiment,
+                    records,
+                    results.provenance,
+                    results.seconds,
+                ));
+            }
         }
-        if let Some(paths) = planner_runner::output::paths_jsonl(records)? {
+        let all_paths = experiment.paths == planner_runner::config::PathsMode::All;
+        let paths = if held || !all_paths {
+            planner_runner::output::paths_jsonl(figure_records)?
+        } else {
+            None
+        };
+        if let Some(paths) = paths {
             all.push(OutputFile {
                 path: "paths.jsonl".into(),
                 contents: paths,
@@ -198,6 +327,39 @@ impl Renderer {
         });
         Ok((all, reproduction))
     }
+}
+
+/// The most runs whose records a sweep holds in memory for its report (the runner's
+/// [`planner_runner::sweep::HELD_RUNS`]); above it only the sections that stream render.
+pub const HELD_RUNS: u64 = planner_runner::sweep::HELD_RUNS;
+
+/// The records the figures draw (repeat 0 of the drawn problems) and, with `paths =
+/// "figures"`, those whose paths paths.jsonl keeps (repeat 0 of every problem), from one
+/// pass.
+fn drawn_records(
+    experiment: &Experiment,
+    passes: &dyn RecordPasses,
+) -> Result<Vec<RunRecord>, RunnerError> {
+    let figure_paths = experiment.paths == planner_runner::config::PathsMode::Figures;
+    let mut drawn = std::collections::HashSet::new();
+    for map in &experiment.maps {
+        if experiment.figures == planner_runner::config::FigureMode::None {
+            break;
+        }
+        let limit = experiment.figures_per_map.unwrap_or(usize::MAX);
+        for problem in planner_runner::expanded::pick(&map.problems, experiment.figures_pick, limit)
+        {
+            drawn.insert((map.name.as_str(), problem.index));
+        }
+    }
+    let mut records = Vec::new();
+    passes.pass(&mut |r| {
+        let kept = figure_paths && r.path.is_some();
+        if r.repeat == 0 && (kept || drawn.contains(&(r.map.as_str(), r.problem))) {
+            records.push(r.clone());
+        }
+    })?;
+    Ok(records)
 }
 
 impl Render for Renderer {
@@ -230,6 +392,19 @@ impl Render for Renderer {
 }
 
 fn header(experiment: &Experiment, records: &[RunRecord], out: &mut String) {
+    let invalid: Vec<RunRecord> = records
+        .iter()
+        .filter(|r| {
+            r.is_invalid() && Some(&r.planner) == experiment.planners.first().map(|p| &p.label)
+        })
+        .cloned()
+        .collect();
+    header_of(experiment, records.len() as u64, &invalid, out);
+}
+
+/// summary.md's head: the experiment, its `n_runs` runs, the inadmissible labels and the
+/// `invalid` problems (the first label's invalid runs).
+fn header_of(experiment: &Experiment, n_runs: u64, invalid: &[RunRecord], out: &mut String) {
     let _ = writeln!(out, "# Experiment `{}`\n", experiment.name);
     if let Some(description) = &experiment.description {
         let _ = writeln!(out, "{}\n", description.trim());
@@ -243,7 +418,7 @@ fn header(experiment: &Experiment, records: &[RunRecord], out: &mut String) {
         n_problems,
         experiment.planners.len(),
         experiment.repeats,
-        records.len()
+        n_runs
     );
     let inadmissible: Vec<String> = experiment
         .planners
@@ -258,10 +433,6 @@ fn header(experiment: &Experiment, records: &[RunRecord], out: &mut String) {
             inadmissible.join(", ")
         );
     }
-    let invalid: Vec<&RunRecord> = records
-        .iter()
-        .filter(|r| r.is_invalid() && r.planner == experiment.planners[0].label)
-        .collect();
     if !invalid.is_empty() {
         let _ = writeln!(out, "Invalid problems (not run):\n");
         for r in invalid {

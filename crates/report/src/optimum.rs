@@ -36,19 +36,38 @@ impl Section for Optimum {
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
         out.push_str(&optimum_table(context));
     }
+
+    /// From one pass over the records ([`crate::streamed::optimum_table`]).
+    fn render_passes(
+        &self,
+        context: &Context<'_>,
+        out: &mut String,
+        _reproduction: &mut Reproduction,
+    ) -> Result<(), planner_runner::RunnerError> {
+        out.push_str(&crate::streamed::optimum_table(
+            context.experiment,
+            context.passes,
+        )?);
+        Ok(())
+    }
+
+    fn streams(&self) -> bool {
+        true
+    }
 }
 
-fn optimum_table(context: &Context<'_>) -> String {
-    let experiment = context.experiment;
-    let mut out = String::from(
-        "## Lengths against the scenario optima
+/// The section's title, text and table head.
+pub(crate) const HEAD: &str = "## Lengths against the scenario optima
 
 Per planner and map: runs with a stated optimum, how many found a path, how many of those have the optimal Euclidean length (relative tolerance 1e-4), and the largest excess over the optimum. Only 8-connected octile planners without corner cutting solve the problem the optima are for.
 
 | Algorithm | Map | Runs | Found | Optimal | Largest excess |
 |---|---|---:|---:|---:|---:|
-",
-    );
+";
+
+fn optimum_table(context: &Context<'_>) -> String {
+    let experiment = context.experiment;
+    let mut out = String::from(HEAD);
     for planner in &experiment.planners {
         for map in &experiment.maps {
             let runs: Vec<&RunRecord> = map

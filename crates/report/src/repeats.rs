@@ -22,15 +22,37 @@ impl Section for Repeats {
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
         out.push_str(&repeat_table(context));
     }
+
+    /// From passes over the records ([`crate::streamed::repeats_table`]).
+    fn render_passes(
+        &self,
+        context: &Context<'_>,
+        out: &mut String,
+        _reproduction: &mut Reproduction,
+    ) -> Result<(), planner_runner::RunnerError> {
+        out.push_str(&crate::streamed::repeats_table(
+            context.experiment,
+            context.passes,
+        )?);
+        Ok(())
+    }
+
+    fn streams(&self) -> bool {
+        true
+    }
+}
+
+/// The section's title, text and table head.
+pub(crate) fn head(experiment: &planner_runner::config::Experiment) -> String {
+    format!(
+        "## Repeats ({} per planner and problem)\n\nSuccess rate over all runs on the map; median path length over the successful runs; median time (IQR) over all runs.\n\n| Algorithm | Map | Runs | Success | Median length | Median time ms (IQR) |\n|---|---|---:|---:|---:|---:|\n",
+        experiment.repeats
+    )
 }
 
 fn repeat_table(context: &Context<'_>) -> String {
     let experiment = context.experiment;
-    let mut out = format!(
-        "## Repeats ({} per planner and problem)\n\nSuccess rate over all runs on the map; median path length over the successful runs; median time (IQR) over all runs.\n\n",
-        experiment.repeats
-    );
-    out.push_str("| Algorithm | Map | Runs | Success | Median length | Median time ms (IQR) |\n|---|---|---:|---:|---:|---:|\n");
+    let mut out = head(experiment);
     for planner in &experiment.planners {
         for map in &experiment.maps {
             let runs: Vec<&RunRecord> = map

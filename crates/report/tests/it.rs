@@ -4,4 +4,5 @@
 //! "Tests").
 
 mod effort;
+mod streamed;
 mod summary;

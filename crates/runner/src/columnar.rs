@@ -27,7 +27,7 @@ use ::parquet::file::writer::SerializedFileWriter;
 use ::parquet::schema::types::Type;
 
 use crate::config::Experiment;
-use crate::output::{StreamedFile, FIXED_COLUMNS};
+use crate::output::{fixed_cell, Cell, StreamedFile, FIXED_COLUMNS, SETUP_MS, TIME_MS};
 use crate::provenance::Provenance;
 use crate::record::RunRecord;
 use crate::shard::Shard;
@@ -116,43 +116,6 @@ const FIXED_KINDS: [(Kind, bool); 21] = [
     (Kind::Unsigned, false), // peak_heap_bytes
     (Kind::Unsigned, true),  // bucket
 ];
-
-/// One cell of a row: a column's value for one record (`None` for an empty cell).
-enum Cell<'r> {
-    Text(&'r str),
-    Unsigned(Option<u64>),
-    Float(Option<f64>),
-    Boolean(Option<bool>),
-}
-
-/// Column `i` of [`FIXED_COLUMNS`] for `r`. Times are rounded to the nanosecond, as in
-/// runs.json.
-fn fixed_cell(r: &RunRecord, i: usize) -> Cell<'_> {
-    let u = |v: u64| Cell::Unsigned(Some(v));
-    match i {
-        0 => Cell::Text(&r.map),
-        1 => u(r.problem as u64),
-        2 => u(u64::from(r.start.x)),
-        3 => u(u64::from(r.start.y)),
-        4 => u(u64::from(r.goal.x)),
-        5 => u(u64::from(r.goal.y)),
-        6 => Cell::Text(&r.planner),
-        7 => Cell::Text(&r.algorithm),
-        8 => u(u64::from(r.repeat)),
-        9 => Cell::Unsigned(r.seed),
-        10 => Cell::Text(r.status.as_str()),
-        11 => Cell::Unsigned(r.steps),
-        12 => Cell::Unsigned(r.turns),
-        13 => Cell::Unsigned(r.score),
-        14 => Cell::Float(r.length),
-        15 => Cell::Float(r.optimal_length),
-        16 => Cell::Boolean(r.valid),
-        17 => Cell::Float(Some(nanoseconds(r.time_ms))),
-        18 => Cell::Float(Some(nanoseconds(r.setup_ms))),
-        19 => u(r.peak_heap_bytes),
-        _ => Cell::Unsigned(r.bucket.map(u64::from)),
-    }
-}
 
 /// `ms` rounded to the nanosecond (runs.json's rounding).
 fn nanoseconds(ms: f64) -> f64 {
@@ -310,7 +273,13 @@ impl<W: Write + Send> RunsWriter<W> {
             let counter = index.checked_sub(FIXED_COLUMNS.len());
             for r in records {
                 let cell = match counter {
-                    None => fixed_cell(r, index),
+                    // Times are rounded to the nanosecond, as in runs.json.
+                    None => match fixed_cell(r, index) {
+                        Cell::Float(v) if matches!(index, TIME_MS | SETUP_MS) => {
+                            Cell::Float(v.map(nanoseconds))
+                        }
+                        cell => cell,
+                    },
                     Some(c) => Cell::Unsigned(r.counters.get(&self.counters[c])),
                 };
                 let present = match cell {

@@ -552,7 +552,7 @@ pub fn encode_frames(batch: &[(u64, RunRecord)]) -> Result<Vec<u8>, RunnerError>
 }
 
 /// Writes the stream read from `reader` (`what` names it) to `out` as a JSON Lines stream
-/// (format 1, a shard's `shard.jsonl`), one record at a time; with `limit`, only its
+/// (format 1, as the `shard.jsonl` and `records.jsonl` of earlier versions), one record at a time; with `limit`, only its
 /// first `limit` runs. Returns the runs written.
 pub fn write_json_lines<R: BufRead>(
     reader: R,

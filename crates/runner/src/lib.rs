@@ -17,7 +17,8 @@
 //! - [`run`]: the lazy run list and the parallel sweep; planners built once per worker
 //!   and label, reused across runs; [`run::run_one`], the one function that runs a run.
 //! - [`expanded`]: the expanded cells of the runs the figures draw, recorded at run time.
-//! - [`record`] and [`index`]: the results model and lookups into it.
+//! - [`record`] and [`index`]: the results model and lookups into it; [`passes`]: passes
+//!   over a whole sweep's records, in memory or read back from disk.
 //! - [`output`]: runs.csv, runs.json and paths.jsonl as bytes; [`columnar`]: the same
 //!   table as Apache Parquet (`runs.parquet/`).
 //! - [`plan`]: one run of one planner, for `plan`.
@@ -46,6 +47,7 @@ pub mod frames;
 pub mod index;
 pub mod outdir;
 pub mod output;
+pub mod passes;
 pub mod plan;
 pub mod provenance;
 pub mod record;

@@ -7,6 +7,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use crate::config::Experiment;
+use crate::passes::RecordPasses;
 use crate::record::RunRecord;
 use crate::RunnerError;
 
@@ -42,10 +43,11 @@ pub enum TableFormat {
     Parquet,
 }
 
-/// Which result tables a sweep writes (`outputs = [...]`; default all three). The
-/// records.jsonl that `report` reads, summary.md and the other report files are written
-/// whatever it says. It is not part of the config hash: a sweep resumed or merged with
-/// another `outputs` writes that one's tables from the same records.
+/// Which result tables a sweep writes (`outputs = [...]`; default all three, or, for a sweep
+/// of more than [`crate::sweep::HELD_RUNS`] runs, runs.parquet only: [`Outputs::for_runs`]).
+/// The records.stream that `report` reads, summary.md and the other report files are
+/// written whatever it says. It is not part of the config hash: a sweep resumed or merged
+/// with another `outputs` writes that one's tables from the same records.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Outputs {
     /// runs.csv.
@@ -54,6 +56,8 @@ pub struct Outputs {
     pub json: bool,
     /// runs.parquet/.
     pub parquet: bool,
+    /// Whether the config named them (`outputs = [...]`), rather than left the default.
+    pub named: bool,
 }
 
 impl Default for Outputs {
@@ -62,14 +66,38 @@ impl Default for Outputs {
             csv: true,
             json: true,
             parquet: true,
+            named: false,
         }
     }
 }
 
 impl Outputs {
+    /// The tables a whole sweep of `runs` runs writes: the named ones; by default all three
+    /// up to [`crate::sweep::HELD_RUNS`] runs, and above only runs.parquet (about 160 and
+    /// 140 bytes a run of runs.json and runs.csv are left out; name them to have them,
+    /// written row by row from the records on disk).
+    ///
+    /// ```
+    /// use planner_runner::output::Outputs;
+    /// let large = Outputs::default().for_runs(10_000_000);
+    /// assert!(large.parquet && !large.csv && !large.json);
+    /// assert_eq!(Outputs::default().for_runs(1_000), Outputs::default());
+    /// ```
+    pub fn for_runs(self, runs: u64) -> Outputs {
+        if self.named || runs <= crate::sweep::HELD_RUNS {
+            return self;
+        }
+        Outputs {
+            csv: false,
+            json: false,
+            ..self
+        }
+    }
+
     /// The tables of `formats` (at least one; a format named twice is written once).
     pub fn of(formats: &[TableFormat]) -> Option<Outputs> {
         (!formats.is_empty()).then(|| Outputs {
+            named: true,
             csv: formats.contains(&TableFormat::Csv),
             json: formats.contains(&TableFormat::Json),
             parquet: formats.contains(&TableFormat::Parquet),
@@ -144,16 +172,34 @@ pub fn write_runs_json(
     records: &[RunRecord],
     provenance: Option<&crate::provenance::Provenance>,
 ) -> Result<(), RunnerError> {
+    write_runs_json_passes(out, experiment, &records, provenance)
+}
+
+/// [`write_runs_json`] from two passes over the records (the columns, then the rows), in
+/// memory bounded by a row: a sweep too large to hold its records writes runs.json so.
+pub fn write_runs_json_passes(
+    out: &mut dyn Write,
+    experiment: &Experiment,
+    records: &dyn RecordPasses,
+    provenance: Option<&crate::provenance::Provenance>,
+) -> Result<(), RunnerError> {
     write_header(out, experiment, provenance)?;
-    let counter_names = counter_names(records);
-    let optional = [
-        records.iter().any(|r| r.error.is_some()),
-        records.iter().any(|r| r.admissible.is_some()),
-        records.iter().any(|r| r.returns.is_some()),
-        records.iter().any(|r| !r.marks.is_empty()),
-        records.iter().any(|r| !r.series.is_empty()),
-        records.iter().any(|r| r.cost.is_some()),
-    ];
+    let mut counter_names = Vec::new();
+    let mut optional = [false; 6];
+    records.pass(&mut |r| {
+        add_counter_names(&mut counter_names, r);
+        let used = [
+            r.error.is_some(),
+            r.admissible.is_some(),
+            r.returns.is_some(),
+            !r.marks.is_empty(),
+            !r.series.is_empty(),
+            r.cost.is_some(),
+        ];
+        for (o, u) in optional.iter_mut().zip(used) {
+            *o |= u;
+        }
+    })?;
     let columns: Vec<&str> = FIXED_COLUMNS
         .iter()
         .copied()
@@ -170,15 +216,26 @@ pub fn write_runs_json(
     serde_json::to_writer(&mut *out, &columns).map_err(RunnerError::Json)?;
     out.write_all(b",\"data\":[").map_err(io)?;
     let mut row = Vec::with_capacity(512);
-    for (i, r) in records.iter().enumerate() {
-        row.clear();
-        row.extend_from_slice(if i == 0 { b"\n[" } else { b",\n[" });
-        encode_row(&mut row, r, &optional, &counter_names)?;
-        // The last cell's comma closes the row.
-        if let Some(last) = row.last_mut() {
-            *last = b']';
+    let mut first = true;
+    let mut failed = None;
+    records.pass(&mut |r| {
+        if failed.is_some() {
+            return;
         }
-        out.write_all(&row).map_err(io)?;
+        row.clear();
+        row.extend_from_slice(if first { b"\n[" } else { b",\n[" });
+        first = false;
+        let written = encode_row(&mut row, r, &optional, &counter_names).and_then(|()| {
+            // The last cell's comma closes the row.
+            if let Some(last) = row.last_mut() {
+                *last = b']';
+            }
+            out.write_all(&row).map_err(io)
+        });
+        failed = written.err();
+    })?;
+    if let Some(e) = failed {
+        return Err(e);
     }
     out.write_all(b"\n]}}\n").map_err(io)?;
     Ok(())
@@ -316,17 +373,14 @@ fn counter_values<'a>(
     })
 }
 
-/// Every counter name of `records`, in order of first appearance.
-fn counter_names(records: &[RunRecord]) -> Vec<String> {
-    let mut names: Vec<String> = Vec::new();
-    for record in records {
-        for (name, _) in record.counters.iter() {
-            if !names.iter().any(|n| n == name) {
-                names.push(name.to_string());
-            }
+/// Adds the counter names of `record` that `names` lacks, in its order (every counter name
+/// of a sweep's records, in order of first appearance, after a pass).
+fn add_counter_names(names: &mut Vec<String>, record: &RunRecord) {
+    for (name, _) in record.counters.iter() {
+        if !names.iter().any(|n| n == name) {
+            names.push(name.to_string());
         }
     }
-    names
 }
 
 /// The runs as CSV: the [`FIXED_COLUMNS`], then one column per counter name in order of
@@ -340,7 +394,17 @@ pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
 
 /// Writes [`runs_csv`]'s bytes to `out`, row by row.
 pub fn write_runs_csv(out: &mut dyn Write, records: &[RunRecord]) -> Result<(), RunnerError> {
-    let counter_names = counter_names(records);
+    write_runs_csv_passes(out, &records)
+}
+
+/// [`write_runs_csv`] from two passes over the records (the counter columns, then the
+/// rows), in memory bounded by a row.
+pub fn write_runs_csv_passes(
+    out: &mut dyn Write,
+    records: &dyn RecordPasses,
+) -> Result<(), RunnerError> {
+    let mut counter_names = Vec::new();
+    records.pass(&mut |r| add_counter_names(&mut counter_names, r))?;
     let mut line = FIXED_COLUMNS.join(",");
     for name in &counter_names {
         line.push(',');
@@ -348,33 +412,30 @@ pub fn write_runs_csv(out: &mut dyn Write, records: &[RunRecord]) -> Result<(), 
     }
     line.push('\n');
     out.write_all(line.as_bytes()).map_err(io)?;
-    let opt = |v: Option<String>| v.unwrap_or_default();
-    for r in records {
-        let fields = [
-            csv_field(&r.map),
-            r.problem.to_string(),
-            r.start.x.to_string(),
-            r.start.y.to_string(),
-            r.goal.x.to_string(),
-            r.goal.y.to_string(),
-            csv_field(&r.planner),
-            csv_field(&r.algorithm),
-            r.repeat.to_string(),
-            opt(r.seed.map(|s| s.to_string())),
-            r.status.to_string(),
-            opt(r.steps.map(|v| v.to_string())),
-            opt(r.turns.map(|v| v.to_string())),
-            opt(r.score.map(|v| v.to_string())),
-            opt(r.length.map(|v| format!("{v:.6}"))),
-            opt(r.optimal_length.map(|v| format!("{v:.6}"))),
-            opt(r.valid.map(|v| v.to_string())),
-            format!("{:.6}", r.time_ms),
-            format!("{:.6}", r.setup_ms),
-            r.peak_heap_bytes.to_string(),
-            opt(r.bucket.map(|b| b.to_string())),
-        ];
+    let mut failed = None;
+    records.pass(&mut |r| {
+        if failed.is_some() {
+            return;
+        }
         line.clear();
-        line.push_str(&fields.join(","));
+        for i in 0..FIXED_COLUMNS.len() {
+            if i > 0 {
+                line.push(',');
+            }
+            // The column walk runs.parquet shares; floats with 6 decimals.
+            match fixed_cell(r, i) {
+                Cell::Text(text) => line.push_str(&csv_field(text)),
+                Cell::Unsigned(v) => v.into_iter().for_each(|v| {
+                    let _ = write!(line, "{v}");
+                }),
+                Cell::Float(v) => v.into_iter().for_each(|v| {
+                    let _ = write!(line, "{v:.6}");
+                }),
+                Cell::Boolean(v) => v.into_iter().for_each(|v| {
+                    let _ = write!(line, "{v}");
+                }),
+            }
+        }
         for value in counter_values(&r.counters, &counter_names) {
             line.push(',');
             if let Some(v) = value {
@@ -382,9 +443,57 @@ pub fn write_runs_csv(out: &mut dyn Write, records: &[RunRecord]) -> Result<(), 
             }
         }
         line.push('\n');
-        out.write_all(line.as_bytes()).map_err(io)?;
+        failed = out.write_all(line.as_bytes()).map_err(io).err();
+    })?;
+    failed.map_or(Ok(()), Err)
+}
+
+/// One cell of a row of runs.csv and runs.parquet: a column's value for one record
+/// (`None` for an empty cell).
+pub(crate) enum Cell<'r> {
+    /// A string column.
+    Text(&'r str),
+    /// An unsigned integer column.
+    Unsigned(Option<u64>),
+    /// A float column (times in milliseconds, unrounded).
+    Float(Option<f64>),
+    /// A boolean column.
+    Boolean(Option<bool>),
+}
+
+/// Column `time_ms` of [`FIXED_COLUMNS`].
+pub(crate) const TIME_MS: usize = 17;
+
+/// Column `setup_ms` of [`FIXED_COLUMNS`].
+pub(crate) const SETUP_MS: usize = 18;
+
+/// Column `i` of [`FIXED_COLUMNS`] for `r`: the one column walk of runs.csv and
+/// runs.parquet, which render the cells each in their own way.
+pub(crate) fn fixed_cell(r: &RunRecord, i: usize) -> Cell<'_> {
+    let u = |v: u64| Cell::Unsigned(Some(v));
+    match i {
+        0 => Cell::Text(&r.map),
+        1 => u(r.problem as u64),
+        2 => u(u64::from(r.start.x)),
+        3 => u(u64::from(r.start.y)),
+        4 => u(u64::from(r.goal.x)),
+        5 => u(u64::from(r.goal.y)),
+        6 => Cell::Text(&r.planner),
+        7 => Cell::Text(&r.algorithm),
+        8 => u(u64::from(r.repeat)),
+        9 => Cell::Unsigned(r.seed),
+        10 => Cell::Text(r.status.as_str()),
+        11 => Cell::Unsigned(r.steps),
+        12 => Cell::Unsigned(r.turns),
+        13 => Cell::Unsigned(r.score),
+        14 => Cell::Float(r.length),
+        15 => Cell::Float(r.optimal_length),
+        16 => Cell::Boolean(r.valid),
+        TIME_MS => Cell::Float(Some(r.time_ms)),
+        SETUP_MS => Cell::Float(Some(r.setup_ms)),
+        19 => u(r.peak_heap_bytes),
+        _ => Cell::Unsigned(r.bucket.map(u64::from)),
     }
-    Ok(())
 }
 
 fn csv_field(text: &str) -> String {

@@ -1,6 +1,6 @@
 //! Streamed, resumable and sharded sweeps on disk, and merging shards.
 //!
-//! A sweep appends each batch of records, as it completes, to `records.jsonl` in the
+//! A sweep appends each batch of records, as it completes, to `records.stream` (framed, [`crate::frames`]) in the
 //! output's stream area (`.<name>.stream/` beside the output directory, under its own lock:
 //! [`outdir::stream_area`]), flushing after each batch, so a killed sweep leaves every
 //! finished batch readable. `--resume` reads that file back: if its header's config hash
@@ -14,9 +14,14 @@
 //! each) and written atomically by [`outdir::write_results_streamed`]: `runs.json` (a
 //! table without paths, [`crate::output::runs_json`]) and `runs.csv` row by row into their
 //! files, `summary.md`, figures, and `paths.jsonl` with the paths the config keeps
-//! (`paths`). Then the stream area is removed (only while it carries gridplan's marker:
+//! (`paths`). A sweep of more than [`HELD_RUNS`] runs holds none of its records: its
+//! outputs are written from its stream on disk, and its report reads them in passes
+//! ([`Results::passes`]); `merge` of such a sweep's shards writes the merged records to a
+//! framed stream in the output's stream area first, holding one record per shard, and
+//! `report` of such a directory reads its `records.stream` in passes. Then the stream
+//! area is removed (only while it carries gridplan's marker:
 //! [`outdir::StreamArea`]). A shard (`--shard K/N`) instead writes its
-//! stream as `shard.jsonl` into its output directory; [`merge`] checks that a set of shard
+//! stream as `shard.stream` (framed; an earlier version's `shard.jsonl` is still read) into its output directory; [`merge`] checks that a set of shard
 //! directories is complete and of one config and renders the one sweep's outputs from them.
 //!
 //! Records read back are checked, not trusted. `--resume` and [`merge`] check every record
@@ -43,6 +48,7 @@ use std::time::{Duration, Instant};
 use crate::config::ConfigError;
 use crate::expanded::{self, ExpandedCells};
 use crate::output::{OutputFile, StreamedFile};
+use crate::passes::{RecordPasses, StreamPasses};
 use crate::provenance::{Machine, Provenance};
 use crate::record::Reproduction;
 use crate::run::{HeapMeter, RunList};
@@ -57,15 +63,33 @@ const RECORDS: &str = "records.stream";
 /// its runs over into a framed stream ([`crate::frames::write_framed`]).
 const OLD_RECORDS: &str = "records.jsonl";
 
-/// A shard's stream in its results directory.
-pub const SHARD_FILE: &str = "shard.jsonl";
+/// The merged stream of a large merge, in the output's stream area while the outputs are
+/// written from it.
+const MERGED: &str = "merged.stream";
+
+/// A shard's stream in its results directory: its framed resume stream, copied (about 80
+/// bytes a run).
+pub const SHARD_FILE: &str = "shard.stream";
+
+/// The JSON Lines shard stream of earlier versions (about 460 bytes a run): `merge` still
+/// reads it from a shard directory without [`SHARD_FILE`].
+pub const OLD_SHARD_FILE: &str = "shard.jsonl";
+
+/// The most runs whose records a whole sweep holds in memory (for its report's sections and
+/// charts that read every record). A larger sweep holds none: its tables are written from
+/// its stream on disk, and its report reads the records in passes ([`Results::passes`],
+/// [`crate::passes`]), in memory bounded by the report's groups, not by the runs.
+pub const HELD_RUNS: u64 = 100_000;
 
 /// A whole sweep's results, as the report reads them.
 pub struct Results<'a> {
     /// The experiment.
     pub experiment: &'a Experiment,
-    /// Its records, in run order (paths as the config keeps them).
+    /// Its records, in run order (paths as the config keeps them); empty when the sweep
+    /// has more than [`HELD_RUNS`] runs, which are then read through `passes` only.
     pub records: &'a [RunRecord],
+    /// The same records as passes: `records`, or the sweep's stream on disk.
+    pub passes: &'a dyn RecordPasses,
     /// The expanded cells of the drawn runs, recorded at run time (`figures_expanded`).
     pub expanded: &'a ExpandedCells,
     /// Where, when and how the sweep ran.
@@ -154,8 +178,9 @@ pub struct SweepArgs<'a> {
     pub shard: Option<Shard>,
     /// Once set, the sweep stops (see the module docs).
     pub stop: Option<&'a AtomicBool>,
-    /// Return the records in [`Report::records`] (for a library caller; a whole sweep
-    /// holds them anyway to write its reports).
+    /// Return the records in [`Report::records`] (for a library caller; a whole sweep of
+    /// at most [`HELD_RUNS`] runs holds them anyway to write its reports; a larger one
+    /// returns none).
     pub keep_records: bool,
     /// The report step (summary.md, figures, ...).
     pub render: &'a dyn Render,
@@ -230,7 +255,8 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         finish_shard(&experiment, &path, &dir, (shard, &provenance))?;
         (Reproduction::default(), Vec::new())
     } else {
-        if records.len() as u64 != header.runs {
+        let held = header.runs <= HELD_RUNS;
+        if held && records.len() as u64 != header.runs {
             return Err(RunnerError::Stream(format!(
                 "{}: {} of {} runs recorded",
                 path.display(),
@@ -241,10 +267,15 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         let threads = worker_threads(args.threads, experiment.threads);
         let provenance = Provenance::collect(args.config, threads, args.machine);
         let seconds = started.elapsed().as_secs_f64();
+        let source = if held {
+            Source::Held(records)
+        } else {
+            Source::Stream(StreamPasses::new(&path, header.runs))
+        };
         let (reproduction, records) = finish(
             args.render,
             &experiment,
-            records,
+            source,
             None,
             &dir,
             &provenance,
@@ -363,9 +394,10 @@ fn stream_runs(
         heap: args.heap,
         stop: args.stop,
     };
-    // A whole sweep keeps its records for the final outputs (a resumed one reads back
-    // those recorded before); a shard only streams them.
-    let keep = args.shard.is_none();
+    // A whole sweep of at most HELD_RUNS runs keeps its records for the final outputs (a
+    // resumed one reads back those recorded before); a shard or a larger sweep only
+    // streams them, and its outputs read them back from the stream.
+    let keep = args.shard.is_none() && runs.len() <= HELD_RUNS;
     let mut records: Vec<RunRecord> = Vec::new();
     if keep {
         records.reserve_exact(runs.len().min(1 << 20) as usize);
@@ -397,9 +429,10 @@ fn stream_runs(
     Ok((records, n_ran))
 }
 
-/// Writes a whole shard's results directory `dir`: its framed stream `path` as the JSON
-/// Lines shard.jsonl that `merge` reads (one record at a time, never all in memory), the expanded cells of the drawn runs it holds, and (when the
-/// config's `outputs` asks) its Parquet part, from the stream one row group at a time.
+/// Writes a whole shard's results directory `dir`: its framed stream `path` copied as the
+/// shard.stream that `merge` reads, the expanded cells of the drawn runs it holds, and
+/// (when the config's `outputs` asks) its Parquet part, from the stream one row group at
+/// a time.
 fn finish_shard(
     experiment: &Experiment,
     path: &Path,
@@ -409,9 +442,10 @@ fn finish_shard(
     let copy = StreamedFile {
         path: SHARD_FILE.into(),
         write: Box::new(|out| {
-            let file = stream::open_regular(path).map_err(|e| RunnerError::io(path, e))?;
-            let what = path.display().to_string();
-            crate::frames::write_json_lines(BufReader::new(file), &what, out, None).map(drop)
+            let mut file = stream::open_regular(path).map_err(|e| RunnerError::io(path, e))?;
+            std::io::copy(&mut file, out)
+                .map(drop)
+                .map_err(|e| RunnerError::io(path, e))
         }),
     };
     let cells = shard_expanded(experiment, path)?;
@@ -559,8 +593,13 @@ fn read_records(path: &Path, mut records: Vec<RunRecord>) -> Result<Vec<RunRecor
 }
 
 /// A results directory's own record of its runs, in run order, with the paths the
-/// config keeps: a stream file (header, then one run per line) that `report` reads back.
-pub const RESULTS_RECORDS: &str = "records.jsonl";
+/// config keeps: a framed stream file ([`crate::frames`], as the resume stream) that
+/// `report` reads back.
+pub const RESULTS_RECORDS: &str = "records.stream";
+
+/// The JSON Lines record file of the results directories of earlier versions (about 460
+/// bytes a run): `report` still reads it when a directory has no [`RESULTS_RECORDS`].
+pub const OLD_RESULTS_RECORDS: &str = "records.jsonl";
 
 /// The expanded cells of the drawn runs, in a results directory or a shard's
 /// (`figures_expanded`; [`ExpandedCells::to_jsonl`]).
@@ -577,28 +616,48 @@ struct RunInfo {
     seconds: f64,
 }
 
-/// Renders the outputs of a whole sweep's `records` (in run order): records the expanded
-/// cells its figures draw (when the config asks and `expanded` is `None`: the sweep's
-/// own step, the one that runs planners again), hands the results to `render` for the
-/// report files, and writes those, runs.json, runs.csv, records.jsonl, expanded.jsonl and
-/// provenance.json to `dir`. `seconds` is the sweep's wall time so far (OMPL's
-/// experiment time).
+/// A whole sweep's records for its final outputs: held in memory (at most [`HELD_RUNS`]),
+/// or in a stream file on disk, read in passes.
+enum Source {
+    /// The records, in run order.
+    Held(Vec<RunRecord>),
+    /// A complete stream file of the records, in run order.
+    Stream(StreamPasses),
+}
+
+/// Renders the outputs of a whole sweep's records (`source`, in run order): records the
+/// expanded cells its figures draw (when the config asks and `expanded` is `None`: the
+/// sweep's own step, the one that runs planners again), hands the results to `render`
+/// for the report files, and writes those, runs.json, runs.csv, runs.parquet,
+/// records.stream, expanded.jsonl and provenance.json to `dir`. `seconds` is the sweep's
+/// wall time so far (OMPL's experiment time). Returns the held records (paths left out;
+/// none for a stream).
 fn finish(
     render: &dyn Render,
     experiment: &Experiment,
-    mut records: Vec<RunRecord>,
+    source: Source,
     expanded: Option<ExpandedCells>,
     dir: &Path,
     provenance: &Provenance,
     seconds: f64,
 ) -> Result<(Reproduction, Vec<RunRecord>), RunnerError> {
+    let (mut records, stream) = match source {
+        Source::Held(records) => (records, None),
+        Source::Stream(passes) => (Vec::new(), Some(passes)),
+    };
+    let held: &[RunRecord] = &records;
+    let passes: &dyn RecordPasses = match &stream {
+        Some(stream) => stream,
+        None => &held,
+    };
     let expanded = match expanded {
         Some(cells) => cells,
-        None => expanded::record_all(experiment, &records)?,
+        None => record_expanded(experiment, &records, stream.is_some(), passes)?,
     };
     let results = Results {
         experiment,
         records: &records,
+        passes,
         expanded: &expanded,
         provenance,
         seconds,
@@ -618,25 +677,35 @@ fn finish(
         path: PROVENANCE_FILE.into(),
         contents: serde_json::to_vec_pretty(&info).map_err(RunnerError::Json)?,
     });
-    let header = StreamHeader::new(experiment, Shard::ALL, records.len() as u64);
-    let rows = &records;
-    let outputs = experiment.outputs;
+    let header = StreamHeader::new(experiment, Shard::ALL, passes.len());
+    let outputs = experiment.outputs.for_runs(passes.len());
+    let parquet = match &stream {
+        None => crate::columnar::records_part(experiment, provenance, &records),
+        Some(stream) => crate::columnar::stream_part(
+            crate::columnar::Header {
+                experiment,
+                provenance: Some(provenance),
+                shard: None,
+            },
+            stream.path(),
+        ),
+    };
     let tables: Vec<StreamedFile> = [
         (outputs.json).then(|| StreamedFile {
             path: "runs.json".into(),
             write: Box::new(move |out| {
-                results::write_runs_json(out, experiment, rows, Some(provenance))
+                results::write_runs_json_passes(out, experiment, passes, Some(provenance))
             }),
         }),
         (outputs.csv).then(|| StreamedFile {
             path: "runs.csv".into(),
-            write: Box::new(move |out| results::write_runs_csv(out, rows)),
+            write: Box::new(move |out| results::write_runs_csv_passes(out, passes)),
         }),
         // Issue 29: the Parquet dataset's one part (src/columnar.rs).
-        (outputs.parquet).then(|| crate::columnar::records_part(experiment, provenance, rows)),
+        (outputs.parquet).then_some(parquet),
         Some(StreamedFile {
             path: RESULTS_RECORDS.into(),
-            write: Box::new(move |out| write_stream(out, &header, rows)),
+            write: Box::new(move |out| write_stream(out, &header, passes)),
         }),
     ]
     .into_iter()
@@ -656,24 +725,75 @@ fn finish(
     Ok((reproduction, records))
 }
 
-/// Writes `records` (a whole sweep's, in run order) as a stream file with `header`.
+/// The expanded cells of the runs the figures draw, recorded again ([`expanded::record_all`]):
+/// from the held `records`, or (`streamed`) from repeat 0 of every run, read in one pass.
+fn record_expanded(
+    experiment: &Experiment,
+    records: &[RunRecord],
+    streamed: bool,
+    passes: &dyn RecordPasses,
+) -> Result<ExpandedCells, RunnerError> {
+    if !streamed {
+        return Ok(expanded::record_all(experiment, records)?);
+    }
+    let mut firsts = Vec::new();
+    if experiment.figures_expanded && experiment.figures != config::FigureMode::None {
+        passes.pass(&mut |r| {
+            if r.repeat == 0 {
+                let mut r = r.clone();
+                r.path = None;
+                firsts.push(r);
+            }
+        })?;
+    }
+    Ok(expanded::record_all(experiment, &firsts)?)
+}
+
+/// Writes `records` (a whole sweep's, in run order) as a framed stream file with
+/// `header` (its format set to framed), a frame of [`crate::frames::FRAME_RUNS`] runs at
+/// a time.
 fn write_stream(
     out: &mut dyn std::io::Write,
     header: &StreamHeader,
-    records: &[RunRecord],
+    records: &dyn RecordPasses,
 ) -> Result<(), RunnerError> {
     let io = |e: std::io::Error| RunnerError::io(Path::new(RESULTS_RECORDS), e);
+    let header = StreamHeader {
+        format: crate::frames::FRAMED_FORMAT,
+        ..header.clone()
+    };
     out.write_all(&header.to_line()?).map_err(io)?;
-    let mut line = Vec::with_capacity(512);
-    for (run, record) in records.iter().enumerate() {
-        line.clear();
-        stream::encode(&mut line, run as u64, record)?;
-        out.write_all(&line).map_err(io)?;
+    let mut batch: Vec<(u64, RunRecord)> = Vec::with_capacity(crate::frames::FRAME_RUNS);
+    let mut frame = Vec::new();
+    let mut run = 0u64;
+    let mut failed = None;
+    let mut flush = |batch: &mut Vec<(u64, RunRecord)>, out: &mut dyn std::io::Write| {
+        frame.clear();
+        let written = crate::frames::encode_batch(&mut frame, batch)
+            .and_then(|()| out.write_all(&frame).map_err(io));
+        batch.clear();
+        written
+    };
+    records.pass(&mut |record| {
+        if failed.is_some() {
+            return;
+        }
+        batch.push((run, record.clone()));
+        run += 1;
+        if batch.len() == crate::frames::FRAME_RUNS {
+            failed = flush(&mut batch, out).err();
+        }
+    })?;
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    if !batch.is_empty() {
+        flush(&mut batch, out)?;
     }
     Ok(())
 }
 
-/// Re-renders the results directory `dir` in place from what it holds (records.jsonl,
+/// Re-renders the results directory `dir` in place from what it holds (records.stream,
 /// expanded.jsonl, provenance.json) and its config (`config`, default the one its records
 /// name; it must resolve to the config hash they were run with): summary.md, figures,
 /// charts, report.html, OMPL logs, and the tables again. No planner runs. The directory is
@@ -688,7 +808,13 @@ pub fn report(
     // Only gridplan's own results directory: its marker, as `experiment` requires.
     outdir::check(dir)?;
     outdir::Marker::read(dir).map_err(|e| RunnerError::during("report", e.into()))?;
-    let path = dir.join(RESULTS_RECORDS);
+    let mut path = dir.join(RESULTS_RECORDS);
+    if fs::symlink_metadata(&path).is_err()
+        && fs::symlink_metadata(dir.join(OLD_RESULTS_RECORDS)).is_ok()
+    {
+        // An earlier version's results directory.
+        path = dir.join(OLD_RESULTS_RECORDS);
+    }
     let file = stream::open_regular(&path).map_err(|e| {
         RunnerError::Results(format!(
             "report: {} has no {RESULTS_RECORDS} ({e}); rerun the experiment with this version to re-render it",
@@ -698,17 +824,17 @@ pub fn report(
     let what = path.display().to_string();
     let (header, reader) = StreamReader::new(BufReader::new(file), &what)?;
     let experiment = load_checked(&header, config, render, "report")?;
-    let records = read_results_records(&experiment, &header, reader, &what)?;
+    let source = read_results_records(&experiment, &header, reader, &path)?;
     let info_path = dir.join(PROVENANCE_FILE);
     let bytes = read_regular(&info_path)?;
     let info: RunInfo = serde_json::from_slice(&bytes)
         .map_err(|e| RunnerError::Results(format!("report: {}: {e}", info_path.display())))?;
     let expanded = read_expanded(dir, &experiment)?;
-    let n_runs = records.len();
+    let n_runs = header.total_runs as usize;
     let (reproduction, _) = finish(
         render,
         &experiment,
-        records,
+        source,
         Some(expanded),
         dir,
         &info.provenance,
@@ -724,16 +850,19 @@ pub fn report(
     })
 }
 
-/// The records of a results directory's records.jsonl (`what`; its `header` read, the rest
+/// The records of a results directory's records.stream (or an earlier version's records.jsonl: `path`; its `header` read, the rest
 /// in `reader`), every one checked against `experiment`'s run list
-/// ([`stream::check_record`]) and all of the sweep's runs there. Records of another
-/// gridplan version are kept as that version computed them, with a warning naming both.
+/// ([`stream::check_record`]) and all of the sweep's runs there: held when there are at
+/// most [`HELD_RUNS`], else the file itself, read in passes. Records of another gridplan
+/// version are kept as that version computed them, with a warning naming both.
 fn read_results_records(
     experiment: &Experiment,
     header: &StreamHeader,
     mut reader: StreamReader<BufReader<File>>,
-    what: &str,
-) -> Result<Vec<RunRecord>, RunnerError> {
+    path: &Path,
+) -> Result<Source, RunnerError> {
+    let what = path.display().to_string();
+    let hold = header.total_runs <= HELD_RUNS;
     let this = env!("CARGO_PKG_VERSION");
     if header.gridplan.as_deref() != Some(this) {
         tracing::warn!(
@@ -743,22 +872,32 @@ fn read_results_records(
         );
     }
     let list = RunList::new(experiment);
-    let mut records = Vec::with_capacity(header.runs.min(1 << 24) as usize);
+    let mut records = Vec::with_capacity(if hold { header.total_runs as usize } else { 0 });
+    let mut n = 0u64;
     while let Some((run, record)) = reader.next_run()? {
         // The header line is line 1: record n is line n + 2.
         stream::check_record(experiment, &list, run, &record).map_err(|e| {
-            RunnerError::Results(format!("report: {what} line {}: {e}", records.len() + 2))
+            let at = match reader.is_framed() {
+                true => format!("record {}", n + 1),
+                false => format!("line {}", n + 2),
+            };
+            RunnerError::Results(format!("report: {what} {at}: {e}"))
         })?;
-        records.push(record);
+        n += 1;
+        if hold && n <= header.total_runs {
+            records.push(record);
+        }
     }
-    if records.len() as u64 != header.total_runs || reader.was_cut() {
+    if n != header.total_runs || reader.was_cut() {
         return Err(RunnerError::Results(format!(
-            "report: {what} holds {} of {} runs",
-            records.len(),
+            "report: {what} holds {n} of {} runs",
             header.total_runs
         )));
     }
-    Ok(records)
+    Ok(match hold {
+        true => Source::Held(records),
+        false => Source::Stream(StreamPasses::new(path, n)),
+    })
 }
 
 /// The whole of the regular file `path` (never a FIFO or a device: [`stream::open_regular`]).
@@ -847,25 +986,75 @@ pub fn merge(
     for (dir, _, _) in &shards {
         expanded.extend(read_expanded(dir, &experiment)?);
     }
-    let records = merge_records(&mut shards, &first, &experiment)?;
     let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
     outdir::check(&dir)?;
-    let n_runs = records.len();
+    let n_runs = first.total_runs as usize;
+    // At most HELD_RUNS runs are merged into memory; more into a framed stream in the
+    // output's stream area, which the outputs then read in passes. Either way the merge
+    // holds one record per shard (and a frame of the merged stream).
+    let mut area = None;
+    let source = if first.total_runs <= HELD_RUNS {
+        let mut records = Vec::with_capacity(n_runs);
+        merge_records(&mut shards, &first, &experiment, &mut |_, record| {
+            records.push(record);
+            Ok(())
+        })?;
+        Source::Held(records)
+    } else {
+        let stream_area = outdir::stream_area(&dir, outdir::DEFAULT_LOCK_WAIT)?;
+        let path = stream_area.dir.join(MERGED);
+        let had_stream = fs::symlink_metadata(stream_area.dir.join(RECORDS)).is_ok();
+        let file = stream_area.open_write(MERGED, true)?;
+        area = Some((stream_area, had_stream));
+        let io = |e: std::io::Error| RunnerError::io(&path, e);
+        let mut out = std::io::BufWriter::with_capacity(1 << 20, file);
+        let header = StreamHeader {
+            format: crate::frames::FRAMED_FORMAT,
+            ..StreamHeader::new(&experiment, Shard::ALL, first.total_runs)
+        };
+        out.write_all(&header.to_line()?).map_err(io)?;
+        let mut batch = Vec::with_capacity(crate::frames::FRAME_RUNS);
+        merge_records(&mut shards, &first, &experiment, &mut |run, record| {
+            batch.push((run, record));
+            if batch.len() == crate::frames::FRAME_RUNS {
+                out.write_all(&crate::frames::encode_frames(&batch)?)
+                    .map_err(io)?;
+                batch.clear();
+            }
+            Ok(())
+        })?;
+        out.write_all(&crate::frames::encode_frames(&batch)?)
+            .and_then(|()| out.flush())
+            .map_err(io)?;
+        Source::Stream(StreamPasses::new(&path, first.total_runs))
+    };
     let provenance = Provenance::collect(
         &config_path,
         worker_threads(0, experiment.threads),
         &machine(&config_path),
     );
     let seconds = started.elapsed().as_secs_f64();
-    let (reproduction, _) = finish(
+    let finished = finish(
         render,
         &experiment,
-        records,
+        source,
         Some(expanded),
         &dir,
         &provenance,
         seconds,
-    )?;
+    );
+    if let Some((area, had_stream)) = area {
+        // The merged stream goes; so does the area, unless it also holds an interrupted
+        // sweep's stream (kept for its --resume).
+        let removed = match had_stream {
+            true => fs::remove_file(area.dir.join(MERGED)),
+            false => area.remove(),
+        };
+        if let Err(e) = removed {
+            tracing::warn!("merge: {} could not be removed: {e}", area.dir.display());
+        }
+    }
+    let (reproduction, _) = finished?;
     Ok(Report {
         n_runs,
         output: dir,
@@ -888,12 +1077,19 @@ fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
     }
     let mut shards = Vec::new();
     for dir in dirs {
-        let path = dir.join(SHARD_FILE);
+        let mut path = dir.join(SHARD_FILE);
+        if fs::symlink_metadata(&path).is_err()
+            && fs::symlink_metadata(dir.join(OLD_SHARD_FILE)).is_ok()
+        {
+            // An earlier version's shard.
+            path = dir.join(OLD_SHARD_FILE);
+        }
         let file = stream::open_regular(&path).map_err(|e| {
             RunnerError::Results(format!(
                 "merge: {} is not a shard's output ({}: {e})",
                 dir.display(),
-                SHARD_FILE
+                path.file_name()
+                    .map_or(SHARD_FILE.into(), |n| n.to_string_lossy())
             ))
         })?;
         let (header, reader) =
@@ -958,14 +1154,16 @@ fn check_shard_set(
     Ok(())
 }
 
-/// The shards' records in run order: a k-way merge by run index, every index of the
-/// sweep (`first.total_runs`) exactly once, each record checked against `experiment`'s
-/// run list ([`stream::check_record`]).
+/// The shards' records in run order, each handed to `sink` with its run index: a k-way
+/// merge by run index that holds one record per shard, every index of the sweep
+/// (`first.total_runs`) exactly once, each record checked against `experiment`'s run list
+/// ([`stream::check_record`]).
 fn merge_records(
     shards: &mut [OpenShard],
     first: &StreamHeader,
     experiment: &Experiment,
-) -> Result<Vec<RunRecord>, RunnerError> {
+    sink: &mut dyn FnMut(u64, RunRecord) -> Result<(), RunnerError>,
+) -> Result<(), RunnerError> {
     // Each record is checked against the config's run list.
     let list = RunList::new(experiment);
     // Per shard: the line of its head record (the header is line 1).
@@ -974,7 +1172,6 @@ fn merge_records(
     for (_, _, reader) in shards.iter_mut() {
         heads.push(reader.next_run()?);
     }
-    let mut records = Vec::with_capacity(first.total_runs.min(1 << 24) as usize);
     for expected in 0..first.total_runs {
         let Some(i) = heads
             .iter()
@@ -998,14 +1195,17 @@ fn merge_records(
         let next = shards[i].2.next_run()?;
         if let Some((run, record)) = std::mem::replace(&mut heads[i], next) {
             stream::check_record(experiment, &list, run, &record).map_err(|e| {
+                let (file, at) = match shards[i].2.is_framed() {
+                    true => (SHARD_FILE, format!("record {}", lines[i] - 1)),
+                    false => (OLD_SHARD_FILE, format!("line {}", lines[i])),
+                };
                 RunnerError::Results(format!(
-                    "merge: {} line {}: {e}",
-                    shards[i].0.join(SHARD_FILE).display(),
-                    lines[i]
+                    "merge: {} {at}: {e}",
+                    shards[i].0.join(file).display()
                 ))
             })?;
             lines[i] += 1;
-            records.push(record);
+            sink(run, record)?;
         }
     }
     if let Some(i) = heads.iter().position(Option::is_some) {
@@ -1014,7 +1214,7 @@ fn merge_records(
             shards[i].0.display()
         )));
     }
-    Ok(records)
+    Ok(())
 }
 
 /// The gridplan version of each shard: its results marker's (`.gridplan-results`) and its

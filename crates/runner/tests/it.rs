@@ -6,5 +6,6 @@
 mod boundary;
 mod conformance;
 mod frames;
+mod large;
 mod parquet;
 mod reliability;

@@ -370,7 +370,7 @@ fn refused_outputs_get_no_parquet() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// `outputs = [...]` chooses the tables: only the Parquet dataset (records.jsonl, which
+/// `outputs = [...]` chooses the tables: only the Parquet dataset (records.stream, which
 /// `report` reads, stays); an empty list or an unknown table is refused at the key.
 #[test]
 fn outputs_choose_the_tables() {
@@ -381,7 +381,7 @@ fn outputs_choose_the_tables() {
     args.output = Some(&out);
     sweep::experiment(&args).unwrap();
     assert!(whole(&out).is_file());
-    assert!(out.join("records.jsonl").is_file());
+    assert!(out.join(sweep::RESULTS_RECORDS).is_file());
     assert!(!out.join("runs.csv").exists());
     assert!(!out.join("runs.json").exists());
     // A shard of it writes its part too, a shard of a csv-only sweep none.
