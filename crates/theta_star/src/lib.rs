@@ -433,24 +433,23 @@ impl AnyAngle {
                 let (g_new, new_parent) = if parent == p {
                     (path_1, p)
                 } else {
-                    let path_2 = g_parent + parent_cell.euclidean(q_cell);
+                    let path_2 = || g_parent + parent_cell.euclidean(q_cell);
                     let via_parent = match variant {
                         Variant::Lazy => true,
                         Variant::Theta => {
                             // Neither path can replace g(q): line of sight decides nothing.
-                            let g_q = nodes[q].g;
-                            if skip_hopeless
-                                && known
-                                && !(path_2 < g_q - EPSILON)
-                                && !(path_1 < g_q - EPSILON)
-                            {
-                                continue;
+                            // Path 1 first: it is the cheaper to compute.
+                            if skip_hopeless && known {
+                                let bar = nodes[q].g - EPSILON;
+                                if !(path_1 < bar) && !(path_2() < bar) {
+                                    continue;
+                                }
                             }
                             line_of_sight(&mut stats, parent_cell, q_cell)
                         }
                     };
                     if via_parent {
-                        (path_2, parent)
+                        (path_2(), parent)
                     } else {
                         (path_1, p)
                     }
