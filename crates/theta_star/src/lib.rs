@@ -28,6 +28,9 @@
 //! - The start is its own parent. When `parent(s) = s` (the start only) no line of sight is
 //!   checked: path 2 would be path 1.
 //! - CLOSED nodes are never reopened; the search stops when the goal is popped.
+//! - Line of sight is checked only where it can matter: a neighbour already in OPEN whose
+//!   g neither path 1 nor path 2 would replace is left as it is unchecked, which is what
+//!   either answer would give ([`AnyAngle::skip_hopeless`]; false checks every relaxation).
 //!
 //! # Costs and the epsilon
 //! Lengths are sums of square roots, so costs are `f64` and two mathematically equal
