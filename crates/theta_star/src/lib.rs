@@ -114,8 +114,8 @@ pub use sight::SightGrid;
 use planner_search::{QuadHeap, Stamped};
 
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder,
-    Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder, Outcome,
+    Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -441,10 +441,11 @@ impl AnyAngle {
                         Variant::Lazy => true,
                         Variant::Theta => {
                             // Neither path can replace g(q): line of sight decides nothing.
-                            // Path 1 first: it is the cheaper to compute.
+                            // Path 1 first: it is the cheaper to compute. (Costs are
+                            // finite sums of distances, never NaN.)
                             if skip_hopeless && known {
                                 let bar = nodes[q].g - EPSILON;
-                                if !(path_1 < bar) && !(path_2() < bar) {
+                                if path_1 >= bar && path_2() >= bar {
                                     continue;
                                 }
                             }

@@ -210,7 +210,13 @@ fn scan(
     (u_up, v_up): (bool, bool),
 ) -> Scan {
     // The run of line k in absolute major coordinates.
-    let span = |lo: usize, hi: usize| if u_up { (au + lo, au + hi) } else { (au - hi, au - lo) };
+    let span = |lo: usize, hi: usize| {
+        if u_up {
+            (au + lo, au + hi)
+        } else {
+            (au - hi, au - lo)
+        }
+    };
     let line_at = |k: usize| {
         let v = if v_up { av + k } else { av - k };
         &lines[v * stride..(v + 1) * stride]

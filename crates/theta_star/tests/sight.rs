@@ -33,8 +33,10 @@ fn agrees_with_walk_segment_on_random_segments() {
             let b = match rng.gen_range(0..4) {
                 0 => Cell::new(rng.gen_range(0..width), rng.gen_range(0..height)),
                 1 => Cell::new(
-                    a.x.saturating_add_signed(rng.gen_range(-5..=5)).min(width - 1),
-                    a.y.saturating_add_signed(rng.gen_range(-5..=5)).min(height - 1),
+                    a.x.saturating_add_signed(rng.gen_range(-5..=5))
+                        .min(width - 1),
+                    a.y.saturating_add_signed(rng.gen_range(-5..=5))
+                        .min(height - 1),
                 ),
                 2 => {
                     let d = rng.gen_range(-60i32..=60);
@@ -47,8 +49,8 @@ fn agrees_with_walk_segment_on_random_segments() {
                 _ => {
                     // Slopes with many exact vertex crossings: odd multiples of (1, 1),
                     // (3, 1), (1, 3), (3, 5), ...
-                    let (p, q) = [(1, 1), (3, 1), (1, 3), (3, 5), (5, 3), (7, 1)]
-                        [rng.gen_range(0..6)];
+                    let (p, q) =
+                        [(1, 1), (3, 1), (1, 3), (3, 5), (5, 3), (7, 1)][rng.gen_range(0..6)];
                     let k = 2 * rng.gen_range(0..8) + 1;
                     let (sx, sy) = (rng.gen_range(0..2) * 2 - 1, rng.gen_range(0..2) * 2 - 1);
                     Cell::new(
@@ -70,7 +72,10 @@ fn agrees_with_walk_segment_on_random_segments() {
     }
     // The segments cover both outcomes, and blocked cells past the first steps.
     assert_eq!(n_segments, 120_000);
-    assert!(n_free > 30_000 && n_blocked_late > 10_000, "{n_free} {n_blocked_late}");
+    assert!(
+        n_free > 30_000 && n_blocked_late > 10_000,
+        "{n_free} {n_blocked_late}"
+    );
 }
 
 #[test]
@@ -84,7 +89,11 @@ fn every_segment_of_small_maps() {
         let cells: Vec<Cell> = grid.cells().collect();
         for &a in &cells {
             for &b in &cells {
-                assert_eq!(sight.walk(&grid, a, b), walk_segment(&grid, a, b), "{a} to {b}");
+                assert_eq!(
+                    sight.walk(&grid, a, b),
+                    walk_segment(&grid, a, b),
+                    "{a} to {b}"
+                );
             }
         }
     }
@@ -99,7 +108,11 @@ fn ends_outside_the_grid_go_to_walk_segment() {
         (Cell::new(5, 5), Cell::new(0, 0)),
         (Cell::new(0, 2), Cell::new(3, 7)),
     ] {
-        assert_eq!(sight.walk(&grid, a, b), walk_segment(&grid, a, b), "{a} to {b}");
+        assert_eq!(
+            sight.walk(&grid, a, b),
+            walk_segment(&grid, a, b),
+            "{a} to {b}"
+        );
     }
 }
 
