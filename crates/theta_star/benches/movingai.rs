@@ -21,7 +21,10 @@
 //! Each planner runs the whole file `--repeats=N` times (default 3), the three
 //! alternating, and its best time counts. Times are wall time, or with `--clock=cpu` the
 //! thread's time on a CPU (planner-bench's clocks, as in the A* and JPS benches). Pass map
-//! names (`arena`, `den520d`) as arguments to run a subset.
+//! names (`arena`, `den520d`) as arguments to run a subset. With the environment variable
+//! `GRIDPLAN_THETA_CHECK_ALL=1`, Theta\* checks line of sight on every relaxation
+//! ([`AnyAngle::skip_hopeless`] false), as before the bound test was added: the same paths,
+//! more checks.
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -135,6 +138,7 @@ fn run(grid: &Grid, scenarios: &[Scenario], Repeats(repeats, clock): Repeats) ->
     })
     .unwrap_or_else(|e| panic!("{e}"));
     let mut any_angle = AnyAngle::new(&Config::default()).unwrap_or_else(|e| panic!("{e}"));
+    any_angle.skip_hopeless = std::env::var_os("GRIDPLAN_THETA_CHECK_ALL").is_none();
     let problems: Vec<Problem<'_>> = scenarios
         .iter()
         .map(|s| Problem::new(grid, s.start, s.goal).unwrap_or_else(|e| panic!("{e}")))

@@ -14,16 +14,23 @@
 //! - Nodes are cell centres; edges are the 8-connected moves without corner cutting
 //!   (planner-api's [`Adjacency`] over [`MoveSet`] `8`), costing 1 and `sqrt 2`.
 //! - Line of sight between two cells is planner-api's exact segment traversal
-//!   ([`planner_api::for_each_segment_cell`]) in its fast form, [`walk_segment`], the
-//!   function behind [`planner_api::segment_is_free`] and so behind [`Path::validate`] with
-//!   [`planner_api::PathRule::AnyAngle`]: every path this crate returns passes that check. A segment through a grid vertex needs both side cells free, so a
-//!   diagonal grid move without corner cutting is itself a segment with line of sight.
+//!   ([`planner_api::for_each_segment_cell`]) in its fast form, [`planner_api::walk_segment`],
+//!   the function behind [`planner_api::segment_is_free`] and so behind [`Path::validate`]
+//!   with [`planner_api::PathRule::AnyAngle`]: every path this crate returns passes that
+//!   check. The search computes it on a bit-packed copy of the grid, one masked word test
+//!   per row or column the segment crosses ([`SightGrid`]; the same answers and cell counts
+//!   as `walk_segment`, tested). A segment through a grid vertex needs both side cells
+//!   free, so a diagonal grid move without corner cutting is itself a segment with line of
+//!   sight.
 //! - `c(a, b)` is the Euclidean distance between cell centres ([`Cell::euclidean`]), and
 //!   `h(s) = |s goal|`, which is consistent: `h(a) <= |a b| + h(b)` by the triangle
 //!   inequality.
 //! - The start is its own parent. When `parent(s) = s` (the start only) no line of sight is
 //!   checked: path 2 would be path 1.
 //! - CLOSED nodes are never reopened; the search stops when the goal is popped.
+//! - Line of sight is checked only where it can matter: a neighbour already in OPEN whose
+//!   g neither path 1 nor path 2 would replace is left as it is unchecked, which is what
+//!   either answer would give ([`AnyAngle::skip_hopeless`]; false checks every relaxation).
 //!
 //! # Costs and the epsilon
 //! Lengths are sums of square roots, so costs are `f64` and two mathematically equal
@@ -100,11 +107,15 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+mod sight;
+
+pub use sight::SightGrid;
+
 use planner_search::{QuadHeap, Stamped};
 
 use planner_api::{
-    walk_segment, Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder,
-    Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder, Outcome,
+    Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -256,8 +267,14 @@ struct Entry {
 pub struct AnyAngle {
     moves: MoveSet,
     adjacency: Option<Adjacency>,
+    sight: Option<SightGrid>,
     nodes: Stamped<Node>,
     open: QuadHeap<Entry>,
+    /// Theta\* only: whether line of sight is left unchecked where it cannot change the
+    /// search, for a neighbour already in OPEN whose g neither path would replace (default
+    /// true). Paths and A\*'s counters are the same either way; only `n_los_checks` and
+    /// `n_los_cells` differ. False checks every relaxation, as the paper's pseudocode does.
+    pub skip_hopeless: bool,
 }
 
 impl AnyAngle {
@@ -269,16 +286,19 @@ impl AnyAngle {
         Ok(AnyAngle {
             moves,
             adjacency: None,
+            sight: None,
             nodes: Stamped::default(),
             open: QuadHeap::default(),
+            skip_hopeless: true,
         })
     }
 
-    /// Builds the move masks and node arrays for `grid` (done by the first search on a
-    /// grid otherwise).
+    /// Builds the move masks, the bit-packed grid for line of sight and the node arrays
+    /// for `grid` (done by the first search on a grid otherwise).
     pub fn prepare(&mut self, grid: &planner_api::Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         self.nodes.fit(adjacency.padded_len());
+        SightGrid::cached(&mut self.sight, grid);
     }
 
     /// Runs `variant` on `problem` within `budget` (one expansion is one node taken from
@@ -286,13 +306,14 @@ impl AnyAngle {
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget, variant: Variant) -> Search {
         let grid = problem.grid();
         self.prepare(grid);
-        let Some(adjacency) = self.adjacency.as_ref() else {
-            unreachable!("prepare fills the adjacency cache");
+        let (Some(adjacency), Some(sight)) = (self.adjacency.as_ref(), self.sight.as_ref()) else {
+            unreachable!("prepare fills the adjacency and sight caches");
         };
         let (stamps, nodes) = self.nodes.begin();
         let (open_stamp, closed_stamp) = (stamps.open, stamps.closed);
         let open = &mut self.open;
         open.clear();
+        let skip_hopeless = self.skip_hopeless;
 
         let mut costs = [0.0f64; 8];
         for (slot, mv) in costs.iter_mut().zip(self.moves.moves()) {
@@ -312,7 +333,7 @@ impl AnyAngle {
         let mut stats = AnyAngleStats::default();
         let mut n_safe = 0u64;
         let line_of_sight = |stats: &mut AnyAngleStats, a: Cell, b: Cell| {
-            let walk = walk_segment(grid, a, b);
+            let walk = sight.walk(grid, a, b);
             stats.n_los_checks += 1;
             stats.n_los_cells += walk.n_cells;
             walk.free
@@ -410,17 +431,33 @@ impl AnyAngle {
                     continue;
                 }
                 let q_cell = adjacency.cell(q);
-                let via_parent = parent != p
-                    && match variant {
-                        Variant::Theta => line_of_sight(&mut stats, parent_cell, q_cell),
-                        Variant::Lazy => true,
-                    };
-                let (g_new, new_parent) = if via_parent {
-                    (g_parent + parent_cell.euclidean(q_cell), parent)
-                } else {
-                    (g_node + costs[(m & 7) as usize], p)
-                };
                 let known = nodes[q].stamp == open_stamp;
+                let path_1 = g_node + costs[(m & 7) as usize];
+                let (g_new, new_parent) = if parent == p {
+                    (path_1, p)
+                } else {
+                    let path_2 = || g_parent + parent_cell.euclidean(q_cell);
+                    let via_parent = match variant {
+                        Variant::Lazy => true,
+                        Variant::Theta => {
+                            // Neither path can replace g(q): line of sight decides nothing.
+                            // Path 1 first: it is the cheaper to compute. (Costs are
+                            // finite sums of distances, never NaN.)
+                            if skip_hopeless && known {
+                                let bar = nodes[q].g - EPSILON;
+                                if path_1 >= bar && path_2() >= bar {
+                                    continue;
+                                }
+                            }
+                            line_of_sight(&mut stats, parent_cell, q_cell)
+                        }
+                    };
+                    if via_parent {
+                        (path_2(), parent)
+                    } else {
+                        (path_1, p)
+                    }
+                };
                 if !known || g_new < nodes[q].g - EPSILON {
                     stats.search.n_relaxations += 1;
                     stats.search.n_open_insertions += u64::from(!known);

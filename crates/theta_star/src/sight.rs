@@ -1,0 +1,338 @@
+//! Line of sight over a bit-packed grid, one masked word test per row (or column) of the
+//! segment instead of one step per cell.
+//!
+//! The cells that [`planner_api::walk_segment`] visits between the centres of `a` and `b`
+//! (planner-api's exact traversal, [`planner_api::for_each_segment_cell`]) are the cells
+//! the closed segment touches. Take the axis along which the segment moves further as the
+//! major one (x when `|dx| >= |dy|`): then every line of cells across the other axis (a row
+//! when x is major) holds a contiguous run of touched cells, and consecutive lines' runs
+//! overlap by one cell where the segment passes exactly through a grid vertex. With
+//! `nu = |d major|`, `nv = |d minor| > 0`, line `k` (`0 <= k <= nv` steps from `a`) covers
+//! the major offsets `lo_k ..= hi_k` from `a`, where
+//!
+//! - `hi_k = floor(((2k + 1) nu + nv) / (2 nv))` for `k < nv`, `hi_nv = nu`;
+//! - `lo_0 = 0`, and `lo_(k+1) = hi_k - 1` when `((2k + 1) nu + nv)` is a multiple of
+//!   `2 nv` (the segment leaves line `k` through a vertex), else `hi_k`.
+//!
+//! So a check reads one or two words per line, `min(|dx|, |dy|) + 1` lines, with an early
+//! exit at the first line that has a blocked cell. The grid is stored twice, by rows and by
+//! columns, so the lines are always along the major axis.
+//!
+//! The counters need the walk's own count of cells up to the first blocked one. Along rows
+//! (x major) the walk visits the lines in order, each run in order of x, so the count is
+//! the cells of the earlier rows plus the blocked cell's place in its run. Along columns
+//! the walk's order differs in one way only: at a vertex it visits the x side cell (the
+//! first cell of the next column) before the y side cell (the last of the current column);
+//! [`SightGrid::walk`] swaps those two back. `tests/sight.rs` checks
+//! [`SightGrid::walk`] against [`planner_api::walk_segment`] on random maps and segments.
+
+use planner_api::{walk_segment, Cell, Grid, SegmentWalk};
+
+/// A grid's cells as bits, 1 = blocked, stored by rows and by columns (module docs).
+///
+/// ```
+/// use planner_api::{walk_segment, Cell, Grid};
+/// use planner_theta_star::SightGrid;
+///
+/// let grid = Grid::from_ascii("
+///     ......
+///     .###..
+///     ......
+/// ").unwrap();
+/// let sight = SightGrid::new(&grid);
+/// for (a, b) in [(Cell::new(0, 0), Cell::new(5, 2)), (Cell::new(0, 2), Cell::new(5, 0))] {
+///     assert_eq!(sight.walk(&grid, a, b), walk_segment(&grid, a, b));
+/// }
+/// assert!(!sight.walk(&grid, Cell::new(0, 0), Cell::new(5, 2)).free);
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct SightGrid {
+    width: u32,
+    height: u32,
+    revision: u64,
+    /// Words per row.
+    row_stride: usize,
+    /// Bit `x % 64` of word `y * row_stride + x / 64`: cell `(x, y)` is blocked.
+    rows: Vec<u64>,
+    /// Words per column.
+    col_stride: usize,
+    /// Bit `y % 64` of word `x * col_stride + y / 64`: cell `(x, y)` is blocked.
+    cols: Vec<u64>,
+}
+
+impl SightGrid {
+    /// The bits of `grid`.
+    pub fn new(grid: &Grid) -> SightGrid {
+        let (width, height) = (grid.width() as usize, grid.height() as usize);
+        let row_stride = width.div_ceil(64);
+        let col_stride = height.div_ceil(64);
+        let mut rows = vec![0u64; row_stride * height];
+        let mut cols = vec![0u64; col_stride * width];
+        for (i, &free) in grid.free_cells().iter().enumerate() {
+            if !free {
+                let (x, y) = (i % width, i / width);
+                rows[y * row_stride + x / 64] |= 1 << (x % 64);
+                cols[x * col_stride + y / 64] |= 1 << (y % 64);
+            }
+        }
+        SightGrid {
+            width: grid.width(),
+            height: grid.height(),
+            revision: grid.revision(),
+            row_stride,
+            rows,
+            col_stride,
+            cols,
+        }
+    }
+
+    /// Whether these bits are `grid`'s: the same revision, or the same cells.
+    pub fn is_for(&self, grid: &Grid) -> bool {
+        if self.revision == grid.revision() {
+            return (self.width, self.height) == (grid.width(), grid.height());
+        }
+        let other = SightGrid::new(grid);
+        (self.width, self.height, &self.rows) == (other.width, other.height, &other.rows)
+    }
+
+    /// The bits in `cache` when they are `grid`'s, else `grid`'s bits built anew.
+    pub fn cached<'a>(cache: &'a mut Option<SightGrid>, grid: &Grid) -> &'a SightGrid {
+        match cache {
+            Some(sight) if sight.revision == grid.revision() => {}
+            Some(sight) if sight.is_for(grid) => sight.revision = grid.revision(),
+            _ => *cache = Some(SightGrid::new(grid)),
+        }
+        match cache {
+            Some(sight) => sight,
+            None => unreachable!("filled above"),
+        }
+    }
+
+    /// [`walk_segment`]`(grid, a, b)`, the same answer and cell count. Precondition: these
+    /// are `grid`'s bits ([`SightGrid::is_for`]). Ends outside the grid go to
+    /// [`walk_segment`] itself.
+    #[inline]
+    pub fn walk(&self, grid: &Grid, a: Cell, b: Cell) -> SegmentWalk {
+        let inside = |c: Cell| c.x < self.width && c.y < self.height;
+        if !inside(a) || !inside(b) {
+            return walk_segment(grid, a, b);
+        }
+        let nx = a.x.abs_diff(b.x) as usize;
+        let ny = a.y.abs_diff(b.y) as usize;
+        if nx >= ny {
+            let found = scan(
+                &self.rows,
+                self.row_stride,
+                (a.x as usize, a.y as usize),
+                (nx, ny),
+                (b.x >= a.x, b.y >= a.y),
+            );
+            match found {
+                Scan::Free(n_cells) => SegmentWalk {
+                    free: true,
+                    n_cells,
+                },
+                Scan::Blocked { at, .. } => SegmentWalk {
+                    free: false,
+                    n_cells: at,
+                },
+            }
+        } else {
+            let found = scan(
+                &self.cols,
+                self.col_stride,
+                (a.y as usize, a.x as usize),
+                (ny, nx),
+                (b.y >= a.y, b.x >= a.x),
+            );
+            match found {
+                Scan::Free(n_cells) => SegmentWalk {
+                    free: true,
+                    n_cells,
+                },
+                Scan::Blocked {
+                    at,
+                    place,
+                    next_first_blocked,
+                } => {
+                    // The walk visits the first cell of the next column before the last
+                    // of this one at a vertex (module docs).
+                    let n_cells = match place {
+                        Place::LastBeforeVertex if next_first_blocked => at,
+                        Place::LastBeforeVertex => at + 1,
+                        Place::FirstAfterVertex => at - 1,
+                        Place::Other => at,
+                    };
+                    SegmentWalk {
+                        free: false,
+                        n_cells,
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Where a blocked cell sits in its line, as the column order needs to know.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Place {
+    /// The last cell of a line left through a vertex.
+    LastBeforeVertex,
+    /// The first cell of a line entered through a vertex.
+    FirstAfterVertex,
+    /// Anywhere else.
+    Other,
+}
+
+/// What [`scan`] found, counting cells in line order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Scan {
+    /// Every cell is free; the number of cells.
+    Free(u64),
+    /// The first blocked cell in line order is the `at`-th (from 1).
+    Blocked {
+        at: u64,
+        place: Place,
+        /// With [`Place::LastBeforeVertex`]: whether the next line's first cell is blocked.
+        next_first_blocked: bool,
+    },
+}
+
+/// Scans the lines of a segment from `(au, av)` over `(nu, nv)` cells (`nu >= nv`) in
+/// directions `forward = (u grows, v grows)`, in `lines` of `stride` words each (line `v`,
+/// bit `u`).
+#[inline(always)]
+fn scan(
+    lines: &[u64],
+    stride: usize,
+    (au, av): (usize, usize),
+    (nu, nv): (usize, usize),
+    (u_up, v_up): (bool, bool),
+) -> Scan {
+    // The run of line k in absolute major coordinates.
+    let span = |lo: usize, hi: usize| {
+        if u_up {
+            (au + lo, au + hi)
+        } else {
+            (au - hi, au - lo)
+        }
+    };
+    let line_at = |k: usize| {
+        let v = if v_up { av + k } else { av - k };
+        &lines[v * stride..(v + 1) * stride]
+    };
+    if nv == 0 {
+        let (l, h) = span(0, nu);
+        return match first_blocked(line_at(0), l, h, u_up) {
+            None => Scan::Free(nu as u64 + 1),
+            Some(j) => Scan::Blocked {
+                at: j as u64 + 1,
+                place: Place::Other,
+                next_first_blocked: false,
+            },
+        };
+    }
+    let two_nv = 2 * nv;
+    let (step_q, step_r) = (nu / nv, 2 * (nu % nv));
+    // hi_k and the remainder of ((2k + 1) nu + nv) / (2 nv).
+    let (mut hi, mut rem) = ((nu + nv) / two_nv, (nu + nv) % two_nv);
+    let mut lo = 0usize;
+    let mut before = 0u64;
+    let mut entered_by_vertex = false;
+    for k in 0..=nv {
+        let last = k == nv;
+        let h = if last { nu } else { hi };
+        let (l, hh) = span(lo, h);
+        let line = line_at(k);
+        let leaves_by_vertex = !last && rem == 0;
+        if let Some(j) = first_blocked(line, l, hh, u_up) {
+            let run = h - lo;
+            let place = if j == run && leaves_by_vertex {
+                Place::LastBeforeVertex
+            } else if j == 0 && entered_by_vertex {
+                Place::FirstAfterVertex
+            } else {
+                Place::Other
+            };
+            let next_first_blocked = place == Place::LastBeforeVertex && {
+                // The next line's first cell is at major offset hi - 1.
+                let next = line_at(k + 1);
+                let (u, _) = span(hi - 1, hi - 1);
+                (next[u / 64] >> (u % 64)) & 1 != 0
+            };
+            return Scan::Blocked {
+                at: before + j as u64 + 1,
+                place,
+                next_first_blocked,
+            };
+        }
+        before += (h - lo) as u64 + 1;
+        if last {
+            break;
+        }
+        lo = if leaves_by_vertex { hi - 1 } else { hi };
+        entered_by_vertex = leaves_by_vertex;
+        hi += step_q;
+        rem += step_r;
+        if rem >= two_nv {
+            rem -= two_nv;
+            hi += 1;
+        }
+    }
+    Scan::Free(before)
+}
+
+/// The place (from 0, in the walk's direction: increasing when `forward`) of the first set
+/// bit among bits `lo ..= hi` of `line`, if any.
+#[inline(always)]
+fn first_blocked(line: &[u64], lo: usize, hi: usize, forward: bool) -> Option<usize> {
+    let (w0, w1) = (lo / 64, hi / 64);
+    let lo_mask = !0u64 << (lo % 64);
+    let hi_mask = !0u64 >> (63 - hi % 64);
+    if w0 == w1 {
+        let bits = line[w0] & lo_mask & hi_mask;
+        if bits == 0 {
+            return None;
+        }
+        return Some(if forward {
+            w0 * 64 + bits.trailing_zeros() as usize - lo
+        } else {
+            hi - (w0 * 64 + 63 - bits.leading_zeros() as usize)
+        });
+    }
+    if forward {
+        let mut w = w0;
+        let mut mask = lo_mask;
+        loop {
+            if w == w1 {
+                mask &= hi_mask;
+            }
+            let bits = line[w] & mask;
+            if bits != 0 {
+                return Some(w * 64 + bits.trailing_zeros() as usize - lo);
+            }
+            if w == w1 {
+                return None;
+            }
+            w += 1;
+            mask = !0;
+        }
+    } else {
+        let mut w = w1;
+        let mut mask = hi_mask;
+        loop {
+            if w == w0 {
+                mask &= lo_mask;
+            }
+            let bits = line[w] & mask;
+            if bits != 0 {
+                return Some(hi - (w * 64 + 63 - bits.leading_zeros() as usize));
+            }
+            if w == w0 {
+                return None;
+            }
+            w -= 1;
+            mask = !0;
+        }
+    }
+}
