@@ -183,7 +183,7 @@ fn every_registered_planner_stops_when_cancelled() {
     let flag = planner_api::CancelFlag::new();
     flag.cancel();
     let budget = Budget::expansions(BUDGET);
-    let cancelled = budget.clone().with_cancel(flag);
+    let cancelled = budget.with_cancel(flag);
     let interval = u64::from(planner_api::BudgetClock::TIME_CHECK_INTERVAL);
     let mut n_cut = 0;
     for entry in PLANNERS {

@@ -28,7 +28,7 @@ fn unbounded() -> Caps {
 #[test]
 fn a_cancelled_search_stops_with_budget_exhausted() {
     let flag = CancelFlag::new();
-    let cancel = flag.clone();
+    let cancel = flag;
     let worker = std::thread::spawn(move || {
         let path = Path::new("open64.map");
         let set: Vec<String> = Vec::new();
