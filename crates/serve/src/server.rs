@@ -813,8 +813,13 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
         drop(guard);
         let _ = send.send(answer);
     });
+    // A cancelled run answers 409 whether its search was stopped by the flag (it then
+    // ends as budget_exhausted, often before the next look at the flag here) or not.
     let answer = loop {
         match receive.recv_timeout(Duration::from_millis(20)) {
+            Ok(_) if cancelled.is_cancelled() => {
+                break Answer::json(409, r#"{"cancelled":true}"#.to_string());
+            }
             Ok(answer) => break answer,
             Err(mpsc::RecvTimeoutError::Disconnected) => {
                 break Answer::error(500, "the planning thread ended without an answer")
