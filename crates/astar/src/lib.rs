@@ -130,8 +130,8 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Cost, Counter, Grid, MemoryShortfall, MoveOrderError,
-    CostRule, MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Cost, CostRule, Counter, Grid, MemoryShortfall,
+    MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
 use serde::{Deserialize, Serialize};
@@ -732,9 +732,15 @@ impl AStar {
             (true, TieBreak::HighG) => {
                 self.run_with::<_, UNWEIGHTED>(&mut opens.int_high_g, problem, budget)
             }
-            (false, TieBreak::Fifo) => self.run_with::<_, UNWEIGHTED>(&mut opens.fifo, problem, budget),
-            (false, TieBreak::Lifo) => self.run_with::<_, UNWEIGHTED>(&mut opens.lifo, problem, budget),
-            (false, TieBreak::LowG) => self.run_with::<_, UNWEIGHTED>(&mut opens.low_g, problem, budget),
+            (false, TieBreak::Fifo) => {
+                self.run_with::<_, UNWEIGHTED>(&mut opens.fifo, problem, budget)
+            }
+            (false, TieBreak::Lifo) => {
+                self.run_with::<_, UNWEIGHTED>(&mut opens.lifo, problem, budget)
+            }
+            (false, TieBreak::LowG) => {
+                self.run_with::<_, UNWEIGHTED>(&mut opens.low_g, problem, budget)
+            }
             (false, TieBreak::HighG) => {
                 self.run_with::<_, UNWEIGHTED>(&mut opens.high_g, problem, budget)
             }
@@ -909,7 +915,11 @@ impl AStar {
         let unweighted = weight == 1.0;
         let h = |x: u32, y: u32| {
             let h = estimate::<H>(x.abs_diff(goal.x), y.abs_diff(goal.y));
-            let h = if W != UNWEIGHTED { h.times(min_weight) } else { h };
+            let h = if W != UNWEIGHTED {
+                h.times(min_weight)
+            } else {
+                h
+            };
             if unweighted {
                 h
             } else {
