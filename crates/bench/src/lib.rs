@@ -275,9 +275,11 @@ pub enum Clock {
     /// Elapsed wall time (`std::time::Instant`), the default.
     #[default]
     Wall,
-    /// The benchmark thread's time on a CPU, from Linux's `/proc/thread-self/schedstat`
-    /// (nanoseconds): on a machine shared with other work, time spent waiting for a core
-    /// does not count (cache contention still does).
+    /// The benchmark thread's time on a CPU (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`,
+    /// through the `cpu-time` crate): on a machine shared with other work, time spent
+    /// waiting for a core does not count (cache contention still does). Linux's
+    /// `/proc/thread-self/schedstat`, read before, is brought up to date only at scheduler
+    /// ticks (4 ms here) while the thread computes, too coarse for a 10 ms pass.
     Cpu,
 }
 
@@ -286,11 +288,9 @@ impl Clock {
     pub fn now(self) -> Option<Duration> {
         match self {
             Clock::Wall => Some(START.with(|start| start.elapsed())),
-            Clock::Cpu => {
-                let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-                let nanos: u64 = text.split_whitespace().next()?.parse().ok()?;
-                Some(Duration::from_nanos(nanos))
-            }
+            Clock::Cpu => cpu_time::ThreadTime::try_now()
+                .ok()
+                .map(|now| now.as_duration()),
         }
     }
 }
@@ -323,7 +323,7 @@ impl Repeats {
                     "wall" => Clock::Wall,
                     "cpu" if Clock::Cpu.now().is_some() => Clock::Cpu,
                     "cpu" => {
-                        return Err("--clock=cpu: /proc/thread-self/schedstat is unreadable".into())
+                        return Err("--clock=cpu: this thread's CPU clock is unavailable".into())
                     }
                     _ => return Err(format!("--clock: expected wall or cpu, got {value:?}")),
                 };
@@ -445,6 +445,23 @@ mod tests {
 
     fn args(list: &[&str]) -> Vec<String> {
         list.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn the_cpu_clock_ticks_finer_than_a_millisecond() {
+        // A scheduler-tick clock (schedstat's, 4 ms here) would step by whole ticks while
+        // this thread computes; the thread CPU clock steps by the reads' own cost.
+        let Some(first) = Clock::Cpu.now() else {
+            return;
+        };
+        let mut largest = Duration::ZERO;
+        let mut last = first;
+        while last - first < Duration::from_millis(20) {
+            let now = Clock::Cpu.now().unwrap();
+            largest = largest.max(now - last);
+            last = now;
+        }
+        assert!(largest < Duration::from_millis(1), "a step of {largest:?}");
     }
 
     #[test]
