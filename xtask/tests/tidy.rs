@@ -48,21 +48,27 @@ struct Package {
     targets: Vec<(String, String, PathBuf, bool)>,
 }
 
-/// `cargo metadata --format-version 1 --offline` with `args`, parsed.
-fn cargo_metadata(args: &[&str]) -> serde_json::Value {
+/// What `cargo ARGS` prints on stdout, run in the workspace root; it must succeed.
+fn cargo(args: &[&str]) -> Vec<u8> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let output = std::process::Command::new(cargo)
-        .args(["metadata", "--format-version", "1", "--offline"])
         .args(args)
         .current_dir(root())
         .output()
-        .expect("cargo metadata runs");
+        .unwrap_or_else(|e| panic!("cargo {args:?}: {e}"));
     assert!(
         output.status.success(),
-        "{}",
+        "cargo {args:?}: {}",
         String::from_utf8_lossy(&output.stderr)
     );
-    serde_json::from_slice(&output.stdout).unwrap()
+    output.stdout
+}
+
+/// `cargo metadata --format-version 1 --offline` with `args`, parsed.
+fn cargo_metadata(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["metadata", "--format-version", "1", "--offline"];
+    all.extend_from_slice(args);
+    serde_json::from_slice(&cargo(&all)).unwrap()
 }
 
 fn packages() -> Vec<Package> {
@@ -836,28 +842,18 @@ fn targets_without_a_test_build_have_no_unit_tests() {
 /// Each package of the dependency graph `cargo tree` prints for `selection` (and
 /// `edges`), as `name version [features]`, one line per build of it.
 fn feature_sets(selection: &[&str], edges: &str) -> BTreeSet<String> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let output = std::process::Command::new(cargo)
-        .args([
-            "tree",
-            "--offline",
-            "--prefix",
-            "none",
-            "--format",
-            "{p} [{f}]",
-            "-e",
-        ])
-        .arg(edges)
-        .args(selection)
-        .current_dir(root())
-        .output()
-        .expect("cargo tree runs");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8_lossy(&output.stdout)
+    let mut args = vec![
+        "tree",
+        "--offline",
+        "--prefix",
+        "none",
+        "--format",
+        "{p} [{f}]",
+        "-e",
+        edges,
+    ];
+    args.extend_from_slice(selection);
+    String::from_utf8_lossy(&cargo(&args))
         .lines()
         .map(|line| line.trim_end_matches(" (*)").to_owned())
         .filter(|line| !line.is_empty())
