@@ -267,12 +267,12 @@ impl<R: BufRead> StreamReader<R> {
                 )))
             }
         };
-        if header.format == crate::frames::FRAMED_FORMAT {
-            stream.frames = Some(crate::frames::FrameReader::new());
-        } else if header.format != STREAM_FORMAT {
+        stream.frames = crate::frames::FrameReader::for_format(header.format);
+        if stream.frames.is_none() && header.format != STREAM_FORMAT {
             return Err(RunnerError::Stream(format!(
-                "{what}: stream format {} (this gridplan reads {STREAM_FORMAT}, JSON Lines, and {}, framed)",
+                "{what}: stream format {} (this gridplan reads {STREAM_FORMAT}, JSON Lines, and {} and {}, framed)",
                 header.format,
+                crate::frames::ROW_FRAMED_FORMAT,
                 crate::frames::FRAMED_FORMAT
             )));
         }
