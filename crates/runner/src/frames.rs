@@ -575,7 +575,7 @@ fn decode_payload(bytes: &[u8], rows: bool) -> Result<Vec<(u64, RunRecord)>, Mal
         next_run: 0,
         next_repeat: 0,
     };
-    let mut records: Vec<(u64, RunRecord)> = Vec::with_capacity(n_records);
+    let mut records: Vec<(u64, RunRecord)> = Vec::with_capacity(n_records.min(FRAME_RUNS));
     for _ in 0..n_records {
         let record = decode_record(&mut cursors, &strings, records.last().map(|(_, r)| r))?;
         records.push(record);
@@ -870,6 +870,11 @@ impl FrameReader {
             .map_err(|_| Malformed("not a compressed payload"))?;
         if n > MAX_FRAME_BYTES as usize {
             return Err(Malformed("decompresses to more than a frame holds"));
+        }
+        // A Snappy element writes at most 64 bytes for 3 (a copy with a 2-byte offset): a
+        // stated length beyond that ratio is refused before it is allocated.
+        if n > self.payload.len().saturating_mul(22).saturating_add(64) {
+            return Err(Malformed("states more bytes than it can decompress to"));
         }
         self.plain.clear();
         self.plain.resize(n, 0);

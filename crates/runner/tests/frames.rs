@@ -292,3 +292,27 @@ fn a_format_2_stream_still_reads() {
     assert_eq!(r.setup_ms.to_bits(), (-0.0f64).to_bits());
     assert_eq!(r.peak_heap_bytes, 9);
 }
+
+/// A frame whose compressed payload states a decompressed length it cannot reach (Snappy
+/// writes at most 64 bytes for 3) is refused before that length is allocated.
+#[test]
+fn a_payload_stating_more_than_it_holds_is_refused() {
+    let mut compressed = Vec::new();
+    let mut stated: u64 = 200 << 20;
+    while stated >= 0x80 {
+        compressed.push((stated as u8 & 0x7f) | 0x80);
+        stated >>= 7;
+    }
+    compressed.push(stated as u8);
+    // One literal of 4 bytes.
+    compressed.extend_from_slice(&[3 << 2, 1, 2, 3, 4]);
+    let mut bytes = header().to_line().unwrap();
+    bytes.extend_from_slice(&(compressed.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(&crc32fast::hash(&compressed).to_le_bytes());
+    bytes.extend_from_slice(&compressed);
+    let error = read(&bytes).unwrap_err();
+    assert!(
+        error.contains("frame 1") && error.contains("states more bytes"),
+        "{error}"
+    );
+}
