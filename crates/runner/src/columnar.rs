@@ -11,9 +11,9 @@
 //! into one directory never collide, and DuckDB or polars read every shard as one dataset
 //! with a glob (`read_parquet('x-shard-*/runs.parquet/*.parquet')`).
 //!
-//! A whole sweep's file (and a merge's) is written from its records; a shard's from its
-//! record stream, one row group at a time, so a shard never holds more than one row group
-//! of records.
+//! A whole sweep's file (and a merge's) is written from its records; a larger one's and a
+//! shard's from its record stream, one row group at a time, gathered as plain integers
+//! per column (about 9 bytes a cell), so a writer never holds records.
 
 use std::io::{BufRead, Write};
 use std::path::Path;
@@ -209,10 +209,88 @@ fn add_counter_names(names: &mut Vec<String>, record: &RunRecord) {
     }
 }
 
-/// A runs.parquet being written, one row group per [`RunsWriter::write_group`].
+/// One column of a row group being gathered: whether each row has a value, and the
+/// values present as 64 bits (a text's id in [`Group::texts`], an integer, a float's bits,
+/// a boolean as 0 or 1).
+#[derive(Default)]
+struct GroupColumn {
+    present: Vec<bool>,
+    values: Vec<u64>,
+}
+
+/// A row group being gathered, column by column, as plain integers: about 9 bytes per
+/// cell, reused from one group to the next, so a writer holds no records.
+#[derive(Default)]
+struct Group {
+    columns: Vec<GroupColumn>,
+    /// The distinct texts of the group's text columns (a handful: maps, labels, statuses).
+    texts: Vec<ByteArray>,
+    rows: usize,
+}
+
+impl Group {
+    /// Adds `r`'s row, its counters in the order of `counters` (a counter outside them is
+    /// an error, never dropped silently).
+    fn push(&mut self, r: &RunRecord, counters: &[String]) -> Result<(), RunnerError> {
+        if let Some((name, _)) = r
+            .counters
+            .iter()
+            .find(|(name, _)| !counters.iter().any(|c| c == name))
+        {
+            return Err(RunnerError::Stream(format!(
+                "{PARQUET_DIR}: run {} of {} on {} has a counter `{name}` the file's columns lack",
+                r.problem, r.planner, r.map
+            )));
+        }
+        let n_columns = FIXED_COLUMNS.len() + counters.len();
+        self.columns.resize_with(n_columns, GroupColumn::default);
+        for (index, column) in self.columns.iter_mut().enumerate() {
+            let cell = match index.checked_sub(FIXED_COLUMNS.len()) {
+                // Times are rounded to the nanosecond, as in runs.json.
+                None => match fixed_cell(r, index) {
+                    Cell::Float(v) if matches!(index, TIME_MS | SETUP_MS) => {
+                        Cell::Float(v.map(nanoseconds))
+                    }
+                    cell => cell,
+                },
+                Some(c) => Cell::Unsigned(r.counters.get(&counters[c])),
+            };
+            let value = match cell {
+                Cell::Text(text) => Some(
+                    match self.texts.iter().position(|t| t.data() == text.as_bytes()) {
+                        Some(i) => i as u64,
+                        None => {
+                            self.texts.push(ByteArray::from(text));
+                            self.texts.len() as u64 - 1
+                        }
+                    },
+                ),
+                Cell::Unsigned(v) => v,
+                Cell::Float(v) => v.map(f64::to_bits),
+                Cell::Boolean(v) => v.map(u64::from),
+            };
+            column.present.push(value.is_some());
+            column.values.extend(value);
+        }
+        self.rows += 1;
+        Ok(())
+    }
+
+    fn clear(&mut self) {
+        for column in &mut self.columns {
+            column.present.clear();
+            column.values.clear();
+        }
+        self.texts.clear();
+        self.rows = 0;
+    }
+}
+
+/// A runs.parquet being written, one row group per [`ROW_GROUP_ROWS`] rows pushed.
 pub struct RunsWriter<W: Write + Send> {
     writer: SerializedFileWriter<W>,
     counters: Vec<String>,
+    group: Group,
     // Reused per column: definition levels and values.
     levels: Vec<i16>,
     texts: Vec<ByteArray>,
@@ -236,6 +314,7 @@ impl<W: Write + Send> RunsWriter<W> {
         Ok(RunsWriter {
             writer,
             counters,
+            group: Group::default(),
             levels: Vec::new(),
             texts: Vec::new(),
             unsigned: Vec::new(),
@@ -244,22 +323,19 @@ impl<W: Write + Send> RunsWriter<W> {
         })
     }
 
-    /// Writes `records` as one row group (nothing if empty).
-    pub fn write_group(&mut self, records: &[RunRecord]) -> Result<(), RunnerError> {
-        if records.is_empty() {
-            return Ok(());
+    /// Adds `record`'s row; a row group is written every [`ROW_GROUP_ROWS`] rows.
+    pub fn push(&mut self, record: &RunRecord) -> Result<(), RunnerError> {
+        self.group.push(record, &self.counters)?;
+        if self.group.rows == ROW_GROUP_ROWS {
+            self.write_group()?;
         }
-        for record in records {
-            if let Some((name, _)) = record
-                .counters
-                .iter()
-                .find(|(name, _)| !self.counters.iter().any(|c| c == name))
-            {
-                return Err(RunnerError::Stream(format!(
-                    "{PARQUET_DIR}: run {} of {} on {} has a counter `{name}` the file's columns lack",
-                    record.problem, record.planner, record.map
-                )));
-            }
+        Ok(())
+    }
+
+    /// Writes the rows gathered as one row group (nothing if none).
+    fn write_group(&mut self) -> Result<(), RunnerError> {
+        if self.group.rows == 0 {
+            return Ok(());
         }
         let mut group = self.writer.next_row_group()?;
         let mut index = 0;
@@ -270,31 +346,29 @@ impl<W: Write + Send> RunsWriter<W> {
             self.floats.clear();
             self.booleans.clear();
             let kind = FIXED_KINDS.get(index).map_or(Kind::Unsigned, |k| k.0);
-            let counter = index.checked_sub(FIXED_COLUMNS.len());
-            for r in records {
-                let cell = match counter {
-                    // Times are rounded to the nanosecond, as in runs.json.
-                    None => match fixed_cell(r, index) {
-                        Cell::Float(v) if matches!(index, TIME_MS | SETUP_MS) => {
-                            Cell::Float(v.map(nanoseconds))
-                        }
-                        cell => cell,
-                    },
-                    Some(c) => Cell::Unsigned(r.counters.get(&self.counters[c])),
-                };
-                let present = match cell {
-                    Cell::Text(text) => {
-                        self.texts.push(ByteArray::from(text));
-                        true
+            let gathered = self.group.columns.get(index).ok_or_else(|| {
+                RunnerError::Stream(format!("{PARQUET_DIR}: column {index} was not gathered"))
+            })?;
+            self.levels
+                .extend(gathered.present.iter().map(|&p| i16::from(p)));
+            let values = gathered.values.iter().copied();
+            match kind {
+                Kind::Text => {
+                    for id in values {
+                        let text = self.group.texts.get(id as usize).ok_or_else(|| {
+                            RunnerError::Stream(format!(
+                                "{PARQUET_DIR}: text {id} was not gathered"
+                            ))
+                        })?;
+                        self.texts.push(text.clone());
                     }
-                    // A UINT64 is stored in INT64's bits (the Parquet format's rule).
-                    Cell::Unsigned(v) => v.map(|v| self.unsigned.push(v as i64)).is_some(),
-                    Cell::Float(v) => v.map(|v| self.floats.push(v)).is_some(),
-                    Cell::Boolean(v) => v.map(|v| self.booleans.push(v)).is_some(),
-                };
-                self.levels.push(i16::from(present));
+                }
+                // A UINT64 is stored in INT64's bits (the Parquet format's rule).
+                Kind::Unsigned => self.unsigned.extend(values.map(|v| v as i64)),
+                Kind::Float => self.floats.extend(values.map(f64::from_bits)),
+                Kind::Boolean => self.booleans.extend(values.map(|v| v != 0)),
             }
-            let optional = counter.is_some() || FIXED_KINDS[index].1;
+            let optional = index >= FIXED_COLUMNS.len() || FIXED_KINDS[index].1;
             let levels = optional.then_some(self.levels.as_slice());
             match kind {
                 Kind::Text => {
@@ -322,11 +396,14 @@ impl<W: Write + Send> RunsWriter<W> {
             index += 1;
         }
         group.close()?;
+        self.group.clear();
         Ok(())
     }
 
-    /// Writes the footer (schema, row group index, key-value metadata).
-    pub fn close(self) -> Result<(), RunnerError> {
+    /// Writes the last row group and the footer (schema, row group index, key-value
+    /// metadata).
+    pub fn close(mut self) -> Result<(), RunnerError> {
+        self.write_group()?;
         self.writer.close()?;
         Ok(())
     }
@@ -345,15 +422,15 @@ pub fn write_runs_parquet(
         add_counter_names(&mut counters, record);
     }
     let mut writer = RunsWriter::new(out, counters, header)?;
-    for group in records.chunks(ROW_GROUP_ROWS) {
-        writer.write_group(group)?;
+    for record in records {
+        writer.push(record)?;
     }
     writer.close()
 }
 
-/// Writes the records of a record stream (a shard's) as a Parquet file to `out`, holding at
-/// most [`ROW_GROUP_ROWS`] records at once: `open` opens the stream, which is read twice
-/// (first for the counter names, then for the rows).
+/// Writes the records of a record stream (a shard's) as a Parquet file to `out`, holding
+/// one row group of [`ROW_GROUP_ROWS`] rows as plain integers and no records: `open`
+/// opens the stream, which is read twice (first for the counter names, then for the rows).
 pub fn write_stream_parquet<R: BufRead>(
     out: &mut (dyn Write + Send),
     header: &Header<'_>,
@@ -367,16 +444,9 @@ pub fn write_stream_parquet<R: BufRead>(
     }
     let mut writer = RunsWriter::new(out, counters, header)?;
     let (_, mut reader) = StreamReader::new(open()?, what)?;
-    let mut group = Vec::with_capacity(ROW_GROUP_ROWS.min(4096));
-    while let Some((_, mut record)) = reader.next_run()? {
-        record.path = None;
-        group.push(record);
-        if group.len() == ROW_GROUP_ROWS {
-            writer.write_group(&group)?;
-            group.clear();
-        }
+    while let Some((_, record)) = reader.next_run()? {
+        writer.push(&record)?;
     }
-    writer.write_group(&group)?;
     writer.close()
 }
 

@@ -224,12 +224,19 @@ pub fn run_one(
             slot.retained += (heap.current() - baseline).max(0) as u64;
         }
     }
-    record.setup_ms = setup_started.elapsed().as_secs_f64() * 1e3;
+    record.setup_ms = milliseconds(setup_started.elapsed());
     execute(&map.grid, entry, planner, slot, seed, heap, &mut record);
     if let (Some(path), true) = (&record.path, map.grid.is_weighted()) {
         record.cost = Some(map.grid.path_cost(path.cells()).to_f64());
     }
     Ok(record)
+}
+
+/// `elapsed` in milliseconds, as its whole nanoseconds over 1e6: the form the framed
+/// stream stores as an integer ([`crate::frames`]), so a record read back from it is the
+/// record measured, bit for bit.
+fn milliseconds(elapsed: std::time::Duration) -> f64 {
+    elapsed.as_nanos() as f64 / 1e6
 }
 
 fn blank_record(
@@ -309,7 +316,7 @@ fn execute_on(
             }
             let started = Instant::now();
             let outcome = p.plan(&problem, budget);
-            record.time_ms = started.elapsed().as_secs_f64() * 1e3;
+            record.time_ms = milliseconds(started.elapsed());
             record.counters = outcome.counters;
             record.marks = outcome.marks;
             record.series = outcome.series;
@@ -330,7 +337,7 @@ fn execute_on(
             };
             let started = Instant::now();
             let outcome = c.cover(&problem, budget);
-            record.time_ms = started.elapsed().as_secs_f64() * 1e3;
+            record.time_ms = milliseconds(started.elapsed());
             record.counters = outcome.counters;
             record.returns = Some(outcome.returns);
             (outcome.status, Some(outcome.path))

@@ -7,8 +7,8 @@
 //! worker), not by the sweep. Paths the config does not keep
 //! ([`crate::config::PathsMode`]) are dropped in the worker.
 //!
-//! A sweep's own resume stream is framed binary ([`crate::frames`], format 2, read here
-//! too); the JSON Lines format (1) is that of shard and results files, and of resume
+//! A sweep's own resume stream is framed binary ([`crate::frames`], format 3, and the
+//! previous version's format 2, read here too); the JSON Lines format (1) is that of shard and results files, and of resume
 //! streams written before, which still read.
 //! The JSON Lines format is one line per run, `{"run":INDEX,"record":RECORD}` ([`encode`]),
 //! the [`RunRecord`] as serde writes it. A binary appends each batch to a file and flushes
@@ -267,12 +267,12 @@ impl<R: BufRead> StreamReader<R> {
                 )))
             }
         };
-        if header.format == crate::frames::FRAMED_FORMAT {
-            stream.frames = Some(crate::frames::FrameReader::new());
-        } else if header.format != STREAM_FORMAT {
+        stream.frames = crate::frames::FrameReader::for_format(header.format);
+        if stream.frames.is_none() && header.format != STREAM_FORMAT {
             return Err(RunnerError::Stream(format!(
-                "{what}: stream format {} (this gridplan reads {STREAM_FORMAT}, JSON Lines, and {}, framed)",
+                "{what}: stream format {} (this gridplan reads {STREAM_FORMAT}, JSON Lines, and {} and {}, framed)",
                 header.format,
+                crate::frames::ROW_FRAMED_FORMAT,
                 crate::frames::FRAMED_FORMAT
             )));
         }
