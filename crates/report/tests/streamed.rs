@@ -3,7 +3,7 @@
 //! `oracle` (every group's runs collected and sorted) byte for byte, on 100,000 runs and
 //! more.
 
-mod oracle;
+use crate::oracle;
 
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
@@ -231,4 +231,46 @@ fn a_summary_from_passes_equals_the_in_memory_summary() {
     let got = renderer.summary_passes(&experiment, &[], &passes, None);
     std::fs::remove_file(&path).unwrap();
     assert_eq!(got.unwrap().0, want);
+}
+
+/// The charts of a sweep too large to hold (over 100,000 runs, read from a stream file)
+/// equal those drawn from the same records in memory, and the time box plot's median
+/// is the sorted values' median.
+#[test]
+fn charts_from_a_stream_equal_the_charts_from_memory() {
+    let experiment = config::load(&root().join("configs/movingai.toml"))
+        .unwrap()
+        .trimmed_for_test();
+    let n_base = experiment.n_runs();
+    let repeats = (100_000 / n_base + 1) as u32;
+    let (experiment, records) = synthetic(experiment, repeats);
+    let (path, records) = through_file(&experiment, &records, "charts");
+    assert!(records.len() > 100_000, "{} runs", records.len());
+    let want = planner_report::charts::charts(&experiment, &records.as_slice()).unwrap();
+    let passes = StreamPasses::new(&path, records.len() as u64);
+    let got = planner_report::charts::charts(&experiment, &passes);
+    std::fs::remove_file(&path).unwrap();
+    let got = got.unwrap();
+    assert_eq!(got, want);
+    let files: Vec<&str> = got.iter().map(|c| c.file.as_str()).collect();
+    for file in [
+        "time-box.svg",
+        "expansions-box.svg",
+        "expansions-by-bucket.svg",
+        "success.svg",
+    ] {
+        assert!(files.contains(&file), "{files:?}");
+    }
+    let label = &experiment.planners[0].label;
+    let times: Vec<f64> = records
+        .iter()
+        .filter(|r| !r.is_invalid() && r.planner == *label)
+        .map(|r| r.time_ms)
+        .collect();
+    let (median, _, _) = planner_report::median_iqr(&times).unwrap();
+    let box_plot = &got[0].svg;
+    assert!(
+        box_plot.contains(&format!("{label} (median {median:.3})")),
+        "{box_plot}"
+    );
 }
