@@ -292,15 +292,13 @@ impl Renderer {
             results.expanded,
         ));
         all.extend(charts::render(experiment, passes)?);
-        if held {
-            if experiment.ompl {
-                all.extend(ompl::logs(
-                    experiment,
-                    records,
-                    results.provenance,
-                    results.seconds,
-                ));
-            }
+        if held && experiment.ompl {
+            all.extend(ompl::logs(
+                experiment,
+                records,
+                results.provenance,
+                results.seconds,
+            ));
         }
         let paths = if held || !all_paths {
             planner_runner::output::paths_jsonl(figure_records)?
