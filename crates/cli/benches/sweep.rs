@@ -33,7 +33,9 @@ fn main() {
     let sweep = t.elapsed();
 
     let t = Instant::now();
-    let (summary, _) = planner_paper::renderer().summary(&experiment, &records);
+    let (summary, _) = planner_paper::renderer()
+        .summary(&experiment, &records)
+        .unwrap_or_else(|e| panic!("{e}"));
     let summary_time = t.elapsed();
     let t = Instant::now();
     let json = output::runs_json(&experiment, &records).unwrap_or_else(|e| panic!("{e}"));

@@ -5,11 +5,8 @@
 use std::fmt::Write as _;
 
 use crate::md_cell;
-use crate::optimum::matches_optimum;
-use crate::{median_iqr, Context, Reproduction, Section};
-use planner_runner::config::{Experiment, PlannerSpec};
-use planner_runner::record::RunRecord;
-use planner_runner::RunnerError;
+use crate::{Context, Section};
+use planner_runner::config::Experiment;
 
 /// The aggregate tables (section name `aggregate`).
 pub struct Aggregate;
@@ -24,28 +21,12 @@ impl Section for Aggregate {
         true
     }
 
-    fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
-        out.push_str(&tables(context, Measured::Shown));
-    }
-
     /// From passes over the records ([`crate::streamed::aggregate_tables`]), in memory
     /// bounded by the groups.
-    fn render_passes(
-        &self,
-        context: &Context<'_>,
-        out: &mut String,
-        _reproduction: &mut Reproduction,
-    ) -> Result<(), RunnerError> {
-        out.push_str(&crate::streamed::aggregate_tables(
-            context.experiment,
-            context.passes,
-            Measured::Shown,
-        )?);
-        Ok(())
-    }
-
-    fn streams(&self) -> bool {
-        true
+    fn table(&self) -> Option<crate::PassesTable> {
+        Some(|experiment, passes| {
+            crate::streamed::aggregate_tables(experiment, passes, Measured::Shown)
+        })
     }
 }
 
@@ -58,49 +39,14 @@ pub enum Measured {
     Redacted,
 }
 
-/// The aggregate section's markdown: parameters, the per-map table, the overall rows, the
-/// by-bucket medians of scenario maps, counters and the seeds' spread.
-pub fn tables(context: &Context<'_>, measured: Measured) -> String {
-    let experiment = context.experiment;
-    let mut out = String::from("## Aggregates\n\n");
-    out.push_str(&parameters(experiment));
-    if experiment.repeats == 1 {
-        out.push_str(TIMING_WARNING);
-    }
-    out.push_str(PER_MAP);
-    out.push_str(HEADER);
-    for planner in &experiment.planners {
-        for map in &experiment.maps {
-            let runs = runs_of(
-                context,
-                planner,
-                map.problems.iter().map(|p| p.index),
-                &map.name,
-            );
-            row(&mut out, &planner.label, &map.name, &runs, measured);
-        }
-    }
-    out.push('\n');
-    out.push_str("Overall, per planner label: every run on every map.\n\n");
-    out.push_str(HEADER);
-    for planner in &experiment.planners {
-        let runs = label_runs(context, planner);
-        row(&mut out, &planner.label, "all", &runs, measured);
-    }
-    out.push('\n');
-    out.push_str(&by_bucket(context, measured));
-    out.push_str(&counters(context));
-    out.push_str(&seeds(context));
-    out
-}
-
 /// The warning of a sweep without repeats.
-pub(crate) const TIMING_WARNING: &str = "> **Timing warning:** `repeats = 1`, so each run's time is a single measurement; the IQR below spreads over problems, not over repeated measurements of one problem.\n\n";
+pub const TIMING_WARNING: &str = "> **Timing warning:** `repeats = 1`, so each run's time is a single measurement; the IQR below spreads over problems, not over repeated measurements of one problem.\n\n";
 
 /// What the per-map table shows.
-pub(crate) const PER_MAP: &str = "Per planner label and map, over every run, repeats included: runs, runs that found a path, runs whose length equals the stated optimum (relative tolerance 1e-4; `-` without optima), the median and mean `n_expanded`, the median wall time of the search with its interquartile range (type 7 quartiles), the median and largest suboptimality (length / optimum - 1, over found runs with an optimum), and the largest peak heap of a run.\n\n";
+pub const PER_MAP: &str = "Per planner label and map, over every run, repeats included: runs, runs that found a path, runs whose length equals the stated optimum (relative tolerance 1e-4; `-` without optima), the median and mean `n_expanded`, the median wall time of the search with its interquartile range (type 7 quartiles), the median and largest suboptimality (length / optimum - 1, over found runs with an optimum), and the largest peak heap of a run.\n\n";
 
-pub(crate) const HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Peak heap |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+/// The head of the per-map and overall tables.
+pub const HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Peak heap |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
 /// At most this many bucket rows per map in the by-bucket tables: more buckets are grouped
 /// into ranges of equal width.
@@ -109,7 +55,7 @@ pub const MAX_BUCKET_ROWS: u32 = 8;
 /// The bucket ranges of a map's `buckets` (sorted, distinct): each bucket alone when there
 /// are at most [`MAX_BUCKET_ROWS`], else at most that many ranges of equal width over
 /// first..=last, empty ranges left out.
-pub(crate) fn bucket_ranges(buckets: &[u32]) -> Vec<(u32, u32)> {
+pub fn bucket_ranges(buckets: &[u32]) -> Vec<(u32, u32)> {
     let (Some(&first), Some(&last)) = (buckets.first(), buckets.last()) else {
         return Vec::new();
     };
@@ -123,190 +69,8 @@ pub(crate) fn bucket_ranges(buckets: &[u32]) -> Vec<(u32, u32)> {
         .collect()
 }
 
-/// One row of the by-bucket tables: the map, the bucket range, and each label's runs in it.
-type BucketRow<'r> = (&'r str, (u32, u32), Vec<Vec<&'r RunRecord>>);
-
-/// Scenario maps' medians by bucket (Moving AI's picture of effort against path length):
-/// one row per map and bucket range, one column per label; median `n_expanded`, then the
-/// median search time.
-fn by_bucket(context: &Context<'_>, measured: Measured) -> String {
-    let experiment = context.experiment;
-    let mut rows: Vec<BucketRow<'_>> = Vec::new();
-    for map in &experiment.maps {
-        let mut buckets: Vec<u32> = map.problems.iter().filter_map(|p| p.bucket).collect();
-        buckets.sort_unstable();
-        buckets.dedup();
-        for range in bucket_ranges(&buckets) {
-            let per_label = experiment
-                .planners
-                .iter()
-                .map(|planner| {
-                    let problems = map
-                        .problems
-                        .iter()
-                        .filter(|p| p.bucket.is_some_and(|b| range.0 <= b && b <= range.1))
-                        .map(|p| p.index);
-                    runs_of(context, planner, problems, &map.name)
-                })
-                .collect();
-            rows.push((&map.name, range, per_label));
-        }
-    }
-    if rows.is_empty() {
-        return String::new();
-    }
-    let labels: Vec<String> = experiment
-        .planners
-        .iter()
-        .map(|p| md_cell(&p.label))
-        .collect();
-    let head = format!(
-        "| Map | Bucket | Runs | {} |\n|---|---|---:|{}\n",
-        labels.join(" | "),
-        "---:|".repeat(labels.len())
-    );
-    let mut out = format!("By scenario bucket (a `.scen` bucket holds problems of optimal length 4b to 4b + 4; more than {MAX_BUCKET_ROWS} buckets are grouped into ranges of equal width; every bucket is in runs.csv's `bucket` column). Median `n_expanded` per label:\n\n{head}");
-    let table = |out: &mut String, cell: &dyn Fn(&[&RunRecord]) -> String| {
-        for (map, (lo, hi), per_label) in &rows {
-            let bucket = if lo == hi {
-                lo.to_string()
-            } else {
-                format!("{lo}-{hi}")
-            };
-            let runs = per_label.iter().map(Vec::len).max().unwrap_or(0);
-            let cells: Vec<String> = per_label.iter().map(|r| cell(r)).collect();
-            let _ = writeln!(
-                out,
-                "| {} | {bucket} | {runs} | {} |",
-                md_cell(map),
-                cells.join(" | ")
-            );
-        }
-        out.push('\n');
-    };
-    table(&mut out, &|runs| {
-        let expansions: Vec<f64> = runs
-            .iter()
-            .filter_map(|r| r.counters.get("n_expanded"))
-            .map(|v| v as f64)
-            .collect();
-        median_iqr(&expansions).map_or("-".into(), |(m, _, _)| format_number(m))
-    });
-    out.push_str(&format!("Median search time (ms) per label:\n\n{head}"));
-    table(&mut out, &|runs| {
-        let times: Vec<f64> = runs.iter().map(|r| r.time_ms).collect();
-        match (measured, median_iqr(&times)) {
-            (Measured::Redacted, _) => "[time]".into(),
-            (Measured::Shown, Some((m, _, _))) => format!("{m:.3}"),
-            (Measured::Shown, None) => "-".into(),
-        }
-    });
-    out
-}
-
-/// The valid runs of `planner` on the given problems of `map`, every repeat.
-fn runs_of<'r>(
-    context: &Context<'r>,
-    planner: &PlannerSpec,
-    problems: impl Iterator<Item = usize>,
-    map: &str,
-) -> Vec<&'r RunRecord> {
-    problems
-        .flat_map(|p| context.index.runs(map, p, &planner.label))
-        .filter(|r| !r.is_invalid())
-        .collect()
-}
-
-fn label_runs<'r>(context: &Context<'r>, planner: &PlannerSpec) -> Vec<&'r RunRecord> {
-    context
-        .experiment
-        .maps
-        .iter()
-        .flat_map(|m| {
-            runs_of(
-                context,
-                planner,
-                m.problems.iter().map(|p| p.index),
-                &m.name,
-            )
-        })
-        .collect()
-}
-
-fn row(out: &mut String, label: &str, map: &str, runs: &[&RunRecord], measured: Measured) {
-    if runs.is_empty() {
-        return;
-    }
-    let found = runs.iter().filter(|r| r.is_found()).count();
-    let with_optimum: Vec<(f64, f64)> = runs
-        .iter()
-        .filter_map(|r| Some((r.length?, r.optimal_length?)))
-        .collect();
-    let stated = runs.iter().any(|r| r.optimal_length.is_some());
-    let optimal = if stated {
-        with_optimum
-            .iter()
-            .filter(|(l, o)| matches_optimum(*l, *o))
-            .count()
-            .to_string()
-    } else {
-        "-".into()
-    };
-    let expansions: Vec<f64> = runs
-        .iter()
-        .filter_map(|r| r.counters.get("n_expanded"))
-        .map(|v| v as f64)
-        .collect();
-    let (median_expansions, mean_expansions) = match median_iqr(&expansions) {
-        Some((median, _, _)) => (
-            format_number(median),
-            format_number(expansions.iter().sum::<f64>() / expansions.len() as f64),
-        ),
-        None => ("-".into(), "-".into()),
-    };
-    let times: Vec<f64> = runs.iter().map(|r| r.time_ms).collect();
-    let (time, iqr) = match (measured, median_iqr(&times)) {
-        (Measured::Redacted, _) => ("[time]".to_string(), "[time]".to_string()),
-        (Measured::Shown, Some((median, q1, q3))) => {
-            (format!("{median:.3}"), format!("{q1:.3} - {q3:.3}"))
-        }
-        (Measured::Shown, None) => ("-".into(), "-".into()),
-    };
-    let subopt: Vec<f64> = with_optimum
-        .iter()
-        .map(|(l, o)| {
-            if matches_optimum(*l, *o) {
-                0.0
-            } else {
-                l / o - 1.0
-            }
-        })
-        .collect();
-    let (median_subopt, max_subopt) = match median_iqr(&subopt) {
-        Some((median, _, _)) => (
-            format!("{:.2} %", 100.0 * median),
-            format!(
-                "{:.2} %",
-                100.0 * subopt.iter().copied().fold(0.0, f64::max)
-            ),
-        ),
-        None => ("-".into(), "-".into()),
-    };
-    let heap = match measured {
-        Measured::Redacted => "[memory]".to_string(),
-        Measured::Shown => format_bytes(runs.iter().map(|r| r.peak_heap_bytes).max().unwrap_or(0)),
-    };
-    let _ = writeln!(
-        out,
-        "| {} | {} | {} | {found} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} | {heap} |",
-        md_cell(label),
-        md_cell(map),
-        runs.len()
-    );
-}
-
 /// Every label's resolved parameters (defaults included) and budget.
-pub(crate) fn parameters(experiment: &Experiment) -> String {
+pub fn parameters(experiment: &Experiment) -> String {
     let mut out = String::from("Planner parameters, as resolved (defaults included):\n\n| Label | Planner | Parameters | Budget |\n|---|---|---|---|\n");
     for planner in &experiment.planners {
         let params = match planner.factory.resolved() {
@@ -331,106 +95,8 @@ pub(crate) fn parameters(experiment: &Experiment) -> String {
     out
 }
 
-/// Medians of every counter per label, over its valid runs.
-fn counters(context: &Context<'_>) -> String {
-    let mut out = String::from("Median of each counter per planner label, over every run:\n\n| Planner | Counter | Median | Mean | Max |\n|---|---|---:|---:|---:|\n");
-    for planner in &context.experiment.planners {
-        let runs = label_runs(context, planner);
-        let mut names: Vec<&str> = Vec::new();
-        for r in &runs {
-            for (name, _) in r.counters.iter() {
-                if !names.contains(&name) {
-                    names.push(name);
-                }
-            }
-        }
-        for name in names {
-            let values: Vec<f64> = runs
-                .iter()
-                .filter_map(|r| r.counters.get(name))
-                .map(|v| v as f64)
-                .collect();
-            let Some((median, _, _)) = median_iqr(&values) else {
-                continue;
-            };
-            let mean = values.iter().sum::<f64>() / values.len() as f64;
-            let max = values.iter().copied().fold(f64::MIN, f64::max);
-            let _ = writeln!(
-                out,
-                "| {} | {name} | {} | {} | {} |",
-                md_cell(&planner.label),
-                format_number(median),
-                format_number(mean),
-                format_number(max)
-            );
-        }
-    }
-    out.push('\n');
-    out
-}
-
-/// Success rate and spread over seeds, for seeded planners with more than one repeat.
-fn seeds(context: &Context<'_>) -> String {
-    let experiment = context.experiment;
-    if experiment.repeats < 2 {
-        return String::new();
-    }
-    let seeded: Vec<&PlannerSpec> = experiment
-        .planners
-        .iter()
-        .filter(|p| p.factory.specs().seeded)
-        .collect();
-    if seeded.is_empty() {
-        return String::new();
-    }
-    let mut out = format!("Seeded planners over their {} seeds per problem: the success rate, and the median, smallest and largest length and `n_expanded` over the seeds (per map, over every problem).\n\n| Planner | Map | Seeds | Success rate | Median length | Length range | Median expansions | Expansions range |\n|---|---|---:|---:|---:|---:|---:|---:|\n", experiment.repeats);
-    for planner in seeded {
-        for map in &experiment.maps {
-            let runs = runs_of(
-                context,
-                planner,
-                map.problems.iter().map(|p| p.index),
-                &map.name,
-            );
-            if runs.is_empty() {
-                continue;
-            }
-            let found = runs.iter().filter(|r| r.is_found()).count();
-            let lengths: Vec<f64> = runs.iter().filter_map(|r| r.length).collect();
-            let expansions: Vec<f64> = runs
-                .iter()
-                .filter_map(|r| r.counters.get("n_expanded"))
-                .map(|v| v as f64)
-                .collect();
-            let spread = |values: &[f64], digits: usize| match median_iqr(values) {
-                Some((median, _, _)) => {
-                    let lo = values.iter().copied().fold(f64::MAX, f64::min);
-                    let hi = values.iter().copied().fold(f64::MIN, f64::max);
-                    (
-                        format!("{median:.digits$}"),
-                        format!("{lo:.digits$} - {hi:.digits$}"),
-                    )
-                }
-                None => ("-".into(), "-".into()),
-            };
-            let (length, length_range) = spread(&lengths, 2);
-            let (expanded, expanded_range) = spread(&expansions, 0);
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {:.1} % | {length} | {length_range} | {expanded} | {expanded_range} |",
-                md_cell(&planner.label),
-                md_cell(&map.name),
-                experiment.repeats,
-                100.0 * found as f64 / runs.len() as f64,
-            );
-        }
-    }
-    out.push('\n');
-    out
-}
-
 /// An integer as is, else two decimals.
-pub(crate) fn format_number(value: f64) -> String {
+pub fn format_number(value: f64) -> String {
     if value.fract() == 0.0 && value.abs() < 1e15 {
         format!("{value:.0}")
     } else {
@@ -438,7 +104,8 @@ pub(crate) fn format_number(value: f64) -> String {
     }
 }
 
-pub(crate) fn format_bytes(bytes: u64) -> String {
+/// A byte count in B, KiB or MiB with one decimal.
+pub fn format_bytes(bytes: u64) -> String {
     if bytes >= 1 << 20 {
         format!("{:.1} MiB", bytes as f64 / f64::from(1u32 << 20))
     } else if bytes >= 1 << 10 {

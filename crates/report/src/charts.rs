@@ -13,12 +13,12 @@ use planner_figures::xml_text;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use crate::median_iqr;
 use crate::optimum::matches_optimum;
 use planner_runner::config::{ChartSpec, Experiment};
-use planner_runner::index::ResultsIndex;
 use planner_runner::output::OutputFile;
+use planner_runner::passes::RecordPasses;
 use planner_runner::record::RunRecord;
+use planner_runner::RunnerError;
 
 /// One chart: its file (under `charts/`), title and SVG text.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,141 +33,276 @@ pub struct Chart {
 
 const SIZE: (u32, u32) = (900, 520);
 
-/// Every chart of the sweep, in summary order.
-pub fn charts(experiment: &Experiment, records: &[RunRecord]) -> Vec<Chart> {
-    let valid: Vec<&RunRecord> = records.iter().filter(|r| !r.is_invalid()).collect();
-    if valid.is_empty() {
-        return Vec::new();
+/// The quantiles of a box plot, in [`BoxStats`]' order.
+const BOX: &[f64] = &[0.5, 0.25, 0.75, 0.0, 1.0];
+
+/// A box plot's median, first and third quartiles (type 7), smallest and largest value.
+type BoxStats = [f64; 5];
+
+/// Each planner label's counts over its valid runs, from the first pass.
+#[derive(Default)]
+struct LabelCounts {
+    runs: u64,
+    expansions: u64,
+    found: u64,
+    optimal: u64,
+    /// Per scenario bucket (ascending): runs with `n_expanded`, and runs.
+    buckets: std::collections::BTreeMap<u32, (u64, u64)>,
+}
+
+/// One study chart's groups (in order of first appearance), each with its x values (in
+/// order of first appearance) and the number of runs measured at each.
+type StudyCounts = Vec<(String, Vec<(f64, u64)>)>;
+
+/// Where a valid run's values go: its study group and x per chart.
+fn study_place(
+    experiment: &Experiment,
+    spec: &ChartSpec,
+    record: &RunRecord,
+) -> Option<(String, f64, f64)> {
+    let group_key = spec.group.as_deref().unwrap_or("map");
+    let (Some(x), Some(y)) = (
+        key_value(experiment, record, &spec.x).and_then(|v| v.as_f64()),
+        metric(record, &spec.y),
+    ) else {
+        return None;
+    };
+    let group = match key_value(experiment, record, group_key) {
+        Some(serde_json::Value::String(s)) => s,
+        Some(other) => format!("{group_key} = {other}"),
+        None => "-".into(),
+    };
+    Some((group, x, y))
+}
+
+/// The numbered multisets whose quantiles [`crate::exact::quantiles`] selects.
+#[derive(Default)]
+struct Sets {
+    sizes: Vec<u64>,
+    wanted: Vec<&'static [f64]>,
+}
+
+impl Sets {
+    /// A new set of `size` values with quantiles `wanted`; its number.
+    fn add(&mut self, size: u64, wanted: &'static [f64]) -> usize {
+        self.sizes.push(size);
+        self.wanted.push(wanted);
+        self.sizes.len() - 1
     }
+}
+
+/// Every chart of the sweep, in summary order, from passes over its records: a pass
+/// that counts each group (label, label x bucket, study group x x), then exact quantiles
+/// per group ([`crate::exact`]); memory bounded by the groups, not the runs.
+pub fn charts(
+    experiment: &Experiment,
+    passes: &dyn RecordPasses,
+) -> Result<Vec<Chart>, RunnerError> {
     let labels: Vec<&str> = experiment
         .planners
         .iter()
         .map(|p| p.label.as_str())
         .collect();
-    let runs_of = |label: &str| runs_of(&valid, label);
-    let mut out = Vec::new();
-    let time: Vec<(String, Vec<f64>)> = labels
-        .iter()
-        .map(|l| {
-            (
-                l.to_string(),
-                runs_of(l).iter().map(|r| r.time_ms).collect(),
-            )
-        })
-        .collect();
-    let expansions: Vec<(String, Vec<f64>)> = labels
-        .iter()
-        .map(|l| {
-            let values = runs_of(l)
-                .iter()
-                .filter_map(|r| r.counters.get("n_expanded"))
-                .map(|v| v as f64)
-                .collect();
-            (l.to_string(), values)
-        })
-        .collect();
-    out.push(box_plot(
-        "time-box.svg",
-        "Search time per planner (every run)",
-        "time (ms)",
-        &time,
-    ));
-    if expansions.iter().any(|(_, v)| !v.is_empty()) {
-        out.push(box_plot(
-            "expansions-box.svg",
-            "Expansions per planner (every run)",
-            "n_expanded (cells)",
-            &expansions,
-        ));
-    }
-    if valid.iter().any(|r| r.bucket.is_some()) {
-        out.extend(bucket_charts(&valid, &labels));
-    }
-    out.push(success_chart(&valid, &labels));
+    let label_of = |r: &RunRecord| labels.iter().position(|l| *l == r.planner);
     let specs: Vec<ChartSpec> = if experiment.charts.is_empty() {
         default_study(experiment).into_iter().collect()
     } else {
         experiment.charts.clone()
     };
-    for (i, spec) in specs.iter().enumerate() {
-        out.push(study_chart(i, spec, experiment, records));
+    let mut counts: Vec<LabelCounts> = labels.iter().map(|_| LabelCounts::default()).collect();
+    let mut studies: Vec<StudyCounts> = specs.iter().map(|_| Vec::new()).collect();
+    let (mut valid, mut any_bucket, mut stated) = (false, false, false);
+    passes.pass(&mut |r| {
+        if r.is_invalid() {
+            return;
+        }
+        valid = true;
+        any_bucket |= r.bucket.is_some();
+        stated |= r.optimal_length.is_some();
+        if let Some(l) = label_of(r) {
+            let c = &mut counts[l];
+            let expansions = r.counters.get("n_expanded").is_some();
+            c.runs += 1;
+            c.expansions += u64::from(expansions);
+            c.found += u64::from(r.is_found());
+            c.optimal += u64::from(
+                r.length
+                    .zip(r.optimal_length)
+                    .is_some_and(|(len, opt)| matches_optimum(len, opt)),
+            );
+            if let Some(b) = r.bucket {
+                let at = c.buckets.entry(b).or_default();
+                at.0 += u64::from(expansions);
+                at.1 += 1;
+            }
+        }
+        for (spec, groups) in specs.iter().zip(&mut studies) {
+            let Some((group, x, _)) = study_place(experiment, spec, r) else {
+                continue;
+            };
+            let k = match groups.iter().position(|(g, _)| *g == group) {
+                Some(k) => k,
+                None => {
+                    groups.push((group, Vec::new()));
+                    groups.len() - 1
+                }
+            };
+            let points = &mut groups[k].1;
+            match points.iter_mut().find(|(px, _)| *px == x) {
+                Some((_, n)) => *n += 1,
+                None => points.push((x, 1)),
+            }
+        }
+    })?;
+    if !valid {
+        return Ok(Vec::new());
     }
-    out
-}
-
-/// The valid runs of `label` among `valid`.
-fn runs_of<'a>(valid: &[&'a RunRecord], label: &str) -> Vec<&'a RunRecord> {
-    valid
+    // Sets: per label time and expansions (boxes); per label and bucket expansions and
+    // time (medians); per study chart, group and x the metric (medians).
+    let mut sets = Sets::default();
+    let boxes: Vec<(usize, usize)> = counts
         .iter()
-        .copied()
-        .filter(|r| r.planner == label)
-        .collect()
-}
-
-/// Median expansions and time against the scenario bucket, one line per label.
-fn bucket_charts(valid: &[&RunRecord], labels: &[&str]) -> Vec<Chart> {
-    let mut charts = Vec::new();
-    let by_bucket = |value: &dyn Fn(&RunRecord) -> Option<f64>| -> Vec<(String, Vec<(f64, f64)>)> {
+        .map(|c| (sets.add(c.runs, BOX), sets.add(c.expansions, BOX)))
+        .collect();
+    let bucket_sets: Vec<Vec<(u32, usize, usize)>> = counts
+        .iter()
+        .map(|c| {
+            c.buckets
+                .iter()
+                .map(|(&b, &(e, n))| (b, sets.add(e, &[0.5]), sets.add(n, &[0.5])))
+                .collect()
+        })
+        .collect();
+    let study_sets: Vec<Vec<Vec<usize>>> = studies
+        .iter()
+        .map(|groups| {
+            groups
+                .iter()
+                .map(|(_, points)| points.iter().map(|&(_, n)| sets.add(n, &[0.5])).collect())
+                .collect()
+        })
+        .collect();
+    let q = crate::exact::quantiles(&sets.sizes, &sets.wanted, &mut |emit| {
+        passes.pass(&mut |r| {
+            if r.is_invalid() {
+                return;
+            }
+            let expansions = r.counters.get("n_expanded").map(|v| v as f64);
+            if let Some(l) = label_of(r) {
+                emit(boxes[l].0, r.time_ms);
+                if let Some(e) = expansions {
+                    emit(boxes[l].1, e);
+                }
+                if let Some(b) = r.bucket {
+                    if let Some(&(_, e_set, t_set)) =
+                        bucket_sets[l].iter().find(|(k, _, _)| *k == b)
+                    {
+                        if let Some(e) = expansions {
+                            emit(e_set, e);
+                        }
+                        emit(t_set, r.time_ms);
+                    }
+                }
+            }
+            for ((spec, groups), group_sets) in specs.iter().zip(&studies).zip(&study_sets) {
+                let Some((group, x, y)) = study_place(experiment, spec, r) else {
+                    continue;
+                };
+                let Some(k) = groups.iter().position(|(g, _)| *g == group) else {
+                    continue;
+                };
+                if let Some(j) = groups[k].1.iter().position(|(px, _)| *px == x) {
+                    emit(group_sets[k][j], y);
+                }
+            }
+        })
+    })?;
+    let stats = |set: usize| -> Option<BoxStats> { q[set].as_slice().try_into().ok() };
+    let median = |set: usize| q[set].first().copied();
+    let mut out = Vec::new();
+    let named = |set: &dyn Fn(usize) -> usize| -> Vec<(String, Option<BoxStats>)> {
         labels
             .iter()
-            .map(|l| {
-                let runs = runs_of(valid, l);
-                let mut buckets: Vec<u32> = runs.iter().filter_map(|r| r.bucket).collect();
-                buckets.sort_unstable();
-                buckets.dedup();
-                let points = buckets
-                    .into_iter()
-                    .filter_map(|b| {
-                        let values: Vec<f64> = runs
-                            .iter()
-                            .filter(|r| r.bucket == Some(b))
-                            .filter_map(|r| value(r))
-                            .collect();
-                        median_iqr(&values).map(|(m, _, _)| (f64::from(b), m))
-                    })
-                    .collect();
-                (l.to_string(), points)
-            })
+            .enumerate()
+            .map(|(l, label)| (label.to_string(), stats(set(l))))
             .collect()
     };
-    charts.push(line_chart(
-        "expansions-by-bucket.svg",
-        "Median expansions against scenario bucket (optimal length / 4)",
-        "scenario bucket",
-        "median n_expanded (cells)",
-        &by_bucket(&|r| r.counters.get("n_expanded").map(|v| v as f64)),
+    out.push(box_plot(
+        "time-box.svg",
+        "Search time per planner (every run)",
+        "time (ms)",
+        &named(&|l| boxes[l].0),
     ));
-    charts.push(line_chart(
-        "time-by-bucket.svg",
-        "Median search time against scenario bucket (optimal length / 4)",
-        "scenario bucket",
-        "median time (ms)",
-        &by_bucket(&|r| Some(r.time_ms)),
-    ));
-    charts
+    if counts.iter().any(|c| c.expansions > 0) {
+        out.push(box_plot(
+            "expansions-box.svg",
+            "Expansions per planner (every run)",
+            "n_expanded (cells)",
+            &named(&|l| boxes[l].1),
+        ));
+    }
+    if any_bucket {
+        let by_bucket =
+            |pick: &dyn Fn(&(u32, usize, usize)) -> usize| -> Vec<(String, Vec<(f64, f64)>)> {
+                labels
+                    .iter()
+                    .zip(&bucket_sets)
+                    .map(|(label, rows)| {
+                        let points = rows
+                            .iter()
+                            .filter_map(|row| median(pick(row)).map(|m| (f64::from(row.0), m)))
+                            .collect();
+                        (label.to_string(), points)
+                    })
+                    .collect()
+            };
+        out.push(line_chart(
+            "expansions-by-bucket.svg",
+            "Median expansions against scenario bucket (optimal length / 4)",
+            "scenario bucket",
+            "median n_expanded (cells)",
+            &by_bucket(&|row| row.1),
+        ));
+        out.push(line_chart(
+            "time-by-bucket.svg",
+            "Median search time against scenario bucket (optimal length / 4)",
+            "scenario bucket",
+            "median time (ms)",
+            &by_bucket(&|row| row.2),
+        ));
+    }
+    out.push(success_chart(&labels, &counts, stated));
+    for (i, ((spec, groups), group_sets)) in specs.iter().zip(studies).zip(&study_sets).enumerate()
+    {
+        let series: Vec<(String, Vec<(f64, f64)>)> = groups
+            .into_iter()
+            .zip(group_sets)
+            .map(|((g, points), sets)| {
+                let mut line: Vec<(f64, f64)> = points
+                    .iter()
+                    .zip(sets)
+                    .filter_map(|(&(x, _), &set)| median(set).map(|m| (x, m)))
+                    .collect();
+                line.sort_by(|a, b| a.0.total_cmp(&b.0));
+                (g, line)
+            })
+            .collect();
+        out.push(study_chart(i, spec, &series));
+    }
+    Ok(out)
 }
 
 /// The share of each label's runs that found a path (and, with stated optima, that
 /// found an optimal one).
-fn success_chart(valid: &[&RunRecord], labels: &[&str]) -> Chart {
-    let stated = valid.iter().any(|r| r.optimal_length.is_some());
+fn success_chart(labels: &[&str], counts: &[LabelCounts], stated: bool) -> Chart {
     let bars: Vec<(String, Vec<f64>)> = labels
         .iter()
-        .map(|l| {
-            let runs = runs_of(valid, l);
-            let n = runs.len().max(1) as f64;
-            let found = runs.iter().filter(|r| r.is_found()).count() as f64;
-            let mut values = vec![100.0 * found / n];
+        .zip(counts)
+        .map(|(l, c)| {
+            let n = c.runs.max(1) as f64;
+            let mut values = vec![100.0 * c.found as f64 / n];
             if stated {
-                let optimal = runs
-                    .iter()
-                    .filter(|r| {
-                        r.length
-                            .zip(r.optimal_length)
-                            .is_some_and(|(len, opt)| matches_optimum(len, opt))
-                    })
-                    .count() as f64;
-                values.push(100.0 * optimal / n);
+                values.push(100.0 * c.optimal as f64 / n);
             }
             (l.to_string(), values)
         })
@@ -191,14 +326,17 @@ fn success_chart(valid: &[&RunRecord], labels: &[&str]) -> Chart {
 }
 
 /// The chart files of the sweep.
-pub fn render(experiment: &Experiment, records: &[RunRecord]) -> Vec<OutputFile> {
-    charts(experiment, records)
+pub fn render(
+    experiment: &Experiment,
+    passes: &dyn RecordPasses,
+) -> Result<Vec<OutputFile>, RunnerError> {
+    Ok(charts(experiment, passes)?
         .into_iter()
         .map(|c| OutputFile {
             path: format!("charts/{}", c.file).into(),
             contents: c.svg.into_bytes(),
         })
-        .collect()
+        .collect())
 }
 
 /// When every label runs one planner and they differ in exactly one parameter, numeric
@@ -267,54 +405,8 @@ pub fn metric(record: &RunRecord, y: &str) -> Option<f64> {
     }
 }
 
-/// The y values measured at one x.
-type XValues = (f64, Vec<f64>);
-
-fn study_chart(
-    i: usize,
-    spec: &ChartSpec,
-    experiment: &Experiment,
-    records: &[RunRecord],
-) -> Chart {
-    let group_key = spec.group.as_deref().unwrap_or("map");
-    let mut groups: Vec<(String, Vec<XValues>)> = Vec::new();
-    let index = ResultsIndex::new(records);
-    for record in index.records().iter().filter(|r| !r.is_invalid()) {
-        let (Some(x), Some(y)) = (
-            key_value(experiment, record, &spec.x).and_then(|v| v.as_f64()),
-            metric(record, &spec.y),
-        ) else {
-            continue;
-        };
-        let group = match key_value(experiment, record, group_key) {
-            Some(serde_json::Value::String(s)) => s,
-            Some(other) => format!("{group_key} = {other}"),
-            None => "-".into(),
-        };
-        let k = match groups.iter().position(|(g, _)| *g == group) {
-            Some(k) => k,
-            None => {
-                groups.push((group, Vec::new()));
-                groups.len() - 1
-            }
-        };
-        let points = &mut groups[k].1;
-        match points.iter_mut().find(|(px, _)| *px == x) {
-            Some((_, ys)) => ys.push(y),
-            None => points.push((x, vec![y])),
-        }
-    }
-    let series: Vec<(String, Vec<(f64, f64)>)> = groups
-        .into_iter()
-        .map(|(g, mut points)| {
-            points.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let line = points
-                .into_iter()
-                .filter_map(|(x, ys)| median_iqr(&ys).map(|(m, _, _)| (x, m)))
-                .collect();
-            (g, line)
-        })
-        .collect();
+/// The parameter-study chart `i` of `spec`: each group's median metric against x.
+fn study_chart(i: usize, spec: &ChartSpec, series: &[(String, Vec<(f64, f64)>)]) -> Chart {
     let title = spec
         .title
         .clone()
@@ -325,7 +417,7 @@ fn study_chart(
         file_safe(&spec.y),
         file_safe(&spec.x)
     );
-    line_chart(&file, &title, &spec.x, &axis_label(&spec.y), &series)
+    line_chart(&file, &title, &spec.x, &axis_label(&spec.y), series)
 }
 
 fn axis_label(y: &str) -> String {
@@ -456,8 +548,9 @@ fn legend<'a, 'b: 'a>(chart: &mut Plot<'a, 'b>, position: SeriesLabelPosition) -
     Ok(())
 }
 
-/// Box plots (median, quartiles by type 7, whiskers to the extremes), one per label.
-fn box_plot(file: &str, title: &str, y_desc: &str, data: &[(String, Vec<f64>)]) -> Chart {
+/// Box plots (median, quartiles by type 7, whiskers to the extremes), one per label
+/// (none for a label without values).
+fn box_plot(file: &str, title: &str, y_desc: &str, data: &[(String, Option<BoxStats>)]) -> Chart {
     let data = &cleaned(data);
     render_chart(file, title, |root, title| {
         draw_box_plot(root, title, &xml_text(y_desc), data)
@@ -468,19 +561,17 @@ fn draw_box_plot(
     root: &Area<'_>,
     title: &str,
     y_desc: &str,
-    data: &[(String, Vec<f64>)],
+    data: &[(String, Option<BoxStats>)],
 ) -> DrawResult {
-    let all: Vec<f64> = data.iter().flat_map(|(_, v)| v.iter().copied()).collect();
-    let hi = all.iter().copied().fold(f64::MIN, f64::max).max(0.0);
-    let lo = all.iter().copied().fold(f64::MAX, f64::min).min(hi);
+    let boxes = || data.iter().filter_map(|(_, b)| *b);
+    let hi = boxes().map(|b| b[4]).fold(f64::MIN, f64::max).max(0.0);
+    let lo = boxes().map(|b| b[3]).fold(f64::MAX, f64::min).min(hi);
     let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
     let mut chart = by_label(root, title, &names, padded(lo, hi, true), y_desc)?;
-    for (i, (label, values)) in data.iter().enumerate() {
-        let Some((median, q1, q3)) = median_iqr(values) else {
+    for (i, (label, stats)) in data.iter().enumerate() {
+        let Some([median, q1, q3, min, max]) = *stats else {
             continue;
         };
-        let min = values.iter().copied().fold(f64::MAX, f64::min);
-        let max = values.iter().copied().fold(f64::MIN, f64::max);
         let x = i as f64;
         let c = colour(i);
         chart

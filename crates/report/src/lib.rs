@@ -83,27 +83,44 @@ pub trait Section: Send + Sync {
         }
     }
 
-    /// Appends the section's markdown to `out` and counts compared published numbers.
-    fn render(&self, context: &Context<'_>, out: &mut String, reproduction: &mut Reproduction);
+    /// Appends the section's markdown to `out` from the records held in memory
+    /// (`records`, `index`) and counts compared published numbers. By default nothing: a
+    /// section that gives a [`Section::table`] renders it in [`Section::render_passes`].
+    fn render(&self, _context: &Context<'_>, _out: &mut String, _reproduction: &mut Reproduction) {}
 
-    /// [`Section::render`] from [`Context::passes`] in memory bounded by the section's
-    /// groups, for a section that [`Section::streams`]; by default [`Section::render`].
+    /// The section's whole markdown as one function of the experiment and passes over
+    /// the records, when it is that (in memory bounded by the section's groups); by
+    /// default none.
+    fn table(&self) -> Option<PassesTable> {
+        None
+    }
+
+    /// Appends the section's markdown to `out`: its [`Section::table`] from
+    /// [`Context::passes`] if it has one, else [`Section::render`].
     fn render_passes(
         &self,
         context: &Context<'_>,
         out: &mut String,
         reproduction: &mut Reproduction,
     ) -> Result<(), RunnerError> {
-        self.render(context, out, reproduction);
+        match self.table() {
+            Some(table) => out.push_str(&table(context.experiment, context.passes)?),
+            None => self.render(context, out, reproduction),
+        }
         Ok(())
     }
 
     /// Whether [`Section::render_passes`] reads only [`Context::passes`] (not
-    /// `records` or `index`), so that the section renders for a sweep too large to hold.
+    /// `records` or `index`), so that the section renders for a sweep too large to hold;
+    /// by default whether the section has a [`Section::table`].
     fn streams(&self) -> bool {
-        false
+        self.table().is_some()
     }
 }
+
+/// A section's markdown computed from the experiment and passes over its records
+/// ([`Section::table`]).
+pub type PassesTable = fn(&Experiment, &dyn RecordPasses) -> Result<String, RunnerError>;
 
 /// A section's options that do not fit it (reported at the config's `sections` key).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -144,45 +161,19 @@ impl Renderer {
         &self,
         experiment: &Experiment,
         records: &[RunRecord],
-    ) -> (String, Reproduction) {
+    ) -> Result<(String, Reproduction), RunnerError> {
         self.summary_with(experiment, records, None)
     }
 
-    /// Renders summary.md with the sweep's provenance at the top, if given.
+    /// Renders summary.md with the sweep's provenance at the top, if given: the records
+    /// in memory read as passes ([`Renderer::summary_passes`]).
     pub fn summary_with(
         &self,
         experiment: &Experiment,
         records: &[RunRecord],
         provenance: Option<&Provenance>,
-    ) -> (String, Reproduction) {
-        let index = ResultsIndex::new(records);
-        let empty = toml::Table::new();
-        let mut out = String::new();
-        let mut reproduction = Reproduction::default();
-        header(experiment, records, &mut out);
-        if let Some(provenance) = provenance {
-            out.push_str(&provenance.markdown());
-        }
-        for section in &self.sections {
-            let options = match &experiment.sections {
-                Some(asked) => match asked.get(section.name()) {
-                    Some(request) => &request.options,
-                    None => continue,
-                },
-                None => &empty,
-            };
-            let context = Context {
-                experiment,
-                records,
-                index: &index,
-                passes: &records,
-                options,
-            };
-            if experiment.sections.is_some() || section.applies(&context) {
-                section.render(&context, &mut out, &mut reproduction);
-            }
-        }
-        (out, reproduction)
+    ) -> Result<(String, Reproduction), RunnerError> {
+        self.summary_passes(experiment, records, &records, provenance)
     }
 
     /// summary.md from passes over the records (`passes`; `records` the same records in
@@ -258,9 +249,9 @@ impl Renderer {
     /// summary.md, figures, charts, OMPL logs (when the config asks), paths.jsonl (when
     /// the config keeps paths) and report.html. A sweep whose records are not held
     /// ([`Results::records`] empty: more than [`HELD_RUNS`] runs) gets summary.md's
-    /// streamed sections and the figures of its drawn problems (their records collected in
-    /// one pass); its charts and OMPL logs, which hold every record, are left out and
-    /// summary.md says so.
+    /// streamed sections, the charts (from passes) and the figures of its drawn problems
+    /// (their records collected in one pass); its OMPL logs and `paths = "all"`'s
+    /// paths.jsonl, which hold every record, are left out and summary.md says so.
     pub fn files(
         &self,
         results: &Results<'_>,
@@ -278,12 +269,16 @@ impl Renderer {
             drawn = drawn_records(experiment, passes)?;
             drawn.as_slice()
         };
-        if !held {
+        let all_paths = experiment.paths == planner_runner::config::PathsMode::All;
+        if !held && (experiment.ompl || all_paths) {
+            let left_out = match (experiment.ompl, all_paths) {
+                (true, true) => "OMPL logs and paths.jsonl are",
+                (true, false) => "OMPL logs are",
+                _ => "paths.jsonl is",
+            };
             let _ = writeln!(
                 summary,
-                "Charts{}{} are left out: they hold every record in memory, and this sweep's {} runs are more than the {HELD_RUNS} a report holds.\n",
-                if experiment.ompl { ", OMPL logs" } else { "" },
-                if experiment.paths == planner_runner::config::PathsMode::All { ", paths.jsonl" } else { "" },
+                "{left_out} left out: they hold every record in memory, and this sweep's {} runs are more than the {HELD_RUNS} a report holds.\n",
                 passes.len()
             );
         }
@@ -296,18 +291,15 @@ impl Renderer {
             figure_records,
             results.expanded,
         ));
-        if held {
-            all.extend(charts::render(experiment, records));
-            if experiment.ompl {
-                all.extend(ompl::logs(
-                    experiment,
-                    records,
-                    results.provenance,
-                    results.seconds,
-                ));
-            }
+        all.extend(charts::render(experiment, passes)?);
+        if held && experiment.ompl {
+            all.extend(ompl::logs(
+                experiment,
+                records,
+                results.provenance,
+                results.seconds,
+            ));
         }
-        let all_paths = experiment.paths == planner_runner::config::PathsMode::All;
         let paths = if held || !all_paths {
             planner_runner::output::paths_jsonl(figure_records)?
         } else {

@@ -4,9 +4,10 @@
 //!
 //! A first pass sums what needs no order statistic (runs, found, optimal, sums, largest
 //! values) per group; then [`crate::exact::quantiles`] selects every median and quartile
-//! exactly in a few more passes. The tables are those of [`crate::aggregate::tables`],
-//! byte for byte (the crate's tests compare both on 100,000 runs, and every config's
-//! summary.md snapshot goes through this code). Means are sums of the integer counters,
+//! exactly in a few more passes. This is the sections' only computation, for a sweep of any
+//! size: the crate's tests compare it byte for byte with an in-memory one (every group's
+//! runs collected and sorted) on 100,000 runs, and every config's summary.md snapshot
+//! goes through it. Means are sums of the integer counters,
 //! exact while a group's sum stays below 2^53, as the in-memory sum is.
 
 use std::collections::HashMap;
@@ -199,8 +200,6 @@ const SUBOPT: usize = 2;
 const LENGTH: usize = 3;
 const QUANTITIES: usize = 4;
 
-/// The aggregate section's markdown ([`crate::aggregate::tables`]), from passes over the
-/// records.
 /// The aggregate section's groups, summed and with their quantiles selected.
 struct Aggregated<'e> {
     experiment: &'e Experiment,
@@ -271,8 +270,9 @@ fn accumulate(layout: &Layout<'_>, passes: &dyn RecordPasses) -> Result<Sums, Ru
     Ok((groups, buckets, counters))
 }
 
-/// The aggregate section's markdown ([`crate::aggregate::tables`]), from passes over the
-/// records.
+/// The aggregate section's markdown (parameters, the per-map table, the overall rows, the
+/// by-bucket medians of scenario maps, counters and the seeds' spread), from passes over
+/// the records.
 pub fn aggregate_tables(
     experiment: &Experiment,
     passes: &dyn RecordPasses,
@@ -381,23 +381,15 @@ impl<'e> Aggregated<'e> {
 
     /// The parameters, the per-map table and the overall rows.
     fn per_map(&self, measured: Measured) -> String {
-        let (experiment, layout, groups, buckets) =
-            (self.experiment, &self.layout, &self.groups, &self.buckets);
-        let (counters, counter_sets, q) = (&self.counters, &self.counter_sets, &self.q);
-        let (n_labels, n_maps, bucket_base) = (self.n_labels, self.n_maps, self.bucket_base);
-        let median = |set: usize| q[set].first().copied();
-        let _ = (
+        let &Aggregated {
             experiment,
-            layout,
-            groups,
-            buckets,
-            counters,
-            counter_sets,
+            ref groups,
+            ref q,
             n_labels,
             n_maps,
-            bucket_base,
-            &median,
-        );
+            ..
+        } = self;
+        let median = |set: usize| q[set].first().copied();
         let mut out = String::from("## Aggregates\n\n");
         out.push_str(&parameters(experiment));
         if experiment.repeats == 1 {
@@ -467,23 +459,16 @@ impl<'e> Aggregated<'e> {
 
     /// The by-bucket tables of scenario maps.
     fn by_bucket(&self, out: &mut String, measured: Measured) {
-        let (experiment, layout, groups, buckets) =
-            (self.experiment, &self.layout, &self.groups, &self.buckets);
-        let (counters, counter_sets, q) = (&self.counters, &self.counter_sets, &self.q);
-        let (n_labels, n_maps, bucket_base) = (self.n_labels, self.n_maps, self.bucket_base);
-        let median = |set: usize| q[set].first().copied();
-        let _ = (
+        let &Aggregated {
             experiment,
-            layout,
-            groups,
-            buckets,
-            counters,
-            counter_sets,
+            ref layout,
+            ref buckets,
             n_labels,
-            n_maps,
             bucket_base,
-            &median,
-        );
+            ref q,
+            ..
+        } = self;
+        let median = |set: usize| q[set].first().copied();
         // By bucket.
         if !layout.rows.is_empty() {
             let labels: Vec<String> = experiment
@@ -536,23 +521,14 @@ impl<'e> Aggregated<'e> {
 
     /// Each counter's median, mean and largest value per label.
     fn counter_table(&self, out: &mut String) {
-        let (experiment, layout, groups, buckets) =
-            (self.experiment, &self.layout, &self.groups, &self.buckets);
-        let (counters, counter_sets, q) = (&self.counters, &self.counter_sets, &self.q);
-        let (n_labels, n_maps, bucket_base) = (self.n_labels, self.n_maps, self.bucket_base);
-        let median = |set: usize| q[set].first().copied();
-        let _ = (
+        let &Aggregated {
             experiment,
-            layout,
-            groups,
-            buckets,
-            counters,
-            counter_sets,
-            n_labels,
-            n_maps,
-            bucket_base,
-            &median,
-        );
+            ref counters,
+            ref counter_sets,
+            ref q,
+            ..
+        } = self;
+        let median = |set: usize| q[set].first().copied();
         // Counters.
         out.push_str("Median of each counter per planner label, over every run:\n\n| Planner | Counter | Median | Mean | Max |\n|---|---|---:|---:|---:|\n");
         for (l, planner) in experiment.planners.iter().enumerate() {
@@ -576,23 +552,15 @@ impl<'e> Aggregated<'e> {
 
     /// Seeded planners' spread over their seeds.
     fn seed_table(&self, out: &mut String) {
-        let (experiment, layout, groups, buckets) =
-            (self.experiment, &self.layout, &self.groups, &self.buckets);
-        let (counters, counter_sets, q) = (&self.counters, &self.counter_sets, &self.q);
-        let (n_labels, n_maps, bucket_base) = (self.n_labels, self.n_maps, self.bucket_base);
-        let median = |set: usize| q[set].first().copied();
-        let _ = (
+        let &Aggregated {
             experiment,
-            layout,
-            groups,
-            buckets,
-            counters,
-            counter_sets,
+            ref groups,
             n_labels,
             n_maps,
-            bucket_base,
-            &median,
-        );
+            ref q,
+            ..
+        } = self;
+        let median = |set: usize| q[set].first().copied();
         // Seeds.
         let seeded: Vec<usize> = (0..n_labels)
             .filter(|&l| experiment.planners[l].factory.specs().seeded)

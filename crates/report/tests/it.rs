@@ -4,5 +4,6 @@
 //! "Tests").
 
 mod effort;
+mod oracle;
 mod streamed;
 mod summary;

@@ -1,12 +1,16 @@
-//! The aggregate tables computed in passes over the records (planner_report::streamed,
-//! exact quantiles in memory bounded by the groups) equal the in-memory computation
-//! (planner_report::aggregate::tables) byte for byte, on 100,000 runs and more.
+//! The tables computed in passes over the records (planner_report::streamed, exact
+//! quantiles in memory bounded by the groups) equal the in-memory computation of
+//! `oracle` (every group's runs collected and sorted) byte for byte, on 100,000 runs and
+//! more.
+
+use crate::oracle;
 
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
+use oracle::tables;
 use planner_api::Counters;
-use planner_report::aggregate::{tables, Measured};
+use planner_report::aggregate::Measured;
 use planner_report::Context;
 use planner_runner::config::{self, Experiment};
 use planner_runner::index::ResultsIndex;
@@ -183,7 +187,8 @@ fn a_stream_shorter_than_stated_is_an_error() {
 }
 
 /// summary.md of a sweep whose records are not held (its head, `optimum`, `repeats` and
-/// `aggregate`, all from passes) equals the one rendered from the records in memory.
+/// `aggregate`, all from passes over a stream) equals the one rendered with the records
+/// in memory, and its sections equal the oracle's in-memory tables.
 #[test]
 fn a_summary_from_passes_equals_the_in_memory_summary() {
     use planner_report::{aggregate::Aggregate, optimum::Optimum, repeats::Repeats, Renderer};
@@ -191,22 +196,81 @@ fn a_summary_from_passes_equals_the_in_memory_summary() {
         .unwrap()
         .trimmed_for_test();
     let (experiment, records) = synthetic(experiment, 40);
+    let (path, records) = through_file(&experiment, &records, "summary");
     let renderer = Renderer::new(vec![
         Box::new(Optimum),
         Box::new(Repeats),
         Box::new(Aggregate),
     ]);
-    let (want, _) = renderer.summary(&experiment, &records);
-    assert!(
-        want.contains("## Repeats (40 per planner and problem)"),
-        "{want}"
+    let (want, _) = renderer.summary(&experiment, &records).unwrap();
+    let index = ResultsIndex::new(&records);
+    let options = toml::Table::new();
+    let context = Context {
+        experiment: &experiment,
+        records: &records,
+        index: &index,
+        passes: &records.as_slice(),
+        options: &options,
+    };
+    let sections = format!(
+        "{}{}{}",
+        oracle::optimum_table(&context),
+        oracle::repeat_table(&context),
+        tables(&context, Measured::Shown)
     );
     assert!(
-        want.contains("## Lengths against the scenario optima"),
-        "{want}"
+        sections.contains("## Repeats (40 per planner and problem)"),
+        "{sections}"
     );
-    let (got, _) = renderer
-        .summary_passes(&experiment, &[], &records.as_slice(), None)
-        .unwrap();
+    assert!(
+        sections.contains("## Lengths against the scenario optima"),
+        "{sections}"
+    );
+    assert!(want.ends_with(&sections), "{want}\n---\n{sections}");
+    let passes = StreamPasses::new(&path, records.len() as u64);
+    let got = renderer.summary_passes(&experiment, &[], &passes, None);
+    std::fs::remove_file(&path).unwrap();
+    assert_eq!(got.unwrap().0, want);
+}
+
+/// The charts of a sweep too large to hold (over 100,000 runs, read from a stream file)
+/// equal those drawn from the same records in memory, and the time box plot's median
+/// is the sorted values' median.
+#[test]
+fn charts_from_a_stream_equal_the_charts_from_memory() {
+    let experiment = config::load(&root().join("configs/movingai.toml"))
+        .unwrap()
+        .trimmed_for_test();
+    let n_base = experiment.n_runs();
+    let repeats = (100_000 / n_base + 1) as u32;
+    let (experiment, records) = synthetic(experiment, repeats);
+    let (path, records) = through_file(&experiment, &records, "charts");
+    assert!(records.len() > 100_000, "{} runs", records.len());
+    let want = planner_report::charts::charts(&experiment, &records.as_slice()).unwrap();
+    let passes = StreamPasses::new(&path, records.len() as u64);
+    let got = planner_report::charts::charts(&experiment, &passes);
+    std::fs::remove_file(&path).unwrap();
+    let got = got.unwrap();
     assert_eq!(got, want);
+    let files: Vec<&str> = got.iter().map(|c| c.file.as_str()).collect();
+    for file in [
+        "time-box.svg",
+        "expansions-box.svg",
+        "expansions-by-bucket.svg",
+        "success.svg",
+    ] {
+        assert!(files.contains(&file), "{files:?}");
+    }
+    let label = &experiment.planners[0].label;
+    let times: Vec<f64> = records
+        .iter()
+        .filter(|r| !r.is_invalid() && r.planner == *label)
+        .map(|r| r.time_ms)
+        .collect();
+    let (median, _, _) = planner_report::median_iqr(&times).unwrap();
+    let box_plot = &got[0].svg;
+    assert!(
+        box_plot.contains(&format!("{label} (median {median:.3})")),
+        "{box_plot}"
+    );
 }

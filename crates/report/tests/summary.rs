@@ -17,7 +17,9 @@ fn inadmissible_heuristics_are_named_in_the_summary() {
         .unwrap()
         .trimmed_for_test();
     let records = run_all(&experiment, &RunOptions::default()).unwrap();
-    let (summary, _) = Renderer::new(Vec::new()).summary(&experiment, &records);
+    let (summary, _) = Renderer::new(Vec::new())
+        .summary(&experiment, &records)
+        .unwrap();
     assert!(
         summary.contains("Not optimal by design: `TA-star`"),
         "{summary}"
