@@ -304,7 +304,9 @@ fn wpi_config_reproduces_the_reports_path_lengths() {
         .unwrap()
         .trimmed_for_test();
     let records = common::run(&experiment, 2);
-    let (_, reproduction) = planner_paper::renderer().summary(&experiment, &records);
+    let (_, reproduction) = planner_paper::renderer()
+        .summary(&experiment, &records)
+        .unwrap();
     assert_eq!((reproduction.matched, reproduction.compared), (15, 15));
 }
 
@@ -467,17 +469,12 @@ fn movingai_aggregates_are_snapshotted() {
         .unwrap()
         .trimmed_for_test();
     let records = common::run(&experiment, 2);
-    let index = planner_runner::index::ResultsIndex::new(&records);
-    let options = toml::Table::new();
-    let context = planner_report::Context {
-        experiment: &experiment,
-        records: &records,
-        index: &index,
-        passes: &records.as_slice(),
-        options: &options,
-    };
-    let tables =
-        planner_report::aggregate::tables(&context, planner_report::aggregate::Measured::Redacted);
+    let tables = planner_report::streamed::aggregate_tables(
+        &experiment,
+        &records.as_slice(),
+        planner_report::aggregate::Measured::Redacted,
+    )
+    .unwrap();
     // The overall row of A* with the octile heuristic: 36 runs, all found and optimal.
     assert!(
         tables.contains("| octile | all | 36 | 36 | 36 |"),
