@@ -109,51 +109,13 @@ pub fn charts(
     } else {
         experiment.charts.clone()
     };
-    let mut counts: Vec<LabelCounts> = labels.iter().map(|_| LabelCounts::default()).collect();
-    let mut studies: Vec<StudyCounts> = specs.iter().map(|_| Vec::new()).collect();
-    let (mut valid, mut any_bucket, mut stated) = (false, false, false);
-    passes.pass(&mut |r| {
-        if r.is_invalid() {
-            return;
-        }
-        valid = true;
-        any_bucket |= r.bucket.is_some();
-        stated |= r.optimal_length.is_some();
-        if let Some(l) = label_of(r) {
-            let c = &mut counts[l];
-            let expansions = r.counters.get("n_expanded").is_some();
-            c.runs += 1;
-            c.expansions += u64::from(expansions);
-            c.found += u64::from(r.is_found());
-            c.optimal += u64::from(
-                r.length
-                    .zip(r.optimal_length)
-                    .is_some_and(|(len, opt)| matches_optimum(len, opt)),
-            );
-            if let Some(b) = r.bucket {
-                let at = c.buckets.entry(b).or_default();
-                at.0 += u64::from(expansions);
-                at.1 += 1;
-            }
-        }
-        for (spec, groups) in specs.iter().zip(&mut studies) {
-            let Some((group, x, _)) = study_place(experiment, spec, r) else {
-                continue;
-            };
-            let k = match groups.iter().position(|(g, _)| *g == group) {
-                Some(k) => k,
-                None => {
-                    groups.push((group, Vec::new()));
-                    groups.len() - 1
-                }
-            };
-            let points = &mut groups[k].1;
-            match points.iter_mut().find(|(px, _)| *px == x) {
-                Some((_, n)) => *n += 1,
-                None => points.push((x, 1)),
-            }
-        }
-    })?;
+    let Counted {
+        counts,
+        studies,
+        valid,
+        any_bucket,
+        stated,
+    } = count_groups(experiment, passes, &labels, &specs)?;
     if !valid {
         return Ok(Vec::new());
     }
@@ -205,21 +167,30 @@ pub fn charts(
                 }
             }
             for ((spec, groups), group_sets) in specs.iter().zip(&studies).zip(&study_sets) {
-                let Some((group, x, y)) = study_place(experiment, spec, r) else {
-                    continue;
-                };
-                let Some(k) = groups.iter().position(|(g, _)| *g == group) else {
-                    continue;
-                };
-                if let Some(j) = groups[k].1.iter().position(|(px, _)| *px == x) {
-                    emit(group_sets[k][j], y);
-                }
+                emit_study(experiment, spec, groups, group_sets, r, &mut *emit);
             }
         })
     })?;
     let stats = |set: usize| -> Option<BoxStats> { q[set].as_slice().try_into().ok() };
     let median = |set: usize| q[set].first().copied();
-    let mut out = Vec::new();
+    let any_expansions = counts.iter().any(|c| c.expansions > 0);
+    let mut out = box_plots(&labels, &boxes, any_expansions, &stats);
+    if any_bucket {
+        out.extend(bucket_charts(&labels, &bucket_sets, &median));
+    }
+    out.push(success_chart(&labels, &counts, stated));
+    out.extend(study_charts(&specs, studies, &study_sets, &median));
+    Ok(out)
+}
+
+/// The time box plot per label, and the expansions one when any run counts expansions,
+/// from each label's `(time set, expansions set)`.
+fn box_plots(
+    labels: &[&str],
+    boxes: &[(usize, usize)],
+    any_expansions: bool,
+    stats: &dyn Fn(usize) -> Option<BoxStats>,
+) -> Vec<Chart> {
     let named = |set: &dyn Fn(usize) -> usize| -> Vec<(String, Option<BoxStats>)> {
         labels
             .iter()
@@ -227,13 +198,13 @@ pub fn charts(
             .map(|(l, label)| (label.to_string(), stats(set(l))))
             .collect()
     };
-    out.push(box_plot(
+    let mut out = vec![box_plot(
         "time-box.svg",
         "Search time per planner (every run)",
         "time (ms)",
         &named(&|l| boxes[l].0),
-    ));
-    if counts.iter().any(|c| c.expansions > 0) {
+    )];
+    if any_expansions {
         out.push(box_plot(
             "expansions-box.svg",
             "Expansions per planner (every run)",
@@ -241,39 +212,38 @@ pub fn charts(
             &named(&|l| boxes[l].1),
         ));
     }
-    if any_bucket {
-        let by_bucket =
-            |pick: &dyn Fn(&(u32, usize, usize)) -> usize| -> Vec<(String, Vec<(f64, f64)>)> {
-                labels
-                    .iter()
-                    .zip(&bucket_sets)
-                    .map(|(label, rows)| {
-                        let points = rows
-                            .iter()
-                            .filter_map(|row| median(pick(row)).map(|m| (f64::from(row.0), m)))
-                            .collect();
-                        (label.to_string(), points)
-                    })
-                    .collect()
-            };
-        out.push(line_chart(
-            "expansions-by-bucket.svg",
-            "Median expansions against scenario bucket (optimal length / 4)",
-            "scenario bucket",
-            "median n_expanded (cells)",
-            &by_bucket(&|row| row.1),
-        ));
-        out.push(line_chart(
-            "time-by-bucket.svg",
-            "Median search time against scenario bucket (optimal length / 4)",
-            "scenario bucket",
-            "median time (ms)",
-            &by_bucket(&|row| row.2),
-        ));
+    out
+}
+
+/// Sends a valid record's metric to its study group and x value's set, if counted.
+fn emit_study(
+    experiment: &Experiment,
+    spec: &ChartSpec,
+    groups: &[(String, Vec<(f64, u64)>)],
+    group_sets: &[Vec<usize>],
+    record: &RunRecord,
+    emit: crate::exact::Emit<'_>,
+) {
+    let Some((group, x, y)) = study_place(experiment, spec, record) else {
+        return;
+    };
+    let Some(k) = groups.iter().position(|(g, _)| *g == group) else {
+        return;
+    };
+    if let Some(j) = groups[k].1.iter().position(|(px, _)| *px == x) {
+        emit(group_sets[k][j], y);
     }
-    out.push(success_chart(&labels, &counts, stated));
-    for (i, ((spec, groups), group_sets)) in specs.iter().zip(studies).zip(&study_sets).enumerate()
-    {
+}
+
+/// Each study chart: per group, the median metric against x, sorted by x.
+fn study_charts(
+    specs: &[ChartSpec],
+    studies: Vec<StudyCounts>,
+    study_sets: &[Vec<Vec<usize>>],
+    median: &dyn Fn(usize) -> Option<f64>,
+) -> Vec<Chart> {
+    let mut out = Vec::new();
+    for (i, ((spec, groups), group_sets)) in specs.iter().zip(studies).zip(study_sets).enumerate() {
         let series: Vec<(String, Vec<(f64, f64)>)> = groups
             .into_iter()
             .zip(group_sets)
@@ -289,7 +259,123 @@ pub fn charts(
             .collect();
         out.push(study_chart(i, spec, &series));
     }
-    Ok(out)
+    out
+}
+
+/// What the first pass over the records finds: the groups and their sizes.
+struct Counted {
+    /// Per label.
+    counts: Vec<LabelCounts>,
+    /// Per chart spec: its groups and their x values, with their sizes.
+    studies: Vec<StudyCounts>,
+    /// Whether any record is valid.
+    valid: bool,
+    /// Whether any valid record has a scenario bucket.
+    any_bucket: bool,
+    /// Whether any valid record states an optimal length.
+    stated: bool,
+}
+
+/// One pass that counts each group (label, label x bucket, study group x x) of the valid
+/// records.
+fn count_groups(
+    experiment: &Experiment,
+    passes: &dyn RecordPasses,
+    labels: &[&str],
+    specs: &[ChartSpec],
+) -> Result<Counted, RunnerError> {
+    let label_of = |r: &RunRecord| labels.iter().position(|l| *l == r.planner);
+    let mut counts: Vec<LabelCounts> = labels.iter().map(|_| LabelCounts::default()).collect();
+    let mut studies: Vec<StudyCounts> = specs.iter().map(|_| Vec::new()).collect();
+    let (mut valid, mut any_bucket, mut stated) = (false, false, false);
+    passes.pass(&mut |r| {
+        if r.is_invalid() {
+            return;
+        }
+        valid = true;
+        any_bucket |= r.bucket.is_some();
+        stated |= r.optimal_length.is_some();
+        if let Some(l) = label_of(r) {
+            let c = &mut counts[l];
+            let expansions = r.counters.get("n_expanded").is_some();
+            c.runs += 1;
+            c.expansions += u64::from(expansions);
+            c.found += u64::from(r.is_found());
+            c.optimal += u64::from(
+                r.length
+                    .zip(r.optimal_length)
+                    .is_some_and(|(len, opt)| matches_optimum(len, opt)),
+            );
+            if let Some(b) = r.bucket {
+                let at = c.buckets.entry(b).or_default();
+                at.0 += u64::from(expansions);
+                at.1 += 1;
+            }
+        }
+        for (spec, groups) in specs.iter().zip(&mut studies) {
+            let Some((group, x, _)) = study_place(experiment, spec, r) else {
+                continue;
+            };
+            let k = match groups.iter().position(|(g, _)| *g == group) {
+                Some(k) => k,
+                None => {
+                    groups.push((group, Vec::new()));
+                    groups.len() - 1
+                }
+            };
+            let points = &mut groups[k].1;
+            match points.iter_mut().find(|(px, _)| *px == x) {
+                Some((_, n)) => *n += 1,
+                None => points.push((x, 1)),
+            }
+        }
+    })?;
+    Ok(Counted {
+        counts,
+        studies,
+        valid,
+        any_bucket,
+        stated,
+    })
+}
+
+/// The median expansions and median time against the scenario bucket, per label, from
+/// each label's `(bucket, expansions set, time set)` rows.
+fn bucket_charts(
+    labels: &[&str],
+    bucket_sets: &[Vec<(u32, usize, usize)>],
+    median: &dyn Fn(usize) -> Option<f64>,
+) -> [Chart; 2] {
+    let by_bucket =
+        |pick: &dyn Fn(&(u32, usize, usize)) -> usize| -> Vec<(String, Vec<(f64, f64)>)> {
+            labels
+                .iter()
+                .zip(bucket_sets)
+                .map(|(label, rows)| {
+                    let points = rows
+                        .iter()
+                        .filter_map(|row| median(pick(row)).map(|m| (f64::from(row.0), m)))
+                        .collect();
+                    (label.to_string(), points)
+                })
+                .collect()
+        };
+    [
+        line_chart(
+            "expansions-by-bucket.svg",
+            "Median expansions against scenario bucket (optimal length / 4)",
+            "scenario bucket",
+            "median n_expanded (cells)",
+            &by_bucket(&|row| row.1),
+        ),
+        line_chart(
+            "time-by-bucket.svg",
+            "Median search time against scenario bucket (optimal length / 4)",
+            "scenario bucket",
+            "median time (ms)",
+            &by_bucket(&|row| row.2),
+        ),
+    ]
 }
 
 /// The share of each label's runs that found a path (and, with stated optima, that
