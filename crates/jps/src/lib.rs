@@ -154,7 +154,7 @@ use planner_api::{
     Budget, Cell, Connectivity, Counters, Grid, Mark, MoveSet, Outcome, ParamKey, Path, PathSpec,
     Planner, PlannerSpecs, Problem, Status,
 };
-use planner_search::QuadHeap;
+use planner_search::FrontHeap as Open;
 use plus::JumpTable;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -268,60 +268,6 @@ pub struct Jps {
     mark: u16,
     /// The jump points of the last path found, start to goal (a reused buffer).
     chain: Vec<u32>,
-}
-
-/// OPEN: planner-search's `FrontHeap` (a 4-ary heap behind a stack of the entries pushed
-/// with the key last popped), with each `(key, tie)` entry packed into one `u128`, `key`
-/// in the high half. The order is the same as the pair's, but a comparison is one
-/// 128-bit compare without branches, which callgrind measured cheaper on the heap pops.
-#[derive(Debug, Clone)]
-struct Open {
-    heap: QuadHeap<u128>,
-    front: Vec<u128>,
-    /// The key of the last entry popped from `heap` (`u64::MAX` before the first).
-    front_key: u64,
-}
-
-impl Default for Open {
-    fn default() -> Open {
-        Open {
-            heap: QuadHeap::default(),
-            front: Vec::new(),
-            front_key: u64::MAX,
-        }
-    }
-}
-
-impl Open {
-    /// Empties OPEN, keeping its memory.
-    fn clear(&mut self) {
-        self.heap.clear();
-        self.front.clear();
-        self.front_key = u64::MAX;
-    }
-
-    /// Inserts the entry `(key, tie)`.
-    #[inline(always)]
-    fn push(&mut self, key: u64, tie: u64) {
-        let entry = u128::from(key) << 64 | u128::from(tie);
-        if key == self.front_key {
-            self.front.push(entry);
-        } else {
-            self.heap.push(entry);
-        }
-    }
-
-    /// Removes an entry with the least key (the front's last, else the heap's least) and
-    /// returns its tie value.
-    #[inline(always)]
-    fn pop(&mut self) -> Option<u64> {
-        if let Some(entry) = self.front.pop() {
-            return Some(entry as u64);
-        }
-        let entry = self.heap.pop()?;
-        self.front_key = (entry >> 64) as u64;
-        Some(entry as u64)
-    }
 }
 
 /// Per-cell search state, 16 bytes. `tag` is `generation << 9 | incoming << 1 | closed`,
@@ -480,7 +426,7 @@ impl Jps {
         let goal_index = search.index(goal.x, goal.y);
         let mut clock = budget.start();
         let status = loop {
-            let Some(tie_and_node) = search.open.pop() else {
+            let Some((_, tie_and_node)) = search.open.pop() else {
                 break Status::NoPath;
             };
             let p = tie_and_node as u32;
@@ -686,7 +632,7 @@ impl Search<'_> {
         // Larger g first among equal f, to 1/1024 (a tie rule, not a cost).
         let tie = u32::MAX - (g.value() * 1024.0) as u32;
         self.open
-            .push(f.to_bits(), u64::from(tie) << 32 | u64::from(i));
+            .push((f.to_bits(), u64::from(tie) << 32 | u64::from(i)));
     }
 
     /// Offers `(tx, ty)` as a successor of node `parent` at `(x, y)` with cost `g`.

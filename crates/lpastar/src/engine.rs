@@ -499,7 +499,7 @@ impl Engine {
             let new_key = self.key_with(g_u.min(rhs_u), xy);
             if (k1, k2) < new_key {
                 self.heap
-                    .raise_top((new_key.0, new_key.1, u), &mut self.records);
+                    .update(1, (new_key.0, new_key.1, u), &mut self.records);
                 self.stats.heap_updates += 1;
                 continue;
             }

@@ -106,34 +106,6 @@ impl Heap {
         }
     }
 
-    /// Gives the least entry the key of `entry` (same vertex), which orders after its
-    /// old key (the engine's re-keying of an out-of-date top after `km` grew).
-    ///
-    /// Bottom-up, as [`Heap::pop`]: the hole at the root descends along the least children
-    /// to a leaf, then `entry` rises from there. A re-keyed entry carries the newest
-    /// `km`, so it usually belongs near the leaves, and the descent needs no comparison
-    /// with it. The order of the entries (and so every later pop) is that of
-    /// [`Heap::update`]; only their places in the array can differ.
-    #[inline]
-    pub(crate) fn raise_top(&mut self, entry: Entry, slots: &mut impl Slots) {
-        debug_assert!(self
-            .items
-            .first()
-            .is_some_and(|top| top.2 == entry.2 && !less(entry, *top)));
-        let items = &mut self.items[..];
-        let n = items.len();
-        if n == 0 {
-            return;
-        }
-        let mut i = 0;
-        while let Some(least) = least_child(items, 4 * i + 1, n) {
-            items[i] = items[least];
-            slots.set_slot(items[i].2, slot(i));
-            i = least;
-        }
-        self.sift_up(i, entry, slots);
-    }
-
     /// Removes the entry in `slot` (its vertex's position, not 0).
     #[inline]
     pub(crate) fn remove(&mut self, slot: u32, slots: &mut impl Slots) {
@@ -222,7 +194,7 @@ mod tests {
     }
 
     /// Random pushes, key changes (of any entry and of the top, as the engine's
-    /// re-keying, by `update` and by `raise_top`), removals and pops against a `BTreeMap` of the queued keys: the least
+    /// re-keying), removals and pops against a `BTreeMap` of the queued keys: the least
     /// entry is always the least `(k1, k2, v)`, so equal `[k1; k2]` come out by index, and
     /// every slot points at its vertex's entry.
     #[test]
@@ -250,12 +222,8 @@ mod tests {
                     }
                 }
                 2 => {
-                    if let Some((a, b, u)) = heap.peek() {
-                        if (k1, k2) >= (a, b) && rng.gen_bool(0.5) {
-                            heap.raise_top((k1, k2, u), &mut slots);
-                        } else {
-                            heap.update(1, (k1, k2, u), &mut slots);
-                        }
+                    if let Some((_, _, u)) = heap.peek() {
+                        heap.update(1, (k1, k2, u), &mut slots);
                         model.insert(u, (k1, k2));
                     }
                 }

@@ -15,6 +15,7 @@
 //! shard's from its record stream, one row group at a time, gathered as plain integers
 //! per column (about 9 bytes a cell), so a writer never holds records.
 
+use std::collections::HashMap;
 use std::io::{BufRead, Write};
 use std::path::Path;
 use std::sync::Arc;
@@ -223,8 +224,12 @@ struct GroupColumn {
 #[derive(Default)]
 struct Group {
     columns: Vec<GroupColumn>,
-    /// The distinct texts of the group's text columns (a handful: maps, labels, statuses).
+    /// The distinct texts of the group's text columns (maps, labels, algorithms,
+    /// statuses), each once.
     texts: Vec<ByteArray>,
+    /// Each of `texts`' index, so that a row finds its texts' ids by hashing, not by a
+    /// scan of every map name (a sweep of many maps has hundreds).
+    text_ids: HashMap<String, u64>,
     rows: usize,
 }
 
@@ -256,15 +261,15 @@ impl Group {
                 Some(c) => Cell::Unsigned(r.counters.get(&counters[c])),
             };
             let value = match cell {
-                Cell::Text(text) => Some(
-                    match self.texts.iter().position(|t| t.data() == text.as_bytes()) {
-                        Some(i) => i as u64,
-                        None => {
-                            self.texts.push(ByteArray::from(text));
-                            self.texts.len() as u64 - 1
-                        }
-                    },
-                ),
+                Cell::Text(text) => Some(match self.text_ids.get(text) {
+                    Some(&id) => id,
+                    None => {
+                        let id = self.texts.len() as u64;
+                        self.texts.push(ByteArray::from(text));
+                        self.text_ids.insert(text.to_string(), id);
+                        id
+                    }
+                }),
                 Cell::Unsigned(v) => v,
                 Cell::Float(v) => v.map(f64::to_bits),
                 Cell::Boolean(v) => v.map(u64::from),
@@ -282,6 +287,7 @@ impl Group {
             column.values.clear();
         }
         self.texts.clear();
+        self.text_ids.clear();
         self.rows = 0;
     }
 }

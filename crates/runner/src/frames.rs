@@ -262,8 +262,10 @@ fn put_record<'a>(
 ) -> Result<(), RunnerError> {
     out.varint(C_RUN, zigzag(run, out.next_run));
     out.next_run = run.wrapping_add(1);
-    let d = r.repeat.wrapping_sub(out.next_repeat) as i32;
-    out.varint(C_REPEAT, u64::from(((d << 1) ^ (d >> 31)) as u32));
+    out.varint(
+        C_REPEAT,
+        zigzag(u64::from(r.repeat), u64::from(out.next_repeat)),
+    );
     out.next_repeat = r.repeat.wrapping_add(1);
     if before.is_some_and(|before| same_outcome(r, before)) {
         out.varint(C_STATUS, SAME);
@@ -511,10 +513,9 @@ impl<'a> Cursors<'a> {
         if self.rows {
             return self.small(C_REPEAT);
         }
-        let stored: u32 = self.small(C_REPEAT)?;
-        // The zigzag difference of two u32s, as `put_record` stores it.
-        let d = ((stored >> 1) as i32) ^ -((stored & 1) as i32);
-        let repeat = self.next_repeat.wrapping_add(d as u32);
+        let stored = self.varint(C_REPEAT)?;
+        let repeat = u32::try_from(unzigzag(stored, u64::from(self.next_repeat)))
+            .map_err(|_| Malformed("a repeat out of range"))?;
         self.next_repeat = repeat.wrapping_add(1);
         Ok(repeat)
     }

@@ -8,8 +8,8 @@
 //! ([`crate::config::PathsMode`]) are dropped in the worker.
 //!
 //! A sweep's own resume stream is framed binary ([`crate::frames`], format 3, and the
-//! previous version's format 2, read here too); the JSON Lines format (1) is that of shard and results files, and of resume
-//! streams written before, which still read.
+//! previous version's format 2, read here too); the JSON Lines format (1) is that of
+//! shard and results files, and of resume streams written before, which still read.
 //! The JSON Lines format is one line per run, `{"run":INDEX,"record":RECORD}` ([`encode`]),
 //! the [`RunRecord`] as serde writes it. A binary appends each batch to a file and flushes
 //! it; a process killed mid-write leaves complete lines and at most one cut line at the

@@ -116,10 +116,14 @@ pub type FrontEntry = (u64, u64);
 ///
 /// Among entries with the least key, the stack's come out first, last in first out; the
 /// heap's in `(key, tie)` order. Precondition: no key pushed is below the last key popped.
+///
+/// Each entry is held as one `u128`, the key in the high half: the same order as the
+/// pair's, but a comparison is one 128-bit compare without branches (callgrind: a JPS+ pass on
+/// den520d took 51.6 M instructions against 53.7 M with the pairs).
 #[derive(Debug, Clone)]
 pub struct FrontHeap {
-    heap: QuadHeap<FrontEntry>,
-    front: Vec<FrontEntry>,
+    heap: QuadHeap<u128>,
+    front: Vec<u128>,
     /// The key of the last entry popped from `heap` (`u64::MAX` before the first).
     front_key: u64,
 }
@@ -134,6 +138,18 @@ impl Default for FrontHeap {
     }
 }
 
+/// `entry` as one `u128` that orders as the pair does.
+#[inline(always)]
+fn pack((key, tie): FrontEntry) -> u128 {
+    u128::from(key) << 64 | u128::from(tie)
+}
+
+/// The pair [`pack`] packed.
+#[inline(always)]
+fn unpack(entry: u128) -> FrontEntry {
+    ((entry >> 64) as u64, entry as u64)
+}
+
 impl FrontHeap {
     /// Empties the heap, keeping its memory.
     pub fn clear(&mut self) {
@@ -143,23 +159,23 @@ impl FrontHeap {
     }
 
     /// Inserts `entry`.
-    #[inline]
+    #[inline(always)]
     pub fn push(&mut self, entry: FrontEntry) {
         if entry.0 == self.front_key {
-            self.front.push(entry);
+            self.front.push(pack(entry));
         } else {
-            self.heap.push(entry);
+            self.heap.push(pack(entry));
         }
     }
 
     /// Removes and returns an entry with the least key: the front's last, else the
     /// heap's least.
-    #[inline]
+    #[inline(always)]
     pub fn pop(&mut self) -> Option<FrontEntry> {
         if let Some(entry) = self.front.pop() {
-            return Some(entry);
+            return Some(unpack(entry));
         }
-        let entry = self.heap.pop()?;
+        let entry = unpack(self.heap.pop()?);
         self.front_key = entry.0;
         Some(entry)
     }
