@@ -21,13 +21,20 @@ copy() { # copy maps/ files matching $1 and smaller than $2 into the seed folder
   find ../maps -name "$1" -size "-$2" -exec cp {} "$seeds/" \;
 }
 # Stream files as `experiment --shard` writes them: a few shards of configs/paper.toml
-# (every planner of seed 000), each cut to its first 16 KiB, after the bytes $1.
+# (every planner of seed 000), their framed shard.stream rewritten as JSON Lines by the
+# runner's stream_seeds example, each cut to its first 16 KiB, after the bytes $1.
 shard_streams() {
   streams=$(mktemp -d)
   for k in 1 2 3; do
     (cd .. && cargo run -q --release -p xtask -- experiment configs/paper.toml --shard "$k/40" \
       --output "$streams/s$k" --quiet >/dev/null)
-    { printf '%b' "$1"; head -c 16384 "$streams/s$k/shard.jsonl"; } > "$seeds/shard-$k.jsonl"
+    (cd .. && cargo run -q --release -p planner-runner --example stream_seeds -- \
+      "$streams/s$k/shard.stream" "$streams/s$k.jsonl")
+    { printf '%b' "$1"; head -c 16384 "$streams/s$k.jsonl"; } > "$seeds/shard-$k.jsonl"
+    # The stream target reads framed streams too: the file as written, cut the same way.
+    if [ -z "$1" ]; then
+      head -c 16384 "$streams/s$k/shard.stream" > "$seeds/shard-$k.stream"
+    fi
   done
   rm -rf "$streams"
 }

@@ -1,4 +1,5 @@
-//! Stream files (`records.jsonl` that `--resume` reads, `shard.jsonl` that `merge` reads):
+//! Stream files (`records.stream` that `--resume` reads, `shard.stream` that `merge` reads,
+//! framed or as JSON Lines):
 //! `planner_runner::stream::StreamReader` never panics on any bytes, reads a header with
 //! a shard count a command accepts, and stops at a cut last line or an error.
 #![no_main]

@@ -2,8 +2,9 @@
 
 use std::fmt::Write as _;
 
+use crate::charts::Chart;
 use crate::md_cell;
-use crate::{Context, Section};
+use crate::{Context, Reproduction, Section};
 use planner_runner::config::Experiment;
 use planner_runner::passes::RecordPasses;
 use planner_runner::RunnerError;
@@ -23,16 +24,38 @@ impl Section for Charts {
 
     /// From passes over the records ([`crate::charts::charts`]).
     fn table(&self) -> Option<crate::PassesTable> {
-        Some(links)
+        Some(computed_links)
+    }
+
+    /// The links of [`Context::charts`] when the charts were computed already, else
+    /// [`Section::table`]'s.
+    fn render_passes(
+        &self,
+        context: &Context<'_>,
+        out: &mut String,
+        _reproduction: &mut Reproduction,
+    ) -> Result<(), RunnerError> {
+        match context.charts {
+            Some(charts) => out.push_str(&links(charts)),
+            None => out.push_str(&computed_links(context.experiment, context.passes)?),
+        }
+        Ok(())
     }
 }
 
+/// The section's markdown from charts computed from `passes`.
+fn computed_links(
+    experiment: &Experiment,
+    passes: &dyn RecordPasses,
+) -> Result<String, RunnerError> {
+    Ok(links(&crate::charts::charts(experiment, passes)?))
+}
+
 /// The section's markdown: a heading and a link to every chart (nothing without one).
-fn links(experiment: &Experiment, passes: &dyn RecordPasses) -> Result<String, RunnerError> {
-    let charts = crate::charts::charts(experiment, passes)?;
+fn links(charts: &[Chart]) -> String {
     let mut out = String::new();
     if charts.is_empty() {
-        return Ok(out);
+        return out;
     }
     out.push_str("## Charts\n\n");
     for chart in charts {
@@ -42,5 +65,5 @@ fn links(experiment: &Experiment, passes: &dyn RecordPasses) -> Result<String, R
             .replace(']', "\\]");
         let _ = writeln!(out, "![{title}](charts/{})\n", chart.file);
     }
-    Ok(out)
+    out
 }

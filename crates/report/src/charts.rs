@@ -411,18 +411,15 @@ fn success_chart(labels: &[&str], counts: &[LabelCounts], stated: bool) -> Chart
     )
 }
 
-/// The chart files of the sweep.
-pub fn render(
-    experiment: &Experiment,
-    passes: &dyn RecordPasses,
-) -> Result<Vec<OutputFile>, RunnerError> {
-    Ok(charts(experiment, passes)?
+/// The chart files of the sweep's `charts` ([`charts`]), under `charts/`.
+pub fn files(charts: Vec<Chart>) -> Vec<OutputFile> {
+    charts
         .into_iter()
         .map(|c| OutputFile {
             path: format!("charts/{}", c.file).into(),
             contents: c.svg.into_bytes(),
         })
-        .collect())
+        .collect()
 }
 
 /// When every label runs one planner and they differ in exactly one parameter, numeric

@@ -57,6 +57,10 @@ pub struct Context<'a> {
     /// for a sweep too large to hold, its records read back from disk (and `records`
     /// empty; only the sections that [`Section::streams`] render then).
     pub passes: &'a dyn RecordPasses,
+    /// The sweep's charts when they were computed before summary.md (by
+    /// [`Renderer::files`], which writes them too), so the charts section links them
+    /// without a second set of passes; `None`: the section computes them.
+    pub charts: Option<&'a [charts::Chart]>,
     /// The section's options from the config (`sections = [{ name = ..., ... }]`; empty
     /// when the config names the section bare or names no sections).
     pub options: &'a toml::Table,
@@ -188,6 +192,19 @@ impl Renderer {
         passes: &dyn RecordPasses,
         provenance: Option<&Provenance>,
     ) -> Result<(String, Reproduction), RunnerError> {
+        self.summary_charted(experiment, records, passes, provenance, None)
+    }
+
+    /// [`Renderer::summary_passes`] with the sweep's charts already computed (`charts`;
+    /// `None`: the charts section computes them).
+    fn summary_charted(
+        &self,
+        experiment: &Experiment,
+        records: &[RunRecord],
+        passes: &dyn RecordPasses,
+        provenance: Option<&Provenance>,
+        charts: Option<&[charts::Chart]>,
+    ) -> Result<(String, Reproduction), RunnerError> {
         let held = records.len() as u64 == passes.len();
         let index = ResultsIndex::new(records);
         let empty = toml::Table::new();
@@ -221,6 +238,7 @@ impl Renderer {
                 records,
                 index: &index,
                 passes,
+                charts,
                 options,
             };
             if !held && !section.streams() {
@@ -260,8 +278,15 @@ impl Renderer {
         let records = results.records;
         let passes = results.passes;
         let held = records.len() as u64 == passes.len();
-        let (mut summary, reproduction) =
-            self.summary_passes(experiment, records, passes, Some(results.provenance))?;
+        // The charts once, for summary.md's links and for their files.
+        let charts = charts::charts(experiment, passes)?;
+        let (mut summary, reproduction) = self.summary_charted(
+            experiment,
+            records,
+            passes,
+            Some(results.provenance),
+            Some(&charts),
+        )?;
         let drawn;
         let figure_records = if held {
             records
@@ -291,7 +316,7 @@ impl Renderer {
             figure_records,
             results.expanded,
         ));
-        all.extend(charts::render(experiment, passes)?);
+        all.extend(charts::files(charts));
         if held && experiment.ompl {
             all.extend(ompl::logs(
                 experiment,

@@ -89,6 +89,7 @@ fn in_memory(experiment: &Experiment, records: &[RunRecord], measured: Measured)
         records,
         index: &index,
         passes: &records,
+        charts: None,
         options: &options,
     };
     tables(&context, measured)
@@ -210,6 +211,7 @@ fn a_summary_from_passes_equals_the_in_memory_summary() {
         records: &records,
         index: &index,
         passes: &records.as_slice(),
+        charts: None,
         options: &options,
     };
     let sections = format!(
