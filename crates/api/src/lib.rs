@@ -50,7 +50,7 @@ pub use coverage::{
     reachable_cells, CoverageMetrics, CoverageOutcome, CoveragePlanner, CoverageProblem, ReturnLeg,
 };
 pub use error::{Endpoint, GridError, MoveOrderError, PathError, ProblemError};
-pub use grid::{Cell, Grid};
+pub use grid::{cell_hypot, Cell, Grid};
 pub use incremental::{path_cost, CellChange, ChangeError, IncrementalPlanner};
 pub use moves::{
     for_each_segment_cell, segment_is_free, walk_segment, Connectivity, Direction, IndexedMove,
