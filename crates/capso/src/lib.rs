@@ -126,7 +126,7 @@
 //! `cargo bench -p planner-capso --bench seed002 -- --repeats=50` (seed 002's settings, seeds
 //! 0-49; 2026-12-04, a quiet 2-core VM; times are the thread's CPU time, medians), beside
 //! Theta\*'s length on the same map (`gridplan plan --planner theta_star --start .. --goal ..
-//! maps/pastar/MAP`), an any-angle path within about 1 % of the shortest on such maps:
+//! maps/pastar/MAP`; an any-angle path, so an upper bound on the shortest one):
 //!
 //! | map (start -> goal) | found | mean length | seed 002's CAPSO | Theta\* | CAPSO / PA-star time |
 //! |---|---:|---:|---:|---:|---:|
@@ -138,13 +138,15 @@
 //! | 200 x 200 map 1 (25,35) -> (140,190) | 50/50 | 204.40 | 210.89 | 203.70 | 26.2 |
 //! | 200 x 200 map 2 | 50/50 | 193.91 | 215.09 | 193.88 | 25.7 |
 //!
-//! The mean length is within 1 % of Theta\*'s on every map, and within 5 % of the seed's
-//! on five of the seven. The maps are reconstructions (planner-pastar's `generate`: the
-//! paper's were lost with its figures), and the two that differ differ by their obstacles:
-//! on the 500 x 500 map the seed's 382.34 is 15.5 % shorter than Theta\*'s path here, far
-//! more than any-angle search leaves to gain, so the reconstructed obstacles close the
-//! route the paper's map left open; on the second 200 x 200 map the reconstruction leaves a
-//! straighter corridor than the paper's (Theta\* 193.88 against the seed's 215.09). Seed
+//! The mean length is within 1 % of Theta\*'s on every map with obstacles, and within 5 %
+//! of the seed's on five of the seven. The maps are reconstructions (planner-pastar's
+//! `generate`: the paper's were lost with its figures), and the two that differ differ by
+//! their obstacles, as the exact 8-connected optimum (seed 002's RA-star1, Tables 9 and 10;
+//! here planner-pastar's docs) shows: 375.11 on the paper's first 500 x 500 scenario against
+//! 474.30 on the reconstruction (26 % longer: its obstacles close the route the paper's map
+//! left open, and no planner here comes near the seed's 382.34), and 209.07 on the paper's
+//! second 200 x 200 map against 202.63 here (the reconstruction is more open; the seed's
+//! CAPSO was 6.68 % longer than its PA-star there, this one is at Theta\*'s length). Seed
 //! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.3 to 26 times,
 //! more than 20 on the two-obstacle and 200 x 200 maps, where PA-star's local searches
 //! expand only 289 to 418 cells. The control-point study (`cargo xtask experiment
