@@ -419,17 +419,18 @@ impl fmt::Debug for Grid {
     }
 }
 
-/// `hypot(dx, dy)` of two cell offsets as glibc computes it (glibc 2.35 and later,
-/// `sysdeps/ieee754/dbl-64/e_hypot.c` without FMA, the build Debian and most x86-64
-/// distributions ship): Borges's algorithm ("An improved algorithm for hypot(a, b)",
-/// Numerical Algorithms 2020), the correctly rounded square root of the sum of squares
+/// `hypot(dx, dy)` of two cell offsets as glibc computes it: the generic
+/// `sysdeps/ieee754/dbl-64/e_hypot.c` without FMA (read off the disassembly of Debian 12's
+/// glibc 2.36 for x86-64), Borges's algorithm ("An improved algorithm for hypot(a, b)",
+/// Numerical Algorithms 2020): the correctly rounded square root of the sum of squares
 /// (exact below 2^26) followed by one correction step, which leaves the result within one
 /// unit in the last place and not always the nearest one. Written out with the same
-/// operations in the same order (Rust contracts nothing into FMA), for offsets glibc takes
-/// the kernel for every `dy >= 1` (no cell offset is tiny or huge) and returns `dx` itself
-/// for `dy = 0`. So the value is the same bit for bit as `f64::hypot` on glibc (tested
-/// over every offset below 4096 and random ones up to 2^32), on every platform, and
-/// inlined: Theta* spent a fifth of its time in the library call.
+/// operations in the same order (Rust contracts nothing into FMA); for cell offsets glibc
+/// takes that kernel whenever `dy >= 1` (no offset is tiny or huge) and returns `dx` itself
+/// for `dy = 0`. So the value equals `f64::hypot`'s on that glibc bit for bit (tested where
+/// the target is glibc, over every offset below 4096 and a million random ones up to
+/// 2^32), is the same on every platform whatever its libm, and is inlined: Theta* spent a
+/// fifth of its time in the library call.
 #[inline]
 pub fn cell_hypot(dx: u32, dy: u32) -> f64 {
     let (ax, ay) = (f64::from(dx.max(dy)), f64::from(dx.min(dy)));
