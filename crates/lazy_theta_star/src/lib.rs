@@ -21,8 +21,8 @@
 //! # Which to use
 //! On the Moving AI benchmark maps Lazy Theta\* is the faster of the two: `cargo bench -p
 //! planner-theta_star --bench movingai -- --repeats=3 --clock=cpu den520d random512-10-0`
-//! (2026-12-04, quiet machine) took 783.5 ms against Theta\*'s 852.8 on den520d's 888
-//! scenarios and 4,422.3 against 4,820.7 on random512-10-0's 1,670, with paths on average
+//! (2026-12-04, quiet machine) took 573.3 ms against Theta\*'s 635.6 on den520d's 888
+//! scenarios and 2,689.0 against 2,953.7 on random512-10-0's 1,670, with paths on average
 //! 0.03 % and 0.06 % longer than Theta\*'s (at most 0.78 % and 1.03 %) and never longer than
 //! the 8-connected optimum there. Prefer it for speed; prefer Theta\* when a path no
 //! longer than the 8-connected optimum must be guaranteed on every map (Theta\*'s bound,

@@ -133,16 +133,31 @@ impl<const TIE: u8> BucketOpen<TIE> {
     /// then match the unweighted search's per unit of length, so the ring is not walked
     /// through empty buckets. The order popped is the same for any width.
     pub fn configure_scaled(&mut self, max_cost: Cost, weight: f64, scale: u64) {
-        const BUCKETS_PER_UNIT: f64 = 16.0;
         let widen = scale.max(1).next_power_of_two().trailing_zeros().min(24);
+        self.configure_units(max_cost.to_f64(), weight, Cost::FRACTION_BITS, widen);
+    }
+
+    /// [`BucketOpen::configure`] for keys that are not [`Cost`]s: `f` and `g` passed as
+    /// `Cost::from_units` of numbers with `fraction_bits` fractional bits (`f` rounded to
+    /// `2^-fraction_bits`, as Theta\*'s OPEN keys), moves costing at most `max_cost`
+    /// (lengths), and `g` any `u64` whose order is the tie rule's. Precondition:
+    /// `4 <= fraction_bits <= 32`.
+    pub fn configure_fraction(&mut self, max_cost: f64, weight: f64, fraction_bits: u32) {
+        self.configure_units(max_cost, weight, fraction_bits, 0);
+    }
+
+    /// Buckets `16 / 2^widen` per unit of `f` (which has `fraction_bits` fractional bits),
+    /// enough ring slots to cover `(1 + weight) * max_cost`.
+    fn configure_units(&mut self, max_cost: f64, weight: f64, fraction_bits: u32, widen: u32) {
+        const BUCKETS_PER_UNIT: f64 = 16.0;
         let per_unit = BUCKETS_PER_UNIT / f64::from(1u32 << widen);
-        let span = (1.0 + weight) * max_cost.to_f64() * per_unit;
+        let span = (1.0 + weight) * max_cost * per_unit;
         let slots = if span.is_finite() && span < 4096.0 {
             (span as usize + 2).next_power_of_two()
         } else {
             4096
         };
-        self.shift = Cost::FRACTION_BITS - BUCKETS_PER_UNIT.log2() as u32 + widen;
+        self.shift = fraction_bits - BUCKETS_PER_UNIT.log2() as u32 + widen;
         self.seq_limit = 1 << 32;
         self.ring.resize_with(slots, Vec::new);
         self.clear();
@@ -856,6 +871,46 @@ mod tests {
                 check_int::<LOW_G>(push_share, g_spread);
                 check_int::<HIGH_G>(push_share, g_spread);
             }
+        }
+    }
+
+    /// Keys that are not `Cost`s ([`BucketOpen::configure_fraction`]), as Theta\* pushes
+    /// them: `f` rounded to `2^-24` in those units, `g` as its `f64` bits, larger `g`
+    /// first; pops against an ordered set of `(f units, !g bits, push number)`.
+    #[test]
+    fn fraction_keys_pop_in_full_key_order() {
+        let fs: Vec<f64> = (0..60).map(|i| f64::from(i) * 0.3f64.sqrt()).collect();
+        let gs = [0.0, 0.5, 2f64.sqrt(), 3.0, 10.25];
+        for (max_cost, push_share) in [(2f64.sqrt(), 40), (2f64.sqrt(), 70), (0.01, 55)] {
+            let mut open = BucketOpen::<HIGH_G>::default();
+            open.configure_fraction(max_cost, 1.0, 24);
+            let mut reference = BTreeSet::new();
+            let (mut state, mut n_pushed) = (5u64, 0u64);
+            for round in 0..20_000u64 {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                if state % 100 < push_share || reference.is_empty() {
+                    let f = fs[(state >> 8) as usize % fs.len()];
+                    let g = gs[(state >> 24) as usize % gs.len()];
+                    let f_units = (f * f64::from(1u32 << 24)).round() as u64;
+                    let node = (round % 700) as u32;
+                    open.push(
+                        node,
+                        Cost::from_units(f_units),
+                        Cost::from_units(g.to_bits()),
+                    );
+                    reference.insert(((f_units, !g.to_bits(), n_pushed), node));
+                    n_pushed += 1;
+                } else {
+                    let least = reference.pop_first().map(|(_, node)| node);
+                    assert_eq!(open.pop(|_| false), least, "round {round}");
+                }
+            }
+            while let Some((_, node)) = reference.pop_first() {
+                assert_eq!(open.pop(|_| false), Some(node));
+            }
+            assert_eq!(open.pop(|_| false), None);
         }
     }
 

@@ -4,8 +4,9 @@
 //!
 //! - [`bucket`]: OPEN lists that pop in exactly the order of the full key
 //!   `(f, tie rule, push sequence)`: [`bucket::BucketOpen`] (a ring of narrow `f` buckets in
-//!   front of a binary heap, for any [`planner_api::Cost`]) and [`bucket::IntOpen`] (four
-//!   slots of one integer `f` each, for unit moves and integer consistent heuristics).
+//!   front of a binary heap, for any [`planner_api::Cost`], or for keys with fewer
+//!   fractional bits, as Theta\*'s) and [`bucket::IntOpen`] (four slots of one integer `f`
+//!   each, for unit moves and integer consistent heuristics).
 //! - [`QuadHeap`], a 4-ary min-heap of any ordered entry, and [`FrontHeap`], the same
 //!   behind a stack of entries with the last popped key (Jump Point Search's common case).
 //! - [`Stamped`]: per-cell node records with generation stamps, so a search costs the

@@ -111,11 +111,12 @@ mod sight;
 
 pub use sight::SightGrid;
 
-use planner_search::{QuadHeap, Stamped};
+use planner_search::bucket::{BucketOpen, Open, HIGH_G};
+use planner_search::Stamped;
 
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Counter, Counters, MoveSet, NeighborOrder, Outcome,
-    Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Cost, Counter, Counters, MoveSet, NeighborOrder,
+    Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -250,57 +251,24 @@ struct Node {
     stamp: u32,
 }
 
-/// An OPEN entry, a min-heap key: least rounded `f`, then largest `g`, then first pushed.
+/// OPEN's key of an `f`: `f` rounded to a multiple of [`EPSILON`], in units of `EPSILON`
+/// ([`KEY_FRACTION_BITS`] fractional bits). OPEN ([`BucketOpen`] with [`HIGH_G`]) orders
+/// by this key, then larger `g` (passed as its bits: costs are non-negative, so their bits
+/// order as they do), then first pushed.
 ///
-/// The three words hold the bit string `f_key (62 bits) | g_rev (63) | seq (35) | node (32)`,
-/// compared word by word, which is comparing the string:
-/// - `f_key = round(f / EPSILON)`: a relaxation from `s` offers at most `g(s) + sqrt 2`
-///   (path 2 is never longer than path 1, module docs, step 2; Lazy Theta\*'s repair
-///   likewise), so every `g` is below `sqrt 2` times the expansions, at most
-///   [`Grid::MAX_CELLS`](planner_api::Grid::MAX_CELLS) `= 2^31`; `h` is at most
-///   `width + height <= 2^31 + 1`; so `f < 2^33` and `f_key < 2^57`;
-/// - `g_rev = 2^63 - 1 - bits(g)`: costs are non-negative, so their bits (sign bit 0)
-///   order as they do, and the complement puts larger `g` first;
-/// - `seq`, the push count: a node is pushed at most once per expanded grid neighbour, so
-///   there are at most `8 * 2^31 + 1 < 2^35` pushes;
-/// - `node`, the cell index (a `u32`), which never decides (`seq` is unique).
-///
-/// 24 bytes against the 32 of the four plain fields (a `u32` field pads a struct of
-/// `u64`s to 32): fewer cache lines per OPEN sift, the same order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-struct Entry {
-    high: u64,
-    middle: u64,
-    low: u64,
+/// A relaxation from `s` offers at most `g(s) + sqrt 2` (path 2 is never longer than path
+/// 1, module docs, step 2; Lazy Theta\*'s repair likewise), so every `g` is below `sqrt 2`
+/// times the expansions, at most [`Grid::MAX_CELLS`](planner_api::Grid::MAX_CELLS)
+/// `= 2^31`; `h` is at most `width + height <= 2^31 + 1`; so `f < 2^33` and the key is
+/// below `2^57`.
+#[inline]
+fn key(f: f64) -> Cost {
+    Cost::from_units((f / EPSILON).round() as u64)
 }
 
-/// All 63 low bits: `g_rev`'s width.
-const G_MASK: u64 = (1 << 63) - 1;
-
-impl Entry {
-    #[inline]
-    fn new(f: f64, g: f64, seq: u64, node: u32) -> Entry {
-        let f_key = (f / EPSILON).round() as u64;
-        debug_assert!(f_key < 1 << 62 && seq < 1 << 35 && g >= 0.0);
-        let g_rev = G_MASK - g.to_bits();
-        Entry {
-            high: f_key << 2 | g_rev >> 61,
-            middle: g_rev << 3 | seq >> 32,
-            low: seq << 32 | u64::from(node),
-        }
-    }
-
-    /// The bits of the `g` pushed with the entry.
-    #[inline]
-    fn g_bits(self) -> u64 {
-        G_MASK - ((self.high & 3) << 61 | self.middle >> 3)
-    }
-
-    #[inline]
-    fn node(self) -> usize {
-        (self.low & 0xFFFF_FFFF) as usize
-    }
-}
+/// The fractional bits of [`key`]'s units: `EPSILON = 2^-24`.
+const KEY_FRACTION_BITS: u32 = 24;
+const _: () = assert!(EPSILON == 1.0 / (1u64 << KEY_FRACTION_BITS) as f64);
 
 /// The search shared by Theta\* and Lazy Theta\*: per-cell arrays kept between queries,
 /// the grid's move masks cached, OPEN reused.
@@ -310,7 +278,7 @@ pub struct AnyAngle {
     adjacency: Option<Adjacency>,
     sight: Option<SightGrid>,
     nodes: Stamped<Node>,
-    open: QuadHeap<Entry>,
+    open: BucketOpen<HIGH_G>,
     /// Theta\* only: whether line of sight is left unchecked where it cannot change the
     /// search, for a neighbour already in OPEN whose g neither path would replace (default
     /// true). Paths and A\*'s counters are the same either way; only `n_los_checks` and
@@ -329,7 +297,7 @@ impl AnyAngle {
             adjacency: None,
             sight: None,
             nodes: Stamped::default(),
-            open: QuadHeap::default(),
+            open: BucketOpen::default(),
             skip_hopeless: true,
         })
     }
@@ -353,7 +321,9 @@ impl AnyAngle {
         let (stamps, nodes) = self.nodes.begin();
         let (open_stamp, closed_stamp) = (stamps.open, stamps.closed);
         let open = &mut self.open;
-        open.clear();
+        // Moves cost at most sqrt 2 (path 2 is never longer than path 1), and h is
+        // consistent: the f values in OPEN span at most 2 sqrt 2.
+        open.configure_fraction(std::f64::consts::SQRT_2, 1.0, KEY_FRACTION_BITS);
         let skip_hopeless = self.skip_hopeless;
 
         // Per move: its cost, and its offset, so a neighbour's cell is found without
@@ -377,7 +347,6 @@ impl AnyAngle {
             );
             (dx * dx + dy * dy).sqrt()
         };
-        let mut seq = 0u64;
         let mut stats = AnyAngleStats::default();
         let mut n_safe = 0u64;
         let line_of_sight = |stats: &mut AnyAngleStats, a: Cell, b: Cell| {
@@ -395,7 +364,11 @@ impl AnyAngle {
             parent: start_index as u32,
             stamp: open_stamp,
         };
-        open.push(Entry::new(h(start), 0.0, seq, start_index as u32));
+        open.push(
+            start_index as u32,
+            key(h(start)),
+            Cost::from_units(0f64.to_bits()),
+        );
         stats.search.n_open_insertions = 1;
         stats.search.peak_open = 1;
 
@@ -405,10 +378,13 @@ impl AnyAngle {
             s.n_blocked = s.n_neighbor_checks - n_safe;
         };
 
-        while let Some(entry) = open.pop() {
-            let p = entry.node();
-            if nodes[p].stamp == closed_stamp || nodes[p].g.to_bits() != entry.g_bits() {
-                continue; // An older entry of a node improved while in OPEN.
+        while let Some(node) = open.pop(|n| nodes[n as usize].stamp == closed_stamp) {
+            let p = node as usize;
+            if nodes[p].stamp == closed_stamp {
+                // An older entry of a node improved while in OPEN: an improvement lowers g
+                // by more than EPSILON, so its key by at least one unit, and the newer
+                // entry came out first.
+                continue;
             }
             if !clock.allows(stats.search.n_expanded) {
                 let n = stats.search.n_expanded;
@@ -520,8 +496,11 @@ impl AnyAngle {
                         parent: new_parent as u32,
                         stamp: open_stamp,
                     };
-                    seq += 1;
-                    open.push(Entry::new(g_new + h(q_cell), g_new, seq, q as u32));
+                    open.push(
+                        q as u32,
+                        key(g_new + h(q_cell)),
+                        Cost::from_units(g_new.to_bits()),
+                    );
                 }
             }
             // Nodes in OPEN: every inserted node is expanded at most once.
