@@ -726,9 +726,9 @@ mod tests {
     use std::collections::BTreeSet;
 
     /// The reference key of a push: `(f, tie, seq)` with the tie rule's meaning, compared
-    /// as numbers (`f` and `g` as [`Cost`]s, rounded from the test's floats).
-    fn reference_key<const TIE: u8>(f: f64, g: f64, seq: u64) -> (u64, i128, i128) {
-        let g = i128::from(Cost::from_f64(g).units());
+    /// as numbers (`f` and `g` as the [`Cost`] units pushed).
+    fn reference_key<const TIE: u8>(f: Cost, g: Cost, seq: u64) -> (u64, i128, i128) {
+        let g = i128::from(g.units());
         let tie = match TIE {
             FIFO | LIFO => 0,
             LOW_G => g,
@@ -739,16 +739,23 @@ mod tests {
         } else {
             i128::from(seq)
         };
-        (Cost::from_f64(f).units(), tie, seq)
+        (f.units(), tie, seq)
+    }
+
+    /// The test's floats as `Cost`s, as A* pushes them.
+    fn as_costs(f: f64, g: f64) -> (Cost, Cost) {
+        (Cost::from_f64(f), Cost::from_f64(g))
     }
 
     /// Pushes and pops pseudo-random entries, interleaved, and checks every pop against an
-    /// ordered set of the reference keys. `f` values come from `fs`, `g` from `gs`.
+    /// ordered set of the reference keys. `f` values come from `fs`, `g` from `gs`, pushed as
+    /// `encode` makes them keys.
     fn check<O: Open + Default, const TIE: u8>(
         mut open: O,
         fs: &[f64],
         gs: &[f64],
         push_share: u64,
+        encode: impl Fn(f64, f64) -> (Cost, Cost),
     ) {
         let mut reference = BTreeSet::new();
         let mut state = 99u64;
@@ -761,7 +768,8 @@ mod tests {
                 let f = fs[(state >> 8) as usize % fs.len()];
                 let g = gs[(state >> 24) as usize % gs.len()];
                 let node = (round % 700) as u32;
-                open.push(node, Cost::from_f64(f), Cost::from_f64(g));
+                let (f, g) = encode(f, g);
+                open.push(node, f, g);
                 reference.insert((reference_key::<TIE>(f, g, n_pushed), node));
                 n_pushed += 1;
             } else {
@@ -797,24 +805,28 @@ mod tests {
                 fs,
                 gs,
                 push_share,
+                as_costs,
             );
             check::<_, LIFO>(
                 bucket_open::<LIFO>(max_cost, seq_limit, scale),
                 fs,
                 gs,
                 push_share,
+                as_costs,
             );
             check::<_, LOW_G>(
                 bucket_open::<LOW_G>(max_cost, seq_limit, scale),
                 fs,
                 gs,
                 push_share,
+                as_costs,
             );
             check::<_, HIGH_G>(
                 bucket_open::<HIGH_G>(max_cost, seq_limit, scale),
                 fs,
                 gs,
                 push_share,
+                as_costs,
             );
         }
     }
@@ -842,7 +854,7 @@ mod tests {
                 };
                 let node = (round % 700) as u32;
                 open.push(node, Cost::steps(f), Cost::steps(g));
-                let key = reference_key::<TIE>(f as f64, g as f64, n_pushed);
+                let key = reference_key::<TIE>(Cost::steps(f), Cost::steps(g), n_pushed);
                 reference.insert((key, node, g));
                 n_pushed += 1;
             } else {
@@ -875,42 +887,19 @@ mod tests {
     }
 
     /// Keys that are not `Cost`s ([`BucketOpen::configure_fraction`]), as Theta\* pushes
-    /// them: `f` rounded to `2^-24` in those units, `g` as its `f64` bits, larger `g`
-    /// first; pops against an ordered set of `(f units, !g bits, push number)`.
+    /// them: `f` rounded to `2^-24` in those units, `g` as its `f64` bits, larger `g` first.
     #[test]
     fn fraction_keys_pop_in_full_key_order() {
         let fs: Vec<f64> = (0..60).map(|i| f64::from(i) * 0.3f64.sqrt()).collect();
         let gs = [0.0, 0.5, 2f64.sqrt(), 3.0, 10.25];
+        let encode = |f: f64, g: f64| {
+            let f_units = (f * f64::from(1u32 << 24)).round() as u64;
+            (Cost::from_units(f_units), Cost::from_units(g.to_bits()))
+        };
         for (max_cost, push_share) in [(2f64.sqrt(), 40), (2f64.sqrt(), 70), (0.01, 55)] {
             let mut open = BucketOpen::<HIGH_G>::default();
             open.configure_fraction(max_cost, 1.0, 24);
-            let mut reference = BTreeSet::new();
-            let (mut state, mut n_pushed) = (5u64, 0u64);
-            for round in 0..20_000u64 {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                if state % 100 < push_share || reference.is_empty() {
-                    let f = fs[(state >> 8) as usize % fs.len()];
-                    let g = gs[(state >> 24) as usize % gs.len()];
-                    let f_units = (f * f64::from(1u32 << 24)).round() as u64;
-                    let node = (round % 700) as u32;
-                    open.push(
-                        node,
-                        Cost::from_units(f_units),
-                        Cost::from_units(g.to_bits()),
-                    );
-                    reference.insert(((f_units, !g.to_bits(), n_pushed), node));
-                    n_pushed += 1;
-                } else {
-                    let least = reference.pop_first().map(|(_, node)| node);
-                    assert_eq!(open.pop(|_| false), least, "round {round}");
-                }
-            }
-            while let Some((_, node)) = reference.pop_first() {
-                assert_eq!(open.pop(|_| false), Some(node));
-            }
-            assert_eq!(open.pop(|_| false), None);
+            check::<_, HIGH_G>(open, &fs, &gs, push_share, encode);
         }
     }
 
