@@ -3,4 +3,5 @@
 //! here is declared below (`mod NAME;`), or tidy refuses it (ARCHITECTURE.md, "Tests").
 
 mod bound;
+mod key;
 mod sight;
