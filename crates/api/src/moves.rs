@@ -328,7 +328,7 @@ impl MoveSet {
                 let cost = if connectivity.is_unit_cost() {
                     1.0
                 } else {
-                    f64::from(dx).hypot(f64::from(dy))
+                    crate::cell_hypot(dx.unsigned_abs(), dy.unsigned_abs())
                 };
                 let via = if corner_cutting {
                     Vec::new()

@@ -192,11 +192,8 @@ pub fn pick(problems: &[ProblemEntry], how: FigurePick, limit: usize) -> Vec<&Pr
         FigurePick::First => return problems.iter().take(limit).collect(),
         FigurePick::Hardest => {
             let hardness = |p: &ProblemEntry| {
-                p.optimal_length.unwrap_or_else(|| {
-                    let dx = f64::from(p.start.x) - f64::from(p.goal.x);
-                    let dy = f64::from(p.start.y) - f64::from(p.goal.y);
-                    dx.hypot(dy)
-                })
+                p.optimal_length
+                    .unwrap_or_else(|| p.start.euclidean(p.goal))
             };
             let mut all: Vec<&ProblemEntry> = valid.collect();
             // Hardest first; ties keep map order (the sort is stable).

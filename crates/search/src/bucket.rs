@@ -150,6 +150,7 @@ impl<const TIE: u8> BucketOpen<TIE> {
     /// enough ring slots to cover `(1 + weight) * max_cost`.
     fn configure_units(&mut self, max_cost: f64, weight: f64, fraction_bits: u32, widen: u32) {
         const BUCKETS_PER_UNIT: f64 = 16.0;
+        debug_assert!((4..=Cost::FRACTION_BITS).contains(&fraction_bits));
         let per_unit = BUCKETS_PER_UNIT / f64::from(1u32 << widen);
         let span = (1.0 + weight) * max_cost * per_unit;
         let slots = if span.is_finite() && span < 4096.0 {
