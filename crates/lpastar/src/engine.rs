@@ -31,32 +31,33 @@
 //!   was, and its queued key stays a lower bound of its current key (`km` only grows to
 //!   keep it so), which is all the lazy re-keying on pop needs. This saves most key
 //!   updates; the counters count the operations on the papers' queue U (insert, update,
-//!   remove, pop), which the indexed heap carries out one for one.
-//! - Ties: the queue orders by `(k1, k2, row-major index)`, a total order (module `heap`).
+//!   remove, pop), one each, however the queue (module `queue`) carries them out.
+//! - Ties: the queue orders by `(k1, k2, row-major index)`, a total order (module `queue`).
 //!   The path is traced from the target by the neighbour minimising `c + g`, the first of
-//!   equal ones in the move order right, left, down, up, then the diagonals.
+//!   equal ones in the move order right, left, down, up, then the diagonals. That least
+//!   is `rhs` (kept equal to it for every vertex but the root), so the scan of a vertex's
+//!   neighbours stops at the first that reaches it.
 //!
 //! Data layout (the search is the papers'; this is how it is stored). Vertices are
 //! indices into a copy of the map padded with one blocked cell on every side, so a
 //! neighbour is a fixed offset and needs no bounds test; the padded row-major order is the
 //! grid's, so ties come out as they would by the grid's own index. Per vertex one 24-byte
-//! record holds `g`, `rhs`, a stamp (the session in which they were last written, so a
-//! reset is O(1): older stamps read as `g = rhs = inf`, not queued) and the vertex's
-//! position in the queue (module `heap`: an indexed 4-ary heap, which writes the positions
-//! of the entries it moves into these records), plus one bit for the padded map: 24 bytes
-//! and a bit a padded cell, allocated zeroed (committed by the system as touched). A
-//! cell's moves come from its 3 x 3 block of map bits (three two-byte loads) looked up in
-//! a table. A search allocates nothing per expansion.
+//! record holds `g`, `rhs` and a stamp (the session in which they were last written, so a
+//! reset is O(1): older stamps read as `g = rhs = inf`), the queue keeps a 4-byte ticket
+//! (module `queue`: buckets of `k1` with lazy deletion), and the padded map one bit: 28
+//! bytes and a bit a padded cell, allocated zeroed (committed by the system as touched).
+//! A cell's moves come from its 3 x 3 block of map bits (three two-byte loads) looked up
+//! in a table. After a map's first searches, a search allocates nothing.
 
 use planner_api::{Budget, Cell, Cost, Counters, Grid, MemoryShortfall, Path};
 
-use crate::heap::{Heap, Slots};
+use crate::queue::Queue;
 
 const INF: u64 = u64::MAX;
 
 /// Bytes of per-cell state the engine allocates for each cell of the padded grid (its
 /// memory budget check).
-pub const BYTES_PER_CELL: u64 = 25;
+pub const BYTES_PER_CELL: u64 = 29;
 
 /// The counters of one repair (or first search), as plain integers.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -163,20 +164,9 @@ fn move_table(eight: bool) -> Vec<u8> {
         .collect()
 }
 
-/// A vertex's record: `g`, `rhs`, and `meta` = stamp (low 32 bits) and the vertex's
-/// position in the queue (high 32 bits: index + 1, 0 when not queued). Stored as an array
-/// so that a zeroed allocation is a valid, empty state.
+/// A vertex's record: `g`, `rhs` and the session stamp (the low 32 bits of the third
+/// word). Stored as an array so that a zeroed allocation is a valid, empty state.
 type Record = [u64; 3];
-
-/// The records as the heap's position store. Only current records are queued, so the
-/// stamp is kept as it is.
-impl Slots for Vec<Record> {
-    #[inline(always)]
-    fn set_slot(&mut self, v: u32, slot: u32) {
-        let meta = &mut self[v as usize][2];
-        *meta = u64::from(slot) << 32 | (*meta & 0xffff_ffff);
-    }
-}
 
 /// The incremental search (see the [module docs](self)).
 #[derive(Debug, Clone)]
@@ -197,7 +187,7 @@ pub struct Engine {
     table: Vec<u8>,
     records: Vec<Record>,
     session: u32,
-    heap: Heap,
+    queue: Queue,
     root: u32,
     target: u32,
     /// The target's padded coordinates.
@@ -224,7 +214,7 @@ impl Engine {
             table: move_table(eight),
             records: Vec::new(),
             session: 0,
-            heap: Heap::default(),
+            queue: Queue::default(),
             root: 0,
             target: 0,
             target_xy: (0, 0),
@@ -453,8 +443,8 @@ impl Engine {
             self.records = vec![[0; 3]; n];
             self.session = 0;
         }
-        // The queued vertices' records are of the old session: they read as not queued.
-        self.heap.clear();
+        // The queue forgets the old session's vertices.
+        self.queue.reset(n);
         self.session = self.session.wrapping_add(1);
         if self.session == 0 {
             // After 2^32 sessions the stamps could collide: clear them once.
@@ -485,7 +475,7 @@ impl Engine {
         let mut expanded = 0u64;
         let t = self.target as usize;
         let steps = self.steps;
-        while let Some((k1, k2, u)) = self.heap.peek() {
+        while let Some((k1, k2, u)) = self.queue.top() {
             let ui = u as usize;
             let record = self.records[ui];
             // key(target): h(target, target) = 0.
@@ -498,8 +488,7 @@ impl Engine {
             let xy = self.xy(u);
             let new_key = self.key_with(g_u.min(rhs_u), xy);
             if (k1, k2) < new_key {
-                self.heap
-                    .update(1, (new_key.0, new_key.1, u), &mut self.records);
+                self.queue.update(new_key.0, new_key.1, u);
                 self.stats.heap_updates += 1;
                 continue;
             }
@@ -509,7 +498,7 @@ impl Engine {
             expanded += 1;
             self.stats.expanded += 1;
             if g_u > rhs_u {
-                self.heap.pop(&mut self.records);
+                self.queue.pop_top();
                 self.stats.heap_pops += 1;
                 self.records[ui][0] = rhs_u;
                 let mut legal = self.legal(ui);
@@ -551,13 +540,12 @@ impl Engine {
                 // u's own rhs does not depend on its g; it stays queued with its new key
                 // (it may no longer be on top) or leaves the queue, counted as the pop
                 // of the least.
-                let at = self.slot_of(ui);
                 if rhs_u != INF {
                     let (k1, k2) = self.key_with(rhs_u, xy);
-                    self.heap.update(at, (k1, k2, u), &mut self.records);
+                    self.queue.update(k1, k2, u);
                     self.stats.heap_updates += 1;
                 } else {
-                    self.heap.remove(at, &mut self.records);
+                    self.queue.remove(u);
                     self.stats.heap_pops += 1;
                 }
             }
@@ -589,7 +577,10 @@ impl Engine {
             if cells.len() > grid.len() {
                 return None;
             }
-            // The least c + g, the first of equal ones in move order (strict <).
+            // The least c + g, the first of equal ones in move order (strict <). That
+            // least is rhs(u) (rhs is kept equal to it for every vertex but the root), so
+            // the first neighbour that reaches it is the one: the scan stops there.
+            let least = self.rhs_of(u);
             let (mut best, mut best_k) = (INF, 8usize);
             let mut legal = self.legal(u);
             while legal != 0 {
@@ -601,6 +592,9 @@ impl Engine {
                     .saturating_add(self.g_of(u.wrapping_add_signed(step.offset)));
                 if through < best {
                     (best, best_k) = (through, k);
+                    if through == least {
+                        break;
+                    }
                 }
             }
             let step = self.steps.get(best_k)?;
@@ -643,16 +637,6 @@ impl Engine {
             self.records[i][1]
         } else {
             INF
-        }
-    }
-
-    /// `i`'s position in the queue (index + 1), 0 when not queued.
-    #[inline]
-    fn slot_of(&self, i: usize) -> u32 {
-        if self.current(i) {
-            (self.records[i][2] >> 32) as u32
-        } else {
-            0
         }
     }
 
@@ -732,23 +716,24 @@ impl Engine {
     fn update_vertex(&mut self, u: u32, xy: (u32, u32)) {
         let i = u as usize;
         let record = self.records[i];
-        let (g, rhs, at) = if record[2] as u32 == self.session {
-            (record[0], record[1], (record[2] >> 32) as u32)
+        let (g, rhs) = if record[2] as u32 == self.session {
+            (record[0], record[1])
         } else {
-            (INF, INF, 0)
+            (INF, INF)
         };
+        let queued = self.queue.contains(u);
         if g != rhs {
             // The record is current: g != rhs means one was set this session.
             let (k1, k2) = self.key_with(g.min(rhs), xy);
-            if at != 0 {
-                self.heap.update(at, (k1, k2, u), &mut self.records);
+            if queued {
+                self.queue.update(k1, k2, u);
                 self.stats.heap_updates += 1;
             } else {
-                self.heap.push((k1, k2, u), &mut self.records);
+                self.queue.push(k1, k2, u);
                 self.stats.heap_pushes += 1;
             }
-        } else if at != 0 {
-            self.heap.remove(at, &mut self.records);
+        } else if queued {
+            self.queue.remove(u);
             self.stats.heap_removes += 1;
         }
     }
