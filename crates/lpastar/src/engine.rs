@@ -488,7 +488,7 @@ impl Engine {
             let xy = self.xy(u);
             let new_key = self.key_with(g_u.min(rhs_u), xy);
             if (k1, k2) < new_key {
-                self.queue.update(new_key.0, new_key.1, u);
+                self.queue.rekey_top(new_key.0, new_key.1);
                 self.stats.heap_updates += 1;
                 continue;
             }
@@ -569,9 +569,12 @@ impl Engine {
     /// map has cells (which a correct search never does; the oracle tests say so).
     pub fn trace(&self) -> Option<Vec<Cell>> {
         let grid = self.grid.as_ref()?;
-        self.target_distance()?;
+        let distance = self.target_distance()?;
         let mut at = self.cell_of(self.target);
-        let mut cells = vec![at];
+        // Every move costs at least one, so the path has at most `distance + 1` cells.
+        let most = (distance.units() / Cost::ONE.units()).saturating_add(1);
+        let mut cells = Vec::with_capacity((most as usize).min(grid.len()));
+        cells.push(at);
         let mut u = self.target as usize;
         while u != self.root as usize {
             if cells.len() > grid.len() {

@@ -1,4 +1,4 @@
-//! The priority queue U: a ring of narrow `k1` buckets in front of a 4-ary heap, with
+//! The priority queue U: a ring of narrow `k1` buckets in front of the least bucket, with
 //! lazy deletion by tickets.
 //!
 //! Entries are `(k1, k2, vertex)`, ordered as tuples: the papers' two-part key `[k1; k2]`,
@@ -12,24 +12,26 @@
 //! (Fig. 4 of the paper). In a heap holding the whole frontier of every earlier search,
 //! that key increase sifts down through all its levels (575 instructions each, callgrind on
 //! den520d navigations), and re-keying happens about 0.8 times per expansion. Here a
-//! larger key usually lands in a later bucket, an append, and the stale entry it leaves
-//! costs one pop of the small heap that holds about one bucket (28 entries on average in
-//! den520d navigations at radius 5, 108 on random512-10-0).
+//! larger key usually lands in a later bucket: an append.
 //!
 //! Layout: bucket `b` holds the keys with `k1 >> BUCKET_SHIFT == b` (an eighth of a cell
-//! wide; a quarter and a sixteenth measured the same). The heap (`front`, a 4-ary min-heap
-//! with branch-free comparisons and bottom-up pops) holds every entry whose bucket is at
-//! most `current`; the ring holds, unordered, the entries of the buckets `current + 1 ..
-//! current + RING` (a bit per bucket says which are occupied); the rest wait in `far`.
-//! When the heap runs empty, `current` moves to the next occupied bucket (or `far`'s least,
-//! whichever is first) and that bucket's entries are heaped. So every entry outside the
-//! heap has a larger `k1` than every entry inside it, and the heap's least is the queue's.
-//! `current` only grows: a key pushed below it joins the heap.
+//! wide; a quarter and a sixteenth measured the same). The `front` holds every entry whose
+//! bucket is at most `current`: the bucket `current` as it was when it came up, sorted with
+//! the least last (a pop is a vector pop), and a 4-ary min-heap (branch-free comparisons,
+//! bottom-up pops) for the keys pushed since into that bucket or below it. The front holds
+//! about 28 entries at a pop in den520d navigations at radius 5, 108 on random512-10-0,
+//! where most are such pushes (one sorted vector for both was 20 % slower there). The ring
+//! holds, unordered, the entries of the buckets `current + 1 .. current + RING` (a bit per
+//! bucket says which are occupied); the rest wait in `far`. When the front runs empty,
+//! `current` moves to the next occupied bucket (or `far`'s least, whichever is first) and
+//! that bucket's live entries are sorted into it. So every entry outside the front has a
+//! larger `k1` than every entry inside it, and the front's least is the queue's. `current`
+//! only grows: a key pushed below it joins the front's heap.
 //!
 //! Deletion is lazy: each vertex has a ticket (0: not queued), and each entry carries the
 //! ticket it was pushed with. A key change or removal issues a new ticket (or 0), which
-//! makes the older entry stale; stale entries are dropped when they reach the heap's top or
-//! when their bucket is heaped. When stale entries outnumber the queued ones (twice over,
+//! makes the older entry stale; stale entries are dropped when they reach the front's top
+//! or when their bucket comes up. When stale entries outnumber the queued ones (twice over,
 //! plus [`SLACK`]), every container is filtered at once, so memory stays within a
 //! constant factor of the queue's size. Tickets are 32-bit; before they would wrap, the
 //! queue is filtered and the queued entries renumbered.
@@ -82,6 +84,49 @@ fn less(a: &Entry, b: &Entry) -> bool {
         u64::from(b.vertex) << 32 | u64::from(b.ticket),
     );
     (ka < kb) | ((ka == kb) & (ta < tb))
+}
+
+/// The entries of the buckets up to `current`: the bucket last entered as a sorted run
+/// (the least last, so a pop is a vector pop), and the entries pushed since, which the
+/// ring did not take (keys of the current bucket or below), in a heap.
+#[derive(Debug, Clone, Default)]
+struct Front {
+    run: Vec<Entry>,
+    heap: Heap,
+}
+
+impl Front {
+    #[inline]
+    fn peek(&self) -> Option<&Entry> {
+        match (self.run.last(), self.heap.peek()) {
+            (Some(r), Some(h)) if less(h, r) => Some(h),
+            (Some(r), _) => Some(r),
+            (None, h) => h,
+        }
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Entry> {
+        match (self.run.last(), self.heap.peek()) {
+            (Some(r), Some(h)) if less(h, r) => self.heap.pop(),
+            (Some(_), _) => self.run.pop(),
+            (None, _) => self.heap.pop(),
+        }
+    }
+
+    #[inline]
+    fn push(&mut self, entry: Entry) {
+        self.heap.push(entry);
+    }
+
+    fn clear(&mut self) {
+        self.run.clear();
+        self.heap.clear();
+    }
+
+    fn is_empty(&self) -> bool {
+        self.run.is_empty() && self.heap.items.is_empty()
+    }
 }
 
 /// A 4-ary min-heap of entries (the least by [`less`] on top).
@@ -190,7 +235,7 @@ fn least_child(items: &[Entry], first: usize, n: usize) -> Option<usize> {
 /// The queue U (see the [module docs](self)).
 #[derive(Debug, Clone)]
 pub(crate) struct Queue {
-    front: Heap,
+    front: Front,
     ring: Vec<Vec<Entry>>,
     /// A bit per ring bucket: set when it holds entries (live or stale).
     occupied: Vec<u64>,
@@ -211,7 +256,7 @@ pub(crate) struct Queue {
 impl Default for Queue {
     fn default() -> Queue {
         Queue {
-            front: Heap::default(),
+            front: Front::default(),
             ring: vec![Vec::new(); RING],
             occupied: vec![0; RING / 64],
             far: Vec::new(),
@@ -315,6 +360,17 @@ impl Queue {
         }
     }
 
+    /// Gives the entry [`Queue::top`] returned the key `[k1; k2]` (precondition: nothing
+    /// changed since): [`Queue::update`] of its vertex, with the old entry taken out now
+    /// rather than skipped later.
+    #[inline]
+    pub(crate) fn rekey_top(&mut self, k1: u64, k2: u64) {
+        if let Some(e) = self.front.pop() {
+            self.held -= 1;
+            self.requeue(k1, k2, e.vertex);
+        }
+    }
+
     /// Pushes a new entry for `vertex` with a fresh ticket; an older one becomes stale.
     #[inline]
     fn requeue(&mut self, k1: u64, k2: u64, vertex: u32) {
@@ -379,16 +435,22 @@ impl Queue {
         self.current = b;
         let slot = b as usize % RING;
         self.occupied[slot / 64] &= !(1 << (slot % 64));
-        let bucket = std::mem::take(&mut self.ring[slot]);
-        for &e in &bucket {
-            if self.tickets[e.vertex as usize] == e.ticket {
-                self.front.push(e);
-            } else {
-                self.held -= 1;
-            }
-        }
-        self.ring[slot] = bucket;
-        self.ring[slot].clear();
+        // The front is empty here: the bucket becomes its sorted run.
+        debug_assert!(self.front.is_empty());
+        let bucket = &mut self.ring[slot];
+        let before = bucket.len();
+        let tickets = &self.tickets;
+        let run = &mut self.front.run;
+        run.extend(
+            bucket
+                .drain(..)
+                .filter(|e| tickets[e.vertex as usize] == e.ticket),
+        );
+        self.held -= before - run.len();
+        // Descending: the least last.
+        run.sort_unstable_by(|a, b| {
+            (b.key(), b.vertex, b.ticket).cmp(&(a.key(), a.vertex, a.ticket))
+        });
         true
     }
 
@@ -432,8 +494,9 @@ impl Queue {
             next += 1;
             true
         };
-        self.front.items.retain_mut(&mut renumber);
-        self.front.heapify();
+        self.front.run.retain_mut(&mut renumber);
+        self.front.heap.items.retain_mut(&mut renumber);
+        self.front.heap.heapify();
         for (b, bucket) in self.ring.iter_mut().enumerate() {
             if self.occupied[b / 64] >> (b % 64) & 1 == 1 {
                 bucket.retain_mut(&mut renumber);
@@ -506,7 +569,7 @@ mod tests {
                 3 => {
                     if let Some((_, _, u)) = queue.top() {
                         let k1 = k1.max(base);
-                        queue.update(k1, k2, u);
+                        queue.rekey_top(k1, k2);
                         model.insert(u, (k1, k2));
                     }
                 }
