@@ -186,12 +186,16 @@ pub fn run_one(
     let seed = planner.factory.seed_for(experiment.seed, spec.repeat);
     let mut record = blank_record(map, entry, planner, spec.repeat, seed);
     if entry.invalid.is_some() {
-        tracing::warn!(
-            "{} problem {}: {}; not run",
-            map.name,
-            entry.index,
-            entry.invalid.as_deref().unwrap_or("invalid")
-        );
+        // Said once per problem, by its first label's first repeat (which one shard of a
+        // sharded sweep runs), not once per run.
+        if spec.planner == 0 && spec.repeat == 0 {
+            tracing::warn!(
+                "{} problem {}: {}; not run",
+                map.name,
+                entry.index,
+                entry.invalid.as_deref().unwrap_or("invalid")
+            );
+        }
         return Ok(record);
     }
     if workspace.slots.len() < experiment.planners.len() {
