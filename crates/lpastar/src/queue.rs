@@ -18,9 +18,10 @@
 //! wide; a quarter and a sixteenth measured the same). The `front` holds every entry whose
 //! bucket is at most `current`: the bucket `current` as it was when it came up, sorted with
 //! the least last (a pop is a vector pop), and a 4-ary min-heap (branch-free comparisons,
-//! bottom-up pops) for the keys pushed since into that bucket or below it. The front holds
-//! about 28 entries at a pop in den520d navigations at radius 5, 108 on random512-10-0,
-//! where most are such pushes (one sorted vector for both was 20 % slower there). The ring
+//! bottom-up pops) for the keys pushed since into that bucket or below it. Measured with the
+//! front as one heap, it held on average 28 entries at a pop in den520d navigations (radius
+//! 5) and 108 on random512-10-0 (radii 1 and 5), where most were such pushes (one sorted
+//! vector for both was 20 % slower there). The ring
 //! holds, unordered, the entries of the buckets `current + 1 .. current + RING` (a bit per
 //! bucket says which are occupied); the rest wait in `far`. When the front runs empty,
 //! `current` moves to the next occupied bucket (or `far`'s least, whichever is first) and
@@ -73,9 +74,16 @@ impl Entry {
     }
 }
 
-/// Whether `a` orders before `b`: `(k1, k2, vertex)`, then the ticket (which only orders
-/// a vertex's stale entries of the same key among themselves and its live one). Non-short-
-/// circuit operators: no branch on the outcome.
+/// The queue's order: `(k1, k2, vertex)`, then the ticket (which only orders a vertex's
+/// stale entries of the same key among themselves and its live one). [`less`] is the same
+/// order as a branch-free test, for the heap.
+#[inline(always)]
+fn order(a: &Entry, b: &Entry) -> std::cmp::Ordering {
+    (a.key(), a.vertex, a.ticket).cmp(&(b.key(), b.vertex, b.ticket))
+}
+
+/// Whether `a` orders before `b` ([`order`]). Non-short-circuit operators: no branch on
+/// the outcome.
 #[inline(always)]
 fn less(a: &Entry, b: &Entry) -> bool {
     let (ka, kb) = (a.key(), b.key());
@@ -414,19 +422,23 @@ impl Queue {
             // again against the new window (the ring's buckets all lie above it).
             self.current = self.far_min;
             self.far_min = u64::MAX;
+            // In place: the entries now inside the window move to the front or the ring,
+            // the stale ones are dropped, the rest stay (no allocation).
             let mut far = std::mem::take(&mut self.far);
-            for e in far.drain(..) {
-                if self.tickets[e.vertex as usize] == e.ticket {
-                    self.insert(e);
-                } else {
+            far.retain(|&e| {
+                if self.tickets[e.vertex as usize] != e.ticket {
                     self.held -= 1;
+                    return false;
                 }
-            }
-            // The entries that stay far went to a new vector; keep the old one's memory
-            // when none did.
-            if self.far.is_empty() {
-                self.far = far;
-            }
+                let b = e.bucket();
+                if b - self.current < RING as u64 {
+                    self.insert(e);
+                    return false;
+                }
+                self.far_min = self.far_min.min(b);
+                true
+            });
+            self.far = far;
             return true;
         }
         let Some(b) = next else {
@@ -448,9 +460,7 @@ impl Queue {
         );
         self.held -= before - run.len();
         // Descending: the least last.
-        run.sort_unstable_by(|a, b| {
-            (b.key(), b.vertex, b.ticket).cmp(&(a.key(), a.vertex, a.ticket))
-        });
+        run.sort_unstable_by(|a, b| order(b, a));
         true
     }
 
