@@ -41,6 +41,24 @@ fn search_time(run: &NavRun) -> Duration {
     run.replans.iter().map(|r| r.replan_time).sum()
 }
 
+/// One line per planner of a scenario: replans, the first plan's expansions and time (its
+/// reset apart), and the totals (`--per-scenario`).
+fn print_scenario(line: usize, row: &[(String, NavRun)]) {
+    for (name, run) in row {
+        let first = run.replans.first();
+        println!(
+            "  scenario {line} {name}: replans {} first {} exp {:.1} us (reset {:.1} us) total {} exp {:.1} us (searches {:.1} us)",
+            run.replans.len(),
+            first.map_or(0, |r| r.expansions),
+            first.map_or(0.0, |r| r.replan_time.as_secs_f64() * 1e6),
+            first.map_or(0.0, |r| r.update_time.as_secs_f64() * 1e6),
+            run.total_expansions(),
+            run.planning_time().as_secs_f64() * 1e6,
+            search_time(run).as_secs_f64() * 1e6,
+        );
+    }
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::from_env();
     let n_scenarios: usize = args.parsed("--scenarios", "100")?;
@@ -48,6 +66,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let radii: Vec<u32> = args.parsed_list("--radius", "1,5")?;
     let names = args.list("--planners", "dstar_lite,astar,astar_backward");
     let repeats = args.parsed::<usize>("--repeat", "3")?.max(1);
+    let per_scenario = args.flag("--per-scenario");
     for name in &names {
         planners::by_name(name, true)?;
     }
@@ -95,6 +114,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                             }
                         }
                     }
+                }
+                if per_scenario {
+                    print_scenario(scenario.line, &row);
                 }
                 table.push(row);
             }
