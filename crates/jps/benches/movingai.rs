@@ -8,7 +8,8 @@
 //! one pass over the scenarios, from timed runs of `k` passes each (at least 0.2 s: the
 //! `--clock=cpu` thread time advances in scheduler ticks of 4 ms). A scenario is a mismatch unless
 //! both JPS's path length and the peer's cost equal the scenario's optimum (relative
-//! 1e-4). `expansions` is JPS's total `n_expanded` (jump points); the peer's expansions
+//! 1e-4). A timed pass plans every scenario and keeps the paths, as the peer's search
+//! returns its path and cost; JPS's path lengths are measured after the timing. `expansions` is JPS's total `n_expanded` (jump points); the peer's expansions
 //! (cells) are printed once per map as `map=<name> peer_expansions=<n>`. For `jps_plus`, a
 //! line `map=<name> variant=jps_plus precompute_ms=<t> jump_table_bytes=<n>
 //! bit_grid_bytes=<n>` gives the one-off precomputation (on a fresh planner), which the
@@ -23,7 +24,7 @@
 
 use std::time::Instant;
 
-use planner_api::{Budget, Grid, Planner, Problem};
+use planner_api::{Budget, Grid, Path, Planner, Problem};
 use planner_bench::{best_of_alternating, close, load_movingai, Peer, Repeats, STRAIGHT};
 use planner_jps::{Config, Jps, Variant};
 use planner_maps::Scenario;
@@ -105,18 +106,19 @@ fn run(name: &str, grid: &Grid, scenarios: &[Scenario], variant: Variant, repeat
             .unwrap_or_else(|e| panic!("{}: {e}", dump.to_string_lossy()));
     }
     let peer = Peer::new(grid);
-    // One pass over the scenarios, as timed.
+    // One pass over the scenarios, as timed: the paths, as the peer returns its paths and
+    // costs (their lengths are measured after the timing, as the peer's costs need no work).
     let mut pass = || {
         let mut n_expanded = 0;
-        let lengths: Vec<Option<f64>> = problems
+        let paths: Vec<Option<Path>> = problems
             .iter()
             .map(|problem| {
                 let outcome = jps.plan(problem, &Budget::unlimited());
                 n_expanded += outcome.counters.get("n_expanded").unwrap_or(0);
-                outcome.path.map(|path| path.metrics().length)
+                outcome.path
             })
             .collect();
-        (lengths, n_expanded)
+        (paths, n_expanded)
     };
     // Linux updates a thread's CPU time (`--clock=cpu`) at scheduler ticks, every 4 ms here,
     // so a pass of a few milliseconds is timed as `inner` back-to-back passes of at least
@@ -155,10 +157,11 @@ fn run(name: &str, grid: &Grid, scenarios: &[Scenario], variant: Variant, repeat
     )
     .unwrap_or_else(|e| panic!("{e}"));
     let mut mismatches = 0;
-    for ((s, length), cost) in scenarios.iter().zip(&ours.result.0).zip(&theirs.result.0) {
+    for ((s, path), cost) in scenarios.iter().zip(&ours.result.0).zip(&theirs.result.0) {
+        let length = path.as_ref().map(|path| path.metrics().length);
         let agree = match (length, cost) {
             (Some(length), Some(cost)) => {
-                close(*length, s.optimal_length)
+                close(length, s.optimal_length)
                     && close(*cost as f64 / STRAIGHT as f64, s.optimal_length)
             }
             _ => false,

@@ -47,7 +47,7 @@ fn print_scenario(line: usize, row: &[(String, NavRun)]) {
     for (name, run) in row {
         let first = run.replans.first();
         println!(
-            "  scenario {line} {name}: replans {} first {} exp {:.1} us (reset {:.1} us) total {} exp {:.1} us (searches {:.1} us)",
+            "  scenario {line} {name}: replans {} first {} exp {:.1} us (reset {:.1} us) total {} exp {:.1} us (searches {:.1} us, later updates {:.1} us)",
             run.replans.len(),
             first.map_or(0, |r| r.expansions),
             first.map_or(0.0, |r| r.replan_time.as_secs_f64() * 1e6),
@@ -55,6 +55,13 @@ fn print_scenario(line: usize, row: &[(String, NavRun)]) {
             run.total_expansions(),
             run.planning_time().as_secs_f64() * 1e6,
             search_time(run).as_secs_f64() * 1e6,
+            run.replans
+                .iter()
+                .skip(1)
+                .map(|r| r.update_time)
+                .sum::<Duration>()
+                .as_secs_f64()
+                * 1e6,
         );
     }
 }
