@@ -6,7 +6,7 @@
 //! ```text
 //! cargo bench -p planner-replan --bench navigate -- [--scenarios 100] \
 //!     [--maps den520d,random512-10-0] [--radius 1,5] [--planners dstar_lite,astar,astar_backward] \
-//!     [--repeat 3]
+//!     [--repeat 3] [--per-scenario]
 //! ```
 //!
 //! For each map, radius and scenario (spread evenly over the `.scen` file), every planner
@@ -26,7 +26,8 @@
 //! first two compare like with like only in the second: the planner's time includes its
 //! reset (setting up its copy of the map), A*'s bare searches include no setup at all, so
 //! a fourth figure takes the setup out of both (the planner without its reset against A*'s
-//! searches).
+//! searches). `--per-scenario` also prints a line per scenario and planner (its first
+//! plan, reset, later updates and totals), to see which part of a run the time goes to.
 
 use std::time::Duration;
 
@@ -41,8 +42,9 @@ fn search_time(run: &NavRun) -> Duration {
     run.replans.iter().map(|r| r.replan_time).sum()
 }
 
-/// One line per planner of a scenario: replans, the first plan's expansions and time (its
-/// reset apart), and the totals (`--per-scenario`).
+/// One line per planner of a scenario (`--per-scenario`): replans, the first plan's
+/// expansions and time, its reset (the first update), the totals, and the later updates'
+/// time (telling the planner the moves and changes).
 fn print_scenario(line: usize, row: &[(String, NavRun)]) {
     for (name, run) in row {
         let first = run.replans.first();
