@@ -68,8 +68,9 @@
 //! weight 0 or 1, `f` is an integer that never drops along an edge and rises by at most 2,
 //! so OPEN is four slots of one `f` each: a queue (FIFO), a stack (LIFO), or runs of equal
 //! `g` (high g first; a child always lands on top). Otherwise it is a ring of `f` buckets
-//! of width 1/16 in front of a binary heap that holds the least bucket, itself behind a
-//! sorted front of eight entries that catches the common new minimum. An improved node is
+//! of width 1/16 in front of the least bucket, sorted when it comes up, with a binary heap
+//! for the entries pushed into it since, itself behind a sorted front of eight entries that
+//! catches the common new minimum. An improved node is
 //! pushed again and its older entry is skipped when it comes out (the node is then
 //! CLOSED), or dropped unseen when its bucket comes up; `peak_open` counts nodes in OPEN,
 //! not entries. The tests hold every variant to a plain `BinaryHeap` transcription of
