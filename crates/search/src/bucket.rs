@@ -645,7 +645,7 @@ impl MinHeap {
         debug_assert!(self.run.is_empty() && self.front.is_empty());
         self.run.append(&mut self.items);
         self.run
-            .sort_unstable_by(|a, b| (b.f, b.tie, b.seq_node).cmp(&(a.f, a.tie, a.seq_node)));
+            .sort_unstable_by_key(|e| std::cmp::Reverse((e.f, e.tie, e.seq_node)));
     }
 
     #[inline]
