@@ -23,13 +23,12 @@
 //! the front as one heap, it held on average 28 entries at a pop in den520d navigations
 //! (radius 5) and 108 on random512-10-0 (radii 1 and 5), where most were such pushes (one
 //! sorted vector for both, kept sorted on every push, was 20 % slower there). With the run
-//! refilled only when it came up, the heap still held 92 entries on average at a pop on
-//! random512-10-0 and gave 84 % of the pops there: while the agent knows little, the octile
-//! heuristic is exact on most of the known map, so a search's successors share their
+//! refilled only when it came up, the heap still held 90 to 94 entries on average at a pop
+//! on random512-10-0 and gave 83-84 % of the pops there: while the agent knows little, the
+//! octile heuristic is exact on most of the known map, so a search's successors share their
 //! parent's `k1` and land in the current bucket, ordered by `k2` alone. Sorting them in
-//! batches instead cut D* Lite's planning time there by 28-32 % (the README's D* Lite
-//! section, sixth round). The ring
-//! holds, unordered, the entries of the buckets `current + 1 .. current + RING` (a bit per
+//! batches instead cut D* Lite's summed planning time there by a quarter to a third (the
+//! README's D* Lite section, sixth round). The ring holds, unordered, the entries of the buckets `current + 1 .. current + RING` (a bit per
 //! bucket says which are occupied); the rest wait in `far`. When the front runs empty,
 //! `current` moves to the next occupied bucket (or `far`'s least, whichever is first) and
 //! that bucket's live entries are sorted into it. So every entry outside the front has a
