@@ -9,8 +9,9 @@
 //! `--clock=cpu` thread time advances in scheduler ticks of 4 ms). A scenario is a mismatch unless
 //! both JPS's path length and the peer's cost equal the scenario's optimum (relative
 //! 1e-4). A timed pass plans every scenario and keeps the paths, as the peer's search
-//! returns its path and cost; JPS's path lengths are measured after the timing. `expansions` is JPS's total `n_expanded` (jump points); the peer's expansions
-//! (cells) are printed once per map as `map=<name> peer_expansions=<n>`. For `jps_plus`, a
+//! returns its path and cost; JPS's path lengths are measured after the timing.
+//! `expansions` is JPS's total `n_expanded` (jump points); the peer's expansions (cells)
+//! are printed once per map as `map=<name> peer_expansions=<n>`. For `jps_plus`, a
 //! line `map=<name> variant=jps_plus precompute_ms=<t> jump_table_bytes=<n>
 //! bit_grid_bytes=<n>` gives the one-off precomputation (on a fresh planner), which the
 //! timed queries then reuse. Marks are off (`marks = false`), so JPS builds the path

@@ -30,10 +30,11 @@
 //! batches instead cut D* Lite's summed planning time there by a quarter to a third (the
 //! README's D* Lite section, sixth round). The ring holds, unordered, the entries of the
 //! buckets `current + 1 .. current + RING` (a bit per bucket says which are occupied); the
-//! rest wait in `far`. When the front runs empty, `current` moves to the next occupied bucket (or `far`'s least, whichever is first) and
-//! that bucket's live entries are sorted into it. So every entry outside the front has a
-//! larger `k1` than every entry inside it, and the front's least is the queue's. `current`
-//! only grows: a key pushed below it joins the front's heap.
+//! rest wait in `far`. When the front runs empty, `current` moves to the next occupied
+//! bucket (or `far`'s least, whichever is first) and that bucket's live entries are sorted
+//! into it. So every entry outside the front has a larger `k1` than every entry inside it,
+//! and the front's least is the queue's. `current` only grows: a key pushed below it joins
+//! the front's heap.
 //!
 //! Deletion is lazy: each vertex has a ticket (0: not queued), and each entry carries the
 //! ticket it was pushed with. A key change or removal issues a new ticket (or 0), which
