@@ -41,11 +41,15 @@
 //! Data layout (the search is the papers'; this is how it is stored). Vertices are
 //! indices into a copy of the map padded with one blocked cell on every side, so a
 //! neighbour is a fixed offset and needs no bounds test; the padded row-major order is the
-//! grid's, so ties come out as they would by the grid's own index. Per vertex one 24-byte
-//! record holds `g`, `rhs` and a stamp (the session in which they were last written, so a
-//! reset is O(1): older stamps read as `g = rhs = inf`), the queue keeps a 4-byte ticket
-//! (module `queue`: buckets of `k1` with lazy deletion), and the padded map one bit: 28
-//! bytes and a bit a padded cell, allocated zeroed (committed by the system as touched).
+//! grid's, so ties come out as they would by the grid's own index. Per vertex one 16-byte
+//! record holds `g` and `rhs`, complemented so that zero reads as `inf` (a four-to-a-line
+//! record read with no test; with a third word for a session stamp instead, D* Lite's
+//! navigations were slower, the README's D* Lite section, seventh round). A session lists
+//! the vertices whose records it wrote, at most one entry per vertex (4 bytes), and the
+//! next session clears those, so a reset costs the last session's work, not the map's
+//! size. The queue keeps a 4-byte ticket (module `queue`: buckets of `k1` with lazy
+//! deletion), and the padded map one bit: 24 bytes and a bit a padded cell at most,
+//! allocated zeroed (committed by the system as touched).
 //! A cell's moves come from its 3 x 3 block of map bits (three two-byte loads) looked up
 //! in a table. After a map's first searches, a search allocates nothing.
 
@@ -57,7 +61,7 @@ const INF: u64 = u64::MAX;
 
 /// Bytes of per-cell state the engine allocates for each cell of the padded grid (its
 /// memory budget check).
-pub const BYTES_PER_CELL: u64 = 29;
+pub const BYTES_PER_CELL: u64 = 25;
 
 /// The counters of one repair (or first search), as plain integers.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -164,9 +168,9 @@ fn move_table(eight: bool) -> Vec<u8> {
         .collect()
 }
 
-/// A vertex's record: `g`, `rhs` and the session stamp (the low 32 bits of the third
-/// word). Stored as an array so that a zeroed allocation is a valid, empty state.
-type Record = [u64; 3];
+/// A vertex's record: `g` and `rhs`, each stored complemented (`!value`), so that a zeroed
+/// record (and a zeroed allocation) reads `g = rhs = inf`.
+type Record = [u64; 2];
 
 /// The incremental search (see the [module docs](self)).
 #[derive(Debug, Clone)]
@@ -186,7 +190,12 @@ pub struct Engine {
     /// (bit `3 * (dy + 1) + dx + 1` for the cell at offset `(dx, dy)`).
     table: Vec<u8>,
     records: Vec<Record>,
-    session: u32,
+    /// The vertices whose records this session wrote, each listed when its record first
+    /// left `g = rhs = inf` (a vertex can be listed again after returning there). At most
+    /// one entry per vertex is kept; past that, `touched_all` says the whole array is
+    /// cleared at the next session instead.
+    touched: Vec<u32>,
+    touched_all: bool,
     queue: Queue,
     root: u32,
     target: u32,
@@ -213,7 +222,8 @@ impl Engine {
             steps: [Step::default(); 8],
             table: move_table(eight),
             records: Vec::new(),
-            session: 0,
+            touched: Vec::new(),
+            touched_all: false,
             queue: Queue::default(),
             root: 0,
             target: 0,
@@ -249,7 +259,8 @@ impl Engine {
     /// one map, as a robot keeps its planner), the copy is brought up to date in place:
     /// the free flags are compared a block at a time and only the cells that differ are
     /// written, so a reset costs a comparison of the maps rather than a new copy of both
-    /// (the per-cell search state is reset in O(1) by the session stamp).
+    /// (the per-cell search state is cleared where the last session wrote it, when the
+    /// next search begins).
     pub fn reset(&mut self, grid: &Grid, root: Cell, target: Cell) {
         let same_shape = self.grid.as_ref().is_some_and(|old| {
             old.width() == grid.width()
@@ -440,17 +451,20 @@ impl Engine {
         }
         let n = padded as usize;
         if self.records.len() != n {
-            self.records = vec![[0; 3]; n];
-            self.session = 0;
+            self.records = vec![[0; 2]; n];
+        } else if self.touched_all {
+            self.records.fill([0; 2]);
+        } else {
+            // Only the records the last session wrote differ from `inf`: a reset costs
+            // that session's work, not the map's size.
+            for &v in &self.touched {
+                self.records[v as usize] = [0; 2];
+            }
         }
+        self.touched.clear();
+        self.touched_all = false;
         // The queue forgets the old session's vertices.
         self.queue.reset(n);
-        self.session = self.session.wrapping_add(1);
-        if self.session == 0 {
-            // After 2^32 sessions the stamps could collide: clear them once.
-            self.records.iter_mut().for_each(|r| r[2] = 0);
-            self.session = 1;
-        }
         Ok(())
     }
 
@@ -477,7 +491,7 @@ impl Engine {
         let steps = self.steps;
         while let Some((k1, k2, u)) = self.queue.top() {
             let ui = u as usize;
-            let record = self.records[ui];
+            let record = self.records[ui].map(|stored| !stored);
             // key(target): h(target, target) = 0.
             let (g_t, rhs_t) = (self.g_of(t), self.rhs_of(t));
             let m_t = g_t.min(rhs_t);
@@ -500,7 +514,7 @@ impl Engine {
             if g_u > rhs_u {
                 self.queue.pop_top();
                 self.stats.heap_pops += 1;
-                self.records[ui][0] = rhs_u;
+                self.records[ui][0] = !rhs_u;
                 let mut legal = self.legal(ui);
                 while legal != 0 {
                     let step = steps[legal.trailing_zeros() as usize];
@@ -520,7 +534,7 @@ impl Engine {
                     }
                 }
             } else {
-                self.records[ui][0] = INF;
+                self.records[ui][0] = !INF;
                 let mut legal = self.legal(ui);
                 while legal != 0 {
                     let step = steps[legal.trailing_zeros() as usize];
@@ -621,47 +635,34 @@ impl Engine {
     }
 
     #[inline]
-    fn current(&self, i: usize) -> bool {
-        self.records[i][2] as u32 == self.session
-    }
-
-    #[inline]
     fn g_of(&self, i: usize) -> u64 {
-        if self.current(i) {
-            self.records[i][0]
-        } else {
-            INF
-        }
+        !self.records[i][0]
     }
 
     #[inline]
     fn rhs_of(&self, i: usize) -> u64 {
-        if self.current(i) {
-            self.records[i][1]
-        } else {
-            INF
-        }
+        !self.records[i][1]
     }
 
-    /// Makes `i`'s record current: older records read as `g = rhs = inf`, not queued.
-    #[inline]
-    fn touch(&mut self, i: usize) {
-        if !self.current(i) {
-            self.records[i] = [INF, INF, u64::from(self.session)];
-        }
-    }
-
-    /// Sets `rhs(u)`; whether it changed.
+    /// Sets `rhs(u)`; whether it changed. A record leaving `g = rhs = inf` is listed for
+    /// the next session's reset.
     #[inline]
     fn set_rhs(&mut self, u: u32, value: u64) -> bool {
         let i = u as usize;
-        self.touch(i);
-        let changed = self.records[i][1] != value;
-        if changed {
-            self.records[i][1] = value;
-            self.stats.rhs_changes += 1;
+        let record = self.records[i];
+        if !record[1] == value {
+            return false;
         }
-        changed
+        if record == [0; 2] {
+            if self.touched.len() < self.records.len() {
+                self.touched.push(u);
+            } else {
+                self.touched_all = true;
+            }
+        }
+        self.records[i][1] = !value;
+        self.stats.rhs_changes += 1;
+        true
     }
 
     /// `rhs(u)` from scratch: 0 at a free root, else the least `c(u, s) + g(s)`.
@@ -718,15 +719,9 @@ impl Engine {
     /// is inconsistent, else takes it out of the queue.
     fn update_vertex(&mut self, u: u32, xy: (u32, u32)) {
         let i = u as usize;
-        let record = self.records[i];
-        let (g, rhs) = if record[2] as u32 == self.session {
-            (record[0], record[1])
-        } else {
-            (INF, INF)
-        };
+        let [g, rhs] = self.records[i].map(|stored| !stored);
         let queued = self.queue.contains(u);
         if g != rhs {
-            // The record is current: g != rhs means one was set this session.
             let (k1, k2) = self.key_with(g.min(rhs), xy);
             if queued {
                 self.queue.update(k1, k2, u);
@@ -751,5 +746,64 @@ impl Engine {
         } else {
             Cost::steps(u64::from(dx) + u64::from(dy)).units()
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(text: &str) -> Grid {
+        Grid::from_ascii(text).unwrap()
+    }
+
+    /// A search from `root` to `target` on `grid` by `engine`: g(target) and the counters.
+    fn search(
+        engine: &mut Engine,
+        grid: &Grid,
+        root: Cell,
+        target: Cell,
+    ) -> (Option<Cost>, RepairStats) {
+        engine.reset(grid, root, target);
+        assert_eq!(engine.compute(&Budget::unlimited()), Computed::Done);
+        (engine.target_distance(), engine.take_stats())
+    }
+
+    /// A kept engine's sessions give what a fresh engine gives, whether the reset clears
+    /// the listed records or, after the list filled, the whole array.
+    #[test]
+    fn a_kept_engine_searches_as_a_fresh_one() {
+        let map = grid(
+            "
+            ......
+            .##...
+            ...#..
+            ......",
+        );
+        let cells: Vec<Cell> = (0..map.len())
+            .map(|i| map.cell(i))
+            .filter(|&c| map.is_free(c))
+            .collect();
+        let mut kept = Engine::new(true);
+        let mut filled = false;
+        for (k, &root) in cells.iter().enumerate() {
+            let target = cells[(k * 7 + 3) % cells.len()];
+            // Toggling a cell beside the root many times in one session lists its record
+            // again each time it returns from infinite: the list fills.
+            kept.reset(&map, root, target);
+            assert_eq!(kept.compute(&Budget::unlimited()), Computed::Done);
+            if k % 5 == 0 {
+                let toggled = cells[(k + 1) % cells.len()];
+                for round in 0..2 * kept.records.len() {
+                    kept.apply(&[(toggled, round % 2 == 1)]);
+                    assert_eq!(kept.compute(&Budget::unlimited()), Computed::Done);
+                }
+                filled |= kept.touched_all;
+            }
+            let again = search(&mut kept, &map, target, root);
+            let fresh = search(&mut Engine::new(true), &map, target, root);
+            assert_eq!(again, fresh, "root {root:?}, target {target:?}");
+        }
+        assert!(filled, "the whole-array clear was exercised");
     }
 }
