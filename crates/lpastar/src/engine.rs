@@ -31,8 +31,8 @@
 //!   was, and its queued key stays a lower bound of its current key (`km` only grows to
 //!   keep it so), which is all the lazy re-keying on pop needs. This saves most key
 //!   updates; the counters count the operations on the papers' queue U (insert, update,
-//!   remove, pop), one each, however the queue (module `queue`) carries them out.
-//! - Ties: the queue orders by `(k1, k2, row-major index)`, a total order (module `queue`).
+//!   remove, pop), one each, however the queue ([`KeyedQueue`]) carries them out.
+//! - Ties: the queue orders by `(k1, k2, row-major index)`, a total order ([`KeyedQueue`]).
 //!   The path is traced from the target by the neighbour minimising `c + g`, the first of
 //!   equal ones in the move order right, left, down, up, then the diagonals. That least
 //!   is `rhs` (kept equal to it for every vertex but the root), so the scan of a vertex's
@@ -47,7 +47,7 @@
 //! navigations were slower, the README's D* Lite section, seventh round). A session lists
 //! the vertices whose records it wrote, at most one entry per vertex (4 bytes), and the
 //! next session clears those, so a reset costs the last session's work, not the map's
-//! size. The queue keeps a 4-byte ticket (module `queue`: buckets of `k1` with lazy
+//! size. The queue keeps a 4-byte ticket ([`KeyedQueue`]: buckets of `k1` with lazy
 //! deletion), and the padded map one bit: 24 bytes and a bit a padded cell at most,
 //! allocated zeroed (committed by the system as touched).
 //! A cell's moves come from its 3 x 3 block of map bits (three two-byte loads) looked up
@@ -55,7 +55,7 @@
 
 use planner_api::{Budget, Cell, Cost, Counters, Grid, MemoryShortfall, Path};
 
-use crate::queue::Queue;
+use planner_search::keyed::KeyedQueue;
 
 const INF: u64 = u64::MAX;
 
@@ -196,7 +196,7 @@ pub struct Engine {
     /// cleared at the next session instead.
     touched: Vec<u32>,
     touched_all: bool,
-    queue: Queue,
+    queue: KeyedQueue,
     root: u32,
     target: u32,
     /// The target's padded coordinates.
@@ -224,7 +224,7 @@ impl Engine {
             records: Vec::new(),
             touched: Vec::new(),
             touched_all: false,
-            queue: Queue::default(),
+            queue: KeyedQueue::default(),
             root: 0,
             target: 0,
             target_xy: (0, 0),

@@ -42,7 +42,6 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod engine;
-mod queue;
 
 use engine::{Computed, Engine};
 use planner_api::{

@@ -1,8 +1,8 @@
 //! OPEN lists. Every one pops entries in exactly the order of the full key
-//! `(f, tie, push sequence)` of a tie rule ([`FIFO`], [`LIFO`], [`LOW_G`], [`HIGH_G`]), with lazy deletion:
-//! a node improved while in OPEN gets a second entry and the older one is skipped by the
-//! search when it comes out (the node is then CLOSED), or dropped unseen when its bucket
-//! comes up after its node was expanded.
+//! `(f, tie, push sequence)` of a tie rule ([`FIFO`], [`LIFO`], [`LOW_G`], [`HIGH_G`]),
+//! with lazy deletion: a node improved while in OPEN gets a second entry and the older one
+//! is skipped by the search when it comes out (the node is then CLOSED), or dropped unseen
+//! when its bucket comes up after its node was expanded.
 //!
 //! Two implementations, chosen per search by what the costs allow:
 //! - [`BucketOpen`], for any `f`: a ring of narrow `f` buckets in front of the least

@@ -1,11 +1,37 @@
-//! The priority queue U: a ring of narrow `k1` buckets in front of the least bucket, with
-//! lazy deletion by tickets.
+//! A priority queue of vertices with two-part keys whose keys change while queued: the
+//! queue U of LPA* and D* Lite (planner-lpastar's engine). A ring of narrow `k1` buckets in
+//! front of the least bucket, with lazy deletion by tickets.
+//!
+//! Unlike the OPEN lists of [`crate::bucket`], which take a node again when it improves
+//! and leave the older entry to be skipped, [`KeyedQueue`] holds each vertex at most once
+//! and knows which are queued: UpdateVertex's "if u is in U, update its key; else insert
+//! it" and "remove u from U" are its operations, and its key changes go either way (up
+//! after D* Lite's `km` grew, down when a repair lowers `rhs`).
 //!
 //! Entries are `(k1, k2, vertex)`, ordered as tuples: the papers' two-part key `[k1; k2]`,
 //! then the vertex's index (row-major, so the order of the grid's cells). The papers
 //! leave ties of `[k1; k2]` open; the index makes the order total (a vertex is queued at
 //! most once), so which vertex comes out first never depends on the queue's history
-//! (tested below against a sorted map).
+//! (tested below against a sorted map). Keys are [`planner_api::Cost`] units.
+//!
+//! ```
+//! use planner_search::keyed::KeyedQueue;
+//!
+//! let mut queue = KeyedQueue::default();
+//! queue.reset(4); // vertices 0..4
+//! queue.push(30, 10, 2);
+//! queue.push(20, 10, 3);
+//! queue.push(20, 10, 1);
+//! queue.update(40, 0, 3); // a key change: vertex 3 moves behind the others
+//! assert!(queue.contains(3));
+//! // Equal keys come out by vertex index.
+//! assert_eq!(queue.top(), Some((20, 10, 1)));
+//! queue.pop_top();
+//! queue.remove(2);
+//! assert_eq!(queue.top(), Some((40, 0, 3)));
+//! queue.pop_top();
+//! assert_eq!(queue.top(), None);
+//! ```
 //!
 //! Why buckets: after the agent moves, D* Lite's key modifier `km` grows and the queued
 //! keys become lower bounds; each one popped out of date is put back with its larger key
@@ -44,20 +70,20 @@
 //! constant factor of the queue's size. Tickets are 32-bit; before they would wrap, the
 //! queue is filtered and the queued entries renumbered.
 //!
-//! The counters (pushes, pops, key changes, removals) are the engine's, one per operation
+//! A planner's counters (pushes, pops, key changes, removals) are its own, one per operation
 //! on the papers' queue U; stale entries are not counted. The containers keep their memory
 //! across sessions, so once a map's first searches have grown them, a search allocates
 //! nothing.
 
 /// A bucket is `2^BUCKET_SHIFT` [`planner_api::Cost`] units wide: an eighth of a cell.
-pub(crate) const BUCKET_SHIFT: u32 = planner_api::Cost::FRACTION_BITS - 3;
+const BUCKET_SHIFT: u32 = planner_api::Cost::FRACTION_BITS - 3;
 
 /// Buckets in the ring (a power of two): with an eighth of a cell each, keys up to 512
 /// cells above the current bucket's.
-pub(crate) const RING: usize = 4096;
+const RING: usize = 4096;
 
 /// Stale entries tolerated beyond twice the queued ones before the queue is filtered.
-pub(crate) const SLACK: usize = 1024;
+const SLACK: usize = 1024;
 
 /// A queue entry: the key, the vertex and the ticket it was pushed with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -254,9 +280,9 @@ fn least_child(items: &[Entry], first: usize, n: usize) -> Option<usize> {
     }
 }
 
-/// The queue U (see the [module docs](self)).
+/// The queue (see the [module docs](self)).
 #[derive(Debug, Clone)]
-pub(crate) struct Queue {
+pub struct KeyedQueue {
     front: Front,
     ring: Vec<Vec<Entry>>,
     /// A bit per ring bucket: set when it holds entries (live or stale).
@@ -275,9 +301,9 @@ pub(crate) struct Queue {
     held: usize,
 }
 
-impl Default for Queue {
-    fn default() -> Queue {
-        Queue {
+impl Default for KeyedQueue {
+    fn default() -> KeyedQueue {
+        KeyedQueue {
             front: Front::default(),
             ring: vec![Vec::new(); RING],
             occupied: vec![0; RING / 64],
@@ -292,9 +318,9 @@ impl Default for Queue {
     }
 }
 
-impl Queue {
+impl KeyedQueue {
     /// Empties the queue for vertices `0 .. n`, keeping its memory.
-    pub(crate) fn reset(&mut self, n: usize) {
+    pub fn reset(&mut self, n: usize) {
         if self.tickets.len() == n {
             // Only the queued vertices have tickets; held entries name every one of them.
             let tickets = &mut self.tickets;
@@ -330,33 +356,33 @@ impl Queue {
 
     /// Whether `vertex` is queued.
     #[inline]
-    pub(crate) fn contains(&self, vertex: u32) -> bool {
+    pub fn contains(&self, vertex: u32) -> bool {
         self.tickets[vertex as usize] != 0
     }
 
     /// Queues `vertex`, which is not queued, with key `[k1; k2]`.
     #[inline]
-    pub(crate) fn push(&mut self, k1: u64, k2: u64, vertex: u32) {
+    pub fn push(&mut self, k1: u64, k2: u64, vertex: u32) {
         self.live += 1;
         self.requeue(k1, k2, vertex);
     }
 
     /// Gives the queued `vertex` the key `[k1; k2]`.
     #[inline]
-    pub(crate) fn update(&mut self, k1: u64, k2: u64, vertex: u32) {
+    pub fn update(&mut self, k1: u64, k2: u64, vertex: u32) {
         self.requeue(k1, k2, vertex);
     }
 
     /// Takes the queued `vertex` out of the queue.
     #[inline]
-    pub(crate) fn remove(&mut self, vertex: u32) {
+    pub fn remove(&mut self, vertex: u32) {
         self.tickets[vertex as usize] = 0;
         self.live -= 1;
     }
 
     /// The least queued entry `(k1, k2, vertex)`, left queued.
     #[inline]
-    pub(crate) fn top(&mut self) -> Option<(u64, u64, u32)> {
+    pub fn top(&mut self) -> Option<(u64, u64, u32)> {
         loop {
             let Some(&e) = self.front.peek() else {
                 if self.advance() {
@@ -372,9 +398,9 @@ impl Queue {
         }
     }
 
-    /// Takes out the entry [`Queue::top`] returned (precondition: nothing changed since).
+    /// Takes out the entry [`KeyedQueue::top`] returned (precondition: nothing changed since).
     #[inline]
-    pub(crate) fn pop_top(&mut self) {
+    pub fn pop_top(&mut self) {
         if let Some(e) = self.front.pop() {
             self.tickets[e.vertex as usize] = 0;
             self.live -= 1;
@@ -382,11 +408,11 @@ impl Queue {
         }
     }
 
-    /// Gives the entry [`Queue::top`] returned the key `[k1; k2]` (precondition: nothing
-    /// changed since): [`Queue::update`] of its vertex, with the old entry taken out now
+    /// Gives the entry [`KeyedQueue::top`] returned the key `[k1; k2]` (precondition: nothing
+    /// changed since): [`KeyedQueue::update`] of its vertex, with the old entry taken out now
     /// rather than skipped later.
     #[inline]
-    pub(crate) fn rekey_top(&mut self, k1: u64, k2: u64) {
+    pub fn rekey_top(&mut self, k1: u64, k2: u64) {
         if let Some(e) = self.front.pop() {
             self.held -= 1;
             self.requeue(k1, k2, e.vertex);
@@ -558,7 +584,7 @@ mod tests {
     /// come out by index.
     fn check(seed: u64, n: usize, steps: usize, first_ticket: u32) {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let mut queue = Queue::default();
+        let mut queue = KeyedQueue::default();
         queue.reset(n);
         queue.set_next_ticket(first_ticket);
         let mut model: BTreeMap<u32, (u64, u64)> = BTreeMap::new();
