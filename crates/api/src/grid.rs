@@ -388,10 +388,40 @@ impl Grid {
         self.revision = next_revision();
     }
 
+    /// Sets the weight of `cell` to `weight` (a costmap's update); the extremes
+    /// ([`Weights::min`], [`Weights::max`]) follow, rescanning the weights only when the
+    /// cell held one of them. Nothing happens on an unweighted grid or for a weight of 0
+    /// (both `false`). Precondition: `self.contains(cell)`.
+    ///
+    /// ```
+    /// use planner_api::{Cell, CostRule, Grid};
+    /// let mut grid = Grid::from_ascii("...").unwrap();
+    /// assert!(!grid.set_weight(Cell::new(0, 0), 4)); // unweighted
+    /// let mut grid = grid.with_weights(vec![1, 3, 5], CostRule::Mean).unwrap();
+    /// assert!(grid.set_weight(Cell::new(0, 0), 4));
+    /// let w = grid.weights().unwrap();
+    /// assert_eq!((w.min(), w.max()), (3, 5));
+    /// assert!(grid.set_weight(Cell::new(2, 0), 2));
+    /// let w = grid.weights().unwrap();
+    /// assert_eq!((w.min(), w.max()), (2, 4));
+    /// assert!(!grid.set_weight(Cell::new(1, 0), 0));
+    /// ```
+    pub fn set_weight(&mut self, cell: Cell, weight: u16) -> bool {
+        let index = self.index(cell);
+        match &mut self.weights {
+            Some(weights) if weight > 0 => {
+                weights.set(index, weight);
+                self.revision = next_revision();
+                true
+            }
+            _ => false,
+        }
+    }
+
     /// A number that identifies the grid's current cells within this process: it is new
-    /// for every grid built and after every [`Grid::set_free`], and a clone shares its
-    /// original's. Equal revisions therefore mean equal grids (the converse need not
-    /// hold). Caches of data derived from a grid key on it.
+    /// for every grid built and after every [`Grid::set_free`] and [`Grid::set_weight`],
+    /// and a clone shares its original's. Equal revisions therefore mean equal grids (the
+    /// converse need not hold). Caches of data derived from a grid key on it.
     pub fn revision(&self) -> u64 {
         self.revision
     }

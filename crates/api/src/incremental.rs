@@ -3,9 +3,9 @@
 //!
 //! A one-shot [`Planner`](crate::Planner) solves a fixed map from scratch. An incremental
 //! planner (LPA*, D* Lite) keeps its search between calls: it owns a copy of the map it
-//! plans on, is told which cells changed ([`CellChange`]: blocked or freed) and where the
-//! agent now stands, and [`IncrementalPlanner::replan`] repairs the previous search
-//! instead of starting over. Each `replan` reports the counters of that repair alone, so
+//! plans on, is told which cells changed ([`CellChange`]: blocked or freed, and on a
+//! weighted map a new weight) and where the agent now stands, and
+//! [`IncrementalPlanner::replan`] repairs the previous search instead of starting over. Each `replan` reports the counters of that repair alone, so
 //! a driver can sum them or look at their distribution.
 //!
 //! The order of calls in a session: [`IncrementalPlanner::reset`] with a problem (its
@@ -41,17 +41,43 @@ pub struct CellChange {
     pub cell: Cell,
     /// Whether it is now free (`false`: now blocked).
     pub free: bool,
+    /// Its new weight ([`crate::weights`]), or `None` to keep it. Only a weighted map takes
+    /// one, and never 0.
+    pub weight: Option<u16>,
 }
 
 impl CellChange {
     /// `cell` became blocked.
     pub const fn blocked(cell: Cell) -> CellChange {
-        CellChange { cell, free: false }
+        CellChange {
+            cell,
+            free: false,
+            weight: None,
+        }
     }
 
     /// `cell` became free.
     pub const fn freed(cell: Cell) -> CellChange {
-        CellChange { cell, free: true }
+        CellChange {
+            cell,
+            free: true,
+            weight: None,
+        }
+    }
+
+    /// This change with the cell's new weight: a costmap's update, where a cell's cost
+    /// changes and it stays free (or is blocked or freed at the same time).
+    ///
+    /// ```
+    /// use planner_api::{Cell, CellChange};
+    /// let change = CellChange::freed(Cell::new(2, 3)).with_weight(40);
+    /// assert_eq!((change.free, change.weight), (true, Some(40)));
+    /// ```
+    pub const fn with_weight(self, weight: u16) -> CellChange {
+        CellChange {
+            weight: Some(weight),
+            ..self
+        }
     }
 }
 
@@ -75,6 +101,18 @@ pub enum ChangeError {
     /// A new start outside the map or on a blocked cell.
     #[error("new start {cell} is outside the map or blocked")]
     BadStart {
+        /// The cell.
+        cell: Cell,
+    },
+    /// A new weight of 0 (weights are at least 1).
+    #[error("changed cell {cell} gets weight 0; weights are at least 1")]
+    ZeroWeight {
+        /// The cell.
+        cell: Cell,
+    },
+    /// A new weight on a map without weights.
+    #[error("changed cell {cell} gets a weight, but the map has no weights")]
+    Unweighted {
         /// The cell.
         cell: Cell,
     },

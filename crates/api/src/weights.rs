@@ -153,4 +153,20 @@ impl Weights {
     pub(crate) fn set_rule(&mut self, rule: CostRule) {
         self.rule = rule;
     }
+
+    /// Sets cell `index`'s weight (precondition: in range, not 0), keeping the extremes
+    /// exact.
+    pub(crate) fn set(&mut self, index: usize, weight: u16) {
+        let Some(cell) = self.cells.get_mut(index) else {
+            return;
+        };
+        let old = std::mem::replace(cell, weight);
+        if (old == self.min && weight > old) || (old == self.max && weight < old) {
+            self.min = self.cells.iter().copied().min().unwrap_or(1);
+            self.max = self.cells.iter().copied().max().unwrap_or(1);
+        } else {
+            self.min = self.min.min(weight);
+            self.max = self.max.max(weight);
+        }
+    }
 }

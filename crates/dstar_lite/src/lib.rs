@@ -14,7 +14,11 @@
 //! [`move_start`](planner_api::IncrementalPlanner::move_start) with the agent's cell when
 //! it has moved, then [`apply`](planner_api::IncrementalPlanner::apply) with the cells it
 //! saw change, then [`replan`](planner_api::IncrementalPlanner::replan). Moves and costs
-//! are LPA*'s: 4 moves, or 8 without corner cutting, in exact [`planner_api::Cost`] units.
+//! are LPA*'s: 4 moves, or 8 without corner cutting, in exact [`planner_api::Cost`] units,
+//! on weighted maps too, whose weights may change as the robot drives (a costmap; see
+//! planner-lpastar's docs). Under the entered cell's rule the cost of a move depends on
+//! its direction; D* Lite's search runs from the goal, and charges each edge the way the
+//! agent will drive it, toward the goal.
 //!
 //! ```
 //! use planner_api::{Budget, Cell, CellChange, Grid, IncrementalPlanner, Problem, Status};

@@ -19,12 +19,18 @@
 //!   neighbours through it; else (underconsistent) set `g = inf` and recompute the `rhs`
 //!   of every neighbour whose `rhs` came through `u`. Both cases count as one vertex
 //!   expansion (the papers' measure).
-//! - A changed cell changes the cost of every edge that touches it or, on 8 moves without
-//!   corner cutting, passes diagonally beside it: all such edges join cells of its 3 x 3
-//!   block (4 moves: itself and its four neighbours). Those vertices get their `rhs`
-//!   recomputed over all neighbours and are re-queued (UpdateVertex). This is the basic
-//!   version's rule (Fig. 3 of D* Lite) rather than Fig. 4's test per changed edge, since
-//!   one cell changes up to 20 edges at once; the result is the same `rhs`.
+//! - Weighted maps: a move costs `half * (k_from * w(from) + k_to * w(to))` units
+//!   ([`planner_api::weights`]), `from` the cell a path leaves: LPA*'s paths run from the
+//!   root, D* Lite's toward it ([`Engine::with_paths_to_root`]), which matters only for
+//!   the entered cell's rule. The heuristic is multiplied by the smallest weight when the
+//!   session began; a change to a lower weight ends the session ([`Engine::apply`]).
+//! - A changed cell (blocked, freed or reweighted) changes the cost of every edge that
+//!   touches it or, on 8 moves without corner cutting, passes diagonally beside it: all
+//!   such edges join cells of its 3 x 3 block (4 moves: itself and its four neighbours).
+//!   Those vertices get their `rhs` recomputed over all neighbours and are re-queued
+//!   (UpdateVertex). This is the basic version's rule (Fig. 3 of D* Lite) rather than
+//!   Fig. 4's test per changed edge, since one cell changes up to 20 edges at once; the
+//!   result is the same `rhs`.
 //! - UpdateVertex runs only for a vertex whose `rhs` changed (or, in ComputeShortestPath,
 //!   whose `g` did): the papers call it for every neighbour, but a vertex whose `g` and
 //!   `rhs` are unchanged keeps its consistency, so it stays in or out of the queue as it
@@ -53,7 +59,7 @@
 //! A cell's moves come from its 3 x 3 block of map bits (three two-byte loads) looked up
 //! in a table. After a map's first searches, a search allocates nothing.
 
-use planner_api::{Budget, Cell, Cost, Counters, Grid, MemoryShortfall, Path};
+use planner_api::{Budget, Cell, CellChange, Cost, Counters, Grid, MemoryShortfall, Path};
 
 use planner_search::keyed::KeyedQueue;
 
@@ -201,6 +207,18 @@ pub struct Engine {
     target: u32,
     /// The target's padded coordinates.
     target_xy: (u32, u32),
+    /// On a weighted map: each padded cell's weight (0 on the border), else empty.
+    weights: Vec<u16>,
+    /// The weighted move cost's factors ([`planner_api::CostRule::factors`]) for the cell a
+    /// path leaves and the cell it enters.
+    factors: (u64, u64),
+    /// Whether a path runs from the target to the root (D* Lite: the agent drives toward
+    /// the goal) rather than from the root to the target (LPA*): which end of an edge is
+    /// left and which entered, for a rule that is not symmetric.
+    toward_root: bool,
+    /// What the heuristic is multiplied by: the smallest weight of the map when the
+    /// session began (1 unweighted), a lower bound of every weight during the session.
+    h_weight: u64,
     km: u64,
     /// Whether the per-cell state is sized and the root queued for this session.
     initialized: bool,
@@ -228,11 +246,24 @@ impl Engine {
             root: 0,
             target: 0,
             target_xy: (0, 0),
+            weights: Vec::new(),
+            factors: (0, 0),
+            toward_root: false,
+            h_weight: 1,
             km: 0,
             initialized: false,
             stats: RepairStats::default(),
             affected: Vec::new(),
         }
+    }
+
+    /// This engine for paths that run from the target to the root (`true`: D* Lite, whose
+    /// agent drives toward the goal at the root) or from the root to the target (`false`,
+    /// the default: LPA*). Only a move cost rule that is not symmetric
+    /// ([`planner_api::CostRule::Entered`]) tells them apart.
+    pub fn with_paths_to_root(mut self, toward_root: bool) -> Engine {
+        self.toward_root = toward_root;
+        self
     }
 
     /// The padded index of `cell`.
@@ -322,6 +353,7 @@ impl Engine {
                 } else {
                     self.bits = Vec::new();
                 }
+                self.load_weights();
             }
         }
         self.root = self.vertex(root);
@@ -330,6 +362,44 @@ impl Engine {
         self.km = 0;
         self.initialized = false;
         self.stats = RepairStats::default();
+    }
+
+    /// Copies the map's weights into the padded layout (none on an unweighted map or one
+    /// too large for it).
+    fn load_weights(&mut self) {
+        self.weights.clear();
+        self.factors = (0, 0);
+        let Some(weights) = self.grid.as_ref().and_then(Grid::weights) else {
+            return;
+        };
+        if self.bits.is_empty() {
+            return;
+        }
+        self.factors = weights.rule().factors();
+        let (w, stride) = (self.width as usize, self.stride as usize);
+        self.weights.resize(stride * (self.height as usize + 2), 0);
+        for (y, row) in weights.cells().chunks(w.max(1)).enumerate() {
+            let at = (y + 1) * stride + 1;
+            self.weights[at..at + row.len()].copy_from_slice(row);
+        }
+    }
+
+    /// The cost of the edge between `far` and its neighbour `near` (nearer the root) by move
+    /// `step` from `near` to `far` or back: the move's length unweighted, else the weighted
+    /// cost of travelling it the way paths run ([`Engine::with_paths_to_root`]).
+    #[inline(always)]
+    fn edge(&self, step: &Step, far: usize, near: usize) -> u64 {
+        if self.weights.is_empty() {
+            return step.cost;
+        }
+        let (from, to) = if self.toward_root {
+            (far, near)
+        } else {
+            (near, far)
+        };
+        let (k_from, k_to) = self.factors;
+        let factor = k_from * u64::from(self.weights[from]) + k_to * u64::from(self.weights[to]);
+        (step.cost / 2).saturating_mul(factor)
     }
 
     /// The current map.
@@ -380,23 +450,46 @@ impl Engine {
         }
     }
 
-    /// Applies changed cells (each in the map, checked by the caller) and re-queues the
-    /// vertices whose edges changed. Before the first search only the map changes.
-    pub fn apply(&mut self, changes: &[(Cell, bool)]) {
+    /// Applies changed cells (each in the map, and a weight only on a weighted map and not
+    /// 0: checked by the caller, [`crate::checked_changes`]) and re-queues the vertices
+    /// whose edges changed. Before the first search only the map changes.
+    ///
+    /// A weight below the one the session's heuristic is multiplied by (the map's smallest
+    /// when the session began) would make the heuristic overestimate: the session then
+    /// ends, and the next [`Engine::compute`] searches from scratch with the new smallest
+    /// weight.
+    pub fn apply(&mut self, changes: &[CellChange]) {
         let Some(grid) = self.grid.as_mut() else {
             return;
         };
         self.affected.clear();
         let (width, height, stride) = (self.width, self.height, self.stride);
         let padded = !self.bits.is_empty();
-        for &(cell, free) in changes {
-            if grid.is_free(cell) == free {
-                continue;
-            }
-            grid.set_free(cell, free);
+        for change in changes {
+            let cell = change.cell;
             let v = (cell.y + 1) * stride + cell.x + 1;
-            if padded {
-                set_bit(&mut self.bits, v as usize, free);
+            let mut changed = false;
+            if let Some(weight) = change.weight.filter(|&w| w > 0) {
+                if grid.is_weighted() && grid.weight(cell) != weight {
+                    grid.set_weight(cell, weight);
+                    if let Some(slot) = self.weights.get_mut(v as usize) {
+                        *slot = weight;
+                    }
+                    if u64::from(weight) < self.h_weight {
+                        self.initialized = false;
+                    }
+                    changed = true;
+                }
+            }
+            if grid.is_free(cell) != change.free {
+                grid.set_free(cell, change.free);
+                if padded {
+                    set_bit(&mut self.bits, v as usize, change.free);
+                }
+                changed = true;
+            }
+            if !changed {
+                continue;
             }
             for dy in -1..=1i64 {
                 for dx in -1..=1i64 {
@@ -438,8 +531,11 @@ impl Engine {
             return Ok(());
         };
         let padded = u64::from(self.stride) * (u64::from(self.height) + 2);
-        let needed = BYTES_PER_CELL.saturating_mul(padded);
+        // A weighted map's padded weights: two bytes a cell more.
+        let per_cell = BYTES_PER_CELL + if grid.is_weighted() { 2 } else { 0 };
+        let needed = per_cell.saturating_mul(padded);
         budget.check_memory(needed, grid)?;
+        self.h_weight = grid.weights().map_or(1, |w| u64::from(w.min()));
         if padded > u64::from(u32::MAX) {
             // Vertices and queue positions are 32-bit: at most 2^32 - 1 padded cells.
             return Err(MemoryShortfall {
@@ -523,7 +619,7 @@ impl Engine {
                     if s == self.root as usize {
                         continue;
                     }
-                    let through = step.cost.saturating_add(rhs_u);
+                    let through = self.edge(&step, s, ui).saturating_add(rhs_u);
                     if through < self.rhs_of(s) {
                         self.set_rhs(s as u32, through);
                         let sxy = (
@@ -540,7 +636,9 @@ impl Engine {
                     let step = steps[legal.trailing_zeros() as usize];
                     legal &= legal - 1;
                     let s = ui.wrapping_add_signed(step.offset);
-                    if s != self.root as usize && self.rhs_of(s) == step.cost.saturating_add(g_u) {
+                    if s != self.root as usize
+                        && self.rhs_of(s) == self.edge(&step, s, ui).saturating_add(g_u)
+                    {
                         let value = self.fresh_rhs(s as u32);
                         if self.set_rhs(s as u32, value) {
                             let sxy = (
@@ -604,9 +702,8 @@ impl Engine {
                 let k = legal.trailing_zeros() as usize;
                 legal &= legal - 1;
                 let step = &self.steps[k];
-                let through = step
-                    .cost
-                    .saturating_add(self.g_of(u.wrapping_add_signed(step.offset)));
+                let s = u.wrapping_add_signed(step.offset);
+                let through = self.edge(step, u, s).saturating_add(self.g_of(s));
                 if through < best {
                     (best, best_k) = (through, k);
                     if through == least {
@@ -684,7 +781,7 @@ impl Engine {
             let step = &self.steps[legal.trailing_zeros() as usize];
             legal &= legal - 1;
             let s = ui.wrapping_add_signed(step.offset);
-            best = best.min(step.cost.saturating_add(self.g_of(s)));
+            best = best.min(self.edge(step, ui, s).saturating_add(self.g_of(s)));
         }
         best
     }
@@ -737,14 +834,20 @@ impl Engine {
     }
 
     /// The heuristic between two padded coordinates: Manhattan (4 moves) or octile (8),
-    /// exact.
+    /// exact, times the session's smallest weight on a weighted map (every move costs at
+    /// least its length times it, so the heuristic stays consistent).
     #[inline]
     fn h(&self, a: (u32, u32), b: (u32, u32)) -> u64 {
         let (dx, dy) = (a.0.abs_diff(b.0), a.1.abs_diff(b.1));
-        if self.eight {
+        let length = if self.eight {
             Cost::octile_distance(dx, dy).units()
         } else {
             Cost::steps(u64::from(dx) + u64::from(dy)).units()
+        };
+        if self.weights.is_empty() {
+            length
+        } else {
+            length.saturating_mul(self.h_weight)
         }
     }
 }
@@ -795,7 +898,11 @@ mod tests {
             if k % 5 == 0 {
                 let toggled = cells[(k + 1) % cells.len()];
                 for round in 0..2 * kept.records.len() {
-                    kept.apply(&[(toggled, round % 2 == 1)]);
+                    kept.apply(&[CellChange {
+                        cell: toggled,
+                        free: round % 2 == 1,
+                        weight: None,
+                    }]);
                     assert_eq!(kept.compute(&Budget::unlimited()), Computed::Done);
                 }
                 filled |= kept.touched_all;

@@ -138,7 +138,11 @@ impl PatchSet {
                 let free = p.free[(row * p.width + column) as usize];
                 if grid.contains(cell) && grid.is_free(cell) != free {
                     grid.set_free(cell, free);
-                    changes.push(CellChange { cell, free });
+                    changes.push(CellChange {
+                        cell,
+                        free,
+                        weight: None,
+                    });
                 }
             }
         }

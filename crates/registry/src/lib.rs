@@ -174,13 +174,13 @@ pub const PLANNERS: &[Entry] = &[
     },
     Entry {
         name: planner_lpastar::NAME,
-        summary: "Lifelong Planning A* (Koenig, Likhachev and Furcy 2004), 4 or 8 moves without corner cutting, exact costs; incremental",
+        summary: "Lifelong Planning A* (Koenig, Likhachev and Furcy 2004), 4 or 8 moves without corner cutting, exact costs, cell weights that change; incremental",
         task: Task::StartGoal,
         factory: |params| Factory::incremental(planner_lpastar::NAME, params, planner_lpastar::LpaStar::new),
     },
     Entry {
         name: planner_dstar_lite::NAME,
-        summary: "D* Lite (Koenig and Likhachev 2002, optimized, with km), 4 or 8 moves without corner cutting, exact costs; incremental",
+        summary: "D* Lite (Koenig and Likhachev 2002, optimized, with km), 4 or 8 moves without corner cutting, exact costs, cell weights that change; incremental",
         task: Task::StartGoal,
         factory: |params| Factory::incremental(planner_dstar_lite::NAME, params, planner_dstar_lite::DStarLite::new),
     },

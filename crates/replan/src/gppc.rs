@@ -142,6 +142,7 @@ pub fn replay(
                 .map(|(i, (_, &free))| CellChange {
                     cell: grid.cell(i),
                     free,
+                    weight: None,
                 })
                 .collect();
             (next, changes)

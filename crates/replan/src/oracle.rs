@@ -1,8 +1,9 @@
 //! The exact oracle: A* from scratch on the planner's current map.
 //!
 //! planner-astar with the same moves (4, or 8 without corner cutting), the consistent
-//! heuristic (Manhattan or octile) and exact [`Cost`]s finds an optimal path; its cost,
-//! summed exactly over its moves ([`path_cost`]), is the truth every replan is held to.
+//! heuristic (Manhattan or octile, times the smallest weight on a weighted map) and exact
+//! [`Cost`]s finds an optimal path; its cost, summed exactly over its moves ([`path_cost`],
+//! or [`Grid::path_cost`] under the map's weights), is the truth every replan is held to.
 
 use std::fmt;
 
@@ -81,6 +82,16 @@ impl fmt::Display for Mismatch {
 /// planner-astar with 8 moves without corner cutting (`eight`) or 4, the consistent
 /// heuristic of the moves (octile or Manhattan), exact costs and the default ties: the
 /// oracle's search and the baseline's ([`crate::restart`]).
+/// The exact cost of `path` on `grid`: [`path_cost`] (its length) on an unweighted grid,
+/// the sum of the weighted move costs ([`Grid::path_cost`]) on a weighted one.
+fn exact_cost(grid: &Grid, path: &planner_api::Path) -> Cost {
+    if grid.is_weighted() {
+        grid.path_cost(path.cells())
+    } else {
+        path_cost(path)
+    }
+}
+
 pub(crate) fn exact_astar(eight: bool) -> AStar {
     let config = Config {
         moves: if eight {
@@ -134,7 +145,7 @@ impl Oracle {
         let problem = Problem::new(grid, start, goal).ok()?;
         let outcome = self.astar.plan(&problem, &Budget::unlimited());
         self.last_expansions = outcome.counters.get("n_expanded").unwrap_or(0);
-        outcome.path.as_ref().map(path_cost)
+        outcome.path.as_ref().map(|path| exact_cost(grid, path))
     }
 
     /// A*'s expansions in the last [`Oracle::optimum`] or [`Oracle::check`]: what A* from
@@ -175,7 +186,7 @@ impl Oracle {
                 if let Err(e) = path.validate(grid, PathRule::Moves(&self.moves)) {
                     return Err(fail(MismatchKind::InvalidPath(e.to_string())));
                 }
-                Some(path_cost(path))
+                Some(exact_cost(grid, path))
             }
             None => None,
         };

@@ -83,9 +83,14 @@ impl IncrementalPlanner for Restart {
             return Err(ChangeError::NotStarted);
         };
         let mut changed = false;
-        for (cell, free) in changes {
-            if grid.is_free(cell) != free {
-                grid.set_free(cell, free);
+        for change in changes {
+            if let Some(weight) = change.weight {
+                if grid.weight(change.cell) != weight {
+                    changed |= grid.set_weight(change.cell, weight);
+                }
+            }
+            if grid.is_free(change.cell) != change.free {
+                grid.set_free(change.cell, change.free);
                 changed = true;
             }
         }

@@ -112,7 +112,11 @@ pub fn run(
             }
             let free = !map.is_free(cell);
             map.set_free(cell, free);
-            changes.push(CellChange { cell, free });
+            changes.push(CellChange {
+                cell,
+                free,
+                weight: None,
+            });
         }
         out.toggled += changes.len() as u64;
         let started = Instant::now();

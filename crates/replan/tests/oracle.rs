@@ -2,7 +2,9 @@
 //! sequences, LPA* and D* Lite, 4- and 8-connected, every replan's cost equal to A* from
 //! scratch and every path valid; and navigation in unknown terrain on small grids.
 
-use planner_api::{Budget, Cell, CellChange, Grid, IncrementalPlanner, Outcome, Problem, Status};
+use planner_api::{
+    Budget, Cell, CellChange, CostRule, Grid, IncrementalPlanner, Outcome, Problem, Status,
+};
 use planner_replan::{navigate, planners, toggles, Mismatch, MismatchKind, Oracle};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -104,6 +106,107 @@ fn ten_thousand_grids_every_replan_exact() {
         tally.found,
         tally.no_path
     );
+}
+
+/// A random weighted copy of `grid`: weights in `1..=top` (`top` 9 or 255, so that equal
+/// costs tie often or rarely), under either move cost rule.
+fn weighted(grid: &Grid, rng: &mut ChaCha8Rng) -> Grid {
+    let top = if rng.gen_bool(0.5) { 9 } else { 255 };
+    let weights = (0..grid.len()).map(|_| rng.gen_range(1..=top)).collect();
+    let rule = if rng.gen_bool(0.5) {
+        CostRule::Mean
+    } else {
+        CostRule::Entered
+    };
+    grid.clone().with_weights(weights, rule).unwrap()
+}
+
+/// Costmaps that change: 4,000 seeded random weighted grids, LPA* and D* Lite, 4- and
+/// 8-connected, each through 4-10 rounds of a replan checked by the oracle (A* from
+/// scratch on the planner's current map, under its weights), the agent driving 0-2 cells
+/// along the path (D* Lite's key modifier grows; LPA* restarts), and 1-4 changes: a new
+/// weight (sometimes below the map's smallest, which ends the session), a blocked or freed
+/// cell, or both.
+#[test]
+fn weighted_maps_with_weight_changes_every_replan_exact() {
+    let mut oracles = [Oracle::new(false), Oracle::new(true)];
+    let (mut replans, mut found, mut reweighted, mut restarts) = (0u64, 0u64, 0u64, 0u64);
+    let mut grids = 0u64;
+    let mut seed = 0u64;
+    while grids < 4_000 {
+        seed += 1;
+        let mut rng = ChaCha8Rng::seed_from_u64(2_000_000 + seed);
+        let Some((grid, start, goal)) = random_problem(&mut rng) else {
+            continue;
+        };
+        grids += 1;
+        let grid = weighted(&grid, &mut rng);
+        let rounds = rng.gen_range(4..=10);
+        for name in ["lpastar", "dstar_lite"] {
+            for (eight, oracle) in [false, true].into_iter().zip(oracles.iter_mut()) {
+                let mut rng = ChaCha8Rng::seed_from_u64(seed << 8 | u64::from(eight));
+                let mut planner = planners::by_name(name, eight).unwrap();
+                assert!(IncrementalPlanner::specs(planner.as_ref()).cell_costs);
+                planner.reset(&Problem::new(&grid, start, goal).unwrap());
+                let (mut map, mut agent) = (grid.clone(), start);
+                for round in 0..rounds {
+                    let outcome = planner.replan(&Budget::unlimited());
+                    replans += 1;
+                    found += u64::from(outcome.status == Status::Found);
+                    if let Err(m) = oracle.check(&map, agent, goal, &outcome, round) {
+                        panic!("seed {seed} {name} eight={eight}: {m}");
+                    }
+                    // The agent drives up to two cells along its path.
+                    if let Some(path) = &outcome.path {
+                        let cells = path.cells();
+                        let next = cells[rng.gen_range(0..=2).min(cells.len() - 1)];
+                        if next != agent {
+                            agent = next;
+                            planner.move_start(agent).unwrap();
+                        }
+                    }
+                    let min = map.weights().unwrap().min();
+                    let mut changes = Vec::new();
+                    for _ in 0..rng.gen_range(1..=4) {
+                        let cell = map.cell(rng.gen_range(0..map.len()));
+                        let mut change = match rng.gen_range(0..3) {
+                            0 => CellChange {
+                                cell,
+                                free: map.is_free(cell),
+                                weight: None,
+                            },
+                            _ => CellChange {
+                                cell,
+                                free: !map.is_free(cell),
+                                weight: None,
+                            },
+                        };
+                        if change.free == map.is_free(cell) || rng.gen_bool(0.3) {
+                            let weight = if rng.gen_bool(0.1) {
+                                (min - 1).max(1)
+                            } else {
+                                rng.gen_range(1..=255)
+                            };
+                            restarts += u64::from(weight < min);
+                            reweighted += 1;
+                            change = change.with_weight(weight);
+                        }
+                        if let Some(weight) = change.weight {
+                            map.set_weight(cell, weight);
+                        }
+                        map.set_free(cell, change.free);
+                        changes.push(change);
+                    }
+                    planner.apply(&changes).unwrap();
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{grids} weighted grids, {replans} replans ({found} found), {reweighted} weight \
+         changes ({restarts} below the smallest weight)"
+    );
+    assert!(found > replans / 2 && reweighted > 50_000 && restarts > 1_000);
 }
 
 #[test]
@@ -273,7 +376,8 @@ fn a_budget_stops_and_the_next_replan_continues() {
     }
 }
 
-/// Changes outside the map and moves onto blocked cells are errors naming the cell.
+/// Changes outside the map, weights that cannot be, and moves onto blocked cells are
+/// errors naming the cell.
 #[test]
 fn bad_changes_are_errors() {
     let grid = Grid::from_ascii("...\n.#.\n...").unwrap();
@@ -299,6 +403,31 @@ fn bad_changes_are_errors() {
             err.to_string(),
             "new start (1, 1) is outside the map or blocked"
         );
+        // A weight on an unweighted map, and a weight of 0 on a weighted one; nothing of
+        // the batch is applied.
+        let reweight = CellChange::freed(Cell::new(2, 0)).with_weight(5);
+        let err = planner
+            .apply(&[CellChange::blocked(Cell::new(1, 0)), reweight])
+            .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "changed cell (2, 0) gets a weight, but the map has no weights"
+        );
+        assert!(planner.grid().unwrap().is_free(Cell::new(1, 0)));
+        let weighted = grid
+            .clone()
+            .with_weights(vec![2; 9], CostRule::Mean)
+            .unwrap();
+        planner.reset(&Problem::new(&weighted, Cell::new(0, 0), Cell::new(2, 2)).unwrap());
+        let err = planner
+            .apply(&[CellChange::freed(Cell::new(2, 1)).with_weight(0)])
+            .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "changed cell (2, 1) gets weight 0; weights are at least 1"
+        );
+        planner.apply(&[reweight]).unwrap();
+        assert_eq!(planner.grid().unwrap().weight(Cell::new(2, 0)), 5);
     }
     assert!(planners::by_name("dstar", true).is_err());
 }

@@ -66,7 +66,7 @@
 //! ticket it was pushed with. A key change or removal issues a new ticket (or 0), which
 //! makes the older entry stale; stale entries are dropped when they reach the front's top
 //! or when their bucket comes up. When stale entries outnumber the queued ones (twice over,
-//! plus [`SLACK`]), every container is filtered at once, so memory stays within a
+//! plus `SLACK`, 1,024), every container is filtered at once, so memory stays within a
 //! constant factor of the queue's size. Tickets are 32-bit; before they would wrap, the
 //! queue is filtered and the queued entries renumbered.
 //!
