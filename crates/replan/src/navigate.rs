@@ -11,6 +11,13 @@
 //!
 //! Replanning only then is exact: the known map only gains blocked cells, so the rest of
 //! a shortest path that is still free keeps its cost and no other path got cheaper.
+//!
+//! On a weighted map (a costmap) the agent also assumes every cell it has not seen to have
+//! weight 1 (the least a weight can be: the free-space assumption for costs) and senses
+//! the true weights within the same radius; a sensed cell whose weight differs is told
+//! to the planner with its weight ([`CellChange::with_weight`]), and a change on a cell of
+//! the remaining path is a reason to replan. The rule stays exact: known weights only
+//! grow, so a path none of whose cells changed keeps its cost and no other got cheaper.
 //! With [`NavConfig::check_every_change`] the oracle checks that claim too, on every step
 //! that sensed a change without a replan. The run ends at the goal, when no path is left
 //! (the goal is unreachable: a normal outcome), or at [`NavConfig::max_steps`].
@@ -104,7 +111,7 @@ impl NavRun {
 }
 
 /// Senses around `at`: marks in `known` every cell within `radius` that is blocked in
-/// `truth` but free in `known`, and lists it.
+/// `truth` but free in `known`, or (on a weighted map) whose weight differs, and lists it.
 fn sense(
     truth: &Grid,
     known: &mut Grid,
@@ -114,6 +121,7 @@ fn sense(
 ) -> bool {
     let r = i64::from(radius);
     let before = seen.len();
+    let weighted = truth.is_weighted();
     for dy in -r..=r {
         for dx in -r..=r {
             let (x, y) = (i64::from(at.x) + dx, i64::from(at.y) + dy);
@@ -121,13 +129,48 @@ fn sense(
                 continue;
             }
             let cell = Cell::new(x as u32, y as u32);
+            let mut change = None;
             if !truth.is_free(cell) && known.is_free(cell) {
                 known.set_free(cell, false);
-                seen.push(CellChange::blocked(cell));
+                change = Some(CellChange::blocked(cell));
             }
+            if weighted && truth.weight(cell) != known.weight(cell) {
+                let weight = truth.weight(cell);
+                known.set_weight(cell, weight);
+                let free = known.is_free(cell);
+                change = Some(
+                    CellChange {
+                        cell,
+                        free,
+                        weight: None,
+                    }
+                    .with_weight(weight),
+                );
+            }
+            seen.extend(change);
         }
     }
     seen.len() > before
+}
+
+/// The agent's map before it looks: `truth`'s size, every cell free, and on a weighted
+/// map every weight 1 under `truth`'s rule.
+fn assumed(truth: &Grid) -> Grid {
+    let free = Grid::from_free_cells(truth.width(), truth.height(), vec![true; truth.len()])
+        .unwrap_or_else(|_| unreachable!("a copy of a valid grid's size is valid"));
+    match truth.weights() {
+        Some(weights) => free
+            .with_weights(vec![1; truth.len()], weights.rule())
+            .unwrap_or_else(|_| unreachable!("one weight of 1 per cell is valid")),
+        None => free,
+    }
+}
+
+/// Whether a change of `seen` falls on a cell of `path` (a weight change there alters the
+/// path's cost; blocked cells are [`still_free`]'s test).
+fn reweighted_on(seen: &[CellChange], path: &[Cell]) -> bool {
+    seen.iter()
+        .any(|c| c.weight.is_some() && path.contains(&c.cell))
 }
 
 /// Whether every step of `path` is still a legal move on `known`.
@@ -153,8 +196,7 @@ pub fn run(
     budget: &Budget,
 ) -> Result<NavRun, ProblemError> {
     Problem::new(truth, start, goal)?;
-    let mut known = Grid::from_free_cells(truth.width(), truth.height(), vec![true; truth.len()])
-        .unwrap_or_else(|_| unreachable!("a copy of a valid grid's size is valid"));
+    let mut known = assumed(truth);
     let mut pending = Vec::new();
     sense(truth, &mut known, start, config.radius, &mut pending);
     pending.clear();
@@ -198,10 +240,13 @@ pub fn run(
         agent = cells[at];
         out.steps += 1;
         out.path.push(agent);
+        let before = pending.len();
         if !sense(truth, &mut known, agent, config.radius, &mut pending) {
             continue;
         }
-        if still_free(&known, &moves, &cells[at..]) {
+        if still_free(&known, &moves, &cells[at..])
+            && !reweighted_on(&pending[before..], &cells[at..])
+        {
             if config.check_every_change {
                 if let Some(oracle) = oracle.as_deref_mut() {
                     out.extra_checks += 1;
@@ -261,7 +306,10 @@ fn replan(
     let started = Instant::now();
     let outcome = planner.replan(budget);
     let replan_time = started.elapsed();
-    let mut cost = outcome.path.as_ref().map(planner_api::path_cost);
+    let mut cost = outcome.path.as_ref().map(|path| match known.is_weighted() {
+        true => known.path_cost(path.cells()),
+        false => planner_api::path_cost(path),
+    });
     let mut failed = false;
     let mut oracle_expansions = None;
     if let Some(oracle) = oracle {

@@ -4,7 +4,11 @@
 //! [`Restart`] keeps its own copy of the map, applies changes to it, and answers each
 //! replan with a new planner-astar search (exact costs, the consistent heuristic of the
 //! moves, the paper's FIFO ties), from the agent to the goal (forward) or from the goal to
-//! the agent (backward, the direction D* Lite searches in), the path then reversed. A*
+//! the agent (backward, the direction D* Lite searches in), the path then reversed. On a
+//! weighted map the backward search is exact under the symmetric mean rule only: under the
+//! entered cell's rule ([`planner_api::CostRule::Entered`]) a reversed path charges the
+//! cells it leaves, so its cost is not the forward path's (the oracle records such a
+//! replan as a mismatch). A*
 //! builds a bit-packed copy of a changed map before it searches
 //! ([`Planner::prepare`]); that happens in [`IncrementalPlanner::apply`], so drivers time it
 //! as update time, apart from the replan (see [`crate::ReplanRecord`]).
