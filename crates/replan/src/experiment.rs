@@ -3,7 +3,8 @@
 //!
 //! A config is one TOML file (every key in `configs/replan/README.md`):
 //!
-//! - `kind = "navigate"`: for each map of `[[maps]]` (a Moving AI map and its `.scen`),
+//! - `kind = "navigate"`: for each map of `[[maps]]` (a Moving AI map and its `.scen`, and
+//!   optionally a weight file that makes it a costmap),
 //!   `scenarios` scenarios spread evenly over the file, each sensor radius of `radii` and
 //!   each planner of `compare`, an agent navigates in unknown terrain ([`navigate`]),
 //!   every replan checked by the [`Oracle`].
@@ -77,6 +78,16 @@ pub struct MapSpec {
     #[serde(default = "default_scenarios")]
     #[schemars(with = "usize", range(min = 1))]
     pub scenarios: Spanned<usize>,
+    /// A weight file for the map (a `.csv` of integer weights, one row per map row:
+    /// planner-maps' `costs` module), relative to the config's directory: the map becomes
+    /// a costmap. A navigating agent assumes weight 1 where it has not looked and senses
+    /// the weights ([`navigate`]).
+    #[serde(default)]
+    pub weights: Option<String>,
+    /// The move cost rule of a weighted map: `"mean"` (the default) or `"entered"`.
+    #[serde(default)]
+    #[schemars(with = "Option<String>", extend("enum" = ["mean", "entered"]))]
+    pub cost_rule: Option<planner_api::CostRule>,
 }
 
 /// The seeded toggles of a `dynamic` experiment ([`ToggleConfig`], one run per seed).
@@ -488,7 +499,12 @@ fn load_maps(
     for spec in &config.maps {
         let map_path = dir.join(&spec.map);
         let scen_path = dir.join(&spec.scen);
-        let grid = planner_maps::read_map(&map_path)?.grid;
+        let mut grid = planner_maps::read_map(&map_path)?.grid;
+        if let Some(weights) = &spec.weights {
+            let rule = spec.cost_rule.unwrap_or_default();
+            let options = planner_maps::ReadOptions::default();
+            grid = planner_maps::read_weights(&dir.join(weights), grid, rule, &options)?;
+        }
         let all = planner_maps::read_scenarios(&scen_path)?;
         let mut n = *spec.scenarios.get_ref();
         if options.test {
@@ -505,9 +521,14 @@ fn load_maps(
                 });
             }
         }
-        let name = map_path
+        let mut name = map_path
             .file_stem()
             .map_or_else(|| spec.map.clone(), |s| s.to_string_lossy().into_owned());
+        if let Some(weights) = &spec.weights {
+            // A weighted map is named by both files, apart from the map without weights.
+            let stem = Path::new(weights).file_stem().map(|s| s.to_string_lossy());
+            name = format!("{name}+{}", stem.unwrap_or_default());
+        }
         out.push(LoadedMap {
             name,
             grid,

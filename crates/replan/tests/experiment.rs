@@ -1,4 +1,4 @@
-//! The `navigate` and `dynamic` experiment kinds end to end: both configs under
+//! The `navigate` and `dynamic` experiment kinds end to end: every config under
 //! `configs/replan/` run with their `[test]` limits and snapshotted (no times), results
 //! independent of the thread count, and config errors with file, line and column.
 
@@ -68,6 +68,11 @@ fn snapshot(config: &str) {
     }, {
         insta::assert_snapshot!(format!("replan-{config}"), outputs(&out));
     });
+}
+
+#[test]
+fn navigate_costmap_config_is_snapshotted() {
+    snapshot("navigate-costmap");
 }
 
 #[test]
