@@ -76,6 +76,11 @@ fn navigate_costmap_config_is_snapshotted() {
 }
 
 #[test]
+fn dynamic_costmap_config_is_snapshotted() {
+    snapshot("dynamic-costmap");
+}
+
+#[test]
 fn navigate_config_is_snapshotted() {
     snapshot("navigate");
 }
