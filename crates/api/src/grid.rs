@@ -389,9 +389,10 @@ impl Grid {
     }
 
     /// Sets the weight of `cell` to `weight` (a costmap's update); the extremes
-    /// ([`Weights::min`], [`Weights::max`]) follow, rescanning the weights only when the
-    /// cell held one of them. Nothing happens on an unweighted grid or for a weight of 0
-    /// (both `false`). Precondition: `self.contains(cell)`.
+    /// ([`Weights::min`], [`Weights::max`]) follow, in constant time unless the cell was the
+    /// last holding one of them and leaves it (then the weights are rescanned). Nothing
+    /// happens on an unweighted grid or for a weight of 0 (both `false`). Precondition:
+    /// `self.contains(cell)`.
     ///
     /// ```
     /// use planner_api::{Cell, CostRule, Grid};

@@ -5,8 +5,9 @@
 //! planner (LPA*, D* Lite) keeps its search between calls: it owns a copy of the map it
 //! plans on, is told which cells changed ([`CellChange`]: blocked or freed, and on a
 //! weighted map a new weight) and where the agent now stands, and
-//! [`IncrementalPlanner::replan`] repairs the previous search instead of starting over. Each `replan` reports the counters of that repair alone, so
-//! a driver can sum them or look at their distribution.
+//! [`IncrementalPlanner::replan`] repairs the previous search instead of starting over.
+//! Each `replan` reports the counters of that repair alone, so a driver can sum them or
+//! look at their distribution.
 //!
 //! The order of calls in a session: [`IncrementalPlanner::reset`] with a problem (its
 //! grid is copied), then any sequence of [`IncrementalPlanner::move_start`],

@@ -107,26 +107,40 @@ pub fn weighted_move_cost(length: Cost, from: u16, to: u16, rule: CostRule) -> C
 }
 
 /// The weight layer of a grid: one weight per cell (row-major, as the grid), the rule, and
-/// the extremes.
+/// the extremes with the number of cells holding each (derived from the cells, so that
+/// [`crate::Grid::set_weight`] rescans them only when the last cell holding an extreme
+/// leaves it).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Weights {
     cells: Vec<u16>,
     rule: CostRule,
     min: u16,
     max: u16,
+    at_min: usize,
+    at_max: usize,
 }
 
 impl Weights {
     /// The weights; precondition (checked by [`crate::Grid::with_weights`]): none is 0.
     pub(crate) fn new(cells: Vec<u16>, rule: CostRule) -> Weights {
-        let min = cells.iter().copied().min().unwrap_or(1);
-        let max = cells.iter().copied().max().unwrap_or(1);
-        Weights {
+        let mut weights = Weights {
             cells,
             rule,
-            min,
-            max,
-        }
+            min: 1,
+            max: 1,
+            at_min: 0,
+            at_max: 0,
+        };
+        weights.rescan();
+        weights
+    }
+
+    /// Recomputes the extremes and their counts from the cells.
+    fn rescan(&mut self) {
+        self.min = self.cells.iter().copied().min().unwrap_or(1);
+        self.max = self.cells.iter().copied().max().unwrap_or(1);
+        self.at_min = self.cells.iter().filter(|&&w| w == self.min).count();
+        self.at_max = self.cells.iter().filter(|&&w| w == self.max).count();
     }
 
     /// The weights, row-major (index with [`crate::Grid::index`]).
@@ -155,18 +169,60 @@ impl Weights {
     }
 
     /// Sets cell `index`'s weight (precondition: in range, not 0), keeping the extremes
-    /// exact.
+    /// exact: in constant time, unless the cell was the last holding an extreme and leaves
+    /// it (then the cells are rescanned).
     pub(crate) fn set(&mut self, index: usize, weight: u16) {
         let Some(cell) = self.cells.get_mut(index) else {
             return;
         };
         let old = std::mem::replace(cell, weight);
-        if (old == self.min && weight > old) || (old == self.max && weight < old) {
-            self.min = self.cells.iter().copied().min().unwrap_or(1);
-            self.max = self.cells.iter().copied().max().unwrap_or(1);
-        } else {
-            self.min = self.min.min(weight);
-            self.max = self.max.max(weight);
+        if old == weight {
+            return;
+        }
+        if (old == self.min && self.at_min == 1) || (old == self.max && self.at_max == 1) {
+            self.rescan();
+            return;
+        }
+        // The old weight leaves an extreme held by other cells too; the new one may join
+        // or pass one.
+        self.at_min -= usize::from(old == self.min);
+        self.at_max -= usize::from(old == self.max);
+        match weight.cmp(&self.min) {
+            std::cmp::Ordering::Less => (self.min, self.at_min) = (weight, 1),
+            std::cmp::Ordering::Equal => self.at_min += 1,
+            std::cmp::Ordering::Greater => {}
+        }
+        match weight.cmp(&self.max) {
+            std::cmp::Ordering::Greater => (self.max, self.at_max) = (weight, 1),
+            std::cmp::Ordering::Equal => self.at_max += 1,
+            std::cmp::Ordering::Less => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Random weight changes (a few distinct values, so that extremes are often shared and
+    /// often left) keep the extremes and their counts equal to a fresh scan's.
+    #[test]
+    fn set_keeps_the_extremes_of_a_fresh_scan() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        for len in [1usize, 2, 5, 40] {
+            let cells = (0..len).map(|_| 1 + next(4) as u16).collect();
+            let mut weights = Weights::new(cells, CostRule::Mean);
+            for _ in 0..2_000 {
+                let index = next(len as u64) as usize;
+                weights.set(index, 1 + next(5) as u16);
+                assert_eq!(weights, Weights::new(weights.cells.clone(), CostRule::Mean));
+            }
         }
     }
 }

@@ -51,9 +51,9 @@
 //! record holds `g` and `rhs`, complemented so that zero reads as `inf` (a four-to-a-line
 //! record read with no test; with a third word for a session stamp instead, D* Lite's
 //! navigations were slower, the README's D* Lite section, seventh round). A session lists
-//! the vertices whose records it wrote, at most one entry per vertex (4 bytes), and the
-//! next session clears those, so a reset costs the last session's work, not the map's
-//! size. The queue keeps a 4-byte ticket ([`KeyedQueue`]: buckets of `k1` with lazy
+//! the vertices whose records it wrote, in at most one entry per vertex of space (4
+//! bytes; a longer list gives way to clearing the whole array), and the next session
+//! clears those, so a reset costs the last session's work, not the map's size. The queue keeps a 4-byte ticket ([`KeyedQueue`]: buckets of `k1` with lazy
 //! deletion), and the padded map one bit: 24 bytes and a bit a padded cell at most,
 //! allocated zeroed (committed by the system as touched).
 //! A cell's moves come from its 3 x 3 block of map bits (three two-byte loads) looked up
@@ -197,9 +197,9 @@ pub struct Engine {
     table: Vec<u8>,
     records: Vec<Record>,
     /// The vertices whose records this session wrote, each listed when its record first
-    /// left `g = rhs = inf` (a vertex can be listed again after returning there). At most
-    /// one entry per vertex is kept; past that, `touched_all` says the whole array is
-    /// cleared at the next session instead.
+    /// left `g = rhs = inf` (a vertex can be listed again after returning there). The list
+    /// holds at most as many entries as there are vertices; past that, `touched_all` says
+    /// the whole array is cleared at the next session instead.
     touched: Vec<u32>,
     touched_all: bool,
     queue: KeyedQueue,

@@ -84,10 +84,11 @@ pub struct MapSpec {
     /// the weights ([`navigate`]).
     #[serde(default)]
     pub weights: Option<String>,
-    /// The move cost rule of a weighted map: `"mean"` (the default) or `"entered"`.
+    /// The move cost rule of a weighted map: `"mean"` (the default) or `"entered"`. Only
+    /// with `weights`.
     #[serde(default)]
     #[schemars(with = "Option<String>", extend("enum" = ["mean", "entered"]))]
-    pub cost_rule: Option<planner_api::CostRule>,
+    pub cost_rule: Option<Spanned<planner_api::CostRule>>,
 }
 
 /// The seeded toggles of a `dynamic` experiment ([`ToggleConfig`], one run per seed).
@@ -397,6 +398,13 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
                 "must be at least 1".into(),
             ));
         }
+        if let (Some(rule), None) = (&map.cost_rule, &map.weights) {
+            return Err(invalid(
+                rule.span(),
+                "cost_rule",
+                "only for a weighted map: name its weight file (weights = ...)".into(),
+            ));
+        }
     }
     if let (Some(moves), Some(_)) = (&config.moves, config.gppc.first()) {
         if *moves.get_ref() != 8 {
@@ -501,7 +509,10 @@ fn load_maps(
         let scen_path = dir.join(&spec.scen);
         let mut grid = planner_maps::read_map(&map_path)?.grid;
         if let Some(weights) = &spec.weights {
-            let rule = spec.cost_rule.unwrap_or_default();
+            let rule = spec
+                .cost_rule
+                .as_ref()
+                .map_or_else(Default::default, |r| *r.get_ref());
             let options = planner_maps::ReadOptions::default();
             grid = planner_maps::read_weights(&dir.join(weights), grid, rule, &options)?;
         }

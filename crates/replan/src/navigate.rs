@@ -138,14 +138,11 @@ fn sense(
                 let weight = truth.weight(cell);
                 known.set_weight(cell, weight);
                 let free = known.is_free(cell);
-                change = Some(
-                    CellChange {
-                        cell,
-                        free,
-                        weight: None,
-                    }
-                    .with_weight(weight),
-                );
+                change = Some(CellChange {
+                    cell,
+                    free,
+                    weight: Some(weight),
+                });
             }
             seen.extend(change);
         }
@@ -306,10 +303,10 @@ fn replan(
     let started = Instant::now();
     let outcome = planner.replan(budget);
     let replan_time = started.elapsed();
-    let mut cost = outcome.path.as_ref().map(|path| match known.is_weighted() {
-        true => known.path_cost(path.cells()),
-        false => planner_api::path_cost(path),
-    });
+    let mut cost = outcome
+        .path
+        .as_ref()
+        .map(|path| known.path_cost(path.cells()));
     let mut failed = false;
     let mut oracle_expansions = None;
     if let Some(oracle) = oracle {

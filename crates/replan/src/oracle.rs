@@ -2,14 +2,14 @@
 //!
 //! planner-astar with the same moves (4, or 8 without corner cutting), the consistent
 //! heuristic (Manhattan or octile, times the smallest weight on a weighted map) and exact
-//! [`Cost`]s finds an optimal path; its cost, summed exactly over its moves ([`path_cost`],
-//! or [`Grid::path_cost`] under the map's weights), is the truth every replan is held to.
+//! [`Cost`]s finds an optimal path; its cost, summed exactly over its moves
+//! ([`Grid::path_cost`]: their lengths, under the map's weights when it has them), is the
+//! truth every replan is held to.
 
 use std::fmt;
 
 use planner_api::{
-    path_cost, Budget, Cell, Connectivity, Cost, Grid, MoveSet, Outcome, PathRule, Planner,
-    Problem, Status,
+    Budget, Cell, Connectivity, Cost, Grid, MoveSet, Outcome, PathRule, Planner, Problem, Status,
 };
 use planner_astar::{AStar, Config, Heuristic};
 
@@ -82,16 +82,6 @@ impl fmt::Display for Mismatch {
 /// planner-astar with 8 moves without corner cutting (`eight`) or 4, the consistent
 /// heuristic of the moves (octile or Manhattan), exact costs and the default ties: the
 /// oracle's search and the baseline's ([`crate::restart`]).
-/// The exact cost of `path` on `grid`: [`path_cost`] (its length) on an unweighted grid,
-/// the sum of the weighted move costs ([`Grid::path_cost`]) on a weighted one.
-fn exact_cost(grid: &Grid, path: &planner_api::Path) -> Cost {
-    if grid.is_weighted() {
-        grid.path_cost(path.cells())
-    } else {
-        path_cost(path)
-    }
-}
-
 pub(crate) fn exact_astar(eight: bool) -> AStar {
     let config = Config {
         moves: if eight {
@@ -145,7 +135,10 @@ impl Oracle {
         let problem = Problem::new(grid, start, goal).ok()?;
         let outcome = self.astar.plan(&problem, &Budget::unlimited());
         self.last_expansions = outcome.counters.get("n_expanded").unwrap_or(0);
-        outcome.path.as_ref().map(|path| exact_cost(grid, path))
+        outcome
+            .path
+            .as_ref()
+            .map(|path| grid.path_cost(path.cells()))
     }
 
     /// A*'s expansions in the last [`Oracle::optimum`] or [`Oracle::check`]: what A* from
@@ -186,7 +179,7 @@ impl Oracle {
                 if let Err(e) = path.validate(grid, PathRule::Moves(&self.moves)) {
                     return Err(fail(MismatchKind::InvalidPath(e.to_string())));
                 }
-                Some(exact_cost(grid, path))
+                Some(grid.path_cost(path.cells()))
             }
             None => None,
         };

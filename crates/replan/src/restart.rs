@@ -8,10 +8,9 @@
 //! weighted map the backward search is exact under the symmetric mean rule only: under the
 //! entered cell's rule ([`planner_api::CostRule::Entered`]) a reversed path charges the
 //! cells it leaves, so its cost is not the forward path's (the oracle records such a
-//! replan as a mismatch). A*
-//! builds a bit-packed copy of a changed map before it searches
-//! ([`Planner::prepare`]); that happens in [`IncrementalPlanner::apply`], so drivers time it
-//! as update time, apart from the replan (see [`crate::ReplanRecord`]).
+//! replan as a mismatch). A* builds a bit-packed copy of a changed map before it searches
+//! ([`Planner::prepare`]); that happens in [`IncrementalPlanner::apply`], so drivers time
+//! it as update time, apart from the replan (see [`crate::ReplanRecord`]).
 
 use planner_api::{
     Budget, Cell, CellChange, ChangeError, Grid, IncrementalPlanner, Outcome, Path, PathSpec,

@@ -133,6 +133,12 @@ fn config_errors_name_file_line_column_and_key() {
         e.to_string().contains("unknown replanning planner `dstar`"),
         "{e}"
     );
+    // A cost rule without a weight file: its line and column.
+    let e = parse_error(&format!("{base}cost_rule = \"entered\"\n"));
+    assert!(
+        matches!(&e, ExperimentError::Invalid { line: 7, column: 13, key, .. } if key == "cost_rule"),
+        "{e}"
+    );
     // Bad moves, a bad name, a key of the other kind.
     let e = parse_error(&format!("moves = 6\n{base}"));
     assert!(

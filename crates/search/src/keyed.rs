@@ -280,7 +280,9 @@ fn least_child(items: &[Entry], first: usize, n: usize) -> Option<usize> {
     }
 }
 
-/// The queue (see the [module docs](self)).
+/// The queue (see the [module docs](self)). Every method that takes a vertex requires it
+/// below the `n` of the last [`KeyedQueue::reset`] (a vertex index is a caller's array
+/// index; out of range panics).
 #[derive(Debug, Clone)]
 pub struct KeyedQueue {
     front: Front,
