@@ -22,6 +22,13 @@
 //! to run a subset (`-- den520d jps_plus`). With `JPS_DUMP_COUNTERS=FILE` set, every
 //! scenario's counters and path cells are appended to FILE first (one line each), so that two
 //! builds can be checked to search identically (`cmp`).
+//!
+//! `--goal-bounding` runs every variant with goal bounding (`goal_bounding = true`) and
+//! prints, per variant, `map=<name> variant=<v> goal_bounding precompute_ms=<t>
+//! jump_points=<n> goal_bounds_bytes=<n>` first: the one-off build of the boxes (one
+//! Dijkstra search per jump point over the pool's threads), which the timed queries reuse.
+//! With `--goal-bounding` the maps are den520d alone unless named: on random512-10-0 the
+//! build is long (a search of 236,000 cells for each of its many jump points).
 
 use std::time::Instant;
 
@@ -40,8 +47,10 @@ fn main() {
         eprintln!("{e}");
         std::process::exit(2)
     });
-    let map_chosen = |m: &str| {
-        !filters.iter().any(|f| MAPS.contains(&f.as_str())) || filters.iter().any(|f| f == m)
+    let goal_bounding = std::env::args().any(|a| a == "--goal-bounding");
+    let map_chosen = |m: &str| match filters.iter().any(|f| MAPS.contains(&f.as_str())) {
+        true => filters.iter().any(|f| f == m),
+        false => !goal_bounding || m == "den520d",
     };
     for name in MAPS.iter().filter(|m| map_chosen(m)) {
         let (grid, scenarios) = load_movingai(name).unwrap_or_else(|e| panic!("{e}"));
@@ -50,7 +59,7 @@ fn main() {
             let chosen = |f: &String| VARIANTS.iter().any(|w| w.as_str() == f);
             !filters.iter().any(chosen) || filters.iter().any(|f| f == v.as_str())
         }) {
-            let n = run(name, &grid, &scenarios, variant, repeats);
+            let n = run(name, &grid, &scenarios, variant, goal_bounding, repeats);
             peer_expansions.get_or_insert(n);
         }
         println!(
@@ -61,14 +70,33 @@ fn main() {
 }
 
 /// One map and variant; returns the peer's expansions.
-fn run(name: &str, grid: &Grid, scenarios: &[Scenario], variant: Variant, repeats: Repeats) -> u64 {
+fn run(
+    name: &str,
+    grid: &Grid,
+    scenarios: &[Scenario],
+    variant: Variant,
+    goal_bounding: bool,
+    repeats: Repeats,
+) -> u64 {
     let config = Config {
         variant,
         marks: false,
+        goal_bounding,
         ..Config::default()
     };
     let new = || Jps::new(config.clone()).unwrap_or_else(|e| panic!("{e}"));
-    if variant == Variant::JpsPlus {
+    if goal_bounding {
+        let mut fresh = new();
+        let t = Instant::now();
+        let prepared = fresh.precompute(grid);
+        println!(
+            "map={name} variant={} goal_bounding precompute_ms={:.1} jump_points={} goal_bounds_bytes={}",
+            variant.as_str(),
+            t.elapsed().as_secs_f64() * 1e3,
+            prepared.goal_bounded_points,
+            prepared.goal_bounds_bytes
+        );
+    } else if variant == Variant::JpsPlus {
         let mut fresh = new();
         let t = Instant::now();
         let prepared = fresh.precompute(grid);

@@ -1,5 +1,6 @@
 //! Every variant against the scenario optima of every `.scen` file in `maps/movingai/`,
-//! and against planner-astar (octile, no corner cutting) on seeded random grids.
+//! and, with and without goal bounding, against planner-astar (octile, no corner cutting)
+//! on seeded random grids.
 
 use planner_api::{Budget, Cell, Connectivity, Grid, Planner, Problem, Status};
 use planner_astar::{AStar, Heuristic};
@@ -100,7 +101,21 @@ fn random_grids_agree_with_astar() {
         ..planner_astar::Config::default()
     })
     .unwrap();
-    let mut planners: Vec<Jps> = VARIANTS.iter().map(|&v| jps(v)).collect();
+    // Each variant without goal bounding, then with it.
+    let mut planners: Vec<Jps> = [false, true]
+        .into_iter()
+        .flat_map(|goal_bounding| {
+            VARIANTS.iter().map(move |&variant| {
+                Jps::new(Config {
+                    variant,
+                    goal_bounding,
+                    ..Config::default()
+                })
+                .unwrap()
+            })
+        })
+        .collect();
+    let mut expanded = [0u64; 6];
     for round in 0..600 {
         let (w, h) = (rng.gen_range(1..=40), rng.gen_range(1..=40));
         let density = rng.gen_range(0..45);
@@ -118,11 +133,13 @@ fn random_grids_agree_with_astar() {
             let problem = Problem::new(&grid, start, goal).unwrap();
             let expected = astar.plan(&problem, &Budget::unlimited());
             let expected_length = checked_length(&grid, start, goal, &expected);
-            for planner in &mut planners {
+            for (k, planner) in planners.iter_mut().enumerate() {
                 let outcome = planner.plan(&problem, &Budget::unlimited());
+                expanded[k] += outcome.counters.get("n_expanded").unwrap_or(0);
                 let what = format!(
-                    "round {round} {:?} {start} -> {goal}\n{}",
+                    "round {round} {:?} goal bounding {} {start} -> {goal}\n{}",
                     planner.config().variant,
+                    planner.config().goal_bounding,
                     grid.to_ascii()
                 );
                 assert_eq!(outcome.status, expected.status, "{what}");
@@ -134,5 +151,15 @@ fn random_grids_agree_with_astar() {
                 }
             }
         }
+    }
+    // The boxes prune: each variant expands fewer nodes with them.
+    for k in 0..3 {
+        assert!(
+            expanded[k + 3] * 10 < expanded[k] * 9,
+            "{:?}: {} with goal bounding, {} without",
+            VARIANTS[k],
+            expanded[k + 3],
+            expanded[k]
+        );
     }
 }
