@@ -54,6 +54,11 @@ pub(crate) struct GoalBounds {
     boxes: Vec<[Bounds; 8]>,
 }
 
+/// A build of the boxes given up at its caller's request (a budget's time limit or
+/// cancel flag).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Stopped;
+
 /// One Dijkstra search's scratch, reused across sources.
 struct Scratch {
     cost: Vec<Cost>,
@@ -68,11 +73,17 @@ struct Scratch {
 
 impl GoalBounds {
     /// The boxes of the jump points of `table` on `bits`, for node records
-    /// `y << shift | x`; `None` when a coordinate does not fit the boxes' 16 bits.
-    pub(crate) fn build(bits: &BitGrid, table: &JumpTable, shift: u32) -> Option<GoalBounds> {
+    /// `y << shift | x`; `Ok(None)` when a coordinate does not fit the boxes' 16 bits, and
+    /// [`Stopped`] when `stop` said so before a jump point's search (read before each).
+    pub(crate) fn build(
+        bits: &BitGrid,
+        table: &JumpTable,
+        shift: u32,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<GoalBounds>, Stopped> {
         let (w, h) = (bits.width(), bits.height());
         if w > u32::from(u16::MAX) || h > u32::from(u16::MAX) {
-            return None;
+            return Ok(None);
         }
         let n = w as usize * h as usize;
         // The legal moves of every cell, a bit per direction (no corner cutting).
@@ -103,7 +114,7 @@ impl GoalBounds {
             }
         }
         let sources: Vec<u32> = (0..n as u32).filter(|&i| jump_point[i as usize]).collect();
-        let boxes: Vec<[Bounds; 8]> = sources
+        let boxes: Option<Vec<[Bounds; 8]>> = sources
             .par_iter()
             .map_init(
                 || Scratch {
@@ -113,15 +124,16 @@ impl GoalBounds {
                     heap: BinaryHeap::new(),
                     settled: Vec::new(),
                 },
-                |scratch, &source| boxes_from(source, w, &moves, scratch),
+                |scratch, &source| (!stop()).then(|| boxes_from(source, w, &moves, scratch)),
             )
             .collect();
+        let boxes = boxes.ok_or(Stopped)?;
         let mut slot = vec![0u32; (h as usize) << shift];
         for (k, &source) in sources.iter().enumerate() {
             let (x, y) = (source % w, source / w);
             slot[((y as usize) << shift) | x as usize] = k as u32 + 1;
         }
-        Some(GoalBounds { slot, boxes })
+        Ok(Some(GoalBounds { slot, boxes }))
     }
 
     /// The directions of node record `p` whose boxes hold `(gx, gy)`, a bit per direction;

@@ -70,9 +70,13 @@
 //! the rayon pool, and 64 bytes per jump point: on den520d 12,351 jump points, about 15 s
 //! on the 2-core test machine and 1 MB, after which JPS+ expanded 19,167 nodes for its
 //! 888 scenarios instead of 38,063, in half the time (`cargo bench -p planner-jps --bench
-//! movingai -- --goal-bounding den520d`, which prints both). That build is not counted
-//! against a query's budget (as the jump table is not); [`Planner::prepare`] does it
-//! ahead of the queries. On a grid wider or taller than 65,535 cells there are no boxes.
+//! movingai -- --goal-bounding den520d`, which prints both). A query that has to build
+//! them stops the build when its budget's time limit passes or its cancel flag is raised
+//! (read before each jump point's search): it ends `budget_exhausted` with zero counters
+//! and no boxes are kept, so the next query builds them again; the expansion limit is the
+//! search's alone. [`Planner::prepare`] and [`Jps::precompute`] build them ahead of the
+//! queries, without a limit. On a grid wider or taller than 65,535 cells there are no
+//! boxes.
 //!
 //! # Precomputation and memory
 //! Every variant keeps the bit grid: two bit copies with padding, 90,464 bytes for a
@@ -167,7 +171,7 @@ mod cost;
 mod plus;
 
 use bits::{diagonal, BitGrid, DX, DY};
-use bounds::GoalBounds;
+use bounds::{GoalBounds, Stopped};
 pub use cost::Cost;
 use planner_api::{
     Budget, Cell, Connectivity, Counters, Grid, Mark, MoveSet, Outcome, ParamKey, Path, PathSpec,
@@ -176,6 +180,7 @@ use planner_api::{
 use planner_search::FrontHeap as Open;
 use plus::JumpTable;
 use serde::{Deserialize, Serialize};
+use std::time::Instant;
 use thiserror::Error;
 
 /// The registry name of this planner.
@@ -366,11 +371,27 @@ impl Jps {
     /// the jump table. [`Planner::plan`] calls it; call it first to time the
     /// precomputation apart from the queries ([`Planner::prepare`] calls it too).
     pub fn precompute(&mut self, grid: &Grid) -> Prepared {
+        match self.precompute_until(grid, &|| false) {
+            Ok(prepared) => prepared,
+            Err(Stopped) => unreachable!("nothing stops the build"),
+        }
+    }
+
+    /// [`Jps::precompute`], giving up the goal bounds' build (none are kept) when `stop`
+    /// says so; it is read before each jump point's search.
+    fn precompute_until(
+        &mut self,
+        grid: &Grid,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Prepared, Stopped> {
         let (bits, rebuilt) = BitGrid::cached(&mut self.bits, grid);
+        if rebuilt {
+            self.bounds = None;
+        }
         if self.config.variant == Variant::JpsPlus && (rebuilt || self.table.is_none()) {
             self.table = Some(JumpTable::build(bits));
         }
-        if self.config.goal_bounding && (rebuilt || self.bounds.is_none()) {
+        if self.config.goal_bounding && self.bounds.is_none() {
             // The jump points are where the table's jumps end (any variant's).
             let built;
             let table = match &self.table {
@@ -380,14 +401,14 @@ impl Jps {
                     &built
                 }
             };
-            self.bounds = GoalBounds::build(bits, table, index_shift(grid));
+            self.bounds = GoalBounds::build(bits, table, index_shift(grid), stop)?;
         }
-        Prepared {
+        Ok(Prepared {
             bit_grid_bytes: bits.memory_bytes(),
             jump_table_bytes: self.table.as_ref().map_or(0, JumpTable::memory_bytes),
             goal_bounds_bytes: self.bounds.as_ref().map_or(0, GoalBounds::memory_bytes),
             goal_bounded_points: self.bounds.as_ref().map_or(0, GoalBounds::n_jump_points),
-        }
+        })
     }
 
     /// The bytes of the grid's derived data and the per-query state for `grid`, at most:
@@ -433,7 +454,16 @@ impl Jps {
         }
         let record = budget.record_expanded;
         let mut expanded = Vec::new();
-        self.precompute(grid);
+        // The goal bounds' build stops at the budget's time limit or cancel flag.
+        let deadline = budget.max_time.map(|limit| Instant::now() + limit);
+        let stop = || budget.is_cancelled() || deadline.is_some_and(|d| Instant::now() >= d);
+        if self.precompute_until(grid, &stop).is_err() {
+            let mut counters = Counters::new();
+            for name in counter_names {
+                counters.push(name, 0);
+            }
+            return Outcome::budget_exhausted(None, counters);
+        }
         self.size_nodes(grid);
         let (Some(bits), table, bounds) = (&self.bits, &self.table, &self.bounds) else {
             unreachable!("precompute fills the bit grid")

@@ -1,6 +1,8 @@
 //! Configuration errors, budgets, unreachable goals, marks and the grid cache.
 
-use planner_api::{Budget, Cell, Grid, Planner, Problem, Status};
+use std::time::Duration;
+
+use planner_api::{Budget, CancelFlag, Cell, Grid, Planner, Problem, Status};
 use planner_jps::{Config, Jps, Variant};
 use planner_testkit::outcome_text;
 
@@ -118,6 +120,44 @@ fn budget_is_honoured() {
         }
         let exact = planner.plan(&problem, &Budget::expansions(n));
         assert_eq!(exact, full, "{variant:?}: a budget of exactly n suffices");
+    }
+}
+
+/// Goal bounding's build stops when the query's budget is cancelled (or out of time): the
+/// query ends `budget_exhausted` with zero counters and keeps no boxes, and the next query
+/// with a budget that allows it builds them and finds the path.
+#[test]
+fn goal_bounding_build_honours_the_budget() {
+    let grid = Grid::from_ascii(
+        "
+        ..........
+        .####.###.
+        .#......#.
+        .#.####.#.
+        ..........
+    ",
+    )
+    .unwrap();
+    let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(9, 4)).unwrap();
+    for variant in VARIANTS {
+        let mut planner = Jps::new(Config {
+            variant,
+            goal_bounding: true,
+            ..Config::default()
+        })
+        .unwrap();
+        let flag = CancelFlag::new();
+        flag.cancel();
+        let stopped = planner.plan(&problem, &Budget::unlimited().with_cancel(flag));
+        assert_eq!(stopped.status, Status::BudgetExhausted, "{variant:?}");
+        assert_eq!(stopped.counters.get("n_expanded"), Some(0), "{variant:?}");
+        let timed_out = planner.plan(&problem, &Budget::unlimited().with_time(Duration::ZERO));
+        assert_eq!(timed_out.status, Status::BudgetExhausted, "{variant:?}");
+        let found = planner.plan(&problem, &Budget::unlimited());
+        assert_eq!(found.status, Status::Found, "{variant:?}");
+        let plain = jps(variant).plan(&problem, &Budget::unlimited());
+        let length = |o: &planner_api::Outcome| o.path.as_ref().map(|p| p.metrics().length);
+        assert_eq!(length(&found), length(&plain), "{variant:?}");
     }
 }
 
