@@ -168,7 +168,7 @@ pub const PLANNERS: &[Entry] = &[
     },
     Entry {
         name: planner_jps::NAME,
-        summary: "Jump Point Search, 8-connected without corner cutting: jps, jps_prime, jps_plus (exact octile costs)",
+        summary: "Jump Point Search, 8-connected without corner cutting: jps, jps_prime, jps_plus, optional goal bounding (exact octile costs)",
         task: Task::StartGoal,
         factory: |params| Factory::path(planner_jps::NAME, params, planner_jps::Jps::new),
     },
