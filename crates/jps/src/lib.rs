@@ -367,9 +367,10 @@ impl Jps {
         &self.config
     }
 
-    /// Builds (or finds cached) the grid's derived data: the bit grid, and for `jps_plus`
-    /// the jump table. [`Planner::plan`] calls it; call it first to time the
-    /// precomputation apart from the queries ([`Planner::prepare`] calls it too).
+    /// Builds (or finds cached) the grid's derived data: the bit grid, for `jps_plus` the
+    /// jump table, and with `goal_bounding` the goal bounds (without a time limit).
+    /// [`Planner::plan`] calls it; call it first to time the precomputation apart from the
+    /// queries ([`Planner::prepare`] calls it too).
     pub fn precompute(&mut self, grid: &Grid) -> Prepared {
         match self.precompute_until(grid, &|| false) {
             Ok(prepared) => prepared,
@@ -445,12 +446,15 @@ impl Jps {
             "n_relaxations",
             "peak_open",
         ];
-        if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
+        let zero_counters = || {
             let mut counters = Counters::new();
             for name in counter_names {
                 counters.push(name, 0);
             }
-            return Outcome::over_memory(shortfall, counters);
+            counters
+        };
+        if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
+            return Outcome::over_memory(shortfall, zero_counters());
         }
         let record = budget.record_expanded;
         let mut expanded = Vec::new();
@@ -458,11 +462,7 @@ impl Jps {
         let deadline = budget.max_time.map(|limit| Instant::now() + limit);
         let stop = || budget.is_cancelled() || deadline.is_some_and(|d| Instant::now() >= d);
         if self.precompute_until(grid, &stop).is_err() {
-            let mut counters = Counters::new();
-            for name in counter_names {
-                counters.push(name, 0);
-            }
-            return Outcome::budget_exhausted(None, counters);
+            return Outcome::budget_exhausted(None, zero_counters());
         }
         self.size_nodes(grid);
         let (Some(bits), table, bounds) = (&self.bits, &self.table, &self.bounds) else {
