@@ -216,6 +216,15 @@ impl BitGrid {
         self.rows.bit((y + 1) as usize, (x + PAD as i32) as usize)
     }
 
+    /// Whether the move from cell `(x, y)` in direction `dir` is allowed: its target is
+    /// free and, for a diagonal, both orthogonal cells beside it (no corner cutting).
+    /// `(x, y)` may lie in the padding's reach as for [`BitGrid::free`].
+    #[inline(always)]
+    pub(crate) fn allowed(&self, x: i32, y: i32, dir: usize) -> bool {
+        let (nx, ny) = (x + DX[dir], y + DY[dir]);
+        self.free(nx, ny) && (dir < 4 || (self.free(nx, y) && self.free(x, ny)))
+    }
+
     /// The 3 x 3 cells around `(x, y)` (a cell of the grid), bit `3 (dy + 1) + dx + 1`
     /// set for a free cell at offset `(dx, dy)`: one window read per row.
     #[inline(always)]

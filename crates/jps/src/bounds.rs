@@ -25,10 +25,10 @@
 //! record and 64 per jump point. The jump points are the cells where a jump of the table
 //! ends ([`JumpTable`]), straight or diagonal; nodes without boxes (the start, the goal's
 //! target jump points off them) keep all their directions. (JPS' and JPS+ expand no
-//! diagonal jump point as such, but a target jump point can be one: with the straight
-//! jumps' ends alone, den520d's 888 JPS+ queries expanded 21,199 nodes in 4.04 ms instead of
-//! 19,167 in 3.67, for 3,445 boxed points instead of 12,351 built in 4.4 s instead of 15.5;
-//! `cargo bench -p planner-jps --bench movingai -- --goal-bounding`, issue 30.)
+//! diagonal jump point as such, but a target jump point can be one: boxes for the straight
+//! jumps' ends alone, a build of this file tried for issue 30 and not kept, took about a
+//! third of the time to build on den520d, and JPS+ then expanded about a tenth more nodes
+//! and took about a tenth longer; the figures are in that issue's note.)
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -93,11 +93,7 @@ impl GoalBounds {
                 if !bits.free(x, y) {
                     return 0;
                 }
-                (0..8).fold(0u8, |m, d| {
-                    let (nx, ny) = (x + DX[d], y + DY[d]);
-                    let ok = bits.free(nx, ny) && (d < 4 || (bits.free(nx, y) && bits.free(x, ny)));
-                    m | u8::from(ok) << d
-                })
+                (0..8).fold(0u8, |m, d| m | u8::from(bits.allowed(x, y, d)) << d)
             })
             .collect();
         // A cell is a jump point when a jump of the table ends there: the cell before it

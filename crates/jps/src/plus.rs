@@ -59,9 +59,7 @@ impl JumpTable {
             for &y in &ys {
                 for &x in &xs {
                     let (nx, ny) = (x as i32 + dx, y as i32 + dy);
-                    let allowed = bits.free(nx, ny)
-                        && (dir < 4 || (bits.free(nx, y as i32) && bits.free(x as i32, ny)));
-                    let entry = if !allowed {
+                    let entry = if !bits.allowed(x as i32, y as i32, dir) {
                         0
                     } else {
                         let next = ny as usize * w + nx as usize;
