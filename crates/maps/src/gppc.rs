@@ -57,8 +57,8 @@ use planner_api::{Cell, CellChange, Grid};
 use crate::error::{MapError, MapErrorKind};
 use crate::movingai::movingai_passable;
 use crate::text::{
-    end_of_file, is_blank, lines, parse_u32, show_char, show_token, tokens, unexpected, width,
-    Origin,
+    end_of_file, from_column, is_blank, lines, parse_u32, show_char, show_token, tokens,
+    unexpected, width, Origin,
 };
 
 /// A version-2 scenario: the map's size, the patch file it names, and its commands.
@@ -324,7 +324,7 @@ pub fn parse_gppc_scenario(text: &str, origin: &str) -> Result<GppcScenario, Map
             cost[0].0,
             unexpected(
                 "'1 octile' (the only cost model)",
-                show_token(&line[cost[0].0 - 1..]),
+                show_token(from_column(line, cost[0].0)),
             ),
         ));
     }
@@ -567,6 +567,12 @@ mod tests {
         assert_eq!(
             err(&SCEN.replace("Q 0 0 0 3 2 4.5", "Q 0 0 0 3 2 x")),
             "s.scen:8:13: expected a cost (a non-negative decimal number, or -1 for no path), found 'x'"
+        );
+        // Columns count characters: wide whitespace before the key moves the column, and
+        // the excerpt starts at the value, not inside a character.
+        assert_eq!(
+            err(&SCEN.replace("cost 1 octile", "\u{3000}\u{3000}\u{3000}cost 1 octilX")),
+            "s.scen:4:9: expected '1 octile' (the only cost model), found '1 octilX'"
         );
         assert_eq!(
             err(&SCEN.replace("P 0 0 0 0", "P 0 0 0")),

@@ -24,6 +24,16 @@ pub(crate) fn width(s: &str) -> usize {
     s.chars().count()
 }
 
+/// The rest of `line` from its 1-based character `column` on (empty past its end): the
+/// columns of [`tokens`] are characters, not byte offsets.
+pub(crate) fn from_column(line: &str, column: usize) -> &str {
+    let byte = line
+        .char_indices()
+        .nth(column.saturating_sub(1))
+        .map_or(line.len(), |(byte, _)| byte);
+    &line[byte..]
+}
+
 /// The whitespace-separated tokens of `line` with their 1-based columns.
 pub(crate) fn tokens(line: &str) -> Vec<(usize, &str)> {
     let mut out = Vec::new();
@@ -128,6 +138,9 @@ mod tests {
         assert_eq!(tokens("  ab\tc  d"), vec![(3, "ab"), (6, "c"), (9, "d")]);
         assert_eq!(tokens(""), vec![]);
         assert_eq!(tokens("é x"), vec![(1, "é"), (3, "x")]);
+        assert_eq!(from_column("é x", 3), "x");
+        assert_eq!(from_column("é x", 1), "é x");
+        assert_eq!(from_column("é x", 4), "");
     }
 
     #[test]
