@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs one fuzz target for a bounded time: fuzz/run.sh TARGET SECONDS [extra libFuzzer flags]
 #
-# TARGET is one of: movingai scen seed003 csv ros_yaml image config stream frames weights (see README.md).
+# TARGET is one of: movingai scen seed003 csv ros_yaml image config stream frames weights gppc replan_config (see README.md).
 # Seeds are copied from ../maps (by extension) into seeds/TARGET; libFuzzer keeps what it
 # finds in corpus/TARGET and writes crashing inputs to artifacts/TARGET. Both are ignored
 # by git. Needs cargo-fuzz (`cargo install cargo-fuzz`); on a stable toolchain
@@ -75,6 +75,13 @@ case $target in
     done
     max_len=65536
     ;;
+  gppc)
+    # A scenario, a NUL byte, then a patch file (fuzz_targets/gppc.rs): the module docs'
+    # tiny pair, and the start of the sample scenario alone (read as both files).
+    printf 'version 2\nheight 3\nwidth 4\ncost 1 octile\npatch tiny.patch\ncommands\nP 0 0 0 0\nQ 0 0 0 3 2 4.4142135624\nP 1 1 2 1\nQ 1 0 0 3 2 -1\n\0type patch\npatches 2\npatch 0\nheight 3\nwidth 4\nmap\n....\n....\n....\npatch 1\nheight 2\nwidth 2\nmap\n@@\n@@\n' > "$seeds/tiny.bin"
+    head -c 16384 ../maps/gppc-dynamic/switch_sc1_Aurora_TheFrozenSea.scen > "$seeds/sample.scen"
+    ;;
+  replan_config) find ../configs/replan -name '*.toml' -exec cp {} "$seeds/" \; ;;
   stream) shard_streams "" ;;
   frames)
     # Shape byte 2 (see fuzz_targets/frames.rs): the shard streams, framed by the target;
@@ -87,7 +94,7 @@ case $target in
     printf '\x00\xff\xff\xff\xff\x00\x00\x00\x00' > "$seeds/huge-frame.bin"
     ;;
   *)
-    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream frames weights)" >&2
+    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream frames weights gppc replan_config)" >&2
     exit 2
     ;;
 esac
