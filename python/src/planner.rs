@@ -351,7 +351,13 @@ fn arrays<'py>(
     let out = PyDict::new(py);
     let status = PyList::new(py, records.iter().map(|r| r.status.as_str()))?;
     let numpy = py.import("numpy")?;
-    out.set_item("status", numpy.call_method1("asarray", (status,))?)?;
+    // A string array whatever the count (numpy makes an empty list float64).
+    let as_str = PyDict::new(py);
+    as_str.set_item("dtype", "str")?;
+    out.set_item(
+        "status",
+        numpy.call_method("asarray", (status,), Some(&as_str))?,
+    )?;
     let floats = |f: &dyn Fn(&RunRecord) -> f64| {
         PyArray1::from_owned_array(py, Array1::from_iter(records.iter().map(f)))
     };

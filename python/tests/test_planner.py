@@ -65,6 +65,14 @@ def test_plan_many_reports_no_path_and_budget_as_rows():
         assert list(out["steps"]) == [-1]
 
 
+def test_plan_many_without_queries_gives_empty_arrays_of_the_usual_types(map10):
+    none = np.zeros((0, 2), dtype=np.int64)
+    out = gridplan.Planner(map10, "astar").plan_many(none, none)
+    assert out["status"].dtype.kind == "U" and out["status"].shape == (0,)
+    assert out["length"].dtype == np.float64 and out["steps"].dtype == np.int64
+    assert out["length"].shape == out["steps"].shape == out["time_ms"].shape == (0,)
+
+
 def test_bad_queries_raise_and_name_the_query(map10):
     planner = gridplan.Planner(map10, "astar")
     with pytest.raises(gridplan.ProblemError, match="query 1") as error:
