@@ -38,6 +38,27 @@ use crate::RunnerError;
 /// The dataset directory of a results directory (and of a shard's): its Parquet files.
 pub const PARQUET_DIR: &str = "runs.parquet";
 
+/// Runs that do not fit the Parquet dataset's columns as gathered: a bug in the writer,
+/// never the user's input ([`RunnerError::Columns`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ColumnsError {
+    /// A run with a counter outside the columns chosen from the runs.
+    #[error("{PARQUET_DIR}: run {problem} of {planner} on {map} has a counter `{name}` the file's columns lack")]
+    Counter {
+        /// The run's problem.
+        problem: usize,
+        /// The run's planner label.
+        planner: String,
+        /// The run's map.
+        map: String,
+        /// The counter.
+        name: String,
+    },
+    /// A column or text (its kind and index) missing from the gathered row group.
+    #[error("{PARQUET_DIR}: {0} {1} was not gathered")]
+    NotGathered(&'static str, usize),
+}
+
 /// The name of shard `shard`'s file in [`PARQUET_DIR`]: `part-K-of-N.parquet`
 /// (`part-1-of-1.parquet` for a whole sweep).
 pub fn part_name(shard: Shard) -> String {
@@ -251,10 +272,12 @@ impl Group {
             .iter()
             .find(|(name, _)| !counters.iter().any(|c| c == name))
         {
-            return Err(RunnerError::Stream(format!(
-                "{PARQUET_DIR}: run {} of {} on {} has a counter `{name}` the file's columns lack",
-                r.problem, r.planner, r.map
-            )));
+            return Err(RunnerError::Columns(ColumnsError::Counter {
+                problem: r.problem,
+                planner: r.planner.clone(),
+                map: r.map.clone(),
+                name: name.to_string(),
+            }));
         }
         let n_columns = FIXED_COLUMNS.len() + counters.len();
         self.columns.resize_with(n_columns, GroupColumn::default);
@@ -367,9 +390,10 @@ impl<W: Write + Send> RunsWriter<W> {
             self.floats.clear();
             self.booleans.clear();
             let kind = FIXED_KINDS.get(index).map_or(Kind::Unsigned, |k| k.0);
-            let gathered = self.group.columns.get(index).ok_or_else(|| {
-                RunnerError::Stream(format!("{PARQUET_DIR}: column {index} was not gathered"))
-            })?;
+            let gathered =
+                self.group.columns.get(index).ok_or_else(|| {
+                    RunnerError::Columns(ColumnsError::NotGathered("column", index))
+                })?;
             self.levels
                 .extend(gathered.present.iter().map(|&p| i16::from(p)));
             let values = gathered.values.iter().copied();
@@ -377,9 +401,7 @@ impl<W: Write + Send> RunsWriter<W> {
                 Kind::Text => {
                     for id in values {
                         let text = self.group.texts.get(id as usize).ok_or_else(|| {
-                            RunnerError::Stream(format!(
-                                "{PARQUET_DIR}: text {id} was not gathered"
-                            ))
+                            RunnerError::Columns(ColumnsError::NotGathered("text", id as usize))
                         })?;
                         self.texts.push(text.clone());
                     }

@@ -17,6 +17,7 @@ use serde::{Deserialize, Serialize};
 use crate::config::{Experiment, FigureMode, FigurePick, MapEntry, PlannerSpec, ProblemEntry};
 use crate::index::ResultsIndex;
 use crate::record::{RunRecord, RunStatus};
+use crate::stream::{Place, StreamError, StreamProblem};
 
 /// Why the expanded cells could not be recorded.
 #[derive(Debug, thiserror::Error)]
@@ -105,8 +106,10 @@ impl ExpandedCells {
     pub fn from_jsonl(text: &str, what: &str) -> Result<ExpandedCells, crate::RunnerError> {
         let mut all = ExpandedCells::default();
         for (n, line) in text.lines().enumerate() {
-            let line: Line = serde_json::from_str(line)
-                .map_err(|e| crate::RunnerError::Stream(format!("{what}:{}: {e}", n + 1)))?;
+            let line: Line = serde_json::from_str(line).map_err(|e| {
+                let place = Place::Line(n as u64 + 1);
+                StreamError::new(what, place, StreamProblem::Json(e))
+            })?;
             all.insert(&line.map, line.problem, &line.planner, line.expanded);
         }
         Ok(all)

@@ -49,6 +49,7 @@ use planner_api::{Cell, Counters, Mark, Path, ReturnLeg, Series};
 use serde::{Deserialize, Serialize};
 
 use crate::record::{RunRecord, RunStatus};
+use crate::stream::{Place, StreamError, StreamProblem};
 use crate::RunnerError;
 
 /// The stream header's `format` of a framed stream as this version writes it (a JSON
@@ -378,26 +379,31 @@ fn batch_payload(batch: &[(u64, RunRecord)]) -> Result<Vec<u8>, RunnerError> {
     Ok(payload)
 }
 
+/// Why a frame could not be written ([`RunnerError::Frame`]).
+#[derive(Debug, thiserror::Error)]
+pub enum FrameError {
+    /// A payload longer than a frame holds, before or after compression.
+    #[error("{0} bytes, more than a frame holds ({MAX_FRAME_BYTES})")]
+    TooLarge(usize),
+    /// The compressor refused the payload.
+    #[error("compressing a frame: {0}")]
+    Compress(snap::Error),
+}
+
 /// Appends `batch` (runs and their records) to `out` as one frame.
 pub fn encode_batch(out: &mut Vec<u8>, batch: &[(u64, RunRecord)]) -> Result<(), RunnerError> {
     let payload = batch_payload(batch)?;
-    encode_payload(out, &payload).map_err(|e| match e {
-        RunnerError::Stream(why) => {
-            RunnerError::Stream(format!("a batch of {} runs: {why}", batch.len()))
-        }
-        e => e,
+    encode_payload(out, &payload).map_err(|source| RunnerError::Frame {
+        runs: batch.len(),
+        source,
     })
 }
 
 /// Appends to `out` the frame holding `payload` (compressed, with its length and
 /// checksum), as [`encode_batch`] does with a batch's payload; public for the fuzz target,
 /// which sends any bytes through the payload decoder this way.
-pub fn encode_payload(out: &mut Vec<u8>, payload: &[u8]) -> Result<(), RunnerError> {
-    let too_long = |n: usize| {
-        RunnerError::Stream(format!(
-            "{n} bytes, more than a frame holds ({MAX_FRAME_BYTES})"
-        ))
-    };
+pub fn encode_payload(out: &mut Vec<u8>, payload: &[u8]) -> Result<(), FrameError> {
+    let too_long = FrameError::TooLarge;
     if payload.len() > MAX_FRAME_BYTES as usize {
         return Err(too_long(payload.len()));
     }
@@ -405,7 +411,7 @@ pub fn encode_payload(out: &mut Vec<u8>, payload: &[u8]) -> Result<(), RunnerErr
     out.resize(start + 8 + snap::raw::max_compress_len(payload.len()), 0);
     let n = snap::raw::Encoder::new()
         .compress(payload, &mut out[start + 8..])
-        .map_err(|e| RunnerError::Stream(format!("compressing a frame: {e}")))?;
+        .map_err(FrameError::Compress)?;
     out.truncate(start + 8 + n);
     let length = u32::try_from(n)
         .ok()
@@ -810,7 +816,7 @@ impl FrameReader {
         if self.cut_bytes > 0 {
             return Ok(false);
         }
-        let io = |e: std::io::Error| RunnerError::Stream(format!("{what}: {e}"));
+        let io = |e: std::io::Error| StreamError::new(what, Place::File, StreamProblem::Io(e));
         let mut head = [0u8; 8];
         let got = read_up_to(reader, &mut head).map_err(io)?;
         if got == 0 {
@@ -824,9 +830,8 @@ impl FrameReader {
         let length = u32::from_le_bytes([head[0], head[1], head[2], head[3]]);
         let crc = u32::from_le_bytes([head[4], head[5], head[6], head[7]]);
         if length > MAX_FRAME_BYTES {
-            return Err(RunnerError::Stream(format!(
-                "{what}: frame {frame} declares {length} bytes, more than {MAX_FRAME_BYTES}; not a gridplan stream"
-            )));
+            let problem = StreamProblem::FrameTooLarge(length);
+            return Err(StreamError::new(what, Place::Frame(frame), problem).into());
         }
         self.payload.clear();
         let n = (&mut *reader)
@@ -845,13 +850,12 @@ impl FrameReader {
                 self.cut_bytes = 8 + u64::from(length);
                 return Ok(false);
             }
-            return Err(RunnerError::Stream(format!(
-                "{what}: frame {frame} (at byte {} after the header) fails its checksum and frames follow it; the stream is damaged",
-                self.complete_bytes
-            )));
+            let problem = StreamProblem::Checksum(self.complete_bytes);
+            return Err(StreamError::new(what, Place::Frame(frame), problem).into());
         }
-        let malformed =
-            |Malformed(why)| RunnerError::Stream(format!("{what}: frame {frame}: {why}"));
+        let malformed = |Malformed(why)| {
+            StreamError::new(what, Place::Frame(frame), StreamProblem::Malformed(why))
+        };
         let records = if self.rows {
             decode_payload(&self.payload, true).map_err(malformed)?
         } else {
@@ -949,7 +953,7 @@ pub fn write_json_lines<R: BufRead>(
         format: crate::stream::STREAM_FORMAT,
         ..header
     };
-    let io = |e: std::io::Error| RunnerError::Stream(format!("{what}: {e}"));
+    let io = |e: std::io::Error| StreamError::new(what, Place::File, StreamProblem::Io(e));
     out.write_all(&header.to_line()?).map_err(io)?;
     let mut line = Vec::with_capacity(512);
     let mut n = 0;
@@ -979,7 +983,7 @@ pub fn write_framed<R: BufRead>(
         format: FRAMED_FORMAT,
         ..header
     };
-    let io = |e: std::io::Error| RunnerError::Stream(format!("{what}: {e}"));
+    let io = |e: std::io::Error| StreamError::new(what, Place::File, StreamProblem::Io(e));
     let line = header.to_line()?;
     out.write_all(&line).map_err(io)?;
     let mut bytes = line.len() as u64;

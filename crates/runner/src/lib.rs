@@ -124,13 +124,24 @@ pub enum RunnerError {
     Threads(usize),
     /// The thread pool could not start.
     #[error("cannot start the worker threads: {0}")]
-    Pool(String),
+    Pool(rayon::ThreadPoolBuildError),
     /// A run index past the end of the run list (a bug).
     #[error("run index {0} is past the end of the run list")]
     RunIndex(u64),
     /// A record stream (a resumed sweep's, a shard's) is unreadable or does not fit.
-    #[error("{0}")]
-    Stream(String),
+    #[error(transparent)]
+    Stream(#[from] stream::StreamError),
+    /// A frame of a stream could not be written.
+    #[error("a batch of {runs} runs: {source}")]
+    Frame {
+        /// Runs in the batch.
+        runs: usize,
+        /// Why.
+        source: frames::FrameError,
+    },
+    /// The runs do not fit the Parquet dataset's columns (a bug).
+    #[error(transparent)]
+    Columns(#[from] columnar::ColumnsError),
     /// Serializing results failed.
     #[error("cannot serialize the results: {0}")]
     Json(serde_json::Error),
@@ -222,6 +233,8 @@ impl RunnerError {
             RunnerError::Pool(_)
             | RunnerError::RunIndex(_)
             | RunnerError::Stream(_)
+            | RunnerError::Frame { .. }
+            | RunnerError::Columns(_)
             | RunnerError::Json(_)
             | RunnerError::Io { .. }
             | RunnerError::Parquet(_)

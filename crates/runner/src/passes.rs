@@ -22,7 +22,7 @@
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
-use crate::stream::{self, StreamReader};
+use crate::stream::{self, Place, StreamError, StreamProblem, StreamReader};
 use crate::{RunRecord, RunnerError};
 
 /// A whole sweep's records, readable any number of times, in run order.
@@ -89,10 +89,11 @@ impl RecordPasses for StreamPasses {
             visit(&record);
         }
         if n != self.runs || reader.was_cut() {
-            return Err(RunnerError::Stream(format!(
-                "{what}: a pass over its records read {n} of {} (the file changed while the report read it)",
-                self.runs
-            )));
+            let problem = StreamProblem::Changed {
+                read: n,
+                runs: self.runs,
+            };
+            return Err(StreamError::new(&what, Place::File, problem).into());
         }
         Ok(())
     }

@@ -155,7 +155,7 @@ pub fn run_all(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| RunnerError::Pool(e.to_string()))?;
+        .map_err(RunnerError::Pool)?;
     let done = std::sync::atomic::AtomicU64::new(0);
     let records: Vec<Result<RunRecord, RunnerError>> = pool.install(|| {
         (0..list.len())

@@ -39,6 +39,115 @@ use crate::run::{run_one, RunList, RunOptions, Workspace};
 use crate::shard::Shard;
 use crate::RunnerError;
 
+/// A record stream (`records.stream`, `shard.stream`) or `expanded.jsonl` that cannot be
+/// read, or whose records do not fit: the file, where in it, and what.
+///
+/// ```
+/// use planner_runner::stream::{Place, StreamError, StreamProblem};
+///
+/// let error = StreamError::new("out/records.stream", Place::Line(7), StreamProblem::LineTooLong);
+/// assert!(error.to_string().starts_with("out/records.stream line 7: longer than"));
+/// ```
+#[derive(Debug, thiserror::Error)]
+#[error("{file}{place}: {problem}")]
+pub struct StreamError {
+    /// The file, as the reader was told to name it.
+    pub file: String,
+    /// Where in the file.
+    pub place: Place,
+    /// What is wrong there.
+    pub problem: StreamProblem,
+}
+
+impl StreamError {
+    /// The error `problem` at `place` of `file`.
+    pub fn new(file: &str, place: Place, problem: StreamProblem) -> StreamError {
+        StreamError {
+            file: file.to_string(),
+            place,
+            problem,
+        }
+    }
+}
+
+/// Where in a stream a [`StreamError`] lies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Place {
+    /// The file as a whole.
+    File,
+    /// A 1-based line of a JSON Lines file (the header is line 1).
+    Line(u64),
+    /// A 1-based frame of a framed stream (after its header line).
+    Frame(u64),
+}
+
+impl std::fmt::Display for Place {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Place::File => Ok(()),
+            Place::Line(n) => write!(f, " line {n}"),
+            Place::Frame(n) => write!(f, ": frame {n}"),
+        }
+    }
+}
+
+/// What is wrong with a stream ([`StreamError`]).
+#[derive(Debug, thiserror::Error)]
+pub enum StreamProblem {
+    /// Reading failed.
+    #[error("{0}")]
+    Io(std::io::Error),
+    /// The first line is not a stream header.
+    #[error("not a gridplan stream header: {0}")]
+    NotAHeader(serde_json::Error),
+    /// The file ends before its header line does.
+    #[error("empty or cut before its header")]
+    NoHeader,
+    /// A header of a stream format this gridplan does not read.
+    #[error(
+        "stream format {0} (this gridplan reads {STREAM_FORMAT}, JSON Lines, and {rows} and {columns}, framed)",
+        rows = crate::frames::ROW_FRAMED_FORMAT,
+        columns = crate::frames::FRAMED_FORMAT
+    )]
+    Format(u32),
+    /// The header's shard is not one a command accepts.
+    #[error(transparent)]
+    Shard(crate::shard::ShardError),
+    /// A line longer than [`MAX_LINE_BYTES`].
+    #[error("longer than {MAX_LINE_BYTES} bytes; not a gridplan stream")]
+    LineTooLong,
+    /// A line that is not the JSON it should be.
+    #[error("{0}")]
+    Json(serde_json::Error),
+    /// A frame stating more bytes than [`crate::frames::MAX_FRAME_BYTES`].
+    #[error("declares {0} bytes, more than {max}; not a gridplan stream", max = crate::frames::MAX_FRAME_BYTES)]
+    FrameTooLarge(u32),
+    /// A frame whose checksum fails with frames after it.
+    #[error("at byte {0} after the header, fails its checksum and frames follow it; the stream is damaged")]
+    Checksum(u64),
+    /// A frame whose checksum holds but whose payload does not decode.
+    #[error("{0}")]
+    Malformed(&'static str),
+    /// A complete-looking stream with fewer runs than its header declares.
+    #[error("{recorded} of {declared} runs recorded")]
+    Incomplete {
+        /// Runs read.
+        recorded: u64,
+        /// Runs the header declares.
+        declared: u64,
+    },
+    /// A second pass over the file read another number of runs than the first.
+    #[error(
+        "a pass over its records read {read} of {runs} (the file changed while the report read it)"
+    )]
+    Changed {
+        /// Runs this pass read.
+        read: u64,
+        /// Runs the first pass read.
+        runs: u64,
+    },
+}
+
 /// The stream format's version.
 pub const STREAM_FORMAT: u32 = 1;
 
@@ -259,26 +368,18 @@ impl<R: BufRead> StreamReader<R> {
         };
         let header = match stream.next_line()? {
             Some(line) => serde_json::from_slice::<StreamHeader>(line).map_err(|e| {
-                RunnerError::Stream(format!("{what} line 1: not a gridplan stream header: {e}"))
+                StreamError::new(what, Place::Line(1), StreamProblem::NotAHeader(e))
             })?,
-            None => {
-                return Err(RunnerError::Stream(format!(
-                    "{what}: empty or cut before its header"
-                )))
-            }
+            None => return Err(StreamError::new(what, Place::File, StreamProblem::NoHeader).into()),
         };
         stream.frames = crate::frames::FrameReader::for_format(header.format);
         if stream.frames.is_none() && header.format != STREAM_FORMAT {
-            return Err(RunnerError::Stream(format!(
-                "{what}: stream format {} (this gridplan reads {STREAM_FORMAT}, JSON Lines, and {} and {}, framed)",
-                header.format,
-                crate::frames::ROW_FRAMED_FORMAT,
-                crate::frames::FRAMED_FORMAT
-            )));
+            let problem = StreamProblem::Format(header.format);
+            return Err(StreamError::new(what, Place::File, problem).into());
         }
         // A shard count no command accepts (a merge would loop over it) is refused here.
         Shard::new(header.shard, header.shards)
-            .map_err(|e| RunnerError::Stream(format!("{what} line 1: {e}")))?;
+            .map_err(|e| StreamError::new(what, Place::Line(1), StreamProblem::Shard(e)))?;
         Ok((header, stream))
     }
 
@@ -287,16 +388,13 @@ impl<R: BufRead> StreamReader<R> {
         let n = (&mut self.reader)
             .take(MAX_LINE_BYTES)
             .read_until(b'\n', &mut self.buffer)
-            .map_err(|e| RunnerError::Stream(format!("{}: {e}", self.what)))?;
+            .map_err(|e| StreamError::new(&self.what, Place::File, StreamProblem::Io(e)))?;
         if n == 0 {
             return Ok(None);
         }
         if n as u64 == MAX_LINE_BYTES && self.buffer.last() != Some(&b'\n') {
-            return Err(RunnerError::Stream(format!(
-                "{} line {}: longer than {MAX_LINE_BYTES} bytes; not a gridplan stream",
-                self.what,
-                self.line + 1
-            )));
+            let place = Place::Line(self.line + 1);
+            return Err(StreamError::new(&self.what, place, StreamProblem::LineTooLong).into());
         }
         if self.buffer.last() != Some(&b'\n') {
             self.cut = true;
@@ -315,8 +413,9 @@ impl<R: BufRead> StreamReader<R> {
         if self.next_line()?.is_none() {
             return Ok(None);
         }
-        let mut parsed: Line = serde_json::from_slice(&self.buffer)
-            .map_err(|e| RunnerError::Stream(format!("{} line {}: {e}", self.what, self.line)))?;
+        let mut parsed: Line = serde_json::from_slice(&self.buffer).map_err(|e| {
+            StreamError::new(&self.what, Place::Line(self.line), StreamProblem::Json(e))
+        })?;
         intern_counter_names(&mut parsed.record.counters);
         Ok(Some((parsed.run, parsed.record)))
     }
@@ -368,7 +467,7 @@ pub fn run_stream(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| RunnerError::Pool(e.to_string()))?;
+        .map_err(RunnerError::Pool)?;
     let workers = pool.current_num_threads();
     let workspaces: Vec<Mutex<Workspace>> = (0..workers)
         .map(|_| Mutex::new(Workspace::default()))

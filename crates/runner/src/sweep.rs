@@ -54,6 +54,7 @@ use crate::record::Reproduction;
 use crate::run::{HeapMeter, RunList};
 use crate::shard::{Shard, ShardRuns};
 use crate::stream::{self, StreamHeader, StreamReader};
+use crate::stream::{Place, StreamError, StreamProblem};
 use crate::{config, outdir, output as results, Experiment, RunOptions, RunRecord, RunnerError};
 
 /// The resume stream of a sweep's stream area: framed binary ([`crate::frames`]).
@@ -257,12 +258,12 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     } else {
         let held = header.runs <= HELD_RUNS;
         if held && records.len() as u64 != header.runs {
-            return Err(RunnerError::Stream(format!(
-                "{}: {} of {} runs recorded",
-                path.display(),
-                records.len(),
-                header.runs
-            )));
+            let problem = StreamProblem::Incomplete {
+                recorded: records.len() as u64,
+                declared: header.runs,
+            };
+            let file = path.display().to_string();
+            return Err(StreamError::new(&file, Place::File, problem).into());
         }
         let threads = worker_threads(args.threads, experiment.threads);
         let provenance = Provenance::collect(args.config, threads, args.machine);
