@@ -636,8 +636,13 @@ fn no_function_of_the_runner_report_or_paper_is_over_100_lines() {
 /// arguments (ARCHITECTURE.md, "Layers").
 const PROCESS_FORBIDDEN: &[&str] = &["std::env", "std::process"];
 
+/// Nor may they print: the command line, xtask and the Python package print; the library
+/// reports through its return values, its progress callback and `tracing` (which the
+/// caller sends where it wants).
+const PRINT_FORBIDDEN: &[&str] = &["println!", "eprintln!", "print!(", "eprint!(", "dbg!("];
+
 #[test]
-fn the_runner_report_and_paper_read_no_process_state() {
+fn the_runner_report_and_paper_read_no_process_state_and_print_nothing() {
     for dir in LAYERED_SOURCES {
         let mut files = Vec::new();
         rust_files(&root().join(dir), &mut files);
@@ -656,6 +661,13 @@ fn the_runner_report_and_paper_read_no_process_state() {
                     assert!(
                         !code.contains(word),
                         "{relative}:{}: `{word}`: the runner, report and paper read no process state; take it as an argument from the caller (cli, xtask, python)",
+                        n + 1
+                    );
+                }
+                for word in PRINT_FORBIDDEN {
+                    assert!(
+                        !code.contains(word),
+                        "{relative}:{}: `{word}`: the runner, report and paper do not print; return it, or say it with `tracing` (cli, xtask and python print)",
                         n + 1
                     );
                 }

@@ -366,7 +366,9 @@ fn carry_over(area: &outdir::StreamArea, old: &Path, n: u64) -> Result<u64, Runn
         .and_then(|()| out.get_ref().sync_all())
         .map_err(|e| RunnerError::io(&path, e))?;
     fs::remove_file(old).map_err(|e| RunnerError::io(old, e))?;
-    eprintln!("--resume: {n} runs carried over from the JSON Lines stream {what} into the framed {RECORDS}");
+    tracing::warn!(
+        "--resume: {n} runs carried over from the JSON Lines stream {what} into the framed {RECORDS}"
+    );
     Ok(bytes)
 }
 
@@ -571,7 +573,7 @@ fn resume_point(
     }
     if reader.was_cut() {
         // Said, not silent: the runs of the cut batch run again.
-        eprintln!(
+        tracing::warn!(
             "--resume: {what} ends in a batch cut short when the sweep was killed ({}); it is dropped and its runs run again",
             match reader.cut_bytes() {
                 0 => "a cut last line".to_string(),
