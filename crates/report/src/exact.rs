@@ -126,9 +126,7 @@ impl Target {
 pub type Emit<'a> = &'a mut dyn FnMut(usize, f64);
 
 fn changed(set: usize) -> RunnerError {
-    RunnerError::Results(format!(
-        "exact quantiles: set {set} held other values in another pass (the records changed while the report read them)"
-    ))
+    planner_runner::readback::ResultsError::QuantilesChanged { set }.into()
 }
 
 /// The type 7 quantiles `probabilities[s]` of each set `s` of `sizes[s]` values, exact:

@@ -50,6 +50,7 @@ pub mod output;
 pub mod passes;
 pub mod plan;
 pub mod provenance;
+pub mod readback;
 pub mod record;
 pub mod run;
 pub mod schema;
@@ -164,12 +165,12 @@ pub enum RunnerError {
         source: std::io::Error,
     },
     /// `--resume` refused the stream it found (another config or shard, runs out of order).
-    #[error("{0}")]
-    Resume(String),
+    #[error(transparent)]
+    Resume(Box<readback::ResumeError>),
     /// Shards that do not make one sweep (`merge`), or a results directory that `report`
     /// cannot read back.
-    #[error("{0}")]
-    Results(String),
+    #[error(transparent)]
+    Results(Box<readback::ResultsError>),
     /// An error met while doing `context` (`merge`, `report`), said with that prefix.
     #[error("{context}: {source}")]
     During {
@@ -178,6 +179,18 @@ pub enum RunnerError {
         /// The error.
         source: Box<RunnerError>,
     },
+}
+
+impl From<readback::ResumeError> for RunnerError {
+    fn from(error: readback::ResumeError) -> RunnerError {
+        RunnerError::Resume(Box::new(error))
+    }
+}
+
+impl From<readback::ResultsError> for RunnerError {
+    fn from(error: readback::ResultsError) -> RunnerError {
+        RunnerError::Results(Box::new(error))
+    }
 }
 
 impl RunnerError {

@@ -50,6 +50,7 @@ use crate::expanded::{self, ExpandedCells};
 use crate::output::{OutputFile, StreamedFile};
 use crate::passes::{RecordPasses, StreamPasses};
 use crate::provenance::{Machine, Provenance};
+use crate::readback::{RecordAt, ResultsError, ResumeError, SweepId};
 use crate::record::Reproduction;
 use crate::run::{HeapMeter, RunList};
 use crate::shard::{Shard, ShardRuns};
@@ -528,46 +529,46 @@ fn resume_point(
         Err(e) => return Err(e),
     };
     if found.config_hash != header.config_hash || found.experiment != header.experiment {
-        return Err(RunnerError::Resume(format!(
-            "--resume: {what} was recorded by a different config (experiment {:?}, config hash {}); \
-             {} resolves to experiment {:?}, hash {}. Run without --resume to start over.",
-            found.experiment, found.config_hash, header.config, header.experiment, header.config_hash
-        )));
+        return Err(ResumeError::OtherConfig {
+            file: what,
+            found_experiment: found.experiment,
+            found_hash: found.config_hash,
+            config: header.config.clone(),
+            experiment: header.experiment.clone(),
+            hash: header.config_hash.clone(),
+        }
+        .into());
     }
     if found.gridplan != header.gridplan {
-        return Err(RunnerError::Resume(format!(
-            "--resume: {what} was written by gridplan {}, this is gridplan {}; records of two \
-             versions are not mixed in one sweep. Run without --resume to start over.",
-            found
-                .gridplan
-                .as_deref()
-                .unwrap_or("of unknown version (its header names none)"),
-            header.gridplan.as_deref().unwrap_or("?")
-        )));
+        return Err(ResumeError::OtherVersion {
+            file: what,
+            found: found.gridplan,
+            this: header.gridplan.clone(),
+        }
+        .into());
     }
     if (found.shard, found.shards) != (header.shard, header.shards) {
-        return Err(RunnerError::Resume(format!(
-            "--resume: {what} holds shard {}/{}, not {}/{}",
-            found.shard, found.shards, header.shard, header.shards
-        )));
+        return Err(ResumeError::OtherShard {
+            file: what,
+            found: (found.shard, found.shards),
+            wanted: (header.shard, header.shards),
+        }
+        .into());
     }
     let list = RunList::new(experiment);
     let mut expected = runs.iter();
     let mut n = 0u64;
     while let Some((run, record)) = reader.next_run()? {
         if expected.next() != Some(run) {
-            return Err(RunnerError::Resume(format!(
-                "--resume: {what}: run {run} is out of order; run without --resume"
-            )));
+            return Err(ResumeError::OutOfOrder { file: what, run }.into());
         }
         // The header line is line 1: record n is line n + 2 (a framed stream's is record n + 1).
-        stream::check_record(experiment, &list, run, &record).map_err(|e| {
-            let at = if reader.is_framed() {
-                format!("record {}", n + 1)
-            } else {
-                format!("line {}", n + 2)
-            };
-            RunnerError::Resume(format!("--resume: {what} {at}: {e}; run without --resume"))
+        stream::check_record(experiment, &list, run, &record).map_err(|source| {
+            ResumeError::Record {
+                file: what.clone(),
+                at: RecordAt::after(n, reader.is_framed()),
+                source,
+            }
         })?;
         n += 1;
     }
@@ -818,11 +819,10 @@ pub fn report(
         // An earlier version's results directory.
         path = dir.join(OLD_RESULTS_RECORDS);
     }
-    let file = stream::open_regular(&path).map_err(|e| {
-        RunnerError::Results(format!(
-            "report: {} has no {RESULTS_RECORDS} ({e}); rerun the experiment with this version to re-render it",
-            dir.display()
-        ))
+    let file = stream::open_regular(&path).map_err(|source| ResultsError::NoRecords {
+        dir: dir.to_path_buf(),
+        file: RESULTS_RECORDS,
+        source,
     })?;
     let what = path.display().to_string();
     let (header, reader) = StreamReader::new(BufReader::new(file), &what)?;
@@ -830,8 +830,11 @@ pub fn report(
     let source = read_results_records(&experiment, &header, reader, &path)?;
     let info_path = dir.join(PROVENANCE_FILE);
     let bytes = read_regular(&info_path)?;
-    let info: RunInfo = serde_json::from_slice(&bytes)
-        .map_err(|e| RunnerError::Results(format!("report: {}: {e}", info_path.display())))?;
+    let info: RunInfo =
+        serde_json::from_slice(&bytes).map_err(|source| ResultsError::Provenance {
+            path: info_path.clone(),
+            source,
+        })?;
     let expanded = read_expanded(dir, &experiment)?;
     let n_runs = header.total_runs as usize;
     let (reproduction, _) = finish(
@@ -879,12 +882,13 @@ fn read_results_records(
     let mut n = 0u64;
     while let Some((run, record)) = reader.next_run()? {
         // The header line is line 1: record n is line n + 2.
-        stream::check_record(experiment, &list, run, &record).map_err(|e| {
-            let at = match reader.is_framed() {
-                true => format!("record {}", n + 1),
-                false => format!("line {}", n + 2),
-            };
-            RunnerError::Results(format!("report: {what} {at}: {e}"))
+        stream::check_record(experiment, &list, run, &record).map_err(|source| {
+            ResultsError::Record {
+                command: "report",
+                file: what.clone(),
+                at: RecordAt::after(n, reader.is_framed()),
+                source,
+            }
         })?;
         n += 1;
         if hold && n <= header.total_runs {
@@ -892,10 +896,12 @@ fn read_results_records(
         }
     }
     if n != header.total_runs || reader.was_cut() {
-        return Err(RunnerError::Results(format!(
-            "report: {what} holds {n} of {} runs",
-            header.total_runs
-        )));
+        return Err(ResultsError::Short {
+            file: what,
+            held: n,
+            runs: header.total_runs,
+        }
+        .into());
     }
     Ok(match hold {
         true => Source::Held(records),
@@ -927,13 +933,13 @@ fn load_checked(
         .map_err(|e| RunnerError::during(what, e.into()))?;
     let hash = stream::config_hash(&experiment);
     if hash != header.config_hash {
-        return Err(RunnerError::Results(format!(
-            "{what}: {} now resolves to config hash {hash}, but the {runs} were run with {}; \
-             rerun the {runs} or pass the config they ran with (--config)",
-            config_path.display(),
-            header.config_hash,
-            runs = if what == "merge" { "shards" } else { "runs" }
-        )));
+        return Err(ResultsError::ConfigChanged {
+            command: what,
+            config: config_path,
+            hash,
+            ran: header.config_hash.clone(),
+        }
+        .into());
     }
     Ok(experiment)
 }
@@ -962,8 +968,10 @@ fn read_expanded(dir: &Path, experiment: &Experiment) -> Result<ExpandedCells, R
         }
         Err(e) => return Err(RunnerError::io(&path, e)),
     };
-    let text = String::from_utf8(bytes)
-        .map_err(|e| RunnerError::Results(format!("{}: {e}", path.display())))?;
+    let text = String::from_utf8(bytes).map_err(|source| ResultsError::NotText {
+        path: path.clone(),
+        source,
+    })?;
     ExpandedCells::from_jsonl(&text, &path.display().to_string())
 }
 
@@ -1087,13 +1095,12 @@ fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
             // An earlier version's shard.
             path = dir.join(OLD_SHARD_FILE);
         }
-        let file = stream::open_regular(&path).map_err(|e| {
-            RunnerError::Results(format!(
-                "merge: {} is not a shard's output ({}: {e})",
-                dir.display(),
-                path.file_name()
-                    .map_or(SHARD_FILE.into(), |n| n.to_string_lossy())
-            ))
+        let file = stream::open_regular(&path).map_err(|source| ResultsError::NotAShard {
+            dir: dir.clone(),
+            file: path
+                .file_name()
+                .map_or(SHARD_FILE.into(), |n| n.to_string_lossy().into_owned()),
+            source,
         })?;
         let (header, reader) =
             StreamReader::new(BufReader::new(file), &path.display().to_string())?;
@@ -1113,11 +1120,18 @@ fn check_shard_set(
             || header.shards != first.shards
             || header.experiment != first.experiment
         {
-            return Err(RunnerError::Results(format!(
-                "merge: {} (experiment {:?}, config hash {}, {} shards) and {} (experiment {:?}, config hash {}, {} shards) are shards of different sweeps",
-                shards[0].0.display(), first.experiment, first.config_hash, first.shards,
-                dir.display(), header.experiment, header.config_hash, header.shards
-            )));
+            let id = |h: &StreamHeader| SweepId {
+                experiment: h.experiment.clone(),
+                config_hash: h.config_hash.clone(),
+                shards: h.shards,
+            };
+            return Err(ResultsError::DifferentSweeps {
+                first: shards[0].0.clone(),
+                first_sweep: id(first),
+                other: dir.clone(),
+                other_sweep: id(header),
+            }
+            .into());
         }
     }
     let mut missing = Vec::new();
@@ -1128,31 +1142,26 @@ fn check_shard_set(
             .map(|(d, _, _)| d)
             .collect();
         match holders.len() {
-            0 => missing.push(format!("{k}/{}", first.shards)),
+            0 => missing.push(k),
             1 => {}
             _ => {
-                return Err(RunnerError::Results(format!(
-                    "merge: shard {k}/{} given twice: {}",
-                    first.shards,
-                    holders
-                        .iter()
-                        .map(|d| d.display().to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )))
+                return Err(ResultsError::ShardTwice {
+                    shard: k,
+                    shards: first.shards,
+                    dirs: holders.into_iter().cloned().collect(),
+                }
+                .into())
             }
         }
     }
     if !missing.is_empty() {
-        return Err(RunnerError::Results(format!(
-            "merge: shards {} of experiment {:?} are missing (given: {})",
-            missing.join(", "),
-            first.experiment,
-            dirs.iter()
-                .map(|d| d.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        )));
+        return Err(ResultsError::ShardsMissing {
+            missing,
+            shards: first.shards,
+            experiment: first.experiment.clone(),
+            given: dirs.to_vec(),
+        }
+        .into());
     }
     Ok(())
 }
@@ -1180,42 +1189,39 @@ fn merge_records(
             .iter()
             .position(|h| h.as_ref().is_some_and(|(run, _)| *run == expected))
         else {
-            return Err(RunnerError::Results(format!(
-                "merge: run {expected} of {} is in no shard (a shard is incomplete: {})",
-                first.total_runs,
-                shards
+            return Err(ResultsError::RunMissing {
+                run: expected,
+                runs: first.total_runs,
+                held: shards
                     .iter()
-                    .map(|(d, h, _)| format!(
-                        "{} holds shard {}/{}",
-                        d.display(),
-                        h.shard,
-                        h.shards
-                    ))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )));
+                    .map(|(d, h, _)| (d.clone(), h.shard, h.shards))
+                    .collect(),
+            }
+            .into());
         };
         let next = shards[i].2.next_run()?;
         if let Some((run, record)) = std::mem::replace(&mut heads[i], next) {
-            stream::check_record(experiment, &list, run, &record).map_err(|e| {
+            stream::check_record(experiment, &list, run, &record).map_err(|source| {
                 let (file, at) = match shards[i].2.is_framed() {
-                    true => (SHARD_FILE, format!("record {}", lines[i] - 1)),
-                    false => (OLD_SHARD_FILE, format!("line {}", lines[i])),
+                    true => (SHARD_FILE, RecordAt::Record(lines[i] - 1)),
+                    false => (OLD_SHARD_FILE, RecordAt::Line(lines[i])),
                 };
-                RunnerError::Results(format!(
-                    "merge: {} {at}: {e}",
-                    shards[i].0.join(file).display()
-                ))
+                ResultsError::Record {
+                    command: "merge",
+                    file: shards[i].0.join(file).display().to_string(),
+                    at,
+                    source,
+                }
             })?;
             lines[i] += 1;
             sink(run, record)?;
         }
     }
     if let Some(i) = heads.iter().position(Option::is_some) {
-        return Err(RunnerError::Results(format!(
-            "merge: {} holds runs past the sweep's end",
-            shards[i].0.display()
-        )));
+        return Err(ResultsError::PastEnd {
+            dir: shards[i].0.clone(),
+        }
+        .into());
     }
     Ok(())
 }
@@ -1231,11 +1237,13 @@ fn check_versions(shards: &[OpenShard]) -> Result<(), RunnerError> {
         for version in [marker, header.gridplan.clone()].into_iter().flatten() {
             match seen.iter().find(|(v, _)| *v != version) {
                 Some((other, other_dir)) => {
-                    return Err(RunnerError::Results(format!(
-                        "merge: {other_dir} was written by gridplan {other} and {} by gridplan \
-                         {version}; rerun the shards with one gridplan version",
-                        dir.display()
-                    )))
+                    return Err(ResultsError::Versions {
+                        first_dir: other_dir.clone(),
+                        first: other.clone(),
+                        dir: dir.clone(),
+                        version,
+                    }
+                    .into())
                 }
                 None => seen.push((version, dir.display().to_string())),
             }

@@ -1,0 +1,294 @@
+//! Why records read back do not make the sweep a command expects: `--resume`'s stream of
+//! another config, version or shard ([`ResumeError`]), and a results directory or shards
+//! that `report` or `merge` cannot use ([`ResultsError`]). Typed, so that a caller can tell
+//! the cases apart; each message says what to do.
+
+use std::path::PathBuf;
+
+use crate::stream::RecordMismatch;
+
+/// Where a record sits in its file: a JSON Lines stream's line (the header is line 1) or a
+/// framed stream's record (from 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RecordAt {
+    /// A 1-based line.
+    Line(u64),
+    /// A 1-based record.
+    Record(u64),
+}
+
+impl RecordAt {
+    /// The place of the record after `n` earlier ones: `framed` streams count records,
+    /// JSON Lines streams lines (after the header line).
+    pub fn after(n: u64, framed: bool) -> RecordAt {
+        match framed {
+            true => RecordAt::Record(n + 1),
+            false => RecordAt::Line(n + 2),
+        }
+    }
+}
+
+impl std::fmt::Display for RecordAt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RecordAt::Line(n) => write!(f, "line {n}"),
+            RecordAt::Record(n) => write!(f, "record {n}"),
+        }
+    }
+}
+
+/// The identity of a sweep as a stream header states it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SweepId {
+    /// The experiment's name.
+    pub experiment: String,
+    /// The config's hash.
+    pub config_hash: String,
+    /// Its shard count.
+    pub shards: u64,
+}
+
+impl std::fmt::Display for SweepId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "experiment {:?}, config hash {}, {} shards",
+            self.experiment, self.config_hash, self.shards
+        )
+    }
+}
+
+/// `--resume` refused the stream it found.
+#[derive(Debug, thiserror::Error)]
+pub enum ResumeError {
+    /// The stream was recorded by another config.
+    #[error(
+        "--resume: {file} was recorded by a different config (experiment {found_experiment:?}, config hash {found_hash}); \
+         {config} resolves to experiment {experiment:?}, hash {hash}. Run without --resume to start over."
+    )]
+    OtherConfig {
+        /// The stream.
+        file: String,
+        /// The experiment its header names.
+        found_experiment: String,
+        /// The config hash its header names.
+        found_hash: String,
+        /// The config file given.
+        config: String,
+        /// The experiment the config names.
+        experiment: String,
+        /// The config's hash.
+        hash: String,
+    },
+    /// The stream was written by another gridplan version.
+    #[error(
+        "--resume: {file} was written by gridplan {}, this is gridplan {}; records of two \
+         versions are not mixed in one sweep. Run without --resume to start over.",
+        .found.as_deref().unwrap_or("of unknown version (its header names none)"),
+        .this.as_deref().unwrap_or("?")
+    )]
+    OtherVersion {
+        /// The stream.
+        file: String,
+        /// The version its header names.
+        found: Option<String>,
+        /// This gridplan's version.
+        this: Option<String>,
+    },
+    /// The stream holds another shard.
+    #[error("--resume: {file} holds shard {}/{}, not {}/{}", .found.0, .found.1, .wanted.0, .wanted.1)]
+    OtherShard {
+        /// The stream.
+        file: String,
+        /// The shard and count it holds.
+        found: (u64, u64),
+        /// The shard and count asked for.
+        wanted: (u64, u64),
+    },
+    /// A run out of the run list's order.
+    #[error("--resume: {file}: run {run} is out of order; run without --resume")]
+    OutOfOrder {
+        /// The stream.
+        file: String,
+        /// The run index read.
+        run: u64,
+    },
+    /// A record that is not its run of the config.
+    #[error("--resume: {file} {at}: {source}; run without --resume")]
+    Record {
+        /// The stream.
+        file: String,
+        /// Where the record is.
+        at: RecordAt,
+        /// What differs.
+        source: RecordMismatch,
+    },
+}
+
+/// A results directory that `report` cannot read back, or shard outputs that `merge`
+/// cannot combine into one sweep.
+#[derive(Debug, thiserror::Error)]
+pub enum ResultsError {
+    /// A results directory without its records.
+    #[error("report: {} has no {file} ({source}); rerun the experiment with this version to re-render it", .dir.display())]
+    NoRecords {
+        /// The directory.
+        dir: PathBuf,
+        /// The records file's name.
+        file: &'static str,
+        /// Why it could not be opened.
+        source: std::io::Error,
+    },
+    /// A provenance file that does not read.
+    #[error("report: {}: {source}", .path.display())]
+    Provenance {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: serde_json::Error,
+    },
+    /// A record that is not its run of the config (`command`: `report` or `merge`).
+    #[error("{command}: {file} {at}: {source}")]
+    Record {
+        /// The command.
+        command: &'static str,
+        /// The records file.
+        file: String,
+        /// Where the record is.
+        at: RecordAt,
+        /// What differs.
+        source: RecordMismatch,
+    },
+    /// A results directory's records that end before the sweep does.
+    #[error("report: {file} holds {held} of {runs} runs")]
+    Short {
+        /// The records file.
+        file: String,
+        /// Runs read.
+        held: u64,
+        /// Runs of the sweep.
+        runs: u64,
+    },
+    /// The config now hashes otherwise than when the records were made.
+    #[error(
+        "{command}: {} now resolves to config hash {hash}, but the {runs} were run with {ran}; \
+         rerun the {runs} or pass the config they ran with (--config)",
+        .config.display(),
+        runs = if *.command == "merge" { "shards" } else { "runs" }
+    )]
+    ConfigChanged {
+        /// The command (`report` or `merge`).
+        command: &'static str,
+        /// The config file.
+        config: PathBuf,
+        /// Its hash now.
+        hash: String,
+        /// The hash the records were made with.
+        ran: String,
+    },
+    /// An `expanded.jsonl` that is not UTF-8.
+    #[error("{}: {source}", .path.display())]
+    NotText {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::string::FromUtf8Error,
+    },
+    /// A directory without a shard's stream.
+    #[error("merge: {} is not a shard's output ({file}: {source})", .dir.display())]
+    NotAShard {
+        /// The directory.
+        dir: PathBuf,
+        /// The stream file's name.
+        file: String,
+        /// Why it could not be opened.
+        source: std::io::Error,
+    },
+    /// Shards of two sweeps.
+    #[error("merge: {} ({first_sweep}) and {} ({other_sweep}) are shards of different sweeps", .first.display(), .other.display())]
+    DifferentSweeps {
+        /// The first shard's directory.
+        first: PathBuf,
+        /// Its sweep.
+        first_sweep: SweepId,
+        /// The other shard's directory.
+        other: PathBuf,
+        /// Its sweep.
+        other_sweep: SweepId,
+    },
+    /// One shard given in two directories.
+    #[error("merge: shard {shard}/{shards} given twice: {}", paths(.dirs))]
+    ShardTwice {
+        /// The shard.
+        shard: u64,
+        /// The shard count.
+        shards: u64,
+        /// The directories holding it.
+        dirs: Vec<PathBuf>,
+    },
+    /// Shards not given.
+    #[error(
+        "merge: shards {} of experiment {experiment:?} are missing (given: {})",
+        .missing.iter().map(|k| format!("{k}/{shards}")).collect::<Vec<_>>().join(", "),
+        paths(.given)
+    )]
+    ShardsMissing {
+        /// The shards missing.
+        missing: Vec<u64>,
+        /// The shard count.
+        shards: u64,
+        /// The experiment.
+        experiment: String,
+        /// The directories given.
+        given: Vec<PathBuf>,
+    },
+    /// A run that no shard holds.
+    #[error(
+        "merge: run {run} of {runs} is in no shard (a shard is incomplete: {})",
+        .held.iter().map(|(d, k, n)| format!("{} holds shard {k}/{n}", d.display())).collect::<Vec<_>>().join(", ")
+    )]
+    RunMissing {
+        /// The run.
+        run: u64,
+        /// Runs of the sweep.
+        runs: u64,
+        /// Each directory with its shard and count.
+        held: Vec<(PathBuf, u64, u64)>,
+    },
+    /// A shard with runs after the sweep's last.
+    #[error("merge: {} holds runs past the sweep's end", .dir.display())]
+    PastEnd {
+        /// The shard's directory.
+        dir: PathBuf,
+    },
+    /// Shards of two gridplan versions.
+    #[error(
+        "merge: {first_dir} was written by gridplan {first} and {} by gridplan {version}; \
+         rerun the shards with one gridplan version",
+        .dir.display()
+    )]
+    Versions {
+        /// The directory seen first.
+        first_dir: String,
+        /// Its version.
+        first: String,
+        /// The other directory.
+        dir: PathBuf,
+        /// Its version.
+        version: String,
+    },
+    /// A report's passes over the records gave one quantile set other values.
+    #[error("exact quantiles: set {set} held other values in another pass (the records changed while the report read them)")]
+    QuantilesChanged {
+        /// The set.
+        set: usize,
+    },
+}
+
+/// The paths, comma-separated.
+fn paths(dirs: &[PathBuf]) -> String {
+    dirs.iter()
+        .map(|d| d.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
