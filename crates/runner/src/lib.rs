@@ -58,6 +58,7 @@ pub mod shard;
 pub mod slurm;
 pub mod stream;
 pub mod sweep;
+pub mod usage;
 
 use std::path::PathBuf;
 
@@ -118,8 +119,8 @@ pub enum RunnerError {
         hint: planner_maps::InversionHint,
     },
     /// Command-line arguments that do not fit together.
-    #[error("{0}")]
-    Usage(String),
+    #[error(transparent)]
+    Usage(#[from] usage::UsageError),
     /// Too many worker threads asked for.
     #[error("{0} worker threads asked for; at most {max} (0 = one per core)", max = config::MAX_THREADS)]
     Threads(usize),

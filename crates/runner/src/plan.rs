@@ -13,6 +13,7 @@ use serde::Serialize;
 use crate::config::{self, Experiment, MapEntry, PlannerSpec, ProblemEntry};
 use crate::record::RunRecord;
 use crate::run::{run_one, RunSpec, Workspace};
+use crate::usage::UsageError;
 use crate::RunnerError;
 
 /// The expansion budget `plan` applies when neither `--max-expansions` nor the config
@@ -105,7 +106,6 @@ impl PlanCosts {
     /// for ROS maps, terrain for Moving AI `.map`s, a weight file for any map but not with
     /// either.
     fn read_options(&self, map: &Path) -> Result<planner_maps::CostOptions, RunnerError> {
-        let usage = |message: String| RunnerError::Usage(message);
         let extension = map
             .extension()
             .and_then(|e| e.to_str())
@@ -119,47 +119,35 @@ impl PlanCosts {
             ..planner_maps::CostOptions::default()
         };
         if self.weights.is_some() && (graded || terrain) {
-            return Err(usage(
-                "--weights gives every cell's weight; it does not go with --graded, --lethal, --unknown, --swamp or --water".into(),
-            ));
+            return Err(UsageError::WeightsAndBands.into());
         }
         if graded {
             if !ros {
-                return Err(usage(format!(
-                    "--graded, --lethal and --unknown apply to ROS maps (.yaml, .pgm, .png), not {}",
-                    map.display()
-                )));
+                return Err(UsageError::BandsNotRos(map.to_path_buf()).into());
             }
             options.graded = true;
             if let Some(lethal) = self.lethal {
                 if lethal == 0 {
-                    return Err(usage("--lethal 0 would block every cell; costs from --lethal up are blocked (nav2: 254)".into()));
+                    return Err(UsageError::LethalZero.into());
                 }
                 options.bands.lethal = lethal;
             }
             if let Some(unknown) = self.unknown {
                 if unknown == 255 {
-                    return Err(usage("--unknown: the cost of an unknown cell must be below 255 (leave it out to block unknown cells)".into()));
+                    return Err(UsageError::UnknownTooHigh.into());
                 }
                 options.bands.unknown = Some(unknown);
             }
         }
         if terrain {
             if extension != "map" {
-                return Err(usage(format!(
-                    "--swamp and --water weigh Moving AI terrain (.map files), not {}",
-                    map.display()
-                )));
+                return Err(UsageError::TerrainNotMovingAi(map.to_path_buf()).into());
             }
             let Some(swamp) = self.swamp else {
-                return Err(usage(
-                    "--water needs --swamp (the weight of swamp `S`)".into(),
-                ));
+                return Err(UsageError::WaterWithoutSwamp.into());
             };
             if swamp == 0 || self.water == Some(0) {
-                return Err(usage(
-                    "--swamp and --water are weights, from 1 to 65535".into(),
-                ));
+                return Err(UsageError::TerrainWeightZero.into());
             }
             options.terrain = Some(planner_maps::TerrainWeights {
                 swamp,
@@ -167,9 +155,7 @@ impl PlanCosts {
             });
         }
         if self.rule.is_some() && !graded && !terrain && self.weights.is_none() {
-            return Err(usage(
-                "--cost-rule needs costs to apply to: --weights, --graded (ROS maps) or --swamp (Moving AI maps)".into(),
-            ));
+            return Err(UsageError::RuleWithoutCosts.into());
         }
         Ok(options)
     }
@@ -265,10 +251,12 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
     // map, unless told to ignore them.
     spec.ignore_costs |= options.costs.ignore;
     if refuses_costs(&spec, &map.grid) {
-        return Err(RunnerError::Usage(format!(
-            "planner `{}` ({}) does not honour cell costs, and map `{}` has them; add --ignore-costs to plan without them",
-            spec.label, spec.name, map.name
-        )));
+        return Err(UsageError::RefusesCosts {
+            label: spec.label.clone(),
+            planner: spec.name.to_string(),
+            map: map.name.clone(),
+        }
+        .into());
     }
     let entry = pick_problem(args, &spec, &map, &problems)?;
     let check_goal = if coverage { entry.start } else { entry.goal };
@@ -383,9 +371,9 @@ fn resolve_spec(
     if !args.set.is_empty() {
         let mut params = spec.params.clone();
         for assignment in &args.set {
-            let (key, value) = assignment.split_once('=').ok_or_else(|| {
-                RunnerError::Usage(format!("--set {assignment:?}: expected key=value"))
-            })?;
+            let (key, value) = assignment
+                .split_once('=')
+                .ok_or_else(|| UsageError::Assignment(assignment.clone()))?;
             let value = value.trim();
             let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
                 .ok()
@@ -416,27 +404,30 @@ fn resolve_map(
     experiment: Option<&Experiment>,
 ) -> Result<(MapEntry, Vec<ProblemEntry>, Option<CsvConvention>), RunnerError> {
     let listed = experiment.and_then(|e| e.find_map(&args.map)).cloned();
+    let config = || experiment.map(|e| e.source.clone()).unwrap_or_default();
     if listed.is_some() && costs.any() {
-        return Err(RunnerError::Usage(format!(
-            "cost flags: {} lists {}; set a `costs` table on its map set instead",
-            experiment.map_or_else(String::new, |e| e.source.display().to_string()),
-            args.map.display()
-        )));
+        return Err(UsageError::CostsOfListedMap {
+            config: config(),
+            map: args.map.clone(),
+        }
+        .into());
     }
     if let Some(convention) = args.obstacle {
         let value = convention.obstacle_value();
         if !config::is_csv(&args.map) {
-            return Err(RunnerError::Usage(format!(
-                "--obstacle {value} applies to .csv maps, not {}",
-                args.map.display()
-            )));
+            return Err(UsageError::ObstacleNotCsv {
+                value,
+                map: args.map.clone(),
+            }
+            .into());
         }
         if listed.is_some() {
-            return Err(RunnerError::Usage(format!(
-                "--obstacle {value}: {} lists {}; set `obstacle` on its map set instead",
-                experiment.map_or_else(String::new, |e| e.source.display().to_string()),
-                args.map.display()
-            )));
+            return Err(UsageError::ObstacleOfListedMap {
+                value,
+                config: config(),
+                map: args.map.clone(),
+            }
+            .into());
         }
     }
     let convention =
@@ -492,30 +483,28 @@ fn pick_problem(
     let coverage = spec.is_coverage();
     Ok(match (args.start, args.goal, args.problem) {
         (Some(_), Some(_), Some(_)) | (Some(_), None, Some(_)) | (None, Some(_), Some(_)) => {
-            return Err(RunnerError::Usage(
-                "give either --problem or --start (and --goal), not both".into(),
-            ))
+            return Err(UsageError::ProblemAndCells.into())
         }
         (_, Some(_), None) if coverage => {
-            return Err(RunnerError::Usage(format!(
-                "`{}` is a coverage planner: it covers from --start and takes no --goal",
-                spec.name
-            )))
+            return Err(UsageError::CoverageGoal(spec.name.to_string()).into())
         }
         (Some(start), None, None) if coverage => {
             ProblemEntry::new(&map.grid, 1, start, start, None)
         }
         (Some(start), Some(goal), None) => ProblemEntry::new(&map.grid, 1, start, goal, None),
         (Some(_), None, None) | (None, Some(_), None) => {
-            return Err(RunnerError::Usage("--start and --goal go together".into()))
+            return Err(UsageError::StartWithoutGoal.into())
         }
-        (None, None, Some(k)) => problems.get(k.wrapping_sub(1)).cloned().ok_or_else(|| {
-            RunnerError::Usage(format!(
-                "--problem {k}: {} has {} problem(s), numbered from 1",
-                args.map.display(),
-                problems.len()
-            ))
-        })?,
+        (None, None, Some(k)) => {
+            problems
+                .get(k.wrapping_sub(1))
+                .cloned()
+                .ok_or_else(|| UsageError::NoSuchProblem {
+                    number: k,
+                    map: args.map.clone(),
+                    count: problems.len(),
+                })?
+        }
         (None, None, None) => problems.first().cloned().unwrap_or_else(|| {
             let corner = Cell::new(map.grid.width() - 1, map.grid.height() - 1);
             ProblemEntry::new(&map.grid, 1, Cell::new(0, 0), corner, None)
@@ -549,16 +538,14 @@ fn own_pairs(
     let mut pairs = Vec::with_capacity(scenarios.len());
     for s in &scenarios {
         if (s.width, s.height) != (grid.width(), grid.height()) {
-            return Err(RunnerError::Usage(format!(
-                "{}:{}: the scenario is for a {}x{} map, but {} is {}x{}",
-                scen.display(),
-                s.line,
-                s.width,
-                s.height,
-                map.display(),
-                grid.width(),
-                grid.height()
-            )));
+            return Err(UsageError::ScenarioSize {
+                scen,
+                line: s.line,
+                scenario: (s.width, s.height),
+                map: map.to_path_buf(),
+                grid: (grid.width(), grid.height()),
+            }
+            .into());
         }
         let scen_map = s.map.rsplit(['/', '\\']).next().unwrap_or(&s.map);
         if !warned && scen_map != name {

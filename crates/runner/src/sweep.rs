@@ -1082,9 +1082,7 @@ type OpenShard = (PathBuf, StreamHeader, StreamReader<BufReader<File>>);
 /// The streams of the shard directories `dirs` (at least one), opened.
 fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
     if dirs.is_empty() {
-        return Err(RunnerError::Usage(
-            "merge: no shard directories given".into(),
-        ));
+        return Err(crate::usage::UsageError::NoShards.into());
     }
     let mut shards = Vec::new();
     for dir in dirs {

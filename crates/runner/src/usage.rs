@@ -1,0 +1,108 @@
+//! Arguments of a command (`plan`'s flags, `merge`'s directories) that do not fit together
+//! or do not fit the map: [`UsageError`], typed, each message saying what to give instead.
+
+use std::path::PathBuf;
+
+/// Arguments that do not fit together ([`crate::RunnerError::Usage`]).
+#[derive(Debug, thiserror::Error)]
+pub enum UsageError {
+    /// `--weights` with another cost flag.
+    #[error("--weights gives every cell's weight; it does not go with --graded, --lethal, --unknown, --swamp or --water")]
+    WeightsAndBands,
+    /// ROS cost bands for a map that is not a ROS map.
+    #[error("--graded, --lethal and --unknown apply to ROS maps (.yaml, .pgm, .png), not {}", .0.display())]
+    BandsNotRos(PathBuf),
+    /// `--lethal 0`.
+    #[error("--lethal 0 would block every cell; costs from --lethal up are blocked (nav2: 254)")]
+    LethalZero,
+    /// `--unknown 255`.
+    #[error("--unknown: the cost of an unknown cell must be below 255 (leave it out to block unknown cells)")]
+    UnknownTooHigh,
+    /// Terrain weights for a map that is not a Moving AI map.
+    #[error("--swamp and --water weigh Moving AI terrain (.map files), not {}", .0.display())]
+    TerrainNotMovingAi(PathBuf),
+    /// `--water` alone.
+    #[error("--water needs --swamp (the weight of swamp `S`)")]
+    WaterWithoutSwamp,
+    /// A terrain weight of 0.
+    #[error("--swamp and --water are weights, from 1 to 65535")]
+    TerrainWeightZero,
+    /// `--cost-rule` without costs.
+    #[error("--cost-rule needs costs to apply to: --weights, --graded (ROS maps) or --swamp (Moving AI maps)")]
+    RuleWithoutCosts,
+    /// A planner that cannot honour cell costs on a map that has them.
+    #[error("planner `{label}` ({planner}) does not honour cell costs, and map `{map}` has them; add --ignore-costs to plan without them")]
+    RefusesCosts {
+        /// The planner label.
+        label: String,
+        /// The planner's registry name.
+        planner: String,
+        /// The map.
+        map: String,
+    },
+    /// A `--set` without `=`.
+    #[error("--set {0:?}: expected key=value")]
+    Assignment(String),
+    /// Cost flags for a map the config lists (its map set's `costs` table decides).
+    #[error("cost flags: {} lists {}; set a `costs` table on its map set instead", .config.display(), .map.display())]
+    CostsOfListedMap {
+        /// The config.
+        config: PathBuf,
+        /// The map.
+        map: PathBuf,
+    },
+    /// `--obstacle` for a map that is not a `.csv` matrix.
+    #[error("--obstacle {value} applies to .csv maps, not {}", .map.display())]
+    ObstacleNotCsv {
+        /// The value given.
+        value: u8,
+        /// The map.
+        map: PathBuf,
+    },
+    /// `--obstacle` for a map the config lists (its map set's `obstacle` decides).
+    #[error("--obstacle {value}: {} lists {}; set `obstacle` on its map set instead", .config.display(), .map.display())]
+    ObstacleOfListedMap {
+        /// The value given.
+        value: u8,
+        /// The config.
+        config: PathBuf,
+        /// The map.
+        map: PathBuf,
+    },
+    /// `--problem` with `--start` or `--goal`.
+    #[error("give either --problem or --start (and --goal), not both")]
+    ProblemAndCells,
+    /// `--goal` for a coverage planner.
+    #[error("`{0}` is a coverage planner: it covers from --start and takes no --goal")]
+    CoverageGoal(String),
+    /// `--start` without `--goal` or the reverse.
+    #[error("--start and --goal go together")]
+    StartWithoutGoal,
+    /// `--problem` past the map's problems.
+    #[error("--problem {number}: {} has {count} problem(s), numbered from 1", .map.display())]
+    NoSuchProblem {
+        /// The number given.
+        number: usize,
+        /// The map.
+        map: PathBuf,
+        /// Its problems.
+        count: usize,
+    },
+    /// A `.scen` file beside a map, for another size of map.
+    #[error("{}:{line}: the scenario is for a {}x{} map, but {} is {}x{}", .scen.display(), .scenario.0, .scenario.1, .map.display(), .grid.0, .grid.1)]
+    ScenarioSize {
+        /// The scenario file.
+        scen: PathBuf,
+        /// The scenario's line.
+        line: usize,
+        /// The size the scenario states.
+        scenario: (u32, u32),
+        /// The map.
+        map: PathBuf,
+        /// The map's size.
+        grid: (u32, u32),
+    },
+    /// `merge` without directories.
+    #[error("merge: no shard directories given")]
+    NoShards,
+}
