@@ -668,7 +668,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                         .map_err(|e| CliError::Usage(format!("--shard: {e}")))?,
                 ),
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())
-                    .map_err(|e| CliError::Usage(e.0))?,
+                    .map_err(|e| CliError::Usage(e.to_string()))?,
             };
             let bar = Bar {
                 bar: std::sync::OnceLock::new(),

@@ -36,15 +36,10 @@ impl Shard {
     /// Shard `index` of `count`, checked (1 <= index <= count <= [`Shard::MAX_COUNT`]).
     pub fn new(index: u64, count: u64) -> Result<Shard, ShardError> {
         if count == 0 || index == 0 || index > count {
-            return Err(ShardError(format!(
-                "shard {index}/{count}: expected K/N with 1 <= K <= N"
-            )));
+            return Err(ShardError::OutOfRange { index, count });
         }
         if count > Self::MAX_COUNT {
-            return Err(ShardError(format!(
-                "shard {index}/{count}: at most {} shards",
-                Self::MAX_COUNT
-            )));
+            return Err(ShardError::TooMany { index, count });
         }
         Ok(Shard { index, count })
     }
@@ -53,11 +48,15 @@ impl Shard {
     pub fn parse(text: &str) -> Result<Shard, ShardError> {
         let (k, n) = text
             .split_once('/')
-            .ok_or_else(|| ShardError(format!("shard {text:?}: expected K/N, e.g. 2/3")))?;
+            .ok_or_else(|| ShardError::NotKn(text.to_string()))?;
         let number = |s: &str| {
             s.trim()
                 .parse::<u64>()
-                .map_err(|e| ShardError(format!("shard {text:?}: {s:?} is not a number: {e}")))
+                .map_err(|source| ShardError::NotANumber {
+                    text: text.to_string(),
+                    part: s.to_string(),
+                    source,
+                })
         };
         Shard::new(number(k)?, number(n)?)
     }
@@ -69,57 +68,43 @@ impl Shard {
     /// `JOB_COMPLETION_INDEX` with `GRIDPLAN_SHARD_COUNT`. `get` reads one variable
     /// (`std::env::var` in the binary; a map in tests).
     pub fn from_env(get: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, ShardError> {
-        let error = |message: &str| ShardError(message.to_string());
-        let number = |key: &str| -> Result<Option<u64>, ShardError> {
+        let number = |key: &'static str| -> Result<Option<u64>, ShardError> {
             match get(key) {
                 None => Ok(None),
-                Some(v) => v
+                Some(value) => value
                     .trim()
                     .parse::<u64>()
                     .map(Some)
-                    .map_err(|e| ShardError(format!("environment variable {key}={v:?}: {e}"))),
+                    .map_err(|source| ShardError::Variable { key, value, source }),
             }
         };
         if let Some(id) = number("SLURM_ARRAY_TASK_ID")? {
-            let count = number("SLURM_ARRAY_TASK_COUNT")?.ok_or_else(|| {
-                error("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N")
-            })?;
+            let count = number("SLURM_ARRAY_TASK_COUNT")?.ok_or(ShardError::NoSlurmCount)?;
             let min = number("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
-            let named = |e: ShardError| {
-                ShardError(format!(
-                    "environment variables SLURM_ARRAY_TASK_ID={id}, SLURM_ARRAY_TASK_MIN={min}, \
-                     SLURM_ARRAY_TASK_COUNT={count}: {e}"
-                ))
+            let named = |e: ShardError| ShardError::Slurm {
+                id,
+                min,
+                count,
+                problem: Box::new(e),
             };
-            let offset = id.checked_sub(min).ok_or_else(|| {
-                named(ShardError(format!(
-                    "SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"
-                )))
-            })?;
-            let index = offset.checked_add(1).ok_or_else(|| {
-                named(ShardError(format!(
-                    "task {offset} is not below the count {count}"
-                )))
-            })?;
+            let offset = id
+                .checked_sub(min)
+                .ok_or_else(|| named(ShardError::BelowMin { id, min }))?;
+            let index = offset
+                .checked_add(1)
+                .ok_or_else(|| named(ShardError::TaskPastCount { offset, count }))?;
             return Shard::new(index, count).map(Some).map_err(named);
         }
         if let Some(index) = number("JOB_COMPLETION_INDEX")? {
-            let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or_else(|| {
-                error(
-                    "JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N",
-                )
-            })?;
-            let named = |e: ShardError| {
-                ShardError(format!(
-                    "environment variables JOB_COMPLETION_INDEX={index} (0-based), \
-                     GRIDPLAN_SHARD_COUNT={count}: {e}"
-                ))
+            let count = number("GRIDPLAN_SHARD_COUNT")?.ok_or(ShardError::NoIndexedCount)?;
+            let named = |e: ShardError| ShardError::Indexed {
+                index,
+                count,
+                problem: Box::new(e),
             };
-            let shard = index.checked_add(1).ok_or_else(|| {
-                named(ShardError(format!(
-                    "index {index} is not below the count {count}"
-                )))
-            })?;
+            let shard = index
+                .checked_add(1)
+                .ok_or_else(|| named(ShardError::IndexPastCount { index, count }))?;
             return Shard::new(shard, count).map(Some).map_err(named);
         }
         Ok(None)
@@ -129,8 +114,105 @@ impl Shard {
 /// A shard that cannot be: `K/N` malformed or out of range, or a job array's environment
 /// that names none (a usage error).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct ShardError(pub String);
+pub enum ShardError {
+    /// `K/N` with `K` or `N` 0, or `K > N`.
+    #[error("shard {index}/{count}: expected K/N with 1 <= K <= N")]
+    OutOfRange {
+        /// `K`.
+        index: u64,
+        /// `N`.
+        count: u64,
+    },
+    /// More shards than [`Shard::MAX_COUNT`].
+    #[error("shard {index}/{count}: at most {max} shards", max = Shard::MAX_COUNT)]
+    TooMany {
+        /// `K`.
+        index: u64,
+        /// `N`.
+        count: u64,
+    },
+    /// Text without a `/`.
+    #[error("shard {0:?}: expected K/N, e.g. 2/3")]
+    NotKn(String),
+    /// A side of `K/N` that is not a number.
+    #[error("shard {text:?}: {part:?} is not a number: {source}")]
+    NotANumber {
+        /// The text given.
+        text: String,
+        /// The side that is not a number.
+        part: String,
+        /// Why.
+        source: std::num::ParseIntError,
+    },
+    /// An environment variable that is not a number.
+    #[error("environment variable {key}={value:?}: {source}")]
+    Variable {
+        /// The variable.
+        key: &'static str,
+        /// Its value.
+        value: String,
+        /// Why.
+        source: std::num::ParseIntError,
+    },
+    /// `SLURM_ARRAY_TASK_ID` without `SLURM_ARRAY_TASK_COUNT`.
+    #[error("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard K/N")]
+    NoSlurmCount,
+    /// A Slurm task whose variables name no shard.
+    #[error(
+        "environment variables SLURM_ARRAY_TASK_ID={id}, SLURM_ARRAY_TASK_MIN={min}, \
+         SLURM_ARRAY_TASK_COUNT={count}: {problem}"
+    )]
+    Slurm {
+        /// `SLURM_ARRAY_TASK_ID`.
+        id: u64,
+        /// `SLURM_ARRAY_TASK_MIN` (0 when unset).
+        min: u64,
+        /// `SLURM_ARRAY_TASK_COUNT`.
+        count: u64,
+        /// What is wrong with them.
+        problem: Box<ShardError>,
+    },
+    /// A task id below the array's minimum.
+    #[error("SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}")]
+    BelowMin {
+        /// The task id.
+        id: u64,
+        /// The array's minimum.
+        min: u64,
+    },
+    /// A task offset with no shard after it.
+    #[error("task {offset} is not below the count {count}")]
+    TaskPastCount {
+        /// The task's offset from the minimum.
+        offset: u64,
+        /// The task count.
+        count: u64,
+    },
+    /// `JOB_COMPLETION_INDEX` without `GRIDPLAN_SHARD_COUNT`.
+    #[error("JOB_COMPLETION_INDEX is set but GRIDPLAN_SHARD_COUNT is not; pass --shard K/N")]
+    NoIndexedCount,
+    /// An indexed job whose variables name no shard.
+    #[error(
+        "environment variables JOB_COMPLETION_INDEX={index} (0-based), \
+         GRIDPLAN_SHARD_COUNT={count}: {problem}"
+    )]
+    Indexed {
+        /// `JOB_COMPLETION_INDEX`.
+        index: u64,
+        /// `GRIDPLAN_SHARD_COUNT`.
+        count: u64,
+        /// What is wrong with them.
+        problem: Box<ShardError>,
+    },
+    /// An index with no shard after it.
+    #[error("index {index} is not below the count {count}")]
+    IndexPastCount {
+        /// The index.
+        index: u64,
+        /// The shard count.
+        count: u64,
+    },
+}
 
 impl std::fmt::Display for Shard {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
