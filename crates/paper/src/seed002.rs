@@ -93,18 +93,22 @@ fn planner_option<'a>(
     key: &str,
 ) -> Result<&'a str, OptionError> {
     if let Some(other) = options.keys().find(|k| *k != key) {
-        return Err(OptionError(format!(
-            "section {section:?} takes no option `{other}` (only `{key}`)"
-        )));
+        return Err(OptionError::Unknown {
+            section: section.to_string(),
+            key: other.clone(),
+            only: Some(key.to_string()),
+        });
     }
     match options.get(key) {
         Some(toml::Value::String(name)) => Ok(name),
-        Some(_) => Err(OptionError(format!(
-            "section {section:?}: `{key}` is a planner's registry name, a string"
-        ))),
-        None => Err(OptionError(format!(
-            "section {section:?} needs `{key}`, the registry name of the planner it shows, e.g. {{ name = {section:?}, {key} = \"...\" }}"
-        ))),
+        Some(_) => Err(OptionError::NotAName {
+            section: section.to_string(),
+            key: key.to_string(),
+        }),
+        None => Err(OptionError::Missing {
+            section: section.to_string(),
+            key: key.to_string(),
+        }),
     }
 }
 

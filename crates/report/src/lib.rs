@@ -79,10 +79,11 @@ pub trait Section: Send + Sync {
     /// default a section takes none.
     fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
         match options.keys().next() {
-            Some(key) => Err(OptionError(format!(
-                "section {:?} takes no option `{key}`",
-                self.name()
-            ))),
+            Some(key) => Err(OptionError::Unknown {
+                section: self.name().to_string(),
+                key: key.clone(),
+                only: None,
+            }),
             None => Ok(()),
         }
     }
@@ -128,8 +129,39 @@ pub type PassesTable = fn(&Experiment, &dyn RecordPasses) -> Result<String, Runn
 
 /// A section's options that do not fit it (reported at the config's `sections` key).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct OptionError(pub String);
+pub enum OptionError {
+    /// An option the section does not take (`only`: the one it takes, if any).
+    #[error(
+        "section {section:?} takes no option `{key}`{}",
+        .only.as_ref().map_or(String::new(), |only| format!(" (only `{only}`)"))
+    )]
+    Unknown {
+        /// The section.
+        section: String,
+        /// The option given.
+        key: String,
+        /// The option the section takes, if any.
+        only: Option<String>,
+    },
+    /// An option naming a planner, given as something else than a string.
+    #[error("section {section:?}: `{key}` is a planner's registry name, a string")]
+    NotAName {
+        /// The section.
+        section: String,
+        /// The option.
+        key: String,
+    },
+    /// A section's option naming a planner, missing.
+    #[error(
+        "section {section:?} needs `{key}`, the registry name of the planner it shows, e.g. {{ name = {section:?}, {key} = \"...\" }}"
+    )]
+    Missing {
+        /// The section.
+        section: String,
+        /// The option.
+        key: String,
+    },
+}
 
 /// The generic sections of this crate, by name: `optimum`, `repeats`, `aggregate` and
 /// `charts`. A catalogue (planner-paper's) places them among the seeds' layouts.
