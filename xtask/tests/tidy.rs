@@ -676,6 +676,45 @@ fn the_runner_report_and_paper_read_no_process_state_and_print_nothing() {
     }
 }
 
+/// The layered crates' error types carry what went wrong as fields, never as one
+/// preformatted message (a caller, the Python package among them, can then tell the cases
+/// apart): no `#[error("{0}")]` variant or struct whose payload is a `String`. (A `String`
+/// the message quotes, such as the text a user gave, is a field like any other.)
+#[test]
+fn the_layered_crates_errors_are_not_strings() {
+    for dir in LAYERED_SOURCES {
+        let mut files = Vec::new();
+        rust_files(&root().join(dir), &mut files);
+        for file in files {
+            let relative = file.strip_prefix(root()).unwrap().display().to_string();
+            let text = std::fs::read_to_string(&file).unwrap();
+            let lines: Vec<&str> = text.lines().collect();
+            for (i, line) in lines.iter().enumerate() {
+                if line.trim() != "#[error(\"{0}\")]" {
+                    continue;
+                }
+                // The item the attribute is on: the first line after it that is neither
+                // an attribute's continuation, an attribute nor a doc comment.
+                let item = lines[i + 1..].iter().map(|l| l.trim()).find(|l| {
+                    !(l.starts_with("#[")
+                        || l.starts_with("///")
+                        || l.starts_with('"')
+                        || l.starts_with(')')
+                        || l.starts_with('.')
+                        || l.is_empty())
+                });
+                if let Some(item) = item {
+                    assert!(
+                        !(item.contains("(String)") || item.contains("(pub String)")),
+                        "{relative}:{}: `{item}`: an error that is a preformatted String; give it fields (ARCHITECTURE.md, Invariants)",
+                        i + 1
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// The sources whose public functions must return typed errors: the layered crates, the
 /// server, the command line, xtask and the replanning experiments.
 const TYPED_ERROR_SOURCES: &[&str] = &[
