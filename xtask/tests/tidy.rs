@@ -321,6 +321,21 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// Every Rust file under the directories `dirs` (relative to the root): its path relative
+/// to the root and its text.
+fn sources(dirs: &[&str]) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for dir in dirs {
+        let mut files = Vec::new();
+        rust_files(&root().join(dir), &mut files);
+        for file in files {
+            let relative = file.strip_prefix(root()).unwrap().display().to_string();
+            out.push((relative, std::fs::read_to_string(&file).unwrap()));
+        }
+    }
+    out
+}
+
 #[test]
 fn every_rust_file_opens_with_a_module_doc() {
     let mut files = Vec::new();
@@ -612,16 +627,10 @@ async fn last() {}
 #[test]
 fn no_function_of_the_runner_report_or_paper_is_over_100_lines() {
     let mut long = Vec::new();
-    for dir in LAYERED_SOURCES {
-        let mut files = Vec::new();
-        rust_files(&root().join(dir), &mut files);
-        for file in files {
-            let relative = file.strip_prefix(root()).unwrap().display().to_string();
-            let text = std::fs::read_to_string(&file).unwrap();
-            for (name, line, n) in functions(&text) {
-                if n > 100 {
-                    long.push((relative.clone(), name, line, n));
-                }
+    for (relative, text) in sources(LAYERED_SOURCES) {
+        for (name, line, n) in functions(&text) {
+            if n > 100 {
+                long.push((relative.clone(), name, line, n));
             }
         }
     }
@@ -644,33 +653,29 @@ const PRINT_FORBIDDEN: &[&str] = &["println!", "eprintln!", "print!(", "eprint!(
 #[test]
 fn the_runner_report_and_paper_read_no_process_state_and_print_nothing() {
     for dir in LAYERED_SOURCES {
-        let mut files = Vec::new();
-        rust_files(&root().join(dir), &mut files);
-        assert!(!files.is_empty(), "{dir} has no Rust files");
-        for file in files {
-            let relative = file.strip_prefix(root()).unwrap().display().to_string();
-            let text = std::fs::read_to_string(&file).unwrap();
-            // A file's unit tests (its `#[cfg(test)]` module, last by convention) may.
-            for (n, line) in text
-                .lines()
-                .enumerate()
-                .take_while(|(_, l)| l.trim() != "#[cfg(test)]")
-            {
-                let code = line.split("//").next().unwrap_or_default();
-                for word in PROCESS_FORBIDDEN {
-                    assert!(
-                        !code.contains(word),
-                        "{relative}:{}: `{word}`: the runner, report and paper read no process state; take it as an argument from the caller (cli, xtask, python)",
-                        n + 1
-                    );
-                }
-                for word in PRINT_FORBIDDEN {
-                    assert!(
-                        !code.contains(word),
-                        "{relative}:{}: `{word}`: the runner, report and paper do not print; return it, or say it with `tracing` (cli, xtask and python print)",
-                        n + 1
-                    );
-                }
+        assert!(!sources(&[dir]).is_empty(), "{dir} has no Rust files");
+    }
+    for (relative, text) in sources(LAYERED_SOURCES) {
+        // A file's unit tests (its `#[cfg(test)]` module, last by convention) may.
+        for (n, line) in text
+            .lines()
+            .enumerate()
+            .take_while(|(_, l)| l.trim() != "#[cfg(test)]")
+        {
+            let code = line.split("//").next().unwrap_or_default();
+            for word in PROCESS_FORBIDDEN {
+                assert!(
+                    !code.contains(word),
+                    "{relative}:{}: `{word}`: the runner, report and paper read no process state; take it as an argument from the caller (cli, xtask, python)",
+                    n + 1
+                );
+            }
+            for word in PRINT_FORBIDDEN {
+                assert!(
+                    !code.contains(word),
+                    "{relative}:{}: `{word}`: the runner, report and paper do not print; return it, or say it with `tracing` (cli, xtask and python print)",
+                    n + 1
+                );
             }
         }
     }
@@ -682,34 +687,24 @@ fn the_runner_report_and_paper_read_no_process_state_and_print_nothing() {
 /// the message quotes, such as the text a user gave, is a field like any other.)
 #[test]
 fn the_layered_crates_errors_are_not_strings() {
-    for dir in LAYERED_SOURCES {
-        let mut files = Vec::new();
-        rust_files(&root().join(dir), &mut files);
-        for file in files {
-            let relative = file.strip_prefix(root()).unwrap().display().to_string();
-            let text = std::fs::read_to_string(&file).unwrap();
-            let lines: Vec<&str> = text.lines().collect();
-            for (i, line) in lines.iter().enumerate() {
-                if line.trim() != "#[error(\"{0}\")]" {
-                    continue;
-                }
-                // The item the attribute is on: the first line after it that is neither
-                // an attribute's continuation, an attribute nor a doc comment.
-                let item = lines[i + 1..].iter().map(|l| l.trim()).find(|l| {
-                    !(l.starts_with("#[")
-                        || l.starts_with("///")
-                        || l.starts_with('"')
-                        || l.starts_with(')')
-                        || l.starts_with('.')
-                        || l.is_empty())
-                });
-                if let Some(item) = item {
-                    assert!(
-                        !(item.contains("(String)") || item.contains("(pub String)")),
-                        "{relative}:{}: `{item}`: an error that is a preformatted String; give it fields (ARCHITECTURE.md, Invariants)",
-                        i + 1
-                    );
-                }
+    for (relative, text) in sources(LAYERED_SOURCES) {
+        let lines: Vec<&str> = text.lines().collect();
+        for (i, line) in lines.iter().enumerate() {
+            if line.trim() != "#[error(\"{0}\")]" {
+                continue;
+            }
+            // The item the attribute is on: the first line after it that is neither an
+            // attribute nor a doc comment.
+            let item = lines[i + 1..]
+                .iter()
+                .map(|l| l.trim())
+                .find(|l| !(l.starts_with("#[") || l.starts_with("///") || l.is_empty()));
+            if let Some(item) = item {
+                assert!(
+                    !(item.contains("(String)") || item.contains("(pub String)")),
+                    "{relative}:{}: `{item}`: an error that is a preformatted String; give it fields (ARCHITECTURE.md, Invariants)",
+                    i + 1
+                );
             }
         }
     }
