@@ -15,6 +15,10 @@ DEFAULT_PLAN_EXPANSIONS: int
 class GridplanError(Exception):
     """Base class of every error gridplan raises (besides ValueError and TypeError)."""
 
+class GridplanWarning(UserWarning):
+    """What gridplan read but doubted or ignored, raised through :mod:`warnings` (the
+    command line prints it on stderr)."""
+
 class ConfigError(GridplanError):
     """An experiment config that cannot be read: ``file:line:column: message``."""
     file: str

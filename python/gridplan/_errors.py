@@ -62,3 +62,9 @@ class ParameterError(GridplanError, ValueError):
         super().__init__(message)
         #: The parameter's key (``"planner"`` for an unknown planner name).
         self.key = key
+
+
+class GridplanWarning(UserWarning):
+    """What gridplan read but doubted or ignored (a ROS map's second YAML document, a
+    scenario file naming another map, a planner label that is not admissible), raised
+    through :mod:`warnings` as the command line prints it on stderr."""

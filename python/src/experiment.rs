@@ -41,7 +41,7 @@ pub fn run_experiment_rows(
             "lock_wait: {lock_wait} is not a number of seconds (0 or more)"
         ))
     })?;
-    let (columns, records) = py.detach(move || {
+    let swept = py.detach(move || {
         guarded(|| {
             let records = match &output {
                 None => sweep(&config, threads)?,
@@ -49,7 +49,9 @@ pub fn run_experiment_rows(
             };
             Ok((csv_columns(&records), records))
         })
-    })?;
+    });
+    // What the config, the maps and a resume warned of.
+    let (columns, records) = crate::warn::after(py, swept.map_err(PyErr::from))?;
     let fixed = csv_columns(&[]);
     let rows = PyList::empty(py);
     for record in &records {

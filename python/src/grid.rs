@@ -327,7 +327,7 @@ pub fn read_map(
     };
     options.costs.rule = self::cost_rule(cost_rule, "read_map")?;
     options.costs.graded = graded;
-    let (grid, problems) = py.detach(|| {
+    let read = py.detach(|| {
         guarded(|| {
             let (grid, problems) = read(&path, &options)?;
             let grid = match &weights {
@@ -336,7 +336,9 @@ pub fn read_map(
             };
             Ok((grid, problems))
         })
-    })?;
+    });
+    // What the readers doubted (a ROS map's ignored keys, a scenario of another map).
+    let (grid, problems) = crate::warn::after(py, read.map_err(PyErr::from))?;
     let grid = Py::new(
         py,
         Grid {

@@ -20,6 +20,7 @@ mod grid;
 mod plan;
 mod planner;
 mod values;
+mod warn;
 
 use pyo3::prelude::*;
 
@@ -34,6 +35,8 @@ static ALLOCATOR: planner_runner::alloc::Counting = planner_runner::alloc::Count
 fn _gridplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // The output locks this process takes name it (the runner reads no process state).
     planner_runner::outdir::set_lock_holder(std::process::id());
+    // The library's warnings become Python warnings (`warn`).
+    warn::install();
     m.add_class::<grid::Grid>()?;
     m.add_class::<grid::MapProblem>()?;
     m.add_class::<plan::Outcome>()?;
