@@ -233,7 +233,8 @@ impl Planner {
                 Ok(run_one(experiment, &SPEC_0, single, None)?)
             })
         });
-        outcome(py, record.map_err(|e| e.into_pyerr(py))?)
+        let record = crate::warn::after(py, record.map_err(|e| e.into_pyerr(py)))?;
+        outcome(py, record)
     }
 
     /// Plans every query `(starts[i], goals[i])` on `threads` threads (0: one per core)
@@ -329,7 +330,7 @@ impl Planner {
                 Ok(records.into_iter().flatten().collect::<Vec<_>>())
             })
         });
-        let records = records.map_err(|e| e.into_pyerr(py))?;
+        let records = crate::warn::after(py, records.map_err(|e| e.into_pyerr(py)))?;
         arrays(py, &records, paths)
     }
 }

@@ -4,9 +4,11 @@
 //! map's second YAML document, a scenario naming another map, an inadmissible planner
 //! label, a resume stream carried over): the command line prints those events on stderr.
 //! Here a [`Collector`], the process's global `tracing` subscriber once the module is
-//! imported, keeps each warning's text; every entry point that reads maps or configs then
+//! imported, keeps each warning's text; every entry point that reads maps or configs or
+//! plans (`read_map`, `run_experiment`, `plan`, `Planner.plan`, `Planner.plan_many`) then
 //! raises them with `warnings.warn(..., gridplan.GridplanWarning)` on the calling thread
-//! ([`emit`]). The collector only takes a lock: events come from worker threads that run
+//! ([`emit`]), a run the memory check refused or a path that breaks its planner's rule among
+//! them. The collector only takes a lock: events come from worker threads that run
 //! while the calling thread has released the GIL, and taking the GIL there could deadlock
 //! with a caller that holds it. At most [`MAX_PENDING`] texts are kept between two
 //! [`emit`]s; the rest are counted and reported as one more warning.

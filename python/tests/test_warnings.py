@@ -3,6 +3,7 @@ command line prints it on stderr (``python/src/warn.rs``)."""
 
 import warnings
 
+import numpy as np
 import pytest
 
 import gridplan
@@ -47,3 +48,17 @@ def test_the_warnings_filter_decides(tmp_path):
         warnings.simplefilter("ignore", gridplan.GridplanWarning)
         grid, _ = gridplan.read_map(path)
     assert grid.n_free == 5
+
+
+def test_a_run_the_memory_limit_refuses_warns_from_every_plan_call():
+    grid = gridplan.Grid.from_numpy(np.zeros((50, 50), dtype=bool), free=False)
+    budget = {"max_memory_mb": 0}
+    planner = gridplan.Planner(grid, "astar", budget=budget)
+    calls = [
+        lambda: gridplan.plan(grid, (0, 0), (49, 49), budget=budget).status,
+        lambda: planner.plan((0, 0), (49, 49)).status,
+        lambda: planner.plan_many([[0, 0]], [[49, 49]])["status"][0],
+    ]
+    for call in calls:
+        with pytest.warns(gridplan.GridplanWarning, match="over the max_memory_mb = 0 budget; not run"):
+            assert call() == "budget_exhausted"
