@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs one fuzz target for a bounded time: fuzz/run.sh TARGET SECONDS [extra libFuzzer flags]
 #
-# TARGET is one of: movingai scen seed003 csv ros_yaml image config stream frames weights gppc replan_config (see README.md).
+# TARGET is one of: movingai scen seed003 csv ros_yaml image config stream frames weights gppc replan_config expanded (see README.md).
 # Seeds are copied from ../maps (by extension) into seeds/TARGET; libFuzzer keeps what it
 # finds in corpus/TARGET and writes crashing inputs to artifacts/TARGET. Both are ignored
 # by git. Needs cargo-fuzz (`cargo install cargo-fuzz`); on a stable toolchain
@@ -82,6 +82,14 @@ case $target in
     head -c 16384 ../maps/gppc-dynamic/switch_sc1_Aurora_TheFrozenSea.scen > "$seeds/sample.scen"
     ;;
   replan_config) find ../configs/replan -name '*.toml' -exec cp {} "$seeds/" \; ;;
+  expanded)
+    # A sweep's expanded.jsonl: configs/movingai.toml's, cut to its first 16 KiB.
+    out=$(mktemp -d)
+    (cd .. && cargo run -q --release -p xtask -- experiment configs/movingai.toml \
+      --output "$out/m" --quiet >/dev/null)
+    head -c 16384 "$out/m/expanded.jsonl" > "$seeds/movingai.jsonl"
+    rm -rf "$out"
+    ;;
   stream) shard_streams "" ;;
   frames)
     # Shape byte 2 (see fuzz_targets/frames.rs): the shard streams, framed by the target;
@@ -94,7 +102,7 @@ case $target in
     printf '\x00\xff\xff\xff\xff\x00\x00\x00\x00' > "$seeds/huge-frame.bin"
     ;;
   *)
-    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream frames weights gppc replan_config)" >&2
+    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream frames weights gppc replan_config expanded)" >&2
     exit 2
     ;;
 esac
