@@ -171,7 +171,14 @@ impl Server {
                         Err(_) => return,
                     };
                     match next {
-                        Ok(stream) => connection(&state, stream),
+                        // A bug in one request's handling closes that connection (the
+                        // stream is dropped) and keeps the worker: the pool never shrinks
+                        // into a server that accepts and never answers.
+                        Ok(stream) => {
+                            let answer =
+                                std::panic::AssertUnwindSafe(|| connection(&state, stream));
+                            let _ = std::panic::catch_unwind(answer);
+                        }
                         Err(_) => return,
                     }
                 })
