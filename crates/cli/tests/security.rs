@@ -315,8 +315,6 @@ fn a_foreign_stream_directory_survives() {
     assert!(dir.join("res/runs.json").is_file());
 }
 
-/// Replaces the first `"planner":"a"` after line 1 of `file` with another label; returns
-/// the line it changed (1-based).
 /// Writes the framed stream `framed` (a shard's shard.stream) to `out` as a JSON Lines
 /// stream, the format of earlier versions' shard.jsonl and resume stream.
 fn json_lines(framed: &Path, out: &Path) {
@@ -325,6 +323,8 @@ fn json_lines(framed: &Path, out: &Path) {
     planner_runner::frames::write_json_lines(reader, "shard.stream", &mut file, None).unwrap();
 }
 
+/// Replaces the first `"planner":"a"` after line 1 of `file` with another label; returns
+/// the line it changed (1-based).
 fn forge_label(file: &Path) -> usize {
     let text = fs::read_to_string(file).unwrap();
     let mut lines: Vec<String> = text.lines().map(String::from).collect();

@@ -54,8 +54,7 @@ use crate::readback::{RecordAt, ResultsError, ResumeError, SweepId};
 use crate::record::Reproduction;
 use crate::run::{HeapMeter, RunList};
 use crate::shard::{Shard, ShardRuns};
-use crate::stream::{self, StreamHeader, StreamReader};
-use crate::stream::{Place, StreamError, StreamProblem};
+use crate::stream::{self, Place, StreamError, StreamHeader, StreamProblem, StreamReader};
 use crate::{config, outdir, output as results, Experiment, RunOptions, RunRecord, RunnerError};
 
 /// The resume stream of a sweep's stream area: framed binary ([`crate::frames`]).
@@ -562,7 +561,6 @@ fn resume_point(
         if expected.next() != Some(run) {
             return Err(ResumeError::OutOfOrder { file: what, run }.into());
         }
-        // The header line is line 1: record n is line n + 2 (a framed stream's is record n + 1).
         stream::check_record(experiment, &list, run, &record).map_err(|source| {
             ResumeError::Record {
                 file: what.clone(),
@@ -881,7 +879,6 @@ fn read_results_records(
     let mut records = Vec::with_capacity(if hold { header.total_runs as usize } else { 0 });
     let mut n = 0u64;
     while let Some((run, record)) = reader.next_run()? {
-        // The header line is line 1: record n is line n + 2.
         stream::check_record(experiment, &list, run, &record).map_err(|source| {
             ResultsError::Record {
                 command: "report",
@@ -1176,8 +1173,8 @@ fn merge_records(
 ) -> Result<(), RunnerError> {
     // Each record is checked against the config's run list.
     let list = RunList::new(experiment);
-    // Per shard: the line of its head record (the header is line 1).
-    let mut lines: Vec<u64> = vec![2; shards.len()];
+    // Per shard: the records read before its head record.
+    let mut read: Vec<u64> = vec![0; shards.len()];
     let mut heads: Vec<Option<(u64, RunRecord)>> = Vec::with_capacity(shards.len());
     for (_, _, reader) in shards.iter_mut() {
         heads.push(reader.next_run()?);
@@ -1200,18 +1197,16 @@ fn merge_records(
         let next = shards[i].2.next_run()?;
         if let Some((run, record)) = std::mem::replace(&mut heads[i], next) {
             stream::check_record(experiment, &list, run, &record).map_err(|source| {
-                let (file, at) = match shards[i].2.is_framed() {
-                    true => (SHARD_FILE, RecordAt::Record(lines[i] - 1)),
-                    false => (OLD_SHARD_FILE, RecordAt::Line(lines[i])),
-                };
+                let framed = shards[i].2.is_framed();
+                let file = if framed { SHARD_FILE } else { OLD_SHARD_FILE };
                 ResultsError::Record {
                     command: "merge",
                     file: shards[i].0.join(file).display().to_string(),
-                    at,
+                    at: RecordAt::after(read[i], framed),
                     source,
                 }
             })?;
-            lines[i] += 1;
+            read[i] += 1;
             sink(run, record)?;
         }
     }
