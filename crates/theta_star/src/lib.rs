@@ -464,11 +464,18 @@ impl AnyAngle {
                 debug_assert_eq!(q_cell, adjacency.cell(q));
                 let known = nodes[q].stamp == open_stamp;
                 let path_1 = g_node + costs[(m & 7) as usize];
+                // A node in OPEN whose parent is already `parent` holds path 2's g to the
+                // bit: `g(parent) + |parent q|` from the same values (a CLOSED parent's g
+                // never changes, and a grid move's cost is `cell_hypot` of its offset, so
+                // path 1 from `parent` gave the same sum). Path 2 cannot replace it, so its
+                // distance is not computed again; every counter and path is as before.
+                let holds_path_2 = known && nodes[q].parent as usize == parent;
                 let (g_new, new_parent) = if parent == p {
                     (path_1, p)
                 } else {
                     let path_2 = || g_parent + parent_cell.euclidean(q_cell);
                     match variant {
+                        Variant::Lazy if holds_path_2 => continue,
                         Variant::Lazy => (path_2(), parent),
                         Variant::Theta => {
                             // Neither path can replace g(q): line of sight decides nothing.
@@ -479,6 +486,9 @@ impl AnyAngle {
                             if skip_hopeless && known {
                                 let bar = nodes[q].g - EPSILON;
                                 if path_1 >= bar {
+                                    if holds_path_2 {
+                                        continue;
+                                    }
                                     let via = path_2();
                                     if via >= bar {
                                         continue;
