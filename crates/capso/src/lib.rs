@@ -860,7 +860,10 @@ impl Planner for Capso {
             s.best_fitness.push(f);
             s.fitness.push(f);
             s.previous_fitness.push(f);
-            if f < global_fitness {
+            // The first particle is the global best until a better one comes: a fitness
+            // may be infinite (a huge penalty times a collision), and the swarm still
+            // needs a global best to pull towards and to restart around.
+            if f < global_fitness || s.global.is_empty() {
                 global_fitness = f;
                 s.global.clear();
                 s.global.extend_from_slice(x);

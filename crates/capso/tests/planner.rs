@@ -172,6 +172,31 @@ fn start_equal_to_goal_is_the_one_cell_path() {
     assert_eq!(outcome.path.unwrap().cells(), [Cell::new(1, 1)]);
 }
 
+/// A penalty so large that every colliding path's fitness is infinite: the swarm still has
+/// a global best to restart around (it had none, and the first restart indexed it).
+#[test]
+fn an_infinite_fitness_still_leaves_a_global_best() {
+    let file = planner_testkit::map_file("pastar/two-140x120.map");
+    let config = Config {
+        penalty: f64::MAX,
+        population: 1,
+        restart_after: 1,
+        ..small(3)
+    };
+    let outcome = run(&file.grid, (20, 10), (70, 110), config);
+    // The one particle starts on the straight line, through an obstacle.
+    assert_eq!(outcome.series[0].points[0][1], f64::INFINITY);
+    assert!(outcome.counters.get("n_restarts").unwrap() > 0);
+    match outcome.status {
+        Status::Found => assert!(outcome
+            .path
+            .unwrap()
+            .validate(&file.grid, PathRule::AnyAngle)
+            .is_ok()),
+        status => assert_eq!((status, outcome.path), (Status::NoPath, None)),
+    }
+}
+
 #[test]
 fn an_unreachable_goal_is_no_path_without_a_swarm() {
     // A wall across the whole grid.

@@ -2,8 +2,9 @@
 //! `CoveragePlanner`), on seeded random grids: no panic; the expansion budget honoured
 //! (the search stops within it and says so); every returned path valid under the rule the
 //! planner declares in its specs, from the start (to the goal); a reused planner gives the
-//! outcome of a fresh one; two runs give the same counters. A planner gets this by being
-//! registered.
+//! outcome of a fresh one; two runs give the same counters. Every declared parameter at
+//! the edges of its type is refused by key or keeps the same contract. A planner gets this
+//! by being registered.
 
 use planner_api::{Budget, Cell, CoverageProblem, Grid, Problem, Status};
 use planner_registry::PLANNERS;
@@ -135,25 +136,38 @@ fn every_registered_planner_keeps_the_contract() {
                     }
                 }
 
-                if let Some(cells) = &first.cells {
-                    let path = planner_api::Path::new(cells.clone());
-                    assert_eq!(
-                        path.start(),
-                        Some(*start),
-                        "{what}: path does not leave the start"
-                    );
-                    if !coverage && first.status == Status::Found {
-                        assert_eq!(path.goal(), Some(*goal), "{what}: path misses the goal");
-                    }
-                    if let Err(e) = path.validate(grid, rule.rule()) {
-                        panic!("{what}: the path breaks the declared rule: {e}");
-                    }
-                }
+                check_path(&what, &first, grid, (*start, *goal), coverage, &rule);
                 n_checked += 1;
             }
         }
     }
     assert!(n_checked >= PLANNERS.len() * problems.len());
+}
+
+/// A run's path, if any, leaves the start, reaches the goal when found (not for coverage),
+/// and keeps the rule its planner declares.
+fn check_path(
+    what: &str,
+    seen: &Seen,
+    grid: &Grid,
+    (start, goal): (Cell, Cell),
+    coverage: bool,
+    rule: &planner_api::PathSpec,
+) {
+    if let Some(cells) = &seen.cells {
+        let path = planner_api::Path::new(cells.clone());
+        assert_eq!(
+            path.start(),
+            Some(start),
+            "{what}: path does not leave the start"
+        );
+        if !coverage && seen.status == Status::Found {
+            assert_eq!(path.goal(), Some(goal), "{what}: path misses the goal");
+        }
+        if let Err(e) = path.validate(grid, rule.rule()) {
+            panic!("{what}: the path breaks the declared rule: {e}");
+        }
+    }
 }
 
 /// A grid of `w` x `h` with a seeded third of its cells blocked and the goal walled in, so
@@ -219,5 +233,118 @@ fn every_registered_planner_stops_when_cancelled() {
         n_cut * 2 > PLANNERS.len(),
         "{n_cut} of {} cut",
         PLANNERS.len()
+    );
+}
+
+/// Values for a declared parameter of JSON type `kind` (as `planner_registry::schema`
+/// names it): the edges a typo or a generated sweep can reach, beside ordinary ones.
+fn extreme_values(kind: &str) -> Vec<toml::Value> {
+    let mut out = Vec::new();
+    if kind.contains("integer") {
+        let ints = [
+            0,
+            1,
+            -1,
+            2,
+            3,
+            7,
+            1000,
+            1 << 20,
+            1 << 40,
+            i64::MAX,
+            i64::MIN,
+        ];
+        out.extend(ints.map(toml::Value::Integer));
+    }
+    if kind.contains("number") {
+        let floats = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.5,
+            1e-310,
+            1e6,
+            1e308,
+            -1e308,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        out.extend(floats.map(toml::Value::Float));
+    }
+    if kind.contains("string") {
+        out.push(toml::Value::String(String::new()));
+        out.push(toml::Value::String("x".repeat(300)));
+    }
+    if kind.contains("boolean") {
+        out.extend([true, false].map(toml::Value::Boolean));
+    }
+    out
+}
+
+/// Every declared parameter of every planner, alone at each of [`extreme_values`] and at
+/// each value it allows: the planner refuses it with an error naming that key (as its key,
+/// or in its message when the value breaks a bound set by another key), or builds
+/// and keeps the contract (no panic, the expansion budget, valid paths) on a sample of the
+/// random problems. Parameters are validated where they are read, whatever a config says.
+#[test]
+fn every_declared_parameter_at_its_extremes_is_refused_by_key_or_kept_in_bounds() {
+    let problems: Vec<_> = problems().into_iter().step_by(20).collect();
+    let budget = Budget::expansions(BUDGET);
+    let (mut n_refused, mut n_run) = (0, 0);
+    for entry in PLANNERS {
+        let declared = planner_registry::schema::declared(entry.name).unwrap();
+        assert!(
+            !declared.is_empty(),
+            "{}: no declared parameter",
+            entry.name
+        );
+        for param in &declared {
+            let mut values = extreme_values(&param.kind);
+            values.extend(
+                param
+                    .allowed
+                    .iter()
+                    .filter_map(|v| toml::Value::try_from(v.clone()).ok()),
+            );
+            for value in values {
+                let what = format!("{} with {} = {value}", entry.name, param.key);
+                let table = toml::Table::from_iter([(param.key.clone(), value)]);
+                let factory = match (entry.factory)(&table).and_then(|f| f.build().map(|_| f)) {
+                    Ok(factory) => factory,
+                    Err(e) => {
+                        // A bound between two keys may be reported under the other one;
+                        // its message then names this one.
+                        assert!(
+                            e.key == param.key || e.message.contains(param.key.as_str()),
+                            "{what}: refused without naming the key: {e}"
+                        );
+                        n_refused += 1;
+                        continue;
+                    }
+                };
+                let rule = factory.specs().path_rule.clone();
+                let coverage = matches!(factory.task(), planner_runner::Task::Coverage);
+                for (i, (grid, start, goal)) in problems.iter().enumerate() {
+                    let what = format!("{what}, problem {i}");
+                    let seed = factory.seed_for(7, i as u32);
+                    let seen = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                        let mut built = factory.build().unwrap();
+                        run(&mut built, grid, *start, *goal, seed, &budget)
+                    }))
+                    .unwrap_or_else(|_| panic!("{what}: the planner panicked"));
+                    let expanded = seen.counters.get("n_expanded").unwrap_or(0);
+                    assert!(expanded <= BUDGET, "{what}: {expanded} expansions");
+                    check_path(&what, &seen, grid, (*start, *goal), coverage, &rule);
+                    n_run += 1;
+                }
+            }
+        }
+    }
+    // Both outcomes occur: the values reach past what planners accept, and not only that.
+    assert!(
+        n_refused > 100 && n_run > 1000,
+        "{n_refused} refused, {n_run} runs"
     );
 }
