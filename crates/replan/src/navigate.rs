@@ -119,15 +119,15 @@ fn sense(
     radius: u32,
     seen: &mut Vec<CellChange>,
 ) -> bool {
+    // The square of cells within `radius`, clipped to the grid first: a radius larger
+    // than the map costs the map's cells, not the square's.
     let r = i64::from(radius);
+    let (ax, ay) = (i64::from(at.x), i64::from(at.y));
+    let (max_x, max_y) = (i64::from(truth.width()) - 1, i64::from(truth.height()) - 1);
     let before = seen.len();
     let weighted = truth.is_weighted();
-    for dy in -r..=r {
-        for dx in -r..=r {
-            let (x, y) = (i64::from(at.x) + dx, i64::from(at.y) + dy);
-            if !truth.contains_signed(x, y) {
-                continue;
-            }
+    for y in (ay - r).max(0)..=(ay + r).min(max_y) {
+        for x in (ax - r).max(0)..=(ax + r).min(max_x) {
             let cell = Cell::new(x as u32, y as u32);
             let mut change = None;
             if !truth.is_free(cell) && known.is_free(cell) {

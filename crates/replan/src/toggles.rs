@@ -95,7 +95,9 @@ pub fn run(
             }
             None => &[],
         };
-        let mut changes = Vec::with_capacity(config.k as usize);
+        // Reserved for at most the map's cells: `k` is the config's word, the memory the
+        // work's (a change is pushed per draw).
+        let mut changes = Vec::with_capacity((config.k as usize).min(map.len()));
         for _ in 0..config.k {
             let cell = if remaining.len() > 1 && rng.gen_bool(0.5) {
                 remaining[rng.gen_range(1..remaining.len())]

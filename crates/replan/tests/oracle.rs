@@ -297,6 +297,43 @@ fn navigation_on_small_weighted_grids_is_exact_at_every_change() {
 }
 
 /// The oracle can fail: a planner that ignores the changes it is told is caught.
+/// A sensor radius beyond the map (up to `u32::MAX`, which a config accepts) senses the
+/// whole map at once: the same run as a radius of the map's size, and it ends (the square
+/// is clipped to the grid before it is walked, so the work is the map's cells).
+#[test]
+fn a_radius_beyond_the_map_is_the_whole_map() {
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let mut compared = 0;
+    while compared < 20 {
+        let Some((grid, start, goal)) = random_problem(&mut rng) else {
+            continue;
+        };
+        let drive = |radius| {
+            let mut planner = planners::by_name("dstar_lite", true).unwrap();
+            let config = navigate::NavConfig {
+                radius,
+                ..navigate::NavConfig::default()
+            };
+            let run = navigate::run(
+                planner.as_mut(),
+                None,
+                &grid,
+                start,
+                goal,
+                &config,
+                &Budget::unlimited(),
+            )
+            .unwrap();
+            let expansions: Vec<u64> = run.replans.iter().map(|r| r.expansions).collect();
+            (run.reached, run.steps, run.path, expansions)
+        };
+        let whole = drive(grid.width().max(grid.height()));
+        assert_eq!(drive(u32::MAX), whole);
+        assert_eq!(drive(1 << 20), whole);
+        compared += 1;
+    }
+}
+
 #[test]
 fn a_planner_that_ignores_changes_is_caught() {
     struct Deaf(Box<dyn IncrementalPlanner>);
