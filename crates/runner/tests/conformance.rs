@@ -17,10 +17,10 @@ use rand_chacha::ChaCha8Rng;
 const BUDGET: u64 = 20_000;
 
 /// Seeded random problems: several sizes and obstacle densities, start and goal made free
-/// (possibly equal, often disconnected).
+/// (possibly equal, often disconnected); first the degenerate shapes of [`degenerate`].
 fn problems() -> Vec<(Grid, Cell, Cell)> {
     let mut rng = ChaCha8Rng::seed_from_u64(2026);
-    let mut out = Vec::new();
+    let mut out = degenerate();
     for (w, h) in [(5, 5), (12, 9), (30, 20)] {
         for density in [0.0, 0.15, 0.3, 0.45] {
             for _ in 0..25 {
@@ -35,6 +35,23 @@ fn problems() -> Vec<(Grid, Cell, Cell)> {
         }
     }
     out
+}
+
+/// Shapes at the edges of what a grid can be: one cell, one row, one column, a diagonal
+/// that only corner cutting crosses, start and goal walled apart, start equal to goal.
+fn degenerate() -> Vec<(Grid, Cell, Cell)> {
+    let ascii = |text: &str| Grid::from_ascii(text).unwrap();
+    let open = |w, h| Grid::from_free_cells(w, h, vec![true; (w * h) as usize]).unwrap();
+    vec![
+        (open(1, 1), Cell::new(0, 0), Cell::new(0, 0)),
+        (open(9, 1), Cell::new(0, 0), Cell::new(8, 0)),
+        (open(9, 1), Cell::new(8, 0), Cell::new(3, 0)),
+        (open(1, 9), Cell::new(0, 0), Cell::new(0, 8)),
+        (ascii(".#\n#."), Cell::new(0, 0), Cell::new(1, 1)),
+        (ascii("..#..\n..#..\n..#.."), Cell::new(0, 1), Cell::new(4, 1)),
+        (ascii(".#.\n###\n.#."), Cell::new(0, 0), Cell::new(2, 2)),
+        (open(6, 4), Cell::new(2, 3), Cell::new(2, 3)),
+    ]
 }
 
 /// The configurations tried for each planner: its defaults, and 8-connected moves where
