@@ -538,9 +538,12 @@ impl Planner for BidirectionalAStar {
         NAME
     }
 
-    /// Deterministic; every step is one of the configured 4 or 8 moves.
+    /// Deterministic; every step is one of the configured 4 or 8 moves; admissible (its
+    /// paths are least-cost, the crate docs' proof), on weighted grids too.
     fn specs(&self) -> PlannerSpecs {
-        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone())).with_cell_costs()
+        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone()))
+            .with_cell_costs()
+            .with_admissible(true)
     }
 
     fn prepare(&mut self, grid: &Grid) {

@@ -48,7 +48,11 @@ fn degenerate() -> Vec<(Grid, Cell, Cell)> {
         (open(9, 1), Cell::new(8, 0), Cell::new(3, 0)),
         (open(1, 9), Cell::new(0, 0), Cell::new(0, 8)),
         (ascii(".#\n#."), Cell::new(0, 0), Cell::new(1, 1)),
-        (ascii("..#..\n..#..\n..#.."), Cell::new(0, 1), Cell::new(4, 1)),
+        (
+            ascii("..#..\n..#..\n..#.."),
+            Cell::new(0, 1),
+            Cell::new(4, 1),
+        ),
         (ascii(".#.\n###\n.#."), Cell::new(0, 0), Cell::new(2, 2)),
         (open(6, 4), Cell::new(2, 3), Cell::new(2, 3)),
     ]
@@ -364,4 +368,86 @@ fn every_declared_parameter_at_its_extremes_is_refused_by_key_or_kept_in_bounds(
         n_refused > 100 && n_run > 1000,
         "{n_refused} refused, {n_run} runs"
     );
+}
+
+/// Weighted grids for [`every_planner_declaring_cell_costs_matches_the_oracle`]: the test
+/// kit's random ones (weights 1-255, both cost rules), then the same grids with every
+/// weight at the type's top (65535) or alternating between 1 and 65535, where a move costs
+/// about 2^48 units and overflow would show.
+fn weighted_problems() -> Vec<(Grid, Cell, Cell)> {
+    let mut out = Vec::new();
+    for (k, p) in planner_testkit::random_weighted_problems(0xc057, 200)
+        .into_iter()
+        .enumerate()
+    {
+        let rule = p.grid.weights().map(|w| w.rule()).unwrap_or_default();
+        let extreme: Vec<u16> = (0..p.grid.len())
+            .map(|i| {
+                if k % 2 == 0 || i % 3 == 0 {
+                    u16::MAX
+                } else {
+                    1
+                }
+            })
+            .collect();
+        let mut heavy = Grid::from_free_cells(
+            p.grid.width(),
+            p.grid.height(),
+            p.grid.free_cells().to_vec(),
+        )
+        .and_then(|g| g.with_weights(extreme, rule))
+        .unwrap();
+        heavy.set_free(p.start, true);
+        heavy.set_free(p.goal, true);
+        out.push((p.grid, p.start, p.goal));
+        out.push((heavy, p.start, p.goal));
+    }
+    out
+}
+
+/// Every registered planner that declares it honours cell weights and is admissible finds
+/// exactly the weighted optimum of the test kit's oracle (a plain Dijkstra), and reports
+/// no path exactly when there is none; every weight-honouring planner's path keeps its
+/// declared rule. A planner gets this by being registered.
+#[test]
+fn every_planner_declaring_cell_costs_matches_the_oracle() {
+    let problems = weighted_problems();
+    let mut n_exact = 0;
+    for entry in PLANNERS {
+        for (v, factory) in variants(entry.factory).into_iter().enumerate() {
+            let specs = factory.specs().clone();
+            if !specs.cell_costs || matches!(factory.task(), planner_runner::Task::Coverage) {
+                continue;
+            }
+            let exact = specs.admissible == Some(true);
+            let moves = match &specs.path_rule {
+                planner_api::PathSpec::Moves(moves) => moves.clone(),
+                planner_api::PathSpec::AnyAngle => continue,
+            };
+            let Built::Path(mut planner) = factory.build().unwrap() else {
+                continue;
+            };
+            for (i, (grid, start, goal)) in problems.iter().enumerate() {
+                let what = format!("{} (variant {v}) weighted problem {i}", entry.name);
+                planner.prepare(grid);
+                let problem = Problem::new(grid, *start, *goal).unwrap();
+                let outcome = planner.plan(&problem, &Budget::unlimited());
+                let oracle = planner_testkit::weighted_dijkstra(grid, &moves, *start, *goal);
+                if let Some(path) = &outcome.path {
+                    path.validate(grid, planner_api::PathRule::Moves(&moves))
+                        .unwrap_or_else(|e| panic!("{what}: {e}"));
+                    assert_eq!(path.start(), Some(*start), "{what}");
+                }
+                if exact {
+                    let cost = outcome.path.as_ref().map(|p| grid.path_cost(p.cells()));
+                    assert_eq!(cost, oracle, "{what}: not the oracle's cost");
+                    assert_eq!(outcome.status == Status::NoPath, oracle.is_none(), "{what}");
+                    n_exact += 1;
+                }
+            }
+        }
+    }
+    // A* (its default heuristic is admissible on 4 moves only), bidirectional A*, LPA* and
+    // D* Lite (4 and 8 moves each) at least.
+    assert!(n_exact >= 7 * problems.len(), "{n_exact} exact comparisons");
 }
