@@ -331,6 +331,21 @@ impl BudgetClock {
             self.exhausted = true;
             return false;
         }
+        self.tick()
+    }
+
+    /// Whether work that the planner does not count as expansions (a route computed before
+    /// the search proper, say) may go on: the cancel flag and the deadline, read every
+    /// [`BudgetClock::TIME_CHECK_INTERVAL`] calls as [`BudgetClock::allows`] reads them,
+    /// without the expansion limit. Once it has said no it keeps saying no.
+    #[inline]
+    pub fn allows_uncounted(&mut self) -> bool {
+        !self.exhausted && self.tick()
+    }
+
+    /// One step towards the next periodic check, and that check when it is due.
+    #[inline(always)]
+    fn tick(&mut self) -> bool {
         if self.periodic {
             self.until_time_check -= 1;
             if self.until_time_check == 0 {
@@ -631,6 +646,17 @@ mod tests {
             .take_while(|&n| timed.allows(n))
             .count();
         assert_eq!(allowed, BudgetClock::TIME_CHECK_INTERVAL as usize - 1);
+        assert!(!timed.allows_uncounted());
+        // Uncounted work ignores the expansion limit but not the clock, and shares its
+        // countdown with the expansions.
+        let mut counted = Budget::expansions(0).start();
+        assert!(counted.allows_uncounted());
+        let mut timed = Budget::expansions(0).with_time(Duration::ZERO).start();
+        let uncounted = (0..2 * BudgetClock::TIME_CHECK_INTERVAL)
+            .take_while(|_| timed.allows_uncounted())
+            .count();
+        assert_eq!(uncounted, BudgetClock::TIME_CHECK_INTERVAL as usize - 1);
+        assert!(timed.is_exhausted() && !timed.allows(0));
     }
 
     #[test]

@@ -25,7 +25,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use planner_api::Cell;
+use planner_api::{BudgetClock, Cell};
 
 use crate::collision::BitGrid;
 
@@ -35,6 +35,17 @@ pub const MAX_BLOCKS_PER_SIDE: u32 = 64;
 /// Bytes per block of the search's state (g, parent, closed flag) at the finest level,
 /// for the budget's memory check.
 pub const BYTES_PER_BLOCK: u64 = 9;
+
+/// What [`Guide::find`] found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Route {
+    /// A route: [`Guide::polyline`] holds it.
+    Found,
+    /// No route even over single cells: the goal is unreachable.
+    Unreachable,
+    /// The budget's deadline passed or its cancel flag was raised first.
+    Stopped,
+}
 
 /// Scratch of the guide's search, reused between plans.
 #[derive(Debug, Clone, Default)]
@@ -55,28 +66,44 @@ pub struct Guide {
 
 impl Guide {
     /// Finds the guide polyline from `start` to `goal` into [`Guide::polyline`] (module
-    /// docs). Returns false when there is none, which means the goal is unreachable.
-    pub fn find(&mut self, grid: &BitGrid, start: Cell, goal: Cell) -> bool {
+    /// docs). [`Route::Unreachable`] when there is none, which means the goal is
+    /// unreachable; [`Route::Stopped`] when `clock` (the plan's budget: its deadline and
+    /// cancel flag, not its expansions, which count fitness evaluations) ran out first.
+    pub fn find(
+        &mut self,
+        grid: &BitGrid,
+        start: Cell,
+        goal: Cell,
+        clock: &mut BudgetClock,
+    ) -> Route {
         self.n_expanded = 0;
         self.block = 0;
         self.polyline.clear();
         let longest = grid.width().max(grid.height());
         let mut block = longest.div_ceil(MAX_BLOCKS_PER_SIDE).max(1);
         loop {
-            if self.search(grid, start, goal, block) {
-                self.block = block;
-                self.shorten(grid);
-                return true;
+            match self.search(grid, start, goal, block, clock) {
+                Route::Found => {
+                    self.block = block;
+                    self.shorten(grid);
+                    return Route::Found;
+                }
+                Route::Stopped => return Route::Stopped,
+                Route::Unreachable if block == 1 => return Route::Unreachable,
+                Route::Unreachable => block /= 2,
             }
-            if block == 1 {
-                return false;
-            }
-            block /= 2;
         }
     }
 
-    /// A* over blocks of `b` cells; on success the route's cells are in `self.route`.
-    fn search(&mut self, grid: &BitGrid, start: Cell, goal: Cell, b: u32) -> bool {
+    /// A* over blocks of `b` cells; when found, the route's cells are in `self.route`.
+    fn search(
+        &mut self,
+        grid: &BitGrid,
+        start: Cell,
+        goal: Cell,
+        b: u32,
+        clock: &mut BudgetClock,
+    ) -> Route {
         let (bw, bh) = (grid.width().div_ceil(b), grid.height().div_ceil(b));
         let n = bw as usize * bh as usize;
         // A block is free when the summed-area table counts no blocked cell in it (one
@@ -111,6 +138,9 @@ impl Guide {
         while let Some(Reverse((_, i))) = self.heap.pop() {
             if self.closed[i as usize] {
                 continue;
+            }
+            if !clock.allows_uncounted() {
+                return Route::Stopped;
             }
             self.closed[i as usize] = true;
             self.n_expanded += 1;
@@ -158,7 +188,7 @@ impl Guide {
             }
         }
         if !found {
-            return false;
+            return Route::Unreachable;
         }
         // The route backwards: goal, inner block centres, start.
         self.route.clear();
@@ -176,7 +206,7 @@ impl Guide {
             self.route.push(start);
         }
         self.route.reverse();
-        true
+        Route::Found
     }
 
     /// Greedy line-of-sight shortening of `self.route` into `self.polyline`.
@@ -268,7 +298,9 @@ mod tests {
             }
         }
         let mut guide = Guide::default();
-        assert!(guide.find(&bits(&grid), Cell::new(1, 1), Cell::new(18, 1)));
+        let mut clock = planner_api::Budget::unlimited().start();
+        let (from, to) = (Cell::new(1, 1), Cell::new(18, 1));
+        assert_eq!(guide.find(&bits(&grid), from, to, &mut clock), Route::Found);
         let line = &guide.polyline;
         assert_eq!(line.first(), Some(&Cell::new(1, 1)));
         assert_eq!(line.last(), Some(&Cell::new(18, 1)));
@@ -278,8 +310,30 @@ mod tests {
         assert!(line.iter().any(|c| c.y >= 7), "{line:?}");
         // Unreachable: close the gap.
         grid.set_free(Cell::new(10, 8), false);
-        assert!(!guide.find(&bits(&grid), Cell::new(1, 1), Cell::new(18, 1)));
+        let unreachable = guide.find(&bits(&grid), from, to, &mut clock);
+        assert_eq!(unreachable, Route::Unreachable);
         assert_eq!(guide.block, 0);
+        // The expansion limit does not apply (fitness evaluations are the expansions); a
+        // raised cancel flag stops the search at the clock's first look.
+        let mut counted = planner_api::Budget::expansions(0).start();
+        let unreachable = guide.find(&bits(&grid), from, to, &mut counted);
+        assert_eq!(unreachable, Route::Unreachable);
+        // 100 x 100 cut by a wall: thousands of cells searched before "unreachable".
+        let mut walled = Grid::new(100, 100).unwrap();
+        for y in 0..100 {
+            walled.set_free(Cell::new(50, y), false);
+        }
+        let (from, to) = (Cell::new(1, 1), Cell::new(98, 98));
+        let unreachable = guide.find(&bits(&walled), from, to, &mut clock);
+        assert_eq!(unreachable, Route::Unreachable);
+        assert!(guide.n_expanded > 4_000, "{}", guide.n_expanded);
+        let flag = planner_api::CancelFlag::new();
+        flag.cancel();
+        let mut cancelled = planner_api::Budget::unlimited().with_cancel(flag).start();
+        let stopped = guide.find(&bits(&walled), from, to, &mut cancelled);
+        assert_eq!(stopped, Route::Stopped);
+        let interval = u64::from(planner_api::BudgetClock::TIME_CHECK_INTERVAL);
+        assert_eq!(guide.n_expanded, interval - 1);
     }
 
     #[test]

@@ -108,7 +108,8 @@
 //! the counters). The budget counts fitness evaluations as expansions (`n_expanded`):
 //! `30 + 100 * 30 = 3030` with the defaults (one per particle at the start and one per
 //! particle and iteration). The guide's block search is not counted (at most the grid's
-//! cells per level; `n_guide_expanded`). When the budget runs out the outcome is
+//! cells per level; `n_guide_expanded`), but it stops at the budget's deadline or cancel
+//! flag (`budget_exhausted`, no path). When the budget runs out the outcome is
 //! `budget_exhausted`, with the best path so far if that one is collision-free. A memory
 //! budget is checked for the bit grid and the guide's finest level (9 bytes a cell).
 //!
@@ -810,12 +811,20 @@ impl Planner for Capso {
         }
         self.bits.load(grid);
         self.decoder.cache.clear();
-        let reachable = self.guide.find(&self.bits, start, goal);
+        // One clock for the whole plan: the guide's search honours its deadline and cancel
+        // flag, the swarm all of it.
+        let mut clock = budget.start();
+        let route = self.guide.find(&self.bits, start, goal, &mut clock);
         stats.n_guide_expanded = self.guide.n_expanded;
         stats.guide_block = u64::from(self.guide.block);
-        if !reachable {
+        let status = match route {
+            guide::Route::Found => None,
+            guide::Route::Unreachable => Some(Status::NoPath),
+            guide::Route::Stopped => Some(Status::BudgetExhausted),
+        };
+        if let Some(status) = status {
             self.stats = stats;
-            return Outcome::new(Status::NoPath, None, stats.counters());
+            return Outcome::new(status, None, stats.counters());
         }
 
         let config = self.config.clone();
@@ -826,7 +835,6 @@ impl Planner for Capso {
         let speed = [config.max_speed * extent[0], config.max_speed * extent[1]];
         let jitter = [config.jitter * extent[0], config.jitter * extent[1]];
         let mut rng = rng_for_seed(config.seed);
-        let mut clock = budget.start();
 
         self.initialise(start, goal, &mut rng);
         let mut chaos = Chaos::new(config.chaotic_map, &mut rng);

@@ -233,8 +233,15 @@ fn every_registered_planner_stops_when_cancelled() {
                 cut.counters.get("n_expanded"),
                 whole.counters.get("n_expanded"),
             ) {
+                // Work a planner does not count as expansions (CAPSO's guide route before
+                // its swarm) is cut too: then another counter shows it.
+                let other_work_cut = n == 0
+                    && cut
+                        .counters
+                        .iter()
+                        .any(|(k, v)| whole.counters.get(k).is_some_and(|w| v < w));
                 assert!(
-                    n < all,
+                    n < all || other_work_cut,
                     "{}: {n} of {all} expansions after a cancel",
                     entry.name
                 );
