@@ -320,7 +320,8 @@ fn a_foreign_stream_directory_survives() {
 fn json_lines(framed: &Path, out: &Path) {
     let reader = std::io::BufReader::new(fs::File::open(framed).unwrap());
     let mut file = fs::File::create(out).unwrap();
-    planner_runner::frames::write_json_lines(reader, "shard.stream", &mut file, None).unwrap();
+    planner_runner::frames::write_json_lines(reader, "shard.stream", (&mut file, out), None)
+        .unwrap();
 }
 
 /// Replaces the first `"planner":"a"` after line 1 of `file` with another label; returns

@@ -939,13 +939,14 @@ pub fn encode_frames(batch: &[(u64, RunRecord)]) -> Result<Vec<u8>, RunnerError>
     Ok(frames.concat())
 }
 
-/// Writes the stream read from `reader` (`what` names it) to `out` as a JSON Lines stream
-/// (format 1, as the `shard.jsonl` and `records.jsonl` of earlier versions), one record at a time; with `limit`, only its
-/// first `limit` runs. Returns the runs written.
+/// Writes the stream read from `reader` (`what` names it) to `out` (the file at
+/// `out_path`, which a write error names) as a JSON Lines stream (format 1, as the
+/// `shard.jsonl` and `records.jsonl` of earlier versions), one record at a time; with
+/// `limit`, only its first `limit` runs. Returns the runs written.
 pub fn write_json_lines<R: BufRead>(
     reader: R,
     what: &str,
-    out: &mut dyn std::io::Write,
+    (out, out_path): (&mut dyn std::io::Write, &std::path::Path),
     limit: Option<u64>,
 ) -> Result<u64, RunnerError> {
     let (header, mut reader) = crate::stream::StreamReader::new(reader, what)?;
@@ -953,7 +954,7 @@ pub fn write_json_lines<R: BufRead>(
         format: crate::stream::STREAM_FORMAT,
         ..header
     };
-    let io = |e: std::io::Error| StreamError::new(what, Place::File, StreamProblem::Io(e));
+    let io = |e: std::io::Error| RunnerError::io(out_path, e);
     out.write_all(&header.to_line()?).map_err(io)?;
     let mut line = Vec::with_capacity(512);
     let mut n = 0;
@@ -970,12 +971,13 @@ pub fn write_json_lines<R: BufRead>(
 }
 
 /// Writes the first `limit` runs of the stream read from `reader` (`what` names it; a JSON
-/// Lines stream of an earlier version) to `out` as a framed stream, `header`'s format set
-/// to [`FRAMED_FORMAT`], [`FRAME_RUNS`] runs a frame. Returns the bytes written.
+/// Lines stream of an earlier version) to `out` (the file at `out_path`, which a write
+/// error names) as a framed stream, `header`'s format set to [`FRAMED_FORMAT`],
+/// [`FRAME_RUNS`] runs a frame. Returns the bytes written.
 pub fn write_framed<R: BufRead>(
     reader: R,
     what: &str,
-    out: &mut dyn std::io::Write,
+    (out, out_path): (&mut dyn std::io::Write, &std::path::Path),
     limit: u64,
 ) -> Result<u64, RunnerError> {
     let (header, mut reader) = crate::stream::StreamReader::new(reader, what)?;
@@ -983,7 +985,7 @@ pub fn write_framed<R: BufRead>(
         format: FRAMED_FORMAT,
         ..header
     };
-    let io = |e: std::io::Error| StreamError::new(what, Place::File, StreamProblem::Io(e));
+    let io = |e: std::io::Error| RunnerError::io(out_path, e);
     let line = header.to_line()?;
     out.write_all(&line).map_err(io)?;
     let mut bytes = line.len() as u64;

@@ -94,8 +94,7 @@ impl std::fmt::Display for Place {
 /// What is wrong with a stream ([`StreamError`]).
 #[derive(Debug, thiserror::Error)]
 pub enum StreamProblem {
-    /// Reading the stream failed, or writing its copy in another format
-    /// ([`crate::frames::write_json_lines`], [`crate::frames::write_framed`]).
+    /// Reading the stream failed.
     #[error("{0}")]
     Io(std::io::Error),
     /// The first line is not a stream header.

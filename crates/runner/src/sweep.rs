@@ -361,7 +361,7 @@ fn carry_over(area: &outdir::StreamArea, old: &Path, n: u64) -> Result<u64, Runn
     let file = stream::open_regular(old).map_err(|e| RunnerError::io(old, e))?;
     let mut out = std::io::BufWriter::new(area.open_write(RECORDS, true)?);
     let what = old.display().to_string();
-    let bytes = crate::frames::write_framed(BufReader::new(file), &what, &mut out, n)?;
+    let bytes = crate::frames::write_framed(BufReader::new(file), &what, (&mut out, &path), n)?;
     out.flush()
         .and_then(|()| out.get_ref().sync_all())
         .map_err(|e| RunnerError::io(&path, e))?;

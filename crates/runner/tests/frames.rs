@@ -1,7 +1,8 @@
 //! The framed resume stream (issue 29, src/frames.rs): every field of a record survives the
 //! round trip exactly; a stream cut at any byte reads as the whole frames before the cut
 //! and says it was cut; a damaged frame with frames after it is an error; and a run of A*
-//! on arena.map takes far fewer bytes than its JSON line.
+//! on arena.map takes far fewer bytes than its JSON line; a failed conversion names the
+//! file it writes.
 
 use std::io::Cursor;
 
@@ -313,6 +314,60 @@ fn a_payload_stating_more_than_it_holds_is_refused() {
     let error = read(&bytes).unwrap_err();
     assert!(
         error.contains("frame 1") && error.contains("states more bytes"),
+        "{error}"
+    );
+}
+
+/// A writer that refuses every write, as a full disk would.
+struct FullDisk;
+
+impl std::io::Write for FullDisk {
+    fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+        Err(std::io::Error::other("no space left on device"))
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// A copy that cannot be written names the file it writes, not the stream it reads: both
+/// directions of the format conversion.
+#[test]
+fn a_failed_copy_names_the_file_written() {
+    let runs: Vec<_> = (0..3).map(|run| (run, record(run, run % 2 == 0))).collect();
+    let (bytes, _) = framed(&runs, 2);
+    let out = std::path::Path::new("area/records.stream");
+    let error = planner_runner::frames::write_json_lines(
+        Cursor::new(&bytes),
+        "in/shard.stream",
+        (&mut FullDisk, out),
+        None,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("area/records.stream") && !error.contains("in/shard.stream"),
+        "{error}"
+    );
+    let mut lines = Vec::new();
+    planner_runner::frames::write_json_lines(
+        Cursor::new(&bytes),
+        "in/shard.stream",
+        (&mut lines, out),
+        None,
+    )
+    .unwrap();
+    let error = planner_runner::frames::write_framed(
+        Cursor::new(&lines),
+        "in/records.jsonl",
+        (&mut FullDisk, out),
+        3,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("area/records.stream") && !error.contains("in/records.jsonl"),
         "{error}"
     );
 }
