@@ -1034,6 +1034,13 @@ pub fn describe_planner(name: &str) -> Result<String, CliError> {
         planner_registry::Task::Coverage => "coverage",
     };
     let mut out = format!("{} ({task}): {}\n", entry.name, entry.summary);
+    let factory =
+        (entry.factory)(&Default::default()).map_err(|e| CliError::Failed(e.to_string()))?;
+    let _ = writeln!(
+        out,
+        "with its defaults: {}",
+        describe_specs(factory.specs())
+    );
     let params =
         planner_registry::schema::declared(name).map_err(|e| CliError::Failed(e.to_string()))?;
     if params.is_empty() {
@@ -1059,6 +1066,40 @@ pub fn describe_planner(name: &str) -> Result<String, CliError> {
         }
     }
     Ok(out)
+}
+
+/// What a planner declares it is ([`planner_api::PlannerSpecs`]), in words: its paths'
+/// rule, whether they are least-cost by design, seeded or not, cell costs, incremental.
+fn describe_specs(specs: &planner_api::PlannerSpecs) -> String {
+    let paths = match &specs.path_rule {
+        planner_api::PathSpec::AnyAngle => "any-angle paths".to_string(),
+        planner_api::PathSpec::Moves(moves) => format!(
+            "paths of {} moves{}",
+            moves.connectivity(),
+            match moves.corner_cutting() {
+                true => ", corners cut",
+                false => "",
+            }
+        ),
+    };
+    let optimal = match specs.admissible {
+        Some(true) => "least-cost by design",
+        Some(false) => "not least-cost (inadmissible on purpose)",
+        None => "no optimality claim",
+    };
+    let seeded = match specs.seeded {
+        true => "seeded",
+        false => "deterministic",
+    };
+    let costs = match specs.cell_costs {
+        true => "honours cell weights",
+        false => "refuses weighted maps unless costs = \"ignore\"",
+    };
+    let mut words = vec![paths, optimal.into(), seeded.into(), costs.into()];
+    if specs.incremental {
+        words.push("incremental (repairs after map changes)".into());
+    }
+    words.join("; ")
 }
 
 /// A parameter value as a config writes it (TOML): strings quoted, numbers as they are.

@@ -124,6 +124,10 @@ fn the_installed_binary_runs_outside_the_repository() {
     let planners = run(&gridplan, &work, &["planners", "astar"]);
     assert!(planners.contains("  moves: integer"), "{planners}");
     assert!(planners.contains("one of: 4, 8, 16, 32, 48"), "{planners}");
+    assert!(
+        planners.contains("with its defaults: paths of 4-connected moves; least-cost by design"),
+        "{planners}"
+    );
 
     let schema: serde_json::Value =
         serde_json::from_str(&run(&gridplan, &work, &["schema"])).expect("the schema is JSON");

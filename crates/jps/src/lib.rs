@@ -985,8 +985,11 @@ impl Planner for Jps {
         NAME
     }
 
+    /// Deterministic; every step is an 8-connected move without corner cutting; admissible:
+    /// every variant, with or without goal bounding, returns a least-cost path (the crate
+    /// docs; the octile heuristic is consistent and pruning keeps an optimal path).
     fn specs(&self) -> PlannerSpecs {
-        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone()))
+        PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone())).with_admissible(true)
     }
 
     fn prepare(&mut self, grid: &Grid) {
