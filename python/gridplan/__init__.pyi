@@ -138,6 +138,21 @@ class PlannerInfo:
     @property
     def seeded(self) -> bool: ...
     @property
+    def admissible(self) -> Optional[bool]:
+        """With its defaults: ``True`` when its paths are least-cost by design, ``False``
+        when it trades optimality on purpose, ``None`` when it makes no claim."""
+    @property
+    def cell_costs(self) -> bool:
+        """Whether it honours cell weights (else a weighted map is refused unless the call
+        says ``costs="ignore"``)."""
+    @property
+    def incremental(self) -> bool:
+        """Whether it can be fed map changes and repair its search."""
+    @property
+    def path_rule(self) -> str:
+        """With its defaults: ``"any_angle"`` or the moves its paths step by, e.g.
+        ``"8-connected"`` (``", corners cut"`` added when diagonals may pass a corner)."""
+    @property
     def parameters(self) -> Dict[str, Any]:
         """Every parameter with its default."""
 

@@ -34,6 +34,17 @@ pub struct PlannerInfo {
     pub task: &'static str,
     /// Whether its results depend on a seed (parameter `seed`).
     pub seeded: bool,
+    /// With its defaults: `True` when its paths are least-cost by design, `False` when it
+    /// trades optimality on purpose, `None` when it makes no claim.
+    pub admissible: Option<bool>,
+    /// Whether it honours cell weights (else a weighted map is refused unless the call
+    /// says `costs="ignore"`).
+    pub cell_costs: bool,
+    /// Whether it can be fed map changes and repair its search.
+    pub incremental: bool,
+    /// With its defaults: `"any_angle"`, or the moves its paths step by, e.g.
+    /// `"8-connected"` (with `", corners cut"` when diagonals may pass a blocked corner).
+    pub path_rule: String,
     /// Every parameter with its default, as the planner crate's config resolves an empty
     /// table.
     pub parameters: Py<PyDict>,
@@ -66,11 +77,23 @@ pub fn planners(py: Python<'_>) -> PyResult<Vec<PlannerInfo>> {
             Ok(dict) => dict,
             Err(_) => PyDict::new(py),
         };
+        let specs = factory.specs();
+        let path_rule = match &specs.path_rule {
+            planner_api::PathSpec::AnyAngle => "any_angle".to_string(),
+            planner_api::PathSpec::Moves(moves) if moves.corner_cutting() => {
+                format!("{}, corners cut", moves.connectivity())
+            }
+            planner_api::PathSpec::Moves(moves) => moves.connectivity().to_string(),
+        };
         out.push(PlannerInfo {
             name: entry.name,
             summary: entry.summary,
             task: task_name(entry.task),
-            seeded: factory.specs().seeded,
+            seeded: specs.seeded,
+            admissible: specs.admissible,
+            cell_costs: specs.cell_costs,
+            incremental: specs.incremental,
+            path_rule,
             parameters: parameters.unbind(),
         });
     }

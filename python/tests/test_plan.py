@@ -120,6 +120,12 @@ def test_planners_come_from_the_registry_with_their_defaults():
     assert astar.parameters["order"] == "R L D U"
     assert infos["coverage"].task == "coverage"
     assert infos["rrt"].seeded is True and "seed" in infos["rrt"].parameters
+    # What each planner declares it is, with its defaults.
+    assert (astar.admissible, astar.cell_costs, astar.path_rule) == (True, True, "4-connected")
+    assert infos["theta_star"].path_rule == "any_angle"
+    assert infos["theta_star"].admissible is None and infos["theta_star"].cell_costs is False
+    assert infos["dstar_lite"].incremental is True and astar.incremental is False
+    assert infos["jps"].admissible is True and infos["jps"].path_rule == "8-connected"
     # The declared defaults are the defaults: passed back explicitly, every planner
     # plans map10 exactly as without them.
     grid, _ = gridplan.read_map(MAPS / "paper" / "map10.map")
