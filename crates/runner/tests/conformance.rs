@@ -3,8 +3,10 @@
 //! (the search stops within it and says so); every returned path valid under the rule the
 //! planner declares in its specs, from the start (to the goal); a reused planner gives the
 //! outcome of a fresh one; two runs give the same counters. Every declared parameter at
-//! the edges of its type is refused by key or keeps the same contract. A planner gets this
-//! by being registered.
+//! the edges of its type is refused by key or keeps the same contract. What a planner
+//! declares in its specs holds: an admissible one finds the oracle's optimum (a weighted one
+//! on weighted grids too), a seeded one depends on its seed. A planner gets this by being
+//! registered.
 
 use planner_api::{Budget, Cell, CoverageProblem, Grid, Problem, Status};
 use planner_registry::PLANNERS;
@@ -463,4 +465,39 @@ fn every_admissible_or_cost_honouring_planner_matches_the_oracle() {
     // A* (its default heuristic is admissible on 4 moves only), bidirectional A*, LPA* and
     // D* Lite (4 and 8 moves each) on every grid, JPS on the unweighted ones, at least.
     assert!(n_exact >= 7 * problems.len(), "{n_exact} exact comparisons");
+}
+
+/// A planner that declares itself seeded does depend on its seed: on some of the random
+/// problems two seeds give different outcomes (a seed the planner ignored would make the
+/// runner's repeats copies of one run).
+#[test]
+fn every_seeded_planner_depends_on_its_seed() {
+    let problems = problems();
+    let budget = Budget::expansions(BUDGET);
+    let mut n_seeded = 0;
+    for entry in PLANNERS {
+        let factory = (entry.factory)(&toml::Table::new()).unwrap();
+        if !factory.specs().seeded {
+            assert_eq!(factory.seed_for(7, 0), None, "{}", entry.name);
+            continue;
+        }
+        n_seeded += 1;
+        let mut planner = factory.build().unwrap();
+        let differ = problems
+            .iter()
+            .filter(|(grid, start, goal)| {
+                let one = run(&mut planner, grid, *start, *goal, Some(1), &budget);
+                let two = run(&mut planner, grid, *start, *goal, Some(2), &budget);
+                one != two
+            })
+            .count();
+        assert!(
+            differ * 4 > problems.len(),
+            "{}: seeds 1 and 2 differ on {differ} of {} problems",
+            entry.name,
+            problems.len()
+        );
+    }
+    // rrt, rrt_star, rrt_connect and capso at least.
+    assert!(n_seeded >= 4, "{n_seeded} seeded planners");
 }
