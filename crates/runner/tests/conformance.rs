@@ -121,6 +121,14 @@ fn every_registered_planner_keeps_the_contract() {
     for entry in PLANNERS {
         for (v, factory) in variants(entry.factory).into_iter().enumerate() {
             let specs = factory.specs().clone();
+            // Declared incremental exactly when registered so (the replanning experiments
+            // trust the registry, the runner and reports the specs).
+            assert_eq!(
+                specs.incremental,
+                factory.is_incremental(),
+                "{} (variant {v}): specs and registry disagree on incremental",
+                entry.name
+            );
             let rule = specs.path_rule.clone();
             let coverage = matches!(factory.task(), planner_runner::Task::Coverage);
             let mut reused = factory.build().unwrap();
