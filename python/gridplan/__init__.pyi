@@ -150,7 +150,7 @@ class PlannerInfo:
         """Whether it can be fed map changes and repair its search."""
     @property
     def path_rule(self) -> str:
-        """With its defaults: ``"any_angle"`` or the moves its paths step by, e.g.
+        """With its defaults: ``"any-angle"`` or the moves its paths step by, e.g.
         ``"8-connected"`` (``", corners cut"`` added when diagonals may pass a corner)."""
     @property
     def parameters(self) -> Dict[str, Any]:

@@ -42,8 +42,9 @@ pub struct PlannerInfo {
     pub cell_costs: bool,
     /// Whether it can be fed map changes and repair its search.
     pub incremental: bool,
-    /// With its defaults: `"any_angle"`, or the moves its paths step by, e.g.
-    /// `"8-connected"` (with `", corners cut"` when diagonals may pass a blocked corner).
+    /// With its defaults: `"any-angle"`, or the moves its paths step by, e.g.
+    /// `"8-connected"` (with `", corners cut"` when diagonals may pass a blocked corner;
+    /// `planner_api::PathSpec`'s text).
     pub path_rule: String,
     /// Every parameter with its default, as the planner crate's config resolves an empty
     /// table.
@@ -78,13 +79,6 @@ pub fn planners(py: Python<'_>) -> PyResult<Vec<PlannerInfo>> {
             Err(_) => PyDict::new(py),
         };
         let specs = factory.specs();
-        let path_rule = match &specs.path_rule {
-            planner_api::PathSpec::AnyAngle => "any_angle".to_string(),
-            planner_api::PathSpec::Moves(moves) if moves.corner_cutting() => {
-                format!("{}, corners cut", moves.connectivity())
-            }
-            planner_api::PathSpec::Moves(moves) => moves.connectivity().to_string(),
-        };
         out.push(PlannerInfo {
             name: entry.name,
             summary: entry.summary,
@@ -93,7 +87,7 @@ pub fn planners(py: Python<'_>) -> PyResult<Vec<PlannerInfo>> {
             admissible: specs.admissible,
             cell_costs: specs.cell_costs,
             incremental: specs.incremental,
-            path_rule,
+            path_rule: specs.path_rule.to_string(),
             parameters: parameters.unbind(),
         });
     }

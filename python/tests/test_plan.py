@@ -122,7 +122,7 @@ def test_planners_come_from_the_registry_with_their_defaults():
     assert infos["rrt"].seeded is True and "seed" in infos["rrt"].parameters
     # What each planner declares it is, with its defaults.
     assert (astar.admissible, astar.cell_costs, astar.path_rule) == (True, True, "4-connected")
-    assert infos["theta_star"].path_rule == "any_angle"
+    assert infos["theta_star"].path_rule == "any-angle"
     assert infos["theta_star"].admissible is None and infos["theta_star"].cell_costs is False
     assert infos["dstar_lite"].incremental is True and astar.incremental is False
     assert infos["jps"].admissible is True and infos["jps"].path_rule == "8-connected"

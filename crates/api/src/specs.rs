@@ -99,6 +99,29 @@ pub enum PathSpec {
     AnyAngle,
 }
 
+/// `any-angle`, or the moves: `8-connected`, with `, corners cut` when diagonals may pass
+/// a blocked corner (what `gridplan planners NAME` and the Python package's `PlannerInfo`
+/// say).
+///
+/// ```
+/// use planner_api::{Connectivity, MoveSet, NeighborOrder, PathSpec};
+///
+/// let eight = MoveSet::new(Connectivity::Eight, false, &NeighborOrder::default()).unwrap();
+/// assert_eq!(PathSpec::Moves(eight).to_string(), "8-connected");
+/// assert_eq!(PathSpec::AnyAngle.to_string(), "any-angle");
+/// ```
+impl std::fmt::Display for PathSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PathSpec::AnyAngle => f.write_str("any-angle"),
+            PathSpec::Moves(moves) if moves.corner_cutting() => {
+                write!(f, "{}, corners cut", moves.connectivity())
+            }
+            PathSpec::Moves(moves) => write!(f, "{}", moves.connectivity()),
+        }
+    }
+}
+
 impl PathSpec {
     /// The rule as [`crate::Path::validate`] takes it.
     pub fn rule(&self) -> PathRule<'_> {

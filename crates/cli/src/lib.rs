@@ -1071,17 +1071,7 @@ pub fn describe_planner(name: &str) -> Result<String, CliError> {
 /// What a planner declares it is ([`planner_api::PlannerSpecs`]), in words: its paths'
 /// rule, whether they are least-cost by design, seeded or not, cell costs, incremental.
 fn describe_specs(specs: &planner_api::PlannerSpecs) -> String {
-    let paths = match &specs.path_rule {
-        planner_api::PathSpec::AnyAngle => "any-angle paths".to_string(),
-        planner_api::PathSpec::Moves(moves) => format!(
-            "paths of {} moves{}",
-            moves.connectivity(),
-            match moves.corner_cutting() {
-                true => ", corners cut",
-                false => "",
-            }
-        ),
-    };
+    let paths = format!("paths: {}", specs.path_rule);
     let optimal = match specs.admissible {
         Some(true) => "least-cost by design",
         Some(false) => "not least-cost (inadmissible on purpose)",

@@ -125,7 +125,7 @@ fn the_installed_binary_runs_outside_the_repository() {
     assert!(planners.contains("  moves: integer"), "{planners}");
     assert!(planners.contains("one of: 4, 8, 16, 32, 48"), "{planners}");
     assert!(
-        planners.contains("with its defaults: paths of 4-connected moves; least-cost by design"),
+        planners.contains("with its defaults: paths: 4-connected; least-cost by design"),
         "{planners}"
     );
 
