@@ -16,14 +16,27 @@ pub const MIN_CHORD: f64 = 1e-9;
 /// A natural cubic spline through 2-D knots, reusable across fits without allocating.
 #[derive(Debug, Clone, Default)]
 pub struct Spline {
-    t: Vec<f64>,
-    x: Vec<f64>,
-    y: Vec<f64>,
-    /// Second derivatives of x(t) and y(t) at the knots.
-    mx: Vec<f64>,
-    my: Vec<f64>,
-    /// Thomas algorithm scratch.
-    scratch: Vec<f64>,
+    knots: Vec<Knot>,
+}
+
+/// A kept knot and what the fit derives for it, together so that a fit walks one array.
+#[derive(Debug, Clone, Copy, Default)]
+struct Knot {
+    /// The chord-length parameter and the point.
+    t: f64,
+    x: f64,
+    y: f64,
+    /// For the interval to the next knot (0 at the last knot): its length
+    /// `h = t_{i+1} - t_i` and the slopes `(x_{i+1} - x_i) / h` and `(y_{i+1} - y_i) / h`,
+    /// divided once per fit for both the solve and the sampling.
+    h: f64,
+    sx: f64,
+    sy: f64,
+    /// The second derivatives of x(t) and y(t) here.
+    mx: f64,
+    my: f64,
+    /// The Thomas algorithm's modified super-diagonal.
+    c: f64,
 }
 
 impl Spline {
@@ -40,9 +53,7 @@ impl Spline {
 
     /// [`Spline::fit`] through the knots `knots` yields, without collecting them first.
     pub fn fit_iter(&mut self, knots: impl IntoIterator<Item = (f64, f64)>) -> usize {
-        self.t.clear();
-        self.x.clear();
-        self.y.clear();
+        self.knots.clear();
         // The last kept knot and its parameter.
         let mut last: Option<(f64, f64, f64)> = None;
         for (x, y) in knots {
@@ -59,43 +70,44 @@ impl Spline {
                 None => 0.0,
             };
             last = Some((x, y, t));
-            self.t.push(t);
-            self.x.push(x);
-            self.y.push(y);
+            self.knots.push(Knot {
+                t,
+                x,
+                y,
+                ..Knot::default()
+            });
         }
-        let n = self.t.len();
-        second_derivatives(
-            &self.t,
-            [&self.x, &self.y],
-            [&mut self.mx, &mut self.my],
-            &mut self.scratch,
-        );
-        n
+        second_derivatives(&mut self.knots);
+        self.knots.len()
     }
 
     /// Number of knots kept by the last fit.
     pub fn n_knots(&self) -> usize {
-        self.t.len()
+        self.knots.len()
     }
 
     /// The parameter of knot `i` (its chord-length distance from the first knot).
     pub fn knot_parameter(&self, i: usize) -> f64 {
-        self.t[i]
+        self.knots[i].t
     }
 
     /// The point at parameter `t` on segment `i` (between knots `i` and `i + 1`).
     /// Precondition: at least two knots and `i + 1 < n_knots()`.
     pub fn eval(&self, i: usize, t: f64) -> (f64, f64) {
-        let h = self.t[i + 1] - self.t[i];
-        let a = self.t[i + 1] - t;
-        let b = t - self.t[i];
-        let value = |v: &[f64], m: &[f64]| {
-            m[i] * a * a * a / (6.0 * h)
-                + m[i + 1] * b * b * b / (6.0 * h)
-                + (v[i] / h - m[i] * h / 6.0) * a
-                + (v[i + 1] / h - m[i + 1] * h / 6.0) * b
+        let (k0, k1) = (&self.knots[i], &self.knots[i + 1]);
+        let h = k1.t - k0.t;
+        let a = k1.t - t;
+        let b = t - k0.t;
+        let value = |v0: f64, v1: f64, m0: f64, m1: f64| {
+            m0 * a * a * a / (6.0 * h)
+                + m1 * b * b * b / (6.0 * h)
+                + (v0 / h - m0 * h / 6.0) * a
+                + (v1 / h - m1 * h / 6.0) * b
         };
-        (value(&self.x, &self.mx), value(&self.y, &self.my))
+        (
+            value(k0.x, k1.x, k0.mx, k1.mx),
+            value(k0.y, k1.y, k0.my, k1.my),
+        )
     }
 
     /// Appends `per_segment` samples per segment (at parameters `t_i + k h_i / per_segment`,
@@ -109,26 +121,27 @@ impl Spline {
     /// storing them.
     #[inline]
     pub fn for_each_sample(&self, per_segment: usize, mut visit: impl FnMut(f64, f64)) {
-        let n = self.t.len();
-        if n == 0 {
+        let Some(end) = self.knots.last() else {
             return;
-        }
-        for i in 0..n - 1 {
-            visit(self.x[i], self.y[i]);
+        };
+        for pair in self.knots.windows(2) {
+            let (k0, k1) = (&pair[0], &pair[1]);
+            visit(k0.x, k0.y);
             // The segment's cubic in powers of u = t - t_i (the same polynomial as
             // `eval`'s form, expanded once per segment and evaluated by Horner's rule):
             // v(u) = v_i + b u + (m_i / 2) u^2 + ((m_{i+1} - m_i) / (6 h)) u^3 with
-            // b = (v_{i+1} - v_i) / h - h (2 m_i + m_{i+1}) / 6.
-            let h = self.t[i + 1] - self.t[i];
-            let cubic = |v: &[f64], m: &[f64]| {
+            // b = (v_{i+1} - v_i) / h - h (2 m_i + m_{i+1}) / 6, the first term the slope.
+            let h = k0.h;
+            let cubic = |v: f64, s: f64, m0: f64, m1: f64| {
                 [
-                    v[i],
-                    (v[i + 1] - v[i]) / h - h * (2.0 * m[i] + m[i + 1]) / 6.0,
-                    m[i] / 2.0,
-                    (m[i + 1] - m[i]) / (6.0 * h),
+                    v,
+                    s - h * (2.0 * m0 + m1) / 6.0,
+                    m0 / 2.0,
+                    (m1 - m0) / (6.0 * h),
                 ]
             };
-            let (cx, cy) = (cubic(&self.x, &self.mx), cubic(&self.y, &self.my));
+            let cx = cubic(k0.x, k0.sx, k0.mx, k1.mx);
+            let cy = cubic(k0.y, k0.sy, k0.my, k1.my);
             let step = h / per_segment as f64;
             for k in 1..per_segment {
                 let u = step * k as f64;
@@ -136,48 +149,47 @@ impl Spline {
                 visit(horner(cx), horner(cy));
             }
         }
-        visit(self.x[n - 1], self.y[n - 1]);
+        visit(end.x, end.y);
     }
 }
 
-/// The natural spline's second derivatives `m` at the knots `(t_i, v_i)`: `m_0 = m_n = 0`
-/// and, for the inner knots, `h_{i-1} m_{i-1} + 2 (h_{i-1} + h_i) m_i + h_i m_{i+1} =
-/// 6 ((v_{i+1} - v_i) / h_i - (v_i - v_{i-1}) / h_{i-1})`, solved by the Thomas algorithm
-/// (the system is strictly diagonally dominant). The matrix depends on `t` only, so both
-/// coordinates' right-hand sides `v` are solved in one sweep into `m`.
-fn second_derivatives(t: &[f64], v: [&[f64]; 2], m: [&mut Vec<f64>; 2], c: &mut Vec<f64>) {
-    let n = t.len();
-    let [mx, my] = m;
-    for m in [&mut *mx, &mut *my] {
-        m.clear();
-        m.resize(n, 0.0);
+/// The natural spline's second derivatives `m` at the knots, with the intervals `h_i` and
+/// slopes `s_i = (v_{i+1} - v_i) / h_i` they need: `m_0 = m_n = 0` and, for the inner
+/// knots, `h_{i-1} m_{i-1} + 2 (h_{i-1} + h_i) m_i + h_i m_{i+1} = 6 (s_i - s_{i-1})`,
+/// solved by the Thomas algorithm (the system is strictly diagonally dominant). The matrix
+/// depends on `h` only, so both coordinates' right-hand sides are solved in one sweep.
+fn second_derivatives(knots: &mut [Knot]) {
+    for i in 1..knots.len() {
+        let (x, y, t) = (knots[i].x, knots[i].y, knots[i].t);
+        let k = &mut knots[i - 1];
+        k.h = t - k.t;
+        k.sx = (x - k.x) / k.h;
+        k.sy = (y - k.y) / k.h;
     }
-    if n < 3 {
+    let Some((_, inner)) = knots.split_last_mut() else {
         return;
-    }
-    c.clear();
-    c.resize(n, 0.0);
-    // Forward sweep over inner knots 1 ..= n - 2: c holds the modified super-diagonal,
-    // m the modified right-hand sides.
-    for i in 1..n - 1 {
-        let h0 = t[i] - t[i - 1];
-        let h1 = t[i + 1] - t[i];
+    };
+    let Some((first, inner)) = inner.split_first_mut() else {
+        return;
+    };
+    // Forward sweep over the inner knots: c holds the modified super-diagonal, m the
+    // modified right-hand sides (the end knots' are 0 from the fit's defaults).
+    let mut prev = *first;
+    for k in inner.iter_mut() {
+        let (h0, h1) = (prev.h, k.h);
         let diag = 2.0 * (h0 + h1);
-        let (prev_c, prev_x, prev_y) = if i > 1 {
-            (c[i - 1], mx[i - 1], my[i - 1])
-        } else {
-            (0.0, 0.0, 0.0)
-        };
-        let inverse = 1.0 / (diag - h0 * prev_c);
-        c[i] = h1 * inverse;
-        let rhs = |v: &[f64]| 6.0 * ((v[i + 1] - v[i]) / h1 - (v[i] - v[i - 1]) / h0);
-        mx[i] = (rhs(v[0]) - h0 * prev_x) * inverse;
-        my[i] = (rhs(v[1]) - h0 * prev_y) * inverse;
+        let inverse = 1.0 / (diag - h0 * prev.c);
+        k.c = h1 * inverse;
+        k.mx = (6.0 * (k.sx - prev.sx) - h0 * prev.mx) * inverse;
+        k.my = (6.0 * (k.sy - prev.sy) - h0 * prev.my) * inverse;
+        prev = *k;
     }
     // The last inner knot's super-diagonal term multiplies m_{n-1} = 0.
-    for i in (1..n - 1).rev() {
-        mx[i] -= c[i] * mx[i + 1];
-        my[i] -= c[i] * my[i + 1];
+    let (mut next_x, mut next_y) = (0.0, 0.0);
+    for k in inner.iter_mut().rev() {
+        k.mx -= k.c * next_x;
+        k.my -= k.c * next_y;
+        (next_x, next_y) = (k.mx, k.my);
     }
 }
 
