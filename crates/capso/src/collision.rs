@@ -239,8 +239,10 @@ impl BitGrid {
             // The run's bits when it lies in one word (else the slow path reads them).
             let word =
                 lines[start + w0 as usize] & (!0u64 << (first % 64)) & (!0u64 >> (63 - last % 64));
-            if (w0 != w1) | (word != 0) {
+            if w0 != w1 {
                 hits.run(&lines[start..start + words_per_line], line, first, last);
+            } else if word != 0 {
+                hits.word(word, w0 as usize, hits.line_bounds(line));
             }
         };
         let end = a_major + n_major;
@@ -459,6 +461,7 @@ impl Hits {
     #[inline(never)]
     fn run(&mut self, words: &[u64], line: u32, first: u32, last: u32) {
         let (w0, w1) = ((first / 64) as usize, (last / 64) as usize);
+        let bounds = self.line_bounds(line);
         for (w, &word) in words.iter().enumerate().take(w1 + 1).skip(w0) {
             let mut word = word;
             if w == w0 {
@@ -467,43 +470,109 @@ impl Hits {
             if w == w1 {
                 word &= !0u64 >> (63 - last % 64);
             }
-            while word != 0 {
-                let start = word.trailing_zeros();
-                // At least 1; the run ends at the word's end at the latest.
-                let length = (!(word >> start)).trailing_zeros().min(64 - start);
-                let low = (w * 64) as u32 + start;
-                self.collision.cells += u64::from(length);
-                self.fraction += self.run_fraction(line, low, low + length - 1);
-                word = if start + length >= 64 {
-                    0
-                } else {
-                    word & (!0u64 << (start + length))
-                };
-            }
+            self.word(word, w, bounds);
         }
     }
 
-    /// The fraction of the segment inside the rectangle of the cells `low ..= high` of
-    /// line `line`: Liang-Barsky clipping with the parameter bounds of each axis, the
-    /// major one `[2 o_0 - 1, 2 o_1 + 1] / (2 n_M)` for the run's offsets `o_0 <= o_1`
-    /// from `a` along the segment, the minor one `[2 k - 1, 2 k + 1] / (2 n_m)` for the
-    /// line's offset `k` (no bound when `n_m = 0`).
-    fn run_fraction(&self, line: u32, low: u32, high: u32) -> f64 {
+    /// Counts the blocked cells `word` of word `w` of a line whose minor parameter
+    /// bounds are `bounds` ([`Hits::line_bounds`]), a run of consecutive blocked cells at
+    /// a time. The usual case, a line's cells in one word, calls this directly.
+    #[inline(never)]
+    fn word(&mut self, mut word: u64, w: usize, bounds: (Bound, Bound)) {
+        while word != 0 {
+            let start = word.trailing_zeros();
+            // At least 1; the run ends at the word's end at the latest.
+            let length = (!(word >> start)).trailing_zeros().min(64 - start);
+            let low = (w * 64) as u32 + start;
+            self.collision.cells += u64::from(length);
+            self.fraction += self.run_fraction(bounds, low, low + length - 1);
+            word = if start + length >= 64 {
+                0
+            } else {
+                word & (!0u64 << (start + length))
+            };
+        }
+    }
+
+    /// The segment's parameter interval on line `line` (its offset `k` from `a`'s):
+    /// `[2 k - 1, 2 k + 1] / (2 n_m)` within `[0, 1]` (all of it when `n_m = 0`).
+    #[inline]
+    fn line_bounds(&self, line: u32) -> (Bound, Bound) {
+        let (mut t0, mut t1) = (Bound::ZERO, Bound::ONE);
+        if self.n_minor > 0 {
+            let k = i64::from(line.abs_diff(self.a_minor));
+            let n = 2 * i64::from(self.n_minor);
+            t0 = t0.max(Bound::new(2 * k - 1, n));
+            t1 = t1.min(Bound::new(2 * k + 1, n));
+        }
+        (t0, t1)
+    }
+
+    /// The fraction of the segment inside the rectangle of the cells `low ..= high` of a
+    /// line whose bounds are `bounds`: Liang-Barsky clipping with the parameter bounds of
+    /// each axis, the major one `[2 o_0 - 1, 2 o_1 + 1] / (2 n_M)` for the run's offsets
+    /// `o_0 <= o_1` from `a` along the segment, the minor one `bounds`. The bounds are
+    /// compared as exact fractions and only the two winners divided: the same values as
+    /// dividing all of them and comparing the quotients (rounding is monotone).
+    #[inline]
+    fn run_fraction(&self, bounds: (Bound, Bound), low: u32, high: u32) -> f64 {
         if self.n_major == 0 {
             // A single point: no length.
             return 0.0;
         }
-        let (o0, o1) = (low - self.a_major, high - self.a_major);
-        let m = 2.0 * f64::from(self.n_major);
-        let mut t0 = ((2.0 * f64::from(o0) - 1.0) / m).max(0.0);
-        let mut t1 = ((2.0 * f64::from(o1) + 1.0) / m).min(1.0);
-        if self.n_minor > 0 {
-            let k = f64::from(line.abs_diff(self.a_minor));
-            let n = 2.0 * f64::from(self.n_minor);
-            t0 = t0.max((2.0 * k - 1.0) / n);
-            t1 = t1.min((2.0 * k + 1.0) / n);
-        }
+        let (o0, o1) = (
+            i64::from(low - self.a_major),
+            i64::from(high - self.a_major),
+        );
+        let m = 2 * i64::from(self.n_major);
+        let t0 = bounds.0.max(Bound::new(2 * o0 - 1, m)).value();
+        let t1 = bounds.1.min(Bound::new(2 * o1 + 1, m)).value();
         (t1 - t0).max(0.0)
+    }
+}
+
+/// A parameter bound along a segment as the exact fraction `num / den` (`den > 0`, both
+/// below 2^33, so that the products of a comparison fit and the conversions to `f64` are
+/// exact).
+#[derive(Debug, Clone, Copy)]
+struct Bound {
+    num: i64,
+    den: i64,
+}
+
+impl Bound {
+    const ZERO: Bound = Bound { num: 0, den: 1 };
+    const ONE: Bound = Bound { num: 1, den: 1 };
+
+    #[inline]
+    fn new(num: i64, den: i64) -> Bound {
+        Bound { num, den }
+    }
+
+    /// The larger of the two (`self` when equal).
+    #[inline]
+    fn max(self, other: Bound) -> Bound {
+        if other.num * self.den > self.num * other.den {
+            other
+        } else {
+            self
+        }
+    }
+
+    /// The smaller of the two (`self` when equal).
+    #[inline]
+    fn min(self, other: Bound) -> Bound {
+        if other.num * self.den < self.num * other.den {
+            other
+        } else {
+            self
+        }
+    }
+
+    /// The quotient, rounded once: the same `f64` as dividing the converted parts.
+    #[inline]
+    fn value(self) -> f64 {
+        self.num as f64 / self.den as f64
     }
 }
 
