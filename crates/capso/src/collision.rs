@@ -239,10 +239,8 @@ impl BitGrid {
             // The run's bits when it lies in one word (else the slow path reads them).
             let word =
                 lines[start + w0 as usize] & (!0u64 << (first % 64)) & (!0u64 >> (63 - last % 64));
-            if w0 != w1 {
+            if (w0 != w1) | (word != 0) {
                 hits.run(&lines[start..start + words_per_line], line, first, last);
-            } else if word != 0 {
-                hits.word(word, w0 as usize, hits.line_bounds(line));
             }
         };
         let end = a_major + n_major;
@@ -272,9 +270,9 @@ impl BitGrid {
             ((q7 + r7 / d) as u32, (r7 % d) as u32)
         };
         let (line_step, word_step) = if minor_forward {
-            (1i64, words_per_line as i64)
+            (1isize, words_per_line as isize)
         } else {
-            (-1, -(words_per_line as i64))
+            (-1, -(words_per_line as isize))
         };
         // Adds the step (dq, dr) to the quotient and remainder (q, r) of a division by d
         // (r, dr < d).
@@ -312,30 +310,27 @@ impl BitGrid {
                 first = q + u32::from(r > n_minor);
                 advance(&mut q, &mut r, step_q, step_r);
                 // In the grid: the chunk's next line is a line of the segment.
-                line = (i64::from(line) + i64::from(k) * line_step) as u32;
-                start = (start as i64 + i64::from(k) * word_step) as usize;
+                line = line.wrapping_add_signed(k as i32 * line_step as i32);
+                start = start.wrapping_add_signed(k as isize * word_step);
                 j += k;
                 continue;
             }
-            for i in 0..k {
-                let last = if j + i == n_minor {
-                    end
-                } else {
-                    q + u32::from(r + n_minor >= d)
-                };
-                test(start, line, first, last, &mut hits);
-                if j + i == n_minor {
-                    break;
-                }
+            // The chunk's lines but the segment's last, which ends at the segment's end.
+            for _ in 0..k - u32::from(last_chunk) {
+                test(
+                    start,
+                    line,
+                    first,
+                    q + u32::from(r + n_minor >= d),
+                    &mut hits,
+                );
                 first = q + u32::from(r > n_minor);
                 advance(&mut q, &mut r, step_q, step_r);
-                if minor_forward {
-                    line += 1;
-                    start += words_per_line;
-                } else {
-                    line -= 1;
-                    start -= words_per_line;
-                }
+                line = line.wrapping_add_signed(line_step as i32);
+                start = start.wrapping_add_signed(word_step);
+            }
+            if last_chunk {
+                test(start, line, first, end, &mut hits);
             }
             j += k;
         }
@@ -462,6 +457,14 @@ impl Hits {
     fn run(&mut self, words: &[u64], line: u32, first: u32, last: u32) {
         let (w0, w1) = ((first / 64) as usize, (last / 64) as usize);
         let bounds = self.line_bounds(line);
+        if w0 == w1 {
+            // The usual case: the line's cells in one word.
+            let mask = (!0u64 << (first % 64)) & (!0u64 >> (63 - last % 64));
+            if let Some(&word) = words.get(w0) {
+                self.word(word & mask, w0, bounds);
+            }
+            return;
+        }
         for (w, &word) in words.iter().enumerate().take(w1 + 1).skip(w0) {
             let mut word = word;
             if w == w0 {
@@ -476,8 +479,8 @@ impl Hits {
 
     /// Counts the blocked cells `word` of word `w` of a line whose minor parameter
     /// bounds are `bounds` ([`Hits::line_bounds`]), a run of consecutive blocked cells at
-    /// a time. The usual case, a line's cells in one word, calls this directly.
-    #[inline(never)]
+    /// a time.
+    #[inline]
     fn word(&mut self, mut word: u64, w: usize, bounds: (Bound, Bound)) {
         while word != 0 {
             let start = word.trailing_zeros();
