@@ -464,7 +464,8 @@ pub struct Evaluation {
 struct Decoder {
     spline: Spline,
     cells: Vec<Cell>,
-    keep: Vec<bool>,
+    /// The kept cells' flags, a bit per cell ([`simplify`]).
+    keep: Vec<u64>,
     stack: Vec<(usize, usize)>,
     path: Vec<Cell>,
     /// Collision per segment, cleared per search (the grid may change between them).
@@ -513,9 +514,15 @@ impl Decoder {
             &mut self.stack,
         );
         self.path.clear();
-        for (&cell, &keep) in self.cells.iter().zip(&self.keep) {
-            if keep && self.path.last() != Some(&cell) {
-                self.path.push(cell);
+        for (w, &word) in self.keep.iter().enumerate() {
+            let mut word = word;
+            while word != 0 {
+                // A flag of a cell, so in range.
+                let cell = self.cells[w * 64 + word.trailing_zeros() as usize];
+                if self.path.last() != Some(&cell) {
+                    self.path.push(cell);
+                }
+                word &= word - 1;
             }
         }
         let mut length = 0.0;
@@ -540,27 +547,35 @@ pub fn simplify_cells(cells: &[Cell], tolerance: f64) -> Vec<Cell> {
     simplify(cells, tolerance, &mut keep, &mut stack);
     cells
         .iter()
-        .zip(&keep)
-        .filter_map(|(&c, &k)| k.then_some(c))
+        .enumerate()
+        .filter_map(|(i, &c)| (keep[i / 64] >> (i % 64) & 1 == 1).then_some(c))
         .collect()
 }
 
-/// [`simplify_cells`] into the flags `keep` (one per cell); `keep` and `stack` are scratch,
-/// resized here.
-fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Vec<(usize, usize)>) {
+/// Relative margins around `tolerance^2 |b - a|^2` outside which [`simplify`] decides
+/// without dividing (far wider than the few roundings they cover).
+const ABOVE: f64 = 1.0 + 1e-9;
+const BELOW: f64 = 1.0 - 1e-9;
+
+/// [`simplify_cells`] into the flags `keep` (bit `i % 64` of word `i / 64` for cell `i`);
+/// `keep` and `stack` are scratch, resized here.
+fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<u64>, stack: &mut Vec<(usize, usize)>) {
     keep.clear();
-    keep.resize(cells.len(), false);
+    keep.resize(cells.len().div_ceil(64), 0);
     let Some(last) = cells.len().checked_sub(1) else {
         return;
     };
-    keep[0] = true;
-    keep[last] = true;
+    let mut set = |i: usize| keep[i / 64] |= 1 << (i % 64);
+    set(0);
+    set(last);
+    let limit = tolerance * tolerance;
     stack.clear();
-    stack.push((0, last));
+    if last > 1 {
+        stack.push((0, last));
+    }
+    // Only pairs with cells between them are pushed; the order in which the pairs are
+    // taken does not change which cells are kept.
     while let Some((a, b)) = stack.pop() {
-        if b <= a + 1 {
-            continue;
-        }
         // The perpendicular distance to the line through cells a and b (Douglas and
         // Peucker 1973) is |cross| / |b - a|, so the farthest cell has the largest |cross|
         // (exact integers); only the winner is compared with the tolerance. When a and b
@@ -581,16 +596,31 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<bool>, stack: &mut Ve
                 (farthest, largest) = (k, d);
             }
         }
-        // Squared distance of the farthest cell.
-        let distance = if squared == 0 {
-            largest as f64
+        // The squared distance of the farthest cell, largest^2 / squared, is compared
+        // with the tolerance's square as its f64 quotient; when the product of the
+        // divisor and the square is clearly above or below the dividend, the quotient is
+        // too, and the division (long, on the path to an unpredictable branch) is left
+        // out: the same decisions.
+        let split = if squared == 0 {
+            largest as f64 > limit
         } else {
-            (largest as f64) * (largest as f64) / squared as f64
+            let (q, s) = ((largest as f64) * (largest as f64), squared as f64);
+            let bound = limit * s;
+            let (above, below) = (q > bound * ABOVE, q < bound * BELOW);
+            if above | below {
+                above
+            } else {
+                q / s > limit
+            }
         };
-        if distance > tolerance * tolerance {
-            keep[farthest] = true;
-            stack.push((farthest, b));
-            stack.push((a, farthest));
+        if split {
+            set(farthest);
+            if b - farthest > 1 {
+                stack.push((farthest, b));
+            }
+            if farthest - a > 1 {
+                stack.push((a, farthest));
+            }
         }
     }
 }
@@ -1073,6 +1103,76 @@ mod tests {
         );
         assert!(toml::from_str::<Config>("chaotic_map = \"henon\"").is_err());
         assert!(toml::from_str::<Config>("control_point = 4").is_err());
+    }
+
+    /// Douglas-Peucker as first written here: recursive, the squared distance divided out.
+    fn reference_simplify(cells: &[Cell], tolerance: f64, a: usize, b: usize, keep: &mut [bool]) {
+        if b <= a + 1 {
+            return;
+        }
+        let (ax, ay) = (i64::from(cells[a].x), i64::from(cells[a].y));
+        let (dx, dy) = (i64::from(cells[b].x) - ax, i64::from(cells[b].y) - ay);
+        let squared = dx * dx + dy * dy;
+        let (mut farthest, mut largest) = (a, -1i64);
+        for (k, cell) in cells.iter().enumerate().take(b).skip(a + 1) {
+            let (wx, wy) = (i64::from(cell.x) - ax, i64::from(cell.y) - ay);
+            let d = if squared == 0 {
+                wx * wx + wy * wy
+            } else {
+                (wx * dy - wy * dx).abs()
+            };
+            if d > largest {
+                (farthest, largest) = (k, d);
+            }
+        }
+        let distance = if squared == 0 {
+            largest as f64
+        } else {
+            (largest as f64) * (largest as f64) / squared as f64
+        };
+        if distance > tolerance * tolerance {
+            keep[farthest] = true;
+            reference_simplify(cells, tolerance, a, farthest, keep);
+            reference_simplify(cells, tolerance, farthest, b, keep);
+        }
+    }
+
+    #[test]
+    fn simplification_equals_the_dividing_reference() {
+        // Random walks of up to 100 cells (more than one word of flags), with tolerances
+        // that make distances equal to the tolerance common (squares of small integers
+        // and of halves).
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        for round in 0..3000 {
+            let n = 1 + next(100) as usize;
+            let mut cells = vec![Cell::new(50, 50)];
+            while cells.len() < n {
+                let c = cells[cells.len() - 1];
+                let step = |v: u32, d: u64| (v + d as u32).saturating_sub(2).min(99);
+                cells.push(Cell::new(step(c.x, next(5)), step(c.y, next(5))));
+            }
+            let tolerance = [0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 5.0_f64.sqrt()][round % 8];
+            let mut keep = vec![false; n];
+            keep[0] = true;
+            keep[n - 1] = true;
+            reference_simplify(&cells, tolerance, 0, n - 1, &mut keep);
+            let expect: Vec<Cell> = cells
+                .iter()
+                .zip(&keep)
+                .filter_map(|(&c, &k)| k.then_some(c))
+                .collect();
+            assert_eq!(
+                simplify_cells(&cells, tolerance),
+                expect,
+                "{cells:?} {tolerance}"
+            );
+        }
     }
 
     #[test]
