@@ -189,6 +189,10 @@ impl BitGrid {
     /// chunk of [`CHUNK_LINES`] lines; a box without a blocked cell skips its lines (the
     /// quotient and remainder jump over the chunk at once, stepped by a third `divmod`).
     pub fn segment_collision(&self, a: Cell, b: Cell) -> Collision {
+        // The segment's bounding box first: many segments have no blocked cell near.
+        if self.blocked_in(a.x.min(b.x), a.x.max(b.x), a.y.min(b.y), a.y.max(b.y)) == 0 {
+            return Collision::default();
+        }
         let (nx, ny) = (a.x.abs_diff(b.x), a.y.abs_diff(b.y));
         let x_major = nx >= ny;
         // The touched cells and the length inside them do not depend on the direction,
@@ -198,10 +202,10 @@ impl BitGrid {
         } else {
             (a, b)
         };
-        let (n_major, n_minor, a_major, a_minor, b_minor, minor_forward) = if x_major {
-            (nx, ny, a.x, a.y, b.y, b.y >= a.y)
+        let (n_major, n_minor, a_major, a_minor, minor_forward) = if x_major {
+            (nx, ny, a.x, a.y, b.y >= a.y)
         } else {
-            (ny, nx, a.y, a.x, b.x, b.x >= a.x)
+            (ny, nx, a.y, a.x, b.x >= a.x)
         };
         let (lines, words_per_line) = if x_major {
             (&self.rows[..], self.words_per_row)
@@ -254,13 +258,10 @@ impl BitGrid {
                 self.blocked_in(m0, m1, major0, major1)
             }
         };
-        if blocked_in(a_major, end, a_minor, b_minor) == 0 {
-            return Collision::default();
-        }
         let n_lines = n_minor + 1;
         // The step of (q, r) over CHUNK_LINES - 1 lines, for skipping a free chunk (only
         // used when there is more than one chunk, so n_minor > 0 and d > 0).
-        let (skip_q, skip_r) = {
+        let skip = || {
             let (q7, r7) = (
                 u64::from(CHUNK_LINES - 1) * u64::from(step_q),
                 u64::from(CHUNK_LINES - 1) * u64::from(step_r),
@@ -306,6 +307,7 @@ impl BitGrid {
                 }
                 // A free full chunk: (q, r) jumps to its last line, whose range gives the
                 // next chunk's first cell, and steps once more, as the line walk would.
+                let (skip_q, skip_r) = skip();
                 advance(&mut q, &mut r, skip_q, skip_r);
                 first = q + u32::from(r > n_minor);
                 advance(&mut q, &mut r, step_q, step_r);
