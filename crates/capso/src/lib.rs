@@ -507,12 +507,20 @@ impl Decoder {
                 }
             });
         // The spline passes through start and goal exactly.
-        simplify(
-            &self.cells,
-            config.tolerance,
-            &mut self.keep,
-            &mut self.stack,
-        );
+        if self.cells.len() <= 64 {
+            // The usual case (seed 002's settings sample 15 points): the flags in one
+            // word and the pairs on the stack, without the vectors.
+            self.keep.clear();
+            self.keep
+                .push(simplify_small(&self.cells, config.tolerance));
+        } else {
+            simplify(
+                &self.cells,
+                config.tolerance,
+                &mut self.keep,
+                &mut self.stack,
+            );
+        }
         self.path.clear();
         for (w, &word) in self.keep.iter().enumerate() {
             let mut word = word;
@@ -544,7 +552,11 @@ impl Decoder {
 /// recursively), as a particle's sampled cells are simplified.
 pub fn simplify_cells(cells: &[Cell], tolerance: f64) -> Vec<Cell> {
     let (mut keep, mut stack) = (Vec::new(), Vec::new());
-    simplify(cells, tolerance, &mut keep, &mut stack);
+    if cells.len() <= 64 {
+        keep.push(simplify_small(cells, tolerance));
+    } else {
+        simplify(cells, tolerance, &mut keep, &mut stack);
+    }
     cells
         .iter()
         .enumerate()
@@ -562,14 +574,77 @@ const BELOW: f64 = 1.0 - 1e-9;
 fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<u64>, stack: &mut Vec<(usize, usize)>) {
     keep.clear();
     keep.resize(cells.len().div_ceil(64), 0);
+    stack.clear();
+    douglas_peucker(cells, tolerance, |i| keep[i / 64] |= 1 << (i % 64), stack);
+}
+
+/// [`simplify_cells`] of at most 64 cells as the flags' word (bit `i` for cell `i`).
+fn simplify_small(cells: &[Cell], tolerance: f64) -> u64 {
+    let mut keep = 0u64;
+    let mut stack = SmallStack {
+        pairs: [(0, 0); 32],
+        len: 0,
+    };
+    douglas_peucker(cells, tolerance, |i| keep |= 1 << (i % 64), &mut stack);
+    keep
+}
+
+/// The pairs of cell indices that [`douglas_peucker`] has yet to split.
+trait PairStack {
+    fn push(&mut self, pair: (usize, usize));
+    fn pop(&mut self) -> Option<(usize, usize)>;
+}
+
+impl PairStack for Vec<(usize, usize)> {
+    #[inline]
+    fn push(&mut self, pair: (usize, usize)) {
+        Vec::push(self, pair);
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<(usize, usize)> {
+        Vec::pop(self)
+    }
+}
+
+/// A [`PairStack`] for at most 64 cells: the pairs waiting at once span disjoint runs of
+/// at least three cells (they share at most their ends), so there are at most 31.
+struct SmallStack {
+    pairs: [(u8, u8); 32],
+    len: usize,
+}
+
+impl PairStack for SmallStack {
+    #[inline]
+    fn push(&mut self, (a, b): (usize, usize)) {
+        // Indices below 64, and fewer than 32 pairs (above).
+        self.pairs[self.len] = (a as u8, b as u8);
+        self.len += 1;
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<(usize, usize)> {
+        self.len = self.len.checked_sub(1)?;
+        let (a, b) = self.pairs[self.len];
+        Some((usize::from(a), usize::from(b)))
+    }
+}
+
+/// Ramer-Douglas-Peucker on `cells` (crate docs): calls `keep` with the index of every
+/// kept cell, the first and last included; `stack` starts empty.
+#[inline(always)]
+fn douglas_peucker(
+    cells: &[Cell],
+    tolerance: f64,
+    mut keep: impl FnMut(usize),
+    stack: &mut impl PairStack,
+) {
     let Some(last) = cells.len().checked_sub(1) else {
         return;
     };
-    let mut set = |i: usize| keep[i / 64] |= 1 << (i % 64);
-    set(0);
-    set(last);
+    keep(0);
+    keep(last);
     let limit = tolerance * tolerance;
-    stack.clear();
     if last > 1 {
         stack.push((0, last));
     }
@@ -614,7 +689,7 @@ fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<u64>, stack: &mut Vec
             }
         };
         if split {
-            set(farthest);
+            keep(farthest);
             if b - farthest > 1 {
                 stack.push((farthest, b));
             }
