@@ -189,6 +189,18 @@ impl BitGrid {
     /// chunk of [`CHUNK_LINES`] lines; a box without a blocked cell skips its lines (the
     /// quotient and remainder jump over the chunk at once, stepped by a third `divmod`).
     pub fn segment_collision(&self, a: Cell, b: Cell) -> Collision {
+        self.segment_collision_of_length(a, b, || distance(a, b))
+    }
+
+    /// [`BitGrid::segment_collision`] with the segment's length, [`distance`]`(a, b)`,
+    /// from `length` (called only when the segment has a length inside blocked cells).
+    #[inline]
+    pub fn segment_collision_of_length(
+        &self,
+        a: Cell,
+        b: Cell,
+        length: impl FnOnce() -> f64,
+    ) -> Collision {
         // The segment's bounding box first: many segments have no blocked cell near.
         if self.blocked_in(a.x.min(b.x), a.x.max(b.x), a.y.min(b.y), a.y.max(b.y)) == 0 {
             return Collision::default();
@@ -338,7 +350,7 @@ impl BitGrid {
         }
         let mut collision = hits.collision;
         if hits.fraction > 0.0 {
-            collision.length = hits.fraction * distance(a, b);
+            collision.length = hits.fraction * length();
         }
         collision
     }
@@ -415,8 +427,8 @@ impl SegmentCache {
             self.hits += 1;
             return (entry.length, entry.collision);
         }
-        let collision = grid.segment_collision(a, b);
         let length = distance(a, b);
+        let collision = grid.segment_collision_of_length(a, b, || length);
         *entry = Entry {
             generation: self.generation,
             a,
