@@ -125,19 +125,20 @@
 //!
 //! # Against seed 002, measured
 //! `cargo bench -p planner-capso --bench seed002 -- --repeats=50` (seed 002's settings, seeds
-//! 0-49; 2026-12-04, a quiet 2-core VM; times are the thread's CPU time, medians), beside
-//! Theta\*'s length on the same map (`gridplan plan --planner theta_star --start .. --goal ..
-//! maps/pastar/MAP`; an any-angle path, so an upper bound on the shortest one):
+//! 0-49; lengths 2026-12-04, time ratios 2026-12-05, a 2-core VM shared with another job;
+//! times are the thread's CPU time, medians), beside Theta\*'s length on the same map
+//! (`gridplan plan --planner theta_star --start .. --goal .. maps/pastar/MAP`; an any-angle
+//! path, so an upper bound on the shortest one):
 //!
 //! | map (start -> goal) | found | mean length | seed 002's CAPSO | Theta\* | CAPSO / PA-star time |
 //! |---|---:|---:|---:|---:|---:|
-//! | open 140 x 120 (20,10) -> (70,110) | 50/50 | 111.80 | 111.84 | | 928 (PA-star draws a line) |
-//! | two obstacles | 50/50 | 112.50 | 112.85 | 112.34 | 21.6 |
-//! | several obstacles | 50/50 | 113.87 | 114.46 | 113.70 | 15.7 |
-//! | 500 x 500 (50,250) -> (400,200) | 50/50 | 456.14 | 382.34 | 452.66 | 1.3 |
-//! | 500 x 500 (50,425) -> (400,225) | 50/50 | 416.08 | 427.30 | 414.93 | 1.9 |
-//! | 200 x 200 map 1 (25,35) -> (140,190) | 50/50 | 204.40 | 210.89 | 203.70 | 26.2 |
-//! | 200 x 200 map 2 | 50/50 | 193.91 | 215.09 | 193.88 | 25.7 |
+//! | open 140 x 120 (20,10) -> (70,110) | 50/50 | 111.80 | 111.84 | | 777 (PA-star draws a line) |
+//! | two obstacles | 50/50 | 112.50 | 112.85 | 112.34 | 20.5 |
+//! | several obstacles | 50/50 | 113.87 | 114.46 | 113.70 | 14.8 |
+//! | 500 x 500 (50,250) -> (400,200) | 50/50 | 456.14 | 382.34 | 452.66 | 1.1 |
+//! | 500 x 500 (50,425) -> (400,225) | 50/50 | 416.08 | 427.30 | 414.93 | 1.7 |
+//! | 200 x 200 map 1 (25,35) -> (140,190) | 50/50 | 204.40 | 210.89 | 203.70 | 24.0 |
+//! | 200 x 200 map 2 | 50/50 | 193.91 | 215.09 | 193.88 | 23.5 |
 //!
 //! The mean length is within 1 % of Theta\*'s on every map with obstacles, and within 5 %
 //! of the seed's on five of the seven. The maps are reconstructions (planner-pastar's
@@ -148,9 +149,13 @@
 //! left open, and no planner here comes near the seed's 382.34), and 209.07 on the paper's
 //! second 200 x 200 map against 202.63 here (the reconstruction is more open; the seed's
 //! CAPSO was 6.68 % longer than its PA-star there, this one is at Theta\*'s length). Seed
-//! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.3 to 26 times,
+//! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.1 to 24 times,
 //! more than 20 on the two-obstacle and 200 x 200 maps, where PA-star's local searches
-//! expand only 289 to 418 cells. The control-point study (`cargo xtask experiment
+//! expand only 289 to 418 cells (issue 34's speed-ups of the decoding and the walk, every
+//! result bit for bit the same, took CAPSO's median there from 1.95 to 1.61 ms and from
+//! 2.7-2.8 to 2.3-2.4 ms; three alternating runs of the bench before and after gave ratios
+//! 24.1 to 24.5 against 20.5 on the two-obstacle map and 26.8 to 28.3 against 23.5 to 24.1
+//! on the 200 x 200 maps). The control-point study (`cargo xtask experiment
 //! configs/capso-control-points.toml`, 50 repeats on the several-obstacle map) gives mean
 //! lengths 113.85, 113.86, 113.87 and 113.87 for 3, 4, 5 and 6 control points (every run
 //! found a path): flat within 0.02, where seed 002 (section 4.2.2, Fig. 11) finds 6 points
