@@ -369,11 +369,17 @@ impl Planner for __TYPE__ {
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
         let goal = problem.goal();
+        let mut stats = SearchStats::default();
+        // The per-cell arrays below (a parent and a flag a cell) must fit the memory budget,
+        // checked before they are allocated.
+        let per_cell = std::mem::size_of::<Option<usize>>() + std::mem::size_of::<bool>();
+        if let Err(shortfall) = budget.check_memory(grid.len() as u64 * per_cell as u64, grid) {
+            return Outcome::over_memory(shortfall, stats.report(Counter::ASTAR));
+        }
         let moves = IndexedMoves::new(&self.moves, grid);
         let mut parent: Vec<Option<usize>> = vec![None; grid.len()];
         let mut seen = vec![false; grid.len()];
         let mut open = BinaryHeap::new();
-        let mut stats = SearchStats::default();
         let mut clock = budget.start();
         let start = grid.index(problem.start());
         seen[start] = true;

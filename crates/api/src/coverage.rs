@@ -46,7 +46,7 @@ use crate::counters::Counters;
 use crate::error::{Endpoint, ProblemError};
 use crate::grid::{Cell, Grid};
 use crate::path::{Path, PathMetrics};
-use crate::planner::{Budget, Status};
+use crate::planner::{Budget, MemoryShortfall, Status};
 
 /// A coverage query: a grid and the start cell. Construction validates the start.
 #[derive(Debug, Clone, Copy)]
@@ -211,6 +211,33 @@ pub struct CoverageOutcome {
     pub metrics: CoverageMetrics,
     /// The planner's counters, in its order.
     pub counters: Counters,
+    /// Set when the planner did not run: its per-cell state is over
+    /// [`Budget::max_memory_mb`] ([`CoverageOutcome::over_memory`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub memory: Option<MemoryShortfall>,
+}
+
+impl CoverageOutcome {
+    /// The outcome of a run refused because its per-cell state does not fit the budget's
+    /// memory limit: [`Status::BudgetExhausted`], the path of the start alone, nothing
+    /// measured (measuring would allocate per cell), and `counters` (the planner's, zero).
+    pub fn over_memory(shortfall: MemoryShortfall, start: Cell, counters: Counters) -> Self {
+        let path = Path::new(vec![start]);
+        CoverageOutcome {
+            status: Status::BudgetExhausted,
+            metrics: CoverageMetrics {
+                n_reachable: 0,
+                n_covered: 0,
+                percent: 0.0,
+                n_revisits: 0,
+                path: path.metrics(),
+            },
+            path,
+            returns: Vec::new(),
+            counters,
+            memory: Some(shortfall),
+        }
+    }
 }
 
 /// A coverage path planner: from a start cell, a path visiting every reachable free cell.

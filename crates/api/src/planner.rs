@@ -606,6 +606,23 @@ pub trait Planner: Send + Sync {
     /// it. The default does nothing.
     fn prepare(&mut self, _grid: &Grid) {}
 
+    /// The bytes [`Planner::prepare`] allocates for `grid`: what a memory limit must allow
+    /// before it is called ([`Planner::prepare_within`]). A planner whose `prepare` builds
+    /// per-cell tables must say; the default, for one whose `prepare` builds nothing, is 0.
+    fn prepare_bytes(&self, _grid: &Grid) -> u64 {
+        0
+    }
+
+    /// [`Planner::prepare`] when its tables fit `budget`'s memory limit
+    /// ([`Planner::prepare_bytes`]), else nothing: the following [`Planner::plan`] then
+    /// refuses by its own check, with nothing allocated beyond the limit. Callers that hold a
+    /// budget prepare through this.
+    fn prepare_within(&mut self, grid: &Grid, budget: &Budget) {
+        if budget.check_memory(self.prepare_bytes(grid), grid).is_ok() {
+            self.prepare(grid);
+        }
+    }
+
     /// Searches `problem` within `budget`. Never panics on a valid problem.
     ///
     /// Honours every part of the budget: the expansion and time limits through

@@ -692,6 +692,13 @@ impl AStar {
         })
     }
 
+    /// The bytes a search on `grid` needs at most (its memory check): the per-cell arrays
+    /// at full size, the bit grid or the adjacency's masks, and on a weighted grid the
+    /// padded weights.
+    pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
+        Layout::new(grid, &self.moves).state_bytes(grid)
+    }
+
     /// The configuration.
     pub fn config(&self) -> &Config {
         &self.config
@@ -1143,6 +1150,12 @@ impl Planner for AStar {
     /// checking the memory budget) and sizes the per-cell arrays, which are allocated
     /// zeroed and committed by the operating system as searches touch them; on a weighted
     /// grid, also its weights in the padded layout.
+    /// The search's whole state ([`AStar::memory_bytes_for`]): `prepare` sizes its
+    /// per-cell arrays as well as the tables.
+    fn prepare_bytes(&self, grid: &planner_api::Grid) -> u64 {
+        self.memory_bytes_for(grid)
+    }
+
     fn prepare(&mut self, grid: &planner_api::Grid) {
         let layout = Layout::new(grid, &self.moves);
         if grid.is_weighted() {

@@ -270,6 +270,29 @@ impl Backtracking {
         &self.moves
     }
 
+    /// The bytes a search on `grid` within `budget` allocates at most: the move masks (and
+    /// their copy of the grid), a 16-byte frame per cell, with [`Prune::Bound`] a 4-byte
+    /// bound per padded cell, and when the budget lets the root's moves run in parallel
+    /// ([`Config::parallel`]) a copy of the masks and frames for each task running at once.
+    pub fn memory_bytes_for(&self, grid: &planner_api::Grid, budget: &Budget) -> u64 {
+        let padded = Adjacency::padded_len_for(grid, &self.moves) as u64;
+        let frames = grid.len() as u64 * std::mem::size_of::<Frame>() as u64;
+        let bound = match self.config.prune {
+            Prune::Bound => 4 * padded,
+            _ => 0,
+        };
+        let parallel = self.config.parallel
+            && self.config.prune == Prune::Off
+            && budget.max_expansions.is_none()
+            && budget.max_time.is_none()
+            && budget.cancel.is_none();
+        let tasks = match parallel {
+            true => (self.moves.moves().len().min(rayon::current_num_threads())) as u64,
+            false => 0,
+        };
+        Adjacency::bytes_for(grid, &self.moves) + frames + bound + tasks * (8 * padded + frames)
+    }
+
     fn run(&mut self, problem: &Problem<'_>, budget: &Budget) -> Run {
         let grid = problem.grid();
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
@@ -780,7 +803,17 @@ impl Planner for Backtracking {
         planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
     }
 
+    /// Refuses with [`Outcome::over_memory`] when [`Backtracking::memory_bytes_for`] the
+    /// grid and budget is over [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+        let grid = problem.grid();
+        if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid, budget), grid) {
+            let mut counters = SearchStats::default().report(Counter::BACKTRACKING);
+            if self.config.prune != Prune::Off {
+                counters.push("n_pruned", 0);
+            }
+            return Outcome::over_memory(shortfall, counters);
+        }
         let run = self.run(problem, budget);
         let mut counters = run.stats.report(Counter::BACKTRACKING);
         if self.config.prune != Prune::Off {

@@ -546,6 +546,10 @@ impl Planner for BidirectionalAStar {
             .with_admissible(true)
     }
 
+    fn prepare_bytes(&self, grid: &Grid) -> u64 {
+        self.memory_bytes_for(grid)
+    }
+
     fn prepare(&mut self, grid: &Grid) {
         BidirectionalAStar::prepare(self, grid);
     }

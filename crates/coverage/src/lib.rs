@@ -353,6 +353,14 @@ pub struct Coverage {
 }
 
 impl Coverage {
+    /// The bytes a run on `grid` allocates at most: two flags and a backtracking point's
+    /// slot per cell (6 bytes), the return legs' A* ([`AStar::memory_bytes_for`]), and the
+    /// measure of the path ([`CoverageMetrics::measure`]: two flags and a queue slot, 10
+    /// bytes a cell).
+    pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
+        16 * grid.len() as u64 + self.astar.memory_bytes_for(grid)
+    }
+
     /// A planner with `config`, validated: pattern-specific parameters must match
     /// `config.pattern`.
     pub fn new(config: Config) -> Result<Coverage, ConfigError> {
@@ -473,9 +481,14 @@ impl CoveragePlanner for Coverage {
         .with_cell_costs()
     }
 
+    /// Refuses with [`CoverageOutcome::over_memory`] when [`Coverage::memory_bytes_for`]
+    /// the grid is over [`Budget::max_memory_mb`].
     fn cover(&mut self, problem: &CoverageProblem<'_>, budget: &Budget) -> CoverageOutcome {
         let grid = problem.grid();
         let start = problem.start();
+        if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
+            return CoverageOutcome::over_memory(shortfall, start, zero_counters());
+        }
         let len = grid.len();
         self.visited.clear();
         self.visited.resize(len, false);
@@ -599,26 +612,44 @@ impl CoveragePlanner for Coverage {
 
         let path = Path::new(path);
         let metrics = CoverageMetrics::measure(grid, start, &path);
-        let counters = Counters::new()
-            .with("n_reachable", metrics.n_reachable)
-            .with("n_covered", metrics.n_covered)
-            .with("n_revisits", metrics.n_revisits)
-            .with("n_moves", metrics.path.steps)
-            .with("n_turns", metrics.path.turns)
-            .with("n_backtracking_points", stats.n_backtracking_points)
-            .with("n_marked_points", stats.n_marked_points)
-            .with("n_fill_moves", stats.n_fill_moves)
-            .with("n_return_moves", stats.n_return_moves)
-            .with("n_return_searches", stats.n_return_searches)
-            .with("n_return_expansions", stats.n_return_expansions);
+        let counters = counters(&metrics, &stats);
         CoverageOutcome {
             status,
             path,
             returns,
             metrics,
             counters,
+            memory: None,
         }
     }
+}
+
+/// A run's counters, in reporting order (crate docs).
+fn counters(metrics: &CoverageMetrics, stats: &Stats) -> Counters {
+    Counters::new()
+        .with("n_reachable", metrics.n_reachable)
+        .with("n_covered", metrics.n_covered)
+        .with("n_revisits", metrics.n_revisits)
+        .with("n_moves", metrics.path.steps)
+        .with("n_turns", metrics.path.turns)
+        .with("n_backtracking_points", stats.n_backtracking_points)
+        .with("n_marked_points", stats.n_marked_points)
+        .with("n_fill_moves", stats.n_fill_moves)
+        .with("n_return_moves", stats.n_return_moves)
+        .with("n_return_searches", stats.n_return_searches)
+        .with("n_return_expansions", stats.n_return_expansions)
+}
+
+/// The counters of a run that did not run: every one 0.
+fn zero_counters() -> Counters {
+    let metrics = CoverageMetrics {
+        n_reachable: 0,
+        n_covered: 0,
+        percent: 0.0,
+        n_revisits: 0,
+        path: Path::default().metrics(),
+    };
+    counters(&metrics, &Stats::default())
 }
 
 #[cfg(test)]

@@ -992,6 +992,10 @@ impl Planner for Jps {
         PlannerSpecs::deterministic(PathSpec::Moves(self.moves.clone())).with_admissible(true)
     }
 
+    fn prepare_bytes(&self, grid: &Grid) -> u64 {
+        self.memory_bytes_for(grid)
+    }
+
     fn prepare(&mut self, grid: &Grid) {
         self.precompute(grid);
         self.size_nodes(grid);

@@ -101,16 +101,17 @@ impl Planner for LazyThetaStar {
         PlannerSpecs::deterministic(PathSpec::AnyAngle)
     }
 
+    fn prepare_bytes(&self, grid: &Grid) -> u64 {
+        self.search.memory_bytes_for(grid)
+    }
+
     fn prepare(&mut self, grid: &Grid) {
         self.search.prepare(grid);
     }
 
+    /// Refuses with [`Outcome::over_memory`] when the grid's per-cell state is over
+    /// [`Budget::max_memory_mb`] (planner-theta_star's `AnyAngle::memory_bytes_for`).
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
-        let search = self.search(problem, budget);
-        Outcome::new(
-            search.status,
-            search.path,
-            search.stats.report(Variant::Lazy),
-        )
+        self.search(problem, budget).outcome(Variant::Lazy)
     }
 }

@@ -30,6 +30,10 @@ pub trait NearestIndex: Send + Sync {
     /// keeping allocated capacity. Preconditions: `width, height >= 1`.
     fn clear(&mut self, width: u32, height: u32);
 
+    /// The bytes the index allocates at most for `nodes` nodes on a `width` x `height`
+    /// grid (a planner's memory check).
+    fn bytes_for(&self, width: u32, height: u32, nodes: u64) -> u64;
+
     /// Adds a node at `cell`; its id is the number of nodes added since the last clear.
     /// Precondition: `cell` lies inside the grid given to [`NearestIndex::clear`].
     fn insert(&mut self, cell: Cell);
@@ -122,6 +126,12 @@ impl Default for BucketGrid {
 }
 
 impl NearestIndex for BucketGrid {
+    /// A 4-byte head per block, and per node a 4-byte link and its 8-byte cell.
+    fn bytes_for(&self, width: u32, height: u32, nodes: u64) -> u64 {
+        let blocks = u64::from(width.div_ceil(self.side)) * u64::from(height.div_ceil(self.side));
+        4 * blocks + 12 * nodes
+    }
+
     fn clear(&mut self, width: u32, height: u32) {
         self.blocks_x = width.div_ceil(self.side);
         let blocks_y = height.div_ceil(self.side);

@@ -362,8 +362,16 @@ impl<I: NearestIndex> Planner for Rrt<I> {
         self.config.seed = seed;
     }
 
+    /// Refuses with [`Outcome::over_memory`] when the tree for every free cell and the
+    /// sampler's list of them ([`Tree::bytes_for`], [`Sampler::bytes_for`]) are over
+    /// [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
+        let bytes = self.tree.bytes_for(grid) + Sampler::bytes_for(grid);
+        if let Err(shortfall) = budget.check_memory(bytes, grid) {
+            self.stats = RrtStats::default();
+            return Outcome::over_memory(shortfall, self.stats.counters());
+        }
         let (start, goal) = (problem.start(), problem.goal());
         let config = &self.config;
         let (goal_bias, steering, step) = (config.goal_bias, config.steer, config.step);

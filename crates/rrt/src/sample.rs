@@ -29,6 +29,11 @@ impl Sampler {
         );
     }
 
+    /// The bytes [`Sampler::reset`] allocates for `grid`: 4 per free cell.
+    pub fn bytes_for(grid: &Grid) -> u64 {
+        4 * grid.n_free() as u64
+    }
+
     /// Number of free cells in the population.
     pub fn n_free(&self) -> usize {
         self.free.len()

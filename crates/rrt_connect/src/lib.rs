@@ -378,8 +378,17 @@ impl<I: NearestIndex + Clone> Planner for RrtConnect<I> {
         self.config.seed = seed;
     }
 
+    /// Refuses with [`Outcome::over_memory`] when two trees for every free cell and the
+    /// sampler's list of them are over [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
+        let bytes = self.trees[0].bytes_for(grid)
+            + self.trees[1].bytes_for(grid)
+            + Sampler::bytes_for(grid);
+        if let Err(shortfall) = budget.check_memory(bytes, grid) {
+            self.stats = RrtConnectStats::default();
+            return Outcome::over_memory(shortfall, self.stats.counters());
+        }
         let (start, goal) = (problem.start(), problem.goal());
         self.sampler.reset(grid);
         self.trees[0].reset(grid, start);

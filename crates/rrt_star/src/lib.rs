@@ -480,8 +480,19 @@ impl<I: NearestIndex> Planner for RrtStar<I> {
         self.config.seed = seed;
     }
 
+    /// Refuses with [`Outcome::over_memory`] when the tree for every free cell, the
+    /// sampler's list of them and the per-node costs and child links (28 bytes a free
+    /// cell) are over [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
+        let per_node = 2 * std::mem::size_of::<f64>() + 3 * std::mem::size_of::<u32>();
+        let bytes = self.tree.bytes_for(grid)
+            + Sampler::bytes_for(grid)
+            + per_node as u64 * grid.n_free() as u64;
+        if let Err(shortfall) = budget.check_memory(bytes, grid) {
+            self.stats = RrtStarStats::default();
+            return Outcome::over_memory(shortfall, self.stats.counters());
+        }
         let (start, goal) = (problem.start(), problem.goal());
         self.reset(problem);
         let config = self.config.clone();

@@ -166,11 +166,11 @@ pub fn record_expanded(
     let Built::Path(mut p) = built else {
         return Ok(Vec::new());
     };
-    p.prepare(&map.grid);
+    let budget = crate::run::effective_budget(planner).recording_expanded(true);
+    p.prepare_within(&map.grid, &budget);
     if let Some(seed) = planner.factory.seed_for(experiment.seed, timed.repeat) {
         p.reseed(seed);
     }
-    let budget = crate::run::effective_budget(planner).recording_expanded(true);
     let outcome = p.plan(&query, &budget);
     let same = RunStatus::from(outcome.status) == timed.status
         && outcome.counters == timed.counters

@@ -221,7 +221,8 @@ pub fn run_one(
         slot.unweighted =
             (planner.ignore_costs && map.grid.is_weighted()).then(|| map.grid.without_weights());
         if let Built::Path(p) = &mut slot.planner {
-            p.prepare(slot.unweighted.as_ref().unwrap_or(&map.grid));
+            let grid = slot.unweighted.as_ref().unwrap_or(&map.grid);
+            p.prepare_within(grid, &effective_budget(planner));
         }
         slot.grid = Some(spec.map);
         if let (Some(heap), Some(baseline)) = (heap, baseline) {
@@ -325,13 +326,7 @@ fn execute_on(
             record.marks = outcome.marks;
             record.series = outcome.series;
             if let Some(shortfall) = outcome.memory {
-                tracing::warn!(
-                    "{} on {} problem {}: {shortfall}; not run",
-                    planner.label,
-                    record.map,
-                    entry.index
-                );
-                record.error = Some(shortfall.to_string());
+                not_run(planner, record, entry, shortfall);
             }
             (outcome.status, outcome.path)
         }
@@ -344,7 +339,14 @@ fn execute_on(
             record.time_ms = milliseconds(started.elapsed());
             record.counters = outcome.counters;
             record.returns = Some(outcome.returns);
-            (outcome.status, Some(outcome.path))
+            let path = match outcome.memory {
+                Some(shortfall) => {
+                    not_run(planner, record, entry, shortfall);
+                    None
+                }
+                None => Some(outcome.path),
+            };
+            (outcome.status, path)
         }
     };
     if let (Some(heap), Some(baseline)) = (heap, start_heap) {
@@ -372,6 +374,23 @@ fn execute_on(
         record.valid = Some(valid);
         record.path = Some(path);
     }
+}
+
+/// Says that `planner` did not run on `entry` because its per-cell state is over the
+/// memory limit: a warning, and the record's error.
+fn not_run(
+    planner: &PlannerSpec,
+    record: &mut RunRecord,
+    entry: &ProblemEntry,
+    shortfall: planner_api::MemoryShortfall,
+) {
+    tracing::warn!(
+        "{} on {} problem {}: {shortfall}; not run",
+        planner.label,
+        record.map,
+        entry.index
+    );
+    record.error = Some(shortfall.to_string());
 }
 
 /// The budget a run of `planner` gets: its own, with the memory limit

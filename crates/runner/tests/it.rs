@@ -7,5 +7,6 @@ mod boundary;
 mod conformance;
 mod frames;
 mod large;
+mod memory;
 mod parquet;
 mod reliability;

@@ -115,8 +115,8 @@ use planner_search::bucket::{BucketOpen, Open, HIGH_G};
 use planner_search::Stamped;
 
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Cost, Counter, Counters, MoveSet, NeighborOrder,
-    Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+    Adjacency, Budget, Cell, Connectivity, Cost, Counter, Counters, MemoryShortfall, MoveSet,
+    NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -240,6 +240,20 @@ pub struct Search {
     pub cost: Option<f64>,
     /// The counters.
     pub stats: AnyAngleStats,
+    /// Set when the search did not run: its per-cell state is over the budget's memory
+    /// limit ([`AnyAngle::memory_bytes_for`]).
+    pub memory: Option<MemoryShortfall>,
+}
+
+impl Search {
+    /// The planner's outcome of this search by `variant` (its counters named for it).
+    pub fn outcome(self, variant: Variant) -> Outcome {
+        let counters = self.stats.report(variant);
+        match self.memory {
+            Some(shortfall) => Outcome::over_memory(shortfall, counters),
+            None => Outcome::new(self.status, self.path, counters),
+        }
+    }
 }
 
 /// Per-cell state; `stamp` is `generation << 1 | closed`, so nothing is cleared between
@@ -308,6 +322,18 @@ impl AnyAngle {
         })
     }
 
+    /// The bytes of the move masks (and their copy of the grid), the node records (16
+    /// bytes per padded cell) and the bit-packed grid for line of sight (a bit per cell,
+    /// twice, rows and columns rounded up to 64) for `grid`.
+    pub fn memory_bytes_for(&self, grid: &planner_api::Grid) -> u64 {
+        let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
+        let padded = Adjacency::padded_len_for(grid, &self.moves) as u64;
+        let sight = 8 * (w.div_ceil(64) * h + h.div_ceil(64) * w);
+        Adjacency::bytes_for(grid, &self.moves)
+            + padded * std::mem::size_of::<Node>() as u64
+            + sight
+    }
+
     /// Builds the move masks, the bit-packed grid for line of sight and the node arrays
     /// for `grid` (done by the first search on a grid otherwise).
     pub fn prepare(&mut self, grid: &planner_api::Grid) {
@@ -320,6 +346,15 @@ impl AnyAngle {
     /// OPEN and CLOSED).
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget, variant: Variant) -> Search {
         let grid = problem.grid();
+        if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
+            return Search {
+                status: Status::BudgetExhausted,
+                path: None,
+                cost: None,
+                stats: AnyAngleStats::default(),
+                memory: Some(shortfall),
+            };
+        }
         self.prepare(grid);
         let (Some(adjacency), Some(sight)) = (self.adjacency.as_ref(), self.sight.as_ref()) else {
             unreachable!("prepare fills the adjacency and sight caches");
@@ -400,6 +435,7 @@ impl AnyAngle {
                     path: None,
                     cost: None,
                     stats,
+                    memory: None,
                 };
             }
             let cell = adjacency.cell(p);
@@ -439,6 +475,7 @@ impl AnyAngle {
                     path: Some(path),
                     cost: Some(nodes[p].g),
                     stats,
+                    memory: None,
                 };
             }
             let g_node = nodes[p].g;
@@ -530,6 +567,7 @@ impl AnyAngle {
             path: None,
             cost: None,
             stats,
+            memory: None,
         }
     }
 }
@@ -575,16 +613,18 @@ impl Planner for ThetaStar {
         PlannerSpecs::deterministic(PathSpec::AnyAngle)
     }
 
+    fn prepare_bytes(&self, grid: &planner_api::Grid) -> u64 {
+        self.search.memory_bytes_for(grid)
+    }
+
     fn prepare(&mut self, grid: &planner_api::Grid) {
         self.search.prepare(grid);
     }
 
+    /// Refuses with [`Outcome::over_memory`] when [`AnyAngle::memory_bytes_for`] the grid
+    /// is over [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let search = self.search(problem, budget);
-        Outcome::new(
-            search.status,
-            search.path,
-            search.stats.report(Variant::Theta),
-        )
+        search.outcome(Variant::Theta)
     }
 }

@@ -38,6 +38,10 @@ pub struct LinearScan {
 }
 
 impl NearestIndex for LinearScan {
+    fn bytes_for(&self, _width: u32, _height: u32, nodes: u64) -> u64 {
+        8 * nodes
+    }
+
     fn clear(&mut self, _width: u32, _height: u32) {
         self.cells.clear();
     }
