@@ -5,8 +5,9 @@
 //! outcome of a fresh one; two runs give the same counters. Every declared parameter at
 //! the edges of its type is refused by key or keeps the same contract. What a planner
 //! declares in its specs holds: an admissible one finds the oracle's optimum (a weighted one
-//! on weighted grids too), a seeded one depends on its seed. A planner gets this by being
-//! registered.
+//! on weighted grids too), a seeded one depends on its seed. Recording the expanded cells
+//! changes nothing else, and lists one free cell per expansion. A planner gets this by
+//! being registered.
 
 use planner_api::{Budget, Cell, CoverageProblem, Grid, Problem, Status};
 use planner_registry::PLANNERS;
@@ -508,4 +509,70 @@ fn every_seeded_planner_depends_on_its_seed() {
     }
     // rrt, rrt_star, rrt_connect and capso at least.
     assert!(n_seeded >= 4, "{n_seeded} seeded planners");
+}
+
+/// Recording the expanded cells ([`Budget::record_expanded`]) changes nothing else: the
+/// status, path and counters are those of the same run without it (the runner draws a
+/// sweep's expanded cells from such a second run, and refuses one that differs). A planner
+/// that lists them lists one per `n_expanded`, each a free cell of the grid.
+#[test]
+fn recording_the_expanded_cells_changes_nothing_and_lists_one_per_expansion() {
+    let problems = problems();
+    let budget = Budget::expansions(BUDGET);
+    let recording = budget.recording_expanded(true);
+    let mut n_listing = 0;
+    for entry in PLANNERS {
+        for (v, factory) in variants(entry.factory).into_iter().enumerate() {
+            let Built::Path(mut planner) = factory.build().unwrap() else {
+                continue;
+            };
+            let mut listed = false;
+            for (i, (grid, start, goal)) in problems.iter().enumerate() {
+                let what = format!("{} (variant {v}) problem {i}", entry.name);
+                let seed = factory.seed_for(7, i as u32);
+                let mut outcome = |budget: &Budget| {
+                    if let Some(seed) = seed {
+                        planner.reseed(seed);
+                    }
+                    planner.prepare(grid);
+                    let problem = Problem::new(grid, *start, *goal).unwrap();
+                    planner.plan(&problem, budget)
+                };
+                let plain = outcome(&budget);
+                let recorded = outcome(&recording);
+                assert!(
+                    plain.expanded.is_empty(),
+                    "{what}: listed without being asked"
+                );
+                assert_eq!(
+                    (plain.status, &plain.path, &plain.counters),
+                    (recorded.status, &recorded.path, &recorded.counters),
+                    "{what}: recording changed the run"
+                );
+                if recorded.expanded.is_empty() {
+                    continue;
+                }
+                listed = true;
+                if let Some(n) = recorded.counters.get("n_expanded") {
+                    assert_eq!(
+                        recorded.expanded.len() as u64,
+                        n,
+                        "{what}: listed cells against n_expanded"
+                    );
+                }
+                for cell in &recorded.expanded {
+                    assert!(
+                        cell.x < grid.width() && cell.y < grid.height() && grid.is_free(*cell),
+                        "{what}: listed {cell}, not a free cell of the grid"
+                    );
+                }
+            }
+            n_listing += usize::from(listed);
+        }
+    }
+    // A*, BFS, Theta*, JPS and bidirectional A* at least.
+    assert!(
+        n_listing >= 5,
+        "{n_listing} planners list their expanded cells"
+    );
 }
