@@ -273,7 +273,9 @@ impl Backtracking {
     /// The bytes a search on `grid` within `budget` allocates at most: the move masks (and
     /// their copy of the grid), a 16-byte frame per cell, with [`Prune::Bound`] a 4-byte
     /// bound per padded cell, and when the budget lets the root's moves run in parallel
-    /// ([`Config::parallel`]) a copy of the masks and frames for each task running at once.
+    /// ([`Config::parallel`]) a copy of the masks and frames per move (the most tasks there
+    /// can be, whatever the machine's threads, so that whether a run fits does not depend
+    /// on the machine).
     pub fn memory_bytes_for(&self, grid: &planner_api::Grid, budget: &Budget) -> u64 {
         let padded = Adjacency::padded_len_for(grid, &self.moves) as u64;
         let frames = grid.len() as u64 * std::mem::size_of::<Frame>() as u64;
@@ -287,7 +289,7 @@ impl Backtracking {
             && budget.max_time.is_none()
             && budget.cancel.is_none();
         let tasks = match parallel {
-            true => (self.moves.moves().len().min(rayon::current_num_threads())) as u64,
+            true => self.moves.moves().len() as u64,
             false => 0,
         };
         Adjacency::bytes_for(grid, &self.moves) + frames + bound + tasks * (8 * padded + frames)
