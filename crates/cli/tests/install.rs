@@ -233,8 +233,8 @@ fn plan_marks_a_coverage_paths_end_and_refuses_maps_wider_than_200_columns() {
 }
 
 /// `plan --max-memory-mb` refuses a planner whose arrays need more, saying how much and
-/// which flag raises it (not the expansion budget's note); `--svg` draws the expanded
-/// cells, as many as the run's `n_expanded`.
+/// which flag raises it (not the expansion budget's note), and with `--json` in the field
+/// `not_run`; `--svg` draws the expanded cells, as many as the run's `n_expanded`.
 #[test]
 fn plan_takes_a_memory_limit_and_draws_expanded_cells() {
     let work = scratch("memory");
@@ -259,11 +259,22 @@ fn plan_takes_a_memory_limit_and_draws_expanded_cells() {
         "{text}"
     );
     assert!(!text.contains("default budget"), "{text}");
+    // With --json, the reason is a field (absent when the planner ran).
+    limited.push("--json");
+    let refused: serde_json::Value =
+        serde_json::from_str(run(gridplan, &work, &limited).trim()).expect("one JSON object");
+    assert_eq!(refused["status"], "budget_exhausted");
+    let reason = refused["not_run"].as_str().expect("not_run");
+    assert!(
+        reason.contains("over the max_memory_mb = 0 budget"),
+        "{reason}"
+    );
 
     let mut drawn = args.to_vec();
     drawn.extend(["--json", "--svg", "run.svg"]);
     let json: serde_json::Value =
         serde_json::from_str(run(gridplan, &work, &drawn).trim()).expect("one JSON object");
+    assert!(json.get("not_run").is_none(), "{json}");
     let n_expanded = json["counters"]["n_expanded"].as_u64().expect("n_expanded");
     let svg = std::fs::read_to_string(work.join("run.svg")).expect("the figure");
     assert!(

@@ -184,6 +184,12 @@ pub struct PlanJson<'a> {
     /// On a weighted map, the path's cost under the map's cost rule (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cost: Option<f64>,
+    /// Why the planner did not run, when it did not: its per-cell state is over the
+    /// memory limit (`needs 114 MB for a 3000 x 3000 grid, over the max_memory_mb = 1
+    /// budget`), with status `budget_exhausted`. Absent when it ran, so that a script tells
+    /// a refused run from a spent budget.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_run: Option<&'a str>,
 }
 
 /// Path metrics in `plan --json`.
@@ -585,6 +591,7 @@ impl PlanResult {
             coverage: self.coverage_json(),
             marks: &r.marks,
             cost: r.cost,
+            not_run: r.error.as_deref(),
         };
         serde_json::to_string(&json).map_err(RunnerError::Json)
     }
