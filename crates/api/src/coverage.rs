@@ -117,6 +117,18 @@ pub struct CoverageMetrics {
 }
 
 impl CoverageMetrics {
+    /// The metrics of a run that measured no coverage (it did not run): zero coverage and
+    /// revisits, and `path`'s own metrics.
+    pub fn unmeasured(path: &Path) -> CoverageMetrics {
+        CoverageMetrics {
+            n_reachable: 0,
+            n_covered: 0,
+            percent: 0.0,
+            n_revisits: 0,
+            path: path.metrics(),
+        }
+    }
+
     /// Measures `path` as a coverage path from `start` on `grid` (module docs).
     ///
     /// Cells of the path outside the reachable set (which a valid path from `start` never
@@ -225,13 +237,7 @@ impl CoverageOutcome {
         let path = Path::new(vec![start]);
         CoverageOutcome {
             status: Status::BudgetExhausted,
-            metrics: CoverageMetrics {
-                n_reachable: 0,
-                n_covered: 0,
-                percent: 0.0,
-                n_revisits: 0,
-                path: path.metrics(),
-            },
+            metrics: CoverageMetrics::unmeasured(&path),
             path,
             returns: Vec::new(),
             counters,

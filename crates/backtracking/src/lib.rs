@@ -283,20 +283,27 @@ impl Backtracking {
             Prune::Bound => 4 * padded,
             _ => 0,
         };
-        let parallel = self.config.parallel
-            && self.config.prune == Prune::Off
-            && budget.max_expansions.is_none()
-            && budget.max_time.is_none()
-            && budget.cancel.is_none();
-        let tasks = match parallel {
+        let tasks = match self.may_run_in_parallel(budget) {
             true => self.moves.moves().len() as u64,
             false => 0,
         };
         Adjacency::bytes_for(grid, &self.moves) + frames + bound + tasks * (8 * padded + frames)
     }
 
+    /// Whether the config and `budget` let the root's moves run in parallel
+    /// ([`Config::parallel`], no pruning, no limit that needs the serial order); a search
+    /// then does when its start has two or more moves and is not the goal.
+    fn may_run_in_parallel(&self, budget: &Budget) -> bool {
+        self.config.parallel
+            && self.config.prune == Prune::Off
+            && budget.max_expansions.is_none()
+            && budget.max_time.is_none()
+            && budget.cancel.is_none()
+    }
+
     fn run(&mut self, problem: &Problem<'_>, budget: &Budget) -> Run {
         let grid = problem.grid();
+        let may_run_in_parallel = self.may_run_in_parallel(budget);
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         let start = adjacency.index(problem.start());
         let goal = adjacency.index(problem.goal());
@@ -310,13 +317,7 @@ impl Backtracking {
             fill_lower_bound(&mut self.lower_bound, adjacency, &self.moves, problem);
         }
         let root_moves = adjacency.mask(start) & adjacency.all();
-        let parallel = self.config.parallel
-            && self.config.prune == Prune::Off
-            && budget.max_expansions.is_none()
-            && budget.max_time.is_none()
-            && budget.cancel.is_none()
-            && start != goal
-            && root_moves.count_ones() >= 2;
+        let parallel = may_run_in_parallel && start != goal && root_moves.count_ones() >= 2;
         if parallel {
             return run_parallel(adjacency, start, goal, &mut self.best, grid.len());
         }

@@ -642,14 +642,10 @@ fn counters(metrics: &CoverageMetrics, stats: &Stats) -> Counters {
 
 /// The counters of a run that did not run: every one 0.
 fn zero_counters() -> Counters {
-    let metrics = CoverageMetrics {
-        n_reachable: 0,
-        n_covered: 0,
-        percent: 0.0,
-        n_revisits: 0,
-        path: Path::default().metrics(),
-    };
-    counters(&metrics, &Stats::default())
+    counters(
+        &CoverageMetrics::unmeasured(&Path::default()),
+        &Stats::default(),
+    )
 }
 
 #[cfg(test)]

@@ -367,7 +367,8 @@ impl<I: NearestIndex> Planner for Rrt<I> {
     /// [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
-        let bytes = self.tree.bytes_for(grid) + Sampler::bytes_for(grid);
+        let n_free = grid.n_free() as u64;
+        let bytes = self.tree.bytes_for(grid, n_free) + Sampler::bytes_for(n_free);
         if let Err(shortfall) = budget.check_memory(bytes, grid) {
             self.stats = RrtStats::default();
             return Outcome::over_memory(shortfall, self.stats.counters());

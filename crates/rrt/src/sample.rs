@@ -29,9 +29,9 @@ impl Sampler {
         );
     }
 
-    /// The bytes [`Sampler::reset`] allocates for `grid`: 4 per free cell.
-    pub fn bytes_for(grid: &Grid) -> u64 {
-        4 * grid.n_free() as u64
+    /// The bytes [`Sampler::reset`] allocates for a grid of `n_free` free cells: 4 each.
+    pub fn bytes_for(n_free: u64) -> u64 {
+        4 * n_free
     }
 
     /// Number of free cells in the population.

@@ -43,11 +43,11 @@ impl<I: NearestIndex> Tree<I> {
         }
     }
 
-    /// The bytes [`Tree::reset`] and a tree of every free cell of `grid` allocate at most:
-    /// a 4-byte node slot per cell, per free cell its 8-byte cell and 4-byte parent, and
-    /// the nearest-node index's.
-    pub fn bytes_for(&self, grid: &Grid) -> u64 {
-        let n_free = grid.n_free() as u64;
+    /// The bytes [`Tree::reset`] and a tree of every free cell of `grid` (`n_free` of
+    /// them, [`Grid::n_free`], counted once by the caller) allocate at most: a 4-byte node
+    /// slot per cell, per free cell its 8-byte cell and 4-byte parent, and the nearest-node
+    /// index's.
+    pub fn bytes_for(&self, grid: &Grid, n_free: u64) -> u64 {
         4 * grid.len() as u64
             + 12 * n_free
             + self.index.bytes_for(grid.width(), grid.height(), n_free)

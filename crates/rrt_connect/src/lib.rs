@@ -382,9 +382,10 @@ impl<I: NearestIndex + Clone> Planner for RrtConnect<I> {
     /// sampler's list of them are over [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
-        let bytes = self.trees[0].bytes_for(grid)
-            + self.trees[1].bytes_for(grid)
-            + Sampler::bytes_for(grid);
+        let n_free = grid.n_free() as u64;
+        let bytes = self.trees[0].bytes_for(grid, n_free)
+            + self.trees[1].bytes_for(grid, n_free)
+            + Sampler::bytes_for(n_free);
         if let Err(shortfall) = budget.check_memory(bytes, grid) {
             self.stats = RrtConnectStats::default();
             return Outcome::over_memory(shortfall, self.stats.counters());

@@ -486,9 +486,10 @@ impl<I: NearestIndex> Planner for RrtStar<I> {
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
         let per_node = 2 * std::mem::size_of::<f64>() + 3 * std::mem::size_of::<u32>();
-        let bytes = self.tree.bytes_for(grid)
-            + Sampler::bytes_for(grid)
-            + per_node as u64 * grid.n_free() as u64;
+        let n_free = grid.n_free() as u64;
+        let bytes = self.tree.bytes_for(grid, n_free)
+            + Sampler::bytes_for(n_free)
+            + per_node as u64 * n_free;
         if let Err(shortfall) = budget.check_memory(bytes, grid) {
             self.stats = RrtStarStats::default();
             return Outcome::over_memory(shortfall, self.stats.counters());

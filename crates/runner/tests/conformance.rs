@@ -63,7 +63,9 @@ fn degenerate() -> Vec<(Grid, Cell, Cell)> {
 
 /// The configurations tried for each planner: its defaults, and 8-connected moves where
 /// its config takes `moves = 8`.
-fn variants(factory: fn(&toml::Table) -> Result<Factory, planner_api::ParamError>) -> Vec<Factory> {
+pub(crate) fn variants(
+    factory: fn(&toml::Table) -> Result<Factory, planner_api::ParamError>,
+) -> Vec<Factory> {
     let mut out = vec![factory(&toml::Table::new()).expect("defaults must be valid")];
     let eight: toml::Table = toml::from_str("moves = 8").unwrap();
     if let Ok(f) = factory(&eight) {
@@ -570,9 +572,9 @@ fn recording_the_expanded_cells_changes_nothing_and_lists_one_per_expansion() {
             n_listing += usize::from(listed);
         }
     }
-    // A*, BFS, Theta*, JPS and bidirectional A* at least.
+    // A*, BFS, DFS, lexastar, bidirectional A* and JPS, each in both variants, at least.
     assert!(
-        n_listing >= 5,
-        "{n_listing} planners list their expanded cells"
+        n_listing >= 12,
+        "{n_listing} planner variants list their expanded cells"
     );
 }

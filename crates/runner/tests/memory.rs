@@ -1,60 +1,17 @@
 //! Every registered planner keeps within the memory budget: with `max_memory_mb = 1` on a
 //! grid of a million cells, a planner either refuses to run, saying how much it needs
 //! (`Outcome::memory`), or asks for at most that much memory (plus a little for its
-//! answer) while it prepares and plans. What it asks for is counted by a global allocator
-//! on the calling thread (the only `unsafe` of this crate's tests), so memory that the
-//! system would commit only when touched counts in full: the budget is a promise about
-//! what a planner allocates, not about what it happens to touch.
-#![allow(unsafe_code)]
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell as StdCell;
+//! answer) while it prepares and plans. What it asks for is counted on the calling thread
+//! by the runner's counting allocator ([`planner_runner::alloc`], installed for this test
+//! binary), so memory that the system would commit only when touched counts in full: the
+//! budget is a promise about what a planner allocates, not about what it happens to touch.
 
 use planner_api::{Budget, Cell, CoverageProblem, Grid, Problem};
 use planner_registry::{Built, PLANNERS};
-
-struct Counting;
-
-thread_local! {
-    /// Bytes allocated and not yet freed on this thread, and the most since the last reset.
-    static LIVE: StdCell<i64> = const { StdCell::new(0) };
-    static PEAK: StdCell<i64> = const { StdCell::new(0) };
-}
-
-fn add(bytes: i64) {
-    let _ = LIVE.try_with(|live| {
-        let now = live.get() + bytes;
-        live.set(now);
-        let _ = PEAK.try_with(|peak| peak.set(peak.get().max(now)));
-    });
-}
-
-// SAFETY: every call is forwarded unchanged to the system allocator; the bookkeeping
-// touches only const-initialised thread-locals and never allocates.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        add(layout.size() as i64);
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        add(layout.size() as i64);
-        unsafe { System.alloc_zeroed(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        add(-(layout.size() as i64));
-        unsafe { System.dealloc(ptr, layout) }
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        add(new_size as i64 - layout.size() as i64);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use planner_runner::alloc;
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: alloc::Counting = alloc::Counting;
 
 /// The most a planner may ask for beyond the budget: its answer (a path, counters, a
 /// series) and small fixed buffers.
@@ -63,10 +20,9 @@ const SLACK: i64 = 256 << 10;
 /// Runs `f` and returns its result with the most bytes it had allocated at once on this
 /// thread (beyond what was live before).
 fn peak_of<T>(f: impl FnOnce() -> T) -> (T, i64) {
-    let before = LIVE.with(StdCell::get);
-    PEAK.with(|peak| peak.set(before));
+    let baseline = alloc::start();
     let out = f();
-    (out, PEAK.with(StdCell::get) - before)
+    (out, alloc::peak_since_start(baseline) as i64)
 }
 
 /// One run of `factory`'s planner on `grid` within `budget` (prepared through
@@ -95,19 +51,17 @@ fn measured(
     })
 }
 
-/// Each registry entry's defaults, and its 8-connected variant where its config takes
-/// `moves = 8`.
+/// Each registry entry's variants (`conformance::variants`: its defaults, and 8-connected
+/// moves where its config takes them).
 fn factories() -> Vec<(&'static str, planner_registry::Factory)> {
-    let eight: toml::Table = toml::from_str("moves = 8").unwrap();
-    let mut out = Vec::new();
-    for entry in PLANNERS {
-        let defaults = (entry.factory)(&toml::Table::new()).expect("defaults must be valid");
-        out.push((entry.name, defaults));
-        if let Ok(f) = (entry.factory)(&eight) {
-            out.push((entry.name, f));
-        }
-    }
-    out
+    PLANNERS
+        .iter()
+        .flat_map(|entry| {
+            crate::conformance::variants(entry.factory)
+                .into_iter()
+                .map(move |f| (entry.name, f))
+        })
+        .collect()
 }
 
 /// A 1000 x 1000 open grid and a problem across it.
