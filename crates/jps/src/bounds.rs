@@ -59,6 +59,19 @@ pub(crate) struct GoalBounds {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Stopped;
 
+/// The goal bounds' build runs its Dijkstra searches in this many groups of jump points,
+/// each with one [`Scratch`], on the rayon pool: at most this many scratches exist at a
+/// time whatever the pool's size, so the build's memory, and whether a search fits a
+/// memory budget, do not depend on the machine.
+pub(crate) const BUILD_GROUPS: u64 = 8;
+
+/// Bytes per grid cell of one [`Scratch`] at most: the costs, first moves and stamps (13),
+/// the settled list (4 a cell, 8 with a vector's doubling), and the heap counted at one
+/// 16-byte entry a cell. The heap holds only the search's frontier (its capacity peaked at
+/// 512 entries over den520d's 12,351 searches of 28,178 cells each), so that is far above
+/// what it takes.
+pub(crate) const SCRATCH_BYTES_PER_CELL: u64 = 13 + 8 + 16;
+
 /// One Dijkstra search's scratch, reused across sources.
 struct Scratch {
     cost: Vec<Cost>,
@@ -110,20 +123,25 @@ impl GoalBounds {
             }
         }
         let sources: Vec<u32> = (0..n as u32).filter(|&i| jump_point[i as usize]).collect();
-        let boxes: Option<Vec<[Bounds; 8]>> = sources
-            .par_iter()
-            .map_init(
-                || Scratch {
+        // Contiguous groups: every search covers the whole grid, so they take about as long.
+        let group_len = sources.len().div_ceil(BUILD_GROUPS as usize).max(1);
+        let groups: Option<Vec<Vec<[Bounds; 8]>>> = sources
+            .par_chunks(group_len)
+            .map(|group| {
+                let mut scratch = Scratch {
                     cost: vec![Cost::default(); n],
                     first: vec![0; n],
                     seen: vec![0; n],
                     heap: BinaryHeap::new(),
                     settled: Vec::new(),
-                },
-                |scratch, &source| (!stop()).then(|| boxes_from(source, w, &moves, scratch)),
-            )
+                };
+                group
+                    .iter()
+                    .map(|&source| (!stop()).then(|| boxes_from(source, w, &moves, &mut scratch)))
+                    .collect()
+            })
             .collect();
-        let boxes = boxes.ok_or(Stopped)?;
+        let boxes: Vec<[Bounds; 8]> = groups.ok_or(Stopped)?.into_iter().flatten().collect();
         let mut slot = vec![0u32; (h as usize) << shift];
         for (k, &source) in sources.iter().enumerate() {
             let (x, y) = (source % w, source / w);

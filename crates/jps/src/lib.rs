@@ -86,7 +86,9 @@
 //! movingai` prints the time and sizes on each run. The per-query state is 18 bytes per
 //! cell (cost, parent, a generation tag, so nothing is cleared between queries, and a
 //! two-byte open-or-closed mark). Goal bounds add 4 bytes per node record and 64 per jump
-//! point (and, while built, 13 bytes per cell for each thread of the pool).
+//! point (and, while they are built, at most 37 bytes per cell of Dijkstra scratch for
+//! each of the build's 8 groups of jump points, whatever the machine's threads, so that
+//! whether a search fits a memory budget does not depend on the machine).
 //!
 //! # Costs
 //! Costs are exact: `g` is a [`Cost`], a count of straight and of diagonal moves compared
@@ -425,9 +427,12 @@ impl Jps {
             _ => 0,
         };
         // Goal bounds: a slot per record and 64 bytes per jump point (at most every cell),
-        // and per pool thread 13 bytes a cell of Dijkstra scratch while they are built.
+        // and while they are built the Dijkstra scratch of each of the build's groups.
         let bounds = match self.config.goal_bounding {
-            true => (h << index_shift(grid)) * 4 + 64 * w * h + 13 * w * h * pool_threads(),
+            true => {
+                let scratch = bounds::SCRATCH_BYTES_PER_CELL * w * h * bounds::BUILD_GROUPS;
+                (h << index_shift(grid)) * 4 + 64 * w * h + scratch
+            }
             false => 0,
         };
         bit_grid + records + table + bounds
@@ -635,11 +640,6 @@ struct Search<'a> {
     /// The generation in the tag's position (`generation << 9`).
     generation: u32,
     tally: Tally,
-}
-
-/// The threads of the rayon pool that builds goal bounds.
-fn pool_threads() -> u64 {
-    rayon::current_num_threads() as u64
 }
 
 /// The row length of the node records, as a power of two: `1 << shift >= width`. At most

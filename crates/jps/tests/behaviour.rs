@@ -161,6 +161,41 @@ fn goal_bounding_build_honours_the_budget() {
     }
 }
 
+/// Whether a goal-bounded search fits a memory budget does not depend on the machine:
+/// the need it declares, and its outcomes under budgets just below and at it, are the
+/// same in a pool of 1 thread and of 6.
+#[test]
+fn goal_bounding_memory_need_is_the_same_for_any_pool() {
+    let grid = planner_testkit::movingai("movingai/arena.map");
+    let (start, goal) = planner_testkit::first_scenario("movingai/arena.map.scen");
+    let problem = Problem::new(&grid, start, goal).unwrap();
+    let config = Config {
+        goal_bounding: true,
+        ..Config::default()
+    };
+    let in_pool = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let planner = Jps::new(config.clone()).unwrap();
+            let need = planner.memory_bytes_for(&grid);
+            // A budget of whole MiB below the need refuses; one that holds it runs.
+            let mb = need.div_ceil(1 << 20);
+            let below = Budget::unlimited().with_memory_mb(mb - 1);
+            let refused = Jps::new(config.clone()).unwrap().plan(&problem, &below);
+            let enough = Budget::unlimited().with_memory_mb(mb);
+            let found = Jps::new(config.clone()).unwrap().plan(&problem, &enough);
+            (need, outcome_text(&refused), outcome_text(&found))
+        })
+    };
+    let (one, six) = (in_pool(1), in_pool(6));
+    assert_eq!(one, six);
+    assert!(one.1.contains("budget_exhausted"), "{}", one.1);
+    assert!(one.2.contains("found"), "{}", one.2);
+}
+
 #[test]
 fn marks_are_the_path_jump_points_and_optional() {
     let grid = planner_testkit::movingai("movingai/arena.map");
