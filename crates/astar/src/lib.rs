@@ -1087,8 +1087,13 @@ const ENTERED: u8 = 2;
 /// heuristic (times the smallest weight) is weak, OPEN is wide, and narrower buckets keep
 /// the heap of the current one small. Callgrind on the weighted bench's den520d line
 /// (every 16th scenario, weights 1-255): 1.599, 1.540, 1.500, 1.489, 1.525 and 1.850
-/// billion instructions for 1, 2, 4, 8, 16 and 64 times narrower.
-const WEIGHTED_NARROWING: u64 = 8;
+/// billion instructions for 1, 2, 4, 8, 16 and 64 times narrower. Time disagrees with the
+/// count (unpredictable branches and scattered loads are not in it): the bench's binaries
+/// at 8 and 4, alternated three times on a quiet machine (2026-12-05, load below 1), took
+/// 52.0-52.1 and 49.5-50.0 ms on den520d's weighted searches and the same within the
+/// noise on random512-10-0's (960-1073 and 989-1032 ms); 2 was about as fast as 4 on
+/// den520d, 16 and 32 slower.
+const WEIGHTED_NARROWING: u64 = 4;
 
 /// The heuristics as const-generic parameters of the search loop.
 const MANHATTAN: u8 = 0;
