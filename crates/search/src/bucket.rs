@@ -115,6 +115,10 @@ pub struct BucketOpen<const TIE: u8> {
     heap: MinHeap,
     ring: Vec<Vec<Entry>>,
     in_ring: usize,
+    /// Whether the heap's run is the current bucket's ring slot's vector, lent when the
+    /// bucket came up ([`BucketOpen::enter_bucket`]) and given back, empty, when the
+    /// bucket is left, so that every slot keeps its own capacity.
+    lent: bool,
     overflow: MinHeap,
     n_pushed: u64,
     /// Sequences are 32 bits: at this many pushes the entries are renumbered.
@@ -223,6 +227,19 @@ impl<const TIE: u8> BucketOpen<TIE> {
         f_units >> self.shift
     }
 
+    /// Gives the current bucket's slot its vector back from the run, if lent. The slot is
+    /// empty while its bucket is the current one (its entries go to the heap, and bucket
+    /// `cur + ring.len()` to the overflow), and the run once the bucket is done.
+    #[inline]
+    fn give_back(&mut self) {
+        if self.lent {
+            let slot = (self.cur & (self.ring.len() as u64 - 1)) as usize;
+            debug_assert!(self.ring[slot].is_empty());
+            std::mem::swap(&mut self.heap.run, &mut self.ring[slot]);
+            self.lent = false;
+        }
+    }
+
     /// Moves the entries of bucket `cur`'s slot into the heap, and from `overflow` the
     /// entries now inside the ring's window. Entries of CLOSED nodes are dropped here: an
     /// improved node's older entry usually lies in a later bucket than its newer one, so
@@ -246,8 +263,13 @@ impl<const TIE: u8> BucketOpen<TIE> {
         let slot = &mut self.ring[(self.cur & mask) as usize];
         if !slot.is_empty() {
             self.in_ring -= slot.len();
-            let open = slot.drain(..).filter(|entry| !is_closed(entry.node()));
-            self.heap.items.extend(open);
+            // The heap is empty here (its pop found nothing), run included: the slot's
+            // vector is lent to the run, filtered in place (no copy of the entries), and
+            // the slot holds the run's empty one until `give_back`.
+            debug_assert!(self.heap.run.is_empty() && !self.lent);
+            std::mem::swap(&mut self.heap.run, slot);
+            self.lent = true;
+            self.heap.run.retain(|entry| !is_closed(entry.node()));
         }
         self.heap.sort_into_run();
     }
@@ -256,6 +278,7 @@ impl<const TIE: u8> BucketOpen<TIE> {
 impl<const TIE: u8> Open for BucketOpen<TIE> {
     fn clear(&mut self) {
         self.heap.clear();
+        self.give_back();
         self.overflow.clear();
         if self.in_ring > 0 {
             for slot in &mut self.ring {
@@ -283,6 +306,7 @@ impl<const TIE: u8> Open for BucketOpen<TIE> {
             if let Some(entry) = self.heap.pop() {
                 return Some(entry.node());
             }
+            self.give_back();
             if self.in_ring > 0 {
                 self.cur += 1;
             } else {
@@ -640,10 +664,10 @@ impl MinHeap {
         entries.append(&mut self.run);
     }
 
-    /// Sorts the heap's entries into the run. Precondition: the run and the front are
-    /// empty.
+    /// Sorts the heap's entries and the run's into the run. Precondition: the front is
+    /// empty, and the run unsorted (a bucket's entries, just moved in).
     fn sort_into_run(&mut self) {
-        debug_assert!(self.run.is_empty() && self.front.is_empty());
+        debug_assert!(self.front.is_empty());
         self.run.append(&mut self.items);
         self.run
             .sort_unstable_by_key(|e| std::cmp::Reverse((e.f, e.tie, e.seq_node)));
