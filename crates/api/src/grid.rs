@@ -461,9 +461,17 @@ impl fmt::Debug for Grid {
 /// for `dy = 0`. So the value equals `f64::hypot`'s on that glibc bit for bit (tested where
 /// the target is glibc, over every offset below 4096 and a million random ones up to
 /// 2^32), is the same on every platform whatever its libm, and is inlined: Theta* spent a
-/// fifth of its time in the library call.
+/// fifth of its time in the library call. The correction's division is left out where it
+/// cannot change the result (almost always; tested against the kernel that always divides).
 #[inline]
 pub fn cell_hypot(dx: u32, dy: u32) -> f64 {
+    hypot_kernel::<true>(dx, dy)
+}
+
+/// Glibc's kernel (see [`cell_hypot`]); with `SKIP_DIVISION` false, the division of the
+/// correction step always done, as glibc does (the tests' reference).
+#[inline(always)]
+fn hypot_kernel<const SKIP_DIVISION: bool>(dx: u32, dy: u32) -> f64 {
     let (ax, ay) = (f64::from(dx.max(dy)), f64::from(dx.min(dy)));
     if ay == 0.0 {
         return ax;
@@ -480,6 +488,9 @@ pub fn cell_hypot(dx: u32, dy: u32) -> f64 {
         )
     };
     let t = t1 + t2;
+    if !SKIP_DIVISION {
+        return h - t / (2.0 * h);
+    }
     // `h - t / (2 h)` rounds back to `h` when the correction is below half the gap from `h`
     // to its neighbour on that side: then the division (long, on the searches' critical
     // path) is left out, with the same result. The gap is h's unit in the last place
@@ -506,6 +517,19 @@ const EXPONENT_BITS: u64 = 0x7ff0_0000_0000_0000;
 mod tests {
     use super::*;
 
+    /// A million pseudo-random offsets up to 2^32 (a xorshift sequence from `seed`), the
+    /// second of each pair shifted right by a random amount so that all ratios occur.
+    fn random_offsets(seed: u64) -> impl Iterator<Item = (u32, u32)> {
+        let mut state = seed;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        (0..1_000_000).map(move |_| (next() as u32, next() as u32 >> (next() % 32)))
+    }
+
     /// `cell_hypot` equals glibc's `hypot` bit for bit: every offset below 4096 and a
     /// million pseudo-random ones up to 2^32 (a xorshift sequence, seeded). Only where the
     /// library is glibc: elsewhere `f64::hypot` is another algorithm.
@@ -522,15 +546,7 @@ mod tests {
                 not_nearest += u64::from(got.to_bits() != nearest.to_bits());
             }
         }
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
-        for _ in 0..1_000_000 {
-            let (dx, dy) = (next() as u32, next() as u32 >> (next() % 32));
+        for (dx, dy) in random_offsets(0x9e37_79b9_7f4a_7c15) {
             let expected = f64::from(dx).hypot(f64::from(dy));
             differ += u64::from(cell_hypot(dx, dy).to_bits() != expected.to_bits());
         }
@@ -540,27 +556,6 @@ mod tests {
         assert!(not_nearest > 0);
     }
 
-    /// Glibc's kernel as written before the division was left out where it cannot
-    /// change the result.
-    fn cell_hypot_always_dividing(dx: u32, dy: u32) -> f64 {
-        let (ax, ay) = (f64::from(dx.max(dy)), f64::from(dx.min(dy)));
-        if ay == 0.0 {
-            return ax;
-        }
-        let h = (ax * ax + ay * ay).sqrt();
-        let (t1, t2) = if h <= 2.0 * ay {
-            let delta = h - ay;
-            (ax * (2.0 * delta - ax), (delta - 2.0 * (ax - ay)) * delta)
-        } else {
-            let delta = h - ax;
-            (
-                2.0 * delta * (ax - 2.0 * ay),
-                (4.0 * delta - ay) * ay + delta * delta,
-            )
-        };
-        h - (t1 + t2) / (2.0 * h)
-    }
-
     /// On every platform: `cell_hypot` equals the kernel that always divides, bit for
     /// bit, on every offset below 4096, a million pseudo-random ones up to 2^32, and the
     /// offsets whose root is next to a power of two.
@@ -568,24 +563,15 @@ mod tests {
     fn cell_hypot_divides_only_where_it_matters() {
         let mut differ = 0u64;
         let mut check = |dx: u32, dy: u32| {
-            differ += u64::from(
-                cell_hypot(dx, dy).to_bits() != cell_hypot_always_dividing(dx, dy).to_bits(),
-            );
+            differ +=
+                u64::from(cell_hypot(dx, dy).to_bits() != hypot_kernel::<false>(dx, dy).to_bits());
         };
         for dx in 0..4096u32 {
             for dy in 0..4096u32 {
                 check(dx, dy);
             }
         }
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
-        for _ in 0..1_000_000 {
-            let (dx, dy) = (next() as u32, next() as u32 >> (next() % 32));
+        for (dx, dy) in random_offsets(0x2545_f491_4f6c_dd1d) {
             check(dx, dy);
         }
         // Roots just above and below 2^k: (2^k, small dy) and (2^k - 1, dy).
