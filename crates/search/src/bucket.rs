@@ -278,7 +278,6 @@ impl<const TIE: u8> BucketOpen<TIE> {
 impl<const TIE: u8> Open for BucketOpen<TIE> {
     fn clear(&mut self) {
         self.heap.clear();
-        self.give_back();
         self.overflow.clear();
         if self.in_ring > 0 {
             for slot in &mut self.ring {
@@ -286,6 +285,10 @@ impl<const TIE: u8> Open for BucketOpen<TIE> {
             }
         }
         self.in_ring = 0;
+        // After the slots are emptied: a search stopped early leaves its entries there, and
+        // `configure` resizes the ring before it clears, so the current bucket's slot
+        // need not be empty before.
+        self.give_back();
         self.cur = 0;
         self.n_pushed = 0;
     }
@@ -938,6 +941,37 @@ mod tests {
             let mut open = BucketOpen::<HIGH_G>::default();
             open.configure_fraction(max_cost, 1.0, 24);
             check::<_, HIGH_G>(open, &fs, &gs, push_share, encode);
+        }
+    }
+
+    /// A search that stops while its bucket's vector is lent to the heap's run, then a
+    /// reconfiguration (a ring of another size, as a weighted grid with another largest
+    /// weight asks) and a new search: the new search pops its own entries only, in order,
+    /// and an emptied list pops nothing. With a ring of 2048 slots (buckets of 1/16 for
+    /// costs up to 40) the current bucket 1600 (f = 100) is slot 1600, and f = 128 is
+    /// bucket 2048, slot 0; the ring shrunk to 64 slots keeps slot 0, whose index is the
+    /// current bucket's there (1600 % 64 = 0).
+    #[test]
+    fn a_lent_bucket_comes_back_across_clear_and_configure() {
+        let (f, g) = (Cost::from_f64, Cost::from_f64);
+        for second in [1.0, 40.0, 0.01] {
+            let mut open = BucketOpen::<HIGH_G>::default();
+            open.configure(f(40.0), 1.0);
+            open.push(7, f(100.0), g(0.0));
+            for node in 0..50u32 {
+                open.push(100 + node, f(128.0), g(f64::from(node)));
+            }
+            // Bucket 1600 comes up (its vector lent) and the search stops in it.
+            assert_eq!(open.pop(|_| false), Some(7));
+            open.configure(f(second), 1.0);
+            for node in 1000..1100u32 {
+                let key = f64::from(1100 - node) * 0.7;
+                open.push(node, f(key), g(key));
+            }
+            let popped: Vec<u32> = std::iter::from_fn(|| open.pop(|_| false)).collect();
+            assert_eq!(popped, (1000..1100).rev().collect::<Vec<_>>(), "{second}");
+            open.clear();
+            assert_eq!(open.pop(|_| false), None);
         }
     }
 
