@@ -41,6 +41,7 @@ pub fn run_experiment_rows(
             "lock_wait: {lock_wait} is not a number of seconds (0 or more)"
         ))
     })?;
+    let call = crate::warn::Call::begin();
     let swept = py.detach(move || {
         guarded(|| {
             let records = match &output {
@@ -51,7 +52,7 @@ pub fn run_experiment_rows(
         })
     });
     // What the config, the maps and a resume warned of.
-    let (columns, records) = crate::warn::after(py, swept.map_err(PyErr::from))?;
+    let (columns, records) = call.end(py, swept.map_err(PyErr::from))?;
     let fixed = csv_columns(&[]);
     let rows = PyList::empty(py);
     for record in &records {

@@ -327,6 +327,7 @@ pub fn read_map(
     };
     options.costs.rule = self::cost_rule(cost_rule, "read_map")?;
     options.costs.graded = graded;
+    let call = crate::warn::Call::begin();
     let read = py.detach(|| {
         guarded(|| {
             let (grid, problems) = read(&path, &options)?;
@@ -338,7 +339,7 @@ pub fn read_map(
         })
     });
     // What the readers doubted (a ROS map's ignored keys, a scenario of another map).
-    let (grid, problems) = crate::warn::after(py, read.map_err(PyErr::from))?;
+    let (grid, problems) = call.end(py, read.map_err(PyErr::from))?;
     let grid = Py::new(
         py,
         Grid {

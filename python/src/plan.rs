@@ -165,9 +165,10 @@ pub fn plan(
     let budget = to_budget(budget)?;
     let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
     let planner = planner.to_string();
+    let call = crate::warn::Call::begin();
     let record = py.detach(move || guarded(|| run(&grid, start, goal, &planner, table, budget)));
     // A run the planner's memory check refused, a path that breaks its rule.
-    let record = crate::warn::after(py, record.map_err(PyErr::from))?;
+    let record = call.end(py, record.map_err(PyErr::from))?;
     outcome(py, record)
 }
 

@@ -220,6 +220,7 @@ impl Planner {
         start: (i64, i64),
         goal: Option<(i64, i64)>,
     ) -> PyResult<Outcome> {
+        let call = crate::warn::Call::begin();
         let record = py.detach(|| {
             guarded(|| {
                 let mut state = self.lock();
@@ -233,7 +234,7 @@ impl Planner {
                 Ok(run_one(experiment, &SPEC_0, single, None)?)
             })
         });
-        let record = crate::warn::after(py, record.map_err(|e| e.into_pyerr(py)))?;
+        let record = call.end(py, record.map_err(|e| e.into_pyerr(py)))?;
         outcome(py, record)
     }
 
@@ -262,6 +263,7 @@ impl Planner {
                 .into_pyerr(py));
             }
         }
+        let call = crate::warn::Call::begin();
         let records = py.detach(|| {
             guarded(|| {
                 let mut state = self.lock();
@@ -306,6 +308,8 @@ impl Planner {
                 // Each thread takes the next query until none is left; results carry
                 // their index, so their order does not depend on the threads.
                 let parts = pool.broadcast(|ctx| {
+                    // What this thread's runs warn of is this call's.
+                    let _mark = call.mark_worker();
                     let mut workspace = workers[ctx.index()]
                         .lock()
                         .unwrap_or_else(|e| e.into_inner());
@@ -330,7 +334,7 @@ impl Planner {
                 Ok(records.into_iter().flatten().collect::<Vec<_>>())
             })
         });
-        let records = crate::warn::after(py, records.map_err(|e| e.into_pyerr(py)))?;
+        let records = call.end(py, records.map_err(|e| e.into_pyerr(py)))?;
         arrays(py, &records, paths)
     }
 }

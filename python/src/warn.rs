@@ -10,9 +10,18 @@
 //! ([`emit`]), a run the memory check refused or a path that breaks its planner's rule among
 //! them. The collector only takes a lock: events come from worker threads that run
 //! while the calling thread has released the GIL, and taking the GIL there could deadlock
-//! with a caller that holds it. At most [`MAX_PENDING`] texts are kept between two
-//! [`emit`]s; the rest are counted and reported as one more warning.
+//! with a caller that holds it. At most [`MAX_PENDING`] texts are kept per call; the rest
+//! are counted and reported as one more warning.
+//!
+//! Each entry point is a [`Call`]: a warning raised on its calling thread, or on a worker
+//! it marks ([`Call::mark_worker`], `plan_many`'s pool), is its own, so two Python threads
+//! planning at once each get their own warnings (a test plans on two threads, one whose
+//! runs are refused and one whose runs are not). A warning from a thread no call marked
+//! (`run_experiment`'s workers, which planner-runner starts) goes to the one call running
+//! if there is one, else to the next call that ends.
 
+use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
 use pyo3::prelude::*;
@@ -23,8 +32,118 @@ use tracing::{Event, Level, Metadata, Subscriber};
 /// The most warnings kept between two [`emit`]s.
 pub const MAX_PENDING: usize = 1000;
 
-/// Warnings not yet raised, and how many more were dropped.
-static PENDING: Mutex<(Vec<String>, usize)> = Mutex::new((Vec::new(), 0));
+/// Warnings not yet raised, by call.
+static PENDING: Mutex<Pending> = Mutex::new(Pending {
+    calls: Vec::new(),
+    loose: Texts::new(),
+});
+
+/// The next call's number (0 is no call).
+static NEXT_CALL: AtomicU64 = AtomicU64::new(1);
+
+thread_local! {
+    /// The call this thread works for, 0 for none.
+    static CURRENT: Cell<u64> = const { Cell::new(0) };
+}
+
+/// Warning texts, at most [`MAX_PENDING`], and how many more were dropped.
+struct Texts {
+    texts: Vec<String>,
+    dropped: usize,
+}
+
+impl Texts {
+    const fn new() -> Texts {
+        Texts {
+            texts: Vec::new(),
+            dropped: 0,
+        }
+    }
+
+    fn push(&mut self, text: String) {
+        if self.texts.len() < MAX_PENDING {
+            self.texts.push(text);
+        } else {
+            self.dropped += 1;
+        }
+    }
+}
+
+/// The calls running and their warnings, and the warnings of no call.
+struct Pending {
+    calls: Vec<(u64, Texts)>,
+    loose: Texts,
+}
+
+impl Pending {
+    /// Keeps `text` for call `id` (0: the thread works for no call).
+    fn keep(&mut self, id: u64, text: String) {
+        let only = match self.calls.as_slice() {
+            [(only, _)] => Some(*only),
+            _ => None,
+        };
+        let id = if id == 0 { only.unwrap_or(0) } else { id };
+        match self.calls.iter_mut().find(|(call, _)| *call == id) {
+            Some((_, texts)) => texts.push(text),
+            None => self.loose.push(text),
+        }
+    }
+}
+
+/// One entry point's call, from before it releases the GIL until its warnings are raised:
+/// see the module docs.
+pub struct Call {
+    id: u64,
+    /// The calling thread's call before this one (none, unless calls nest).
+    outer: u64,
+}
+
+impl Call {
+    /// Begins a call on the calling thread.
+    pub fn begin() -> Call {
+        let id = NEXT_CALL.fetch_add(1, Ordering::Relaxed);
+        if let Ok(mut pending) = PENDING.lock() {
+            pending.calls.push((id, Texts::new()));
+        }
+        let outer = CURRENT.with(|current| current.replace(id));
+        Call { id, outer }
+    }
+
+    /// Marks the calling thread, a worker of this call, until the mark is dropped.
+    pub fn mark_worker(&self) -> WorkerMark {
+        WorkerMark {
+            outer: CURRENT.with(|current| current.replace(self.id)),
+        }
+    }
+
+    /// `result`, after raising the warnings this call left ([`emit`]); the call's own
+    /// error wins over a warning turned into an exception.
+    pub fn end<T>(self, py: Python<'_>, result: PyResult<T>) -> PyResult<T> {
+        let emitted = emit(py, self.id);
+        let value = result?;
+        emitted.map(|()| value)
+    }
+}
+
+impl Drop for Call {
+    fn drop(&mut self) {
+        CURRENT.with(|current| current.set(self.outer));
+        if let Ok(mut pending) = PENDING.lock() {
+            pending.calls.retain(|(call, _)| *call != self.id);
+        }
+    }
+}
+
+/// A worker thread's mark ([`Call::mark_worker`]); dropping it restores the thread's.
+pub struct WorkerMark {
+    outer: u64,
+}
+
+impl Drop for WorkerMark {
+    fn drop(&mut self) {
+        CURRENT.with(|current| current.set(self.outer));
+    }
+}
 
 /// The `tracing` subscriber that keeps warnings and errors ([`PENDING`]).
 pub struct Collector;
@@ -63,12 +182,9 @@ impl Subscriber for Collector {
     fn event(&self, event: &Event<'_>) {
         let mut message = Message(String::new());
         event.record(&mut message);
+        let id = CURRENT.with(Cell::get);
         if let Ok(mut pending) = PENDING.lock() {
-            if pending.0.len() < MAX_PENDING {
-                pending.0.push(message.0);
-            } else {
-                pending.1 += 1;
-            }
+            pending.keep(id, message.0);
         }
     }
 
@@ -82,14 +198,25 @@ pub fn install() {
     let _ = tracing::subscriber::set_global_default(Collector);
 }
 
-/// Raises the warnings kept since the last call as `gridplan.GridplanWarning`s (with the
-/// warnings filter deciding: an `"error"` filter makes the first one an exception).
-pub fn emit(py: Python<'_>) -> PyResult<()> {
+/// Raises call `id`'s warnings and those of no call as `gridplan.GridplanWarning`s (with
+/// the warnings filter deciding: an `"error"` filter makes the first one an exception).
+fn emit(py: Python<'_>, id: u64) -> PyResult<()> {
     let (texts, dropped) = match PENDING.lock() {
-        Ok(mut pending) => (
-            std::mem::take(&mut pending.0),
-            std::mem::take(&mut pending.1),
-        ),
+        Ok(mut pending) => {
+            let loose = std::mem::replace(&mut pending.loose, Texts::new());
+            let own = pending
+                .calls
+                .iter_mut()
+                .find(|(call, _)| *call == id)
+                .map_or_else(Texts::new, |(_, texts)| {
+                    std::mem::replace(texts, Texts::new())
+                });
+            let dropped = loose.dropped + own.dropped;
+            (
+                loose.texts.into_iter().chain(own.texts).collect::<Vec<_>>(),
+                dropped,
+            )
+        }
         Err(_) => return Ok(()),
     };
     if texts.is_empty() && dropped == 0 {
@@ -102,12 +229,4 @@ pub fn emit(py: Python<'_>) -> PyResult<()> {
         warnings.call_method1("warn", (text, &class, 2))?;
     }
     Ok(())
-}
-
-/// `result`, after raising the warnings its call left ([`emit`]); the call's own error
-/// wins over a warning turned into an exception.
-pub fn after<T>(py: Python<'_>, result: PyResult<T>) -> PyResult<T> {
-    let emitted = emit(py);
-    let value = result?;
-    emitted.map(|()| value)
 }

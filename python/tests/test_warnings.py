@@ -1,6 +1,7 @@
 """What the readers doubt or ignore reaches Python as ``gridplan.GridplanWarning``, as the
 command line prints it on stderr (``python/src/warn.rs``)."""
 
+import threading
 import warnings
 
 import numpy as np
@@ -62,3 +63,43 @@ def test_a_run_the_memory_limit_refuses_warns_from_every_plan_call():
     for call in calls:
         with pytest.warns(gridplan.GridplanWarning, match="over the max_memory_mb = 0 budget; not run"):
             assert call() == "budget_exhausted"
+
+
+def test_two_threads_planning_at_once_each_get_their_own_warnings():
+    """One thread's runs are refused (each call warns), the other's are not: every warning
+    is raised on the thread whose call it belongs to, once, from every entry point."""
+    grid = gridplan.Grid.from_numpy(np.zeros((50, 50), dtype=bool), free=False)
+    refused = {"max_memory_mb": 0}
+    planners = {
+        "refused": gridplan.Planner(grid, "astar", budget=refused),
+        "plain": gridplan.Planner(grid, "astar"),
+    }
+    budgets = {"refused": refused, "plain": None}
+    rounds = 200
+    shown = []
+    lock = threading.Lock()
+    barrier = threading.Barrier(2)
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        with lock:
+            shown.append((threading.current_thread().name, str(message)))
+
+    def work():
+        name = threading.current_thread().name
+        barrier.wait()
+        for _ in range(rounds):
+            gridplan.plan(grid, (0, 0), (49, 49), budget=budgets[name])
+            planners[name].plan((0, 0), (49, 49))
+            planners[name].plan_many([[0, 0]], [[49, 49]], threads=2)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        warnings.showwarning = show
+        threads = [threading.Thread(target=work, name=name) for name in planners]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+    assert {name for name, _ in shown} == {"refused"}
+    assert len(shown) == 3 * rounds
+    assert all("over the max_memory_mb = 0 budget; not run" in text for _, text in shown)
