@@ -29,7 +29,7 @@ use tracing::field::{Field, Visit};
 use tracing::span::{Attributes, Id, Record};
 use tracing::{Event, Level, Metadata, Subscriber};
 
-/// The most warnings kept between two [`emit`]s.
+/// The most warnings kept per call (and for no call) until they are raised.
 pub const MAX_PENDING: usize = 1000;
 
 /// Warnings not yet raised, by call.
