@@ -1150,17 +1150,17 @@ impl Planner for AStar {
             .with_cell_costs()
     }
 
-    /// Builds the bit grid (4 and 8 directions) or the adjacency (more directions, when
-    /// its masks take at most 256 MiB; a larger one is built by the first search, after
-    /// checking the memory budget) and sizes the per-cell arrays, which are allocated
-    /// zeroed and committed by the operating system as searches touch them; on a weighted
-    /// grid, also its weights in the padded layout.
     /// The search's whole state ([`AStar::memory_bytes_for`]): `prepare` sizes its
     /// per-cell arrays as well as the tables.
     fn prepare_bytes(&self, grid: &planner_api::Grid) -> u64 {
         self.memory_bytes_for(grid)
     }
 
+    /// Builds the bit grid (4 and 8 directions) or the adjacency (more directions, when
+    /// its masks take at most 256 MiB; a larger one is built by the first search, after
+    /// checking the memory budget) and sizes the per-cell arrays, which are allocated
+    /// zeroed and committed by the operating system as searches touch them; on a weighted
+    /// grid, also its weights in the padded layout.
     fn prepare(&mut self, grid: &planner_api::Grid) {
         let layout = Layout::new(grid, &self.moves);
         if grid.is_weighted() {

@@ -512,20 +512,12 @@ impl Decoder {
                 }
             });
         // The spline passes through start and goal exactly.
-        if self.cells.len() <= 64 {
-            // The usual case (seed 002's settings sample 15 points): the flags in one
-            // word and the pairs on the stack, without the vectors.
-            self.keep.clear();
-            self.keep
-                .push(simplify_small(&self.cells, config.tolerance));
-        } else {
-            simplify(
-                &self.cells,
-                config.tolerance,
-                &mut self.keep,
-                &mut self.stack,
-            );
-        }
+        simplify(
+            &self.cells,
+            config.tolerance,
+            &mut self.keep,
+            &mut self.stack,
+        );
         self.path.clear();
         for (w, &word) in self.keep.iter().enumerate() {
             let mut word = word;
@@ -557,11 +549,7 @@ impl Decoder {
 /// recursively), as a particle's sampled cells are simplified.
 pub fn simplify_cells(cells: &[Cell], tolerance: f64) -> Vec<Cell> {
     let (mut keep, mut stack) = (Vec::new(), Vec::new());
-    if cells.len() <= 64 {
-        keep.push(simplify_small(cells, tolerance));
-    } else {
-        simplify(cells, tolerance, &mut keep, &mut stack);
-    }
+    simplify(cells, tolerance, &mut keep, &mut stack);
     cells
         .iter()
         .enumerate()
@@ -578,6 +566,12 @@ const BELOW: f64 = 1.0 - 1e-9;
 /// `keep` and `stack` are scratch, resized here.
 fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<u64>, stack: &mut Vec<(usize, usize)>) {
     keep.clear();
+    if cells.len() <= 64 {
+        // The usual case (seed 002's settings sample 15 points): the flags in one word and
+        // the pairs on the stack, without the vectors.
+        keep.push(simplify_small(cells, tolerance));
+        return;
+    }
     keep.resize(cells.len().div_ceil(64), 0);
     stack.clear();
     douglas_peucker(cells, tolerance, |i| keep[i / 64] |= 1 << (i % 64), stack);

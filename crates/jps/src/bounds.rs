@@ -65,11 +65,11 @@ pub(crate) struct Stopped;
 /// memory budget, do not depend on the machine.
 pub(crate) const BUILD_GROUPS: u64 = 8;
 
-/// Bytes per grid cell of one [`Scratch`] at most: the costs, first moves and stamps (13),
-/// the settled list (4 a cell, 8 with a vector's doubling), and the heap counted at one
-/// 16-byte entry a cell. The heap holds only the search's frontier (its capacity peaked at
-/// 512 entries over den520d's 12,351 searches of 28,178 cells each), so that is far above
-/// what it takes.
+/// Bytes per grid cell of one [`Scratch`]: the costs, first moves and stamps (13), the
+/// settled list (4 a cell, 8 with a vector's doubling), and the heap counted at one 16-byte
+/// entry a cell. The heap holds the search's frontier and the stale entries lazy deletion
+/// leaves, which on grid maps stay far below one a cell; a heap that outgrew the allowance
+/// (at most 8 entries a cell, one per improving move) would exceed the estimate.
 pub(crate) const SCRATCH_BYTES_PER_CELL: u64 = 13 + 8 + 16;
 
 /// One Dijkstra search's scratch, reused across sources.
