@@ -382,7 +382,7 @@ impl Slot {
     }
 
     /// High g first: a push of `node` with cost `g`.
-    #[inline]
+    #[inline(always)]
     fn push_high_g(&mut self, g: u32, node: u32) {
         if self.pending.is_empty() {
             match self.levels.last() {
@@ -543,7 +543,10 @@ impl<const TIE: u8> Open for IntOpen<TIE> {
         self.started = false;
     }
 
-    #[inline]
+    // Always inlined (with `Slot::push_high_g`): with `#[inline]` the compiler kept it a
+    // call from A*'s loop, which took 23 % of the 4-connected bench's samples; inlined, the
+    // bench's 4-connected lines took 12 % (den520d) and 10 % (random512-10-0) less time.
+    #[inline(always)]
     fn push(&mut self, node: u32, f: Cost, g: Cost) {
         // Both are whole numbers by the precondition.
         let (f, g) = (f.whole(), g.whole());
