@@ -437,29 +437,35 @@ impl Slot {
     fn sort_in_pending(&mut self, scratch: &mut Scratch, is_closed: impl Fn(u32) -> bool) -> usize {
         let entries = &mut scratch.entries;
         entries.clear();
+        let (mut low, mut high) = (u32::MAX, 0);
+        let mut n_dropped = 0;
+        let mut keep = |g: u32, node: u32| {
+            if is_closed(node) {
+                n_dropped += 1;
+            } else {
+                low = low.min(g);
+                high = high.max(g);
+                entries.push((g, node));
+            }
+        };
         for (i, level) in self.levels.iter().enumerate() {
             let end = self
                 .levels
                 .get(i + 1)
                 .map_or(self.queue.len(), |next| next.start);
-            entries.extend(
-                self.queue[level.head..end]
-                    .iter()
-                    .map(|&node| (level.g, node)),
-            );
+            for &node in &self.queue[level.head..end] {
+                keep(level.g, node);
+            }
         }
-        entries.append(&mut self.pending);
-        let n_before = entries.len();
-        entries.retain(|&(_, node)| !is_closed(node));
-        let n_dropped = n_before - entries.len();
+        for &(g, node) in &self.pending {
+            keep(g, node);
+        }
+        self.pending.clear();
         self.queue.clear();
         self.levels.clear();
-        let (Some(low), Some(high)) = (
-            entries.iter().map(|&(g, _)| g).min(),
-            entries.iter().map(|&(g, _)| g).max(),
-        ) else {
+        if entries.is_empty() {
             return n_dropped;
-        };
+        }
         let span = (high - low) as usize + 1;
         if span <= 4 * entries.len() + 64 {
             // Counting sort: `next[g - low]` becomes the next free position of `g`'s run.
