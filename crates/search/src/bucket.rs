@@ -883,10 +883,14 @@ mod tests {
 
     /// Like [`check`] for [`IntOpen`]: pushes respect its precondition, `f` from the last
     /// popped value to 3 above it (as A* with a consistent heuristic pushes children).
-    fn check_int<const TIE: u8>(push_share: u64, g_spread: u64) {
+    /// With `closing`, every node popped becomes CLOSED (as A* closes it): the list may then
+    /// drop its later entries unseen or return them, and the search skips them, so the
+    /// entries of open nodes must still come out in key order, none lost.
+    fn check_int<const TIE: u8>(push_share: u64, g_spread: u64, closing: bool) {
         let mut open = IntOpen::<TIE>::default();
         open.clear();
         let mut reference = BTreeSet::new();
+        let mut closed = [false; 700];
         let mut state = 7u64;
         let mut n_pushed = 0u64;
         let (mut floor, mut last_g) = (10u64, 0u64);
@@ -908,19 +912,40 @@ mod tests {
                 reference.insert((key, node, g));
                 n_pushed += 1;
             } else {
-                let least = reference.pop_first();
+                let is_closed = |node: u32| closed[node as usize];
+                // The least entry of an open node (popping closed ones on the way).
+                let least = std::iter::from_fn(|| reference.pop_first())
+                    .find(|&(_, node, _)| !is_closed(node));
                 let node = least.map(|(_, node, _)| node);
-                assert_eq!(open.pop(|_| false), node, "rule {TIE} round {round}");
-                if let Some(((f_bits, _, _), _, g)) = least {
-                    floor = Cost::from_units(f_bits).whole();
-                    last_g = g;
+                let got = std::iter::from_fn(|| Some(open.pop(is_closed)))
+                    .find(|got| got.is_none_or(|n| !is_closed(n)))
+                    .flatten();
+                assert_eq!(got, node, "rule {TIE} round {round}");
+                match least {
+                    Some(((f_bits, _, _), node, g)) => {
+                        floor = Cost::from_units(f_bits).whole();
+                        last_g = g;
+                        closed[node as usize] = closing;
+                    }
+                    // Only closed nodes' entries were left and the list ran empty, as a
+                    // search's OPEN when it ends: start anew.
+                    None => {
+                        open.clear();
+                        n_pushed = 0;
+                    }
                 }
             }
         }
+        let is_closed = |node: u32| closed[node as usize];
         while let Some((_, node, _)) = reference.pop_first() {
-            assert_eq!(open.pop(|_| false), Some(node));
+            if !is_closed(node) {
+                let got = std::iter::from_fn(|| Some(open.pop(is_closed)))
+                    .find(|got| got.is_none_or(|n| !is_closed(n)))
+                    .flatten();
+                assert_eq!(got, Some(node));
+            }
         }
-        assert_eq!(open.pop(|_| false), None);
+        assert!(std::iter::from_fn(|| open.pop(is_closed)).all(is_closed));
     }
 
     #[test]
@@ -928,10 +953,12 @@ mod tests {
         for push_share in [35, 55, 75] {
             // Dense g values take the counting sort, sparse ones (100000) the merge sort.
             for g_spread in [1, 3, 40, 100_000] {
-                check_int::<FIFO>(push_share, g_spread);
-                check_int::<LIFO>(push_share, g_spread);
-                check_int::<LOW_G>(push_share, g_spread);
-                check_int::<HIGH_G>(push_share, g_spread);
+                for closing in [false, true] {
+                    check_int::<FIFO>(push_share, g_spread, closing);
+                    check_int::<LIFO>(push_share, g_spread, closing);
+                    check_int::<LOW_G>(push_share, g_spread, closing);
+                    check_int::<HIGH_G>(push_share, g_spread, closing);
+                }
             }
         }
     }
