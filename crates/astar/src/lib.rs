@@ -935,6 +935,7 @@ impl AStar {
             }
         };
         let rows = Rows::new(layout.stride, layout.reach);
+        let few_moves = layout.n_moves <= FEW_MOVES as usize;
 
         let mut clock = budget.start();
         let start = problem.start();
@@ -1004,33 +1005,53 @@ impl AStar {
                     safe
                 }
             };
-            while mask != 0 {
-                let m = mask.trailing_zeros();
-                mask &= mask - 1;
-                let q = layout.neighbor(p, m);
-                let status = state[q] & STATUS;
-                if status == CLOSED {
-                    tally.n_skipped += 1;
-                    continue;
-                }
-                let (dx, dy, cost) = step[(m & 63) as usize];
-                let cost = if W != UNWEIGHTED {
-                    cost.times(from_factor + k_to * u64::from(weight_cells[q]))
-                } else {
-                    cost
-                };
-                let g_temp = g_node + cost;
-                let known = status == OPEN;
-                if !known || g_temp.units() < g[q] {
-                    tally.n_relaxations += 1;
-                    tally.n_open_insertions += u64::from(!known);
-                    if !known {
-                        touched.push(q as u32);
+            // A move's relaxation, written once for both loops below (a closure kept the
+            // counters in memory: 25 % slower).
+            macro_rules! relax {
+                ($m:expr) => {{
+                    let m: u32 = $m;
+                    let q = layout.neighbor(p, m);
+                    let status = state[q] & STATUS;
+                    if status == CLOSED {
+                        tally.n_skipped += 1;
+                        continue;
                     }
-                    state[q] = OPEN | (m as u8) << 2;
-                    g[q] = g_temp.units();
-                    let f = g_temp + h(x.wrapping_add(dx), y.wrapping_add(dy));
-                    open.push(q as u32, f, g_temp);
+                    let (dx, dy, cost) = step[(m & 63) as usize];
+                    let cost = if W != UNWEIGHTED {
+                        cost.times(from_factor + k_to * u64::from(weight_cells[q]))
+                    } else {
+                        cost
+                    };
+                    let g_temp = g_node + cost;
+                    let known = status == OPEN;
+                    if !known || g_temp.units() < g[q] {
+                        tally.n_relaxations += 1;
+                        tally.n_open_insertions += u64::from(!known);
+                        if !known {
+                            touched.push(q as u32);
+                        }
+                        state[q] = OPEN | (m as u8) << 2;
+                        g[q] = g_temp.units();
+                        let f = g_temp + h(x.wrapping_add(dx), y.wrapping_add(dy));
+                        open.push(q as u32, f, g_temp);
+                    }
+                }};
+            }
+            if few_moves {
+                // Every move in turn, its bit tested: a loop of fixed length, whose end is
+                // predicted, where the loop over the set bits below ends after a varying
+                // number of them (4 % faster on the 4-connected bench lines, slower on
+                // the 8-connected ones).
+                for m in 0..FEW_MOVES {
+                    if mask >> m & 1 == 1 {
+                        relax!(m);
+                    }
+                }
+            } else {
+                while mask != 0 {
+                    let m = mask.trailing_zeros();
+                    mask &= mask - 1;
+                    relax!(m);
                 }
             }
             // OPEN only grows while a node's moves are tried: its peak is reached here.
@@ -1044,6 +1065,9 @@ impl AStar {
         search
     }
 }
+
+/// Move sets of at most this many moves have their moves tried in a loop of fixed length.
+const FEW_MOVES: u32 = 4;
 
 /// The search loop's counters, kept as plain locals (a `SearchStats` is built once, at
 /// the end). Neighbour checks and blocked moves follow from the safe moves tried.
