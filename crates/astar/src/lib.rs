@@ -1011,7 +1011,7 @@ impl AStar {
             // the bit grid and eight moves, the moves to CLOSED cells are masked out at once
             // (no branch per move): they are the skipped ones. The four axis moves are tried
             // one by one in any case (`few_moves`), and their mask comes from the four cells
-            // beside `p` alone: 6 % (den520d) and 8 % (random512-10-0) faster than the
+            // beside `p` alone: 6 % (den520d) and 7 % (random512-10-0) faster than the
             // 3 x 3 masks with CLOSED bits on the bench's 4-connected lines.
             let mut mask = match bits {
                 Some(bits) if beside => {
