@@ -914,9 +914,10 @@ impl AStar {
             ENTERED => CostRule::Entered.factors(),
             _ => (0, 0),
         };
-        // The CLOSED bits serve the masks of `FreeBits::masks` only.
-        let closed_bits = bits.is_some() && !moves_beside(&self.moves);
-        self.cells.fit(layout.padded_len, closed_bits);
+        // The four axis moves' masks come from the cells beside (`FreeBits::safe_beside`);
+        // the CLOSED bits serve the masks of `FreeBits::masks` only.
+        let beside = moves_beside(&self.moves);
+        self.cells.fit(layout.padded_len, bits.is_some() && !beside);
         let mut expanded = Vec::new();
         let Cells {
             state,
@@ -957,7 +958,6 @@ impl AStar {
         };
         let rows = Rows::new(layout.stride, layout.reach);
         let few_moves = layout.n_moves <= FEW_MOVES as usize;
-        let beside = moves_beside(&self.moves);
 
         let mut clock = budget.start();
         let start = problem.start();
