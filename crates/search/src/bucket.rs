@@ -891,6 +891,13 @@ mod tests {
         open.clear();
         let mut reference = BTreeSet::new();
         let mut closed = [false; 700];
+        // The list's next entry of an open node, skipping those of closed ones as A* does.
+        let pop_open = |open: &mut IntOpen<TIE>, closed: &[bool; 700]| {
+            let is_closed = |node: u32| closed[node as usize];
+            std::iter::from_fn(|| Some(open.pop(is_closed)))
+                .find(|got| got.is_none_or(|n| !is_closed(n)))
+                .flatten()
+        };
         let mut state = 7u64;
         let mut n_pushed = 0u64;
         let (mut floor, mut last_g) = (10u64, 0u64);
@@ -917,10 +924,11 @@ mod tests {
                 let least = std::iter::from_fn(|| reference.pop_first())
                     .find(|&(_, node, _)| !is_closed(node));
                 let node = least.map(|(_, node, _)| node);
-                let got = std::iter::from_fn(|| Some(open.pop(is_closed)))
-                    .find(|got| got.is_none_or(|n| !is_closed(n)))
-                    .flatten();
-                assert_eq!(got, node, "rule {TIE} round {round}");
+                assert_eq!(
+                    pop_open(&mut open, &closed),
+                    node,
+                    "rule {TIE} round {round}"
+                );
                 match least {
                     Some(((f_bits, _, _), node, g)) => {
                         floor = Cost::from_units(f_bits).whole();
@@ -939,10 +947,7 @@ mod tests {
         let is_closed = |node: u32| closed[node as usize];
         while let Some((_, node, _)) = reference.pop_first() {
             if !is_closed(node) {
-                let got = std::iter::from_fn(|| Some(open.pop(is_closed)))
-                    .find(|got| got.is_none_or(|n| !is_closed(n)))
-                    .flatten();
-                assert_eq!(got, Some(node));
+                assert_eq!(pop_open(&mut open, &closed), Some(node));
             }
         }
         assert!(std::iter::from_fn(|| open.pop(is_closed)).all(is_closed));
