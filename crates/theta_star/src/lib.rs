@@ -18,8 +18,8 @@
 //!   the function behind [`planner_api::segment_is_free`] and so behind [`Path::validate`]
 //!   with [`planner_api::PathRule::AnyAngle`]: every path this crate returns passes that
 //!   check. The search computes it on a bit-packed copy of the grid, one masked word test
-//!   per row or column the segment crosses ([`SightGrid`]; the same answers and cell counts
-//!   as `walk_segment`, tested). A segment through a grid vertex needs both side cells
+//!   per row or column the segment crosses, with free boxes skipped through a summed-area
+//!   table ([`SightGrid`]; the same answers and cell counts as `walk_segment`, tested). A segment through a grid vertex needs both side cells
 //!   free, so a diagonal grid move without corner cutting is itself a segment with line of
 //!   sight.
 //! - `c(a, b)` is the Euclidean distance between cell centres ([`Cell::euclidean`]), and
@@ -325,12 +325,13 @@ impl AnyAngle {
     }
 
     /// The bytes of the move masks (and their copy of the grid), the node records (16
-    /// bytes per padded cell) and the bit-packed grid for line of sight (a bit per cell,
-    /// twice, rows and columns rounded up to 64) for `grid`.
+    /// bytes per padded cell) and the grid for line of sight (a bit per cell, twice, rows
+    /// and columns rounded up to 64, and its summed-area table, 4 bytes per cell plus a
+    /// row and a column) for `grid`.
     pub fn memory_bytes_for(&self, grid: &planner_api::Grid) -> u64 {
         let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
         let padded = Adjacency::padded_len_for(grid, &self.moves) as u64;
-        let sight = 8 * (w.div_ceil(64) * h + h.div_ceil(64) * w);
+        let sight = 8 * (w.div_ceil(64) * h + h.div_ceil(64) * w) + 4 * (w + 1) * (h + 1);
         Adjacency::bytes_for(grid, &self.moves)
             + padded * std::mem::size_of::<Node>() as u64
             + sight

@@ -25,6 +25,17 @@
 //! first cell of the next column) before the y side cell (the last of the current column);
 //! [`SightGrid::walk`] swaps those two back. `tests/sight.rs` checks
 //! [`SightGrid::walk`] against [`planner_api::walk_segment`] on random maps and segments.
+//!
+//! Free space is skipped with a summed-area table of the blocked cells (four loads count
+//! those in any rectangle). A segment across at least [`REST_CHECK`] lines whose bounding
+//! box holds no blocked cell is free at once; otherwise, at line [`REST_CHECK`] and at every
+//! power of two after it, the walk asks whether the box from that line's first cell to the
+//! segment's end is free (Theta\*'s segments start at a parent on an obstacle's corner and
+//! often leave it behind in a few lines). The cell count of a free segment is then the
+//! closed form of [`cells_touched`]. On the Moving AI bench (`cargo bench -p
+//! planner-theta_star --bench movingai`) this took about a tenth off Theta\*'s and Lazy
+//! Theta\*'s time on den520d; on random512-10-0, whose obstacles are scattered so that boxes
+//! are seldom free, the two searches execute about 1 % more instructions (callgrind).
 
 use planner_api::{walk_segment, Cell, Grid, SegmentWalk};
 
@@ -58,6 +69,9 @@ pub struct SightGrid {
     col_stride: usize,
     /// Bit `y % 64` of word `x * col_stride + y / 64`: cell `(x, y)` is blocked.
     cols: Vec<u64>,
+    /// The summed-area table of blocked cells: entry `y * (width + 1) + x` counts those
+    /// in `0..x` by `0..y` (modulo 2^32).
+    prefix: Vec<u32>,
 }
 
 impl SightGrid {
@@ -75,7 +89,19 @@ impl SightGrid {
                 cols[x * col_stride + y / 64] |= 1 << (y % 64);
             }
         }
+        let prefix_stride = width + 1;
+        let mut prefix = vec![0u32; prefix_stride * (height + 1)];
+        for (y, free) in grid.free_cells().chunks(width.max(1)).enumerate() {
+            let mut row = 0u32;
+            for (x, &free) in free.iter().enumerate() {
+                row = row.wrapping_add(u32::from(!free));
+                // Wrapping: counts modulo 2^32 still give every box's own count exactly.
+                prefix[(y + 1) * prefix_stride + x + 1] =
+                    prefix[y * prefix_stride + x + 1].wrapping_add(row);
+            }
+        }
         SightGrid {
+            prefix,
             width: grid.width(),
             height: grid.height(),
             revision: grid.revision(),
@@ -119,13 +145,24 @@ impl SightGrid {
         }
         let nx = a.x.abs_diff(b.x) as usize;
         let ny = a.y.abs_diff(b.y) as usize;
+        // A segment across fewer than `REST_CHECK` lines is walked at once: the table's
+        // loads would cost about what they might save.
+        if nx.min(ny) >= REST_CHECK && self.blocked_in_box(a, b) == 0 {
+            return SegmentWalk {
+                free: true,
+                n_cells: cells_touched(nx.max(ny), nx.min(ny)),
+            };
+        }
         if nx >= ny {
+            let rest_free =
+                |u: usize, v: usize| self.blocked_in_box(Cell::new(u as u32, v as u32), b) == 0;
             let found = scan(
                 &self.rows,
                 self.row_stride,
                 (a.x as usize, a.y as usize),
                 (nx, ny),
                 (b.x >= a.x, b.y >= a.y),
+                rest_free,
             );
             match found {
                 Scan::Free(n_cells) => SegmentWalk {
@@ -138,12 +175,15 @@ impl SightGrid {
                 },
             }
         } else {
+            let rest_free =
+                |u: usize, v: usize| self.blocked_in_box(Cell::new(v as u32, u as u32), b) == 0;
             let found = scan(
                 &self.cols,
                 self.col_stride,
                 (a.y as usize, a.x as usize),
                 (ny, nx),
                 (b.y >= a.y, b.x >= a.x),
+                rest_free,
             );
             match found {
                 Scan::Free(n_cells) => SegmentWalk {
@@ -169,6 +209,65 @@ impl SightGrid {
                     }
                 }
             }
+        }
+    }
+
+    /// The blocked cells in the rectangle with corners `a` and `b` (the summed-area
+    /// table's four entries). Precondition: both inside the grid.
+    #[inline(always)]
+    fn blocked_in_box(&self, a: Cell, b: Cell) -> u32 {
+        let stride = self.width as usize + 1;
+        let (x0, x1) = (a.x.min(b.x) as usize, a.x.max(b.x) as usize + 1);
+        let (y0, y1) = (a.y.min(b.y) as usize, a.y.max(b.y) as usize + 1);
+        let at = |x: usize, y: usize| self.prefix.get(y * stride + x).copied().unwrap_or(0);
+        // Inclusion-exclusion; wrapping only for the order of the terms.
+        at(x1, y1)
+            .wrapping_sub(at(x1, y0))
+            .wrapping_sub(at(x0, y1))
+            .wrapping_add(at(x0, y0))
+    }
+}
+
+/// The cells a segment touches over `nu >= nv` cells along its axes: the lines' runs
+/// (module docs) overlap by one cell, or by two where the segment leaves a line through a
+/// vertex, so `nu + nv + 1` plus the vertex passes. With `g = gcd(nu, nv)`, `nu = g a`
+/// and `nv = g b`, line `k` is left through a vertex when `2 nv` divides
+/// `(2k + 1) nu + nv`, that is when `b` divides `2k + 1` (`a`, `b` coprime) and the
+/// quotient `m = (2k + 1) / b` makes `m a + 1` even: never unless `a` and `b` are odd,
+/// and then for the `g` odd `m` below `2 g`.
+fn cells_touched(nu: usize, nv: usize) -> u64 {
+    let (nu, nv) = (nu as u64, nv as u64);
+    if nv == 0 {
+        return nu + 1;
+    }
+    // `a` and `b` are both odd exactly when `nu` and `nv` hold the same power of two
+    // (then `g`'s): only then is `g` needed.
+    let vertices = if nu.trailing_zeros() == nv.trailing_zeros() {
+        gcd(nu, nv)
+    } else {
+        0
+    };
+    nu + nv + 1 + vertices
+}
+
+/// From this many lines on, [`scan`] asks whether the rest of the segment's box is free,
+/// at every power of two (module docs). Every 4 lines was 2 % faster on den520d but took
+/// 2 % more instructions on random512-10-0, whose boxes are seldom free.
+const REST_CHECK: usize = 8;
+
+/// The greatest common divisor of two positive numbers (Stein's binary algorithm: shifts
+/// and subtractions, no division).
+fn gcd(mut a: u64, mut b: u64) -> u64 {
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            (a, b) = (b, a);
+        }
+        b -= a;
+        if b == 0 {
+            return a << shift;
         }
     }
 }
@@ -208,6 +307,7 @@ fn scan(
     (au, av): (usize, usize),
     (nu, nv): (usize, usize),
     (u_up, v_up): (bool, bool),
+    rest_free: impl Fn(usize, usize) -> bool,
 ) -> Scan {
     // The run of line k in absolute major coordinates.
     let span = |lo: usize, hi: usize| {
@@ -243,6 +343,14 @@ fn scan(
         let last = k == nv;
         let h = if last { nu } else { hi };
         let (l, hh) = span(lo, h);
+        if k >= REST_CHECK && k.is_power_of_two() {
+            // The box from this line's first cell to the segment's end holds the rest.
+            let u = if u_up { au + lo } else { au - lo };
+            let v = if v_up { av + k } else { av - k };
+            if rest_free(u, v) {
+                return Scan::Free(cells_touched(nu, nv));
+            }
+        }
         let line = line_at(k);
         let leaves_by_vertex = !last && rem == 0;
         if let Some(j) = first_blocked(line, l, hh, u_up) {
