@@ -899,7 +899,7 @@ impl AStar {
     /// constants) and the heuristic is multiplied by the grid's smallest weight;
     /// [`UNWEIGHTED`] compiles the unweighted loop as it was, with no weight code. `FEW`:
     /// at most [`FEW_MOVES`] moves. Never inlined: each copy is a function of its own (all
-    /// of them inlined into one took 3.5 % more time on the 4-connected bench lines).
+    /// of them inlined into one took 3.5 % more time on den520d's 4-connected bench line).
     #[inline(never)]
     fn run<O: Open, const H: u8, const RECORD: bool, const W: u8, const FEW: bool>(
         &mut self,
