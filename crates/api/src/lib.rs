@@ -30,6 +30,7 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod adjacency;
+pub mod blocked;
 pub mod cost;
 pub mod counters;
 pub mod coverage;
@@ -44,6 +45,7 @@ pub mod specs;
 pub mod weights;
 
 pub use adjacency::Adjacency;
+pub use blocked::BlockedCounts;
 pub use cost::Cost;
 pub use counters::{Counter, Counters, SearchStats};
 pub use coverage::{

@@ -14,7 +14,7 @@
 //! computed a row (or column) at a time with word masks: a fitness evaluation walks every
 //! segment of its path, so this is a large part of CAPSO's time.
 
-use planner_api::{for_each_segment_cell, Cell, Grid};
+use planner_api::{for_each_segment_cell, BlockedCounts, Cell, Grid};
 
 /// What a segment or a path crosses of the blocked cells.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -77,9 +77,8 @@ pub struct BitGrid {
     rows: Vec<u64>,
     /// Bit `y % 64` of word `x * words_per_column + y / 64` is set when `(x, y)` is blocked.
     columns: Vec<u64>,
-    /// The summed-area table: entry `y (W + 1) + x` counts the blocked cells in
-    /// `[0, x) x [0, y)`.
-    prefix: Vec<u32>,
+    /// The blocked cells of any rectangle (planner-api's summed-area table).
+    blocked: BlockedCounts,
     revision: Option<u64>,
 }
 
@@ -92,10 +91,11 @@ impl BitGrid {
         BitGrid::default()
     }
 
-    /// The bytes [`BitGrid::load`] allocates for `grid`: the packed rows and columns.
+    /// The bytes [`BitGrid::load`] allocates for `grid`: the packed rows and columns and
+    /// the summed-area table.
     pub fn bytes_for(grid: &Grid) -> u64 {
         let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
-        (w.div_ceil(64) * h + h.div_ceil(64) * w) * 8 + (w + 1) * (h + 1) * 4
+        (w.div_ceil(64) * h + h.div_ceil(64) * w) * 8 + BlockedCounts::bytes_for(grid)
     }
 
     /// Makes this the packed copy of `grid` (nothing to do when it already is).
@@ -122,16 +122,7 @@ impl BitGrid {
                 }
             }
         }
-        let stride = w + 1;
-        self.prefix.clear();
-        self.prefix.resize(stride * (h + 1), 0);
-        for (y, free) in grid.free_cells().chunks(w).enumerate() {
-            let mut row = 0;
-            for (x, &free) in free.iter().enumerate() {
-                row += u32::from(!free);
-                self.prefix[(y + 1) * stride + x + 1] = self.prefix[y * stride + x + 1] + row;
-            }
-        }
+        self.blocked.load(grid);
         self.revision = Some(grid.revision());
     }
 
@@ -139,14 +130,7 @@ impl BitGrid {
     /// table. Precondition: `x0 <= x1 < W` and `y0 <= y1 < H`.
     #[inline]
     pub fn blocked_in(&self, x0: u32, x1: u32, y0: u32, y1: u32) -> u32 {
-        let stride = self.width as usize + 1;
-        let (x0, x1, y0, y1) = (x0 as usize, x1 as usize + 1, y0 as usize, y1 as usize + 1);
-        // The inclusion-exclusion sum is the (non-negative) count; wrapping arithmetic
-        // only for the order of the terms.
-        self.prefix[y1 * stride + x1]
-            .wrapping_sub(self.prefix[y0 * stride + x1])
-            .wrapping_sub(self.prefix[y1 * stride + x0])
-            .wrapping_add(self.prefix[y0 * stride + x0])
+        self.blocked.in_rect(x0, x1, y0, y1)
     }
 
     /// Width in cells.

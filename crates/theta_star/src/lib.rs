@@ -19,9 +19,9 @@
 //!   with [`planner_api::PathRule::AnyAngle`]: every path this crate returns passes that
 //!   check. The search computes it on a bit-packed copy of the grid, one masked word test
 //!   per row or column the segment crosses, with free boxes skipped through a summed-area
-//!   table ([`SightGrid`]; the same answers and cell counts as `walk_segment`, tested). A segment through a grid vertex needs both side cells
-//!   free, so a diagonal grid move without corner cutting is itself a segment with line of
-//!   sight.
+//!   table ([`SightGrid`]; the same answers and cell counts as `walk_segment`, tested). A
+//!   segment through a grid vertex needs both side cells free, so a diagonal grid move
+//!   without corner cutting is itself a segment with line of sight.
 //! - `c(a, b)` is the Euclidean distance between cell centres ([`Cell::euclidean`]), and
 //!   `h(s) = |s goal|`, which is consistent: `h(a) <= |a b| + h(b)` by the triangle
 //!   inequality.
@@ -117,8 +117,9 @@ use planner_search::bucket::{BucketOpen, Open, HIGH_G};
 use planner_search::Stamped;
 
 use planner_api::{
-    Adjacency, Budget, Cell, Connectivity, Cost, Counter, Counters, MemoryShortfall, MoveSet,
-    NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats, Status,
+    Adjacency, BlockedCounts, Budget, Cell, Connectivity, Cost, Counter, Counters, MemoryShortfall,
+    MoveSet, NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats,
+    Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -331,7 +332,7 @@ impl AnyAngle {
     pub fn memory_bytes_for(&self, grid: &planner_api::Grid) -> u64 {
         let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
         let padded = Adjacency::padded_len_for(grid, &self.moves) as u64;
-        let sight = 8 * (w.div_ceil(64) * h + h.div_ceil(64) * w) + 4 * (w + 1) * (h + 1);
+        let sight = 8 * (w.div_ceil(64) * h + h.div_ceil(64) * w) + BlockedCounts::bytes_for(grid);
         Adjacency::bytes_for(grid, &self.moves)
             + padded * std::mem::size_of::<Node>() as u64
             + sight
