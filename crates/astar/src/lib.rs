@@ -979,8 +979,7 @@ impl AStar {
             }
         };
         let rows = Rows::new(layout.stride, layout.reach);
-        let few_moves = FEW;
-        debug_assert_eq!(few_moves, layout.n_moves <= FEW_MOVES as usize);
+        debug_assert_eq!(FEW, layout.n_moves <= FEW_MOVES as usize);
 
         let mut clock = budget.start();
         let start = problem.start();
@@ -1033,7 +1032,7 @@ impl AStar {
             // Set bits in increasing order are the safe moves in the configured order. With
             // the bit grid and eight moves, the moves to CLOSED cells are masked out at once
             // (no branch per move): they are the skipped ones. The four axis moves are tried
-            // one by one in any case (`few_moves`), and their mask comes from the four cells
+            // one by one in any case (`FEW`), and their mask comes from the four cells
             // beside `p` alone: 6 % (den520d) and 7 % (random512-10-0) faster than the
             // 3 x 3 masks with CLOSED bits on the bench's 4-connected lines.
             let mut mask = match bits {
@@ -1091,7 +1090,7 @@ impl AStar {
                     }
                 }};
             }
-            if few_moves {
+            if FEW {
                 // Every move in turn, its bit tested: a loop of fixed length, whose end is
                 // predicted, where the loop over the set bits below ends after a varying
                 // number of them (4 % faster on the 4-connected bench lines, slower on
