@@ -125,20 +125,21 @@
 //!
 //! # Against seed 002, measured
 //! `cargo bench -p planner-capso --bench seed002 -- --repeats=50` (seed 002's settings, seeds
-//! 0-49; lengths 2026-12-04, time ratios 2026-12-05, a 2-core VM shared with another job;
-//! times are the thread's CPU time, medians), beside Theta\*'s length on the same map
+//! 0-49; lengths 2026-12-04, time ratios 2026-12-05 after the spline's divisions went, two
+//! runs of the bench and three of its binary alternating with the one before; times are the
+//! thread's CPU time, medians), beside Theta\*'s length on the same map
 //! (`gridplan plan --planner theta_star --start .. --goal .. maps/pastar/MAP`; an any-angle
 //! path, so an upper bound on the shortest one):
 //!
 //! | map (start -> goal) | found | mean length | seed 002's CAPSO | Theta\* | CAPSO / PA-star time |
 //! |---|---:|---:|---:|---:|---:|
-//! | open 140 x 120 (20,10) -> (70,110) | 50/50 | 111.80 | 111.84 | | 777 (PA-star draws a line) |
-//! | two obstacles | 50/50 | 112.50 | 112.85 | 112.34 | 20.5 |
-//! | several obstacles | 50/50 | 113.87 | 114.46 | 113.70 | 14.8 |
+//! | open 140 x 120 (20,10) -> (70,110) | 50/50 | 111.80 | 111.84 | | 609-636 (PA-star draws a line) |
+//! | two obstacles | 50/50 | 112.50 | 112.85 | 112.34 | 18.9-19.5 |
+//! | several obstacles | 50/50 | 113.87 | 114.46 | 113.70 | 14.0 |
 //! | 500 x 500 (50,250) -> (400,200) | 50/50 | 456.14 | 382.34 | 452.66 | 1.1 |
-//! | 500 x 500 (50,425) -> (400,225) | 50/50 | 416.08 | 427.30 | 414.93 | 1.7 |
-//! | 200 x 200 map 1 (25,35) -> (140,190) | 50/50 | 204.40 | 210.89 | 203.70 | 24.0 |
-//! | 200 x 200 map 2 | 50/50 | 193.91 | 215.09 | 193.88 | 23.5 |
+//! | 500 x 500 (50,425) -> (400,225) | 50/50 | 416.08 | 427.30 | 414.93 | 1.6 |
+//! | 200 x 200 map 1 (25,35) -> (140,190) | 50/50 | 204.40 | 210.89 | 203.70 | 22.0-23.1 |
+//! | 200 x 200 map 2 | 50/50 | 193.91 | 215.09 | 193.88 | 20.8-22.7 |
 //!
 //! The mean length is within 1 % of Theta\*'s on every map with obstacles, and within 5 %
 //! of the seed's on five of the seven. The maps are reconstructions (planner-pastar's
@@ -149,13 +150,16 @@
 //! left open, and no planner here comes near the seed's 382.34), and 209.07 on the paper's
 //! second 200 x 200 map against 202.63 here (the reconstruction is more open; the seed's
 //! CAPSO was 6.68 % longer than its PA-star there, this one is at Theta\*'s length). Seed
-//! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.1 to 24 times,
-//! more than 20 on the two-obstacle and 200 x 200 maps, where PA-star's local searches
-//! expand only 289 to 418 cells (issue 34's speed-ups of the decoding and the walk, every
-//! result bit for bit the same, took CAPSO's median there from 1.95 to 1.61 ms and from
-//! 2.7-2.8 to 2.3-2.4 ms; three alternating runs of the bench before and after gave ratios
-//! 24.1 to 24.5 against 20.5 on the two-obstacle map and 26.8 to 28.3 against 23.5 to 24.1
-//! on the 200 x 200 maps). The control-point study (`cargo xtask experiment
+//! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.1 to 23 times,
+//! more than 20 on the 200 x 200 maps, where PA-star's local searches expand only 289 and
+//! 377 cells (issue 34's speed-ups of the decoding and the walk, every result bit for bit
+//! the same, took CAPSO's median there from 1.95 to 1.61 ms and from 2.7-2.8 to 2.3-2.4 ms;
+//! three alternating runs of the bench before and after gave ratios 24.1 to 24.5 against
+//! 20.5 on the two-obstacle map and 26.8 to 28.3 against 23.5 to 24.1 on the 200 x 200
+//! maps; then the spline without a chain of divisions ([`spline`]) and the samples rounded
+//! in a loop of their own, every path again the same, took the medians from 1.62-1.63 to
+//! 1.43-1.45 ms and from 2.33-2.45 to 2.12-2.25 ms, three alternating runs of the bench's
+//! binaries before and after, ratios 20.1-21.3 to 18.9-19.1 and 22.2-22.9 to 20.8-22.6). The control-point study (`cargo xtask experiment
 //! configs/capso-control-points.toml`, 50 repeats on the several-obstacle map) gives mean
 //! lengths 113.85, 113.86, 113.87 and 113.87 for 3, 4, 5 and 6 control points (every run
 //! found a path): flat within 0.02, where seed 002 (section 4.2.2, Fig. 11) finds 6 points
@@ -468,6 +472,8 @@ pub struct Evaluation {
 #[derive(Debug, Clone, Default)]
 struct Decoder {
     spline: Spline,
+    /// The spline's samples, then their cells.
+    samples: Vec<(f64, f64)>,
     cells: Vec<Cell>,
     /// The kept cells' flags, a bit per cell ([`simplify`]).
     keep: Vec<u64>,
@@ -496,21 +502,24 @@ impl Decoder {
                 .chain(std::iter::once(point(goal))),
         );
         let (max_x, max_y) = (f64::from(grid.width() - 1), f64::from(grid.height() - 1));
-        self.cells.clear();
-        let cells = &mut self.cells;
+        // The samples first, then their cells in a loop of its own (a closure per sample
+        // was a call per sample).
+        self.samples.clear();
         self.spline
-            .for_each_sample(config.samples_per_segment as usize, |x, y| {
-                // Clamped into the grid, so the casts are in range. Rounding half up by
-                // truncation (the values are >= 0 after the clamp): the same as `round`
-                // there, without its library call.
-                let cell = Cell::new(
-                    (x.clamp(0.0, max_x) + 0.5) as u32,
-                    (y.clamp(0.0, max_y) + 0.5) as u32,
-                );
-                if cells.last() != Some(&cell) {
-                    cells.push(cell);
-                }
-            });
+            .sample(config.samples_per_segment as usize, &mut self.samples);
+        self.cells.clear();
+        for &(x, y) in &self.samples {
+            // Clamped into the grid, so the casts are in range. Rounding half up by
+            // truncation (the values are >= 0 after the clamp): the same as `round` there,
+            // without its library call.
+            let cell = Cell::new(
+                (x.clamp(0.0, max_x) + 0.5) as u32,
+                (y.clamp(0.0, max_y) + 0.5) as u32,
+            );
+            if self.cells.last() != Some(&cell) {
+                self.cells.push(cell);
+            }
+        }
         // The spline passes through start and goal exactly.
         simplify(
             &self.cells,
