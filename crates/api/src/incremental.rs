@@ -136,6 +136,16 @@ pub trait IncrementalPlanner: Send + Sync {
     /// previous search. Searches nothing.
     fn reset(&mut self, problem: &Problem<'_>);
 
+    /// [`IncrementalPlanner::reset`] for a session whose replans get `budget`: a planner
+    /// that builds per-grid tables when it is reset or a change is applied (before any
+    /// replan's own memory check) builds them only within `budget`'s memory limit. The
+    /// default, for planners that size their state in `replan`, is `reset`. Drivers that
+    /// hold a budget reset through this.
+    fn reset_within(&mut self, problem: &Problem<'_>, budget: &Budget) {
+        let _ = budget;
+        self.reset(problem);
+    }
+
     /// The planner's current map (the reset grid with every applied change).
     fn grid(&self) -> Option<&Grid>;
 

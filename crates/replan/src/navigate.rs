@@ -201,7 +201,7 @@ pub fn run(
     // The first plan's update time is the planner's reset (the driver's own setup, the
     // agent's map and first sensing, is not planning).
     let started = Instant::now();
-    planner.reset(&problem);
+    planner.reset_within(&problem, budget);
     let reset_time = started.elapsed();
     let moves = match planner.specs().path_rule {
         planner_api::PathSpec::Moves(moves) => moves,

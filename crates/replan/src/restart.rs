@@ -10,7 +10,9 @@
 //! cells it leaves, so its cost is not the forward path's (the oracle records such a
 //! replan as a mismatch). A* builds a bit-packed copy of a changed map before it searches
 //! ([`Planner::prepare`]); that happens in [`IncrementalPlanner::apply`], so drivers time
-//! it as update time, apart from the replan (see [`crate::ReplanRecord`]).
+//! it as update time, apart from the replan (see [`crate::ReplanRecord`]), and only within
+//! the memory limit of the budget given to [`IncrementalPlanner::reset_within`] (over it,
+//! nothing is built and the replan's own memory check refuses).
 
 use planner_api::{
     Budget, Cell, CellChange, ChangeError, Grid, IncrementalPlanner, Outcome, Path, PathSpec,
@@ -26,6 +28,8 @@ pub struct Restart {
     grid: Option<Grid>,
     start: Cell,
     goal: Cell,
+    /// The memory limit of the session's budget, for what `reset` and `apply` build.
+    memory: Budget,
 }
 
 impl Restart {
@@ -39,7 +43,13 @@ impl Restart {
             grid: None,
             start: Cell::new(0, 0),
             goal: Cell::new(0, 0),
+            memory: Budget::unlimited(),
         }
+    }
+
+    /// The bytes of A*'s per-grid tables now held ([`AStar::table_bytes`]).
+    pub fn table_bytes(&self) -> usize {
+        self.astar.table_bytes()
     }
 }
 
@@ -59,10 +69,18 @@ impl IncrementalPlanner for Restart {
     }
 
     fn reset(&mut self, problem: &Problem<'_>) {
+        self.reset_within(problem, &Budget::unlimited());
+    }
+
+    fn reset_within(&mut self, problem: &Problem<'_>, budget: &Budget) {
+        self.memory = Budget {
+            max_memory_mb: budget.max_memory_mb,
+            ..Budget::unlimited()
+        };
         self.grid = Some(problem.grid().clone());
         self.start = problem.start();
         self.goal = problem.goal();
-        self.astar.prepare(problem.grid());
+        self.astar.prepare_within(problem.grid(), &self.memory);
     }
 
     fn grid(&self) -> Option<&Grid> {
@@ -98,7 +116,7 @@ impl IncrementalPlanner for Restart {
             }
         }
         if changed {
-            self.astar.prepare(grid);
+            self.astar.prepare_within(grid, &self.memory);
         }
         Ok(())
     }

@@ -73,7 +73,7 @@ pub fn run(
     let mut agent = problem.start();
     let mut out = ToggleRun::default();
     let started = Instant::now();
-    planner.reset(problem);
+    planner.reset_within(problem, budget);
     let update_time = started.elapsed();
     let mut path = replan_checked(
         planner,

@@ -675,3 +675,33 @@ fn random_operation_sequences_keep_every_replan_exact() {
     }
     assert!(compared > 20_000, "{compared} replans compared");
 }
+
+/// The restart baseline builds A*'s per-grid tables when it is reset and when a change is
+/// applied, before any replan's own memory check: within the session's memory limit
+/// only, else not at all (the replan then refuses by A*'s check).
+#[test]
+fn the_restart_baseline_builds_its_tables_within_the_sessions_memory_limit() {
+    // 2048 x 2048 free cells: A*'s state is about 13 bytes a cell, far over 1 MiB.
+    let grid = Grid::from_free_cells(2048, 2048, vec![true; 2048 * 2048]).unwrap();
+    let problem = Problem::new(&grid, Cell::new(0, 0), Cell::new(2047, 2047)).unwrap();
+    let tight = Budget {
+        max_memory_mb: Some(1),
+        ..Budget::unlimited()
+    };
+    let mut restart = planner_replan::restart::Restart::new(true, false);
+    restart.reset_within(&problem, &tight);
+    assert_eq!(restart.table_bytes(), 0);
+    restart
+        .apply(&[CellChange::blocked(Cell::new(5, 5))])
+        .unwrap();
+    assert_eq!(restart.table_bytes(), 0);
+    let outcome = restart.replan(&tight);
+    assert_eq!(outcome.status, Status::BudgetExhausted);
+    assert!(outcome.memory.is_some());
+    assert_eq!(restart.table_bytes(), 0);
+    // Without a limit the tables are built at the reset, and the replan finds the path.
+    let mut restart = planner_replan::restart::Restart::new(true, false);
+    restart.reset_within(&problem, &Budget::unlimited());
+    assert!(restart.table_bytes() >= 2048 * 2048 / 8);
+    assert_eq!(restart.replan(&Budget::unlimited()).status, Status::Found);
+}
