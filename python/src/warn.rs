@@ -16,18 +16,22 @@
 //! Each entry point is a [`Call`]: a warning raised on its calling thread, or on a worker
 //! it marks ([`Call::mark_worker`], `plan_many`'s pool), is its own, so two Python threads
 //! planning at once each get their own warnings (a test plans on two threads, one whose
-//! runs are refused and one whose runs are not). A warning from a thread no call marked
-//! (`run_experiment`'s workers, which planner-runner starts) goes to the one call running
-//! if there is one, else to the next call that ends.
+//! runs are refused and one whose runs are not). planner-runner's workers
+//! (`run_experiment`'s) are not ours to mark: they log inside the span that was current
+//! where the sweep began, and the collector's current span on a call's thread stands for
+//! that call ([`CALL_SPAN`]), so their warnings are the call's too (a test runs two sweeps
+//! at once). A warning from any other thread goes to the one call running if there is
+//! one, else to the next call that ends.
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 
 use pyo3::prelude::*;
 use tracing::field::{Field, Visit};
 use tracing::span::{Attributes, Id, Record};
 use tracing::{Event, Level, Metadata, Subscriber};
+use tracing_core::span::Current;
 
 /// The most warnings kept per call (and for no call) until they are raised.
 pub const MAX_PENDING: usize = 1000;
@@ -44,6 +48,26 @@ static NEXT_CALL: AtomicU64 = AtomicU64::new(1);
 thread_local! {
     /// The call this thread works for, 0 for none.
     static CURRENT: Cell<u64> = const { Cell::new(0) };
+    /// The calls of the spans this thread entered, innermost last (0 for a span of no
+    /// call): planner-runner's workers enter their caller's.
+    static ENTERED: RefCell<Vec<u64>> = const { RefCell::new(Vec::new()) };
+}
+
+/// The span that stands for a call: the collector's only enabled span, which
+/// [`Collector::current_span`] reports on a call's thread (its id is the call's number).
+pub const CALL_SPAN: &str = "gridplan_call";
+
+/// The metadata of [`CALL_SPAN`]'s callsite, recorded when [`install`] creates one.
+static CALL_METADATA: OnceLock<&'static Metadata<'static>> = OnceLock::new();
+
+/// The span id of "no call" (ids are never 0).
+const NO_CALL: u64 = u64::MAX;
+
+/// The call the calling thread works for: the innermost span it entered, else its mark.
+fn thread_call() -> u64 {
+    ENTERED
+        .with(|entered| entered.borrow().last().copied())
+        .unwrap_or_else(|| CURRENT.with(Cell::get))
 }
 
 /// Warning texts, at most [`MAX_PENDING`], and how many more were dropped.
@@ -167,12 +191,29 @@ impl Visit for Message {
 
 impl Subscriber for Collector {
     fn enabled(&self, metadata: &Metadata<'_>) -> bool {
+        if metadata.is_span() {
+            return metadata.name() == CALL_SPAN;
+        }
         // More severe levels order lower.
         *metadata.level() <= Level::WARN
     }
 
-    fn new_span(&self, _: &Attributes<'_>) -> Id {
-        Id::from_u64(1)
+    /// A new span stands for the calling thread's call.
+    fn new_span(&self, attributes: &Attributes<'_>) -> Id {
+        let _ = CALL_METADATA.set(attributes.metadata());
+        match thread_call() {
+            0 => Id::from_u64(NO_CALL),
+            call => Id::from_u64(call),
+        }
+    }
+
+    /// The calling thread's call as a span, so that `Span::current()` where a sweep
+    /// begins carries the call to the workers that enter it.
+    fn current_span(&self) -> Current {
+        match (thread_call(), CALL_METADATA.get()) {
+            (0, _) | (_, None) => Current::none(),
+            (call, Some(metadata)) => Current::new(Id::from_u64(call), metadata),
+        }
     }
 
     fn record(&self, _: &Id, _: &Record<'_>) {}
@@ -182,20 +223,31 @@ impl Subscriber for Collector {
     fn event(&self, event: &Event<'_>) {
         let mut message = Message(String::new());
         event.record(&mut message);
-        let id = CURRENT.with(Cell::get);
+        let id = thread_call();
         if let Ok(mut pending) = PENDING.lock() {
             pending.keep(id, message.0);
         }
     }
 
-    fn enter(&self, _: &Id) {}
+    fn enter(&self, span: &Id) {
+        let call = match span.into_u64() {
+            NO_CALL => 0,
+            call => call,
+        };
+        ENTERED.with(|entered| entered.borrow_mut().push(call));
+    }
 
-    fn exit(&self, _: &Id) {}
+    fn exit(&self, _: &Id) {
+        ENTERED.with(|entered| entered.borrow_mut().pop());
+    }
 }
 
 /// Makes [`Collector`] the process's `tracing` subscriber, unless the process has one.
 pub fn install() {
-    let _ = tracing::subscriber::set_global_default(Collector);
+    if tracing::subscriber::set_global_default(Collector).is_ok() {
+        // Records the call span's metadata ([`Collector::current_span`] needs it).
+        drop(tracing::warn_span!("gridplan_call"));
+    }
 }
 
 /// Raises call `id`'s warnings and those of no call as `gridplan.GridplanWarning`s (with

@@ -103,3 +103,52 @@ def test_two_threads_planning_at_once_each_get_their_own_warnings():
     assert {name for name, _ in shown} == {"refused"}
     assert len(shown) == 3 * rounds
     assert all("over the max_memory_mb = 0 budget; not run" in text for _, text in shown)
+
+
+def sweep_config(folder, name, budget):
+    """A config of 40 runs of A* on an open 50 x 50 map, with `budget` lines."""
+    rows = "\n".join("." * 50 for _ in range(50))
+    (folder / f"{name}.map").write_text(f"type octile\nheight 50\nwidth 50\nmap\n{rows}\n")
+    path = folder / f"{name}.toml"
+    path.write_text(
+        f'name = "{name}"\nrepeats = 40\n\n[budget]\n{budget}\n\n'
+        f'[[maps]]\nfiles = ["{name}.map"]\nproblems = "corners"\n\n'
+        '[planners.astar]\nplanner = "astar"\n'
+    )
+    return path
+
+
+def test_two_sweeps_at_once_each_get_their_own_warnings(tmp_path):
+    """The runner's worker threads warn on behalf of the sweep that started them: one
+    sweep's runs are all refused, the other's are not, and each warning is raised on the
+    refused sweep's thread only."""
+    configs = {
+        "refused": sweep_config(tmp_path, "refused", "max_memory_mb = 0"),
+        "plain": sweep_config(tmp_path, "plain", "max_expansions = 1_000_000"),
+    }
+    rounds = 20
+    shown = []
+    lock = threading.Lock()
+    barrier = threading.Barrier(2)
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        with lock:
+            shown.append((threading.current_thread().name, str(message)))
+
+    def work():
+        name = threading.current_thread().name
+        barrier.wait()
+        for _ in range(rounds):
+            gridplan.run_experiment(configs[name], threads=2)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        warnings.showwarning = show
+        threads = [threading.Thread(target=work, name=name) for name in configs]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+    assert {name for name, _ in shown} == {"refused"}
+    assert len(shown) == 40 * rounds
+    assert all("over the max_memory_mb = 0 budget; not run" in text for _, text in shown)

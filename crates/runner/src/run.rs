@@ -157,12 +157,15 @@ pub fn run_all(
         .build()
         .map_err(RunnerError::Pool)?;
     let done = std::sync::atomic::AtomicU64::new(0);
+    // The workers log inside the caller's span, so that a subscriber that tells callers
+    // apart by span (the Python package's) takes their events as the caller's.
+    let span = tracing::Span::current();
     let records: Vec<Result<RunRecord, RunnerError>> = pool.install(|| {
         (0..list.len())
             .into_par_iter()
             .map_init(Workspace::default, |workspace, index| {
                 let spec = list.get(index).ok_or(RunnerError::RunIndex(index))?;
-                let record = run_one(experiment, &spec, workspace, options.heap);
+                let record = span.in_scope(|| run_one(experiment, &spec, workspace, options.heap));
                 if let Some(progress) = options.progress {
                     progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
                 }

@@ -474,6 +474,8 @@ pub fn run_stream(
         .collect();
     let batch_size = workers * BATCH_PER_WORKER;
     let done = AtomicU64::new(0);
+    // The workers log inside the caller's span (as `run_all`'s).
+    let span = tracing::Span::current();
     let mut runs = runs.peekable();
     let mut batch: Vec<u64> = Vec::with_capacity(batch_size);
     let mut n_done = 0u64;
@@ -497,7 +499,8 @@ pub fn run_stream(
                     let mut workspace = workspaces[worker]
                         .lock()
                         .unwrap_or_else(std::sync::PoisonError::into_inner);
-                    let mut record = run_one(experiment, &spec, &mut workspace, options.heap)?;
+                    let mut record =
+                        span.in_scope(|| run_one(experiment, &spec, &mut workspace, options.heap))?;
                     drop(workspace);
                     if !experiment.paths.keeps(spec.repeat) {
                         record.path = None;
