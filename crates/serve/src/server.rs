@@ -159,44 +159,10 @@ impl Server {
     /// otherwise): a fixed pool of threads, each answering one request per connection; at
     /// most 64 connections wait, more are closed at once.
     pub fn run(self) {
-        let (send, receive) = mpsc::sync_channel::<TcpStream>(64);
-        let receive = Arc::new(Mutex::new(receive));
-        let workers: Vec<_> = (0..self.threads)
-            .map(|_| {
-                let receive = Arc::clone(&receive);
-                let state = Arc::clone(&self.state);
-                std::thread::spawn(move || loop {
-                    let next = match receive.lock() {
-                        Ok(receive) => receive.recv(),
-                        Err(_) => return,
-                    };
-                    match next {
-                        // A bug in one request's handling closes that connection (the
-                        // stream is dropped) and keeps the worker: the pool never shrinks
-                        // into a server that accepts and never answers.
-                        Ok(stream) => {
-                            let answer =
-                                std::panic::AssertUnwindSafe(|| connection(&state, stream));
-                            let _ = std::panic::catch_unwind(answer);
-                        }
-                        Err(_) => return,
-                    }
-                })
-            })
-            .collect();
-        for stream in self.listener.incoming() {
-            if self.stop.load(Ordering::SeqCst) {
-                break;
-            }
-            if let Ok(stream) = stream {
-                // A full queue drops (closes) the connection.
-                let _ = send.try_send(stream);
-            }
-        }
-        drop(send);
-        for worker in workers {
-            let _ = worker.join();
-        }
+        let state = self.state;
+        answer_in_pool(&self.listener, self.threads, &self.stop, move |stream| {
+            connection(&state, stream)
+        });
     }
 
     /// A handle that stops [`Server::run`] (its threads return after their request).
@@ -210,6 +176,55 @@ impl Server {
                 let _ = TcpStream::connect_timeout(&addr, Duration::from_secs(1));
             }
         }
+    }
+}
+
+/// Hands the connections of `listener` to `threads` threads that each run `answer` on
+/// one at a time, until `stop` is set (and the next connection wakes the loop): at most 64
+/// connections wait, more are closed at once. A panic in `answer` closes that connection
+/// (the stream is dropped) and keeps the thread, so the pool never shrinks into a server
+/// that accepts and never answers.
+fn answer_in_pool(
+    listener: &TcpListener,
+    threads: usize,
+    stop: &AtomicBool,
+    answer: impl Fn(TcpStream) + Send + Sync + 'static,
+) {
+    let (send, receive) = mpsc::sync_channel::<TcpStream>(64);
+    let receive = Arc::new(Mutex::new(receive));
+    let answer = Arc::new(answer);
+    let workers: Vec<_> = (0..threads)
+        .map(|_| {
+            let receive = Arc::clone(&receive);
+            let answer = Arc::clone(&answer);
+            std::thread::spawn(move || loop {
+                let next = match receive.lock() {
+                    Ok(receive) => receive.recv(),
+                    Err(_) => return,
+                };
+                match next {
+                    Ok(stream) => {
+                        let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                            answer(stream)
+                        }));
+                    }
+                    Err(_) => return,
+                }
+            })
+        })
+        .collect();
+    for stream in listener.incoming() {
+        if stop.load(Ordering::SeqCst) {
+            break;
+        }
+        if let Ok(stream) = stream {
+            // A full queue drops (closes) the connection.
+            let _ = send.try_send(stream);
+        }
+    }
+    drop(send);
+    for worker in workers {
+        let _ = worker.join();
     }
 }
 
@@ -973,4 +988,47 @@ fn results(state: &State, relative: &str) -> Answer {
         })
         .to_string(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::{Read, Write};
+
+    /// A connection whose answer panics is closed, and the pool's only thread answers the
+    /// next one.
+    #[test]
+    fn a_panicking_answer_closes_its_connection_and_keeps_the_thread() {
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+        let addr = listener.local_addr().unwrap();
+        let stop = Arc::new(AtomicBool::new(false));
+        let pool = {
+            let stop = Arc::clone(&stop);
+            std::thread::spawn(move || {
+                answer_in_pool(&listener, 1, &stop, |mut stream: TcpStream| {
+                    let mut byte = [0u8; 1];
+                    let _ = stream.read_exact(&mut byte);
+                    assert_ne!(byte[0], b'p', "a bug in one request's handling");
+                    let _ = stream.write_all(b"answered");
+                });
+            })
+        };
+        let ask = |byte: u8| {
+            let mut stream = TcpStream::connect(addr).unwrap();
+            stream
+                .set_read_timeout(Some(Duration::from_secs(10)))
+                .unwrap();
+            stream.write_all(&[byte]).unwrap();
+            let mut answer = Vec::new();
+            let _ = stream.read_to_end(&mut answer);
+            answer
+        };
+        for _ in 0..3 {
+            assert_eq!(ask(b'p'), b"");
+            assert_eq!(ask(b'x'), b"answered");
+        }
+        stop.store(true, Ordering::SeqCst);
+        let _ = TcpStream::connect(addr);
+        pool.join().unwrap();
+    }
 }
