@@ -65,6 +65,32 @@ def test_a_run_the_memory_limit_refuses_warns_from_every_plan_call():
             assert call() == "budget_exhausted"
 
 
+def warnings_of_two_threads(work):
+    """Runs `work(name)` on two threads named "refused" and "plain", started together,
+    and returns the warnings shown as (thread name, text) pairs."""
+    shown = []
+    lock = threading.Lock()
+    barrier = threading.Barrier(2)
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        with lock:
+            shown.append((threading.current_thread().name, str(message)))
+
+    def start():
+        barrier.wait()
+        work(threading.current_thread().name)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        warnings.showwarning = show
+        threads = [threading.Thread(target=start, name=name) for name in ["refused", "plain"]]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+    return shown
+
+
 def test_two_threads_planning_at_once_each_get_their_own_warnings():
     """One thread's runs are refused (each call warns), the other's are not: every warning
     is raised on the thread whose call it belongs to, once, from every entry point."""
@@ -76,30 +102,14 @@ def test_two_threads_planning_at_once_each_get_their_own_warnings():
     }
     budgets = {"refused": refused, "plain": None}
     rounds = 200
-    shown = []
-    lock = threading.Lock()
-    barrier = threading.Barrier(2)
 
-    def show(message, category, filename, lineno, file=None, line=None):
-        with lock:
-            shown.append((threading.current_thread().name, str(message)))
-
-    def work():
-        name = threading.current_thread().name
-        barrier.wait()
+    def work(name):
         for _ in range(rounds):
             gridplan.plan(grid, (0, 0), (49, 49), budget=budgets[name])
             planners[name].plan((0, 0), (49, 49))
             planners[name].plan_many([[0, 0]], [[49, 49]], threads=2)
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("always")
-        warnings.showwarning = show
-        threads = [threading.Thread(target=work, name=name) for name in planners]
-        for thread in threads:
-            thread.start()
-        for thread in threads:
-            thread.join()
+    shown = warnings_of_two_threads(work)
     assert {name for name, _ in shown} == {"refused"}
     assert len(shown) == 3 * rounds
     assert all("over the max_memory_mb = 0 budget; not run" in text for _, text in shown)
@@ -127,28 +137,12 @@ def test_two_sweeps_at_once_each_get_their_own_warnings(tmp_path):
         "plain": sweep_config(tmp_path, "plain", "max_expansions = 1_000_000"),
     }
     rounds = 20
-    shown = []
-    lock = threading.Lock()
-    barrier = threading.Barrier(2)
 
-    def show(message, category, filename, lineno, file=None, line=None):
-        with lock:
-            shown.append((threading.current_thread().name, str(message)))
-
-    def work():
-        name = threading.current_thread().name
-        barrier.wait()
+    def work(name):
         for _ in range(rounds):
             gridplan.run_experiment(configs[name], threads=2)
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("always")
-        warnings.showwarning = show
-        threads = [threading.Thread(target=work, name=name) for name in configs]
-        for thread in threads:
-            thread.start()
-        for thread in threads:
-            thread.join()
+    shown = warnings_of_two_threads(work)
     assert {name for name, _ in shown} == {"refused"}
     assert len(shown) == 40 * rounds
     assert all("over the max_memory_mb = 0 budget; not run" in text for _, text in shown)
