@@ -117,3 +117,123 @@ mod tests {
         );
     }
 }
+
+/// A grid's blocked cells packed one bit per cell twice, row by row and column by column
+/// (each line padded to whole 64-bit words), beside their [`BlockedCounts`]: what the
+/// planners that walk segments a line at a time read (Theta\*'s line of sight, CAPSO's
+/// collision measure), kept between searches and rebuilt only when the grid's
+/// [`revision`](Grid::revision) or size changes.
+///
+/// ```
+/// use planner_api::{BlockedBits, Grid};
+///
+/// let grid = Grid::from_ascii("
+///     ..#.
+///     #...
+/// ").unwrap();
+/// let bits = BlockedBits::new(&grid);
+/// let (rows, words_per_row) = bits.rows();
+/// assert_eq!((rows[0], words_per_row), (0b0100, 1));
+/// let (columns, words_per_column) = bits.columns();
+/// assert_eq!((columns[0], words_per_column), (0b10, 1));
+/// assert!(bits.is_blocked(2, 0) && !bits.is_blocked(3, 1));
+/// assert_eq!(bits.blocked_in(0, 3, 0, 1), 2);
+/// ```
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct BlockedBits {
+    width: u32,
+    height: u32,
+    revision: Option<u64>,
+    words_per_row: usize,
+    /// Bit `x % 64` of word `y * words_per_row + x / 64` is set when `(x, y)` is blocked.
+    rows: Vec<u64>,
+    words_per_column: usize,
+    /// Bit `y % 64` of word `x * words_per_column + y / 64` is set when `(x, y)` is blocked.
+    columns: Vec<u64>,
+    counts: BlockedCounts,
+}
+
+impl BlockedBits {
+    /// The bits of `grid`.
+    pub fn new(grid: &Grid) -> BlockedBits {
+        let mut bits = BlockedBits::default();
+        bits.load(grid);
+        bits
+    }
+
+    /// The bytes [`BlockedBits::load`] allocates for `grid`: the packed rows and columns
+    /// and the summed-area table.
+    pub fn bytes_for(grid: &Grid) -> u64 {
+        let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
+        (w.div_ceil(64) * h + h.div_ceil(64) * w) * 8 + BlockedCounts::bytes_for(grid)
+    }
+
+    /// Makes these `grid`'s bits, reusing their memory (nothing to do when they are
+    /// already: the same revision and size).
+    pub fn load(&mut self, grid: &Grid) {
+        if self.is_for_revision(grid) {
+            return;
+        }
+        let (w, h) = (grid.width() as usize, grid.height() as usize);
+        self.width = grid.width();
+        self.height = grid.height();
+        self.words_per_row = w.div_ceil(64);
+        self.words_per_column = h.div_ceil(64);
+        self.rows.clear();
+        self.rows.resize(self.words_per_row * h, 0);
+        self.columns.clear();
+        self.columns.resize(self.words_per_column * w, 0);
+        for (y, free) in grid.free_cells().chunks(w.max(1)).enumerate() {
+            for (x, &free) in free.iter().enumerate() {
+                if !free {
+                    self.rows[y * self.words_per_row + x / 64] |= 1 << (x % 64);
+                    self.columns[x * self.words_per_column + y / 64] |= 1 << (y % 64);
+                }
+            }
+        }
+        self.counts.load(grid);
+        self.revision = Some(grid.revision());
+    }
+
+    /// Whether these bits were loaded from `grid`'s revision, at its size.
+    pub fn is_for_revision(&self, grid: &Grid) -> bool {
+        self.revision == Some(grid.revision())
+            && (self.width, self.height) == (grid.width(), grid.height())
+    }
+
+    /// Width in cells.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in cells.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The packed rows and the words per row.
+    #[inline]
+    pub fn rows(&self) -> (&[u64], usize) {
+        (&self.rows, self.words_per_row)
+    }
+
+    /// The packed columns and the words per column.
+    #[inline]
+    pub fn columns(&self) -> (&[u64], usize) {
+        (&self.columns, self.words_per_column)
+    }
+
+    /// Whether the cell `(x, y)` is blocked. Precondition: it lies in the grid.
+    #[inline]
+    pub fn is_blocked(&self, x: u32, y: u32) -> bool {
+        let word = self.rows[y as usize * self.words_per_row + x as usize / 64];
+        word >> (x % 64) & 1 == 1
+    }
+
+    /// The blocked cells in the rectangle `x0 ..= x1` by `y0 ..= y1`
+    /// ([`BlockedCounts::in_rect`]). Precondition: `x0 <= x1 < width`, `y0 <= y1 < height`.
+    #[inline(always)]
+    pub fn blocked_in(&self, x0: u32, x1: u32, y0: u32, y1: u32) -> u32 {
+        self.counts.in_rect(x0, x1, y0, y1)
+    }
+}

@@ -45,7 +45,7 @@ pub mod specs;
 pub mod weights;
 
 pub use adjacency::Adjacency;
-pub use blocked::BlockedCounts;
+pub use blocked::{BlockedBits, BlockedCounts};
 pub use cost::Cost;
 pub use counters::{Counter, Counters, SearchStats};
 pub use coverage::{

@@ -14,7 +14,7 @@
 //! computed a row (or column) at a time with word masks: a fitness evaluation walks every
 //! segment of its path, so this is a large part of CAPSO's time.
 
-use planner_api::{for_each_segment_cell, BlockedCounts, Cell, Grid};
+use planner_api::{for_each_segment_cell, BlockedBits, Cell, Grid};
 
 /// What a segment or a path crosses of the blocked cells.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -63,23 +63,13 @@ pub fn segment_collision(grid: &Grid, a: Cell, b: Cell) -> Collision {
     collision
 }
 
-/// The grid's blocked cells packed one bit per cell twice: row by row and column by
-/// column (each line padded to whole 64-bit words), kept between searches and rebuilt
-/// only when the grid's [`revision`](Grid::revision) changes.
+/// The planner's copy of the grid: planner-api's [`BlockedBits`] (the blocked cells packed
+/// row by row and column by column, and their summed-area table), kept between searches
+/// and rebuilt only when the grid's [`revision`](Grid::revision) changes, with the
+/// segment walk below.
 #[derive(Debug, Clone, Default)]
 pub struct BitGrid {
-    width: u32,
-    height: u32,
-    /// Words per row of `rows` and per column of `columns`.
-    words_per_row: usize,
-    words_per_column: usize,
-    /// Bit `x % 64` of word `y * words_per_row + x / 64` is set when `(x, y)` is blocked.
-    rows: Vec<u64>,
-    /// Bit `y % 64` of word `x * words_per_column + y / 64` is set when `(x, y)` is blocked.
-    columns: Vec<u64>,
-    /// The blocked cells of any rectangle (planner-api's summed-area table).
-    blocked: BlockedCounts,
-    revision: Option<u64>,
+    bits: BlockedBits,
 }
 
 /// Lines per chunk whose bounding box [`BitGrid::segment_collision`] tests at once.
@@ -91,63 +81,37 @@ impl BitGrid {
         BitGrid::default()
     }
 
-    /// The bytes [`BitGrid::load`] allocates for `grid`: the packed rows and columns and
-    /// the summed-area table.
+    /// The bytes [`BitGrid::load`] allocates for `grid` ([`BlockedBits::bytes_for`]).
     pub fn bytes_for(grid: &Grid) -> u64 {
-        let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
-        (w.div_ceil(64) * h + h.div_ceil(64) * w) * 8 + BlockedCounts::bytes_for(grid)
+        BlockedBits::bytes_for(grid)
     }
 
     /// Makes this the packed copy of `grid` (nothing to do when it already is).
     pub fn load(&mut self, grid: &Grid) {
-        if self.revision == Some(grid.revision())
-            && (self.width, self.height) == (grid.width(), grid.height())
-        {
-            return;
-        }
-        self.width = grid.width();
-        self.height = grid.height();
-        let (w, h) = (grid.width() as usize, grid.height() as usize);
-        self.words_per_row = w.div_ceil(64);
-        self.words_per_column = h.div_ceil(64);
-        self.rows.clear();
-        self.rows.resize(self.words_per_row * h, 0);
-        self.columns.clear();
-        self.columns.resize(self.words_per_column * w, 0);
-        for (y, free) in grid.free_cells().chunks(w).enumerate() {
-            for (x, &free) in free.iter().enumerate() {
-                if !free {
-                    self.rows[y * self.words_per_row + x / 64] |= 1 << (x % 64);
-                    self.columns[x * self.words_per_column + y / 64] |= 1 << (y % 64);
-                }
-            }
-        }
-        self.blocked.load(grid);
-        self.revision = Some(grid.revision());
+        self.bits.load(grid);
     }
 
     /// The blocked cells in the rectangle `x0 ..= x1` by `y0 ..= y1`, from the summed-area
     /// table. Precondition: `x0 <= x1 < W` and `y0 <= y1 < H`.
     #[inline]
     pub fn blocked_in(&self, x0: u32, x1: u32, y0: u32, y1: u32) -> u32 {
-        self.blocked.in_rect(x0, x1, y0, y1)
+        self.bits.blocked_in(x0, x1, y0, y1)
     }
 
     /// Width in cells.
     pub fn width(&self) -> u32 {
-        self.width
+        self.bits.width()
     }
 
     /// Height in cells.
     pub fn height(&self) -> u32 {
-        self.height
+        self.bits.height()
     }
 
     /// Whether the cell `(x, y)` is blocked. Precondition: it lies in the grid.
     #[inline]
     pub fn is_blocked(&self, x: u32, y: u32) -> bool {
-        let word = self.rows[y as usize * self.words_per_row + x as usize / 64];
-        word >> (x % 64) & 1 == 1
+        self.bits.is_blocked(x, y)
     }
 
     /// [`segment_collision`] on the packed grid: the blocked cells that the segment
@@ -204,9 +168,9 @@ impl BitGrid {
             (ny, nx, a.y, a.x, b.x >= a.x)
         };
         let (lines, words_per_line) = if x_major {
-            (&self.rows[..], self.words_per_row)
+            self.bits.rows()
         } else {
-            (&self.columns[..], self.words_per_column)
+            self.bits.columns()
         };
         let mut hits = Hits {
             a_major,

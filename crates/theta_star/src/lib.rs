@@ -117,7 +117,7 @@ use planner_search::bucket::{BucketOpen, Open, HIGH_G};
 use planner_search::Stamped;
 
 use planner_api::{
-    Adjacency, BlockedCounts, Budget, Cell, Connectivity, Cost, Counter, Counters, MemoryShortfall,
+    Adjacency, BlockedBits, Budget, Cell, Connectivity, Cost, Counter, Counters, MemoryShortfall,
     MoveSet, NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats,
     Status,
 };
@@ -330,12 +330,10 @@ impl AnyAngle {
     /// and columns rounded up to 64, and its summed-area table, 4 bytes per cell plus a
     /// row and a column) for `grid`.
     pub fn memory_bytes_for(&self, grid: &planner_api::Grid) -> u64 {
-        let (w, h) = (u64::from(grid.width()), u64::from(grid.height()));
         let padded = Adjacency::padded_len_for(grid, &self.moves) as u64;
-        let sight = 8 * (w.div_ceil(64) * h + h.div_ceil(64) * w) + BlockedCounts::bytes_for(grid);
         Adjacency::bytes_for(grid, &self.moves)
             + padded * std::mem::size_of::<Node>() as u64
-            + sight
+            + BlockedBits::bytes_for(grid)
     }
 
     /// Builds the move masks, the bit-packed grid for line of sight and the node arrays

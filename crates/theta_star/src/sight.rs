@@ -37,7 +37,7 @@
 //! Theta\*'s time on den520d; on random512-10-0, whose obstacles are scattered so that boxes
 //! are seldom free, the two searches execute about 1 % more instructions (callgrind).
 
-use planner_api::{walk_segment, BlockedCounts, Cell, Grid, SegmentWalk};
+use planner_api::{walk_segment, BlockedBits, Cell, Grid, SegmentWalk};
 
 /// A grid's cells as bits, 1 = blocked, stored by rows and by columns (module docs).
 ///
@@ -58,55 +58,29 @@ use planner_api::{walk_segment, BlockedCounts, Cell, Grid, SegmentWalk};
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct SightGrid {
-    width: u32,
-    height: u32,
+    /// The bits by rows and by columns and their summed-area table (planner-api's).
+    bits: BlockedBits,
+    /// The revision of the grid these bits stand for (its cells may have been checked
+    /// equal to those of the revision they were built from: [`SightGrid::cached`]).
     revision: u64,
-    /// Words per row.
-    row_stride: usize,
-    /// Bit `x % 64` of word `y * row_stride + x / 64`: cell `(x, y)` is blocked.
-    rows: Vec<u64>,
-    /// Words per column.
-    col_stride: usize,
-    /// Bit `y % 64` of word `x * col_stride + y / 64`: cell `(x, y)` is blocked.
-    cols: Vec<u64>,
-    /// The blocked cells of any rectangle (planner-api's summed-area table).
-    blocked: BlockedCounts,
 }
 
 impl SightGrid {
     /// The bits of `grid`.
     pub fn new(grid: &Grid) -> SightGrid {
-        let (width, height) = (grid.width() as usize, grid.height() as usize);
-        let row_stride = width.div_ceil(64);
-        let col_stride = height.div_ceil(64);
-        let mut rows = vec![0u64; row_stride * height];
-        let mut cols = vec![0u64; col_stride * width];
-        for (i, &free) in grid.free_cells().iter().enumerate() {
-            if !free {
-                let (x, y) = (i % width, i / width);
-                rows[y * row_stride + x / 64] |= 1 << (x % 64);
-                cols[x * col_stride + y / 64] |= 1 << (y % 64);
-            }
-        }
         SightGrid {
-            blocked: BlockedCounts::new(grid),
-            width: grid.width(),
-            height: grid.height(),
+            bits: BlockedBits::new(grid),
             revision: grid.revision(),
-            row_stride,
-            rows,
-            col_stride,
-            cols,
         }
     }
 
     /// Whether these bits are `grid`'s: the same revision, or the same cells.
     pub fn is_for(&self, grid: &Grid) -> bool {
         if self.revision == grid.revision() {
-            return (self.width, self.height) == (grid.width(), grid.height());
+            return (self.bits.width(), self.bits.height()) == (grid.width(), grid.height());
         }
-        let other = SightGrid::new(grid);
-        (self.width, self.height, &self.rows) == (other.width, other.height, &other.rows)
+        self.bits.rows() == BlockedBits::new(grid).rows()
+            && (self.bits.width(), self.bits.height()) == (grid.width(), grid.height())
     }
 
     /// The bits in `cache` when they are `grid`'s, else `grid`'s bits built anew.
@@ -127,7 +101,7 @@ impl SightGrid {
     /// [`walk_segment`] itself.
     #[inline]
     pub fn walk(&self, grid: &Grid, a: Cell, b: Cell) -> SegmentWalk {
-        let inside = |c: Cell| c.x < self.width && c.y < self.height;
+        let inside = |c: Cell| c.x < self.bits.width() && c.y < self.bits.height();
         if !inside(a) || !inside(b) {
             return walk_segment(grid, a, b);
         }
@@ -144,9 +118,10 @@ impl SightGrid {
         if nx >= ny {
             let rest_free =
                 |u: usize, v: usize| self.blocked_in_box(Cell::new(u as u32, v as u32), b) == 0;
+            let (rows, words_per_row) = self.bits.rows();
             let found = scan(
-                &self.rows,
-                self.row_stride,
+                rows,
+                words_per_row,
                 (a.x as usize, a.y as usize),
                 (nx, ny),
                 (b.x >= a.x, b.y >= a.y),
@@ -165,9 +140,10 @@ impl SightGrid {
         } else {
             let rest_free =
                 |u: usize, v: usize| self.blocked_in_box(Cell::new(v as u32, u as u32), b) == 0;
+            let (columns, words_per_column) = self.bits.columns();
             let found = scan(
-                &self.cols,
-                self.col_stride,
+                columns,
+                words_per_column,
                 (a.y as usize, a.x as usize),
                 (ny, nx),
                 (b.y >= a.y, b.x >= a.x),
@@ -206,7 +182,7 @@ impl SightGrid {
     fn blocked_in_box(&self, a: Cell, b: Cell) -> u32 {
         let (x0, x1) = (a.x.min(b.x), a.x.max(b.x));
         let (y0, y1) = (a.y.min(b.y), a.y.max(b.y));
-        self.blocked.in_rect(x0, x1, y0, y1)
+        self.bits.blocked_in(x0, x1, y0, y1)
     }
 }
 
