@@ -159,7 +159,8 @@
 //! maps; then the spline without a chain of divisions ([`spline`]) and the samples rounded
 //! in a loop of their own, every path again the same, took the medians from 1.62-1.63 to
 //! 1.43-1.45 ms and from 2.33-2.45 to 2.12-2.25 ms, three alternating runs of the bench's
-//! binaries before and after, ratios 20.1-21.3 to 18.9-19.1 and 22.2-22.9 to 20.8-22.6). The control-point study (`cargo xtask experiment
+//! binaries before and after, ratios 20.1-21.3 to 18.9-19.1 and 22.2-22.9 to 20.8-22.6).
+//! The control-point study (`cargo xtask experiment
 //! configs/capso-control-points.toml`, 50 repeats on the several-obstacle map) gives mean
 //! lengths 113.85, 113.86, 113.87 and 113.87 for 3, 4, 5 and 6 control points (every run
 //! found a path): flat within 0.02, where seed 002 (section 4.2.2, Fig. 11) finds 6 points
