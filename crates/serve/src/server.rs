@@ -183,8 +183,8 @@ impl Server {
 /// one at a time, until `stop` is set (and the next connection wakes the loop): at most 64
 /// connections wait, more are closed at once. A panic in `answer` closes that connection
 /// (the stream is dropped) and keeps the thread, so the pool never shrinks into a server
-/// that accepts and never answers.
-fn answer_in_pool(
+/// that accepts and never answers. [`Server::run`] is this pool with the page's answers.
+pub fn answer_in_pool(
     listener: &TcpListener,
     threads: usize,
     stop: &AtomicBool,
@@ -988,47 +988,4 @@ fn results(state: &State, relative: &str) -> Answer {
         })
         .to_string(),
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::io::{Read, Write};
-
-    /// A connection whose answer panics is closed, and the pool's only thread answers the
-    /// next one.
-    #[test]
-    fn a_panicking_answer_closes_its_connection_and_keeps_the_thread() {
-        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
-        let addr = listener.local_addr().unwrap();
-        let stop = Arc::new(AtomicBool::new(false));
-        let pool = {
-            let stop = Arc::clone(&stop);
-            std::thread::spawn(move || {
-                answer_in_pool(&listener, 1, &stop, |mut stream: TcpStream| {
-                    let mut byte = [0u8; 1];
-                    let _ = stream.read_exact(&mut byte);
-                    assert_ne!(byte[0], b'p', "a bug in one request's handling");
-                    let _ = stream.write_all(b"answered");
-                });
-            })
-        };
-        let ask = |byte: u8| {
-            let mut stream = TcpStream::connect(addr).unwrap();
-            stream
-                .set_read_timeout(Some(Duration::from_secs(10)))
-                .unwrap();
-            stream.write_all(&[byte]).unwrap();
-            let mut answer = Vec::new();
-            let _ = stream.read_to_end(&mut answer);
-            answer
-        };
-        for _ in 0..3 {
-            assert_eq!(ask(b'p'), b"");
-            assert_eq!(ask(b'x'), b"answered");
-        }
-        stop.store(true, Ordering::SeqCst);
-        let _ = TcpStream::connect(addr);
-        pool.join().unwrap();
-    }
 }

@@ -8,3 +8,4 @@ mod common;
 mod costs;
 mod http;
 mod pictures;
+mod pool;
