@@ -191,7 +191,8 @@ fn second_derivatives(knots: &mut [Knot]) {
     // super-diagonal, `c_i = h_i / beta_i`) are ratios of the leading principal minors,
     // `beta_i = D_i / D_{i-1}` with `D_i = diag_i D_{i-1} - h_{i-1}^2 D_{i-2}` (`D_0 = 1`):
     // a recurrence of products, so that the divisions `D_{i-1} / D_i` do not wait for each
-    // other (the pivots' chain of divisions was a tenth of a fitness evaluation's time).
+    // other (with the pivots' chain of divisions this function had 6.6 % of CAPSO's samples
+    // on seed 002's first 200 x 200 map; without it CAPSO took 1 to 2 % less time).
     // Only the ratios of consecutive minors count, so both are scaled by a power of two
     // (exactly) when they leave `[2^-500, 2^500]`: any number of knots stays in range.
     const HUGE: f64 = 3.273_390_607_896_142e150; // 2^500
