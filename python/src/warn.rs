@@ -246,7 +246,7 @@ impl Subscriber for Collector {
 pub fn install() {
     if tracing::subscriber::set_global_default(Collector).is_ok() {
         // Records the call span's metadata ([`Collector::current_span`] needs it).
-        drop(tracing::warn_span!("gridplan_call"));
+        drop(tracing::warn_span!(CALL_SPAN));
     }
 }
 

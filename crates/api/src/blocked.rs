@@ -75,49 +75,6 @@ impl BlockedCounts {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Every rectangle of a patterned grid against a count of its cells.
-    #[test]
-    fn every_rectangle_counts_its_blocked_cells() {
-        let (w, h) = (11u32, 7u32);
-        let rows: Vec<String> = (0..h)
-            .map(|y| {
-                (0..w)
-                    .map(|x| {
-                        if (x * 7 + y * 13 + x * y) % 5 == 0 {
-                            '#'
-                        } else {
-                            '.'
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
-        let grid = Grid::from_ascii(&rows.join("\n")).unwrap();
-        let counts = BlockedCounts::new(&grid);
-        for (x0, x1) in (0..w).flat_map(|a| (a..w).map(move |b| (a, b))) {
-            for (y0, y1) in (0..h).flat_map(|a| (a..h).map(move |b| (a, b))) {
-                let by_hand = (x0..=x1)
-                    .flat_map(|x| (y0..=y1).map(move |y| (x, y)))
-                    .filter(|&(x, y)| !grid.is_free(crate::Cell::new(x, y)))
-                    .count() as u32;
-                assert_eq!(
-                    counts.in_rect(x0, x1, y0, y1),
-                    by_hand,
-                    "{x0}..={x1} x {y0}..={y1}"
-                );
-            }
-        }
-        assert_eq!(
-            counts.table.len() as u64 * 4,
-            BlockedCounts::bytes_for(&grid)
-        );
-    }
-}
-
 /// A grid's blocked cells packed one bit per cell twice, row by row and column by column
 /// (each line padded to whole 64-bit words), beside their [`BlockedCounts`]: what the
 /// planners that walk segments a line at a time read (Theta\*'s line of sight, CAPSO's
@@ -235,5 +192,65 @@ impl BlockedBits {
     #[inline(always)]
     pub fn blocked_in(&self, x0: u32, x1: u32, y0: u32, y1: u32) -> u32 {
         self.counts.in_rect(x0, x1, y0, y1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every rectangle of a patterned grid against a count of its cells.
+    #[test]
+    fn every_rectangle_counts_its_blocked_cells() {
+        let (w, h) = (11u32, 7u32);
+        let rows: Vec<String> = (0..h)
+            .map(|y| {
+                (0..w)
+                    .map(|x| {
+                        if (x * 7 + y * 13 + x * y) % 5 == 0 {
+                            '#'
+                        } else {
+                            '.'
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        let grid = Grid::from_ascii(&rows.join("\n")).unwrap();
+        let counts = BlockedCounts::new(&grid);
+        for (x0, x1) in (0..w).flat_map(|a| (a..w).map(move |b| (a, b))) {
+            for (y0, y1) in (0..h).flat_map(|a| (a..h).map(move |b| (a, b))) {
+                let by_hand = (x0..=x1)
+                    .flat_map(|x| (y0..=y1).map(move |y| (x, y)))
+                    .filter(|&(x, y)| !grid.is_free(crate::Cell::new(x, y)))
+                    .count() as u32;
+                assert_eq!(
+                    counts.in_rect(x0, x1, y0, y1),
+                    by_hand,
+                    "{x0}..={x1} x {y0}..={y1}"
+                );
+            }
+        }
+        assert_eq!(
+            counts.table.len() as u64 * 4,
+            BlockedCounts::bytes_for(&grid)
+        );
+    }
+
+    /// Loading a changed grid (a new revision) rebuilds the bits and the table in place.
+    #[test]
+    fn a_changed_grid_is_loaded_anew() {
+        let mut grid = Grid::from_ascii("....\n.#..").unwrap();
+        let mut bits = BlockedBits::new(&grid);
+        assert!(bits.is_blocked(1, 1) && !bits.is_blocked(3, 0));
+        grid.set_free(crate::Cell::new(1, 1), true);
+        grid.set_free(crate::Cell::new(3, 0), false);
+        assert!(!bits.is_for_revision(&grid));
+        bits.load(&grid);
+        assert!(bits.is_for_revision(&grid));
+        assert!(!bits.is_blocked(1, 1) && bits.is_blocked(3, 0));
+        assert_eq!(bits.columns().0[3], 0b01);
+        assert_eq!(bits.blocked_in(0, 3, 0, 1), 1);
+        assert_eq!(bits, BlockedBits::new(&grid));
     }
 }

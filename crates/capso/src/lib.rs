@@ -474,7 +474,7 @@ pub struct Evaluation {
 #[derive(Debug, Clone, Default)]
 struct Decoder {
     spline: Spline,
-    /// The spline's samples, then their cells.
+    /// The spline's samples, rounded into `cells`.
     samples: Vec<(f64, f64)>,
     cells: Vec<Cell>,
     /// The kept cells' flags, a bit per cell ([`simplify`]).

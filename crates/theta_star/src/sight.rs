@@ -58,11 +58,9 @@ use planner_api::{walk_segment, BlockedBits, Cell, Grid, SegmentWalk};
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct SightGrid {
-    /// The bits by rows and by columns and their summed-area table (planner-api's).
+    /// The bits by rows and by columns and their summed-area table (planner-api's; they
+    /// know the grid revision they were built from).
     bits: BlockedBits,
-    /// The revision of the grid these bits stand for (its cells may have been checked
-    /// equal to those of the revision they were built from: [`SightGrid::cached`]).
-    revision: u64,
 }
 
 impl SightGrid {
@@ -70,29 +68,25 @@ impl SightGrid {
     pub fn new(grid: &Grid) -> SightGrid {
         SightGrid {
             bits: BlockedBits::new(grid),
-            revision: grid.revision(),
         }
     }
 
-    /// Whether these bits are `grid`'s: the same revision, or the same cells.
+    /// Whether these bits are `grid`'s: built from its revision, or holding its cells.
     pub fn is_for(&self, grid: &Grid) -> bool {
-        if self.revision == grid.revision() {
-            return (self.bits.width(), self.bits.height()) == (grid.width(), grid.height());
-        }
-        self.bits.rows() == BlockedBits::new(grid).rows()
-            && (self.bits.width(), self.bits.height()) == (grid.width(), grid.height())
+        self.bits.is_for_revision(grid)
+            || ((self.bits.width(), self.bits.height()) == (grid.width(), grid.height())
+                && self.bits.rows() == BlockedBits::new(grid).rows())
     }
 
-    /// The bits in `cache` when they are `grid`'s, else `grid`'s bits built anew.
+    /// The bits in `cache`, made `grid`'s ([`BlockedBits::load`]: rebuilt in place unless
+    /// they were built from its revision).
     pub fn cached<'a>(cache: &'a mut Option<SightGrid>, grid: &Grid) -> &'a SightGrid {
         match cache {
-            Some(sight) if sight.revision == grid.revision() => {}
-            Some(sight) if sight.is_for(grid) => sight.revision = grid.revision(),
-            _ => *cache = Some(SightGrid::new(grid)),
-        }
-        match cache {
-            Some(sight) => sight,
-            None => unreachable!("filled above"),
+            Some(sight) => {
+                sight.bits.load(grid);
+                sight
+            }
+            None => cache.insert(SightGrid::new(grid)),
         }
     }
 
