@@ -418,6 +418,41 @@ pub fn weighted_dijkstra(
     start: Cell,
     goal: Cell,
 ) -> Option<planner_api::Cost> {
+    let dist = dijkstra_until(grid, moves, start, Some(goal));
+    exact_cost(dist[grid.index(goal)])
+}
+
+/// The least cost from `start` to every cell of `grid` (by [`Grid::index`]; `None` where
+/// unreachable): [`weighted_dijkstra`]'s search run to the end, for a test that needs the
+/// costs to many goals from one start.
+pub fn weighted_costs_from(
+    grid: &Grid,
+    moves: &planner_api::MoveSet,
+    start: Cell,
+) -> Vec<Option<planner_api::Cost>> {
+    dijkstra_until(grid, moves, start, None)
+        .into_iter()
+        .map(exact_cost)
+        .collect()
+}
+
+/// A cost of [`dijkstra_until`] as a [`Cost`](planner_api::Cost) (`None` when unreached or
+/// beyond 64 bits).
+fn exact_cost(d: u128) -> Option<planner_api::Cost> {
+    (d != u128::MAX)
+        .then(|| u64::try_from(d).ok())
+        .flatten()
+        .map(planner_api::Cost::from_units)
+}
+
+/// The oracle's Dijkstra: every settled cell's exact cost from `start` (`u128::MAX` where
+/// unreached), stopping once `goal` is settled.
+fn dijkstra_until(
+    grid: &Grid,
+    moves: &planner_api::MoveSet,
+    start: Cell,
+    goal: Option<Cell>,
+) -> Vec<u128> {
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
     let rule = grid.weights().map(|w| w.rule());
@@ -442,8 +477,8 @@ pub fn weighted_dijkstra(
             continue;
         }
         let cell = grid.cell(i);
-        if cell == goal {
-            return Some(planner_api::Cost::from_units(u64::try_from(d).ok()?));
+        if Some(cell) == goal {
+            break;
         }
         for mv in moves.moves() {
             if let Some(to) = moves.apply(grid, cell, mv) {
@@ -456,7 +491,7 @@ pub fn weighted_dijkstra(
             }
         }
     }
-    None
+    dist
 }
 
 /// One random weighted problem of [`random_weighted_problems`].
