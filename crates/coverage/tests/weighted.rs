@@ -64,7 +64,7 @@ fn return_legs_are_least_cost_to_the_cheapest_point_left() {
             legs += 1;
             let (from, to) = (cells[leg.start], cells[leg.end]);
             let cost = p.grid.path_cost(&cells[leg.start..=leg.end]);
-            // The oracle's costs from the leg's start to every cell, one search each.
+            // The oracle's costs from the leg's start to every cell, in one search.
             let weighted = weighted_costs_from(&p.grid, &eight, from);
             assert_eq!(
                 weighted[p.grid.index(to)],

@@ -436,17 +436,16 @@ pub fn weighted_costs_from(
         .collect()
 }
 
-/// A cost of [`dijkstra_until`] as a [`Cost`](planner_api::Cost) (`None` when unreached or
-/// beyond 64 bits).
+/// A cost of [`dijkstra_until`] as a [`Cost`](planner_api::Cost): `None` when beyond 64
+/// bits, which includes the unreached cells' `u128::MAX`.
 fn exact_cost(d: u128) -> Option<planner_api::Cost> {
-    (d != u128::MAX)
-        .then(|| u64::try_from(d).ok())
-        .flatten()
-        .map(planner_api::Cost::from_units)
+    u64::try_from(d).ok().map(planner_api::Cost::from_units)
 }
 
-/// The oracle's Dijkstra: every settled cell's exact cost from `start` (`u128::MAX` where
-/// unreached), stopping once `goal` is settled.
+/// The oracle's Dijkstra from `start`: the cost of every cell, `u128::MAX` where unreached.
+/// It stops once `goal` is settled; the costs are then exact for the settled cells (the
+/// goal among them) and may be too high for the others. With no goal every reachable cell
+/// is settled.
 fn dijkstra_until(
     grid: &Grid,
     moves: &planner_api::MoveSet,
