@@ -52,8 +52,9 @@
 //!
 //! With [`Budget::record_expanded`] set, [`Outcome::expanded`] lists the expanded cells in
 //! expansion order (the goal last when found), one per `n_expanded`; the search is
-//! otherwise the same. The flag is a constant of the search loop (two copies of it are
-//! compiled), so with it off the loop has no recording code.
+//! otherwise the same. The flag is a constant of the search loop, so with it off the loop
+//! has no recording code; the recording copies read the heuristic at run time (one copy
+//! for all five heuristics: figures are never timed, and the build is shorter).
 //!
 //! Costs are [`planner_api::Cost`]s, fixed point in units of `2^-32`: every path cost
 //! is an integer sum of its moves' costs, so equal path costs are equal numbers and tie
@@ -856,43 +857,30 @@ impl AStar {
     }
 
     /// [`AStar::run`] with the configured heuristic and recording; `FEW` is whether the
-    /// move set has at most [`FEW_MOVES`] moves.
+    /// move set has at most [`FEW_MOVES`] moves. A search that records its expanded cells
+    /// (for a figure, never timed) reads the heuristic at run time ([`RUNTIME`]): one copy
+    /// of the loop per OPEN list, rule and move count instead of five, the same estimates.
     fn run_heuristic<O: Open, const W: u8, const FEW: bool>(
         &mut self,
         open: &mut O,
         problem: &Problem<'_>,
         budget: &Budget,
     ) -> Search {
-        match (self.config.heuristic, budget.record_expanded) {
-            (Heuristic::Manhattan, false) => {
-                self.run::<O, MANHATTAN, false, W, FEW>(open, problem, budget)
-            }
-            (Heuristic::Octile, false) => {
-                self.run::<O, OCTILE, false, W, FEW>(open, problem, budget)
-            }
-            (Heuristic::Euclidean, false) => {
-                self.run::<O, EUCLIDEAN, false, W, FEW>(open, problem, budget)
-            }
-            (Heuristic::Chebyshev, false) => {
-                self.run::<O, CHEBYSHEV, false, W, FEW>(open, problem, budget)
-            }
-            (Heuristic::Zero, false) => self.run::<O, ZERO, false, W, FEW>(open, problem, budget),
-            (Heuristic::Manhattan, true) => {
-                self.run::<O, MANHATTAN, true, W, FEW>(open, problem, budget)
-            }
-            (Heuristic::Octile, true) => self.run::<O, OCTILE, true, W, FEW>(open, problem, budget),
-            (Heuristic::Euclidean, true) => {
-                self.run::<O, EUCLIDEAN, true, W, FEW>(open, problem, budget)
-            }
-            (Heuristic::Chebyshev, true) => {
-                self.run::<O, CHEBYSHEV, true, W, FEW>(open, problem, budget)
-            }
-            (Heuristic::Zero, true) => self.run::<O, ZERO, true, W, FEW>(open, problem, budget),
+        if budget.record_expanded {
+            return self.run::<O, RUNTIME, true, W, FEW>(open, problem, budget);
+        }
+        match self.config.heuristic {
+            Heuristic::Manhattan => self.run::<O, MANHATTAN, false, W, FEW>(open, problem, budget),
+            Heuristic::Octile => self.run::<O, OCTILE, false, W, FEW>(open, problem, budget),
+            Heuristic::Euclidean => self.run::<O, EUCLIDEAN, false, W, FEW>(open, problem, budget),
+            Heuristic::Chebyshev => self.run::<O, CHEBYSHEV, false, W, FEW>(open, problem, budget),
+            Heuristic::Zero => self.run::<O, ZERO, false, W, FEW>(open, problem, budget),
         }
     }
 
     /// The search itself, with the OPEN list `open`, heuristic `H` (one of the constants
-    /// [`MANHATTAN`] ... [`ZERO`]) and `RECORD` true to list the expanded cells. Counters
+    /// [`MANHATTAN`] ... [`ZERO`], or [`RUNTIME`] for the configured one read at run time)
+    /// and `RECORD` true to list the expanded cells. Counters
     /// are locals until it returns. `W` is [`MEAN`] or [`ENTERED`] on a weighted grid with
     /// that cost rule (precondition: the grid's): moves then cost
     /// `half * (k_from * w(p) + k_to * w(q))` ([`planner_api::weights`], the factors
@@ -965,8 +953,12 @@ impl AStar {
         let goal_index = layout.index(goal);
         let weight = self.config.weight;
         let unweighted = weight == 1.0;
+        let heuristic = self.config.heuristic;
         let h = |x: u32, y: u32| {
-            let h = estimate::<H>(x.abs_diff(goal.x), y.abs_diff(goal.y));
+            let h = match H {
+                RUNTIME => heuristic.cost(x, y, goal.x, goal.y),
+                _ => estimate::<H>(x.abs_diff(goal.x), y.abs_diff(goal.y)),
+            };
             let h = if W != UNWEIGHTED {
                 h.times(min_weight)
             } else {
@@ -1188,6 +1180,9 @@ const OCTILE: u8 = 1;
 const EUCLIDEAN: u8 = 2;
 const CHEBYSHEV: u8 = 3;
 const ZERO: u8 = 4;
+/// The configured heuristic, chosen at run time ([`Heuristic::cost`], which gives the
+/// constants' estimates).
+const RUNTIME: u8 = 5;
 
 /// Heuristic `H` of the offsets `dx`, `dy` to the goal, as [`Heuristic::cost`].
 #[inline(always)]

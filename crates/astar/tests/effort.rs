@@ -1,6 +1,6 @@
 //! The opt-in list of expanded cells and the memory budget.
 
-use planner_api::{Budget, Cell, Connectivity, Grid, Planner, Problem, Status};
+use planner_api::{Budget, Cell, Connectivity, CostRule, Grid, Planner, Problem, Status};
 use planner_astar::{AStar, Config, Heuristic, TieBreak};
 
 /// Plans `problem` with and without recording and checks that recording lists exactly
@@ -74,6 +74,43 @@ fn recorded_cells_are_the_expanded_ones_for_every_heuristic() {
                     ..Config::default()
                 };
                 let what = format!("{map} {moves:?} {heuristic:?} {tie_break:?} {weight}");
+                check(&config, &problem, Budget::unlimited(), &what);
+            }
+        }
+    }
+}
+
+/// The same on weighted maps (a recording search is the loop's weighted copy with the
+/// heuristic read at run time): den520d with seeded weights 1-9 under both cost rules.
+#[test]
+fn recorded_cells_are_the_expanded_ones_on_weighted_maps() {
+    let grid = planner_testkit::movingai("movingai/den520d.map");
+    let scenarios = planner_testkit::scenarios("movingai/den520d.map.scen");
+    let mut state = 32u64;
+    let weights: Vec<u16> = (0..grid.len())
+        .map(|_| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            1 + (state >> 60) as u16 % 9
+        })
+        .collect();
+    for rule in [CostRule::Mean, CostRule::Entered] {
+        let weighted = grid.clone().with_weights(weights.clone(), rule).unwrap();
+        for scenario in scenarios.iter().rev().step_by(211).take(3) {
+            let problem = Problem::new(&weighted, scenario.start, scenario.goal).unwrap();
+            for (moves, heuristic, tie_break) in [
+                (Connectivity::Four, Heuristic::Manhattan, TieBreak::Fifo),
+                (Connectivity::Eight, Heuristic::Octile, TieBreak::HighG),
+                (Connectivity::Eight, Heuristic::Zero, TieBreak::LowG),
+            ] {
+                let config = Config {
+                    moves,
+                    heuristic,
+                    tie_break,
+                    ..Config::default()
+                };
+                let what = format!("{rule:?} {moves:?} {heuristic:?} {tie_break:?}");
                 check(&config, &problem, Budget::unlimited(), &what);
             }
         }
