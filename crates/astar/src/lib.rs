@@ -880,9 +880,9 @@ impl AStar {
 
     /// The search itself, with the OPEN list `open`, heuristic `H` (one of the constants
     /// [`MANHATTAN`] ... [`ZERO`], or [`RUNTIME`] for the configured one read at run time)
-    /// and `RECORD` true to list the expanded cells. Counters
-    /// are locals until it returns. `W` is [`MEAN`] or [`ENTERED`] on a weighted grid with
-    /// that cost rule (precondition: the grid's): moves then cost
+    /// and `RECORD` true to list the expanded cells. Counters are locals until it returns.
+    /// `W` is [`MEAN`] or [`ENTERED`] on a weighted grid with that cost rule (precondition:
+    /// the grid's): moves then cost
     /// `half * (k_from * w(p) + k_to * w(q))` ([`planner_api::weights`], the factors
     /// constants) and the heuristic is multiplied by the grid's smallest weight;
     /// [`UNWEIGHTED`] compiles the unweighted loop as it was, with no weight code. `FEW`:
