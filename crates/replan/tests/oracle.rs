@@ -9,6 +9,7 @@ use planner_api::{
 use planner_replan::{navigate, planners, toggles, Mismatch, MismatchKind, Oracle};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 
 /// A random grid of 3..=10 columns and rows with 0-35 % blocked cells, and two free
 /// cells (start, goal; they may coincide); `None` when fewer than one cell is free.
@@ -36,20 +37,32 @@ struct Tally {
     mismatches: Vec<(u64, &'static str, bool, Mismatch)>,
 }
 
+impl Tally {
+    /// The sums of both, `self`'s mismatches first.
+    fn merge(mut self, other: Tally) -> Tally {
+        self.runs += other.runs;
+        self.replans += other.replans;
+        self.found += other.found;
+        self.no_path += other.no_path;
+        self.toggled += other.toggled;
+        self.mismatches.extend(other.mismatches);
+        self
+    }
+}
+
 #[test]
 fn ten_thousand_grids_every_replan_exact() {
-    let mut tally = Tally::default();
-    let mut oracles = [Oracle::new(false), Oracle::new(true)];
-    let mut grids = 0u64;
+    // The problems in seed order (a seed whose grid has no free cell is skipped), then
+    // checked on rayon's threads, each with its own oracles; the tallies are sums, and the
+    // reduction keeps the mismatches in seed order.
+    let mut problems = Vec::with_capacity(10_000);
     let mut seed = 0u64;
-    while grids < 10_000 {
+    while problems.len() < 10_000 {
         seed += 1;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let Some((grid, start, goal)) = random_problem(&mut rng) else {
             continue;
         };
-        grids += 1;
-        let problem = Problem::new(&grid, start, goal).unwrap();
         let config = toggles::ToggleConfig {
             events: rng.gen_range(4..=10),
             k: rng.gen_range(1..=4),
@@ -57,35 +70,48 @@ fn ten_thousand_grids_every_replan_exact() {
             drive: rng.gen_range(0..=2),
             seed,
         };
-        for name in ["lpastar", "dstar_lite"] {
-            for (eight, oracle) in [false, true].into_iter().zip(oracles.iter_mut()) {
-                let mut planner = planners::by_name(name, eight).unwrap();
-                let run = toggles::run(
-                    planner.as_mut(),
-                    oracle,
-                    &problem,
-                    &config,
-                    &Budget::unlimited(),
-                );
-                tally.runs += 1;
-                tally.replans += run.replans.len() as u64;
-                tally.toggled += run.toggled;
-                tally.found += run
-                    .replans
-                    .iter()
-                    .filter(|r| r.status == Status::Found)
-                    .count() as u64;
-                tally.no_path += run
-                    .replans
-                    .iter()
-                    .filter(|r| r.status == Status::NoPath)
-                    .count() as u64;
-                for m in run.mismatches {
-                    tally.mismatches.push((seed, name, eight, m));
-                }
-            }
-        }
+        problems.push((seed, grid, start, goal, config));
     }
+    let grids = problems.len();
+    let tally = problems
+        .par_iter()
+        .map_init(
+            || [Oracle::new(false), Oracle::new(true)],
+            |oracles, &(seed, ref grid, start, goal, config)| {
+                let mut tally = Tally::default();
+                let problem = Problem::new(grid, start, goal).unwrap();
+                for name in ["lpastar", "dstar_lite"] {
+                    for (eight, oracle) in [false, true].into_iter().zip(oracles.iter_mut()) {
+                        let mut planner = planners::by_name(name, eight).unwrap();
+                        let run = toggles::run(
+                            planner.as_mut(),
+                            oracle,
+                            &problem,
+                            &config,
+                            &Budget::unlimited(),
+                        );
+                        tally.runs += 1;
+                        tally.replans += run.replans.len() as u64;
+                        tally.toggled += run.toggled;
+                        tally.found += run
+                            .replans
+                            .iter()
+                            .filter(|r| r.status == Status::Found)
+                            .count() as u64;
+                        tally.no_path += run
+                            .replans
+                            .iter()
+                            .filter(|r| r.status == Status::NoPath)
+                            .count() as u64;
+                        for m in run.mismatches {
+                            tally.mismatches.push((seed, name, eight, m));
+                        }
+                    }
+                }
+                tally
+            },
+        )
+        .reduce(Tally::default, Tally::merge);
     eprintln!(
         "{grids} grids, {} runs, {} replans ({} found, {} no path), {} cells toggled, {} mismatches",
         tally.runs,
