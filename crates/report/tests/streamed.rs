@@ -132,8 +132,8 @@ fn streamed_aggregates_equal_the_in_memory_ones_on_100000_runs() {
     let repeats = (100_000 / n_base + 1) as u32;
     let (experiment, records) = synthetic(experiment, repeats);
     assert!(records.len() >= 100_000, "{} runs", records.len());
-    // The comparison in memory and the one through the file on threads of their own (the
-    // slowest test of this binary: it would otherwise end alone on one core).
+    // The comparison through the file runs on a thread of its own beside the ones in memory
+    // (the slowest test of this binary: it would otherwise end alone on one core).
     let (experiment, records) = (&experiment, &records);
     std::thread::scope(|scope| {
         let from_file = scope.spawn(|| {
