@@ -86,17 +86,8 @@ fn recorded_cells_are_the_expanded_ones_for_every_heuristic() {
 fn recorded_cells_are_the_expanded_ones_on_weighted_maps() {
     let grid = planner_testkit::movingai("movingai/den520d.map");
     let scenarios = planner_testkit::scenarios("movingai/den520d.map.scen");
-    let mut state = 32u64;
-    let weights: Vec<u16> = (0..grid.len())
-        .map(|_| {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            1 + (state >> 60) as u16 % 9
-        })
-        .collect();
     for rule in [CostRule::Mean, CostRule::Entered] {
-        let weighted = grid.clone().with_weights(weights.clone(), rule).unwrap();
+        let weighted = planner_bench::seeded_weights(&grid, 32, 9, rule);
         for scenario in scenarios.iter().rev().step_by(211).take(3) {
             let problem = Problem::new(&weighted, scenario.start, scenario.goal).unwrap();
             for (moves, heuristic, tie_break) in [
