@@ -13,6 +13,9 @@
 //!   changes and removal: LPA*'s and D* Lite's queue U, on the same bucket-ring design.
 //! - [`QuadHeap`], a 4-ary min-heap of any ordered entry, and [`FrontHeap`], the same
 //!   behind a stack of entries with the last popped key (Jump Point Search's common case).
+//! - [`neighbourhood`]: cells as bits in the adjacency's padded layout, read as 3 x 3
+//!   neighbourhood codes, and tables from a code to a node's safe moves or to its moves
+//!   into CLOSED cells (Theta\* and Lazy Theta\*).
 //! - [`Stamped`]: per-cell node records with generation stamps, so a search costs the
 //!   cells it touches, not the grid.
 //!
@@ -25,6 +28,7 @@
 
 pub mod bucket;
 pub mod keyed;
+pub mod neighbourhood;
 mod quad;
 mod stamps;
 
