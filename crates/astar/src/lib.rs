@@ -136,6 +136,7 @@ use planner_api::{
     MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
+use planner_search::neighbourhood::BIT_COUNT;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -403,17 +404,6 @@ impl Rows {
         ((column - self.reach) as u32, (row - self.reach) as u32)
     }
 }
-
-/// The number of set bits of every byte.
-const BIT_COUNT: [u8; 256] = {
-    let mut counts = [0u8; 256];
-    let mut byte = 0;
-    while byte < 256 {
-        counts[byte] = (byte as u8).count_ones() as u8;
-        byte += 1;
-    }
-    counts
-};
 
 /// A cell's status bits in `AStar::state`: not yet seen by this search.
 const UNSEEN: u8 = 0;
