@@ -51,6 +51,18 @@ impl CellBits {
         self.bytes.resize(padded_len / 8 + 3, 0);
     }
 
+    /// Sizes the bits for a layout of `padded_len` cells, all clear, unless they already
+    /// have that size (then they are left as they are: a search clears the bits it set,
+    /// [`CellBits::unset`], so that it costs the cells it touches, not the grid). Returns
+    /// whether they were cleared.
+    pub fn fit(&mut self, padded_len: usize) -> bool {
+        if self.bytes.len() == padded_len / 8 + 3 {
+            return false;
+        }
+        self.clear(padded_len);
+        true
+    }
+
     /// The bits of `grid`'s free cells in `adjacency`'s layout (every other bit clear).
     pub fn fill_free(&mut self, grid: &Grid, adjacency: &Adjacency) {
         self.clear(adjacency.padded_len());
@@ -71,6 +83,14 @@ impl CellBits {
     pub fn set(&mut self, p: usize) {
         if let Some(byte) = self.bytes.get_mut(p / 8) {
             *byte |= 1 << (p % 8);
+        }
+    }
+
+    /// Clears padded cell `p`'s bit.
+    #[inline(always)]
+    pub fn unset(&mut self, p: usize) {
+        if let Some(byte) = self.bytes.get_mut(p / 8) {
+            *byte &= !(1 << (p % 8));
         }
     }
 
@@ -215,6 +235,20 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn fit_keeps_the_bits_of_the_same_size_and_unset_clears_one() {
+        let mut bits = CellBits::default();
+        assert!(bits.fit(100));
+        bits.set(7);
+        bits.set(8);
+        assert!(!bits.fit(100));
+        assert!(bits.get(7) && bits.get(8));
+        bits.unset(7);
+        assert!(!bits.get(7) && bits.get(8));
+        assert!(bits.fit(200));
+        assert!(!bits.get(8));
     }
 
     #[test]
