@@ -3,9 +3,8 @@
 //!
 //! A search over 8 moves of reach 1 needs two things per expansion besides the node
 //! records: which moves are safe, and which lead to CLOSED cells. Read from bits, the first
-//! costs three two-byte loads from an array of a bit per cell (33 KB for 512 x 512, which
-//! stays in the first-level cache) instead of an 8-byte load per cell from the adjacency's
-//! masks (2 MB), and the second masks the moves to CLOSED cells out at once instead of a
+//! costs three two-byte loads from an array of a bit per cell (33 KB for 512 x 512) instead
+//! of an 8-byte load per cell from the adjacency's masks (2 MB), and the second masks the moves to CLOSED cells out at once instead of a
 //! branch per neighbour on its record. Both codes are read at the same offsets.
 //!
 //! ```

@@ -92,9 +92,9 @@ impl<E: Ord + Copy> QuadHeap<E> {
             }
             let least = if first + 4 <= n {
                 // Four children: a tournament whose outcomes are added to indices instead of
-                // branched on (which child is least is as good as random: the branches of
-                // the scan below were mispredicted about half the time). The earliest of
-                // equal children wins, as in the scan.
+                // branched on (under callgrind's branch simulation, the branches of the scan
+                // below took 50.5 of JPS's 119.5 million mispredictions on random512-10-0).
+                // The earliest of equal children wins, as in the scan.
                 let items = &self.items;
                 let left = first + usize::from(items[first + 1] < items[first]);
                 let right = first + 2 + usize::from(items[first + 3] < items[first + 2]);
