@@ -136,7 +136,7 @@ use planner_api::{
     MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
-use planner_search::neighbourhood::BIT_COUNT;
+use planner_search::neighbourhood::{MoveTable, BIT_COUNT};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -561,10 +561,10 @@ struct FreeBits {
     /// Padded row length.
     stride: usize,
     /// Safe-move mask by neighbourhood code: bit `3 * (dy + 1) + (dx + 1)` is the cell at
-    /// offset `(dx, dy)`.
-    table: Vec<u8>,
+    /// offset `(dx, dy)` (planner-search's table, as Theta\*'s).
+    table: MoveTable,
     /// By neighbourhood code: the moves whose target is set in the code.
-    target_table: Vec<u8>,
+    target_table: MoveTable,
 }
 
 impl FreeBits {
@@ -589,29 +589,8 @@ impl FreeBits {
                     self.bytes[p / 8] |= 1 << (p % 8);
                 }
             }
-            self.table = (0..512u32)
-                .map(|code| {
-                    let free = |dx: i32, dy: i32| code >> (3 * (dy + 1) + dx + 1) & 1 == 1;
-                    let mut mask = 0u8;
-                    for (m, mv) in moves.moves().iter().enumerate() {
-                        if free(mv.dx, mv.dy) && mv.via.iter().all(|&(vx, vy)| free(vx, vy)) {
-                            mask |= 1 << m;
-                        }
-                    }
-                    mask
-                })
-                .collect();
-            self.target_table = (0..512u32)
-                .map(|code| {
-                    let mut mask = 0u8;
-                    for (m, mv) in moves.moves().iter().enumerate() {
-                        if code >> (3 * (mv.dy + 1) + mv.dx + 1) & 1 == 1 {
-                            mask |= 1 << m;
-                        }
-                    }
-                    mask
-                })
-                .collect();
+            self.table = MoveTable::safe(moves);
+            self.target_table = MoveTable::targets(moves);
             self.revision = Some(grid.revision());
         }
         Some(self)
@@ -643,7 +622,7 @@ impl FreeBits {
         let code = bit(p - self.stride) << 1
             | Self::three(&self.bytes, (p - 1) / 8, (p - 1) % 8) << 3
             | bit(p + self.stride) << 7;
-        u64::from(self.table.get(code).copied().unwrap_or(0))
+        self.table.get(code)
     }
 
     /// The safe moves from padded cell `p` (a free grid cell), as [`Adjacency::mask`], and
@@ -660,8 +639,7 @@ impl FreeBits {
             free |= Self::three(&self.bytes, byte, shift) << (3 * row);
             shut |= Self::three(closed, byte, shift) << (3 * row);
         }
-        let table = |table: &[u8], code: usize| u64::from(table.get(code).copied().unwrap_or(0));
-        (table(&self.table, free), table(&self.target_table, shut))
+        (self.table.get(free), self.target_table.get(shut))
     }
 }
 
@@ -728,7 +706,7 @@ impl AStar {
             .adjacency
             .as_ref()
             .map_or(0, |a| 8 * a.padded_len() + a.padded_len() / 8);
-        adjacency + self.bits.bytes.len() + self.bits.table.len() + self.bits.target_table.len()
+        adjacency + self.bits.bytes.len() + self.bits.table.bytes() + self.bits.target_table.bytes()
     }
 
     /// Runs A* on `problem` within `budget` and returns the path with raw counters.

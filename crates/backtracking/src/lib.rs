@@ -120,6 +120,7 @@ use planner_api::{
     Budget, BudgetClock, Cell, Connectivity, Counter, MoveOrderError, MoveSet, NeighborOrder,
     Outcome, Path, PathRank, Planner, Problem, SearchStats,
 };
+use planner_search::neighbourhood::BIT_COUNT;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -448,23 +449,11 @@ struct Search<'a> {
     lower_bound: &'a [u32],
 }
 
-/// Number of set bits of a byte, without relying on the `popcnt` instruction (the
-/// baseline x86-64 target lacks it and `count_ones` then takes a dozen instructions).
-const POPCOUNT: [u8; 256] = {
-    let mut table = [0u8; 256];
-    let mut i = 0;
-    while i < 256 {
-        table[i] = (i as u32).count_ones() as u8;
-        i += 1;
-    }
-    table
-};
-
 /// Set bits of a move mask; `K` as in [`Search::run`] (the masks have at most 8 bits when `K` is 4 or 8).
 #[inline(always)]
 fn popcount<const K: usize>(mask: u64) -> u64 {
     if K == 4 || K == 8 {
-        u64::from(POPCOUNT[(mask & 0xff) as usize])
+        u64::from(BIT_COUNT[(mask & 0xff) as usize])
     } else {
         u64::from(mask.count_ones())
     }

@@ -15,7 +15,7 @@
 //!   behind a stack of entries with the last popped key (Jump Point Search's common case).
 //! - [`neighbourhood`]: cells as bits in the adjacency's padded layout, read as 3 x 3
 //!   neighbourhood codes, and tables from a code to a node's safe moves or to its moves
-//!   into CLOSED cells (Theta\* and Lazy Theta\*).
+//!   into CLOSED cells (Theta\* and Lazy Theta\*; A* takes the tables).
 //! - [`Stamped`]: per-cell node records with generation stamps, so a search costs the
 //!   cells it touches, not the grid.
 //!

@@ -4,8 +4,10 @@
 //! A search over 8 moves of reach 1 needs two things per expansion besides the node
 //! records: which moves are safe, and which lead to CLOSED cells. Read from bits, the first
 //! costs three two-byte loads from an array of a bit per cell (33 KB for 512 x 512) instead
-//! of an 8-byte load per cell from the adjacency's masks (2 MB), and the second masks the moves to CLOSED cells out at once instead of a
-//! branch per neighbour on its record. Both codes are read at the same offsets.
+//! of an 8-byte load per cell from the adjacency's masks (2 MB), and the second masks the
+//! moves to CLOSED cells out at once instead of a branch per neighbour on its record. Both
+//! codes are read at the same offsets. Theta\* and Lazy Theta\* use both; A*, whose padded
+//! layout and arrays are its own, uses the [`MoveTable`]s.
 //!
 //! ```
 //! use planner_api::{Adjacency, Cell, Connectivity, Grid, MoveSet, NeighborOrder};
@@ -117,8 +119,8 @@ impl CellBits {
 
 /// A node's moves by the 3 x 3 neighbourhood code of [`CellBits::code`], for a move set of
 /// at most 8 moves of reach 1 (its moves' bits in the set's order, as
-/// [`Adjacency::mask`]'s).
-#[derive(Debug, Clone)]
+/// [`Adjacency::mask`]'s). The default table is empty: every code has no moves.
+#[derive(Debug, Clone, Default)]
 pub struct MoveTable {
     moves: Vec<u8>,
 }
@@ -153,6 +155,11 @@ impl MoveTable {
             })
             .collect();
         MoveTable { moves }
+    }
+
+    /// The bytes the table takes.
+    pub fn bytes(&self) -> usize {
+        self.moves.len()
     }
 
     /// The moves of neighbourhood `code` (below 512).
