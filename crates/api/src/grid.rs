@@ -520,13 +520,7 @@ mod tests {
     /// A million pseudo-random offsets up to 2^32 (a xorshift sequence from `seed`), the
     /// second of each pair shifted right by a random amount so that all ratios occur.
     fn random_offsets(seed: u64) -> impl Iterator<Item = (u32, u32)> {
-        let mut state = seed;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = crate::test_rng::xorshift(seed);
         (0..1_000_000).map(move |_| (next() as u32, next() as u32 >> (next() % 32)))
     }
 

@@ -44,6 +44,9 @@ pub mod planner;
 pub mod specs;
 pub mod weights;
 
+#[cfg(test)]
+mod test_rng;
+
 pub use adjacency::Adjacency;
 pub use blocked::{BlockedBits, BlockedCounts};
 pub use cost::Cost;

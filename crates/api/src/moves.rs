@@ -922,13 +922,7 @@ mod tests {
     #[test]
     fn walk_segment_agrees_with_the_generic_traversal() {
         // Seeded xorshift grids; segments between any two cells, some outside the grid.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = crate::test_rng::xorshift(0x9e37_79b9_7f4a_7c15);
         let mut n_blocked = 0;
         for round in 0..300 {
             let (w, h) = (1 + (next() % 12) as u32, 1 + (next() % 12) as u32);

@@ -208,13 +208,8 @@ mod tests {
     /// often left) keep the extremes and their counts equal to a fresh scan's.
     #[test]
     fn set_keeps_the_extremes_of_a_fresh_scan() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % n
-        };
+        let mut xorshift = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
+        let mut next = |n: u64| xorshift() % n;
         for len in [1usize, 2, 5, 40] {
             let cells = (0..len).map(|_| 1 + next(4) as u16).collect();
             let mut weights = Weights::new(cells, CostRule::Mean);
