@@ -524,14 +524,15 @@ impl Layout {
     }
 
     /// The bytes A* needs for `grid` at most: the per-cell arrays at full size, the bit
-    /// grid or the adjacency's masks (and its copy of the grid), and on a weighted grid
-    /// the padded weights (2 bytes a cell).
-    fn state_bytes(&self, grid: &Grid) -> u64 {
+    /// grid or the adjacency ([`Adjacency::bytes_for`]: its masks, its copy of the grid
+    /// and what its build packs), and on a weighted grid the padded weights (2 bytes a
+    /// cell). `moves` are the set this layout is for.
+    fn state_bytes(&self, grid: &Grid, moves: &MoveSet) -> u64 {
         let padded = self.padded_len as f64;
         let tables = if self.uses_bits() {
             padded / 8.0
         } else {
-            8.0 * padded + grid.len() as f64
+            Adjacency::bytes_for(grid, moves) as f64
         };
         let weights = if grid.is_weighted() {
             2.0 * padded
@@ -684,7 +685,7 @@ impl AStar {
     /// at full size, the bit grid or the adjacency's masks, and on a weighted grid the
     /// padded weights.
     pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
-        Layout::new(grid, &self.moves).state_bytes(grid)
+        Layout::new(grid, &self.moves).state_bytes(grid, &self.moves)
     }
 
     /// The configuration.
@@ -865,7 +866,7 @@ impl AStar {
     ) -> Search {
         let grid = problem.grid();
         let layout = Layout::new(grid, &self.moves);
-        if let Err(shortfall) = budget.check_memory(layout.state_bytes(grid), grid) {
+        if let Err(shortfall) = budget.check_memory(layout.state_bytes(grid, &self.moves), grid) {
             let mut search =
                 Search::new(Status::BudgetExhausted, None, None, SearchStats::default());
             search.memory = Some(shortfall);
@@ -1232,7 +1233,7 @@ impl Planner for AStar {
 
     /// Records the expanded cells when the budget asks ([`Budget::record_expanded`]);
     /// refuses with [`Outcome::over_memory`] when its per-cell state for the grid (13.1
-    /// bytes per padded cell, and 9 more per cell for more than 8 directions) is over
+    /// bytes per padded cell, and about 9.1 more per cell for more than 8 directions) is over
     /// [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let search = self.search(problem, budget);
