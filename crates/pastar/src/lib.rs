@@ -587,10 +587,9 @@ impl PaStar {
                 .iter()
                 .fold((0i64, 0i64), |(ax, ay), &(x, y)| (ax + x, ay + y));
             let centre = (sx as f64 / n_cells as f64, sy as f64 / n_cells as f64);
-            let size =
-                (geometry::diameter_squared(&mut self.cells, &mut self.scratch, &mut self.hull)
-                    as f64)
-                    .sqrt();
+            let size = (geometry::diameter_squared(&self.cells, &mut self.scratch, &mut self.hull)
+                as f64)
+                .sqrt();
             let radius = match self.config.radius {
                 Radius::Size => size,
                 Radius::Cells(r) => r,
