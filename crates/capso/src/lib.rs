@@ -125,22 +125,24 @@
 //!
 //! # Against seed 002, measured
 //! `cargo bench -p planner-capso --bench seed002 -- --repeats=50` (seed 002's settings, seeds
-//! 0-49; lengths 2026-12-04, time ratios 2026-12-05, two runs, each planner's repeats in a
-//! row as the runner runs them; times are the thread's CPU time, medians; the records of
-//! `cargo xtask experiment configs/pastar.toml` give 27.2, 18.8, 1.1, 1.6, 31.7 and 31.1 for
-//! the maps with obstacles), beside Theta\*'s length on the same map
+//! 0-49; lengths 2026-12-04, time ratios 2026-12-06 after PA-star's obstacle sizes lost
+//! their sort, two runs, each planner's repeats in a row as the runner runs them; times are
+//! the thread's CPU time, medians; PA-star's median on the several-obstacle map moved from
+//! 0.21 to 0.36 ms between the runs; the records of `cargo xtask experiment
+//! configs/pastar.toml` give 23.0, 17.6, 1.4, 2.2, 31.4 and 30.3 for the maps with
+//! obstacles), beside Theta\*'s length on the same map
 //! (`gridplan plan --planner theta_star --start .. --goal .. maps/pastar/MAP`; an any-angle
 //! path, so an upper bound on the shortest one):
 //!
 //! | map (start -> goal) | found | mean length | seed 002's CAPSO | Theta\* | CAPSO / PA-star time |
 //! |---|---:|---:|---:|---:|---:|
-//! | open 140 x 120 (20,10) -> (70,110) | 50/50 | 111.80 | 111.84 | | 882-1013 (PA-star draws a line) |
-//! | two obstacles | 50/50 | 112.50 | 112.85 | 112.34 | 25.7-26.2 |
-//! | several obstacles | 50/50 | 113.87 | 114.46 | 113.70 | 18.7 |
-//! | 500 x 500 (50,250) -> (400,200) | 50/50 | 456.14 | 382.34 | 452.66 | 1.1 |
-//! | 500 x 500 (50,425) -> (400,225) | 50/50 | 416.08 | 427.30 | 414.93 | 1.6 |
-//! | 200 x 200 map 1 (25,35) -> (140,190) | 50/50 | 204.40 | 210.89 | 203.70 | 31.9-32.2 |
-//! | 200 x 200 map 2 | 50/50 | 193.91 | 215.09 | 193.88 | 31.0-31.1 |
+//! | open 140 x 120 (20,10) -> (70,110) | 50/50 | 111.80 | 111.84 | | 800-1374 (PA-star draws a line) |
+//! | two obstacles | 50/50 | 112.50 | 112.85 | 112.34 | 23.2-23.3 |
+//! | several obstacles | 50/50 | 113.87 | 114.46 | 113.70 | 10.3-17.4 |
+//! | 500 x 500 (50,250) -> (400,200) | 50/50 | 456.14 | 382.34 | 452.66 | 1.4 |
+//! | 500 x 500 (50,425) -> (400,225) | 50/50 | 416.08 | 427.30 | 414.93 | 1.9-2.2 |
+//! | 200 x 200 map 1 (25,35) -> (140,190) | 50/50 | 204.40 | 210.89 | 203.70 | 31.6 |
+//! | 200 x 200 map 2 | 50/50 | 193.91 | 215.09 | 193.88 | 30.2-30.7 |
 //!
 //! The mean length is within 1 % of Theta\*'s on every map with obstacles, and within 5 %
 //! of the seed's on five of the seven. The maps are reconstructions (planner-pastar's
@@ -151,9 +153,9 @@
 //! left open, and no planner here comes near the seed's 382.34), and 209.07 on the paper's
 //! second 200 x 200 map against 202.63 here (the reconstruction is more open; the seed's
 //! CAPSO was 6.68 % longer than its PA-star there, this one is at Theta\*'s length). Seed
-//! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.1 to 32 times,
+//! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.4 to 32 times,
 //! more than 20 on the two-obstacle and 200 x 200 maps, where PA-star's local searches
-//! expand only 289 to 418 cells in 0.05 to 0.07 ms. Issue 34's speed-ups of the decoding
+//! expand only 289 to 418 cells in 0.13 to 0.15 ms (this machine, 2026-12-06). Issue 34's speed-ups of the decoding
 //! and the walk took CAPSO's median there from 1.95 to 1.61 ms and from 2.7-2.8 to 2.3-2.4
 //! ms, then the spline without a chain of divisions ([`spline`]) and the samples rounded in
 //! a loop of their own from 1.62-1.63 to 1.43-1.45 ms and from 2.33-2.45 to 2.12-2.25 ms
