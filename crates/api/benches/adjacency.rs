@@ -3,12 +3,14 @@
 //! blocked in a fixed scattered pattern.
 //!
 //! `cargo bench -p planner-api --bench adjacency [-- SIDE ...]` (default sides 512 and
-//! 2048) prints a line per side and neighbourhood, `side=<n> moves=<n> build_ms=<t>`,
-//! the best of five builds.
+//! 2048) prints a line per side and neighbourhood, `side=<n> moves=<n> build_ms=<t>
+//! rebuild_ms=<t>`: the best of five builds from nothing, and the best of five rebuilds
+//! through [`Adjacency::cached`] after one cell changed (a new grid revision), which
+//! reuse the masks' memory.
 
 use std::time::Instant;
 
-use planner_api::{Adjacency, Connectivity, Grid, MoveSet};
+use planner_api::{Adjacency, Cell, Connectivity, Grid, MoveSet};
 
 fn main() {
     let sides: Vec<u32> = std::env::args()
@@ -38,8 +40,21 @@ fn main() {
                     elapsed
                 })
                 .fold(f64::INFINITY, f64::min);
+            let mut cache = Some(Adjacency::build(&grid, &moves));
+            let mut changed = grid.clone();
+            let rebuild = (0..5)
+                .map(|k| {
+                    let cell = Cell::new(k, 0);
+                    changed.set_free(cell, !changed.is_free(cell));
+                    let started = Instant::now();
+                    let adjacency = Adjacency::cached(&mut cache, &changed, &moves);
+                    let elapsed = started.elapsed().as_secs_f64() * 1e3;
+                    assert!(adjacency.is_for(&changed));
+                    elapsed
+                })
+                .fold(f64::INFINITY, f64::min);
             println!(
-                "side={side} moves={} build_ms={best:.2}",
+                "side={side} moves={} build_ms={best:.2} rebuild_ms={rebuild:.2}",
                 moves.moves().len()
             );
         }

@@ -43,33 +43,56 @@ pub struct Adjacency {
 impl Adjacency {
     /// Builds the masks of `grid` for `moves`.
     pub fn build(grid: &Grid, moves: &MoveSet) -> Adjacency {
+        let mut adjacency = Adjacency {
+            grid: grid.clone(),
+            revision: grid.revision(),
+            reach: 0,
+            stride: 0,
+            safe: Vec::new(),
+            delta: [0; 64],
+            n_moves: 0,
+            all: 0,
+        };
+        adjacency.fill(grid, moves);
+        adjacency
+    }
+
+    /// Makes these the masks of `grid` for `moves`, in the memory of the old ones: a
+    /// changed grid's masks do not cost a new allocation (whose pages the operating system
+    /// would fault in again, on a 2048 x 2048 grid most of a rebuild's time).
+    pub fn rebuild(&mut self, grid: &Grid, moves: &MoveSet) {
+        self.grid.clone_from(grid);
+        self.revision = grid.revision();
+        self.fill(grid, moves);
+    }
+
+    /// Sizes the layout for `grid` and `moves` and fills the masks.
+    fn fill(&mut self, grid: &Grid, moves: &MoveSet) {
         let reach = reach_of(moves);
         let stride = grid.width() as usize + 2 * reach;
-        let padded_len = Adjacency::padded_len_for(grid, moves);
-        let mut delta = [0isize; 64];
-        for (slot, mv) in delta.iter_mut().zip(moves.moves()) {
+        self.delta = [0; 64];
+        for (slot, mv) in self.delta.iter_mut().zip(moves.moves()) {
             // |dy * stride + dx| < 2^33, far inside isize on every supported target.
             *slot = (i64::from(mv.dy) * stride as i64 + i64::from(mv.dx)) as isize;
         }
-        let mut safe = vec![0u64; padded_len];
+        self.safe.clear();
+        self.safe.resize(Adjacency::padded_len_for(grid, moves), 0);
         let (width, height) = (grid.width() as usize, grid.height() as usize);
-        fill_masks(&mut safe, grid.free_cells(), width, height, reach, moves);
+        fill_masks(
+            &mut self.safe,
+            grid.free_cells(),
+            width,
+            height,
+            reach,
+            moves,
+        );
         let n_moves = moves.moves().len();
-        let all = if n_moves >= 64 {
+        self.all = if n_moves >= 64 {
             u64::MAX
         } else {
             (1u64 << n_moves) - 1
         };
-        Adjacency {
-            grid: grid.clone(),
-            revision: grid.revision(),
-            reach,
-            stride,
-            safe,
-            delta,
-            n_moves,
-            all,
-        }
+        (self.reach, self.stride, self.n_moves) = (reach, stride, n_moves);
     }
 
     /// The number of padded cells an adjacency of `grid` and `moves` has (its
@@ -179,10 +202,11 @@ impl Adjacency {
 /// are free grid cells. Word-parallel: the free cells are packed a bit per cell into rows
 /// of the padded width with zero words around them, so a move's safe bits for 64 cells of
 /// a row are the AND of the row's word and one shifted word per offset (target and `via`),
-/// and each cell's mask gathers one bit per move from those words. `cargo bench -p
-/// planner-api --bench adjacency` (2026-12-06): on its 512 x 512 grid 2.7 ms (8 moves) to
-/// 12.4 ms (48 moves), on its 2048 x 2048 grid 62 to 212 ms, where the build before it,
-/// cell by cell with a bounds test per offset, took 11.0 to 124 ms and 185 to 1919 ms.
+/// and each cell's mask gathers its moves' bits eight cells and eight moves at a time
+/// ([`SPREAD`]). `cargo bench -p planner-api --bench adjacency` (2026-12-06): on its
+/// 512 x 512 grid 1.3 ms (8 moves) to 6.9 ms (48 moves), on its 2048 x 2048 grid 35 to
+/// 123 ms, where the build before it, cell by cell with a bounds test per offset, took
+/// 11.0 to 124 ms and 185 to 1919 ms.
 fn fill_masks(
     safe: &mut [u64],
     free: &[bool],
@@ -196,9 +220,17 @@ fn fill_masks(
     let mut bits = vec![0u64; PackedRows::words_for(width, height, reach)];
     for (y, row) in free.chunks_exact(width.max(1)).enumerate().take(height) {
         let base = (y + reach) * row_words * 64 + margin * 64 + reach;
-        for (x, _) in row.iter().enumerate().filter(|(_, &f)| f) {
-            let bit = base + x;
-            bits[bit / 64] |= 1 << (bit % 64);
+        // 64 cells at a time gathered in a register and stored as the (at most) two words
+        // they straddle.
+        for (c, cells) in row.chunks(64).enumerate() {
+            let word = (0..)
+                .zip(cells)
+                .fold(0u64, |word, (i, &f)| word | u64::from(f) << i);
+            let bit = base + 64 * c;
+            bits[bit / 64] |= word << (bit % 64);
+            if bit % 64 != 0 {
+                bits[bit / 64 + 1] |= word >> (64 - bit % 64);
+            }
         }
     }
     // The 64 columns of padded row `row` from column `column` on (which may be negative,
@@ -239,15 +271,40 @@ fn fill_masks(
             }
             let cells = (reach + width - start).min(64);
             let row = &mut safe[y * stride + start..y * stride + start + cells];
-            for (i, mask) in row.iter_mut().enumerate() {
-                *mask = words
-                    .iter()
-                    .enumerate()
-                    .fold(0, |mask, (m, &word)| mask | (word >> i & 1) << m);
+            for (j, chunk) in row.chunks_mut(8).enumerate() {
+                // Eight cells' masks, eight moves at a time: byte i of `flags` holds
+                // moves 8 g .. 8 g + 8 of cell 8 j + i.
+                let mut masks = [0u64; 8];
+                for (g, group) in words.chunks(8).enumerate() {
+                    let flags = group.iter().enumerate().fold(0, |flags, (k, &word)| {
+                        flags | SPREAD[(word >> (8 * j) & 0xff) as usize] << k
+                    });
+                    for (i, mask) in masks.iter_mut().enumerate() {
+                        *mask |= (flags >> (8 * i) & 0xff) << (8 * g);
+                    }
+                }
+                chunk.copy_from_slice(&masks[..chunk.len()]);
             }
         }
     }
 }
+
+/// `SPREAD[b]` has bit `i` of `b` at bit `8 i`: a byte of eight cells' flags spread to a
+/// flag per byte, so that eight moves' flags shifted by their index gather into a byte
+/// per cell.
+const SPREAD: [u64; 256] = {
+    let mut table = [0u64; 256];
+    let mut b = 0;
+    while b < 256 {
+        let mut i = 0;
+        while i < 8 {
+            table[b] |= ((b as u64 >> i) & 1) << (8 * i);
+            i += 1;
+        }
+        b += 1;
+    }
+    table
+};
 
 /// The shape of [`fill_masks`]'s packed rows.
 struct PackedRows;
@@ -283,7 +340,8 @@ fn cached<'a>(cache: &'a mut Option<Adjacency>, grid: &Grid, moves: &MoveSet) ->
         // Equal revisions mean equal grids: no need to compare the cells.
         Some(adjacency) if adjacency.revision == grid.revision() => {}
         Some(adjacency) if adjacency.is_for(grid) => adjacency.revision = grid.revision(),
-        _ => *cache = Some(Adjacency::build(grid, moves)),
+        Some(adjacency) => adjacency.rebuild(grid, moves),
+        None => *cache = Some(Adjacency::build(grid, moves)),
     }
     match cache {
         Some(adjacency) => adjacency,
@@ -365,6 +423,9 @@ mod tests {
     fn masks_agree_with_move_set_apply_on_random_grids() {
         let mut next = crate::test_rng::xorshift(0x5851_f42d_4c95_7f2d);
         let sets = move_sets();
+        // One cache per move set across all the grids: every grid rebuilds the last one's
+        // masks in place, whatever their sizes, and must equal a fresh build.
+        let mut caches: Vec<Option<Adjacency>> = vec![None; sets.len()];
         for (w, h) in [
             (1, 1),
             (1, 9),
@@ -378,10 +439,35 @@ mod tests {
             for density in [0, 10, 40, 90, 100] {
                 let free = (0..w * h).map(|_| next() % 100 >= density).collect();
                 let grid = Grid::from_free_cells(w, h, free).unwrap();
-                for moves in &sets {
+                for (moves, cache) in sets.iter().zip(&mut caches) {
                     check(&grid, moves);
+                    let rebuilt = Adjacency::cached(cache, &grid, moves);
+                    let built = Adjacency::build(&grid, moves);
+                    assert_eq!(rebuilt.masks(), built.masks());
+                    assert_eq!(rebuilt.deltas(), built.deltas());
+                    assert_eq!(
+                        (rebuilt.stride(), rebuilt.reach(), rebuilt.all()),
+                        (built.stride(), built.reach(), built.all())
+                    );
                 }
             }
+        }
+    }
+
+    /// `rebuild` takes any grid and move set, as `build` does.
+    #[test]
+    fn a_rebuild_with_other_moves_and_size_equals_a_build() {
+        let sets = move_sets();
+        let small = Grid::from_ascii("..#\n...").unwrap();
+        let large = Grid::from_ascii(".....\n.#...\n.....\n...#.").unwrap();
+        let mut adjacency = Adjacency::build(&large, &sets[sets.len() - 1]);
+        for moves in &sets {
+            adjacency.rebuild(&small, moves);
+            let built = Adjacency::build(&small, moves);
+            assert_eq!(adjacency.masks(), built.masks());
+            assert_eq!(adjacency.deltas(), built.deltas());
+            assert_eq!(adjacency.n_moves(), built.n_moves());
+            assert!(adjacency.is_for(&small));
         }
     }
 

@@ -136,7 +136,7 @@ use planner_api::{
     MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
-use planner_search::neighbourhood::{MoveTable, BIT_COUNT};
+use planner_search::neighbourhood::{set_free_cells, MoveTable, BIT_COUNT};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -344,8 +344,11 @@ impl WeightCells {
             self.cells.clear();
             self.cells.resize(layout.padded_len, 0);
             if let Some(weights) = grid.weights() {
-                for (i, &w) in weights.cells().iter().enumerate() {
-                    self.cells[layout.index(grid.cell(i))] = w;
+                // Row by row: a copy per row, no division per cell.
+                let width = grid.width() as usize;
+                for (y, row) in (0..).zip(weights.cells().chunks_exact(width.max(1))) {
+                    let start = layout.index(Cell::new(0, y));
+                    self.cells[start..start + row.len()].copy_from_slice(row);
                 }
             }
             self.stride = layout.stride;
@@ -584,12 +587,7 @@ impl FreeBits {
             self.stride = layout.stride;
             self.bytes.clear();
             self.bytes.resize(layout.padded_len / 8 + 3, 0);
-            for (i, &free) in grid.free_cells().iter().enumerate() {
-                if free {
-                    let p = layout.index(grid.cell(i));
-                    self.bytes[p / 8] |= 1 << (p % 8);
-                }
-            }
+            set_free_cells(&mut self.bytes, grid, layout.reach, layout.stride);
             self.table = MoveTable::safe(moves);
             self.target_table = MoveTable::targets(moves);
             self.revision = Some(grid.revision());
