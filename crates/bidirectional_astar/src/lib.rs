@@ -258,8 +258,11 @@ impl BidirectionalAStar {
         if let (Some(weights), false) = (grid.weights(), *revision == Some(grid.revision())) {
             cells.clear();
             cells.resize(adjacency.padded_len(), 0);
-            for (i, &w) in weights.cells().iter().enumerate() {
-                cells[adjacency.index(grid.cell(i))] = w;
+            // A copy per row (no division per cell for its index).
+            let width = grid.width() as usize;
+            for (y, row) in (0..).zip(weights.cells().chunks_exact(width.max(1))) {
+                let start = adjacency.index(Cell::new(0, y));
+                cells[start..start + row.len()].copy_from_slice(row);
             }
             *revision = Some(grid.revision());
         }
