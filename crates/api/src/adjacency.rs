@@ -75,8 +75,13 @@ impl Adjacency {
             // |dy * stride + dx| < 2^33, far inside isize on every supported target.
             *slot = (i64::from(mv.dy) * stride as i64 + i64::from(mv.dx)) as isize;
         }
-        self.safe.clear();
-        self.safe.resize(Adjacency::padded_len_for(grid, moves), 0);
+        // The border's masks are 0 and `fill_masks` writes every grid cell's, so the same
+        // layout needs no clearing (34 MB to write on a 2048 x 2048 grid).
+        let padded_len = Adjacency::padded_len_for(grid, moves);
+        if (self.safe.len(), self.stride, self.reach) != (padded_len, stride, reach) {
+            self.safe.clear();
+            self.safe.resize(padded_len, 0);
+        }
         let (width, height) = (grid.width() as usize, grid.height() as usize);
         fill_masks(
             &mut self.safe,
@@ -197,16 +202,16 @@ impl Adjacency {
     }
 }
 
-/// Sets bit `m` of `safe[p]` (the padded layout of [`Adjacency`], all zero on entry) for
-/// every free grid cell `p` from which move `m` is safe: its target and every `via` cell
-/// are free grid cells. Word-parallel: the free cells are packed a bit per cell into rows
+/// Writes `safe[p]` for every grid cell `p` of the padded layout of [`Adjacency`] (the
+/// border's entries are left as they are): bit `m` set when `p` is free and move `m` is
+/// safe from it, its target and every `via` cell free grid cells. Word-parallel: the free cells are packed a bit per cell into rows
 /// of the padded width with zero words around them, so a move's safe bits for 64 cells of
 /// a row are the AND of the row's word and one shifted word per offset (target and `via`),
 /// and each cell's mask gathers its moves' bits eight cells and eight moves at a time
 /// ([`SPREAD`]). `cargo bench -p planner-api --bench adjacency` (2026-12-06): on its
-/// 512 x 512 grid 1.3 ms (8 moves) to 6.9 ms (48 moves), on its 2048 x 2048 grid 35 to
-/// 123 ms, where the build before it, cell by cell with a bounds test per offset, took
-/// 11.0 to 124 ms and 185 to 1919 ms.
+/// 512 x 512 grid 1.0 ms (8 moves) to 6.5 ms (48 moves), on its 2048 x 2048 grid 31 to
+/// 118 ms (rebuilt in place after a change 16 to 102 ms), where the build before it, cell
+/// by cell with a bounds test per offset, took 11.0 to 124 ms and 185 to 1919 ms.
 fn fill_masks(
     safe: &mut [u64],
     free: &[bool],
@@ -260,7 +265,10 @@ fn fill_masks(
     for y in reach..reach + height {
         for start in (reach..reach + width).step_by(64) {
             let own = word_at(y, start as isize);
+            let cells = (reach + width - start).min(64);
+            let row = &mut safe[y * stride + start..y * stride + start + cells];
             if own == 0 {
+                row.fill(0);
                 continue;
             }
             for (word, offsets) in words.iter_mut().zip(&offsets) {
@@ -269,21 +277,26 @@ fn fill_masks(
                     acc & word_at(y.wrapping_add_signed(dy), start as isize + dx)
                 });
             }
-            let cells = (reach + width - start).min(64);
-            let row = &mut safe[y * stride + start..y * stride + start + cells];
             for (j, chunk) in row.chunks_mut(8).enumerate() {
-                // Eight cells' masks, eight moves at a time: byte i of `flags` holds
-                // moves 8 g .. 8 g + 8 of cell 8 j + i.
-                let mut masks = [0u64; 8];
+                // Eight cells, eight moves at a time: byte i of `flags` holds moves
+                // 8 g .. 8 g + 8 of cell 8 j + i, stored into the masks in place. (Masks
+                // gathered in an array and then copied became a call to `memcpy` per
+                // eight cells, a third of a rebuild's time; an array of the groups' flags
+                // read back as vectors stalled on the stores.)
                 for (g, group) in words.chunks(8).enumerate() {
                     let flags = group.iter().enumerate().fold(0, |flags, (k, &word)| {
                         flags | SPREAD[(word >> (8 * j) & 0xff) as usize] << k
                     });
-                    for (i, mask) in masks.iter_mut().enumerate() {
-                        *mask |= (flags >> (8 * i) & 0xff) << (8 * g);
+                    if g == 0 {
+                        for (i, mask) in chunk.iter_mut().enumerate() {
+                            *mask = flags >> (8 * i) & 0xff;
+                        }
+                    } else {
+                        for (i, mask) in chunk.iter_mut().enumerate() {
+                            *mask |= (flags >> (8 * i) & 0xff) << (8 * g);
+                        }
                     }
                 }
-                chunk.copy_from_slice(&masks[..chunk.len()]);
             }
         }
     }

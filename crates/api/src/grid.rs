@@ -96,13 +96,32 @@ impl<'de> Deserialize<'de> for Cell {
 /// Equality and hashing compare the cells and weights. Every grid also carries a
 /// [`revision`](Grid::revision), so that caches of derived data (move masks) can tell in
 /// O(1) that a grid is the one they were built for.
-#[derive(Clone)]
 pub struct Grid {
     width: u32,
     height: u32,
     free: Vec<bool>,
     weights: Option<Weights>,
     revision: u64,
+}
+
+impl Clone for Grid {
+    fn clone(&self) -> Grid {
+        Grid {
+            width: self.width,
+            height: self.height,
+            free: self.free.clone(),
+            weights: self.weights.clone(),
+            revision: self.revision,
+        }
+    }
+
+    /// Into the memory of `self`'s cells (and weights): a cache that keeps a copy of the
+    /// grid it was built for (the adjacency's) takes a changed grid without allocating.
+    fn clone_from(&mut self, source: &Grid) {
+        (self.width, self.height, self.revision) = (source.width, source.height, source.revision);
+        self.free.clone_from(&source.free);
+        self.weights.clone_from(&source.weights);
+    }
 }
 
 impl PartialEq for Grid {

@@ -11,8 +11,10 @@
 
 use planner_api::{Cell, Grid};
 
-/// Blocked padding cells left of every row.
+/// Blocked padding cells left of every row: a whole word, so that a row's cells start one
+/// ([`BitGrid::build`] writes them a word at a time).
 const PAD: usize = 64;
+const _: () = assert!(PAD % 64 == 0);
 
 /// Bit-packed rows with blocked padding (see the module docs).
 #[derive(Debug, Clone, Default)]
@@ -31,12 +33,6 @@ impl Rows {
             stride,
             data: vec![0; stride * (n_rows + 2)],
         }
-    }
-
-    /// Marks cell `i` of row `row` (unpadded indices) free.
-    fn set_free(&mut self, row: usize, i: usize) {
-        let p = i + PAD;
-        self.data[(row + 1) * self.stride + (p >> 6)] |= 1 << (p & 63);
     }
 
     /// Bit `p` of padded row `r`.
@@ -131,6 +127,16 @@ impl Rows {
     }
 }
 
+/// The cells of `cells` (a row of a grid) packed 64 to a word, free as 1, from cell 0 on;
+/// the last word's bits past the row are 0.
+fn packed(cells: &[bool]) -> impl Iterator<Item = u64> + '_ {
+    cells.chunks(64).map(|chunk| {
+        (0..)
+            .zip(chunk)
+            .fold(0u64, |word, (i, &free)| word | u64::from(free) << i)
+    })
+}
+
 /// A grid as bit-packed rows and columns, built once per grid and reused across queries.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct BitGrid {
@@ -159,10 +165,22 @@ impl BitGrid {
         let (w, h) = (grid.width() as usize, grid.height() as usize);
         let mut rows = Rows::blocked(w, h);
         let mut columns = Rows::blocked(h, w);
-        for (i, _) in grid.free_cells().iter().enumerate().filter(|(_, &f)| f) {
-            let (x, y) = (i % w, i / w);
-            rows.set_free(y, x);
-            columns.set_free(x, y);
+        // A word at a time (the padding is a whole word, so a row's cells start a word):
+        // a division per cell for its coordinates and a bit set per cell took most of a
+        // rebuild after a grid change. Columns from bands of 64 rows, each of whose
+        // columns is one word.
+        for (y, row) in grid.free_cells().chunks_exact(w.max(1)).enumerate() {
+            let start = (y + 1) * rows.stride + PAD / 64;
+            for (c, word) in packed(row).enumerate() {
+                rows.data[start + c] = word;
+            }
+        }
+        for (b, band) in grid.free_cells().chunks(64 * w.max(1)).enumerate() {
+            let n_rows = band.len() / w.max(1);
+            for x in 0..w {
+                let word = (0..n_rows).fold(0u64, |word, k| word | u64::from(band[k * w + x]) << k);
+                columns.data[(x + 1) * columns.stride + PAD / 64 + b] = word;
+            }
         }
         BitGrid {
             width: grid.width(),
@@ -193,10 +211,16 @@ impl BitGrid {
 
     /// Whether this is the bit grid of `grid`.
     pub(crate) fn is_for(&self, grid: &Grid) -> bool {
+        let w = grid.width() as usize;
         (self.width, self.height) == (grid.width(), grid.height())
-            && grid
-                .cells()
-                .all(|c| self.free(c.x as i32, c.y as i32) == grid.is_free(c))
+            && (0..)
+                .zip(grid.free_cells().chunks_exact(w.max(1)))
+                .all(|(y, row): (usize, _)| {
+                    let start = (y + 1) * self.rows.stride + PAD / 64;
+                    packed(row)
+                        .zip(&self.rows.data[start..])
+                        .all(|(word, &have)| word == have)
+                })
     }
 
     /// The width in cells.
@@ -308,6 +332,36 @@ mod tests {
                 return (true, k);
             }
             (cx, cy) = (nx, ny);
+        }
+    }
+
+    /// Every row and column bit, padding included, against the grid, on grids whose rows
+    /// and columns cross the packed words' boundaries; and `is_for` tells the grid from one
+    /// that differs in a single cell.
+    #[test]
+    fn rows_and_columns_are_the_grid() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(64);
+        for (w, h) in [(1, 1), (63, 2), (64, 65), (65, 130), (3, 200)] {
+            let density = rng.gen_range(0.0..1.0);
+            let free: Vec<bool> = (0..w * h).map(|_| !rng.gen_bool(density)).collect();
+            let grid = Grid::from_free_cells(w, h, free).unwrap();
+            let bits = BitGrid::build(&grid);
+            for y in -1..=h as i32 {
+                for x in -1..=w as i32 {
+                    let expect = x >= 0 && y >= 0 && grid.is_free(Cell::new(x as u32, y as u32));
+                    assert_eq!(bits.free(x, y), expect, "{w}x{h} row bit ({x}, {y})");
+                    let column = bits
+                        .columns
+                        .bit((x + 1) as usize, (y + PAD as i32) as usize);
+                    assert_eq!(column, expect, "{w}x{h} column bit ({x}, {y})");
+                }
+            }
+            assert!(bits.is_for(&grid));
+            let mut other = grid.clone();
+            let cell = Cell::new(w - 1, h - 1);
+            other.set_free(cell, !grid.is_free(cell));
+            assert!(!bits.is_for(&other), "{w}x{h}");
         }
     }
 
