@@ -204,11 +204,11 @@ impl Adjacency {
 
 /// Writes `safe[p]` for every grid cell `p` of the padded layout of [`Adjacency`] (the
 /// border's entries are left as they are): bit `m` set when `p` is free and move `m` is
-/// safe from it, its target and every `via` cell free grid cells. Word-parallel: the free cells are packed a bit per cell into rows
-/// of the padded width with zero words around them, so a move's safe bits for 64 cells of
-/// a row are the AND of the row's word and one shifted word per offset (target and `via`),
-/// and each cell's mask gathers its moves' bits eight cells and eight moves at a time
-/// ([`SPREAD`]). `cargo bench -p planner-api --bench adjacency` (2026-12-06): on its
+/// safe from it, its target and every `via` cell free grid cells. Word-parallel: the free
+/// cells are packed a bit per cell into rows of the padded width with zero words around
+/// them, so a move's safe bits for 64 cells of a row are the AND of the row's word and one
+/// shifted word per offset (target and `via`), and each cell's mask gathers its moves'
+/// bits eight cells and eight moves at a time ([`SPREAD`]). `cargo bench -p planner-api --bench adjacency` (2026-12-06): on its
 /// 512 x 512 grid 1.0 ms (8 moves) to 6.5 ms (48 moves), on its 2048 x 2048 grid 31 to
 /// 118 ms (rebuilt in place after a change 16 to 102 ms), where the build before it, cell
 /// by cell with a bounds test per offset, took 11.0 to 124 ms and 185 to 1919 ms.

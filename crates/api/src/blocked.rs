@@ -237,6 +237,33 @@ mod tests {
         );
     }
 
+    /// Every row and column bit against the grid, on sizes that cross the words'
+    /// boundaries both ways.
+    #[test]
+    fn rows_and_columns_are_the_blocked_cells() {
+        let mut next = crate::test_rng::xorshift(0x2545_f491_4f6c_dd1d);
+        for (w, h) in [(1, 1), (1, 200), (200, 1), (65, 130), (130, 65), (64, 64)] {
+            let free = (0..w * h).map(|_| next() % 3 != 0).collect();
+            let grid = Grid::from_free_cells(w, h, free).unwrap();
+            let bits = BlockedBits::new(&grid);
+            let ((rows, per_row), (columns, per_column)) = (bits.rows(), bits.columns());
+            for cell in grid.cells() {
+                let (x, y) = (cell.x as usize, cell.y as usize);
+                let blocked = !grid.is_free(cell);
+                assert_eq!(rows[y * per_row + x / 64] >> (x % 64) & 1 == 1, blocked);
+                assert_eq!(
+                    columns[x * per_column + y / 64] >> (y % 64) & 1 == 1,
+                    blocked
+                );
+            }
+            // Nothing set past the grid in a line's last word.
+            let row_bits: u32 = rows.iter().map(|w| w.count_ones()).sum();
+            let column_bits: u32 = columns.iter().map(|w| w.count_ones()).sum();
+            let n_blocked = grid.cells().filter(|&c| !grid.is_free(c)).count() as u32;
+            assert_eq!((row_bits, column_bits), (n_blocked, n_blocked));
+        }
+    }
+
     /// Loading a changed grid (a new revision) rebuilds the bits and the table in place.
     #[test]
     fn a_changed_grid_is_loaded_anew() {
