@@ -167,18 +167,26 @@ impl BitGrid {
         let mut columns = Rows::blocked(h, w);
         // A word at a time (the padding is a whole word, so a row's cells start a word):
         // a division per cell for its coordinates and a bit set per cell took most of a
-        // rebuild after a grid change. Columns from bands of 64 rows, each of whose
-        // columns is one word.
-        for (y, row) in grid.free_cells().chunks_exact(w.max(1)).enumerate() {
+        // rebuild after a grid change. The columns a band of 64 rows at a time, each
+        // column's word of the band built in `band` row by row (sequential reads; reading
+        // each column down the band was slower, rows a power of two apart sharing cache
+        // sets) and then stored.
+        let w1 = w.max(1);
+        for (y, row) in grid.free_cells().chunks_exact(w1).enumerate() {
             let start = (y + 1) * rows.stride + PAD / 64;
             for (c, word) in packed(row).enumerate() {
                 rows.data[start + c] = word;
             }
         }
-        for (b, band) in grid.free_cells().chunks(64 * w.max(1)).enumerate() {
-            let n_rows = band.len() / w.max(1);
-            for x in 0..w {
-                let word = (0..n_rows).fold(0u64, |word, k| word | u64::from(band[k * w + x]) << k);
+        let mut band = vec![0u64; w];
+        for (b, band_rows) in grid.free_cells().chunks(64 * w1).enumerate() {
+            band.fill(0);
+            for (k, row) in band_rows.chunks_exact(w1).enumerate() {
+                for (word, &free) in band.iter_mut().zip(row) {
+                    *word |= u64::from(free) << k;
+                }
+            }
+            for (x, &word) in band.iter().enumerate() {
                 columns.data[(x + 1) * columns.stride + PAD / 64 + b] = word;
             }
         }
