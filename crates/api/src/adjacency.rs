@@ -10,7 +10,7 @@
 //! needs no obstacle test at all: a clear bit is a blocked check, a set bit gives the
 //! neighbour as `p + delta[m]`. Masks are `u64`, enough for the largest set (48 moves).
 
-use crate::grid::{Cell, Grid};
+use crate::grid::{packed_words, Cell, Grid};
 use crate::moves::MoveSet;
 
 /// A bit of every mask word that searches may use as a per-cell scratch flag (move masks
@@ -227,10 +227,7 @@ fn fill_masks(
         let base = (y + reach) * row_words * 64 + margin * 64 + reach;
         // 64 cells at a time gathered in a register and stored as the (at most) two words
         // they straddle.
-        for (c, cells) in row.chunks(64).enumerate() {
-            let word = (0..)
-                .zip(cells)
-                .fold(0u64, |word, (i, &f)| word | u64::from(f) << i);
+        for (c, word) in packed_words(row).enumerate() {
             let bit = base + 64 * c;
             bits[bit / 64] |= word << (bit % 64);
             if bit % 64 != 0 {

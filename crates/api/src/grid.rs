@@ -469,6 +469,18 @@ impl fmt::Debug for Grid {
     }
 }
 
+/// `flags` (a row of [`Grid::free_cells`], say) packed 64 to a word: bit `i` of word `c`
+/// is flag `64 c + i`, and the last word's bits past the end are 0. The packed copies of a
+/// grid (the adjacency's rows, A*'s and Theta*'s bit grids, Jump Point Search's rows) are
+/// built from these words, a store per 64 cells rather than a read-modify-write per cell.
+pub fn packed_words(flags: &[bool]) -> impl Iterator<Item = u64> + '_ {
+    flags.chunks(64).map(|chunk| {
+        (0..)
+            .zip(chunk)
+            .fold(0u64, |word, (i, &flag)| word | u64::from(flag) << i)
+    })
+}
+
 /// `hypot(dx, dy)` of two cell offsets as glibc computes it: the generic
 /// `sysdeps/ieee754/dbl-64/e_hypot.c` without FMA (read off the disassembly of Debian 12's
 /// glibc 2.36 for x86-64), Borges's algorithm ("An improved algorithm for hypot(a, b)",
@@ -535,6 +547,20 @@ const EXPONENT_BITS: u64 = 0x7ff0_0000_0000_0000;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn packed_words_by_hand() {
+        let flags: Vec<bool> = (0..130).map(|i| i % 3 == 0 || i == 64).collect();
+        let words: Vec<u64> = packed_words(&flags).collect();
+        assert_eq!(words.len(), 3);
+        for (i, &flag) in flags.iter().enumerate() {
+            assert_eq!(words[i / 64] >> (i % 64) & 1 == 1, flag, "flag {i}");
+        }
+        // The last word holds flags 128 (128 = 3 * 42 + 2: clear) and 129 (3 * 43: set),
+        // and nothing past them.
+        assert_eq!(words[2], 0b10);
+        assert_eq!(packed_words(&[]).count(), 0);
+    }
 
     /// A million pseudo-random offsets up to 2^32 (a xorshift sequence from `seed`), the
     /// second of each pair shifted right by a random amount so that all ratios occur.

@@ -55,7 +55,7 @@ pub use coverage::{
     reachable_cells, CoverageMetrics, CoverageOutcome, CoveragePlanner, CoverageProblem, ReturnLeg,
 };
 pub use error::{Endpoint, GridError, MoveOrderError, PathError, ProblemError};
-pub use grid::{cell_hypot, Cell, Grid};
+pub use grid::{cell_hypot, packed_words, Cell, Grid};
 pub use incremental::{path_cost, CellChange, ChangeError, IncrementalPlanner};
 pub use moves::{
     for_each_segment_cell, segment_is_free, walk_segment, Connectivity, Direction, IndexedMove,

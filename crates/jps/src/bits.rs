@@ -9,7 +9,7 @@
 //! read near the border sees blocked cells and needs no bounds test. A cell at column `x`
 //! of row `y` is bit position `x + 64` of padded row `y + 1`.
 
-use planner_api::{Cell, Grid};
+use planner_api::{packed_words, Cell, Grid};
 
 /// Blocked padding cells left of every row: a whole word, so that a row's cells start one
 /// ([`BitGrid::build`] writes them a word at a time).
@@ -127,16 +127,6 @@ impl Rows {
     }
 }
 
-/// The cells of `cells` (a row of a grid) packed 64 to a word, free as 1, from cell 0 on;
-/// the last word's bits past the row are 0.
-fn packed(cells: &[bool]) -> impl Iterator<Item = u64> + '_ {
-    cells.chunks(64).map(|chunk| {
-        (0..)
-            .zip(chunk)
-            .fold(0u64, |word, (i, &free)| word | u64::from(free) << i)
-    })
-}
-
 /// A grid as bit-packed rows and columns, built once per grid and reused across queries.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct BitGrid {
@@ -174,7 +164,7 @@ impl BitGrid {
         let w1 = w.max(1);
         for (y, row) in grid.free_cells().chunks_exact(w1).enumerate() {
             let start = (y + 1) * rows.stride + PAD / 64;
-            for (c, word) in packed(row).enumerate() {
+            for (c, word) in packed_words(row).enumerate() {
                 rows.data[start + c] = word;
             }
         }
@@ -225,7 +215,7 @@ impl BitGrid {
                 .zip(grid.free_cells().chunks_exact(w.max(1)))
                 .all(|(y, row): (usize, _)| {
                     let start = (y + 1) * self.rows.stride + PAD / 64;
-                    packed(row)
+                    packed_words(row)
                         .zip(&self.rows.data[start..])
                         .all(|(word, &have)| word == have)
                 })

@@ -49,7 +49,7 @@ fn main() {
         ..Budget::unlimited()
     };
     for (label, name, params) in labels {
-        let Some(entry) = PLANNERS.iter().find(|e| e.name == name) else {
+        let Some(entry) = planner_registry::find(name) else {
             continue;
         };
         let Ok(factory) = (entry.factory)(&params) else {

@@ -36,7 +36,7 @@
 //! assert_eq!(to_closed.count_ones(), 1);
 //! ```
 
-use planner_api::{Adjacency, Grid, MoveSet};
+use planner_api::{packed_words, Adjacency, Grid, MoveSet};
 
 /// Sets the bit of every free cell of `grid` in `bytes`, a bit per cell (bit `p % 8` of
 /// byte `p / 8`) of the padded layout with border `reach` and row length `stride`
@@ -50,10 +50,7 @@ pub fn set_free_cells(bytes: &mut [u8], grid: &Grid, reach: usize, stride: usize
     let width = grid.width() as usize;
     for (y, row) in grid.free_cells().chunks_exact(width.max(1)).enumerate() {
         let start = (y + reach) * stride + reach;
-        for (c, cells) in row.chunks(64).enumerate() {
-            let word = (0..)
-                .zip(cells)
-                .fold(0u64, |word, (i, &free)| word | u64::from(free) << i);
+        for (c, word) in packed_words(row).enumerate() {
             let bit = start + 64 * c;
             // The 64 bits from bit `bit % 8` of byte `bit / 8` on: nine bytes at most.
             let spread = u128::from(word) << (bit % 8);
