@@ -61,7 +61,7 @@ pub use moves::{
     for_each_segment_cell, segment_is_free, walk_segment, Connectivity, Direction, IndexedMove,
     IndexedMoves, Move, MoveSet, NeighborOrder, SegmentWalk,
 };
-pub use path::{Path, PathMetrics, PathRank, PathRule};
+pub use path::{push_octile_leg, Path, PathMetrics, PathRank, PathRule};
 pub use planner::{
     Budget, BudgetClock, CancelFlag, Mark, MemoryShortfall, Outcome, Planner, Problem, Series,
     Status,

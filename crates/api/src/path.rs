@@ -166,6 +166,32 @@ impl Path {
     }
 }
 
+/// Appends to `cells` the cells after `from` on the way to `to`, `to` included: diagonal
+/// steps while both offsets remain, then straight ones. This is how a jump of Jump Point
+/// Search reaches its jump point, so JPS planners expand their parent chains with it.
+///
+/// ```
+/// use planner_api::{push_octile_leg, Cell};
+///
+/// let mut cells = vec![Cell::new(1, 1)];
+/// push_octile_leg(&mut cells, Cell::new(1, 1), Cell::new(4, 0));
+/// assert_eq!(cells, [Cell::new(1, 1), Cell::new(2, 0), Cell::new(3, 0), Cell::new(4, 0)]);
+/// ```
+pub fn push_octile_leg(cells: &mut Vec<Cell>, from: Cell, to: Cell) {
+    let (sx, sy) = (to.x.cmp(&from.x) as i32, to.y.cmp(&from.y) as i32);
+    let (ax, ay) = (to.x.abs_diff(from.x), to.y.abs_diff(from.y));
+    let (mut x, mut y) = (from.x, from.y);
+    for _ in 0..ax.min(ay) {
+        (x, y) = (x.wrapping_add_signed(sx), y.wrapping_add_signed(sy));
+        cells.push(Cell::new(x, y));
+    }
+    let (sx, sy) = if ax > ay { (sx, 0) } else { (0, sy) };
+    for _ in 0..ax.abs_diff(ay) {
+        (x, y) = (x.wrapping_add_signed(sx), y.wrapping_add_signed(sy));
+        cells.push(Cell::new(x, y));
+    }
+}
+
 impl From<Vec<Cell>> for Path {
     fn from(cells: Vec<Cell>) -> Path {
         Path { cells }

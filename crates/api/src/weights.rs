@@ -11,9 +11,10 @@
 //! the longer moves) from a cell of weight `a` to a cell of weight `b` costs
 //! - [`CostRule::Mean`] (the default): `d * (a + b) / 2`, the length times the mean of the
 //!   two cells' weights: half the move in each cell. Issue 32 names it as the rule of
-//!   warthog's weighted grids (Harabor's planning library, the code behind Carlson, Shen,
-//!   Harabor and Stuckey's weighted JPS, JPSW, AAAI 2023); that attribution was not
-//!   checked against warthog's source here. It is symmetric: a path and its reverse cost
+//!   warthog's weighted grids (Harabor's planning library, the code behind Carlson,
+//!   Moghadam, Harabor, Stuckey and Ebrahimi's weighted JPS, JPSW, "Optimal Pathfinding on
+//!   Weighted Grid Maps", AAAI 2023); that attribution was not checked against warthog's
+//!   source here. It is symmetric: a path and its reverse cost
 //!   the same.
 //! - [`CostRule::Entered`]: `d * b`, the length times the weight of the cell entered,
 //!   the way ROS 2 navigation's grid planners charge a move (Smac 2D adds the entered

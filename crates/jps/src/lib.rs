@@ -176,8 +176,8 @@ use bits::{diagonal, BitGrid, DX, DY};
 use bounds::{GoalBounds, Stopped};
 pub use cost::Cost;
 use planner_api::{
-    Budget, Cell, Connectivity, Counters, Grid, Mark, MoveSet, Outcome, ParamKey, Path, PathSpec,
-    Planner, PlannerSpecs, Problem, Status,
+    push_octile_leg, Budget, Cell, Connectivity, Counters, Grid, Mark, MoveSet, Outcome, ParamKey,
+    Path, PathSpec, Planner, PlannerSpecs, Problem, Status,
 };
 use planner_search::FrontHeap as Open;
 use plus::JumpTable;
@@ -594,20 +594,7 @@ impl Jps {
         let mut cells = Vec::with_capacity(n_cells);
         cells.push(cell(start));
         for leg in chain.windows(2) {
-            let (from, to) = (cell(leg[0]), cell(leg[1]));
-            let (sx, sy) = (to.x.cmp(&from.x) as i32, to.y.cmp(&from.y) as i32);
-            let (ax, ay) = (to.x.abs_diff(from.x), to.y.abs_diff(from.y));
-            let (mut x, mut y) = (from.x, from.y);
-            // Diagonal steps while both offsets remain, then straight ones.
-            for _ in 0..ax.min(ay) {
-                (x, y) = (x.wrapping_add_signed(sx), y.wrapping_add_signed(sy));
-                cells.push(Cell::new(x, y));
-            }
-            let (sx, sy) = if ax > ay { (sx, 0) } else { (0, sy) };
-            for _ in 0..ax.abs_diff(ay) {
-                (x, y) = (x.wrapping_add_signed(sx), y.wrapping_add_signed(sy));
-                cells.push(Cell::new(x, y));
-            }
+            push_octile_leg(&mut cells, cell(leg[0]), cell(leg[1]));
         }
         let marks = if self.config.marks && chain.len() > 2 {
             chain[1..chain.len() - 1]

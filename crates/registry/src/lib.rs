@@ -184,6 +184,12 @@ pub const PLANNERS: &[Entry] = &[
         task: Task::StartGoal,
         factory: |params| Factory::incremental(planner_dstar_lite::NAME, params, planner_dstar_lite::DStarLite::new),
     },
+    Entry {
+        name: planner_weighted_jps::NAME,
+        summary: "Jump Point Search on weighted grids: jumps through uniform terrain, every cell where weights change searched as by A*; 8-connected without corner cutting, least-cost paths",
+        task: Task::StartGoal,
+        factory: |params| Factory::path(planner_weighted_jps::NAME, params, planner_weighted_jps::WeightedJps::new),
+    },
     // (registry end)
 ];
 
