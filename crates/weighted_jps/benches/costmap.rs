@@ -4,7 +4,7 @@
 //!
 //! `cargo bench -p planner-weighted_jps --bench costmap [-- --repeats=N --clock=cpu]
 //! [map ...]` prints one line per map: `map=<name> problems=<n> unreachable=<n>
-//! mismatches=<n> astar_expansions=<total> jps_expansions=<total> jps_scanned=<total>
+//! mismatches=<n> astar_expansions=<total> jps_expansions=<total> jps_jumps=<total>
 //! astar_ms=<t> jps_ms=<t> speedup=<astar/jps>`. A mismatch is a problem whose two exact
 //! path costs differ. A* is planner-astar with the octile heuristic times the smallest
 //! weight, 8 directions without corner cutting (weighted_jps's moves), larger g first
@@ -77,21 +77,21 @@ fn arena() -> Problems {
     (grid, pairs)
 }
 
-/// The exact costs of one side's paths and its total expansions (and cells scanned).
+/// The exact costs of one side's paths and its total expansions (and jumps tried).
 type Pass = (Vec<Option<u64>>, u64, u64);
 
 fn run(planner: &mut dyn Planner, grid: &Grid, problems: &[Problem<'_>]) -> Pass {
-    let (mut expanded, mut scanned) = (0, 0);
+    let (mut expanded, mut jumps) = (0, 0);
     let costs = problems
         .iter()
         .map(|problem| {
             let outcome = planner.plan(problem, &Budget::unlimited());
             expanded += outcome.counters.get("n_expanded").unwrap_or(0);
-            scanned += outcome.counters.get("n_scanned").unwrap_or(0);
+            jumps += outcome.counters.get("n_jumps").unwrap_or(0);
             outcome.path.map(|p| grid.path_cost(p.cells()).units())
         })
         .collect();
-    (costs, expanded, scanned)
+    (costs, expanded, jumps)
 }
 
 fn main() {
@@ -137,7 +137,7 @@ fn main() {
         let unreachable = a.result.0.iter().filter(|c| c.is_none()).count();
         let (astar_ms, jps_ms) = (a.best.as_secs_f64() * 1e3, j.best.as_secs_f64() * 1e3);
         println!(
-            "map={name} problems={} unreachable={unreachable} mismatches={mismatches} astar_expansions={} jps_expansions={} jps_scanned={} astar_ms={astar_ms:.1} jps_ms={jps_ms:.1} speedup={:.2}",
+            "map={name} problems={} unreachable={unreachable} mismatches={mismatches} astar_expansions={} jps_expansions={} jps_jumps={} astar_ms={astar_ms:.1} jps_ms={jps_ms:.1} speedup={:.2}",
             problems.len(),
             a.result.1,
             j.result.1,

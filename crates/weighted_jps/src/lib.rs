@@ -59,32 +59,36 @@
 //!
 //! # Tables per grid
 //! Built once per grid revision ([`Planner::prepare`], or the first search): the grid with
-//! a blocked border one cell wide, its weights, the uniform flags, and per cell and straight
-//! direction the straight jump from it (the cells to its jump point, or to the blocked cell
-//! that ends it: JPS+'s distances, Rabin and Silva, "An Extreme A* Speed Optimization for
-//! Static Uniform Cost Grids", Game AI Pro 2, 2015, with weight changes as jump points).
-//! A straight jump is then one table read (and a look at the goal, which stops a jump that
-//! reaches it); a diagonal jump steps cell by cell and reads its two straight jumps at each.
-//! 20 bytes per cell of the bordered grid for the tables and 19 for the search's nodes.
+//! a blocked border one cell wide, its weights, the uniform flags, and per cell and
+//! direction the jump from it, the goal aside (the moves to its jump point, or to the
+//! blocked cell or cut corner that ends it: JPS+'s distances, Rabin and Silva, "An Extreme
+//! A* Speed Optimization for Static Uniform Cost Grids", Game AI Pro 2, 2015, with weight
+//! changes as jump points). A jump is then one table read and a look at the goal: a
+//! straight jump that reaches the goal stops there, and a diagonal one stops where it
+//! crosses the goal's row or column if the goal is that cell or that cell's straight jump
+//! reaches it (JPS+'s target jump points). Along a jump every move after the first has one
+//! weight (crate docs above), so its cost is two products. 36 bytes per cell of the
+//! bordered grid for the tables and 19 for the search's nodes.
 //!
 //! # Speed, measured
 //! `cargo bench -p planner-weighted_jps --bench costmap -- --repeats=3 --clock=cpu` (the
-//! same paths' costs as planner-astar's on every problem; 2026-12-06, this 2-core machine):
+//! same paths' costs as planner-astar's on every problem; 2026-12-06, this 2-core machine,
+//! two runs):
 //!
 //! | map | problems | A* expansions | weighted_jps expansions | A* ms | weighted_jps ms |
 //! |---|---:|---:|---:|---:|---:|
-//! | nav2's warehouse as graded costs (1 + costmap cost), 200 seeded pairs, 27 unreachable | 200 | 52,344,370 | 395,037 | 7958.8 | 231.1 (34x faster) |
-//! | arena, 7 x 7 terrain patches of weights 1-9 | 160 | 130,128 | 121,369 | 16.4 | 33.3 (2x slower) |
+//! | nav2's warehouse as graded costs (1 + costmap cost), 200 seeded pairs, 27 unreachable | 200 | 52,344,370 | 395,037 | 7683.4, 8263.9 | 119.8, 133.0 (62-64x faster) |
+//! | arena, 7 x 7 terrain patches of weights 1-9 | 160 | 130,128 | 121,369 | 16.8, 16.9 | 27.2, 27.2 (1.6x slower) |
 //!
-//! Where the weights change every few cells almost no cell is uniform, the search expands
-//! nearly A*'s nodes, and each expansion jumps eight ways: use A* there. On a robot's
-//! costmap, whose free space is one weight with gradients around the obstacles, the jumps
-//! cross the free space in one expansion.
+//! Jumps that stepped cell by cell took 3583.5 ms on the warehouse; straight jumps from the
+//! table, diagonal ones stepping, 231.1 ms. Where the weights change every few cells almost
+//! no cell is uniform, the search expands nearly A*'s nodes, and each expansion jumps eight
+//! ways: use A* there. On a robot's costmap, whose free space is one weight with gradients
+//! around the obstacles, the jumps cross the free space in one expansion.
 //!
 //! # Counters
-//! `n_expanded` (jump points expanded, reopened ones included), `n_scanned` (cells the
-//! jumps pass over, their end included, as a jump stepping cell by cell would count them;
-//! a straight jump reads them from the table), `n_open_insertions`, `n_relaxations` (a node given a new parent and
+//! `n_expanded` (jump points expanded, reopened ones included), `n_jumps` (jumps tried:
+//! reads of the jump table), `n_open_insertions`, `n_relaxations` (a node given a new parent and
 //! cost), `peak_open`, `n_reopened` (expansions for a direction that arrived after the
 //! node's first expansion).
 //!
@@ -214,9 +218,10 @@ struct Prepared {
     stride: usize,
     free: Vec<bool>,
     uniform: Vec<bool>,
-    /// Per cell and straight direction `k < 4` (at `4 p + k`): the straight jump from the
-    /// cell as `steps << 1 | stops`, where `stops` says whether it ends at a jump point
-    /// `steps` cells away, and otherwise `steps` free cells lie before a blocked one.
+    /// Per cell and direction `k` (at `8 p + k`): the jump from the cell, the goal aside, as
+    /// `steps << 1 | stops`, where `stops` says whether it ends at a jump point `steps`
+    /// moves away, and otherwise `steps` moves can be made before a blocked cell or a cut
+    /// corner.
     runs: Vec<u32>,
     weights: Vec<u16>,
     /// The smallest weight of any cell (1 without weights).
@@ -226,8 +231,8 @@ struct Prepared {
 }
 
 impl Prepared {
-    /// Bytes per padded cell: the free and uniform flags, the weight and the four runs.
-    const BYTES_PER_CELL: u64 = 4 + 16;
+    /// Bytes per padded cell: the free and uniform flags, the weight and the eight runs.
+    const BYTES_PER_CELL: u64 = 4 + 32;
 
     fn padded_len(grid: &Grid) -> u64 {
         (u64::from(grid.width()) + 2) * (u64::from(grid.height()) + 2)
@@ -272,24 +277,25 @@ impl Prepared {
         self.revision = Some(grid.revision());
     }
 
-    /// The straight jumps of every cell ([`Prepared::runs`]), each direction's computed
-    /// from the cell ahead's: a jump stops one step on at a cell that is not uniform or
-    /// has a forced neighbour for the direction, ends before a blocked one, and otherwise
-    /// goes on as the jump from the cell ahead.
+    /// The jumps of every cell ([`Prepared::runs`]), each computed from the cell one move
+    /// ahead's: a straight jump stops one move on at a cell that is not uniform or has a
+    /// forced neighbour for the direction, a diagonal one at a cell that is not uniform or
+    /// whose straight component jumps stop; a jump ends before a blocked cell (or a cut
+    /// corner), and otherwise goes on as the jump from the cell ahead. Straight directions
+    /// first: the diagonal ones read them.
     fn build_runs(&mut self, width: usize, height: usize, stride: usize) {
         self.runs.clear();
-        self.runs.resize(self.free.len() * 4, 0);
-        for k in 0..4 {
+        self.runs.resize(self.free.len() * 8, 0);
+        for (k, &(dx, dy)) in DIRECTIONS.iter().enumerate() {
             let d = self.delta[k];
-            let [s1, s2] = sides(k).map(|s| self.delta[s]);
-            // Cells in the order that visits each cell's next one first.
-            let xs: Box<dyn Iterator<Item = usize>> = match k {
-                0 => Box::new((1..=width).rev()),
-                _ => Box::new(1..=width),
+            let (kx, ky) = (direction(dx, 0), direction(0, dy));
+            // Cells in an order that visits each cell's next one first.
+            let xs: Vec<usize> = match dx {
+                1 => (1..=width).rev().collect(),
+                _ => (1..=width).collect(),
             };
-            let xs: Vec<usize> = xs.collect();
-            let ys: Vec<usize> = match k {
-                2 => (1..=height).rev().collect(),
+            let ys: Vec<usize> = match dy {
+                1 => (1..=height).rev().collect(),
                 _ => (1..=height).collect(),
             };
             for &y in &ys {
@@ -300,17 +306,30 @@ impl Prepared {
                     }
                     let next = p.wrapping_add_signed(d);
                     let free = &self.free;
-                    let forced = |c: usize| {
-                        (free[c.wrapping_add_signed(s1)] && !free[c.wrapping_add_signed(s1 - d)])
-                            || (free[c.wrapping_add_signed(s2)]
-                                && !free[c.wrapping_add_signed(s2 - d)])
+                    let (allowed, stop) = if k < 4 {
+                        let [s1, s2] = sides(k).map(|s| self.delta[s]);
+                        let forced = |c: usize| {
+                            (free[c.wrapping_add_signed(s1)]
+                                && !free[c.wrapping_add_signed(s1 - d)])
+                                || (free[c.wrapping_add_signed(s2)]
+                                    && !free[c.wrapping_add_signed(s2 - d)])
+                        };
+                        let allowed = free[next];
+                        (allowed, allowed && (!self.uniform[next] || forced(next)))
+                    } else {
+                        let allowed = free[next]
+                            && free[p.wrapping_add_signed(self.delta[kx])]
+                            && free[p.wrapping_add_signed(self.delta[ky])];
+                        let straight_stops =
+                            (self.runs[8 * next + kx] | self.runs[8 * next + ky]) & 1 == 1;
+                        (allowed, allowed && (!self.uniform[next] || straight_stops))
                     };
-                    self.runs[4 * p + k] = if !self.free[next] {
+                    self.runs[8 * p + k] = if !allowed {
                         0
-                    } else if !self.uniform[next] || forced(next) {
+                    } else if stop {
                         1 << 1 | 1
                     } else {
-                        let ahead = self.runs[4 * next + k];
+                        let ahead = self.runs[8 * next + k];
                         (ahead >> 1).saturating_add(1) << 1 | (ahead & 1)
                     };
                 }
@@ -380,7 +399,7 @@ impl Nodes {
 #[derive(Debug, Clone, Copy, Default)]
 struct Tally {
     n_expanded: u64,
-    n_scanned: u64,
+    n_jumps: u64,
     n_open_insertions: u64,
     n_relaxations: u64,
     peak_open: u64,
@@ -392,7 +411,7 @@ impl Tally {
         let mut counters = Counters::new();
         for (name, value) in [
             ("n_expanded", self.n_expanded),
-            ("n_scanned", self.n_scanned),
+            ("n_jumps", self.n_jumps),
             ("n_open_insertions", self.n_open_insertions),
             ("n_relaxations", self.n_relaxations),
             ("peak_open", self.peak_open),
@@ -452,7 +471,7 @@ struct Jumper<'a> {
     /// (`planner_api::CostRule::factors`).
     half: [u64; 2],
     factors: (u64, u64),
-    scanned: u64,
+    jumps: u64,
 }
 
 impl Jumper<'_> {
@@ -468,7 +487,8 @@ impl Jumper<'_> {
     /// way there, or `None`. One read of the runs table ([`Prepared::runs`]), and the goal
     /// when it lies on the way.
     fn straight(&mut self, p: usize, k: usize) -> Option<(usize, u64)> {
-        let run = self.grid.runs[4 * p + k];
+        self.jumps += 1;
+        let run = self.grid.runs[8 * p + k];
         let (mut steps, stops) = ((run >> 1) as usize, run & 1 == 1);
         let to_goal = self.steps_to_goal(p, k);
         let stops = match to_goal {
@@ -478,12 +498,7 @@ impl Jumper<'_> {
             }
             _ => stops,
         };
-        if steps == 0 {
-            return None;
-        }
-        // The cells passed, the jump point included, whether it stops or not.
-        self.scanned += steps as u64;
-        if !stops {
+        if steps == 0 || !stops {
             return None;
         }
         let d = self.grid.delta[k];
@@ -512,32 +527,57 @@ impl Jumper<'_> {
         }
     }
 
-    /// The diagonal jump from `p` in direction `k >= 4`, as [`Jumper::straight`].
+    /// The diagonal jump from `p` in direction `k >= 4`, as [`Jumper::straight`]: one read
+    /// of the runs table, and where the goal's row or column crosses the jump's way, a look
+    /// at whether the goal is that cell or its straight jump there reaches the goal.
     fn diagonal(&mut self, p: usize, k: usize) -> Option<(usize, u64)> {
+        self.jumps += 1;
+        let run = self.grid.runs[8 * p + k];
+        let steps = (run >> 1) as usize;
+        if steps == 0 {
+            return None;
+        }
+        let mut end = if run & 1 == 1 { steps } else { usize::MAX };
         let (dx, dy) = DIRECTIONS[k];
-        let (kx, ky) = (direction(dx, 0), direction(0, dy));
-        let (d, ddx, ddy) = (self.grid.delta[k], self.grid.delta[kx], self.grid.delta[ky]);
-        let (mut at, mut cost) = (p, 0u64);
-        loop {
-            let next = at.wrapping_add_signed(d);
-            let free = &self.grid.free;
-            if !free[next]
-                || !free[at.wrapping_add_signed(ddx)]
-                || !free[at.wrapping_add_signed(ddy)]
-            {
-                return None;
+        let stride = self.grid.stride;
+        let (px, py) = ((p % stride) as i64, (p / stride) as i64);
+        let (gx, gy) = ((self.goal % stride) as i64, (self.goal / stride) as i64);
+        let (dx, dy) = (i64::from(dx), i64::from(dy));
+        // At `t` moves the jump reaches the goal's row (then the goal lies `along` cells
+        // further in `x`) or its column.
+        for (t, along, straight) in [
+            (
+                (gy - py) * dy,
+                (gx - px) * dx - (gy - py) * dy,
+                direction(dx as i32, 0),
+            ),
+            (
+                (gx - px) * dx,
+                (gy - py) * dy - (gx - px) * dx,
+                direction(0, dy as i32),
+            ),
+        ] {
+            if t < 1 || t as usize > steps.min(end) || along < 0 {
+                continue;
             }
-            cost = cost.saturating_add(self.step_cost(at, next, true));
-            self.scanned += 1;
-            at = next;
-            if at == self.goal
-                || !self.grid.uniform[at]
-                || self.straight(at, kx).is_some()
-                || self.straight(at, ky).is_some()
-            {
-                return Some((at, cost));
+            let c = p.wrapping_add_signed(self.grid.delta[k] * t as isize);
+            let reach = i64::from(self.grid.runs[8 * c + straight] >> 1);
+            if along == 0 || along <= reach {
+                end = end.min(t as usize);
             }
         }
+        if end == usize::MAX {
+            return None;
+        }
+        let first = p.wrapping_add_signed(self.grid.delta[k]);
+        let first_cost = self.step_cost(p, first, true);
+        let rest = self
+            .step_cost(first, first, true)
+            .saturating_mul(end as u64 - 1);
+        Some((
+            p.wrapping_add_signed(self.grid.delta[k] * end as isize),
+            first_cost.saturating_add(rest),
+        ))
     }
 
     /// The directions a node at `p` expands when reached by the directions `arrived`
@@ -609,7 +649,7 @@ impl WeightedJps {
             goal: goal_index,
             half: [Cost::ONE.units() / 2, Cost::SQRT_2.units() / 2],
             factors: rule.factors(),
-            scanned: 0,
+            jumps: 0,
         };
         let min_weight = u64::from(prepared.min_weight);
         let h = |p: usize| {
@@ -724,7 +764,7 @@ impl WeightedJps {
                 .peak_open
                 .max(tally.n_open_insertions.saturating_sub(tally.n_expanded));
         };
-        tally.n_scanned = jumper.scanned;
+        tally.n_jumps = jumper.jumps;
         let counters = tally.counters();
         let outcome = match status {
             Status::Found => {
@@ -794,7 +834,7 @@ impl Planner for WeightedJps {
     /// Records the expanded jump points when the budget asks
     /// ([`Budget::record_expanded`]). Refuses with [`Outcome::over_memory`] when its tables
     /// and per-cell state for the
-    /// grid (39 bytes per cell of the grid with a one-cell border) are over
+    /// grid (55 bytes per cell of the grid with a one-cell border) are over
     /// [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         self.search(problem, budget)
