@@ -68,7 +68,11 @@
 //! crosses the goal's row or column if the goal is that cell or that cell's straight jump
 //! reaches it (JPS+'s target jump points). Along a jump every move after the first has one
 //! weight (crate docs above), so its cost is two products. 36 bytes per cell of the
-//! bordered grid for the tables and 19 for the search's nodes.
+//! bordered grid for the tables and 19 for the search's nodes. The tables are rebuilt in
+//! full when the grid changes: 200-204 ms after one changed cell of a 2048 x 2048 grid
+//! (`cargo bench -p planner-registry --bench change`; 270 ms with the eight directions'
+//! entries interleaved per cell; A* 1.9 ms, JPS 3.9), so on a map that changes as the
+//! robot drives, LPA* and D* Lite (planner-lpastar, planner-dstar_lite) fit better.
 //!
 //! # Speed, measured
 //! `cargo bench -p planner-weighted_jps --bench costmap -- --repeats=3 --clock=cpu` (the
@@ -218,11 +222,11 @@ struct Prepared {
     stride: usize,
     free: Vec<bool>,
     uniform: Vec<bool>,
-    /// Per cell and direction `k` (at `8 p + k`): the jump from the cell, the goal aside, as
+    /// Per direction `k` and cell `p` (at `[k][p]`): the jump from the cell, the goal aside, as
     /// `steps << 1 | stops`, where `stops` says whether it ends at a jump point `steps`
     /// moves away, and otherwise `steps` moves can be made before a blocked cell or a cut
     /// corner.
-    runs: Vec<u32>,
+    runs: [Vec<u32>; 8],
     weights: Vec<u16>,
     /// The smallest weight of any cell (1 without weights).
     min_weight: u16,
@@ -246,12 +250,11 @@ impl Prepared {
         self.free.resize(len, false);
         self.weights.clear();
         self.weights.resize(len, 1);
-        let cell_weights = grid.weights().map(|w| w.cells());
-        for (i, cell) in grid.cells().enumerate() {
-            let p = (cell.y as usize + 1) * stride + cell.x as usize + 1;
-            self.free[p] = grid.free_cells()[i];
-            if let Some(w) = cell_weights {
-                self.weights[p] = w[i];
+        for y in 0..height {
+            let (row, at) = (y * width..(y + 1) * width, (y + 1) * stride + 1);
+            self.free[at..at + width].copy_from_slice(&grid.free_cells()[row.clone()]);
+            if let Some(w) = grid.weights() {
+                self.weights[at..at + width].copy_from_slice(&w.cells()[row]);
             }
         }
         self.delta = DIRECTIONS.map(|(dx, dy)| dy as isize * stride as isize + dx as isize);
@@ -284,56 +287,53 @@ impl Prepared {
     /// corner), and otherwise goes on as the jump from the cell ahead. Straight directions
     /// first: the diagonal ones read them.
     fn build_runs(&mut self, width: usize, height: usize, stride: usize) {
-        self.runs.clear();
-        self.runs.resize(self.free.len() * 8, 0);
+        let len = self.free.len();
         for (k, &(dx, dy)) in DIRECTIONS.iter().enumerate() {
             let d = self.delta[k];
             let (kx, ky) = (direction(dx, 0), direction(0, dy));
+            let mut runs = std::mem::take(&mut self.runs[k]);
+            runs.clear();
+            runs.resize(len, 0);
+            let free = &self.free;
+            let uniform = &self.uniform;
+            let (straight_x, straight_y) = (&self.runs[kx], &self.runs[ky]);
+            // The sides of a straight direction (read by straight directions only).
+            let [s1, s2] = sides(k.min(3)).map(|s| self.delta[s]);
+            let (ddx, ddy) = (self.delta[kx], self.delta[ky]);
             // Cells in an order that visits each cell's next one first.
-            let xs: Vec<usize> = match dx {
-                1 => (1..=width).rev().collect(),
-                _ => (1..=width).collect(),
-            };
-            let ys: Vec<usize> = match dy {
-                1 => (1..=height).rev().collect(),
-                _ => (1..=height).collect(),
-            };
-            for &y in &ys {
-                for &x in &xs {
+            for row in 0..height {
+                let y = if dy == 1 { height - row } else { row + 1 };
+                for column in 0..width {
+                    let x = if dx == 1 { width - column } else { column + 1 };
                     let p = y * stride + x;
-                    if !self.free[p] {
+                    if !free[p] {
                         continue;
                     }
                     let next = p.wrapping_add_signed(d);
-                    let free = &self.free;
                     let (allowed, stop) = if k < 4 {
-                        let [s1, s2] = sides(k).map(|s| self.delta[s]);
-                        let forced = |c: usize| {
-                            (free[c.wrapping_add_signed(s1)]
-                                && !free[c.wrapping_add_signed(s1 - d)])
-                                || (free[c.wrapping_add_signed(s2)]
-                                    && !free[c.wrapping_add_signed(s2 - d)])
-                        };
-                        let allowed = free[next];
-                        (allowed, allowed && (!self.uniform[next] || forced(next)))
+                        let forced = (free[next.wrapping_add_signed(s1)]
+                            && !free[next.wrapping_add_signed(s1 - d)])
+                            || (free[next.wrapping_add_signed(s2)]
+                                && !free[next.wrapping_add_signed(s2 - d)]);
+                        (free[next], !uniform[next] || forced)
                     } else {
                         let allowed = free[next]
-                            && free[p.wrapping_add_signed(self.delta[kx])]
-                            && free[p.wrapping_add_signed(self.delta[ky])];
-                        let straight_stops =
-                            (self.runs[8 * next + kx] | self.runs[8 * next + ky]) & 1 == 1;
-                        (allowed, allowed && (!self.uniform[next] || straight_stops))
+                            && free[p.wrapping_add_signed(ddx)]
+                            && free[p.wrapping_add_signed(ddy)];
+                        let straight_stops = (straight_x[next] | straight_y[next]) & 1 == 1;
+                        (allowed, !uniform[next] || straight_stops)
                     };
-                    self.runs[8 * p + k] = if !allowed {
+                    runs[p] = if !allowed {
                         0
                     } else if stop {
                         1 << 1 | 1
                     } else {
-                        let ahead = self.runs[8 * next + k];
+                        let ahead = runs[next];
                         (ahead >> 1).saturating_add(1) << 1 | (ahead & 1)
                     };
                 }
             }
+            self.runs[k] = runs;
         }
     }
 
@@ -488,7 +488,7 @@ impl Jumper<'_> {
     /// when it lies on the way.
     fn straight(&mut self, p: usize, k: usize) -> Option<(usize, u64)> {
         self.jumps += 1;
-        let run = self.grid.runs[8 * p + k];
+        let run = self.grid.runs[k][p];
         let (mut steps, stops) = ((run >> 1) as usize, run & 1 == 1);
         let to_goal = self.steps_to_goal(p, k);
         let stops = match to_goal {
@@ -532,7 +532,7 @@ impl Jumper<'_> {
     /// at whether the goal is that cell or its straight jump there reaches the goal.
     fn diagonal(&mut self, p: usize, k: usize) -> Option<(usize, u64)> {
         self.jumps += 1;
-        let run = self.grid.runs[8 * p + k];
+        let run = self.grid.runs[k][p];
         let steps = (run >> 1) as usize;
         if steps == 0 {
             return None;
@@ -561,7 +561,7 @@ impl Jumper<'_> {
                 continue;
             }
             let c = p.wrapping_add_signed(self.grid.delta[k] * t as isize);
-            let reach = i64::from(self.grid.runs[8 * c + straight] >> 1);
+            let reach = i64::from(self.grid.runs[straight][c] >> 1);
             if along == 0 || along <= reach {
                 end = end.min(t as usize);
             }
