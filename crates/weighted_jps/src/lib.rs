@@ -20,7 +20,8 @@
 //! 3 x 3 neighbourhood has its weight.
 //!
 //! JPS prunes a neighbour `n` of a node `x` reached from `p` when a path from `p` to `n`
-//! that avoids `x` costs no more than `p -> x -> n` (Harabor and Grastien 2011, section 3).
+//! that avoids `x` costs no more than `p -> x -> n` (Harabor and Grastien 2011, its
+//! neighbour pruning rules).
 //! Every cell of both paths lies in `x`'s 3 x 3 neighbourhood, and a move's cost depends
 //! only on its length and its two end cells' weights. When `x` is uniform, every move
 //! between free cells of that neighbourhood costs its length times the one weight `w`, so
