@@ -70,7 +70,7 @@
 //! reaches it (JPS+'s target jump points). Along a jump every move after the first has one
 //! weight (crate docs above), so its cost is two products. 36 bytes per cell of the
 //! bordered grid for the tables and 19 for the search's nodes. The tables are rebuilt in
-//! full when the grid changes: 200-204 ms after one changed cell of a 2048 x 2048 grid
+//! full when the grid changes: 200-211 ms after one changed cell of a 2048 x 2048 grid
 //! (`cargo bench -p planner-registry --bench change`; 270 ms with the eight directions'
 //! entries interleaved per cell; A* 1.9 ms, JPS 3.9), so on a map that changes as the
 //! robot drives, LPA* and D* Lite (planner-lpastar, planner-dstar_lite) fit better.
@@ -82,8 +82,8 @@
 //!
 //! | map | problems | A* expansions | weighted_jps expansions | A* ms | weighted_jps ms |
 //! |---|---:|---:|---:|---:|---:|
-//! | nav2's warehouse as graded costs (1 + costmap cost), 200 seeded pairs, 27 unreachable | 200 | 52,344,370 | 395,037 | 7683.4, 8263.9 | 119.8, 133.0 (62-64x faster) |
-//! | arena, 7 x 7 terrain patches of weights 1-9 | 160 | 130,128 | 121,369 | 16.8, 16.9 | 27.2, 27.2 (1.6x slower) |
+//! | nav2's warehouse as graded costs (1 + costmap cost), 200 seeded pairs, 27 unreachable | 200 | 52,344,370 | 395,037 | 6967.1, 7001.5 | 111.8, 117.6 (60-62x faster) |
+//! | arena, 7 x 7 terrain patches of weights 1-9 | 160 | 130,128 | 121,369 | 14.0, 14.5 | 22.6, 23.4 (1.6x slower) |
 //!
 //! Jumps that stepped cell by cell took 3583.5 ms on the warehouse; straight jumps from the
 //! table, diagonal ones stepping, 231.1 ms. Where the weights change every few cells almost
@@ -219,7 +219,6 @@ const fn direction(dx: i32, dy: i32) -> usize {
 #[derive(Debug, Clone, Default)]
 struct Prepared {
     revision: Option<u64>,
-    width: u32,
     stride: usize,
     free: Vec<bool>,
     uniform: Vec<bool>,
@@ -275,7 +274,6 @@ impl Prepared {
             }
         }
         self.build_runs(width, height, stride);
-        self.width = grid.width();
         self.stride = stride;
         self.min_weight = grid.weights().map_or(1, |w| w.min());
         self.revision = Some(grid.revision());
@@ -298,8 +296,6 @@ impl Prepared {
             let free = &self.free;
             let uniform = &self.uniform;
             let (straight_x, straight_y) = (&self.runs[kx], &self.runs[ky]);
-            // The sides of a straight direction (read by straight directions only).
-            let [s1, s2] = sides(k.min(3)).map(|s| self.delta[s]);
             let (ddx, ddy) = (self.delta[kx], self.delta[ky]);
             // Cells in an order that visits each cell's next one first.
             for row in 0..height {
@@ -312,10 +308,7 @@ impl Prepared {
                     }
                     let next = p.wrapping_add_signed(d);
                     let (allowed, stop) = if k < 4 {
-                        let forced = (free[next.wrapping_add_signed(s1)]
-                            && !free[next.wrapping_add_signed(s1 - d)])
-                            || (free[next.wrapping_add_signed(s2)]
-                                && !free[next.wrapping_add_signed(s2 - d)]);
+                        let forced = sides(k).iter().any(|&s| self.forced(next, k, s));
                         (free[next], !uniform[next] || forced)
                     } else {
                         let allowed = free[next]
@@ -336,6 +329,14 @@ impl Prepared {
             }
             self.runs[k] = runs;
         }
+    }
+
+    /// Whether a straight move in direction `k` onto `p` makes side `s`'s cell a forced
+    /// neighbour: free, while the cell beside it one step back is blocked (crate docs).
+    #[inline(always)]
+    fn forced(&self, p: usize, k: usize, s: usize) -> bool {
+        let side = p.wrapping_add_signed(self.delta[s]);
+        self.free[side] && !self.free[side.wrapping_add_signed(-self.delta[k])]
     }
 
     fn get_or_build(&mut self, grid: &Grid) -> &Prepared {
@@ -592,12 +593,8 @@ impl Jumper<'_> {
             let (dx, dy) = DIRECTIONS[k];
             if k < 4 {
                 keep |= 1 << k;
-                let d = self.grid.delta[k];
                 for s in sides(k) {
-                    let side = self.grid.delta[s];
-                    if self.grid.free[p.wrapping_add_signed(side)]
-                        && !self.grid.free[p.wrapping_add_signed(side - d)]
-                    {
+                    if self.grid.forced(p, k, s) {
                         let (sx, sy) = DIRECTIONS[s];
                         keep |= 1 << s | 1 << direction(dx + sx, dy + sy);
                     }

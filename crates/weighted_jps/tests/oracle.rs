@@ -146,7 +146,12 @@ fn jumps_cross_uniform_terrain_in_one_expansion() {
     let outcome = WeightedJps::new(Config::default())
         .unwrap()
         .plan(&problem, &Budget::unlimited());
+    // By hand: the start's eight jumps (the five leaving the grid at once included), of
+    // which the diagonal one reaches the goal; the goal is expanded without jumping.
     assert_eq!(outcome.counters.get("n_expanded"), Some(2));
+    assert_eq!(outcome.counters.get("n_jumps"), Some(8));
+    assert_eq!(outcome.counters.get("n_open_insertions"), Some(2));
+    assert_eq!(outcome.counters.get("n_relaxations"), Some(1));
     let path = outcome.path.unwrap();
     assert_eq!(path.cells().len(), 40);
     assert!(outcome.marks.is_empty());
