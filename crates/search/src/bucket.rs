@@ -909,19 +909,22 @@ mod tests {
         };
         let mut state = 7u64;
         let mut n_pushed = 0u64;
-        let (mut floor, mut last_g) = (10u64, 0u64);
+        let (mut floor, mut last_g, mut prev_g) = (10u64, 0u64, 0u64);
         for round in 0..20_000u64 {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             if state % 100 < push_share || reference.is_empty() {
                 let f = floor + if n_pushed == 0 { 0 } else { (state >> 8) % 4 };
-                // Half the time a child's g, one above the last popped; else anything.
-                let g = if state & 1 << 40 == 0 {
-                    last_g + 1
-                } else {
-                    (state >> 24) % g_spread
+                // Half the time a child's g, one above the last popped; a quarter the
+                // last push's g or one below (decreasing runs, as a later slot often
+                // receives them); else anything.
+                let g = match state >> 40 & 3 {
+                    0 | 1 => last_g + 1,
+                    2 => prev_g.saturating_sub(state >> 42 & 1),
+                    _ => (state >> 24) % g_spread,
                 };
+                prev_g = g;
                 let node = (round % 700) as u32;
                 open.push(node, Cost::steps(f), Cost::steps(g));
                 let key = reference_key::<TIE>(Cost::steps(f), Cost::steps(g), n_pushed);
