@@ -95,13 +95,33 @@ impl<'de> Deserialize<'de> for Cell {
 ///
 /// Equality and hashing compare the cells and weights. Every grid also carries a
 /// [`revision`](Grid::revision), so that caches of derived data (move masks) can tell in
-/// O(1) that a grid is the one they were built for.
+/// O(1) that a grid is the one they were built for, and a bounded log of the cells its
+/// last edits changed ([`Grid::changed_since`]), so that such a cache can be brought up to
+/// date instead of rebuilt.
 pub struct Grid {
     width: u32,
     height: u32,
     free: Vec<bool>,
     weights: Option<Weights>,
     revision: u64,
+    changes: ChangeLog,
+}
+
+/// The cells that [`Grid::set_free`] and [`Grid::set_weight`] changed, oldest first, each
+/// with the revision the grid had before the edit (increasing, as revisions are drawn from
+/// one counter). Any other new revision empties it; past [`ChangeLog::limit`] entries the
+/// older half is dropped, so a cache older than what is kept rebuilds.
+#[derive(Debug, Clone, Default)]
+struct ChangeLog {
+    entries: Vec<(u64, u32)>,
+}
+
+impl ChangeLog {
+    /// The most entries kept for a grid of `len` cells: 1/256 of the cells, between 1024
+    /// and 65,536 (at most a megabyte).
+    fn limit(len: usize) -> usize {
+        (len / 256).clamp(1024, 65_536)
+    }
 }
 
 impl Clone for Grid {
@@ -112,6 +132,7 @@ impl Clone for Grid {
             free: self.free.clone(),
             weights: self.weights.clone(),
             revision: self.revision,
+            changes: self.changes.clone(),
         }
     }
 
@@ -121,6 +142,7 @@ impl Clone for Grid {
         (self.width, self.height, self.revision) = (source.width, source.height, source.revision);
         self.free.clone_from(&source.free);
         self.weights.clone_from(&source.weights);
+        self.changes.entries.clone_from(&source.changes.entries);
     }
 }
 
@@ -161,6 +183,7 @@ impl Grid {
             free: vec![true; len],
             weights: None,
             revision: next_revision(),
+            changes: ChangeLog::default(),
         })
     }
 
@@ -181,6 +204,7 @@ impl Grid {
             free,
             weights: None,
             revision: next_revision(),
+            changes: ChangeLog::default(),
         })
     }
 
@@ -199,7 +223,7 @@ impl Grid {
             return Err(GridError::ZeroWeight { index });
         }
         self.weights = Some(Weights::new(weights, rule));
-        self.revision = next_revision();
+        self.renew();
         Ok(self)
     }
 
@@ -208,7 +232,7 @@ impl Grid {
     pub fn with_rule(mut self, rule: CostRule) -> Grid {
         if let Some(weights) = &mut self.weights {
             weights.set_rule(rule);
-            self.revision = next_revision();
+            self.renew();
         }
         self
     }
@@ -221,6 +245,7 @@ impl Grid {
             free: self.free.clone(),
             weights: None,
             revision: next_revision(),
+            changes: ChangeLog::default(),
         }
     }
 
@@ -404,7 +429,7 @@ impl Grid {
     pub fn set_free(&mut self, cell: Cell, free: bool) {
         let index = self.index(cell);
         self.free[index] = free;
-        self.revision = next_revision();
+        self.record(index);
     }
 
     /// Sets the weight of `cell` to `weight` (a costmap's update); the extremes
@@ -431,7 +456,7 @@ impl Grid {
         match &mut self.weights {
             Some(weights) if weight > 0 => {
                 weights.set(index, weight);
-                self.revision = next_revision();
+                self.record(index);
                 true
             }
             _ => false,
@@ -444,6 +469,60 @@ impl Grid {
     /// converse need not hold). Caches of data derived from a grid key on it.
     pub fn revision(&self) -> u64 {
         self.revision
+    }
+
+    /// The cells that [`Grid::set_free`] and [`Grid::set_weight`] changed since the grid
+    /// had revision `revision`, in the order of the edits (a cell edited twice comes twice;
+    /// none when `revision` is the current one), or `None` when that is not known: the
+    /// revision is not one this grid passed through by those edits alone, or more edits
+    /// followed it than the grid keeps (1/256 of its cells, at least 1024 and at most
+    /// 65,536). A cache of data derived from the grid at `revision` updates the data
+    /// around these cells, or rebuilds it on `None`.
+    ///
+    /// ```
+    /// use planner_api::{Cell, Grid};
+    /// let mut grid = Grid::from_ascii("...").unwrap();
+    /// let before = grid.revision();
+    /// grid.set_free(Cell::new(1, 0), false);
+    /// grid.set_free(Cell::new(2, 0), false);
+    /// let changed: Vec<Cell> = grid.changed_since(before).unwrap().collect();
+    /// assert_eq!(changed, [Cell::new(1, 0), Cell::new(2, 0)]);
+    /// assert_eq!(grid.changed_since(grid.revision()).unwrap().count(), 0);
+    /// // Not a revision of this grid's edits.
+    /// assert!(grid.changed_since(before + 1_000_000).is_none());
+    /// ```
+    pub fn changed_since(&self, revision: u64) -> Option<impl Iterator<Item = Cell> + '_> {
+        let entries = &self.changes.entries;
+        let first = if revision == self.revision {
+            entries.len()
+        } else {
+            let at = entries.partition_point(|&(before, _)| before < revision);
+            entries.get(at).filter(|&&(before, _)| before == revision)?;
+            at
+        };
+        Some(
+            entries[first..]
+                .iter()
+                .map(|&(_, index)| self.cell(index as usize)),
+        )
+    }
+
+    /// A new revision after an edit of the cell at `index`, logged
+    /// ([`Grid::changed_since`]).
+    fn record(&mut self, index: usize) {
+        let log = &mut self.changes.entries;
+        if log.len() >= ChangeLog::limit(self.free.len()) {
+            log.drain(..log.len() / 2);
+        }
+        // Indices fit in 32 bits (`Grid::MAX_CELLS`).
+        log.push((self.revision, index as u32));
+        self.revision = next_revision();
+    }
+
+    /// A new revision after a change the log does not describe: it is emptied.
+    fn renew(&mut self) {
+        self.changes.entries.clear();
+        self.revision = next_revision();
     }
 
     /// Iterates over every cell in row-major order.
@@ -547,6 +626,61 @@ const EXPONENT_BITS: u64 = 0x7ff0_0000_0000_0000;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_change_log_answers_for_its_own_edits_only() {
+        let mut grid = Grid::new(40, 40)
+            .unwrap()
+            .with_weights(vec![3; 1600], CostRule::Mean)
+            .unwrap();
+        let built = grid.revision();
+        grid.set_weight(Cell::new(5, 6), 9);
+        let middle = grid.revision();
+        grid.set_free(Cell::new(7, 8), false);
+        // A weight of 0 is refused: no edit, no new revision, nothing logged.
+        assert!(!grid.set_weight(Cell::new(1, 1), 0));
+        let cells = |grid: &Grid, r| grid.changed_since(r).map(|c| c.collect::<Vec<_>>());
+        assert_eq!(
+            cells(&grid, built),
+            Some(vec![Cell::new(5, 6), Cell::new(7, 8)])
+        );
+        assert_eq!(cells(&grid, middle), Some(vec![Cell::new(7, 8)]));
+        // A clone shares the log; its own edits go on from there, apart from the original's.
+        let mut copy = grid.clone();
+        copy.set_free(Cell::new(0, 0), false);
+        assert_eq!(
+            cells(&copy, middle),
+            Some(vec![Cell::new(7, 8), Cell::new(0, 0)])
+        );
+        assert_eq!(cells(&grid, middle), Some(vec![Cell::new(7, 8)]));
+        let mut target = Grid::new(2, 2).unwrap();
+        target.clone_from(&copy);
+        assert_eq!(cells(&target, built).map(|c| c.len()), Some(3));
+        // A change the log does not describe empties it.
+        let now = grid.revision();
+        let grid = grid.with_rule(CostRule::Entered);
+        assert_eq!(cells(&grid, built), None);
+        assert_eq!(cells(&grid, now), None);
+        assert_eq!(cells(&grid, grid.revision()), Some(vec![]));
+        // Past the limit (1024 for 1600 cells) the older half goes.
+        let mut grid = Grid::new(40, 40).unwrap();
+        let first = grid.revision();
+        let mut revisions = vec![first];
+        for i in 0..1030u32 {
+            grid.set_free(Cell::new(i % 40, i / 40), i % 2 == 0);
+            revisions.push(grid.revision());
+        }
+        assert_eq!(cells(&grid, first), None);
+        assert_eq!(cells(&grid, revisions[511]), None);
+        assert_eq!(
+            cells(&grid, revisions[512]).map(|c| c.len()),
+            Some(1030 - 512)
+        );
+        assert_eq!(
+            cells(&grid, revisions[1029]),
+            Some(vec![Cell::new(1029 % 40, 1029 / 40)])
+        );
+    }
 
     #[test]
     fn packed_words_by_hand() {

@@ -103,6 +103,46 @@ fn patchy_problems(seed: u64, rounds: usize) -> Vec<(Grid, Cell, Cell)> {
         .collect()
 }
 
+/// A costmap's updates between plans: cells blocked and freed and 3 x 3 patches given new
+/// weights, eight rounds of edits per grid, one planner throughout, which brings its tables
+/// up to date after each round ([`Grid::changed_since`]) instead of rebuilding them.
+#[test]
+fn grids_edited_between_plans_match_the_oracle() {
+    let mut state = 0xed17_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let mut problems = Vec::new();
+    for (mut grid, start, goal) in patchy_problems(0x0ed1_7ed1, 300) {
+        let (w, h) = (grid.width(), grid.height());
+        for _ in 0..8 {
+            for _ in 0..1 + next() % 6 {
+                let cell = Cell::new(
+                    (next() % u64::from(w)) as u32,
+                    (next() % u64::from(h)) as u32,
+                );
+                if next() % 2 == 0 {
+                    if cell != start && cell != goal {
+                        grid.set_free(cell, next() % 3 == 0);
+                    }
+                } else {
+                    let weight = [1u16, 2, 7, 40][(next() % 4) as usize];
+                    for (dx, dy) in (0..9).map(|i| (i % 3 - 1, i / 3 - 1)) {
+                        if let Some(near) = grid.offset(cell, dx, dy) {
+                            grid.set_weight(near, weight);
+                        }
+                    }
+                }
+            }
+            problems.push((grid.clone(), start, goal));
+        }
+    }
+    check_all("edited", &problems);
+}
+
 #[test]
 fn grids_with_large_uniform_patches_match_the_oracle() {
     let (reopened, expanded) = check_all("patches", &patchy_problems(0x5eed_0033, 3_000));
