@@ -4,9 +4,11 @@
 //!
 //! `cargo bench -p planner-api --bench adjacency [-- SIDE ...]` (default sides 512 and
 //! 2048) prints a line per side and neighbourhood, `side=<n> moves=<n> build_ms=<t>
-//! rebuild_ms=<t>`: the best of five builds from nothing, and the best of five rebuilds
-//! through [`Adjacency::cached`] after one cell changed (a new grid revision), which
-//! reuse the masks' memory.
+//! rebuild_ms=<t> update_ms=<t>`: the best of five builds from nothing; the best of five
+//! rebuilds through [`Adjacency::cached`] for a grid one cell different from the cached
+//! one (a copy, so with no log of edits: rebuilt in the masks' memory); and the best of
+//! five lookups after one cell of the cached grid was edited in place
+//! ([`Grid::changed_since`]: the masks around it brought up to date).
 
 use std::time::Instant;
 
@@ -41,20 +43,34 @@ fn main() {
                 })
                 .fold(f64::INFINITY, f64::min);
             let mut cache = Some(Adjacency::build(&grid, &moves));
-            let mut changed = grid.clone();
+            // A lookup of `grid` in the cache, timed.
+            let mut timed = |grid: &Grid| {
+                let started = Instant::now();
+                let adjacency = Adjacency::cached(&mut cache, grid, &moves);
+                let elapsed = started.elapsed().as_secs_f64() * 1e3;
+                assert!(adjacency.is_for(grid));
+                elapsed
+            };
             let rebuild = (0..5)
                 .map(|k| {
+                    let mut other = grid.without_weights();
                     let cell = Cell::new(k, 0);
-                    changed.set_free(cell, !changed.is_free(cell));
-                    let started = Instant::now();
-                    let adjacency = Adjacency::cached(&mut cache, &changed, &moves);
-                    let elapsed = started.elapsed().as_secs_f64() * 1e3;
-                    assert!(adjacency.is_for(&changed));
-                    elapsed
+                    other.set_free(cell, !other.is_free(cell));
+                    timed(&other)
+                })
+                .fold(f64::INFINITY, f64::min);
+            timed(&grid);
+            let mut edited = grid.clone();
+            let update = (0..5)
+                .map(|k| {
+                    let cell = Cell::new(k, 0);
+                    edited.set_free(cell, !edited.is_free(cell));
+                    timed(&edited)
                 })
                 .fold(f64::INFINITY, f64::min);
             println!(
-                "side={side} moves={} build_ms={best:.2} rebuild_ms={rebuild:.2}",
+                "side={side} moves={} build_ms={best:.2} rebuild_ms={rebuild:.2} \
+                 update_ms={update:.3}",
                 moves.moves().len()
             );
         }

@@ -66,6 +66,54 @@ impl Adjacency {
         self.fill(grid, moves);
     }
 
+    /// Whether `n_changed` edited cells are brought in by [`Adjacency::update`] rather than
+    /// a rebuild: while the cells whose masks it recomputes one move at a time (the
+    /// `(2 reach + 1)^2` around each edit) are at most 1/16 of the padded cells (a rebuild
+    /// sets 64 cells' bits for a move in a few word operations).
+    fn updates(&self, n_changed: usize) -> bool {
+        let around = (2 * self.reach + 1).pow(2);
+        n_changed.saturating_mul(around).saturating_mul(16) <= self.safe.len()
+    }
+
+    /// Brings the masks up to date with `grid` after the edits of the `changed` cells
+    /// ([`Grid::changed_since`] since the revision they were built for): the masks of the
+    /// cells within `reach` of an edit, the only ones whose moves' targets or `via` cells
+    /// it can change, from their definition ([`MoveSet::apply`]). Preconditions: `moves`
+    /// is the set the masks were built for, and `grid` is the one they were built for
+    /// but for those cells.
+    fn update(&mut self, grid: &Grid, moves: &MoveSet, changed: &[Cell]) {
+        for &cell in changed {
+            self.grid.set_free(cell, grid.is_free(cell));
+            self.grid.set_weight(cell, grid.weight(cell));
+        }
+        let reach = self.reach as u32;
+        let (width, height) = (grid.width(), grid.height());
+        for &cell in changed {
+            let (x0, y0) = (cell.x.saturating_sub(reach), cell.y.saturating_sub(reach));
+            let (x1, y1) = (
+                (cell.x + reach).min(width - 1),
+                (cell.y + reach).min(height - 1),
+            );
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let near = Cell::new(x, y);
+                    let mask = match grid.is_free(near) {
+                        true => moves
+                            .moves()
+                            .iter()
+                            .enumerate()
+                            .filter(|(_, mv)| moves.apply(grid, near, mv).is_some())
+                            .fold(0, |mask, (m, _)| mask | 1 << m),
+                        false => 0,
+                    };
+                    let p = self.index(near);
+                    self.safe[p] = mask;
+                }
+            }
+        }
+        self.revision = grid.revision();
+    }
+
     /// Sizes the layout for `grid` and `moves` and fills the masks.
     fn fill(&mut self, grid: &Grid, moves: &MoveSet) {
         let reach = reach_of(moves);
@@ -191,7 +239,8 @@ impl Adjacency {
         self.reach
     }
 
-    /// Returns the masks in `cache` when they were built for `grid`, else rebuilds them.
+    /// Returns the masks in `cache` when they were built for `grid`, brought up to date
+    /// when `grid` is theirs edited in place ([`Grid::changed_since`]), else rebuilt.
     /// Precondition: `moves` is the same set every time the cache is used.
     pub fn cached<'a>(
         cache: &'a mut Option<Adjacency>,
@@ -208,10 +257,12 @@ impl Adjacency {
 /// cells are packed a bit per cell into rows of the padded width with zero words around
 /// them, so a move's safe bits for 64 cells of a row are the AND of the row's word and one
 /// shifted word per offset (target and `via`), and each cell's mask gathers its moves'
-/// bits eight cells and eight moves at a time ([`SPREAD`]). `cargo bench -p planner-api --bench adjacency` (2026-12-06): on its
-/// 512 x 512 grid 1.0 ms (8 moves) to 6.5 ms (48 moves), on its 2048 x 2048 grid 31 to
-/// 118 ms (rebuilt in place after a change 16 to 102 ms), where the build before it, cell
-/// by cell with a bounds test per offset, took 11.0 to 124 ms and 185 to 1919 ms.
+/// bits eight cells and eight moves at a time ([`SPREAD`]). `cargo bench -p planner-api
+/// --bench adjacency` (2026-12-06, two runs): on its 512 x 512 grid 0.8 ms (8 moves) to
+/// 5.4 ms (48 moves), on its 2048 x 2048 grid 26.3-26.7 to 99-100 ms (rebuilt in place
+/// for another grid 12.9-13.1 to 85.7-86.7 ms; after one cell edited in place,
+/// [`Adjacency::update`], 0.001 to 0.017 ms), where the build before it, cell by cell with
+/// a bounds test per offset, took 11.0 to 124 ms and 185 to 1919 ms (2026-12-05).
 fn fill_masks(
     safe: &mut [u64],
     free: &[bool],
@@ -349,8 +400,17 @@ fn cached<'a>(cache: &'a mut Option<Adjacency>, grid: &Grid, moves: &MoveSet) ->
     match cache {
         // Equal revisions mean equal grids: no need to compare the cells.
         Some(adjacency) if adjacency.revision == grid.revision() => {}
-        Some(adjacency) if adjacency.is_for(grid) => adjacency.revision = grid.revision(),
-        Some(adjacency) => adjacency.rebuild(grid, moves),
+        Some(adjacency) => {
+            let changed: Option<Vec<Cell>> = grid
+                .changed_since(adjacency.revision)
+                .map(Iterator::collect)
+                .filter(|changed: &Vec<Cell>| adjacency.updates(changed.len()));
+            match changed {
+                Some(changed) => adjacency.update(grid, moves, &changed),
+                None if adjacency.is_for(grid) => adjacency.revision = grid.revision(),
+                None => adjacency.rebuild(grid, moves),
+            }
+        }
         None => *cache = Some(Adjacency::build(grid, moves)),
     }
     match cache {
@@ -464,6 +524,51 @@ mod tests {
         }
     }
 
+    /// Random edits in place brought in by [`Adjacency::update`] (through the cache) give
+    /// the masks a build gives, for every move set, reaches 1 to 4.
+    #[test]
+    fn updated_masks_equal_built_ones() {
+        let mut next = crate::test_rng::xorshift(0xada9_ce11);
+        let sets = move_sets();
+        let mut n_updates = 0;
+        for round in 0..60 {
+            let (w, h) = (20 + (next() % 100) as u32, 20 + (next() % 100) as u32);
+            let density = next() % 40;
+            let free = (0..w * h).map(|_| next() % 100 >= density).collect();
+            let mut grid = Grid::from_free_cells(w, h, free).unwrap();
+            if round % 2 == 0 {
+                grid = grid
+                    .with_weights(vec![2; (w * h) as usize], crate::CostRule::Mean)
+                    .unwrap();
+            }
+            let mut caches: Vec<Option<Adjacency>> = vec![None; sets.len()];
+            for step in 0..10 {
+                for _ in 0..1 + next() % 3 {
+                    let cell = Cell::new(
+                        (next() % u64::from(w)) as u32,
+                        (next() % u64::from(h)) as u32,
+                    );
+                    grid.set_free(cell, next() % 2 == 0);
+                    grid.set_weight(cell, 1 + (next() % 5) as u16);
+                }
+                for (moves, cache) in sets.iter().zip(&mut caches) {
+                    if let Some(adjacency) = cache {
+                        let changed = grid.changed_since(adjacency.revision).map(Iterator::count);
+                        n_updates += usize::from(changed.is_some_and(|n| adjacency.updates(n)));
+                    }
+                    let updated = Adjacency::cached(cache, &grid, moves);
+                    let built = Adjacency::build(&grid, moves);
+                    assert_eq!(updated.masks(), built.masks(), "round {round} step {step}");
+                    assert!(updated.is_for(&grid));
+                }
+            }
+        }
+        // Of the 5,940 later lookups (the first of each grid builds), 2,969 update: 1,620,
+        // 514, 461 and 374 of reach 1 to 4; the others edited too many cells for their
+        // reach and rebuild.
+        assert_eq!(n_updates, 2969);
+    }
+
     /// `rebuild` takes any grid and move set, as `build` does.
     #[test]
     fn a_rebuild_with_other_moves_and_size_equals_a_build() {
@@ -492,7 +597,7 @@ mod tests {
         let mut cache = None;
         // Right, left and down are safe from (1, 0); up leaves the grid.
         assert_eq!(centre(&mut cache, &grid), 0b0111);
-        // An edit in place gives a new revision, so the masks are rebuilt.
+        // An edit in place gives a new revision, and the masks follow it.
         grid.set_free(Cell::new(2, 0), false);
         assert_eq!(centre(&mut cache, &grid), 0b0110);
         // A clone shares the revision; an equal grid built anew has its own but equal cells.

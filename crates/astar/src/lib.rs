@@ -136,7 +136,7 @@ use planner_api::{
     MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
-use planner_search::neighbourhood::{set_free_cells, MoveTable, BIT_COUNT};
+use planner_search::neighbourhood::{set_free_cells, update_free_cells, MoveTable, BIT_COUNT};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -583,16 +583,32 @@ impl FreeBits {
         if !layout.uses_bits() {
             return None;
         }
-        if self.revision != Some(grid.revision()) || self.stride != layout.stride {
-            self.stride = layout.stride;
-            self.bytes.clear();
-            self.bytes.resize(layout.padded_len / 8 + 3, 0);
-            set_free_cells(&mut self.bytes, grid, layout.reach, layout.stride);
-            self.table = MoveTable::safe(moves);
-            self.target_table = MoveTable::targets(moves);
-            self.revision = Some(grid.revision());
+        let same_layout =
+            self.stride == layout.stride && self.bytes.len() == layout.padded_len / 8 + 3;
+        match self.revision {
+            Some(revision) if revision == grid.revision() && same_layout => {}
+            // Edited in place since: the edited cells' bits follow.
+            Some(revision) if same_layout => match grid.changed_since(revision) {
+                Some(changed) => {
+                    update_free_cells(&mut self.bytes, grid, changed, layout.reach, layout.stride);
+                    self.revision = Some(grid.revision());
+                }
+                None => self.build(grid, layout, moves),
+            },
+            _ => self.build(grid, layout, moves),
         }
         Some(self)
+    }
+
+    /// Fills the bits of `grid` in `layout` and the tables of `moves`.
+    fn build(&mut self, grid: &planner_api::Grid, layout: &Layout, moves: &MoveSet) {
+        self.stride = layout.stride;
+        self.bytes.clear();
+        self.bytes.resize(layout.padded_len / 8 + 3, 0);
+        set_free_cells(&mut self.bytes, grid, layout.reach, layout.stride);
+        self.table = MoveTable::safe(moves);
+        self.target_table = MoveTable::targets(moves);
+        self.revision = Some(grid.revision());
     }
 
     /// Three bits of `bits` (this layout) from bit `shift` of byte `byte` on.

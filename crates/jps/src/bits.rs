@@ -189,14 +189,29 @@ impl BitGrid {
         }
     }
 
-    /// The cached bit grid of `grid`, and whether it was rebuilt: it is only when `grid`
-    /// has other cells than the one `cache` holds (checked by revision, then cells).
+    /// The cached bit grid of `grid`, and whether its cells changed: only when `grid` has
+    /// other cells than the one `cache` holds (checked by revision, then cells). The bits
+    /// of a grid edited in place since they were built ([`Grid::changed_since`]) follow its
+    /// edited cells; any other grid's are built anew.
     pub(crate) fn cached<'a>(cache: &'a mut Option<BitGrid>, grid: &Grid) -> (&'a BitGrid, bool) {
         let mut rebuilt = false;
         match cache {
             Some(bits) if bits.revision == grid.revision() => {}
-            Some(bits) if bits.is_for(grid) => bits.revision = grid.revision(),
-            _ => {
+            Some(bits) => match grid.changed_since(bits.revision) {
+                Some(changed) => {
+                    for cell in changed {
+                        bits.set(cell, grid.is_free(cell));
+                    }
+                    bits.revision = grid.revision();
+                    rebuilt = true;
+                }
+                None if bits.is_for(grid) => bits.revision = grid.revision(),
+                None => {
+                    *bits = BitGrid::build(grid);
+                    rebuilt = true;
+                }
+            },
+            None => {
                 *cache = Some(BitGrid::build(grid));
                 rebuilt = true;
             }
@@ -204,6 +219,16 @@ impl BitGrid {
         match cache {
             Some(bits) => (bits, rebuilt),
             None => unreachable!("the bit grid cache was just filled"),
+        }
+    }
+
+    /// Sets the bit of `cell` (a cell of the grid) in its row and its column to `free`.
+    fn set(&mut self, cell: Cell, free: bool) {
+        let (x, y) = (cell.x as usize, cell.y as usize);
+        for (rows, line, at) in [(&mut self.rows, y, x), (&mut self.columns, x, y)] {
+            let p = at + PAD;
+            let word = &mut rows.data[(line + 1) * rows.stride + p / 64];
+            *word = (*word & !(1 << (p % 64))) | u64::from(free) << (p % 64);
         }
     }
 
@@ -360,6 +385,32 @@ mod tests {
             let cell = Cell::new(w - 1, h - 1);
             other.set_free(cell, !grid.is_free(cell));
             assert!(!bits.is_for(&other), "{w}x{h}");
+        }
+    }
+
+    /// Edits in place between lookups: the cached bits follow into the rows and columns
+    /// a new build gives, and say the cells changed.
+    #[test]
+    fn cached_bits_follow_edits_in_place() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(65);
+        for (w, h) in [(1, 1), (63, 2), (64, 65), (65, 130), (3, 200)] {
+            let free: Vec<bool> = (0..w * h).map(|_| rng.gen_bool(0.7)).collect();
+            let mut grid = Grid::from_free_cells(w, h, free).unwrap();
+            let mut cache = None;
+            assert!(BitGrid::cached(&mut cache, &grid).1);
+            for _ in 0..30 {
+                for _ in 0..rng.gen_range(1..4) {
+                    let cell = Cell::new(rng.gen_range(0..w), rng.gen_range(0..h));
+                    grid.set_free(cell, rng.gen_bool(0.5));
+                }
+                let (bits, changed) = BitGrid::cached(&mut cache, &grid);
+                let built = BitGrid::build(&grid);
+                assert!(changed);
+                assert_eq!(bits.rows.data, built.rows.data, "{w}x{h}");
+                assert_eq!(bits.columns.data, built.columns.data, "{w}x{h}");
+                assert!(!BitGrid::cached(&mut cache, &grid).1);
+            }
         }
     }
 

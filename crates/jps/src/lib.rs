@@ -56,7 +56,9 @@
 //!
 //! The grid's derived data (bit rows and columns, the jump table, the goal bounds) is
 //! cached in the planner and rebuilt only for a grid with other cells (checked by
-//! [`Grid::revision`], then by comparing cells).
+//! [`Grid::revision`], then by comparing cells); after edits in place
+//! ([`Grid::changed_since`]) the bit rows and columns follow the edited cells, and the
+//! jump table and goal bounds are rebuilt.
 //!
 //! # Goal bounding
 //! With [`Config::goal_bounding`], any variant prunes by goal bounds (Rabin and Sturtevant,

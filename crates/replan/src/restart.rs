@@ -97,7 +97,8 @@ impl IncrementalPlanner for Restart {
         Ok(())
     }
 
-    /// Applies the changes and rebuilds A*'s bit-packed map when a cell changed.
+    /// Applies the changes to the map in place and brings A*'s bit-packed map up to date
+    /// when a cell changed (its changed cells' bits, `Grid::changed_since`).
     fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
         let changes = planner_lpastar::checked_changes(self.grid.as_ref(), changes)?;
         let Some(grid) = self.grid.as_mut() else {

@@ -2,7 +2,8 @@
 //! `CoveragePlanner`), on seeded random grids: no panic; the expansion budget honoured
 //! (the search stops within it and says so); every returned path valid under the rule the
 //! planner declares in its specs, from the start (to the goal); a reused planner gives the
-//! outcome of a fresh one; two runs give the same counters. Every declared parameter at
+//! outcome of a fresh one, also after the grid was edited in place; two runs give the same
+//! counters. Every declared parameter at
 //! the edges of its type is refused by key or keeps the same contract. What a planner
 //! declares in its specs holds: an admissible one finds the oracle's optimum (a weighted one
 //! on weighted grids too), a seeded one depends on its seed. Recording the expanded cells
@@ -176,6 +177,72 @@ fn every_registered_planner_keeps_the_contract() {
         }
     }
     assert!(n_checked >= PLANNERS.len() * problems.len());
+}
+
+/// A planner reused on a grid edited in place between plans ([`Grid::set_free`], and
+/// [`Grid::set_weight`] on weighted grids for the planners that honour weights) gives the
+/// outcome a fresh planner gives on the edited grid: caches of per-grid tables brought up
+/// to date from [`Grid::changed_since`] hold what a rebuild holds.
+#[test]
+fn a_planner_reused_on_an_edited_grid_gives_a_fresh_ones_outcome() {
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let budget = Budget::expansions(BUDGET);
+    let bases: Vec<(Grid, Cell, Cell)> = problems()
+        .into_iter()
+        .filter(|(grid, ..)| grid.len() >= 100)
+        .step_by(3)
+        .collect();
+    let weighted: Vec<(Grid, Cell, Cell)> = bases
+        .iter()
+        .step_by(2)
+        .map(|(grid, start, goal)| {
+            let weights = (0..grid.len()).map(|_| rng.gen_range(1..=9)).collect();
+            let rule = planner_api::CostRule::Mean;
+            (
+                grid.clone().with_weights(weights, rule).unwrap(),
+                *start,
+                *goal,
+            )
+        })
+        .collect();
+    let mut n_checked = 0;
+    for entry in PLANNERS {
+        for (v, factory) in variants(entry.factory).into_iter().enumerate() {
+            let costs = factory.specs().cell_costs;
+            let mut reused = factory.build().unwrap();
+            let sets: &[&[(Grid, Cell, Cell)]] = if costs {
+                &[&bases, &weighted]
+            } else {
+                &[&bases]
+            };
+            for (i, (base, start, goal)) in sets.iter().flat_map(|set| set.iter()).enumerate() {
+                let mut grid = base.clone();
+                for step in 0..4 {
+                    let what = format!("{} (variant {v}) problem {i} step {step}", entry.name);
+                    let seed = factory.seed_for(7, i as u32);
+                    let first = run(&mut reused, &grid, *start, *goal, seed, &budget);
+                    let mut fresh = factory.build().unwrap();
+                    let again = run(&mut fresh, &grid, *start, *goal, seed, &budget);
+                    assert_eq!(
+                        first, again,
+                        "{what}: a reused planner differs from a fresh one"
+                    );
+                    n_checked += 1;
+                    for _ in 0..rng.gen_range(1..=4) {
+                        let cell = Cell::new(
+                            rng.gen_range(0..grid.width()),
+                            rng.gen_range(0..grid.height()),
+                        );
+                        if cell != *start && cell != *goal {
+                            grid.set_free(cell, rng.gen_bool(0.5));
+                        }
+                        grid.set_weight(cell, rng.gen_range(1..=9));
+                    }
+                }
+            }
+        }
+    }
+    assert!(n_checked >= PLANNERS.len() * 4 * 40, "{n_checked} checks");
 }
 
 /// A run's path, if any, leaves the start, reaches the goal when found (not for coverage),

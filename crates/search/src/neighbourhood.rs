@@ -36,7 +36,7 @@
 //! assert_eq!(to_closed.count_ones(), 1);
 //! ```
 
-use planner_api::{packed_words, Adjacency, Grid, MoveSet};
+use planner_api::{packed_words, Adjacency, Cell, Grid, MoveSet};
 
 /// Sets the bit of every free cell of `grid` in `bytes`, a bit per cell (bit `p % 8` of
 /// byte `p / 8`) of the padded layout with border `reach` and row length `stride`
@@ -44,7 +44,8 @@ use planner_api::{packed_words, Adjacency, Grid, MoveSet};
 /// time gathered in a register and OR-ed into the bytes they cover. Setting a bit per
 /// cell at its index took a division per cell and a read-modify-write chain on each byte:
 /// `cargo bench -p planner-registry --bench change` (A*'s next plan after one cell of a
-/// 2048 x 2048 grid changed, 2026-12-06) gave 30.0 ms that way and 2.3 ms this way. Bits
+/// 2048 x 2048 grid changed, 2026-12-06, when such a change rebuilt the bits; now its
+/// `rebuild_ms`, a new grid, 1.9-2.2 ms) gave 30.0 ms that way and 2.3 ms this way. Bits
 /// past the end of `bytes` are not set.
 pub fn set_free_cells(bytes: &mut [u8], grid: &Grid, reach: usize, stride: usize) {
     let width = grid.width() as usize;
@@ -57,6 +58,30 @@ pub fn set_free_cells(bytes: &mut [u8], grid: &Grid, reach: usize, stride: usize
             for (k, byte) in bytes.iter_mut().skip(bit / 8).take(9).enumerate() {
                 *byte |= (spread >> (8 * k)) as u8;
             }
+        }
+    }
+}
+
+/// Brings the bits that [`set_free_cells`] set for an earlier revision of `grid` up to
+/// date after the edits of `changed` cells ([`Grid::changed_since`]): each one's bit set
+/// when it is free and cleared when it is blocked. Bits past the end of `bytes` are not
+/// touched.
+pub fn update_free_cells(
+    bytes: &mut [u8],
+    grid: &Grid,
+    changed: impl Iterator<Item = Cell>,
+    reach: usize,
+    stride: usize,
+) {
+    for cell in changed {
+        let p = (cell.y as usize + reach) * stride + cell.x as usize + reach;
+        if let Some(byte) = bytes.get_mut(p / 8) {
+            let bit = 1 << (p % 8);
+            *byte = if grid.is_free(cell) {
+                *byte | bit
+            } else {
+                *byte & !bit
+            };
         }
     }
 }
@@ -91,6 +116,21 @@ impl CellBits {
     pub fn fill_free(&mut self, grid: &Grid, adjacency: &Adjacency) {
         self.clear(adjacency.padded_len());
         set_free_cells(&mut self.bytes, grid, adjacency.reach(), adjacency.stride());
+    }
+
+    /// Makes these the bits of `grid`'s free cells in `adjacency`'s layout, as
+    /// [`CellBits::fill_free`], when they are those of the grid at revision `built` (or
+    /// `None`): brought up to date from [`Grid::changed_since`] when it knows the cells
+    /// edited since, else filled anew.
+    pub fn follow_free(&mut self, grid: &Grid, adjacency: &Adjacency, built: Option<u64>) {
+        let padded_len = adjacency.padded_len();
+        match built.and_then(|revision| grid.changed_since(revision)) {
+            Some(changed) if self.bytes.len() == padded_len / 8 + 3 => {
+                let (reach, stride) = (adjacency.reach(), adjacency.stride());
+                update_free_cells(&mut self.bytes, grid, changed, reach, stride);
+            }
+            _ => self.fill_free(grid, adjacency),
+        }
     }
 
     /// The bytes these bits take.

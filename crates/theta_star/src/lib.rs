@@ -371,8 +371,9 @@ impl AnyAngle {
     pub fn prepare(&mut self, grid: &planner_api::Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         self.nodes.fit(adjacency.padded_len());
-        if self.neighbourhood.revision != Some(grid.revision()) {
-            self.neighbourhood.free.fill_free(grid, adjacency);
+        let built = self.neighbourhood.revision;
+        if built != Some(grid.revision()) {
+            self.neighbourhood.free.follow_free(grid, adjacency, built);
             self.neighbourhood.revision = Some(grid.revision());
         }
         SightGrid::cached(&mut self.sight, grid);
