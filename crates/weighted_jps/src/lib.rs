@@ -80,8 +80,8 @@
 //! of random edits, and every plan after edits at the oracle's cost. `cargo bench -p
 //! planner-registry --bench change` on a 2048 x 2048 grid (2026-12-06, four runs): the
 //! next plan after one changed cell 0.01 ms, a full build (a new grid) 190-216 ms (270 ms
-//! when the eight directions' entries were interleaved per cell); A* and JPS rebuild their
-//! tables in 1.9-2.1 and 3.7-6.9 ms either way.
+//! when the eight directions' entries were interleaved per cell); A* and JPS build theirs
+//! for a new grid in 1.9-2.3 and 5.7-6.9 ms.
 //!
 //! # Speed, measured
 //! `cargo bench -p planner-weighted_jps --bench costmap -- --repeats=3 --clock=cpu` (the
