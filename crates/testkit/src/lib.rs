@@ -141,6 +141,18 @@ pub fn fewest_moves(
     None
 }
 
+/// Marsaglia's xorshift64 sequence (shifts 13, 7, 17) from `seed` (nonzero): each call
+/// returns the next state. The seeded generator of the randomised tests.
+pub fn xorshift(seed: u64) -> impl FnMut() -> u64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    }
+}
+
 /// `rounds` small random problems, deterministic in `seed` (a xorshift generator): sides
 /// from 2 to 10 cells, about 30% of cells blocked, then start and goal (drawn uniformly,
 /// possibly equal) made free. Many have no path, which is the point for searches that

@@ -38,13 +38,7 @@ fn warehouse() -> Problems {
         .file
         .grid;
     let free: Vec<Cell> = grid.cells().filter(|&c| grid.is_free(c)).collect();
-    let mut state = 33u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = planner_testkit::xorshift(33u64);
     let pairs = (0..200)
         .map(|_| {
             let a = free[(next() % free.len() as u64) as usize];

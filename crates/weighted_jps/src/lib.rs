@@ -1003,13 +1003,7 @@ mod tests {
     /// patches) brought in by [`Prepared::update`] give the tables a rebuild gives.
     #[test]
     fn updated_tables_equal_rebuilt_ones() {
-        let mut state = 0x5eed_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = planner_testkit::xorshift(0x5eed_u64);
         let palette = [1u16, 1, 1, 2, 5, 9];
         let mut n_updates = 0u64;
         for round in 0..400 {

@@ -60,13 +60,7 @@ fn ten_thousand_random_weighted_grids_match_the_oracle() {
 /// Grids of 8 to 56 cells a side in patches of 3 to 14 cells of one of a few weights, few
 /// blocked cells: long jumps through uniform patches that stop at their edges.
 fn patchy_problems(seed: u64, rounds: usize) -> Vec<(Grid, Cell, Cell)> {
-    let mut state = seed | 1;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = planner_testkit::xorshift(seed | 1);
     (0..rounds)
         .map(|round| {
             let (w, h) = (8 + (next() % 49) as u32, 8 + (next() % 49) as u32);
@@ -108,13 +102,7 @@ fn patchy_problems(seed: u64, rounds: usize) -> Vec<(Grid, Cell, Cell)> {
 /// up to date after each round ([`Grid::changed_since`]) instead of rebuilding them.
 #[test]
 fn grids_edited_between_plans_match_the_oracle() {
-    let mut state = 0xed17_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = planner_testkit::xorshift(0xed17_u64);
     let mut problems = Vec::new();
     for (mut grid, start, goal) in patchy_problems(0x0ed1_7ed1, 300) {
         let (w, h) = (grid.width(), grid.height());
