@@ -136,7 +136,9 @@ use planner_api::{
     MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
 };
 use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
-use planner_search::neighbourhood::{set_free_cells, update_free_cells, MoveTable, BIT_COUNT};
+use planner_search::neighbourhood::{
+    set_free_cells, update_free_cells, MoveTable, PaddedWeights, BIT_COUNT,
+};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -326,36 +328,7 @@ pub struct AStar {
     weighted_opens: Opens,
     weighted_max_cost: Option<Cost>,
     /// A weighted grid's weights in the padded layout.
-    weight_cells: WeightCells,
-}
-
-/// A weighted grid's weights in the padded layout (0 outside the grid), rebuilt when the
-/// grid's revision changes.
-#[derive(Debug, Clone, Default)]
-struct WeightCells {
-    revision: Option<u64>,
-    stride: usize,
-    cells: Vec<u16>,
-}
-
-impl WeightCells {
-    fn get_or_build(&mut self, grid: &Grid, layout: &Layout) -> &[u16] {
-        if self.revision != Some(grid.revision()) || self.stride != layout.stride {
-            self.cells.clear();
-            self.cells.resize(layout.padded_len, 0);
-            if let Some(weights) = grid.weights() {
-                // Row by row: a copy per row, no division per cell.
-                let width = grid.width() as usize;
-                for (y, row) in (0..).zip(weights.cells().chunks_exact(width.max(1))) {
-                    let start = layout.index(Cell::new(0, y));
-                    self.cells[start..start + row.len()].copy_from_slice(row);
-                }
-            }
-            self.stride = layout.stride;
-            self.revision = Some(grid.revision());
-        }
-        &self.cells
-    }
+    weight_cells: PaddedWeights,
 }
 
 /// One OPEN list per tie rule and implementation. The configuration picks one (see
@@ -691,7 +664,7 @@ impl AStar {
             opens,
             weighted_opens: Opens::default(),
             weighted_max_cost: None,
-            weight_cells: WeightCells::default(),
+            weight_cells: PaddedWeights::default(),
         })
     }
 
@@ -896,7 +869,12 @@ impl AStar {
         let bits = self.bits.get_or_build(grid, &layout, &self.moves);
         let (weight_cells, min_weight) = match (W, grid.weights()) {
             (MEAN | ENTERED, Some(weights)) => (
-                self.weight_cells.get_or_build(grid, &layout),
+                self.weight_cells.get_or_build(
+                    grid,
+                    layout.reach,
+                    layout.stride,
+                    layout.padded_len,
+                ),
                 u64::from(weights.min()),
             ),
             _ => (&[][..], 1),
@@ -1229,7 +1207,8 @@ impl Planner for AStar {
     fn prepare(&mut self, grid: &planner_api::Grid) {
         let layout = Layout::new(grid, &self.moves);
         if grid.is_weighted() {
-            self.weight_cells.get_or_build(grid, &layout);
+            self.weight_cells
+                .get_or_build(grid, layout.reach, layout.stride, layout.padded_len);
         }
         if layout.uses_bits() {
             self.adjacency = None;

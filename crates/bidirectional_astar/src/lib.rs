@@ -81,6 +81,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+use planner_search::neighbourhood::PaddedWeights;
 use planner_search::{QuadHeap, Stamped};
 
 use planner_api::{
@@ -177,9 +178,8 @@ pub struct BidirectionalAStar {
     adjacency: Option<Adjacency>,
     nodes: Stamped<Node>,
     open: [QuadHeap<Entry>; 2],
-    /// A weighted grid's weights in the adjacency's padded layout, and the grid revision
-    /// they were built for.
-    weight_cells: (Option<u64>, Vec<u16>),
+    /// A weighted grid's weights in the adjacency's padded layout.
+    weight_cells: PaddedWeights,
 }
 
 /// What one search produced.
@@ -245,7 +245,7 @@ impl BidirectionalAStar {
             adjacency: None,
             nodes: Stamped::default(),
             open: [QuadHeap::default(), QuadHeap::default()],
-            weight_cells: (None, Vec::new()),
+            weight_cells: PaddedWeights::default(),
         })
     }
 
@@ -254,17 +254,11 @@ impl BidirectionalAStar {
     pub fn prepare(&mut self, grid: &Grid) {
         let adjacency = Adjacency::cached(&mut self.adjacency, grid, &self.moves);
         self.nodes.fit(adjacency.padded_len());
-        let (revision, cells) = &mut self.weight_cells;
-        if let (Some(weights), false) = (grid.weights(), *revision == Some(grid.revision())) {
-            cells.clear();
-            cells.resize(adjacency.padded_len(), 0);
-            // A copy per row (no division per cell for its index).
-            let width = grid.width() as usize;
-            for (y, row) in (0..).zip(weights.cells().chunks_exact(width.max(1))) {
-                let start = adjacency.index(Cell::new(0, y));
-                cells[start..start + row.len()].copy_from_slice(row);
-            }
-            *revision = Some(grid.revision());
+        if grid.is_weighted() {
+            let (reach, stride) = (adjacency.reach(), adjacency.stride());
+            let padded_len = adjacency.padded_len();
+            self.weight_cells
+                .get_or_build(grid, reach, stride, padded_len);
         }
     }
 
@@ -331,7 +325,7 @@ impl BidirectionalAStar {
             .weights()
             .map_or((1, (0, 0)), |w| (u64::from(w.min()), w.rule().factors()));
         // `prepare` (just called) built them for this grid.
-        let weight_cells: &[u16] = if W { &self.weight_cells.1 } else { &[] };
+        let weight_cells: &[u16] = if W { self.weight_cells.cells() } else { &[] };
         // Sums and infinity in the representation of `g`.
         let add = |a: u64, b: u64| -> u64 {
             if W {

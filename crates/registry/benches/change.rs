@@ -7,11 +7,13 @@
 //! plan on a copy of the grid without that log and with another cell flipped (a new grid to
 //! the planner): the full build.
 //!
-//! `cargo bench -p planner-registry --bench change [-- SIDE]` (default 2048: a square grid
-//! whose cells are 10 % blocked in a fixed scattered pattern) prints a line per planner
-//! label, `planner=<label> change_ms=<t> rebuild_ms=<t> status=<status>`, each the best of
-//! five plans, for every registered start-goal planner with its defaults and A* with 8 and
-//! 16 directions.
+//! `cargo bench -p planner-registry --bench change [-- SIDE] [--weighted]` (default 2048: a
+//! square grid whose cells are 10 % blocked in a fixed scattered pattern) prints a line per
+//! planner label, `planner=<label> change_ms=<t> rebuild_ms=<t> status=<status>`, each the
+//! best of five plans, for every registered start-goal planner with its defaults and A*
+//! with 8 and 16 directions. With `--weighted` the grid carries weights 1 to 9 (the mean
+//! rule; a hash of the cell's index) and a change is also a new weight for the flipped
+//! cell, for the planners that honour weights only.
 //! Each plan has a budget of one second: a planner that does not find the neighbouring
 //! goal within it (backtracking enumerates paths) is reported with its status, and its
 //! time is the budget's, not a change's cost.
@@ -31,6 +33,19 @@ fn main() {
         .map(|i| i.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 32 & 1023 >= 102)
         .collect();
     let mut grid = Grid::from_free_cells(side, side, free).expect("a valid grid");
+    let weighted = std::env::args().any(|a| a == "--weighted");
+    let weights: Vec<u16> = (0..u64::from(side) * u64::from(side))
+        .map(|i| 1 + (i.wrapping_mul(0xd6e8_feb8_6659_fd93) >> 40) as u16 % 9)
+        .collect();
+    // A copy of `grid`'s cells with the bench's weights when weighted: a new grid.
+    let anew = |grid: &Grid| match weighted {
+        true => grid
+            .without_weights()
+            .with_weights(weights.clone(), planner_api::CostRule::Mean)
+            .expect("one weight per cell, none 0"),
+        false => grid.without_weights(),
+    };
+    grid = anew(&grid);
     // Two free cells side by side, away from the cells that flip (row 0).
     let start = grid
         .cells()
@@ -59,6 +74,9 @@ fn main() {
         let Ok(factory) = (entry.factory)(&params) else {
             continue;
         };
+        if weighted && !factory.specs().cell_costs {
+            continue;
+        }
         let Ok(Built::Path(mut planner)) = factory.build() else {
             continue;
         };
@@ -69,6 +87,7 @@ fn main() {
             .map(|k| {
                 let cell = Cell::new(k, 0);
                 grid.set_free(cell, !grid.is_free(cell));
+                grid.set_weight(cell, 1 + (grid.weight(cell) + k as u16) % 9);
                 let problem = Problem::new(&grid, start, goal).expect("free cells in the grid");
                 let started = Instant::now();
                 status = Some(planner.plan(&problem, &budget).status);
@@ -80,7 +99,7 @@ fn main() {
                 // A new revision without a log of the changes since the planner's tables
                 // were built, and one cell different (caches that compare the cells to
                 // tell a new grid equal to their own do not take it).
-                let mut fresh = grid.without_weights();
+                let mut fresh = anew(&grid);
                 let cell = Cell::new(side - 1 - k.min(side - 1), side - 1);
                 if cell != start && cell != goal {
                     fresh.set_free(cell, !fresh.is_free(cell));

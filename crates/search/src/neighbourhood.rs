@@ -86,6 +86,67 @@ pub fn update_free_cells(
     }
 }
 
+/// A weighted grid's weights in a padded layout (border `reach`, rows of `stride` cells,
+/// [`Adjacency`]'s form; 0 outside the grid and for a grid without weights), kept between
+/// searches: copied a row at a time for a new grid, and after edits in place
+/// ([`Grid::changed_since`]) only the edited cells' weights.
+#[derive(Debug, Clone, Default)]
+pub struct PaddedWeights {
+    revision: Option<u64>,
+    reach: usize,
+    stride: usize,
+    cells: Vec<u16>,
+}
+
+impl PaddedWeights {
+    /// The weights of `grid` in the layout of `padded_len` cells with border `reach` and
+    /// rows of `stride` cells.
+    pub fn get_or_build(
+        &mut self,
+        grid: &Grid,
+        reach: usize,
+        stride: usize,
+        padded_len: usize,
+    ) -> &[u16] {
+        let same_layout =
+            (self.reach, self.stride, self.cells.len()) == (reach, stride, padded_len);
+        let changed = match self.revision {
+            Some(revision) if same_layout => grid.changed_since(revision),
+            _ => None,
+        };
+        match changed {
+            Some(changed) => {
+                if grid.weights().is_some() {
+                    for cell in changed {
+                        let p = (cell.y as usize + reach) * stride + cell.x as usize + reach;
+                        self.cells[p] = grid.weight(cell);
+                    }
+                }
+            }
+            None => {
+                self.cells.clear();
+                self.cells.resize(padded_len, 0);
+                if let Some(weights) = grid.weights() {
+                    // A copy per row, no division per cell.
+                    let width = grid.width() as usize;
+                    for (y, row) in weights.cells().chunks_exact(width.max(1)).enumerate() {
+                        let start = (y + reach) * stride + reach;
+                        self.cells[start..start + row.len()].copy_from_slice(row);
+                    }
+                }
+                (self.reach, self.stride) = (reach, stride);
+            }
+        }
+        self.revision = Some(grid.revision());
+        &self.cells
+    }
+
+    /// The weights as [`PaddedWeights::get_or_build`] last made them.
+    pub fn cells(&self) -> &[u16] {
+        &self.cells
+    }
+}
+
 /// A bit per padded cell (bit `p % 8` of byte `p / 8`), with two bytes of slack so that
 /// every grid cell's neighbourhood reads as three two-byte loads.
 #[derive(Debug, Clone, Default)]
@@ -246,6 +307,52 @@ mod tests {
     use planner_api::{Connectivity, NeighborOrder};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+
+    /// Weights and free cells edited in place between lookups, some lookups in another
+    /// layout: the kept weights equal a new copy's, and the free-cell bits brought up to
+    /// date ([`update_free_cells`]) equal a new fill's.
+    #[test]
+    fn kept_weights_and_bits_follow_edits_in_place() {
+        let mut rng = ChaCha8Rng::seed_from_u64(32);
+        for (w, h) in [(1, 1), (9, 70), (70, 9), (65, 64)] {
+            let free = (0..w * h).map(|_| rng.gen_bool(0.8)).collect();
+            let weights = (0..w * h).map(|_| rng.gen_range(1..=255)).collect();
+            let mut grid = Grid::from_free_cells(w, h, free)
+                .and_then(|g| g.with_weights(weights, planner_api::CostRule::Mean))
+                .unwrap();
+            let mut kept = PaddedWeights::default();
+            let (mut bits, mut built) = (Vec::new(), None);
+            for step in 0..40 {
+                for _ in 0..rng.gen_range(1..4) {
+                    let cell = Cell::new(rng.gen_range(0..w), rng.gen_range(0..h));
+                    grid.set_weight(cell, rng.gen_range(1..=255));
+                    grid.set_free(cell, rng.gen_bool(0.7));
+                }
+                let reach = if step % 10 == 9 { 2 } else { 1 };
+                let stride = w as usize + 2 * reach;
+                let padded_len = stride * (h as usize + 2 * reach);
+                let cells = kept.get_or_build(&grid, reach, stride, padded_len).to_vec();
+                let new = PaddedWeights::default()
+                    .get_or_build(&grid, reach, stride, padded_len)
+                    .to_vec();
+                assert_eq!(cells, new, "{w} x {h}, step {step}");
+                // The free bits in a reach-1 layout, updated when the last fill's allows.
+                let stride = w as usize + 2;
+                let padded_len = stride * (h as usize + 2);
+                match built.and_then(|r| grid.changed_since(r)) {
+                    Some(changed) => update_free_cells(&mut bits, &grid, changed, 1, stride),
+                    None => {
+                        bits = vec![0; padded_len / 8 + 3];
+                        set_free_cells(&mut bits, &grid, 1, stride);
+                    }
+                }
+                built = Some(grid.revision());
+                let mut filled = vec![0; padded_len / 8 + 3];
+                set_free_cells(&mut filled, &grid, 1, stride);
+                assert_eq!(bits, filled, "{w} x {h}, step {step}");
+            }
+        }
+    }
 
     /// On random grids, with and without corner cutting, every cell's safe moves from the
     /// bits equal the adjacency's masks, and the CLOSED moves equal the moves whose target
