@@ -225,6 +225,10 @@ pub struct Engine {
     stats: RepairStats,
     /// Scratch list of the vertices a batch of changes touches.
     affected: Vec<u32>,
+    /// The revision of the grid the map was last made a copy of by [`Engine::reset`] (none
+    /// once [`Engine::apply`] changed the map): a later revision of that grid edited in
+    /// place lists its changed cells ([`Grid::changed_since`]).
+    synced: Option<u64>,
 }
 
 impl Engine {
@@ -254,6 +258,7 @@ impl Engine {
             initialized: false,
             stats: RepairStats::default(),
             affected: Vec::new(),
+            synced: None,
         }
     }
 
@@ -291,13 +296,25 @@ impl Engine {
     /// the free flags are compared a block at a time and only the cells that differ are
     /// written, so a reset costs a comparison of the maps rather than a new copy of both
     /// (the per-cell search state is cleared where the last session wrote it, when the
-    /// next search begins).
+    /// next search begins). When `grid` is the grid of the last reset edited in place
+    /// since ([`Grid::changed_since`]; and no [`Engine::apply`] between), only the edited
+    /// cells are written, weights included.
     pub fn reset(&mut self, grid: &Grid, root: Cell, target: Cell) {
-        let same_shape = self.grid.as_ref().is_some_and(|old| {
-            old.width() == grid.width()
-                && old.height() == grid.height()
-                && old.weights() == grid.weights()
-        });
+        // The cells edited since the map was a copy of `grid`, if it was.
+        let logged: Option<Vec<Cell>> = match (&self.grid, self.synced) {
+            (Some(old), Some(revision))
+                if (old.width(), old.height()) == (grid.width(), grid.height()) =>
+            {
+                grid.changed_since(revision).map(Iterator::collect)
+            }
+            _ => None,
+        };
+        let same_shape = logged.is_some()
+            || self.grid.as_ref().is_some_and(|old| {
+                old.width() == grid.width()
+                    && old.height() == grid.height()
+                    && old.weights() == grid.weights()
+            });
         self.width = grid.width();
         self.height = grid.height();
         self.stride = self.width.saturating_add(2);
@@ -319,18 +336,35 @@ impl Engine {
         match self.grid.as_mut() {
             Some(old) if same_shape && fits && self.bits.len() == bits_len(padded) => {
                 let (w, stride) = (self.width as usize, self.stride as usize);
-                const BLOCK: usize = 256;
-                for (b, block) in grid.free_cells().chunks(BLOCK).enumerate() {
-                    let base = b * BLOCK;
-                    if old.free_cells()[base..base + block.len()] == *block {
-                        continue;
+                if let Some(cells) = logged {
+                    for cell in cells {
+                        let v = (cell.y as usize + 1) * stride + cell.x as usize + 1;
+                        if old.is_free(cell) != grid.is_free(cell) {
+                            old.set_free(cell, grid.is_free(cell));
+                            set_bit(&mut self.bits, v, grid.is_free(cell));
+                        }
+                        if old.weight(cell) != grid.weight(cell) {
+                            old.set_weight(cell, grid.weight(cell));
+                            if let Some(slot) = self.weights.get_mut(v) {
+                                *slot = grid.weight(cell);
+                            }
+                        }
                     }
-                    for (j, &free) in block.iter().enumerate() {
-                        let i = base + j;
-                        if old.free_cells()[i] != free {
-                            let cell = old.cell(i);
-                            old.set_free(cell, free);
-                            set_bit(&mut self.bits, (i / w + 1) * stride + i % w + 1, free);
+                    debug_assert!(old == grid);
+                } else {
+                    const BLOCK: usize = 256;
+                    for (b, block) in grid.free_cells().chunks(BLOCK).enumerate() {
+                        let base = b * BLOCK;
+                        if old.free_cells()[base..base + block.len()] == *block {
+                            continue;
+                        }
+                        for (j, &free) in block.iter().enumerate() {
+                            let i = base + j;
+                            if old.free_cells()[i] != free {
+                                let cell = old.cell(i);
+                                old.set_free(cell, free);
+                                set_bit(&mut self.bits, (i / w + 1) * stride + i % w + 1, free);
+                            }
                         }
                     }
                 }
@@ -356,6 +390,7 @@ impl Engine {
                 self.load_weights();
             }
         }
+        self.synced = Some(grid.revision());
         self.root = self.vertex(root);
         self.target = self.vertex(target);
         self.target_xy = self.xy(self.target);
@@ -462,6 +497,8 @@ impl Engine {
         let Some(grid) = self.grid.as_mut() else {
             return;
         };
+        // The map is no longer a copy of the grid of the last reset.
+        self.synced = None;
         self.affected.clear();
         let (width, height, stride) = (self.width, self.height, self.stride);
         let padded = !self.bits.is_empty();
