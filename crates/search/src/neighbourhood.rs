@@ -38,6 +38,12 @@
 
 use planner_api::{packed_words, Adjacency, Cell, Grid, MoveSet};
 
+/// The padded index of the first cell of grid row `y` in the layout with border `reach`
+/// and rows of `stride` cells ([`Adjacency`]'s); the row's cell `x` is `x` further on.
+fn padded_row(y: usize, reach: usize, stride: usize) -> usize {
+    (y + reach) * stride + reach
+}
+
 /// Sets the bit of every free cell of `grid` in `bytes`, a bit per cell (bit `p % 8` of
 /// byte `p / 8`) of the padded layout with border `reach` and row length `stride`
 /// ([`Adjacency`]'s), whose other bits are left as they are. Row by row, 64 cells at a
@@ -50,7 +56,7 @@ use planner_api::{packed_words, Adjacency, Cell, Grid, MoveSet};
 pub fn set_free_cells(bytes: &mut [u8], grid: &Grid, reach: usize, stride: usize) {
     let width = grid.width() as usize;
     for (y, row) in grid.free_cells().chunks_exact(width.max(1)).enumerate() {
-        let start = (y + reach) * stride + reach;
+        let start = padded_row(y, reach, stride);
         for (c, word) in packed_words(row).enumerate() {
             let bit = start + 64 * c;
             // The 64 bits from bit `bit % 8` of byte `bit / 8` on: nine bytes at most.
@@ -74,7 +80,7 @@ pub fn update_free_cells(
     stride: usize,
 ) {
     for cell in changed {
-        let p = (cell.y as usize + reach) * stride + cell.x as usize + reach;
+        let p = padded_row(cell.y as usize, reach, stride) + cell.x as usize;
         if let Some(byte) = bytes.get_mut(p / 8) {
             let bit = 1 << (p % 8);
             *byte = if grid.is_free(cell) {
@@ -118,7 +124,7 @@ impl PaddedWeights {
             Some(changed) => {
                 if grid.weights().is_some() {
                     for cell in changed {
-                        let p = (cell.y as usize + reach) * stride + cell.x as usize + reach;
+                        let p = padded_row(cell.y as usize, reach, stride) + cell.x as usize;
                         self.cells[p] = grid.weight(cell);
                     }
                 }
@@ -130,7 +136,7 @@ impl PaddedWeights {
                     // A copy per row, no division per cell.
                     let width = grid.width() as usize;
                     for (y, row) in weights.cells().chunks_exact(width.max(1)).enumerate() {
-                        let start = (y + reach) * stride + reach;
+                        let start = padded_row(y, reach, stride);
                         self.cells[start..start + row.len()].copy_from_slice(row);
                     }
                 }

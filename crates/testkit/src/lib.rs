@@ -158,13 +158,7 @@ pub fn xorshift(seed: u64) -> impl FnMut() -> u64 {
 /// possibly equal) made free. Many have no path, which is the point for searches that
 /// must tell.
 pub fn small_random_problems(seed: u64, rounds: usize) -> Vec<(Grid, Cell, Cell)> {
-    let mut state = seed;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = xorshift(seed);
     (0..rounds)
         .map(|_| {
             let (w, h) = (2 + (next() % 9) as u32, 2 + (next() % 9) as u32);
@@ -524,13 +518,7 @@ pub struct WeightedProblem {
 /// borders both occur), the cost rule alternating mean and entered, start and goal drawn
 /// uniformly (possibly equal) and made free.
 pub fn random_weighted_problems(seed: u64, rounds: usize) -> Vec<WeightedProblem> {
-    let mut state = seed | 1;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = xorshift(seed | 1);
     (0..rounds)
         .map(|round| {
             let (w, h) = (2 + (next() % 23) as u32, 2 + (next() % 23) as u32);

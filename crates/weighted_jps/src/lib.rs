@@ -93,8 +93,9 @@
 //! | nav2's warehouse as graded costs (1 + costmap cost), 200 seeded pairs, 27 unreachable | 200 | 52,344,370 | 395,037 | 6967.1, 7001.5 | 111.8, 117.6 (60-62x faster) |
 //! | arena, 7 x 7 terrain patches of weights 1-9 | 160 | 130,128 | 121,369 | 14.0, 14.5 | 22.6, 23.4 (1.6x slower) |
 //!
-//! Jumps that stepped cell by cell took 3583.5 ms on the warehouse; straight jumps from the
-//! table, diagonal ones stepping, 231.1 ms. Where the weights change every few cells almost
+//! The same bench at commit c71916f, straight jumps from the table and diagonal ones
+//! stepping cell by cell, took 231.1 ms on the warehouse (a version before it, every jump
+//! stepping, not committed, 3583.5 ms). Where the weights change every few cells almost
 //! no cell is uniform, the search expands nearly A*'s nodes, and each expansion jumps eight
 //! ways: use A* there. On a robot's costmap, whose free space is one weight with gradients
 //! around the obstacles, the jumps cross the free space in one expansion.
@@ -696,6 +697,7 @@ impl Jumper<'_> {
         }
         let mut end = if run & 1 == 1 { steps } else { usize::MAX };
         let (dx, dy) = DIRECTIONS[k];
+        let (kx, ky) = (direction(dx, 0), direction(0, dy));
         let stride = self.grid.stride;
         let (px, py) = ((p % stride) as i64, (p / stride) as i64);
         let (gx, gy) = ((self.goal % stride) as i64, (self.goal / stride) as i64);
@@ -703,16 +705,8 @@ impl Jumper<'_> {
         // At `t` moves the jump reaches the goal's row (then the goal lies `along` cells
         // further in `x`) or its column.
         for (t, along, straight) in [
-            (
-                (gy - py) * dy,
-                (gx - px) * dx - (gy - py) * dy,
-                direction(dx as i32, 0),
-            ),
-            (
-                (gx - px) * dx,
-                (gy - py) * dy - (gx - px) * dx,
-                direction(0, dy as i32),
-            ),
+            ((gy - py) * dy, (gx - px) * dx - (gy - py) * dy, kx),
+            ((gx - px) * dx, (gy - py) * dy - (gx - px) * dx, ky),
         ] {
             if t < 1 || t as usize > steps.min(end) || along < 0 {
                 continue;
