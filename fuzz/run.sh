@@ -101,8 +101,20 @@ case $target in
     printf '\x00\x00\x00\x00\x00\x00\x00\x00\x00' > "$seeds/empty-frame.bin"
     printf '\x00\xff\xff\xff\xff\x00\x00\x00\x00' > "$seeds/huge-frame.bin"
     ;;
+  edits)
+    # Planner byte, size 12 x 9, weighted, a few blocked cells (14 bytes of bits), start
+    # (0,0), goal (11,8), then two batches of edits: block (3,2), free (4,4) | weight 3 at
+    # (5,5), toggle (6,3) (fuzz_targets/edits.rs).
+    body='\x0b\x08\x01\x10\x20\x00\x44\x00\x81\x00\x10\x00\x02\x00\x00\x00\x00'
+    body="$body"'\x00\x00\x0b\x08\x03\x02\x00\x04\x04\x81\x05\x05\x0a\x06\x03\x83'
+    for planner in $(seq 0 40); do
+      printf "\\x$(printf %02x "$planner")$body" > "$seeds/planner-$planner.bin"
+    done
+    # Long enough for a 24 x 24 grid with weights' batches of edits (4 + 72 + 4 + 288 bytes).
+    max_len=1024
+    ;;
   *)
-    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream frames weights gppc replan_config expanded)" >&2
+    echo "unknown target $target (movingai scen seed003 csv ros_yaml image config stream frames weights gppc replan_config expanded edits)" >&2
     exit 2
     ;;
 esac
