@@ -31,17 +31,13 @@ const BUDGET: u64 = 4_000;
 const MAX_BATCHES: usize = 8;
 const MAX_EDITS: usize = 96;
 
-/// Every registry entry with its defaults, and with `moves = 8` where that is valid.
+/// Every registry entry's variants (`Entry::variants`: its defaults, and `moves = 8` where
+/// its config takes that key).
 fn factories() -> Vec<Factory> {
-    let eight: toml::Table = toml::from_str("moves = 8").expect("a TOML table");
-    let mut out = Vec::new();
-    for entry in PLANNERS {
-        out.push((entry.factory)(&toml::Table::new()).expect("defaults are valid"));
-        if let Ok(factory) = (entry.factory)(&eight) {
-            out.push(factory);
-        }
-    }
-    out
+    PLANNERS
+        .iter()
+        .flat_map(|entry| entry.variants().expect("defaults are valid"))
+        .collect()
 }
 
 /// A plan's outcome as compared.

@@ -35,6 +35,21 @@ pub struct Entry {
     pub factory: fn(&toml::Table) -> Result<Factory, ParamError>,
 }
 
+impl Entry {
+    /// The factories the tests and the `edits` fuzz target run for this entry: its
+    /// defaults, and `moves = 8` where its config takes that key (so a planner whose
+    /// default is another move set is also checked 8-connected).
+    pub fn variants(&self) -> Result<Vec<Factory>, ParamError> {
+        let mut out = vec![(self.factory)(&toml::Table::new())?];
+        let mut eight = toml::Table::new();
+        eight.insert("moves".to_string(), toml::Value::Integer(8));
+        if let Ok(factory) = (self.factory)(&eight) {
+            out.push(factory);
+        }
+        Ok(out)
+    }
+}
+
 /// Every planner, in the order `planners` lists them.
 pub const PLANNERS: &[Entry] = &[
     // (registry start)

@@ -11,8 +11,8 @@
 //! being registered.
 
 use planner_api::{Budget, Cell, CoverageProblem, Grid, Problem, Status};
+use planner_registry::Built;
 use planner_registry::PLANNERS;
-use planner_registry::{Built, Factory};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -60,19 +60,6 @@ fn degenerate() -> Vec<(Grid, Cell, Cell)> {
         (ascii(".#.\n###\n.#."), Cell::new(0, 0), Cell::new(2, 2)),
         (open(6, 4), Cell::new(2, 3), Cell::new(2, 3)),
     ]
-}
-
-/// The configurations tried for each planner: its defaults, and 8-connected moves where
-/// its config takes `moves = 8`.
-pub(crate) fn variants(
-    factory: fn(&toml::Table) -> Result<Factory, planner_api::ParamError>,
-) -> Vec<Factory> {
-    let mut out = vec![factory(&toml::Table::new()).expect("defaults must be valid")];
-    let eight: toml::Table = toml::from_str("moves = 8").unwrap();
-    if let Ok(f) = factory(&eight) {
-        out.push(f);
-    }
-    out
 }
 
 /// One run's observable result.
@@ -123,7 +110,12 @@ fn every_registered_planner_keeps_the_contract() {
     let budget = Budget::expansions(BUDGET);
     let mut n_checked = 0;
     for entry in PLANNERS {
-        for (v, factory) in variants(entry.factory).into_iter().enumerate() {
+        for (v, factory) in entry
+            .variants()
+            .expect("defaults must be valid")
+            .into_iter()
+            .enumerate()
+        {
             let specs = factory.specs().clone();
             // Declared incremental exactly when registered so (the replanning experiments
             // trust the registry, the runner and reports the specs).
@@ -207,7 +199,12 @@ fn a_planner_reused_on_an_edited_grid_gives_a_fresh_ones_outcome() {
         .collect();
     let mut n_checked = 0;
     for entry in PLANNERS {
-        for (v, factory) in variants(entry.factory).into_iter().enumerate() {
+        for (v, factory) in entry
+            .variants()
+            .expect("defaults must be valid")
+            .into_iter()
+            .enumerate()
+        {
             let costs = factory.specs().cell_costs;
             let mut reused = factory.build().unwrap();
             let sets: &[&[(Grid, Cell, Cell)]] = if costs {
@@ -502,7 +499,12 @@ fn every_admissible_or_cost_honouring_planner_matches_the_oracle() {
     let problems = oracle_problems();
     let mut n_exact = 0;
     for entry in PLANNERS {
-        for (v, factory) in variants(entry.factory).into_iter().enumerate() {
+        for (v, factory) in entry
+            .variants()
+            .expect("defaults must be valid")
+            .into_iter()
+            .enumerate()
+        {
             let specs = factory.specs().clone();
             let exact = specs.admissible == Some(true);
             if !(specs.cell_costs || exact)
@@ -591,7 +593,12 @@ fn recording_the_expanded_cells_changes_nothing_and_lists_one_per_expansion() {
     let recording = budget.recording_expanded(true);
     let mut n_listing = 0;
     for entry in PLANNERS {
-        for (v, factory) in variants(entry.factory).into_iter().enumerate() {
+        for (v, factory) in entry
+            .variants()
+            .expect("defaults must be valid")
+            .into_iter()
+            .enumerate()
+        {
             let Built::Path(mut planner) = factory.build().unwrap() else {
                 continue;
             };

@@ -51,13 +51,15 @@ fn measured(
     })
 }
 
-/// Each registry entry's variants (`conformance::variants`: its defaults, and 8-connected
-/// moves where its config takes them).
+/// Each registry entry's variants (`Entry::variants`: its defaults, and 8-connected moves
+/// where its config takes them).
 fn factories() -> Vec<(&'static str, planner_registry::Factory)> {
     PLANNERS
         .iter()
         .flat_map(|entry| {
-            crate::conformance::variants(entry.factory)
+            entry
+                .variants()
+                .expect("defaults must be valid")
                 .into_iter()
                 .map(move |f| (entry.name, f))
         })
