@@ -508,10 +508,13 @@ fn experiment(
 /// test kit's oracle, a plain Dijkstra over the weighted graph: a planner that honours
 /// cell costs returns a path whose exact weighted cost is the oracle's least cost, and
 /// the record's `cost` is that path's cost; a planner run with `costs = "ignore"` returns
-/// a valid path costing at least as much. Unreachable goals must agree too.
+/// a valid path costing at least as much. Unreachable goals must agree too. Weighted JPS's
+/// runs also give exactly the counters of `planner_testkit::reference_weighted_jps`, its
+/// search written again with jumps walked cell by cell (so `snapshots/weighted.snap`'s
+/// `n_jumps` and the rest are checked against an independent method).
 #[test]
 fn every_weighted_run_matches_the_oracle() {
-    let mut n_checked = 0;
+    let (mut n_checked, mut n_weighted_jps) = (0, 0);
     for path in configs() {
         let experiment = config::load(&path).unwrap().trimmed_for_test();
         if !experiment.maps.iter().any(|m| m.grid.is_weighted()) {
@@ -555,10 +558,20 @@ fn every_weighted_run_matches_the_oracle() {
                 (None, None) => assert_eq!(r.status, planner_runner::RunStatus::NoPath, "{what}"),
                 (found, best) => panic!("{what}: path {:?} vs oracle {best:?}", found.is_some()),
             }
+            if r.algorithm == "weighted_jps" {
+                // Every counter of weighted JPS as its independent transcription counts it.
+                let (_, _, counters) =
+                    planner_testkit::reference_weighted_jps(&map.grid, r.start, r.goal);
+                for (name, want) in planner_testkit::WEIGHTED_JPS_COUNTERS.iter().zip(counters) {
+                    assert_eq!(r.counters.get(name), Some(want), "{what}: {name}");
+                }
+                n_weighted_jps += 1;
+            }
             n_checked += 1;
         }
     }
     assert!(n_checked >= 70, "{n_checked}");
+    assert!(n_weighted_jps >= 10, "{n_weighted_jps}");
 }
 
 /// A planner that does not honour cell costs is refused a weighted map at config time, by
