@@ -372,6 +372,47 @@ fn every_astar_run_matches_the_reference_search() {
     assert_eq!(n_checked, 12 + 24 + 144 + 42 + 16 + 40);
 }
 
+/// Every JPS run of every config (as snapshotted), in each variant, has exactly the status,
+/// path and counters of `planner_testkit::reference_jps`, JPS written again with every jump
+/// walked cell by cell and std's `BinaryHeap`: the snapshot's JPS numbers (`n_scanned`,
+/// `n_lookups` and the rest) are checked against an independent search, not only pinned.
+#[test]
+fn every_jps_run_matches_the_reference_search() {
+    let n_checked = common::for_each_snapshotted_run("jps", |path, map, params, r| {
+        let config: planner_jps::Config = params.clone().try_into().unwrap();
+        assert!(!config.goal_bounding, "the reference has no goal bounds");
+        let variant = match config.variant {
+            planner_jps::Variant::Jps => planner_testkit::JpsVariant::Jps,
+            planner_jps::Variant::JpsPrime => planner_testkit::JpsVariant::JpsPrime,
+            planner_jps::Variant::JpsPlus => planner_testkit::JpsVariant::JpsPlus,
+        };
+        let (status, chain, counters) =
+            planner_testkit::reference_jps(&map.grid, r.start, r.goal, variant);
+        let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+        assert_eq!(r.status.as_str(), status.as_str(), "{what}");
+        let actual: Vec<u64> = r.counters.iter().map(|(_, value)| value).collect();
+        assert_eq!(actual, counters, "{what}");
+        // The path's jump points: its ends and the marks between (the crate's own test
+        // compares every cell).
+        let ends = |p: &planner_api::Path| (p.cells()[0], p.cells()[p.cells().len() - 1]);
+        let jump_points = r.path.as_ref().map(|p| {
+            let (first, last) = ends(p);
+            let marks = r.marks.iter().map(|m| m.cell);
+            std::iter::once(first)
+                .chain(marks)
+                .chain(std::iter::once(last))
+                .collect()
+        });
+        let chain = chain.map(|c| match c.len() {
+            1 => vec![c[0], c[0]],
+            _ => c,
+        });
+        assert_eq!(jump_points, chain, "{what}");
+    });
+    // movingai: the three variants x 36 problems.
+    assert_eq!(n_checked, 3 * 36);
+}
+
 /// Every lexastar run of every config (as snapshotted) finds the best (D, T), hence
 /// Score, that `planner_testkit::fewest_moves_then_turns` (plain Dijkstra over (cell,
 /// heading) states) finds, and a valid path: its snapshot metrics are checked against an

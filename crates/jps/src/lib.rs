@@ -111,6 +111,12 @@
 //!   included); a reach at equal `g` only adds its direction.
 //! - `peak_open`: the most nodes in OPEN at once.
 //!
+//! Every counter, jump point and path of the three variants equals that of
+//! `planner_testkit::reference_jps`, the same search written again with every jump walked
+//! cell by cell and std's binary heap, on 3,000 small random grids and 32 large ones
+//! (`tests/reference.rs`) and on every JPS run of `configs/movingai.toml` (xtask's
+//! `every_jps_run_matches_the_reference_search`).
+//!
 //! # Example
 //! From (0, 0) to the goal G = (3, 2) on a 4 x 3 grid with one blocked cell at (1, 1):
 //! ```

@@ -5,4 +5,5 @@
 
 mod behaviour;
 mod optimal;
+mod reference;
 mod smoke;

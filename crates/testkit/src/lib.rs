@@ -7,6 +7,9 @@
 
 use std::path::PathBuf;
 
+mod jps;
+pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};
+
 use planner_api::{Cell, Grid};
 use planner_maps::Scenario;
 
