@@ -413,6 +413,35 @@ fn every_jps_run_matches_the_reference_search() {
     assert_eq!(n_checked, 3 * 36);
 }
 
+/// Every Theta\* and Lazy Theta\* run of every config (as snapshotted) has exactly the
+/// status, waypoints and counters of `planner_testkit::reference_theta_star`, the search
+/// written again with planner-api's line-of-sight walk and std's `BinaryHeap`: the
+/// snapshot's `n_los_checks`, `n_los_cells`, `n_parent_repairs` and A\*'s counters are
+/// checked against an independent search, not only pinned.
+#[test]
+fn every_theta_star_run_matches_the_reference_search() {
+    let mut n_checked = 0;
+    for (algorithm, lazy) in [("theta_star", false), ("lazy_theta_star", true)] {
+        n_checked += common::for_each_snapshotted_run(algorithm, |path, map, _, r| {
+            let (status, waypoints, counters) =
+                planner_testkit::reference_theta_star(&map.grid, r.start, r.goal, lazy, true);
+            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+            assert_eq!(r.status.as_str(), status.as_str(), "{what}");
+            let names = &planner_testkit::THETA_COUNTERS[..9 + usize::from(lazy)];
+            let actual: Vec<(&str, u64)> = r.counters.iter().collect();
+            let expected: Vec<(&str, u64)> = names.iter().copied().zip(counters).collect();
+            assert_eq!(actual, expected, "{what}");
+            assert_eq!(
+                r.path.as_ref().map(|p| p.cells().to_vec()),
+                waypoints,
+                "{what}"
+            );
+        });
+    }
+    // movingai: 36 problems each; pastar: 7 problems x 2 test repeats each.
+    assert_eq!(n_checked, 2 * (36 + 14));
+}
+
 /// Every lexastar run of every config (as snapshotted) finds the best (D, T), hence
 /// Score, that `planner_testkit::fewest_moves_then_turns` (plain Dijkstra over (cell,
 /// heading) states) finds, and a valid path: its snapshot metrics are checked against an

@@ -8,7 +8,9 @@
 use std::path::PathBuf;
 
 mod jps;
+mod theta;
 pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};
+pub use theta::{reference_theta_star, ThetaSearch, THETA_COUNTERS};
 
 use planner_api::{Cell, Grid};
 use planner_maps::Scenario;

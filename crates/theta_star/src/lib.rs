@@ -74,7 +74,11 @@
 //! moves), then `n_los_checks` (line-of-sight checks made) and `n_los_cells` (cells those
 //! checks visited, both ends included, up to and including the first blocked cell).
 //! planner-lazy_theta_star reuses this search ([`AnyAngle`]) and adds
-//! `n_parent_repairs`.
+//! `n_parent_repairs`. Every counter and waypoint of both, with and without
+//! [`AnyAngle::skip_hopeless`], equals that of `planner_testkit::reference_theta_star`, the
+//! search written again with planner-api's `walk_segment` for line of sight and std's
+//! binary heap, on 3,000 small random grids and 60 larger ones (`tests/reference.rs`) and
+//! on every run of the configs (xtask's `every_theta_star_run_matches_the_reference_search`).
 //!
 //! ```
 //! use planner_api::{Budget, Cell, Grid, Path, PathRule, Planner, Problem, Status};

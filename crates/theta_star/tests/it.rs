@@ -4,4 +4,5 @@
 
 mod bound;
 mod key;
+mod reference;
 mod sight;
