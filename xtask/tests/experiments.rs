@@ -442,6 +442,41 @@ fn every_theta_star_run_matches_the_reference_search() {
     assert_eq!(n_checked, 2 * (36 + 14));
 }
 
+/// Every bidirectional A\* run of every config (as snapshotted), weighted ones included,
+/// has exactly the status, path and counters of
+/// `planner_testkit::reference_bidirectional_astar`, the search written again with std's
+/// binary heaps and planner-api's moves and move costs: the snapshot's forward, backward
+/// and meeting counters are checked against an independent search, not only pinned.
+#[test]
+fn every_bidirectional_astar_run_matches_the_reference_search() {
+    let n_checked =
+        common::for_each_snapshotted_run("bidirectional_astar", |path, map, params, r| {
+            let config: planner_bidirectional_astar::Config = params.clone().try_into().unwrap();
+            assert_eq!(
+                config.order,
+                planner_api::NeighborOrder::default(),
+                "the reference's order"
+            );
+            let (status, cells, counters) = planner_testkit::reference_bidirectional_astar(
+                &map.grid,
+                config.moves,
+                r.start,
+                r.goal,
+            );
+            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+            assert_eq!(r.status.as_str(), status.as_str(), "{what}");
+            let actual: Vec<(String, u64)> = r
+                .counters
+                .iter()
+                .map(|(name, value)| (name.to_string(), value))
+                .collect();
+            assert_eq!(actual, counters, "{what}");
+            assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+        });
+    // movingai: 36 problems; weighted: 2 labels x 10 problems.
+    assert_eq!(n_checked, 36 + 20);
+}
+
 /// Every lexastar run of every config (as snapshotted) finds the best (D, T), hence
 /// Score, that `planner_testkit::fewest_moves_then_turns` (plain Dijkstra over (cell,
 /// heading) states) finds, and a valid path: its snapshot metrics are checked against an

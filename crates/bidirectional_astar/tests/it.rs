@@ -4,4 +4,5 @@
 //! "Tests").
 
 mod lengths;
+mod reference;
 mod weighted;

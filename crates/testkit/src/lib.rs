@@ -7,8 +7,10 @@
 
 use std::path::PathBuf;
 
+mod bidirectional;
 mod jps;
 mod theta;
+pub use bidirectional::{reference_bidirectional_astar, BidirectionalSearch};
 pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};
 pub use theta::{reference_theta_star, ThetaSearch, THETA_COUNTERS};
 
