@@ -477,6 +477,40 @@ fn every_bidirectional_astar_run_matches_the_reference_search() {
     assert_eq!(n_checked, 36 + 20);
 }
 
+/// Every LPA\* and D\* Lite run of every config (as snapshotted: first searches) has
+/// exactly the status, path and counters of `planner_testkit::reference_lpa`, the papers'
+/// ComputeShortestPath written again with a `BTreeSet` for the queue: the snapshot's queue
+/// and `rhs` counters are checked against an independent search, not only pinned.
+#[test]
+fn every_lpastar_and_dstar_lite_run_matches_the_reference_search() {
+    let mut n_checked = 0;
+    for (algorithm, dstar) in [("lpastar", false), ("dstar_lite", true)] {
+        n_checked += common::for_each_snapshotted_run(algorithm, |path, map, params, r| {
+            let config: planner_lpastar::Config = params.clone().try_into().unwrap();
+            assert!(!map.grid.is_weighted(), "the reference has no weights");
+            let (status, cells, counters) = planner_testkit::reference_lpa(
+                &map.grid,
+                config.moves == 8,
+                r.start,
+                r.goal,
+                dstar,
+            );
+            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+            assert_eq!(r.status.as_str(), status.as_str(), "{what}");
+            let actual: Vec<(&str, u64)> = r.counters.iter().collect();
+            let expected: Vec<(&str, u64)> = planner_testkit::LPA_COUNTERS
+                .iter()
+                .copied()
+                .zip(counters.iter().copied())
+                .collect();
+            assert_eq!(actual, expected, "{what}");
+            assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+        });
+    }
+    // incremental: 2 labels x 16 problems each.
+    assert_eq!(n_checked, 2 * 32);
+}
+
 /// Every lexastar run of every config (as snapshotted) finds the best (D, T), hence
 /// Score, that `planner_testkit::fewest_moves_then_turns` (plain Dijkstra over (cell,
 /// heading) states) finds, and a valid path: its snapshot metrics are checked against an
