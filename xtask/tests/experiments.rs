@@ -511,6 +511,35 @@ fn every_lpastar_and_dstar_lite_run_matches_the_reference_search() {
     assert_eq!(n_checked, 2 * 32);
 }
 
+/// Every BFS and DFS run of every config (as snapshotted) has exactly the status, path and
+/// counters of `planner_testkit::reference_frontier`, seed 003's definitions written again
+/// with a `VecDeque`: the snapshot's frontier counters (seed 003's maps among them) are
+/// checked against an independent search, not only pinned.
+#[test]
+fn every_bfs_and_dfs_run_matches_the_reference_search() {
+    let mut n_checked = 0;
+    for (algorithm, lifo) in [("bfs", false), ("dfs", true)] {
+        let n = common::for_each_snapshotted_run(algorithm, |path, map, params, r| {
+            // planner-dfs takes planner-bfs's parameters.
+            let config: planner_bfs::Config = params.clone().try_into().unwrap();
+            let moves =
+                planner_api::MoveSet::new(config.moves, config.corner_cutting, &config.order)
+                    .unwrap();
+            let (status, cells, counters) =
+                planner_testkit::reference_frontier(&map.grid, &moves, r.start, r.goal, lifo);
+            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+            assert_eq!(r.status.as_str(), status.as_str(), "{what}");
+            let actual = planner_testkit::FRONTIER_COUNTERS.map(|n| r.counters.get(n).unwrap());
+            assert_eq!(actual, counters, "{what}");
+            assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+        });
+        n_checked += n;
+    }
+    // paper: 12 maps each; wpi: 8 valid problems x 3 test repeats each; weighted: BFS with
+    // `costs = "ignore"` on 10 problems.
+    assert_eq!(n_checked, 2 * (12 + 24) + 10);
+}
+
 /// Every lexastar run of every config (as snapshotted) finds the best (D, T), hence
 /// Score, that `planner_testkit::fewest_moves_then_turns` (plain Dijkstra over (cell,
 /// heading) states) finds, and a valid path: its snapshot metrics are checked against an

@@ -29,6 +29,11 @@
 //! checked in full); when the queue runs empty, `n_open_insertions = n_expanded` as well,
 //! and when the budget stops the search, `n_open_insertions > n_expanded`.
 //!
+//! Every counter and path equals that of `planner_testkit::reference_frontier` (seed
+//! 003's definition written again with a `VecDeque` as the queue) on 2,000 random grids
+//! and seed 003's maps (`tests/`), and on every run of the configs (xtask's
+//! `every_bfs_and_dfs_run_matches_the_reference_search`).
+//!
 //! # Budget
 //! One expansion is one dequeue; the budget is asked before each. When it refuses, the
 //! search ends with [`Status::BudgetExhausted`](planner_api::Status::BudgetExhausted), no path, and the counters so far.

@@ -239,3 +239,44 @@ fn config_keys_and_errors() {
     );
     assert_eq!(Bfs::new(Config::default()).unwrap().name(), "bfs");
 }
+
+/// Every counter and path equals planner-testkit's `reference_frontier` (a `VecDeque`
+/// used as a FIFO queue, moves through `MoveSet::apply`), on random grids with three move
+/// sets and on every pair of seed 003's maps.
+#[test]
+fn counters_and_paths_equal_the_reference_frontier_search() {
+    let mut problems = common::small_random_problems(0x51ed_2701_aa44_0b13, 2000);
+    for file in ["wpi/map1.txt", "wpi/map2.txt", "wpi/map3.txt"] {
+        let (grid, pairs) = common::wpi(file);
+        for (s, g) in pairs {
+            if Problem::new(&grid, s, g).is_ok() {
+                problems.push((grid.clone(), s, g));
+            }
+        }
+    }
+    let mut expanded = 0;
+    for (connectivity, cutting) in [
+        (Connectivity::Four, false),
+        (Connectivity::Eight, false),
+        (Connectivity::Eight, true),
+    ] {
+        let config = Config {
+            moves: connectivity,
+            corner_cutting: cutting,
+            ..Config::default()
+        };
+        let moves = MoveSet::new(connectivity, cutting, &NeighborOrder::default()).unwrap();
+        for (k, (grid, start, goal)) in problems.iter().enumerate() {
+            let outcome = plan(grid, *start, *goal, config.clone());
+            let (status, path, counters) =
+                planner_testkit::reference_frontier(grid, &moves, *start, *goal, false);
+            let what = format!("{connectivity} cutting {cutting} problem {k}");
+            assert_eq!(outcome.status, status, "{what}");
+            assert_eq!(common::frontier_counters(&outcome), counters, "{what}");
+            assert_eq!(outcome.path.map(|p| p.cells().to_vec()), path, "{what}");
+            expanded += counters[0];
+        }
+    }
+    // 84,118 expansions (2026-12-06).
+    assert!(expanded > 80_000, "{expanded}");
+}

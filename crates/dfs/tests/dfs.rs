@@ -211,3 +211,48 @@ fn config_keys_and_errors() {
     );
     assert_eq!(Dfs::new(Config::default()).unwrap().name(), "dfs");
 }
+
+/// Every counter and path equals planner-testkit's `reference_frontier` (a `VecDeque`
+/// used as a LIFO stack, moves through `MoveSet::apply`), on random grids with three move
+/// sets in two orders (the default and seed 003's `L R U D`) and on every pair of seed
+/// 003's maps.
+#[test]
+fn counters_and_paths_equal_the_reference_frontier_search() {
+    let mut problems = common::small_random_problems(0x0ddf_5eed_1234_5678, 2000);
+    for file in ["wpi/map1.txt", "wpi/map2.txt", "wpi/map3.txt"] {
+        let (grid, pairs) = common::wpi(file);
+        for (s, g) in pairs {
+            if Problem::new(&grid, s, g).is_ok() {
+                problems.push((grid.clone(), s, g));
+            }
+        }
+    }
+    let mut expanded = 0;
+    for order in ["R L D U", "L R U D"] {
+        let order: NeighborOrder = order.parse().unwrap();
+        for (connectivity, cutting) in [
+            (Connectivity::Four, false),
+            (Connectivity::Eight, false),
+            (Connectivity::Eight, true),
+        ] {
+            let config = Config {
+                moves: connectivity,
+                corner_cutting: cutting,
+                order: order.clone(),
+            };
+            let moves = MoveSet::new(connectivity, cutting, &order).unwrap();
+            for (k, (grid, start, goal)) in problems.iter().enumerate() {
+                let outcome = plan(grid, *start, *goal, config.clone());
+                let (status, path, counters) =
+                    planner_testkit::reference_frontier(grid, &moves, *start, *goal, true);
+                let what = format!("{order:?} {connectivity} cutting {cutting} problem {k}");
+                assert_eq!(outcome.status, status, "{what}");
+                assert_eq!(common::frontier_counters(&outcome), counters, "{what}");
+                assert_eq!(outcome.path.map(|p| p.cells().to_vec()), path, "{what}");
+                expanded += counters[0];
+            }
+        }
+    }
+    // 160,439 expansions (2026-12-06).
+    assert!(expanded > 150_000, "{expanded}");
+}
