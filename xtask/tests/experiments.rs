@@ -544,6 +544,7 @@ fn every_bfs_and_dfs_run_matches_the_reference_search() {
 /// Score, that `planner_testkit::fewest_moves_then_turns` (plain Dijkstra over (cell,
 /// heading) states) finds, and a valid path: its snapshot metrics are checked against an
 /// independent search, on the Moving AI maps too, where enumerating paths is hopeless.
+/// Its counters and path are those of `planner_testkit::reference_lexastar`.
 #[test]
 fn every_lexastar_run_is_best_by_steps_then_turns() {
     let n_checked = common::for_each_snapshotted_run("lexastar", |path, map, params, r| {
@@ -556,6 +557,20 @@ fn every_lexastar_run_is_best_by_steps_then_turns() {
         assert_eq!(r.steps.zip(r.turns), best, "{what}");
         assert_eq!(r.score, best.map(|(d, t)| d + t), "{what}");
         assert_eq!(r.valid, best.map(|_| true), "{what}");
+        // Its counters and path: `planner_testkit::reference_lexastar`, the search written
+        // again with flat arrays and std's binary heap.
+        assert!(!map.grid.is_weighted(), "the reference has no weights");
+        let (status, cells, counters) = planner_testkit::reference_lexastar(
+            &map.grid,
+            &moves,
+            r.start,
+            r.goal,
+            config.dominance,
+        );
+        assert_eq!(r.status.as_str(), status.as_str(), "{what}");
+        let actual = planner_testkit::LEXASTAR_COUNTERS.map(|n| r.counters.get(n).unwrap());
+        assert_eq!(actual, counters, "{what}");
+        assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
     });
     // paper: 12 maps; movingai: 36 problems.
     assert_eq!(n_checked, 12 + 36);

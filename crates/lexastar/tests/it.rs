@@ -8,4 +8,5 @@ mod counters;
 mod heuristic;
 mod memory;
 mod paper_maps;
+mod reference;
 mod weighted;

@@ -10,11 +10,13 @@ use std::path::PathBuf;
 mod bidirectional;
 mod frontier;
 mod jps;
+mod lex;
 mod lpa;
 mod theta;
 pub use bidirectional::{reference_bidirectional_astar, BidirectionalSearch};
 pub use frontier::{reference_frontier, FrontierSearch, FRONTIER_COUNTERS};
 pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};
+pub use lex::{reference_lexastar, LexSearch, LEXASTAR_COUNTERS};
 pub use lpa::{reference_lpa, LpaSearch, LPA_COUNTERS};
 pub use theta::{reference_theta_star, ThetaSearch, THETA_COUNTERS};
 

@@ -1,0 +1,80 @@
+//! lexastar against `planner_testkit::reference_lexastar`, its lexicographic search written
+//! again with flat arrays and std's binary heap: the same status, path and every counter,
+//! 4- and 8-connected, with and without dominance pruning.
+
+use planner_api::{Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, Planner, Problem};
+use planner_lexastar::{Config, LexAStar};
+use planner_testkit::{reference_lexastar, small_random_problems, xorshift, LEXASTAR_COUNTERS};
+
+/// Plans every problem with both move sets, with and without dominance, and compares with
+/// the reference; returns the expansions and the states dominated.
+fn check(label: &str, problems: &[(Grid, Cell, Cell)]) -> (u64, u64) {
+    let (mut expanded, mut dominated) = (0, 0);
+    for moves in [Connectivity::Four, Connectivity::Eight] {
+        for dominance in [true, false] {
+            let config = Config {
+                moves,
+                dominance,
+                ..Config::default()
+            };
+            let move_set = MoveSet::new(moves, false, &NeighborOrder::default()).unwrap();
+            let mut planner = LexAStar::new(config).unwrap();
+            for (k, (grid, start, goal)) in problems.iter().enumerate() {
+                let what = format!(
+                    "{label} {moves:?} dominance {dominance} problem {k}: {start:?} -> {goal:?}"
+                );
+                let problem = Problem::new(grid, *start, *goal).unwrap();
+                let outcome = planner.plan(&problem, &Budget::unlimited());
+                let (status, path, counters) =
+                    reference_lexastar(grid, &move_set, *start, *goal, dominance);
+                assert_eq!(outcome.status, status, "{what}");
+                let actual = LEXASTAR_COUNTERS.map(|name| outcome.counters.get(name).unwrap());
+                assert_eq!(actual, counters, "{what}");
+                assert_eq!(outcome.path.map(|p| p.cells().to_vec()), path, "{what}");
+                expanded += counters[0];
+                dominated += counters[7];
+            }
+        }
+    }
+    (expanded, dominated)
+}
+
+#[test]
+fn every_counter_equals_the_reference_on_small_random_grids() {
+    let (expanded, dominated) = check("small", &small_random_problems(61, 2000));
+    // 85,777 expansions and 49,323 states dominated (2026-12-06).
+    assert!(
+        expanded > 80_000 && dominated > 40_000,
+        "{expanded} {dominated}"
+    );
+}
+
+/// Grids of 20 to 60 cells a side with 5 to 30 % of their cells blocked.
+#[test]
+fn every_counter_equals_the_reference_on_larger_grids() {
+    let mut next = xorshift(0x00de_ad1e_5eed);
+    let problems: Vec<(Grid, Cell, Cell)> = (0..60)
+        .map(|_| {
+            let (w, h) = (20 + (next() % 41) as u32, 20 + (next() % 41) as u32);
+            let density = 5 + next() % 26;
+            let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= density).collect();
+            let mut grid = Grid::from_free_cells(w, h, free).unwrap();
+            let mut cell = || {
+                Cell::new(
+                    (next() % u64::from(w)) as u32,
+                    (next() % u64::from(h)) as u32,
+                )
+            };
+            let (start, goal) = (cell(), cell());
+            grid.set_free(start, true);
+            grid.set_free(goal, true);
+            (grid, start, goal)
+        })
+        .collect();
+    let (expanded, dominated) = check("larger", &problems);
+    // 59,373 expansions and 56,997 states dominated (2026-12-06).
+    assert!(
+        expanded > 50_000 && dominated > 50_000,
+        "{expanded} {dominated}"
+    );
+}
