@@ -242,7 +242,8 @@ pub const REFERENCE_COUNTERS: [&str; 7] = [
 /// A* as seed 000's Fig. 4 reads, written for clarity and not speed: std's `BinaryHeap`
 /// with lazy deletion and the full key `(f, tie, push sequence)`, per-cell tables the size
 /// of the grid, moves through [`planner_api::MoveSet::apply`]. Costs are exact
-/// [`planner_api::Cost`]s ([`planner_api::Move::exact_cost`] per move), so equal path
+/// [`planner_api::Cost`]s ([`planner_api::Move::exact_cost`] per move, or on a weighted
+/// grid [`Grid::move_cost`], the move's cost under the grid's rule), so equal path
 /// costs tie exactly; `h` is the weighted heuristic of a cell (`f = g + h`).
 /// planner-astar must agree with it on every path and counter; its OPEN lists are nothing
 /// like this one.
@@ -314,7 +315,13 @@ pub fn reference_astar(
                 skipped += 1;
                 continue;
             }
-            let g_new = g[p] + mv.exact_cost();
+            // On a weighted grid the move's cost under the grid's rule (planner-api's
+            // definition), else its exact length.
+            let step = match grid.is_weighted() {
+                true => grid.move_cost(from, to),
+                false => mv.exact_cost(),
+            };
+            let g_new = g[p] + step;
             if !in_open[q] || g_new < g[q] {
                 rel += 1;
                 if !in_open[q] {
