@@ -181,3 +181,49 @@ fn every_return_leg_is_the_reference_search_path() {
         "{n_runs} runs, {n_legs} legs"
     );
 }
+
+/// Every coverage run of every config (as snapshotted) has exactly the path and counters of
+/// `planner_testkit::reference_coverage`, seed 004's run written again (filling rules,
+/// backtracking points, the documented branch and bound over the test kit's reference A*):
+/// the snapshot's coverage counters are checked against an independent run, not only
+/// pinned.
+#[test]
+fn every_coverage_run_matches_the_reference_run() {
+    use planner_coverage::{Heading, Pattern, Rotation, Side};
+    let index = |h: Heading| match h {
+        Heading::Right => 0,
+        Heading::Down => 1,
+        Heading::Left => 2,
+        Heading::Up => 3,
+    };
+    let n_runs = common::for_each_snapshotted_run("coverage", |path, map, params, r| {
+        let config: planner_coverage::Config = params.clone().try_into().unwrap();
+        let fill = match config.pattern {
+            Pattern::Spiral => planner_testkit::Fill::Spiral {
+                left: config.reference_side.unwrap_or_default() == Side::Left,
+                heading: index(config.heading.unwrap_or(Heading::Right)),
+            },
+            Pattern::Zigzag => {
+                let (turn, first) = match config.rotation.unwrap_or_default() {
+                    Rotation::CounterClockwise => (3, Heading::Right),
+                    Rotation::Clockwise => (1, Heading::Down),
+                };
+                let first = index(config.first.unwrap_or(first));
+                planner_testkit::Fill::Zigzag {
+                    order: [0, 1, 2, 3].map(|k| (first + k * turn) % 4),
+                }
+            }
+        };
+        let (cells, counters) = planner_testkit::reference_coverage(&map.grid, r.start, fill);
+        let what = format!("{} {} {}", path.display(), r.map, r.planner);
+        assert_eq!(
+            r.path.as_ref().map(|p| p.cells().to_vec()),
+            Some(cells),
+            "{what}"
+        );
+        let actual = planner_testkit::COVERAGE_COUNTERS.map(|n| r.counters.get(n).unwrap());
+        assert_eq!(actual, counters, "{what}");
+    });
+    // coverage.toml: 40 runs (its maps, starts and pattern settings).
+    assert_eq!(n_runs, 40);
+}

@@ -5,4 +5,5 @@
 
 mod coverage;
 mod maps;
+mod reference;
 mod weighted;

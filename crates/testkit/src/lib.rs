@@ -8,12 +8,14 @@
 use std::path::PathBuf;
 
 mod bidirectional;
+mod coverage;
 mod frontier;
 mod jps;
 mod lex;
 mod lpa;
 mod theta;
 pub use bidirectional::{reference_bidirectional_astar, BidirectionalSearch};
+pub use coverage::{reference_coverage, Fill, COVERAGE_COUNTERS};
 pub use frontier::{reference_frontier, FrontierSearch, FRONTIER_COUNTERS};
 pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};
 pub use lex::{reference_lexastar, LexSearch, LEXASTAR_COUNTERS};
