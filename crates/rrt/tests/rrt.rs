@@ -579,3 +579,47 @@ fn property_random_maps() {
         "found {found}, exhausted {exhausted}"
     );
 }
+
+/// Every status, path and counter equals planner-testkit's `reference_rrt` (the run
+/// written again: the documented draws from ChaCha8's raw words, a linear scan for the
+/// nearest node, planner-api's segment test), on random grids, seeds, goal biases, both
+/// steerings and steps of 1 to 4.
+#[test]
+fn runs_equal_the_reference_rrt() {
+    let mut found = 0;
+    let problems = planner_testkit::small_random_problems(0x0bad_5eed, 600);
+    for (k, (grid, start, goal)) in problems.iter().enumerate() {
+        let settings = planner_testkit::RrtSettings {
+            seed: k as u64 * 7919,
+            goal_bias: [0.0, 0.05, 0.3, 1.0][k % 4],
+            max_iterations: 400,
+            eight: k % 3 == 0,
+            step: 1 + (k % 4) as u32,
+        };
+        let config = Config {
+            seed: settings.seed,
+            goal_bias: settings.goal_bias,
+            max_iterations: settings.max_iterations,
+            steer: if settings.eight {
+                Steer::Eight
+            } else {
+                Steer::Four
+            },
+            step: settings.step,
+        };
+        let outcome = Rrt::new(config).unwrap().plan(
+            &Problem::new(grid, *start, *goal).unwrap(),
+            &Budget::unlimited(),
+        );
+        let (status, path, counters) =
+            planner_testkit::reference_rrt(grid, *start, *goal, settings);
+        let what = format!("problem {k}: {settings:?}");
+        assert_eq!(outcome.status, status, "{what}");
+        let actual = planner_testkit::RRT_COUNTERS.map(|name| outcome.counters.get(name).unwrap());
+        assert_eq!(actual, counters, "{what}");
+        assert_eq!(outcome.path.map(|p| p.cells().to_vec()), path, "{what}");
+        found += usize::from(status == Status::Found);
+    }
+    // 432 of the 600 runs reach the goal (2026-12-06): paths are compared too.
+    assert!(found > 350, "{found}");
+}

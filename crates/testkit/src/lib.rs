@@ -13,6 +13,7 @@ mod frontier;
 mod jps;
 mod lex;
 mod lpa;
+mod rrt;
 mod theta;
 pub use bidirectional::{reference_bidirectional_astar, BidirectionalSearch};
 pub use coverage::{reference_coverage, Fill, COVERAGE_COUNTERS};
@@ -20,6 +21,7 @@ pub use frontier::{reference_frontier, FrontierSearch, FRONTIER_COUNTERS};
 pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};
 pub use lex::{reference_lexastar, LexSearch, LEXASTAR_COUNTERS};
 pub use lpa::{reference_lpa, LpaSearch, LPA_COUNTERS};
+pub use rrt::{reference_rrt, RrtSearch, RrtSettings, RRT_COUNTERS};
 pub use theta::{reference_theta_star, ThetaSearch, THETA_COUNTERS};
 
 use planner_api::{Cell, Grid};
