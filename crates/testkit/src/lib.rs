@@ -21,7 +21,10 @@ pub use frontier::{reference_frontier, FrontierSearch, FRONTIER_COUNTERS};
 pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};
 pub use lex::{reference_lexastar, LexSearch, LEXASTAR_COUNTERS};
 pub use lpa::{reference_lpa, LpaSearch, LPA_COUNTERS};
-pub use rrt::{reference_rrt, RrtSearch, RrtSettings, RRT_COUNTERS};
+pub use rrt::{
+    reference_rrt, reference_rrt_connect, RrtSearch, RrtSettings, RRT_CONNECT_COUNTERS,
+    RRT_COUNTERS,
+};
 pub use theta::{reference_theta_star, ThetaSearch, THETA_COUNTERS};
 
 use planner_api::{Cell, Grid};
