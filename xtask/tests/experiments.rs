@@ -610,6 +610,44 @@ fn every_rrt_connect_run_matches_the_reference_run() {
     assert_eq!(n_checked, 24);
 }
 
+/// Every RRT* run of every config (as snapshotted), each with its recorded seed, has exactly
+/// the status, path and counters of `planner_testkit::reference_rrt_star`.
+#[test]
+fn every_rrt_star_run_matches_the_reference_run() {
+    let n_checked = common::for_each_snapshotted_run("rrt_star", |path, map, params, r| {
+        let config: planner_rrt_star::Config = params.clone().try_into().unwrap();
+        let settings = planner_testkit::RrtSettings {
+            seed: r.seed.unwrap_or(config.seed),
+            goal_bias: config.goal_bias,
+            max_iterations: config.max_iterations,
+            eight: config.steer == planner_rrt::Steer::Eight,
+            step: config.step,
+        };
+        let (status, cells, counters, _) = planner_testkit::reference_rrt_star(
+            &map.grid,
+            r.start,
+            r.goal,
+            settings,
+            config.iterations_after_solution,
+            config.gamma,
+        );
+        let what = format!(
+            "{} {} #{} {} seed {:?}",
+            path.display(),
+            r.map,
+            r.problem,
+            r.planner,
+            r.seed
+        );
+        assert_eq!(r.status.as_str(), status.as_str(), "{what}");
+        let actual: Vec<(&str, u64)> = r.counters.iter().collect();
+        assert_eq!(actual, counters, "{what}");
+        assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+    });
+    // wpi: the rrt_star and rrt_star_eight4 labels x 8 valid problems x 3 test repeats.
+    assert_eq!(n_checked, 2 * 24);
+}
+
 /// Every lexastar run of every config (as snapshotted) finds the best (D, T), hence
 /// Score, that `planner_testkit::fewest_moves_then_turns` (plain Dijkstra over (cell,
 /// heading) states) finds, and a valid path: its snapshot metrics are checked against an

@@ -529,3 +529,69 @@ fn time_budget_is_honoured() {
     let interval = u64::from(planner_api::BudgetClock::TIME_CHECK_INTERVAL);
     assert_eq!(counter(&outcome, "n_expanded"), interval - 1);
 }
+
+/// Every status, path, counter and `best_cost` point equals planner-testkit's
+/// `reference_rrt_star` (the run written again: the documented draws, a scan of every node
+/// for the nearest and the near set, choose-parent and rewiring by increasing id, costs as
+/// `f64` sums), on random grids, seeds, goal biases, both steerings, steps of 1 to 4 and
+/// with and without a given `gamma`.
+#[test]
+fn runs_equal_the_reference_rrt_star() {
+    let mut rewires = 0;
+    // Small grids, then larger open ones where the near sets and rewiring grow.
+    let mut problems = small_random_problems(0x05ee_d57a, 500);
+    let mut next = planner_testkit::xorshift(0x0057_a125);
+    for _ in 0..40 {
+        let (w, h) = (20 + (next() % 21) as u32, 20 + (next() % 21) as u32);
+        let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= 10).collect();
+        let mut grid = Grid::from_free_cells(w, h, free).unwrap();
+        let mut cell = || {
+            Cell::new(
+                (next() % u64::from(w)) as u32,
+                (next() % u64::from(h)) as u32,
+            )
+        };
+        let (start, goal) = (cell(), cell());
+        grid.set_free(start, true);
+        grid.set_free(goal, true);
+        problems.push((grid, start, goal));
+    }
+    for (k, (grid, start, goal)) in problems.iter().enumerate() {
+        let settings = planner_testkit::RrtSettings {
+            seed: k as u64 * 15_485_863,
+            goal_bias: [0.0, 0.05, 0.3][k % 3],
+            max_iterations: if k < 500 { 300 } else { 1500 },
+            eight: k % 2 == 0,
+            step: 1 + (k % 4) as u32,
+        };
+        let (after, gamma) = ([0, 20, 100][k % 3], [None, Some(2.5)][k % 2]);
+        let config = Config {
+            seed: settings.seed,
+            goal_bias: settings.goal_bias,
+            max_iterations: settings.max_iterations,
+            iterations_after_solution: after,
+            steer: if settings.eight {
+                Steer::Eight
+            } else {
+                Steer::Four
+            },
+            step: settings.step,
+            gamma,
+        };
+        let outcome = RrtStar::new(config).unwrap().plan(
+            &Problem::new(grid, *start, *goal).unwrap(),
+            &Budget::unlimited(),
+        );
+        let (status, path, counters, series) =
+            planner_testkit::reference_rrt_star(grid, *start, *goal, settings, after, gamma);
+        let what = format!("problem {k}: {settings:?} after {after} gamma {gamma:?}");
+        assert_eq!(outcome.status, status, "{what}");
+        let actual: Vec<(&str, u64)> = outcome.counters.iter().collect();
+        assert_eq!(actual, counters, "{what}");
+        assert_eq!(outcome.path.map(|p| p.cells().to_vec()), path, "{what}");
+        assert_eq!(outcome.series[0].points, series, "{what}");
+        rewires += counters[8].1;
+    }
+    // 2,190 rewires (2026-12-06).
+    assert!(rewires > 1_500, "{rewires}");
+}

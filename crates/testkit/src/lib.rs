@@ -22,8 +22,8 @@ pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};
 pub use lex::{reference_lexastar, LexSearch, LEXASTAR_COUNTERS};
 pub use lpa::{reference_lpa, LpaSearch, LPA_COUNTERS};
 pub use rrt::{
-    reference_rrt, reference_rrt_connect, RrtSearch, RrtSettings, RRT_CONNECT_COUNTERS,
-    RRT_COUNTERS,
+    reference_rrt, reference_rrt_connect, reference_rrt_star, RrtSearch, RrtSettings,
+    RrtStarSearch, RRT_CONNECT_COUNTERS, RRT_COUNTERS,
 };
 pub use theta::{reference_theta_star, ThetaSearch, THETA_COUNTERS};
 

@@ -245,6 +245,216 @@ pub fn reference_rrt_connect(
     (Status::BudgetExhausted, None, finish(&trees, &tally))
 }
 
+/// What [`reference_rrt_star`] found: status, path, the counters by name in
+/// planner-rrt_star's order (`first_solution_iteration` only when the goal joined the
+/// tree), and the `best_cost` series as `[iteration, cost]` points.
+pub type RrtStarSearch = (
+    Status,
+    Option<Vec<Cell>>,
+    Vec<(&'static str, u64)>,
+    Vec<[f64; 2]>,
+);
+
+/// planner-rrt_star's run as its crate docs define it (Karaman and Frazzoli 2011,
+/// Algorithm 6, on grid cells), written for clarity: the draws, nearest node and steering
+/// of [`reference_rrt`]; the near set by a scan of every node with
+/// `|x - new|^2 <= floor(min(gamma^2 ln n / n, eta^2))` (`n` the nodes before the new one,
+/// `eta^2` the steering's longest reach squared, `gamma` the given one or 1.1 times
+/// `sqrt(3 n_free / pi)`); choose-parent over the nearest then the near nodes by increasing
+/// id, keeping the earlier on equal cost, a segment checked only for a candidate that would
+/// improve; rewiring by increasing id with the subtree's costs recomputed (each counted);
+/// costs `f64` sums of [`Cell::euclidean`]; the goal's cost decreases recorded; the run
+/// ending `iterations_after_solution` iterations after the goal joined, or after
+/// `max_iterations`. Segment checks and cells are counted by planner-api's traversal, a
+/// segment checked in choose-parent not again when rewiring. Unlimited budget.
+pub fn reference_rrt_star(
+    grid: &Grid,
+    start: Cell,
+    goal: Cell,
+    settings: RrtSettings,
+    iterations_after_solution: u64,
+    gamma: Option<f64>,
+) -> RrtStarSearch {
+    let gamma = gamma.unwrap_or_else(|| {
+        let n_free = grid.cells().filter(|&c| grid.is_free(c)).count();
+        1.1 * (3.0 * n_free as f64 / std::f64::consts::PI).sqrt()
+    });
+    let step = u64::from(settings.step);
+    let reach_squared = match settings.eight {
+        true => 2 * step * step,
+        false => step * step,
+    };
+    // Per node: cell, parent, cost, edge to the parent; children per node.
+    let mut nodes: Vec<(Cell, usize)> = vec![(start, 0)];
+    let mut cost = vec![0.0f64];
+    let mut edge = vec![0.0f64];
+    let mut children: Vec<Vec<usize>> = vec![Vec::new()];
+    let mut in_tree = vec![false; grid.len()];
+    in_tree[grid.index(start)] = true;
+    // Iterations, goal samples, collisions, duplicates, near, parent changes, rewires, cost
+    // updates, segment checks, segment cells, improvements.
+    let mut t = [0u64; 11];
+    let segment = |t: &mut [u64; 11], a: Cell, b: Cell| {
+        t[8] += 1;
+        let mut cells = 0;
+        let free = for_each_segment_cell(a, b, |c| {
+            cells += 1;
+            grid.is_free(c)
+        });
+        t[9] += cells;
+        free
+    };
+    let mut series = Vec::new();
+    let mut goal_node = (start == goal).then_some(0usize);
+    let mut first_solution = None;
+    let mut best = f64::INFINITY;
+    if goal_node.is_some() {
+        best = 0.0;
+        first_solution = Some(0);
+        t[10] = 1;
+        series.push([0.0, 0.0]);
+    }
+    let mut rng = generator(settings.seed);
+    let free: Vec<Cell> = grid.cells().filter(|&c| grid.is_free(c)).collect();
+    loop {
+        if let Some(found_at) = first_solution {
+            if start == goal || t[0] - found_at >= iterations_after_solution {
+                break;
+            }
+        }
+        if t[0] >= settings.max_iterations {
+            break;
+        }
+        t[0] += 1;
+        let coin = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let target = if coin < settings.goal_bias {
+            t[1] += 1;
+            goal
+        } else {
+            free[below(&mut rng, free.len() as u64) as usize]
+        };
+        let near_node = nearest(&nodes, target);
+        let from = nodes[near_node].0;
+        let new_cell = steer(from, target, settings.eight, settings.step);
+        if in_tree[grid.index(new_cell)] {
+            t[3] += 1;
+            continue;
+        }
+        if !segment(&mut t, from, new_cell) {
+            t[2] += 1;
+            continue;
+        }
+        let n = nodes.len().max(1) as f64;
+        let radius_squared = (gamma * gamma * n.ln() / n)
+            .min(reach_squared as f64)
+            .floor() as u64;
+        let squared = |a: Cell, b: Cell| {
+            let (dx, dy) = (u64::from(a.x.abs_diff(b.x)), u64::from(a.y.abs_diff(b.y)));
+            dx * dx + dy * dy
+        };
+        let near: Vec<usize> = (0..nodes.len())
+            .filter(|&k| squared(nodes[k].0, new_cell) <= radius_squared)
+            .collect();
+        t[4] += near.len() as u64;
+        // Choose parent; `checked[k]`: the segment from near[k] was checked, and its answer.
+        let mut checked: Vec<Option<bool>> = vec![None; near.len()];
+        let mut parent = near_node;
+        let mut parent_edge = from.euclidean(new_cell);
+        let mut parent_cost = cost[near_node] + parent_edge;
+        for (k, &x) in near.iter().enumerate() {
+            if x == near_node {
+                checked[k] = Some(true);
+                continue;
+            }
+            let x_edge = nodes[x].0.euclidean(new_cell);
+            let x_cost = cost[x] + x_edge;
+            if x_cost < parent_cost {
+                let free = segment(&mut t, nodes[x].0, new_cell);
+                checked[k] = Some(free);
+                if free {
+                    (parent, parent_edge, parent_cost) = (x, x_edge, x_cost);
+                }
+            }
+        }
+        if parent != near_node {
+            t[5] += 1;
+        }
+        nodes.push((new_cell, parent));
+        cost.push(cost[parent] + parent_edge);
+        edge.push(parent_edge);
+        children.push(Vec::new());
+        children[parent].push(nodes.len() - 1);
+        in_tree[grid.index(new_cell)] = true;
+        let new = nodes.len() - 1;
+        // Rewire.
+        for (k, &x) in near.iter().enumerate() {
+            if x == parent {
+                continue;
+            }
+            let x_edge = new_cell.euclidean(nodes[x].0);
+            if cost[new] + x_edge >= cost[x] {
+                continue;
+            }
+            let free = match checked[k] {
+                Some(free) => free,
+                None => segment(&mut t, new_cell, nodes[x].0),
+            };
+            if !free {
+                continue;
+            }
+            let old = nodes[x].1;
+            children[old].retain(|&c| c != x);
+            nodes[x].1 = new;
+            children[new].push(x);
+            edge[x] = x_edge;
+            cost[x] = cost[new] + x_edge;
+            t[6] += 1;
+            let mut stack = vec![x];
+            while let Some(p) = stack.pop() {
+                for &c in &children[p] {
+                    cost[c] = cost[p] + edge[c];
+                    t[7] += 1;
+                    stack.push(c);
+                }
+            }
+        }
+        if new_cell == goal {
+            goal_node = Some(new);
+            first_solution = Some(t[0]);
+        }
+        if let Some(g) = goal_node {
+            if cost[g] < best {
+                best = cost[g];
+                t[10] += 1;
+                series.push([t[0] as f64, cost[g]]);
+            }
+        }
+    }
+    let mut counters = vec![
+        ("n_iterations", t[0]),
+        ("n_samples", t[0]),
+        ("n_goal_samples", t[1]),
+        ("n_collisions", t[2]),
+        ("tree_size", nodes.len() as u64),
+        ("n_duplicates", t[3]),
+        ("n_near", t[4]),
+        ("n_parent_changes", t[5]),
+        ("n_rewires", t[6]),
+        ("n_cost_updates", t[7]),
+        ("n_segment_checks", t[8]),
+        ("n_segment_cells", t[9]),
+        ("n_improvements", t[10]),
+    ];
+    if let Some(iteration) = first_solution {
+        counters.push(("first_solution_iteration", iteration));
+    }
+    counters.push(("n_expanded", t[0]));
+    match goal_node {
+        Some(g) => (Status::Found, Some(path_to(&nodes, g)), counters, series),
+        None => (Status::BudgetExhausted, None, counters, series),
+    }
+}
+
 /// ChaCha8 keyed by `seed`'s 8 little-endian bytes, then zeros (planner-rrt's generator).
 fn generator(seed: u64) -> ChaCha8Rng {
     let mut key = [0u8; 32];
