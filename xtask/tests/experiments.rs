@@ -429,17 +429,9 @@ fn every_theta_star_run_matches_the_reference_search() {
         n_checked += common::for_each_snapshotted_run(algorithm, |path, map, _, r| {
             let (status, waypoints, counters) =
                 planner_testkit::reference_theta_star(&map.grid, r.start, r.goal, lazy, true);
-            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
-            assert_eq!(r.status.as_str(), status.as_str(), "{what}");
             let names = &planner_testkit::THETA_COUNTERS[..9 + usize::from(lazy)];
-            let actual: Vec<(&str, u64)> = r.counters.iter().collect();
-            let expected: Vec<(&str, u64)> = names.iter().copied().zip(counters).collect();
-            assert_eq!(actual, expected, "{what}");
-            assert_eq!(
-                r.path.as_ref().map(|p| p.cells().to_vec()),
-                waypoints,
-                "{what}"
-            );
+            let counters = names.iter().copied().zip(counters);
+            common::assert_reference_run(path, r, status, waypoints, counters);
         });
     }
     // movingai: 36 problems each; pastar: 7 problems x 2 test repeats each.
@@ -467,15 +459,7 @@ fn every_bidirectional_astar_run_matches_the_reference_search() {
                 r.start,
                 r.goal,
             );
-            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
-            assert_eq!(r.status.as_str(), status.as_str(), "{what}");
-            let actual: Vec<(String, u64)> = r
-                .counters
-                .iter()
-                .map(|(name, value)| (name.to_string(), value))
-                .collect();
-            assert_eq!(actual, counters, "{what}");
-            assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+            common::assert_reference_run(path, r, status, cells, counters);
         });
     // movingai: 36 problems; weighted: 2 labels x 10 problems.
     assert_eq!(n_checked, 36 + 20);
@@ -499,16 +483,8 @@ fn every_lpastar_and_dstar_lite_run_matches_the_reference_search() {
                 r.goal,
                 dstar,
             );
-            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
-            assert_eq!(r.status.as_str(), status.as_str(), "{what}");
-            let actual: Vec<(&str, u64)> = r.counters.iter().collect();
-            let expected: Vec<(&str, u64)> = planner_testkit::LPA_COUNTERS
-                .iter()
-                .copied()
-                .zip(counters.iter().copied())
-                .collect();
-            assert_eq!(actual, expected, "{what}");
-            assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+            let counters = planner_testkit::LPA_COUNTERS.iter().copied().zip(counters);
+            common::assert_reference_run(path, r, status, cells, counters);
         });
     }
     // incremental: 2 labels x 16 problems each.
@@ -531,11 +507,8 @@ fn every_bfs_and_dfs_run_matches_the_reference_search() {
                     .unwrap();
             let (status, cells, counters) =
                 planner_testkit::reference_frontier(&map.grid, &moves, r.start, r.goal, lifo);
-            let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
-            assert_eq!(r.status.as_str(), status.as_str(), "{what}");
-            let actual = planner_testkit::FRONTIER_COUNTERS.map(|n| r.counters.get(n).unwrap());
-            assert_eq!(actual, counters, "{what}");
-            assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+            let counters = planner_testkit::FRONTIER_COUNTERS.into_iter().zip(counters);
+            common::assert_reference_run(path, r, status, cells, counters);
         });
         n_checked += n;
     }
@@ -561,18 +534,8 @@ fn every_rrt_run_matches_the_reference_run() {
         };
         let (status, cells, counters) =
             planner_testkit::reference_rrt(&map.grid, r.start, r.goal, settings);
-        let what = format!(
-            "{} {} #{} {} seed {:?}",
-            path.display(),
-            r.map,
-            r.problem,
-            r.planner,
-            r.seed
-        );
-        assert_eq!(r.status.as_str(), status.as_str(), "{what}");
-        let actual = planner_testkit::RRT_COUNTERS.map(|n| r.counters.get(n).unwrap());
-        assert_eq!(actual, counters, "{what}");
-        assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+        let counters = planner_testkit::RRT_COUNTERS.into_iter().zip(counters);
+        common::assert_reference_run(path, r, status, cells, counters);
     });
     // wpi: the rrt and rrt_eight4 labels x 8 valid problems x 3 test repeats.
     assert_eq!(n_checked, 2 * 24);
@@ -593,18 +556,10 @@ fn every_rrt_connect_run_matches_the_reference_run() {
         };
         let (status, cells, counters) =
             planner_testkit::reference_rrt_connect(&map.grid, r.start, r.goal, settings);
-        let what = format!(
-            "{} {} #{} {} seed {:?}",
-            path.display(),
-            r.map,
-            r.problem,
-            r.planner,
-            r.seed
-        );
-        assert_eq!(r.status.as_str(), status.as_str(), "{what}");
-        let actual = planner_testkit::RRT_CONNECT_COUNTERS.map(|n| r.counters.get(n).unwrap());
-        assert_eq!(actual, counters, "{what}");
-        assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+        let counters = planner_testkit::RRT_CONNECT_COUNTERS
+            .into_iter()
+            .zip(counters);
+        common::assert_reference_run(path, r, status, cells, counters);
     });
     // wpi: 8 valid problems x 3 test repeats.
     assert_eq!(n_checked, 24);
@@ -631,18 +586,7 @@ fn every_rrt_star_run_matches_the_reference_run() {
             config.iterations_after_solution,
             config.gamma,
         );
-        let what = format!(
-            "{} {} #{} {} seed {:?}",
-            path.display(),
-            r.map,
-            r.problem,
-            r.planner,
-            r.seed
-        );
-        assert_eq!(r.status.as_str(), status.as_str(), "{what}");
-        let actual: Vec<(&str, u64)> = r.counters.iter().collect();
-        assert_eq!(actual, counters, "{what}");
-        assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+        common::assert_reference_run(path, r, status, cells, counters);
     });
     // wpi: the rrt_star and rrt_star_eight4 labels x 8 valid problems x 3 test repeats.
     assert_eq!(n_checked, 2 * 24);

@@ -10,6 +10,14 @@ use planner_testkit::{reference_astar, ReferenceSearch, Tie};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+/// Every tie rule.
+const TIES: [TieBreak; 4] = [
+    TieBreak::Fifo,
+    TieBreak::Lifo,
+    TieBreak::LowG,
+    TieBreak::HighG,
+];
+
 /// The reference search with `config`'s moves, heuristic, weight and tie rule.
 fn reference(config: &Config, grid: &Grid, start: Cell, goal: Cell) -> ReferenceSearch {
     let moves = MoveSet::new(config.moves, config.corner_cutting, &config.order).unwrap();
@@ -90,12 +98,7 @@ fn fast_open_lists_match_the_reference_on_random_grids() {
         let start = cells[rng.gen_range(0..cells.len())];
         let goal = cells[rng.gen_range(0..cells.len())];
         for &(moves, heuristic, weight) in &setups {
-            for tie_break in [
-                TieBreak::Fifo,
-                TieBreak::Lifo,
-                TieBreak::LowG,
-                TieBreak::HighG,
-            ] {
+            for tie_break in TIES {
                 let config = Config {
                     moves,
                     heuristic,
@@ -137,12 +140,7 @@ fn weighted_searches_match_the_reference_on_random_grids() {
             (Connectivity::Four, Heuristic::Manhattan),
             (Connectivity::Eight, Heuristic::Octile),
         ] {
-            for tie_break in [
-                TieBreak::Fifo,
-                TieBreak::Lifo,
-                TieBreak::LowG,
-                TieBreak::HighG,
-            ] {
+            for tie_break in TIES {
                 let config = Config {
                     moves,
                     heuristic,

@@ -245,15 +245,7 @@ fn config_keys_and_errors() {
 /// sets and on every pair of seed 003's maps.
 #[test]
 fn counters_and_paths_equal_the_reference_frontier_search() {
-    let mut problems = common::small_random_problems(0x51ed_2701_aa44_0b13, 2000);
-    for file in ["wpi/map1.txt", "wpi/map2.txt", "wpi/map3.txt"] {
-        let (grid, pairs) = common::wpi(file);
-        for (s, g) in pairs {
-            if Problem::new(&grid, s, g).is_ok() {
-                problems.push((grid.clone(), s, g));
-            }
-        }
-    }
+    let problems = planner_testkit::small_and_wpi_problems(0x51ed_2701_aa44_0b13, 2000);
     let mut expanded = 0;
     for (connectivity, cutting) in [
         (Connectivity::Four, false),

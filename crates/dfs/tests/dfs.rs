@@ -218,15 +218,7 @@ fn config_keys_and_errors() {
 /// 003's maps.
 #[test]
 fn counters_and_paths_equal_the_reference_frontier_search() {
-    let mut problems = common::small_random_problems(0x0ddf_5eed_1234_5678, 2000);
-    for file in ["wpi/map1.txt", "wpi/map2.txt", "wpi/map3.txt"] {
-        let (grid, pairs) = common::wpi(file);
-        for (s, g) in pairs {
-            if Problem::new(&grid, s, g).is_ok() {
-                problems.push((grid.clone(), s, g));
-            }
-        }
-    }
+    let problems = planner_testkit::small_and_wpi_problems(0x0ddf_5eed_1234_5678, 2000);
     let mut expanded = 0;
     for order in ["R L D U", "L R U D"] {
         let order: NeighborOrder = order.parse().unwrap();

@@ -4,7 +4,9 @@
 
 use planner_api::{Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, Planner, Problem};
 use planner_lexastar::{Config, LexAStar};
-use planner_testkit::{reference_lexastar, small_random_problems, xorshift, LEXASTAR_COUNTERS};
+use planner_testkit::{
+    random_problems, reference_lexastar, small_random_problems, LEXASTAR_COUNTERS,
+};
 
 /// Plans every problem with both move sets, with and without dominance, and compares with
 /// the reference; returns the expansions and the states dominated.
@@ -52,27 +54,9 @@ fn every_counter_equals_the_reference_on_small_random_grids() {
 /// Grids of 20 to 60 cells a side with 5 to 30 % of their cells blocked.
 #[test]
 fn every_counter_equals_the_reference_on_larger_grids() {
-    let mut next = xorshift(0x00de_ad1e_5eed);
-    let problems: Vec<(Grid, Cell, Cell)> = (0..60)
-        .map(|_| {
-            let (w, h) = (20 + (next() % 41) as u32, 20 + (next() % 41) as u32);
-            let density = 5 + next() % 26;
-            let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= density).collect();
-            let mut grid = Grid::from_free_cells(w, h, free).unwrap();
-            let mut cell = || {
-                Cell::new(
-                    (next() % u64::from(w)) as u32,
-                    (next() % u64::from(h)) as u32,
-                )
-            };
-            let (start, goal) = (cell(), cell());
-            grid.set_free(start, true);
-            grid.set_free(goal, true);
-            (grid, start, goal)
-        })
-        .collect();
+    let problems = random_problems(0x00de_ad1e_5eed, 60, (20, 60), (500, 3000));
     let (expanded, dominated) = check("larger", &problems);
-    // 59,373 expansions and 56,997 states dominated (2026-12-06).
+    // 68,034 expansions and 66,691 states dominated (2026-12-06).
     assert!(
         expanded > 50_000 && dominated > 50_000,
         "{expanded} {dominated}"

@@ -75,12 +75,6 @@ pub fn reference_frontier(
     if !found {
         return (Status::NoPath, None, counters);
     }
-    let mut cells = vec![goal];
-    let mut node = t;
-    while node != s {
-        node = parent[node];
-        cells.push(grid.cell(node));
-    }
-    cells.reverse();
+    let cells = crate::path_from_parents(grid, &parent, start, goal);
     (Status::Found, Some(cells), counters)
 }

@@ -183,20 +183,108 @@ pub fn small_random_problems(seed: u64, rounds: usize) -> Vec<(Grid, Cell, Cell)
         .map(|_| {
             let (w, h) = (2 + (next() % 9) as u32, 2 + (next() % 9) as u32);
             let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= 30).collect();
-            let mut grid =
-                Grid::from_free_cells(w, h, free).unwrap_or_else(|e| panic!("a {w}x{h} grid: {e}"));
-            let mut cell = || {
-                Cell::new(
-                    (next() % u64::from(w)) as u32,
-                    (next() % u64::from(h)) as u32,
-                )
-            };
-            let (start, goal) = (cell(), cell());
-            grid.set_free(start, true);
-            grid.set_free(goal, true);
-            (grid, start, goal)
+            with_start_and_goal(w, h, free, &mut next)
         })
         .collect()
+}
+
+/// `rounds` random problems, deterministic in `seed` (xorshift): sides drawn from
+/// `sides.0 ..= sides.1` cells, each grid's share of blocked cells drawn from
+/// `blocked.0 ..= blocked.1` per 10,000 and each cell blocked with that chance, then start
+/// and goal drawn uniformly (possibly equal) and made free. For the reference tests on
+/// grids larger than [`small_random_problems`]'.
+pub fn random_problems(
+    seed: u64,
+    rounds: usize,
+    sides: (u32, u32),
+    blocked: (u64, u64),
+) -> Vec<(Grid, Cell, Cell)> {
+    let mut next = xorshift(seed | 1);
+    (0..rounds)
+        .map(|_| {
+            let span = u64::from(sides.1 - sides.0) + 1;
+            let (w, h) = (
+                sides.0 + (next() % span) as u32,
+                sides.0 + (next() % span) as u32,
+            );
+            let density = blocked.0 + next() % (blocked.1 - blocked.0 + 1);
+            let free: Vec<bool> = (0..w * h).map(|_| next() % 10_000 >= density).collect();
+            with_start_and_goal(w, h, free, &mut next)
+        })
+        .collect()
+}
+
+/// The `w` x `h` grid of `free` cells with a start and a goal drawn uniformly by `next`
+/// (possibly equal) and made free: the end of every random problem of this kit.
+fn with_start_and_goal(
+    w: u32,
+    h: u32,
+    free: Vec<bool>,
+    next: &mut impl FnMut() -> u64,
+) -> (Grid, Cell, Cell) {
+    let mut grid =
+        Grid::from_free_cells(w, h, free).unwrap_or_else(|e| panic!("a {w}x{h} grid: {e}"));
+    let mut cell = || {
+        Cell::new(
+            (next() % u64::from(w)) as u32,
+            (next() % u64::from(h)) as u32,
+        )
+    };
+    let (start, goal) = (cell(), cell());
+    grid.set_free(start, true);
+    grid.set_free(goal, true);
+    (grid, start, goal)
+}
+
+/// `rounds` of [`small_random_problems`] followed by every pair of seed 003's maps that
+/// makes a problem (`maps/wpi/map1-3.txt`), for the frontier searches' reference tests.
+pub fn small_and_wpi_problems(seed: u64, rounds: usize) -> Vec<(Grid, Cell, Cell)> {
+    let mut problems = small_random_problems(seed, rounds);
+    for file in ["wpi/map1.txt", "wpi/map2.txt", "wpi/map3.txt"] {
+        let (grid, pairs) = wpi(file);
+        for (s, g) in pairs {
+            if planner_api::Problem::new(&grid, s, g).is_ok() {
+                problems.push((grid.clone(), s, g));
+            }
+        }
+    }
+    problems
+}
+
+/// The cells of the path through `chain`'s jump points (at least one), each leg diagonal
+/// first, then straight: how JPS and weighted JPS lay a path between jump points, written
+/// here for their reference tests rather than taken from planner-api.
+pub fn cells_through(chain: &[Cell]) -> Vec<Cell> {
+    let mut cells = vec![chain[0]];
+    for leg in chain.windows(2) {
+        let (mut x, mut y) = (i64::from(leg[0].x), i64::from(leg[0].y));
+        let (tx, ty) = (i64::from(leg[1].x), i64::from(leg[1].y));
+        while (x, y) != (tx, ty) {
+            let diagonal = x != tx && y != ty;
+            if diagonal || x != tx {
+                x += (tx - x).signum();
+            }
+            if diagonal || y != ty {
+                y += (ty - y).signum();
+            }
+            cells.push(Cell::new(x as u32, y as u32));
+        }
+    }
+    cells
+}
+
+/// The cells from `start` to `goal` along `parent` links (indices by [`Grid::index`]),
+/// the way the reference searches read their paths back. Precondition: the links lead
+/// from `goal` to `start`.
+pub fn path_from_parents(grid: &Grid, parent: &[usize], start: Cell, goal: Cell) -> Vec<Cell> {
+    let (s, mut node) = (grid.index(start), grid.index(goal));
+    let mut cells = vec![goal];
+    while node != s {
+        node = parent[node];
+        cells.push(grid.cell(node));
+    }
+    cells.reverse();
+    cells
 }
 
 /// The counters of a BFS or DFS run that hand counts give, in the order `n_expanded`,
@@ -300,13 +388,7 @@ pub fn reference_astar(
         n_open -= 1;
         exp += 1;
         if p == t {
-            let mut cells = vec![grid.cell(t)];
-            let mut node = t;
-            while node != s {
-                node = parent[node];
-                cells.push(grid.cell(node));
-            }
-            cells.reverse();
+            let cells = path_from_parents(grid, &parent, start, goal);
             let counters = [exp, checks, blocked, skipped, ins, rel, peak];
             return (planner_api::Status::Found, Some(cells), counters);
         }

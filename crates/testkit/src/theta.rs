@@ -163,15 +163,7 @@ pub fn reference_theta_star(
     };
     counters[1] = 8 * checked;
     counters[2] = counters[1] - safe;
-    let path = (status == Status::Found).then(|| {
-        let mut cells = vec![goal];
-        let mut node = t;
-        while node != s {
-            node = parent[node];
-            cells.push(grid.cell(node));
-        }
-        cells.reverse();
-        cells
-    });
+    let path =
+        (status == Status::Found).then(|| crate::path_from_parents(grid, &parent, start, goal));
     (status, path, counters)
 }

@@ -3,7 +3,9 @@
 //! line-of-sight walk and std's binary heap: the same status, waypoints and every counter.
 
 use planner_api::{Budget, Cell, Grid, Problem};
-use planner_testkit::{reference_theta_star, small_random_problems, xorshift, THETA_COUNTERS};
+use planner_testkit::{
+    random_problems, reference_theta_star, small_random_problems, THETA_COUNTERS,
+};
 use planner_theta_star::{AnyAngle, Config, Variant};
 
 /// Plans every problem with Theta\* (both settings) and Lazy Theta\* and compares with the
@@ -57,28 +59,10 @@ fn theta_and_lazy_theta_equal_the_reference_on_small_random_grids() {
 /// Grids of 40 to 120 cells a side with 5 to 30 % of their cells blocked.
 #[test]
 fn theta_and_lazy_theta_equal_the_reference_on_larger_grids() {
-    let mut next = xorshift(0x7e7a_5eed);
-    let problems: Vec<(Grid, Cell, Cell)> = (0..60)
-        .map(|_| {
-            let (w, h) = (40 + (next() % 81) as u32, 40 + (next() % 81) as u32);
-            let density = 5 + next() % 26;
-            let free: Vec<bool> = (0..w * h).map(|_| next() % 100 >= density).collect();
-            let mut grid = Grid::from_free_cells(w, h, free).unwrap();
-            let mut cell = || {
-                Cell::new(
-                    (next() % u64::from(w)) as u32,
-                    (next() % u64::from(h)) as u32,
-                )
-            };
-            let (start, goal) = (cell(), cell());
-            grid.set_free(start, true);
-            grid.set_free(goal, true);
-            (grid, start, goal)
-        })
-        .collect();
+    let problems = random_problems(0x7e7a_5eed, 60, (40, 120), (500, 3000));
     let totals = check("larger", &problems);
-    // 28,718 expansions for Theta* (48,144 line-of-sight checks, 80,879 checking every
-    // relaxation), 29,680 for Lazy Theta* (2026-12-06).
+    // 27,160 expansions for Theta* (45,917 line-of-sight checks, 75,533 checking every
+    // relaxation), 27,996 for Lazy Theta* (2026-12-06).
     assert!(
         totals.iter().all(|&(expanded, _)| expanded > 20_000),
         "{totals:?}"

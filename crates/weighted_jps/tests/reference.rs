@@ -5,30 +5,10 @@
 
 use planner_api::{Budget, Cell, Grid, Planner, Problem};
 use planner_testkit::{
-    random_weighted_problems, reference_weighted_jps, small_random_problems, WEIGHTED_JPS_COUNTERS,
+    cells_through, random_weighted_problems, reference_weighted_jps, small_random_problems,
+    WEIGHTED_JPS_COUNTERS,
 };
 use planner_weighted_jps::{Config, WeightedJps};
-
-/// The cells of the path through `chain`'s jump points, each leg diagonal first, then
-/// straight (the crate docs' rule), written here rather than taken from planner-api.
-fn cells_through(chain: &[Cell]) -> Vec<Cell> {
-    let mut cells = vec![chain[0]];
-    for leg in chain.windows(2) {
-        let (mut x, mut y) = (i64::from(leg[0].x), i64::from(leg[0].y));
-        let (tx, ty) = (i64::from(leg[1].x), i64::from(leg[1].y));
-        while (x, y) != (tx, ty) {
-            let diagonal = x != tx && y != ty;
-            if diagonal || x != tx {
-                x += (tx - x).signum();
-            }
-            if diagonal || y != ty {
-                y += (ty - y).signum();
-            }
-            cells.push(Cell::new(x as u32, y as u32));
-        }
-    }
-    cells
-}
 
 /// Plans `problems` and compares each outcome with the reference's; returns the total
 /// expansions and reopened expansions.

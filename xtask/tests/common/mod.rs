@@ -43,6 +43,34 @@ pub fn tie(rule: planner_astar::TieBreak) -> planner_testkit::Tie {
     }
 }
 
+/// Asserts that record `r` (of config file `path`) has a reference search's outcome: its
+/// status, its path's cells, and exactly the counters `counters`, names and order.
+pub fn assert_reference_run<S: AsRef<str>>(
+    path: &Path,
+    r: &planner_runner::RunRecord,
+    status: planner_api::Status,
+    cells: Option<Vec<planner_api::Cell>>,
+    counters: impl IntoIterator<Item = (S, u64)>,
+) {
+    let what = format!(
+        "{} {} #{} {} seed {:?}",
+        path.display(),
+        r.map,
+        r.problem,
+        r.planner,
+        r.seed
+    );
+    assert_eq!(r.status.as_str(), status.as_str(), "{what}");
+    let actual: Vec<(&str, u64)> = r.counters.iter().collect();
+    let expected: Vec<(String, u64)> = counters
+        .into_iter()
+        .map(|(name, value)| (name.as_ref().to_string(), value))
+        .collect();
+    let expected: Vec<(&str, u64)> = expected.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+    assert_eq!(actual, expected, "{what}");
+    assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+}
+
 /// Calls `check(config file, map, planner parameters, record)` for every run of the
 /// registry planner `algorithm` in every config, trimmed by its `[test]` limits as the
 /// snapshots are, except invalid problems (they never reach the planner). Returns how
