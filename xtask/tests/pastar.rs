@@ -112,7 +112,10 @@ fn pastar_config_lengths_on_the_140x120_maps() {
 /// marks give each local search's start and goal, so every PA-star run of every config (as
 /// snapshotted) is replayed here through `planner_testkit::reference_astar` with the local
 /// search's settings (Algorithm 2's neighbourhood, Euclidean h, weight beta, the tie rule):
-/// the snapshot's PA-star counters are checked against an independent search.
+/// the snapshot's PA-star counters are checked against an independent search. Its own
+/// counters too: `n_obstacles_crossed` against `planner_testkit::obstacles_crossed` (a
+/// flood fill of the blocked cells on the line), `n_local_segments` against the marks and
+/// `n_merged` as their difference (no fallback ran).
 #[test]
 fn pastar_counters_are_the_reference_local_searches() {
     let n_checked =
@@ -146,6 +149,17 @@ fn pastar_counters_are_the_reference_local_searches() {
             }
             let actual = planner_testkit::REFERENCE_COUNTERS.map(|n| r.counters.get(n).unwrap());
             assert_eq!(actual, expect, "{what}");
+            // Its own counters: the obstacles the line crosses, by a flood fill of its
+            // blocked cells; a local search per pair of marks; the merges the rest.
+            let crossed = planner_testkit::obstacles_crossed(&map.grid, r.start, r.goal);
+            let local = r.marks.len() as u64 / 2;
+            assert_eq!(
+                r.counters.get("n_obstacles_crossed"),
+                Some(crossed),
+                "{what}"
+            );
+            assert_eq!(r.counters.get("n_local_segments"), Some(local), "{what}");
+            assert_eq!(r.counters.get("n_merged"), Some(crossed - local), "{what}");
         });
     // pastar.toml: PA-star and PA-star-size x 7 problems x 2 test repeats = 28; the beta,
     // connecting-distance, radius and threshold studies: 56.

@@ -251,6 +251,51 @@ pub fn small_and_wpi_problems(seed: u64, rounds: usize) -> Vec<(Grid, Cell, Cell
     problems
 }
 
+/// How many obstacles the segment between the centres of `a` and `b` crosses: the
+/// 8-connected components of blocked cells (cells touching at a corner are one obstacle)
+/// that hold a cell of planner-api's exact traversal of the segment. PA-star's
+/// `n_obstacles_crossed`, computed here by a flood fill from the crossed cells.
+pub fn obstacles_crossed(grid: &Grid, a: Cell, b: Cell) -> u64 {
+    let mut crossed = Vec::new();
+    planner_api::for_each_segment_cell(a, b, |c| {
+        if grid.contains(c) && !grid.is_free(c) {
+            crossed.push(c);
+        }
+        true
+    });
+    let mut component = vec![usize::MAX; grid.len()];
+    let mut n = 0;
+    for &c in &crossed {
+        if component[grid.index(c)] != usize::MAX {
+            continue;
+        }
+        component[grid.index(c)] = n;
+        let mut stack = vec![c];
+        while let Some(p) = stack.pop() {
+            for (dx, dy) in [
+                (-1, -1),
+                (0, -1),
+                (1, -1),
+                (-1, 0),
+                (1, 0),
+                (-1, 1),
+                (0, 1),
+                (1, 1),
+            ] {
+                let Some(q) = p.checked_offset(dx, dy).filter(|&q| grid.contains(q)) else {
+                    continue;
+                };
+                if !grid.is_free(q) && component[grid.index(q)] == usize::MAX {
+                    component[grid.index(q)] = n;
+                    stack.push(q);
+                }
+            }
+        }
+        n += 1;
+    }
+    n as u64
+}
+
 /// The cells of the path through `chain`'s jump points (at least one), each leg diagonal
 /// first, then straight: how JPS and weighted JPS lay a path between jump points, written
 /// here for their reference tests rather than taken from planner-api.
