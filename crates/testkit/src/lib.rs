@@ -3,6 +3,14 @@
 //!
 //! Every function panics with the file's name on a missing or malformed file: fixtures are
 //! part of the repository, so that is a broken checkout, not user input.
+//!
+//! It also holds the independent methods the snapshots' numbers are checked against: the
+//! exact weighted oracle ([`weighted_dijkstra`]) and a `reference_*` search per planner
+//! ([`reference_astar`], [`reference_jps`], [`reference_weighted_jps`],
+//! [`reference_theta_star`], [`reference_bidirectional_astar`], [`reference_lpa`],
+//! [`reference_lexastar`], [`reference_frontier`], [`reference_coverage`],
+//! [`reference_rrt`], [`reference_rrt_connect`], [`reference_rrt_star`]), each the planner's
+//! documented search written again plainly and sharing no code with it.
 #![deny(missing_docs)]
 
 use std::path::PathBuf;
