@@ -525,13 +525,14 @@ fn every_bfs_and_dfs_run_matches_the_reference_search() {
 fn every_rrt_run_matches_the_reference_run() {
     let n_checked = common::for_each_snapshotted_run("rrt", |path, map, params, r| {
         let config: planner_rrt::Config = params.clone().try_into().unwrap();
-        let settings = planner_testkit::RrtSettings {
-            seed: r.seed.unwrap_or(config.seed),
-            goal_bias: config.goal_bias,
-            max_iterations: config.max_iterations,
-            eight: config.steer == planner_rrt::Steer::Eight,
-            step: config.step,
-        };
+        let settings = common::rrt_settings(
+            r,
+            config.seed,
+            config.goal_bias,
+            config.max_iterations,
+            config.steer,
+            config.step,
+        );
         let (status, cells, counters) =
             planner_testkit::reference_rrt(&map.grid, r.start, r.goal, settings);
         let counters = planner_testkit::RRT_COUNTERS.into_iter().zip(counters);
@@ -547,13 +548,14 @@ fn every_rrt_run_matches_the_reference_run() {
 fn every_rrt_connect_run_matches_the_reference_run() {
     let n_checked = common::for_each_snapshotted_run("rrt_connect", |path, map, params, r| {
         let config: planner_rrt_connect::Config = params.clone().try_into().unwrap();
-        let settings = planner_testkit::RrtSettings {
-            seed: r.seed.unwrap_or(config.seed),
-            goal_bias: 0.0,
-            max_iterations: config.max_iterations,
-            eight: config.steer == planner_rrt::Steer::Eight,
-            step: config.step,
-        };
+        let settings = common::rrt_settings(
+            r,
+            config.seed,
+            0.0,
+            config.max_iterations,
+            config.steer,
+            config.step,
+        );
         let (status, cells, counters) =
             planner_testkit::reference_rrt_connect(&map.grid, r.start, r.goal, settings);
         let counters = planner_testkit::RRT_CONNECT_COUNTERS
@@ -571,13 +573,14 @@ fn every_rrt_connect_run_matches_the_reference_run() {
 fn every_rrt_star_run_matches_the_reference_run() {
     let n_checked = common::for_each_snapshotted_run("rrt_star", |path, map, params, r| {
         let config: planner_rrt_star::Config = params.clone().try_into().unwrap();
-        let settings = planner_testkit::RrtSettings {
-            seed: r.seed.unwrap_or(config.seed),
-            goal_bias: config.goal_bias,
-            max_iterations: config.max_iterations,
-            eight: config.steer == planner_rrt::Steer::Eight,
-            step: config.step,
-        };
+        let settings = common::rrt_settings(
+            r,
+            config.seed,
+            config.goal_bias,
+            config.max_iterations,
+            config.steer,
+            config.step,
+        );
         let (status, cells, counters, _) = planner_testkit::reference_rrt_star(
             &map.grid,
             r.start,

@@ -446,23 +446,9 @@ impl<'a> Reference<'a> {
             }
             self.counters[4] = self.counters[4].max(self.counters[2] - self.counters[0]);
         };
-        let chain = (status == Status::Found).then(|| {
-            let mut chain = vec![goal];
-            while chain.last() != Some(&s) {
-                let at = *chain.last().unwrap_or(&s);
-                chain.push(self.parent[at]);
-            }
-            chain.reverse();
-            chain
-                .into_iter()
-                .map(|i| {
-                    Cell::new(
-                        (i as i64 % self.width) as u32,
-                        (i as i64 / self.width) as u32,
-                    )
-                })
-                .collect()
-        });
+        let goal_cell = Cell::new(self.goal.0 as u32, self.goal.1 as u32);
+        let chain = (status == Status::Found)
+            .then(|| crate::path_from_parents(self.grid, &self.parent, start, goal_cell));
         (status, chain, self.counters)
     }
 }

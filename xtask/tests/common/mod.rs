@@ -43,6 +43,26 @@ pub fn tie(rule: planner_astar::TieBreak) -> planner_testkit::Tie {
     }
 }
 
+/// The settings of `planner_testkit`'s RRT references for record `r` of a planner with
+/// these parameters: the seed the run recorded (the runner's, `seed + repeat`), else the
+/// configured one.
+pub fn rrt_settings(
+    r: &planner_runner::RunRecord,
+    seed: u64,
+    goal_bias: f64,
+    max_iterations: u64,
+    steer: planner_rrt::Steer,
+    step: u32,
+) -> planner_testkit::RrtSettings {
+    planner_testkit::RrtSettings {
+        seed: r.seed.unwrap_or(seed),
+        goal_bias,
+        max_iterations,
+        eight: steer == planner_rrt::Steer::Eight,
+        step,
+    }
+}
+
 /// Asserts that record `r` (of config file `path`) has a reference search's outcome: its
 /// status, its path's cells, and exactly the counters `counters`, names and order.
 pub fn assert_reference_run<S: AsRef<str>>(
