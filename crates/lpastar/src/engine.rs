@@ -18,7 +18,9 @@
 //!   re-key it; else if overconsistent (`g > rhs`) set `g = rhs` and lower the `rhs` of its
 //!   neighbours through it; else (underconsistent) set `g = inf` and recompute the `rhs`
 //!   of every neighbour whose `rhs` came through `u`. Both cases count as one vertex
-//!   expansion (the papers' measure).
+//!   expansion (the papers' measure). The overconsistent vertex leaves the queue (a pop);
+//!   the underconsistent one is re-keyed where it is (an update), or leaves the queue (a
+//!   pop) when its `rhs` is infinite too.
 //! - Weighted maps: a move costs `half * (k_from * w(from) + k_to * w(to))` units
 //!   ([`planner_api::weights`]), `from` the cell a path leaves: LPA*'s paths run from the
 //!   root, D* Lite's toward it ([`Engine::with_paths_to_root`]), which matters only for
@@ -28,9 +30,11 @@
 //!   touches it or, on 8 moves without corner cutting, passes diagonally beside it: all
 //!   such edges join cells of its 3 x 3 block (4 moves: itself and its four neighbours).
 //!   Those vertices get their `rhs` recomputed over all neighbours and are re-queued
-//!   (UpdateVertex). This is the basic version's rule (Fig. 3 of D* Lite) rather than
-//!   Fig. 4's test per changed edge, since one cell changes up to 20 edges at once; the
-//!   result is the same `rhs`.
+//!   (UpdateVertex), each once per batch of changes, after the whole batch is on the map
+//!   (in any order: `rhs` depends on `g`, which a batch does not change). This is the
+//!   basic version's rule (Fig. 3 of D* Lite) rather than Fig. 4's test per changed edge,
+//!   since one cell changes up to 20 edges at once; the result is the same `rhs`. A moved
+//!   start re-roots LPA*'s search, which begins a new session at its next replan.
 //! - UpdateVertex runs only for a vertex whose `rhs` changed (or, in ComputeShortestPath,
 //!   whose `g` did): the papers call it for every neighbour, but a vertex whose `g` and
 //!   `rhs` are unchanged keeps its consistency, so it stays in or out of the queue as it
@@ -42,8 +46,13 @@
 //!   the papers' ComputeShortestPath written again with a `BTreeSet` for the queue, for
 //!   LPA\* and D\* Lite, 4- and 8-connected, on 3,080 random grids (`tests/reference.rs`)
 //!   and on every run of `configs/incremental.toml` (xtask's
-//!   `every_lpastar_and_dstar_lite_run_matches_the_reference_search`); repairs after
-//!   changes are held to A\* from scratch (planner-replan's tests).
+//!   `every_lpastar_and_dstar_lite_run_matches_the_reference_search`). So do the repairs:
+//!   `planner_testkit::ReferenceIncremental` (the same written again through changes,
+//!   moves and budgets) gives the same status, path and counters at every replan of
+//!   random sessions on 280 grids, weighted or not (`tests/reference.rs`), and of every
+//!   run of the configs under `configs/replan/` (planner-replan's
+//!   `every_replan_matches_the_reference_planners`); and every repair's path and cost are
+//!   A\* from scratch's (planner-replan's oracle).
 //! - Ties: the queue orders by `(k1, k2, row-major index)`, a total order ([`KeyedQueue`]).
 //!   The path is traced from the target by the neighbour minimising `c + g`, the first of
 //!   equal ones in the move order right, left, down, up, then the diagonals. That least

@@ -35,7 +35,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use planner_api::{Budget, Grid, Problem};
+use planner_api::{Budget, Grid, IncrementalPlanner, Problem};
 use planner_maps::gppc::{parse_gppc_patches, parse_gppc_scenario};
 use planner_maps::{MapError, Scenario};
 use rayon::prelude::*;
@@ -661,6 +661,28 @@ pub fn run_config(
     output: &Path,
     options: &RunOptions,
 ) -> Result<ExperimentSummary, ExperimentError> {
+    let by_name = |name: &str, eight: bool| match planners::by_name(name, eight) {
+        Ok(planner) => planner,
+        Err(e) => unreachable!("planner names are validated by parse: {e}"),
+    };
+    run_config_with(config, path, output, options, &by_name)
+}
+
+/// Builds the planner a config names, with 8 moves (`true`) or 4. The names are the
+/// config's, which [`parse`] checked against [`planners::names`].
+pub type PlannerFactory = dyn Fn(&str, bool) -> Box<dyn IncrementalPlanner> + Sync;
+
+/// [`run_config`] with the planners built by `make` instead of [`planners::by_name`]: the
+/// records keep the config's names. For a test that runs a config's experiment with
+/// another implementation of a planner in its place (planner-replan's tests hold LPA\*'s
+/// and D\* Lite's records to planner-testkit's reference search this way).
+pub fn run_config_with(
+    config: &ExperimentConfig,
+    path: &Path,
+    output: &Path,
+    options: &RunOptions,
+    make: &PlannerFactory,
+) -> Result<ExperimentSummary, ExperimentError> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads)
@@ -755,10 +777,7 @@ pub fn run_config(
                 let map = &maps[m];
                 let scenario = &map.scenarios[s];
                 let name = &names[p];
-                let mut planner = match planners::by_name(name, eight) {
-                    Ok(planner) => planner,
-                    Err(e) => unreachable!("planner names are validated by parse: {e}"),
-                };
+                let mut planner = make(name, eight);
                 let mut oracle = Oracle::new(eight);
                 let result = match config.kind {
                     Kind::Navigate => {
@@ -821,10 +840,7 @@ pub fn run_config(
         jobs.par_iter()
             .map(|&(g, p)| {
                 let (stem, spec, scenario, patches) = &gppc_inputs[g];
-                let mut planner = match planners::by_name(&names[p], true) {
-                    Ok(planner) => planner,
-                    Err(e) => unreachable!("planner names are validated by parse: {e}"),
-                };
+                let mut planner = make(&names[p], true);
                 let (mut query_every, mut carry_every) =
                     (*spec.query_every.get_ref(), spec.carry_every);
                 if options.test {

@@ -4,7 +4,12 @@
 
 use std::path::{Path, PathBuf};
 
+use planner_api::{
+    Budget, Cell, CellChange, ChangeError, Connectivity, Cost, Counters, Grid, IncrementalPlanner,
+    MoveSet, Outcome, PathSpec, PlannerSpecs, Problem, Status,
+};
 use planner_replan::experiment::{self, ExperimentError, RunOptions};
+use planner_testkit::{reference_astar, Tie, REFERENCE_COUNTERS};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -200,4 +205,153 @@ fn foreign_output_directories_are_left_alone() {
     let e = experiment::run(&path, &out, &test_options(1)).unwrap_err();
     assert!(matches!(e, ExperimentError::Output { .. }), "{e}");
     assert_eq!(read(&out, "notes.txt"), "mine");
+}
+
+/// A* from scratch behind the incremental interface as planner-replan's `Restart`
+/// documents it (forward, or backward with the path reversed; octile or Manhattan times
+/// the map's smallest weight, exact costs, FIFO ties; no search when the start or goal is
+/// blocked), each replan `planner_testkit::reference_astar`.
+struct ReferenceRestart {
+    eight: bool,
+    backward: bool,
+    grid: Option<Grid>,
+    start: Cell,
+    goal: Cell,
+}
+
+impl IncrementalPlanner for ReferenceRestart {
+    fn name(&self) -> &str {
+        "reference_restart"
+    }
+
+    fn specs(&self) -> PlannerSpecs {
+        let moves = MoveSet::standard(match self.eight {
+            true => Connectivity::Eight,
+            false => Connectivity::Four,
+        });
+        PlannerSpecs::deterministic(PathSpec::Moves(moves)).with_admissible(true)
+    }
+
+    fn reset(&mut self, problem: &Problem<'_>) {
+        self.grid = Some(problem.grid().clone());
+        (self.start, self.goal) = (problem.start(), problem.goal());
+    }
+
+    fn grid(&self) -> Option<&Grid> {
+        self.grid.as_ref()
+    }
+
+    fn start(&self) -> Option<Cell> {
+        Some(self.start)
+    }
+
+    fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
+        self.start = cell;
+        Ok(())
+    }
+
+    fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
+        let grid = self.grid.as_mut().unwrap();
+        for change in changes {
+            if let Some(weight) = change.weight {
+                grid.set_weight(change.cell, weight);
+            }
+            grid.set_free(change.cell, change.free);
+        }
+        Ok(())
+    }
+
+    fn replan(&mut self, _: &Budget) -> Outcome {
+        let grid = self.grid.as_ref().unwrap();
+        let (from, to) = match self.backward {
+            true => (self.goal, self.start),
+            false => (self.start, self.goal),
+        };
+        if !grid.is_free(from) || !grid.is_free(to) {
+            return Outcome::no_path(Counters::new().with("n_expanded", 0));
+        }
+        let moves = self.specs().path_rule;
+        let PathSpec::Moves(moves) = moves else {
+            unreachable!("grid moves")
+        };
+        let weight = grid.weights().map_or(1, |w| u64::from(w.min()));
+        let h = |c: Cell| {
+            let (dx, dy) = (c.x.abs_diff(to.x), c.y.abs_diff(to.y));
+            let length = match self.eight {
+                true => Cost::octile_distance(dx, dy),
+                false => Cost::steps(u64::from(dx + dy)),
+            };
+            length.times(weight)
+        };
+        let (status, path, counts) = reference_astar(grid, &moves, h, Tie::Fifo, from, to);
+        let mut counters = Counters::new();
+        for (&name, value) in REFERENCE_COUNTERS.iter().zip(counts) {
+            counters = counters.with(name, value);
+        }
+        match path {
+            Some(mut cells) if status == Status::Found => {
+                if self.backward {
+                    cells.reverse();
+                }
+                Outcome::found(planner_api::Path::new(cells), counters)
+            }
+            _ => Outcome::no_path(counters),
+        }
+    }
+}
+
+/// Every planner of every config under `configs/replan/` (their `[test]` limits) run again
+/// with a reference in its place: LPA\* and D\* Lite by `planner_testkit::
+/// ReferenceIncremental` (the papers' searches written again plainly, a `BTreeSet` for the
+/// queue), A* from scratch (`astar`, `astar_backward`) by [`ReferenceRestart`]. Every
+/// output file is the same, so the snapshots' expansions, counters, paths and the oracle's
+/// expansions (the forward A*'s) are the references'.
+#[test]
+fn every_replan_matches_the_reference_planners() {
+    use planner_testkit::ReferenceIncremental;
+    let reference = |name: &str, eight: bool| -> Box<dyn IncrementalPlanner> {
+        match name {
+            "lpastar" => Box::new(ReferenceIncremental::new(false, eight)),
+            "dstar_lite" => Box::new(ReferenceIncremental::new(true, eight)),
+            "astar" | "astar_backward" => Box::new(ReferenceRestart {
+                eight,
+                backward: name == "astar_backward",
+                grid: None,
+                start: Cell::new(0, 0),
+                goal: Cell::new(0, 0),
+            }),
+            _ => panic!("no reference for {name}"),
+        }
+    };
+    for config in ["navigate", "dynamic", "navigate-costmap", "dynamic-costmap"] {
+        let path = root().join(format!("configs/replan/{config}.toml"));
+        let loaded = experiment::load(&path).unwrap();
+        assert!(
+            loaded
+                .planners
+                .iter()
+                .any(|p| ["lpastar", "dstar_lite"].contains(&p.get_ref().as_str())),
+            "{config} compares no incremental planner"
+        );
+        let (ours, theirs) = (
+            scratch(&format!("{config}-ours")),
+            scratch(&format!("{config}-reference")),
+        );
+        experiment::run_config(&loaded, &path, &ours, &test_options(2)).unwrap();
+        experiment::run_config_with(&loaded, &path, &theirs, &test_options(2), &reference).unwrap();
+        let mut files: Vec<_> = std::fs::read_dir(&ours)
+            .unwrap()
+            .map(|entry| entry.unwrap().file_name())
+            .collect();
+        files.sort();
+        assert!(files.len() >= 4, "{config}: {files:?}");
+        for file in files {
+            let file = file.to_string_lossy();
+            let (a, b) = (read(&ours, &file), read(&theirs, &file));
+            // The first line that differs, rather than two whole files.
+            let differ = a.lines().zip(b.lines()).find(|(x, y)| x != y);
+            assert_eq!(differ, None, "{config}: {file}");
+            assert_eq!(a.lines().count(), b.lines().count(), "{config}: {file}");
+        }
+    }
 }

@@ -7,7 +7,8 @@
 //! It also holds the independent methods the snapshots' numbers are checked against: the
 //! exact weighted oracle ([`weighted_dijkstra`]) and a `reference_*` search per planner
 //! ([`reference_astar`], [`reference_jps`], [`reference_weighted_jps`],
-//! [`reference_theta_star`], [`reference_bidirectional_astar`], [`reference_lpa`],
+//! [`reference_theta_star`], [`reference_bidirectional_astar`], [`reference_lpa`] and
+//! [`ReferenceIncremental`] (LPA\* and D\* Lite through changes and moves),
 //! [`reference_lexastar`], [`reference_frontier`], [`reference_coverage`],
 //! [`reference_rrt`], [`reference_rrt_connect`], [`reference_rrt_star`]), each the planner's
 //! documented search written again plainly and sharing no code with it.
@@ -29,7 +30,7 @@ pub use coverage::{reference_coverage, Fill, COVERAGE_COUNTERS};
 pub use frontier::{reference_frontier, FrontierSearch, FRONTIER_COUNTERS};
 pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};
 pub use lex::{reference_lexastar, LexSearch, LEXASTAR_COUNTERS};
-pub use lpa::{reference_lpa, LpaSearch, LPA_COUNTERS};
+pub use lpa::{reference_lpa, LpaSearch, ReferenceIncremental, LPA_COUNTERS};
 pub use rrt::{
     reference_rrt, reference_rrt_connect, reference_rrt_star, RrtSearch, RrtSettings,
     RrtStarSearch, RRT_CONNECT_COUNTERS, RRT_COUNTERS,
