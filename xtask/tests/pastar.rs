@@ -1,6 +1,7 @@
 //! Seed 002 through the runner: the generated maps are the committed ones, every PA-star
 //! path of every config is valid and its counters are those of its local searches, and the
-//! paper's length claims on the 140 x 120 maps.
+//! paper's length claims on the 140 x 120 maps; CAPSO's guide and evaluation counters are
+//! those of the reference guide and of their formula.
 
 use crate::common;
 
@@ -164,6 +165,52 @@ fn pastar_counters_are_the_reference_local_searches() {
     // pastar.toml: PA-star and PA-star-size x 7 problems x 2 test repeats = 28; the beta,
     // connecting-distance, radius and threshold studies: 56.
     assert_eq!(n_checked, 28 + 56);
+}
+
+/// CAPSO's counters that an independent method fixes, on every CAPSO run of every config
+/// (`configs/pastar.toml` and `configs/capso-control-points.toml`, as snapshotted): the
+/// guide's `n_guide_expanded` and `guide_block` are `planner_testkit::reference_capso_guide`'s
+/// on the run's map, start and goal (the guide's block A* written again from its module
+/// docs); the budget never runs out, so `n_fitness_evaluations` (= `n_expanded`) is
+/// `P + T P` and `n_iterations` is `T` for the label's population `P` and iterations `T`
+/// (none when the guide finds no route); a found path is valid and touches no blocked
+/// cell. The other counters (segments, cache hits, reseeds, restarts) come from the
+/// seeded swarm and are pinned by the snapshots only.
+#[test]
+fn every_capso_run_matches_the_reference_guide() {
+    let entry = planner_registry::find("capso").unwrap();
+    let n_checked = common::for_each_snapshotted_run(entry.name, |path, map, params, r| {
+        let what = format!("{} {} #{} {}", path.display(), r.map, r.problem, r.planner);
+        // The label's parameters as resolved, the defaults included.
+        let resolved = (entry.factory)(params).unwrap().resolved().clone();
+        let param = |key: &str| resolved[key].as_u64().unwrap();
+        let (p, t) = (param("population"), param("iterations"));
+        let get = |name: &str| r.counters.get(name).unwrap();
+        // A run whose start is its goal returns the one-cell path before the guide.
+        let guide = planner_testkit::reference_capso_guide(&map.grid, r.start, r.goal);
+        let (expanded, block) = match r.start == r.goal {
+            true => (0, 0),
+            false => (guide.n_expanded, u64::from(guide.block)),
+        };
+        assert_eq!(get("n_guide_expanded"), expanded, "{what}");
+        assert_eq!(get("guide_block"), block, "{what}");
+        let (evaluations, iterations) = match block {
+            0 => (0, 0),
+            _ => (p + t * p, t),
+        };
+        assert_ne!(r.status.as_str(), "budget_exhausted", "{what}");
+        assert_eq!(get("n_fitness_evaluations"), evaluations, "{what}");
+        assert_eq!(get("n_expanded"), evaluations, "{what}");
+        assert_eq!(get("n_iterations"), iterations, "{what}");
+        if r.status.as_str() == "found" {
+            assert_eq!(r.valid, Some(true), "{what}");
+            assert_eq!(get("final_collision_cells"), 0, "{what}");
+            assert_eq!(get("final_collision_length_milli"), 0, "{what}");
+        }
+    });
+    // pastar.toml: CAPSO x 7 problems x 2 test repeats = 14; capso-control-points.toml:
+    // 4 labels x 1 problem x 2 repeats = 8.
+    assert_eq!(n_checked, 14 + 8);
 }
 
 /// `cargo xtask plan` prints PA-star's marks (text and JSON): its local segments' ends.

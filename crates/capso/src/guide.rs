@@ -1,26 +1,53 @@
-//! The guide: a coarse free-space path from start to goal that seeds part of the swarm
-//! with control points on a feasible route (issue 34; Lian et al.'s own initialisation is
-//! not in the stored copies of their paper, see the crate docs).
+//! The guide: a coarse path from start to goal through free blocks that seeds part of the
+//! swarm with control points on a nearly free route (issue 34; Lian et al.'s own
+//! initialisation is not in the stored copies of their paper, see the crate docs).
 //!
 //! 1. The grid is covered by square blocks of `b` cells, `b = ceil(max(W, H) / 64)` (at
 //!    most 64 x 64 blocks: 3 on seed 002's 140 x 120 maps, 4 on 200 x 200, 8 on 500 x 500).
-//!    A block is free when all its cells are; the blocks of the start and the goal count
-//!    as free.
+//!    Cell `(x, y)` is in block `(x / b, y / b)`, whose index is `(y / b) ceil(W / b) +
+//!    x / b` (row-major); the last column and row of blocks may stick out of the grid,
+//!    and only their cells inside it count. A block is free when all its cells are; the
+//!    blocks of the start and the goal count as free (at every level, blocked cells and
+//!    all; only the goal's changes a result: the start's block is where the search
+//!    starts, and a diagonal step beside it never gives a block a lower `g` than the
+//!    straight step from it).
 //! 2. A* over the blocks, 8-connected without corner cutting (a diagonal step needs both
 //!    side blocks free), step costs 5 and 7 (1 and 1.4, near the Euclidean 1 and sqrt 2)
-//!    and the matching octile heuristic, which is consistent; ties broken by the block
-//!    index, so the route is a pure function of the grid.
-//! 3. When no route exists at block size `b`, `b` is halved, down to 1 (the cells
-//!    themselves). At `b = 1` no route means the goal is unreachable by any any-angle path
-//!    either (a valid any-angle path's cells form an 8-connected chain of free cells in
-//!    which every diagonal step has a free side cell, because the segment walk visits a
-//!    side cell at every change of row and column), so the planner stops with `no_path`.
-//! 4. The route is the start, the centre cells of the inner blocks, and the goal; it is
-//!    shortened greedily by line of sight on the cells (from an anchor, the farthest next
-//!    waypoint whose segment is free is kept), which leaves its corners.
+//!    and the matching octile heuristic `7 min(dx, dy) + 5 (max(dx, dy) - min(dx, dy))`
+//!    in blocks, which is consistent; OPEN gives the least `(f, index)`, so ties go to the
+//!    lower block index and the route is a pure function of the grid. A block's `g` and
+//!    parent change only when a step gives it a strictly lower `g`. A block is *expanded*
+//!    when it leaves OPEN for the first time (the start's first, the goal's last: the
+//!    search stops there); older OPEN entries of an improved block are skipped uncounted,
+//!    and no block is expanded twice (the heuristic is consistent). [`Guide::n_expanded`]
+//!    sums the expansions of every level tried, those that found no route included.
+//! 3. When no route exists at block size `b`, `b` is halved, rounding down (5, 2, 1), down
+//!    to 1 (the cells themselves). At `b = 1` no route means the goal is unreachable by
+//!    any any-angle path either (a valid any-angle path's cells form an 8-connected chain
+//!    of free cells in which every diagonal step has a free side cell, because the segment
+//!    walk visits a side cell at every change of row and column), so the planner stops
+//!    with `no_path`.
+//! 4. The route is the start, the centre cells of the inner blocks (those on the parent
+//!    chain strictly between the start's block and the goal's), and the goal; the start
+//!    alone when it is the goal. A block's centre cell is that of its part inside the
+//!    grid, rounded down: `x0 + (min(b, W - x0) - 1) / 2` for the block's first column
+//!    `x0`, and the same in y. The route is shortened greedily by line of sight on the
+//!    cells ([`BitGrid::segment_is_free`], the cells of `planner_api::segment_is_free`):
+//!    from an anchor (first the start), the waypoint after it is kept without a check,
+//!    then replaced by the next one as long as the anchor sees that one, stopping at the
+//!    first it does not see (not the farthest waypoint it sees overall); the kept
+//!    waypoint is the next anchor. This leaves the route's corners. The route's pieces
+//!    between inner block centres are free, but at `b > 1` its first piece (from the
+//!    start) and its last (to the goal), which the shortening may keep unchecked, can
+//!    cross blocked cells of the start's or the goal's block (they count as free), so the
+//!    polyline is not always collision-free.
 //! 5. [`control_points`] puts `n` control points on that polyline: its corners when there
 //!    are at most `n` of them, the others splitting the longest pieces in half; with more
 //!    than `n` corners, `n` points at equal arc-length steps.
+//!
+//! `planner_testkit::reference_capso_guide` is these rules written again (an ordered set
+//! with decrease-key as OPEN, the blocks' cells tested one by one); the tests hold
+//! [`Guide::find`] and CAPSO's `n_guide_expanded` and `guide_block` to it.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;

@@ -82,7 +82,8 @@
 //! # Initialisation
 //! First the [`guide`]: an A* route over blocks of cells (at most 64 per side), shortened
 //! by line of sight. Lian et al.'s initialisation is not in the stored abstract; seeding
-//! part of the swarm on a free route is issue 34's answer to random control points missing
+//! part of the swarm on a route through free blocks (free but for the start's and the
+//! goal's own blocks, [`guide`] step 4) is issue 34's answer to random control points missing
 //! every free corridor on seed 002's 500 x 500 map. When no route exists even over single
 //! cells, the goal is unreachable and the search stops with `no_path` before any
 //! evaluation.
@@ -122,6 +123,11 @@
 //! per-search segment cache answered, [`collision::SegmentCache`]), `n_expanded`
 //! (= `n_fitness_evaluations`). The outcome's series `best_fitness` (x: `iteration`) is
 //! the global best fitness after initialisation (iteration 0) and after each iteration.
+//! The tests hold `n_guide_expanded` and `guide_block` to
+//! `planner_testkit::reference_capso_guide` (the guide written again from its docs) and
+//! the evaluation counts to the formula above, on random grids and on every snapshotted
+//! run; the counters of the seeded swarm (`n_segments`, `n_segment_cache_hits`,
+//! `n_chaos_reseeds`, `n_restarts`) are pinned by the snapshots only.
 //!
 //! # Against seed 002, measured
 //! `cargo bench -p planner-capso --bench seed002 -- --repeats=50` (seed 002's settings, seeds

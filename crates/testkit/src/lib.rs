@@ -10,13 +10,15 @@
 //! [`reference_theta_star`], [`reference_bidirectional_astar`], [`reference_lpa`] and
 //! [`ReferenceIncremental`] (LPA\* and D\* Lite through changes and moves),
 //! [`reference_lexastar`], [`reference_frontier`], [`reference_coverage`],
-//! [`reference_rrt`], [`reference_rrt_connect`], [`reference_rrt_star`]), each the planner's
+//! [`reference_rrt`], [`reference_rrt_connect`], [`reference_rrt_star`],
+//! [`reference_capso_guide`] (CAPSO's guide)), each the planner's
 //! documented search written again plainly and sharing no code with it.
 #![deny(missing_docs)]
 
 use std::path::PathBuf;
 
 mod bidirectional;
+mod capso;
 mod coverage;
 mod frontier;
 mod jps;
@@ -26,6 +28,7 @@ mod rrt;
 mod theta;
 mod weighted_jps;
 pub use bidirectional::{reference_bidirectional_astar, BidirectionalSearch};
+pub use capso::{reference_capso_guide, CapsoGuideSearch};
 pub use coverage::{reference_coverage, Fill, COVERAGE_COUNTERS};
 pub use frontier::{reference_frontier, FrontierSearch, FRONTIER_COUNTERS};
 pub use jps::{reference_jps, JpsSearch, JpsVariant, JPS_COUNTERS};

@@ -1,0 +1,6 @@
+//! planner-capso's integration tests, one test binary (`cargo test -p planner-capso --test
+//! it`): each module is a file of this directory. A new test file here is declared below
+//! (`mod NAME;`), or tidy refuses it (ARCHITECTURE.md, "Tests").
+
+mod planner;
+mod reference;
