@@ -409,24 +409,10 @@ impl IncrementalPlanner for ReferenceIncremental {
         Ok(())
     }
 
+    /// Precondition: valid changes (cells in the map, weights only on a weighted map and
+    /// never 0), as the drivers send them; the planners' checks of bad ones are theirs.
     fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
         let grid = self.grid.as_mut().ok_or(ChangeError::NotStarted)?;
-        for c in changes {
-            if !grid.contains(c.cell) {
-                return Err(ChangeError::OutOfBounds {
-                    cell: c.cell,
-                    width: grid.width(),
-                    height: grid.height(),
-                });
-            }
-            match c.weight {
-                Some(0) => return Err(ChangeError::ZeroWeight { cell: c.cell }),
-                Some(_) if !grid.is_weighted() => {
-                    return Err(ChangeError::Unweighted { cell: c.cell })
-                }
-                _ => {}
-            }
-        }
         let mut affected = BTreeSet::new();
         for c in changes {
             let mut changed = false;
