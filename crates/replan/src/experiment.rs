@@ -674,8 +674,8 @@ pub type PlannerFactory = dyn Fn(&str, bool) -> Box<dyn IncrementalPlanner> + Sy
 
 /// [`run_config`] with the planners built by `make` instead of [`planners::by_name`]: the
 /// records keep the config's names. For a test that runs a config's experiment with
-/// another implementation of a planner in its place (planner-replan's tests hold LPA\*'s
-/// and D\* Lite's records to planner-testkit's reference search this way).
+/// another implementation of a planner in its place (planner-replan's tests hold every
+/// planner's records to a reference search this way).
 pub fn run_config_with(
     config: &ExperimentConfig,
     path: &Path,
