@@ -711,7 +711,10 @@ impl MinHeap {
         self.front.insert(at, item);
     }
 
-    #[inline]
+    // Always inlined: with `#[inline]` it stayed a call that returned the entry through
+    // memory, and `perf` put 5.6 % of the weighted bench's den520d samples in it; inlined,
+    // one pass of that bench line executes 2.9 % fewer instructions in A* (callgrind).
+    #[inline(always)]
     fn pop(&mut self) -> Option<Entry> {
         if let Some(run) = self.run.last() {
             let other_first = match (self.front.last(), self.items.first()) {
