@@ -40,6 +40,14 @@ const MOVES: [(i64, i64); 8] = [
 
 const INF: u64 = u64::MAX;
 
+// Places in [`ReferenceIncremental`]'s counts, in [`LPA_COUNTERS`]' order.
+const EXPANDED: usize = 0;
+const PUSHES: usize = 1;
+const POPS: usize = 2;
+const UPDATES: usize = 3;
+const REMOVES: usize = 4;
+const RHS_CHANGES: usize = 5;
+
 /// The first search of LPA\* (from `start`) or D\* Lite (`dstar`, from `goal`) on `grid`:
 /// [`ReferenceIncremental`] reset on the problem and replanned once, without limits.
 /// `eight`: 8 moves without corner cutting, else 4. Panics on a start or goal outside the
@@ -217,7 +225,7 @@ impl ReferenceIncremental {
             return false;
         }
         self.rhs[i] = value;
-        self.counts[5] += 1;
+        self.counts[RHS_CHANGES] += 1;
         true
     }
 
@@ -243,10 +251,10 @@ impl ReferenceIncremental {
         let i = self.index(cell);
         let queued = self.queued[i].is_some();
         if self.g[i] != self.rhs[i] {
-            self.counts[if queued { 3 } else { 1 }] += 1;
+            self.counts[if queued { UPDATES } else { PUSHES }] += 1;
             self.enqueue(cell);
         } else if queued {
-            self.counts[4] += 1;
+            self.counts[REMOVES] += 1;
             self.dequeue(cell);
         }
     }
@@ -283,7 +291,7 @@ impl ReferenceIncremental {
             }
             let u = Cell::new((i % width) as u32, (i / width) as u32);
             if (k1, k2) < self.key(u) {
-                self.counts[3] += 1;
+                self.counts[UPDATES] += 1;
                 self.enqueue(u);
                 continue;
             }
@@ -291,9 +299,9 @@ impl ReferenceIncremental {
                 return false;
             }
             expanded += 1;
-            self.counts[0] += 1;
+            self.counts[EXPANDED] += 1;
             if self.g[i] > self.rhs[i] {
-                self.counts[2] += 1;
+                self.counts[POPS] += 1;
                 self.dequeue(u);
                 self.g[i] = self.rhs[i];
                 for s in self.neighbours(u) {
@@ -320,10 +328,10 @@ impl ReferenceIncremental {
                     }
                 }
                 if self.rhs[i] != INF {
-                    self.counts[3] += 1;
+                    self.counts[UPDATES] += 1;
                     self.enqueue(u);
                 } else {
-                    self.counts[2] += 1;
+                    self.counts[POPS] += 1;
                     self.dequeue(u);
                 }
             }
