@@ -622,10 +622,8 @@ fn every_lexastar_run_is_best_by_steps_then_turns() {
             r.goal,
             config.dominance,
         );
-        assert_eq!(r.status.as_str(), status.as_str(), "{what}");
-        let actual = planner_testkit::LEXASTAR_COUNTERS.map(|n| r.counters.get(n).unwrap());
-        assert_eq!(actual, counters, "{what}");
-        assert_eq!(r.path.as_ref().map(|p| p.cells().to_vec()), cells, "{what}");
+        let counters = planner_testkit::LEXASTAR_COUNTERS.into_iter().zip(counters);
+        common::assert_reference_run(path, r, status, cells, counters);
     });
     // paper: 12 maps; movingai: 36 problems.
     assert_eq!(n_checked, 12 + 36);

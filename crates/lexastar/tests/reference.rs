@@ -5,7 +5,8 @@
 use planner_api::{Budget, Cell, Connectivity, Grid, MoveSet, NeighborOrder, Planner, Problem};
 use planner_lexastar::{Config, LexAStar};
 use planner_testkit::{
-    random_problems, reference_lexastar, small_random_problems, LEXASTAR_COUNTERS,
+    assert_reference_outcome, random_problems, reference_lexastar, small_random_problems,
+    LEXASTAR_COUNTERS,
 };
 
 /// Plans every problem with both move sets, with and without dominance, and compares with
@@ -29,10 +30,8 @@ fn check(label: &str, problems: &[(Grid, Cell, Cell)]) -> (u64, u64) {
                 let outcome = planner.plan(&problem, &Budget::unlimited());
                 let (status, path, counters) =
                     reference_lexastar(grid, &move_set, *start, *goal, dominance);
-                assert_eq!(outcome.status, status, "{what}");
-                let actual = LEXASTAR_COUNTERS.map(|name| outcome.counters.get(name).unwrap());
-                assert_eq!(actual, counters, "{what}");
-                assert_eq!(outcome.path.map(|p| p.cells().to_vec()), path, "{what}");
+                let reference = (status, path);
+                assert_reference_outcome(&outcome, reference, LEXASTAR_COUNTERS, counters, &what);
                 expanded += counters[0];
                 dominated += counters[7];
             }

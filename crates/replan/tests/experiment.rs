@@ -339,11 +339,16 @@ fn every_replan_matches_the_reference_planners() {
         );
         experiment::run_config(&loaded, &path, &ours, &test_options(2)).unwrap();
         experiment::run_config_with(&loaded, &path, &theirs, &test_options(2), &reference).unwrap();
-        let mut files: Vec<_> = std::fs::read_dir(&ours)
-            .unwrap()
-            .map(|entry| entry.unwrap().file_name())
-            .collect();
-        files.sort();
+        let names = |dir: &Path| {
+            let mut files: Vec<_> = std::fs::read_dir(dir)
+                .unwrap()
+                .map(|entry| entry.unwrap().file_name())
+                .collect();
+            files.sort();
+            files
+        };
+        let files = names(&ours);
+        assert_eq!(files, names(&theirs), "{config}");
         assert!(files.len() >= 4, "{config}: {files:?}");
         for file in files {
             let file = file.to_string_lossy();

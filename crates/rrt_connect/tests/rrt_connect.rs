@@ -375,11 +375,8 @@ fn runs_equal_the_reference_rrt_connect() {
         let (status, path, counters) =
             planner_testkit::reference_rrt_connect(grid, *start, *goal, settings);
         let what = format!("problem {k}: {settings:?}");
-        assert_eq!(outcome.status, status, "{what}");
-        let actual =
-            planner_testkit::RRT_CONNECT_COUNTERS.map(|name| outcome.counters.get(name).unwrap());
-        assert_eq!(actual, counters, "{what}");
-        assert_eq!(outcome.path.map(|p| p.cells().to_vec()), path, "{what}");
+        let names = planner_testkit::RRT_CONNECT_COUNTERS;
+        planner_testkit::assert_reference_outcome(&outcome, (status, path), names, counters, &what);
         found += usize::from(status == Status::Found);
     }
     // 503 of the 600 runs meet (2026-12-06): paths are compared too.

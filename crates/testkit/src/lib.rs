@@ -372,6 +372,28 @@ pub enum Tie {
     HighG,
 }
 
+/// Asserts that a planner's `outcome` is a reference search's: its status, its path's
+/// cells, and the counters `names` with the reference's `values` (each present in the
+/// outcome); `what` names the case in a failure.
+pub fn assert_reference_outcome<const N: usize>(
+    outcome: &planner_api::Outcome,
+    reference: (planner_api::Status, Option<Vec<Cell>>),
+    names: [&str; N],
+    values: [u64; N],
+    what: &str,
+) {
+    assert_eq!(outcome.status, reference.0, "{what}");
+    let actual = names.map(|name| {
+        outcome
+            .counters
+            .get(name)
+            .unwrap_or_else(|| panic!("{what}: no counter {name}"))
+    });
+    assert_eq!(actual, values, "{what}");
+    let path = outcome.path.as_ref().map(|p| p.cells().to_vec());
+    assert_eq!(path, reference.1, "{what}");
+}
+
 /// What [`reference_astar`] found: status, path cells, and the counters named in
 /// [`REFERENCE_COUNTERS`], in that order.
 pub type ReferenceSearch = (planner_api::Status, Option<Vec<Cell>>, [u64; 7]);

@@ -179,11 +179,7 @@ pub fn reference_rrt_connect(
             return Extension::Reached(near);
         }
         tally[5] += 1;
-        let mut cells = 0;
-        let free = for_each_segment_cell(from, new, |c| {
-            cells += 1;
-            grid.is_free(c)
-        });
+        let (free, cells) = walk_counted(grid, from, new);
         tally[6] += cells;
         if !free {
             tally[2] += 1;
@@ -296,11 +292,7 @@ pub fn reference_rrt_star(
     let mut t = [0u64; 11];
     let segment = |t: &mut [u64; 11], a: Cell, b: Cell| {
         t[8] += 1;
-        let mut cells = 0;
-        let free = for_each_segment_cell(a, b, |c| {
-            cells += 1;
-            grid.is_free(c)
-        });
+        let (free, cells) = walk_counted(grid, a, b);
         t[9] += cells;
         free
     };
@@ -519,4 +511,16 @@ fn path_to(nodes: &[(Cell, usize)], mut k: usize) -> Vec<Cell> {
     }
     cells.reverse();
     cells
+}
+
+/// Whether the segment between the centres of `a` and `b` is free, by planner-api's exact
+/// traversal ([`for_each_segment_cell`]), and the cells it visited: up to and including
+/// the first blocked one.
+fn walk_counted(grid: &Grid, a: Cell, b: Cell) -> (bool, u64) {
+    let mut cells = 0;
+    let free = for_each_segment_cell(a, b, |c| {
+        cells += 1;
+        grid.is_free(c)
+    });
+    (free, cells)
 }
