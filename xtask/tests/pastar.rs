@@ -174,8 +174,8 @@ fn pastar_counters_are_the_reference_local_searches() {
 /// docs); the budget never runs out, so `n_fitness_evaluations` (= `n_expanded`) is
 /// `P + T P` and `n_iterations` is `T` for the label's population `P` and iterations `T`
 /// (none when the guide finds no route); a found path is valid and touches no blocked
-/// cell. The other counters (segments, cache hits, reseeds, restarts) come from the
-/// seeded swarm and are pinned by the snapshots only.
+/// cell. The seeded swarm's counters (segments, cache hits, reseeds, restarts) and the
+/// whole run are held to the reference swarm in `capso.rs`.
 #[test]
 fn every_capso_run_matches_the_reference_guide() {
     let entry = planner_registry::find("capso").unwrap();

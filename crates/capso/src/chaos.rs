@@ -38,6 +38,16 @@ pub enum ChaoticMap {
 }
 
 impl ChaoticMap {
+    /// Every map, in declaration order.
+    pub const ALL: [ChaoticMap; 6] = [
+        ChaoticMap::Logistic,
+        ChaoticMap::Tent,
+        ChaoticMap::Sine,
+        ChaoticMap::Sinusoidal,
+        ChaoticMap::Circle,
+        ChaoticMap::Gauss,
+    ];
+
     /// One step of the map (values outside `(0, 1)` may come out; see [`Chaos::next`]).
     #[inline]
     pub fn step(self, z: f64) -> f64 {
@@ -136,14 +146,7 @@ mod tests {
 
     #[test]
     fn sequences_stay_inside_and_are_reproducible() {
-        for map in [
-            ChaoticMap::Logistic,
-            ChaoticMap::Tent,
-            ChaoticMap::Sine,
-            ChaoticMap::Sinusoidal,
-            ChaoticMap::Circle,
-            ChaoticMap::Gauss,
-        ] {
+        for map in ChaoticMap::ALL {
             let run = || {
                 let mut rng = rng_for_seed(11);
                 let mut chaos = Chaos::new(map, &mut rng);

@@ -314,9 +314,14 @@ impl BitGrid {
 /// A direct-mapped cache of [`BitGrid::segment_collision`] per segment: the swarm's
 /// particles share waypoints and keep them between iterations, so the same segment is
 /// measured again and again (15 to 24 % of the segments on seed 002's maps with 512
-/// entries, the bench's `segments cached`; an unbounded set answered 25 to 36 %). An entry is valid in one generation only; [`SegmentCache::clear`]
-/// starts a new one, which a search must do whenever the grid may have changed. A hit
-/// returns the value the walk computed, so the cache changes no result.
+/// entries, the bench's `segments cached`; an unbounded set answered 25 to 36 %). Segment
+/// `a -> b` lives in slot `(k * 0x9e3779b97f4a7c15) >> 52` (the product wrapping, taken
+/// modulo [`SEGMENT_CACHE_ENTRIES`]) of `k = ax << 48 ^ ay << 32 ^ bx << 16 ^ by`; a lookup
+/// is a hit (`n_segment_cache_hits`) when that slot holds the same segment from this
+/// generation, and a miss measures the segment and overwrites the slot. An entry is valid
+/// in one generation only; [`SegmentCache::clear`] starts a new one, which a search must
+/// do whenever the grid may have changed. A hit returns the value the walk computed, so
+/// the cache changes no result.
 #[derive(Debug, Clone, Default)]
 pub struct SegmentCache {
     entries: Vec<Entry>,

@@ -126,8 +126,9 @@
 //! The tests hold `n_guide_expanded` and `guide_block` to
 //! `planner_testkit::reference_capso_guide` (the guide written again from its docs) and
 //! the evaluation counts to the formula above, on random grids and on every snapshotted
-//! run; the counters of the seeded swarm (`n_segments`, `n_segment_cache_hits`,
-//! `n_chaos_reseeds`, `n_restarts`) are pinned by the snapshots only.
+//! run; xtask's tests (`tests/capso.rs`) write the swarm again from these docs and hold
+//! every snapshotted run and 120 small random problems to it: status, path and every
+//! counter.
 //!
 //! # Against seed 002, measured
 //! `cargo bench -p planner-capso --bench seed002 -- --repeats=50` (seed 002's settings, seeds
