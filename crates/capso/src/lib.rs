@@ -522,7 +522,8 @@ impl Decoder {
         for &(x, y) in &self.samples {
             // Clamped into the grid, so the casts are in range. Rounding half up by
             // truncation (the values are >= 0 after the clamp): the same as `round` there,
-            // without its library call.
+            // without its library call, but for the one value `0.5 - 2^-54`, whose sum
+            // with 0.5 rounds to 1 (a sample that lands there goes to cell 1, not 0).
             let cell = Cell::new(
                 (x.clamp(0.0, max_x) + 0.5) as u32,
                 (y.clamp(0.0, max_y) + 0.5) as u32,
