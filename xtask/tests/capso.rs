@@ -6,7 +6,8 @@
 //! The reference rewrites what the swarm decides: the initial positions and the order in
 //! which they draw from the generator, the chaotic sequence with its reseeds, the velocity
 //! and beetle updates, clamping, restarts, personal and global bests, the decoding's
-//! rounding, deduplication and Ramer-Douglas-Peucker simplification, the fitness, the
+//! rounding, deduplication and Ramer-Douglas-Peucker simplification with its refusal of
+//! colliding chords over free cells, the fitness, the
 //! segment cache's hits and the outcome. It takes from planner-capso, unchanged, the
 //! pieces that are tested on their own and whose floating-point results the swarm's
 //! trajectory depends on to the last bit: the spline ([`planner_capso::spline`]), the
@@ -17,10 +18,13 @@
 //! ([`collision::segment_collision`], held to a brute force in planner-capso's tests),
 //! not on the planner's packed copy.
 //!
-//! Thirteen plausible changes to the reference fail both tests: the restart condition
+//! Seventeen plausible changes to the reference fail both tests: the restart condition
 //! (`>` for `>=`), the cache's slot (`>> 51`), ties of the first and of the updated global
 //! best (`<=`), the beetle's direction, the final decoding counted, the simplification's
-//! comparison (`>=`) and its tie among equally far cells (the last, not the first), samples
+//! comparison (`>=`), its tie among equally far cells (the last, not the first), a chord
+//! within the tolerance taken though it collides, every colliding chord refused (blocked
+//! cells under it or not), its ends left out of the cells that must be free, the right
+//! part settled first, samples
 //! rounded down, one axis' speed limit for both, the guided share rounded down, a personal
 //! best that does not reset the stagnation count, and free points not redrawn. One change
 //! passes: no reseed when a chaotic step returns its own value (the crate's rule); no
@@ -139,39 +143,88 @@ impl Cache {
     }
 }
 
-/// Ramer-Douglas-Peucker (crate docs, step 3): keeps the first and last cell and, between
-/// two kept cells, the one farthest from the line through them (the first of equals) when
-/// its distance exceeds `tolerance`, recursively. The squared distance is compared as
-/// `cross^2 / |b - a|^2 > tolerance^2` in `f64` (a returning path, `a == b`: the squared
-/// distance to `a`).
-fn simplify(cells: &[Cell], tolerance: f64, keep: &mut [bool], a: usize, b: usize) {
-    if b <= a + 1 {
-        return;
-    }
-    let (ax, ay) = (i64::from(cells[a].x), i64::from(cells[a].y));
-    let (dx, dy) = (i64::from(cells[b].x) - ax, i64::from(cells[b].y) - ay);
-    let squared = dx * dx + dy * dy;
-    let mut farthest = a + 1;
-    let mut largest = -1i64;
-    for (k, cell) in cells.iter().enumerate().take(b).skip(a + 1) {
-        let (wx, wy) = (i64::from(cell.x) - ax, i64::from(cell.y) - ay);
-        let d = match squared {
-            0 => wx * wx + wy * wy,
-            _ => (wx * dy - wy * dx).abs(),
-        };
-        if d > largest {
-            (farthest, largest) = (k, d);
+/// A particle's polyline as it is simplified and measured.
+struct Decoding<'a> {
+    grid: &'a Grid,
+    cells: Vec<Cell>,
+    tolerance: f64,
+    cache: Option<&'a mut Cache>,
+    path: Vec<Cell>,
+    length: f64,
+    collision: collision::Collision,
+}
+
+impl Decoding<'_> {
+    /// The segment between cells `a` and `b`: noted by the cache, its length as the square
+    /// root of the sum of squares, and its collision measured on the grid.
+    fn measure(&mut self, a: usize, b: usize) -> (f64, collision::Collision) {
+        let (from, to) = (self.cells[a], self.cells[b]);
+        if let Some(cache) = self.cache.as_deref_mut() {
+            cache.note(from, to);
         }
+        let (dx, dy) = (
+            f64::from(from.x.abs_diff(to.x)),
+            f64::from(from.y.abs_diff(to.y)),
+        );
+        let length = (dx * dx + dy * dy).sqrt();
+        (length, collision::segment_collision(self.grid, from, to))
     }
-    let limit = tolerance * tolerance;
-    let split = match squared {
-        0 => largest as f64 > limit,
-        _ => (largest as f64) * (largest as f64) / squared as f64 > limit,
-    };
-    if split {
-        keep[farthest] = true;
-        simplify(cells, tolerance, keep, a, farthest);
-        simplify(cells, tolerance, keep, farthest, b);
+
+    /// Adds the segment to cell `b` to the path.
+    fn take(&mut self, b: usize, (length, collision): (f64, collision::Collision)) {
+        self.length += length;
+        self.collision.add(collision);
+        self.path.push(self.cells[b]);
+    }
+
+    /// Ramer-Douglas-Peucker between cells `a` and `b` (crate docs, step 3): two
+    /// neighbouring cells are a segment; otherwise the farthest cell between them from the
+    /// line through them (the first of equals) is found, and when its distance is at most
+    /// `tolerance` (the squared distance compared as `cross^2 / |b - a|^2 > tolerance^2` in
+    /// `f64`; for `a` and `b` the same cell, the squared distance to it) and the chord
+    /// `a -> b` is free or one of the cells `a ..= b` is blocked, the chord is the segment
+    /// (a chord from a cell back to itself is no segment: the path stays); else both parts,
+    /// the left one first.
+    fn settle(&mut self, a: usize, b: usize) {
+        if b == a + 1 {
+            let measured = self.measure(a, b);
+            self.take(b, measured);
+            return;
+        }
+        let cells = &self.cells;
+        let (ax, ay) = (i64::from(cells[a].x), i64::from(cells[a].y));
+        let (dx, dy) = (i64::from(cells[b].x) - ax, i64::from(cells[b].y) - ay);
+        let squared = dx * dx + dy * dy;
+        let mut farthest = a + 1;
+        let mut largest = -1i64;
+        for (k, cell) in cells.iter().enumerate().take(b).skip(a + 1) {
+            let (wx, wy) = (i64::from(cell.x) - ax, i64::from(cell.y) - ay);
+            let d = match squared {
+                0 => wx * wx + wy * wy,
+                _ => (wx * dy - wy * dx).abs(),
+            };
+            if d > largest {
+                (farthest, largest) = (k, d);
+            }
+        }
+        let limit = self.tolerance * self.tolerance;
+        let beyond = match squared {
+            0 => largest as f64 > limit,
+            _ => (largest as f64) * (largest as f64) / squared as f64 > limit,
+        };
+        if !beyond {
+            if squared == 0 {
+                return;
+            }
+            let measured = self.measure(a, b);
+            let cells_free = self.cells[a..=b].iter().all(|&c| self.grid.is_free(c));
+            if measured.1.cells == 0 || !cells_free {
+                self.take(b, measured);
+                return;
+            }
+        }
+        self.settle(a, farthest);
+        self.settle(farthest, b);
     }
 }
 
@@ -202,32 +255,20 @@ fn decode(
             cells.push(cell);
         }
     }
-    let mut keep = vec![false; cells.len()];
-    keep[0] = true;
-    keep[cells.len() - 1] = true;
-    simplify(&cells, config.tolerance, &mut keep, 0, cells.len() - 1);
-    let mut path: Vec<Cell> = Vec::new();
-    for (&cell, _) in cells.iter().zip(&keep).filter(|(_, &k)| k) {
-        if path.last() != Some(&cell) {
-            path.push(cell);
-        }
-    }
-    let mut length = 0.0;
-    let mut total = collision::Collision::default();
-    let mut cache = cache;
-    for pair in path.windows(2) {
-        if let Some(cache) = cache.as_deref_mut() {
-            cache.note(pair[0], pair[1]);
-        }
-        let (dx, dy) = (
-            f64::from(pair[0].x.abs_diff(pair[1].x)),
-            f64::from(pair[0].y.abs_diff(pair[1].y)),
-        );
-        length += (dx * dx + dy * dy).sqrt();
-        total.add(collision::segment_collision(grid, pair[0], pair[1]));
-    }
-    let fitness = length + config.penalty * (total.cells as f64 + total.length);
-    (fitness, path, total)
+    let last = cells.len() - 1;
+    let mut decoding = Decoding {
+        grid,
+        path: vec![cells[0]],
+        cells,
+        tolerance: config.tolerance,
+        cache,
+        length: 0.0,
+        collision: collision::Collision::default(),
+    };
+    decoding.settle(0, last);
+    let total = decoding.collision;
+    let fitness = decoding.length + config.penalty * (total.cells as f64 + total.length);
+    (fitness, decoding.path, total)
 }
 
 /// CAPSO on `grid` from `start` to `goal` with `config` and an unlimited budget, written

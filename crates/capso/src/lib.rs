@@ -30,6 +30,18 @@
 //!    adds to the length of a straight line (2.4 % on seed 002's open map: 114.43 instead
 //!    of 111.80 with `tolerance = 0` and 10 samples per interval, tested). The kept cells are the
 //!    path's waypoints: an any-angle path ([`PathRule::AnyAngle`](planner_api::PathRule)).
+//!    A chord within the tolerance replaces the cells it spans unless it touches a blocked
+//!    cell while none of those cells (its ends included) is blocked; then the range is
+//!    split at its farthest cell, as one beyond the tolerance is. So a polyline through the
+//!    cells whose segments are all free stays free when simplified, and a curve through
+//!    blocked cells is simplified as if there were no obstacles (it collides either way).
+//!    Until 2026-12-06 every chord within the tolerance was taken: a route that bends less
+//!    than the tolerance around an obstacle then simplified into the blocked straight line
+//!    (on a 4 x 3 grid with one blocked cell every particle did, and the search ended with
+//!    `no_path`; through a wall's gap one row off the straight line the paths were 30.15 to
+//!    30.69 long instead of 29.07). The ranges are settled depth first, the left part
+//!    first (farthest cell: the first of equals), and each segment is measured as it
+//!    settles, a refused chord too.
 //!
 //! Its fitness is `length + penalty * collision`, where `length` is the polyline's
 //! Euclidean length and `collision` is, over its segments, the number of blocked cells
@@ -119,8 +131,9 @@
 //! blocked cells touched and its length inside them in thousandths of a cell; 0 for a
 //! found path), `n_chaos_reseeds`, `n_restarts`, `n_guide_expanded`, `guide_block` (the
 //! guide's block size in cells, 0 when there is no route), `n_segments` and
-//! `n_segment_cache_hits` (path segments measured over all evaluations, and those the
-//! per-search segment cache answered, [`collision::SegmentCache`]), `n_expanded`
+//! `n_segment_cache_hits` (segments measured over all evaluations, the paths' and the
+//! chords the simplification refused, and those the per-search segment cache answered,
+//! [`collision::SegmentCache`]), `n_expanded`
 //! (= `n_fitness_evaluations`). The outcome's series `best_fitness` (x: `iteration`) is
 //! the global best fitness after initialisation (iteration 0) and after each iteration.
 //! The tests hold `n_guide_expanded` and `guide_block` to
@@ -132,24 +145,23 @@
 //!
 //! # Against seed 002, measured
 //! `cargo bench -p planner-capso --bench seed002 -- --repeats=50` (seed 002's settings, seeds
-//! 0-49; lengths 2026-12-04, time ratios 2026-12-06 after PA-star's obstacle sizes lost
-//! their sort, two runs, each planner's repeats in a row as the runner runs them; times are
-//! the thread's CPU time, medians; PA-star's median on the several-obstacle map moved from
-//! 0.21 to 0.36 ms between the runs; the records of `cargo xtask experiment
-//! configs/pastar.toml` give 23.0, 17.6, 1.4, 2.2, 31.4 and 30.3 for the maps with
-//! obstacles), beside Theta\*'s length on the same map
+//! 0-49; 2026-12-06 with the simplification that refuses colliding chords, three runs, each
+//! planner's repeats in a row as the runner runs them; times are the thread's CPU time,
+//! medians, and moved with the machine between the runs; the records of `cargo xtask
+//! experiment configs/pastar.toml` give 35.6, 26.6, 1.8, 2.6, 46.4 and 45.8 for the maps
+//! with obstacles), beside Theta\*'s length on the same map
 //! (`gridplan plan --planner theta_star --start .. --goal .. maps/pastar/MAP`; an any-angle
 //! path, so an upper bound on the shortest one):
 //!
 //! | map (start -> goal) | found | mean length | seed 002's CAPSO | Theta\* | CAPSO / PA-star time |
 //! |---|---:|---:|---:|---:|---:|
-//! | open 140 x 120 (20,10) -> (70,110) | 50/50 | 111.80 | 111.84 | | 800-1374 (PA-star draws a line) |
-//! | two obstacles | 50/50 | 112.50 | 112.85 | 112.34 | 23.2-23.3 |
-//! | several obstacles | 50/50 | 113.87 | 114.46 | 113.70 | 10.3-17.4 |
-//! | 500 x 500 (50,250) -> (400,200) | 50/50 | 456.14 | 382.34 | 452.66 | 1.4 |
-//! | 500 x 500 (50,425) -> (400,225) | 50/50 | 416.08 | 427.30 | 414.93 | 1.9-2.2 |
-//! | 200 x 200 map 1 (25,35) -> (140,190) | 50/50 | 204.40 | 210.89 | 203.70 | 31.6 |
-//! | 200 x 200 map 2 | 50/50 | 193.91 | 215.09 | 193.88 | 30.2-30.7 |
+//! | open 140 x 120 (20,10) -> (70,110) | 50/50 | 111.80 | 111.84 | | 851-924 (PA-star draws a line) |
+//! | two obstacles | 50/50 | 112.42 | 112.85 | 112.34 | 26.1-35.9 |
+//! | several obstacles | 50/50 | 113.70 | 114.46 | 113.70 | 20.2-26.7 |
+//! | 500 x 500 (50,250) -> (400,200) | 50/50 | 455.98 | 382.34 | 452.66 | 1.5-1.7 |
+//! | 500 x 500 (50,425) -> (400,225) | 50/50 | 415.94 | 427.30 | 414.93 | 2.0-2.6 |
+//! | 200 x 200 map 1 (25,35) -> (140,190) | 50/50 | 203.84 | 210.89 | 203.70 | 43.9-46.4 |
+//! | 200 x 200 map 2 | 50/50 | 193.86 | 215.09 | 193.88 | 46.1-47.0 |
 //!
 //! The mean length is within 1 % of Theta\*'s on every map with obstacles, and within 5 %
 //! of the seed's on five of the seven. The maps are reconstructions (planner-pastar's
@@ -160,9 +172,15 @@
 //! left open, and no planner here comes near the seed's 382.34), and 209.07 on the paper's
 //! second 200 x 200 map against 202.63 here (the reconstruction is more open; the seed's
 //! CAPSO was 6.68 % longer than its PA-star there, this one is at Theta\*'s length). Seed
-//! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.4 to 32 times,
-//! more than 20 on the two-obstacle and 200 x 200 maps, where PA-star's local searches
-//! expand only 289 to 418 cells in 0.13 to 0.15 ms (this machine, 2026-12-06). Issue 34's speed-ups of the decoding
+//! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.5 to 47 times,
+//! more than 20 on the 140 x 120 and 200 x 200 maps with obstacles, where PA-star's local
+//! searches expand only 289 to 628 cells. Refusing colliding chords (step 3) cost the most
+//! there: callgrind counts 18 % more instructions for three searches on the two-obstacle
+//! map (73.4 million against 62.0) and 29 % more on the first 200 x 200 map (119.6 million
+//! against 92.7; the segment walk's share grew most: the refused chords and the finer
+//! segments of the near-feasible particles), and the CPU ratios rose from 23-27, 10-20 and
+//! 27-37 (two obstacles, several, 200 x 200) to the table's; the mean lengths fell by 0.03
+//! to 0.3 %. Issue 34's speed-ups of the decoding
 //! and the walk took CAPSO's median there from 1.95 to 1.61 ms and from 2.7-2.8 to 2.3-2.4
 //! ms, then the spline without a chain of divisions ([`spline`]) and the samples rounded in
 //! a loop of their own from 1.62-1.63 to 1.43-1.45 ms and from 2.33-2.45 to 2.12-2.25 ms
@@ -172,10 +190,10 @@
 //! left PA-star 25 to 40 % slower than with its repeats in a row (the bench's docs).
 //! The control-point study (`cargo xtask experiment
 //! configs/capso-control-points.toml`, 50 repeats on the several-obstacle map) gives mean
-//! lengths 113.85, 113.86, 113.87 and 113.87 for 3, 4, 5 and 6 control points (every run
+//! lengths 113.69, 113.68, 113.68 and 113.70 for 3, 4, 5 and 6 control points (every run
 //! found a path): flat within 0.02, where seed 002 (section 4.2.2, Fig. 11) finds 6 points
 //! best among 3 to 6; fewer points converge faster in the first iterations here (mean best
-//! fitness after 10 iterations 114.69, 114.75, 114.87 and 115.30).
+//! fitness after 10 iterations 114.13, 114.33, 114.38 and 114.70).
 //!
 //! ```
 //! use planner_api::{Budget, Cell, Grid, PathRule, Planner, Problem, Status};
@@ -486,8 +504,7 @@ struct Decoder {
     /// The spline's samples, rounded into `cells`.
     samples: Vec<(f64, f64)>,
     cells: Vec<Cell>,
-    /// The kept cells' flags, a bit per cell ([`simplify`]).
-    keep: Vec<u64>,
+    /// The ranges of cells the simplification has yet to settle ([`douglas_peucker`]).
     stack: Vec<(usize, usize)>,
     path: Vec<Cell>,
     /// Collision per segment, cleared per search (the grid may change between them).
@@ -532,32 +549,38 @@ impl Decoder {
                 self.cells.push(cell);
             }
         }
-        // The spline passes through start and goal exactly.
-        simplify(
-            &self.cells,
-            config.tolerance,
-            &mut self.keep,
-            &mut self.stack,
-        );
-        self.path.clear();
-        for (w, &word) in self.keep.iter().enumerate() {
-            let mut word = word;
-            while word != 0 {
-                // A flag of a cell, so in range.
-                let cell = self.cells[w * 64 + word.trailing_zeros() as usize];
-                if self.path.last() != Some(&cell) {
-                    self.path.push(cell);
-                }
-                word &= word - 1;
-            }
-        }
+        // The spline passes through start and goal exactly. The segments are measured as
+        // the simplification settles them, in path order: a chord within the tolerance
+        // replaces its cells only when it is free.
+        let Decoder {
+            cells,
+            stack,
+            path,
+            cache,
+            ..
+        } = self;
+        path.clear();
+        path.extend(cells.first());
         let mut length = 0.0;
         let mut collision = Collision::default();
-        for pair in self.path.windows(2) {
-            let (l, c) = self.cache.segment(grid, pair[0], pair[1]);
+        douglas_peucker(cells, config.tolerance, stack, |a, b| {
+            let (from, to) = (cells[a], cells[b]);
+            if from == to {
+                // A range that returns to its first cell: the path stays there.
+                return true;
+            }
+            let (l, c) = cache.segment(grid, from, to);
+            // A colliding chord is refused only where the cells it would replace are all
+            // free: a curve through blocked cells collides with or without it.
+            if b > a + 1 && !c.is_free() && cells[a..=b].iter().all(|c| !grid.is_blocked(c.x, c.y))
+            {
+                return false;
+            }
             length += l;
             collision.add(c);
-        }
+            path.push(to);
+            true
+        });
         Evaluation {
             fitness: length + config.penalty * collision.cost(),
             length,
@@ -565,116 +588,57 @@ impl Decoder {
         }
     }
 }
+
 /// Ramer-Douglas-Peucker on `cells`: keeps the first and last cell and every cell farther
 /// than `tolerance` from the line through its kept neighbours (the farthest first,
-/// recursively), as a particle's sampled cells are simplified.
+/// recursively), without regard to obstacles (a particle's cells are simplified so, except
+/// that a colliding chord over free cells is refused: the crate docs' step 3).
 pub fn simplify_cells(cells: &[Cell], tolerance: f64) -> Vec<Cell> {
-    let (mut keep, mut stack) = (Vec::new(), Vec::new());
-    simplify(cells, tolerance, &mut keep, &mut stack);
-    cells
-        .iter()
-        .enumerate()
-        .filter_map(|(i, &c)| (keep[i / 64] >> (i % 64) & 1 == 1).then_some(c))
-        .collect()
+    let mut kept: Vec<Cell> = cells.first().into_iter().copied().collect();
+    douglas_peucker(cells, tolerance, &mut Vec::new(), |_, b| {
+        kept.push(cells[b]);
+        true
+    });
+    kept
 }
 
-/// Relative margins around `tolerance^2 |b - a|^2` outside which [`simplify`] decides
-/// without dividing (far wider than the few roundings they cover).
+/// Relative margins around `tolerance^2 |b - a|^2` outside which [`douglas_peucker`]
+/// decides without dividing (far wider than the few roundings they cover).
 const ABOVE: f64 = 1.0 + 1e-9;
 const BELOW: f64 = 1.0 - 1e-9;
 
-/// [`simplify_cells`] into the flags `keep` (bit `i % 64` of word `i / 64` for cell `i`);
-/// `keep` and `stack` are scratch, resized here.
-fn simplify(cells: &[Cell], tolerance: f64, keep: &mut Vec<u64>, stack: &mut Vec<(usize, usize)>) {
-    keep.clear();
-    if cells.len() <= 64 {
-        // The usual case (seed 002's settings sample 15 points): the flags in one word and
-        // the pairs on the stack, without the vectors.
-        keep.push(simplify_small(cells, tolerance));
-        return;
-    }
-    keep.resize(cells.len().div_ceil(64), 0);
-    stack.clear();
-    douglas_peucker(cells, tolerance, |i| keep[i / 64] |= 1 << (i % 64), stack);
-}
-
-/// [`simplify_cells`] of at most 64 cells as the flags' word (bit `i` for cell `i`).
-fn simplify_small(cells: &[Cell], tolerance: f64) -> u64 {
-    let mut keep = 0u64;
-    let mut stack = SmallStack {
-        pairs: [(0, 0); 32],
-        len: 0,
-    };
-    douglas_peucker(cells, tolerance, |i| keep |= 1 << (i % 64), &mut stack);
-    keep
-}
-
-/// The pairs of cell indices that [`douglas_peucker`] has yet to split.
-trait PairStack {
-    fn push(&mut self, pair: (usize, usize));
-    fn pop(&mut self) -> Option<(usize, usize)>;
-}
-
-impl PairStack for Vec<(usize, usize)> {
-    #[inline]
-    fn push(&mut self, pair: (usize, usize)) {
-        Vec::push(self, pair);
-    }
-
-    #[inline]
-    fn pop(&mut self) -> Option<(usize, usize)> {
-        Vec::pop(self)
-    }
-}
-
-/// A [`PairStack`] for at most 64 cells: the pairs waiting at once span disjoint runs of
-/// at least three cells (they share at most their ends), so there are at most 31.
-struct SmallStack {
-    pairs: [(u8, u8); 32],
-    len: usize,
-}
-
-impl PairStack for SmallStack {
-    #[inline]
-    fn push(&mut self, (a, b): (usize, usize)) {
-        // Indices below 64, and fewer than 32 pairs (above).
-        self.pairs[self.len] = (a as u8, b as u8);
-        self.len += 1;
-    }
-
-    #[inline]
-    fn pop(&mut self) -> Option<(usize, usize)> {
-        self.len = self.len.checked_sub(1)?;
-        let (a, b) = self.pairs[self.len];
-        Some((usize::from(a), usize::from(b)))
-    }
-}
-
-/// Ramer-Douglas-Peucker on `cells` (crate docs): calls `keep` with the index of every
-/// kept cell, the first and last included; `stack` starts empty.
+/// Ramer-Douglas-Peucker on `cells` (crate docs, step 3), depth first and the left part
+/// first, with a say for the caller: a range `a..=b` with cells between whose farthest cell
+/// lies within `tolerance` of the chord `a -> b` becomes that chord when `chord(a, b)` returns
+/// true, and is split at its farthest cell otherwise, as a range beyond the tolerance is.
+/// `chord` is called for every range that becomes a segment of the result, in path order
+/// (for a range of two neighbouring cells too, whose answer is ignored), and for every
+/// chord it refused, when that range is examined; `stack` is scratch.
 #[inline(always)]
 fn douglas_peucker(
     cells: &[Cell],
     tolerance: f64,
-    mut keep: impl FnMut(usize),
-    stack: &mut impl PairStack,
+    stack: &mut Vec<(usize, usize)>,
+    mut chord: impl FnMut(usize, usize) -> bool,
 ) {
+    stack.clear();
     let Some(last) = cells.len().checked_sub(1) else {
         return;
     };
-    keep(0);
-    keep(last);
     let limit = tolerance * tolerance;
-    if last > 1 {
+    if last > 0 {
         stack.push((0, last));
     }
-    // Only pairs with cells between them are pushed; the order in which the pairs are
-    // taken does not change which cells are kept.
     while let Some((a, b)) = stack.pop() {
+        if b == a + 1 {
+            chord(a, b);
+            continue;
+        }
         // The perpendicular distance to the line through cells a and b (Douglas and
         // Peucker 1973) is |cross| / |b - a|, so the farthest cell has the largest |cross|
-        // (exact integers); only the winner is compared with the tolerance. When a and b
-        // are the same cell (a path that returns to a cell), the distance to it.
+        // (exact integers, the first of equals); only the winner is compared with the
+        // tolerance. When a and b are the same cell (a path that returns to a cell), the
+        // distance to it.
         let (ax, ay) = (i64::from(cells[a].x), i64::from(cells[a].y));
         let (bx, by) = (i64::from(cells[b].x), i64::from(cells[b].y));
         let (dx, dy) = (bx - ax, by - ay);
@@ -708,14 +672,10 @@ fn douglas_peucker(
                 q / s > limit
             }
         };
-        if split {
-            keep(farthest);
-            if b - farthest > 1 {
-                stack.push((farthest, b));
-            }
-            if farthest - a > 1 {
-                stack.push((a, farthest));
-            }
+        if split || !chord(a, b) {
+            // The left part is taken first.
+            stack.push((farthest, b));
+            stack.push((a, farthest));
         }
     }
 }
