@@ -563,7 +563,7 @@ impl Decoder {
         }
         // The spline passes through start and goal exactly. The segments are measured as
         // the simplification settles them, in path order: a chord within the tolerance
-        // replaces its cells only when it is free.
+        // replaces its cells when it is free or when one of them is blocked.
         let Decoder {
             cells,
             stack,
@@ -584,7 +584,11 @@ impl Decoder {
             let (l, c) = cache.segment(grid, from, to);
             // A colliding chord is refused only where the cells it would replace are all
             // free: a curve through blocked cells collides with or without it.
-            if b > a + 1 && !c.is_free() && cells[a..=b].iter().all(|c| !grid.is_blocked(c.x, c.y))
+            if b > a + 1
+                && !c.is_free()
+                && cells[a..=b]
+                    .iter()
+                    .all(|cell| !grid.is_blocked(cell.x, cell.y))
             {
                 return false;
             }
