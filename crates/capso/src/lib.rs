@@ -262,7 +262,9 @@ pub struct Config {
     /// Seed of the generator (initial positions, the chaotic sequence's start and reseeds).
     /// Default 0; the runner sets it to `seed + repeat`.
     pub seed: u64,
-    /// Control points `n` between start and goal, `1 ..= 20`. Default 6 (seed 002).
+    /// Control points `n` between start and goal, `1 ..= 20`. Default 6 (seed 002). A route
+    /// that turns often needs more: on random clutter of density 0.35, 6 points missed 35 of
+    /// 56 reachable goals, 20 missed 11 (crate docs, "On random clutter").
     pub control_points: u32,
     /// Particles, `1 ..= 10_000`. Default 30 (seed 002).
     pub population: u32,
