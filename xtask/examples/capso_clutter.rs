@@ -23,13 +23,7 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = planner_testkit::xorshift(0x9e37_79b9_7f4a_7c15);
     let theta = planner_registry::find("theta_star").expect("registered");
     let (mut tried, mut missed) = ([0u32; 4], [0u32; 4]);
     let mut ratios = Vec::new();

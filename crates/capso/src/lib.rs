@@ -175,9 +175,10 @@
 //! 002's Tables 12-14 give CAPSO 7 to 14 times PA-star's time; here it is 1.5 to 47 times,
 //! more than 20 on the 140 x 120 and 200 x 200 maps with obstacles, where PA-star's local
 //! searches expand only 289 to 628 cells. Refusing colliding chords (step 3) cost the most
-//! there: callgrind counts 18 % more instructions for three searches on the two-obstacle
-//! map (73.4 million against 62.0) and 29 % more on the first 200 x 200 map (119.6 million
-//! against 92.7; the segment walk's share grew most: the refused chords and the finer
+//! there: callgrind (`valgrind --tool=callgrind <the seed002 bench's binary> --repeats=3
+//! --only=MAP` in `crates/capso`, this crate against commit 38a9d64's) counts 18 % more
+//! instructions on the two-obstacle map (73.4 million against 62.0) and 29 % more on the
+//! first 200 x 200 map (119.6 million against 92.7; the segment walk's share grew most: the refused chords and the finer
 //! segments of the near-feasible particles), and the CPU ratios rose from 23-27, 10-20 and
 //! 27-37 (two obstacles, several, 200 x 200) to the table's; the mean lengths fell by 0.03
 //! to 0.3 %. Issue 34's speed-ups of the decoding
@@ -203,7 +204,7 @@
 //! 0, 0, 3 and 11 with 20; its paths are 0.99 times Theta\*'s length on average (median
 //! 0.995-1.000, worst 1.42-1.52). A route that turns often needs control points to turn
 //! at. With the simplification that took every chord within the tolerance (before
-//! 2026-12-06) it missed 0, 20, 51 and 48 with 6 control points and 0, 16, 45 and 47 with
+//! 2026-12-06; the same example with commit 38a9d64's planner-capso) it missed 0, 20, 51 and 48 with 6 control points and 0, 16, 45 and 47 with
 //! 20 (more points did not help), and its paths were 1.08 times Theta\*'s on average
 //! (worst 2.46).
 //!

@@ -75,13 +75,7 @@ fn check_replans(
 ) -> [u64; 4] {
     use planner_api::{CellChange, IncrementalPlanner};
     use planner_testkit::ReferenceIncremental;
-    let mut state = seed | 1;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = planner_testkit::xorshift(seed | 1);
     let mut repaired = [0; 4];
     for (k, (moves, dstar)) in [(4, false), (8, false), (4, true), (8, true)]
         .into_iter()

@@ -33,18 +33,13 @@ pub fn reference_weighted_jps(grid: &Grid, start: Cell, goal: Cell) -> WeightedJ
     use planner_api::Cost;
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
-    const DIRECTIONS: [(i64, i64); 8] = [
-        (1, 0),
-        (-1, 0),
-        (0, 1),
-        (0, -1),
-        (1, 1),
-        (-1, 1),
-        (1, -1),
-        (-1, -1),
-    ];
+    // planner-api's default move order: the four straight moves, then the diagonals.
+    let directions: [(i64, i64); 8] = planner_api::Direction::DEFAULT_ORDER.map(|d| {
+        let (dx, dy) = d.offset();
+        (i64::from(dx), i64::from(dy))
+    });
     let index_of = |dx: i64, dy: i64| {
-        DIRECTIONS
+        directions
             .iter()
             .position(|&d| d == (dx, dy))
             .unwrap_or_else(|| panic!("no direction ({dx}, {dy})"))
@@ -61,7 +56,7 @@ pub fn reference_weighted_jps(grid: &Grid, start: Cell, goal: Cell) -> WeightedJ
     // Free, and every free cell of its 3 x 3 neighbourhood has its weight.
     let uniform = |x: i64, y: i64| {
         free(x, y)
-            && DIRECTIONS
+            && directions
                 .iter()
                 .all(|&(dx, dy)| !free(x + dx, y + dy) || weight(x + dx, y + dy) == weight(x, y))
     };
@@ -69,7 +64,7 @@ pub fn reference_weighted_jps(grid: &Grid, start: Cell, goal: Cell) -> WeightedJ
     // A straight move in direction k onto (x, y) forces side s: its cell is free and the
     // cell beside it one step back is blocked.
     let forced = |x: i64, y: i64, k: usize, s: usize| {
-        let ((dx, dy), (sx, sy)) = (DIRECTIONS[k], DIRECTIONS[s]);
+        let ((dx, dy), (sx, sy)) = (directions[k], directions[s]);
         free(x + sx, y + sy) && !free(x + sx - dx, y + sy - dy)
     };
     let straight_stop =
@@ -78,7 +73,7 @@ pub fn reference_weighted_jps(grid: &Grid, start: Cell, goal: Cell) -> WeightedJ
     // Walks straight from (x, y) in direction k: `Some((cell, reached the goal))` for the
     // first cell that is the goal or a straight jump point, `None` at a blocked cell.
     let walk_straight = |x: i64, y: i64, k: usize| {
-        let (dx, dy) = DIRECTIONS[k];
+        let (dx, dy) = directions[k];
         let (mut cx, mut cy) = (x + dx, y + dy);
         loop {
             if !free(cx, cy) {
@@ -96,7 +91,7 @@ pub fn reference_weighted_jps(grid: &Grid, start: Cell, goal: Cell) -> WeightedJ
     };
     // A jump from (x, y) in direction k: the jump point and the cost of the way there.
     let jump = |x: i64, y: i64, k: usize| -> Option<((i64, i64), u64)> {
-        let (dx, dy) = DIRECTIONS[k];
+        let (dx, dy) = directions[k];
         let (mut px, mut py, mut cost) = (x, y, 0u64);
         loop {
             let (cx, cy) = (px + dx, py + dy);
@@ -139,12 +134,12 @@ pub fn reference_weighted_jps(grid: &Grid, start: Cell, goal: Cell) -> WeightedJ
         }
         let mut keep = 0u8;
         for k in (0..8).filter(|k| arrived >> k & 1 == 1) {
-            let (dx, dy) = DIRECTIONS[k];
+            let (dx, dy) = directions[k];
             keep |= 1 << k;
             if k < 4 {
                 for s in sides(k) {
                     if forced(x, y, k, s) {
-                        let (sx, sy) = DIRECTIONS[s];
+                        let (sx, sy) = directions[s];
                         keep |= 1 << s | 1 << index_of(dx + sx, dy + sy);
                     }
                 }
