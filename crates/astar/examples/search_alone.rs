@@ -8,7 +8,7 @@
 //! the map's `.scen` file, `PASSES` times, on the map with the bench's weights (seeded,
 //! 1-255, the mean rule) or, with `--unweighted`, without weights (with `--every=1` the
 //! `movingai` bench's 8-connected line; `--four` its 4-connected one: Manhattan), and
-//! prints `<expansions> expansions <total time> best pass <time of the fastest pass>`. The README's A*
+//! prints `<expansions> expansions <total time> best pass <time of the fastest pass>`. PERFORMANCE.md's A*
 //! sections time two builds of it run alternately (`for i in $(seq 15); do old; new; done`,
 //! minimum and median of each) and count its instructions under callgrind
 //! (`valgrind --tool=callgrind --toggle-collect='planner_astar::AStar::run*' <binary>`).

@@ -65,7 +65,7 @@
 //! grid's, so ties come out as they would by the grid's own index. Per vertex one 16-byte
 //! record holds `g` and `rhs`, complemented so that zero reads as `inf` (a four-to-a-line
 //! record read with no test; with a third word for a session stamp instead, D* Lite's
-//! navigations were slower, the README's D* Lite section, seventh round). A session lists
+//! navigations were slower, PERFORMANCE.md's D* Lite section, seventh round). A session lists
 //! the vertices whose records it wrote, in at most one entry per vertex of space (4
 //! bytes; a longer list gives way to clearing the whole array), and the next session
 //! clears those, so a reset costs the last session's work, not the map's size. The queue keeps a 4-byte ticket ([`KeyedQueue`]: buckets of `k1` with lazy

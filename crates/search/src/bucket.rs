@@ -634,7 +634,7 @@ impl<const TIE: u8> Open for IntOpen<TIE> {
 ///
 /// The `run` is a bucket's entries sorted when the bucket came up (least last). Sorting
 /// them at once and popping the run's end took 9 % less time than making them a heap and
-/// popping that, in A*'s 8-connected Moving AI bench lines (the README's A* section);
+/// popping that, in A*'s 8-connected Moving AI bench lines (PERFORMANCE.md's A* section);
 /// an earlier callgrind count of a similar variant (buckets of at most 32 entries sorted)
 /// found about as many instructions either way, so the time is likely the heap pops'
 /// unpredictable branches and scattered loads. Entries pushed since go to the heap, or to

@@ -54,7 +54,7 @@
 //! octile heuristic is exact on most of the known map, so a search's successors share their
 //! parent's `k1` and land in the current bucket, ordered by `k2` alone. Sorting them in
 //! batches instead cut D* Lite's summed planning time there by a quarter to a third (the
-//! README's D* Lite section, sixth round). The ring holds, unordered, the entries of the
+//! D* Lite section of PERFORMANCE.md, sixth round). The ring holds, unordered, the entries of the
 //! buckets `current + 1 .. current + RING` (a bit per bucket says which are occupied); the
 //! rest wait in `far`. When the front runs empty, `current` moves to the next occupied
 //! bucket (or `far`'s least, whichever is first) and that bucket's live entries are sorted

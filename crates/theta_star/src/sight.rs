@@ -40,7 +40,7 @@
 //! The scan is compiled once per pair of directions (whether the major and the minor
 //! coordinate grow), so that the line loop holds no test of them: callgrind counted the
 //! walk's instructions on den520d's scenarios (both searches) at 8.16 billion before and
-//! 7.00 billion after (README, issue 30's Theta\* section).
+//! 7.00 billion after (PERFORMANCE.md, issue 30's Theta\* section).
 
 use planner_api::{walk_segment, BlockedBits, Cell, Grid, SegmentWalk};
 
