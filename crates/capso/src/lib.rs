@@ -189,6 +189,27 @@
 //! path the same. The ratios given with those changes (20.5 and 23.5-24.1, then 18.9-19.1
 //! and 20.8-22.6) came from the bench when it alternated the two planners run by run, which
 //! left PA-star 25 to 40 % slower than with its repeats in a row (the bench's docs).
+//! What the seed's ratio measures: its Tables 12-14 also time TA-star (A* with 8 moves and
+//! the Manhattan heuristic, configs/pastar.toml's `TA-star`), at 0.23 s on the 140 x 120
+//! maps and 1.55 and 2.03 s on the 500 x 500 scenarios, 7 to 9 times as long. Here TA-star
+//! expands 101 to 173 cells on the first and 28,822 and 13,073 on the second (`runs.csv` of
+//! `cargo xtask experiment configs/pastar.toml`), and its median times (that run's
+//! `summary.md`, Tables 12-14 layout) are 0.019-0.023 ms and 2.33 and 1.62 ms, 71 to 122
+//! times as long. So most of the seed's 0.23 s does not grow with the search (a fixed cost of
+//! about 0.2 s per call, if its TA-star expands as many cells as this one), and on the small
+//! maps its CAPSO / PA-star ratio of 7 to 14 compares CAPSO with that cost; PA-star's own
+//! ratio to TA-star is about the seed's there (2.0 to 5.6 in that run against the seed's 2.9
+//! to 5.6, the 140 x 120 and 200 x 200 maps with obstacles). Where the searches dominate,
+//! on the 500 x 500 maps, the seed's CAPSO took 6.7 and 5.6 times PA-star's time, and this
+//! one takes 1.6 and 2.5 times. Issue 34's 20 on the smaller maps would need CAPSO's
+//! evaluations 1.3 (several obstacles), 1.7 (two) and 2.3 (200 x 200) times as fast as in
+//! the README's table; the profile there is flat (callgrind on the two-obstacle map: no
+//! source line above 4 % of the instructions). Tried on 2026-12-06 and not kept: a map of each cell's Chebyshev distance to
+//! the nearest blocked cell, so that a segment is free when its two ends' distances sum to
+//! at least its longer extent plus 2 (two lookups before the bounding box's four): it proved
+//! almost no segment free that the bounding box did not, and callgrind counted 184.2 million
+//! instructions against 183.8 (two obstacles, `--repeats=9`) and 310.9 against 303.8
+//! (first 200 x 200 map).
 //! The control-point study (`cargo xtask experiment
 //! configs/capso-control-points.toml`, 50 repeats on the several-obstacle map) gives mean
 //! lengths 113.69, 113.68, 113.68 and 113.70 for 3, 4, 5 and 6 control points (every run
