@@ -21,7 +21,11 @@
 //! run at once (503 beyond). A cancelled plan answers at once (409); its search stops at
 //! the planner's next budget check (the run's [`planner_api::Budget::cancel`] flag, read
 //! every [`planner_api::BudgetClock::TIME_CHECK_INTERVAL`] expansions), so its worker
-//! thread ends and frees its place, its result dropped.
+//! thread ends and frees its place, its result dropped. A plan whose client has gone (its
+//! connection closed or reset while the search runs: a closed tab, a reloaded page, an
+//! interrupted `curl`) is cancelled the same way, checked every 20 ms, so that an abandoned
+//! search does not hold one of the places until its budget runs out; as nginx does (its
+//! status 499), a client that closes its sending side after the request counts as gone.
 
 use std::collections::HashMap;
 use std::io::{Read as _, Write as _};
@@ -273,7 +277,7 @@ fn connection(state: &Arc<State>, mut stream: TcpStream) {
     let _ = stream.set_read_timeout(Some(READ_TIMEOUT));
     let _ = stream.set_write_timeout(Some(Duration::from_secs(60)));
     let answer = match read_request(state, &mut stream) {
-        Ok(Some((method, target, body))) => handle(state, &method, &target, &body),
+        Ok(Some((method, target, body))) => handle(state, &method, &target, &body, &stream),
         Ok(None) => return,
         Err(answer) => answer,
     };
@@ -413,7 +417,7 @@ fn find_head_end(buffer: &[u8]) -> Option<usize> {
         .map(|at| at + 4)
 }
 
-fn handle(state: &Arc<State>, method: &str, url: &str, body: &[u8]) -> Answer {
+fn handle(state: &Arc<State>, method: &str, url: &str, body: &[u8], client: &TcpStream) -> Answer {
     let (path, query) = url.split_once('?').unwrap_or((url, ""));
     let params = parse_query(query);
     match (method, path) {
@@ -432,7 +436,7 @@ fn handle(state: &Arc<State>, method: &str, url: &str, body: &[u8]) -> Answer {
             map(state, params.get("path").map_or("", String::as_str), &costs)
         }
         ("GET", "/api/results") => results(state, params.get("path").map_or("", String::as_str)),
-        ("POST", "/api/plan") => plan(state, body),
+        ("POST", "/api/plan") => plan(state, body, client),
         ("POST" | "GET", "/api/cancel") => {
             cancel(state, params.get("run").map_or("", String::as_str))
         }
@@ -766,7 +770,29 @@ fn forget_run(state: &State, run_id: Option<&str>, flag: CancelFlag) {
     }
 }
 
-fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
+/// Whether the client of `stream` has gone: its side of the connection closed (a read
+/// finds the end) or reset. Bytes it sent after the request (pipelined) do not count.
+fn client_gone(stream: &TcpStream) -> bool {
+    if stream.set_nonblocking(true).is_err() {
+        return false;
+    }
+    let mut probe = [0u8; 1];
+    let gone = match stream.peek(&mut probe) {
+        Ok(0) => true,
+        Ok(_) => false,
+        Err(e) => !matches!(
+            e.kind(),
+            std::io::ErrorKind::WouldBlock | std::io::ErrorKind::Interrupted
+        ),
+    };
+    // The answer is written blocking; a stream that cannot be set back is given up.
+    if stream.set_nonblocking(false).is_err() {
+        return true;
+    }
+    gone
+}
+
+fn plan(state: &Arc<State>, body: &[u8], client: &TcpStream) -> Answer {
     let request: PlanRequest = match serde_json::from_slice(body) {
         Ok(request) => request,
         Err(e) => return Answer::error(400, &format!("plan request: {e}")),
@@ -802,8 +828,9 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
     if let (Some(id), Ok(mut cancels)) = (&run_id, state.cancels.lock()) {
         cancels.insert(id.clone(), cancelled);
     }
-    // Only a run with an id can be cancelled; the others' searches check no flag.
-    let cancel = run_id.is_some().then_some(cancelled);
+    // Every search checks the flag: a run with an id can be cancelled by a request, and
+    // any run when its client goes.
+    let cancel = Some(cancelled);
     // The worker owns the guard: the place is freed when the worker ends, cancelled or not.
     let guard = Running {
         state: Arc::clone(state),
@@ -847,6 +874,9 @@ fn plan(state: &Arc<State>, body: &[u8]) -> Answer {
                 break Answer::error(500, "the planning thread ended without an answer")
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {
+                if !cancelled.is_cancelled() && client_gone(client) {
+                    cancelled.cancel();
+                }
                 if cancelled.is_cancelled() {
                     break Answer::json(409, r#"{"cancelled":true}"#.to_string());
                 }

@@ -81,10 +81,12 @@ fn post(addr: SocketAddr, url: &str, body: &str) -> u16 {
         .unwrap_or(0)
 }
 
-#[test]
-fn a_cancelled_plan_frees_its_place() {
+/// A directory with an open 64 x 64 map, served one plan at a time without an expansion
+/// cap (so only a cancel can end a Backtracking search there), and its server's address and
+/// stopper.
+fn one_place_server(name: &str) -> (std::path::PathBuf, SocketAddr, impl Fn()) {
     let dir = std::env::temp_dir().join(format!(
-        "planner-serve-cancel-{}-{}",
+        "planner-serve-{name}-{}-{}",
         std::process::id(),
         std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
@@ -97,7 +99,6 @@ fn a_cancelled_plan_frees_its_place() {
         text.push('\n');
     }
     std::fs::write(dir.join("open64.map"), text).unwrap();
-    // One plan at a time, and no expansion cap: only the cancel can end the first.
     let options = ServeOptions {
         caps: unbounded(),
         max_running: 1,
@@ -107,6 +108,25 @@ fn a_cancelled_plan_frees_its_place() {
     let addr = server.addr().unwrap();
     let stop = server.stopper();
     std::thread::spawn(move || server.run());
+    (dir, addr, stop)
+}
+
+/// Posts a quick plan until it is taken (not 503 busy), for at most 60 s; its status.
+fn quick_plan_when_free(addr: SocketAddr) -> u16 {
+    let quick = r#"{"map":"open64.map","start":[0,0],"goal":[5,5],"planner":"astar"}"#;
+    let started = Instant::now();
+    loop {
+        let status = post(addr, "/api/plan", quick);
+        if status != 503 || started.elapsed() > Duration::from_secs(60) {
+            return status;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn a_cancelled_plan_frees_its_place() {
+    let (dir, addr, stop) = one_place_server("cancel");
     let slow = r#"{"map":"open64.map","start":[0,0],"goal":[63,63],"planner":"backtracking","max_expansions":18000000000000000000,"run":"forever"}"#;
     let planning = std::thread::spawn(move || post(addr, "/api/plan", slow));
     let mut cancelled = false;
@@ -121,16 +141,38 @@ fn a_cancelled_plan_frees_its_place() {
     assert_eq!(planning.join().unwrap(), 409);
     // The worker's place is free once its search has stopped: a new plan is taken (not
     // 503 busy). Without the search stopping it would stay busy for hours.
+    assert_eq!(quick_plan_when_free(addr), 200, "still busy");
+    stop();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_plan_whose_client_left_frees_its_place() {
+    use std::io::Write;
+    let (dir, addr, stop) = one_place_server("gone");
+    // No run id, so no cancel request can reach it: only its client's leaving can.
+    let slow = r#"{"map":"open64.map","start":[0,0],"goal":[63,63],"planner":"backtracking","max_expansions":18000000000000000000}"#;
+    let mut stream = std::net::TcpStream::connect(addr).unwrap();
+    let request = format!(
+        "POST /api/plan HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{slow}",
+        slow.len()
+    );
+    stream.write_all(request.as_bytes()).unwrap();
+    // The search is running: the one place is taken.
+    std::thread::sleep(Duration::from_millis(300));
     let quick = r#"{"map":"open64.map","start":[0,0],"goal":[5,5],"planner":"astar"}"#;
-    let started = Instant::now();
-    let status = loop {
-        let status = post(addr, "/api/plan", quick);
-        if status != 503 || started.elapsed() > Duration::from_secs(60) {
-            break status;
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    assert_eq!(status, 200, "still busy after {:?}", started.elapsed());
+    assert_eq!(
+        post(addr, "/api/plan", quick),
+        503,
+        "the slow plan is not running"
+    );
+    // The client leaves without reading its answer.
+    drop(stream);
+    assert_eq!(
+        quick_plan_when_free(addr),
+        200,
+        "still busy after the client left"
+    );
     stop();
     let _ = std::fs::remove_dir_all(&dir);
 }
