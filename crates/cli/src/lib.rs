@@ -323,8 +323,8 @@ pub enum CliError {
 /// determinism bug found while drawing expanded cells).
 pub const EXIT_FAILURE: u8 = 1;
 /// Command-line arguments that do not fit (clap's own usage errors exit 2 too), and values
-/// that `slurm` cannot write safely into a script, and one file named by two of `plan`'s
-/// `--svg`, `--trace` and `--gif`.
+/// that `slurm` cannot write safely into a script, one file named by two of `plan`'s
+/// `--svg`, `--trace` and `--gif`, and such a file that is one of the run's inputs.
 pub const EXIT_USAGE: u8 = 2;
 /// An experiment config that cannot be read or is invalid.
 pub const EXIT_CONFIG: u8 = 3;
@@ -353,7 +353,8 @@ impl CliError {
             CliError::Failed(_) | CliError::Serve(_) => return EXIT_FAILURE,
             CliError::Pictures(error) => {
                 return match error {
-                    planner_serve::PictureError::SameFile { .. } => EXIT_USAGE,
+                    planner_serve::PictureError::SameFile { .. }
+                    | planner_serve::PictureError::Input { .. } => EXIT_USAGE,
                     _ => EXIT_FAILURE,
                 }
             }
@@ -832,23 +833,23 @@ pub fn run(command: Command) -> Result<(), CliError> {
                     ignore: ignore_costs,
                 },
             };
+            // A picture may not replace an input: refused before the run.
+            let inputs = planner_runner::plan::input_files(&args, &options);
+            let files: Vec<&std::path::Path> = [&svg, &trace, &gif]
+                .into_iter()
+                .filter_map(|file| file.as_deref())
+                .collect();
+            planner_serve::check_picture_files(&files, &inputs)?;
             let result = planner_runner::plan::run_with(&args, &options)?;
-            planner_serve::write_pictures(
-                &result,
-                svg.as_deref(),
-                trace.as_deref(),
-                gif.as_deref(),
-            )?;
-            if let Some(file) = &svg {
-                let svg = planner_report::figures::draw_run(
-                    &result.grid,
-                    &result.record,
-                    &result.expanded,
-                );
-                std::fs::write(file, svg).map_err(|e| {
-                    CliError::Failed(format!("cannot write {}: {e}", file.display()))
-                })?;
-            }
+            let figure = svg.as_ref().map(|_| {
+                planner_report::figures::draw_run(&result.grid, &result.record, &result.expanded)
+            });
+            let pictures = planner_serve::Pictures {
+                svg: svg.as_deref().zip(figure.as_deref()),
+                trace: trace.as_deref(),
+                gif: gif.as_deref(),
+            };
+            planner_serve::write_pictures(&result, &pictures, &inputs)?;
             let out = if json {
                 format!("{}\n", result.to_json()?)
             } else {

@@ -165,3 +165,101 @@ fn one_file_for_two_pictures_exits_2() {
     );
     assert!(!dir.join("x.svg").exists());
 }
+
+/// A picture that names one of the run's inputs (the map as given or by another path, a
+/// link's target, the `.scen` beside it, a ROS map's image, the config, the weight file) is
+/// a usage error (exit 2) refused before the run: writing it would replace the user's file.
+#[test]
+fn a_picture_over_an_input_exits_2_and_leaves_it() {
+    let dir = scratch("picture-input");
+    let map = dir.join("m.map");
+    let text = "type octile\nheight 3\nwidth 3\nmap\n...\n.@.\n...\n";
+    std::fs::write(&map, text).unwrap();
+    std::fs::write(dir.join("m.map.scen"), "version 1\n").unwrap();
+    std::fs::copy(
+        root().join("maps/ros-nav2/TenByTen.yaml"),
+        dir.join("ten.yaml"),
+    )
+    .unwrap();
+    std::fs::copy(
+        root().join("maps/ros-nav2/TenByTen.pgm"),
+        dir.join("TenByTen.pgm"),
+    )
+    .unwrap();
+    let image = std::fs::read(dir.join("TenByTen.pgm")).unwrap();
+    let weights = dir.join("w.csv");
+    std::fs::write(&weights, "1,1,1\n1,1,1\n1,1,1\n").unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(&map, dir.join("link.map")).unwrap();
+    let path = |name: &str| dir.join(name).display().to_string();
+    let dotted = format!("{}/./m.map", dir.display());
+    let cases: Vec<(String, &str, Vec<String>)> = vec![
+        (path("m.map"), "--svg", vec![]),
+        (path("m.map"), "--gif", vec![dotted.clone()]),
+        (path("m.map"), "--trace", vec![path("m.map.scen")]),
+        (path("ten.yaml"), "--svg", vec![path("TenByTen.pgm")]),
+        (path("m.map"), "--svg", vec![path("w.csv")]),
+        #[cfg(unix)]
+        (path("link.map"), "--svg", vec![path("m.map")]),
+    ];
+    for (map_arg, option, target) in cases {
+        let target = target.first().cloned().unwrap_or_else(|| map_arg.clone());
+        let mut args = vec!["plan", &map_arg, "--planner", "astar", "--start", "0,0"];
+        if map_arg.ends_with("ten.yaml") {
+            args.extend(["--goal", "1,0"]);
+        } else {
+            args.extend(["--goal", "2,2"]);
+        }
+        if target.ends_with("w.csv") {
+            args.extend(["--weights", &target]);
+        }
+        args.extend([option, &target]);
+        let (code, err) = gridplan(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains("which the run reads"), "{args:?}: {err}");
+    }
+    assert_eq!(std::fs::read_to_string(&map).unwrap(), text);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("m.map.scen")).unwrap(),
+        "version 1\n"
+    );
+    assert_eq!(std::fs::read(dir.join("TenByTen.pgm")).unwrap(), image);
+    assert_eq!(
+        std::fs::read_to_string(&weights).unwrap(),
+        "1,1,1\n1,1,1\n1,1,1\n"
+    );
+    // Another file is written, whole, and nothing is left beside it.
+    let out = path("m.svg");
+    let (code, err) = gridplan(&[
+        "plan",
+        &path("m.map"),
+        "--planner",
+        "astar",
+        "--start",
+        "0,0",
+        "--goal",
+        "2,2",
+        "--svg",
+        &out,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::read_to_string(&out).unwrap().starts_with("<svg"));
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let mut expect = vec![
+        "TenByTen.pgm",
+        "m.map",
+        "m.map.scen",
+        "m.svg",
+        "ten.yaml",
+        "w.csv",
+    ];
+    if cfg!(unix) {
+        expect.push("link.map");
+        expect.sort();
+    }
+    assert_eq!(names, expect);
+}

@@ -237,6 +237,36 @@ pub struct PlanResult {
     pub expanded: Vec<Cell>,
 }
 
+/// The files a plan of `args` with `options` may read: the map, a ROS map's image (when its
+/// YAML can be read now), the `.scen` beside the map, the config and the weight file. A
+/// picture written for the run must not replace one of them (`gridplan plan --svg`,
+/// `--trace`, `--gif`).
+pub fn input_files(args: &PlanArgs, options: &PlanOptions) -> Vec<PathBuf> {
+    let mut files = vec![
+        args.map.clone(),
+        PathBuf::from(format!("{}.scen", args.map.display())),
+    ];
+    if is_ros_yaml(&args.map) {
+        let origin = args.map.display().to_string();
+        let image = planner_maps::read_text_file(&args.map, planner_maps::DEFAULT_MAX_FILE_BYTES)
+            .and_then(|text| planner_maps::parse_ros_yaml(&text, &origin));
+        if let Ok(yaml) = image {
+            let dir = args.map.parent().unwrap_or(Path::new(""));
+            files.push(dir.join(yaml.image));
+        }
+    }
+    files.extend(args.config.iter().cloned());
+    files.extend(options.costs.weights.iter().cloned());
+    files
+}
+
+/// Whether `path` names a ROS `map_server` YAML file.
+fn is_ros_yaml(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"))
+}
+
 /// Runs `args`. A coverage planner covers from the start (`--start`, or the problem's)
 /// and takes no `--goal`.
 pub fn run(args: &PlanArgs) -> Result<PlanResult, RunnerError> {

@@ -39,6 +39,14 @@ pub enum PictureError {
         /// The file.
         path: PathBuf,
     },
+    /// A picture would replace one of the run's input files.
+    #[error("{}: names {}, which the run reads; a picture there would replace it", path.display(), input.display())]
+    Input {
+        /// The picture's file as given.
+        path: PathBuf,
+        /// The input it names.
+        input: PathBuf,
+    },
     /// The trace could not be encoded.
     #[error("search trace: {0}")]
     Trace(#[from] serde_json::Error),
@@ -60,40 +68,122 @@ pub enum PictureError {
     },
 }
 
-/// `plan --trace FILE` and `plan --gif FILE`: writes the run's Posthoc trace and GIF
-/// animation where asked (the run must have recorded its expanded cells). Refuses, before
-/// writing anything, two of `svg` (which the caller writes), `trace` and `gif` naming one
-/// file.
-pub fn write_pictures(
-    result: &planner_runner::plan::PlanResult,
-    svg: Option<&Path>,
-    trace: Option<&Path>,
-    gif: Option<&Path>,
-) -> Result<(), PictureError> {
-    let outputs: Vec<&Path> = [svg, trace, gif].into_iter().flatten().collect();
-    for (i, a) in outputs.iter().enumerate() {
-        if outputs[i + 1..].iter().any(|b| b == a) {
+/// The pictures `plan` writes: the figure's SVG text with its file, the Posthoc trace's
+/// file and the GIF's.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Pictures<'a> {
+    /// `--svg FILE` and the figure drawn for it.
+    pub svg: Option<(&'a Path, &'a str)>,
+    /// `--trace FILE`.
+    pub trace: Option<&'a Path>,
+    /// `--gif FILE`.
+    pub gif: Option<&'a Path>,
+}
+
+impl Pictures<'_> {
+    fn files(&self) -> Vec<&Path> {
+        [self.svg.map(|(file, _)| file), self.trace, self.gif]
+            .into_iter()
+            .flatten()
+            .collect()
+    }
+}
+
+/// Refuses, before anything is run or written, two of `files` that name one directory
+/// entry (`x.svg` and `./x.svg` too), and a file that names one of `inputs` (its entry, or
+/// the file a link there leads to): writing the picture would replace the user's map or
+/// configuration.
+pub fn check_picture_files(files: &[&Path], inputs: &[PathBuf]) -> Result<(), PictureError> {
+    let entries: Vec<PathBuf> = files.iter().map(|f| entry(f)).collect();
+    for (i, a) in entries.iter().enumerate() {
+        if entries[i + 1..].contains(a) {
             return Err(PictureError::SameFile {
-                path: a.to_path_buf(),
+                path: files[i].to_path_buf(),
             });
         }
+        for input in inputs {
+            let resolved = input.canonicalize().ok();
+            if *a == entry(input) || resolved.as_ref() == Some(a) {
+                return Err(PictureError::Input {
+                    path: files[i].to_path_buf(),
+                    input: input.clone(),
+                });
+            }
+        }
     }
-    let write = |file: &Path, bytes: &[u8]| {
-        std::fs::write(file, bytes).map_err(|source| PictureError::Write {
-            path: file.to_path_buf(),
-            source,
-        })
+    Ok(())
+}
+
+/// The directory entry `path` names: its directory with the links in it resolved, and its
+/// own name (a link there is not followed: a picture replaces the link, not what it leads
+/// to). The path as given when its directory cannot be resolved.
+fn entry(path: &Path) -> PathBuf {
+    let (Some(name), dir) = (path.file_name(), path.parent()) else {
+        return path.to_path_buf();
     };
-    if let Some(file) = trace {
-        let text = trace::plan_trace_json(result)?;
-        write(file, text.as_bytes())?;
+    let dir = match dir {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    dir.canonicalize()
+        .map_or_else(|_| path.to_path_buf(), |dir| dir.join(name))
+}
+
+/// Writes `bytes` to `file` whole or not at all: into a new file beside it (created, never
+/// opened through a link), then renamed over it, so that an error or an interruption leaves
+/// the old file as it was and a link at `file` is replaced, not written through.
+fn write_whole(file: &Path, bytes: &[u8]) -> Result<(), PictureError> {
+    use std::io::Write as _;
+    let failed = |source| PictureError::Write {
+        path: file.to_path_buf(),
+        source,
+    };
+    let name = file.file_name().ok_or_else(|| {
+        failed(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a file name",
+        ))
+    })?;
+    let mut partial = std::ffi::OsString::from(".");
+    partial.push(name);
+    partial.push(format!(".gridplan-{}.partial", std::process::id()));
+    let partial = file.with_file_name(partial);
+    let written = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&partial)
+        .and_then(|mut out| out.write_all(bytes).and_then(|()| out.sync_all()))
+        .and_then(|()| std::fs::rename(&partial, file));
+    if let Err(source) = written {
+        let _ = std::fs::remove_file(&partial);
+        return Err(failed(source));
     }
-    if let Some(file) = gif {
+    Ok(())
+}
+
+/// `plan --svg FILE`, `--trace FILE` and `--gif FILE`: writes the run's figure, Posthoc
+/// trace and GIF animation where asked (the run must have recorded its expanded cells for
+/// the last two), each whole or not at all. Refuses, before writing anything, what
+/// [`check_picture_files`] refuses.
+pub fn write_pictures(
+    result: &planner_runner::plan::PlanResult,
+    pictures: &Pictures<'_>,
+    inputs: &[PathBuf],
+) -> Result<(), PictureError> {
+    check_picture_files(&pictures.files(), inputs)?;
+    if let Some((file, svg)) = pictures.svg {
+        write_whole(file, svg.as_bytes())?;
+    }
+    if let Some(file) = pictures.trace {
+        let text = trace::plan_trace_json(result)?;
+        write_whole(file, text.as_bytes())?;
+    }
+    if let Some(file) = pictures.gif {
         let bytes = anim::plan_gif(result).map_err(|source| PictureError::Gif {
             path: file.to_path_buf(),
             source,
         })?;
-        write(file, &bytes)?;
+        write_whole(file, &bytes)?;
     }
     Ok(())
 }
