@@ -182,7 +182,9 @@ class Planner:
         paths: bool = False,
     ) -> Dict[str, Any]:
         """Plans query ``i`` from ``starts[i]`` to ``goals[i]`` (``(N, 2)`` arrays of
-        ``(x, y)``; no goals for coverage planners) on ``threads`` threads (0: one per
+        ``(x, y)``, integers or whole-numbered floats as ``np.floor`` gives them: 0.5 or
+        NaN raises ``ValueError`` naming the query, a boolean or string array
+        ``TypeError``; no goals for coverage planners) on ``threads`` threads (0: one per
         core) with the GIL released. Returns arrays in query order: ``status`` (str),
         ``length`` (float64, NaN without a path), ``steps`` and ``turns`` (int64, -1
         without a path), ``time_ms`` (float64, the search alone), ``counters`` (name ->

@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use numpy::ndarray::{Array1, Array2};
-use numpy::{PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
 use planner_api::Budget;
 use planner_runner::config::{Experiment, MapEntry, ProblemEntry};
 use planner_runner::record::RunRecord;
@@ -129,7 +129,11 @@ impl Planner {
     }
 }
 
-/// `(N, 2)` integer cells from any array-like (`None` stays `None`).
+/// `(N, 2)` integer cells from any array-like (`None` stays `None`): an integer array as it
+/// is, a float array whose values are all whole numbers (as `np.floor` gives them), and
+/// nothing else. A float that is not a whole number (0.5, NaN), an unsigned value beyond
+/// `i64`, or a boolean or other array is refused, naming the query, where a cast would
+/// silently plan another cell.
 fn cell_array(
     py: Python<'_>,
     name: &str,
@@ -139,23 +143,74 @@ fn cell_array(
         return Ok(None);
     };
     let numpy = py.import("numpy")?;
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("dtype", "int64")?;
-    let array = numpy.call_method("asarray", (value,), Some(&kwargs))?;
-    let array = match array.extract::<PyReadonlyArray2<'_, i64>>() {
-        Ok(view) if view.shape()[1] == 2 => view,
-        _ => {
-            return Err(Failure::Value(format!(
-                "{name}: expected an (N, 2) array of (x, y) cells, got shape {}",
-                array.getattr("shape")?.repr()?
-            ))
-            .into_pyerr(py))
-        }
+    let array = numpy.call_method1("asarray", (value,))?;
+    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    if shape.len() != 2 || shape[1] != 2 {
+        return Err(Failure::Value(format!(
+            "{name}: expected an (N, 2) array of (x, y) cells, got shape {}",
+            array.getattr("shape")?.repr()?
+        ))
+        .into_pyerr(py));
+    }
+    let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+    let not_a_cell = |query: usize, shown: String| {
+        Failure::Value(format!(
+            "{name}: query {query}: {shown} is not a cell (whole numbers x, y)"
+        ))
+        .into_pyerr(py)
     };
-    let view = array.as_array();
-    Ok(Some(
-        view.outer_iter().map(|row| (row[0], row[1])).collect(),
-    ))
+    let rows = |dtype: &str| array.call_method1("astype", (dtype,));
+    match kind.as_str() {
+        "i" => {
+            let converted = rows("int64")?;
+            let view: PyReadonlyArray2<'_, i64> = converted.extract()?;
+            Ok(Some(
+                view.as_array()
+                    .outer_iter()
+                    .map(|row| (row[0], row[1]))
+                    .collect(),
+            ))
+        }
+        "u" => {
+            let converted = rows("uint64")?;
+            let view: PyReadonlyArray2<'_, u64> = converted.extract()?;
+            view.as_array()
+                .outer_iter()
+                .enumerate()
+                .map(
+                    |(query, row)| match (i64::try_from(row[0]), i64::try_from(row[1])) {
+                        (Ok(x), Ok(y)) => Ok((x, y)),
+                        _ => Err(not_a_cell(query, format!("({}, {})", row[0], row[1]))),
+                    },
+                )
+                .collect::<PyResult<Vec<_>>>()
+                .map(Some)
+        }
+        "f" => {
+            let converted = rows("float64")?;
+            let view: PyReadonlyArray2<'_, f64> = converted.extract()?;
+            // Whole numbers in i64's range convert exactly; 2^63 itself does not fit.
+            const LIMIT: f64 = 9_223_372_036_854_775_808.0;
+            let whole = |v: f64| v.fract() == 0.0 && (-LIMIT..LIMIT).contains(&v);
+            view.as_array()
+                .outer_iter()
+                .enumerate()
+                .map(|(query, row)| {
+                    if whole(row[0]) && whole(row[1]) {
+                        Ok((row[0] as i64, row[1] as i64))
+                    } else {
+                        Err(not_a_cell(query, format!("({:?}, {:?})", row[0], row[1])))
+                    }
+                })
+                .collect::<PyResult<Vec<_>>>()
+                .map(Some)
+        }
+        _ => Err(Failure::Type(format!(
+            "{name}: expected integer cells, got dtype {}",
+            array.getattr("dtype")?.str()?
+        ))
+        .into_pyerr(py)),
+    }
 }
 
 #[pymethods]

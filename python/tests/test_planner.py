@@ -92,3 +92,24 @@ def test_bad_queries_raise_and_name_the_query(map10):
         gridplan.Planner(map10, "no_such_planner")
     # The planner stays usable after errors.
     assert planner.plan((0, 0), (11, 11)).status == "found"
+
+
+def test_plan_many_takes_whole_numbers_only(map10):
+    planner = gridplan.Planner(map10, "astar")
+    ints = planner.plan_many([[0, 0]], [[11, 11]])
+    # Whole floats (as np.floor gives them) and unsigned integers are the same cells.
+    floats = planner.plan_many(np.array([[0.0, 0.0]]), np.floor(np.array([[11.5, 11.2]])))
+    unsigned = planner.plan_many(np.array([[0, 0]], dtype=np.uint8), np.array([[11, 11]], dtype=np.uint64))
+    for out in (floats, unsigned):
+        assert list(out["status"]) == list(ints["status"])
+        assert list(out["length"]) == list(ints["length"])
+    # A cast would plan another cell: refused, naming the query.
+    for starts in ([[0, 0], [0.5, 0]], [[0, 0], [np.nan, 0]], [[0, 0], [np.inf, 1]]):
+        with pytest.raises(ValueError, match="starts: query 1: .* is not a cell"):
+            planner.plan_many(np.array(starts), [[11, 11], [11, 11]])
+    with pytest.raises(ValueError, match="goals: query 0: .* is not a cell"):
+        planner.plan_many([[0, 0]], np.array([[2**63, 1]], dtype=np.uint64))
+    with pytest.raises(TypeError, match="integer cells, got dtype bool"):
+        planner.plan_many(np.array([[True, False]]), [[11, 11]])
+    with pytest.raises(TypeError, match="integer cells"):
+        planner.plan_many([["0", "0"]], [[11, 11]])
