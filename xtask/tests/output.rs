@@ -154,13 +154,19 @@ fn small_files() -> &'static [PathBuf] {
 /// files in `expected`, and a runs.json with as many runs as runs.csv has rows.
 fn assert_complete(dir: &Path, experiment: &str, expected: &[PathBuf]) {
     let marker = Marker::read(dir).unwrap();
-    assert_eq!(marker, Marker::new(experiment));
     let files: Vec<PathBuf> = tree(dir)
         .into_iter()
         .filter(|(_, entry)| matches!(entry, Entry::File(..)))
         .map(|(path, _)| path)
         .collect();
     assert_eq!(files, expected, "{}", dir.display());
+    // The marker lists exactly the other files.
+    let listed: Vec<&Path> = files
+        .iter()
+        .map(PathBuf::as_path)
+        .filter(|path| *path != Path::new(MARKER))
+        .collect();
+    assert_eq!(marker, Marker::listing(experiment, &listed));
     let json: serde_json::Value =
         serde_json::from_slice(&fs::read(dir.join("runs.json")).unwrap()).unwrap();
     let n_rows = fs::read_to_string(dir.join("runs.csv"))
@@ -233,6 +239,42 @@ fn an_unrelated_directory_survives_byte_for_byte() {
         },
         "is not a gridplan results directory: it holds 3 entries (.hidden, chapters, thesis.tex) and no `.gridplan-results` marker",
         |dir| empty_dir(&dir.join("mydata")),
+    );
+}
+
+/// The user's additions inside gridplan's own results: a note at the top and a file in
+/// its figures.
+#[test]
+fn files_added_to_results_are_not_replaced() {
+    for (name, added) in [
+        ("notes.txt", "notes.txt"),
+        ("figures/mine.svg", "figures/mine.svg"),
+    ] {
+        check(
+            &format!("added-{}", name.replace('/', "-")),
+            |dir| {
+                let output = dir.join("results");
+                let run = experiment(small_config(), &output);
+                assert!(run.status.success(), "{}", stderr(&run));
+                write(&output.join(added), "mine\n");
+                output
+            },
+            &format!("holds what gridplan did not write there ({added})"),
+            |dir| fs::remove_file(dir.join("results").join(added)).unwrap(),
+        );
+    }
+    // A directory of the user's is named once, with its slash.
+    check(
+        "added-dir",
+        |dir| {
+            let output = dir.join("results");
+            let run = experiment(small_config(), &output);
+            assert!(run.status.success(), "{}", stderr(&run));
+            thesis(&output.join("mine"));
+            output
+        },
+        "holds what gridplan did not write there (mine/)",
+        |dir| fs::remove_dir_all(dir.join("results/mine")).unwrap(),
     );
 }
 
@@ -362,16 +404,29 @@ fn empty_marked_linked_and_missing_directories_are_written() {
     let dir = scratch("written");
     // Empty.
     fs::create_dir(dir.join("empty")).unwrap();
-    // Marked: a former result, rewritten.
+    // Marked: a former result, rewritten, with a file an older run wrote and listed.
     let marked = dir.join("marked");
     assert!(experiment(small_config(), &marked).status.success());
     fs::write(marked.join("stale.txt"), "from an older run").unwrap();
+    let listing = fs::read_to_string(marked.join(MARKER)).unwrap();
+    assert!(listing.ends_with(",\n]\n"), "{listing}");
+    let listing = format!("{}\n    \"stale.txt\",\n]\n", &listing[..listing.len() - 3]);
+    fs::write(marked.join(MARKER), listing).unwrap();
+    // Marked by a gridplan from before the listing: replaced whole, as then.
+    let legacy = dir.join("legacy");
+    assert!(experiment(small_config(), &legacy).status.success());
+    fs::write(legacy.join("stale.txt"), "from an older run").unwrap();
+    fs::write(
+        legacy.join(MARKER),
+        "format = 1\nexperiment = \"small\"\ngridplan = \"0.1.0\"\n",
+    )
+    .unwrap();
     // A link to an empty directory: written through, the link kept.
     fs::create_dir(dir.join("target")).unwrap();
     symlink(dir.join("target"), dir.join("link")).unwrap();
     // Missing parents are created.
     let nested = dir.join("a/b/results");
-    for output in [dir.join("empty"), marked, dir.join("link"), nested] {
+    for output in [dir.join("empty"), marked, legacy, dir.join("link"), nested] {
         let run = experiment(small_config(), &output);
         assert!(
             run.status.success(),
@@ -390,7 +445,10 @@ fn empty_marked_linked_and_missing_directories_are_written() {
     assert!(experiment(small_config(), &dir.join("link"))
         .status
         .success());
-    assert_eq!(names(&dir), ["a", "empty", "link", "marked", "target"]);
+    assert_eq!(
+        names(&dir),
+        ["a", "empty", "legacy", "link", "marked", "target"]
+    );
     assert_eq!(names(&dir.join("a/b")), ["results"]);
     fs::remove_dir_all(&dir).unwrap();
 }

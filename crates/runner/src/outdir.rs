@@ -6,11 +6,18 @@
 //!
 //! - **Only gridplan's own directories are replaced.** Every results directory carries a
 //!   marker file, [`MARKER`] (`.gridplan-results`, a small TOML [`Marker`]: format version,
-//!   experiment name, gridplan version). `dir` is replaced only if it is absent, empty, or
-//!   carries the marker (a regular file of that name; its contents are informational).
-//!   Anything else is [`OutdirError::NotResults`], which names the directory and what it
-//!   holds, and nothing is touched. A results directory written before the marker existed is
-//!   refused the same way: remove it by hand once.
+//!   experiment name, gridplan version, and since 2026-12-07 every file written beside it).
+//!   `dir` is replaced only if it is absent, empty, or carries the marker (a regular file of
+//!   that name). Anything else is [`OutdirError::NotResults`], which names the directory and
+//!   what it holds, and nothing is touched. A results directory written before the marker
+//!   existed is refused the same way: remove it by hand once.
+//! - **Nothing added to the results is lost.** A marker that lists its files lets `dir` be
+//!   replaced only when every entry in it (links not followed) is a listed file, a directory
+//!   holding one, or the marker: anything else, such as notes the user saved beside
+//!   `runs.csv` or a figure of their own in `figures/`, is [`OutdirError::UnlistedFiles`],
+//!   naming the first of them, and nothing is touched. A file an earlier run wrote is
+//!   listed by that run's marker, so results of a changed config are replaced as before; a
+//!   marker written before the listing (or unreadable) lets the directory be replaced whole.
 //! - **Not a directory.** A file (or anything else that is not a directory) at `dir` is
 //!   [`OutdirError::NotADirectory`]; it is left as it is.
 //! - **Symbolic links are written through.** If `dir` is a symbolic link to a directory, the
@@ -94,6 +101,11 @@ pub struct Marker {
     pub experiment: String,
     /// The gridplan version that wrote the directory.
     pub gridplan: String,
+    /// Every file gridplan wrote there, relative to it (`/`-separated), but the marker;
+    /// absent in markers written before 2026-12-07, whose directories are replaced without
+    /// this check.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub files: Option<Vec<String>>,
 }
 
 impl Marker {
@@ -103,6 +115,17 @@ impl Marker {
             format: FORMAT_VERSION,
             experiment: experiment.to_string(),
             gridplan: env!("CARGO_PKG_VERSION").to_string(),
+            files: None,
+        }
+    }
+
+    /// [`Marker::new`] listing `files`, the paths written beside the marker.
+    pub fn listing(experiment: &str, files: &[&Path]) -> Self {
+        let mut names: Vec<String> = files.iter().map(|path| relative_name(path)).collect();
+        names.sort();
+        Self {
+            files: Some(names),
+            ..Self::new(experiment)
         }
     }
 
@@ -117,13 +140,83 @@ impl Marker {
     }
 
     fn to_text(&self) -> String {
-        format!(
+        let quoted = |text: &str| toml::Value::String(text.to_string()).to_string();
+        let mut text = format!(
             "# Written by gridplan: this directory holds an experiment's results, and the next\n\
-             # run writing here replaces it whole. Remove this file and gridplan leaves it alone.\n\
-             format = {}\nexperiment = {:?}\ngridplan = {:?}\n",
-            self.format, self.experiment, self.gridplan
-        )
+             # run writing here replaces it whole, unless it holds files gridplan did not write\n\
+             # (those `files` does not list). Remove this file and gridplan leaves it alone.\n\
+             format = {}\nexperiment = {}\ngridplan = {}\n",
+            self.format,
+            quoted(&self.experiment),
+            quoted(&self.gridplan)
+        );
+        if let Some(files) = &self.files {
+            text.push_str("files = [\n");
+            for file in files {
+                text.push_str("    ");
+                text.push_str(&quoted(file));
+                text.push_str(",\n");
+            }
+            text.push_str("]\n");
+        }
+        text
     }
+}
+
+/// `path`'s components joined by `/` (lossily for a name that is not UTF-8), as a marker
+/// lists the files.
+fn relative_name(path: &Path) -> String {
+    path.components()
+        .map(|c| c.as_os_str().to_string_lossy())
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
+/// The entries of results directory `dir` that its marker does not list (at most `limit`,
+/// the outermost of a foreign tree only, sorted), or none when the marker lists no files
+/// (an older one) or cannot be read. A directory is listed when a listed file lies in it.
+fn unlisted_entries(dir: &Path, limit: usize) -> Result<Vec<String>, OutdirError> {
+    let Some(files) = Marker::read(dir).ok().and_then(|marker| marker.files) else {
+        return Ok(Vec::new());
+    };
+    let files: std::collections::BTreeSet<String> = files.into_iter().collect();
+    let mut found = Vec::new();
+    let mut pending = vec![PathBuf::new()];
+    while let Some(relative) = pending.pop() {
+        let here = dir.join(&relative);
+        let mut entries: Vec<_> = fs::read_dir(&here)
+            .map_err(io_error("list", &here))?
+            .collect::<Result<_, _>>()
+            .map_err(io_error("list", &here))?;
+        entries.sort_by_key(fs::DirEntry::file_name);
+        for entry in entries {
+            let path = relative.join(entry.file_name());
+            let name = relative_name(&path);
+            if name == MARKER {
+                continue;
+            }
+            let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
+            let prefix = format!("{name}/");
+            let listed = if is_dir {
+                files
+                    .range(prefix.clone()..)
+                    .next()
+                    .is_some_and(|f| f.starts_with(&prefix))
+            } else {
+                files.contains(&name)
+            };
+            if !listed {
+                found.push(if is_dir { prefix } else { name });
+                if found.len() == limit {
+                    return Ok(found);
+                }
+            } else if is_dir {
+                pending.push(path);
+            }
+        }
+    }
+    found.sort();
+    Ok(found)
 }
 
 /// Why an output directory was not written. Each names the path concerned.
@@ -171,6 +264,18 @@ pub enum OutdirError {
         path: PathBuf,
         /// What it holds, e.g. "2 entries (chapters, thesis.tex)".
         entries: String,
+    },
+    /// A results directory holding files that gridplan did not write there.
+    #[error(
+        "output `{}` holds what gridplan did not write there ({names}), so gridplan will not \
+         replace it and lose them: move them out first, or write elsewhere",
+        path.display()
+    )]
+    UnlistedFiles {
+        /// The directory.
+        path: PathBuf,
+        /// The first of them, e.g. "notes.txt, mine/".
+        names: String,
     },
     /// The results directory, or a directory inside it, has no write permission.
     #[error(
@@ -505,6 +610,22 @@ fn inspect(location: &Location) -> Result<(), OutdirError> {
             entries: format!("{count} ({}{more})", shown.join(", ")),
         });
     }
+    let unlisted = unlisted_entries(dir, 4)?;
+    if !unlisted.is_empty() {
+        let mut names = unlisted
+            .iter()
+            .take(3)
+            .cloned()
+            .collect::<Vec<_>>()
+            .join(", ");
+        if unlisted.len() > 3 {
+            names.push_str(", ...");
+        }
+        return Err(OutdirError::UnlistedFiles {
+            path: location.output.clone(),
+            names,
+        });
+    }
     if let Some(read_only) = read_only_dir(dir)? {
         return Err(OutdirError::ReadOnly {
             path: location.output.clone(),
@@ -577,7 +698,13 @@ fn write_partial(
 ) -> Result<(), OutdirError> {
     fs::create_dir(partial).map_err(io_error("create", partial))?;
     let marker = partial.join(MARKER);
-    fs::write(&marker, Marker::new(experiment).to_text()).map_err(io_error("write", &marker))?;
+    let written: Vec<&Path> = files
+        .iter()
+        .map(|f| f.path.as_path())
+        .chain(streamed.iter().map(|f| f.path.as_path()))
+        .collect();
+    fs::write(&marker, Marker::listing(experiment, &written).to_text())
+        .map_err(io_error("write", &marker))?;
     for file in files {
         let target = partial.join(&file.path);
         if let Some(dir) = target.parent() {
@@ -1001,6 +1128,33 @@ mod tests {
             .unwrap();
         assert!(matches!(error, OutdirError::LinkedLock { .. }), "{error}");
         assert_eq!(fs::read_to_string(&victim).unwrap(), "precious");
+        fs::remove_dir_all(&location.parent).unwrap();
+    }
+
+    #[test]
+    fn a_listing_marker_reads_back_whatever_the_names() {
+        let location = old_and_new("listing");
+        let files = [
+            Path::new("figures/a \"quoted\" \\ name.svg"),
+            Path::new("line\nbreak.csv"),
+            Path::new("runs.csv"),
+        ];
+        let marker = Marker::listing("t", &files);
+        fs::write(location.dir.join(MARKER), marker.to_text()).unwrap();
+        assert_eq!(Marker::read(&location.dir).unwrap(), marker);
+        assert_eq!(
+            marker.files.as_deref().unwrap(),
+            [
+                "figures/a \"quoted\" \\ name.svg",
+                "line\nbreak.csv",
+                "runs.csv"
+            ]
+        );
+        // Unlisted: the directory's own figures/a.svg and nothing else.
+        assert_eq!(
+            unlisted_entries(&location.dir, 4).unwrap(),
+            ["figures/a.svg"]
+        );
         fs::remove_dir_all(&location.parent).unwrap();
     }
 
