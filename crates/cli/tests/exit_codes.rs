@@ -262,4 +262,24 @@ fn a_picture_over_an_input_exits_2_and_leaves_it() {
         expect.sort();
     }
     assert_eq!(names, expect);
+    // A read-only picture stays as it is (the bits decide, for root too).
+    let mut permissions = std::fs::metadata(&out).unwrap().permissions();
+    permissions.set_readonly(true);
+    std::fs::set_permissions(&out, permissions).unwrap();
+    let before = std::fs::read(&out).unwrap();
+    let (code, err) = gridplan(&[
+        "plan",
+        &path("m.map"),
+        "--planner",
+        "astar",
+        "--start",
+        "0,0",
+        "--goal",
+        "1,0",
+        "--svg",
+        &out,
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("read-only"), "{err}");
+    assert_eq!(std::fs::read(&out).unwrap(), before);
 }

@@ -131,13 +131,21 @@ fn entry(path: &Path) -> PathBuf {
 
 /// Writes `bytes` to `file` whole or not at all: into a new file beside it (created, never
 /// opened through a link), then renamed over it, so that an error or an interruption leaves
-/// the old file as it was and a link at `file` is replaced, not written through.
+/// the old file as it was and a link at `file` is replaced, not written through. A
+/// read-only file at `file` is refused, as writing it in place would be.
 fn write_whole(file: &Path, bytes: &[u8]) -> Result<(), PictureError> {
     use std::io::Write as _;
     let failed = |source| PictureError::Write {
         path: file.to_path_buf(),
         source,
     };
+    // A read-only file stays: the rename below would replace it regardless.
+    if std::fs::symlink_metadata(file).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
+        return Err(failed(std::io::Error::new(
+            std::io::ErrorKind::PermissionDenied,
+            "the file is read-only",
+        )));
+    }
     let name = file.file_name().ok_or_else(|| {
         failed(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
