@@ -234,6 +234,23 @@ fn three_shards_merged_equal_one_run() {
         .unwrap();
     assert!(!missing.status.success());
     assert!(String::from_utf8_lossy(&missing.stderr).contains("shards 2/3"));
+    // A shard is not a sweep's results: `report` says to merge, and leaves it as it is.
+    let shard_files = files(&dir.join("s1"));
+    let shard = Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args(["report", &d("s1")])
+        .output()
+        .unwrap();
+    assert!(!shard.status.success());
+    let message = String::from_utf8_lossy(&shard.stderr);
+    assert!(
+        message.contains("holds one shard of a sweep (shard.stream)")
+            && message.contains("gridplan merge"),
+        "{message}"
+    );
+    assert!(
+        shard_files == files(&dir.join("s1")),
+        "report touched a shard"
+    );
 }
 
 #[test]

@@ -139,6 +139,14 @@ pub enum ResultsError {
         /// Why it could not be opened.
         source: std::io::Error,
     },
+    /// A shard's output given to `report`, which reads a whole sweep's results.
+    #[error("report: {} holds one shard of a sweep ({file}), not its results; merge the shards (`gridplan merge`) and report the merged directory", .dir.display())]
+    ShardNotResults {
+        /// The directory.
+        dir: PathBuf,
+        /// The shard's records file's name.
+        file: &'static str,
+    },
     /// A provenance file that does not read.
     #[error("report: {}: {source}", .path.display())]
     Provenance {

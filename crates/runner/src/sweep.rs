@@ -817,10 +817,19 @@ pub fn report(
         // An earlier version's results directory.
         path = dir.join(OLD_RESULTS_RECORDS);
     }
-    let file = stream::open_regular(&path).map_err(|source| ResultsError::NoRecords {
-        dir: dir.to_path_buf(),
-        file: RESULTS_RECORDS,
-        source,
+    let file = stream::open_regular(&path).map_err(|source| {
+        if fs::symlink_metadata(dir.join(SHARD_FILE)).is_ok_and(|m| m.is_file()) {
+            ResultsError::ShardNotResults {
+                dir: dir.to_path_buf(),
+                file: SHARD_FILE,
+            }
+        } else {
+            ResultsError::NoRecords {
+                dir: dir.to_path_buf(),
+                file: RESULTS_RECORDS,
+                source,
+            }
+        }
     })?;
     let what = path.display().to_string();
     let (header, reader) = StreamReader::new(BufReader::new(file), &what)?;
