@@ -202,21 +202,38 @@ fn a_picture_over_an_input_exits_2_and_leaves_it() {
         #[cfg(unix)]
         (path("link.map"), "--svg", vec![path("m.map")]),
     ];
+    // `plan MAP` with A* from (0, 0) to `goal` and `extra`.
+    let plan = |map: &str, goal: &str, extra: &[&str]| {
+        let mut args = vec![
+            "plan",
+            map,
+            "--planner",
+            "astar",
+            "--start",
+            "0,0",
+            "--goal",
+            goal,
+        ];
+        args.extend(extra);
+        gridplan(&args)
+    };
     for (map_arg, option, target) in cases {
         let target = target.first().cloned().unwrap_or_else(|| map_arg.clone());
-        let mut args = vec!["plan", &map_arg, "--planner", "astar", "--start", "0,0"];
-        if map_arg.ends_with("ten.yaml") {
-            args.extend(["--goal", "1,0"]);
+        let goal = if map_arg.ends_with("ten.yaml") {
+            "1,0"
         } else {
-            args.extend(["--goal", "2,2"]);
-        }
+            "2,2"
+        };
+        let mut extra = vec![option, target.as_str()];
         if target.ends_with("w.csv") {
-            args.extend(["--weights", &target]);
+            extra.extend(["--weights", &target]);
         }
-        args.extend([option, &target]);
-        let (code, err) = gridplan(&args);
-        assert_eq!(code, 2, "{args:?}: {err}");
-        assert!(err.contains("which the run reads"), "{args:?}: {err}");
+        let (code, err) = plan(&map_arg, goal, &extra);
+        assert_eq!(code, 2, "{map_arg} {extra:?}: {err}");
+        assert!(
+            err.contains("which the run reads"),
+            "{map_arg} {extra:?}: {err}"
+        );
     }
     assert_eq!(std::fs::read_to_string(&map).unwrap(), text);
     assert_eq!(
@@ -230,18 +247,7 @@ fn a_picture_over_an_input_exits_2_and_leaves_it() {
     );
     // Another file is written, whole, and nothing is left beside it.
     let out = path("m.svg");
-    let (code, err) = gridplan(&[
-        "plan",
-        &path("m.map"),
-        "--planner",
-        "astar",
-        "--start",
-        "0,0",
-        "--goal",
-        "2,2",
-        "--svg",
-        &out,
-    ]);
+    let (code, err) = plan(&path("m.map"), "2,2", &["--svg", &out]);
     assert_eq!(code, 0, "{err}");
     assert!(std::fs::read_to_string(&out).unwrap().starts_with("<svg"));
     let mut names: Vec<String> = std::fs::read_dir(&dir)
@@ -267,18 +273,7 @@ fn a_picture_over_an_input_exits_2_and_leaves_it() {
     permissions.set_readonly(true);
     std::fs::set_permissions(&out, permissions).unwrap();
     let before = std::fs::read(&out).unwrap();
-    let (code, err) = gridplan(&[
-        "plan",
-        &path("m.map"),
-        "--planner",
-        "astar",
-        "--start",
-        "0,0",
-        "--goal",
-        "1,0",
-        "--svg",
-        &out,
-    ]);
+    let (code, err) = plan(&path("m.map"), "1,0", &["--svg", &out]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("read-only"), "{err}");
     assert_eq!(std::fs::read(&out).unwrap(), before);
