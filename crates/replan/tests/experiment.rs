@@ -207,6 +207,50 @@ fn foreign_output_directories_are_left_alone() {
     assert_eq!(read(&out, "notes.txt"), "mine");
 }
 
+/// A second run into the same directory: the first run's outputs that it does not write
+/// (`dynamic`'s GPPC table after `navigate`) go, a file of the user's stays, and the marker
+/// lists exactly the files written, in the experiment runner's format.
+#[test]
+fn a_rerun_leaves_no_output_of_the_earlier_config() {
+    let out = scratch("rerun");
+    let run = |config: &str| {
+        let path = root().join(format!("configs/replan/{config}.toml"));
+        experiment::run(&path, &out, &test_options(1)).unwrap()
+    };
+    let first = run("dynamic");
+    assert!(out.join("gppc.csv").is_file());
+    assert!(first.files.iter().any(|f| f.ends_with("gppc.csv")));
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let second = run("navigate");
+    assert!(!out.join("gppc.csv").exists(), "a stale gppc.csv stayed");
+    assert_eq!(read(&out, "notes.txt"), "mine");
+    let marker: toml::Table = toml::from_str(&read(&out, experiment::MARKER)).unwrap();
+    let mut listed: Vec<String> = marker["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap().to_string())
+        .collect();
+    listed.sort();
+    let mut written: Vec<String> = second
+        .files
+        .iter()
+        .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert_eq!(listed, written);
+    assert_eq!(marker["format"].as_integer(), Some(1));
+    assert_eq!(marker["experiment"].as_str(), Some("navigate"));
+    // Nothing half-written is left beside them.
+    let mut names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".partial"))
+        .collect();
+    names.sort();
+    assert!(names.is_empty(), "{names:?}");
+}
+
 /// A* from scratch behind the incremental interface as planner-replan's `Restart`
 /// documents it (forward, or backward with the path reversed; octile or Manhattan times
 /// the map's smallest weight, exact costs, FIFO ties; no search when the start or goal is
