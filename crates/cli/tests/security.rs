@@ -271,6 +271,14 @@ fn report_html_has_no_live_script() {
     // The text is there, as text; the safe link stays a link.
     assert!(html.contains("&lt;script&gt;alert(5)&lt;/script&gt;"));
     assert!(html.contains("<a href=\"https://example.org\">ok</a>"));
+    // summary.md holds no raw HTML either, for the markdown viewers that would render it:
+    // the description's and the labels' tags are character references.
+    let summary = fs::read_to_string(dir.join("res/summary.md")).unwrap();
+    for raw in ["<script", "<img", "<b ", "</script", "<javascript"] {
+        assert!(!summary.contains(raw), "summary.md holds {raw}");
+    }
+    assert!(summary.contains("&lt;script>alert(1)&lt;/script>"));
+    assert!(summary.contains("&lt;script&gt;alert(5)&lt;/script&gt;"));
     // The check itself finds what it looks for.
     assert_eq!(
         live_script("<p><script>x</script><a href=\" JavaScript:x\">a</a><b onclick=x>b</b></p>")

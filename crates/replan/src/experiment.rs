@@ -715,9 +715,22 @@ fn csv(field: &str) -> String {
     }
 }
 
-/// Markdown table text: no line breaks, `|` escaped.
+/// Markdown table text: line breaks and other control characters as spaces, `|` escaped,
+/// and `<`, `>` and `&` as character references (no viewer takes a name for HTML), as
+/// planner-report's `md_cell`.
 fn md(text: &str) -> String {
-    text.replace(['\n', '\r'], " ").replace('|', "\\|")
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '|' => out.push_str("\\|"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '&' => out.push_str("&amp;"),
+            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') => out.push(' '),
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 fn micros(d: Duration) -> u128 {
@@ -1192,7 +1205,22 @@ fn summary_md(
 ) -> String {
     let mut out = format!("# {}\n\n", md(config.name.get_ref()));
     if !config.description.trim().is_empty() {
-        let _ = writeln!(out, "{}\n", config.description.trim());
+        // As planner-report's `md_prose`: a `<` that could open raw HTML shows as text.
+        let text = config.description.trim();
+        let mut prose = String::with_capacity(text.len());
+        let mut chars = text.chars().peekable();
+        while let Some(c) = chars.next() {
+            let opens = c == '<'
+                && chars
+                    .peek()
+                    .is_some_and(|&n| n.is_ascii_alphabetic() || matches!(n, '/' | '!' | '?'));
+            if opens {
+                prose.push_str("&lt;");
+            } else {
+                prose.push(c);
+            }
+        }
+        let _ = writeln!(out, "{prose}\n");
     }
     let (kind, setting) = match config.kind {
         Kind::Navigate => ("navigate", "radius"),

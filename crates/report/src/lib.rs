@@ -456,7 +456,7 @@ fn header(experiment: &Experiment, records: &[RunRecord], out: &mut String) {
 fn header_of(experiment: &Experiment, n_runs: u64, invalid: &[RunRecord], out: &mut String) {
     let _ = writeln!(out, "# Experiment `{}`\n", experiment.name);
     if let Some(description) = &experiment.description {
-        let _ = writeln!(out, "{}\n", description.trim());
+        let _ = writeln!(out, "{}\n", md_prose(description.trim()));
     }
     let n_problems: usize = experiment.maps.iter().map(|m| m.problems.len()).sum();
     let _ = writeln!(
@@ -585,19 +585,52 @@ impl FileNames {
     }
 }
 
-/// `text` for one cell of a markdown table: `|` escaped, line breaks and other control
-/// characters as spaces, so it cannot end the row or add a column.
+/// `text` for one cell of a markdown table (or a heading): `|` escaped, line breaks and
+/// other control characters as spaces, so it cannot end the row or add a column, and `<`,
+/// `>` and `&` as character references, so that no markdown viewer takes a label for HTML
+/// (a `<script>` or an `<img onerror>`); they show as themselves.
 ///
 /// ```
 /// assert_eq!(planner_report::md_cell("a|b\nc"), "a\\|b c");
+/// assert_eq!(planner_report::md_cell("<b>&"), "&lt;b&gt;&amp;");
 /// ```
 pub fn md_cell(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
             '|' => out.push_str("\\|"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '&' => out.push_str("&amp;"),
             c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') => out.push(' '),
             c => out.push(c),
+        }
+    }
+    out
+}
+
+/// `text` as markdown prose (a config's description): kept as written, markdown included,
+/// except that a `<` that could open raw HTML (before a letter, `/`, `!` or `?`: a tag, a
+/// comment, a declaration) becomes `&lt;`, so that no markdown viewer runs or draws it;
+/// it shows as itself. `a <-> b` and `x < y` stay as they are.
+///
+/// ```
+/// assert_eq!(
+///     planner_report::md_prose("<script>x</script> *a* <-> b"),
+///     "&lt;script>x&lt;/script> *a* <-> b"
+/// );
+/// ```
+pub fn md_prose(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        let opens = |next: Option<&char>| {
+            next.is_some_and(|&n| n.is_ascii_alphabetic() || matches!(n, '/' | '!' | '?'))
+        };
+        if c == '<' && opens(chars.peek()) {
+            out.push_str("&lt;");
+        } else {
+            out.push(c);
         }
     }
     out
