@@ -279,6 +279,7 @@ fn report_html_has_no_live_script() {
     }
     assert!(summary.contains("&lt;script>alert(1)&lt;/script>"));
     assert!(summary.contains("&lt;script&gt;alert(5)&lt;/script&gt;"));
+    assert!(!summary.contains("](javascript"), "a label became a link");
     // The check itself finds what it looks for.
     assert_eq!(
         live_script("<p><script>x</script><a href=\" JavaScript:x\">a</a><b onclick=x>b</b></p>")

@@ -716,12 +716,13 @@ fn csv(field: &str) -> String {
 }
 
 /// Markdown table text: line breaks and other control characters as spaces, `|` escaped,
-/// and `<`, `>` and `&` as character references (no viewer takes a name for HTML), as
-/// planner-report's `md_cell`.
+/// `<`, `>` and `&` as character references (no viewer takes a name for HTML) and the `(`
+/// after a `]` escaped (no link), as planner-report's `md_cell`.
 fn md(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
+            '(' if out.ends_with(']') => out.push_str("\\("),
             '|' => out.push_str("\\|"),
             '<' => out.push_str("&lt;"),
             '>' => out.push_str("&gt;"),
