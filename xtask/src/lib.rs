@@ -33,7 +33,8 @@ pub fn write_pastar_maps(dir: &Path) -> Result<Vec<String>, WriteError> {
     let mut written = Vec::new();
     for map in planner_pastar::generate::specs() {
         let path = dir.join(map.name);
-        std::fs::write(&path, planner_maps::to_movingai(&map.grid)).map_err(failed(&path))?;
+        planner_maps::write_whole(&path, planner_maps::to_movingai(&map.grid).as_bytes())
+            .map_err(failed(&path))?;
         written.push(path.display().to_string());
     }
     Ok(written)

@@ -423,6 +423,40 @@ pub fn read_text_file(path: &Path, max_bytes: u64) -> Result<String, MapError> {
     })
 }
 
+/// Writes `bytes` to `path` whole or not at all: into a new file beside it (created, never
+/// opened through a link), then renamed over it, so that an error or an interruption leaves
+/// the old file as it was and a link at `path` is replaced, not written through. A
+/// read-only file at `path` is refused (`PermissionDenied`), as writing it in place would
+/// be: the rename would replace it regardless of its bits. For the files gridplan writes
+/// beside a user's (a map written by `cargo xtask`, a picture of `plan`, a replanning
+/// experiment's tables).
+pub fn write_whole(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write as _;
+    if std::fs::symlink_metadata(path).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::PermissionDenied,
+            "the file is read-only",
+        ));
+    }
+    let name = path
+        .file_name()
+        .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"))?;
+    let mut partial = std::ffi::OsString::from(".");
+    partial.push(name);
+    partial.push(format!(".gridplan-{}.partial", std::process::id()));
+    let partial = path.with_file_name(partial);
+    let written = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&partial)
+        .and_then(|mut out| out.write_all(bytes).and_then(|()| out.sync_all()))
+        .and_then(|()| std::fs::rename(&partial, path));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&partial);
+    }
+    written
+}
+
 /// The bytes of the regular file at `path`, at most `max_bytes` of them; errors name
 /// `origin`. A path that names anything but a regular file (after following symbolic
 /// links) is refused before it is opened, so a FIFO cannot block and a device cannot

@@ -11,3 +11,4 @@ mod limits;
 mod nav2;
 mod real;
 mod ros;
+mod write;

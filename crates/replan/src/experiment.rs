@@ -629,24 +629,9 @@ fn marker_text(name: &str, files: &[String]) -> String {
     text
 }
 
-/// Writes `text` to `path` whole or not at all: a new file beside it (never opened through
-/// a link), renamed into place.
+/// Writes `text` to `path` whole or not at all ([`planner_maps::write_whole`]).
 fn write_whole(path: &Path, text: &str) -> std::io::Result<()> {
-    use std::io::Write as _;
-    let mut partial = std::ffi::OsString::from(".");
-    partial.push(path.file_name().unwrap_or_default());
-    partial.push(format!(".{}.partial", std::process::id()));
-    let partial = path.with_file_name(partial);
-    let written = std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&partial)
-        .and_then(|mut out| out.write_all(text.as_bytes()))
-        .and_then(|()| std::fs::rename(&partial, path));
-    if written.is_err() {
-        let _ = std::fs::remove_file(&partial);
-    }
-    written
+    planner_maps::write_whole(path, text.as_bytes())
 }
 
 /// One run's identity and records.

@@ -129,44 +129,12 @@ fn entry(path: &Path) -> PathBuf {
         .map_or_else(|_| path.to_path_buf(), |dir| dir.join(name))
 }
 
-/// Writes `bytes` to `file` whole or not at all: into a new file beside it (created, never
-/// opened through a link), then renamed over it, so that an error or an interruption leaves
-/// the old file as it was and a link at `file` is replaced, not written through. A
-/// read-only file at `file` is refused, as writing it in place would be.
+/// [`planner_maps::write_whole`] with the picture's error.
 fn write_whole(file: &Path, bytes: &[u8]) -> Result<(), PictureError> {
-    use std::io::Write as _;
-    let failed = |source| PictureError::Write {
+    planner_maps::write_whole(file, bytes).map_err(|source| PictureError::Write {
         path: file.to_path_buf(),
         source,
-    };
-    // A read-only file stays: the rename below would replace it regardless.
-    if std::fs::symlink_metadata(file).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
-        return Err(failed(std::io::Error::new(
-            std::io::ErrorKind::PermissionDenied,
-            "the file is read-only",
-        )));
-    }
-    let name = file.file_name().ok_or_else(|| {
-        failed(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "not a file name",
-        ))
-    })?;
-    let mut partial = std::ffi::OsString::from(".");
-    partial.push(name);
-    partial.push(format!(".gridplan-{}.partial", std::process::id()));
-    let partial = file.with_file_name(partial);
-    let written = std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&partial)
-        .and_then(|mut out| out.write_all(bytes).and_then(|()| out.sync_all()))
-        .and_then(|()| std::fs::rename(&partial, file));
-    if let Err(source) = written {
-        let _ = std::fs::remove_file(&partial);
-        return Err(failed(source));
-    }
-    Ok(())
+    })
 }
 
 /// `plan --svg FILE`, `--trace FILE` and `--gif FILE`: writes the run's figure, Posthoc
