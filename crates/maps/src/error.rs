@@ -88,7 +88,7 @@ pub enum MapErrorKind {
     },
     /// The path names something other than a regular file (a directory, a device such as
     /// `/dev/zero`, a FIFO, a socket): such a file may never end, so it is not read.
-    #[error("not a regular file ({what}): maps, images and scenarios are read from regular files")]
+    #[error("not a regular file ({what}): gridplan reads its inputs (maps, images, scenarios, configs, weights) from regular files only")]
     NotRegularFile {
         /// What the path names (`a directory`, `a character device`, ...).
         what: &'static str,

@@ -37,7 +37,7 @@ fn devices_fifos_and_directories_are_refused() {
         &link,
         &options,
         &format!(
-            "{}: not a regular file (a character device): maps, images and scenarios are read from regular files",
+            "{}: not a regular file (a character device): gridplan reads its inputs (maps, images, scenarios, configs, weights) from regular files only",
             link.display()
         ),
     );
@@ -70,7 +70,7 @@ fn devices_fifos_and_directories_are_refused() {
         &dir,
         &options,
         &format!(
-            "{}: not a regular file (a directory): maps, images and scenarios are read from regular files",
+            "{}: not a regular file (a directory): gridplan reads its inputs (maps, images, scenarios, configs, weights) from regular files only",
             dir.display()
         ),
     );
@@ -97,7 +97,7 @@ fn devices_fifos_and_directories_are_refused() {
     check(
         &yaml,
         &options,
-        "/dev/zero: not a regular file (a character device): maps, images and scenarios are read from regular files",
+        "/dev/zero: not a regular file (a character device): gridplan reads its inputs (maps, images, scenarios, configs, weights) from regular files only",
     );
 }
 

@@ -345,7 +345,7 @@ fn configs_and_published_files_must_be_regular_files() {
         .to_string();
     assert_eq!(
         error,
-        "/dev/zero: cannot read the config: not a regular file (a character device): maps, images and scenarios are read from regular files"
+        "/dev/zero: cannot read the config: not a regular file (a character device): gridplan reads its inputs (maps, images, scenarios, configs, weights) from regular files only"
     );
     let text = format!(
         "name = \"p\"\npublished = \"/dev/zero\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
@@ -353,7 +353,7 @@ fn configs_and_published_files_must_be_regular_files() {
     );
     assert_eq!(
         config_error(&text),
-        "c.toml:2:13: key `published`: cannot read /dev/zero: not a regular file (a character device): maps, images and scenarios are read from regular files"
+        "c.toml:2:13: key `published`: cannot read /dev/zero: not a regular file (a character device): gridplan reads its inputs (maps, images, scenarios, configs, weights) from regular files only"
     );
 }
 
