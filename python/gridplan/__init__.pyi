@@ -190,7 +190,9 @@ class Planner:
         without a path), ``time_ms`` (float64, the search alone), ``counters`` (name ->
         int64 array) and, with ``paths=True``, ``paths`` (a list of (N, 2) arrays).
         Counters do not depend on ``threads``. A start or goal off the grid or blocked
-        raises ``ProblemError`` naming the query."""
+        raises ``ProblemError`` naming the query. Ctrl-C (a notebook's interrupt) raises
+        ``KeyboardInterrupt``: no query starts after it and the running ones stop at their
+        next budget check; the planner stays usable."""
 
 def read_map(
     path: Union[str, "os.PathLike[str]"],

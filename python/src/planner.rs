@@ -40,6 +40,8 @@ struct State {
 #[pyclass(module = "gridplan", frozen)]
 pub struct Planner {
     state: Mutex<State>,
+    /// Raised when Ctrl-C interrupts a `plan_many` batch (reset at each).
+    cancel: planner_api::CancelFlag,
     /// The registry name.
     name: String,
     coverage: bool,
@@ -256,6 +258,7 @@ impl Planner {
                 workers: Vec::new(),
                 pool: None,
             }),
+            cancel: planner_api::CancelFlag::new(),
             name,
             coverage,
         })
@@ -319,8 +322,18 @@ impl Planner {
             }
         }
         let call = crate::warn::Call::begin();
-        let records = py.detach(|| {
-            guarded(|| {
+        // The batch runs on a thread of its own while this one, holding the GIL every 50
+        // ms, asks Python for signals: Ctrl-C (a notebook's interrupt) raises the batch's
+        // cancel flag, no query starts after it, the running ones stop at their next budget
+        // check, and KeyboardInterrupt is raised here once they have.
+        let cancel = self.cancel;
+        cancel.reset();
+        let (done, finished) = std::sync::mpsc::channel::<()>();
+        // Locked only by this thread; the mutex makes the receiver shareable with `detach`.
+        let finished = Mutex::new(finished);
+        let work = || {
+            let _mark = call.mark_worker();
+            let records = guarded(|| {
                 let mut state = self.lock();
                 let State {
                     experiment,
@@ -356,6 +369,7 @@ impl Planner {
                 let Some(pool) = pool.as_ref() else {
                     unreachable!("the pool was built above");
                 };
+                experiment.planners[0].budget.cancel = Some(cancel);
                 let experiment = &*experiment;
                 let n = experiment.maps[0].problems.len();
                 let next = AtomicUsize::new(0);
@@ -371,7 +385,7 @@ impl Planner {
                     let mut done = Vec::new();
                     loop {
                         let i = next.fetch_add(1, Ordering::Relaxed);
-                        if i >= n {
+                        if i >= n || cancel.is_cancelled() {
                             break;
                         }
                         let spec = RunSpec {
@@ -387,9 +401,37 @@ impl Planner {
                     records[i] = Some(record?);
                 }
                 Ok(records.into_iter().flatten().collect::<Vec<_>>())
-            })
+            });
+            let _ = done.send(());
+            records
+        };
+        let records = std::thread::scope(|scope| {
+            let batch = scope.spawn(work);
+            loop {
+                let ended = py.detach(|| {
+                    let finished = finished.lock().unwrap_or_else(|e| e.into_inner());
+                    finished.recv_timeout(std::time::Duration::from_millis(50))
+                        != Err(std::sync::mpsc::RecvTimeoutError::Timeout)
+                });
+                if !ended {
+                    if let Err(interrupt) = py.check_signals() {
+                        cancel.cancel();
+                        py.detach(|| {
+                            let _ = batch.join();
+                        });
+                        // The planner's next calls run unhindered.
+                        cancel.reset();
+                        return Err(interrupt);
+                    }
+                    continue;
+                }
+                return py
+                    .detach(|| batch.join())
+                    .unwrap_or_else(|_| Err(Failure::Value("the batch's thread panicked".into())))
+                    .map_err(|e| e.into_pyerr(py));
+            }
         });
-        let records = call.end(py, records.map_err(|e| e.into_pyerr(py)))?;
+        let records = call.end(py, records)?;
         arrays(py, &records, paths)
     }
 }

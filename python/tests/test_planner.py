@@ -113,3 +113,35 @@ def test_plan_many_takes_whole_numbers_only(map10):
         planner.plan_many(np.array([[True, False]]), [[11, 11]])
     with pytest.raises(TypeError, match="integer cells"):
         planner.plan_many([["0", "0"]], [[11, 11]])
+
+
+def test_ctrl_c_interrupts_plan_many_and_the_planner_stays_usable():
+    """Ctrl-C (a notebook's interrupt) stops a batch that would run for hours: the running
+    search stops at its next budget check and KeyboardInterrupt is raised."""
+    import signal
+    import subprocess
+    import sys
+
+    script = (
+        "import gridplan, numpy as np\n"
+        "grid = gridplan.Grid.from_numpy(np.ones((64, 64), dtype=bool), free=True)\n"
+        "planner = gridplan.Planner(grid, 'backtracking', budget={'max_expansions': 10**18})\n"
+        "print('ready', flush=True)\n"
+        "try:\n"
+        "    planner.plan_many([[0, 0]], [[63, 63]], threads=1)\n"
+        "    print('finished', flush=True)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True)\n"
+        "print(planner.plan_many([[0, 0]], [[0, 0]], threads=1)['status'][0], flush=True)\n"
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "ready"
+        import time
+
+        time.sleep(0.5)
+        proc.send_signal(signal.SIGINT)
+        out, _ = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
+    assert out.split() == ["interrupted", "found"]
