@@ -40,8 +40,9 @@ struct State {
 #[pyclass(module = "gridplan", frozen)]
 pub struct Planner {
     state: Mutex<State>,
-    /// Raised when Ctrl-C interrupts a `plan_many` batch (reset at each).
-    cancel: planner_api::CancelFlag,
+    /// Cancel flags for `plan_many` batches, one per batch at a time (raised when Ctrl-C
+    /// interrupts it), kept for reuse: a flag is never freed.
+    flags: Mutex<Vec<planner_api::CancelFlag>>,
     /// The registry name.
     name: String,
     coverage: bool,
@@ -258,7 +259,7 @@ impl Planner {
                 workers: Vec::new(),
                 pool: None,
             }),
-            cancel: planner_api::CancelFlag::new(),
+            flags: Mutex::new(Vec::new()),
             name,
             coverage,
         })
@@ -326,8 +327,27 @@ impl Planner {
         // ms, asks Python for signals: Ctrl-C (a notebook's interrupt) raises the batch's
         // cancel flag, no query starts after it, the running ones stop at their next budget
         // check, and KeyboardInterrupt is raised here once they have.
-        let cancel = self.cancel;
+        let cancel = self
+            .flags
+            .lock()
+            .ok()
+            .and_then(|mut flags| flags.pop())
+            .unwrap_or_default();
         cancel.reset();
+        // The flag goes back to the pool however this call ends.
+        struct Give<'a>(
+            &'a Mutex<Vec<planner_api::CancelFlag>>,
+            planner_api::CancelFlag,
+        );
+        impl Drop for Give<'_> {
+            fn drop(&mut self) {
+                self.1.reset();
+                if let Ok(mut flags) = self.0.lock() {
+                    flags.push(self.1);
+                }
+            }
+        }
+        let _give = Give(&self.flags, cancel);
         let (done, finished) = std::sync::mpsc::channel::<()>();
         // Locked only by this thread; the mutex makes the receiver shareable with `detach`.
         let finished = Mutex::new(finished);
@@ -396,6 +416,8 @@ impl Planner {
                     }
                     done
                 });
+                // The flag is this batch's: the planner's other calls do not hold it.
+                state.experiment.planners[0].budget.cancel = None;
                 let mut records: Vec<Option<RunRecord>> = (0..n).map(|_| None).collect();
                 for (i, record) in parts.into_iter().flatten() {
                     records[i] = Some(record?);
@@ -419,8 +441,6 @@ impl Planner {
                         py.detach(|| {
                             let _ = batch.join();
                         });
-                        // The planner's next calls run unhindered.
-                        cancel.reset();
                         return Err(interrupt);
                     }
                     continue;
