@@ -122,7 +122,11 @@ def test_ctrl_c_interrupts_plan_many_and_the_planner_stays_usable():
     import subprocess
     import sys
 
+    # The child handles SIGINT as an interactive Python does, even when this test runs
+    # with SIGINT ignored (a background job), which it would inherit.
     script = (
+        "import signal\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "import gridplan, numpy as np\n"
         "grid = gridplan.Grid.from_numpy(np.ones((64, 64), dtype=bool), free=True)\n"
         "planner = gridplan.Planner(grid, 'backtracking', budget={'max_expansions': 10**18})\n"
