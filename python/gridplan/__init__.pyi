@@ -233,4 +233,8 @@ def run_experiment(
     lock_wait: float = 120.0,
 ) -> Any:
     """Runs an experiment config; its records with runs.csv's columns, as a pandas
-    DataFrame when pandas is installed, else a list of dicts."""
+    DataFrame when pandas is installed, else a list of dicts. Ctrl-C (a notebook's
+    interrupt) raises ``KeyboardInterrupt`` once the sweep has stopped: no run starts
+    after it; in memory the running searches stop at their next budget check, while with
+    ``output`` they finish and the finished runs stay in the output's stream area (the
+    command line's ``experiment --resume`` continues them)."""

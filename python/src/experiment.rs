@@ -7,7 +7,11 @@
 //! which the package's tests would show.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 use std::time::Duration;
+
+use planner_api::CancelFlag;
 
 use planner_runner::record::RunRecord;
 use planner_runner::sweep::SweepArgs;
@@ -42,17 +46,42 @@ pub fn run_experiment_rows(
         ))
     })?;
     let call = crate::warn::Call::begin();
-    let swept = py.detach(move || {
+    // Ctrl-C stops the sweep: no run starts after it (`stop`), and in memory the running
+    // searches stop at their next budget check (the flag in every label's budget); the
+    // KeyboardInterrupt is raised once the sweep has ended. A sweep to `output` keeps the
+    // runs it finished in its stream area, as the command line's interrupted sweep does.
+    let stop = AtomicBool::new(false);
+    let cancel = FLAGS
+        .lock()
+        .ok()
+        .and_then(|mut flags| flags.pop())
+        .unwrap_or_default();
+    cancel.reset();
+    let work = || {
+        let _mark = call.mark_worker();
         guarded(|| {
             let records = match &output {
-                None => sweep(&config, threads)?,
-                Some(dir) => sweep_to(&config, threads, dir, lock_wait)?,
+                None => sweep(&config, threads, cancel)?,
+                Some(dir) => sweep_to(&config, threads, dir, lock_wait, &stop)?,
             };
             Ok((csv_columns(&records), records))
         })
-    });
+    };
+    let swept = crate::interrupt::interruptible(
+        py,
+        || {
+            stop.store(true, Ordering::SeqCst);
+            cancel.cancel();
+        },
+        || Err(Failure::Value("the sweep's thread panicked".into())),
+        work,
+    );
+    cancel.reset();
+    if let Ok(mut flags) = FLAGS.lock() {
+        flags.push(cancel);
+    }
     // What the config, the maps and a resume warned of.
-    let (columns, records) = call.end(py, swept.map_err(PyErr::from))?;
+    let (columns, records) = call.end(py, swept.and_then(|swept| swept.map_err(PyErr::from)))?;
     let fixed = csv_columns(&[]);
     let rows = PyList::empty(py);
     for record in &records {
@@ -65,9 +94,16 @@ pub fn run_experiment_rows(
     Ok((columns, rows).into_pyobject(py)?.unbind())
 }
 
-/// The records of a sweep of `config`, in memory.
-fn sweep(config: &Path, threads: usize) -> Result<Vec<RunRecord>, Failure> {
-    let experiment = planner_runner::config::load(config).map_err(RunnerError::from)?;
+/// Cancel flags of the sweeps running in memory, one per sweep at a time, kept for reuse
+/// (a flag is never freed).
+static FLAGS: Mutex<Vec<CancelFlag>> = Mutex::new(Vec::new());
+
+/// The records of a sweep of `config`, in memory; `cancel` stops every search.
+fn sweep(config: &Path, threads: usize, cancel: CancelFlag) -> Result<Vec<RunRecord>, Failure> {
+    let mut experiment = planner_runner::config::load(config).map_err(RunnerError::from)?;
+    for planner in &mut experiment.planners {
+        planner.budget.cancel = Some(cancel);
+    }
     let options = RunOptions {
         threads,
         progress: None,
@@ -84,6 +120,7 @@ fn sweep_to(
     threads: usize,
     dir: &Path,
     lock_wait: Duration,
+    stop: &AtomicBool,
 ) -> Result<Vec<RunRecord>, Failure> {
     // The sweep's errors are typed (the config's, the output's, a figure mismatch found
     // late): each becomes its exception class.
@@ -98,6 +135,7 @@ fn sweep_to(
         heap: Some(&planner_runner::alloc::Meter),
         keep_records: true,
         lock_wait,
+        stop: Some(stop),
         ..SweepArgs::new(config, &renderer)
     };
     let report = planner_runner::sweep::experiment(&args)?;

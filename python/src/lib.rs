@@ -17,6 +17,7 @@
 mod errors;
 mod experiment;
 mod grid;
+mod interrupt;
 mod plan;
 mod planner;
 mod values;

@@ -348,9 +348,6 @@ impl Planner {
             }
         }
         let _give = Give(&self.flags, cancel);
-        let (done, finished) = std::sync::mpsc::channel::<()>();
-        // Locked only by this thread; the mutex makes the receiver shareable with `detach`.
-        let finished = Mutex::new(finished);
         let work = || {
             let _mark = call.mark_worker();
             let records = guarded(|| {
@@ -424,33 +421,15 @@ impl Planner {
                 }
                 Ok(records.into_iter().flatten().collect::<Vec<_>>())
             });
-            let _ = done.send(());
             records
         };
-        let records = std::thread::scope(|scope| {
-            let batch = scope.spawn(work);
-            loop {
-                let ended = py.detach(|| {
-                    let finished = finished.lock().unwrap_or_else(|e| e.into_inner());
-                    finished.recv_timeout(std::time::Duration::from_millis(50))
-                        != Err(std::sync::mpsc::RecvTimeoutError::Timeout)
-                });
-                if !ended {
-                    if let Err(interrupt) = py.check_signals() {
-                        cancel.cancel();
-                        py.detach(|| {
-                            let _ = batch.join();
-                        });
-                        return Err(interrupt);
-                    }
-                    continue;
-                }
-                return py
-                    .detach(|| batch.join())
-                    .unwrap_or_else(|_| Err(Failure::Value("the batch's thread panicked".into())))
-                    .map_err(|e| e.into_pyerr(py));
-            }
-        });
+        let records = crate::interrupt::interruptible(
+            py,
+            || cancel.cancel(),
+            || Err(Failure::Value("the batch's thread panicked".into())),
+            work,
+        )
+        .and_then(|records| records.map_err(|e| e.into_pyerr(py)));
         let records = call.end(py, records)?;
         arrays(py, &records, paths)
     }

@@ -149,3 +149,42 @@ def test_ctrl_c_interrupts_plan_many_and_the_planner_stays_usable():
     finally:
         proc.kill()
     assert out.split() == ["interrupted", "found"]
+
+
+def test_ctrl_c_interrupts_run_experiment(tmp_path):
+    """Ctrl-C stops a sweep in memory whose search would run for hours."""
+    import signal
+    import subprocess
+    import sys
+
+    (tmp_path / "open.map").write_text(
+        "type octile\nheight 64\nwidth 64\nmap\n" + ("." * 64 + "\n") * 64
+    )
+    (tmp_path / "c.toml").write_text(
+        'name = "forever"\n[[maps]]\nfiles = ["open.map"]\n'
+        "pairs = [{ start = [0, 0], goal = [63, 63] }]\n"
+        '[planners.bt]\nplanner = "backtracking"\n'
+        "[budget]\nmax_expansions = 1_000_000_000_000_000\n"
+    )
+    script = (
+        "import signal\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+        "import gridplan\n"
+        "print('ready', flush=True)\n"
+        "try:\n"
+        f"    gridplan.run_experiment({str(tmp_path / 'c.toml')!r})\n"
+        "    print('finished', flush=True)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True)\n"
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "ready"
+        import time
+
+        time.sleep(1.0)
+        proc.send_signal(signal.SIGINT)
+        out, _ = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
+    assert out.split() == ["interrupted"]
