@@ -115,48 +115,55 @@ def test_plan_many_takes_whole_numbers_only(map10):
         planner.plan_many([["0", "0"]], [[11, 11]])
 
 
-def test_ctrl_c_interrupts_plan_many_and_the_planner_stays_usable():
-    """Ctrl-C (a notebook's interrupt) stops a batch that would run for hours: the running
-    search stops at its next budget check and KeyboardInterrupt is raised."""
+def interrupted_output(setup, call, after):
+    """What a child Python prints when it runs `setup`, then `call` inside a try that prints
+    'interrupted' on KeyboardInterrupt (else 'finished'), and gets SIGINT `after` seconds
+    into it. The child handles SIGINT as an interactive Python does, even when this test
+    runs with SIGINT ignored (a background job), which it would inherit."""
     import signal
     import subprocess
     import sys
+    import time
 
-    # The child handles SIGINT as an interactive Python does, even when this test runs
-    # with SIGINT ignored (a background job), which it would inherit.
     script = (
         "import signal\n"
         "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
-        "import gridplan, numpy as np\n"
-        "grid = gridplan.Grid.from_numpy(np.ones((64, 64), dtype=bool), free=True)\n"
-        "planner = gridplan.Planner(grid, 'backtracking', budget={'max_expansions': 10**18})\n"
+        f"{setup}\n"
         "print('ready', flush=True)\n"
         "try:\n"
-        "    planner.plan_many([[0, 0]], [[63, 63]], threads=1)\n"
+        f"    {call}\n"
         "    print('finished', flush=True)\n"
         "except KeyboardInterrupt:\n"
         "    print('interrupted', flush=True)\n"
-        "print(planner.plan_many([[0, 0]], [[0, 0]], threads=1)['status'][0], flush=True)\n"
     )
     proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
     try:
         assert proc.stdout.readline().strip() == "ready"
-        import time
-
-        time.sleep(0.5)
+        time.sleep(after)
         proc.send_signal(signal.SIGINT)
         out, _ = proc.communicate(timeout=60)
     finally:
         proc.kill()
-    assert out.split() == ["interrupted", "found"]
+    return out.split()
+
+
+def test_ctrl_c_interrupts_plan_many_and_the_planner_stays_usable():
+    """Ctrl-C (a notebook's interrupt) stops a batch that would run for hours: the running
+    search stops at its next budget check and KeyboardInterrupt is raised."""
+    out = interrupted_output(
+        "import gridplan, numpy as np\n"
+        "grid = gridplan.Grid.from_numpy(np.ones((64, 64), dtype=bool), free=True)\n"
+        "planner = gridplan.Planner(grid, 'backtracking', budget={'max_expansions': 10**18})\n"
+        "import atexit\n"
+        "atexit.register(lambda: print(planner.plan_many([[0, 0]], [[0, 0]])['status'][0]))",
+        "planner.plan_many([[0, 0]], [[63, 63]], threads=1)",
+        0.5,
+    )
+    assert out == ["interrupted", "found"]
 
 
 def test_ctrl_c_interrupts_run_experiment(tmp_path):
     """Ctrl-C stops a sweep in memory whose search would run for hours."""
-    import signal
-    import subprocess
-    import sys
-
     (tmp_path / "open.map").write_text(
         "type octile\nheight 64\nwidth 64\nmap\n" + ("." * 64 + "\n") * 64
     )
@@ -166,25 +173,9 @@ def test_ctrl_c_interrupts_run_experiment(tmp_path):
         '[planners.bt]\nplanner = "backtracking"\n'
         "[budget]\nmax_expansions = 1_000_000_000_000_000\n"
     )
-    script = (
-        "import signal\n"
-        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
-        "import gridplan\n"
-        "print('ready', flush=True)\n"
-        "try:\n"
-        f"    gridplan.run_experiment({str(tmp_path / 'c.toml')!r})\n"
-        "    print('finished', flush=True)\n"
-        "except KeyboardInterrupt:\n"
-        "    print('interrupted', flush=True)\n"
+    out = interrupted_output(
+        "import gridplan",
+        f"gridplan.run_experiment({str(tmp_path / 'c.toml')!r})",
+        1.0,
     )
-    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
-    try:
-        assert proc.stdout.readline().strip() == "ready"
-        import time
-
-        time.sleep(1.0)
-        proc.send_signal(signal.SIGINT)
-        out, _ = proc.communicate(timeout=60)
-    finally:
-        proc.kill()
-    assert out.split() == ["interrupted"]
+    assert out == ["interrupted"]
