@@ -182,7 +182,7 @@ fn unlisted_entries(dir: &Path, limit: usize) -> Result<Vec<String>, OutdirError
     let files: std::collections::BTreeSet<String> = files.into_iter().collect();
     let mut found = Vec::new();
     let mut pending = vec![PathBuf::new()];
-    while let Some(relative) = pending.pop() {
+    'walk: while let Some(relative) = pending.pop() {
         let here = dir.join(&relative);
         let mut entries: Vec<_> = fs::read_dir(&here)
             .map_err(io_error("list", &here))?
@@ -208,7 +208,7 @@ fn unlisted_entries(dir: &Path, limit: usize) -> Result<Vec<String>, OutdirError
             if !listed {
                 found.push(if is_dir { prefix } else { name });
                 if found.len() == limit {
-                    return Ok(found);
+                    break 'walk;
                 }
             } else if is_dir {
                 pending.push(path);

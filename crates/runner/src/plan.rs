@@ -242,11 +242,10 @@ pub struct PlanResult {
 /// picture written for the run must not replace one of them (`gridplan plan --svg`,
 /// `--trace`, `--gif`).
 pub fn input_files(args: &PlanArgs, options: &PlanOptions) -> Vec<PathBuf> {
-    let mut files = vec![
-        args.map.clone(),
-        PathBuf::from(format!("{}.scen", args.map.display())),
-    ];
-    if is_ros_yaml(&args.map) {
+    let mut files = vec![args.map.clone(), scen_beside(&args.map)];
+    if planner_maps::MapFormat::from_path(&args.map)
+        .is_ok_and(|f| f == planner_maps::MapFormat::Ros)
+    {
         let origin = args.map.display().to_string();
         let image = planner_maps::read_text_file(&args.map, planner_maps::DEFAULT_MAX_FILE_BYTES)
             .and_then(|text| planner_maps::parse_ros_yaml(&text, &origin));
@@ -260,11 +259,10 @@ pub fn input_files(args: &PlanArgs, options: &PlanOptions) -> Vec<PathBuf> {
     files
 }
 
-/// Whether `path` names a ROS `map_server` YAML file.
-fn is_ros_yaml(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"))
+/// The `.scen` file beside map `map` whose problems `plan` takes when the map has none of
+/// its own (`map.map.scen` for `map.map`).
+fn scen_beside(map: &Path) -> PathBuf {
+    PathBuf::from(format!("{}.scen", map.display()))
 }
 
 /// Runs `args`. A coverage planner covers from the start (`--start`, or the problem's)
@@ -564,7 +562,7 @@ fn own_pairs(
     if !own.is_empty() {
         return Ok(own.iter().map(|p| (p.start, p.goal, None)).collect());
     }
-    let scen = PathBuf::from(format!("{}.scen", map.display()));
+    let scen = scen_beside(map);
     if !scen.is_file() {
         return Ok(Vec::new());
     }
