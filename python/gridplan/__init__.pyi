@@ -185,7 +185,7 @@ class Planner:
         ``(x, y)``, integers or whole-numbered floats as ``np.floor`` gives them: 0.5 or
         NaN raises ``ValueError`` naming the query, a boolean or string array
         ``TypeError``; no goals for coverage planners) on ``threads`` threads (0: one per
-        core) with the GIL released. Returns arrays in query order: ``status`` (str),
+        core, at most 256 as in a config; more raises ``ValueError``) with the GIL released. Returns arrays in query order: ``status`` (str),
         ``length`` (float64, NaN without a path), ``steps`` and ``turns`` (int64, -1
         without a path), ``time_ms`` (float64, the search alone), ``counters`` (name ->
         int64 array) and, with ``paths=True``, ``paths`` (a list of (N, 2) arrays).
@@ -205,7 +205,10 @@ def read_map(
     """Reads a ``.map``, ``.txt``, ``.csv`` or ROS ``.yaml`` map: the grid and its problems.
     ``obstacle``: the value marking obstacles in a ``.csv`` matrix (0 or 1). ``weights``:
     a ``.csv`` of cell weights for the map; ``graded=True``: a ROS map's graded values
-    as costs (nav2's bands); ``cost_rule``: ``"mean"`` or ``"entered"``."""
+    as costs (nav2's bands); ``cost_rule``: ``"mean"`` or ``"entered"``. As ``gridplan
+    plan`` does, an option that would change nothing raises ``ValueError``: ``obstacle=1``
+    for a map that is not a ``.csv``, ``graded=True`` for one that is not a ROS map or
+    beside ``weights``, ``cost_rule="entered"`` without costs."""
 
 def planners() -> List[PlannerInfo]:
     """Every registered planner with its declared parameters and their defaults."""

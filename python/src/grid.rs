@@ -326,6 +326,44 @@ pub fn read_map(
         ..planner_maps::ReadOptions::default()
     };
     options.costs.rule = self::cost_rule(cost_rule, "read_map")?;
+    // As `plan --obstacle`, `--cost-rule`, `--graded` and `--weights`: an option that
+    // would change nothing is refused, not ignored. The obstacle value is a `.csv`
+    // matrix's; a cost rule needs costs to apply to; graded costs come from a ROS map's own
+    // values, and a weight file gives every cell's weight, so neither goes with the other.
+    let format = planner_maps::MapFormat::from_path(&path);
+    if obstacle != 0 && !matches!(format, Ok(planner_maps::MapFormat::Matrix)) {
+        return Err(Failure::Value(format!(
+            "read_map: obstacle={obstacle} applies to .csv maps, not {}",
+            path.display()
+        ))
+        .into());
+    }
+    if cost_rule != "mean" && weights.is_none() && !graded {
+        return Err(Failure::Value(format!(
+            "read_map: cost_rule={cost_rule:?} needs costs to apply to: weights or graded=True"
+        ))
+        .into());
+    }
+    if graded {
+        let ros = matches!(
+            format,
+            Ok(planner_maps::MapFormat::Ros | planner_maps::MapFormat::Image)
+        );
+        if !ros {
+            return Err(Failure::Value(format!(
+                "read_map: graded=True applies to ROS maps (.yaml, .pgm, .png), not {}",
+                path.display()
+            ))
+            .into());
+        }
+        if weights.is_some() {
+            return Err(Failure::Value(
+                "read_map: weights gives every cell's weight; it does not go with graded=True"
+                    .into(),
+            )
+            .into());
+        }
+    }
     options.costs.graded = graded;
     let call = crate::warn::Call::begin();
     let read = py.detach(|| {

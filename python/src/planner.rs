@@ -311,6 +311,15 @@ impl Planner {
         let Some(starts) = cell_array(py, "starts", Some(starts))? else {
             return Err(Failure::Value("starts: expected an (N, 2) array".into()).into_pyerr(py));
         };
+        // As many threads as a config's `threads` allows: a pool of a million threads
+        // would take the machine's memory before the first query.
+        if threads > planner_runner::config::MAX_THREADS {
+            return Err(Failure::Value(format!(
+                "threads: {threads} is more than {}; use 0 for one per core",
+                planner_runner::config::MAX_THREADS
+            ))
+            .into_pyerr(py));
+        }
         let goals = cell_array(py, "goals", goals)?;
         if let Some(goals) = &goals {
             if goals.len() != starts.len() {

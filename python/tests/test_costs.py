@@ -144,6 +144,18 @@ def test_read_map_with_a_weight_file_and_a_graded_ros_map(tmp_path):
     assert out.cost == pytest.approx(best / ONE, abs=1e-6)
     graded, _ = gridplan.read_map(ROOT / "maps/ros-graded/TenByTen-scale.yaml", graded=True)
     assert graded.weights is not None and 56 in graded.weights
+    # Graded costs are a ROS map's own: refused elsewhere and beside a weight file, as by
+    # `plan --graded` (they were silently ignored on a .map).
+    with pytest.raises(ValueError, match="graded=True applies to ROS maps"):
+        gridplan.read_map(arena, graded=True)
+    with pytest.raises(ValueError, match="does not go with graded=True"):
+        gridplan.read_map(ROOT / "maps/ros-graded/TenByTen-scale.yaml", graded=True, weights=weights)
+    # So are an obstacle value for a map that is not a .csv and a cost rule without costs.
+    with pytest.raises(ValueError, match="obstacle=1 applies to .csv maps"):
+        gridplan.read_map(arena, obstacle=1)
+    with pytest.raises(ValueError, match="needs costs to apply to"):
+        gridplan.read_map(arena, cost_rule="entered")
+    assert gridplan.read_map(arena, weights=weights, cost_rule="entered")[0].cost_rule == "entered"
     bad = tmp_path / "bad.csv"
     bad.write_text("1 1\n1 0\n")
     tiny = tmp_path / "tiny.csv"

@@ -90,6 +90,10 @@ def test_bad_queries_raise_and_name_the_query(map10):
         gridplan.Planner(map10, "astar", moves=7)
     with pytest.raises(gridplan.ParameterError):
         gridplan.Planner(map10, "no_such_planner")
+    # A config's limit on threads: a pool of a million threads took gigabytes and minutes
+    # before this check.
+    with pytest.raises(ValueError, match="threads: 1000000 is more than 256"):
+        planner.plan_many([[0, 0]], [[11, 11]], threads=10**6)
     # The planner stays usable after errors.
     assert planner.plan((0, 0), (11, 11)).status == "found"
 

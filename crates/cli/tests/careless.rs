@@ -474,7 +474,7 @@ fn careless_inputs_fail_cleanly() {
         args(&exp),
         Warn("maps[0]: the scenarios name map other.map, not small.map (same size, so used)"),
     ));
-    // The same .scen for a 5x5 map: refused, naming the line and both sizes.
+    // The same .scen for a 5x5 map: refused at the `scen` key, naming its file and line and both sizes.
     cases.push((
         owned(vec![
             ("c.toml", scen.as_bytes().to_vec()),
@@ -485,7 +485,7 @@ fn careless_inputs_fail_cleanly() {
             ),
         ]),
         args(&exp),
-        Error("scenario line 2 is for a 5x5 map, but small.map is 3x3"),
+        Error("key `scen`: s.scen:2: the scenario is for a 5x5 map, but small.map is 3x3"),
     ));
 
     let n_cases = cases.len();

@@ -1598,10 +1598,16 @@ fn file_pairs(
     if let Some(scenarios) = scenarios {
         for s in scenarios {
             if (s.width, s.height) != (grid.width(), grid.height()) {
+                // Scenarios come from the `scen` key, whose span and file the error names.
+                let (span, scen_path) = match &raw.scen {
+                    Some(scen) => (scen.span(), scen.get_ref().as_str()),
+                    None => (set.span(), "the scenario file"),
+                };
                 return Err(set.at(
-                    set.span(),
+                    span,
                     format!(
-                        "scenario line {} is for a {}x{} map, but {} is {}x{}",
+                        "key `scen`: {}:{}: the scenario is for a {}x{} map, but {} is {}x{}",
+                        scen_path,
                         s.line,
                         s.width,
                         s.height,
