@@ -104,6 +104,25 @@ fn a_refused_output_exits_5_and_is_left_alone() {
     std::fs::write(mine.join("notes.txt"), "mine").unwrap();
     let (code, err) = gridplan(&["report", &mine.display().to_string()]);
     assert_eq!(code, 5, "{err}");
+    // Its message says what `report` reads, not an `experiment` output's advice (it had
+    // told the user to empty or remove their directory, or to use an option `report` lacks).
+    assert!(err.contains("has no results marker"), "{err}");
+    assert!(
+        !err.contains("--output") && !err.contains("remove"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(mine.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    for (path, what) in [
+        (dir.join("none"), "does not exist"),
+        (file, "is not a directory"),
+    ] {
+        let (code, err) = gridplan(&["report", &path.display().to_string()]);
+        assert_eq!(code, 5, "{err}");
+        assert!(err.contains(what), "{err}");
+    }
 }
 
 /// `slurm` writes into an existing `DIR-slurm/` only when it is gridplan's (its marker) or

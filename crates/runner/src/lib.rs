@@ -242,7 +242,14 @@ impl RunnerError {
             RunnerError::Usage(_) | RunnerError::Threads(_) | RunnerError::Resume(_) => {
                 ErrorClass::Usage
             }
+            // A path that is not a results directory is refused as `experiment` refuses
+            // an output that is not its own.
             RunnerError::Output(_) => ErrorClass::Output,
+            RunnerError::Results(error)
+                if matches!(**error, readback::ResultsError::NotResults { .. }) =>
+            {
+                ErrorClass::Output
+            }
             RunnerError::Expanded(_) => ErrorClass::Determinism,
             RunnerError::Pool(_)
             | RunnerError::RunIndex(_)

@@ -231,7 +231,7 @@ pub enum OutdirError {
     /// Something other than a directory is at the path.
     #[error(
         "output `{}` is {what}, not a directory; gridplan writes results only into a directory \
-         and leaves this one alone (choose another --output)",
+         and leaves this one alone (choose another output directory)",
         path.display()
     )]
     NotADirectory {
@@ -243,7 +243,7 @@ pub enum OutdirError {
     /// A symbolic link whose target does not exist.
     #[error(
         "output `{}` is a symbolic link to `{}`, which does not exist; create that directory \
-         or choose another --output",
+         or choose another output directory",
         path.display(), target.display()
     )]
     DanglingSymlink {
@@ -255,7 +255,7 @@ pub enum OutdirError {
     /// A directory that holds something and no marker.
     #[error(
         "output `{}` is not a gridplan results directory: it holds {entries} and no `{MARKER}` \
-         marker, so gridplan will not replace it (choose another --output, or empty or remove \
+         marker, so gridplan will not replace it (choose another output directory, or empty or remove \
          it yourself)",
         path.display()
     )]
@@ -280,7 +280,7 @@ pub enum OutdirError {
     /// The results directory, or a directory inside it, has no write permission.
     #[error(
         "output `{}` is read-only: directory `{}` has no write permission, so gridplan will not \
-         replace it; make it writable or choose another --output",
+         replace it; make it writable or choose another output directory",
         path.display(), dir.display()
     )]
     ReadOnly {
@@ -346,7 +346,7 @@ pub enum OutdirError {
     #[error(
         "`{}` is in the way of the Slurm scripts for `{}` but is not gridplan's (not an empty \
          directory or one with a `{marker}` marker), so gridplan neither writes into it nor \
-         removes it; move or remove it yourself, or choose another --output",
+         removes it; move or remove it yourself, or choose another output directory",
         path.display(), output.display()
     )]
     ForeignWorkDir {

@@ -139,6 +139,15 @@ pub enum ResultsError {
         /// Why it could not be opened.
         source: std::io::Error,
     },
+    /// A path given to `report` that is not a results directory: missing, not a directory,
+    /// or a directory without gridplan's marker.
+    #[error("report: `{}` {what}; report re-renders a results directory that `gridplan experiment` wrote (it holds `{marker}`)", .dir.display(), marker = crate::outdir::MARKER)]
+    NotResults {
+        /// The path given.
+        dir: PathBuf,
+        /// What it is, e.g. "does not exist".
+        what: &'static str,
+    },
     /// A shard's output given to `report`, which reads a whole sweep's results.
     #[error("report: {} holds one shard of a sweep ({file}), not its results; merge the shards (`gridplan merge`) and report the merged directory", .dir.display())]
     ShardNotResults {

@@ -807,7 +807,22 @@ pub fn report(
     render: &dyn Render,
 ) -> Result<Report, RunnerError> {
     let started = Instant::now();
-    // Only gridplan's own results directory: its marker, as `experiment` requires.
+    // Only gridplan's own results directory: its marker, as `experiment` requires. What
+    // else the path is gets its own message here, not an `experiment` output's advice.
+    let not_results = |what| ResultsError::NotResults {
+        dir: dir.to_path_buf(),
+        what,
+    };
+    match fs::metadata(dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(not_results("does not exist").into())
+        }
+        Ok(meta) if !meta.is_dir() => return Err(not_results("is not a directory").into()),
+        _ => {}
+    }
+    if fs::symlink_metadata(dir.join(outdir::MARKER)).is_err() {
+        return Err(not_results("has no results marker").into());
+    }
     outdir::check(dir)?;
     outdir::Marker::read(dir).map_err(|e| RunnerError::during("report", e.into()))?;
     let mut path = dir.join(RESULTS_RECORDS);
