@@ -361,7 +361,7 @@ impl CliError {
             CliError::Replan(error) => {
                 use planner_replan::experiment::ExperimentError as E;
                 return match error {
-                    E::Parse { .. } | E::Invalid { .. } => EXIT_CONFIG,
+                    E::Parse { .. } | E::Invalid { .. } | E::TooManyToggles { .. } => EXIT_CONFIG,
                     E::Map(_) | E::Problem { .. } => EXIT_INPUT,
                     E::Output { .. } => EXIT_OUTPUT,
                     _ => EXIT_FAILURE,

@@ -104,7 +104,7 @@ pub struct MapSpec {
 pub struct ToggleSpec {
     /// Change events after the first plan.
     pub events: u32,
-    /// Cells toggled per event.
+    /// Cells toggled per event, at most each map's number of cells.
     pub k: u32,
     /// Half-width of the square around the agent that off-path toggles fall in.
     pub radius: u32,
@@ -247,6 +247,19 @@ pub enum ExperimentError {
         key: String,
         /// What is wrong.
         message: String,
+    },
+    /// More toggles per event than a map has cells: a change list that long would take
+    /// the memory before the first replan.
+    #[error("{path}: `[toggles] k`: {k} toggles per event is more than the {cells} cells of {map}; use at most that")]
+    TooManyToggles {
+        /// The config file.
+        path: String,
+        /// The config's `k`.
+        k: u32,
+        /// The map's name.
+        map: String,
+        /// Its cells.
+        cells: usize,
     },
     /// A map, scenario or patch file is malformed (with its file, line and column).
     #[error(transparent)]
@@ -772,6 +785,17 @@ pub fn run_config_with(
             message: e.to_string(),
         })?;
     let maps = load_maps(config, dir, options)?;
+    if let Some(toggles) = &config.toggles {
+        let k = toggles.get_ref().k;
+        if let Some(map) = maps.iter().find(|m| k as usize > m.grid.len()) {
+            return Err(ExperimentError::TooManyToggles {
+                path: path.display().to_string(),
+                k,
+                map: map.name.clone(),
+                cells: map.grid.len(),
+            });
+        }
+    }
     let eight = config.moves.as_ref().is_none_or(|m| *m.get_ref() == 8);
     let names: Vec<String> = config
         .planners

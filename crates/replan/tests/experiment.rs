@@ -251,6 +251,34 @@ fn a_rerun_leaves_no_output_of_the_earlier_config() {
     assert!(names.is_empty(), "{names:?}");
 }
 
+/// More toggles per event than the map has cells is refused before anything runs or is
+/// written: the change list of `k = 4000000000` took 10 GB in 16 s, before the first replan.
+#[test]
+fn more_toggles_than_cells_is_refused() {
+    let dir = scratch("toggles-k");
+    std::fs::create_dir_all(&dir).unwrap();
+    let arena = root().join("maps/movingai/arena.map");
+    let config = format!(
+        "kind = \"dynamic\"\nname = \"k\"\ncompare = [\"dstar_lite\"]\n[[maps]]\nmap = {:?}\nscen = {:?}\nscenarios = 1\n[toggles]\nevents = 2\nk = K\nradius = 3\nseeds = [1]\n",
+        arena.display().to_string(),
+        format!("{}.scen", arena.display())
+    );
+    let run = |k: &str| {
+        let path = dir.join(format!("k{k}.toml"));
+        std::fs::write(&path, config.replace("K", k)).unwrap();
+        experiment::run(&path, &dir.join(format!("out{k}")), &test_options(1))
+    };
+    // arena is 49 x 49: 2401 cells.
+    let error = run("4000000000").unwrap_err();
+    assert!(
+        matches!(error, ExperimentError::TooManyToggles { cells: 2401, .. }),
+        "{error}"
+    );
+    assert!(error.to_string().contains("`[toggles] k`"), "{error}");
+    assert!(!dir.join("out4000000000").exists());
+    assert!(run("2401").is_ok());
+}
+
 /// A* from scratch behind the incremental interface as planner-replan's `Restart`
 /// documents it (forward, or backward with the path reversed; octile or Manhattan times
 /// the map's smallest weight, exact costs, FIFO ties; no search when the start or goal is
