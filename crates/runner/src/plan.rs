@@ -404,10 +404,16 @@ fn resolve_spec(
     };
     if !args.set.is_empty() {
         let mut params = spec.params.clone();
+        let mut keys: Vec<&str> = Vec::new();
         for assignment in &args.set {
             let (key, value) = assignment
                 .split_once('=')
+                .filter(|(key, _)| !key.trim().is_empty())
                 .ok_or_else(|| UsageError::Assignment(assignment.clone()))?;
+            if keys.contains(&key.trim()) {
+                return Err(UsageError::SetTwice(key.trim().to_string()).into());
+            }
+            keys.push(key.trim());
             let value = value.trim();
             let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
                 .ok()

@@ -40,9 +40,12 @@ pub enum UsageError {
         /// The map.
         map: String,
     },
-    /// A `--set` without `=`.
+    /// A `--set` without `=` or without a key.
     #[error("--set {0:?}: expected key=value")]
     Assignment(String),
+    /// One key given to `--set` twice (which would win is not for gridplan to guess).
+    #[error("--set {0}=...: given twice; give each parameter once")]
+    SetTwice(String),
     /// Cost flags for a map the config lists (its map set's `costs` table decides).
     #[error("cost flags: {} lists {}; set a `costs` table on its map set instead", .config.display(), .map.display())]
     CostsOfListedMap {
