@@ -441,6 +441,22 @@ fn columns(line: &str) -> usize {
     n
 }
 
+/// The records of CSV `text` as RFC 4180 readers count them: a `\n`, `\r` or `\r\n`
+/// outside quotes ends one.
+fn csv_records(text: &str) -> usize {
+    let (mut records, mut quoted, mut after_cr) = (0, false, false);
+    for c in text.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            '\n' if !quoted && after_cr => {}
+            '\n' | '\r' if !quoted => records += 1,
+            _ => {}
+        }
+        after_cr = c == '\r' && !quoted;
+    }
+    records
+}
+
 #[test]
 fn names_never_collide_and_every_svg_is_xml() {
     let dir = scratch("names");
@@ -452,7 +468,8 @@ fn names_never_collide_and_every_svg_is_xml() {
         "name = \"c\"\noutput = \"res\"\nfigures = \"all\"\nompl = true\n\
          [[maps]]\nfiles = [\"p q.map\", \"p_q.map\", \"p\\n|>>>.map\"]\nproblems = \"corners\"\n\
          [planners.\"x y\"]\nplanner = \"astar\"\n[planners.\"x_y\"]\nplanner = \"astar\"\n\
-         [planners.\"c\\u0001d\"]\nplanner = \"bfs\"\n[planners.\"e|f\"]\nplanner = \"dfs\"\n",
+         [planners.\"c\\u0001d\"]\nplanner = \"bfs\"\n[planners.\"e|f\"]\nplanner = \"dfs\"\n\
+         [planners.\"g\\rh\"]\nplanner = \"astar\"\n",
     )
     .unwrap();
     succeeded(&gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]));
@@ -460,7 +477,11 @@ fn names_never_collide_and_every_svg_is_xml() {
     let runs: serde_json::Value =
         serde_json::from_str(&fs::read_to_string(res.join("runs.json")).unwrap()).unwrap();
     let n_runs = runs["runs"]["data"].as_array().map_or(0, Vec::len);
-    assert_eq!(n_runs, 3 * 4, "3 maps x 4 labels x 1 problem");
+    assert_eq!(n_runs, 3 * 5, "3 maps x 5 labels x 1 problem");
+    // runs.csv has a record per run: a line break in a name (a map's `\n`, a label's
+    // bare `\r`, which pandas and Python's csv module end a record at) is inside quotes.
+    let csv = fs::read_to_string(res.join("runs.csv")).unwrap();
+    assert_eq!(csv_records(&csv), 1 + n_runs, "{csv:?}");
     // One OMPL log per map, each with every run of its map, its lines unbroken.
     let logs = files_with(&res.join("ompl"), ".log");
     assert_eq!(logs.len(), 3, "{logs:?}");
@@ -470,7 +491,7 @@ fn names_never_collide_and_every_svg_is_xml() {
             .lines()
             .filter_map(|l| l.strip_suffix(" runs")?.parse::<usize>().ok())
             .sum();
-        assert_eq!(counted, 4, "{}: {text}", log.display());
+        assert_eq!(counted, 5, "{}: {text}", log.display());
         // A `|>>>` only closes a block that `<<<|` opened.
         let mut open = false;
         for line in text.lines() {
@@ -481,12 +502,12 @@ fn names_never_collide_and_every_svg_is_xml() {
                 open = false;
             }
         }
-        assert_eq!(text.matches("planner = ").count(), 4, "{}", log.display());
+        assert_eq!(text.matches("planner = ").count(), 5, "{}", log.display());
     }
     // A comparison figure per map and a figure per run, no two sharing a file.
     let svgs = files_with(&res, ".svg");
     let figures = files_with(&res.join("figures"), ".svg");
-    assert_eq!(figures.len(), 3 + 3 * 4, "{figures:?}");
+    assert_eq!(figures.len(), 3 + 3 * 5, "{figures:?}");
     for svg in &svgs {
         let text = fs::read_to_string(svg).unwrap();
         if let Err(e) = roxmltree::Document::parse(&text) {

@@ -496,8 +496,10 @@ pub(crate) fn fixed_cell(r: &RunRecord, i: usize) -> Cell<'_> {
     }
 }
 
+/// A CSV field, quoted when it holds a comma, a quote or a line break (RFC 4180; a bare
+/// `\r` ends a record for pandas and Python's csv module as `\n` does).
 fn csv_field(text: &str) -> String {
-    if text.contains([',', '"', '\n']) {
+    if text.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", text.replace('"', "\"\""))
     } else {
         text.to_string()
