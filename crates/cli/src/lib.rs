@@ -144,7 +144,7 @@ pub enum Command {
         /// Goal cell as x,y (not for coverage planners).
         #[arg(long, value_parser = parse_cell)]
         goal: Option<Cell>,
-        /// Planner parameter override, key=value (repeatable, each key once), e.g. --set heuristic=octile.
+        /// Planner parameter override, key=value (repeatable; a key twice only with one value), e.g. --set heuristic=octile.
         #[arg(long = "set")]
         set: Vec<String>,
         /// Expansion budget (default: the config label's, else 10,000,000, so every run ends).

@@ -404,17 +404,25 @@ fn resolve_spec(
     };
     if !args.set.is_empty() {
         let mut params = spec.params.clone();
-        let mut keys: Vec<&str> = Vec::new();
+        let mut given: Vec<(&str, &str)> = Vec::new();
         for assignment in &args.set {
             let (key, value) = assignment
                 .split_once('=')
                 .filter(|(key, _)| !key.trim().is_empty())
                 .ok_or_else(|| UsageError::Assignment(assignment.clone()))?;
-            if keys.contains(&key.trim()) {
-                return Err(UsageError::SetTwice(key.trim().to_string()).into());
+            let (key, value) = (key.trim(), value.trim());
+            // The same value twice is one setting; two values leave which wins unsaid.
+            if let Some(&(_, first)) = given.iter().find(|(k, _)| *k == key) {
+                if first != value {
+                    return Err(UsageError::SetTwice {
+                        key: key.to_string(),
+                        first: first.to_string(),
+                        second: value.to_string(),
+                    }
+                    .into());
+                }
             }
-            keys.push(key.trim());
-            let value = value.trim();
+            given.push((key, value));
             let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
                 .ok()
                 .and_then(|mut t| t.remove("v"))

@@ -43,9 +43,17 @@ pub enum UsageError {
     /// A `--set` without `=` or without a key.
     #[error("--set {0:?}: expected key=value")]
     Assignment(String),
-    /// One key given to `--set` twice (which would win is not for gridplan to guess).
-    #[error("--set {0}=...: given twice; give each parameter once")]
-    SetTwice(String),
+    /// One key given to `--set` with two values (which would win is not for gridplan to
+    /// guess).
+    #[error("--set {key}: given twice, as {first} and as {second}; give each parameter once")]
+    SetTwice {
+        /// The key.
+        key: String,
+        /// Its first value.
+        first: String,
+        /// Its other value.
+        second: String,
+    },
     /// Cost flags for a map the config lists (its map set's `costs` table decides).
     #[error("cost flags: {} lists {}; set a `costs` table on its map set instead", .config.display(), .map.display())]
     CostsOfListedMap {
