@@ -12,7 +12,7 @@ use planner_registry::PLANNERS;
 /// The crates under `crates/` that are not planners.
 const SUPPORT_CRATES: &[&str] = &[
     "api", "bench", "cli", "figures", "maps", "paper", "registry", "replan", "report", "runner",
-    "search", "serve", "stats", "testkit",
+    "search", "serve", "stats", "testkit", "text",
 ];
 
 /// The package of `crates/<dir>`: `planner-<dir>`, but for the command line, `gridplan`.
@@ -214,6 +214,19 @@ const LAYER_FORBIDDEN: &[(&str, &[&str])] = &[
         &["planner-runner", "planner-report", "planner-paper"],
     ),
     ("planner-serve", &["planner-report", "planner-paper"]),
+    // At the bottom: every writer of user text uses it, so it uses none of them.
+    (
+        "planner-text",
+        &[
+            "planner-api",
+            "planner-maps",
+            "planner-registry",
+            "planner-runner",
+            "planner-report",
+            "planner-paper",
+            "planner-replan",
+        ],
+    ),
 ];
 
 /// Packages that may depend on planner crates directly: the registry (the one list),

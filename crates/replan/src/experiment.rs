@@ -45,6 +45,7 @@ use std::time::Duration;
 use planner_api::{Budget, Grid, IncrementalPlanner, Problem};
 use planner_maps::gppc::{parse_gppc_patches, parse_gppc_scenario};
 use planner_maps::{MapError, Scenario};
+use planner_text::{md_cell, md_prose};
 use rayon::prelude::*;
 use serde::Deserialize;
 use serde_json::json;
@@ -704,32 +705,9 @@ impl RunRow {
     }
 }
 
-/// A CSV field: quoted when it holds a comma, quote or line break (RFC 4180).
+/// A CSV field (planner-text's rule, the runner's too).
 fn csv(field: &str) -> String {
-    if field.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", field.replace('"', "\"\""))
-    } else {
-        field.to_string()
-    }
-}
-
-/// Markdown table text: line breaks and other control characters as spaces, `|` escaped,
-/// `<`, `>` and `&` as character references (no viewer takes a name for HTML) and the `(`
-/// after a `]` escaped (no link), as planner-report's `md_cell`.
-fn md(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '(' if out.ends_with(']') => out.push_str("\\("),
-            '|' => out.push_str("\\|"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '&' => out.push_str("&amp;"),
-            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') => out.push(' '),
-            c => out.push(c),
-        }
-    }
-    out
+    planner_text::csv_field(field).into_owned()
 }
 
 fn micros(d: Duration) -> u128 {
@@ -1213,23 +1191,10 @@ fn summary_md(
     rows: &[RunRow],
     gppc_runs: &[(String, String, gppc::Replay)],
 ) -> String {
-    let mut out = format!("# {}\n\n", md(config.name.get_ref()));
+    let mut out = format!("# {}\n\n", md_cell(config.name.get_ref()));
     if !config.description.trim().is_empty() {
-        // As planner-report's `md_prose`: a `<` that could open raw HTML shows as text.
-        let text = config.description.trim();
-        let mut prose = String::with_capacity(text.len());
-        let mut chars = text.chars().peekable();
-        while let Some(c) = chars.next() {
-            let opens = c == '<'
-                && chars
-                    .peek()
-                    .is_some_and(|&n| n.is_ascii_alphabetic() || matches!(n, '/' | '!' | '?'));
-            if opens {
-                prose.push_str("&lt;");
-            } else {
-                prose.push(c);
-            }
-        }
+        // Markdown kept, raw HTML and unsafe links shown as text, as in the runner's reports.
+        let prose = md_prose(config.description.trim());
         let _ = writeln!(out, "{prose}\n");
     }
     let (kind, setting) = match config.kind {
@@ -1299,8 +1264,8 @@ fn summary_md(
             let _ = write!(
                 out,
                 "| {} | {s} | {} | {} | {reached} | {replans} | {mismatches} | {expansions} | {} | {} | {} | {} | {} |",
-                md(map),
-                md(planner),
+                md_cell(map),
+                md_cell(planner),
                 group.len(),
                 pct(quantile(&shares, 0.5)),
                 whole(quantile(&per, 0.5)),
@@ -1324,11 +1289,11 @@ fn summary_md(
         out.push('\n');
         for r in rows {
             for m in r.mismatches() {
-                let (map, line, value, planner) = r.identity(md);
+                let (map, line, value, planner) = r.identity(md_cell);
                 let _ = writeln!(
                     out,
                     "- MISMATCH {map} line {line} {setting} {value} {planner}: {}",
-                    md(&m.to_string())
+                    md_cell(&m.to_string())
                 );
             }
         }
@@ -1350,8 +1315,8 @@ fn summary_md(
             let _ = writeln!(
                 out,
                 "| {} | {} | {} | {} | {agree} | {} | {} | {repair} | {astar} | {} |",
-                md(stem),
-                md(planner),
+                md_cell(stem),
+                md_cell(planner),
                 replay.patches_applied,
                 replay.queries.len(),
                 replay.carried.len(),
@@ -1365,9 +1330,9 @@ fn summary_md(
                 let _ = writeln!(
                     out,
                     "- MISMATCH {} {}: {}",
-                    md(stem),
-                    md(planner),
-                    md(&m.to_string())
+                    md_cell(stem),
+                    md_cell(planner),
+                    md_cell(&m.to_string())
                 );
             }
         }

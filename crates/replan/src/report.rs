@@ -3,6 +3,8 @@
 
 use std::fmt::Write as _;
 
+use planner_text::xml_escape;
+
 /// The `q`-quantile (0..=1) of `values` by the nearest-rank method on a sorted copy
 /// (`None` when empty).
 ///
@@ -21,22 +23,6 @@ pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
     sorted.sort_by(f64::total_cmp);
     let rank = (q.clamp(0.0, 1.0) * sorted.len() as f64).ceil() as usize;
     Some(sorted[rank.clamp(1, sorted.len()) - 1])
-}
-
-/// Escapes text for SVG/XML content and attributes.
-pub fn escape_xml(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for ch in text.chars() {
-        match ch {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 /// A log-log scatter chart as SVG: one dot per `(x, y)` pair (values below 1 are drawn
@@ -71,7 +57,7 @@ pub fn scatter_svg(points: &[(u64, u64)], x_label: &str, y_label: &str, title: &
         svg,
         r#"<text x="{}" y="20" text-anchor="middle" font-size="14">{}</text>"#,
         w / 2.0,
-        escape_xml(title)
+        xml_escape(title)
     );
     for d in 0..=decades as u32 {
         let v = 10f64.powi(d as i32);
@@ -120,14 +106,14 @@ pub fn scatter_svg(points: &[(u64, u64)], x_label: &str, y_label: &str, title: &
         r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
         left + span_x / 2.0,
         h - 18.0,
-        escape_xml(x_label)
+        xml_escape(x_label)
     );
     let _ = writeln!(
         svg,
         r#"<text x="16" y="{:.1}" text-anchor="middle" transform="rotate(-90 16 {:.1})">{}</text>"#,
         top + span_y / 2.0,
         top + span_y / 2.0,
-        escape_xml(y_label)
+        xml_escape(y_label)
     );
     svg.push_str("</svg>\n");
     svg

@@ -279,6 +279,48 @@ fn more_toggles_than_cells_is_refused() {
     assert!(run("2401").is_ok());
 }
 
+/// What users write is data in every output: a description's raw HTML and `javascript:`
+/// link show as text in summary.md (its prose rule had lacked the link check the runner's
+/// reports have), and a map named with a comma, `<`, `|` and a carriage return keeps its
+/// runs.csv rows whole and its summary.md row to its columns.
+#[test]
+fn names_and_descriptions_are_data() {
+    let dir = scratch("names");
+    std::fs::create_dir_all(&dir).unwrap();
+    let stem = "m,<b>|x\ry";
+    let arena = root().join("maps/movingai/arena.map");
+    std::fs::copy(&arena, dir.join(format!("{stem}.map"))).unwrap();
+    std::fs::copy(
+        root().join("maps/movingai/arena.map.scen"),
+        dir.join("s.scen"),
+    )
+    .unwrap();
+    let config = format!(
+        "kind = \"dynamic\"\nname = \"n\"\ndescription = \"<script>x</script> [j](javascript:alert(1)) [ok](https://o.org)\"\ncompare = [\"dstar_lite\", \"astar\"]\n[[maps]]\nmap = {:?}\nscen = \"s.scen\"\nscenarios = 2\n[toggles]\nevents = 1\nk = 2\nradius = 3\nseeds = [1]\n",
+        format!("{stem}.map")
+    );
+    let path = dir.join("n.toml");
+    std::fs::write(&path, config).unwrap();
+    let out = dir.join("out");
+    experiment::run(&path, &out, &test_options(1)).unwrap();
+    let summary = read(&out, "summary.md");
+    assert!(summary.contains("&lt;script>x&lt;/script>"), "{summary}");
+    assert!(summary.contains("[j]\\(javascript:alert(1))"), "{summary}");
+    assert!(summary.contains("[ok](https://o.org)"), "{summary}");
+    assert!(summary.contains("m,&lt;b&gt;\\|x y"), "{summary}");
+    // 2 scenarios x 2 planners, each one record: a `\r` outside quotes would end one.
+    let csv = read(&out, "runs.csv");
+    let (mut records, mut quoted) = (0, false);
+    for c in csv.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            '\n' | '\r' if !quoted => records += 1,
+            _ => {}
+        }
+    }
+    assert_eq!(records, 1 + 4, "{csv:?}");
+}
+
 /// A* from scratch behind the incremental interface as planner-replan's `Restart`
 /// documents it (forward, or backward with the path reversed; octile or Manhattan times
 /// the map's smallest weight, exact costs, FIFO ties; no search when the start or goal is

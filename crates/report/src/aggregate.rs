@@ -87,8 +87,8 @@ pub fn parameters(experiment: &Experiment) -> String {
             "| {} | {} | {} | {} |",
             md_cell(&planner.label),
             planner.name,
-            escape(&params),
-            escape(&budget)
+            md_cell(&params),
+            md_cell(&budget)
         );
     }
     out.push('\n');
@@ -113,11 +113,6 @@ pub fn format_bytes(bytes: u64) -> String {
     } else {
         format!("{bytes} B")
     }
-}
-
-/// Escapes `|` for a markdown table cell.
-fn escape(text: &str) -> String {
-    md_cell(text)
 }
 
 #[cfg(test)]

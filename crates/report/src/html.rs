@@ -121,38 +121,11 @@ fn strip_prolog(svg: &str) -> String {
         .map_or_else(|| svg.to_string(), |i| svg[i..].to_string())
 }
 
-/// `text` escaped for HTML text and double-quoted attribute values.
-pub fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-        .replace('\'', "&#39;")
-}
+/// `text` escaped for HTML text and double-quoted attribute values (planner-text's).
+pub use planner_text::xml_escape as escape;
 
-/// Whether a link to `url` may stay a link: its scheme (what precedes a `:` that comes
-/// before any `/`, `?` or `#`, ASCII case and the whitespace and control characters
-/// browsers skip ignored) is `http`, `https` or `mailto`, or it has none (a relative link
-/// or a `#fragment`).
-///
-/// ```
-/// use planner_report::html::safe_link;
-/// assert!(safe_link("https://example.org/a") && safe_link("charts/a.svg") && safe_link("#s1"));
-/// assert!(!safe_link("javascript:alert(1)") && !safe_link(" JaVa\tScRiPt:x") && !safe_link("data:text/html,x"));
-/// ```
-pub fn safe_link(url: &str) -> bool {
-    let cleaned: String = url
-        .chars()
-        .filter(|c| !c.is_whitespace() && !c.is_control())
-        .collect();
-    match cleaned.find([':', '/', '?', '#']) {
-        Some(i) if cleaned[i..].starts_with(':') => {
-            let scheme = cleaned[..i].to_ascii_lowercase();
-            matches!(scheme.as_str(), "http" | "https" | "mailto")
-        }
-        _ => true,
-    }
-}
+/// Whether a link may stay a link (planner-text's rule, which summary.md's prose follows too).
+pub use planner_text::safe_link;
 
 #[cfg(test)]
 mod tests {

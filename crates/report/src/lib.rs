@@ -585,85 +585,9 @@ impl FileNames {
     }
 }
 
-/// `text` for one cell of a markdown table (or a heading): `|` escaped, line breaks and
-/// other control characters as spaces, so it cannot end the row or add a column; `<`, `>`
-/// and `&` as character references, so that no markdown viewer takes a label for HTML
-/// (a `<script>` or an `<img onerror>`); and the `(` after a `]` escaped, so that a label
-/// cannot be a link (`[x](javascript:...)`). They show as themselves; brackets alone
-/// (`astar[moves=8]`) are written as they are.
-///
-/// ```
-/// assert_eq!(planner_report::md_cell("a|b\nc"), "a\\|b c");
-/// assert_eq!(planner_report::md_cell("<b>&"), "&lt;b&gt;&amp;");
-/// assert_eq!(planner_report::md_cell("[x](y) a[b]"), "[x]\\(y) a[b]");
-/// ```
-pub fn md_cell(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '(' if out.ends_with(']') => out.push_str("\\("),
-            '|' => out.push_str("\\|"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '&' => out.push_str("&amp;"),
-            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') => out.push(' '),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
-/// `text` as markdown prose (a config's description): kept as written, markdown included,
-/// except that a `<` that could open raw HTML (before a letter, `/`, `!` or `?`: a tag, a
-/// comment, a declaration) becomes `&lt;`, and the `(` of an inline link whose target has
-/// a scheme other than `http`, `https` or `mailto` is escaped, so that no markdown viewer
-/// runs or draws them (report.html keeps the same links). They show as themselves; `a <->
-/// b`, `x < y` and `[ok](https://example.org)` stay as they are.
-///
-/// ```
-/// assert_eq!(
-///     planner_report::md_prose("<script>x</script> *a* <-> b [j](javascript:x) [ok](https://o.org)"),
-///     "&lt;script>x&lt;/script> *a* <-> b [j]\\(javascript:x) [ok](https://o.org)"
-/// );
-/// ```
-pub fn md_prose(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for (at, c) in text.char_indices() {
-        let rest = &text[at + c.len_utf8()..];
-        let opens_html = c == '<'
-            && rest
-                .chars()
-                .next()
-                .is_some_and(|n| n.is_ascii_alphabetic() || matches!(n, '/' | '!' | '?'));
-        if opens_html {
-            out.push_str("&lt;");
-        } else if c == '(' && out.ends_with(']') && unsafe_link_target(rest) {
-            out.push_str("\\(");
-        } else {
-            out.push(c);
-        }
-    }
-    out
-}
-
-/// Whether the link destination at the start of `rest` (after `](`) has a scheme other
-/// than `http`, `https` or `mailto` (`javascript:`, `data:`, ...); a relative target has none.
-fn unsafe_link_target(rest: &str) -> bool {
-    let target = rest.trim_start();
-    let target = target.strip_prefix('<').unwrap_or(target);
-    let scheme_end = target
-        .char_indices()
-        .find(|&(i, c)| {
-            !(c.is_ascii_alphabetic()
-                || (i > 0 && (c.is_ascii_digit() || matches!(c, '+' | '.' | '-'))))
-        })
-        .map_or(target.len(), |(i, _)| i);
-    if scheme_end == 0 || !target[scheme_end..].starts_with(':') {
-        return false;
-    }
-    let scheme = target[..scheme_end].to_ascii_lowercase();
-    !matches!(scheme.as_str(), "http" | "https" | "mailto")
-}
+/// Markdown escaping of what users write: planner-text's, shared with the runner's tables
+/// and the replanning experiments.
+pub use planner_text::{md_cell, md_prose};
 
 #[cfg(test)]
 mod tests {

@@ -424,7 +424,7 @@ pub fn write_runs_csv_passes(
             }
             // The column walk runs.parquet shares; floats with 6 decimals.
             match fixed_cell(r, i) {
-                Cell::Text(text) => line.push_str(&csv_field(text)),
+                Cell::Text(text) => line.push_str(&planner_text::csv_field(text)),
                 Cell::Unsigned(v) => v.into_iter().for_each(|v| {
                     let _ = write!(line, "{v}");
                 }),
@@ -493,16 +493,6 @@ pub(crate) fn fixed_cell(r: &RunRecord, i: usize) -> Cell<'_> {
         SETUP_MS => Cell::Float(Some(r.setup_ms)),
         19 => u(r.peak_heap_bytes),
         _ => Cell::Unsigned(r.bucket.map(u64::from)),
-    }
-}
-
-/// A CSV field, quoted when it holds a comma, a quote or a line break (RFC 4180; a bare
-/// `\r` ends a record for pandas and Python's csv module as `\n` does).
-fn csv_field(text: &str) -> String {
-    if text.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", text.replace('"', "\"\""))
-    } else {
-        text.to_string()
     }
 }
 

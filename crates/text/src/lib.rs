@@ -1,0 +1,161 @@
+//! What users write (planner labels, map names, chart titles, a config's description) made
+//! into data in gridplan's outputs, never code: a CSV field that cannot end its record, a
+//! markdown table cell that cannot end its row or become HTML or a link, markdown prose whose
+//! raw HTML and unsafe links show as text, and XML or HTML text that cannot open a tag.
+//!
+//! The main design decision is that there is one of each: the runner's tables, the reports,
+//! the seeds' layouts and the replanning experiments all write through these functions. Two
+//! copies of the CSV rule had drifted apart (one quoted a bare `\r`, the other did not, so
+//! a label holding one split its rows for pandas), and so had two copies of the prose rule
+//! (one escaped `javascript:` links, the other did not).
+//!
+//! ```
+//! use planner_text::{csv_field, md_cell, md_prose, safe_link, xml_escape};
+//! assert_eq!(csv_field("g\rh"), "\"g\rh\"");
+//! assert_eq!(md_cell("<b>|[x](y)"), "&lt;b&gt;\\|[x]\\(y)");
+//! assert_eq!(md_prose("[j](javascript:x) a <-> b"), "[j]\\(javascript:x) a <-> b");
+//! assert!(safe_link("https://example.org") && !safe_link("java\tscript:x"));
+//! assert_eq!(xml_escape("a<'b'>&\""), "a&lt;&#39;b&#39;&gt;&amp;&quot;");
+//! ```
+
+#![deny(missing_docs)]
+
+use std::borrow::Cow;
+
+/// `text` as one CSV field: quoted, its quotes doubled, when it holds a comma, a quote or a
+/// line break (RFC 4180), a bare `\r` included, which pandas and Python's csv module end a
+/// record at as they do at `\n`; else as it is.
+///
+/// ```
+/// use planner_text::csv_field;
+/// assert_eq!(csv_field("astar"), "astar");
+/// assert_eq!(csv_field("a,\"b\""), "\"a,\"\"b\"\"\"");
+/// assert_eq!(csv_field("p\nq"), "\"p\nq\"");
+/// ```
+pub fn csv_field(text: &str) -> Cow<'_, str> {
+    if text.contains([',', '"', '\n', '\r']) {
+        Cow::Owned(format!("\"{}\"", text.replace('"', "\"\"")))
+    } else {
+        Cow::Borrowed(text)
+    }
+}
+
+/// `text` for one cell of a markdown table (or a heading): `|` escaped, line breaks and
+/// other control characters as spaces, so it cannot end the row or add a column; `<`, `>`
+/// and `&` as character references, so that no markdown viewer takes a label for HTML
+/// (a `<script>` or an `<img onerror>`); and the `(` after a `]` escaped, so that a label
+/// cannot be a link (`[x](javascript:...)`). They show as themselves; brackets alone
+/// (`astar[moves=8]`) are written as they are.
+///
+/// ```
+/// use planner_text::md_cell;
+/// assert_eq!(md_cell("a|b\nc"), "a\\|b c");
+/// assert_eq!(md_cell("<b>&"), "&lt;b&gt;&amp;");
+/// assert_eq!(md_cell("[x](y) a[b]"), "[x]\\(y) a[b]");
+/// ```
+pub fn md_cell(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '(' if out.ends_with(']') => out.push_str("\\("),
+            '|' => out.push_str("\\|"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '&' => out.push_str("&amp;"),
+            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') => out.push(' '),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// `text` as markdown prose (a config's description): kept as written, markdown included,
+/// except that a `<` that could open raw HTML (before a letter, `/`, `!` or `?`: a tag, a
+/// comment, a declaration) becomes `&lt;`, and the `(` of an inline link whose destination
+/// is not [`safe_link`] is escaped, so that no markdown viewer runs or draws them
+/// (report.html keeps the same links). They show as themselves; `a <-> b`, `x < y` and
+/// `[ok](https://example.org)` stay as they are.
+///
+/// ```
+/// use planner_text::md_prose;
+/// assert_eq!(
+///     md_prose("<script>x</script> *a* <-> b [j](javascript:x) [ok](https://o.org)"),
+///     "&lt;script>x&lt;/script> *a* <-> b [j]\\(javascript:x) [ok](https://o.org)"
+/// );
+/// // Case and a space before the destination do not hide a scheme.
+/// assert_eq!(md_prose("[t]( JavaScript:x)"), "[t]\\( JavaScript:x)");
+/// ```
+pub fn md_prose(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for (at, c) in text.char_indices() {
+        let rest = &text[at + c.len_utf8()..];
+        let opens_html = c == '<'
+            && rest
+                .chars()
+                .next()
+                .is_some_and(|n| n.is_ascii_alphabetic() || matches!(n, '/' | '!' | '?'));
+        if opens_html {
+            out.push_str("&lt;");
+        } else if c == '(' && out.ends_with(']') && !safe_link(link_destination(rest)) {
+            out.push_str("\\(");
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// The destination of the inline link whose text follows its `](`: up to its closing `>`
+/// when written in angle brackets, else up to the first `)` or space.
+fn link_destination(rest: &str) -> &str {
+    let rest = rest.trim_start();
+    match rest.strip_prefix('<') {
+        Some(bracketed) => bracketed.split('>').next().unwrap_or(bracketed),
+        None => rest.split([')', ' ']).next().unwrap_or(rest),
+    }
+}
+
+/// Whether a link to `url` may stay a link: its scheme (what precedes a `:` that comes
+/// before any `/`, `?` or `#`, ASCII case and the whitespace and control characters
+/// browsers skip ignored) is `http`, `https` or `mailto`, or it has none (a relative link
+/// or a `#fragment`).
+///
+/// ```
+/// use planner_text::safe_link;
+/// assert!(safe_link("https://example.org/a") && safe_link("charts/a.svg") && safe_link("#s1"));
+/// assert!(!safe_link("javascript:alert(1)") && !safe_link(" JaVa\tScRiPt:x") && !safe_link("data:text/html,x"));
+/// ```
+pub fn safe_link(url: &str) -> bool {
+    let cleaned: String = url
+        .chars()
+        .filter(|c| !c.is_whitespace() && !c.is_control())
+        .collect();
+    match cleaned.find([':', '/', '?', '#']) {
+        Some(i) if cleaned[i..].starts_with(':') => {
+            let scheme = cleaned[..i].to_ascii_lowercase();
+            matches!(scheme.as_str(), "http" | "https" | "mailto")
+        }
+        _ => true,
+    }
+}
+
+/// `text` escaped for XML and HTML text and quoted attribute values (`&`, `<`, `>`, `"`,
+/// and `'` as `&#39;`, which both read).
+///
+/// ```
+/// assert_eq!(planner_text::xml_escape("<b a='1'>&"), "&lt;b a=&#39;1&#39;&gt;&amp;");
+/// ```
+pub fn xml_escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
