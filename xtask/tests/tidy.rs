@@ -209,10 +209,8 @@ const LAYER_FORBIDDEN: &[(&str, &[&str])] = &[
     ),
     ("planner-report", &["planner-registry", "planner-paper"]),
     ("planner-paper", &["planner-registry"]),
-    (
-        "planner-replan",
-        &["planner-runner", "planner-report", "planner-paper"],
-    ),
+    // Above the runner, whose results directories (`outdir`) it writes.
+    ("planner-replan", &["planner-report", "planner-paper"]),
     ("planner-serve", &["planner-report", "planner-paper"]),
     // At the bottom: every writer of user text uses it, so it uses none of them.
     (

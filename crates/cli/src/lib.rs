@@ -363,7 +363,7 @@ impl CliError {
                 return match error {
                     E::Parse { .. } | E::Invalid { .. } | E::TooManyToggles { .. } => EXIT_CONFIG,
                     E::Map(_) | E::Problem { .. } => EXIT_INPUT,
-                    E::Output { .. } => EXIT_OUTPUT,
+                    E::Output(_) => EXIT_OUTPUT,
                     _ => EXIT_FAILURE,
                 };
             }

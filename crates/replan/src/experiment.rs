@@ -24,12 +24,13 @@
 //! subsample beyond). Times appear only with [`RunOptions::timing`], so that without it
 //! every output is a pure function of the config.
 //!
-//! The output directory must be absent, empty or marked ([`MARKER`], in the experiment
-//! runner's format: format, experiment, gridplan version and the `files` written). Each
-//! file is written whole (a new file renamed into place); the marker, written first,
-//! lists every file a run may write, and at the end exactly those written, after the
-//! files an earlier run listed and this one did not write again are removed (with their
-//! directories once empty). Other files in the directory stay.
+//! The results directory is written as the experiment runner writes its own, by
+//! planner-runner's `outdir` (its rules in that module's docs): only into a directory that
+//! is absent, empty or gridplan's results ([`MARKER`]) holding nothing its marker does not
+//! list (a file of the user's there refuses the run, and stays), under an exclusive lock
+//! (a second run on the same output waits for the first, at most two minutes), and whole:
+//! the new directory is written beside it and takes its place at once, so no output of an
+//! earlier config stays, and a run killed half-way leaves the old results as they were.
 //!
 //! ```no_run
 //! use planner_replan::experiment::{run, RunOptions};
@@ -60,9 +61,9 @@ use crate::{gppc, planners, Mismatch, Oracle, ReplanRecord};
 /// The most points [`run`] draws in `expansions.svg`.
 pub const CHART_POINTS: usize = 20_000;
 
-/// The file every results directory holds, so that [`run`] replaces only its own outputs
-/// (the same marker, in the same format, as the experiment runner writes).
-pub const MARKER: &str = ".gridplan-results";
+/// The file every results directory holds, so that [`run`] replaces only gridplan's own
+/// outputs (the experiment runner's marker).
+pub use planner_runner::outdir::MARKER;
 
 /// The experiment kind.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, schemars::JsonSchema)]
@@ -275,12 +276,10 @@ pub enum ExperimentError {
         /// What is wrong.
         message: String,
     },
-    /// The output directory holds something that is not an earlier run's results.
-    #[error("{path}: the output directory is not empty and not an earlier run's results (no {MARKER} in it); choose another")]
-    Output {
-        /// The directory.
-        path: String,
-    },
+    /// The output directory may not be written: the experiment runner's rules
+    /// (planner-runner's `outdir`), its message naming the path and what to do.
+    #[error(transparent)]
+    Output(#[from] planner_runner::outdir::OutdirError),
 }
 
 /// How [`run`] runs.
@@ -570,84 +569,6 @@ fn load_maps(
     Ok(out)
 }
 
-/// Prepares `output`: absent, empty, or an earlier run's results (marked). Returns the files
-/// the earlier run's marker lists (none for an older marker), which this run removes if it
-/// does not write them again, so that no output of another config is left among its own.
-fn prepare_output(output: &Path, name: &str) -> Result<Vec<String>, ExperimentError> {
-    let io = |e: std::io::Error| ExperimentError::Io {
-        path: output.display().to_string(),
-        message: e.to_string(),
-    };
-    let mut listed = Vec::new();
-    if output.exists() {
-        let mut entries = std::fs::read_dir(output).map_err(io)?;
-        let empty = entries.next().is_none();
-        let marker = output.join(MARKER);
-        if !empty && !marker.is_file() {
-            return Err(ExperimentError::Output {
-                path: output.display().to_string(),
-            });
-        }
-        if let Ok(text) = std::fs::read_to_string(&marker) {
-            listed = listed_files(&text);
-        }
-    }
-    std::fs::create_dir_all(output).map_err(io)?;
-    // Marked before anything is written, listing whatever this run may write: a run killed
-    // half-way leaves a directory that the next run (of either writer) knows as its own.
-    let mut covered = listed.clone();
-    covered.extend(OUTPUTS.iter().map(|name| name.to_string()));
-    covered.sort();
-    covered.dedup();
-    write_whole(&output.join(MARKER), &marker_text(name, &covered)).map_err(io)?;
-    Ok(listed)
-}
-
-/// Every file a run may write beside the marker.
-const OUTPUTS: [&str; 6] = [
-    "expansions.svg",
-    "gppc.csv",
-    "replans.jsonl",
-    "runs.csv",
-    "runs.jsonl",
-    "summary.md",
-];
-
-/// The `files` a marker lists (the experiment runner's TOML marker, which this one writes
-/// too); none when it lists none or does not parse.
-fn listed_files(marker: &str) -> Vec<String> {
-    toml::from_str::<toml::Table>(marker)
-        .ok()
-        .and_then(|table| table.get("files").cloned())
-        .and_then(|files| files.try_into::<Vec<String>>().ok())
-        .unwrap_or_default()
-}
-
-/// The marker for experiment `name` listing `files`, in the experiment runner's format
-/// (planner-runner's `outdir::Marker`: format 1, the experiment, the gridplan version, the
-/// files), so that either writer treats the other's results as gridplan's own.
-fn marker_text(name: &str, files: &[String]) -> String {
-    let quoted = |text: &str| toml::Value::String(text.to_string()).to_string();
-    let mut text = format!(
-        "# Written by gridplan: this directory holds an experiment's results, and the next\n\
-         # run writing here replaces it whole, unless it holds files gridplan did not write\n\
-         # (those `files` does not list). Remove this file and gridplan leaves it alone.\n\
-         format = 1\nexperiment = {}\ngridplan = {}\nfiles = [\n",
-        quoted(name),
-        quoted(env!("CARGO_PKG_VERSION"))
-    );
-    for file in files {
-        text.push_str(&format!("    {},\n", quoted(file)));
-    }
-    text.push_str("]\n");
-    text
-}
-
-/// Writes `text` to `path` whole or not at all ([`planner_maps::write_whole`]).
-fn write_whole(path: &Path, text: &str) -> std::io::Result<()> {
-    planner_maps::write_whole(path, text.as_bytes())
-}
-
 /// One run's identity and records.
 struct RunRow {
     map: String,
@@ -806,7 +727,8 @@ pub fn run_config_with(
             .map_or_else(|| spec.scen.clone(), |s| s.to_string_lossy().into_owned());
         gppc_inputs.push((stem, spec.clone(), scenario, patches));
     }
-    let listed = prepare_output(output, config.name.get_ref())?;
+    // Refused before anything runs, as the experiment runner refuses an output.
+    planner_runner::outdir::check(output)?;
 
     // The runs, in a fixed order; rayon keeps it in the collected results.
     let mut tasks: Vec<(usize, usize, u64, usize)> = Vec::new();
@@ -940,18 +862,17 @@ pub fn run_config_with(
             })
             .collect()
     });
-    write_results(config, output, options, &rows, &gppc_runs, &listed)
+    write_results(config, output, options, &rows, &gppc_runs)
 }
 
-/// Writes every output file (see the [module docs](self)), each whole, removes the files of
-/// `listed` (the earlier run's) that it did not write, and writes the marker listing its own.
+/// Writes every output file as the results directory `output` (see the
+/// [module docs](self)).
 fn write_results(
     config: &ExperimentConfig,
     output: &Path,
     options: &RunOptions,
     rows: &[RunRow],
     gppc_runs: &[(String, String, gppc::Replay)],
-    listed: &[String],
 ) -> Result<ExperimentSummary, ExperimentError> {
     let setting_key = match config.kind {
         Kind::Navigate => "radius",
@@ -1069,15 +990,12 @@ fn write_results(
     let charted = ["dstar_lite", "lpastar"]
         .into_iter()
         .find(|n| config.planners.iter().any(|p| p.get_ref() == n));
-    let mut files = Vec::new();
+    let mut outputs = Vec::new();
     let mut write = |name: &str, text: &str| -> Result<(), ExperimentError> {
-        debug_assert!(OUTPUTS.contains(&name), "{name} is not in OUTPUTS");
-        let path = output.join(name);
-        write_whole(&path, text).map_err(|e| ExperimentError::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
-        files.push(path);
+        outputs.push(planner_runner::outdir::OutputFile {
+            path: PathBuf::from(name),
+            contents: text.as_bytes().to_vec(),
+        });
         Ok(())
     };
     write("summary.md", &summary)?;
@@ -1121,37 +1039,13 @@ fn write_results(
             ),
         )?;
     }
-    // The earlier run's outputs that this one did not write again go (only files its
-    // marker lists, never through a link), then the marker lists this run's.
-    let written: Vec<String> = files
-        .iter()
-        .filter_map(|path| path.file_name())
-        .map(|name| name.to_string_lossy().into_owned())
-        .collect();
-    for stale in listed.iter().filter(|name| !written.contains(name)) {
-        let path = output.join(stale);
-        let plain = Path::new(stale)
-            .components()
-            .all(|c| matches!(c, std::path::Component::Normal(_)));
-        if plain && std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) {
-            let _ = std::fs::remove_file(&path);
-            // Its directories go too once empty (an experiment runner's `figures/`).
-            let mut dir = path.parent();
-            while let Some(here) = dir.filter(|d| *d != output) {
-                if std::fs::remove_dir(here).is_err() {
-                    break;
-                }
-                dir = here.parent();
-            }
-        }
-    }
-    let marker = output.join(MARKER);
-    write_whole(&marker, &marker_text(config.name.get_ref(), &written)).map_err(|e| {
-        ExperimentError::Io {
-            path: marker.display().to_string(),
-            message: e.to_string(),
-        }
-    })?;
+    let written = planner_runner::outdir::write_results(
+        output,
+        config.name.get_ref(),
+        &outputs,
+        planner_runner::outdir::DEFAULT_LOCK_WAIT,
+    )?;
+    let files = outputs.iter().map(|f| written.join(&f.path)).collect();
     let mismatches = rows
         .iter()
         .map(|r| r.mismatches().len() as u64)

@@ -203,13 +203,14 @@ fn foreign_output_directories_are_left_alone() {
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
     let path = root().join("configs/replan/navigate.toml");
     let e = experiment::run(&path, &out, &test_options(1)).unwrap_err();
-    assert!(matches!(e, ExperimentError::Output { .. }), "{e}");
+    assert!(matches!(e, ExperimentError::Output(_)), "{e}");
     assert_eq!(read(&out, "notes.txt"), "mine");
 }
 
-/// A second run into the same directory: the first run's outputs that it does not write
-/// (`dynamic`'s GPPC table after `navigate`) go, a file of the user's stays, and the marker
-/// lists exactly the files written, in the experiment runner's format.
+/// A second run into the same directory: a file of the user's among the results refuses it
+/// with everything left as it was (the experiment runner's rule); once the file is moved
+/// out, the first run's outputs that it does not write (`dynamic`'s GPPC table after
+/// `navigate`) go, and the marker lists exactly the files written, in the runner's format.
 #[test]
 fn a_rerun_leaves_no_output_of_the_earlier_config() {
     let out = scratch("rerun");
@@ -221,9 +222,17 @@ fn a_rerun_leaves_no_output_of_the_earlier_config() {
     assert!(out.join("gppc.csv").is_file());
     assert!(first.files.iter().any(|f| f.ends_with("gppc.csv")));
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let path = root().join("configs/replan/navigate.toml");
+    let refused = experiment::run(&path, &out, &test_options(1)).unwrap_err();
+    assert!(refused.to_string().contains("notes.txt"), "{refused}");
+    assert_eq!(read(&out, "notes.txt"), "mine");
+    assert!(
+        out.join("gppc.csv").is_file(),
+        "the refused run changed the results"
+    );
+    std::fs::remove_file(out.join("notes.txt")).unwrap();
     let second = run("navigate");
     assert!(!out.join("gppc.csv").exists(), "a stale gppc.csv stayed");
-    assert_eq!(read(&out, "notes.txt"), "mine");
     let marker: toml::Table = toml::from_str(&read(&out, experiment::MARKER)).unwrap();
     let mut listed: Vec<String> = marker["files"]
         .as_array()
@@ -241,11 +250,14 @@ fn a_rerun_leaves_no_output_of_the_earlier_config() {
     assert_eq!(listed, written);
     assert_eq!(marker["format"].as_integer(), Some(1));
     assert_eq!(marker["experiment"].as_str(), Some("navigate"));
-    // Nothing half-written is left beside them.
+    // Nothing half-written is left in the directory or beside it (the runner writes the
+    // new directory as `.<name>.partial` beside it and keeps no lock once done).
+    let beside = format!(".{}.", out.file_name().unwrap().to_string_lossy());
     let mut names: Vec<String> = std::fs::read_dir(&out)
         .unwrap()
+        .chain(std::fs::read_dir(out.parent().unwrap()).unwrap())
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".partial"))
+        .filter(|n| n.ends_with(".partial") || n.starts_with(&beside))
         .collect();
     names.sort();
     assert!(names.is_empty(), "{names:?}");
