@@ -47,6 +47,14 @@ def test_config_planner_parameter_errors_are_positioned(tmp_path):
     )
 
 
+def test_a_replanning_config_is_named_as_such():
+    # run_experiment reads the runner's configs; a replanning one (configs/replan/) had
+    # been refused as an unknown key `kind`.
+    config = MAPS.parent / "configs" / "replan" / "navigate.toml"
+    with pytest.raises(gridplan.ConfigError, match="a replanning experiment .* runs with `gridplan experiment`"):
+        gridplan.run_experiment(config)
+
+
 def test_missing_config():
     error = check(
         lambda: gridplan.run_experiment("/nonexistent/x.toml"),

@@ -580,8 +580,26 @@ const MAX_ADMISSIBILITY_WARNINGS: usize = 10;
 /// its label's line and column.
 pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let src = Source { file: path, text };
-    let raw: RawConfig =
-        toml::from_str(text).map_err(|e| src.error(e.span(), e.message().trim()))?;
+    let raw: RawConfig = toml::from_str(text).map_err(|e| {
+        // A replanning experiment's config (planner-replan's, `kind = "navigate"` or
+        // `"dynamic"`) is named as such, not as an unknown key.
+        let kind = toml::from_str::<toml::Table>(text)
+            .ok()
+            .and_then(|t| t.get("kind").and_then(|k| k.as_str().map(str::to_string)));
+        match kind.as_deref() {
+            Some(kind @ ("navigate" | "dynamic")) => src.error(
+                e.span(),
+                format!(
+                    "key `kind`: a replanning experiment (kind = \"{kind}\", \
+                     configs/replan/README.md) runs with `gridplan experiment` (or `cargo \
+                     xtask experiment`) alone; `plan --config`, `slurm`, `merge` and \
+                     Python's run_experiment read the experiment runner's configs, which \
+                     have no `kind`"
+                ),
+            ),
+            _ => src.error(e.span(), e.message().trim()),
+        }
+    })?;
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
     let name = check_top_level(&src, &raw)?;
