@@ -113,7 +113,8 @@ pub(crate) struct RawConfig {
     figures_expanded: bool,
     /// More line charts of a metric against a parameter.
     #[serde(default)]
-    charts: Vec<ChartSpec>,
+    #[schemars(with = "Vec<ChartSpec>")]
+    charts: Vec<Spanned<ChartSpec>>,
     /// Write OMPL benchmark logs.
     #[serde(default)]
     ompl: bool,
@@ -574,32 +575,35 @@ pub const MAX_TEXT_BYTES: u64 = 16 << 20;
 /// not admissible (`moves = 16` with the Manhattan heuristic, a weight above 1).
 const MAX_ADMISSIBILITY_WARNINGS: usize = 10;
 
+/// The error of a config that does not deserialize: toml's, at its span, except that a
+/// replanning experiment's config (planner-replan's, `kind = "navigate"` or `"dynamic"`)
+/// is named as such, not as an unknown key.
+fn syntax_error(src: &Source<'_>, e: &toml::de::Error) -> ConfigError {
+    let kind = toml::from_str::<toml::Table>(src.text)
+        .ok()
+        .and_then(|t| t.get("kind").and_then(|k| k.as_str().map(str::to_string)));
+    match kind.as_deref() {
+        Some(kind @ ("navigate" | "dynamic")) => src.error(
+            e.span(),
+            format!(
+                "key `kind`: a replanning experiment (kind = \"{kind}\", \
+                 configs/replan/README.md) runs with `gridplan experiment` (or `cargo \
+                 xtask experiment`) alone; `plan --config`, `slurm`, `merge` and \
+                 Python's run_experiment read the experiment runner's configs, which \
+                 have no `kind`"
+            ),
+        ),
+        _ => src.error(e.span(), e.message().trim()),
+    }
+}
+
 /// Parses and validates config `text`, read from `path` (relative paths resolve against
 /// its directory). A planner whose specs declare it not admissible
 /// ([`planner_api::PlannerSpecs::admissible`]) is accepted with a `tracing` warning naming
 /// its label's line and column.
 pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let src = Source { file: path, text };
-    let raw: RawConfig = toml::from_str(text).map_err(|e| {
-        // A replanning experiment's config (planner-replan's, `kind = "navigate"` or
-        // `"dynamic"`) is named as such, not as an unknown key.
-        let kind = toml::from_str::<toml::Table>(text)
-            .ok()
-            .and_then(|t| t.get("kind").and_then(|k| k.as_str().map(str::to_string)));
-        match kind.as_deref() {
-            Some(kind @ ("navigate" | "dynamic")) => src.error(
-                e.span(),
-                format!(
-                    "key `kind`: a replanning experiment (kind = \"{kind}\", \
-                     configs/replan/README.md) runs with `gridplan experiment` (or `cargo \
-                     xtask experiment`) alone; `plan --config`, `slurm`, `merge` and \
-                     Python's run_experiment read the experiment runner's configs, which \
-                     have no `kind`"
-                ),
-            ),
-            _ => src.error(e.span(), e.message().trim()),
-        }
-    })?;
+    let raw: RawConfig = toml::from_str(text).map_err(|e| syntax_error(&src, &e))?;
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
     let name = check_top_level(&src, &raw)?;
@@ -673,7 +677,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         figures_per_map: raw.figures_per_map,
         figures_pick: raw.figures_pick,
         figures_expanded: raw.figures_expanded,
-        charts: raw.charts,
+        charts: check_charts(&src, raw.charts, &planners)?,
         ompl: raw.ompl,
         paths: raw.paths,
         outputs: read_outputs(&src, raw.outputs)?,
@@ -683,6 +687,53 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         planners,
         sections,
     })
+}
+
+/// The `[[charts]]` entries, each `x` and `group` checked against what the runs have: a
+/// planner parameter that some label resolves, `bucket`, and for `group` also `map` and
+/// `planner` (a misspelt key had drawn an empty chart). `y` can name any counter, which
+/// the planners report only as they run, so the report says when no run has it.
+fn check_charts(
+    src: &Source<'_>,
+    charts: Vec<Spanned<ChartSpec>>,
+    planners: &[PlannerSpec],
+) -> Result<Vec<ChartSpec>, ConfigError> {
+    let mut parameters: Vec<&str> = planners
+        .iter()
+        .filter_map(|p| p.factory.resolved().as_object())
+        .flat_map(|params| params.keys().map(String::as_str))
+        .collect();
+    parameters.sort_unstable();
+    parameters.dedup();
+    let mut out = Vec::with_capacity(charts.len());
+    for (i, chart) in charts.into_iter().enumerate() {
+        let span = chart.span();
+        let spec = chart.into_inner();
+        let keys = [("x", Some(&spec.x)), ("group", spec.group.as_ref())];
+        for (key, value) in keys {
+            let Some(value) = value else { continue };
+            let known = value == "bucket"
+                || (key == "group" && matches!(value.as_str(), "map" | "planner"))
+                || parameters.contains(&value.as_str());
+            if !known {
+                let others = if key == "group" {
+                    "`bucket`, `map` or `planner`"
+                } else {
+                    "`bucket`"
+                };
+                return Err(src.error(
+                    Some(span),
+                    format!(
+                        "charts[{i}]: key `{key}`: {value:?} is no planner parameter of this \
+                         config's labels ({}) nor {others}",
+                        parameters.join(", ")
+                    ),
+                ));
+            }
+        }
+        out.push(spec);
+    }
+    Ok(out)
 }
 
 /// The tables `outputs = [...]` asks for (default: all); an empty list is refused at the key.
