@@ -422,6 +422,9 @@ fn careless_inputs_fail_cleanly() {
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--threads", "100000"]), Error("100000 worker threads")),
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--output", "c.toml"]), Error("c.toml")),
         (owned(experiment(CONFIG)), args(&["merge", "nowhere"]), Error("nowhere")),
+        // A chart's x or group that no label has drew an empty chart.
+        (owned(experiment(&format!("{CONFIG}[[charts]]\nx = \"wieght\"\ny = \"length\"\n"))), args(&["experiment", "c.toml"]), Error("c.toml:7:1: charts[0]: key `x`: \"wieght\" is no planner parameter of this config's labels (corner_cutting, heuristic, moves, order, tie_break, weight) nor `bucket`")),
+        (owned(experiment(&format!("{CONFIG}[[charts]]\nx = \"weight\"\ny = \"length\"\ngroup = \"mapp\"\n"))), args(&["experiment", "c.toml"]), Error("charts[0]: key `group`: \"mapp\" is no planner parameter")),
     ];
     cases.extend(plan_cases);
 

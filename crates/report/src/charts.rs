@@ -490,10 +490,15 @@ pub fn metric(record: &RunRecord, y: &str) -> Option<f64> {
 
 /// The parameter-study chart `i` of `spec`: each group's median metric against x.
 fn study_chart(i: usize, spec: &ChartSpec, series: &[(String, Vec<(f64, f64)>)]) -> Chart {
-    let title = spec
+    let mut title = spec
         .title
         .clone()
         .unwrap_or_else(|| format!("{} against {}", spec.y, spec.x));
+    // `y` may name a counter no planner of the config reports (the config cannot tell
+    // before the runs): the empty chart says so rather than looking like missing data.
+    if series.iter().all(|(_, line)| line.is_empty()) {
+        title.push_str(&format!(" (no run has both {} and {})", spec.y, spec.x));
+    }
     let file = format!(
         "study-{}-{}-{}.svg",
         i + 1,
@@ -787,4 +792,27 @@ fn draw_bar_chart(
             .legend(move |(px, py)| Rectangle::new([(px, py - 5), (px + 14, py + 5)], c.filled()));
     }
     legend(&mut chart, SeriesLabelPosition::UpperRight)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{study_chart, ChartSpec};
+
+    /// A chart without a point (its `y` a counter no planner reports) says so in its title.
+    #[test]
+    fn an_empty_study_chart_says_why() {
+        let spec = ChartSpec {
+            x: "weight".into(),
+            y: "n_nothing".into(),
+            group: None,
+            title: None,
+        };
+        let empty = study_chart(0, &spec, &[("map01".into(), Vec::new())]);
+        assert_eq!(
+            empty.title,
+            "n_nothing against weight (no run has both n_nothing and weight)"
+        );
+        let drawn = study_chart(0, &spec, &[("map01".into(), vec![(1.0, 2.0)])]);
+        assert_eq!(drawn.title, "n_nothing against weight");
+    }
 }
