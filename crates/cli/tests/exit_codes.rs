@@ -115,6 +115,20 @@ fn a_refused_output_exits_5_and_is_left_alone() {
         std::fs::read_to_string(mine.join("notes.txt")).unwrap(),
         "mine"
     );
+    // A replanning experiment's results (the runner's marker, its replans.jsonl): said so.
+    let replan = dir.join("replan");
+    std::fs::create_dir_all(&replan).unwrap();
+    std::fs::write(
+        replan.join(".gridplan-results"),
+        "format = 1\nexperiment = \"n\"\ngridplan = \"0.1.0\"\nfiles = [\"replans.jsonl\"]\n",
+    )
+    .unwrap();
+    std::fs::write(replan.join("replans.jsonl"), "{}\n").unwrap();
+    let (_, err) = gridplan(&["report", &replan.display().to_string()]);
+    assert!(
+        err.contains("holds a replanning experiment's results"),
+        "{err}"
+    );
     for (path, what) in [
         (dir.join("none"), "does not exist"),
         (file, "is not a directory"),

@@ -148,6 +148,14 @@ pub enum ResultsError {
         /// What it is, e.g. "does not exist".
         what: &'static str,
     },
+    /// A replanning experiment's results given to `report`, which re-renders the runner's.
+    #[error("report: {} holds a replanning experiment's results ({file}), which report does not re-render; run its config again with `gridplan experiment`", .dir.display())]
+    ReplanResults {
+        /// The directory.
+        dir: PathBuf,
+        /// The replanning experiment's file found there.
+        file: &'static str,
+    },
     /// A shard's output given to `report`, which reads a whole sweep's results.
     #[error("report: {} holds one shard of a sweep ({file}), not its results; merge the shards (`gridplan merge`) and report the merged directory", .dir.display())]
     ShardNotResults {

@@ -833,10 +833,17 @@ pub fn report(
         path = dir.join(OLD_RESULTS_RECORDS);
     }
     let file = stream::open_regular(&path).map_err(|source| {
+        // planner-replan's per-replan records: its results share the runner's marker.
+        const REPLANS_FILE: &str = "replans.jsonl";
         if fs::symlink_metadata(dir.join(SHARD_FILE)).is_ok_and(|m| m.is_file()) {
             ResultsError::ShardNotResults {
                 dir: dir.to_path_buf(),
                 file: SHARD_FILE,
+            }
+        } else if fs::symlink_metadata(dir.join(REPLANS_FILE)).is_ok_and(|m| m.is_file()) {
+            ResultsError::ReplanResults {
+                dir: dir.to_path_buf(),
+                file: REPLANS_FILE,
             }
         } else {
             ResultsError::NoRecords {
