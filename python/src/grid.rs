@@ -161,19 +161,34 @@ impl Grid {
             ))
             .into());
         }
-        let converted = array.call_method1("astype", ("int64",))?;
-        let view: PyReadonlyArray2<'_, i64> = converted.extract()?;
-        let values = view.as_array();
-        if let Some(((y, x), value)) = values
-            .indexed_iter()
-            .find(|(_, v)| !(1..=i64::from(u16::MAX)).contains(*v))
-        {
+        // Unsigned arrays are read as u64, so that a value beyond i64 is named as itself.
+        // `bad`: the first cell out of range, `(row, column)`, and its value.
+        type OutOfRange = Option<((usize, usize), String)>;
+        let (cells, bad): (Vec<u16>, OutOfRange) = if kind == "u" {
+            let converted = array.call_method1("astype", ("uint64",))?;
+            let view: PyReadonlyArray2<'_, u64> = converted.extract()?;
+            let values = view.as_array();
+            let bad = values
+                .indexed_iter()
+                .find(|(_, v)| !(1..=u64::from(u16::MAX)).contains(*v))
+                .map(|(at, v)| (at, v.to_string()));
+            (values.iter().map(|&v| v as u16).collect(), bad)
+        } else {
+            let converted = array.call_method1("astype", ("int64",))?;
+            let view: PyReadonlyArray2<'_, i64> = converted.extract()?;
+            let values = view.as_array();
+            let bad = values
+                .indexed_iter()
+                .find(|(_, v)| !(1..=i64::from(u16::MAX)).contains(*v))
+                .map(|(at, v)| (at, v.to_string()));
+            (values.iter().map(|&v| v as u16).collect(), bad)
+        };
+        if let Some(((y, x), value)) = bad {
             return Err(Failure::Value(format!(
                 "{within}: cell ({x}, {y}) (array[{y}, {x}]) has weight {value}; weights are integers from 1 to 65535"
             ))
             .into());
         }
-        let cells: Vec<u16> = values.iter().map(|&v| v as u16).collect();
         let grid = (*self.inner)
             .clone()
             .with_weights(cells, rule)

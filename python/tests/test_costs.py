@@ -125,6 +125,12 @@ def test_bad_weights_are_refused_with_the_cell():
     bad[1, 2] = 70000
     with pytest.raises(ValueError, match="has weight 70000"):
         grid.with_weights(bad)
+    # An unsigned value beyond i64 is named as itself (it was named -1).
+    huge = np.ones((2, 3), dtype=np.uint64)
+    huge[0, 1] = 2**64 - 1
+    with pytest.raises(ValueError, match=r"cell \(1, 0\) .* has weight 18446744073709551615"):
+        grid.with_weights(huge)
+    assert grid.with_weights(np.full((2, 3), 65535, dtype=np.uint16)).weights.max() == 65535
     with pytest.raises(TypeError, match="integer array"):
         grid.with_weights(np.ones((2, 3)) * 1.5)
     with pytest.raises(ValueError, match="shape"):
