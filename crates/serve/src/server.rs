@@ -954,7 +954,15 @@ fn results(state: &State, relative: &str) -> Answer {
     };
     let runs = match read("runs.json") {
         Ok(Some(text)) => text,
-        Ok(None) => return Answer::error(404, "the results directory has no runs.json"),
+        Ok(None) => {
+            // What the page opens is runs.json; say why a marked directory lacks it.
+            let why = if dir.join("replans.jsonl").is_file() {
+                "it holds a replanning experiment's results (configs/replan/), which the page does not draw"
+            } else {
+                "its config's `outputs` left runs.json out; add \"json\" to `outputs` and run it again"
+            };
+            return Answer::error(404, &format!("{relative:?} has no runs.json: {why}"));
+        }
         Err(answer) => return answer,
     };
     let runs: serde_json::Value = match serde_json::from_str(&runs) {

@@ -350,5 +350,20 @@ fn a_results_directory_opens_with_its_runs_and_paths() {
     }
     // A directory that is not a results directory is refused.
     assert_eq!(get(addr, "/api/results?path=paper").0, 404);
+    // Results without runs.json (written by a config whose `outputs` leaves it out) are
+    // listed, and opening them says why they cannot be drawn.
+    std::fs::remove_file(output.join("runs.json")).unwrap();
+    let (status, answer) = get(addr, "/api/results?path=results%2Fmine");
+    assert_eq!(status, 404);
+    assert!(
+        answer.contains("has no runs.json: its config's `outputs` left runs.json out"),
+        "{answer}"
+    );
+    std::fs::write(output.join("replans.jsonl"), "{}\n").unwrap();
+    let (_, answer) = get(addr, "/api/results?path=results%2Fmine");
+    assert!(
+        answer.contains("a replanning experiment's results"),
+        "{answer}"
+    );
     stop();
 }
