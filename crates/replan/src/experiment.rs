@@ -991,21 +991,20 @@ fn write_results(
         .into_iter()
         .find(|n| config.planners.iter().any(|p| p.get_ref() == n));
     let mut outputs = Vec::new();
-    let mut write = |name: &str, text: &str| -> Result<(), ExperimentError> {
+    let mut write = |name: &str, text: &str| {
         outputs.push(planner_runner::outdir::OutputFile {
             path: PathBuf::from(name),
             contents: text.as_bytes().to_vec(),
         });
-        Ok(())
     };
-    write("summary.md", &summary)?;
+    write("summary.md", &summary);
     if !rows.is_empty() {
-        write("runs.csv", &runs_csv)?;
-        write("runs.jsonl", &runs_jsonl)?;
-        write("replans.jsonl", &replans_jsonl)?;
+        write("runs.csv", &runs_csv);
+        write("runs.jsonl", &runs_jsonl);
+        write("replans.jsonl", &replans_jsonl);
     }
     if !gppc_runs.is_empty() {
-        write("gppc.csv", &gppc_csv)?;
+        write("gppc.csv", &gppc_csv);
     }
     if let Some(charted) = charted.filter(|_| !rows.is_empty()) {
         let points: Vec<(u64, u64)> = rows
@@ -1037,7 +1036,7 @@ fn write_results(
                 &format!("{charted} at the replan"),
                 &title,
             ),
-        )?;
+        );
     }
     let written = planner_runner::outdir::write_results(
         output,
