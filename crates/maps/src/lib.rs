@@ -428,8 +428,7 @@ pub fn read_text_file(path: &Path, max_bytes: u64) -> Result<String, MapError> {
 /// the old file as it was and a link at `path` is replaced, not written through. A
 /// read-only file at `path` is refused (`PermissionDenied`), as writing it in place would
 /// be: the rename would replace it regardless of its bits. For the files gridplan writes
-/// beside a user's (a map written by `cargo xtask`, a picture of `plan`, a replanning
-/// experiment's tables).
+/// beside a user's (a map written by `cargo xtask`, a picture of `plan`).
 pub fn write_whole(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     use std::io::Write as _;
     if std::fs::symlink_metadata(path).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
