@@ -385,7 +385,9 @@ pub fn exit(result: Result<(), CliError>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error}");
+            // Messages carry config text (labels, paths): no control sequence reaches the
+            // terminal.
+            eprintln!("error: {}", planner_text::terminal(&error.to_string()));
             ExitCode::from(error.exit_code())
         }
     }
@@ -546,7 +548,7 @@ impl sweep::Progress for Bar {
         if done == 0 {
             eprintln!(
                 "nothing to resume for {}: running every run",
-                output.display()
+                planner_text::terminal(&output.display().to_string())
             );
         } else {
             eprintln!("resuming: {done} of {total} runs already recorded");
@@ -622,17 +624,14 @@ fn replan_experiment(
         threads: threads.unwrap_or(0),
     };
     let done = experiment::run_config(&parsed, config, &output, &options)?;
-    write_stdout(
-        format!(
-            "{}: {} runs, {} replans checked against A* from scratch, {} mismatches -> {}\n",
-            done.name,
-            done.runs,
-            done.replans,
-            done.mismatches,
-            output.display()
-        )
-        .as_bytes(),
-    )?;
+    write_text(&format!(
+        "{}: {} runs, {} replans checked against A* from scratch, {} mismatches -> {}\n",
+        done.name,
+        done.runs,
+        done.replans,
+        done.mismatches,
+        output.display()
+    ))?;
     if done.mismatches > 0 {
         return Err(CliError::Failed(format!(
             "{} replans disagree with A* from scratch (see {})",
@@ -708,7 +707,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                     report.reproduction.matched, report.reproduction.compared
                 ));
             }
-            write_stdout(out.as_bytes())
+            write_text(&out)
         }
         Command::Merge {
             mut dirs,
@@ -726,26 +725,20 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 &planner_paper::renderer(),
                 &machine,
             )?;
-            write_stdout(
-                format!(
-                    "{} runs merged from {} shards -> {}\n",
-                    report.n_runs,
-                    dirs.len(),
-                    report.output.display()
-                )
-                .as_bytes(),
-            )
+            write_text(&format!(
+                "{} runs merged from {} shards -> {}\n",
+                report.n_runs,
+                dirs.len(),
+                report.output.display()
+            ))
         }
         Command::Report { dir, config } => {
             let report = sweep::report(&dir, config.as_deref(), &planner_paper::renderer())?;
-            write_stdout(
-                format!(
-                    "{} runs reported -> {}\n",
-                    report.n_runs,
-                    report.output.display()
-                )
-                .as_bytes(),
-            )
+            write_text(&format!(
+                "{} runs reported -> {}\n",
+                report.n_runs,
+                report.output.display()
+            ))
         }
         Command::Slurm {
             config,
@@ -781,7 +774,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 let merge = sbatch(&jobs.merge_args(&array))?;
                 out.push_str(&format!("array job {array}\nmerge job {merge}\n"));
             }
-            write_stdout(out.as_bytes())
+            write_text(&out)
         }
         Command::Plan {
             map,
@@ -855,7 +848,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
             } else {
                 result.to_text_within(text_columns())
             };
-            write_stdout(out.as_bytes())?;
+            write_text(&out)?;
             if result.hit_default_budget() {
                 eprintln!(
                     "note: stopped at plan's default budget of {} expansions; raise it with --max-expansions",
@@ -872,7 +865,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
             planner_serve::serve(&options, |addr| {
                 // Printed as soon as the port is bound, so a script can wait for the line.
                 let line = format!("serving {} at http://{addr}/\n", dir.display());
-                let _ = write_stdout(line.as_bytes());
+                let _ = write_text(&line);
             })?;
             Ok(())
         }
@@ -965,6 +958,12 @@ fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
         }
         _ => Ok(()),
     }
+}
+
+/// [`write_stdout`] of text for a person, its control characters (but line breaks and tabs)
+/// escaped ([`planner_text::terminal`]): labels, paths and map names come from configs.
+fn write_text(text: &str) -> Result<(), CliError> {
+    write_stdout(planner_text::terminal(text).as_bytes())
 }
 
 /// Runs `sbatch --parsable ARGS` and returns the job id.

@@ -4,7 +4,8 @@
 //! script, lock files planted as links are refused with their target untouched, a foreign
 //! stream directory survives, records of another config or gridplan version are refused
 //! by merge and --resume, and distinct maps and labels never share an output file, every
-//! SVG is well-formed XML and summary.md's tables keep their columns.
+//! SVG is well-formed XML and summary.md's tables keep their columns, and no control
+//! sequence in config text reaches the terminal.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -530,4 +531,61 @@ fn names_never_collide_and_every_svg_is_xml() {
         }
     }
     assert!(summary.contains("e\\|f"));
+}
+
+/// Labels, paths and map names from a config someone else wrote reach the terminal as text:
+/// a control sequence in them (a colour, a window title, a screen clear) is escaped in every
+/// message and summary line, on stdout and stderr alike.
+#[test]
+fn control_sequences_in_config_text_never_reach_the_terminal() {
+    let dir = setup(
+        "terminal",
+        "output = \"o\\u001b]0;title\\u0007ut\"\n[planners.\"w\\u001b[31mRED\"]\nplanner = \"astar\"\n",
+    );
+    let label = "w\u{1b}[31mRED";
+    let runs = [
+        gridplan(&dir, &["experiment", "cfg.toml"]),
+        gridplan(
+            &dir,
+            &[
+                "plan",
+                "small.map",
+                "--config",
+                "cfg.toml",
+                "--planner",
+                label,
+                "--start",
+                "0,0",
+                "--goal",
+                "2,2",
+            ],
+        ),
+        gridplan(&dir, &["report", "x\u{1b}[2J"]),
+    ];
+    for (i, out) in runs.iter().enumerate() {
+        for text in [&out.stdout, &out.stderr] {
+            assert!(
+                !text.contains(['\u{1b}', '\u{7}']),
+                "run {i}: {}",
+                out.describe()
+            );
+        }
+    }
+    succeeded(&runs[0]);
+    assert!(
+        runs[0].stdout.contains("o\\u{1b}]0;title\\u{7}ut"),
+        "{}",
+        runs[0].describe()
+    );
+    succeeded(&runs[1]);
+    assert!(
+        runs[1].stdout.starts_with("w\\u{1b}[31mRED on a 3x3 grid"),
+        "{}",
+        runs[1].describe()
+    );
+    assert!(
+        runs[2].stderr.contains("x\\u{1b}[2J"),
+        "{}",
+        runs[2].describe()
+    );
 }

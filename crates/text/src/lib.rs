@@ -1,7 +1,8 @@
 //! What users write (planner labels, map names, chart titles, a config's description) made
 //! into data in gridplan's outputs, never code: a CSV field that cannot end its record, a
 //! markdown table cell that cannot end its row or become HTML or a link, markdown prose whose
-//! raw HTML and unsafe links show as text, and XML or HTML text that cannot open a tag.
+//! raw HTML and unsafe links show as text, XML or HTML text that cannot open a tag, and
+//! terminal text that cannot send the terminal a control sequence.
 //!
 //! The main design decision is that there is one of each: the runner's tables, the reports,
 //! the seeds' layouts and the replanning experiments all write through these functions. Two
@@ -10,12 +11,13 @@
 //! (one escaped `javascript:` links, the other did not).
 //!
 //! ```
-//! use planner_text::{csv_field, md_cell, md_prose, safe_link, xml_escape};
+//! use planner_text::{csv_field, md_cell, md_prose, safe_link, terminal, xml_escape};
 //! assert_eq!(csv_field("g\rh"), "\"g\rh\"");
 //! assert_eq!(md_cell("<b>|[x](y)"), "&lt;b&gt;\\|[x]\\(y)");
 //! assert_eq!(md_prose("[j](javascript:x) a <-> b"), "[j]\\(javascript:x) a <-> b");
 //! assert!(safe_link("https://example.org") && !safe_link("java\tscript:x"));
 //! assert_eq!(xml_escape("a<'b'>&\""), "a&lt;&#39;b&#39;&gt;&amp;&quot;");
+//! assert_eq!(terminal("\u{1b}[2J"), "\\u{1b}[2J");
 //! ```
 
 #![deny(missing_docs)]
@@ -158,4 +160,29 @@ pub fn xml_escape(text: &str) -> String {
         }
     }
     out
+}
+
+/// `text` for a terminal: control characters other than line breaks and tabs written as
+/// escapes (`\u{1b}`), so that a label, path or map name from a config someone else wrote
+/// cannot recolour, retitle or move the cursor of the terminal the command's messages go to.
+///
+/// ```
+/// use planner_text::terminal;
+/// assert_eq!(terminal("a\u{1b}[31mb\u{7}\nc\td"), "a\\u{1b}[31mb\\u{7}\nc\td");
+/// assert_eq!(terminal("plain"), "plain");
+/// ```
+pub fn terminal(text: &str) -> Cow<'_, str> {
+    let escaped = |c: char| c.is_control() && !matches!(c, '\n' | '\t');
+    if !text.chars().any(escaped) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if escaped(c) {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
 }
