@@ -162,26 +162,14 @@ impl Grid {
             .into());
         }
         // Unsigned arrays are read as u64, so that a value beyond i64 is named as itself.
-        // `bad`: the first cell out of range, `(row, column)`, and its value.
-        type OutOfRange = Option<((usize, usize), String)>;
-        let (cells, bad): (Vec<u16>, OutOfRange) = if kind == "u" {
+        let (cells, bad) = if kind == "u" {
             let converted = array.call_method1("astype", ("uint64",))?;
             let view: PyReadonlyArray2<'_, u64> = converted.extract()?;
-            let values = view.as_array();
-            let bad = values
-                .indexed_iter()
-                .find(|(_, v)| !(1..=u64::from(u16::MAX)).contains(*v))
-                .map(|(at, v)| (at, v.to_string()));
-            (values.iter().map(|&v| v as u16).collect(), bad)
+            weight_cells(view.as_array())
         } else {
             let converted = array.call_method1("astype", ("int64",))?;
             let view: PyReadonlyArray2<'_, i64> = converted.extract()?;
-            let values = view.as_array();
-            let bad = values
-                .indexed_iter()
-                .find(|(_, v)| !(1..=i64::from(u16::MAX)).contains(*v))
-                .map(|(at, v)| (at, v.to_string()));
-            (values.iter().map(|&v| v as u16).collect(), bad)
+            weight_cells(view.as_array())
         };
         if let Some(((y, x), value)) = bad {
             return Err(Failure::Value(format!(
@@ -449,4 +437,21 @@ fn read(
         }
     }
     Ok((file.grid, problems))
+}
+
+/// The first weight out of 1..=65535: its `(row, column)` and its value as written.
+type OutOfRange = Option<((usize, usize), String)>;
+
+/// The weights of `values` as cells, with the first value out of range, if any.
+fn weight_cells<T>(values: numpy::ndarray::ArrayView2<'_, T>) -> (Vec<u16>, OutOfRange)
+where
+    T: Copy + std::fmt::Display + TryInto<u16>,
+{
+    let weight = |v: T| v.try_into().ok().filter(|&w: &u16| w >= 1);
+    let bad = values
+        .indexed_iter()
+        .find(|(_, &v)| weight(v).is_none())
+        .map(|(at, v)| (at, v.to_string()));
+    let cells = values.iter().map(|&v| weight(v).unwrap_or(1)).collect();
+    (cells, bad)
 }
