@@ -214,7 +214,7 @@ pub enum Command {
         /// The port (0: any free port; the one chosen is printed).
         #[arg(long, default_value_t = 8080)]
         port: u16,
-        /// The address to listen on.
+        /// The address to listen on (answered by localhost or IP address, never another host name).
         #[arg(long, default_value = "127.0.0.1")]
         host: std::net::IpAddr,
     },

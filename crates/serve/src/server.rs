@@ -16,7 +16,9 @@
 //! [`crate::safe::Root`] (403/404 before anything is read); a request head over 16 KiB is
 //! refused (431), and a body over [`ServeOptions::max_body_bytes`] is refused with 413 by
 //! its `Content-Length`, before a byte of it is read (a body without a length, chunked, is
-//! refused with 411); memory per connection is bounded by those limits;
+//! refused with 411); memory per connection is bounded by those limits; a `Host` that is
+//! a DNS name other than `localhost`, or an `Origin` of another site, is refused with 403
+//! (DNS rebinding and cross-site requests from pages in the user's browser);
 //! planning runs get [`crate::query::Caps`]; at most [`ServeOptions::max_running`] plans
 //! run at once (503 beyond). A cancelled plan answers at once (409); its search stops at
 //! the planner's next budget check (the run's [`planner_api::Budget::cancel`] flag, read
@@ -370,6 +372,7 @@ fn read_request(
             .find(|h| h.name.eq_ignore_ascii_case(name))
             .map(|h| String::from_utf8_lossy(h.value).trim().to_string())
     };
+    check_origin(header("Host").as_deref(), header("Origin").as_deref())?;
     if header("Transfer-Encoding").is_some() {
         return Err(Answer::error(
             411,
@@ -407,6 +410,64 @@ fn read_request(
         }
     }
     Ok(Some((method, target, body)))
+}
+
+/// Refuses (403) what a web page of another site could make the user's browser send: a
+/// request whose `Host` is a name other than `localhost` (DNS rebinding: a site's name
+/// made to point at this machine, so that its page reads the maps and results served
+/// here), and one whose `Origin` is another site's (cross-site requests: a page starting
+/// plans here). Browsers send both headers; a request without them (curl, the tests'
+/// clients) is answered as before.
+fn check_origin(host: Option<&str>, origin: Option<&str>) -> Result<(), Answer> {
+    if let Some(host) = host {
+        if !is_local_host(host) {
+            return Err(Answer::error(
+                403,
+                &format!(
+                    "Host {host:?} is not an address of this server (gridplan serve answers \
+                     only to localhost and IP addresses); open the page by the address it printed"
+                ),
+            ));
+        }
+    }
+    if let (Some(origin), Some(host)) = (origin, host) {
+        let authority = origin
+            .strip_prefix("http://")
+            .or_else(|| origin.strip_prefix("https://"));
+        if !authority.is_some_and(|a| a.eq_ignore_ascii_case(host)) {
+            return Err(Answer::error(
+                403,
+                &format!("a request from {origin:?}, another site than this page's, is refused"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Whether a `Host` header names this machine without a DNS name that another site could
+/// control: `localhost` or an IP address, with or without a port.
+fn is_local_host(host: &str) -> bool {
+    let name = match host.strip_prefix('[') {
+        // `[v6]` or `[v6]:port`.
+        Some(rest) => match rest.split_once(']') {
+            Some((v6, port)) if port.is_empty() || port.starts_with(':') => {
+                return v6.parse::<std::net::Ipv6Addr>().is_ok() && valid_port(port);
+            }
+            _ => return false,
+        },
+        None => host,
+    };
+    let (name, port) = match name.rsplit_once(':') {
+        Some((name, port)) => (name, format!(":{port}")),
+        None => (name, String::new()),
+    };
+    valid_port(&port)
+        && (name.eq_ignore_ascii_case("localhost") || name.parse::<std::net::Ipv4Addr>().is_ok())
+}
+
+/// Whether `port` is empty or `:` and a port number.
+fn valid_port(port: &str) -> bool {
+    port.is_empty() || port[1..].parse::<u16>().is_ok()
 }
 
 /// The offset just past the blank line that ends a request head.

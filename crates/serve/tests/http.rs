@@ -367,3 +367,63 @@ fn a_results_directory_opens_with_its_runs_and_paths() {
     );
     stop();
 }
+
+/// What a page of another site could make the user's browser send is refused: a `Host`
+/// that is a DNS name other than localhost (DNS rebinding, which let that page read the
+/// served maps and results) and an `Origin` of another site (which let it start plans);
+/// localhost, IP addresses and same-origin requests are answered.
+#[test]
+fn requests_from_other_sites_are_refused() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let (status, answer) = send(addr, "GET /api/maps HTTP/1.1\r\nHost: rebound.example", b"");
+    assert_eq!(status, 403, "{answer}");
+    assert!(
+        answer.contains("is not an address of this server"),
+        "{answer}"
+    );
+    let port = addr.port();
+    for host in [
+        format!("localhost:{port}"),
+        format!("LOCALHOST:{port}"),
+        format!("127.0.0.1:{port}"),
+        format!("[::1]:{port}"),
+        "localhost".to_string(),
+    ] {
+        let (status, answer) = send(
+            addr,
+            &format!("GET /api/maps HTTP/1.1\r\nHost: {host}"),
+            b"",
+        );
+        assert_eq!(status, 200, "{host}: {answer}");
+    }
+    for host in [
+        "localhost.rebound.example",
+        "127.0.0.1.nip.io",
+        "[::1",
+        "localhost:http",
+    ] {
+        let (status, _) = send(
+            addr,
+            &format!("GET /api/maps HTTP/1.1\r\nHost: {host}"),
+            b"",
+        );
+        assert_eq!(status, 403, "{host}");
+    }
+    let body =
+        r#"{"map":"paper/map10.map","start":[0,0],"goal":[11,11],"planner":"astar","set":[]}"#;
+    let (status, answer) = send(
+        addr,
+        &format!("POST /api/plan HTTP/1.1\r\nHost: {addr}\r\nOrigin: http://evil.example\r\nContent-Type: text/plain"),
+        body.as_bytes(),
+    );
+    assert_eq!(status, 403, "{answer}");
+    assert!(answer.contains("another site"), "{answer}");
+    let (status, answer) = send(
+        addr,
+        &format!("POST /api/plan HTTP/1.1\r\nHost: {addr}\r\nOrigin: http://{addr}\r\nContent-Type: application/json"),
+        body.as_bytes(),
+    );
+    assert_eq!(status, 200, "{answer}");
+    stop();
+}
