@@ -866,6 +866,14 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 // Printed as soon as the port is bound, so a script can wait for the line.
                 let line = format!("serving {} at http://{addr}/\n", dir.display());
                 let _ = write_text(&line);
+                if !addr.ip().is_loopback() {
+                    eprintln!(
+                        "note: listening on {}, not only this machine: whoever reaches it can \
+                         read the maps and results under {} and run planners here",
+                        addr.ip(),
+                        planner_text::terminal(&dir.display().to_string())
+                    );
+                }
             })?;
             Ok(())
         }

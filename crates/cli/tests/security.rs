@@ -589,3 +589,42 @@ fn control_sequences_in_config_text_never_reach_the_terminal() {
         runs[2].describe()
     );
 }
+
+/// `serve --host 0.0.0.0` says that the page is open to whoever reaches the machine; on
+/// the loopback address it says nothing more than where it serves.
+#[test]
+fn serving_beyond_this_machine_is_said() {
+    use std::io::{BufRead as _, Read as _};
+    let dir = scratch("serve-host");
+    fs::write(dir.join("small.map"), SMALL).unwrap();
+    for (host, noted) in [("0.0.0.0", true), ("127.0.0.1", false)] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+            .args(["serve", ".", "--port", "0", "--host", host])
+            .current_dir(&dir)
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut line = String::new();
+        let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+        stdout.read_line(&mut line).unwrap();
+        assert!(line.starts_with("serving . at http://"), "{line}");
+        // The note follows the line at once; then the server is stopped.
+        std::thread::sleep(Duration::from_millis(300));
+        child.kill().unwrap();
+        child.wait().unwrap();
+        let mut stderr = String::new();
+        child
+            .stderr
+            .take()
+            .unwrap()
+            .read_to_string(&mut stderr)
+            .unwrap();
+        assert_eq!(
+            stderr.contains("not only this machine"),
+            noted,
+            "{host}: {stderr}"
+        );
+    }
+}
