@@ -843,12 +843,13 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 gif: gif.as_deref(),
             };
             planner_serve::write_pictures(&result, &pictures, &inputs)?;
-            let out = if json {
-                format!("{}\n", result.to_json()?)
+            // JSON is written as serde_json escapes it (a C1 control such as U+0085 stays a
+            // character there); the text for a person has its control characters escaped.
+            if json {
+                write_stdout(format!("{}\n", result.to_json()?).as_bytes())?;
             } else {
-                result.to_text_within(text_columns())
-            };
-            write_text(&out)?;
+                write_text(&result.to_text_within(text_columns()))?;
+            }
             if result.hit_default_budget() {
                 eprintln!(
                     "note: stopped at plan's default budget of {} expansions; raise it with --max-expansions",
