@@ -588,9 +588,9 @@ fn syntax_error(src: &Source<'_>, e: &toml::de::Error) -> ConfigError {
             format!(
                 "key `kind`: a replanning experiment (kind = \"{kind}\", \
                  configs/replan/README.md) runs with `gridplan experiment` (or `cargo \
-                 xtask experiment`) alone; `plan --config`, `slurm`, `merge` and \
-                 Python's run_experiment read the experiment runner's configs, which \
-                 have no `kind`"
+                 xtask experiment`) alone; `plan`, `report` and `merge` with `--config`, \
+                 `slurm` and Python's run_experiment read the experiment runner's \
+                 configs, which have no `kind`"
             ),
         ),
         _ => src.error(e.span(), e.message().trim()),
