@@ -8,10 +8,9 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Mutex;
 use std::time::Duration;
 
-use planner_api::CancelFlag;
+use planner_api::{CancelFlag, CancelPool};
 
 use planner_runner::record::RunRecord;
 use planner_runner::sweep::SweepArgs;
@@ -51,12 +50,8 @@ pub fn run_experiment_rows(
     // KeyboardInterrupt is raised once the sweep has ended. A sweep to `output` keeps the
     // runs it finished in its stream area, as the command line's interrupted sweep does.
     let stop = AtomicBool::new(false);
-    let cancel = FLAGS
-        .lock()
-        .ok()
-        .and_then(|mut flags| flags.pop())
-        .unwrap_or_default();
-    cancel.reset();
+    let lent = FLAGS.lend();
+    let cancel = lent.flag();
     let work = || {
         let _mark = call.mark_worker();
         guarded(|| {
@@ -76,10 +71,7 @@ pub fn run_experiment_rows(
         || Err(Failure::Value("the sweep's thread panicked".into())),
         work,
     );
-    cancel.reset();
-    if let Ok(mut flags) = FLAGS.lock() {
-        flags.push(cancel);
-    }
+    drop(lent);
     // What the config, the maps and a resume warned of.
     let (columns, records) = call.end(py, swept.and_then(|swept| swept.map_err(PyErr::from)))?;
     let fixed = csv_columns(&[]);
@@ -96,7 +88,7 @@ pub fn run_experiment_rows(
 
 /// Cancel flags of the sweeps running in memory, one per sweep at a time, kept for reuse
 /// (a flag is never freed).
-static FLAGS: Mutex<Vec<CancelFlag>> = Mutex::new(Vec::new());
+static FLAGS: CancelPool = CancelPool::new();
 
 /// The records of a sweep of `config`, in memory; `cancel` stops every search.
 fn sweep(config: &Path, threads: usize, cancel: CancelFlag) -> Result<Vec<RunRecord>, Failure> {

@@ -42,7 +42,7 @@ pub struct Planner {
     state: Mutex<State>,
     /// Cancel flags for `plan_many` batches, one per batch at a time (raised when Ctrl-C
     /// interrupts it), kept for reuse: a flag is never freed.
-    flags: Mutex<Vec<planner_api::CancelFlag>>,
+    flags: planner_api::CancelPool,
     /// The registry name.
     name: String,
     coverage: bool,
@@ -259,7 +259,7 @@ impl Planner {
                 workers: Vec::new(),
                 pool: None,
             }),
-            flags: Mutex::new(Vec::new()),
+            flags: planner_api::CancelPool::new(),
             name,
             coverage,
         })
@@ -336,27 +336,9 @@ impl Planner {
         // ms, asks Python for signals: Ctrl-C (a notebook's interrupt) raises the batch's
         // cancel flag, no query starts after it, the running ones stop at their next budget
         // check, and KeyboardInterrupt is raised here once they have.
-        let cancel = self
-            .flags
-            .lock()
-            .ok()
-            .and_then(|mut flags| flags.pop())
-            .unwrap_or_default();
-        cancel.reset();
         // The flag goes back to the pool however this call ends.
-        struct Give<'a>(
-            &'a Mutex<Vec<planner_api::CancelFlag>>,
-            planner_api::CancelFlag,
-        );
-        impl Drop for Give<'_> {
-            fn drop(&mut self) {
-                self.1.reset();
-                if let Ok(mut flags) = self.0.lock() {
-                    flags.push(self.1);
-                }
-            }
-        }
-        let _give = Give(&self.flags, cancel);
+        let lent = self.flags.lend();
+        let cancel = lent.flag();
         let work = || {
             let _mark = call.mark_worker();
             let records = guarded(|| {

@@ -191,6 +191,86 @@ impl PartialEq for CancelFlag {
 
 impl Eq for CancelFlag {}
 
+/// Cancel flags kept for reuse, since a [`CancelFlag`]'s byte is never freed: a caller
+/// that starts searches again and again (a server's plans, a Python batch) takes a lowered
+/// flag for each and gives it back when its searches have ended, so the flags made are as
+/// many as ever ran at once.
+///
+/// ```
+/// use planner_api::CancelPool;
+/// static POOL: CancelPool = CancelPool::new();
+/// let flag = POOL.take();
+/// flag.cancel();
+/// POOL.give(flag);
+/// let again = POOL.take();
+/// assert!(again == flag && !again.is_cancelled());
+/// {
+///     let lent = POOL.lend();
+///     lent.flag().cancel();
+/// } // given back, and lowered when taken again
+/// assert!(!POOL.take().is_cancelled());
+/// ```
+#[derive(Debug, Default)]
+pub struct CancelPool(std::sync::Mutex<Vec<CancelFlag>>);
+
+impl CancelPool {
+    /// An empty pool.
+    pub const fn new() -> CancelPool {
+        CancelPool(std::sync::Mutex::new(Vec::new()))
+    }
+
+    /// A lowered flag: one given back earlier, else a new one.
+    pub fn take(&self) -> CancelFlag {
+        let flag = self
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .pop()
+            .unwrap_or_default();
+        flag.reset();
+        flag
+    }
+
+    /// Gives `flag` back once no search holds it. It stays as it is until it is taken
+    /// again ([`CancelPool::take`] lowers it), so the giver may still read whether it was
+    /// raised (a server answering "cancelled" after its worker gave the flag back).
+    pub fn give(&self, flag: CancelFlag) {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .push(flag);
+    }
+
+    /// [`CancelPool::take`], given back when the returned guard is dropped however the
+    /// caller's scope ends.
+    pub fn lend(&self) -> LentFlag<'_> {
+        LentFlag {
+            pool: self,
+            flag: self.take(),
+        }
+    }
+}
+
+/// A flag lent by [`CancelPool::lend`]; dropping it gives the flag back.
+#[derive(Debug)]
+pub struct LentFlag<'a> {
+    pool: &'a CancelPool,
+    flag: CancelFlag,
+}
+
+impl LentFlag<'_> {
+    /// The flag.
+    pub fn flag(&self) -> CancelFlag {
+        self.flag
+    }
+}
+
+impl Drop for LentFlag<'_> {
+    fn drop(&mut self) {
+        self.pool.give(self.flag);
+    }
+}
+
 impl Budget {
     /// No limit.
     pub fn unlimited() -> Budget {

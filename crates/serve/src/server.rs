@@ -37,7 +37,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::time::Duration;
 
-use planner_api::{CancelFlag, Cell};
+use planner_api::{CancelFlag, CancelPool, Cell};
 use serde::Deserialize;
 
 use crate::query::{self, Caps, Query};
@@ -125,7 +125,7 @@ struct State {
     cancels: Mutex<HashMap<String, CancelFlag>>,
     /// Cancel flags no running plan holds, for reuse (a [`CancelFlag`] is never freed):
     /// at most [`ServeOptions::max_running`] are ever made.
-    flags: Mutex<Vec<CancelFlag>>,
+    flags: CancelPool,
 }
 
 impl Server {
@@ -149,7 +149,7 @@ impl Server {
                 max_running: options.max_running.max(1),
                 running: AtomicUsize::new(0),
                 cancels: Mutex::new(HashMap::new()),
-                flags: Mutex::new(Vec::new()),
+                flags: CancelPool::new(),
             }),
             threads: options.threads.max(1),
             stop: Arc::new(AtomicBool::new(false)),
@@ -815,9 +815,7 @@ struct Running {
 impl Drop for Running {
     fn drop(&mut self) {
         forget_run(&self.state, self.run_id.as_deref(), self.flag);
-        if let Ok(mut flags) = self.state.flags.lock() {
-            flags.push(self.flag);
-        }
+        self.state.flags.give(self.flag);
         self.state.running.fetch_sub(1, Ordering::SeqCst);
     }
 }
@@ -875,13 +873,7 @@ fn plan(state: &Arc<State>, body: &[u8], client: &TcpStream) -> Answer {
         state.running.fetch_sub(1, Ordering::SeqCst);
         return Answer::error(503, "busy: other plans are running; try again");
     }
-    let cancelled = state
-        .flags
-        .lock()
-        .ok()
-        .and_then(|mut flags| flags.pop())
-        .unwrap_or_default();
-    cancelled.reset();
+    let cancelled = state.flags.take();
     let run_id = request
         .run
         .clone()

@@ -5,10 +5,10 @@
 //! terminal text that cannot send the terminal a control sequence.
 //!
 //! The main design decision is that there is one of each: the runner's tables, the reports,
-//! the seeds' layouts and the replanning experiments all write through these functions. Two
-//! copies of the CSV rule had drifted apart (one quoted a bare `\r`, the other did not, so
-//! a label holding one split its rows for pandas), and so had two copies of the prose rule
-//! (one escaped `javascript:` links, the other did not).
+//! the seeds' layouts, the replanning experiments and the command line's messages all write
+//! through these functions. Two copies of the CSV rule had drifted apart (one quoted a bare
+//! `\r`, the other did not, so a label holding one split its rows for pandas), and so had
+//! two copies of the prose rule (one escaped `javascript:` links, the other did not).
 //!
 //! ```
 //! use planner_text::{csv_field, md_cell, md_prose, safe_link, terminal, xml_escape};
