@@ -278,6 +278,39 @@ fn killed_and_resumed_equals_uninterrupted() {
     assert_eq!(deterministic_csv(&full), deterministic_csv(&out));
 }
 
+/// `--resume` after a sweep finished (a requeued cluster task, a script that always passes
+/// it) runs nothing again: the output's records are carried over, their times included, so
+/// the tables come back byte for byte; so for a shard. The results of another config under
+/// the same output resume nothing: every run runs.
+#[test]
+fn resuming_a_finished_sweep_runs_nothing_again() {
+    let dir = scratch("finished");
+    let config = "configs/bench/arena-repeats.toml";
+    let out = dir.join("res");
+    sweep(config, &out, &[]);
+    let before = files(&out);
+    sweep(config, &out, &["--resume"]);
+    let after = files(&out);
+    for name in ["runs.csv", "runs.json", "records.stream"] {
+        assert!(
+            before[name] == after[name],
+            "{name} changed: runs ran again"
+        );
+    }
+    assert!(!dir.join(".res.stream").exists());
+    let shard = dir.join("shard");
+    sweep(config, &shard, &["--shard", "2/3"]);
+    let stream = fs::read(shard.join("shard.stream")).unwrap();
+    sweep(config, &shard, &["--shard", "2/3", "--resume"]);
+    assert!(stream == fs::read(shard.join("shard.stream")).unwrap());
+    // Shard 1's records are not shard 2's: shard 1 runs in full over them.
+    sweep(config, &shard, &["--shard", "1/3", "--resume"]);
+    assert!(stream != fs::read(shard.join("shard.stream")).unwrap());
+    sweep("configs/paper.toml", &out, &["--resume"]);
+    let paper = fs::read_to_string(out.join("runs.csv")).unwrap();
+    assert!(paper.contains("backtracking") && !paper.contains("arena"));
+}
+
 /// The runs a sweep's framed resume stream holds (0 before it has a header), and whether
 /// it ends in a cut frame.
 fn read_stream(stream: &Path) -> (usize, bool) {

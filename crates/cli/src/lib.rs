@@ -64,7 +64,8 @@ pub enum Command {
         #[arg(long)]
         quiet: bool,
         /// Keep the runs an interrupted sweep on the same output recorded and run the rest
-        /// (a changed config is refused).
+        /// (a changed config is refused); after a finished sweep of the same config (or
+        /// shard), nothing runs again.
         #[arg(long)]
         resume: bool,
         /// Run only shard K of N (1-based), e.g. 2/3; without it, SLURM_ARRAY_TASK_ID with

@@ -173,7 +173,8 @@ pub struct SweepArgs<'a> {
     /// Peak-heap measurement per run (none: `peak_heap_bytes` is 0); [`crate::alloc::Meter`]
     /// when the binary installs [`crate::alloc::Counting`].
     pub heap: Option<&'a dyn HeapMeter>,
-    /// Keep the runs an interrupted sweep recorded.
+    /// Keep the runs an interrupted sweep recorded (or a finished one: see
+    /// `resume_finished`).
     pub resume: bool,
     /// Run one shard only.
     pub shard: Option<Shard>,
@@ -324,6 +325,9 @@ fn open_stream(
                 None => None,
             }
         }
+        true if fs::symlink_metadata(&path).is_err() => {
+            resume_finished(area, dir, args.shard.is_some(), (header, runs, experiment))?
+        }
         true => resume_point(&path, header, runs, experiment)?,
         false => None,
     };
@@ -352,6 +356,57 @@ fn open_stream(
             Ok((file, 0))
         }
     }
+}
+
+/// A sweep resumed after it finished (a requeued cluster task, a script that always passes
+/// `--resume`): no stream is left in the area, and the output `dir`, gridplan's own, holds
+/// this very sweep's records (a whole sweep's [`RESULTS_RECORDS`], a shard's
+/// [`SHARD_FILE`]: the same config, version and shard). They are copied into the area's
+/// stream, so no run runs again and the output is written again from them. Records of
+/// another config or shard there resume nothing (said), as no output does; the output
+/// itself is left as it is until the sweep replaces it.
+fn resume_finished(
+    area: &outdir::StreamArea,
+    dir: &Path,
+    shard: bool,
+    (header, runs, experiment): (&StreamHeader, &ShardRuns, &Experiment),
+) -> Result<Option<(u64, u64)>, RunnerError> {
+    if fs::symlink_metadata(dir.join(outdir::MARKER)).is_err() {
+        return Ok(None);
+    }
+    let finished = dir.join(if shard { SHARD_FILE } else { RESULTS_RECORDS });
+    let (bytes, n) = match resume_point(&finished, header, runs, experiment) {
+        Ok(Some(point)) => point,
+        Ok(None) => return Ok(None),
+        Err(RunnerError::Resume(e))
+            if matches!(
+                *e,
+                ResumeError::OtherConfig { .. }
+                    | ResumeError::OtherVersion { .. }
+                    | ResumeError::OtherShard { .. }
+            ) =>
+        {
+            tracing::warn!(
+                "--resume: {} holds the finished results of another config, gridplan version or shard; every run runs, and the sweep replaces them",
+                dir.display()
+            );
+            return Ok(None);
+        }
+        Err(e) => {
+            tracing::warn!(
+                "--resume: the finished records in {} do not read back, so every run runs: {e}",
+                dir.display()
+            );
+            return Ok(None);
+        }
+    };
+    let path = area.dir.join(RECORDS);
+    let source = stream::open_regular(&finished).map_err(|e| RunnerError::io(&finished, e))?;
+    let mut out = area.open_write(RECORDS, true)?;
+    std::io::copy(&mut std::io::Read::take(source, bytes), &mut out)
+        .and_then(|_| out.sync_all())
+        .map_err(|e| RunnerError::io(&path, e))?;
+    Ok(Some((bytes, n)))
 }
 
 /// Carries the first `n` runs of the JSON Lines resume stream `old` (an earlier version's)
