@@ -3,9 +3,10 @@
 //! killed (SIGKILL) mid-way and resumed equals an uninterrupted one (timing and memory
 //! columns aside); SIGINT and SIGTERM stop a sweep with exit status 130, the finished
 //! runs recorded and the old results untouched, and resuming then equals an
-//! uninterrupted run; a real Slurm job array of 3 tasks plus its afterok merge equals a
-//! local run (skipped, saying why, without a running Slurm, unless
-//! `GRIDPLAN_SLURM_TEST=1`, which CI sets after `scripts/slurm-start.sh`).
+//! uninterrupted run; `--resume` after a finished sweep runs nothing again; a real Slurm
+//! job array of 3 tasks plus its afterok merge equals a local run, and a task requeued
+//! while it runs resumes its recorded runs (both skipped, saying why, without a running
+//! Slurm, unless `GRIDPLAN_SLURM_TEST=1`, which CI sets after `scripts/slurm-start.sh`).
 
 use crate::common;
 
@@ -454,14 +455,103 @@ fn queued(jobs: &str) -> String {
     String::from_utf8_lossy(&out.stdout).trim().to_string()
 }
 
+/// Skips the calling test (true) when no Slurm answers here, unless GRIDPLAN_SLURM_TEST=1.
+fn skip_without_slurm() -> bool {
+    let Some(reason) = slurm_missing() else {
+        return false;
+    };
+    assert!(
+        std::env::var("GRIDPLAN_SLURM_TEST").as_deref() != Ok("1"),
+        "GRIDPLAN_SLURM_TEST=1 but {reason}; start one with scripts/slurm-start.sh"
+    );
+    eprintln!("skipped: {reason} (scripts/slurm-start.sh starts a one-node cluster)");
+    true
+}
+
+/// A submitted `slurm` sweep: its job ids and its work directory.
+struct Submitted {
+    array: String,
+    merge: String,
+    work: PathBuf,
+}
+
+impl Submitted {
+    /// `xtask slurm CONFIG --shards N --output MERGED --submit` with `extra`.
+    fn new(config: &str, shards: &str, merged: &Path, extra: &[&str]) -> Submitted {
+        let output = merged.display().to_string();
+        let mut args = vec!["slurm", config, "--shards", shards, "--output", &output];
+        args.extend_from_slice(extra);
+        args.push("--submit");
+        let printed = xtask(&args);
+        let id = |what: &str| {
+            printed
+                .lines()
+                .find_map(|l| l.strip_prefix(what))
+                .unwrap_or_else(|| panic!("no {what:?} in {printed}"))
+                .trim()
+                .to_string()
+        };
+        let mut work = merged.as_os_str().to_os_string();
+        work.push("-slurm");
+        Submitted {
+            array: id("array job "),
+            merge: id("merge job "),
+            work: PathBuf::from(work),
+        }
+    }
+
+    /// Every task's and the merge's log, each under its path.
+    fn logs(&self) -> String {
+        let mut text = String::new();
+        for entry in fs::read_dir(&self.work).into_iter().flatten().flatten() {
+            if entry.path().extension().is_some_and(|e| e == "log") {
+                text += &format!(
+                    "--- {}\n{}\n",
+                    entry.path().display(),
+                    fs::read_to_string(entry.path()).unwrap_or_default()
+                );
+            }
+        }
+        text
+    }
+
+    /// Cancels both jobs and fails with `what`, the queue and the logs.
+    fn fail(&self, what: &str) -> ! {
+        let _ = Command::new("scancel")
+            .arg(&self.array)
+            .arg(&self.merge)
+            .status();
+        let jobs = format!("{},{}", self.array, self.merge);
+        panic!("{what}: {}\n{}", queued(&jobs), self.logs());
+    }
+
+    /// Waits until both jobs have left the queue (within 300 s) and the merge completed.
+    fn wait_completed(&self) {
+        let jobs = format!("{},{}", self.array, self.merge);
+        let started = Instant::now();
+        while !queued(&jobs).is_empty() {
+            if started.elapsed() > Duration::from_secs(300) {
+                self.fail(&format!("jobs {jobs} still queued after 300 s"));
+            }
+            std::thread::sleep(Duration::from_millis(250));
+        }
+        let show = Command::new("scontrol")
+            .args(["show", "job", &self.merge])
+            .output()
+            .unwrap();
+        let show = String::from_utf8_lossy(&show.stdout);
+        assert!(
+            show.contains("JobState=COMPLETED"),
+            "merge job {}: {show}\n{}",
+            self.merge,
+            self.logs()
+        );
+    }
+}
+
 #[test]
 fn slurm_array_and_merge_equal_a_local_run() {
-    if let Some(reason) = slurm_missing() {
-        assert!(
-            std::env::var("GRIDPLAN_SLURM_TEST").as_deref() != Ok("1"),
-            "GRIDPLAN_SLURM_TEST=1 but {reason}; start one with scripts/slurm-start.sh"
-        );
-        eprintln!("skipped: {reason} (scripts/slurm-start.sh starts a one-node cluster)");
+    if skip_without_slurm() {
         return;
     }
     let dir = scratch("slurm");
@@ -473,63 +563,10 @@ fn slurm_array_and_merge_equal_a_local_run() {
         .display()
         .to_string();
     let merged = dir.join("merged");
-    let printed = xtask(&[
-        "slurm",
-        &config,
-        "--shards",
-        "3",
-        "--output",
-        &merged.display().to_string(),
-        "--submit",
-    ]);
-    let id = |what: &str| {
-        printed
-            .lines()
-            .find_map(|l| l.strip_prefix(what))
-            .unwrap_or_else(|| panic!("no {what:?} in {printed}"))
-            .trim()
-            .to_string()
-    };
-    let (array, merge) = (id("array job "), id("merge job "));
+    let submitted = Submitted::new(&config, "3", &merged, &[]);
     let local = dir.join("local").display().to_string();
     xtask(&["experiment", &config, "--quiet", "--output", &local]);
-    let jobs = format!("{array},{merge}");
-    let started = Instant::now();
-    let logs = || {
-        let work = dir.join("merged-slurm");
-        let mut text = String::new();
-        for entry in fs::read_dir(&work).into_iter().flatten().flatten() {
-            if entry.path().extension().is_some_and(|e| e == "log") {
-                text += &format!(
-                    "--- {}\n{}\n",
-                    entry.path().display(),
-                    fs::read_to_string(entry.path()).unwrap_or_default()
-                );
-            }
-        }
-        text
-    };
-    while !queued(&jobs).is_empty() {
-        if started.elapsed() > Duration::from_secs(300) {
-            let _ = Command::new("scancel").arg(&array).arg(&merge).status();
-            panic!(
-                "jobs {jobs} still queued after 300 s: {}\n{}",
-                queued(&jobs),
-                logs()
-            );
-        }
-        std::thread::sleep(Duration::from_millis(250));
-    }
-    let show = Command::new("scontrol")
-        .args(["show", "job", &merge])
-        .output()
-        .unwrap();
-    let show = String::from_utf8_lossy(&show.stdout);
-    assert!(
-        show.contains("JobState=COMPLETED"),
-        "merge job {merge}: {show}\n{}",
-        logs()
-    );
+    submitted.wait_completed();
     let records = deterministic_records(Path::new(&local));
     assert!(records.1.len() > 1000);
     assert!(records == deterministic_records(&merged), "records differ");
@@ -546,4 +583,93 @@ fn slurm_array_and_merge_equal_a_local_run() {
             .join(format!("merged-slurm/shard-{k}/shard.stream"))
             .exists());
     }
+}
+
+/// A task that Slurm requeues while it runs (`scontrol requeue`, as after a node failure or
+/// a preemption) is stopped by SIGTERM with its finished runs recorded, and its next start
+/// resumes them (SLURM_RESTART_COUNT): its log, appended to, says both, and the merge
+/// equals a local run.
+#[test]
+fn a_requeued_slurm_task_resumes_its_runs() {
+    if skip_without_slurm() {
+        return;
+    }
+    let dir = scratch("requeue");
+    // Dijkstra on every den520d scenario, 40 times: seconds per task, so that the
+    // requeue comes while task 1 runs.
+    let config = dir.join("requeue.toml");
+    let maps = root().join("maps/movingai").canonicalize().unwrap();
+    let maps = maps
+        .display()
+        .to_string()
+        .replace('\\', "\\\\")
+        .replace('"', "\\\"");
+    fs::write(
+        &config,
+        format!(
+            "name = \"requeue\"\nrepeats = 40\n\
+             [[maps]]\nfiles = [\"{maps}/den520d.map\"]\nscen = \"{maps}/den520d.map.scen\"\n\
+             [planners.dijkstra]\nplanner = \"astar\"\nmoves = 8\nheuristic = \"zero\"\n"
+        ),
+    )
+    .unwrap();
+    let config = config.display().to_string();
+    let merged = dir.join("merged");
+    let submitted = Submitted::new(&config, "2", &merged, &["--cpus-per-task", "1"]);
+    let task = format!("{}_1", submitted.array);
+    let stream = submitted.work.join(".shard-1.stream/records.stream");
+    let started = Instant::now();
+    while recorded(&stream) < 500 {
+        if started.elapsed() > Duration::from_secs(120) {
+            submitted.fail("task 1 recorded no runs within 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let requeue = Command::new("scontrol")
+        .args(["requeue", &task])
+        .output()
+        .unwrap();
+    if !requeue.status.success() {
+        submitted.fail(&format!(
+            "scontrol requeue {task}: {}",
+            String::from_utf8_lossy(&requeue.stderr)
+        ));
+    }
+    // Slurm holds a requeued job back for a while (pending, reason BeginTime) once its
+    // first run has completed; it may start again now.
+    let started = Instant::now();
+    loop {
+        let state = queued(&task);
+        if state.is_empty() || state.contains("RUNNING") {
+            break;
+        }
+        if state.contains("PENDING") {
+            let _ = Command::new("scontrol")
+                .args(["update", &format!("JobId={task}"), "StartTime=now"])
+                .output();
+        }
+        if started.elapsed() > Duration::from_secs(120) {
+            submitted.fail(&format!("task {task} not started again within 120 s"));
+        }
+        std::thread::sleep(Duration::from_millis(250));
+    }
+    let local = dir.join("local").display().to_string();
+    xtask(&["experiment", &config, "--quiet", "--output", &local]);
+    submitted.wait_completed();
+    let log = fs::read_to_string(submitted.work.join("task-1.log")).unwrap();
+    let stopped = log
+        .lines()
+        .find_map(|l| l.strip_prefix("interrupted after "))
+        .and_then(|rest| rest.split(' ').next())
+        .unwrap_or_else(|| submitted.fail("task 1's log says no interruption"));
+    assert!(
+        log.contains(&format!(
+            "resuming: {stopped} of 17760 runs already recorded"
+        )),
+        "{log}"
+    );
+    assert!(stopped.parse::<u64>().unwrap() >= 500, "{log}");
+    let records = deterministic_records(Path::new(&local));
+    assert_eq!(records.1.len(), 35_520);
+    assert!(records == deterministic_records(&merged), "records differ");
 }

@@ -9,6 +9,12 @@
 //! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`
 //! (`merge --shards-in DIR-slurm`, so its command line has the same length for any N).
 //! N is at most the sweep's run count and [`Shard::MAX_COUNT`].
+//!
+//! A task that Slurm requeues (a node failure, a preemption, `scontrol requeue`) gets
+//! SIGTERM, which stops its sweep with the finished runs recorded; when it starts again
+//! (`SLURM_RESTART_COUNT` above 0) it runs `experiment --resume` and keeps them, and a
+//! task that had already finished runs nothing again. The tasks' logs are appended to
+//! (`--open-mode=append`), so a requeued task's log keeps every start.
 //! The scripts call this very binary and the config by absolute path, so they run from
 //! any directory on a cluster whose nodes share the file system.
 //!
@@ -307,9 +313,13 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
          #SBATCH --job-name=gridplan-{name}\n\
          #SBATCH --array=1-{n}\n\
          #SBATCH --output={task_log}\n\
+         #SBATCH --open-mode=append\n\
          {options}\
          set -euo pipefail\n\
-         exec {bin} experiment {cfg} --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --output {dir}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet{threads}\n",
+         # A task Slurm requeued (node failure, preemption) keeps the runs it recorded.\n\
+         set --\n\
+         if [ \"${{SLURM_RESTART_COUNT:-0}}\" != 0 ]; then set -- --resume; fi\n\
+         exec {bin} experiment {cfg} --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --output {dir}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet{threads} \"$@\"\n",
     );
     let merge = format!(
         "#!/bin/bash\n\
