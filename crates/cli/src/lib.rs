@@ -116,6 +116,15 @@ pub enum Command {
         /// sbatch --time.
         #[arg(long)]
         time: Option<String>,
+        /// sbatch --account (the allocation charged; many clusters require one).
+        #[arg(long)]
+        account: Option<String>,
+        /// sbatch --qos.
+        #[arg(long)]
+        qos: Option<String>,
+        /// sbatch --mem (memory per node, e.g. 4G).
+        #[arg(long)]
+        mem: Option<String>,
         /// sbatch --cpus-per-task (also the tasks' worker threads).
         #[arg(long)]
         cpus_per_task: Option<u32>,
@@ -747,6 +756,9 @@ pub fn run(command: Command) -> Result<(), CliError> {
             output,
             partition,
             time,
+            account,
+            qos,
+            mem,
             cpus_per_task,
             submit,
         } => {
@@ -761,6 +773,9 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 output,
                 partition,
                 time,
+                account,
+                qos,
+                mem,
                 cpus_per_task,
                 binary: std::env::current_exe().map_err(looked_up("this binary's path"))?,
                 current_dir: std::env::current_dir().map_err(looked_up("current directory"))?,

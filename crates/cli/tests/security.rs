@@ -74,7 +74,10 @@ fn slurm_values_with_line_breaks_are_refused_naming_the_key() {
     let dir = setup("slurm-refused", "");
     for (option, key) in [
         ("--partition", "--partition"),
+        ("--account", "--account"),
+        ("--qos", "--qos"),
         ("--time", "--time"),
+        ("--mem", "--mem"),
         ("--output", "--output"),
     ] {
         for value in ["p\ntouch INJECTED #", "p\rtouch INJECTED #"] {
@@ -156,6 +159,12 @@ fn slurm_scripts_run_by_bash_run_no_injected_command() {
             "p q'\"$(touch INJECTED4)",
             "--time",
             "1:00 `touch INJECTED5`",
+            "--account",
+            "lab #; touch INJECTED6",
+            "--qos",
+            "q'$(touch INJECTED7)",
+            "--mem",
+            "1G\"`touch INJECTED8`",
         ],
     );
     succeeded(&run_slurm_scripts(&slurm_work(&output), &dir, 2));
@@ -189,7 +198,21 @@ fn slurm_submitted_jobs_run_no_injected_command() {
         eprintln!("skipped: {reason} (scripts/slurm-start.sh starts a one-node cluster)");
         return;
     }
-    let (dir, output, printed) = hostile_slurm("slurm-submit", &["--time", "10:00", "--submit"]);
+    // An account and memory that sbatch must read as written (no accounting here, so any
+    // account name is taken).
+    let account = "o'k #1 \"$(touch INJECTED9)\"";
+    let (dir, output, printed) = hostile_slurm(
+        "slurm-submit",
+        &[
+            "--time",
+            "10:00",
+            "--account",
+            account,
+            "--mem",
+            "300M",
+            "--submit",
+        ],
+    );
     let id = |what: &str| {
         printed
             .lines()
@@ -199,6 +222,15 @@ fn slurm_submitted_jobs_run_no_injected_command() {
             .to_string()
     };
     let jobs = format!("{},{}", id("array job "), id("merge job "));
+    let shown = Command::new("scontrol")
+        .args(["show", "job", &id("merge job ")])
+        .output()
+        .unwrap();
+    let shown = String::from_utf8_lossy(&shown.stdout);
+    // Slurm lowercases account names.
+    let expected = format!("Account={} ", account.to_lowercase());
+    assert!(shown.contains(&expected), "{shown}");
+    assert!(shown.contains("MinMemoryNode=300M"), "{shown}");
     let started = Instant::now();
     loop {
         let queue = Command::new("squeue")

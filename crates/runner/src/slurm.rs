@@ -54,6 +54,12 @@ pub struct SlurmArgs {
     pub partition: Option<String>,
     /// `--time`.
     pub time: Option<String>,
+    /// `--account` (the allocation charged; many clusters require one).
+    pub account: Option<String>,
+    /// `--qos` (quality of service).
+    pub qos: Option<String>,
+    /// `--mem` (memory per node, e.g. `4G`).
+    pub mem: Option<String>,
     /// `--cpus-per-task` (and the tasks' worker threads).
     pub cpus_per_task: Option<u32>,
     /// The binary the scripts run (`gridplan`): the caller's own executable (the command
@@ -197,16 +203,22 @@ fn path_value(key: &str, path: &Path, directive: bool) -> Result<String, SlurmEr
     script_value(key, text, directive)
 }
 
-/// The `#SBATCH` option lines (`--partition`, `--time`, `--cpus-per-task`) of both scripts.
+/// The `#SBATCH` option lines (`--partition`, `--account`, `--qos`, `--time`, `--mem`,
+/// `--cpus-per-task`) of both scripts.
 fn options(args: &SlurmArgs) -> Result<String, SlurmError> {
     let mut options = String::new();
-    if let Some(p) = &args.partition {
-        let p = script_value("--partition", p, true)?;
-        options.push_str(&format!("#SBATCH --partition={p}\n"));
-    }
-    if let Some(t) = &args.time {
-        let t = script_value("--time", t, true)?;
-        options.push_str(&format!("#SBATCH --time={t}\n"));
+    let given = [
+        ("--partition", &args.partition),
+        ("--account", &args.account),
+        ("--qos", &args.qos),
+        ("--time", &args.time),
+        ("--mem", &args.mem),
+    ];
+    for (option, value) in given {
+        if let Some(value) = value {
+            let value = script_value(option, value, true)?;
+            options.push_str(&format!("#SBATCH {option}={value}\n"));
+        }
     }
     if let Some(c) = args.cpus_per_task {
         options.push_str(&format!("#SBATCH --cpus-per-task={c}\n"));
