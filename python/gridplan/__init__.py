@@ -70,6 +70,7 @@ def run_experiment(
     threads: int = 0,
     output: _Optional[_Union[str, "_os.PathLike[str]"]] = None,
     lock_wait: float = 120.0,
+    resume: bool = False,
 ) -> _Union["pandas.DataFrame", _List[_Dict[str, _Any]]]:  # noqa: F821
     """Runs the experiment config ``config`` (a ``configs/*.toml`` file) and returns its
     records in the run order (map, problem, planner label, repeat), one per run, with
@@ -86,12 +87,19 @@ def run_experiment(
 
     ``lock_wait``: with ``output``, how many seconds to wait for another sweep writing the
     same output (which holds its lock from start to end) before raising ``OutputError``.
+
+    ``resume``: with ``output``, keep the runs that an interrupted sweep of the same config
+    recorded there (a Ctrl-C, a killed kernel) and run the rest, as ``gridplan experiment
+    --resume`` does; after a finished sweep of the same config nothing runs again. A
+    ``GridplanWarning`` says how many runs were kept; an interrupted sweep of another
+    config there raises ``ValueError`` (run without ``resume`` to start over).
     """
     columns, rows = _run_experiment_rows(
         _os.fspath(config),
         threads=threads,
         output=None if output is None else _os.fspath(output),
         lock_wait=lock_wait,
+        resume=resume,
     )
     try:
         import pandas

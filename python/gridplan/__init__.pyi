@@ -234,10 +234,11 @@ def run_experiment(
     threads: int = 0,
     output: Optional[Union[str, "os.PathLike[str]"]] = None,
     lock_wait: float = 120.0,
+    resume: bool = False,
 ) -> Any:
     """Runs an experiment config; its records with runs.csv's columns, as a pandas
     DataFrame when pandas is installed, else a list of dicts. Ctrl-C (a notebook's
     interrupt) raises ``KeyboardInterrupt`` once the sweep has stopped: no run starts
     after it; in memory the running searches stop at their next budget check, while with
-    ``output`` they finish and the finished runs stay in the output's stream area (the
-    command line's ``experiment --resume`` continues them)."""
+    ``output`` they finish and the finished runs stay in the output's stream area, which
+    ``resume=True`` (or the command line's ``experiment --resume``) continues."""

@@ -29,16 +29,24 @@ use crate::errors::{guarded, Failure};
 /// With `output`, the sweep is the command line's ([`planner_runner::sweep::experiment`]:
 /// the results directory written under [`planner_runner::outdir`]'s rules) and the rows
 /// are the records of the runs.json it wrote; `lock_wait` is how many seconds it waits
-/// for another sweep on the same output ([`SweepArgs::lock_wait`]).
+/// for another sweep on the same output ([`SweepArgs::lock_wait`]), and `resume` keeps
+/// the runs an interrupted (or finished) sweep of the same config recorded there, as
+/// `experiment --resume` does ([`SweepArgs::resume`]).
 #[pyfunction]
-#[pyo3(signature = (config, *, threads = 0, output = None, lock_wait = 120.0))]
+#[pyo3(signature = (config, *, threads = 0, output = None, lock_wait = 120.0, resume = false))]
 pub fn run_experiment_rows(
     py: Python<'_>,
     config: PathBuf,
     threads: usize,
     output: Option<PathBuf>,
     lock_wait: f64,
+    resume: bool,
 ) -> PyResult<Py<PyTuple>> {
+    if resume && output.is_none() {
+        return Err(PyValueError::new_err(
+            "resume: a sweep resumes from its output directory; give `output` (a sweep in memory records nothing to resume)",
+        ));
+    }
     let lock_wait = Duration::try_from_secs_f64(lock_wait).map_err(|_| {
         PyValueError::new_err(format!(
             "lock_wait: {lock_wait} is not a number of seconds (0 or more)"
@@ -57,7 +65,7 @@ pub fn run_experiment_rows(
         guarded(|| {
             let records = match &output {
                 None => sweep(&config, threads, cancel)?,
-                Some(dir) => sweep_to(&config, threads, dir, lock_wait, &stop)?,
+                Some(dir) => sweep_to(&config, threads, (dir, resume), lock_wait, &stop)?,
             };
             Ok((csv_columns(&records), records))
         })
@@ -105,12 +113,33 @@ fn sweep(config: &Path, threads: usize, cancel: CancelFlag) -> Result<Vec<RunRec
     Ok(planner_runner::run_all(&experiment, &options)?)
 }
 
+/// What a resumed sweep found, said as a warning (the command line says it on stderr).
+struct ResumeNote;
+
+impl planner_runner::sweep::Progress for ResumeNote {
+    fn start(&self, _total: u64, _done: u64) {}
+    fn set(&self, _done: u64) {}
+    fn finish(&self) {}
+    fn resumed(&self, done: u64, total: u64, output: &Path) {
+        match done {
+            0 => tracing::warn!(
+                "resume: nothing to resume in {}; every run runs",
+                output.display()
+            ),
+            _ => tracing::warn!(
+                "resume: {done} of {total} runs already recorded in {}",
+                output.display()
+            ),
+        }
+    }
+}
+
 /// The records of a sweep of `config` written to the results directory `dir`, as the
-/// command line writes it.
+/// command line writes it (`resume`: as `experiment --resume`).
 fn sweep_to(
     config: &Path,
     threads: usize,
-    dir: &Path,
+    (dir, resume): (&Path, bool),
     lock_wait: Duration,
     stop: &AtomicBool,
 ) -> Result<Vec<RunRecord>, Failure> {
@@ -128,6 +157,8 @@ fn sweep_to(
         keep_records: true,
         lock_wait,
         stop: Some(stop),
+        resume,
+        progress: Some(&ResumeNote),
         ..SweepArgs::new(config, &renderer)
     };
     let report = planner_runner::sweep::experiment(&args)?;

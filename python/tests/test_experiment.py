@@ -106,3 +106,40 @@ def test_output_directory_rules(tmp_path):
     first = (out / "runs.csv").read_text().splitlines()[0]
     gridplan.run_experiment(CONFIGS / "paper.toml", output=out)
     assert (out / "runs.csv").read_text().splitlines()[0] == first
+
+
+def test_resume_keeps_the_recorded_runs(tmp_path, monkeypatch):
+    """resume=True: a sweep interrupted by Ctrl-C keeps its finished runs and runs the
+    rest, the records equal to an uninterrupted sweep's; after a finished sweep nothing
+    runs again (the times are the recorded ones); without an output it is refused."""
+    from test_planner import interrupted_output
+
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    config = tmp_path / "many.toml"
+    config.write_text(
+        'name = "many"\nrepeats = 100\n[[maps]]\n'
+        f'files = ["{CONFIGS.parent / "maps" / "movingai" / "den520d.map"}"]\n'
+        f'scen = "{CONFIGS.parent / "maps" / "movingai" / "den520d.map.scen"}"\nevery = 8\n'
+        '[planners.dijkstra]\nplanner = "astar"\nmoves = 8\nheuristic = "zero"\n'
+    )
+    out = tmp_path / "out"
+    printed = interrupted_output(
+        "import gridplan",
+        f"gridplan.run_experiment({str(config)!r}, output={str(out)!r}, threads=1)",
+        1.0,
+    )
+    assert printed == ["interrupted"]
+    assert not (out / "runs.csv").exists()
+    with pytest.warns(gridplan.GridplanWarning, match=r"resume: \d+ of 11100 runs already recorded") as caught:
+        resumed = gridplan.run_experiment(config, output=out, resume=True)
+    kept = int(str(caught[0].message).split()[1])
+    assert 0 < kept < 11100
+    whole = gridplan.run_experiment(config)
+    strip = lambda rows: [{k: v for k, v in r.items() if DETERMINISTIC(k)} for r in rows]  # noqa: E731
+    assert strip(resumed) == strip(whole)
+    # Finished: the same records, their times included.
+    with pytest.warns(gridplan.GridplanWarning, match="resume: 11100 of 11100 runs"):
+        again = gridplan.run_experiment(config, output=out, resume=True)
+    assert again == resumed
+    with pytest.raises(ValueError, match="resume: .*give `output`"):
+        gridplan.run_experiment(config, resume=True)
