@@ -786,8 +786,16 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 jobs.merge_script.display()
             );
             if submit {
-                let array = sbatch(&jobs.array_args())?;
-                let merge = sbatch(&jobs.merge_args(&array))?;
+                let array = sbatch(&jobs.array_args()).map_err(array_hint)?;
+                let merge = sbatch(&jobs.merge_args(&array)).map_err(|e| {
+                    // The array runs without its merge: say what is left to do.
+                    let args: Vec<String> =
+                        jobs.merge_args(&array).iter().map(|a| shell_word(a)).collect();
+                    let args = args.join(" ");
+                    CliError::Failed(format!(
+                        "{e}\nthe array job {array} was submitted and its merge job was not: submit it with `sbatch {args}`, or cancel the array with `scancel {array}`"
+                    ))
+                })?;
                 out.push_str(&format!("array job {array}\nmerge job {merge}\n"));
             }
             write_text(&out)
@@ -1015,6 +1023,48 @@ fn sbatch(args: &[String]) -> Result<String, CliError> {
         )));
     }
     Ok(id)
+}
+
+/// `word` as a shell reads it back: bare when it holds only characters no shell treats
+/// specially, else single-quoted ([`slurm::quote`]).
+fn shell_word(word: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "_./:=,+-@%".contains(c);
+    if !word.is_empty() && word.chars().all(plain) {
+        word.to_string()
+    } else {
+        slurm::quote(word)
+    }
+}
+
+/// An array job that sbatch refused as an invalid array: more tasks than the cluster's
+/// `MaxArraySize` allows (1001 by default: task ids 0 to 1000) is the likely cause, so
+/// the message gives that limit, asked of `scontrol show config`, when it is known.
+fn array_hint(error: CliError) -> CliError {
+    let CliError::Failed(message) = &error else {
+        return error;
+    };
+    if !message.contains("Invalid job array specification") {
+        return error;
+    }
+    let limit = std::process::Command::new("scontrol")
+        .args(["show", "config"])
+        .output()
+        .ok()
+        .and_then(|out| {
+            String::from_utf8_lossy(&out.stdout)
+                .lines()
+                .find_map(|line| {
+                    let (key, value) = line.split_once('=')?;
+                    (key.trim() == "MaxArraySize").then(|| value.trim().parse::<u64>().ok())?
+                })
+        });
+    match limit {
+        Some(limit) => CliError::Failed(format!(
+            "{message}\nthis cluster's MaxArraySize is {limit}, so an array has at most {} tasks: write the scripts again with fewer --shards",
+            limit.saturating_sub(1)
+        )),
+        None => error,
+    }
 }
 
 /// The directories `shard-K` (K a decimal number) in `parent`, by K.

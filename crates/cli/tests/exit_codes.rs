@@ -2,6 +2,7 @@
 //! problem, 5 output refused, 1 anything else; 130 (interrupted) is xtask's sweeps test's.
 
 use std::path::{Path, PathBuf};
+use std::process::Stdio;
 
 use crate::common::{self, root};
 
@@ -310,4 +311,77 @@ fn a_picture_over_an_input_exits_2_and_leaves_it() {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("read-only"), "{err}");
     assert_eq!(std::fs::read(&out).unwrap(), before);
+}
+
+/// A directory of fake `sbatch` and `scontrol` for `slurm --submit`: sbatch prints job id
+/// 41 for the array script and runs `merge` (a shell snippet) for the merge script's call;
+/// scontrol prints a MaxArraySize of 1001. The directory, to go first on PATH.
+fn fake_slurm(dir: &Path, array: &str, merge: &str) -> String {
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let write = |name: &str, text: String| {
+        let path = bin.join(name);
+        std::fs::write(&path, text).unwrap();
+        let mut permissions = std::fs::metadata(&path).unwrap().permissions();
+        std::os::unix::fs::PermissionsExt::set_mode(&mut permissions, 0o755);
+        std::fs::set_permissions(&path, permissions).unwrap();
+    };
+    write(
+        "sbatch",
+        format!("#!/bin/sh\ncase \"$*\" in\n*--dependency*) {merge} ;;\n*) {array} ;;\nesac\n"),
+    );
+    write(
+        "scontrol",
+        "#!/bin/sh\necho 'MaxArrayRecords         = 1'\necho 'MaxArraySize            = 1001'\n"
+            .to_string(),
+    );
+    format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    )
+}
+
+#[test]
+fn a_failed_submission_says_what_is_left() {
+    // A space in the directory: the merge command given quotes the script's path.
+    let dir = scratch("submit").join("a b");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cfg = config(&dir, "repeats = 4");
+    let output = dir.join("res").display().to_string();
+    let args = [
+        "slurm", &cfg, "--shards", "2", "--output", &output, "--submit",
+    ];
+    // The merge job refused after the array was taken: its command and the array's
+    // cancellation are given.
+    let path = fake_slurm(
+        &dir,
+        "echo 41",
+        "echo 'sbatch: error: Invalid account' >&2; exit 1",
+    );
+    let out = common::gridplan_with(&root(), &args, &[("PATH", &path)], Stdio::piped());
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    for needle in [
+        "Invalid account",
+        "the array job 41 was submitted and its merge job was not",
+        "sbatch --dependency=afterok:41 --kill-on-invalid-dep=yes '",
+        "/a b/res-slurm/merge.sbatch'`",
+        "scancel 41",
+    ] {
+        assert!(out.stderr.contains(needle), "{needle}: {}", out.stderr);
+    }
+    // An array over the cluster's MaxArraySize: the limit is given.
+    let path = fake_slurm(
+        &dir,
+        "echo 'sbatch: error: Batch job submission failed: Invalid job array specification' >&2; exit 1",
+        "echo 42",
+    );
+    let out = common::gridplan_with(&root(), &args, &[("PATH", &path)], Stdio::piped());
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    assert!(
+        out.stderr
+            .contains("this cluster's MaxArraySize is 1001, so an array has at most 1000 tasks"),
+        "{}",
+        out.stderr
+    );
 }
