@@ -1,5 +1,7 @@
 //! Errors as Python exceptions: every failure becomes one of the classes of
-//! `gridplan/_errors.py` (or `ValueError`/`TypeError`), with the command line's message.
+//! `gridplan/_errors.py` (or `ValueError`/`TypeError`), with the command line's message,
+//! its control characters escaped as the command line escapes them for the terminal
+//! ([`planner_text::terminal`]); the attributes keep the text as it is.
 //!
 //! Work that runs without the GIL returns a [`Failure`], which holds no Python object
 //! except an already built [`PyErr`]; [`Failure::into_pyerr`] builds the exception once
@@ -8,6 +10,7 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use planner_runner::{ErrorClass, RunnerError};
+use planner_text::terminal;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -95,8 +98,10 @@ impl Failure {
     pub fn into_pyerr(self, py: Python<'_>) -> PyErr {
         let built = match self {
             Failure::Python(error) => return error,
-            Failure::Value(message) => return PyValueError::new_err(message),
-            Failure::Type(message) => return PyTypeError::new_err(message),
+            Failure::Value(message) => {
+                return PyValueError::new_err(terminal(&message).into_owned())
+            }
+            Failure::Type(message) => return PyTypeError::new_err(terminal(&message).into_owned()),
             Failure::Panic(what) => raise(
                 py,
                 "GridplanError",
@@ -163,7 +168,7 @@ fn runner_error(py: Python<'_>, error: RunnerError) -> PyResult<PyErr> {
         ErrorClass::Map => "MapError",
         ErrorClass::Problem => "ProblemError",
         ErrorClass::Parameter => "ParameterError",
-        ErrorClass::Usage => return Ok(PyValueError::new_err(message)),
+        ErrorClass::Usage => return Ok(PyValueError::new_err(terminal(&message).into_owned())),
         ErrorClass::Output => "OutputError",
         ErrorClass::Determinism => "DeterminismError",
         ErrorClass::Other => "GridplanError",
@@ -257,6 +262,6 @@ fn raise<'py>(
             Attr::Cell(cell) => kwargs.set_item(name, cell)?,
         }
     }
-    let instance = class.call((message,), Some(&kwargs))?;
+    let instance = class.call((terminal(&message),), Some(&kwargs))?;
     Ok(PyErr::from_value(instance))
 }

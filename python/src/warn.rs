@@ -278,7 +278,7 @@ fn emit(py: Python<'_>, id: u64) -> PyResult<()> {
     let class = py.import("gridplan._errors")?.getattr("GridplanWarning")?;
     let more = (dropped > 0).then(|| format!("{dropped} more gridplan warnings were dropped"));
     for text in texts.into_iter().chain(more) {
-        warnings.call_method1("warn", (text, &class, 2))?;
+        warnings.call_method1("warn", (planner_text::terminal(&text), &class, 2))?;
     }
     Ok(())
 }

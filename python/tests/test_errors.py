@@ -193,3 +193,24 @@ def test_huge_zero_stride_arrays_are_refused():
     # A zero-stride view within the limit is read cell by cell, like any array.
     grid = gridplan.Grid.from_numpy(np.broadcast_to(False, (300, 200)), free=False)
     assert (grid.width, grid.height, grid.n_free) == (200, 300, 60000)
+
+
+def test_control_characters_in_messages_are_escaped(tmp_path, map10):
+    """A config or parameter someone else wrote cannot send an escape sequence to the
+    terminal through an exception's or a warning's message: control characters (but line
+    breaks and tabs) are written as \\u{..}, as the command line writes them; the
+    attribute keeps the text."""
+    config = tmp_path / "esc.toml"
+    map01 = (MAPS / "paper" / "map01.map").as_posix()
+    config.write_text(
+        f'name = "esc"\n[[maps]]\nfiles = ["{map01}"]\nproblems = "corners"\n'
+        '[planners."\\u001b[2Jx"]\nplanner = "nosuch"\n'
+    )
+    with pytest.raises(gridplan.GridplanError) as info:
+        gridplan.run_experiment(config)
+    assert "\x1b" not in str(info.value)
+    assert "\\u{1b}[2Jx" in str(info.value)
+    with pytest.raises(ValueError) as info:
+        gridplan.plan(map10, (0, 0), (11, 11), planner="astar\x07")
+    assert "\x07" not in str(info.value) and "\\u{7}" in str(info.value)
+    assert info.value.key is not None

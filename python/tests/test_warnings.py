@@ -146,3 +146,16 @@ def test_two_sweeps_at_once_each_get_their_own_warnings(tmp_path):
     assert {name for name, _ in shown} == {"refused"}
     assert len(shown) == 40 * rounds
     assert all("over the max_memory_mb = 0 budget; not run" in text for _, text in shown)
+
+
+def test_control_characters_in_warnings_are_escaped(tmp_path):
+    """A warning's text holds no control character but line breaks and tabs: a path with
+    an escape sequence reaches the terminal as \\u{1b}, as the command line writes it."""
+    folder = tmp_path / "e\x1b[2Jx"
+    folder.mkdir()
+    path = tiny_ros_map(folder)
+    with pytest.warns(gridplan.GridplanWarning) as caught:
+        gridplan.read_map(path)
+    texts = [str(w.message) for w in caught]
+    assert any("e\\u{1b}[2Jx" in text for text in texts), texts
+    assert not any("\x1b" in text for text in texts), texts
