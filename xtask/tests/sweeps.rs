@@ -639,15 +639,16 @@ fn a_requeued_slurm_task_resumes_its_runs() {
             String::from_utf8_lossy(&requeue.stderr)
         ));
     }
-    // Slurm holds a requeued job back for a while (pending, reason BeginTime) once its
-    // first run has completed; it may start again now.
+    // Slurm holds a requeued job back for a while (pending, reason BeginTime): a start
+    // within the second the first run's credential was revoked fails ("Job credential
+    // revoked", as a release at once did in CI). After two seconds it may start again.
     let started = Instant::now();
     loop {
         let state = queued(&task);
         if state.is_empty() || state.contains("RUNNING") {
             break;
         }
-        if state.contains("PENDING") {
+        if state.contains("PENDING") && started.elapsed() > Duration::from_secs(2) {
             let _ = Command::new("scontrol")
                 .args(["update", &format!("JobId={task}"), "StartTime=now"])
                 .output();
