@@ -361,6 +361,8 @@ fn careless_inputs_fail_cleanly() {
         (small(), plan("small.map", &["--planner", "astar", "--set", "nonsense=1"]), Error("nonsense")),
         (small(), plan("small.map", &["--planner", "astar", "--set", "heuristic=[1,"]), Error("planner `astar`: parameter `heuristic`")),
         (small(), plan("small.map", &["--planner", "astar", "--set", "=3"]), Error("--set \"=3\": expected key=value")),
+        // A number TOML cannot hold is said as such, not read as the word "1e400".
+        (small(), plan("small.map", &["--planner", "astar", "--set", "weight=1e400"]), Error("--set weight=1e400: not a number (numbers are written as")),
         (small(), plan("small.map", &["--planner", "astar", "--set", "heuristic=octile", "--set", "heuristic=zero"]), Error("--set heuristic: given twice, as octile and as zero")),
         (small(), plan("small.map", &["--planner", "astar", "--max-expansions", "-1"]), Usage("unexpected argument '-1'")),
         (small(), plan("small.map", &["--planner", "astar", "--obstacle", "2"]), Usage("--obstacle")),

@@ -423,10 +423,20 @@ fn resolve_spec(
                 }
             }
             given.push((key, value));
-            let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
-                .ok()
-                .and_then(|mut t| t.remove("v"))
-                .unwrap_or_else(|| toml::Value::String(value.to_string()));
+            // A TOML value, else a bare word (`heuristic=octile`); a value that starts
+            // as a number does must be one.
+            let parsed = match toml::from_str::<toml::Table>(&format!("v = {value}")) {
+                Ok(mut table) => table.remove("v"),
+                Err(_) if value.starts_with(|c: char| c.is_ascii_digit() || "+-.".contains(c)) => {
+                    return Err(UsageError::SetNumber {
+                        key: key.to_string(),
+                        value: value.to_string(),
+                    }
+                    .into())
+                }
+                Err(_) => None,
+            }
+            .unwrap_or_else(|| toml::Value::String(value.to_string()));
             params.insert(key.trim().to_string(), parsed);
         }
         spec = config::planner_from_table(&spec.label, spec.name, params, spec.budget)?;

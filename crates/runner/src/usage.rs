@@ -54,6 +54,15 @@ pub enum UsageError {
         /// Its other value.
         second: String,
     },
+    /// A `--set` value written as a number that TOML does not read as one (`1e400`
+    /// overflows, `1_000_`): said as such, rather than taken for a word.
+    #[error("--set {key}={value}: not a number (numbers are written as 3, -2, 2.5 or 1e3, within 64 bits)")]
+    SetNumber {
+        /// The key.
+        key: String,
+        /// The value as given.
+        value: String,
+    },
     /// Cost flags for a map the config lists (its map set's `costs` table decides).
     #[error("cost flags: {} lists {}; set a `costs` table on its map set instead", .config.display(), .map.display())]
     CostsOfListedMap {
