@@ -9,14 +9,14 @@
 //! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`
 //! (`merge --shards-in DIR-slurm`, so its command line has the same length for any N).
 //! N is at most the sweep's run count and [`Shard::MAX_COUNT`].
+//! The scripts call this very binary and the config by absolute path, so they run from
+//! any directory on a cluster whose nodes share the file system.
 //!
 //! A task that Slurm requeues (a node failure, a preemption, `scontrol requeue`) gets
 //! SIGTERM, which stops its sweep with the finished runs recorded; when it starts again
 //! (`SLURM_RESTART_COUNT` above 0) it runs `experiment --resume` and keeps them, and a
 //! task that had already finished runs nothing again. The tasks' logs are appended to
 //! (`--open-mode=append`), so a requeued task's log keeps every start.
-//! The scripts call this very binary and the config by absolute path, so they run from
-//! any directory on a cluster whose nodes share the file system.
 //!
 //! Every value that reaches a script is data, never code. One function, [`quote`], quotes
 //! it: in single quotes, a `'` written as `'\''`. Bash reads that as the value in the
@@ -24,7 +24,7 @@
 //! `#` outside quotes starting a comment) reads it as the same value in the directives.
 //! Values that no quoting keeps on their `#SBATCH` line, or that the two parsers read
 //! differently, are refused with an error naming the key they came from (`--partition`,
-//! `--time`, `--output` or the config's `output`): a newline, carriage return or NUL
+//! `--account`, `--qos`, `--time`, `--mem`, `--output` or the config's `output`): a newline, carriage return or NUL
 //! anywhere, and a backslash in a directive value (sbatch drops it, bash would not). In
 //! the `--output` directives a `%` of the directory is written `%%`, so Slurm's file name
 //! patterns (`%j`, `%a`) apply only to the log's own name. Before writing anything,

@@ -387,7 +387,7 @@ fn resume_finished(
             ) =>
         {
             tracing::warn!(
-                "--resume: {} holds the finished results of another config, gridplan version or shard; every run runs, and the sweep replaces them",
+                "--resume: {} holds the finished results of another config, gridplan version or shard; every run runs, as without --resume",
                 dir.display()
             );
             return Ok(None);
