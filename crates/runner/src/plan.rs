@@ -373,6 +373,25 @@ pub fn run_single(
     })
 }
 
+/// A planner parameter's value as `plan --set key=value` (and `gridplan serve`'s settings)
+/// give it: TOML (`1.5`, `true`, `"octile"`), or else a bare word (`octile`). A value that
+/// starts as a number does (a digit, a sign or a point) must be one: `None` for `1e400`
+/// (beyond 64 bits), `1_000_` or `1.5x`, which are not taken for words.
+///
+/// ```
+/// use planner_runner::plan::setting_value;
+/// assert_eq!(setting_value("2.5"), Some(toml::Value::Float(2.5)));
+/// assert_eq!(setting_value("octile"), Some(toml::Value::String("octile".into())));
+/// assert_eq!(setting_value("1e400"), None);
+/// ```
+pub fn setting_value(value: &str) -> Option<toml::Value> {
+    match toml::from_str::<toml::Table>(&format!("v = {value}")) {
+        Ok(mut table) => table.remove("v"),
+        Err(_) if value.starts_with(|c: char| c.is_ascii_digit() || "+-.".contains(c)) => None,
+        Err(_) => Some(toml::Value::String(value.to_string())),
+    }
+}
+
 /// The planner `args` name (a registry name, or a label of `experiment`), with the
 /// `--set` overrides and the budget `plan` applies.
 fn resolve_spec(
@@ -423,20 +442,10 @@ fn resolve_spec(
                 }
             }
             given.push((key, value));
-            // A TOML value, else a bare word (`heuristic=octile`); a value that starts
-            // as a number does must be one.
-            let parsed = match toml::from_str::<toml::Table>(&format!("v = {value}")) {
-                Ok(mut table) => table.remove("v"),
-                Err(_) if value.starts_with(|c: char| c.is_ascii_digit() || "+-.".contains(c)) => {
-                    return Err(UsageError::SetNumber {
-                        key: key.to_string(),
-                        value: value.to_string(),
-                    }
-                    .into())
-                }
-                Err(_) => None,
-            }
-            .unwrap_or_else(|| toml::Value::String(value.to_string()));
+            let parsed = setting_value(value).ok_or_else(|| UsageError::SetNumber {
+                key: key.to_string(),
+                value: value.to_string(),
+            })?;
             params.insert(key.trim().to_string(), parsed);
         }
         spec = config::planner_from_table(&spec.label, spec.name, params, spec.budget)?;

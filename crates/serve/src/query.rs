@@ -49,6 +49,11 @@ pub enum QueryError {
     /// A `key=value` setting without `=`.
     #[error("parameter {0:?}: expected key=value")]
     Setting(String),
+    /// A setting whose value starts as a number does but is not one (`weight=1e400`).
+    #[error(
+        "parameter {0:?}: not a number (numbers are written as 3, -2, 2.5 or 1e3, within 64 bits)"
+    )]
+    Number(String),
     /// A wall edit outside the grid.
     #[error("wall edit at ({x}, {y}): outside the {width}x{height} grid")]
     Edit {
@@ -117,8 +122,8 @@ pub fn apply_edits(grid: &mut Grid, edits: &[(u32, u32, bool)]) -> Result<(), Qu
     Ok(())
 }
 
-/// The `key=value` settings as a planner table, parsed as `plan --set` parses them: a
-/// value is TOML (`1.5`, `true`, `"octile"`) or else a bare string.
+/// The `key=value` settings as a planner table, parsed as `plan --set` parses them
+/// ([`planner_runner::plan::setting_value`]).
 pub fn settings_table(set: &[String]) -> Result<toml::Table, QueryError> {
     let mut params = toml::Table::new();
     for assignment in set {
@@ -126,10 +131,8 @@ pub fn settings_table(set: &[String]) -> Result<toml::Table, QueryError> {
             .split_once('=')
             .ok_or_else(|| QueryError::Setting(assignment.clone()))?;
         let value = value.trim();
-        let parsed = toml::from_str::<toml::Table>(&format!("v = {value}"))
-            .ok()
-            .and_then(|mut t| t.remove("v"))
-            .unwrap_or_else(|| toml::Value::String(value.to_string()));
+        let parsed = planner_runner::plan::setting_value(value)
+            .ok_or_else(|| QueryError::Number(assignment.clone()))?;
         params.insert(key.trim().to_string(), parsed);
     }
     Ok(params)

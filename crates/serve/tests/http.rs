@@ -258,6 +258,17 @@ fn planning_gives_plan_json_and_the_expanded_cells() {
     );
     assert_eq!(status, 400);
     assert!(answer.contains("colour"), "{answer}");
+    // A number beyond 64 bits is said to be one, as plan --set says it.
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"open30.map","start":[0,0],"goal":[1,1],"planner":"astar","set":["weight=1e400"]}"#,
+    );
+    assert_eq!(status, 400);
+    assert!(
+        answer.contains("weight=1e400") && answer.contains("not a number"),
+        "{answer}"
+    );
     let (status, answer) = post(
         addr,
         "/api/plan",
