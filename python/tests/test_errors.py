@@ -200,7 +200,9 @@ def test_control_characters_in_messages_are_escaped(tmp_path, map10):
     terminal through an exception's or a warning's message: control characters (but line
     breaks and tabs) are written as \\u{..}, as the command line writes them; the
     attribute keeps the text."""
-    config = tmp_path / "esc.toml"
+    folder = tmp_path / "e\x1b[2Jx"
+    folder.mkdir()
+    config = folder / "esc.toml"
     map01 = (MAPS / "paper" / "map01.map").as_posix()
     config.write_text(
         f'name = "esc"\n[[maps]]\nfiles = ["{map01}"]\nproblems = "corners"\n'
@@ -210,6 +212,8 @@ def test_control_characters_in_messages_are_escaped(tmp_path, map10):
         gridplan.run_experiment(config)
     assert "\x1b" not in str(info.value)
     assert "\\u{1b}[2Jx" in str(info.value)
+    # The file attribute is the path as it is, to open it with.
+    assert info.value.file == str(config)
     with pytest.raises(ValueError) as info:
         gridplan.plan(map10, (0, 0), (11, 11), planner="astar\x07")
     assert "\x07" not in str(info.value) and "\\u{7}" in str(info.value)
