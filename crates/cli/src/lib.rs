@@ -372,7 +372,7 @@ impl CliError {
                 use planner_replan::experiment::ExperimentError as E;
                 return match error {
                     E::Parse { .. } | E::Invalid { .. } | E::TooManyToggles { .. } => EXIT_CONFIG,
-                    E::Map(_) | E::Problem { .. } => EXIT_INPUT,
+                    E::Map(_) | E::Problem { .. } | E::GppcGrid { .. } => EXIT_INPUT,
                     E::Output(_) => EXIT_OUTPUT,
                     _ => EXIT_FAILURE,
                 };

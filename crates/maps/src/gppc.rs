@@ -26,7 +26,8 @@
 //! Reading follows the crate's rules: every error has file, line and column; a patch that
 //! does not fit the map at its `P` command, or a query endpoint outside it, names the
 //! cell ([`MapErrorKind::PatchOutside`], [`MapErrorKind::QueryOutside`]); memory is
-//! bounded by the text (a header's declared size allocates nothing).
+//! bounded by the text (a header's declared size allocates nothing), and a map of more
+//! than [`Grid::MAX_CELLS`] cells, which no grid can hold, is an error at its width.
 //!
 //! ```
 //! use planner_api::{Cell, Grid};
@@ -316,6 +317,19 @@ pub fn parse_gppc_scenario(text: &str, origin: &str) -> Result<GppcScenario, Map
     )?;
     let (number, line) = next_line(o, text, &mut all, "'width W'")?;
     let width_ = positive(o, number, header(o, number, line, "width", 1)?[0], "width")?;
+    // The map is allocated whole (all free until patched): a size no grid can take is an
+    // error here, at the width, not a replay that quietly answers nothing.
+    if u64::from(width_) * u64::from(height) > Grid::MAX_CELLS {
+        return Err(o.at(
+            number,
+            1,
+            MapErrorKind::TooManyCells {
+                width: u64::from(width_),
+                height: u64::from(height),
+                max_cells: Grid::MAX_CELLS,
+            },
+        ));
+    }
     let (number, line) = next_line(o, text, &mut all, "'cost 1 octile'")?;
     let cost = header(o, number, line, "cost", 2)?;
     if cost[0].1 != "1" || cost[1].1 != "octile" {
@@ -574,6 +588,17 @@ mod tests {
             err(&SCEN.replace("cost 1 octile", "\u{3000}\u{3000}\u{3000}cost 1 octilX")),
             "s.scen:4:9: expected '1 octile' (the only cost model), found '1 octilX'"
         );
+        // A map no grid can hold is refused at its width (the replay allocates it whole).
+        assert_eq!(
+            err(&SCEN.replace("height 3\nwidth 4", "height 4000000000\nwidth 4000000000")),
+            "s.scen:3:1: a 4000000000x4000000000 map has 16000000000000000000 cells, more than \
+             the limit of 2147483648 cells"
+        );
+        assert!(parse_gppc_scenario(
+            &SCEN.replace("height 3\nwidth 4", "height 32768\nwidth 65536"),
+            "s.scen"
+        )
+        .is_ok());
         assert_eq!(
             err(&SCEN.replace("P 0 0 0 0", "P 0 0 0")),
             "s.scen:7:8: expected 'P batch patch x y' (4 numbers), found end of line"

@@ -36,7 +36,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         planner.as_mut(),
         query_every,
         carry_every,
-    );
+    )?;
     let agree = replay.queries.iter().filter(|q| q.agrees).count();
     let no_path = replay
         .queries

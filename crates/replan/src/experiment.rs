@@ -45,7 +45,7 @@ use std::time::Duration;
 
 use planner_api::{Budget, Grid, IncrementalPlanner, Problem};
 use planner_maps::gppc::{parse_gppc_patches, parse_gppc_scenario};
-use planner_maps::{MapError, Scenario};
+use planner_maps::{MapError, Scenario, DEFAULT_MAX_FILE_BYTES};
 use planner_text::{md_cell, md_prose};
 use rayon::prelude::*;
 use serde::Deserialize;
@@ -266,6 +266,14 @@ pub enum ExperimentError {
     /// A map, scenario or patch file is malformed (with its file, line and column).
     #[error(transparent)]
     Map(#[from] MapError),
+    /// A GPPC scenario's map that no grid can hold (the scenario reader refuses it first).
+    #[error("{path}: {source}")]
+    GppcGrid {
+        /// The scenario.
+        path: String,
+        /// What the grid refused.
+        source: planner_api::GridError,
+    },
     /// A scenario's start or goal is not a free cell of its map.
     #[error("{path} line {line}: {message}")]
     Problem {
@@ -338,10 +346,8 @@ pub fn kind_of(text: &str) -> Option<Kind> {
 
 /// Reads and validates the config at `path`.
 pub fn load(path: &Path) -> Result<ExperimentConfig, ExperimentError> {
-    let text = std::fs::read_to_string(path).map_err(|e| ExperimentError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
+    // A regular file only (never a FIFO or a device), as the runner reads its configs.
+    let text = planner_maps::read_text_file(path, planner_runner::config::MAX_TEXT_BYTES)?;
     parse(path, &text)
 }
 
@@ -706,20 +712,16 @@ pub fn run_config_with(
     for spec in &config.gppc {
         let scen_path = dir.join(&spec.scen);
         let scen_name = scen_path.display().to_string();
-        let text = std::fs::read_to_string(&scen_path).map_err(|e| ExperimentError::Io {
-            path: scen_name.clone(),
-            message: e.to_string(),
-        })?;
+        // Regular files only, at most the map readers' limit: a FIFO or `/dev/zero` named
+        // by the config or by the scenario would never end.
+        let text = planner_maps::read_text_file(&scen_path, DEFAULT_MAX_FILE_BYTES)?;
         let scenario = parse_gppc_scenario(&text, &scen_name)?;
         let patch_path = scen_path
             .parent()
             .unwrap_or(Path::new("."))
             .join(&scenario.patch_file);
         let patch_name = patch_path.display().to_string();
-        let text = std::fs::read_to_string(&patch_path).map_err(|e| ExperimentError::Io {
-            path: patch_name.clone(),
-            message: e.to_string(),
-        })?;
+        let text = planner_maps::read_text_file(&patch_path, DEFAULT_MAX_FILE_BYTES)?;
         let patches = parse_gppc_patches(&text, &patch_name)?;
         scenario.validate(&patches, &scen_name)?;
         let stem = scen_path
@@ -857,11 +859,15 @@ pub fn run_config_with(
                     planner.as_mut(),
                     query_every,
                     carry_every,
-                );
-                (stem.clone(), names[p].clone(), replay)
+                )
+                .map_err(|source| ExperimentError::GppcGrid {
+                    path: stem.clone(),
+                    source,
+                })?;
+                Ok((stem.clone(), names[p].clone(), replay))
             })
-            .collect()
-    });
+            .collect::<Result<_, ExperimentError>>()
+    })?;
     write_results(config, output, options, &rows, &gppc_runs)
 }
 

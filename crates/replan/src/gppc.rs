@@ -13,7 +13,7 @@
 
 use std::time::{Duration, Instant};
 
-use planner_api::{Budget, CellChange, Grid, IncrementalPlanner, Problem};
+use planner_api::{Budget, CellChange, Grid, GridError, IncrementalPlanner, Problem};
 use planner_maps::gppc::{GppcCommand, GppcScenario, PatchSet};
 
 use crate::oracle::{Mismatch, MismatchKind, Oracle};
@@ -88,28 +88,37 @@ pub fn agrees(recorded: Option<f64>, exact: Option<planner_api::Cost>) -> bool {
 /// Replays `scenario` (validated against `patches`) as the [module docs](self) say;
 /// `planner` is carried across the patches for every `carry_every`-th query (0: none),
 /// and only every `query_every`-th query is checked at all (1: all).
+///
+/// The commands are replayed in one pass holding two maps at most: a batch's queries are
+/// checked once the next batch's first query comes (its map is then complete) or the
+/// commands end, so memory does not grow with the number of batches. Errors only when
+/// the scenario's map is larger than a grid can be (which
+/// [`parse_gppc_scenario`](planner_maps::gppc::parse_gppc_scenario) refuses).
 pub fn replay(
     scenario: &GppcScenario,
     patches: &PatchSet,
     planner: &mut dyn IncrementalPlanner,
     query_every: usize,
     carry_every: usize,
-) -> Replay {
-    let mut out = Replay::default();
-    let mut oracle = Oracle::new(true);
-    // The map before every batch's first query: patches applied in command order.
-    let mut map = match Grid::new(scenario.width, scenario.height) {
-        Ok(grid) => grid,
-        Err(_) => return out,
+) -> Result<Replay, GridError> {
+    let mut replayer = Replayer {
+        out: Replay::default(),
+        oracle: Oracle::new(true),
+        planner,
+        index: 0,
+        query_every,
+        carry_every,
     };
-    // Each run of consecutive queries with the map they are asked on.
-    let mut batches: Vec<(Grid, Vec<Query>)> = Vec::new();
+    // The map as patched so far.
+    let mut map = Grid::new(scenario.width, scenario.height)?;
+    // The batch whose queries wait for the next batch's map: its map and queries.
+    let mut pending: Option<(Grid, Vec<Query>)> = None;
     let mut querying = false;
     for command in &scenario.commands {
         match *command {
             GppcCommand::Patch { patch, x, y, .. } => {
                 patches.apply(&mut map, patch, x, y);
-                out.patches_applied += 1;
+                replayer.out.patches_applied += 1;
                 querying = false;
             }
             GppcCommand::Query {
@@ -120,19 +129,43 @@ pub fn replay(
                 line,
             } => {
                 if !querying {
-                    batches.push((map.clone(), Vec::new()));
+                    // A new batch: `map` is its map, the one the pending batch's queries
+                    // are carried to.
+                    if let Some((grid, queries)) = pending.take() {
+                        replayer.batch(&grid, &queries, Some(&map));
+                    }
+                    pending = Some((map.clone(), Vec::new()));
                     querying = true;
                 }
-                if let Some(last) = batches.last_mut() {
-                    last.1.push((line, batch, start, goal, cost));
+                if let Some((_, queries)) = pending.as_mut() {
+                    queries.push((line, batch, start, goal, cost));
                 }
             }
         }
     }
-    let mut index = 0usize;
-    for b in 0..batches.len() {
-        let (grid, queries) = &batches[b];
-        let next = batches.get(b + 1).map(|(next, _)| {
+    if let Some((grid, queries)) = pending {
+        replayer.batch(&grid, &queries, None);
+    }
+    Ok(replayer.out)
+}
+
+/// A replay's state between batches.
+struct Replayer<'p> {
+    out: Replay,
+    oracle: Oracle,
+    planner: &'p mut dyn IncrementalPlanner,
+    /// Queries seen so far, over all batches.
+    index: usize,
+    query_every: usize,
+    carry_every: usize,
+}
+
+impl Replayer<'_> {
+    /// Checks the `queries` of one batch, asked on `grid`; those selected for carrying are
+    /// carried to `next`, the next batch's map (none for the last batch).
+    fn batch(&mut self, grid: &Grid, queries: &[Query], next: Option<&Grid>) {
+        let (query_every, carry_every) = (self.query_every, self.carry_every);
+        let next = next.map(|next| {
             let changes: Vec<CellChange> = grid
                 .free_cells()
                 .iter()
@@ -147,9 +180,16 @@ pub fn replay(
                 .collect();
             (next, changes)
         });
+        let Replayer {
+            out,
+            oracle,
+            planner,
+            index,
+            ..
+        } = self;
         for &(line, batch, start, goal, recorded) in queries {
-            index += 1;
-            if query_every > 1 && index % query_every != 0 {
+            *index += 1;
+            if query_every > 1 && *index % query_every != 0 {
                 continue;
             }
             let astar = oracle.optimum(grid, start, goal);
@@ -164,7 +204,7 @@ pub fn replay(
             let Some((next, changes)) = &next else {
                 continue;
             };
-            if carry_every == 0 || index % carry_every != 0 {
+            if carry_every == 0 || *index % carry_every != 0 {
                 continue;
             }
             let Ok(problem) = Problem::new(grid, start, goal) else {
@@ -210,5 +250,4 @@ pub fn replay(
             });
         }
     }
-    out
 }

@@ -195,6 +195,72 @@ fn malformed_inputs_are_reported_before_writing() {
     assert!(!out.exists());
 }
 
+/// A GPPC scenario or patch file that is not a regular file (a FIFO, `/dev/zero`) is refused
+/// before it is opened, and a scenario's map that no grid can hold is an error at its
+/// width: neither hangs, and neither gives an empty replay that reports 0 mismatches.
+#[test]
+fn gppc_inputs_that_cannot_be_replayed_are_refused() {
+    let dir = scratch("gppc-inputs");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("d.toml"),
+        "kind = \"dynamic\"\nname = \"d\"\n[[gppc]]\nscen = \"s.scen\"\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("p.patch"),
+        "type patch\npatches 1\npatch 0\nheight 1\nwidth 1\nmap\n.\n",
+    )
+    .unwrap();
+    let scen = |height: &str, patch: &str| {
+        let text = format!(
+            "version 2\nheight {height}\nwidth 3\ncost 1 octile\npatch {patch}\ncommands\nP 0 0 0 0\nQ 0 0 0 1 1 1.4142135624\n"
+        );
+        std::fs::write(dir.join("s.scen"), text).unwrap();
+    };
+    let out = dir.join("out");
+    let run = || experiment::run(&dir.join("d.toml"), &out, &test_options(1));
+    scen("3", "p.patch");
+    assert_eq!(run().unwrap().runs, 4);
+    std::fs::remove_dir_all(&out).unwrap();
+    let status = std::process::Command::new("mkfifo")
+        .arg(dir.join("fifo"))
+        .status()
+        .unwrap();
+    assert!(status.success());
+    for patch in ["/dev/zero", "fifo"] {
+        scen("3", patch);
+        let e = run().unwrap_err();
+        match &e {
+            ExperimentError::Map(m) => assert!(
+                m.to_string().contains("not a regular file") && m.file.ends_with(patch),
+                "{e}"
+            ),
+            other => panic!("{patch}: expected a map error, got {other}"),
+        }
+    }
+    std::fs::rename(dir.join("s.scen"), dir.join("real.scen")).unwrap();
+    std::os::unix::fs::symlink("fifo", dir.join("s.scen")).unwrap();
+    let e = run().unwrap_err();
+    assert!(e.to_string().contains("not a regular file"), "{e}");
+    std::fs::remove_file(dir.join("s.scen")).unwrap();
+    scen("3000000000", "p.patch");
+    let e = run().unwrap_err();
+    match &e {
+        ExperimentError::Map(m) => assert!(
+            m.file.ends_with("s.scen") && (m.line, m.column) == (3, 1),
+            "{e}"
+        ),
+        other => panic!("expected a map error, got {other}"),
+    }
+    assert!(
+        e.to_string()
+            .contains("more than the limit of 2147483648 cells"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
+
 /// The output directory is replaced only when it is empty or an earlier run's.
 #[test]
 fn foreign_output_directories_are_left_alone() {

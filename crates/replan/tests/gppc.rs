@@ -29,7 +29,7 @@ fn sample_reads_and_replays_exactly() {
     assert_eq!((p, q), (7390, 2200));
     // Every 440th query by A* against the recorded optimum; every 880th carried by D* Lite.
     let mut dstar = planners::by_name("dstar_lite", true).unwrap();
-    let replay = replay(&scenario, &patches, dstar.as_mut(), 440, 880);
+    let replay = replay(&scenario, &patches, dstar.as_mut(), 440, 880).unwrap();
     assert_eq!(replay.patches_applied, 7390);
     assert_eq!(replay.queries.len(), 2200 / 440);
     for query in &replay.queries {

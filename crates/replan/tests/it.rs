@@ -5,4 +5,5 @@
 
 mod experiment;
 mod gppc;
+mod memory;
 mod oracle;
