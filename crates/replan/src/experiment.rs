@@ -225,7 +225,7 @@ pub enum ExperimentError {
         message: String,
     },
     /// The config is not valid TOML or has a key or value of the wrong type.
-    #[error("{path}:{line}:{column}: {message}")]
+    #[error("{}: {message}", place(path, *line, *column))]
     Parse {
         /// The config file.
         path: String,
@@ -237,7 +237,7 @@ pub enum ExperimentError {
         message: String,
     },
     /// A value the experiment cannot run with.
-    #[error("{path}:{line}:{column}: `{key}`: {message}")]
+    #[error("{}: `{key}`: {message}", place(path, *line, *column))]
     Invalid {
         /// The config file.
         path: String,
@@ -288,6 +288,16 @@ pub enum ExperimentError {
     /// (planner-runner's `outdir`), its message naming the path and what to do.
     #[error(transparent)]
     Output(#[from] planner_runner::outdir::OutdirError),
+}
+
+/// `path:line:column`, less what is not known (0): a key missing from the config has no
+/// line to name.
+fn place(path: &str, line: usize, column: usize) -> String {
+    match (line, column) {
+        (0, _) => path.to_owned(),
+        (_, 0) => format!("{path}:{line}"),
+        _ => format!("{path}:{line}:{column}"),
+    }
 }
 
 /// How [`run`] runs.
@@ -363,6 +373,13 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
             message: e.message().to_string(),
         }
     })?;
+    // An empty list or an array of tables holds no span of its own: the key's value has.
+    let value_span = |key: &str| -> std::ops::Range<usize> {
+        toml::from_str::<std::collections::BTreeMap<String, Spanned<toml::Value>>>(text)
+            .ok()
+            .and_then(|values| values.get(key).map(Spanned::span))
+            .unwrap_or(0..0)
+    };
     let invalid = |span: std::ops::Range<usize>, key: &str, message: String| {
         let (line, column) = if span.is_empty() && span.start == 0 {
             (0, 0)
@@ -390,7 +407,11 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
         ));
     }
     if config.planners.is_empty() {
-        return Err(invalid(0..0, "compare", "name at least one planner".into()));
+        return Err(invalid(
+            value_span("compare"),
+            "compare",
+            "name at least one planner".into(),
+        ));
     }
     for (i, p) in config.planners.iter().enumerate() {
         if let Err(e) = planners::by_name(p.get_ref(), true) {
@@ -461,7 +482,7 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
             }
             if config.radii.is_empty() {
                 return Err(invalid(
-                    0..0,
+                    value_span("radii"),
                     "radii",
                     "a navigate experiment needs radii".into(),
                 ));
@@ -474,7 +495,11 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
                 ));
             }
             if !config.gppc.is_empty() {
-                return Err(invalid(0..0, "gppc", "only for kind = \"dynamic\"".into()));
+                return Err(invalid(
+                    value_span("gppc"),
+                    "gppc",
+                    "only for kind = \"dynamic\"".into(),
+                ));
             }
         }
         Kind::Dynamic => {

@@ -165,6 +165,27 @@ fn config_errors_name_file_line_column_and_key() {
         matches!(&e, ExperimentError::Invalid { key, .. } if key == "maps"),
         "{e}"
     );
+    // A missing key has no line: the message names the file alone (it read
+    // `bad.toml:0:0:`); an empty list, an array of tables in the wrong kind, their value's.
+    assert_eq!(
+        e.to_string(),
+        "bad.toml: `maps`: a navigate experiment needs [[maps]]"
+    );
+    let e = parse_error(&format!("compare = []\n{base}"));
+    assert_eq!(
+        e.to_string(),
+        "bad.toml:1:11: `compare`: name at least one planner"
+    );
+    let e = parse_error(&base.replace("radii = [1]", "radii = []"));
+    assert_eq!(
+        e.to_string(),
+        "bad.toml:3:9: `radii`: a navigate experiment needs radii"
+    );
+    let e = parse_error(&format!("{base}[[gppc]]\nscen = \"g.scen\"\n"));
+    assert!(
+        matches!(&e, ExperimentError::Invalid { line: 7, column: 1, key, .. } if key == "gppc"),
+        "{e}"
+    );
 }
 
 /// A malformed map or scenario file is reported with its file, line and column, before
