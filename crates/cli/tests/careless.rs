@@ -167,6 +167,24 @@ fn careless_inputs_fail_cleanly() {
         (format!("figures = \"some\"\n{CONFIG}"), Error("c.toml:1:11")),
         (format!("sections = [\"nope\"]\n{CONFIG}"), Error("c.toml:1:")),
         (format!("colour = 1\n{CONFIG}"), Error("c.toml:1:1: unknown field `colour`")),
+        // The two tables in the other shape: the shape each takes (toml's own words were
+        // "invalid type: sequence, expected a map").
+        (
+            edit("[planners.a]", "[[planners]]"),
+            Error("c.toml:5:1: key `planners`: a table of labelled planners, one `[planners.LABEL]`"),
+        ),
+        (
+            format!(
+                "planners = [{{ planner = \"astar\" }}]\n{}",
+                edit("[planners.a]\nplanner = \"astar\"\n", "")
+            ),
+            Error("c.toml:1:12: key `planners`: a table of labelled planners"),
+        ),
+        (
+            edit("[[maps]]", "[maps]"),
+            Error("c.toml:2:1: key `maps`: an array of tables, one `[[maps]]` per group"),
+        ),
+
         (format!("{CONFIG}[budget]\nmax_expansions = -5\n"), Error("c.toml:8:")),
         (format!("{CONFIG}[budget]\nmax_expansions = \"lots\"\n"), Error("c.toml:8:")),
         (format!("{CONFIG}[budget]\nmax_hours = 1\n"), Error("c.toml:8:")),

@@ -582,6 +582,41 @@ fn syntax_error(src: &Source<'_>, e: &toml::de::Error) -> ConfigError {
     let kind = toml::from_str::<toml::Table>(src.text)
         .ok()
         .and_then(|t| t.get("kind").and_then(|k| k.as_str().map(str::to_string)));
+    // The two tables whose shape is easy to get wrong: when the error is the wrong shape
+    // at one of them (its span starts on the line of the key or its header), say which
+    // shape it takes.
+    let line = e.span().and_then(|at| {
+        let from = src.text.get(..at.start)?.rfind('\n').map_or(0, |i| i + 1);
+        Some(src.text[from..].trim_start())
+    });
+    let names = |key: &str| {
+        line.is_some_and(|l| {
+            let l = l.trim_start_matches('[').trim_start();
+            l.strip_prefix(key)
+                .is_some_and(|rest| rest.starts_with([' ', '\t', '=', ']']))
+        })
+    };
+    if e.message()
+        .contains("invalid type: sequence, expected a map")
+        && names("planners")
+    {
+        return src.error(
+            e.span(),
+            "key `planners`: a table of labelled planners, one `[planners.LABEL]` each with \
+             `planner = \"NAME\"` and its parameters (the label names its runs), not an \
+             array (`[[planners]]`)",
+        );
+    }
+    if e.message()
+        .contains("invalid type: map, expected a sequence")
+        && names("maps")
+    {
+        return src.error(
+            e.span(),
+            "key `maps`: an array of tables, one `[[maps]]` per group of maps, not a table \
+             (`[maps]`)",
+        );
+    }
     match kind.as_deref() {
         Some(kind @ ("navigate" | "dynamic")) => src.error(
             e.span(),
