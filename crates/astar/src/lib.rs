@@ -409,6 +409,10 @@ struct Cells {
     closed: Vec<u8>,
 }
 
+/// [`Cells::fit`] clears the per-cell arrays whole when the last search touched at least
+/// this share (one in so many) of the cells.
+const WHOLE_RESET_SHARE: usize = 16;
+
 impl Cells {
     /// Bytes per padded cell of the per-cell arrays at their full size (what a search
     /// that reaches every cell commits): state, `g`, `touched`, and the CLOSED bits.
@@ -426,11 +430,18 @@ impl Cells {
         if with_bits && self.closed.len() != padded_len / 8 + 3 {
             self.closed = vec![0; padded_len / 8 + 3];
         }
-        // Every cell the last search saw went through OPEN: reset those, and only those.
-        for &q in &self.touched {
-            self.state[q as usize] = UNSEEN;
-            if let Some(byte) = self.closed.get_mut(q as usize / 8) {
-                *byte = 0;
+        // Every cell the last search saw went through OPEN: reset those, and only those,
+        // unless they are many, when clearing the arrays whole (sequential stores) is the
+        // cheaper.
+        if self.touched.len() >= padded_len / WHOLE_RESET_SHARE {
+            self.state.fill(UNSEEN);
+            self.closed.fill(0);
+        } else {
+            for &q in &self.touched {
+                self.state[q as usize] = UNSEEN;
+                if let Some(byte) = self.closed.get_mut(q as usize / 8) {
+                    *byte = 0;
+                }
             }
         }
         self.touched.clear();
