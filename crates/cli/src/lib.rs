@@ -632,8 +632,20 @@ fn replan_experiment(
         test: false,
         timing: true,
         threads: threads.unwrap_or(0),
+        // Ctrl-C stops the runs and leaves the output as it was.
+        stop: stop_on_signals(),
     };
-    let done = experiment::run_config(&parsed, config, &output, &options)?;
+    let done = match experiment::run_config(&parsed, config, &output, &options) {
+        Err(experiment::ExperimentError::Interrupted) => {
+            let text = format!(
+                "interrupted: no results were written, {} is as it was",
+                output.display()
+            );
+            eprintln!("{}", planner_text::terminal(&text));
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+        done => done?,
+    };
     write_text(&format!(
         "{}: {} runs, {} replans checked against A* from scratch, {} mismatches -> {}\n",
         done.name,

@@ -841,6 +841,65 @@ fn plan_stops_on_ctrl_c() {
     assert!(output.stdout.is_empty());
 }
 
+/// Ctrl-C on a running replanning experiment (`kind = "navigate"`) stops it after the runs
+/// in progress: exit 130, "interrupted", no output written and no working files left
+/// beside it (the tables it was writing there). Before, the signal killed it mid-write.
+#[cfg(unix)]
+#[test]
+#[allow(unsafe_code)]
+fn a_replanning_experiment_stops_on_ctrl_c() {
+    use std::os::unix::process::CommandExt as _;
+    let dir = scratch(10_002);
+    let maps = common::root().join("maps/movingai");
+    std::fs::write(
+        dir.join("nav.toml"),
+        format!(
+            "kind = \"navigate\"\nname = \"nav\"\nradii = [1, 5]\n[[maps]]\nmap = {:?}\nscen = {:?}\nscenarios = 800\n",
+            maps.join("den520d.map").display().to_string(),
+            maps.join("den520d.map.scen").display().to_string(),
+        ),
+    )
+    .unwrap();
+    let mut command = Command::new(env!("CARGO_BIN_EXE_gridplan"));
+    command
+        .args(["experiment", "nav.toml", "--output", "out"])
+        .current_dir(&dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    // SAFETY: signal(2) is async-signal-safe, as code between fork and exec must be.
+    unsafe {
+        command.pre_exec(|| {
+            libc::signal(libc::SIGINT, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    let mut child = command.spawn().unwrap();
+    // Long enough for the maps to be read and the first runs' tables to be written.
+    std::thread::sleep(Duration::from_millis(2500));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the experiment ended early"
+    );
+    if !signal_and_wait(&mut child, "INT", Duration::from_secs(30)) {
+        child.kill().unwrap();
+        panic!("the experiment did not stop within 30 s of SIGINT");
+    }
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(
+        stderr.contains("interrupted: no results were written, out is as it was"),
+        "{stderr}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(left, ["nav.toml"], "left beside the output");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The rule for a SIGINT inherited ignored (README, `--help`): it stays ignored, the POSIX
 /// convention; SIGTERM still stops the command.
 #[cfg(unix)]

@@ -35,6 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         test: args.flag("--test"),
         timing: args.flag("--timing"),
         threads: args.parsed("--threads", "0")?,
+        stop: None,
     };
     let done = run(&config, &output, &options)?;
     println!(

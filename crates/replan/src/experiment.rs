@@ -24,6 +24,18 @@
 //! subsample beyond). Times appear only with [`RunOptions::timing`], so that without it
 //! every output is a pure function of the config.
 //!
+//! The runs go in chunks of [`RUN_CHUNK`], in parallel within a chunk; each chunk's lines
+//! are appended to the three tables, in the config's order, in files of the output's
+//! working area (planner-runner's `outdir::stream_area`, `.<output>.stream` beside it) as
+//! soon as the chunk ends, and only what the summary and the chart need of a run stays in
+//! memory (a few numbers per replan), so an experiment's memory does not grow with its
+//! records: 51 MB instead of 193 MB for `configs/replan/navigate.toml`'s 128,667 replans,
+//! 58 MB instead of 645 MB with 400 scenarios per map (maximum resident size). The tables
+//! are copied into the results at the end, and the area removed. [`RunOptions::stop`]
+//! (Ctrl-C on the command line) ends the experiment after the runs in progress (within a
+//! GPPC replay, after its batch in progress) with [`ExperimentError::Interrupted`],
+//! the output as it was and the area removed.
+//!
 //! The results directory is written as the experiment runner writes its own, by
 //! planner-runner's `outdir` (its rules in that module's docs): only into a directory that
 //! is absent, empty or gridplan's results ([`MARKER`]) holding nothing its marker does not
@@ -284,6 +296,9 @@ pub enum ExperimentError {
         /// What is wrong.
         message: String,
     },
+    /// [`RunOptions::stop`] was raised: nothing was written.
+    #[error("interrupted: no results were written, the output is as it was")]
+    Interrupted,
     /// The output directory may not be written: the experiment runner's rules
     /// (planner-runner's `outdir`), its message naming the path and what to do.
     #[error(transparent)]
@@ -301,7 +316,7 @@ fn place(path: &str, line: usize, column: usize) -> String {
 }
 
 /// How [`run`] runs.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct RunOptions {
     /// Use the config's `[test]` limits.
     pub test: bool,
@@ -310,6 +325,17 @@ pub struct RunOptions {
     pub timing: bool,
     /// Worker threads (0: rayon's default, one per core). Results do not depend on it.
     pub threads: usize,
+    /// A flag that stops the experiment when raised (a command line's Ctrl-C): no run or
+    /// GPPC batch starts after it, the working files go, the output is left as it was,
+    /// and [`run`] returns [`ExperimentError::Interrupted`].
+    pub stop: Option<&'static std::sync::atomic::AtomicBool>,
+}
+
+impl RunOptions {
+    fn stopped(&self) -> bool {
+        self.stop
+            .is_some_and(|flag| flag.load(std::sync::atomic::Ordering::Relaxed))
+    }
 }
 
 /// What [`run`] did.
@@ -801,132 +827,289 @@ pub fn run_config_with(
             seed: 0,
         }
     });
-    let rows: Vec<RunRow> = pool.install(|| {
-        tasks
-            .par_iter()
-            .map(|&(m, s, setting, p)| {
-                let map = &maps[m];
-                let scenario = &map.scenarios[s];
-                let name = &names[p];
-                let mut planner = make(name, eight);
-                let mut oracle = Oracle::new(eight);
-                let result = match config.kind {
-                    Kind::Navigate => {
-                        let nav = NavConfig {
-                            radius: setting as u32,
-                            max_steps: config.max_steps,
-                            check_every_change: false,
-                        };
-                        match navigate::run(
-                            planner.as_mut(),
-                            Some(&mut oracle),
-                            &map.grid,
-                            scenario.start,
-                            scenario.goal,
-                            &nav,
-                            &Budget::unlimited(),
-                        ) {
-                            Ok(run) => RunResult::Nav(run),
-                            Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
-                        }
-                    }
-                    Kind::Dynamic => {
-                        let problem = match Problem::new(&map.grid, scenario.start, scenario.goal) {
-                            Ok(problem) => problem,
-                            Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
-                        };
-                        let toggle = ToggleConfig {
-                            seed: setting,
-                            ..toggle_config.unwrap_or(ToggleConfig {
-                                events: 0,
-                                k: 0,
-                                radius: 0,
-                                drive: 0,
-                                seed: 0,
-                            })
-                        };
-                        RunResult::Toggle(toggles::run(
-                            planner.as_mut(),
-                            &mut oracle,
-                            &problem,
-                            &toggle,
-                            &Budget::unlimited(),
-                        ))
-                    }
+    // The runs' records go to the tables in the output's working area as each chunk of
+    // runs finishes, in task order; what the summary and the chart need of a run is kept
+    // (a few numbers a replan), so memory does not grow with the records.
+    let run_one = |&(m, s, setting, p): &(usize, usize, u64, usize)| -> RunRow {
+        let map = &maps[m];
+        let scenario = &map.scenarios[s];
+        let name = &names[p];
+        let mut planner = make(name, eight);
+        let mut oracle = Oracle::new(eight);
+        let result = match config.kind {
+            Kind::Navigate => {
+                let nav = NavConfig {
+                    radius: setting as u32,
+                    max_steps: config.max_steps,
+                    check_every_change: false,
                 };
-                RunRow {
-                    map: map.name.clone(),
-                    line: scenario.line,
-                    setting,
-                    planner: name.clone(),
-                    result,
-                }
-            })
-            .collect()
-    });
-    let gppc_runs: Vec<(String, String, gppc::Replay)> = pool.install(|| {
-        let jobs: Vec<(usize, usize)> = (0..gppc_inputs.len())
-            .flat_map(|g| (0..names.len()).map(move |p| (g, p)))
-            .collect();
-        jobs.par_iter()
-            .map(|&(g, p)| {
-                let (stem, spec, scenario, patches) = &gppc_inputs[g];
-                let mut planner = make(&names[p], true);
-                let (mut query_every, mut carry_every) =
-                    (*spec.query_every.get_ref(), spec.carry_every);
-                if options.test {
-                    query_every = query_every.max(config.test.query_every.unwrap_or(1));
-                    carry_every = carry_every.max(config.test.carry_every.unwrap_or(0));
-                }
-                let replay = gppc::replay(
-                    scenario,
-                    patches,
+                match navigate::run(
                     planner.as_mut(),
-                    query_every,
-                    carry_every,
-                )
-                .map_err(|source| ExperimentError::GppcGrid {
-                    path: stem.clone(),
-                    source,
-                })?;
-                Ok((stem.clone(), names[p].clone(), replay))
-            })
-            .collect::<Result<_, ExperimentError>>()
-    })?;
-    write_results(config, output, options, &rows, &gppc_runs)
+                    Some(&mut oracle),
+                    &map.grid,
+                    scenario.start,
+                    scenario.goal,
+                    &nav,
+                    &Budget::unlimited(),
+                ) {
+                    Ok(run) => RunResult::Nav(run),
+                    Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
+                }
+            }
+            Kind::Dynamic => {
+                let problem = match Problem::new(&map.grid, scenario.start, scenario.goal) {
+                    Ok(problem) => problem,
+                    Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
+                };
+                let toggle = ToggleConfig {
+                    seed: setting,
+                    ..toggle_config.unwrap_or(ToggleConfig {
+                        events: 0,
+                        k: 0,
+                        radius: 0,
+                        drive: 0,
+                        seed: 0,
+                    })
+                };
+                RunResult::Toggle(toggles::run(
+                    planner.as_mut(),
+                    &mut oracle,
+                    &problem,
+                    &toggle,
+                    &Budget::unlimited(),
+                ))
+            }
+        };
+        RunRow {
+            map: map.name.clone(),
+            line: scenario.line,
+            setting,
+            planner: name.clone(),
+            result,
+        }
+    };
+    let charted = charted_planner(config);
+    let mut stats: Vec<RunStats> = Vec::with_capacity(tasks.len());
+    let area = match tasks.is_empty() {
+        true => None,
+        false => Some(WorkingArea(planner_runner::outdir::stream_area(
+            output,
+            planner_runner::outdir::DEFAULT_LOCK_WAIT,
+        )?)),
+    };
+    let tables = match &area {
+        Some(WorkingArea(area)) => {
+            let mut tables = Tables::create(area, config.kind, options)?;
+            for chunk in tasks.chunks(RUN_CHUNK) {
+                // Once stopped, the chunk's remaining runs do not start.
+                let rows: Vec<Option<RunRow>> = pool.install(|| {
+                    chunk
+                        .par_iter()
+                        .map(|task| (!options.stopped()).then(|| run_one(task)))
+                        .collect()
+                });
+                if options.stopped() {
+                    return Err(ExperimentError::Interrupted);
+                }
+                for row in rows.into_iter().flatten() {
+                    tables.write(&row, config.kind, options)?;
+                    stats.push(RunStats::of(&row, charted));
+                }
+            }
+            Some(tables.finish()?)
+        }
+        None => None,
+    };
+    let gppc_runs: Result<Vec<(String, String, gppc::Replay)>, ExperimentError> =
+        pool.install(|| {
+            let jobs: Vec<(usize, usize)> = (0..gppc_inputs.len())
+                .flat_map(|g| (0..names.len()).map(move |p| (g, p)))
+                .collect();
+            jobs.par_iter()
+                .map(|&(g, p)| {
+                    let (stem, spec, scenario, patches) = &gppc_inputs[g];
+                    let mut planner = make(&names[p], true);
+                    let (mut query_every, mut carry_every) =
+                        (*spec.query_every.get_ref(), spec.carry_every);
+                    if options.test {
+                        query_every = query_every.max(config.test.query_every.unwrap_or(1));
+                        carry_every = carry_every.max(config.test.carry_every.unwrap_or(0));
+                    }
+                    let stop = || options.stopped();
+                    let replay = gppc::replay_until(
+                        scenario,
+                        patches,
+                        planner.as_mut(),
+                        query_every,
+                        carry_every,
+                        &stop,
+                    )
+                    .map_err(|source| ExperimentError::GppcGrid {
+                        path: stem.clone(),
+                        source,
+                    })?;
+                    Ok((stem.clone(), names[p].clone(), replay))
+                })
+                .collect::<Result<_, ExperimentError>>()
+        });
+    if options.stopped() {
+        return Err(ExperimentError::Interrupted);
+    }
+    let gppc_runs = gppc_runs?;
+    write_results(config, output, options, &stats, tables.as_ref(), &gppc_runs)
+    // The area goes here, its tables copied into the results, or the run failed.
 }
 
-/// Writes every output file as the results directory `output` (see the
-/// [module docs](self)).
-fn write_results(
-    config: &ExperimentConfig,
-    output: &Path,
-    options: &RunOptions,
-    rows: &[RunRow],
-    gppc_runs: &[(String, String, gppc::Replay)],
-) -> Result<ExperimentSummary, ExperimentError> {
-    let setting_key = match config.kind {
-        Kind::Navigate => "radius",
-        Kind::Dynamic => "seed",
-    };
-    let mut runs_csv = format!(
-        "map,scenario_line,{setting_key},planner,reached,steps,replans,total_expansions,astar_expansions,mismatches{}\n",
-        if options.timing {
-            ",time_to_first_move_us,planning_time_us"
-        } else {
-            ""
+/// The output's working area while the tables are written there: removed when the
+/// experiment ends, however it ends (a kill leaves it, and the next run truncates it).
+struct WorkingArea(planner_runner::outdir::StreamArea);
+
+impl Drop for WorkingArea {
+    fn drop(&mut self) {
+        let _ = self.0.remove();
+    }
+}
+
+/// Tasks run between two writes of the tables: each chunk's records are written in task
+/// order as soon as it finishes, so memory holds one chunk's records at most.
+pub const RUN_CHUNK: usize = 256;
+
+/// The planner whose replans `expansions.svg` draws: the first incremental one compared.
+fn charted_planner(config: &ExperimentConfig) -> Option<&'static str> {
+    ["dstar_lite", "lpastar"]
+        .into_iter()
+        .find(|n| config.planners.iter().any(|p| p.get_ref() == n))
+}
+
+/// What the summary and the chart need of a run, kept once its records are written out: a
+/// few numbers a replan instead of its counters, and no path.
+struct RunStats {
+    map: String,
+    line: usize,
+    /// Radius (navigate) or seed (toggles).
+    setting: u64,
+    planner: String,
+    /// Whether the agent reached the goal (navigate only).
+    reached: Option<bool>,
+    replans: usize,
+    expansions: u64,
+    oracle_expansions: u64,
+    mismatches: Vec<String>,
+    planning_time: Duration,
+    /// The expansions of every replan after the first.
+    later_expansions: Vec<u64>,
+    /// For the charted planner: A*'s expansions and the planner's, of every replan after
+    /// the first that the oracle checked.
+    chart: Vec<(u64, u64)>,
+}
+
+impl RunStats {
+    fn of(row: &RunRow, charted: Option<&str>) -> RunStats {
+        let later = row.replans().iter().skip(1);
+        RunStats {
+            map: row.map.clone(),
+            line: row.line,
+            setting: row.setting,
+            planner: row.planner.clone(),
+            reached: match &row.result {
+                RunResult::Nav(r) => Some(r.reached),
+                RunResult::Toggle(_) => None,
+            },
+            replans: row.replans().len(),
+            expansions: row.expansions(),
+            oracle_expansions: row.oracle_expansions(),
+            mismatches: row.mismatches().iter().map(|m| m.to_string()).collect(),
+            planning_time: row.planning_time(),
+            later_expansions: later.clone().map(|r| r.expansions).collect(),
+            chart: match charted == Some(row.planner.as_str()) {
+                true => later
+                    .filter_map(|r| r.oracle_expansions.map(|a| (a, r.expansions)))
+                    .collect(),
+                false => Vec::new(),
+            },
         }
-    );
-    let mut runs_jsonl = String::new();
-    let mut replans_jsonl = String::new();
-    for row in rows {
+    }
+
+    /// The run's identity, as [`RunRow::identity`].
+    fn identity(&self, escape: fn(&str) -> String) -> (String, usize, u64, String) {
+        (
+            escape(&self.map),
+            self.line,
+            self.setting,
+            escape(&self.planner),
+        )
+    }
+}
+
+/// The three tables with a line per run or replan (`runs.csv`, `runs.jsonl`,
+/// `replans.jsonl`), written as the runs finish into files of the output's working area
+/// (planner-runner's `outdir::stream_area`), and copied into the results at the end.
+struct Tables {
+    files: TableFiles,
+    runs_csv: std::io::BufWriter<std::fs::File>,
+    runs_jsonl: std::io::BufWriter<std::fs::File>,
+    replans_jsonl: std::io::BufWriter<std::fs::File>,
+}
+
+/// Where [`Tables`] wrote: each table's name in the results and its file in the area.
+struct TableFiles([(&'static str, PathBuf); 3]);
+
+impl Tables {
+    fn create(
+        area: &planner_runner::outdir::StreamArea,
+        kind: Kind,
+        options: &RunOptions,
+    ) -> Result<Tables, ExperimentError> {
+        let names = ["runs.csv", "runs.jsonl", "replans.jsonl"];
+        let open = |name: &str| -> Result<_, ExperimentError> {
+            Ok(std::io::BufWriter::new(area.open_write(name, true)?))
+        };
+        let mut tables = Tables {
+            files: TableFiles(names.map(|n| (n, area.dir.join(n)))),
+            runs_csv: open(names[0])?,
+            runs_jsonl: open(names[1])?,
+            replans_jsonl: open(names[2])?,
+        };
+        let header = format!(
+            "map,scenario_line,{},planner,reached,steps,replans,total_expansions,astar_expansions,mismatches{}\n",
+            setting_key(kind),
+            if options.timing {
+                ",time_to_first_move_us,planning_time_us"
+            } else {
+                ""
+            }
+        );
+        tables.put(0, &header)?;
+        Ok(tables)
+    }
+
+    /// Appends `text` to table `which` (0: runs.csv, 1: runs.jsonl, 2: replans.jsonl).
+    fn put(&mut self, which: usize, text: &str) -> Result<(), ExperimentError> {
+        use std::io::Write as _;
+        let writer = match which {
+            0 => &mut self.runs_csv,
+            1 => &mut self.runs_jsonl,
+            _ => &mut self.replans_jsonl,
+        };
+        writer
+            .write_all(text.as_bytes())
+            .map_err(|e| io_failure(&self.files.0[which].1, &e))
+    }
+
+    /// Appends `row`'s lines.
+    fn write(
+        &mut self,
+        row: &RunRow,
+        kind: Kind,
+        options: &RunOptions,
+    ) -> Result<(), ExperimentError> {
+        let setting_key = setting_key(kind);
         let (reached, steps) = match &row.result {
             RunResult::Nav(r) => (r.reached.to_string(), r.steps),
             RunResult::Toggle(_) => (String::new(), 0),
         };
         let (map, line, setting, planner) = row.identity(csv);
-        let _ = write!(
-            runs_csv,
+        let mut csv_line = format!(
             "{map},{line},{setting},{planner},{reached},{steps},{},{},{},{}",
             row.replans().len(),
             row.expansions(),
@@ -939,13 +1122,14 @@ fn write_results(
                 .first()
                 .map_or(Duration::ZERO, ReplanRecord::planning_time);
             let _ = write!(
-                runs_csv,
+                csv_line,
                 ",{},{}",
                 micros(first),
                 micros(row.planning_time())
             );
         }
-        runs_csv.push('\n');
+        csv_line.push('\n');
+        self.put(0, &csv_line)?;
         let mut run = json!({
             "map": row.map,
             "scenario_line": row.line,
@@ -967,8 +1151,7 @@ fn write_results(
         if options.timing {
             run["planning_time_us"] = (micros(row.planning_time()) as u64).into();
         }
-        runs_jsonl.push_str(&run.to_string());
-        runs_jsonl.push('\n');
+        self.put(1, &format!("{run}\n"))?;
         for (i, r) in row.replans().iter().enumerate() {
             let counters: serde_json::Map<String, serde_json::Value> = r
                 .counters
@@ -992,10 +1175,57 @@ fn write_results(
                 line["update_us"] = (micros(r.update_time) as u64).into();
                 line["replan_us"] = (micros(r.replan_time) as u64).into();
             }
-            replans_jsonl.push_str(&line.to_string());
-            replans_jsonl.push('\n');
+            self.put(2, &format!("{line}\n"))?;
         }
+        Ok(())
     }
+
+    /// Flushes the tables and closes them.
+    fn finish(self) -> Result<TableFiles, ExperimentError> {
+        let Tables {
+            files,
+            runs_csv,
+            runs_jsonl,
+            replans_jsonl,
+        } = self;
+        for (writer, (_, path)) in [runs_csv, runs_jsonl, replans_jsonl]
+            .into_iter()
+            .zip(&files.0)
+        {
+            writer
+                .into_inner()
+                .map_err(|e| io_failure(path, e.error()))?;
+        }
+        Ok(files)
+    }
+}
+
+/// The key of a run's setting in the tables: the sensor radius or the toggles' seed.
+fn setting_key(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Navigate => "radius",
+        Kind::Dynamic => "seed",
+    }
+}
+
+fn io_failure(path: &Path, error: &std::io::Error) -> ExperimentError {
+    ExperimentError::Io {
+        path: path.display().to_string(),
+        message: error.to_string(),
+    }
+}
+
+/// Writes every output file as the results directory `output` (see the
+/// [module docs](self)): the tables from `tables`' files, the rest from `stats` and
+/// `gppc_runs`.
+fn write_results(
+    config: &ExperimentConfig,
+    output: &Path,
+    options: &RunOptions,
+    stats: &[RunStats],
+    tables: Option<&TableFiles>,
+    gppc_runs: &[(String, String, gppc::Replay)],
+) -> Result<ExperimentSummary, ExperimentError> {
     let mut gppc_csv = String::from(
         "scenario,planner,patches_applied,queries,agree,carried,repair_expansions,astar_expansions,first_expansions,mismatches\n",
     );
@@ -1016,11 +1246,7 @@ fn write_results(
             replay.mismatches.len()
         );
     }
-    let summary = summary_md(config, options, rows, gppc_runs);
-    // The chart: the first incremental planner's replans against A* from scratch.
-    let charted = ["dstar_lite", "lpastar"]
-        .into_iter()
-        .find(|n| config.planners.iter().any(|p| p.get_ref() == n));
+    let summary = summary_md(config, options, stats, gppc_runs);
     let mut outputs = Vec::new();
     let mut write = |name: &str, text: &str| {
         outputs.push(planner_runner::outdir::OutputFile {
@@ -1029,20 +1255,14 @@ fn write_results(
         });
     };
     write("summary.md", &summary);
-    if !rows.is_empty() {
-        write("runs.csv", &runs_csv);
-        write("runs.jsonl", &runs_jsonl);
-        write("replans.jsonl", &replans_jsonl);
-    }
     if !gppc_runs.is_empty() {
         write("gppc.csv", &gppc_csv);
     }
-    if let Some(charted) = charted.filter(|_| !rows.is_empty()) {
-        let points: Vec<(u64, u64)> = rows
+    if let Some(charted) = charted_planner(config).filter(|_| !stats.is_empty()) {
+        let points: Vec<(u64, u64)> = stats
             .iter()
             .filter(|r| r.planner == charted)
-            .flat_map(|r| r.replans().iter().skip(1))
-            .filter_map(|r| r.oracle_expansions.map(|a| (a, r.expansions)))
+            .flat_map(|r| r.chart.iter().copied())
             .collect();
         let every = points.len().div_ceil(CHART_POINTS).max(1);
         let shown: Vec<(u64, u64)> = points.iter().copied().step_by(every).collect();
@@ -1069,17 +1289,32 @@ fn write_results(
             ),
         );
     }
-    let written = planner_runner::outdir::write_results(
+    // The tables are copied from the working area straight into the new directory.
+    let streamed: Vec<planner_runner::output::StreamedFile<'_>> = tables
+        .map(|t| &t.0[..])
+        .unwrap_or_default()
+        .iter()
+        .map(|(name, path)| planner_runner::output::StreamedFile {
+            path: PathBuf::from(name),
+            write: Box::new(move |out| {
+                let mut from = planner_runner::stream::open_regular(path)
+                    .map_err(|e| planner_runner::RunnerError::io(path, e))?;
+                std::io::copy(&mut from, out)
+                    .map(drop)
+                    .map_err(|e| planner_runner::RunnerError::io(path, e))
+            }),
+        })
+        .collect();
+    let written = planner_runner::outdir::write_results_streamed(
         output,
         config.name.get_ref(),
         &outputs,
+        &streamed,
         planner_runner::outdir::DEFAULT_LOCK_WAIT,
     )?;
-    let files = outputs.iter().map(|f| written.join(&f.path)).collect();
-    let mismatches = rows
-        .iter()
-        .map(|r| r.mismatches().len() as u64)
-        .sum::<u64>()
+    let mut files: Vec<PathBuf> = outputs.iter().map(|f| written.join(&f.path)).collect();
+    files.extend(streamed.iter().map(|f| written.join(&f.path)));
+    let mismatches = stats.iter().map(|r| r.mismatches.len() as u64).sum::<u64>()
         + gppc_runs
             .iter()
             .map(|(_, _, g)| {
@@ -1088,8 +1323,8 @@ fn write_results(
             .sum::<u64>();
     Ok(ExperimentSummary {
         name: config.name.get_ref().clone(),
-        runs: rows.len() + gppc_runs.len(),
-        replans: rows.iter().map(|r| r.replans().len() as u64).sum::<u64>()
+        runs: stats.len() + gppc_runs.len(),
+        replans: stats.iter().map(|r| r.replans as u64).sum::<u64>()
             + gppc_runs
                 .iter()
                 .map(|(_, _, g)| g.carried.len() as u64)
@@ -1112,7 +1347,7 @@ fn whole(v: Option<f64>) -> String {
 fn summary_md(
     config: &ExperimentConfig,
     options: &RunOptions,
-    rows: &[RunRow],
+    stats: &[RunStats],
     gppc_runs: &[(String, String, gppc::Replay)],
 ) -> String {
     let mut out = format!("# {}\n\n", md_cell(config.name.get_ref()));
@@ -1125,15 +1360,15 @@ fn summary_md(
         Kind::Navigate => ("navigate", "radius"),
         Kind::Dynamic => ("dynamic", "seed"),
     };
-    let total_replans: usize = rows.iter().map(|r| r.replans().len()).sum();
-    let total_mismatches: usize = rows.iter().map(|r| r.mismatches().len()).sum();
+    let total_replans: usize = stats.iter().map(|r| r.replans).sum();
+    let total_mismatches: usize = stats.iter().map(|r| r.mismatches.len()).sum();
     let _ = writeln!(
         out,
         "Kind `{kind}`{}: {} runs, {total_replans} replans, each checked against A* from scratch on the same map: **{total_mismatches} mismatches**.\n",
         if options.test { " (test limits)" } else { "" },
-        rows.len()
+        stats.len()
     );
-    if !rows.is_empty() {
+    if !stats.is_empty() {
         let _ = writeln!(
             out,
             "Per map, {setting} and planner: runs; runs that reached the goal (navigate); replans; mismatches; total expansions over the runs; the median over runs of the planner's total expansions as a share of A* from scratch at the same replans (the oracle's searches); expansions per replan after the first (p50, p90, p99, max){}.\n",
@@ -1154,32 +1389,29 @@ fn summary_md(
             if options.timing { "---:|" } else { "" }
         );
         let mut groups: Vec<(&str, u64, &str)> = Vec::new();
-        for r in rows {
+        for r in stats {
             let key = (r.map.as_str(), r.setting, r.planner.as_str());
             if !groups.contains(&key) {
                 groups.push(key);
             }
         }
         for (map, s, planner) in groups {
-            let group: Vec<&RunRow> = rows
+            let group: Vec<&RunStats> = stats
                 .iter()
                 .filter(|r| r.map == map && r.setting == s && r.planner == planner)
                 .collect();
-            let reached = group
-                .iter()
-                .filter(|r| matches!(&r.result, RunResult::Nav(n) if n.reached))
-                .count();
-            let replans: usize = group.iter().map(|r| r.replans().len()).sum();
-            let mismatches: usize = group.iter().map(|r| r.mismatches().len()).sum();
-            let expansions: u64 = group.iter().map(|r| r.expansions()).sum();
+            let reached = group.iter().filter(|r| r.reached == Some(true)).count();
+            let replans: usize = group.iter().map(|r| r.replans).sum();
+            let mismatches: usize = group.iter().map(|r| r.mismatches.len()).sum();
+            let expansions: u64 = group.iter().map(|r| r.expansions).sum();
             let shares: Vec<f64> = group
                 .iter()
-                .filter(|r| r.oracle_expansions() > 0)
-                .map(|r| r.expansions() as f64 / r.oracle_expansions() as f64)
+                .filter(|r| r.oracle_expansions > 0)
+                .map(|r| r.expansions as f64 / r.oracle_expansions as f64)
                 .collect();
             let per: Vec<f64> = group
                 .iter()
-                .flat_map(|r| r.replans().iter().skip(1).map(|x| x.expansions as f64))
+                .flat_map(|r| r.later_expansions.iter().map(|&x| x as f64))
                 .collect();
             let reached = match config.kind {
                 Kind::Navigate => reached.to_string(),
@@ -1200,7 +1432,7 @@ fn summary_md(
             if options.timing {
                 let times: Vec<f64> = group
                     .iter()
-                    .map(|r| r.planning_time().as_secs_f64() * 1e3)
+                    .map(|r| r.planning_time.as_secs_f64() * 1e3)
                     .collect();
                 let _ = write!(
                     out,
@@ -1211,13 +1443,13 @@ fn summary_md(
             out.push('\n');
         }
         out.push('\n');
-        for r in rows {
-            for m in r.mismatches() {
+        for r in stats {
+            for m in &r.mismatches {
                 let (map, line, value, planner) = r.identity(md_cell);
                 let _ = writeln!(
                     out,
                     "- MISMATCH {map} line {line} {setting} {value} {planner}: {}",
-                    md_cell(&m.to_string())
+                    md_cell(m)
                 );
             }
         }

@@ -101,6 +101,26 @@ pub fn replay(
     query_every: usize,
     carry_every: usize,
 ) -> Result<Replay, GridError> {
+    replay_until(
+        scenario,
+        patches,
+        planner,
+        query_every,
+        carry_every,
+        &|| false,
+    )
+}
+
+/// [`replay`] that checks no further batch once `stop` says so (a command line's Ctrl-C):
+/// the replay then ends early, with the records of the batches checked so far.
+pub fn replay_until(
+    scenario: &GppcScenario,
+    patches: &PatchSet,
+    planner: &mut dyn IncrementalPlanner,
+    query_every: usize,
+    carry_every: usize,
+    stop: &dyn Fn() -> bool,
+) -> Result<Replay, GridError> {
     let mut replayer = Replayer {
         out: Replay::default(),
         oracle: Oracle::new(true),
@@ -129,6 +149,9 @@ pub fn replay(
                 line,
             } => {
                 if !querying {
+                    if stop() {
+                        return Ok(replayer.out);
+                    }
                     // A new batch: `map` is its map, the one the pending batch's queries
                     // are carried to.
                     if let Some((grid, queries)) = pending.take() {

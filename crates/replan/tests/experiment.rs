@@ -26,6 +26,7 @@ fn test_options(threads: usize) -> RunOptions {
         test: true,
         timing: false,
         threads,
+        stop: None,
     }
 }
 
@@ -280,6 +281,48 @@ fn gppc_inputs_that_cannot_be_replayed_are_refused() {
         "{e}"
     );
     assert!(!out.exists());
+}
+
+/// A raised stop flag (the command line's Ctrl-C) ends the experiment with
+/// `Interrupted`: no run starts after it, the earlier results stay as they were, and the
+/// working area beside the output, where the tables were being written, is gone.
+#[test]
+fn a_stopped_experiment_leaves_the_output_as_it_was() {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    static STOP: AtomicBool = AtomicBool::new(false);
+    static BUILT: AtomicUsize = AtomicUsize::new(0);
+    let path = root().join("configs/replan/navigate.toml");
+    let config = experiment::load(&path).unwrap();
+    let out = scratch("stopped");
+    let options = RunOptions {
+        stop: Some(&STOP),
+        ..test_options(1)
+    };
+    experiment::run_config(&config, &path, &out, &options).unwrap();
+    let before = read(&out, "runs.csv");
+    assert!(!before.is_empty());
+    // The third run's planner raises the flag: the runs after it in its chunk (the
+    // test limits' runs are one chunk) do not start.
+    let make = |name: &str, eight: bool| {
+        if BUILT.fetch_add(1, Ordering::SeqCst) == 2 {
+            STOP.store(true, Ordering::SeqCst);
+        }
+        planner_replan::planners::by_name(name, eight).unwrap()
+    };
+    let e = experiment::run_config_with(&config, &path, &out, &options, &make).unwrap_err();
+    assert!(matches!(e, ExperimentError::Interrupted), "{e}");
+    assert_eq!(
+        BUILT.load(Ordering::SeqCst),
+        3,
+        "runs started after the stop"
+    );
+    assert_eq!(read(&out, "runs.csv"), before);
+    let parent = out.parent().unwrap();
+    let name = out.file_name().unwrap().to_string_lossy();
+    for leftover in ["stream", "stream.lock"] {
+        let path = parent.join(format!(".{name}.{leftover}"));
+        assert!(!path.exists(), "{} stayed", path.display());
+    }
 }
 
 /// The output directory is replaced only when it is empty or an earlier run's.

@@ -7,6 +7,7 @@
 use std::fmt::Write as _;
 
 use planner_maps::gppc::{parse_gppc_patches, parse_gppc_scenario};
+use planner_replan::experiment;
 use planner_replan::gppc::replay;
 use planner_replan::planners;
 use planner_runner::alloc;
@@ -52,5 +53,55 @@ fn a_replay_holds_two_maps_whatever_its_batches() {
     assert!(
         many < few + (1 << 20),
         "peak {many} bytes for 200 batches against {few} for 8"
+    );
+}
+
+/// The heap a `navigate` experiment held on its calling thread, where the tables are
+/// written, for `scenarios` scenarios of den520d (one radius, D* Lite alone), and its
+/// replans.
+fn navigate_peak(scenarios: usize) -> (u64, u64) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let maps = root.join("maps/movingai");
+    let text = format!(
+        "kind = \"navigate\"\nname = \"mem\"\nradii = [1]\ncompare = [\"dstar_lite\"]\n\
+         [[maps]]\nmap = {:?}\nscen = {:?}\nscenarios = {scenarios}\n",
+        maps.join("den520d.map").display().to_string(),
+        maps.join("den520d.map.scen").display().to_string(),
+    );
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("replan-memory-{scenarios}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("mem.toml");
+    std::fs::write(&path, &text).unwrap();
+    let config = experiment::parse(&path, &text).unwrap();
+    let options = experiment::RunOptions {
+        test: false,
+        timing: false,
+        threads: 1,
+        stop: None,
+    };
+    let baseline = alloc::start();
+    let done = experiment::run_config(&config, &path, &dir.join("out"), &options).unwrap();
+    let peak = alloc::peak_since_start(baseline);
+    assert_eq!((done.runs, done.mismatches), (scenarios, 0));
+    (peak, done.replans)
+}
+
+/// A `navigate` experiment writes its tables as its runs finish and keeps a few numbers a
+/// replan: its heap grows by far less per replan than a replan's lines in the tables
+/// (about 360 bytes in replans.jsonl alone), which it held whole before.
+#[test]
+fn a_navigate_experiment_keeps_few_bytes_per_replan() {
+    let (few, few_replans) = navigate_peak(10);
+    let (many, many_replans) = navigate_peak(40);
+    assert!(
+        many_replans > few_replans + 1000,
+        "{few_replans} -> {many_replans}"
+    );
+    let per_replan = many.saturating_sub(few) as f64 / (many_replans - few_replans) as f64;
+    assert!(
+        per_replan < 64.0,
+        "{per_replan:.0} bytes more per replan ({few} bytes for {few_replans} replans, {many} for {many_replans})"
     );
 }
