@@ -4,7 +4,9 @@ Grids come from NumPy (``Grid.from_numpy``) or map files (``read_map``); ``plan`
 registered planner (``planners()`` lists them with their parameters) and returns an
 ``Outcome`` with the path as an (N, 2) array and the planner's counters;
 ``Planner`` keeps a planner and its per-grid tables for many queries (``plan_many``
-runs a batch on threads and returns arrays); ``run_experiment`` sweeps an experiment config (``configs/*.toml``) and returns its records
+runs a batch on threads and returns arrays); ``Replanner`` keeps an incremental planner
+(D* Lite, LPA*) on a map that changes as a robot drives, repairing its path after each
+update; ``run_experiment`` sweeps an experiment config (``configs/*.toml``) and returns its records
 with runs.csv's columns, as a pandas DataFrame when pandas is installed. The planning runs
 in Rust with the GIL released, so Python threads plan in parallel.
 
@@ -36,6 +38,7 @@ from ._gridplan import (
     Planner,
     PlannerInfo,
     Problem,
+    Replanner,
     plan,
     planners,
     read_map,
@@ -57,6 +60,7 @@ __all__ = [
     "PlannerInfo",
     "Problem",
     "ProblemError",
+    "Replanner",
     "plan",
     "planners",
     "read_map",

@@ -194,6 +194,59 @@ class Planner:
         ``KeyboardInterrupt``: no query starts after it and the running ones stop at their
         next budget check; the planner stays usable."""
 
+class Replanner:
+    """An incremental planner's session (``"dstar_lite"``, ``"lpastar"``: the planners whose
+    ``PlannerInfo.incremental`` is true) on its own copy of ``grid``, from ``start`` to
+    ``goal``, for a robot whose map changes as it drives. ``plan()`` computes the path the
+    first time and repairs it after ``update`` and ``move_to``; each outcome's counters are
+    that call's alone, so a repair's ``n_expanded`` shows what it saved against a search
+    from scratch. Parameters are the planner's (``moves=4`` or ``8``), as in a config's
+    table; another planner name raises ``ValueError`` listing the incremental ones, a bad
+    start or goal ``ProblemError``. Each ``plan`` gets ``budget`` (as ``gridplan.plan``'s:
+    10,000,000 expansions by default)."""
+    def __init__(
+        self,
+        grid: Grid,
+        planner: str = "dstar_lite",
+        *,
+        start: _Cell,
+        goal: _Cell,
+        budget: Union[None, int, Dict[str, int]] = None,
+        **params: Any,
+    ) -> None: ...
+    @property
+    def name(self) -> str:
+        """The registry name."""
+    @property
+    def start(self) -> Optional[Tuple[int, int]]:
+        """The current start: the agent's cell."""
+    @property
+    def goal(self) -> Tuple[int, int]: ...
+    @property
+    def grid(self) -> Optional[Grid]:
+        """The planner's map: the grid it began with and every update since (a copy)."""
+    def plan(self) -> Outcome:
+        """The least-cost path from the current start to the goal on the current map
+        (``status`` ``"no_path"`` when the updates cut it off), repaired from the last one.
+        ``valid`` says it steps between free cells by the planner's moves from the start to
+        the goal; ``cost`` is its cost on a weighted grid."""
+    def update(
+        self,
+        cells: npt.ArrayLike,
+        *,
+        free: Union[None, bool, npt.ArrayLike] = None,
+        weights: Union[None, int, npt.ArrayLike] = None,
+    ) -> None:
+        """Cells that changed, an ``(N, 2)`` array of ``(x, y)``: ``free`` says whether
+        each is now free (one bool for all, or one per cell), ``weights`` its new weight on
+        a weighted grid (1 to 65535; one for all or one per cell); give either or both (a
+        cell given weights alone keeps its state). A cell off the grid, a weight out of
+        range or weights on an unweighted grid raise ``ValueError`` naming it, and nothing
+        is applied. The start or goal may be blocked: ``plan`` then finds no path."""
+    def move_to(self, cell: _Cell) -> None:
+        """The agent moved to ``cell`` (free, on the grid, else ``ValueError``): the next
+        ``plan`` starts there. D* Lite keeps its search; LPA* starts again from there."""
+
 def read_map(
     path: Union[str, "os.PathLike[str]"],
     *,

@@ -20,6 +20,7 @@ mod grid;
 mod interrupt;
 mod plan;
 mod planner;
+mod replanner;
 mod values;
 mod warn;
 
@@ -30,7 +31,8 @@ use pyo3::prelude::*;
 #[global_allocator]
 static ALLOCATOR: planner_runner::alloc::Counting = planner_runner::alloc::Counting;
 
-/// The native module: classes `Grid`, `Problem`, `Outcome`, `PlannerInfo`, `Planner`; functions
+/// The native module: classes `Grid`, `Problem`, `Outcome`, `PlannerInfo`, `Planner`,
+/// `Replanner`; functions
 /// `read_map`, `planners`, `plan` and `run_experiment_rows`.
 #[pymodule]
 fn _gridplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -43,6 +45,7 @@ fn _gridplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<plan::Outcome>()?;
     m.add_class::<plan::PlannerInfo>()?;
     m.add_class::<planner::Planner>()?;
+    m.add_class::<replanner::Replanner>()?;
     m.add_function(wrap_pyfunction!(grid::read_map, m)?)?;
     m.add_function(wrap_pyfunction!(plan::planners, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;

@@ -320,12 +320,44 @@ pub(crate) fn planner_spec(
 }
 
 pub(crate) fn outcome(py: Python<'_>, record: RunRecord) -> PyResult<Outcome> {
-    let cells = record.path.as_ref().map(|p| p.cells()).unwrap_or_default();
+    build_outcome(
+        py,
+        OutcomeParts {
+            status: record.status.as_str(),
+            path: record.path.as_ref(),
+            counters: &record.counters,
+            marks: &record.marks,
+            series: &record.series,
+            seed: record.seed,
+            valid: record.valid,
+            time_ms: record.time_ms,
+            cost: record.cost,
+        },
+    )
+}
+
+/// What an [`Outcome`] is made of: a run record's fields, or an incremental planner's
+/// outcome and what its caller measured.
+pub(crate) struct OutcomeParts<'a> {
+    pub status: &'static str,
+    pub path: Option<&'a planner_api::Path>,
+    pub counters: &'a planner_api::Counters,
+    pub marks: &'a [planner_api::Mark],
+    pub series: &'a [planner_api::Series],
+    pub seed: Option<u64>,
+    pub valid: Option<bool>,
+    pub time_ms: f64,
+    pub cost: Option<f64>,
+}
+
+/// The Python [`Outcome`] of `parts`.
+pub(crate) fn build_outcome(py: Python<'_>, parts: OutcomeParts<'_>) -> PyResult<Outcome> {
+    let cells = parts.path.map(|p| p.cells()).unwrap_or_default();
     let path = Array2::from_shape_fn((cells.len(), 2), |(i, j)| {
         i64::from(if j == 0 { cells[i].x } else { cells[i].y })
     });
     let path = PyArray2::from_owned_array(py, path).into_any().unbind();
-    let metrics = match &record.path {
+    let metrics = match parts.path {
         Some(p) => {
             let m = p.metrics();
             let dict = PyDict::new(py);
@@ -338,28 +370,28 @@ pub(crate) fn outcome(py: Python<'_>, record: RunRecord) -> PyResult<Outcome> {
         None => py.None(),
     };
     let counters = PyDict::new(py);
-    for (name, value) in record.counters.iter() {
+    for (name, value) in parts.counters.iter() {
         counters.set_item(name, value)?;
     }
     let marks = PyList::empty(py);
-    for mark in &record.marks {
+    for mark in parts.marks {
         marks.append((mark.label.as_str(), (mark.cell.x, mark.cell.y)))?;
     }
     let series = PyDict::new(py);
-    for s in &record.series {
+    for s in parts.series {
         let points = Array2::from_shape_fn((s.points.len(), 2), |(i, j)| s.points[i][j]);
         series.set_item(s.name.as_str(), PyArray2::from_owned_array(py, points))?;
     }
     Ok(Outcome {
-        status: record.status.as_str(),
+        status: parts.status,
         path,
         metrics,
         counters: counters.unbind(),
         marks: marks.unbind(),
         series: series.unbind(),
-        seed: record.seed,
-        valid: record.valid,
-        time_ms: record.time_ms,
-        cost: record.cost,
+        seed: parts.seed,
+        valid: parts.valid,
+        time_ms: parts.time_ms,
+        cost: parts.cost,
     })
 }

@@ -137,7 +137,7 @@ impl Planner {
 /// nothing else. A float that is not a whole number (0.5, NaN), an unsigned value beyond
 /// `i64`, or a boolean or other array is refused, naming the query, where a cast would
 /// silently plan another cell.
-fn cell_array(
+pub(crate) fn cell_array(
     py: Python<'_>,
     name: &str,
     value: Option<&Bound<'_, PyAny>>,

@@ -2,6 +2,7 @@
 (the same values test_experiment.py asserts) and the plotted path's counters."""
 
 import re
+import textwrap
 
 import pytest
 
@@ -44,3 +45,25 @@ def test_readme_plot_example(monkeypatch):
     plt.close("all")
     assert title == "A* on map10: 70 expansions, D=22, T=6"
     assert f'"{title}"' in README.read_text()
+
+
+def test_readme_replanner_example(monkeypatch):
+    import gridplan
+
+    monkeypatch.chdir(ROOT)
+    namespace = {"gridplan": gridplan}
+    exec(textwrap.dedent(blocks("python")[2]), namespace)
+    repaired, replanner = namespace["repaired"], namespace["replanner"]
+    assert replanner.start == tuple(namespace["path"][3])
+    assert repaired.status == "found" and repaired.valid
+    scratch = gridplan.plan(
+        replanner.grid,
+        replanner.start,
+        replanner.goal,
+        planner="astar",
+        moves=8,
+        corner_cutting=False,
+        heuristic="octile",
+    )
+    assert repaired.metrics["length"] == pytest.approx(scratch.metrics["length"], rel=1e-12)
+    assert repaired.counters["n_expanded"] < scratch.counters["n_expanded"]

@@ -1,0 +1,336 @@
+//! `Replanner`: an incremental planner (LPA*, D* Lite: the registry's incremental entries)
+//! kept between calls, for a robot whose map changes as it drives.
+//!
+//! `Planner` answers independent queries; a `Replanner` holds one session: a start and a
+//! goal on its own copy of the grid. `update` tells it cells that changed (blocked, freed,
+//! reweighted), `move_to` that the agent moved, and `plan` repairs the path, its counters
+//! those of that call alone (D* Lite's repairs expand far fewer nodes than a search from
+//! scratch). The planner is planner-api's [`IncrementalPlanner`], built by
+//! [`planner_registry::build_incremental`] from the same parameters a config's table
+//! takes; the calls run with the GIL released.
+
+use std::sync::{Mutex, MutexGuard};
+use std::time::Instant;
+
+use numpy::PyReadonlyArray1;
+use planner_api::{Budget, Cell, CellChange, IncrementalPlanner, Problem};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::{guarded, Failure};
+use crate::grid::{to_cell, Grid};
+use crate::plan::{build_outcome, problem_error, to_budget, Outcome, OutcomeParts};
+use crate::values::to_table;
+
+/// An incremental planner's session (see the stub, `gridplan/__init__.pyi`).
+#[pyclass(module = "gridplan", frozen)]
+pub struct Replanner {
+    planner: Mutex<Box<dyn IncrementalPlanner>>,
+    budget: Budget,
+    goal: Cell,
+    name: String,
+}
+
+impl Replanner {
+    fn lock(&self) -> MutexGuard<'_, Box<dyn IncrementalPlanner>> {
+        // A panic inside a call is caught by `guarded` while the lock is held; the session
+        // is then as the planner left it, which its next call reports on.
+        self.planner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// The cell `(x, y)` of `grid`, or the `ValueError` naming `what`.
+fn grid_cell(grid: &planner_api::Grid, (x, y): (i64, i64), what: &str) -> Result<Cell, Failure> {
+    to_cell((x, y))
+        .filter(|&c| grid.contains(c))
+        .ok_or_else(|| {
+            Failure::Value(format!(
+                "{what}: ({x}, {y}) is outside the {}x{} grid",
+                grid.width(),
+                grid.height()
+            ))
+        })
+}
+
+/// Values for `n` cells from a scalar or a 1-D array-like of length `n`, as `T` (through
+/// NumPy's `dtype`, checked to be `kind`: `b` booleans, `i`/`u` integers).
+fn per_cell<'py, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    name: &str,
+    value: &Bound<'py, PyAny>,
+    n: usize,
+    dtype: &str,
+    kinds: &[&str],
+) -> PyResult<Vec<T>> {
+    let numpy = py.import("numpy")?;
+    let array = numpy.call_method1("asarray", (value,))?;
+    let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+    if !kinds.contains(&kind.as_str()) {
+        return Err(Failure::Type(format!(
+            "{name}: expected {}, got dtype {}",
+            if dtype == "bool" {
+                "booleans"
+            } else {
+                "integers"
+            },
+            array.getattr("dtype")?.str()?
+        ))
+        .into_pyerr(py));
+    }
+    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    let array = match shape.as_slice() {
+        [] => numpy.call_method1("full", (n, array.clone(), array.getattr("dtype")?))?,
+        [m] if *m == n => array,
+        _ => {
+            return Err(Failure::Value(format!(
+                "{name}: expected one value or {n} (one per cell), got shape {}",
+                array.getattr("shape")?.repr()?
+            ))
+            .into_pyerr(py))
+        }
+    };
+    let converted = array.call_method1("astype", (dtype,))?;
+    let view: PyReadonlyArray1<'_, T> = converted.extract()?;
+    Ok(view.as_array().iter().copied().collect())
+}
+
+#[pymethods]
+impl Replanner {
+    /// Begins a session of incremental planner `planner` on a copy of `grid`.
+    #[new]
+    #[pyo3(signature = (grid, planner = "dstar_lite", *, start, goal, budget = None, **params))]
+    fn new(
+        grid: &Bound<'_, Grid>,
+        planner: &str,
+        start: (i64, i64),
+        goal: (i64, i64),
+        budget: Option<&Bound<'_, PyAny>>,
+        params: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Replanner> {
+        let py = grid.py();
+        let table = match params {
+            Some(dict) => to_table(dict, "")?,
+            None => toml::Table::new(),
+        };
+        let budget = to_budget(budget).map_err(|e| e.into_pyerr(py))?;
+        let grid = grid.get().inner.clone();
+        let name = planner.to_string();
+        let built = py.detach(|| {
+            guarded(|| {
+                let mut planner = match planner_registry::build_incremental(&name, &table) {
+                    Some(Ok(planner)) => planner,
+                    Some(Err(e)) => {
+                        return Err(Failure::Param {
+                            key: e.key,
+                            message: e.message,
+                        })
+                    }
+                    None => {
+                        return Err(Failure::Value(format!(
+                            "`{name}` is not an incremental planner (incremental planners: {}); \
+                             gridplan.Planner plans independent queries with any planner",
+                            planner_registry::incremental_names().join(", ")
+                        )))
+                    }
+                };
+                let start_cell =
+                    to_cell(start).ok_or_else(|| problem_error("start", start, &grid))?;
+                let goal_cell = to_cell(goal).ok_or_else(|| problem_error("goal", goal, &grid))?;
+                let problem = Problem::new(&grid, start_cell, goal_cell).map_err(|error| {
+                    let (endpoint, cell) = match &error {
+                        planner_api::ProblemError::OutOfBounds { endpoint, cell, .. }
+                        | planner_api::ProblemError::Blocked { endpoint, cell } => {
+                            (*endpoint, *cell)
+                        }
+                    };
+                    Failure::Problem {
+                        endpoint: match endpoint {
+                            planner_api::Endpoint::Start => "start",
+                            planner_api::Endpoint::Goal => "goal",
+                        },
+                        cell: (i64::from(cell.x), i64::from(cell.y)),
+                        message: error.to_string(),
+                    }
+                })?;
+                planner.reset_within(&problem, &budget);
+                Ok((planner, goal_cell))
+            })
+        });
+        let (planner, goal) = built.map_err(|e| e.into_pyerr(py))?;
+        Ok(Replanner {
+            planner: Mutex::new(planner),
+            budget,
+            goal,
+            name: planner_name(&name),
+        })
+    }
+
+    /// The registry name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The current start, the agent's cell.
+    #[getter]
+    fn start(&self) -> Option<(u32, u32)> {
+        self.lock().start().map(|c| (c.x, c.y))
+    }
+
+    /// The goal.
+    #[getter]
+    fn goal(&self) -> (u32, u32) {
+        (self.goal.x, self.goal.y)
+    }
+
+    /// The planner's map: the grid it began with and every update since.
+    #[getter]
+    fn grid(&self) -> PyResult<Option<Grid>> {
+        Ok(self.lock().grid().map(|g| Grid {
+            inner: std::sync::Arc::new(g.clone()),
+        }))
+    }
+
+    /// Computes the path (the first time) or repairs it after updates and moves.
+    fn plan(&self, py: Python<'_>) -> PyResult<Outcome> {
+        let call = crate::warn::Call::begin();
+        let done = py.detach(|| {
+            guarded(|| {
+                let mut planner = self.lock();
+                let started = Instant::now();
+                let outcome = planner.replan(&self.budget);
+                let time_ms = started.elapsed().as_secs_f64() * 1e3;
+                let (valid, cost) = match (&outcome.path, planner.grid(), planner.start()) {
+                    (Some(path), Some(grid), Some(start)) => {
+                        let rule = planner.specs().path_rule;
+                        let valid = path.start() == Some(start)
+                            && path.goal() == Some(self.goal)
+                            && path.validate(grid, rule.rule()).is_ok();
+                        let cost = grid
+                            .is_weighted()
+                            .then(|| grid.path_cost(path.cells()).to_f64());
+                        (Some(valid), cost)
+                    }
+                    _ => (None, None),
+                };
+                Ok((outcome, valid, cost, time_ms))
+            })
+        });
+        let (outcome, valid, cost, time_ms) = call.end(py, done.map_err(|e| e.into_pyerr(py)))?;
+        build_outcome(
+            py,
+            OutcomeParts {
+                status: outcome.status.as_str(),
+                path: outcome.path.as_ref(),
+                counters: &outcome.counters,
+                marks: &outcome.marks,
+                series: &outcome.series,
+                seed: None,
+                valid,
+                time_ms,
+                cost,
+            },
+        )
+    }
+
+    /// Tells the planner that `cells` changed: blocked or freed (`free`), reweighted
+    /// (`weights`, on a weighted grid), or both; the next `plan` repairs the path.
+    #[pyo3(signature = (cells, *, free = None, weights = None))]
+    fn update(
+        &self,
+        py: Python<'_>,
+        cells: &Bound<'_, PyAny>,
+        free: Option<&Bound<'_, PyAny>>,
+        weights: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let cells = crate::planner::cell_array(py, "cells", Some(cells))?.unwrap_or_default();
+        let n = cells.len();
+        let free: Option<Vec<bool>> = match free.filter(|f| !f.is_none()) {
+            Some(value) => Some(per_cell(py, "free", value, n, "bool", &["b"])?),
+            None => None,
+        };
+        let weights: Option<Vec<i64>> = match weights.filter(|w| !w.is_none()) {
+            Some(value) => Some(per_cell(py, "weights", value, n, "int64", &["i", "u"])?),
+            None => None,
+        };
+        if free.is_none() && weights.is_none() {
+            return Err(Failure::Type(
+                "update: give `free` (whether each cell is now free) or `weights` (its new weight), or both".into(),
+            )
+            .into_pyerr(py));
+        }
+        let done = py.detach(|| {
+            guarded(|| {
+                let mut planner = self.lock();
+                let Some(grid) = planner.grid() else {
+                    return Err(Failure::Value("the session has no map".into()));
+                };
+                let mut changes = Vec::with_capacity(n);
+                for (i, &xy) in cells.iter().enumerate() {
+                    let cell = grid_cell(grid, xy, &format!("cells[{i}]"))?;
+                    let weight = match &weights {
+                        Some(w) => {
+                            if !grid.is_weighted() {
+                                return Err(Failure::Value(
+                                    "weights: the grid has no weights (Grid.with_weights gives it some)".into(),
+                                ));
+                            }
+                            match u16::try_from(w[i]) {
+                                Ok(v) if v >= 1 => Some(v),
+                                _ => {
+                                    return Err(Failure::Value(format!(
+                                        "weights[{i}]: {} is not a weight (1 to 65535)",
+                                        w[i]
+                                    )))
+                                }
+                            }
+                        }
+                        None => None,
+                    };
+                    changes.push(CellChange {
+                        cell,
+                        free: free.as_ref().map_or(grid.is_free(cell), |f| f[i]),
+                        weight,
+                    });
+                }
+                planner
+                    .apply(&changes)
+                    .map_err(|e| Failure::Value(format!("update: {e}")))
+            })
+        });
+        done.map_err(|e| e.into_pyerr(py))
+    }
+
+    /// The agent moved to `cell`: the next `plan` plans from there.
+    fn move_to(&self, py: Python<'_>, cell: (i64, i64)) -> PyResult<()> {
+        let done = py.detach(|| {
+            guarded(|| {
+                let mut planner = self.lock();
+                let Some(grid) = planner.grid() else {
+                    return Err(Failure::Value("the session has no map".into()));
+                };
+                let to = grid_cell(grid, cell, "move_to")?;
+                planner
+                    .move_start(to)
+                    .map_err(|e| Failure::Value(format!("move_to: {e}")))
+            })
+        });
+        done.map_err(|e| e.into_pyerr(py))
+    }
+
+    fn __repr__(&self) -> String {
+        let start = self.lock().start();
+        format!(
+            "Replanner({:?}, start={}, goal=({}, {}))",
+            self.name,
+            start.map_or("None".into(), |c| format!("({}, {})", c.x, c.y)),
+            self.goal.x,
+            self.goal.y
+        )
+    }
+}
+
+/// The planner's name as the registry spells it (`name` was found there).
+fn planner_name(name: &str) -> String {
+    planner_registry::find(name).map_or_else(|| name.to_string(), |e| e.name.to_string())
+}
