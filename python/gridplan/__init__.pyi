@@ -237,7 +237,8 @@ class Replanner:
         free: Union[None, bool, npt.ArrayLike] = None,
         weights: Union[None, int, npt.ArrayLike] = None,
     ) -> None:
-        """Cells that changed, an ``(N, 2)`` array of ``(x, y)``: ``free`` says whether
+        """Cells that changed, an ``(N, 2)`` array of ``(x, y)`` (empty: nothing changed):
+        ``free`` says whether
         each is now free (one bool for all, or one per cell), ``weights`` its new weight on
         a weighted grid (1 to 65535; one for all or one per cell); give either or both (a
         cell given weights alone keeps its state). A cell off the grid, a weight out of

@@ -243,7 +243,15 @@ impl Replanner {
         free: Option<&Bound<'_, PyAny>>,
         weights: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let cells = crate::planner::cell_array(py, "cells", Some(cells))?.unwrap_or_default();
+        // No changes (an empty list or array, as a robot's step that saw none) are fine.
+        let size: usize = py
+            .import("numpy")?
+            .call_method1("size", (cells,))?
+            .extract()?;
+        let cells = match size {
+            0 => Vec::new(),
+            _ => crate::planner::cell_array(py, "cells", Some(cells))?.unwrap_or_default(),
+        };
         let n = cells.len();
         let free: Option<Vec<bool>> = match free.filter(|f| !f.is_none()) {
             Some(value) => Some(per_cell(py, "free", value, n, "bool", &["b"])?),

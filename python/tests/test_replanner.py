@@ -120,7 +120,11 @@ def test_bad_arguments_raise_named_errors(map10):
         gridplan.Replanner(map10, "dstar_lite", start=(0, 0), goal=(-1, 99))
     assert error.value.endpoint == "goal"
     replanner = gridplan.Replanner(map10, "dstar_lite", start=(0, 0), goal=(11, 11))
+    # No changes at all: a robot's step that saw none.
+    replanner.update([], free=False)
+    replanner.update(np.empty((0, 2), dtype=np.int64), free=False)
     before = replanner.grid
+    assert before == map10
     with pytest.raises(ValueError, match=r"cells\[1\]: \(12, 0\) is outside the 12x12 grid"):
         replanner.update(np.array([(1, 0), (12, 0)]), free=False)
     assert replanner.grid == before, "a refused update applied a change"
