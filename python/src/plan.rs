@@ -210,6 +210,23 @@ pub(crate) fn to_budget(budget: Option<&Bound<'_, PyAny>>) -> Result<Budget, Fai
     Ok(parsed)
 }
 
+/// The `ProblemError` exception of a start or goal that is off the grid or blocked, its
+/// message after `prefix` (a batch's `query i: `).
+pub(crate) fn problem_failure(error: &planner_api::ProblemError, prefix: &str) -> Failure {
+    let (endpoint, cell) = match error {
+        planner_api::ProblemError::OutOfBounds { endpoint, cell, .. }
+        | planner_api::ProblemError::Blocked { endpoint, cell } => (*endpoint, *cell),
+    };
+    Failure::Problem {
+        endpoint: match endpoint {
+            planner_api::Endpoint::Start => "start",
+            planner_api::Endpoint::Goal => "goal",
+        },
+        cell: (i64::from(cell.x), i64::from(cell.y)),
+        message: format!("{prefix}{error}"),
+    }
+}
+
 pub(crate) fn problem_error(
     endpoint: &'static str,
     cell: (i64, i64),
@@ -254,20 +271,7 @@ fn run(
         }
         (Some(goal), false) => to_cell(goal).ok_or_else(|| problem_error("goal", goal, grid))?,
     };
-    Problem::new(grid, start_cell, goal_cell).map_err(|error| {
-        let (endpoint, cell) = match &error {
-            planner_api::ProblemError::OutOfBounds { endpoint, cell, .. }
-            | planner_api::ProblemError::Blocked { endpoint, cell } => (*endpoint, *cell),
-        };
-        Failure::Problem {
-            endpoint: match endpoint {
-                planner_api::Endpoint::Start => "start",
-                planner_api::Endpoint::Goal => "goal",
-            },
-            cell: (i64::from(cell.x), i64::from(cell.y)),
-            message: error.to_string(),
-        }
-    })?;
+    Problem::new(grid, start_cell, goal_cell).map_err(|error| problem_failure(&error, ""))?;
     let map = MapEntry {
         name: "grid".into(),
         path: Default::default(),

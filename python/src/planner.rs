@@ -113,19 +113,8 @@ impl Planner {
         let entry = ProblemEntry::new(grid, index, start, goal, None);
         if entry.invalid.is_some() {
             if let Err(error) = planner_api::Problem::new(grid, start, goal) {
-                let (endpoint, cell) = match &error {
-                    planner_api::ProblemError::OutOfBounds { endpoint, cell, .. }
-                    | planner_api::ProblemError::Blocked { endpoint, cell } => (*endpoint, *cell),
-                };
                 let prefix = query.map(|i| format!("query {i}: ")).unwrap_or_default();
-                return Err(Failure::Problem {
-                    endpoint: match endpoint {
-                        planner_api::Endpoint::Start => "start",
-                        planner_api::Endpoint::Goal => "goal",
-                    },
-                    cell: (i64::from(cell.x), i64::from(cell.y)),
-                    message: format!("{prefix}{error}"),
-                });
+                return Err(crate::plan::problem_failure(&error, &prefix));
             }
         }
         Ok(entry)

@@ -19,7 +19,9 @@ use pyo3::types::PyDict;
 
 use crate::errors::{guarded, Failure};
 use crate::grid::{to_cell, Grid};
-use crate::plan::{build_outcome, problem_error, to_budget, Outcome, OutcomeParts};
+use crate::plan::{
+    build_outcome, problem_error, problem_failure, to_budget, Outcome, OutcomeParts,
+};
 use crate::values::to_table;
 
 /// An incremental planner's session (see the stub, `gridplan/__init__.pyi`).
@@ -136,22 +138,8 @@ impl Replanner {
                 let start_cell =
                     to_cell(start).ok_or_else(|| problem_error("start", start, &grid))?;
                 let goal_cell = to_cell(goal).ok_or_else(|| problem_error("goal", goal, &grid))?;
-                let problem = Problem::new(&grid, start_cell, goal_cell).map_err(|error| {
-                    let (endpoint, cell) = match &error {
-                        planner_api::ProblemError::OutOfBounds { endpoint, cell, .. }
-                        | planner_api::ProblemError::Blocked { endpoint, cell } => {
-                            (*endpoint, *cell)
-                        }
-                    };
-                    Failure::Problem {
-                        endpoint: match endpoint {
-                            planner_api::Endpoint::Start => "start",
-                            planner_api::Endpoint::Goal => "goal",
-                        },
-                        cell: (i64::from(cell.x), i64::from(cell.y)),
-                        message: error.to_string(),
-                    }
-                })?;
+                let problem = Problem::new(&grid, start_cell, goal_cell)
+                    .map_err(|error| problem_failure(&error, ""))?;
                 planner.reset_within(&problem, &budget);
                 Ok((planner, goal_cell))
             })
