@@ -76,7 +76,7 @@ pub fn render(
     let index = ResultsIndex::new(records);
     let mut names = FileNames::default();
     for map in &experiment.maps {
-        let limit = experiment.figures_per_map.unwrap_or(usize::MAX);
+        let limit = experiment.figure_limit(map);
         for problem in pick(&map.problems, experiment.figures_pick, limit) {
             if problem.invalid.is_some() {
                 continue;

@@ -257,6 +257,7 @@ impl Renderer {
         if let Some(provenance) = provenance {
             out.push_str(&provenance.markdown());
         }
+        figure_notes(experiment, &mut out);
         for section in &self.sections {
             let options = match &experiment.sections {
                 Some(asked) => match asked.get(section.name()) {
@@ -382,6 +383,26 @@ impl Renderer {
 /// [`planner_runner::sweep::HELD_RUNS`]); above it only the sections that stream render.
 pub const HELD_RUNS: u64 = planner_runner::sweep::HELD_RUNS;
 
+/// A line per map whose figures the default limit leaves some problems out of
+/// ([`Experiment::figure_limit`], when the config does not set `figures_per_map`).
+fn figure_notes(experiment: &Experiment, out: &mut String) {
+    if experiment.figures_per_map.is_some() {
+        return;
+    }
+    for map in &experiment.maps {
+        let valid = map.problems.iter().filter(|p| p.invalid.is_none()).count();
+        let limit = experiment.figure_limit(map);
+        if valid > limit {
+            let _ = writeln!(
+                out,
+                "Figures of {}: {limit} of its {valid} problems (`figures_pick`), as many as keep its figures within {} cells of drawn map; `figures_per_map` sets how many.\n",
+                md_cell(&map.name),
+                planner_runner::config::DEFAULT_FIGURE_CELLS
+            );
+        }
+    }
+}
+
 /// The records the figures draw (repeat 0 of the drawn problems) and, with `paths =
 /// "figures"`, those whose paths paths.jsonl keeps (repeat 0 of every problem), from one
 /// pass.
@@ -395,7 +416,7 @@ fn drawn_records(
         if experiment.figures == planner_runner::config::FigureMode::None {
             break;
         }
-        let limit = experiment.figures_per_map.unwrap_or(usize::MAX);
+        let limit = experiment.figure_limit(map);
         for problem in planner_runner::expanded::pick(&map.problems, experiment.figures_pick, limit)
         {
             drawn.insert((map.name.as_str(), problem.index));

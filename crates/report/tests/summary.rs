@@ -25,3 +25,42 @@ fn inadmissible_heuristics_are_named_in_the_summary() {
         "{summary}"
     );
 }
+
+/// A sweep over many scenarios of a large map, with no `figures_per_map`: its figures are
+/// a sample within the default cells of drawn map (64 comparisons of random512-10-0's
+/// 262,144 cells), not one per problem (209 here; every scenario of a map drew thousands,
+/// held in memory until written: 3.7 GB for random512-10-0's 1,670), and summary.md says
+/// so. A `figures_per_map` the config gives is obeyed, and needs no note.
+#[test]
+fn large_sweeps_draw_a_sample_of_figures_and_say_so() {
+    let dir = root().join("maps/movingai");
+    let config = |extra: &str| {
+        let text = format!(
+            "name = \"sample\"\nfigures = \"comparisons\"\n{extra}[[maps]]\nfiles = [{:?}]\nscen = {:?}\nevery = 8\n\
+             [planners.jps]\nplanner = \"jps\"\n",
+            dir.join("random512-10-0.map").display().to_string(),
+            dir.join("random512-10-0.map.scen").display().to_string(),
+        );
+        config::parse(&root().join("configs/sample-test.toml"), &text).unwrap()
+    };
+    let experiment = config("");
+    assert_eq!(experiment.maps[0].problems.len(), 209);
+    assert_eq!(experiment.figure_limit(&experiment.maps[0]), 64);
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    let files = planner_report::figures::render(&experiment, &records, &Default::default());
+    assert_eq!(files.len(), 64);
+    let (summary, _) = Renderer::new(Vec::new())
+        .summary(&experiment, &records)
+        .unwrap();
+    assert!(
+        summary.contains(
+            "Figures of random512-10-0.map: 64 of its 209 problems (`figures_pick`), as many as keep its figures within 16777216 cells of drawn map"
+        ),
+        "{summary}"
+    );
+    let asked = config("figures_per_map = 70\n");
+    let files = planner_report::figures::render(&asked, &records, &Default::default());
+    assert_eq!(files.len(), 70);
+    let (summary, _) = Renderer::new(Vec::new()).summary(&asked, &records).unwrap();
+    assert!(!summary.contains("Figures of"), "{summary}");
+}

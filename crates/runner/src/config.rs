@@ -103,7 +103,8 @@ pub(crate) struct RawConfig {
     /// Which figures to draw.
     #[serde(default)]
     figures: FigureMode,
-    /// At most this many problems per map get figures.
+    /// At most this many problems per map get figures (default: as many as keep a map's
+    /// figures within 2^24 cells of drawn map, `Experiment::figure_limit`).
     figures_per_map: Option<usize>,
     /// Which problems of a map get figures.
     #[serde(default)]
@@ -348,7 +349,8 @@ pub struct Experiment {
     pub seed: u64,
     /// Figures to draw.
     pub figures: FigureMode,
-    /// Draw figures only for the first this-many problems of each map.
+    /// Draw figures only for this many problems of each map (`None`: the default of
+    /// [`Experiment::figure_limit`]).
     pub figures_per_map: Option<usize>,
     /// Which problems get figures (`figures_pick`).
     pub figures_pick: FigurePick,
@@ -566,6 +568,11 @@ fn read_failure(error: &planner_maps::MapError) -> String {
 /// The longest experiment `name`: it names the output directory and its lock and stream
 /// files, which must fit a file name (255 bytes on common file systems).
 pub const MAX_NAME_LEN: usize = 100;
+
+/// The cells of drawn map the figures of one map may take when the config does not say
+/// how many problems to draw (`figures_per_map`): 2^24, about 60 MB of SVG (a 512 x 512
+/// figure is about 1 MB). See [`Experiment::figure_limit`].
+pub const DEFAULT_FIGURE_CELLS: u64 = 1 << 24;
 
 /// The largest config or published-values file read: 16 MiB. Like the map readers, only
 /// regular files are read, so `/dev/zero` or a FIFO is an error, not a hang.
@@ -1925,6 +1932,36 @@ impl Experiment {
             planners: vec![planner],
             sections: None,
         }
+    }
+
+    /// How many problems of `map` get figures: `figures_per_map` when the config gives
+    /// it, else as many as keep the figures of one map within [`DEFAULT_FIGURE_CELLS`]
+    /// cells of drawn map (every figure draws the whole map: one per problem with
+    /// `figures = "comparisons"`, one more per planner with `"all"`, one more with
+    /// `figures_expanded`), at least one. So a sweep over every scenario of a large map
+    /// draws a sample, not thousands of figures held in memory until they are written.
+    ///
+    /// ```
+    /// use planner_runner::config::{parse, DEFAULT_FIGURE_CELLS};
+    ///
+    /// let text = "name = \"f\"\n[[maps]]\nfiles = [\"../maps/movingai/arena.map\"]\n\
+    ///             problems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n";
+    /// let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/f.toml");
+    /// let experiment = parse(&dir, text).unwrap();
+    /// // arena is 49 x 49 = 2,401 cells, drawn twice per problem (comparison and the run).
+    /// assert_eq!(experiment.figure_limit(&experiment.maps[0]), (DEFAULT_FIGURE_CELLS / 4802) as usize);
+    /// ```
+    pub fn figure_limit(&self, map: &MapEntry) -> usize {
+        if let Some(limit) = self.figures_per_map {
+            return limit;
+        }
+        let per_problem = match self.figures {
+            FigureMode::None => return 0,
+            FigureMode::Comparisons => 1,
+            FigureMode::All => 1 + self.planners.len() as u64,
+        } + u64::from(self.figures_expanded);
+        let drawn = (map.grid.len() as u64).saturating_mul(per_problem).max(1);
+        usize::try_from((DEFAULT_FIGURE_CELLS / drawn).max(1)).unwrap_or(usize::MAX)
     }
 
     /// The map whose file is `path` (compared after resolving both), if the experiment has it.

@@ -128,8 +128,8 @@ pub fn record_all(
         return Ok(all);
     }
     let index = ResultsIndex::new(records);
-    let limit = experiment.figures_per_map.unwrap_or(usize::MAX);
     for map in &experiment.maps {
+        let limit = experiment.figure_limit(map);
         for problem in pick(&map.problems, experiment.figures_pick, limit) {
             if problem.invalid.is_some() {
                 continue;
