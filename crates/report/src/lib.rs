@@ -302,7 +302,8 @@ impl Renderer {
     /// ([`Results::records`] empty: more than [`HELD_RUNS`] runs) gets summary.md's
     /// streamed sections, the charts (from passes) and the figures of its drawn problems
     /// (their records collected in one pass); its OMPL logs and `paths = "all"`'s
-    /// paths.jsonl, which hold every record, are left out and summary.md says so.
+    /// paths.jsonl, which hold every record, are left out and summary.md says so, and
+    /// `paths = "figures"`'s paths.jsonl is the runner's, written from a pass.
     pub fn files(
         &self,
         results: &Results<'_>,
@@ -358,14 +359,16 @@ impl Renderer {
                 results.seconds,
             ));
         }
-        let paths = if held || !all_paths {
-            planner_runner::output::paths_jsonl(figure_records)?
-        } else {
-            None
+        // A sweep whose records are not held gets `paths = "figures"`'s paths.jsonl from
+        // the runner, written from a pass (planner-runner's `sweep::PATHS_FILE`), and
+        // `paths = "all"`'s not at all (summary.md says so).
+        let paths = match held {
+            true => planner_runner::output::paths_jsonl(figure_records)?,
+            false => None,
         };
         if let Some(paths) = paths {
             all.push(OutputFile {
-                path: "paths.jsonl".into(),
+                path: planner_runner::sweep::PATHS_FILE.into(),
                 contents: paths,
             });
         }
@@ -386,7 +389,9 @@ pub const HELD_RUNS: u64 = planner_runner::sweep::HELD_RUNS;
 /// A line per map whose figures the default limit leaves some problems out of
 /// ([`Experiment::figure_limit`], when the config does not set `figures_per_map`).
 fn figure_notes(experiment: &Experiment, out: &mut String) {
-    if experiment.figures_per_map.is_some() {
+    if experiment.figures_per_map.is_some()
+        || experiment.figures == planner_runner::config::FigureMode::None
+    {
         return;
     }
     for map in &experiment.maps {
@@ -395,22 +400,21 @@ fn figure_notes(experiment: &Experiment, out: &mut String) {
         if valid > limit {
             let _ = writeln!(
                 out,
-                "Figures of {}: {limit} of its {valid} problems (`figures_pick`), as many as keep its figures within {} cells of drawn map; `figures_per_map` sets how many.\n",
+                "Figures of {}: {limit} of its {valid} problems (`figures_pick`): without `figures_per_map`, as many as keep its figures within {} cells of drawn map, at most {}; `figures_per_map` sets how many.\n",
                 md_cell(&map.name),
-                planner_runner::config::DEFAULT_FIGURE_CELLS
+                planner_runner::config::DEFAULT_FIGURE_CELLS,
+                planner_runner::config::DEFAULT_FIGURE_PROBLEMS
             );
         }
     }
 }
 
-/// The records the figures draw (repeat 0 of the drawn problems) and, with `paths =
-/// "figures"`, those whose paths paths.jsonl keeps (repeat 0 of every problem), from one
-/// pass.
+/// The records the figures draw (repeat 0 of the drawn problems), from one pass: a few,
+/// whatever the sweep's size (its paths.jsonl is written from a pass by the runner).
 fn drawn_records(
     experiment: &Experiment,
     passes: &dyn RecordPasses,
 ) -> Result<Vec<RunRecord>, RunnerError> {
-    let figure_paths = experiment.paths == planner_runner::config::PathsMode::Figures;
     let mut drawn = std::collections::HashSet::new();
     for map in &experiment.maps {
         if experiment.figures == planner_runner::config::FigureMode::None {
@@ -424,8 +428,7 @@ fn drawn_records(
     }
     let mut records = Vec::new();
     passes.pass(&mut |r| {
-        let kept = figure_paths && r.path.is_some();
-        if r.repeat == 0 && (kept || drawn.contains(&(r.map.as_str(), r.problem))) {
+        if r.repeat == 0 && drawn.contains(&(r.map.as_str(), r.problem)) {
             records.push(r.clone());
         }
     })?;

@@ -5,5 +5,6 @@
 
 mod effort;
 mod oracle;
+mod scale;
 mod streamed;
 mod summary;

@@ -54,7 +54,7 @@ fn large_sweeps_draw_a_sample_of_figures_and_say_so() {
         .unwrap();
     assert!(
         summary.contains(
-            "Figures of random512-10-0.map: 64 of its 209 problems (`figures_pick`), as many as keep its figures within 16777216 cells of drawn map"
+            "Figures of random512-10-0.map: 64 of its 209 problems (`figures_pick`): without `figures_per_map`, as many as keep its figures within 16777216 cells of drawn map, at most 256"
         ),
         "{summary}"
     );
@@ -62,5 +62,13 @@ fn large_sweeps_draw_a_sample_of_figures_and_say_so() {
     let files = planner_report::figures::render(&asked, &records, &Default::default());
     assert_eq!(files.len(), 70);
     let (summary, _) = Renderer::new(Vec::new()).summary(&asked, &records).unwrap();
+    assert!(!summary.contains("Figures of"), "{summary}");
+    // No figures asked for: none drawn, and nothing to say of them.
+    let mut without = experiment.clone();
+    without.figures = config::FigureMode::None;
+    assert!(planner_report::figures::render(&without, &records, &Default::default()).is_empty());
+    let (summary, _) = Renderer::new(Vec::new())
+        .summary(&without, &records)
+        .unwrap();
     assert!(!summary.contains("Figures of"), "{summary}");
 }

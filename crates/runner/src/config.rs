@@ -104,7 +104,7 @@ pub(crate) struct RawConfig {
     #[serde(default)]
     figures: FigureMode,
     /// At most this many problems per map get figures (default: as many as keep a map's
-    /// figures within 2^24 cells of drawn map, `Experiment::figure_limit`).
+    /// figures within 2^24 cells of drawn map, at most 256: `Experiment::figure_limit`).
     figures_per_map: Option<usize>,
     /// Which problems of a map get figures.
     #[serde(default)]
@@ -573,6 +573,10 @@ pub const MAX_NAME_LEN: usize = 100;
 /// how many problems to draw (`figures_per_map`): 2^24, about 60 MB of SVG (a 512 x 512
 /// figure is about 1 MB). See [`Experiment::figure_limit`].
 pub const DEFAULT_FIGURE_CELLS: u64 = 1 << 24;
+
+/// The most problems of a map that get figures when the config does not say how many
+/// (`figures_per_map`). See [`Experiment::figure_limit`].
+pub const DEFAULT_FIGURE_PROBLEMS: usize = 256;
 
 /// The largest config or published-values file read: 16 MiB. Like the map readers, only
 /// regular files are read, so `/dev/zero` or a FIFO is an error, not a hang.
@@ -1938,18 +1942,21 @@ impl Experiment {
     /// it, else as many as keep the figures of one map within [`DEFAULT_FIGURE_CELLS`]
     /// cells of drawn map (every figure draws the whole map: one per problem with
     /// `figures = "comparisons"`, one more per planner with `"all"`, one more with
-    /// `figures_expanded`), at least one. So a sweep over every scenario of a large map
-    /// draws a sample, not thousands of figures held in memory until they are written.
+    /// `figures_expanded`), at least one and at most [`DEFAULT_FIGURE_PROBLEMS`] (a figure
+    /// of a tiny map still takes a few kilobytes). So a sweep over every scenario of a
+    /// map draws a sample, not thousands of figures held in memory until they are written.
     ///
     /// ```
-    /// use planner_runner::config::{parse, DEFAULT_FIGURE_CELLS};
+    /// use planner_runner::config::{parse, DEFAULT_FIGURE_CELLS, DEFAULT_FIGURE_PROBLEMS};
     ///
     /// let text = "name = \"f\"\n[[maps]]\nfiles = [\"../maps/movingai/arena.map\"]\n\
     ///             problems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n";
     /// let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/f.toml");
     /// let experiment = parse(&dir, text).unwrap();
-    /// // arena is 49 x 49 = 2,401 cells, drawn twice per problem (comparison and the run).
-    /// assert_eq!(experiment.figure_limit(&experiment.maps[0]), (DEFAULT_FIGURE_CELLS / 4802) as usize);
+    /// // arena is 49 x 49 = 2,401 cells, drawn twice per problem (comparison and the run):
+    /// // 2^24 / 4,802 = 3,493 problems would fit, more than the count's limit.
+    /// assert_eq!(DEFAULT_FIGURE_CELLS / 4802, 3493);
+    /// assert_eq!(experiment.figure_limit(&experiment.maps[0]), DEFAULT_FIGURE_PROBLEMS);
     /// ```
     pub fn figure_limit(&self, map: &MapEntry) -> usize {
         if let Some(limit) = self.figures_per_map {
@@ -1961,7 +1968,8 @@ impl Experiment {
             FigureMode::All => 1 + self.planners.len() as u64,
         } + u64::from(self.figures_expanded);
         let drawn = (map.grid.len() as u64).saturating_mul(per_problem).max(1);
-        usize::try_from((DEFAULT_FIGURE_CELLS / drawn).max(1)).unwrap_or(usize::MAX)
+        let fit = (DEFAULT_FIGURE_CELLS / drawn).clamp(1, DEFAULT_FIGURE_PROBLEMS as u64);
+        usize::try_from(fit).unwrap_or(DEFAULT_FIGURE_PROBLEMS)
     }
 
     /// The map whose file is `path` (compared after resolving both), if the experiment has it.

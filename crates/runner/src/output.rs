@@ -500,6 +500,15 @@ pub(crate) fn fixed_cell(r: &RunRecord, i: usize) -> Cell<'_> {
 /// record that has a path, in record order (`paths.jsonl`; runs.json then leaves `path`
 /// null). `None` when no record has a path.
 pub fn paths_jsonl(records: &[RunRecord]) -> Result<Option<Vec<u8>>, RunnerError> {
+    let mut out = Vec::new();
+    for r in records {
+        write_path_line(&mut out, r)?;
+    }
+    Ok((!out.is_empty()).then_some(out))
+}
+
+/// `record`'s line of paths.jsonl ([`paths_jsonl`]), if it has a path.
+pub fn write_path_line(out: &mut dyn Write, record: &RunRecord) -> Result<(), RunnerError> {
     #[derive(serde::Serialize)]
     struct Line<'a> {
         map: &'a str,
@@ -508,21 +517,18 @@ pub fn paths_jsonl(records: &[RunRecord]) -> Result<Option<Vec<u8>>, RunnerError
         repeat: u32,
         path: &'a planner_api::Path,
     }
-    let mut out = Vec::new();
-    for r in records {
-        if let Some(path) = &r.path {
-            let line = Line {
-                map: &r.map,
-                problem: r.problem,
-                planner: &r.planner,
-                repeat: r.repeat,
-                path,
-            };
-            serde_json::to_writer(&mut out, &line).map_err(RunnerError::Json)?;
-            out.push(b'\n');
-        }
+    if let Some(path) = &record.path {
+        let line = Line {
+            map: &record.map,
+            problem: record.problem,
+            planner: &record.planner,
+            repeat: record.repeat,
+            path,
+        };
+        serde_json::to_writer(&mut *out, &line).map_err(RunnerError::Json)?;
+        out.write_all(b"\n").map_err(io)?;
     }
-    Ok((!out.is_empty()).then_some(out))
+    Ok(())
 }
 
 #[cfg(test)]

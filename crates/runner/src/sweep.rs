@@ -15,8 +15,8 @@
 //! table without paths, [`crate::output::runs_json`]) and `runs.csv` row by row into their
 //! files, `summary.md`, figures, and `paths.jsonl` with the paths the config keeps
 //! (`paths`). A sweep of more than [`HELD_RUNS`] runs holds none of its records: its
-//! outputs are written from its stream on disk, and its report reads them in passes
-//! ([`Results::passes`]); `merge` of such a sweep's shards writes the merged records to a
+//! outputs are written from its stream on disk (`paths = "figures"`'s paths.jsonl too,
+//! [`PATHS_FILE`]), and its report reads them in passes ([`Results::passes`]); `merge` of such a sweep's shards writes the merged records to a
 //! framed stream in the output's stream area first, holding one record per shard, and
 //! `report` of such a directory reads its `records.stream` in passes. Then the stream
 //! area is removed (only while it carries gridplan's marker:
@@ -81,6 +81,9 @@ pub const OLD_SHARD_FILE: &str = "shard.jsonl";
 /// its stream on disk, and its report reads the records in passes ([`Results::passes`],
 /// [`crate::passes`]), in memory bounded by the report's groups, not by the runs.
 pub const HELD_RUNS: u64 = 100_000;
+
+/// The paths a results directory keeps (`paths`), one JSON line per run.
+pub const PATHS_FILE: &str = "paths.jsonl";
 
 /// A whole sweep's results, as the report reads them.
 pub struct Results<'a> {
@@ -747,7 +750,27 @@ fn finish(
             stream.path(),
         ),
     };
+    // A sweep whose records are not held writes `paths = "figures"`'s paths.jsonl (repeat
+    // 0 of every run that found a path) from a pass, so the paths are never held either;
+    // the report writes it from held records otherwise. A first pass says whether there
+    // is any such path (without one there is no file, as from held records).
+    let mut any_path = false;
+    if stream.is_some() && experiment.paths == config::PathsMode::Figures {
+        passes.pass(&mut |r| any_path |= r.repeat == 0 && r.path.is_some())?;
+    }
     let tables: Vec<StreamedFile> = [
+        any_path.then(|| StreamedFile {
+            path: PATHS_FILE.into(),
+            write: Box::new(move |out| {
+                let mut failed = None;
+                passes.pass(&mut |r| {
+                    if failed.is_none() && r.repeat == 0 {
+                        failed = results::write_path_line(out, r).err();
+                    }
+                })?;
+                failed.map_or(Ok(()), Err)
+            }),
+        }),
         (outputs.json).then(|| StreamedFile {
             path: "runs.json".into(),
             write: Box::new(move |out| {

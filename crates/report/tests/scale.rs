@@ -1,0 +1,75 @@
+//! A sweep of more than `HELD_RUNS` runs over as many distinct problems keeps its report's
+//! memory bounded: `paths = "figures"` (the default) keeps a path per problem and label in
+//! paths.jsonl, which the runner now writes from a pass over the stream; the report used
+//! to collect every such record, path included, before writing it. Heap bytes are counted
+//! on the calling thread (the runner's counting allocator, installed for this test binary;
+//! other tests' threads keep their own counts), where the sweep's results are written.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use planner_report::Renderer;
+use planner_runner::alloc;
+use planner_runner::sweep::{self, SweepArgs, HELD_RUNS};
+
+#[global_allocator]
+static GLOBAL: alloc::Counting = alloc::Counting;
+
+#[test]
+fn a_large_sweeps_paths_are_written_from_a_pass() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-scale");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // Every (start, goal) pair of a free 20 x 20 map, HELD_RUNS + 4 of them.
+    let side = 20u32;
+    let mut map = format!("type octile\nheight {side}\nwidth {side}\nmap\n");
+    for _ in 0..side {
+        map.push_str(&".".repeat(side as usize));
+        map.push('\n');
+    }
+    std::fs::write(dir.join("free.map"), map).unwrap();
+    let n = HELD_RUNS as usize + 4;
+    let cells: Vec<(u32, u32)> = (0..side)
+        .flat_map(|y| (0..side).map(move |x| (x, y)))
+        .collect();
+    let mut scen = String::from("version 1\n");
+    for (s, g) in cells
+        .iter()
+        .flat_map(|&s| cells.iter().map(move |&g| (s, g)))
+        .take(n)
+    {
+        let (dx, dy) = (s.0.abs_diff(g.0), s.1.abs_diff(g.1));
+        let optimal = f64::from(dx.max(dy)) + (2f64.sqrt() - 1.0) * f64::from(dx.min(dy));
+        let _ = writeln!(
+            scen,
+            "0\tfree.map\t{side}\t{side}\t{}\t{}\t{}\t{}\t{optimal:.8}",
+            s.0, s.1, g.0, g.1
+        );
+    }
+    std::fs::write(dir.join("free.map.scen"), scen).unwrap();
+    std::fs::write(
+        dir.join("scale.toml"),
+        "name = \"scale\"\nfigures = \"none\"\noutputs = [\"csv\"]\n[[maps]]\nfiles = [\"free.map\"]\n\
+         scen = \"free.map.scen\"\n[planners.a]\nplanner = \"astar\"\nmoves = 8\nheuristic = \"octile\"\n",
+    )
+    .unwrap();
+    let render = Renderer::new(Vec::new());
+    let config = dir.join("scale.toml");
+    let out = dir.join("out");
+    let mut args = SweepArgs::new(&config, &render);
+    args.output = Some(&out);
+    args.threads = 2;
+    let baseline = alloc::start();
+    let report = sweep::experiment(&args).unwrap();
+    let peak = alloc::peak_since_start(baseline);
+    assert_eq!(report.n_runs, n);
+    let paths = std::fs::read_to_string(out.join("paths.jsonl")).unwrap();
+    assert_eq!(paths.lines().count(), n);
+    let first: serde_json::Value = serde_json::from_str(paths.lines().next().unwrap()).unwrap();
+    assert_eq!(
+        (first["problem"].as_u64(), first["repeat"].as_u64()),
+        (Some(1), Some(0))
+    );
+    // The paths alone are 14 MB of JSON, their records more than 60 MB held.
+    assert!(peak < 40 << 20, "peak {peak} bytes on the writing thread");
+}
