@@ -750,27 +750,8 @@ fn finish(
             stream.path(),
         ),
     };
-    // A sweep whose records are not held writes `paths = "figures"`'s paths.jsonl (repeat
-    // 0 of every run that found a path) from a pass, so the paths are never held either;
-    // the report writes it from held records otherwise. A first pass says whether there
-    // is any such path (without one there is no file, as from held records).
-    let mut any_path = false;
-    if stream.is_some() && experiment.paths == config::PathsMode::Figures {
-        passes.pass(&mut |r| any_path |= r.repeat == 0 && r.path.is_some())?;
-    }
     let tables: Vec<StreamedFile> = [
-        any_path.then(|| StreamedFile {
-            path: PATHS_FILE.into(),
-            write: Box::new(move |out| {
-                let mut failed = None;
-                passes.pass(&mut |r| {
-                    if failed.is_none() && r.repeat == 0 {
-                        failed = results::write_path_line(out, r).err();
-                    }
-                })?;
-                failed.map_or(Ok(()), Err)
-            }),
-        }),
+        paths_from_passes(experiment, stream.is_some(), passes)?,
         (outputs.json).then(|| StreamedFile {
             path: "runs.json".into(),
             write: Box::new(move |out| {
@@ -803,6 +784,33 @@ fn finish(
         record.path = None;
     }
     Ok((reproduction, records))
+}
+
+/// For a sweep whose records are not held (`streamed`), `paths = "figures"`'s paths.jsonl
+/// (repeat 0 of every run that found a path) written from a pass, so its paths are never
+/// held either; the report writes it from held records otherwise. A first pass says
+/// whether there is any such path: without one there is no file, as from held records.
+fn paths_from_passes<'a>(
+    experiment: &Experiment,
+    streamed: bool,
+    passes: &'a dyn RecordPasses,
+) -> Result<Option<StreamedFile<'a>>, RunnerError> {
+    let mut any_path = false;
+    if streamed && experiment.paths == config::PathsMode::Figures {
+        passes.pass(&mut |r| any_path |= r.repeat == 0 && r.path.is_some())?;
+    }
+    Ok(any_path.then(|| StreamedFile {
+        path: PATHS_FILE.into(),
+        write: Box::new(move |out| {
+            let mut failed = None;
+            passes.pass(&mut |r| {
+                if failed.is_none() && r.repeat == 0 {
+                    failed = results::write_path_line(out, r).err();
+                }
+            })?;
+            failed.map_or(Ok(()), Err)
+        }),
+    }))
 }
 
 /// The expanded cells of the runs the figures draw, recorded again ([`expanded::record_all`]):
