@@ -173,10 +173,10 @@ impl Replanner {
 
     /// The planner's map: the grid it began with and every update since.
     #[getter]
-    fn grid(&self) -> PyResult<Option<Grid>> {
-        Ok(self.lock().grid().map(|g| Grid {
+    fn grid(&self) -> Option<Grid> {
+        self.lock().grid().map(|g| Grid {
             inner: std::sync::Arc::new(g.clone()),
-        }))
+        })
     }
 
     /// Computes the path (the first time) or repairs it after updates and moves.

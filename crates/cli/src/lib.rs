@@ -373,7 +373,7 @@ impl CliError {
                 return match error {
                     E::Parse { .. } | E::Invalid { .. } | E::TooManyToggles { .. } => EXIT_CONFIG,
                     E::Map(_) | E::Problem { .. } | E::GppcGrid { .. } => EXIT_INPUT,
-                    E::Output(_) => EXIT_OUTPUT,
+                    E::Output(_) | E::Table { .. } => EXIT_OUTPUT,
                     _ => EXIT_FAILURE,
                 };
             }

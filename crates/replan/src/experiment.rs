@@ -29,8 +29,7 @@
 //! working area (planner-runner's `outdir::stream_area`, `.<output>.stream` beside it) as
 //! soon as the chunk ends, and only what the summary and the chart need of a run stays in
 //! memory (a few numbers per replan), so an experiment's memory does not grow with its
-//! records: 51 MB instead of 193 MB for `configs/replan/navigate.toml`'s 128,667 replans,
-//! 58 MB instead of 645 MB with 400 scenarios per map (maximum resident size). The tables
+//! records (`tests/memory.rs` holds the growth per replan under 64 bytes). The tables
 //! are copied into the results at the end, and the area removed. [`RunOptions::stop`]
 //! (Ctrl-C on the command line) ends the experiment after the runs in progress (within a
 //! GPPC replay, after its batch in progress) with [`ExperimentError::Interrupted`],
@@ -295,6 +294,14 @@ pub enum ExperimentError {
         line: usize,
         /// What is wrong.
         message: String,
+    },
+    /// A table could not be written to its file in the output's working area.
+    #[error("{path}: {source}")]
+    Table {
+        /// The file.
+        path: String,
+        /// The operating system's error.
+        source: std::io::Error,
     },
     /// [`RunOptions::stop`] was raised: nothing was written.
     #[error("interrupted: no results were written, the output is as it was")]
@@ -626,13 +633,32 @@ fn load_maps(
     Ok(out)
 }
 
-/// One run's identity and records.
-struct RunRow {
+/// Which run: map, scenario line, setting and planner.
+#[derive(Clone)]
+struct RunId {
     map: String,
     line: usize,
     /// Radius (navigate) or seed (toggles).
     setting: u64,
     planner: String,
+}
+
+impl RunId {
+    /// `(map, scenario line, setting, planner)`, the names escaped for the output (`csv`
+    /// or `md`): one rule for every text output that names a run.
+    fn identity(&self, escape: fn(&str) -> String) -> (String, usize, u64, String) {
+        (
+            escape(&self.map),
+            self.line,
+            self.setting,
+            escape(&self.planner),
+        )
+    }
+}
+
+/// One run's identity and records.
+struct RunRow {
+    id: RunId,
     result: RunResult,
 }
 
@@ -642,17 +668,6 @@ enum RunResult {
 }
 
 impl RunRow {
-    /// The row's identity, `(map, scenario line, setting, planner)`, the names escaped
-    /// for the output (`csv` or `md`): one rule for every text output that names a run.
-    fn identity(&self, escape: fn(&str) -> String) -> (String, usize, u64, String) {
-        (
-            escape(&self.map),
-            self.line,
-            self.setting,
-            escape(&self.planner),
-        )
-    }
-
     fn replans(&self) -> &[ReplanRecord] {
         match &self.result {
             RunResult::Nav(r) => &r.replans,
@@ -881,10 +896,12 @@ pub fn run_config_with(
             }
         };
         RunRow {
-            map: map.name.clone(),
-            line: scenario.line,
-            setting,
-            planner: name.clone(),
+            id: RunId {
+                map: map.name.clone(),
+                line: scenario.line,
+                setting,
+                planner: name.clone(),
+            },
             result,
         }
     };
@@ -984,11 +1001,7 @@ fn charted_planner(config: &ExperimentConfig) -> Option<&'static str> {
 /// What the summary and the chart need of a run, kept once its records are written out: a
 /// few numbers a replan instead of its counters, and no path.
 struct RunStats {
-    map: String,
-    line: usize,
-    /// Radius (navigate) or seed (toggles).
-    setting: u64,
-    planner: String,
+    id: RunId,
     /// Whether the agent reached the goal (navigate only).
     reached: Option<bool>,
     replans: usize,
@@ -1007,10 +1020,7 @@ impl RunStats {
     fn of(row: &RunRow, charted: Option<&str>) -> RunStats {
         let later = row.replans().iter().skip(1);
         RunStats {
-            map: row.map.clone(),
-            line: row.line,
-            setting: row.setting,
-            planner: row.planner.clone(),
+            id: row.id.clone(),
             reached: match &row.result {
                 RunResult::Nav(r) => Some(r.reached),
                 RunResult::Toggle(_) => None,
@@ -1021,23 +1031,13 @@ impl RunStats {
             mismatches: row.mismatches().iter().map(|m| m.to_string()).collect(),
             planning_time: row.planning_time(),
             later_expansions: later.clone().map(|r| r.expansions).collect(),
-            chart: match charted == Some(row.planner.as_str()) {
+            chart: match charted == Some(row.id.planner.as_str()) {
                 true => later
                     .filter_map(|r| r.oracle_expansions.map(|a| (a, r.expansions)))
                     .collect(),
                 false => Vec::new(),
             },
         }
-    }
-
-    /// The run's identity, as [`RunRow::identity`].
-    fn identity(&self, escape: fn(&str) -> String) -> (String, usize, u64, String) {
-        (
-            escape(&self.map),
-            self.line,
-            self.setting,
-            escape(&self.planner),
-        )
     }
 }
 
@@ -1093,7 +1093,7 @@ impl Tables {
         };
         writer
             .write_all(text.as_bytes())
-            .map_err(|e| io_failure(&self.files.0[which].1, &e))
+            .map_err(|e| io_failure(&self.files.0[which].1, e))
     }
 
     /// Appends `row`'s lines.
@@ -1108,7 +1108,7 @@ impl Tables {
             RunResult::Nav(r) => (r.reached.to_string(), r.steps),
             RunResult::Toggle(_) => (String::new(), 0),
         };
-        let (map, line, setting, planner) = row.identity(csv);
+        let (map, line, setting, planner) = row.id.identity(csv);
         let mut csv_line = format!(
             "{map},{line},{setting},{planner},{reached},{steps},{},{},{},{}",
             row.replans().len(),
@@ -1131,10 +1131,10 @@ impl Tables {
         csv_line.push('\n');
         self.put(0, &csv_line)?;
         let mut run = json!({
-            "map": row.map,
-            "scenario_line": row.line,
-            setting_key: row.setting,
-            "planner": row.planner,
+            "map": row.id.map,
+            "scenario_line": row.id.line,
+            setting_key: row.id.setting,
+            "planner": row.id.planner,
             "replans": row.replans().len(),
             "total_expansions": row.expansions(),
             "astar_expansions": row.oracle_expansions(),
@@ -1159,10 +1159,10 @@ impl Tables {
                 .map(|(k, v)| (k.to_string(), v.into()))
                 .collect();
             let mut line = json!({
-                "map": row.map,
-                "scenario_line": row.line,
-                setting_key: row.setting,
-                "planner": row.planner,
+                "map": row.id.map,
+                "scenario_line": row.id.line,
+                setting_key: row.id.setting,
+                "planner": row.id.planner,
                 "replan": i,
                 "step": r.step,
                 "status": r.status.as_str(),
@@ -1194,7 +1194,7 @@ impl Tables {
         {
             writer
                 .into_inner()
-                .map_err(|e| io_failure(path, e.error()))?;
+                .map_err(|e| io_failure(path, e.into_error()))?;
         }
         Ok(files)
     }
@@ -1208,10 +1208,10 @@ fn setting_key(kind: Kind) -> &'static str {
     }
 }
 
-fn io_failure(path: &Path, error: &std::io::Error) -> ExperimentError {
-    ExperimentError::Io {
+fn io_failure(path: &Path, source: std::io::Error) -> ExperimentError {
+    ExperimentError::Table {
         path: path.display().to_string(),
-        message: error.to_string(),
+        source,
     }
 }
 
@@ -1261,7 +1261,7 @@ fn write_results(
     if let Some(charted) = charted_planner(config).filter(|_| !stats.is_empty()) {
         let points: Vec<(u64, u64)> = stats
             .iter()
-            .filter(|r| r.planner == charted)
+            .filter(|r| r.id.planner == charted)
             .flat_map(|r| r.chart.iter().copied())
             .collect();
         let every = points.len().div_ceil(CHART_POINTS).max(1);
@@ -1390,7 +1390,7 @@ fn summary_md(
         );
         let mut groups: Vec<(&str, u64, &str)> = Vec::new();
         for r in stats {
-            let key = (r.map.as_str(), r.setting, r.planner.as_str());
+            let key = (r.id.map.as_str(), r.id.setting, r.id.planner.as_str());
             if !groups.contains(&key) {
                 groups.push(key);
             }
@@ -1398,7 +1398,7 @@ fn summary_md(
         for (map, s, planner) in groups {
             let group: Vec<&RunStats> = stats
                 .iter()
-                .filter(|r| r.map == map && r.setting == s && r.planner == planner)
+                .filter(|r| r.id.map == map && r.id.setting == s && r.id.planner == planner)
                 .collect();
             let reached = group.iter().filter(|r| r.reached == Some(true)).count();
             let replans: usize = group.iter().map(|r| r.replans).sum();
@@ -1445,7 +1445,7 @@ fn summary_md(
         out.push('\n');
         for r in stats {
             for m in &r.mismatches {
-                let (map, line, value, planner) = r.identity(md_cell);
+                let (map, line, value, planner) = r.id.identity(md_cell);
                 let _ = writeln!(
                     out,
                     "- MISMATCH {map} line {line} {setting} {value} {planner}: {}",

@@ -28,9 +28,8 @@ fn inadmissible_heuristics_are_named_in_the_summary() {
 
 /// A sweep over many scenarios of a large map, with no `figures_per_map`: its figures are
 /// a sample within the default cells of drawn map (64 comparisons of random512-10-0's
-/// 262,144 cells), not one per problem (209 here; every scenario of a map drew thousands,
-/// held in memory until written: 3.7 GB for random512-10-0's 1,670), and summary.md says
-/// so. A `figures_per_map` the config gives is obeyed, and needs no note.
+/// 262,144 cells), not one per problem (209 here; a sweep over every scenario of a map
+/// drew thousands, all held in memory until written), and summary.md says so. A `figures_per_map` the config gives is obeyed, and needs no note.
 #[test]
 fn large_sweeps_draw_a_sample_of_figures_and_say_so() {
     let dir = root().join("maps/movingai");
