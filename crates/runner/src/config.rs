@@ -1560,30 +1560,29 @@ fn check_map_keys(set: &MapSet<'_>) -> Result<(), ConfigError> {
 }
 
 /// The map files the set's `files` patterns match (relative to `base`), each pattern's
-/// matches sorted; a pattern that matches nothing is an error.
+/// matches sorted ([`crate::pattern`]); a pattern that matches nothing is an error.
 fn map_files(set: &MapSet<'_>, base: &Path) -> Result<Vec<PathBuf>, ConfigError> {
+    use crate::pattern::PatternError;
     let raw = set.spanned.get_ref();
     let mut files = Vec::new();
     for pattern in raw.files.get_ref() {
         let full = base.join(pattern);
-        let full_text = full.to_string_lossy().to_string();
-        let matches: Vec<PathBuf> = match glob::glob(&full_text) {
-            Ok(paths) => paths.filter_map(Result::ok).collect(),
-            Err(e) => {
-                return Err(set.at(
-                    raw.files.span(),
-                    format!("key `files`: bad pattern {pattern:?}: {e}"),
-                ))
-            }
-        };
+        let matches = crate::pattern::expand(&full).map_err(|e| {
+            let message = match e {
+                PatternError::Pattern(e) => format!("key `files`: bad pattern {pattern:?}: {e}"),
+                PatternError::Directory { .. } => format!("key `files`: {pattern:?}: {e}"),
+            };
+            set.at(raw.files.span(), message)
+        })?;
         if matches.is_empty() {
             return Err(set.at(
                 raw.files.span(),
-                format!("key `files`: nothing matches {pattern:?} (looked for {full_text})"),
+                format!(
+                    "key `files`: nothing matches {pattern:?} (looked for {})",
+                    full.display()
+                ),
             ));
         }
-        let mut matches = matches;
-        matches.sort();
         files.extend(matches);
     }
     Ok(files)

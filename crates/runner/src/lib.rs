@@ -48,6 +48,7 @@ pub mod index;
 pub mod outdir;
 pub mod output;
 pub mod passes;
+pub mod pattern;
 pub mod plan;
 pub mod provenance;
 pub mod readback;

@@ -369,3 +369,29 @@ fn scenario_selection_needs_a_scen() {
         "c.toml:2:1: maps[0]: `buckets`, `lines`, `every` and `limit` select scenarios and need `scen`"
     );
 }
+
+/// A `**` pattern over a map directory holding links back to its parents lists the maps
+/// once each and ends: the `glob` crate followed the links, and `config::load` never
+/// returned (`maps/sub/loop -> ..`, `maps/sub/up -> ../..`).
+#[test]
+#[cfg(unix)]
+fn a_double_star_over_links_back_up_the_tree_ends() {
+    let dir = scratch("globloop");
+    let maps = dir.join("maps");
+    std::fs::create_dir_all(maps.join("sub")).unwrap();
+    std::fs::copy(root().join("maps/paper/map01.map"), maps.join("a.map")).unwrap();
+    std::fs::copy(root().join("maps/paper/map02.map"), maps.join("sub/b.map")).unwrap();
+    std::os::unix::fs::symlink("..", maps.join("sub/loop")).unwrap();
+    std::os::unix::fs::symlink("../..", maps.join("sub/up")).unwrap();
+    let config = dir.join("c.toml");
+    std::fs::write(
+        &config,
+        "name = \"g\"\n[[maps]]\nfiles = [\"maps/**/*.map\"]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
+    )
+    .unwrap();
+    let experiment = config::load(&config);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let experiment = experiment.unwrap();
+    let names: Vec<&str> = experiment.maps.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["a.map", "b.map"]);
+}
