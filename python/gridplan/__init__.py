@@ -11,7 +11,8 @@ with runs.csv's columns, as a pandas DataFrame when pandas is installed. The pla
 in Rust with the GIL released, so Python threads plan in parallel.
 
 Coordinates: ``(x, y)`` = (column, row), ``(0, 0)`` the top-left cell; arrays are indexed
-``[y, x]``.
+``[y, x]``. A grid read from a ROS ``map_server`` YAML has a ``frame`` (``MapFrame``) that
+converts between cells and points of the map frame in metres.
 """
 
 import os as _os
@@ -34,6 +35,7 @@ from ._errors import (
 from ._gridplan import (
     DEFAULT_PLAN_EXPANSIONS,
     Grid,
+    MapFrame,
     Outcome,
     Planner,
     PlannerInfo,
@@ -53,6 +55,7 @@ __all__ = [
     "GridplanError",
     "GridplanWarning",
     "MapError",
+    "MapFrame",
     "Outcome",
     "OutputError",
     "ParameterError",

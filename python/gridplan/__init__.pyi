@@ -2,7 +2,7 @@
 the Python half's)."""
 
 import os
-from typing import Any, Dict, List, Optional, Tuple, Union
+from typing import Any, Dict, List, Optional, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -82,6 +82,33 @@ class Grid:
     def n_free(self) -> int: ...
     def is_free(self, cell: _Cell) -> bool:
         """Whether ``(x, y)`` lies on the grid and is free."""
+    @property
+    def frame(self) -> Optional["MapFrame"]:
+        """Where the cells lie in the ROS map frame, for a grid read from a
+        ``map_server`` ``.yaml`` (kept by ``with_weights``); None for other grids."""
+    def __eq__(self, other: object) -> bool:
+        """Same size, free cells and weights; map frames are not compared."""
+
+class MapFrame:
+    """A ROS map's frame: ``resolution`` (metres per cell) and ``origin`` (``(x, y, yaw)``
+    of the bottom-left cell's lower-left corner; the yaw is ignored, as by nav2). Row 0 is
+    the image's top row. The conversions are nav2's ``mapToWorld`` and ``worldToMap``."""
+    @property
+    def resolution(self) -> float: ...
+    @property
+    def origin(self) -> Tuple[float, float, float]: ...
+    @property
+    def bounds(self) -> Tuple[float, float, float, float]:
+        """``(min_x, min_y, max_x, max_y)`` in metres; the upper ends are outside."""
+    @overload
+    def world(self, cells: _Cell) -> Tuple[float, float]: ...
+    @overload
+    def world(self, cells: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """The map-frame positions (metres) of cell centres: one ``(x, y)`` cell gives a
+        tuple, an (N, 2) integer array (a path) an (N, 2) float64 array."""
+    def cell(self, point: Tuple[float, float]) -> _Cell:
+        """The cell holding map-frame point ``(x, y)`` (metres); ValueError outside the
+        map."""
     def __eq__(self, other: object) -> bool: ...
 
 class Problem:

@@ -20,10 +20,13 @@ use crate::errors::{guarded, Failure};
 pub struct Grid {
     /// The grid, shared with the runs planned on it.
     pub inner: Arc<planner_api::Grid>,
+    /// Where the cells lie in the ROS map frame, for a grid read from a `map_server` YAML.
+    pub frame: Option<planner_maps::MapFrame>,
 }
 
 impl PartialEq for Grid {
-    /// Same size, same free cells, same weights and cost rule (or both unweighted).
+    /// Same size, same free cells, same weights and cost rule (or both unweighted); the
+    /// map frames are not compared (a grid from `to_numpy` equals its source).
     fn eq(&self, other: &Grid) -> bool {
         self.inner.width() == other.inner.width()
             && self.inner.height() == other.inner.height()
@@ -131,6 +134,7 @@ impl Grid {
             .map_err(|e| Failure::Value(format!("Grid.from_numpy: {e}")))?;
         Ok(Grid {
             inner: Arc::new(grid),
+            frame: None,
         })
     }
 
@@ -183,7 +187,15 @@ impl Grid {
             .map_err(|e| Failure::Value(format!("{within}: {e}")))?;
         Ok(Grid {
             inner: Arc::new(grid),
+            frame: self.frame,
         })
+    }
+
+    /// Where the cells lie in the ROS map frame ([`MapFrame`]): a grid read from a
+    /// `map_server` `.yaml` has its resolution and origin; None for other grids.
+    #[getter]
+    fn frame(&self) -> Option<MapFrame> {
+        self.frame.map(|inner| MapFrame { inner })
     }
 
     /// The cell weights as a uint16 array of shape (height, width), or None on an
@@ -371,20 +383,21 @@ pub fn read_map(
     let call = crate::warn::Call::begin();
     let read = py.detach(|| {
         guarded(|| {
-            let (grid, problems) = read(&path, &options)?;
+            let (grid, frame, problems) = read(&path, &options)?;
             let grid = match &weights {
                 Some(file) => planner_maps::read_weights(file, grid, options.costs.rule, &options)?,
                 None => grid,
             };
-            Ok((grid, problems))
+            Ok((grid, frame, problems))
         })
     });
     // What the readers doubted (a ROS map's ignored keys, a scenario of another map).
-    let (grid, problems) = call.end(py, read.map_err(PyErr::from))?;
+    let (grid, frame, problems) = call.end(py, read.map_err(PyErr::from))?;
     let grid = Py::new(
         py,
         Grid {
             inner: Arc::new(grid),
+            frame,
         },
     )?;
     let problems: Vec<Py<MapProblem>> = problems
@@ -397,7 +410,14 @@ pub fn read_map(
 fn read(
     path: &Path,
     options: &planner_maps::ReadOptions,
-) -> Result<(planner_api::Grid, Vec<MapProblem>), Failure> {
+) -> Result<
+    (
+        planner_api::Grid,
+        Option<planner_maps::MapFrame>,
+        Vec<MapProblem>,
+    ),
+    Failure,
+> {
     let file = planner_runner::config::read_map_file(path, options)?;
     let mut problems: Vec<MapProblem> = file
         .problems
@@ -436,7 +456,7 @@ fn read(
             });
         }
     }
-    Ok((file.grid, problems))
+    Ok((file.grid, file.frame, problems))
 }
 
 /// The first weight out of 1..=65535: its `(row, column)` and its value as written.
@@ -454,4 +474,116 @@ where
         .map(|(at, v)| (at, v.to_string()));
     let cells = values.iter().map(|&v| weight(v).unwrap_or(1)).collect();
     (cells, bad)
+}
+
+/// Where a ROS map's cells lie in its map frame: the `map_server` YAML's `resolution`
+/// (metres per cell) and `origin` (`(x, y, yaw)` of the bottom-left cell's lower-left
+/// corner; the yaw is ignored, as by nav2's costmap). Row 0 is the image's top row. The
+/// conversions are nav2's `Costmap2D::mapToWorld` and `worldToMap` with that row flip
+/// (planner-maps' `MapFrame`).
+#[pyclass(module = "gridplan", frozen, eq)]
+#[derive(Clone, PartialEq)]
+pub struct MapFrame {
+    inner: planner_maps::MapFrame,
+}
+
+#[pymethods]
+impl MapFrame {
+    /// Metres per cell.
+    #[getter]
+    fn resolution(&self) -> f64 {
+        self.inner.resolution
+    }
+
+    /// `(x, y, yaw)` of the bottom-left cell's lower-left corner, as the YAML gives it.
+    #[getter]
+    fn origin(&self) -> (f64, f64, f64) {
+        let [x, y, yaw] = self.inner.origin;
+        (x, y, yaw)
+    }
+
+    /// The map's extent in metres: `(min_x, min_y, max_x, max_y)`.
+    #[getter]
+    fn bounds(&self) -> (f64, f64, f64, f64) {
+        let [a, b, c, d] = self.inner.bounds();
+        (a, b, c, d)
+    }
+
+    /// The map-frame position (metres) of a cell's centre: `world((x, y))` gives an
+    /// `(x, y)` tuple of floats; `world(cells)` with an (N, 2) integer array (a path)
+    /// gives an (N, 2) float64 array, row by row.
+    fn world<'py>(&self, cells: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let py = cells.py();
+        let array = py.import("numpy")?.call_method1("asarray", (cells,))?;
+        let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+        let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+        let cells_hint = "MapFrame.world: expected a cell (x, y) or an (N, 2) array of cells";
+        if kind != "i" && kind != "u" {
+            return Err(Failure::Type(format!(
+                "{cells_hint} (integers), got dtype {}",
+                array.getattr("dtype")?.str()?
+            ))
+            .into());
+        }
+        let to_point = |x: i64, y: i64| -> PyResult<(f64, f64)> {
+            match to_cell((x, y)) {
+                Some(c) if c.x < self.inner.width && c.y < self.inner.height => {
+                    Ok(self.inner.world(c))
+                }
+                _ => Err(Failure::Value(format!(
+                    "MapFrame.world: cell ({x}, {y}) is not on the {}x{} map",
+                    self.inner.width, self.inner.height
+                ))
+                .into()),
+            }
+        };
+        let converted = array.call_method1("astype", ("int64",))?;
+        match shape.as_slice() {
+            [2] => {
+                let xy: Vec<i64> = converted.call_method0("tolist")?.extract()?;
+                Ok(to_point(xy[0], xy[1])?.into_pyobject(py)?.into_any())
+            }
+            [_, 2] => {
+                let view: PyReadonlyArray2<'_, i64> = converted.extract()?;
+                let view = view.as_array();
+                let mut out = Array2::<f64>::zeros((view.nrows(), 2));
+                for (row, cell) in view.rows().into_iter().enumerate() {
+                    let (x, y) = to_point(cell[0], cell[1])?;
+                    out[[row, 0]] = x;
+                    out[[row, 1]] = y;
+                }
+                Ok(PyArray2::from_owned_array(py, out).into_any())
+            }
+            _ => Err(Failure::Value(format!(
+                "{cells_hint}, got shape {}",
+                array.getattr("shape")?.str()?
+            ))
+            .into()),
+        }
+    }
+
+    /// The cell `(x, y)` holding map-frame point `point = (x, y)` (metres); ValueError for
+    /// a point outside the map (the lower and left edges are inside, the upper and right
+    /// ones outside, as nav2 has them).
+    fn cell(&self, point: (f64, f64)) -> PyResult<(u32, u32)> {
+        let (x, y) = point;
+        match self.inner.cell_at(x, y) {
+            Some(c) => Ok((c.x, c.y)),
+            None => {
+                let [x0, y0, x1, y1] = self.inner.bounds();
+                Err(Failure::Value(format!(
+                    "MapFrame.cell: point ({x}, {y}) lies outside the map, which spans x from {x0} to {x1} and y from {y0} to {y1} (metres; the upper ends excluded)"
+                ))
+                .into())
+            }
+        }
+    }
+
+    fn __repr__(&self) -> String {
+        let [x, y, yaw] = self.inner.origin;
+        format!(
+            "MapFrame(resolution={}, origin=({x}, {y}, {yaw}), width={}, height={})",
+            self.inner.resolution, self.inner.width, self.inner.height
+        )
+    }
 }

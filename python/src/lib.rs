@@ -41,6 +41,7 @@ fn _gridplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // The library's warnings become Python warnings (`warn`).
     warn::install();
     m.add_class::<grid::Grid>()?;
+    m.add_class::<grid::MapFrame>()?;
     m.add_class::<grid::MapProblem>()?;
     m.add_class::<plan::Outcome>()?;
     m.add_class::<plan::PlannerInfo>()?;

@@ -277,6 +277,7 @@ fn run(
         path: Default::default(),
         grid: grid.clone(),
         problems: Vec::new(),
+        frame: None,
     };
     let entry = ProblemEntry::new(grid, 1, start_cell, goal_cell, None);
     let single = Experiment::single(map, entry, spec, 0);

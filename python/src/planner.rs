@@ -233,6 +233,7 @@ impl Planner {
                     path: Default::default(),
                     grid: (*grid).clone(),
                     problems: Vec::new(),
+                    frame: None,
                 };
                 let origin = planner_api::Cell::new(0, 0);
                 let entry = ProblemEntry::new(&map.grid, 1, origin, origin, None);

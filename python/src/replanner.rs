@@ -31,6 +31,8 @@ pub struct Replanner {
     budget: Budget,
     goal: Cell,
     name: String,
+    /// The map frame of the grid it began with (updates keep the cells where they are).
+    frame: Option<planner_maps::MapFrame>,
 }
 
 impl Replanner {
@@ -115,6 +117,7 @@ impl Replanner {
             None => toml::Table::new(),
         };
         let budget = to_budget(budget).map_err(|e| e.into_pyerr(py))?;
+        let frame = grid.get().frame;
         let grid = grid.get().inner.clone();
         let name = planner.to_string();
         let built = py.detach(|| {
@@ -150,6 +153,7 @@ impl Replanner {
             budget,
             goal,
             name: planner_name(&name),
+            frame,
         })
     }
 
@@ -176,6 +180,7 @@ impl Replanner {
     fn grid(&self) -> Option<Grid> {
         self.lock().grid().map(|g| Grid {
             inner: std::sync::Arc::new(g.clone()),
+            frame: self.frame,
         })
     }
 

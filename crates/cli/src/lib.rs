@@ -154,6 +154,14 @@ pub enum Command {
         /// Goal cell as x,y (not for coverage planners).
         #[arg(long, value_parser = parse_cell)]
         goal: Option<Cell>,
+        /// Start as a point x,y of a ROS map's map frame, in metres (a map_server .yaml:
+        /// its resolution and origin place the cells, as nav2's costmap does): the cell
+        /// holding it. The run is then also printed in that frame.
+        #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true, conflicts_with = "start")]
+        start_world: Option<(f64, f64)>,
+        /// Goal as a point x,y of the map frame, in metres (see --start-world).
+        #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true, conflicts_with = "goal")]
+        goal_world: Option<(f64, f64)>,
         /// Planner parameter override, key=value (repeatable; a key twice only with one value), e.g. --set heuristic=octile.
         #[arg(long = "set")]
         set: Vec<String>,
@@ -276,6 +284,40 @@ pub fn parse_cell(text: &str) -> Result<Cell, CellError> {
             })
     };
     Ok(Cell::new(number(x)?, number(y)?))
+}
+
+/// A `--start-world`/`--goal-world` value that is not a point.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PointError {
+    /// No comma.
+    #[error("{0:?}: expected x,y (metres)")]
+    Shape(String),
+    /// A coordinate that is not a finite number.
+    #[error("{text:?}: {part:?} is not a finite number of metres")]
+    Coordinate {
+        /// The whole value.
+        text: String,
+        /// The coordinate.
+        part: String,
+    },
+}
+
+/// Parses `x,y` into a point of the map frame (finite numbers, such as `-9.5,3.25`).
+pub fn parse_point(text: &str) -> Result<(f64, f64), PointError> {
+    let (x, y) = text
+        .split_once(',')
+        .ok_or_else(|| PointError::Shape(text.to_string()))?;
+    let number = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| PointError::Coordinate {
+                text: text.to_string(),
+                part: s.to_string(),
+            })
+    };
+    Ok((number(x)?, number(y)?))
 }
 
 /// Parses `--cost-rule`: `mean` or `entered` (clap's value parser; a clap error names
@@ -819,6 +861,8 @@ pub fn run(command: Command) -> Result<(), CliError> {
             problem,
             start,
             goal,
+            start_world,
+            goal_world,
             set,
             max_expansions,
             max_memory_mb,
@@ -844,6 +888,8 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 problem,
                 start,
                 goal,
+                start_world,
+                goal_world,
                 set,
                 max_expansions,
                 obstacle: obstacle.and_then(planner_maps::CsvConvention::from_obstacle_value),

@@ -7,6 +7,7 @@ mod careless;
 mod common;
 mod costs;
 mod exit_codes;
+mod frame;
 mod install;
 mod schema;
 mod security;

@@ -101,13 +101,13 @@ pub use matrix::{csv_inversion_hint, parse_matrix, CsvConvention, InversionHint}
 pub use movingai::{movingai_passable, parse_movingai, to_movingai};
 pub use ros::{
     parse_ros_yaml, read_ros_map, read_ros_map_with, ros_grid, ros_map_from_image_bytes,
-    ros_occupancy_value, RosMap, RosMode, RosOptions, RosYaml,
+    ros_occupancy_value, MapFrame, RosMap, RosMode, RosOptions, RosYaml,
 };
 pub use scen::{parse_scenarios, Scenario};
 pub use seed003::parse_seed003;
 
 /// A map file: its grid, the start-goal pairs it carries, and the format it was read from.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MapFile {
     /// The occupancy grid.
     pub grid: Grid,
@@ -116,6 +116,9 @@ pub struct MapFile {
     pub problems: Vec<ProblemSpec>,
     /// The format the file was parsed as.
     pub format: MapFormat,
+    /// Where the cells lie in the ROS map frame: a `map_server` YAML's `resolution` and
+    /// `origin` (`None` for the other formats, an image read without a YAML included).
+    pub frame: Option<MapFrame>,
 }
 
 /// A start-goal pair as written in a file, before validation.
@@ -234,7 +237,7 @@ impl Default for ReadOptions {
 /// A map file as [`read_map_with`] reads it: the file, and what the reader ignored or
 /// doubts (today only ROS `map_server` YAML files have warnings: keys `map_server` does not
 /// read, values it reads in a surprising way).
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MapRead {
     /// The map.
     pub file: MapFile,
@@ -293,10 +296,14 @@ impl MapFormat {
                 } else {
                     ros::ros_map_from_image_bytes(text.as_bytes(), origin, None, options)?
                 };
+                // A frame needs a positive resolution (the YAML's warning says when it is not).
+                let frame =
+                    (self == MapFormat::Ros && map.yaml.resolution > 0.0).then(|| map.frame());
                 let file = MapFile {
                     grid: map.grid,
                     problems: Vec::new(),
                     format: self,
+                    frame,
                 };
                 return Ok(MapRead {
                     file,
@@ -322,6 +329,7 @@ impl MapFormat {
                 grid,
                 problems: Vec::new(),
                 format: self,
+                frame: None,
             },
             warnings: Vec::new(),
         })
@@ -344,6 +352,7 @@ impl MapFormat {
                     grid: map.grid,
                     problems: Vec::new(),
                     format: self,
+                    frame: None,
                 },
                 warnings: map.yaml.warnings,
             });

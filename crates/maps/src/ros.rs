@@ -98,6 +98,7 @@ use std::rc::Rc;
 
 use planner_api::{Cell, Grid};
 use saphyr_parser::{Event, Parser, ScalarStyle, Span};
+use serde::Serialize;
 
 use crate::error::{MapError, MapErrorKind, MapWarning};
 use crate::text::{show_token, unexpected, Origin};
@@ -182,16 +183,97 @@ pub struct RosMap {
 }
 
 impl RosMap {
+    /// The map-frame position in metres of `cell`'s centre ([`MapFrame::world`]).
+    pub fn world(&self, cell: Cell) -> (f64, f64) {
+        self.frame().world(cell)
+    }
+
+    /// Where the map's cells lie in the map frame.
+    pub fn frame(&self) -> MapFrame {
+        MapFrame {
+            resolution: self.yaml.resolution,
+            origin: self.yaml.origin,
+            width: self.grid.width(),
+            height: self.grid.height(),
+        }
+    }
+}
+
+/// Where a `map_server` map's cells lie in the ROS map frame: its YAML's `resolution`
+/// (metres per cell) and `origin` (`[x, y, yaw]`, the position of the lower-left corner of
+/// the bottom-left cell; the yaw is ignored, as by nav2's costmap), and the grid's size.
+/// Grid row 0 is the image's top row, so row `y` lies `height - 1 - y` rows above the
+/// bottom one. The conversions are nav2's `Costmap2D::mapToWorld` and `worldToMap`
+/// (<https://github.com/ros-navigation/navigation2>, `nav2_costmap_2d/src/costmap_2d.cpp`)
+/// with that row flip.
+///
+/// ```
+/// use planner_api::Cell;
+/// use planner_maps::MapFrame;
+///
+/// // 0.05 m cells, the bottom-left corner at (-10, -10): a 400 x 400 map of 20 m square.
+/// let frame = MapFrame { resolution: 0.05, origin: [-10.0, -10.0, 0.0], width: 400, height: 400 };
+/// assert_eq!(frame.world(Cell::new(0, 399)), (-9.975, -9.975));
+/// assert_eq!(frame.cell_at(-9.99, -9.99), Some(Cell::new(0, 399)));
+/// assert_eq!(frame.cell_at(0.0, 0.0), Some(Cell::new(200, 199)));
+/// assert_eq!(frame.cell_at(10.0, 0.0), None); // the right edge is outside, as in nav2
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MapFrame {
+    /// Metres per cell.
+    pub resolution: f64,
+    /// `[x, y, yaw]` of the bottom-left cell's lower-left corner.
+    pub origin: [f64; 3],
+    /// Cells per row.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+}
+
+impl MapFrame {
     /// The map-frame position in metres of `cell`'s centre:
     /// `origin + resolution * (x + 0.5, height - 1 - y + 0.5)`.
     pub fn world(&self, cell: Cell) -> (f64, f64) {
-        let r = self.yaml.resolution;
-        let [ox, oy, _] = self.yaml.origin;
-        let rows_below = f64::from(self.grid.height()) - 1.0 - f64::from(cell.y);
+        let r = self.resolution;
+        let [ox, oy, _] = self.origin;
+        let rows_below = f64::from(self.height) - 1.0 - f64::from(cell.y);
         (
             ox + r * (f64::from(cell.x) + 0.5),
             oy + r * (rows_below + 0.5),
         )
+    }
+
+    /// The cell holding map-frame point `(x, y)` (metres): column
+    /// `floor((x - origin_x) / resolution)`, and the row that many rows above the bottom
+    /// one; `None` for a point outside the map (the lower and left edges are inside, the
+    /// upper and right ones outside, as nav2's `worldToMap` has them, up to the rounding of
+    /// the quotient) or not finite.
+    pub fn cell_at(&self, x: f64, y: f64) -> Option<Cell> {
+        let [ox, oy, _] = self.origin;
+        if !(x >= ox && y >= oy && self.resolution > 0.0) {
+            return None; // Also NaN.
+        }
+        let column = ((x - ox) / self.resolution).floor();
+        let rows_below = ((y - oy) / self.resolution).floor();
+        if !(column < f64::from(self.width) && rows_below < f64::from(self.height)) {
+            return None;
+        }
+        // Both are whole numbers in 0..width and 0..height here.
+        Some(Cell::new(
+            column as u32,
+            self.height - 1 - rows_below as u32,
+        ))
+    }
+
+    /// The map's extent in the map frame: `[min_x, min_y, max_x, max_y]` in metres.
+    pub fn bounds(&self) -> [f64; 4] {
+        let [ox, oy, _] = self.origin;
+        [
+            ox,
+            oy,
+            ox + self.resolution * f64::from(self.width),
+            oy + self.resolution * f64::from(self.height),
+        ]
     }
 }
 

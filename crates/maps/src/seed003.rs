@@ -69,6 +69,7 @@ pub(crate) fn parse(text: &str, origin: &str, max_cells: u64) -> Result<MapFile,
         grid,
         problems,
         format: MapFormat::Seed003,
+        frame: None,
     })
 }
 

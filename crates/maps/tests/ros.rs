@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use planner_api::Cell;
 use planner_maps::{
-    parse_ros_yaml, read_map, read_ros_map, MapErrorKind, MapFormat, RosMode, RosOptions,
+    parse_ros_yaml, read_map, read_ros_map, MapErrorKind, MapFormat, MapFrame, RosMode, RosOptions,
 };
 
 /// A fresh directory for one test's files.
@@ -65,6 +65,14 @@ fn pgm_trinary_by_hand() {
     assert_eq!(file.format, MapFormat::Ros);
     assert_eq!(file.grid, map.grid);
     assert!(file.problems.is_empty());
+    // The YAML's frame, and back from a point to its cell: the origin corner's cell.
+    assert_eq!(file.frame, Some(map.frame()));
+    let frame = map.frame();
+    assert_eq!(frame.cell_at(-1.0, -2.0), Some(Cell::new(0, 2)));
+    assert_eq!(frame.cell_at(-0.826, -1.851), Some(Cell::new(3, 0)));
+    for (got, expect) in frame.bounds().into_iter().zip([-1.0, -2.0, -0.8, -1.85]) {
+        assert!((got - expect).abs() < 1e-12, "{got} {expect}");
+    }
 
     // Inflation by one cell blocks the 4-neighbours of the two occupied cells only.
     let inflated = read_ros_map(
@@ -315,4 +323,74 @@ fn image_errors_name_the_image() {
     assert!(err.file.ends_with("map.pgm"), "{err}");
     assert!(matches!(err.kind, MapErrorKind::Image { .. }), "{err}");
     assert!(err.to_string().contains("cannot decode the image"), "{err}");
+}
+
+/// A map frame's points and cells, against the definition worked out independently of
+/// `MapFrame`: every cell's centre maps back to the cell; points just inside each corner
+/// map to the corner cells; the upper and right edges, points below or left of the
+/// origin and non-finite points are outside (nav2's `worldToMap`; a point exactly on the
+/// computed upper edge may round either way, as there).
+#[test]
+fn map_frame_points_and_cells() {
+    for (resolution, origin, width, height) in [
+        (0.05, [-10.0, -10.0, 0.0], 384u32, 384u32),
+        (0.025, [-51.224998, -51.224998, 0.0], 411, 137),
+        (1.0, [0.0, 0.0, 0.0], 10, 10),
+        (0.1, [3.3, -7.7, 1.57], 1, 1),
+        (0.3, [-1e6, 2e6, 0.0], 1000, 3),
+    ] {
+        let frame = MapFrame {
+            resolution,
+            origin,
+            width,
+            height,
+        };
+        for y in 0..height {
+            for x in 0..width {
+                let cell = Cell::new(x, y);
+                let (wx, wy) = frame.world(cell);
+                // The centre, written out: half a cell in from the corner, rows from the bottom.
+                let expect_x = origin[0] + resolution * (x as f64 + 0.5);
+                let expect_y = origin[1] + resolution * ((height - 1 - y) as f64 + 0.5);
+                assert!((wx - expect_x).abs() < 1e-9 && (wy - expect_y).abs() < 1e-9);
+                assert_eq!(frame.cell_at(wx, wy), Some(cell), "{frame:?} {cell}");
+            }
+        }
+        let [x0, y0, x1, y1] = frame.bounds();
+        let inset = resolution * 1e-3;
+        assert_eq!(frame.cell_at(x0, y0), Some(Cell::new(0, height - 1)));
+        assert_eq!(
+            frame.cell_at(x1 - inset, y1 - inset),
+            Some(Cell::new(width - 1, 0))
+        );
+        assert_eq!(frame.cell_at(x0 + inset, y1 - inset), Some(Cell::new(0, 0)));
+        for (px, py) in [
+            (x1 + inset, y0),
+            (x0, y1 + inset),
+            (x0 - inset, y0),
+            (x0, y0 - inset),
+            (f64::NAN, y0),
+            (x0, f64::INFINITY),
+            (f64::NEG_INFINITY, y0),
+        ] {
+            assert_eq!(frame.cell_at(px, py), None, "{frame:?} ({px}, {py})");
+        }
+    }
+}
+
+/// Only a YAML declares a frame: an image read alone has none, and a YAML with a
+/// resolution that is not positive (read with a warning) gives none either.
+#[test]
+fn only_a_yaml_with_a_positive_resolution_has_a_frame() {
+    let dir = dir("frames");
+    write_pgm(&dir);
+    let file = read_map(&dir.join("map.pgm")).unwrap();
+    assert_eq!(file.frame, None);
+    std::fs::write(
+        dir.join("map.yaml"),
+        YAML.replace("resolution: 0.050000", "resolution: 0"),
+    )
+    .unwrap();
+    let file = read_map(&dir.join("map.yaml")).unwrap();
+    assert_eq!(file.frame, None);
 }

@@ -435,6 +435,9 @@ pub struct MapEntry {
     pub grid: Grid,
     /// The problems, in order.
     pub problems: Vec<ProblemEntry>,
+    /// Where the cells lie in the ROS map frame (a `map_server` YAML's resolution and
+    /// origin), for `plan --start-world`; `None` for the other formats.
+    pub frame: Option<planner_maps::MapFrame>,
 }
 
 /// One start-goal problem of a map.
@@ -1496,6 +1499,7 @@ fn map_entries(
             path,
             grid,
             problems,
+            frame: file.frame,
         });
     }
     Ok(entries)

@@ -108,6 +108,18 @@ pub enum RunnerError {
         /// What is wrong with the start or goal.
         error: planner_api::ProblemError,
     },
+    /// A start or goal given in the map frame (`plan --start-world`) outside the map.
+    #[error("{}: --{which}-world {},{} lies outside the map, which spans x from {} to {} and y from {} to {} (metres, the map frame; the upper ends excluded)", map.display(), point.0, point.1, plan::metres(bounds[0]), plan::metres(bounds[2]), plan::metres(bounds[1]), plan::metres(bounds[3]))]
+    OutsideMap {
+        /// The map file.
+        map: PathBuf,
+        /// `start` or `goal`.
+        which: &'static str,
+        /// The point given.
+        point: (f64, f64),
+        /// The map's extent, `[min_x, min_y, max_x, max_y]`.
+        bounds: [f64; 4],
+    },
     /// A start or goal that cannot be planned on a `.csv` map that looks written in the
     /// other convention: the hint says so, and how to read it the other way.
     #[error("{}: {error}; {hint} (--obstacle {})", map.display(), hint.convention.other().obstacle_value())]
@@ -233,9 +245,9 @@ impl RunnerError {
         match self {
             RunnerError::Config(_) => ErrorClass::Config,
             RunnerError::Map(_) => ErrorClass::Map,
-            RunnerError::Problem { .. } | RunnerError::InvertedProblem { .. } => {
-                ErrorClass::Problem
-            }
+            RunnerError::Problem { .. }
+            | RunnerError::InvertedProblem { .. }
+            | RunnerError::OutsideMap { .. } => ErrorClass::Problem,
             RunnerError::Param(..)
             | RunnerError::Build(..)
             | RunnerError::UnknownPlanner { .. }

@@ -40,6 +40,12 @@ pub struct PlanArgs {
     pub start: Option<Cell>,
     /// Explicit goal.
     pub goal: Option<Cell>,
+    /// Explicit start as a point `(x, y)` of the ROS map frame, in metres (`--start-world`):
+    /// the cell holding it ([`planner_maps::MapFrame::cell_at`]). For maps with a frame
+    /// only (a `map_server` YAML), instead of `start`.
+    pub start_world: Option<(f64, f64)>,
+    /// Explicit goal in the map frame (`--goal-world`), instead of `goal`.
+    pub goal_world: Option<(f64, f64)>,
     /// `key=value` parameter overrides; values are TOML (`1.5`, `"octile"`) or bare words.
     pub set: Vec<String>,
     /// Expansion budget.
@@ -190,6 +196,27 @@ pub struct PlanJson<'a> {
     /// a refused run from a spent budget.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub not_run: Option<&'a str>,
+    /// On a map with a ROS map frame (a `map_server` YAML), the run in that frame, in
+    /// metres (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub map_frame: Option<FrameJson>,
+}
+
+/// `plan --json`'s `map_frame`: the map's frame and the run's cells as map-frame points
+/// (cell centres, [`planner_maps::MapFrame::world`]).
+#[derive(Debug, Serialize)]
+pub struct FrameJson {
+    /// Metres per cell.
+    pub resolution: f64,
+    /// `[x, y, yaw]` of the bottom-left cell's lower-left corner, as the YAML gives it.
+    pub origin: [f64; 3],
+    /// The start cell's centre.
+    pub start: (f64, f64),
+    /// The goal cell's centre (absent for a coverage planner).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub goal: Option<(f64, f64)>,
+    /// The path's cells' centres, as `path` lists the cells.
+    pub path: Vec<(f64, f64)>,
 }
 
 /// Path metrics in `plan --json`.
@@ -224,6 +251,8 @@ pub struct CoverageJson<'a> {
 pub struct PlanResult {
     /// The grid.
     pub grid: Grid,
+    /// The map's ROS map frame, when it has one ([`MapEntry::frame`]).
+    pub frame: Option<planner_maps::MapFrame>,
     /// Planner label or name.
     pub planner: String,
     /// Whether the planner covers (no goal).
@@ -362,9 +391,10 @@ pub fn run_single(
         Vec::new()
     };
     let budget = spec.budget;
-    let grid = single.maps.swap_remove(0).grid;
+    let map = single.maps.swap_remove(0);
     Ok(PlanResult {
-        grid,
+        grid: map.grid,
+        frame: map.frame,
         planner: planner.to_string(),
         coverage,
         budget,
@@ -527,6 +557,7 @@ fn resolve_map(
         path: args.map.clone(),
         grid,
         problems: Vec::new(),
+        frame: file.frame,
     };
     let pairs = own_pairs(&args.map, &map.grid, &file.problems)?;
     let problems = pairs
@@ -548,7 +579,9 @@ fn pick_problem(
     problems: &[ProblemEntry],
 ) -> Result<ProblemEntry, RunnerError> {
     let coverage = spec.is_coverage();
-    Ok(match (args.start, args.goal, args.problem) {
+    let start = in_frame(args, map, "start", args.start, args.start_world)?;
+    let goal = in_frame(args, map, "goal", args.goal, args.goal_world)?;
+    Ok(match (start, goal, args.problem) {
         (Some(_), Some(_), Some(_)) | (Some(_), None, Some(_)) | (None, Some(_), Some(_)) => {
             return Err(UsageError::ProblemAndCells.into())
         }
@@ -577,6 +610,49 @@ fn pick_problem(
             ProblemEntry::new(&map.grid, 1, Cell::new(0, 0), corner, None)
         }),
     })
+}
+
+/// The cell `cell` names, or the cell of the map that holds map-frame point `world`.
+fn in_frame(
+    args: &PlanArgs,
+    map: &MapEntry,
+    which: &'static str,
+    cell: Option<Cell>,
+    world: Option<(f64, f64)>,
+) -> Result<Option<Cell>, RunnerError> {
+    let Some((x, y)) = world else {
+        return Ok(cell);
+    };
+    if cell.is_some() {
+        return Err(UsageError::CellAndWorld(which).into());
+    }
+    let Some(frame) = map.frame else {
+        return Err(UsageError::NoMapFrame {
+            which,
+            map: args.map.clone(),
+        }
+        .into());
+    };
+    frame
+        .cell_at(x, y)
+        .map(Some)
+        .ok_or_else(|| RunnerError::OutsideMap {
+            map: args.map.clone(),
+            which,
+            point: (x, y),
+            bounds: frame.bounds(),
+        })
+}
+
+/// `value` metres for a person: at most six decimals (micrometres), trailing zeros left
+/// out, so that `-1.4749999999999996` (a cell centre's sum) reads `-1.475`.
+pub(crate) fn metres(value: f64) -> String {
+    let text = format!("{value:.6}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    match text {
+        "-0" => "0".to_string(),
+        other => other.to_string(),
+    }
 }
 
 fn file_name(path: &Path) -> String {
@@ -653,6 +729,15 @@ impl PlanResult {
             marks: &r.marks,
             cost: r.cost,
             not_run: r.error.as_deref(),
+            map_frame: self.frame.map(|frame| FrameJson {
+                resolution: frame.resolution,
+                origin: frame.origin,
+                start: frame.world(r.start),
+                goal: (!self.coverage).then(|| frame.world(r.goal)),
+                path: path.map_or_else(Vec::new, |p| {
+                    p.cells().iter().map(|&c| frame.world(c)).collect()
+                }),
+            }),
         };
         serde_json::to_string(&json).map_err(RunnerError::Json)
     }
@@ -705,6 +790,24 @@ impl PlanResult {
             self.grid.height(),
             r.status
         );
+        if let Some(frame) = self.frame {
+            let point = |c: Cell| {
+                let (x, y) = frame.world(c);
+                format!("({}, {})", metres(x), metres(y))
+            };
+            let route = match self.coverage {
+                true => format!("start {}", point(r.start)),
+                false => format!("start {} -> goal {}", point(r.start), point(r.goal)),
+            };
+            let length = r.path.as_ref().map_or(String::new(), |p| {
+                format!(", path {} m", metres(p.metrics().length * frame.resolution))
+            });
+            let _ = writeln!(
+                out,
+                "map frame (metres, cell centres): {route}{length}; {} m per cell; every point: --json's map_frame",
+                metres(frame.resolution)
+            );
+        }
         if self.hit_default_budget() {
             let _ = writeln!(
                 out,

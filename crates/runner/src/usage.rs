@@ -95,6 +95,17 @@ pub enum UsageError {
     /// `--goal` for a coverage planner.
     #[error("`{0}` is a coverage planner: it covers from --start and takes no --goal")]
     CoverageGoal(String),
+    /// `--start` with `--start-world`, or `--goal` with `--goal-world`.
+    #[error("give --{0} (a cell) or --{0}-world (a point of the map frame), not both")]
+    CellAndWorld(&'static str),
+    /// `--start-world` or `--goal-world` on a map without a map frame.
+    #[error("--{which}-world is a point of a ROS map's map frame, and {} has none: give --{which} x,y (a cell), or a map_server .yaml map, whose resolution and origin place its cells", .map.display())]
+    NoMapFrame {
+        /// `start` or `goal`.
+        which: &'static str,
+        /// The map.
+        map: PathBuf,
+    },
     /// `--start` without `--goal` or the reverse.
     #[error("--start and --goal go together")]
     StartWithoutGoal,

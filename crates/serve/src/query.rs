@@ -178,6 +178,7 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         path: query.map_path.to_path_buf(),
         grid,
         problems: Vec::new(),
+        frame: None,
     };
     Ok(planner_runner::plan::run_single(
         map,

@@ -1,0 +1,129 @@
+//! `gridplan plan` in a ROS map's map frame: `--start-world` and `--goal-world` in metres,
+//! the run printed in metres too, and the errors of points outside the map or of a map
+//! without a frame.
+
+use crate::common::{self, root};
+
+/// Runs gridplan with `args` from the repository's root; returns its exit code, stdout
+/// and stderr.
+fn gridplan(args: &[&str]) -> (i32, String, String) {
+    let out = common::gridplan(&root(), args);
+    (out.code.unwrap_or(-1), out.stdout, out.stderr)
+}
+
+/// TurtleBot3's sandbox map of nav2: 384 x 384 cells of 0.05 m, origin (-10, -10).
+const SANDBOX: &str = "maps/ros-nav2/tb3_sandbox.yaml";
+
+/// The cells of points worked out by hand: column `floor((x + 10) / 0.05)`, and the row
+/// `floor((y + 10) / 0.05)` rows above the bottom one (row 383): (-1.5, -0.5) is column
+/// 170, 190 rows up, row 193; (1.5, 0.5) column 230, 210 up, row 173; (-1.51, -0.51) lies
+/// in the cell below and left of the first.
+#[test]
+fn points_of_the_map_frame_plan_as_their_cells() {
+    let (code, out, err) = gridplan(&[
+        "plan",
+        SANDBOX,
+        "--planner",
+        "astar",
+        "--start-world",
+        "-1.5,-0.5",
+        "--goal-world",
+        "1.5,0.5",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let by_world: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (code, out, err) = gridplan(&[
+        "plan",
+        SANDBOX,
+        "--planner",
+        "astar",
+        "--start",
+        "170,193",
+        "--goal",
+        "230,173",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let by_cell: serde_json::Value = serde_json::from_str(&out).unwrap();
+    // The same run, and the frame beside it.
+    assert_eq!(by_world, by_cell);
+    let frame = &by_world["map_frame"];
+    assert_eq!(frame["resolution"], 0.05);
+    assert_eq!(frame["origin"], serde_json::json!([-10.0, -10.0, 0.0]));
+    let path = by_world["path"].as_array().unwrap();
+    let points = frame["path"].as_array().unwrap();
+    assert_eq!(points.len(), path.len());
+    for (cell, point) in path.iter().zip(points) {
+        // Cell centres: half a cell in from the cell's corner.
+        let (x, y) = (cell[0].as_f64().unwrap(), cell[1].as_f64().unwrap());
+        let expect = [-10.0 + 0.05 * (x + 0.5), -10.0 + 0.05 * (383.0 - y + 0.5)];
+        for (got, expect) in point.as_array().unwrap().iter().zip(expect) {
+            assert!(
+                (got.as_f64().unwrap() - expect).abs() < 1e-9,
+                "{point} {cell}"
+            );
+        }
+    }
+    assert_eq!(frame["start"], points[0]);
+    assert_eq!(&frame["goal"], points.last().unwrap());
+
+    let (code, out, err) = gridplan(&[
+        "plan",
+        SANDBOX,
+        "--planner",
+        "astar",
+        "--start-world=-1.51,-0.51",
+        "--goal-world",
+        "1.5,0.5",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("(169, 194) -> (230, 173): found"), "{out}");
+    assert!(
+        out.contains("map frame (metres, cell centres): start (-1.525, -0.525) -> goal (1.525, 0.525), path "),
+        "{out}"
+    );
+}
+
+#[test]
+fn points_off_the_map_and_maps_without_a_frame_are_refused() {
+    for (args, code, message) in [
+        (
+            vec![SANDBOX, "--start-world", "-10.01,0", "--goal-world", "1,1"],
+            4,
+            "--start-world -10.01,0 lies outside the map, which spans x from -10 to 9.2 and y from -10 to 9.2",
+        ),
+        (
+            vec![SANDBOX, "--start-world", "-1.5,-0.5", "--goal-world", "9.21,1"],
+            4,
+            "--goal-world 9.21,1 lies outside the map",
+        ),
+        (
+            vec!["maps/paper/map10.map", "--start-world", "1,1", "--goal-world", "2,2"],
+            2,
+            "--start-world is a point of a ROS map's map frame, and maps/paper/map10.map has none",
+        ),
+        (
+            vec![SANDBOX, "--start-world", "1,nan", "--goal-world", "2,2"],
+            2,
+            "\"nan\" is not a finite number of metres",
+        ),
+        (
+            vec![SANDBOX, "--start-world", "1,1", "--start", "3,3", "--goal", "2,2"],
+            2,
+            "cannot be used with",
+        ),
+        (
+            vec![SANDBOX, "--start-world", "-1.5,-0.5"],
+            2,
+            "--start and --goal go together",
+        ),
+    ] {
+        let mut all = vec!["plan", "--planner", "astar"];
+        all.extend(&args);
+        let (got, out, err) = gridplan(&all);
+        assert_eq!(got, code, "{args:?}: {err}");
+        assert!(err.contains(message), "{args:?}: {err}");
+        assert!(out.is_empty(), "{args:?}: {out}");
+    }
+}
