@@ -127,3 +127,60 @@ fn points_off_the_map_and_maps_without_a_frame_are_refused() {
         assert!(out.is_empty(), "{args:?}: {out}");
     }
 }
+
+/// A config's `points`: start-goal pairs in metres, run as the cells holding them (the
+/// same runs as `pairs` of those cells), and refused with the key's position off the map
+/// or on a map without a frame.
+#[test]
+fn a_map_sets_points_are_the_cells_holding_them() {
+    let dir = common::scratch("frame", "points");
+    for file in ["tb3_sandbox.yaml", "tb3_sandbox.pgm"] {
+        std::fs::copy(root().join("maps/ros-nav2").join(file), dir.join(file)).unwrap();
+    }
+    std::fs::copy(root().join("maps/paper/map10.map"), dir.join("map10.map")).unwrap();
+    let config = |map: &str, problems: &str| {
+        format!("name = \"w\"\n[[maps]]\nfiles = [\"{map}\"]\n{problems}\n[planners.a]\nplanner = \"astar\"\n")
+    };
+    let points = "points = [{ start = [-1.5, -0.5], goal = [1.5, 0.5] }, { start = [-1.51, -0.51], goal = [1.5, 0.5] }]";
+    let pairs = "pairs = [{ start = [170, 193], goal = [230, 173] }, { start = [169, 194], goal = [230, 173] }]";
+    std::fs::write(dir.join("points.toml"), config("tb3_sandbox.yaml", points)).unwrap();
+    std::fs::write(dir.join("pairs.toml"), config("tb3_sandbox.yaml", pairs)).unwrap();
+    for name in ["points", "pairs"] {
+        let out = common::gridplan(
+            &dir,
+            &[
+                "experiment",
+                &format!("{name}.toml"),
+                "--output",
+                name,
+                "--quiet",
+            ],
+        );
+        common::succeeded(&out);
+    }
+    let table = |name: &str| std::fs::read_to_string(dir.join(name).join("runs.csv")).unwrap();
+    // Every column but the timings.
+    let columns = |text: String| -> Vec<String> {
+        text.lines()
+            .map(|l| l.split(',').take(16).collect::<Vec<_>>().join(","))
+            .collect()
+    };
+    let (by_points, by_pairs) = (columns(table("points")), columns(table("pairs")));
+    assert_eq!(by_points, by_pairs);
+    assert!(
+        by_points[1].starts_with("tb3_sandbox.yaml,1,170,193,230,173,a,astar,"),
+        "{by_points:?}"
+    );
+
+    let off = points.replace("goal = [1.5, 0.5] }]", "goal = [9.5, 0.5] }]");
+    std::fs::write(dir.join("off.toml"), config("tb3_sandbox.yaml", &off)).unwrap();
+    std::fs::write(dir.join("frameless.toml"), config("map10.map", points)).unwrap();
+    for (name, message) in [
+        ("off", "off.toml:4:56: maps[0]: key `points`: the goal [9.5, 0.5] lies outside tb3_sandbox.yaml, which spans x from -10 to 9.2"),
+        ("frameless", "frameless.toml:4:10: maps[0]: key `points`: points are metres of a ROS map's map frame, and map10.map has none"),
+    ] {
+        let out = common::gridplan(&dir, &["experiment", &format!("{name}.toml"), "--output", name]);
+        common::refused(&out, 3, message);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

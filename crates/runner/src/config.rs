@@ -174,6 +174,9 @@ pub(crate) struct RawMaps {
     start: Option<Spanned<[u32; 2]>>,
     /// Start-goal pairs.
     pairs: Option<Vec<RawPair>>,
+    /// Start-goal pairs as points of a ROS map's map frame, in metres.
+    #[schemars(with = "Option<Vec<RawPoints>>")]
+    points: Option<Spanned<Vec<Spanned<RawPoints>>>>,
     /// A Moving AI scenario file, relative to the config.
     #[schemars(with = "Option<String>")]
     scen: Option<Spanned<String>>,
@@ -1476,8 +1479,9 @@ fn map_entries(
             )
             .map_err(|e| set.at(weights.span(), format!("key `costs.weights`: {e}")))?;
         }
-        let (pairs, buckets) =
+        let (mut pairs, buckets) =
             file_pairs(&set, &path, &grid, &file.problems, scenarios.as_deref())?;
+        pairs.extend(frame_pairs(&set, &path, file.frame)?);
         let convention = is_csv(&path).then_some(read_options.csv);
         let problems = pairs
             .into_iter()
@@ -1505,6 +1509,60 @@ fn map_entries(
     Ok(entries)
 }
 
+/// A start-goal pair of a map set as points of the map frame (metres).
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawPoints {
+    /// The start, `[x, y]` in metres.
+    start: [f64; 2],
+    /// The goal, `[x, y]` in metres.
+    goal: [f64; 2],
+}
+
+/// The cells of the set's `points` on map file `path`, whose map frame is `frame`: each
+/// point's cell ([`planner_maps::MapFrame::cell_at`]). A map without a frame, and a point
+/// off the map, are errors at the key or the pair.
+fn frame_pairs(
+    set: &MapSet<'_>,
+    path: &Path,
+    frame: Option<planner_maps::MapFrame>,
+) -> Result<Vec<(Cell, Cell, Option<f64>)>, ConfigError> {
+    let Some(points) = &set.spanned.get_ref().points else {
+        return Ok(Vec::new());
+    };
+    let Some(frame) = frame else {
+        return Err(set.at(
+            points.span(),
+            format!(
+                "key `points`: points are metres of a ROS map's map frame, and {} has none (a map_server .yaml has one); give `pairs` of cells instead",
+                path.display()
+            ),
+        ));
+    };
+    let mut pairs = Vec::with_capacity(points.get_ref().len());
+    for pair in points.get_ref() {
+        let cell = |[x, y]: [f64; 2], which: &str| {
+            frame.cell_at(x, y).ok_or_else(|| {
+                let [x0, y0, x1, y1] = frame.bounds();
+                set.at(
+                    pair.span(),
+                    format!(
+                        "key `points`: the {which} [{x}, {y}] lies outside {}, which spans x from {} to {} and y from {} to {} (metres, the map frame; the upper ends excluded)",
+                        path.display(),
+                        crate::plan::metres(x0),
+                        crate::plan::metres(x1),
+                        crate::plan::metres(y0),
+                        crate::plan::metres(y1)
+                    ),
+                )
+            })
+        };
+        let RawPoints { start, goal } = *pair.get_ref();
+        pairs.push((cell(start, "start")?, cell(goal, "goal")?, None));
+    }
+    Ok(pairs)
+}
+
 /// Checks that the set names its problems exactly one way (`problems`, `pairs`, `scen`),
 /// `start` exactly with `problems = "start"`, and scenario selections only with `scen`.
 fn check_map_keys(set: &MapSet<'_>) -> Result<(), ConfigError> {
@@ -1512,21 +1570,20 @@ fn check_map_keys(set: &MapSet<'_>) -> Result<(), ConfigError> {
     let sources = [
         raw.problems.is_some(),
         raw.pairs.is_some(),
+        raw.points.is_some(),
         raw.scen.is_some(),
     ];
     match sources.iter().filter(|&&s| s).count() {
         1 => {}
-        0 => {
-            return Err(set.at(
-                set.span(),
-                "give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, or `scen`"
-                    .into(),
-            ))
-        }
+        0 => return Err(set.at(
+            set.span(),
+            "give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, `points` or `scen`"
+                .into(),
+        )),
         _ => {
             return Err(set.at(
                 set.span(),
-                "`problems`, `pairs` and `scen` exclude each other".into(),
+                "`problems`, `pairs`, `points` and `scen` exclude each other".into(),
             ))
         }
     }
