@@ -166,7 +166,7 @@ async function loadMap(path) {
     for (let i = 0; i < weights.length; i++) if (!blocked[i]) { low = Math.min(low, weights[i]); high = Math.max(high, weights[i]); }
     range = [low, Math.max(high, low)];
   }
-  state.map = { path: map.path, name: map.name, width: map.width, height: map.height, blocked, problems: map.problems, weights, range, costs, rule: map.cost_rule };
+  state.map = { path: map.path, name: map.name, width: map.width, height: map.height, blocked, problems: map.problems, weights, range, costs, rule: map.cost_rule, frame: map.frame };
   state.edits = new Map();
   state.start = null;
   state.goal = null;
@@ -220,8 +220,25 @@ function setWall(x, y, blocked) {
 }
 
 function updateEnds() {
-  $("start-out").textContent = state.start ? `(${state.start[0]}, ${state.start[1]})` : "-";
-  $("goal-out").textContent = state.goal ? `(${state.goal[0]}, ${state.goal[1]})` : "-";
+  $("start-out").textContent = state.start ? where(state.start) : "-";
+  $("goal-out").textContent = state.goal ? where(state.goal) : "-";
+}
+
+// A cell as `(x, y)`, and on a ROS map also its centre in the map frame, in metres (as
+// `gridplan plan` prints it: nav2's mapToWorld, the image's top row is row 0).
+function where(cell) {
+  const text = `(${cell[0]}, ${cell[1]})`;
+  const frame = state.map && state.map.frame;
+  if (!frame) return text;
+  const x = frame.origin[0] + frame.resolution * (cell[0] + 0.5);
+  const y = frame.origin[1] + frame.resolution * (state.map.height - 1 - cell[1] + 0.5);
+  return `${text} = (${metres(x)}, ${metres(y)}) m`;
+}
+
+// At most six decimals, trailing zeros left out (`-1.4749999999999996` reads `-1.475`).
+function metres(value) {
+  const text = value.toFixed(6).replace(/\.?0+$/, "");
+  return text === "-0" ? "0" : text;
 }
 
 // ---- views: canvases, zoom and pan ---------------------------------------------------
@@ -320,6 +337,8 @@ function pointerDown(e, canvas) {
 }
 
 function pointerMove(e) {
+  const under = cellAt(e);
+  $("cursor-out").textContent = under ? where(under) : "-";
   if (!drag) return;
   if (drag.kind === "pan") {
     state.view.x += e.offsetX - drag.x;

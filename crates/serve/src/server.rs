@@ -764,6 +764,11 @@ fn map(state: &State, relative: &str, costs: &MapCosts) -> Answer {
             // Per cell (row-major), on a weighted map only: what the page shades by.
             "weights": grid.weights().map(|w| w.cells()),
             "cost_rule": grid.weights().map(|w| w.rule().name()),
+            // A ROS map's frame (a map_server YAML's), so the page shows cells in metres.
+            "frame": file.frame.map(|f| serde_json::json!({
+                "resolution": f.resolution,
+                "origin": f.origin,
+            })),
         })
         .to_string(),
     )

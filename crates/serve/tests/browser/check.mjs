@@ -198,6 +198,26 @@ try {
       `${name}: screenshot path pixels on path cells (${on} on, ${off} off; ${seen.size} of ${cells.size - 2} cells between start and goal)`);
   }
   if (process.env.SCREENSHOT_DIR) await page.screenshot({ path: path.join(process.env.SCREENSHOT_DIR, "page.png") });
+
+  // ---- a ROS map: cells shown with their map-frame position, as `plan` prints it ----
+  await page.selectOption("#map-select", "maps/ros-nav2/tb3_sandbox.yaml");
+  await page.click("#load-map");
+  await page.waitForFunction(() => window.gridplan.state.map && window.gridplan.state.map.name === "tb3_sandbox.yaml");
+  const rosStart = [170, 193], rosGoal = [230, 173];
+  const ros = planJson(["maps/ros-nav2/tb3_sandbox.yaml", "--planner", "astar", "--start", rosStart.join(","), "--goal", rosGoal.join(",")]);
+  await page.check('input[name="tool"][value="start"]');
+  [cx, cy] = await page.evaluate(([x, y]) => window.gridplan.cellToClient(x, y), rosStart);
+  await page.mouse.click(cx, cy);
+  [cx, cy] = await page.evaluate(([x, y]) => window.gridplan.cellToClient(x, y), rosGoal);
+  await page.mouse.move(cx, cy);
+  const startText = await page.textContent("#start-out");
+  const cursorText = await page.textContent("#cursor-out");
+  // plan --json's cell centres (-1.4749999999999996, ...) at six decimals: what both print.
+  const shown = ([x, y]) => `(${+x.toFixed(6)}, ${+y.toFixed(6)}) m`;
+  check(startText === `(170, 193) = ${shown(ros.map_frame.start)}` && startText === "(170, 193) = (-1.475, -0.475) m",
+    `a ROS map's start shows its map-frame position (${startText})`);
+  check(cursorText === `(230, 173) = ${shown(ros.map_frame.goal)}` && cursorText === "(230, 173) = (1.525, 0.525) m",
+    `the cell under the pointer shows its map-frame position (${cursorText})`);
   check(errors.length === 0, `no page errors ${errors.join("; ")}`);
 
   // ---- refusals ----
