@@ -175,9 +175,12 @@ fn a_map_sets_points_are_the_cells_holding_them() {
     let off = points.replace("goal = [1.5, 0.5] }]", "goal = [9.5, 0.5] }]");
     std::fs::write(dir.join("off.toml"), config("tb3_sandbox.yaml", &off)).unwrap();
     std::fs::write(dir.join("frameless.toml"), config("map10.map", points)).unwrap();
+    let nan = points.replace("start = [-1.5, -0.5]", "start = [nan, -0.5]");
+    std::fs::write(dir.join("nan.toml"), config("tb3_sandbox.yaml", &nan)).unwrap();
     for (name, message) in [
         ("off", "off.toml:4:56: maps[0]: key `points`: the goal [9.5, 0.5] lies outside tb3_sandbox.yaml, which spans x from -10 to 9.2"),
         ("frameless", "frameless.toml:4:10: maps[0]: key `points`: points are metres of a ROS map's map frame, and map10.map has none"),
+        ("nan", "nan.toml:4:11: maps[0]: key `points`: the start [NaN, -0.5] is not a point: its coordinates must be finite"),
     ] {
         let out = common::gridplan(&dir, &["experiment", &format!("{name}.toml"), "--output", name]);
         common::refused(&out, 3, message);

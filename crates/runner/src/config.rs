@@ -1542,6 +1542,12 @@ fn frame_pairs(
     let mut pairs = Vec::with_capacity(points.get_ref().len());
     for pair in points.get_ref() {
         let cell = |[x, y]: [f64; 2], which: &str| {
+            if !(x.is_finite() && y.is_finite()) {
+                return Err(set.at(
+                    pair.span(),
+                    format!("key `points`: the {which} [{x}, {y}] is not a point: its coordinates must be finite numbers of metres"),
+                ));
+            }
             frame.cell_at(x, y).ok_or_else(|| {
                 let [x0, y0, x1, y1] = frame.bounds();
                 set.at(
