@@ -181,7 +181,7 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         "name = \"x\"\n[[maps]]\nfiles = [\"../maps/paper/map01.map\"]\n[planners.a]\nplanner = \"astar\"\n",
-        "bad.toml:2:1: maps[0]: give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, or `scen`",
+        "bad.toml:2:1: maps[0]: give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, `points` or `scen`",
     );
     check_error(
         &format!("name = \"my results\"\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
