@@ -64,7 +64,7 @@ pub use moves::{
 pub use path::{push_octile_leg, Path, PathMetrics, PathRank, PathRule};
 pub use planner::{
     Budget, BudgetClock, CancelFlag, CancelPool, LentFlag, Mark, MemoryShortfall, Outcome, Planner,
-    Problem, Series, Status,
+    Problem, SearchEvent, SearchEventKind, Series, Status, MAX_SEARCH_EVENTS,
 };
 pub use specs::{ParamError, ParamKey, PathSpec, PlannerSpecs, SEED_PARAM};
 pub use weights::{weighted_move_cost, CostRule, Weights};

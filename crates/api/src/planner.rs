@@ -101,6 +101,10 @@ pub struct Budget {
     /// serde); off in timed runs.
     #[serde(skip)]
     pub record_expanded: bool,
+    /// Record the search step by step in [`Outcome::events`] (planners that support it).
+    /// Not a config key (skipped by serde); off in timed runs.
+    #[serde(skip)]
+    pub record_events: bool,
     /// Stop when this flag is raised (read every [`BudgetClock::TIME_CHECK_INTERVAL`]
     /// expansions). Not a config key (skipped by serde); `None`: nothing cancels.
     #[serde(skip)]
@@ -117,6 +121,10 @@ impl std::fmt::Debug for Budget {
             .field("max_time", &self.max_time)
             .field("max_memory_mb", &self.max_memory_mb)
             .field("record_expanded", &self.record_expanded);
+        // Only when set, as `cancel`: the text of budgets without it is unchanged.
+        if self.record_events {
+            out.field("record_events", &self.record_events);
+        }
         if let Some(cancel) = self.cancel {
             out.field("cancel", &cancel);
         }
@@ -297,6 +305,14 @@ impl Budget {
     pub fn recording_expanded(self, on: bool) -> Budget {
         Budget {
             record_expanded: on,
+            ..self
+        }
+    }
+
+    /// This budget with [`Budget::record_events`] set to `on`.
+    pub fn recording_events(self, on: bool) -> Budget {
+        Budget {
+            record_events: on,
             ..self
         }
     }
@@ -542,10 +558,61 @@ pub struct Outcome {
     /// what it lists instead (JPS lists its expanded jump points).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub expanded: Vec<Cell>,
+    /// The search step by step, when the budget asked for it ([`Budget::record_events`])
+    /// and the planner records it (its docs say so); otherwise empty: each node generated
+    /// (put in OPEN), updated (its `g` lowered while in OPEN) and expanded, in order, with
+    /// its parent, `g` and `f`. What a search trace (`plan --trace`) shows.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub events: Vec<SearchEvent>,
     /// Set when the planner refused to search because its per-cell state would not fit
     /// [`Budget::max_memory_mb`] (the status is then [`Status::BudgetExhausted`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub memory: Option<MemoryShortfall>,
+}
+
+/// The most [`SearchEvent`]s a search records ([`Budget::record_events`]): 2^22, about 200
+/// MB; a longer search's list stops there, so that recording stays bounded whatever the
+/// budget (each expansion of an 8-connected search can add nine).
+pub const MAX_SEARCH_EVENTS: usize = 1 << 22;
+
+/// One step of a search ([`Outcome::events`]): a node generated, updated or expanded, with
+/// its parent (the node it was reached from; `None` for the start), its cost so far `g`
+/// and its evaluation `f`, as the search had them at that step.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SearchEvent {
+    /// What happened.
+    pub kind: SearchEventKind,
+    /// The node's cell.
+    pub cell: Cell,
+    /// The node it was reached from, if any.
+    pub parent: Option<Cell>,
+    /// Its cost so far.
+    pub g: f64,
+    /// Its evaluation (`g` plus the heuristic's estimate, weighted as the search weighs it).
+    pub f: f64,
+}
+
+/// What a [`SearchEvent`] records (the names of Posthoc's search-trace events).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SearchEventKind {
+    /// First put in OPEN.
+    Generating,
+    /// Its `g` lowered while in OPEN (a new parent).
+    Updating,
+    /// Taken from OPEN and expanded.
+    Expanding,
+}
+
+impl SearchEventKind {
+    /// Posthoc's name of the event: `generating`, `updating` or `expanding`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SearchEventKind::Generating => "generating",
+            SearchEventKind::Updating => "updating",
+            SearchEventKind::Expanding => "expanding",
+        }
+    }
 }
 
 /// A named sequence of (x, y) points a planner records during one search, for example
@@ -601,6 +668,7 @@ impl Outcome {
             marks: Vec::new(),
             series: Vec::new(),
             expanded: Vec::new(),
+            events: Vec::new(),
             memory: None,
         }
     }
@@ -614,6 +682,7 @@ impl Outcome {
             marks: Vec::new(),
             series: Vec::new(),
             expanded: Vec::new(),
+            events: Vec::new(),
             memory: None,
         }
     }
@@ -627,6 +696,7 @@ impl Outcome {
             marks: Vec::new(),
             series: Vec::new(),
             expanded: Vec::new(),
+            events: Vec::new(),
             memory: None,
         }
     }
@@ -654,6 +724,7 @@ impl Outcome {
             marks: Vec::new(),
             series: Vec::new(),
             expanded: Vec::new(),
+            events: Vec::new(),
             memory: None,
         }
     }

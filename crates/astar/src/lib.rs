@@ -54,7 +54,13 @@
 //! expansion order (the goal last when found), one per `n_expanded`; the search is
 //! otherwise the same. The flag is a constant of the search loop, so with it off the loop
 //! has no recording code; the recording copies read the heuristic at run time (one copy
-//! for all five heuristics: figures are never timed, and the build is shorter).
+//! for all five heuristics: figures are never timed, and the build is shorter). With
+//! [`Budget::record_events`] set, [`Outcome::events`] records the search step by step in the
+//! same copy: every push into OPEN (`generating` a node's first, `updating` one that
+//! lowers its `g`) and every expansion, each with the node's parent, `g` and `f` (as OPEN
+//! orders it: `g` plus the heuristic times the configured weight, and on a weighted grid
+//! times the smallest cell weight), at most [`planner_api::MAX_SEARCH_EVENTS`] of them. `tests/events.rs`
+//! holds them to the counters, the expanded cells, the path and the heuristics written out.
 //!
 //! Costs are [`planner_api::Cost`]s, fixed point in units of `2^-32`: every path cost
 //! is an integer sum of its moves' costs, so equal path costs are equal numbers and tie
@@ -131,9 +137,11 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
+use planner_api::SearchEventKind::{Expanding, Generating, Updating};
 use planner_api::{
     Adjacency, Budget, Cell, Connectivity, Cost, CostRule, Counter, Grid, MemoryShortfall,
-    MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchStats, Status,
+    MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, Planner, Problem, SearchEvent,
+    SearchStats, Status,
 };
 use planner_search::bucket::{self as open, BucketOpen, IntOpen, Open};
 use planner_search::neighbourhood::{
@@ -284,6 +292,10 @@ pub struct Search {
     /// The expanded cells in expansion order, when the budget asked for them
     /// ([`Budget::record_expanded`]); else empty.
     pub expanded: Vec<Cell>,
+    /// The search step by step, when the budget asked for it ([`Budget::record_events`]):
+    /// every push into OPEN (`generating` the first time, `updating` after) and every
+    /// expansion, with parent, `g` and `f`, at most [`planner_api::MAX_SEARCH_EVENTS`].
+    pub events: Vec<SearchEvent>,
     /// Set when the per-cell state did not fit [`Budget::max_memory_mb`] (nothing was
     /// allocated or searched).
     pub memory: Option<MemoryShortfall>,
@@ -298,6 +310,7 @@ impl Search {
             exact_cost: None,
             stats,
             expanded: Vec::new(),
+            events: Vec::new(),
             memory: None,
         }
     }
@@ -833,7 +846,7 @@ impl AStar {
         problem: &Problem<'_>,
         budget: &Budget,
     ) -> Search {
-        if budget.record_expanded {
+        if budget.record_expanded || budget.record_events {
             return self.run::<O, RUNTIME, true, W, FEW>(open, problem, budget);
         }
         match self.config.heuristic {
@@ -901,6 +914,24 @@ impl AStar {
         let beside = moves_beside(&self.moves);
         self.cells.fit(layout.padded_len, bits.is_some() && !beside);
         let mut expanded = Vec::new();
+        let mut events = Vec::new();
+        // The copy that records (never timed) asks the budget what to record.
+        let (record_cells, record_events) = (
+            RECORD && budget.record_expanded,
+            RECORD && budget.record_events,
+        );
+        // One search step, while there is room for it.
+        let mut note = |kind, cell, parent: Option<Cell>, g: Cost, f: Cost| {
+            if events.len() < planner_api::MAX_SEARCH_EVENTS {
+                events.push(SearchEvent {
+                    kind,
+                    cell,
+                    parent,
+                    g: g.to_f64(),
+                    f: f.to_f64(),
+                });
+            }
+        };
         let Cells {
             state,
             g,
@@ -952,6 +983,9 @@ impl AStar {
         touched.push(start_index as u32);
         g[start_index] = Cost::ZERO.units();
         open.push(start_index as u32, h(start.x, start.y), Cost::ZERO);
+        if record_events {
+            note(Generating, start, None, Cost::ZERO, h(start.x, start.y));
+        }
         // Without the bit grid, the safe moves come from the adjacency's masks.
         let masks: &[u64] = adjacency.map_or(&[], Adjacency::masks);
         let mut tally = Tally {
@@ -969,12 +1003,22 @@ impl AStar {
                 let stats = tally.stats(n_moves, tally.n_expanded);
                 let mut search = Search::new(Status::BudgetExhausted, None, None, stats);
                 search.expanded = expanded;
+                search.events = events;
                 return search;
             }
             state[p] |= CLOSED;
             tally.n_expanded += 1;
-            if RECORD {
+            if record_cells {
                 expanded.push(layout.cell(p));
+            }
+            if record_events {
+                let cell = layout.cell(p);
+                let parent = (p != start_index).then(|| {
+                    let m = state[p] >> 2;
+                    layout.cell(p.wrapping_add_signed(-layout.delta[m as usize]))
+                });
+                let g_p = Cost::from_units(g[p]);
+                note(Expanding, cell, parent, g_p, g_p + h(cell.x, cell.y));
             }
             if p == goal_index {
                 let path = reconstruct(&layout, state, start_index, goal_index);
@@ -984,6 +1028,7 @@ impl AStar {
                 let mut search = Search::new(Status::Found, Some(path), Some(cost), stats);
                 search.exact_cost = Some(Cost::from_units(g[p]));
                 search.expanded = expanded;
+                search.events = events;
                 return search;
             }
             let (x, y) = rows.cell(p);
@@ -1051,6 +1096,10 @@ impl AStar {
                         g[q] = g_temp.units();
                         let f = g_temp + h(x.wrapping_add(dx), y.wrapping_add(dy));
                         open.push(q as u32, f, g_temp);
+                        if record_events {
+                            let kind = if known { Updating } else { Generating };
+                            note(kind, layout.cell(q), Some(layout.cell(p)), g_temp, f);
+                        }
                     }
                 }};
             }
@@ -1079,6 +1128,7 @@ impl AStar {
         let stats = tally.stats(n_moves, tally.n_expanded);
         let mut search = Search::new(Status::NoPath, None, None, stats);
         search.expanded = expanded;
+        search.events = events;
         search
     }
 }
@@ -1244,9 +1294,10 @@ impl Planner for AStar {
         let counters = search.stats.report(Counter::ASTAR);
         match search.memory {
             Some(shortfall) => Outcome::over_memory(shortfall, counters),
-            None => {
-                Outcome::new(search.status, search.path, counters).with_expanded(search.expanded)
-            }
+            None => Outcome {
+                events: search.events,
+                ..Outcome::new(search.status, search.path, counters).with_expanded(search.expanded)
+            },
         }
     }
 }

@@ -6,6 +6,7 @@
 mod allocations;
 mod counters;
 mod effort;
+mod events;
 mod paper;
 mod reference;
 mod weighted;

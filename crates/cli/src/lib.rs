@@ -213,8 +213,9 @@ pub enum Command {
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,
         /// Also write the search as a Posthoc search trace (JSON) to FILE: source,
-        /// destination, one `expanding` event per expanded cell, `end` (planner-serve's
-        /// `trace` module).
+        /// destination, the search's steps, end. A* records every push into OPEN and every
+        /// expansion with parent, g and f; the other planners give one `expanding` event
+        /// per expanded cell (planner-serve's `trace` module).
         #[arg(long, value_name = "FILE")]
         trace: Option<PathBuf>,
         /// Also write an animated GIF of the search (expanded cells in order, then the
@@ -897,6 +898,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
             let options = planner_runner::plan::PlanOptions {
                 max_memory_mb,
                 record_expanded: svg.is_some() || trace.is_some() || gif.is_some(),
+                record_events: trace.is_some(),
                 costs: planner_runner::plan::PlanCosts {
                     weights,
                     rule: cost_rule,
@@ -931,6 +933,12 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 write_stdout(format!("{}\n", result.to_json()?).as_bytes())?;
             } else {
                 write_text(&result.to_text_within(text_columns()))?;
+            }
+            if trace.is_some() && result.events.len() >= planner_api::MAX_SEARCH_EVENTS {
+                eprintln!(
+                    "note: the trace holds the search's first {} steps (planner_api::MAX_SEARCH_EVENTS); the search went on",
+                    planner_api::MAX_SEARCH_EVENTS
+                );
             }
             if result.hit_default_budget() {
                 eprintln!(

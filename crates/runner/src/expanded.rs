@@ -156,17 +156,32 @@ pub fn record_expanded(
     planner: &PlannerSpec,
     timed: &RunRecord,
 ) -> Result<Vec<Cell>, ExpandedError> {
+    record_search(experiment, map, problem, planner, timed, false).map(|(cells, _)| cells)
+}
+
+/// [`record_expanded`], and with `events` the search step by step as well
+/// ([`planner_api::Budget::record_events`]; empty for planners that do not record it).
+pub fn record_search(
+    experiment: &Experiment,
+    map: &MapEntry,
+    problem: &ProblemEntry,
+    planner: &PlannerSpec,
+    timed: &RunRecord,
+    events: bool,
+) -> Result<(Vec<Cell>, Vec<planner_api::SearchEvent>), ExpandedError> {
     let Ok(query) = Problem::new(&map.grid, problem.start, problem.goal) else {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), Vec::new()));
     };
     let built = planner
         .factory
         .build()
         .map_err(|e| ExpandedError::Build(planner.label.clone(), e))?;
     let Built::Path(mut p) = built else {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), Vec::new()));
     };
-    let budget = crate::run::effective_budget(planner).recording_expanded(true);
+    let budget = crate::run::effective_budget(planner)
+        .recording_expanded(true)
+        .recording_events(events);
     p.prepare_within(&map.grid, &budget);
     if let Some(seed) = planner.factory.seed_for(experiment.seed, timed.repeat) {
         p.reseed(seed);
@@ -185,7 +200,7 @@ pub fn record_expanded(
             recorded: format!("{} {}", outcome.status.as_str(), outcome.counters),
         });
     }
-    Ok(outcome.expanded)
+    Ok((outcome.expanded, outcome.events))
 }
 
 /// The problems of a map to draw, at most `limit`, in map order.

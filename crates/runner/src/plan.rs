@@ -70,6 +70,9 @@ pub struct PlanOptions {
     /// ([`PlanResult::expanded`], drawn by planner-report's `figures::draw_run`); the second run must
     /// give the same counters, status and path (else an error).
     pub record_expanded: bool,
+    /// With `record_expanded`, also record the search step by step
+    /// ([`PlanResult::events`], for `plan --trace`).
+    pub record_events: bool,
 }
 
 /// `plan`'s cell cost options, the flags of a map set's `costs` table (configs/README.md):
@@ -264,6 +267,9 @@ pub struct PlanResult {
     /// The cells the planner expanded, in order, when [`PlanOptions::record_expanded`]
     /// asked for them and the planner records them; else empty.
     pub expanded: Vec<Cell>,
+    /// The search step by step, when [`PlanOptions::record_events`] asked for it and the
+    /// planner records it; else empty.
+    pub events: Vec<planner_api::SearchEvent>,
 }
 
 /// The files a plan of `args` with `options` may read: the map, a ROS map's image (when its
@@ -347,6 +353,7 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
         seed,
         &args.planner,
         options.record_expanded,
+        options.record_expanded && options.record_events,
     )
 }
 
@@ -362,7 +369,8 @@ pub fn refuses_costs(spec: &PlannerSpec, grid: &Grid) -> bool {
 /// repeat 0 runs it (`planner` names it in the result); with `record_expanded`, once more
 /// with the expanded cells recorded ([`crate::expanded::record_expanded`], which checks
 /// that the second run repeats the first), unless the first was cancelled
-/// ([`Budget::cancel`]). The start and goal are checked by the caller.
+/// ([`Budget::cancel`]); with `record_events` too, that run also records the search step by
+/// step ([`PlanResult::events`]). The start and goal are checked by the caller.
 pub fn run_single(
     map: MapEntry,
     entry: ProblemEntry,
@@ -370,6 +378,7 @@ pub fn run_single(
     seed: u64,
     planner: &str,
     record_expanded: bool,
+    record_events: bool,
 ) -> Result<PlanResult, RunnerError> {
     let coverage = spec.is_coverage();
     let mut single = Experiment::single(map, entry, spec, seed);
@@ -385,10 +394,11 @@ pub fn run_single(
         None,
     )?;
     let (map, spec) = (&single.maps[0], &single.planners[0]);
-    let expanded = if record_expanded && !spec.budget.is_cancelled() {
-        crate::expanded::record_expanded(&single, map, &map.problems[0], spec, &record)?
+    let (expanded, events) = if record_expanded && !spec.budget.is_cancelled() {
+        let problem = &map.problems[0];
+        crate::expanded::record_search(&single, map, problem, spec, &record, record_events)?
     } else {
-        Vec::new()
+        (Vec::new(), Vec::new())
     };
     let budget = spec.budget;
     let map = single.maps.swap_remove(0);
@@ -400,6 +410,7 @@ pub fn run_single(
         budget,
         record,
         expanded,
+        events,
     })
 }
 

@@ -151,6 +151,7 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         max_time: None,
         max_memory_mb: Some(caps.max_memory_mb),
         record_expanded: false,
+        record_events: false,
         cancel: query.cancel,
     };
     let params = settings_table(query.set)?;
@@ -187,5 +188,6 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         0,
         query.planner,
         true,
+        false,
     )?)
 }

@@ -8,6 +8,12 @@ use std::path::Path;
 use planner_runner::plan::{PlanArgs, PlanOptions, PlanResult};
 
 fn den520d(problem: usize) -> PlanResult {
+    den520d_recording(problem, false)
+}
+
+/// `plan` of A* on den520d's scenario `problem`, with its expansions recorded, and with
+/// `events` its steps too.
+fn den520d_recording(problem: usize, events: bool) -> PlanResult {
     let args = PlanArgs {
         map: Path::new(env!("CARGO_MANIFEST_DIR")).join("../../maps/movingai/den520d.map"),
         planner: "astar".into(),
@@ -16,9 +22,57 @@ fn den520d(problem: usize) -> PlanResult {
     };
     let options = PlanOptions {
         record_expanded: true,
+        record_events: events,
         ..PlanOptions::default()
     };
     planner_runner::plan::run_with(&args, &options).unwrap()
+}
+
+/// With A*'s steps recorded, the trace has Posthoc's `generating`, `updating` and
+/// `expanding` events with `pId`, `g` and `f`: one `generating` per OPEN insertion, one
+/// `expanding` per expansion (the expanded cells in order), each parent an expanded node,
+/// and `f` at least `g`.
+#[test]
+fn a_den520d_trace_with_steps_has_parents_g_and_f() {
+    let result = den520d_recording(600, true);
+    let text = planner_serve::trace::plan_trace_json(&result).unwrap();
+    let trace: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let events = trace["events"].as_array().unwrap();
+    let width = u64::from(result.grid.width());
+    let mut expanded: Vec<u64> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    let mut generating = 0u64;
+    for event in &events[2..events.len() - 1] {
+        let kind = event["type"].as_str().unwrap();
+        assert!(
+            ["generating", "updating", "expanding"].contains(&kind),
+            "{event}"
+        );
+        let (g, f) = (event["g"].as_f64().unwrap(), event["f"].as_f64().unwrap());
+        assert!(g >= 0.0 && f >= g, "{event}");
+        if let Some(parent) = event.get("pId") {
+            assert!(
+                seen.contains(&parent.as_u64().unwrap()),
+                "{event}: parent not expanded"
+            );
+        }
+        let id = event["id"].as_u64().unwrap();
+        generating += u64::from(kind == "generating");
+        if kind == "expanding" {
+            expanded.push(id);
+            seen.insert(id);
+        }
+    }
+    let r = &result.record;
+    assert_eq!(Some(generating), r.counters.get("n_open_insertions"));
+    let recorded: Vec<u64> = result
+        .expanded
+        .iter()
+        .map(|c| u64::from(c.y) * width + u64::from(c.x))
+        .collect();
+    assert_eq!(expanded, recorded);
+    assert_eq!(Some(expanded.len() as u64), r.counters.get("n_expanded"));
+    assert_eq!(events.last().unwrap()["type"], "end");
 }
 
 #[test]
