@@ -188,6 +188,8 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         0,
         query.planner,
         true,
-        false,
+        // The steps too, so that the page can show OPEN's frontier (planners that record
+        // them: A*).
+        true,
     )?)
 }

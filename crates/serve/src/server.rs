@@ -968,7 +968,29 @@ fn plan_answer(result: &planner_runner::plan::PlanResult) -> Answer {
         }
         out.push_str(&(u64::from(cell.y) * u64::from(width) + u64::from(cell.x)).to_string());
     }
-    out.push_str("]}");
+    // OPEN's frontier, where the planner recorded its steps: each generated cell (the start
+    // aside) with the number of expansions done when it was generated, so the page colours
+    // it from that step of the playback until its own expansion paints over it.
+    let (mut cells, mut steps) = (String::new(), String::new());
+    let mut done = 0u64;
+    let mut sent = 0usize;
+    for event in &result.events {
+        match event.kind {
+            planner_api::SearchEventKind::Expanding => done += 1,
+            planner_api::SearchEventKind::Generating if done > 0 && sent < MAX_EXPANDED_SENT => {
+                let cell = event.cell;
+                let separator = if sent > 0 { "," } else { "" };
+                let index = u64::from(cell.y) * u64::from(width) + u64::from(cell.x);
+                cells.push_str(&format!("{separator}{index}"));
+                steps.push_str(&format!("{separator}{done}"));
+                sent += 1;
+            }
+            _ => {}
+        }
+    }
+    out.push_str(&format!(
+        "],\"generated\":[{cells}],\"generated_at\":[{steps}]}}"
+    ));
     Answer::json(200, out)
 }
 

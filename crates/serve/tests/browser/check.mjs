@@ -272,6 +272,26 @@ try {
   check(JSON.stringify(cli.counters) === JSON.stringify(median.counters), `den520d problem ${median.i + 1}: counters equal plan --json's`);
   console.log(`den520d A*: ${n} scenario queries (every ${Math.round(problems.length / n)}th of ${problems.length}) planned and drawn in the page: median ${median.ms.toFixed(1)} ms (problem ${median.i + 1}, n_expanded ${median.counters.n_expanded}), min ${sorted[0].ms.toFixed(1)} ms, max ${sorted[sorted.length - 1].ms.toFixed(1)} ms`);
   check(median.ms < 200, `the median den520d A* query is planned and drawn within 200 ms (${median.ms.toFixed(1)} ms)`);
+
+  // OPEN's frontier after the playback: the cells drawn in the frontier colour are exactly
+  // those plan --trace lists as generated and never expanded.
+  const traceFile = path.join(fs.mkdtempSync(path.join(process.env.TMPDIR || "/tmp", "gridplan-trace-")), "t.trace.json");
+  const medianProblem = problems[median.i];
+  planJson(["maps/movingai/den520d.map", "--planner", "astar", "--problem", String(median.i + 1), "--trace", traceFile]);
+  const traced = JSON.parse(fs.readFileSync(traceFile, "utf8")).events;
+  const expandedIds = new Set(traced.filter((e) => e.type === "expanding").map((e) => e.id));
+  const frontier = new Set(traced.filter((e) => e.type === "generating" && !expandedIds.has(e.id)).map((e) => e.id));
+  await page.evaluate(([s, g]) => window.gridplan.timeQuery("astar", s, g), [[medianProblem[0], medianProblem[1]], [medianProblem[2], medianProblem[3]]]);
+  const drawn = await page.evaluate(() => {
+    const r = window.gridplan.state.results[0];
+    const [red, green, blue] = window.gridplan.FRONTIER_COLORS[0];
+    const d = r.searchData.data;
+    const cells = [];
+    for (let i = 0; i < d.length / 4; i++) if (d[4 * i] === red && d[4 * i + 1] === green && d[4 * i + 2] === blue) cells.push(i);
+    return cells;
+  });
+  const same = drawn.length === frontier.size && drawn.every((id) => frontier.has(id));
+  check(same && frontier.size > 0, `the frontier drawn is plan --trace's generated and unexpanded cells (${drawn.length} drawn, ${frontier.size} in the trace)`);
 } finally {
   await browser.close();
   server.kill();
