@@ -152,6 +152,17 @@ class Outcome:
     @property
     def cost(self) -> Optional[float]:
         """On a weighted grid, the path's cost under the grid's cost rule; else None."""
+    @property
+    def expanded(self) -> Optional[npt.NDArray[np.int64]]:
+        """With ``plan(..., record=True)``: the expanded cells in order, an (N, 2) array
+        (empty for planners that do not record them); else None."""
+    @property
+    def events(self) -> Optional[Dict[str, npt.NDArray[Any]]]:
+        """With ``plan(..., record=True)``: the search step by step where the planner
+        records it (A*, any heuristic): equal-length arrays ``kind`` (``"generating"``,
+        ``"updating"``, ``"expanding"``), ``x``, ``y``, ``parent_x``, ``parent_y`` (-1 for
+        the start), ``g`` and ``f`` (``pandas.DataFrame(outcome.events)`` makes a table;
+        empty for the other planners); else None."""
 
 class PlannerInfo:
     """A registered planner."""
@@ -301,13 +312,17 @@ def plan(
     *,
     planner: str = "astar",
     budget: Union[None, int, Dict[str, int]] = None,
+    record: bool = False,
     **params: Any,
 ) -> Outcome:
     """Plans from ``start`` to ``goal`` (no goal for coverage planners) with registry
     planner ``planner`` and its parameters. ``budget``: a number of expansions, or a dict
     of ``max_expansions`` and ``max_time_ms``; without ``max_expansions``,
     ``DEFAULT_PLAN_EXPANSIONS``. On a weighted grid a planner that cannot honour cell
-    costs is refused (``ParameterError``, key ``costs``) unless ``costs="ignore"``."""
+    costs is refused (``ParameterError``, key ``costs``) unless ``costs="ignore"``.
+    ``record=True``: the search is run once more to record it (it must repeat the first
+    run, else ``DeterminismError``), and the outcome's ``expanded`` and ``events`` hold
+    it."""
 
 def run_experiment(
     config: Union[str, "os.PathLike[str]"],

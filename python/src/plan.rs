@@ -127,6 +127,14 @@ pub struct Outcome {
     pub time_ms: f64,
     /// On a weighted grid, the path's cost under the grid's cost rule; else None.
     pub cost: Option<f64>,
+    /// With `plan(..., record=True)`, the cells the search expanded in order, an (N, 2)
+    /// int64 array (empty for planners that do not record them); else None.
+    pub expanded: Option<Py<PyAny>>,
+    /// With `plan(..., record=True)`, the search step by step where the planner records it
+    /// (A*): a dict of equal-length arrays, `kind` (`"generating"`, `"updating"`,
+    /// `"expanding"`), `x`, `y`, `parent_x`, `parent_y` (-1 for the start), `g`, `f`
+    /// (empty for the other planners); else None.
+    pub events: Option<Py<PyDict>>,
 }
 
 #[pymethods]
@@ -148,7 +156,8 @@ impl Outcome {
 /// Plans from `start` to `goal` on `grid` with registry planner `planner` and its
 /// parameters; see the stub (`gridplan/__init__.pyi`) for the arguments.
 #[pyfunction]
-#[pyo3(signature = (grid, start, goal = None, *, planner = "astar", budget = None, **params))]
+#[pyo3(signature = (grid, start, goal = None, *, planner = "astar", budget = None, record = false, **params))]
+#[allow(clippy::too_many_arguments)]
 pub fn plan(
     py: Python<'_>,
     grid: &Bound<'_, Grid>,
@@ -156,6 +165,7 @@ pub fn plan(
     goal: Option<(i64, i64)>,
     planner: &str,
     budget: Option<&Bound<'_, PyAny>>,
+    record: bool,
     params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Outcome> {
     let table = match params {
@@ -166,10 +176,49 @@ pub fn plan(
     let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
     let planner = planner.to_string();
     let call = crate::warn::Call::begin();
-    let record = py.detach(move || guarded(|| run(&grid, start, goal, &planner, table, budget)));
+    let done = py.detach(move || {
+        guarded(|| run(&grid, start, goal, &planner, table, budget, record))
+    });
     // A run the planner's memory check refused, a path that breaks its rule.
-    let record = call.end(py, record.map_err(PyErr::from))?;
-    outcome(py, record)
+    let (record, recorded) = call.end(py, done.map_err(PyErr::from))?;
+    let mut outcome = outcome(py, record)?;
+    if let Some((expanded, events)) = recorded {
+        outcome.expanded = Some(cell_rows(py, &expanded));
+        outcome.events = Some(event_arrays(py, &events)?);
+    }
+    Ok(outcome)
+}
+
+/// `cells` as an (N, 2) int64 array of `(x, y)` rows.
+fn cell_rows(py: Python<'_>, cells: &[planner_api::Cell]) -> Py<PyAny> {
+    let rows = Array2::from_shape_fn((cells.len(), 2), |(i, j)| {
+        i64::from(if j == 0 { cells[i].x } else { cells[i].y })
+    });
+    PyArray2::from_owned_array(py, rows).into_any().unbind()
+}
+
+/// `events` as a dict of equal-length arrays (`Outcome::events`'s columns).
+fn event_arrays(py: Python<'_>, events: &[planner_api::SearchEvent]) -> PyResult<Py<PyDict>> {
+    let column = |f: &dyn Fn(&planner_api::SearchEvent) -> i64| {
+        numpy::PyArray1::from_vec(py, events.iter().map(f).collect())
+    };
+    let parent = |e: &planner_api::SearchEvent, x: bool| {
+        e.parent
+            .map_or(-1, |p| i64::from(if x { p.x } else { p.y }))
+    };
+    let dict = PyDict::new(py);
+    let kinds: Vec<&str> = events.iter().map(|e| e.kind.name()).collect();
+    dict.set_item("kind", py.import("numpy")?.call_method1("asarray", (kinds,))?)?;
+    dict.set_item("x", column(&|e| i64::from(e.cell.x)))?;
+    dict.set_item("y", column(&|e| i64::from(e.cell.y)))?;
+    dict.set_item("parent_x", column(&|e| parent(e, true)))?;
+    dict.set_item("parent_y", column(&|e| parent(e, false)))?;
+    let values = |f: &dyn Fn(&planner_api::SearchEvent) -> f64| {
+        numpy::PyArray1::from_vec(py, events.iter().map(f).collect())
+    };
+    dict.set_item("g", values(&|e| e.g))?;
+    dict.set_item("f", values(&|e| e.f))?;
+    Ok(dict.unbind())
 }
 
 /// `budget`: None (plan's default, as on the command line), a maximum number of
@@ -245,6 +294,11 @@ pub(crate) fn problem_error(
     }
 }
 
+/// What `plan(..., record=True)` recorded: the expanded cells and the steps.
+type Recorded = (Vec<planner_api::Cell>, Vec<planner_api::SearchEvent>);
+
+/// The run's record, and with `record` the search recorded by a second run that must
+/// repeat it ([`planner_runner::plan::run_single`]).
 fn run(
     grid: &planner_api::Grid,
     start: (i64, i64),
@@ -252,7 +306,8 @@ fn run(
     planner: &str,
     params: toml::Table,
     budget: Budget,
-) -> Result<RunRecord, Failure> {
+    record: bool,
+) -> Result<(RunRecord, Option<Recorded>), Failure> {
     let spec = planner_spec(grid, planner, params, budget)?;
     let start_cell = to_cell(start).ok_or_else(|| problem_error("start", start, grid))?;
     let goal_cell = match (goal, spec.is_coverage()) {
@@ -280,6 +335,12 @@ fn run(
         frame: None,
     };
     let entry = ProblemEntry::new(grid, 1, start_cell, goal_cell, None);
+    if record {
+        let name = spec.name.to_string();
+        let result =
+            planner_runner::plan::run_single(map, entry, spec, 0, &name, true, true)?;
+        return Ok((result.record, Some((result.expanded, result.events))));
+    }
     let single = Experiment::single(map, entry, spec, 0);
     let spec = RunSpec {
         map: 0,
@@ -287,7 +348,7 @@ fn run(
         planner: 0,
         repeat: 0,
     };
-    Ok(run_one(&single, &spec, &mut Workspace::default(), None)?)
+    Ok((run_one(&single, &spec, &mut Workspace::default(), None)?, None))
 }
 
 /// Registry planner `planner` with the parameters `params` for `grid`, as a config's
@@ -398,5 +459,7 @@ pub(crate) fn build_outcome(py: Python<'_>, parts: OutcomeParts<'_>) -> PyResult
         valid: parts.valid,
         time_ms: parts.time_ms,
         cost: parts.cost,
+        expanded: None,
+        events: None,
     })
 }
