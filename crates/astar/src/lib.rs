@@ -55,12 +55,13 @@
 //! otherwise the same. The flag is a constant of the search loop, so with it off the loop
 //! has no recording code; the recording copies read the heuristic at run time (one copy
 //! for all five heuristics: figures are never timed, and the build is shorter). With
-//! [`Budget::record_events`] set, [`Outcome::events`] records the search step by step in the
-//! same copy: every push into OPEN (`generating` a node's first, `updating` one that
+//! [`Budget::record_events`] set, [`Outcome::events`] records the search step by step in
+//! the same copy: every push into OPEN (`generating` a node's first, `updating` one that
 //! lowers its `g`) and every expansion, each with the node's parent, `g` and `f` (as OPEN
 //! orders it: `g` plus the heuristic times the configured weight, and on a weighted grid
-//! times the smallest cell weight), at most [`planner_api::MAX_SEARCH_EVENTS`] of them. `tests/events.rs`
-//! holds them to the counters, the expanded cells, the path and the heuristics written out.
+//! times the smallest cell weight), at most [`planner_api::MAX_SEARCH_EVENTS`] of them.
+//! `tests/events.rs` holds them to the counters, the expanded cells, the path and the
+//! heuristics written out.
 //!
 //! Costs are [`planner_api::Cost`]s, fixed point in units of `2^-32`: every path cost
 //! is an integer sum of its moves' costs, so equal path costs are equal numbers and tie
