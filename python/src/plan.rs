@@ -176,9 +176,8 @@ pub fn plan(
     let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
     let planner = planner.to_string();
     let call = crate::warn::Call::begin();
-    let done = py.detach(move || {
-        guarded(|| run(&grid, start, goal, &planner, table, budget, record))
-    });
+    let done =
+        py.detach(move || guarded(|| run(&grid, start, goal, &planner, table, budget, record)));
     // A run the planner's memory check refused, a path that breaks its rule.
     let (record, recorded) = call.end(py, done.map_err(PyErr::from))?;
     let mut outcome = outcome(py, record)?;
@@ -208,7 +207,10 @@ fn event_arrays(py: Python<'_>, events: &[planner_api::SearchEvent]) -> PyResult
     };
     let dict = PyDict::new(py);
     let kinds: Vec<&str> = events.iter().map(|e| e.kind.name()).collect();
-    dict.set_item("kind", py.import("numpy")?.call_method1("asarray", (kinds,))?)?;
+    dict.set_item(
+        "kind",
+        py.import("numpy")?.call_method1("asarray", (kinds,))?,
+    )?;
     dict.set_item("x", column(&|e| i64::from(e.cell.x)))?;
     dict.set_item("y", column(&|e| i64::from(e.cell.y)))?;
     dict.set_item("parent_x", column(&|e| parent(e, true)))?;
@@ -337,8 +339,7 @@ fn run(
     let entry = ProblemEntry::new(grid, 1, start_cell, goal_cell, None);
     if record {
         let name = spec.name.to_string();
-        let result =
-            planner_runner::plan::run_single(map, entry, spec, 0, &name, true, true)?;
+        let result = planner_runner::plan::run_single(map, entry, spec, 0, &name, true, true)?;
         return Ok((result.record, Some((result.expanded, result.events))));
     }
     let single = Experiment::single(map, entry, spec, 0);
@@ -348,7 +349,10 @@ fn run(
         planner: 0,
         repeat: 0,
     };
-    Ok((run_one(&single, &spec, &mut Workspace::default(), None)?, None))
+    Ok((
+        run_one(&single, &spec, &mut Workspace::default(), None)?,
+        None,
+    ))
 }
 
 /// Registry planner `planner` with the parameters `params` for `grid`, as a config's
