@@ -58,10 +58,9 @@
 //! The planner honours the expansion and time limits of its [`planner_api::Budget`]
 //! and its memory limit ([`Budget::max_memory_mb`](planner_api::Budget::max_memory_mb):
 //! it refuses with [`planner_api::Outcome::over_memory`] when its move masks, node records
-//! and line-of-sight bits would not fit), but does not record expanded cells
-//! ([`planner_api::Outcome::expanded`] stays empty whatever
-//! [`Budget::record_expanded`](planner_api::Budget::record_expanded) says; search effort
-//! figures say "not recorded").
+//! and line-of-sight bits would not fit). It records its expanded cells and its steps as
+//! Theta\* does (planner-theta_star's docs, "Recording"): an expansion's parent is the
+//! one line of sight confirmed or the repair chose.
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 

@@ -159,7 +159,7 @@ fn figures_draw_the_expanded_cells_of_a_rerun_that_repeats_the_timed_run() {
         "[planners.astar]\nplanner = \"astar\"\nmoves = 8\nheuristic = \"octile\"\n\
          [planners.dijkstra]\nplanner = \"astar\"\nmoves = 8\nheuristic = \"zero\"\n\
          [planners.bfs]\nplanner = \"bfs\"\nmoves = 8\n[planners.jps]\nplanner = \"jps\"\n\
-         [planners.theta]\nplanner = \"theta_star\"\n",
+         [planners.theta]\nplanner = \"theta_star\"\n[planners.rrt]\nplanner = \"rrt\"\n",
     );
     let records = run_all(&experiment, &RunOptions::default()).unwrap();
     let cells = expanded::record_all(&experiment, &records).unwrap();
@@ -174,8 +174,8 @@ fn figures_draw_the_expanded_cells_of_a_rerun_that_repeats_the_timed_run() {
         let name = file.path.to_string_lossy().to_string();
         // figures/arena-<k>-expanded.svg
         let k: usize = name.split('-').nth(1).unwrap().parse().unwrap();
-        assert_eq!(svg.matches(r#"class="expanded""#).count(), 4, "{name}");
-        for label in ["astar", "dijkstra", "bfs", "jps"] {
+        assert_eq!(svg.matches(r#"class="expanded""#).count(), 5, "{name}");
+        for label in ["astar", "dijkstra", "bfs", "jps", "theta"] {
             let run = records
                 .iter()
                 .find(|r| r.problem == k && r.planner == label)
@@ -186,7 +186,7 @@ fn figures_draw_the_expanded_cells_of_a_rerun_that_repeats_the_timed_run() {
                 "{name} {label} {n}"
             );
         }
-        assert!(svg.contains("expanded cells: not recorded"), "theta_star");
+        assert!(svg.contains("expanded cells: not recorded"), "rrt");
         // Dijkstra expands more than A* on the hardest problems.
         let count = |label: &str| {
             records

@@ -106,10 +106,20 @@
 //! The planner honours the expansion and time limits of its [`planner_api::Budget`]
 //! and its memory limit ([`Budget::max_memory_mb`](planner_api::Budget::max_memory_mb):
 //! it refuses with [`planner_api::Outcome::over_memory`] when its move masks, node records
-//! and line-of-sight bits would not fit), but does not record expanded cells
-//! ([`planner_api::Outcome::expanded`] stays empty whatever
-//! [`Budget::record_expanded`](planner_api::Budget::record_expanded) says; search effort
-//! figures say "not recorded").
+//! and line-of-sight bits would not fit).
+//!
+//! # Recording
+//! With [`Budget::record_expanded`](planner_api::Budget::record_expanded),
+//! [`planner_api::Outcome::expanded`] lists the expanded cells in order (one per
+//! `n_expanded`; search-effort figures draw them). With
+//! [`Budget::record_events`](planner_api::Budget::record_events),
+//! [`planner_api::Outcome::events`] records the search step by step: every push into OPEN
+//! (`generating` a node's first, `updating` one that lowers its `g`) with the parent it
+//! was offered (the expanded node's parent for path 2, the node itself for path 1), and
+//! every expansion with its parent (for Lazy Theta\*, after a repair), each with `g` and
+//! `f = g + |cell goal|`, at most [`planner_api::MAX_SEARCH_EVENTS`]. Searches that record
+//! run a copy of the loop of their own, so timed searches carry no recording code.
+//! `tests/events.rs` holds both to the counters and the path.
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
@@ -123,8 +133,8 @@ use planner_search::Stamped;
 
 use planner_api::{
     Adjacency, BlockedBits, Budget, Cell, Connectivity, Cost, Counter, Counters, MemoryShortfall,
-    MoveSet, NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchStats,
-    Status,
+    MoveSet, NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchEvent,
+    SearchEventKind, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -251,6 +261,11 @@ pub struct Search {
     /// Set when the search did not run: its per-cell state is over the budget's memory
     /// limit ([`AnyAngle::memory_bytes_for`]).
     pub memory: Option<MemoryShortfall>,
+    /// The expanded cells in order, when the budget asked ([`Budget::record_expanded`]).
+    pub expanded: Vec<Cell>,
+    /// The search step by step, when the budget asked ([`Budget::record_events`]; module
+    /// docs, "Recording").
+    pub events: Vec<SearchEvent>,
 }
 
 impl Search {
@@ -259,7 +274,23 @@ impl Search {
         let counters = self.stats.report(variant);
         match self.memory {
             Some(shortfall) => Outcome::over_memory(shortfall, counters),
-            None => Outcome::new(self.status, self.path, counters),
+            None => Outcome {
+                events: self.events,
+                ..Outcome::new(self.status, self.path, counters).with_expanded(self.expanded)
+            },
+        }
+    }
+
+    /// A search that ended with `status` and nothing recorded.
+    fn ended(status: Status, stats: AnyAngleStats) -> Search {
+        Search {
+            status,
+            path: None,
+            cost: None,
+            stats,
+            memory: None,
+            expanded: Vec::new(),
+            events: Vec::new(),
         }
     }
 }
@@ -386,14 +417,27 @@ impl AnyAngle {
     /// Runs `variant` on `problem` within `budget` (one expansion is one node taken from
     /// OPEN and CLOSED).
     pub fn search(&mut self, problem: &Problem<'_>, budget: &Budget, variant: Variant) -> Search {
+        // A copy of the loop that records and one that does not, so that timed searches
+        // carry no recording code (with it, both planners took 1-2 % more time on the
+        // bench's den520d line).
+        match budget.record_expanded || budget.record_events {
+            true => self.run::<true>(problem, budget, variant),
+            false => self.run::<false>(problem, budget, variant),
+        }
+    }
+
+    /// [`AnyAngle::search`], recording what the budget asks for when `RECORD`.
+    fn run<const RECORD: bool>(
+        &mut self,
+        problem: &Problem<'_>,
+        budget: &Budget,
+        variant: Variant,
+    ) -> Search {
         let grid = problem.grid();
         if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
             return Search {
-                status: Status::BudgetExhausted,
-                path: None,
-                cost: None,
-                stats: AnyAngleStats::default(),
                 memory: Some(shortfall),
+                ..Search::ended(Status::BudgetExhausted, AnyAngleStats::default())
             };
         }
         self.prepare(grid);
@@ -446,6 +490,24 @@ impl AnyAngle {
         };
         let mut stats = AnyAngleStats::default();
         let mut n_safe = 0u64;
+        // Recording (never timed; constant false in the timed copy of the loop).
+        let (record_cells, record_events) = (
+            RECORD && budget.record_expanded,
+            RECORD && budget.record_events,
+        );
+        let mut expanded = Vec::new();
+        let mut events = Vec::new();
+        let mut note = |kind, cell: Cell, parent: Option<Cell>, g: f64| {
+            if events.len() < planner_api::MAX_SEARCH_EVENTS {
+                events.push(SearchEvent {
+                    kind,
+                    cell,
+                    parent,
+                    g,
+                    f: g + h(cell),
+                });
+            }
+        };
         let line_of_sight = |stats: &mut AnyAngleStats, a: Cell, b: Cell| {
             let walk = sight.walk(grid, a, b);
             stats.n_los_checks += 1;
@@ -468,6 +530,9 @@ impl AnyAngle {
         );
         stats.search.n_open_insertions = 1;
         stats.search.peak_open = 1;
+        if record_events {
+            note(SearchEventKind::Generating, start, None, 0.0);
+        }
 
         let finish = |stats: &mut AnyAngleStats, n_safe: u64, n_checked: u64| {
             let s = &mut stats.search;
@@ -487,11 +552,9 @@ impl AnyAngle {
                 let n = stats.search.n_expanded;
                 finish(&mut stats, n_safe, n);
                 return Search {
-                    status: Status::BudgetExhausted,
-                    path: None,
-                    cost: None,
-                    stats,
-                    memory: None,
+                    expanded,
+                    events,
+                    ..Search::ended(Status::BudgetExhausted, stats)
                 };
             }
             let cell = adjacency.cell(p);
@@ -524,16 +587,24 @@ impl AnyAngle {
             closed.set(p);
             closed_cells.push(p as u32);
             stats.search.n_expanded += 1;
+            if record_cells {
+                expanded.push(cell);
+            }
+            if record_events {
+                let parent = nodes[p].parent as usize;
+                let parent = (parent != p).then(|| adjacency.cell(parent));
+                note(SearchEventKind::Expanding, cell, parent, nodes[p].g);
+            }
             if p == goal_index {
                 let n = stats.search.n_expanded - 1;
                 finish(&mut stats, n_safe, n);
                 let path = reconstruct(adjacency, nodes, start_index, goal_index);
                 return Search {
-                    status: Status::Found,
                     path: Some(path),
                     cost: Some(nodes[p].g),
-                    stats,
-                    memory: None,
+                    expanded,
+                    events,
+                    ..Search::ended(Status::Found, stats)
                 };
             }
             let g_node = nodes[p].g;
@@ -623,6 +694,13 @@ impl AnyAngle {
                         open_key(g_new + h(q_cell)),
                         Cost::from_units(g_new.to_bits()),
                     );
+                    if record_events {
+                        let kind = match known {
+                            true => SearchEventKind::Updating,
+                            false => SearchEventKind::Generating,
+                        };
+                        note(kind, q_cell, Some(adjacency.cell(new_parent)), g_new);
+                    }
                 }
             }
             // Nodes in OPEN: every inserted node is expanded at most once.
@@ -632,11 +710,9 @@ impl AnyAngle {
         let n = stats.search.n_expanded;
         finish(&mut stats, n_safe, n);
         Search {
-            status: Status::NoPath,
-            path: None,
-            cost: None,
-            stats,
-            memory: None,
+            expanded,
+            events,
+            ..Search::ended(Status::NoPath, stats)
         }
     }
 }

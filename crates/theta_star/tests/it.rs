@@ -3,6 +3,7 @@
 //! here is declared below (`mod NAME;`), or tidy refuses it (ARCHITECTURE.md, "Tests").
 
 mod bound;
+mod events;
 mod key;
 mod reference;
 mod sight;
