@@ -476,6 +476,22 @@ function countersTable(r) {
   for (const [key, value] of Object.entries(plan.counters)) row(key, String(value));
   row("time_ms", r.timeMs.toFixed(3));
   row("expanded shown", "", "shown");
+  // What the search view's two tones are, for planners that record their frontier.
+  const tones = [["expanded", EXPANDED_COLORS[r.slot]]];
+  if (r.generated.length > 0) tones.push(["generated, not yet expanded", FRONTIER_COLORS[r.slot]]);
+  const key = document.createElement("tr");
+  const th = document.createElement("th");
+  th.textContent = "shading";
+  const td = document.createElement("td");
+  td.dataset.key = "shading";
+  for (const [what, rgb] of tones) {
+    const swatch = document.createElement("span");
+    swatch.className = "swatch";
+    swatch.style.background = `rgb(${rgb.join(",")})`;
+    td.append(swatch, document.createTextNode(` ${what} `));
+  }
+  key.append(th, td);
+  body.appendChild(key);
   table.appendChild(body);
   return table;
 }

@@ -198,6 +198,9 @@ try {
       `${name}: screenshot path pixels on path cells (${on} on, ${off} off; ${seen.size} of ${cells.size - 2} cells between start and goal)`);
   }
   if (process.env.SCREENSHOT_DIR) await page.screenshot({ path: path.join(process.env.SCREENSHOT_DIR, "page.png") });
+  // The key of the search view's tones: A* records its frontier, BFS does not.
+  const tones = await page.$$eval('td[data-key="shading"]', (tds) => tds.map((td) => td.querySelectorAll(".swatch").length));
+  check(JSON.stringify(tones) === "[2,1]", `the shading key shows the frontier's tone for A* only (${JSON.stringify(tones)} swatches)`);
 
   // ---- a ROS map: cells shown with their map-frame position, as `plan` prints it ----
   await page.selectOption("#map-select", "maps/ros-nav2/tb3_sandbox.yaml");
