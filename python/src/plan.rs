@@ -131,7 +131,7 @@ pub struct Outcome {
     /// int64 array (empty for planners that do not record them); else None.
     pub expanded: Option<Py<PyAny>>,
     /// With `plan(..., record=True)`, the search step by step where the planner records it
-    /// (A*, Theta*, Lazy Theta*): a dict of equal-length arrays, `kind` (`"generating"`, `"updating"`,
+    /// (A*, bidirectional A*, Theta*, Lazy Theta*): a dict of equal-length arrays, `kind` (`"generating"`, `"updating"`,
     /// `"expanding"`), `x`, `y`, `parent_x`, `parent_y` (-1 for the start), `g`, `f`
     /// (empty for the other planners); else None.
     pub events: Option<Py<PyDict>>,

@@ -91,7 +91,7 @@ use planner_search::{QuadHeap, Stamped};
 use planner_api::{
     Adjacency, Budget, Cell, Connectivity, Cost, Counter, Counters, Grid, MemoryShortfall,
     MoveOrderError, MoveSet, NeighborOrder, Outcome, Path, PathSpec, Planner, PlannerSpecs,
-    Problem, SearchStats, Status,
+    Problem, SearchEvent, SearchEventKind, SearchStats, Status,
 };
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -207,6 +207,13 @@ pub struct Search {
     /// for them ([`Budget::record_expanded`]); else empty. A cell expanded by both
     /// directions is listed twice.
     pub expanded: Vec<Cell>,
+    /// The steps of both directions in order, when the budget asked
+    /// ([`Budget::record_events`]): every push into a direction's OPEN (`generating` a
+    /// node's first there, `updating` one that lowers its `g` there) and every expansion,
+    /// each with its parent in that direction's tree (towards the start forward, the goal
+    /// backward), its `g` from that direction's end and `f`, at most
+    /// [`planner_api::MAX_SEARCH_EVENTS`]. A cell both directions reach has steps of each.
+    pub events: Vec<SearchEvent>,
     /// Set when the per-cell state did not fit [`Budget::max_memory_mb`] (nothing was
     /// allocated or searched).
     pub memory: Option<MemoryShortfall>,
@@ -289,13 +296,18 @@ impl BidirectionalAStar {
                 peak_open: 0,
                 n_meeting_updates: 0,
                 expanded: Vec::new(),
+                events: Vec::new(),
                 memory: Some(shortfall),
             };
         }
         self.prepare(grid);
-        match grid.weights() {
-            Some(_) => self.run::<true>(problem, budget),
-            None => self.run::<false>(problem, budget),
+        // A copy of the loop that records (never timed) and one that does not.
+        let record = budget.record_expanded || budget.record_events;
+        match (grid.weights(), record) {
+            (Some(_), false) => self.run::<true, false>(problem, budget),
+            (None, false) => self.run::<false, false>(problem, budget),
+            (Some(_), true) => self.run::<true, true>(problem, budget),
+            (None, true) => self.run::<false, true>(problem, budget),
         }
     }
 
@@ -304,10 +316,34 @@ impl BidirectionalAStar {
     /// w(b))` ([`planner_api::weights`]; the backward search, which follows moves in
     /// reverse, charges the same for the same move) and the heuristics are multiplied by
     /// the smallest weight; false is the unweighted search in `f64`, as before.
-    fn run<const W: bool>(&mut self, problem: &Problem<'_>, budget: &Budget) -> Search {
+    fn run<const W: bool, const RECORD: bool>(
+        &mut self,
+        problem: &Problem<'_>,
+        budget: &Budget,
+    ) -> Search {
         let grid = problem.grid();
-        let record = budget.record_expanded;
+        let (record, record_events) = (
+            RECORD && budget.record_expanded,
+            RECORD && budget.record_events,
+        );
         let mut expanded = Vec::new();
+        let mut events = Vec::new();
+        // A value of `g` or `f` as a number (exact units or `f64` bits).
+        let number = |x: u64| match W {
+            true => Cost::from_units(x).to_f64(),
+            false => f64::from_bits(x),
+        };
+        let mut note = |kind, cell: Cell, parent: Option<Cell>, g: u64, f: u64| {
+            if events.len() < planner_api::MAX_SEARCH_EVENTS {
+                events.push(SearchEvent {
+                    kind,
+                    cell,
+                    parent,
+                    g: number(g),
+                    f: number(f),
+                });
+            }
+        };
         let Some(adjacency) = self.adjacency.as_ref() else {
             unreachable!("prepare fills the adjacency cache");
         };
@@ -378,6 +414,9 @@ impl BidirectionalAStar {
                 seq,
                 node: p as u32,
             });
+            if record_events {
+                note(SearchEventKind::Generating, cell, None, zero, h(d, cell));
+            }
             seq += 1;
             stats[d].n_open_insertions = 1;
             stats[d].peak_open = 1;
@@ -431,6 +470,12 @@ impl BidirectionalAStar {
                 expanded.push(adjacency.cell(p));
             }
             let g_node = nodes[p].g[d];
+            if record_events {
+                let parent = nodes[p].parent[d] as usize;
+                let parent = (parent != p).then(|| adjacency.cell(parent));
+                let cell = adjacency.cell(p);
+                note(SearchEventKind::Expanding, cell, parent, g_node, entry.f);
+            }
             let w_p = if W { u64::from(weight_cells[p]) } else { 0 };
             let mut mask = adjacency.mask(p);
             while mask != 0 {
@@ -469,12 +514,21 @@ impl BidirectionalAStar {
                     meet = q;
                     n_meeting_updates += 1;
                 }
+                let f = add(g_new, h(d, adjacency.cell(q)));
                 open[d].push(Entry {
-                    f: add(g_new, h(d, adjacency.cell(q))),
+                    f,
                     g_rev: !g_new,
                     seq,
                     node: q as u32,
                 });
+                if record_events {
+                    let kind = match known {
+                        true => SearchEventKind::Updating,
+                        false => SearchEventKind::Generating,
+                    };
+                    let (cell, parent) = (adjacency.cell(q), adjacency.cell(p));
+                    note(kind, cell, Some(parent), g_new, f);
+                }
                 seq += 1;
             }
             stats[d].peak_open = stats[d].peak_open.max(in_open(&stats, d));
@@ -524,6 +578,7 @@ impl BidirectionalAStar {
             peak_open,
             n_meeting_updates,
             expanded,
+            events,
             memory: None,
         }
     }
@@ -557,16 +612,18 @@ impl Planner for BidirectionalAStar {
 
     /// Lists the expanded cells of both directions in expansion order when the budget
     /// asks ([`Budget::record_expanded`]), one per `n_expanded` (a cell both directions
-    /// expand twice); refuses with [`Outcome::over_memory`] when
+    /// expand twice), and their steps with [`Budget::record_events`] ([`Search::events`]),
+    /// in a copy of the loop of its own; refuses with [`Outcome::over_memory`] when
     /// [`BidirectionalAStar::memory_bytes_for`] the grid is over [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let search = self.search(problem, budget);
         let counters = search.counters();
         match search.memory {
             Some(shortfall) => Outcome::over_memory(shortfall, counters),
-            None => {
-                Outcome::new(search.status, search.path, counters).with_expanded(search.expanded)
-            }
+            None => Outcome {
+                events: search.events,
+                ..Outcome::new(search.status, search.path, counters).with_expanded(search.expanded)
+            },
         }
     }
 }
