@@ -570,9 +570,10 @@ pub struct Outcome {
     pub memory: Option<MemoryShortfall>,
 }
 
-/// The most [`SearchEvent`]s a search records ([`Budget::record_events`]): 2^22, about 200
-/// MB; a longer search's list stops there, so that recording stays bounded whatever the
-/// budget (each expansion of an 8-connected search can add nine).
+/// The most [`SearchEvent`]s a search records ([`Budget::record_events`]): 2^22, 168 MB at
+/// 40 bytes each (a test holds the size); a longer search's list stops there, so that
+/// recording stays bounded whatever the budget (each expansion of an 8-connected search can
+/// add nine).
 pub const MAX_SEARCH_EVENTS: usize = 1 << 22;
 
 /// One step of a search ([`Outcome::events`]): a node generated, updated or expanded, with
@@ -789,6 +790,13 @@ pub trait Planner: Send + Sync {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// What `MAX_SEARCH_EVENTS`' docs say a recorded search can take: 40 bytes a step.
+    #[test]
+    fn a_search_event_takes_40_bytes() {
+        assert_eq!(std::mem::size_of::<SearchEvent>(), 40);
+        assert_eq!(MAX_SEARCH_EVENTS * 40, 167_772_160);
+    }
 
     #[test]
     fn problem_validation_names_the_cell() {
