@@ -569,13 +569,11 @@ impl MapFrame {
         let (x, y) = point;
         match self.inner.cell_at(x, y) {
             Some(c) => Ok((c.x, c.y)),
-            None => {
-                let [x0, y0, x1, y1] = self.inner.bounds();
-                Err(Failure::Value(format!(
-                    "MapFrame.cell: point ({x}, {y}) lies outside the map, which spans x from {x0} to {x1} and y from {y0} to {y1} (metres; the upper ends excluded)"
-                ))
-                .into())
-            }
+            None => Err(Failure::Value(format!(
+                "MapFrame.cell: point ({x}, {y}) lies outside the map, which spans {}",
+                self.inner.extent()
+            ))
+            .into()),
         }
     }
 

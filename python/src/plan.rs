@@ -198,12 +198,17 @@ fn cell_rows(py: Python<'_>, cells: &[planner_api::Cell]) -> Py<PyAny> {
 
 /// `events` as a dict of equal-length arrays (`Outcome::events`'s columns).
 fn event_arrays(py: Python<'_>, events: &[planner_api::SearchEvent]) -> PyResult<Py<PyDict>> {
-    let column = |f: &dyn Fn(&planner_api::SearchEvent) -> i64| {
-        numpy::PyArray1::from_vec(py, events.iter().map(f).collect())
-    };
-    let parent = |e: &planner_api::SearchEvent, x: bool| {
-        e.parent
-            .map_or(-1, |p| i64::from(if x { p.x } else { p.y }))
+    use planner_api::SearchEvent;
+    /// One column: `value` of every event.
+    fn column<'py, T: numpy::Element>(
+        py: Python<'py>,
+        events: &[SearchEvent],
+        value: impl Fn(&SearchEvent) -> T,
+    ) -> Bound<'py, numpy::PyArray1<T>> {
+        numpy::PyArray1::from_vec(py, events.iter().map(value).collect())
+    }
+    let parent = |e: &SearchEvent, pick: fn(planner_api::Cell) -> u32| {
+        e.parent.map_or(-1, |p| i64::from(pick(p)))
     };
     let dict = PyDict::new(py);
     let kinds: Vec<&str> = events.iter().map(|e| e.kind.name()).collect();
@@ -211,15 +216,12 @@ fn event_arrays(py: Python<'_>, events: &[planner_api::SearchEvent]) -> PyResult
         "kind",
         py.import("numpy")?.call_method1("asarray", (kinds,))?,
     )?;
-    dict.set_item("x", column(&|e| i64::from(e.cell.x)))?;
-    dict.set_item("y", column(&|e| i64::from(e.cell.y)))?;
-    dict.set_item("parent_x", column(&|e| parent(e, true)))?;
-    dict.set_item("parent_y", column(&|e| parent(e, false)))?;
-    let values = |f: &dyn Fn(&planner_api::SearchEvent) -> f64| {
-        numpy::PyArray1::from_vec(py, events.iter().map(f).collect())
-    };
-    dict.set_item("g", values(&|e| e.g))?;
-    dict.set_item("f", values(&|e| e.f))?;
+    dict.set_item("x", column(py, events, |e| i64::from(e.cell.x)))?;
+    dict.set_item("y", column(py, events, |e| i64::from(e.cell.y)))?;
+    dict.set_item("parent_x", column(py, events, |e| parent(e, |c| c.x)))?;
+    dict.set_item("parent_y", column(py, events, |e| parent(e, |c| c.y)))?;
+    dict.set_item("g", column(py, events, |e| e.g))?;
+    dict.set_item("f", column(py, events, |e| e.f))?;
     Ok(dict.unbind())
 }
 

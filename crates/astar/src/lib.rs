@@ -1014,10 +1014,7 @@ impl AStar {
             }
             if record_events {
                 let cell = layout.cell(p);
-                let parent = (p != start_index).then(|| {
-                    let m = state[p] >> 2;
-                    layout.cell(p.wrapping_add_signed(-layout.delta[m as usize]))
-                });
+                let parent = (p != start_index).then(|| layout.cell(parent_of(&layout, state, p)));
                 let g_p = Cost::from_units(g[p]);
                 note(Expanding, cell, parent, g_p, g_p + h(cell.x, cell.y));
             }
@@ -1224,12 +1221,17 @@ fn reconstruct(layout: &Layout, state: &[u8], start: usize, goal: usize) -> Path
     let mut cells: Vec<Cell> = vec![layout.cell(goal)];
     let mut node = goal;
     while node != start {
-        let m = state[node] >> 2;
-        node = node.wrapping_add_signed(-layout.delta[m as usize]);
+        node = parent_of(layout, state, node);
         cells.push(layout.cell(node));
     }
     cells.reverse();
     Path::new(cells)
+}
+
+/// The parent of reached node `p` (not the start): the cell its recorded move came from.
+fn parent_of(layout: &Layout, state: &[u8], p: usize) -> usize {
+    let m = state[p] >> 2;
+    p.wrapping_add_signed(-layout.delta[m as usize])
 }
 
 impl Planner for AStar {

@@ -44,26 +44,14 @@ fn recorded_steps_agree_with_the_counters() {
                 "{what}: recording changed the search"
             );
             let counter = |name| recorded.counters.get(name).unwrap();
-            let count = |kind| recorded.events.iter().filter(|e| e.kind == kind).count() as u64;
-            assert_eq!(
-                count(SearchEventKind::Generating),
+            let counts = (
                 counter("n_open_insertions"),
-                "{what}"
+                counter("n_relaxations"),
+                counter("n_expanded"),
             );
             // Both ends are inserted without a relaxation.
-            assert_eq!(
-                count(SearchEventKind::Updating),
-                counter("n_relaxations") + 2 - counter("n_open_insertions"),
-                "{what}"
-            );
-            let expanding: Vec<Cell> = recorded
-                .events
-                .iter()
-                .filter(|e| e.kind == SearchEventKind::Expanding)
-                .map(|e| e.cell)
-                .collect();
-            assert_eq!(expanding, recorded.expanded, "{what}");
-            assert_eq!(expanding.len() as u64, counter("n_expanded"), "{what}");
+            let (events, expanded) = (&recorded.events, &recorded.expanded);
+            planner_testkit::check_step_counts(&what, events, expanded, counts, 2);
             let min_weight = grid.weights().map_or(1.0, |w| f64::from(w.min()));
             let mut expanded_so_far = std::collections::HashSet::new();
             for e in &recorded.events {

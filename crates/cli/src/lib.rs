@@ -213,9 +213,10 @@ pub enum Command {
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,
         /// Also write the search as a Posthoc search trace (JSON) to FILE: source,
-        /// destination, the search's steps, end. A* records every push into OPEN and every
-        /// expansion with parent, g and f; the other planners give one `expanding` event
-        /// per expanded cell (planner-serve's `trace` module).
+        /// destination, the search's steps, end. A*, bidirectional A*, Theta* and Lazy Theta*
+        /// record every push into OPEN and every expansion with parent, g and f; the other
+        /// planners give one `expanding` event per expanded cell (planner-serve's `trace`
+        /// module).
         #[arg(long, value_name = "FILE")]
         trace: Option<PathBuf>,
         /// Also write an animated GIF of the search (expanded cells in order, then the

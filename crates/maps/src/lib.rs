@@ -100,7 +100,7 @@ pub use error::{MapError, MapErrorKind, MapWarning};
 pub use matrix::{csv_inversion_hint, parse_matrix, CsvConvention, InversionHint};
 pub use movingai::{movingai_passable, parse_movingai, to_movingai};
 pub use ros::{
-    parse_ros_yaml, read_ros_map, read_ros_map_with, ros_grid, ros_map_from_image_bytes,
+    metres, parse_ros_yaml, read_ros_map, read_ros_map_with, ros_grid, ros_map_from_image_bytes,
     ros_occupancy_value, MapFrame, RosMap, RosMode, RosOptions, RosYaml,
 };
 pub use scen::{parse_scenarios, Scenario};

@@ -275,6 +275,33 @@ impl MapFrame {
             oy + self.resolution * f64::from(self.height),
         ]
     }
+
+    /// [`MapFrame::bounds`] for a person, as the errors of a point off the map say it:
+    /// `x from -10 to 9.2 and y from -10 to 9.2 (metres, the map frame; the upper ends
+    /// excluded)`, each number by [`metres`].
+    pub fn extent(&self) -> String {
+        let [x0, y0, x1, y1] = self.bounds().map(metres);
+        format!(
+            "x from {x0} to {x1} and y from {y0} to {y1} (metres, the map frame; the upper ends excluded)"
+        )
+    }
+}
+
+/// `value` metres for a person: at most six decimals (micrometres), trailing zeros left
+/// out, so that `-1.4749999999999996` (a cell centre's sum) reads `-1.475`.
+///
+/// ```
+/// assert_eq!(planner_maps::metres(-1.4749999999999996), "-1.475");
+/// assert_eq!(planner_maps::metres(9.200000000000003), "9.2");
+/// assert_eq!(planner_maps::metres(-0.0000001), "0");
+/// ```
+pub fn metres(value: f64) -> String {
+    let text = format!("{value:.6}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    match text {
+        "-0" => "0".to_string(),
+        other => other.to_string(),
+    }
 }
 
 /// The keys `map_server` reads.

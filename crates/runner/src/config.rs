@@ -1549,16 +1549,12 @@ fn frame_pairs(
                 ));
             }
             frame.cell_at(x, y).ok_or_else(|| {
-                let [x0, y0, x1, y1] = frame.bounds();
                 set.at(
                     pair.span(),
                     format!(
-                        "key `points`: the {which} [{x}, {y}] lies outside {}, which spans x from {} to {} and y from {} to {} (metres, the map frame; the upper ends excluded)",
+                        "key `points`: the {which} [{x}, {y}] lies outside {}, which spans {}",
                         path.display(),
-                        crate::plan::metres(x0),
-                        crate::plan::metres(x1),
-                        crate::plan::metres(y0),
-                        crate::plan::metres(y1)
+                        frame.extent()
                     ),
                 )
             })

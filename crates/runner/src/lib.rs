@@ -109,7 +109,7 @@ pub enum RunnerError {
         error: planner_api::ProblemError,
     },
     /// A start or goal given in the map frame (`plan --start-world`) outside the map.
-    #[error("{}: --{which}-world {},{} lies outside the map, which spans x from {} to {} and y from {} to {} (metres, the map frame; the upper ends excluded)", map.display(), point.0, point.1, plan::metres(bounds[0]), plan::metres(bounds[2]), plan::metres(bounds[1]), plan::metres(bounds[3]))]
+    #[error("{}: --{which}-world {},{} lies outside the map, which spans {}", map.display(), point.0, point.1, frame.extent())]
     OutsideMap {
         /// The map file.
         map: PathBuf,
@@ -117,8 +117,8 @@ pub enum RunnerError {
         which: &'static str,
         /// The point given.
         point: (f64, f64),
-        /// The map's extent, `[min_x, min_y, max_x, max_y]`.
-        bounds: [f64; 4],
+        /// The map's frame.
+        frame: planner_maps::MapFrame,
     },
     /// A start or goal that cannot be planned on a `.csv` map that looks written in the
     /// other convention: the hint says so, and how to read it the other way.

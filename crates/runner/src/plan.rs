@@ -651,19 +651,8 @@ fn in_frame(
             map: args.map.clone(),
             which,
             point: (x, y),
-            bounds: frame.bounds(),
+            frame,
         })
-}
-
-/// `value` metres for a person: at most six decimals (micrometres), trailing zeros left
-/// out, so that `-1.4749999999999996` (a cell centre's sum) reads `-1.475`.
-pub(crate) fn metres(value: f64) -> String {
-    let text = format!("{value:.6}");
-    let text = text.trim_end_matches('0').trim_end_matches('.');
-    match text {
-        "-0" => "0".to_string(),
-        other => other.to_string(),
-    }
 }
 
 fn file_name(path: &Path) -> String {
@@ -804,19 +793,22 @@ impl PlanResult {
         if let Some(frame) = self.frame {
             let point = |c: Cell| {
                 let (x, y) = frame.world(c);
-                format!("({}, {})", metres(x), metres(y))
+                format!("({}, {})", planner_maps::metres(x), planner_maps::metres(y))
             };
             let route = match self.coverage {
                 true => format!("start {}", point(r.start)),
                 false => format!("start {} -> goal {}", point(r.start), point(r.goal)),
             };
             let length = r.path.as_ref().map_or(String::new(), |p| {
-                format!(", path {} m", metres(p.metrics().length * frame.resolution))
+                format!(
+                    ", path {} m",
+                    planner_maps::metres(p.metrics().length * frame.resolution)
+                )
             });
             let _ = writeln!(
                 out,
                 "map frame (metres, cell centres): {route}{length}; {} m per cell; every point: --json's map_frame",
-                metres(frame.resolution)
+                planner_maps::metres(frame.resolution)
             );
         }
         if self.hit_default_budget() {

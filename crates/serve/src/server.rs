@@ -30,6 +30,7 @@
 //! status 499), a client that closes its sending side after the request counts as gone.
 
 use std::collections::HashMap;
+use std::fmt::Write as _;
 use std::io::{Read as _, Write as _};
 use std::net::{IpAddr, Shutdown, SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
@@ -966,7 +967,7 @@ fn plan_answer(result: &planner_runner::plan::PlanResult) -> Answer {
         if i > 0 {
             out.push(',');
         }
-        out.push_str(&(u64::from(cell.y) * u64::from(width) + u64::from(cell.x)).to_string());
+        out.push_str(&crate::trace::id(width, *cell).to_string());
     }
     // OPEN's frontier, where the planner recorded its steps: each generated cell (the start
     // aside) with the number of expansions done when it was generated, so the page colours
@@ -978,11 +979,11 @@ fn plan_answer(result: &planner_runner::plan::PlanResult) -> Answer {
         match event.kind {
             planner_api::SearchEventKind::Expanding => done += 1,
             planner_api::SearchEventKind::Generating if done > 0 && sent < MAX_EXPANDED_SENT => {
-                let cell = event.cell;
                 let separator = if sent > 0 { "," } else { "" };
-                let index = u64::from(cell.y) * u64::from(width) + u64::from(cell.x);
-                cells.push_str(&format!("{separator}{index}"));
-                steps.push_str(&format!("{separator}{done}"));
+                let index = crate::trace::id(width, event.cell);
+                // Written in place (a `String` never fails to take it).
+                let _ = write!(cells, "{separator}{index}");
+                let _ = write!(steps, "{separator}{done}");
                 sent += 1;
             }
             _ => {}

@@ -121,8 +121,8 @@ pub fn trace_of_steps(
     with_ends(width, start, goal, steps, found)
 }
 
-/// A cell's id: its row-major index.
-fn id(width: u32, cell: Cell) -> u64 {
+/// A cell's id: its row-major index (also the page's cell index, `server`'s answers).
+pub(crate) fn id(width: u32, cell: Cell) -> u64 {
     u64::from(cell.y) * u64::from(width) + u64::from(cell.x)
 }
 

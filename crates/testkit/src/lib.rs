@@ -111,6 +111,39 @@ pub fn movingai_maps() -> Vec<String> {
     names
 }
 
+/// Checks a search's recorded steps (planner-api's `Outcome::events`) against its counters
+/// `(n_open_insertions, n_relaxations, n_expanded)`: one `generating` step per insertion into
+/// OPEN, one `updating` step per relaxation beyond the `ends` insertions that relax nothing
+/// (the start's; a bidirectional search's two ends), and the `expanding` steps' cells are
+/// `expanded`, one per expansion. `what` names the case in a failure.
+pub fn check_step_counts(
+    what: &str,
+    events: &[planner_api::SearchEvent],
+    expanded: &[Cell],
+    (n_open_insertions, n_relaxations, n_expanded): (u64, u64, u64),
+    ends: u64,
+) {
+    use planner_api::SearchEventKind;
+    let count = |kind| events.iter().filter(|e| e.kind == kind).count() as u64;
+    assert_eq!(
+        count(SearchEventKind::Generating),
+        n_open_insertions,
+        "{what}"
+    );
+    assert_eq!(
+        count(SearchEventKind::Updating),
+        n_relaxations + ends - n_open_insertions,
+        "{what}"
+    );
+    let expanding: Vec<Cell> = events
+        .iter()
+        .filter(|e| e.kind == SearchEventKind::Expanding)
+        .map(|e| e.cell)
+        .collect();
+    assert_eq!(expanding, expanded, "{what}");
+    assert_eq!(expanding.len() as u64, n_expanded, "{what}");
+}
+
 /// Asserts the counter identities of a BFS or DFS run with `k` moves per cell (see the
 /// planner-bfs crate docs); `what` names the run in failure messages.
 pub fn check_frontier_identities(what: &str, outcome: &planner_api::Outcome, k: u64) {

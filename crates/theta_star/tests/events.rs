@@ -31,24 +31,10 @@ fn recorded_steps_agree_with_the_counters_and_the_path() {
                 "{what}: recording changed the search"
             );
             let stats = recorded.stats;
-            let count = |kind| recorded.events.iter().filter(|e| e.kind == kind).count() as u64;
-            assert_eq!(
-                count(SearchEventKind::Generating),
-                stats.search.n_open_insertions
-            );
-            assert_eq!(
-                count(SearchEventKind::Updating),
-                stats.search.n_relaxations + 1 - stats.search.n_open_insertions,
-                "{what}"
-            );
-            let expanding: Vec<Cell> = recorded
-                .events
-                .iter()
-                .filter(|e| e.kind == SearchEventKind::Expanding)
-                .map(|e| e.cell)
-                .collect();
-            assert_eq!(expanding.len() as u64, stats.search.n_expanded, "{what}");
-            assert_eq!(expanding, recorded.expanded, "{what}");
+            let s = stats.search;
+            let counts = (s.n_open_insertions, s.n_relaxations, s.n_expanded);
+            let (events, expanded) = (&recorded.events, &recorded.expanded);
+            planner_testkit::check_step_counts(&what, events, expanded, counts, 1);
             let mut pushed: HashMap<Cell, (f64, Option<Cell>)> = HashMap::new();
             let mut parents: HashMap<Cell, Option<Cell>> = HashMap::new();
             let mut repaired = 0;
