@@ -493,16 +493,23 @@ fn csv_records(text: &str) -> usize {
 #[test]
 fn names_never_collide_and_every_svg_is_xml() {
     let dir = scratch("names");
-    for map in ["p q.map", "p_q.map", "p\n|>>>.map"] {
+    // The longest name a file may have (255 bytes), and a label as long: a figure's name
+    // joins the two (its write failed with "File name too long" after every run).
+    let long_map = format!("{}.map", "l".repeat(251));
+    let long_label = "k".repeat(251);
+    for map in ["p q.map", "p_q.map", "p\n|>>>.map", &long_map] {
         fs::write(dir.join(map), SMALL).unwrap();
     }
     fs::write(
         dir.join("cfg.toml"),
-        "name = \"c\"\noutput = \"res\"\nfigures = \"all\"\nompl = true\n\
-         [[maps]]\nfiles = [\"p q.map\", \"p_q.map\", \"p\\n|>>>.map\"]\nproblems = \"corners\"\n\
-         [planners.\"x y\"]\nplanner = \"astar\"\n[planners.\"x_y\"]\nplanner = \"astar\"\n\
-         [planners.\"c\\u0001d\"]\nplanner = \"bfs\"\n[planners.\"e|f\"]\nplanner = \"dfs\"\n\
-         [planners.\"g\\rh\"]\nplanner = \"astar\"\n",
+        format!(
+            "name = \"c\"\noutput = \"res\"\nfigures = \"all\"\nompl = true\n\
+             [[maps]]\nfiles = [\"p q.map\", \"p_q.map\", \"p\\n|>>>.map\", \"{long_map}\"]\n\
+             problems = \"corners\"\n\
+             [planners.\"x y\"]\nplanner = \"astar\"\n[planners.\"x_y\"]\nplanner = \"astar\"\n\
+             [planners.\"c\\u0001d\"]\nplanner = \"bfs\"\n[planners.\"e|f\"]\nplanner = \"dfs\"\n\
+             [planners.\"g\\rh\"]\nplanner = \"astar\"\n[planners.\"{long_label}\"]\nplanner = \"astar\"\n"
+        ),
     )
     .unwrap();
     succeeded(&gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]));
@@ -510,21 +517,21 @@ fn names_never_collide_and_every_svg_is_xml() {
     let runs: serde_json::Value =
         serde_json::from_str(&fs::read_to_string(res.join("runs.json")).unwrap()).unwrap();
     let n_runs = runs["runs"]["data"].as_array().map_or(0, Vec::len);
-    assert_eq!(n_runs, 3 * 5, "3 maps x 5 labels x 1 problem");
+    assert_eq!(n_runs, 4 * 6, "4 maps x 6 labels x 1 problem");
     // runs.csv has a record per run: a line break in a name (a map's `\n`, a label's
     // bare `\r`, which pandas and Python's csv module end a record at) is inside quotes.
     let csv = fs::read_to_string(res.join("runs.csv")).unwrap();
     assert_eq!(csv_records(&csv), 1 + n_runs, "{csv:?}");
     // One OMPL log per map, each with every run of its map, its lines unbroken.
     let logs = files_with(&res.join("ompl"), ".log");
-    assert_eq!(logs.len(), 3, "{logs:?}");
+    assert_eq!(logs.len(), 4, "{logs:?}");
     for log in &logs {
         let text = fs::read_to_string(log).unwrap();
         let counted: usize = text
             .lines()
             .filter_map(|l| l.strip_suffix(" runs")?.parse::<usize>().ok())
             .sum();
-        assert_eq!(counted, 5, "{}: {text}", log.display());
+        assert_eq!(counted, 6, "{}: {text}", log.display());
         // A `|>>>` only closes a block that `<<<|` opened.
         let mut open = false;
         for line in text.lines() {
@@ -535,12 +542,12 @@ fn names_never_collide_and_every_svg_is_xml() {
                 open = false;
             }
         }
-        assert_eq!(text.matches("planner = ").count(), 5, "{}", log.display());
+        assert_eq!(text.matches("planner = ").count(), 6, "{}", log.display());
     }
     // A comparison figure per map and a figure per run, no two sharing a file.
     let svgs = files_with(&res, ".svg");
     let figures = files_with(&res.join("figures"), ".svg");
-    assert_eq!(figures.len(), 3 + 3 * 5, "{figures:?}");
+    assert_eq!(figures.len(), 4 + 4 * 6, "{figures:?}");
     for svg in &svgs {
         let text = fs::read_to_string(svg).unwrap();
         if let Err(e) = roxmltree::Document::parse(&text) {

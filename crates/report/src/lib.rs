@@ -543,17 +543,24 @@ pub fn median_iqr(values: &[f64]) -> Option<(f64, f64, f64)> {
 /// `text` as part of a file name: ASCII letters, digits, `-`, `_` and `.` are kept and any
 /// other character becomes `_`; if any did, a `-` and the first 8 hex digits of the
 /// SHA-256 of `text` follow, so that names differing only in replaced characters (`p q`
-/// and `p_q`) stay apart. Names of plain characters are unchanged. [`FileNames`] also
-/// catches the names that would still meet (one output per name).
+/// and `p_q`) stay apart. Names of plain characters are unchanged. A name longer than
+/// [`FILE_PART_MAX`] characters keeps its first [`FILE_PART_MAX`] and gets the hash too:
+/// a file name holds at most 255 bytes on Linux's file systems, and a figure's name joins
+/// a map's and a planner's (a 251-character map name made every figure's write fail with
+/// "File name too long" after the runs). [`FileNames`] also catches the names that would
+/// still meet (one output per name).
 ///
 /// ```
-/// use planner_report::file_part;
+/// use planner_report::{file_part, FILE_PART_MAX};
 /// assert_eq!(file_part("map01"), "map01");
 /// assert_ne!(file_part("p q"), file_part("p_q"));
 /// assert!(file_part("p q").starts_with("p_q-"));
+/// let long = "a".repeat(300);
+/// assert_eq!(file_part(&long).len(), FILE_PART_MAX + 9);
+/// assert_ne!(file_part(&long), file_part(&"a".repeat(301)));
 /// ```
 pub fn file_part(text: &str) -> String {
-    let safe: String = text
+    let mut safe: String = text
         .chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
@@ -563,11 +570,18 @@ pub fn file_part(text: &str) -> String {
             }
         })
         .collect();
-    if safe == text && !text.is_empty() && !text.starts_with('.') {
+    if safe == text && !text.is_empty() && !text.starts_with('.') && safe.len() <= FILE_PART_MAX {
         return safe;
     }
+    // Every character of `safe` is ASCII, so any length is a character boundary.
+    safe.truncate(FILE_PART_MAX);
     format!("{safe}-{}", short_hash(text))
 }
+
+/// The most characters of a user's text [`file_part`] keeps: two of them, the hashes and
+/// the longest fixed parts of a figure's name (`-<problem>-...-expanded.svg`) stay well
+/// below 255 bytes.
+pub const FILE_PART_MAX: usize = 96;
 
 /// The first 8 hex digits of the SHA-256 of `text`.
 pub(crate) fn short_hash(text: &str) -> String {

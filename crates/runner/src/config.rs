@@ -1633,7 +1633,9 @@ fn map_files(set: &MapSet<'_>, base: &Path) -> Result<Vec<PathBuf>, ConfigError>
         let matches = crate::pattern::expand(&full).map_err(|e| {
             let message = match e {
                 PatternError::Pattern(e) => format!("key `files`: bad pattern {pattern:?}: {e}"),
-                PatternError::Directory { .. } => format!("key `files`: {pattern:?}: {e}"),
+                PatternError::Directory { .. } | PatternError::NotUnicode { .. } => {
+                    format!("key `files`: {pattern:?}: {e}")
+                }
             };
             set.at(raw.files.span(), message)
         })?;
