@@ -1,6 +1,7 @@
 """The Parquet dataset runs.parquet/ (issue 29) read without gridplan: DuckDB's
-median(n_expanded) per planner and map equals summary.md's aggregate table, and pandas
-(pyarrow) reads the directory as one table with runs.csv's rows, runs.csv beside it."""
+median(n_expanded) per planner and map equals summary.md's aggregate table, DuckDB's
+per-problem ratios against the first label equal its paired table, and pandas (pyarrow)
+reads the directory as one table with runs.csv's rows, runs.csv beside it."""
 
 import csv
 
@@ -80,6 +81,63 @@ def test_duckdb_medians_equal_the_summary(results):
     for planner, map_name, median, n in rows:
         assert n > 0
         assert format_number(median) == table[(planner, map_name)], (planner, map_name)
+
+
+def table_rows(summary, head):
+    """label -> the cells of the summary.md table whose header starts with `head`."""
+    lines = summary.splitlines()
+    start = next(i for i, l in enumerate(lines) if l.startswith(head))
+    rows = {}
+    for line in lines[start + 2 :]:
+        if not line.startswith("|"):
+            break
+        row = [c.strip() for c in line.strip("|").split("|")]
+        rows[row[0]] = row
+    return rows
+
+
+def test_duckdb_ratios_equal_the_paired_table(results):
+    """The paired section (crates/report/src/paired.rs) recomputed in SQL: per problem and
+    label the medians over the repeats, solved when every repeat found a path; over the
+    problems both solved, the geometric means of label / astar and the counts below 1."""
+    path = f"{results}/runs.parquet/*.parquet"
+    rows = duckdb.sql(
+        f"""
+        WITH per AS (
+            SELECT planner, map, problem,
+                   median(time_ms) AS t, median(n_expanded) AS e,
+                   median(length) FILTER (WHERE status = 'found') AS len,
+                   bool_and(status = 'found') AS solved
+            FROM read_parquet('{path}') WHERE status <> 'invalid_problem'
+            GROUP BY planner, map, problem
+        ),
+        pairs AS (
+            SELECT o.planner, o.solved AND b.solved AS shared,
+                   o.t / b.t AS t, o.e / b.e AS e, o.len / b.len AS len
+            FROM per o JOIN per b ON o.map = b.map AND o.problem = b.problem
+            WHERE b.planner = 'astar' AND o.planner <> 'astar'
+        )
+        SELECT planner, count(*), count(*) FILTER (WHERE shared),
+               exp(avg(ln(e)) FILTER (WHERE shared)), count(*) FILTER (WHERE shared AND e < 1),
+               exp(avg(ln(t)) FILTER (WHERE shared)), count(*) FILTER (WHERE shared AND t < 1),
+               exp(avg(ln(len)) FILTER (WHERE shared)), max(len) FILTER (WHERE shared)
+        FROM pairs GROUP BY planner ORDER BY planner
+        """
+    ).fetchall()
+    table = table_rows((results / "summary.md").read_text(), "| Planner | Problems | Solved by both |")
+    assert sorted(table) == ["bfs", "weighted"]
+    assert [r[0] for r in rows] == ["bfs", "weighted"]
+
+    def close(printed, value):
+        # Three decimals, or three significant digits below 0.01.
+        return abs(float(printed) - value) <= max(5e-4, 5e-3 * value) + 1e-12
+
+    for planner, problems, both, e, fewer, t, faster, length, longest in rows:
+        row = table[planner]
+        assert row[1] == str(problems) and row[2] == str(both), row
+        assert close(row[5], e) and row[6] == f"{fewer} of {both}", (row, e, fewer)
+        assert close(row[7].split(" ")[0], t) and row[8] == f"{faster} of {both}", (row, t, faster)
+        assert close(row[9], length) and close(row[10], longest), (row, length, longest)
 
 
 def test_duckdb_reads_the_types_and_metadata(results):

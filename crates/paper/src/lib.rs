@@ -33,6 +33,7 @@ pub fn catalogue() -> Vec<Box<dyn Section>> {
     all.push(Box::new(seed002::Seed002));
     all.push(Box::new(seed002::Seed002Capso));
     all.extend(generic_section("aggregate"));
+    all.extend(generic_section("paired"));
     all.extend(generic_section("charts"));
     all
 }

@@ -1,8 +1,9 @@
 //! gridplan's reports: a pure function from a sweep's results to its report files.
 //!
 //! summary.md is a list of [`Section`]s, each one kind of table: the scenario optima
-//! ([`optimum`]), repeated runs ([`repeats`]), the aggregates of any sweep ([`aggregate`])
-//! and its charts ([`chart_section`]) here; the seeds' table layouts are planner-paper's.
+//! ([`optimum`]), repeated runs ([`repeats`]), the aggregates of any sweep ([`aggregate`]),
+//! planners compared problem by problem with a baseline ([`paired`]) and its charts
+//! ([`chart_section`]) here; the seeds' table layouts are planner-paper's.
 //! A config names the sections it wants with `sections = [...]` (a name, or a table with
 //! its `name` and the section's options); without the key every section decides from the
 //! experiment and its records whether it applies. Deterministic values come from repeat 0;
@@ -26,6 +27,7 @@ pub mod figures;
 pub mod html;
 pub mod ompl;
 pub mod optimum;
+pub mod paired;
 pub mod repeats;
 pub mod streamed;
 
@@ -86,6 +88,16 @@ pub trait Section: Send + Sync {
             }),
             None => Ok(()),
         }
+    }
+
+    /// Checks the section's options against the experiment (options that name its labels);
+    /// by default [`Section::check`].
+    fn check_experiment(
+        &self,
+        options: &toml::Table,
+        _experiment: &Experiment,
+    ) -> Result<(), OptionError> {
+        self.check(options)
     }
 
     /// Appends the section's markdown to `out` from the records held in memory
@@ -151,6 +163,24 @@ pub enum OptionError {
         /// The option.
         key: String,
     },
+    /// An option naming a label, given as something else than a string.
+    #[error("section {section:?}: `{key}` is a planner label of the config, a string")]
+    NotALabel {
+        /// The section.
+        section: String,
+        /// The option.
+        key: String,
+    },
+    /// An option naming a label the config does not have.
+    #[error("section {section:?}: no planner label {label:?}, expected one of {}", .labels.join(", "))]
+    UnknownLabel {
+        /// The section.
+        section: String,
+        /// The label given.
+        label: String,
+        /// The config's labels.
+        labels: Vec<String>,
+    },
     /// A section's option naming a planner, missing.
     #[error(
         "section {section:?} needs `{key}`, the registry name of the planner it shows, e.g. {{ name = {section:?}, {key} = \"...\" }}"
@@ -163,13 +193,14 @@ pub enum OptionError {
     },
 }
 
-/// The generic sections of this crate, by name: `optimum`, `repeats`, `aggregate` and
-/// `charts`. A catalogue (planner-paper's) places them among the seeds' layouts.
+/// The generic sections of this crate, by name: `optimum`, `repeats`, `aggregate`,
+/// `paired` and `charts`. A catalogue (planner-paper's) places them among the seeds' layouts.
 pub fn generic_section(name: &str) -> Option<Box<dyn Section>> {
     let section: Box<dyn Section> = match name {
         "optimum" => Box::new(optimum::Optimum),
         "repeats" => Box::new(repeats::Repeats),
         "aggregate" => Box::new(aggregate::Aggregate),
+        "paired" => Box::new(paired::Paired),
         "charts" => Box::new(chart_section::Charts),
         _ => return None,
     };
@@ -450,7 +481,7 @@ impl Render for Renderer {
                 )));
             };
             section
-                .check(&request.options)
+                .check_experiment(&request.options, experiment)
                 .map_err(|e| asked.error(e))?;
         }
         Ok(())

@@ -5,6 +5,7 @@
 
 mod effort;
 mod oracle;
+mod paired;
 mod scale;
 mod streamed;
 mod summary;

@@ -13,6 +13,10 @@
 //! - [`dunn`]: `z = (mean rank of b - mean rank of a) / sqrt((N (N + 1) / 12 -
 //!   sum(t^3 - t) / (12 (N - 1))) (1/n_a + 1/n_b))` on the ranks of all groups together,
 //!   and its two-sided p (Dunn 1964); [`bonferroni`] adjusts it.
+//! - [`geometric_mean`]: the geometric mean of positive ratios with its confidence interval,
+//!   Student's t interval of the mean of their logarithms taken back by `exp` (the usual
+//!   summary of per-instance speedups: Fleming and Wallace, "How not to lie with
+//!   statistics: the correct way to summarize benchmark results", CACM 1986).
 //!
 //! # Design
 //! The distributions (normal CDF, survival function and quantile; chi-square survival
@@ -41,7 +45,7 @@
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
-use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
+use statrs::distribution::{ChiSquared, ContinuousCDF, Normal, StudentsT};
 use thiserror::Error;
 
 /// Input a test cannot be computed on.
@@ -59,6 +63,15 @@ pub enum StatsError {
     /// Fewer than two groups, or an empty group.
     #[error("need at least two groups, none empty")]
     Groups,
+    /// No values.
+    #[error("no values")]
+    Empty,
+    /// A ratio that is not positive.
+    #[error("a ratio is not positive")]
+    NotPositive,
+    /// A confidence level outside (0, 1).
+    #[error("a confidence level is in (0, 1), got {0}")]
+    Level(f64),
     /// A group index is out of range.
     #[error("group {0} does not exist")]
     NoGroup(usize),
@@ -286,6 +299,66 @@ pub fn dunn(groups: &[&[f64]], a: usize, b: usize) -> Result<Dunn, StatsError> {
     Ok(Dunn { z, p })
 }
 
+/// A geometric mean with its confidence interval ([`geometric_mean`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GeometricMean {
+    /// `exp(mean(ln r))`.
+    pub mean: f64,
+    /// The interval's ends, `exp(mean(ln r) -+ t s / sqrt(n))`; `None` for one value.
+    pub interval: Option<(f64, f64)>,
+}
+
+/// The geometric mean of `ratios` and its two-sided `level` confidence interval (0.95 for
+/// 95 %): with `l = ln r`, `exp(mean(l) -+ t_(1 - (1 - level) / 2, n - 1) s(l) / sqrt(n))`,
+/// `s` the sample standard deviation (Student's t interval on the logarithms).
+///
+/// Errors when `ratios` is empty, or a ratio is not finite and positive, or `level` is not
+/// in (0, 1).
+///
+/// ```
+/// use planner_stats::geometric_mean;
+/// // ln 1, ln 2, ln 4 = (0, 1, 2) ln 2: mean ln 2, s = ln 2, t(0.975, 2) = 4.302653.
+/// let g = geometric_mean(&[1.0, 2.0, 4.0], 0.95).unwrap();
+/// assert!((g.mean - 2.0).abs() < 1e-12);
+/// let (low, high) = g.interval.unwrap();
+/// let half = 4.302652729911275 / 3f64.sqrt();
+/// assert!((low - 2f64.powf(1.0 - half)).abs() < 1e-9);
+/// assert!((high - 2f64.powf(1.0 + half)).abs() < 1e-9);
+/// ```
+pub fn geometric_mean(ratios: &[f64], level: f64) -> Result<GeometricMean, StatsError> {
+    if ratios.is_empty() {
+        return Err(StatsError::Empty);
+    }
+    if !(level > 0.0 && level < 1.0) {
+        return Err(StatsError::Level(level));
+    }
+    if ratios.iter().any(|r| !r.is_finite()) {
+        return Err(StatsError::NotFinite);
+    }
+    if ratios.iter().any(|r| *r <= 0.0) {
+        return Err(StatsError::NotPositive);
+    }
+    let n = ratios.len() as f64;
+    let logs: Vec<f64> = ratios.iter().map(|r| r.ln()).collect();
+    let mean = logs.iter().sum::<f64>() / n;
+    if ratios.len() == 1 {
+        return Ok(GeometricMean {
+            mean: mean.exp(),
+            interval: None,
+        });
+    }
+    let variance = logs.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    let t = match StudentsT::new(0.0, 1.0, n - 1.0) {
+        Ok(t) => t.inverse_cdf(1.0 - (1.0 - level) / 2.0),
+        Err(e) => unreachable!("Student's t exists for n - 1 >= 1 degrees of freedom: {e}"),
+    };
+    let half = t * (variance / n).sqrt();
+    Ok(GeometricMean {
+        mean: mean.exp(),
+        interval: Some(((mean - half).exp(), (mean + half).exp())),
+    })
+}
+
 /// `p` adjusted by Bonferroni for `m` comparisons: `min(1, m p)`.
 pub fn bonferroni(p: f64, m: usize) -> f64 {
     (p * m as f64).min(1.0)
@@ -420,5 +493,32 @@ mod tests {
         // p = 3.9e-11 Bonferroni-adjusted; the paper prints 3.77e-11 (Z was rounded).
         let p = 2.0 * normal().sf(6.94);
         assert!((bonferroni(p, 10) / 3.9209994210185174e-11 - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn geometric_means_and_their_intervals() {
+        // Eleven ratios 2^k, k = -5 ..= 5: mean of logs 0, s = ln 2 sqrt(110 / 10), so
+        // s / sqrt(11) = ln 2; t(0.975, 10) = 2.2281388519649385 (the tables' 2.228).
+        let ratios: Vec<f64> = (-5..=5).map(|k| 2f64.powi(k)).collect();
+        let g = geometric_mean(&ratios, 0.95).unwrap();
+        assert!((g.mean - 1.0).abs() < 1e-12);
+        let half = 2.2281388519649385 * 2f64.ln();
+        let (low, high) = g.interval.unwrap();
+        assert!((low - (-half).exp()).abs() < 1e-9, "{low}");
+        assert!((high - half.exp()).abs() < 1e-9, "{high}");
+        // Equal ratios: an interval of no width; one ratio: none.
+        let g = geometric_mean(&[0.5, 0.5], 0.95).unwrap();
+        assert_eq!(g.interval, Some((0.5, 0.5)));
+        assert_eq!(geometric_mean(&[3.0], 0.95).unwrap().interval, None);
+        assert_eq!(geometric_mean(&[], 0.95), Err(StatsError::Empty));
+        assert_eq!(
+            geometric_mean(&[1.0, 0.0], 0.95),
+            Err(StatsError::NotPositive)
+        );
+        assert_eq!(
+            geometric_mean(&[1.0, f64::NAN], 0.95),
+            Err(StatsError::NotFinite)
+        );
+        assert_eq!(geometric_mean(&[1.0], 1.0), Err(StatsError::Level(1.0)));
     }
 }
