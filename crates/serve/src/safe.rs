@@ -93,14 +93,13 @@ impl Root {
             .is_ok_and(|p| p.starts_with(&self.canonical))
     }
 
-    /// `path` (canonical, inside the root) relative to the root, with `/` separators.
+    /// `path` (canonical, inside the root) relative to the root, with `/` separators;
+    /// `None` outside the root or when a name on the way is not UTF-8 (the page could not
+    /// ask for it: its replacement-character form names no file).
     pub fn relative(&self, path: &Path) -> Option<String> {
         let rest = path.strip_prefix(&self.canonical).ok()?;
-        let parts: Vec<String> = rest
-            .components()
-            .map(|c| c.as_os_str().to_string_lossy().into_owned())
-            .collect();
-        Some(parts.join("/"))
+        let parts: Option<Vec<&str>> = rest.components().map(|c| c.as_os_str().to_str()).collect();
+        Some(parts?.join("/"))
     }
 
     fn inside(&self, relative: &str) -> Result<PathBuf, Refusal> {

@@ -55,6 +55,10 @@ fn served() -> (PathBuf, PathBuf) {
         std::os::unix::fs::symlink("/etc/passwd", dir.join("passwd.map")).unwrap();
         std::os::unix::fs::symlink("/etc", dir.join("etc")).unwrap();
         std::os::unix::fs::symlink(top.join("secret.map"), dir.join("link.map")).unwrap();
+        // A name that is not UTF-8: the page could not ask for it by name.
+        use std::os::unix::ffi::OsStrExt;
+        let latin1 = std::ffi::OsStr::from_bytes(b"caf\xe9.map");
+        std::fs::copy(dir.join("open30.map"), dir.join(latin1)).unwrap();
     }
     (top, dir)
 }
@@ -83,6 +87,9 @@ fn the_page_and_the_lists_are_served() {
         .collect();
     assert!(listed.contains(&"paper/map10.map"), "{listed:?}");
     assert!(listed.contains(&"open30.map"), "{listed:?}");
+    // Nor is a name that is not UTF-8 (it was, with a replacement character, and opening
+    // it answered 404).
+    assert!(!listed.iter().any(|m| m.contains('\u{fffd}')), "{listed:?}");
     // Links leading out of the directory are not listed.
     assert!(
         !listed
