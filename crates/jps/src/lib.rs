@@ -117,6 +117,16 @@
 //! (`tests/reference.rs`) and on every JPS run of `configs/movingai.toml` (xtask's
 //! `every_jps_run_matches_the_reference_search`).
 //!
+//! # Recording
+//! With [`Budget::record_expanded`] the expanded jump points are listed in
+//! [`Outcome::expanded`]; with [`Budget::record_events`] the search is recorded step by
+//! step ([`Outcome::events`]): each push of a jump point into OPEN (`generating` the first
+//! time, `updating` when a cheaper jump reaches it), with the jump point it was jumped to
+//! from as parent, `g` and `f = g + octile(cell, goal)`, and each expansion. The recording
+//! search is a copy of the loop of its own (a const parameter), so the timed one has no
+//! recording code. Scanned cells are not steps. Tested against the counters, the path
+//! and the heuristic in `tests/events.rs`.
+//!
 //! # Example
 //! From (0, 0) to the goal G = (3, 2) on a 4 x 3 grid with one blocked cell at (1, 1):
 //! ```
@@ -185,7 +195,7 @@ use bounds::{GoalBounds, Stopped};
 pub use cost::Cost;
 use planner_api::{
     push_octile_leg, Budget, Cell, Connectivity, Counters, Grid, Mark, MoveSet, Outcome, ParamKey,
-    Path, PathSpec, Planner, PlannerSpecs, Problem, Status,
+    Path, PathSpec, Planner, PlannerSpecs, Problem, SearchEvent, SearchEventKind, Status,
 };
 use planner_search::FrontHeap as Open;
 use plus::JumpTable;
@@ -446,7 +456,11 @@ impl Jps {
         bit_grid + records + table + bounds
     }
 
-    fn search<const VARIANT: u8>(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+    fn search<const VARIANT: u8, const RECORD: bool>(
+        &mut self,
+        problem: &Problem<'_>,
+        budget: &Budget,
+    ) -> Outcome {
         let grid = problem.grid();
         let counter_names = [
             "n_expanded",
@@ -505,6 +519,7 @@ impl Jps {
             goal: problem.goal(),
             generation: self.generation << 9,
             tally: Tally::default(),
+            events: Vec::new(),
         };
         let start = problem.start();
         let start_index = search.index(start.x, start.y);
@@ -515,6 +530,14 @@ impl Jps {
         };
         search.state[start_index as usize] = search.open_mark;
         search.push(start_index, Cost::default(), start.x, start.y);
+        if RECORD {
+            search.note(
+                SearchEventKind::Generating,
+                start_index,
+                None,
+                Cost::default(),
+            );
+        }
         search.tally.n_open_insertions = 1;
         search.tally.peak_open = 1;
         let goal = problem.goal();
@@ -538,14 +561,19 @@ impl Jps {
             if record {
                 expanded.push(Cell::new(p & ((1 << search.shift) - 1), p >> search.shift));
             }
+            if RECORD {
+                let parent = (p != start_index).then_some(node.parent);
+                search.note(SearchEventKind::Expanding, p, parent, node.g);
+            }
             if p == goal_index {
                 break Status::Found;
             }
-            search.expand::<VARIANT>(p, node);
+            search.expand::<VARIANT, RECORD>(p, node);
             let t = &mut search.tally;
             t.peak_open = t.peak_open.max(t.n_open_insertions - t.n_expanded);
         };
         let tally = search.tally;
+        let events = std::mem::take(&mut search.events);
         let mut counters = Counters::new();
         for (name, value) in counter_names.into_iter().zip([
             tally.n_expanded,
@@ -566,7 +594,9 @@ impl Jps {
             Status::NoPath => Outcome::no_path(counters),
             Status::BudgetExhausted => Outcome::budget_exhausted(None, counters),
         };
-        outcome.with_expanded(expanded)
+        let mut outcome = outcome.with_expanded(expanded);
+        outcome.events = events;
+        outcome
     }
 
     /// Sizes the node records for `grid`: rows of a power-of-two length, so that a
@@ -635,6 +665,8 @@ struct Search<'a> {
     /// The generation in the tag's position (`generation << 9`).
     generation: u32,
     tally: Tally,
+    /// The recorded steps (a search that records them; [`Budget::record_events`]).
+    events: Vec<SearchEvent>,
 }
 
 /// The row length of the node records, as a power of two: `1 << shift >= width`. At most
@@ -719,9 +751,36 @@ impl Search<'_> {
             .push((f.to_bits(), u64::from(tie) << 32 | u64::from(i)));
     }
 
+    /// Records one step: node `i` with its `parent` (record indices) and cost `g`, and
+    /// `f = g + octile(i, goal)` as OPEN orders it; nothing beyond
+    /// [`planner_api::MAX_SEARCH_EVENTS`].
+    fn note(&mut self, kind: SearchEventKind, i: u32, parent: Option<u32>, g: Cost) {
+        if self.events.len() >= planner_api::MAX_SEARCH_EVENTS {
+            return;
+        }
+        let cell = |i: u32| Cell::new(i & ((1 << self.shift) - 1), i >> self.shift);
+        let at = cell(i);
+        let h = Cost::octile(at.x.abs_diff(self.goal.x), at.y.abs_diff(self.goal.y));
+        self.events.push(SearchEvent {
+            kind,
+            cell: at,
+            parent: parent.map(cell),
+            g: g.value(),
+            f: (g + h).value(),
+        });
+    }
+
     /// Offers `(tx, ty)` as a successor of node `parent` at `(x, y)` with cost `g`.
     #[inline(always)]
-    fn relax(&mut self, parent: u32, g: Cost, x: u32, y: u32, tx: u32, ty: u32) {
+    fn relax<const RECORD: bool>(
+        &mut self,
+        parent: u32,
+        g: Cost,
+        x: u32,
+        y: u32,
+        tx: u32,
+        ty: u32,
+    ) {
         let i = self.index(tx, ty);
         let state = self.state[i as usize];
         if state == self.closed_mark {
@@ -729,7 +788,8 @@ impl Search<'_> {
         }
         let g_new = g + Cost::octile(tx.abs_diff(x), ty.abs_diff(y));
         let direction = 2u32 << last_direction(x, y, tx, ty);
-        if state != self.open_mark {
+        let known = state == self.open_mark;
+        if !known {
             // First reached in this search: the record is written, never read.
             self.tally.n_relaxations += 1;
             self.tally.n_open_insertions += 1;
@@ -751,6 +811,13 @@ impl Search<'_> {
             tag: self.generation | direction,
         };
         self.push(i, g_new, tx, ty);
+        if RECORD {
+            let kind = match known {
+                true => SearchEventKind::Updating,
+                false => SearchEventKind::Generating,
+            };
+            self.note(kind, i, Some(parent), g_new);
+        }
     }
 
     /// The directions node `(x, y)` expands, by the pruning rules, for its incoming moves:
@@ -774,7 +841,7 @@ impl Search<'_> {
     /// Expands node `p` (its record `node`): every kept direction's jump, and a
     /// relaxation of every jump point found.
     #[inline(always)]
-    fn expand<const VARIANT: u8>(&mut self, p: u32, node: Node) {
+    fn expand<const VARIANT: u8, const RECORD: bool>(&mut self, p: u32, node: Node) {
         let (x, y) = (p & ((1 << self.shift) - 1), p >> self.shift);
         let mut directions = self.directions(x, y, node.incoming());
         if let Some(bounds) = self.bounds {
@@ -793,14 +860,14 @@ impl Search<'_> {
                         _ => self.plus_straight(x, y, 3),
                     };
                     if let Some((tx, ty)) = jump {
-                        self.relax(p, node.g, x, y, tx, ty);
+                        self.relax::<RECORD>(p, node.g, x, y, tx, ty);
                     }
                 } else {
                     match d {
-                        4 => self.plus_diagonal(p, node.g, x, y, 4),
-                        5 => self.plus_diagonal(p, node.g, x, y, 5),
-                        6 => self.plus_diagonal(p, node.g, x, y, 6),
-                        _ => self.plus_diagonal(p, node.g, x, y, 7),
+                        4 => self.plus_diagonal::<RECORD>(p, node.g, x, y, 4),
+                        5 => self.plus_diagonal::<RECORD>(p, node.g, x, y, 5),
+                        6 => self.plus_diagonal::<RECORD>(p, node.g, x, y, 6),
+                        _ => self.plus_diagonal::<RECORD>(p, node.g, x, y, 7),
                     }
                 }
             } else if d < 4 {
@@ -808,17 +875,24 @@ impl Search<'_> {
                 self.tally.n_scanned += u64::from(k);
                 if found {
                     let (tx, ty) = step(x, y, d, k);
-                    self.relax(p, node.g, x, y, tx, ty);
+                    self.relax::<RECORD>(p, node.g, x, y, tx, ty);
                 }
             } else {
-                self.online_diagonal::<VARIANT>(p, node.g, x, y, d);
+                self.online_diagonal::<VARIANT, RECORD>(p, node.g, x, y, d);
             }
         }
     }
 
     /// The online diagonal jump from node `p` at `(x, y)` in direction `d`.
     #[inline(always)]
-    fn online_diagonal<const VARIANT: u8>(&mut self, p: u32, g: Cost, x: u32, y: u32, d: usize) {
+    fn online_diagonal<const VARIANT: u8, const RECORD: bool>(
+        &mut self,
+        p: u32,
+        g: Cost,
+        x: u32,
+        y: u32,
+        d: usize,
+    ) {
         let bits = self.bits;
         let (dx, dy) = (DX[d], DY[d]);
         let (horizontal, vertical) = (usize::from(dx < 0), 2 + usize::from(dy < 0));
@@ -831,7 +905,7 @@ impl Search<'_> {
             self.tally.n_scanned += 1;
             let (ux, uy) = (nx as u32, ny as u32);
             if (ux, uy) == (self.goal.x, self.goal.y) {
-                self.relax(p, g, x, y, ux, uy);
+                self.relax::<RECORD>(p, g, x, y, ux, uy);
                 return;
             }
             for component in [horizontal, vertical] {
@@ -839,11 +913,11 @@ impl Search<'_> {
                 self.tally.n_scanned += u64::from(k);
                 if found {
                     if VARIANT == JPS {
-                        self.relax(p, g, x, y, ux, uy);
+                        self.relax::<RECORD>(p, g, x, y, ux, uy);
                         return;
                     }
                     let (tx, ty) = step(ux, uy, component, k);
-                    self.relax(p, g, x, y, tx, ty);
+                    self.relax::<RECORD>(p, g, x, y, tx, ty);
                 }
             }
             (cx, cy) = (nx, ny);
@@ -912,7 +986,7 @@ impl Search<'_> {
     /// intermediate points: at each diagonal jump point (or target jump point) the
     /// component jumps' results become successors of `p`, and the walk goes on.
     #[inline(always)]
-    fn plus_diagonal(&mut self, p: u32, g: Cost, x: u32, y: u32, d: usize) {
+    fn plus_diagonal<const RECORD: bool>(&mut self, p: u32, g: Cost, x: u32, y: u32, d: usize) {
         let Some(table) = self.table else { return };
         let (dx, dy) = (DX[d], DY[d]);
         let (horizontal, vertical) = (usize::from(dx < 0), 2 + usize::from(dy < 0));
@@ -954,12 +1028,12 @@ impl Search<'_> {
                 continue;
             }
             if (cx, cy) == (goal.x, goal.y) {
-                self.relax(p, g, x, y, cx, cy);
+                self.relax::<RECORD>(p, g, x, y, cx, cy);
                 return;
             }
             for component in [horizontal, vertical] {
                 if let Some((tx, ty)) = self.plus_straight(cx, cy, component) {
-                    self.relax(p, g, x, y, tx, ty);
+                    self.relax::<RECORD>(p, g, x, y, tx, ty);
                 }
             }
         }
@@ -1001,10 +1075,15 @@ impl Planner for Jps {
     /// `n_expanded`; refuses with [`Outcome::over_memory`] when
     /// [`Jps::memory_bytes_for`] the grid is over [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
-        match self.config.variant {
-            Variant::Jps => self.search::<JPS>(problem, budget),
-            Variant::JpsPrime => self.search::<JPS_PRIME>(problem, budget),
-            Variant::JpsPlus => self.search::<JPS_PLUS>(problem, budget),
+        // A copy of the search that records its steps, never timed: the timed one has no
+        // recording code at all.
+        match (self.config.variant, budget.record_events) {
+            (Variant::Jps, false) => self.search::<JPS, false>(problem, budget),
+            (Variant::JpsPrime, false) => self.search::<JPS_PRIME, false>(problem, budget),
+            (Variant::JpsPlus, false) => self.search::<JPS_PLUS, false>(problem, budget),
+            (Variant::Jps, true) => self.search::<JPS, true>(problem, budget),
+            (Variant::JpsPrime, true) => self.search::<JPS_PRIME, true>(problem, budget),
+            (Variant::JpsPlus, true) => self.search::<JPS_PLUS, true>(problem, budget),
         }
     }
 }

@@ -4,6 +4,7 @@
 //! "Tests").
 
 mod behaviour;
+mod events;
 mod optimal;
 mod reference;
 mod smoke;
