@@ -172,14 +172,29 @@ pub fn plan(
         Some(dict) => to_table(dict, "")?,
         None => toml::Table::new(),
     };
-    let budget = to_budget(budget)?;
+    let mut budget = to_budget(budget)?;
     let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
     let planner = planner.to_string();
     let call = crate::warn::Call::begin();
-    let done =
-        py.detach(move || guarded(|| run(&grid, start, goal, &planner, table, budget, record)));
+    // Ctrl-C (a notebook's interrupt) stops the search at its next budget check and
+    // raises KeyboardInterrupt here (`interrupt`): a long search no longer holds the
+    // interpreter until it ends.
+    let lent = FLAGS.lend();
+    let cancel = lent.flag();
+    budget.cancel = Some(cancel);
+    let work = || {
+        let _mark = call.mark_worker();
+        guarded(|| run(&grid, start, goal, &planner, table, budget, record))
+    };
+    let done = crate::interrupt::interruptible(
+        py,
+        || cancel.cancel(),
+        || Err(Failure::Value("the search's thread panicked".into())),
+        work,
+    );
+    drop(lent);
     // A run the planner's memory check refused, a path that breaks its rule.
-    let (record, recorded) = call.end(py, done.map_err(PyErr::from))?;
+    let (record, recorded) = call.end(py, done.and_then(|d| d.map_err(PyErr::from)))?;
     let mut outcome = outcome(py, record)?;
     if let Some((expanded, events)) = recorded {
         outcome.expanded = Some(cell_rows(py, &expanded));
@@ -187,6 +202,10 @@ pub fn plan(
     }
     Ok(outcome)
 }
+
+/// Cancel flags of the `plan` calls running, one per call at a time, kept for reuse (a
+/// flag is never freed).
+static FLAGS: planner_api::CancelPool = planner_api::CancelPool::new();
 
 /// `cells` as an (N, 2) int64 array of `(x, y)` rows.
 fn cell_rows(py: Python<'_>, cells: &[planner_api::Cell]) -> Py<PyAny> {

@@ -166,6 +166,20 @@ def test_ctrl_c_interrupts_plan_many_and_the_planner_stays_usable():
     assert out == ["interrupted", "found"]
 
 
+def test_ctrl_c_interrupts_plan():
+    """Ctrl-C stops a one-off `gridplan.plan` whose search would run for hours (it held the
+    interpreter until the search ended), and a later call plans as before."""
+    out = interrupted_output(
+        "import gridplan, numpy as np\n"
+        "grid = gridplan.Grid.from_numpy(np.ones((64, 64), dtype=bool), free=True)\n"
+        "import atexit\n"
+        "atexit.register(lambda: print(gridplan.plan(grid, (0, 0), (0, 0), planner='backtracking').status))",
+        "gridplan.plan(grid, (0, 0), (63, 63), planner='backtracking', budget={'max_expansions': 10**18})",
+        0.5,
+    )
+    assert out == ["interrupted", "found"]
+
+
 def test_ctrl_c_interrupts_run_experiment(tmp_path):
     """Ctrl-C stops a sweep in memory whose search would run for hours."""
     (tmp_path / "open.map").write_text(
