@@ -437,6 +437,11 @@ fn careless_inputs_fail_cleanly() {
         // The config has 1 run (the corner problem of small.map x 1 planner): an array of
         // 100000 tasks would be 99999 empty ones, and its merge line 4.4 MB.
         (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "100000"]), Error("--shards 100000: the sweep has 1 run(s), so at most 1 shard(s)")),
+        // What sbatch would refuse at submission, refused before the scripts are written.
+        (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "1", "--time", "abc def"]), Error("--time \"abc def\": a time as sbatch takes it")),
+        (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "1", "--mem", "4 GB"]), Error("--mem \"4 GB\": a whole number of megabytes")),
+        (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "1", "--partition", ""]), Error("--partition \"\": a value (it is empty)")),
+        (owned(experiment(CONFIG)), args(&["slurm", "c.toml", "--shards", "1", "--cpus-per-task", "0"]), Error("--cpus-per-task \"0\": at least 1")),
         (owned(experiment(CONFIG)), args(&["merge", "--shards-in", "nowhere"]), Error("--shards-in nowhere")),
         (owned(experiment(CONFIG)), args(&["merge", "--shards-in", "."]), Error("--shards-in .: no shard-K directories in it")),
         (owned(experiment(CONFIG)), args(&["experiment", "c.toml", "--threads", "100000"]), Error("100000 worker threads")),

@@ -157,14 +157,15 @@ fn slurm_scripts_run_by_bash_run_no_injected_command() {
         &[
             "--partition",
             "p q'\"$(touch INJECTED4)",
-            "--time",
-            "1:00 `touch INJECTED5`",
             "--account",
-            "lab #; touch INJECTED6",
+            "lab #; touch INJECTED6 `touch INJECTED5`",
             "--qos",
-            "q'$(touch INJECTED7)",
+            "q'$(touch INJECTED7)\"`touch INJECTED8`",
+            // `--time` and `--mem` take only sbatch's forms (refused otherwise: careless.rs).
+            "--time",
+            "1:00",
             "--mem",
-            "1G\"`touch INJECTED8`",
+            "1G",
         ],
     );
     succeeded(&run_slurm_scripts(&slurm_work(&output), &dir, 2));

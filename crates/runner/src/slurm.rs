@@ -121,6 +121,17 @@ pub enum SlurmError {
         /// The character refused, in words.
         what: &'static str,
     },
+    /// An option's value that sbatch would refuse (an empty value, a time or memory size
+    /// not in Slurm's forms, no CPUs), caught before the scripts are written.
+    #[error("{key} {value:?}: {expected}")]
+    Value {
+        /// The option.
+        key: &'static str,
+        /// The value.
+        value: String,
+        /// What the option takes.
+        expected: &'static str,
+    },
     /// A path that is not UTF-8 (a script is text).
     #[error("{key}: {} is not valid UTF-8", path.display())]
     NotUtf8 {
@@ -216,14 +227,71 @@ fn options(args: &SlurmArgs) -> Result<String, SlurmError> {
     ];
     for (option, value) in given {
         if let Some(value) = value {
+            check_option(option, value)?;
             let value = script_value(option, value, true)?;
             options.push_str(&format!("#SBATCH {option}={value}\n"));
         }
     }
     if let Some(c) = args.cpus_per_task {
+        if c == 0 {
+            return Err(SlurmError::Value {
+                key: "--cpus-per-task",
+                value: c.to_string(),
+                expected: "at least 1 (sbatch refuses 0)",
+            });
+        }
         options.push_str(&format!("#SBATCH --cpus-per-task={c}\n"));
     }
     Ok(options)
+}
+
+/// Refuses what sbatch would refuse at submission: an empty value, a `--time` not in one
+/// of sbatch's forms (`minutes`, `minutes:seconds`, `hours:minutes:seconds`, `days-hours`,
+/// `days-hours:minutes`, `days-hours:minutes:seconds`, or `UNLIMITED` / `INFINITE`), a
+/// `--mem` that is not a whole number with an optional unit `K`, `M`, `G` or `T` (sbatch(1)).
+fn check_option(option: &'static str, value: &str) -> Result<(), SlurmError> {
+    let refuse = |expected| {
+        Err(SlurmError::Value {
+            key: option,
+            value: value.to_string(),
+            expected,
+        })
+    };
+    let digits = |part: &str| !part.is_empty() && part.bytes().all(|b| b.is_ascii_digit());
+    if value.trim().is_empty() {
+        return refuse("a value (it is empty)");
+    }
+    match option {
+        "--time" => {
+            let unlimited = ["unlimited", "infinite"]
+                .iter()
+                .any(|word| value.eq_ignore_ascii_case(word));
+            let (days, clock) = match value.split_once('-') {
+                Some((days, clock)) => (Some(days), clock),
+                None => (None, value),
+            };
+            let parts: Vec<&str> = clock.split(':').collect();
+            let clock_ok = parts.iter().all(|p| digits(p))
+                && match days {
+                    Some(days) => digits(days) && parts.len() <= 3,
+                    None => parts.len() <= 3,
+                };
+            if !unlimited && !clock_ok {
+                return refuse(
+                    "a time as sbatch takes it: minutes, minutes:seconds, hours:minutes:seconds, \
+                     days-hours, days-hours:minutes, days-hours:minutes:seconds, or UNLIMITED",
+                );
+            }
+        }
+        "--mem" => {
+            let number = value.trim_end_matches(|c: char| "KMGTkmgt".contains(c));
+            if !digits(number) || value.len() > number.len() + 1 {
+                return refuse("a whole number of megabytes, or with a unit K, M, G or T (4G)");
+            }
+        }
+        _ => {}
+    }
+    Ok(())
 }
 
 /// Checks the shard count against the sweep's `n_runs` and [`Shard::MAX_COUNT`].
@@ -356,4 +424,51 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
         array_script,
         merge_script,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_option;
+
+    #[test]
+    fn options_in_sbatch_forms_pass_and_others_are_refused() {
+        for time in [
+            "30",
+            "30:00",
+            "1:30:00",
+            "2-0",
+            "2-12",
+            "2-12:30",
+            "2-12:30:00",
+            "0",
+            "UNLIMITED",
+            "infinite",
+        ] {
+            assert!(check_option("--time", time).is_ok(), "{time}");
+        }
+        for time in [
+            "",
+            " ",
+            "abc",
+            "1:2:3:4",
+            "1h",
+            "-5",
+            "2-",
+            "2-1:2:3:4",
+            "1::2",
+            "1.5",
+        ] {
+            let error = check_option("--time", time).unwrap_err().to_string();
+            assert!(error.starts_with(&format!("--time {time:?}: ")), "{error}");
+        }
+        for mem in ["4096", "4G", "4g", "512M", "1T", "0", "64K"] {
+            assert!(check_option("--mem", mem).is_ok(), "{mem}");
+        }
+        for mem in ["", "G", "4GG", "four", "4.5G", "-1", "4 G"] {
+            assert!(check_option("--mem", mem).is_err(), "{mem}");
+        }
+        assert!(check_option("--partition", "gpu").is_ok());
+        assert!(check_option("--partition", "").is_err());
+        assert!(check_option("--account", "  ").is_err());
+    }
 }
