@@ -1,8 +1,10 @@
 //! The sweep's charts as SVG, drawn with plotters' SVG backend (text as `<text>`
 //! elements, so no font files are read): box plots of time and expansions per planner
 //! label, expansions and time against the scenario bucket (one line per label, the
-//! Moving AI picture), success and optimality bars, and the parameter-study line charts
-//! of `[[charts]]` (or the default one when the labels differ in one numeric parameter).
+//! Moving AI picture), success and optimality bars, the parameter-study line charts
+//! of `[[charts]]` (or the default one when the labels differ in one numeric parameter),
+//! and with two labels or more each label's expansions and time per problem against the
+//! baseline's ([`crate::paired`]; log-log scatter charts with the diagonal).
 //!
 //! Text from the config (labels, map names, chart titles and keys) goes through
 //! [`planner_figures::xml_text`], the cleaning the figures use (control characters, which
@@ -180,7 +182,143 @@ pub fn charts(
     }
     out.push(success_chart(&labels, &counts, stated));
     out.extend(study_charts(&specs, studies, &study_sets, &median));
+    if labels.len() >= 2 {
+        out.extend(paired_charts(experiment, passes)?);
+    }
     Ok(out)
+}
+
+/// The most points a paired chart draws per label: beyond, every k-th problem (in the
+/// problems' order), and the title says so.
+pub const PAIRED_POINTS: usize = 2000;
+
+/// Per problem solved by a label and the baseline (the `paired` section's, [`crate::paired`]),
+/// the label's median expansions, then time, against the baseline's: log-log scatter
+/// charts with the diagonal, one colour per label. No expansions chart when no pair
+/// counts them.
+fn paired_charts(
+    experiment: &Experiment,
+    passes: &dyn RecordPasses,
+) -> Result<Vec<Chart>, RunnerError> {
+    let baseline = crate::paired::configured_baseline(experiment);
+    let per_problem = crate::paired::PerProblem::of(experiment, passes, baseline)?;
+    let base = per_problem.base;
+    let base_label = &experiment.planners[base].label;
+    let mut out = Vec::new();
+    for (time, file, what) in [
+        (false, "paired-expansions.svg", "n_expanded"),
+        (true, "paired-time.svg", "time (ms)"),
+    ] {
+        let mut thinned = false;
+        let series: Vec<(usize, String, Vec<(f64, f64)>)> = experiment
+            .planners
+            .iter()
+            .enumerate()
+            .filter(|&(l, _)| l != base)
+            .map(|(l, p)| {
+                let points = per_problem.points(l, time);
+                let step = points.len().div_ceil(PAIRED_POINTS).max(1);
+                thinned |= step > 1;
+                let n = points.len();
+                let problems = if n == 1 { "problem" } else { "problems" };
+                let label = match step {
+                    1 => format!("{} ({n} {problems})", p.label),
+                    _ => format!("{} (1 in {step} of {n} {problems})", p.label),
+                };
+                let kept = points.into_iter().step_by(step).collect();
+                (l, label, kept)
+            })
+            .collect();
+        if series.iter().all(|(_, _, points)| points.is_empty()) {
+            continue;
+        }
+        let mut title =
+            format!("{what} per problem against {base_label} (below the diagonal: less)");
+        if thinned {
+            title.push_str(&format!(", at most {PAIRED_POINTS} problems a label drawn"));
+        }
+        let x_desc = format!("{what} of {base_label}");
+        let y_desc = format!("{what} of each label");
+        out.push(scatter_chart(file, &title, &x_desc, &y_desc, &series));
+    }
+    Ok(out)
+}
+
+/// A log-log scatter chart of `(x, y)` points, one colour per series (its label's index),
+/// with the diagonal `y = x`.
+fn scatter_chart(
+    file: &str,
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    series: &[(usize, String, Vec<(f64, f64)>)],
+) -> Chart {
+    let series: Vec<(usize, String, Vec<(f64, f64)>)> = series
+        .iter()
+        .map(|(l, label, points)| (*l, xml_text(label), points.clone()))
+        .collect();
+    render_chart(file, title, |root, title| {
+        draw_scatter_chart(root, title, &xml_text(x_desc), &xml_text(y_desc), &series)
+    })
+}
+
+fn draw_scatter_chart(
+    root: &Area<'_>,
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    series: &[(usize, String, Vec<(f64, f64)>)],
+) -> DrawResult {
+    root.fill(&WHITE)?;
+    let values = series
+        .iter()
+        .flat_map(|(_, _, points)| points.iter().flat_map(|&(x, y)| [x, y]));
+    let (lo, hi) = values.fold((f64::MAX, f64::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    // Both axes over the same decades, so that the diagonal is the diagonal.
+    let (lo, hi) = match lo < hi {
+        true => (lo / 1.5, hi * 1.5),
+        false => (lo / 10.0, lo * 10.0),
+    };
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 22))
+        .margin(14)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d((lo..hi).log_scale(), (lo..hi).log_scale())?;
+    // Ticks as plain numbers: 10, 100, 0.01 (plotters writes 10000.0).
+    let tick = |v: &f64| {
+        let text = format!("{v:.6}");
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    };
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .draw()?;
+    chart.draw_series(std::iter::once(PathElement::new(
+        vec![(lo, lo), (hi, hi)],
+        BLACK.mix(0.5).stroke_width(1),
+    )))?;
+    for (l, label, points) in series {
+        let c = colour(*l);
+        chart
+            .draw_series(
+                points
+                    .iter()
+                    .map(|&p| Circle::new(p, 2, c.mix(0.6).filled())),
+            )?
+            .label(label.clone())
+            .legend(move |(px, py)| Circle::new((px + 7, py), 4, c.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()?;
+    Ok(())
 }
 
 /// The time box plot per label, and the expansions one when any run counts expansions,

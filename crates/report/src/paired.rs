@@ -187,62 +187,121 @@ impl Comparison {
 /// The runs of each problem (map, problem index, start, goal), per label.
 type Runs = BTreeMap<(usize, usize, (u32, u32), (u32, u32)), Vec<Vec<Run>>>;
 
+/// Every problem's repeats, summarised per label, with the baseline label's index.
+pub struct PerProblem {
+    /// The baseline's index among the experiment's labels.
+    pub base: usize,
+    /// Per problem (valid, run by the baseline) the summary of each label that ran it.
+    problems: Vec<Vec<Option<Problem>>>,
+}
+
+impl PerProblem {
+    /// One pass over the records: each valid problem's runs per label, summarised, with
+    /// `baseline` (a label; default the first) as the baseline.
+    pub fn of(
+        experiment: &Experiment,
+        passes: &dyn RecordPasses,
+        baseline: Option<&str>,
+    ) -> Result<PerProblem, RunnerError> {
+        let labels: HashMap<&str, usize> = experiment
+            .planners
+            .iter()
+            .enumerate()
+            .rev()
+            .map(|(i, p)| (p.label.as_str(), i))
+            .collect();
+        let maps: HashMap<&str, usize> = experiment
+            .maps
+            .iter()
+            .enumerate()
+            .rev()
+            .map(|(i, m)| (m.name.as_str(), i))
+            .collect();
+        let n_labels = experiment.planners.len();
+        let base = baseline.and_then(|b| labels.get(b).copied()).unwrap_or(0);
+        let mut runs: Runs = BTreeMap::new();
+        let mut invalid = std::collections::HashSet::new();
+        passes.pass(&mut |r: &RunRecord| {
+            let (Some(&l), Some(&m)) = (labels.get(r.planner.as_str()), maps.get(r.map.as_str()))
+            else {
+                return;
+            };
+            let key = (m, r.problem, (r.start.x, r.start.y), (r.goal.x, r.goal.y));
+            if r.is_invalid() {
+                invalid.insert(key);
+                return;
+            }
+            runs.entry(key)
+                .or_insert_with(|| vec![Vec::new(); n_labels])[l]
+                .push(Run {
+                    time_ms: r.time_ms,
+                    expanded: r.counters.get("n_expanded"),
+                    length: r.length,
+                    found: r.is_found(),
+                });
+        })?;
+        let problems = runs
+            .into_iter()
+            .filter(|(key, per_label)| !invalid.contains(key) && !per_label[base].is_empty())
+            .map(|(_, per_label)| {
+                per_label
+                    .iter()
+                    .map(|label_runs| (!label_runs.is_empty()).then(|| Problem::of(label_runs)))
+                    .collect()
+            })
+            .collect();
+        Ok(PerProblem { base, problems })
+    }
+
+    /// Label `l` against the baseline over the problems both ran.
+    fn compare(&self, l: usize) -> Comparison {
+        let mut comparison = Comparison::default();
+        for per_label in &self.problems {
+            if let (Some(label), Some(baseline)) = (&per_label[l], &per_label[self.base]) {
+                comparison.add(label, baseline);
+            }
+        }
+        comparison
+    }
+
+    /// Per problem solved by both label `l` and the baseline, `(baseline's, label's)`
+    /// median expansions (`time` false) or time (`time` true), where both are positive.
+    pub fn points(&self, l: usize, time: bool) -> Vec<(f64, f64)> {
+        let value = |p: &Problem| match time {
+            true => Some(p.time_ms),
+            false => p.expanded,
+        };
+        self.problems
+            .iter()
+            .filter_map(|per_label| {
+                let (label, baseline) = (per_label[l].as_ref()?, per_label[self.base].as_ref()?);
+                if !(label.solved && baseline.solved) {
+                    return None;
+                }
+                let (b, v) = (value(baseline)?, value(label)?);
+                (b > 0.0 && v > 0.0).then_some((b, v))
+            })
+            .collect()
+    }
+}
+
+/// The baseline label a config's `paired` section names, if it does.
+pub fn configured_baseline(experiment: &Experiment) -> Option<&str> {
+    let request = experiment.sections.as_ref()?.get("paired")?;
+    request.options.get(BASELINE)?.as_str()
+}
+
 /// The section's markdown: one row per label other than `baseline` (default: the first).
 pub fn table(
     experiment: &Experiment,
     passes: &dyn RecordPasses,
     baseline: Option<&str>,
 ) -> Result<String, RunnerError> {
-    let labels: HashMap<&str, usize> = experiment
-        .planners
-        .iter()
-        .enumerate()
-        .rev()
-        .map(|(i, p)| (p.label.as_str(), i))
+    let per_problem = PerProblem::of(experiment, passes, baseline)?;
+    let comparisons: Vec<Comparison> = (0..experiment.planners.len())
+        .map(|l| per_problem.compare(l))
         .collect();
-    let maps: HashMap<&str, usize> = experiment
-        .maps
-        .iter()
-        .enumerate()
-        .rev()
-        .map(|(i, m)| (m.name.as_str(), i))
-        .collect();
-    let n_labels = experiment.planners.len();
-    let base = baseline.and_then(|b| labels.get(b).copied()).unwrap_or(0);
-    let mut runs: Runs = BTreeMap::new();
-    let mut invalid = std::collections::HashSet::new();
-    passes.pass(&mut |r: &RunRecord| {
-        let (Some(&l), Some(&m)) = (labels.get(r.planner.as_str()), maps.get(r.map.as_str()))
-        else {
-            return;
-        };
-        let key = (m, r.problem, (r.start.x, r.start.y), (r.goal.x, r.goal.y));
-        if r.is_invalid() {
-            invalid.insert(key);
-            return;
-        }
-        runs.entry(key)
-            .or_insert_with(|| vec![Vec::new(); n_labels])[l]
-            .push(Run {
-                time_ms: r.time_ms,
-                expanded: r.counters.get("n_expanded"),
-                length: r.length,
-                found: r.is_found(),
-            });
-    })?;
-    let mut comparisons: Vec<Comparison> = (0..n_labels).map(|_| Comparison::default()).collect();
-    for (key, per_label) in &runs {
-        if invalid.contains(key) || per_label[base].is_empty() {
-            continue;
-        }
-        let baseline = Problem::of(&per_label[base]);
-        for (l, label_runs) in per_label.iter().enumerate() {
-            if l != base && !label_runs.is_empty() {
-                comparisons[l].add(&Problem::of(label_runs), &baseline);
-            }
-        }
-    }
-    Ok(render(experiment, base, &comparisons))
+    Ok(render(experiment, per_problem.base, &comparisons))
 }
 
 fn render(experiment: &Experiment, base: usize, comparisons: &[Comparison]) -> String {

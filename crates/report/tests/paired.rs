@@ -141,3 +141,44 @@ fn a_baseline_that_is_no_label_is_refused() {
         assert!(error.to_string().contains(expected), "{error}");
     }
 }
+
+/// The paired charts: per problem solved by both, the label's median expansions and time
+/// against the baseline's on log-log axes (problem 1: expansions (10, 5) for both labels;
+/// problem 2: (10, 40) for `other`), one circle per point; past
+/// `PAIRED_POINTS` problems a label, 1 in k is drawn and the legend says so.
+#[test]
+fn the_paired_charts_draw_one_point_per_problem_solved_by_both() {
+    let experiment = experiment("");
+    let records = records(&experiment);
+    let charts = planner_report::charts::charts(&experiment, &records.as_slice()).unwrap();
+    let chart = |file: &str| charts.iter().find(|c| c.file == file).unwrap().svg.clone();
+    for file in ["paired-expansions.svg", "paired-time.svg"] {
+        let svg = chart(file);
+        roxmltree::Document::parse(&svg).unwrap();
+        // Three points and two legend markers.
+        assert_eq!(svg.matches("<circle").count(), 3 + 2, "{file}");
+        assert!(svg.contains("other (2 problems)") && svg.contains("none (1 problem)"));
+    }
+    // 2,500 problems solved by both: 1 in 2 drawn.
+    let mut many = Vec::new();
+    for k in 0..2500 {
+        for r in records
+            .iter()
+            .filter(|r| r.problem == 1 && r.planner != "none")
+        {
+            let mut r = r.clone();
+            r.problem = 10 + k;
+            many.push(r);
+        }
+    }
+    let charts = planner_report::charts::charts(&experiment, &many.as_slice()).unwrap();
+    let svg = &charts
+        .iter()
+        .find(|c| c.file == "paired-time.svg")
+        .unwrap()
+        .svg;
+    // 1,250 points and the legend's two markers (`none`, which ran none of them, too).
+    assert_eq!(svg.matches("<circle").count(), 1250 + 2);
+    assert!(svg.contains("other (1 in 2 of 2500 problems)"), "{svg}");
+    assert!(svg.contains("at most 2000 problems a label drawn"));
+}
