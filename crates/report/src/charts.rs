@@ -210,7 +210,7 @@ fn paired_charts(
         (true, "paired-time.svg", "time (ms)"),
     ] {
         let mut thinned = false;
-        let series: Vec<(usize, String, Vec<(f64, f64)>)> = experiment
+        let series: Vec<Scatter> = experiment
             .planners
             .iter()
             .enumerate()
@@ -244,16 +244,13 @@ fn paired_charts(
     Ok(out)
 }
 
+/// One label's points in a scatter chart: its index (its colour), legend text, points.
+type Scatter = (usize, String, Vec<(f64, f64)>);
+
 /// A log-log scatter chart of `(x, y)` points, one colour per series (its label's index),
 /// with the diagonal `y = x`.
-fn scatter_chart(
-    file: &str,
-    title: &str,
-    x_desc: &str,
-    y_desc: &str,
-    series: &[(usize, String, Vec<(f64, f64)>)],
-) -> Chart {
-    let series: Vec<(usize, String, Vec<(f64, f64)>)> = series
+fn scatter_chart(file: &str, title: &str, x_desc: &str, y_desc: &str, series: &[Scatter]) -> Chart {
+    let series: Vec<Scatter> = series
         .iter()
         .map(|(l, label, points)| (*l, xml_text(label), points.clone()))
         .collect();
@@ -267,7 +264,7 @@ fn draw_scatter_chart(
     title: &str,
     x_desc: &str,
     y_desc: &str,
-    series: &[(usize, String, Vec<(f64, f64)>)],
+    series: &[Scatter],
 ) -> DrawResult {
     root.fill(&WHITE)?;
     let values = series
