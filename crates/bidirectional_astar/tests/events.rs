@@ -3,7 +3,7 @@
 //! the two ends (written out here, times the smallest weight), every parent a neighbour
 //! expanded before; recording changes nothing.
 
-use planner_api::{Budget, Cell, Planner, Problem, SearchEventKind};
+use planner_api::{Cell, Problem, SearchEventKind};
 use planner_bidirectional_astar::{BidirectionalAStar, Config};
 
 fn octile(a: Cell, b: Cell) -> f64 {
@@ -32,26 +32,8 @@ fn recorded_steps_agree_with_the_counters() {
         for (i, (grid, start, goal)) in problems.iter().enumerate() {
             let what = format!("eight {eight} problem {i}");
             let problem = Problem::new(grid, *start, *goal).unwrap();
-            let plain = planner.plan(&problem, &Budget::unlimited());
-            assert!(plain.events.is_empty(), "{what}");
-            let budget = Budget::unlimited()
-                .recording_expanded(true)
-                .recording_events(true);
-            let recorded = planner.plan(&problem, &budget);
-            assert_eq!(
-                (&recorded.counters, &recorded.path, recorded.status),
-                (&plain.counters, &plain.path, plain.status),
-                "{what}: recording changed the search"
-            );
-            let counter = |name| recorded.counters.get(name).unwrap();
-            let counts = (
-                counter("n_open_insertions"),
-                counter("n_relaxations"),
-                counter("n_expanded"),
-            );
             // Both ends are inserted without a relaxation.
-            let (events, expanded) = (&recorded.events, &recorded.expanded);
-            planner_testkit::check_step_counts(&what, events, expanded, counts, 2);
+            let recorded = planner_testkit::plan_recorded(&what, &mut planner, &problem, 2);
             let min_weight = grid.weights().map_or(1.0, |w| f64::from(w.min()));
             let mut expanded_so_far = std::collections::HashSet::new();
             for e in &recorded.events {

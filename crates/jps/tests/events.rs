@@ -8,7 +8,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use planner_api::{Budget, Cell, Planner, Problem, SearchEventKind, Status};
+use planner_api::{Cell, Problem, SearchEventKind, Status};
 use planner_jps::{Config, Jps};
 
 fn octile(a: Cell, b: Cell) -> f64 {
@@ -31,29 +31,12 @@ fn recorded_steps_agree_with_the_counters_and_the_path() {
             for (i, (grid, start, goal)) in problems.iter().enumerate() {
                 let what = format!("{variant} bounding {goal_bounding} problem {i}");
                 let problem = Problem::new(grid, *start, *goal).unwrap();
-                let plain = planner.plan(&problem, &Budget::unlimited());
-                assert!(plain.events.is_empty(), "{what}");
-                let budget = Budget::unlimited()
-                    .recording_expanded(true)
-                    .recording_events(true);
-                let recorded = planner.plan(&problem, &budget);
-                assert_eq!(
-                    (&recorded.counters, &recorded.path, recorded.status),
-                    (&plain.counters, &plain.path, plain.status),
-                    "{what}: recording changed the search"
-                );
-                let counter = |name| recorded.counters.get(name).unwrap();
-                let counts = (
-                    counter("n_open_insertions"),
-                    counter("n_relaxations"),
-                    counter("n_expanded"),
-                );
                 // The start's insertion is the one push that relaxes nothing.
-                let (events, expanded) = (&recorded.events, &recorded.expanded);
-                planner_testkit::check_step_counts(&what, events, expanded, counts, 1);
+                let recorded = planner_testkit::plan_recorded(&what, &mut planner, &problem, 1);
                 check_steps(&what, &recorded, *start, *goal);
                 found += usize::from(recorded.status == Status::Found);
-                updates += events
+                updates += recorded
+                    .events
                     .iter()
                     .filter(|e| e.kind == SearchEventKind::Updating)
                     .count();

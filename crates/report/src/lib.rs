@@ -614,6 +614,13 @@ pub fn file_part(text: &str) -> String {
 /// below 255 bytes.
 pub const FILE_PART_MAX: usize = 96;
 
+/// Each name's position among `names`, the first where it repeats.
+pub(crate) fn positions<'a>(
+    names: impl DoubleEndedIterator<Item = &'a str> + ExactSizeIterator,
+) -> std::collections::HashMap<&'a str, usize> {
+    names.enumerate().rev().map(|(i, name)| (name, i)).collect()
+}
+
 /// The first 8 hex digits of the SHA-256 of `text`.
 pub(crate) fn short_hash(text: &str) -> String {
     use sha2::{Digest, Sha256};

@@ -22,7 +22,7 @@
 //! it keeps a few numbers of every run (a median needs every repeat), about 100 bytes a
 //! run where the aggregate sections keep a bounded number per group.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use planner_runner::config::Experiment;
@@ -203,20 +203,8 @@ impl PerProblem {
         passes: &dyn RecordPasses,
         baseline: Option<&str>,
     ) -> Result<PerProblem, RunnerError> {
-        let labels: HashMap<&str, usize> = experiment
-            .planners
-            .iter()
-            .enumerate()
-            .rev()
-            .map(|(i, p)| (p.label.as_str(), i))
-            .collect();
-        let maps: HashMap<&str, usize> = experiment
-            .maps
-            .iter()
-            .enumerate()
-            .rev()
-            .map(|(i, m)| (m.name.as_str(), i))
-            .collect();
+        let labels = crate::positions(experiment.planners.iter().map(|p| p.label.as_str()));
+        let maps = crate::positions(experiment.maps.iter().map(|m| m.name.as_str()));
         let n_labels = experiment.planners.len();
         let base = baseline.and_then(|b| labels.get(b).copied()).unwrap_or(0);
         let mut runs: Runs = BTreeMap::new();

@@ -41,13 +41,7 @@ struct Layout<'e> {
 
 impl<'e> Layout<'e> {
     fn new(experiment: &'e Experiment) -> Layout<'e> {
-        let labels = experiment
-            .planners
-            .iter()
-            .enumerate()
-            .rev()
-            .map(|(i, p)| (p.label.as_str(), i))
-            .collect();
+        let labels = crate::positions(experiment.planners.iter().map(|p| p.label.as_str()));
         let mut maps: HashMap<&str, Vec<usize>> = HashMap::new();
         let mut problems = HashMap::new();
         let mut rows = Vec::new();

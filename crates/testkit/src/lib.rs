@@ -144,6 +144,47 @@ pub fn check_step_counts(
     assert_eq!(expanding.len() as u64, n_expanded, "{what}");
 }
 
+/// Plans `problem` with `planner` twice, plainly and recording its expanded cells and
+/// steps; checks that the plain run recorded nothing, that recording changed neither the
+/// counters, the path nor the status, and the steps' counts against the counters
+/// ([`check_step_counts`], with `ends` insertions that relax nothing); returns the
+/// recorded outcome. `what` names the case in a failure.
+pub fn plan_recorded(
+    what: &str,
+    planner: &mut dyn planner_api::Planner,
+    problem: &planner_api::Problem<'_>,
+    ends: u64,
+) -> planner_api::Outcome {
+    use planner_api::Budget;
+    let plain = planner.plan(problem, &Budget::unlimited());
+    assert!(
+        plain.events.is_empty() && plain.expanded.is_empty(),
+        "{what}"
+    );
+    let budget = Budget::unlimited()
+        .recording_expanded(true)
+        .recording_events(true);
+    let recorded = planner.plan(problem, &budget);
+    assert_eq!(
+        (&recorded.counters, &recorded.path, recorded.status),
+        (&plain.counters, &plain.path, plain.status),
+        "{what}: recording changed the search"
+    );
+    let counter = |name| {
+        recorded
+            .counters
+            .get(name)
+            .unwrap_or_else(|| panic!("{what}: no {name}"))
+    };
+    let counts = (
+        counter("n_open_insertions"),
+        counter("n_relaxations"),
+        counter("n_expanded"),
+    );
+    check_step_counts(what, &recorded.events, &recorded.expanded, counts, ends);
+    recorded
+}
+
 /// Asserts the counter identities of a BFS or DFS run with `k` moves per cell (see the
 /// planner-bfs crate docs); `what` names the run in failure messages.
 pub fn check_frontier_identities(what: &str, outcome: &planner_api::Outcome, k: u64) {
