@@ -315,7 +315,7 @@ fn render(experiment: &Experiment, base: usize, comparisons: &[Comparison]) -> S
         let time = match planner_stats::geometric_mean(&c.time, 0.95) {
             Ok(g) => match g.interval {
                 Some((low, high)) => {
-                    format!("{} ({}-{})", ratio(g.mean), ratio(low), ratio(high))
+                    format!("{} ({} to {})", ratio(g.mean), ratio(low), ratio(high))
                 }
                 None => ratio(g.mean),
             },

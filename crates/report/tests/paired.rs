@@ -83,7 +83,7 @@ fn ratios_against_the_first_label_by_hand() {
         rows,
         [
             "| Planner | Problems | Solved by both | Only planner | Only baseline | Expansions ratio | Fewer expansions | Time ratio (95 % interval) | Less time | Length ratio | Largest length ratio |",
-            "| other | 3 | 2 | 0 | 1 | 1.414 | 1 of 2 | 1.000 (1.50e-4-6682.651) | 1 of 2 | 1.118 | 1.250 |",
+            "| other | 3 | 2 | 0 | 1 | 1.414 | 1 of 2 | 1.000 (1.50e-4 to 6682.651) | 1 of 2 | 1.118 | 1.250 |",
             "| none | 1 | 1 | 0 | 0 | 0.500 | 1 of 1 | 0.500 | 1 of 1 | 1.000 | 1.000 |",
         ],
         "{table}"
@@ -107,7 +107,7 @@ fn the_baseline_option_names_the_label_compared_with() {
     assert_eq!(
         rows,
         [
-            "| base | 3 | 2 | 1 | 0 | 0.707 | 1 of 2 | 1.000 (1.50e-4-6682.651) | 1 of 2 | 0.894 | 1.000 |",
+            "| base | 3 | 2 | 1 | 0 | 0.707 | 1 of 2 | 1.000 (1.50e-4 to 6682.651) | 1 of 2 | 0.894 | 1.000 |",
             "| none | 1 | 1 | 0 | 0 | 1.000 | 0 of 1 | 1.000 | 0 of 1 | 1.000 | 1.000 |",
         ],
         "{summary}"
