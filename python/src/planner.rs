@@ -33,7 +33,9 @@ struct State {
     experiment: Experiment,
     single: Workspace,
     workers: Vec<Mutex<Workspace>>,
-    pool: Option<rayon::ThreadPool>,
+    /// `plan_many`'s pool and the process that built it: a process forked from that one
+    /// has none of its threads, and builds its own.
+    pool: Option<(u32, rayon::ThreadPool)>,
 }
 
 /// A planner prepared for one grid (see the stub, `gridplan/__init__.pyi`).
@@ -351,20 +353,29 @@ impl Planner {
                     0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
                     n => n,
                 };
+                let pid = std::process::id();
                 if pool
                     .as_ref()
-                    .is_none_or(|p| p.current_num_threads() != threads)
+                    .is_none_or(|(owner, p)| *owner != pid || p.current_num_threads() != threads)
                 {
+                    // A pool built by the process this one was forked from has no threads
+                    // here, and dropping it would signal threads that do not exist.
+                    if let Some((owner, inherited)) = pool.take() {
+                        match owner == pid {
+                            true => drop(inherited),
+                            false => std::mem::forget(inherited),
+                        }
+                    }
                     let built = rayon::ThreadPoolBuilder::new()
                         .num_threads(threads)
                         .build()
                         .map_err(|e| Failure::Value(format!("threads: {e}")))?;
-                    *pool = Some(built);
+                    *pool = Some((pid, built));
                 }
                 if workers.len() < threads {
                     workers.resize_with(threads, || Mutex::new(Workspace::default()));
                 }
-                let Some(pool) = pool.as_ref() else {
+                let Some((_, pool)) = pool.as_ref() else {
                     unreachable!("the pool was built above");
                 };
                 experiment.planners[0].budget.cancel = Some(cancel);

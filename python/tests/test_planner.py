@@ -180,6 +180,37 @@ def test_ctrl_c_interrupts_plan():
     assert out == ["interrupted", "found"]
 
 
+def test_a_forked_process_plans_with_the_parents_planner():
+    """A process forked after the parent planned (multiprocessing's `fork` start method)
+    inherits the pools' memory but none of their threads: `plan`, `plan_many` and a
+    `Planner` built in the parent still plan there (they waited forever)."""
+    import multiprocessing
+
+    global _FORKED
+    grid = gridplan.Grid.from_numpy(np.ones((32, 32), dtype=bool), free=True)
+    planner = gridplan.Planner(grid, "astar")
+    assert gridplan.plan(grid, (0, 0), (31, 31)).status == "found"
+    assert planner.plan_many([[0, 0]], [[31, 31]])["status"][0] == "found"
+    # The child reads them from the memory it inherits (they are not picklable).
+    _FORKED = (grid, planner)
+    context = multiprocessing.get_context("fork")
+    with context.Pool(1) as pool:
+        child = pool.apply_async(_plan_in_child)
+        assert child.get(timeout=60) == ["found", "found", "found"]
+
+
+_FORKED = None
+
+
+def _plan_in_child():
+    grid, planner = _FORKED
+    return [
+        gridplan.plan(grid, (0, 0), (31, 31)).status,
+        planner.plan((0, 0), (31, 31)).status,
+        str(planner.plan_many([[0, 0]], [[31, 31]])["status"][0]),
+    ]
+
+
 def test_ctrl_c_interrupts_run_experiment(tmp_path):
     """Ctrl-C stops a sweep in memory whose search would run for hours."""
     (tmp_path / "open.map").write_text(
