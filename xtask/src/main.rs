@@ -39,20 +39,48 @@ fn main() -> ExitCode {
     gridplan::init_logging();
     // The lock files this process takes name it (the runner reads no process state).
     planner_runner::outdir::set_lock_holder(std::process::id());
-    gridplan::exit(run(Cli::parse().command))
+    match run(Cli::parse().command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(XtaskError::Cli(error)) => gridplan::exit(Err(error)),
+        Err(error) => {
+            eprintln!("error: {}", planner_text::terminal(&error.to_string()));
+            ExitCode::from(error.exit_code())
+        }
+    }
 }
 
-fn run(command: Command) -> Result<(), gridplan::CliError> {
+/// Why a task failed.
+#[derive(Debug, thiserror::Error)]
+enum XtaskError {
+    /// A `gridplan` command's error.
+    #[error(transparent)]
+    Cli(#[from] gridplan::CliError),
+    /// `new-planner` refused the name or could not write the crate.
+    #[error(transparent)]
+    Scaffold(#[from] xtask::scaffold::ScaffoldError),
+    /// `gen-pastar-maps` could not write a map.
+    #[error(transparent)]
+    Maps(#[from] xtask::WriteError),
+}
+
+impl XtaskError {
+    /// The exit status, as `gridplan`'s: a bad name is a usage error, a failed write 1.
+    fn exit_code(&self) -> u8 {
+        match self {
+            XtaskError::Cli(error) => error.exit_code(),
+            XtaskError::Scaffold(xtask::scaffold::ScaffoldError::Io { .. })
+            | XtaskError::Maps(_) => gridplan::EXIT_FAILURE,
+            XtaskError::Scaffold(_) => gridplan::EXIT_USAGE,
+        }
+    }
+}
+
+fn run(command: Command) -> Result<(), XtaskError> {
     match command {
-        Command::User(command) => gridplan::run(command),
+        Command::User(command) => Ok(gridplan::run(command)?),
         Command::NewPlanner { name } => {
             let root = workspace_root();
-            let done = xtask::scaffold::new_planner(&root, &name).map_err(|e| match e {
-                xtask::scaffold::ScaffoldError::Io { .. } => {
-                    gridplan::CliError::Failed(e.to_string())
-                }
-                _ => gridplan::CliError::Usage(e.to_string()),
-            })?;
+            let done = xtask::scaffold::new_planner(&root, &name)?;
             println!("created planner `{name}`:");
             for file in &done.files {
                 println!("  {file}");
@@ -61,8 +89,7 @@ fn run(command: Command) -> Result<(), gridplan::CliError> {
             Ok(())
         }
         Command::GenPastarMaps => {
-            let written = xtask::write_pastar_maps(&workspace_root().join("maps/pastar"))
-                .map_err(|e| gridplan::CliError::Failed(e.to_string()))?;
+            let written = xtask::write_pastar_maps(&workspace_root().join("maps/pastar"))?;
             for path in written {
                 println!("{path}");
             }

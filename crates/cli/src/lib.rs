@@ -368,9 +368,78 @@ pub enum CliError {
     /// `plan --svg/--trace/--gif` wrote no picture.
     #[error(transparent)]
     Pictures(#[from] planner_serve::PictureError),
-    /// Anything else (writing a file or stdout, a job submission).
-    #[error("{0}")]
-    Failed(String),
+    /// The Ctrl-C handler could not be installed.
+    #[error("cannot handle Ctrl-C: {0}")]
+    Signals(#[from] ctrlc::Error),
+    /// Standard output could not be written (not a closed pipe: a full disk).
+    #[error("cannot write to stdout: {0}")]
+    Stdout(std::io::Error),
+    /// A replanning experiment ran, and some of its replans disagree with A* from scratch.
+    #[error("{mismatches} replans disagree with A* from scratch (see {})", output.display())]
+    ReplanMismatches {
+        /// The replans that disagree.
+        mismatches: u64,
+        /// The results directory that lists them.
+        output: PathBuf,
+    },
+    /// `slurm --submit` could not submit a job.
+    #[error(transparent)]
+    Submit(#[from] SubmitError),
+    /// The directory of `merge --shards-in` could not be listed.
+    #[error("--shards-in {}: {source}", dir.display())]
+    ShardsIn {
+        /// The directory.
+        dir: PathBuf,
+        /// Why it could not be listed.
+        source: std::io::Error,
+    },
+    /// A registered planner's schema or defaults could not be built (a registry defect).
+    #[error(transparent)]
+    Registry(#[from] planner_registry::schema::RegistryError),
+    /// A registered planner refused its own defaults (a registry defect).
+    #[error("its defaults: {0}")]
+    Defaults(#[from] planner_api::ParamError),
+    /// The config schema could not be written as JSON.
+    #[error("the config schema: {0}")]
+    Json(#[from] serde_json::Error),
+}
+
+/// Why `slurm --submit` submitted less than both jobs.
+#[derive(Debug, thiserror::Error)]
+pub enum SubmitError {
+    /// sbatch could not be started.
+    #[error("cannot run sbatch (is Slurm installed?): {0}")]
+    Spawn(std::io::Error),
+    /// sbatch refused the job.
+    #[error("sbatch {args} failed: {stderr}{}", .max_array.map_or(String::new(), |limit| format!(
+        "\nthis cluster's MaxArraySize is {limit}, so an array has at most {} tasks: write the scripts again with fewer --shards",
+        limit.saturating_sub(1)
+    )))]
+    Refused {
+        /// sbatch's arguments.
+        args: String,
+        /// What sbatch printed.
+        stderr: String,
+        /// For an array sbatch found invalid: the cluster's `MaxArraySize`, if known (the
+        /// likely cause).
+        max_array: Option<u64>,
+    },
+    /// sbatch succeeded but printed no job id.
+    #[error("sbatch {args} printed no job id")]
+    NoJobId {
+        /// sbatch's arguments.
+        args: String,
+    },
+    /// The array job was submitted and its merge job was not.
+    #[error("{source}\nthe array job {array} was submitted and its merge job was not: submit it with `sbatch {merge_args}`, or cancel the array with `scancel {array}`")]
+    MergeNotSubmitted {
+        /// Why the merge job was not submitted.
+        source: Box<SubmitError>,
+        /// The array job's id.
+        array: String,
+        /// The merge job's sbatch arguments, as a shell reads them.
+        merge_args: String,
+    },
 }
 
 /// Any other failure (an I/O error, a stream or shard set that cannot be read, a
@@ -404,7 +473,15 @@ impl CliError {
                     _ => EXIT_USAGE,
                 }
             }
-            CliError::Failed(_) | CliError::Serve(_) => return EXIT_FAILURE,
+            CliError::Signals(_)
+            | CliError::Stdout(_)
+            | CliError::ReplanMismatches { .. }
+            | CliError::Submit(_)
+            | CliError::ShardsIn { .. }
+            | CliError::Registry(_)
+            | CliError::Defaults(_)
+            | CliError::Json(_)
+            | CliError::Serve(_) => return EXIT_FAILURE,
             CliError::Pictures(error) => {
                 return match error {
                     planner_serve::PictureError::SameFile { .. }
@@ -546,7 +623,7 @@ mod signals {
 /// Makes Ctrl-C end the process at once with "interrupted" and [`EXIT_INTERRUPTED`]: for
 /// `plan`, which writes nothing, so stopping anywhere is clean.
 fn stop_on_interrupt() -> Result<(), CliError> {
-    install_handler().map_err(|error| CliError::Failed(format!("cannot handle Ctrl-C: {error}")))
+    Ok(install_handler()?)
 }
 
 /// Makes SIGINT and SIGTERM stop a sweep cleanly: the flag it watches, or `None` (with a
@@ -699,11 +776,10 @@ fn replan_experiment(
         output.display()
     ))?;
     if done.mismatches > 0 {
-        return Err(CliError::Failed(format!(
-            "{} replans disagree with A* from scratch (see {})",
-            done.mismatches,
-            output.display()
-        )));
+        return Err(CliError::ReplanMismatches {
+            mismatches: done.mismatches,
+            output: output.to_path_buf(),
+        });
     }
     Ok(())
 }
@@ -845,12 +921,16 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 let array = sbatch(&jobs.array_args()).map_err(array_hint)?;
                 let merge = sbatch(&jobs.merge_args(&array)).map_err(|e| {
                     // The array runs without its merge: say what is left to do.
-                    let args: Vec<String> =
-                        jobs.merge_args(&array).iter().map(|a| shell_word(a)).collect();
-                    let args = args.join(" ");
-                    CliError::Failed(format!(
-                        "{e}\nthe array job {array} was submitted and its merge job was not: submit it with `sbatch {args}`, or cancel the array with `scancel {array}`"
-                    ))
+                    let args: Vec<String> = jobs
+                        .merge_args(&array)
+                        .iter()
+                        .map(|a| shell_word(a))
+                        .collect();
+                    SubmitError::MergeNotSubmitted {
+                        source: Box::new(e),
+                        array: array.clone(),
+                        merge_args: args.join(" "),
+                    }
                 })?;
                 out.push_str(&format!("array job {array}\nmerge job {merge}\n"));
             }
@@ -979,8 +1059,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
         }
         Command::Planners { name: Some(name) } => write_stdout(describe_planner(&name)?.as_bytes()),
         Command::Schema => {
-            let text = serde_json::to_string_pretty(&schema()?)
-                .map_err(|e| CliError::Failed(e.to_string()))?;
+            let text = serde_json::to_string_pretty(&schema()?)?;
             write_stdout(format!("{text}\n").as_bytes())
         }
         Command::Completions { shell } => {
@@ -1000,8 +1079,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
 /// exactly one of them.
 pub fn schema() -> Result<serde_json::Value, CliError> {
     let mut runner =
-        planner_runner::schema::experiment_schema(&planner_paper::renderer().section_names())
-            .map_err(|e| CliError::Failed(e.to_string()))?;
+        planner_runner::schema::experiment_schema(&planner_paper::renderer().section_names())?;
     let mut replan =
         planner_registry::schema::parameters_of::<planner_replan::experiment::ExperimentConfig>()
             .to_value();
@@ -1053,9 +1131,7 @@ fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
     use std::io::Write as _;
     let mut stdout = std::io::stdout().lock();
     match stdout.write_all(bytes).and_then(|()| stdout.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            Err(CliError::Failed(format!("cannot write to stdout: {e}")))
-        }
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CliError::Stdout(e)),
         _ => Ok(()),
     }
 }
@@ -1067,27 +1143,26 @@ fn write_text(text: &str) -> Result<(), CliError> {
 }
 
 /// Runs `sbatch --parsable ARGS` and returns the job id.
-fn sbatch(args: &[String]) -> Result<String, CliError> {
+fn sbatch(args: &[String]) -> Result<String, SubmitError> {
     let out = std::process::Command::new("sbatch")
         .arg("--parsable")
         .args(args)
         .output()
-        .map_err(|e| CliError::Failed(format!("cannot run sbatch (is Slurm installed?): {e}")))?;
+        .map_err(SubmitError::Spawn)?;
     if !out.status.success() {
-        return Err(CliError::Failed(format!(
-            "sbatch {} failed: {}",
-            args.join(" "),
-            String::from_utf8_lossy(&out.stderr).trim()
-        )));
+        return Err(SubmitError::Refused {
+            args: args.join(" "),
+            stderr: String::from_utf8_lossy(&out.stderr).trim().to_string(),
+            max_array: None,
+        });
     }
     let text = String::from_utf8_lossy(&out.stdout);
     // `--parsable` prints `id` or `id;cluster`.
     let id = text.trim().split(';').next().unwrap_or("").to_string();
     if id.is_empty() {
-        return Err(CliError::Failed(format!(
-            "sbatch {} printed no job id",
-            args.join(" ")
-        )));
+        return Err(SubmitError::NoJobId {
+            args: args.join(" "),
+        });
     }
     Ok(id)
 }
@@ -1105,39 +1180,37 @@ fn shell_word(word: &str) -> String {
 
 /// An array job that sbatch refused as an invalid array: more tasks than the cluster's
 /// `MaxArraySize` allows (1001 by default: task ids 0 to 1000) is the likely cause, so
-/// the message gives that limit, asked of `scontrol show config`, when it is known.
-fn array_hint(error: CliError) -> CliError {
-    let CliError::Failed(message) = &error else {
+/// the error gives that limit, asked of `scontrol show config`, when it is known.
+fn array_hint(mut error: SubmitError) -> SubmitError {
+    let SubmitError::Refused {
+        stderr, max_array, ..
+    } = &mut error
+    else {
         return error;
     };
-    if !message.contains("Invalid job array specification") {
-        return error;
+    if stderr.contains("Invalid job array specification") {
+        *max_array = std::process::Command::new("scontrol")
+            .args(["show", "config"])
+            .output()
+            .ok()
+            .and_then(|out| {
+                String::from_utf8_lossy(&out.stdout)
+                    .lines()
+                    .find_map(|line| {
+                        let (key, value) = line.split_once('=')?;
+                        (key.trim() == "MaxArraySize").then(|| value.trim().parse::<u64>().ok())?
+                    })
+            });
     }
-    let limit = std::process::Command::new("scontrol")
-        .args(["show", "config"])
-        .output()
-        .ok()
-        .and_then(|out| {
-            String::from_utf8_lossy(&out.stdout)
-                .lines()
-                .find_map(|line| {
-                    let (key, value) = line.split_once('=')?;
-                    (key.trim() == "MaxArraySize").then(|| value.trim().parse::<u64>().ok())?
-                })
-        });
-    match limit {
-        Some(limit) => CliError::Failed(format!(
-            "{message}\nthis cluster's MaxArraySize is {limit}, so an array has at most {} tasks: write the scripts again with fewer --shards",
-            limit.saturating_sub(1)
-        )),
-        None => error,
-    }
+    error
 }
 
 /// The directories `shard-K` (K a decimal number) in `parent`, by K.
 fn shard_dirs_in(parent: &std::path::Path) -> Result<Vec<PathBuf>, CliError> {
-    let failed =
-        |e: std::io::Error| CliError::Failed(format!("--shards-in {}: {e}", parent.display()));
+    let failed = |source: std::io::Error| CliError::ShardsIn {
+        dir: parent.to_path_buf(),
+        source,
+    };
     let entries = std::fs::read_dir(parent).map_err(failed)?;
     let mut found = Vec::new();
     for entry in entries {
@@ -1176,15 +1249,13 @@ pub fn describe_planner(name: &str) -> Result<String, CliError> {
         planner_registry::Task::Coverage => "coverage",
     };
     let mut out = format!("{} ({task}): {}\n", entry.name, entry.summary);
-    let factory =
-        (entry.factory)(&Default::default()).map_err(|e| CliError::Failed(e.to_string()))?;
+    let factory = (entry.factory)(&Default::default())?;
     let _ = writeln!(
         out,
         "with its defaults: {}",
         describe_specs(factory.specs())
     );
-    let params =
-        planner_registry::schema::declared(name).map_err(|e| CliError::Failed(e.to_string()))?;
+    let params = planner_registry::schema::declared(name)?;
     if params.is_empty() {
         out.push_str("no parameters\n");
     } else {
