@@ -100,6 +100,19 @@ pub enum Command {
         #[arg(long)]
         config: Option<PathBuf>,
     },
+    /// Compare two results directories run by run (after a change to a planner): the runs
+    /// whose computed fields (status, path, length, cost, counters) differ, listed field by
+    /// field, and per label NEW's times over OLD's. Exits 1 when the runs or their computed
+    /// fields differ.
+    Compare {
+        /// The results directory before.
+        old: PathBuf,
+        /// The results directory after.
+        new: PathBuf,
+        /// How many differing runs to list.
+        #[arg(long, default_value_t = 10)]
+        examples: usize,
+    },
     /// Write (and with --submit submit) a Slurm job array of N shards plus a merge job.
     Slurm {
         /// The experiment config.
@@ -399,6 +412,16 @@ pub enum CliError {
     /// A registered planner refused its own defaults (a registry defect).
     #[error("its defaults: {0}")]
     Defaults(#[from] planner_api::ParamError),
+    /// `compare` found runs that differ (its text says which).
+    #[error(
+        "{runs} runs differ in their computed fields, {unmatched} runs are in one directory only"
+    )]
+    Differ {
+        /// Runs in both whose computed fields differ.
+        runs: u64,
+        /// Runs in one directory only.
+        unmatched: u64,
+    },
     /// The config schema could not be written as JSON.
     #[error("the config schema: {0}")]
     Json(#[from] serde_json::Error),
@@ -481,6 +504,7 @@ impl CliError {
             | CliError::Registry(_)
             | CliError::Defaults(_)
             | CliError::Json(_)
+            | CliError::Differ { .. }
             | CliError::Serve(_) => return EXIT_FAILURE,
             CliError::Pictures(error) => {
                 return match error {
@@ -881,6 +905,17 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 report.n_runs,
                 report.output.display()
             ))
+        }
+        Command::Compare { old, new, examples } => {
+            let comparison = planner_report::compare::compare(&old, &new, examples)?;
+            write_text(&comparison.text())?;
+            match comparison.same() {
+                true => Ok(()),
+                false => Err(CliError::Differ {
+                    runs: comparison.differing,
+                    unmatched: comparison.runs[0] + comparison.runs[1] - 2 * comparison.both,
+                }),
+            }
         }
         Command::Slurm {
             config,

@@ -385,3 +385,38 @@ fn a_failed_submission_says_what_is_left() {
         out.stderr
     );
 }
+
+/// `compare` exits 0 when two results directories hold the same runs with the same
+/// computed fields, 1 when they differ (after printing the comparison), and refuses a
+/// directory that is not results as `report` does (5).
+#[test]
+fn compare_exits_1_when_the_runs_differ() {
+    let dir = scratch("compare");
+    let path = |name: &str| dir.join(name).display().to_string();
+    let run = |config: &str, out: &str| {
+        let (code, err) = gridplan(&["experiment", config, "--quiet", "--output", &path(out)]);
+        assert_eq!(code, 0, "{err}");
+    };
+    let plain = config(&dir, "");
+    run(&plain, "a");
+    run(&plain, "b");
+    let out = common::gridplan(&root(), &["compare", &path("a"), &path("b")]);
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
+    assert!(
+        out.stdout.contains("the same in all 1 runs in both"),
+        "{}",
+        out.stdout
+    );
+    let repeated = config(&dir, "repeats = 2");
+    run(&repeated, "c");
+    let out = common::gridplan(&root(), &["compare", &path("a"), &path("c")]);
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    assert!(out.stdout.contains("only in NEW: 1"), "{}", out.stdout);
+    assert!(
+        out.stderr.contains("1 runs are in one directory only"),
+        "{}",
+        out.stderr
+    );
+    let (code, err) = gridplan(&["compare", &path("a"), &dir.display().to_string()]);
+    assert_eq!(code, 5, "{err}");
+}

@@ -21,6 +21,7 @@
 pub mod aggregate;
 pub mod chart_section;
 pub mod charts;
+pub mod compare;
 pub mod coverage_figures;
 pub mod exact;
 pub mod figures;

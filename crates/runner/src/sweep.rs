@@ -881,18 +881,12 @@ fn write_stream(
     Ok(())
 }
 
-/// Re-renders the results directory `dir` in place from what it holds (records.stream,
-/// expanded.jsonl, provenance.json) and its config (`config`, default the one its records
-/// name; it must resolve to the config hash they were run with): summary.md, figures,
-/// charts, report.html, OMPL logs, and the tables again. No planner runs. The directory is
-/// replaced under the same rules as `experiment` writes it ([`outdir`]: only a gridplan
-/// results directory, under its lock, atomically).
-pub fn report(
-    dir: &Path,
-    config: Option<&Path>,
-    render: &dyn Render,
-) -> Result<Report, RunnerError> {
-    let started = Instant::now();
+/// The records file of the results directory `dir` (records.stream, or an earlier
+/// version's records.jsonl) and its path, opened; an error that says what `dir` is
+/// instead when it is not a gridplan results directory (none, a file, no marker, a shard, a
+/// replanning experiment's results). Reads only: whether `dir` may be replaced is the
+/// caller's question ([`outdir::check`]).
+pub fn open_results(dir: &Path) -> Result<(PathBuf, File), RunnerError> {
     // Only gridplan's own results directory: its marker, as `experiment` requires. What
     // else the path is gets its own message here, not an `experiment` output's advice.
     let not_results = |what| ResultsError::NotResults {
@@ -909,8 +903,6 @@ pub fn report(
     if fs::symlink_metadata(dir.join(outdir::MARKER)).is_err() {
         return Err(not_results("has no results marker").into());
     }
-    outdir::check(dir)?;
-    outdir::Marker::read(dir).map_err(|e| RunnerError::during("report", e.into()))?;
     let mut path = dir.join(RESULTS_RECORDS);
     if fs::symlink_metadata(&path).is_err()
         && fs::symlink_metadata(dir.join(OLD_RESULTS_RECORDS)).is_ok()
@@ -939,6 +931,25 @@ pub fn report(
             }
         }
     })?;
+    Ok((path, file))
+}
+
+/// Re-renders the results directory `dir` in place from what it holds (records.stream,
+/// expanded.jsonl, provenance.json) and its config (`config`, default the one its records
+/// name; it must resolve to the config hash they were run with): summary.md, figures,
+/// charts, report.html, OMPL logs, and the tables again. No planner runs. The directory is
+/// replaced under the same rules as `experiment` writes it ([`outdir`]: only a gridplan
+/// results directory, under its lock, atomically).
+pub fn report(
+    dir: &Path,
+    config: Option<&Path>,
+    render: &dyn Render,
+) -> Result<Report, RunnerError> {
+    let started = Instant::now();
+    let (path, file) = open_results(dir)?;
+    // Replaced as `experiment` replaces an output.
+    outdir::check(dir)?;
+    outdir::Marker::read(dir).map_err(|e| RunnerError::during("report", e.into()))?;
     let what = path.display().to_string();
     let (header, reader) = StreamReader::new(BufReader::new(file), &what)?;
     let experiment = load_checked(&header, config, render, "report")?;

@@ -1,0 +1,128 @@
+//! `gridplan compare OLD NEW`: two results directories written by real sweeps, compared
+//! run by run.
+
+use std::path::{Path, PathBuf};
+
+use planner_report::compare::compare;
+use planner_report::Renderer;
+use planner_runner::sweep::{experiment, SweepArgs};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A scratch directory for one test, emptied first.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gridplan-compare-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs a config of two labels (A* with `heuristic`, BFS, and `extra` labels) on seed
+/// 000's map01 and map02, 2 repeats, into `dir/name`.
+fn sweep(dir: &Path, name: &str, heuristic: &str, extra: &str) -> PathBuf {
+    let maps = root().join("maps/paper");
+    let config = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &config,
+        format!(
+            "name = \"{name}\"\nrepeats = 2\n[[maps]]\nfiles = [{:?}, {:?}]\nproblems = \"corners\"\n\
+             [planners.astar]\nplanner = \"astar\"\nheuristic = \"{heuristic}\"\n\
+             [planners.bfs]\nplanner = \"bfs\"\n{extra}",
+            maps.join("map01.map").display().to_string(),
+            maps.join("map02.map").display().to_string(),
+        ),
+    )
+    .unwrap();
+    let output = dir.join(name);
+    let render = Renderer::new(Vec::new());
+    experiment(&SweepArgs {
+        threads: 1,
+        output: Some(&output),
+        ..SweepArgs::new(&config, &render)
+    })
+    .unwrap();
+    output
+}
+
+#[test]
+fn the_same_sweep_twice_is_the_same() {
+    let dir = scratch("same");
+    let (old, new) = (
+        sweep(&dir, "old", "manhattan", ""),
+        sweep(&dir, "new", "manhattan", ""),
+    );
+    let c = compare(&old, &new, 10).unwrap();
+    // 2 maps x 1 problem x 2 labels x 2 repeats.
+    assert_eq!((c.runs, c.both, c.differing), ([8, 8], 8, 0));
+    assert!(c.same() && c.examples.is_empty());
+    // Times per label over the 2 problems both ran.
+    let labels: Vec<(&str, u64)> = c
+        .times
+        .iter()
+        .map(|t| (t.label.as_str(), t.problems))
+        .collect();
+    assert_eq!(labels, [("astar", 2), ("bfs", 2)]);
+    assert!(
+        c.text().contains("the same in all 8 runs in both"),
+        "{}",
+        c.text()
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A* with the zero heuristic (Dijkstra) expands more than with Manhattan on both maps:
+/// its 4 runs differ, listed once a problem with the counters that changed; BFS's do not;
+/// a label only NEW has is counted apart.
+#[test]
+fn changed_runs_are_listed_by_field_and_extra_runs_counted() {
+    let dir = scratch("changed");
+    let old = sweep(&dir, "old", "manhattan", "");
+    let new = sweep(&dir, "new", "zero", "[planners.dfs]\nplanner = \"dfs\"\n");
+    let c = compare(&old, &new, 10).unwrap();
+    assert_eq!((c.runs, c.both, c.differing), ([8, 12], 8, 4));
+    assert!(!c.same());
+    assert_eq!(c.examples.len(), 2, "{:?}", c.examples);
+    for example in &c.examples {
+        assert!(
+            example.run.starts_with("label \"astar\", map0"),
+            "{}",
+            example.run
+        );
+        let fields: Vec<&str> = example.fields.iter().map(|f| f.0.as_str()).collect();
+        assert!(fields.contains(&"counters.n_expanded"), "{fields:?}");
+        // The old and new values are the records' own.
+        let expanded = example
+            .fields
+            .iter()
+            .find(|f| f.0 == "counters.n_expanded")
+            .unwrap();
+        assert_ne!(expanded.1, expanded.2);
+    }
+    let text = c.text();
+    assert!(
+        text.contains("runs in both: 8, only in OLD: 0, only in NEW: 4"),
+        "{text}"
+    );
+    assert!(text.contains("4 of 8 runs in both differ"), "{text}");
+    // With no examples asked for, the counts alone.
+    assert!(compare(&old, &new, 0).unwrap().examples.is_empty());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_directory_that_is_not_results_is_refused() {
+    let dir = scratch("refused");
+    let old = sweep(&dir, "old", "manhattan", "");
+    let error = compare(&old, &dir.join("missing"), 10)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("missing") && error.contains("does not exist"),
+        "{error}"
+    );
+    let error = compare(&dir, &old, 10).unwrap_err().to_string();
+    assert!(error.contains("has no results marker"), "{error}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
