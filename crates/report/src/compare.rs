@@ -37,6 +37,8 @@ pub struct Comparison {
     pub dirs: [PathBuf; 2],
     /// Their runs, OLD then NEW.
     pub runs: [u64; 2],
+    /// Where and how each sweep ran (its provenance.json), OLD then NEW.
+    pub provenance: [planner_runner::provenance::Provenance; 2],
     /// Runs in both.
     pub both: u64,
     /// Runs of both whose computed fields differ.
@@ -78,11 +80,25 @@ impl Comparison {
 
     /// The comparison as text for a person.
     pub fn text(&self) -> String {
-        let [old, new] = [0, 1].map(|i| self.dirs[i].display().to_string());
-        let mut out = format!(
-            "OLD {old}: {} runs\nNEW {new}: {} runs\nruns in both: {}, only in OLD: {}, only in NEW: {}\n",
-            self.runs[0],
-            self.runs[1],
+        let mut out = String::new();
+        for (i, side) in ["OLD", "NEW"].iter().enumerate() {
+            let p = &self.provenance[i];
+            let _ = writeln!(
+                out,
+                "{side} {}: {} runs (gridplan {}, commit {}, {} on {}, {}, {} threads)",
+                self.dirs[i].display(),
+                self.runs[i],
+                p.version,
+                p.commit.as_deref().unwrap_or("unknown"),
+                p.date,
+                p.host.as_deref().unwrap_or("an unknown host"),
+                p.cpu.as_deref().unwrap_or("an unknown CPU"),
+                p.threads
+            );
+        }
+        let _ = writeln!(
+            out,
+            "runs in both: {}, only in OLD: {}, only in NEW: {}",
             self.both,
             self.runs[0] - self.both,
             self.runs[1] - self.both
@@ -246,6 +262,10 @@ pub fn compare(old: &Path, new: &Path, examples: usize) -> Result<Comparison, Ru
     Ok(Comparison {
         dirs: [old.to_path_buf(), new.to_path_buf()],
         runs: [n_old, n_new],
+        provenance: [
+            planner_runner::sweep::read_provenance(old)?,
+            planner_runner::sweep::read_provenance(new)?,
+        ],
         both,
         differing,
         examples,

@@ -64,11 +64,16 @@ fn the_same_sweep_twice_is_the_same() {
         .map(|t| (t.label.as_str(), t.problems))
         .collect();
     assert_eq!(labels, [("astar", 2), ("bfs", 2)]);
-    assert!(
-        c.text().contains("the same in all 8 runs in both"),
-        "{}",
-        c.text()
+    let text = c.text();
+    assert!(text.contains("the same in all 8 runs in both"), "{text}");
+    // Each side's provenance: where and how its times were measured.
+    let first = format!(
+        "OLD {}: 8 runs (gridplan {}",
+        old.display(),
+        env!("CARGO_PKG_VERSION")
     );
+    assert!(text.starts_with(&first), "{text}");
+    assert!(text.contains(", 1 threads)\nNEW "), "{text}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

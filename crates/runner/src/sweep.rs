@@ -676,6 +676,23 @@ struct RunInfo {
     seconds: f64,
 }
 
+/// The provenance.json of the results directory `dir`.
+fn read_run_info(dir: &Path) -> Result<RunInfo, RunnerError> {
+    let info_path = dir.join(PROVENANCE_FILE);
+    let bytes = read_regular(&info_path)?;
+    Ok(
+        serde_json::from_slice(&bytes).map_err(|source| ResultsError::Provenance {
+            path: info_path.clone(),
+            source,
+        })?,
+    )
+}
+
+/// Where and how the sweep of the results directory `dir` ran (its provenance.json).
+pub fn read_provenance(dir: &Path) -> Result<Provenance, RunnerError> {
+    Ok(read_run_info(dir)?.provenance)
+}
+
 /// A whole sweep's records for its final outputs: held in memory (at most [`HELD_RUNS`]),
 /// or in a stream file on disk, read in passes.
 enum Source {
@@ -954,13 +971,7 @@ pub fn report(
     let (header, reader) = StreamReader::new(BufReader::new(file), &what)?;
     let experiment = load_checked(&header, config, render, "report")?;
     let source = read_results_records(&experiment, &header, reader, &path)?;
-    let info_path = dir.join(PROVENANCE_FILE);
-    let bytes = read_regular(&info_path)?;
-    let info: RunInfo =
-        serde_json::from_slice(&bytes).map_err(|source| ResultsError::Provenance {
-            path: info_path.clone(),
-            source,
-        })?;
+    let info = read_run_info(dir)?;
     let expanded = read_expanded(dir, &experiment)?;
     let n_runs = header.total_runs as usize;
     let (reproduction, _) = finish(
