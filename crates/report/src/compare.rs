@@ -5,8 +5,9 @@
 //! Runs are matched by planner label, map, problem (index, start and goal) and repeat. Of
 //! the runs in both, every field but the measured ones (`time_ms`, `setup_ms`,
 //! `peak_heap_bytes`) is compared: status, path, length, cost, steps, turns, every counter,
-//! seed, marks. The first differing runs (one a problem) are listed field by field. Times are compared per
-//! label over the problems both ran: per problem the median over the repeats of each side,
+//! seed, marks. The first differing runs (one per problem) are listed field by field.
+//! Times are compared per label over the problems both ran: per problem the median over
+//! the repeats of each side,
 //! NEW over OLD, summarised by the geometric mean of those ratios with Student's t 95 %
 //! interval on their logarithms ([`planner_stats::geometric_mean`]) and the number of
 //! problems NEW is faster on. Times come from two sweeps, possibly on two machines or
@@ -112,7 +113,7 @@ impl Comparison {
         } else {
             let _ = writeln!(
                 out,
-                "computed fields (status, path, length, cost, counters, ...): {} of {} runs in both differ; the first {} (one run a problem):",
+                "computed fields (status, path, length, cost, counters, ...): {} of {} runs in both differ; the first {} (one run per problem):",
                 self.differing,
                 self.both,
                 self.examples.len()
