@@ -186,7 +186,7 @@ pub fn plan(
         let _mark = call.mark_worker();
         guarded(|| run(&grid, start, goal, &planner, table, budget, record))
     };
-    let done = crate::interrupt::interruptible(
+    let done = crate::interrupt::interruptible_query(
         py,
         || cancel.cancel(),
         || Err(Failure::Value("the search's thread panicked".into())),
