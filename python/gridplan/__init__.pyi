@@ -159,7 +159,8 @@ class Outcome:
     @property
     def events(self) -> Optional[Dict[str, npt.NDArray[Any]]]:
         """With ``plan(..., record=True)``: the search step by step where the planner
-        records it (A*, any heuristic; bidirectional A*, Theta*, Lazy Theta*, JPS): equal-length
+        records it (A*, any heuristic; bidirectional A*, Theta*, Lazy Theta*, JPS, weighted
+        JPS): equal-length
         arrays ``kind`` (``"generating"``,
         ``"updating"``, ``"expanding"``), ``x``, ``y``, ``parent_x``, ``parent_y`` (-1 for
         the start), ``g`` and ``f`` (``pandas.DataFrame(outcome.events)`` makes a table;

@@ -226,8 +226,8 @@ pub enum Command {
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,
         /// Also write the search as a Posthoc search trace (JSON) to FILE: source,
-        /// destination, the search's steps, end. A*, bidirectional A*, Theta*, Lazy Theta* and JPS
-        /// record every push into OPEN and every expansion with parent, g and f; the other
+        /// destination, the search's steps, end. A*, bidirectional A*, Theta*, Lazy Theta*, JPS and
+        /// weighted JPS record every push into OPEN and every expansion with parent, g and f; the other
         /// planners give one `expanding` event per expanded cell (planner-serve's `trace`
         /// module).
         #[arg(long, value_name = "FILE")]

@@ -10,7 +10,7 @@
 //! - one `source` event (the start) and one `destination` event (the goal);
 //! - for a planner that records its search step by step ([`planner_api::Outcome::events`]:
 //!   A\*, whatever its heuristic, Dijkstra included, bidirectional A\*, Theta\*, Lazy
-//!   Theta\* and JPS), one event per step in order:
+//!   Theta\*, JPS and weighted JPS), one event per step in order:
 //!   `generating` (a node first put in OPEN), `updating` (its `g` lowered while in OPEN)
 //!   and `expanding`, each with the node's `pId` (its parent's id, absent for the start),
 //!   `g` and `f` as the search had them; at most [`planner_api::MAX_SEARCH_EVENTS`] of

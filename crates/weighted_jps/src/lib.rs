@@ -110,6 +110,15 @@
 //! 4,000 without weights (`tests/reference.rs`) and on every run of `configs/weighted.toml`
 //! (xtask's `every_weighted_run_matches_the_oracle`).
 //!
+//! # Recording
+//! With [`Budget::record_events`] the search is recorded step by step ([`Outcome::events`]):
+//! each push of a jump point into OPEN with a new cost (`generating` the first time,
+//! `updating` after) with its parent, `g` and `f = g + h` in cost units, and each
+//! expansion, reopened ones included; a push that only adds a direction to an expanded
+//! node at its own cost is no step (its expansion again is). The recording search is a
+//! copy of its own (a const parameter). Tested against the counters, the path's cost and
+//! the heuristic in `tests/events.rs`.
+//!
 //! ```
 //! use planner_api::{Budget, Cell, CostRule, Grid, Planner, Problem, Status};
 //! use planner_weighted_jps::{Config, WeightedJps};
@@ -141,7 +150,8 @@
 
 use planner_api::{
     push_octile_leg, Budget, Cell, Connectivity, Cost, Counters, Grid, Mark, MoveSet,
-    NeighborOrder, Outcome, ParamKey, Path, PathSpec, Planner, PlannerSpecs, Problem, Status,
+    NeighborOrder, Outcome, ParamKey, Path, PathSpec, Planner, PlannerSpecs, Problem, SearchEvent,
+    SearchEventKind, Status,
 };
 use planner_search::bucket::{BucketOpen, Open, LOW_G};
 use serde::{Deserialize, Serialize};
@@ -770,8 +780,9 @@ const fn sides(k: usize) -> [usize; 2] {
 }
 
 impl WeightedJps {
-    /// Runs the search (crate docs) on `problem` within `budget`.
-    fn search(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
+    /// Runs the search (crate docs) on `problem` within `budget`; `RECORD`: the copy that
+    /// records its steps ([`Budget::record_events`]; never timed).
+    fn search<const RECORD: bool>(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
         let grid = problem.grid();
         let mut tally = Tally::default();
         if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
@@ -809,12 +820,28 @@ impl WeightedJps {
             let diagonals = dx.min(dy);
             Cost::octile(u64::from(dx.max(dy) - diagonals), u64::from(diagonals)).times(min_weight)
         };
+        // One step, while there is room for it: node `p` with its parent, `g` (units) and
+        // `f = g + h` as OPEN orders it.
+        let mut events = Vec::new();
+        let mut note = |kind, p: usize, parent: Option<usize>, g: u64| {
+            if RECORD && events.len() < planner_api::MAX_SEARCH_EVENTS {
+                let g = Cost::from_units(g);
+                events.push(SearchEvent {
+                    kind,
+                    cell: prepared.cell(p),
+                    parent: parent.map(|q| prepared.cell(q)),
+                    g: g.to_f64(),
+                    f: (g + h(p)).to_f64(),
+                });
+            }
+        };
         nodes.state[start_index] = OPEN;
         nodes.g[start_index] = 0;
         nodes.parent[start_index] = start_index as u32;
         nodes.directions[start_index] = 0;
         nodes.touched.push(start_index as u32);
         open.push(start_index as u32, h(start_index), Cost::ZERO);
+        note(SearchEventKind::Generating, start_index, None, 0);
         tally.n_open_insertions = 1;
         tally.peak_open = 1;
         let mut clock = budget.start();
@@ -843,6 +870,11 @@ impl WeightedJps {
             if budget.record_expanded {
                 expanded.push(prepared.cell(p));
             }
+            if RECORD {
+                let parent = nodes.parent[p] as usize;
+                let parent = (parent != p).then_some(parent);
+                note(SearchEventKind::Expanding, p, parent, nodes.g[p]);
+            }
             if p == goal_index {
                 break Status::Found;
             }
@@ -868,6 +900,12 @@ impl WeightedJps {
                 // The direction of the last move into `q`: the jump's own.
                 let bit = 1u8 << k;
                 let g_q = g_p.saturating_add(cost);
+                // A push that only adds a direction to a node at its own cost (below) is
+                // no step; the node's expansion again is.
+                let kind = match nodes.state[q] {
+                    UNSEEN => SearchEventKind::Generating,
+                    _ => SearchEventKind::Updating,
+                };
                 match nodes.state[q] {
                     UNSEEN => {
                         nodes.state[q] = OPEN;
@@ -910,6 +948,9 @@ impl WeightedJps {
                     Cost::from_units(g_q) + h(q),
                     Cost::from_units(g_q),
                 );
+                if RECORD {
+                    note(kind, q, Some(p), g_q);
+                }
             }
             tally.peak_open = tally
                 .peak_open
@@ -929,7 +970,9 @@ impl WeightedJps {
             Status::BudgetExhausted => Outcome::budget_exhausted(None, counters),
             _ => Outcome::no_path(counters),
         };
-        outcome.with_expanded(expanded)
+        let mut outcome = outcome.with_expanded(expanded);
+        outcome.events = events;
+        outcome
     }
 }
 
@@ -988,7 +1031,10 @@ impl Planner for WeightedJps {
     /// grid (55 bytes per cell of the grid with a one-cell border) are over
     /// [`Budget::max_memory_mb`].
     fn plan(&mut self, problem: &Problem<'_>, budget: &Budget) -> Outcome {
-        self.search(problem, budget)
+        match budget.record_events {
+            true => self.search::<true>(problem, budget),
+            false => self.search::<false>(problem, budget),
+        }
     }
 }
 

@@ -2,5 +2,6 @@
 //! planner-weighted_jps --test it`): each module is a file of this directory. A new test
 //! file here is declared below (`mod NAME;`), or tidy refuses it (ARCHITECTURE.md, "Tests").
 
+mod events;
 mod oracle;
 mod reference;
