@@ -6,7 +6,7 @@
 //! the parents from the goal back the path's jump points; recording changes nothing. Every
 //! variant, with and without goal bounding.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 
 use planner_api::{Cell, Problem, SearchEventKind, Status};
 use planner_jps::{Config, Jps};
@@ -51,40 +51,26 @@ fn recorded_steps_agree_with_the_counters_and_the_path() {
 
 /// The steps' values and order, and the parents back from the goal.
 fn check_steps(what: &str, outcome: &planner_api::Outcome, start: Cell, goal: Cell) {
-    let mut last: HashMap<Cell, (f64, Option<Cell>)> = HashMap::new();
-    let mut parents: HashMap<Cell, Option<Cell>> = HashMap::new();
-    let mut expanding: Option<Cell> = None;
-    for e in &outcome.events {
+    let order = planner_testkit::check_step_order(what, &outcome.events, |e, order| {
         let h = octile(e.cell, goal);
         assert!((e.f - e.g - h).abs() < 1e-9 * (1.0 + e.f), "{what}: {e:?}");
-        match e.kind {
-            SearchEventKind::Generating | SearchEventKind::Updating => {
-                // Pushed by the node being expanded (the start by none), at g(parent)
-                // plus the octile distance of the jump.
-                assert_eq!(e.parent, expanding, "{what}: {e:?}");
-                if let Some(parent) = e.parent {
-                    let g_parent = last[&parent].0;
-                    let jump = octile(parent, e.cell);
-                    assert!(
-                        (e.g - g_parent - jump).abs() < 1e-9 * (1.0 + e.g),
-                        "{what}: {e:?}"
-                    );
-                }
-                let known = last.contains_key(&e.cell);
-                assert_eq!(known, e.kind == SearchEventKind::Updating, "{what}: {e:?}");
-                if known {
-                    assert!(e.g < last[&e.cell].0, "{what}: {e:?}");
-                }
-                assert!(!parents.contains_key(&e.cell), "{what}: pushed when closed");
-                last.insert(e.cell, (e.g, e.parent));
+        if e.kind != SearchEventKind::Expanding {
+            // At g(parent) plus the octile distance of the jump; never into CLOSED.
+            if let Some(parent) = e.parent {
+                let g_parent = order.last[&parent].0;
+                let jump = octile(parent, e.cell);
+                assert!(
+                    (e.g - g_parent - jump).abs() < 1e-9 * (1.0 + e.g),
+                    "{what}: {e:?}"
+                );
             }
-            SearchEventKind::Expanding => {
-                assert_eq!(last.get(&e.cell), Some(&(e.g, e.parent)), "{what}: {e:?}");
-                parents.insert(e.cell, e.parent);
-                expanding = Some(e.cell);
-            }
+            assert!(
+                !order.parents.contains_key(&e.cell),
+                "{what}: pushed when closed"
+            );
         }
-    }
+    });
+    let parents = &order.parents;
     if outcome.status == Status::Found {
         let path: HashSet<Cell> = outcome
             .path

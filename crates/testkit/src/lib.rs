@@ -15,6 +15,7 @@
 //! documented search written again plainly and sharing no code with it.
 #![deny(missing_docs)]
 
+use std::collections::HashMap;
 use std::path::PathBuf;
 
 mod bidirectional;
@@ -183,6 +184,57 @@ pub fn plan_recorded(
     );
     check_step_counts(what, &recorded.events, &recorded.expanded, counts, ends);
     recorded
+}
+
+/// What [`check_step_order`] read from a search's steps.
+#[derive(Debug, Default)]
+pub struct StepOrder {
+    /// Per cell, the `g` and parent of its last push.
+    pub last: HashMap<Cell, (f64, Option<Cell>)>,
+    /// Per expanded cell, its parent when it was (last) expanded.
+    pub parents: HashMap<Cell, Option<Cell>>,
+    /// The `updating` steps.
+    pub updates: usize,
+}
+
+/// Checks the order of a best-first search's recorded steps: every push (`generating`,
+/// `updating`) comes from the node being expanded, which is its parent (the first push,
+/// the start's, has none); a cell's first push is `generating` and a later one `updating`,
+/// with a lower `g`; a node expands with the `g` and parent of its last push. `extra` is
+/// called on each step with what was read before it. Returns what was read.
+pub fn check_step_order(
+    what: &str,
+    events: &[planner_api::SearchEvent],
+    mut extra: impl FnMut(&planner_api::SearchEvent, &StepOrder),
+) -> StepOrder {
+    use planner_api::SearchEventKind::{Expanding, Generating, Updating};
+    let mut order = StepOrder::default();
+    let mut expanding: Option<Cell> = None;
+    for e in events {
+        extra(e, &order);
+        match e.kind {
+            Generating | Updating => {
+                assert_eq!(e.parent, expanding, "{what}: {e:?}");
+                let known = order.last.get(&e.cell).map(|&(g, _)| g);
+                assert_eq!(known.is_some(), e.kind == Updating, "{what}: {e:?}");
+                if let Some(g) = known {
+                    assert!(e.g < g, "{what}: an update that does not lower g: {e:?}");
+                    order.updates += 1;
+                }
+                order.last.insert(e.cell, (e.g, e.parent));
+            }
+            Expanding => {
+                assert_eq!(
+                    order.last.get(&e.cell),
+                    Some(&(e.g, e.parent)),
+                    "{what}: {e:?}"
+                );
+                order.parents.insert(e.cell, e.parent);
+                expanding = Some(e.cell);
+            }
+        }
+    }
+    order
 }
 
 /// Asserts the counter identities of a BFS or DFS run with `k` moves per cell (see the

@@ -6,9 +6,7 @@
 //! node expands with its last push's g and parent; the parents from the goal back the
 //! path's jump points, the goal's g the path's cost; recording changes nothing.
 
-use std::collections::HashMap;
-
-use planner_api::{Cell, Problem, SearchEventKind, Status};
+use planner_api::{Cell, Problem, Status};
 use planner_weighted_jps::{Config, WeightedJps};
 
 fn octile(a: Cell, b: Cell) -> f64 {
@@ -29,30 +27,12 @@ fn recorded_steps_agree_with_the_counters_and_the_path() {
         // The start's insertion is the one push that relaxes nothing.
         let outcome = planner_testkit::plan_recorded(&what, &mut planner, &problem, 1);
         let min_weight = f64::from(p.grid.weights().map_or(1, |w| w.min()));
-        let mut last: HashMap<Cell, (f64, Option<Cell>)> = HashMap::new();
-        let mut parents: HashMap<Cell, Option<Cell>> = HashMap::new();
-        let mut expanding: Option<Cell> = None;
-        for e in &outcome.events {
+        let order = planner_testkit::check_step_order(&what, &outcome.events, |e, _| {
             let h = octile(e.cell, p.goal) * min_weight;
             assert!((e.f - e.g - h).abs() < 1e-6 * (1.0 + e.f), "{what}: {e:?}");
-            match e.kind {
-                SearchEventKind::Generating | SearchEventKind::Updating => {
-                    assert_eq!(e.parent, expanding, "{what}: {e:?}");
-                    let known = last.contains_key(&e.cell);
-                    assert_eq!(known, e.kind == SearchEventKind::Updating, "{what}: {e:?}");
-                    if known {
-                        assert!(e.g < last[&e.cell].0, "{what}: {e:?}");
-                        updates += 1;
-                    }
-                    last.insert(e.cell, (e.g, e.parent));
-                }
-                SearchEventKind::Expanding => {
-                    assert_eq!(last.get(&e.cell), Some(&(e.g, e.parent)), "{what}: {e:?}");
-                    parents.insert(e.cell, e.parent);
-                    expanding = Some(e.cell);
-                }
-            }
-        }
+        });
+        updates += order.updates;
+        let (last, parents) = (&order.last, &order.parents);
         if outcome.status == Status::Found {
             found += 1;
             let path = outcome.path.as_ref().unwrap();
