@@ -195,7 +195,7 @@ fn digest(r: &RunRecord) -> u64 {
 
 /// Calls `visit` on every record of the results directory `dir`.
 fn pass(dir: &Path, visit: &mut dyn FnMut(RunRecord)) -> Result<u64, RunnerError> {
-    let (path, file) = planner_runner::sweep::open_results(dir)?;
+    let (path, file) = planner_runner::sweep::open_results(dir, "compare")?;
     let (_, mut reader) = StreamReader::new(BufReader::new(file), &path.display().to_string())?;
     let mut n = 0;
     while let Some((_, record)) = reader.next_run()? {

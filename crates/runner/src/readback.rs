@@ -139,26 +139,32 @@ pub enum ResultsError {
         /// Why it could not be opened.
         source: std::io::Error,
     },
-    /// A path given to `report` that is not a results directory: missing, not a directory,
-    /// or a directory without gridplan's marker.
-    #[error("report: `{}` {what}; report re-renders a results directory that `gridplan experiment` wrote (it holds `{marker}`)", .dir.display(), marker = crate::outdir::MARKER)]
+    /// A path given to `command` (`report`, `compare`) that is not a results directory:
+    /// missing, not a directory, or a directory without gridplan's marker.
+    #[error("{command}: `{}` {what}; {command} reads a results directory that `gridplan experiment` wrote (it holds `{marker}`)", .dir.display(), marker = crate::outdir::MARKER)]
     NotResults {
+        /// The command that read it.
+        command: &'static str,
         /// The path given.
         dir: PathBuf,
         /// What it is, e.g. "does not exist".
         what: &'static str,
     },
-    /// A replanning experiment's results given to `report`, which re-renders the runner's.
-    #[error("report: {} holds a replanning experiment's results ({file}), which report does not re-render; run its config again with `gridplan experiment`", .dir.display())]
+    /// A replanning experiment's results given to `command`, which reads the runner's.
+    #[error("{command}: {} holds a replanning experiment's results ({file}), which {command} does not read; run its config again with `gridplan experiment`", .dir.display())]
     ReplanResults {
+        /// The command that read it.
+        command: &'static str,
         /// The directory.
         dir: PathBuf,
         /// The replanning experiment's file found there.
         file: &'static str,
     },
-    /// A shard's output given to `report`, which reads a whole sweep's results.
-    #[error("report: {} holds one shard of a sweep ({file}), not its results; merge the shards (`gridplan merge`) and report the merged directory", .dir.display())]
+    /// A shard's output given to `command`, which reads a whole sweep's results.
+    #[error("{command}: {} holds one shard of a sweep ({file}), not its results; merge the shards (`gridplan merge`) and give {command} the merged directory", .dir.display())]
     ShardNotResults {
+        /// The command that read it.
+        command: &'static str,
         /// The directory.
         dir: PathBuf,
         /// The shard's records file's name.

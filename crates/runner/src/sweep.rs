@@ -902,11 +902,13 @@ fn write_stream(
 /// version's records.jsonl) and its path, opened; an error that says what `dir` is
 /// instead when it is not a gridplan results directory (none, a file, no marker, a shard, a
 /// replanning experiment's results). Reads only: whether `dir` may be replaced is the
-/// caller's question ([`outdir::check`]).
-pub fn open_results(dir: &Path) -> Result<(PathBuf, File), RunnerError> {
+/// caller's question ([`outdir::check`]). `command` (`report`, `compare`) names the reader in
+/// the errors.
+pub fn open_results(dir: &Path, command: &'static str) -> Result<(PathBuf, File), RunnerError> {
     // Only gridplan's own results directory: its marker, as `experiment` requires. What
     // else the path is gets its own message here, not an `experiment` output's advice.
     let not_results = |what| ResultsError::NotResults {
+        command,
         dir: dir.to_path_buf(),
         what,
     };
@@ -932,11 +934,13 @@ pub fn open_results(dir: &Path) -> Result<(PathBuf, File), RunnerError> {
         const REPLANS_FILE: &str = "replans.jsonl";
         if fs::symlink_metadata(dir.join(SHARD_FILE)).is_ok_and(|m| m.is_file()) {
             ResultsError::ShardNotResults {
+                command,
                 dir: dir.to_path_buf(),
                 file: SHARD_FILE,
             }
         } else if fs::symlink_metadata(dir.join(REPLANS_FILE)).is_ok_and(|m| m.is_file()) {
             ResultsError::ReplanResults {
+                command,
                 dir: dir.to_path_buf(),
                 file: REPLANS_FILE,
             }
@@ -963,7 +967,7 @@ pub fn report(
     render: &dyn Render,
 ) -> Result<Report, RunnerError> {
     let started = Instant::now();
-    let (path, file) = open_results(dir)?;
+    let (path, file) = open_results(dir, "report")?;
     // Replaced as `experiment` replaces an output.
     outdir::check(dir)?;
     outdir::Marker::read(dir).map_err(|e| RunnerError::during("report", e.into()))?;
