@@ -112,6 +112,9 @@ pub enum Command {
         /// How many differing runs to list.
         #[arg(long, default_value_t = 10)]
         examples: usize,
+        /// Print one JSON object instead of text (`planner_report::compare::Comparison::json`).
+        #[arg(long)]
+        json: bool,
     },
     /// Write (and with --submit submit) a Slurm job array of N shards plus a merge job.
     Slurm {
@@ -906,9 +909,17 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 report.output.display()
             ))
         }
-        Command::Compare { old, new, examples } => {
+        Command::Compare {
+            old,
+            new,
+            examples,
+            json,
+        } => {
             let comparison = planner_report::compare::compare(&old, &new, examples)?;
-            write_text(&comparison.text())?;
+            match json {
+                true => write_stdout(format!("{}\n", comparison.json()).as_bytes())?,
+                false => write_text(&comparison.text())?,
+            }
             match comparison.same() {
                 true => Ok(()),
                 false => Err(CliError::Differ {

@@ -417,6 +417,13 @@ fn compare_exits_1_when_the_runs_differ() {
         "{}",
         out.stderr
     );
+    let out = common::gridplan(&root(), &["compare", &path("a"), &path("c"), "--json"]);
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    let json: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
+    assert_eq!(
+        (&json["only_new"], &json["same"]),
+        (&1.into(), &false.into())
+    );
     let (code, err) = gridplan(&["compare", &path("a"), &dir.display().to_string()]);
     assert_eq!(code, 5, "{err}");
 }

@@ -79,6 +79,55 @@ impl Comparison {
         self.differing == 0 && self.both == self.runs[0] && self.both == self.runs[1]
     }
 
+    /// The comparison as one JSON object for scripts: `old` and `new` (`dir`, `runs`,
+    /// `provenance`), `both`, `only_old`, `only_new`, `differing`, `same`, `examples` (each
+    /// `run` and its `fields`, `[name, old, new]`) and `times` (per label `label`,
+    /// `problems`, `ratio`, `low`, `high` (null without an interval), `faster`).
+    pub fn json(&self) -> serde_json::Value {
+        use serde_json::json;
+        let side = |i: usize| {
+            json!({
+                "dir": self.dirs[i].display().to_string(),
+                "runs": self.runs[i],
+                "provenance": self.provenance[i],
+            })
+        };
+        let examples: Vec<serde_json::Value> = self
+            .examples
+            .iter()
+            .map(|e| json!({ "run": e.run, "fields": e.fields }))
+            .collect();
+        let times: Vec<serde_json::Value> = self
+            .times
+            .iter()
+            .map(|t| {
+                let (low, high) = t
+                    .ratio
+                    .and_then(|g| g.interval)
+                    .map_or((None, None), |(low, high)| (Some(low), Some(high)));
+                json!({
+                    "label": t.label,
+                    "problems": t.problems,
+                    "ratio": t.ratio.map(|g| g.mean),
+                    "low": low,
+                    "high": high,
+                    "faster": t.faster,
+                })
+            })
+            .collect();
+        json!({
+            "old": side(0),
+            "new": side(1),
+            "both": self.both,
+            "only_old": self.runs[0] - self.both,
+            "only_new": self.runs[1] - self.both,
+            "differing": self.differing,
+            "same": self.same(),
+            "examples": examples,
+            "times": times,
+        })
+    }
+
     /// The comparison as text for a person.
     pub fn text(&self) -> String {
         let mut out = String::new();

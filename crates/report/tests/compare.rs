@@ -111,6 +111,23 @@ fn changed_runs_are_listed_by_field_and_extra_runs_counted() {
         "{text}"
     );
     assert!(text.contains("4 of 8 runs in both differ"), "{text}");
+    // The same as one JSON object.
+    let json = c.json();
+    assert_eq!(
+        (
+            &json["both"],
+            &json["only_new"],
+            &json["differing"],
+            &json["same"]
+        ),
+        (&8.into(), &4.into(), &4.into(), &false.into())
+    );
+    assert_eq!(json["new"]["runs"], 12);
+    assert_eq!(json["examples"].as_array().map(Vec::len), Some(2));
+    let field = &json["examples"][0]["fields"][0];
+    assert_eq!(field.as_array().map(Vec::len), Some(3), "{field}");
+    assert_eq!(json["times"][0]["label"], "astar");
+    assert_eq!(json["times"][0]["problems"], 2);
     // With no examples asked for, the counts alone.
     assert!(compare(&old, &new, 0).unwrap().examples.is_empty());
     std::fs::remove_dir_all(&dir).unwrap();
