@@ -516,6 +516,35 @@ fn careless_inputs_fail_cleanly() {
         args(&exp),
         Error("key `scen`: s.scen:2: the scenario is for a 5x5 map, but small.map is 3x3"),
     ));
+    // Scenario selections that select nothing, each named.
+    for (selection, expected) in [
+        ("lines = [5, 3]", "key `lines`: [5, 3] starts after it ends"),
+        ("every = 0", "key `every` must be at least 1"),
+        (
+            "buckets = [9]",
+            "the scenario selection (`buckets`, `lines`, `every`, `limit`) is empty",
+        ),
+    ] {
+        cases.push((
+            owned(vec![
+                (
+                    "c.toml",
+                    scen.replace(
+                        "scen = \"s.scen\"\n",
+                        &format!("scen = \"s.scen\"\n{selection}\n"),
+                    )
+                    .into_bytes(),
+                ),
+                ("small.map", SMALL.to_vec()),
+                (
+                    "s.scen",
+                    b"version 1\n0\tsmall.map\t3\t3\t0\t0\t2\t2\t3.4\n".to_vec(),
+                ),
+            ]),
+            args(&exp),
+            Error(expected),
+        ));
+    }
 
     let n_cases = cases.len();
     // The cases are independent (each in its own directory), so they run on a few

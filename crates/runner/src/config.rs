@@ -1820,6 +1820,13 @@ fn select_scenarios(
     all: Vec<planner_maps::Scenario>,
     raw: &RawMaps,
 ) -> Result<Vec<planner_maps::Scenario>, String> {
+    if let Some([from, to]) = raw.lines {
+        if from > to {
+            return Err(format!(
+                "key `lines`: [{from}, {to}] starts after it ends (the first line, then the last)"
+            ));
+        }
+    }
     let mut selected: Vec<planner_maps::Scenario> = all
         .into_iter()
         .filter(|s| raw.buckets.as_ref().is_none_or(|b| b.contains(&s.bucket)))
