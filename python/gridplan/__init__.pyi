@@ -332,6 +332,21 @@ def plan(
     it. Ctrl-C (a notebook's interrupt) stops the search at its next budget check and
     raises ``KeyboardInterrupt``."""
 
+def compare(
+    old: Union[str, "os.PathLike[str]"],
+    new: Union[str, "os.PathLike[str]"],
+    *,
+    examples: int = 10,
+) -> Dict[str, Any]:
+    """Compares two results directories run by run, as ``gridplan compare OLD NEW --json``:
+    ``old`` and ``new`` (``dir``, ``runs``, ``provenance``), ``both``, ``only_old``,
+    ``only_new``, ``differing`` (runs of both whose computed fields differ: status, path,
+    length, cost, counters, ...), ``same``, ``examples`` (the first ``examples`` differing
+    runs, one per problem, each ``run`` and its ``fields`` as ``[name, old, new]``) and
+    ``times`` (per label ``label``, ``problems``, ``ratio``: the geometric mean of NEW's
+    median time over OLD's per problem, ``low`` and ``high``: its 95 % interval, and
+    ``faster``). A directory that is not results raises ``OutputError``."""
+
 def run_experiment(
     config: Union[str, "os.PathLike[str]"],
     *,

@@ -219,3 +219,19 @@ fn value<'py>(
         },
     }
 }
+
+/// `gridplan.compare`: the results directories `old` and `new` compared run by run
+/// ([`planner_report::compare::compare`]), as the dict of `gridplan compare --json`.
+#[pyfunction]
+#[pyo3(signature = (old, new, *, examples = 10))]
+pub fn compare<'py>(
+    py: Python<'py>,
+    old: PathBuf,
+    new: PathBuf,
+    examples: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let json = py
+        .detach(|| guarded(|| Ok(planner_report::compare::compare(&old, &new, examples)?.json())))
+        .map_err(PyErr::from)?;
+    crate::values::json_to_py(py, &json)
+}

@@ -51,6 +51,7 @@ fn _gridplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(plan::planners, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::run_experiment_rows, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment::compare, m)?)?;
     m.add(
         "DEFAULT_PLAN_EXPANSIONS",
         planner_runner::plan::DEFAULT_PLAN_EXPANSIONS,

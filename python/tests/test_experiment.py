@@ -143,3 +143,24 @@ def test_resume_keeps_the_recorded_runs(tmp_path, monkeypatch):
     assert again == resumed
     with pytest.raises(ValueError, match="resume: .*give `output`"):
         gridplan.run_experiment(config, resume=True)
+
+
+def test_compare_two_results_directories(tmp_path):
+    """gridplan.compare: the same config run twice holds the same runs with the same
+    computed fields (times differ, and are compared per label); a directory that is not
+    results raises OutputError."""
+    for name in ("a", "b"):
+        rows = gridplan.run_experiment(CONFIGS / "paper.toml", output=tmp_path / name)
+    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
+    labels = list(dict.fromkeys(row["planner"] for row in rows))
+    result = gridplan.compare(tmp_path / "a", tmp_path / "b")
+    assert result["same"] is True
+    assert result["both"] == result["old"]["runs"] == result["new"]["runs"] == 60
+    assert (result["differing"], result["only_old"], result["only_new"]) == (0, 0, 0)
+    assert result["examples"] == []
+    # Per label, in the runs' order, over every problem (all 12 maps' corner problems).
+    assert [t["label"] for t in result["times"]] == labels
+    assert all(t["problems"] == 12 for t in result["times"])
+    assert result["old"]["provenance"]["version"] == result["new"]["provenance"]["version"]
+    with pytest.raises(gridplan.OutputError, match="compare"):
+        gridplan.compare(tmp_path / "a", tmp_path)
