@@ -213,7 +213,7 @@ class Planner:
         """The registry name."""
     def plan(self, start: _Cell, goal: Optional[_Cell] = None) -> Outcome:
         """One query, as ``gridplan.plan(grid, start, goal, planner=..., **params)``, on the
-        calling thread with the GIL released (about 3 us beyond the search on den520d:
+        calling thread with the GIL released (a few microseconds beyond the search on den520d:
         ``python/bench/plan_calls.py``). Ctrl-C takes effect when the search ends: give the
         planner a budget, or use ``plan_many``, which it interrupts (handing each search
         to another thread to watch for signals meanwhile, as ``plan`` does, cost tens of
