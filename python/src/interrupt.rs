@@ -27,12 +27,9 @@ pub fn interruptible<T: Send>(
     panicked: impl FnOnce() -> T,
     work: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
-    let (done, finished) = mpsc::channel::<Option<T>>();
+    let (job, finished) = job(work);
     std::thread::scope(|scope| {
-        scope.spawn(move || {
-            let value = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)).ok();
-            let _ = done.send(value);
-        });
+        scope.spawn(job);
         // The scope's end joins the thread, which has sent by then.
         watch(py, &stop, panicked, finished)
     })
@@ -48,16 +45,24 @@ pub fn interruptible_query<T: Send>(
     let pool = query_pool().map_err(|e| {
         pyo3::exceptions::PyRuntimeError::new_err(format!("cannot start worker threads: {e}"))
     })?;
-    let (done, finished) = mpsc::channel::<Option<T>>();
+    let (job, finished) = job(work);
     // `in_place_scope` runs this body on the calling thread and waits for the work at its
     // end, so the work may borrow.
     pool.in_place_scope(|scope| {
-        scope.spawn(move |_| {
-            let value = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)).ok();
-            let _ = done.send(value);
-        });
+        scope.spawn(|_| job());
         watch(py, &stop, panicked, finished)
     })
+}
+
+/// `work` as a job for another thread, which sends its value (`None` if it panicked) to
+/// the receiver returned beside it.
+fn job<T: Send>(work: impl FnOnce() -> T + Send) -> (impl FnOnce() + Send, Receiver<Option<T>>) {
+    let (done, finished) = mpsc::channel::<Option<T>>();
+    let job = move || {
+        let value = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)).ok();
+        let _ = done.send(value);
+    };
+    (job, finished)
 }
 
 /// Waits for the work's value on `finished`, asking Python for signals every [`POLL`]; on

@@ -41,11 +41,7 @@ fn main() -> ExitCode {
     planner_runner::outdir::set_lock_holder(std::process::id());
     match run(Cli::parse().command) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(XtaskError::Cli(error)) => gridplan::exit(Err(error)),
-        Err(error) => {
-            eprintln!("error: {}", planner_text::terminal(&error.to_string()));
-            ExitCode::from(error.exit_code())
-        }
+        Err(error) => gridplan::fail(&error, error.exit_code()),
     }
 }
 

@@ -38,34 +38,7 @@ fn recorded_cells_are_the_expanded_ones_for_every_heuristic() {
         let scenarios = planner_testkit::scenarios(&format!("movingai/{map}.scen"));
         for scenario in scenarios.iter().rev().step_by(97).take(4) {
             let problem = Problem::new(&grid, scenario.start, scenario.goal).unwrap();
-            for (moves, heuristic, tie_break, weight) in [
-                (
-                    Connectivity::Four,
-                    Heuristic::Manhattan,
-                    TieBreak::Fifo,
-                    1.0,
-                ),
-                (Connectivity::Four, Heuristic::Zero, TieBreak::Fifo, 1.0),
-                (Connectivity::Eight, Heuristic::Octile, TieBreak::HighG, 1.0),
-                (
-                    Connectivity::Eight,
-                    Heuristic::Euclidean,
-                    TieBreak::LowG,
-                    1.0,
-                ),
-                (
-                    Connectivity::Eight,
-                    Heuristic::Chebyshev,
-                    TieBreak::Lifo,
-                    1.5,
-                ),
-                (
-                    Connectivity::Sixteen,
-                    Heuristic::Euclidean,
-                    TieBreak::Fifo,
-                    1.0,
-                ),
-            ] {
+            for (moves, heuristic, tie_break, weight) in crate::RECORDING_SETTINGS {
                 let config = Config {
                     moves,
                     heuristic,

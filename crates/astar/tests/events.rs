@@ -83,30 +83,8 @@ fn check(what: &str, config: &Config, problem: &Problem<'_>, outcome: &Outcome, 
 
 #[test]
 fn search_steps_agree_with_the_counters_the_path_and_the_heuristic() {
-    let configs = [
-        (
-            Connectivity::Four,
-            Heuristic::Manhattan,
-            TieBreak::Fifo,
-            1.0,
-        ),
-        (Connectivity::Four, Heuristic::Zero, TieBreak::Lifo, 1.0),
-        (Connectivity::Eight, Heuristic::Octile, TieBreak::HighG, 1.0),
-        (
-            Connectivity::Eight,
-            Heuristic::Euclidean,
-            TieBreak::LowG,
-            1.0,
-        ),
-        (
-            Connectivity::Eight,
-            Heuristic::Chebyshev,
-            TieBreak::Fifo,
-            1.5,
-        ),
-    ];
     let problems = planner_testkit::random_problems(41, 60, (2, 30), (0, 4000));
-    for (moves, heuristic, tie_break, weight) in configs {
+    for (moves, heuristic, tie_break, weight) in crate::RECORDING_SETTINGS {
         let config = Config {
             moves,
             heuristic,

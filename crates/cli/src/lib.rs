@@ -542,13 +542,16 @@ impl CliError {
 pub fn exit(result: Result<(), CliError>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(error) => {
-            // Messages carry config text (labels, paths): no control sequence reaches the
-            // terminal.
-            eprintln!("error: {}", planner_text::terminal(&error.to_string()));
-            ExitCode::from(error.exit_code())
-        }
+        Err(error) => fail(&error, error.exit_code()),
     }
+}
+
+/// Prints `error` as `error: ...` on stderr, escaped for the terminal (messages carry
+/// config text: labels, paths; no control sequence reaches the terminal), and returns the
+/// exit status `code`.
+pub fn fail(error: &dyn std::fmt::Display, code: u8) -> ExitCode {
+    eprintln!("error: {}", planner_text::terminal(&error.to_string()));
+    ExitCode::from(code)
 }
 
 /// Raised by the first SIGINT or SIGTERM while a sweep watches it.

@@ -13,6 +13,10 @@
 //! problems NEW is faster on. Times come from two sweeps, possibly on two machines or
 //! loads: the provenance of each (summary.md) says where they ran.
 //!
+//! A run's computed fields are compared through a 64-bit hash of them (SipHash of their
+//! JSON): two different records with one hash, about one chance in 2^64 a pair, would pass
+//! for equal.
+//!
 //! Memory: a key, a digest and a time per run of NEW, and a time per run of OLD (about
 //! 100 bytes a run), never a whole record but the listed ones; three passes over the
 //! records at most (NEW, OLD, then NEW again for the listed runs).

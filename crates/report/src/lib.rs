@@ -14,7 +14,8 @@
 //! summary.md, the figures ([`figures`], [`coverage_figures`]), the charts ([`charts`]),
 //! the OMPL logs ([`ompl`]), paths.jsonl and report.html ([`html`]). It runs no planner:
 //! a results directory renders the same wherever it comes from (one run, merged shards,
-//! `gridplan report DIR`).
+//! `gridplan report DIR`). [`compare`] is likewise a function of two results directories
+//! (`gridplan compare OLD NEW`).
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
