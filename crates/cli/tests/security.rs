@@ -285,6 +285,35 @@ fn live_script(html: &str) -> Vec<String> {
     found
 }
 
+/// `markdown` without its inline code spans (a run of backticks to the next run as long, on
+/// one line), where text is never HTML.
+fn without_code_spans(markdown: &str) -> String {
+    let mut out = String::new();
+    for line in markdown.lines() {
+        let mut rest = line;
+        while let Some(open) = rest.find('`') {
+            out.push_str(&rest[..open]);
+            let run = rest[open..].len() - rest[open..].trim_start_matches('`').len();
+            let after = &rest[open + run..];
+            let fence = "`".repeat(run);
+            // The closing run: as long as the opening one, not part of a longer run.
+            let close = after.match_indices(&fence).find(|&(at, _)| {
+                !after[at + run..].starts_with('`') && (at == 0 || !after[..at].ends_with('`'))
+            });
+            match close {
+                Some((at, _)) => rest = &after[at + run..],
+                None => {
+                    out.push_str(&rest[open..open + run]);
+                    rest = after;
+                }
+            }
+        }
+        out.push_str(rest);
+        out.push('\n');
+    }
+    out
+}
+
 #[test]
 fn report_html_has_no_live_script() {
     let dir = scratch("report");
@@ -307,13 +336,36 @@ fn report_html_has_no_live_script() {
     assert!(html.contains("<a href=\"https://example.org\">ok</a>"));
     // summary.md holds no raw HTML either, for the markdown viewers that would render it:
     // the description's and the labels' tags are character references.
+    // (Labels and paths in code spans are written as they are: nothing in a code span is
+    // HTML.)
     let summary = fs::read_to_string(dir.join("res/summary.md")).unwrap();
+    let outside_code = without_code_spans(&summary);
     for raw in ["<script", "<img", "<b ", "</script", "<javascript"] {
-        assert!(!summary.contains(raw), "summary.md holds {raw}");
+        assert!(!outside_code.contains(raw), "summary.md holds {raw}");
     }
     assert!(summary.contains("&lt;script>alert(1)&lt;/script>"));
     assert!(summary.contains("&lt;script&gt;alert(5)&lt;/script&gt;"));
     assert!(!summary.contains("](javascript"), "a label became a link");
+    // A config's file name in a code span, with a backtick, a tag and a line break in it:
+    // one line, shown as written.
+    let name = "c`<img src=x onerror=alert(9)>\n# Injected.toml";
+    fs::copy(dir.join("cfg.toml"), dir.join(name)).unwrap();
+    succeeded(&gridplan(
+        &dir,
+        &["experiment", name, "--quiet", "--output", "res2"],
+    ));
+    let summary = fs::read_to_string(dir.join("res2/summary.md")).unwrap();
+    assert!(
+        !summary.lines().any(|l| l.starts_with("# Injected")),
+        "{summary}"
+    );
+    assert!(!without_code_spans(&summary).contains("<img"), "{summary}");
+    let html = fs::read_to_string(dir.join("res2/report.html")).unwrap();
+    assert_eq!(live_script(&html), Vec::<String>::new());
+    assert!(
+        html.contains("<code>c`&lt;img src=x onerror=alert(9)&gt; # Injected.toml</code>"),
+        "{html}"
+    );
     // The check itself finds what it looks for.
     assert_eq!(
         live_script("<p><script>x</script><a href=\" JavaScript:x\">a</a><b onclick=x>b</b></p>")

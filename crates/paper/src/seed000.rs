@@ -5,7 +5,7 @@
 
 use std::fmt::Write as _;
 
-use planner_report::md_cell;
+use planner_report::{md_cell, md_code};
 use planner_report::{Context, Reproduction, Section, MAX_COLUMNS};
 use planner_runner::config::map_stem;
 use planner_runner::record::RunRecord;
@@ -29,10 +29,10 @@ impl Section for Seed000 {
         if let Some(published) = &context.experiment.published {
             let _ = writeln!(
                 out,
-                "**Published numbers reproduced: {} of {}** (from `{}`; ✓ equal, ✗ different).\n",
+                "**Published numbers reproduced: {} of {}** (from {}; ✓ equal, ✗ different).\n",
                 reproduction.matched,
                 reproduction.compared,
-                published.path.display()
+                md_code(&published.path.display().to_string())
             );
         }
         out.push_str(&quality);

@@ -140,13 +140,13 @@ impl Comparison {
             let _ = writeln!(
                 out,
                 "{side} {}: {} runs (gridplan {}, commit {}, {} on {}, {}, {} threads)",
-                self.dirs[i].display(),
+                one_line(&self.dirs[i].display().to_string()),
                 self.runs[i],
-                p.version,
-                p.commit.as_deref().unwrap_or("unknown"),
-                p.date,
-                p.host.as_deref().unwrap_or("an unknown host"),
-                p.cpu.as_deref().unwrap_or("an unknown CPU"),
+                one_line(&p.version),
+                one_line(p.commit.as_deref().unwrap_or("unknown")),
+                one_line(&p.date),
+                one_line(p.host.as_deref().unwrap_or("an unknown host")),
+                one_line(p.cpu.as_deref().unwrap_or("an unknown CPU")),
                 p.threads
             );
         }
@@ -191,11 +191,24 @@ impl Comparison {
             };
             let _ = writeln!(
                 out,
-                "  {}: {ratio}, NEW faster on {} of {} problems",
+                "  {:?}: {ratio}, NEW faster on {} of {} problems",
                 label.label, label.faster, label.problems
             );
         }
         out
+    }
+}
+
+/// `text` on one line of the text report: as it is, or, when it holds a line break or another
+/// control character, with Rust's escapes (`\n`), so that a host name or a directory's name
+/// cannot add a line. (Labels and map names are written quoted and escaped, `{:?}`.)
+fn one_line(text: &str) -> std::borrow::Cow<'_, str> {
+    match text
+        .chars()
+        .any(|c| c.is_control() || matches!(c, '\u{2028}' | '\u{2029}'))
+    {
+        true => std::borrow::Cow::Owned(text.escape_debug().to_string()),
+        false => std::borrow::Cow::Borrowed(text),
     }
 }
 
@@ -377,7 +390,7 @@ fn difference(old: &RunRecord, new: &RunRecord) -> Difference {
     }
     Difference {
         run: format!(
-            "label {:?}, {} problem {} {} -> {}, repeat {}",
+            "label {:?}, map {:?} problem {} {} -> {}, repeat {}",
             new.planner, new.map, new.problem, new.start, new.goal, new.repeat
         ),
         fields,

@@ -172,4 +172,31 @@ mod tests {
         );
         assert!(page.contains(" c "), "{page}");
     }
+
+    /// planner-text's code spans, read back by this page's markdown parser: the one code
+    /// span of each, holding the text as written (line breaks as spaces).
+    #[test]
+    fn code_spans_hold_the_text_as_written() {
+        for text in [
+            "astar",
+            "a`b",
+            "``x``",
+            "`",
+            " lead and trail ",
+            "<script>alert(1)</script> &amp; |",
+            "a\n# h\n\nb",
+            "[x](javascript:y)",
+            "*e* _f_",
+        ] {
+            let markdown = format!("Label {} here.", crate::md_code(text));
+            let codes: Vec<String> = Parser::new_ext(&markdown, Options::ENABLE_TABLES)
+                .filter_map(|event| match event {
+                    Event::Code(code) => Some(code.to_string()),
+                    _ => None,
+                })
+                .collect();
+            let expected = text.replace('\n', " ");
+            assert_eq!(codes, [expected], "{markdown:?}");
+        }
+    }
 }

@@ -518,8 +518,8 @@ fn header_of(experiment: &Experiment, n_runs: u64, invalid: &[RunRecord], out: &
     let n_problems: usize = experiment.maps.iter().map(|m| m.problems.len()).sum();
     let _ = writeln!(
         out,
-        "Config `{}`: {} maps, {} problems, {} planner configurations, {} repeat(s), {} runs.\n",
-        experiment.source.display(),
+        "Config {}: {} maps, {} problems, {} planner configurations, {} repeat(s), {} runs.\n",
+        md_code(&experiment.source.display().to_string()),
         experiment.maps.len(),
         n_problems,
         experiment.planners.len(),
@@ -530,7 +530,7 @@ fn header_of(experiment: &Experiment, n_runs: u64, invalid: &[RunRecord], out: &
         .planners
         .iter()
         .filter(|p| p.factory.specs().admissible == Some(false))
-        .map(|p| format!("`{}`", p.label))
+        .map(|p| md_code(&p.label))
         .collect();
     if !inadmissible.is_empty() {
         let _ = writeln!(
@@ -665,7 +665,7 @@ impl FileNames {
 
 /// Markdown escaping of what users write: planner-text's, shared with the runner's tables
 /// and the replanning experiments.
-pub use planner_text::{md_cell, md_prose};
+pub use planner_text::{md_cell, md_code, md_prose};
 
 #[cfg(test)]
 mod tests {

@@ -30,7 +30,7 @@ use planner_runner::passes::RecordPasses;
 use planner_runner::record::RunRecord;
 use planner_runner::RunnerError;
 
-use crate::{md_cell, median_iqr, Context, OptionError, Section};
+use crate::{md_cell, md_code, median_iqr, Context, OptionError, Section};
 
 /// The section (name `paired`).
 pub struct Paired;
@@ -295,8 +295,8 @@ pub fn table(
 fn render(experiment: &Experiment, base: usize, comparisons: &[Comparison]) -> String {
     let baseline = &experiment.planners[base].label;
     let mut out = format!(
-        "## Planners compared problem by problem\n\nEach label against `{}`, over the problems both ran: the problems solved (a path in every repeat) by both, by the label only and by the baseline only; then, over the problems solved by both, the geometric mean of the label's value over the baseline's (each the median over the repeats; below 1 favours the label), with the problems where the label needs fewer expansions or less time. Time: the geometric mean with its 95 % interval (Student's t on the logarithms); it compares times measured in this sweep, on its machine and threads.\n\n| Planner | Problems | Solved by both | Only planner | Only baseline | Expansions ratio | Fewer expansions | Time ratio (95 % interval) | Less time | Length ratio | Largest length ratio |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
-        md_cell(baseline)
+        "## Planners compared problem by problem\n\nEach label against {}, over the problems both ran: the problems solved (a path in every repeat) by both, by the label only and by the baseline only; then, over the problems solved by both, the geometric mean of the label's value over the baseline's (each the median over the repeats; below 1 favours the label), with the problems where the label needs fewer expansions or less time. Time: the geometric mean with its 95 % interval (Student's t on the logarithms); it compares times measured in this sweep, on its machine and threads.\n\n| Planner | Problems | Solved by both | Only planner | Only baseline | Expansions ratio | Fewer expansions | Time ratio (95 % interval) | Less time | Length ratio | Largest length ratio |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        md_code(baseline)
     );
     for (l, c) in comparisons.iter().enumerate() {
         if l == base || c.problems == 0 {

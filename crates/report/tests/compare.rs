@@ -91,7 +91,7 @@ fn changed_runs_are_listed_by_field_and_extra_runs_counted() {
     assert_eq!(c.examples.len(), 2, "{:?}", c.examples);
     for example in &c.examples {
         assert!(
-            example.run.starts_with("label \"astar\", map0"),
+            example.run.starts_with("label \"astar\", map \"map0"),
             "{}",
             example.run
         );
@@ -130,6 +130,54 @@ fn changed_runs_are_listed_by_field_and_extra_runs_counted() {
     assert_eq!(json["times"][0]["problems"], 2);
     // With no examples asked for, the counts alone.
     assert!(compare(&old, &new, 0).unwrap().examples.is_empty());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Labels, map names and directory names with line breaks stay on their lines of the text:
+/// written escaped, never as a line of their own that could pass for the report's.
+#[test]
+fn names_with_line_breaks_cannot_add_lines() {
+    let dir = scratch("lines");
+    let maps = dir.join("maps");
+    std::fs::create_dir_all(&maps).unwrap();
+    std::fs::copy(
+        root().join("maps/paper/map01.map"),
+        maps.join("new\nfake: 1.000 map.map"),
+    )
+    .unwrap();
+    let run = |name: &str, heuristic: &str| {
+        let config = dir.join(format!("{name}.toml"));
+        std::fs::write(
+            &config,
+            format!(
+                "name = \"lines\"\n[[maps]]\nfiles = [\"maps/*.map\"]\nproblems = \"corners\"\n\
+                 [planners.\"a\\nfake: 1.000 label\"]\nplanner = \"astar\"\nheuristic = \"{heuristic}\"\n"
+            ),
+        )
+        .unwrap();
+        let output = dir.join(format!("{name}\nfake: dir"));
+        let render = Renderer::new(Vec::new());
+        experiment(&SweepArgs {
+            threads: 1,
+            output: Some(&output),
+            ..SweepArgs::new(&config, &render)
+        })
+        .unwrap();
+        output
+    };
+    let (old, new) = (run("old", "manhattan"), run("new", "zero"));
+    let c = compare(&old, &new, 10).unwrap();
+    assert_eq!((c.both, c.differing, c.examples.len()), (1, 1, 1));
+    let text = c.text();
+    // Two provenance lines, the counts, the differing runs' head and its one run, the times'
+    // head and its one label: nothing starts with the names' `fake`.
+    assert_eq!(text.lines().count(), 7, "{text}");
+    assert!(!text.lines().any(|line| line.starts_with("fake")), "{text}");
+    assert!(
+        text.contains("label \"a\\nfake: 1.000 label\", map \"new\\nfake: 1.000 map.map\""),
+        "{text}"
+    );
+    assert!(text.contains("old\\nfake: dir: 1 runs"), "{text}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -11,6 +11,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use planner_text::md_cell;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
@@ -117,13 +118,15 @@ impl Provenance {
         }
     }
 
-    /// The provenance as a markdown list (the top of summary.md).
+    /// The provenance as a markdown list (the top of summary.md). Every value is data
+    /// ([`md_cell`]): a host name or an edited provenance.json cannot add a line, a heading
+    /// or HTML.
     pub fn markdown(&self) -> String {
-        let unknown = |v: &Option<String>| v.clone().unwrap_or_else(|| "unknown".into());
+        let unknown = |v: &Option<String>| md_cell(v.as_deref().unwrap_or("unknown"));
         let mut out = String::from("## Provenance\n\n");
-        let _ = writeln!(out, "- gridplan {}", self.version);
+        let _ = writeln!(out, "- gridplan {}", md_cell(&self.version));
         let _ = writeln!(out, "- commit: {}", unknown(&self.commit));
-        let _ = writeln!(out, "- date: {}", self.date);
+        let _ = writeln!(out, "- date: {}", md_cell(&self.date));
         let _ = writeln!(out, "- host: {}", unknown(&self.host));
         let _ = writeln!(out, "- CPU: {}", unknown(&self.cpu));
         let _ = writeln!(out, "- threads: {}", self.threads);
@@ -200,5 +203,26 @@ mod tests {
         let text = "processor\t: 0\nmodel name\t: Example CPU @ 2.0GHz\nprocessor\t: 1\nmodel name\t: Other\n";
         assert_eq!(cpu_model(text).as_deref(), Some("Example CPU @ 2.0GHz"));
         assert_eq!(cpu_model("processor: 0\n"), None);
+    }
+
+    #[test]
+    fn markdown_values_cannot_add_lines_or_html() {
+        let provenance = Provenance {
+            version: "0.1.0".into(),
+            commit: Some("abc\r\ndef".into()),
+            date: "2026-12-07T00:00:00Z".into(),
+            host: Some("a\n## Fake section\n<script>x</script>|y".into()),
+            cpu: None,
+            threads: 2,
+            config_sha256: None,
+        };
+        let markdown = provenance.markdown();
+        // A heading line, the list's items and the blank line after them: nothing more.
+        assert_eq!(markdown.lines().count(), 10, "{markdown}");
+        assert!(markdown.contains("- commit: abc  def\n"), "{markdown}");
+        assert!(
+            markdown.contains("- host: a ## Fake section &lt;script&gt;x&lt;/script&gt;\\|y\n"),
+            "{markdown}"
+        );
     }
 }

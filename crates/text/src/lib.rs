@@ -1,7 +1,7 @@
 //! What users write (planner labels, map names, chart titles, a config's description) made
 //! into data in gridplan's outputs, never code: a CSV field that cannot end its record, a
 //! markdown table cell that cannot end its row or become HTML or a link, markdown prose whose
-//! raw HTML and unsafe links show as text, XML or HTML text that cannot open a tag, and
+//! raw HTML and unsafe links show as text, a markdown code span that shows its text as written, XML or HTML text that cannot open a tag, and
 //! terminal text that cannot send the terminal a control sequence.
 //!
 //! The main design decision is that there is one of each: the runner's tables, the reports,
@@ -11,10 +11,11 @@
 //! two copies of the prose rule (one escaped `javascript:` links, the other did not).
 //!
 //! ```
-//! use planner_text::{csv_field, md_cell, md_prose, safe_link, terminal, xml_escape};
+//! use planner_text::{csv_field, md_cell, md_code, md_prose, safe_link, terminal, xml_escape};
 //! assert_eq!(csv_field("g\rh"), "\"g\rh\"");
 //! assert_eq!(md_cell("<b>|[x](y)"), "&lt;b&gt;\\|[x]\\(y)");
 //! assert_eq!(md_prose("[j](javascript:x) a <-> b"), "[j]\\(javascript:x) a <-> b");
+//! assert_eq!(md_code("x`<b>\ny"), "``x`<b> y``");
 //! assert!(safe_link("https://example.org") && !safe_link("java\tscript:x"));
 //! assert_eq!(xml_escape("a<'b'>&\""), "a&lt;&#39;b&#39;&gt;&amp;&quot;");
 //! assert_eq!(terminal("\u{1b}[2J"), "\\u{1b}[2J");
@@ -69,6 +70,43 @@ pub fn md_cell(text: &str) -> String {
         }
     }
     out
+}
+
+/// `text` as one inline code span of markdown prose (a label or a path shown as written):
+/// line breaks and other control characters as spaces, so it cannot end the paragraph or
+/// start a heading; fenced with one backtick more than the longest run of backticks in it,
+/// and padded with a space when it begins or ends with a backtick or a space, so that it
+/// cannot close the span early (CommonMark 6.1). Nothing in a code span is HTML or a link,
+/// and character references are not decoded there, so `<` and `&` are written as they are.
+/// Not for a table cell, where `|` ends the cell even inside a code span: use [`md_cell`].
+///
+/// ```
+/// use planner_text::md_code;
+/// assert_eq!(md_code("astar"), "`astar`");
+/// assert_eq!(md_code("a`b"), "``a`b``");
+/// assert_eq!(md_code("`x"), "`` `x ``");
+/// assert_eq!(md_code("<img>\n# h"), "`<img> # h`");
+/// ```
+pub fn md_code(text: &str) -> String {
+    let text: String = text
+        .chars()
+        .map(
+            |c| match c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
+                true => ' ',
+                false => c,
+            },
+        )
+        .collect();
+    let longest_run = text.split(|c| c != '`').map(str::len).max().unwrap_or(0);
+    let fence = "`".repeat(longest_run + 1);
+    let pad = text.starts_with('`')
+        || text.ends_with('`')
+        || (text.starts_with(' ') && text.ends_with(' '))
+        || text.is_empty();
+    match pad {
+        true => format!("{fence} {text} {fence}"),
+        false => format!("{fence}{text}{fence}"),
+    }
 }
 
 /// `text` as markdown prose (a config's description): kept as written, markdown included,
