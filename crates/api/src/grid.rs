@@ -294,6 +294,18 @@ impl Grid {
         })
     }
 
+    /// The cost of the path through `cells` as an `f64` sum of its moves' costs: the same
+    /// value as [`Grid::path_cost`] (to within `f64` rounding) while that stays below
+    /// [`Cost::MAX`], and the true cost beyond it, where [`Grid::path_cost`] saturates
+    /// (each move's cost is exact; only weights make a path cost so much). Precondition:
+    /// every cell is inside the grid.
+    pub fn path_cost_f64(&self, cells: &[Cell]) -> f64 {
+        cells
+            .windows(2)
+            .map(|pair| self.move_cost(pair[0], pair[1]).to_f64())
+            .sum()
+    }
+
     /// A grid drawn in ASCII, for tests and examples: one line per row, `.` free, `#` blocked.
     ///
     /// Leading and trailing blank lines and the indentation of each row are ignored, so the

@@ -568,6 +568,12 @@ pub struct Outcome {
     /// [`Budget::max_memory_mb`] (the status is then [`Status::BudgetExhausted`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub memory: Option<MemoryShortfall>,
+    /// Set when the planner's search ended because the costs it compares reached
+    /// [`crate::Cost::MAX`] (about 4.29e9, where fixed-point costs saturate) before it
+    /// could trace a path (the status is then [`Status::BudgetExhausted`], without a
+    /// path). Only weights can make costs so large ([`crate::weights`], "The range").
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub cost_overflow: bool,
 }
 
 /// The most [`SearchEvent`]s a search records ([`Budget::record_events`]): 2^22, 168 MB at
@@ -671,6 +677,7 @@ impl Outcome {
             expanded: Vec::new(),
             events: Vec::new(),
             memory: None,
+            cost_overflow: false,
         }
     }
 
@@ -685,6 +692,7 @@ impl Outcome {
             expanded: Vec::new(),
             events: Vec::new(),
             memory: None,
+            cost_overflow: false,
         }
     }
 
@@ -699,6 +707,7 @@ impl Outcome {
             expanded: Vec::new(),
             events: Vec::new(),
             memory: None,
+            cost_overflow: false,
         }
     }
 
@@ -707,6 +716,16 @@ impl Outcome {
     pub fn over_memory(shortfall: MemoryShortfall, counters: Counters) -> Outcome {
         Outcome {
             memory: Some(shortfall),
+            ..Outcome::budget_exhausted(None, counters)
+        }
+    }
+
+    /// A search that ended when its costs reached [`crate::Cost::MAX`] before it could
+    /// trace a path ([`Outcome::cost_overflow`]): status [`Status::BudgetExhausted`], no
+    /// path, and `counters`.
+    pub fn over_cost_range(counters: Counters) -> Outcome {
+        Outcome {
+            cost_overflow: true,
             ..Outcome::budget_exhausted(None, counters)
         }
     }
@@ -727,6 +746,7 @@ impl Outcome {
             expanded: Vec::new(),
             events: Vec::new(),
             memory: None,
+            cost_overflow: false,
         }
     }
 }

@@ -36,6 +36,18 @@
 //! (beyond it the error bound of [`crate::cost`] holds for the doubled value). For
 //! 16, 32 and 48 directions an odd move cost loses half a unit when halved.
 //!
+//! # The range
+//! Costs are [`Cost`]s, which saturate at [`Cost::MAX`] (about 4.29e9). A path of `n`
+//! moves through weights of at most `w` costs at most about `1.42 n w`, so only weights
+//! make a cost that large (a corridor of 66,000 cells of weight 65,535 costs 4.33e9). Where
+//! a search's costs saturate, paths that costly compare equal: a planner that can still
+//! trace a path returns it (A\*, weighted JPS, lexastar, bidirectional A\*, coverage's
+//! returns), and the runner records that path's true cost ([`crate::Grid::path_cost_f64`])
+//! and says in the run's `error` that it is not known to be least-cost; LPA\* and D\* Lite,
+//! which trace their path by the costs, end with
+//! [`Outcome::cost_overflow`](crate::Outcome::cost_overflow) set instead. Below the limit
+//! nothing changes.
+//!
 //! # Heuristics
 //! Every move costs at least its length times the smallest weight `w_min` of the grid
 //! ([`Weights::min`]), so a distance estimate that never overestimates the length stays

@@ -367,9 +367,11 @@ impl BidirectionalAStar {
         // `prepare` (just called) built them for this grid.
         let weight_cells: &[u16] = if W { self.weight_cells.cells() } else { &[] };
         // Sums and infinity in the representation of `g`.
+        // Weighted sums stop one below infinity (`Cost::MAX`, planner-api's weights docs,
+        // "The range"): a goal reached through saturated costs is still reached.
         let add = |a: u64, b: u64| -> u64 {
             if W {
-                a.saturating_add(b)
+                a.saturating_add(b).min(u64::MAX - 1)
             } else {
                 (f64::from_bits(a) + f64::from_bits(b)).to_bits()
             }
@@ -387,7 +389,7 @@ impl BidirectionalAStar {
                 } else {
                     Cost::steps(c.manhattan(t))
                 };
-                estimate.times(min_weight).units()
+                estimate.times(min_weight).units().min(u64::MAX - 1)
             } else if eight {
                 c.octile(t).to_bits()
             } else {
@@ -496,7 +498,7 @@ impl BidirectionalAStar {
                         FORWARD => k_from * w_p + k_to * w_q,
                         _ => k_from * w_q + k_to * w_p,
                     };
-                    g_node.saturating_add(cost.saturating_mul(factor))
+                    add(g_node, cost.saturating_mul(factor))
                 } else {
                     add(g_node, cost)
                 };

@@ -80,6 +80,22 @@ use planner_search::keyed::KeyedQueue;
 
 const INF: u64 = u64::MAX;
 
+/// The largest finite `g` or `rhs`: sums stop here, one below [`INF`], so that a vertex
+/// reached through saturated weighted costs is still reached (planner-api's weights docs,
+/// "The range"); a target at this distance ends the search with
+/// [`planner_api::Outcome::cost_overflow`].
+pub const SATURATED: u64 = INF - 1;
+
+/// `c + g` for a move of cost `edge` to a vertex of distance `g`: [`INF`] when `g` is, else
+/// at most [`SATURATED`].
+#[inline]
+fn via(edge: u64, g: u64) -> u64 {
+    match g {
+        INF => INF,
+        _ => edge.saturating_add(g).min(SATURATED),
+    }
+}
+
 /// Bytes of per-cell state the engine allocates for each cell of the padded grid (its
 /// memory budget check).
 pub const BYTES_PER_CELL: u64 = 25;
@@ -671,7 +687,7 @@ impl Engine {
                     if s == self.root as usize {
                         continue;
                     }
-                    let through = self.edge(&step, s, ui).saturating_add(rhs_u);
+                    let through = via(self.edge(&step, s, ui), rhs_u);
                     if through < self.rhs_of(s) {
                         self.set_rhs(s as u32, through);
                         let sxy = (
@@ -689,7 +705,7 @@ impl Engine {
                     legal &= legal - 1;
                     let s = ui.wrapping_add_signed(step.offset);
                     if s != self.root as usize
-                        && self.rhs_of(s) == self.edge(&step, s, ui).saturating_add(g_u)
+                        && self.rhs_of(s) == via(self.edge(&step, s, ui), g_u)
                     {
                         let value = self.fresh_rhs(s as u32);
                         if self.set_rhs(s as u32, value) {
@@ -755,7 +771,7 @@ impl Engine {
                 legal &= legal - 1;
                 let step = &self.steps[k];
                 let s = u.wrapping_add_signed(step.offset);
-                let through = self.edge(step, u, s).saturating_add(self.g_of(s));
+                let through = via(self.edge(step, u, s), self.g_of(s));
                 if through < best {
                     (best, best_k) = (through, k);
                     if through == least {
@@ -833,7 +849,7 @@ impl Engine {
             let step = &self.steps[legal.trailing_zeros() as usize];
             legal &= legal - 1;
             let s = ui.wrapping_add_signed(step.offset);
-            best = best.min(self.edge(step, ui, s).saturating_add(self.g_of(s)));
+            best = best.min(via(self.edge(step, ui, s), self.g_of(s)));
         }
         best
     }

@@ -176,6 +176,9 @@ pub fn outcome(engine: &mut Engine, computed: Computed, root_first: bool) -> Out
     match computed {
         Computed::OverMemory(shortfall) => Outcome::over_memory(shortfall, counters),
         Computed::Exhausted => Outcome::budget_exhausted(None, counters),
+        Computed::Done if engine.target_distance() == Some(Cost::from_units(engine::SATURATED)) => {
+            Outcome::over_cost_range(counters)
+        }
         Computed::Done => match (engine.target_distance(), engine.path(root_first)) {
             (Some(distance), Some(path)) => {
                 counters.push("path_cost_units", distance.units());

@@ -13,7 +13,7 @@
 
 use std::time::Instant;
 
-use planner_api::{Budget, Counters, CoverageProblem, Grid, Problem};
+use planner_api::{Budget, Cost, Counters, CoverageProblem, Grid, Problem};
 use rayon::prelude::*;
 
 use crate::config::{Experiment, MapEntry, PlannerSpec, ProblemEntry};
@@ -235,9 +235,44 @@ pub fn run_one(
     record.setup_ms = milliseconds(setup_started.elapsed());
     execute(&map.grid, entry, planner, slot, seed, heap, &mut record);
     if let (Some(path), true) = (&record.path, map.grid.is_weighted()) {
-        record.cost = Some(map.grid.path_cost(path.cells()).to_f64());
+        let cost = map.grid.path_cost(path.cells());
+        record.cost = Some(cost.to_f64());
+        if cost == Cost::MAX {
+            // Saturated: the true cost, and the doubt about it (planner-api's weights docs,
+            // "The range").
+            let cost = map.grid.path_cost_f64(path.cells());
+            record.cost = Some(cost);
+            beyond_cost_range(planner, &mut record, entry, Some(cost));
+        }
     }
     Ok(record)
+}
+
+/// Says that `planner`'s costs on `entry` reached [`Cost::MAX`], where they saturate: a
+/// warning, and the record's error. `cost` is the true cost of the path it returned, if any.
+fn beyond_cost_range(
+    planner: &PlannerSpec,
+    record: &mut RunRecord,
+    entry: &ProblemEntry,
+    cost: Option<f64>,
+) {
+    let what = match cost {
+        Some(cost) => format!(
+            "its path costs {cost:.6e}, beyond {:.6e} where gridplan's costs saturate, so it is not known to be least-cost",
+            Cost::MAX.to_f64()
+        ),
+        None => format!(
+            "its costs reached {:.6e}, where gridplan's costs saturate, before it traced a path",
+            Cost::MAX.to_f64()
+        ),
+    };
+    tracing::warn!(
+        "{} on {} problem {}: {what}",
+        planner.label,
+        record.map,
+        entry.index
+    );
+    record.error = Some(what);
 }
 
 /// `elapsed` in milliseconds, as its whole nanoseconds over 1e6: the form the framed
@@ -330,6 +365,9 @@ fn execute_on(
             record.series = outcome.series;
             if let Some(shortfall) = outcome.memory {
                 not_run(planner, record, entry, shortfall);
+            }
+            if outcome.cost_overflow {
+                beyond_cost_range(planner, record, entry, None);
             }
             (outcome.status, outcome.path)
         }

@@ -547,6 +547,59 @@ fn every_admissible_or_cost_honouring_planner_matches_the_oracle() {
     assert!(n_exact >= 7 * problems.len(), "{n_exact} exact comparisons");
 }
 
+/// Costs beyond `Cost::MAX` (planner-api's weights docs, "The range"): a corridor of 66,000
+/// cells of weight 65,535 costs 4.33e9. Every planner that honours weights reaches its
+/// goal: a valid path, or (LPA*, D* Lite) an outcome that says its costs saturated; never
+/// `no_path` (bidirectional A*, LPA* and D* Lite said so, their infinity being the
+/// saturated sum).
+#[test]
+fn every_cost_honouring_planner_reaches_a_goal_beyond_the_cost_range() {
+    let n = 66_000u32;
+    let grid = Grid::new(n, 1)
+        .unwrap()
+        .with_weights(vec![65_535; n as usize], planner_api::CostRule::Mean)
+        .unwrap();
+    let (start, goal) = (Cell::new(0, 0), Cell::new(n - 1, 0));
+    let true_cost = f64::from(n - 1) * 65_535.0;
+    assert!(grid.path_cost(&[start, Cell::new(1, 0)]) < planner_api::Cost::MAX);
+    assert!((grid.path_cost_f64(&[start, Cell::new(1, 0)]) - 65_535.0).abs() < 1e-6);
+    let mut n_checked = 0;
+    for entry in PLANNERS {
+        let factory = (entry.factory)(&toml::Table::new()).expect("defaults must be valid");
+        if !factory.specs().cell_costs {
+            continue;
+        }
+        let Built::Path(mut planner) = factory.build().unwrap() else {
+            continue;
+        };
+        let problem = Problem::new(&grid, start, goal).unwrap();
+        let outcome = planner.plan(&problem, &Budget::unlimited());
+        let what = entry.name;
+        match (&outcome.path, outcome.status) {
+            (Some(path), Status::Found) => {
+                assert_eq!(
+                    (path.start(), path.goal()),
+                    (Some(start), Some(goal)),
+                    "{what}"
+                );
+                assert_eq!(
+                    grid.path_cost(path.cells()),
+                    planner_api::Cost::MAX,
+                    "{what}"
+                );
+                let cost = grid.path_cost_f64(path.cells());
+                assert!((cost - true_cost).abs() < 1e-3, "{what}: {cost}");
+                assert!(!outcome.cost_overflow, "{what}");
+            }
+            (None, Status::BudgetExhausted) => assert!(outcome.cost_overflow, "{what}"),
+            other => panic!("{what}: {other:?}"),
+        }
+        n_checked += 1;
+    }
+    // A*, bidirectional A*, weighted JPS, lexastar, LPA*, D* Lite at least.
+    assert!(n_checked >= 6, "{n_checked} planners");
+}
+
 /// A planner that declares itself seeded does depend on its seed: on some of the random
 /// problems two seeds give different outcomes (a seed the planner ignored would make the
 /// runner's repeats copies of one run).
