@@ -6,6 +6,12 @@
 //! ([`query`]), so the page's counters are `plan --json`'s for the same query. The page
 //! (HTML, JavaScript, CSS under `assets/`) is embedded in the binary: no CDN, no build
 //! step, works offline.
+//!
+//! The server answers each connection on a thread of its own, so an idle or slow client
+//! delays no other; its limits ([`server`]'s docs) bound the threads and memory: at most
+//! 128 connections open (503 beyond), 10 s for a request head and 30 s for its body
+//! (idle connections are closed, slow ones answered 408), 16 KiB heads, 8 MiB bodies, two
+//! plans running at once.
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 

@@ -11,16 +11,45 @@
 //! | `POST /api/cancel?run=ID` | cancels the plan request with that `run` id |
 //! | `GET /api/results?path=P` | results directory `P`: runs.json's table, the kept paths, the maps it names |
 //!
-//! HTTP/1.1 on plain TCP: a fixed pool of threads, one request per connection (answered
-//! with `Connection: close`), heads parsed by httparse. Safety: paths go through
-//! [`crate::safe::Root`] (403/404 before anything is read); a request head over 16 KiB is
-//! refused (431), and a body over [`ServeOptions::max_body_bytes`] is refused with 413 by
-//! its `Content-Length`, before a byte of it is read (a body without a length, chunked, is
-//! refused with 411); memory per connection is bounded by those limits; a `Host` that is
-//! a DNS name other than `localhost`, or an `Origin` of another site, is refused with 403
-//! (DNS rebinding and cross-site requests from pages in the user's browser);
-//! planning runs get [`crate::query::Caps`]; at most [`ServeOptions::max_running`] plans
-//! run at once (503 beyond). A cancelled plan answers at once (409); its search stops at
+//! HTTP/1.1 on plain TCP, one request per connection (answered with `Connection: close`),
+//! heads parsed by httparse.
+//!
+//! # Connections, threads and time limits
+//!
+//! Each connection is answered on a thread of its own ([`answer_connections`]), so a
+//! client that sends nothing or sends slowly (a browser's preconnected socket, a stalled
+//! upload, another tab's request) holds only its own thread and never delays another
+//! client's answer (a fixed pool of four threads let four idle connections stall every
+//! other request for the 10 s of their read timeout). The limits that keep the threads and
+//! their memory bounded:
+//!
+//! - at most [`ServeOptions::max_connections`] connections (default 128) are open at
+//!   once; a connection beyond them is answered 503 at once and closed, without a thread;
+//! - the request head must arrive within [`ServeOptions::head_timeout`] (10 s) of
+//!   connecting: a connection that has sent nothing by then (a browser's unused
+//!   preconnection) is closed without an answer, one that sent part of a head gets 408;
+//! - the body must arrive within [`ServeOptions::body_timeout`] (30 s) of the head (408);
+//! - a client that takes none of the answer for [`WRITE_TIMEOUT`] (30 s) is dropped;
+//! - after the answer, what the client still sends is read and dropped for at most one
+//!   second and 1 MiB (a lingering close, so that a refused body does not reset the
+//!   connection before the client has read why);
+//! - memory per connection is bounded: a head over 16 KiB is refused (431), and a body
+//!   over [`ServeOptions::max_body_bytes`] is refused with 413 by its `Content-Length`,
+//!   before a byte of it is read (a body without a length, chunked, is refused with 411);
+//!   a body's buffer grows with the bytes that arrive, not with the length declared.
+//!
+//! Planning is limited apart from connections: at most [`ServeOptions::max_running`]
+//! plans run at once (503 beyond), each within [`crate::query::Caps`].
+//!
+//! # Safety
+//!
+//! Paths go through [`crate::safe::Root`] (403/404 before anything is read); a `Host`
+//! that is a DNS name other than `localhost`, or an `Origin` of another site, is refused
+//! with 403 (DNS rebinding and cross-site requests from pages in the user's browser).
+//!
+//! # Cancelling
+//!
+//! A cancelled plan answers at once (409); its search stops at
 //! the planner's next budget check (the run's [`planner_api::Budget::cancel`] flag, read
 //! every [`planner_api::BudgetClock::TIME_CHECK_INTERVAL`] expansions), so its worker
 //! thread ends and frees its place, its result dropped. A plan whose client has gone (its
@@ -36,7 +65,7 @@ use std::net::{IpAddr, Shutdown, SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use planner_api::{CancelFlag, CancelPool, Cell};
 use serde::Deserialize;
@@ -66,8 +95,15 @@ pub struct ServeOptions {
     pub caps: Caps,
     /// Plans running at once, at most (default 2).
     pub max_running: usize,
-    /// Threads answering requests (default 4).
-    pub threads: usize,
+    /// Connections open at once, at most (default 128), each answered on its own thread;
+    /// one beyond them is answered 503 and closed.
+    pub max_connections: usize,
+    /// How long a connection may take to send its request head (default
+    /// [`HEAD_TIMEOUT`]).
+    pub head_timeout: Duration,
+    /// How long a request body may take to arrive after its head (default
+    /// [`BODY_TIMEOUT`]).
+    pub body_timeout: Duration,
 }
 
 impl ServeOptions {
@@ -80,7 +116,9 @@ impl ServeOptions {
             max_body_bytes: 8 << 20,
             caps: Caps::default(),
             max_running: 2,
-            threads: 4,
+            max_connections: 128,
+            head_timeout: HEAD_TIMEOUT,
+            body_timeout: BODY_TIMEOUT,
         }
     }
 }
@@ -113,7 +151,7 @@ pub enum ServeError {
 pub struct Server {
     listener: TcpListener,
     state: Arc<State>,
-    threads: usize,
+    max_connections: usize,
     stop: Arc<AtomicBool>,
 }
 
@@ -122,6 +160,8 @@ struct State {
     max_body_bytes: u64,
     caps: Caps,
     max_running: usize,
+    head_timeout: Duration,
+    body_timeout: Duration,
     running: AtomicUsize,
     cancels: Mutex<HashMap<String, CancelFlag>>,
     /// Cancel flags no running plan holds, for reuse (a [`CancelFlag`] is never freed):
@@ -148,11 +188,13 @@ impl Server {
                 max_body_bytes: options.max_body_bytes,
                 caps: options.caps,
                 max_running: options.max_running.max(1),
+                head_timeout: options.head_timeout,
+                body_timeout: options.body_timeout,
                 running: AtomicUsize::new(0),
                 cancels: Mutex::new(HashMap::new()),
                 flags: CancelPool::new(),
             }),
-            threads: options.threads.max(1),
+            max_connections: options.max_connections.max(1),
             stop: Arc::new(AtomicBool::new(false)),
         })
     }
@@ -163,16 +205,20 @@ impl Server {
     }
 
     /// Answers connections until [`Server::stopper`]'s handle is called (forever
-    /// otherwise): a fixed pool of threads, each answering one request per connection; at
-    /// most 64 connections wait, more are closed at once.
+    /// otherwise): each connection on a thread of its own, one request per connection, at
+    /// most [`ServeOptions::max_connections`] at once (see [`answer_connections`]).
     pub fn run(self) {
         let state = self.state;
-        answer_in_pool(&self.listener, self.threads, &self.stop, move |stream| {
-            connection(&state, stream)
-        });
+        answer_connections(
+            &self.listener,
+            self.max_connections,
+            &self.stop,
+            move |stream| connection(&state, stream),
+        );
     }
 
-    /// A handle that stops [`Server::run`] (its threads return after their request).
+    /// A handle that stops [`Server::run`]: it returns at once, and the requests being
+    /// answered finish on their own threads (within the limits of the module's docs).
     pub fn stopper(&self) -> impl Fn() + Send + 'static {
         let stop = Arc::clone(&self.stop);
         let addr = self.addr();
@@ -186,53 +232,83 @@ impl Server {
     }
 }
 
-/// Hands the connections of `listener` to `threads` threads that each run `answer` on
-/// one at a time, until `stop` is set (and the next connection wakes the loop): at most 64
-/// connections wait, more are closed at once. A panic in `answer` closes that connection
-/// (the stream is dropped) and keeps the thread, so the pool never shrinks into a server
-/// that accepts and never answers. [`Server::run`] is this pool with the page's answers.
-pub fn answer_in_pool(
+/// Runs `answer` on each connection of `listener`, each on a thread of its own, until
+/// `stop` is set (and the next connection wakes the loop); then returns without waiting
+/// for the connections being answered. [`Server::run`] is this loop with the page's
+/// answers.
+///
+/// At most `max_connections` are answered at once: a connection beyond them gets a 503
+/// (written without blocking, no thread) and is closed, so that a flood of connections
+/// costs neither threads nor memory. One connection's `answer` never waits for
+/// another's: a client that sends nothing holds its own thread only (which `answer`
+/// bounds with its timeouts). A panic in `answer` ends its thread and closes its
+/// connection; its place is freed, so the server never fills up with dead connections.
+pub fn answer_connections(
     listener: &TcpListener,
-    threads: usize,
+    max_connections: usize,
     stop: &AtomicBool,
     answer: impl Fn(TcpStream) + Send + Sync + 'static,
 ) {
-    let (send, receive) = mpsc::sync_channel::<TcpStream>(64);
-    let receive = Arc::new(Mutex::new(receive));
+    /// One open connection's place, freed when its thread ends (a panic too).
+    struct Place(Arc<AtomicUsize>);
+    impl Drop for Place {
+        fn drop(&mut self) {
+            self.0.fetch_sub(1, Ordering::SeqCst);
+        }
+    }
     let answer = Arc::new(answer);
-    let workers: Vec<_> = (0..threads)
-        .map(|_| {
-            let receive = Arc::clone(&receive);
-            let answer = Arc::clone(&answer);
-            std::thread::spawn(move || loop {
-                let next = match receive.lock() {
-                    Ok(receive) => receive.recv(),
-                    Err(_) => return,
-                };
-                match next {
-                    Ok(stream) => {
-                        let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                            answer(stream)
-                        }));
-                    }
-                    Err(_) => return,
-                }
-            })
-        })
-        .collect();
+    let open = Arc::new(AtomicUsize::new(0));
     for stream in listener.incoming() {
         if stop.load(Ordering::SeqCst) {
             break;
         }
-        if let Ok(stream) = stream {
-            // A full queue drops (closes) the connection.
-            let _ = send.try_send(stream);
+        let stream = match stream {
+            Ok(stream) => stream,
+            Err(_) => {
+                // Out of file descriptors (or a connection aborted before it was
+                // accepted): wait a little rather than spin on the error.
+                std::thread::sleep(Duration::from_millis(10));
+                continue;
+            }
+        };
+        // Only this loop adds places, so the count cannot grow between the check and
+        // the add.
+        if open.load(Ordering::SeqCst) >= max_connections.max(1) {
+            refuse_busy(stream);
+            continue;
+        }
+        open.fetch_add(1, Ordering::SeqCst);
+        let place = Place(Arc::clone(&open));
+        let answer = Arc::clone(&answer);
+        // A thread that cannot be made drops the closure: the connection closes and its
+        // place is freed.
+        let _ = std::thread::Builder::new()
+            .name("gridplan-serve".to_string())
+            .spawn(move || {
+                let _place = place;
+                answer(stream);
+            });
+    }
+}
+
+/// Answers a connection beyond the limit 503 and closes it, without blocking: the answer
+/// fits in a new socket's send buffer, and what the client has already sent is read
+/// first, so that the close does not reset the connection before the answer is read.
+fn refuse_busy(mut stream: TcpStream) {
+    if stream.set_nonblocking(true).is_err() {
+        return;
+    }
+    let busy = Answer::error(503, "busy: too many open connections; try again");
+    let _ = stream.write_all(head(&busy).as_bytes());
+    let _ = stream.write_all(&busy.body);
+    let mut sink = [0u8; 4096];
+    for _ in 0..16 {
+        match stream.read(&mut sink) {
+            Ok(n) if n > 0 => {}
+            _ => break,
         }
     }
-    drop(send);
-    for worker in workers {
-        let _ = worker.join();
-    }
+    let _ = stream.shutdown(Shutdown::Write);
 }
 
 /// One answer: status, content type, body.
@@ -271,40 +347,35 @@ impl Answer {
 /// The longest request head (request line and headers) read, in bytes.
 const MAX_HEAD_BYTES: usize = 16 << 10;
 
-/// How long a connection may take to send its request.
-const READ_TIMEOUT: Duration = Duration::from_secs(10);
+/// How long a connection may take, from its opening, to send its request head, by
+/// default ([`ServeOptions::head_timeout`]): one that has sent nothing by then (a
+/// browser's unused preconnection) is closed without an answer, one that sent part of a
+/// head is answered 408.
+pub const HEAD_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// How long a request's body may take to arrive after its head (408 beyond), by default
+/// ([`ServeOptions::body_timeout`]): 8 MiB, the default limit, at 280 KB/s.
+pub const BODY_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// How long the server waits for a client to take any of its answer before dropping the
+/// connection.
+pub const WRITE_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// How long, and how many bytes, the lingering close after an answer reads.
+const LINGER: (Duration, usize) = (Duration::from_secs(1), 1 << 20);
 
 /// One connection: one request (head parsed by httparse, body read only up to the limit),
-/// one answer, then the connection closes.
+/// one answer, then the connection closes; each step within its time limit.
 fn connection(state: &Arc<State>, mut stream: TcpStream) {
-    let _ = stream.set_read_timeout(Some(READ_TIMEOUT));
-    let _ = stream.set_write_timeout(Some(Duration::from_secs(60)));
-    let answer = match read_request(state, &mut stream) {
+    let opened = Instant::now();
+    let _ = stream.set_write_timeout(Some(WRITE_TIMEOUT));
+    let answer = match read_request(state, &mut stream, opened + state.head_timeout) {
         Ok(Some((method, target, body))) => handle(state, &method, &target, &body, &stream),
         Ok(None) => return,
         Err(answer) => answer,
     };
-    let reason = match answer.status {
-        200 => "OK",
-        400 => "Bad Request",
-        403 => "Forbidden",
-        404 => "Not Found",
-        405 => "Method Not Allowed",
-        409 => "Conflict",
-        411 => "Length Required",
-        413 => "Content Too Large",
-        431 => "Request Header Fields Too Large",
-        503 => "Service Unavailable",
-        _ => "Error",
-    };
-    let head = format!(
-        "HTTP/1.1 {} {reason}\r\nContent-Type: {}\r\nContent-Length: {}\r\nConnection: close\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nContent-Security-Policy: default-src 'self'; style-src 'self'; script-src 'self'\r\n\r\n",
-        answer.status,
-        answer.kind,
-        answer.body.len()
-    );
     if stream
-        .write_all(head.as_bytes())
+        .write_all(head(&answer).as_bytes())
         .and_then(|()| stream.write_all(&answer.body))
         .and_then(|()| stream.flush())
         .is_err()
@@ -312,30 +383,75 @@ fn connection(state: &Arc<State>, mut stream: TcpStream) {
         return;
     }
     // A lingering close: stop writing, then read (and drop) what the client still sends,
-    // at most 1 MiB or one second, so that closing with unread data (a refused body) does
-    // not reset the connection before the client has read the answer.
+    // for at most a second and 1 MiB, so that closing with unread data (a refused body)
+    // does not reset the connection before the client has read the answer.
     let _ = stream.shutdown(Shutdown::Write);
-    let _ = stream.set_read_timeout(Some(Duration::from_secs(1)));
+    let deadline = Instant::now() + LINGER.0;
     let mut sink = [0u8; 16 << 10];
     let mut drained = 0usize;
-    while drained < (1 << 20) {
-        match stream.read(&mut sink) {
+    while drained < LINGER.1 {
+        match read_by(&mut stream, &mut sink, deadline) {
             Ok(0) | Err(_) => break,
             Ok(n) => drained += n,
         }
     }
 }
 
-/// Reads one request: method, target and body, or the refusal to answer (400 malformed,
-/// 411 no length for a body, 413 body over the limit, 431 head too long); `None` when the
-/// client sent nothing.
+/// The status line and headers of `answer`.
+fn head(answer: &Answer) -> String {
+    let reason = match answer.status {
+        200 => "OK",
+        400 => "Bad Request",
+        403 => "Forbidden",
+        404 => "Not Found",
+        405 => "Method Not Allowed",
+        408 => "Request Timeout",
+        409 => "Conflict",
+        411 => "Length Required",
+        413 => "Content Too Large",
+        431 => "Request Header Fields Too Large",
+        503 => "Service Unavailable",
+        _ => "Error",
+    };
+    format!(
+        "HTTP/1.1 {} {reason}\r\nContent-Type: {}\r\nContent-Length: {}\r\nConnection: close\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nContent-Security-Policy: default-src 'self'; style-src 'self'; script-src 'self'\r\n\r\n",
+        answer.status,
+        answer.kind,
+        answer.body.len()
+    )
+}
+
+/// One read from `stream` into `buffer`, waiting until `deadline` at most (an error of
+/// kind `TimedOut` or `WouldBlock` past it).
+fn read_by(stream: &mut TcpStream, buffer: &mut [u8], deadline: Instant) -> std::io::Result<usize> {
+    let left = deadline.saturating_duration_since(Instant::now());
+    if left.is_zero() {
+        return Err(std::io::ErrorKind::TimedOut.into());
+    }
+    stream.set_read_timeout(Some(left))?;
+    stream.read(buffer)
+}
+
+/// Whether `error` is a read's time limit running out.
+fn timed_out(error: &std::io::Error) -> bool {
+    matches!(
+        error.kind(),
+        std::io::ErrorKind::TimedOut | std::io::ErrorKind::WouldBlock
+    )
+}
+
+/// Reads one request, its head by `head_deadline` and its body within the body timeout
+/// after: method, target and body, or the refusal to answer (400 malformed, 408 too
+/// slow, 411 no length for a body, 413 body over the limit, 431 head too long); `None`
+/// when the client sent nothing (closed, or idle until the deadline).
 #[allow(clippy::type_complexity)]
 fn read_request(
     state: &State,
     stream: &mut TcpStream,
+    head_deadline: Instant,
 ) -> Result<Option<(String, String, Vec<u8>)>, Answer> {
     let mut buffer = Vec::with_capacity(4096);
-    let mut chunk = [0u8; 4096];
+    let mut chunk = [0u8; 16 << 10];
     let head_end = loop {
         if let Some(at) = find_head_end(&buffer) {
             if at > MAX_HEAD_BYTES {
@@ -346,11 +462,20 @@ fn read_request(
         if buffer.len() > MAX_HEAD_BYTES {
             return Err(Answer::error(431, "request head too long"));
         }
-        match stream.read(&mut chunk) {
+        match read_by(stream, &mut chunk, head_deadline) {
             Ok(0) if buffer.is_empty() => return Ok(None),
             Ok(0) => return Err(Answer::error(400, "incomplete request")),
             Ok(n) => buffer.extend_from_slice(&chunk[..n]),
             Err(_) if buffer.is_empty() => return Ok(None),
+            Err(e) if timed_out(&e) => {
+                return Err(Answer::error(
+                    408,
+                    &format!(
+                        "the request head did not arrive within {:?}",
+                        state.head_timeout
+                    ),
+                ))
+            }
             Err(e) => return Err(Answer::error(400, &format!("reading the request: {e}"))),
         }
     };
@@ -396,12 +521,23 @@ fn read_request(
     let length = length as usize;
     let mut body = buffer.split_off(head_end);
     body.truncate(length);
-    body.reserve(length - body.len());
+    // Grown as the bytes arrive: a declared length costs no memory before its body comes.
+    body.reserve((length - body.len()).min(1 << 20));
+    let body_deadline = Instant::now() + state.body_timeout;
     while body.len() < length {
         let want = (length - body.len()).min(chunk.len());
-        match stream.read(&mut chunk[..want]) {
+        match read_by(stream, &mut chunk[..want], body_deadline) {
             Ok(0) => return Err(Answer::error(400, "the request body ended early")),
             Ok(n) => body.extend_from_slice(&chunk[..n]),
+            Err(e) if timed_out(&e) => {
+                return Err(Answer::error(
+                    408,
+                    &format!(
+                        "the request body did not arrive within {:?}",
+                        state.body_timeout
+                    ),
+                ))
+            }
             Err(e) => {
                 return Err(Answer::error(
                     400,

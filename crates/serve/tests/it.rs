@@ -5,7 +5,7 @@
 
 mod cancel;
 mod common;
+mod connections;
 mod costs;
 mod http;
 mod pictures;
-mod pool;
