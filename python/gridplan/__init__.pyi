@@ -2,12 +2,14 @@
 the Python half's)."""
 
 import os
-from typing import Any, Dict, List, Optional, Tuple, Union, overload
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
 
 _Cell = Tuple[int, int]
+# A cell argument: any sequence of two integers (NumPy's included).
+_CellLike = Union[Tuple[int, int], Sequence[int], npt.NDArray[np.integer[Any]]]
 
 DEFAULT_PLAN_EXPANSIONS: int
 """The expansion budget ``plan`` applies when ``budget`` sets none (as the command line)."""
@@ -52,7 +54,8 @@ class ParameterError(GridplanError, ValueError):
 
 class Grid:
     """An occupancy grid, ``width`` columns by ``height`` rows; cell ``(x, y)`` is
-    ``array[y, x]`` of ``to_numpy()``."""
+    ``array[y, x]`` of ``to_numpy()``. It pickles (and copies) with its weights and
+    frame."""
     @classmethod
     def from_numpy(cls, array: npt.ArrayLike, *, free: bool) -> "Grid":
         """A grid from a 2-D array of shape (height, width) of bools or 0/1 numbers.
@@ -80,8 +83,9 @@ class Grid:
         """``(height, width)``."""
     @property
     def n_free(self) -> int: ...
-    def is_free(self, cell: _Cell) -> bool:
-        """Whether ``(x, y)`` lies on the grid and is free."""
+    def is_free(self, cell: _CellLike) -> bool:
+        """Whether ``(x, y)`` lies on the grid and is free (False for any integers off
+        it)."""
     @property
     def frame(self) -> Optional["MapFrame"]:
         """Where the cells lie in the ROS map frame, for a grid read from a
@@ -92,7 +96,8 @@ class Grid:
 class MapFrame:
     """A ROS map's frame: ``resolution`` (metres per cell) and ``origin`` (``(x, y, yaw)``
     of the bottom-left cell's lower-left corner; the yaw is ignored, as by nav2). Row 0 is
-    the image's top row. The conversions are nav2's ``mapToWorld`` and ``worldToMap``."""
+    the image's top row. The conversions are nav2's ``mapToWorld`` and ``worldToMap``.
+    It pickles."""
     @property
     def resolution(self) -> float: ...
     @property
@@ -101,7 +106,7 @@ class MapFrame:
     def bounds(self) -> Tuple[float, float, float, float]:
         """``(min_x, min_y, max_x, max_y)`` in metres; the upper ends are outside."""
     @overload
-    def world(self, cells: _Cell) -> Tuple[float, float]: ...
+    def world(self, cells: Union[_Cell, Sequence[int]]) -> Tuple[float, float]: ...
     @overload
     def world(self, cells: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """The map-frame positions (metres) of cell centres: one ``(x, y)`` cell gives a
@@ -112,7 +117,8 @@ class MapFrame:
     def __eq__(self, other: object) -> bool: ...
 
 class Problem:
-    """A start-goal pair a map file states (or the ``.scen`` file beside a ``.map``)."""
+    """A start-goal pair a map file states (or the ``.scen`` file beside a ``.map``). It
+    pickles."""
     @property
     def start(self) -> _Cell: ...
     @property
@@ -124,13 +130,16 @@ class Problem:
     def __eq__(self, other: object) -> bool: ...
 
 class Outcome:
-    """The result of ``plan``."""
+    """The result of ``plan``: a value. Its arrays are read-only and its dicts and lists
+    are copies, so nothing done with them changes it; it pickles (a ``multiprocessing``
+    worker can return it), and ``==`` compares every field but ``time_ms`` (arrays element
+    by element)."""
     @property
     def status(self) -> str:
         """``"found"``, ``"no_path"`` or ``"budget_exhausted"``."""
     @property
     def path(self) -> npt.NDArray[np.int64]:
-        """(N, 2) array of ``(x, y)`` rows; (0, 2) without a path."""
+        """(N, 2) array of ``(x, y)`` rows; (0, 2) without a path. Read-only."""
     @property
     def metrics(self) -> Optional[Dict[str, Union[int, float]]]:
         """``steps``, ``turns``, ``score`` (seed 000's D, T, Score) and ``length``."""
@@ -160,14 +169,17 @@ class Outcome:
     def events(self) -> Optional[Dict[str, npt.NDArray[Any]]]:
         """With ``plan(..., record=True)``: the search step by step where the planner
         records it (A*, any heuristic; bidirectional A*, Theta*, Lazy Theta*, JPS, weighted
-        JPS): equal-length
+        JPS): equal-length (read-only)
         arrays ``kind`` (``"generating"``,
         ``"updating"``, ``"expanding"``), ``x``, ``y``, ``parent_x``, ``parent_y`` (-1 for
         the start), ``g`` and ``f`` (``pandas.DataFrame(outcome.events)`` makes a table;
         empty for the other planners); else None."""
+    def __eq__(self, other: object) -> bool:
+        """Same status, path, metrics, counters, marks, series, seed, validity, cost and
+        recording; ``time_ms`` is not compared."""
 
 class PlannerInfo:
-    """A registered planner."""
+    """A registered planner. It pickles (by name: the registry's entry is read again)."""
     @property
     def name(self) -> str: ...
     @property
@@ -194,12 +206,18 @@ class PlannerInfo:
         ``"8-connected"`` (``", corners cut"`` added when diagonals may pass a corner)."""
     @property
     def parameters(self) -> Dict[str, Any]:
-        """Every parameter with its default."""
+        """Every parameter with its default (None for one without a value by default;
+        passing None leaves a parameter at its default)."""
 
 class Planner:
     """A registry planner built once for ``grid`` with its parameters; its per-grid tables
     are built by the first query and reused by every later one (``plan`` rebuilds them on
-    every call). Results are the same as ``gridplan.plan``'s."""
+    every call). Results are the same as ``gridplan.plan``'s. Calls on one planner from
+    several threads run one after another (for queries in parallel use ``plan_many``, or a
+    planner per thread): a call waits while another holds the planner, and Ctrl-C ends the
+    wait with ``KeyboardInterrupt``. In a process forked while another thread was using it
+    (``os.fork``, ``multiprocessing``'s ``fork``), its calls raise ``GridplanError``: make a
+    new ``Planner`` there."""
     def __init__(
         self,
         grid: Grid,
@@ -211,7 +229,7 @@ class Planner:
     @property
     def name(self) -> str:
         """The registry name."""
-    def plan(self, start: _Cell, goal: Optional[_Cell] = None) -> Outcome:
+    def plan(self, start: _CellLike, goal: Optional[_CellLike] = None) -> Outcome:
         """One query, as ``gridplan.plan(grid, start, goal, planner=..., **params)``, on the
         calling thread with the GIL released (a few microseconds beyond the search on den520d:
         ``python/bench/plan_calls.py``). Ctrl-C takes effect when the search ends: give the
@@ -227,10 +245,12 @@ class Planner:
         paths: bool = False,
     ) -> Dict[str, Any]:
         """Plans query ``i`` from ``starts[i]`` to ``goals[i]`` (``(N, 2)`` arrays of
-        ``(x, y)``, integers or whole-numbered floats as ``np.floor`` gives them: 0.5 or
+        ``(x, y)``, or empty sequences for no query; integers or whole-numbered floats as
+        ``np.floor`` gives them: 0.5 or
         NaN raises ``ValueError`` naming the query, a boolean or string array
         ``TypeError``; no goals for coverage planners) on ``threads`` threads (0: one per
-        core, at most 256 as in a config; more raises ``ValueError``) with the GIL released. Returns arrays in query order: ``status`` (str),
+        core, at most 256 as in a config; more, or a negative number, raises ``ValueError``)
+        with the GIL released. Returns arrays in query order: ``status`` (str),
         ``length`` (float64, NaN without a path), ``steps`` and ``turns`` (int64, -1
         without a path), ``time_ms`` (float64, the search alone), ``counters`` (name ->
         int64 array) and, with ``paths=True``, ``paths`` (a list of (N, 2) arrays).
@@ -254,8 +274,8 @@ class Replanner:
         grid: Grid,
         planner: str = "dstar_lite",
         *,
-        start: _Cell,
-        goal: _Cell,
+        start: _CellLike,
+        goal: _CellLike,
         budget: Union[None, int, Dict[str, int]] = None,
         **params: Any,
     ) -> None: ...
@@ -289,7 +309,7 @@ class Replanner:
         cell given weights alone keeps its state). A cell off the grid, a weight out of
         range or weights on an unweighted grid raise ``ValueError`` naming it, and nothing
         is applied. The start or goal may be blocked: ``plan`` then finds no path."""
-    def move_to(self, cell: _Cell) -> None:
+    def move_to(self, cell: _CellLike) -> None:
         """The agent moved to ``cell`` (free, on the grid, else ``ValueError``): the next
         ``plan`` starts there. D* Lite keeps its search; LPA* starts again from there."""
 
@@ -307,30 +327,35 @@ def read_map(
     as costs (nav2's bands); ``cost_rule``: ``"mean"`` or ``"entered"``. As ``gridplan
     plan`` does, an option that would change nothing raises ``ValueError``: ``obstacle=1``
     for a map that is not a ``.csv``, ``graded=True`` for one that is not a ROS map or
-    beside ``weights``, ``cost_rule="entered"`` without costs."""
+    beside ``weights``, ``cost_rule="entered"`` without costs. A ``.scen`` file whose
+    scenarios name another map file is read, with a ``GridplanWarning``."""
 
 def planners() -> List[PlannerInfo]:
     """Every registered planner with its declared parameters and their defaults."""
 
 def plan(
     grid: Grid,
-    start: _Cell,
-    goal: Optional[_Cell] = None,
+    start: _CellLike,
+    goal: Optional[_CellLike] = None,
     *,
     planner: str = "astar",
     budget: Union[None, int, Dict[str, int]] = None,
     record: bool = False,
     **params: Any,
 ) -> Outcome:
-    """Plans from ``start`` to ``goal`` (no goal for coverage planners) with registry
-    planner ``planner`` and its parameters. ``budget``: a number of expansions, or a dict
-    of ``max_expansions`` and ``max_time_ms``; without ``max_expansions``,
+    """Plans from ``start`` to ``goal`` (cells: any two integers, as a tuple, list or NumPy
+    array; no goal for coverage planners) with registry planner ``planner`` and its
+    parameters (one given as None keeps its default). ``budget``: a number of expansions,
+    or a dict of ``max_expansions``, ``max_time_ms`` and ``max_memory_mb`` (a bad value
+    raises ``ParameterError`` with key ``budget.<key>``); without ``max_expansions``,
     ``DEFAULT_PLAN_EXPANSIONS``. On a weighted grid a planner that cannot honour cell
     costs is refused (``ParameterError``, key ``costs``) unless ``costs="ignore"``.
     ``record=True``: the search is run once more to record it (it must repeat the first
     run, else ``DeterminismError``), and the outcome's ``expanded`` and ``events`` hold
-    it. Ctrl-C (a notebook's interrupt) stops the search at its next budget check and
-    raises ``KeyboardInterrupt``."""
+    it; with ``max_time_ms`` in the budget the recording run is not checked, as it stops
+    at its own time limit, so ``expanded`` may hold more or fewer cells than
+    ``counters["n_expanded"]``. Ctrl-C (a notebook's interrupt) stops the search at its
+    next budget check and raises ``KeyboardInterrupt``."""
 
 def compare(
     old: Union[str, "os.PathLike[str]"],
@@ -345,7 +370,8 @@ def compare(
     runs, one per problem, each ``run`` and its ``fields`` as ``[name, old, new]``) and
     ``times`` (per label ``label``, ``problems``, ``ratio``: the geometric mean of NEW's
     median time over OLD's per problem, ``low`` and ``high``: its 95 % interval, and
-    ``faster``). A directory that is not results raises ``OutputError``."""
+    ``faster``). A directory that is not results raises ``OutputError``; a negative
+    ``examples`` ``ValueError``."""
 
 def run_experiment(
     config: Union[str, "os.PathLike[str]"],

@@ -53,6 +53,8 @@ pub enum Failure {
     Type(String),
     /// Rust code panicked; the panic was caught.
     Panic(String),
+    /// An object that cannot serve calls in this process (`GridplanError`).
+    Unusable(String),
     /// A Python error raised while talking to Python.
     Python(PyErr),
 }
@@ -108,6 +110,7 @@ impl Failure {
                 format!("internal error (a bug in gridplan, please report it): {what}"),
                 &[],
             ),
+            Failure::Unusable(message) => raise(py, "GridplanError", message, &[]),
             Failure::Map(error) => map_error(py, &error),
             Failure::MapMismatch {
                 file,
@@ -143,6 +146,26 @@ impl Failure {
         };
         built.unwrap_or_else(|e| e)
     }
+}
+
+/// The `ProblemError` of `endpoint` at `cell`, a pair of Python integers (which may be too
+/// large for any Rust integer).
+pub fn problem_pyerr(
+    py: Python<'_>,
+    endpoint: &str,
+    cell: Bound<'_, PyAny>,
+    message: String,
+) -> PyErr {
+    let built = raise(
+        py,
+        "ProblemError",
+        message,
+        &[
+            ("endpoint", Attr::from(endpoint)),
+            ("cell", Attr::Object(cell.unbind())),
+        ],
+    );
+    built.unwrap_or_else(|e| e)
 }
 
 fn map_error(py: Python<'_>, error: &planner_maps::MapError) -> PyResult<PyErr> {
@@ -214,6 +237,7 @@ enum Attr {
     Text(String),
     Number(usize),
     Cell((i64, i64)),
+    Object(Py<PyAny>),
 }
 
 impl From<String> for Attr {
@@ -260,6 +284,7 @@ fn raise<'py>(
             Attr::Text(text) => kwargs.set_item(name, text)?,
             Attr::Number(n) => kwargs.set_item(name, n)?,
             Attr::Cell(cell) => kwargs.set_item(name, cell)?,
+            Attr::Object(value) => kwargs.set_item(name, value)?,
         }
     }
     let instance = class.call((terminal(&message),), Some(&kwargs))?;

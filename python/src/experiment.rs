@@ -21,6 +21,7 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 use pyo3::IntoPyObjectExt;
 
 use crate::errors::{guarded, Failure};
+use crate::values::Int;
 
 /// Runs the experiment config at `config` with `threads` workers (0: the config's
 /// `threads`, where 0 means one per core) and returns `(columns, rows)`: runs.csv's
@@ -33,15 +34,24 @@ use crate::errors::{guarded, Failure};
 /// the runs an interrupted (or finished) sweep of the same config recorded there, as
 /// `experiment --resume` does ([`SweepArgs::resume`]).
 #[pyfunction]
-#[pyo3(signature = (config, *, threads = 0, output = None, lock_wait = 120.0, resume = false))]
+#[pyo3(
+    signature = (config, *, threads = Int::Fits(0), output = None, lock_wait = 120.0, resume = false),
+    text_signature = "(config, *, threads=0, output=None, lock_wait=120.0, resume=False)"
+)]
 pub fn run_experiment_rows(
     py: Python<'_>,
     config: PathBuf,
-    threads: usize,
+    threads: Int,
     output: Option<PathBuf>,
     lock_wait: f64,
     resume: bool,
 ) -> PyResult<Py<PyTuple>> {
+    // More than the runner allows is its error (naming its limit).
+    let threads = threads.at_most(
+        "threads",
+        usize::MAX as u64,
+        "use 0 for the config's threads",
+    )? as usize;
     if resume && output.is_none() {
         return Err(PyValueError::new_err(
             "resume: a sweep resumes from its output directory; give `output` (a sweep in memory records nothing to resume)",
@@ -223,13 +233,21 @@ fn value<'py>(
 /// `gridplan.compare`: the results directories `old` and `new` compared run by run
 /// ([`planner_report::compare::compare`]), as the dict of `gridplan compare --json`.
 #[pyfunction]
-#[pyo3(signature = (old, new, *, examples = 10))]
+#[pyo3(
+    signature = (old, new, *, examples = Int::Fits(10)),
+    text_signature = "(old, new, *, examples=10)"
+)]
 pub fn compare<'py>(
     py: Python<'py>,
     old: PathBuf,
     new: PathBuf,
-    examples: usize,
+    examples: Int,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let examples = examples.at_most(
+        "examples",
+        usize::MAX as u64,
+        "give how many differing runs to list",
+    )? as usize;
     let json = py
         .detach(|| guarded(|| Ok(planner_report::compare::compare(&old, &new, examples)?.json())))
         .map_err(PyErr::from)?;

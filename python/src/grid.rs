@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::errors::{guarded, Failure};
+use crate::values::Int;
 
 /// An occupancy grid: free and blocked cells, `width` columns by `height` rows.
 #[pyclass(module = "gridplan", frozen, eq)]
@@ -254,11 +255,50 @@ impl Grid {
     }
 
     /// Whether cell `(x, y)` lies on the grid and is free.
-    fn is_free(&self, cell: (i64, i64)) -> bool {
-        match to_cell(cell) {
-            Some(c) => self.inner.contains(c) && self.inner.is_free(c),
-            None => false,
+    fn is_free(&self, cell: &Bound<'_, PyAny>) -> PyResult<bool> {
+        Ok(match given_cell("Grid.is_free", cell)? {
+            GivenCell::At(x, y) => match to_cell((x, y)) {
+                Some(c) => self.inner.contains(c) && self.inner.is_free(c),
+                None => false,
+            },
+            GivenCell::Beyond(..) => false,
+        })
+    }
+
+    /// Pickling (and `copy`): the free cells, the weights and their rule, the frame.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let py = slf.py();
+        let grid = slf.get();
+        let state = (
+            grid.to_numpy(py, true),
+            grid.weights(py),
+            grid.cost_rule(),
+            grid.frame(),
+        );
+        Ok((
+            slf.get_type().getattr("_from_state")?,
+            state.into_pyobject(py)?,
+        ))
+    }
+
+    /// The grid `__reduce__` describes.
+    #[classmethod]
+    #[pyo3(name = "_from_state")]
+    fn from_state(
+        cls: &Bound<'_, pyo3::types::PyType>,
+        free: &Bound<'_, PyAny>,
+        weights: Option<&Bound<'_, PyAny>>,
+        cost_rule: Option<&str>,
+        frame: Option<&Bound<'_, MapFrame>>,
+    ) -> PyResult<Grid> {
+        let mut grid = Grid::from_numpy(cls, free, true)?;
+        if let Some(weights) = weights {
+            grid = grid.with_weights(weights, cost_rule.unwrap_or("mean"))?;
         }
+        grid.frame = frame.map(|f| f.get().inner);
+        Ok(grid)
     }
 
     fn __repr__(&self) -> String {
@@ -285,6 +325,77 @@ pub fn to_cell((x, y): (i64, i64)) -> Option<Cell> {
     Some(Cell::new(u32::try_from(x).ok()?, u32::try_from(y).ok()?))
 }
 
+/// A cell argument as given.
+pub enum GivenCell<'py> {
+    /// `(x, y)`.
+    At(i64, i64),
+    /// Integers `(x, y)`, one of them beyond `i64`: a cell on no grid.
+    Beyond(Bound<'py, PyAny>, Bound<'py, PyAny>),
+}
+
+/// Cell argument `name`: any sequence of two integers (a tuple, a list, a NumPy array, NumPy
+/// integers), else a `TypeError` naming the argument.
+pub fn given_cell<'py>(name: &str, value: &Bound<'py, PyAny>) -> PyResult<GivenCell<'py>> {
+    // The usual tuple of two ints, without going through Python.
+    if let Ok((x, y)) = value.extract::<(i64, i64)>() {
+        return Ok(GivenCell::At(x, y));
+    }
+    let wrong = || -> PyErr {
+        let shown = value
+            .repr()
+            .map(|r| r.to_string())
+            .unwrap_or_else(|_| "a value".into());
+        let shown = match shown.char_indices().nth(80) {
+            Some((end, _)) => format!("{}...", &shown[..end]),
+            None => shown,
+        };
+        Failure::Type(format!(
+            "{name}: expected a cell (x, y), two integers, got {shown}"
+        ))
+        .into()
+    };
+    let text = value.is_instance_of::<pyo3::types::PyString>()
+        || value.is_instance_of::<pyo3::types::PyBytes>();
+    if text || value.len().ok() != Some(2) {
+        return Err(wrong());
+    }
+    let operator = value.py().import("operator")?;
+    // `operator.index`: an int, a NumPy integer, or anything else that is an integer.
+    let coordinate = |i: usize| {
+        value
+            .get_item(i)
+            .and_then(|item| operator.call_method1("index", (item,)))
+            .map_err(|_| wrong())
+    };
+    let (x, y) = (coordinate(0)?, coordinate(1)?);
+    match (x.extract::<i64>(), y.extract::<i64>()) {
+        (Ok(x), Ok(y)) => Ok(GivenCell::At(x, y)),
+        _ => Ok(GivenCell::Beyond(x, y)),
+    }
+}
+
+/// Endpoint `name` (`start` or `goal`) of a query on `grid`, as [`given_cell`] takes it:
+/// one beyond `i64` is the `ProblemError` of a cell outside the grid.
+pub fn endpoint(
+    name: &'static str,
+    value: &Bound<'_, PyAny>,
+    grid: &planner_api::Grid,
+) -> PyResult<(i64, i64)> {
+    match given_cell(name, value)? {
+        GivenCell::At(x, y) => Ok((x, y)),
+        GivenCell::Beyond(x, y) => {
+            let message = crate::plan::outside(name, &x, &y, grid);
+            let cell = (x, y).into_pyobject(value.py())?.into_any();
+            Err(crate::errors::problem_pyerr(
+                value.py(),
+                name,
+                cell,
+                message,
+            ))
+        }
+    }
+}
+
 /// A start-goal problem a map file states: its own pairs (seed 003's `.txt` header), or a
 /// Moving AI `.scen` file's beside a `.map`.
 #[pyclass(module = "gridplan", name = "Problem", frozen, eq, get_all)]
@@ -302,6 +413,36 @@ pub struct MapProblem {
 
 #[pymethods]
 impl MapProblem {
+    /// Pickling (and `copy`): its fields.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let p = slf.get();
+        let state = (p.start, p.goal, p.optimal_length, p.bucket);
+        Ok((
+            slf.get_type().getattr("_from_state")?,
+            state.into_pyobject(slf.py())?,
+        ))
+    }
+
+    /// The problem `__reduce__` describes.
+    #[classmethod]
+    #[pyo3(name = "_from_state")]
+    fn from_state(
+        _cls: &Bound<'_, pyo3::types::PyType>,
+        start: (u32, u32),
+        goal: (u32, u32),
+        optimal_length: Option<f64>,
+        bucket: Option<u32>,
+    ) -> MapProblem {
+        MapProblem {
+            start,
+            goal,
+            optimal_length,
+            bucket,
+        }
+    }
+
     fn __repr__(&self) -> String {
         let mut text = format!("Problem(start={:?}, goal={:?}", self.start, self.goal);
         if let Some(length) = self.optimal_length {
@@ -322,20 +463,30 @@ impl MapProblem {
 /// `graded=True`: a ROS map's graded values as costs with nav2's bands (`plan --graded`);
 /// `cost_rule`: the move cost rule of the weighted grid (`plan --cost-rule`).
 #[pyfunction]
-#[pyo3(signature = (path, *, obstacle = 0, weights = None, graded = false, cost_rule = "mean"))]
+#[pyo3(
+    signature = (path, *, obstacle = Int::Fits(0), weights = None, graded = false, cost_rule = "mean"),
+    text_signature = "(path, *, obstacle=0, weights=None, graded=False, cost_rule='mean')"
+)]
 pub fn read_map(
     py: Python<'_>,
     path: PathBuf,
-    obstacle: u8,
+    obstacle: Int,
     weights: Option<PathBuf>,
     graded: bool,
     cost_rule: &str,
 ) -> PyResult<Py<PyTuple>> {
-    let csv = planner_maps::CsvConvention::from_obstacle_value(obstacle).ok_or_else(|| {
+    let csv = match &obstacle {
+        Int::Fits(n) => u8::try_from(*n)
+            .ok()
+            .and_then(planner_maps::CsvConvention::from_obstacle_value),
+        Int::Beyond { .. } => None,
+    };
+    let csv = csv.ok_or_else(|| {
         Failure::Value(format!(
             "read_map: obstacle={obstacle}; the obstacle value of a .csv matrix is 0 or 1"
         ))
     })?;
+    let obstacle = csv.obstacle_value();
     let mut options = planner_maps::ReadOptions {
         csv,
         ..planner_maps::ReadOptions::default()
@@ -431,6 +582,13 @@ fn read(
         .collect();
     let scen = PathBuf::from(format!("{}.scen", path.display()));
     if problems.is_empty() && scen.is_file() {
+        // As `gridplan plan` reads them (planner-runner's `own_pairs`): scenarios that name
+        // another map file are read, with one warning.
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let mut warned = false;
         for s in planner_maps::read_scenarios(&scen)? {
             if (s.width, s.height) != (file.grid.width(), file.grid.height()) {
                 return Err(Failure::MapMismatch {
@@ -447,6 +605,17 @@ fn read(
                         file.grid.height()
                     ),
                 });
+            }
+            let named = s.map.rsplit(['/', '\\']).next().unwrap_or(&s.map);
+            if !warned && named != name {
+                tracing::warn!(
+                    "{}:{}: the scenario names map {}, not {}",
+                    scen.display(),
+                    s.line,
+                    s.map,
+                    name
+                );
+                warned = true;
             }
             problems.push(MapProblem {
                 start: (s.start.x, s.start.y),
@@ -487,6 +656,21 @@ pub struct MapFrame {
     inner: planner_maps::MapFrame,
 }
 
+impl MapFrame {
+    /// The map-frame position of cell `(x, y)`'s centre, or the `ValueError` of a cell off
+    /// the map.
+    fn point(&self, x: i64, y: i64) -> PyResult<(f64, f64)> {
+        match to_cell((x, y)) {
+            Some(c) if c.x < self.inner.width && c.y < self.inner.height => Ok(self.inner.world(c)),
+            _ => Err(Failure::Value(format!(
+                "MapFrame.world: cell ({x}, {y}) is not on the {}x{} map",
+                self.inner.width, self.inner.height
+            ))
+            .into()),
+        }
+    }
+}
+
 #[pymethods]
 impl MapFrame {
     /// Metres per cell.
@@ -518,6 +702,22 @@ impl MapFrame {
         let shape: Vec<usize> = array.getattr("shape")?.extract()?;
         let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
         let cells_hint = "MapFrame.world: expected a cell (x, y) or an (N, 2) array of cells";
+        // One cell, as any other cell argument: integers of any size (those beyond int64
+        // make an object array).
+        if shape == [2] && matches!(kind.as_str(), "i" | "u" | "O") {
+            let (x, y) = match given_cell("MapFrame.world", cells)? {
+                GivenCell::At(x, y) => (x, y),
+                GivenCell::Beyond(x, y) => {
+                    return Err(Failure::Value(format!(
+                        "MapFrame.world: cell ({x}, {y}) is not on the {}x{} map",
+                        self.inner.width, self.inner.height
+                    ))
+                    .into())
+                }
+            };
+            let point = self.point(x, y)?;
+            return Ok(point.into_pyobject(py)?.into_any());
+        }
         if kind != "i" && kind != "u" {
             return Err(Failure::Type(format!(
                 "{cells_hint} (integers), got dtype {}",
@@ -525,30 +725,14 @@ impl MapFrame {
             ))
             .into());
         }
-        let to_point = |x: i64, y: i64| -> PyResult<(f64, f64)> {
-            match to_cell((x, y)) {
-                Some(c) if c.x < self.inner.width && c.y < self.inner.height => {
-                    Ok(self.inner.world(c))
-                }
-                _ => Err(Failure::Value(format!(
-                    "MapFrame.world: cell ({x}, {y}) is not on the {}x{} map",
-                    self.inner.width, self.inner.height
-                ))
-                .into()),
-            }
-        };
         let converted = array.call_method1("astype", ("int64",))?;
         match shape.as_slice() {
-            [2] => {
-                let xy: Vec<i64> = converted.call_method0("tolist")?.extract()?;
-                Ok(to_point(xy[0], xy[1])?.into_pyobject(py)?.into_any())
-            }
             [_, 2] => {
                 let view: PyReadonlyArray2<'_, i64> = converted.extract()?;
                 let view = view.as_array();
                 let mut out = Array2::<f64>::zeros((view.nrows(), 2));
                 for (row, cell) in view.rows().into_iter().enumerate() {
-                    let (x, y) = to_point(cell[0], cell[1])?;
+                    let (x, y) = self.point(cell[0], cell[1])?;
                     out[[row, 0]] = x;
                     out[[row, 1]] = y;
                 }
@@ -560,6 +744,45 @@ impl MapFrame {
             ))
             .into()),
         }
+    }
+
+    /// Pickling (and `copy`): the resolution, origin and size.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let frame = slf.get().inner;
+        let state = (frame.resolution, frame.origin, frame.width, frame.height);
+        Ok((
+            slf.get_type().getattr("_from_state")?,
+            state.into_pyobject(slf.py())?,
+        ))
+    }
+
+    /// The frame `__reduce__` describes.
+    #[classmethod]
+    #[pyo3(name = "_from_state")]
+    fn from_state(
+        _cls: &Bound<'_, pyo3::types::PyType>,
+        resolution: f64,
+        origin: [f64; 3],
+        width: u32,
+        height: u32,
+    ) -> PyResult<MapFrame> {
+        // As the YAML reader: map positions need a positive resolution.
+        if !(resolution > 0.0 && resolution.is_finite()) {
+            return Err(Failure::Value(format!(
+                "MapFrame: resolution {resolution} is not a positive number"
+            ))
+            .into());
+        }
+        Ok(MapFrame {
+            inner: planner_maps::MapFrame {
+                resolution,
+                origin,
+                width,
+                height,
+            },
+        })
     }
 
     /// The cell `(x, y)` holding map-frame point `point = (x, y)` (metres); ValueError for

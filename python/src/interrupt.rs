@@ -8,9 +8,13 @@
 //! ([`query_pool`]), since a thread of its own added 60-80 us to every `plan` on den520d
 //! (`python/bench/plan_calls.py`), and only queries queue there: a long sweep never holds
 //! a query up.
+//!
+//! A value that calls take turns with and may wait long for ([`Exclusive`], a `Planner`'s
+//! state) is waited for in steps, so that the wait too can be given up on a signal.
 
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 use pyo3::prelude::*;
@@ -124,6 +128,103 @@ pub fn query_pool() -> Result<Arc<rayon::ThreadPool>, rayon::ThreadPoolBuildErro
             );
             *pool = Some((pid, built.clone()));
             Ok(built)
+        }
+    }
+}
+
+/// A value that one thread at a time works with, for calls that may wait long for it:
+/// the wait can be given up (on Ctrl-C), and a process forked while a thread of its parent
+/// held the value (a thread the child does not have, which will never let go of it) is
+/// told so instead of waiting forever.
+///
+/// The holder's process id is the lock: a thread takes the value by swapping its process's
+/// id in for 0, then locks the mutex, which no other thread holds then (it only gives safe
+/// access to the value); letting go unlocks the mutex, then stores 0. A process that finds
+/// another process's id there was forked while that process held the value.
+pub struct Exclusive<T> {
+    /// The process id of the thread that holds the value, 0 when none does.
+    holder: AtomicU32,
+    value: Mutex<T>,
+}
+
+/// The value of an [`Exclusive`], held until this is dropped.
+pub struct Held<'a, T> {
+    /// Dropped first (fields drop in order): the mutex is unlocked before the holder is
+    /// cleared, so no other thread ever waits on it.
+    value: MutexGuard<'a, T>,
+    _release: Release<'a>,
+}
+
+/// Clears an [`Exclusive`]'s holder when dropped.
+struct Release<'a>(&'a AtomicU32);
+
+impl Drop for Release<'_> {
+    fn drop(&mut self) {
+        self.0.store(0, Ordering::Release);
+    }
+}
+
+impl<T> std::ops::Deref for Held<'_, T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.value
+    }
+}
+
+impl<T> std::ops::DerefMut for Held<'_, T> {
+    fn deref_mut(&mut self) -> &mut T {
+        &mut self.value
+    }
+}
+
+/// Why [`Exclusive::hold`] ended without the value.
+pub enum Unheld {
+    /// `give_up()` said so while another thread held it.
+    GaveUp,
+    /// A thread of the process this one was forked from held it at the fork.
+    Forked,
+}
+
+impl<T> Exclusive<T> {
+    /// The longest pause between two tries to take a value another thread holds.
+    const RETRY: Duration = Duration::from_millis(1);
+
+    /// `value`, held by no thread.
+    pub fn new(value: T) -> Exclusive<T> {
+        Exclusive {
+            holder: AtomicU32::new(0),
+            value: Mutex::new(value),
+        }
+    }
+
+    /// The value, once no other thread holds it. While another does, `give_up()` is asked
+    /// between tries (pauses growing from 10 us to [`Self::RETRY`]) and ends the wait when
+    /// it says so.
+    pub fn hold(&self, give_up: impl Fn() -> bool) -> Result<Held<'_, T>, Unheld> {
+        let pid = std::process::id();
+        let mut pause = Duration::from_micros(10);
+        loop {
+            match self
+                .holder
+                .compare_exchange(0, pid, Ordering::Acquire, Ordering::Relaxed)
+            {
+                Ok(_) => {
+                    // A panic while the value was held is caught by the holder's caller
+                    // (`guarded`); a poisoned lock still holds the value it left.
+                    let value = self.value.lock().unwrap_or_else(|e| e.into_inner());
+                    return Ok(Held {
+                        value,
+                        _release: Release(&self.holder),
+                    });
+                }
+                Err(holder) if holder != pid => return Err(Unheld::Forked),
+                Err(_) => {}
+            }
+            if give_up() {
+                return Err(Unheld::GaveUp);
+            }
+            std::thread::sleep(pause);
+            pause = (pause * 2).min(Self::RETRY);
         }
     }
 }

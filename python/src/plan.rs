@@ -13,14 +13,14 @@ use numpy::PyArray2;
 use planner_api::{Budget, Problem};
 use planner_registry as registry;
 use planner_runner::config::{self, Experiment, MapEntry, ProblemEntry};
-use planner_runner::record::RunRecord;
+use planner_runner::record::{RunRecord, RunStatus};
 use planner_runner::run::{run_one, RunSpec, Workspace};
 use planner_runner::Task;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::errors::{guarded, Failure};
-use crate::grid::{to_cell, Grid};
+use crate::grid::{endpoint, to_cell, Grid};
 use crate::values::{json_to_py, to_table, to_toml};
 
 /// What a registered planner is, from the registry and its factory.
@@ -53,6 +53,23 @@ pub struct PlannerInfo {
 
 #[pymethods]
 impl PlannerInfo {
+    /// Pickling (and `copy`): the registry name, whose entry is read again.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, (&'static str,))> {
+        Ok((slf.get_type().getattr("_from_state")?, (slf.get().name,)))
+    }
+
+    /// The registry's planner `name`, as `planners()` lists it.
+    #[classmethod]
+    #[pyo3(name = "_from_state")]
+    fn from_state(cls: &Bound<'_, pyo3::types::PyType>, name: &str) -> PyResult<PlannerInfo> {
+        match registry::find(name) {
+            Some(entry) => info(cls.py(), entry),
+            None => {
+                Err(Failure::Value(format!("PlannerInfo: no registered planner `{name}`")).into())
+            }
+        }
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "PlannerInfo(name={:?}, task={:?}, seeded={})",
@@ -66,32 +83,35 @@ impl PlannerInfo {
 /// Every registered planner, in the registry's order, with its declared parameters.
 #[pyfunction]
 pub fn planners(py: Python<'_>) -> PyResult<Vec<PlannerInfo>> {
-    let mut out = Vec::with_capacity(registry::PLANNERS.len());
-    for entry in registry::PLANNERS {
-        let factory = guarded(|| {
-            (entry.factory)(&toml::Table::new()).map_err(|e| {
-                Failure::from(planner_runner::RunnerError::Param(entry.name.into(), e))
-            })
-        })?;
-        let parameters = json_to_py(py, factory.resolved())?;
-        let parameters = match parameters.cast_into::<PyDict>() {
-            Ok(dict) => dict,
-            Err(_) => PyDict::new(py),
-        };
-        let specs = factory.specs();
-        out.push(PlannerInfo {
-            name: entry.name,
-            summary: entry.summary,
-            task: task_name(entry.task),
-            seeded: specs.seeded,
-            admissible: specs.admissible,
-            cell_costs: specs.cell_costs,
-            incremental: specs.incremental,
-            path_rule: specs.path_rule.to_string(),
-            parameters: parameters.unbind(),
-        });
-    }
-    Ok(out)
+    registry::PLANNERS
+        .iter()
+        .map(|entry| info(py, entry))
+        .collect()
+}
+
+/// What the registry's `entry` is, with its parameters' defaults.
+fn info(py: Python<'_>, entry: &'static registry::Entry) -> PyResult<PlannerInfo> {
+    let factory = guarded(|| {
+        (entry.factory)(&toml::Table::new())
+            .map_err(|e| Failure::from(planner_runner::RunnerError::Param(entry.name.into(), e)))
+    })?;
+    let parameters = json_to_py(py, factory.resolved())?;
+    let parameters = match parameters.cast_into::<PyDict>() {
+        Ok(dict) => dict,
+        Err(_) => PyDict::new(py),
+    };
+    let specs = factory.specs();
+    Ok(PlannerInfo {
+        name: entry.name,
+        summary: entry.summary,
+        task: task_name(entry.task),
+        seeded: specs.seeded,
+        admissible: specs.admissible,
+        cell_costs: specs.cell_costs,
+        incremental: specs.incremental,
+        path_rule: specs.path_rule.to_string(),
+        parameters: parameters.unbind(),
+    })
 }
 
 fn task_name(task: Task) -> &'static str {
@@ -101,10 +121,12 @@ fn task_name(task: Task) -> &'static str {
     }
 }
 
-/// The result of one `plan`.
-#[pyclass(module = "gridplan", frozen, get_all)]
+/// The result of one `plan`: a value, which its arrays (read-only) and the dicts and lists
+/// it gives (copies) cannot change; it pickles, and equals an outcome of the same results.
+#[pyclass(module = "gridplan", frozen)]
 pub struct Outcome {
     /// `"found"`, `"no_path"` or `"budget_exhausted"`.
+    #[pyo3(get)]
     pub status: &'static str,
     /// The path's cells as an (N, 2) int64 array of `(x, y)` rows; (0, 2) without a path.
     pub path: Py<PyAny>,
@@ -119,13 +141,17 @@ pub struct Outcome {
     /// (N, 2) float64 array of points.
     pub series: Py<PyDict>,
     /// The seed a seeded planner ran with, else None.
+    #[pyo3(get)]
     pub seed: Option<u64>,
     /// Whether the path joins start and goal and obeys the planner's declared rule; None
     /// without a path.
+    #[pyo3(get)]
     pub valid: Option<bool>,
     /// Wall time of the search alone, in milliseconds.
+    #[pyo3(get)]
     pub time_ms: f64,
     /// On a weighted grid, the path's cost under the grid's cost rule; else None.
+    #[pyo3(get)]
     pub cost: Option<f64>,
     /// With `plan(..., record=True)`, the cells the search expanded in order, an (N, 2)
     /// int64 array (empty for planners that do not record them); else None.
@@ -137,8 +163,225 @@ pub struct Outcome {
     pub events: Option<Py<PyDict>>,
 }
 
+impl Outcome {
+    /// The fields `==` compares besides the status, seed, validity and cost: every one but
+    /// `time_ms`, a measurement.
+    fn values<'py>(&self, py: Python<'py>) -> [Bound<'py, PyAny>; 7] {
+        let or_none =
+            |value: Option<Bound<'py, PyAny>>| value.unwrap_or_else(|| py.None().into_bound(py));
+        [
+            self.path.bind(py).clone(),
+            self.metrics.bind(py).clone(),
+            self.counters.bind(py).clone().into_any(),
+            self.marks.bind(py).clone().into_any(),
+            self.series.bind(py).clone().into_any(),
+            or_none(self.expanded.as_ref().map(|e| e.bind(py).clone())),
+            or_none(self.events.as_ref().map(|e| e.bind(py).clone().into_any())),
+        ]
+    }
+}
+
+/// Whether two of an outcome's values are equal: arrays element by element (NaN equal to
+/// NaN), dicts key by key, anything else by `==`.
+fn same(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>) -> PyResult<bool> {
+    let py = a.py();
+    let numpy = py.import("numpy")?;
+    let ndarray = numpy.getattr("ndarray")?;
+    match (a.is_instance(&ndarray)?, b.is_instance(&ndarray)?) {
+        (true, true) => {
+            let floats = |x: &Bound<'_, PyAny>| -> PyResult<bool> {
+                Ok(x.getattr("dtype")?.getattr("kind")?.extract::<String>()? == "f")
+            };
+            let options = PyDict::new(py);
+            options.set_item("equal_nan", floats(a)? && floats(b)?)?;
+            return numpy
+                .call_method("array_equal", (a, b), Some(&options))?
+                .is_truthy();
+        }
+        (false, false) => {}
+        _ => return Ok(false),
+    }
+    if let (Ok(a), Ok(b)) = (a.cast::<PyDict>(), b.cast::<PyDict>()) {
+        if a.len() != b.len() {
+            return Ok(false);
+        }
+        for (key, value) in a.iter() {
+            match b.get_item(&key)? {
+                Some(other) if same(&value, &other)? => {}
+                _ => return Ok(false),
+            }
+        }
+        return Ok(true);
+    }
+    a.eq(b)
+}
+
+/// `array` made read-only: an outcome's arrays are part of its value.
+fn read_only(array: Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+    let options = PyDict::new(array.py());
+    options.set_item("write", false)?;
+    array.call_method("setflags", (), Some(&options))?;
+    Ok(array.unbind())
+}
+
+/// A read-only copy of `value` as an array.
+fn array_copy(value: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+    read_only(
+        value
+            .py()
+            .import("numpy")?
+            .call_method1("array", (value,))?,
+    )
+}
+
+/// A copy of a dict of arrays (`series`, `events`), each a read-only copy.
+fn arrays_copy<'py>(value: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let copy = PyDict::new(value.py());
+    for (key, array) in value.cast::<PyDict>()?.iter() {
+        copy.set_item(key, array_copy(&array)?)?;
+    }
+    Ok(copy)
+}
+
 #[pymethods]
 impl Outcome {
+    /// The path's cells as an (N, 2) int64 array of `(x, y)` rows (read-only).
+    #[getter]
+    fn path(&self, py: Python<'_>) -> Py<PyAny> {
+        self.path.clone_ref(py)
+    }
+
+    /// The path's `steps`, `turns`, `score` and `length` (a copy), or None.
+    #[getter]
+    fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        match self.metrics.bind(py).cast::<PyDict>() {
+            Ok(dict) => Ok(dict.copy()?.into_any()),
+            Err(_) => Ok(py.None().into_bound(py)),
+        }
+    }
+
+    /// The planner's counters in its order (a copy).
+    #[getter]
+    fn counters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.counters.bind(py).copy()
+    }
+
+    /// The `(label, (x, y))` marks (a copy).
+    #[getter]
+    fn marks<'py>(&self, py: Python<'py>) -> Bound<'py, PyList> {
+        let marks = self.marks.bind(py);
+        marks.get_slice(0, marks.len())
+    }
+
+    /// Name -> (N, 2) float64 array of points (a copy of the dict; the arrays read-only).
+    #[getter]
+    fn series<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.series.bind(py).copy()
+    }
+
+    /// The expanded cells with `record=True` (read-only), else None.
+    #[getter]
+    fn expanded(&self, py: Python<'_>) -> Option<Py<PyAny>> {
+        self.expanded.as_ref().map(|e| e.clone_ref(py))
+    }
+
+    /// The search's steps with `record=True` (a copy of the dict; the arrays read-only),
+    /// else None.
+    #[getter]
+    fn events<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        self.events.as_ref().map(|e| e.bind(py).copy()).transpose()
+    }
+
+    /// Equal results: everything but `time_ms`.
+    fn __eq__(&self, other: &Bound<'_, Outcome>) -> PyResult<bool> {
+        let py = other.py();
+        let other = other.get();
+        if (self.status, self.seed, self.valid, self.cost)
+            != (other.status, other.seed, other.valid, other.cost)
+        {
+            return Ok(false);
+        }
+        for (a, b) in self.values(py).iter().zip(other.values(py).iter()) {
+            if !same(a, b)? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// Pickling (and `copy`): every field, by name.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyDict>,))> {
+        let py = slf.py();
+        let outcome = slf.get();
+        let state = PyDict::new(py);
+        state.set_item("status", outcome.status)?;
+        state.set_item("path", &outcome.path)?;
+        state.set_item("metrics", &outcome.metrics)?;
+        state.set_item("counters", &outcome.counters)?;
+        state.set_item("marks", &outcome.marks)?;
+        state.set_item("series", &outcome.series)?;
+        state.set_item("seed", outcome.seed)?;
+        state.set_item("valid", outcome.valid)?;
+        state.set_item("time_ms", outcome.time_ms)?;
+        state.set_item("cost", outcome.cost)?;
+        state.set_item("expanded", &outcome.expanded)?;
+        state.set_item("events", &outcome.events)?;
+        Ok((slf.get_type().getattr("_from_state")?, (state,)))
+    }
+
+    /// The outcome `__reduce__` describes.
+    #[classmethod]
+    #[pyo3(name = "_from_state")]
+    fn from_state(
+        _cls: &Bound<'_, pyo3::types::PyType>,
+        state: &Bound<'_, PyDict>,
+    ) -> PyResult<Outcome> {
+        let py = state.py();
+        let item = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+            state.get_item(key)?.ok_or_else(|| {
+                Failure::Value(format!("Outcome: the pickled state has no `{key}`")).into()
+            })
+        };
+        let given: String = item("status")?.extract()?;
+        let statuses = [
+            RunStatus::Found,
+            RunStatus::NoPath,
+            RunStatus::BudgetExhausted,
+            RunStatus::InvalidProblem,
+        ];
+        let Some(status) = statuses.iter().map(|s| s.as_str()).find(|s| *s == given) else {
+            return Err(Failure::Value(format!("Outcome: status {given:?} is not one")).into());
+        };
+        let metrics = item("metrics")?;
+        let metrics = match metrics.cast::<PyDict>() {
+            Ok(dict) => dict.copy()?.into_any().unbind(),
+            Err(_) => py.None(),
+        };
+        let marks = item("marks")?;
+        let marks = marks.cast::<PyList>()?;
+        let optional = |key: &str| -> PyResult<Option<Bound<'_, PyAny>>> {
+            Ok(Some(item(key)?).filter(|v| !v.is_none()))
+        };
+        Ok(Outcome {
+            status,
+            path: array_copy(&item("path")?)?,
+            metrics,
+            counters: item("counters")?.cast::<PyDict>()?.copy()?.unbind(),
+            marks: marks.get_slice(0, marks.len()).unbind(),
+            series: arrays_copy(&item("series")?)?.unbind(),
+            seed: item("seed")?.extract()?,
+            valid: item("valid")?.extract()?,
+            time_ms: item("time_ms")?.extract()?,
+            cost: item("cost")?.extract()?,
+            expanded: optional("expanded")?.map(|e| array_copy(&e)).transpose()?,
+            events: optional("events")?
+                .map(|e| arrays_copy(&e).map(Bound::unbind))
+                .transpose()?,
+        })
+    }
+
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
         let n = self
             .path
@@ -161,8 +404,8 @@ impl Outcome {
 pub fn plan(
     py: Python<'_>,
     grid: &Bound<'_, Grid>,
-    start: (i64, i64),
-    goal: Option<(i64, i64)>,
+    start: &Bound<'_, PyAny>,
+    goal: Option<&Bound<'_, PyAny>>,
     planner: &str,
     budget: Option<&Bound<'_, PyAny>>,
     record: bool,
@@ -174,6 +417,8 @@ pub fn plan(
     };
     let mut budget = to_budget(budget)?;
     let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
+    let start = endpoint("start", start, &grid)?;
+    let goal = goal.map(|g| endpoint("goal", g, &grid)).transpose()?;
     let planner = planner.to_string();
     let call = crate::warn::Call::begin();
     // Ctrl-C (a notebook's interrupt) stops the search at its next budget check and
@@ -197,7 +442,7 @@ pub fn plan(
     let (record, recorded) = call.end(py, done.and_then(|d| d.map_err(PyErr::from)))?;
     let mut outcome = outcome(py, record)?;
     if let Some((expanded, events)) = recorded {
-        outcome.expanded = Some(cell_rows(py, &expanded));
+        outcome.expanded = Some(cell_rows(py, &expanded)?);
         outcome.events = Some(event_arrays(py, &events)?);
     }
     Ok(outcome)
@@ -208,14 +453,14 @@ pub fn plan(
 static FLAGS: planner_api::CancelPool = planner_api::CancelPool::new();
 
 /// `cells` as an (N, 2) int64 array of `(x, y)` rows.
-fn cell_rows(py: Python<'_>, cells: &[planner_api::Cell]) -> Py<PyAny> {
+fn cell_rows(py: Python<'_>, cells: &[planner_api::Cell]) -> PyResult<Py<PyAny>> {
     let rows = Array2::from_shape_fn((cells.len(), 2), |(i, j)| {
         i64::from(if j == 0 { cells[i].x } else { cells[i].y })
     });
-    PyArray2::from_owned_array(py, rows).into_any().unbind()
+    read_only(PyArray2::from_owned_array(py, rows).into_any())
 }
 
-/// `events` as a dict of equal-length arrays (`Outcome::events`'s columns).
+/// `events` as a dict of equal-length read-only arrays (`Outcome::events`'s columns).
 fn event_arrays(py: Python<'_>, events: &[planner_api::SearchEvent]) -> PyResult<Py<PyDict>> {
     use planner_api::SearchEvent;
     /// One column: `value` of every event.
@@ -241,6 +486,9 @@ fn event_arrays(py: Python<'_>, events: &[planner_api::SearchEvent]) -> PyResult
     dict.set_item("parent_y", column(py, events, |e| parent(e, |c| c.y)))?;
     dict.set_item("g", column(py, events, |e| e.g))?;
     dict.set_item("f", column(py, events, |e| e.f))?;
+    for (_, array) in dict.iter() {
+        read_only(array)?;
+    }
     Ok(dict.unbind())
 }
 
@@ -257,14 +505,7 @@ pub(crate) fn to_budget(budget: Option<&Bound<'_, PyAny>>) -> Result<Budget, Fai
                     message: format!("budget: {n} expansions; a budget is at least 0"),
                 }
             })?),
-            toml::Value::Table(table) => {
-                serde::Deserialize::deserialize(toml::Value::Table(table)).map_err(
-                    |e: toml::de::Error| Failure::Param {
-                        key: "budget".into(),
-                        message: format!("budget: {}", e.message().trim()),
-                    },
-                )?
-            }
+            toml::Value::Table(table) => budget_table(table)?,
             other => {
                 return Err(Failure::Param {
                     key: "budget".into(),
@@ -280,6 +521,42 @@ pub(crate) fn to_budget(budget: Option<&Bound<'_, PyAny>>) -> Result<Budget, Fai
         parsed.max_expansions = Some(planner_runner::plan::DEFAULT_PLAN_EXPANSIONS);
     }
     Ok(parsed)
+}
+
+/// A budget dict's keys as a [`Budget`]; an error names the key at fault
+/// (`budget.max_expansions`), the first one refused when read alone.
+fn budget_table(table: toml::Table) -> Result<Budget, Failure> {
+    let read = |table: toml::Table| -> Result<Budget, toml::de::Error> {
+        serde::Deserialize::deserialize(toml::Value::Table(table))
+    };
+    let error = match read(table.clone()) {
+        Ok(budget) => return Ok(budget),
+        Err(error) => error,
+    };
+    let alone = |(key, value): (&String, &toml::Value)| {
+        read(toml::Table::from_iter([(key.clone(), value.clone())]))
+            .err()
+            .map(|e| (key.clone(), value.clone(), e))
+    };
+    let Some((key, value, alone_error)) = table.iter().find_map(alone) else {
+        return Err(Failure::Param {
+            key: "budget".into(),
+            message: format!("budget: {}", error.message().trim()),
+        });
+    };
+    let message = alone_error.message().trim().to_string();
+    let message = match value {
+        toml::Value::Integer(n) if n < 0 => {
+            format!("budget.{key}: {n} is negative; a budget is at least 0")
+        }
+        // The message names an unknown key itself.
+        _ if message.starts_with("unknown field") => format!("budget: {message}"),
+        _ => format!("budget.{key}: {message}"),
+    };
+    Err(Failure::Param {
+        key: format!("budget.{key}"),
+        message,
+    })
 }
 
 /// The `ProblemError` exception of a start or goal that is off the grid or blocked, its
@@ -307,14 +584,22 @@ pub(crate) fn problem_error(
     Failure::Problem {
         endpoint,
         cell,
-        message: format!(
-            "{endpoint} ({}, {}) is outside the {}x{} grid",
-            cell.0,
-            cell.1,
-            grid.width(),
-            grid.height()
-        ),
+        message: outside(endpoint, &cell.0, &cell.1, grid),
     }
+}
+
+/// The message of a start or goal `(x, y)` outside `grid`.
+pub(crate) fn outside(
+    endpoint: &str,
+    x: &dyn std::fmt::Display,
+    y: &dyn std::fmt::Display,
+    grid: &planner_api::Grid,
+) -> String {
+    format!(
+        "{endpoint} ({x}, {y}) is outside the {}x{} grid",
+        grid.width(),
+        grid.height()
+    )
 }
 
 /// What `plan(..., record=True)` recorded: the expanded cells and the steps.
@@ -447,7 +732,7 @@ pub(crate) fn build_outcome(py: Python<'_>, parts: OutcomeParts<'_>) -> PyResult
     let path = Array2::from_shape_fn((cells.len(), 2), |(i, j)| {
         i64::from(if j == 0 { cells[i].x } else { cells[i].y })
     });
-    let path = PyArray2::from_owned_array(py, path).into_any().unbind();
+    let path = read_only(PyArray2::from_owned_array(py, path).into_any())?;
     let metrics = match parts.path {
         Some(p) => {
             let m = p.metrics();
@@ -471,7 +756,8 @@ pub(crate) fn build_outcome(py: Python<'_>, parts: OutcomeParts<'_>) -> PyResult
     let series = PyDict::new(py);
     for s in parts.series {
         let points = Array2::from_shape_fn((s.points.len(), 2), |(i, j)| s.points[i][j]);
-        series.set_item(s.name.as_str(), PyArray2::from_owned_array(py, points))?;
+        let points = read_only(PyArray2::from_owned_array(py, points).into_any())?;
+        series.set_item(s.name.as_str(), points)?;
     }
     Ok(Outcome {
         status: parts.status,

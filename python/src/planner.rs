@@ -9,9 +9,15 @@
 //! workspace per pool thread (each prepared once), threads taking the next query as they
 //! finish one, and returns the results as NumPy arrays in query order. Counters do not
 //! depend on the number of threads: each is a pure function of (grid, query, planner).
+//!
+//! Calls on one `Planner` from several Python threads run one after another: each holds
+//! the planner's state while it plans, and the others wait, Ctrl-C ending a wait
+//! ([`Exclusive`]). A process forked while a thread held it cannot use it (that thread is
+//! not there to let go): its calls raise `GridplanError`, saying to make a new `Planner`.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
@@ -23,9 +29,14 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::errors::{guarded, Failure};
-use crate::grid::{to_cell, Grid};
+use crate::grid::{endpoint, to_cell, Grid};
+use crate::interrupt::{Exclusive, Held, Unheld};
 use crate::plan::{outcome, problem_error, to_budget, Outcome};
-use crate::values::to_table;
+use crate::values::{to_table, Int};
+
+/// How long `Planner.plan` waits for another call's hold on the planner before it asks
+/// Python for signals (as [`crate::interrupt`]'s calls do).
+const POLL: Duration = Duration::from_millis(50);
 
 /// The experiment (one map, one planner; its problems are the current call's queries)
 /// and the workspaces: one for `plan`, one per thread of `plan_many`'s pool.
@@ -41,7 +52,11 @@ struct State {
 /// A planner prepared for one grid (see the stub, `gridplan/__init__.pyi`).
 #[pyclass(module = "gridplan", frozen)]
 pub struct Planner {
-    state: Mutex<State>,
+    /// One call at a time works with it; the others wait, interruptibly ([`Exclusive`]).
+    state: Exclusive<State>,
+    /// The grid (the experiment's map holds a copy), for errors raised before the state is
+    /// had.
+    grid: Arc<planner_api::Grid>,
     /// Cancel flags for `plan_many` batches, one per batch at a time (raised when Ctrl-C
     /// interrupts it), kept for reuse: a flag is never freed.
     flags: planner_api::CancelPool,
@@ -82,10 +97,19 @@ fn cells(
 }
 
 impl Planner {
-    fn lock(&self) -> MutexGuard<'_, State> {
-        // A panic while planning is caught inside the lock's holder (`guarded`); a
-        // poisoned lock still holds consistent state, as every call replaces the problems.
-        self.state.lock().unwrap_or_else(|e| e.into_inner())
+    /// The state, once no other call holds it, unless `give_up()` says so first (`None`).
+    /// A panic while planning is caught inside the holder (`guarded`) and leaves consistent
+    /// state, as every call replaces the problems.
+    fn hold(&self, give_up: impl Fn() -> bool) -> Result<Option<Held<'_, State>>, Failure> {
+        match self.state.hold(give_up) {
+            Ok(held) => Ok(Some(held)),
+            Err(Unheld::GaveUp) => Ok(None),
+            Err(Unheld::Forked) => Err(Failure::Unusable(
+                "this Planner was in use by another thread when the process forked, and that \
+                 thread does not exist in this process: make a new Planner here"
+                    .into(),
+            )),
+        }
     }
 
     /// The problem entry of one query, or the error `plan` raises for it.
@@ -139,6 +163,10 @@ pub(crate) fn cell_array(
     let numpy = py.import("numpy")?;
     let array = numpy.call_method1("asarray", (value,))?;
     let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    // An empty sequence (`[]`) is no queries, as an empty (0, 2) array is.
+    if shape == [0] {
+        return Ok(Some(Vec::new()));
+    }
     if shape.len() != 2 || shape[1] != 2 {
         return Err(Failure::Value(format!(
             "{name}: expected an (N, 2) array of (x, y) cells, got shape {}",
@@ -225,6 +253,7 @@ impl Planner {
         };
         let budget: Budget = to_budget(budget).map_err(|e| e.into_pyerr(py))?;
         let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
+        let kept = grid.clone();
         let name = planner.to_string();
         let built = py.detach(move || {
             guarded(|| {
@@ -245,12 +274,13 @@ impl Planner {
         });
         let (experiment, coverage, name) = built.map_err(|e| e.into_pyerr(py))?;
         Ok(Planner {
-            state: Mutex::new(State {
+            state: Exclusive::new(State {
                 experiment,
                 single: Workspace::default(),
                 workers: Vec::new(),
                 pool: None,
             }),
+            grid: kept,
             flags: planner_api::CancelPool::new(),
             name,
             coverage,
@@ -268,36 +298,57 @@ impl Planner {
     fn plan(
         &self,
         py: Python<'_>,
-        start: (i64, i64),
-        goal: Option<(i64, i64)>,
+        start: &Bound<'_, PyAny>,
+        goal: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Outcome> {
+        let start = endpoint("start", start, &self.grid)?;
+        let goal = goal.map(|g| endpoint("goal", g, &self.grid)).transpose()?;
         let call = crate::warn::Call::begin();
-        let record = py.detach(|| {
-            guarded(|| {
-                let mut state = self.lock();
-                let State {
-                    experiment, single, ..
-                } = &mut *state;
-                let grid = &experiment.maps[0].grid;
-                let query = cells(grid, start, goal, None)?;
-                let entry = self.entry(grid, 1, query, None)?;
-                experiment.maps[0].problems = vec![entry];
-                Ok(run_one(experiment, &SPEC_0, single, None)?)
-            })
-        });
-        let record = call.end(py, record.map_err(|e| e.into_pyerr(py)))?;
+        // While another thread's call holds the planner, this one waits without the GIL in
+        // steps of `POLL`, asking Python for signals between them: Ctrl-C ends the wait.
+        let record = loop {
+            let until = Instant::now() + POLL;
+            let step = py.detach(|| {
+                guarded(|| {
+                    let Some(mut state) = self.hold(|| Instant::now() >= until)? else {
+                        return Ok(None);
+                    };
+                    let State {
+                        experiment, single, ..
+                    } = &mut *state;
+                    let grid = &experiment.maps[0].grid;
+                    let query = cells(grid, start, goal, None)?;
+                    let entry = self.entry(grid, 1, query, None)?;
+                    experiment.maps[0].problems = vec![entry];
+                    Ok(Some(run_one(experiment, &SPEC_0, single, None)?))
+                })
+            });
+            match step {
+                Ok(Some(record)) => break Ok(record),
+                Ok(None) => {
+                    if let Err(interrupt) = py.check_signals() {
+                        break Err(interrupt);
+                    }
+                }
+                Err(failure) => break Err(failure.into_pyerr(py)),
+            }
+        };
+        let record = call.end(py, record)?;
         outcome(py, record)
     }
 
     /// Plans every query `(starts[i], goals[i])` on `threads` threads (0: one per core)
     /// with the GIL released; the results as arrays in query order.
-    #[pyo3(signature = (starts, goals = None, *, threads = 0, paths = false))]
+    #[pyo3(
+        signature = (starts, goals = None, *, threads = Int::Fits(0), paths = false),
+        text_signature = "($self, starts, goals=None, *, threads=0, paths=False)"
+    )]
     fn plan_many<'py>(
         &self,
         py: Python<'py>,
         starts: &Bound<'py, PyAny>,
         goals: Option<&Bound<'py, PyAny>>,
-        threads: usize,
+        threads: Int,
         paths: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let Some(starts) = cell_array(py, "starts", Some(starts))? else {
@@ -305,13 +356,10 @@ impl Planner {
         };
         // As many threads as a config's `threads` allows: a pool of a million threads
         // would take the machine's memory before the first query.
-        if threads > planner_runner::config::MAX_THREADS {
-            return Err(Failure::Value(format!(
-                "threads: {threads} is more than {}; use 0 for one per core",
-                planner_runner::config::MAX_THREADS
-            ))
-            .into_pyerr(py));
-        }
+        let max = planner_runner::config::MAX_THREADS;
+        let threads = threads
+            .at_most("threads", max as u64, "use 0 for one per core")
+            .map_err(|e| e.into_pyerr(py))? as usize;
         let goals = cell_array(py, "goals", goals)?;
         if let Some(goals) = &goals {
             if goals.len() != starts.len() {
@@ -334,7 +382,10 @@ impl Planner {
         let work = || {
             let _mark = call.mark_worker();
             let records = guarded(|| {
-                let mut state = self.lock();
+                // Ctrl-C while another call holds the planner ends the wait: nothing ran.
+                let Some(mut state) = self.hold(|| cancel.is_cancelled())? else {
+                    return Ok(Vec::new());
+                };
                 let State {
                     experiment,
                     workers,

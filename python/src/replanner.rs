@@ -18,7 +18,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::{guarded, Failure};
-use crate::grid::{to_cell, Grid};
+use crate::grid::{endpoint, given_cell, to_cell, GivenCell, Grid};
 use crate::plan::{
     build_outcome, problem_error, problem_failure, to_budget, Outcome, OutcomeParts,
 };
@@ -33,6 +33,8 @@ pub struct Replanner {
     name: String,
     /// The map frame of the grid it began with (updates keep the cells where they are).
     frame: Option<planner_maps::MapFrame>,
+    /// The grid's `(width, height)`, which updates keep.
+    size: (u32, u32),
 }
 
 impl Replanner {
@@ -106,12 +108,14 @@ impl Replanner {
     fn new(
         grid: &Bound<'_, Grid>,
         planner: &str,
-        start: (i64, i64),
-        goal: (i64, i64),
+        start: &Bound<'_, PyAny>,
+        goal: &Bound<'_, PyAny>,
         budget: Option<&Bound<'_, PyAny>>,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Replanner> {
         let py = grid.py();
+        let start = endpoint("start", start, &grid.get().inner)?;
+        let goal = endpoint("goal", goal, &grid.get().inner)?;
         let table = match params {
             Some(dict) => to_table(dict, "")?,
             None => toml::Table::new(),
@@ -119,6 +123,7 @@ impl Replanner {
         let budget = to_budget(budget).map_err(|e| e.into_pyerr(py))?;
         let frame = grid.get().frame;
         let grid = grid.get().inner.clone();
+        let size = (grid.width(), grid.height());
         let name = planner.to_string();
         let built = py.detach(|| {
             guarded(|| {
@@ -154,6 +159,7 @@ impl Replanner {
             goal,
             name: planner_name(&name),
             frame,
+            size,
         })
     }
 
@@ -303,7 +309,17 @@ impl Replanner {
     }
 
     /// The agent moved to `cell`: the next `plan` plans from there.
-    fn move_to(&self, py: Python<'_>, cell: (i64, i64)) -> PyResult<()> {
+    fn move_to(&self, py: Python<'_>, cell: &Bound<'_, PyAny>) -> PyResult<()> {
+        let cell = match given_cell("move_to", cell)? {
+            GivenCell::At(x, y) => (x, y),
+            GivenCell::Beyond(x, y) => {
+                let (width, height) = self.size;
+                return Err(Failure::Value(format!(
+                    "move_to: ({x}, {y}) is outside the {width}x{height} grid"
+                ))
+                .into_pyerr(py));
+            }
+        };
         let done = py.detach(|| {
             guarded(|| {
                 let mut planner = self.lock();

@@ -1,8 +1,10 @@
 //! Values between Python and the runner: planner parameters (Python to TOML, the form a
-//! config's `[planners.label]` table has) and resolved parameters (JSON to Python).
+//! config's `[planners.label]` table has), resolved parameters (JSON to Python), and
+//! integer arguments of any size ([`Int`]).
 
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use pyo3::Borrowed;
 
 use crate::errors::Failure;
 
@@ -64,10 +66,14 @@ pub fn to_toml(key: &str, value: &Bound<'_, PyAny>) -> Result<toml::Value, Failu
 }
 
 /// A dict of parameters (string keys) as a TOML table; `within` names the enclosing key
-/// (empty at the top).
+/// (empty at the top). A key whose value is None is left out, so that it keeps its
+/// default (the value `planners()` reports for a parameter without one).
 pub fn to_table(dict: &Bound<'_, PyDict>, within: &str) -> Result<toml::Table, Failure> {
     let mut table = toml::Table::new();
     for (key, value) in dict.iter() {
+        if value.is_none() {
+            continue;
+        }
         let key: String = key.extract().map_err(|_| Failure::Param {
             key: within.to_string(),
             message: format!("parameter names are strings, got {key:?}"),
@@ -112,4 +118,63 @@ pub fn json_to_py<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<B
             dict.into_any()
         }
     })
+}
+
+/// An integer argument of any size, for the function that takes it to check and name in
+/// its error (pyo3 turns an integer too large for a Rust type into an `OverflowError` whose
+/// message names no argument). Anything but an integer is `operator.index`'s `TypeError`,
+/// to which pyo3 adds a note naming the argument.
+pub enum Int {
+    /// A value that fits an `i64`.
+    Fits(i64),
+    /// One that does not: its sign and its digits.
+    Beyond { negative: bool, text: String },
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Int {
+    type Error = PyErr;
+
+    fn extract(value: Borrowed<'a, 'py, PyAny>) -> PyResult<Int> {
+        if let Ok(n) = value.extract::<i64>() {
+            return Ok(Int::Fits(n));
+        }
+        // Any integer, NumPy's included (else the TypeError of `operator.index`).
+        let int = value
+            .py()
+            .import("operator")?
+            .call_method1("index", (&*value,))?;
+        Ok(Int::Beyond {
+            negative: int.lt(0)?,
+            text: int.str()?.to_string(),
+        })
+    }
+}
+
+impl std::fmt::Display for Int {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Int::Fits(n) => write!(f, "{n}"),
+            Int::Beyond { text, .. } => f.write_str(text),
+        }
+    }
+}
+
+impl Int {
+    /// The value if it lies from 0 to `max`, else the `ValueError` of argument `name`
+    /// (`hint` says what it takes).
+    pub fn at_most(&self, name: &str, max: u64, hint: &str) -> Result<u64, Failure> {
+        let negative = match self {
+            Int::Fits(n) => match u64::try_from(*n) {
+                Ok(v) if v <= max => return Ok(v),
+                Ok(_) => false,
+                Err(_) => true,
+            },
+            Int::Beyond { negative, .. } => *negative,
+        };
+        let what = match negative {
+            true => "negative".to_string(),
+            false => format!("more than {max}"),
+        };
+        Err(Failure::Value(format!("{name}: {self} is {what}; {hint}")))
+    }
 }

@@ -218,3 +218,120 @@ def test_control_characters_in_messages_are_escaped(tmp_path, map10):
         gridplan.plan(map10, (0, 0), (11, 11), planner="astar\x07")
     assert "\x07" not in str(info.value) and "\\u{7}" in str(info.value)
     assert info.value.key is not None
+
+
+def test_cells_are_any_two_integers(map10):
+    """A start or goal given as a list, a NumPy array or NumPy integers is the cell (a list
+    raised `'list' object is not an instance of 'tuple'`); anything else is a TypeError
+    naming the argument."""
+    expected = gridplan.plan(map10, (0, 0), (11, 11))
+    planner = gridplan.Planner(map10, "astar")
+    for start, goal in [([0, 0], np.array([11, 11])), ((np.int64(0), np.uint8(0)), [11, 11])]:
+        assert gridplan.plan(map10, start, goal) == expected
+        assert planner.plan(start, goal) == expected
+    assert map10.is_free([0, 0]) and map10.is_free(np.array([0, 0]))
+    for start in [(0.0, 0.0), [0, 0, 0], "00", np.array([[0, 0]])]:
+        with pytest.raises(TypeError, match="^start: expected a cell"):
+            gridplan.plan(map10, start, (11, 11))
+        with pytest.raises(TypeError, match="^start: expected a cell"):
+            planner.plan(start, (11, 11))
+    with pytest.raises(TypeError, match="^goal: expected a cell"):
+        gridplan.plan(map10, (0, 0), [11.5, 11])
+
+
+def test_integers_out_of_range_name_the_argument(map10, tmp_path):
+    """Integers beyond what a Rust type holds raised a bare OverflowError naming nothing."""
+    huge = 2**70
+    error = check(
+        lambda: gridplan.plan(map10, (huge, 0), (11, 11)),
+        gridplan.ProblemError,
+        f"start ({huge}, 0) is outside the 12x12 grid",
+    )
+    assert (error.endpoint, error.cell) == ("start", (huge, 0))
+    check(
+        lambda: gridplan.Planner(map10, "astar").plan((0, 0), (11, -huge)),
+        gridplan.ProblemError,
+        f"goal (11, {-huge}) is outside the 12x12 grid",
+    )
+    check(
+        lambda: gridplan.plan(map10, (np.uint64(2**64 - 1), 0), (11, 11)),
+        gridplan.ProblemError,
+        "start (18446744073709551615, 0) is outside the 12x12 grid",
+    )
+    assert map10.is_free((huge, 0)) is False
+    planner = gridplan.Planner(map10, "astar")
+    check(
+        lambda: planner.plan_many([[0, 0]], [[11, 11]], threads=-1),
+        ValueError,
+        "threads: -1 is negative; use 0 for one per core",
+    )
+    check(
+        lambda: planner.plan_many([[0, 0]], [[11, 11]], threads=huge),
+        ValueError,
+        f"threads: {huge} is more than 256; use 0 for one per core",
+    )
+    check(
+        lambda: gridplan.run_experiment(MAPS.parent / "configs" / "paper.toml", threads=-1),
+        ValueError,
+        "threads: -1 is negative; use 0 for the config's threads",
+    )
+    check(
+        lambda: gridplan.compare(tmp_path, tmp_path, examples=-1),
+        ValueError,
+        "examples: -1 is negative; give how many differing runs to list",
+    )
+    (tmp_path / "m.csv").write_text("1,0\n0,1\n")
+    check(
+        lambda: gridplan.read_map(tmp_path / "m.csv", obstacle=-1),
+        ValueError,
+        "read_map: obstacle=-1; the obstacle value of a .csv matrix is 0 or 1",
+    )
+    replanner = gridplan.Replanner(map10, "dstar_lite", start=(0, 0), goal=(11, 11))
+    check(
+        lambda: replanner.move_to((huge, 0)),
+        ValueError,
+        f"move_to: ({huge}, 0) is outside the 12x12 grid",
+    )
+    check(
+        lambda: gridplan.Replanner(map10, "dstar_lite", start=[0, 0], goal=(huge, 11)),
+        gridplan.ProblemError,
+        f"goal ({huge}, 11) is outside the 12x12 grid",
+    )
+    frame = gridplan.read_map(MAPS / "ros-nav2" / "tb3_sandbox.yaml")[0].frame
+    check(
+        lambda: frame.world((huge, 0)),
+        ValueError,
+        f"MapFrame.world: cell ({huge}, 0) is not on the 384x384 map",
+    )
+    assert frame.world([1, 2]) == frame.world((1, 2))
+
+
+def test_a_bad_budget_value_names_its_key(map10):
+    for key, value in [("max_expansions", -1), ("max_time_ms", -5), ("max_memory_mb", -1)]:
+        error = check(
+            lambda: gridplan.plan(map10, (0, 0), (11, 11), budget={key: value}),
+            gridplan.ParameterError,
+            f"budget.{key}: {value} is negative; a budget is at least 0",
+        )
+        assert error.key == f"budget.{key}"
+    error = check(
+        lambda: gridplan.Planner(map10, budget={"max_expansions": 5, "max_time_ms": "soon"}),
+        gridplan.ParameterError,
+        'budget.max_time_ms: invalid type: string "soon", expected u64',
+    )
+    assert error.key == "budget.max_time_ms"
+
+
+def test_none_keeps_a_parameters_default(map10):
+    """planners() reports defaults of None (coverage's reference_side, rrt_star's gamma):
+    passed back, they were refused (`got NoneType`)."""
+    infos = {info.name: info for info in gridplan.planners()}
+    assert infos["coverage"].parameters["reference_side"] is None
+    assert infos["rrt_star"].parameters["gamma"] is None
+    for info in infos.values():
+        goal = None if info.task == "coverage" else (11, 11)
+        budget = 10_000 if info.name == "backtracking" else None
+        outcome = gridplan.plan(map10, (0, 0), goal, planner=info.name, budget=budget, **info.parameters)
+        default = gridplan.plan(map10, (0, 0), goal, planner=info.name, budget=budget)
+        assert outcome == default, info.name
+    assert gridplan.plan(map10, (0, 0), (11, 11), weight=None, budget={"max_time_ms": None}).status == "found"

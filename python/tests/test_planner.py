@@ -73,6 +73,14 @@ def test_plan_many_without_queries_gives_empty_arrays_of_the_usual_types(map10):
     assert out["length"].shape == out["steps"].shape == out["time_ms"].shape == (0,)
 
 
+def test_plan_many_takes_empty_sequences_as_no_queries(map10):
+    # `plan_many([], [])` raised `expected an (N, 2) array ..., got shape (0,)`.
+    planner = gridplan.Planner(map10, "astar")
+    for starts, goals in [([], []), ((), None), (np.array([]), [])]:
+        out = planner.plan_many(starts, goals)
+        assert out["status"].shape == out["length"].shape == (0,)
+
+
 def test_bad_queries_raise_and_name_the_query(map10):
     planner = gridplan.Planner(map10, "astar")
     with pytest.raises(gridplan.ProblemError, match="query 1") as error:
@@ -228,3 +236,87 @@ def test_ctrl_c_interrupts_run_experiment(tmp_path):
         1.0,
     )
     assert out == ["interrupted"]
+
+
+BUSY = (
+    "grid = gridplan.Grid.from_numpy(np.ones((64, 64), dtype=bool), free=True)\n"
+    "planner = gridplan.Planner(grid, 'backtracking', budget={'max_expansions': 10**18, 'max_time_ms': %d})\n"
+    "batch = threading.Thread(target=planner.plan_many, args=([[0, 0]], [[63, 63]]), kwargs={'threads': 1})\n"
+    "batch.start()\n"
+    "time.sleep(0.3)\n"
+)
+"""Python that leaves `planner` held by another thread's batch (a search that runs until its
+time budget, in milliseconds, ends) and `grid`."""
+
+
+def test_ctrl_c_interrupts_a_wait_for_a_planner_another_thread_holds():
+    """Calls on one Planner run one after another: a call waits for another thread's batch,
+    and Ctrl-C ends the wait (it raised only once the other batch had ended)."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = (
+        "import signal, threading, time\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+        "import gridplan, numpy as np\n"
+        + BUSY % 5000
+        + "print('ready', flush=True)\n"
+        "try:\n"
+        "    planner.plan((0, 0), (0, 0))\n"
+        "    print('finished', flush=True)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True)\n"
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "ready"
+        time.sleep(0.5)
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGINT)
+        line = proc.stdout.readline().strip()
+        waited = time.monotonic() - sent
+        proc.communicate(timeout=60)
+    finally:
+        proc.kill()
+    assert line == "interrupted"
+    assert waited < 2.5
+
+
+_BUSY = None
+
+
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
+def test_a_process_forked_while_another_thread_plans_is_told_to_make_a_new_planner():
+    """A child forked while a thread of the parent held a Planner waited for it forever
+    (that thread is not in the child): its calls raise GridplanError, and a new Planner
+    plans there."""
+    import multiprocessing
+    import threading
+    import time
+
+    global _BUSY
+    namespace = {"gridplan": gridplan, "np": np, "threading": threading, "time": time}
+    exec(BUSY % 3000, namespace)
+    _BUSY = namespace["grid"], namespace["planner"]
+    try:
+        with multiprocessing.get_context("fork").Pool(1) as pool:
+            child = pool.apply_async(_plan_after_fork).get(timeout=30)
+    finally:
+        namespace["batch"].join()
+    assert child == [
+        "GridplanError: this Planner was in use by another thread when the process forked, "
+        "and that thread does not exist in this process: make a new Planner here",
+        "found",
+    ]
+
+
+def _plan_after_fork():
+    grid, planner = _BUSY
+    try:
+        planner.plan((0, 0), (0, 0))
+        held = "planned"
+    except gridplan.GridplanError as error:
+        held = f"{type(error).__name__}: {error}"
+    return [held, gridplan.Planner(grid, "astar").plan((0, 0), (63, 63)).status]

@@ -159,3 +159,25 @@ def test_control_characters_in_warnings_are_escaped(tmp_path):
     texts = [str(w.message) for w in caught]
     assert any("e\\u{1b}[2Jx" in text for text in texts), texts
     assert not any("\x1b" in text for text in texts), texts
+
+
+def test_a_scenario_naming_another_map_is_a_warning(tmp_path):
+    """As `gridplan plan` warns (sc2.map.scen:2: the scenario names map other.map, not
+    sc2.map), once per file; read_map said nothing."""
+    (tmp_path / "sc2.map").write_text("type octile\nheight 3\nwidth 3\nmap\n...\n...\n...\n")
+    (tmp_path / "sc2.map.scen").write_text(
+        "version 1\n"
+        "0\tother.map\t3\t3\t0\t0\t2\t2\t2.8\n"
+        "0\tother.map\t3\t3\t0\t0\t1\t1\t1.4\n"
+    )
+    with pytest.warns(gridplan.GridplanWarning) as caught:
+        _, problems = gridplan.read_map(tmp_path / "sc2.map")
+    assert [str(w.message) for w in caught] == [
+        f"{tmp_path / 'sc2.map.scen'}:2: the scenario names map other.map, not sc2.map"
+    ]
+    assert [p.goal for p in problems] == [(2, 2), (1, 1)]
+    # A scenario of its own map (a path before the name is fine) says nothing.
+    (tmp_path / "sc2.map.scen").write_text("version 1\n0\tmaps/sc2.map\t3\t3\t0\t0\t2\t2\t2.8\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        gridplan.read_map(tmp_path / "sc2.map")
