@@ -9,7 +9,6 @@
 //! [`planner_registry::build_incremental`] from the same parameters a config's table
 //! takes; the calls run with the GIL released.
 
-use std::sync::{Mutex, MutexGuard};
 use std::time::Instant;
 
 use numpy::PyReadonlyArray1;
@@ -19,6 +18,7 @@ use pyo3::types::PyDict;
 
 use crate::errors::{guarded, Failure};
 use crate::grid::{endpoint, given_cell, to_cell, GivenCell, Grid};
+use crate::interrupt::{Exclusive, Held};
 use crate::plan::{
     build_outcome, problem_error, problem_failure, to_budget, Outcome, OutcomeParts,
 };
@@ -27,7 +27,9 @@ use crate::values::to_table;
 /// An incremental planner's session (see the stub, `gridplan/__init__.pyi`).
 #[pyclass(module = "gridplan", frozen)]
 pub struct Replanner {
-    planner: Mutex<Box<dyn IncrementalPlanner>>,
+    /// One call at a time works with it ([`Exclusive`]; a process forked while a thread
+    /// held it is told so instead of waiting forever).
+    planner: Exclusive<Box<dyn IncrementalPlanner>>,
     budget: Budget,
     goal: Cell,
     name: String,
@@ -38,10 +40,17 @@ pub struct Replanner {
 }
 
 impl Replanner {
-    fn lock(&self) -> MutexGuard<'_, Box<dyn IncrementalPlanner>> {
-        // A panic inside a call is caught by `guarded` while the lock is held; the session
-        // is then as the planner left it, which its next call reports on.
-        self.planner.lock().unwrap_or_else(|e| e.into_inner())
+    /// The planner, once no other call holds it. A panic inside a call is caught by
+    /// `guarded` while it is held; the session is then as the planner left it, which its
+    /// next call reports on.
+    fn lock(&self) -> Result<Held<'_, Box<dyn IncrementalPlanner>>, Failure> {
+        self.planner.hold(|| false).map_err(|_| {
+            Failure::Unusable(
+                "this Replanner was in use by another thread when the process forked, and \
+                 that thread does not exist in this process: make a new Replanner here"
+                    .into(),
+            )
+        })
     }
 }
 
@@ -154,7 +163,7 @@ impl Replanner {
         });
         let (planner, goal) = built.map_err(|e| e.into_pyerr(py))?;
         Ok(Replanner {
-            planner: Mutex::new(planner),
+            planner: Exclusive::new(planner),
             budget,
             goal,
             name: planner_name(&name),
@@ -171,8 +180,9 @@ impl Replanner {
 
     /// The current start, the agent's cell.
     #[getter]
-    fn start(&self) -> Option<(u32, u32)> {
-        self.lock().start().map(|c| (c.x, c.y))
+    fn start(&self, py: Python<'_>) -> PyResult<Option<(u32, u32)>> {
+        let planner = self.lock().map_err(|e| e.into_pyerr(py))?;
+        Ok(planner.start().map(|c| (c.x, c.y)))
     }
 
     /// The goal.
@@ -183,11 +193,12 @@ impl Replanner {
 
     /// The planner's map: the grid it began with and every update since.
     #[getter]
-    fn grid(&self) -> Option<Grid> {
-        self.lock().grid().map(|g| Grid {
+    fn grid(&self, py: Python<'_>) -> PyResult<Option<Grid>> {
+        let planner = self.lock().map_err(|e| e.into_pyerr(py))?;
+        Ok(planner.grid().map(|g| Grid {
             inner: std::sync::Arc::new(g.clone()),
             frame: self.frame,
-        })
+        }))
     }
 
     /// Computes the path (the first time) or repairs it after updates and moves.
@@ -195,7 +206,7 @@ impl Replanner {
         let call = crate::warn::Call::begin();
         let done = py.detach(|| {
             guarded(|| {
-                let mut planner = self.lock();
+                let mut planner = self.lock()?;
                 let started = Instant::now();
                 let outcome = planner.replan(&self.budget);
                 let time_ms = started.elapsed().as_secs_f64() * 1e3;
@@ -268,7 +279,7 @@ impl Replanner {
         }
         let done = py.detach(|| {
             guarded(|| {
-                let mut planner = self.lock();
+                let mut planner = self.lock()?;
                 let Some(grid) = planner.grid() else {
                     return Err(Failure::Value("the session has no map".into()));
                 };
@@ -322,7 +333,7 @@ impl Replanner {
         };
         let done = py.detach(|| {
             guarded(|| {
-                let mut planner = self.lock();
+                let mut planner = self.lock()?;
                 let Some(grid) = planner.grid() else {
                     return Err(Failure::Value("the session has no map".into()));
                 };
@@ -336,7 +347,7 @@ impl Replanner {
     }
 
     fn __repr__(&self) -> String {
-        let start = self.lock().start();
+        let start = self.lock().ok().and_then(|planner| planner.start());
         format!(
             "Replanner({:?}, start={}, goal=({}, {}))",
             self.name,

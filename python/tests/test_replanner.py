@@ -154,3 +154,44 @@ def test_bad_arguments_raise_named_errors(map10):
     with pytest.raises(TypeError, match="weights: expected integers"):
         weighted.update(np.array([(1, 0)]), weights=2.5)
     assert replanner.plan().status == "found"
+
+
+_REPLANNING = None
+
+
+def test_a_process_forked_while_another_thread_replans_is_told_to_make_a_new_replanner():
+    """A child forked while a thread of the parent held a Replanner (its first plan, on a
+    map whose goal is walled off) would wait for it forever: its calls raise GridplanError."""
+    import multiprocessing
+    import threading
+    import time
+
+    global _REPLANNING
+    # The first plan searches the goal's half, 8 million cells: about 1.3 s here.
+    free = np.ones((4000, 4000), dtype=bool)
+    free[:, 2000] = False
+    grid = gridplan.Grid.from_numpy(free, free=True)
+    replanner = gridplan.Replanner(
+        grid, "dstar_lite", start=(0, 0), goal=(3999, 3999), budget={"max_time_ms": 5000}
+    )
+    busy = threading.Thread(target=replanner.plan)
+    busy.start()
+    time.sleep(0.2)
+    _REPLANNING = replanner
+    try:
+        with multiprocessing.get_context("fork").Pool(1) as pool:
+            result = pool.apply_async(_replan_after_fork).get(timeout=30)
+    finally:
+        busy.join()
+    assert result == (
+        "GridplanError: this Replanner was in use by another thread when the process forked, "
+        "and that thread does not exist in this process: make a new Replanner here"
+    )
+
+
+def _replan_after_fork():
+    try:
+        _REPLANNING.plan()
+        return "planned"
+    except gridplan.GridplanError as error:
+        return f"{type(error).__name__}: {error}"
