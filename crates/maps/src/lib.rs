@@ -296,19 +296,36 @@ impl MapFormat {
                 } else {
                     ros::ros_map_from_image_bytes(text.as_bytes(), origin, None, options)?
                 };
-                // A frame needs a positive resolution (the YAML's warning says when it is not).
-                let frame =
-                    (self == MapFormat::Ros && map.yaml.resolution > 0.0).then(|| map.frame());
+                // A frame needs a positive resolution (the YAML's warning says when it is not)
+                // and an extent within the range of numbers (said here).
+                let frame = match (self, map.yaml.resolution > 0.0) {
+                    (MapFormat::Ros, true) => Some(map.frame()),
+                    _ => None,
+                };
+                let mut warnings = map.yaml.warnings;
+                let frame = frame.filter(|frame| {
+                    let finite = frame.bounds().iter().all(|v| v.is_finite());
+                    if !finite {
+                        warnings.push(MapWarning {
+                            file: origin.to_string(),
+                            line: 0,
+                            column: 0,
+                            message: format!(
+                                "origin {:?} plus resolution {} times the image's {}x{} cells is \
+                                 beyond the range of numbers: map positions are meaningless",
+                                frame.origin, frame.resolution, frame.width, frame.height
+                            ),
+                        });
+                    }
+                    finite
+                });
                 let file = MapFile {
                     grid: map.grid,
                     problems: Vec::new(),
                     format: self,
                     frame,
                 };
-                return Ok(MapRead {
-                    file,
-                    warnings: map.yaml.warnings,
-                });
+                return Ok(MapRead { file, warnings });
             }
             MapFormat::Seed003 => {
                 return seed003::parse(text, origin, max_cells).map(|file| MapRead {

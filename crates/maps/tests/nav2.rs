@@ -132,3 +132,40 @@ fn nav2_map_with_huge_inflation_finishes() {
     let map = read_ros_map(&dir().join("tb3_sandbox.yaml"), &options).unwrap();
     assert_eq!(map.grid.n_free(), 0);
 }
+
+/// A finite resolution and origin whose extent is not (`1e308` metres a cell): no map frame
+/// (its positions were infinite: `start (inf, inf)`), and a warning that says why.
+#[test]
+fn a_frame_beyond_the_range_of_numbers_is_no_frame() {
+    let dir = std::env::temp_dir().join(format!("gridplan-nav2-huge-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../maps/ros-nav2/TenByTen.pgm"),
+        dir.join("ten.pgm"),
+    )
+    .unwrap();
+    let check = |resolution: &str, origin: &str| {
+        let yaml = dir.join("huge.yaml");
+        std::fs::write(
+            &yaml,
+            format!(
+                "image: ten.pgm\nresolution: {resolution}\norigin: {origin}\nnegate: 0\n\
+                 occupied_thresh: 0.65\nfree_thresh: 0.196\n"
+            ),
+        )
+        .unwrap();
+        read_map_with(&yaml, &ReadOptions::default()).unwrap()
+    };
+    let read = check("1e308", "[1.7e308, 0, 0]");
+    assert!(read.file.frame.is_none());
+    let warnings: Vec<String> = read.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].contains("beyond the range of numbers"),
+        "{warnings:?}"
+    );
+    // Large but finite: a frame, no warning.
+    let read = check("1e300", "[-1e300, 0, 0]");
+    assert!(read.file.frame.is_some() && read.warnings.is_empty());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
