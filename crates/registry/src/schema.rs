@@ -175,6 +175,8 @@ fn kind_of(schema: &Value) -> (String, Option<Vec<Value>>) {
     }
     match schema.get("format").and_then(Value::as_str) {
         Some("double") | None => {}
+        // A config's integers are TOML's, 64-bit signed.
+        Some("uint64") => kind = format!("{kind} (0 to 2^63 - 1)"),
         Some(format) => kind = format!("{kind} ({format})"),
     }
     (kind, allowed)

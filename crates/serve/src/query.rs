@@ -51,7 +51,7 @@ pub enum QueryError {
     Setting(String),
     /// A setting whose value starts as a number does but is not one (`weight=1e400`).
     #[error(
-        "parameter {0:?}: not a number (numbers are written as 3, -2, 2.5 or 1e3, within 64 bits)"
+        "parameter {0:?}: not a number (numbers are written as 3, -2, 2.5 or 1e3; integers from -2^63 to 2^63 - 1)"
     )]
     Number(String),
     /// A wall edit outside the grid.
