@@ -176,17 +176,28 @@ pub fn charts(
     let stats = |set: usize| -> Option<BoxStats> { q[set].as_slice().try_into().ok() };
     let median = |set: usize| q[set].first().copied();
     let any_expansions = counts.iter().any(|c| c.expansions > 0);
-    let mut out = box_plots(&labels, &boxes, any_expansions, &stats);
+    // A chart of every label of a large sweep would be unreadable, and its file as large
+    // as the sweep: the first labels only, said in the title.
+    let shown = &labels[..labels.len().min(MAX_CHART_LABELS)];
+    let note = match labels.len() > MAX_CHART_LABELS {
+        true => format!(" (the first {MAX_CHART_LABELS} of {} labels)", labels.len()),
+        false => String::new(),
+    };
+    let mut out = box_plots(shown, &boxes, any_expansions, &stats, &note);
     if any_bucket {
-        out.extend(bucket_charts(&labels, &bucket_sets, &median));
+        out.extend(bucket_charts(shown, &bucket_sets, &median, &note));
     }
-    out.push(success_chart(&labels, &counts, stated));
+    out.push(success_chart(shown, &counts, stated, &note));
     out.extend(study_charts(&specs, studies, &study_sets, &median));
     if labels.len() >= 2 {
         out.extend(paired_charts(experiment, passes)?);
     }
     Ok(out)
 }
+
+/// The most labels a chart of labels draws (box plots, success, buckets, paired): the
+/// config's first ones; the title says so. Every label stays in summary.md's tables.
+pub const MAX_CHART_LABELS: usize = 100;
 
 /// The most points a paired chart draws per label: beyond, every k-th problem (in the
 /// problems' order), and the title says so.
@@ -215,6 +226,7 @@ fn paired_charts(
             .iter()
             .enumerate()
             .filter(|&(l, _)| l != base)
+            .take(MAX_CHART_LABELS)
             .map(|(l, p)| {
                 let points = per_problem.points(l, time);
                 let step = points.len().div_ceil(PAIRED_POINTS).max(1);
@@ -236,6 +248,12 @@ fn paired_charts(
             format!("{what} per problem against {base_label} (below the diagonal: less)");
         if thinned {
             title.push_str(&format!(", at most {PAIRED_POINTS} problems a label drawn"));
+        }
+        let others = experiment.planners.len() - 1;
+        if others > MAX_CHART_LABELS {
+            title.push_str(&format!(
+                ", the first {MAX_CHART_LABELS} of {others} labels"
+            ));
         }
         let x_desc = format!("{what} of {base_label}");
         let y_desc = format!("{what} of each label");
@@ -325,6 +343,7 @@ fn box_plots(
     boxes: &[(usize, usize)],
     any_expansions: bool,
     stats: &dyn Fn(usize) -> Option<BoxStats>,
+    note: &str,
 ) -> Vec<Chart> {
     let named = |set: &dyn Fn(usize) -> usize| -> Vec<(String, Option<BoxStats>)> {
         labels
@@ -335,14 +354,14 @@ fn box_plots(
     };
     let mut out = vec![box_plot(
         "time-box.svg",
-        "Search time per planner (every run)",
+        &format!("Search time per planner (every run){note}"),
         "time (ms)",
         &named(&|l| boxes[l].0),
     )];
     if any_expansions {
         out.push(box_plot(
             "expansions-box.svg",
-            "Expansions per planner (every run)",
+            &format!("Expansions per planner (every run){note}"),
             "n_expanded (cells)",
             &named(&|l| boxes[l].1),
         ));
@@ -480,6 +499,7 @@ fn bucket_charts(
     labels: &[&str],
     bucket_sets: &[Vec<(u32, usize, usize)>],
     median: &dyn Fn(usize) -> Option<f64>,
+    note: &str,
 ) -> [Chart; 2] {
     let by_bucket =
         |pick: &dyn Fn(&(u32, usize, usize)) -> usize| -> Vec<(String, Vec<(f64, f64)>)> {
@@ -498,14 +518,14 @@ fn bucket_charts(
     [
         line_chart(
             "expansions-by-bucket.svg",
-            "Median expansions against scenario bucket (optimal length / 4)",
+            &format!("Median expansions against scenario bucket (optimal length / 4){note}"),
             "scenario bucket",
             "median n_expanded (cells)",
             &by_bucket(&|row| row.1),
         ),
         line_chart(
             "time-by-bucket.svg",
-            "Median search time against scenario bucket (optimal length / 4)",
+            &format!("Median search time against scenario bucket (optimal length / 4){note}"),
             "scenario bucket",
             "median time (ms)",
             &by_bucket(&|row| row.2),
@@ -515,7 +535,7 @@ fn bucket_charts(
 
 /// The share of each label's runs that found a path (and, with stated optima, that
 /// found an optimal one).
-fn success_chart(labels: &[&str], counts: &[LabelCounts], stated: bool) -> Chart {
+fn success_chart(labels: &[&str], counts: &[LabelCounts], stated: bool, note: &str) -> Chart {
     let bars: Vec<(String, Vec<f64>)> = labels
         .iter()
         .zip(counts)
@@ -533,13 +553,13 @@ fn success_chart(labels: &[&str], counts: &[LabelCounts], stated: bool) -> Chart
     } else {
         &["found"]
     };
+    let title = match stated {
+        true => "Success and optimality per planner",
+        false => "Success per planner",
+    };
     bar_chart(
         "success.svg",
-        if stated {
-            "Success and optimality per planner"
-        } else {
-            "Success per planner"
-        },
+        &format!("{title}{note}"),
         "share of runs (%)",
         series,
         &bars,

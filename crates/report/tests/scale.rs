@@ -73,3 +73,53 @@ fn a_large_sweeps_paths_are_written_from_a_pass() {
     // The paths alone are 14 MB of JSON, their records more than 60 MB held.
     assert!(peak < 40 << 20, "peak {peak} bytes on the writing thread");
 }
+
+/// A sweep of more labels than a chart draws ([`planner_report::charts::MAX_CHART_LABELS`]):
+/// the charts of labels draw the first ones and say so; their files stay the size of a
+/// chart (10,000 labels made 11 MB box plots).
+#[test]
+fn charts_of_many_labels_draw_the_first_and_say_so() {
+    use planner_report::charts::MAX_CHART_LABELS;
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-many-labels");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("tiny.map"),
+        "type octile\nheight 3\nwidth 4\nmap\n....\n.@@.\n....\n",
+    )
+    .unwrap();
+    let n = MAX_CHART_LABELS + 30;
+    let weights: Vec<String> = (0..n)
+        .map(|i| format!("{}", 1.0 + i as f64 / 100.0))
+        .collect();
+    std::fs::write(
+        dir.join("many.toml"),
+        format!(
+            "name = \"many\"\nfigures = \"none\"\noutputs = [\"csv\"]\n[[maps]]\nfiles = [\"tiny.map\"]\n\
+             pairs = [{{ start = [0, 0], goal = [3, 2] }}]\n[planners.a]\nplanner = \"astar\"\n\
+             weight = [{}]\n",
+            weights.join(", ")
+        ),
+    )
+    .unwrap();
+    let render = Renderer::new(Vec::new());
+    let config = dir.join("many.toml");
+    let out = dir.join("out");
+    let mut args = SweepArgs::new(&config, &render);
+    args.output = Some(&out);
+    sweep::experiment(&args).unwrap();
+    let note = format!("the first {MAX_CHART_LABELS} of {n} labels");
+    for chart in ["time-box.svg", "expansions-box.svg", "success.svg"] {
+        let svg = std::fs::read_to_string(out.join("charts").join(chart)).unwrap();
+        assert!(svg.contains(&note), "{chart}");
+        // Each drawn label's name once (an axis tick); the last label's is not there.
+        assert!(svg.contains("a[weight=1.99]"), "{chart}");
+        let last = format!("a[weight={}]", weights[n - 1]);
+        assert!(!svg.contains(&last), "{chart}: {last}");
+    }
+    let paired = std::fs::read_to_string(out.join("charts/paired-expansions.svg")).unwrap();
+    assert!(paired.contains(&format!("the first {MAX_CHART_LABELS} of {} labels", n - 1)));
+    // summary.md's tables keep every label.
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(summary.contains(&format!("a[weight={}]", weights[n - 1])));
+}
