@@ -11,6 +11,8 @@
 //! XML 1.0 forbids even escaped, become spaces), before plotters writes it escaped; so
 //! every chart is well-formed XML whatever the labels hold.
 
+use std::collections::HashMap;
+
 use planner_figures::xml_text;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -61,15 +63,16 @@ fn study_place(
     experiment: &Experiment,
     spec: &ChartSpec,
     record: &RunRecord,
+    label: Option<usize>,
 ) -> Option<(String, f64, f64)> {
     let group_key = spec.group.as_deref().unwrap_or("map");
     let (Some(x), Some(y)) = (
-        key_value(experiment, record, &spec.x).and_then(|v| v.as_f64()),
+        key_value(experiment, record, label, &spec.x).and_then(|v| v.as_f64()),
         metric(record, &spec.y),
     ) else {
         return None;
     };
-    let group = match key_value(experiment, record, group_key) {
+    let group = match key_value(experiment, record, label, group_key) {
         Some(serde_json::Value::String(s)) => s,
         Some(other) => format!("{group_key} = {other}"),
         None => "-".into(),
@@ -105,7 +108,10 @@ pub fn charts(
         .iter()
         .map(|p| p.label.as_str())
         .collect();
-    let label_of = |r: &RunRecord| labels.iter().position(|l| *l == r.planner);
+    // A map, not a scan of the labels per record: a sweep of 100,000 labels made that
+    // 10^10 comparisons.
+    let index: HashMap<&str, usize> = labels.iter().enumerate().map(|(i, &l)| (l, i)).collect();
+    let label_of = |r: &RunRecord| index.get(r.planner.as_str()).copied();
     let specs: Vec<ChartSpec> = if experiment.charts.is_empty() {
         default_study(experiment).into_iter().collect()
     } else {
@@ -114,6 +120,7 @@ pub fn charts(
     let Counted {
         counts,
         studies,
+        indexes,
         valid,
         any_bucket,
         stated,
@@ -168,8 +175,16 @@ pub fn charts(
                     }
                 }
             }
-            for ((spec, groups), group_sets) in specs.iter().zip(&studies).zip(&study_sets) {
-                emit_study(experiment, spec, groups, group_sets, r, &mut *emit);
+            for ((spec, index), group_sets) in specs.iter().zip(&indexes).zip(&study_sets) {
+                emit_study(
+                    experiment,
+                    spec,
+                    index,
+                    group_sets,
+                    r,
+                    label_of(r),
+                    &mut *emit,
+                );
             }
         })
     })?;
@@ -373,18 +388,16 @@ fn box_plots(
 fn emit_study(
     experiment: &Experiment,
     spec: &ChartSpec,
-    groups: &[(String, Vec<(f64, u64)>)],
+    index: &StudyIndex,
     group_sets: &[Vec<usize>],
     record: &RunRecord,
+    label: Option<usize>,
     emit: crate::exact::Emit<'_>,
 ) {
-    let Some((group, x, y)) = study_place(experiment, spec, record) else {
+    let Some((group, x, y)) = study_place(experiment, spec, record, label) else {
         return;
     };
-    let Some(k) = groups.iter().position(|(g, _)| *g == group) else {
-        return;
-    };
-    if let Some(j) = groups[k].1.iter().position(|(px, _)| *px == x) {
+    if let Some((k, j)) = index.find(&group, x) {
         emit(group_sets[k][j], y);
     }
 }
@@ -422,12 +435,40 @@ struct Counted {
     counts: Vec<LabelCounts>,
     /// Per chart spec: its groups and their x values, with their sizes.
     studies: Vec<StudyCounts>,
+    /// Per chart spec: where its groups and x values are in `studies`.
+    indexes: Vec<StudyIndex>,
     /// Whether any record is valid.
     valid: bool,
     /// Whether any valid record has a scenario bucket.
     any_bucket: bool,
     /// Whether any valid record states an optimal length.
     stated: bool,
+}
+
+/// Where a study chart's group and x value are in its [`StudyCounts`]: maps, so that a
+/// record is placed without scanning the groups and x values (a sweep of 100,000 values).
+#[derive(Default)]
+struct StudyIndex {
+    /// Group name to its position.
+    groups: HashMap<String, usize>,
+    /// Per group, [`x_key`] of an x value to its position.
+    points: Vec<HashMap<u64, usize>>,
+}
+
+impl StudyIndex {
+    /// The positions of `group` and `x`, if counted.
+    fn find(&self, group: &str, x: f64) -> Option<(usize, usize)> {
+        let k = *self.groups.get(group)?;
+        Some((k, *self.points.get(k)?.get(&x_key(x))?))
+    }
+}
+
+/// An x value as a key: its bits, with `-0` as `0` (equal as numbers).
+fn x_key(x: f64) -> u64 {
+    match x == 0.0 {
+        true => 0,
+        false => x.to_bits(),
+    }
 }
 
 /// One pass that counts each group (label, label x bucket, study group x x) of the valid
@@ -438,9 +479,13 @@ fn count_groups(
     labels: &[&str],
     specs: &[ChartSpec],
 ) -> Result<Counted, RunnerError> {
-    let label_of = |r: &RunRecord| labels.iter().position(|l| *l == r.planner);
+    // A map, not a scan of the labels per record: a sweep of 100,000 labels made that
+    // 10^10 comparisons.
+    let index: HashMap<&str, usize> = labels.iter().enumerate().map(|(i, &l)| (l, i)).collect();
+    let label_of = |r: &RunRecord| index.get(r.planner.as_str()).copied();
     let mut counts: Vec<LabelCounts> = labels.iter().map(|_| LabelCounts::default()).collect();
     let mut studies: Vec<StudyCounts> = specs.iter().map(|_| Vec::new()).collect();
+    let mut indexes: Vec<StudyIndex> = specs.iter().map(|_| StudyIndex::default()).collect();
     let (mut valid, mut any_bucket, mut stated) = (false, false, false);
     passes.pass(&mut |r| {
         if r.is_invalid() {
@@ -466,27 +511,27 @@ fn count_groups(
                 at.1 += 1;
             }
         }
-        for (spec, groups) in specs.iter().zip(&mut studies) {
-            let Some((group, x, _)) = study_place(experiment, spec, r) else {
+        for ((spec, groups), index) in specs.iter().zip(&mut studies).zip(&mut indexes) {
+            let Some((group, x, _)) = study_place(experiment, spec, r, label_of(r)) else {
                 continue;
             };
-            let k = match groups.iter().position(|(g, _)| *g == group) {
-                Some(k) => k,
-                None => {
-                    groups.push((group, Vec::new()));
-                    groups.len() - 1
-                }
-            };
+            let k = *index.groups.entry(group.clone()).or_insert_with(|| {
+                groups.push((group, Vec::new()));
+                index.points.push(HashMap::new());
+                groups.len() - 1
+            });
             let points = &mut groups[k].1;
-            match points.iter_mut().find(|(px, _)| *px == x) {
-                Some((_, n)) => *n += 1,
-                None => points.push((x, 1)),
-            }
+            let j = *index.points[k].entry(x_key(x)).or_insert_with(|| {
+                points.push((x, 0));
+                points.len() - 1
+            });
+            points[j].1 += 1;
         }
     })?;
     Ok(Counted {
         counts,
         studies,
+        indexes,
         valid,
         any_bucket,
         stated,
@@ -613,16 +658,21 @@ fn default_study(experiment: &Experiment) -> Option<ChartSpec> {
     })
 }
 
-/// The value of `x` or `group` for a run: a resolved parameter, `bucket`, `map` or `planner`.
-fn key_value(experiment: &Experiment, record: &RunRecord, key: &str) -> Option<serde_json::Value> {
+/// The value of `x` or `group` for a run of label number `label`: a resolved parameter,
+/// `bucket`, `map` or `planner`.
+fn key_value(
+    experiment: &Experiment,
+    record: &RunRecord,
+    label: Option<usize>,
+    key: &str,
+) -> Option<serde_json::Value> {
     match key {
         "bucket" => record.bucket.map(serde_json::Value::from),
         "map" => Some(record.map.clone().into()),
         "planner" => Some(record.algorithm.clone().into()),
         _ => experiment
             .planners
-            .iter()
-            .find(|p| p.label == record.planner)?
+            .get(label?)?
             .factory
             .resolved()
             .get(key)
