@@ -108,9 +108,7 @@ pub fn charts(
         .iter()
         .map(|p| p.label.as_str())
         .collect();
-    // A map, not a scan of the labels per record: a sweep of 100,000 labels made that
-    // 10^10 comparisons.
-    let index: HashMap<&str, usize> = labels.iter().enumerate().map(|(i, &l)| (l, i)).collect();
+    let index = label_index(&labels);
     let label_of = |r: &RunRecord| index.get(r.planner.as_str()).copied();
     let specs: Vec<ChartSpec> = if experiment.charts.is_empty() {
         default_study(experiment).into_iter().collect()
@@ -159,7 +157,8 @@ pub fn charts(
                 return;
             }
             let expansions = r.counters.get("n_expanded").map(|v| v as f64);
-            if let Some(l) = label_of(r) {
+            let label = label_of(r);
+            if let Some(l) = label {
                 emit(boxes[l].0, r.time_ms);
                 if let Some(e) = expansions {
                     emit(boxes[l].1, e);
@@ -176,28 +175,14 @@ pub fn charts(
                 }
             }
             for ((spec, index), group_sets) in specs.iter().zip(&indexes).zip(&study_sets) {
-                emit_study(
-                    experiment,
-                    spec,
-                    index,
-                    group_sets,
-                    r,
-                    label_of(r),
-                    &mut *emit,
-                );
+                emit_study(experiment, spec, index, group_sets, r, label, &mut *emit);
             }
         })
     })?;
     let stats = |set: usize| -> Option<BoxStats> { q[set].as_slice().try_into().ok() };
     let median = |set: usize| q[set].first().copied();
     let any_expansions = counts.iter().any(|c| c.expansions > 0);
-    // A chart of every label of a large sweep would be unreadable, and its file as large
-    // as the sweep: the first labels only, said in the title.
-    let shown = &labels[..labels.len().min(MAX_CHART_LABELS)];
-    let note = match labels.len() > MAX_CHART_LABELS {
-        true => format!(" (the first {MAX_CHART_LABELS} of {} labels)", labels.len()),
-        false => String::new(),
-    };
+    let (shown, note) = first_labels(&labels);
     let mut out = box_plots(shown, &boxes, any_expansions, &stats, &note);
     if any_bucket {
         out.extend(bucket_charts(shown, &bucket_sets, &median, &note));
@@ -213,6 +198,23 @@ pub fn charts(
 /// The most labels a chart of labels draws (box plots, success, buckets, paired): the
 /// config's first ones; the title says so. Every label stays in summary.md's tables.
 pub const MAX_CHART_LABELS: usize = 100;
+
+/// The labels a chart of labels draws, and what its title adds when they are not all: a
+/// chart of every label of a large sweep would be unreadable, its file as large as the
+/// sweep.
+fn first_labels<'a, 'b>(labels: &'a [&'b str]) -> (&'a [&'b str], String) {
+    let note = match labels.len() > MAX_CHART_LABELS {
+        true => format!(" (the first {MAX_CHART_LABELS} of {} labels)", labels.len()),
+        false => String::new(),
+    };
+    (&labels[..labels.len().min(MAX_CHART_LABELS)], note)
+}
+
+/// Each label's position: a record finds its label through this map, not a scan of the
+/// labels (a sweep of 100,000 labels made that 10^10 comparisons).
+fn label_index<'a>(labels: &[&'a str]) -> HashMap<&'a str, usize> {
+    labels.iter().enumerate().map(|(i, &l)| (l, i)).collect()
+}
 
 /// The most points a paired chart draws per label: beyond, every k-th problem (in the
 /// problems' order), and the title says so.
@@ -479,9 +481,7 @@ fn count_groups(
     labels: &[&str],
     specs: &[ChartSpec],
 ) -> Result<Counted, RunnerError> {
-    // A map, not a scan of the labels per record: a sweep of 100,000 labels made that
-    // 10^10 comparisons.
-    let index: HashMap<&str, usize> = labels.iter().enumerate().map(|(i, &l)| (l, i)).collect();
+    let index = label_index(labels);
     let label_of = |r: &RunRecord| index.get(r.planner.as_str()).copied();
     let mut counts: Vec<LabelCounts> = labels.iter().map(|_| LabelCounts::default()).collect();
     let mut studies: Vec<StudyCounts> = specs.iter().map(|_| Vec::new()).collect();
