@@ -218,6 +218,8 @@ fn value<'py>(
         "setup_ms" => some(py, r.setup_ms),
         "peak_heap_bytes" => some(py, r.peak_heap_bytes),
         "bucket" => some(py, r.bucket),
+        "error" => some(py, r.error.as_deref()),
+        "cost" => some(py, r.cost),
         counter => match r.counters.get(counter) {
             Some(v) => some(py, v),
             // A counter this record's planner does not report: an empty cell.

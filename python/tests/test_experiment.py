@@ -164,3 +164,25 @@ def test_compare_two_results_directories(tmp_path):
     assert result["old"]["provenance"]["version"] == result["new"]["provenance"]["version"]
     with pytest.raises(gridplan.OutputError, match="compare"):
         gridplan.compare(tmp_path / "a", tmp_path)
+
+
+def test_errors_and_costs_are_columns(tmp_path):
+    """runs.csv's `error` (a refused run) and `cost` (a weighted map) columns reach the
+    records with their values (they were None: read as unknown counters)."""
+    (tmp_path / "open.map").write_text("type octile\nheight 3\nwidth 4\nmap\n....\n.@@.\n....\n")
+    (tmp_path / "open.csv").write_text("1,2,3,4\n1,1,1,1\n4,3,2,1\n")
+    (tmp_path / "c.toml").write_text(
+        'name = "columns"\n[[maps]]\nfiles = ["open.map"]\ncosts = { weights = "open.csv" }\n'
+        "pairs = [{ start = [0, 0], goal = [3, 2] }, { start = [0, 0], goal = [1, 1] }]\n"
+        '[planners.astar]\nplanner = "astar"\n'
+    )
+    with pytest.warns(gridplan.GridplanWarning, match="is blocked; not run"):
+        rows = gridplan.run_experiment(tmp_path / "c.toml", output=tmp_path / "out")
+    if not isinstance(rows, list):
+        rows = rows.to_dict("records")
+    with open(tmp_path / "out" / "runs.csv", newline="") as f:
+        table = list(csv.DictReader(f))
+    assert [r["error"] for r in table] == ["", "goal (1, 1) is blocked"]
+    assert rows[1]["error"] == "goal (1, 1) is blocked"
+    assert rows[0]["cost"] == pytest.approx(float(table[0]["cost"]))
+    assert rows[0]["cost"] > rows[0]["length"]

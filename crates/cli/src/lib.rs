@@ -82,6 +82,12 @@ pub enum Command {
         /// out; the merge job passes this instead of N paths, so its command line stays short.
         #[arg(long, value_name = "DIR")]
         shards_in: Option<PathBuf>,
+        /// With --shards-in: merge exactly `shard-1` to `shard-N` there, and no other
+        /// `shard-K` (one left by an earlier `slurm` with more shards); the merge job of
+        /// `slurm --shards N` passes it.
+        #[arg(long, value_name = "N", requires = "shards_in",
+              value_parser = clap::value_parser!(u64).range(1..=planner_runner::shard::Shard::MAX_COUNT))]
+        shards: Option<u64>,
         /// Output directory (default: the config's `output`).
         #[arg(long)]
         output: Option<PathBuf>,
@@ -151,7 +157,8 @@ pub enum Command {
     /// Run one planner on one problem and print the path, metrics and counters (a coverage
     /// planner covers from --start and takes no --goal).
     Plan {
-        /// The map file: Moving AI .map (problems from a .scen beside it), seed 003 .txt
+        /// The map file: Moving AI .map (problems from a .scen beside it, read only without
+        /// --start and --goal), seed 003 .txt
         /// (its own start-goal pairs), 0/1 matrix .csv, ROS map_server .yaml (with its
         /// PGM/PNG image), or a .png/.pgm image read with map_server's defaults (dark = occupied).
         map: PathBuf,
@@ -861,10 +868,18 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 ..sweep::SweepArgs::new(&config, &renderer)
             })?;
             if let Some(n_recorded) = report.interrupted {
-                eprintln!(
-                    "interrupted after {n_recorded} of {} runs; rerun with --resume to continue",
-                    report.n_runs
-                );
+                match n_recorded as usize == report.n_runs {
+                    // Stopped while the results were written: every run is in the stream.
+                    true => eprintln!(
+                        "interrupted while writing the results of all {} runs, which are kept; \
+                         rerun with --resume to write them without running any again",
+                        report.n_runs
+                    ),
+                    false => eprintln!(
+                        "interrupted after {n_recorded} of {} runs; rerun with --resume to continue",
+                        report.n_runs
+                    ),
+                }
                 std::process::exit(i32::from(EXIT_INTERRUPTED));
             }
             let mut out = format!(
@@ -884,11 +899,16 @@ pub fn run(command: Command) -> Result<(), CliError> {
         Command::Merge {
             mut dirs,
             shards_in,
+            shards,
             output,
             config,
         } => {
             if let Some(parent) = &shards_in {
-                dirs.extend(shard_dirs_in(parent)?);
+                match shards {
+                    // Named, not listed: merge reports a missing one.
+                    Some(n) => dirs.extend((1..=n).map(|k| parent.join(format!("shard-{k}")))),
+                    None => dirs.extend(shard_dirs_in(parent)?),
+                }
             }
             let report = sweep::merge(
                 &dirs,

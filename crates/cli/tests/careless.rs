@@ -189,7 +189,32 @@ fn careless_inputs_fail_cleanly() {
         (format!("{CONFIG}[budget]\nmax_expansions = \"lots\"\n"), Error("c.toml:8:")),
         (format!("{CONFIG}[budget]\nmax_hours = 1\n"), Error("c.toml:8:")),
         // Map sets.
-        (edit("files = [\"small.map\"]", "files = []"), Error("c.toml:")),
+        (
+            edit("files = [\"small.map\"]", "files = []"),
+            Error("c.toml:3:9: maps[0]: key `files`: at least one map is needed"),
+        ),
+        // An empty list of pairs ran nothing without a word.
+        (
+            edit("problems = \"corners\"", "pairs = []"),
+            Error("c.toml:4:9: maps[0]: key `pairs`: at least one start-goal pair is needed"),
+        ),
+        // Coordinates of more than two items were read as their first two.
+        (
+            edit("problems = \"corners\"", "pairs = [{ start = [0, 0, \"junk\", [1, 2]], goal = [2, 2] }]"),
+            Error("c.toml:4:20: invalid length 4, expected an array of length 2"),
+        ),
+        (
+            edit("problems = \"corners\"", "pairs = [{ start = [0, 0], goal = [2, 2, -7] }]"),
+            Error("c.toml:4:35: invalid length 3, expected an array of length 2"),
+        ),
+        (
+            edit("problems = \"corners\"", "pairs = [{ start = [0], goal = [2, 2] }]"),
+            Error("c.toml:4:20: invalid length 1, expected an array of length 2"),
+        ),
+        (
+            edit("problems = \"corners\"", "problems = \"start\"\nstart = [0, 0, 5]"),
+            Error("c.toml:5:9: invalid length 3, expected an array of length 2"),
+        ),
         (edit("files = [\"small.map\"]", "files = \"small.map\""), Error("c.toml:3:9")),
         (edit("small.map\"]", "missing.map\"]"), Error("nothing matches \"missing.map\"")),
         (edit("small.map\"]", "[\"]"), Error("key `files`: bad pattern")),
@@ -394,7 +419,7 @@ fn careless_inputs_fail_cleanly() {
         (
             owned(vec![("small.map", SMALL.to_vec()), ("small.map.scen", scen_other)]),
             plan("small.map", &["--planner", "astar", "--problem", "1"]),
-            Error("small.map.scen:2: the scenario is for a 5x5 map, but small.map is 3x3"),
+            Error("small.map.scen:2:13: the scenario is for a 5x5 map, but small.map is 3x3"),
         ),
         (
             owned(vec![("small.map", SMALL.to_vec()), ("small.map.scen", scen_same)]),
@@ -514,11 +539,40 @@ fn careless_inputs_fail_cleanly() {
             ),
         ]),
         args(&exp),
-        Error("key `scen`: s.scen:2: the scenario is for a 5x5 map, but small.map is 3x3"),
+        Error("key `scen`: s.scen:2:13: the scenario is for a 5x5 map, but small.map is 3x3"),
     ));
+    // A ROS map's points of more than two coordinates, or none.
+    for (points, expected) in [
+        (
+            "points = [{ start = [0.05, 0.05, 9], goal = [0.15, 0.15] }]",
+            "c.toml:4:21: invalid length 3, expected an array of length 2",
+        ),
+        (
+            "points = []",
+            "c.toml:4:10: maps[0]: key `points`: at least one start-goal pair is needed",
+        ),
+    ] {
+        cases.push((
+            owned(vec![
+                (
+                    "c.toml",
+                    ros.replace("pairs = [{ start = [0, 0], goal = [1, 1] }]", points)
+                        .into_bytes(),
+                ),
+                ("map.yaml", b"image: map.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n".to_vec()),
+                ("map.pgm", b"P2 2 2 255 255 255 255 255".to_vec()),
+            ]),
+            args(&exp),
+            Error(expected),
+        ));
+    }
     // Scenario selections that select nothing, each named.
     for (selection, expected) in [
         ("lines = [5, 3]", "key `lines`: [5, 3] starts after it ends"),
+        (
+            "lines = [2, 3, 4]",
+            "c.toml:5:9: invalid length 3, expected an array of length 2",
+        ),
         ("every = 0", "key `every` must be at least 1"),
         (
             "buckets = [9]",
@@ -781,13 +835,53 @@ fn slurm_scripts_merge_with_a_bounded_command_line() {
     assert!(wide.len() < 1024, "{} bytes:\n{wide}", wide.len());
     assert!(wide.contains(" merge --shards-in "), "{wide}");
     let narrow = slurm("3");
-    assert_eq!(wide.len(), narrow.len() + 3, "{wide}\n{narrow}");
+    // N is written twice: in the comment and as `--shards N`.
+    assert_eq!(wide.len(), narrow.len() + 2 * 3, "{wide}\n{narrow}");
     let merge = run_slurm_scripts(&dir.join("merged-slurm"), &dir, 3);
     succeeded(&merge);
     let stdout = merge.stdout;
     assert!(
         stdout.starts_with("1000 runs merged from 3 shards"),
         "{stdout}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `slurm` again with fewer shards on the same output left the earlier array's `shard-3`
+/// beside the new `shard-1` and `shard-2`, and the merge job, which took every `shard-K`
+/// there, failed after every task ("shards of different sweeps"). It merges exactly the
+/// N shards of its own array now, and leaves the stale directory alone.
+#[cfg(unix)]
+#[test]
+fn slurm_again_with_fewer_shards_merges_its_own() {
+    let dir = scratch(20_004);
+    let config = CONFIG.replace("name = \"c\"", "name = \"c\"\nrepeats = 6");
+    std::fs::write(dir.join("c.toml"), config).unwrap();
+    std::fs::write(dir.join("small.map"), SMALL).unwrap();
+    let work = dir.join("sl-slurm");
+    for n in [3, 2] {
+        let args = [
+            "slurm",
+            "c.toml",
+            "--shards",
+            &n.to_string(),
+            "--output",
+            "sl",
+        ];
+        succeeded(&gridplan(&dir, &args));
+        let merge = run_slurm_scripts(&work, &dir, n);
+        succeeded(&merge);
+        assert!(
+            merge
+                .stdout
+                .starts_with(&format!("6 runs merged from {n} shards")),
+            "{}",
+            merge.stdout
+        );
+    }
+    assert!(
+        work.join("shard-3").is_dir(),
+        "the earlier array's shard stays"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

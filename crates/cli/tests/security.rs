@@ -392,6 +392,30 @@ fn lock_files_planted_as_links_are_refused_and_their_targets_untouched() {
     }
 }
 
+/// An output name of 243 to 255 bytes is a valid directory name, but `.<name>.lock` and
+/// `.<name>.stream` beside it are not ("File name too long"): gridplan's side files get a
+/// cut name with a hash, the same for every run on that output.
+#[test]
+fn an_output_name_of_255_bytes_takes_side_files_that_fit() {
+    let dir = setup("long-output", "");
+    for long in [250, 255] {
+        let output = format!("od/{}", "L".repeat(long));
+        for args in [&[][..], &["--resume"][..]] {
+            let mut all = vec!["experiment", "cfg.toml", "--quiet", "--output", &output];
+            all.extend(args);
+            succeeded(&gridplan(&dir, &all));
+            assert!(dir.join(&output).join("runs.json").is_file());
+        }
+        // Nothing is left beside it: the lock and stream area were found and removed.
+        let beside: Vec<String> = fs::read_dir(dir.join("od"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(beside, ["L".repeat(long)]);
+        fs::remove_dir_all(dir.join("od")).unwrap();
+    }
+}
+
 #[test]
 fn a_foreign_stream_directory_survives() {
     let dir = setup("stream", "");
@@ -623,6 +647,50 @@ fn names_never_collide_and_every_svg_is_xml() {
         }
     }
     assert!(summary.contains("e\\|f"));
+}
+
+/// Maps and labels that differ only in letter case get output files that differ in more:
+/// on a case-insensitive file system (macOS's, Windows' defaults) `figures/Case-1.svg`
+/// and `figures/case-1.svg` are one file, and one output would replace the other.
+#[test]
+fn names_differing_in_case_never_share_a_file() {
+    let dir = scratch("case");
+    for map in ["Case.map", "case.map"] {
+        fs::write(dir.join(map), SMALL).unwrap();
+    }
+    fs::write(
+        dir.join("cfg.toml"),
+        "name = \"c\"\noutput = \"res\"\nfigures = \"all\"\nompl = true\n\
+         [[maps]]\nfiles = [\"Case.map\", \"case.map\"]\nproblems = \"corners\"\n\
+         [planners.Case]\nplanner = \"astar\"\n[planners.case]\nplanner = \"bfs\"\n",
+    )
+    .unwrap();
+    succeeded(&gridplan(&dir, &["experiment", "cfg.toml", "--quiet"]));
+    let res = dir.join("res");
+    let figures = files_with(&res.join("figures"), ".svg");
+    let logs = files_with(&res.join("ompl"), ".log");
+    // A comparison per map and a figure per run; a log per map.
+    assert_eq!(
+        (figures.len(), logs.len()),
+        (2 + 2 * 2, 2),
+        "{figures:?} {logs:?}"
+    );
+    let mut lowered: Vec<String> = figures
+        .iter()
+        .chain(&logs)
+        .map(|p| p.to_string_lossy().to_lowercase())
+        .collect();
+    lowered.sort();
+    lowered.dedup();
+    assert_eq!(
+        lowered.len(),
+        figures.len() + logs.len(),
+        "{figures:?} {logs:?}"
+    );
+    // The first of each pair keeps its plain name.
+    assert!(res.join("figures/Case-1.svg").is_file(), "{figures:?}");
+    assert!(res.join("ompl/Case.log").is_file(), "{logs:?}");
+    let _ = fs::remove_dir_all(&dir);
 }
 
 /// Labels, paths and map names from a config someone else wrote reach the terminal as text:

@@ -8,9 +8,8 @@ use thiserror::Error;
 /// A file that could not be read or parsed, with the position of the problem.
 ///
 /// Displays as `file:line:column: message` (both 1-based). Errors about a whole line
-/// (a scenario whose size disagrees with the grid) have `column == 0` and display as
-/// `file:line: message`; errors about the whole file (I/O, extension) have `line == 0`
-/// and display as `file: message`.
+/// have `column == 0` and display as `file:line: message`; errors about the whole file
+/// (I/O, extension) have `line == 0` and display as `file: message`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct MapError {
     /// The file name given by the caller (`origin`) or the path that was read.

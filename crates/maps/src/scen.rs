@@ -33,6 +33,10 @@ pub struct Scenario {
     pub optimal_length: f64,
     /// 1-based line of the `.scen` file this scenario came from.
     pub line: usize,
+    /// 1-based column of the width on that line, where an error about the map's size
+    /// points ([`Scenario::check_size`]); 0 when unknown (a scenario not read from a file).
+    #[serde(default)]
+    pub size_column: usize,
 }
 
 impl Scenario {
@@ -53,8 +57,9 @@ impl Scenario {
 
     /// Checks that the scenario's declared width and height are the grid's.
     ///
-    /// `origin` names the `.scen` file; the error names this scenario's line (column 0:
-    /// the whole line). Start and goal are checked later, by [`planner_api::Problem::new`].
+    /// `origin` names the `.scen` file; the error names this scenario's line and the
+    /// column of its width ([`Scenario::size_column`]). Start and goal are checked later,
+    /// by [`planner_api::Problem::new`].
     pub fn check_size(&self, grid: &Grid, origin: &str) -> Result<(), MapError> {
         if (self.width, self.height) == (grid.width(), grid.height()) {
             return Ok(());
@@ -62,7 +67,7 @@ impl Scenario {
         Err(MapError::new(
             origin,
             self.line,
-            0,
+            self.size_column,
             MapErrorKind::SizeMismatch {
                 scen_width: self.width,
                 scen_height: self.height,
@@ -191,6 +196,7 @@ fn parse_line(o: Origin<'_>, number: usize, line: &str) -> Result<Scenario, MapE
             unexpected("a map name", "an empty field"),
         ));
     }
+    let (size_column, _) = trimmed(2);
     let width_ = int(2, "width")?;
     let height = int(3, "height")?;
     let start = Cell::new(int(4, "start x")?, int(5, "start y")?);
@@ -206,6 +212,7 @@ fn parse_line(o: Origin<'_>, number: usize, line: &str) -> Result<Scenario, MapE
         goal,
         optimal_length,
         line: number,
+        size_column,
     })
 }
 

@@ -596,11 +596,12 @@ fn scenario_size_mismatch_names_the_line() {
         goal: Cell::new(1, 1),
         optimal_length: 1.5,
         line: 7,
+        size_column: 12,
     };
     let err = scenario.check_size(&grid, "a.map.scen").unwrap_err();
     assert_eq!(
         err.to_string(),
-        "a.map.scen:7: the scenario is for a 3x2 map, but the grid is 2x2"
+        "a.map.scen:7:12: the scenario is for a 3x2 map, but the grid is 2x2"
     );
     assert!(scenario
         .check_size(&Grid::new(3, 2).unwrap(), "a.map.scen")

@@ -147,6 +147,13 @@ fn scenarios_accept() {
     assert_eq!((a.start, a.goal), (Cell::new(0, 0), Cell::new(2, 1)));
     assert_eq!(a.optimal_length, 2.41421);
     assert_eq!((b.bucket, b.map_name(), b.line), (7, "x.map", 4));
+    // The width's column, where a size mismatch points: after "0\tmaps/dao/x.map\t".
+    assert_eq!((a.size_column, b.size_column), (18, 9));
+    let small = Grid::new(2, 2).unwrap();
+    assert_eq!(
+        b.check_size(&small, "x.map.scen").unwrap_err().to_string(),
+        "x.map.scen:4:9: the scenario is for a 3x2 map, but the grid is 2x2"
+    );
     assert_eq!(b.optimal_length, 2.41421356);
     assert_eq!(
         b.problem_spec(),

@@ -18,8 +18,11 @@
 //! label, each through [`crate::file_part`] (kept when made of letters, digits, `-`, `_`
 //! and `.`; else those characters with `_` for the rest and a short hash of the original,
 //! so `p q.map` and `p_q.map` stay apart), and a name another figure of the sweep took
-//! already gets a hash of its map, problem and label ([`crate::FileNames`]): two figures
-//! never share a file.
+//! already, letter case aside, gets a hash of its map, problem and label
+//! ([`crate::FileNames`]): two figures never share a file, on a case-insensitive file
+//! system too.
+
+use std::sync::atomic::AtomicBool;
 
 use planner_api::{Cell, Grid};
 use planner_figures::{draw_comparison, draw_path, Layer, Style};
@@ -29,6 +32,8 @@ use planner_runner::expanded::{pick, ExpandedCells};
 use planner_runner::index::ResultsIndex;
 use planner_runner::output::OutputFile;
 use planner_runner::record::RunRecord;
+use planner_runner::sweep::check_stop;
+use planner_runner::RunnerError;
 
 use crate::{file_part, FileNames};
 
@@ -69,9 +74,21 @@ pub fn render(
     records: &[RunRecord],
     expanded: &ExpandedCells,
 ) -> Vec<OutputFile> {
+    // Without a stop flag nothing ends it early.
+    render_until(experiment, records, expanded, None).unwrap_or_default()
+}
+
+/// [`render`], ended before the next drawn problem with [`RunnerError::Interrupted`] once
+/// `stop` is raised (a sweep's Ctrl-C).
+pub fn render_until(
+    experiment: &Experiment,
+    records: &[RunRecord],
+    expanded: &ExpandedCells,
+    stop: Option<&AtomicBool>,
+) -> Result<Vec<OutputFile>, RunnerError> {
     let mut files = Vec::new();
     if experiment.figures == FigureMode::None {
-        return files;
+        return Ok(files);
     }
     let index = ResultsIndex::new(records);
     let mut names = FileNames::default();
@@ -81,12 +98,13 @@ pub fn render(
             if problem.invalid.is_some() {
                 continue;
             }
+            check_stop(stop)?;
             files.extend(problem_figures(
                 experiment, &index, expanded, map, problem, &mut names,
             ));
         }
     }
-    files
+    Ok(files)
 }
 
 /// The figures of one drawn problem: the comparison, the expanded cells' panels (with

@@ -34,6 +34,7 @@ pub mod repeats;
 pub mod streamed;
 
 use std::fmt::Write as _;
+use std::sync::atomic::AtomicBool;
 
 use planner_runner::config::{ConfigError, Experiment};
 use planner_runner::index::ResultsIndex;
@@ -42,7 +43,7 @@ use planner_runner::passes::RecordPasses;
 use planner_runner::provenance::Provenance;
 pub use planner_runner::record::Reproduction;
 use planner_runner::record::RunRecord;
-use planner_runner::sweep::{Render, Results};
+use planner_runner::sweep::{check_stop, Render, Results};
 use planner_runner::RunnerError;
 
 /// Largest number of map columns in one seed-000 style table, and of problems per map in
@@ -257,11 +258,12 @@ impl Renderer {
         passes: &dyn RecordPasses,
         provenance: Option<&Provenance>,
     ) -> Result<(String, Reproduction), RunnerError> {
-        self.summary_charted(experiment, records, passes, provenance, None)
+        self.summary_charted(experiment, records, passes, provenance, None, None)
     }
 
     /// [`Renderer::summary_passes`] with the sweep's charts already computed (`charts`;
-    /// `None`: the charts section computes them).
+    /// `None`: the charts section computes them); a raised `stop` ends it before the next
+    /// section with [`RunnerError::Interrupted`].
     fn summary_charted(
         &self,
         experiment: &Experiment,
@@ -269,6 +271,7 @@ impl Renderer {
         passes: &dyn RecordPasses,
         provenance: Option<&Provenance>,
         charts: Option<&[charts::Chart]>,
+        stop: Option<&AtomicBool>,
     ) -> Result<(String, Reproduction), RunnerError> {
         let held = records.len() as u64 == passes.len();
         let index = ResultsIndex::new(records);
@@ -292,6 +295,7 @@ impl Renderer {
         }
         figure_notes(experiment, &mut out);
         for section in &self.sections {
+            check_stop(stop)?;
             let options = match &experiment.sections {
                 Some(asked) => match asked.get(section.name()) {
                     Some(request) => &request.options,
@@ -336,7 +340,9 @@ impl Renderer {
     /// streamed sections, the charts (from passes) and the figures of its drawn problems
     /// (their records collected in one pass); its OMPL logs and `paths = "all"`'s
     /// paths.jsonl, which hold every record, are left out and summary.md says so, and
-    /// `paths = "figures"`'s paths.jsonl is the runner's, written from a pass.
+    /// `paths = "figures"`'s paths.jsonl is the runner's, written from a pass. A raised
+    /// [`Results::stop`] ends it between its sections, figures and files with
+    /// [`RunnerError::Interrupted`].
     pub fn files(
         &self,
         results: &Results<'_>,
@@ -344,6 +350,7 @@ impl Renderer {
         let experiment = results.experiment;
         let records = results.records;
         let passes = results.passes;
+        let stop = results.stop;
         let held = records.len() as u64 == passes.len();
         // The charts once, for summary.md's links and for their files.
         let charts = charts::charts(experiment, passes)?;
@@ -353,7 +360,9 @@ impl Renderer {
             passes,
             Some(results.provenance),
             Some(&charts),
+            stop,
         )?;
+        check_stop(stop)?;
         let drawn;
         let figure_records = if held {
             records
@@ -378,12 +387,14 @@ impl Renderer {
             path: "summary.md".into(),
             contents: summary.into_bytes(),
         }];
-        all.extend(figures::render(
+        all.extend(figures::render_until(
             experiment,
             figure_records,
             results.expanded,
-        ));
+            stop,
+        )?);
         all.extend(charts::files(charts));
+        check_stop(stop)?;
         if held && experiment.ompl {
             all.extend(ompl::logs(
                 experiment,
@@ -405,6 +416,7 @@ impl Renderer {
                 contents: paths,
             });
         }
+        check_stop(stop)?;
         let summary = String::from_utf8_lossy(&all[0].contents).into_owned();
         let page = html::report_html(&experiment.name, &summary, &all);
         all.push(OutputFile {
@@ -636,16 +648,25 @@ pub(crate) fn short_hash(text: &str) -> String {
 /// The output file names of one kind handed out so far, so that two outputs never share
 /// one: [`FileNames::claim`] returns the name asked for, or, when another output took it
 /// already, that name with the hash of what this output is (its `key`, e.g. map, problem
-/// and label) before the extension, and a counter should that be taken too.
+/// and label) before the extension, and a counter should that be taken too. Names are
+/// compared without letter case (`Case-1.svg` takes `case-1.svg` too): on a
+/// case-insensitive file system (macOS's and Windows' defaults) they are one file.
 #[derive(Debug, Default)]
 pub struct FileNames {
+    /// The names handed out, lowercased.
     used: std::collections::HashSet<String>,
 }
 
 impl FileNames {
     /// A name for the output `key`, `wanted` if free (`wanted` ends in `.ext`).
+    ///
+    /// ```
+    /// let mut names = planner_report::FileNames::default();
+    /// assert_eq!(names.claim("ompl/Case.log".into(), "Case.map"), "ompl/Case.log");
+    /// assert_ne!(names.claim("ompl/case.log".into(), "case.map"), "ompl/case.log");
+    /// ```
     pub fn claim(&mut self, wanted: String, key: &str) -> String {
-        if self.used.insert(wanted.clone()) {
+        if self.used.insert(wanted.to_lowercase()) {
             return wanted;
         }
         let (stem, ext) = wanted
@@ -655,7 +676,7 @@ impl FileNames {
         let hashed = format!("{stem}-{}", short_hash(key));
         let mut candidate = format!("{hashed}{dot}{ext}");
         let mut n = 2;
-        while !self.used.insert(candidate.clone()) {
+        while !self.used.insert(candidate.to_lowercase()) {
             candidate = format!("{hashed}-{n}{dot}{ext}");
             n += 1;
         }

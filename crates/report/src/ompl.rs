@@ -14,7 +14,7 @@
 //! which also joins whitespace with `_` and, when it changed anything, appends a short hash
 //! of the original so `x y` and `x_y` stay two planners. The log of a map is
 //! `ompl/<map>.log` with `<map>` derived by [`crate::file_part`], and a name
-//! another map's log took already gets a hash of the map's name
+//! another map's log took already (letter case aside) gets a hash of the map's name
 //! ([`crate::FileNames`]): every map's runs reach a log of their own.
 
 use std::fmt::Write as _;

@@ -71,3 +71,54 @@ fn large_sweeps_draw_a_sample_of_figures_and_say_so() {
         .unwrap();
     assert!(!summary.contains("Figures of"), "{summary}");
 }
+
+/// A sweep's stop flag raised once its runs are done (Ctrl-C while the report is written)
+/// ends the report with `RunnerError::Interrupted` at its next section, figure or file,
+/// instead of rendering everything first.
+#[test]
+fn a_raised_stop_flag_ends_the_report() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    use planner_runner::provenance::{Machine, Provenance};
+    use planner_runner::sweep::Results;
+    use planner_runner::RunnerError;
+
+    let experiment = config::load(&root().join("configs/paper.toml"))
+        .unwrap()
+        .trimmed_for_test();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    let machine = Machine {
+        commit: None,
+        host: None,
+    };
+    let provenance = Provenance::collect(&experiment.source, 1, &machine);
+    let expanded = Default::default();
+    let stop = AtomicBool::new(false);
+    let results = Results {
+        experiment: &experiment,
+        records: &records,
+        passes: &records.as_slice(),
+        expanded: &expanded,
+        provenance: &provenance,
+        seconds: 0.0,
+        stop: Some(&stop),
+    };
+    let names = ["optimum", "repeats", "aggregate", "paired", "charts"];
+    let renderer = Renderer::new(
+        names
+            .iter()
+            .filter_map(|n| planner_report::generic_section(n))
+            .collect(),
+    );
+    let (files, _) = renderer.files(&results).unwrap();
+    assert!(files.iter().any(|f| f.path.starts_with("figures")));
+    stop.store(true, Ordering::Relaxed);
+    assert!(matches!(
+        renderer.files(&results),
+        Err(RunnerError::Interrupted)
+    ));
+    assert!(matches!(
+        planner_report::figures::render_until(&experiment, &records, &expanded, Some(&stop)),
+        Err(RunnerError::Interrupted)
+    ));
+}

@@ -28,7 +28,9 @@ use ::parquet::file::writer::SerializedFileWriter;
 use ::parquet::schema::types::Type;
 
 use crate::config::Experiment;
-use crate::output::{fixed_cell, Cell, StreamedFile, FIXED_COLUMNS, SETUP_MS, TIME_MS};
+use crate::output::{
+    fixed_cell, sometimes_cell, Cell, StreamedFile, TableColumns, FIXED_COLUMNS, SETUP_MS, TIME_MS,
+};
 use crate::provenance::Provenance;
 use crate::record::RunRecord;
 use crate::shard::Shard;
@@ -153,8 +155,22 @@ fn nanoseconds(ms: f64) -> f64 {
     (ms * 1e6).round() / 1e6
 }
 
-/// The file's schema: the [`FIXED_COLUMNS`], then one optional UINT64 column per counter.
-fn schema(counters: &[String]) -> Result<Type, RunnerError> {
+/// The kind of each column of a file with `columns`, and whether it may be empty: the
+/// [`FIXED_COLUMNS`]', then the optional `error` (text) and `cost` (a float) when the
+/// table has them, then one optional unsigned column per counter.
+fn kinds(columns: &TableColumns) -> Vec<(Kind, bool)> {
+    FIXED_KINDS
+        .into_iter()
+        .chain(columns.sometimes().map(|i| match i {
+            0 => (Kind::Text, true),
+            _ => (Kind::Float, true),
+        }))
+        .chain(columns.counters().iter().map(|_| (Kind::Unsigned, true)))
+        .collect()
+}
+
+/// The file's schema: runs.csv's columns ([`TableColumns::names`]) of the [`kinds`].
+fn schema(columns: &TableColumns) -> Result<Type, RunnerError> {
     let column = |name: &str, kind: Kind, optional: bool| {
         let (physical, logical) = match kind {
             Kind::Text => (PhysicalType::BYTE_ARRAY, Some(LogicalType::String)),
@@ -172,12 +188,9 @@ fn schema(counters: &[String]) -> Result<Type, RunnerError> {
             .build()
             .map(Arc::new)
     };
-    let mut fields = Vec::with_capacity(FIXED_COLUMNS.len() + counters.len());
-    for (name, (kind, optional)) in FIXED_COLUMNS.iter().zip(FIXED_KINDS) {
+    let mut fields = Vec::new();
+    for (name, (kind, optional)) in columns.names().into_iter().zip(kinds(columns)) {
         fields.push(column(name, kind, optional)?);
-    }
-    for name in counters {
-        fields.push(column(name, Kind::Unsigned, true)?);
     }
     Ok(Type::group_type_builder("runs")
         .with_fields(fields)
@@ -231,15 +244,6 @@ fn metadata(header: &Header<'_>) -> Result<Vec<KeyValue>, RunnerError> {
     Ok(kv)
 }
 
-/// Adds the counter names of `record` not yet in `names`, in the record's order.
-fn add_counter_names(names: &mut Vec<String>, record: &RunRecord) {
-    for (name, _) in record.counters.iter() {
-        if !names.iter().any(|n| n == name) {
-            names.push(name.to_string());
-        }
-    }
-}
-
 /// One column of a row group being gathered: whether each row has a value, and the
 /// values present as 64 bits (a text's id in [`Group::texts`], an integer, a float's bits,
 /// a boolean as 0 or 1).
@@ -264,9 +268,10 @@ struct Group {
 }
 
 impl Group {
-    /// Adds `r`'s row, its counters in the order of `counters` (a counter outside them is
-    /// an error, never dropped silently).
-    fn push(&mut self, r: &RunRecord, counters: &[String]) -> Result<(), RunnerError> {
+    /// Adds `r`'s row in the file's `columns` (a counter outside them is an error, never
+    /// dropped silently).
+    fn push(&mut self, r: &RunRecord, columns: &TableColumns) -> Result<(), RunnerError> {
+        let counters = columns.counters();
         if let Some((name, _)) = r
             .counters
             .iter()
@@ -279,21 +284,22 @@ impl Group {
                 name: name.to_string(),
             }));
         }
-        let n_columns = FIXED_COLUMNS.len() + counters.len();
+        let fixed = (0..FIXED_COLUMNS.len()).map(|index| match fixed_cell(r, index) {
+            // Times are rounded to the nanosecond, as in runs.json.
+            Cell::Float(v) if matches!(index, TIME_MS | SETUP_MS) => {
+                Cell::Float(v.map(nanoseconds))
+            }
+            cell => cell,
+        });
+        let cells = fixed
+            .chain(columns.sometimes().map(|i| sometimes_cell(r, i)))
+            .chain(counters.iter().map(|c| Cell::Unsigned(r.counters.get(c))));
+        let n_columns = FIXED_COLUMNS.len() + columns.sometimes().count() + counters.len();
         self.columns.resize_with(n_columns, GroupColumn::default);
-        for (index, column) in self.columns.iter_mut().enumerate() {
-            let cell = match index.checked_sub(FIXED_COLUMNS.len()) {
-                // Times are rounded to the nanosecond, as in runs.json.
-                None => match fixed_cell(r, index) {
-                    Cell::Float(v) if matches!(index, TIME_MS | SETUP_MS) => {
-                        Cell::Float(v.map(nanoseconds))
-                    }
-                    cell => cell,
-                },
-                Some(c) => Cell::Unsigned(r.counters.get(&counters[c])),
-            };
+        for (column, cell) in self.columns.iter_mut().zip(cells) {
             let value = match cell {
-                Cell::Text(text) => Some(match self.text_ids.get(text) {
+                Cell::Text(None) => None,
+                Cell::Text(Some(text)) => Some(match self.text_ids.get(text) {
                     Some(&id) => id,
                     None => {
                         let id = self.texts.len() as u64;
@@ -327,7 +333,9 @@ impl Group {
 /// A runs.parquet being written, one row group per [`ROW_GROUP_ROWS`] rows pushed.
 pub struct RunsWriter<W: Write + Send> {
     writer: SerializedFileWriter<W>,
-    counters: Vec<String>,
+    columns: TableColumns,
+    /// Each column's kind and whether it may be empty ([`kinds`]).
+    kinds: Vec<(Kind, bool)>,
     group: Group,
     // Reused per column: definition levels and values.
     levels: Vec<i16>,
@@ -338,9 +346,9 @@ pub struct RunsWriter<W: Write + Send> {
 }
 
 impl<W: Write + Send> RunsWriter<W> {
-    /// Starts a file on `out` whose counter columns are `counters`, in that order (a
-    /// record's counter outside them is an error, never dropped silently).
-    pub fn new(out: W, counters: Vec<String>, header: &Header<'_>) -> Result<Self, RunnerError> {
+    /// Starts a file on `out` with `columns` beyond the fixed ones (a record's counter
+    /// outside them is an error, never dropped silently).
+    pub fn new(out: W, columns: TableColumns, header: &Header<'_>) -> Result<Self, RunnerError> {
         let properties = WriterProperties::builder()
             .set_compression(Compression::SNAPPY)
             .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
@@ -354,10 +362,11 @@ impl<W: Write + Send> RunsWriter<W> {
             .set_created_by(format!("gridplan {}", env!("CARGO_PKG_VERSION")))
             .build();
         let writer =
-            SerializedFileWriter::new(out, Arc::new(schema(&counters)?), Arc::new(properties))?;
+            SerializedFileWriter::new(out, Arc::new(schema(&columns)?), Arc::new(properties))?;
         Ok(RunsWriter {
             writer,
-            counters,
+            kinds: kinds(&columns),
+            columns,
             group: Group::default(),
             levels: Vec::new(),
             texts: Vec::new(),
@@ -369,7 +378,7 @@ impl<W: Write + Send> RunsWriter<W> {
 
     /// Adds `record`'s row; a row group is written every [`ROW_GROUP_ROWS`] rows.
     pub fn push(&mut self, record: &RunRecord) -> Result<(), RunnerError> {
-        self.group.push(record, &self.counters)?;
+        self.group.push(record, &self.columns)?;
         if self.group.rows == ROW_GROUP_ROWS {
             self.write_group()?;
         }
@@ -389,7 +398,10 @@ impl<W: Write + Send> RunsWriter<W> {
             self.unsigned.clear();
             self.floats.clear();
             self.booleans.clear();
-            let kind = FIXED_KINDS.get(index).map_or(Kind::Unsigned, |k| k.0);
+            let (kind, optional) = *self
+                .kinds
+                .get(index)
+                .ok_or_else(|| RunnerError::Columns(ColumnsError::NotGathered("column", index)))?;
             let gathered =
                 self.group.columns.get(index).ok_or_else(|| {
                     RunnerError::Columns(ColumnsError::NotGathered("column", index))
@@ -411,7 +423,6 @@ impl<W: Write + Send> RunsWriter<W> {
                 Kind::Float => self.floats.extend(values.map(f64::from_bits)),
                 Kind::Boolean => self.booleans.extend(values.map(|v| v != 0)),
             }
-            let optional = index >= FIXED_COLUMNS.len() || FIXED_KINDS[index].1;
             // Values and levels go to the column writer in batches of WRITE_BATCH_ROWS rows
             // (a batch's values are those of its present rows).
             let mut value_start = 0;
@@ -469,18 +480,17 @@ impl<W: Write + Send> RunsWriter<W> {
 }
 
 /// Writes `records` (a whole sweep's, in run order) as runs.parquet to `out`, in row
-/// groups of [`ROW_GROUP_ROWS`]; the counter columns are runs.csv's (every name in order
-/// of first appearance).
+/// groups of [`ROW_GROUP_ROWS`]; the columns are runs.csv's ([`TableColumns`]).
 pub fn write_runs_parquet(
     out: &mut (dyn Write + Send),
     header: &Header<'_>,
     records: &[RunRecord],
 ) -> Result<(), RunnerError> {
-    let mut counters = Vec::new();
+    let mut columns = TableColumns::default();
     for record in records {
-        add_counter_names(&mut counters, record);
+        columns.add(record);
     }
-    let mut writer = RunsWriter::new(out, counters, header)?;
+    let mut writer = RunsWriter::new(out, columns, header)?;
     for record in records {
         writer.push(record)?;
     }
@@ -489,19 +499,19 @@ pub fn write_runs_parquet(
 
 /// Writes the records of a record stream (a shard's) as a Parquet file to `out`, holding
 /// one row group of [`ROW_GROUP_ROWS`] rows as plain integers and no records: `open`
-/// opens the stream, which is read twice (first for the counter names, then for the rows).
+/// opens the stream, which is read twice (first for the columns, then for the rows).
 pub fn write_stream_parquet<R: BufRead>(
     out: &mut (dyn Write + Send),
     header: &Header<'_>,
     open: impl Fn() -> Result<R, RunnerError>,
     what: &str,
 ) -> Result<(), RunnerError> {
-    let mut counters = Vec::new();
+    let mut columns = TableColumns::default();
     let (_, mut reader) = StreamReader::new(open()?, what)?;
     while let Some((_, record)) = reader.next_run()? {
-        add_counter_names(&mut counters, &record);
+        columns.add(&record);
     }
-    let mut writer = RunsWriter::new(out, counters, header)?;
+    let mut writer = RunsWriter::new(out, columns, header)?;
     let (_, mut reader) = StreamReader::new(open()?, what)?;
     while let Some((_, record)) = reader.next_run()? {
         writer.push(&record)?;

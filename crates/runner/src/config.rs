@@ -164,18 +164,19 @@ fn one() -> Spanned<u32> {
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMaps {
     /// Map files or globs, relative to the config.
-    #[schemars(with = "Vec<String>")]
+    #[schemars(with = "Vec<String>", length(min = 1))]
     files: Spanned<Vec<String>>,
     /// Where the problems come from when no `pairs` or `scen` is given.
     #[schemars(with = "Option<ProblemSource>")]
     problems: Option<Spanned<ProblemSource>>,
     /// The start cell of coverage problems (`problems = "start"`).
     #[schemars(with = "Option<[u32; 2]>")]
-    start: Option<Spanned<[u32; 2]>>,
+    start: Option<Spanned<Pair<u32>>>,
     /// Start-goal pairs.
-    pairs: Option<Vec<RawPair>>,
+    #[schemars(with = "Option<Vec<RawPair>>", length(min = 1))]
+    pairs: Option<Spanned<Vec<RawPair>>>,
     /// Start-goal pairs as points of a ROS map's map frame, in metres.
-    #[schemars(with = "Option<Vec<RawPoints>>")]
+    #[schemars(with = "Option<Vec<RawPoints>>", length(min = 1))]
     points: Option<Spanned<Vec<Spanned<RawPoints>>>>,
     /// A Moving AI scenario file, relative to the config.
     #[schemars(with = "Option<String>")]
@@ -183,7 +184,8 @@ pub(crate) struct RawMaps {
     /// The scenario buckets to keep.
     buckets: Option<Vec<u32>>,
     /// The scenario lines to keep, first and last (1-based).
-    lines: Option<[usize; 2]>,
+    #[schemars(with = "Option<[usize; 2]>")]
+    lines: Option<Pair<usize>>,
     /// Keep every n-th scenario.
     #[schemars(with = "Option<usize>", range(min = 1))]
     every: Option<Spanned<usize>>,
@@ -232,9 +234,52 @@ pub(crate) struct RawCosts {
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawPair {
     /// The start cell.
-    start: [u32; 2],
+    #[schemars(with = "[u32; 2]")]
+    start: Pair<u32>,
     /// The goal cell.
-    goal: [u32; 2],
+    #[schemars(with = "[u32; 2]")]
+    goal: Pair<u32>,
+}
+
+/// An `[x, y]` array of exactly two items. serde's `[T; 2]` reads the first two items
+/// of a TOML array and ignores the rest, so a longer array is refused here, with the
+/// same words as a shorter one ("invalid length 3, expected an array of length 2").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Pair<T>(pub(crate) [T; 2]);
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for Pair<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for Visitor<T> {
+            type Value = Pair<T>;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("an array of length 2")
+            }
+
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Pair<T>, A::Error> {
+                use serde::de::Error as _;
+                let x = seq
+                    .next_element()?
+                    .ok_or_else(|| A::Error::invalid_length(0, &self))?;
+                let y = seq
+                    .next_element()?
+                    .ok_or_else(|| A::Error::invalid_length(1, &self))?;
+                let mut n = 2;
+                while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                    n += 1;
+                }
+                if n > 2 {
+                    return Err(A::Error::invalid_length(n, &self));
+                }
+                Ok(Pair([x, y]))
+            }
+        }
+        deserializer.deserialize_tuple(2, Visitor(std::marker::PhantomData))
+    }
 }
 
 /// Where the problems of a map set come from when no `pairs` or `scen` is given.
@@ -1514,9 +1559,11 @@ fn map_entries(
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawPoints {
     /// The start, `[x, y]` in metres.
-    start: [f64; 2],
+    #[schemars(with = "[f64; 2]")]
+    start: Pair<f64>,
     /// The goal, `[x, y]` in metres.
-    goal: [f64; 2],
+    #[schemars(with = "[f64; 2]")]
+    goal: Pair<f64>,
 }
 
 /// The cells of the set's `points` on map file `path`, whose map frame is `frame`: each
@@ -1560,13 +1607,14 @@ fn frame_pairs(
             })
         };
         let RawPoints { start, goal } = *pair.get_ref();
-        pairs.push((cell(start, "start")?, cell(goal, "goal")?, None));
+        pairs.push((cell(start.0, "start")?, cell(goal.0, "goal")?, None));
     }
     Ok(pairs)
 }
 
 /// Checks that the set names its problems exactly one way (`problems`, `pairs`, `scen`),
-/// `start` exactly with `problems = "start"`, and scenario selections only with `scen`.
+/// `pairs` and `points` not empty, `start` exactly with `problems = "start"`, and
+/// scenario selections only with `scen`.
 fn check_map_keys(set: &MapSet<'_>) -> Result<(), ConfigError> {
     let raw = set.spanned.get_ref();
     let sources = [
@@ -1588,6 +1636,19 @@ fn check_map_keys(set: &MapSet<'_>) -> Result<(), ConfigError> {
                 "`problems`, `pairs`, `points` and `scen` exclude each other".into(),
             ))
         }
+    }
+    // An empty list would run nothing without a word, as an empty `files` would.
+    if let Some(pairs) = raw.pairs.as_ref().filter(|p| p.get_ref().is_empty()) {
+        return Err(set.at(
+            pairs.span(),
+            "key `pairs`: at least one start-goal pair is needed".into(),
+        ));
+    }
+    if let Some(points) = raw.points.as_ref().filter(|p| p.get_ref().is_empty()) {
+        return Err(set.at(
+            points.span(),
+            "key `points`: at least one start-goal pair is needed".into(),
+        ));
     }
     let start_source = raw
         .problems
@@ -1623,10 +1684,17 @@ fn check_map_keys(set: &MapSet<'_>) -> Result<(), ConfigError> {
 }
 
 /// The map files the set's `files` patterns match (relative to `base`), each pattern's
-/// matches sorted ([`crate::pattern`]); a pattern that matches nothing is an error.
+/// matches sorted ([`crate::pattern`]); no pattern, or one that matches nothing, is an
+/// error.
 fn map_files(set: &MapSet<'_>, base: &Path) -> Result<Vec<PathBuf>, ConfigError> {
     use crate::pattern::PatternError;
     let raw = set.spanned.get_ref();
+    if raw.files.get_ref().is_empty() {
+        return Err(set.at(
+            raw.files.span(),
+            "key `files`: at least one map is needed".into(),
+        ));
+    }
     let mut files = Vec::new();
     for pattern in raw.files.get_ref() {
         let full = base.join(pattern);
@@ -1759,19 +1827,16 @@ fn file_pairs(
             }
             ProblemSource::Start => {
                 if let Some(start) = &raw.start {
-                    let [x, y] = *start.get_ref();
+                    let Pair([x, y]) = *start.get_ref();
                     pairs.push((Cell::new(x, y), Cell::new(x, y), None));
                 }
             }
         }
     }
     if let Some(list) = &raw.pairs {
-        pairs.extend(list.iter().map(|p| {
-            (
-                Cell::new(p.start[0], p.start[1]),
-                Cell::new(p.goal[0], p.goal[1]),
-                None,
-            )
+        pairs.extend(list.get_ref().iter().map(|p| {
+            let (Pair([sx, sy]), Pair([gx, gy])) = (p.start, p.goal);
+            (Cell::new(sx, sy), Cell::new(gx, gy), None)
         }));
     }
     if let Some(scenarios) = scenarios {
@@ -1785,9 +1850,10 @@ fn file_pairs(
                 return Err(set.at(
                     span,
                     format!(
-                        "key `scen`: {}:{}: the scenario is for a {}x{} map, but {} is {}x{}",
+                        "key `scen`: {}:{}:{}: the scenario is for a {}x{} map, but {} is {}x{}",
                         scen_path,
                         s.line,
+                        s.size_column,
                         s.width,
                         s.height,
                         path.display(),
@@ -1820,7 +1886,7 @@ fn select_scenarios(
     all: Vec<planner_maps::Scenario>,
     raw: &RawMaps,
 ) -> Result<Vec<planner_maps::Scenario>, String> {
-    if let Some([from, to]) = raw.lines {
+    if let Some(Pair([from, to])) = raw.lines {
         if from > to {
             return Err(format!(
                 "key `lines`: [{from}, {to}] starts after it ends (the first line, then the last)"
@@ -1832,7 +1898,7 @@ fn select_scenarios(
         .filter(|s| raw.buckets.as_ref().is_none_or(|b| b.contains(&s.bucket)))
         .filter(|s| {
             raw.lines
-                .is_none_or(|[from, to]| (from..=to).contains(&s.line))
+                .is_none_or(|Pair([from, to])| (from..=to).contains(&s.line))
         })
         .collect();
     if let Some(every) = &raw.every {

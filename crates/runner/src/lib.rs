@@ -185,6 +185,11 @@ pub enum RunnerError {
     /// cannot read back.
     #[error(transparent)]
     Results(Box<readback::ResultsError>),
+    /// The sweep's stop flag was raised (Ctrl-C, SIGTERM) while its results were being
+    /// rendered or written ([`sweep::check_stop`]): nothing was written, and
+    /// [`sweep::experiment`] reports the sweep as interrupted.
+    #[error("interrupted while writing the results; nothing was written")]
+    Interrupted,
     /// An error met while doing `context` (`merge`, `report`), said with that prefix.
     #[error("{context}: {source}")]
     During {
@@ -272,6 +277,7 @@ impl RunnerError {
             | RunnerError::Json(_)
             | RunnerError::Io { .. }
             | RunnerError::Parquet(_)
+            | RunnerError::Interrupted
             | RunnerError::Results(_) => ErrorClass::Other,
             RunnerError::During { source, .. } => source.class(),
         }

@@ -60,6 +60,11 @@
 //!   `dir`, restored). One that is not gridplan's is [`OutdirError::ForeignLeftover`] and
 //!   stays. If removing the old results after a successful swap fails, the run still
 //!   succeeds (the new results are in place) and warns; the next run removes them.
+//! - **Side files fit a file name.** The locks, the stream area and the temporary siblings
+//!   are named `.<name>.<suffix>`; where that would pass 255 bytes (a directory name of
+//!   about 240 bytes or more), `<name>` is cut to fit and followed by `-` and 16 hex digits
+//!   of its SHA-256, so an output with a long name keeps side files of its own, the same
+//!   ones for every run on it (`--resume` included).
 //!
 //! [`check`] applies the same rules without writing anything (a lock file planted as a link
 //! included), so a sweep can refuse a bad output directory before it spends time computing.
@@ -480,13 +485,30 @@ struct Location {
     name: OsString,
 }
 
+/// The longest file name gridplan gives its side files, in bytes: Linux's `NAME_MAX`, the
+/// limit of most file systems.
+const MAX_FILE_NAME: usize = 255;
+
 impl Location {
-    /// `.<name>.<suffix>` beside the directory.
+    /// `.<name>.<suffix>` beside the directory. When that is longer than
+    /// [`MAX_FILE_NAME`] bytes (a directory name of about 240 bytes or more), `<name>` is
+    /// cut to fit and followed by `-` and 16 hex digits of its SHA-256, so the file is
+    /// still the output's own and the same one for every run on it.
     fn sibling(&self, suffix: &str) -> PathBuf {
         let mut name = OsString::from(".");
         name.push(&self.name);
         name.push(".");
         name.push(suffix);
+        if name.len() > MAX_FILE_NAME {
+            let hash = crate::provenance::sha256_hex(self.name.as_encoded_bytes());
+            let hash = hash.get(..16).unwrap_or(&hash);
+            let mut kept = self.name.to_string_lossy().into_owned();
+            let room = MAX_FILE_NAME - ".-.".len() - hash.len() - suffix.len();
+            while kept.len() > room {
+                kept.pop();
+            }
+            name = OsString::from(format!(".{kept}-{hash}.{suffix}"));
+        }
         self.parent.join(name)
     }
 }
@@ -1100,6 +1122,41 @@ mod tests {
             assert_eq!(names(&location.parent), ["r"], "exchange: {exchange}");
             fs::remove_dir_all(&location.parent).unwrap();
         }
+    }
+
+    #[test]
+    fn side_files_of_a_long_name_fit_and_stay_apart() {
+        let at = |name: &str| Location {
+            output: PathBuf::from(name),
+            dir: Path::new("/p").join(name),
+            parent: PathBuf::from("/p"),
+            name: OsString::from(name),
+        };
+        // A 250-byte name made `.<name>.lock` 256 bytes: "File name too long".
+        let long = at(&"L".repeat(250));
+        let other = at(&format!("{}M", "L".repeat(249)));
+        let mut seen = Vec::new();
+        for suffix in ["lock", "stream", "stream.lock", "partial", "previous"] {
+            let side = long.sibling(suffix);
+            let name = side.file_name().unwrap().to_string_lossy().into_owned();
+            assert!(name.len() <= MAX_FILE_NAME, "{name}");
+            assert!(name.starts_with(".LLLL") && name.ends_with(&format!(".{suffix}")));
+            assert_eq!(side, long.sibling(suffix), "the same for every run");
+            assert_ne!(side, other.sibling(suffix), "another output's own");
+            seen.push(side);
+        }
+        seen.dedup();
+        assert_eq!(seen.len(), 5);
+        // Names that fit are kept whole.
+        assert_eq!(
+            at("res").sibling("stream.lock"),
+            Path::new("/p/.res.stream.lock")
+        );
+        let fits = "L".repeat(MAX_FILE_NAME - ".".len() - ".lock".len());
+        assert_eq!(
+            at(&fits).sibling("lock"),
+            Path::new("/p").join(format!(".{fits}.lock"))
+        );
     }
 
     #[test]

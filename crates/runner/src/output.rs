@@ -105,8 +105,8 @@ impl Outputs {
     }
 }
 
-/// The columns of runs.csv and of runs.json's table that every run has (counters and, in
-/// runs.json, the optional columns follow).
+/// The columns of runs.csv, runs.parquet and runs.json's table that every run has (the
+/// columns some runs have and the counters follow).
 pub const FIXED_COLUMNS: [&str; 21] = [
     "map",
     "problem",
@@ -134,15 +134,69 @@ pub const FIXED_COLUMNS: [&str; 21] = [
 /// Columns of runs.json that appear only when some record has a value in them.
 const OPTIONAL_COLUMNS: [&str; 6] = ["error", "admissible", "returns", "marks", "series", "cost"];
 
+/// Columns of runs.csv and runs.parquet, after the [`FIXED_COLUMNS`], that appear only
+/// when some record has a value in them: why a run was refused or its problem is invalid
+/// (`error`), and a weighted map's path cost (`cost`). runs.json has both among its
+/// optional columns, in the same order.
+pub const SOMETIMES_COLUMNS: [&str; 2] = ["error", "cost"];
+
+/// The columns of one runs.csv or runs.parquet beyond the [`FIXED_COLUMNS`]: the
+/// [`SOMETIMES_COLUMNS`] some record has a value in, and every counter name in order of
+/// first appearance. Gathered in a pass over the records ([`TableColumns::add`]).
+#[derive(Debug, Clone, Default)]
+pub struct TableColumns {
+    /// Whether some record has each of the [`SOMETIMES_COLUMNS`].
+    sometimes: [bool; 2],
+    /// The counter names.
+    counters: Vec<String>,
+}
+
+impl TableColumns {
+    /// Adds what `record` has.
+    pub fn add(&mut self, record: &RunRecord) {
+        self.sometimes[0] |= record.error.is_some();
+        self.sometimes[1] |= record.cost.is_some();
+        add_counter_names(&mut self.counters, record);
+    }
+
+    /// The columns of records gathered by a pass over `records`.
+    pub fn of(records: &dyn RecordPasses) -> Result<TableColumns, RunnerError> {
+        let mut columns = TableColumns::default();
+        records.pass(&mut |r| columns.add(r))?;
+        Ok(columns)
+    }
+
+    /// The positions in [`SOMETIMES_COLUMNS`] of the columns the table has.
+    pub(crate) fn sometimes(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..SOMETIMES_COLUMNS.len()).filter(|&i| self.sometimes[i])
+    }
+
+    /// The counter columns.
+    pub fn counters(&self) -> &[String] {
+        &self.counters
+    }
+
+    /// Every column name of the table, in order.
+    pub fn names(&self) -> Vec<&str> {
+        FIXED_COLUMNS
+            .iter()
+            .copied()
+            .chain(self.sometimes().map(|i| SOMETIMES_COLUMNS[i]))
+            .chain(self.counters.iter().map(String::as_str))
+            .collect()
+    }
+}
+
 /// The runs as JSON (`runs.json`): `{"experiment", "config", "runs": {"columns": [...],
 /// "data": [[...], ...]}}`, one run per row, one row per line, in run order. The table
-/// is runs.csv's, typed (numbers, `true`/`false`, strings, `null` for an empty cell): the
-/// [`FIXED_COLUMNS`], then `error`, `admissible`, `returns`, `marks`, `series` and `cost` (a
-/// weighted map's path cost) when
-/// some run has one (a value or `null`), then one column per counter in order of first
-/// appearance (`null` where a run lacks it). Paths are not in it (`paths.jsonl`). Times
-/// are rounded to the nanosecond (1e-6 ms), the clock's resolution. `runs` is pandas'
-/// "split" layout: `pandas.DataFrame(**json.load(f)["runs"])` is the table.
+/// holds runs.csv's columns, typed (numbers, `true`/`false`, strings, `null` for an empty
+/// cell), and more: the [`FIXED_COLUMNS`], then `error`, `admissible`, `returns`, `marks`,
+/// `series` and `cost` (a weighted map's path cost) when some run has one (a value or
+/// `null`), then one column per counter in order of first appearance (`null` where a run
+/// lacks it); runs.csv has `error` and `cost` of these ([`SOMETIMES_COLUMNS`]). Paths are
+/// not in it (`paths.jsonl`). Times are rounded to the nanosecond (1e-6 ms), the clock's
+/// resolution. `runs` is pandas' "split" layout: `pandas.DataFrame(**json.load(f)["runs"])`
+/// is the table.
 ///
 /// With `provenance`, the header also holds it (`"provenance"`) and every label's resolved
 /// parameters (`"planners"`).
@@ -383,8 +437,9 @@ fn add_counter_names(names: &mut Vec<String>, record: &RunRecord) {
     }
 }
 
-/// The runs as CSV: the [`FIXED_COLUMNS`], then one column per counter name in order of
-/// first appearance; a run without that counter leaves the cell empty.
+/// The runs as CSV: the [`FIXED_COLUMNS`], then those of the [`SOMETIMES_COLUMNS`] (`error`,
+/// `cost`) that some run has, then one column per counter name in order of first
+/// appearance; a run without a value there leaves the cell empty.
 pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
     let mut out = Vec::with_capacity(records.len() * 140 + 512);
     // Writing to a Vec cannot fail.
@@ -397,19 +452,15 @@ pub fn write_runs_csv(out: &mut dyn Write, records: &[RunRecord]) -> Result<(), 
     write_runs_csv_passes(out, &records)
 }
 
-/// [`write_runs_csv`] from two passes over the records (the counter columns, then the
-/// rows), in memory bounded by a row.
+/// [`write_runs_csv`] from two passes over the records (the columns, then the rows), in
+/// memory bounded by a row.
 pub fn write_runs_csv_passes(
     out: &mut dyn Write,
     records: &dyn RecordPasses,
 ) -> Result<(), RunnerError> {
-    let mut counter_names = Vec::new();
-    records.pass(&mut |r| add_counter_names(&mut counter_names, r))?;
-    let mut line = FIXED_COLUMNS.join(",");
-    for name in &counter_names {
-        line.push(',');
-        line.push_str(name);
-    }
+    let columns = TableColumns::of(records)?;
+    let sometimes: Vec<usize> = columns.sometimes().collect();
+    let mut line = columns.names().join(",");
     line.push('\n');
     out.write_all(line.as_bytes()).map_err(io)?;
     let mut failed = None;
@@ -418,13 +469,18 @@ pub fn write_runs_csv_passes(
             return;
         }
         line.clear();
-        for i in 0..FIXED_COLUMNS.len() {
+        let cells = (0..FIXED_COLUMNS.len())
+            .map(|i| fixed_cell(r, i))
+            .chain(sometimes.iter().map(|&i| sometimes_cell(r, i)));
+        for (i, cell) in cells.enumerate() {
             if i > 0 {
                 line.push(',');
             }
             // The column walk runs.parquet shares; floats with 6 decimals.
-            match fixed_cell(r, i) {
-                Cell::Text(text) => line.push_str(&planner_text::csv_field(text)),
+            match cell {
+                Cell::Text(text) => text.into_iter().for_each(|text| {
+                    line.push_str(&planner_text::csv_field(text));
+                }),
                 Cell::Unsigned(v) => v.into_iter().for_each(|v| {
                     let _ = write!(line, "{v}");
                 }),
@@ -436,7 +492,7 @@ pub fn write_runs_csv_passes(
                 }),
             }
         }
-        for value in counter_values(&r.counters, &counter_names) {
+        for value in counter_values(&r.counters, columns.counters()) {
             line.push(',');
             if let Some(v) = value {
                 let _ = write!(line, "{v}");
@@ -452,7 +508,7 @@ pub fn write_runs_csv_passes(
 /// (`None` for an empty cell).
 pub(crate) enum Cell<'r> {
     /// A string column.
-    Text(&'r str),
+    Text(Option<&'r str>),
     /// An unsigned integer column.
     Unsigned(Option<u64>),
     /// A float column (times in milliseconds, unrounded).
@@ -472,17 +528,17 @@ pub(crate) const SETUP_MS: usize = 18;
 pub(crate) fn fixed_cell(r: &RunRecord, i: usize) -> Cell<'_> {
     let u = |v: u64| Cell::Unsigned(Some(v));
     match i {
-        0 => Cell::Text(&r.map),
+        0 => Cell::Text(Some(&r.map)),
         1 => u(r.problem as u64),
         2 => u(u64::from(r.start.x)),
         3 => u(u64::from(r.start.y)),
         4 => u(u64::from(r.goal.x)),
         5 => u(u64::from(r.goal.y)),
-        6 => Cell::Text(&r.planner),
-        7 => Cell::Text(&r.algorithm),
+        6 => Cell::Text(Some(&r.planner)),
+        7 => Cell::Text(Some(&r.algorithm)),
         8 => u(u64::from(r.repeat)),
         9 => Cell::Unsigned(r.seed),
-        10 => Cell::Text(r.status.as_str()),
+        10 => Cell::Text(Some(r.status.as_str())),
         11 => Cell::Unsigned(r.steps),
         12 => Cell::Unsigned(r.turns),
         13 => Cell::Unsigned(r.score),
@@ -493,6 +549,14 @@ pub(crate) fn fixed_cell(r: &RunRecord, i: usize) -> Cell<'_> {
         SETUP_MS => Cell::Float(Some(r.setup_ms)),
         19 => u(r.peak_heap_bytes),
         _ => Cell::Unsigned(r.bucket.map(u64::from)),
+    }
+}
+
+/// Column `i` of [`SOMETIMES_COLUMNS`] for `r`, as [`fixed_cell`] gives the others.
+pub(crate) fn sometimes_cell(r: &RunRecord, i: usize) -> Cell<'_> {
+    match i {
+        0 => Cell::Text(r.error.as_deref()),
+        _ => Cell::Float(r.cost),
     }
 }
 

@@ -21,6 +21,7 @@
 
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::stream::{self, Place, StreamError, StreamProblem, StreamReader};
 use crate::{RunRecord, RunnerError};
@@ -100,5 +101,44 @@ impl RecordPasses for StreamPasses {
 
     fn len(&self) -> u64 {
         self.runs
+    }
+}
+
+/// Passes over `inner` that end early once `stop` is raised (Ctrl-C while a sweep's report
+/// is written): a pass started after it, or one under way, visits no further record and
+/// returns [`RunnerError::Interrupted`], so what reads the records in passes stops within
+/// a record instead of finishing its work.
+pub struct StoppablePasses<'a> {
+    inner: &'a dyn RecordPasses,
+    stop: &'a AtomicBool,
+}
+
+impl<'a> StoppablePasses<'a> {
+    /// `inner`'s passes, stopped by `stop`.
+    pub fn new(inner: &'a dyn RecordPasses, stop: &'a AtomicBool) -> StoppablePasses<'a> {
+        StoppablePasses { inner, stop }
+    }
+}
+
+impl RecordPasses for StoppablePasses<'_> {
+    fn pass(&self, visit: &mut dyn FnMut(&RunRecord)) -> Result<(), RunnerError> {
+        let mut stopped = self.stop.load(Ordering::Relaxed);
+        if !stopped {
+            self.inner.pass(&mut |r| {
+                if stopped || self.stop.load(Ordering::Relaxed) {
+                    stopped = true;
+                    return;
+                }
+                visit(r);
+            })?;
+        }
+        match stopped {
+            true => Err(RunnerError::Interrupted),
+            false => Ok(()),
+        }
+    }
+
+    fn len(&self) -> u64 {
+        self.inner.len()
     }
 }

@@ -33,8 +33,9 @@ pub struct PlanArgs {
     pub planner: String,
     /// An experiment config whose `[planners]` labels `planner` may name.
     pub config: Option<PathBuf>,
-    /// 1-based problem of the map's own pairs, or of the `.scen` beside a `.map`; with a
-    /// config listing this map, the problem of the config's map set.
+    /// 1-based problem of the map's own pairs, or of the `.scen` beside a `.map` (which is
+    /// read only when no start or goal is given); with a config listing this map, the
+    /// problem of the config's map set.
     pub problem: Option<usize>,
     /// Explicit start.
     pub start: Option<Cell>,
@@ -570,7 +571,13 @@ fn resolve_map(
         problems: Vec::new(),
         frame: file.frame,
     };
-    let pairs = own_pairs(&args.map, &map.grid, &file.problems)?;
+    // Cells given on the command line need no scenario: a `.scen` beside the map is read
+    // only for `--problem K` or when no start or goal is given.
+    let cells_given = args.start.is_some()
+        || args.goal.is_some()
+        || args.start_world.is_some()
+        || args.goal_world.is_some();
+    let pairs = own_pairs(&args.map, &map.grid, &file.problems, !cells_given)?;
     let problems = pairs
         .into_iter()
         .enumerate()
@@ -661,18 +668,20 @@ fn file_name(path: &Path) -> String {
         .unwrap_or_else(|| path.display().to_string())
 }
 
-/// The map's own start-goal pairs, else those of the `.scen` file beside it (checked
-/// against the map's size; a scenario naming another map file is warned about).
+/// The map's own start-goal pairs, else, with `with_scen`, those of the `.scen` file
+/// beside it (checked against the map's size; a scenario naming another map file is
+/// warned about).
 fn own_pairs(
     map: &Path,
     grid: &Grid,
     own: &[planner_maps::ProblemSpec],
+    with_scen: bool,
 ) -> Result<Vec<(Cell, Cell, Option<f64>)>, RunnerError> {
     if !own.is_empty() {
         return Ok(own.iter().map(|p| (p.start, p.goal, None)).collect());
     }
     let scen = scen_beside(map);
-    if !scen.is_file() {
+    if !with_scen || !scen.is_file() {
         return Ok(Vec::new());
     }
     let scenarios = planner_maps::read_scenarios(&scen)?;
@@ -684,6 +693,7 @@ fn own_pairs(
             return Err(UsageError::ScenarioSize {
                 scen,
                 line: s.line,
+                column: s.size_column,
                 scenario: (s.width, s.height),
                 map: map.to_path_buf(),
                 grid: (grid.width(), grid.height()),

@@ -7,7 +7,10 @@
 //!
 //! For an output directory `DIR` (default: the config's), the scripts, the shards'
 //! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`
-//! (`merge --shards-in DIR-slurm`, so its command line has the same length for any N).
+//! (`merge --shards-in DIR-slurm --shards N`, so its command line has the same length
+//! for any N). It merges `shard-1` to `shard-N` only: the `shard-K` directories an
+//! earlier `slurm` of the same output with more shards left (K above N) are left out,
+//! and left alone (a task of that array may still be writing one; nothing is removed).
 //! N is at most the sweep's run count and [`Shard::MAX_COUNT`].
 //! The scripts call this very binary and the config by absolute path, so they run from
 //! any directory on a cluster whose nodes share the file system.
@@ -408,7 +411,7 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
          #SBATCH --output={merge_log}\n\
          {options}\
          set -euo pipefail\n\
-         exec {bin} merge --shards-in {dir} --config {cfg} --output {out}
+         exec {bin} merge --shards-in {dir} --shards {n} --config {cfg} --output {out}
 ",
     );
     let array_script = work.join("array.sbatch");

@@ -38,17 +38,21 @@
 //! SIGTERM) is raised starts no new run, appends the runs finished before the first one
 //! it skipped, and returns a [`Report`] with [`Report::interrupted`] set: nothing is
 //! rendered, the old results stay as they were, and the stream stays for `--resume`.
+//! Raised once the runs are done, while the results are rendered and written, it stops
+//! that too ([`Results::stop`]: the report checks it between its sections, figures and
+//! files, and every pass over the records stops within a record), with the same
+//! outcome: nothing written, every run kept in the stream for `--resume`.
 
 use std::fs::{self, File};
 use std::io::{BufReader, Seek as _, SeekFrom, Write as _};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::config::ConfigError;
 use crate::expanded::{self, ExpandedCells};
 use crate::output::{OutputFile, StreamedFile};
-use crate::passes::{RecordPasses, StreamPasses};
+use crate::passes::{RecordPasses, StoppablePasses, StreamPasses};
 use crate::provenance::{Machine, Provenance};
 use crate::readback::{RecordAt, ResultsError, ResumeError, SweepId};
 use crate::record::Reproduction;
@@ -100,6 +104,18 @@ pub struct Results<'a> {
     pub provenance: &'a Provenance,
     /// The sweep's wall time so far, in seconds (OMPL's experiment time).
     pub seconds: f64,
+    /// The sweep's stop flag ([`SweepArgs::stop`]), if it has one: a report checks it
+    /// between the files it renders ([`check_stop`]); `passes` already stop with it.
+    pub stop: Option<&'a AtomicBool>,
+}
+
+/// [`RunnerError::Interrupted`] once `stop` is raised: what a report calls between its
+/// steps so that Ctrl-C stops it promptly.
+pub fn check_stop(stop: Option<&AtomicBool>) -> Result<(), RunnerError> {
+    match stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+        true => Err(RunnerError::Interrupted),
+        false => Ok(()),
+    }
 }
 
 /// The report step of a sweep: the runner hands a whole sweep's [`Results`] to it and
@@ -244,55 +260,33 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     let (file, n_done) = open_stream(args, &area, &header, &experiment, &runs, &dir)?;
     tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
     let (records, n_ran) = stream_runs(args, &experiment, &runs, file, n_done, &path)?;
-    if n_done + n_ran < runs.len() {
-        return Ok(Report {
-            n_runs: runs.len() as usize,
-            output: dir,
-            reproduction: Reproduction::default(),
-            seconds: started.elapsed().as_secs_f64(),
-            interrupted: Some(n_done + n_ran),
-            records: Vec::new(),
-        });
-    }
-    let (reproduction, records) = if args.shard.is_some() {
-        let threads = worker_threads(args.threads, experiment.threads);
-        let provenance = Provenance::collect(args.config, threads, args.machine);
-        finish_shard(&experiment, &path, &dir, (shard, &provenance))?;
-        (Reproduction::default(), Vec::new())
-    } else {
-        let held = header.runs <= HELD_RUNS;
-        if held && records.len() as u64 != header.runs {
-            let problem = StreamProblem::Incomplete {
-                recorded: records.len() as u64,
-                declared: header.runs,
-            };
-            let file = path.display().to_string();
-            return Err(StreamError::new(&file, Place::File, problem).into());
-        }
-        let threads = worker_threads(args.threads, experiment.threads);
-        let provenance = Provenance::collect(args.config, threads, args.machine);
-        let seconds = started.elapsed().as_secs_f64();
-        let source = if held {
-            Source::Held(records)
-        } else {
-            Source::Stream(StreamPasses::new(&path, header.runs))
-        };
-        let (reproduction, records) = finish(
-            args.render,
-            &experiment,
-            source,
-            None,
-            &dir,
-            &provenance,
-            seconds,
-        )?;
-        let kept = if args.keep_records {
-            records
-        } else {
-            Vec::new()
-        };
-        (reproduction, kept)
+    let interrupted = |dir| Report {
+        n_runs: runs.len() as usize,
+        output: dir,
+        reproduction: Reproduction::default(),
+        seconds: started.elapsed().as_secs_f64(),
+        interrupted: Some(n_done + n_ran),
+        records: Vec::new(),
     };
+    if n_done + n_ran < runs.len() {
+        return Ok(interrupted(dir));
+    }
+    let finished = match args.shard {
+        Some(_) => {
+            let threads = worker_threads(args.threads, experiment.threads);
+            let provenance = Provenance::collect(args.config, threads, args.machine);
+            finish_shard(&experiment, &path, &dir, (shard, &provenance), args.stop)
+                .map(|()| (Reproduction::default(), Vec::new()))
+        }
+        None => finish_sweep(args, &experiment, &header, records, &path, &dir, started),
+    };
+    // Stopped while rendering or writing (a table's pass fails as a write error): the old
+    // results stay, the stream stays for `--resume` (which then runs nothing again and
+    // writes the results).
+    if finished.is_err() && check_stop(args.stop).is_err() {
+        return Ok(interrupted(dir));
+    }
+    let (reproduction, records) = finished?;
     if let Err(e) = area.remove() {
         tracing::warn!(
             "the results are written, but the stream area {} could not be removed: {e}",
@@ -307,6 +301,47 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         interrupted: None,
         records,
     })
+}
+
+/// Writes a whole sweep's results directory `dir` from its `records` (held when it has at
+/// most [`HELD_RUNS`] runs, else read back from its stream `path`) through [`finish`];
+/// returns the reproduction and, when [`SweepArgs::keep_records`] asks, the records.
+fn finish_sweep(
+    args: &SweepArgs,
+    experiment: &Experiment,
+    header: &StreamHeader,
+    records: Vec<RunRecord>,
+    path: &Path,
+    dir: &Path,
+    started: Instant,
+) -> Result<(Reproduction, Vec<RunRecord>), RunnerError> {
+    let held = header.runs <= HELD_RUNS;
+    if held && records.len() as u64 != header.runs {
+        let problem = StreamProblem::Incomplete {
+            recorded: records.len() as u64,
+            declared: header.runs,
+        };
+        let file = path.display().to_string();
+        return Err(StreamError::new(&file, Place::File, problem).into());
+    }
+    let threads = worker_threads(args.threads, experiment.threads);
+    let info = RunInfo {
+        provenance: Provenance::collect(args.config, threads, args.machine),
+        seconds: started.elapsed().as_secs_f64(),
+    };
+    let source = if held {
+        Source::Held(records)
+    } else {
+        Source::Stream(StreamPasses::new(path, header.runs))
+    };
+    let (reproduction, records) =
+        finish(args.render, experiment, source, None, dir, &info, args.stop)?;
+    let kept = if args.keep_records {
+        records
+    } else {
+        Vec::new()
+    };
+    Ok((reproduction, kept))
 }
 
 /// The sweep's stream file `path`, open for appending, and the runs it already holds: a
@@ -493,12 +528,13 @@ fn stream_runs(
 /// Writes a whole shard's results directory `dir`: its framed stream `path` copied as the
 /// shard.stream that `merge` reads, the expanded cells of the drawn runs it holds, and
 /// (when the config's `outputs` asks) its Parquet part, from the stream one row group at
-/// a time.
+/// a time. A raised `stop` ends it before `dir` is replaced.
 fn finish_shard(
     experiment: &Experiment,
     path: &Path,
     dir: &Path,
     (shard, provenance): (Shard, &Provenance),
+    stop: Option<&AtomicBool>,
 ) -> Result<(), RunnerError> {
     let copy = StreamedFile {
         path: SHARD_FILE.into(),
@@ -510,6 +546,7 @@ fn finish_shard(
         }),
     };
     let cells = shard_expanded(experiment, path)?;
+    check_stop(stop)?;
     let files = if cells.is_empty() {
         Vec::new()
     } else {
@@ -706,53 +743,60 @@ enum Source {
 /// expanded cells its figures draw (when the config asks and `expanded` is `None`: the
 /// sweep's own step, the one that runs planners again), hands the results to `render`
 /// for the report files, and writes those, runs.json, runs.csv, runs.parquet,
-/// records.stream, expanded.jsonl and provenance.json to `dir`. `seconds` is the sweep's
-/// wall time so far (OMPL's experiment time). Returns the held records (paths left out;
-/// none for a stream).
+/// records.stream, expanded.jsonl and provenance.json to `dir`. `info` holds the
+/// provenance and the sweep's wall time so far (OMPL's experiment time). A raised `stop`
+/// ends it with [`RunnerError::Interrupted`] before `dir` is replaced. Returns the held
+/// records (paths left out; none for a stream).
 fn finish(
     render: &dyn Render,
     experiment: &Experiment,
     source: Source,
     expanded: Option<ExpandedCells>,
     dir: &Path,
-    provenance: &Provenance,
-    seconds: f64,
+    info: &RunInfo,
+    stop: Option<&AtomicBool>,
 ) -> Result<(Reproduction, Vec<RunRecord>), RunnerError> {
+    let provenance = &info.provenance;
     let (mut records, stream) = match source {
         Source::Held(records) => (records, None),
         Source::Stream(passes) => (Vec::new(), Some(passes)),
     };
     let held: &[RunRecord] = &records;
-    let passes: &dyn RecordPasses = match &stream {
+    let plain: &dyn RecordPasses = match &stream {
         Some(stream) => stream,
         None => &held,
+    };
+    // Every pass of the report and of the tables ends early once `stop` is raised.
+    let stoppable = stop.map(|stop| StoppablePasses::new(plain, stop));
+    let passes: &dyn RecordPasses = match &stoppable {
+        Some(stoppable) => stoppable,
+        None => plain,
     };
     let expanded = match expanded {
         Some(cells) => cells,
         None => record_expanded(experiment, &records, stream.is_some(), passes)?,
     };
+    check_stop(stop)?;
     let results = Results {
         experiment,
         records: &records,
         passes,
         expanded: &expanded,
         provenance,
-        seconds,
+        seconds: info.seconds,
+        stop,
     };
     let (mut all, reproduction) = render.render(&results)?;
+    check_stop(stop)?;
     if !expanded.is_empty() {
         all.push(OutputFile {
             path: EXPANDED_FILE.into(),
             contents: expanded.to_jsonl()?,
         });
     }
-    let info = RunInfo {
-        provenance: provenance.clone(),
-        seconds,
-    };
     all.push(OutputFile {
         path: PROVENANCE_FILE.into(),
-        contents: serde_json::to_vec_pretty(&info).map_err(RunnerError::Json)?,
+        contents: serde_json::to_vec_pretty(info).map_err(RunnerError::Json)?,
     });
     let header = StreamHeader::new(experiment, Shard::ALL, passes.len());
     let outputs = experiment.outputs.for_runs(passes.len());
@@ -984,8 +1028,8 @@ pub fn report(
         source,
         Some(expanded),
         dir,
-        &info.provenance,
-        info.seconds,
+        &info,
+        None,
     )?;
     Ok(Report {
         n_runs,
@@ -1179,20 +1223,22 @@ pub fn merge(
             .map_err(io)?;
         Source::Stream(StreamPasses::new(&path, first.total_runs))
     };
-    let provenance = Provenance::collect(
-        &config_path,
-        worker_threads(0, experiment.threads),
-        &machine(&config_path),
-    );
-    let seconds = started.elapsed().as_secs_f64();
+    let info = RunInfo {
+        provenance: Provenance::collect(
+            &config_path,
+            worker_threads(0, experiment.threads),
+            &machine(&config_path),
+        ),
+        seconds: started.elapsed().as_secs_f64(),
+    };
     let finished = finish(
         render,
         &experiment,
         source,
         Some(expanded),
         &dir,
-        &provenance,
-        seconds,
+        &info,
+        None,
     );
     if let Some((area, had_stream)) = area {
         // The merged stream goes; so does the area, unless it also holds an interrupted

@@ -56,7 +56,7 @@ pub enum UsageError {
     },
     /// A `--set` value written as a number that TOML does not read as one (`1e400`
     /// overflows, `1_000_`): said as such, rather than taken for a word.
-    #[error("--set {key}={value}: not a number (numbers are written as 3, -2, 2.5 or 1e3, within 64 bits)")]
+    #[error("--set {key}={value}: not a number (numbers are written as 3, -2, 2.5 or 1e3; integers from -2^63 to 2^63 - 1)")]
     SetNumber {
         /// The key.
         key: String,
@@ -120,12 +120,14 @@ pub enum UsageError {
         count: usize,
     },
     /// A `.scen` file beside a map, for another size of map.
-    #[error("{}:{line}: the scenario is for a {}x{} map, but {} is {}x{}", .scen.display(), .scenario.0, .scenario.1, .map.display(), .grid.0, .grid.1)]
+    #[error("{}:{line}:{column}: the scenario is for a {}x{} map, but {} is {}x{}", .scen.display(), .scenario.0, .scenario.1, .map.display(), .grid.0, .grid.1)]
     ScenarioSize {
         /// The scenario file.
         scen: PathBuf,
         /// The scenario's line.
         line: usize,
+        /// The column of the size it states (its width).
+        column: usize,
         /// The size the scenario states.
         scenario: (u32, u32),
         /// The map.

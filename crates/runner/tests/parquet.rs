@@ -47,7 +47,7 @@ fn scratch(name: &str) -> PathBuf {
 /// A config with every kind of cell runs.csv has: Moving AI scenarios (buckets, optimal
 /// lengths), a seeded planner (seed), PA-star (its own counters, so other planners' rows
 /// have empty counter cells), BFS, and an invalid problem (a start on a wall: empty
-/// steps, length and validity).
+/// steps, length and validity, and its `error`, a text with commas).
 fn config(dir: &Path) -> PathBuf {
     config_with(dir, "")
 }
@@ -107,13 +107,28 @@ fn rows_as_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     (columns, rows)
 }
 
-/// runs.csv's header and rows (no cell of these configs needs quoting).
+/// runs.csv's header and rows (no cell of these configs holds a line break; a cell with a
+/// comma is quoted, RFC 4180's `""` for a quote).
 fn csv_rows(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).unwrap();
-    assert!(!text.contains('"'));
-    let mut lines = text
-        .lines()
-        .map(|l| l.split(',').map(String::from).collect());
+    let split = |line: &str| {
+        let (mut cells, mut cell, mut quoted) = (Vec::new(), String::new(), false);
+        let mut chars = line.chars().peekable();
+        while let Some(c) = chars.next() {
+            match c {
+                '"' if quoted && chars.peek() == Some(&'"') => {
+                    chars.next();
+                    cell.push('"');
+                }
+                '"' => quoted = !quoted,
+                ',' if !quoted => cells.push(std::mem::take(&mut cell)),
+                c => cell.push(c),
+            }
+        }
+        cells.push(cell);
+        cells
+    };
+    let mut lines = text.lines().map(split);
     let header = lines.next().unwrap();
     (header, lines.collect())
 }
@@ -165,8 +180,15 @@ fn the_parquet_rows_are_the_csv_rows_typed_with_the_metadata() {
     assert!(rows.iter().any(|r| r[at("seed")].is_empty()));
     assert!(rows.iter().any(|r| !r[at("bucket")].is_empty()));
     assert!(rows.iter().any(|r| r[at("valid")] == "true"));
+    // The invalid problem's error follows the fixed columns; other runs have none.
+    assert_eq!(at("error"), 21);
+    assert!(rows
+        .iter()
+        .any(|r| r[at("error")] == "start (2, 0) is blocked"));
+    assert!(rows.iter().any(|r| r[at("error")].is_empty()));
+    assert!(!columns.contains(&"cost".to_string()), "no weighted map");
     // A counter column that some planners leave empty and others fill.
-    assert!((21..columns.len())
+    assert!((22..columns.len())
         .any(|c| rows.iter().any(|r| r[c].is_empty()) && rows.iter().any(|r| !r[c].is_empty())));
 
     let reader = SerializedFileReader::new(File::open(whole(&out)).unwrap()).unwrap();
@@ -185,6 +207,10 @@ fn the_parquet_rows_are_the_csv_rows_typed_with_the_metadata() {
     assert_eq!(kind("n_expanded"), (PhysicalType::INT64, unsigned));
     assert_eq!(kind("length"), (PhysicalType::DOUBLE, None));
     assert_eq!(kind("valid"), (PhysicalType::BOOLEAN, None));
+    assert_eq!(
+        kind("error"),
+        (PhysicalType::BYTE_ARRAY, Some(LogicalType::String))
+    );
     for group in meta.row_groups() {
         for column in group.columns() {
             assert_eq!(column.compression(), Compression::SNAPPY);
@@ -258,20 +284,25 @@ fn shard_files_hold_the_merged_rows() {
         let path = shard.join(part_path(Shard::new(k as u64 + 1, 3).unwrap()));
         let (shard_columns, rows) = rows_as_csv(&path);
         // The same columns; the counters' order is that of first appearance in the
-        // shard, so a shard's may differ (Parquet readers match columns by name).
+        // shard, so a shard's may differ, and `error` is there only when a run of the
+        // shard has one (Parquet readers match columns by name).
         assert_eq!(shard_columns[..21], columns[..21]);
         let mut sorted = shard_columns.clone();
         sorted.sort();
         let mut expected = columns.clone();
+        expected.retain(|c| c != "error" || shard_columns.contains(c));
         expected.sort();
         assert_eq!(sorted, expected);
-        let order: Vec<usize> = columns
+        let order: Vec<Option<usize>> = columns
             .iter()
-            .map(|c| shard_columns.iter().position(|s| s == c).unwrap())
+            .map(|c| shard_columns.iter().position(|s| s == c))
             .collect();
         assert!(!rows.is_empty());
         for row in rows {
-            let row: Vec<String> = order.iter().map(|&i| row[i].clone()).collect();
+            let row: Vec<String> = order
+                .iter()
+                .map(|&i| i.map_or_else(String::new, |i| row[i].clone()))
+                .collect();
             assert!(from_shards.insert(key(&row), strip(&row)).is_none());
         }
         let reader = SerializedFileReader::new(File::open(&path).unwrap()).unwrap();
@@ -408,5 +439,59 @@ fn outputs_choose_the_tables() {
     };
     refused("outputs = []", "key `outputs`: names no table");
     refused("outputs = [\"xlsx\"]", "xlsx");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// runs.csv and runs.parquet have runs.json's `error` (why a run was refused: a blocked
+/// goal, a planner over `max_memory_mb`) and `cost` (a weighted map's path cost) when
+/// some run has one; they had neither.
+#[test]
+fn errors_and_costs_are_in_every_table() {
+    let dir = scratch("cost");
+    std::fs::write(
+        dir.join("swamp.map"),
+        "type octile\nheight 3\nwidth 4\nmap\n.SS.\n.@S.\n....\n",
+    )
+    .unwrap();
+    let config = dir.join("cost.toml");
+    std::fs::write(
+        &config,
+        "name = \"cost\"\n[[maps]]\nfiles = [\"swamp.map\"]\ncosts = { swamp = 5 }\n\
+         pairs = [{ start = [0, 0], goal = [3, 0] }, { start = [0, 0], goal = [1, 1] }]\n\
+         [planners.astar]\nplanner = \"astar\"\n\
+         [planners.small]\nplanner = \"astar\"\nbudget = { max_memory_mb = 0 }\n",
+    )
+    .unwrap();
+    let out = dir.join("results");
+    let mut args = SweepArgs::new(&config, &NoReport);
+    args.output = Some(&out);
+    sweep::experiment(&args).unwrap();
+    let (header, csv) = csv_rows(&out.join("runs.csv"));
+    assert_eq!(header[21..23], ["error", "cost"]);
+    let (columns, parquet) = rows_as_csv(&whole(&out));
+    assert_eq!(columns, header);
+    assert_same_table(&csv, &parquet, &columns);
+    // Each run's error and cost are runs.json's.
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("runs.json")).unwrap()).unwrap();
+    let json_columns = json["runs"]["columns"].as_array().unwrap();
+    let at = |name: &str| json_columns.iter().position(|c| c == name).unwrap();
+    let data = json["runs"]["data"].as_array().unwrap();
+    assert_eq!(data.len(), csv.len());
+    for (row, json_row) in csv.iter().zip(data) {
+        let error = json_row[at("error")].as_str().unwrap_or_default();
+        assert_eq!(row[21], error);
+        let cost = json_row[at("cost")].as_f64().map(|c| format!("{c:.6}"));
+        assert_eq!(row[22], cost.unwrap_or_default());
+    }
+    // A found path's cost, the blocked goal and the refused planner, each once at least.
+    assert!(csv.iter().any(|r| !r[22].is_empty() && r[21].is_empty()));
+    assert!(csv.iter().any(|r| r[21] == "goal (1, 1) is blocked"));
+    assert!(csv
+        .iter()
+        .any(|r| r[6] == "small" && r[21].contains("max_memory_mb = 0")));
+    let reader = SerializedFileReader::new(File::open(whole(&out)).unwrap()).unwrap();
+    let schema = reader.metadata().file_metadata().schema_descr();
+    assert_eq!(schema.column(22).physical_type(), PhysicalType::DOUBLE);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -211,11 +211,33 @@ fn plan_refuses_scenarios_for_another_map_size() {
         ..Default::default()
     };
     let error = planner_runner::plan::run(&args).err().unwrap().to_string();
-    std::fs::remove_dir_all(&dir).unwrap();
+    // Line 2, column 13: the width, after "0\tsmall.map\t".
     assert!(
-        error.contains("the scenario is for a 3x3 map, but"),
+        error.contains("small.map.scen:2:13: the scenario is for a 3x3 map, but"),
         "{error}"
     );
+    // A start and goal given need no scenario: the file is not read, bad or not.
+    let cells = PlanArgs {
+        problem: None,
+        start: Some(planner_api::Cell::new(0, 0)),
+        goal: Some(planner_api::Cell::new(1, 1)),
+        ..args.clone()
+    };
+    for scen in [
+        "version 1\n0\tsmall.map\t3\t3\t0\t0\t1\t1\t1.41421356\n",
+        "garbage\n",
+    ] {
+        std::fs::write(dir.join("small.map.scen"), scen).unwrap();
+        let planned = planner_runner::plan::run(&cells);
+        assert!(planned.is_ok(), "{scen:?}: {:?}", planned.err());
+        // Without cells, the problems are the scenario's, and a bad one is an error.
+        let first = PlanArgs {
+            problem: None,
+            ..args.clone()
+        };
+        assert!(planner_runner::plan::run(&first).is_err(), "{scen:?}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Seed 002's TA-star (Manhattan with 8 moves) is recorded as inadmissible (planner-report's
@@ -394,4 +416,89 @@ fn a_double_star_over_links_back_up_the_tree_ends() {
     let experiment = experiment.unwrap();
     let names: Vec<&str> = experiment.maps.iter().map(|m| m.name.as_str()).collect();
     assert_eq!(names, ["a.map", "b.map"]);
+}
+
+/// A report step that writes nothing, or, with `stop`, raises the sweep's stop flag (as
+/// Ctrl-C does once the runs are done) and then reads the records, as a section does.
+struct StopWhileRendering<'a> {
+    stop: Option<&'a std::sync::atomic::AtomicBool>,
+}
+
+impl planner_runner::sweep::Render for StopWhileRendering<'_> {
+    fn check(&self, _: &config::Experiment) -> Result<(), config::ConfigError> {
+        Ok(())
+    }
+
+    fn render(
+        &self,
+        results: &planner_runner::sweep::Results<'_>,
+    ) -> Result<
+        (
+            Vec<planner_runner::output::OutputFile>,
+            planner_runner::record::Reproduction,
+        ),
+        planner_runner::RunnerError,
+    > {
+        if let Some(stop) = self.stop {
+            stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        let mut seen = 0;
+        results.passes.pass(&mut |_| seen += 1)?;
+        Ok((Vec::new(), Default::default()))
+    }
+}
+
+/// The stop flag raised while a sweep's results are rendered (its report ran for
+/// minutes, then wrote everything and exited 0): the sweep ends as interrupted, the old
+/// results stay as they were, and the stream keeps every run for `--resume`, which then
+/// writes the results.
+#[test]
+fn a_stop_while_rendering_writes_nothing_and_resumes() {
+    use planner_runner::sweep::{experiment, SweepArgs};
+    use std::sync::atomic::AtomicBool;
+
+    let dir = scratch("stop-rendering");
+    let _ = std::fs::remove_dir_all(dir.join("res"));
+    let _ = std::fs::remove_dir_all(dir.join(".res.stream"));
+    let config = dir.join("c.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "name = \"c\"\nrepeats = 3\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n\
+             [planners.a]\nplanner = \"astar\"\n",
+            paper_map()
+        ),
+    )
+    .unwrap();
+    let output = dir.join("res");
+    let plain = StopWhileRendering { stop: None };
+    let first = experiment(&SweepArgs {
+        output: Some(&output),
+        ..SweepArgs::new(&config, &plain)
+    })
+    .unwrap();
+    assert_eq!(first.interrupted, None);
+    let old = std::fs::read(output.join("runs.csv")).unwrap();
+
+    let stop = AtomicBool::new(false);
+    let stopping = StopWhileRendering { stop: Some(&stop) };
+    let report = experiment(&SweepArgs {
+        output: Some(&output),
+        stop: Some(&stop),
+        ..SweepArgs::new(&config, &stopping)
+    })
+    .unwrap();
+    assert_eq!(report.interrupted, Some(3), "every run recorded");
+    assert_eq!(std::fs::read(output.join("runs.csv")).unwrap(), old);
+    assert!(dir.join(".res.stream/records.stream").is_file());
+
+    let resumed = experiment(&SweepArgs {
+        output: Some(&output),
+        resume: true,
+        ..SweepArgs::new(&config, &plain)
+    })
+    .unwrap();
+    assert_eq!(resumed.interrupted, None);
+    assert!(!dir.join(".res.stream").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
 }
