@@ -17,6 +17,7 @@
 //! another map's log took already (letter case aside) gets a hash of the map's name
 //! ([`crate::FileNames`]): every map's runs reach a log of their own.
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use planner_runner::config::{Experiment, PlannerSpec};
@@ -48,9 +49,16 @@ pub fn logs(
 ) -> Vec<OutputFile> {
     let mut files = Vec::new();
     let mut names = crate::FileNames::default();
+    // The runs of each map and label, grouped once: a scan per label was labels x runs.
+    let mut grouped: HashMap<(&str, &str), Vec<&RunRecord>> = HashMap::new();
+    for r in records {
+        grouped
+            .entry((r.map.as_str(), r.planner.as_str()))
+            .or_default()
+            .push(r);
+    }
     for map in &experiment.maps {
         let stem = crate::file_part(planner_runner::config::map_stem(&map.name));
-        let runs: Vec<&RunRecord> = records.iter().filter(|r| r.map == map.name).collect();
         let mut out = String::new();
         let _ = writeln!(out, "gridplan version {}", provenance.version);
         let _ = writeln!(out, "Experiment {}-{stem}", experiment.name);
@@ -86,12 +94,14 @@ pub fn logs(
         let per_planner = experiment
             .planners
             .first()
-            .map_or(0, |p| runs.iter().filter(|r| r.planner == p.label).count());
+            .and_then(|p| grouped.get(&(map.name.as_str(), p.label.as_str())))
+            .map_or(0, Vec::len);
         let _ = writeln!(out, "{per_planner} runs per planner");
         let _ = writeln!(out, "{seconds:.3} seconds spent to collect the data");
         let _ = writeln!(out, "{} planners", experiment.planners.len());
         for planner in &experiment.planners {
-            planner_block(&mut out, planner, &runs);
+            let mine = grouped.get(&(map.name.as_str(), planner.label.as_str()));
+            planner_block(&mut out, planner, mine.map_or(&[], Vec::as_slice));
         }
         files.push(OutputFile {
             path: names.claim(format!("ompl/{stem}.log"), &map.name).into(),
@@ -102,13 +112,8 @@ pub fn logs(
 }
 
 /// One planner's block of a log: its name, its settings as common properties, the
-/// properties of each run, and one line per run of `runs` (the map's) it made.
-fn planner_block(out: &mut String, planner: &PlannerSpec, runs: &[&RunRecord]) {
-    let mine: Vec<&RunRecord> = runs
-        .iter()
-        .copied()
-        .filter(|r| r.planner == planner.label)
-        .collect();
+/// properties of each run, and one line per run of `mine` (its runs on the map).
+fn planner_block(out: &mut String, planner: &PlannerSpec, mine: &[&RunRecord]) {
     let _ = writeln!(out, "{}", one_word(&planner.label));
     let settings: Vec<String> = match planner.factory.resolved() {
         serde_json::Value::Object(m) => m
@@ -123,7 +128,7 @@ fn planner_block(out: &mut String, planner: &PlannerSpec, runs: &[&RunRecord]) {
         let _ = writeln!(out, "{}", line(s));
     }
     let mut counters: Vec<&str> = Vec::new();
-    for r in &mine {
+    for r in mine {
         for (name, _) in r.counters.iter() {
             if !counters.contains(&name) {
                 counters.push(name);
@@ -142,7 +147,7 @@ fn planner_block(out: &mut String, planner: &PlannerSpec, runs: &[&RunRecord]) {
         let _ = writeln!(out, "{} INTEGER", one_word(name));
     }
     let _ = writeln!(out, "{} runs", mine.len());
-    for r in &mine {
+    for r in mine {
         let opt = |v: Option<String>| v.unwrap_or_default();
         let mut values = vec![
             r.problem.to_string(),
