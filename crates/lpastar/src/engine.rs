@@ -80,7 +80,7 @@ use planner_search::keyed::KeyedQueue;
 
 const INF: u64 = u64::MAX;
 
-/// The largest finite `g` or `rhs`: sums stop here, one below [`INF`], so that a vertex
+/// The largest finite `g` or `rhs`: sums stop here, one below infinity (`u64::MAX`), so that a vertex
 /// reached through saturated weighted costs is still reached (planner-api's weights docs,
 /// "The range"); a target at this distance ends the search with
 /// [`planner_api::Outcome::cost_overflow`].
