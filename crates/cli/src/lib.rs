@@ -519,7 +519,8 @@ impl CliError {
             CliError::Pictures(error) => {
                 return match error {
                     planner_serve::PictureError::SameFile { .. }
-                    | planner_serve::PictureError::Input { .. } => EXIT_USAGE,
+                    | planner_serve::PictureError::Input { .. }
+                    | planner_serve::PictureError::NotAFile { .. } => EXIT_USAGE,
                     _ => EXIT_FAILURE,
                 }
             }

@@ -427,3 +427,41 @@ fn compare_exits_1_when_the_runs_differ() {
     let (code, err) = gridplan(&["compare", &path("a"), &dir.display().to_string()]);
     assert_eq!(code, 5, "{err}");
 }
+
+/// A picture over a device, a named pipe or a link to one (`--svg /dev/null`) is a usage
+/// error (exit 2) refused before the run: a picture replaces its file whole, which put a
+/// regular file in place of `/dev/null` and of the `/dev/stdout` link. (A pipe of the
+/// test's own stands for them: were the check gone, this test must not replace the
+/// machine's `/dev/null`.)
+#[cfg(unix)]
+#[test]
+fn a_picture_over_a_device_or_pipe_exits_2_and_leaves_it() {
+    use std::os::unix::fs::FileTypeExt as _;
+    let dir = scratch("picture-device");
+    let fifo = dir.join("pipe");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+    let to_fifo = dir.join("pipe-link");
+    std::os::unix::fs::symlink(&fifo, &to_fifo).unwrap();
+    for (file, option) in [(&fifo, "--svg"), (&fifo, "--trace"), (&to_fifo, "--gif")] {
+        let file_arg = file.display().to_string();
+        let (code, err) = gridplan(&[
+            "plan",
+            "maps/paper/map01.map",
+            "--planner",
+            "astar",
+            option,
+            &file_arg,
+        ]);
+        assert_eq!(code, 2, "{file_arg}: {err}");
+        assert!(err.contains("not a file"), "{file_arg}: {err}");
+    }
+    assert!(std::fs::symlink_metadata(&fifo)
+        .unwrap()
+        .file_type()
+        .is_fifo());
+    assert!(std::fs::symlink_metadata(&to_fifo)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+}

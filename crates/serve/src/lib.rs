@@ -53,6 +53,15 @@ pub enum PictureError {
         /// The input it names.
         input: PathBuf,
     },
+    /// The path is a device, a named pipe or a socket (or a link to one): a picture replaces
+    /// its file whole, and would put a regular file in its place.
+    #[error("{}: is {what}, not a file; a picture is written to a regular file, new or replaced whole", path.display())]
+    NotAFile {
+        /// The picture's file as given.
+        path: PathBuf,
+        /// What it is, e.g. `a character device`.
+        what: &'static str,
+    },
     /// The trace could not be encoded.
     #[error("search trace: {0}")]
     Trace(#[from] serde_json::Error),
@@ -96,10 +105,22 @@ impl Pictures<'_> {
 }
 
 /// Refuses, before anything is run or written, two of `files` that name one directory
-/// entry (`x.svg` and `./x.svg` too), and a file that names one of `inputs` (its entry, or
+/// entry (`x.svg` and `./x.svg` too), a file that names one of `inputs` (its entry, or
 /// the file a link there leads to): writing the picture would replace the user's map or
-/// configuration.
+/// configuration; and a device, named pipe or socket, or a link to one (`/dev/null`,
+/// `/dev/stdout`): the picture would replace it with a regular file.
 pub fn check_picture_files(files: &[&Path], inputs: &[PathBuf]) -> Result<(), PictureError> {
+    for file in files {
+        // The entry itself, then what a link there leads to.
+        for metadata in [std::fs::symlink_metadata(file), std::fs::metadata(file)] {
+            if let Some(what) = metadata.ok().and_then(|m| special(&m.file_type())) {
+                return Err(PictureError::NotAFile {
+                    path: file.to_path_buf(),
+                    what,
+                });
+            }
+        }
+    }
     let entries: Vec<PathBuf> = files.iter().map(|f| entry(f)).collect();
     for (i, a) in entries.iter().enumerate() {
         if entries[i + 1..].contains(a) {
@@ -118,6 +139,25 @@ pub fn check_picture_files(files: &[&Path], inputs: &[PathBuf]) -> Result<(), Pi
         }
     }
     Ok(())
+}
+
+/// What a file of type `kind` is when it is neither a regular file, a directory nor a link.
+fn special(kind: &std::fs::FileType) -> Option<&'static str> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        let what = [
+            (kind.is_char_device(), "a character device"),
+            (kind.is_block_device(), "a block device"),
+            (kind.is_fifo(), "a named pipe"),
+            (kind.is_socket(), "a socket"),
+        ];
+        what.into_iter().find(|(is, _)| *is).map(|(_, what)| what)
+    }
+    #[cfg(not(unix))]
+    {
+        (!kind.is_file() && !kind.is_dir() && !kind.is_symlink()).then_some("not a regular file")
+    }
 }
 
 /// The directory entry `path` names: its directory with the links in it resolved, and its
