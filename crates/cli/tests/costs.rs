@@ -222,3 +222,42 @@ fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
     assert_eq!(code, 4, "{err}");
     assert!(err.contains("bad.csv:2:7: expected a weight (an integer from 1 to 65535), found '-2', a negative number"), "{err}");
 }
+
+/// `--ignore-costs` with a picture: the run recorded for the picture plans on the same map
+/// without its weights as the timed run (it planned on the weights, and weighted JPS, LPA*
+/// and D* Lite failed with "runs must be deterministic (a bug)").
+#[test]
+fn ignored_costs_draw_and_trace_the_run_they_timed() {
+    let dir = std::env::temp_dir().join(format!("gridplan-ignored-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for planner in ["weighted_jps", "lpastar", "dstar_lite", "astar"] {
+        let (svg, trace) = (
+            dir.join(format!("{planner}.svg")),
+            dir.join(format!("{planner}.json")),
+        );
+        let (svg, trace) = (svg.display().to_string(), trace.display().to_string());
+        let (code, out, err) = plan_arena(
+            planner,
+            &[
+                "--weights",
+                WEIGHTS,
+                "--ignore-costs",
+                "--problem",
+                "1",
+                "--json",
+                "--svg",
+                &svg,
+                "--trace",
+                &trace,
+            ],
+        );
+        assert_eq!(code, 0, "{planner}: {err}");
+        assert_eq!(json(&out)["status"], "found", "{planner}");
+        assert!(
+            std::fs::read_to_string(&svg).unwrap().starts_with("<svg"),
+            "{planner}"
+        );
+        assert!(std::fs::metadata(&trace).unwrap().len() > 0, "{planner}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

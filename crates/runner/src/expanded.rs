@@ -169,7 +169,12 @@ pub fn record_search(
     timed: &RunRecord,
     events: bool,
 ) -> Result<(Vec<Cell>, Vec<planner_api::SearchEvent>), ExpandedError> {
-    let Ok(query) = Problem::new(&map.grid, problem.start, problem.goal) else {
+    // The grid the timed run planned on: without its weights for `costs = "ignore"`
+    // (the recording run planned on the weights, and its counters differed).
+    let unweighted =
+        (planner.ignore_costs && map.grid.is_weighted()).then(|| map.grid.without_weights());
+    let grid = unweighted.as_ref().unwrap_or(&map.grid);
+    let Ok(query) = Problem::new(grid, problem.start, problem.goal) else {
         return Ok((Vec::new(), Vec::new()));
     };
     let built = planner
@@ -182,7 +187,7 @@ pub fn record_search(
     let budget = crate::run::effective_budget(planner)
         .recording_expanded(true)
         .recording_events(events);
-    p.prepare_within(&map.grid, &budget);
+    p.prepare_within(grid, &budget);
     if let Some(seed) = planner.factory.seed_for(experiment.seed, timed.repeat) {
         p.reseed(seed);
     }
