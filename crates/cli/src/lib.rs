@@ -238,8 +238,9 @@ pub enum Command {
         /// Also write the search as a Posthoc search trace (JSON) to FILE: source,
         /// destination, the search's steps, end. A*, bidirectional A*, Theta*, Lazy Theta*, JPS and
         /// weighted JPS record every push into OPEN and every expansion with parent, g and f; the other
-        /// planners give one `expanding` event per expanded cell (planner-serve's `trace`
-        /// module).
+        /// planners that list their expanded cells give one `expanding` event per expanded cell
+        /// (planner-serve's `trace` module); a planner that lists none gives no steps (said
+        /// on stderr).
         #[arg(long, value_name = "FILE")]
         trace: Option<PathBuf>,
         /// Also write an animated GIF of the search (expanded cells in order, then the
@@ -1084,6 +1085,17 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 write_stdout(format!("{}\n", result.to_json()?).as_bytes())?;
             } else {
                 write_text(&result.to_text_within(text_columns()))?;
+            }
+            let expanded = result.record.counters.get("n_expanded").unwrap_or(0);
+            if trace.is_some()
+                && result.events.is_empty()
+                && result.expanded.is_empty()
+                && expanded > 0
+            {
+                eprintln!(
+                    "note: {} records no search steps (it lists no expanded cells), so the trace holds only its start, goal and end",
+                    planner_text::terminal(&result.record.planner)
+                );
             }
             if trace.is_some() && result.events.len() >= planner_api::MAX_SEARCH_EVENTS {
                 eprintln!(

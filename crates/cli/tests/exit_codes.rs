@@ -465,3 +465,32 @@ fn a_picture_over_a_device_or_pipe_exits_2_and_leaves_it() {
         .file_type()
         .is_symlink());
 }
+
+/// A trace of a planner that lists no expanded cells holds no steps, and `plan` says so
+/// (the trace was silently empty beside `n_expanded 230`); a planner that lists them
+/// gets no note.
+#[test]
+fn a_trace_without_steps_is_said() {
+    let dir = scratch("trace-steps");
+    for (planner, said) in [("backtracking", true), ("lpastar", true), ("bfs", false)] {
+        let trace = dir.join(format!("{planner}.json")).display().to_string();
+        let (code, err) = gridplan(&[
+            "plan",
+            "maps/paper/map10.map",
+            "--planner",
+            planner,
+            "--start",
+            "0,0",
+            "--goal",
+            "11,11",
+            "--trace",
+            &trace,
+        ]);
+        assert_eq!(code, 0, "{planner}: {err}");
+        assert_eq!(
+            err.contains("records no search steps"),
+            said,
+            "{planner}: {err}"
+        );
+    }
+}

@@ -18,7 +18,8 @@
 //! - for the other planners, one `expanding` event per expanded cell, in expansion order,
 //!   from the planner's [`planner_api::Outcome::expanded`] list (so there are `n_expanded`
 //!   of them for BFS, DFS and the others whose docs say the list has one cell per
-//!   expansion), without `pId`, `g` or `f`, which they do not record;
+//!   expansion), without `pId`, `g` or `f`, which they do not record; none for a planner
+//!   that lists no cells (backtracking, the RRT family, LPA\*, D\* Lite, PA-star, CAPSO);
 //! - one `end` event at the goal when a path was found.
 //!
 //! Every event has `type`, `id` (the cell's row-major index, `y * width + x`, so a cell
