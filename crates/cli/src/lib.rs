@@ -660,7 +660,7 @@ mod signals {
 }
 
 /// Makes Ctrl-C end the process at once with "interrupted" and [`EXIT_INTERRUPTED`]: for
-/// `plan`, which writes nothing, so stopping anywhere is clean.
+/// `plan` and `serve`, which write nothing, so stopping anywhere is clean.
 fn stop_on_interrupt() -> Result<(), CliError> {
     Ok(install_handler()?)
 }
@@ -1112,6 +1112,9 @@ pub fn run(command: Command) -> Result<(), CliError> {
             Ok(())
         }
         Command::Serve { dir, port, host } => {
+            // Serving writes nothing: a signal ends it at once, with status 130 (it was
+            // killed by SIGTERM, status 143).
+            stop_on_interrupt()?;
             let options = planner_serve::ServeOptions {
                 host,
                 ..planner_serve::ServeOptions::new(&dir, port)

@@ -1146,3 +1146,39 @@ fn a_20000_square_png_plans_within_the_memory_budget() {
     eprintln!("plan on a 20000 x 20000 PNG: peak RSS {peak_mb} MiB");
     assert!(peak_mb < 1000, "peak RSS {peak_mb} MiB");
 }
+
+/// SIGTERM (and Ctrl-C) stop `serve` with "interrupted" and status 130, as `--help` says of
+/// every command (it was killed by the signal: status 143).
+#[cfg(unix)]
+#[test]
+fn serve_stops_on_sigterm_with_130() {
+    use std::io::BufRead as _;
+    use std::os::unix::process::ExitStatusExt as _;
+    let dir = scratch(10_100);
+    std::fs::copy(
+        common::root().join("maps/paper/map01.map"),
+        dir.join("map01.map"),
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args(["serve", ".", "--port", "0"])
+        .current_dir(&dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Serving once its address is printed.
+    let mut line = String::new();
+    let stdout = child.stdout.take().unwrap();
+    std::io::BufReader::new(stdout)
+        .read_line(&mut line)
+        .unwrap();
+    assert!(line.starts_with("serving "), "{line}");
+    assert!(signal_and_wait(&mut child, "TERM", Duration::from_secs(20)));
+    let status = child.wait().unwrap();
+    assert_eq!((status.code(), status.signal()), (Some(130), None));
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    assert!(err.contains("interrupted"), "{err}");
+}
