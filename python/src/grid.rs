@@ -606,8 +606,7 @@ fn read(
                     ),
                 });
             }
-            let named = s.map.rsplit(['/', '\\']).next().unwrap_or(&s.map);
-            if !warned && named != name {
+            if !warned && !s.names_map(&name) {
                 tracing::warn!(
                     "{}:{}: the scenario names map {}, not {}",
                     scen.display(),

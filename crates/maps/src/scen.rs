@@ -40,6 +40,18 @@ pub struct Scenario {
 }
 
 impl Scenario {
+    /// Whether the scenario names the map file `name`: the last component of its map field
+    /// (which some files write with a directory, `/` or `\` separated) is `name`.
+    ///
+    /// ```
+    /// let text = "version 1\n0\tmaps/den520d.map\t3\t3\t0\t0\t1\t1\t1.4\n";
+    /// let s = planner_maps::parse_scenarios(text, "d.scen").unwrap().remove(0);
+    /// assert!(s.names_map("den520d.map") && !s.names_map("arena.map"));
+    /// ```
+    pub fn names_map(&self, name: &str) -> bool {
+        self.map.rsplit(['/', '\\']).next().unwrap_or(&self.map) == name
+    }
+
     /// The start-goal pair, keeping the line number.
     pub fn problem_spec(&self) -> ProblemSpec {
         ProblemSpec {

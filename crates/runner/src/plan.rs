@@ -700,8 +700,7 @@ fn own_pairs(
             }
             .into());
         }
-        let scen_map = s.map.rsplit(['/', '\\']).next().unwrap_or(&s.map);
-        if !warned && scen_map != name {
+        if !warned && !s.names_map(&name) {
             tracing::warn!(
                 "{}:{}: the scenario names map {}, not {}",
                 scen.display(),
