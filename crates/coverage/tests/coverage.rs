@@ -2,9 +2,11 @@
 //! of seeded random maps checked against independent methods written here (a BFS for the
 //! reachable set, a Dijkstra for return costs, the marking rule replayed from the path).
 
+use std::time::Duration;
+
 use planner_api::{
-    Budget, Cell, Connectivity, CoveragePlanner, CoverageProblem, Grid, MoveSet, PathRule, Problem,
-    Status,
+    Budget, CancelFlag, Cell, Connectivity, CoverageOutcome, CoveragePlanner, CoverageProblem,
+    Grid, MoveSet, PathRule, Problem, Status,
 };
 use planner_astar::{AStar, Heuristic};
 use planner_coverage::generate::{random_blocks, random_cells};
@@ -515,6 +517,164 @@ fn budget_stops_with_the_path_so_far() {
         planner.cover(&problem, &Budget::expansions(0)).path.len(),
         1
     );
+}
+
+/// `h * 1_000_003 + (a << 32 | b)` over the pairs, wrapping: a fingerprint of a path or
+/// of return legs.
+fn fingerprint(pairs: impl IntoIterator<Item = (u64, u64)>) -> u64 {
+    pairs.into_iter().fold(0u64, |h, (a, b)| {
+        h.wrapping_mul(1_000_003).wrapping_add(a << 32 | b)
+    })
+}
+
+fn path_fingerprint(outcome: &CoverageOutcome) -> u64 {
+    fingerprint(
+        outcome
+            .path
+            .cells()
+            .iter()
+            .map(|c| (u64::from(c.x), u64::from(c.y))),
+    )
+}
+
+fn counter(outcome: &CoverageOutcome, name: &str) -> u64 {
+    outcome.counters.get(name).unwrap()
+}
+
+/// The counters of a run, in reporting order.
+fn all_counters(outcome: &CoverageOutcome) -> [u64; 11] {
+    [
+        "n_reachable",
+        "n_covered",
+        "n_revisits",
+        "n_moves",
+        "n_turns",
+        "n_backtracking_points",
+        "n_marked_points",
+        "n_fill_moves",
+        "n_return_moves",
+        "n_return_searches",
+        "n_return_expansions",
+    ]
+    .map(|name| counter(outcome, name))
+}
+
+/// A run's counters and the fingerprints of its path and return legs.
+type Pinned = ([u64; 11], u64, u64);
+
+/// Random maps of 250 x 250 and 1000 x 1000 cells, a fifth of them blocked: the maps on
+/// which sorting every point at every return made the run quadratic (crate docs, "Run
+/// time": 222 s on such a million-cell map, under 1 s with the points' index). Counters
+/// and fingerprints are those of that code, the seed's procedure as written (2026-12-07):
+/// the index changes nothing. Expansion budgets then cut each run to a prefix of its path,
+/// within the work they allow. Debug builds (70 s for the million cells) take the small
+/// map only unless `GRIDPLAN_ALL_SCENARIOS` is set.
+#[test]
+fn large_random_maps_keep_their_paths_and_counters() {
+    let maps: [(u32, [Pinned; 2]); 2] = [
+        (
+            250,
+            [
+                (
+                    [
+                        49_822, 49_822, 13_912, 63_733, 37_841, 5_675, 27_670, 49_821, 13_912,
+                        9_602, 247_612,
+                    ],
+                    0x26ea_5654_4d9b_3ed9,
+                    0xaaab_9ffa_af2d_f753,
+                ),
+                (
+                    [
+                        49_822, 49_822, 15_245, 65_066, 36_207, 5_949, 27_439, 49_821, 15_245,
+                        10_094, 176_653,
+                    ],
+                    0x35a5_5835_977d_8560,
+                    0x39b8_8096_56c8_60ba,
+                ),
+            ],
+        ),
+        (
+            1000,
+            [
+                (
+                    [
+                        797_745, 797_745, 211_469, 1_009_213, 598_514, 89_743, 446_784, 797_744,
+                        211_469, 151_057, 6_007_075,
+                    ],
+                    0x6e75_d207_f526_a7c0,
+                    0x2f91_7a9b_4c47_9b9f,
+                ),
+                (
+                    [
+                        797_745, 797_745, 239_214, 1_036_958, 574_823, 93_345, 444_203, 797_744,
+                        239_214, 161_720, 4_105_633,
+                    ],
+                    0x05b6_b34a_0424_6a65,
+                    0x9a0b_a1eb_9282_ae00,
+                ),
+            ],
+        ),
+    ];
+    let all = !cfg!(debug_assertions) || std::env::var_os("GRIDPLAN_ALL_SCENARIOS").is_some();
+    for (side, pinned) in maps {
+        if side > 250 && !all {
+            continue;
+        }
+        let grid = random_cells(side, side, 0.2, Cell::new(0, 0), 2).unwrap();
+        let problem = CoverageProblem::new(&grid, Cell::new(0, 0)).unwrap();
+        let configs = [spiral(Side::Left), zigzag(Rotation::CounterClockwise)];
+        for (config, (counters, path, returns)) in configs.into_iter().zip(pinned) {
+            let what = format!("{side} x {side}, {config:?}");
+            let mut planner = Coverage::new(config).unwrap();
+            let full = planner.cover(&problem, &Budget::unlimited());
+            assert_eq!(full.status, Status::Found, "{what}");
+            assert!(full.metrics.is_complete(), "{what}");
+            assert_eq!(all_counters(&full), counters, "{what}");
+            assert_eq!(path_fingerprint(&full), path, "{what}");
+            let legs = full
+                .returns
+                .iter()
+                .map(|leg| (leg.start as u64, leg.end as u64));
+            assert_eq!(fingerprint(legs), returns, "{what}");
+            let work = counters[7] + counters[10];
+            for n in [work / 20, work / 2] {
+                let cut = planner.cover(&problem, &Budget::expansions(n));
+                assert_eq!(cut.status, Status::BudgetExhausted, "{what} {n}");
+                let done = counter(&cut, "n_fill_moves") + counter(&cut, "n_return_expansions");
+                assert!(done <= n, "{what} {n}: {done}");
+                assert!(
+                    full.path.cells().starts_with(cut.path.cells()),
+                    "{what} {n}"
+                );
+            }
+        }
+    }
+}
+
+/// A raised cancel flag or a past deadline ends a run at its first return, before any A*
+/// search: the run's clock reads them every `TIME_CHECK_INTERVAL` (1024) fill moves and
+/// A* every 1024 expansions, which neither the first filling (8 moves here) nor a short
+/// search reaches, so the returns read them before each search (crate docs, "Run time").
+#[test]
+fn a_cancel_or_a_deadline_stops_the_returns() {
+    let grid = random_cells(200, 200, 0.2, Cell::new(0, 0), 2).unwrap();
+    let problem = CoverageProblem::new(&grid, Cell::new(0, 0)).unwrap();
+    let mut planner = Coverage::new(spiral(Side::Left)).unwrap();
+    let full = planner.cover(&problem, &Budget::unlimited());
+    let first = full.returns[0].start;
+    assert_eq!(first, 8);
+    let flag = CancelFlag::new();
+    flag.cancel();
+    for budget in [
+        Budget::unlimited().with_cancel(flag),
+        Budget::expansions(u64::MAX).with_time(Duration::ZERO),
+    ] {
+        let cut = planner.cover(&problem, &budget);
+        assert_eq!(cut.status, Status::BudgetExhausted, "{budget:?}");
+        assert_eq!(cut.path.cells(), &full.path.cells()[..=first], "{budget:?}");
+        assert_eq!(counter(&cut, "n_return_searches"), 0, "{budget:?}");
+        assert_eq!(counter(&cut, "n_fill_moves"), first as u64, "{budget:?}");
+    }
 }
 
 #[test]

@@ -4,9 +4,11 @@
 //! weights.
 
 use planner_api::{Budget, Cell, CoveragePlanner, CoverageProblem, Grid};
+use planner_coverage::generate::random_cells;
 use planner_coverage::{Config, Coverage, Heading, Pattern, Rotation, Side};
 use planner_testkit::{
-    random_weighted_problems, reference_coverage, small_random_problems, Fill, COVERAGE_COUNTERS,
+    random_problems, random_weighted_problems, reference_coverage, small_random_problems, Fill,
+    COVERAGE_COUNTERS,
 };
 
 /// The heading's index in right, down, left, up.
@@ -112,4 +114,57 @@ fn every_counter_equals_the_reference_on_random_weighted_grids() {
     let (returns, searches) = check("weighted", &problems);
     // 5,473 returns and 85,133 return searches (2026-12-06).
     assert!(returns > 4_000 && searches > 60_000, "{returns} {searches}");
+}
+
+/// Grids of up to 64 cells a side and long strips, with and without weights: the points'
+/// index (`src/points.rs`, blocks of 8 x 8 cells and up to five levels above here) gives
+/// the points in the order of the reference's sorted list, where the grids above fit a
+/// block or four. Debug builds take every third grid unless `GRIDPLAN_ALL_SCENARIOS` is
+/// set (a minute for all of them).
+#[test]
+fn every_counter_equals_the_reference_on_larger_grids() {
+    let mut problems: Vec<(Grid, Cell)> = random_problems(79, 24, (1, 64), (0, 3500))
+        .into_iter()
+        .map(|(grid, start, _)| (grid, start))
+        .collect();
+    for (k, (w, h)) in [(1, 300), (300, 1), (2, 150), (150, 3), (17, 70), (69, 9)]
+        .into_iter()
+        .enumerate()
+    {
+        let grid = random_cells(w, h, 0.15, Cell::new(0, 0), k as u64).unwrap();
+        problems.push((grid, Cell::new(0, 0)));
+    }
+    let all = !cfg!(debug_assertions) || std::env::var_os("GRIDPLAN_ALL_SCENARIOS").is_some();
+    let problems: Vec<(Grid, Cell)> = problems
+        .into_iter()
+        .step_by(if all { 1 } else { 3 })
+        .collect();
+    // The same grids weighted: each cell 1 to 9, the rules alternating.
+    let weighted: Vec<(Grid, Cell)> = problems
+        .iter()
+        .enumerate()
+        .map(|(k, (grid, start))| {
+            let weights = (0..grid.len())
+                .map(|i| 1 + ((i * 7 + k * 13 + i / 5) % 9) as u16)
+                .collect();
+            let rule = match k % 2 {
+                0 => planner_api::CostRule::Mean,
+                _ => planner_api::CostRule::Entered,
+            };
+            (grid.clone().with_weights(weights, rule).unwrap(), *start)
+        })
+        .collect();
+    let (returns, searches) = check("larger", &problems);
+    let (weighted_returns, weighted_searches) = check("larger weighted", &weighted);
+    // All grids: 7,592 and 7,657 returns, 13,051 and 95,321 searches (2026-12-07).
+    println!("{returns} {searches} {weighted_returns} {weighted_searches}");
+    let least = if all { 7_000 } else { 2_000 };
+    assert!(
+        returns > least && weighted_returns > least,
+        "{returns} {weighted_returns}"
+    );
+    assert!(
+        weighted_searches > searches,
+        "{searches} {weighted_searches}"
+    );
 }
