@@ -16,24 +16,34 @@
 //!   batch's patches, [`gppc`]).
 //!
 //! [`run`] writes into the output directory: `runs.csv` (one line per run),
-//! `runs.jsonl` (the same with the path driven, navigate only), `replans.jsonl` (one JSON
-//! line per replan, with its counters and A*'s expansions from scratch at that replan),
-//! `summary.md` (per-run totals and per-replan distributions per map, radius or seed, and
-//! planner) and `expansions.svg` (the first incremental planner's expansions per replan
-//! against A* from scratch at the same replan; at most [`CHART_POINTS`] points, an even
-//! subsample beyond). Times appear only with [`RunOptions::timing`], so that without it
-//! every output is a pure function of the config.
+//! `runs.jsonl` (the same with the path driven, navigate only, and the run's first
+//! [`MISMATCHES_LISTED`] failed checks), `replans.jsonl` (one JSON line per replan, with
+//! its counters, A*'s expansions from scratch at that replan and, when its check failed,
+//! the `mismatch`), `summary.md` (per-run totals and per-replan distributions per map,
+//! radius or seed, and planner) and `expansions.svg` (the first incremental planner's
+//! expansions per replan against A* from scratch at the same replan; at most
+//! [`CHART_POINTS`] points, an even subsample beyond). Times appear only with
+//! [`RunOptions::timing`], so that without it every output is a pure function of the config.
 //!
-//! The runs go in chunks of [`RUN_CHUNK`], in parallel within a chunk; each chunk's lines
-//! are appended to the three tables, in the config's order, in files of the output's
-//! working area (planner-runner's `outdir::stream_area`, `.<output>.stream` beside it) as
-//! soon as the chunk ends, and only what the summary and the chart need of a run stays in
-//! memory (a few numbers per replan), so an experiment's memory does not grow with its
-//! records (`tests/memory.rs` holds the growth per replan under 64 bytes). The tables
-//! are copied into the results at the end, and the area removed. [`RunOptions::stop`]
-//! (Ctrl-C on the command line) ends the experiment after the runs in progress (within a
-//! GPPC replay, after its batch in progress) with [`ExperimentError::Interrupted`],
-//! the output as it was and the area removed.
+//! A GPPC replay (one `[[gppc]]` scenario file and one planner) is a run; its replans are
+//! its carried queries (the planner's repairs after the next batch's patches, each checked
+//! against A* from scratch on the patched map), and its checked queries (A* against the
+//! recorded optimum) are counted apart: the counts [`run`] returns and `summary.md`'s head
+//! are the same.
+//!
+//! The runs go in chunks of [`RUN_CHUNK`], in parallel within a chunk. A run hands its
+//! replans to a [`Recorder`] as they happen, which writes their lines to a file of the
+//! output's working area (planner-runner's `outdir::stream_area`, `.<output>.stream`
+//! beside it) and keeps the run's totals; once the chunk ends, its runs' lines are
+//! appended to the three tables there, in the config's order, and what the summary and
+//! the chart need is gathered: per map, setting and planner a histogram of expansions per
+//! replan (exact percentiles) and one share of A* per run, and the chart's points sampled
+//! as they come. So an experiment's memory grows neither with a run's replans nor with
+//! its records (`tests/memory.rs` holds both). The tables are copied into the results at
+//! the end, and the area removed. [`RunOptions::stop`] (Ctrl-C on the command line) ends
+//! a run in progress before its next step or event (a GPPC replay before its next query),
+//! or the tables' copy into the results before its next block, and the experiment with
+//! [`ExperimentError::Interrupted`], the output as it was and the area removed.
 //!
 //! The results directory is written as the experiment runner writes its own, by
 //! planner-runner's `outdir` (its rules in that module's docs): only into a directory that
@@ -64,13 +74,26 @@ use serde_json::json;
 use thiserror::Error;
 use toml::Spanned;
 
-use crate::navigate::{self, NavConfig, NavRun};
+use crate::navigate::{self, NavConfig, NavEnd};
 use crate::report::{quantile, scatter_svg};
-use crate::toggles::{self, ToggleConfig, ToggleRun};
-use crate::{gppc, planners, Mismatch, Oracle, ReplanRecord};
+use crate::toggles::{self, ToggleConfig};
+use crate::{gppc, planners, Mismatch, Oracle, Recorder, ReplanRecord};
 
 /// The most points [`run`] draws in `expansions.svg`.
 pub const CHART_POINTS: usize = 20_000;
+
+/// The most `[toggles] events` a config may ask for. Every event is a replan checked by
+/// A* from scratch and a line of `replans.jsonl` (about 300 bytes) in every run: a million
+/// events already write about 300 MB per scenario, seed and planner, and the 4,294,967,295
+/// a `u32` allows would write over a terabyte per run and take days; a longer script is
+/// rarely meant, and more seeds measure more.
+pub const MAX_EVENTS: u32 = 1_000_000;
+
+/// The most failed checks of a run that `runs.jsonl` lists, and the most that
+/// `summary.md` lists in all; `runs.csv` counts them all, and the `replans.jsonl` line of
+/// every failed replan has its `mismatch`. A broken planner may fail every replan: its
+/// messages are not kept whole.
+pub const MISMATCHES_LISTED: usize = 100;
 
 /// The file every results directory holds, so that [`run`] replaces only gridplan's own
 /// outputs (the experiment runner's marker).
@@ -115,8 +138,9 @@ pub struct MapSpec {
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ToggleSpec {
-    /// Change events after the first plan.
-    pub events: u32,
+    /// Change events after the first plan, at most [`MAX_EVENTS`].
+    #[schemars(with = "u32", range(max = MAX_EVENTS))]
+    pub events: Spanned<u32>,
     /// Cells toggled per event, at most each map's number of cells.
     pub k: u32,
     /// Half-width of the square around the agent that off-path toggles fall in.
@@ -332,9 +356,11 @@ pub struct RunOptions {
     pub timing: bool,
     /// Worker threads (0: rayon's default, one per core). Results do not depend on it.
     pub threads: usize,
-    /// A flag that stops the experiment when raised (a command line's Ctrl-C): no run or
-    /// GPPC batch starts after it, the working files go, the output is left as it was,
-    /// and [`run`] returns [`ExperimentError::Interrupted`].
+    /// A flag that stops the experiment when raised (a command line's Ctrl-C): no run
+    /// starts after it, a run in progress ends before its next step or event (a GPPC
+    /// replay before its next query), the results being written are discarded, the
+    /// working files go, the output is left as it was, and [`run`] returns
+    /// [`ExperimentError::Interrupted`].
     pub stop: Option<&'static std::sync::atomic::AtomicBool>,
 }
 
@@ -354,6 +380,8 @@ pub struct ExperimentSummary {
     pub runs: usize,
     /// Replans checked by the oracle (GPPC: carried repairs).
     pub replans: u64,
+    /// GPPC queries checked against their recorded optimum (0 without `[[gppc]]`).
+    pub queries: u64,
     /// Failed checks (GPPC: also queries that disagree with the recorded optimum).
     pub mismatches: u64,
     /// The files written.
@@ -561,6 +589,17 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
                 if t.get_ref().seeds.is_empty() {
                     return Err(invalid(t.span(), "seeds", "name at least one seed".into()));
                 }
+                let events = &t.get_ref().events;
+                if *events.get_ref() > MAX_EVENTS {
+                    return Err(invalid(
+                        events.span(),
+                        "events",
+                        format!(
+                            "{} events per run is more than the limit of {MAX_EVENTS}: each is a replan checked by A* from scratch and a line of replans.jsonl; use more seeds or scenarios instead",
+                            events.get_ref()
+                        ),
+                    ));
+                }
             }
             if config.toggles.is_none() && !config.maps.is_empty() {
                 return Err(invalid(
@@ -656,45 +695,218 @@ impl RunId {
     }
 }
 
-/// One run's identity and records.
-struct RunRow {
+/// A finished run: what `runs.csv`, `runs.jsonl` and the summary need of it. Its replans
+/// are in files of the working area ([`RunFiles`]), not here.
+struct RunDone {
     id: RunId,
-    result: RunResult,
+    /// The navigation's end (navigate only): reached, steps, the path driven.
+    nav: Option<NavEnd>,
+    /// Cells toggled in all (dynamic only).
+    toggled: Option<u64>,
+    replans: u64,
+    expansions: u64,
+    oracle_expansions: u64,
+    /// Failed checks, all counted.
+    mismatches: u64,
+    /// The first [`MISMATCHES_LISTED`] of them.
+    listed: Vec<String>,
+    /// The first replan's planning time (the time to the first move).
+    first_planning: Duration,
+    planning_time: Duration,
+    files: RunFiles,
 }
 
-enum RunResult {
-    Nav(NavRun),
-    Toggle(ToggleRun),
+/// The files of one run in progress in the working area, named by its place in its chunk
+/// (each chunk's runs reuse them): its `replans.jsonl` lines, and for every replan after
+/// the first its expansions and A*'s ([`LATER_BYTES`] bytes, read back for the summary and
+/// the chart). They are appended to the tables in task order once the chunk ends, and
+/// removed.
+struct RunFiles {
+    lines: PathBuf,
+    later: PathBuf,
 }
 
-impl RunRow {
-    fn replans(&self) -> &[ReplanRecord] {
-        match &self.result {
-            RunResult::Nav(r) => &r.replans,
-            RunResult::Toggle(r) => &r.replans,
+/// Bytes per replan in a run's [`RunFiles::later`] file: its expansions, then A*'s
+/// (`u64::MAX` when not checked), little-endian.
+const LATER_BYTES: usize = 16;
+
+impl RunFiles {
+    fn of(area: &planner_runner::outdir::StreamArea, slot: usize) -> RunFiles {
+        RunFiles {
+            lines: area.dir.join(format!("run-{slot}.replans.jsonl")),
+            later: area.dir.join(format!("run-{slot}.later")),
         }
     }
 
-    fn mismatches(&self) -> &[Mismatch] {
-        match &self.result {
-            RunResult::Nav(r) => &r.mismatches,
-            RunResult::Toggle(r) => &r.mismatches,
+    /// Removes both files once appended (a failed experiment's go with the working area).
+    fn remove(&self) {
+        let _ = std::fs::remove_file(&self.lines);
+        let _ = std::fs::remove_file(&self.later);
+    }
+}
+
+/// The [`Recorder`] of a run in an experiment: writes each replan's line to the run's
+/// file as it comes and keeps the run's totals, so that a run's memory does not grow with
+/// its replans. It stops the run when the experiment's stop flag is raised or a file
+/// cannot be written.
+struct RunRecorder<'a> {
+    id: &'a RunId,
+    setting_key: &'static str,
+    options: &'a RunOptions,
+    lines: std::io::BufWriter<std::fs::File>,
+    later: std::io::BufWriter<std::fs::File>,
+    files: RunFiles,
+    /// The first write that failed.
+    failed: Option<ExperimentError>,
+    replans: u64,
+    expansions: u64,
+    oracle_expansions: u64,
+    mismatches: u64,
+    listed: Vec<String>,
+    first_planning: Duration,
+    planning_time: Duration,
+}
+
+impl<'a> RunRecorder<'a> {
+    fn create(
+        area: &planner_runner::outdir::StreamArea,
+        slot: usize,
+        id: &'a RunId,
+        kind: Kind,
+        options: &'a RunOptions,
+    ) -> Result<RunRecorder<'a>, ExperimentError> {
+        let files = RunFiles::of(area, slot);
+        let open = |path: &Path| -> Result<_, ExperimentError> {
+            let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+            Ok(std::io::BufWriter::new(
+                area.open_write(&name.unwrap_or_default(), true)?,
+            ))
+        };
+        Ok(RunRecorder {
+            id,
+            setting_key: setting_key(kind),
+            options,
+            lines: open(&files.lines)?,
+            later: open(&files.later)?,
+            files,
+            failed: None,
+            replans: 0,
+            expansions: 0,
+            oracle_expansions: 0,
+            mismatches: 0,
+            listed: Vec::new(),
+            first_planning: Duration::ZERO,
+            planning_time: Duration::ZERO,
+        })
+    }
+
+    /// Writes `bytes` to one of the run's files, keeping the first failure.
+    fn put(&mut self, later: bool, bytes: &[u8]) {
+        use std::io::Write as _;
+        if self.failed.is_some() {
+            return;
+        }
+        let (writer, path) = match later {
+            false => (&mut self.lines, &self.files.lines),
+            true => (&mut self.later, &self.files.later),
+        };
+        if let Err(e) = writer.write_all(bytes) {
+            self.failed = Some(io_failure(path, e));
         }
     }
 
-    fn expansions(&self) -> u64 {
-        self.replans().iter().map(|r| r.expansions).sum()
+    /// Counts a failed check, keeps its message among the first listed, and returns it.
+    fn note(&mut self, mismatch: &Mismatch) -> String {
+        let text = mismatch.to_string();
+        self.mismatches += 1;
+        if self.listed.len() < MISMATCHES_LISTED {
+            self.listed.push(text.clone());
+        }
+        text
     }
 
-    fn oracle_expansions(&self) -> u64 {
-        self.replans()
+    /// Flushes the run's files and returns what the tables and the summary need of it.
+    fn finish(
+        mut self,
+        nav: Option<NavEnd>,
+        toggled: Option<u64>,
+    ) -> Result<RunDone, ExperimentError> {
+        for (writer, path) in [
+            (&mut self.lines, &self.files.lines),
+            (&mut self.later, &self.files.later),
+        ] {
+            if let Err(e) = std::io::Write::flush(writer) {
+                self.failed.get_or_insert_with(|| io_failure(path, e));
+            }
+        }
+        if let Some(failed) = self.failed {
+            return Err(failed);
+        }
+        Ok(RunDone {
+            id: self.id.clone(),
+            nav,
+            toggled,
+            replans: self.replans,
+            expansions: self.expansions,
+            oracle_expansions: self.oracle_expansions,
+            mismatches: self.mismatches,
+            listed: self.listed,
+            first_planning: self.first_planning,
+            planning_time: self.planning_time,
+            files: self.files,
+        })
+    }
+}
+
+impl Recorder for RunRecorder<'_> {
+    fn replan(&mut self, record: ReplanRecord, mismatch: Option<Mismatch>) {
+        let index = self.replans;
+        self.replans += 1;
+        self.expansions += record.expansions;
+        self.oracle_expansions += record.oracle_expansions.unwrap_or(0);
+        self.planning_time += record.planning_time();
+        if index == 0 {
+            self.first_planning = record.planning_time();
+        } else {
+            let mut later = [0u8; LATER_BYTES];
+            later[..8].copy_from_slice(&record.expansions.to_le_bytes());
+            later[8..].copy_from_slice(&record.oracle_expansions.unwrap_or(u64::MAX).to_le_bytes());
+            self.put(true, &later);
+        }
+        let counters: serde_json::Map<String, serde_json::Value> = record
+            .counters
             .iter()
-            .map(|r| r.oracle_expansions.unwrap_or(0))
-            .sum()
+            .map(|(k, v)| (k.to_string(), v.into()))
+            .collect();
+        let mut line = json!({
+            "map": self.id.map,
+            "scenario_line": self.id.line,
+            self.setting_key: self.id.setting,
+            "planner": self.id.planner,
+            "replan": index,
+            "step": record.step,
+            "status": record.status.as_str(),
+            "expansions": record.expansions,
+            "astar_expansions": record.oracle_expansions,
+            "cost_units": record.cost.map(|c| c.units()),
+            "counters": counters,
+        });
+        if let Some(mismatch) = &mismatch {
+            line["mismatch"] = self.note(mismatch).into();
+        }
+        if self.options.timing {
+            line["update_us"] = (micros(record.update_time) as u64).into();
+            line["replan_us"] = (micros(record.replan_time) as u64).into();
+        }
+        self.put(false, format!("{line}\n").as_bytes());
     }
 
-    fn planning_time(&self) -> Duration {
-        self.replans().iter().map(ReplanRecord::planning_time).sum()
+    fn mismatch(&mut self, mismatch: Mismatch) {
+        self.note(&mismatch);
+    }
+
+    fn stopped(&self) -> bool {
+        self.failed.is_some() || self.options.stopped()
     }
 }
 
@@ -780,8 +992,8 @@ pub fn run_config_with(
         let scen_name = scen_path.display().to_string();
         // Regular files only, at most the map readers' limit: a FIFO or `/dev/zero` named
         // by the config or by the scenario would never end.
-        let text = planner_maps::read_text_file(&scen_path, DEFAULT_MAX_FILE_BYTES)?;
-        let scenario = parse_gppc_scenario(&text, &scen_name)?;
+        let scen_text = planner_maps::read_text_file(&scen_path, DEFAULT_MAX_FILE_BYTES)?;
+        let scenario = parse_gppc_scenario(&scen_text, &scen_name)?;
         let patch_path = scen_path
             .parent()
             .unwrap_or(Path::new("."))
@@ -789,7 +1001,9 @@ pub fn run_config_with(
         let patch_name = patch_path.display().to_string();
         let text = planner_maps::read_text_file(&patch_path, DEFAULT_MAX_FILE_BYTES)?;
         let patches = parse_gppc_patches(&text, &patch_name)?;
-        scenario.validate(&patches, &scen_name)?;
+        scenario
+            .validate(&patches, &scen_name)
+            .map_err(|e| gppc_column(e, &scen_text))?;
         let stem = scen_path
             .file_stem()
             .map_or_else(|| spec.scen.clone(), |s| s.to_string_lossy().into_owned());
@@ -832,9 +1046,10 @@ pub fn run_config_with(
         let t = t.get_ref();
         ToggleConfig {
             events: if options.test {
-                config.test.events.unwrap_or(t.events).min(t.events)
+                let events = *t.events.get_ref();
+                config.test.events.unwrap_or(events).min(events)
             } else {
-                t.events
+                *t.events.get_ref()
             },
             k: t.k,
             radius: t.radius,
@@ -842,23 +1057,34 @@ pub fn run_config_with(
             seed: 0,
         }
     });
-    // The runs' records go to the tables in the output's working area as each chunk of
-    // runs finishes, in task order; what the summary and the chart need of a run is kept
-    // (a few numbers a replan), so memory does not grow with the records.
-    let run_one = |&(m, s, setting, p): &(usize, usize, u64, usize)| -> RunRow {
+    // Each run writes its replans into files of the output's working area as they come;
+    // once a chunk of runs ends, their lines are appended to the tables in task order and
+    // what the summary and the chart need is gathered, so memory does not grow with the
+    // records.
+    let run_one = |area: &planner_runner::outdir::StreamArea,
+                   slot: usize,
+                   &(m, s, setting, p): &(usize, usize, u64, usize)|
+     -> Result<RunDone, ExperimentError> {
         let map = &maps[m];
         let scenario = &map.scenarios[s];
         let name = &names[p];
+        let id = RunId {
+            map: map.name.clone(),
+            line: scenario.line,
+            setting,
+            planner: name.clone(),
+        };
+        let mut recorder = RunRecorder::create(area, slot, &id, config.kind, options)?;
         let mut planner = make(name, eight);
         let mut oracle = Oracle::new(eight);
-        let result = match config.kind {
+        match config.kind {
             Kind::Navigate => {
                 let nav = NavConfig {
                     radius: setting as u32,
                     max_steps: config.max_steps,
                     check_every_change: false,
                 };
-                match navigate::run(
+                match navigate::run_recorded(
                     planner.as_mut(),
                     Some(&mut oracle),
                     &map.grid,
@@ -866,8 +1092,9 @@ pub fn run_config_with(
                     scenario.goal,
                     &nav,
                     &Budget::unlimited(),
+                    &mut recorder,
                 ) {
-                    Ok(run) => RunResult::Nav(run),
+                    Ok(end) => recorder.finish(Some(end), None),
                     Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
                 }
             }
@@ -886,56 +1113,51 @@ pub fn run_config_with(
                         seed: 0,
                     })
                 };
-                RunResult::Toggle(toggles::run(
+                let end = toggles::run_recorded(
                     planner.as_mut(),
                     &mut oracle,
                     &problem,
                     &toggle,
                     &Budget::unlimited(),
-                ))
+                    &mut recorder,
+                );
+                recorder.finish(None, Some(end.toggled))
             }
-        };
-        RunRow {
-            id: RunId {
-                map: map.name.clone(),
-                line: scenario.line,
-                setting,
-                planner: name.clone(),
-            },
-            result,
         }
     };
-    let charted = charted_planner(config);
-    let mut stats: Vec<RunStats> = Vec::with_capacity(tasks.len());
-    let area = match tasks.is_empty() {
-        true => None,
-        false => Some(WorkingArea(planner_runner::outdir::stream_area(
-            output,
-            planner_runner::outdir::DEFAULT_LOCK_WAIT,
-        )?)),
-    };
-    let tables = match &area {
-        Some(WorkingArea(area)) => {
+    let mut summary = RunSummary::new(charted_planner(config));
+    // Taken even when no table is written, so that what a killed run left there goes.
+    let area = WorkingArea(planner_runner::outdir::stream_area(
+        output,
+        planner_runner::outdir::DEFAULT_LOCK_WAIT,
+    )?);
+    let tables = match tasks.is_empty() {
+        false => {
+            let area = &area.0;
             let mut tables = Tables::create(area, config.kind, options)?;
             for chunk in tasks.chunks(RUN_CHUNK) {
-                // Once stopped, the chunk's remaining runs do not start.
-                let rows: Vec<Option<RunRow>> = pool.install(|| {
+                // Once stopped, the chunk's remaining runs do not start, and a run in
+                // progress ends before its next step or event.
+                let runs: Vec<Option<Result<RunDone, ExperimentError>>> = pool.install(|| {
                     chunk
                         .par_iter()
-                        .map(|task| (!options.stopped()).then(|| run_one(task)))
+                        .enumerate()
+                        .map(|(slot, task)| (!options.stopped()).then(|| run_one(area, slot, task)))
                         .collect()
                 });
                 if options.stopped() {
                     return Err(ExperimentError::Interrupted);
                 }
-                for row in rows.into_iter().flatten() {
-                    tables.write(&row, config.kind, options)?;
-                    stats.push(RunStats::of(&row, charted));
+                for run in runs.into_iter().flatten() {
+                    let run = run?;
+                    tables.write(&run, config.kind, options)?;
+                    summary.add(&run)?;
+                    run.files.remove();
                 }
             }
             Some(tables.finish()?)
         }
-        None => None,
+        true => None,
     };
     let gppc_runs: Result<Vec<(String, String, gppc::Replay)>, ExperimentError> =
         pool.install(|| {
@@ -973,12 +1195,91 @@ pub fn run_config_with(
         return Err(ExperimentError::Interrupted);
     }
     let gppc_runs = gppc_runs?;
-    write_results(config, output, options, &stats, tables.as_ref(), &gppc_runs)
+    write_results(
+        config,
+        output,
+        options,
+        &summary,
+        tables.as_ref(),
+        &gppc_runs,
+    )
     // The area goes here, its tables copied into the results, or the run failed.
 }
 
+/// `error` of a GPPC scenario's command, with the column of the field it is about: the
+/// patch number of a patch that does not exist, the `x` or `y` that puts a patch outside
+/// the map, the coordinate of a query's start or goal outside it. planner-maps' check
+/// ([`GppcScenario::validate`](planner_maps::gppc::GppcScenario::validate)) names the
+/// command's line alone; the column is found in that line of the scenario's `text`. Any
+/// other error, or one with a column, is returned as it is.
+fn gppc_column(mut error: MapError, text: &str) -> MapError {
+    use planner_maps::MapErrorKind as K;
+    if error.column != 0 || error.line == 0 {
+        return error;
+    }
+    // The field's place on the line: `P batch patch x y`, `Q batch sx sy gx gy cost`.
+    let field = match &error.kind {
+        K::UnknownPatch { .. } => 2,
+        K::PatchOutside {
+            patch_width,
+            x,
+            y,
+            width,
+            height,
+            ..
+        } => {
+            let right = u64::from(*x) + u64::from(*patch_width);
+            if *x >= *width || (*y < *height && right > u64::from(*width)) {
+                3
+            } else {
+                4
+            }
+        }
+        K::QueryOutside {
+            endpoint,
+            cell,
+            width,
+            ..
+        } => {
+            let x = if *endpoint == "start" { 2 } else { 4 };
+            if cell.x >= *width {
+                x
+            } else {
+                x + 1
+            }
+        }
+        _ => return error,
+    };
+    // Lines and columns as planner-maps counts them: after a byte-order mark, without the
+    // `\r` of a CRLF line end, in characters.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let Some(line) = text.split('\n').nth(error.line - 1) else {
+        return error;
+    };
+    let mut column = 0;
+    let mut starts = Vec::new();
+    let mut inside = false;
+    for ch in line.chars() {
+        column += 1;
+        match (ch.is_whitespace(), inside) {
+            (false, false) => {
+                starts.push(column);
+                inside = true;
+            }
+            (true, true) => inside = false,
+            _ => {}
+        }
+    }
+    if let Some(&column) = starts.get(field) {
+        error.column = column;
+    }
+    error
+}
+
 /// The output's working area while the tables are written there: removed when the
-/// experiment ends, however it ends (a kill leaves it, and the next run truncates it).
+/// experiment ends, however it ends. A process killed at once (SIGKILL, or the command
+/// line's second Ctrl-C) leaves it and its lock, which hold nothing to resume: the next run
+/// on the same output takes them over and removes them.
 struct WorkingArea(planner_runner::outdir::StreamArea);
 
 impl Drop for WorkingArea {
@@ -987,8 +1288,9 @@ impl Drop for WorkingArea {
     }
 }
 
-/// Tasks run between two writes of the tables: each chunk's records are written in task
-/// order as soon as it finishes, so memory holds one chunk's records at most.
+/// Tasks run between two writes of the tables: each chunk's records are appended in task
+/// order as soon as it finishes (from its runs' files in the working area), so memory holds
+/// one chunk's run totals at most.
 pub const RUN_CHUNK: usize = 256;
 
 /// The planner whose replans `expansions.svg` draws: the first incremental one compared.
@@ -998,47 +1300,195 @@ fn charted_planner(config: &ExperimentConfig) -> Option<&'static str> {
         .find(|n| config.planners.iter().any(|p| p.get_ref() == n))
 }
 
-/// What the summary and the chart need of a run, kept once its records are written out: a
-/// few numbers a replan instead of its counters, and no path.
-struct RunStats {
-    id: RunId,
-    /// Whether the agent reached the goal (navigate only).
-    reached: Option<bool>,
-    replans: usize,
-    expansions: u64,
-    oracle_expansions: u64,
-    mismatches: Vec<String>,
-    planning_time: Duration,
-    /// The expansions of every replan after the first.
-    later_expansions: Vec<u64>,
-    /// For the charted planner: A*'s expansions and the planner's, of every replan after
-    /// the first that the oracle checked.
-    chart: Vec<(u64, u64)>,
+/// What `summary.md` and `expansions.svg` need of the runs, gathered in task order as the
+/// runs finish: per group of runs (map, setting, planner) its totals, one share of A* (and
+/// one planning time) per run and the histogram of expansions per replan after the
+/// first; the first [`MISMATCHES_LISTED`] failed checks; the chart's sampled points. Its
+/// memory grows with the runs and the distinct expansion counts, not with the replans.
+struct RunSummary {
+    groups: Vec<Group>,
+    /// Each group's index in `groups`, by its key.
+    index: std::collections::HashMap<(String, u64, String), usize>,
+    runs: usize,
+    replans: u64,
+    mismatches: u64,
+    /// The first failed checks, each with its run: (run, message).
+    listed: Vec<(RunId, String)>,
+    charted: Option<&'static str>,
+    chart: ChartSample,
 }
 
-impl RunStats {
-    fn of(row: &RunRow, charted: Option<&str>) -> RunStats {
-        let later = row.replans().iter().skip(1);
-        RunStats {
-            id: row.id.clone(),
-            reached: match &row.result {
-                RunResult::Nav(r) => Some(r.reached),
-                RunResult::Toggle(_) => None,
-            },
-            replans: row.replans().len(),
-            expansions: row.expansions(),
-            oracle_expansions: row.oracle_expansions(),
-            mismatches: row.mismatches().iter().map(|m| m.to_string()).collect(),
-            planning_time: row.planning_time(),
-            later_expansions: later.clone().map(|r| r.expansions).collect(),
-            chart: match charted == Some(row.id.planner.as_str()) {
-                true => later
-                    .filter_map(|r| r.oracle_expansions.map(|a| (a, r.expansions)))
-                    .collect(),
-                false => Vec::new(),
-            },
+/// One group's part of a [`RunSummary`].
+struct Group {
+    id: RunId,
+    runs: usize,
+    reached: usize,
+    replans: u64,
+    mismatches: u64,
+    expansions: u64,
+    /// Per run with A* expansions: the planner's expansions as a share of A*'s.
+    shares: Vec<f64>,
+    /// Per run: its planning time in milliseconds.
+    planning_ms: Vec<f64>,
+    /// The expansions of every replan after the first.
+    later: Histogram,
+}
+
+impl RunSummary {
+    fn new(charted: Option<&'static str>) -> RunSummary {
+        RunSummary {
+            groups: Vec::new(),
+            index: std::collections::HashMap::new(),
+            runs: 0,
+            replans: 0,
+            mismatches: 0,
+            listed: Vec::new(),
+            charted,
+            chart: ChartSample::default(),
         }
     }
+
+    /// Adds a finished run, reading its replans after the first from its file.
+    fn add(&mut self, run: &RunDone) -> Result<(), ExperimentError> {
+        use std::io::Read as _;
+        let key = (run.id.map.clone(), run.id.setting, run.id.planner.clone());
+        let at = *self.index.entry(key).or_insert_with(|| {
+            self.groups.push(Group {
+                id: run.id.clone(),
+                runs: 0,
+                reached: 0,
+                replans: 0,
+                mismatches: 0,
+                expansions: 0,
+                shares: Vec::new(),
+                planning_ms: Vec::new(),
+                later: Histogram::default(),
+            });
+            self.groups.len() - 1
+        });
+        let group = &mut self.groups[at];
+        group.runs += 1;
+        group.reached += usize::from(run.nav.as_ref().is_some_and(|n| n.reached));
+        group.replans += run.replans;
+        group.mismatches += run.mismatches;
+        group.expansions += run.expansions;
+        if run.oracle_expansions > 0 {
+            group
+                .shares
+                .push(run.expansions as f64 / run.oracle_expansions as f64);
+        }
+        group
+            .planning_ms
+            .push(run.planning_time.as_secs_f64() * 1e3);
+        self.runs += 1;
+        self.replans += run.replans;
+        self.mismatches += run.mismatches;
+        for m in &run.listed {
+            if self.listed.len() < MISMATCHES_LISTED {
+                self.listed.push((run.id.clone(), m.clone()));
+            }
+        }
+        let charted = self.charted == Some(run.id.planner.as_str());
+        let path = &run.files.later;
+        let file = planner_runner::stream::open_regular(path).map_err(|e| io_failure(path, e))?;
+        let mut file = std::io::BufReader::new(file);
+        let mut record = [0u8; LATER_BYTES];
+        loop {
+            match file.read_exact(&mut record) {
+                Ok(()) => {}
+                Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
+                Err(e) => return Err(io_failure(path, e)),
+            }
+            let (mine, astar) = record.split_at(8);
+            let expansions = u64::from_le_bytes(mine.try_into().unwrap_or_default());
+            let astar = u64::from_le_bytes(astar.try_into().unwrap_or_default());
+            group.later.add(expansions);
+            if charted && astar != u64::MAX {
+                self.chart.add((astar, expansions));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Counts of values, for exact quantiles without keeping every value: its memory grows
+/// with the distinct values (expansions per replan, at most a few per cell of a map).
+#[derive(Default)]
+struct Histogram {
+    counts: std::collections::BTreeMap<u64, u64>,
+    total: u64,
+}
+
+impl Histogram {
+    fn add(&mut self, value: u64) {
+        *self.counts.entry(value).or_insert(0) += 1;
+        self.total += 1;
+    }
+
+    /// The `q`-quantile by the nearest-rank method, as [`quantile`] finds it among the
+    /// values themselves (`None` when empty).
+    fn quantile(&self, q: f64) -> Option<f64> {
+        if self.total == 0 {
+            return None;
+        }
+        let rank = ((q.clamp(0.0, 1.0) * self.total as f64).ceil() as u64).clamp(1, self.total);
+        let mut seen = 0;
+        for (&value, &count) in &self.counts {
+            seen += count;
+            if seen >= rank {
+                return Some(value as f64);
+            }
+        }
+        None
+    }
+}
+
+/// An even subsample of the chart's points as they come, at most [`CHART_POINTS`] of
+/// them: every `stride`-th point, the stride doubling (and every other point kept
+/// dropped) whenever they would be more.
+struct ChartSample {
+    points: Vec<(u64, u64)>,
+    stride: u64,
+    seen: u64,
+}
+
+impl Default for ChartSample {
+    fn default() -> ChartSample {
+        ChartSample {
+            points: Vec::new(),
+            stride: 1,
+            seen: 0,
+        }
+    }
+}
+
+impl ChartSample {
+    fn add(&mut self, point: (u64, u64)) {
+        if self.seen % self.stride == 0 {
+            self.points.push(point);
+            if self.points.len() > CHART_POINTS {
+                self.stride *= 2;
+                let mut i = 0;
+                self.points.retain(|_| {
+                    i += 1;
+                    i % 2 == 1
+                });
+            }
+        }
+        self.seen += 1;
+    }
+}
+
+/// `n` as an English ordinal: 1st, 2nd, 3rd, 4th, 11th, 22nd.
+fn ordinal(n: u64) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
 }
 
 /// The three tables with a line per run or replan (`runs.csv`, `runs.jsonl`,
@@ -1096,87 +1546,61 @@ impl Tables {
             .map_err(|e| io_failure(&self.files.0[which].1, e))
     }
 
-    /// Appends `row`'s lines.
+    /// Appends `run`'s lines: its line in runs.csv and runs.jsonl, and its replans' lines
+    /// from its file.
     fn write(
         &mut self,
-        row: &RunRow,
+        run: &RunDone,
         kind: Kind,
         options: &RunOptions,
     ) -> Result<(), ExperimentError> {
         let setting_key = setting_key(kind);
-        let (reached, steps) = match &row.result {
-            RunResult::Nav(r) => (r.reached.to_string(), r.steps),
-            RunResult::Toggle(_) => (String::new(), 0),
+        let (reached, steps) = match &run.nav {
+            Some(nav) => (nav.reached.to_string(), nav.steps),
+            None => (String::new(), 0),
         };
-        let (map, line, setting, planner) = row.id.identity(csv);
+        let (map, line, setting, planner) = run.id.identity(csv);
         let mut csv_line = format!(
             "{map},{line},{setting},{planner},{reached},{steps},{},{},{},{}",
-            row.replans().len(),
-            row.expansions(),
-            row.oracle_expansions(),
-            row.mismatches().len(),
+            run.replans, run.expansions, run.oracle_expansions, run.mismatches,
         );
         if options.timing {
-            let first = row
-                .replans()
-                .first()
-                .map_or(Duration::ZERO, ReplanRecord::planning_time);
             let _ = write!(
                 csv_line,
                 ",{},{}",
-                micros(first),
-                micros(row.planning_time())
+                micros(run.first_planning),
+                micros(run.planning_time)
             );
         }
         csv_line.push('\n');
         self.put(0, &csv_line)?;
-        let mut run = json!({
-            "map": row.id.map,
-            "scenario_line": row.id.line,
-            setting_key: row.id.setting,
-            "planner": row.id.planner,
-            "replans": row.replans().len(),
-            "total_expansions": row.expansions(),
-            "astar_expansions": row.oracle_expansions(),
-            "mismatches": row.mismatches().iter().map(|m| m.to_string()).collect::<Vec<_>>(),
+        let mut line = json!({
+            "map": run.id.map,
+            "scenario_line": run.id.line,
+            setting_key: run.id.setting,
+            "planner": run.id.planner,
+            "replans": run.replans,
+            "total_expansions": run.expansions,
+            "astar_expansions": run.oracle_expansions,
+            "mismatches": run.listed,
         });
-        if let RunResult::Nav(r) = &row.result {
-            run["reached"] = r.reached.into();
-            run["steps"] = r.steps.into();
-            run["path"] = r.path.iter().map(|c| json!([c.x, c.y])).collect();
+        if let Some(nav) = &run.nav {
+            line["reached"] = nav.reached.into();
+            line["steps"] = nav.steps.into();
+            line["path"] = nav.path.iter().map(|c| json!([c.x, c.y])).collect();
         }
-        if let RunResult::Toggle(r) = &row.result {
-            run["toggled"] = r.toggled.into();
+        if let Some(toggled) = run.toggled {
+            line["toggled"] = toggled.into();
         }
         if options.timing {
-            run["planning_time_us"] = (micros(row.planning_time()) as u64).into();
+            line["planning_time_us"] = (micros(run.planning_time) as u64).into();
         }
-        self.put(1, &format!("{run}\n"))?;
-        for (i, r) in row.replans().iter().enumerate() {
-            let counters: serde_json::Map<String, serde_json::Value> = r
-                .counters
-                .iter()
-                .map(|(k, v)| (k.to_string(), v.into()))
-                .collect();
-            let mut line = json!({
-                "map": row.id.map,
-                "scenario_line": row.id.line,
-                setting_key: row.id.setting,
-                "planner": row.id.planner,
-                "replan": i,
-                "step": r.step,
-                "status": r.status.as_str(),
-                "expansions": r.expansions,
-                "astar_expansions": r.oracle_expansions,
-                "cost_units": r.cost.map(|c| c.units()),
-                "counters": counters,
-            });
-            if options.timing {
-                line["update_us"] = (micros(r.update_time) as u64).into();
-                line["replan_us"] = (micros(r.replan_time) as u64).into();
-            }
-            self.put(2, &format!("{line}\n"))?;
-        }
+        self.put(1, &format!("{line}\n"))?;
+        let path = &run.files.lines;
+        let mut from =
+            planner_runner::stream::open_regular(path).map_err(|e| io_failure(path, e))?;
+        std::io::copy(&mut from, &mut self.replans_jsonl)
+            .map_err(|e| io_failure(&self.files.0[2].1, e))?;
         Ok(())
     }
 
@@ -1222,7 +1646,7 @@ fn write_results(
     config: &ExperimentConfig,
     output: &Path,
     options: &RunOptions,
-    stats: &[RunStats],
+    runs: &RunSummary,
     tables: Option<&TableFiles>,
     gppc_runs: &[(String, String, gppc::Replay)],
 ) -> Result<ExperimentSummary, ExperimentError> {
@@ -1246,7 +1670,8 @@ fn write_results(
             replay.mismatches.len()
         );
     }
-    let summary = summary_md(config, options, stats, gppc_runs);
+    let totals = Totals::of(runs, gppc_runs);
+    let summary = summary_md(config, options, runs, &totals, gppc_runs);
     let mut outputs = Vec::new();
     let mut write = |name: &str, text: &str| {
         outputs.push(planner_runner::outdir::OutputFile {
@@ -1258,38 +1683,35 @@ fn write_results(
     if !gppc_runs.is_empty() {
         write("gppc.csv", &gppc_csv);
     }
-    if let Some(charted) = charted_planner(config).filter(|_| !stats.is_empty()) {
-        let points: Vec<(u64, u64)> = stats
-            .iter()
-            .filter(|r| r.id.planner == charted)
-            .flat_map(|r| r.chart.iter().copied())
-            .collect();
-        let every = points.len().div_ceil(CHART_POINTS).max(1);
-        let shown: Vec<(u64, u64)> = points.iter().copied().step_by(every).collect();
-        let title = if every > 1 {
+    if let Some(charted) = runs.charted.filter(|_| runs.runs > 0) {
+        let chart = &runs.chart;
+        let title = if chart.stride > 1 {
             format!(
-                "{}: expansions per replan after the first (every {every}th of {})",
+                "{}: expansions per replan after the first (every {} of {})",
                 config.name.get_ref(),
-                points.len()
+                ordinal(chart.stride),
+                chart.seen
             )
         } else {
             format!(
                 "{}: expansions per replan after the first ({} replans)",
                 config.name.get_ref(),
-                points.len()
+                chart.seen
             )
         };
         write(
             "expansions.svg",
             &scatter_svg(
-                &shown,
+                &chart.points,
                 "A* from scratch at the replan",
                 &format!("{charted} at the replan"),
                 &title,
             ),
         );
     }
-    // The tables are copied from the working area straight into the new directory.
+    // The tables are copied from the working area straight into the new directory, a
+    // block at a time: a stop between blocks fails the write, which discards the new
+    // directory and leaves the output as it was.
     let streamed: Vec<planner_runner::output::StreamedFile<'_>> = tables
         .map(|t| &t.0[..])
         .unwrap_or_default()
@@ -1297,10 +1719,7 @@ fn write_results(
         .map(|(name, path)| planner_runner::output::StreamedFile {
             path: PathBuf::from(name),
             write: Box::new(move |out| {
-                let mut from = planner_runner::stream::open_regular(path)
-                    .map_err(|e| planner_runner::RunnerError::io(path, e))?;
-                std::io::copy(&mut from, out)
-                    .map(drop)
+                copy_unless_stopped(path, out, options)
                     .map_err(|e| planner_runner::RunnerError::io(path, e))
             }),
         })
@@ -1311,27 +1730,86 @@ fn write_results(
         &outputs,
         &streamed,
         planner_runner::outdir::DEFAULT_LOCK_WAIT,
-    )?;
+    )
+    .map_err(|e| match options.stopped() {
+        true => ExperimentError::Interrupted,
+        false => e.into(),
+    })?;
     let mut files: Vec<PathBuf> = outputs.iter().map(|f| written.join(&f.path)).collect();
     files.extend(streamed.iter().map(|f| written.join(&f.path)));
-    let mismatches = stats.iter().map(|r| r.mismatches.len() as u64).sum::<u64>()
-        + gppc_runs
-            .iter()
-            .map(|(_, _, g)| {
-                g.mismatches.len() as u64 + g.queries.iter().filter(|q| !q.agrees).count() as u64
-            })
-            .sum::<u64>();
     Ok(ExperimentSummary {
         name: config.name.get_ref().clone(),
-        runs: stats.len() + gppc_runs.len(),
-        replans: stats.iter().map(|r| r.replans as u64).sum::<u64>()
-            + gppc_runs
-                .iter()
-                .map(|(_, _, g)| g.carried.len() as u64)
-                .sum::<u64>(),
-        mismatches,
+        runs: totals.runs,
+        replans: totals.replans,
+        queries: totals.queries,
+        mismatches: totals.mismatches,
         files,
     })
+}
+
+/// The counts that the command line's report (through [`ExperimentSummary`]) and
+/// `summary.md`'s head both give, from one place. A GPPC replay (one scenario file and one
+/// planner) is a run; its replans are its carried queries (the planner's repairs after the
+/// next batch's patches, each checked against A* from scratch on the patched map); its
+/// checked queries (A* against the recorded optimum) are counted apart.
+struct Totals {
+    /// Navigations and toggle scripts, and GPPC replays.
+    runs: usize,
+    /// Of `runs`, the GPPC replays.
+    replays: usize,
+    /// Replans checked against A* from scratch, GPPC's carried queries included.
+    replans: u64,
+    /// Of `replans`, GPPC's carried queries.
+    carried: u64,
+    /// GPPC queries checked against their recorded optimum.
+    queries: u64,
+    /// Failed checks: replans, and GPPC queries that disagree with their recorded optimum.
+    mismatches: u64,
+}
+
+impl Totals {
+    fn of(runs: &RunSummary, gppc_runs: &[(String, String, gppc::Replay)]) -> Totals {
+        let sum = |f: fn(&gppc::Replay) -> u64| gppc_runs.iter().map(|(_, _, g)| f(g)).sum::<u64>();
+        let carried = sum(|g| g.carried.len() as u64);
+        Totals {
+            runs: runs.runs + gppc_runs.len(),
+            replays: gppc_runs.len(),
+            replans: runs.replans + carried,
+            carried,
+            queries: sum(|g| g.queries.len() as u64),
+            mismatches: runs.mismatches
+                + sum(|g| {
+                    g.mismatches.len() as u64
+                        + g.queries.iter().filter(|q| !q.agrees).count() as u64
+                }),
+        }
+    }
+}
+
+/// Copies the file at `path` to `out` a block at a time, and fails with
+/// [`std::io::ErrorKind::Interrupted`] once `options`' stop flag is raised.
+fn copy_unless_stopped(
+    path: &Path,
+    out: &mut dyn std::io::Write,
+    options: &RunOptions,
+) -> std::io::Result<()> {
+    use std::io::Read as _;
+    let mut from = planner_runner::stream::open_regular(path)?;
+    let mut block = vec![0u8; 1 << 20];
+    loop {
+        if options.stopped() {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::Interrupted,
+                "stopped while the results were written",
+            ));
+        }
+        match from.read(&mut block) {
+            Ok(0) => return Ok(()),
+            Ok(n) => out.write_all(&block[..n])?,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
 }
 
 fn pct(v: Option<f64>) -> String {
@@ -1342,12 +1820,13 @@ fn whole(v: Option<f64>) -> String {
     v.map_or("-".into(), |x| format!("{x:.0}"))
 }
 
-/// `summary.md`: per map, setting and planner, the runs' totals and the per-replan
-/// distribution; GPPC replays per scenario and planner.
+/// `summary.md`: the `totals`; per map, setting and planner, the runs' totals and the
+/// per-replan distribution; GPPC replays per scenario and planner.
 fn summary_md(
     config: &ExperimentConfig,
     options: &RunOptions,
-    stats: &[RunStats],
+    runs: &RunSummary,
+    totals: &Totals,
     gppc_runs: &[(String, String, gppc::Replay)],
 ) -> String {
     let mut out = format!("# {}\n\n", md_cell(config.name.get_ref()));
@@ -1360,15 +1839,27 @@ fn summary_md(
         Kind::Navigate => ("navigate", "radius"),
         Kind::Dynamic => ("dynamic", "seed"),
     };
-    let total_replans: usize = stats.iter().map(|r| r.replans).sum();
-    let total_mismatches: usize = stats.iter().map(|r| r.mismatches.len()).sum();
-    let _ = writeln!(
-        out,
-        "Kind `{kind}`{}: {} runs, {total_replans} replans, each checked against A* from scratch on the same map: **{total_mismatches} mismatches**.\n",
-        if options.test { " (test limits)" } else { "" },
-        stats.len()
-    );
-    if !stats.is_empty() {
+    let test = if options.test { " (test limits)" } else { "" };
+    let Totals {
+        runs: total_runs,
+        replays,
+        replans,
+        carried,
+        queries,
+        mismatches,
+    } = totals;
+    if gppc_runs.is_empty() {
+        let _ = writeln!(
+            out,
+            "Kind `{kind}`{test}: {total_runs} runs, {replans} replans, each checked against A* from scratch on the same map: **{mismatches} mismatches**.\n",
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "Kind `{kind}`{test}: {total_runs} runs ({replays} of them GPPC replays), {replans} replans ({carried} of them GPPC queries carried across the next batch's patches), each checked against A* from scratch on the same map, and {queries} GPPC queries checked against their recorded optimum: **{mismatches} mismatches**.\n",
+        );
+    }
+    if !runs.groups.is_empty() {
         let _ = writeln!(
             out,
             "Per map, {setting} and planner: runs; runs that reached the goal (navigate); replans; mismatches; total expansions over the runs; the median over runs of the planner's total expansions as a share of A* from scratch at the same replans (the oracle's searches); expansions per replan after the first (p50, p90, p99, max){}.\n",
@@ -1388,76 +1879,58 @@ fn summary_md(
             "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|{}",
             if options.timing { "---:|" } else { "" }
         );
-        let mut groups: Vec<(&str, u64, &str)> = Vec::new();
-        for r in stats {
-            let key = (r.id.map.as_str(), r.id.setting, r.id.planner.as_str());
-            if !groups.contains(&key) {
-                groups.push(key);
-            }
-        }
-        for (map, s, planner) in groups {
-            let group: Vec<&RunStats> = stats
-                .iter()
-                .filter(|r| r.id.map == map && r.id.setting == s && r.id.planner == planner)
-                .collect();
-            let reached = group.iter().filter(|r| r.reached == Some(true)).count();
-            let replans: usize = group.iter().map(|r| r.replans).sum();
-            let mismatches: usize = group.iter().map(|r| r.mismatches.len()).sum();
-            let expansions: u64 = group.iter().map(|r| r.expansions).sum();
-            let shares: Vec<f64> = group
-                .iter()
-                .filter(|r| r.oracle_expansions > 0)
-                .map(|r| r.expansions as f64 / r.oracle_expansions as f64)
-                .collect();
-            let per: Vec<f64> = group
-                .iter()
-                .flat_map(|r| r.later_expansions.iter().map(|&x| x as f64))
-                .collect();
+        for group in &runs.groups {
+            let (map, s, planner) = (&group.id.map, group.id.setting, &group.id.planner);
             let reached = match config.kind {
-                Kind::Navigate => reached.to_string(),
+                Kind::Navigate => group.reached.to_string(),
                 Kind::Dynamic => "-".into(),
             };
+            let later = &group.later;
             let _ = write!(
                 out,
-                "| {} | {s} | {} | {} | {reached} | {replans} | {mismatches} | {expansions} | {} | {} | {} | {} | {} |",
+                "| {} | {s} | {} | {} | {reached} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 md_cell(map),
                 md_cell(planner),
-                group.len(),
-                pct(quantile(&shares, 0.5)),
-                whole(quantile(&per, 0.5)),
-                whole(quantile(&per, 0.9)),
-                whole(quantile(&per, 0.99)),
-                whole(quantile(&per, 1.0)),
+                group.runs,
+                group.replans,
+                group.mismatches,
+                group.expansions,
+                pct(quantile(&group.shares, 0.5)),
+                whole(later.quantile(0.5)),
+                whole(later.quantile(0.9)),
+                whole(later.quantile(0.99)),
+                whole(later.quantile(1.0)),
             );
             if options.timing {
-                let times: Vec<f64> = group
-                    .iter()
-                    .map(|r| r.planning_time.as_secs_f64() * 1e3)
-                    .collect();
                 let _ = write!(
                     out,
                     " {} |",
-                    quantile(&times, 0.5).map_or("-".into(), |t| format!("{t:.2}"))
+                    quantile(&group.planning_ms, 0.5).map_or("-".into(), |t| format!("{t:.2}"))
                 );
             }
             out.push('\n');
         }
         out.push('\n');
-        for r in stats {
-            for m in &r.mismatches {
-                let (map, line, value, planner) = r.id.identity(md_cell);
-                let _ = writeln!(
-                    out,
-                    "- MISMATCH {map} line {line} {setting} {value} {planner}: {}",
-                    md_cell(m)
-                );
-            }
+        for (id, m) in &runs.listed {
+            let (map, line, value, planner) = id.identity(md_cell);
+            let _ = writeln!(
+                out,
+                "- MISMATCH {map} line {line} {setting} {value} {planner}: {}",
+                md_cell(m)
+            );
+        }
+        let unlisted = runs.mismatches - runs.listed.len() as u64;
+        if unlisted > 0 {
+            let _ = writeln!(
+                out,
+                "- and {unlisted} more mismatches: runs.csv counts each run's, runs.jsonl lists each run's first {MISMATCHES_LISTED}, and the replans.jsonl line of every failed replan has its `mismatch`."
+            );
         }
     }
     if !gppc_runs.is_empty() {
         let _ = writeln!(
             out,
-            "GPPC dynamic scenarios: per scenario and planner, patch commands applied, queries checked (each against its recorded optimum and A* on the patched map), those that agree, queries carried across the next batch's patches, the planner's mismatches there, and its repair expansions against A*'s from scratch on the patched map.\n"
+            "GPPC dynamic scenarios: per scenario and planner (one replay, a run), patch commands applied, queries checked (each against its recorded optimum and A* on the patched map), those that agree, queries carried across the next batch's patches (the replay's replans), the planner's mismatches there, and its repair expansions against A*'s from scratch on the patched map. The mismatches above count these and the queries that do not agree.\n"
         );
         let _ = writeln!(
             out,

@@ -111,8 +111,8 @@ pub fn replay(
     )
 }
 
-/// [`replay`] that checks no further batch once `stop` says so (a command line's Ctrl-C):
-/// the replay then ends early, with the records of the batches checked so far.
+/// [`replay`] that checks no further query once `stop` says so (a command line's Ctrl-C):
+/// the replay then ends early, with the records of the queries checked so far.
 pub fn replay_until(
     scenario: &GppcScenario,
     patches: &PatchSet,
@@ -128,6 +128,7 @@ pub fn replay_until(
         index: 0,
         query_every,
         carry_every,
+        stop,
     };
     // The map as patched so far.
     let mut map = Grid::new(scenario.width, scenario.height)?;
@@ -181,6 +182,8 @@ struct Replayer<'p> {
     index: usize,
     query_every: usize,
     carry_every: usize,
+    /// Ends the replay before the next query when it says so.
+    stop: &'p dyn Fn() -> bool,
 }
 
 impl Replayer<'_> {
@@ -208,9 +211,13 @@ impl Replayer<'_> {
             oracle,
             planner,
             index,
+            stop,
             ..
         } = self;
         for &(line, batch, start, goal, recorded) in queries {
+            if stop() {
+                return;
+            }
             *index += 1;
             if query_every > 1 && *index % query_every != 0 {
                 continue;

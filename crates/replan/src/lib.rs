@@ -23,7 +23,9 @@
 //!   A* from scratch.
 //!
 //! Every run returns plain records (per run and per replan: expansions, counters, times),
-//! so a test, an example or a runner can sum them or draw their distribution.
+//! so a test, an example or a runner can sum them or draw their distribution. A driver's
+//! `run_recorded` hands them to a [`Recorder`] as they happen instead, so that a long run
+//! need not hold them, and ends early when the recorder says so.
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
@@ -69,5 +71,42 @@ impl ReplanRecord {
     /// Update and replan time together: the planning time of this replan.
     pub fn planning_time(&self) -> Duration {
         self.update_time + self.replan_time
+    }
+}
+
+/// Takes a run's records as a driver makes them ([`navigate::run_recorded`],
+/// [`toggles::run_recorded`]), and may end the run early.
+pub trait Recorder {
+    /// One replan's record, and its failed check when it failed one.
+    fn replan(&mut self, record: ReplanRecord, mismatch: Option<Mismatch>);
+
+    /// A failed check that belongs to no replan: a change or move the planner refused, or
+    /// a navigation step checked without a replan.
+    fn mismatch(&mut self, mismatch: Mismatch);
+
+    /// Whether the run should end now (a raised stop flag, or records that could not be
+    /// written): the driver asks before every step or event. Never, by default.
+    fn stopped(&self) -> bool {
+        false
+    }
+}
+
+/// A [`Recorder`] that keeps every record, in order: what the drivers' `run` returns.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Records {
+    /// The replans.
+    pub replans: Vec<ReplanRecord>,
+    /// Every failed check, of a replan or not.
+    pub mismatches: Vec<Mismatch>,
+}
+
+impl Recorder for Records {
+    fn replan(&mut self, record: ReplanRecord, mismatch: Option<Mismatch>) {
+        self.replans.push(record);
+        self.mismatches.extend(mismatch);
+    }
+
+    fn mismatch(&mut self, mismatch: Mismatch) {
+        self.mismatches.push(mismatch);
     }
 }

@@ -49,7 +49,7 @@ use planner_api::{
 };
 
 use crate::oracle::{Mismatch, MismatchKind, Oracle};
-use crate::ReplanRecord;
+use crate::{Recorder, Records, ReplanRecord};
 
 /// The run's parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -180,10 +180,63 @@ fn still_free(known: &Grid, moves: &MoveSet, path: &[Cell]) -> bool {
     })
 }
 
+/// How a recorded navigation ended ([`run_recorded`]): a [`NavRun`] without the records
+/// its recorder took.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct NavEnd {
+    /// Whether the agent reached the goal.
+    pub reached: bool,
+    /// Whether the run stopped at [`NavConfig::max_steps`].
+    pub hit_step_limit: bool,
+    /// Whether the recorder ended the run early ([`Recorder::stopped`]).
+    pub stopped: bool,
+    /// Steps driven.
+    pub steps: u64,
+    /// The cells driven through, the start first.
+    pub path: Vec<Cell>,
+    /// Checks of steps without a replan ([`NavConfig::check_every_change`]).
+    pub extra_checks: u64,
+}
+
 /// Runs `planner` from `start` to `goal` on the unknown map `truth` (see the
 /// [module docs](self)); the oracle, when given, checks every replan. Errors only when
 /// `start` or `goal` is outside `truth` or blocked in it.
 pub fn run(
+    planner: &mut dyn IncrementalPlanner,
+    oracle: Option<&mut Oracle>,
+    truth: &Grid,
+    start: Cell,
+    goal: Cell,
+    config: &NavConfig,
+    budget: &Budget,
+) -> Result<NavRun, ProblemError> {
+    let mut records = Records::default();
+    let end = run_recorded(
+        planner,
+        oracle,
+        truth,
+        start,
+        goal,
+        config,
+        budget,
+        &mut records,
+    )?;
+    Ok(NavRun {
+        reached: end.reached,
+        hit_step_limit: end.hit_step_limit,
+        steps: end.steps,
+        replans: records.replans,
+        path: end.path,
+        mismatches: records.mismatches,
+        extra_checks: end.extra_checks,
+    })
+}
+
+/// [`run`] that hands each replan's record and each failed check to `recorder` as they
+/// happen, holding none of them, and ends before the next step once
+/// [`Recorder::stopped`] says so.
+#[allow(clippy::too_many_arguments)]
+pub fn run_recorded(
     planner: &mut dyn IncrementalPlanner,
     mut oracle: Option<&mut Oracle>,
     truth: &Grid,
@@ -191,7 +244,8 @@ pub fn run(
     goal: Cell,
     config: &NavConfig,
     budget: &Budget,
-) -> Result<NavRun, ProblemError> {
+    recorder: &mut dyn Recorder,
+) -> Result<NavEnd, ProblemError> {
     Problem::new(truth, start, goal)?;
     let mut known = assumed(truth);
     let mut pending = Vec::new();
@@ -208,9 +262,9 @@ pub fn run(
         planner_api::PathSpec::AnyAngle => MoveSet::standard(planner_api::Connectivity::Eight),
     };
     let max_steps = config.max_steps.unwrap_or(10 * truth.len() as u64 + 1000);
-    let mut out = NavRun {
+    let mut out = NavEnd {
         path: vec![start],
-        ..NavRun::default()
+        ..NavEnd::default()
     };
     let mut agent = start;
     let mut path = replan(
@@ -222,7 +276,7 @@ pub fn run(
         0,
         reset_time,
         budget,
-        &mut out,
+        recorder,
     );
     let mut at = 0usize;
     while agent != goal {
@@ -231,6 +285,10 @@ pub fn run(
         };
         if out.steps >= max_steps {
             out.hit_step_limit = true;
+            break;
+        }
+        if recorder.stopped() {
+            out.stopped = true;
             break;
         }
         at += 1;
@@ -250,7 +308,7 @@ pub fn run(
                     let rest = planner_api::Path::new(cells[at..].to_vec());
                     let outcome = planner_api::Outcome::found(rest, planner_api::Counters::new());
                     if let Err(m) = oracle.check(&known, agent, goal, &outcome, out.steps) {
-                        out.mismatches.push(m);
+                        recorder.mismatch(m);
                     }
                 }
             }
@@ -263,7 +321,7 @@ pub fn run(
         pending.clear();
         let update_time = told.elapsed();
         if let Err(e) = result {
-            out.mismatches.push(Mismatch {
+            recorder.mismatch(Mismatch {
                 step: out.steps,
                 start: agent,
                 kind: MismatchKind::Rejected(e.to_string()),
@@ -279,7 +337,7 @@ pub fn run(
             out.steps,
             update_time,
             budget,
-            &mut out,
+            recorder,
         );
         at = 0;
     }
@@ -298,7 +356,7 @@ fn replan(
     step: u64,
     update_time: Duration,
     budget: &Budget,
-    out: &mut NavRun,
+    recorder: &mut dyn Recorder,
 ) -> Option<Vec<Cell>> {
     let started = Instant::now();
     let outcome = planner.replan(budget);
@@ -307,20 +365,18 @@ fn replan(
         .path
         .as_ref()
         .map(|path| known.path_cost(path.cells()));
-    let mut failed = false;
+    let mut mismatch = None;
     let mut oracle_expansions = None;
     if let Some(oracle) = oracle {
         let checked = oracle.check(known, agent, goal, &outcome, step);
         oracle_expansions = Some(oracle.last_expansions());
         match checked {
             Ok(checked) => cost = checked,
-            Err(m) => {
-                out.mismatches.push(m);
-                failed = true;
-            }
+            Err(m) => mismatch = Some(m),
         }
     }
-    out.replans.push(ReplanRecord {
+    let failed = mismatch.is_some();
+    let record = ReplanRecord {
         step,
         status: outcome.status,
         expansions: outcome.counters.get("n_expanded").unwrap_or(0),
@@ -329,7 +385,8 @@ fn replan(
         oracle_expansions,
         update_time,
         replan_time,
-    });
+    };
+    recorder.replan(record, mismatch);
     // A failed check ends the run (the mismatch is recorded with its step).
     outcome
         .path

@@ -31,7 +31,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::oracle::{Mismatch, MismatchKind, Oracle};
-use crate::ReplanRecord;
+use crate::{Recorder, Records, ReplanRecord};
 
 /// The script's parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -59,6 +59,15 @@ pub struct ToggleRun {
     pub toggled: u64,
 }
 
+/// How a recorded run ended ([`run_recorded`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ToggleEnd {
+    /// Cells toggled in all.
+    pub toggled: u64,
+    /// Whether the recorder ended the run before its last event.
+    pub stopped: bool,
+}
+
 /// Runs the script on `planner` (see the [module docs](self)).
 pub fn run(
     planner: &mut dyn IncrementalPlanner,
@@ -67,11 +76,31 @@ pub fn run(
     config: &ToggleConfig,
     budget: &Budget,
 ) -> ToggleRun {
+    let mut records = Records::default();
+    let end = run_recorded(planner, oracle, problem, config, budget, &mut records);
+    ToggleRun {
+        replans: records.replans,
+        mismatches: records.mismatches,
+        toggled: end.toggled,
+    }
+}
+
+/// [`run`] that hands each replan's record and each failed check to `recorder` as they
+/// happen, holding none of them, and ends before the next event once
+/// [`Recorder::stopped`] says so.
+pub fn run_recorded(
+    planner: &mut dyn IncrementalPlanner,
+    oracle: &mut Oracle,
+    problem: &Problem<'_>,
+    config: &ToggleConfig,
+    budget: &Budget,
+    recorder: &mut dyn Recorder,
+) -> ToggleEnd {
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
     let mut map = problem.grid().clone();
     let goal = problem.goal();
     let mut agent = problem.start();
-    let mut out = ToggleRun::default();
+    let mut end = ToggleEnd::default();
     let started = Instant::now();
     planner.reset_within(problem, budget);
     let update_time = started.elapsed();
@@ -84,9 +113,13 @@ pub fn run(
         0,
         update_time,
         budget,
-        &mut out,
+        recorder,
     );
     for event in 1..=u64::from(config.events) {
+        if recorder.stopped() {
+            end.stopped = true;
+            break;
+        }
         let remaining: &[Cell] = match &path {
             Some(cells) => {
                 let at = (config.drive as usize).min(cells.len() - 1);
@@ -120,14 +153,14 @@ pub fn run(
                 weight: None,
             });
         }
-        out.toggled += changes.len() as u64;
+        end.toggled += changes.len() as u64;
         let started = Instant::now();
         let told = planner
             .move_start(agent)
             .and_then(|()| planner.apply(&changes));
         let update_time = started.elapsed();
         if let Err(e) = told {
-            out.mismatches.push(Mismatch {
+            recorder.mismatch(Mismatch {
                 step: event,
                 start: agent,
                 kind: MismatchKind::Rejected(e.to_string()),
@@ -143,10 +176,10 @@ pub fn run(
             event,
             update_time,
             budget,
-            &mut out,
+            recorder,
         );
     }
-    out
+    end
 }
 
 /// One replan, timed and checked; its path's cells when found.
@@ -160,21 +193,18 @@ fn replan_checked(
     step: u64,
     update_time: std::time::Duration,
     budget: &Budget,
-    out: &mut ToggleRun,
+    recorder: &mut dyn Recorder,
 ) -> Option<Vec<Cell>> {
     let started = Instant::now();
     let outcome = planner.replan(budget);
     let replan_time = started.elapsed();
     let checked = oracle.check(map, agent, goal, &outcome, step);
     let oracle_expansions = Some(oracle.last_expansions());
-    let cost = match checked {
-        Ok(cost) => cost,
-        Err(mismatch) => {
-            out.mismatches.push(mismatch);
-            None
-        }
+    let (cost, mismatch) = match checked {
+        Ok(cost) => (cost, None),
+        Err(mismatch) => (None, Some(mismatch)),
     };
-    out.replans.push(ReplanRecord {
+    let record = ReplanRecord {
         step,
         status: outcome.status,
         expansions: outcome.counters.get("n_expanded").unwrap_or(0),
@@ -183,6 +213,7 @@ fn replan_checked(
         oracle_expansions,
         update_time,
         replan_time,
-    });
+    };
+    recorder.replan(record, mismatch);
     outcome.path.map(|p| p.into_cells())
 }

@@ -616,3 +616,460 @@ fn every_replan_matches_the_reference_planners() {
         }
     }
 }
+
+/// A planner that passes every call to `inner` and calls `on_replan` with each replan's
+/// number (1 for the first plan) after it; for tests that act from inside a run.
+struct Watched {
+    inner: Box<dyn IncrementalPlanner>,
+    replans: usize,
+    on_replan: fn(usize),
+}
+
+impl IncrementalPlanner for Watched {
+    fn name(&self) -> &str {
+        self.inner.name()
+    }
+    fn specs(&self) -> PlannerSpecs {
+        self.inner.specs()
+    }
+    fn reset(&mut self, problem: &Problem<'_>) {
+        self.inner.reset(problem)
+    }
+    fn reset_within(&mut self, problem: &Problem<'_>, budget: &Budget) {
+        self.inner.reset_within(problem, budget)
+    }
+    fn grid(&self) -> Option<&Grid> {
+        self.inner.grid()
+    }
+    fn start(&self) -> Option<Cell> {
+        self.inner.start()
+    }
+    fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
+        self.inner.move_start(cell)
+    }
+    fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
+        self.inner.apply(changes)
+    }
+    fn replan(&mut self, budget: &Budget) -> Outcome {
+        let outcome = self.inner.replan(budget);
+        self.replans += 1;
+        (self.on_replan)(self.replans);
+        outcome
+    }
+}
+
+/// The names beside `out` in its parent that start with `.<out's name>.`: the working
+/// directory, its lock and the temporary siblings.
+fn beside(out: &Path) -> Vec<String> {
+    let prefix = format!(".{}.", out.file_name().unwrap().to_string_lossy());
+    let mut names: Vec<String> = std::fs::read_dir(out.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(&prefix))
+        .collect();
+    names.sort();
+    names
+}
+
+/// A raised stop flag ends a run in progress before its next event or step, not at its end:
+/// a toggle script of a million events, or a navigation, stopped at its 3rd replan makes no
+/// other, and the experiment ends `Interrupted`, the output absent as it was and nothing
+/// left beside it. Before, the flag was looked at only between runs, so a run of
+/// 4,294,967,295 events could not be stopped, and its replans filled the memory.
+#[test]
+fn a_stop_ends_a_run_in_progress() {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    static STOP: AtomicBool = AtomicBool::new(false);
+    static REPLANS: AtomicUsize = AtomicUsize::new(0);
+    let dir = scratch("stop-in-run");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Arena's last scenario, the longest: its navigation replans more than 3 times.
+    let arena = root().join("maps/movingai/arena.map");
+    let scen = std::fs::read_to_string(root().join("maps/movingai/arena.map.scen")).unwrap();
+    let last = scen.lines().rev().find(|l| !l.trim().is_empty()).unwrap();
+    std::fs::write(dir.join("s.scen"), format!("version 1\n{last}\n")).unwrap();
+    let maps = format!(
+        "compare = [\"dstar_lite\"]\n[[maps]]\nmap = {:?}\nscen = \"s.scen\"\nscenarios = 1\n",
+        arena.display().to_string(),
+    );
+    let dynamic = (
+        "kind = \"dynamic\"\nname = \"s\"\n",
+        "[toggles]\nevents = 1000000\nk = 5\nradius = 5\nseeds = [1]\n",
+    );
+    let navigate = ("kind = \"navigate\"\nname = \"s\"\nradii = [1]\n", "");
+    let make = |name: &str, eight: bool| -> Box<dyn IncrementalPlanner> {
+        Box::new(Watched {
+            inner: planner_replan::planners::by_name(name, eight).unwrap(),
+            replans: 0,
+            on_replan: |n| {
+                REPLANS.store(n, Ordering::SeqCst);
+                if n == 3 {
+                    STOP.store(true, Ordering::SeqCst);
+                }
+            },
+        })
+    };
+    for (kind, (head, tail)) in [("dynamic", dynamic), ("navigate", navigate)] {
+        let path = dir.join(format!("{kind}.toml"));
+        std::fs::write(&path, format!("{head}{maps}{tail}")).unwrap();
+        let config = experiment::load(&path).unwrap();
+        let out = dir.join(format!("out-{kind}"));
+        if kind == "navigate" {
+            // Unstopped, the run replans more than 3 times.
+            let whole = experiment::run_config(&config, &path, &out, &test_options(1)).unwrap();
+            assert!(whole.replans > 3, "{} replans", whole.replans);
+            std::fs::remove_dir_all(&out).unwrap();
+        }
+        STOP.store(false, Ordering::SeqCst);
+        let options = RunOptions {
+            stop: Some(&STOP),
+            ..test_options(1)
+        };
+        let e = experiment::run_config_with(&config, &path, &out, &options, &make).unwrap_err();
+        assert!(matches!(e, ExperimentError::Interrupted), "{kind}: {e}");
+        assert_eq!(
+            REPLANS.load(Ordering::SeqCst),
+            3,
+            "{kind}: replans after the stop"
+        );
+        assert!(!out.exists(), "{kind}: the output was written");
+        assert_eq!(
+            beside(&out),
+            Vec::<String>::new(),
+            "{kind}: left beside the output"
+        );
+    }
+}
+
+/// What a killed run leaves beside its output (the working directory, with gridplan's
+/// marker and its tables, and its lock) holds nothing to resume: the next run on that
+/// output, whatever its config, takes them over and removes them. A GPPC replay alone,
+/// which writes no table there, left them before.
+#[test]
+fn a_killed_runs_working_files_go_with_the_next_run() {
+    let dir = scratch("leftovers");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.patch"),
+        "type patch\npatches 1\npatch 0\nheight 1\nwidth 1\nmap\n.\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("s.scen"),
+        "version 2\nheight 3\nwidth 3\ncost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\nQ 0 0 0 1 1 1.4142135624\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("g.toml"),
+        "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"astar\"]\n[[gppc]]\nscen = \"s.scen\"\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let area = dir.join(".out.stream");
+    std::fs::create_dir_all(&area).unwrap();
+    std::fs::write(
+        area.join(planner_runner::outdir::STREAM_MARKER),
+        "# Written by gridplan\n",
+    )
+    .unwrap();
+    for table in ["runs.csv", "runs.jsonl", "replans.jsonl", "run-0.later"] {
+        std::fs::write(area.join(table), "").unwrap();
+    }
+    std::fs::write(dir.join(".out.stream.lock"), "12345\n").unwrap();
+    let done = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap();
+    assert_eq!(done.runs, 1);
+    assert_eq!(beside(&out), Vec::<String>::new());
+}
+
+/// A GPPC replay's counts agree everywhere: the command line's (the returned summary),
+/// summary.md's head and its table. A replay (a scenario file and a planner) is a run, its
+/// carried queries its replans, its checked queries counted apart. summary.md's head read
+/// "0 runs, 0 replans" before while the command line said 4 runs.
+#[test]
+fn gppc_counts_agree_in_every_output() {
+    let dir = scratch("gppc-counts");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.patch"),
+        "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 1\nwidth 2\nmap\n@@\n",
+    )
+    .unwrap();
+    // Two batches of three queries; the second batch walls (1, 1) and (2, 1).
+    std::fs::write(
+        dir.join("s.scen"),
+        "version 2\nheight 4\nwidth 4\ncost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n\
+         Q 0 0 0 3 3 4.2426406871\nQ 0 0 1 3 1 3\nQ 0 0 3 3 0 4.2426406871\n\
+         P 1 1 1 1\nQ 1 0 0 3 3 5.4142135624\nQ 1 0 1 3 1 5\nQ 1 0 3 3 0 5.4142135624\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("g.toml"),
+        "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"dstar_lite\", \"astar\"]\n[[gppc]]\nscen = \"s.scen\"\nquery_every = 1\ncarry_every = 1\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let done = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap();
+    // Two replays; each checks 6 queries and carries the first batch's 3.
+    assert_eq!((done.runs, done.replans, done.mismatches), (2, 6, 0));
+    assert_eq!(done.queries, 12);
+    let summary = read(&out, "summary.md");
+    assert!(
+        summary.contains(
+            "Kind `dynamic` (test limits): 2 runs (2 of them GPPC replays), 6 replans (6 of them GPPC queries carried across the next batch's patches), each checked against A* from scratch on the same map, and 12 GPPC queries checked against their recorded optimum: **0 mismatches**."
+        ),
+        "{summary}"
+    );
+    let rows: Vec<&str> = summary.lines().filter(|l| l.starts_with("| s |")).collect();
+    assert_eq!(rows.len(), done.runs, "{summary}");
+    for row in rows {
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        // | scenario | planner | patches | queries | agree | carried | mismatches | ...
+        assert_eq!(
+            (cells[4], cells[5], cells[6], cells[7]),
+            ("6", "6", "3", "0"),
+            "{row}"
+        );
+    }
+}
+
+/// A GPPC scenario's command that names a patch the patch file lacks, places a patch
+/// outside the map, or asks a query from outside it, is an error at the line and column
+/// of the field: the patch number, the `x` or `y`, the coordinate. They named the line
+/// alone before.
+#[test]
+fn gppc_command_errors_name_their_column() {
+    let dir = scratch("gppc-columns");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.patch"),
+        "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 2\nwidth 2\nmap\n@@\n@@\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("g.toml"),
+        "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"astar\"]\n[[gppc]]\nscen = \"s.scen\"\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    for (command, column, message) in [
+        ("P 1  7 0 0", 6, "patch 7 does not exist"),
+        ("P 1 1 3 0", 7, "patch 1 (2x2) placed at (3, 0)"),
+        ("P 1 1 0 3", 9, "patch 1 (2x2) placed at (0, 3)"),
+        ("P 1 1 9 3", 7, "patch 1 (2x2) placed at (9, 3)"),
+        ("Q 1 5 0 3 3 1", 5, "start (5, 0)"),
+        ("\u{3000}Q 1 0 9 3 3 1", 8, "start (0, 9)"),
+        ("Q 1 0 0 3 12 1", 11, "goal (3, 12)"),
+        ("Q 1 0 0 30 1 1\r", 9, "goal (30, 1)"),
+    ] {
+        std::fs::write(
+            dir.join("s.scen"),
+            format!("version 2\nheight 4\nwidth 4\ncost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n{command}\n"),
+        )
+        .unwrap();
+        let e = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap_err();
+        match &e {
+            ExperimentError::Map(m) => {
+                assert_eq!((m.line, m.column), (8, column), "{command:?}: {e}");
+                assert!(m.file.ends_with("s.scen"), "{e}");
+            }
+            other => panic!("{command:?}: expected a map error, got {other}"),
+        }
+        assert!(e.to_string().contains(message), "{e}");
+    }
+    assert!(!out.exists());
+}
+
+/// `[toggles] events` beyond `MAX_EVENTS` is refused at its line and column before anything
+/// runs: 4,294,967,295 events was accepted, a run that would write over a terabyte.
+#[test]
+fn too_many_events_are_refused() {
+    let base = "kind = \"dynamic\"\nname = \"e\"\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n[toggles]\nk = 5\nradius = 5\nseeds = [1]\nevents = ";
+    assert!(experiment::parse(Path::new("e.toml"), &format!("{base}1000000\n")).is_ok());
+    let e = parse_error(&format!("{base}1000001\n"));
+    match &e {
+        ExperimentError::Invalid {
+            line, column, key, ..
+        } => assert_eq!((*line, *column, key.as_str()), (10, 10, "events"), "{e}"),
+        other => panic!("expected an invalid value, got {other}"),
+    }
+    assert!(
+        e.to_string().contains("more than the limit of 1000000"),
+        "{e}"
+    );
+    let e = parse_error(&format!("{base}4294967295\n"));
+    assert!(e.to_string().starts_with("bad.toml:10:10: `events`"), "{e}");
+}
+
+/// A planner that finds no path: every replan where there is one fails its check.
+fn lost(name: &str, eight: bool) -> Box<dyn IncrementalPlanner> {
+    struct Lost(Box<dyn IncrementalPlanner>);
+    impl IncrementalPlanner for Lost {
+        fn name(&self) -> &str {
+            self.0.name()
+        }
+        fn specs(&self) -> PlannerSpecs {
+            self.0.specs()
+        }
+        fn reset(&mut self, problem: &Problem<'_>) {
+            self.0.reset(problem)
+        }
+        fn grid(&self) -> Option<&Grid> {
+            self.0.grid()
+        }
+        fn start(&self) -> Option<Cell> {
+            self.0.start()
+        }
+        fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
+            self.0.move_start(cell)
+        }
+        fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
+            self.0.apply(changes)
+        }
+        fn replan(&mut self, _: &Budget) -> Outcome {
+            Outcome::no_path(Counters::new().with("n_expanded", 0))
+        }
+    }
+    Box::new(Lost(
+        planner_replan::planners::by_name(name, eight).unwrap(),
+    ))
+}
+
+/// A run whose every replan fails its check keeps the messages of its first
+/// `MISMATCHES_LISTED` (runs.jsonl, summary.md), counts them all (runs.csv, the summary's
+/// head) and marks every failed replan's line in replans.jsonl with its `mismatch`: a
+/// broken planner's messages do not fill the memory. They were all kept before.
+#[test]
+fn a_runs_mismatches_are_counted_and_the_first_listed() {
+    let dir = scratch("mismatches");
+    std::fs::create_dir_all(&dir).unwrap();
+    let arena = root().join("maps/movingai/arena.map");
+    let path = dir.join("m.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "kind = \"dynamic\"\nname = \"m\"\ncompare = [\"astar\"]\n[[maps]]\nmap = {:?}\nscen = {:?}\nscenarios = 1\n[toggles]\nevents = 149\nk = 1\nradius = 0\nseeds = [1]\n",
+            arena.display().to_string(),
+            format!("{}.scen", arena.display())
+        ),
+    )
+    .unwrap();
+    let config = experiment::load(&path).unwrap();
+    let out = dir.join("out");
+    let done = experiment::run_config_with(&config, &path, &out, &test_options(1), &lost).unwrap();
+    let failed = done.mismatches;
+    assert!(
+        failed > experiment::MISMATCHES_LISTED as u64,
+        "{failed} mismatches"
+    );
+    let csv = read(&out, "runs.csv");
+    assert_eq!(
+        csv.lines().nth(1).unwrap().rsplit(',').next(),
+        Some(failed.to_string().as_str()),
+        "{csv}"
+    );
+    let run: serde_json::Value = serde_json::from_str(read(&out, "runs.jsonl").trim()).unwrap();
+    assert_eq!(
+        run["mismatches"].as_array().unwrap().len(),
+        experiment::MISMATCHES_LISTED
+    );
+    let marked = read(&out, "replans.jsonl")
+        .lines()
+        .filter(|l| {
+            let line: serde_json::Value = serde_json::from_str(l).unwrap();
+            line["mismatch"].is_string()
+        })
+        .count();
+    assert_eq!(marked as u64, failed);
+    let summary = read(&out, "summary.md");
+    assert_eq!(
+        summary.matches("- MISMATCH ").count(),
+        experiment::MISMATCHES_LISTED,
+        "{summary}"
+    );
+    let more = format!(
+        "- and {} more mismatches",
+        failed - experiment::MISMATCHES_LISTED as u64
+    );
+    assert!(summary.contains(&more), "{summary}");
+    assert!(
+        summary.contains(&format!("**{failed} mismatches**")),
+        "{summary}"
+    );
+}
+
+/// A stop raised once the runs are done, while the results are being written, still ends
+/// the experiment `Interrupted` with the output as it was: the tables' copy into the new
+/// directory looks at the flag between blocks. The experiment is held at the output's
+/// lock (taken here by another write, blocked in its writer) until the flag is raised. It
+/// wrote the results and returned them before, a Ctrl-C during a large table's copy unheard.
+#[test]
+fn a_stop_while_the_results_are_written_leaves_the_output_as_it_was() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::mpsc;
+    static STOP: AtomicBool = AtomicBool::new(false);
+    let dir = scratch("stop-in-write");
+    std::fs::create_dir_all(&dir).unwrap();
+    let arena = root().join("maps/movingai/arena.map");
+    let path = dir.join("w.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "kind = \"dynamic\"\nname = \"w\"\ncompare = [\"astar\"]\n[[maps]]\nmap = {:?}\nscen = {:?}\nscenarios = 2\n[toggles]\nevents = 5\nk = 2\nradius = 3\nseeds = [1]\n",
+            arena.display().to_string(),
+            format!("{}.scen", arena.display())
+        ),
+    )
+    .unwrap();
+    let config = experiment::load(&path).unwrap();
+    let out = dir.join("out");
+    let (held, release) = (mpsc::channel::<()>(), mpsc::channel::<()>());
+    let holder = {
+        let out = out.clone();
+        let (held, release) = (held.0, release.1);
+        std::thread::spawn(move || {
+            let blocked = planner_runner::output::StreamedFile {
+                path: PathBuf::from("t.csv"),
+                write: Box::new(move |_| {
+                    held.send(()).unwrap();
+                    release.recv().unwrap();
+                    Err(planner_runner::RunnerError::io(
+                        Path::new("t.csv"),
+                        std::io::Error::other("the holder gives up"),
+                    ))
+                }),
+            };
+            planner_runner::outdir::write_results_streamed(
+                &out,
+                "holder",
+                &[],
+                &[blocked],
+                std::time::Duration::from_secs(60),
+            )
+        })
+    };
+    held.1.recv().unwrap();
+    let experiment = {
+        let (config, path, out) = (config.clone(), path.clone(), out.clone());
+        std::thread::spawn(move || {
+            let options = RunOptions {
+                stop: Some(&STOP),
+                ..test_options(1)
+            };
+            experiment::run_config(&config, &path, &out, &options)
+        })
+    };
+    // The tables are complete (flushed into the working area) once runs.csv holds them.
+    let runs = dir.join(".out.stream").join("runs.csv");
+    let started = std::time::Instant::now();
+    while std::fs::read_to_string(&runs).map_or(0, |t| t.lines().count()) < 3 {
+        assert!(started.elapsed().as_secs() < 60, "the runs did not end");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    STOP.store(true, Ordering::SeqCst);
+    release.0.send(()).unwrap();
+    assert!(holder.join().unwrap().is_err());
+    let e = experiment.join().unwrap().unwrap_err();
+    assert!(matches!(e, ExperimentError::Interrupted), "{e}");
+    assert!(!out.exists(), "the output was written");
+    assert_eq!(beside(&out), Vec::<String>::new(), "left beside the output");
+}

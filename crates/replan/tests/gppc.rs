@@ -44,3 +44,34 @@ fn sample_reads_and_replays_exactly() {
     assert!(replay.mismatches.is_empty(), "{}", replay.mismatches[0]);
     assert!(!replay.carried.is_empty());
 }
+
+/// A stop ends a replay before its next query, not at the end of the batch in progress: a
+/// batch of 40 queries stopped after 3 checks no other. It was looked at between batches
+/// alone before, so a batch of many queries on a large map held Ctrl-C for its whole length.
+#[test]
+fn a_stop_ends_a_replay_before_its_next_query() {
+    use std::cell::Cell as Calls;
+    let mut scen = String::from(
+        "version 2\nheight 8\nwidth 8\ncost 1 octile\npatch t.patch\ncommands\nP 0 0 0 0\n",
+    );
+    for _ in 0..40 {
+        scen.push_str("Q 0 0 0 7 0 7\n");
+    }
+    let scenario = parse_gppc_scenario(&scen, "t.scen").unwrap();
+    let patches = parse_gppc_patches(
+        "type patch\npatches 1\npatch 0\nheight 1\nwidth 1\nmap\n.\n",
+        "t.patch",
+    )
+    .unwrap();
+    let calls = Calls::new(0);
+    let stop = || {
+        calls.set(calls.get() + 1);
+        calls.get() > 4
+    };
+    let mut planner = planners::by_name("astar", true).unwrap();
+    let out =
+        planner_replan::gppc::replay_until(&scenario, &patches, planner.as_mut(), 1, 0, &stop)
+            .unwrap();
+    assert_eq!(out.queries.len(), 3);
+    assert!(out.queries.iter().all(|q| q.agrees));
+}
