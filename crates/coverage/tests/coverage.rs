@@ -543,20 +543,7 @@ fn counter(outcome: &CoverageOutcome, name: &str) -> u64 {
 
 /// The counters of a run, in reporting order.
 fn all_counters(outcome: &CoverageOutcome) -> [u64; 11] {
-    [
-        "n_reachable",
-        "n_covered",
-        "n_revisits",
-        "n_moves",
-        "n_turns",
-        "n_backtracking_points",
-        "n_marked_points",
-        "n_fill_moves",
-        "n_return_moves",
-        "n_return_searches",
-        "n_return_expansions",
-    ]
-    .map(|name| counter(outcome, name))
+    planner_testkit::COVERAGE_COUNTERS.map(|name| counter(outcome, name))
 }
 
 /// A run's counters and the fingerprints of its path and return legs.

@@ -703,6 +703,14 @@ struct RunDone {
     nav: Option<NavEnd>,
     /// Cells toggled in all (dynamic only).
     toggled: Option<u64>,
+    totals: RunTotals,
+    files: RunFiles,
+}
+
+/// What a run counted over its replans, kept while it runs ([`RunRecorder`]) and handed
+/// to the tables and the summary when it ends ([`RunDone`]).
+#[derive(Default)]
+struct RunTotals {
     replans: u64,
     expansions: u64,
     oracle_expansions: u64,
@@ -713,7 +721,6 @@ struct RunDone {
     /// The first replan's planning time (the time to the first move).
     first_planning: Duration,
     planning_time: Duration,
-    files: RunFiles,
 }
 
 /// The files of one run in progress in the working area, named by its place in its chunk
@@ -758,13 +765,7 @@ struct RunRecorder<'a> {
     files: RunFiles,
     /// The first write that failed.
     failed: Option<ExperimentError>,
-    replans: u64,
-    expansions: u64,
-    oracle_expansions: u64,
-    mismatches: u64,
-    listed: Vec<String>,
-    first_planning: Duration,
-    planning_time: Duration,
+    totals: RunTotals,
 }
 
 impl<'a> RunRecorder<'a> {
@@ -790,13 +791,7 @@ impl<'a> RunRecorder<'a> {
             later: open(&files.later)?,
             files,
             failed: None,
-            replans: 0,
-            expansions: 0,
-            oracle_expansions: 0,
-            mismatches: 0,
-            listed: Vec::new(),
-            first_planning: Duration::ZERO,
-            planning_time: Duration::ZERO,
+            totals: RunTotals::default(),
         })
     }
 
@@ -818,9 +813,9 @@ impl<'a> RunRecorder<'a> {
     /// Counts a failed check, keeps its message among the first listed, and returns it.
     fn note(&mut self, mismatch: &Mismatch) -> String {
         let text = mismatch.to_string();
-        self.mismatches += 1;
-        if self.listed.len() < MISMATCHES_LISTED {
-            self.listed.push(text.clone());
+        self.totals.mismatches += 1;
+        if self.totals.listed.len() < MISMATCHES_LISTED {
+            self.totals.listed.push(text.clone());
         }
         text
     }
@@ -846,13 +841,7 @@ impl<'a> RunRecorder<'a> {
             id: self.id.clone(),
             nav,
             toggled,
-            replans: self.replans,
-            expansions: self.expansions,
-            oracle_expansions: self.oracle_expansions,
-            mismatches: self.mismatches,
-            listed: self.listed,
-            first_planning: self.first_planning,
-            planning_time: self.planning_time,
+            totals: self.totals,
             files: self.files,
         })
     }
@@ -860,13 +849,13 @@ impl<'a> RunRecorder<'a> {
 
 impl Recorder for RunRecorder<'_> {
     fn replan(&mut self, record: ReplanRecord, mismatch: Option<Mismatch>) {
-        let index = self.replans;
-        self.replans += 1;
-        self.expansions += record.expansions;
-        self.oracle_expansions += record.oracle_expansions.unwrap_or(0);
-        self.planning_time += record.planning_time();
+        let index = self.totals.replans;
+        self.totals.replans += 1;
+        self.totals.expansions += record.expansions;
+        self.totals.oracle_expansions += record.oracle_expansions.unwrap_or(0);
+        self.totals.planning_time += record.planning_time();
         if index == 0 {
-            self.first_planning = record.planning_time();
+            self.totals.first_planning = record.planning_time();
         } else {
             let mut later = [0u8; LATER_BYTES];
             later[..8].copy_from_slice(&record.expansions.to_le_bytes());
@@ -1369,21 +1358,21 @@ impl RunSummary {
         let group = &mut self.groups[at];
         group.runs += 1;
         group.reached += usize::from(run.nav.as_ref().is_some_and(|n| n.reached));
-        group.replans += run.replans;
-        group.mismatches += run.mismatches;
-        group.expansions += run.expansions;
-        if run.oracle_expansions > 0 {
+        group.replans += run.totals.replans;
+        group.mismatches += run.totals.mismatches;
+        group.expansions += run.totals.expansions;
+        if run.totals.oracle_expansions > 0 {
             group
                 .shares
-                .push(run.expansions as f64 / run.oracle_expansions as f64);
+                .push(run.totals.expansions as f64 / run.totals.oracle_expansions as f64);
         }
         group
             .planning_ms
-            .push(run.planning_time.as_secs_f64() * 1e3);
+            .push(run.totals.planning_time.as_secs_f64() * 1e3);
         self.runs += 1;
-        self.replans += run.replans;
-        self.mismatches += run.mismatches;
-        for m in &run.listed {
+        self.replans += run.totals.replans;
+        self.mismatches += run.totals.mismatches;
+        for m in &run.totals.listed {
             if self.listed.len() < MISMATCHES_LISTED {
                 self.listed.push((run.id.clone(), m.clone()));
             }
@@ -1562,14 +1551,17 @@ impl Tables {
         let (map, line, setting, planner) = run.id.identity(csv);
         let mut csv_line = format!(
             "{map},{line},{setting},{planner},{reached},{steps},{},{},{},{}",
-            run.replans, run.expansions, run.oracle_expansions, run.mismatches,
+            run.totals.replans,
+            run.totals.expansions,
+            run.totals.oracle_expansions,
+            run.totals.mismatches,
         );
         if options.timing {
             let _ = write!(
                 csv_line,
                 ",{},{}",
-                micros(run.first_planning),
-                micros(run.planning_time)
+                micros(run.totals.first_planning),
+                micros(run.totals.planning_time)
             );
         }
         csv_line.push('\n');
@@ -1579,10 +1571,10 @@ impl Tables {
             "scenario_line": run.id.line,
             setting_key: run.id.setting,
             "planner": run.id.planner,
-            "replans": run.replans,
-            "total_expansions": run.expansions,
-            "astar_expansions": run.oracle_expansions,
-            "mismatches": run.listed,
+            "replans": run.totals.replans,
+            "total_expansions": run.totals.expansions,
+            "astar_expansions": run.totals.oracle_expansions,
+            "mismatches": run.totals.listed,
         });
         if let Some(nav) = &run.nav {
             line["reached"] = nav.reached.into();
@@ -1593,7 +1585,7 @@ impl Tables {
             line["toggled"] = toggled.into();
         }
         if options.timing {
-            line["planning_time_us"] = (micros(run.planning_time) as u64).into();
+            line["planning_time_us"] = (micros(run.totals.planning_time) as u64).into();
         }
         self.put(1, &format!("{line}\n"))?;
         let path = &run.files.lines;

@@ -13,18 +13,11 @@ use std::time::{Duration, Instant};
 use planner_serve::server::answer_connections;
 use planner_serve::ServeOptions;
 
-use crate::common::{get, post, read_answer, repo, start};
+use crate::common::{get, post, read_answer, repo, scratch, start};
 
 /// A fresh directory holding maps/paper/map10.map as map10.map.
 fn served(name: &str) -> PathBuf {
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_nanos());
-    let dir = std::env::temp_dir().join(format!(
-        "planner-serve-{name}-{}-{nanos}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch(name);
     std::fs::copy(repo().join("maps/paper/map10.map"), dir.join("map10.map")).unwrap();
     dir
 }

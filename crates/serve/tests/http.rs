@@ -7,20 +7,7 @@ use std::time::Duration;
 
 use planner_serve::ServeOptions;
 
-use crate::common::{get, post, repo, send, start};
-
-/// A fresh directory under the system's temp dir.
-fn scratch(name: &str) -> PathBuf {
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_nanos());
-    let dir = std::env::temp_dir().join(format!(
-        "planner-serve-{name}-{}-{nanos}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use crate::common::{get, post, repo, scratch, send, start};
 
 /// A served directory: map10, an open 30x30 map, a link to /etc/passwd, a link to /etc,
 /// a ROS YAML naming an image outside; beside it (outside) a secret file.
