@@ -202,7 +202,7 @@ fn config_errors_name_file_line_column_and_key() {
 
 #[test]
 fn a_failed_sweep_leaves_previous_results_and_writes_nothing() {
-    let dir = std::env::temp_dir().join(format!("gridplan-atomic-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("gridplan-atomic");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let good = dir.join("good.toml");
@@ -281,7 +281,8 @@ fn plan_prints_one_json_object_and_names_bad_input() {
 fn corner_cutting_paths_are_validated_by_their_own_rule() {
     // Only a corner-cutting diagonal joins (0,0) and (1,1): the any-angle rule rejects it,
     // the 8-connected rule with corner cutting accepts it.
-    let dir = std::env::temp_dir().join(format!("gridplan-cutting-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("gridplan-cutting");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(
         dir.join("x.map"),
@@ -632,7 +633,8 @@ fn every_lexastar_run_is_best_by_steps_then_turns() {
 /// `inflation` blocks every cell within that many cells of an occupied one in a ROS map.
 #[test]
 fn ros_maps_take_an_inflation_radius() {
-    let dir = std::env::temp_dir().join(format!("gridplan-ros-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("gridplan-ros");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     // A 5x5 plain PGM, white (free) but for a black (occupied) centre pixel.
     let mut pgm = String::from("P2\n5 5\n255\n");

@@ -20,7 +20,7 @@ use planner_runner::outdir::{self, Marker, OutdirError, OutputFile, MARKER};
 
 /// A fresh empty directory for one test.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gridplan-output-{}-{name}", std::process::id()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gridplan-output-{name}"));
     if dir.exists() {
         make_writable(&dir);
         fs::remove_dir_all(&dir).unwrap();

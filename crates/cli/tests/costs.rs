@@ -207,7 +207,8 @@ fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
         refused("astar", &args, 2, message);
     }
     // A bad weight file: file, line and column.
-    let dir = std::env::temp_dir().join(format!("gridplan-costs-cli-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("gridplan-costs-cli");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.csv");
     std::fs::write(&bad, "1 1 1 1 1 1\n1 1 1 -2 1 1\n").unwrap();
@@ -228,7 +229,8 @@ fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
 /// and D* Lite failed with "runs must be deterministic (a bug)").
 #[test]
 fn ignored_costs_draw_and_trace_the_run_they_timed() {
-    let dir = std::env::temp_dir().join(format!("gridplan-ignored-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("gridplan-ignored");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     for planner in ["weighted_jps", "lpastar", "dstar_lite", "astar"] {
         let (svg, trace) = (

@@ -137,7 +137,8 @@ fn nav2_map_with_huge_inflation_finishes() {
 /// (its positions were infinite: `start (inf, inf)`), and a warning that says why.
 #[test]
 fn a_frame_beyond_the_range_of_numbers_is_no_frame() {
-    let dir = std::env::temp_dir().join(format!("gridplan-nav2-huge-{}", std::process::id()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gridplan-nav2-huge");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::copy(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../maps/ros-nav2/TenByTen.pgm"),

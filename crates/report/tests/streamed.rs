@@ -102,10 +102,8 @@ fn through_file(
     records: &[RunRecord],
     name: &str,
 ) -> (PathBuf, Vec<RunRecord>) {
-    let path = std::env::temp_dir().join(format!(
-        "gridplan-streamed-{}-{name}.jsonl",
-        std::process::id()
-    ));
+    let path =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gridplan-streamed-{name}.jsonl"));
     let header = StreamHeader::new(experiment, Shard::ALL, records.len() as u64);
     let mut bytes = header.to_line().unwrap();
     for (run, record) in records.iter().enumerate() {

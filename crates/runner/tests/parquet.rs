@@ -38,7 +38,7 @@ fn whole(dir: &Path) -> PathBuf {
 
 /// A scratch directory for one test, removed first if a previous run left it.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gridplan-parquet-{name}-{}", std::process::id()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gridplan-parquet-{name}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

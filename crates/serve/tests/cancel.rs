@@ -85,13 +85,9 @@ fn post(addr: SocketAddr, url: &str, body: &str) -> u16 {
 /// cap (so only a cancel can end a Backtracking search there), and its server's address and
 /// stopper.
 fn one_place_server(name: &str) -> (std::path::PathBuf, SocketAddr, impl Fn()) {
-    let dir = std::env::temp_dir().join(format!(
-        "planner-serve-{name}-{}-{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos())
-    ));
+    let dir =
+        std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("planner-serve-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let mut text = String::from("type octile\nheight 64\nwidth 64\nmap\n");
     for _ in 0..64 {

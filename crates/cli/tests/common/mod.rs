@@ -20,7 +20,7 @@ pub fn root() -> PathBuf {
 /// A fresh, empty directory `gridplan-KIND-PID-NAME` under the system's temp dir
 /// (canonical, so paths built from it are the ones the binary prints).
 pub fn scratch(kind: &str, name: impl std::fmt::Display) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gridplan-{kind}-{}-{name}", std::process::id()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gridplan-{kind}-{name}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir.canonicalize().unwrap()

@@ -278,10 +278,12 @@ try {
 
   // OPEN's frontier after the playback: the cells drawn in the frontier colour are exactly
   // those plan --trace lists as generated and never expanded.
-  const traceFile = path.join(fs.mkdtempSync(path.join(process.env.TMPDIR || "/tmp", "gridplan-trace-")), "t.trace.json");
+  const traceDir = fs.mkdtempSync(path.join(process.env.TMPDIR || "/tmp", "gridplan-trace-"));
+  const traceFile = path.join(traceDir, "t.trace.json");
   const medianProblem = problems[median.i];
   planJson(["maps/movingai/den520d.map", "--planner", "astar", "--problem", String(median.i + 1), "--trace", traceFile]);
   const traced = JSON.parse(fs.readFileSync(traceFile, "utf8")).events;
+  fs.rmSync(traceDir, { recursive: true, force: true });
   const expandedIds = new Set(traced.filter((e) => e.type === "expanding").map((e) => e.id));
   const frontier = new Set(traced.filter((e) => e.type === "generating" && !expandedIds.has(e.id)).map((e) => e.id));
   await page.evaluate(([s, g]) => window.gridplan.timeQuery("astar", s, g), [[medianProblem[0], medianProblem[1]], [medianProblem[2], medianProblem[3]]]);

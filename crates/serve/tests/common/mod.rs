@@ -10,13 +10,13 @@ use planner_serve::{ServeOptions, Server};
 
 /// A fresh directory under the system's temp dir.
 pub fn scratch(name: &str) -> PathBuf {
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_nanos());
-    let dir = std::env::temp_dir().join(format!(
-        "planner-serve-{name}-{}-{nanos}",
-        std::process::id()
-    ));
+    // Under the target directory (not the system's temporary one, which runs of the tests
+    // filled with thousands of directories), one per call; a later run replaces them.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("planner-serve-{name}-{call}"));
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
