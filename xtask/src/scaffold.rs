@@ -7,8 +7,9 @@
 //! its paragraph in ARCHITECTURE.md's code map (before planner-figures'). The result
 //! passes tidy, clippy, the docs and the conformance test as generated; its snapshot is
 //! written once accepted (`INSTA_UPDATE=always cargo test -p xtask --test experiments`).
-//! Nothing is written unless every step can be done: the name is checked and both markers
-//! are found first.
+//! Nothing is written unless every step can be done: the name is checked (its length, and
+//! its CamelCase type against every name the generated code uses) and the markers are
+//! found first, and a write that fails even so (a full disk) undoes the ones before it.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -108,16 +109,7 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, ScaffoldError>
     }
     let package = format!("planner-{name}");
     let ident = format!("planner_{name}");
-    let type_name: String = name
-        .split('_')
-        .map(|word| {
-            let mut chars = word.chars();
-            chars
-                .next()
-                .map(|c| c.to_ascii_uppercase().to_string() + chars.as_str())
-                .unwrap_or_default()
-        })
-        .collect();
+    let type_name = type_name(name);
     let cargo = cargo.replacen(
         DEPS_MARKER,
         &format!("{package} = {{ path = \"../{name}\" }}\n{DEPS_MARKER}"),
@@ -150,21 +142,145 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, ScaffoldError>
         ),
         (config_rel.clone(), config(name)),
     ];
-    for (path, contents) in &files {
-        let full = root.join(path);
-        if let Some(dir) = full.parent() {
-            fs::create_dir_all(dir).map_err(io(dir))?;
-        }
-        fs::write(&full, contents).map_err(io(&full))?;
+    let edits = [
+        (&cargo_path, cargo),
+        (&registry_path, registry),
+        (&architecture_path, architecture),
+    ];
+    let mut undo = Undo::default();
+    if let Err(error) = write_all(root, &files, &edits, &mut undo) {
+        undo.roll_back();
+        return Err(error);
     }
-    fs::write(&cargo_path, cargo).map_err(io(&cargo_path))?;
-    fs::write(&registry_path, registry).map_err(io(&registry_path))?;
-    fs::write(&architecture_path, architecture).map_err(io(&architecture_path))?;
     let mut written: Vec<String> = files.into_iter().map(|(p, _)| p).collect();
     written.push("crates/registry/Cargo.toml".into());
     written.push("crates/registry/src/lib.rs".into());
     written.push("ARCHITECTURE.md".into());
     Ok(Scaffolded { files: written })
+}
+
+/// What [`write_all`] has done so far, to be undone when a later step fails: the files it
+/// created, the directories it created (deepest last), and the edited files' old text.
+#[derive(Default)]
+struct Undo {
+    created_files: Vec<PathBuf>,
+    created_dirs: Vec<PathBuf>,
+    edited: Vec<(PathBuf, String)>,
+}
+
+impl Undo {
+    /// Restores the edited files, removes the created files, then the created directories
+    /// if they are empty (`remove_dir` leaves a directory someone else wrote into).
+    fn roll_back(self) {
+        for (path, old) in self.edited.iter().rev() {
+            let _ = fs::write(path, old);
+        }
+        for path in self.created_files.iter().rev() {
+            let _ = fs::remove_file(path);
+        }
+        for dir in self.created_dirs.iter().rev() {
+            let _ = fs::remove_dir(dir);
+        }
+    }
+}
+
+/// Writes the new files (creating their directories) and then the edited ones, noting in
+/// `undo` each step done.
+fn write_all(
+    root: &Path,
+    files: &[(String, String)],
+    edits: &[(&PathBuf, String)],
+    undo: &mut Undo,
+) -> Result<(), ScaffoldError> {
+    for (path, contents) in files {
+        let full = root.join(path);
+        if let Some(dir) = full.parent() {
+            let mut missing: Vec<PathBuf> = dir
+                .ancestors()
+                .take_while(|d| !d.exists())
+                .map(Path::to_path_buf)
+                .collect();
+            missing.reverse();
+            fs::create_dir_all(dir).map_err(io(dir))?;
+            undo.created_dirs.extend(missing);
+        }
+        // `create_new`: a file that appeared since the checks is never overwritten.
+        fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&full)
+            .and_then(|mut file| std::io::Write::write_all(&mut file, contents.as_bytes()))
+            .map_err(io(&full))?;
+        undo.created_files.push(full);
+    }
+    for (path, text) in edits {
+        let old = fs::read_to_string(path).map_err(io(path))?;
+        undo.edited.push(((*path).clone(), old));
+        fs::write(path, text).map_err(io(path))?;
+    }
+    Ok(())
+}
+
+/// The longest planner name: with `configs/<name>.toml`, snapshot names and the package
+/// `planner-<name>`, every file name stays far below the usual 255-byte limit.
+const MAX_NAME_LEN: usize = 64;
+
+/// Names the generated crate's code uses besides its own type (the prelude's and the
+/// derive macros'); the template's and smoke test's own imports are found in their text.
+const PRELUDE_TYPES: &[&str] = &[
+    "Option",
+    "Some",
+    "None",
+    "Result",
+    "Ok",
+    "Err",
+    "Vec",
+    "String",
+    "Box",
+    "Default",
+    "Clone",
+    "Copy",
+    "Send",
+    "Sync",
+    "Sized",
+    "Drop",
+    "Fn",
+    "FnMut",
+    "FnOnce",
+    "Iterator",
+    "IntoIterator",
+    "DoubleEndedIterator",
+    "ExactSizeIterator",
+    "Extend",
+    "ToString",
+    "ToOwned",
+    "PartialEq",
+    "Eq",
+    "PartialOrd",
+    "Ord",
+    "AsRef",
+    "AsMut",
+    "Into",
+    "From",
+    "TryFrom",
+    "TryInto",
+    "FromIterator",
+    "Debug",
+    "Hash",
+    "Self",
+    "JsonSchema",
+];
+
+/// Whether the CamelCase type `type_name` would clash with a name the generated code uses:
+/// an identifier of the template or smoke test, or the prelude's.
+fn clashes_with_template(type_name: &str) -> bool {
+    let used = |text: &str| {
+        text.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .any(|word| word == type_name)
+    };
+    PRELUDE_TYPES.contains(&type_name)
+        || used(&TEMPLATE.replace("__TYPE__", ""))
+        || used(&smoke_test("planner_x", ""))
 }
 
 /// Rust keywords and names a crate or type cannot take.
@@ -196,13 +312,38 @@ fn check_name(name: &str) -> Result<(), ScaffoldError> {
             reason: "use 2 or more lowercase letters, digits and single underscores, starting with a letter (it is the directory crates/<name> and the registry name)",
         });
     }
+    if name.len() > MAX_NAME_LEN {
+        return Err(ScaffoldError::Name {
+            name: name.to_string(),
+            reason: "too long (at most 64 characters)",
+        });
+    }
     if RESERVED.contains(&name) {
         return Err(ScaffoldError::Name {
             name: name.to_string(),
             reason: "reserved (a Rust keyword or a workspace crate's directory); choose another",
         });
     }
+    if clashes_with_template(&type_name(name)) {
+        return Err(ScaffoldError::Name {
+            name: name.to_string(),
+            reason: "its type name (the name in CamelCase) is one the generated code already uses (Planner, Config, Path, Outcome, ...); choose another",
+        });
+    }
     Ok(())
+}
+
+/// The planner's type: `name` in CamelCase (`greedy_best` is `GreedyBest`).
+fn type_name(name: &str) -> String {
+    name.split('_')
+        .map(|word| {
+            let mut chars = word.chars();
+            chars
+                .next()
+                .map(|c| c.to_ascii_uppercase().to_string() + chars.as_str())
+                .unwrap_or_default()
+        })
+        .collect()
 }
 
 fn manifest(name: &str, package: &str) -> String {
@@ -447,10 +588,69 @@ mod tests {
             "a__b",
             "_ab",
             "runner",
+            // Over 64 characters (a config file name of 256 bytes failed half-way).
+            &format!("a{}", "b".repeat(250)),
+            // Types the generated code imports or defines (it did not compile).
+            "planner",
+            "config",
+            "outcome",
+            "path",
+            "budget",
+            "cell",
+            "problem",
+            "config_error",
+            "binary_heap",
+            "option",
         ] {
-            assert!(new_planner(&root, bad).is_err(), "{bad:?}");
+            let refused = new_planner(&root, bad);
+            assert!(
+                matches!(
+                    refused,
+                    Err(ScaffoldError::Name { .. } | ScaffoldError::Registered(_))
+                ),
+                "{bad:?}: {refused:?}"
+            );
         }
         assert!(!root.exists());
+    }
+
+    /// A write that fails half-way (here `configs` is a file, so the config cannot be
+    /// written after the crate's files were) leaves the tree as it was.
+    #[test]
+    fn a_failed_write_undoes_the_earlier_ones() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../target/tmp/gridplan-scaffold-undo");
+        let _ = fs::remove_dir_all(&root);
+        fs::create_dir_all(root.join("crates/registry/src")).unwrap();
+        let files = [
+            (
+                "crates/registry/Cargo.toml",
+                format!("[dependencies]\n{DEPS_MARKER}\n"),
+            ),
+            (
+                "crates/registry/src/lib.rs",
+                format!("const X: &[Entry] = &[\n{REGISTRY_MARKER}\n];\n"),
+            ),
+            (
+                "ARCHITECTURE.md",
+                format!("# Code map\n\n{ARCHITECTURE_MARKER}\n"),
+            ),
+            ("configs", "not a directory\n".to_string()),
+        ];
+        for (path, text) in &files {
+            fs::write(root.join(path), text).unwrap();
+        }
+        let error = new_planner(&root, "greedy3").unwrap_err();
+        assert!(matches!(error, ScaffoldError::Io { .. }), "{error}");
+        assert!(!root.join("crates/greedy3").exists());
+        for (path, text) in &files {
+            assert_eq!(
+                &fs::read_to_string(root.join(path)).unwrap(),
+                text,
+                "{path}"
+            );
+        }
+        fs::remove_dir_all(&root).unwrap();
     }
 
     #[test]
