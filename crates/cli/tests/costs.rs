@@ -263,3 +263,37 @@ fn ignored_costs_draw_and_trace_the_run_they_timed() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// configs/README.md's `costs` row names every planner whose defaults honour cell weights,
+/// as `planners NAME` describes it (the row named neither lpastar nor dstar_lite), and no
+/// planner that refuses them.
+#[test]
+fn the_config_guide_names_the_planners_that_honour_costs() {
+    let guide = std::fs::read_to_string(root().join("configs/README.md")).unwrap();
+    let row = guide
+        .lines()
+        .find(|line| line.starts_with("| `costs` |") && line.contains("is refused a weighted map"))
+        .expect("configs/README.md has the planner tables' `costs` row");
+    let (code, listing, err) = gridplan(&["planners"]);
+    assert_eq!(code, 0, "{err}");
+    let names: Vec<&str> = listing
+        .lines()
+        .filter_map(|line| line.split_whitespace().next())
+        .filter(|name| name.chars().all(|c| c.is_ascii_lowercase() || c == '_'))
+        .collect();
+    assert!(names.len() >= 18, "{listing}");
+    for name in names {
+        let (code, described, err) = gridplan(&["planners", name]);
+        assert_eq!(code, 0, "{name}: {err}");
+        let honours = described.contains("honours cell weights");
+        assert!(
+            honours || described.contains("refuses weighted maps"),
+            "{name}: {described}"
+        );
+        assert_eq!(
+            row.contains(&format!("`{name}`")),
+            honours,
+            "{name} (honours cell weights: {honours}) in configs/README.md's costs row: {row}"
+        );
+    }
+}
