@@ -10,12 +10,18 @@ const EXPANDED_COLORS = [[255, 205, 210], [200, 210, 255], [255, 225, 190], [230
 const FRONTIER_COLORS = [[240, 128, 140], [120, 140, 240], [245, 170, 100], [190, 130, 215]];
 const FREE_RGB = [255, 255, 255];
 const BLOCKED_RGB = [45, 45, 45];
+// A ROS map's unknown cells (map_server's -1): grey, as map_server's images and RViz show
+// them, between free white and occupied black. They are blocked like walls.
+const UNKNOWN_RGB = [160, 160, 160];
 const START_COLOR = "#00a03c";
 const GOAL_COLOR = "#00b4c8";
 
 const state = {
   planners: [],
-  map: null, // {path, name, width, height, blocked: Uint8Array, problems}
+  map: null, // {path, name, width, height, blocked: Uint8Array, unknown: Uint8Array, problems}
+  // The map load generation: raised by every "Load map", so that a run started on the
+  // map before can tell that its answer no longer belongs on the page.
+  loadGen: 0,
   edits: new Map(), // cell index -> free (0 or 1)
   start: null,
   goal: null,
@@ -24,8 +30,7 @@ const state = {
   view: { cell: 1, x: 0, y: 0 },
   results: [], // {slot, name, label, plan, expanded: Int32Array, shown, canvas, data, pixels}
   playing: false,
-  runId: null,
-  cancelled: false,
+  run: null, // the plan in progress: {gen, id, cancelled}
   runs: null, // the open results directory
 };
 
@@ -152,14 +157,30 @@ function mapCosts() {
 }
 
 async function loadMap(path) {
+  // A new map ends the plan in progress: its answers are for the map it started on.
+  const gen = ++state.loadGen;
+  cancelRun();
+  state.run = null;
+  $("cancel").disabled = true;
+  $("run").disabled = false;
   setStatus(`loading ${path} ...`);
   const costs = mapCosts();
   let url = `/api/map?path=${encodeURIComponent(path)}`;
   if (costs.weights) url += `&weights=${encodeURIComponent(costs.weights)}`;
   if (costs.graded) url += "&graded=1";
   const map = await getJson(url);
+  // A later "Load map" came first: its map is the one shown.
+  if (gen !== state.loadGen) return false;
+  // Cells: "0" free, "1" blocked, "2" a ROS map's unknown cell (blocked too).
   const blocked = new Uint8Array(map.width * map.height);
-  for (let i = 0; i < blocked.length; i++) blocked[i] = map.cells.charCodeAt(i) === 49 ? 1 : 0;
+  const unknown = new Uint8Array(map.width * map.height);
+  let unknownCount = 0;
+  for (let i = 0; i < blocked.length; i++) {
+    const c = map.cells.charCodeAt(i);
+    blocked[i] = c === 49 || c === 50 ? 1 : 0;
+    unknown[i] = c === 50 ? 1 : 0;
+    unknownCount += unknown[i];
+  }
   // Weighted maps: free cells shaded from white (the least weight) to dark amber (the most).
   const weights = map.weights ? Uint16Array.from(map.weights) : null;
   let range = null;
@@ -168,11 +189,12 @@ async function loadMap(path) {
     for (let i = 0; i < weights.length; i++) if (!blocked[i]) { low = Math.min(low, weights[i]); high = Math.max(high, weights[i]); }
     range = [low, Math.max(high, low)];
   }
-  state.map = { path: map.path, name: map.name, width: map.width, height: map.height, blocked, problems: map.problems, weights, range, costs, rule: map.cost_rule, frame: map.frame };
+  state.map = { path: map.path, name: map.name, width: map.width, height: map.height, blocked, unknown, unknownCount, problems: map.problems, weights, range, costs, rule: map.cost_rule, frame: map.frame, gen };
   state.edits = new Map();
   state.start = null;
   state.goal = null;
   state.results = [];
+  state.playing = false;
   const base = document.createElement("canvas");
   base.width = map.width;
   base.height = map.height;
@@ -193,11 +215,13 @@ async function loadMap(path) {
   updateEnds();
   draw();
   const weighted = weights ? `, weights ${range[0]}-${range[1]} (${map.cost_rule} rule; darker costs more)` : "";
-  setStatus(`${map.name}: ${map.width} x ${map.height}${weighted}`);
+  const grey = unknownCount > 0 ? `, ${unknownCount} unknown cells (grey, blocked)` : "";
+  setStatus(`${map.name}: ${map.width} x ${map.height}${weighted}${grey}`);
+  return true;
 }
 
 function paintBase(i) {
-  let rgb = state.map.blocked[i] ? BLOCKED_RGB : FREE_RGB;
+  let rgb = state.map.blocked[i] ? (state.map.unknown[i] ? UNKNOWN_RGB : BLOCKED_RGB) : FREE_RGB;
   const { weights, range } = state.map;
   if (weights && !state.map.blocked[i] && range[1] > range[0]) {
     const t = (weights[i] - range[0]) / (range[1] - range[0]);
@@ -216,6 +240,8 @@ function setWall(x, y, blocked) {
   if (map.blocked[i] === blocked) return;
   if ((state.start && state.start[0] === x && state.start[1] === y) || (state.goal && state.goal[0] === x && state.goal[1] === y)) return;
   map.blocked[i] = blocked;
+  // An edited cell is known: a wall or free, as drawn.
+  map.unknown[i] = 0;
   state.edits.set(i, blocked ? 0 : 1);
   paintBase(i);
   state.base.getContext("2d").putImageData(state.baseData, 0, 0, x, y, 1, 1);
@@ -264,6 +290,7 @@ function layoutViews() {
     view.dataset.view = String(k);
     const title = document.createElement("h3");
     title.textContent = results.length === 0 ? (state.map ? state.map.name : "no map") : results.map((r) => r.label).join(" + ");
+    const key = mapKey();
     const canvas = document.createElement("canvas");
     canvas.width = size;
     canvas.height = size;
@@ -272,7 +299,7 @@ function layoutViews() {
     canvas.addEventListener("pointermove", (e) => pointerMove(e, canvas));
     canvas.addEventListener("pointerup", () => pointerUp());
     canvas.addEventListener("wheel", (e) => wheel(e, canvas), { passive: false });
-    view.append(title, canvas);
+    view.append(title, key, canvas);
     for (const r of results) {
       r.canvasEl = canvas;
       r.viewEl = view;
@@ -281,6 +308,22 @@ function layoutViews() {
     views.appendChild(view);
   });
   if (resized) fitView();
+}
+
+// The key of the map's colours: free, wall, and a ROS map's unknown cells when it has any.
+function mapKey() {
+  const key = document.createElement("p");
+  key.className = "map-key";
+  const tones = [["free", FREE_RGB], ["wall", BLOCKED_RGB]];
+  if (state.map && state.map.unknownCount > 0) tones.push(["unknown (blocked)", UNKNOWN_RGB]);
+  for (const [what, rgb] of tones) {
+    const swatch = document.createElement("span");
+    swatch.className = "swatch";
+    swatch.dataset.tone = what;
+    swatch.style.background = `rgb(${rgb.join(",")})`;
+    key.append(swatch, document.createTextNode(` ${what} `));
+  }
+  return key;
 }
 
 function canvases() {
@@ -324,8 +367,9 @@ function pointerDown(e, canvas) {
   const cell = cellAt(e);
   if (!cell) return;
   if (t === "start" || t === "goal") {
-    if (state.map.blocked[cell[1] * state.map.width + cell[0]]) {
-      setStatus(`(${cell[0]}, ${cell[1]}) is a wall`, true);
+    const i = cell[1] * state.map.width + cell[0];
+    if (state.map.blocked[i]) {
+      setStatus(`(${cell[0]}, ${cell[1]}) is ${state.map.unknown[i] ? "unknown (blocked)" : "a wall"}`, true);
       return;
     }
     state[t] = cell;
@@ -496,13 +540,17 @@ function countersTable(r) {
   return table;
 }
 
-function newResult(slot, name, label, response) {
-  const { width, height } = state.map;
+// A result drawn on `map`, the map its run was planned on; null when that map is no longer
+// the one shown (a "Load map" came since): it is dropped, never drawn on another map.
+function newResult(map, slot, name, label, response) {
+  if (map !== state.map || map.gen !== state.loadGen) return null;
+  const { width, height } = map;
   const search = document.createElement("canvas");
   search.width = width;
   search.height = height;
   const searchData = search.getContext("2d").createImageData(width, height);
   return {
+    gen: map.gen,
     slot,
     name,
     label,
@@ -551,19 +599,23 @@ function newRunId() {
   return `run-${Date.now()}-${Math.floor(Math.random() * 1e9)}`;
 }
 
-async function planOne(slot, name, set) {
-  const edits = Array.from(state.edits, ([i, free]) => [i % state.map.width, Math.floor(i / state.map.width), free]);
+// Plans one planner for `run` on the map, start, goal and edits shown when it is called;
+// null when the map changed before the answer came (the answer is dropped).
+async function planOne(run, slot, name, set) {
+  const map = state.map;
+  if (run.gen !== state.loadGen || map.gen !== run.gen) return null;
+  const edits = Array.from(state.edits, ([i, free]) => [i % map.width, Math.floor(i / map.width), free]);
   const max = $("max-expansions").value.trim();
-  state.runId = newRunId();
+  run.id = newRunId();
   const request = {
-    map: state.map.path,
+    map: map.path,
     edits,
     start: state.start,
     goal: state.goal,
     planner: name,
     set,
-    run: state.runId,
-    costs: state.map.costs,
+    run: run.id,
+    costs: map.costs,
     ignore_costs: $("ignore-costs").checked,
   };
   if (max !== "") request.max_expansions = Number(max);
@@ -572,8 +624,10 @@ async function planOne(slot, name, set) {
     headers: { "Content-Type": "application/json" },
     body: JSON.stringify(request),
   });
+  run.id = null;
+  if (run.gen !== state.loadGen) return null;
   const label = set.length ? `${name}[${set.join(", ")}]` : name;
-  return newResult(slot, name, label, response);
+  return newResult(map, slot, name, label, response);
 }
 
 async function runAll(options) {
@@ -590,25 +644,34 @@ async function runAll(options) {
     setStatus("choose a planner", true);
     return;
   }
+  // The run belongs to the map shown now: a "Load map" meanwhile cancels it, and every
+  // answer for it after that is dropped.
+  const run = { gen: state.loadGen, id: null, cancelled: false };
+  const current = () => run.gen === state.loadGen;
+  state.run = run;
   state.playing = false;
-  state.cancelled = false;
   $("cancel").disabled = false;
   $("run").disabled = true;
   const results = [];
   try {
     for (const [slot, name, set] of jobs) {
-      if (state.cancelled) break;
+      if (run.cancelled || !current()) break;
       setStatus(`planning with ${name} ...`);
-      results.push(await planOne(slot, name, set));
+      const r = await planOne(run, slot, name, set);
+      if (r === null || !current()) break;
+      results.push(r);
     }
-    setStatus(results.map((r) => `${r.label}: ${r.plan.status}`).join("; "));
+    if (current()) setStatus(results.map((r) => `${r.label}: ${r.plan.status}`).join("; "));
   } catch (error) {
-    setStatus(error.status === 409 ? "cancelled" : `error: ${error.message}`, error.status !== 409);
+    if (current()) setStatus(error.status === 409 ? "cancelled" : `error: ${error.message}`, error.status !== 409);
   } finally {
-    $("cancel").disabled = true;
-    $("run").disabled = false;
-    state.runId = null;
+    if (state.run === run) {
+      state.run = null;
+      $("cancel").disabled = true;
+      $("run").disabled = false;
+    }
   }
+  if (!current()) return;
   state.results = results;
   layoutViews();
   if (options && options.instant) {
@@ -619,11 +682,15 @@ async function runAll(options) {
   draw();
 }
 
+// Cancels the plan in progress: the planner running on the server stops, and the
+// planners not yet sent are never sent.
 async function cancelRun() {
-  state.cancelled = true;
-  if (state.runId) {
+  const run = state.run;
+  if (!run) return;
+  run.cancelled = true;
+  if (run.id) {
     try {
-      await getJson(`/api/cancel?run=${encodeURIComponent(state.runId)}`, { method: "POST" });
+      await getJson(`/api/cancel?run=${encodeURIComponent(run.id)}`, { method: "POST" });
     } catch (_) {
       // The run may have finished meanwhile.
     }
@@ -727,11 +794,17 @@ async function showRun(row, tr) {
   const columns = results.runs.columns;
   const get = (name) => row[columns.indexOf(name)];
   const mapPath = results.maps[get("map")];
+  // How the server located the map, or why it did not (the run is then not drawn: on
+  // another map of the same name it would be wrong).
+  const note = (results.map_notes || {})[get("map")];
   if (!mapPath) {
-    setStatus(`map ${get("map")} is not under the served directory`, true);
+    setStatus(note || `map ${get("map")} is not under the served directory`, true);
     return;
   }
-  if (!state.map || state.map.path !== mapPath) await loadMap(mapPath);
+  if (!state.map || state.map.path !== mapPath) {
+    if (!(await loadMap(mapPath))) return;
+  }
+  if (state.map.path !== mapPath) return;
   state.start = [get("start_x"), get("start_y")];
   state.goal = [get("goal_x"), get("goal_y")];
   updateEnds();
@@ -747,16 +820,18 @@ async function showRun(row, tr) {
     metrics: get("steps") === null ? null : { steps: get("steps"), turns: get("turns"), score: get("score"), length: get("length") },
     counters,
   };
-  const r = newResult(0, get("algorithm"), `${get("planner")} (recorded run)`, {
+  const r = newResult(state.map, 0, get("algorithm"), `${get("planner")} (recorded run)`, {
     plan,
     time_ms: Number(get("time_ms")) || 0,
     expanded: [],
     expanded_total: 0,
   });
+  if (r === null) return;
   state.results = [r];
   layoutViews();
   draw();
-  setStatus(kept ? `${get("planner")} on ${get("map")} problem ${get("problem")}` : "this run's path was not kept (paths.jsonl)");
+  const shown = kept ? `${get("planner")} on ${get("map")} problem ${get("problem")}` : "this run's path was not kept (paths.jsonl)";
+  setStatus(note ? `${shown}; ${note}` : shown);
 }
 
 // ---- wiring ------------------------------------------------------------------------
@@ -825,6 +900,8 @@ window.gridplan = {
   state,
   loadMap,
   runAll,
+  UNKNOWN_RGB,
+  BLOCKED_RGB,
   PATH_COLORS,
   FRONTIER_COLORS,
   START_COLOR,
@@ -842,7 +919,8 @@ window.gridplan = {
     const t0 = performance.now();
     state.start = start;
     state.goal = goal;
-    const r = await planOne(0, name, []);
+    const r = await planOne({ gen: state.loadGen, id: null, cancelled: false }, 0, name, []);
+    if (r === null) return null;
     state.results = [r];
     layoutViews();
     showUpTo(r, r.expanded.length);

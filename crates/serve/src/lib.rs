@@ -5,7 +5,9 @@
 //! Everything planned here goes through planner-runner, as `gridplan plan` does
 //! ([`query`]), so the page's counters are `plan --json`'s for the same query. The page
 //! (HTML, JavaScript, CSS under `assets/`) is embedded in the binary: no CDN, no build
-//! step, works offline.
+//! step, works offline. A results directory's runs are drawn only on the map [`located`]
+//! finds for them under the served directory (the one the config that ran read, else
+//! the one map file of their map's name), and not at all when it is ambiguous.
 //!
 //! The server answers each connection on a thread of its own, so an idle or slow client
 //! delays no other; its limits ([`server`]'s docs) bound the threads and memory: at most
@@ -16,6 +18,7 @@
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
 pub mod anim;
+pub mod located;
 pub mod query;
 pub mod safe;
 pub mod server;

@@ -18,6 +18,7 @@ use std::path::Path;
 use planner_api::{Budget, CancelFlag, Cell, Grid};
 use planner_runner::config::{self, MapEntry, ProblemEntry};
 use planner_runner::plan::{PlanResult, DEFAULT_PLAN_EXPANSIONS};
+use planner_runner::usage::UsageError;
 
 /// Limits a query gets whatever it asks for.
 #[derive(Debug, Clone, Copy)]
@@ -43,17 +44,10 @@ impl Default for Caps {
 /// What can go wrong with a query (all are the user's input: HTTP 400).
 #[derive(Debug, thiserror::Error)]
 pub enum QueryError {
-    /// The runner refused it (unknown planner or parameter, bad cell, ...).
+    /// The runner refused it (unknown planner or parameter, a setting `plan --set` would
+    /// refuse, bad cell, ...).
     #[error(transparent)]
     Runner(#[from] planner_runner::RunnerError),
-    /// A `key=value` setting without `=`.
-    #[error("parameter {0:?}: expected key=value")]
-    Setting(String),
-    /// A setting whose value starts as a number does but is not one (`weight=1e400`).
-    #[error(
-        "parameter {0:?}: not a number (numbers are written as 3, -2, 2.5 or 1e3; integers from -2^63 to 2^63 - 1)"
-    )]
-    Number(String),
     /// A wall edit outside the grid.
     #[error("wall edit at ({x}, {y}): outside the {width}x{height} grid")]
     Edit {
@@ -122,18 +116,38 @@ pub fn apply_edits(grid: &mut Grid, edits: &[(u32, u32, bool)]) -> Result<(), Qu
     Ok(())
 }
 
-/// The `key=value` settings as a planner table, parsed as `plan --set` parses them
-/// ([`planner_runner::plan::setting_value`]).
+/// The `key=value` settings as a planner table, parsed as `plan --set` parses them and
+/// refused with its errors ([`UsageError`]): a setting without `=` or without a key, a
+/// value written as a number that is not one ([`planner_runner::plan::setting_value`]),
+/// and one key given two different values (the same value twice is one setting).
 pub fn settings_table(set: &[String]) -> Result<toml::Table, QueryError> {
     let mut params = toml::Table::new();
+    let mut given: Vec<(&str, &str)> = Vec::new();
     for assignment in set {
         let (key, value) = assignment
             .split_once('=')
-            .ok_or_else(|| QueryError::Setting(assignment.clone()))?;
-        let value = value.trim();
-        let parsed = planner_runner::plan::setting_value(value)
-            .ok_or_else(|| QueryError::Number(assignment.clone()))?;
-        params.insert(key.trim().to_string(), parsed);
+            .filter(|(key, _)| !key.trim().is_empty())
+            .ok_or_else(|| UsageError::Assignment(assignment.clone()))
+            .map_err(planner_runner::RunnerError::from)?;
+        let (key, value) = (key.trim(), value.trim());
+        if let Some(&(_, first)) = given.iter().find(|(k, _)| *k == key) {
+            if first != value {
+                return Err(planner_runner::RunnerError::from(UsageError::SetTwice {
+                    key: key.to_string(),
+                    first: first.to_string(),
+                    second: value.to_string(),
+                })
+                .into());
+            }
+        }
+        given.push((key, value));
+        let parsed = planner_runner::plan::setting_value(value).ok_or_else(|| {
+            planner_runner::RunnerError::from(UsageError::SetNumber {
+                key: key.to_string(),
+                value: value.to_string(),
+            })
+        })?;
+        params.insert(key.to_string(), parsed);
     }
     Ok(params)
 }

@@ -6,10 +6,10 @@
 //! | `GET /`, `/app.js`, `/style.css` | the page (embedded in the binary) |
 //! | `GET /api/planners` | the registry: name, summary, declared parameters |
 //! | `GET /api/maps` | map files and results directories under the served directory |
-//! | `GET /api/map?path=P` | map `P`: size, cells, its own problems or its `.scen`'s |
+//! | `GET /api/map?path=P` | map `P`: size, cells (one character each, row-major: `0` free, `1` blocked, `2` a ROS map's unknown cell, blocked too), its own problems or its `.scen`'s |
 //! | `POST /api/plan` | plans one query (JSON body, [`PlanRequest`]); `plan --json`'s object and the expanded cells |
 //! | `POST /api/cancel?run=ID` | cancels the plan request with that `run` id |
-//! | `GET /api/results?path=P` | results directory `P`: runs.json's table, the kept paths, the maps it names |
+//! | `GET /api/results?path=P` | results directory `P`: runs.json's table, the kept paths, where the maps it names lie (`maps`; `null` and a `map_notes` sentence when not located, [`crate::located`]) |
 //!
 //! HTTP/1.1 on plain TCP, one request per connection (answered with `Connection: close`),
 //! heads parsed by httparse.
@@ -70,6 +70,7 @@ use std::time::{Duration, Instant};
 use planner_api::{CancelFlag, CancelPool, Cell};
 use serde::Deserialize;
 
+use crate::located::{Extent, Recorded};
 use crate::query::{self, Caps, Query};
 use crate::safe::{Refusal, Root};
 
@@ -790,55 +791,110 @@ pub struct MapCosts {
     pub graded: bool,
 }
 
+/// Why a map of the served directory could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum MapReadError {
+    /// The map, its ROS image or its weight file is not a file under the served
+    /// directory (403/404).
+    #[error(transparent)]
+    Refused(#[from] Refusal),
+    /// The file could not be read as a map (or weights).
+    #[error(transparent)]
+    Map(#[from] planner_maps::MapError),
+    /// Graded costs asked for a map that is not a ROS map.
+    #[error("graded costs apply to ROS maps (.yaml, .pgm, .png), not {relative}")]
+    GradedNotRos {
+        /// The map as asked for.
+        relative: String,
+    },
+}
+
+impl MapReadError {
+    /// The answer that refuses the request: the refusal's status, else 400.
+    fn answer(&self) -> Answer {
+        match self {
+            MapReadError::Refused(refusal) => Answer::refusal(refusal),
+            _ => Answer::error(400, &self.to_string()),
+        }
+    }
+}
+
+/// Whether `path` is a ROS map (a map_server YAML, or a PGM or PNG image).
+fn is_ros(path: &Path) -> bool {
+    path.extension().is_some_and(|e| {
+        ["yaml", "yml", "pgm", "png"]
+            .iter()
+            .any(|ros| e.eq_ignore_ascii_case(ros))
+    })
+}
+
 /// Reads map `relative` under the root with `costs`: the file, its grid (weighted when the
 /// costs say so) and problems.
 fn read_map(
     state: &State,
     relative: &str,
     costs: &MapCosts,
-) -> Result<(PathBuf, planner_maps::MapFile), Answer> {
-    let path = state.root.file(relative).map_err(|r| Answer::refusal(&r))?;
+) -> Result<(PathBuf, planner_maps::MapFile), MapReadError> {
+    let path = state.root.file(relative)?;
     let is_yaml = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
     if is_yaml {
         // The image a ROS YAML names must lie under the root too (checked before reading it).
-        let text = planner_maps::read_text_file(&path, 1 << 20)
-            .map_err(|e| Answer::error(400, &e.to_string()))?;
-        let yaml = planner_maps::parse_ros_yaml(&text, relative)
-            .map_err(|e| Answer::error(400, &e.to_string()))?;
+        let text = planner_maps::read_text_file(&path, 1 << 20)?;
+        let yaml = planner_maps::parse_ros_yaml(&text, relative)?;
         let image = path
             .parent()
             .map_or_else(|| PathBuf::from(&yaml.image), |d| d.join(&yaml.image));
         if !state.root.contains(&image) {
-            return Err(Answer::refusal(&Refusal::Forbidden(yaml.image.clone())));
+            return Err(Refusal::Forbidden(yaml.image.clone()).into());
         }
     }
-    let is_ros = is_yaml
-        || path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("pgm") || e.eq_ignore_ascii_case("png"));
-    if costs.graded && !is_ros {
-        return Err(Answer::error(
-            400,
-            &format!("graded costs apply to ROS maps (.yaml, .pgm, .png), not {relative}"),
-        ));
+    if costs.graded && !is_ros(&path) {
+        return Err(MapReadError::GradedNotRos {
+            relative: relative.to_string(),
+        });
     }
     let mut options = planner_maps::ReadOptions::default();
     options.costs.graded = costs.graded;
-    let mut read = planner_maps::read_map_with(&path, &options)
-        .map_err(|e| Answer::error(400, &e.to_string()))?;
+    let mut read = planner_maps::read_map_with(&path, &options)?;
     if let Some(weights) = &costs.weights {
-        let weights = state.root.file(weights).map_err(|r| Answer::refusal(&r))?;
+        let weights = state.root.file(weights)?;
         read.file.grid = planner_maps::read_weights(
             &weights,
             read.file.grid,
             planner_api::CostRule::default(),
             &options,
-        )
-        .map_err(|e| Answer::error(400, &e.to_string()))?;
+        )?;
     }
     Ok((path, read.file))
+}
+
+/// The ROS occupancy values (-1 unknown, 0 free, up to 100 occupied) of the ROS map at
+/// `path` (a YAML whose image [`read_map`] has checked, or an image), row-major; `None`
+/// when it cannot be read (the map was read just before: it changed meanwhile).
+fn ros_occupancy(path: &Path) -> Option<Vec<i8>> {
+    let options = planner_maps::ReadOptions::default();
+    let is_yaml = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
+    let map = if is_yaml {
+        planner_maps::read_ros_map_with(path, &options).ok()?
+    } else {
+        // A regular file (checked by the root), read up to the readers' limit.
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .ok()?
+            .take(options.max_file_bytes.saturating_add(1))
+            .read_to_end(&mut bytes)
+            .ok()?;
+        if bytes.len() as u64 > options.max_file_bytes {
+            return None;
+        }
+        let origin = path.display().to_string();
+        planner_maps::ros_map_from_image_bytes(&bytes, &origin, None, &options).ok()?
+    };
+    Some(map.occupancy)
 }
 
 /// The most problems [`map`] sends.
@@ -847,13 +903,26 @@ const MAX_PROBLEMS: usize = 20_000;
 fn map(state: &State, relative: &str, costs: &MapCosts) -> Answer {
     let (path, file) = match read_map(state, relative, costs) {
         Ok(read) => read,
-        Err(answer) => return answer,
+        Err(error) => return error.answer(),
     };
     let grid = &file.grid;
+    // A ROS map's unknown cells (map_server's -1) are blocked like occupied ones; the page
+    // draws them apart, so they are sent as '2'.
+    let occupancy = if is_ros(&path) {
+        ros_occupancy(&path).filter(|o| o.len() == grid.free_cells().len())
+    } else {
+        None
+    };
+    let unknown = |i: usize| occupancy.as_ref().is_some_and(|o| o[i] == -1);
     let cells: String = grid
         .free_cells()
         .iter()
-        .map(|&free| if free { '0' } else { '1' })
+        .enumerate()
+        .map(|(i, &free)| match free {
+            true => '0',
+            false if unknown(i) => '2',
+            false => '1',
+        })
         .collect();
     let mut problems: Vec<serde_json::Value> = file
         .problems
@@ -1000,7 +1069,7 @@ fn plan(state: &Arc<State>, body: &[u8], client: &TcpStream) -> Answer {
     };
     let (path, file) = match read_map(state, &request.map, &request.costs) {
         Ok(read) => read,
-        Err(answer) => return answer,
+        Err(error) => return error.answer(),
     };
     let mut grid = file.grid;
     let edits: Vec<(u32, u32, bool)> = request
@@ -1194,23 +1263,8 @@ fn results(state: &State, relative: &str) -> Answer {
         Ok(None) => Vec::new(),
         Err(answer) => return answer,
     };
-    // Where each map the runs name lies under the root (by file name), for drawing.
-    let mut names: Vec<String> = Vec::new();
-    if let Some(table) = runs.get("runs") {
-        let column = table
-            .get("columns")
-            .and_then(|c| c.as_array())
-            .and_then(|c| c.iter().position(|v| v == "map"));
-        if let (Some(column), Some(rows)) = (column, table.get("data").and_then(|d| d.as_array())) {
-            for row in rows {
-                if let Some(name) = row.get(column).and_then(|v| v.as_str()) {
-                    if !names.iter().any(|n| n == name) {
-                        names.push(name.to_string());
-                    }
-                }
-            }
-        }
-    }
+    // Where each map the runs name lies under the root, for drawing (crate::located).
+    let extents = run_extents(&runs, &paths);
     let listed = maps(state);
     let listed: serde_json::Value = serde_json::from_slice(&listed.body).unwrap_or_default();
     let files: Vec<String> = listed
@@ -1222,15 +1276,28 @@ fn results(state: &State, relative: &str) -> Answer {
                 .collect()
         })
         .unwrap_or_default();
-    let located: serde_json::Map<String, serde_json::Value> = names
-        .into_iter()
-        .map(|name| {
-            let found = files
+    let recorded = Recorded {
+        results: &dir,
+        config: runs.get("config").and_then(|c| c.as_str()),
+        config_sha256: runs
+            .get("provenance")
+            .and_then(|p| p.get("config_sha256"))
+            .and_then(|h| h.as_str()),
+    };
+    let found = crate::located::locate(&state.root, &recorded, &extents, &files, |map| {
+        read_map(state, map, &MapCosts::default())
+            .map(|(_, file)| (file.grid.width(), file.grid.height()))
+    });
+    let notes: serde_json::Map<String, serde_json::Value> = found
+        .unlocated
+        .iter()
+        .map(|(name, why)| (name.clone(), why.to_string().into()))
+        .chain(
+            found
+                .by_name
                 .iter()
-                .find(|f| f.rsplit('/').next() == Some(name.as_str()))
-                .cloned();
-            (name, serde_json::json!(found))
-        })
+                .map(|(name, how)| (name.clone(), how.to_string().into())),
+        )
         .collect();
     Answer::json(
         200,
@@ -1239,8 +1306,62 @@ fn results(state: &State, relative: &str) -> Answer {
             "runs": runs.get("runs"),
             "planners": runs.get("planners"),
             "paths": paths,
-            "maps": located,
+            "maps": found.maps,
+            "map_notes": notes,
         })
         .to_string(),
     )
+}
+
+/// The cells the runs of each map use, by map name: their starts and goals (runs.json's
+/// table) and their kept paths (paths.jsonl).
+fn run_extents(
+    runs: &serde_json::Value,
+    paths: &[serde_json::Value],
+) -> std::collections::BTreeMap<String, Extent> {
+    let mut extents: std::collections::BTreeMap<String, Extent> = Default::default();
+    if let Some(table) = runs.get("runs") {
+        let columns: Vec<&str> = table
+            .get("columns")
+            .and_then(|c| c.as_array())
+            .map(|c| c.iter().map(|v| v.as_str().unwrap_or("")).collect())
+            .unwrap_or_default();
+        let at = |name: &str| columns.iter().position(|c| *c == name);
+        let cells = [("start_x", "start_y"), ("goal_x", "goal_y")].map(|(x, y)| (at(x), at(y)));
+        let rows = table.get("data").and_then(|d| d.as_array());
+        if let (Some(map), Some(rows)) = (at("map"), rows) {
+            for row in rows {
+                let Some(name) = row.get(map).and_then(|v| v.as_str()) else {
+                    continue;
+                };
+                let extent = extents.entry(name.to_string()).or_default();
+                for (x, y) in cells {
+                    let value = |column: Option<usize>| {
+                        column.and_then(|c| row.get(c)).and_then(|v| v.as_u64())
+                    };
+                    if let (Some(x), Some(y)) = (value(x), value(y)) {
+                        extent.add(x, y);
+                    }
+                }
+            }
+        }
+    }
+    for kept in paths {
+        let (Some(name), Some(cells)) = (
+            kept.get("map").and_then(|m| m.as_str()),
+            kept.get("path").and_then(|p| p.as_array()),
+        ) else {
+            continue;
+        };
+        let extent = extents.entry(name.to_string()).or_default();
+        for cell in cells {
+            if let (Some(x), Some(y)) = (
+                cell.get(0).and_then(|v| v.as_u64()),
+                cell.get(1).and_then(|v| v.as_u64()),
+            ) {
+                extent.add(x, y);
+            }
+        }
+    }
+    extents
 }

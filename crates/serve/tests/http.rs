@@ -275,6 +275,56 @@ fn planning_gives_plan_json_and_the_expanded_cells() {
     stop();
 }
 
+/// `set` is parsed as `plan --set` is, with its refusals and their messages: one key with
+/// two values (which would win is not for the server to guess), a setting without a key;
+/// the same value twice is one setting.
+#[test]
+fn settings_are_refused_as_plan_set_refuses_them() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let plan_error = |set: &[&str]| {
+        let args = planner_runner::plan::PlanArgs {
+            map: dir.join("open30.map"),
+            planner: "astar".to_string(),
+            start: Some(planner_api::Cell::new(0, 0)),
+            goal: Some(planner_api::Cell::new(29, 29)),
+            set: set.iter().map(|s| s.to_string()).collect(),
+            ..planner_runner::plan::PlanArgs::default()
+        };
+        match planner_runner::plan::run(&args) {
+            Ok(_) => panic!("plan --set {set:?} was accepted"),
+            Err(e) => e.to_string(),
+        }
+    };
+    for set in [
+        &["moves=4", "moves=8"][..],
+        &["moves=8", " moves = 4 "],
+        &["=4"],
+        &["weight=1e400"],
+    ] {
+        let body = serde_json::json!({
+            "map": "open30.map", "start": [0, 0], "goal": [29, 29], "planner": "astar", "set": set,
+        });
+        let (status, answer) = post(addr, "/api/plan", &body.to_string());
+        assert_eq!(status, 400, "{set:?}: {answer}");
+        let want = plan_error(set);
+        assert_eq!(
+            crate::common::json(&answer)["error"].as_str(),
+            Some(want.as_str()),
+            "{set:?}"
+        );
+    }
+    assert!(plan_error(&["moves=4", "moves=8"]).contains("given twice"));
+    let twice = r#"{"map":"open30.map","start":[0,0],"goal":[29,29],"planner":"astar","set":["moves=8","moves=8"]}"#;
+    let (status, answer) = post(addr, "/api/plan", twice);
+    assert_eq!(status, 200, "{answer}");
+    assert_eq!(
+        crate::common::json(&answer)["plan"]["metrics"]["steps"].as_u64(),
+        Some(29)
+    );
+    stop();
+}
+
 #[test]
 fn a_running_plan_is_cancelled() {
     let (_top, dir) = served();
@@ -370,6 +420,165 @@ fn a_results_directory_opens_with_its_runs_and_paths() {
         answer.contains("a replanning experiment's results"),
         "{answer}"
     );
+    stop();
+}
+
+/// A ROS map's unknown cells are sent apart from its occupied ones (`2` in `cells`, where
+/// the grid blocks them: planning is unchanged), for the page to draw them grey; a map
+/// without unknown cells (a Moving AI map, or a ROS image with none) has no `2`.
+#[test]
+fn a_ros_maps_unknown_cells_are_told_apart_from_its_walls() {
+    let maps = repo().join("maps");
+    let (addr, stop) = start(&ServeOptions::new(&maps, 0));
+    for name in ["ros-nav2/tb3_sandbox.yaml", "ros-nav2/testmap.png"] {
+        let (status, body) = get(addr, &format!("/api/map?path={}", name.replace('/', "%2F")));
+        assert_eq!(status, 200, "{body}");
+        let cells = crate::common::json(&body)["cells"]
+            .as_str()
+            .unwrap()
+            .to_string();
+        let path = maps.join(name);
+        let ros = if name.ends_with(".yaml") {
+            planner_maps::read_ros_map(&path, &planner_maps::RosOptions::default()).unwrap()
+        } else {
+            let bytes = std::fs::read(&path).unwrap();
+            planner_maps::ros_map_from_image_bytes(&bytes, name, None, &Default::default()).unwrap()
+        };
+        let grid = planner_maps::read_map(&path).unwrap().grid;
+        let want: String = grid
+            .free_cells()
+            .iter()
+            .zip(&ros.occupancy)
+            .map(|(&free, &value)| match (free, value) {
+                (true, _) => '0',
+                (false, -1) => '2',
+                (false, _) => '1',
+            })
+            .collect();
+        // The first cell that differs, rather than the whole strings.
+        let differs = cells.chars().zip(want.chars()).position(|(a, b)| a != b);
+        assert_eq!(
+            (cells.len(), differs),
+            (want.len(), None),
+            "{name}: cells vs the grid and occupancy"
+        );
+        let count = |c: char| cells.chars().filter(|&d| d == c).count();
+        assert!(count('1') > 0, "{name}");
+        if name.ends_with(".yaml") {
+            assert!(count('2') > 1000, "{name}: {}", count('2'));
+        }
+        // Unknown cells stay blocked: a plan from one is refused, naming the cell.
+        if let Some(i) = cells.find('2') {
+            let (x, y) = (i as u32 % grid.width(), i as u32 / grid.width());
+            let free = cells.find('0').unwrap() as u32;
+            let body = serde_json::json!({
+                "map": name, "planner": "astar", "start": [x, y],
+                "goal": [free % grid.width(), free / grid.width()],
+            });
+            let (status, answer) = post(addr, "/api/plan", &body.to_string());
+            assert_eq!(status, 400, "{answer}");
+            assert!(answer.contains(&format!("({x}, {y})")), "{answer}");
+        }
+    }
+    let (_, body) = get(addr, "/api/map?path=movingai%2Farena.map");
+    let cells = crate::common::json(&body)["cells"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(cells.chars().all(|c| c == '0' || c == '1'));
+    stop();
+}
+
+/// `path` relative to the current directory (`..` where they part), as a user gives a
+/// config to `experiment` from another directory.
+fn relative_to_cwd(path: &std::path::Path) -> PathBuf {
+    let cwd = std::env::current_dir().unwrap().canonicalize().unwrap();
+    let path = path.canonicalize().unwrap();
+    let common = cwd
+        .components()
+        .zip(path.components())
+        .take_while(|(a, b)| a == b)
+        .count();
+    let mut out = PathBuf::new();
+    for _ in common..cwd.components().count() {
+        out.push("..");
+    }
+    out.extend(path.components().skip(common));
+    out
+}
+
+/// A run is drawn on the map its config read, never on another of the same file name: the
+/// results record the config (its path as given and its SHA-256), whose `files` say which
+/// file a map name is. Without the config, a file name alone locates a map only when one
+/// file has it; and a map that does not hold the runs' cells is never theirs. What is not
+/// located is said, by name.
+#[test]
+fn a_results_map_is_located_by_its_config_not_by_its_file_name() {
+    let (_top, dir) = served();
+    let exp = dir.join("exp");
+    std::fs::create_dir_all(exp.join("aa")).unwrap();
+    // The 49 x 49 arena the runs use, and a 12 x 12 map by the same name beside it.
+    let arena = repo().join("maps/movingai/arena.map");
+    std::fs::copy(&arena, exp.join("arena.map")).unwrap();
+    std::fs::copy(
+        repo().join("maps/paper/map10.map"),
+        exp.join("aa/arena.map"),
+    )
+    .unwrap();
+    let config = exp.join("c.toml");
+    std::fs::write(
+        &config,
+        "name = \"r\"\n[[maps]]\nfiles = [\"arena.map\"]\npairs = [{ start = [3, 1], goal = [46, 47] }]\n[planners.a]\nplanner = \"astar\"\n",
+    )
+    .unwrap();
+    // Given as a path relative to the directory the test runs in (recorded as given).
+    let given = relative_to_cwd(&config);
+    let renderer = planner_paper::renderer();
+    let output = exp.join("res");
+    planner_runner::sweep::experiment(&planner_runner::sweep::SweepArgs {
+        threads: 1,
+        output: Some(&output),
+        ..planner_runner::sweep::SweepArgs::new(&given, &renderer)
+    })
+    .unwrap();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let open = || {
+        let (status, body) = get(addr, "/api/results?path=exp%2Fres");
+        assert_eq!(status, 200, "{body}");
+        crate::common::json(&body)
+    };
+    let results = open();
+    assert_eq!(results["maps"]["arena.map"], "exp/arena.map", "{results}");
+    assert_eq!(results["map_notes"], serde_json::json!({}));
+    // Without the config (an edited one is not the config that ran), the file name is
+    // ambiguous: nothing is located, and the answer says why.
+    std::fs::write(&config, "# edited\n").unwrap();
+    let results = open();
+    assert!(results["maps"]["arena.map"].is_null(), "{results}");
+    let note = results["map_notes"]["arena.map"].as_str().unwrap();
+    assert!(
+        note.contains("not under the served directory with the SHA-256")
+            && note.contains("2 map files")
+            && note.contains("exp/aa/arena.map, exp/arena.map"),
+        "{note}"
+    );
+    // One file by that name, but too small for the runs' cells: not theirs.
+    std::fs::remove_file(exp.join("arena.map")).unwrap();
+    let results = open();
+    assert!(results["maps"]["arena.map"].is_null(), "{results}");
+    let note = results["map_notes"]["arena.map"].as_str().unwrap();
+    assert!(
+        note.contains("exp/aa/arena.map is 12 x 12, and its runs use cells up to (46, 47)"),
+        "{note}"
+    );
+    // One file by that name that holds them: located, with a note that the name alone
+    // found it.
+    std::fs::remove_dir_all(exp.join("aa")).unwrap();
+    std::fs::copy(&arena, exp.join("arena.map")).unwrap();
+    let results = open();
+    assert_eq!(results["maps"]["arena.map"], "exp/arena.map", "{results}");
+    let note = results["map_notes"]["arena.map"].as_str().unwrap();
+    assert!(note.contains("found by its file name alone"), "{note}");
     stop();
 }
 

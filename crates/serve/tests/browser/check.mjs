@@ -7,9 +7,14 @@
 // /etc/passwd. The test starts `gridplan serve SERVED_DIR --port 0`, then: loads
 // maps/paper/map10.map, clicks start and goal, runs A* and BFS, checks that the counters
 // shown equal `gridplan plan --json`'s, that both animations reach the goal, and that a
-// screenshot's path-coloured pixels lie on the path's cells; checks the path-traversal and
+// screenshot's path-coloured pixels lie on the path's cells; checks that a ROS map's
+// unknown cells are drawn grey, apart from its walls; that loading another map while
+// planners run on a 1024 x 1024 map cancels them and draws none of their results; that a
+// results directory's run is drawn on the map its config read, not on another of the same
+// file name (and says why when the map is ambiguous); checks the path-traversal and
 // body-size refusals; and measures in the page the den520d A* scenario queries planned
-// and drawn (performance.now()), printing the median.
+// and drawn (performance.now()), printing the median. The files it adds to SERVED_DIR
+// (under check-tmp/) are removed at the end.
 import { spawn, spawnSync } from "node:child_process";
 import { createRequire } from "node:module";
 import { inflateSync } from "node:zlib";
@@ -36,6 +41,42 @@ function check(condition, what) {
     failed++;
     console.log(`FAILED: ${what}`);
   }
+}
+
+// ---- files of the checks: a 1024 x 1024 random map, and a results directory whose map
+// has a namesake of another size ----
+const scratch = path.join(served, "check-tmp");
+fs.rmSync(scratch, { recursive: true, force: true });
+fs.mkdirSync(path.join(scratch, "rp", "aa"), { recursive: true });
+{
+  // mulberry32: the same map on every run.
+  let seed = 1;
+  const random = () => {
+    seed = (seed + 0x6d2b79f5) | 0;
+    let t = Math.imul(seed ^ (seed >>> 15), 1 | seed);
+    t = (t + Math.imul(t ^ (t >>> 7), 61 | t)) ^ t;
+    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
+  };
+  const W = 1024;
+  const rows = [];
+  for (let y = 0; y < W; y++) {
+    let row = "";
+    for (let x = 0; x < W; x++) row += y === 0 || y === W - 1 || random() >= 0.2 ? "." : "@";
+    rows.push(row);
+  }
+  fs.writeFileSync(path.join(scratch, "big1024.map"), `type octile\nheight ${W}\nwidth ${W}\nmap\n${rows.join("\n")}\n`);
+}
+fs.copyFileSync(path.join(served, "maps/movingai/arena.map"), path.join(scratch, "rp/arena.map"));
+fs.copyFileSync(path.join(served, "maps/paper/map10.map"), path.join(scratch, "rp/aa/arena.map"));
+const probeConfig = 'name = "r"\n[[maps]]\nfiles = ["arena.map"]\npairs = [{ start = [3, 1], goal = [46, 47] }]\n[planners.a]\nplanner = "astar"\n';
+fs.writeFileSync(path.join(scratch, "rp/c.toml"), probeConfig);
+{
+  // Run from the served directory's parent, as a user runs `experiment` from elsewhere:
+  // the results record the config's path as given.
+  const from = path.dirname(served);
+  const rel = path.relative(from, path.join(scratch, "rp"));
+  const run = spawnSync(binary, ["experiment", path.join(rel, "c.toml"), "--output", path.join(rel, "res"), "--quiet"], { cwd: from, encoding: "utf8" });
+  if (run.status !== 0) throw new Error(`gridplan experiment: ${run.stderr}`);
 }
 
 // ---- the server ----
@@ -221,6 +262,158 @@ try {
     `a ROS map's start shows its map-frame position (${startText})`);
   check(cursorText === `(230, 173) = ${shown(ros.map_frame.goal)}` && cursorText === "(230, 173) = (1.525, 0.525) m",
     `the cell under the pointer shows its map-frame position (${cursorText})`);
+  // Unknown cells (map_server's -1) are grey, walls dark, in the drawn view and its key;
+  // both stay blocked (a start there is refused).
+  const rosCells = await page.evaluate(async () => (await (await fetch("/api/map?path=maps%2Fros-nav2%2Ftb3_sandbox.yaml")).json()).cells);
+  const rosTones = await page.evaluate((cells) => {
+    // (A page without the unknown tone matches none: the check fails rather than throws.)
+    const { state, UNKNOWN_RGB = [-1, -1, -1], BLOCKED_RGB = [45, 45, 45] } = window.gridplan;
+    const canvas = document.querySelector("#views canvas");
+    const pixels = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+    const v = state.view;
+    const count = { unknown: 0, wall: 0, wrong: 0 };
+    const same = (i, rgb) => pixels[i] === rgb[0] && pixels[i + 1] === rgb[1] && pixels[i + 2] === rgb[2];
+    for (let y = 0; y < state.map.height; y++) {
+      for (let x = 0; x < state.map.width; x++) {
+        const c = cells[y * state.map.width + x];
+        if (c === "0") continue;
+        const px = Math.floor(v.x + (x + 0.5) * v.cell), py = Math.floor(v.y + (y + 0.5) * v.cell);
+        if (px < 0 || py < 0 || px >= canvas.width || py >= canvas.height) continue;
+        if (state.start && x === state.start[0] && y === state.start[1]) continue;
+        const i = 4 * (py * canvas.width + px);
+        if (c === "2" && same(i, UNKNOWN_RGB)) count.unknown++;
+        else if (c === "1" && same(i, BLOCKED_RGB)) count.wall++;
+        else count.wrong++;
+      }
+    }
+    const key = Array.from(document.querySelectorAll("#views .map-key .swatch")).map((s) => s.dataset.tone);
+    return { count, key, blockedUnknown: cells.split("").every((c, i) => c !== "2" || state.map.blocked[i] === 1) };
+  }, rosCells);
+  check(rosTones.count.unknown > 1000 && rosTones.count.wall > 100 && rosTones.count.wrong === 0 && rosTones.blockedUnknown,
+    `a ROS map's unknown cells are drawn grey and its walls dark (${JSON.stringify(rosTones.count)})`);
+  check(rosTones.key.includes("unknown (blocked)") && rosTones.key.includes("wall"), `the map key names the unknown cells' grey (${JSON.stringify(rosTones.key)})`);
+  const unknownCell = rosCells.indexOf("2");
+  [cx, cy] = await page.evaluate((i) => {
+    const width = window.gridplan.state.map.width;
+    return window.gridplan.cellToClient(i % width, Math.floor(i / width));
+  }, unknownCell);
+  await page.mouse.click(cx, cy);
+  const refusedStart = await page.textContent("#status");
+  check(refusedStart.endsWith("is unknown (blocked)") && (await page.textContent("#start-out")).startsWith("(170, 193)"),
+    `an unknown cell is refused as a start (${refusedStart})`);
+  check(errors.length === 0, `no page errors ${errors.join("; ")}`);
+
+  // ---- another map while planners run: their runs are cancelled, their results dropped ----
+  let pending = 0;
+  page.on("request", (request) => { if (request.url().endsWith("/api/plan")) pending++; });
+  page.on("requestfinished", (request) => { if (request.url().endsWith("/api/plan")) pending--; });
+  page.on("requestfailed", (request) => { if (request.url().endsWith("/api/plan")) pending--; });
+  await page.selectOption("#map-select", "check-tmp/big1024.map");
+  await page.click("#load-map");
+  await page.waitForFunction(() => window.gridplan.state.map && window.gridplan.state.map.name === "big1024.map");
+  const bigGen = await page.evaluate(() => {
+    window.gridplan.state.start = [0, 0];
+    window.gridplan.state.goal = [1023, 1023];
+    // Each plan request as the page sends it, with the map load generation then.
+    window.sentPlans = [];
+    const send = window.fetch;
+    window.fetch = (url, options) => {
+      if (String(url).endsWith("/api/plan")) window.sentPlans.push({ gen: window.gridplan.state.loadGen, map: JSON.parse(options.body).map });
+      return send(url, options);
+    };
+    return window.gridplan.state.loadGen;
+  });
+  await page.selectOption('.slot[data-slot="0"] select.planner', "bfs");
+  await page.selectOption('.slot[data-slot="1"] select.planner', "astar");
+  await page.selectOption('.slot[data-slot="2"] select.planner', "lexastar");
+  const firstPlan = page.waitForRequest((r) => r.url().endsWith("/api/plan"));
+  await page.click("#run");
+  await firstPlan;
+  await page.waitForTimeout(100);
+  const pendingAtLoad = pending;
+  await page.selectOption("#map-select", "maps/movingai/arena.map");
+  await page.click("#load-map");
+  await page.waitForFunction(() => window.gridplan.state.map && window.gridplan.state.map.name === "arena.map");
+  // Every plan request answered (or failed), and a moment for the page to act on the last.
+  const settled = Date.now() + 60000;
+  while (pending > 0 && Date.now() < settled) await page.waitForTimeout(50);
+  await page.waitForTimeout(300);
+  const after = await page.evaluate(() => {
+    const { state, PATH_COLORS } = window.gridplan;
+    const canvas = document.querySelector("#views canvas");
+    const pixels = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+    // Only the map's own tones (and the backdrop) may be drawn: no search or path colour.
+    const allowed = new Set(["255,255,255", "45,45,45", "216,216,216"]);
+    let foreign = 0;
+    for (let i = 0; i < pixels.length; i += 4) if (!allowed.has(`${pixels[i]},${pixels[i + 1]},${pixels[i + 2]}`)) foreign++;
+    return {
+      results: state.results.length,
+      size: [state.map.width, state.map.height],
+      running: state.run !== null,
+      runEnabled: !document.querySelector("#run").disabled,
+      status: document.querySelector("#status").textContent,
+      foreign,
+      colours: PATH_COLORS.length,
+    };
+  });
+  check(pendingAtLoad > 0, `a plan on the 1024 x 1024 map was running when another map was loaded (${pendingAtLoad} request(s) open)`);
+  const plans = await page.evaluate(() => window.sentPlans);
+  const lateOld = plans.filter((p) => p.gen !== bigGen && p.map === "check-tmp/big1024.map");
+  const onArena = plans.filter((p) => p.map === "maps/movingai/arena.map");
+  check(lateOld.length === 0 && onArena.length === 0,
+    `no planner is sent after the map changed (${lateOld.length} for the old map, ${onArena.length} on the new one with the old start and goal)`);
+  check(after.results === 0 && after.foreign === 0 && after.size.join("x") === "49x49",
+    `no result of the old map is drawn on the new one (${after.results} results, ${after.foreign} search or path pixels on the ${after.size.join(" x ")} map)`);
+  check(!after.running && after.runEnabled && after.status.startsWith("arena.map: 49 x 49"),
+    `the page is ready to plan on the new map (${JSON.stringify(after.status)})`);
+  // It plans there as usual.
+  await page.selectOption('.slot[data-slot="1"] select.planner', "");
+  await page.selectOption('.slot[data-slot="2"] select.planner', "");
+  await page.evaluate(() => {
+    window.gridplan.state.start = [3, 1];
+    window.gridplan.state.goal = [46, 47];
+  });
+  await page.click("#run");
+  const planned = await page
+    .waitForFunction(() => window.gridplan.state.results.length === 1 && window.gridplan.state.run === null, null, { timeout: 30000 })
+    .then(() => true, () => false);
+  const arenaRun = !planned ? { planned } : await page.evaluate(() => {
+    const r = window.gridplan.state.results[0];
+    return { status: r.plan.status, last: r.plan.path[r.plan.path.length - 1], width: r.search.width };
+  });
+  check(arenaRun.status === "found" && String(arenaRun.last) === "46,47" && arenaRun.width === 49,
+    `a plan on the new map afterwards is drawn on it (${JSON.stringify(arenaRun)})`);
+  await page.selectOption('.slot[data-slot="0"] select.planner', "astar");
+
+  // ---- a results directory: the run is drawn on the map its config read ----
+  await page.reload();
+  await page.waitForSelector('#results-select option[value="check-tmp/rp/res"]', { state: "attached" });
+  const openRun = async () => {
+    await page.selectOption("#results-select", "check-tmp/rp/res");
+    await page.click("#load-results");
+    await page.waitForSelector("#runs-table tbody tr");
+    await page.click("#runs-table tbody tr");
+    await page.waitForTimeout(500);
+    return page.evaluate(() => {
+      const { state } = window.gridplan;
+      return {
+        map: state.map && state.map.path,
+        size: state.map && [state.map.width, state.map.height],
+        results: state.results.length,
+        status: document.querySelector("#status").textContent,
+      };
+    });
+  };
+  const located = await openRun();
+  check(located.map === "check-tmp/rp/arena.map" && located.size.join("x") === "49x49" && located.results === 1,
+    `a recorded run is drawn on the map its config read (${JSON.stringify(located)})`);
+  // The config edited since (it is no longer the one that ran): two maps share the name.
+  fs.writeFileSync(path.join(scratch, "rp/c.toml"), `# edited\n${probeConfig}`);
+  await page.reload();
+  await page.waitForSelector('#results-select option[value="check-tmp/rp/res"]', { state: "attached" });
+  const ambiguous = await openRun();
+  check(ambiguous.map === null && ambiguous.results === 0 && ambiguous.status.includes("check-tmp/rp/aa/arena.map, check-tmp/rp/arena.map") && ambiguous.status.includes("which one the runs used is unknown"),
+    `an ambiguous map is said, and the run not drawn (${JSON.stringify(ambiguous)})`);
   check(errors.length === 0, `no page errors ${errors.join("; ")}`);
 
   // ---- refusals ----
@@ -300,6 +493,7 @@ try {
 } finally {
   await browser.close();
   server.kill();
+  fs.rmSync(scratch, { recursive: true, force: true });
 }
 console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed === 0 ? 0 : 1);
