@@ -5,7 +5,17 @@
 //! with its resolved parameters as settings, and every run of it on the map's problems is
 //! one run line, with `problem`, `repeat` and gridplan's metrics and counters as run
 //! properties: `time` (s), `solved`, `memory` (MB), `solution length`, and one INTEGER
-//! property per counter (empty where a planner does not report it).
+//! property per counter (empty where a planner does not report it). A problem that never
+//! ran (status `invalid_problem`: a start or goal on a wall, say) has an empty `time` and
+//! `memory` (NULL in OMPL's database), so Planner Arena's distributions hold measured runs
+//! only.
+//!
+//! OMPL's header has one time limit and one memory limit for the whole experiment, while a
+//! gridplan budget is a label's: the header gives the limit the labels' budgets set, the
+//! largest when they differ, and 0 (no limit) when any label sets none (the runner's
+//! default memory limit, half the machine's memory, is the machine's and not written);
+//! each label's own limits are among its common properties (`budget.max_time_s`,
+//! `budget.max_memory_mb`, `budget.max_expansions`, where set).
 //!
 //! Config text is data here too. OMPL's reader is line-oriented (Python's universal
 //! newlines: `\n`, `\r` and `\r\n` end a line) and takes some values as one word, so
@@ -84,13 +94,10 @@ pub fn logs(
             let _ = writeln!(out, "<<<|\n{}\n|>>>", line(cpu));
         }
         let _ = writeln!(out, "{} is the random seed", experiment.seed);
-        let time_limit = experiment
-            .planners
-            .first()
-            .and_then(|p| p.budget.max_time)
-            .map_or(0.0, |d| d.as_secs_f64());
+        let time_limit = shared_limit(experiment, |p| p.budget.max_time.map(|d| d.as_secs_f64()));
+        let memory_limit = shared_limit(experiment, |p| p.budget.max_memory_mb.map(|mb| mb as f64));
         let _ = writeln!(out, "{time_limit} seconds per run");
-        let _ = writeln!(out, "0 MB per run");
+        let _ = writeln!(out, "{memory_limit} MB per run");
         let per_planner = experiment
             .planners
             .first()
@@ -111,18 +118,32 @@ pub fn logs(
     files
 }
 
+/// The experiment-wide limit of OMPL's header from each label's `limit`: 0 (none) when a
+/// label has none, else the largest.
+fn shared_limit(experiment: &Experiment, limit: impl Fn(&PlannerSpec) -> Option<f64>) -> f64 {
+    let limits: Option<Vec<f64>> = experiment.planners.iter().map(limit).collect();
+    limits.map_or(0.0, |all| all.into_iter().fold(0.0, f64::max))
+}
+
 /// One planner's block of a log: its name, its settings as common properties, the
 /// properties of each run, and one line per run of `mine` (its runs on the map).
 fn planner_block(out: &mut String, planner: &PlannerSpec, mine: &[&RunRecord]) {
     let _ = writeln!(out, "{}", one_word(&planner.label));
-    let settings: Vec<String> = match planner.factory.resolved() {
-        serde_json::Value::Object(m) => m
-            .iter()
-            .map(|(k, v)| format!("{k} = {v}"))
-            .chain(std::iter::once(format!("planner = {}", planner.name)))
-            .collect(),
-        _ => vec![format!("planner = {}", planner.name)],
+    let mut settings: Vec<String> = match planner.factory.resolved() {
+        serde_json::Value::Object(m) => m.iter().map(|(k, v)| format!("{k} = {v}")).collect(),
+        _ => Vec::new(),
     };
+    settings.push(format!("planner = {}", planner.name));
+    let budget = &planner.budget;
+    if let Some(time) = budget.max_time {
+        settings.push(format!("budget.max_time_s = {}", time.as_secs_f64()));
+    }
+    if let Some(mb) = budget.max_memory_mb {
+        settings.push(format!("budget.max_memory_mb = {mb}"));
+    }
+    if let Some(n) = budget.max_expansions {
+        settings.push(format!("budget.max_expansions = {n}"));
+    }
     let _ = writeln!(out, "{} common properties", settings.len());
     for s in &settings {
         let _ = writeln!(out, "{}", line(s));
@@ -149,13 +170,15 @@ fn planner_block(out: &mut String, planner: &PlannerSpec, mine: &[&RunRecord]) {
     let _ = writeln!(out, "{} runs", mine.len());
     for r in mine {
         let opt = |v: Option<String>| v.unwrap_or_default();
+        // A problem that never ran has no time or memory to report.
+        let ran = !r.is_invalid();
         let mut values = vec![
             r.problem.to_string(),
             r.repeat.to_string(),
             opt(r.seed.map(|s| s.to_string())),
-            format!("{:.9}", r.time_ms / 1e3),
+            opt(ran.then(|| format!("{:.9}", r.time_ms / 1e3))),
             u8::from(r.is_found()).to_string(),
-            format!("{:.6}", r.peak_heap_bytes as f64 / 1048576.0),
+            opt(ran.then(|| format!("{:.6}", r.peak_heap_bytes as f64 / 1048576.0))),
             opt(r.length.map(|v| format!("{v:.6}"))),
             opt(r.optimal_length.map(|v| format!("{v:.6}"))),
             opt(r.steps.map(|v| v.to_string())),

@@ -5,6 +5,7 @@
 
 mod compare;
 mod effort;
+mod ompl;
 mod oracle;
 mod paired;
 mod scale;

@@ -1,8 +1,9 @@
 //! What users write (planner labels, map names, chart titles, a config's description) made
 //! into data in gridplan's outputs, never code: a CSV field that cannot end its record, a
-//! markdown table cell that cannot end its row or become HTML or a link, markdown prose whose
-//! raw HTML and unsafe links show as text, a markdown code span that shows its text as written, XML or HTML text that cannot open a tag, and
-//! terminal text that cannot send the terminal a control sequence.
+//! markdown table cell (or heading, or list item) that shows as its own text, never as
+//! HTML, a link or any other markdown, markdown prose whose raw HTML and unsafe links show
+//! as text, a markdown code span that shows its text as written, XML or HTML text that
+//! cannot open a tag, and terminal text that cannot send the terminal a control sequence.
 //!
 //! The main design decision is that there is one of each: the runner's tables, the reports,
 //! the seeds' layouts, the replanning experiments and the command line's messages all write
@@ -13,7 +14,7 @@
 //! ```
 //! use planner_text::{csv_field, md_cell, md_code, md_prose, safe_link, terminal, xml_escape};
 //! assert_eq!(csv_field("g\rh"), "\"g\rh\"");
-//! assert_eq!(md_cell("<b>|[x](y)"), "&lt;b&gt;\\|[x]\\(y)");
+//! assert_eq!(md_cell("<b>|[x](y)"), "&lt;b&gt;\\|\\[x\\]\\(y)");
 //! assert_eq!(md_prose("[j](javascript:x) a <-> b"), "[j]\\(javascript:x) a <-> b");
 //! assert_eq!(md_code("x`<b>\ny"), "``x`<b> y``");
 //! assert!(safe_link("https://example.org") && !safe_link("java\tscript:x"));
@@ -43,31 +44,89 @@ pub fn csv_field(text: &str) -> Cow<'_, str> {
     }
 }
 
-/// `text` for one cell of a markdown table (or a heading): `|` escaped, line breaks and
-/// other control characters as spaces, so it cannot end the row or add a column; `<`, `>`
-/// and `&` as character references, so that no markdown viewer takes a label for HTML
-/// (a `<script>` or an `<img onerror>`); and the `(` after a `]` escaped, so that a label
-/// cannot be a link (`[x](javascript:...)`). They show as themselves; brackets alone
-/// (`astar[moves=8]`) are written as they are.
+/// `text` for one cell of a markdown table, a heading or a list item: it shows as itself
+/// (the same characters, as text) in CommonMark and GitHub's markdown, so it cannot end the
+/// row, add a column or become emphasis, code, a link, an image, math or HTML. What it does:
+///
+/// - line breaks and other control characters become spaces, and leading and trailing
+///   spaces go (no context shows them), so it is one line and cannot start an indented
+///   code block;
+/// - `<`, `>` and `&` become character references (`&lt;`, `&gt;`, `&amp;`), so that no
+///   markdown viewer takes a label for HTML (a `<script>` or an `<img onerror>`);
+/// - the characters that open or close inline syntax are backslash-escaped: `\`,
+///   `` ` ``, `*`, `[`, `]`, `|`, `~`, `$` and `^` everywhere, and `_` except between two
+///   letters or digits, where CommonMark never reads it as emphasis (`high_g` stays as it
+///   is); the `(` after a `]` is escaped too, so no `](` is left for a link;
+/// - what would start a block when the text starts a line (`#`, `-`, `+`, `=`, and the
+///   `.` or `)` of an ordered-list marker such as `1.`), and a `#` run that would close a
+///   heading (`x #`), are escaped.
+///
+/// Ordinary labels (`astar_octile`, `random512-10-0.map`, `C#`, `PA-star 2`) are written as
+/// they are.
 ///
 /// ```
 /// use planner_text::md_cell;
 /// assert_eq!(md_cell("a|b\nc"), "a\\|b c");
 /// assert_eq!(md_cell("<b>&"), "&lt;b&gt;&amp;");
-/// assert_eq!(md_cell("[x](y) a[b]"), "[x]\\(y) a[b]");
+/// assert_eq!(md_cell("[x](y) *a* `c`"), "\\[x\\]\\(y) \\*a\\* \\`c\\`");
+/// assert_eq!(md_cell("astar_octile _x_"), "astar_octile \\_x\\_");
+/// assert_eq!(md_cell("1. x #"), "1\\. x \\#");
 /// ```
 pub fn md_cell(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '(' if out.ends_with(']') => out.push_str("\\("),
-            '|' => out.push_str("\\|"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '&' => out.push_str("&amp;"),
-            c if c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') => out.push(' '),
-            c => out.push(c),
+    let chars: Vec<char> = text
+        .chars()
+        .map(
+            |c| match c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
+                true => ' ',
+                false => c,
+            },
+        )
+        .collect();
+    let first = chars.iter().position(|c| !c.is_whitespace());
+    let last = chars.iter().rposition(|c| !c.is_whitespace());
+    let chars = match (first, last) {
+        (Some(first), Some(last)) => &chars[first..=last],
+        _ => &[][..],
+    };
+    // From here to the end only `#` and spaces: a heading's closing sequence if a space
+    // comes before it.
+    let tail = chars
+        .iter()
+        .rposition(|&c| c != '#' && !c.is_whitespace())
+        .map_or(0, |i| i + 1);
+    // The `.` or `)` of an ordered-list marker: one to nine digits first, then a space or
+    // the end.
+    let digits = chars.iter().take_while(|c| c.is_ascii_digit()).count();
+    let marker = (1..=9).contains(&digits)
+        && matches!(chars.get(digits), Some('.' | ')'))
+        && chars.get(digits + 1).is_none_or(|c| c.is_whitespace());
+    let alphanumeric = |i: Option<usize>| {
+        i.and_then(|i| chars.get(i))
+            .is_some_and(|c| c.is_alphanumeric())
+    };
+    let mut out = String::with_capacity(text.len() + 8);
+    for (i, &c) in chars.iter().enumerate() {
+        let escape = match c {
+            '<' | '>' | '&' => {
+                out.push_str(match c {
+                    '<' => "&lt;",
+                    '>' => "&gt;",
+                    _ => "&amp;",
+                });
+                continue;
+            }
+            '\\' | '`' | '*' | '[' | ']' | '|' | '~' | '$' | '^' => true,
+            '(' => out.ends_with(']'),
+            '_' => !(alphanumeric(i.checked_sub(1)) && alphanumeric(Some(i + 1))),
+            '#' => i == 0 || (i >= tail && chars[i - 1].is_whitespace()),
+            '-' | '+' | '=' => i == 0,
+            '.' | ')' => marker && i == digits,
+            _ => false,
+        };
+        if escape {
+            out.push('\\');
         }
+        out.push(c);
     }
     out
 }
