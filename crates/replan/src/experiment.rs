@@ -25,6 +25,14 @@
 //! [`CHART_POINTS`] points, an even subsample beyond). Times appear only with
 //! [`RunOptions::timing`], so that without it every output is a pure function of the config.
 //!
+//! A scenario whose start or goal is blocked or outside its map is no error: as in the
+//! experiment runner, each of its runs is recorded with status `invalid_problem` and an
+//! `error` placing the cell in the `.scen` file (file, line and column), and the other
+//! runs go on. In `runs.csv` a value that was not measured is an empty field (in
+//! `runs.jsonl` `null` or absent), never a 0 that a mean would count: the measurements
+//! of such a run, and `reached` of a toggle script, which ends after its events rather
+//! than at the goal (its `steps` are the cells the agent drove).
+//!
 //! A GPPC replay (one `[[gppc]]` scenario file and one planner) is a run; its replans are
 //! its carried queries (the planner's repairs after the next batch's patches, each checked
 //! against A* from scratch on the patched map), and its checked queries (A* against the
@@ -64,7 +72,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use planner_api::{Budget, Grid, IncrementalPlanner, Problem};
+use planner_api::{Budget, Endpoint, Grid, IncrementalPlanner, Problem, ProblemError};
 use planner_maps::gppc::{parse_gppc_patches, parse_gppc_scenario};
 use planner_maps::{MapError, Scenario, DEFAULT_MAX_FILE_BYTES};
 use planner_text::{md_cell, md_prose};
@@ -142,7 +150,8 @@ pub struct ToggleSpec {
     #[schemars(with = "u32", range(max = MAX_EVENTS))]
     pub events: Spanned<u32>,
     /// Cells toggled per event, at most each map's number of cells.
-    pub k: u32,
+    #[schemars(with = "u32")]
+    pub k: Spanned<u32>,
     /// Half-width of the square around the agent that off-path toggles fall in.
     pub radius: u32,
     /// Cells the agent drives before each event.
@@ -208,9 +217,9 @@ pub struct ExperimentConfig {
     /// Maps and scenarios (navigate; dynamic with `[toggles]`).
     #[serde(default)]
     pub maps: Vec<MapSpec>,
-    /// Sensor radii (navigate).
+    /// Sensor radii (navigate), each at least 1.
     #[serde(default)]
-    #[schemars(with = "Vec<u32>")]
+    #[schemars(with = "Vec<std::num::NonZeroU32>")]
     pub radii: Vec<Spanned<u32>>,
     /// Steps before a navigation stops (default: 10 per cell plus 1,000).
     pub max_steps: Option<u64>,
@@ -223,6 +232,11 @@ pub struct ExperimentConfig {
     /// Settings for tests.
     #[serde(default)]
     pub test: TestLimits,
+    /// The config's text, for the line and column of a value refused once the maps are
+    /// read (`[toggles] k`).
+    #[serde(skip)]
+    #[schemars(skip)]
+    source: String,
 }
 
 fn default_scenarios() -> Spanned<usize> {
@@ -287,10 +301,14 @@ pub enum ExperimentError {
     },
     /// More toggles per event than a map has cells: a change list that long would take
     /// the memory before the first replan.
-    #[error("{path}: `[toggles] k`: {k} toggles per event is more than the {cells} cells of {map}; use at most that")]
+    #[error("{}: `[toggles] k`: {k} toggles per event is more than the {cells} cells of {map}; use at most that", place(path, *line, *column))]
     TooManyToggles {
         /// The config file.
         path: String,
+        /// 1-based line of the value of `k`.
+        line: usize,
+        /// 1-based column of the value of `k`.
+        column: usize,
         /// The config's `k`.
         k: u32,
         /// The map's name.
@@ -309,7 +327,10 @@ pub enum ExperimentError {
         /// What the grid refused.
         source: planner_api::GridError,
     },
-    /// A scenario's start or goal is not a free cell of its map.
+    /// A scenario's start or goal is not a free cell of its map. [`run`] does not return
+    /// it: such a scenario is a run with status `invalid_problem` in the outputs, as in
+    /// the experiment runner's, and the other runs go on. Kept for callers that match on
+    /// it.
     #[error("{path} line {line}: {message}")]
     Problem {
         /// The scenario file.
@@ -425,7 +446,7 @@ pub fn load(path: &Path) -> Result<ExperimentConfig, ExperimentError> {
 /// Parses and validates a config's `text` (`path` names it in errors).
 pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentError> {
     let name = path.display().to_string();
-    let config: ExperimentConfig = toml::from_str(text).map_err(|e| {
+    let mut config: ExperimentConfig = toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map_or((0, 0), |s| line_column(text, s.start));
         ExperimentError::Parse {
             path: name.clone(),
@@ -548,6 +569,14 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
                     "a navigate experiment needs radii".into(),
                 ));
             }
+            // The D* Lite paper's robot senses its neighbours: radius 1 at least.
+            if let Some(r) = config.radii.iter().find(|r| *r.get_ref() == 0) {
+                return Err(invalid(
+                    r.span(),
+                    "radii",
+                    "a sensor radius must be at least 1: the robot senses its neighbours (radius 1) or more, as in the D* Lite paper's navigation experiments".into(),
+                ));
+            }
             if let Some(t) = &config.toggles {
                 return Err(invalid(
                     t.span(),
@@ -610,6 +639,7 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
             }
         }
     }
+    config.source = text.to_owned();
     Ok(config)
 }
 
@@ -619,6 +649,9 @@ struct LoadedMap {
     name: String,
     grid: Grid,
     scenarios: Vec<Scenario>,
+    /// Per scenario, why it cannot run when its start or goal is not a free cell of the
+    /// map: the `.scen` file, line and column of the cell, and the problem.
+    invalid: Vec<Option<String>>,
 }
 
 fn load_maps(
@@ -646,14 +679,28 @@ fn load_maps(
         }
         let n = n.min(all.len());
         let scenarios: Vec<Scenario> = (0..n).map(|i| all[i * all.len() / n].clone()).collect();
+        // A scenario whose start or goal is blocked or outside the map is recorded as a run
+        // with status `invalid_problem`, as the experiment runner records it, and the other
+        // runs go on; the message places the cell in the `.scen` file.
+        let mut scen_text = None;
+        let mut invalid = Vec::with_capacity(scenarios.len());
         for s in &scenarios {
-            if let Err(e) = Problem::new(&grid, s.start, s.goal) {
-                return Err(ExperimentError::Problem {
-                    path: scen_path.display().to_string(),
-                    line: s.line,
-                    message: e.to_string(),
-                });
-            }
+            let why = match Problem::new(&grid, s.start, s.goal) {
+                Ok(_) => None,
+                Err(e) => {
+                    if scen_text.is_none() {
+                        scen_text = Some(planner_maps::read_text_file(
+                            &scen_path,
+                            DEFAULT_MAX_FILE_BYTES,
+                        )?);
+                    }
+                    let text = scen_text.as_deref().unwrap_or_default();
+                    let column = scenario_column(text, s.line, &e);
+                    let place = place(&scen_path.display().to_string(), s.line, column);
+                    Some(format!("{place}: {e}"))
+                }
+            };
+            invalid.push(why);
         }
         let mut name = map_path
             .file_stem()
@@ -667,9 +714,45 @@ fn load_maps(
             name,
             grid,
             scenarios,
+            invalid,
         });
     }
     Ok(out)
+}
+
+/// The 1-based column, on `line` of a Moving AI `.scen` file's `text`, of the coordinate
+/// that makes its problem `error`: the x of the start or goal (its y when only the y is
+/// outside the map); 0 when the line is not found. Lines and columns are counted as
+/// planner-maps counts them: after a byte-order mark, without a CRLF's `\r`, fields split
+/// at tabs, a field's leading spaces skipped, in characters.
+fn scenario_column(text: &str, line: usize, error: &ProblemError) -> usize {
+    let (endpoint, y_only) = match error {
+        ProblemError::Blocked { endpoint, .. } => (endpoint, false),
+        ProblemError::OutOfBounds {
+            endpoint,
+            cell,
+            width,
+            ..
+        } => (endpoint, cell.x < *width),
+    };
+    // The fields are: bucket, map, width, height, start x, start y, goal x, goal y, length.
+    let field = match endpoint {
+        Endpoint::Start => 4,
+        Endpoint::Goal => 6,
+    } + usize::from(y_only);
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let Some(row) = text.split('\n').nth(line.wrapping_sub(1)) else {
+        return 0;
+    };
+    let row = row.strip_suffix('\r').unwrap_or(row);
+    let mut column = 1;
+    for (index, value) in row.split('\t').enumerate() {
+        if index == field {
+            return column + value.chars().take_while(|c| c.is_whitespace()).count();
+        }
+        column += value.chars().count() + 1;
+    }
+    0
 }
 
 /// Which run: map, scenario line, setting and planner.
@@ -699,12 +782,52 @@ impl RunId {
 /// are in files of the working area ([`RunFiles`]), not here.
 struct RunDone {
     id: RunId,
-    /// The navigation's end (navigate only): reached, steps, the path driven.
-    nav: Option<NavEnd>,
-    /// Cells toggled in all (dynamic only).
-    toggled: Option<u64>,
+    /// How the run ended: the navigation or the toggle script, or why it did not run.
+    end: RunEnd,
     totals: RunTotals,
     files: RunFiles,
+}
+
+/// How a run ended.
+enum RunEnd {
+    /// A navigation (navigate): reached, steps, the path driven.
+    Navigated(NavEnd),
+    /// A toggle script (dynamic): cells toggled and cells driven in all.
+    Toggled {
+        /// Cells toggled.
+        toggled: u64,
+        /// Cells the agent drove.
+        steps: u64,
+    },
+    /// The scenario's start or goal is not a free cell of its map: nothing ran. The
+    /// message places the cell in the `.scen` file.
+    InvalidProblem(String),
+}
+
+impl RunDone {
+    /// The navigation's end, for a navigate run that ran.
+    fn nav(&self) -> Option<&NavEnd> {
+        match &self.end {
+            RunEnd::Navigated(nav) => Some(nav),
+            _ => None,
+        }
+    }
+
+    /// Why the run did not run, when its problem is invalid.
+    fn invalid(&self) -> Option<&str> {
+        match &self.end {
+            RunEnd::InvalidProblem(why) => Some(why),
+            _ => None,
+        }
+    }
+
+    /// The run's status in the tables: `invalid_problem` when nothing ran, else `ran`.
+    fn status(&self) -> &'static str {
+        match self.end {
+            RunEnd::InvalidProblem(_) => "invalid_problem",
+            _ => "ran",
+        }
+    }
 }
 
 /// What a run counted over its replans, kept while it runs ([`RunRecorder`]) and handed
@@ -713,7 +836,8 @@ struct RunDone {
 struct RunTotals {
     replans: u64,
     expansions: u64,
-    oracle_expansions: u64,
+    /// A*'s expansions over the replans the oracle checked (`None`: none was).
+    oracle_expansions: Option<u64>,
     /// Failed checks, all counted.
     mismatches: u64,
     /// The first [`MISMATCHES_LISTED`] of them.
@@ -821,11 +945,7 @@ impl<'a> RunRecorder<'a> {
     }
 
     /// Flushes the run's files and returns what the tables and the summary need of it.
-    fn finish(
-        mut self,
-        nav: Option<NavEnd>,
-        toggled: Option<u64>,
-    ) -> Result<RunDone, ExperimentError> {
+    fn finish(mut self, end: RunEnd) -> Result<RunDone, ExperimentError> {
         for (writer, path) in [
             (&mut self.lines, &self.files.lines),
             (&mut self.later, &self.files.later),
@@ -839,8 +959,7 @@ impl<'a> RunRecorder<'a> {
         }
         Ok(RunDone {
             id: self.id.clone(),
-            nav,
-            toggled,
+            end,
             totals: self.totals,
             files: self.files,
         })
@@ -852,7 +971,9 @@ impl Recorder for RunRecorder<'_> {
         let index = self.totals.replans;
         self.totals.replans += 1;
         self.totals.expansions += record.expansions;
-        self.totals.oracle_expansions += record.oracle_expansions.unwrap_or(0);
+        if let Some(astar) = record.oracle_expansions {
+            *self.totals.oracle_expansions.get_or_insert(0) += astar;
+        }
         self.totals.planning_time += record.planning_time();
         if index == 0 {
             self.totals.first_planning = record.planning_time();
@@ -958,11 +1079,18 @@ pub fn run_config_with(
         })?;
     let maps = load_maps(config, dir, options)?;
     if let Some(toggles) = &config.toggles {
-        let k = toggles.get_ref().k;
-        if let Some(map) = maps.iter().find(|m| k as usize > m.grid.len()) {
+        let k = &toggles.get_ref().k;
+        if let Some(map) = maps.iter().find(|m| *k.get_ref() as usize > m.grid.len()) {
+            // A config that `parse` did not read has no text to place the value in.
+            let (line, column) = match config.source.is_empty() {
+                true => (0, 0),
+                false => line_column(&config.source, k.span().start),
+            };
             return Err(ExperimentError::TooManyToggles {
                 path: path.display().to_string(),
-                k,
+                line,
+                column,
+                k: *k.get_ref(),
                 map: map.name.clone(),
                 cells: map.grid.len(),
             });
@@ -988,7 +1116,8 @@ pub fn run_config_with(
             .unwrap_or(Path::new("."))
             .join(&scenario.patch_file);
         let patch_name = patch_path.display().to_string();
-        let text = planner_maps::read_text_file(&patch_path, DEFAULT_MAX_FILE_BYTES)?;
+        let text = planner_maps::read_text_file(&patch_path, DEFAULT_MAX_FILE_BYTES)
+            .map_err(|e| at_patch_name(e, &scen_text, &scen_name, &scenario.patch_file))?;
         let patches = parse_gppc_patches(&text, &patch_name)?;
         scenario
             .validate(&patches, &scen_name)
@@ -1040,7 +1169,7 @@ pub fn run_config_with(
             } else {
                 *t.events.get_ref()
             },
-            k: t.k,
+            k: *t.k.get_ref(),
             radius: t.radius,
             drive: t.drive,
             seed: 0,
@@ -1064,6 +1193,9 @@ pub fn run_config_with(
             planner: name.clone(),
         };
         let mut recorder = RunRecorder::create(area, slot, &id, config.kind, options)?;
+        if let Some(why) = &map.invalid[s] {
+            return recorder.finish(RunEnd::InvalidProblem(why.clone()));
+        }
         let mut planner = make(name, eight);
         let mut oracle = Oracle::new(eight);
         match config.kind {
@@ -1083,14 +1215,14 @@ pub fn run_config_with(
                     &Budget::unlimited(),
                     &mut recorder,
                 ) {
-                    Ok(end) => recorder.finish(Some(end), None),
-                    Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
+                    Ok(end) => recorder.finish(RunEnd::Navigated(end)),
+                    Err(e) => unreachable!("a scenario load_maps found invalid does not run: {e}"),
                 }
             }
             Kind::Dynamic => {
                 let problem = match Problem::new(&map.grid, scenario.start, scenario.goal) {
                     Ok(problem) => problem,
-                    Err(e) => unreachable!("scenarios are validated by load_maps: {e}"),
+                    Err(e) => unreachable!("a scenario load_maps found invalid does not run: {e}"),
                 };
                 let toggle = ToggleConfig {
                     seed: setting,
@@ -1110,7 +1242,10 @@ pub fn run_config_with(
                     &Budget::unlimited(),
                     &mut recorder,
                 );
-                recorder.finish(None, Some(end.toggled))
+                recorder.finish(RunEnd::Toggled {
+                    toggled: end.toggled,
+                    steps: end.steps,
+                })
             }
         }
     };
@@ -1195,6 +1330,70 @@ pub fn run_config_with(
     // The area goes here, its tables copied into the results, or the run failed.
 }
 
+/// `error`, from reading the patch file a GPPC scenario names (`name`, as written), placed
+/// at that name in the scenario (`scen_name`, its `text`: the `patch FILE` line) when the
+/// file cannot be read at all, so that the message says which line named it; an error
+/// about the patch file's contents keeps its own place.
+fn at_patch_name(error: MapError, text: &str, scen_name: &str, name: &str) -> MapError {
+    use planner_maps::MapErrorKind as K;
+    let reason = match &error.kind {
+        _ if error.line != 0 => return error,
+        K::Io { message } => message.clone(),
+        kind @ (K::NotRegularFile { .. } | K::FileTooLarge { .. }) => kind.to_string(),
+        _ => return error,
+    };
+    // The header line `patch FILE`, as planner-maps counts lines and columns: after a
+    // byte-order mark, without a CRLF's `\r`, in characters. Its reader found it, so it
+    // is there; (0, 0) names the whole file otherwise.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let (line, column) = text
+        .split('\n')
+        .enumerate()
+        .find_map(|(index, row)| {
+            let row = row.strip_suffix('\r').unwrap_or(row);
+            let mut words = word_columns(row);
+            let (_, first) = words.next()?;
+            let (column, _) = words.next()?;
+            (first == "patch").then_some((index + 1, column))
+        })
+        .unwrap_or((0, 0));
+    let path = &error.file;
+    let resolved = match path == name {
+        true => String::new(),
+        false => format!(" ({path})"),
+    };
+    MapError::new(
+        scen_name,
+        line,
+        column,
+        K::Io {
+            message: format!("patch file '{}'{resolved}: {reason}", name.escape_debug()),
+        },
+    )
+}
+
+/// The words of `row` (split at whitespace) with their 1-based columns in characters.
+fn word_columns(row: &str) -> impl Iterator<Item = (usize, &str)> {
+    let mut column = 0;
+    let mut start = None;
+    let mut words = Vec::new();
+    for (byte, ch) in row.char_indices() {
+        column += 1;
+        match (ch.is_whitespace(), start) {
+            (false, None) => start = Some((byte, column)),
+            (true, Some((from, at))) => {
+                words.push((at, &row[from..byte]));
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some((from, at)) = start {
+        words.push((at, &row[from..]));
+    }
+    words.into_iter()
+}
+
 /// `error` of a GPPC scenario's command, with the column of the field it is about: the
 /// patch number of a patch that does not exist, the `x` or `y` that puts a patch outside
 /// the map, the coordinate of a query's start or goal outside it. planner-maps' check
@@ -1245,21 +1444,7 @@ fn gppc_column(mut error: MapError, text: &str) -> MapError {
     let Some(line) = text.split('\n').nth(error.line - 1) else {
         return error;
     };
-    let mut column = 0;
-    let mut starts = Vec::new();
-    let mut inside = false;
-    for ch in line.chars() {
-        column += 1;
-        match (ch.is_whitespace(), inside) {
-            (false, false) => {
-                starts.push(column);
-                inside = true;
-            }
-            (true, true) => inside = false,
-            _ => {}
-        }
-    }
-    if let Some(&column) = starts.get(field) {
+    if let Some((column, _)) = word_columns(line).nth(field) {
         error.column = column;
     }
     error
@@ -1303,6 +1488,14 @@ struct RunSummary {
     mismatches: u64,
     /// The first failed checks, each with its run: (run, message).
     listed: Vec<(RunId, String)>,
+    /// Runs whose problem is invalid (they ran nothing and are in no group).
+    invalid_runs: usize,
+    /// The first [`MISMATCHES_LISTED`] invalid problems, each once (a problem is a run per
+    /// setting and planner): its map and message; how many there are; the last one's map
+    /// and scenario line.
+    invalid_listed: Vec<(String, String)>,
+    invalid_problems: usize,
+    last_invalid: Option<(String, usize)>,
     charted: Option<&'static str>,
     chart: ChartSample,
 }
@@ -1332,6 +1525,10 @@ impl RunSummary {
             replans: 0,
             mismatches: 0,
             listed: Vec::new(),
+            invalid_runs: 0,
+            invalid_listed: Vec::new(),
+            invalid_problems: 0,
+            last_invalid: None,
             charted,
             chart: ChartSample::default(),
         }
@@ -1340,6 +1537,22 @@ impl RunSummary {
     /// Adds a finished run, reading its replans after the first from its file.
     fn add(&mut self, run: &RunDone) -> Result<(), ExperimentError> {
         use std::io::Read as _;
+        self.runs += 1;
+        if let Some(why) = run.invalid() {
+            // Runs come in task order: a problem's runs (one per setting and planner)
+            // follow each other.
+            self.invalid_runs += 1;
+            let problem = (run.id.map.clone(), run.id.line);
+            if self.last_invalid.as_ref() != Some(&problem) {
+                self.invalid_problems += 1;
+                if self.invalid_listed.len() < MISMATCHES_LISTED {
+                    self.invalid_listed
+                        .push((run.id.map.clone(), why.to_owned()));
+                }
+                self.last_invalid = Some(problem);
+            }
+            return Ok(());
+        }
         let key = (run.id.map.clone(), run.id.setting, run.id.planner.clone());
         let at = *self.index.entry(key).or_insert_with(|| {
             self.groups.push(Group {
@@ -1357,19 +1570,18 @@ impl RunSummary {
         });
         let group = &mut self.groups[at];
         group.runs += 1;
-        group.reached += usize::from(run.nav.as_ref().is_some_and(|n| n.reached));
+        group.reached += usize::from(run.nav().is_some_and(|n| n.reached));
         group.replans += run.totals.replans;
         group.mismatches += run.totals.mismatches;
         group.expansions += run.totals.expansions;
-        if run.totals.oracle_expansions > 0 {
+        if let Some(astar) = run.totals.oracle_expansions.filter(|&a| a > 0) {
             group
                 .shares
-                .push(run.totals.expansions as f64 / run.totals.oracle_expansions as f64);
+                .push(run.totals.expansions as f64 / astar as f64);
         }
         group
             .planning_ms
             .push(run.totals.planning_time.as_secs_f64() * 1e3);
-        self.runs += 1;
         self.replans += run.totals.replans;
         self.mismatches += run.totals.mismatches;
         for m in &run.totals.listed {
@@ -1510,7 +1722,7 @@ impl Tables {
             replans_jsonl: open(names[2])?,
         };
         let header = format!(
-            "map,scenario_line,{},planner,reached,steps,replans,total_expansions,astar_expansions,mismatches{}\n",
+            "map,scenario_line,{},planner,reached,steps,replans,total_expansions,astar_expansions,mismatches,status,error{}\n",
             setting_key(kind),
             if options.timing {
                 ",time_to_first_move_us,planning_time_us"
@@ -1544,24 +1756,35 @@ impl Tables {
         options: &RunOptions,
     ) -> Result<(), ExperimentError> {
         let setting_key = setting_key(kind);
-        let (reached, steps) = match &run.nav {
-            Some(nav) => (nav.reached.to_string(), nav.steps),
-            None => (String::new(), 0),
+        // A value that was not measured is an empty field (JSON: absent or null), never a
+        // 0 that a mean would count: `reached` of a toggle script (it ends after its
+        // events, not at the goal), and every measurement of a run that did not run.
+        let ran = run.invalid().is_none();
+        let (reached, steps) = match &run.end {
+            RunEnd::Navigated(nav) => (Some(nav.reached), Some(nav.steps)),
+            RunEnd::Toggled { steps, .. } => (None, Some(*steps)),
+            RunEnd::InvalidProblem(_) => (None, None),
         };
+        let field = |value: Option<String>| value.unwrap_or_default();
+        let measured = |value: u64| field(ran.then(|| value.to_string()));
         let (map, line, setting, planner) = run.id.identity(csv);
         let mut csv_line = format!(
-            "{map},{line},{setting},{planner},{reached},{steps},{},{},{},{}",
-            run.totals.replans,
-            run.totals.expansions,
-            run.totals.oracle_expansions,
-            run.totals.mismatches,
+            "{map},{line},{setting},{planner},{},{},{},{},{},{},{},{}",
+            field(reached.map(|r| r.to_string())),
+            field(steps.map(|s| s.to_string())),
+            measured(run.totals.replans),
+            measured(run.totals.expansions),
+            field(run.totals.oracle_expansions.map(|a| a.to_string())),
+            measured(run.totals.mismatches),
+            run.status(),
+            csv(run.invalid().unwrap_or_default()),
         );
         if options.timing {
             let _ = write!(
                 csv_line,
                 ",{},{}",
-                micros(run.totals.first_planning),
-                micros(run.totals.planning_time)
+                field(ran.then(|| micros(run.totals.first_planning).to_string())),
+                field(ran.then(|| micros(run.totals.planning_time).to_string())),
             );
         }
         csv_line.push('\n');
@@ -1571,20 +1794,29 @@ impl Tables {
             "scenario_line": run.id.line,
             setting_key: run.id.setting,
             "planner": run.id.planner,
-            "replans": run.totals.replans,
-            "total_expansions": run.totals.expansions,
+            "status": run.status(),
+            "replans": ran.then_some(run.totals.replans),
+            "total_expansions": ran.then_some(run.totals.expansions),
             "astar_expansions": run.totals.oracle_expansions,
             "mismatches": run.totals.listed,
         });
-        if let Some(nav) = &run.nav {
-            line["reached"] = nav.reached.into();
-            line["steps"] = nav.steps.into();
-            line["path"] = nav.path.iter().map(|c| json!([c.x, c.y])).collect();
+        if let Some(why) = run.invalid() {
+            line["error"] = why.into();
         }
-        if let Some(toggled) = run.toggled {
-            line["toggled"] = toggled.into();
+        if let Some(reached) = reached {
+            line["reached"] = reached.into();
         }
-        if options.timing {
+        if let Some(steps) = steps {
+            line["steps"] = steps.into();
+        }
+        match &run.end {
+            RunEnd::Navigated(nav) => {
+                line["path"] = nav.path.iter().map(|c| json!([c.x, c.y])).collect();
+            }
+            RunEnd::Toggled { toggled, .. } => line["toggled"] = (*toggled).into(),
+            RunEnd::InvalidProblem(_) => {}
+        }
+        if options.timing && ran {
             line["planning_time_us"] = (micros(run.totals.planning_time) as u64).into();
         }
         self.put(1, &format!("{line}\n"))?;
@@ -1647,7 +1879,12 @@ fn write_results(
     );
     for (stem, planner, replay) in gppc_runs {
         let agree = replay.queries.iter().filter(|q| q.agrees).count();
-        let sum = |f: fn(&gppc::CarryRecord) -> u64| replay.carried.iter().map(f).sum::<u64>();
+        // The expansions are measured on carried queries only: none carried, none
+        // measured (an empty field, not a 0).
+        let sum = |f: fn(&gppc::CarryRecord) -> u64| match replay.carried.is_empty() {
+            true => String::new(),
+            false => replay.carried.iter().map(f).sum::<u64>().to_string(),
+        };
         let _ = writeln!(
             gppc_csv,
             "{},{},{},{},{agree},{},{},{},{},{}",
@@ -1840,15 +2077,24 @@ fn summary_md(
         queries,
         mismatches,
     } = totals;
+    // Runs whose problem is invalid are counted and listed, in no group.
+    let invalid = match runs.invalid_runs {
+        0 => String::new(),
+        n => format!(
+            " ({n} of them on {} invalid problem{}, which did not run: listed below, in no table row)",
+            runs.invalid_problems,
+            if runs.invalid_problems == 1 { "" } else { "s" }
+        ),
+    };
     if gppc_runs.is_empty() {
         let _ = writeln!(
             out,
-            "Kind `{kind}`{test}: {total_runs} runs, {replans} replans, each checked against A* from scratch on the same map: **{mismatches} mismatches**.\n",
+            "Kind `{kind}`{test}: {total_runs} runs{invalid}, {replans} replans, each checked against A* from scratch on the same map: **{mismatches} mismatches**.\n",
         );
     } else {
         let _ = writeln!(
             out,
-            "Kind `{kind}`{test}: {total_runs} runs ({replays} of them GPPC replays), {replans} replans ({carried} of them GPPC queries carried across the next batch's patches), each checked against A* from scratch on the same map, and {queries} GPPC queries checked against their recorded optimum: **{mismatches} mismatches**.\n",
+            "Kind `{kind}`{test}: {total_runs} runs{invalid} ({replays} of them GPPC replays), {replans} replans ({carried} of them GPPC queries carried across the next batch's patches), each checked against A* from scratch on the same map, and {queries} GPPC queries checked against their recorded optimum: **{mismatches} mismatches**.\n",
         );
     }
     if !runs.groups.is_empty() {
@@ -1919,6 +2165,19 @@ fn summary_md(
             );
         }
     }
+    if runs.invalid_runs > 0 {
+        for (map, why) in &runs.invalid_listed {
+            let _ = writeln!(out, "- INVALID PROBLEM {}: {}", md_cell(map), md_cell(why));
+        }
+        let unlisted = runs.invalid_problems - runs.invalid_listed.len();
+        if unlisted > 0 {
+            let _ = writeln!(
+                out,
+                "- and {unlisted} more invalid problems: runs.csv and runs.jsonl have each run's `error`."
+            );
+        }
+        out.push('\n');
+    }
     if !gppc_runs.is_empty() {
         let _ = writeln!(
             out,
@@ -1933,9 +2192,14 @@ fn summary_md(
             let agree = replay.queries.iter().filter(|q| q.agrees).count();
             let repair: u64 = replay.carried.iter().map(|c| c.repair_expansions).sum();
             let astar: u64 = replay.carried.iter().map(|c| c.astar_expansions).sum();
+            // None carried, none measured.
+            let (repair_cell, astar_cell) = match replay.carried.is_empty() {
+                true => ("-".to_owned(), "-".to_owned()),
+                false => (repair.to_string(), astar.to_string()),
+            };
             let _ = writeln!(
                 out,
-                "| {} | {} | {} | {} | {agree} | {} | {} | {repair} | {astar} | {} |",
+                "| {} | {} | {} | {} | {agree} | {} | {} | {repair_cell} | {astar_cell} | {} |",
                 md_cell(stem),
                 md_cell(planner),
                 replay.patches_applied,

@@ -2,21 +2,33 @@
 //!
 //! The agent knows the size of the map and nothing else: it assumes every cell free
 //! (the free-space assumption). Each step it senses the true state of every cell within
-//! `radius` of its cell (a square: `max(|dx|, |dy|) <= radius`), and before its first plan
-//! it senses from the start. It plans on what it knows, follows its path one cell per
-//! step, and replans when a sensed cell lies on its remaining path or makes one of its
-//! diagonal moves cut a corner; it then tells the planner where it stands
-//! ([`IncrementalPlanner::move_start`]) and every cell it has seen blocked since the last
-//! replan ([`IncrementalPlanner::apply`]).
+//! `radius` of its cell (a square: `max(|dx|, |dy|) <= radius`, so radius 1 is the eight
+//! neighbours), and before its first plan it senses from the start. It plans on what it
+//! knows, follows its path one cell per step, and replans when a sensed cell lies on its
+//! remaining path or makes one of its diagonal moves cut a corner; it then tells the
+//! planner where it stands ([`IncrementalPlanner::move_start`]) and every cell it has
+//! seen blocked since the last replan ([`IncrementalPlanner::apply`]).
+//!
+//! Whatever the radius, the agent also looks at the cells of its next move before making
+//! it: the cell it enters and, for a diagonal move, the two cells beside it that the move
+//! must not cut. A move into a blocked cell is never made: trying it reveals the cell, and
+//! the agent replans where it stands. With a radius of 1 or more these cells were sensed
+//! already (they are neighbours of the agent's cell), so this changes nothing; with a
+//! radius of 0 it is a robot that learns of an obstacle only by bumping into it. The
+//! experiment configs ask for a radius of at least 1 (`configs/replan/README.md`), as the
+//! robot of the D* Lite paper's experiments senses its neighbours. A path step that is not
+//! a legal move on the agent's map even so (a planner's defect, when no oracle caught it)
+//! is a failed check ([`MismatchKind::InvalidPath`]) that ends the run, never a move.
 //!
 //! Replanning only then is exact: the known map only gains blocked cells, so the rest of
 //! a shortest path that is still free keeps its cost and no other path got cheaper.
 //!
 //! On a weighted map (a costmap) the agent also assumes every cell it has not seen to have
 //! weight 1 (the least a weight can be: the free-space assumption for costs) and senses
-//! the true weights within the same radius; a sensed cell whose weight differs is told
-//! to the planner with its weight ([`CellChange::with_weight`]), and a change on a cell of
-//! the remaining path is a reason to replan. The rule stays exact: known weights only
+//! the true weights within the same radius (and those of the cells of its next move); a
+//! sensed cell whose weight differs is told to the planner with its weight
+//! ([`CellChange::with_weight`]), and a change on a cell of the remaining path is a reason
+//! to replan. The rule stays exact: known weights only
 //! grow, so a path none of whose cells changed keeps its cost and no other got cheaper.
 //! With [`NavConfig::check_every_change`] the oracle checks that claim too, on every step
 //! that sensed a change without a replan. The run ends at the goal, when no path is left
@@ -54,7 +66,8 @@ use crate::{Recorder, Records, ReplanRecord};
 /// The run's parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct NavConfig {
-    /// Sensor radius (a square of half-width `radius` around the agent).
+    /// Sensor radius (a square of half-width `radius` around the agent). At 0 the agent
+    /// senses only the cells of each move it tries (see the [module docs](self)).
     pub radius: u32,
     /// Stop after this many steps (`None`: 10 per cell of the map, plus 1,000).
     pub max_steps: Option<u64>,
@@ -125,29 +138,56 @@ fn sense(
     let (ax, ay) = (i64::from(at.x), i64::from(at.y));
     let (max_x, max_y) = (i64::from(truth.width()) - 1, i64::from(truth.height()) - 1);
     let before = seen.len();
-    let weighted = truth.is_weighted();
     for y in (ay - r).max(0)..=(ay + r).min(max_y) {
         for x in (ax - r).max(0)..=(ax + r).min(max_x) {
-            let cell = Cell::new(x as u32, y as u32);
-            let mut change = None;
-            if !truth.is_free(cell) && known.is_free(cell) {
-                known.set_free(cell, false);
-                change = Some(CellChange::blocked(cell));
-            }
-            if weighted && truth.weight(cell) != known.weight(cell) {
-                let weight = truth.weight(cell);
-                known.set_weight(cell, weight);
-                let free = known.is_free(cell);
-                change = Some(CellChange {
-                    cell,
-                    free,
-                    weight: Some(weight),
-                });
-            }
-            seen.extend(change);
+            sense_cell(truth, known, Cell::new(x as u32, y as u32), seen);
         }
     }
     seen.len() > before
+}
+
+/// Senses the cells of the move from `from` to `to` that `moves` has (the cell entered
+/// and the cells the move must not cut) as [`sense`] senses a cell; nothing for a step
+/// that is no move of the set.
+fn sense_move(
+    truth: &Grid,
+    known: &mut Grid,
+    moves: &MoveSet,
+    from: Cell,
+    to: Cell,
+    seen: &mut Vec<CellChange>,
+) -> bool {
+    let Some(mv) = moves.find(from, to) else {
+        return false;
+    };
+    let before = seen.len();
+    for &(dx, dy) in std::iter::once(&(mv.dx, mv.dy)).chain(&mv.via) {
+        if let Some(cell) = truth.offset(from, dx, dy) {
+            sense_cell(truth, known, cell, seen);
+        }
+    }
+    seen.len() > before
+}
+
+/// Marks `cell` in `known` as it is in `truth` when it is blocked there but free in
+/// `known`, or (on a weighted map) its weight differs, and lists the change in `seen`.
+fn sense_cell(truth: &Grid, known: &mut Grid, cell: Cell, seen: &mut Vec<CellChange>) {
+    let mut change = None;
+    if !truth.is_free(cell) && known.is_free(cell) {
+        known.set_free(cell, false);
+        change = Some(CellChange::blocked(cell));
+    }
+    if truth.is_weighted() && truth.weight(cell) != known.weight(cell) {
+        let weight = truth.weight(cell);
+        known.set_weight(cell, weight);
+        let free = known.is_free(cell);
+        change = Some(CellChange {
+            cell,
+            free,
+            weight: Some(weight),
+        });
+    }
+    seen.extend(change);
 }
 
 /// The agent's map before it looks: `truth`'s size, every cell free, and on a weighted
@@ -178,6 +218,37 @@ fn still_free(known: &Grid, moves: &MoveSet, path: &[Cell]) -> bool {
             .and_then(|mv| moves.apply(known, w[0], mv))
             == Some(w[1])
     })
+}
+
+/// Whether the changes just sensed (`sensed`, the agent standing at `rest[0]`) are a
+/// reason to replan: a step of the remaining path `rest` is no longer a legal move on
+/// `known`, or a cell of it changed its weight. When they are not, and the config asks
+/// ([`NavConfig::check_every_change`]), the oracle checks that the rest of the path is
+/// still a shortest one.
+#[allow(clippy::too_many_arguments)]
+fn sensed_a_reason(
+    known: &Grid,
+    moves: &MoveSet,
+    sensed: &[CellChange],
+    rest: &[Cell],
+    config: &NavConfig,
+    oracle: Option<&mut Oracle>,
+    goal: Cell,
+    out: &mut NavEnd,
+    recorder: &mut dyn Recorder,
+) -> bool {
+    if !still_free(known, moves, rest) || reweighted_on(sensed, rest) {
+        return true;
+    }
+    if let (true, Some(oracle)) = (config.check_every_change, oracle) {
+        out.extra_checks += 1;
+        let kept = planner_api::Path::new(rest.to_vec());
+        let outcome = planner_api::Outcome::found(kept, planner_api::Counters::new());
+        if let Err(m) = oracle.check(known, rest[0], goal, &outcome, out.steps) {
+            recorder.mismatch(m);
+        }
+    }
+    false
 }
 
 /// How a recorded navigation ended ([`run_recorded`]): a [`NavRun`] without the records
@@ -283,6 +354,11 @@ pub fn run_recorded(
         let Some(cells) = &path else {
             break;
         };
+        // A path that ends short of the goal leaves nowhere to go (only a planner's
+        // defect, when no oracle checked it).
+        let Some(&next) = cells.get(at + 1) else {
+            break;
+        };
         if out.steps >= max_steps {
             out.hit_step_limit = true;
             break;
@@ -291,28 +367,55 @@ pub fn run_recorded(
             out.stopped = true;
             break;
         }
-        at += 1;
-        agent = cells[at];
-        out.steps += 1;
-        out.path.push(agent);
+        // The agent looks at the cells of its next move before making it, whatever its
+        // radius: a move into a blocked cell reveals that cell instead of being made.
         let before = pending.len();
-        if !sense(truth, &mut known, agent, config.radius, &mut pending) {
-            continue;
-        }
-        if still_free(&known, &moves, &cells[at..])
-            && !reweighted_on(&pending[before..], &cells[at..])
-        {
-            if config.check_every_change {
-                if let Some(oracle) = oracle.as_deref_mut() {
-                    out.extra_checks += 1;
-                    let rest = planner_api::Path::new(cells[at..].to_vec());
-                    let outcome = planner_api::Outcome::found(rest, planner_api::Counters::new());
-                    if let Err(m) = oracle.check(&known, agent, goal, &outcome, out.steps) {
-                        recorder.mismatch(m);
-                    }
-                }
+        let looked = sense_move(truth, &mut known, &moves, agent, next, &mut pending);
+        let replan_now = looked
+            && sensed_a_reason(
+                &known,
+                &moves,
+                &pending[before..],
+                &cells[at..],
+                config,
+                oracle.as_deref_mut(),
+                goal,
+                &mut out,
+                recorder,
+            );
+        if !replan_now {
+            if !still_free(&known, &moves, &cells[at..at + 2]) {
+                // Not a legal move on what the agent knows, and nothing new explains it:
+                // the planner's path is wrong, and the agent does not drive it.
+                recorder.mismatch(Mismatch {
+                    step: out.steps,
+                    start: agent,
+                    kind: MismatchKind::InvalidPath(format!(
+                        "its step from {agent} to {next} is not a legal move on the agent's map"
+                    )),
+                });
+                break;
             }
-            continue;
+            at += 1;
+            agent = next;
+            out.steps += 1;
+            out.path.push(agent);
+            let before = pending.len();
+            if !sense(truth, &mut known, agent, config.radius, &mut pending)
+                || !sensed_a_reason(
+                    &known,
+                    &moves,
+                    &pending[before..],
+                    &cells[at..],
+                    config,
+                    oracle.as_deref_mut(),
+                    goal,
+                    &mut out,
+                    recorder,
+                )
+            {
+                continue;
+            }
         }
         let told = Instant::now();
         let result = planner

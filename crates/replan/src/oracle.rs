@@ -142,7 +142,9 @@ impl Oracle {
     }
 
     /// A*'s expansions in the last [`Oracle::optimum`] or [`Oracle::check`]: what A* from
-    /// scratch spends on that replan.
+    /// scratch spends on that replan (a check runs A* even when the replan fails it
+    /// first, so this is always a measurement; 0 when the start or goal is blocked, which
+    /// A* answers without a search).
     pub fn last_expansions(&self) -> u64 {
         self.last_expansions
     }
@@ -162,7 +164,9 @@ impl Oracle {
         outcome: &Outcome,
         step: u64,
     ) -> Result<Option<Cost>, Mismatch> {
-        self.last_expansions = 0;
+        // A* runs first, so that the replan's record has A*'s expansions whether or not
+        // the replan passes.
+        let expected = self.optimum(grid, start, goal);
         let fail = |kind| Mismatch { step, start, kind };
         if outcome.status == Status::BudgetExhausted {
             return Err(fail(MismatchKind::Unfinished));
@@ -183,7 +187,6 @@ impl Oracle {
             }
             None => None,
         };
-        let expected = self.optimum(grid, start, goal);
         if got == expected {
             Ok(got)
         } else {

@@ -4,7 +4,8 @@
 //!
 //! The agent's own cell is never toggled; the goal may be, so "no path" is a normal
 //! outcome that later toggles can undo. Every replan is checked by the [`Oracle`] on the
-//! driver's own copy of the map.
+//! driver's own copy of the map, and the agent drives only a path that passed: after a
+//! failed check it stays where it is until a later replan passes.
 //!
 //! ```
 //! use planner_api::{Budget, Cell, Grid, Problem};
@@ -57,6 +58,8 @@ pub struct ToggleRun {
     pub mismatches: Vec<Mismatch>,
     /// Cells toggled in all.
     pub toggled: u64,
+    /// Cells the agent drove in all (a move is one cell).
+    pub steps: u64,
 }
 
 /// How a recorded run ended ([`run_recorded`]).
@@ -64,6 +67,9 @@ pub struct ToggleRun {
 pub struct ToggleEnd {
     /// Cells toggled in all.
     pub toggled: u64,
+    /// Cells the agent drove in all: `drive` before each event, fewer where its path
+    /// ended sooner, none while it had no path.
+    pub steps: u64,
     /// Whether the recorder ended the run before its last event.
     pub stopped: bool,
 }
@@ -82,6 +88,7 @@ pub fn run(
         replans: records.replans,
         mismatches: records.mismatches,
         toggled: end.toggled,
+        steps: end.steps,
     }
 }
 
@@ -124,6 +131,7 @@ pub fn run_recorded(
             Some(cells) => {
                 let at = (config.drive as usize).min(cells.len() - 1);
                 agent = cells[at];
+                end.steps += at as u64;
                 &cells[at..]
             }
             None => &[],
@@ -214,6 +222,13 @@ fn replan_checked(
         update_time,
         replan_time,
     };
+    let failed = mismatch.is_some();
     recorder.replan(record, mismatch);
-    outcome.path.map(|p| p.into_cells())
+    // The agent drives only a path that passed its check: one through a blocked cell, or
+    // from elsewhere, is recorded as the failed check and not driven.
+    outcome
+        .path
+        .filter(|_| !failed)
+        .map(|p| p.into_cells())
+        .filter(|cells| cells.first() == Some(&agent))
 }

@@ -108,6 +108,16 @@ fn results_do_not_depend_on_threads() {
     }
 }
 
+/// The values of the column `name` of a CSV `table` whose fields hold no comma.
+fn column(table: &str, name: &str) -> Vec<String> {
+    let mut lines = table.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(at).unwrap().to_owned())
+        .collect()
+}
+
 fn parse_error(text: &str) -> ExperimentError {
     experiment::parse(Path::new("bad.toml"), text).unwrap_err()
 }
@@ -255,7 +265,10 @@ fn gppc_inputs_that_cannot_be_replayed_are_refused() {
         let e = run().unwrap_err();
         match &e {
             ExperimentError::Map(m) => assert!(
-                m.to_string().contains("not a regular file") && m.file.ends_with(patch),
+                m.to_string().contains("not a regular file")
+                    && m.to_string().contains(&format!("patch file '{patch}'"))
+                    && m.file.ends_with("s.scen")
+                    && (m.line, m.column) == (5, 7),
                 "{e}"
             ),
             other => panic!("{patch}: expected a map error, got {other}"),
@@ -416,7 +429,9 @@ fn more_toggles_than_cells_is_refused() {
         matches!(error, ExperimentError::TooManyToggles { cells: 2401, .. }),
         "{error}"
     );
-    assert!(error.to_string().contains("`[toggles] k`"), "{error}");
+    // At the value's line and column, as every other key's error (it had neither).
+    let place = "k4000000000.toml:10:5: `[toggles] k`: 4000000000 toggles per event";
+    assert!(error.to_string().contains(place), "{error}");
     assert!(!dir.join("out4000000000").exists());
     assert!(run("2401").is_ok());
 }
@@ -832,6 +847,47 @@ fn gppc_counts_agree_in_every_output() {
     }
 }
 
+/// A GPPC replay that carries no query (`carry_every = 0`) measured no repair: gppc.csv's
+/// expansion columns are empty and summary.md shows `-` there (they said 0, which a mean
+/// would count).
+#[test]
+fn gppc_expansions_are_empty_when_no_query_is_carried() {
+    let dir = scratch("gppc-uncarried");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.patch"),
+        "type patch\npatches 1\npatch 0\nheight 1\nwidth 1\nmap\n@\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("s.scen"),
+        "version 2\nheight 3\nwidth 3\ncost 1 octile\npatch p.patch\ncommands\n\
+         Q 0 0 0 2 2 2.8284271247\nP 1 0 1 1\nQ 1 0 0 2 2 4\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("g.toml"),
+        "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"dstar_lite\"]\n[[gppc]]\nscen = \"s.scen\"\ncarry_every = 0\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let done = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap();
+    assert_eq!(
+        (done.runs, done.replans, done.queries, done.mismatches),
+        (1, 0, 2, 0)
+    );
+    let table = read(&out, "gppc.csv");
+    assert_eq!(column(&table, "carried"), vec!["0"], "{table}");
+    for name in ["repair_expansions", "astar_expansions", "first_expansions"] {
+        assert_eq!(column(&table, name), vec![""], "{name}: {table}");
+    }
+    let summary = read(&out, "summary.md");
+    assert!(
+        summary.contains("| s | dstar_lite | 1 | 2 | 2 | 0 | 0 | - | - | - |"),
+        "{summary}"
+    );
+}
+
 /// A GPPC scenario's command that names a patch the patch file lacks, places a patch
 /// outside the map, or asks a query from outside it, is an error at the line and column
 /// of the field: the patch number, the `x` or `y`, the coordinate. They named the line
@@ -963,8 +1019,8 @@ fn a_runs_mismatches_are_counted_and_the_first_listed() {
     );
     let csv = read(&out, "runs.csv");
     assert_eq!(
-        csv.lines().nth(1).unwrap().rsplit(',').next(),
-        Some(failed.to_string().as_str()),
+        column(&csv, "mismatches"),
+        vec![failed.to_string()],
         "{csv}"
     );
     let run: serde_json::Value = serde_json::from_str(read(&out, "runs.jsonl").trim()).unwrap();
@@ -1072,4 +1128,235 @@ fn a_stop_while_the_results_are_written_leaves_the_output_as_it_was() {
     assert!(matches!(e, ExperimentError::Interrupted), "{e}");
     assert!(!out.exists(), "the output was written");
     assert_eq!(beside(&out), Vec::<String>::new(), "left beside the output");
+}
+
+/// `w.map` (7 x 3, its middle cell (3, 1) blocked) and `w.map.scen` with `lines` (after
+/// the version line) in `dir`.
+fn wall_map(dir: &Path, lines: &[&str]) {
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(
+        dir.join("w.map"),
+        "type octile\nheight 3\nwidth 7\nmap\n.......\n...@...\n.......\n",
+    )
+    .unwrap();
+    let scen: String = lines.iter().map(|l| format!("{l}\n")).collect();
+    std::fs::write(dir.join("w.map.scen"), format!("version 1\n{scen}")).unwrap();
+}
+
+/// A sensor radius of 0 is refused at its line and column: the robot of the D* Lite
+/// paper's experiments senses its neighbours. A radius of 0 was run, and drove through
+/// walls.
+#[test]
+fn a_radius_of_zero_is_refused_at_its_line_and_column() {
+    let base = "kind = \"navigate\"\nname = \"x\"\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n";
+    assert!(experiment::parse(Path::new("r.toml"), &format!("radii = [1, 5]\n{base}")).is_ok());
+    let e = parse_error(&format!("radii = [1, 0]\n{base}"));
+    match &e {
+        ExperimentError::Invalid {
+            line, column, key, ..
+        } => assert_eq!((*line, *column, key.as_str()), (1, 13, "radii"), "{e}"),
+        other => panic!("expected an invalid value, got {other}"),
+    }
+    assert!(e.to_string().contains("at least 1"), "{e}");
+}
+
+/// A toggle script's runs.csv and runs.jsonl give the cells the agent drove (`steps`: it
+/// wrote 0), and leave `reached` empty (absent in JSON): a script ends after its events,
+/// not at the goal, so a 0 or `false` there would not be a measurement.
+#[test]
+fn a_toggle_scripts_steps_are_the_cells_driven() {
+    let dir = scratch("toggle-steps");
+    wall_map(&dir, &["0\tw.map\t7\t3\t0\t0\t6\t2\t6.82842712"]);
+    let path = dir.join("t.toml");
+    std::fs::write(
+        &path,
+        "kind = \"dynamic\"\nname = \"t\"\ncompare = [\"dstar_lite\"]\n[toggles]\nevents = 2\nk = 0\nradius = 0\ndrive = 2\nseeds = [1]\n[[maps]]\nmap = \"w.map\"\nscen = \"w.map.scen\"\nscenarios = 1\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    experiment::run(&path, &out, &test_options(1)).unwrap();
+    // Two events, two cells each, on a path of 6 moves with nothing toggled.
+    let csv = read(&out, "runs.csv");
+    assert_eq!(column(&csv, "steps"), vec!["4"], "{csv}");
+    assert_eq!(column(&csv, "reached"), vec![""], "{csv}");
+    assert_eq!(column(&csv, "status"), vec!["ran"], "{csv}");
+    let run: serde_json::Value = serde_json::from_str(read(&out, "runs.jsonl").trim()).unwrap();
+    assert_eq!(run["steps"], 4);
+    assert!(run.get("reached").is_none(), "{run}");
+}
+
+/// A scenario whose goal is blocked is a run with status `invalid_problem` per setting
+/// and planner, its `error` naming the `.scen` file, line and column of the goal, and
+/// the other scenarios run: the whole experiment stopped at it before, its error without
+/// a column. Nothing is measured for it, so its measurement fields are empty (null in
+/// JSON), and summary.md counts and lists it once. Both kinds.
+#[test]
+fn a_blocked_goal_is_an_invalid_problem_and_the_other_runs_go_on() {
+    let dir = scratch("invalid-problem");
+    wall_map(
+        &dir,
+        &[
+            "0\tw.map\t7\t3\t0\t1\t6\t1\t6",
+            "0\tw.map\t7\t3\t0\t0\t3\t1\t3",
+            "0\tw.map\t7\t3\t0\t2\t6\t2\t6",
+        ],
+    );
+    let maps = "[[maps]]\nmap = \"w.map\"\nscen = \"w.map.scen\"\nscenarios = 3\n";
+    for (kind, setting) in [
+        ("navigate", "radii = [1, 2]\n"),
+        (
+            "dynamic",
+            "[toggles]\nevents = 2\nk = 1\nradius = 1\nseeds = [1, 2]\n",
+        ),
+    ] {
+        let path = dir.join(format!("{kind}.toml"));
+        std::fs::write(
+            &path,
+            format!("kind = \"{kind}\"\nname = \"i\"\ncompare = [\"dstar_lite\", \"astar\"]\n{setting}{maps}"),
+        )
+        .unwrap();
+        let out = dir.join(format!("out-{kind}"));
+        let options = RunOptions {
+            timing: true,
+            ..test_options(2)
+        };
+        let done = experiment::run(&path, &out, &options).unwrap();
+        assert_eq!((done.runs, done.mismatches), (12, 0), "{kind}");
+        let csv = read(&out, "runs.csv");
+        let status = column(&csv, "status");
+        let invalid: Vec<usize> = (0..12)
+            .filter(|&i| status[i] == "invalid_problem")
+            .collect();
+        assert_eq!(invalid, vec![4, 5, 6, 7], "{kind}: {csv}");
+        assert!(
+            status.iter().filter(|s| *s == "ran").count() == 8,
+            "{kind}: {csv}"
+        );
+        let lines: Vec<&str> = csv.lines().skip(1).collect();
+        // The goal's x is on column 17 of the scenario's line 3.
+        let error = format!(
+            "{}:3:17: goal (3, 1) is blocked",
+            dir.join("w.map.scen").display()
+        );
+        for &i in &invalid {
+            // Scenario line 3; reached, steps, replans, expansions, A*'s and mismatches
+            // empty; the error quoted (it has a comma); both times empty.
+            let (head, tail) = lines[i].split_once(",invalid_problem,").unwrap();
+            assert!(
+                head.starts_with("w,3,") && head.ends_with(",,,,,,"),
+                "{kind}: {}",
+                lines[i]
+            );
+            assert_eq!(tail, format!("\"{error}\",,"), "{kind}");
+        }
+        for i in (0..12).filter(|i| !invalid.contains(i)) {
+            let fields: Vec<&str> = lines[i].split(',').collect();
+            assert_eq!(fields.len(), 14, "{kind}: {}", lines[i]);
+            assert!(
+                fields[5..10].iter().all(|f| !f.is_empty()),
+                "{kind}: {}",
+                lines[i]
+            );
+            assert!(fields[11].is_empty(), "{kind}: {}", lines[i]);
+        }
+        let runs: Vec<serde_json::Value> = read(&out, "runs.jsonl")
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert_eq!(runs.len(), 12);
+        for run in &runs[4..8] {
+            assert_eq!(run["status"], "invalid_problem", "{run}");
+            assert_eq!(run["error"], error.as_str(), "{run}");
+            assert!(
+                run["replans"].is_null() && run["total_expansions"].is_null(),
+                "{run}"
+            );
+            assert!(run.get("steps").is_none() && run.get("planning_time_us").is_none());
+        }
+        let summary = read(&out, "summary.md");
+        assert!(
+            summary.contains("12 runs (4 of them on 1 invalid problem, which did not run: listed below, in no table row)"),
+            "{summary}"
+        );
+        assert_eq!(
+            summary.matches("- INVALID PROBLEM w: ").count(),
+            1,
+            "{summary}"
+        );
+        assert!(summary.contains(&error), "{summary}");
+        // The groups count the runs that ran: two scenarios each.
+        assert!(summary.contains("| w | 1 | dstar_lite | 2 |"), "{summary}");
+    }
+}
+
+/// A GPPC scenario naming a patch file that is not there is an error at the scenario's
+/// line and column where it names it (it named the missing file alone), before anything
+/// is written.
+#[test]
+fn a_missing_patch_file_is_an_error_where_the_scenario_names_it() {
+    let dir = scratch("gppc-missing-patch");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("g.toml"),
+        "kind = \"dynamic\"\nname = \"g\"\n[[gppc]]\nscen = \"s.scen\"\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("s.scen"),
+        "version 2\nheight 3\nwidth 3\ncost 1 octile\npatch   nope.patch\r\ncommands\nQ 0 0 0 1 1 1.4142135624\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let e = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap_err();
+    match &e {
+        ExperimentError::Map(m) => {
+            assert!(m.file.ends_with("s.scen"), "{e}");
+            assert_eq!((m.line, m.column), (5, 9), "{e}");
+        }
+        other => panic!("expected a map error, got {other}"),
+    }
+    let message = e.to_string();
+    let resolved = dir.join("nope.patch").display().to_string();
+    assert!(
+        message.contains(&format!("patch file 'nope.patch' ({resolved}): ")),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
+
+/// An invalid problem's `error` places the coordinate at fault: the start's or goal's x,
+/// or its y when only the y is outside the map (past a field's leading spaces, as
+/// planner-maps counts columns).
+#[test]
+fn an_invalid_problems_error_names_the_column_of_its_coordinate() {
+    let dir = scratch("invalid-columns");
+    wall_map(
+        &dir,
+        &[
+            "0\tw.map\t7\t3\t0\t9\t6\t1\t6",
+            "0\tw.map\t7\t3\t3\t1\t6\t1\t6",
+            "0\tw.map\t7\t3\t0\t0\t 12\t1\t6",
+        ],
+    );
+    let path = dir.join("c.toml");
+    std::fs::write(
+        &path,
+        "kind = \"navigate\"\nname = \"c\"\ncompare = [\"astar\"]\nradii = [1]\n[[maps]]\nmap = \"w.map\"\nscen = \"w.map.scen\"\nscenarios = 3\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    experiment::run(&path, &out, &test_options(1)).unwrap();
+    let errors: Vec<String> = read(&out, "runs.jsonl")
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["error"].to_string())
+        .collect();
+    let scen = dir.join("w.map.scen").display().to_string();
+    assert_eq!(
+        errors,
+        [
+            format!("\"{scen}:2:15: start (0, 9) is outside the 7x3 grid\""),
+            format!("\"{scen}:3:13: start (3, 1) is blocked\""),
+            format!("\"{scen}:4:18: goal (12, 1) is outside the 7x3 grid\""),
+        ]
+    );
 }

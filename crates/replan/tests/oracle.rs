@@ -254,7 +254,8 @@ fn navigate_small_grids(first: u64, seeds: u64, weighted_maps: bool) -> [u64; 4]
             true => weighted(&grid, &mut rng),
             false => grid,
         };
-        let radius = rng.gen_range(1..=3);
+        // Radius 0 too: the agent senses only the cells of each move it tries.
+        let radius = rng.gen_range(0..=3);
         let entered = truth
             .weights()
             .is_some_and(|w| w.rule() == CostRule::Entered);
@@ -361,18 +362,178 @@ fn a_radius_beyond_the_map_is_the_whole_map() {
     }
 }
 
+/// A wall across the row between start and goal: `.......` / `...#...` / `.......`.
+fn wall() -> (Grid, Cell, Cell) {
+    let grid = Grid::from_ascii(
+        "
+        .......
+        ...#...
+        .......
+        ",
+    )
+    .unwrap();
+    (grid, Cell::new(0, 1), Cell::new(6, 1))
+}
+
+/// At sensor radius 0 the agent senses nothing around it, yet never enters a blocked cell:
+/// trying the move into the wall reveals it, and the agent replans where it stands (it
+/// drove through the wall and reported the goal reached, with no failed check). Every
+/// planner, 4 and 8 moves.
 #[test]
-fn a_planner_that_ignores_changes_is_caught() {
-    struct Deaf(Box<dyn IncrementalPlanner>);
-    impl IncrementalPlanner for Deaf {
+fn a_radius_of_zero_never_enters_a_blocked_cell() {
+    let (truth, start, goal) = wall();
+    for name in planners::names() {
+        for eight in [false, true] {
+            let mut planner = planners::by_name(name, eight).unwrap();
+            let mut oracle = Oracle::new(eight);
+            let config = navigate::NavConfig {
+                radius: 0,
+                max_steps: None,
+                check_every_change: true,
+            };
+            let run = navigate::run(
+                planner.as_mut(),
+                Some(&mut oracle),
+                &truth,
+                start,
+                goal,
+                &config,
+                &Budget::unlimited(),
+            )
+            .unwrap();
+            assert!(
+                run.mismatches.is_empty(),
+                "{name} {eight}: {:?}",
+                run.mismatches
+            );
+            assert!(run.reached, "{name} {eight}");
+            assert!(
+                !run.path.contains(&Cell::new(3, 1)),
+                "{name} {eight}: {:?}",
+                run.path
+            );
+            planner_api::Path::new(run.path.clone())
+                .validate(&truth, planner_api::PathRule::Moves(oracle.moves()))
+                .unwrap();
+            // The first plan runs straight through the wall; the bump is a second plan.
+            assert_eq!(run.replans.len(), 2, "{name} {eight}");
+            assert_eq!(run.replans[1].step, 2, "{name} {eight}");
+            assert_eq!(run.steps, run.path.len() as u64 - 1);
+        }
+    }
+}
+
+/// Radius 1 senses the eight neighbours before the first move and after every move: a
+/// wall cell diagonal to the start is in the first plan already, so no replan follows;
+/// at radius 0 the same wall is found by trying to cross it.
+#[test]
+fn a_radius_of_one_senses_the_eight_neighbours_before_a_move() {
+    let truth = Grid::from_ascii(
+        "
+        ....
+        .#..
+        ....
+        ",
+    )
+    .unwrap();
+    let (start, goal) = (Cell::new(0, 0), Cell::new(2, 2));
+    let mut oracle = Oracle::new(true);
+    let optimum = oracle.optimum(&truth, start, goal);
+    let drive = |radius| {
+        let mut planner = planners::by_name("dstar_lite", true).unwrap();
+        let config = navigate::NavConfig {
+            radius,
+            ..navigate::NavConfig::default()
+        };
+        navigate::run(
+            planner.as_mut(),
+            Some(&mut Oracle::new(true)),
+            &truth,
+            start,
+            goal,
+            &config,
+            &Budget::unlimited(),
+        )
+        .unwrap()
+    };
+    let one = drive(1);
+    assert!(one.reached && one.mismatches.is_empty());
+    assert_eq!(one.replans.len(), 1);
+    assert_eq!(one.replans[0].cost, optimum);
+    let zero = drive(0);
+    assert!(zero.reached && zero.mismatches.is_empty());
+    assert_eq!(zero.replans.len(), 2);
+    assert!(zero.replans[0].cost < optimum);
+    assert!(!zero.path.contains(&Cell::new(1, 1)));
+}
+
+/// A planner that keeps a path through a cell the agent found blocked is a failed check,
+/// and the agent does not drive it: with the oracle (its path is invalid on the agent's
+/// map) and without one (the step is not a legal move there). At radius 0 such a run
+/// drove through the wall with no failed check.
+#[test]
+fn a_path_through_a_blocked_cell_is_a_failed_check_not_a_move() {
+    let (truth, start, goal) = wall();
+    for with_oracle in [true, false] {
+        let mut deaf = Deaf(planners::by_name("dstar_lite", true).unwrap());
+        let mut oracle = Oracle::new(true);
+        let config = navigate::NavConfig {
+            radius: 0,
+            ..navigate::NavConfig::default()
+        };
+        let run = navigate::run(
+            &mut deaf,
+            with_oracle.then_some(&mut oracle),
+            &truth,
+            start,
+            goal,
+            &config,
+            &Budget::unlimited(),
+        )
+        .unwrap();
+        assert!(!run.reached, "oracle {with_oracle}");
+        assert_eq!(
+            run.path.last(),
+            Some(&Cell::new(2, 1)),
+            "oracle {with_oracle}"
+        );
+        assert_eq!(run.mismatches.len(), 1, "oracle {with_oracle}");
+        let m = &run.mismatches[0];
+        assert_eq!((m.step, m.start), (2, Cell::new(2, 1)));
+        assert!(
+            matches!(&m.kind, MismatchKind::InvalidPath(why) if why.contains("(3, 1)")),
+            "oracle {with_oracle}: {m}"
+        );
+        // The failed replan's record has A*'s expansions at that replan: a check runs A*
+        // whether or not the replan passes (it said 0).
+        let failed = run.replans.last().unwrap();
+        match with_oracle {
+            true => assert!(failed.oracle_expansions.unwrap() > 0, "{failed:?}"),
+            false => assert_eq!(failed.oracle_expansions, None),
+        }
+    }
+}
+
+/// A toggle script drives only a path that passed its check: a planner that plans as if
+/// every cell were free (its path runs through the wall) leaves the agent where it stands,
+/// every replan a failed check from the start; the agent drove the failed path through the
+/// wall to the goal, where the checks then passed.
+#[test]
+fn a_toggle_script_never_drives_a_path_that_failed_its_check() {
+    /// A planner reset on a map of the same size with every cell free.
+    struct Blind(Box<dyn IncrementalPlanner>);
+    impl IncrementalPlanner for Blind {
         fn name(&self) -> &str {
-            "deaf"
+            "blind"
         }
         fn specs(&self) -> planner_api::PlannerSpecs {
             self.0.specs()
         }
         fn reset(&mut self, problem: &Problem<'_>) {
-            self.0.reset(problem)
+            let grid = problem.grid();
+            let free = Grid::new(grid.width(), grid.height()).unwrap();
+            self.0
+                .reset(&Problem::new(&free, problem.start(), problem.goal()).unwrap())
         }
         fn grid(&self) -> Option<&Grid> {
             self.0.grid()
@@ -383,13 +544,68 @@ fn a_planner_that_ignores_changes_is_caught() {
         fn move_start(&mut self, cell: Cell) -> Result<(), planner_api::ChangeError> {
             self.0.move_start(cell)
         }
-        fn apply(&mut self, _: &[CellChange]) -> Result<(), planner_api::ChangeError> {
-            Ok(())
+        fn apply(&mut self, changes: &[CellChange]) -> Result<(), planner_api::ChangeError> {
+            self.0.apply(changes)
         }
         fn replan(&mut self, budget: &Budget) -> Outcome {
             self.0.replan(budget)
         }
     }
+    let (grid, start, goal) = wall();
+    let problem = Problem::new(&grid, start, goal).unwrap();
+    let config = toggles::ToggleConfig {
+        events: 3,
+        k: 0,
+        radius: 0,
+        drive: 6,
+        seed: 1,
+    };
+    let mut blind = Blind(planners::by_name("dstar_lite", true).unwrap());
+    let run = toggles::run(
+        &mut blind,
+        &mut Oracle::new(true),
+        &problem,
+        &config,
+        &Budget::unlimited(),
+    );
+    assert_eq!(run.replans.len(), 4);
+    assert_eq!(run.mismatches.len(), 4, "{:?}", run.mismatches);
+    assert!(run.mismatches.iter().all(|m| m.start == start));
+    assert_eq!(run.steps, 0);
+}
+
+/// A planner that is told no change: it plans on the map it was reset with.
+struct Deaf(Box<dyn IncrementalPlanner>);
+
+impl IncrementalPlanner for Deaf {
+    fn name(&self) -> &str {
+        "deaf"
+    }
+    fn specs(&self) -> planner_api::PlannerSpecs {
+        self.0.specs()
+    }
+    fn reset(&mut self, problem: &Problem<'_>) {
+        self.0.reset(problem)
+    }
+    fn grid(&self) -> Option<&Grid> {
+        self.0.grid()
+    }
+    fn start(&self) -> Option<Cell> {
+        self.0.start()
+    }
+    fn move_start(&mut self, cell: Cell) -> Result<(), planner_api::ChangeError> {
+        self.0.move_start(cell)
+    }
+    fn apply(&mut self, _: &[CellChange]) -> Result<(), planner_api::ChangeError> {
+        Ok(())
+    }
+    fn replan(&mut self, budget: &Budget) -> Outcome {
+        self.0.replan(budget)
+    }
+}
+
+#[test]
+fn a_planner_that_ignores_changes_is_caught() {
     let mut caught = 0;
     for seed in 0..200u64 {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
