@@ -28,6 +28,34 @@
 //! map `random512-10-0` (10 % blocked, scattered) draws in about 1 MB, a 30 %-random
 //! 512x512 map in about 2.5 MB, maps of rooms and walls in far less.
 //!
+//! # Large maps
+//! Rectangles grow with the map (a 4096x4096 30 %-random map took 3.1 million, 145 MB of
+//! SVG and 2.7 GB to build), so a map of more than [`VECTOR_MAX_CELLS`] cells (512x512)
+//! draws its cell layers as pictures instead: the map (free, blocked, unknown, cost
+//! shading) as one PNG, and each panel's expanded cells as another over it, embedded as
+//! `data:` URIs in `<image>` elements that show their pixels as squares
+//! (`image-rendering: pixelated`). A pixel is a block of `k` x `k` cells, `k` the smallest
+//! that keeps the picture within the pixels the map takes in the figure and within
+//! [`RASTER_MAX_SIDE`] (1024) a side; the block's colour is the mean of its cells' colours,
+//! and a block is expanded when any of its cells was; the key says `k`. The path, its
+//! arrows, marks, `S` and `G` stay vectors, drawn through the centres of their own cells
+//! as on any map. Drawing is one pass over the cells, and its memory a few bytes per pixel
+//! (7.9 MB at its peak for a 2048x2048 map); the 4096x4096 map draws in about half a
+//! second as a 0.9 MB SVG. Maps up to 512x512 draw their cells as rectangles, as before.
+//!
+//! # Unknown cells, weights, keys
+//! A map that tells unknown cells apart ([`MapView::with_unknown`], a ROS `map_server`
+//! map's `-1` cells) draws them in `map_server`'s grey, apart from the dark blocked cells.
+//! A weighted grid shades its free cells by weight (brown, more opaque for heavier cells),
+//! and each layer's note gives its path's cost (`cost=220.88`, [`Grid::path_cost`], as the
+//! runner records it) unless the note gives one (`cost=`). There, a fill of expanded cells
+//! would turn the shading's hues into the layer's, so expanded cells are drawn as the
+//! outline of their region (its edges towards free cells that were not expanded), in the
+//! layer's colour, and the shading inside shows as it is. A key line under the figure says what the
+//! colours mean when there is more than free and blocked: blocked and unknown, the
+//! weight scale from the lowest weight to the highest, a picture's pixel size. Figures
+//! of maps without unknown cells, weights or pictures have no key and are as before.
+//!
 //! Paths are drawn through the centres of the listed cells, so any-angle paths (moves
 //! longer than one cell) draw as straight segments between their waypoints; step indices
 //! label the listed cells. Cells outside the grid are not drawn. Text from labels, notes
@@ -64,6 +92,7 @@
 
 mod obstacles;
 mod palette;
+mod raster;
 mod render;
 
 use planner_api::{Cell, Grid, Path};
@@ -71,6 +100,64 @@ use serde::{Deserialize, Serialize};
 
 pub use palette::{colour, PALETTE};
 pub use render::clean as xml_text;
+
+/// Maps of at most this many cells (512 x 512) draw their cells as SVG rectangles;
+/// larger ones draw them as a picture (see the crate docs, "Large maps").
+pub const VECTOR_MAX_CELLS: usize = 512 * 512;
+
+/// The most pixels on each side of the picture of a large map's cells (and of the picture
+/// of a panel's expanded cells over it).
+pub const RASTER_MAX_SIDE: u32 = 1024;
+
+/// The map a figure is drawn on: its grid and, for maps that tell unknown cells apart (a
+/// ROS `map_server` map's `-1` cells), which cells are unknown. A `&Grid` converts into
+/// one without unknown cells, so every `draw_*` function takes either.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapView<'a> {
+    /// The grid: free and blocked cells, and weights if it has them.
+    pub grid: &'a Grid,
+    /// One flag per cell in the grid's row-major order, true where the map does not know
+    /// the cell (drawn grey, whether the grid makes it blocked or free); `None` for none.
+    /// Cells past the end of a shorter slice are known; entries past the grid's cells are
+    /// ignored.
+    pub unknown: Option<&'a [bool]>,
+}
+
+impl<'a> MapView<'a> {
+    /// `grid` with no unknown cells.
+    pub fn new(grid: &'a Grid) -> MapView<'a> {
+        MapView {
+            grid,
+            unknown: None,
+        }
+    }
+
+    /// The map with `unknown` (one flag per cell, row-major) marking its unknown cells.
+    pub fn with_unknown(self, unknown: &'a [bool]) -> MapView<'a> {
+        MapView {
+            unknown: Some(unknown),
+            ..self
+        }
+    }
+
+    /// Whether the cell at row-major `index` is unknown.
+    pub(crate) fn is_unknown(&self, index: usize) -> bool {
+        self.unknown
+            .is_some_and(|u| u.get(index).copied().unwrap_or(false))
+    }
+
+    /// Whether any cell of the grid is unknown.
+    pub(crate) fn has_unknown(&self) -> bool {
+        self.unknown
+            .is_some_and(|u| u.iter().take(self.grid.len()).any(|&x| x))
+    }
+}
+
+impl<'a> From<&'a Grid> for MapView<'a> {
+    fn from(grid: &'a Grid) -> MapView<'a> {
+        MapView::new(grid)
+    }
+}
 
 /// Maps with at most this many cells on each side are compared in panels side by side
 /// under [`Layout::Auto`]; larger ones are overlaid.
@@ -154,8 +241,9 @@ pub struct Layer<'a> {
     /// [`Outcome`]: planner_api::Outcome
     pub markers: &'a [Marker],
     /// The cells the planner expanded ([`Outcome::expanded`]), drawn as a light fill of
-    /// the layer's colour under its path in panels, with a legend line giving their
-    /// number; empty for none. Overlays do not draw them.
+    /// the layer's colour (on a weighted grid, the outline of their region) under its path
+    /// in panels, with a legend line giving their number; empty for none. Overlays do not
+    /// draw them.
     ///
     /// [`Outcome::expanded`]: planner_api::Outcome::expanded
     pub expanded: &'a [Cell],
@@ -191,20 +279,23 @@ pub use planner_api::Mark as Marker;
 
 /// One planner's path on the grid, as an SVG document.
 ///
-/// Draws the grid (free cells white, blocked cells dark, grid lines when cells are at
-/// least 6 px), the layer's expanded cells (if any) as a light fill, the path as a polyline through the centres of its cells in the first
+/// Draws the map (free cells white, blocked cells dark, unknown cells grey, weighted cells
+/// shaded, grid lines when cells are at least 6 px; a picture on large maps, see the crate
+/// docs), the layer's expanded cells (if any) as a light fill (an outline on weighted
+/// grids), the path as a polyline through the centres of its cells in the first
 /// palette colour, the step index in each path cell and an arrow on each move (sparser on
 /// small cells, see the crate docs), `S` on `start` and `G` on `goal`, `title` above and
 /// the layer's label and note below. `start` and `goal` outside the grid are not drawn.
-pub fn draw_path(
-    grid: &Grid,
+pub fn draw_path<'g>(
+    map: impl Into<MapView<'g>>,
     start: Cell,
     goal: Cell,
     layer: &Layer<'_>,
     title: &str,
     style: &Style,
 ) -> String {
-    render::panels(grid, start, goal, std::slice::from_ref(layer), title, style)
+    let map = map.into();
+    render::panels(&map, start, goal, std::slice::from_ref(layer), title, style)
 }
 
 /// Several planners' paths on one map, as an SVG document.
@@ -216,14 +307,16 @@ pub fn draw_path(
 /// [`Layout::Auto`] picks panels for maps up to [`PANEL_LIMIT`] a side, and whenever a
 /// layer has expanded cells (overlays do not draw them). Overlays write step indices
 /// only with [`StepLabels::Always`]. With no layer, draws the map alone.
-pub fn draw_comparison(
-    grid: &Grid,
+pub fn draw_comparison<'g>(
+    map: impl Into<MapView<'g>>,
     start: Cell,
     goal: Cell,
     layers: &[Layer<'_>],
     title: &str,
     style: &Style,
 ) -> String {
+    let map = map.into();
+    let grid = map.grid;
     let panels = match style.layout {
         Layout::Panels => true,
         Layout::Overlay => false,
@@ -234,9 +327,9 @@ pub fn draw_comparison(
         }
     };
     if panels {
-        render::panels(grid, start, goal, layers, title, style)
+        render::panels(&map, start, goal, layers, title, style)
     } else {
-        render::overlay(grid, start, goal, layers, title, style)
+        render::overlay(&map, start, goal, layers, title, style)
     }
 }
 
@@ -245,13 +338,14 @@ pub fn draw_comparison(
 ///
 /// The path's first cell is marked `S` and its last `E`; step indices and arrows follow
 /// `style` as in [`draw_path`] (a cell visited more than once lists its indices), and the
-/// legend shows the colour ramp from step 0 to the last step and the number of markers.
-pub fn draw_timeline(
-    grid: &Grid,
+/// legend shows the colour ramp from step 0 to the last step and the number of markers
+/// (and, on a weighted grid, the path's cost).
+pub fn draw_timeline<'g>(
+    map: impl Into<MapView<'g>>,
     path: &Path,
     markers: &[Marker],
     title: &str,
     style: &Style,
 ) -> String {
-    render::timeline(grid, path, markers, title, style)
+    render::timeline(&map.into(), path, markers, title, style)
 }

@@ -1,9 +1,7 @@
-//! Blocked cells as few rectangles: runs of blocked cells in a row, merged downwards while
-//! the next row has a run with exactly the same columns.
+//! Marked cells (blocked, unknown) as few rectangles: runs of marked cells in a row,
+//! merged downwards while the next row has a run with exactly the same columns.
 
-use planner_api::Grid;
-
-/// An axis-aligned block of blocked cells, in cell units.
+/// An axis-aligned block of marked cells, in cell units.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) struct Block {
     /// Top row.
@@ -16,17 +14,16 @@ pub(crate) struct Block {
     pub h: u32,
 }
 
-/// The blocked cells of `grid` as disjoint rectangles covering exactly the blocked cells,
-/// sorted by (top row, left column).
+/// The cells flagged in `marked` (row-major, `width` a row) as disjoint rectangles
+/// covering exactly those cells, sorted by (top row, left column).
 ///
-/// Each row is split into maximal runs of blocked cells; a run whose columns equal those of
+/// Each row is split into maximal runs of marked cells; a run whose columns equal those of
 /// a run in the row above extends that rectangle instead of starting a new one.
-pub(crate) fn blocks(grid: &Grid) -> Vec<Block> {
-    let width = grid.width() as usize;
+pub(crate) fn blocks(width: usize, marked: &[bool]) -> Vec<Block> {
     let mut done = Vec::new();
     // Rectangles still open at the previous row, sorted by x (runs in a row are disjoint).
     let mut open: Vec<Block> = Vec::new();
-    for (y, row) in grid.free_cells().chunks(width).enumerate() {
+    for (y, row) in marked.chunks(width.max(1)).enumerate() {
         let y = y as u32; // height <= u32::MAX
         let runs = row_runs(row);
         let mut next_open = Vec::with_capacity(runs.len());
@@ -52,14 +49,14 @@ pub(crate) fn blocks(grid: &Grid) -> Vec<Block> {
     done
 }
 
-/// Maximal runs of blocked cells in one row, as (first column, length).
+/// Maximal runs of marked cells in one row, as (first column, length).
 fn row_runs(row: &[bool]) -> Vec<(u32, u32)> {
     let mut runs = Vec::new();
     let mut start = None;
-    for (x, &free) in row.iter().enumerate() {
-        match (free, start) {
-            (false, None) => start = Some(x),
-            (true, Some(s)) => {
+    for (x, &marked) in row.iter().enumerate() {
+        match (marked, start) {
+            (true, None) => start = Some(x),
+            (false, Some(s)) => {
                 runs.push((s as u32, (x - s) as u32));
                 start = None;
             }
@@ -75,15 +72,24 @@ fn row_runs(row: &[bool]) -> Vec<(u32, u32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use planner_api::Cell;
+    use planner_api::{Cell, Grid};
+
+    /// The blocked cells of `grid` as rectangles.
+    fn blocked(grid: &Grid) -> Vec<Block> {
+        let marked: Vec<bool> = grid.free_cells().iter().map(|&free| !free).collect();
+        blocks(grid.width() as usize, &marked)
+    }
 
     fn check(ascii: &str, expect: &[(u32, u32, u32, u32)]) {
         let grid = Grid::from_ascii(ascii).unwrap();
-        let got: Vec<_> = blocks(&grid).iter().map(|b| (b.x, b.y, b.w, b.h)).collect();
+        let got: Vec<_> = blocked(&grid)
+            .iter()
+            .map(|b| (b.x, b.y, b.w, b.h))
+            .collect();
         assert_eq!(got, expect, "{ascii}");
         // Independent check: the rectangles cover exactly the blocked cells, once each.
         let mut covered = vec![0u32; grid.len()];
-        for b in blocks(&grid) {
+        for b in blocked(&grid) {
             for y in b.y..b.y + b.h {
                 for x in b.x..b.x + b.w {
                     covered[grid.index(Cell::new(x, y))] += 1;

@@ -1,7 +1,8 @@
 //! Layout and drawing of the three figure kinds.
 //!
-//! Everything is placed in pixels on one canvas; only the obstacle rectangles live in a
-//! group scaled to cell units, which keeps a large map's SVG small.
+//! Everything is placed in pixels on one canvas; only the map's cell layers (obstacles,
+//! unknown cells, costs, expanded cells) live in groups scaled to cell units, which keeps a
+//! map's SVG small, and a large map's cell layers are pictures (`raster`).
 
 use std::collections::BTreeMap;
 
@@ -14,7 +15,8 @@ use svg::{Document, Node};
 
 use crate::obstacles::blocks;
 use crate::palette::{colour, ramp, PALETTE};
-use crate::{Layer, Marker, StepLabels, Style, LABEL_MIN_CELL_PX};
+use crate::raster::{self, blend, rgb, Palette, Raster};
+use crate::{Layer, MapView, Marker, StepLabels, Style, LABEL_MIN_CELL_PX, VECTOR_MAX_CELLS};
 
 const FONT: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
 const MARGIN: f64 = 12.0;
@@ -48,6 +50,8 @@ const TIMELINE_CHUNKS: usize = 128;
 /// Marker labels are written only when there are at most this many markers.
 const MAX_MARKER_LABELS: usize = 40;
 const OBSTACLE: &str = "#3b3b3b";
+/// Unknown cells: `map_saver`'s grey (205), as ROS tools show them.
+const UNKNOWN: &str = "#cdcdcd";
 const GRID_LINE: &str = "#c8c8c8";
 const INK: &str = "#222222";
 
@@ -229,29 +233,35 @@ fn title_text(title: &str, width: f64) -> Element {
     .set("class", "title")
 }
 
+/// The transform of a group drawn in cell units at frame `f`.
+fn cell_units(f: Frame) -> String {
+    format!(
+        "translate({} {}) scale({})",
+        num(f.ox),
+        num(f.oy),
+        num(f.cell)
+    )
+}
+
+/// The lowest and highest weight of a grid whose free cells are shaded by weight (a
+/// weighted grid whose weights are not all equal).
+fn shaded(grid: &Grid) -> Option<(u16, u16)> {
+    let weights = grid.weights()?;
+    (weights.max() > weights.min()).then(|| (weights.min(), weights.max()))
+}
+
 /// A weighted grid's free cells shaded by weight (issue 32): runs of equal weight in a row
 /// as one rectangle each, in [`COST_FILL`] at an opacity rising linearly from 0 at the
 /// grid's smallest weight to [`COST_MAX_OPACITY`] at its largest; cells of the smallest
 /// weight are not drawn.
 fn cost_group(grid: &Grid, f: Frame) -> Option<Group> {
     let weights = grid.weights()?;
-    let (low, high) = (weights.min(), weights.max());
-    if high == low {
-        return None;
-    }
+    let (low, high) = shaded(grid)?;
     let mut g = Group::new()
         .set("class", "costs")
         .set("fill", COST_FILL)
         .set("shape-rendering", "crispEdges")
-        .set(
-            "transform",
-            format!(
-                "translate({} {}) scale({})",
-                num(f.ox),
-                num(f.oy),
-                num(f.cell)
-            ),
-        );
+        .set("transform", cell_units(f));
     let width = grid.width() as usize;
     let free = grid.free_cells();
     for (y, row) in weights.cells().chunks(width).enumerate() {
@@ -284,8 +294,118 @@ const COST_FILL: &str = "#a0522d";
 /// The opacity of the largest weight's shading.
 const COST_MAX_OPACITY: f64 = 0.6;
 
-/// The map: free background, grid lines, cost shading on weighted grids, obstacles, border.
-fn map_group(grid: &Grid, f: Frame) -> Group {
+/// How one figure draws its map's cell layers: as rectangles (maps of up to
+/// [`VECTOR_MAX_CELLS`] cells) or as pictures at one block size, the map's picture made
+/// once per figure and shared by its panels.
+enum Cells {
+    Vector,
+    Raster(Raster),
+}
+
+impl Cells {
+    /// The drawing of `map`'s cells at `cell` pixels a cell.
+    fn new(map: &MapView<'_>, cell: f64) -> Cells {
+        let grid = map.grid;
+        if grid.len() <= VECTOR_MAX_CELLS {
+            return Cells::Vector;
+        }
+        let k = raster::block_size(grid.width().max(grid.height()), cell);
+        let palette = Palette {
+            free: [255; 3],
+            blocked: rgb(OBSTACLE),
+            unknown: rgb(UNKNOWN),
+            cost: rgb(COST_FILL),
+            cost_opacity: COST_MAX_OPACITY,
+        };
+        Cells::Raster(Raster::new(map, k, &palette))
+    }
+
+    /// Cells per pixel side of the pictures (1 for rectangles).
+    fn block(&self) -> u32 {
+        match self {
+            Cells::Vector => 1,
+            Cells::Raster(r) => r.k,
+        }
+    }
+}
+
+/// A picture of the grid's cells (`uri`, `r`'s pixels) at frame `f`, in an `<svg>` of the
+/// map's size and cell units that clips the last row and column of blocks, which may
+/// reach past the map. Pixels are drawn as squares (`image-rendering`), not smoothed.
+fn picture(grid: &Grid, f: Frame, r: &Raster, uri: &str, class: &str) -> Element {
+    let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
+    let mut view = Element::new("svg")
+        .set("x", num(f.ox))
+        .set("y", num(f.oy))
+        .set("width", num(w * f.cell))
+        .set("height", num(h * f.cell))
+        .set("viewBox", format!("0 0 {} {}", grid.width(), grid.height()))
+        .set("preserveAspectRatio", "none")
+        .set("class", class);
+    view.append(
+        Element::new("image")
+            .set("width", u64::from(r.width) * u64::from(r.k))
+            .set("height", u64::from(r.height) * u64::from(r.k))
+            .set("preserveAspectRatio", "none")
+            .set("image-rendering", "optimizeSpeed")
+            .set("style", "image-rendering:pixelated")
+            .set("href", uri),
+    );
+    view
+}
+
+/// The grid lines, when cells are large enough to show them.
+fn grid_lines(grid: &Grid, f: Frame) -> Option<SvgPath> {
+    if f.cell < GRID_LINES_MIN_PX {
+        return None;
+    }
+    let (w, h) = (
+        f64::from(grid.width()) * f.cell,
+        f64::from(grid.height()) * f.cell,
+    );
+    let mut d = String::new();
+    for x in 1..grid.width() {
+        let px = f.ox + f64::from(x) * f.cell;
+        d.push_str(&format!("M{} {}V{}", num(px), num(f.oy), num(f.oy + h)));
+    }
+    for y in 1..grid.height() {
+        let py = f.oy + f64::from(y) * f.cell;
+        d.push_str(&format!("M{} {}H{}", num(f.ox), num(py), num(f.ox + w)));
+    }
+    (!d.is_empty()).then(|| {
+        SvgPath::new()
+            .set("d", d)
+            .set("stroke", GRID_LINE)
+            .set("stroke-width", 1)
+            .set("fill", "none")
+    })
+}
+
+/// The cells flagged in `marked` (row-major) as few rectangles in `fill`, in a group of
+/// class `class` scaled to cell units.
+fn block_group(grid: &Grid, f: Frame, marked: &[bool], fill: &str, class: &str) -> Group {
+    let mut g = Group::new()
+        .set("class", class)
+        .set("fill", fill)
+        .set("shape-rendering", "crispEdges")
+        .set("transform", cell_units(f));
+    for b in blocks(grid.width() as usize, marked) {
+        g.append(
+            Rectangle::new()
+                .set("x", b.x)
+                .set("y", b.y)
+                .set("width", b.w)
+                .set("height", b.h),
+        );
+    }
+    g
+}
+
+/// The map: free background, grid lines, unknown cells, cost shading on weighted grids,
+/// obstacles, border; with `Cells::Raster`, the picture of all but the border (and the
+/// grid lines, over it, when a pixel is a cell and cells are large).
+fn map_group(map: &MapView<'_>, f: Frame, cells: &Cells) -> Group {
+    let grid = map.grid;
     let (w, h) = (
         f64::from(grid.width()) * f.cell,
         f64::from(grid.height()) * f.cell,
@@ -299,52 +419,37 @@ fn map_group(grid: &Grid, f: Frame) -> Group {
             .set("height", num(h))
             .set("fill", "#ffffff"),
     );
-    if f.cell >= GRID_LINES_MIN_PX {
-        let mut d = String::new();
-        for x in 1..grid.width() {
-            let px = f.ox + f64::from(x) * f.cell;
-            d.push_str(&format!("M{} {}V{}", num(px), num(f.oy), num(f.oy + h)));
+    match cells {
+        Cells::Vector => {
+            if let Some(lines) = grid_lines(grid, f) {
+                g.append(lines);
+            }
+            if map.has_unknown() {
+                let unknown: Vec<bool> = (0..grid.len()).map(|i| map.is_unknown(i)).collect();
+                g.append(block_group(grid, f, &unknown, UNKNOWN, "unknown"));
+            }
+            if let Some(costs) = cost_group(grid, f) {
+                g.append(costs);
+            }
+            let blocked: Vec<bool> = grid
+                .free_cells()
+                .iter()
+                .enumerate()
+                .map(|(i, &free)| !free && !map.is_unknown(i))
+                .collect();
+            g.append(block_group(grid, f, &blocked, OBSTACLE, "obstacles"));
         }
-        for y in 1..grid.height() {
-            let py = f.oy + f64::from(y) * f.cell;
-            d.push_str(&format!("M{} {}H{}", num(f.ox), num(py), num(f.ox + w)));
-        }
-        if !d.is_empty() {
-            g.append(
-                SvgPath::new()
-                    .set("d", d)
-                    .set("stroke", GRID_LINE)
-                    .set("stroke-width", 1)
-                    .set("fill", "none"),
-            );
+        Cells::Raster(r) => {
+            if let Some(uri) = &r.uri {
+                g.append(picture(grid, f, r, uri, "cells"));
+            }
+            if r.k == 1 {
+                if let Some(lines) = grid_lines(grid, f) {
+                    g.append(lines);
+                }
+            }
         }
     }
-    if let Some(costs) = cost_group(grid, f) {
-        g.append(costs);
-    }
-    let mut obstacles = Group::new()
-        .set("class", "obstacles")
-        .set("fill", OBSTACLE)
-        .set("shape-rendering", "crispEdges")
-        .set(
-            "transform",
-            format!(
-                "translate({} {}) scale({})",
-                num(f.ox),
-                num(f.oy),
-                num(f.cell)
-            ),
-        );
-    for b in blocks(grid) {
-        obstacles.append(
-            Rectangle::new()
-                .set("x", b.x)
-                .set("y", b.y)
-                .set("width", b.w)
-                .set("height", b.h),
-        );
-    }
-    g.append(obstacles);
     g.append(
         Rectangle::new()
             .set("x", num(f.ox))
@@ -507,26 +612,63 @@ fn arrows(
 /// labels on top stay readable.
 const EXPANDED_OPACITY: f64 = 0.3;
 
-/// Expanded cells as a light fill of `colour`: one rectangle per run of consecutive
-/// cells in a row, in a group scaled to cell units (as the obstacles), so a search that
-/// expands 100,000 cells draws a few thousand rectangles. Cells outside the grid and
-/// repeats are left out.
-fn expanded_group(grid: &Grid, f: Frame, cells: &[Cell], colour: &str) -> Group {
+/// The width in pixels of the outline of expanded cells on a shaded grid: thicker on large
+/// cells, at least 1.5 px.
+fn outline_px(cell: f64) -> f64 {
+    (0.08 * cell).clamp(1.5, 3.0)
+}
+
+/// A panel's expanded cells in `colour`, in one group of class `expanded`. Cells outside
+/// the grid and repeats are left out.
+///
+/// On a grid without cost shading, a light fill: one rectangle per run of consecutive cells
+/// in a row, in a group scaled to cell units (as the obstacles), so a search that expands
+/// 100,000 cells draws a few thousand rectangles. On a shaded (weighted) grid, where a fill
+/// would turn the shading's hues into its own, the outline of their region instead: the
+/// edges between an expanded cell and a free cell that is not, so the shading inside shows
+/// as it is. With `Cells::Raster`, the same as a picture over the map's, a block expanded
+/// when any of its cells is.
+fn expanded_group(
+    map: &MapView<'_>,
+    f: Frame,
+    cells: &Cells,
+    expanded: &[Cell],
+    colour: &str,
+) -> Group {
+    let grid = map.grid;
+    let outline = shaded(grid).is_some();
+    if let Cells::Raster(r) = cells {
+        let mut g = Group::new().set("class", "expanded");
+        let uri = r.expanded_uri(grid, expanded, rgb(colour), EXPANDED_OPACITY, outline);
+        if let Some(uri) = uri {
+            g.append(picture(grid, f, r, &uri, "expanded-cells"));
+        }
+        return g;
+    }
+    if outline {
+        let mut g = Group::new()
+            .set("class", "expanded")
+            .set("transform", cell_units(f));
+        let d = outline_path(grid, expanded);
+        if !d.is_empty() {
+            g.append(
+                SvgPath::new()
+                    .set("d", d)
+                    .set("fill", "none")
+                    .set("stroke", colour)
+                    .set("stroke-width", num(outline_px(f.cell) / f.cell))
+                    .set("stroke-linecap", "square"),
+            );
+        }
+        return g;
+    }
     let mut g = Group::new()
         .set("class", "expanded")
         .set("fill", colour)
         .set("fill-opacity", EXPANDED_OPACITY)
         .set("shape-rendering", "crispEdges")
-        .set(
-            "transform",
-            format!(
-                "translate({} {}) scale({})",
-                num(f.ox),
-                num(f.oy),
-                num(f.cell)
-            ),
-        );
-    let mut sorted: Vec<Cell> = cells
+        .set("transform", cell_units(f));
+    let mut sorted: Vec<Cell> = expanded
         .iter()
         .copied()
         .filter(|&c| grid.contains(c))
@@ -551,6 +693,56 @@ fn expanded_group(grid: &Grid, f: Frame, cells: &[Cell], colour: &str) -> Group 
         i = j;
     }
     g
+}
+
+/// The outline of the region of `expanded` cells, as path data in cell units: every edge
+/// between an expanded cell and a free cell that is not, runs along a row or column
+/// joined into one segment. Edges towards blocked cells (which no search expands) and
+/// along the map's border are left out. Used on maps of at most [`VECTOR_MAX_CELLS`]
+/// cells.
+fn outline_path(grid: &Grid, expanded: &[Cell]) -> String {
+    let (w, h) = (grid.width() as usize, grid.height() as usize);
+    let mut marked = vec![false; grid.len()];
+    for &c in expanded {
+        if grid.contains(c) {
+            marked[grid.index(c)] = true;
+        }
+    }
+    let free = grid.free_cells();
+    let edge = |a: usize, b: usize| {
+        (marked[a] && !marked[b] && free[b]) || (marked[b] && !marked[a] && free[a])
+    };
+    let mut d = String::new();
+    // Between rows y - 1 and y, and between columns x - 1 and x.
+    for y in 1..h {
+        let mut x = 0;
+        while x < w {
+            let first = x;
+            while x < w && edge((y - 1) * w + x, y * w + x) {
+                x += 1;
+            }
+            if x > first {
+                d.push_str(&format!("M{first} {y}H{x}"));
+            } else {
+                x += 1;
+            }
+        }
+    }
+    for x in 1..w {
+        let mut y = 0;
+        while y < h {
+            let first = y;
+            while y < h && edge(y * w + x - 1, y * w + x) {
+                y += 1;
+            }
+            if y > first {
+                d.push_str(&format!("M{x} {first}V{y}"));
+            } else {
+                y += 1;
+            }
+        }
+    }
+    d
 }
 
 /// The number of distinct cells among `cells`.
@@ -851,17 +1043,158 @@ fn swatch(x: f64, y: f64, colour: &str, width: f64) -> Line {
         .set("stroke-width", num(width.clamp(3.0, 6.0)))
 }
 
+/// One entry of a map's key.
+enum KeyItem {
+    /// A colour and what it means.
+    Swatch(&'static str, &'static str),
+    /// The cost shading from the lowest weight to the highest.
+    Scale(u16, u16),
+    /// The cells a pixel of a picture holds.
+    Pixel(u32),
+}
+
+/// Height of the key's line.
+const KEY_H: f64 = LINE_H + 4.0;
+/// Width of a key's swatch and of each of its scale's steps.
+const KEY_SWATCH: f64 = 11.0;
+/// Steps of the key's cost scale.
+const KEY_STEPS: usize = 5;
+
+/// Whether `map`'s figure has a key: it has unknown cells, its cells are shaded by
+/// weight, or they are drawn as a picture.
+fn has_key(map: &MapView<'_>) -> bool {
+    map.has_unknown() || shaded(map.grid).is_some() || map.grid.len() > VECTOR_MAX_CELLS
+}
+
+/// The key of `map` drawn with `cells`: what its colours mean beyond white (free) and dark
+/// (blocked).
+fn key_items(map: &MapView<'_>, cells: &Cells) -> Vec<KeyItem> {
+    let mut items = Vec::new();
+    if map.has_unknown() {
+        items.push(KeyItem::Swatch(OBSTACLE, "blocked"));
+        items.push(KeyItem::Swatch(UNKNOWN, "unknown"));
+    }
+    if let Some((low, high)) = shaded(map.grid) {
+        items.push(KeyItem::Scale(low, high));
+    }
+    if let Cells::Raster(_) = cells {
+        items.push(KeyItem::Pixel(cells.block()));
+    }
+    items
+}
+
+/// The text of a key item (a scale's text before and after its steps).
+fn key_texts(item: &KeyItem) -> (String, String) {
+    match *item {
+        KeyItem::Swatch(_, label) => (String::new(), label.to_owned()),
+        KeyItem::Scale(low, high) => (format!("cell weight {low}"), high.to_string()),
+        KeyItem::Pixel(1) => (String::new(), "1 pixel = 1 cell".to_owned()),
+        KeyItem::Pixel(k) => (
+            String::new(),
+            format!("1 pixel = {k} x {k} cells (their mean colour)"),
+        ),
+    }
+}
+
+/// The width of the key's line.
+fn key_width(items: &[KeyItem]) -> f64 {
+    items
+        .iter()
+        .map(|item| {
+            let (before, after) = key_texts(item);
+            let marks = match item {
+                KeyItem::Swatch(..) => KEY_SWATCH + 4.0,
+                KeyItem::Scale(..) => KEY_STEPS as f64 * KEY_SWATCH + 8.0,
+                KeyItem::Pixel(_) => 0.0,
+            };
+            text_width(&before, NOTE_FS) + marks + text_width(&after, NOTE_FS) + 16.0
+        })
+        .sum()
+}
+
+/// The key's line from `x` on the text line `y`, in a group of class `key`.
+fn key_group(items: &[KeyItem], x: f64, y: f64) -> Group {
+    let mut g = Group::new().set("class", "key");
+    let mut x = x;
+    let square = |x: f64, fill: String| {
+        Rectangle::new()
+            .set("x", num(x))
+            .set("y", num(y - 10.0))
+            .set("width", num(KEY_SWATCH))
+            .set("height", num(KEY_SWATCH))
+            .set("fill", fill)
+            .set("stroke", "#888888")
+            .set("stroke-width", 0.5)
+    };
+    for item in items {
+        let (before, after) = key_texts(item);
+        if !before.is_empty() {
+            g.append(text(x, y, before.clone(), NOTE_FS).set("fill", INK));
+            x += text_width(&before, NOTE_FS) + 4.0;
+        }
+        match *item {
+            KeyItem::Swatch(fill, _) => {
+                g.append(square(x, fill.to_owned()));
+                x += KEY_SWATCH + 4.0;
+            }
+            KeyItem::Scale(..) => {
+                for step in 0..KEY_STEPS {
+                    let t = step as f64 / (KEY_STEPS - 1) as f64;
+                    let [r, gr, b] = blend([255; 3], rgb(COST_FILL), COST_MAX_OPACITY * t);
+                    g.append(square(x, format!("#{r:02x}{gr:02x}{b:02x}")));
+                    x += KEY_SWATCH;
+                }
+                x += 4.0;
+            }
+            KeyItem::Pixel(_) => {}
+        }
+        g.append(text(x, y, after.clone(), NOTE_FS).set("fill", INK));
+        x += text_width(&after, NOTE_FS) + 16.0;
+    }
+    g
+}
+
+/// A layer's note, with its path's cost on a weighted grid (the sum of its moves' costs,
+/// [`Grid::path_cost`], as the runner records it) unless the note gives one (`cost=`).
+fn note_with_cost(grid: &Grid, layer: &Layer<'_>) -> String {
+    match path_cost(grid, layer.path) {
+        Some(cost) if !layer.note.contains("cost=") => {
+            let space = if layer.note.is_empty() { "" } else { " " };
+            format!("{}{space}cost={cost:.2}", layer.note)
+        }
+        _ => layer.note.clone(),
+    }
+}
+
+/// The cost of `path` on a weighted grid: `None` on an unweighted one, for no or an empty
+/// path, or one that leaves the grid.
+fn path_cost(grid: &Grid, path: Option<&Path>) -> Option<f64> {
+    let cells = path?.cells();
+    if !grid.is_weighted() || cells.is_empty() || !cells.iter().all(|&c| grid.contains(c)) {
+        return None;
+    }
+    let cost = grid.path_cost(cells);
+    Some(if cost == planner_api::Cost::MAX {
+        // Saturated: the sum in floating point, as the runner's record has it.
+        grid.path_cost_f64(cells)
+    } else {
+        cost.to_f64()
+    })
+}
+
 /// Panels: one map per layer, arranged in the grid of panels giving the largest cells.
 pub(crate) fn panels(
-    grid: &Grid,
+    map: &MapView<'_>,
     start: Cell,
     goal: Cell,
     layers: &[Layer<'_>],
     title: &str,
     style: &Style,
 ) -> String {
+    let grid = map.grid;
     let n = layers.len().max(1);
     let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
+    let key_h = if has_key(map) { KEY_H } else { 0.0 };
     let with_expanded = layers.iter().any(|l| !l.expanded.is_empty());
     let foot_h = if layers.is_empty() {
         0.0
@@ -873,7 +1206,7 @@ pub(crate) fn panels(
     let chrome = |cols: usize, rows: usize| {
         (
             2.0 * MARGIN + (cols - 1) as f64 * GAP,
-            2.0 * MARGIN + TITLE_H + rows as f64 * foot_h + (rows - 1) as f64 * GAP,
+            2.0 * MARGIN + TITLE_H + rows as f64 * foot_h + (rows - 1) as f64 * GAP + key_h,
         )
     };
     // Side by side (as in the paper) as long as cells stay comfortably large, else the
@@ -901,7 +1234,10 @@ pub(crate) fn panels(
     let (pw, ph) = (w * cell, h * cell);
     let content_w = ew + cols as f64 * pw;
     let title_w = (text_width(title, TITLE_FS) * 1.08 + 2.0 * MARGIN).min(max_px(style));
-    let width = content_w.max(title_w).ceil();
+    let cells = Cells::new(map, cell);
+    let key = key_items(map, &cells);
+    let key_w = (key_width(&key) + 2.0 * MARGIN).min(max_px(style));
+    let width = content_w.max(title_w).max(key_w).ceil();
     let height = eh + rows as f64 * ph;
     let x0 = MARGIN + (width - content_w) / 2.0;
 
@@ -918,11 +1254,11 @@ pub(crate) fn panels(
             cell,
         };
         let mut panel = Group::new().set("class", "panel");
-        panel.append(map_group(grid, f));
+        panel.append(map_group(map, f, &cells));
         if let Some(layer) = layers.get(k) {
             let colour = &colour(k);
             if !layer.expanded.is_empty() {
-                panel.append(expanded_group(grid, f, layer.expanded, colour));
+                panel.append(expanded_group(map, f, &cells, layer.expanded, colour));
             }
             panel.append(layer_group(
                 grid,
@@ -959,7 +1295,7 @@ pub(crate) fn panels(
                 text(
                     f.ox,
                     y1 + LINE_H,
-                    fit_text(&layer.note, NOTE_FS, room),
+                    fit_text(&note_with_cost(grid, layer), NOTE_FS, room),
                     NOTE_FS,
                 )
                 .set("fill", "#444444")
@@ -978,13 +1314,18 @@ pub(crate) fn panels(
                         format!("expanded: {n} ({distinct} distinct cells)")
                     }
                 };
+                // On a shaded grid expanded cells are an outline, and so is their swatch.
+                let fill = match shaded(grid) {
+                    Some(_) => "none",
+                    None => colour.as_str(),
+                };
                 panel.append(
                     Rectangle::new()
                         .set("x", num(f.ox + 3.0))
                         .set("y", num(y3 - 10.0))
                         .set("width", 11)
                         .set("height", 11)
-                        .set("fill", colour.as_str())
+                        .set("fill", fill)
                         .set("fill-opacity", EXPANDED_OPACITY)
                         .set("stroke", colour.as_str()),
                 );
@@ -1004,31 +1345,47 @@ pub(crate) fn panels(
         }
         doc.append(panel);
     }
+    if !key.is_empty() {
+        doc.append(key_group(&key, MARGIN, height - MARGIN - 4.0));
+    }
     finish(doc)
 }
 
 /// Overlay: every layer on one map, earlier layers wider underneath, with a legend.
 pub(crate) fn overlay(
-    grid: &Grid,
+    map: &MapView<'_>,
     start: Cell,
     goal: Cell,
     layers: &[Layer<'_>],
     title: &str,
     style: &Style,
 ) -> String {
+    let grid = map.grid;
     let n = layers.len();
     let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
+    let key_h = if has_key(map) { KEY_H } else { 0.0 };
     let legend_h = n as f64 * LINE_H + 6.0;
-    let cell = fit_cell(style, w, h, 2.0 * MARGIN, 2.0 * MARGIN + TITLE_H + legend_h);
+    let cell = fit_cell(
+        style,
+        w,
+        h,
+        2.0 * MARGIN,
+        2.0 * MARGIN + TITLE_H + legend_h + key_h,
+    );
     let map_w = w * cell;
+    let notes: Vec<String> = layers.iter().map(|l| note_with_cost(grid, l)).collect();
+    let cells = Cells::new(map, cell);
+    let key = key_items(map, &cells);
     let legend_w = layers
         .iter()
-        .map(|l| 30.0 + text_width(l.label, LABEL_FS) * 1.08 + text_width(&l.note, NOTE_FS))
-        .fold(text_width(title, TITLE_FS) * 1.08, f64::max);
+        .zip(&notes)
+        .map(|(l, note)| 30.0 + text_width(l.label, LABEL_FS) * 1.08 + text_width(note, NOTE_FS))
+        .fold(text_width(title, TITLE_FS) * 1.08, f64::max)
+        .max(key_width(&key));
     let width = (map_w + 2.0 * MARGIN)
         .max((legend_w + 2.0 * MARGIN).min(max_px(style)))
         .ceil();
-    let height = 2.0 * MARGIN + TITLE_H + h * cell + legend_h;
+    let height = 2.0 * MARGIN + TITLE_H + h * cell + legend_h + key_h;
     let f = Frame {
         ox: MARGIN + (width - 2.0 * MARGIN - map_w) / 2.0,
         oy: MARGIN + TITLE_H,
@@ -1036,7 +1393,7 @@ pub(crate) fn overlay(
     };
     let mut doc = document(width, height);
     doc.append(title_text(title, width));
-    doc.append(map_group(grid, f));
+    doc.append(map_group(map, f, &cells));
     let labels = style.step_labels == StepLabels::Always;
     let mode = arrow_mode(style, cell, MAX_SPARSE_ARROWS);
     let base = line_width(cell);
@@ -1068,7 +1425,7 @@ pub(crate) fn overlay(
     }
     doc.append(endpoints(grid, f, start, goal, ("S", "G")));
     let mut legend = Group::new().set("class", "legend");
-    for (i, layer) in layers.iter().enumerate() {
+    for (i, (layer, note)) in layers.iter().zip(&notes).enumerate() {
         let colour = &colour(i);
         let y = f.oy + h * cell + (i + 1) as f64 * LINE_H;
         legend.append(swatch(MARGIN, y, colour, widths[i]));
@@ -1083,7 +1440,7 @@ pub(crate) fn overlay(
         );
         if room > NOTE_FS {
             line.append(
-                TSpan::new(fit_text(&layer.note, NOTE_FS, room))
+                TSpan::new(fit_text(note, NOTE_FS, room))
                     .set("dx", 8)
                     .set("font-size", num(NOTE_FS))
                     .set("fill", "#444444")
@@ -1093,26 +1450,43 @@ pub(crate) fn overlay(
         legend.append(line);
     }
     doc.append(legend);
+    if !key.is_empty() {
+        doc.append(key_group(&key, MARGIN, height - MARGIN - 4.0));
+    }
     finish(doc)
 }
 
 /// A path coloured by time with markers.
 pub(crate) fn timeline(
-    grid: &Grid,
+    map: &MapView<'_>,
     path: &Path,
     markers: &[Marker],
     title: &str,
     style: &Style,
 ) -> String {
+    let grid = map.grid;
     let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
+    let key_h = if has_key(map) { KEY_H } else { 0.0 };
     let legend_h = 2.0 * LINE_H + 10.0;
-    let cell = fit_cell(style, w, h, 2.0 * MARGIN, 2.0 * MARGIN + TITLE_H + legend_h);
+    let cell = fit_cell(
+        style,
+        w,
+        h,
+        2.0 * MARGIN,
+        2.0 * MARGIN + TITLE_H + legend_h + key_h,
+    );
     let map_w = w * cell;
+    let cells = Cells::new(map, cell);
+    let key = key_items(map, &cells);
     let width = (map_w + 2.0 * MARGIN)
-        .max((text_width(title, TITLE_FS) * 1.08 + 2.0 * MARGIN).min(max_px(style)))
+        .max(
+            (text_width(title, TITLE_FS) * 1.08 + 2.0 * MARGIN)
+                .max(key_width(&key) + 2.0 * MARGIN)
+                .min(max_px(style)),
+        )
         .max(320.0)
         .ceil();
-    let height = 2.0 * MARGIN + TITLE_H + h * cell + legend_h;
+    let height = 2.0 * MARGIN + TITLE_H + h * cell + legend_h + key_h;
     let f = Frame {
         ox: MARGIN + (width - 2.0 * MARGIN - map_w) / 2.0,
         oy: MARGIN + TITLE_H,
@@ -1120,7 +1494,7 @@ pub(crate) fn timeline(
     };
     let mut doc = document(width, height);
     doc.append(title_text(title, width));
-    doc.append(map_group(grid, f));
+    doc.append(map_group(map, f, &cells));
 
     let cells = cells_in(grid, Some(path));
     let last = path.len().saturating_sub(1).max(1) as f64;
@@ -1199,15 +1573,21 @@ pub(crate) fn timeline(
             MARGIN,
             y + LINE_H,
             format!(
-                "{} marked cell{}; S start, E end",
+                "{} marked cell{}; S start, E end{}",
                 n_shown,
-                if n_shown == 1 { "" } else { "s" }
+                if n_shown == 1 { "" } else { "s" },
+                path_cost(grid, Some(path))
+                    .map(|cost| format!("; cost={cost:.2}"))
+                    .unwrap_or_default()
             ),
             NOTE_FS,
         )
         .set("fill", INK),
     );
     doc.append(legend);
+    if !key.is_empty() {
+        doc.append(key_group(&key, MARGIN, height - MARGIN - 4.0));
+    }
     finish(doc)
 }
 

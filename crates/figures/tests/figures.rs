@@ -1,12 +1,68 @@
 //! Figures parsed back as XML: well-formedness, element counts on hand-made grids,
-//! geometry of any-angle paths, determinism, escaping, layout choice and size bounds.
+//! geometry of any-angle paths, determinism, escaping, layout choice and size bounds;
+//! large maps' pictures decoded and checked pixel by pixel, the memory drawing takes, unknown
+//! cells, and weighted maps' costs, scale and expanded cells.
 
-use planner_api::{Cell, Grid, Path};
+use std::alloc::{GlobalAlloc, Layout as AllocLayout, System};
+use std::cell::Cell as StdCell;
+
+use planner_api::{Cell, CostRule, Grid, Path};
 use planner_figures::{
-    draw_comparison, draw_path, draw_timeline, Layer, Layout, Marker, StepLabels, Style,
+    draw_comparison, draw_path, draw_timeline, Layer, Layout, MapView, Marker, StepLabels, Style,
+    RASTER_MAX_SIDE, VECTOR_MAX_CELLS,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+/// Counts the bytes the calling thread holds allocated, and the most it held since
+/// [`reset_peak`]: what drawing one figure takes, whatever the other tests' threads do.
+struct Counting;
+
+thread_local! {
+    static HELD: StdCell<isize> = const { StdCell::new(0) };
+    static PEAK: StdCell<isize> = const { StdCell::new(0) };
+}
+
+fn count(delta: isize) {
+    let _ = HELD.try_with(|held| {
+        let now = held.get() + delta;
+        held.set(now);
+        let _ = PEAK.try_with(|peak| peak.set(peak.get().max(now)));
+    });
+}
+
+// SAFETY: every call is passed on to the system allocator unchanged; the counters are
+// thread-local cells that allocate nothing.
+#[allow(unsafe_code)]
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: AllocLayout) -> *mut u8 {
+        count(layout.size() as isize);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: AllocLayout) {
+        count(-(layout.size() as isize));
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: AllocLayout, new_size: usize) -> *mut u8 {
+        count(new_size as isize - layout.size() as isize);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// Starts measuring the calling thread's peak from what it holds now.
+fn reset_peak() -> isize {
+    let held = HELD.with(StdCell::get);
+    PEAK.with(|peak| peak.set(held));
+    held
+}
+
+/// The most the calling thread held since [`reset_peak`] returned `base`, above `base`.
+fn peak_above(base: isize) -> isize {
+    PEAK.with(StdCell::get) - base
+}
 
 fn cells(list: &[(u32, u32)]) -> Path {
     Path::new(list.iter().map(|&c| c.into()).collect())
@@ -554,4 +610,371 @@ fn style_reads_from_config() {
     };
     assert_eq!(style, expect);
     assert!(toml::from_str::<Style>("colour = 1").is_err());
+}
+
+/// The attribute `name` of every element of class `class`, in document order.
+fn attributes(svg: &str, class: &str, name: &str) -> Vec<String> {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    doc.descendants()
+        .filter(|n| n.attribute("class") == Some(class))
+        .map(|n| n.attribute(name).unwrap_or_default().to_owned())
+        .collect()
+}
+
+/// The words of the map's key: its `<text>` elements' texts.
+fn key_words(svg: &str) -> Vec<String> {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    doc.descendants()
+        .filter(|n| n.attribute("class") == Some("key"))
+        .flat_map(|k| k.descendants().filter(|t| t.has_tag_name("text")))
+        .filter_map(|t| t.text().map(String::from))
+        .collect()
+}
+
+/// Decodes standard base64 with padding.
+fn unbase64(text: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        b'/' => 63,
+        _ => panic!("not base64: {c}"),
+    };
+    let mut out = Vec::new();
+    for chunk in text.as_bytes().chunks(4) {
+        let digits: Vec<u8> = chunk
+            .iter()
+            .filter(|&&c| c != b'=')
+            .map(|&c| value(c))
+            .collect();
+        let n = digits
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (i, &d)| n | u32::from(d) << (18 - 6 * i));
+        out.extend((0..digits.len() - 1).map(|i| (n >> (16 - 8 * i)) as u8));
+    }
+    out
+}
+
+/// The pictures inside the `<svg>` of class `class` (a map's cells or a panel's expanded
+/// cells): the nested `<svg>`'s x, y, width, height and viewBox, and the decoded image.
+fn pictures(svg: &str, class: &str) -> Vec<([f64; 4], String, image::RgbaImage)> {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    doc.descendants()
+        .filter(|n| n.has_tag_name("svg") && n.attribute("class") == Some(class))
+        .map(|view| {
+            let number = |name: &str| view.attribute(name).unwrap().parse::<f64>().unwrap();
+            let frame = [number("x"), number("y"), number("width"), number("height")];
+            let image = view.children().find(|c| c.has_tag_name("image")).unwrap();
+            assert!(image.attribute("style").unwrap().contains("pixelated"));
+            let uri = image.attribute("href").unwrap();
+            let png = unbase64(uri.strip_prefix("data:image/png;base64,").unwrap());
+            let decoded = image::load_from_memory_with_format(&png, image::ImageFormat::Png)
+                .unwrap()
+                .to_rgba8();
+            (
+                frame,
+                view.attribute("viewBox").unwrap().to_owned(),
+                decoded,
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn large_maps_draw_their_cells_as_a_bounded_picture() {
+    // 2048 x 2048, 30 % blocked: one rectangle per run was 36 MB of SVG, some 700,000
+    // rectangles, and hundreds of MB to build.
+    let grid = random_grid(2048, 2048, 0.3, 11);
+    let path = random_walk(&grid, 5_000, 3);
+    let expanded: Vec<Cell> = (0..3000)
+        .map(|i| Cell::new(100 + i % 60, 7 + i / 60))
+        .collect();
+    let layer = Layer::new("walk", Some(&path), "n").with_expanded(&expanded);
+    let (s, g) = (Cell::new(0, 0), Cell::new(2047, 2047));
+    let base = reset_peak();
+    let svg = draw_path(&grid, s, g, &layer, "2048", &Style::default());
+    let peak = peak_above(base);
+    assert!(svg.len() < 2_000_000, "{} bytes", svg.len());
+    // A few bytes per pixel of 1024 x 1024 (the map's RGB, the expanded cells' RGBA, their
+    // PNGs and the SVG text): 7.9 MB when written; the grid alone is 4 MB.
+    assert!(peak < 16 << 20, "drawing held {peak} bytes at its peak");
+    assert_eq!(obstacle_rects(&svg), 0);
+    // The map: cells of (1200 - 24 - 30 - 60 - 22) / 2048 = 0.51 px (height-bound), so
+    // 1044 px of map on the page, over 1024: pixels of ceil(2048 / 1024) = 2 x 2 cells.
+    let [(frame, view, map)] = &pictures(&svg, "cells")[..] else {
+        panic!("one picture of the cells")
+    };
+    assert_eq!(view, "0 0 2048 2048");
+    assert_eq!(frame[2], 2048.0 * 0.51);
+    assert_eq!((map.width(), map.height()), (1024, 1024));
+    assert!(map.width() <= RASTER_MAX_SIDE);
+    assert_eq!(
+        key_words(&svg),
+        ["1 pixel = 2 x 2 cells (their mean colour)"]
+    );
+    // Every pixel is the mean of its block's four cells: white 255, blocked 0x3b, rounded.
+    for (px, py, pixel) in map.enumerate_pixels() {
+        let blocked = (0..4)
+            .filter(|i| !grid.is_free(Cell::new(2 * px + i % 2, 2 * py + i / 2)))
+            .count() as u32;
+        let mean = ((4 - blocked) * 255 + blocked * 0x3b + 2) / 4;
+        assert_eq!(
+            pixel.0,
+            [mean as u8, mean as u8, mean as u8, 255],
+            "({px}, {py})"
+        );
+    }
+    // Expanded cells: a block is expanded when any of its cells is, in the layer colour at
+    // 30 % (alpha 77); the others are transparent.
+    let [(expanded_frame, _, picture)] = &pictures(&svg, "expanded-cells")[..] else {
+        panic!("one picture of the expanded cells")
+    };
+    assert_eq!(expanded_frame, frame);
+    for (px, py, pixel) in picture.enumerate_pixels() {
+        // Cells 2 px and 2 px + 1 overlap columns 100 to 159; 2 py and 2 py + 1 rows 7 to 56.
+        let hit = 2 * px + 1 >= 100 && 2 * px <= 159 && 2 * py + 1 >= 7 && 2 * py <= 56;
+        let expect = if hit { [0x00, 0x72, 0xb2, 77] } else { [0; 4] };
+        assert_eq!(pixel.0, expect, "({px}, {py})");
+    }
+    // The path is drawn as it is, through the centres of its own cells.
+    let (ox, oy, cell) = (frame[0], frame[1], 0.51);
+    let vertices = &polylines(&svg)[0];
+    let mut listed = path.cells().iter();
+    for &(x, y) in vertices {
+        let at = Cell::new(
+            ((x - ox) / cell - 0.5).round() as u32,
+            ((y - oy) / cell - 0.5).round() as u32,
+        );
+        assert!(
+            ((x - ox) / cell - 0.5 - f64::from(at.x)).abs() < 0.02,
+            "{x}"
+        );
+        assert!(
+            ((y - oy) / cell - 0.5 - f64::from(at.y)).abs() < 0.02,
+            "{y}"
+        );
+        assert!(
+            listed.any(|&c| c == at),
+            "{at:?} is not the path's next vertex"
+        );
+    }
+}
+
+#[test]
+fn maps_up_to_the_vector_limit_keep_rectangles() {
+    assert_eq!(VECTOR_MAX_CELLS, 512 * 512);
+    let at = random_grid(512, 512, 0.1, 5);
+    let over = random_grid(513, 512, 0.1, 5);
+    let (s, g) = (Cell::new(0, 0), Cell::new(511, 511));
+    let at = draw_path(&at, s, g, &Layer::new("a", None, ""), "", &Style::default());
+    let over = draw_path(
+        &over,
+        s,
+        g,
+        &Layer::new("a", None, ""),
+        "",
+        &Style::default(),
+    );
+    assert!(obstacle_rects(&at) > 20_000);
+    assert!(pictures(&at, "cells").is_empty());
+    assert_eq!(key_words(&at), Vec::<String>::new());
+    assert_eq!(obstacle_rects(&over), 0);
+    // (1200 - 24 - 30 - 42 - 22) / 512 = 2.11 px a cell: a pixel a cell.
+    let [(_, _, map)] = &pictures(&over, "cells")[..] else {
+        panic!("one picture")
+    };
+    assert_eq!((map.width(), map.height()), (513, 512));
+    assert_eq!(key_words(&over), ["1 pixel = 1 cell"]);
+    // Overlays and timelines draw the same picture.
+    let path = cells(&[(0, 0), (1, 1)]);
+    let over_grid = random_grid(513, 512, 0.1, 5);
+    let layers = [Layer::new("a", Some(&path), ""), Layer::new("b", None, "")];
+    let overlay = draw_comparison(&over_grid, s, g, &layers, "", &Style::default());
+    let timeline = draw_timeline(&over_grid, &path, &[], "", &Style::default());
+    for svg in [&overlay, &timeline] {
+        assert_eq!(obstacle_rects(svg), 0);
+        assert_eq!(pictures(svg, "cells").len(), 1);
+    }
+}
+
+#[test]
+fn unknown_cells_are_grey_and_keyed() {
+    let grid = small_grid();
+    // Unknown: the blocked (1, 1) and (0, 3), and the free (3, 0).
+    let mut unknown = vec![false; 16];
+    for (x, y) in [(1, 1), (0, 3), (3, 0)] {
+        unknown[y * 4 + x] = true;
+    }
+    let path = cells(&[(0, 0), (1, 0)]);
+    let layer = Layer::new("a", Some(&path), "n");
+    let (s, g) = (Cell::new(0, 0), Cell::new(3, 3));
+    let style = Style::default();
+    let svg = draw_path(
+        MapView::new(&grid).with_unknown(&unknown),
+        s,
+        g,
+        &layer,
+        "",
+        &style,
+    );
+    // Grey cells: (3, 0), (1, 1), (0, 3), one rectangle each; dark: (2, 1) and (3, 2) only.
+    assert_eq!(attributes(&svg, "unknown", "fill"), ["#cdcdcd"]);
+    let rects = |class: &str| -> Vec<(String, String)> {
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        doc.descendants()
+            .filter(|n| n.attribute("class") == Some(class))
+            .flat_map(|g| g.children().filter(|c| c.has_tag_name("rect")))
+            .map(|r| {
+                (
+                    r.attribute("x").unwrap().into(),
+                    r.attribute("y").unwrap().into(),
+                )
+            })
+            .collect()
+    };
+    let xy = |list: &[(u32, u32)]| -> Vec<(String, String)> {
+        list.iter()
+            .map(|(x, y)| (x.to_string(), y.to_string()))
+            .collect()
+    };
+    assert_eq!(rects("unknown"), xy(&[(3, 0), (1, 1), (0, 3)]));
+    assert_eq!(rects("obstacles"), xy(&[(2, 1), (3, 2)]));
+    assert_eq!(key_words(&svg), ["blocked", "unknown"]);
+    // No unknown cell: the figure of the grid alone, byte for byte.
+    let none = vec![false; 16];
+    let plain = draw_path(&grid, s, g, &layer, "", &style);
+    let known = draw_path(
+        MapView::new(&grid).with_unknown(&none),
+        s,
+        g,
+        &layer,
+        "",
+        &style,
+    );
+    assert_eq!(plain, known);
+    assert_eq!(counts(&plain, &["unknown", "key"]), [0, 0]);
+
+    // A large map: a block of unknown cells is grey, a block half unknown and half free
+    // the mean of the two.
+    let big = Grid::from_free_cells(600, 600, vec![true; 360_000]).unwrap();
+    let mut unknown = vec![false; 360_000];
+    for y in 0..600 {
+        for x in 300..600 {
+            unknown[y * 600 + x] = true;
+        }
+    }
+    let svg = draw_path(
+        MapView::new(&big).with_unknown(&unknown),
+        s,
+        g,
+        &layer,
+        "",
+        &style,
+    );
+    let [(_, _, map)] = &pictures(&svg, "cells")[..] else {
+        panic!("one picture")
+    };
+    assert_eq!(map.get_pixel(0, 0).0, [255, 255, 255, 255]);
+    assert_eq!(map.get_pixel(599, 599).0, [0xcd, 0xcd, 0xcd, 255]);
+}
+
+/// A 4 x 3 weighted grid: weights 1 to 9, (0, 1) blocked.
+fn weighted_grid() -> Grid {
+    Grid::from_ascii("....\n#...\n....")
+        .unwrap()
+        .with_weights(vec![1, 2, 3, 4, 5, 6, 7, 8, 9, 1, 1, 1], CostRule::Mean)
+        .unwrap()
+}
+
+#[test]
+fn weighted_maps_give_the_cost_a_scale_and_expanded_outlines() {
+    let grid = weighted_grid();
+    let path = cells(&[(0, 0), (1, 0), (2, 1), (3, 2)]);
+    let cost = grid.path_cost(path.cells()).to_f64();
+    let layer = Layer::new("a", Some(&path), "found: D=3");
+    let (s, g) = (Cell::new(0, 0), Cell::new(3, 2));
+    let style = Style::default();
+    let svg = draw_path(&grid, s, g, &layer, "", &style);
+    assert_eq!(texts(&svg, "note"), [format!("found: D=3 cost={cost:.2}")]);
+    // A note that gives the cost already keeps it once.
+    let given = Layer::new("a", Some(&path), "found cost=1.00");
+    let svg_given = draw_path(&grid, s, g, &given, "", &style);
+    assert_eq!(texts(&svg_given, "note"), ["found cost=1.00"]);
+    // The key: the lowest weight, five steps of the shading, the highest.
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let key = doc
+        .descendants()
+        .find(|n| n.attribute("class") == Some("key"))
+        .unwrap();
+    assert_eq!(key_words(&svg), ["cell weight 1", "9"]);
+    let fills: Vec<&str> = key
+        .children()
+        .filter(|c| c.has_tag_name("rect"))
+        .filter_map(|r| r.attribute("fill"))
+        .collect();
+    // White to #a0522d at 0.6: 255 + (160 - 255) * 0.6 = 198, 255 + (82 - 255) * 0.6 =
+    // 151.2, 255 + (45 - 255) * 0.6 = 129.
+    assert_eq!(fills.len(), 5);
+    assert_eq!((fills[0], fills[4]), ("#ffffff", "#c69781"));
+    // A timeline gives its path's cost too.
+    let timeline = draw_timeline(&grid, &path, &[], "", &style);
+    assert!(timeline.contains(&format!("cost={cost:.2}")), "{timeline}");
+
+    // Expanded cells: the outline of their region, towards free cells only. Expanded:
+    // (1, 1) and (2, 1); their free neighbours (1, 0), (2, 0), (3, 1), (1, 2), (2, 2), and
+    // the blocked (0, 1), which gets no edge.
+    let expanded = [Cell::new(1, 1), Cell::new(2, 1), Cell::new(2, 1)];
+    let layer = layer.with_expanded(&expanded);
+    let svg = draw_path(&grid, s, g, &layer, "", &style);
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let group = doc
+        .descendants()
+        .find(|n| n.attribute("class") == Some("expanded"))
+        .unwrap();
+    assert_eq!(
+        group.children().filter(|c| c.has_tag_name("rect")).count(),
+        0
+    );
+    let outline = group.children().find(|c| c.has_tag_name("path")).unwrap();
+    assert_eq!(
+        outline.attribute("d"),
+        Some("M1 1H3M1 2H3M3 1V2"),
+        "top, bottom, right; not left, where (0, 1) is blocked"
+    );
+    assert_eq!(outline.attribute("fill"), Some("none"));
+    // An unweighted grid keeps the fill.
+    let plain = draw_path(&small_grid(), s, g, &layer, "", &style);
+    assert_eq!(attributes(&plain, "expanded", "fill-opacity"), ["0.3"]);
+    assert_eq!(texts(&plain, "note"), ["found: D=3"]);
+    assert_eq!(counts(&plain, &["key"]), [0]);
+
+    // On a large weighted map, the outline is the expanded blocks next to a free block
+    // that is not expanded, opaque.
+    let big = Grid::new(600, 600)
+        .unwrap()
+        .with_weights(
+            (0..360_000).map(|i| 1 + (i % 600 / 100) as u16).collect(),
+            CostRule::Mean,
+        )
+        .unwrap();
+    let square: Vec<Cell> = (10..20)
+        .flat_map(|y| (10..20).map(move |x| Cell::new(x, y)))
+        .collect();
+    let layer = Layer::new("a", None, "").with_expanded(&square);
+    let svg = draw_path(&big, s, g, &layer, "", &style);
+    let [(_, _, picture)] = &pictures(&svg, "expanded-cells")[..] else {
+        panic!("one picture")
+    };
+    let opaque: Vec<(u32, u32)> = picture
+        .enumerate_pixels()
+        .filter(|p| p.2 .0[3] > 0)
+        .map(|p| (p.0, p.1))
+        .collect();
+    assert_eq!(opaque.len(), 36, "the ring of a 10 x 10 square");
+    assert!(opaque
+        .iter()
+        .all(|&(x, y)| picture.get_pixel(x, y).0 == [0x00, 0x72, 0xb2, 255]));
+    assert!(!opaque.contains(&(15, 15)));
 }
