@@ -167,6 +167,21 @@ pub enum MapErrorKind {
         /// The decoder's message.
         message: String,
     },
+    /// A file named by another file (a ROS YAML's `image`, a GPPC scenario's `patch`)
+    /// that cannot be read: the error is placed where the name is written, and says
+    /// the path the name resolves to when that differs from the name.
+    #[error("{what} {}{}: {reason}", quoted(.name), resolved(.name, .path))]
+    NamedFile {
+        /// What the file is to the one naming it (`image`, `patch file`).
+        what: &'static str,
+        /// The name as written.
+        name: String,
+        /// The path read (the name resolved against the naming file's directory).
+        path: String,
+        /// Why it cannot be read ([`MapErrorKind::Io`], [`MapErrorKind::NotRegularFile`]
+        /// or [`MapErrorKind::FileTooLarge`]).
+        reason: Box<MapErrorKind>,
+    },
     /// Fewer map rows than the declared height.
     #[error("expected {expected} rows (height {expected}), found {found}")]
     RowCount {
@@ -249,4 +264,18 @@ pub enum MapErrorKind {
         /// Grid height.
         height: u32,
     },
+}
+
+/// A file name quoted for a message, whole (unlike a token, it is never shortened).
+fn quoted(name: &str) -> String {
+    format!("'{}'", name.escape_debug())
+}
+
+/// ` (path)` when `path` differs from the `name` it was resolved from, else nothing.
+fn resolved(name: &str, path: &str) -> String {
+    if name == path {
+        String::new()
+    } else {
+        format!(" ({path})")
+    }
 }

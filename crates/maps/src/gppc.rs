@@ -28,6 +28,8 @@
 //! cell ([`MapErrorKind::PatchOutside`], [`MapErrorKind::QueryOutside`]); memory is
 //! bounded by the text (a header's declared size allocates nothing), and a map of more
 //! than [`Grid::MAX_CELLS`] cells, which no grid can hold, is an error at its width.
+//! [`GppcScenario::read_patches`] reads the patch file a scenario names: one that cannot
+//! be read is an error at the scenario's line and column that name it.
 //!
 //! ```
 //! use planner_api::{Cell, Grid};
@@ -53,6 +55,8 @@
 //! assert!(!grid.is_free(Cell::new(3, 2)));
 //! ```
 
+use std::path::Path;
+
 use planner_api::{Cell, CellChange, Grid};
 
 use crate::error::{MapError, MapErrorKind};
@@ -71,6 +75,8 @@ pub struct GppcScenario {
     pub height: u32,
     /// The patch file's name as written (relative to the scenario's folder).
     pub patch_file: String,
+    /// The 1-based line and column of [`GppcScenario::patch_file`] in the scenario.
+    pub patch_file_at: (usize, usize),
     /// The commands in file order.
     pub commands: Vec<GppcCommand>,
 }
@@ -152,6 +158,24 @@ impl PatchSet {
 }
 
 impl GppcScenario {
+    /// Reads and parses the patch file this scenario names, resolved against the folder of
+    /// `scen_path` (the scenario's own path, which names it in errors, as
+    /// [`parse_gppc_scenario`]'s `origin`), a regular file of at most `max_bytes` bytes
+    /// ([`crate::read_text_file`]). A patch file that cannot be read is an error at the
+    /// scenario's line and column that name it ([`MapErrorKind::NamedFile`]); errors in
+    /// its text name the patch file.
+    pub fn read_patches(&self, scen_path: &Path, max_bytes: u64) -> Result<PatchSet, MapError> {
+        let path = scen_path
+            .parent()
+            .unwrap_or(Path::new("."))
+            .join(&self.patch_file);
+        let text = crate::read_text_file(&path, max_bytes).map_err(|e| {
+            let scen = scen_path.display().to_string();
+            crate::at_name(e, &scen, self.patch_file_at, "patch file", &self.patch_file)
+        })?;
+        parse_gppc_patches(&text, &path.display().to_string())
+    }
+
     /// Checks every command against the map size and `patches`: a `P` naming a missing
     /// patch or one that does not fit, a `Q` with an endpoint outside the map, are errors
     /// at the command's line (`origin` is the scenario's name).
@@ -343,7 +367,8 @@ pub fn parse_gppc_scenario(text: &str, origin: &str) -> Result<GppcScenario, Map
         ));
     }
     let (number, line) = next_line(o, text, &mut all, "'patch FILE'")?;
-    let patch_file = header(o, number, line, "patch", 1)?[0].1.to_owned();
+    let (patch_column, patch_file) = header(o, number, line, "patch", 1)?[0];
+    let (patch_file, patch_file_at) = (patch_file.to_owned(), (number, patch_column));
     let (number, line) = next_line(o, text, &mut all, "'commands'")?;
     header(o, number, line, "commands", 0)?;
     let mut commands = Vec::new();
@@ -426,6 +451,7 @@ pub fn parse_gppc_scenario(text: &str, origin: &str) -> Result<GppcScenario, Map
         width: width_,
         height,
         patch_file,
+        patch_file_at,
         commands,
     })
 }

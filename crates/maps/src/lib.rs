@@ -169,9 +169,10 @@ const MAP_EXTENSIONS: &str =
 pub const DEFAULT_MAX_CELLS: u64 = Grid::MAX_CELLS;
 
 /// Bytes per cell a reader holds at its peak, besides the file's own bytes: the grid (one
-/// byte a cell) and one value a cell it is built from (a grey image's decoded pixel, reused
-/// in place as the ROS occupancy value; a text format's row). Colour or 16-bit images hold
-/// more while they are decoded, and `inflation_radius` adds its distance transform.
+/// byte a cell) and one value a cell it is built from (the ROS occupancy value, computed
+/// from a PGM's, PPM's or PAM's samples as they are read, or from an 8-bit grey PNG's
+/// decoded pixel in place; a text format's row). Colour or 16-bit PNGs hold more while
+/// they are decoded, and `inflation_radius` adds its distance transform.
 pub const READ_BYTES_PER_CELL: u64 = 2;
 
 /// The fewest cells [`max_cells_for_memory_mb`] allows, whatever the budget: 2^24 (a
@@ -529,6 +530,38 @@ pub(crate) fn read_file(path: &Path, origin: &str, max_bytes: u64) -> Result<Vec
         }));
     }
     Ok(bytes)
+}
+
+/// `error`, from reading a file that another file names, placed where the name is written
+/// (`origin`, `line`, `column`) when the file cannot be read at all
+/// ([`MapErrorKind::NamedFile`]); an error about its contents keeps its own place.
+pub(crate) fn at_name(
+    error: MapError,
+    origin: &str,
+    (line, column): (usize, usize),
+    what: &'static str,
+    name: &str,
+) -> MapError {
+    match error.kind {
+        MapErrorKind::Io { .. }
+        | MapErrorKind::NotRegularFile { .. }
+        | MapErrorKind::FileTooLarge { .. }
+            if error.line == 0 =>
+        {
+            MapError::new(
+                origin,
+                line,
+                column,
+                MapErrorKind::NamedFile {
+                    what,
+                    name: name.to_owned(),
+                    path: error.file,
+                    reason: Box::new(error.kind),
+                },
+            )
+        }
+        _ => error,
+    }
 }
 
 /// What a file type that is not a regular file is, for messages ("a FIFO", "a character

@@ -42,21 +42,30 @@
 //!
 //! # The threshold rule
 //! That of ROS 2's `nav2_map_server` (`map_io.cpp`, `loadMapFromFile`), which for
-//! `trinary` is also ROS 1 `map_server`'s (`image_loader.cpp`). For each pixel, `v` is the
-//! mean of its channels (8-bit; a grey image has one; with `mode: trinary` an alpha
-//! channel is averaged in, as `map_server` does, otherwise it is left out; for a grey and
-//! alpha image nav2, which averages red, green, blue and alpha, would weigh the grey three
-//! times: not followed here, as before), `v = 255 - v` when `negate`, and
-//! `p = (255 - v) / 255` is the occupancy probability: white is free, black occupied.
+//! `trinary` 8-bit grey and RGB images is also ROS 1 `map_server`'s (`image_loader.cpp`).
+//! For each pixel, `v` is the mean of its red, green and blue samples (a grey pixel's
+//! three equal channels: its grey) and, with `mode: trinary` in an image that has an
+//! alpha channel (a PNG's or PAM's own, or a PNG's `tRNS` transparency), of its alpha
+//! too, as nav2 averages them: a grey and alpha pixel's `v` is `(3 grey + alpha) / 4`, so
+//! an opaque grey 179 is `v = 198`. The shade is `v / maxval` at full precision, where `maxval` is
+//! the largest sample value: 255 for 8-bit samples, 65535 for 16-bit ones (PNG), and
+//! the header's for a PGM, PPM or PAM, whose samples are read as written (a sample above
+//! it is an error). `p = 1 - shade`, or `p = shade` when `negate`, is the occupancy
+//! probability: white is free, black occupied. (nav2's GraphicsMagick, built with 16-bit
+//! quanta as ROS packages it, holds each sample as a multiple of 1/65535: exactly
+//! `v / maxval` for 8- and 16-bit samples, within half a quantum of it for a PGM's other
+//! maxvals.)
+//!
 //! Then, as ROS values:
 //! - `trinary` and `scale`: `p > occupied_thresh` is occupied, `100`; `p < free_thresh`
 //!   free, `0`;
 //! - otherwise unknown, `-1`, in `trinary` mode; in `scale` mode the graded value
 //!   `rint(100 (p - free_thresh) / (occupied_thresh - free_thresh))` (C's `rint`: to the
 //!   nearest, halves to even), and unknown for any pixel that is not fully opaque
-//!   (`alpha != 255`; nav2 tests this first);
-//! - `raw` mode skips the thresholds and `negate`, as nav2 does: the value is the
-//!   channels' mean `v` itself when it is at most 100, else unknown `-1`.
+//!   (`alpha != maxval`; nav2 tests this first);
+//! - `raw` mode skips the thresholds and `negate`, as nav2 does: the value is
+//!   `round(255 shade)` (for 8-bit samples the mean `v` itself) when it is at most 100,
+//!   else unknown `-1`.
 //!
 //! ROS 1 `map_server` differs in the last two (its `scale` is `1 + 98 (...)` truncated with
 //! only a fully transparent pixel unknown, its `raw` the negated value as a signed byte);
@@ -89,7 +98,11 @@
 //! # Limits
 //! Image dimensions are read from the header and checked against
 //! [`ReadOptions::max_cells`] before the pixels are decoded; YAML and image files are read
-//! only if they are regular files of at most [`ReadOptions::max_file_bytes`].
+//! only if they are regular files of at most [`ReadOptions::max_file_bytes`]. A PGM's, PPM's
+//! or PAM's samples become occupancy values as they are read from the file's bytes, one
+//! byte a pixel; a PNG is decoded at its own depth (8 or 16 bits a sample), and its values
+//! computed from the decoded samples without a converted copy (an 8-bit grey PNG's pixel
+//! buffer becomes the values in place).
 
 use std::collections::HashMap;
 use std::io::Cursor;
@@ -560,6 +573,11 @@ fn yaml_end(text: &str) -> Position {
 /// assert!(err.to_string().starts_with("map.yaml:2:1: invalid YAML: "), "{err}");
 /// ```
 pub fn parse_ros_yaml(text: &str, origin: &str) -> Result<RosYaml, MapError> {
+    parse_ros_yaml_located(text, origin).map(|(yaml, _)| yaml)
+}
+
+/// [`parse_ros_yaml`], with the position of the `image` value.
+fn parse_ros_yaml_located(text: &str, origin: &str) -> Result<(RosYaml, Position), MapError> {
     // The parser may place a node or an error at the end of the stream, one line past the
     // text's last line (an empty document after `---`, say): such a position is the end.
     let end = yaml_end(text);
@@ -569,11 +587,12 @@ pub fn parse_ros_yaml(text: &str, origin: &str) -> Result<RosYaml, MapError> {
         }
     };
     match parse_yaml_document(text, origin) {
-        Ok(mut yaml) => {
+        Ok((mut yaml, (mut line, mut column))) => {
             for w in &mut yaml.warnings {
                 clamp(&mut w.line, &mut w.column);
             }
-            Ok(yaml)
+            clamp(&mut line, &mut column);
+            Ok((yaml, (line, column)))
         }
         Err(mut e) => {
             clamp(&mut e.line, &mut e.column);
@@ -582,8 +601,8 @@ pub fn parse_ros_yaml(text: &str, origin: &str) -> Result<RosYaml, MapError> {
     }
 }
 
-/// [`parse_ros_yaml`] before positions are clamped to the text.
-fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
+/// [`parse_ros_yaml_located`] before positions are clamped to the text.
+fn parse_yaml_document(text: &str, origin: &str) -> Result<(RosYaml, Position), MapError> {
     let o = Origin(origin);
     let (root, mut trailing) = load(text, o)?;
     let Some(root) = root else {
@@ -807,7 +826,7 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
     };
     warnings.sort_by_key(|w| (w.line, w.column));
     warnings.append(&mut trailing);
-    Ok(RosYaml {
+    let yaml = RosYaml {
         image,
         resolution,
         origin: pose,
@@ -816,7 +835,8 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<RosYaml, MapError> {
         negate,
         mode,
         warnings,
-    })
+    };
+    Ok((yaml, image_node.at()))
 }
 
 /// A number as yaml-cpp reads a `double`: a decimal (`0.05`, `-10`, `1e-3`, `+2`, `.5`) or
@@ -860,34 +880,54 @@ fn parse_bool(text: &str) -> Option<bool> {
     }
 }
 
-/// The ROS occupancy value of one pixel given as 8-bit channels (1 grey, 2 grey and
-/// alpha, 3 RGB, 4 RGBA), by the module's threshold rule.
-pub fn ros_occupancy_value(yaml: &RosYaml, pixel: &[u8]) -> i8 {
+/// The ROS occupancy value of one pixel by the module's threshold rule: its samples
+/// (1 grey, 2 grey and alpha, 3 RGB, 4 RGBA), each from 0 to `maxval` (255 for 8-bit
+/// samples, 65535 for 16-bit ones, a PGM's own maxval). A sample above `maxval` counts as
+/// `maxval`; no samples, more than four, or a `maxval` of 0 give unknown, `-1`.
+///
+/// ```
+/// use planner_maps::{ros_occupancy_value, RosYaml};
+///
+/// let yaml = RosYaml::defaults("m.pgm"); // trinary, free below 0.196, occupied above 0.65
+/// assert_eq!(ros_occupancy_value(&yaml, &[205], 255), -1); // p = 50/255 = 0.19608
+/// assert_eq!(ros_occupancy_value(&yaml, &[805], 1000), 0); // p = 0.195
+/// // Grey and alpha: nav2 averages red, green, blue and alpha, (3 * 179 + 255) / 4 = 198.
+/// assert_eq!(ros_occupancy_value(&yaml, &[179, 255], 255), -1); // p = 0.2235
+/// ```
+pub fn ros_occupancy_value(yaml: &RosYaml, pixel: &[u16], maxval: u16) -> i8 {
     let n = pixel.len();
-    let has_alpha = n == 2 || n == 4;
-    let averaged = if yaml.mode == RosMode::Trinary || !has_alpha {
-        n
-    } else {
-        n - 1
-    };
-    if averaged == 0 {
+    if n == 0 || n > 4 || maxval == 0 {
         return -1;
     }
-    let sum: f64 = pixel[..averaged].iter().map(|&c| f64::from(c)).sum();
-    let mut v = sum / averaged as f64;
-    let alpha = if has_alpha { pixel[n - 1] } else { 255 };
-    if yaml.negate {
-        v = 255.0 - v;
+    let sample = |i: usize| f64::from(pixel[i].min(maxval));
+    let has_alpha = n == 2 || n == 4;
+    // nav2 averages red, green and blue (a grey pixel's three equal channels) and, in
+    // trinary mode, the alpha of an image that has one.
+    let (mut sum, mut count) = if n <= 2 {
+        (3.0 * sample(0), 3.0)
+    } else {
+        (sample(0) + sample(1) + sample(2), 3.0)
+    };
+    let alpha = if has_alpha {
+        pixel[n - 1].min(maxval)
+    } else {
+        maxval
+    };
+    if yaml.mode == RosMode::Trinary && has_alpha {
+        sum += f64::from(alpha);
+        count += 1.0;
     }
+    // nav2's shade: 0 for black, 1 for white.
+    let shade = sum / count / f64::from(maxval);
     if yaml.mode == RosMode::Raw {
         // nav2: round(shade * 255), the un-negated mean, kept when within 0..=100.
-        let raw = (sum / averaged as f64).round();
+        let raw = (shade * 255.0).round();
         return if raw <= 100.0 { raw as i8 } else { -1 };
     }
-    let p = (255.0 - v) / 255.0;
-    if yaml.mode == RosMode::Scale && alpha != 255 {
+    if yaml.mode == RosMode::Scale && alpha != maxval {
         return -1;
     }
+    let p = if yaml.negate { shade } else { 1.0 - shade };
     if p > yaml.occupied_thresh {
         100
     } else if p < yaml.free_thresh {
@@ -899,6 +939,172 @@ pub fn ros_occupancy_value(yaml: &RosYaml, pixel: &[u8]) -> i8 {
         // C's rint in the default rounding mode: to the nearest, halves to even.
         (100.0 * ratio).round_ties_even() as i8
     }
+}
+
+/// An image's width, height and occupancy values (row-major).
+type Values = (u32, u32, Vec<i8>);
+
+/// The occupancy values of a PGM, PPM or PAM image (`width`, `height`, the values) from
+/// its samples at full precision, or `None` for another format or a 1-bit PBM (whose
+/// pixels the decoder gives exactly). The caller has checked the header, and the pixel
+/// count against its limit. An error is a message for [`MapErrorKind::Image`].
+fn pnm_occupancy(bytes: &[u8], yaml: &RosYaml) -> Option<Result<Values, String>> {
+    use image::codecs::pnm::{PnmDecoder, PnmSubtype};
+    use image::ImageDecoder as _;
+    if image::guess_format(bytes).ok()? != image::ImageFormat::Pnm {
+        return None;
+    }
+    let decoder = match PnmDecoder::new(Cursor::new(bytes)) {
+        Ok(decoder) => decoder,
+        Err(e) => return Some(Err(e.to_string())),
+    };
+    if matches!(decoder.subtype(), PnmSubtype::Bitmap(_)) {
+        return None;
+    }
+    let channels = usize::from(decoder.color_type().channel_count()).clamp(1, 4);
+    // The decoder has read the header and the one whitespace after it.
+    let (rest, header) = decoder.into_inner();
+    let raster =
+        usize::try_from(rest.position()).map_or(&[][..], |at| &bytes[at.min(bytes.len())..]);
+    Some(pnm_samples(raster, &header, channels, yaml))
+}
+
+/// [`pnm_occupancy`]'s values from the samples of `raster`, `channels` to a pixel, as
+/// they are read: the values are the only allocation, one byte a pixel and at most one a
+/// byte of `raster`.
+fn pnm_samples(
+    raster: &[u8],
+    header: &image::codecs::pnm::PnmHeader,
+    channels: usize,
+    yaml: &RosYaml,
+) -> Result<Values, String> {
+    use image::codecs::pnm::SampleEncoding;
+    let (width, height) = (header.width(), header.height());
+    // The decoder refuses a maxval of 0 or above 65535.
+    let maxval = u16::try_from(header.maximal_sample())
+        .map_err(|_| format!("maxval {} is above 65535", header.maximal_sample()))?;
+    let pixels = usize::try_from(u64::from(width) * u64::from(height))
+        .map_err(|_| format!("{width}x{height} pixels do not fit in memory"))?;
+    let total = pixels.saturating_mul(channels);
+    let short = |found: usize| {
+        format!("expected {total} samples ({width}x{height} pixels of {channels}), found {found}")
+    };
+    let at = |index: usize| {
+        let w = width.max(1) as usize;
+        format!("pixel ({}, {})", index % w, index / w)
+    };
+    // A grey image's values by table, one entry a sample value (at most 64 Ki).
+    let table: Option<Vec<i8>> = (channels == 1).then(|| {
+        (0..=maxval)
+            .map(|v| ros_occupancy_value(yaml, &[v], maxval))
+            .collect()
+    });
+    let value = |pixel: &[u16]| match &table {
+        Some(table) => table[usize::from(pixel[0])],
+        None => ros_occupancy_value(yaml, pixel, maxval),
+    };
+    // Every pixel takes at least a byte of the raster, so a short file reserves little.
+    let mut occupancy = Vec::with_capacity(pixels.min(raster.len()));
+    let mut pixel = [0u16; 4];
+    match header.subtype().sample_encoding() {
+        SampleEncoding::Binary => {
+            // Netpbm: one byte a sample up to maxval 255, else two, most significant first.
+            let size = if maxval > 255 { 2 } else { 1 };
+            let need = total.saturating_mul(size);
+            if raster.len() < need {
+                return Err(short(raster.len() / size));
+            }
+            for (index, samples) in raster[..need].chunks_exact(size * channels).enumerate() {
+                for (value, sample) in pixel.iter_mut().zip(samples.chunks_exact(size)) {
+                    *value = match *sample {
+                        [high, low] => u16::from_be_bytes([high, low]),
+                        [byte] => u16::from(byte),
+                        _ => 0,
+                    };
+                }
+                if let Some(v) = pixel[..channels].iter().find(|&&v| v > maxval) {
+                    return Err(format!(
+                        "{} has sample {v}, above the maxval {maxval}",
+                        at(index)
+                    ));
+                }
+                occupancy.push(value(&pixel[..channels]));
+            }
+        }
+        SampleEncoding::Ascii => {
+            let mut tokens = raster
+                .split(|b| matches!(b, b' ' | b'\t' | b'\n' | b'\r' | b'\x0b' | b'\x0c'))
+                .filter(|token| !token.is_empty());
+            for index in 0..pixels {
+                for (channel, sample) in pixel[..channels].iter_mut().enumerate() {
+                    let token = tokens
+                        .next()
+                        .ok_or_else(|| short(index * channels + channel))?;
+                    *sample = std::str::from_utf8(token)
+                        .ok()
+                        .filter(|t| t.bytes().all(|b| b.is_ascii_digit()))
+                        .and_then(|t| t.parse::<u16>().ok())
+                        .filter(|&v| v <= maxval)
+                        .ok_or_else(|| {
+                            format!(
+                                "{} has sample {}, not a whole number from 0 to the maxval {maxval}",
+                                at(index),
+                                show_token(&String::from_utf8_lossy(token))
+                            )
+                        })?;
+                }
+                occupancy.push(value(&pixel[..channels]));
+            }
+        }
+    }
+    Ok((width, height, occupancy))
+}
+
+/// The occupancy values of a decoded image (a PNG, a PBM), from its 8- or 16-bit samples
+/// as they are, without a converted copy. An error is a message for [`MapErrorKind::Image`].
+fn decoded_occupancy(decoded: image::DynamicImage, yaml: &RosYaml) -> Result<Vec<i8>, String> {
+    use image::DynamicImage as D;
+    /// The values of `samples`, `channels` to a pixel.
+    fn values<T: Copy + Into<u16>>(
+        samples: &[T],
+        channels: usize,
+        maxval: u16,
+        yaml: &RosYaml,
+    ) -> Vec<i8> {
+        let mut pixel = [0u16; 4];
+        samples
+            .chunks_exact(channels)
+            .map(|samples| {
+                for (value, &sample) in pixel.iter_mut().zip(samples) {
+                    *value = sample.into();
+                }
+                ros_occupancy_value(yaml, &pixel[..channels], maxval)
+            })
+            .collect()
+    }
+    Ok(match decoded {
+        D::ImageLuma8(img) => {
+            // A grey image's pixel buffer becomes the occupancy values (a byte for a byte:
+            // Vec's collect reuses the allocation), so the decoded image costs no extra
+            // byte a cell (`crate::READ_BYTES_PER_CELL`).
+            let table: Vec<i8> = (0..=255u16)
+                .map(|v| ros_occupancy_value(yaml, &[v], 255))
+                .collect();
+            img.into_raw()
+                .into_iter()
+                .map(|v| table[usize::from(v)])
+                .collect()
+        }
+        D::ImageLumaA8(img) => values(img.as_raw(), 2, 255, yaml),
+        D::ImageRgb8(img) => values(img.as_raw(), 3, 255, yaml),
+        D::ImageRgba8(img) => values(img.as_raw(), 4, 255, yaml),
+        D::ImageLuma16(img) => values(img.as_raw(), 1, u16::MAX, yaml),
+        D::ImageLumaA16(img) => values(img.as_raw(), 2, u16::MAX, yaml),
+        D::ImageRgb16(img) => values(img.as_raw(), 3, u16::MAX, yaml),
+        D::ImageRgba16(img) => values(img.as_raw(), 4, u16::MAX, yaml),
+        // The PNG and PNM decoders give none of the others (floating-point samples).
+        other => return Err(format!("{:?} samples are not read", other.color())),
+    })
 }
 
 /// The grid of `occupancy` values (row-major, `width` x `height`): free exactly where the
@@ -1034,7 +1240,9 @@ pub fn read_ros_map(path: &Path, options: &RosOptions) -> Result<RosMap, MapErro
 /// content) relative to the YAML's directory, into a grid with `options.ros`, within
 /// `options`' limits.
 ///
-/// Errors name the YAML file (line and column for its contents) or the image file.
+/// Errors name the YAML file (line and column for its contents, and the `image` value's for
+/// an image that cannot be read: [`MapErrorKind::NamedFile`]) or the image file (one that
+/// cannot be decoded).
 pub fn read_ros_map_with(path: &Path, options: &ReadOptions) -> Result<RosMap, MapError> {
     let origin = path.display().to_string();
     let bytes = crate::read_file(path, &origin, options.max_file_bytes)?;
@@ -1048,10 +1256,14 @@ pub(crate) fn ros_map_from_yaml_text(
     path: &Path,
     options: &ReadOptions,
 ) -> Result<RosMap, MapError> {
-    let yaml = parse_ros_yaml(text, &path.display().to_string())?;
+    let origin = path.display().to_string();
+    let (yaml, image_at) = parse_ros_yaml_located(text, &origin)?;
     let image_path = path.parent().unwrap_or(Path::new("")).join(&yaml.image);
     let image_origin = image_path.display().to_string();
-    let bytes = crate::read_file(&image_path, &image_origin, options.max_file_bytes)?;
+    // An image that cannot be read is an error at the YAML's `image` value; one that
+    // cannot be decoded names the image.
+    let bytes = crate::read_file(&image_path, &image_origin, options.max_file_bytes)
+        .map_err(|e| crate::at_name(e, &origin, image_at, "image", &yaml.image))?;
     ros_map_from_image_bytes(&bytes, &image_origin, Some(yaml), options)
 }
 
@@ -1122,38 +1334,19 @@ pub fn ros_map_from_image_bytes(
             .saturating_mul(16)
             .saturating_add(1 << 24),
     );
-    let mut decoder = reader()?;
-    decoder.limits(limits);
-    let decoded = decoder.decode().map_err(image_error)?;
-    let (width, height) = (decoded.width(), decoded.height());
-    let (channels, pixels): (usize, Vec<u8>) = match decoded {
-        image::DynamicImage::ImageLuma8(img) => (1, img.into_raw()),
-        image::DynamicImage::ImageLumaA8(img) => (2, img.into_raw()),
-        image::DynamicImage::ImageRgb8(img) => (3, img.into_raw()),
-        image::DynamicImage::ImageRgba8(img) => (4, img.into_raw()),
-        other if other.color().has_color() => {
-            if other.color().has_alpha() {
-                (4, other.to_rgba8().into_raw())
-            } else {
-                (3, other.to_rgb8().into_raw())
-            }
+    // PGM, PPM and PAM samples are read from the bytes at full precision; the decoder
+    // would scale a maxval other than 255 or 65535 to 8 or 16 bits.
+    let (width, height, occupancy) = match pnm_occupancy(bytes, &yaml) {
+        Some(read) => read.map_err(|message| whole(MapErrorKind::Image { message }))?,
+        None => {
+            let mut decoder = reader()?;
+            decoder.limits(limits);
+            let decoded = decoder.decode().map_err(image_error)?;
+            let (width, height) = (decoded.width(), decoded.height());
+            let occupancy = decoded_occupancy(decoded, &yaml)
+                .map_err(|message| whole(MapErrorKind::Image { message }))?;
+            (width, height, occupancy)
         }
-        other if other.color().has_alpha() => (2, other.to_luma_alpha8().into_raw()),
-        other => (1, other.to_luma8().into_raw()),
-    };
-    let occupancy: Vec<i8> = if channels == 1 {
-        // A grey image's pixel buffer becomes the occupancy values (a byte for a byte:
-        // Vec's collect reuses the allocation), so the decoded image costs no extra byte
-        // a cell (`crate::READ_BYTES_PER_CELL`).
-        pixels
-            .into_iter()
-            .map(|value| ros_occupancy_value(&yaml, &[value]))
-            .collect()
-    } else {
-        pixels
-            .chunks_exact(channels)
-            .map(|pixel| ros_occupancy_value(&yaml, pixel))
-            .collect()
     };
     let grid = match options.costs.graded {
         false => ros_grid(width, height, &occupancy, &options.ros),
@@ -1194,40 +1387,76 @@ mod tests {
     #[test]
     fn threshold_rule_by_hand() {
         let t = yaml(RosMode::Trinary, false);
-        // p = (255 - v) / 255: v = 254 -> 0.0039 < 0.196 free; v = 0 -> 1 > 0.65 occupied;
+        // p = 1 - v / 255: v = 254 -> 0.0039 < 0.196 free; v = 0 -> 1 > 0.65 occupied;
         // v = 205 (map_saver's unknown grey) -> 50 / 255 = 0.19608, not < 0.196: unknown;
         // v = 206 -> 0.1922 free; v = 89 -> 0.651 occupied; v = 90 -> 0.647 unknown.
-        let check = |y: &RosYaml, px: &[u8], expect: i8| {
-            assert_eq!(ros_occupancy_value(y, px), expect, "{px:?} {:?}", y.mode)
+        let check = |y: &RosYaml, px: &[u16], maxval: u16, expect: i8| {
+            assert_eq!(
+                ros_occupancy_value(y, px, maxval),
+                expect,
+                "{px:?} / {maxval} {:?}",
+                y.mode
+            )
         };
-        check(&t, &[254], 0);
-        check(&t, &[0], 100);
-        check(&t, &[205], -1);
-        check(&t, &[206], 0);
-        check(&t, &[89], 100);
-        check(&t, &[90], -1);
+        check(&t, &[254], 255, 0);
+        check(&t, &[0], 255, 100);
+        check(&t, &[205], 255, -1);
+        check(&t, &[206], 255, 0);
+        check(&t, &[89], 255, 100);
+        check(&t, &[90], 255, -1);
         // Negated: black is free.
-        check(&yaml(RosMode::Trinary, true), &[0], 0);
+        check(&yaml(RosMode::Trinary, true), &[0], 255, 0);
         // RGB: the mean (0 + 255 + 255) / 3 = 170 -> p = 1/3, unknown.
-        check(&t, &[0, 255, 255], -1);
+        check(&t, &[0, 255, 255], 255, -1);
+        // Full precision: 805 / 1000 -> p = 0.195, free (205 / 255 would be unknown);
+        // 52691 / 65535 -> p = 0.19599, free (52691 / 257 = 205.02 would be unknown).
+        check(&t, &[805], 1000, 0);
+        check(&t, &[52691], u16::MAX, 0);
+        check(&t, &[52690], u16::MAX, -1);
+        check(&t, &[805, 805, 805], 1000, 0);
         // Scale (nav2): p = 1/3 -> rint(100 (0.3333 - 0.196) / 0.454) = rint(30.25) = 30;
         // v = 179 (nav2's TenByTen.pgm) -> p = 76/255 = 0.29804 -> rint(22.476) = 22 (ROS 1
         // would give 1 + 98 * 0.22476 = 23); not fully opaque -> -1, even when white.
         let s = yaml(RosMode::Scale, false);
-        check(&s, &[170, 255], 30);
-        check(&s, &[179], 22);
-        check(&s, &[170, 0], -1);
-        check(&s, &[255, 254], -1);
-        check(&s, &[0, 255], 100);
-        // Trinary averages alpha in: (170 + 0) / 2 = 85 -> p = 0.667 occupied.
-        check(&t, &[170, 0], 100);
-        // Raw (nav2): the value itself when at most 100, else -1; negate is ignored.
+        check(&s, &[170, 255], 255, 30);
+        check(&s, &[179], 255, 22);
+        check(&s, &[170, 0], 255, -1);
+        check(&s, &[255, 254], 255, -1);
+        check(&s, &[0, 255], 255, 100);
+        // 52000 / 65535 -> p = 0.20653 -> rint(2.32) = 2 (202 / 255 would give 3); the
+        // alpha of a 16-bit pixel is opaque at 65535 only; 700 / 1000 -> p = 0.3 -> 23.
+        check(&s, &[52000], u16::MAX, 2);
+        check(&s, &[52000, u16::MAX], u16::MAX, 2);
+        check(&s, &[52000, 65534], u16::MAX, -1);
+        check(&s, &[700, 1000], 1000, 23);
+        // Trinary averages alpha in as nav2 does, beside red, green and blue (a grey
+        // pixel's three equal channels): (3 * 170 + 0) / 4 = 127.5 -> p = 0.5, unknown;
+        // opaque grey 179 -> (537 + 255) / 4 = 198 -> p = 0.2235, unknown (the mean of grey
+        // and alpha, 217, would make it free); RGBA (0, 255, 255, 255) and a transparent
+        // white (255, 255, 255, 0) -> 191.25 -> p = 0.25, unknown.
+        check(&t, &[170, 0], 255, -1);
+        check(&t, &[179, 255], 255, -1);
+        check(&t, &[179], 255, -1);
+        check(&t, &[220, 255], 255, 0);
+        check(&t, &[0, 255, 255, 255], 255, -1);
+        check(&t, &[255, 255, 255, 0], 255, -1);
+        check(&t, &[255, 255, 255, 255], 255, 0);
+        check(&t, &[0, 0], 255, 100);
+        // Raw (nav2): round(255 shade) itself when at most 100, else -1; negate is ignored.
         let r = yaml(RosMode::Raw, false);
-        check(&r, &[0], 0);
-        check(&r, &[100], 100);
-        check(&r, &[101], -1);
-        check(&r, &[255], -1);
-        check(&yaml(RosMode::Raw, true), &[40], 40);
+        check(&r, &[0], 255, 0);
+        check(&r, &[100], 255, 100);
+        check(&r, &[101], 255, -1);
+        check(&r, &[255], 255, -1);
+        check(&yaml(RosMode::Raw, true), &[40], 255, 40);
+        // 16-bit: round(255 * 10280 / 65535) = round(40.0) = 40; alpha is left out.
+        check(&r, &[10280], u16::MAX, 40);
+        check(&r, &[10280, 0], u16::MAX, 40);
+        // Degenerate input: no samples, five, maxval 0; a sample above maxval counts as it.
+        check(&t, &[], 255, -1);
+        check(&t, &[0; 5], 255, -1);
+        check(&t, &[0], 0, -1);
+        check(&t, &[900], 100, 0);
     }
 
     #[test]

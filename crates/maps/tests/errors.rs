@@ -607,3 +607,67 @@ fn scenario_size_mismatch_names_the_line() {
         .check_size(&Grid::new(3, 2).unwrap(), "a.map.scen")
         .is_ok());
 }
+
+/// A GPPC scenario's patch file that cannot be read is an error at the scenario's line and
+/// column that name it (the `patch` line's value), with the path it resolves to; errors in
+/// a patch file that is read name the patch file.
+#[test]
+fn a_patch_file_that_cannot_be_read_is_an_error_at_the_scenario_line() {
+    use planner_maps::gppc::parse_gppc_scenario;
+    use planner_maps::MapErrorKind;
+    let scen_path = tmp("patched.scen");
+    let text =
+        "version 2\nheight 1\nwidth 2\ncost 1 octile\npatch  nope.patch\ncommands\nP 0 0 0 0\n";
+    std::fs::write(&scen_path, text).unwrap();
+    let scen_name = scen_path.display().to_string();
+    let scenario = parse_gppc_scenario(text, &scen_name).unwrap();
+    assert_eq!(scenario.patch_file_at, (5, 8));
+    let patch_path = tmp("nope.patch");
+    let _ = std::fs::remove_file(&patch_path);
+    let err = scenario.read_patches(&scen_path, 1 << 20).unwrap_err();
+    assert_eq!(
+        (err.file.as_str(), err.line, err.column),
+        (scen_name.as_str(), 5, 8)
+    );
+    assert!(
+        matches!(&err.kind, MapErrorKind::NamedFile { what: "patch file", reason, .. }
+            if matches!(**reason, MapErrorKind::Io { .. })),
+        "{err}"
+    );
+    assert!(
+        err.to_string().starts_with(&format!(
+            "{scen_name}:5:8: patch file 'nope.patch' ({}): cannot read the file: ",
+            patch_path.display()
+        )),
+        "{err}"
+    );
+    // Larger than the limit: the same place.
+    std::fs::write(
+        &patch_path,
+        "type patch\npatches 1\npatch 0\nheight 1\nwidth 2\nmap\n.@\n",
+    )
+    .unwrap();
+    let err = scenario.read_patches(&scen_path, 10).unwrap_err();
+    assert_eq!((err.line, err.column), (5, 8), "{err}");
+    assert!(
+        err.to_string()
+            .contains(": the file has 53 bytes, more than the limit of 10 bytes"),
+        "{err}"
+    );
+    // Read: the patches; an error in the patch file's text names the patch file.
+    let patches = scenario.read_patches(&scen_path, 1 << 20).unwrap();
+    assert_eq!(patches.patches[0].free, [true, false]);
+    std::fs::write(
+        &patch_path,
+        "type patch\npatches 1\npatch 0\nheight 1\nwidth 2\nmap\n.Q\n",
+    )
+    .unwrap();
+    let err = scenario.read_patches(&scen_path, 1 << 20).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "{}:7:2: expected a Moving AI map symbol ('.', 'G', 'S', '@', 'O', 'T', 'W'), found 'Q'",
+            patch_path.display()
+        )
+    );
+}

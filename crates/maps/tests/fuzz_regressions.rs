@@ -161,7 +161,11 @@ fn images_truncated_or_garbled() {
         b"P5\n0 0\n255\n",
         "f: invalid grid: a grid needs at least one row and one column",
     );
-    check(MapFormat::Image, b"P2 2 1 255 0", "f: cannot decode the image: Format error decoding Pnm: Not enough data was provided to the Decoder to decode the image");
+    check(
+        MapFormat::Image,
+        b"P2 2 1 255 0",
+        "f: cannot decode the image: expected 2 samples (2x1 pixels of 1), found 1",
+    );
     check(MapFormat::Image, b"P2 2 1 255 0 255", "ok 2x1");
     // A real map cut short.
     let pgm = std::fs::read(concat!(

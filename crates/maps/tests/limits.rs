@@ -94,10 +94,11 @@ fn devices_fifos_and_directories_are_refused() {
         "image: /dev/zero\nresolution: 1\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
     )
     .unwrap();
+    // The error is at the YAML's `image` value (line 1, column 8).
     check(
         &yaml,
         &options,
-        "/dev/zero: not a regular file (a character device): gridplan reads its inputs (maps, images, scenarios, configs, weights) from regular files only",
+        &format!("{}:1:8: image '/dev/zero': not a regular file (a character device): gridplan reads its inputs (maps, images, scenarios, configs, weights) from regular files only", yaml.display()),
     );
 }
 

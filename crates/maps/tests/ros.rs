@@ -120,6 +120,194 @@ fn png_scale_with_alpha() {
     assert_eq!(map.grid.to_ascii(), ".###\n");
 }
 
+/// Reads `image` (written as `name` in a fresh directory) through a YAML with `mode` and
+/// gives the occupancy values, or the error's text.
+fn occupancy_of(test: &str, name: &str, image: &[u8], mode: &str) -> Result<Vec<i8>, String> {
+    let dir = dir(test);
+    std::fs::write(dir.join(name), image).unwrap();
+    let yaml = YAML.replace("map.pgm", name) + &format!("mode: {mode}\n");
+    std::fs::write(dir.join("map.yaml"), yaml).unwrap();
+    read_ros_map(&dir.join("map.yaml"), &RosOptions::default())
+        .map(|map| map.occupancy)
+        .map_err(|e| e.to_string().replace(&format!("{}/", dir.display()), ""))
+}
+
+/// A PNG of `pixels` (`width` x 1) written with the image crate.
+fn png<P: image::Pixel + image::PixelWithColorType>(width: u32, pixels: Vec<P::Subpixel>) -> Vec<u8>
+where
+    [P::Subpixel]: image::EncodableLayout,
+{
+    let img = image::ImageBuffer::<P, _>::from_raw(width, 1, pixels).unwrap();
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut bytes, image::ImageFormat::Png).unwrap();
+    bytes.into_inner()
+}
+
+/// 16-bit samples and a maxval other than 255 or 65535 are read at full precision, as
+/// nav2 reads them (`v / maxval`): cutting them to 8 bits first moved cells across a
+/// threshold. Each case's first value is one the 8-bit cut got wrong.
+#[test]
+fn samples_are_read_at_full_precision() {
+    // 805 / 1000: p = 0.195 < 0.196, free (205 / 255 gave p = 0.19608, unknown).
+    let ascii = b"P2\n2 1\n1000\n805 1000\n";
+    assert_eq!(
+        occupancy_of("p2-1000", "q.pgm", ascii, "trinary"),
+        Ok(vec![0, 0])
+    );
+    // 161 / 200: p = 0.195, free (the decoder's 8-bit 205 gave unknown).
+    let small = b"P5\n2 1\n200\n\xa1\xc8";
+    assert_eq!(
+        occupancy_of("p5-200", "q.pgm", small, "trinary"),
+        Ok(vec![0, 0])
+    );
+    // 52000 / 65535: p = 0.20653 -> rint(2.32) = 2 in scale mode (202 / 255 gave 3).
+    let wide = b"P5\n2 1\n65535\n\xcb\x20\xff\xff";
+    assert_eq!(
+        occupancy_of("p5-16", "s.pgm", wide, "scale"),
+        Ok(vec![2, 0])
+    );
+    // A PPM and a PAM (grey and alpha, opaque) the same way.
+    let ppm = b"P3\n1 1\n1000\n805 805 805\n";
+    assert_eq!(
+        occupancy_of("p3-1000", "c.ppm", ppm, "trinary"),
+        Ok(vec![0])
+    );
+    let pam = b"P7\nWIDTH 1\nHEIGHT 1\nDEPTH 2\nMAXVAL 65535\nTUPLTYPE GRAYSCALE_ALPHA\nENDHDR\n\xcb\x20\xff\xff";
+    assert_eq!(occupancy_of("p7-16", "a.pam", pam, "scale"), Ok(vec![2]));
+    // 16-bit PNGs: grey 52691 is p = 0.19599, free, 52690 unknown (both 205 in 8 bits);
+    // RGB the same; grey and alpha in scale mode, opaque only at 65535.
+    let grey = png::<image::Luma<u16>>(2, vec![52691, 52690]);
+    assert_eq!(
+        occupancy_of("png-16", "g.png", &grey, "trinary"),
+        Ok(vec![0, -1])
+    );
+    let rgb = png::<image::Rgb<u16>>(1, vec![52691, 52691, 52691]);
+    assert_eq!(
+        occupancy_of("png-rgb-16", "c.png", &rgb, "trinary"),
+        Ok(vec![0])
+    );
+    let alpha = png::<image::LumaA<u16>>(2, vec![52000, 65535, 52000, 65534]);
+    assert_eq!(
+        occupancy_of("png-la-16", "a.png", &alpha, "scale"),
+        Ok(vec![2, -1])
+    );
+
+    // A sample above the maxval is an error naming the pixel, as GraphicsMagick refuses it
+    // (the decoder scaled it to white); so is a raster cut short.
+    let check = |test: &str, image: &[u8], expect: &str| {
+        assert_eq!(
+            occupancy_of(test, "m.pgm", image, "trinary"),
+            Err(format!("m.pgm: cannot decode the image: {expect}"))
+        )
+    };
+    check(
+        "above-ascii",
+        b"P2\n2 1\n100\n50 200\n",
+        "pixel (1, 0) has sample '200', not a whole number from 0 to the maxval 100",
+    );
+    check(
+        "not-a-number",
+        b"P2\n2 1\n100\n50 5x\n",
+        "pixel (1, 0) has sample '5x', not a whole number from 0 to the maxval 100",
+    );
+    check(
+        "above-binary",
+        b"P5\n1 2\n100\n\x32\xc8",
+        "pixel (0, 1) has sample 200, above the maxval 100",
+    );
+    check(
+        "short-16",
+        b"P5\n2 2\n1000\n\x03\x25\x03\x25\x03",
+        "expected 4 samples (2x2 pixels of 1), found 2",
+    );
+}
+
+/// A PNG holding grey 8-bit pixels `grey` (`width` x 1), with a `tRNS` chunk making grey
+/// `transparent` transparent when given: written by hand (stored deflate), since the image
+/// crate writes no `tRNS`.
+fn grey_png_with_trns(grey: &[u8], transparent: Option<u8>) -> Vec<u8> {
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut crc = !0u32;
+        for &b in bytes {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = if crc & 1 == 1 {
+                    (crc >> 1) ^ 0xedb8_8320
+                } else {
+                    crc >> 1
+                };
+            }
+        }
+        !crc
+    }
+    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
+        out.extend((data.len() as u32).to_be_bytes());
+        let start = out.len();
+        out.extend(kind);
+        out.extend(data);
+        let crc = crc32(&out[start..]);
+        out.extend(crc.to_be_bytes());
+    }
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut ihdr = (grey.len() as u32).to_be_bytes().to_vec();
+    ihdr.extend(1u32.to_be_bytes());
+    ihdr.extend([8, 0, 0, 0, 0]); // 8 bits, grey, deflate, no filter, no interlace
+    chunk(&mut out, b"IHDR", &ihdr);
+    if let Some(t) = transparent {
+        chunk(&mut out, b"tRNS", &[0, t]);
+    }
+    let mut row = vec![0u8]; // filter type none
+    row.extend(grey);
+    let (mut a, mut b) = (1u32, 0u32);
+    for &byte in &row {
+        a = (a + u32::from(byte)) % 65521;
+        b = (b + a) % 65521;
+    }
+    let len = row.len() as u16;
+    let mut zlib = vec![0x78, 0x01, 0x01];
+    zlib.extend(len.to_le_bytes());
+    zlib.extend((!len).to_le_bytes());
+    zlib.extend(&row);
+    zlib.extend(((b << 16) | a).to_be_bytes());
+    chunk(&mut out, b"IDAT", &zlib);
+    chunk(&mut out, b"IEND", &[]);
+    out
+}
+
+/// In trinary mode nav2 averages red, green, blue and alpha: a grey and alpha pixel counts
+/// its grey three times, `(3 grey + alpha) / 4`, not `(grey + alpha) / 2`; a grey PNG
+/// with `tRNS` has an alpha channel too. Other modes leave alpha out of the mean.
+#[test]
+fn alpha_is_averaged_with_three_colour_channels() {
+    // Opaque grey 179: (537 + 255) / 4 = 198 -> p = 0.2235, unknown (the mean of grey and
+    // alpha, 217, made it free); opaque 230: 236.25 -> p = 0.0735, free; transparent
+    // 170: 127.5 -> p = 0.5, unknown (85 made it occupied).
+    let grey_alpha = png::<image::LumaA<u8>>(3, vec![179, 255, 230, 255, 170, 0]);
+    assert_eq!(
+        occupancy_of("grey-alpha", "a.png", &grey_alpha, "trinary"),
+        Ok(vec![-1, 0, -1])
+    );
+    // Grey 200 with tRNS (marking grey 0 transparent): the image has alpha, so opaque 200
+    // is (600 + 255) / 4 = 213.75 -> p = 0.162, free, and the transparent 0 occupied;
+    // without tRNS grey 200 is p = 0.2157, unknown.
+    let with = grey_png_with_trns(&[200, 179, 0], Some(0));
+    assert_eq!(
+        occupancy_of("trns", "t.png", &with, "trinary"),
+        Ok(vec![0, -1, 100])
+    );
+    let without = grey_png_with_trns(&[200, 179, 0], None);
+    assert_eq!(
+        occupancy_of("no-trns", "t.png", &without, "trinary"),
+        Ok(vec![-1, -1, 100])
+    );
+    // Scale mode: the grey alone (200 -> p = 0.2157 -> 4, 179 -> 22), a transparent
+    // pixel unknown.
+    assert_eq!(
+        occupancy_of("trns-scale", "t.png", &with, "scale"),
+        Ok(vec![4, 22, -1])
+    );
+}
+
 /// What reading `text` gives: `error: <message>`, or `ok` followed by one
 /// `warning: <message>` line per warning.
 fn outcome(text: &str) -> String {
@@ -311,13 +499,46 @@ fn yaml_accepts_what_map_server_accepts() {
     assert_eq!(ok.origin, [-1.0, -2.0, 0.0]);
 }
 
+/// An image that cannot be read is an error at the YAML's `image` value, naming the path
+/// it resolves to; one that cannot be decoded names the image.
 #[test]
 fn image_errors_name_the_image() {
     let dir = dir("bad-image");
-    std::fs::write(dir.join("map.yaml"), YAML).unwrap();
-    let err = read_ros_map(&dir.join("map.yaml"), &RosOptions::default()).unwrap_err();
-    assert!(err.file.ends_with("map.pgm"), "{err}");
-    assert!(matches!(err.kind, MapErrorKind::Io { .. }), "{err}");
+    let yaml = dir.join("map.yaml");
+    std::fs::write(&yaml, YAML).unwrap();
+    let err = read_ros_map(&yaml, &RosOptions::default()).unwrap_err();
+    assert_eq!(
+        (err.file.as_str(), err.line, err.column),
+        (yaml.to_str().unwrap(), 2, 8)
+    );
+    let MapErrorKind::NamedFile {
+        what,
+        name,
+        path,
+        reason,
+    } = &err.kind
+    else {
+        panic!("{err}");
+    };
+    assert_eq!((*what, name.as_str()), ("image", "map.pgm"));
+    assert_eq!(path, dir.join("map.pgm").to_str().unwrap());
+    assert!(matches!(**reason, MapErrorKind::Io { .. }), "{err}");
+    assert!(
+        err.to_string().starts_with(&format!(
+            "{}:2:8: image 'map.pgm' ({}): cannot read the file: ",
+            yaml.display(),
+            dir.join("map.pgm").display()
+        )),
+        "{err}"
+    );
+    // Through read_map too, and the same in a flow mapping: the value's own column.
+    let err = read_map(&yaml).unwrap_err();
+    assert_eq!((err.line, err.column), (2, 8), "{err}");
+    std::fs::write(&yaml, "{resolution: 1, origin: [0, 0, 0], negate: 0, occupied_thresh: 0.65,\n free_thresh: 0.196, image: \"gone.png\"}\n").unwrap();
+    let err = read_map(&yaml).unwrap_err();
+    assert_eq!((err.line, err.column), (2, 29), "{err}");
+    assert!(err.to_string().contains(": image 'gone.png' ("), "{err}");
+    std::fs::write(&yaml, YAML).unwrap();
     std::fs::write(dir.join("map.pgm"), "P5\n4 3\n255\n\x01").unwrap();
     let err = read_ros_map(&dir.join("map.yaml"), &RosOptions::default()).unwrap_err();
     assert!(err.file.ends_with("map.pgm"), "{err}");
