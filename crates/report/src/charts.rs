@@ -35,7 +35,68 @@ pub struct Chart {
     pub svg: String,
 }
 
-const SIZE: (u32, u32) = (900, 520);
+/// A chart's page: its width, and its height unless its key needs more.
+const SIZE: (u32, u32) = (1000, 520);
+
+/// The width of the key beside the plot (the plot has the rest of [`SIZE`]'s width).
+const KEY_WIDTH: u32 = 330;
+
+/// The height of one line of the key.
+const KEY_LINE: u32 = 18;
+
+/// The most characters of a label the key and the x axis show (a key line of a box plot
+/// adds its number and median and still fits [`KEY_WIDTH`]); a longer label ends with an
+/// ellipsis (summary.md's tables give it whole).
+const KEY_CHARS: usize = 26;
+
+/// The most category numbers along x: beyond, every k-th is written.
+const MAX_X_TICKS: usize = 20;
+
+/// One line of a chart's key: its series' colour (none for a line of text) and its text.
+struct KeyEntry {
+    colour: Option<RGBColor>,
+    text: String,
+}
+
+impl KeyEntry {
+    /// A series' line: a swatch of colour `i` and `text`, shortened (to more characters
+    /// than a box plot's line, which also gives a number and a median).
+    fn series(i: usize, text: &str) -> KeyEntry {
+        KeyEntry {
+            colour: Some(colour(i)),
+            text: shortened_to(text, KEY_CHARS + 16),
+        }
+    }
+}
+
+/// `text` at most [`KEY_CHARS`] characters long, with an ellipsis when cut.
+fn shortened(text: &str) -> String {
+    shortened_to(text, KEY_CHARS)
+}
+
+/// `text` at most `chars` characters long, with an ellipsis when cut.
+fn shortened_to(text: &str, chars: usize) -> String {
+    match text.chars().count() > chars {
+        true => text.chars().take(chars - 1).chain(['…']).collect(),
+        false => text.to_string(),
+    }
+}
+
+/// Whether a chart of one category per name along x numbers its categories (1, 2, ...)
+/// and its key says which label each number is: with many labels, or labels too long for
+/// their share of the axis, the names overlapped into a smear.
+fn numbered(names: &[String]) -> bool {
+    let share = (SIZE.0 - KEY_WIDTH - 110) as usize / names.len().max(1);
+    names.len() > 12 || names.iter().any(|name| 7 * name.chars().count() > share)
+}
+
+/// A label's text in a chart of labels: with its number when the axis is `numbered`.
+fn category_text(i: usize, name: &str, numbered: bool) -> String {
+    match numbered {
+        true => format!("{} {name}", i + 1),
+        false => name.to_string(),
+    }
+}
 
 /// The quantiles of a box plot, in [`BoxStats`]' order.
 const BOX: &[f64] = &[0.5, 0.25, 0.75, 0.0, 1.0];
@@ -289,7 +350,11 @@ fn scatter_chart(file: &str, title: &str, x_desc: &str, y_desc: &str, series: &[
         .iter()
         .map(|(l, label, points)| (*l, xml_text(label), points.clone()))
         .collect();
-    render_chart(file, title, |root, title| {
+    let key: Vec<KeyEntry> = series
+        .iter()
+        .map(|(l, label, _)| KeyEntry::series(*l, label))
+        .collect();
+    render_chart(file, title, &key, |root, title| {
         draw_scatter_chart(root, title, &xml_text(x_desc), &xml_text(y_desc), &series)
     })
 }
@@ -312,7 +377,7 @@ fn draw_scatter_chart(
         false => (lo / 10.0, lo * 10.0),
     };
     let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 22))
+        .caption(title, caption_font(title))
         .margin(14)
         .x_label_area_size(50)
         .y_label_area_size(80)
@@ -333,23 +398,14 @@ fn draw_scatter_chart(
         vec![(lo, lo), (hi, hi)],
         BLACK.mix(0.5).stroke_width(1),
     )))?;
-    for (l, label, points) in series {
+    for (l, _, points) in series {
         let c = colour(*l);
-        chart
-            .draw_series(
-                points
-                    .iter()
-                    .map(|&p| Circle::new(p, 2, c.mix(0.6).filled())),
-            )?
-            .label(label.clone())
-            .legend(move |(px, py)| Circle::new((px + 7, py), 4, c.filled()));
+        chart.draw_series(
+            points
+                .iter()
+                .map(|&p| Circle::new(p, 2, c.mix(0.6).filled())),
+        )?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()?;
     Ok(())
 }
 
@@ -776,26 +832,57 @@ type Plot<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64,
 
 type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
-/// The chart `file` titled `title` (cleaned for XML): `draw` on an SVG page of [`SIZE`],
-/// given the cleaned title. A drawing error leaves the page as far as it got.
+/// The chart `file` titled `title` (cleaned for XML): `draw` on the plot area of an SVG
+/// page of [`SIZE`], given the cleaned title, and `key` beside it, one line per entry
+/// (the page taller when the key needs it), so that no key covers the data. A drawing
+/// error leaves the page as far as it got.
 fn render_chart(
     file: &str,
     title: &str,
+    key: &[KeyEntry],
     draw: impl FnOnce(&Area<'_>, &str) -> DrawResult,
 ) -> Chart {
     let title = &xml_text(title);
+    let height = SIZE.1.max(70 + KEY_LINE * key.len() as u32);
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        let _ = draw(&root, title);
+        let root = SVGBackend::with_string(&mut svg, (SIZE.0, height)).into_drawing_area();
+        let (plot, side) = root.split_horizontally(SIZE.0 - KEY_WIDTH);
+        let _ = draw(&plot, &shortened_to(title, TITLE_CHARS));
+        let _ = draw_key(&side, key);
         let _ = root.present();
     }
     finish(file, title, svg)
 }
 
+/// The most characters of a title drawn: beyond, it ends with an ellipsis (report.html's
+/// heading gives it whole).
+const TITLE_CHARS: usize = 110;
+
+/// The caption's font: 22 px, smaller for a long title so that it fits the plot's width.
+fn caption_font(title: &str) -> (&'static str, u32) {
+    let chars = title.chars().count().max(1) as u32;
+    ("sans-serif", (22 * 52 / chars).clamp(11, 22))
+}
+
+/// The key: per entry, its colour's swatch and its text (cleaned for XML).
+fn draw_key(side: &Area<'_>, key: &[KeyEntry]) -> DrawResult {
+    side.fill(&WHITE)?;
+    let style = ("sans-serif", 13).into_font().color(&BLACK);
+    for (row, entry) in key.iter().enumerate() {
+        let y = 56 + (KEY_LINE * row as u32) as i32;
+        if let Some(c) = entry.colour {
+            side.draw(&Rectangle::new([(4, y - 5), (16, y + 6)], c.filled()))?;
+        }
+        let text = xml_text(&entry.text);
+        side.draw(&Text::new(text, (22, y - 7), style.clone()))?;
+    }
+    Ok(())
+}
+
 /// A white chart titled `title` with one category per name along x (at 0, 1, ...,
-/// labelled "planner label") and `y` up the y axis, described by `y_desc`; its mesh is
-/// drawn.
+/// labelled "planner label", by name, or by number when [`numbered`]) and `y` up the y
+/// axis, described by `y_desc`; its mesh is drawn.
 fn by_label<'a, 'b>(
     root: &'a Area<'b>,
     title: &str,
@@ -803,10 +890,11 @@ fn by_label<'a, 'b>(
     y: std::ops::Range<f64>,
     y_desc: &str,
 ) -> Result<Plot<'a, 'b>, Box<dyn std::error::Error>> {
+    let numbered = numbered(names);
     root.fill(&WHITE)?;
     let n = names.len();
     let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 22))
+        .caption(title, caption_font(title))
         .margin(14)
         .x_label_area_size(60)
         .y_label_area_size(80)
@@ -814,7 +902,14 @@ fn by_label<'a, 'b>(
     let label_of = |x: &f64| -> String {
         let k = x.round();
         if (x - k).abs() < 1e-9 && k >= 0.0 {
-            names.get(k as usize).cloned().unwrap_or_default()
+            let every = names.len().div_ceil(MAX_X_TICKS).max(1);
+            let number = k as usize + 1;
+            match (numbered, names.get(k as usize)) {
+                (true, Some(_)) if number % every == 0 || number == 1 => format!("{number}"),
+                (true, Some(_)) => String::new(),
+                (false, Some(name)) => shortened(name),
+                (_, None) => String::new(),
+            }
         } else {
             String::new()
         }
@@ -830,22 +925,28 @@ fn by_label<'a, 'b>(
     Ok(chart)
 }
 
-/// Draws the legend of `chart`'s labelled series at `position`.
-fn legend<'a, 'b: 'a>(chart: &mut Plot<'a, 'b>, position: SeriesLabelPosition) -> DrawResult {
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(position)
-        .draw()?;
-    Ok(())
-}
-
 /// Box plots (median, quartiles by type 7, whiskers to the extremes), one per label
 /// (none for a label without values).
 fn box_plot(file: &str, title: &str, y_desc: &str, data: &[(String, Option<BoxStats>)]) -> Chart {
     let data = &cleaned(data);
-    render_chart(file, title, |root, title| {
+    let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
+    let numbered = numbered(&names);
+    let key: Vec<KeyEntry> = data
+        .iter()
+        .enumerate()
+        .map(|(i, (label, stats))| {
+            let text = category_text(i, &shortened(label), numbered);
+            let text = match stats {
+                Some(b) => format!("{text} (median {:.3})", b[0]),
+                None => format!("{text} (no values)"),
+            };
+            KeyEntry {
+                colour: Some(colour(i)),
+                text,
+            }
+        })
+        .collect();
+    render_chart(file, title, &key, |root, title| {
         draw_box_plot(root, title, &xml_text(y_desc), data)
     })
 }
@@ -861,19 +962,16 @@ fn draw_box_plot(
     let lo = boxes().map(|b| b[3]).fold(f64::MAX, f64::min).min(hi);
     let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
     let mut chart = by_label(root, title, &names, padded(lo, hi, true), y_desc)?;
-    for (i, (label, stats)) in data.iter().enumerate() {
+    for (i, (_, stats)) in data.iter().enumerate() {
         let Some([median, q1, q3, min, max]) = *stats else {
             continue;
         };
         let x = i as f64;
         let c = colour(i);
-        chart
-            .draw_series(std::iter::once(Rectangle::new(
-                [(x - 0.3, q1), (x + 0.3, q3)],
-                c.mix(0.35).filled(),
-            )))?
-            .label(format!("{label} (median {median:.3})"))
-            .legend(move |(px, py)| Rectangle::new([(px, py - 5), (px + 14, py + 5)], c.filled()));
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(x - 0.3, q1), (x + 0.3, q3)],
+            c.mix(0.35).filled(),
+        )))?;
         chart.draw_series(std::iter::once(Rectangle::new(
             [(x - 0.3, q1), (x + 0.3, q3)],
             c.stroke_width(2),
@@ -891,7 +989,7 @@ fn draw_box_plot(
             )))?;
         }
     }
-    legend(&mut chart, SeriesLabelPosition::UpperRight)
+    Ok(())
 }
 
 /// A line chart, one line (with point markers) per series.
@@ -903,7 +1001,12 @@ fn line_chart(
     series: &[(String, Vec<(f64, f64)>)],
 ) -> Chart {
     let series = &cleaned(series);
-    render_chart(file, title, |root, title| {
+    let key: Vec<KeyEntry> = series
+        .iter()
+        .enumerate()
+        .map(|(i, (label, _))| KeyEntry::series(i, label))
+        .collect();
+    render_chart(file, title, &key, |root, title| {
         draw_line_chart(root, title, &xml_text(x_desc), &xml_text(y_desc), series)
     })
 }
@@ -934,7 +1037,7 @@ fn draw_line_chart(
         (padded(x_lo, x_hi, false), padded(y_lo, y_hi, false))
     };
     let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 22))
+        .caption(title, caption_font(title))
         .margin(14)
         .x_label_area_size(50)
         .y_label_area_size(80)
@@ -944,17 +1047,12 @@ fn draw_line_chart(
         .x_desc(x_desc)
         .y_desc(y_desc)
         .draw()?;
-    for (i, (label, line)) in series.iter().enumerate() {
+    for (i, (_, line)) in series.iter().enumerate() {
         let c = colour(i);
-        chart
-            .draw_series(LineSeries::new(line.iter().copied(), c.stroke_width(2)))?
-            .label(label.clone())
-            .legend(move |(px, py)| {
-                PathElement::new(vec![(px, py), (px + 18, py)], c.stroke_width(2))
-            });
+        chart.draw_series(LineSeries::new(line.iter().copied(), c.stroke_width(2)))?;
         chart.draw_series(line.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
     }
-    legend(&mut chart, SeriesLabelPosition::UpperLeft)
+    Ok(())
 }
 
 /// Grouped bars: per label, one bar per named series.
@@ -966,7 +1064,20 @@ fn bar_chart(
     data: &[(String, Vec<f64>)],
 ) -> Chart {
     let data = &cleaned(data);
-    render_chart(file, title, |root, title| {
+    let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
+    let mut key: Vec<KeyEntry> = series
+        .iter()
+        .enumerate()
+        .map(|(s, name)| KeyEntry::series(s, name))
+        .collect();
+    // With numbered categories, which label each number is.
+    if numbered(&names) {
+        key.extend(names.iter().enumerate().map(|(i, name)| KeyEntry {
+            colour: None,
+            text: category_text(i, &shortened(name), true),
+        }));
+    }
+    render_chart(file, title, &key, |root, title| {
         draw_bar_chart(root, title, &xml_text(y_desc), series, data)
     })
 }
@@ -981,7 +1092,7 @@ fn draw_bar_chart(
     let names: Vec<String> = data.iter().map(|(l, _)| l.clone()).collect();
     let mut chart = by_label(root, title, &names, 0f64..115f64, y_desc)?;
     let width = 0.8 / series.len().max(1) as f64;
-    for (s, name) in series.iter().enumerate() {
+    for s in 0..series.len() {
         let c = colour(s);
         let bars = data.iter().enumerate().filter_map(|(i, (_, values))| {
             let v = *values.get(s)?;
@@ -991,12 +1102,9 @@ fn draw_bar_chart(
                 c.filled(),
             ))
         });
-        chart
-            .draw_series(bars)?
-            .label(name.to_string())
-            .legend(move |(px, py)| Rectangle::new([(px, py - 5), (px + 14, py + 5)], c.filled()));
+        chart.draw_series(bars)?;
     }
-    legend(&mut chart, SeriesLabelPosition::UpperRight)
+    Ok(())
 }
 
 #[cfg(test)]

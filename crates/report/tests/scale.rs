@@ -80,7 +80,89 @@ fn a_large_sweeps_paths_are_written_from_a_pass() {
 #[test]
 fn charts_of_many_labels_draw_the_first_and_say_so() {
     use planner_report::charts::MAX_CHART_LABELS;
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-many-labels");
+    let n = MAX_CHART_LABELS + 30;
+    let (out, weights) = many_labels("report-many-labels", n);
+    let note = format!("the first {MAX_CHART_LABELS} of {n} labels");
+    for chart in ["time-box.svg", "expansions-box.svg", "success.svg"] {
+        let svg = std::fs::read_to_string(out.join("charts").join(chart)).unwrap();
+        assert!(svg.contains(&note), "{chart}");
+        // Each drawn label's name once (in the key); the last label's is not there.
+        assert!(svg.contains("a[weight=1.99]"), "{chart}");
+        let last = format!("a[weight={}]", weights[n - 1]);
+        assert!(!svg.contains(&last), "{chart}: {last}");
+    }
+    let paired = std::fs::read_to_string(out.join("charts/paired-expansions.svg")).unwrap();
+    assert!(paired.contains(&format!("the first {MAX_CHART_LABELS} of {} labels", n - 1)));
+    // summary.md's tables keep every label.
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(summary.contains(&format!("a[weight={}]", weights[n - 1])));
+}
+
+/// Every `<text>` of an SVG: its x, y and content.
+fn svg_texts(svg: &str) -> Vec<(f64, f64, String)> {
+    let attr = |tag: &str, name: &str| -> f64 {
+        let at = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        tag[at..].split('"').next().unwrap().parse().unwrap()
+    };
+    svg.split("<text")
+        .skip(1)
+        .map(|rest| {
+            let (tag, after) = rest.split_once('>').unwrap();
+            let content = after.split("</text>").next().unwrap().trim().to_string();
+            (attr(tag, "x"), attr(tag, "y"), content)
+        })
+        .collect()
+}
+
+/// Charts of 40 labels (the probe's sweep of weights and tie rules): the box plots' and
+/// success chart's x axis numbers the labels, at most 21 numbers written, and a key beside
+/// the plot says which label each number is, one line each, the page tall enough for all
+/// (the legend covered the boxes, ran past the page's 520 px, and the names along x
+/// overlapped into a smear).
+#[test]
+fn charts_of_many_labels_key_every_label_beside_the_plot() {
+    let n = 40;
+    let (out, weights) = many_labels("report-keyed-labels", n);
+    for chart in ["time-box.svg", "expansions-box.svg", "success.svg"] {
+        let svg = std::fs::read_to_string(out.join("charts").join(chart)).unwrap();
+        let height: f64 = svg
+            .split("height=\"")
+            .nth(1)
+            .and_then(|h| h.split('"').next())
+            .and_then(|h| h.parse().ok())
+            .unwrap();
+        let texts = svg_texts(&svg);
+        for (i, weight) in weights.iter().enumerate() {
+            // The label shows the weight as a number (1.00 is 1.0).
+            let shown: f64 = weight.parse().unwrap();
+            let line = format!("{} a[weight={shown:?}]", i + 1);
+            let found: Vec<_> = texts
+                .iter()
+                .filter(|(_, _, t)| t.starts_with(&line))
+                .collect();
+            assert_eq!(found.len(), 1, "{chart}: {line}");
+            let (x, y, _) = found[0];
+            assert!(
+                *x > 1000.0 - 330.0 && *y < height,
+                "{chart}: {line} at ({x}, {y})"
+            );
+        }
+        // The numbers along x: category numbers only, every k-th.
+        let numbers = texts
+            .iter()
+            .filter(|(_, _, t)| t.parse::<usize>().is_ok_and(|k| (1..=n).contains(&k)))
+            .count();
+        assert!(
+            (10..=21).contains(&numbers),
+            "{chart}: {numbers} numbers along x"
+        );
+    }
+}
+
+/// A sweep of `n` A* labels (weights 1.00, 1.01, ...) on a tiny map into `name`'s scratch
+/// directory: its output directory and the weights.
+fn many_labels(name: &str, n: usize) -> (std::path::PathBuf, Vec<String>) {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(
@@ -88,9 +170,8 @@ fn charts_of_many_labels_draw_the_first_and_say_so() {
         "type octile\nheight 3\nwidth 4\nmap\n....\n.@@.\n....\n",
     )
     .unwrap();
-    let n = MAX_CHART_LABELS + 30;
     let weights: Vec<String> = (0..n)
-        .map(|i| format!("{}", 1.0 + i as f64 / 100.0))
+        .map(|i| format!("{:.2}", 1.0 + i as f64 / 100.0))
         .collect();
     std::fs::write(
         dir.join("many.toml"),
@@ -108,18 +189,5 @@ fn charts_of_many_labels_draw_the_first_and_say_so() {
     let mut args = SweepArgs::new(&config, &render);
     args.output = Some(&out);
     sweep::experiment(&args).unwrap();
-    let note = format!("the first {MAX_CHART_LABELS} of {n} labels");
-    for chart in ["time-box.svg", "expansions-box.svg", "success.svg"] {
-        let svg = std::fs::read_to_string(out.join("charts").join(chart)).unwrap();
-        assert!(svg.contains(&note), "{chart}");
-        // Each drawn label's name once (an axis tick); the last label's is not there.
-        assert!(svg.contains("a[weight=1.99]"), "{chart}");
-        let last = format!("a[weight={}]", weights[n - 1]);
-        assert!(!svg.contains(&last), "{chart}: {last}");
-    }
-    let paired = std::fs::read_to_string(out.join("charts/paired-expansions.svg")).unwrap();
-    assert!(paired.contains(&format!("the first {MAX_CHART_LABELS} of {} labels", n - 1)));
-    // summary.md's tables keep every label.
-    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
-    assert!(summary.contains(&format!("a[weight={}]", weights[n - 1])));
+    (out, weights)
 }
