@@ -38,7 +38,7 @@ impl Section for Optimum {
 /// The section's title, text and table head.
 pub const HEAD: &str = "## Lengths against the scenario optima
 
-Per planner and map: runs with a stated optimum, how many found a path, how many of those have the optimal Euclidean length (relative tolerance 1e-4), and the largest excess over the optimum. Only 8-connected octile planners without corner cutting solve the problem the optima are for.
+Per planner and map, over every run, repeats included: runs with a stated optimum, how many found a path, how many of those have the optimal Euclidean length (relative tolerance 1e-4), and the largest excess over the optimum. Only 8-connected octile planners without corner cutting solve the problem the optima are for.
 
 | Algorithm | Map | Runs | Found | Optimal | Largest excess |
 |---|---|---:|---:|---:|---:|

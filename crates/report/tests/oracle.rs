@@ -340,7 +340,7 @@ pub fn optimum_table(context: &Context<'_>) -> String {
             let runs: Vec<&RunRecord> = map
                 .problems
                 .iter()
-                .filter_map(|p| context.index.first(&map.name, p.index, &planner.label))
+                .flat_map(|p| context.index.runs(&map.name, p.index, &planner.label))
                 .filter(|r| r.optimal_length.is_some())
                 .collect();
             if runs.is_empty() {
