@@ -73,7 +73,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use planner_api::{Budget, Endpoint, Grid, IncrementalPlanner, Problem, ProblemError};
-use planner_maps::gppc::{parse_gppc_patches, parse_gppc_scenario};
+use planner_maps::gppc::parse_gppc_scenario;
 use planner_maps::{MapError, Scenario, DEFAULT_MAX_FILE_BYTES};
 use planner_text::{md_cell, md_prose};
 use rayon::prelude::*;
@@ -1111,14 +1111,8 @@ pub fn run_config_with(
         // by the config or by the scenario would never end.
         let scen_text = planner_maps::read_text_file(&scen_path, DEFAULT_MAX_FILE_BYTES)?;
         let scenario = parse_gppc_scenario(&scen_text, &scen_name)?;
-        let patch_path = scen_path
-            .parent()
-            .unwrap_or(Path::new("."))
-            .join(&scenario.patch_file);
-        let patch_name = patch_path.display().to_string();
-        let text = planner_maps::read_text_file(&patch_path, DEFAULT_MAX_FILE_BYTES)
-            .map_err(|e| at_patch_name(e, &scen_text, &scen_name, &scenario.patch_file))?;
-        let patches = parse_gppc_patches(&text, &patch_name)?;
+        // A patch file that cannot be read is an error where the scenario names it.
+        let patches = scenario.read_patches(&scen_path, DEFAULT_MAX_FILE_BYTES)?;
         scenario
             .validate(&patches, &scen_name)
             .map_err(|e| gppc_column(e, &scen_text))?;
@@ -1328,48 +1322,6 @@ pub fn run_config_with(
         &gppc_runs,
     )
     // The area goes here, its tables copied into the results, or the run failed.
-}
-
-/// `error`, from reading the patch file a GPPC scenario names (`name`, as written), placed
-/// at that name in the scenario (`scen_name`, its `text`: the `patch FILE` line) when the
-/// file cannot be read at all, so that the message says which line named it; an error
-/// about the patch file's contents keeps its own place.
-fn at_patch_name(error: MapError, text: &str, scen_name: &str, name: &str) -> MapError {
-    use planner_maps::MapErrorKind as K;
-    let reason = match &error.kind {
-        _ if error.line != 0 => return error,
-        K::Io { message } => message.clone(),
-        kind @ (K::NotRegularFile { .. } | K::FileTooLarge { .. }) => kind.to_string(),
-        _ => return error,
-    };
-    // The header line `patch FILE`, as planner-maps counts lines and columns: after a
-    // byte-order mark, without a CRLF's `\r`, in characters. Its reader found it, so it
-    // is there; (0, 0) names the whole file otherwise.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let (line, column) = text
-        .split('\n')
-        .enumerate()
-        .find_map(|(index, row)| {
-            let row = row.strip_suffix('\r').unwrap_or(row);
-            let mut words = word_columns(row);
-            let (_, first) = words.next()?;
-            let (column, _) = words.next()?;
-            (first == "patch").then_some((index + 1, column))
-        })
-        .unwrap_or((0, 0));
-    let path = &error.file;
-    let resolved = match path == name {
-        true => String::new(),
-        false => format!(" ({path})"),
-    };
-    MapError::new(
-        scen_name,
-        line,
-        column,
-        K::Io {
-            message: format!("patch file '{}'{resolved}: {reason}", name.escape_debug()),
-        },
-    )
 }
 
 /// The words of `row` (split at whitespace) with their 1-based columns in characters.
