@@ -921,8 +921,9 @@ fn read_up_to<R: BufRead>(reader: &mut R, buf: &mut [u8]) -> std::io::Result<usi
     Ok(got)
 }
 
-/// Runs per frame when a sweep writes a batch (each frame is encoded on its own worker):
-/// a sweep's batch of 512 runs per worker is one frame on two workers.
+/// The most runs in a frame: a sweep appends the runs [`crate::stream::run_stream`] hands
+/// it as frames of at most this many (it hands them once this many are in order, or
+/// sooner), and [`encode_frames`] encodes each frame of a longer batch on its own worker.
 pub const FRAME_RUNS: usize = 1024;
 
 /// `batch` as frames of at most [`FRAME_RUNS`] runs, encoded in parallel (on the calling

@@ -23,9 +23,9 @@
 //!   table as Apache Parquet (`runs.parquet/`).
 //! - [`plan`]: one run of one planner, for `plan`.
 //! - [`provenance`]: version, commit, date, host, CPU and config hash of a sweep.
-//! - [`stream`] and [`shard`]: streamed sweeps (records in run order, batch by batch, as
-//!   JSON Lines that survive a kill), resumable and merged; deterministic cost-balanced
-//!   shards of a run list for job arrays.
+//! - [`stream`] and [`shard`]: streamed sweeps (records in run order as the runs finish,
+//!   and those finished ahead of a slow run aside, in streams that survive a kill),
+//!   resumable and merged; deterministic cost-balanced shards of a run list for job arrays.
 //! - [`sweep`]: an experiment on disk: the streamed, resumable, sharded sweep, the merge
 //!   of shards, and the final outputs; [`outdir`] writes a results directory safely (its
 //!   marker, lock and atomic swap); [`slurm`] writes job arrays (the command line submits

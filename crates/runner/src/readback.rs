@@ -113,6 +113,18 @@ pub enum ResumeError {
         /// The run index read.
         run: u64,
     },
+    /// A run that the shard resumed does not hold.
+    #[error("--resume: {file} {at}: run {run} is not a run of shard {}/{}; run without --resume", .shard.0, .shard.1)]
+    NotInShard {
+        /// The stream.
+        file: String,
+        /// Where the record is.
+        at: RecordAt,
+        /// The run index read.
+        run: u64,
+        /// The shard and count resumed.
+        shard: (u64, u64),
+    },
     /// A record that is not its run of the config.
     #[error("--resume: {file} {at}: {source}; run without --resume")]
     Record {

@@ -112,13 +112,15 @@ pub trait HeapMeter: Sync {
 pub struct RunOptions<'a> {
     /// Worker threads: 0 takes the experiment's `threads`, where 0 means one per core.
     pub threads: usize,
-    /// Called with the number of runs done so far, after each run (from worker threads).
+    /// Called with the number of runs done so far: after each run from the worker threads
+    /// ([`run_all`]), or from the calling thread as it takes the finished runs
+    /// ([`crate::stream::run_stream`]).
     pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
     /// Measures peak heap per run; without it `peak_heap_bytes` is 0.
     pub heap: Option<&'a dyn HeapMeter>,
     /// Once set (by a binary's signal handler), a streamed sweep
-    /// ([`crate::stream::run_stream`]) starts no new run and hands its sink the finished
-    /// prefix of the batch in progress; [`run_all`] ignores it.
+    /// ([`crate::stream::run_stream`]) starts no new run, lets the runs in progress finish
+    /// and hands its sink every finished run; [`run_all`] ignores it.
     pub stop: Option<&'a std::sync::atomic::AtomicBool>,
 }
 

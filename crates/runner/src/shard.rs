@@ -9,7 +9,8 @@
 //! distance from start to goal, plus one; invalid problems cost one. The slicing is a pure
 //! function of the run list and N: every machine computes the same slices, every run is in
 //! exactly one shard, and a shard iterates its runs in increasing run index, lazily (its
-//! memory is one offset per block, whatever the repeats).
+//! memory is a few numbers per block, whatever the repeats), and tells a run's position
+//! among them ([`ShardRuns::position`]).
 
 use crate::config::Experiment;
 use crate::run::RunList;
@@ -223,8 +224,9 @@ impl std::fmt::Display for Shard {
 /// The runs of one shard: for each block of the run list, where its round-robin starts.
 #[derive(Debug, Clone)]
 pub struct ShardRuns {
-    /// Per block: (first run index, runs in the block, shard offset of the block's first run).
-    blocks: Vec<(u64, u64, u64)>,
+    /// Per block: (first run index, runs in the block, shard offset of the block's first
+    /// run, the shard's runs in earlier blocks).
+    blocks: Vec<(u64, u64, u64, u64)>,
     shard: Shard,
     n_runs: u64,
 }
@@ -256,6 +258,7 @@ impl ShardRuns {
                 let offset = (0..n)
                     .min_by(|&a, &b| load[a as usize].total_cmp(&load[b as usize]))
                     .unwrap_or(0);
+                let before = n_runs;
                 for s in 0..n {
                     let share = count_in(size, offset, s, n);
                     load[s as usize] += share as f64 * cost;
@@ -263,7 +266,7 @@ impl ShardRuns {
                         n_runs += share;
                     }
                 }
-                blocks.push((next, size, offset));
+                blocks.push((next, size, offset, before));
                 next += size;
             }
         }
@@ -294,11 +297,27 @@ impl ShardRuns {
     pub fn iter(&self) -> impl Iterator<Item = u64> + '_ {
         let n = self.shard.count;
         let s = self.shard.index - 1;
-        self.blocks.iter().flat_map(move |&(first, size, offset)| {
-            // Run r of the block goes to shard (offset + r) mod n.
-            let r0 = (s + n - offset) % n;
-            (r0..size).step_by(n as usize).map(move |r| first + r)
-        })
+        self.blocks
+            .iter()
+            .flat_map(move |&(first, size, offset, _)| {
+                // Run r of the block goes to shard (offset + r) mod n.
+                let r0 = (s + n - offset) % n;
+                (r0..size).step_by(n as usize).map(move |r| first + r)
+            })
+    }
+
+    /// The position of run `index` among the shard's runs ([`ShardRuns::iter`]'s), or
+    /// `None` when the shard does not hold it.
+    pub fn position(&self, index: u64) -> Option<u64> {
+        let block = self
+            .blocks
+            .partition_point(|b| b.0 <= index)
+            .checked_sub(1)?;
+        let (first, size, offset, before) = self.blocks[block];
+        let r = index - first;
+        let n = self.shard.count;
+        let r0 = (self.shard.index - 1 + n - offset) % n;
+        (r < size && r >= r0 && (r - r0) % n == 0).then(|| before + (r - r0) / n)
     }
 }
 
@@ -383,6 +402,37 @@ mod tests {
             Shard::parse("1048576/1048576").map(|s| s.count),
             Ok(Shard::MAX_COUNT)
         );
+    }
+
+    #[test]
+    fn positions_are_those_of_the_iteration() {
+        let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../maps/paper/map01.map")
+            .display()
+            .to_string();
+        let text = format!(
+            "name = \"t\"\nrepeats = 7\n[[maps]]\nfiles = [{map:?}]\nproblems = \"corners\"\n\
+             [planners.a]\nplanner = \"astar\"\n[planners.b]\nplanner = \"bfs\"\n"
+        );
+        let experiment = crate::config::parse(std::path::Path::new("t.toml"), &text).unwrap();
+        let n_runs = RunList::new(&experiment).len();
+        for count in 1..5 {
+            let mut held = vec![None; n_runs as usize + 3];
+            for index in 1..=count {
+                let runs = ShardRuns::new(&experiment, Shard::new(index, count).unwrap());
+                for (position, run) in runs.iter().enumerate() {
+                    held[run as usize] = Some((index, position as u64));
+                }
+                for (run, holder) in held.iter().enumerate() {
+                    let position = holder.filter(|(k, _)| *k == index).map(|(_, p)| p);
+                    assert_eq!(
+                        runs.position(run as u64),
+                        position,
+                        "{index}/{count} run {run}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

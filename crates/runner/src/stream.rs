@@ -1,11 +1,15 @@
-//! Streamed sweeps: records handed out in run order, batch by batch, as JSON Lines.
+//! Streamed sweeps: records handed out in run order as the runs finish.
 //!
 //! [`run_stream`] runs any increasing sequence of run indices (the whole run list, a
-//! [`crate::shard::ShardRuns`] slice, or what a resumed sweep has left) in batches on a
-//! rayon pool, each worker reusing its planners across batches, and hands each finished
-//! batch to a sink in run order, so memory is bounded by the batch (a few records per
-//! worker), not by the sweep. Paths the config does not keep
-//! ([`crate::config::PathsMode`]) are dropped in the worker.
+//! [`crate::shard::ShardRuns`] slice, or what a resumed sweep has left) on a rayon pool,
+//! each worker claiming the next run as it finishes one and reusing its planners, and
+//! hands the records to a sink on the calling thread ([`Delivery`]): in run order as soon
+//! as the runs before them have finished (a frame's worth, or every tenth of a second at
+//! the latest), and the runs that finished while an earlier one still ran, once one of
+//! them has waited a tenth of a second for it (or a frame's worth waits), so that a sink
+//! can keep every finished run on disk while the order waits for a slow run. Memory is bounded by a window of runs per worker
+//! past the first run not yet handed in order, not by the sweep. Paths the config does
+//! not keep ([`crate::config::PathsMode`]) are dropped in the worker.
 //!
 //! A sweep's own resume stream is framed binary ([`crate::frames`], format 3, and the
 //! previous version's format 2, read here too); the JSON Lines format (1) is that of
@@ -24,12 +28,12 @@
 //! (a link to `/dev/zero`, a FIFO nobody writes), and [`StreamReader`] refuses a line
 //! longer than [`MAX_LINE_BYTES`], so a reader's memory is bounded whatever the file holds.
 
-use std::io::{BufRead, Read as _};
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
-
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, VecDeque};
+use std::io::{BufRead, Read as _};
+use std::sync::atomic::Ordering;
+use std::sync::{Condvar, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
 
 use planner_api::{Counter, Counters};
 
@@ -150,9 +154,6 @@ pub enum StreamProblem {
 
 /// The stream format's version.
 pub const STREAM_FORMAT: u32 = 1;
-
-/// Runs per worker in one batch.
-const BATCH_PER_WORKER: usize = 512;
 
 /// The longest line [`StreamReader`] reads: 256 MiB (a record keeps its path, about 14
 /// bytes a cell, so this is a path of some 19 million cells). A longer line is an error,
@@ -442,21 +443,139 @@ impl<R: BufRead> StreamReader<R> {
     }
 }
 
-/// Runs the runs `runs` (increasing indices into `experiment`'s [`RunList`]) and calls
-/// `sink` with each finished batch of (index, record), in order (the sink owns them, to
-/// write or keep; it runs in the sweep's thread pool, so rayon's parallel iterators in it
-/// use the sweep's workers), and returns how many
-/// ran. The records of one sweep do not depend on the thread count or the batch size.
-/// Progress counts runs done in this call. Once [`RunOptions::stop`] is set, no new run
-/// starts: the last batch handed to `sink` holds the runs finished before the first one
-/// skipped, and the count is short of the runs asked for.
+/// What [`run_stream`] hands its sink.
+#[derive(Debug)]
+pub enum Delivery<'a> {
+    /// The next runs of the sequence in order, (index, record), each run once.
+    InOrder(Vec<(u64, RunRecord)>),
+    /// Runs that finished while an earlier run of the sequence had not (it was still
+    /// running, or it failed), in the order they finished, each run once. They are handed
+    /// again in [`Delivery::InOrder`] at their turn; a sink that must not lose a finished
+    /// run to a kill writes them aside meanwhile (the sweep's `ahead.stream`,
+    /// [`crate::sweep`]).
+    Ahead(&'a [(u64, RunRecord)]),
+    /// Every run handed in [`Delivery::Ahead`] so far, and every run given as done, has
+    /// since been handed in order: what was written aside may go.
+    CaughtUp,
+}
+
+/// What [`run_stream`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Streamed {
+    /// Runs handed in order ([`Delivery::InOrder`]), the done ones given included.
+    pub in_order: u64,
+    /// Runs this call ran.
+    pub ran: u64,
+    /// Finished runs not handed in order (an earlier run failed, or did not run before a
+    /// stop): each was handed in [`Delivery::Ahead`] or given as done.
+    pub ahead: u64,
+}
+
+/// Positions of the run sequence a worker may run ahead of the first run not yet handed
+/// in order, per worker: what bounds the records held.
+const WINDOW_PER_WORKER: u64 = 512;
+
+/// How long the coordinating thread sleeps when no run finishes.
+const TICK: Duration = Duration::from_millis(10);
+
+/// The longest a finished run waits before the sink is handed it (in order, or ahead).
+const FLUSH_INTERVAL: Duration = Duration::from_millis(100);
+
+/// Finished runs that wake the coordinating thread before its tick.
+const WAKE_AT: usize = 256;
+
+/// A run a worker finished (or a done run it passed), for the coordinating thread.
+struct Finished {
+    /// Its position in the run sequence.
+    position: u64,
+    /// Its run index.
+    index: u64,
+    /// Its record.
+    outcome: Result<RunRecord, RunnerError>,
+    /// Whether the sink has it already (a done run given to [`run_stream`]).
+    written: bool,
+}
+
+/// What the workers and the coordinating thread share, under one lock.
+struct State<I> {
+    /// The run sequence left to claim.
+    runs: I,
+    /// The position of the next run to claim.
+    next: u64,
+    /// Whether `runs` has ended.
+    exhausted: bool,
+    /// Finished runs given to [`run_stream`], not yet passed by the claims.
+    done: BTreeMap<u64, RunRecord>,
+    /// The position of the first run not yet handed in order.
+    frontier: u64,
+    /// Runs finished and not yet taken by the coordinating thread.
+    inbox: Vec<Finished>,
+    /// Workers still claiming.
+    active: usize,
+    /// Workers waiting for the window to move.
+    waiting: usize,
+    /// Whether the coordinating thread waits for finished runs (and no worker has woken
+    /// it since): workers wake it only then, once.
+    sleeping: bool,
+    /// No run starts any more (an error, a sink that failed, a worker that panicked).
+    abort: bool,
+}
+
+struct Shared<I> {
+    state: Mutex<State<I>>,
+    /// Workers wait here for room in the window.
+    room: Condvar,
+    /// The coordinating thread waits here for finished runs.
+    arrived: Condvar,
+    /// Positions a worker may claim beyond the frontier.
+    window: u64,
+}
+
+impl<I> Shared<I> {
+    fn lock(&self) -> MutexGuard<'_, State<I>> {
+        self.state
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
+
+/// Leaves the workers' count when a worker ends, also by a panic (which stops the other
+/// workers, so that the sweep ends and rayon hands the panic on).
+struct Leaving<'a, I>(&'a Shared<I>);
+
+impl<I> Drop for Leaving<'_, I> {
+    fn drop(&mut self) {
+        let mut state = self.0.lock();
+        state.active -= 1;
+        state.abort |= std::thread::panicking();
+        drop(state);
+        self.0.arrived.notify_one();
+        self.0.room.notify_all();
+    }
+}
+
+/// Runs the runs `runs` (increasing indices into `experiment`'s [`RunList`]) on the
+/// pool's workers and hands `sink` their records ([`Delivery`]): in run order, a frame's
+/// worth or every [`FLUSH_INTERVAL`] at the latest, and the runs that finished ahead of an
+/// earlier one once one of them has waited [`FLUSH_INTERVAL`] for it (or a frame's worth
+/// waits), each once. The runs of `done` (finished before,
+/// which `sink` has had as [`Delivery::Ahead`]) are not run: they are handed in order at
+/// their turn. A worker claims the next run when it finishes one, never more than
+/// [`WINDOW_PER_WORKER`] runs per worker past the first run not yet handed in order, so
+/// the records held are bounded whatever the runs' times; the records do not depend on
+/// the thread count. `sink` runs on the calling thread; progress counts the runs this
+/// call ran, also from the calling thread. Once [`RunOptions::stop`] is set, no new run
+/// starts; the runs in progress finish, and every finished run is handed to `sink`
+/// before this returns (in order up to the first run that did not run, the rest ahead).
+/// A run's error stops the sweep the same way and is returned (the one earliest in the
+/// run order); the sink's error is returned at once.
 pub fn run_stream(
     experiment: &Experiment,
-    runs: impl Iterator<Item = u64>,
+    runs: impl Iterator<Item = u64> + Send,
+    done: BTreeMap<u64, RunRecord>,
     options: &RunOptions<'_>,
-    mut sink: impl FnMut(Vec<(u64, RunRecord)>) -> Result<(), RunnerError> + Send,
-) -> Result<u64, RunnerError> {
-    let list = RunList::new(experiment);
+    mut sink: impl FnMut(Delivery<'_>) -> Result<(), RunnerError>,
+) -> Result<Streamed, RunnerError> {
     let threads = match options.threads {
         0 => experiment.threads,
         n => n,
@@ -469,67 +588,343 @@ pub fn run_stream(
         .build()
         .map_err(RunnerError::Pool)?;
     let workers = pool.current_num_threads();
-    let workspaces: Vec<Mutex<Workspace>> = (0..workers)
-        .map(|_| Mutex::new(Workspace::default()))
-        .collect();
-    let batch_size = workers * BATCH_PER_WORKER;
-    let done = AtomicU64::new(0);
+    let outstanding = done.len() as u64;
+    let shared = Shared {
+        state: Mutex::new(State {
+            runs,
+            next: 0,
+            exhausted: false,
+            done,
+            frontier: 0,
+            inbox: Vec::new(),
+            active: workers,
+            waiting: 0,
+            sleeping: false,
+            abort: false,
+        }),
+        room: Condvar::new(),
+        arrived: Condvar::new(),
+        window: workers as u64 * WINDOW_PER_WORKER,
+    };
+    let list = RunList::new(experiment);
     // The workers log inside the caller's span (as `run_all`'s).
     let span = tracing::Span::current();
-    let mut runs = runs.peekable();
-    let mut batch: Vec<u64> = Vec::with_capacity(batch_size);
-    let mut n_done = 0u64;
-    while runs.peek().is_some() {
-        batch.clear();
-        batch.extend(runs.by_ref().take(batch_size));
-        let stopped = || {
-            options
-                .stop
-                .is_some_and(|stop| stop.load(Ordering::Relaxed))
-        };
-        let records: Vec<Result<Option<(u64, RunRecord)>, RunnerError>> = pool.install(|| {
-            batch
-                .par_iter()
-                .map(|&index| {
-                    if stopped() {
-                        return Ok(None);
-                    }
-                    let spec = list.get(index).ok_or(RunnerError::RunIndex(index))?;
-                    let worker = rayon::current_thread_index().unwrap_or(0) % workers;
-                    let mut workspace = workspaces[worker]
-                        .lock()
-                        .unwrap_or_else(std::sync::PoisonError::into_inner);
-                    let mut record =
-                        span.in_scope(|| run_one(experiment, &spec, &mut workspace, options.heap))?;
-                    drop(workspace);
-                    if !experiment.paths.keeps(spec.repeat) {
-                        record.path = None;
-                    }
-                    if let Some(progress) = options.progress {
-                        progress(done.fetch_add(1, Ordering::Relaxed) + 1);
-                    }
-                    Ok(Some((index, record)))
-                })
-                .collect()
-        });
-        // After a stop, the runs finished before the first skipped one: the stream stays
-        // an unbroken prefix of the run order.
-        let mut finished = Vec::with_capacity(records.len());
-        for record in records {
-            match record? {
-                Some(record) => finished.push(record),
-                None => break,
-            }
+    pool.in_place_scope(|scope| {
+        for _ in 0..workers {
+            let (shared, list, span) = (&shared, &list, &span);
+            scope.spawn(move |_| work(shared, experiment, list, options, span));
         }
-        n_done += finished.len() as u64;
-        let cut_short = finished.len() < batch.len();
-        // In the pool, so that a sink's parallel work runs on the sweep's workers.
-        pool.install(|| sink(finished))?;
-        if cut_short || stopped() {
-            break;
+        let mut coordinator = Coordinator::new(outstanding);
+        let result = coordinator.coordinate(&shared, options, &mut sink);
+        if result.is_err() {
+            // The workers finish the runs they hold and start none.
+            shared.lock().abort = true;
+            shared.room.notify_all();
+        }
+        result
+    })
+}
+
+/// Whether the sweep's stop flag is raised.
+fn stopped(options: &RunOptions<'_>) -> bool {
+    options
+        .stop
+        .is_some_and(|stop| stop.load(Ordering::Relaxed))
+}
+
+/// A worker: claims the next run of the sequence, runs it, hands it in, until the runs,
+/// a stop or an abort end it; keeps one planner per label across its runs.
+fn work<I: Iterator<Item = u64>>(
+    shared: &Shared<I>,
+    experiment: &Experiment,
+    list: &RunList,
+    options: &RunOptions<'_>,
+    span: &tracing::Span,
+) {
+    let _leaving = Leaving(shared);
+    let mut workspace = Workspace::default();
+    let mut finished: Option<Finished> = None;
+    loop {
+        let (position, index) = {
+            let mut state = shared.lock();
+            if let Some(finished) = finished.take() {
+                state.inbox.push(finished);
+                if state.sleeping && (state.inbox.len() >= WAKE_AT || state.waiting > 0) {
+                    state.sleeping = false;
+                    shared.arrived.notify_one();
+                }
+            }
+            match claim(shared, state, options) {
+                Some(claimed) => claimed,
+                None => return,
+            }
+        };
+        let outcome = list
+            .get(index)
+            .ok_or(RunnerError::RunIndex(index))
+            .and_then(|spec| {
+                let mut record =
+                    span.in_scope(|| run_one(experiment, &spec, &mut workspace, options.heap))?;
+                if !experiment.paths.keeps(spec.repeat) {
+                    record.path = None;
+                }
+                Ok(record)
+            });
+        finished = Some(Finished {
+            position,
+            index,
+            outcome,
+            written: false,
+        });
+    }
+}
+
+/// The next run to run (position, index), waiting while it lies beyond the window; done
+/// runs passed on the way go to the inbox as they are. `None` once the runs end, the
+/// stop flag is raised or the sweep aborts.
+fn claim<I: Iterator<Item = u64>>(
+    shared: &Shared<I>,
+    mut state: MutexGuard<'_, State<I>>,
+    options: &RunOptions<'_>,
+) -> Option<(u64, u64)> {
+    loop {
+        if state.abort || state.exhausted || stopped(options) {
+            return None;
+        }
+        if state.next >= state.frontier + shared.window {
+            state.waiting += 1;
+            // The coordinating thread moves the window as runs are handed in order.
+            if std::mem::take(&mut state.sleeping) {
+                shared.arrived.notify_one();
+            }
+            state = shared
+                .room
+                .wait_timeout(state, TICK)
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .0;
+            state.waiting -= 1;
+            continue;
+        }
+        let Some(index) = state.runs.next() else {
+            state.exhausted = true;
+            return None;
+        };
+        let position = state.next;
+        state.next += 1;
+        match state.done.remove(&index) {
+            Some(record) => state.inbox.push(Finished {
+                position,
+                index,
+                outcome: Ok(record),
+                written: true,
+            }),
+            None => return Some((position, index)),
         }
     }
-    Ok(n_done)
+}
+
+/// The coordinating thread's side of [`run_stream`]: finished runs put back in order and
+/// handed to the sink.
+struct Coordinator {
+    /// Finished runs not yet handed in order, by position from the frontier's: (index,
+    /// record, when it came if the sink has not had it ahead); at most the window's
+    /// positions.
+    buffer: VecDeque<Option<(u64, RunRecord, Option<Instant>)>>,
+    /// Runs in order, not yet handed.
+    ready: Vec<(u64, RunRecord)>,
+    /// The position of the next run to hand in order.
+    frontier: u64,
+    /// Runs the sink has had ahead (or was given as done) and not yet in order.
+    outstanding: u64,
+    /// Runs in `buffer` the sink has not had.
+    unwritten: usize,
+    /// When the longest waiting of them came, or earlier (`None`: none waits).
+    oldest: Option<Instant>,
+    /// Whether runs were handed ahead (or given as done) since the last catch-up.
+    behind: bool,
+    /// The earliest error of a run, by position.
+    error: Option<(u64, RunnerError)>,
+    streamed: Streamed,
+    last_flush: Instant,
+}
+
+impl Coordinator {
+    fn new(outstanding: u64) -> Coordinator {
+        Coordinator {
+            buffer: VecDeque::new(),
+            ready: Vec::new(),
+            frontier: 0,
+            outstanding,
+            unwritten: 0,
+            oldest: None,
+            behind: outstanding > 0,
+            error: None,
+            streamed: Streamed::default(),
+            last_flush: Instant::now(),
+        }
+    }
+
+    /// Takes the workers' finished runs until every worker has ended, handing them to
+    /// `sink` as they come into order (and ahead when they wait too long); returns what
+    /// was handed, or the first error of a run (by position) or of the sink.
+    fn coordinate<I>(
+        &mut self,
+        shared: &Shared<I>,
+        options: &RunOptions<'_>,
+        sink: &mut dyn FnMut(Delivery<'_>) -> Result<(), RunnerError>,
+    ) -> Result<Streamed, RunnerError> {
+        loop {
+            let (inbox, ended) = {
+                let mut state = shared.lock();
+                if state.frontier != self.frontier {
+                    state.frontier = self.frontier;
+                    if state.waiting > 0 {
+                        shared.room.notify_all();
+                    }
+                }
+                if self.error.is_some() && !state.abort {
+                    state.abort = true;
+                    shared.room.notify_all();
+                }
+                if state.waiting > 0 && stopped(options) {
+                    shared.room.notify_all();
+                }
+                if state.inbox.is_empty() && state.active > 0 {
+                    state.sleeping = true;
+                    state = shared
+                        .arrived
+                        .wait_timeout(state, TICK)
+                        .unwrap_or_else(std::sync::PoisonError::into_inner)
+                        .0;
+                    state.sleeping = false;
+                }
+                // A worker hands in its last run before it leaves: with none left, the
+                // inbox holds every run still to take.
+                (std::mem::take(&mut state.inbox), state.active == 0)
+            };
+            self.take(inbox, options);
+            self.hand(sink, ended)?;
+            if ended {
+                // The last hand wrote every run left ahead; `outstanding` also counts the
+                // done runs never reached.
+                self.streamed.ahead = self.outstanding;
+                return match self.error.take() {
+                    Some((_, error)) => Err(error),
+                    None => Ok(self.streamed),
+                };
+            }
+        }
+    }
+
+    /// Puts `inbox`'s runs into the buffer and the runs now in order into `ready`.
+    fn take(&mut self, inbox: Vec<Finished>, options: &RunOptions<'_>) {
+        let ran = self.streamed.ran;
+        let now = Instant::now();
+        for finished in inbox {
+            let record = match finished.outcome {
+                Ok(record) => record,
+                Err(error) => {
+                    if self
+                        .error
+                        .as_ref()
+                        .is_none_or(|(p, _)| finished.position < *p)
+                    {
+                        self.error = Some((finished.position, error));
+                    }
+                    continue;
+                }
+            };
+            // A done run: the sink had it, and `outstanding` counts it already.
+            let came = (!finished.written).then_some(now);
+            if came.is_some() {
+                self.streamed.ran += 1;
+                self.unwritten += 1;
+                self.oldest = self.oldest.or(came);
+            }
+            // Positions below the frontier are handed already; a worker claims none
+            // beyond the window.
+            let slot = (finished.position - self.frontier) as usize;
+            if self.buffer.len() <= slot {
+                self.buffer.resize_with(slot + 1, || None);
+            }
+            self.buffer[slot] = Some((finished.index, record, came));
+        }
+        if let (Some(progress), true) = (options.progress, self.streamed.ran > ran) {
+            progress(self.streamed.ran);
+        }
+        while let Some(Some(_)) = self.buffer.front() {
+            let Some(Some((index, record, came))) = self.buffer.pop_front() else {
+                break;
+            };
+            match came {
+                None => self.outstanding -= 1,
+                Some(_) => self.unwritten -= 1,
+            }
+            self.ready.push((index, record));
+            self.frontier += 1;
+        }
+    }
+
+    /// Hands `sink` the runs in order, when a frame's worth waits, [`FLUSH_INTERVAL`] has
+    /// passed since the last hand, or (`last`) the workers have ended; the catch-up; and
+    /// the runs that wait for an earlier run, when a frame's worth waits, one has waited
+    /// [`FLUSH_INTERVAL`], or at the `last`.
+    fn hand(
+        &mut self,
+        sink: &mut dyn FnMut(Delivery<'_>) -> Result<(), RunnerError>,
+        last: bool,
+    ) -> Result<(), RunnerError> {
+        let due = last || self.last_flush.elapsed() >= FLUSH_INTERVAL;
+        let caught_up = self.behind && self.outstanding == 0;
+        if self.ready.len() >= crate::frames::FRAME_RUNS
+            || (!self.ready.is_empty() && (due || caught_up))
+        {
+            let ready = std::mem::take(&mut self.ready);
+            self.streamed.in_order += ready.len() as u64;
+            sink(Delivery::InOrder(ready))?;
+            self.last_flush = Instant::now();
+        }
+        if caught_up {
+            sink(Delivery::CaughtUp)?;
+            self.behind = false;
+        }
+        if self.unwritten == 0 {
+            self.oldest = None;
+        } else if last || self.unwritten >= crate::frames::FRAME_RUNS || self.waited_long() {
+            let ahead: Vec<(u64, RunRecord)> = self
+                .buffer
+                .iter_mut()
+                .flatten()
+                .filter(|(_, _, came)| came.is_some())
+                .map(|(index, record, came)| {
+                    *came = None;
+                    (*index, record.clone())
+                })
+                .collect();
+            self.outstanding += ahead.len() as u64;
+            self.unwritten = 0;
+            self.oldest = None;
+            self.behind = true;
+            sink(Delivery::Ahead(&ahead))?;
+        }
+        Ok(())
+    }
+
+    /// Whether a run the sink has not had has waited [`FLUSH_INTERVAL`] for an earlier
+    /// run (`oldest` brought up to date when it looks so).
+    fn waited_long(&mut self) -> bool {
+        if self.oldest.is_none_or(|t| t.elapsed() < FLUSH_INTERVAL) {
+            return false;
+        }
+        // `oldest` may be a run handed in order since: the oldest of those still waiting.
+        self.oldest = self
+            .buffer
+            .iter()
+            .flatten()
+            .filter_map(|(_, _, came)| *came)
+            .min();
+        self.oldest.is_some_and(|t| t.elapsed() >= FLUSH_INTERVAL)
+    }
 }
 
 /// A record read back that is not the run of the config its index names.
@@ -622,14 +1017,16 @@ mod tests {
         let mut bytes = StreamHeader::new(&experiment, Shard::ALL, 6)
             .to_line()
             .unwrap();
-        let n = run_stream(&experiment, 0..6, &options, |batch| {
-            for (run, record) in &batch {
-                encode(&mut bytes, *run, record)?;
+        let n = run_stream(&experiment, 0..6, BTreeMap::new(), &options, |delivery| {
+            if let Delivery::InOrder(batch) = delivery {
+                for (run, record) in &batch {
+                    encode(&mut bytes, *run, record)?;
+                }
             }
             Ok(())
         })
         .unwrap();
-        assert_eq!(n, 6);
+        assert_eq!(n.in_order, 6);
         // Cut the last line, as a kill mid-write would.
         bytes.truncate(bytes.len() - 10);
         let (header, mut reader) = StreamReader::new(&bytes[..], "test").unwrap();
@@ -668,8 +1065,11 @@ mod tests {
     fn paths_mode_figures_keeps_repeat_zero_only() {
         let experiment = experiment("repeats = 2");
         let mut kept = Vec::new();
-        run_stream(&experiment, 0..4, &RunOptions::default(), |batch| {
-            kept.extend(batch.iter().map(|(_, r)| (r.repeat, r.path.is_some())));
+        let options = RunOptions::default();
+        run_stream(&experiment, 0..4, BTreeMap::new(), &options, |delivery| {
+            if let Delivery::InOrder(batch) = delivery {
+                kept.extend(batch.iter().map(|(_, r)| (r.repeat, r.path.is_some())));
+            }
             Ok(())
         })
         .unwrap();
@@ -694,9 +1094,12 @@ mod tests {
         run_stream(
             &experiment,
             runs.iter().take(5),
+            BTreeMap::new(),
             &RunOptions::default(),
-            |batch| {
-                n += batch.len();
+            |delivery| {
+                if let Delivery::InOrder(batch) = delivery {
+                    n += batch.len();
+                }
                 Ok(())
             },
         )

@@ -1,12 +1,18 @@
 //! Streamed, resumable and sharded sweeps on disk, and merging shards.
 //!
-//! A sweep appends each batch of records, as it completes, to `records.stream` (framed, [`crate::frames`]) in the
+//! A sweep appends its records to `records.stream` (framed, [`crate::frames`]) in the
 //! output's stream area (`.<name>.stream/` beside the output directory, under its own lock:
-//! [`outdir::stream_area`]), flushing after each batch, so a killed sweep leaves every
-//! finished batch readable. `--resume` reads that file back: if its header's config hash
-//! matches the config's, the runs it holds are kept (a cut last line is dropped) and the
-//! sweep continues after them; a changed config is refused. Without `--resume` an old
-//! stream is discarded.
+//! [`outdir::stream_area`]) in run order, as soon as the runs before them have finished
+//! (a frame of 1,024 runs, or a tenth of a second's runs at the latest), and the runs that
+//! finished while an earlier one still ran to `ahead.stream` beside it, once one of them
+//! has waited a tenth of a second (or 1,024 wait), in the order they finished
+//! ([`stream::run_stream`]); ahead.stream is cut back to its header whenever
+//! records.stream holds all its runs. A killed sweep so loses only the runs in progress
+//! and those that finished in the last tenth of a second or so (and a frame cut
+//! mid-write).
+//! `--resume` reads both files back: if their headers' config hash matches the config's,
+//! the runs they hold are kept (a cut last frame is dropped) and the sweep runs the
+//! others; a changed config is refused. Without `--resume` an old stream is discarded.
 //!
 //! When the sweep is whole, the final outputs are rendered, in run order, from its records
 //! (those of this process, after those a resumed sweep reads back from the stream; the
@@ -35,14 +41,16 @@
 //! one other version with a warning naming it and its own.
 //!
 //! A sweep whose stop flag ([`SweepArgs::stop`], set by the command line on SIGINT or
-//! SIGTERM) is raised starts no new run, appends the runs finished before the first one
-//! it skipped, and returns a [`Report`] with [`Report::interrupted`] set: nothing is
+//! SIGTERM) is raised starts no new run, lets the runs in progress finish, appends every
+//! finished run (in run order, as no run after them started), and returns a [`Report`]
+//! with [`Report::interrupted`] set: nothing is
 //! rendered, the old results stay as they were, and the stream stays for `--resume`.
 //! Raised once the runs are done, while the results are rendered and written, it stops
 //! that too ([`Results::stop`]: the report checks it between its sections, figures and
 //! files, and every pass over the records stops within a record), with the same
 //! outcome: nothing written, every run kept in the stream for `--resume`.
 
+use std::collections::BTreeMap;
 use std::fs::{self, File};
 use std::io::{BufReader, Seek as _, SeekFrom, Write as _};
 use std::path::{Path, PathBuf};
@@ -58,11 +66,19 @@ use crate::readback::{RecordAt, ResultsError, ResumeError, SweepId};
 use crate::record::Reproduction;
 use crate::run::{HeapMeter, RunList};
 use crate::shard::{Shard, ShardRuns};
-use crate::stream::{self, Place, StreamError, StreamHeader, StreamProblem, StreamReader};
+use crate::stream::{
+    self, Delivery, Place, StreamError, StreamHeader, StreamProblem, StreamReader,
+};
 use crate::{config, outdir, output as results, Experiment, RunOptions, RunRecord, RunnerError};
 
-/// The resume stream of a sweep's stream area: framed binary ([`crate::frames`]).
+/// The resume stream of a sweep's stream area: framed binary ([`crate::frames`]), the
+/// shard's runs in order from its first.
 const RECORDS: &str = "records.stream";
+
+/// The runs of a sweep's stream area that finished while an earlier run had not (it was
+/// still running), in the order they finished, framed as [`RECORDS`]: what a kill leaves
+/// of them for `--resume`. Cut back to its header once every run in it is in [`RECORDS`].
+const AHEAD: &str = "ahead.stream";
 
 /// The JSON Lines resume stream of earlier versions: `--resume` still reads it, carrying
 /// its runs over into a framed stream ([`crate::frames::write_framed`]).
@@ -257,18 +273,19 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     let runs = ShardRuns::new(&experiment, shard);
     let header = StreamHeader::new(&experiment, shard, runs.len());
     let path = area.dir.join(RECORDS);
-    let (file, n_done) = open_stream(args, &area, &header, &experiment, &runs, &dir)?;
+    let opened = open_stream(args, &area, &header, &experiment, &runs, &dir)?;
     tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
-    let (records, n_ran) = stream_runs(args, &experiment, &runs, file, n_done, &path)?;
+    let (records, recorded) = stream_runs(args, &experiment, &runs, opened, &area.dir)?;
     let interrupted = |dir| Report {
         n_runs: runs.len() as usize,
         output: dir,
         reproduction: Reproduction::default(),
         seconds: started.elapsed().as_secs_f64(),
-        interrupted: Some(n_done + n_ran),
+        interrupted: Some(recorded),
         records: Vec::new(),
     };
-    if n_done + n_ran < runs.len() {
+    // Short of the shard's runs: the sweep was stopped.
+    if recorded < runs.len() {
         return Ok(interrupted(dir));
     }
     let finished = match args.shard {
@@ -344,8 +361,22 @@ fn finish_sweep(
     Ok((reproduction, kept))
 }
 
-/// The sweep's stream file `path`, open for appending, and the runs it already holds: a
-/// resumed sweep's, cut back to its last complete run; else a new one with `header`.
+/// A sweep's stream files in its stream area, open for appending, and the runs they hold.
+struct Opened {
+    /// records.stream, at its end: the first `prefix` runs of the shard, in order.
+    records: File,
+    /// ahead.stream ([`AHEAD`]), at its end.
+    ahead: File,
+    /// The bytes of ahead.stream's header line, which a catch-up cuts it back to.
+    ahead_header: u64,
+    /// Runs records.stream holds.
+    prefix: u64,
+    /// Runs after those that finished before (ahead.stream's), by index.
+    done: BTreeMap<u64, RunRecord>,
+}
+
+/// The sweep's stream files and the runs they already hold: a resumed sweep's, each cut
+/// back to its last complete frame; else new ones with `header`.
 fn open_stream(
     args: &SweepArgs,
     area: &outdir::StreamArea,
@@ -353,9 +384,10 @@ fn open_stream(
     experiment: &Experiment,
     runs: &ShardRuns,
     dir: &Path,
-) -> Result<(File, u64), RunnerError> {
+) -> Result<Opened, RunnerError> {
     let path = area.dir.join(RECORDS);
     let old = area.dir.join(OLD_RECORDS);
+    let mut ahead = None;
     let done = match args.resume {
         true if fs::symlink_metadata(&path).is_err() && fs::symlink_metadata(&old).is_ok() => {
             match resume_point(&old, header, runs, experiment)? {
@@ -366,34 +398,63 @@ fn open_stream(
         true if fs::symlink_metadata(&path).is_err() => {
             resume_finished(area, dir, args.shard.is_some(), (header, runs, experiment))?
         }
-        true => resume_point(&path, header, runs, experiment)?,
+        true => {
+            let point = resume_point(&path, header, runs, experiment)?;
+            if let Some((_, prefix)) = point {
+                let what = (header, runs, experiment);
+                ahead = read_ahead(&area.dir.join(AHEAD), what, prefix)?;
+            }
+            point
+        }
         false => None,
     };
-    match done {
-        Some((bytes, n)) => {
-            let mut file = area.open_write(RECORDS, false)?;
-            file.set_len(bytes)
-                .and_then(|()| file.seek(SeekFrom::End(0)).map(drop))
-                .map_err(|e| RunnerError::io(&path, e))?;
-            if let Some(progress) = args.progress {
-                progress.resumed(n, runs.len(), dir);
-            }
-            Ok((file, n))
-        }
+    let framed = StreamHeader {
+        format: crate::frames::FRAMED_FORMAT,
+        ..header.clone()
+    };
+    let line = framed.to_line()?;
+    let (records, prefix) = match done {
+        Some((bytes, n)) => (open_at(area, RECORDS, bytes)?, n),
         None => {
-            if let (true, Some(progress)) = (args.resume, args.progress) {
-                progress.resumed(0, runs.len(), dir);
-            }
             let mut file = area.open_write(RECORDS, true)?;
-            let framed = StreamHeader {
-                format: crate::frames::FRAMED_FORMAT,
-                ..header.clone()
-            };
-            file.write_all(&framed.to_line()?)
+            file.write_all(&line)
                 .map_err(|e| RunnerError::io(&path, e))?;
-            Ok((file, 0))
+            (file, 0)
         }
+    };
+    let (ahead, ahead_header, done) = match ahead {
+        Some(read) => (
+            open_at(area, AHEAD, read.bytes)?,
+            read.header_bytes,
+            read.done,
+        ),
+        None => {
+            let mut file = area.open_write(AHEAD, true)?;
+            file.write_all(&line)
+                .map_err(|e| RunnerError::io(&area.dir.join(AHEAD), e))?;
+            (file, line.len() as u64, BTreeMap::new())
+        }
+    };
+    if let (true, Some(progress)) = (args.resume, args.progress) {
+        progress.resumed(prefix + done.len() as u64, runs.len(), dir);
     }
+    Ok(Opened {
+        records,
+        ahead,
+        ahead_header,
+        prefix,
+        done,
+    })
+}
+
+/// The area's file `name`, open for appending after its first `bytes` (what follows, a
+/// frame cut by a kill, is cut off).
+fn open_at(area: &outdir::StreamArea, name: &str, bytes: u64) -> Result<File, RunnerError> {
+    let mut file = area.open_write(name, false)?;
+    file.set_len(bytes)
+        .and_then(|()| file.seek(SeekFrom::End(0)).map(drop))
+        .map_err(|e| RunnerError::io(&area.dir.join(name), e))?;
+    Ok(file)
 }
 
 /// A sweep resumed after it finished (a requeued cluster task, a script that always passes
@@ -465,17 +526,27 @@ fn carry_over(area: &outdir::StreamArea, old: &Path, n: u64) -> Result<u64, Runn
     Ok(bytes)
 }
 
-/// Runs the sweep's runs after the `n_done` already in its stream, appending each batch to
-/// `file` (the stream at `path`) as it completes. Returns the records of a whole sweep (a
-/// resumed one's read back first; a shard keeps none) and how many runs this call ran.
+/// Runs the sweep's runs that its stream files (`opened`, in the stream area `area`) do
+/// not hold, appending those [`stream::run_stream`] hands in order to records.stream and
+/// those it hands ahead to ahead.stream as they come. Returns the records of a whole
+/// sweep (a resumed one's read back first; a shard keeps none) and how many runs are
+/// recorded in the two files.
 fn stream_runs(
     args: &SweepArgs,
     experiment: &Experiment,
     runs: &ShardRuns,
-    mut file: File,
-    n_done: u64,
-    path: &Path,
+    opened: Opened,
+    area: &Path,
 ) -> Result<(Vec<RunRecord>, u64), RunnerError> {
+    let Opened {
+        records: mut file,
+        mut ahead,
+        ahead_header,
+        prefix,
+        done,
+    } = opened;
+    let (path, ahead_path) = (area.join(RECORDS), area.join(AHEAD));
+    let n_done = prefix + done.len() as u64;
     if let Some(progress) = args.progress {
         progress.start(runs.len(), n_done);
     }
@@ -497,32 +568,51 @@ fn stream_runs(
     let mut records: Vec<RunRecord> = Vec::new();
     if keep {
         records.reserve_exact(runs.len().min(1 << 20) as usize);
-        if n_done > 0 {
-            file.flush().map_err(|e| RunnerError::io(path, e))?;
-            records = read_records(path, records)?;
+        if prefix > 0 {
+            records = read_records(&path, records)?;
         }
     }
-    let n_ran = stream::run_stream(
+    let mut frame = Vec::new();
+    let streamed = stream::run_stream(
         experiment,
-        runs.iter().skip(n_done as usize),
+        runs.iter().skip(prefix as usize),
+        done,
         &options,
-        |batch| {
-            // Framed (src/frames.rs), encoded in parallel on the sweep's workers (the sink
-            // runs in their pool).
-            let buffer = crate::frames::encode_frames(&batch)?;
-            file.write_all(&buffer)
-                .and_then(|()| file.flush())
-                .map_err(|e| RunnerError::io(path, e))?;
-            if keep {
-                records.extend(batch.into_iter().map(|(_, record)| record));
+        |delivery| match delivery {
+            Delivery::InOrder(batch) => {
+                append_frames(&mut frame, &batch, (&mut file, &path))?;
+                if keep {
+                    records.extend(batch.into_iter().map(|(_, record)| record));
+                }
+                Ok(())
             }
-            Ok(())
+            Delivery::Ahead(batch) => append_frames(&mut frame, batch, (&mut ahead, &ahead_path)),
+            // Every run of ahead.stream is in records.stream now.
+            Delivery::CaughtUp => ahead
+                .set_len(ahead_header)
+                .and_then(|()| ahead.seek(SeekFrom::End(0)).map(drop))
+                .map_err(|e| RunnerError::io(&ahead_path, e)),
         },
-    )?;
+    );
     if let Some(progress) = args.progress {
         progress.finish();
     }
-    Ok((records, n_ran))
+    let streamed = streamed?;
+    Ok((records, prefix + streamed.in_order + streamed.ahead))
+}
+
+/// Appends `batch` to the stream `file` (at `path`) as frames of at most
+/// [`crate::frames::FRAME_RUNS`] runs, encoded in `frame`, in one write.
+fn append_frames(
+    frame: &mut Vec<u8>,
+    batch: &[(u64, RunRecord)],
+    (file, path): (&mut File, &Path),
+) -> Result<(), RunnerError> {
+    frame.clear();
+    for chunk in batch.chunks(crate::frames::FRAME_RUNS) {
+        crate::frames::encode_batch(frame, chunk)?;
+    }
+    file.write_all(frame).map_err(|e| RunnerError::io(path, e))
 }
 
 /// Writes a whole shard's results directory `dir`: its framed stream `path` copied as the
@@ -622,33 +712,7 @@ fn resume_point(
         Err(_) if fs::metadata(path).map(|m| m.len()).unwrap_or(0) < 4096 => return Ok(None),
         Err(e) => return Err(e),
     };
-    if found.config_hash != header.config_hash || found.experiment != header.experiment {
-        return Err(ResumeError::OtherConfig {
-            file: what,
-            found_experiment: found.experiment,
-            found_hash: found.config_hash,
-            config: header.config.clone(),
-            experiment: header.experiment.clone(),
-            hash: header.config_hash.clone(),
-        }
-        .into());
-    }
-    if found.gridplan != header.gridplan {
-        return Err(ResumeError::OtherVersion {
-            file: what,
-            found: found.gridplan,
-            this: header.gridplan.clone(),
-        }
-        .into());
-    }
-    if (found.shard, found.shards) != (header.shard, header.shards) {
-        return Err(ResumeError::OtherShard {
-            file: what,
-            found: (found.shard, found.shards),
-            wanted: (header.shard, header.shards),
-        }
-        .into());
-    }
+    check_resumed(found, header, &what)?;
     let list = RunList::new(experiment);
     let mut expected = runs.iter();
     let mut n = 0u64;
@@ -676,6 +740,120 @@ fn resume_point(
         );
     }
     Ok(Some((reader.complete_bytes(), n)))
+}
+
+/// Refuses the header `found` of a stream `what` that a resumed sweep with `header` reads
+/// when it is another config's, version's or shard's.
+fn check_resumed(
+    found: StreamHeader,
+    header: &StreamHeader,
+    what: &str,
+) -> Result<(), RunnerError> {
+    let file = what.to_string();
+    if found.config_hash != header.config_hash || found.experiment != header.experiment {
+        return Err(ResumeError::OtherConfig {
+            file,
+            found_experiment: found.experiment,
+            found_hash: found.config_hash,
+            config: header.config.clone(),
+            experiment: header.experiment.clone(),
+            hash: header.config_hash.clone(),
+        }
+        .into());
+    }
+    if found.gridplan != header.gridplan {
+        return Err(ResumeError::OtherVersion {
+            file,
+            found: found.gridplan,
+            this: header.gridplan.clone(),
+        }
+        .into());
+    }
+    if (found.shard, found.shards) != (header.shard, header.shards) {
+        return Err(ResumeError::OtherShard {
+            file,
+            found: (found.shard, found.shards),
+            wanted: (header.shard, header.shards),
+        }
+        .into());
+    }
+    Ok(())
+}
+
+/// What an interrupted sweep's ahead.stream holds ([`read_ahead`]).
+struct AheadRead {
+    /// The bytes of its header line.
+    header_bytes: u64,
+    /// The bytes of its complete frames (header included).
+    bytes: u64,
+    /// Its runs past records.stream's, by index.
+    done: BTreeMap<u64, RunRecord>,
+}
+
+/// The runs that an interrupted sweep's ahead.stream `path` holds past the first `prefix`
+/// runs of the shard (those of records.stream; runs of ahead.stream that records.stream
+/// holds too are passed over), or `None` when there is no such file (or a kill cut its
+/// header). Refuses a stream of another config, version or shard, and a record that is
+/// not its run of the shard.
+fn read_ahead(
+    path: &Path,
+    (header, runs, experiment): (&StreamHeader, &ShardRuns, &Experiment),
+    prefix: u64,
+) -> Result<Option<AheadRead>, RunnerError> {
+    let file = match stream::open_regular(path) {
+        Ok(file) => file,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(RunnerError::io(path, e)),
+    };
+    let what = path.display().to_string();
+    let (found, mut reader) = match StreamReader::new(BufReader::new(file), &what) {
+        Ok(opened) => opened,
+        Err(_) if fs::metadata(path).map(|m| m.len()).unwrap_or(0) < 4096 => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    check_resumed(found, header, &what)?;
+    let header_bytes = reader.complete_bytes();
+    let list = RunList::new(experiment);
+    let mut done = BTreeMap::new();
+    let mut n = 0u64;
+    while let Some((run, record)) = reader.next_run()? {
+        let at = RecordAt::after(n, reader.is_framed());
+        n += 1;
+        stream::check_record(experiment, &list, run, &record).map_err(|source| {
+            ResumeError::Record {
+                file: what.clone(),
+                at,
+                source,
+            }
+        })?;
+        match runs.position(run) {
+            None => {
+                let shard = (header.shard, header.shards);
+                return Err(ResumeError::NotInShard {
+                    file: what,
+                    at,
+                    run,
+                    shard,
+                }
+                .into());
+            }
+            Some(position) if position < prefix => {}
+            Some(_) => {
+                done.entry(run).or_insert(record);
+            }
+        }
+    }
+    if reader.was_cut() {
+        tracing::warn!(
+            "--resume: {what} ends in a frame cut short when the sweep was killed ({} bytes); it is dropped and its runs run again",
+            reader.cut_bytes()
+        );
+    }
+    Ok(Some(AheadRead {
+        header_bytes,
+        bytes: reader.complete_bytes(),
+        done,
+    }))
 }
 
 /// The records of the stream file `path`, appended to `records`.

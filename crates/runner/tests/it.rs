@@ -3,9 +3,12 @@
 //! test file here is declared below (`mod NAME;`), or tidy refuses it (ARCHITECTURE.md,
 //! "Tests").
 
+mod common;
+
 mod boundary;
 mod conformance;
 mod frames;
+mod interrupt;
 mod large;
 mod memory;
 mod parquet;
