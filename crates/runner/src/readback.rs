@@ -96,7 +96,7 @@ pub enum ResumeError {
         this: Option<String>,
     },
     /// The stream holds another shard.
-    #[error("--resume: {file} holds shard {}/{}, not {}/{}", .found.0, .found.1, .wanted.0, .wanted.1)]
+    #[error("--resume: {file} holds shard {}/{}, not {}/{}. Run without --resume to start over.", .found.0, .found.1, .wanted.0, .wanted.1)]
     OtherShard {
         /// The stream.
         file: String,

@@ -12,7 +12,9 @@
 //! mid-write).
 //! `--resume` reads both files back: if their headers' config hash matches the config's,
 //! the runs they hold are kept (a cut last frame is dropped) and the sweep runs the
-//! others; a changed config is refused. Without `--resume` an old stream is discarded.
+//! others; a changed config is refused, and so are the finished results of another
+//! config or shard in the output (`resume_finished`). Without `--resume` an old stream is
+//! discarded.
 //!
 //! When the sweep is whole, the final outputs are rendered, in run order, from its records
 //! (those of this process, after those a resumed sweep reads back from the stream; the
@@ -209,7 +211,8 @@ pub struct SweepArgs<'a> {
     /// when the binary installs [`crate::alloc::Counting`].
     pub heap: Option<&'a dyn HeapMeter>,
     /// Keep the runs an interrupted sweep recorded (or a finished one: see
-    /// `resume_finished`).
+    /// `resume_finished`); a stream or finished results of another config, version or
+    /// shard are refused ([`crate::readback::ResumeError`]), never replaced.
     pub resume: bool,
     /// Run one shard only.
     pub shard: Option<Shard>,
@@ -396,7 +399,17 @@ fn open_stream(
             }
         }
         true if fs::symlink_metadata(&path).is_err() => {
-            resume_finished(area, dir, args.shard.is_some(), (header, runs, experiment))?
+            let what = (header, runs, experiment);
+            match resume_finished(area, dir, args.shard.is_some(), what) {
+                Ok(done) => done,
+                Err(error) => {
+                    // Refused: the area, made for this sweep, holds no stream to keep.
+                    if let Err(e) = area.remove() {
+                        tracing::warn!("{} could not be removed: {e}", area.dir.display());
+                    }
+                    return Err(error);
+                }
+            }
         }
         true => {
             let point = resume_point(&path, header, runs, experiment)?;
@@ -461,9 +474,12 @@ fn open_at(area: &outdir::StreamArea, name: &str, bytes: u64) -> Result<File, Ru
 /// `--resume`): no stream is left in the area, and the output `dir`, gridplan's own, holds
 /// this very sweep's records (a whole sweep's [`RESULTS_RECORDS`], a shard's
 /// [`SHARD_FILE`]: the same config, version and shard). They are copied into the area's
-/// stream, so no run runs again and the output is written again from them. Records of
-/// another config or shard there resume nothing (said), as no output does; the output
-/// itself is left as it is until the sweep replaces it.
+/// stream, so no run runs again and the output is written again from them. Finished
+/// records of another config, version or shard there (a whole sweep's for a shard, a
+/// shard's for a whole sweep) are refused as an interrupted sweep's are
+/// ([`ResumeError`]: run without `--resume` to start over), and so are records that do not
+/// read back, so that `--resume` never replaces the runs it was asked to keep; an output
+/// without records resumes nothing, and every run runs.
 fn resume_finished(
     area: &outdir::StreamArea,
     dir: &Path,
@@ -473,31 +489,21 @@ fn resume_finished(
     if fs::symlink_metadata(dir.join(outdir::MARKER)).is_err() {
         return Ok(None);
     }
-    let finished = dir.join(if shard { SHARD_FILE } else { RESULTS_RECORDS });
-    let (bytes, n) = match resume_point(&finished, header, runs, experiment) {
-        Ok(Some(point)) => point,
-        Ok(None) => return Ok(None),
-        Err(RunnerError::Resume(e))
-            if matches!(
-                *e,
-                ResumeError::OtherConfig { .. }
-                    | ResumeError::OtherVersion { .. }
-                    | ResumeError::OtherShard { .. }
-            ) =>
-        {
-            tracing::warn!(
-                "--resume: {} holds the finished results of another config, gridplan version or shard; every run runs, as without --resume",
-                dir.display()
-            );
-            return Ok(None);
-        }
-        Err(e) => {
-            tracing::warn!(
-                "--resume: the finished records in {} do not read back, so every run runs: {e}",
-                dir.display()
-            );
-            return Ok(None);
-        }
+    // The records of this kind of sweep, else the other kind's, whose header then names
+    // the shard they hold.
+    let names = match shard {
+        true => [SHARD_FILE, RESULTS_RECORDS],
+        false => [RESULTS_RECORDS, SHARD_FILE],
+    };
+    let Some(finished) = names
+        .iter()
+        .map(|name| dir.join(name))
+        .find(|path| fs::symlink_metadata(path).is_ok())
+    else {
+        return Ok(None);
+    };
+    let Some((bytes, n)) = resume_point(&finished, header, runs, experiment)? else {
+        return Ok(None);
     };
     let path = area.dir.join(RECORDS);
     let source = stream::open_regular(&finished).map_err(|e| RunnerError::io(&finished, e))?;

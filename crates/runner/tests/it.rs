@@ -13,3 +13,4 @@ mod large;
 mod memory;
 mod parquet;
 mod reliability;
+mod resume;
