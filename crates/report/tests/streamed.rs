@@ -102,8 +102,10 @@ fn through_file(
     records: &[RunRecord],
     name: &str,
 ) -> (PathBuf, Vec<RunRecord>) {
-    let path =
-        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gridplan-streamed-{name}.jsonl"));
+    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
+        "gridplan-streamed-{name}-{}.jsonl",
+        std::process::id()
+    ));
     let header = StreamHeader::new(experiment, Shard::ALL, records.len() as u64);
     let mut bytes = header.to_line().unwrap();
     for (run, record) in records.iter().enumerate() {

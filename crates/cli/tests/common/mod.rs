@@ -20,7 +20,25 @@ pub fn root() -> PathBuf {
 /// A fresh, empty directory `gridplan-KIND-PID-NAME` under the system's temp dir
 /// (canonical, so paths built from it are the ones the binary prints).
 pub fn scratch(kind: &str, name: impl std::fmt::Display) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gridplan-{kind}-{name}"));
+    // Under the target directory, one per process (two runs of the tests at once, as two
+    // engineers' or agents' builds, must not share one), and the ones of finished
+    // processes removed first, so that they do not pile up.
+    let root = Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let (prefix, suffix) = (format!("gridplan-{kind}-"), format!("-{name}"));
+    for entry in std::fs::read_dir(root).into_iter().flatten().flatten() {
+        let file_name = entry.file_name();
+        let Some(pid) = file_name
+            .to_str()
+            .and_then(|n| n.strip_prefix(&prefix)?.strip_suffix(&suffix))
+        else {
+            continue;
+        };
+        let alive = Path::new("/proc").join(pid).exists();
+        if pid.bytes().all(|b| b.is_ascii_digit()) && !alive {
+            let _ = std::fs::remove_dir_all(entry.path());
+        }
+    }
+    let dir = root.join(format!("{prefix}{}{suffix}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir.canonicalize().unwrap()
