@@ -5,8 +5,10 @@
 //! pending forever) spawns `sbatch`, which the command line does ([`Jobs::array_args`] and
 //! [`Jobs::merge_args`] give the arguments); this module writes files only.
 //!
-//! For an output directory `DIR` (default: the config's), the scripts, the shards'
-//! results (`shard-K`) and the tasks' logs go to `DIR-slurm/`; the merge writes `DIR`
+//! For an output directory `DIR` (default: the config's; `DIR/`, `DIR/.` and `./DIR` are
+//! `DIR`, while the root or a path ending in `..` is refused before anything is written),
+//! the scripts, the shards' results (`shard-K`) and the tasks' logs go to `DIR-slurm/`,
+//! beside it; the merge writes `DIR`
 //! (`merge --shards-in DIR-slurm --shards N`, so its command line has the same length
 //! for any N). It merges `shard-1` to `shard-N` only: the `shard-K` directories an
 //! earlier `slurm` of the same output with more shards left (K above N) are left out,
@@ -37,7 +39,7 @@
 //! (which it writes first): a directory of that name that is not gridplan's is refused
 //! ([`OutdirError::ForeignWorkDir`]) and left alone.
 
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 use crate::config::{self, ConfigError};
 use crate::outdir::OutdirError;
@@ -135,6 +137,15 @@ pub enum SlurmError {
         /// What the option takes.
         expected: &'static str,
     },
+    /// A results directory that names no directory of its own: the root, or a path
+    /// ending in `..` (whose `DIR-slurm` would not be beside it).
+    #[error("{key}: {} does not name a results directory by its own name (it is the root or ends in `..`); give the directory itself, e.g. `results/name`", path.display())]
+    OutputName {
+        /// The option or key it came from.
+        key: String,
+        /// The path given.
+        path: PathBuf,
+    },
     /// A path that is not UTF-8 (a script is text).
     #[error("{key}: {} is not valid UTF-8", path.display())]
     NotUtf8 {
@@ -172,6 +183,25 @@ fn absolute(current_dir: &Path, path: &Path) -> PathBuf {
         path.to_path_buf()
     } else {
         current_dir.join(path)
+    }
+}
+
+/// The results directory `output` (from the option or key `key`) as an absolute path
+/// without `.` components or trailing separators, so that `DIR-slurm` is its sibling:
+/// `o2/`, `o2/.` and `./o2` are `o2`, and `.` the current directory. A path that ends in
+/// `..`, or the root, is refused ([`SlurmError::OutputName`]): its last name is not the
+/// directory's (`..` is not resolved by hand, as a link would resolve it otherwise).
+fn results_dir(current_dir: &Path, output: &Path, key: &str) -> Result<PathBuf, SlurmError> {
+    let path: PathBuf = absolute(current_dir, output)
+        .components()
+        .filter(|c| !matches!(c, Component::CurDir))
+        .collect();
+    match path.components().next_back() {
+        Some(Component::Normal(_)) => Ok(path),
+        _ => Err(SlurmError::OutputName {
+            key: key.to_string(),
+            path: output.to_path_buf(),
+        }),
     }
 }
 
@@ -355,10 +385,11 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     } else {
         format!("{}: key `output`", args.config.display())
     };
-    let output = absolute(
+    let output = results_dir(
         &args.current_dir,
         args.output.as_deref().unwrap_or(&experiment.output),
-    );
+        &output_key,
+    )?;
     let mut work = output.as_os_str().to_os_string();
     work.push("-slurm");
     let work = PathBuf::from(work);

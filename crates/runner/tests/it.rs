@@ -14,3 +14,4 @@ mod memory;
 mod parquet;
 mod reliability;
 mod resume;
+mod slurm;

@@ -1,0 +1,123 @@
+//! `slurm`'s working directory: `DIR-slurm` beside the results directory however the
+//! results directory is spelt, and a results directory without a name of its own refused
+//! before anything is written.
+
+use std::path::{Path, PathBuf};
+
+use planner_runner::provenance::Machine;
+use planner_runner::shard::Shard;
+use planner_runner::slurm::{slurm, SlurmArgs, SlurmError};
+use planner_runner::sweep::{experiment, merge, SweepArgs};
+
+use crate::common::{root, scratch, NoReport};
+
+/// tiny.toml in `dir`: arena.map's first 3 scenarios, one A*.
+fn tiny(dir: &Path) -> PathBuf {
+    let map = root().join("maps/movingai/arena.map");
+    let text = format!(
+        "name = \"tiny\"\nfigures = \"none\"\n[[maps]]\nfiles = [{:?}]\nscen = {:?}\nlimit = 3\n\
+         [planners.a]\nplanner = \"astar\"\n",
+        map.display().to_string(),
+        format!("{}.scen", map.display())
+    );
+    let path = dir.join("tiny.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// `slurm --shards 2 tiny.toml --output OUTPUT` from `current_dir`.
+fn write_jobs(config: &Path, current_dir: &Path, output: &str) -> Result<PathBuf, SlurmError> {
+    let jobs = slurm(&SlurmArgs {
+        config: config.to_path_buf(),
+        shards: 2,
+        output: Some(PathBuf::from(output)),
+        binary: PathBuf::from("/usr/bin/gridplan"),
+        current_dir: current_dir.to_path_buf(),
+        ..SlurmArgs::default()
+    })?;
+    Ok(jobs.array_script.parent().unwrap().to_path_buf())
+}
+
+/// Every file and directory under `dir`, relative to it.
+fn listing(dir: &Path) -> Vec<PathBuf> {
+    let mut all = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(next) = todo.pop() {
+        for entry in std::fs::read_dir(&next).unwrap() {
+            let path = entry.unwrap().path();
+            all.push(path.strip_prefix(dir).unwrap().to_path_buf());
+            if path.is_dir() {
+                todo.push(path);
+            }
+        }
+    }
+    all.sort();
+    all
+}
+
+/// `--output o2/` (or `o2/.`, `./o2`) put the working directory at `o2/-slurm`, inside
+/// the results directory, and after the array ran the merge job failed: "output
+/// '.../o2/' is not a gridplan results directory: it holds 1 entry (-slurm)" (exit 5).
+/// The working directory is `o2-slurm` beside `o2` now, the scripts name `o2` without
+/// the slash, and the shards run where the array script puts them merge into `o2`.
+#[test]
+fn a_trailing_slash_or_dot_keeps_the_work_dir_beside_the_output() {
+    let dir = scratch("slurm-slash");
+    let config = tiny(&dir);
+    for output in ["o2/", "o2/.", "./o2", "o2//"] {
+        let work = write_jobs(&config, &dir, output).unwrap();
+        assert_eq!(work, dir.join("o2-slurm"), "{output}");
+        assert!(!dir.join("o2").exists(), "{output}: the output was made");
+        let merge_script = std::fs::read_to_string(work.join("merge.sbatch")).unwrap();
+        let named = format!("--output '{}'", dir.join("o2").display());
+        assert!(merge_script.contains(&named), "{output}: {merge_script}");
+        // What the array's tasks and the merge job then do.
+        let shards: Vec<PathBuf> = (1..=2).map(|k| work.join(format!("shard-{k}"))).collect();
+        for (k, shard) in shards.iter().enumerate() {
+            experiment(&SweepArgs {
+                output: Some(shard),
+                shard: Some(Shard::new(k as u64 + 1, 2).unwrap()),
+                ..SweepArgs::new(&config, &NoReport)
+            })
+            .unwrap();
+        }
+        let machine = |_: &Path| Machine::default();
+        let report = merge(&shards, Some(&dir.join("o2")), None, &NoReport, &machine);
+        assert_eq!(report.unwrap().n_runs, 3, "{output}");
+        std::fs::remove_dir_all(dir.join("o2")).unwrap();
+        std::fs::remove_dir_all(&work).unwrap();
+    }
+    // `.` is the current directory, and its working directory is beside it.
+    let current = dir.join("here");
+    std::fs::create_dir(&current).unwrap();
+    assert_eq!(
+        write_jobs(&config, &current, ".").unwrap(),
+        dir.join("here-slurm")
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The root and a path ending in `..` name no results directory of their own: refused,
+/// naming `--output`, before anything is written.
+#[test]
+fn an_output_without_a_name_is_refused_before_anything_is_written() {
+    let dir = scratch("slurm-nameless");
+    let config = tiny(&dir);
+    let current = dir.join("a/b");
+    std::fs::create_dir_all(&current).unwrap();
+    let before = listing(&dir);
+    for output in ["..", "../..", "x/..", "/", "./.."] {
+        let error = write_jobs(&config, &current, output).unwrap_err();
+        assert!(
+            matches!(error, SlurmError::OutputName { .. }),
+            "{output}: {error}"
+        );
+        let message = error.to_string();
+        assert!(
+            message.starts_with(&format!("--output: {output} does not name")),
+            "{message}"
+        );
+        assert_eq!(listing(&dir), before, "{output}: something was written");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
