@@ -556,12 +556,12 @@ impl<I> Drop for Leaving<'_, I> {
 
 /// Runs the runs `runs` (increasing indices into `experiment`'s [`RunList`]) on the
 /// pool's workers and hands `sink` their records ([`Delivery`]): in run order, a frame's
-/// worth or every [`FLUSH_INTERVAL`] at the latest, and the runs that finished ahead of an
-/// earlier one once one of them has waited [`FLUSH_INTERVAL`] for it (or a frame's worth
-/// waits), each once. The runs of `done` (finished before,
-/// which `sink` has had as [`Delivery::Ahead`]) are not run: they are handed in order at
-/// their turn. A worker claims the next run when it finishes one, never more than
-/// [`WINDOW_PER_WORKER`] runs per worker past the first run not yet handed in order, so
+/// worth or every tenth of a second at the latest, and the runs that finished ahead of an
+/// earlier one once one of them has waited a tenth of a second for it (or a frame's worth
+/// waits), each once. The runs of `done` (finished before, which `sink` has had as
+/// [`Delivery::Ahead`]) are not run: they are handed in order at their turn. A worker
+/// claims the next run when it finishes one, never more than 512 runs per worker past the
+/// first run not yet handed in order, so
 /// the records held are bounded whatever the runs' times; the records do not depend on
 /// the thread count. `sink` runs on the calling thread; progress counts the runs this
 /// call ran, also from the calling thread. Once [`RunOptions::stop`] is set, no new run
