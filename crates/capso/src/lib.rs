@@ -117,8 +117,10 @@
 //!
 //! # Outcome and counters
 //! After the last iteration the global best is decoded: `found` when its collision is 0,
-//! else `no_path` (the search may have missed a path; the best attempt's collision is in
-//! the counters). The budget counts fitness evaluations as expansions (`n_expanded`):
+//! else `budget_exhausted` with no path: the swarm's iterations are its budget, and like
+//! RRT it cannot prove that no path exists (`no_path` says that, planner-api's
+//! `Status`; it is said only when the guide finds no route at all). The best attempt's
+//! collision is in the counters. The budget counts fitness evaluations as expansions (`n_expanded`):
 //! `30 + 100 * 30 = 3030` with the defaults (one per particle at the start and one per
 //! particle and iteration). The guide's block search is not counted (at most the grid's
 //! cells per level; `n_guide_expanded`), but it stops at the budget's deadline or cancel
@@ -1124,7 +1126,8 @@ impl Planner for Capso {
                 let free = e.collision.is_free();
                 match (exhausted, free) {
                     (false, true) => (Status::Found, Some(path)),
-                    (false, false) => (Status::NoPath, None),
+                    // A swarm that missed every path proved nothing.
+                    (false, false) => (Status::BudgetExhausted, None),
                     (true, free) => (Status::BudgetExhausted, free.then_some(path)),
                 }
             }

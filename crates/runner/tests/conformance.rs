@@ -3,7 +3,8 @@
 //! (the search stops within it and says so); every returned path valid under the rule the
 //! planner declares in its specs, from the start (to the goal); a reused planner gives the
 //! outcome of a fresh one, also after the grid was edited in place; two runs give the same
-//! counters. Every declared parameter at
+//! counters; a `found` run has a path, and `no_path` is never said where a 4-connected
+//! path exists. Every declared parameter at
 //! the edges of its type is refused by key or keeps the same contract. What a planner
 //! declares in its specs holds: an admissible one finds the oracle's optimum (a weighted one
 //! on weighted grids too), a seeded one depends on its seed. Recording the expanded cells
@@ -164,6 +165,22 @@ fn every_registered_planner_keeps_the_contract() {
                 }
 
                 check_path(&what, &first, grid, (*start, *goal), coverage, &rule);
+                // `no_path` says the search proved there is none: not where a 4-connected
+                // path (one every declared rule admits) exists.
+                if first.status == Status::NoPath && !coverage {
+                    let four = planner_api::MoveSet::standard(planner_api::Connectivity::Four);
+                    let unweighted = Grid::from_free_cells(
+                        grid.width(),
+                        grid.height(),
+                        grid.free_cells().to_vec(),
+                    )
+                    .unwrap();
+                    assert!(
+                        planner_testkit::weighted_dijkstra(&unweighted, &four, *start, *goal)
+                            .is_none(),
+                        "{what}: no_path, yet a 4-connected path exists"
+                    );
+                }
                 n_checked += 1;
             }
         }
@@ -243,7 +260,7 @@ fn a_planner_reused_on_an_edited_grid_gives_a_fresh_ones_outcome() {
 }
 
 /// A run's path, if any, leaves the start, reaches the goal when found (not for coverage),
-/// and keeps the rule its planner declares.
+/// and keeps the rule its planner declares; a run that says found has a path.
 fn check_path(
     what: &str,
     seen: &Seen,
@@ -252,6 +269,9 @@ fn check_path(
     coverage: bool,
     rule: &planner_api::PathSpec,
 ) {
+    if seen.status == Status::Found {
+        assert!(seen.cells.is_some(), "{what}: found, yet no path");
+    }
     if let Some(cells) = &seen.cells {
         let path = planner_api::Path::new(cells.clone());
         assert_eq!(
