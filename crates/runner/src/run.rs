@@ -396,6 +396,17 @@ fn execute_on(
         record.peak_heap_bytes = slot.retained + heap.peak_since(baseline);
     }
     record.status = status.into();
+    if status == planner_api::Status::Found && path.is_none() {
+        // `found` promises a path (planner-api's `Status`): recorded as an invalid one.
+        tracing::warn!(
+            "{} said found but returned no path ({} -> {})",
+            planner.label,
+            entry.start,
+            entry.goal
+        );
+        record.valid = Some(false);
+        record.error = Some("the planner said found but returned no path".into());
+    }
     if let Some(path) = path {
         let m = path.metrics();
         record.steps = Some(m.steps);

@@ -133,6 +133,52 @@ fn a_path_breaking_the_declared_rule_is_recorded_invalid() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A planner that says found without a path.
+struct Pathless;
+
+impl Pathless {
+    fn new(_: LiarConfig) -> Result<Pathless, Never> {
+        Ok(Pathless)
+    }
+}
+
+impl Planner for Pathless {
+    fn name(&self) -> &str {
+        "pathless"
+    }
+
+    fn specs(&self) -> PlannerSpecs {
+        PlannerSpecs::deterministic(PathSpec::Moves(MoveSet::standard(Connectivity::Four)))
+    }
+
+    fn plan(&mut self, _problem: &Problem<'_>, _budget: &Budget) -> Outcome {
+        Outcome::new(planner_api::Status::Found, None, Counters::new())
+    }
+}
+
+/// `found` without a path was recorded as found (empty steps and validity, no warning,
+/// summary.md counting it found); it is an invalid run that says why.
+#[test]
+fn found_without_a_path_is_recorded_invalid() {
+    let dir = scratch("pathless");
+    std::fs::write(
+        dir.join("open.map"),
+        "type octile\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\n",
+    )
+    .unwrap();
+    let text = "name = \"l\"\n[[maps]]\nfiles = [\"open.map\"]\nproblems = \"corners\"\n[planners.x]\nplanner = \"astar\"\n";
+    let mut experiment = config::parse(&dir.join("c.toml"), text).unwrap();
+    experiment.planners[0].factory =
+        Factory::path("pathless", &toml::Table::new(), Pathless::new).unwrap();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    assert_eq!(records[0].valid, Some(false));
+    assert_eq!(
+        records[0].error.as_deref(),
+        Some("the planner said found but returned no path")
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A bad parameter, for every planner: an unknown key, and for the planners listed a value
 /// its constructor rejects. The error points at the key's line and column.
 #[test]
