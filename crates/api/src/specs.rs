@@ -35,7 +35,10 @@ pub struct PlannerSpecs {
     /// its paths are least-cost under the grid's move cost rule (or as good as its
     /// admissibility says). A planner that does not is refused a weighted grid by the
     /// runner, with an error naming the planner and the map, unless the config says
-    /// `costs = "ignore"`.
+    /// `costs = "ignore"`. The conformance tests hold a planner that declares both this
+    /// and `admissible: Some(true)` to the weighted oracle's costs; without an
+    /// admissibility claim they check only that its paths on weighted grids keep its rule,
+    /// so the declaration is the planner's word (its crate's docs say how it weighs costs).
     pub cell_costs: bool,
 }
 
