@@ -194,3 +194,128 @@ fn a_den520d_gif_fits_and_ends_on_the_path() {
     }
     assert_eq!(path_pixels, (path.len() - 2) * scale * scale);
 }
+
+/// The frames of a GIF, as palette indices, and its width and height.
+fn decode_indexed(bytes: &[u8]) -> (usize, usize, Vec<Vec<u8>>) {
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::Indexed);
+    let mut decoder = options.read_info(bytes).unwrap();
+    let (w, h) = (decoder.width() as usize, decoder.height() as usize);
+    let mut frames = Vec::new();
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        assert_eq!((frame.width as usize, frame.height as usize), (w, h));
+        frames.push(frame.buffer.to_vec());
+    }
+    (w, h, frames)
+}
+
+/// A map of more than 512 cells a side is drawn in blocks of k x k cells, k = ceil(longer
+/// side / 512): A* on a 1500 x 1100 map (a fifth of its cells blocked) gives a 500 x 367
+/// GIF (k = 3) whose last frame draws the path on exactly the blocks of the path's cells
+/// (but the start's and the goal's), and whose first frame draws a block blocked when most
+/// of its cells are.
+#[test]
+fn a_large_map_gif_is_drawn_in_blocks_of_at_most_512_pixels_a_side() {
+    let (width, height) = (1500usize, 1100usize);
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut free = vec![true; width * height];
+    for cell in free.iter_mut() {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        *cell = state % 5 != 0;
+    }
+    let (start, goal) = ((3, 2), (width - 4, height - 3));
+    free[start.1 * width + start.0] = true;
+    free[goal.1 * width + goal.0] = true;
+    let mut text = format!("type octile\nheight {height}\nwidth {width}\nmap\n");
+    for row in free.chunks(width) {
+        text.extend(row.iter().map(|&f| if f { '.' } else { '@' }));
+        text.push('\n');
+    }
+    let map = crate::common::scratch("large-gif").join("large.map");
+    std::fs::write(&map, text).unwrap();
+    let args = PlanArgs {
+        map,
+        planner: "astar".into(),
+        start: Some(planner_api::Cell::new(start.0 as u32, start.1 as u32)),
+        goal: Some(planner_api::Cell::new(goal.0 as u32, goal.1 as u32)),
+        ..PlanArgs::default()
+    };
+    let options = PlanOptions {
+        record_expanded: true,
+        ..PlanOptions::default()
+    };
+    let result = planner_runner::plan::run_with(&args, &options).unwrap();
+    let bytes = planner_serve::anim::plan_gif(&result).unwrap();
+    let (w, h, frames) = decode_indexed(&bytes);
+    let k = 3;
+    assert_eq!((w, h), (500, 367));
+    assert!(w <= 512 && h <= 512);
+    assert!(frames.len() >= 2, "{}", frames.len());
+
+    // The last frame: palette index 3 (the path) on the path's blocks, the start (4) and
+    // goal (5) over it.
+    let path = result.record.path.as_ref().unwrap().cells();
+    let pixel = |x: usize, y: usize| (y / k) * w + x / k;
+    let ends = [pixel(start.0, start.1), pixel(goal.0, goal.1)];
+    let mut expected: Vec<usize> = path
+        .iter()
+        .map(|c| pixel(c.x as usize, c.y as usize))
+        .filter(|p| !ends.contains(p))
+        .collect();
+    expected.sort_unstable();
+    expected.dedup();
+    let last = frames.last().unwrap();
+    let drawn: Vec<usize> = (0..w * h).filter(|&i| last[i] == 3).collect();
+    assert!(drawn.len() > 400, "{}", drawn.len());
+    assert_eq!(drawn, expected);
+    assert_eq!((last[ends[0]], last[ends[1]]), (4, 5));
+
+    // The first frame: the blocks with no expanded cell among its first expansions are
+    // blocked (1) exactly when more than half of their cells are.
+    let first = &frames[0];
+    for py in 0..h {
+        for px in 0..w {
+            let i = py * w + px;
+            if first[i] > 1 {
+                continue;
+            }
+            let (mut cells, mut blocked) = (0, 0);
+            for y in py * k..((py + 1) * k).min(height) {
+                for x in px * k..((px + 1) * k).min(width) {
+                    cells += 1;
+                    blocked += usize::from(!free[y * width + x]);
+                }
+            }
+            assert_eq!(first[i] == 1, blocked * 2 > cells, "pixel ({px}, {py})");
+        }
+    }
+}
+
+/// 512 cells a side is still drawn cell by cell (one pixel a cell); 513 is drawn in blocks
+/// of 2 x 2 cells, the last column and row of blocks half a block.
+#[test]
+fn gifs_are_drawn_in_blocks_from_513_cells_a_side() {
+    for (width, height, pixels) in [
+        (512, 40, (512, 40)),
+        (40, 513, (20, 257)),
+        (513, 513, (257, 257)),
+    ] {
+        let grid = planner_api::Grid::new(width, height).unwrap();
+        let start = planner_api::Cell::new(0, 0);
+        let goal = planner_api::Cell::new(width - 1, height - 1);
+        let search = planner_serve::anim::Search {
+            grid: &grid,
+            start,
+            goal,
+            expanded: &[start, goal],
+            path: &[start, goal],
+        };
+        let bytes = planner_serve::anim::gif(&search, usize::MAX).unwrap();
+        let (w, h, frames) = decode_indexed(&bytes);
+        assert_eq!((w, h), pixels, "{width}x{height}");
+        let last = frames.last().unwrap();
+        assert_eq!((last[0], last[w * h - 1]), (4, 5), "{width}x{height}");
+    }
+}
