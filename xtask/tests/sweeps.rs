@@ -291,7 +291,8 @@ fn killed_and_resumed_equals_uninterrupted() {
 /// `--resume` after a sweep finished (a requeued cluster task, a script that always passes
 /// it) runs nothing again: the output's records are carried over, their times included, so
 /// the tables come back as they were; so for a shard. The results of another config under
-/// the same output resume nothing: every run runs.
+/// the same output, or another shard's, are refused (exit 2) and left as they were; without
+/// `--resume` they are replaced.
 #[test]
 fn resuming_a_finished_sweep_runs_nothing_again() {
     let dir = scratch("finished");
@@ -317,10 +318,29 @@ fn resuming_a_finished_sweep_runs_nothing_again() {
     let stream = fs::read(shard.join("shard.stream")).unwrap();
     sweep(config, &shard, &["--shard", "2/3", "--resume"]);
     assert!(stream == fs::read(shard.join("shard.stream")).unwrap());
-    // Shard 1's records are not shard 2's: shard 1 runs in full over them.
-    sweep(config, &shard, &["--shard", "1/3", "--resume"]);
-    assert!(stream != fs::read(shard.join("shard.stream")).unwrap());
-    sweep("configs/paper.toml", &out, &["--resume"]);
+    // Shard 1's records are not shard 2's, nor paper.toml's arena-repeats': refused.
+    let refused = |config: &str, output: &Path, extra: &[&str]| {
+        let mut args = vec!["experiment", config, "--quiet", "--threads", "2"];
+        args.extend_from_slice(extra);
+        let output = output.display().to_string();
+        args.extend(["--resume", "--output", &output]);
+        let run = Command::new(env!("CARGO_BIN_EXE_xtask"))
+            .args(&args)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("Run without --resume to start over"),
+            "{stderr}"
+        );
+    };
+    refused(config, &shard, &["--shard", "1/3"]);
+    assert!(stream == fs::read(shard.join("shard.stream")).unwrap());
+    refused("configs/paper.toml", &out, &[]);
+    assert!(after["runs.csv"] == fs::read(out.join("runs.csv")).unwrap());
+    sweep("configs/paper.toml", &out, &[]);
     let paper = fs::read_to_string(out.join("runs.csv")).unwrap();
     assert!(paper.contains("backtracking") && !paper.contains("arena"));
 }

@@ -63,9 +63,10 @@ pub enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
-        /// Keep the runs an interrupted sweep on the same output recorded and run the rest
-        /// (a changed config is refused); after a finished sweep of the same config (or
-        /// shard), nothing runs again.
+        /// Keep the runs an interrupted sweep on the same output recorded and run the rest;
+        /// after a finished sweep of the same config (or shard), nothing runs again. The
+        /// runs or results of another config, version or shard are refused (exit 2) and left
+        /// as they are.
         #[arg(long)]
         resume: bool,
         /// Run only shard K of N (1-based), e.g. 2/3; without it, SLURM_ARRAY_TASK_ID with
