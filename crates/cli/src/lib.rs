@@ -245,7 +245,8 @@ pub enum Command {
         #[arg(long, value_name = "FILE")]
         trace: Option<PathBuf>,
         /// Also write an animated GIF of the search (expanded cells in order, then the
-        /// path) to FILE, at most 5 MB.
+        /// path) to FILE, at most 5 MB; a map over 512 cells a side is drawn one pixel per
+        /// block of ceil(side / 512) cells, at most 512 pixels a side.
         #[arg(long, value_name = "FILE")]
         gif: Option<PathBuf>,
     },
