@@ -698,6 +698,28 @@ fn worker_threads(argument: usize, configured: usize) -> usize {
     }
 }
 
+/// The stream at `path` opened for a resume, past its header, which must be `header`'s
+/// (the same config, version and shard); `None` when there is no such file, or a kill cut
+/// its header (nothing was recorded).
+fn open_resumed(
+    path: &Path,
+    header: &StreamHeader,
+) -> Result<Option<StreamReader<BufReader<fs::File>>>, RunnerError> {
+    let file = match stream::open_regular(path) {
+        Ok(file) => file,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(RunnerError::io(path, e)),
+    };
+    let what = path.display().to_string();
+    let (found, reader) = match StreamReader::new(BufReader::new(file), &what) {
+        Ok(opened) => opened,
+        Err(_) if fs::metadata(path).map(|m| m.len()).unwrap_or(0) < 4096 => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    check_resumed(found, header, &what)?;
+    Ok(Some(reader))
+}
+
 /// Where an interrupted sweep's stream `path` ends: (bytes of complete lines, runs), or
 /// `None` if there is no stream. Refuses a stream of another config or shard.
 fn resume_point(
@@ -706,19 +728,10 @@ fn resume_point(
     runs: &ShardRuns,
     experiment: &Experiment,
 ) -> Result<Option<(u64, u64)>, RunnerError> {
-    let file = match stream::open_regular(path) {
-        Ok(file) => file,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(RunnerError::io(path, e)),
+    let Some(mut reader) = open_resumed(path, header)? else {
+        return Ok(None);
     };
     let what = path.display().to_string();
-    let (found, mut reader) = match StreamReader::new(BufReader::new(file), &what) {
-        Ok(opened) => opened,
-        // Killed before its header was complete: nothing was recorded.
-        Err(_) if fs::metadata(path).map(|m| m.len()).unwrap_or(0) < 4096 => return Ok(None),
-        Err(e) => return Err(e),
-    };
-    check_resumed(found, header, &what)?;
     let list = RunList::new(experiment);
     let mut expected = runs.iter();
     let mut n = 0u64;
@@ -806,18 +819,10 @@ fn read_ahead(
     (header, runs, experiment): (&StreamHeader, &ShardRuns, &Experiment),
     prefix: u64,
 ) -> Result<Option<AheadRead>, RunnerError> {
-    let file = match stream::open_regular(path) {
-        Ok(file) => file,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(RunnerError::io(path, e)),
+    let Some(mut reader) = open_resumed(path, header)? else {
+        return Ok(None);
     };
     let what = path.display().to_string();
-    let (found, mut reader) = match StreamReader::new(BufReader::new(file), &what) {
-        Ok(opened) => opened,
-        Err(_) if fs::metadata(path).map(|m| m.len()).unwrap_or(0) < 4096 => return Ok(None),
-        Err(e) => return Err(e),
-    };
-    check_resumed(found, header, &what)?;
     let header_bytes = reader.complete_bytes();
     let list = RunList::new(experiment);
     let mut done = BTreeMap::new();
