@@ -451,7 +451,12 @@ fn reference_capso(grid: &Grid, start: Cell, goal: Cell, config: &Config) -> Swa
     counts.final_length_milli = (hit.length * 1000.0).round() as u64;
     let found = hit.cells == 0;
     SwarmRun {
-        status: if found { Status::Found } else { Status::NoPath },
+        // A swarm that missed every path proved nothing: its iterations ran out.
+        status: if found {
+            Status::Found
+        } else {
+            Status::BudgetExhausted
+        },
         path: found.then_some(path),
         counters: counts.named(),
     }
