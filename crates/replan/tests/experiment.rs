@@ -9,6 +9,8 @@ use planner_api::{
     MoveSet, Outcome, PathSpec, PlannerSpecs, Problem, Status,
 };
 use planner_replan::experiment::{self, ExperimentError, RunOptions};
+
+use crate::wrap::{Change, Wrapped};
 use planner_testkit::{reference_astar, Tie, REFERENCE_COUNTERS};
 
 fn root() -> PathBuf {
@@ -632,41 +634,16 @@ fn every_replan_matches_the_reference_planners() {
     }
 }
 
-/// A planner that passes every call to `inner` and calls `on_replan` with each replan's
-/// number (1 for the first plan) after it; for tests that act from inside a run.
+/// Calls `on_replan` with each replan's number (1 for the first plan) after it; for tests
+/// that act from inside a run.
 struct Watched {
-    inner: Box<dyn IncrementalPlanner>,
     replans: usize,
     on_replan: fn(usize),
 }
 
-impl IncrementalPlanner for Watched {
-    fn name(&self) -> &str {
-        self.inner.name()
-    }
-    fn specs(&self) -> PlannerSpecs {
-        self.inner.specs()
-    }
-    fn reset(&mut self, problem: &Problem<'_>) {
-        self.inner.reset(problem)
-    }
-    fn reset_within(&mut self, problem: &Problem<'_>, budget: &Budget) {
-        self.inner.reset_within(problem, budget)
-    }
-    fn grid(&self) -> Option<&Grid> {
-        self.inner.grid()
-    }
-    fn start(&self) -> Option<Cell> {
-        self.inner.start()
-    }
-    fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
-        self.inner.move_start(cell)
-    }
-    fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
-        self.inner.apply(changes)
-    }
-    fn replan(&mut self, budget: &Budget) -> Outcome {
-        let outcome = self.inner.replan(budget);
+impl Change for Watched {
+    fn replan(&mut self, inner: &mut dyn IncrementalPlanner, budget: &Budget) -> Outcome {
+        let outcome = inner.replan(budget);
         self.replans += 1;
         (self.on_replan)(self.replans);
         outcome
@@ -713,14 +690,16 @@ fn a_stop_ends_a_run_in_progress() {
     );
     let navigate = ("kind = \"navigate\"\nname = \"s\"\nradii = [1]\n", "");
     let make = |name: &str, eight: bool| -> Box<dyn IncrementalPlanner> {
-        Box::new(Watched {
+        Box::new(Wrapped {
             inner: planner_replan::planners::by_name(name, eight).unwrap(),
-            replans: 0,
-            on_replan: |n| {
-                REPLANS.store(n, Ordering::SeqCst);
-                if n == 3 {
-                    STOP.store(true, Ordering::SeqCst);
-                }
+            change: Watched {
+                replans: 0,
+                on_replan: |n| {
+                    REPLANS.store(n, Ordering::SeqCst);
+                    if n == 3 {
+                        STOP.store(true, Ordering::SeqCst);
+                    }
+                },
             },
         })
     };
@@ -958,36 +937,16 @@ fn too_many_events_are_refused() {
 
 /// A planner that finds no path: every replan where there is one fails its check.
 fn lost(name: &str, eight: bool) -> Box<dyn IncrementalPlanner> {
-    struct Lost(Box<dyn IncrementalPlanner>);
-    impl IncrementalPlanner for Lost {
-        fn name(&self) -> &str {
-            self.0.name()
-        }
-        fn specs(&self) -> PlannerSpecs {
-            self.0.specs()
-        }
-        fn reset(&mut self, problem: &Problem<'_>) {
-            self.0.reset(problem)
-        }
-        fn grid(&self) -> Option<&Grid> {
-            self.0.grid()
-        }
-        fn start(&self) -> Option<Cell> {
-            self.0.start()
-        }
-        fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
-            self.0.move_start(cell)
-        }
-        fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
-            self.0.apply(changes)
-        }
-        fn replan(&mut self, _: &Budget) -> Outcome {
+    struct Lost;
+    impl Change for Lost {
+        fn replan(&mut self, _: &mut dyn IncrementalPlanner, _: &Budget) -> Outcome {
             Outcome::no_path(Counters::new().with("n_expanded", 0))
         }
     }
-    Box::new(Lost(
-        planner_replan::planners::by_name(name, eight).unwrap(),
-    ))
+    Box::new(Wrapped {
+        inner: planner_replan::planners::by_name(name, eight).unwrap(),
+        change: Lost,
+    })
 }
 
 /// A run whose every replan fails its check keeps the messages of its first

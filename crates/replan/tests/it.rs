@@ -7,3 +7,4 @@ mod experiment;
 mod gppc;
 mod memory;
 mod oracle;
+mod wrap;

@@ -7,13 +7,14 @@
 
 use std::fmt::Write as _;
 
-use planner_api::{Budget, Cell, CellChange, ChangeError, Grid, IncrementalPlanner, Outcome};
-use planner_api::{PlannerSpecs, Problem};
+use planner_api::IncrementalPlanner;
 use planner_maps::gppc::{parse_gppc_patches, parse_gppc_scenario};
 use planner_replan::experiment;
 use planner_replan::gppc::replay;
 use planner_replan::planners;
 use planner_runner::alloc;
+
+use crate::wrap::{Change, Wrapped};
 
 #[global_allocator]
 static GLOBAL: alloc::Counting = alloc::Counting;
@@ -90,11 +91,10 @@ fn one_thread() -> experiment::RunOptions {
     }
 }
 
-/// A planner that measures the heap of its run's thread: from its making (by the
-/// experiment's planner factory, on the run's thread, as the run starts) to its drop (as
-/// the run ends, on the same thread); the peak goes to [`RUN_PEAK`].
+/// Measures the heap of its run's thread: from its making (by the experiment's planner
+/// factory, on the run's thread, as the run starts) to its drop (as the run ends, on the
+/// same thread); the peak goes to [`RUN_PEAK`].
 struct Measured {
-    inner: Box<dyn IncrementalPlanner>,
     baseline: isize,
 }
 
@@ -106,44 +106,18 @@ impl Drop for Measured {
     }
 }
 
-impl IncrementalPlanner for Measured {
-    fn name(&self) -> &str {
-        self.inner.name()
-    }
-    fn specs(&self) -> PlannerSpecs {
-        self.inner.specs()
-    }
-    fn reset(&mut self, problem: &Problem<'_>) {
-        self.inner.reset(problem)
-    }
-    fn reset_within(&mut self, problem: &Problem<'_>, budget: &Budget) {
-        self.inner.reset_within(problem, budget)
-    }
-    fn grid(&self) -> Option<&Grid> {
-        self.inner.grid()
-    }
-    fn start(&self) -> Option<Cell> {
-        self.inner.start()
-    }
-    fn move_start(&mut self, cell: Cell) -> Result<(), ChangeError> {
-        self.inner.move_start(cell)
-    }
-    fn apply(&mut self, changes: &[CellChange]) -> Result<(), ChangeError> {
-        self.inner.apply(changes)
-    }
-    fn replan(&mut self, budget: &Budget) -> Outcome {
-        self.inner.replan(budget)
-    }
-}
+impl Change for Measured {}
 
 /// The heap the run of [`dynamic_config`] held on its own thread, and its replans.
 fn run_peak(events: u32) -> (u64, u64) {
     let (path, config) = dynamic_config("run", events);
     let make = |name: &str, eight: bool| -> Box<dyn IncrementalPlanner> {
         let inner = planners::by_name(name, eight).unwrap();
-        Box::new(Measured {
+        Box::new(Wrapped {
             inner,
-            baseline: alloc::start(),
+            change: Measured {
+                baseline: alloc::start(),
+            },
         })
     };
     let out = path.with_file_name("out");

@@ -3,13 +3,13 @@
 //! scratch and every path valid; navigation in unknown terrain on small grids; and random
 //! operation sequences, refused ones and budget-cut replans among them.
 
-use planner_api::{
-    Budget, Cell, CellChange, CostRule, Grid, IncrementalPlanner, Outcome, Problem, Status,
-};
+use planner_api::{Budget, Cell, CellChange, CostRule, Grid, IncrementalPlanner, Problem, Status};
 use planner_replan::{navigate, planners, toggles, Mismatch, MismatchKind, Oracle};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
+
+use crate::wrap::{Change, Wrapped};
 
 /// A random grid of 3..=10 columns and rows with 0-35 % blocked cells, and two free
 /// cells (start, goal; they may coincide); `None` when fewer than one cell is free.
@@ -475,7 +475,7 @@ fn a_radius_of_one_senses_the_eight_neighbours_before_a_move() {
 fn a_path_through_a_blocked_cell_is_a_failed_check_not_a_move() {
     let (truth, start, goal) = wall();
     for with_oracle in [true, false] {
-        let mut deaf = Deaf(planners::by_name("dstar_lite", true).unwrap());
+        let mut deaf = deaf();
         let mut oracle = Oracle::new(true);
         let config = navigate::NavConfig {
             radius: 0,
@@ -521,34 +521,21 @@ fn a_path_through_a_blocked_cell_is_a_failed_check_not_a_move() {
 #[test]
 fn a_toggle_script_never_drives_a_path_that_failed_its_check() {
     /// A planner reset on a map of the same size with every cell free.
-    struct Blind(Box<dyn IncrementalPlanner>);
-    impl IncrementalPlanner for Blind {
-        fn name(&self) -> &str {
-            "blind"
+    struct Blind;
+    impl Change for Blind {
+        fn name(&self) -> Option<&str> {
+            Some("blind")
         }
-        fn specs(&self) -> planner_api::PlannerSpecs {
-            self.0.specs()
-        }
-        fn reset(&mut self, problem: &Problem<'_>) {
+        fn reset(
+            &mut self,
+            inner: &mut dyn IncrementalPlanner,
+            problem: &Problem<'_>,
+            budget: &Budget,
+        ) {
             let grid = problem.grid();
             let free = Grid::new(grid.width(), grid.height()).unwrap();
-            self.0
-                .reset(&Problem::new(&free, problem.start(), problem.goal()).unwrap())
-        }
-        fn grid(&self) -> Option<&Grid> {
-            self.0.grid()
-        }
-        fn start(&self) -> Option<Cell> {
-            self.0.start()
-        }
-        fn move_start(&mut self, cell: Cell) -> Result<(), planner_api::ChangeError> {
-            self.0.move_start(cell)
-        }
-        fn apply(&mut self, changes: &[CellChange]) -> Result<(), planner_api::ChangeError> {
-            self.0.apply(changes)
-        }
-        fn replan(&mut self, budget: &Budget) -> Outcome {
-            self.0.replan(budget)
+            let problem = Problem::new(&free, problem.start(), problem.goal()).unwrap();
+            inner.reset_within(&problem, budget)
         }
     }
     let (grid, start, goal) = wall();
@@ -560,7 +547,10 @@ fn a_toggle_script_never_drives_a_path_that_failed_its_check() {
         drive: 6,
         seed: 1,
     };
-    let mut blind = Blind(planners::by_name("dstar_lite", true).unwrap());
+    let mut blind = Wrapped {
+        inner: planners::by_name("dstar_lite", true).unwrap(),
+        change: Blind,
+    };
     let run = toggles::run(
         &mut blind,
         &mut Oracle::new(true),
@@ -575,32 +565,26 @@ fn a_toggle_script_never_drives_a_path_that_failed_its_check() {
 }
 
 /// A planner that is told no change: it plans on the map it was reset with.
-struct Deaf(Box<dyn IncrementalPlanner>);
+struct Deaf;
 
-impl IncrementalPlanner for Deaf {
-    fn name(&self) -> &str {
-        "deaf"
+impl Change for Deaf {
+    fn name(&self) -> Option<&str> {
+        Some("deaf")
     }
-    fn specs(&self) -> planner_api::PlannerSpecs {
-        self.0.specs()
-    }
-    fn reset(&mut self, problem: &Problem<'_>) {
-        self.0.reset(problem)
-    }
-    fn grid(&self) -> Option<&Grid> {
-        self.0.grid()
-    }
-    fn start(&self) -> Option<Cell> {
-        self.0.start()
-    }
-    fn move_start(&mut self, cell: Cell) -> Result<(), planner_api::ChangeError> {
-        self.0.move_start(cell)
-    }
-    fn apply(&mut self, _: &[CellChange]) -> Result<(), planner_api::ChangeError> {
+    fn apply(
+        &mut self,
+        _: &mut dyn IncrementalPlanner,
+        _: &[CellChange],
+    ) -> Result<(), planner_api::ChangeError> {
         Ok(())
     }
-    fn replan(&mut self, budget: &Budget) -> Outcome {
-        self.0.replan(budget)
+}
+
+/// [`Deaf`] around D* Lite (8-connected).
+fn deaf() -> Wrapped<Deaf> {
+    Wrapped {
+        inner: planners::by_name("dstar_lite", true).unwrap(),
+        change: Deaf,
     }
 }
 
@@ -620,7 +604,7 @@ fn a_planner_that_ignores_changes_is_caught() {
             drive: 1,
             seed,
         };
-        let mut deaf = Deaf(planners::by_name("dstar_lite", true).unwrap());
+        let mut deaf = deaf();
         let run = toggles::run(
             &mut deaf,
             &mut Oracle::new(true),
