@@ -759,11 +759,14 @@ fn maps(state: &State) -> Answer {
                 } else if depth < 8 {
                     stack.push((canonical, depth + 1));
                 }
-            } else if Path::new(&name)
-                .extension()
-                .and_then(|e| e.to_str())
-                .is_some_and(|e| MAP_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
+            } else if canonical.is_file()
+                && Path::new(&name)
+                    .extension()
+                    .and_then(|e| e.to_str())
+                    .is_some_and(|e| MAP_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
             {
+                // Only a regular file (or a link to one inside the served directory), what
+                // `/api/map` opens: a FIFO, socket or device named `*.map` is not a map.
                 maps.push(relative);
             }
         }

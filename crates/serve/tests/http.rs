@@ -46,6 +46,14 @@ fn served() -> (PathBuf, PathBuf) {
         use std::os::unix::ffi::OsStrExt;
         let latin1 = std::ffi::OsStr::from_bytes(b"caf\xe9.map");
         std::fs::copy(dir.join("open30.map"), dir.join(latin1)).unwrap();
+        // A FIFO named like a map, and a link to it inside the directory: neither is a
+        // file `/api/map` serves.
+        let made = std::process::Command::new("mkfifo")
+            .arg(dir.join("ff.map"))
+            .status()
+            .unwrap();
+        assert!(made.success(), "mkfifo: {made}");
+        std::os::unix::fs::symlink(dir.join("ff.map"), dir.join("fifo-link.map")).unwrap();
     }
     (top, dir)
 }
@@ -84,6 +92,21 @@ fn the_page_and_the_lists_are_served() {
             .any(|m| m.contains("passwd") || m.contains("link") || m.starts_with("etc")),
         "{listed:?}"
     );
+    // Nor is a FIFO (it was, and opening it answered 404 "no such file"): every map listed
+    // is a file `/api/map` opens.
+    #[cfg(unix)]
+    assert!(!listed.iter().any(|m| m.contains("ff.map")), "{listed:?}");
+    for map in &listed {
+        let path: String = map
+            .bytes()
+            .map(|b| match b.is_ascii_alphanumeric() || b"._-".contains(&b) {
+                true => char::from(b).to_string(),
+                false => format!("%{b:02X}"),
+            })
+            .collect();
+        let (status, body) = get(addr, &format!("/api/map?path={path}"));
+        assert!(!body.contains("no such file"), "{map}: {status} {body}");
+    }
     let (status, planners) = get(addr, "/api/planners");
     assert_eq!(status, 200);
     let planners: serde_json::Value = serde_json::from_str(&planners).unwrap();
