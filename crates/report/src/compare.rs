@@ -259,16 +259,42 @@ fn digest(r: &RunRecord) -> u64 {
     hasher.finish()
 }
 
-/// Calls `visit` on every record of the results directory `dir`.
+/// Calls `visit` on every record of the results directory `dir`. A stream that holds
+/// another number of runs than its header's `total_runs`, or ends in a cut record, is
+/// refused (the check `gridplan report` makes), never read as the runs it holds: a cut
+/// stream's missing runs are no differences. The error names the file; it is of
+/// `report`'s class for the same damage ([`RunnerError::class`]: `Other`, exit 1,
+/// `GridplanError`).
 fn pass(dir: &Path, visit: &mut dyn FnMut(RunRecord)) -> Result<u64, RunnerError> {
     let (path, file) = planner_runner::sweep::open_results(dir, "compare")?;
-    let (_, mut reader) = StreamReader::new(BufReader::new(file), &path.display().to_string())?;
+    let (header, mut reader) =
+        StreamReader::new(BufReader::new(file), &path.display().to_string())?;
     let mut n = 0;
     while let Some((_, record)) = reader.next_run()? {
         n += 1;
         visit(record);
     }
+    if n != header.total_runs || reader.was_cut() {
+        return Err(short(&path, n, header.total_runs, reader.was_cut()));
+    }
     Ok(n)
+}
+
+/// The error of a results stream at `path` that holds `held` of its header's `runs` runs
+/// (or ends in a cut record, `cut`).
+fn short(path: &Path, held: u64, runs: u64, cut: bool) -> RunnerError {
+    let message = format!(
+        "holds {held} of the sweep's {runs} runs (the count its header gives){}; compare reads \
+         whole results: run the sweep again, or compare another copy of its results",
+        if cut { " and ends in a cut record" } else { "" }
+    );
+    RunnerError::during(
+        "compare",
+        RunnerError::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(std::io::ErrorKind::InvalidData, message),
+        },
+    )
 }
 
 /// Compares the records of the results directories `old` and `new` (module docs), listing

@@ -196,3 +196,38 @@ fn a_directory_that_is_not_results_is_refused() {
     assert!(error.contains("has no results marker"), "{error}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A results directory whose records.stream was cut (to its header, to half its bytes) is
+/// refused with an error naming the file, of the class `gridplan report` gives the same
+/// damage (so the same exit status and Python exception), never read as the runs it holds
+/// (which compare would report as runs only in the other directory).
+#[test]
+fn a_cut_records_stream_is_refused_as_report_refuses_it() {
+    let dir = scratch("cut");
+    let old = sweep(&dir, "old", "manhattan", "");
+    let new = sweep(&dir, "new", "manhattan", "");
+    let stream = new.join("records.stream");
+    let whole = std::fs::read(&stream).unwrap();
+    let header = whole.iter().position(|&b| b == b'\n').unwrap() + 1;
+    for cut in [header, whole.len() / 2, whole.len() - 1] {
+        std::fs::write(&stream, &whole[..cut]).unwrap();
+        for (a, b) in [(&old, &new), (&new, &old)] {
+            let error = compare(a, b, 10).unwrap_err();
+            let text = error.to_string();
+            assert!(
+                text.starts_with("compare: ")
+                    && text.contains(&stream.display().to_string())
+                    && text.contains(" of the sweep's 8 runs"),
+                "{text}"
+            );
+            let render = Renderer::new(Vec::new());
+            let report = planner_runner::sweep::report(&new, None, &render).unwrap_err();
+            assert!(report.to_string().contains("runs"), "{report}");
+            assert_eq!(error.class(), report.class(), "{error} / {report}");
+        }
+    }
+    // The whole stream again: compared.
+    std::fs::write(&stream, &whole).unwrap();
+    assert!(compare(&old, &new, 10).unwrap().same());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
