@@ -64,7 +64,11 @@
 //! The [`Budget`] is shared by all searches of one query: each local search gets the
 //! expansions and time left. When it runs out the outcome is
 //! [`Status::BudgetExhausted`] without a path (no complete path exists yet). The line
-//! walk, the component labelling and the hulls are not counted as expansions.
+//! walk, the component labelling and the hulls are not counted as expansions. The memory
+//! limit ([`Budget::max_memory_mb`]) is checked once, before anything else, even when the
+//! line is free: a query that would need more for its per-cell state (the local A*'s and
+//! the labelling's, [`PaStar::memory_bytes_for`]) is refused with
+//! [`Outcome::over_memory`], as every planner refuses it.
 //!
 //! # Counters
 //! The local searches' (and a fallback's) A* counters summed with `+=` of
@@ -452,6 +456,13 @@ impl PaStar {
         &self.config
     }
 
+    /// The bytes a query on `grid` needs at most (its memory check): the local A*'s
+    /// ([`AStar::memory_bytes_for`]) and the obstacle labelling's two `u32` per cell.
+    pub fn memory_bytes_for(&self, grid: &Grid) -> u64 {
+        let labels = (grid.len() as u64).saturating_mul(2 * std::mem::size_of::<u32>() as u64);
+        self.astar.memory_bytes_for(grid).saturating_add(labels)
+    }
+
     /// The local A*'s move set (Algorithm 2's neighbourhood for `connecting_distance`).
     pub fn local_moves(&self) -> &MoveSet {
         self.astar.move_set()
@@ -496,6 +507,10 @@ impl PaStar {
             segments: Vec::new(),
             stats: PaStarStats::default(),
         };
+        if let Err(shortfall) = budget.check_memory(self.memory_bytes_for(grid), grid) {
+            report.outcome = Outcome::over_memory(shortfall, report.stats.counters());
+            return report;
+        }
         if report.line.iter().all(|&c| grid.is_free(c)) {
             let cells = if s == e { vec![s] } else { vec![s, e] };
             report.outcome = Outcome::found(Path::new(cells), report.stats.counters());
@@ -534,7 +549,11 @@ impl PaStar {
                     }
                 }
                 (Status::BudgetExhausted, _) => {
-                    report.outcome = Outcome::budget_exhausted(None, report.stats.counters());
+                    let counters = report.stats.counters();
+                    report.outcome = match search.memory {
+                        Some(shortfall) => Outcome::over_memory(shortfall, counters),
+                        None => Outcome::budget_exhausted(None, counters),
+                    };
                     return report;
                 }
                 _ => {
@@ -559,7 +578,10 @@ impl PaStar {
         let search = self.astar.search(problem, &left);
         report.stats.search += search.stats;
         let counters = report.stats.counters();
-        report.outcome = Outcome::new(search.status, search.path, counters);
+        report.outcome = match search.memory {
+            Some(shortfall) => Outcome::over_memory(shortfall, counters),
+            None => Outcome::new(search.status, search.path, counters),
+        };
         report
     }
 

@@ -386,6 +386,39 @@ fn budget_spans_local_searches() {
     assert_eq!(pastar.plan(&problem, &Budget::unlimited()), full.outcome);
 }
 
+/// The memory limit is checked up front, as every planner checks it: over it, PA-star
+/// refuses with the shortfall (it ran the local A* and reported budget_exhausted with no
+/// reason, and on a free line it answered found), whether or not the line is free.
+#[test]
+fn memory_budget_is_checked_up_front() {
+    let blocked = Grid::from_ascii(".......\n...#...\n...#...\n...#...\n.......").unwrap();
+    let free = Grid::from_ascii(".......\n.......\n.......\n.......\n.......").unwrap();
+    let mut pastar = PaStar::new(Config::default()).unwrap();
+    for grid in [&blocked, &free] {
+        let problem = Problem::new(grid, Cell::new(0, 2), Cell::new(6, 2)).unwrap();
+        let needed = pastar.memory_bytes_for(grid);
+        let astar = AStar::new(planner_astar::Config {
+            moves: Connectivity::from_connecting_distance(Config::default().connecting_distance)
+                .unwrap(),
+            ..planner_astar::Config::default()
+        })
+        .unwrap();
+        assert!(needed > astar.memory_bytes_for(grid), "{needed}");
+        let refused = pastar.plan_detailed(&problem, &Budget::unlimited().with_memory_mb(0));
+        assert_eq!(refused.outcome.status, Status::BudgetExhausted);
+        assert_eq!(refused.outcome.path, None);
+        let shortfall = refused.outcome.memory.as_ref().expect("a memory shortfall");
+        assert_eq!(shortfall.needed_bytes, needed);
+        assert_eq!(shortfall.max_memory_mb, 0);
+        assert_eq!(refused.stats.search.n_expanded, 0);
+        assert_eq!(refused.stats.n_local_segments, 0);
+        // Within the limit: the same answer as without one.
+        let fits = pastar.plan(&problem, &Budget::unlimited().with_memory_mb(1));
+        assert_eq!(fits.status, Status::Found);
+        assert_eq!(fits, pastar.plan(&problem, &Budget::unlimited()));
+    }
+}
+
 /// On random grids PA-star finds a valid path exactly when A* does, never needs the
 /// fallback when one exists, and its segment counts add up.
 #[test]
