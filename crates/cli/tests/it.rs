@@ -9,5 +9,6 @@ mod costs;
 mod exit_codes;
 mod frame;
 mod install;
+mod published;
 mod schema;
 mod security;
