@@ -755,7 +755,22 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         None => None,
     };
     let published = match &raw.published {
-        Some(p) => Some(load_published(&src, &base.join(p.get_ref()), p.span())?),
+        Some(p) => {
+            // Only the `seed000` section compares them: a config that names its sections
+            // and leaves it out would check nothing and say nothing.
+            if sections.as_ref().is_some_and(|s| !s.wants("seed000")) {
+                return Err(src.error(
+                    Some(p.span()),
+                    "key `published`: the published values are compared by the `seed000` section, which `sections` leaves out; add \"seed000\" to `sections` (or leave `sections` out: `published` then shows it)",
+                ));
+            }
+            Some(load_published(
+                &src,
+                &base.join(p.get_ref()),
+                p.span(),
+                &maps,
+            )?)
+        }
         None => None,
     };
 
@@ -1217,6 +1232,16 @@ fn read_compare(
             ),
         )
     })?;
+    if registry::find(&parsed.with).is_none() {
+        return Err(src.error(
+            Some(value.span()),
+            format!(
+                "planner `{label}`, key `compare`: `with = {:?}` is no planner; expected a registry name ({}), the key of its published values",
+                parsed.with,
+                registry::names().join(", ")
+            ),
+        ));
+    }
     let known = published_metrics();
     if let Some(bad) = parsed.metrics.iter().find(|m| !known.contains(&m.as_str())) {
         return Err(src.error(
@@ -1928,12 +1953,16 @@ pub fn published_metrics() -> Vec<&'static str> {
 
 /// Reads a published-values file strictly: `[<map>] file = "..."` (optional) and
 /// `[<map>.<planner>] <metric> = <number>`; an unknown metric, a value that is not a number
-/// or any other shape is an error naming the file, line and column, so a typo can never
-/// switch the reproduction check off.
+/// or any other shape is an error naming the file, line and column, and so is a table
+/// that names nothing (a planner key that is no registry name, a map stem that is
+/// neither one of the config's `maps` nor a file beside the published file, a `file` that
+/// does not exist or has another stem), so a typo can never switch the reproduction check
+/// off.
 fn load_published(
     src: &Source<'_>,
     path: &Path,
     span: Range<usize>,
+    maps: &[MapEntry],
 ) -> Result<Published, ConfigError> {
     let text = planner_maps::read_text_file(path, MAX_TEXT_BYTES).map_err(|e| {
         src.error(
@@ -1953,13 +1982,44 @@ fn load_published(
             },
         )
     })?;
-    parse_published(path, &text)
+    parse_published_for(path, &text, maps)
 }
 
 /// Parses published-values `text`, read from `path` (see the `published` key in
-/// configs/README.md); errors as in [`parse`], positioned in `path`.
+/// configs/README.md); errors as in [`parse`], positioned in `path`. Its map stems,
+/// planner keys and `file`s are checked only as a config's are: the planner keys against
+/// the registry, the map stems and `file`s against the files beside `path`.
 pub fn parse_published(path: &Path, text: &str) -> Result<Published, ConfigError> {
+    parse_published_for(path, text, &[])
+}
+
+/// The stems of the files in `dir` (the maps a published-values file may give values
+/// for besides the config's own).
+fn stems_in(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
+        .filter_map(|e| e.file_name().to_str().map(|n| map_stem(n).to_string()))
+        .collect()
+}
+
+/// [`parse_published`], with the map stems also allowed to be those of `maps`
+/// (a published file beside none of them, as a test's, may give values for them).
+fn parse_published_for(
+    path: &Path,
+    text: &str,
+    maps: &[MapEntry],
+) -> Result<Published, ConfigError> {
     let inner = Source { file: path, text };
+    let dir = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    let beside = stems_in(dir);
+    let config_stems: Vec<&str> = maps.iter().map(|m| map_stem(&m.name)).collect();
+
     let doc = toml_edit::ImDocument::parse(text)
         .map_err(|e| inner.error(e.span(), e.message().trim()))?;
     let known = published_metrics();
@@ -1973,10 +2033,61 @@ pub fn parse_published(path: &Path, text: &str) -> Result<Published, ConfigError
                 format!("`{map}` must be a table of planners, `[{map}.<planner>]`"),
             ));
         };
+        let map_key = doc
+            .as_table()
+            .get_key_value(map)
+            .and_then(|(k, _)| k.span());
+        // `"<stem>#<k>"` is problem k of map `<stem>`.
+        let stem = match map.rsplit_once('#') {
+            Some((stem, k)) if k.parse::<usize>().is_ok() => stem,
+            _ => map,
+        };
+        if !config_stems.contains(&stem) && !beside.iter().any(|b| b == stem) {
+            return Err(inner.error(
+                map_key,
+                format!(
+                    "`[{map}]`: no map of the config and no file in {} has the stem `{stem}`",
+                    dir.display()
+                ),
+            ));
+        }
         let mut planners = IndexMap::new();
         for (planner, metrics) in entry.iter() {
-            if planner == "file" && metrics.as_str().is_some() {
-                continue;
+            if planner == "file" {
+                if let Some(file) = metrics.as_str() {
+                    let at = entry.get_key_value(planner).and_then(|(_, v)| v.span());
+                    let named = dir.join(file);
+                    if !named.is_file() {
+                        return Err(inner.error(
+                            at,
+                            format!(
+                                "`{map}.file`: {} is not a file (`file` is the map the values are for, beside the published file)",
+                                named.display()
+                            ),
+                        ));
+                    }
+                    let file_stem = named
+                        .file_name()
+                        .and_then(|n| n.to_str())
+                        .map(map_stem)
+                        .unwrap_or_default();
+                    if file_stem != stem {
+                        return Err(inner.error(
+                            at,
+                            format!("`{map}.file`: `{file}` is map `{file_stem}`, not `{stem}`"),
+                        ));
+                    }
+                    continue;
+                }
+            }
+            if registry::find(planner).is_none() {
+                return Err(inner.error(
+                    entry.get_key_value(planner).and_then(|(k, _)| k.span()),
+                    format!(
+                        "`[{map}.{planner}]`: unknown planner `{planner}`, expected a registry name ({})",
+                        registry::names().join(", ")
+                    ),
+                ));
             }
             let Some(metrics) = metrics.as_table_like() else {
                 return Err(inner.error(

@@ -25,7 +25,10 @@ fn paper_map() -> String {
 
 /// The error of a config with `published` pointing at a file holding `published`.
 fn published_error(published: &str) -> String {
-    let dir = scratch("published");
+    // One directory per call: the tests that call it run at once.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = scratch(&format!("published-{call}"));
     std::fs::write(dir.join("p.toml"), published).unwrap();
     let text = format!(
         "name = \"p\"\npublished = \"p.toml\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
@@ -54,9 +57,72 @@ fn published_values_are_read_strictly() {
     assert!(published_error("[map01]\nastar = 3\n")
         .starts_with("DIR/p.toml:2:1: `map01.astar` must be a table"));
     assert_eq!(
-        published_error("[map01]\nfile = \"map01.map\"\n[map01.astar]\nsteps = 10\n"),
+        published_error(&format!(
+            "[map01]\nfile = {:?}\n[map01.astar]\nsteps = 10\n",
+            paper_map()
+        )),
         ""
     );
+}
+
+/// A published table or key that names no planner or map is refused where it is: before,
+/// `[map01.astr]`, `[mapp01.astar]` and `file = "nothere.map"` were read and their numbers
+/// never compared, and summary.md counted them nowhere.
+#[test]
+fn published_values_naming_nothing_are_refused() {
+    assert!(
+        published_error("[map01.astr]\nsteps = 10\n")
+            .starts_with("DIR/p.toml:1:8: `[map01.astr]`: unknown planner `astr`, expected a registry name (astar, "),
+        "{}",
+        published_error("[map01.astr]\nsteps = 10\n")
+    );
+    assert_eq!(
+        published_error("[mapp01.astar]\nsteps = 10\n"),
+        "DIR/p.toml:1:2: `[mapp01]`: no map of the config and no file in DIR has the stem `mapp01`"
+    );
+    assert_eq!(
+        published_error("[\"mapp01#2\".astar]\nsteps = 10\n"),
+        "DIR/p.toml:1:2: `[mapp01#2]`: no map of the config and no file in DIR has the stem `mapp01`"
+    );
+    // A table of a map beside the published file (not in this config) is allowed, so one
+    // file serves configs that run some of its maps; problem 2 of a map too.
+    assert_eq!(published_error("[p.astar]\nsteps = 10\n"), "");
+    assert_eq!(published_error("[\"map01#2\".astar]\nsteps = 10\n"), "");
+    assert_eq!(
+        published_error("[map01]\nfile = \"nothere.map\"\n"),
+        "DIR/p.toml:2:8: `map01.file`: DIR/nothere.map is not a file (`file` is the map the values are for, beside the published file)"
+    );
+    assert_eq!(
+        published_error("[map01]\nfile = \"p.toml\"\n"),
+        "DIR/p.toml:2:8: `map01.file`: `p.toml` is map `p`, not `map01`"
+    );
+}
+
+/// `published` is compared by the `seed000` section only: a config whose `sections` leave
+/// it out checked nothing and said nothing; now it is refused at the key.
+#[test]
+fn published_values_need_the_seed000_section() {
+    let dir = scratch("published-sections");
+    std::fs::write(dir.join("p.toml"), "[map01.astar]\nsteps = 10\n").unwrap();
+    let text = |sections: &str| {
+        format!(
+            "name = \"p\"\n{sections}published = \"p.toml\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
+            paper_map()
+        )
+    };
+    let parse = |sections: &str| {
+        config::parse(&dir.join("c.toml"), &text(sections))
+            .err()
+            .map(|e| e.to_string().replace(&dir.display().to_string(), "DIR"))
+            .unwrap_or_default()
+    };
+    assert_eq!(
+        parse("sections = [\"aggregate\"]\n"),
+        "DIR/c.toml:3:13: key `published`: the published values are compared by the `seed000` section, which `sections` leaves out; add \"seed000\" to `sections` (or leave `sections` out: `published` then shows it)"
+    );
+    assert_eq!(parse("sections = [\"seed000\", \"aggregate\"]\n"), "");
+    assert_eq!(parse(""), "");
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 fn config_error(text: &str) -> String {
@@ -75,6 +141,21 @@ fn misspelt_compare_metrics_are_refused() {
     let error = config_error(&text);
     assert!(
         error.starts_with("c.toml:7:11: planner `l`, key `compare`: unknown metric `turnz`"),
+        "{error}"
+    );
+}
+
+/// `compare.with` is the published key the values are read under: a misspelt one compared
+/// nothing; now it is refused at the key.
+#[test]
+fn misspelt_compare_planners_are_refused() {
+    let text = format!(
+        "name = \"c\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.l]\nplanner = \"lexastar\"\ncompare = {{ with = \"backtrackin\", metrics = [\"steps\"] }}\n",
+        paper_map()
+    );
+    let error = config_error(&text);
+    assert!(
+        error.starts_with("c.toml:7:11: planner `l`, key `compare`: `with = \"backtrackin\"` is no planner; expected a registry name (astar, "),
         "{error}"
     );
 }
