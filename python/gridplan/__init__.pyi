@@ -245,17 +245,21 @@ class Planner:
         paths: bool = False,
     ) -> Dict[str, Any]:
         """Plans query ``i`` from ``starts[i]`` to ``goals[i]`` (``(N, 2)`` arrays of
-        ``(x, y)``, or empty sequences for no query; integers or whole-numbered floats as
-        ``np.floor`` gives them: 0.5 or
-        NaN raises ``ValueError`` naming the query, a boolean or string array
-        ``TypeError``; no goals for coverage planners) on ``threads`` threads (0: one per
-        core, at most 256 as in a config; more, or a negative number, raises ``ValueError``)
-        with the GIL released. Returns arrays in query order: ``status`` (str),
-        ``length`` (float64, NaN without a path), ``steps`` and ``turns`` (int64, -1
-        without a path), ``time_ms`` (float64, the search alone), ``counters`` (name ->
-        int64 array) and, with ``paths=True``, ``paths`` (a list of (N, 2) arrays).
-        Counters do not depend on ``threads``. A start or goal off the grid or blocked
-        raises ``ProblemError`` naming the query. Ctrl-C (a notebook's interrupt) raises
+        ``(x, y)``, or empty sequences for no query; integers of any size or
+        whole-numbered floats as ``np.floor`` gives them: 0.5, NaN or infinity raises
+        ``ValueError`` naming the query, a boolean or string array ``TypeError``; no goals
+        for coverage planners) on ``threads`` threads (0: one per core, at most 256 as in a
+        config; more, or a negative number, raises ``ValueError``) with the GIL released.
+        Returns arrays in query order: ``status`` (str), ``length`` (float64, NaN without a
+        path), ``steps`` and ``turns`` (int64, -1 without a path), ``time_ms`` (float64,
+        the search alone), ``counters`` (name -> int64 array: every counter that one of the
+        batch's runs reported, -1 in a run that did not report it; a planner declares no
+        fixed set, some report a counter only on some outcomes, e.g. ``path_cost_units``
+        only with a path, so the names are known from the runs alone and no queries give an
+        empty dict) and, with ``paths=True``, ``paths`` (a list of (N, 2) arrays).
+        Counters do not depend on ``threads``. A start or goal off the grid (whole numbers
+        too large for any grid, as ``2**64`` or ``1e30``, included) or blocked raises
+        ``ProblemError`` naming the query. Ctrl-C (a notebook's interrupt) raises
         ``KeyboardInterrupt``: no query starts after it and the running ones stop at their
         next budget check; the planner stays usable."""
 

@@ -40,6 +40,16 @@ pub enum Failure {
         /// The message.
         message: String,
     },
+    /// A start or goal of whole numbers, one beyond `i64`: a cell on no grid
+    /// (`ProblemError`, its `cell` the pair as Python values).
+    Beyond {
+        /// `start` or `goal`.
+        endpoint: &'static str,
+        /// The cell as given.
+        cell: Box<(crate::planner::Coordinate, crate::planner::Coordinate)>,
+        /// The message.
+        message: String,
+    },
     /// A planner argument (a parameter or the budget) of the wrong kind.
     Param {
         /// The parameter's key.
@@ -139,6 +149,20 @@ impl Failure {
                     ("cell", Attr::from(cell)),
                 ],
             ),
+            Failure::Beyond {
+                endpoint,
+                cell,
+                message,
+            } => {
+                let pair = cell.0.to_python(py).and_then(|x| {
+                    let y = cell.1.to_python(py)?;
+                    Ok(pyo3::types::PyTuple::new(py, [x, y])?.into_any())
+                });
+                match pair {
+                    Ok(pair) => return problem_pyerr(py, endpoint, pair, message),
+                    Err(error) => return error,
+                }
+            }
             Failure::Param { key, message } => {
                 raise(py, "ParameterError", message, &[("key", Attr::from(key))])
             }

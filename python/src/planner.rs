@@ -65,32 +65,42 @@ pub struct Planner {
     coverage: bool,
 }
 
-/// One query's cells, checked: a negative or too large coordinate is a `ProblemError`
-/// naming the endpoint (and the query's index in a batch).
+/// One query's cells, checked: a negative or too large coordinate (one beyond `i64`
+/// too) is a `ProblemError` naming the endpoint (and the query's index in a batch).
 fn cells(
     grid: &planner_api::Grid,
-    start: (i64, i64),
-    goal: Option<(i64, i64)>,
+    start: &Row,
+    goal: Option<&Row>,
     query: Option<usize>,
 ) -> Result<(planner_api::Cell, Option<planner_api::Cell>), Failure> {
-    let name = |failure: Failure| match (failure, query) {
-        (
-            Failure::Problem {
-                endpoint,
-                cell,
-                message,
-            },
-            Some(i),
-        ) => Failure::Problem {
+    let prefix = query.map(|i| format!("query {i}: ")).unwrap_or_default();
+    let cell = |endpoint: &'static str, row: &Row| match row {
+        Row::At(x, y) => {
+            to_cell((*x, *y)).ok_or_else(|| match problem_error(endpoint, (*x, *y), grid) {
+                Failure::Problem {
+                    endpoint,
+                    cell,
+                    message,
+                } => Failure::Problem {
+                    endpoint,
+                    cell,
+                    message: format!("{prefix}{message}"),
+                },
+                failure => failure,
+            })
+        }
+        Row::Beyond(pair) => Err(Failure::Beyond {
             endpoint,
-            cell,
-            message: format!("query {i}: {message}"),
-        },
-        (failure, _) => failure,
+            message: format!(
+                "{prefix}{}",
+                crate::plan::outside(endpoint, &pair.0, &pair.1, grid)
+            ),
+            cell: pair.clone(),
+        }),
     };
-    let start_cell = to_cell(start).ok_or_else(|| name(problem_error("start", start, grid)))?;
+    let start_cell = cell("start", start)?;
     let goal_cell = match goal {
-        Some(goal) => Some(to_cell(goal).ok_or_else(|| name(problem_error("goal", goal, grid)))?),
+        Some(goal) => Some(cell("goal", goal)?),
         None => None,
     };
     Ok((start_cell, goal_cell))
@@ -147,16 +157,86 @@ impl Planner {
     }
 }
 
-/// `(N, 2)` integer cells from any array-like (`None` stays `None`): an integer array as it
-/// is, a float array whose values are all whole numbers (as `np.floor` gives them), and
-/// nothing else. A float that is not a whole number (0.5, NaN), an unsigned value beyond
-/// `i64`, or a boolean or other array is refused, naming the query, where a cast would
-/// silently plan another cell.
+/// One coordinate of a cell array's row, a whole number.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Coordinate {
+    /// One that fits `i64`.
+    Fits(i64),
+    /// An integer beyond `i64` (a `uint64` above `i64::MAX`, a Python `int` of any size),
+    /// as decimal text.
+    Int(String),
+    /// A whole float beyond `i64` (`1e30`).
+    Float(f64),
+}
+
+impl std::fmt::Display for Coordinate {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Coordinate::Fits(v) => write!(f, "{v}"),
+            Coordinate::Int(text) => f.write_str(text),
+            Coordinate::Float(v) => write!(f, "{v:?}"),
+        }
+    }
+}
+
+impl Coordinate {
+    /// The coordinate as a Python value: an `int` (of any size), or the whole `float`.
+    pub fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        match self {
+            Coordinate::Fits(v) => Ok(v.into_pyobject(py)?.into_any()),
+            Coordinate::Int(text) => py
+                .import("builtins")?
+                .getattr("int")?
+                .call1((text.as_str(),)),
+            Coordinate::Float(v) => Ok(v.into_pyobject(py)?.into_any()),
+        }
+    }
+}
+
+/// One row of a cell array: whole numbers `x`, `y`.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Row {
+    /// Both fit `i64`.
+    At(i64, i64),
+    /// One of them does not: a cell on no grid (boxed, so that the usual row stays small).
+    Beyond(Box<(Coordinate, Coordinate)>),
+}
+
+impl Row {
+    /// The row of two coordinates.
+    fn new(x: Coordinate, y: Coordinate) -> Row {
+        match (&x, &y) {
+            (Coordinate::Fits(x), Coordinate::Fits(y)) => Row::At(*x, *y),
+            _ => Row::Beyond(Box::new((x, y))),
+        }
+    }
+}
+
+/// A whole float as a coordinate (`None`: not a whole number, NaN or infinite).
+fn whole_float(v: f64) -> Option<Coordinate> {
+    // Whole numbers in i64's range convert exactly; 2^63 itself does not fit.
+    const LIMIT: f64 = 9_223_372_036_854_775_808.0;
+    match (v.fract() == 0.0, (-LIMIT..LIMIT).contains(&v)) {
+        (false, _) => None,
+        (true, true) => Some(Coordinate::Fits(v as i64)),
+        (true, false) => Some(Coordinate::Float(v)),
+    }
+}
+
+/// `(N, 2)` cells of whole numbers from any array-like (`None` stays `None`): an integer
+/// array (signed or unsigned), a float array whose values are all whole numbers (as
+/// `np.floor` gives them), an object array of Python integers (of any size) or floats, and
+/// nothing else. Whole numbers beyond `i64` (`2**64`, a `uint64` above `2**63 - 1`, `1e30`)
+/// are kept as [`Row::Beyond`], a cell on no grid, for the caller to refuse as it refuses
+/// any cell off the grid (`plan_many`: a `ProblemError` naming the query). A float that is
+/// not a whole number (0.5, NaN, infinity) is a `ValueError` naming the query; a boolean,
+/// string or other array (or an object array holding anything but numbers) a `TypeError`,
+/// where a cast would silently plan another cell.
 pub(crate) fn cell_array(
     py: Python<'_>,
     name: &str,
     value: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Option<Vec<(i64, i64)>>> {
+) -> PyResult<Option<Vec<Row>>> {
     let Some(value) = value.filter(|v| !v.is_none()) else {
         return Ok(None);
     };
@@ -189,39 +269,88 @@ pub(crate) fn cell_array(
             Ok(Some(
                 view.as_array()
                     .outer_iter()
-                    .map(|row| (row[0], row[1]))
+                    .map(|row| Row::At(row[0], row[1]))
                     .collect(),
             ))
         }
         "u" => {
             let converted = rows("uint64")?;
             let view: PyReadonlyArray2<'_, u64> = converted.extract()?;
+            let coordinate = |v: u64| match i64::try_from(v) {
+                Ok(v) => Coordinate::Fits(v),
+                Err(_) => Coordinate::Int(v.to_string()),
+            };
+            Ok(Some(
+                view.as_array()
+                    .outer_iter()
+                    .map(|row| Row::new(coordinate(row[0]), coordinate(row[1])))
+                    .collect(),
+            ))
+        }
+        "f" => {
+            let converted = rows("float64")?;
+            let view: PyReadonlyArray2<'_, f64> = converted.extract()?;
             view.as_array()
                 .outer_iter()
                 .enumerate()
                 .map(
-                    |(query, row)| match (i64::try_from(row[0]), i64::try_from(row[1])) {
-                        (Ok(x), Ok(y)) => Ok((x, y)),
-                        _ => Err(not_a_cell(query, format!("({}, {})", row[0], row[1]))),
+                    |(query, row)| match (whole_float(row[0]), whole_float(row[1])) {
+                        (Some(x), Some(y)) => Ok(Row::new(x, y)),
+                        _ => Err(not_a_cell(query, format!("({:?}, {:?})", row[0], row[1]))),
                     },
                 )
                 .collect::<PyResult<Vec<_>>>()
                 .map(Some)
         }
-        "f" => {
-            let converted = rows("float64")?;
-            let view: PyReadonlyArray2<'_, f64> = converted.extract()?;
-            // Whole numbers in i64's range convert exactly; 2^63 itself does not fit.
-            const LIMIT: f64 = 9_223_372_036_854_775_808.0;
-            let whole = |v: f64| v.fract() == 0.0 && (-LIMIT..LIMIT).contains(&v);
-            view.as_array()
-                .outer_iter()
+        "O" => {
+            // Python integers too large for any NumPy integer (NumPy keeps them as
+            // objects), or integers and floats mixed.
+            let operator = py.import("operator")?;
+            let floating = numpy.getattr("floating")?;
+            let boolean = numpy.getattr("bool_")?;
+            let items: Vec<Vec<Bound<'_, PyAny>>> = array.call_method0("tolist")?.extract()?;
+            items
+                .iter()
                 .enumerate()
                 .map(|(query, row)| {
-                    if whole(row[0]) && whole(row[1]) {
-                        Ok((row[0] as i64, row[1] as i64))
-                    } else {
-                        Err(not_a_cell(query, format!("({:?}, {:?})", row[0], row[1])))
+                    let shown = || -> PyResult<String> {
+                        let parts = row
+                            .iter()
+                            .map(|v| Ok(v.repr()?.to_string()))
+                            .collect::<PyResult<Vec<String>>>()?;
+                        Ok(format!("({})", parts.join(", ")))
+                    };
+                    let mut coordinates = Vec::with_capacity(2);
+                    for item in row {
+                        let is_float = item.is_instance_of::<pyo3::types::PyFloat>()
+                            || item.is_instance(&floating)?;
+                        let is_bool = item.is_instance_of::<pyo3::types::PyBool>()
+                            || item.is_instance(&boolean)?;
+                        let coordinate = if is_float {
+                            match whole_float(item.extract::<f64>()?) {
+                                Some(c) => c,
+                                None => return Err(not_a_cell(query, shown()?)),
+                            }
+                        } else if let (false, Ok(int)) =
+                            (is_bool, operator.call_method1("index", (item,)))
+                        {
+                            match int.extract::<i64>() {
+                                Ok(v) => Coordinate::Fits(v),
+                                Err(_) => Coordinate::Int(int.str()?.to_string()),
+                            }
+                        } else {
+                            return Err(Failure::Type(format!(
+                                "{name}: query {query}: expected integer cells, got {}",
+                                shown()?
+                            ))
+                            .into_pyerr(py));
+                        };
+                        coordinates.push(coordinate);
+                    }
+                    let mut coordinates = coordinates.into_iter();
+                    match (coordinates.next(), coordinates.next()) {
+                        (Some(x), Some(y)) => Ok(Row::new(x, y)),
+                        _ => Err(not_a_cell(query, shown()?)),
                     }
                 })
                 .collect::<PyResult<Vec<_>>>()
@@ -317,7 +446,9 @@ impl Planner {
                         experiment, single, ..
                     } = &mut *state;
                     let grid = &experiment.maps[0].grid;
-                    let query = cells(grid, start, goal, None)?;
+                    let (start, goal) =
+                        (Row::At(start.0, start.1), goal.map(|(x, y)| Row::At(x, y)));
+                    let query = cells(grid, &start, goal.as_ref(), None)?;
                     let entry = self.entry(grid, 1, query, None)?;
                     experiment.maps[0].problems = vec![entry];
                     Ok(Some(run_one(experiment, &SPEC_0, single, None)?))
@@ -338,7 +469,8 @@ impl Planner {
     }
 
     /// Plans every query `(starts[i], goals[i])` on `threads` threads (0: one per core)
-    /// with the GIL released; the results as arrays in query order.
+    /// with the GIL released; the results as arrays in query order. `counters` holds every
+    /// counter one of the runs reported (-1 in a run without it): no queries, no counters.
     #[pyo3(
         signature = (starts, goals = None, *, threads = Int::Fits(0), paths = false),
         text_signature = "($self, starts, goals=None, *, threads=0, paths=False)"
@@ -394,8 +526,8 @@ impl Planner {
                 } = &mut *state;
                 let grid = &experiment.maps[0].grid;
                 let mut entries = Vec::with_capacity(starts.len());
-                for (i, &start) in starts.iter().enumerate() {
-                    let goal = goals.as_ref().map(|g| g[i]);
+                for (i, start) in starts.iter().enumerate() {
+                    let goal = goals.as_ref().map(|g| &g[i]);
                     let query = cells(grid, start, goal, Some(i))?;
                     entries.push(self.entry(grid, i + 1, query, Some(i))?);
                 }

@@ -22,6 +22,7 @@ use crate::interrupt::{Exclusive, Held};
 use crate::plan::{
     build_outcome, problem_error, problem_failure, to_budget, Outcome, OutcomeParts,
 };
+use crate::planner::Row;
 use crate::values::to_table;
 
 /// An incremental planner's session (see the stub, `gridplan/__init__.pyi`).
@@ -284,8 +285,21 @@ impl Replanner {
                     return Err(Failure::Value("the session has no map".into()));
                 };
                 let mut changes = Vec::with_capacity(n);
-                for (i, &xy) in cells.iter().enumerate() {
-                    let cell = grid_cell(grid, xy, &format!("cells[{i}]"))?;
+                for (i, row) in cells.iter().enumerate() {
+                    let what = format!("cells[{i}]");
+                    let cell = match row {
+                        Row::At(x, y) => grid_cell(grid, (*x, *y), &what)?,
+                        // Whole numbers beyond `i64`: a cell on no grid.
+                        Row::Beyond(pair) => {
+                            return Err(Failure::Value(format!(
+                                "{what}: ({}, {}) is outside the {}x{} grid",
+                                pair.0,
+                                pair.1,
+                                grid.width(),
+                                grid.height()
+                            )))
+                        }
+                    };
                     let weight = match &weights {
                         Some(w) => {
                             if !grid.is_weighted() {

@@ -1,10 +1,14 @@
 """Planner: prepared once, then plan() and plan_many() give gridplan.plan's results."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import gridplan
 from conftest import MAPS
+
+STUB_DOC = Path(gridplan.__file__).with_name("__init__.pyi")
 
 ARENA = MAPS / "movingai" / "arena.map"
 PARAMS = dict(moves=8, heuristic="octile", tie_break="high_g")
@@ -119,12 +123,76 @@ def test_plan_many_takes_whole_numbers_only(map10):
     for starts in ([[0, 0], [0.5, 0]], [[0, 0], [np.nan, 0]], [[0, 0], [np.inf, 1]]):
         with pytest.raises(ValueError, match="starts: query 1: .* is not a cell"):
             planner.plan_many(np.array(starts), [[11, 11], [11, 11]])
-    with pytest.raises(ValueError, match="goals: query 0: .* is not a cell"):
-        planner.plan_many([[0, 0]], np.array([[2**63, 1]], dtype=np.uint64))
     with pytest.raises(TypeError, match="integer cells, got dtype bool"):
         planner.plan_many(np.array([[True, False]]), [[11, 11]])
     with pytest.raises(TypeError, match="integer cells"):
         planner.plan_many([["0", "0"]], [[11, 11]])
+
+
+def test_plan_many_counters_are_those_the_runs_reported(map10):
+    """A planner declares no fixed set of counters, and some report a counter only on some
+    outcomes (LPA*'s `path_cost_units` only with a path): `counters` holds every name one
+    of the batch's runs reported, -1 in a run without it, so no queries give no counters.
+    The stub says so (it promised every counter as a name -> int64 array)."""
+    planner = gridplan.Planner(map10, "lpastar")
+    found = planner.plan_many([[0, 0]], [[11, 11]])
+    # A blocked goal is refused; a goal walled off by obstacles has no path.
+    walled = np.ones((3, 3), dtype=bool)
+    walled[1, :] = False
+    lone = gridplan.Planner(gridplan.Grid.from_numpy(walled, free=True), "lpastar")
+    both = lone.plan_many([[0, 0], [0, 0]], [[2, 0], [0, 2]])
+    assert list(both["status"]) == ["found", "no_path"]
+    assert "path_cost_units" in found["counters"]
+    assert list(both["counters"]["path_cost_units"]) == [both["counters"]["path_cost_units"][0], -1]
+    assert both["counters"]["path_cost_units"][0] >= 0
+    alone = lone.plan_many([[0, 0]], [[0, 2]])
+    assert "path_cost_units" not in alone["counters"]
+    assert planner.plan_many(np.empty((0, 2), dtype=np.int64), np.empty((0, 2), dtype=np.int64))["counters"] == {}
+    doc = " ".join(STUB_DOC.read_text().split())
+    assert "so the names are known from the runs alone and no queries give an empty dict" in doc
+
+
+def test_plan_many_whole_numbers_beyond_any_grid_are_problem_errors(map10):
+    """Whole numbers too large for any grid (a uint64 above 2**63 - 1, Python ints beyond
+    64 bits, whole floats as 1e30) are a start or goal off the grid, as `plan` says of them:
+    a ProblemError naming the query, the endpoint and the cell as given. They were a
+    ValueError or TypeError saying they are no whole numbers."""
+    planner = gridplan.Planner(map10, "astar")
+    goals = [[11, 11], [11, 11]]
+    cases = [
+        (np.array([[0, 0], [1e30, 0]]), "start", r"\(1e30, 0\)", (1e30, 0)),
+        (np.array([[0, 0], [2**63, 0]], dtype=np.uint64), "start",
+         r"\(9223372036854775808, 0\)", (2**63, 0)),
+        ([[0, 0], [2**64, 0]], "start", r"\(18446744073709551616, 0\)", (2**64, 0)),
+        ([[0, 0], [3, -(2**70)]], "start", r"\(3, -1180591620717411303424\)", (3, -(2**70))),
+    ]
+    for starts, endpoint, shown, cell in cases:
+        with pytest.raises(gridplan.ProblemError, match=rf"^query 1: start {shown} is outside the 12x12 grid") as raised:
+            planner.plan_many(starts, goals)
+        assert (raised.value.endpoint, raised.value.cell) == (endpoint, cell)
+    # A goal too, and the same message `plan` gives (with the query).
+    with pytest.raises(gridplan.ProblemError, match=r"^query 0: goal \(18446744073709551616, 1\) is outside") as raised:
+        planner.plan_many([[0, 0]], [[2**64, 1]])
+    assert raised.value.endpoint == "goal"
+    with pytest.raises(gridplan.ProblemError, match=r"^goal \(18446744073709551616, 1\) is outside"):
+        planner.plan((0, 0), (2**64, 1))
+    with pytest.raises(gridplan.ProblemError, match="query 0: goal"):
+        planner.plan_many([[0, 0]], np.array([[2**63, 1]], dtype=np.uint64))
+    # Queries are checked in order: query 0's blocked start before query 1's huge one.
+    with pytest.raises(gridplan.ProblemError, match="^query 0: "):
+        planner.plan_many([[-1, 0], [2**64, 0]], goals)
+    # Not whole numbers stay a ValueError, also among huge integers (an object array).
+    for starts in ([[0, 0], [2**64, 0.5]], [[0, 0], [2**64, float("nan")]], [[0, 0], [float("inf"), 2**64]]):
+        with pytest.raises(ValueError, match="starts: query 1: .* is not a cell") as raised:
+            planner.plan_many(starts, goals)
+        assert not isinstance(raised.value, gridplan.ProblemError)
+    # Whole numbers in an object array (huge ones and small ones) are cells like any.
+    small = planner.plan_many(np.array([[0, 0]], dtype=object), np.array([[11, 11.0]], dtype=object))
+    assert list(small["status"]) == list(planner.plan_many([[0, 0]], [[11, 11]])["status"])
+    with pytest.raises(TypeError, match="starts: query 0: expected integer cells"):
+        planner.plan_many(np.array([[None, 0]], dtype=object), [[11, 11]])
+    # The planner stays usable.
+    assert planner.plan((0, 0), (11, 11)).status == "found"
 
 
 def interrupted_output(setup, call, after):

@@ -138,6 +138,13 @@ def test_bad_arguments_raise_named_errors(map10):
         replanner.update(np.array([(1, 0)]), free=1)
     with pytest.raises(ValueError, match=r"query 0: \(0.5, 0.0\) is not a cell"):
         replanner.update(np.array([(0.5, 0.0)]), free=False)
+    # Whole numbers too large for any grid are cells off it, as (12, 0) is.
+    for cells, shown in (([(1, 0), (2**64, 0)], "18446744073709551616, 0"),
+                         (np.array([(1, 0), (2**63, 0)], dtype=np.uint64), "9223372036854775808, 0"),
+                         (np.array([(1, 0), (0, 1e30)]), "0, 1e30")):
+        with pytest.raises(ValueError, match=rf"cells\[1\]: \({shown}\) is outside the 12x12 grid"):
+            replanner.update(cells, free=False)
+    assert replanner.grid == before, "a refused update applied a change"
     with pytest.raises(ValueError, match="move_to"):
         replanner.move_to(blocked)
     with pytest.raises(ValueError, match=r"move_to: \(40, 0\) is outside"):
