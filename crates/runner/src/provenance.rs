@@ -30,8 +30,13 @@ pub struct Provenance {
     pub host: Option<String>,
     /// The CPU model (`model name` in `/proc/cpuinfo`), if known.
     pub cpu: Option<String>,
-    /// Worker threads the sweep ran with.
+    /// Worker threads the sweep ran with (of a sweep merged from shards: the most any
+    /// shard ran with).
     pub threads: usize,
+    /// Of a sweep merged from shards whose thread counts differ: each shard's, in shard
+    /// order (absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard_threads: Option<Vec<usize>>,
     /// SHA-256 of the config file's bytes, hex; `None` if it could not be read.
     pub config_sha256: Option<String>,
 }
@@ -114,6 +119,7 @@ impl Provenance {
                 .ok()
                 .and_then(|text| cpu_model(&text)),
             threads,
+            shard_threads: None,
             config_sha256: std::fs::read(config).ok().map(|bytes| sha256_hex(&bytes)),
         }
     }
@@ -129,7 +135,20 @@ impl Provenance {
         let _ = writeln!(out, "- date: {}", md_cell(&self.date));
         let _ = writeln!(out, "- host: {}", unknown(&self.host));
         let _ = writeln!(out, "- CPU: {}", unknown(&self.cpu));
-        let _ = writeln!(out, "- threads: {}", self.threads);
+        match &self.shard_threads {
+            Some(each) => {
+                let each: Vec<String> = each.iter().map(usize::to_string).collect();
+                let _ = writeln!(
+                    out,
+                    "- threads: {} (shards: {})",
+                    self.threads,
+                    each.join(", ")
+                );
+            }
+            None => {
+                let _ = writeln!(out, "- threads: {}", self.threads);
+            }
+        }
         let _ = writeln!(out, "- config SHA-256: {}", unknown(&self.config_sha256));
         out.push('\n');
         out
@@ -214,6 +233,7 @@ mod tests {
             host: Some("a\n## Fake section\n<script>x</script>|y".into()),
             cpu: None,
             threads: 2,
+            shard_threads: None,
             config_sha256: None,
         };
         let markdown = provenance.markdown();

@@ -294,8 +294,11 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     let finished = match args.shard {
         Some(_) => {
             let threads = worker_threads(args.threads, experiment.threads);
-            let provenance = Provenance::collect(args.config, threads, args.machine);
-            finish_shard(&experiment, &path, &dir, (shard, &provenance), args.stop)
+            let info = RunInfo {
+                provenance: Provenance::collect(args.config, threads, args.machine),
+                seconds: started.elapsed().as_secs_f64(),
+            };
+            finish_shard(&experiment, &path, &dir, (shard, &info), args.stop)
                 .map(|()| (Reproduction::default(), Vec::new()))
         }
         None => finish_sweep(args, &experiment, &header, records, &path, &dir, started),
@@ -622,16 +625,18 @@ fn append_frames(
 }
 
 /// Writes a whole shard's results directory `dir`: its framed stream `path` copied as the
-/// shard.stream that `merge` reads, the expanded cells of the drawn runs it holds, and
-/// (when the config's `outputs` asks) its Parquet part, from the stream one row group at
-/// a time. A raised `stop` ends it before `dir` is replaced.
+/// shard.stream that `merge` reads, the expanded cells of the drawn runs it holds, its
+/// provenance and wall time (provenance.json, which `merge` carries into the merged
+/// results) and (when the config's `outputs` asks) its Parquet part, from the stream one
+/// row group at a time. A raised `stop` ends it before `dir` is replaced.
 fn finish_shard(
     experiment: &Experiment,
     path: &Path,
     dir: &Path,
-    (shard, provenance): (Shard, &Provenance),
+    (shard, info): (Shard, &RunInfo),
     stop: Option<&AtomicBool>,
 ) -> Result<(), RunnerError> {
+    let provenance = &info.provenance;
     let copy = StreamedFile {
         path: SHARD_FILE.into(),
         write: Box::new(|out| {
@@ -643,14 +648,16 @@ fn finish_shard(
     };
     let cells = shard_expanded(experiment, path)?;
     check_stop(stop)?;
-    let files = if cells.is_empty() {
-        Vec::new()
-    } else {
-        vec![OutputFile {
+    let mut files = vec![OutputFile {
+        path: PROVENANCE_FILE.into(),
+        contents: serde_json::to_vec_pretty(info).map_err(RunnerError::Json)?,
+    }];
+    if !cells.is_empty() {
+        files.push(OutputFile {
             path: EXPANDED_FILE.into(),
             contents: cells.to_jsonl()?,
-        }]
-    };
+        });
+    }
     // Issue 29: the shard's Parquet part (src/columnar.rs).
     let header = crate::columnar::Header {
         experiment,
@@ -1412,13 +1419,16 @@ pub fn merge(
             .map_err(io)?;
         Source::Stream(StreamPasses::new(&path, first.total_runs))
     };
-    let info = RunInfo {
-        provenance: Provenance::collect(
-            &config_path,
-            worker_threads(0, experiment.threads),
-            &machine(&config_path),
-        ),
-        seconds: started.elapsed().as_secs_f64(),
+    let info = match merged_run_info(&shards) {
+        Some(info) => info,
+        None => RunInfo {
+            provenance: Provenance::collect(
+                &config_path,
+                worker_threads(0, experiment.threads),
+                &machine(&config_path),
+            ),
+            seconds: started.elapsed().as_secs_f64(),
+        },
     };
     let finished = finish(
         render,
@@ -1448,6 +1458,42 @@ pub fn merge(
         seconds: started.elapsed().as_secs_f64(),
         interrupted: None,
         records: Vec::new(),
+    })
+}
+
+/// The provenance of a sweep merged from `shards`, from what each shard recorded (its
+/// provenance.json): the first shard's, with the most threads any shard ran with (and
+/// each shard's count when they differ), and as seconds the sum of the shards' wall
+/// times. `None` when a shard has none (an earlier version's): the merge then records
+/// its own, as before, and says so.
+fn merged_run_info(shards: &[OpenShard]) -> Option<RunInfo> {
+    let mut infos = Vec::with_capacity(shards.len());
+    for (dir, _, _) in shards {
+        match read_run_info(dir) {
+            Ok(info) => infos.push(info),
+            Err(e) => {
+                tracing::warn!(
+                    "merge: {} has no readable provenance ({e}); the merged provenance is the merge's own",
+                    dir.display()
+                );
+                return None;
+            }
+        }
+    }
+    let mut infos = infos.into_iter();
+    let first = infos.next()?;
+    let mut threads = vec![first.provenance.threads];
+    let mut seconds = first.seconds;
+    for info in infos {
+        threads.push(info.provenance.threads);
+        seconds += info.seconds;
+    }
+    let mut provenance = first.provenance;
+    provenance.threads = threads.iter().copied().max().unwrap_or(provenance.threads);
+    provenance.shard_threads = threads.iter().any(|&t| t != threads[0]).then_some(threads);
+    Some(RunInfo {
+        provenance,
+        seconds,
     })
 }
 

@@ -12,6 +12,7 @@ mod interrupt;
 mod large;
 mod memory;
 mod parquet;
+mod provenance;
 mod reliability;
 mod resume;
 mod slurm;
