@@ -1088,11 +1088,16 @@ pub fn run(command: Command) -> Result<(), CliError> {
             } else {
                 write_text(&result.to_text_within(text_columns()))?;
             }
-            let expanded = result.record.counters.get("n_expanded").unwrap_or(0);
-            if trace.is_some()
-                && result.events.is_empty()
-                && result.expanded.is_empty()
-                && expanded > 0
+            // No steps from a run that searched: one that expanded cells, or a planner
+            // that counts no `n_expanded` at all (coverage, whose return searches'
+            // expansions are `n_return_expansions`; the RRT family, which samples). A
+            // planner that lists its cells and expanded none (start = goal) says nothing.
+            let searched = result
+                .record
+                .counters
+                .get("n_expanded")
+                .is_none_or(|n| n > 0);
+            if trace.is_some() && result.events.is_empty() && result.expanded.is_empty() && searched
             {
                 eprintln!(
                     "note: {} records no search steps (it lists no expanded cells), so the trace holds only its start, goal and end",

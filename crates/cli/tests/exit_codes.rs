@@ -494,3 +494,43 @@ fn a_trace_without_steps_is_said() {
         );
     }
 }
+
+/// Coverage lists no expanded cells (not its return legs' A* either), so its trace has
+/// no steps; the note fired only for a planner counting `n_expanded`, which coverage does
+/// not (its returns count `n_return_expansions`), so the empty trace went unsaid. The
+/// RRT family counts no `n_expanded` either.
+#[test]
+fn a_trace_without_steps_is_said_for_coverage_and_rrt() {
+    let dir = scratch("trace-coverage");
+    let trace = dir.join("coverage.json").display().to_string();
+    let (code, err) = gridplan(&[
+        "plan",
+        "maps/coverage/rooms30-1.map",
+        "--planner",
+        "coverage",
+        "--start",
+        "0,1",
+        "--trace",
+        &trace,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("note: coverage records no search steps"),
+        "{err}"
+    );
+    let trace = dir.join("rrt.json").display().to_string();
+    let (code, err) = gridplan(&[
+        "plan",
+        "maps/paper/map10.map",
+        "--planner",
+        "rrt",
+        "--start",
+        "0,0",
+        "--goal",
+        "11,11",
+        "--trace",
+        &trace,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("note: rrt records no search steps"), "{err}");
+}
