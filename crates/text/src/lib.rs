@@ -169,11 +169,19 @@ pub fn md_code(text: &str) -> String {
 }
 
 /// `text` as markdown prose (a config's description): kept as written, markdown included,
-/// except that a `<` that could open raw HTML (before a letter, `/`, `!` or `?`: a tag, a
-/// comment, a declaration) becomes `&lt;`, and the `(` of an inline link whose destination
-/// is not [`safe_link`] is escaped, so that no markdown viewer runs or draws them
-/// (report.html keeps the same links). They show as themselves; `a <-> b`, `x < y` and
-/// `[ok](https://example.org)` stay as they are.
+/// except that a `<` that could open raw HTML or an autolink (before a letter, `/`, `!` or
+/// `?`: a tag, a comment, a declaration, `<javascript:x>`) becomes `&lt;`, and a link
+/// whose destination is not [`safe_link`] is escaped, so that no markdown viewer runs or
+/// draws them (report.html keeps the same links): the `(` of an inline link or image
+/// (`[t](dest)`) and the `:` of a reference definition (`[t]: dest`, which `[t]` then
+/// links to). They show as themselves; `a <-> b`, `x < y`, `[ok](https://example.org)`
+/// and `[r]: https://example.org` stay as they are.
+///
+/// The destination is judged as a CommonMark renderer reads it: in angle brackets or up
+/// to a space or an unbalanced `)`, its backslash escapes and its character references
+/// decoded (`java&#115;cript:` is `javascript:`, `&colon;` a `:`). A destination with a
+/// named character reference outside the few it knows (`&amp;`, `&colon;`, `&Tab;`, ...)
+/// or on the line after its `](` or `]:` is escaped whatever it holds.
 ///
 /// ```
 /// use planner_text::md_prose;
@@ -181,36 +189,192 @@ pub fn md_code(text: &str) -> String {
 ///     md_prose("<script>x</script> *a* <-> b [j](javascript:x) [ok](https://o.org)"),
 ///     "&lt;script>x&lt;/script> *a* <-> b [j]\\(javascript:x) [ok](https://o.org)"
 /// );
-/// // Case and a space before the destination do not hide a scheme.
+/// // Case, a space, character references and escapes do not hide a scheme.
 /// assert_eq!(md_prose("[t]( JavaScript:x)"), "[t]\\( JavaScript:x)");
+/// assert_eq!(md_prose("[g](java&#115;cript:x)"), "[g]\\(java&#115;cript:x)");
+/// assert_eq!(md_prose("[h](javascript&colon;x)"), "[h]\\(javascript&colon;x)");
+/// // A reference definition is judged as an inline link is.
+/// assert_eq!(md_prose("[e]: javascript:x\n\n[e]"), "[e]\\: javascript:x\n\n[e]");
+/// assert_eq!(md_prose("[r]: https://o.org \"t\"\n\n[r]"), "[r]: https://o.org \"t\"\n\n[r]");
 /// ```
 pub fn md_prose(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
+    // Raw HTML first, so that links are judged as they are written.
+    let mut written = String::with_capacity(text.len());
     for (at, c) in text.char_indices() {
-        let rest = &text[at + c.len_utf8()..];
-        let opens_html = c == '<'
-            && rest
-                .chars()
-                .next()
-                .is_some_and(|n| n.is_ascii_alphabetic() || matches!(n, '/' | '!' | '?'));
-        if opens_html {
-            out.push_str("&lt;");
-        } else if c == '(' && out.ends_with(']') && !safe_link(link_destination(rest)) {
-            out.push_str("\\(");
-        } else {
-            out.push(c);
+        match c == '<' && opens_html(&text[at + 1..]) {
+            true => written.push_str("&lt;"),
+            false => written.push(c),
         }
+    }
+    // A `\` added before a `(` or `:` only ever ends an earlier destination sooner, never
+    // changes its scheme: judging each on `written` holds for the output.
+    let mut out = String::with_capacity(written.len() + 8);
+    for (at, c) in written.char_indices() {
+        let rest = &written[at + c.len_utf8()..];
+        if matches!(c, '(' | ':') && out.ends_with(']') && !safe_destination(rest) {
+            out.push('\\');
+        }
+        out.push(c);
     }
     out
 }
 
-/// The destination of the inline link whose text follows its `](`: up to its closing `>`
-/// when written in angle brackets, else up to the first `)` or space.
-fn link_destination(rest: &str) -> &str {
-    let rest = rest.trim_start();
-    match rest.strip_prefix('<') {
-        Some(bracketed) => bracketed.split('>').next().unwrap_or(bracketed),
-        None => rest.split([')', ' ']).next().unwrap_or(rest),
+/// Whether a `<` before `rest` could open raw HTML or an autolink: [`md_prose`] writes
+/// it as `&lt;`.
+fn opens_html(rest: &str) -> bool {
+    rest.chars()
+        .next()
+        .is_some_and(|n| n.is_ascii_alphabetic() || matches!(n, '/' | '!' | '?'))
+}
+
+/// Whether the link destination that `rest` (what follows an inline link's `](` or a
+/// reference definition's `]:`) starts with is [`safe_link`] once decoded
+/// ([`decoded_destination`]). One on the next line is not judged (the line may start
+/// with a block quote's `>` or a list item's indent, which are not part of it): unsafe.
+fn safe_destination(rest: &str) -> bool {
+    let dest = rest.trim_start_matches([' ', '\t']);
+    if dest.starts_with(['\n', '\r']) {
+        return false;
+    }
+    decoded_destination(dest).is_some_and(|url| safe_link(&url))
+}
+
+/// The link destination `text` starts with, as a CommonMark renderer hands it to the
+/// browser: up to the closing `>` when written in angle brackets, else up to a space, a
+/// control character or a `)` that closes no `(`; backslash escapes of ASCII punctuation
+/// and character references decoded. `None` when it holds a named character reference
+/// this function does not know (it cannot tell what it decodes to).
+fn decoded_destination(text: &str) -> Option<String> {
+    let (body, bracketed) = match text.strip_prefix('<') {
+        Some(body) => (body, true),
+        None => (text, false),
+    };
+    let mut out = String::new();
+    let mut depth = 0usize;
+    let mut at = 0;
+    while let Some(c) = body[at..].chars().next() {
+        at += c.len_utf8();
+        match c {
+            '\\' => match body[at..].chars().next() {
+                Some(next) if next.is_ascii_punctuation() => {
+                    out.push(next);
+                    at += 1;
+                }
+                _ => out.push('\\'),
+            },
+            '&' => match character_reference(&body[at..]) {
+                Reference::Decoded(decoded, len) => {
+                    out.push_str(&decoded);
+                    at += len;
+                }
+                Reference::Unknown => return None,
+                Reference::Literal => out.push('&'),
+            },
+            '>' | '<' | '\n' | '\r' if bracketed => break,
+            _ if bracketed => out.push(c),
+            c if c.is_ascii_whitespace() || c.is_ascii_control() => break,
+            '(' => {
+                depth += 1;
+                out.push(c);
+            }
+            ')' if depth == 0 => break,
+            ')' => {
+                depth -= 1;
+                out.push(c);
+            }
+            c => out.push(c),
+        }
+    }
+    Some(out)
+}
+
+/// What follows a `&` in a link destination.
+enum Reference {
+    /// A character reference: what it decodes to and its length after the `&`.
+    Decoded(String, usize),
+    /// A named reference (`&name;`) not in [`NAMED_REFERENCES`].
+    Unknown,
+    /// No reference: the `&` is itself.
+    Literal,
+}
+
+/// The named character references [`decoded_destination`] decodes: HTML's for ASCII
+/// punctuation, whitespace and `&nbsp;`. Any other `&name;` makes a destination unsafe.
+const NAMED_REFERENCES: [(&str, &str); 33] = [
+    ("amp", "&"),
+    ("lt", "<"),
+    ("gt", ">"),
+    ("quot", "\""),
+    ("apos", "'"),
+    ("colon", ":"),
+    ("sol", "/"),
+    ("quest", "?"),
+    ("num", "#"),
+    ("Tab", "\t"),
+    ("NewLine", "\n"),
+    ("nbsp", "\u{a0}"),
+    ("period", "."),
+    ("lpar", "("),
+    ("rpar", ")"),
+    ("excl", "!"),
+    ("commat", "@"),
+    ("equals", "="),
+    ("plus", "+"),
+    ("percnt", "%"),
+    ("dollar", "$"),
+    ("ast", "*"),
+    ("comma", ","),
+    ("lowbar", "_"),
+    ("semi", ";"),
+    ("bsol", "\\"),
+    ("lsqb", "["),
+    ("rsqb", "]"),
+    ("lcub", "{"),
+    ("rcub", "}"),
+    ("verbar", "|"),
+    ("Hat", "^"),
+    ("grave", "`"),
+];
+
+/// The character reference (CommonMark 2.5) that `text`, what follows a `&`, starts
+/// with: `#` and 1 to 7 decimal digits, `#x` and 1 to 6 hex digits (0 and what is not a
+/// character decode to U+FFFD), or a name of letters and digits, each ended by `;`.
+fn character_reference(text: &str) -> Reference {
+    let Some(end) = text.find(';') else {
+        return Reference::Literal;
+    };
+    let (inside, len) = (&text[..end], end + 1);
+    let numeric = match inside.strip_prefix('#') {
+        Some(hex) if hex.starts_with(['x', 'X']) => {
+            let digits = &hex[1..];
+            ((1..=6).contains(&digits.len()) && digits.bytes().all(|b| b.is_ascii_hexdigit()))
+                .then(|| u32::from_str_radix(digits, 16).ok())
+                .flatten()
+        }
+        Some(digits) => ((1..=7).contains(&digits.len())
+            && digits.bytes().all(|b| b.is_ascii_digit()))
+        .then(|| digits.parse::<u32>().ok())
+        .flatten(),
+        None => {
+            let is_name = inside.starts_with(|c: char| c.is_ascii_alphabetic())
+                && inside.bytes().all(|b| b.is_ascii_alphanumeric());
+            if !is_name {
+                return Reference::Literal;
+            }
+            return match NAMED_REFERENCES.iter().find(|(name, _)| *name == inside) {
+                Some((_, decoded)) => Reference::Decoded((*decoded).to_string(), len),
+                None => Reference::Unknown,
+            };
+        }
+    };
+    match numeric {
+        Some(code) => {
+            let c = char::from_u32(code)
+                .filter(|&c| c != '\0')
+                .unwrap_or('\u{fffd}');
+            Reference::Decoded(c.to_string(), len)
+        }
+        None => Reference::Literal,
     }
 }
 
