@@ -1,5 +1,6 @@
 //! What users write (planner labels, map names, chart titles, a config's description) made
-//! into data in gridplan's outputs, never code: a CSV field that cannot end its record, a
+//! into data in gridplan's outputs, never code: a CSV field that cannot end its record or
+//! open as a spreadsheet formula, a
 //! markdown table cell (or heading, or list item) that shows as its own text, never as
 //! HTML, a link or any other markdown, markdown prose whose raw HTML and unsafe links show
 //! as text, a markdown code span that shows its text as written, XML or HTML text that
@@ -30,17 +31,32 @@ use std::borrow::Cow;
 /// line break (RFC 4180), a bare `\r` included, which pandas and Python's csv module end a
 /// record at as they do at `\n`; else as it is.
 ///
+/// A field that starts with `=`, `+`, `-`, `@`, a tab or a carriage return, which a
+/// spreadsheet (Excel, LibreOffice Calc, Google Sheets) would take for a formula, gets a
+/// leading `'` (OWASP's rule against CSV injection), so a label such as `=HYPERLINK(..)`
+/// opens as its text. Only text goes through this function, so numbers (`-1.5`) are never
+/// touched; the tables that carry types (`runs.json`, `runs.parquet/`) keep such a text as
+/// it was written.
+///
 /// ```
 /// use planner_text::csv_field;
 /// assert_eq!(csv_field("astar"), "astar");
 /// assert_eq!(csv_field("a,\"b\""), "\"a,\"\"b\"\"\"");
 /// assert_eq!(csv_field("p\nq"), "\"p\nq\"");
+/// assert_eq!(csv_field("=cmd|' /C calc'!A0"), "'=cmd|' /C calc'!A0");
+/// assert_eq!(csv_field("@x,y"), "\"'@x,y\"");
+/// assert_eq!(csv_field("random512-10-0"), "random512-10-0");
 /// ```
 pub fn csv_field(text: &str) -> Cow<'_, str> {
-    if text.contains([',', '"', '\n', '\r']) {
-        Cow::Owned(format!("\"{}\"", text.replace('"', "\"\"")))
+    let formula = text.starts_with(['=', '+', '-', '@', '\t', '\r']);
+    let guarded: Cow<'_, str> = match formula {
+        true => Cow::Owned(format!("'{text}")),
+        false => Cow::Borrowed(text),
+    };
+    if guarded.contains([',', '"', '\n', '\r']) {
+        Cow::Owned(format!("\"{}\"", guarded.replace('"', "\"\"")))
     } else {
-        Cow::Borrowed(text)
+        guarded
     }
 }
 
