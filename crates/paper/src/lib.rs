@@ -7,7 +7,8 @@
 //! - [`seed003`]: seed 003's Tables I-II (times per map and planner).
 //! - [`seed004`]: seed 004's coverage table.
 //!
-//! A paper layout shows only when a config names it in `sections = [...]`, and the
+//! A paper layout shows only when a config names it in `sections = [...]` (or, for
+//! [`seed000`], when a config without `sections` gives `published` values), and the
 //! planners it singles out are named there as data (`{ name = "seed002", proposed =
 //! "pastar" }`), never by a constant here: this crate depends on no planner crate and on
 //! no planner list. [`catalogue`] places the layouts among planner-report's generic

@@ -104,29 +104,7 @@ fn quality_tables(context: &Context<'_>, reproduction: &mut Reproduction) -> Str
                 // Not drawn, but its published numbers count: say how many and which
                 // differ.
                 out.push_str(&heading);
-                let _ = writeln!(
-                    out,
-                    "{} problems, more than the {MAX_COLUMNS} columns of this layout (see runs.csv); published numbers reproduced here: {} of {}.\n",
-                    columns.len(),
-                    marks.matched,
-                    marks.compared
-                );
-                let mut listed = false;
-                for (metric, row) in table.metrics.iter().zip(&cells) {
-                    for (&(map, problem), cell) in columns.iter().zip(row) {
-                        if cell.contains('✗') {
-                            listed = true;
-                            let _ = writeln!(
-                                out,
-                                "- {} #{problem} {metric}: {cell}",
-                                md_cell(map_stem(map))
-                            );
-                        }
-                    }
-                }
-                if listed {
-                    out.push('\n');
-                }
+                write_wide_note(&mut out, &columns, &table.metrics, &cells, marks);
                 continue;
             }
             out.push_str(&heading);
@@ -135,25 +113,7 @@ fn quality_tables(context: &Context<'_>, reproduction: &mut Reproduction) -> Str
                 .iter()
                 .filter(|m| (m.grid.width(), m.grid.height()) == (w, h))
                 .all(|m| m.problems.len() == 1);
-            out.push_str("| Metric |");
-            for (map, problem) in &columns {
-                if single {
-                    let _ = write!(out, " {} |", md_cell(map_stem(map)));
-                } else {
-                    let _ = write!(out, " {} #{problem} |", md_cell(map_stem(map)));
-                }
-            }
-            out.push_str("\n|---|");
-            out.push_str(&"---:|".repeat(columns.len()));
-            out.push('\n');
-            for (metric, row) in table.metrics.iter().zip(&cells) {
-                let _ = write!(out, "| {metric} |");
-                for cell in row {
-                    let _ = write!(out, " {cell} |");
-                }
-                out.push('\n');
-            }
-            out.push('\n');
+            write_table(&mut out, &columns, single, &table.metrics, &cells);
         }
     }
     if !too_wide.is_empty() {
@@ -164,6 +124,67 @@ fn quality_tables(context: &Context<'_>, reproduction: &mut Reproduction) -> Str
         );
     }
     out
+}
+
+/// The note of a table too wide to draw: its problems, its published numbers reproduced
+/// (`marks`) and each ✗ of its `cells` (rows `metrics`, columns `columns`).
+fn write_wide_note(
+    out: &mut String,
+    columns: &[(&str, usize)],
+    metrics: &[String],
+    cells: &[Vec<String>],
+    marks: Reproduction,
+) {
+    let _ = writeln!(
+        out,
+        "{} problems, more than the {MAX_COLUMNS} columns of this layout (see runs.csv); published numbers reproduced here: {} of {}.\n",
+        columns.len(),
+        marks.matched,
+        marks.compared
+    );
+    let mut listed = false;
+    for (metric, row) in metrics.iter().zip(cells) {
+        for (&(map, problem), cell) in columns.iter().zip(row) {
+            if cell.contains('✗') {
+                listed = true;
+                let stem = md_cell(map_stem(map));
+                let _ = writeln!(out, "- {stem} #{problem} {metric}: {cell}");
+            }
+        }
+    }
+    if listed {
+        out.push('\n');
+    }
+}
+
+/// A drawn table: a column per (map, problem) of `columns` (headed by the map alone when
+/// each map has one problem: `single`), a row per metric of `metrics`, `cells` as marked.
+fn write_table(
+    out: &mut String,
+    columns: &[(&str, usize)],
+    single: bool,
+    metrics: &[String],
+    cells: &[Vec<String>],
+) {
+    out.push_str("| Metric |");
+    for (map, problem) in columns {
+        if single {
+            let _ = write!(out, " {} |", md_cell(map_stem(map)));
+        } else {
+            let _ = write!(out, " {} #{problem} |", md_cell(map_stem(map)));
+        }
+    }
+    out.push_str("\n|---|");
+    out.push_str(&"---:|".repeat(columns.len()));
+    out.push('\n');
+    for (metric, row) in metrics.iter().zip(cells) {
+        let _ = write!(out, "| {metric} |");
+        for cell in row {
+            let _ = write!(out, " {cell} |");
+        }
+        out.push('\n');
+    }
+    out.push('\n');
 }
 
 /// One planner's table on one map size: its metric rows and where its values come from.

@@ -755,22 +755,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
         None => None,
     };
     let published = match &raw.published {
-        Some(p) => {
-            // Only the `seed000` section compares them: a config that names its sections
-            // and leaves it out would check nothing and say nothing.
-            if sections.as_ref().is_some_and(|s| !s.wants("seed000")) {
-                return Err(src.error(
-                    Some(p.span()),
-                    "key `published`: the published values are compared by the `seed000` section, which `sections` leaves out; add \"seed000\" to `sections` (or leave `sections` out: `published` then shows it)",
-                ));
-            }
-            Some(load_published(
-                &src,
-                &base.join(p.get_ref()),
-                p.span(),
-                &maps,
-            )?)
-        }
+        Some(p) => Some(read_published(&src, p, &base, sections.as_ref(), &maps)?),
         None => None,
     };
 
@@ -1951,6 +1936,25 @@ pub fn published_metrics() -> Vec<&'static str> {
     names
 }
 
+/// The `published` key `key` (a path relative to `base`): refused when `sections` leave
+/// out `seed000`, the only section that compares the values (the config would check
+/// nothing and say nothing), else the file read by [`load_published`].
+fn read_published(
+    src: &Source<'_>,
+    key: &Spanned<String>,
+    base: &Path,
+    sections: Option<&Sections>,
+    maps: &[MapEntry],
+) -> Result<Published, ConfigError> {
+    if sections.is_some_and(|s| !s.wants("seed000")) {
+        return Err(src.error(
+            Some(key.span()),
+            "key `published`: the published values are compared by the `seed000` section, which `sections` leaves out; add \"seed000\" to `sections` (or leave `sections` out: `published` then shows it)",
+        ));
+    }
+    load_published(src, &base.join(key.get_ref()), key.span(), maps)
+}
+
 /// Reads a published-values file strictly: `[<map>] file = "..."` (optional) and
 /// `[<map>.<planner>] <metric> = <number>`; an unknown metric, a value that is not a number
 /// or any other shape is an error naming the file, line and column, and so is a table
@@ -2005,6 +2009,39 @@ fn stems_in(dir: &Path) -> Vec<String> {
         .collect()
 }
 
+/// The `file` of published table `map` (map stem `stem`), at `at`: `named`, resolved
+/// beside the published file, must be a file with that stem.
+fn check_published_file(
+    inner: &Source<'_>,
+    at: Option<Range<usize>>,
+    named: PathBuf,
+    (map, stem): (&str, &str),
+) -> Result<(), ConfigError> {
+    if !named.is_file() {
+        return Err(inner.error(
+            at,
+            format!(
+                "`{map}.file`: {} is not a file (`file` is the map the values are for, beside the published file)",
+                named.display()
+            ),
+        ));
+    }
+    let name = named
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or_default();
+    if map_stem(name) != stem {
+        return Err(inner.error(
+            at,
+            format!(
+                "`{map}.file`: `{name}` is map `{}`, not `{stem}`",
+                map_stem(name)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// [`parse_published`], with the map stems also allowed to be those of `maps`
 /// (a published file beside none of them, as a test's, may give values for them).
 fn parse_published_for(
@@ -2033,61 +2070,36 @@ fn parse_published_for(
                 format!("`{map}` must be a table of planners, `[{map}.<planner>]`"),
             ));
         };
-        let map_key = doc
-            .as_table()
-            .get_key_value(map)
-            .and_then(|(k, _)| k.span());
         // `"<stem>#<k>"` is problem k of map `<stem>`.
         let stem = match map.rsplit_once('#') {
             Some((stem, k)) if k.parse::<usize>().is_ok() => stem,
             _ => map,
         };
         if !config_stems.contains(&stem) && !beside.iter().any(|b| b == stem) {
-            return Err(inner.error(
-                map_key,
-                format!(
-                    "`[{map}]`: no map of the config and no file in {} has the stem `{stem}`",
-                    dir.display()
-                ),
-            ));
+            let at = doc
+                .as_table()
+                .get_key_value(map)
+                .and_then(|(k, _)| k.span());
+            let dir = dir.display();
+            let message = format!(
+                "`[{map}]`: no map of the config and no file in {dir} has the stem `{stem}`"
+            );
+            return Err(inner.error(at, message));
         }
         let mut planners = IndexMap::new();
         for (planner, metrics) in entry.iter() {
             if planner == "file" {
                 if let Some(file) = metrics.as_str() {
                     let at = entry.get_key_value(planner).and_then(|(_, v)| v.span());
-                    let named = dir.join(file);
-                    if !named.is_file() {
-                        return Err(inner.error(
-                            at,
-                            format!(
-                                "`{map}.file`: {} is not a file (`file` is the map the values are for, beside the published file)",
-                                named.display()
-                            ),
-                        ));
-                    }
-                    let file_stem = named
-                        .file_name()
-                        .and_then(|n| n.to_str())
-                        .map(map_stem)
-                        .unwrap_or_default();
-                    if file_stem != stem {
-                        return Err(inner.error(
-                            at,
-                            format!("`{map}.file`: `{file}` is map `{file_stem}`, not `{stem}`"),
-                        ));
-                    }
+                    check_published_file(&inner, at, dir.join(file), (map, stem))?;
                     continue;
                 }
             }
             if registry::find(planner).is_none() {
-                return Err(inner.error(
-                    entry.get_key_value(planner).and_then(|(k, _)| k.span()),
-                    format!(
-                        "`[{map}.{planner}]`: unknown planner `{planner}`, expected a registry name ({})",
-                        registry::names().join(", ")
-                    ),
-                ));
+                let at = entry.get_key_value(planner).and_then(|(k, _)| k.span());
+                let names = registry::names().join(", ");
+                let message = format!("`[{map}.{planner}]`: unknown planner `{planner}`, expected a registry name ({names})");
+                return Err(inner.error(at, message));
             }
             let Some(metrics) = metrics.as_table_like() else {
                 return Err(inner.error(

@@ -1419,17 +1419,14 @@ pub fn merge(
             .map_err(io)?;
         Source::Stream(StreamPasses::new(&path, first.total_runs))
     };
-    let info = match merged_run_info(&shards) {
-        Some(info) => info,
-        None => RunInfo {
-            provenance: Provenance::collect(
-                &config_path,
-                worker_threads(0, experiment.threads),
-                &machine(&config_path),
-            ),
-            seconds: started.elapsed().as_secs_f64(),
-        },
-    };
+    let info = merged_run_info(&shards).unwrap_or_else(|| RunInfo {
+        provenance: Provenance::collect(
+            &config_path,
+            worker_threads(0, experiment.threads),
+            &machine(&config_path),
+        ),
+        seconds: started.elapsed().as_secs_f64(),
+    });
     let finished = finish(
         render,
         &experiment,
