@@ -690,6 +690,44 @@ fn job_array_environments_are_checked_and_named() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `merge sh1 sh2 --output sh1` wrote the merged results over shard sh1 ("6 runs merged"),
+/// so the shard set could never be merged again. An output that is an input shard (by
+/// canonical path, also through a link) or holds one is refused with exit 5, as any output
+/// gridplan may not write, before anything is written.
+#[cfg(unix)]
+#[test]
+fn merge_refuses_an_output_that_is_one_of_its_shards() {
+    let dir = with_config(20_010);
+    shard(&dir, "c.toml", "1/2", "sh1");
+    shard(&dir, "c.toml", "2/2", "sh2");
+    std::os::unix::fs::symlink("sh1", dir.join("link")).unwrap();
+    std::fs::create_dir_all(dir.join("parent")).unwrap();
+    std::fs::rename(dir.join("sh2"), dir.join("parent/sh2")).unwrap();
+    let before = listing(&dir);
+    let stream = std::fs::read(dir.join("sh1/shard.stream")).unwrap();
+    for (output, needle) in [
+        (
+            "sh1",
+            "output `sh1` is the shard directory `sh1` given to merge",
+        ),
+        ("./sh1/", "is the shard directory `sh1`"),
+        ("link", "output `link` is the shard directory `sh1`"),
+        (
+            "parent",
+            "output `parent` holds the shard directory `parent/sh2`",
+        ),
+    ] {
+        let out = gridplan(&dir, &["merge", "sh1", "parent/sh2", "--output", output]);
+        refused(&out, 5, needle);
+        assert_eq!(listing(&dir), before, "--output {output}");
+        assert_eq!(std::fs::read(dir.join("sh1/shard.stream")).unwrap(), stream);
+    }
+    succeeded(&gridplan(
+        &dir,
+        &["merge", "sh1", "parent/sh2", "--output", "m"],
+    ));
+}
+
 /// Issue 27: `merge` of a shard whose stream is a link to /dev/zero aborted (a 2 GB
 /// allocation) and a FIFO hung; `--resume` on either did the same. Both are refused as
 /// not regular files, at once.

@@ -362,6 +362,24 @@ pub enum OutdirError {
         /// The marker it lacks.
         marker: &'static str,
     },
+    /// A merge's output that is one of its input shards (or holds one): writing it would
+    /// replace the shard, so the shard set could never be merged again.
+    #[error(
+        "output `{}` {relation} the shard directory `{}` given to merge (resolved: `{}`); \
+         writing the merged results there would replace that shard: choose another output \
+         directory",
+        path.display(), shard.display(), resolved.display()
+    )]
+    InputShard {
+        /// The output directory.
+        path: PathBuf,
+        /// The input shard's directory.
+        shard: PathBuf,
+        /// "is", or "holds" when the shard is inside the output.
+        relation: &'static str,
+        /// The directory both name, resolved (links followed).
+        resolved: PathBuf,
+    },
     /// A result file path that is not a plain relative path, or is the marker's.
     #[error(
         "result file `{}` must be a relative path of plain names other than `{MARKER}`",
@@ -399,6 +417,32 @@ fn io_error(action: &'static str, path: &Path) -> impl FnOnce(io::Error) -> Outd
         path,
         source,
     }
+}
+
+/// Checks that `output` is none of the directories `inputs` (a merge's shards) and holds
+/// none of them, by canonical path (links followed), so that writing it replaces no input.
+/// An output that does not exist yet is none of them.
+pub fn check_not_input(output: &Path, inputs: &[PathBuf]) -> Result<(), OutdirError> {
+    let Ok(resolved) = fs::canonicalize(output) else {
+        return Ok(());
+    };
+    for input in inputs {
+        let Ok(shard) = fs::canonicalize(input) else {
+            continue;
+        };
+        let relation = match shard == resolved {
+            true => "is",
+            false if shard.starts_with(&resolved) => "holds",
+            false => continue,
+        };
+        return Err(OutdirError::InputShard {
+            path: output.to_path_buf(),
+            shard: input.clone(),
+            relation,
+            resolved: shard,
+        });
+    }
+    Ok(())
 }
 
 /// Checks that `output` may be written by [`write_results`], without writing anything:

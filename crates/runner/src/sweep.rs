@@ -1378,6 +1378,7 @@ pub fn merge(
         expanded.extend(read_expanded(dir, &experiment)?);
     }
     let dir = output.map_or_else(|| experiment.output.clone(), Path::to_path_buf);
+    outdir::check_not_input(&dir, dirs)?;
     outdir::check(&dir)?;
     let n_runs = first.total_runs as usize;
     // At most HELD_RUNS runs are merged into memory; more into a framed stream in the
