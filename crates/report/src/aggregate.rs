@@ -73,7 +73,7 @@ pub fn bucket_ranges(buckets: &[u32]) -> Vec<(u32, u32)> {
 pub fn parameters(experiment: &Experiment) -> String {
     let mut out = String::from("Planner parameters, as resolved (defaults included):\n\n| Label | Planner | Parameters | Budget |\n|---|---|---|---|\n");
     for planner in &experiment.planners {
-        let params = match planner.factory.resolved() {
+        let params = match &*planner.parameters(experiment.seed) {
             serde_json::Value::Object(map) => map
                 .iter()
                 .map(|(k, v)| format!("{k} = {v}"))
@@ -89,6 +89,11 @@ pub fn parameters(experiment: &Experiment) -> String {
             planner.name,
             md_cell(&params),
             md_cell(&budget)
+        );
+    }
+    if experiment.planners.iter().any(|p| p.factory.specs().seeded) {
+        out.push_str(
+            "\nA seeded planner's `seed` is the base seed of its runs: repeat r runs with seed + r.\n",
         );
     }
     out.push('\n');

@@ -689,11 +689,13 @@ fn default_study(experiment: &Experiment) -> Option<ChartSpec> {
     if experiment.planners.iter().any(|p| p.name != first) {
         return None;
     }
-    let objects: Vec<&serde_json::Map<String, serde_json::Value>> = experiment
+    let parameters: Vec<_> = experiment
         .planners
         .iter()
-        .filter_map(|p| p.factory.resolved().as_object())
+        .map(|p| p.parameters(experiment.seed))
         .collect();
+    let objects: Vec<&serde_json::Map<String, serde_json::Value>> =
+        parameters.iter().filter_map(|p| p.as_object()).collect();
     let varying: Vec<&String> = objects
         .first()?
         .keys()
@@ -729,8 +731,7 @@ fn key_value(
         _ => experiment
             .planners
             .get(label?)?
-            .factory
-            .resolved()
+            .parameters(experiment.seed)
             .get(key)
             .cloned(),
     }

@@ -108,7 +108,12 @@ pub fn logs(
         let _ = writeln!(out, "{} planners", experiment.planners.len());
         for planner in &experiment.planners {
             let mine = grouped.get(&(map.name.as_str(), planner.label.as_str()));
-            planner_block(&mut out, planner, mine.map_or(&[], Vec::as_slice));
+            planner_block(
+                &mut out,
+                planner,
+                experiment.seed,
+                mine.map_or(&[], Vec::as_slice),
+            );
         }
         files.push(OutputFile {
             path: names.claim(format!("ompl/{stem}.log"), &map.name).into(),
@@ -125,11 +130,12 @@ fn shared_limit(experiment: &Experiment, limit: impl Fn(&PlannerSpec) -> Option<
     limits.map_or(0.0, |all| all.into_iter().fold(0.0, f64::max))
 }
 
-/// One planner's block of a log: its name, its settings as common properties, the
+/// One planner's block of a log (`seed`: the experiment's base seed): its name, its
+/// settings as common properties (its parameters as its runs use them), the
 /// properties of each run, and one line per run of `mine` (its runs on the map).
-fn planner_block(out: &mut String, planner: &PlannerSpec, mine: &[&RunRecord]) {
+fn planner_block(out: &mut String, planner: &PlannerSpec, seed: u64, mine: &[&RunRecord]) {
     let _ = writeln!(out, "{}", one_word(&planner.label));
-    let mut settings: Vec<String> = match planner.factory.resolved() {
+    let mut settings: Vec<String> = match &*planner.parameters(seed) {
         serde_json::Value::Object(m) => m.iter().map(|(k, v)| format!("{k} = {v}")).collect(),
         _ => Vec::new(),
     };

@@ -166,3 +166,71 @@ fn toml_escape(text: &str) -> String {
     out.push_str(rest);
     out
 }
+
+/// The resolved parameters (runs.json's `planners`, summary.md's table, the OMPL logs'
+/// common properties) said `seed = 0` for a seeded planner whose table sets no `seed`,
+/// while its runs used the config's `seed` plus the repeat. They now give the base seed
+/// the runs use: the config's for a label without its own, the label's own otherwise.
+#[test]
+fn the_resolved_seed_is_the_seed_the_runs_use() {
+    use planner_runner::output;
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("gridplan-ompl-seeds");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("open.map"),
+        "type octile\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\n",
+    )
+    .unwrap();
+    for (base, unset) in [
+        (5u64, [5u64, 6]),
+        (
+            9223372036854775807,
+            [9223372036854775807, 9223372036854775808],
+        ),
+    ] {
+        let text = format!(
+            "name = \"s\"\nompl = true\nseed = {base}\nrepeats = 2\n[[maps]]\nfiles = [\"open.map\"]\n\
+             pairs = [{{ start = [0, 0], goal = [2, 2] }}]\n\
+             [planners.unset]\nplanner = \"rrt\"\n[planners.zero]\nplanner = \"rrt\"\nseed = 0\n"
+        );
+        let experiment = config::parse(&dir.join("s.toml"), &text).unwrap();
+        let records = run_all(&experiment, &RunOptions::default()).unwrap();
+        let seeds = |label: &str| -> Vec<Option<u64>> {
+            records
+                .iter()
+                .filter(|r| r.planner == label)
+                .map(|r| r.seed)
+                .collect()
+        };
+        assert_eq!(seeds("unset"), unset.map(Some));
+        assert_eq!(seeds("zero"), [Some(0), Some(1)]);
+        let machine = Machine {
+            commit: None,
+            host: None,
+        };
+        let provenance = Provenance::collect(&experiment.source, 1, &machine);
+        let json = output::runs_json_with(&experiment, &records, Some(&provenance)).unwrap();
+        let json: serde_json::Value = serde_json::from_slice(&json).unwrap();
+        let planners = &json["planners"];
+        assert_eq!(planners["unset"]["parameters"]["seed"], base, "{planners}");
+        assert_eq!(planners["zero"]["parameters"]["seed"], 0, "{planners}");
+        let table = planner_report::aggregate::parameters(&experiment);
+        let row = |label: &str| {
+            table
+                .lines()
+                .find(|l| l.starts_with(&format!("| {label} |")))
+                .unwrap_or_default()
+                .to_string()
+        };
+        assert!(row("unset").contains(&format!("seed = {base}")), "{table}");
+        assert!(row("zero").contains("seed = 0"), "{table}");
+        assert!(table.contains("repeat r runs with seed + r"), "{table}");
+        let logs = ompl::logs(&experiment, &records, &provenance, 1.0);
+        let log = String::from_utf8(logs[0].contents.clone()).unwrap();
+        let zero = log.find("\nzero\n").unwrap();
+        let (unset_block, zero_block) = log.split_at(zero);
+        assert!(unset_block.contains(&format!("\nseed = {base}\n")), "{log}");
+        assert!(zero_block.contains("\nseed = 0\n"), "{log}");
+    }
+}

@@ -225,7 +225,7 @@ fn metadata(header: &Header<'_>) -> Result<Vec<KeyValue>, RunnerError> {
         .map(|p| {
             let entry = serde_json::json!({
                 "planner": p.name,
-                "parameters": p.factory.resolved(),
+                "parameters": p.parameters(experiment.seed),
                 "budget": p.budget,
             });
             (p.label.clone(), entry)

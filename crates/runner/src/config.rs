@@ -526,6 +526,28 @@ pub struct PlannerSpec {
     pub ignore_costs: bool,
 }
 
+impl PlannerSpec {
+    /// The label's parameters as its runs use them, for runs.json, summary.md and the
+    /// OMPL logs: [`Factory::resolved`], except that a seeded planner's `seed` is the base
+    /// seed of its runs ([`Factory::seed_for`] of repeat 0: its own `seed` if the table
+    /// sets one, else the experiment's `base_seed`; repeat `r` runs with that plus `r`).
+    /// The planner's `Config` alone says `seed = 0` for a table without one.
+    pub fn parameters(&self, base_seed: u64) -> std::borrow::Cow<'_, serde_json::Value> {
+        let resolved = self.factory.resolved();
+        let seed = self.factory.seed_for(base_seed, 0);
+        match (seed, resolved) {
+            (Some(seed), serde_json::Value::Object(map))
+                if map.contains_key(planner_api::SEED_PARAM) =>
+            {
+                let mut map = map.clone();
+                map.insert(planner_api::SEED_PARAM.into(), seed.into());
+                std::borrow::Cow::Owned(serde_json::Value::Object(map))
+            }
+            _ => std::borrow::Cow::Borrowed(resolved),
+        }
+    }
+}
+
 /// `compare = { with = "backtracking", metrics = ["steps", "turns", "score"] }`: mark these
 /// metrics of this planner against another planner's published values (lexastar against
 /// Backtracking's best paths). Without it a planner is compared under its registry name.

@@ -316,7 +316,7 @@ fn write_header(
             .map(|p| {
                 let entry = serde_json::json!({
                     "planner": p.name,
-                    "parameters": p.factory.resolved(),
+                    "parameters": p.parameters(experiment.seed),
                     "budget": p.budget,
                 });
                 (p.label.clone(), entry)
