@@ -60,6 +60,18 @@ pub enum QueryError {
         /// Grid height.
         height: u32,
     },
+    /// A wall edit whose `free` is neither 0 (wall) nor 1 (free).
+    #[error("wall edit {index} [{x}, {y}, {free}]: free must be 0 (wall) or 1 (free), not {free}")]
+    EditValue {
+        /// The edit's index in the request's `edits`.
+        index: usize,
+        /// Column.
+        x: u32,
+        /// Row.
+        y: u32,
+        /// The value given.
+        free: u8,
+    },
     /// A coverage planner (the page plans start-goal queries).
     #[error("`{0}` is a coverage planner; the page plans start-goal queries")]
     Coverage(String),
@@ -97,6 +109,20 @@ pub struct Query<'a> {
     /// status `budget_exhausted` at the planner's next budget check, and records no
     /// expanded cells.
     pub cancel: Option<CancelFlag>,
+}
+
+/// The request's wall edits `[x, y, free]` as `(x, y, free)`: `free` 0 is a wall, 1 a
+/// free cell, and any other value is refused ([`QueryError::EditValue`]).
+pub fn edits_from_values(edits: &[(u32, u32, u8)]) -> Result<Vec<(u32, u32, bool)>, QueryError> {
+    edits
+        .iter()
+        .enumerate()
+        .map(|(index, &(x, y, free))| match free {
+            0 => Ok((x, y, false)),
+            1 => Ok((x, y, true)),
+            _ => Err(QueryError::EditValue { index, x, y, free }),
+        })
+        .collect()
 }
 
 /// The grid `grid` with `edits` applied: `(x, y, free)` each.

@@ -989,7 +989,8 @@ fn map(state: &State, relative: &str, costs: &MapCosts) -> Answer {
 pub struct PlanRequest {
     /// The map, relative to the served directory.
     pub map: String,
-    /// Wall edits on the map: `[x, y, free]` with free 0 (wall) or 1.
+    /// Wall edits on the map: `[x, y, free]` with free 0 (wall) or 1; any other value is
+    /// refused (400).
     #[serde(default)]
     pub edits: Vec<(u32, u32, u8)>,
     /// Start `[x, y]`.
@@ -1075,11 +1076,10 @@ fn plan(state: &Arc<State>, body: &[u8], client: &TcpStream) -> Answer {
         Err(error) => return error.answer(),
     };
     let mut grid = file.grid;
-    let edits: Vec<(u32, u32, bool)> = request
-        .edits
-        .iter()
-        .map(|&(x, y, free)| (x, y, free != 0))
-        .collect();
+    let edits = match query::edits_from_values(&request.edits) {
+        Ok(edits) => edits,
+        Err(e) => return Answer::error(400, &e.to_string()),
+    };
     if let Err(e) = query::apply_edits(&mut grid, &edits) {
         return Answer::error(400, &e.to_string());
     }

@@ -260,6 +260,19 @@ fn planning_gives_plan_json_and_the_expanded_cells() {
     );
     assert_eq!(status, 400, "{answer}");
     assert!(answer.contains("outside the 30x30 grid"), "{answer}");
+    // `free` is 0 or 1: another value is refused, naming the edit and the value.
+    for free in [2, 7, 255] {
+        let body = format!(
+            r#"{{"map":"open30.map","start":[0,0],"goal":[0,29],"planner":"astar","edits":[[0,10,0],[3,4,{free}]]}}"#
+        );
+        let (status, answer) = post(addr, "/api/plan", &body);
+        assert_eq!(status, 400, "free {free}: {answer}");
+        assert!(
+            answer.contains(&format!("wall edit 1 [3, 4, {free}]"))
+                && answer.contains(&format!("not {free}")),
+            "{answer}"
+        );
+    }
     // Unknown planner and parameter name themselves; a wall start names the cell.
     let (status, answer) = post(
         addr,
