@@ -157,8 +157,9 @@ pub struct ToggleSpec {
     /// Cells the agent drives before each event.
     #[serde(default = "default_drive")]
     pub drive: u32,
-    /// The seeds (one run per scenario, seed and planner).
-    pub seeds: Vec<u64>,
+    /// The seeds (one run per scenario, seed and planner), each at most once.
+    #[schemars(with = "Vec<u64>")]
+    pub seeds: Spanned<Vec<Spanned<u64>>>,
 }
 
 /// A GPPC 2023 dynamic-track scenario file (its patch file is named inside it, relative
@@ -577,6 +578,16 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
                     "a sensor radius must be at least 1: the robot senses its neighbours (radius 1) or more, as in the D* Lite paper's navigation experiments".into(),
                 ));
             }
+            if let Some(twice) = repeated(&config.radii) {
+                return Err(invalid(
+                    twice.span(),
+                    "radii",
+                    format!(
+                        "radius {} is listed twice: its runs would have the same identity",
+                        twice.get_ref()
+                    ),
+                ));
+            }
             if let Some(t) = &config.toggles {
                 return Err(invalid(
                     t.span(),
@@ -615,8 +626,23 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
                         "[toggles] runs on the scenarios of [[maps]]".into(),
                     ));
                 }
-                if t.get_ref().seeds.is_empty() {
-                    return Err(invalid(t.span(), "seeds", "name at least one seed".into()));
+                let seeds = &t.get_ref().seeds;
+                if seeds.get_ref().is_empty() {
+                    return Err(invalid(
+                        seeds.span(),
+                        "seeds",
+                        "name at least one seed".into(),
+                    ));
+                }
+                if let Some(twice) = repeated(seeds.get_ref()) {
+                    return Err(invalid(
+                        twice.span(),
+                        "seeds",
+                        format!(
+                            "seed {} is listed twice: its runs would have the same identity",
+                            twice.get_ref()
+                        ),
+                    ));
                 }
                 let events = &t.get_ref().events;
                 if *events.get_ref() > MAX_EVENTS {
@@ -632,7 +658,7 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
             }
             if config.toggles.is_none() && !config.maps.is_empty() {
                 return Err(invalid(
-                    0..0,
+                    value_span("maps"),
                     "maps",
                     "[[maps]] of a dynamic experiment need [toggles]".into(),
                 ));
@@ -641,6 +667,17 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
     }
     config.source = text.to_owned();
     Ok(config)
+}
+
+/// The first value of `values` that an earlier one equals (the second of the pair, so
+/// that an error points at the repeat).
+fn repeated<T: PartialEq>(values: &[Spanned<T>]) -> Option<&Spanned<T>> {
+    values.iter().enumerate().find_map(|(i, v)| {
+        values[..i]
+            .iter()
+            .any(|w| w.get_ref() == v.get_ref())
+            .then_some(v)
+    })
 }
 
 /// A map read with its picked scenarios.
@@ -1134,13 +1171,13 @@ pub fn run_config_with(
             .collect(),
         Kind::Dynamic => match &config.toggles {
             Some(t) => {
-                let seeds = &t.get_ref().seeds;
+                let seeds = t.get_ref().seeds.get_ref();
                 let n = if options.test {
                     config.test.seeds.unwrap_or(seeds.len()).min(seeds.len())
                 } else {
                     seeds.len()
                 };
-                seeds[..n].to_vec()
+                seeds[..n].iter().map(|s| *s.get_ref()).collect()
             }
             None => Vec::new(),
         },

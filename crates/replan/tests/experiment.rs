@@ -1319,3 +1319,41 @@ fn an_invalid_problems_error_names_the_column_of_its_coordinate() {
         ]
     );
 }
+
+/// A radius or a seed listed twice is refused at the repeat's line and column, naming
+/// it, as a planner listed twice in `compare` is: both were run twice, and runs.csv held
+/// every (map, line, radius or seed, planner) key twice.
+#[test]
+fn a_radius_or_seed_listed_twice_is_refused_at_its_line_and_column() {
+    let base = "kind = \"navigate\"\nname = \"x\"\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n";
+    let e = parse_error(&format!("radii = [1, 3, 1]\n{base}"));
+    assert_eq!(
+        e.to_string(),
+        "bad.toml:1:16: `radii`: radius 1 is listed twice: its runs would have the same identity"
+    );
+    let dynamic = "kind = \"dynamic\"\nname = \"x\"\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n[toggles]\nevents = 1\nk = 1\nradius = 1\n";
+    assert!(experiment::parse(Path::new("ok.toml"), &format!("{dynamic}seeds = [1, 2]\n")).is_ok());
+    let e = parse_error(&format!("{dynamic}seeds = [7,\n  2, 7]\n"));
+    assert_eq!(
+        e.to_string(),
+        "bad.toml:11:6: `seeds`: seed 7 is listed twice: its runs would have the same identity"
+    );
+}
+
+/// An empty `seeds` of `[toggles]` is refused at the key's value, not at the table's
+/// header (it said `bad.toml:6:1`), and `[[maps]]` without `[toggles]` at the maps (it
+/// named no line).
+#[test]
+fn an_empty_list_in_a_table_is_refused_at_its_value() {
+    let dynamic = "kind = \"dynamic\"\nname = \"x\"\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n[toggles]\nevents = 1\nk = 1\nradius = 1\n";
+    let e = parse_error(&format!("{dynamic}seeds = []\n"));
+    assert_eq!(
+        e.to_string(),
+        "bad.toml:10:9: `seeds`: name at least one seed"
+    );
+    let e = parse_error("kind = \"dynamic\"\nname = \"x\"\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n[[gppc]]\nscen = \"g.scen\"\n");
+    assert!(
+        matches!(&e, ExperimentError::Invalid { line: 3, key, .. } if key == "maps"),
+        "{e}"
+    );
+}
