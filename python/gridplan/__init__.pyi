@@ -36,7 +36,9 @@ class MapError(GridplanError):
     def __init__(self, message: str, *, file: str = ..., line: int = ..., column: int = ...) -> None: ...
 
 class OutputError(GridplanError):
-    """A results directory gridplan may not replace; nothing was written."""
+    """A results directory gridplan may not replace (nothing was written), or a directory
+    given to ``compare`` that does not hold a whole sweep's complete results (none, a
+    shard's, a cut or damaged records stream)."""
 
 class DeterminismError(GridplanError):
     """A run repeated to record expanded cells did not repeat its timed run (a bug)."""
@@ -374,7 +376,8 @@ def compare(
     runs, one per problem, each ``run`` and its ``fields`` as ``[name, old, new]``) and
     ``times`` (per label ``label``, ``problems``, ``ratio``: the geometric mean of NEW's
     median time over OLD's per problem, ``low`` and ``high``: its 95 % interval, and
-    ``faster``). A directory that is not results raises ``OutputError``; a negative
+    ``faster``). A directory that is not complete results (none, a shard's, a cut or
+    damaged records stream) raises ``OutputError``; a negative
     ``examples`` ``ValueError``."""
 
 def run_experiment(

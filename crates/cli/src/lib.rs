@@ -110,7 +110,8 @@ pub enum Command {
     /// Compare two results directories run by run (after a change to a planner): the runs
     /// whose computed fields (status, path, length, cost, counters) differ, listed field by
     /// field, and per label NEW's times over OLD's. Exits 1 when the runs or their computed
-    /// fields differ.
+    /// fields differ, and 5 (never 1) when OLD or NEW is not a whole sweep's complete results
+    /// (not results, a shard's, a cut or damaged records stream).
     Compare {
         /// The results directory before.
         old: PathBuf,
@@ -490,7 +491,8 @@ pub const EXIT_CONFIG: u8 = 3;
 /// A map or scenario file that cannot be read, or a start or goal that cannot be planned.
 pub const EXIT_INPUT: u8 = 4;
 /// An output directory gridplan may not write: not its own results, or held by another
-/// sweep's lock.
+/// sweep's lock; a directory given to `report` or `compare` that does not hold a whole
+/// sweep's complete results (not results, a shard's, a cut or damaged records stream).
 pub const EXIT_OUTPUT: u8 = 5;
 /// The exit code of a command stopped by Ctrl-C (SIGINT) or SIGTERM: 128 + 2, as shells
 /// report Ctrl-C.

@@ -388,7 +388,8 @@ fn a_failed_submission_says_what_is_left() {
 
 /// `compare` exits 0 when two results directories hold the same runs with the same
 /// computed fields, 1 when they differ (after printing the comparison), and refuses a
-/// directory that is not results as `report` does (5).
+/// directory that is not complete results (none, a shard's, a cut stream) as `report`
+/// does (5).
 #[test]
 fn compare_exits_1_when_the_runs_differ() {
     let dir = scratch("compare");
@@ -426,6 +427,39 @@ fn compare_exits_1_when_the_runs_differ() {
     );
     let (code, err) = gridplan(&["compare", &path("a"), &dir.display().to_string()]);
     assert_eq!(code, 5, "{err}");
+    // No error of compare exits 1, which means "the runs differ": a shard's directory
+    // and a cut records.stream were exit 1; they are results that are not complete, exit
+    // 5 as for a directory that is not results, and `report` gives the same.
+    let (code, err) = gridplan(&[
+        "experiment",
+        &plain,
+        "--quiet",
+        "--shard",
+        "1/2",
+        "--output",
+        &path("s1"),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for command in [
+        &["compare", &path("a"), &path("s1")][..],
+        &["report", &path("s1")],
+    ] {
+        let (code, err) = gridplan(command);
+        assert_eq!(code, 5, "{command:?}: {err}");
+        assert!(err.contains("holds one shard of a sweep"), "{err}");
+    }
+    config(&dir, ""); // b's config again (c above rewrote it)
+    let stream = dir.join("b/records.stream");
+    let whole = std::fs::read(&stream).unwrap();
+    std::fs::write(&stream, &whole[..whole.len() - 1]).unwrap();
+    for command in [
+        &["compare", &path("a"), &path("b")][..],
+        &["report", &path("b")],
+    ] {
+        let (code, err) = gridplan(command);
+        assert_eq!(code, 5, "{command:?}: {err}");
+        assert!(err.contains("records.stream holds 0 of 1 runs"), "{err}");
+    }
 }
 
 /// A picture over a device, a named pipe or a link to one (`--svg /dev/null`) is a usage

@@ -28,6 +28,7 @@ use std::hash::{Hash, Hasher};
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
+use planner_runner::readback::ResultsError;
 use planner_runner::record::RunRecord;
 use planner_runner::stream::StreamReader;
 use planner_runner::RunnerError;
@@ -262,39 +263,35 @@ fn digest(r: &RunRecord) -> u64 {
 /// Calls `visit` on every record of the results directory `dir`. A stream that holds
 /// another number of runs than its header's `total_runs`, or ends in a cut record, is
 /// refused (the check `gridplan report` makes), never read as the runs it holds: a cut
-/// stream's missing runs are no differences. The error names the file; it is of
-/// `report`'s class for the same damage ([`RunnerError::class`]: `Other`, exit 1,
-/// `GridplanError`).
+/// stream's missing runs are no differences. Every error says `compare` and is of
+/// `report`'s class for the same damage ([`RunnerError::class`]: results that are not
+/// complete, `Output`: exit 5, `OutputError`), never exit 1, which means "the runs differ".
 fn pass(dir: &Path, visit: &mut dyn FnMut(RunRecord)) -> Result<u64, RunnerError> {
+    let damaged = |e| planner_runner::readback::damaged("compare", dir, e);
     let (path, file) = planner_runner::sweep::open_results(dir, "compare")?;
     let (header, mut reader) =
-        StreamReader::new(BufReader::new(file), &path.display().to_string())?;
+        StreamReader::new(BufReader::new(file), &path.display().to_string()).map_err(damaged)?;
     let mut n = 0;
-    while let Some((_, record)) = reader.next_run()? {
+    while let Some((_, record)) = reader.next_run().map_err(damaged)? {
         n += 1;
         visit(record);
     }
     if n != header.total_runs || reader.was_cut() {
-        return Err(short(&path, n, header.total_runs, reader.was_cut()));
+        return Err(ResultsError::Short {
+            command: "compare",
+            file: path.display().to_string(),
+            held: n,
+            runs: header.total_runs,
+        }
+        .into());
     }
     Ok(n)
 }
 
-/// The error of a results stream at `path` that holds `held` of its header's `runs` runs
-/// (or ends in a cut record, `cut`).
-fn short(path: &Path, held: u64, runs: u64, cut: bool) -> RunnerError {
-    let message = format!(
-        "holds {held} of the sweep's {runs} runs (the count its header gives){}; compare reads \
-         whole results: run the sweep again, or compare another copy of its results",
-        if cut { " and ends in a cut record" } else { "" }
-    );
-    RunnerError::during(
-        "compare",
-        RunnerError::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::new(std::io::ErrorKind::InvalidData, message),
-        },
-    )
+/// The provenance of the results directory `dir`, an error of it classed as [`pass`]'s.
+fn provenance(dir: &Path) -> Result<planner_runner::provenance::Provenance, RunnerError> {
+    planner_runner::sweep::read_provenance(dir)
+        .map_err(|e| planner_runner::readback::damaged("compare", dir, e))
 }
 
 /// Compares the records of the results directories `old` and `new` (module docs), listing
@@ -355,10 +352,7 @@ pub fn compare(old: &Path, new: &Path, examples: usize) -> Result<Comparison, Ru
     Ok(Comparison {
         dirs: [old.to_path_buf(), new.to_path_buf()],
         runs: [n_old, n_new],
-        provenance: [
-            planner_runner::sweep::read_provenance(old)?,
-            planner_runner::sweep::read_provenance(new)?,
-        ],
+        provenance: [provenance(old)?, provenance(new)?],
         both,
         differing,
         examples,

@@ -200,29 +200,46 @@ fn a_directory_that_is_not_results_is_refused() {
 /// A results directory whose records.stream was cut (to its header, to half its bytes) is
 /// refused with an error naming the file, of the class `gridplan report` gives the same
 /// damage (so the same exit status and Python exception), never read as the runs it holds
-/// (which compare would report as runs only in the other directory).
+/// (which compare would report as runs only in the other directory). The class is that of
+/// results that are not complete (exit 5, `OutputError`): it was `Other`, exit 1, which
+/// `compare` also gives for "the runs differ". Garbage in place of records is refused
+/// alike, by both.
 #[test]
 fn a_cut_records_stream_is_refused_as_report_refuses_it() {
+    use planner_runner::ErrorClass;
     let dir = scratch("cut");
     let old = sweep(&dir, "old", "manhattan", "");
     let new = sweep(&dir, "new", "manhattan", "");
     let stream = new.join("records.stream");
     let whole = std::fs::read(&stream).unwrap();
     let header = whole.iter().position(|&b| b == b'\n').unwrap() + 1;
-    for cut in [header, whole.len() / 2, whole.len() - 1] {
-        std::fs::write(&stream, &whole[..cut]).unwrap();
+    let garbage = [&whole[..header], &b"\x00garbage, not records\n"[..]].concat();
+    let cuts = [
+        whole[..header].to_vec(),
+        whole[..whole.len() / 2].to_vec(),
+        whole[..whole.len() - 1].to_vec(),
+        garbage,
+    ];
+    for (i, cut) in cuts.iter().enumerate() {
+        std::fs::write(&stream, cut).unwrap();
         for (a, b) in [(&old, &new), (&new, &old)] {
             let error = compare(a, b, 10).unwrap_err();
             let text = error.to_string();
             assert!(
-                text.starts_with("compare: ")
-                    && text.contains(&stream.display().to_string())
-                    && text.contains(" of the sweep's 8 runs"),
+                text.starts_with("compare: ") && text.contains(&stream.display().to_string()),
                 "{text}"
             );
+            if i < 3 {
+                let held = format!("{} holds ", stream.display());
+                assert!(
+                    text.contains(&held) && text.ends_with(" of 8 runs"),
+                    "{text}"
+                );
+            }
             let render = Renderer::new(Vec::new());
             let report = planner_runner::sweep::report(&new, None, &render).unwrap_err();
-            assert!(report.to_string().contains("runs"), "{report}");
+            assert!(report.to_string().starts_with("report: "), "{report}");
+            assert_eq!(error.class(), ErrorClass::Output, "{error}");
             assert_eq!(error.class(), report.class(), "{error} / {report}");
         }
     }

@@ -260,14 +260,10 @@ impl RunnerError {
             RunnerError::Usage(_) | RunnerError::Threads(_) | RunnerError::Resume(_) => {
                 ErrorClass::Usage
             }
-            // A path that is not a results directory is refused as `experiment` refuses
-            // an output that is not its own.
+            // A path that does not hold a whole sweep's results (not results, a shard's,
+            // damaged) is refused as `experiment` refuses an output that is not its own.
             RunnerError::Output(_) => ErrorClass::Output,
-            RunnerError::Results(error)
-                if matches!(**error, readback::ResultsError::NotResults { .. }) =>
-            {
-                ErrorClass::Output
-            }
+            RunnerError::Results(error) if error.not_complete_results() => ErrorClass::Output,
             RunnerError::Expanded(_) => ErrorClass::Determinism,
             RunnerError::Pool(_)
             | RunnerError::RunIndex(_)
@@ -299,8 +295,9 @@ pub enum ErrorClass {
     /// Arguments that do not fit: threads, a resume of another config (exit 2,
     /// `ValueError`).
     Usage,
-    /// An output directory gridplan may not write, or one another run holds (exit 5,
-    /// `OutputError`).
+    /// An output directory gridplan may not write, or one another run holds; a directory
+    /// given to `report` or `compare` that does not hold a whole sweep's complete results
+    /// (exit 5, `OutputError`).
     Output,
     /// A run that did not repeat itself when recorded again (exit 1, `DeterminismError`).
     Determinism,

@@ -202,15 +202,29 @@ pub enum ResultsError {
         /// What differs.
         source: RecordMismatch,
     },
-    /// A results directory's records that end before the sweep does.
-    #[error("report: {file} holds {held} of {runs} runs")]
+    /// A results directory's records that end before the sweep does (fewer runs than its
+    /// header's count, or a cut last record), found by `command` (`report`, `compare`).
+    #[error("{command}: {file} holds {held} of {runs} runs")]
     Short {
+        /// The command that read it.
+        command: &'static str,
         /// The records file.
         file: String,
         /// Runs read.
         held: u64,
         /// Runs of the sweep.
         runs: u64,
+    },
+    /// Results that `command` (`report`, `compare`) cannot read whole: a records stream or
+    /// a provenance.json that is damaged, or a file of them that cannot be read.
+    #[error("{command}: {} does not hold complete results: {source}", .dir.display())]
+    Damaged {
+        /// The command that read it.
+        command: &'static str,
+        /// The results directory.
+        dir: PathBuf,
+        /// What was wrong.
+        source: Box<crate::RunnerError>,
     },
     /// The config now hashes otherwise than when the records were made.
     #[error(
@@ -326,6 +340,50 @@ pub enum ResultsError {
         /// The set.
         set: usize,
     },
+}
+
+impl ResultsError {
+    /// Whether this says that a path given to `report` or `compare` does not hold a whole
+    /// sweep's results (not results at all, a shard's, a replanning experiment's, without
+    /// records, or damaged: cut, unreadable, or a record that is not its run): such results are refused as `experiment` refuses an output
+    /// that is not its own ([`crate::ErrorClass::Output`]).
+    pub fn not_complete_results(&self) -> bool {
+        matches!(
+            self,
+            ResultsError::NotResults { .. }
+                | ResultsError::ShardNotResults { .. }
+                | ResultsError::ReplanResults { .. }
+                | ResultsError::NoRecords { .. }
+                | ResultsError::Short { .. }
+                | ResultsError::Provenance { .. }
+                | ResultsError::NotText { .. }
+                | ResultsError::Damaged { .. }
+                | ResultsError::Record {
+                    command: "report",
+                    ..
+                }
+        )
+    }
+}
+
+/// `error`, met by `command` (`report`, `compare`) while reading the results directory
+/// `dir`: an error that is not already of a class of its own (a damaged or unreadable
+/// stream, an unreadable file) becomes [`ResultsError::Damaged`], so that every reading
+/// error of results is classed as results that are not complete.
+pub fn damaged(
+    command: &'static str,
+    dir: &std::path::Path,
+    error: crate::RunnerError,
+) -> crate::RunnerError {
+    match error.class() {
+        crate::ErrorClass::Other => ResultsError::Damaged {
+            command,
+            dir: dir.to_path_buf(),
+            source: Box::new(error),
+        }
+        .into(),
+        _ => error,
+    }
 }
 
 /// The paths, comma-separated.

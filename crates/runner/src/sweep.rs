@@ -1212,11 +1212,12 @@ pub fn report(
     outdir::check(dir)?;
     outdir::Marker::read(dir).map_err(|e| RunnerError::during("report", e.into()))?;
     let what = path.display().to_string();
-    let (header, reader) = StreamReader::new(BufReader::new(file), &what)?;
+    let damaged = |e| crate::readback::damaged("report", dir, e);
+    let (header, reader) = StreamReader::new(BufReader::new(file), &what).map_err(damaged)?;
     let experiment = load_checked(&header, config, render, "report")?;
     let source = read_results_records(&experiment, &header, reader, &path)?;
-    let info = read_run_info(dir)?;
-    let expanded = read_expanded(dir, &experiment)?;
+    let info = read_run_info(dir).map_err(damaged)?;
+    let expanded = read_expanded(dir, &experiment).map_err(damaged)?;
     let n_runs = header.total_runs as usize;
     let (reproduction, _) = finish(
         render,
@@ -1261,7 +1262,11 @@ fn read_results_records(
     let list = RunList::new(experiment);
     let mut records = Vec::with_capacity(if hold { header.total_runs as usize } else { 0 });
     let mut n = 0u64;
-    while let Some((run, record)) = reader.next_run()? {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    while let Some((run, record)) = reader
+        .next_run()
+        .map_err(|e| crate::readback::damaged("report", dir, e))?
+    {
         stream::check_record(experiment, &list, run, &record).map_err(|source| {
             ResultsError::Record {
                 command: "report",
@@ -1277,6 +1282,7 @@ fn read_results_records(
     }
     if n != header.total_runs || reader.was_cut() {
         return Err(ResultsError::Short {
+            command: "report",
             file: what,
             held: n,
             runs: header.total_runs,
