@@ -2,9 +2,11 @@
 //! edits applied), a start and goal, a registry planner with `key=value` parameters,
 //! planned through planner-runner's [`run_single`] exactly as `gridplan plan` plans it
 //! (the same cost refusal, [`refuses_costs`], and the same run through `run_one`), so the
-//! counters equal `plan --json`'s; then once more with the expanded cells recorded
-//! ([`planner_runner::expanded::record_expanded`], which checks that the second run
-//! repeats the first), for the playback.
+//! counters equal `plan --json`'s (but for a search stopped by the server's wall-clock
+//! limit, [`Caps::max_time`]); then once more with the expanded cells recorded
+//! ([`planner_runner::expanded::record_search`], which checks that the second run
+//! repeats the first), for the playback, unless the first ran out of time or was
+//! cancelled.
 //!
 //! These are the only call sites of the runner's planning API in this crate (the
 //! registry, [`run_single`], the plan result's JSON), so a move of the runner's modules
@@ -14,11 +16,16 @@
 //! [`refuses_costs`]: planner_runner::plan::refuses_costs
 
 use std::path::Path;
+use std::time::{Duration, Instant};
 
 use planner_api::{Budget, CancelFlag, Cell, Grid};
 use planner_runner::config::{self, MapEntry, ProblemEntry};
 use planner_runner::plan::{PlanResult, DEFAULT_PLAN_EXPANSIONS};
 use planner_runner::usage::UsageError;
+use planner_runner::{Experiment, RunStatus};
+
+/// The wall-clock limit of a query's search by default ([`Caps::max_time`]): one minute.
+pub const DEFAULT_MAX_TIME: Duration = Duration::from_secs(60);
 
 /// Limits a query gets whatever it asks for.
 #[derive(Debug, Clone, Copy)]
@@ -27,16 +34,25 @@ pub struct Caps {
     pub max_expansions: u64,
     /// The most memory a planner's per-cell state may take, in MiB.
     pub max_memory_mb: u64,
+    /// The longest a query's search may run: it then ends with status
+    /// `budget_exhausted` ([`planner_api::Budget::max_time`]), and its expanded cells are
+    /// not recorded (the recording run would take as long again).
+    pub max_time: Duration,
 }
 
 impl Default for Caps {
-    /// `plan`'s default expansion budget (ten million expansions, a few seconds for any
-    /// planner here) and 2 GiB. No wall-clock limit: with one, counters would depend on
-    /// the machine, and the recording run could not be checked against the timed one.
+    /// `plan`'s default expansion budget (ten million expansions), 2 GiB, and
+    /// [`DEFAULT_MAX_TIME`] (one minute). Ten million expansions take seconds for the
+    /// grid searches, but a sampling planner's evaluation may cost far more than an
+    /// expansion (CAPSO with a large population and many samples per segment does about
+    /// ten thousand a second), so the wall-clock limit is what bounds how long a plan
+    /// holds one of the server's places. A search that ends on it has counters that
+    /// depend on the machine, as a sweep's run with `max_time` does.
     fn default() -> Caps {
         Caps {
             max_expansions: DEFAULT_PLAN_EXPANSIONS,
             max_memory_mb: 2048,
+            max_time: DEFAULT_MAX_TIME,
         }
     }
 }
@@ -179,7 +195,8 @@ pub fn settings_table(set: &[String]) -> Result<toml::Table, QueryError> {
 }
 
 /// Plans `query` on `grid` within `caps`: the run's result (its JSON is `plan --json`'s)
-/// with the expanded cells recorded (but for a cancelled run: [`Query::cancel`]).
+/// with the expanded cells recorded, but for a cancelled run ([`Query::cancel`]) and one
+/// that ran out of time ([`Caps::max_time`]), which record none.
 pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, QueryError> {
     let budget = Budget {
         max_expansions: Some(
@@ -188,7 +205,7 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
                 .unwrap_or(DEFAULT_PLAN_EXPANSIONS)
                 .min(caps.max_expansions),
         ),
-        max_time: None,
+        max_time: Some(caps.max_time),
         max_memory_mb: Some(caps.max_memory_mb),
         record_expanded: false,
         record_events: false,
@@ -221,15 +238,33 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         problems: Vec::new(),
         frame: None,
     };
-    Ok(planner_runner::plan::run_single(
+    // The recording run is made here rather than by `run_single`, so that a search that
+    // ran out of time is not run for as long again to record its cells.
+    let recording = Experiment::single(map.clone(), entry.clone(), spec.clone(), 0);
+    let started = Instant::now();
+    let mut result =
+        planner_runner::plan::run_single(map, entry, spec, 0, query.planner, false, false)?;
+    let out_of_time =
+        result.record.status == RunStatus::BudgetExhausted && started.elapsed() >= caps.max_time;
+    if out_of_time || result.budget.is_cancelled() {
+        return Ok(result);
+    }
+    let (map, mut spec) = (&recording.maps[0], recording.planners[0].clone());
+    // The timed run ended before the limit, so its result does not depend on it: the
+    // recording run goes without it, and is checked to repeat the timed run.
+    spec.budget.max_time = None;
+    let (expanded, events) = planner_runner::expanded::record_search(
+        &recording,
         map,
-        entry,
-        spec,
-        0,
-        query.planner,
-        true,
+        &map.problems[0],
+        &spec,
+        &result.record,
         // The steps too, so that the page can show OPEN's frontier (planners that record
         // them: A*).
         true,
-    )?)
+    )
+    .map_err(planner_runner::RunnerError::from)?;
+    result.expanded = expanded;
+    result.events = events;
+    Ok(result)
 }

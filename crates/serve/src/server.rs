@@ -39,7 +39,9 @@
 //!   a body's buffer grows with the bytes that arrive, not with the length declared.
 //!
 //! Planning is limited apart from connections: at most [`ServeOptions::max_running`]
-//! plans run at once (503 beyond), each within [`crate::query::Caps`].
+//! plans run at once (503 beyond), each within [`crate::query::Caps`]: ten million
+//! expansions, 2 GiB and one minute of wall-clock time by default
+//! ([`crate::query::DEFAULT_MAX_TIME`]), after which the plan answers `budget_exhausted`.
 //!
 //! # Safety
 //!

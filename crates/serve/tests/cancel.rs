@@ -172,3 +172,47 @@ fn a_plan_whose_client_left_frees_its_place() {
     stop();
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A plan that would run for minutes within the expansion cap (CAPSO with a large swarm,
+/// many samples per segment: ten thousand evaluations a second against ten million) ends
+/// at the server's wall-clock limit with status `budget_exhausted` and no recorded cells,
+/// and is not run again to record them.
+#[test]
+fn a_slow_plan_stops_at_the_time_limit() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("planner-serve-time-limit");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut text = String::from("type octile\nheight 30\nwidth 40\nmap\n");
+    for _ in 0..30 {
+        text.push_str(&".".repeat(40));
+        text.push('\n');
+    }
+    std::fs::write(dir.join("open40x30.map"), text).unwrap();
+    let limit = Duration::from_secs(1);
+    let options = ServeOptions {
+        caps: Caps {
+            max_time: limit,
+            ..Caps::default()
+        },
+        ..ServeOptions::new(&dir, 0)
+    };
+    let (addr, stop) = crate::common::start(&options);
+    let slow = r#"{"map":"open40x30.map","start":[0,0],"goal":[39,29],"planner":"capso","set":["population=10000","iterations=100000","samples_per_segment=1000","control_points=20"]}"#;
+    let started = Instant::now();
+    let (status, answer) = crate::common::post(addr, "/api/plan", slow);
+    let took = started.elapsed();
+    assert_eq!(status, 200, "{answer}");
+    let answer = crate::common::json(&answer);
+    assert_eq!(answer["plan"]["status"], "budget_exhausted", "{answer}");
+    let evaluations = answer["plan"]["counters"]["n_fitness_evaluations"]
+        .as_u64()
+        .unwrap();
+    assert!(evaluations > 0, "{answer}");
+    assert_eq!(answer["expanded_total"].as_u64(), Some(0), "{answer}");
+    assert!(
+        took < limit + Duration::from_secs(5),
+        "the plan took {took:?} under a limit of {limit:?}"
+    );
+    stop();
+    let _ = std::fs::remove_dir_all(&dir);
+}
