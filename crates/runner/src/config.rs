@@ -503,6 +503,9 @@ pub struct ProblemEntry {
     pub bucket: Option<u32>,
     /// Why the problem cannot be planned (start or goal blocked or out of bounds), if so.
     pub invalid: Option<String>,
+    /// Why its start cannot be covered from (blocked or out of bounds), if so: a coverage
+    /// planner ignores the goal, so only this refuses its runs ([`ProblemEntry::invalid_for`]).
+    pub invalid_start: Option<String>,
 }
 
 /// One labelled planner configuration.
@@ -1342,7 +1345,8 @@ pub fn is_csv(path: &Path) -> bool {
 }
 
 /// `entry` with, when it is invalid on a `.csv` map read with `convention` and its start
-/// and goal would both be free in the other convention, that hint appended to `invalid`.
+/// and goal would both be free in the other convention, that hint appended to `invalid`
+/// (and to `invalid_start`, when the start is what is blocked).
 pub fn with_inversion_hint(
     mut entry: ProblemEntry,
     grid: &Grid,
@@ -1353,6 +1357,9 @@ pub fn with_inversion_hint(
             planner_maps::csv_inversion_hint(grid, convention, entry.start, entry.goal)
         {
             entry.invalid = Some(format!("{why}; {hint}"));
+            if let Some(start) = &entry.invalid_start {
+                entry.invalid_start = Some(format!("{start}; {hint}"));
+            }
         }
     }
     entry
@@ -2182,6 +2189,19 @@ impl ProblemEntry {
             optimal_length,
             bucket: None,
             invalid: Problem::new(grid, start, goal).err().map(|e| e.to_string()),
+            invalid_start: planner_api::CoverageProblem::new(grid, start)
+                .err()
+                .map(|e| e.to_string()),
+        }
+    }
+
+    /// Why a planner of `task` cannot run this problem, if so: [`ProblemEntry::invalid`] for
+    /// a start-goal planner, [`ProblemEntry::invalid_start`] for a coverage planner, which
+    /// ignores the goal (configs/README.md: a coverage planner runs on any problem).
+    pub fn invalid_for(&self, task: Task) -> Option<&str> {
+        match task {
+            Task::StartGoal => self.invalid.as_deref(),
+            Task::Coverage => self.invalid_start.as_deref(),
         }
     }
 }
@@ -2275,20 +2295,28 @@ impl Experiment {
         self
     }
 
-    /// Number of runs: maps x problems x planners x repeats (invalid problems count once
-    /// per planner, unrepeated).
+    /// Number of runs: maps x problems x planners x repeats (a problem that no label can run
+    /// counts once per planner, unrepeated: [`Experiment::repeats_of`]).
     pub fn n_runs(&self) -> u64 {
         self.maps
             .iter()
             .flat_map(|m| &m.problems)
-            .map(|p| {
-                if p.invalid.is_some() {
-                    1
-                } else {
-                    u64::from(self.repeats)
-                }
-            })
+            .map(|p| self.repeats_of(p))
             .sum::<u64>()
             * self.planners.len() as u64
+    }
+
+    /// The runs of each label on `problem`: the experiment's repeats when some label can run
+    /// it ([`ProblemEntry::invalid_for`] its task: a coverage label runs a problem whose goal
+    /// alone is blocked), else one (it is recorded as invalid, not planned).
+    pub fn repeats_of(&self, problem: &ProblemEntry) -> u64 {
+        let runs = self
+            .planners
+            .iter()
+            .any(|p| problem.invalid_for(p.factory.task()).is_none());
+        match runs {
+            true => u64::from(self.repeats),
+            false => 1,
+        }
     }
 }

@@ -46,19 +46,16 @@ pub struct RunList {
 }
 
 impl RunList {
-    /// The run list of `experiment`: maps x problems x planners x repeats, where an
-    /// invalid problem gets one run per planner (it is recorded, not planned).
+    /// The run list of `experiment`: maps x problems x planners x repeats, where a problem
+    /// that no label can run gets one run per planner (it is recorded, not planned;
+    /// [`Experiment::repeats_of`]).
     pub fn new(experiment: &Experiment) -> RunList {
         let n_planners = experiment.planners.len() as u64;
         let mut blocks = Vec::new();
         let mut next = 0u64;
         for (m, map) in experiment.maps.iter().enumerate() {
             for (p, problem) in map.problems.iter().enumerate() {
-                let repeats = if problem.invalid.is_some() {
-                    1
-                } else {
-                    u64::from(experiment.repeats)
-                };
+                let repeats = experiment.repeats_of(problem);
                 blocks.push((m, p, next, repeats));
                 next += repeats * n_planners;
             }
@@ -190,16 +187,14 @@ pub fn run_one(
     let planner = &experiment.planners[spec.planner];
     let seed = planner.factory.seed_for(experiment.seed, spec.repeat);
     let mut record = blank_record(map, entry, planner, spec.repeat, seed);
-    if entry.invalid.is_some() {
-        // Said once per problem, by its first label's first repeat (which one shard of a
-        // sharded sweep runs), not once per run.
-        if spec.planner == 0 && spec.repeat == 0 {
-            tracing::warn!(
-                "{} problem {}: {}; not run",
-                map.name,
-                entry.index,
-                entry.invalid.as_deref().unwrap_or("invalid")
-            );
+    if let Some(why) = entry.invalid_for(planner.factory.task()) {
+        // Said once per problem, by the first repeat of the first label that cannot run it
+        // (which one shard of a sharded sweep runs), not once per run.
+        let first = experiment.planners[..spec.planner]
+            .iter()
+            .all(|p| entry.invalid_for(p.factory.task()).is_none());
+        if first && spec.repeat == 0 {
+            tracing::warn!("{} problem {}: {why}; not run", map.name, entry.index);
         }
         return Ok(record);
     }
@@ -301,7 +296,9 @@ fn blank_record(
         repeat,
         seed,
         status: RunStatus::InvalidProblem,
-        error: entry.invalid.clone(),
+        error: entry
+            .invalid_for(planner.factory.task())
+            .map(str::to_string),
         steps: None,
         turns: None,
         score: None,

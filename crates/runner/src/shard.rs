@@ -242,11 +242,7 @@ impl ShardRuns {
         let mut n_runs = 0u64;
         for map in &experiment.maps {
             for problem in &map.problems {
-                let repeats = if problem.invalid.is_some() {
-                    1
-                } else {
-                    u64::from(experiment.repeats)
-                };
+                let repeats = experiment.repeats_of(problem);
                 let size = repeats * n_planners;
                 let cost = if problem.invalid.is_some() {
                     1.0

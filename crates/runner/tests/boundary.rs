@@ -268,3 +268,56 @@ fn run_records_keep_the_planners_counter_order() {
         "{header}"
     );
 }
+
+/// A coverage label on a `pairs` problem whose goal is blocked was recorded
+/// `invalid_problem` ("goal (2, 2) is blocked"), though a coverage planner ignores the goal
+/// (configs/README.md). It now covers from the start, every repeat, while a start-goal
+/// label beside it is still refused for the goal; a blocked start refuses both.
+#[test]
+fn a_coverage_label_is_not_refused_for_its_goal() {
+    let dir = scratch("coverage-goal");
+    std::fs::write(
+        dir.join("g.map"),
+        "type octile\nheight 3\nwidth 3\nmap\n...\n...\n..@\n",
+    )
+    .unwrap();
+    let text = "name = \"g\"\nrepeats = 2\n[[maps]]\nfiles = [\"g.map\"]\n\
+                pairs = [{ start = [0, 0], goal = [2, 2] }, { start = [2, 2], goal = [0, 0] }]\n\
+                [planners.cov]\nplanner = \"coverage\"\n[planners.a]\nplanner = \"astar\"\n";
+    let experiment = config::parse(&dir.join("g.toml"), text).unwrap();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    let runs = |problem: usize, label: &str| -> Vec<(String, Option<String>)> {
+        records
+            .iter()
+            .filter(|r| r.problem == problem && r.planner == label)
+            .map(|r| (r.status.as_str().to_string(), r.error.clone()))
+            .collect()
+    };
+    let covered = runs(1, "cov");
+    assert_eq!(covered.len(), 2, "{covered:?}");
+    assert!(
+        covered.iter().all(|(s, e)| s == "found" && e.is_none()),
+        "{covered:?}"
+    );
+    let refused = runs(1, "a");
+    assert_eq!(refused.len(), 2, "{refused:?}");
+    assert!(
+        refused.iter().all(|(s, e)| s == "invalid_problem"
+            && e.as_deref()
+                .is_some_and(|e| e.contains("goal (2, 2) is blocked"))),
+        "{refused:?}"
+    );
+    for label in ["cov", "a"] {
+        let blocked = runs(2, label);
+        assert_eq!(blocked.len(), 1, "{label}: {blocked:?}");
+        assert_eq!(blocked[0].0, "invalid_problem", "{label}");
+        assert!(
+            blocked[0]
+                .1
+                .as_deref()
+                .is_some_and(|e| e.contains("start (2, 2) is blocked")),
+            "{label}: {blocked:?}"
+        );
+    }
+    assert_eq!(records.len() as u64, experiment.n_runs());
+}
