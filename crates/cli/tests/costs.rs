@@ -297,3 +297,57 @@ fn the_config_guide_names_the_planners_that_honour_costs() {
         );
     }
 }
+
+/// `plan` gave every `budget_exhausted` run with an error the memory hint: LPA* whose costs
+/// saturate on a 70,000-cell corridor of weight 65,535 printed "(not run: its costs reached
+/// 4.294967e9, ...; raise it with --max-memory-mb)", and `--json` put that in `not_run`,
+/// though it ran and more memory changes nothing. The hint (and `not_run`) are now for a
+/// memory shortfall only; the saturation is said as it is (`--json`: `error`).
+#[test]
+fn saturated_costs_get_no_memory_hint() {
+    let dir = common::scratch("costs", "saturated");
+    let width = 70_000;
+    let row = ".".repeat(width);
+    std::fs::write(
+        dir.join("long.map"),
+        format!("type octile\nheight 2\nwidth {width}\nmap\n{row}\n{row}\n"),
+    )
+    .unwrap();
+    let weights = vec!["65535"; width].join(",");
+    std::fs::write(dir.join("longw.csv"), format!("{weights}\n{weights}\n")).unwrap();
+    let base = [
+        "plan",
+        "long.map",
+        "--planner",
+        "lpastar",
+        "--weights",
+        "longw.csv",
+    ];
+    let out = common::gridplan(&dir, &base);
+    assert_eq!(out.code, Some(0), "{}", out.describe());
+    assert!(
+        out.stdout.contains("where gridplan's costs saturate")
+            && !out.stdout.contains("not run")
+            && !out.stdout.contains("--max-memory-mb"),
+        "{}",
+        out.stdout
+    );
+    let out = common::gridplan(&dir, &[&base[..], &["--json"]].concat());
+    assert_eq!(out.code, Some(0), "{}", out.describe());
+    let json = json(&out.stdout);
+    assert!(json.get("not_run").is_none(), "{json}");
+    assert!(
+        json["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("where gridplan's costs saturate")),
+        "{json}"
+    );
+    // A memory shortfall still gets the hint.
+    let out = common::gridplan(&dir, &[&base[..], &["--max-memory-mb", "0"]].concat());
+    assert!(
+        out.stdout.contains("(not run: needs ")
+            && out.stdout.contains("raise it with --max-memory-mb"),
+        "{}",
+        out.describe()
+    );
+}

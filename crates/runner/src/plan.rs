@@ -200,6 +200,11 @@ pub struct PlanJson<'a> {
     /// a refused run from a spent budget.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub not_run: Option<&'a str>,
+    /// What a run that ran says of its result, when it says something: its costs
+    /// saturated (`its costs reached 4.294967e9, where gridplan's costs saturate, before
+    /// it traced a path`). Absent otherwise (and for a run that did not run: `not_run`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<&'a str>,
     /// On a map with a ROS map frame (a `map_server` YAML), the run in that frame, in
     /// metres (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -737,7 +742,11 @@ impl PlanResult {
             coverage: self.coverage_json(),
             marks: &r.marks,
             cost: r.cost,
-            not_run: r.error.as_deref(),
+            not_run: crate::run::not_run_reason(r),
+            error: r
+                .error
+                .as_deref()
+                .filter(|_| crate::run::not_run_reason(r).is_none()),
             map_frame: self.frame.map(|frame| FrameJson {
                 resolution: frame.resolution,
                 origin: frame.origin,
@@ -826,8 +835,14 @@ impl PlanResult {
                 "(stopped at plan's default budget of {DEFAULT_PLAN_EXPANSIONS} expansions; raise it with --max-expansions)"
             );
         }
-        if let (crate::record::RunStatus::BudgetExhausted, Some(error)) = (r.status, &r.error) {
-            let _ = writeln!(out, "(not run: {error}; raise it with --max-memory-mb)");
+        match (crate::run::not_run_reason(r), &r.error) {
+            (Some(error), _) => {
+                let _ = writeln!(out, "(not run: {error}; raise it with --max-memory-mb)");
+            }
+            (None, Some(error)) => {
+                let _ = writeln!(out, "({error})");
+            }
+            (None, None) => {}
         }
         if let Some(path) = &r.path {
             let m = path.metrics();

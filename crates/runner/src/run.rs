@@ -247,6 +247,21 @@ pub fn run_one(
 
 /// Says that `planner`'s costs on `entry` reached [`Cost::MAX`], where they saturate: a
 /// warning, and the record's error. `cost` is the true cost of the path it returned, if any.
+/// The words of every error [`beyond_cost_range`] records, which [`not_run_reason`] tells
+/// from a memory shortfall's.
+const COSTS_SATURATE: &str = "where gridplan's costs saturate";
+
+/// Why `record`'s planner was not run, when it was refused for a memory shortfall (its
+/// per-cell state over the memory limit: status `budget_exhausted`, the shortfall as its
+/// error). `None` for a run that ran, also one that stopped because its costs saturated
+/// (whose error says so, and which more memory would not change).
+pub fn not_run_reason(record: &RunRecord) -> Option<&str> {
+    match (record.status, record.error.as_deref()) {
+        (RunStatus::BudgetExhausted, Some(error)) if !error.contains(COSTS_SATURATE) => Some(error),
+        _ => None,
+    }
+}
+
 fn beyond_cost_range(
     planner: &PlannerSpec,
     record: &mut RunRecord,
@@ -255,11 +270,11 @@ fn beyond_cost_range(
 ) {
     let what = match cost {
         Some(cost) => format!(
-            "its path costs {cost:.6e}, beyond {:.6e} where gridplan's costs saturate, so it is not known to be least-cost",
+            "its path costs {cost:.6e}, beyond {:.6e} {COSTS_SATURATE}, so it is not known to be least-cost",
             Cost::MAX.to_f64()
         ),
         None => format!(
-            "its costs reached {:.6e}, where gridplan's costs saturate, before it traced a path",
+            "its costs reached {:.6e}, {COSTS_SATURATE}, before it traced a path",
             Cost::MAX.to_f64()
         ),
     };
