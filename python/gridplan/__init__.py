@@ -102,8 +102,18 @@ def run_experiment(
     --resume`` does; after a finished sweep of the same config nothing runs again. A
     ``GridplanWarning`` says how many runs were kept; an interrupted sweep of another
     config there raises ``ValueError`` (run without ``resume`` to start over).
+
+    The DataFrame's dtypes are runs.parquet's types, every value exact: the integer
+    columns (``problem``, ``start_x``, ``start_y``, ``goal_x``, ``goal_y``, ``repeat``,
+    ``seed``, ``steps``, ``turns``, ``score``, ``peak_heap_bytes``, ``bucket`` and every
+    counter) are pandas' nullable ``UInt64``, an empty runs.csv cell (an unseeded
+    planner's seed, a counter the run's planner does not report) ``<NA>``; ``length``,
+    ``optimal_length``, ``time_ms``, ``setup_ms`` and ``cost`` are ``float64`` (empty:
+    NaN); ``valid`` is ``bool``, or the nullable ``boolean`` when some run has none;
+    ``map``, ``planner``, ``algorithm``, ``status`` and ``error`` are ``object`` (str, or
+    None). In the list of dicts an empty cell is None and integers are Python ints.
     """
-    columns, rows = _run_experiment_rows(
+    columns, kinds, rows = _run_experiment_rows(
         _os.fspath(config),
         threads=threads,
         output=None if output is None else _os.fspath(output),
@@ -114,4 +124,24 @@ def run_experiment(
         import pandas
     except ImportError:
         return rows
-    return pandas.DataFrame.from_records(rows, columns=columns)
+    return _frame(pandas, columns, kinds, rows)
+
+
+def _frame(pandas: _Any, columns: _List[str], kinds: _List[str], rows: _List[_Dict[str, _Any]]) -> _Any:
+    """The records ``rows`` as a DataFrame of ``columns``, each of its kind's dtype (see
+    ``run_experiment``): built column by column, so that no integer goes through float64
+    (``DataFrame.from_records`` made a column with an empty cell float64, rounding
+    integers above 2**53)."""
+    data = {}
+    for column, kind in zip(columns, kinds):
+        values = [row[column] for row in rows]
+        if kind == "uint":
+            dtype = "UInt64"
+        elif kind == "float":
+            dtype = "float64"
+        elif kind == "bool":
+            dtype = "boolean" if any(v is None for v in values) else "bool"
+        else:
+            dtype = "object"
+        data[column] = pandas.Series(values, dtype=dtype)
+    return pandas.DataFrame(data, columns=columns, index=pandas.RangeIndex(len(rows)))

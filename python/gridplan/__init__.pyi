@@ -393,4 +393,12 @@ def run_experiment(
     interrupt) raises ``KeyboardInterrupt`` once the sweep has stopped: no run starts
     after it; in memory the running searches stop at their next budget check, while with
     ``output`` they finish and the finished runs stay in the output's stream area, which
-    ``resume=True`` (or the command line's ``experiment --resume``) continues."""
+    ``resume=True`` (or the command line's ``experiment --resume``) continues.
+
+    The DataFrame's dtypes are runs.parquet's types, every value exact: the integer
+    columns (``problem``, ``start_x``, ``start_y``, ``goal_x``, ``goal_y``, ``repeat``,
+    ``seed``, ``steps``, ``turns``, ``score``, ``peak_heap_bytes``, ``bucket`` and every
+    counter) are pandas' nullable ``UInt64``, an empty cell ``<NA>``; ``length``,
+    ``optimal_length``, ``time_ms``, ``setup_ms`` and ``cost`` are ``float64`` (empty:
+    NaN); ``valid`` is ``bool``, or the nullable ``boolean`` when some run has none;
+    ``map``, ``planner``, ``algorithm``, ``status`` and ``error`` are ``object``."""

@@ -24,8 +24,10 @@ use crate::errors::{guarded, Failure};
 use crate::values::Int;
 
 /// Runs the experiment config at `config` with `threads` workers (0: the config's
-/// `threads`, where 0 means one per core) and returns `(columns, rows)`: runs.csv's
-/// column names, and one dict per record in the run order, keyed by those columns.
+/// `threads`, where 0 means one per core) and returns `(columns, kinds, rows)`: runs.csv's
+/// column names, each column's kind ([`kind`]: `"uint"`, `"float"`, `"bool"` or `"text"`,
+/// runs.parquet's types), and one dict per record in the run order, keyed by those
+/// columns.
 ///
 /// With `output`, the sweep is the command line's ([`planner_runner::sweep::experiment`]:
 /// the results directory written under [`planner_runner::outdir`]'s rules) and the rows
@@ -101,7 +103,22 @@ pub fn run_experiment_rows(
         }
         rows.append(row)?;
     }
-    Ok((columns, rows).into_pyobject(py)?.unbind())
+    let kinds: Vec<&str> = columns.iter().map(|c| kind(c)).collect();
+    Ok((columns, kinds, rows).into_pyobject(py)?.unbind())
+}
+
+/// The kind of runs.csv's column `column`, as runs.parquet types it: `"text"` (map,
+/// planner, algorithm, status, error), `"float"` (length, optimal_length, time_ms,
+/// setup_ms, cost), `"bool"` (valid), else `"uint"` (an unsigned 64-bit integer: problem,
+/// the cells' coordinates, repeat, seed, steps, turns, score, peak_heap_bytes, bucket and
+/// every counter).
+pub fn kind(column: &str) -> &'static str {
+    match column {
+        "map" | "planner" | "algorithm" | "status" | "error" => "text",
+        "length" | "optimal_length" | "time_ms" | "setup_ms" | "cost" => "float",
+        "valid" => "bool",
+        _ => "uint",
+    }
 }
 
 /// Cancel flags of the sweeps running in memory, one per sweep at a time, kept for reuse

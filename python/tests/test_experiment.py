@@ -2,6 +2,7 @@
 seed 000's Table 5, the list-of-dicts form without pandas, and output directories."""
 
 import csv
+import json
 import sys
 
 import pytest
@@ -195,3 +196,60 @@ def test_errors_and_costs_are_columns(tmp_path):
     assert rows[1]["error"] == "goal (1, 1) is blocked"
     assert rows[0]["cost"] == pytest.approx(float(table[0]["cost"]))
     assert rows[0]["cost"] > rows[0]["length"]
+
+
+@pytest.mark.parametrize("seed", [9007199254740993, 9223372036854775807])
+def test_integers_are_exact_in_the_dataframe(tmp_path, seed):
+    """Integer columns are nullable UInt64, so a seed above 2**53 (2**53 + 1, 2**63 - 1)
+    and its repeat's seed + 1 are the values runs.csv and runs.json hold, an unseeded
+    planner's seed and the counters its planner does not report are <NA> (they made the
+    columns float64, rounding the seeds: 2**53 + 1 read 2**53); floats stay float64,
+    `valid` bool, text object; every value equals runs.json's and runs.csv's."""
+    pandas = pytest.importorskip("pandas")
+    (tmp_path / "tiny.map").write_text("type octile\nheight 4\nwidth 5\nmap\n.....\n.@@..\n.....\n.....\n")
+    (tmp_path / "c.toml").write_text(
+        f'name = "bigseed"\nseed = {seed}\nrepeats = 2\n[[maps]]\nfiles = ["tiny.map"]\n'
+        "pairs = [{ start = [0, 0], goal = [4, 3] }]\n"
+        '[planners.rrt]\nplanner = "rrt"\n[planners.astar]\nplanner = "astar"\n'
+    )
+    out = tmp_path / "out"
+    frame = gridplan.run_experiment(tmp_path / "c.toml", output=out)
+    assert list(frame["seed"][frame["planner"] == "rrt"]) == [seed, seed + 1]
+    assert frame["seed"][frame["planner"] == "astar"].isna().all()
+    assert frame["peak_open"][frame["planner"] == "rrt"].isna().all()
+    assert frame["tree_size"][frame["planner"] == "astar"].isna().all()
+    kinds = {
+        "text": ["map", "planner", "algorithm", "status"],
+        "float": ["length", "optimal_length", "time_ms", "setup_ms"],
+        "bool": ["valid"],
+    }
+    for column in frame.columns:
+        dtype = str(frame[column].dtype)
+        if column in kinds["text"]:
+            assert dtype == "object", column
+        elif column in kinds["float"]:
+            assert dtype == "float64", column
+        elif column in kinds["bool"]:
+            assert dtype == "bool", column
+        else:
+            assert dtype == "UInt64", column
+    runs = json.loads((out / "runs.json").read_text())["runs"]
+    assert list(frame.columns) == runs["columns"]
+    with open(out / "runs.csv", newline="") as f:
+        table = list(csv.DictReader(f))
+    assert len(frame) == len(runs["data"]) == len(table) == 4
+    for i, (written, line) in enumerate(zip(runs["data"], table)):
+        for column, theirs in zip(runs["columns"], written):
+            ours = frame[column].iloc[i]
+            if theirs is None:
+                assert pandas.isna(ours) and line[column] == "", (i, column, ours)
+                continue
+            assert ours == theirs and type(theirs)(ours) == theirs, (i, column, ours, theirs)
+            if column in kinds["float"]:
+                assert float(line[column]) == pytest.approx(theirs, abs=1e-6), (i, column)
+            elif column in kinds["bool"]:
+                assert line[column] == str(theirs).lower(), (i, column)
+            elif column in kinds["text"]:
+                assert line[column] == theirs, (i, column)
+            else:
+                assert int(line[column]) == int(ours) == theirs, (i, column, ours, line[column])
