@@ -728,6 +728,37 @@ fn merge_refuses_an_output_that_is_one_of_its_shards() {
     ));
 }
 
+/// `plan X.map` without a start fell back to the corner problem when `X.map.scen` was
+/// there but not a regular file (a FIFO, a directory, a link loop, a dangling link): only
+/// a missing `.scen` may fall back; anything else there is an error naming it (exit 4, as
+/// an experiment refuses the same file), and a FIFO is not opened (no hang).
+#[cfg(unix)]
+#[test]
+fn plan_refuses_a_scen_that_is_not_a_file() {
+    let dir = with_config(20_011);
+    let scen = dir.join("small.map.scen");
+    let plan = ["plan", "small.map", "--planner", "astar"];
+    // No .scen: the corner problem, as before.
+    succeeded(&gridplan(&dir, &plan));
+    let fifo = |path: &Path| {
+        let made = Command::new("mkfifo").arg(path).status().unwrap();
+        assert!(made.success());
+    };
+    let directory = |path: &Path| std::fs::create_dir(path).unwrap();
+    let dangling = |path: &Path| std::os::unix::fs::symlink("nowhere.scen", path).unwrap();
+    let looped = |path: &Path| std::os::unix::fs::symlink("small.map.scen", path).unwrap();
+    for make in [&fifo as &dyn Fn(&Path), &directory, &dangling, &looped] {
+        make(&scen);
+        let out = gridplan(&dir, &plan);
+        refused(&out, 4, "small.map.scen");
+        if std::fs::symlink_metadata(&scen).unwrap().is_dir() {
+            std::fs::remove_dir(&scen).unwrap();
+        } else {
+            std::fs::remove_file(&scen).unwrap();
+        }
+    }
+}
+
 /// Issue 27: `merge` of a shard whose stream is a link to /dev/zero aborted (a 2 GB
 /// allocation) and a FIFO hung; `--resume` on either did the same. Both are refused as
 /// not regular files, at once.

@@ -675,7 +675,8 @@ fn file_name(path: &Path) -> String {
 
 /// The map's own start-goal pairs, else, with `with_scen`, those of the `.scen` file
 /// beside it (checked against the map's size; a scenario naming another map file is
-/// warned about).
+/// warned about). None when there is no `.scen` there; anything else at its path that is
+/// not a scenario file (not a regular file, a link loop) is an error naming it.
 fn own_pairs(
     map: &Path,
     grid: &Grid,
@@ -686,7 +687,12 @@ fn own_pairs(
         return Ok(own.iter().map(|p| (p.start, p.goal, None)).collect());
     }
     let scen = scen_beside(map);
-    if !with_scen || !scen.is_file() {
+    // Only a missing `.scen` falls back to the corners: anything else there (a FIFO, a
+    // directory, a dangling link or a link loop) is read, and refused naming it, as an
+    // experiment refuses it.
+    let missing =
+        std::fs::symlink_metadata(&scen).is_err_and(|e| e.kind() == std::io::ErrorKind::NotFound);
+    if !with_scen || missing {
         return Ok(Vec::new());
     }
     let scenarios = planner_maps::read_scenarios(&scen)?;
