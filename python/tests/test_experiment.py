@@ -189,6 +189,10 @@ def test_errors_and_costs_are_columns(tmp_path):
     with pytest.warns(gridplan.GridplanWarning, match="is blocked; not run"):
         rows = gridplan.run_experiment(tmp_path / "c.toml", output=tmp_path / "out")
     if not isinstance(rows, list):
+        # The refused run has no `valid`: the nullable boolean, <NA> for it.
+        assert str(rows["valid"].dtype) == "boolean"
+        assert rows["valid"].isna().tolist() == [False, True]
+        assert str(rows["error"].dtype) == "object" and str(rows["cost"].dtype) == "float64"
         rows = rows.to_dict("records")
     with open(tmp_path / "out" / "runs.csv", newline="") as f:
         table = list(csv.DictReader(f))
