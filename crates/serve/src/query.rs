@@ -36,7 +36,9 @@ pub struct Caps {
     pub max_memory_mb: u64,
     /// The longest a query's search may run: it then ends with status
     /// `budget_exhausted` ([`planner_api::Budget::max_time`]), and its expanded cells are
-    /// not recorded (the recording run would take as long again).
+    /// not recorded (the recording run would take as long again). A search that ends
+    /// before it is run once more, without it, to record its cells (about as long as the
+    /// first), so a query holds its place for at most about twice `max_time`.
     pub max_time: Duration,
 }
 
