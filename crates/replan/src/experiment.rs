@@ -37,7 +37,16 @@
 //! its carried queries (the planner's repairs after the next batch's patches, each checked
 //! against A* from scratch on the patched map), and its checked queries (A* against the
 //! recorded optimum) are counted apart: the counts [`run`] returns and `summary.md`'s head
-//! are the same.
+//! are the same, and so are the tables' lines. After the navigations and toggle scripts,
+//! each replay has a line in `runs.csv` and `runs.jsonl` (`map` the scenario file's stem,
+//! `scenario_line` and `seed` empty, `replans` its carried queries, the expansions their
+//! sums as in `gppc.csv`, `mismatches` its failed checks and its queries that disagree
+//! with their recorded optimum; `runs.jsonl` adds `"gppc": true`, `queries` and
+//! `patches_applied`), and each carried query a line in `replans.jsonl` (`query_line`,
+//! the repair's status, expansions, counters and exact cost, A*'s expansions from scratch
+//! on the patched map, the planner's `first_expansions` before the patches and the
+//! `changed_cells`). The tables are written whatever runs there are: a config of
+//! `[[gppc]]` alone has them too. `gppc.csv` has a line per replay with its own columns.
 //!
 //! The runs go in chunks of [`RUN_CHUNK`], in parallel within a chunk. A run hands its
 //! replans to a [`Recorder`] as they happen, which writes their lines to a file of the
@@ -1286,10 +1295,11 @@ pub fn run_config_with(
         output,
         planner_runner::outdir::DEFAULT_LOCK_WAIT,
     )?);
-    let tables = match tasks.is_empty() {
-        false => {
-            let area = &area.0;
-            let mut tables = Tables::create(area, config.kind, options)?;
+    // The tables are written whatever runs there are: a GPPC replay is a run too.
+    let mut tables = Tables::create(&area.0, config.kind, options)?;
+    {
+        let area = &area.0;
+        {
             for chunk in tasks.chunks(RUN_CHUNK) {
                 // Once stopped, the chunk's remaining runs do not start, and a run in
                 // progress ends before its next step or event.
@@ -1310,10 +1320,8 @@ pub fn run_config_with(
                     run.files.remove();
                 }
             }
-            Some(tables.finish()?)
         }
-        true => None,
-    };
+    }
     let gppc_runs: Result<Vec<(String, String, gppc::Replay)>, ExperimentError> =
         pool.install(|| {
             let jobs: Vec<(usize, usize)> = (0..gppc_inputs.len())
@@ -1350,6 +1358,10 @@ pub fn run_config_with(
         return Err(ExperimentError::Interrupted);
     }
     let gppc_runs = gppc_runs?;
+    for (stem, planner, replay) in &gppc_runs {
+        tables.write_replay(stem, planner, replay, options)?;
+    }
+    let tables = Some(tables.finish()?);
     write_results(
         config,
         output,
@@ -1814,6 +1826,105 @@ impl Tables {
             planner_runner::stream::open_regular(path).map_err(|e| io_failure(path, e))?;
         std::io::copy(&mut from, &mut self.replans_jsonl)
             .map_err(|e| io_failure(&self.files.0[2].1, e))?;
+        Ok(())
+    }
+
+    /// Appends a GPPC replay's lines (after every navigation and toggle script): its line
+    /// in runs.csv and runs.jsonl (the scenario file's stem as `map`, no scenario line or
+    /// setting: the replay is of a whole file; `replans` its carried queries, the
+    /// expansions their sums, `mismatches` its failed checks and the queries that disagree
+    /// with their recorded optimum), and a line per carried query in replans.jsonl.
+    fn write_replay(
+        &mut self,
+        stem: &str,
+        planner: &str,
+        replay: &gppc::Replay,
+        options: &RunOptions,
+    ) -> Result<(), ExperimentError> {
+        let carried = &replay.carried;
+        // Measured on carried queries only: none carried, none measured.
+        let sum = |f: fn(&gppc::CarryRecord) -> u64| {
+            (!carried.is_empty()).then(|| carried.iter().map(f).sum::<u64>())
+        };
+        let (expansions, astar) = (sum(|c| c.repair_expansions), sum(|c| c.astar_expansions));
+        let repair_time: Duration = carried.iter().map(|c| c.repair_time).sum();
+        let mut listed: Vec<String> = replay.mismatches.iter().map(|m| m.to_string()).collect();
+        listed.extend(replay.queries.iter().filter(|q| !q.agrees).map(|q| {
+            format!(
+                "query at line {}: recorded {}, A* {}",
+                q.line,
+                q.recorded.map_or("no path".into(), |r| r.to_string()),
+                q.astar.map_or("no path".into(), |c| c.to_f64().to_string()),
+            )
+        }));
+        let mismatches = listed.len();
+        listed.truncate(MISMATCHES_LISTED);
+        let field = |v: Option<u64>| v.map(|v| v.to_string()).unwrap_or_default();
+        let mut csv_line = format!(
+            "{},,,{},,,{},{},{},{mismatches},ran,",
+            csv(stem),
+            csv(planner),
+            carried.len(),
+            field(expansions),
+            field(astar),
+        );
+        if options.timing {
+            let _ = write!(
+                csv_line,
+                ",,{}",
+                field((!carried.is_empty()).then(|| micros(repair_time) as u64))
+            );
+        }
+        csv_line.push('\n');
+        self.put(0, &csv_line)?;
+        let mut line = json!({
+            "map": stem,
+            "scenario_line": null,
+            "seed": null,
+            "planner": planner,
+            "status": "ran",
+            "replans": carried.len(),
+            "total_expansions": expansions,
+            "astar_expansions": astar,
+            "mismatches": listed,
+            "gppc": true,
+            "queries": replay.queries.len(),
+            "patches_applied": replay.patches_applied,
+        });
+        if options.timing && !carried.is_empty() {
+            line["planning_time_us"] = (micros(repair_time) as u64).into();
+        }
+        self.put(1, &format!("{line}\n"))?;
+        for (index, c) in carried.iter().enumerate() {
+            let counters: serde_json::Map<String, serde_json::Value> = c
+                .counters
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.into()))
+                .collect();
+            let mut line = json!({
+                "map": stem,
+                "scenario_line": null,
+                "seed": null,
+                "planner": planner,
+                "replan": index,
+                "step": c.line,
+                "query_line": c.line,
+                "status": c.status.as_str(),
+                "expansions": c.repair_expansions,
+                "astar_expansions": c.astar_expansions,
+                "first_expansions": c.first_expansions,
+                "changed_cells": c.changed_cells,
+                "cost_units": c.cost.map(|c| c.units()),
+                "counters": counters,
+            });
+            if let Some(mismatch) = &c.mismatch {
+                line["mismatch"] = mismatch.to_string().into();
+            }
+            if options.timing {
+                line["replan_us"] = (micros(c.repair_time) as u64).into();
+            }
+            self.put(2, &format!("{line}\n"))?;
+        }
         Ok(())
     }
 

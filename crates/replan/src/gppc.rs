@@ -46,6 +46,15 @@ pub struct CarryRecord {
     pub first_expansions: u64,
     /// Its expansions for the repair after the patches.
     pub repair_expansions: u64,
+    /// How the repair ended.
+    pub status: planner_api::Status,
+    /// The planner's counters for the repair alone.
+    pub counters: planner_api::Counters,
+    /// The exact cost of the repair's path, when it passed its check.
+    pub cost: Option<planner_api::Cost>,
+    /// The repair's failed check against A* from scratch on the patched map (also in
+    /// [`Replay::mismatches`]).
+    pub mismatch: Option<Mismatch>,
     /// A*'s expansions from scratch on the patched map.
     pub astar_expansions: u64,
     /// Time of the repair (apply and replan).
@@ -266,14 +275,22 @@ impl Replayer<'_> {
             let _ = oracle.optimum(next, start, goal);
             let astar_time = astar_started.elapsed();
             let astar_expansions = oracle.last_expansions();
-            if let Err(m) = oracle.check(next, start, goal, &repair, line as u64) {
-                out.mismatches.push(m);
-            }
+            let (cost, mismatch) = match oracle.check(next, start, goal, &repair, line as u64) {
+                Ok(cost) => (cost, None),
+                Err(m) => {
+                    out.mismatches.push(m.clone());
+                    (None, Some(m))
+                }
+            };
             out.carried.push(CarryRecord {
                 line,
                 changed_cells: changes.len(),
                 first_expansions: first.counters.get("n_expanded").unwrap_or(0),
                 repair_expansions: repair.counters.get("n_expanded").unwrap_or(0),
+                status: repair.status,
+                counters: repair.counters.clone(),
+                cost,
+                mismatch,
                 astar_expansions,
                 repair_time,
                 astar_time,

@@ -1357,3 +1357,77 @@ fn an_empty_list_in_a_table_is_refused_at_its_value() {
         "{e}"
     );
 }
+
+/// A GPPC replay is a run and its carried queries are replans in the tables too: a line
+/// of runs.csv and runs.jsonl per replay and a line of replans.jsonl per carried query,
+/// so that the tables' lines are the counts the command line and summary.md give. A
+/// GPPC-only config wrote summary.md and gppc.csv alone, and with `[toggles]` the tables
+/// left the replays out (52 runs said, 48 lines).
+#[test]
+fn gppc_replays_are_runs_in_every_table() {
+    let dir = scratch("gppc-tables");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.patch"),
+        "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 1\nwidth 2\nmap\n@@\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("s.scen"),
+        "version 2\nheight 4\nwidth 4\ncost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n\
+         Q 0 0 0 3 3 4.2426406871\nQ 0 0 1 3 1 3\nQ 0 0 3 3 0 4.2426406871\n\
+         P 1 1 1 1\nQ 1 0 0 3 3 5.4142135624\nQ 1 0 1 3 1 5\nQ 1 0 3 3 0 5.4142135624\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("g.toml"),
+        "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"dstar_lite\", \"astar\"]\n[[gppc]]\nscen = \"s.scen\"\nquery_every = 1\ncarry_every = 1\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let done = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap();
+    assert_eq!((done.runs, done.replans, done.mismatches), (2, 6, 0));
+    let runs = read(&out, "runs.csv");
+    assert_eq!(runs.lines().count(), 1 + done.runs, "{runs}");
+    assert_eq!(column(&runs, "map"), vec!["s", "s"], "{runs}");
+    assert_eq!(
+        column(&runs, "planner"),
+        vec!["dstar_lite", "astar"],
+        "{runs}"
+    );
+    assert_eq!(column(&runs, "scenario_line"), vec!["", ""], "{runs}");
+    assert_eq!(column(&runs, "replans"), vec!["3", "3"], "{runs}");
+    assert_eq!(column(&runs, "status"), vec!["ran", "ran"], "{runs}");
+    assert_eq!(column(&runs, "mismatches"), vec!["0", "0"], "{runs}");
+    // The expansions are gppc.csv's sums over the carried queries.
+    let gppc = read(&out, "gppc.csv");
+    assert_eq!(
+        column(&runs, "total_expansions"),
+        column(&gppc, "repair_expansions"),
+        "{runs}{gppc}"
+    );
+    assert_eq!(
+        column(&runs, "astar_expansions"),
+        column(&gppc, "astar_expansions"),
+        "{runs}{gppc}"
+    );
+    let jsonl = read(&out, "runs.jsonl");
+    assert_eq!(jsonl.lines().count(), done.runs, "{jsonl}");
+    let replans: Vec<serde_json::Value> = read(&out, "replans.jsonl")
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(replans.len() as u64, done.replans);
+    // The first batch's three queries, carried by each planner.
+    let lines: Vec<u64> = replans
+        .iter()
+        .map(|r| r["query_line"].as_u64().unwrap())
+        .collect();
+    assert_eq!(lines, vec![8, 9, 10, 8, 9, 10]);
+    assert!(
+        replans
+            .iter()
+            .all(|r| r["status"] == "found" && r["astar_expansions"].is_u64()),
+        "{replans:?}"
+    );
+}
