@@ -268,8 +268,27 @@ impl Replanner {
             Some(value) => Some(per_cell(py, "free", value, n, "bool", &["b"])?),
             None => None,
         };
-        let weights: Option<Vec<i64>> = match weights.filter(|w| !w.is_none()) {
-            Some(value) => Some(per_cell(py, "weights", value, n, "int64", &["i", "u"])?),
+        // Weights as the values given: unsigned arrays read as `u64` (a `uint64` of 2^63 cast
+        // to `int64` would be named by its wrapped, negative value), signed ones as `i64`.
+        let weights: Option<Vec<i128>> = match weights.filter(|w| !w.is_none()) {
+            Some(value) => {
+                let kind: String = py
+                    .import("numpy")?
+                    .call_method1("asarray", (value,))?
+                    .getattr("dtype")?
+                    .getattr("kind")?
+                    .extract()?;
+                Some(match kind.as_str() {
+                    "u" => per_cell::<u64>(py, "weights", value, n, "uint64", &["u"])?
+                        .into_iter()
+                        .map(i128::from)
+                        .collect(),
+                    _ => per_cell::<i64>(py, "weights", value, n, "int64", &["i", "u"])?
+                        .into_iter()
+                        .map(i128::from)
+                        .collect(),
+                })
+            }
             None => None,
         };
         if free.is_none() && weights.is_none() {

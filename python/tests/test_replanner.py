@@ -158,6 +158,9 @@ def test_bad_arguments_raise_named_errors(map10):
     for bad in (0, 65536, -3):
         with pytest.raises(ValueError, match=rf"weights\[0\]: {bad} is not a weight"):
             weighted.update(np.array([(1, 0)]), weights=bad)
+    # A uint64 weight is named as given, not as its value cast to int64.
+    with pytest.raises(ValueError, match=r"weights\[0\]: 9223372036854775808 is not a weight"):
+        weighted.update(np.array([(1, 0)]), weights=np.array([2**63], dtype=np.uint64))
     with pytest.raises(TypeError, match="weights: expected integers"):
         weighted.update(np.array([(1, 0)]), weights=2.5)
     assert replanner.plan().status == "found"
