@@ -239,6 +239,11 @@ pub struct ExperimentConfig {
     /// GPPC dynamic scenarios (dynamic).
     #[serde(default)]
     pub gppc: Vec<GppcSpec>,
+    /// The memory a GPPC replay may take for its per-cell state, in MiB (at least 1): a
+    /// replay whose scenario declares a map needing more ([`gppc::memory_bytes`]) is
+    /// recorded with status `over_memory` and the shortfall instead of run. None: no limit.
+    #[schemars(with = "Option<std::num::NonZeroU64>")]
+    pub max_memory_mb: Option<Spanned<u64>>,
     /// Settings for tests.
     #[serde(default)]
     pub test: TestLimits,
@@ -553,6 +558,17 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
                 "GPPC scenarios are 8-connected: [[gppc]] needs moves = 8".into(),
             ));
         }
+    }
+    if let Some(mb) = config
+        .max_memory_mb
+        .as_ref()
+        .filter(|mb| *mb.get_ref() == 0)
+    {
+        return Err(invalid(
+            mb.span(),
+            "max_memory_mb",
+            "must be at least 1".into(),
+        ));
     }
     for g in &config.gppc {
         if *g.query_every.get_ref() == 0 {
@@ -1338,6 +1354,27 @@ pub fn run_config_with(
                         carry_every = carry_every.max(config.test.carry_every.unwrap_or(0));
                     }
                     let stop = || options.stopped();
+                    // A map too large for the budget is refused before any of it is made.
+                    let budget = Budget {
+                        max_memory_mb: config.max_memory_mb.as_ref().map(|mb| *mb.get_ref()),
+                        ..Budget::unlimited()
+                    };
+                    if let Some(mb) = budget.max_memory_mb {
+                        let needed = gppc::memory_bytes(scenario.width, scenario.height, true);
+                        if needed > mb.saturating_mul(1 << 20) {
+                            let shortfall = planner_api::MemoryShortfall {
+                                needed_bytes: needed,
+                                max_memory_mb: mb,
+                                width: scenario.width,
+                                height: scenario.height,
+                            };
+                            let replay = gppc::Replay {
+                                refused: Some(format!("{stem}: {shortfall}")),
+                                ..gppc::Replay::default()
+                            };
+                            return Ok((stem.clone(), names[p].clone(), replay));
+                        }
+                    }
                     let replay = gppc::replay_until(
                         scenario,
                         patches,
@@ -1841,6 +1878,29 @@ impl Tables {
         replay: &gppc::Replay,
         options: &RunOptions,
     ) -> Result<(), ExperimentError> {
+        if let Some(why) = &replay.refused {
+            let mut csv_line = format!(
+                "{},,,{},,,,,,,over_memory,{}",
+                csv(stem),
+                csv(planner),
+                csv(why)
+            );
+            if options.timing {
+                csv_line.push_str(",,");
+            }
+            csv_line.push('\n');
+            self.put(0, &csv_line)?;
+            let line = json!({
+                "map": stem,
+                "scenario_line": null,
+                "seed": null,
+                "planner": planner,
+                "status": "over_memory",
+                "error": why,
+                "gppc": true,
+            });
+            return self.put(1, &format!("{line}\n"));
+        }
         let carried = &replay.carried;
         // Measured on carried queries only: none carried, none measured.
         let sum = |f: fn(&gppc::CarryRecord) -> u64| {
@@ -1978,6 +2038,11 @@ fn write_results(
         "scenario,planner,patches_applied,queries,agree,carried,repair_expansions,astar_expansions,first_expansions,mismatches\n",
     );
     for (stem, planner, replay) in gppc_runs {
+        // A refused replay measured nothing: empty fields, not zeros.
+        if replay.refused.is_some() {
+            let _ = writeln!(gppc_csv, "{},{},,,,,,,,", csv(stem), csv(planner));
+            continue;
+        }
         let agree = replay.queries.iter().filter(|q| q.agrees).count();
         // The expansions are measured on carried queries only: none carried, none
         // measured (an empty field, not a 0).
@@ -2277,6 +2342,9 @@ fn summary_md(
             );
         }
         out.push('\n');
+    }
+    for why in gppc_runs.iter().filter_map(|(_, _, g)| g.refused.as_ref()) {
+        let _ = writeln!(out, "- OVER MEMORY {}\n", md_cell(why));
     }
     if !gppc_runs.is_empty() {
         let _ = writeln!(

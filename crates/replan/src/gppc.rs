@@ -74,6 +74,25 @@ pub struct Replay {
     pub carried: Vec<CarryRecord>,
     /// Every failed check of the incremental planner (by scenario line).
     pub mismatches: Vec<Mismatch>,
+    /// Why the replay did not run (its memory need over the experiment's budget): then it
+    /// holds no records.
+    pub refused: Option<String>,
+}
+
+/// The bytes a replay of a `width` x `height` scenario needs for its per-cell state, as
+/// the planners' `Budget::check_memory` counts it: the two maps it holds (the map as
+/// patched so far and the pending batch's), A*'s search state for the oracle, and as much
+/// again for the carried planner. Estimated from A*'s need on a grid of at most 256 x 256
+/// cells, scaled to the declared map, so that no grid of the declared size is made first.
+pub fn memory_bytes(width: u32, height: u32, eight: bool) -> u64 {
+    let cells = u64::from(width) * u64::from(height);
+    let Ok(probe) = Grid::new(width.clamp(1, 256), height.clamp(1, 256)) else {
+        return u64::MAX;
+    };
+    let astar = crate::oracle::exact_astar(eight).memory_bytes_for(&probe);
+    let per_cell = astar as f64 / probe.len() as f64;
+    let maps = 2 * std::mem::size_of::<bool>() as u64;
+    (cells as f64 * (maps as f64 + 2.0 * per_cell)).ceil() as u64
 }
 
 /// A query as the replay keeps it: line, batch, start, goal, recorded cost.

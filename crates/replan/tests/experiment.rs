@@ -1431,3 +1431,54 @@ fn gppc_replays_are_runs_in_every_table() {
         "{replans:?}"
     );
 }
+
+/// A GPPC scenario declaring a map whose per-cell state is over `max_memory_mb` is
+/// recorded as refused (`over_memory`, with the shortfall) and its map never made; the
+/// other replays run. A 20000 x 20000 declaration with one small patch made the A* oracle
+/// allocate 3.2 GB for the whole map and aborted the process.
+#[test]
+fn a_gppc_map_over_the_memory_budget_is_refused() {
+    let dir = scratch("gppc-memory");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.patch"),
+        "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 1\nwidth 2\nmap\n@@\n",
+    )
+    .unwrap();
+    let commands = "cost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n\
+         Q 0 0 0 3 3 4.2426406871\nP 1 1 1 1\nQ 1 0 0 3 3 5.4142135624\n";
+    std::fs::write(
+        dir.join("s.scen"),
+        format!("version 2\nheight 4\nwidth 4\n{commands}"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("big.scen"),
+        format!("version 2\nheight 20000\nwidth 20000\n{commands}"),
+    )
+    .unwrap();
+    let config = "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"dstar_lite\"]\nmax_memory_mb = 100\n[[gppc]]\nscen = \"s.scen\"\ncarry_every = 1\n[[gppc]]\nscen = \"big.scen\"\ncarry_every = 1\n";
+    std::fs::write(dir.join("g.toml"), config).unwrap();
+    let out = dir.join("out");
+    let done = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap();
+    assert_eq!((done.runs, done.replans, done.queries), (2, 1, 2));
+    let runs = read(&out, "runs.csv");
+    assert_eq!(
+        column(&runs, "status"),
+        vec!["ran", "over_memory"],
+        "{runs}"
+    );
+    assert!(
+        runs.contains(",over_memory,\"big: needs ")
+            && runs.contains("20000 x 20000 grid, over the max_memory_mb = 100 budget\""),
+        "{runs}"
+    );
+    assert_eq!(column(&runs, "replans")[1], "", "{runs}");
+    let summary = read(&out, "summary.md");
+    assert!(summary.contains("- OVER MEMORY big: needs "), "{summary}");
+    let e = parse_error(&config.replace("max_memory_mb = 100", "max_memory_mb = 0"));
+    assert_eq!(
+        e.to_string(),
+        "bad.toml:4:17: `max_memory_mb`: must be at least 1"
+    );
+}
