@@ -2357,6 +2357,16 @@ fn summary_md(
         );
         let _ = writeln!(out, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
         for (stem, planner, replay) in gppc_runs {
+            // A refused replay measured nothing (it is listed above as over memory).
+            if replay.refused.is_some() {
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | - | - | - | - | - | - | - | - |",
+                    md_cell(stem),
+                    md_cell(planner)
+                );
+                continue;
+            }
             let agree = replay.queries.iter().filter(|q| q.agrees).count();
             let repair: u64 = replay.carried.iter().map(|c| c.repair_expansions).sum();
             let astar: u64 = replay.carried.iter().map(|c| c.astar_expansions).sum();

@@ -1476,6 +1476,10 @@ fn a_gppc_map_over_the_memory_budget_is_refused() {
     assert_eq!(column(&runs, "replans")[1], "", "{runs}");
     let summary = read(&out, "summary.md");
     assert!(summary.contains("- OVER MEMORY big: needs "), "{summary}");
+    assert!(
+        summary.contains("| big | dstar_lite | - | - | - | - | - | - | - | - |"),
+        "{summary}"
+    );
     let e = parse_error(&config.replace("max_memory_mb = 100", "max_memory_mb = 0"));
     assert_eq!(
         e.to_string(),
