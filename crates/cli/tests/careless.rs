@@ -201,19 +201,19 @@ fn careless_inputs_fail_cleanly() {
         // Coordinates of more than two items were read as their first two.
         (
             edit("problems = \"corners\"", "pairs = [{ start = [0, 0, \"junk\", [1, 2]], goal = [2, 2] }]"),
-            Error("c.toml:4:20: invalid length 4, expected an array of length 2"),
+            Error("c.toml:4:20: key `maps[0].pairs[0].start`: invalid length 4, expected an array of length 2"),
         ),
         (
             edit("problems = \"corners\"", "pairs = [{ start = [0, 0], goal = [2, 2, -7] }]"),
-            Error("c.toml:4:35: invalid length 3, expected an array of length 2"),
+            Error("c.toml:4:35: key `maps[0].pairs[0].goal`: invalid length 3, expected an array of length 2"),
         ),
         (
             edit("problems = \"corners\"", "pairs = [{ start = [0], goal = [2, 2] }]"),
-            Error("c.toml:4:20: invalid length 1, expected an array of length 2"),
+            Error("c.toml:4:20: key `maps[0].pairs[0].start`: invalid length 1, expected an array of length 2"),
         ),
         (
             edit("problems = \"corners\"", "problems = \"start\"\nstart = [0, 0, 5]"),
-            Error("c.toml:5:9: invalid length 3, expected an array of length 2"),
+            Error("c.toml:5:9: key `maps[0].start`: invalid length 3, expected an array of length 2"),
         ),
         (edit("files = [\"small.map\"]", "files = \"small.map\""), Error("c.toml:3:9")),
         (edit("small.map\"]", "missing.map\"]"), Error("nothing matches \"missing.map\"")),
@@ -545,7 +545,7 @@ fn careless_inputs_fail_cleanly() {
     for (points, expected) in [
         (
             "points = [{ start = [0.05, 0.05, 9], goal = [0.15, 0.15] }]",
-            "c.toml:4:21: invalid length 3, expected an array of length 2",
+            "c.toml:4:21: key `maps[0].points[0].start`: invalid length 3, expected an array of length 2",
         ),
         (
             "points = []",
@@ -571,7 +571,7 @@ fn careless_inputs_fail_cleanly() {
         ("lines = [5, 3]", "key `lines`: [5, 3] starts after it ends"),
         (
             "lines = [2, 3, 4]",
-            "c.toml:5:9: invalid length 3, expected an array of length 2",
+            "c.toml:5:9: key `maps[0].lines`: invalid length 3, expected an array of length 2",
         ),
         ("every = 0", "key `every` must be at least 1"),
         (

@@ -84,7 +84,8 @@ pub(crate) struct RawConfig {
     /// Free text, copied to the top of summary.md.
     description: Option<String>,
     /// Output directory (default results/<name>).
-    output: Option<String>,
+    #[schemars(with = "Option<String>")]
+    output: Option<Spanned<String>>,
     /// Worker threads; 0 = one per core.
     #[serde(default = "zero")]
     #[schemars(with = "usize", range(max = MAX_THREADS))]
@@ -662,13 +663,92 @@ pub const MAX_TEXT_BYTES: u64 = 16 << 20;
 /// not admissible (`moves = 16` with the Manhattan heuristic, a weight above 1).
 const MAX_ADMISSIBILITY_WARNINGS: usize = 10;
 
-/// The error of a config that does not deserialize: toml's, at its span, except that a
-/// replanning experiment's config (planner-replan's, `kind = "navigate"` or `"dynamic"`)
-/// is named as such, not as an unknown key.
-fn syntax_error(src: &Source<'_>, e: &toml::de::Error) -> ConfigError {
-    let kind = toml::from_str::<toml::Table>(src.text)
+/// The key that the deserializer's `path` names for its error `message` (`seed`,
+/// `planners.a.moves`, `maps[0].files`), without serde_spanned's inner segments; for an
+/// unknown field, the table holding it (its message names the field). `None` at the top.
+fn path_key(path: &serde_path_to_error::Path, message: &str) -> Option<String> {
+    let mut segments: Vec<String> = path
+        .iter()
+        .map(ToString::to_string)
+        .filter(|s| !s.starts_with("$__serde_spanned_private") && !s.starts_with("$__toml_private"))
+        .collect();
+    if message.starts_with("unknown field") {
+        segments.pop();
+    }
+    let mut key = String::new();
+    for segment in segments {
+        if !key.is_empty() && !segment.starts_with('[') {
+            key.push('.');
+        }
+        key.push_str(&segment);
+    }
+    (!key.is_empty()).then_some(key)
+}
+
+/// The top-level `kind` of a config, read alone (any other key ignored).
+#[derive(Deserialize)]
+struct KindOnly {
+    kind: Option<Spanned<toml::Value>>,
+}
+
+/// The key whose value is at byte `at` of the config `text`, as written: the key before
+/// the `=` of that line, within the last table header above it (`planners.a.moves`,
+/// `maps.files`). For errors of the TOML parser itself (a number too large for any
+/// integer), which come with a position and no key. `None` when the line has no `key =`
+/// before `at`.
+fn key_at(text: &str, at: usize) -> Option<String> {
+    let before = text.get(..at)?;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let (key, _) = before[line_start..].split_once('=')?;
+    let key = key.trim();
+    if key.is_empty() || key.starts_with(['[', '#']) {
+        return None;
+    }
+    let above = &before[..line_start];
+    let header = above
+        .lines()
+        .rev()
+        .map(str::trim_start)
+        .find(|l| l.starts_with('['));
+    let Some(header) = header else {
+        return Some(key.to_string());
+    };
+    let table = header
+        .trim_start_matches('[')
+        .split(']')
+        .next()
+        .map_or("", str::trim);
+    if table.is_empty() {
+        return Some(key.to_string());
+    }
+    // An array of tables (`[[maps]]`): its element, counted as the deserializer does.
+    fn name_of(l: &str) -> Option<&str> {
+        l.strip_prefix("[[")
+            .and_then(|l| l.split(']').next())
+            .map(str::trim)
+    }
+    Some(match name_of(header) {
+        Some(_) => {
+            let n = above
+                .lines()
+                .map(str::trim_start)
+                .filter(|l| name_of(l) == Some(table))
+                .count();
+            format!("{table}[{}].{key}", n.saturating_sub(1))
+        }
+        None => format!("{table}.{key}"),
+    })
+}
+
+/// The error of a config that does not deserialize: toml's, at its span, after the key
+/// whose value it is (`key` from the deserializer's path, else the key written at the
+/// span), except that a config with a top-level `kind` is named as the replanning
+/// experiment's config it is (planner-replan's, `kind = "navigate"` or `"dynamic"`), or as
+/// an unknown kind, not as an unknown key.
+fn syntax_error(src: &Source<'_>, e: &toml::de::Error, key: Option<String>) -> ConfigError {
+    let kind = toml::from_str::<KindOnly>(src.text)
         .ok()
-        .and_then(|t| t.get("kind").and_then(|k| k.as_str().map(str::to_string)));
+        .and_then(|t| t.kind);
     // The two tables whose shape is easy to get wrong: when the error is the wrong shape
     // at one of them (its span starts on the line of the key or its header), say which
     // shape it takes.
@@ -704,18 +784,36 @@ fn syntax_error(src: &Source<'_>, e: &toml::de::Error) -> ConfigError {
              (`[maps]`)",
         );
     }
-    match kind.as_deref() {
-        Some(kind @ ("navigate" | "dynamic")) => src.error(
-            e.span(),
+    match kind.as_ref().map(|k| (k.span(), k.get_ref())) {
+        Some((_, toml::Value::String(kind))) if kind == "navigate" || kind == "dynamic" => src
+            .error(
+                e.span(),
+                format!(
+                    "key `kind`: a replanning experiment (kind = \"{kind}\", \
+                     configs/replan/README.md) runs with `gridplan experiment` (or `cargo \
+                     xtask experiment`) alone; `plan`, `report` and `merge` with `--config`, \
+                     `slurm` and Python's run_experiment read the experiment runner's \
+                     configs, which have no `kind`"
+                ),
+            ),
+        Some((span, kind)) => src.error(
+            Some(span),
             format!(
-                "key `kind`: a replanning experiment (kind = \"{kind}\", \
-                 configs/replan/README.md) runs with `gridplan experiment` (or `cargo \
-                 xtask experiment`) alone; `plan`, `report` and `merge` with `--config`, \
-                 `slurm` and Python's run_experiment read the experiment runner's \
-                 configs, which have no `kind`"
+                "key `kind`: unknown kind {kind}: a replanning experiment has kind = \
+                 \"navigate\" or \"dynamic\" (configs/replan/README.md); an experiment runner \
+                 config has no kind"
             ),
         ),
-        _ => src.error(e.span(), e.message().trim()),
+        None => {
+            let message = e.message().trim();
+            let key = key.or_else(|| e.span().and_then(|at| key_at(src.text, at.start)));
+            match key {
+                Some(key) if !message.starts_with("key `") => {
+                    src.error(e.span(), format!("key `{key}`: {message}"))
+                }
+                _ => src.error(e.span(), message),
+            }
+        }
     }
 }
 
@@ -725,7 +823,8 @@ fn syntax_error(src: &Source<'_>, e: &toml::de::Error) -> ConfigError {
 /// its label's line and column.
 pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let src = Source { file: path, text };
-    let raw: RawConfig = toml::from_str(text).map_err(|e| syntax_error(&src, &e))?;
+    let raw: RawConfig = serde_path_to_error::deserialize(toml::Deserializer::new(text))
+        .map_err(|e| syntax_error(&src, e.inner(), path_key(e.path(), e.inner().message())))?;
     let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
     let name = check_top_level(&src, &raw)?;
@@ -786,10 +885,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
 
     Ok(Experiment {
         source: path.to_path_buf(),
-        output: raw
-            .output
-            .map(PathBuf::from)
-            .unwrap_or_else(|| Path::new("results").join(&name)),
+        output: read_output(&src, raw.output)?.unwrap_or_else(|| Path::new("results").join(&name)),
         name,
         description: raw.description,
         threads: *raw.threads.get_ref(),
@@ -856,6 +952,26 @@ fn check_charts(
         out.push(spec);
     }
     Ok(out)
+}
+
+/// The `output` directory a config names, if any; one that names no directory (empty, or
+/// a root alone) is refused at the key, as the sweep would refuse it later without a
+/// position ([`crate::outdir::OutdirError::NoName`]).
+fn read_output(
+    src: &Source<'_>,
+    output: Option<Spanned<String>>,
+) -> Result<Option<PathBuf>, ConfigError> {
+    let Some(output) = output else {
+        return Ok(None);
+    };
+    let span = output.span();
+    let path = PathBuf::from(output.into_inner());
+    let root_alone = path.has_root() && path.parent().is_none();
+    if path.as_os_str().is_empty() || root_alone {
+        let error = crate::outdir::OutdirError::NoName { path };
+        return Err(src.error(Some(span), format!("key `output`: {error}")));
+    }
+    Ok(Some(path))
 }
 
 /// The tables `outputs = [...]` asks for (default: all); an empty list is refused at the key.
