@@ -692,6 +692,25 @@ fn the_runner_report_and_paper_read_no_process_state_and_print_nothing() {
     }
 }
 
+/// The command line writes its lines to stderr through `to_stderr!`, which loses a line
+/// when stderr is closed (`2>&1 | head -1`), where `eprintln!` panics (status 101, and a
+/// sweep's results lost to a warning). xtask prints through the command line's functions.
+#[test]
+fn the_command_line_writes_stderr_without_panicking() {
+    for (relative, text) in sources(&["crates/cli/src", "xtask/src"]) {
+        for (n, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or_default();
+            for word in ["eprintln!(", "eprint!("] {
+                assert!(
+                    !code.contains(word),
+                    "{relative}:{}: `{word}` panics when stderr is a closed pipe; use `to_stderr!` (crates/cli)",
+                    n + 1
+                );
+            }
+        }
+    }
+}
+
 /// The libraries' error types carry what went wrong as fields, never as one preformatted
 /// message (a caller, the Python package among them, can then tell the cases apart): no
 /// `#[error("{0}")]` variant or struct whose payload is a `String` in any crate but the

@@ -359,14 +359,48 @@ fn parse_cost_rule(text: &str) -> Result<planner_api::CostRule, String> {
     }
 }
 
+/// Writes one line (`format!` arguments) to stderr, as `eprintln!` does, except that a
+/// stderr that cannot be written (closed early: `2>&1 | head -1`) loses the line instead of
+/// panicking: a warning or a note is never worth a sweep's results, and an error's exit
+/// status still says what happened. Every line gridplan writes to stderr goes through it
+/// (`eprintln!` is refused in this crate by xtask's tidy test).
+macro_rules! to_stderr {
+    ($($arg:tt)*) => {
+        $crate::stderr_line(format_args!($($arg)*))
+    };
+}
+
+/// [`to_stderr!`]'s write: one line, its error ignored.
+fn stderr_line(line: std::fmt::Arguments<'_>) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}
+
+/// Stderr for `tracing`'s events, whose write errors are dropped: tracing-subscriber reports
+/// a failed write with `eprintln!`, which panics when stderr is a closed pipe (a warning
+/// then ended the command with status 101 before a sweep wrote anything).
+struct QuietStderr;
+
+impl std::io::Write for QuietStderr {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let _ = std::io::stderr().lock().write_all(buf);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        let _ = std::io::stderr().lock().flush();
+        Ok(())
+    }
+}
+
 /// Sends `tracing` output to stderr, filtered by `RUST_LOG` (default: warnings), plain
-/// text unless stderr is a terminal.
+/// text unless stderr is a terminal. A closed stderr loses the events, nothing else.
 pub fn init_logging() {
     tracing_subscriber::fmt()
         .with_env_filter(
             EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("warn")),
         )
-        .with_writer(std::io::stderr)
+        .with_writer(|| QuietStderr)
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .with_target(false)
         .without_time()
@@ -563,7 +597,7 @@ pub fn exit(result: Result<(), CliError>) -> ExitCode {
 /// config text: labels, paths; no control sequence reaches the terminal), and returns the
 /// exit status `code`.
 pub fn fail(error: &dyn std::fmt::Display, code: u8) -> ExitCode {
-    eprintln!("error: {}", planner_text::terminal(&error.to_string()));
+    to_stderr!("error: {}", planner_text::terminal(&error.to_string()));
     ExitCode::from(code)
 }
 
@@ -588,10 +622,12 @@ fn install_handler() -> Result<(), ctrlc::Error> {
     let ignored = signals::inherited_ignored();
     let handler = || {
         if GRACEFUL.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
-            eprintln!("stopping: finishing the runs in progress (interrupt again to quit at once)");
+            to_stderr!(
+                "stopping: finishing the runs in progress (interrupt again to quit at once)"
+            );
             return;
         }
-        eprintln!("interrupted");
+        to_stderr!("interrupted");
         std::process::exit(i32::from(EXIT_INTERRUPTED));
     };
     // `try_set_handler` refuses when a signal's disposition is not the default, which an
@@ -720,12 +756,12 @@ impl sweep::Progress for Bar {
 
     fn resumed(&self, done: u64, total: u64, output: &Path) {
         if done == 0 {
-            eprintln!(
+            to_stderr!(
                 "nothing to resume for {}: running every run",
                 planner_text::terminal(&output.display().to_string())
             );
         } else {
-            eprintln!("resuming: {done} of {total} runs already recorded");
+            to_stderr!("resuming: {done} of {total} runs already recorded");
         }
     }
 }
@@ -805,7 +841,7 @@ fn replan_experiment(
                 "interrupted: no results were written, {} is as it was",
                 output.display()
             );
-            eprintln!("{}", planner_text::terminal(&text));
+            to_stderr!("{}", planner_text::terminal(&text));
             std::process::exit(i32::from(EXIT_INTERRUPTED));
         }
         done => done?,
@@ -876,12 +912,12 @@ pub fn run(command: Command) -> Result<(), CliError> {
             if let Some(n_recorded) = report.interrupted {
                 match n_recorded as usize == report.n_runs {
                     // Stopped while the results were written: every run is in the stream.
-                    true => eprintln!(
+                    true => to_stderr!(
                         "interrupted while writing the results of all {} runs, which are kept; \
                          rerun with --resume to write them without running any again",
                         report.n_runs
                     ),
-                    false => eprintln!(
+                    false => to_stderr!(
                         "interrupted after {n_recorded} of {} runs; rerun with --resume to continue",
                         report.n_runs
                     ),
@@ -1101,19 +1137,19 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 .is_none_or(|n| n > 0);
             if trace.is_some() && result.events.is_empty() && result.expanded.is_empty() && searched
             {
-                eprintln!(
+                to_stderr!(
                     "note: {} records no search steps (it lists no expanded cells), so the trace holds only its start, goal and end",
                     planner_text::terminal(&result.record.planner)
                 );
             }
             if trace.is_some() && result.events.len() >= planner_api::MAX_SEARCH_EVENTS {
-                eprintln!(
+                to_stderr!(
                     "note: the trace holds the search's first {} steps (planner_api::MAX_SEARCH_EVENTS); the search went on",
                     planner_api::MAX_SEARCH_EVENTS
                 );
             }
             if result.hit_default_budget() {
-                eprintln!(
+                to_stderr!(
                     "note: stopped at plan's default budget of {} expansions; raise it with --max-expansions",
                     planner_runner::plan::DEFAULT_PLAN_EXPANSIONS
                 );
@@ -1133,7 +1169,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 let line = format!("serving {} at http://{addr}/\n", dir.display());
                 let _ = write_text(&line);
                 if !addr.ip().is_loopback() {
-                    eprintln!(
+                    to_stderr!(
                         "note: listening on {}, not only this machine: whoever reaches it can \
                          read the maps and results under {} and run planners here",
                         addr.ip(),

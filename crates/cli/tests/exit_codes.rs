@@ -568,3 +568,54 @@ fn a_trace_without_steps_is_said_for_coverage_and_rrt() {
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("note: rrt records no search steps"), "{err}");
 }
+
+/// A pipe whose reader is gone, as stderr is in `gridplan ... 2>&1 | head -1` once `head`
+/// has exited: every write to it fails (EPIPE).
+fn closed_pipe() -> Stdio {
+    let mut reader = std::process::Command::new("true")
+        .stdin(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let writer = reader.stdin.take().unwrap();
+    reader.wait().unwrap();
+    Stdio::from(writer)
+}
+
+/// Runs gridplan with `args` in `dir`, its stderr a closed pipe; returns its exit code.
+fn gridplan_without_stderr(dir: &Path, args: &[&str]) -> i32 {
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("RUST_LOG")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(closed_pipe())
+        .spawn()
+        .unwrap();
+    common::finish(child, &format!("gridplan {args:?}"))
+        .code
+        .unwrap()
+}
+
+#[test]
+fn a_closed_stderr_loses_its_lines_and_nothing_else() {
+    // Before, a warning (tracing-subscriber reports its failed write with `eprintln!`) or
+    // an error line panicked: status 101, and the sweep wrote no results.
+    let dir = scratch("closed-stderr");
+    std::fs::write(dir.join("s.map"), common::SMALL).unwrap();
+    // Manhattan under eight moves can overestimate: the config warns as it is read.
+    std::fs::write(
+        dir.join("c.toml"),
+        "name = \"w\"\n[[maps]]\nfiles = [\"s.map\"]\npairs = [{ start = [0, 0], goal = [2, 2] }]\n\
+         [planners.a]\nplanner = \"astar\"\nmoves = 8\nheuristic = \"manhattan\"\n",
+    )
+    .unwrap();
+    let warned = common::gridplan(&dir, &["experiment", "c.toml", "--output", "seen"]);
+    assert!(warned.stderr.contains("WARN"), "{}", warned.describe());
+    let args = ["experiment", "c.toml", "--output", "out", "--quiet"];
+    assert_eq!(gridplan_without_stderr(&dir, &args), 0);
+    assert!(dir.join("out/runs.csv").is_file());
+    // An error's line is lost too; its status still says what happened.
+    let args = ["plan", "missing.map", "--planner", "astar"];
+    assert_eq!(gridplan_without_stderr(&dir, &args), 4);
+}
