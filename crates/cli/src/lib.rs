@@ -435,8 +435,13 @@ pub enum CliError {
     /// Standard output could not be written (not a closed pipe: a full disk).
     #[error("cannot write to stdout: {0}")]
     Stdout(std::io::Error),
-    /// A replanning experiment ran, and some of its replans disagree with A* from scratch.
-    #[error("{mismatches} replans disagree with A* from scratch (see {})", output.display())]
+    /// A replanning experiment ran, and some of its checks failed: replans that disagree
+    /// with A* from scratch, or GPPC queries that disagree with their recorded optimum.
+    #[error(
+        "{mismatches} checks failed: replans that disagree with A* from scratch, or GPPC \
+         queries that disagree with their recorded optimum (see {})",
+        output.display()
+    )]
     ReplanMismatches {
         /// The replans that disagree.
         mismatches: u64,
@@ -846,8 +851,12 @@ fn replan_experiment(
         }
         done => done?,
     };
+    let queries = match done.queries {
+        0 => String::new(),
+        n => format!(", {n} GPPC queries checked against their recorded optimum"),
+    };
     write_text(&format!(
-        "{}: {} runs, {} replans checked against A* from scratch, {} mismatches -> {}\n",
+        "{}: {} runs, {} replans checked against A* from scratch{queries}, {} mismatches -> {}\n",
         done.name,
         done.runs,
         done.replans,
@@ -878,6 +887,18 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 if resume || shard.is_some() {
                     return Err(CliError::Usage(format!(
                         "{}: --resume and --shard do not apply to navigate or dynamic configs",
+                        config.display()
+                    )));
+                }
+                // A shard the environment gives (a Slurm array task) would have each task
+                // run the whole experiment into the same output.
+                let from_env = planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())
+                    .map_err(|e| CliError::Usage(e.to_string()))?;
+                if let Some(shard) = from_env {
+                    return Err(CliError::Usage(format!(
+                        "{}: the environment gives shard {shard} (SLURM_ARRAY_TASK_ID or \
+                         JOB_COMPLETION_INDEX), but navigate and dynamic configs run whole: \
+                         run them outside a job array",
                         config.display()
                     )));
                 }

@@ -619,3 +619,37 @@ fn a_closed_stderr_loses_its_lines_and_nothing_else() {
     let args = ["plan", "missing.map", "--planner", "astar"];
     assert_eq!(gridplan_without_stderr(&dir, &args), 4);
 }
+
+#[test]
+fn a_replanning_experiment_in_a_job_array_is_refused() {
+    // Before, a shard from the environment was ignored for navigate and dynamic configs:
+    // every task of an array ran the whole experiment into the same output.
+    let dir = scratch("replan-array");
+    let maps = root().join("maps/movingai");
+    std::fs::write(
+        dir.join("nav.toml"),
+        format!(
+            "kind = \"navigate\"\nname = \"nav\"\nradii = [1]\n[[maps]]\nmap = {:?}\nscen = {:?}\nscenarios = 2\n",
+            maps.join("arena.map").display().to_string(),
+            maps.join("arena.map.scen").display().to_string(),
+        ),
+    )
+    .unwrap();
+    let args = ["experiment", "nav.toml", "--output", "out"];
+    let env = [
+        ("SLURM_ARRAY_TASK_ID", "1"),
+        ("SLURM_ARRAY_TASK_COUNT", "2"),
+    ];
+    let out = common::gridplan_with(&dir, &args, &env, Stdio::piped());
+    common::refused(&out, 2, "navigate and dynamic configs run whole");
+    assert!(!dir.join("out").exists());
+    // Outside an array it runs, and says what it checked.
+    let out = common::gridplan(&dir, &args);
+    common::succeeded(&out);
+    assert!(
+        out.stdout
+            .contains("replans checked against A* from scratch, 0 mismatches"),
+        "{}",
+        out.describe()
+    );
+}
