@@ -775,20 +775,16 @@ fn a_killed_runs_working_files_go_with_the_next_run() {
     assert_eq!(beside(&out), Vec::<String>::new());
 }
 
-/// A GPPC replay's counts agree everywhere: the command line's (the returned summary),
-/// summary.md's head and its table. A replay (a scenario file and a planner) is a run, its
-/// carried queries its replans, its checked queries counted apart. summary.md's head read
-/// "0 runs, 0 replans" before while the command line said 4 runs.
-#[test]
-fn gppc_counts_agree_in_every_output() {
-    let dir = scratch("gppc-counts");
-    std::fs::create_dir_all(&dir).unwrap();
+/// Writes into `dir` a 4 x 4 GPPC scenario `s.scen` (patches `p.patch`) of two batches of
+/// three queries, the second after walls at (1, 1) and (2, 1), and `g.toml`, a dynamic
+/// config replaying it with D* Lite and A*, every query checked and carried.
+fn small_gppc(dir: &Path) {
+    std::fs::create_dir_all(dir).unwrap();
     std::fs::write(
         dir.join("p.patch"),
         "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 1\nwidth 2\nmap\n@@\n",
     )
     .unwrap();
-    // Two batches of three queries; the second batch walls (1, 1) and (2, 1).
     std::fs::write(
         dir.join("s.scen"),
         "version 2\nheight 4\nwidth 4\ncost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n\
@@ -801,6 +797,16 @@ fn gppc_counts_agree_in_every_output() {
         "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"dstar_lite\", \"astar\"]\n[[gppc]]\nscen = \"s.scen\"\nquery_every = 1\ncarry_every = 1\n",
     )
     .unwrap();
+}
+
+/// A GPPC replay's counts agree everywhere: the command line's (the returned summary),
+/// summary.md's head and its table. A replay (a scenario file and a planner) is a run, its
+/// carried queries its replans, its checked queries counted apart. summary.md's head read
+/// "0 runs, 0 replans" before while the command line said 4 runs.
+#[test]
+fn gppc_counts_agree_in_every_output() {
+    let dir = scratch("gppc-counts");
+    small_gppc(&dir);
     let out = dir.join("out");
     let done = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap();
     // Two replays; each checks 6 queries and carries the first batch's 3.
@@ -1366,24 +1372,7 @@ fn an_empty_list_in_a_table_is_refused_at_its_value() {
 #[test]
 fn gppc_replays_are_runs_in_every_table() {
     let dir = scratch("gppc-tables");
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(
-        dir.join("p.patch"),
-        "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 1\nwidth 2\nmap\n@@\n",
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("s.scen"),
-        "version 2\nheight 4\nwidth 4\ncost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n\
-         Q 0 0 0 3 3 4.2426406871\nQ 0 0 1 3 1 3\nQ 0 0 3 3 0 4.2426406871\n\
-         P 1 1 1 1\nQ 1 0 0 3 3 5.4142135624\nQ 1 0 1 3 1 5\nQ 1 0 3 3 0 5.4142135624\n",
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("g.toml"),
-        "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"dstar_lite\", \"astar\"]\n[[gppc]]\nscen = \"s.scen\"\nquery_every = 1\ncarry_every = 1\n",
-    )
-    .unwrap();
+    small_gppc(&dir);
     let out = dir.join("out");
     let done = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap();
     assert_eq!((done.runs, done.replans, done.mismatches), (2, 6, 0));
