@@ -48,6 +48,18 @@ pub const PER_MAP: &str = "Per planner label and map, over every run, repeats in
 /// The head of the per-map and overall tables.
 pub const HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Peak heap |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
+/// The head of the per-map and overall tables of a sweep with maps with cell costs: a
+/// `Median cost` column before `Peak heap`.
+pub const COST_HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Median cost | Peak heap |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+
+/// What the per-map table shows on maps with cell costs, after [`PER_MAP`].
+pub const COSTS: &str = "Maps with cell costs: their runs are not compared with the scenario optima, which are unweighted lengths (`Optimal` and the suboptimality leave them out, `-` for such a map alone); `Median cost` is the median path `cost` (runs.csv's `cost` column) of the runs with one, the measure least-cost planners minimise.\n\n";
+
+/// Whether some map of the experiment has cell costs (the tables then show path costs).
+pub fn has_costs(experiment: &Experiment) -> bool {
+    experiment.maps.iter().any(|m| m.grid.is_weighted())
+}
+
 /// At most this many bucket rows per map in the by-bucket tables: more buckets are grouped
 /// into ranges of equal width.
 pub const MAX_BUCKET_ROWS: u32 = 8;

@@ -543,13 +543,23 @@ fn count_groups(
     let mut studies: Vec<StudyCounts> = specs.iter().map(|_| Vec::new()).collect();
     let mut indexes: Vec<StudyIndex> = specs.iter().map(|_| StudyIndex::default()).collect();
     let (mut valid, mut any_bucket, mut stated) = (false, false, false);
+    // Maps with cell costs: their scenario optima, unweighted lengths, do not apply.
+    let weighted: std::collections::HashSet<&str> = experiment
+        .maps
+        .iter()
+        .filter(|m| m.grid.is_weighted())
+        .map(|m| m.name.as_str())
+        .collect();
     passes.pass(&mut |r| {
         if r.is_invalid() {
             return;
         }
         valid = true;
         any_bucket |= r.bucket.is_some();
-        stated |= r.optimal_length.is_some();
+        let optimum = r
+            .optimal_length
+            .filter(|_| !weighted.contains(r.map.as_str()));
+        stated |= optimum.is_some();
         if let Some(l) = label_of(r) {
             let c = &mut counts[l];
             let expansions = r.counters.get("n_expanded").is_some();
@@ -558,7 +568,7 @@ fn count_groups(
             c.found += u64::from(r.is_found());
             c.optimal += u64::from(
                 r.length
-                    .zip(r.optimal_length)
+                    .zip(optimum)
                     .is_some_and(|(len, opt)| matches_optimum(len, opt)),
             );
             if let Some(b) = r.bucket {

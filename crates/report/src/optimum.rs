@@ -35,11 +35,26 @@ impl Section for Optimum {
     }
 }
 
-/// The section's title, text and table head.
+/// The section's title and text.
 pub const HEAD: &str = "## Lengths against the scenario optima
 
 Per planner and map, over every run, repeats included: runs with a stated optimum, how many found a path, how many of those have the optimal Euclidean length (relative tolerance 1e-4), and the largest excess over the optimum. Only 8-connected octile planners without corner cutting solve the problem the optima are for.
 
-| Algorithm | Map | Runs | Found | Optimal | Largest excess |
+";
+
+/// The section's note when some map with stated optima has cell costs (its runs are left
+/// out of the table).
+pub const WEIGHTED: &str =
+    "Maps with cell costs are not compared: the scenario optima are unweighted lengths.
+
+";
+
+/// Whether map `map` has stated optima and cell costs, so that the table leaves it out.
+pub fn left_out(map: &planner_runner::config::MapEntry) -> bool {
+    map.grid.is_weighted() && map.problems.iter().any(|p| p.optimal_length.is_some())
+}
+
+/// The table's head.
+pub const TABLE_HEAD: &str = "| Algorithm | Map | Runs | Found | Optimal | Largest excess |
 |---|---|---:|---:|---:|---:|
 ";

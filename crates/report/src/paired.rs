@@ -112,6 +112,7 @@ struct Run {
     time_ms: f64,
     expanded: Option<u64>,
     length: Option<f64>,
+    cost: Option<f64>,
     found: bool,
 }
 
@@ -122,6 +123,7 @@ struct Problem {
     time_ms: f64,
     expanded: Option<f64>,
     length: Option<f64>,
+    cost: Option<f64>,
 }
 
 fn median(values: &[f64]) -> Option<f64> {
@@ -138,11 +140,17 @@ impl Problem {
             .filter(|r| r.found)
             .filter_map(|r| r.length)
             .collect();
+        let costs: Vec<f64> = runs
+            .iter()
+            .filter(|r| r.found)
+            .filter_map(|r| r.cost)
+            .collect();
         Problem {
             solved: !runs.is_empty() && runs.iter().all(|r| r.found),
             time_ms: median(&times).unwrap_or(0.0),
             expanded: expanded.and_then(|e| median(&e)),
             length: median(&lengths),
+            cost: median(&costs),
         }
     }
 }
@@ -158,6 +166,7 @@ struct Comparison {
     expanded: Vec<f64>,
     time: Vec<f64>,
     length: Vec<f64>,
+    cost: Vec<f64>,
 }
 
 impl Comparison {
@@ -181,6 +190,7 @@ impl Comparison {
         self.time
             .extend(positive(Some(label.time_ms), Some(baseline.time_ms)));
         self.length.extend(positive(label.length, baseline.length));
+        self.cost.extend(positive(label.cost, baseline.cost));
     }
 }
 
@@ -225,6 +235,7 @@ impl PerProblem {
                     time_ms: r.time_ms,
                     expanded: r.counters.get("n_expanded"),
                     length: r.length,
+                    cost: r.cost,
                     found: r.is_found(),
                 });
         })?;
@@ -294,9 +305,13 @@ pub fn table(
 
 fn render(experiment: &Experiment, base: usize, comparisons: &[Comparison]) -> String {
     let baseline = &experiment.planners[base].label;
+    let costs = crate::aggregate::has_costs(experiment);
     let mut out = format!(
-        "## Planners compared problem by problem\n\nEach label against {}, over the problems both ran: the problems solved (a path in every repeat) by both, by the label only and by the baseline only; then, over the problems solved by both, the geometric mean of the label's value over the baseline's (each the median over the repeats; below 1 favours the label), with the problems where the label needs fewer expansions or less time. Time: the geometric mean with its 95 % interval (Student's t on the logarithms); it compares times measured in this sweep, on its machine and threads.\n\n| Planner | Problems | Solved by both | Only planner | Only baseline | Expansions ratio | Fewer expansions | Time ratio (95 % interval) | Less time | Length ratio | Largest length ratio |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
-        md_code(baseline)
+        "## Planners compared problem by problem\n\nEach label against {}, over the problems both ran: the problems solved (a path in every repeat) by both, by the label only and by the baseline only; then, over the problems solved by both, the geometric mean of the label's value over the baseline's (each the median over the repeats; below 1 favours the label), with the problems where the label needs fewer expansions or less time. Time: the geometric mean with its 95 % interval (Student's t on the logarithms); it compares times measured in this sweep, on its machine and threads.{}\n\n| Planner | Problems | Solved by both | Only planner | Only baseline | Expansions ratio | Fewer expansions | Time ratio (95 % interval) | Less time | Length ratio | Largest length ratio |{}\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|{}\n",
+        md_code(baseline),
+        if costs { COSTS } else { "" },
+        if costs { " Cost ratio |" } else { "" },
+        if costs { "---:|" } else { "" },
     );
     for (l, c) in comparisons.iter().enumerate() {
         if l == base || c.problems == 0 {
@@ -327,9 +342,13 @@ fn render(experiment: &Experiment, base: usize, comparisons: &[Comparison]) -> S
             .copied()
             .reduce(f64::max)
             .map_or("-".into(), ratio);
+        let cost = match costs {
+            true => format!(" {} |", geo(&c.cost)),
+            false => String::new(),
+        };
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {} | {} | {time} | {} | {} | {largest} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {time} | {} | {} | {largest} |{cost}",
             md_cell(&experiment.planners[l].label),
             c.problems,
             c.both,
@@ -344,6 +363,9 @@ fn render(experiment: &Experiment, base: usize, comparisons: &[Comparison]) -> S
     out.push('\n');
     out
 }
+
+/// The section's note on a sweep with maps with cell costs.
+const COSTS: &str = " Length: the Euclidean length, unweighted; on maps with cell costs least-cost planners minimise the path `cost` instead, and the cost ratio compares it, over the problems solved by both where both runs have a cost.";
 
 /// A ratio with three decimals, or three significant digits below 0.01 (`1.50e-4`).
 fn ratio(r: f64) -> String {

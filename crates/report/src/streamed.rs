@@ -19,8 +19,8 @@ use planner_runner::record::RunRecord;
 use planner_runner::RunnerError;
 
 use crate::aggregate::{
-    bucket_ranges, format_bytes, format_number, parameters, Measured, HEADER, PER_MAP,
-    TIMING_WARNING,
+    bucket_ranges, format_bytes, format_number, has_costs, parameters, Measured, COSTS,
+    COST_HEADER, HEADER, PER_MAP, TIMING_WARNING,
 };
 use crate::exact::quantiles;
 use crate::md_cell;
@@ -76,6 +76,12 @@ impl<'e> Layout<'e> {
         self.experiment.maps.len()
     }
 
+    /// Whether map `m` has cell costs: its scenario optima, unweighted lengths, do not
+    /// apply to its least-cost paths.
+    fn weighted(&self, m: usize) -> bool {
+        self.experiment.maps[m].grid.is_weighted()
+    }
+
     /// Calls `visit(label, map, bucket row)` once per map the valid record `r` counts in
     /// (the in-memory tables look records up by map name, problem and label).
     fn place(&self, r: &RunRecord, visit: &mut impl FnMut(usize, usize, Option<usize>)) {
@@ -117,6 +123,7 @@ struct Acc {
     lengths: u64,
     length_min: f64,
     length_max: f64,
+    costs: u64,
 }
 
 impl Default for Acc {
@@ -136,13 +143,21 @@ impl Default for Acc {
             lengths: 0,
             length_min: f64::MAX,
             length_max: f64::MIN,
+            costs: 0,
         }
     }
 }
 
-/// The suboptimality of a run with a length and a stated optimum ([`crate::aggregate`]'s).
-fn subopt(r: &RunRecord) -> Option<f64> {
-    let (l, o) = (r.length?, r.optimal_length?);
+/// The optimum a run's length is compared with: the stated one, except on a map with cell
+/// costs (`weighted`), whose optima are unweighted lengths.
+fn optimum(r: &RunRecord, weighted: bool) -> Option<f64> {
+    r.optimal_length.filter(|_| !weighted)
+}
+
+/// The suboptimality of a run with a length and a stated optimum ([`crate::aggregate`]'s)
+/// on a map without cell costs.
+fn subopt(r: &RunRecord, weighted: bool) -> Option<f64> {
+    let (l, o) = (r.length?, optimum(r, weighted)?);
     Some(if matches_optimum(l, o) {
         0.0
     } else {
@@ -151,11 +166,11 @@ fn subopt(r: &RunRecord) -> Option<f64> {
 }
 
 impl Acc {
-    fn add(&mut self, r: &RunRecord) {
+    fn add(&mut self, r: &RunRecord, weighted: bool) {
         self.runs += 1;
         self.found += u64::from(r.is_found());
-        self.stated |= r.optimal_length.is_some();
-        if let (Some(l), Some(o)) = (r.length, r.optimal_length) {
+        self.stated |= optimum(r, weighted).is_some();
+        if let (Some(l), Some(o)) = (r.length, optimum(r, weighted)) {
             self.optimal += u64::from(matches_optimum(l, o));
         }
         if let Some(e) = r.counters.get("n_expanded") {
@@ -164,7 +179,7 @@ impl Acc {
             self.expansions_min = self.expansions_min.min(e as f64);
             self.expansions_max = self.expansions_max.max(e as f64);
         }
-        if let Some(s) = subopt(r) {
+        if let Some(s) = subopt(r, weighted) {
             self.subopt += 1;
             self.subopt_max = self.subopt_max.max(s);
         }
@@ -174,6 +189,7 @@ impl Acc {
             self.length_min = self.length_min.min(length);
             self.length_max = self.length_max.max(length);
         }
+        self.costs += u64::from(r.cost.is_some());
     }
 }
 
@@ -192,7 +208,8 @@ const EXPANSIONS: usize = 0;
 const TIME: usize = 1;
 const SUBOPT: usize = 2;
 const LENGTH: usize = 3;
-const QUANTITIES: usize = 4;
+const COST: usize = 4;
+const QUANTITIES: usize = 5;
 
 /// The aggregate section's groups, summed and with their quantiles selected.
 struct Aggregated<'e> {
@@ -223,8 +240,9 @@ fn accumulate(layout: &Layout<'_>, passes: &dyn RecordPasses) -> Result<Sums, Ru
     let mut counters: Vec<Vec<CounterAcc>> = vec![Vec::new(); n_labels];
     passes.pass(&mut |r| {
         layout.place(r, &mut |l, m, row| {
-            groups[l * n_maps + m].add(r);
-            groups[n_labels * n_maps + l].add(r);
+            let weighted = layout.weighted(m);
+            groups[l * n_maps + m].add(r, weighted);
+            groups[n_labels * n_maps + l].add(r, weighted);
             if let Some(k) = row {
                 let b = &mut buckets[k * n_labels + l];
                 b.0 += 1;
@@ -308,6 +326,7 @@ impl<'e> Aggregated<'e> {
             wanted[QUANTITIES * g + TIME] = &[0.5, 0.25, 0.75];
             sizes[QUANTITIES * g + SUBOPT] = acc.subopt;
             sizes[QUANTITIES * g + LENGTH] = acc.lengths;
+            sizes[QUANTITIES * g + COST] = acc.costs;
         }
         for (k, &(runs, expansions)) in buckets.iter().enumerate() {
             sizes[bucket_base + 2 * k] = expansions;
@@ -327,11 +346,14 @@ impl<'e> Aggregated<'e> {
                             emit(QUANTITIES * g + EXPANSIONS, e);
                         }
                         emit(QUANTITIES * g + TIME, r.time_ms);
-                        if let Some(s) = subopt(r) {
+                        if let Some(s) = subopt(r, layout.weighted(m)) {
                             emit(QUANTITIES * g + SUBOPT, s);
                         }
                         if let Some(length) = r.length {
                             emit(QUANTITIES * g + LENGTH, length);
+                        }
+                        if let Some(cost) = r.cost {
+                            emit(QUANTITIES * g + COST, cost);
                         }
                     }
                     if let Some(k) = row {
@@ -390,7 +412,14 @@ impl<'e> Aggregated<'e> {
             out.push_str(TIMING_WARNING);
         }
         out.push_str(PER_MAP);
-        out.push_str(HEADER);
+        let costs = has_costs(experiment);
+        let header = if costs {
+            out.push_str(COSTS);
+            COST_HEADER
+        } else {
+            HEADER
+        };
+        out.push_str(header);
         let row = |out: &mut String, label: &str, map: &str, g: usize| {
             let acc = &groups[g];
             if acc.runs == 0 {
@@ -427,9 +456,13 @@ impl<'e> Aggregated<'e> {
                 Measured::Redacted => "[memory]".to_string(),
                 Measured::Shown => format_bytes(acc.heap),
             };
+            let cost = match (costs, median(QUANTITIES * g + COST)) {
+                (false, _) => String::new(),
+                (true, m) => format!(" {} |", m.map_or("-".into(), format_number)),
+            };
             let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} | {heap} |",
+            "| {} | {} | {} | {} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} |{cost} {heap} |",
             md_cell(label),
             md_cell(map),
             acc.runs,
@@ -443,7 +476,7 @@ impl<'e> Aggregated<'e> {
         }
         out.push('\n');
         out.push_str("Overall, per planner label: every run on every map.\n\n");
-        out.push_str(HEADER);
+        out.push_str(header);
         for (l, planner) in experiment.planners.iter().enumerate() {
             row(&mut out, &planner.label, "all", n_labels * n_maps + l);
         }
@@ -614,6 +647,9 @@ pub fn optimum_table(
             return;
         }
         layout.place_any(r, &mut |l, m, _| {
+            if layout.weighted(m) {
+                return;
+            }
             let g = &mut groups[l * n_maps + m];
             g.0 += 1;
             if let (Some(l), Some(o)) = (r.length, r.optimal_length) {
@@ -624,6 +660,13 @@ pub fn optimum_table(
         });
     })?;
     let mut out = String::from(crate::optimum::HEAD);
+    if experiment.maps.iter().any(crate::optimum::left_out) {
+        out.push_str(crate::optimum::WEIGHTED);
+    }
+    if groups.iter().all(|g| g.0 == 0) {
+        return Ok(out);
+    }
+    out.push_str(crate::optimum::TABLE_HEAD);
     for (l, planner) in experiment.planners.iter().enumerate() {
         for (m, map) in experiment.maps.iter().enumerate() {
             let (runs, found, optimal, excess) = groups[l * n_maps + m];

@@ -8,8 +8,8 @@
 use std::fmt::Write as _;
 
 use planner_report::aggregate::{
-    bucket_ranges, format_bytes, format_number, parameters, Measured, HEADER, MAX_BUCKET_ROWS,
-    PER_MAP, TIMING_WARNING,
+    bucket_ranges, format_bytes, format_number, parameters, Measured, COSTS, COST_HEADER, HEADER,
+    MAX_BUCKET_ROWS, PER_MAP, TIMING_WARNING,
 };
 use planner_report::optimum::matches_optimum;
 use planner_report::{md_cell, median_iqr, Context};
@@ -26,7 +26,12 @@ pub fn tables(context: &Context<'_>, measured: Measured) -> String {
         out.push_str(TIMING_WARNING);
     }
     out.push_str(PER_MAP);
-    out.push_str(HEADER);
+    let costs = experiment.maps.iter().any(|m| m.grid.is_weighted());
+    if costs {
+        out.push_str(COSTS);
+    }
+    let header = if costs { COST_HEADER } else { HEADER };
+    out.push_str(header);
     for planner in &experiment.planners {
         for map in &experiment.maps {
             let runs = runs_of(
@@ -35,15 +40,29 @@ pub fn tables(context: &Context<'_>, measured: Measured) -> String {
                 map.problems.iter().map(|p| p.index),
                 &map.name,
             );
-            row(&mut out, &planner.label, &map.name, &runs, measured);
+            row(
+                &mut out,
+                context,
+                (&planner.label, &map.name),
+                &runs,
+                measured,
+                costs,
+            );
         }
     }
     out.push('\n');
     out.push_str("Overall, per planner label: every run on every map.\n\n");
-    out.push_str(HEADER);
+    out.push_str(header);
     for planner in &experiment.planners {
         let runs = label_runs(context, planner);
-        row(&mut out, &planner.label, "all", &runs, measured);
+        row(
+            &mut out,
+            context,
+            (&planner.label, "all"),
+            &runs,
+            measured,
+            costs,
+        );
     }
     out.push('\n');
     out.push_str(&by_bucket(context, measured));
@@ -162,16 +181,34 @@ fn label_runs<'r>(context: &Context<'r>, planner: &PlannerSpec) -> Vec<&'r RunRe
         .collect()
 }
 
-fn row(out: &mut String, label: &str, map: &str, runs: &[&RunRecord], measured: Measured) {
+/// A run's stated optimum, except on a map with cell costs (a run with a `cost`, or any run
+/// of such a map), whose optima are unweighted lengths.
+fn optimum(context: &Context<'_>, r: &RunRecord) -> Option<f64> {
+    let weighted = context
+        .experiment
+        .maps
+        .iter()
+        .any(|m| m.name == r.map && m.grid.is_weighted());
+    r.optimal_length.filter(|_| !weighted)
+}
+
+fn row(
+    out: &mut String,
+    context: &Context<'_>,
+    (label, map): (&str, &str),
+    runs: &[&RunRecord],
+    measured: Measured,
+    costs: bool,
+) {
     if runs.is_empty() {
         return;
     }
     let found = runs.iter().filter(|r| r.is_found()).count();
     let with_optimum: Vec<(f64, f64)> = runs
         .iter()
-        .filter_map(|r| Some((r.length?, r.optimal_length?)))
+        .filter_map(|r| Some((r.length?, optimum(context, r)?)))
         .collect();
-    let stated = runs.iter().any(|r| r.optimal_length.is_some());
+    let stated = runs.iter().any(|r| optimum(context, r).is_some());
     let optimal = if stated {
         with_optimum
             .iter()
@@ -225,9 +262,17 @@ fn row(out: &mut String, label: &str, map: &str, runs: &[&RunRecord], measured: 
         Measured::Redacted => "[memory]".to_string(),
         Measured::Shown => format_bytes(runs.iter().map(|r| r.peak_heap_bytes).max().unwrap_or(0)),
     };
+    let path_costs: Vec<f64> = runs.iter().filter_map(|r| r.cost).collect();
+    let cost = match costs {
+        true => format!(
+            " {} |",
+            median_iqr(&path_costs).map_or("-".into(), |(m, _, _)| format_number(m))
+        ),
+        false => String::new(),
+    };
     let _ = writeln!(
         out,
-        "| {} | {} | {} | {found} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} | {heap} |",
+        "| {} | {} | {} | {found} | {optimal} | {median_expansions} | {mean_expansions} | {time} | {iqr} | {median_subopt} | {max_subopt} |{cost} {heap} |",
         md_cell(label),
         md_cell(map),
         runs.len()
@@ -335,8 +380,31 @@ fn seeds(context: &Context<'_>) -> String {
 pub fn optimum_table(context: &Context<'_>) -> String {
     let experiment = context.experiment;
     let mut out = String::from(planner_report::optimum::HEAD);
+    let compared = |m: &&planner_runner::config::MapEntry| !m.grid.is_weighted();
+    if experiment
+        .maps
+        .iter()
+        .any(|m| m.grid.is_weighted() && m.problems.iter().any(|p| p.optimal_length.is_some()))
+    {
+        out.push_str(planner_report::optimum::WEIGHTED);
+    }
+    let any = experiment.maps.iter().filter(compared).any(|map| {
+        map.problems.iter().any(|p| {
+            experiment.planners.iter().any(|planner| {
+                context
+                    .index
+                    .runs(&map.name, p.index, &planner.label)
+                    .iter()
+                    .any(|r| r.optimal_length.is_some())
+            })
+        })
+    });
+    if !any {
+        return out;
+    }
+    out.push_str(planner_report::optimum::TABLE_HEAD);
     for planner in &experiment.planners {
-        for map in &experiment.maps {
+        for map in experiment.maps.iter().filter(compared) {
             let runs: Vec<&RunRecord> = map
                 .problems
                 .iter()

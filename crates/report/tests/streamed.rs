@@ -288,3 +288,31 @@ fn charts_from_a_stream_equal_the_charts_from_memory() {
         "{box_plot}"
     );
 }
+
+/// On a sweep with a map with cell costs (and one without), the tables from passes equal
+/// the oracle's: the optimum table leaves the weighted map out, the Aggregates show the
+/// median cost.
+#[test]
+fn a_weighted_summary_from_passes_equals_the_in_memory_tables() {
+    use planner_report::{aggregate::Aggregate, optimum::Optimum, Renderer};
+    let (experiment, records) = crate::summary::weighted_sweep();
+    let renderer = Renderer::new(vec![Box::new(Optimum), Box::new(Aggregate)]);
+    let (want, _) = renderer.summary(&experiment, &records).unwrap();
+    let index = ResultsIndex::new(&records);
+    let options = toml::Table::new();
+    let context = Context {
+        experiment: &experiment,
+        records: &records,
+        index: &index,
+        passes: &records.as_slice(),
+        charts: None,
+        options: &options,
+    };
+    let sections = format!(
+        "{}{}",
+        oracle::optimum_table(&context),
+        tables(&context, Measured::Shown)
+    );
+    assert!(sections.contains("| Median cost |"), "{sections}");
+    assert!(want.ends_with(&sections), "{want}\n---\n{sections}");
+}

@@ -176,3 +176,94 @@ fn the_optimum_table_counts_every_run() {
         "{summary}"
     );
 }
+
+/// A sweep of arena.map with a weight file (12 scenarios) and 16room_000.map without one.
+pub fn weighted_sweep() -> (config::Experiment, Vec<planner_runner::RunRecord>) {
+    let maps = root().join("maps");
+    let text = format!(
+        "name = \"weighted-optima\"\nfigures = \"none\"\n\
+         [[maps]]\nfiles = [{arena:?}]\nscen = {arena_scen:?}\nevery = 10\nlimit = 12\n\
+         costs = {{ weights = {weights:?} }}\n\
+         [[maps]]\nfiles = [{room:?}]\nscen = {room_scen:?}\nlimit = 3\n\
+         [planners.astar]\nplanner = \"astar\"\nmoves = 8\nheuristic = \"octile\"\n\
+         [planners.bfs]\nplanner = \"bfs\"\nmoves = 8\ncosts = \"ignore\"\n",
+        arena = maps.join("movingai/arena.map").display().to_string(),
+        arena_scen = maps.join("movingai/arena.map.scen").display().to_string(),
+        weights = maps
+            .join("weighted/arena-weights.csv")
+            .display()
+            .to_string(),
+        room = maps.join("movingai/16room_000.map").display().to_string(),
+        room_scen = maps
+            .join("movingai/16room_000.map.scen")
+            .display()
+            .to_string(),
+    );
+    let experiment = config::parse(&root().join("configs/weighted-optima.toml"), &text).unwrap();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    (experiment, records)
+}
+
+/// On a map with cell costs, summary.md compared least-cost paths with the scenario
+/// file's unweighted optima: A* on arena with a weight file showed `| astar | arena.map |
+/// 12 | 12 | 5 | 30.40 % |` in "Lengths against the scenario optima" and a median
+/// suboptimality of 4.71 % in the Aggregates, and no table showed the path `cost`. Such
+/// maps are now left out of the optimum table (which says so) and of `Optimal` and the
+/// suboptimality; the Aggregates show the median cost, and `paired` the cost ratio beside
+/// the (unweighted) length ratio. A map without costs is compared as before.
+#[test]
+fn maps_with_cell_costs_are_not_compared_with_unweighted_optima() {
+    use planner_report::{aggregate::Aggregate, optimum::Optimum, paired::Paired};
+    let (experiment, records) = weighted_sweep();
+    let astar_arena: Vec<_> = records
+        .iter()
+        .filter(|r| r.planner == "astar" && r.map == "arena.map")
+        .collect();
+    // A* finds least-cost paths, longer than the unweighted optima.
+    assert!(astar_arena
+        .iter()
+        .any(|r| r.length.unwrap() > r.optimal_length.unwrap() * 1.01));
+    let (summary, _) = Renderer::new(vec![
+        Box::new(Optimum),
+        Box::new(Aggregate),
+        Box::new(Paired),
+    ])
+    .summary(&experiment, &records)
+    .unwrap();
+    assert!(
+        summary.contains(
+            "Maps with cell costs are not compared: the scenario optima are unweighted lengths."
+        ),
+        "{summary}"
+    );
+    assert!(
+        !summary.contains("| astar | arena.map | 12 | 12 | 5 |"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("| astar | 16room_000.map | 3 | 3 | 3 | 0.00 % |"),
+        "{summary}"
+    );
+    let mut costs: Vec<f64> = astar_arena.iter().filter_map(|r| r.cost).collect();
+    assert_eq!(costs.len(), 12);
+    costs.sort_by(f64::total_cmp);
+    let median = (costs[5] + costs[6]) / 2.0;
+    let median = planner_report::aggregate::format_number(median);
+    let row = summary
+        .lines()
+        .find(|l| l.starts_with("| astar | arena.map | 12 | 12 |"))
+        .unwrap_or_else(|| panic!("{summary}"));
+    let cells: Vec<&str> = row.split(" | ").collect();
+    // Optimal, median and largest suboptimality, then the median cost.
+    assert_eq!(cells[4], "-", "{row}");
+    assert_eq!(&cells[9..12], ["-", "-", median.as_str()], "{row}");
+    assert!(summary.contains("| Largest subopt. | Median cost | Peak heap |"));
+    // The overall row: 16room's runs alone are compared, all optimal.
+    let all = summary
+        .lines()
+        .find(|l| l.starts_with("| astar | all | 15 | 15 | 3 |"))
+        .unwrap_or_else(|| panic!("{summary}"));
+    assert!(all.contains("| 0.00 % | 0.00 % |"), "{all}");
+    assert!(summary.contains("| Length ratio | Largest length ratio | Cost ratio |"));
+    assert!(summary.contains("Length: the Euclidean length, unweighted"));
+}
