@@ -601,7 +601,12 @@ impl<'e> Aggregated<'e> {
                     if acc.runs == 0 {
                         continue;
                     }
+                    // Whole-number ranges (digits 0) have medians as the other tables
+                    // print them: a median of 57.5 is 57.50, not 58.
                     let spread = |set: usize, lo: f64, hi: f64, digits: usize| match median(set) {
+                        Some(median) if digits == 0 => {
+                            (format_number(median), format!("{lo:.0} - {hi:.0}"))
+                        }
                         Some(median) => (
                             format!("{median:.digits$}"),
                             format!("{lo:.digits$} - {hi:.digits$}"),

@@ -354,10 +354,11 @@ fn seeds(context: &Context<'_>) -> String {
                 Some((median, _, _)) => {
                     let lo = values.iter().copied().fold(f64::MAX, f64::min);
                     let hi = values.iter().copied().fold(f64::MIN, f64::max);
-                    (
-                        format!("{median:.digits$}"),
-                        format!("{lo:.digits$} - {hi:.digits$}"),
-                    )
+                    let median = match digits {
+                        0 => format_number(median),
+                        _ => format!("{median:.digits$}"),
+                    };
+                    (median, format!("{lo:.digits$} - {hi:.digits$}"))
                 }
                 None => ("-".into(), "-".into()),
             };

@@ -267,3 +267,35 @@ fn maps_with_cell_costs_are_not_compared_with_unweighted_optima() {
     assert!(summary.contains("| Length ratio | Largest length ratio | Cost ratio |"));
     assert!(summary.contains("Length: the Euclidean length, unweighted"));
 }
+
+/// The seeds table printed a median `n_expanded` with no decimals (`{:.0}`, which rounds
+/// half to even): seeds expanding 57 and 58 cells showed 58 there beside 57.50 in the
+/// per-map table. It prints medians as the other tables do now; the range stays whole.
+#[test]
+fn the_seeds_table_prints_median_expansions_as_the_other_tables() {
+    use planner_report::aggregate::Aggregate;
+    let map = root().join("maps/movingai/arena.map");
+    let text = format!(
+        "name = \"seeds\"\nrepeats = 2\nfigures = \"none\"\n[[maps]]\nfiles = [{:?}]\n\
+         pairs = [{{ start = [3, 1], goal = [46, 47] }}]\n\
+         [planners.rrt]\nplanner = \"rrt\"\nsteer = \"eight\"\nmax_iterations = 3000\n",
+        map.display().to_string()
+    );
+    let experiment = config::parse(&root().join("configs/seeds-test.toml"), &text).unwrap();
+    let mut records = run_all(&experiment, &RunOptions::default()).unwrap();
+    assert_eq!(records.len(), 2);
+    // Two seeds' expansions, whose median is 59.5.
+    for (record, expanded) in records.iter_mut().zip([57, 62]) {
+        let mut counters = planner_api::Counters::new();
+        counters.push("n_expanded".to_string(), expanded);
+        record.counters = counters;
+    }
+    let (summary, _) = Renderer::new(vec![Box::new(Aggregate)])
+        .summary(&experiment, &records)
+        .unwrap();
+    let row = summary
+        .lines()
+        .rfind(|l| l.starts_with("| rrt | arena.map | 2 | "))
+        .unwrap_or_else(|| panic!("{summary}"));
+    assert!(row.ends_with("| 59.50 | 57 - 62 |"), "{row}\n{summary}");
+}
