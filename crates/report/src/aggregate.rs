@@ -43,7 +43,7 @@ pub enum Measured {
 pub const TIMING_WARNING: &str = "> **Timing warning:** `repeats = 1`, so each run's time is a single measurement; the IQR below spreads over problems, not over repeated measurements of one problem.\n\n";
 
 /// What the per-map table shows.
-pub const PER_MAP: &str = "Per planner label and map, over every run, repeats included: runs, runs that found a path, runs whose length equals the stated optimum (relative tolerance 1e-4; `-` without optima), the median and mean `n_expanded`, the median wall time of the search with its interquartile range (type 7 quartiles), the median and largest suboptimality (length / optimum - 1, over found runs with an optimum), and the largest peak heap of a run.\n\n";
+pub const PER_MAP: &str = "Per planner label and map, over every run of a valid problem, repeats included (the records of invalid problems, listed under \"Invalid problems (not run)\", are not counted here or in the overall rows): runs, runs that found a path, runs whose length equals the stated optimum (relative tolerance 1e-4; `-` without optima), the median and mean `n_expanded`, the median wall time of the search with its interquartile range (type 7 quartiles), the median and largest suboptimality (length / optimum - 1, over found runs with an optimum), and the largest peak heap of a run.\n\n";
 
 /// The head of the per-map and overall tables.
 pub const HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Peak heap |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";

@@ -24,7 +24,7 @@ impl Section for Repeats {
 /// The section's title, text and table head.
 pub fn head(experiment: &planner_runner::config::Experiment) -> String {
     format!(
-        "## Repeats ({} per planner and problem)\n\nSuccess rate over all runs on the map; median path length over the successful runs; median time (IQR) over all runs.\n\n| Algorithm | Map | Runs | Success | Median length | Median time ms (IQR) |\n|---|---|---:|---:|---:|---:|\n",
+        "## Repeats ({} per planner and problem)\n\nSuccess rate over all runs of the map's valid problems (the records of invalid problems, listed under \"Invalid problems (not run)\", are not counted here); median path length over the successful runs; median time (IQR) over all those runs.\n\n| Algorithm | Map | Runs | Success | Median length | Median time ms (IQR) |\n|---|---|---:|---:|---:|---:|\n",
         experiment.repeats
     )
 }

@@ -475,7 +475,7 @@ impl<'e> Aggregated<'e> {
             }
         }
         out.push('\n');
-        out.push_str("Overall, per planner label: every run on every map.\n\n");
+        out.push_str("Overall, per planner label: every run of a valid problem on every map.\n\n");
         out.push_str(header);
         for (l, planner) in experiment.planners.iter().enumerate() {
             row(&mut out, &planner.label, "all", n_labels * n_maps + l);

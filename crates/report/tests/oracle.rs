@@ -51,7 +51,7 @@ pub fn tables(context: &Context<'_>, measured: Measured) -> String {
         }
     }
     out.push('\n');
-    out.push_str("Overall, per planner label: every run on every map.\n\n");
+    out.push_str("Overall, per planner label: every run of a valid problem on every map.\n\n");
     out.push_str(header);
     for planner in &experiment.planners {
         let runs = label_runs(context, planner);

@@ -299,3 +299,52 @@ fn the_seeds_table_prints_median_expansions_as_the_other_tables() {
         .unwrap_or_else(|| panic!("{summary}"));
     assert!(row.ends_with("| 59.50 | 57 - 62 |"), "{row}\n{summary}");
 }
+
+/// summary.md's head counts an invalid problem's record among its runs, and runs.csv has
+/// it, while the Aggregates and the Repeats table leave it out; their texts said "over
+/// every run" and "Success rate over all runs on the map" (4 runs, 100 % beside runs.csv's
+/// 5 rows, 4 found). The texts now say that they count the runs of valid problems and that
+/// invalid problems' records, listed under "Invalid problems (not run)", are not counted.
+#[test]
+fn the_tables_that_leave_invalid_problems_out_say_so() {
+    use planner_report::{aggregate::Aggregate, repeats::Repeats};
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("gridplan-invalid-texts");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("open.map"),
+        "type octile\nheight 4\nwidth 4\nmap\n....\n....\n....\n...@\n",
+    )
+    .unwrap();
+    let text =
+        "name = \"invalid\"\nrepeats = 2\nfigures = \"none\"\n[[maps]]\nfiles = [\"open.map\"]\n\
+         pairs = [{ start = [0, 0], goal = [2, 2] }, { start = [0, 1], goal = [2, 1] }, \
+         { start = [3, 3], goal = [0, 0] }]\n[planners.astar]\nplanner = \"astar\"\n";
+    let experiment = config::parse(&dir.join("invalid.toml"), text).unwrap();
+    let records = run_all(&experiment, &RunOptions::default()).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    // Two problems twice, and the invalid one's record.
+    assert_eq!(records.len(), 5);
+    let (summary, _) = Renderer::new(vec![Box::new(Repeats), Box::new(Aggregate)])
+        .summary(&experiment, &records)
+        .unwrap();
+    assert!(summary.contains("Invalid problems (not run):"), "{summary}");
+    // The numbers stay: 4 runs of valid problems, all found.
+    assert!(
+        summary.contains("| astar | open.map | 4 | 100.0 % |"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("| astar | open.map | 4 | 4 |"),
+        "{summary}"
+    );
+    assert!(summary.contains("| astar | all | 4 | 4 |"), "{summary}");
+    for text in [
+        "Success rate over all runs of the map's valid problems (the records of invalid problems, listed under \"Invalid problems (not run)\", are not counted here)",
+        "Per planner label and map, over every run of a valid problem, repeats included (the records of invalid problems, listed under \"Invalid problems (not run)\", are not counted here or in the overall rows)",
+        "Overall, per planner label: every run of a valid problem on every map.",
+    ] {
+        assert!(summary.contains(text), "{text}\n{summary}");
+    }
+    assert!(!summary.contains("over all runs on the map"), "{summary}");
+}
