@@ -266,6 +266,40 @@ fn maps_with_cell_costs_are_not_compared_with_unweighted_optima() {
     assert!(all.contains("| 0.00 % | 0.00 % |"), "{all}");
     assert!(summary.contains("| Length ratio | Largest length ratio | Cost ratio |"));
     assert!(summary.contains("Length: the Euclidean length, unweighted"));
+    // The cost ratio: bfs's cost over A*'s on arena's 12 problems (16room has no costs).
+    let cost = |label: &str, problem: usize| {
+        records
+            .iter()
+            .find(|r| r.planner == label && r.map == "arena.map" && r.problem == problem)
+            .and_then(|r| r.cost)
+            .unwrap()
+    };
+    let problems: Vec<usize> = astar_arena.iter().map(|r| r.problem).collect();
+    let log_mean = problems
+        .iter()
+        .map(|&p| (cost("bfs", p) / cost("astar", p)).ln())
+        .sum::<f64>()
+        / problems.len() as f64;
+    let paired = summary
+        .lines()
+        .find(|l| l.starts_with("| bfs | 15 | 15 |"))
+        .unwrap_or_else(|| panic!("{summary}"));
+    assert!(
+        paired.ends_with(&format!("| {:.3} |", log_mean.exp())),
+        "{paired}"
+    );
+    assert!(log_mean > 0.0, "{paired}");
+    // The success chart of arena alone has no optimality bars: its optima do not apply.
+    let mut arena = experiment.clone();
+    arena.maps.retain(|m| m.name == "arena.map");
+    let arena_records: Vec<_> = records
+        .iter()
+        .filter(|r| r.map == "arena.map")
+        .cloned()
+        .collect();
+    let charts = planner_report::charts::charts(&arena, &arena_records.as_slice()).unwrap();
+    let success = charts.iter().find(|c| c.file == "success.svg").unwrap();
+    assert_eq!(success.title, "Success per planner");
 }
 
 /// The seeds table printed a median `n_expanded` with no decimals (`{:.0}`, which rounds
