@@ -371,18 +371,24 @@ pub fn run_recorded(
         // radius: a move into a blocked cell reveals that cell instead of being made.
         let before = pending.len();
         let looked = sense_move(truth, &mut known, &moves, agent, next, &mut pending);
-        let replan_now = looked
-            && sensed_a_reason(
-                &known,
-                &moves,
-                &pending[before..],
-                &cells[at..],
-                config,
-                oracle.as_deref_mut(),
-                goal,
-                &mut out,
-                recorder,
-            );
+        // Whether the cells sensed since `$before` give a reason to replan (one call for
+        // both the look before a move and the sensing after it).
+        macro_rules! sensed_since {
+            ($before:expr) => {
+                sensed_a_reason(
+                    &known,
+                    &moves,
+                    &pending[$before..],
+                    &cells[at..],
+                    config,
+                    oracle.as_deref_mut(),
+                    goal,
+                    &mut out,
+                    recorder,
+                )
+            };
+        }
+        let replan_now = looked && sensed_since!(before);
         if !replan_now {
             if !still_free(&known, &moves, &cells[at..at + 2]) {
                 // Not a legal move on what the agent knows, and nothing new explains it:
@@ -402,17 +408,7 @@ pub fn run_recorded(
             out.path.push(agent);
             let before = pending.len();
             if !sense(truth, &mut known, agent, config.radius, &mut pending)
-                || !sensed_a_reason(
-                    &known,
-                    &moves,
-                    &pending[before..],
-                    &cells[at..],
-                    config,
-                    oracle.as_deref_mut(),
-                    goal,
-                    &mut out,
-                    recorder,
-                )
+                || !sensed_since!(before)
             {
                 continue;
             }

@@ -60,6 +60,15 @@ pub fn csv_field(text: &str) -> Cow<'_, str> {
     }
 }
 
+/// `c` as text on one line: a control character or a line or paragraph separator
+/// (U+2028, U+2029) becomes a space, anything else stays.
+fn line_char(c: char) -> char {
+    match c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
+        true => ' ',
+        false => c,
+    }
+}
+
 /// `text` for one cell of a markdown table, a heading or a list item: it shows as itself
 /// (the same characters, as text) in CommonMark and GitHub's markdown, so it cannot end the
 /// row, add a column or become emphasis, code, a link, an image, math or HTML. What it does:
@@ -89,15 +98,7 @@ pub fn csv_field(text: &str) -> Cow<'_, str> {
 /// assert_eq!(md_cell("1. x #"), "1\\. x \\#");
 /// ```
 pub fn md_cell(text: &str) -> String {
-    let chars: Vec<char> = text
-        .chars()
-        .map(
-            |c| match c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
-                true => ' ',
-                false => c,
-            },
-        )
-        .collect();
+    let chars: Vec<char> = text.chars().map(line_char).collect();
     let first = chars.iter().position(|c| !c.is_whitespace());
     let last = chars.iter().rposition(|c| !c.is_whitespace());
     let chars = match (first, last) {
@@ -163,15 +164,7 @@ pub fn md_cell(text: &str) -> String {
 /// assert_eq!(md_code("<img>\n# h"), "`<img> # h`");
 /// ```
 pub fn md_code(text: &str) -> String {
-    let text: String = text
-        .chars()
-        .map(
-            |c| match c.is_control() || matches!(c, '\u{2028}' | '\u{2029}') {
-                true => ' ',
-                false => c,
-            },
-        )
-        .collect();
+    let text: String = text.chars().map(line_char).collect();
     let longest_run = text.split(|c| c != '`').map(str::len).max().unwrap_or(0);
     let fence = "`".repeat(longest_run + 1);
     let pad = text.starts_with('`')
