@@ -10,9 +10,14 @@
 //! the picture is at most 512 pixels a side (ceil(width / k) x ceil(height / k)). A
 //! pixel's colour is, in this order of precedence: goal, then start, when the block holds
 //! the goal or the start; path (in the last frame) when the path passes one of its cells;
-//! expanded when any of its cells was expanded so far; blocked when most (more than half)
-//! of its cells are (a block on the right or bottom edge may hold fewer than `k` x `k`);
-//! free otherwise. The map's blocks are
+//! expanded when any of its cells was expanded so far; otherwise the share of its cells
+//! that are blocked (a block on the right or bottom edge may hold fewer than `k` x `k`):
+//! free (white) when none is, blocked (dark) when all are, and in between one of
+//! [`GREY_LEVELS`] greys, darker as the share grows (the share rounded up to the next
+//! fifteenth, so one blocked cell of a block is never drawn free). A wall one cell thick
+//! thus shows as a faint grey line, as the SVG figure's thin walls do, rather than
+//! vanishing (a block drawn blocked only when most of its cells were dropped a one-cell
+//! wall across a 5000 x 5000 map from every frame). The map's blocks are
 //! counted once, in one pass over the cells; each frame then applies its expanded cells,
 //! and the last frame the path, to the blocks, so a frame costs the pixels of the picture
 //! and not the cells of the map. Pixels stand for the same colours as the cell-by-cell
@@ -69,16 +74,84 @@ const PATH: u8 = 3;
 const START: u8 = 4;
 const GOAL: u8 = 5;
 
-/// RGB of the palette (8 entries; the last two unused).
-const PALETTE: [u8; 24] = [
-    255, 255, 255, // free
-    40, 40, 40, // blocked
-    150, 200, 255, // expanded
-    230, 80, 20, // path
-    0, 160, 60, // start
-    200, 0, 0, // goal
-    0, 0, 0, 0, 0, 0,
-];
+/// The first of the greys of blocks partly blocked: index `GREY + level - 1` for levels 1
+/// to [`GREY_LEVELS`].
+const GREY: u8 = 6;
+
+/// The grey levels of a block partly blocked (module docs): level `l` stands for a share of
+/// blocked cells over `(l - 1) / 15` and at most `l / 15`.
+pub const GREY_LEVELS: u8 = 15;
+
+/// The free and blocked tones the greys lie between.
+const FREE_RGB: u8 = 255;
+const BLOCKED_RGB: u8 = 40;
+
+/// RGB of the palette (32 entries: six colours, the greys, then unused).
+const PALETTE: [u8; 96] = palette();
+
+const fn palette() -> [u8; 96] {
+    let mut rgb = [0u8; 96];
+    let named: [u8; 18] = [
+        FREE_RGB,
+        FREE_RGB,
+        FREE_RGB, // free
+        BLOCKED_RGB,
+        BLOCKED_RGB,
+        BLOCKED_RGB, // blocked
+        150,
+        200,
+        255, // expanded
+        230,
+        80,
+        20, // path
+        0,
+        160,
+        60, // start
+        200,
+        0,
+        0, // goal
+    ];
+    let mut i = 0;
+    while i < named.len() {
+        rgb[i] = named[i];
+        i += 1;
+    }
+    let mut level = 1;
+    while level <= GREY_LEVELS {
+        // Evenly between free (level 0) and blocked (level 16): 242 down to 53.
+        let tone = FREE_RGB - ((FREE_RGB - BLOCKED_RGB) as u16 * level as u16 / 16) as u8;
+        let at = 3 * (GREY + level - 1) as usize;
+        rgb[at] = tone;
+        rgb[at + 1] = tone;
+        rgb[at + 2] = tone;
+        level += 1;
+    }
+    rgb
+}
+
+/// The palette index of a block with `blocked` of its `cells` blocked: [`FREE`], a grey,
+/// or [`BLOCKED`] (module docs).
+pub fn block_index(blocked: usize, cells: usize) -> u8 {
+    if blocked == 0 || cells == 0 {
+        FREE
+    } else if blocked >= cells {
+        BLOCKED
+    } else {
+        let levels = usize::from(GREY_LEVELS);
+        // Rounded up, so that one blocked cell is at least the first grey.
+        let level = (blocked * levels).div_ceil(cells).clamp(1, levels);
+        GREY + level as u8 - 1
+    }
+}
+
+/// The RGB colour of palette index `index` (black past the palette).
+pub fn palette_rgb(index: u8) -> [u8; 3] {
+    let at = 3 * usize::from(index);
+    match PALETTE.get(at..at + 3) {
+        Some(&[r, g, b]) => [r, g, b],
+        _ => [0, 0, 0],
+    }
+}
 
 /// What to animate.
 #[derive(Debug, Clone, Copy)]
@@ -126,7 +199,8 @@ struct Blocks {
     /// Pixels across and down.
     width: u32,
     height: u32,
-    /// Per pixel, [`BLOCKED`] when most of its block's cells are blocked, else [`FREE`].
+    /// Per pixel, its block's share of blocked cells as a palette index
+    /// ([`block_index`]).
     base: Vec<u8>,
 }
 
@@ -149,9 +223,7 @@ impl Blocks {
                 let by = y / ku;
                 for (bx, count) in blocked.iter_mut().enumerate() {
                     let columns = ku.min(w - bx * ku);
-                    if *count * 2 > rows * columns {
-                        base[by * pw + bx] = BLOCKED;
-                    }
+                    base[by * pw + bx] = block_index(*count, rows * columns);
                     *count = 0;
                 }
             }

@@ -273,12 +273,12 @@ fn a_large_map_gif_is_drawn_in_blocks_of_at_most_512_pixels_a_side() {
     assert_eq!((last[ends[0]], last[ends[1]]), (4, 5));
 
     // The first frame: the blocks with no expanded cell among its first expansions are
-    // blocked (1) exactly when more than half of their cells are.
+    // shaded by their share of blocked cells (free, a grey, blocked).
     let first = &frames[0];
     for py in 0..h {
         for px in 0..w {
             let i = py * w + px;
-            if first[i] > 1 {
+            if (2..=5).contains(&first[i]) {
                 continue;
             }
             let (mut cells, mut blocked) = (0, 0);
@@ -288,7 +288,11 @@ fn a_large_map_gif_is_drawn_in_blocks_of_at_most_512_pixels_a_side() {
                     blocked += usize::from(!free[y * width + x]);
                 }
             }
-            assert_eq!(first[i] == 1, blocked * 2 > cells, "pixel ({px}, {py})");
+            assert_eq!(
+                first[i],
+                planner_serve::anim::block_index(blocked, cells),
+                "pixel ({px}, {py})"
+            );
         }
     }
 }
@@ -317,5 +321,53 @@ fn gifs_are_drawn_in_blocks_from_513_cells_a_side() {
         assert_eq!((w, h), pixels, "{width}x{height}");
         let last = frames.last().unwrap();
         assert_eq!((last[0], last[w * h - 1]), (4, 5), "{width}x{height}");
+    }
+}
+
+/// A wall one cell thick across a 5000 x 5000 map, with one gap, is drawn (blocks of 10 x
+/// 10 cells) as a row of grey pixels in every frame: each of its blocks has a tenth of its
+/// cells blocked (the gap's block a little less), which is shaded, lighter than a block
+/// all blocked and darker than a free one (it was drawn free: a block was blocked only
+/// when most of its cells were, so the wall vanished).
+#[test]
+fn a_thin_wall_on_a_big_map_shows_in_every_gif_frame() {
+    let (width, height) = (5000u32, 5000u32);
+    let mut grid = planner_api::Grid::new(width, height).unwrap();
+    let wall = 2503;
+    for x in 0..width {
+        if x != 1234 {
+            grid.set_free(planner_api::Cell::new(x, wall), false);
+        }
+    }
+    let start = planner_api::Cell::new(0, 0);
+    let goal = planner_api::Cell::new(width - 1, height - 1);
+    let expanded = [start, planner_api::Cell::new(1, 0)];
+    let search = planner_serve::anim::Search {
+        grid: &grid,
+        start,
+        goal,
+        expanded: &expanded,
+        path: &[start, goal],
+    };
+    let bytes = planner_serve::anim::gif(&search, usize::MAX).unwrap();
+    let (w, h, frames) = decode_indexed(&bytes);
+    assert_eq!((w, h), (500, 500));
+    let row = (wall / 10) as usize;
+    let [free, blocked] = [0, 1].map(planner_serve::anim::palette_rgb);
+    for (f, frame) in frames.iter().enumerate() {
+        for px in 0..w {
+            let index = frame[row * w + px];
+            // The path's diagonal crosses the wall's row of blocks.
+            if (2..=5).contains(&index) {
+                continue;
+            }
+            let rgb = planner_serve::anim::palette_rgb(index);
+            assert!(
+                rgb[0] < free[0] && rgb[0] > blocked[0],
+                "frame {f}, pixel ({px}, {row}): index {index}, {rgb:?}"
+            );
+        }
+        // The rows of blocks beside it are free.
+        assert!(frame[(row + 1) * w + 250] == 0 && frame[(row - 1) * w + 250] == 0);
     }
 }
