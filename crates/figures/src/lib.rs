@@ -59,8 +59,18 @@
 //! Paths are drawn through the centres of the listed cells, so any-angle paths (moves
 //! longer than one cell) draw as straight segments between their waypoints; step indices
 //! label the listed cells. Cells outside the grid are not drawn. Text from labels, notes
-//! and titles is escaped, control characters become spaces, and text too long for the
-//! image is cut with an ellipsis.
+//! and titles is escaped and control characters become spaces.
+//!
+//! # Notes are never cut
+//! A title, a layer's label or a marker's label too long for the image is cut with an
+//! ellipsis, but a layer's note (its metrics, status and cost) and a panel's
+//! expanded-cells line never are: they wrap at spaces onto as many lines as the room
+//! beside their panel (or, in an overlay, the legend's line after the label, then under
+//! it) needs, and the figure grows by those lines, its cells shrinking to keep
+//! `Style::max_px`. A word is never broken: a panel's column (and so the figure) widens
+//! until the widest word of every note fits, and so does an overlay's legend, even past
+//! `max_px` for a map of a few cells a side. A timeline's legend line is never narrower
+//! than the figure. A note that fits on one line is drawn as before.
 //!
 //! Colours: layers take the Okabe-Ito palette ([`PALETTE`]), time is viridis; both are
 //! colour-blind safe. Start and goal are black with white letters and different shapes

@@ -106,6 +106,86 @@ fn fit_text(s: &str, fs: f64, max_w: f64) -> String {
     }
 }
 
+/// A `<tspan>` written with no line break before it, as the svg crate writes text: the
+/// crate puts a line break before every other element, which in a `<text>` of wrapped
+/// lines would reach its text as whitespace between the lines.
+#[derive(Clone, Debug)]
+struct Inline(TSpan);
+
+impl std::fmt::Display for Inline {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl svg::node::NodeDefaultHash for Inline {
+    fn default_hash(&self, state: &mut std::collections::hash_map::DefaultHasher) {
+        self.0.default_hash(state)
+    }
+}
+
+impl Node for Inline {
+    fn get_name(&self) -> &str {
+        "tspan"
+    }
+
+    fn is_bare(&self) -> bool {
+        true
+    }
+}
+
+/// `s` cleaned and broken at spaces into lines of about `room` pixels (`first` for the
+/// first line), never cut: a word wider than its line gets a line of its own (and the first
+/// line stays empty when its first word is wider than `first` but fits `room`). Each line
+/// but the last keeps the space it was broken at, so the lines joined give `clean(s)`.
+fn wrap(s: &str, fs: f64, first: f64, room: f64) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for piece in clean(s).split_inclusive(' ') {
+        let (line, cap) = match lines.len() {
+            1 => (&lines[0], first),
+            n => (&lines[n - 1], room),
+        };
+        let width = text_width(&format!("{line}{}", piece.trim_end_matches(' ')), fs);
+        let empty_first = lines.len() == 1 && line.is_empty();
+        if width > cap && (!line.is_empty() || (empty_first && first < room)) {
+            lines.push(String::new());
+        }
+        if let Some(line) = lines.last_mut() {
+            line.push_str(piece);
+        }
+    }
+    lines
+}
+
+/// The width of the widest word (text between spaces) of `s` at font size `fs`.
+fn widest_word(s: &str, fs: f64) -> f64 {
+    clean(s)
+        .split(' ')
+        .map(|w| text_width(w, fs))
+        .fold(0.0, f64::max)
+}
+
+/// A `<text>` of `lines` (from [`wrap`]) at `x` from the line `y` on, one line every
+/// [`LINE_H`] (`x_next` for the lines after the first): one line is a plain text, more
+/// are `<tspan>`s placed line by line, so the element's text is the lines joined.
+fn lines_text(x: f64, x_next: f64, y: f64, lines: &[String], fs: f64) -> Element {
+    match lines {
+        [line] => text(x, y, line.clone(), fs),
+        _ => {
+            let mut t = text(x, y, String::new(), fs);
+            for (i, line) in lines.iter().enumerate() {
+                let lx = if i == 0 { x } else { x_next };
+                t.append(Inline(
+                    TSpan::new(line.clone())
+                        .set("x", num(lx))
+                        .set("y", num(y + i as f64 * LINE_H)),
+                ));
+            }
+            t
+        }
+    }
+}
+
 /// Builder-style attributes for a plain [`Element`].
 trait Set {
     fn set<U: Into<Value>>(self, name: &str, value: U) -> Self;
@@ -1154,6 +1234,21 @@ fn key_group(items: &[KeyItem], x: f64, y: f64) -> Group {
     g
 }
 
+/// A panel's line about the layer's expanded cells (drawn when some layer has them).
+fn expanded_line(layer: &Layer<'_>) -> String {
+    if layer.expanded.is_empty() {
+        "expanded cells: not recorded".to_owned()
+    } else {
+        let distinct = n_distinct(layer.expanded);
+        let n = layer.expanded.len();
+        if distinct == n {
+            format!("expanded: {n} cells")
+        } else {
+            format!("expanded: {n} ({distinct} distinct cells)")
+        }
+    }
+}
+
 /// A layer's note, with its path's cost on a weighted grid (the sum of its moves' costs,
 /// [`Grid::path_cost`], as the runner records it) unless the note gives one (`cost=`).
 fn note_with_cost(grid: &Grid, layer: &Layer<'_>) -> String {
@@ -1196,50 +1291,102 @@ pub(crate) fn panels(
     let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
     let key_h = if has_key(map) { KEY_H } else { 0.0 };
     let with_expanded = layers.iter().any(|l| !l.expanded.is_empty());
-    let foot_h = if layers.is_empty() {
-        0.0
-    } else if with_expanded {
-        3.0 * LINE_H + 6.0
-    } else {
-        2.0 * LINE_H + 6.0
-    };
-    let chrome = |cols: usize, rows: usize| {
-        (
-            2.0 * MARGIN + (cols - 1) as f64 * GAP,
-            2.0 * MARGIN + TITLE_H + rows as f64 * foot_h + (rows - 1) as f64 * GAP + key_h,
-        )
-    };
-    // Side by side (as in the paper) as long as cells stay comfortably large, else the
-    // arrangement with the largest cells; ties go to more columns.
-    let options: Vec<(f64, usize)> = (1..=n)
-        .map(|cols| {
-            let rows = n.div_ceil(cols);
-            let (ew, eh) = chrome(cols, rows);
-            (
-                fit_cell(style, cols as f64 * w, rows as f64 * h, ew, eh),
-                cols,
-            )
-        })
-        .collect();
-    let largest = options.iter().map(|o| o.0).fold(0.0, f64::max);
-    let enough = largest.min(COMFORTABLE_CELL_PX);
-    let (cell, cols) = options
+    let notes: Vec<String> = layers.iter().map(|l| note_with_cost(grid, l)).collect();
+    let expanded_lines: Vec<String> = layers.iter().map(expanded_line).collect();
+    // A note's words are never cut: a column is at least as wide as the widest word of a
+    // note (or of the expanded-cells line after its swatch).
+    let word_w = notes
         .iter()
-        .rev()
-        .find(|o| o.0 >= enough)
-        .copied()
-        .unwrap_or((largest, 1));
-    let rows = n.div_ceil(cols);
-    let (ew, eh) = chrome(cols, rows);
-    let (pw, ph) = (w * cell, h * cell);
-    let content_w = ew + cols as f64 * pw;
+        .map(|note| widest_word(note, NOTE_FS))
+        .chain(
+            expanded_lines
+                .iter()
+                .filter(|_| with_expanded)
+                .map(|line| widest_word(line, NOTE_FS) + 22.0),
+        )
+        .fold(0.0, f64::max);
     let title_w = (text_width(title, TITLE_FS) * 1.08 + 2.0 * MARGIN).min(max_px(style));
-    let cells = Cells::new(map, cell);
-    let key = key_items(map, &cells);
-    let key_w = (key_width(&key) + 2.0 * MARGIN).min(max_px(style));
-    let width = content_w.max(title_w).max(key_w).ceil();
-    let height = eh + rows as f64 * ph;
-    let x0 = MARGIN + (width - content_w) / 2.0;
+    // The layout for `extra` note lines beyond one a panel (and one expanded-cells line):
+    // the cell size shrinks to keep `max_px` with them; repeated until every panel's
+    // wrapped lines fit the lines it was laid out for (more lines only shrink cells and
+    // the room beside them, so the count only grows, at most to the number of words).
+    let mut extra = 0usize;
+    let (cell, cols, foot_h, pitch, width, height, x0, cells, key, wrapped) = loop {
+        let foot_h = if layers.is_empty() {
+            0.0
+        } else {
+            (2 + usize::from(with_expanded) + extra) as f64 * LINE_H + 6.0
+        };
+        let chrome = |cols: usize, rows: usize| {
+            (
+                2.0 * MARGIN + (cols - 1) as f64 * GAP,
+                2.0 * MARGIN + TITLE_H + rows as f64 * foot_h + (rows - 1) as f64 * GAP + key_h,
+            )
+        };
+        // Side by side (as in the paper) as long as cells stay comfortably large, else the
+        // arrangement with the largest cells; ties go to more columns.
+        let options: Vec<(f64, usize)> = (1..=n)
+            .map(|cols| {
+                let rows = n.div_ceil(cols);
+                let (ew, eh) = chrome(cols, rows);
+                (
+                    fit_cell(style, cols as f64 * w, rows as f64 * h, ew, eh),
+                    cols,
+                )
+            })
+            .collect();
+        let largest = options.iter().map(|o| o.0).fold(0.0, f64::max);
+        let enough = largest.min(COMFORTABLE_CELL_PX);
+        let (cell, cols) = options
+            .iter()
+            .rev()
+            .find(|o| o.0 >= enough)
+            .copied()
+            .unwrap_or((largest, 1));
+        let rows = n.div_ceil(cols);
+        let (ew, eh) = chrome(cols, rows);
+        let (pw, ph) = (w * cell, h * cell);
+        // The distance from one column to the next, less the gap: the panel, or the
+        // widest word of a note when that is wider (the note's room is the gap too).
+        let pitch = pw.max(word_w - GAP + 4.0);
+        let content_w = ew + (cols - 1) as f64 * pitch + pw.max(word_w);
+        let cells = Cells::new(map, cell);
+        let key = key_items(map, &cells);
+        let key_w = (key_width(&key) + 2.0 * MARGIN).min(max_px(style));
+        let width = content_w.max(title_w).max(key_w).ceil();
+        let height = eh + rows as f64 * ph;
+        let x0 = MARGIN + (width - content_w) / 2.0;
+        // Each layer's note and expanded-cells line, wrapped in the room beside its panel.
+        let wrapped: Vec<(Vec<String>, Vec<String>)> = (0..layers.len())
+            .map(|k| {
+                let col = k % cols;
+                let room = if col + 1 < cols {
+                    pitch + GAP - 4.0
+                } else {
+                    width - (x0 + col as f64 * (pitch + GAP)) - MARGIN / 2.0
+                };
+                let note = wrap(&notes[k], NOTE_FS, room, room);
+                let expanded = match with_expanded {
+                    true => wrap(&expanded_lines[k], NOTE_FS, room - 22.0, room - 22.0),
+                    false => Vec::new(),
+                };
+                (note, expanded)
+            })
+            .collect();
+        let needed = wrapped
+            .iter()
+            .map(|(note, expanded)| note.len() + expanded.len())
+            .max()
+            .unwrap_or(0)
+            .saturating_sub(1 + usize::from(with_expanded));
+        if needed <= extra {
+            break (
+                cell, cols, foot_h, pitch, width, height, x0, cells, key, wrapped,
+            );
+        }
+        extra = needed;
+    };
+    let ph = h * cell;
 
     let mut doc = document(width, height);
     doc.append(title_text(title, width));
@@ -1249,7 +1396,7 @@ pub(crate) fn panels(
     for k in 0..n {
         let (col, row) = ((k % cols) as f64, (k / cols) as f64);
         let f = Frame {
-            ox: x0 + col * (pw + GAP),
+            ox: x0 + col * (pitch + GAP),
             oy: MARGIN + TITLE_H + row * (ph + foot_h + GAP),
             cell,
         };
@@ -1274,7 +1421,7 @@ pub(crate) fn panels(
             panel.append(endpoints(grid, f, start, goal, ("S", "G")));
             // Legend: swatch and label, then the note; may use the gap beside the panel.
             let room = if col as usize + 1 < cols {
-                pw + GAP - 4.0
+                pitch + GAP - 4.0
             } else {
                 width - f.ox - MARGIN / 2.0
             };
@@ -1291,29 +1438,14 @@ pub(crate) fn panels(
                 .set("fill", INK)
                 .set("class", "label"),
             );
+            let (note, expanded) = &wrapped[k];
             panel.append(
-                text(
-                    f.ox,
-                    y1 + LINE_H,
-                    fit_text(&note_with_cost(grid, layer), NOTE_FS, room),
-                    NOTE_FS,
-                )
-                .set("fill", "#444444")
-                .set("class", "note"),
+                lines_text(f.ox, f.ox, y1 + LINE_H, note, NOTE_FS)
+                    .set("fill", "#444444")
+                    .set("class", "note"),
             );
             if with_expanded {
-                let y3 = y1 + 2.0 * LINE_H;
-                let line = if layer.expanded.is_empty() {
-                    "expanded cells: not recorded".to_owned()
-                } else {
-                    let distinct = n_distinct(layer.expanded);
-                    let n = layer.expanded.len();
-                    if distinct == n {
-                        format!("expanded: {n} cells")
-                    } else {
-                        format!("expanded: {n} ({distinct} distinct cells)")
-                    }
-                };
+                let y3 = y1 + (1 + note.len()) as f64 * LINE_H;
                 // On a shaded grid expanded cells are an outline, and so is their swatch.
                 let fill = match shaded(grid) {
                     Some(_) => "none",
@@ -1330,14 +1462,9 @@ pub(crate) fn panels(
                         .set("stroke", colour.as_str()),
                 );
                 panel.append(
-                    text(
-                        f.ox + 22.0,
-                        y3,
-                        fit_text(&line, NOTE_FS, room - 22.0),
-                        NOTE_FS,
-                    )
-                    .set("fill", "#444444")
-                    .set("class", "expanded-note"),
+                    lines_text(f.ox + 22.0, f.ox + 22.0, y3, expanded, NOTE_FS)
+                        .set("fill", "#444444")
+                        .set("class", "expanded-note"),
                 );
             }
         } else {
@@ -1364,28 +1491,64 @@ pub(crate) fn overlay(
     let n = layers.len();
     let (w, h) = (f64::from(grid.width()), f64::from(grid.height()));
     let key_h = if has_key(map) { KEY_H } else { 0.0 };
-    let legend_h = n as f64 * LINE_H + 6.0;
-    let cell = fit_cell(
-        style,
-        w,
-        h,
-        2.0 * MARGIN,
-        2.0 * MARGIN + TITLE_H + legend_h + key_h,
-    );
-    let map_w = w * cell;
     let notes: Vec<String> = layers.iter().map(|l| note_with_cost(grid, l)).collect();
-    let cells = Cells::new(map, cell);
-    let key = key_items(map, &cells);
-    let legend_w = layers
+    // A note's words are never cut: the legend is at least as wide as a note's widest
+    // word after the swatch.
+    let word_w = notes
         .iter()
-        .zip(&notes)
-        .map(|(l, note)| 30.0 + text_width(l.label, LABEL_FS) * 1.08 + text_width(note, NOTE_FS))
-        .fold(text_width(title, TITLE_FS) * 1.08, f64::max)
-        .max(key_width(&key));
-    let width = (map_w + 2.0 * MARGIN)
-        .max((legend_w + 2.0 * MARGIN).min(max_px(style)))
-        .ceil();
-    let height = 2.0 * MARGIN + TITLE_H + h * cell + legend_h + key_h;
+        .map(|note| widest_word(note, NOTE_FS))
+        .fold(0.0, f64::max);
+    // The layout for `extra` legend lines beyond one a layer, repeated until the wrapped
+    // notes fit them (as in `panels`).
+    let mut extra = 0usize;
+    let (cell, width, height, cells, key, wrapped) = loop {
+        let legend_h = (n + extra) as f64 * LINE_H + 6.0;
+        let cell = fit_cell(
+            style,
+            w,
+            h,
+            2.0 * MARGIN,
+            2.0 * MARGIN + TITLE_H + legend_h + key_h,
+        );
+        let map_w = w * cell;
+        let cells = Cells::new(map, cell);
+        let key = key_items(map, &cells);
+        let legend_w = layers
+            .iter()
+            .zip(&notes)
+            .map(|(l, note)| {
+                30.0 + text_width(l.label, LABEL_FS) * 1.08 + text_width(note, NOTE_FS)
+            })
+            .fold(text_width(title, TITLE_FS) * 1.08, f64::max)
+            .max(key_width(&key));
+        let width = (map_w + 2.0 * MARGIN)
+            .max((legend_w + 2.0 * MARGIN).min(max_px(style)))
+            .max(2.0 * MARGIN + 22.0 + word_w)
+            .ceil();
+        let height = 2.0 * MARGIN + TITLE_H + h * cell + legend_h + key_h;
+        // Each layer's label and note: the note after the label, its further lines under
+        // the label.
+        let room = width - 2.0 * MARGIN - 22.0;
+        let wrapped: Vec<(String, Vec<String>)> = layers
+            .iter()
+            .zip(&notes)
+            .map(|(layer, note)| {
+                let label = fit_text(layer.label, LABEL_FS * 1.08, room);
+                let first = room - text_width(&label, LABEL_FS) * 1.08 - 8.0;
+                let lines = wrap(note, NOTE_FS, first, room);
+                (label, lines)
+            })
+            .collect();
+        let needed = wrapped
+            .iter()
+            .map(|(_, lines)| lines.len() - 1)
+            .sum::<usize>();
+        if needed <= extra {
+            break (cell, width, height, cells, key, wrapped);
+        }
+        extra = needed;
+    };
+    let map_w = w * cell;
     let f = Frame {
         ox: MARGIN + (width - 2.0 * MARGIN - map_w) / 2.0,
         oy: MARGIN + TITLE_H,
@@ -1425,28 +1588,40 @@ pub(crate) fn overlay(
     }
     doc.append(endpoints(grid, f, start, goal, ("S", "G")));
     let mut legend = Group::new().set("class", "legend");
-    for (i, (layer, note)) in layers.iter().zip(&notes).enumerate() {
+    let mut y = f.oy + h * cell;
+    for (i, (label, lines)) in wrapped.into_iter().enumerate() {
         let colour = &colour(i);
-        let y = f.oy + h * cell + (i + 1) as f64 * LINE_H;
+        y += LINE_H;
         legend.append(swatch(MARGIN, y, colour, widths[i]));
-        let room = width - 2.0 * MARGIN - 22.0;
-        let label = fit_text(layer.label, LABEL_FS * 1.08, room);
-        let room = room - text_width(&label, LABEL_FS) * 1.08 - 8.0;
+        let note_x = MARGIN + 22.0 + text_width(&label, LABEL_FS) * 1.08 + 8.0;
         let mut line = text(MARGIN + 22.0, y, String::new(), LABEL_FS).set("fill", INK);
         line.append(
             TSpan::new(label)
                 .set("font-weight", "bold")
                 .set("class", "label"),
         );
-        if room > NOTE_FS {
-            line.append(
-                TSpan::new(fit_text(note, NOTE_FS, room))
-                    .set("dx", 8)
-                    .set("font-size", num(NOTE_FS))
-                    .set("fill", "#444444")
-                    .set("class", "note"),
-            );
-        }
+        let mut note = match lines.as_slice() {
+            [only] => TSpan::new(only.clone()).set("dx", 8),
+            _ => {
+                let mut note = TSpan::new(String::new());
+                for (k, text) in lines.iter().enumerate() {
+                    let (lx, ly) = match k {
+                        0 => (note_x, y),
+                        _ => (MARGIN + 22.0, y + k as f64 * LINE_H),
+                    };
+                    note.append(Inline(
+                        TSpan::new(text.clone()).set("x", num(lx)).set("y", num(ly)),
+                    ));
+                }
+                note
+            }
+        };
+        note = note
+            .set("font-size", num(NOTE_FS))
+            .set("fill", "#444444")
+            .set("class", "note");
+        line.append(note);
+        y += (lines.len() - 1) as f64 * LINE_H;
         legend.append(line);
     }
     doc.append(legend);
@@ -1478,6 +1653,16 @@ pub(crate) fn timeline(
     let map_w = w * cell;
     let cells = Cells::new(map, cell);
     let key = key_items(map, &cells);
+    let n_shown = markers.iter().filter(|m| grid.contains(m.cell)).count();
+    let summary = format!(
+        "{} marked cell{}; S start, E end{}",
+        n_shown,
+        if n_shown == 1 { "" } else { "s" },
+        path_cost(grid, Some(path))
+            .map(|cost| format!("; cost={cost:.2}"))
+            .unwrap_or_default()
+    );
+    // The legend's numbers are never cut: the figure is at least as wide as its line.
     let width = (map_w + 2.0 * MARGIN)
         .max(
             (text_width(title, TITLE_FS) * 1.08 + 2.0 * MARGIN)
@@ -1485,6 +1670,7 @@ pub(crate) fn timeline(
                 .min(max_px(style)),
         )
         .max(320.0)
+        .max(text_width(&summary, NOTE_FS) + 2.0 * MARGIN)
         .ceil();
     let height = 2.0 * MARGIN + TITLE_H + h * cell + legend_h + key_h;
     let f = Frame {
@@ -1537,7 +1723,6 @@ pub(crate) fn timeline(
 
     // Markers: vermillion (a colour viridis lacks).
     doc.append(marker_group(grid, f, markers, labels, PALETTE[1]));
-    let n_shown = markers.iter().filter(|m| grid.contains(m.cell)).count();
     if let (Some(s), Some(e)) = (path.start(), path.goal()) {
         doc.append(endpoints(grid, f, s, e, ("S", "E")));
     }
@@ -1568,22 +1753,7 @@ pub(crate) fn timeline(
         )
         .set("fill", INK),
     );
-    legend.append(
-        text(
-            MARGIN,
-            y + LINE_H,
-            format!(
-                "{} marked cell{}; S start, E end{}",
-                n_shown,
-                if n_shown == 1 { "" } else { "s" },
-                path_cost(grid, Some(path))
-                    .map(|cost| format!("; cost={cost:.2}"))
-                    .unwrap_or_default()
-            ),
-            NOTE_FS,
-        )
-        .set("fill", INK),
-    );
+    legend.append(text(MARGIN, y + LINE_H, summary, NOTE_FS).set("fill", INK));
     doc.append(legend);
     if !key.is_empty() {
         doc.append(key_group(&key, MARGIN, height - MARGIN - 4.0));

@@ -978,3 +978,170 @@ fn weighted_maps_give_the_cost_a_scale_and_expanded_outlines() {
         .all(|&(x, y)| picture.get_pixel(x, y).0 == [0x00, 0x72, 0xb2, 255]));
     assert!(!opaque.contains(&(15, 15)));
 }
+
+/// The numbers in `note`: each run of digits, with its decimals.
+fn numbers(note: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut run = String::new();
+    for c in note.chars().chain([' ']) {
+        if c.is_ascii_digit() || (c == '.' && !run.is_empty()) {
+            run.push(c);
+        } else if !run.is_empty() {
+            out.push(std::mem::take(&mut run).trim_end_matches('.').to_owned());
+        }
+    }
+    out
+}
+
+/// Holds `svg`'s notes to `notes`: each note element's text is its note whole (wrapped
+/// lines joined), every number in it among the note's text, nothing cut with an ellipsis,
+/// and every line within the figure's width.
+fn notes_whole(svg: &str, class: &str, notes: &[String]) {
+    assert_eq!(texts(svg, class), notes, "{svg}");
+    let text = texts(svg, class).concat();
+    assert!(!text.contains('…'), "{svg}");
+    for note in notes {
+        for number in numbers(note) {
+            assert!(text.contains(&number), "{number} of {note} in {svg}");
+        }
+    }
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    let width: f64 = doc
+        .root_element()
+        .attribute("width")
+        .unwrap()
+        .parse()
+        .unwrap();
+    for n in doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some(class))
+    {
+        // Every line starts inside the figure, and its estimated width (0.62 em a
+        // character at 12 px) ends inside it.
+        let lines: Vec<roxmltree::Node> = match n.children().any(|c| c.is_element()) {
+            true => n.children().filter(|c| c.is_element()).collect(),
+            false => vec![n],
+        };
+        for line in lines {
+            let own = line.text().unwrap_or("").trim_end();
+            if let Some(x) = line.attribute("x").and_then(|x| x.parse::<f64>().ok()) {
+                let end = x + own.chars().count() as f64 * 12.0 * 0.62;
+                assert!(
+                    end <= width + 0.5,
+                    "{own:?} ends at {end} of {width}: {svg}"
+                );
+            }
+        }
+    }
+}
+
+/// Notes are wrapped, never cut: on a 3 x 3 map, a 3 x 100000 map (a picture), and in a
+/// comparison of a weighted map's panels (where each note gains its path's cost), every
+/// number of each note reaches the SVG's text, with the words in order.
+#[test]
+fn notes_keep_every_number_on_narrow_maps_and_weighted_comparisons() {
+    let style = Style::default();
+    // 3 x 3: the per-run figure read `found: D=4 T=1 Score=5 leng…`.
+    let grid = Grid::new(3, 3).unwrap();
+    let path = cells(&[(0, 0), (1, 0), (2, 0), (2, 1), (2, 2)]);
+    let note = "found: D=4 T=1 Score=5 length=4.00 time_ms=0.0123";
+    let layer = Layer::new("astar", Some(&path), note);
+    let svg = draw_path(&grid, Cell::new(0, 0), Cell::new(2, 2), &layer, "m", &style);
+    notes_whole(&svg, "note", &[note.to_owned()]);
+    // With expanded cells, their line too.
+    let expanded: Vec<Cell> = path.cells().to_vec();
+    let with = layer.clone().with_expanded(&expanded);
+    let svg = draw_path(&grid, Cell::new(0, 0), Cell::new(2, 2), &with, "m", &style);
+    notes_whole(&svg, "note", &[note.to_owned()]);
+    notes_whole(&svg, "expanded-note", &["expanded: 5 cells".to_owned()]);
+
+    // 3 x 100000: `plan --svg` read `found: D=100001 T=2 Score=100003 …`.
+    let tall = Grid::new(3, 100_000).unwrap();
+    let path = cells(&[(0, 0), (0, 99_999), (2, 99_999)]);
+    let note = "found: D=100001 T=2 Score=100003 length=100001.00 cost=100001.00";
+    let layer = Layer::new("astar", Some(&path), note);
+    let svg = draw_path(
+        &tall,
+        Cell::new(0, 0),
+        Cell::new(2, 99_999),
+        &layer,
+        "",
+        &style,
+    );
+    notes_whole(&svg, "note", &[note.to_owned()]);
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let height: f64 = doc
+        .root_element()
+        .attribute("height")
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(height <= 1200.0, "{height}");
+
+    // A weighted 8 x 6 map compared in panels: `found: D=7 T=4 Score=11 length=7.83 c…`.
+    let weighted = Grid::new(8, 6)
+        .unwrap()
+        .with_weights(
+            (0..48).map(|i| 1 + (i % 7) as u16 * 40).collect(),
+            CostRule::Mean,
+        )
+        .unwrap();
+    let a = cells(&[
+        (0, 0),
+        (1, 1),
+        (2, 2),
+        (3, 3),
+        (4, 3),
+        (5, 4),
+        (6, 5),
+        (7, 5),
+    ]);
+    let b = cells(&[
+        (0, 0),
+        (1, 0),
+        (2, 1),
+        (3, 2),
+        (4, 3),
+        (5, 4),
+        (6, 5),
+        (7, 5),
+    ]);
+    let notes = [
+        "found: D=7 T=4 Score=11 length=7.83",
+        "found: D=7 T=3 Score=10 length=8.24",
+    ];
+    let layers: Vec<Layer> = [(&a, notes[0]), (&b, notes[1])]
+        .iter()
+        .enumerate()
+        .map(|(i, (p, n))| Layer::new(["astar", "bfs"][i], Some(p), *n))
+        .collect();
+    let expected: Vec<String> = [(&a, notes[0]), (&b, notes[1])]
+        .iter()
+        .map(|(p, n)| {
+            let cost = weighted.path_cost(p.cells()).to_f64();
+            format!("{n} cost={cost:.2}")
+        })
+        .collect();
+    let (s, g) = (Cell::new(0, 0), Cell::new(7, 5));
+    for layout in [Layout::Panels, Layout::Overlay] {
+        let style = Style {
+            layout,
+            ..Style::default()
+        };
+        let svg = draw_comparison(&weighted, s, g, &layers, "weighted", &style);
+        notes_whole(&svg, "note", &expected);
+    }
+    // Six panels of a narrow map in rows and columns, a long label in an overlay.
+    let six: Vec<Layer> = (0..6).map(|i| layers[i % 2].clone()).collect();
+    let svg = draw_comparison(&weighted, s, g, &six, "six", &style);
+    let six_expected: Vec<String> = (0..6).map(|i| expected[i % 2].clone()).collect();
+    notes_whole(&svg, "note", &six_expected);
+    let long = "a label long enough to take the whole legend line of the overlay ".repeat(3);
+    let overlay = Style {
+        layout: Layout::Overlay,
+        ..Style::default()
+    };
+    let labelled = [Layer::new(&long, Some(&a), notes[0])];
+    let svg = draw_comparison(&weighted, s, g, &labelled, "", &overlay);
+    notes_whole(&svg, "note", &expected[..1]);
+}
