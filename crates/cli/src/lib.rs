@@ -518,6 +518,32 @@ pub enum SubmitError {
     },
 }
 
+/// Refuses (exit 2, before the run) an output file of `plan` (`--svg`, `--trace`,
+/// `--gif`) that is a link leading to one of the run's `inputs`: the file it resolves to
+/// (links followed) is an input's. planner-serve's check compares the picture's directory
+/// entry, which a picture would replace (the link, not the map), so `--svg fig.svg` with
+/// `fig.svg -> m.map` passed it and the run replaced the link; the map is named by it all
+/// the same, and the README promises such a picture is refused. A file that does not
+/// exist yet (or a dangling link) names no input.
+fn refuse_links_to_inputs(files: &[&std::path::Path], inputs: &[PathBuf]) -> Result<(), CliError> {
+    let inputs: Vec<(&PathBuf, PathBuf)> = inputs
+        .iter()
+        .filter_map(|input| input.canonicalize().ok().map(|resolved| (input, resolved)))
+        .collect();
+    for file in files {
+        let Ok(resolved) = file.canonicalize() else {
+            continue;
+        };
+        if let Some((input, _)) = inputs.iter().find(|(_, r)| *r == resolved) {
+            return Err(CliError::Pictures(planner_serve::PictureError::Input {
+                path: file.to_path_buf(),
+                input: (*input).clone(),
+            }));
+        }
+    }
+    Ok(())
+}
+
 /// Any other failure (an I/O error, a stream or shard set that cannot be read, a
 /// determinism bug found while drawing expanded cells).
 pub const EXIT_FAILURE: u8 = 1;
@@ -1130,6 +1156,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 .filter_map(|file| file.as_deref())
                 .collect();
             planner_serve::check_picture_files(&files, &inputs)?;
+            refuse_links_to_inputs(&files, &inputs)?;
             let result = planner_runner::plan::run_with(&args, &options)?;
             let figure = svg.as_ref().map(|_| {
                 planner_report::figures::draw_run(&result.grid, &result.record, &result.expanded)

@@ -653,3 +653,88 @@ fn a_replanning_experiment_in_a_job_array_is_refused() {
         out.describe()
     );
 }
+
+/// A picture that is a link to one of the run's inputs (`ln/fig.svg -> m.map` beside
+/// `ln/m.map`, the map reached through a linked directory, the `.scen` beside it) is
+/// refused as the input itself is (exit 2, before the run): the link stays a link and the
+/// input is intact. It exited 0 and replaced the link with the SVG.
+#[cfg(unix)]
+#[test]
+fn a_picture_that_is_a_link_to_an_input_exits_2_and_keeps_the_link() {
+    let dir = scratch("picture-link-input");
+    let ln = dir.join("ln");
+    std::fs::create_dir_all(&ln).unwrap();
+    let map = ln.join("m.map");
+    let text = "type octile\nheight 3\nwidth 3\nmap\n...\n.@.\n...\n";
+    std::fs::write(&map, text).unwrap();
+    std::fs::write(ln.join("m.map.scen"), "version 1\n").unwrap();
+    std::os::unix::fs::symlink("ln", dir.join("via")).unwrap();
+    std::os::unix::fs::symlink("m.map", ln.join("fig.svg")).unwrap();
+    std::os::unix::fs::symlink("../ln/m.map", ln.join("up.gif")).unwrap();
+    std::os::unix::fs::symlink("m.map.scen", ln.join("trace.json")).unwrap();
+    std::os::unix::fs::symlink(&map, dir.join("abs.svg")).unwrap();
+    let path = |name: &str| dir.join(name).display().to_string();
+    let cases = [
+        (path("ln/m.map"), "--svg", path("ln/fig.svg")),
+        (path("via/m.map"), "--svg", path("ln/fig.svg")),
+        (path("ln/m.map"), "--gif", path("ln/up.gif")),
+        (path("ln/m.map"), "--trace", path("ln/trace.json")),
+        (path("ln/m.map"), "--trace", path("via/fig.svg")),
+        (path("via/m.map"), "--svg", path("abs.svg")),
+    ];
+    for (map_arg, option, picture) in &cases {
+        let (code, err) = gridplan(&[
+            "plan",
+            map_arg,
+            "--planner",
+            "astar",
+            "--start",
+            "0,0",
+            "--goal",
+            "2,2",
+            option,
+            picture,
+        ]);
+        assert_eq!(code, 2, "{map_arg} {option} {picture}: {err}");
+        assert!(
+            err.contains("which the run reads"),
+            "{map_arg} {option} {picture}: {err}"
+        );
+    }
+    assert_eq!(std::fs::read_to_string(&map).unwrap(), text);
+    assert_eq!(
+        std::fs::read_to_string(ln.join("m.map.scen")).unwrap(),
+        "version 1\n"
+    );
+    for link in ["ln/fig.svg", "ln/up.gif", "ln/trace.json", "abs.svg"] {
+        assert!(
+            std::fs::symlink_metadata(dir.join(link))
+                .unwrap()
+                .is_symlink(),
+            "{link}"
+        );
+    }
+    // A link to a file that is not an input, and a dangling link, are written through as
+    // before (the picture replaces the link).
+    std::fs::write(ln.join("old.svg"), "old").unwrap();
+    std::os::unix::fs::symlink("old.svg", ln.join("other.svg")).unwrap();
+    std::os::unix::fs::symlink("nowhere.svg", ln.join("dangling.svg")).unwrap();
+    for picture in ["ln/other.svg", "ln/dangling.svg"] {
+        let (code, err) = gridplan(&[
+            "plan",
+            &path("ln/m.map"),
+            "--planner",
+            "astar",
+            "--start",
+            "0,0",
+            "--goal",
+            "2,2",
+            "--svg",
+            &path(picture),
+        ]);
+        assert_eq!(code, 0, "{picture}: {err}");
+        assert!(std::fs::read_to_string(dir.join(picture))
+            .unwrap()
+            .starts_with("<svg"));
+    }
+}
