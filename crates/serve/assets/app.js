@@ -31,6 +31,9 @@ const state = {
   results: [], // {slot, name, label, plan, expanded: Int32Array, shown, canvas, data, pixels}
   playing: false,
   run: null, // the plan in progress: {gen, id, cancelled}
+  // Raised whenever start, goal or walls change: a plan answered for an older query is
+  // not drawn, and the plan drawn is cleared (its path was for another query).
+  queryGen: 0,
   runs: null, // the open results directory
 };
 
@@ -189,7 +192,7 @@ async function loadMap(path) {
     for (let i = 0; i < weights.length; i++) if (!blocked[i]) { low = Math.min(low, weights[i]); high = Math.max(high, weights[i]); }
     range = [low, Math.max(high, low)];
   }
-  state.map = { path: map.path, name: map.name, width: map.width, height: map.height, blocked, unknown, unknownCount, problems: map.problems, weights, range, costs, rule: map.cost_rule, frame: map.frame, gen };
+  state.map = { path: map.path, name: map.name, width: map.width, height: map.height, blocked, unknown, unknownCount, problems: map.problems, weights, range, costs, rule: map.cost_rule, frame: map.frame, gen, version: map.version };
   state.edits = new Map();
   state.start = null;
   state.goal = null;
@@ -220,12 +223,16 @@ async function loadMap(path) {
   return true;
 }
 
+// A free cell's shade on a weighted map, `t` from 0 (the least weight) to 1 (the most).
+function weightRgb(t) {
+  return [255 - 80 * t, 255 - 140 * t, 255 - 230 * t].map(Math.round);
+}
+
 function paintBase(i) {
   let rgb = state.map.blocked[i] ? (state.map.unknown[i] ? UNKNOWN_RGB : BLOCKED_RGB) : FREE_RGB;
   const { weights, range } = state.map;
   if (weights && !state.map.blocked[i] && range[1] > range[0]) {
-    const t = (weights[i] - range[0]) / (range[1] - range[0]);
-    rgb = [255 - 80 * t, 255 - 140 * t, 255 - 230 * t].map(Math.round);
+    rgb = weightRgb((weights[i] - range[0]) / (range[1] - range[0]));
   }
   const d = state.baseData.data;
   d[4 * i] = rgb[0];
@@ -240,6 +247,7 @@ function setWall(x, y, blocked) {
   if (map.blocked[i] === blocked) return;
   if ((state.start && state.start[0] === x && state.start[1] === y) || (state.goal && state.goal[0] === x && state.goal[1] === y)) return;
   map.blocked[i] = blocked;
+  queryChanged("The walls");
   // An edited cell is known: a wall or free, as drawn.
   map.unknown[i] = 0;
   state.edits.set(i, blocked ? 0 : 1);
@@ -250,6 +258,59 @@ function setWall(x, y, blocked) {
 function updateEnds() {
   $("start-out").textContent = state.start ? where(state.start) : "-";
   $("goal-out").textContent = state.goal ? where(state.goal) : "-";
+  // The keyboard's way to set them: the cell fields show the cells set by clicks too.
+  for (const end of ["start", "goal"]) {
+    const cell = state[end];
+    $(`${end}-x`).value = cell ? String(cell[0]) : "";
+    $(`${end}-y`).value = cell ? String(cell[1]) : "";
+    $(`${end}-x`).removeAttribute("aria-invalid");
+    $(`${end}-y`).removeAttribute("aria-invalid");
+  }
+}
+
+// Start, goal or walls changed: the plan drawn (path, search, counters) was for the query
+// before, so it is cleared, and a plan under way will not be drawn when it answers.
+function queryChanged(what) {
+  state.queryGen++;
+  if (state.results.length === 0) return;
+  state.results = [];
+  state.playing = false;
+  layoutViews();
+  setStatus(`${what} changed: the plan shown was for the query before; Plan again`);
+}
+
+// Sets `end` ("start" or "goal") from its x and y fields (the keyboard's way to set them);
+// says which field is wrong when they name no free cell of the map.
+function endFromFields(end) {
+  const name = end === "start" ? "Start" : "Goal";
+  if (!state.map) {
+    setStatus("load a map first", true);
+    return;
+  }
+  const fields = [$(`${end}-x`), $(`${end}-y`)];
+  const texts = fields.map((f) => f.value.trim());
+  if (texts.some((t) => t === "") && !fields.some((f) => f.validity.badInput)) return;
+  const sides = [state.map.width, state.map.height];
+  for (let k = 0; k < 2; k++) {
+    const n = Number(texts[k]);
+    if (fields[k].validity.badInput || !/^\d+$/.test(texts[k]) || n >= sides[k]) {
+      fields[k].setAttribute("aria-invalid", "true");
+      setStatus(`${name} ${"xy"[k]}: ${JSON.stringify(texts[k])} is not a whole number from 0 to ${sides[k] - 1}`, true);
+      return;
+    }
+  }
+  const cell = texts.map(Number);
+  const i = cell[1] * state.map.width + cell[0];
+  if (state.map.blocked[i]) {
+    fields[0].setAttribute("aria-invalid", "true");
+    setStatus(`${name}: (${cell[0]}, ${cell[1]}) is ${state.map.unknown[i] ? "unknown (blocked)" : "a wall"}`, true);
+    return;
+  }
+  if (state[end] && state[end][0] === cell[0] && state[end][1] === cell[1]) return;
+  state[end] = cell;
+  queryChanged(name);
+  updateEnds();
+  draw();
 }
 
 // A cell as `(x, y)`, and on a ROS map also its centre in the map frame, in metres (as
@@ -281,7 +342,10 @@ function layoutViews() {
   views.replaceChildren();
   const overlay = layout() === "overlay" || state.results.length <= 1;
   const panels = overlay ? [state.results] : state.results.map((r) => [r]);
-  const size = panels.length <= 1 ? 720 : panels.length === 2 ? 560 : 420;
+  // At most 720, 560 or 420 pixels a side, and no wider than the views' column (less a
+  // view's border and padding), so a narrow window shows the canvas whole.
+  const room = Math.floor(views.clientWidth) - 12;
+  const size = Math.max(120, Math.min(panels.length <= 1 ? 720 : panels.length === 2 ? 560 : 420, room > 0 ? room : 720));
   const resized = state.viewSize !== size;
   state.viewSize = size;
   panels.forEach((results, k) => {
@@ -314,13 +378,19 @@ function layoutViews() {
 function mapKey() {
   const key = document.createElement("p");
   key.className = "map-key";
-  const tones = [["free", FREE_RGB], ["wall", BLOCKED_RGB]];
-  if (state.map && state.map.unknownCount > 0) tones.push(["unknown (blocked)", UNKNOWN_RGB]);
-  for (const [what, rgb] of tones) {
+  const css = (rgb) => `rgb(${rgb.join(",")})`;
+  const tones = [["free", css(FREE_RGB)], ["wall", css(BLOCKED_RGB)]];
+  if (state.map && state.map.unknownCount > 0) tones.push(["unknown (blocked)", css(UNKNOWN_RGB)]);
+  if (state.map && state.map.weights && state.map.range[1] > state.map.range[0]) {
+    const [low, high] = state.map.range;
+    tones.push([`weight ${low} to ${high}`, `linear-gradient(to right, ${css(weightRgb(0))}, ${css(weightRgb(1))})`]);
+  }
+  tones.push(["start", START_COLOR], ["goal", GOAL_COLOR], ["path (its planner's colour)", PATH_COLORS[0]]);
+  for (const [what, background] of tones) {
     const swatch = document.createElement("span");
     swatch.className = "swatch";
     swatch.dataset.tone = what;
-    swatch.style.background = `rgb(${rgb.join(",")})`;
+    swatch.style.background = background;
     key.append(swatch, document.createTextNode(` ${what} `));
   }
   return key;
@@ -372,7 +442,9 @@ function pointerDown(e, canvas) {
       setStatus(`(${cell[0]}, ${cell[1]}) is ${state.map.unknown[i] ? "unknown (blocked)" : "a wall"}`, true);
       return;
     }
+    const same = state[t] && state[t][0] === cell[0] && state[t][1] === cell[1];
     state[t] = cell;
+    if (!same) queryChanged(t === "start" ? "Start" : "Goal");
     updateEnds();
     draw();
     return;
@@ -450,6 +522,29 @@ function fillCell(ctx, x, y, color) {
   ctx.fillRect(px, py, size, size);
 }
 
+// The smallest marker drawn for start and goal, in pixels: its radius. On a map whose
+// cells are drawn smaller (den520d on the canvas: 2 pixels a cell), the cell is ringed.
+const MARKER_RADIUS = 8;
+
+// Start or goal: its cell filled, and when cells are drawn smaller than the marker, a ring
+// and a dot in its colour around the cell's centre, so it shows at any zoom.
+function marker(ctx, cell, color) {
+  fillCell(ctx, cell[0], cell[1], color);
+  const v = state.view;
+  if (v.cell >= 2 * MARKER_RADIUS) return;
+  const cx = v.x + (cell[0] + 0.5) * v.cell;
+  const cy = v.y + (cell[1] + 0.5) * v.cell;
+  ctx.strokeStyle = color;
+  ctx.lineWidth = 3;
+  ctx.beginPath();
+  ctx.arc(cx, cy, MARKER_RADIUS, 0, 2 * Math.PI);
+  ctx.stroke();
+  ctx.fillStyle = color;
+  ctx.beginPath();
+  ctx.arc(cx, cy, 3, 0, 2 * Math.PI);
+  ctx.fill();
+}
+
 function draw() {
   if (!state.map) return;
   const v = state.view;
@@ -475,8 +570,8 @@ function draw() {
         for (const [x, y] of pathCells(r.plan.path)) fillCell(ctx, x, y, PATH_COLORS[r.slot]);
       }
     }
-    if (state.start) fillCell(ctx, state.start[0], state.start[1], START_COLOR);
-    if (state.goal) fillCell(ctx, state.goal[0], state.goal[1], GOAL_COLOR);
+    if (state.start) marker(ctx, state.start, START_COLOR);
+    if (state.goal) marker(ctx, state.goal, GOAL_COLOR);
   }
   for (const r of state.results) {
     const done = r.shown >= r.expanded.length;
@@ -519,6 +614,12 @@ function countersTable(r) {
   if (plan.cost !== undefined) row("cost", String(plan.cost));
   for (const [key, value] of Object.entries(plan.counters)) row(key, String(value));
   row("time_ms", r.timeMs.toFixed(3));
+  // A run with no expanded cells to draw (a recorded run of a results directory, a search
+  // stopped by the time limit) has no playback: no count of it, no key of its tones.
+  if (r.expandedTotal === 0) {
+    table.appendChild(body);
+    return table;
+  }
   row("expanded shown", "", "shown");
   // What the search view's two tones are, for planners that record their frontier.
   const tones = [["expanded", EXPANDED_COLORS[r.slot]]];
@@ -605,7 +706,7 @@ async function planOne(run, slot, name, set) {
   const map = state.map;
   if (run.gen !== state.loadGen || map.gen !== run.gen) return null;
   const edits = Array.from(state.edits, ([i, free]) => [i % map.width, Math.floor(i / map.width), free]);
-  const max = $("max-expansions").value.trim();
+  const max = maxExpansions();
   run.id = newRunId();
   const request = {
     map: map.path,
@@ -617,13 +718,29 @@ async function planOne(run, slot, name, set) {
     run: run.id,
     costs: map.costs,
     ignore_costs: $("ignore-costs").checked,
+    // The map as drawn: the server refuses the plan (409) if its file changed since.
+    map_version: map.version,
   };
-  if (max !== "") request.max_expansions = Number(max);
-  const response = await getJson("/api/plan", {
-    method: "POST",
-    headers: { "Content-Type": "application/json" },
-    body: JSON.stringify(request),
-  });
+  if (max !== null) request.max_expansions = max;
+  let response;
+  try {
+    response = await getJson("/api/plan", {
+      method: "POST",
+      headers: { "Content-Type": "application/json" },
+      body: JSON.stringify(request),
+    });
+  } catch (error) {
+    // The server says `--set KEY=VALUE: ...` as `plan --set` does; on the page the value
+    // was typed in the planner's KEY field, so the message names that field.
+    const m = /^--set ([^=:]+)(?:=([^:]*))?: (.*)$/s.exec(error.message);
+    if (m) {
+      const field = document.querySelector(`#planner-slots .slot[data-slot="${slot}"] .params [data-key="${CSS.escape(m[1])}"]`);
+      if (field) field.setAttribute("aria-invalid", "true");
+      const value = m[2] === undefined ? "" : ` = ${m[2]}`;
+      error.message = `planner ${slot + 1} (${name}), field ${m[1]}${value}: ${m[3]}`;
+    }
+    throw error;
+  }
   run.id = null;
   if (run.gen !== state.loadGen) return null;
   const label = set.length ? `${name}[${set.join(", ")}]` : name;
@@ -644,6 +761,16 @@ async function runAll(options) {
     setStatus("choose a planner", true);
     return;
   }
+  const maxField = $("max-expansions");
+  maxField.removeAttribute("aria-invalid");
+  for (const field of document.querySelectorAll("#planner-slots [aria-invalid]")) field.removeAttribute("aria-invalid");
+  if (maxExpansions() === undefined) {
+    maxField.setAttribute("aria-invalid", "true");
+    maxField.focus();
+    setStatus(`Max expansions: ${JSON.stringify(maxField.value)} is not a whole number from 1 to ${Number.MAX_SAFE_INTEGER} (empty: the server's default)`, true);
+    return;
+  }
+  const queryGen = state.queryGen;
   // The run belongs to the map shown now: a "Load map" meanwhile cancels it, and every
   // answer for it after that is dropped.
   const run = { gen: state.loadGen, id: null, cancelled: false };
@@ -663,7 +790,10 @@ async function runAll(options) {
     }
     if (current()) setStatus(results.map((r) => `${r.label}: ${r.plan.status}`).join("; "));
   } catch (error) {
-    if (current()) setStatus(error.status === 409 ? "cancelled" : `error: ${error.message}`, error.status !== 409);
+    // 409 is a cancelled run ({"cancelled": true}), or a map changed on disk since it was
+    // loaded (an error to show: the page draws the map as it was).
+    const cancelled = error.status === 409 && !(error.body && error.body.error);
+    if (current()) setStatus(cancelled ? "cancelled" : `error: ${error.message}`, !cancelled);
   } finally {
     if (state.run === run) {
       state.run = null;
@@ -672,6 +802,11 @@ async function runAll(options) {
     }
   }
   if (!current()) return;
+  if (queryGen !== state.queryGen) {
+    // Start, goal or walls changed while it ran: its answers are for the query before.
+    if (results.length > 0) setStatus("start, goal or walls changed while planning; Plan again", true);
+    return;
+  }
   state.results = results;
   layoutViews();
   if (options && options.instant) {
@@ -680,6 +815,17 @@ async function runAll(options) {
     state.playing = true;
   }
   draw();
+}
+
+// The Max expansions field: null when empty (the server's default), the number when it
+// is a whole number from 1 to 2^53 - 1, undefined otherwise (-5, 1.5, 0, 1e30, text).
+function maxExpansions() {
+  const field = $("max-expansions");
+  const text = field.value.trim();
+  if (text === "" && !field.validity.badInput) return null;
+  if (!/^\d+$/.test(text)) return undefined;
+  const n = Number(text);
+  return n >= 1 && Number.isSafeInteger(n) ? n : undefined;
 }
 
 // Cancels the plan in progress: the planner running on the server stops, and the
@@ -782,6 +928,14 @@ function renderRuns() {
       tr.appendChild(td);
     }
     tr.addEventListener("click", () => showRun(row, tr));
+    // Reached with Tab, opened with Enter or Space, as a button is.
+    tr.tabIndex = 0;
+    tr.addEventListener("keydown", (e) => {
+      if (e.key === "Enter" || e.key === " ") {
+        e.preventDefault();
+        showRun(row, tr);
+      }
+    });
     body.appendChild(tr);
   }
   $("results-count").textContent = n > 2000 ? `${n} runs (the first 2000 shown)` : `${n} runs`;
@@ -813,7 +967,10 @@ async function showRun(row, tr) {
   );
   const path = kept ? kept.path : [];
   const counters = {};
-  for (const name of columns) if (name.startsWith("n_")) counters[name] = get(name);
+  // Only the counters this run's planner has: a results directory's table has a column
+  // for every planner's counters, null where a planner has none (plan --json leaves them
+  // out).
+  for (const name of columns) if (name.startsWith("n_") && get(name) !== null) counters[name] = get(name);
   const plan = {
     status: get("status"),
     path,
@@ -859,8 +1016,21 @@ async function init() {
     const p = state.map.problems[Number(i)];
     state.start = [p[0], p[1]];
     state.goal = [p[2], p[3]];
+    queryChanged("The scenario problem");
     updateEnds();
     draw();
+  });
+  for (const end of ["start", "goal"]) {
+    for (const axis of ["x", "y"]) $(`${end}-${axis}`).addEventListener("change", () => endFromFields(end));
+  }
+  // The canvases follow the window's width.
+  let resizing = null;
+  window.addEventListener("resize", () => {
+    clearTimeout(resizing);
+    resizing = setTimeout(() => {
+      layoutViews();
+      draw();
+    }, 100);
   });
   $("run").addEventListener("click", () => runAll());
   $("cancel").addEventListener("click", () => cancelRun());

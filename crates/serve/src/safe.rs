@@ -6,7 +6,8 @@
 //! component, or contains a NUL; otherwise it is joined to `DIR` and canonicalized (every
 //! symlink resolved), and refused again when the result is not inside `DIR`'s own
 //! canonical form (a symlink leading out). A path that does not exist is
-//! [`Refusal::NotFound`] (404). Nothing is opened before these checks pass.
+//! [`Refusal::NotFound`] (404), and a directory where a file is asked for
+//! [`Refusal::Directory`] (400). Nothing is opened before these checks pass.
 
 use std::path::{Component, Path, PathBuf};
 
@@ -19,6 +20,9 @@ pub enum Refusal {
     /// No such file under the served directory: 404.
     #[error("{0:?}: no such file")]
     NotFound(String),
+    /// A directory where a file is asked for: 400.
+    #[error("{0:?}: is a directory, not a file")]
+    Directory(String),
 }
 
 impl Refusal {
@@ -27,6 +31,7 @@ impl Refusal {
         match self {
             Refusal::Forbidden(_) => 403,
             Refusal::NotFound(_) => 404,
+            Refusal::Directory(_) => 400,
         }
     }
 }
@@ -64,11 +69,14 @@ impl Root {
     /// assert!(matches!(root.file("../../Cargo.toml"), Err(Refusal::Forbidden(_))));
     /// assert!(matches!(root.file("/etc/passwd"), Err(Refusal::Forbidden(_))));
     /// assert!(matches!(root.file("nothing.map"), Err(Refusal::NotFound(_))));
+    /// assert!(matches!(root.file("src"), Err(Refusal::Directory(_))));
     /// ```
     pub fn file(&self, relative: &str) -> Result<PathBuf, Refusal> {
         let path = self.inside(relative)?;
         if path.is_file() {
             Ok(path)
+        } else if path.is_dir() {
+            Err(Refusal::Directory(relative.to_string()))
         } else {
             Err(Refusal::NotFound(relative.to_string()))
         }

@@ -3,16 +3,20 @@
 //!
 //! | Request | Answer |
 //! |---|---|
-//! | `GET /`, `/app.js`, `/style.css` | the page (embedded in the binary) |
+//! | `GET /`, `/app.js`, `/style.css`, `/favicon.svg` | the page (embedded in the binary) |
 //! | `GET /api/planners` | the registry: name, summary, declared parameters |
-//! | `GET /api/maps` | map files and results directories under the served directory |
-//! | `GET /api/map?path=P` | map `P`: size, cells (one character each, row-major: `0` free, `1` blocked, `2` a ROS map's unknown cell, blocked too), its own problems or its `.scen`'s |
-//! | `POST /api/plan` | plans one query (JSON body, [`PlanRequest`]); `plan --json`'s object and the expanded cells |
+//! | `GET /api/maps` | map files (not `.csv` weight files) and results directories under the served directory |
+//! | `GET /api/map?path=P` | map `P`: size, cells (one character each, row-major: `0` free, `1` blocked, `2` a ROS map's unknown cell, blocked too), its own problems or its `.scen`'s, and its `version` ([`map_version`]) |
+//! | `POST /api/plan` | plans one query (JSON body, [`PlanRequest`]); `plan --json`'s object and the expanded cells; 409 when the request's `map_version` is not the map's as read now (the file changed on disk since the page loaded it) |
 //! | `POST /api/cancel?run=ID` | cancels the plan request with that `run` id |
 //! | `GET /api/results?path=P` | results directory `P`: runs.json's table, the kept paths, where the maps it names lie (`maps`; `null` and a `map_notes` sentence when not located, [`crate::located`]) |
 //!
 //! HTTP/1.1 on plain TCP, one request per connection (answered with `Connection: close`),
-//! heads parsed by httparse.
+//! heads parsed by httparse. `HEAD` answers a `GET` path's head without its body; another
+//! method on a known path is 405 with an `Allow` header. `/api/map` and `/api/results`
+//! without `path` are 400; `graded` takes `true` or `false` (`1` or `0`), anything else is
+//! 400. Error messages name files by their path under the served directory, never by the
+//! server's absolute path; a directory where a file is asked for is 400.
 //!
 //! # Connections, threads and time limits
 //!
@@ -79,6 +83,8 @@ use crate::safe::{Refusal, Root};
 const INDEX_HTML: &str = include_str!("../assets/index.html");
 const APP_JS: &str = include_str!("../assets/app.js");
 const STYLE_CSS: &str = include_str!("../assets/style.css");
+/// The page's icon (a browser asks for one on every load; without it, a 404 in the console).
+const FAVICON_SVG: &str = "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 4 4\"><rect width=\"4\" height=\"4\" fill=\"#fff\"/><rect x=\"1\" width=\"1\" height=\"3\" fill=\"#2d2d2d\"/><rect y=\"3\" width=\"4\" height=\"1\" fill=\"#e6194b\"/></svg>";
 
 /// The map file extensions listed and read (what planner-maps reads).
 pub const MAP_EXTENSIONS: &[&str] = &["map", "txt", "csv", "yaml", "png", "pgm"];
@@ -319,6 +325,8 @@ struct Answer {
     status: u16,
     kind: &'static str,
     body: Vec<u8>,
+    /// The methods a 405's `Allow` header lists.
+    allow: Option<&'static str>,
 }
 
 impl Answer {
@@ -327,6 +335,7 @@ impl Answer {
             status,
             kind: "application/json",
             body: body.into_bytes(),
+            allow: None,
         }
     }
 
@@ -343,8 +352,29 @@ impl Answer {
             status: 200,
             kind,
             body: text.as_bytes().to_vec(),
+            allow: None,
         }
     }
+
+    /// 405, with the methods `path` answers in `Allow`.
+    fn not_allowed(allow: &'static str) -> Answer {
+        Answer {
+            allow: Some(allow),
+            ..Answer::error(
+                405,
+                &format!("method not allowed; this path answers {allow}"),
+            )
+        }
+    }
+}
+
+/// The absolute path of the served directory in `text` taken out: what a refusal or a
+/// reader's error says names files by their path under the served directory, as the page
+/// asked for them, never by where the server keeps them.
+fn relative_message(root: &Root, text: &str) -> String {
+    let mut prefix = root.path().display().to_string();
+    prefix.push(std::path::MAIN_SEPARATOR);
+    text.replace(&prefix, "")
 }
 
 /// The longest request head (request line and headers) read, in bytes.
@@ -372,14 +402,21 @@ const LINGER: (Duration, usize) = (Duration::from_secs(1), 1 << 20);
 fn connection(state: &Arc<State>, mut stream: TcpStream) {
     let opened = Instant::now();
     let _ = stream.set_write_timeout(Some(WRITE_TIMEOUT));
+    let mut head_only = false;
     let answer = match read_request(state, &mut stream, opened + state.head_timeout) {
+        // HEAD is GET's answer without its body.
+        Ok(Some((method, target, body))) if method == "HEAD" => {
+            head_only = true;
+            handle(state, "GET", &target, &body, &stream)
+        }
         Ok(Some((method, target, body))) => handle(state, &method, &target, &body, &stream),
         Ok(None) => return,
         Err(answer) => answer,
     };
+    let body: &[u8] = if head_only { &[] } else { &answer.body };
     if stream
         .write_all(head(&answer).as_bytes())
-        .and_then(|()| stream.write_all(&answer.body))
+        .and_then(|()| stream.write_all(body))
         .and_then(|()| stream.flush())
         .is_err()
     {
@@ -416,8 +453,11 @@ fn head(answer: &Answer) -> String {
         503 => "Service Unavailable",
         _ => "Error",
     };
+    let allow = answer
+        .allow
+        .map_or_else(String::new, |allow| format!("Allow: {allow}\r\n"));
     format!(
-        "HTTP/1.1 {} {reason}\r\nContent-Type: {}\r\nContent-Length: {}\r\nConnection: close\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nContent-Security-Policy: default-src 'self'; style-src 'self'; script-src 'self'\r\n\r\n",
+        "HTTP/1.1 {} {reason}\r\n{allow}Content-Type: {}\r\nContent-Length: {}\r\nConnection: close\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nContent-Security-Policy: default-src 'self'; style-src 'self'; script-src 'self'\r\n\r\n",
         answer.status,
         answer.kind,
         answer.body.len()
@@ -625,28 +665,51 @@ fn handle(state: &Arc<State>, method: &str, url: &str, body: &[u8], client: &Tcp
         ("GET", "/" | "/index.html") => Answer::asset("text/html; charset=utf-8", INDEX_HTML),
         ("GET", "/app.js") => Answer::asset("text/javascript; charset=utf-8", APP_JS),
         ("GET", "/style.css") => Answer::asset("text/css; charset=utf-8", STYLE_CSS),
+        ("GET", "/favicon.svg") => Answer::asset("image/svg+xml", FAVICON_SVG),
         ("GET", "/api/planners") => planners(),
         ("GET", "/api/maps") => maps(state),
         ("GET", "/api/map") => {
+            let Some(relative) = params.get("path") else {
+                return missing_path("map");
+            };
+            let graded = match params.get("graded").map(String::as_str) {
+                None | Some("false" | "0") => false,
+                Some("true" | "1") => true,
+                Some(other) => {
+                    return Answer::error(
+                        400,
+                        &format!("graded={other:?}: `graded` takes true or false (or 1 or 0)"),
+                    )
+                }
+            };
             let costs = MapCosts {
                 weights: params.get("weights").filter(|w| !w.is_empty()).cloned(),
-                graded: params
-                    .get("graded")
-                    .is_some_and(|g| g == "1" || g == "true"),
+                graded,
             };
-            map(state, params.get("path").map_or("", String::as_str), &costs)
+            map(state, relative, &costs)
         }
-        ("GET", "/api/results") => results(state, params.get("path").map_or("", String::as_str)),
+        ("GET", "/api/results") => match params.get("path") {
+            Some(relative) => results(state, relative),
+            None => missing_path("results directory"),
+        },
         ("POST", "/api/plan") => plan(state, body, client),
         ("POST" | "GET", "/api/cancel") => {
             cancel(state, params.get("run").map_or("", String::as_str))
         }
-        (_, "/" | "/index.html" | "/app.js" | "/style.css" | "/api/planners" | "/api/maps")
-        | (_, "/api/map" | "/api/results" | "/api/plan" | "/api/cancel") => {
-            Answer::error(405, "method not allowed")
-        }
+        (_, "/api/plan") => Answer::not_allowed("POST"),
+        (_, "/api/cancel") => Answer::not_allowed("GET, HEAD, POST"),
+        (_, "/" | "/index.html" | "/app.js" | "/style.css" | "/favicon.svg" | "/api/planners")
+        | (_, "/api/maps" | "/api/map" | "/api/results") => Answer::not_allowed("GET, HEAD"),
         _ => Answer::error(404, "not found"),
     }
+}
+
+/// 400: a request for a `what` without the `path` parameter that names it.
+fn missing_path(what: &str) -> Answer {
+    Answer::error(
+        400,
+        &format!("the `path` parameter is missing: ?path=P names the {what}, relative to the served directory"),
+    )
 }
 
 /// `a=b&c=d`, percent-decoded (`+` is a space).
@@ -766,6 +829,7 @@ fn maps(state: &State) -> Answer {
                     .extension()
                     .and_then(|e| e.to_str())
                     .is_some_and(|e| MAP_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
+                && !is_weight_file(&canonical)
             {
                 // Only a regular file (or a link to one inside the served directory), what
                 // `/api/map` opens: a FIFO, socket or device named `*.map` is not a map.
@@ -780,6 +844,38 @@ fn maps(state: &State) -> Answer {
         serde_json::json!({ "maps": maps, "results": results, "truncated": seen > MAX_LISTED })
             .to_string(),
     )
+}
+
+/// Whether `path` is a `.csv` of cell weights rather than a 0/1 map: its name ends in
+/// `weights.csv`, or its first row (after `#` comments, within its first 64 KiB) holds a
+/// value other than 0 and 1. Weight files go in the page's Weights box, and are not
+/// listed as maps (read as one, a weight file is refused).
+fn is_weight_file(path: &Path) -> bool {
+    let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
+        return false;
+    };
+    let name = name.to_ascii_lowercase();
+    if !name.ends_with(".csv") {
+        return false;
+    }
+    if name.ends_with("weights.csv") {
+        return true;
+    }
+    let mut head = Vec::new();
+    let read = std::fs::File::open(path).and_then(|f| f.take(64 << 10).read_to_end(&mut head));
+    if read.is_err() {
+        return false;
+    }
+    let text = String::from_utf8_lossy(&head);
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|line| !line.is_empty() && !line.starts_with('#'));
+    first.is_some_and(|row| {
+        row.split([',', ';', ' ', '\t'])
+            .map(str::trim)
+            .any(|value| !value.is_empty() && value != "0" && value != "1")
+    })
 }
 
 /// A map's cell costs as the page asks for them: a weight file under the served directory
@@ -815,11 +911,12 @@ pub enum MapReadError {
 }
 
 impl MapReadError {
-    /// The answer that refuses the request: the refusal's status, else 400.
-    fn answer(&self) -> Answer {
+    /// The answer that refuses the request: the refusal's status, else 400; files named
+    /// by their path under `root` ([`relative_message`]).
+    fn answer(&self, root: &Root) -> Answer {
         match self {
             MapReadError::Refused(refusal) => Answer::refusal(refusal),
-            _ => Answer::error(400, &self.to_string()),
+            _ => Answer::error(400, &relative_message(root, &self.to_string())),
         }
     }
 }
@@ -908,7 +1005,7 @@ const MAX_PROBLEMS: usize = 20_000;
 fn map(state: &State, relative: &str, costs: &MapCosts) -> Answer {
     let (path, file) = match read_map(state, relative, costs) {
         Ok(read) => read,
-        Err(error) => return error.answer(),
+        Err(error) => return error.answer(&state.root),
     };
     let grid = &file.grid;
     // A ROS map's unknown cells (map_server's -1) are blocked like occupied ones; the page
@@ -975,6 +1072,8 @@ fn map(state: &State, relative: &str, costs: &MapCosts) -> Answer {
             // Per cell (row-major), on a weighted map only: what the page shades by.
             "weights": grid.weights().map(|w| w.cells()),
             "cost_rule": grid.weights().map(|w| w.rule().name()),
+            // What a plan request gives back as `map_version`.
+            "version": map_version(grid),
             // A ROS map's frame (a map_server YAML's), so the page shows cells in metres.
             "frame": file.frame.map(|f| serde_json::json!({
                 "resolution": f.resolution,
@@ -984,6 +1083,30 @@ fn map(state: &State, relative: &str, costs: &MapCosts) -> Answer {
         .to_string(),
     )
 }
+
+/// The identity of a map as read (the served file with its costs, before wall edits): a
+/// hash of its size, its cells and its weights, as 16 hex digits. `GET /api/map` answers it
+/// as `version`, and a plan request that gives it back ([`PlanRequest::map_version`]) is
+/// refused when the map read for the plan has another: the file changed on disk since the
+/// page drew it, and the plan would run on cells the page does not show. The hash is
+/// SipHash with fixed keys (std's `DefaultHasher::new`), the same within one server.
+pub fn map_version(grid: &planner_api::Grid) -> String {
+    use std::hash::{Hash as _, Hasher as _};
+    let mut hasher = std::hash::DefaultHasher::new();
+    (grid.width(), grid.height()).hash(&mut hasher);
+    grid.free_cells().hash(&mut hasher);
+    match grid.weights() {
+        Some(weights) => {
+            (1u8, weights.rule().name()).hash(&mut hasher);
+            weights.cells().hash(&mut hasher);
+        }
+        None => 0u8.hash(&mut hasher),
+    }
+    format!("{:016x}", hasher.finish())
+}
+
+/// What a plan whose map changed on disk since the page loaded it is answered (409).
+pub const MAP_CHANGED: &str = "the map file changed on disk since it was loaded; load it again";
 
 /// `POST /api/plan`'s body.
 #[derive(Debug, Deserialize)]
@@ -1018,6 +1141,104 @@ pub struct PlanRequest {
     /// (else it is refused, as `plan --ignore-costs`).
     #[serde(default)]
     pub ignore_costs: bool,
+    /// The map's `version` as `GET /api/map` gave it ([`map_version`]): the plan is refused
+    /// (409, [`MAP_CHANGED`]) when the map read now has another. Without it, the map is
+    /// planned on as it is now.
+    #[serde(default)]
+    pub map_version: Option<String>,
+}
+
+/// Why a `POST /api/plan` body is not a [`PlanRequest`]: the key at fault (`goal[1]`,
+/// `max_expansions`, `edits[0][2]`; none for malformed JSON or a missing or unknown key,
+/// which serde's message names), serde's message and what the key takes.
+#[derive(Debug)]
+pub struct PlanRequestError {
+    /// The key, with indices into lists (`edits[0][2]`).
+    pub key: Option<String>,
+    /// serde's message, without its position in the body.
+    pub message: String,
+    /// The request's key it is under (`edits`) and what that key takes.
+    pub expected: Option<(String, &'static str)>,
+}
+
+impl std::fmt::Display for PlanRequestError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("plan request: ")?;
+        if let Some(key) = &self.key {
+            write!(f, "`{key}`: ")?;
+        }
+        f.write_str(&self.message)?;
+        if let Some((top, takes)) = &self.expected {
+            write!(f, "; `{top}` takes {takes}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for PlanRequestError {}
+
+/// What each key of [`PlanRequest`] takes, in words.
+fn expected(top: &str) -> Option<&'static str> {
+    Some(match top {
+        "start" | "goal" => "a cell [x, y]: two whole numbers from 0 to 4294967295",
+        "edits" => "a list of wall edits [x, y, free]: x and y whole numbers from 0 to 4294967295, free 0 (wall) or 1 (free)",
+        "max_expansions" => "a whole number from 0 to 18446744073709551615 (the server caps it)",
+        "map" | "planner" | "run" | "map_version" => "a string",
+        "set" => "a list of \"key=value\" strings",
+        "costs" => "an object {\"weights\": a file, \"graded\": true or false}",
+        "ignore_costs" => "true or false",
+        _ => return None,
+    })
+}
+
+/// `POST /api/plan`'s body as a [`PlanRequest`], or why not, naming the key.
+pub fn plan_request(body: &[u8]) -> Result<PlanRequest, PlanRequestError> {
+    let mut deserializer = serde_json::Deserializer::from_slice(body);
+    let error = match serde_path_to_error::deserialize::<_, PlanRequest>(&mut deserializer) {
+        Ok(request) => match deserializer.end() {
+            Ok(()) => return Ok(request),
+            Err(error) => {
+                return Err(PlanRequestError {
+                    key: None,
+                    message: error.to_string(),
+                    expected: None,
+                })
+            }
+        },
+        Err(error) => error,
+    };
+    let segments: Vec<String> = error.path().iter().map(|s| s.to_string()).collect();
+    let inner = error.inner();
+    let message = inner.to_string();
+    let position = format!(" at line {} column {}", inner.line(), inner.column());
+    let message = message
+        .strip_suffix(&position)
+        .map_or_else(|| message.clone(), str::to_string);
+    // A path into the request's own keys (serde's position is not a key: `.` or an
+    // unknown key's name).
+    let top = segments
+        .first()
+        .map(String::as_str)
+        .and_then(|top| (inner.is_data() && expected(top).is_some()).then_some(top));
+    let Some(top) = top else {
+        return Err(PlanRequestError {
+            key: None,
+            message,
+            expected: None,
+        });
+    };
+    let mut key = top.to_string();
+    for segment in &segments[1..] {
+        if !segment.starts_with('[') {
+            key.push('.');
+        }
+        key.push_str(segment);
+    }
+    Err(PlanRequestError {
+        key: Some(key),
+        message,
+        expected: expected(top).map(|takes| (top.to_string(), takes)),
+    })
 }
 
 /// A running plan's place: when its worker ends, its id stops naming it, its cancel flag
@@ -1069,14 +1290,22 @@ fn client_gone(stream: &TcpStream) -> bool {
 }
 
 fn plan(state: &Arc<State>, body: &[u8], client: &TcpStream) -> Answer {
-    let request: PlanRequest = match serde_json::from_slice(body) {
+    let request = match plan_request(body) {
         Ok(request) => request,
-        Err(e) => return Answer::error(400, &format!("plan request: {e}")),
+        Err(e) => return Answer::error(400, &e.to_string()),
     };
     let (path, file) = match read_map(state, &request.map, &request.costs) {
         Ok(read) => read,
-        Err(error) => return error.answer(),
+        Err(error) => return error.answer(&state.root),
     };
+    if let Some(version) = &request.map_version {
+        if *version != map_version(&file.grid) {
+            return Answer::json(
+                409,
+                serde_json::json!({ "error": MAP_CHANGED, "map_changed": true }).to_string(),
+            );
+        }
+    }
     let mut grid = file.grid;
     let edits = match query::edits_from_values(&request.edits) {
         Ok(edits) => edits,
@@ -1108,6 +1337,7 @@ fn plan(state: &Arc<State>, body: &[u8], client: &TcpStream) -> Answer {
     };
     let (send, receive) = mpsc::channel();
     let caps = state.caps;
+    let root = state.root.clone();
     std::thread::spawn(move || {
         let name = path
             .file_name()
@@ -1125,7 +1355,7 @@ fn plan(state: &Arc<State>, body: &[u8], client: &TcpStream) -> Answer {
         };
         let answer = match query::plan(&query, grid, &caps) {
             Ok(result) => plan_answer(&result),
-            Err(e) => Answer::error(400, &e.to_string()),
+            Err(e) => Answer::error(400, &relative_message(&root, &e.to_string())),
         };
         // Not running any more once the answer is out (dropped on a panic too).
         drop(guard);
@@ -1238,7 +1468,7 @@ fn results(state: &State, relative: &str) -> Answer {
         match state.root.file(&file) {
             Ok(path) => planner_maps::read_text_file(&path, MAX_RESULTS_BYTES)
                 .map(Some)
-                .map_err(|e| Answer::error(400, &e.to_string())),
+                .map_err(|e| Answer::error(400, &relative_message(&state.root, &e.to_string()))),
             Err(Refusal::NotFound(_)) => Ok(None),
             Err(refusal) => Err(Answer::refusal(&refusal)),
         }

@@ -677,3 +677,226 @@ fn requests_from_other_sites_are_refused() {
     assert_eq!(status, 200, "{answer}");
     stop();
 }
+
+/// A map changed on disk after the page loaded it: a plan that gives back the `version`
+/// `/api/map` answered is refused (409, saying so), whether the new file has another size
+/// or the same size with other walls; given the new version, it plans. (The server planned
+/// on the new file, and the page drew its path and cells on the old map: a 12 x 6 map's
+/// path on the 8 x 5 map drawn, or a path through walls drawn as free.)
+#[test]
+fn a_plan_on_a_map_changed_since_it_was_loaded_is_refused() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let write = |width: usize, height: usize, walls: &[(usize, usize)]| {
+        let mut text = format!("type octile\nheight {height}\nwidth {width}\nmap\n");
+        for y in 0..height {
+            for x in 0..width {
+                text.push(if walls.contains(&(x, y)) { '@' } else { '.' });
+            }
+            text.push('\n');
+        }
+        std::fs::write(dir.join("e.map"), text).unwrap();
+    };
+    let version = || {
+        let (status, body) = get(addr, "/api/map?path=e.map");
+        assert_eq!(status, 200, "{body}");
+        crate::common::json(&body)["version"]
+            .as_str()
+            .unwrap()
+            .to_string()
+    };
+    let plan = |version: &str| {
+        let body = serde_json::json!({
+            "map": "e.map", "start": [0, 0], "goal": [7, 4], "planner": "astar",
+            "map_version": version,
+        });
+        post(addr, "/api/plan", &body.to_string())
+    };
+    write(8, 5, &[]);
+    let loaded = version();
+    assert_eq!(plan(&loaded).0, 200);
+    for (width, height, walls) in [(12, 6, vec![(3, 3), (4, 3)]), (8, 5, vec![(3, 0), (3, 1)])] {
+        write(width, height, &walls);
+        let (status, answer) = plan(&loaded);
+        assert_eq!(status, 409, "{width}x{height}: {answer}");
+        assert_eq!(
+            crate::common::json(&answer)["error"].as_str(),
+            Some(planner_serve::server::MAP_CHANGED)
+        );
+        let now = version();
+        assert_ne!(now, loaded);
+        assert_eq!(plan(&now).0, 200, "{width}x{height}");
+    }
+    // The same cells written again are the same map.
+    write(8, 5, &[]);
+    assert_eq!(version(), loaded);
+    assert_eq!(plan(&loaded).0, 200);
+    stop();
+}
+
+/// A plan request whose value does not fit its key is refused naming the key (with the
+/// index into a list) and what the key takes, without the body's line and column (it said
+/// `invalid value: integer -1, expected u32 at line 1 column 54`, naming no key).
+#[test]
+fn a_plan_request_value_that_does_not_fit_names_its_key() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let base = r#""map":"paper/map10.map","planner":"astar""#;
+    for (fields, key, takes) in [
+        (
+            r#""start":[0,0],"goal":[-1,11]"#,
+            "`goal[0]`",
+            "`goal` takes a cell [x, y]",
+        ),
+        (
+            r#""start":[0,0],"goal":[4294967296,11]"#,
+            "`goal[0]`",
+            "`goal` takes a cell",
+        ),
+        (
+            r#""start":[0,1.5],"goal":[1,11]"#,
+            "`start[1]`",
+            "`start` takes a cell",
+        ),
+        (
+            r#""start":[0,0],"goal":[0,11],"max_expansions":18446744073709551616"#,
+            "`max_expansions`",
+            "`max_expansions` takes a whole number",
+        ),
+        (
+            r#""start":[0,0],"goal":[0,11],"max_expansions":-5"#,
+            "`max_expansions`",
+            "`max_expansions` takes a whole number",
+        ),
+        (
+            r#""start":[0,0],"goal":[0,11],"edits":[[1,1,256]]"#,
+            "`edits[0][2]`",
+            "`edits` takes a list of wall edits",
+        ),
+    ] {
+        let (status, answer) = post(addr, "/api/plan", &format!("{{{base},{fields}}}"));
+        assert_eq!(status, 400, "{fields}: {answer}");
+        let error = crate::common::json(&answer)["error"]
+            .as_str()
+            .unwrap()
+            .to_string();
+        assert!(
+            error.starts_with(&format!("plan request: {key}: ")) && error.contains(takes),
+            "{fields}: {error}"
+        );
+        assert!(!error.contains("at line"), "{fields}: {error}");
+    }
+    // A missing or unknown key is named by serde's own message.
+    let (status, answer) = post(addr, "/api/plan", &format!("{{{base},\"start\":[0,0]}}"));
+    assert_eq!(status, 400);
+    assert!(answer.contains("missing field `goal`"), "{answer}");
+    stop();
+}
+
+/// The smaller refusals say what is wrong: a plan's error names the map by its path under
+/// the served directory (it named the server's absolute path); a directory asked for as a
+/// map is said to be one (it said `no such file`); `/api/map` and `/api/results` without
+/// `path` say it is missing (400; they said `"": outside the served directory`, 403);
+/// `graded=yes` is refused (it read as false); a 405 has an `Allow` header and `HEAD` a
+/// GET path's head (it was 405); the page's icon is served (a 404 on every load).
+#[test]
+fn refusals_name_the_relative_path_the_missing_parameter_and_the_allowed_methods() {
+    let (_top, dir) = served();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"paper/map10.map","start":[0,0],"goal":[12,11],"planner":"astar"}"#,
+    );
+    assert_eq!(status, 400, "{answer}");
+    let error = crate::common::json(&answer)["error"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(
+        error.starts_with("paper/map10.map: goal (12, 11)"),
+        "{error}"
+    );
+    let root = dir.canonicalize().unwrap();
+    assert!(!error.contains(&*root.to_string_lossy()), "{error}");
+    let (status, answer) = post(
+        addr,
+        "/api/plan",
+        r#"{"map":"paper","start":[0,0],"goal":[1,1],"planner":"astar"}"#,
+    );
+    assert_eq!(status, 400, "{answer}");
+    assert!(answer.contains("is a directory"), "{answer}");
+    for url in ["/api/map", "/api/map?weights=w.csv", "/api/results"] {
+        let (status, answer) = get(addr, url);
+        assert_eq!(status, 400, "{url}: {answer}");
+        assert!(
+            answer.contains("`path` parameter is missing"),
+            "{url}: {answer}"
+        );
+    }
+    let (status, answer) = get(addr, "/api/map?path=open30.map&graded=yes");
+    assert_eq!(status, 400, "{answer}");
+    assert!(answer.contains("graded"), "{answer}");
+    assert_eq!(get(addr, "/api/map?path=open30.map&graded=false").0, 200);
+    assert_eq!(get(addr, "/favicon.svg").0, 200);
+    let raw = |request: &str| {
+        use std::io::{Read as _, Write as _};
+        let mut stream = std::net::TcpStream::connect(addr).unwrap();
+        stream
+            .write_all(format!("{request}\r\nHost: {addr}\r\n\r\n").as_bytes())
+            .unwrap();
+        let mut text = String::new();
+        let _ = stream.read_to_string(&mut text);
+        text
+    };
+    for (request, allow) in [
+        ("PUT /api/maps HTTP/1.1", "GET, HEAD"),
+        ("GET /api/plan HTTP/1.1", "POST"),
+        ("DELETE / HTTP/1.1", "GET, HEAD"),
+    ] {
+        let answer = raw(request);
+        assert!(answer.starts_with("HTTP/1.1 405"), "{request}: {answer}");
+        assert!(
+            answer.contains(&format!("\r\nAllow: {allow}\r\n")),
+            "{request}: {answer}"
+        );
+    }
+    let answer = raw("HEAD / HTTP/1.1");
+    assert!(answer.starts_with("HTTP/1.1 200"), "{answer}");
+    let (head, body) = answer.split_once("\r\n\r\n").unwrap();
+    assert!(
+        head.contains("Content-Length: ") && body.is_empty(),
+        "{answer}"
+    );
+    stop();
+}
+
+/// `.csv` weight files are not listed as maps (maps/weighted/arena-weights.csv was, and
+/// loading it as a map failed); a 0/1 `.csv` map is.
+#[test]
+fn weight_files_are_not_listed_as_maps() {
+    let (_top, dir) = served();
+    std::fs::copy(
+        repo().join("maps/weighted/arena-weights.csv"),
+        dir.join("arena-weights.csv"),
+    )
+    .unwrap();
+    std::fs::write(dir.join("costs.csv"), "# costs\n3,1,1\n1,1,9\n").unwrap();
+    std::fs::write(dir.join("grid.csv"), "# a map\n0,1,0\n0,0,0\n").unwrap();
+    let (addr, stop) = start(&ServeOptions::new(&dir, 0));
+    let (status, maps) = get(addr, "/api/maps");
+    assert_eq!(status, 200);
+    let maps = crate::common::json(&maps);
+    let listed: Vec<&str> = maps["maps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|v| v.as_str())
+        .collect();
+    assert!(listed.contains(&"grid.csv"), "{listed:?}");
+    assert!(
+        !listed.contains(&"arena-weights.csv") && !listed.contains(&"costs.csv"),
+        "{listed:?}"
+    );
+    stop();
+}

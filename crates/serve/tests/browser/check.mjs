@@ -68,7 +68,7 @@ fs.mkdirSync(path.join(scratch, "rp", "aa"), { recursive: true });
 }
 fs.copyFileSync(path.join(served, "maps/movingai/arena.map"), path.join(scratch, "rp/arena.map"));
 fs.copyFileSync(path.join(served, "maps/paper/map10.map"), path.join(scratch, "rp/aa/arena.map"));
-const probeConfig = 'name = "r"\n[[maps]]\nfiles = ["arena.map"]\npairs = [{ start = [3, 1], goal = [46, 47] }]\n[planners.a]\nplanner = "astar"\n';
+const probeConfig = 'name = "r"\n[[maps]]\nfiles = ["arena.map"]\npairs = [{ start = [3, 1], goal = [46, 47] }]\n[planners.a]\nplanner = "astar"\n[planners.b]\nplanner = "bfs"\n';
 fs.writeFileSync(path.join(scratch, "rp/c.toml"), probeConfig);
 {
   // Run from the served directory's parent, as a user runs `experiment` from elsewhere:
@@ -164,6 +164,12 @@ try {
   const page = await browser.newPage({ viewport: { width: 1600, height: 1200 }, deviceScaleFactor: 1 });
   const errors = [];
   page.on("pageerror", (e) => errors.push(String(e)));
+  // Every answer of 400 or more to a request the page made by itself (the favicon's 404
+  // showed as a console error on every load).
+  const failedLoads = [];
+  page.on("response", (response) => {
+    if (response.status() >= 400 && !response.url().includes("/api/")) failedLoads.push(`${response.status()} ${response.url()}`);
+  });
   await page.goto(base);
   await page.waitForSelector('#map-select option[value="maps/paper/map10.map"]', { state: "attached" });
   await page.selectOption("#map-select", "maps/paper/map10.map");
@@ -242,6 +248,123 @@ try {
   // The key of the search view's tones: A* records its frontier, BFS does not.
   const tones = await page.$$eval('td[data-key="shading"]', (tds) => tds.map((td) => td.querySelectorAll(".swatch").length));
   check(JSON.stringify(tones) === "[2,1]", `the shading key shows the frontier's tone for A* only (${JSON.stringify(tones)} swatches)`);
+  const mapKeyTones = await page.$$eval("#views .view:first-child .map-key .swatch", (s) => s.map((e) => e.dataset.tone));
+  check(["free", "wall", "start", "goal"].every((t) => mapKeyTones.includes(t)) && mapKeyTones.some((t) => t.startsWith("path")),
+    `the map key names the start, goal and path colours (${JSON.stringify(mapKeyTones)})`);
+  // The page names its icon, and it is served (headless Chromium asks for none; a browser
+  // asked for /favicon.ico on every load, a 404 in its console).
+  const icon = await page.evaluate(async () => {
+    const link = document.querySelector('link[rel="icon"]');
+    return link ? (await fetch(link.href)).status : "no icon link";
+  });
+  check(icon === 200 && failedLoads.length === 0, `the page's icon is served (${icon}; failed loads: ${failedLoads.join(", ")})`);
+
+  // ---- a new start (or goal, or wall) clears the plan drawn for the query before ----
+  await page.check('input[name="tool"][value="start"]');
+  // The first free cell after the start (0, 0) in row-major order.
+  const newStart = await page.evaluate(() => {
+    const { map } = window.gridplan.state;
+    const i = map.blocked.findIndex((b, k) => k > 0 && b === 0);
+    return [i % map.width, Math.floor(i / map.width)];
+  });
+  [cx, cy] = await page.evaluate(([x, y]) => window.gridplan.cellToClient(x, y), newStart);
+  await page.mouse.click(cx, cy);
+  const cleared = await page.evaluate(() => {
+    const { state, PATH_COLORS } = window.gridplan;
+    let pathPixels = 0;
+    for (const canvas of document.querySelectorAll("#views canvas")) {
+      const d = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+      const colours = PATH_COLORS.map((hex) => [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16)));
+      for (let i = 0; i < d.length; i += 4) if (colours.some((c) => d[i] === c[0] && d[i + 1] === c[1] && d[i + 2] === c[2])) pathPixels++;
+    }
+    return { results: state.results.length, tables: document.querySelectorAll("table.counters").length, pathPixels, start: state.start, status: document.querySelector("#status").textContent };
+  });
+  check(cleared.results === 0 && cleared.tables === 0 && cleared.pathPixels === 0 && String(cleared.start) === String(newStart),
+    `a new start clears the path and counters of the plan before (${JSON.stringify(cleared)})`);
+
+  // ---- the page's number fields are checked, and the field at fault named ----
+  let sent = 0;
+  const countPlans = (request) => { if (request.url().endsWith("/api/plan")) sent++; };
+  page.on("request", countPlans);
+  for (const bad of ["-5", "1.5", "1e30", "0", "99999999999999999999"]) {
+    await page.fill("#max-expansions", bad);
+    await page.click("#run");
+    const said = await page.evaluate(() => ({ status: document.querySelector("#status").textContent, invalid: document.querySelector("#max-expansions").getAttribute("aria-invalid") }));
+    check(said.status.startsWith("Max expansions:") && said.status.includes("whole number") && said.invalid === "true",
+      `Max expansions ${bad} is refused naming the field (${said.status})`);
+  }
+  check(sent === 0, `no plan is sent with a bad Max expansions (${sent} sent)`);
+  page.off("request", countPlans);
+  await page.fill("#max-expansions", "");
+  await page.fill('.slot[data-slot="0"] .params [data-key="weight"]', "1e400");
+  await page.click("#run");
+  await page.waitForFunction(() => window.gridplan.state.run === null && document.querySelector("#status").className === "error", null, { timeout: 30000 });
+  const fieldError = await page.textContent("#status");
+  check(fieldError.includes("planner 1 (astar), field weight = 1e400: not a number") && !fieldError.includes("--set"),
+    `a planner field's bad number names the field, not --set (${fieldError})`);
+  await page.fill('.slot[data-slot="0"] .params [data-key="weight"]', "");
+
+  // ---- a map changed on disk after it was loaded: the plan is refused, not drawn ----
+  const smallMap = (width, height, walls) => {
+    const rows = [];
+    for (let y = 0; y < height; y++) {
+      let row = "";
+      for (let x = 0; x < width; x++) row += walls.some(([wx, wy]) => wx === x && wy === y) ? "@" : ".";
+      rows.push(row);
+    }
+    fs.writeFileSync(path.join(scratch, "e.map"), `type octile\nheight ${height}\nwidth ${width}\nmap\n${rows.join("\n")}\n`);
+  };
+  smallMap(8, 5, []);
+  await page.reload();
+  await page.waitForSelector('#map-select option[value="check-tmp/e.map"]', { state: "attached" });
+  await page.selectOption("#map-select", "check-tmp/e.map");
+  await page.click("#load-map");
+  await page.waitForFunction(() => window.gridplan.state.map && window.gridplan.state.map.name === "e.map");
+  // Start and goal from the keyboard alone (the map has no .scen): the cell fields.
+  const cellFields = (await page.$("#start-x")) !== null;
+  if (!cellFields) {
+    await page.evaluate(() => { window.gridplan.state.start = [0, 0]; window.gridplan.state.goal = [7, 4]; });
+  }
+  check(cellFields, "the page has start and goal cell fields");
+  if (cellFields) {
+  await page.focus("#start-x");
+  await page.keyboard.type("0");
+  await page.keyboard.press("Tab");
+  await page.keyboard.type("0");
+  await page.keyboard.press("Tab");
+  await page.keyboard.type("7");
+  await page.keyboard.press("Tab");
+  await page.keyboard.type("9");
+  await page.keyboard.press("Tab");
+  const badGoal = await page.evaluate(() => ({ goal: window.gridplan.state.goal, status: document.querySelector("#status").textContent }));
+  await page.fill("#goal-y", "4");
+  await page.focus("#goal-y");
+  await page.keyboard.press("Tab");
+  const typed = await page.evaluate(() => [window.gridplan.state.start, window.gridplan.state.goal]);
+  check(JSON.stringify(typed) === "[[0,0],[7,4]]" && badGoal.goal === null && badGoal.status.startsWith("Goal y:"),
+    `start and goal are set from the keyboard, a cell off the map refused naming the field (${JSON.stringify(typed)}; ${badGoal.status})`);
+  }
+  for (const [width, height, walls] of [[12, 6, [[3, 3], [4, 3]]], [8, 5, [[3, 0], [3, 1], [3, 2], [3, 3]]]]) {
+    smallMap(width, height, walls);
+    await page.click("#run");
+    await page.waitForFunction(() => window.gridplan.state.run === null, null, { timeout: 30000 });
+    const stale = await page.evaluate(() => ({
+      status: document.querySelector("#status").textContent,
+      error: document.querySelector("#status").className,
+      results: window.gridplan.state.results.length,
+      size: [window.gridplan.state.map.width, window.gridplan.state.map.height],
+    }));
+    check(stale.status.includes("the map file changed on disk since it was loaded; load it again") && stale.error === "error" && stale.results === 0 && stale.size.join("x") === "8x5",
+      `a plan on a map changed on disk since it was loaded (now ${width} x ${height}) is refused and nothing drawn (${JSON.stringify(stale)})`);
+  }
+  // Loaded again, it plans on the new walls.
+  await page.click("#load-map");
+  await page.waitForFunction(() => window.gridplan.state.map && window.gridplan.state.map.blocked[3] === 1);
+  await page.evaluate(() => { window.gridplan.state.start = [0, 0]; window.gridplan.state.goal = [7, 4]; });
+  await page.click("#run");
+  await page.waitForFunction(() => window.gridplan.state.run === null && window.gridplan.state.results.length > 0, null, { timeout: 30000 });
+  const replanned = await page.evaluate(() => window.gridplan.state.results[0].plan.path);
+  check(replanned.length > 0 && !replanned.some(([x, y]) => x === 3 && y < 4), `the map loaded again plans around its new walls (${JSON.stringify(replanned)})`);
 
   // ---- a ROS map: cells shown with their map-frame position, as `plan` prints it ----
   await page.selectOption("#map-select", "maps/ros-nav2/tb3_sandbox.yaml");
@@ -279,6 +402,8 @@ try {
         if (c === "0") continue;
         const px = Math.floor(v.x + (x + 0.5) * v.cell), py = Math.floor(v.y + (y + 0.5) * v.cell);
         if (px < 0 || py < 0 || px >= canvas.width || py >= canvas.height) continue;
+        // The start's marker covers its cell and, on cells this small, a ring around it.
+        if (state.start && Math.hypot(px - (v.x + (state.start[0] + 0.5) * v.cell), py - (v.y + (state.start[1] + 0.5) * v.cell)) <= 11) continue;
         if (state.start && x === state.start[0] && y === state.start[1]) continue;
         const i = 4 * (py * canvas.width + px);
         if (c === "2" && same(i, UNKNOWN_RGB)) count.unknown++;
@@ -407,6 +532,20 @@ try {
   const located = await openRun();
   check(located.map === "check-tmp/rp/arena.map" && located.size.join("x") === "49x49" && located.results === 1,
     `a recorded run is drawn on the map its config read (${JSON.stringify(located)})`);
+  // The BFS run, opened from the keyboard: its counters are its own (no astar column as
+  // null), and no playback count or shading key for cells it does not draw.
+  const rows = await page.$$eval("#runs-table tbody tr", (trs) => {
+    const planner = Array.from(document.querySelectorAll("#runs-table thead th")).findIndex((th) => th.textContent === "planner");
+    return trs.map((tr) => [tr.tabIndex, tr.cells[planner].textContent]);
+  });
+  const bfsRow = rows.findIndex(([, label]) => label === "b");
+  await page.focus(`#runs-table tbody tr:nth-child(${bfsRow + 1})`);
+  await page.keyboard.press("Enter");
+  await page.waitForFunction(() => window.gridplan.state.results.length === 1 && window.gridplan.state.results[0].label.startsWith("b "), null, { timeout: 5000 }).catch(() => {});
+  const recorded = await page.$$eval("table.counters td[data-key]", (tds) => tds.map((td) => [td.dataset.key, td.textContent]));
+  check(rows.every(([tabIndex]) => tabIndex === 0) && bfsRow >= 0, `the runs table's rows are reached with Tab (${rows.length} rows)`);
+  check(recorded.length > 0 && !recorded.some(([, v]) => v === "null") && !recorded.some(([k]) => k === "shown" || k === "shading" || k === "expanded shown"),
+    `a recorded BFS run opened with Enter shows only its own counters, no playback count or shading key (${JSON.stringify(recorded)})`);
   // The config edited since (it is no longer the one that ran): two maps share the name.
   fs.writeFileSync(path.join(scratch, "rp/c.toml"), `# edited\n${probeConfig}`);
   await page.reload();
@@ -415,6 +554,24 @@ try {
   check(ambiguous.map === null && ambiguous.results === 0 && ambiguous.status.includes("check-tmp/rp/aa/arena.map, check-tmp/rp/arena.map") && ambiguous.status.includes("which one the runs used is unknown"),
     `an ambiguous map is said, and the run not drawn (${JSON.stringify(ambiguous)})`);
   check(errors.length === 0, `no page errors ${errors.join("; ")}`);
+
+  // ---- a 700-pixel window: the canvas fits it; a weighted map's key has its shading ----
+  const narrow = await browser.newPage({ viewport: { width: 700, height: 900 }, deviceScaleFactor: 1 });
+  await narrow.goto(base);
+  await narrow.waitForSelector('#map-select option[value="maps/movingai/arena.map"]', { state: "attached" });
+  await narrow.selectOption("#map-select", "maps/movingai/arena.map");
+  await narrow.fill("#weights", "maps/weighted/arena-weights.csv");
+  await narrow.click("#load-map");
+  await narrow.waitForFunction(() => window.gridplan.state.map && window.gridplan.state.map.weights);
+  const fit = await narrow.evaluate(() => {
+    const canvas = document.querySelector("#views canvas").getBoundingClientRect();
+    return { right: canvas.right, scroll: document.documentElement.scrollWidth, key: Array.from(document.querySelectorAll(".map-key .swatch")).map((s) => s.dataset.tone) };
+  });
+  const listed = await narrow.$$eval("#map-select option", (o) => o.map((e) => e.value));
+  await narrow.close();
+  check(fit.right <= 700 && fit.scroll <= 700, `the canvas fits a 700-pixel window (right edge ${fit.right}, page ${fit.scroll} wide)`);
+  check(fit.key.some((t) => t.startsWith("weight 1 to 9")), `a weighted map's key shows its weight shading (${JSON.stringify(fit.key)})`);
+  check(!listed.includes("maps/weighted/arena-weights.csv"), `weight files are not listed as maps`);
 
   // ---- refusals ----
   for (const bad of ["../../etc/passwd", "/etc/passwd", "escape.map", "maps/../../etc/passwd"]) {
@@ -453,6 +610,24 @@ try {
   await page.click("#load-map");
   await page.waitForFunction(() => window.gridplan.state.map && window.gridplan.state.map.name === "den520d.map");
   const problems = await page.evaluate(() => window.gridplan.state.map.problems);
+  // Start and goal markers at least MARKER_RADIUS pixels across on a map drawn at 2 pixels
+  // a cell (they were 2 x 2 pixels).
+  const markers = await page.evaluate((p) => {
+    const { state, START_COLOR, GOAL_COLOR } = window.gridplan;
+    document.querySelector("#problem-select").value = "0";
+    document.querySelector("#problem-select").dispatchEvent(new Event("change"));
+    const canvas = document.querySelector("#views canvas");
+    const d = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+    const count = (hex) => {
+      const c = [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16));
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) if (d[i] === c[0] && d[i + 1] === c[1] && d[i + 2] === c[2]) n++;
+      return n;
+    };
+    return { cell: state.view.cell, start: count(START_COLOR), goal: count(GOAL_COLOR) };
+  }, problems[0]);
+  check(markers.cell <= 2 && markers.start >= 60 && markers.goal >= 60,
+    `den520d's start and goal markers show at ${markers.cell} pixels a cell (${markers.start} and ${markers.goal} pixels of their colours)`);
   const picks = [];
   const n = 25;
   for (let k = 0; k < n; k++) picks.push(Math.floor(((k + 0.5) * problems.length) / n));
