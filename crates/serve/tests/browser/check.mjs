@@ -13,8 +13,13 @@
 // results directory's run is drawn on the map its config read, not on another of the same
 // file name (and says why when the map is ambiguous); checks the path-traversal and
 // body-size refusals; and measures in the page the den520d A* scenario queries planned
-// and drawn (performance.now()), printing the median. The files it adds to SERVED_DIR
-// (under check-tmp/) are removed at the end.
+// and drawn (performance.now()), printing the median. Also: the map key and the page's
+// icon; that a new start clears the plan drawn; that bad Max expansions and planner field
+// values are refused naming the field; start and goal typed in their cell fields; that a
+// map changed on disk since it was loaded is refused, not planned; a recorded run opened
+// from the keyboard shows only its own counters; the canvas in a 700-pixel window, a
+// weighted map's key, weight files not listed; den520d's start and goal markers' size.
+// The files it adds to SERVED_DIR (under check-tmp/) are removed at the end.
 import { spawn, spawnSync } from "node:child_process";
 import { createRequire } from "node:module";
 import { inflateSync } from "node:zlib";
