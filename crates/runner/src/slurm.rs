@@ -135,7 +135,7 @@ pub enum SlurmError {
         /// The value.
         value: String,
         /// What the option takes.
-        expected: &'static str,
+        expected: String,
     },
     /// A results directory that names no directory of its own: the root, or a path
     /// ending in `..` (whose `DIR-slurm` would not be beside it).
@@ -266,11 +266,23 @@ fn options(args: &SlurmArgs) -> Result<String, SlurmError> {
         }
     }
     if let Some(c) = args.cpus_per_task {
-        if c == 0 {
+        let expected = if c == 0 {
+            Some("at least 1 (sbatch refuses 0)".to_string())
+        } else if usize::try_from(c).map_or(true, |c| c > config::MAX_THREADS) {
+            // The tasks run `--threads C`, which the sweep refuses above its limit.
+            Some(format!(
+                "at most {} (it is also the tasks' worker threads, at most {} in a sweep)",
+                config::MAX_THREADS,
+                config::MAX_THREADS
+            ))
+        } else {
+            None
+        };
+        if let Some(expected) = expected {
             return Err(SlurmError::Value {
                 key: "--cpus-per-task",
                 value: c.to_string(),
-                expected: "at least 1 (sbatch refuses 0)",
+                expected,
             });
         }
         options.push_str(&format!("#SBATCH --cpus-per-task={c}\n"));
@@ -283,11 +295,11 @@ fn options(args: &SlurmArgs) -> Result<String, SlurmError> {
 /// `days-hours:minutes`, `days-hours:minutes:seconds`, or `UNLIMITED` / `INFINITE`), a
 /// `--mem` that is not a whole number with an optional unit `K`, `M`, `G` or `T` (sbatch(1)).
 fn check_option(option: &'static str, value: &str) -> Result<(), SlurmError> {
-    let refuse = |expected| {
+    let refuse = |expected: &str| {
         Err(SlurmError::Value {
             key: option,
             value: value.to_string(),
-            expected,
+            expected: expected.to_string(),
         })
     };
     let digits = |part: &str| !part.is_empty() && part.bytes().all(|b| b.is_ascii_digit());

@@ -121,3 +121,55 @@ fn an_output_without_a_name_is_refused_before_anything_is_written() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `slurm CONFIG --shards N` with `options`, from `dir`, into `dir/out-slurm`.
+fn write_with(
+    config: &Path,
+    dir: &Path,
+    shards: u64,
+    options: SlurmArgs,
+) -> Result<PathBuf, SlurmError> {
+    let jobs = slurm(&SlurmArgs {
+        config: config.to_path_buf(),
+        shards,
+        output: Some(PathBuf::from("out")),
+        binary: PathBuf::from("/usr/bin/gridplan"),
+        current_dir: dir.to_path_buf(),
+        ..options
+    })?;
+    Ok(jobs.array_script.parent().unwrap().to_path_buf())
+}
+
+/// `--cpus-per-task 300` wrote scripts whose every task failed ("error: 300 worker
+/// threads asked for; at most 256": the tasks run `--threads 300`), while
+/// `--cpus-per-task 0` was refused when they were written. Above the sweep's thread limit
+/// it is refused too now, naming --cpus-per-task, before anything is written.
+#[test]
+fn cpus_per_task_above_the_thread_limit_is_refused() {
+    let dir = scratch("slurm-cpus");
+    let config = tiny(&dir);
+    let before = listing(&dir);
+    for cpus in [257, 300, u32::MAX] {
+        let options = SlurmArgs {
+            cpus_per_task: Some(cpus),
+            ..SlurmArgs::default()
+        };
+        let error = write_with(&config, &dir, 2, options).unwrap_err();
+        assert!(matches!(error, SlurmError::Value { .. }), "{error}");
+        assert_eq!(
+            error.to_string(),
+            format!(
+                "--cpus-per-task \"{cpus}\": at most 256 (it is also the tasks' worker threads, at most 256 in a sweep)"
+            )
+        );
+        assert_eq!(listing(&dir), before, "{cpus}: something was written");
+    }
+    let options = SlurmArgs {
+        cpus_per_task: Some(256),
+        ..SlurmArgs::default()
+    };
+    let work = write_with(&config, &dir, 2, options).unwrap();
+    let array = std::fs::read_to_string(work.join("array.sbatch")).unwrap();
+    assert!(array.contains("#SBATCH --cpus-per-task=256\n") && array.contains(" --threads 256 "));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
