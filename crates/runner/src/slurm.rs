@@ -293,7 +293,8 @@ fn options(args: &SlurmArgs) -> Result<String, SlurmError> {
 /// Refuses what sbatch would refuse at submission: an empty value, a `--time` not in one
 /// of sbatch's forms (`minutes`, `minutes:seconds`, `hours:minutes:seconds`, `days-hours`,
 /// `days-hours:minutes`, `days-hours:minutes:seconds`, or `UNLIMITED` / `INFINITE`), a
-/// `--mem` that is not a whole number with an optional unit `K`, `M`, `G` or `T` (sbatch(1)).
+/// `--mem` that is not a whole number with an optional unit `K`, `M`, `G` or `T` (sbatch(1))
+/// or is more than Slurm's count of megabytes holds ([`mem_megabytes`]).
 fn check_option(option: &'static str, value: &str) -> Result<(), SlurmError> {
     let refuse = |expected: &str| {
         Err(SlurmError::Value {
@@ -329,14 +330,37 @@ fn check_option(option: &'static str, value: &str) -> Result<(), SlurmError> {
             }
         }
         "--mem" => {
-            let number = value.trim_end_matches(|c: char| "KMGTkmgt".contains(c));
-            if !digits(number) || value.len() > number.len() + 1 {
-                return refuse("a whole number of megabytes, or with a unit K, M, G or T (4G)");
+            if mem_megabytes(value).is_none() {
+                return refuse(
+                    "a whole number of megabytes, or with a unit K, M, G or T (4G), of at most \
+                     8 EiB (9223372036854775807M), which sbatch reads",
+                );
             }
         }
         _ => {}
     }
     Ok(())
+}
+
+/// A `--mem` value in megabytes as sbatch reads it (Slurm's `str_to_mbytes`): a whole
+/// number with an optional unit `K` (rounded up), `M`, `G` or `T` (either case), which must
+/// fit Slurm's signed 64-bit count of megabytes; `None` for anything else.
+fn mem_megabytes(value: &str) -> Option<u64> {
+    let number = value.trim_end_matches(|c: char| "KMGTkmgt".contains(c));
+    let unit = &value[number.len()..];
+    if number.is_empty() || !number.bytes().all(|b| b.is_ascii_digit()) || unit.len() > 1 {
+        return None;
+    }
+    let n: u64 = number.parse().ok()?;
+    let megabytes = match unit {
+        "" | "M" | "m" => Some(n),
+        "K" | "k" => Some(n.div_ceil(1024)),
+        "G" | "g" => n.checked_mul(1024),
+        _ => n.checked_mul(1024 * 1024),
+    }?;
+    // sbatch parses the number as a signed 64-bit integer (strtoll), before the unit too.
+    let limit = i64::MAX as u64;
+    (n <= limit && megabytes <= limit).then_some(megabytes)
 }
 
 /// Checks the shard count against the sweep's `n_runs` and [`Shard::MAX_COUNT`].

@@ -173,3 +173,45 @@ fn cpus_per_task_above_the_thread_limit_is_refused() {
     assert!(array.contains("#SBATCH --cpus-per-task=256\n") && array.contains(" --threads 256 "));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--mem 18446744073709551616M` was written into the scripts, and sbatch refused them
+/// at submission ("Invalid --mem specification"). A size that does not fit Slurm's signed
+/// 64-bit count of megabytes (the number itself, or once its unit is applied, which sbatch
+/// would wrap) is refused now, naming --mem, before anything is written.
+#[test]
+fn a_mem_beyond_what_sbatch_reads_is_refused() {
+    let dir = scratch("slurm-mem");
+    let config = tiny(&dir);
+    let before = listing(&dir);
+    let with = |mem: &str| SlurmArgs {
+        mem: Some(mem.to_string()),
+        ..SlurmArgs::default()
+    };
+    for mem in [
+        "18446744073709551616M",
+        "18446744073709551616",
+        "9223372036854775808",
+        "9007199254740992G",
+        "8796093022208T",
+        "99999999999999999999999K",
+    ] {
+        let error = write_with(&config, &dir, 2, with(mem)).unwrap_err();
+        let message = error.to_string();
+        assert!(
+            message.starts_with(&format!("--mem {mem:?}: a whole number of megabytes"))
+                && message.contains("at most 8 EiB"),
+            "{message}"
+        );
+        assert_eq!(listing(&dir), before, "{mem}: something was written");
+    }
+    for mem in [
+        "9223372036854775807",
+        "9223372036854775807K",
+        "9007199254740991G",
+        "4G",
+        "0",
+    ] {
+        write_with(&config, &dir, 2, with(mem)).unwrap();
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
