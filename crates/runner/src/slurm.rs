@@ -20,8 +20,10 @@
 //! A task that Slurm requeues (a node failure, a preemption, `scontrol requeue`) gets
 //! SIGTERM, which stops its sweep with the finished runs recorded; when it starts again
 //! (`SLURM_RESTART_COUNT` above 0) it runs `experiment --resume` and keeps them, and a
-//! task that had already finished runs nothing again. The tasks' logs are appended to
-//! (`--open-mode=append`), so a requeued task's log keeps every start.
+//! task that had already finished runs nothing again. Both scripts' logs are appended to
+//! (`--open-mode=append`), and each start writes a line with the date, `SLURM_JOB_ID`,
+//! `SLURM_ARRAY_TASK_ID` and `SLURM_RESTART_COUNT` first, so a log keeps every start of
+//! its task.
 //!
 //! Every value that reaches a script is data, never code. One function, [`quote`], quotes
 //! it: in single quotes, a `'` written as `'\''`. Bash reads that as the value in the
@@ -457,6 +459,9 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     crate::outdir::check(&output)?;
     claim_work_dir(&work, &output)?;
     let name = &experiment.name;
+    // Each start says when and which job it is, in the log it appends to.
+    let started = "echo \"== $(date '+%Y-%m-%d %H:%M:%S %z') start: job ${SLURM_JOB_ID:-?}, \
+                   array task ${SLURM_ARRAY_TASK_ID:--}, restart ${SLURM_RESTART_COUNT:-0}\"";
     let array = format!(
         "#!/bin/bash\n\
          # Written by `gridplan slurm`: shard K of {n} of experiment {name}.\n\
@@ -466,6 +471,7 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
          #SBATCH --open-mode=append\n\
          {options}\
          set -euo pipefail\n\
+         {started}\n\
          # A task Slurm requeued (node failure, preemption) keeps the runs it recorded.\n\
          set --\n\
          if [ \"${{SLURM_RESTART_COUNT:-0}}\" != 0 ]; then set -- --resume; fi\n\
@@ -476,10 +482,11 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
          # Written by `gridplan slurm`: merges the {n} shards of experiment {name}.\n\
          #SBATCH --job-name=gridplan-{name}-merge\n\
          #SBATCH --output={merge_log}\n\
+         #SBATCH --open-mode=append\n\
          {options}\
          set -euo pipefail\n\
-         exec {bin} merge --shards-in {dir} --shards {n} --config {cfg} --output {out}
-",
+         {started}\n\
+         exec {bin} merge --shards-in {dir} --shards {n} --config {cfg} --output {out}\n",
     );
     let array_script = work.join("array.sbatch");
     let merge_script = work.join("merge.sbatch");

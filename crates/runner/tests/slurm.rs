@@ -215,3 +215,40 @@ fn a_mem_beyond_what_sbatch_reads_is_refused() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// merge.log was overwritten by each merge (no `--open-mode=append` in merge.sbatch)
+/// while the tasks' logs were appended to, and no log line said which job or start it
+/// came from. Both scripts append now, and each start writes its date, SLURM_JOB_ID,
+/// SLURM_ARRAY_TASK_ID and SLURM_RESTART_COUNT first (run here with bash).
+#[test]
+fn both_logs_are_appended_to_and_say_each_start() {
+    let dir = scratch("slurm-logs");
+    let config = tiny(&dir);
+    let work = write_with(&config, &dir, 2, SlurmArgs::default()).unwrap();
+    for script in ["array.sbatch", "merge.sbatch"] {
+        let text = std::fs::read_to_string(work.join(script)).unwrap();
+        assert!(text.contains("\n#SBATCH --open-mode=append\n"), "{text}");
+        let echo = text
+            .lines()
+            .find(|l| l.starts_with("echo "))
+            .unwrap_or_else(|| panic!("{script}: no start line: {text}"));
+        // Only the `exec` of gridplan, which the test does not run, follows it.
+        let mut bash = String::from("set -euo pipefail\n");
+        bash.push_str(echo);
+        let out = std::process::Command::new("bash")
+            .args(["-c", &bash])
+            .env("SLURM_JOB_ID", "55")
+            .env("SLURM_ARRAY_TASK_ID", "2")
+            .env("SLURM_RESTART_COUNT", "1")
+            .output()
+            .unwrap();
+        let line = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{script}: {line}");
+        assert!(line.starts_with("== 20"), "{line}");
+        assert!(
+            line.ends_with(" start: job 55, array task 2, restart 1\n"),
+            "{script}: {line}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
