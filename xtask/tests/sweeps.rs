@@ -620,8 +620,9 @@ fn slurm_array_and_merge_equal_a_local_run() {
 
 /// A task that Slurm requeues while it runs (`scontrol requeue`, as after a node failure or
 /// a preemption) is stopped by SIGTERM with its finished runs recorded, and its next start
-/// resumes them (SLURM_RESTART_COUNT): its log, appended to, says both, and the merge
-/// equals a local run.
+/// resumes them (the array script always passes --resume): its log, appended to, says
+/// both, each start after a line naming its job and restart count, and the merge equals a
+/// local run.
 #[test]
 fn a_requeued_slurm_task_resumes_its_runs() {
     if skip_without_slurm() {
@@ -703,6 +704,14 @@ fn a_requeued_slurm_task_resumes_its_runs() {
         "{log}"
     );
     assert!(stopped.parse::<u64>().unwrap() >= 500, "{log}");
+    for restart in ["restart 0", "restart 1"] {
+        let said = log.lines().any(|l| {
+            l.starts_with("== ")
+                && l.contains(" start: job ")
+                && l.ends_with(&format!(", array task 1, {restart}"))
+        });
+        assert!(said, "no start line with {restart}: {log}");
+    }
     let records = deterministic_records(Path::new(&local));
     assert_eq!(records.1.len(), 35_520);
     assert!(records == deterministic_records(&merged), "records differ");

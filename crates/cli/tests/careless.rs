@@ -920,7 +920,9 @@ fn slurm_scripts_merge_with_a_bounded_command_line() {
 /// `slurm` again with fewer shards on the same output left the earlier array's `shard-3`
 /// beside the new `shard-1` and `shard-2`, and the merge job, which took every `shard-K`
 /// there, failed after every task ("shards of different sweeps"). It merges exactly the
-/// N shards of its own array now, and leaves the stale directory alone.
+/// N shards of its own array now, and leaves the stale directory alone. Since the tasks
+/// always resume, `slurm` refuses the earlier array's `shard-1` and `shard-2` (shards of
+/// 3), naming them, until they are moved away.
 #[cfg(unix)]
 #[test]
 fn slurm_again_with_fewer_shards_merges_its_own() {
@@ -938,6 +940,20 @@ fn slurm_again_with_fewer_shards_merges_its_own() {
             "--output",
             "sl",
         ];
+        if n == 2 {
+            let before = listing(&dir);
+            refused(
+                &gridplan(&dir, &args),
+                2,
+                "holds the records of shard 1 of 3 (an earlier `slurm` of this output with --shards 3), not of shard 1 of 2",
+            );
+            assert_eq!(listing(&dir), before, "nothing written or removed");
+            std::fs::create_dir_all(dir.join("earlier")).unwrap();
+            for k in [1, 2] {
+                let name = format!("shard-{k}");
+                std::fs::rename(work.join(&name), dir.join("earlier").join(&name)).unwrap();
+            }
+        }
         succeeded(&gridplan(&dir, &args));
         let merge = run_slurm_scripts(&work, &dir, n);
         succeeded(&merge);
@@ -952,6 +968,166 @@ fn slurm_again_with_fewer_shards_merges_its_own() {
     assert!(
         work.join("shard-3").is_dir(),
         "the earlier array's shard stays"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A Slurm array task that failed, timed out or was cancelled could not be resumed:
+/// the array script passed `--resume` only to a task Slurm requeued
+/// (`SLURM_RESTART_COUNT`), so submitting the same `slurm` command again ran every shard
+/// from scratch and discarded the runs already recorded (a probe lost 164,910: its
+/// `.shard-1.stream` shrank from 1.4 MB to 243 KB), and finished shards ran again. The
+/// script always passes `--resume` now: task 1, stopped by SIGTERM (`scancel`, a time
+/// limit) and started again, keeps its recorded runs byte for byte and runs the others;
+/// started once more after it finished, it runs nothing and leaves `shard-1` as it is
+/// (provenance included); each start says its date, job, task and restart first; and the
+/// merge equals a serial run. The scripts run here with bash, as Slurm would.
+#[cfg(unix)]
+#[test]
+fn a_stopped_slurm_task_started_again_keeps_its_runs() {
+    let dir = scratch(20_005);
+    let maps = common::root().join("maps/movingai");
+    let config = format!(
+        "name = \"resumed\"\nrepeats = 12\nfigures = \"none\"\n[[maps]]\nfiles = [{:?}]\n\
+         scen = {:?}\n[planners.dijkstra]\nplanner = \"astar\"\nmoves = 8\nheuristic = \"zero\"\n",
+        maps.join("den520d.map").display().to_string(),
+        maps.join("den520d.map.scen").display().to_string(),
+    );
+    std::fs::write(dir.join("c.toml"), config).unwrap();
+    let args = [
+        "slurm",
+        "c.toml",
+        "--shards",
+        "2",
+        "--output",
+        "res",
+        "--cpus-per-task",
+        "1",
+    ];
+    succeeded(&gridplan(&dir, &args));
+    let work = dir.join("res-slurm");
+    let task = |k: u32, job: &str| {
+        let mut command = Command::new("bash");
+        command
+            .arg(work.join("array.sbatch"))
+            .current_dir(&dir)
+            .env("SLURM_ARRAY_TASK_ID", k.to_string())
+            .env("SLURM_JOB_ID", job)
+            .env_remove("SLURM_RESTART_COUNT")
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        command.spawn().unwrap()
+    };
+    // Task 1 is stopped once its stream holds some runs.
+    let stream = work.join(".shard-1.stream/records.stream");
+    let mut child = task(1, "71");
+    let started = Instant::now();
+    while std::fs::metadata(&stream).map_or(0, |m| m.len()) < 20_000 {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "task 1 ended before it could be stopped"
+        );
+        assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "no runs recorded"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(signal_and_wait(&mut child, "TERM", Duration::from_secs(60)));
+    let stopped = common::finish(child, "task 1");
+    assert_eq!(stopped.code, Some(130), "{}", stopped.describe());
+    assert!(
+        stopped
+            .stdout
+            .contains(" start: job 71, array task 1, restart 0"),
+        "{}",
+        stopped.describe()
+    );
+    let recorded = std::fs::read(&stream).unwrap();
+    // Started again (the same command submitted again): the runs are kept, not rerun.
+    let again = common::finish(task(1, "72"), "task 1 again");
+    succeeded(&again);
+    assert!(
+        again
+            .stdout
+            .contains(" start: job 72, array task 1, restart 0"),
+        "{}",
+        again.describe()
+    );
+    let resumed = again
+        .stderr
+        .lines()
+        .find_map(|l| l.strip_prefix("resuming: "))
+        .unwrap_or_else(|| panic!("task 1 did not resume: {}", again.describe()));
+    assert!(
+        resumed.ends_with(" of 5328 runs already recorded"),
+        "{resumed}"
+    );
+    let kept: u64 = resumed.split(' ').next().unwrap().parse().unwrap();
+    assert!(kept > 0 && kept < 5328, "{resumed}");
+    let shard = std::fs::read(work.join("shard-1/shard.stream")).unwrap();
+    assert!(
+        shard.len() > recorded.len() && shard.starts_with(&recorded),
+        "the recorded runs were not kept as they were"
+    );
+    succeeded(&common::finish(task(2, "73"), "task 2"));
+    // Started once more after it finished: nothing runs, nothing is rewritten.
+    let files = |k: u32| {
+        let mut files = std::collections::BTreeMap::new();
+        let mut todo = vec![work.join(format!("shard-{k}"))];
+        while let Some(at) = todo.pop() {
+            for entry in std::fs::read_dir(at).unwrap() {
+                let path = entry.unwrap().path();
+                match path.is_dir() {
+                    true => todo.push(path),
+                    false => drop(files.insert(path.clone(), std::fs::read(&path).unwrap())),
+                }
+            }
+        }
+        files
+    };
+    let finished = files(1);
+    std::thread::sleep(Duration::from_millis(1100));
+    let once_more = common::finish(task(1, "74"), "task 1 once more");
+    succeeded(&once_more);
+    assert!(
+        once_more
+            .stderr
+            .contains("resuming: 5328 of 5328 runs already recorded"),
+        "{}",
+        once_more.describe()
+    );
+    assert!(files(1) == finished, "the finished shard was rewritten");
+    assert!(!work.join(".shard-1.stream").exists());
+    let merge = common::finish(
+        Command::new("bash")
+            .arg(work.join("merge.sbatch"))
+            .current_dir(&dir)
+            .env("SLURM_JOB_ID", "75")
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+        "merge",
+    );
+    succeeded(&merge);
+    assert!(
+        merge.stdout.contains(" start: job 75, "),
+        "{}",
+        merge.describe()
+    );
+    let serial = ["experiment", "c.toml", "--quiet", "--output", "serial"];
+    succeeded(&gridplan(&dir, &serial));
+    let compared = gridplan(&dir, &["compare", "serial", "res"]);
+    succeeded(&compared);
+    assert!(
+        compared
+            .stdout
+            .contains("the same in all 10656 runs in both"),
+        "{}",
+        compared.describe()
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

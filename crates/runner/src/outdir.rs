@@ -916,6 +916,12 @@ impl StreamArea {
     }
 }
 
+/// Where the stream area of `output` is ([`stream_area`] locks and creates it); nothing is
+/// created.
+pub fn stream_area_path(output: &Path) -> Result<PathBuf, OutdirError> {
+    Ok(locate(output, false)?.sibling("stream"))
+}
+
 /// Locks the stream area of `output` (creating missing parents, as [`write_results`]
 /// would), waiting at most `wait` for another sweep on the same output, and creates it
 /// with its marker, or checks that an existing one is gridplan's.

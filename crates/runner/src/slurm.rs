@@ -17,13 +17,18 @@
 //! The scripts call this very binary and the config by absolute path, so they run from
 //! any directory on a cluster whose nodes share the file system.
 //!
-//! A task that Slurm requeues (a node failure, a preemption, `scontrol requeue`) gets
-//! SIGTERM, which stops its sweep with the finished runs recorded; when it starts again
-//! (`SLURM_RESTART_COUNT` above 0) it runs `experiment --resume` and keeps them, and a
-//! task that had already finished runs nothing again. Both scripts' logs are appended to
-//! (`--open-mode=append`), and each start writes a line with the date, `SLURM_JOB_ID`,
-//! `SLURM_ARRAY_TASK_ID` and `SLURM_RESTART_COUNT` first, so a log keeps every start of
-//! its task.
+//! Every task runs `experiment --resume`: a task that Slurm requeues (a node failure, a
+//! preemption, `scontrol requeue`) gets SIGTERM, which stops its sweep with the finished
+//! runs recorded, and keeps them when it starts again; so does a task of the same command
+//! submitted again after a task failed, timed out or was cancelled, and a task whose shard
+//! had already finished runs nothing again and leaves its `shard-K` as it is (provenance
+//! included). The shard directories and their stream areas in `DIR-slurm/` that a task
+//! would refuse to resume (another config's records, another gridplan version's, another
+//! shard count's: [`crate::sweep::resumed_streams`]) are refused before anything is
+//! written ([`SlurmError::OtherSweep`]), naming the directories to move away to start
+//! over; nothing is removed. Both scripts' logs are appended to (`--open-mode=append`), and
+//! each start writes a line with the date, `SLURM_JOB_ID`, `SLURM_ARRAY_TASK_ID` and
+//! `SLURM_RESTART_COUNT` first, so a log keeps every start of its task.
 //!
 //! Every value that reaches a script is data, never code. One function, [`quote`], quotes
 //! it: in single quotes, a `'` written as `'\''`. Bash reads that as the value in the
@@ -47,6 +52,7 @@ use crate::config::{self, ConfigError};
 use crate::outdir::OutdirError;
 use crate::run::RunList;
 use crate::shard::Shard;
+use crate::stream::{StreamHeader, StreamReader};
 
 /// What `slurm` is asked to do.
 #[derive(Debug, Clone, Default)]
@@ -138,6 +144,31 @@ pub enum SlurmError {
         value: String,
         /// What the option takes.
         expected: String,
+    },
+    /// Records in `DIR-slurm/` that the array task of their shard, which always resumes,
+    /// would refuse: another config's, another gridplan version's, or another shard
+    /// count's (an earlier `slurm` of this output). Refused before the scripts are written;
+    /// nothing is removed.
+    #[error(
+        "{}: {found}. Task {shard} of the array resumes the runs recorded for its shard \
+         there (a resubmitted array continues where it stopped), so it would refuse them: \
+         give another --output, or, once no task of an earlier array runs, move {} {}away \
+         to start shard {shard} over",
+        file.display(),
+        dir.display(),
+        area.as_ref().map_or(String::new(), |a| format!("and {} ", a.display()))
+    )]
+    OtherSweep {
+        /// The shard (its task).
+        shard: u64,
+        /// The stream file read.
+        file: PathBuf,
+        /// The shard's directory, `DIR-slurm/shard-K`.
+        dir: PathBuf,
+        /// Its stream area, if there is one.
+        area: Option<PathBuf>,
+        /// What it holds, in words.
+        found: String,
     },
     /// A results directory that names no directory of its own: the root, or a path
     /// ending in `..` (whose `DIR-slurm` would not be beside it).
@@ -406,8 +437,18 @@ fn claim_work_dir(work: &Path, output: &Path) -> Result<(), SlurmError> {
     Ok(())
 }
 
-/// Writes the scripts (the caller submits them if asked: [`Jobs::array_args`]).
-pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
+/// Where `slurm` writes for `args`: the config, its absolute path, the key a bad output
+/// value is reported under, the results directory and `DIR-slurm/`.
+struct Places {
+    experiment: crate::Experiment,
+    config_path: PathBuf,
+    output_key: String,
+    output: PathBuf,
+    work: PathBuf,
+}
+
+/// Reads the config and works out [`Places`], writing nothing.
+fn places(args: &SlurmArgs) -> Result<Places, SlurmError> {
     if args.shards == 0 || args.shards > Shard::MAX_COUNT {
         // Refused before the config is read.
         check_shards(args.shards, u64::MAX)?;
@@ -430,7 +471,115 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     )?;
     let mut work = output.as_os_str().to_os_string();
     work.push("-slurm");
-    let work = PathBuf::from(work);
+    Ok(Places {
+        experiment,
+        config_path,
+        output_key,
+        output,
+        work: PathBuf::from(work),
+    })
+}
+
+/// What the records of `found` hold, in words, when a resume of `wanted` refuses them
+/// (the runner's rule: another config, gridplan version or shard); `None` if it keeps them.
+fn other_sweep(found: &StreamHeader, wanted: &StreamHeader) -> Option<String> {
+    if found.config_hash != wanted.config_hash || found.experiment != wanted.experiment {
+        Some(format!(
+            "it holds records of another config (experiment {:?}, config hash {}), not of \
+             {} (experiment {:?}, config hash {})",
+            found.experiment,
+            found.config_hash,
+            wanted.config,
+            wanted.experiment,
+            wanted.config_hash
+        ))
+    } else if found.gridplan != wanted.gridplan {
+        Some(format!(
+            "it holds records written by gridplan {}, and this is gridplan {}; one sweep's \
+             records come from one version",
+            found.gridplan.as_deref().unwrap_or("of unknown version"),
+            wanted.gridplan.as_deref().unwrap_or("?")
+        ))
+    } else if (found.shard, found.shards) != (wanted.shard, wanted.shards) {
+        Some(format!(
+            "it holds the records of shard {} of {} (an earlier `slurm` of this output with \
+             --shards {}), not of shard {} of {}",
+            found.shard, found.shards, found.shards, wanted.shard, wanted.shards
+        ))
+    } else {
+        None
+    }
+}
+
+/// Refuses the shards in `work` (`shard-K` and its stream area, K from 1 to `n`) whose
+/// recorded runs task K, which always resumes, would refuse ([`SlurmError::OtherSweep`]).
+/// A stream whose header cannot be read is left to the task to report.
+fn check_resumable(experiment: &crate::Experiment, work: &Path, n: u64) -> Result<(), SlurmError> {
+    let Ok(entries) = std::fs::read_dir(work) else {
+        return Ok(());
+    };
+    // The shards with a directory or a stream area here (a listing, not N lookups).
+    let mut shards = std::collections::BTreeSet::new();
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let k = name
+            .strip_prefix(".shard-")
+            .and_then(|rest| rest.strip_suffix(".stream"))
+            .or_else(|| name.strip_prefix("shard-"));
+        if let Some(k) = k.and_then(|k| k.parse::<u64>().ok()) {
+            if (1..=n).contains(&k) {
+                shards.insert(k);
+            }
+        }
+    }
+    for k in shards {
+        let shard = Shard { index: k, count: n };
+        let wanted = StreamHeader::new(experiment, shard, 0);
+        let dir = work.join(format!("shard-{k}"));
+        for file in crate::sweep::resumed_streams(&dir) {
+            let Ok(opened) = crate::stream::open_regular(&file) else {
+                continue;
+            };
+            let what = file.display().to_string();
+            let Ok((found, _)) = StreamReader::new(std::io::BufReader::new(opened), &what) else {
+                continue;
+            };
+            if let Some(found) = other_sweep(&found, &wanted) {
+                let area = crate::outdir::stream_area_path(&dir)
+                    .ok()
+                    .filter(|a| std::fs::symlink_metadata(a).is_ok());
+                return Err(SlurmError::OtherSweep {
+                    shard: k,
+                    file,
+                    dir,
+                    area,
+                    found,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Writes `text` as `path`, replacing a link planted at its name instead of writing
+/// through it.
+fn replace_file(path: &Path, text: &str) -> Result<(), SlurmError> {
+    if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        std::fs::remove_file(path).map_err(io(path.display()))?;
+    }
+    std::fs::write(path, text).map_err(io(path.display()))
+}
+
+/// Writes the scripts (the caller submits them if asked: [`Jobs::array_args`]).
+pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
+    let Places {
+        experiment,
+        config_path,
+        output_key,
+        output,
+        work,
+    } = places(args)?;
     let binary = absolute(&args.current_dir, &args.binary);
     let n = args.shards;
     let options = options(args)?;
@@ -457,6 +606,8 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     let merge_log = log("merge.log")?;
     // The results directory must be one `merge` may write, before anything is written.
     crate::outdir::check(&output)?;
+    // So must every shard's recorded runs be ones its task resumes.
+    check_resumable(&experiment, &work, n)?;
     claim_work_dir(&work, &output)?;
     let name = &experiment.name;
     // Each start says when and which job it is, in the log it appends to.
@@ -472,10 +623,9 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
          {options}\
          set -euo pipefail\n\
          {started}\n\
-         # A task Slurm requeued (node failure, preemption) keeps the runs it recorded.\n\
-         set --\n\
-         if [ \"${{SLURM_RESTART_COUNT:-0}}\" != 0 ]; then set -- --resume; fi\n\
-         exec {bin} experiment {cfg} --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --output {dir}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet{threads} \"$@\"\n",
+         # Always --resume: a task requeued, or submitted again after it failed, timed out or\n\
+         # was cancelled, keeps the runs it recorded; a finished shard runs nothing again.\n\
+         exec {bin} experiment {cfg} --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --output {dir}/shard-\"$SLURM_ARRAY_TASK_ID\" --quiet{threads} --resume\n",
     );
     let merge = format!(
         "#!/bin/bash\n\
@@ -492,10 +642,7 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
     let merge_script = work.join("merge.sbatch");
     for (path, text) in [(&array_script, &array), (&merge_script, &merge)] {
         // A script is replaced, never written through a link planted at its name.
-        if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-            std::fs::remove_file(path).map_err(io(path.display()))?;
-        }
-        std::fs::write(path, text).map_err(io(path.display()))?;
+        replace_file(path, text)?;
     }
     Ok(Jobs {
         array_script,

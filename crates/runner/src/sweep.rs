@@ -13,8 +13,11 @@
 //! `--resume` reads both files back: if their headers' config hash matches the config's,
 //! the runs they hold are kept (a cut last frame is dropped) and the sweep runs the
 //! others; a changed config is refused, and so are the finished results of another
-//! config or shard in the output (`resume_finished`). Without `--resume` an old stream is
-//! discarded.
+//! config or shard in the output (`resume_finished`); a shard's finished results of the
+//! same config are left as they are, provenance included (no run runs, nothing is
+//! written: a resubmitted Slurm array, whose tasks always resume). Without `--resume` an
+//! old stream is discarded. [`resumed_streams`] lists the files whose headers `--resume`
+//! checks (`slurm` checks them before writing its scripts).
 //!
 //! When the sweep is whole, the final outputs are rendered, in run order, from its records
 //! (those of this process, after those a resumed sweep reads back from the stream; the
@@ -277,6 +280,21 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     let header = StreamHeader::new(&experiment, shard, runs.len());
     let path = area.dir.join(RECORDS);
     let opened = open_stream(args, &area, &header, &experiment, &runs, &dir)?;
+    if opened.finished && args.shard.is_some() {
+        // A finished shard resumed (a resubmitted or requeued array task): its directory
+        // already holds these very records, so it is left as it is, provenance included.
+        if let Err(e) = area.remove() {
+            tracing::warn!("{} could not be removed: {e}", area.dir.display());
+        }
+        return Ok(Report {
+            n_runs: runs.len() as usize,
+            output: dir,
+            reproduction: Reproduction::default(),
+            seconds: started.elapsed().as_secs_f64(),
+            interrupted: None,
+            records: Vec::new(),
+        });
+    }
     tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
     let (records, recorded) = stream_runs(args, &experiment, &runs, opened, &area.dir)?;
     let interrupted = |dir| Report {
@@ -379,6 +397,9 @@ struct Opened {
     prefix: u64,
     /// Runs after those that finished before (ahead.stream's), by index.
     done: BTreeMap<u64, RunRecord>,
+    /// Every run of the shard came from the output's finished records
+    /// ([`resume_finished`]): nothing is left to run or to write.
+    finished: bool,
 }
 
 /// The sweep's stream files and the runs they already hold: a resumed sweep's, each cut
@@ -394,6 +415,7 @@ fn open_stream(
     let path = area.dir.join(RECORDS);
     let old = area.dir.join(OLD_RECORDS);
     let mut ahead = None;
+    let mut finished = false;
     let done = match args.resume {
         true if fs::symlink_metadata(&path).is_err() && fs::symlink_metadata(&old).is_ok() => {
             match resume_point(&old, header, runs, experiment)? {
@@ -404,7 +426,10 @@ fn open_stream(
         true if fs::symlink_metadata(&path).is_err() => {
             let what = (header, runs, experiment);
             match resume_finished(area, dir, args.shard.is_some(), what) {
-                Ok(done) => done,
+                Ok(done) => {
+                    finished = done.is_some_and(|(_, n)| n == runs.len());
+                    done
+                }
                 Err(error) => {
                     // Refused: the area, made for this sweep, holds no stream to keep.
                     if let Err(e) = area.remove() {
@@ -460,6 +485,7 @@ fn open_stream(
         ahead_header,
         prefix,
         done,
+        finished,
     })
 }
 
@@ -477,7 +503,9 @@ fn open_at(area: &outdir::StreamArea, name: &str, bytes: u64) -> Result<File, Ru
 /// `--resume`): no stream is left in the area, and the output `dir`, gridplan's own, holds
 /// this very sweep's records (a whole sweep's [`RESULTS_RECORDS`], a shard's
 /// [`SHARD_FILE`]: the same config, version and shard). They are copied into the area's
-/// stream, so no run runs again and the output is written again from them. Finished
+/// stream, so no run runs again; a whole sweep's output is written again from them, and a
+/// shard's directory, which already holds them, is left as it is (its provenance too: it
+/// says when its runs ran). Finished
 /// records of another config, version or shard there (a whole sweep's for a shard, a
 /// shard's for a whole sweep) are refused as an interrupted sweep's are
 /// ([`ResumeError`]: run without `--resume` to start over), and so are records that do not
@@ -517,6 +545,36 @@ fn resume_finished(
     Ok(Some((bytes, n)))
 }
 
+/// The files whose stream headers a `--resume` into `output` checks against its sweep
+/// (config, version, shard), those present of: the stream area's records.stream, its
+/// earlier versions' records.jsonl and its ahead.stream, else (no records.stream there)
+/// the first of the output's finished records (a shard's [`SHARD_FILE`], a whole sweep's
+/// [`RESULTS_RECORDS`]) when the output carries gridplan's marker, as
+/// `resume_finished` reads them. Nothing is created or locked.
+pub fn resumed_streams(output: &Path) -> Vec<PathBuf> {
+    let present = |path: &PathBuf| fs::symlink_metadata(path).is_ok();
+    let mut files = Vec::new();
+    if let Ok(area) = outdir::stream_area_path(output) {
+        files.extend(
+            [RECORDS, OLD_RECORDS, AHEAD]
+                .iter()
+                .map(|name| area.join(name))
+                .filter(present),
+        );
+    }
+    if !files.iter().any(|f| f.ends_with(RECORDS))
+        && fs::symlink_metadata(output.join(outdir::MARKER)).is_ok()
+    {
+        files.extend(
+            [SHARD_FILE, RESULTS_RECORDS]
+                .iter()
+                .map(|name| output.join(name))
+                .find(present),
+        );
+    }
+    files
+}
+
 /// Carries the first `n` runs of the JSON Lines resume stream `old` (an earlier version's)
 /// over into the area's framed stream and removes `old`; returns the framed stream's bytes.
 fn carry_over(area: &outdir::StreamArea, old: &Path, n: u64) -> Result<u64, RunnerError> {
@@ -553,6 +611,7 @@ fn stream_runs(
         ahead_header,
         prefix,
         done,
+        finished: _,
     } = opened;
     let (path, ahead_path) = (area.join(RECORDS), area.join(AHEAD));
     let n_done = prefix + done.len() as u64;

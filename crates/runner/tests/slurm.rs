@@ -252,3 +252,57 @@ fn both_logs_are_appended_to_and_say_each_start() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The array's tasks always resume now, so the records an earlier `slurm` of the same
+/// output left that a task would refuse (another config's, another shard count's) would
+/// fail every such task. `slurm` refuses them before writing anything, naming the shard's
+/// directory to move away, and removes nothing.
+#[test]
+fn shards_their_tasks_would_not_resume_are_refused() {
+    let dir = scratch("slurm-other-sweep");
+    let config = tiny(&dir);
+    let work = write_with(&config, &dir, 2, SlurmArgs::default()).unwrap();
+    let shard = work.join("shard-2");
+    experiment(&SweepArgs {
+        output: Some(&shard),
+        shard: Some(Shard::new(2, 2).unwrap()),
+        ..SweepArgs::new(&config, &NoReport)
+    })
+    .unwrap();
+    // The same config and shard count: written again.
+    write_with(&config, &dir, 2, SlurmArgs::default()).unwrap();
+    let before = listing(&dir);
+    // Another shard count.
+    let error = write_with(&config, &dir, 3, SlurmArgs::default()).unwrap_err();
+    assert!(
+        matches!(error, SlurmError::OtherSweep { shard: 2, .. }),
+        "{error}"
+    );
+    let message = error.to_string();
+    for needle in [
+        "shard-2/shard.stream: it holds the records of shard 2 of 2 (an earlier `slurm` of this output with --shards 2), not of shard 2 of 3",
+        "give another --output, or, once no task of an earlier array runs, move ",
+        "shard-2 away to start shard 2 over",
+    ] {
+        assert!(message.contains(needle), "{needle}: {message}");
+    }
+    assert_eq!(listing(&dir), before);
+    // Another config.
+    let edited = std::fs::read_to_string(&config)
+        .unwrap()
+        .replace("limit = 3", "limit = 2");
+    std::fs::write(&config, edited).unwrap();
+    let error = write_with(&config, &dir, 2, SlurmArgs::default()).unwrap_err();
+    assert!(
+        matches!(error, SlurmError::OtherSweep { shard: 2, .. }),
+        "{error}"
+    );
+    assert!(
+        error
+            .to_string()
+            .contains("it holds records of another config (experiment \"tiny\""),
+        "{error}"
+    );
+    assert!(shard.join("shard.stream").is_file());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
