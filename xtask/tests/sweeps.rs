@@ -597,6 +597,23 @@ fn slurm_array_and_merge_equal_a_local_run() {
         .to_string();
     let merged = dir.join("merged");
     let submitted = Submitted::new(&config, "3", &merged, &[]);
+    // The same command again while the array is queued or running: refused (exit 5),
+    // naming the jobs squeue still lists; nothing is submitted.
+    let output = merged.display().to_string();
+    let again = Command::new(env!("CARGO_BIN_EXE_xtask"))
+        .args([
+            "slurm", &config, "--shards", "3", "--output", &output, "--submit",
+        ])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    if again.status.code() != Some(5)
+        || !stderr.contains(&format!("jobs {}", submitted.array))
+        || !stderr.contains("of an earlier submission of this output")
+    {
+        submitted.fail(&format!("a second submission was not refused: {stderr}"));
+    }
     let local = dir.join("local").display().to_string();
     xtask(&["experiment", &config, "--quiet", "--output", &local]);
     submitted.wait_completed();

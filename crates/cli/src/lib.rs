@@ -571,7 +571,9 @@ impl CliError {
             CliError::Slurm(error) => {
                 return match error {
                     slurm::SlurmError::Config(_) => EXIT_CONFIG,
-                    slurm::SlurmError::Output(_) => EXIT_OUTPUT,
+                    slurm::SlurmError::Output(_) | slurm::SlurmError::StillQueued { .. } => {
+                        EXIT_OUTPUT
+                    }
                     slurm::SlurmError::Io { .. } => EXIT_FAILURE,
                     _ => EXIT_USAGE,
                 }
@@ -1057,7 +1059,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 let what = what.to_string();
                 move |source| slurm::SlurmError::Io { what, source }
             };
-            let jobs = slurm::slurm(&slurm::SlurmArgs {
+            let args = slurm::SlurmArgs {
                 config,
                 shards,
                 output,
@@ -1069,7 +1071,40 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 cpus_per_task,
                 binary: std::env::current_exe().map_err(looked_up("this binary's path"))?,
                 current_dir: std::env::current_dir().map_err(looked_up("current directory"))?,
-            })?;
+            };
+            // The jobs of an earlier submission of this output that may still run: a
+            // second array would run the same shards at once, so it waits for them.
+            let mut earlier = Vec::new();
+            if submit {
+                let work = slurm::work_dir(&args)?;
+                earlier = slurm::submitted(&work)?;
+                if !earlier.is_empty() {
+                    match squeue(&earlier) {
+                        Ok(queued) if !queued.is_empty() => {
+                            let jobs = queued;
+                            return Err(slurm::SlurmError::StillQueued { work, jobs }.into());
+                        }
+                        Ok(_) => earlier.clear(),
+                        Err(why) => to_stderr!(
+                            "warning: {}, so whether jobs {} of an earlier submission of \
+                             this output still run is unknown; submitting anyway (if they do, \
+                             two arrays run the same shards)",
+                            planner_text::terminal(&why),
+                            earlier.join(", ")
+                        ),
+                    }
+                }
+            }
+            let jobs = slurm::slurm(&args)?;
+            // What the next submission asks squeue about (a warning if it cannot be kept).
+            let record = |ids: &[String]| {
+                if let Err(e) = slurm::record_submitted(&jobs.work, ids) {
+                    to_stderr!(
+                        "warning: the submitted job ids could not be recorded: {}",
+                        planner_text::terminal(&e.to_string())
+                    );
+                }
+            };
             let mut out = format!(
                 "array script: {}\nmerge script: {}\n",
                 jobs.array_script.display(),
@@ -1077,6 +1112,8 @@ pub fn run(command: Command) -> Result<(), CliError> {
             );
             if submit {
                 let array = sbatch(&jobs.array_args()).map_err(array_hint)?;
+                earlier.push(array.clone());
+                record(&earlier);
                 let merge = sbatch(&jobs.merge_args(&array)).map_err(|e| {
                     // The array runs without its merge: say what is left to do.
                     let args: Vec<String> = jobs
@@ -1090,6 +1127,8 @@ pub fn run(command: Command) -> Result<(), CliError> {
                         merge_args: args.join(" "),
                     }
                 })?;
+                earlier.push(merge.clone());
+                record(&earlier);
                 out.push_str(&format!("array job {array}\nmerge job {merge}\n"));
             }
             write_text(&out)
@@ -1318,6 +1357,34 @@ fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
 /// escaped ([`planner_text::terminal`]): labels, paths and map names come from configs.
 fn write_text(text: &str) -> Result<(), CliError> {
     write_stdout(planner_text::terminal(text).as_bytes())
+}
+
+/// The jobs of `ids` that `squeue` still lists (pending, running, completing, ...), asked
+/// one id at a time (squeue fails on a single id it no longer knows, which has left the
+/// queue); `Err` says why squeue could not answer.
+fn squeue(ids: &[String]) -> Result<Vec<String>, String> {
+    let mut queued = Vec::new();
+    for id in ids {
+        let out = std::process::Command::new("squeue")
+            .args(["--noheader", "--format=%i", "--jobs", id])
+            .output()
+            .map_err(|e| format!("cannot run squeue: {e}"))?;
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        if !out.status.success() {
+            if stderr.contains("Invalid job id") {
+                continue;
+            }
+            return Err(format!("squeue --jobs {id} failed: {}", stderr.trim()));
+        }
+        // An array's tasks are listed as `55_1` or `55_[2-3]`.
+        let listed = String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .any(|line| line.trim().split('_').next() == Some(id.as_str()));
+        if listed {
+            queued.push(id.clone());
+        }
+    }
+    Ok(queued)
 }
 
 /// Runs `sbatch --parsable ARGS` and returns the job id.

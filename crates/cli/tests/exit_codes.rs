@@ -386,6 +386,116 @@ fn a_failed_submission_says_what_is_left() {
     );
 }
 
+/// A second `slurm --submit` to an output whose array was still queued or running was
+/// accepted silently: both arrays ran the whole sweep at once, and both merges. `--submit`
+/// records its job ids in `DIR-slurm/jobs` now, asks `squeue` about them before it
+/// submits again, and refuses with exit 5 while one is listed, submitting nothing; once
+/// squeue lists none (or no longer knows them), it submits; when squeue cannot answer, it
+/// warns and submits. Fake `sbatch` and `squeue` on PATH.
+#[test]
+fn a_second_submission_while_the_first_runs_is_refused() {
+    let dir = scratch("resubmit");
+    let cfg = config(&dir, "repeats = 4");
+    let output = dir.join("res").display().to_string();
+    let args = [
+        "slurm", &cfg, "--shards", "2", "--output", &output, "--submit",
+    ];
+    // sbatch logs each call; squeue prints the file `queue` for the id asked, fails on an
+    // id in `gone` as Slurm does for a job it no longer knows, and on any id when `down`
+    // exists.
+    let calls = dir.join("calls");
+    let path = fake_slurm(
+        &dir,
+        &format!("echo array >> '{0}'; echo 55", calls.display()),
+        &format!("echo merge >> '{0}'; echo 56", calls.display()),
+    );
+    let squeue = dir.join("bin/squeue");
+    std::fs::write(
+        &squeue,
+        format!(
+            "#!/bin/sh
+cd '{}'
+id=$(echo \"$*\" | sed 's/.*--jobs //')
+\
+             if [ -e down ]; then echo 'squeue: error: Unable to contact slurm controller' >&2; exit 1; fi\n\
+             if grep -qx \"$id\" gone 2>/dev/null; then echo 'slurm_load_jobs error: Invalid job id specified' >&2; exit 1; fi\n\
+             grep \"^$id\" queue 2>/dev/null; exit 0\n",
+            dir.display()
+        ),
+    )
+    .unwrap();
+    let mut permissions = std::fs::metadata(&squeue).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut permissions, 0o755);
+    std::fs::set_permissions(&squeue, permissions).unwrap();
+    let submit = || common::gridplan_with(&root(), &args, &[("PATH", &path)], Stdio::piped());
+    let sbatch_calls = || {
+        std::fs::read_to_string(&calls)
+            .unwrap_or_default()
+            .lines()
+            .count()
+    };
+    let out = submit();
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
+    assert!(
+        out.stdout.contains("array job 55\nmerge job 56\n"),
+        "{}",
+        out.stdout
+    );
+    let jobs = std::fs::read_to_string(dir.join("res-slurm/jobs")).unwrap();
+    assert!(jobs.ends_with("\n55\n56\n"), "{jobs}");
+    assert_eq!(sbatch_calls(), 2);
+    // The array still runs: refused, nothing submitted.
+    std::fs::write(dir.join("queue"), "55_[1-2]\n56\n").unwrap();
+    let out = submit();
+    assert_eq!(out.code, Some(5), "{}", out.stderr);
+    assert!(
+        out.stderr
+            .contains("jobs 55, 56 of an earlier submission of this output (listed in ")
+            && out
+                .stderr
+                .contains("res-slurm/jobs) are still queued or running; scancel them or wait"),
+        "{}",
+        out.stderr
+    );
+    assert_eq!(sbatch_calls(), 2);
+    // Only the merge is pending: still refused, naming it.
+    std::fs::write(dir.join("queue"), "56\n").unwrap();
+    let out = submit();
+    assert_eq!(out.code, Some(5), "{}", out.stderr);
+    assert!(
+        out.stderr.contains("error: jobs 56 of an earlier"),
+        "{}",
+        out.stderr
+    );
+    // Squeue cannot answer: a warning, and it submits.
+    std::fs::write(dir.join("down"), "").unwrap();
+    let out = submit();
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
+    assert!(
+        out.stderr.contains("warning: squeue --jobs 55 failed: squeue: error: Unable to contact slurm controller")
+            && out.stderr.contains("whether jobs 55, 56 of an earlier submission of this output still run is unknown; submitting anyway"),
+        "{}",
+        out.stderr
+    );
+    assert_eq!(sbatch_calls(), 4);
+    // The ids not known to have ended are kept with the new ones.
+    let jobs = std::fs::read_to_string(dir.join("res-slurm/jobs")).unwrap();
+    assert!(jobs.ends_with("\n55\n56\n55\n56\n"), "{jobs}");
+    // Gone from the queue, or no longer known: it submits, and lists only its own jobs.
+    std::fs::remove_file(dir.join("down")).unwrap();
+    std::fs::write(dir.join("queue"), "").unwrap();
+    std::fs::write(dir.join("gone"), "55\n").unwrap();
+    let out = submit();
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
+    assert!(!out.stderr.contains("warning"), "{}", out.stderr);
+    assert_eq!(sbatch_calls(), 6);
+    let jobs = std::fs::read_to_string(dir.join("res-slurm/jobs")).unwrap();
+    assert!(
+        jobs.ends_with("submits again only when squeue lists none of them.\n55\n56\n"),
+        "{jobs}"
+    );
+}
+
 /// `compare` exits 0 when two results directories hold the same runs with the same
 /// computed fields, 1 when they differ (after printing the comparison), and refuses a
 /// directory that is not complete results (none, a shard's, a cut stream) as `report`

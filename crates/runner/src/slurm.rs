@@ -30,6 +30,11 @@
 //! each start writes a line with the date, `SLURM_JOB_ID`, `SLURM_ARRAY_TASK_ID` and
 //! `SLURM_RESTART_COUNT` first, so a log keeps every start of its task.
 //!
+//! `--submit` records the ids of the jobs it submitted in `DIR-slurm/jobs`
+//! ([`record_submitted`]); the command line asks `squeue` about them before it submits
+//! again to the same output and refuses while one is still queued or running
+//! ([`SlurmError::StillQueued`]), since two arrays would run the same shards at once.
+//!
 //! Every value that reaches a script is data, never code. One function, [`quote`], quotes
 //! it: in single quotes, a `'` written as `'\''`. Bash reads that as the value in the
 //! command lines, and sbatch's own parser of `#SBATCH` lines (quotes and backslash escapes,
@@ -87,6 +92,8 @@ pub struct SlurmArgs {
 /// What `slurm` wrote.
 #[derive(Debug, Clone)]
 pub struct Jobs {
+    /// `DIR-slurm/`, where the scripts, shards, logs and [`JOBS_FILE`] are.
+    pub work: PathBuf,
     /// The array job's script.
     pub array_script: PathBuf,
     /// The merge job's script.
@@ -169,6 +176,20 @@ pub enum SlurmError {
         area: Option<PathBuf>,
         /// What it holds, in words.
         found: String,
+    },
+    /// Jobs that an earlier `--submit` of the same output recorded ([`JOBS_FILE`]) are
+    /// still queued or running: a second array would run the same shards at once.
+    #[error(
+        "jobs {} of an earlier submission of this output (listed in {}) are still queued or \
+         running; scancel them or wait until they end, then submit again",
+        jobs.join(", "),
+        work.join(JOBS_FILE).display()
+    )]
+    StillQueued {
+        /// `DIR-slurm/`.
+        work: PathBuf,
+        /// The jobs still queued or running.
+        jobs: Vec<String>,
     },
     /// A results directory that names no directory of its own: the root, or a path
     /// ending in `..` (whose `DIR-slurm` would not be beside it).
@@ -480,6 +501,12 @@ fn places(args: &SlurmArgs) -> Result<Places, SlurmError> {
     })
 }
 
+/// `DIR-slurm/`, where [`slurm`] writes for `args` (the config is read; nothing is
+/// written): what the caller reads [`submitted`] from before it submits again.
+pub fn work_dir(args: &SlurmArgs) -> Result<PathBuf, SlurmError> {
+    Ok(places(args)?.work)
+}
+
 /// What the records of `found` hold, in words, when a resume of `wanted` refuses them
 /// (the runner's rule: another config, gridplan version or shard); `None` if it keeps them.
 fn other_sweep(found: &StreamHeader, wanted: &StreamHeader) -> Option<String> {
@@ -560,6 +587,42 @@ fn check_resumable(experiment: &crate::Experiment, work: &Path, n: u64) -> Resul
         }
     }
     Ok(())
+}
+
+/// The file in `DIR-slurm/` that lists the jobs `--submit` submitted there, one id a line
+/// after `#` comment lines ([`record_submitted`], [`submitted`]).
+pub const JOBS_FILE: &str = "jobs";
+
+/// The job ids listed in `work`'s [`JOBS_FILE`] (none when there is no such file).
+pub fn submitted(work: &Path) -> Result<Vec<String>, SlurmError> {
+    let path = work.join(JOBS_FILE);
+    let text = match std::fs::read(&path) {
+        Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(io(path.display())(e)),
+    };
+    Ok(text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .map(str::to_string)
+        .collect())
+}
+
+/// Writes `ids` as `work`'s [`JOBS_FILE`] (replacing it; a link planted at its name is
+/// replaced, not written through): the jobs not known to have left the queue, which the
+/// next `--submit` to the same output asks `squeue` about.
+pub fn record_submitted(work: &Path, ids: &[String]) -> Result<(), SlurmError> {
+    let path = work.join(JOBS_FILE);
+    let mut text = String::from(
+        "# Written by gridplan slurm --submit: the jobs it submitted for this output;\n\
+         # it submits again only when squeue lists none of them.\n",
+    );
+    for id in ids {
+        text.push_str(id);
+        text.push('\n');
+    }
+    replace_file(&path, &text)
 }
 
 /// Writes `text` as `path`, replacing a link planted at its name instead of writing
@@ -645,6 +708,7 @@ pub fn slurm(args: &SlurmArgs) -> Result<Jobs, SlurmError> {
         replace_file(path, text)?;
     }
     Ok(Jobs {
+        work,
         array_script,
         merge_script,
     })
