@@ -605,6 +605,15 @@ impl CliError {
                     _ => EXIT_FAILURE,
                 };
             }
+            // Stopped (Ctrl-C, SIGTERM) while waiting for another sweep's lock: nothing ran.
+            CliError::Runner(error)
+                if matches!(
+                    error.innermost(),
+                    RunnerError::Output(planner_runner::outdir::OutdirError::Stopped { .. })
+                ) =>
+            {
+                return EXIT_INTERRUPTED
+            }
             CliError::Runner(error) => error.class(),
         };
         // The Python package raises its exception class from the same class.
@@ -796,6 +805,10 @@ impl sweep::Progress for Bar {
         } else {
             to_stderr!("resuming: {done} of {total} runs already recorded");
         }
+    }
+
+    fn discarding(&self, message: &str) {
+        to_stderr!("{}", planner_text::terminal(message));
     }
 }
 

@@ -190,6 +190,39 @@ pub enum RunnerError {
     /// [`sweep::experiment`] reports the sweep as interrupted.
     #[error("interrupted while writing the results; nothing was written")]
     Interrupted,
+    /// The results of a sweep (or shard) whose runs are all recorded could not be
+    /// written: the runs stay in its resume stream, and `--resume` writes the results
+    /// without running any again. Classed as `source`.
+    #[error(
+        "{source}; all {runs} runs are recorded in {}: free space or fix the cause, then rerun \
+         with --resume to write the results without running any again",
+        stream.display()
+    )]
+    NotWritten {
+        /// The runs of the sweep or shard.
+        runs: u64,
+        /// Its resume stream.
+        stream: PathBuf,
+        /// Why the results were not written.
+        source: Box<RunnerError>,
+    },
+    /// A sweep's resume stream could not be appended to (a full disk): the sweep stops,
+    /// and the runs recorded before stay for `--resume`.
+    #[error(
+        "{source}; {kept} of {runs} runs are recorded in {} and kept: free space or fix the \
+         cause, then rerun with --resume to continue",
+        area.display()
+    )]
+    StreamNotWritten {
+        /// Runs recorded (complete frames in the stream files).
+        kept: u64,
+        /// The runs of the sweep or shard.
+        runs: u64,
+        /// The stream area.
+        area: PathBuf,
+        /// Why the stream could not be written.
+        source: Box<RunnerError>,
+    },
     /// An error met while doing `context` (`merge`, `report`), said with that prefix.
     #[error("{context}: {source}")]
     During {
@@ -232,7 +265,9 @@ impl RunnerError {
     /// The error itself, without the [`RunnerError::During`] contexts around it.
     pub fn innermost(&self) -> &RunnerError {
         match self {
-            RunnerError::During { source, .. } => source.innermost(),
+            RunnerError::During { source, .. } | RunnerError::NotWritten { source, .. } => {
+                source.innermost()
+            }
             other => other,
         }
     }
@@ -257,11 +292,21 @@ impl RunnerError {
             | RunnerError::Build(..)
             | RunnerError::UnknownPlanner { .. }
             | RunnerError::UnknownLabel { .. } => ErrorClass::Parameter,
+            // A damaged stream is one that cannot be read, not a resume asked amiss.
+            RunnerError::Resume(error)
+                if matches!(**error, readback::ResumeError::Damaged { .. }) =>
+            {
+                ErrorClass::Other
+            }
             RunnerError::Usage(_) | RunnerError::Threads(_) | RunnerError::Resume(_) => {
                 ErrorClass::Usage
             }
             // A path that does not hold a whole sweep's results (not results, a shard's,
             // damaged) is refused as `experiment` refuses an output that is not its own.
+            // A full disk is a failure to write, not an output gridplan may not write.
+            RunnerError::Output(outdir::OutdirError::Io { source, .. }) if full_disk(source) => {
+                ErrorClass::Other
+            }
             RunnerError::Output(_) => ErrorClass::Output,
             RunnerError::Results(error) if error.not_complete_results() => ErrorClass::Output,
             RunnerError::Expanded(_) => ErrorClass::Determinism,
@@ -275,9 +320,20 @@ impl RunnerError {
             | RunnerError::Parquet(_)
             | RunnerError::Interrupted
             | RunnerError::Results(_) => ErrorClass::Other,
-            RunnerError::During { source, .. } => source.class(),
+            RunnerError::During { source, .. } | RunnerError::NotWritten { source, .. } => {
+                source.class()
+            }
+            RunnerError::StreamNotWritten { .. } => ErrorClass::Other,
         }
     }
+}
+
+/// Whether `error` says the disk is full (no space left, or the quota reached).
+fn full_disk(error: &std::io::Error) -> bool {
+    matches!(
+        error.kind(),
+        std::io::ErrorKind::StorageFull | std::io::ErrorKind::QuotaExceeded
+    )
 }
 
 /// The kinds of [`RunnerError`] ([`RunnerError::class`]): the command line's exit status
@@ -297,11 +353,12 @@ pub enum ErrorClass {
     Usage,
     /// An output directory gridplan may not write, or one another run holds; a directory
     /// given to `report` or `compare` that does not hold a whole sweep's complete results
-    /// (exit 5, `OutputError`).
+    /// (exit 5, `OutputError`). A full disk is not this but [`ErrorClass::Other`].
     Output,
     /// A run that did not repeat itself when recorded again (exit 1, `DeterminismError`).
     Determinism,
-    /// Anything else: a file that cannot be read or written, a stream or shard set that
-    /// cannot be read (exit 1, `GridplanError`).
+    /// Anything else: a file that cannot be read or written (a full disk included, in the
+    /// output directory or the resume stream), a stream or shard set that cannot be read
+    /// (exit 1, `GridplanError`).
     Other,
 }

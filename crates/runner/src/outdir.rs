@@ -29,6 +29,12 @@
 //!   write permission bit (for anyone), the run is [`OutdirError::ReadOnly`] and nothing is
 //!   touched. The rule reads the permission bits, so it holds for root too, whom the bits
 //!   would not stop.
+//! - **Mount points are refused.** A `dir` that is a mount point (a bind mount, a
+//!   container's volume `--output /results`) cannot be renamed, so it can never be swapped:
+//!   it is [`OutdirError::MountPoint`], before anything runs or is written, with the hint
+//!   to write to a directory inside it. A mount point is a directory the kernel calls a
+//!   mount's root (statx's `STATX_ATTR_MOUNT_ROOT`), or where the kernel does not say,
+//!   one whose device differs from its parent's.
 //! - **Missing parents are created**, as `mkdir -p` would (creating a directory destroys
 //!   nothing). A file among the parents is an [`OutdirError::Io`] naming the output ("Not a
 //!   directory"), and nothing is created.
@@ -45,6 +51,9 @@
 //!   [`OutdirError::Locked`] naming the holder's pid (the lock file holds the pid its
 //!   binary gave [`set_lock_holder`]: the runner reads no process state). Two runs therefore both succeed, one
 //!   after the other, and the directory ends holding the later one's complete results.
+//!   A sweep waiting for the stream area's lock ([`stream_area_stoppable`]) stops waiting
+//!   as soon as its stop flag is raised (Ctrl-C, SIGTERM): [`OutdirError::Stopped`], and
+//!   nothing is created or left beside the output.
 //! - **The swap is atomic.** The files are written into a fresh sibling `.<name>.partial`
 //!   (its marker first), which then takes the place of `dir`. On Linux the two directories
 //!   are exchanged by one `renameat2(RENAME_EXCHANGE)` system call, so at every moment `dir`
@@ -73,7 +82,7 @@ use std::ffi::OsString;
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Read as _, Write as _};
 use std::path::{Component, Path, PathBuf};
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
@@ -333,6 +342,40 @@ pub enum OutdirError {
         path: PathBuf,
         /// The lock file.
         lock: PathBuf,
+    },
+    /// The output directory is a mount point (a bind mount, a container's volume): the
+    /// atomic swap renames the directory, which the system refuses for a mount point.
+    #[error(
+        "output `{}` is a mount point, which cannot be swapped atomically (gridplan replaces \
+         its output directory by renaming a new one into its place); write to a directory \
+         inside it, e.g. {}",
+        path.display(), path.join("results").display()
+    )]
+    MountPoint {
+        /// The output directory.
+        path: PathBuf,
+    },
+    /// The stop flag (Ctrl-C, SIGTERM) was raised while waiting for another run's lock.
+    #[error(
+        "stopped while waiting for another gridplan run's lock `{}` on output `{}`; nothing \
+         was written",
+        lock.display(), path.display()
+    )]
+    Stopped {
+        /// The output directory.
+        path: PathBuf,
+        /// The lock file.
+        lock: PathBuf,
+    },
+    /// A file of the stream area that is a symbolic link (never followed).
+    #[error(
+        "`{}` is a symbolic link; gridplan does not follow links in its stream directory \
+         (the file it points to is left untouched): remove the link",
+        path.display()
+    )]
+    LinkedStream {
+        /// The link.
+        path: PathBuf,
     },
     /// A `.<name>.stream` that gridplan did not make.
     #[error(
@@ -654,6 +697,11 @@ fn inspect(location: &Location) -> Result<(), OutdirError> {
         // Absent (`locate` refused anything else; a race is caught by the renames).
         return Ok(());
     }
+    if mount_point(dir, &location.parent)? {
+        return Err(OutdirError::MountPoint {
+            path: location.output.clone(),
+        });
+    }
     if !marked_or_empty(dir)? {
         let mut names: Vec<String> = fs::read_dir(dir)
             .map_err(io_error("list", dir))?
@@ -699,6 +747,52 @@ fn inspect(location: &Location) -> Result<(), OutdirError> {
         });
     }
     Ok(())
+}
+
+/// Whether the directory `dir` (no link) is a mount point, `parent` being its parent.
+#[cfg(unix)]
+fn mount_point(dir: &Path, parent: &Path) -> Result<bool, OutdirError> {
+    use std::os::unix::fs::MetadataExt as _;
+    let dev = fs::symlink_metadata(dir)
+        .map_err(io_error("read", dir))?
+        .dev();
+    let parent_dev = fs::metadata(parent)
+        .map_err(io_error("read", parent))?
+        .dev();
+    Ok(is_mount_root(dev, parent_dev, statx_mount_root(dir)))
+}
+
+/// Whether the directory `dir` is a mount point (not known here: no).
+#[cfg(not(unix))]
+fn mount_point(_dir: &Path, _parent: &Path) -> Result<bool, OutdirError> {
+    Ok(false)
+}
+
+/// Whether a directory is the root of a mount: what the kernel says where it says it
+/// (`mount_root`, statx's `STATX_ATTR_MOUNT_ROOT`, Linux 5.8 and later: also a bind mount
+/// of a directory of the same file system, whose device is its parent's; a btrfs
+/// subvolume, whose device differs, is no mount), else whether its device (`dev`) differs
+/// from its parent's (`parent_dev`: another file system is mounted there).
+fn is_mount_root(dev: u64, parent_dev: u64, mount_root: Option<bool>) -> bool {
+    mount_root.unwrap_or(dev != parent_dev)
+}
+
+/// `STATX_ATTR_MOUNT_ROOT` of `dir` (links not followed), if the kernel reports it.
+#[cfg(target_os = "linux")]
+fn statx_mount_root(dir: &Path) -> Option<bool> {
+    use rustix::fs::{statx, AtFlags, StatxAttributes, StatxFlags, CWD};
+    let flags = AtFlags::NO_AUTOMOUNT | AtFlags::SYMLINK_NOFOLLOW;
+    let found = statx(CWD, dir, flags, StatxFlags::empty()).ok()?;
+    let known = found
+        .stx_attributes_mask
+        .contains(StatxAttributes::MOUNT_ROOT);
+    known.then(|| found.stx_attributes.contains(StatxAttributes::MOUNT_ROOT))
+}
+
+/// Not known outside Linux.
+#[cfg(not(target_os = "linux"))]
+fn statx_mount_root(_dir: &Path) -> Option<bool> {
+    None
 }
 
 /// The first directory in the tree at `dir` (links not followed) with no write permission.
@@ -785,8 +879,14 @@ fn write_partial(
         }
         let mut out =
             io::BufWriter::new(File::create(&target).map_err(io_error("create", &target))?);
-        (file.write)(&mut out)
-            .map_err(|e| io_error("write", &target)(io::Error::other(e.to_string())))?;
+        (file.write)(&mut out).map_err(|e| {
+            // The kind kept (a full disk is told from a refusal by it).
+            let kind = match e.innermost() {
+                crate::RunnerError::Io { source, .. } => source.kind(),
+                _ => io::ErrorKind::Other,
+            };
+            io_error("write", &target)(io::Error::new(kind, e.to_string()))
+        })?;
         out.flush().map_err(io_error("write", &target))?;
     }
     Ok(())
@@ -874,7 +974,9 @@ fn exchange_dirs(_a: &Path, _b: &Path) -> Result<bool, OutdirError> {
 /// gridplan writes the marker [`STREAM_MARKER`] into the area when it creates it, and uses
 /// or removes an existing `.<name>.stream` only if it carries that marker (or is empty):
 /// anything else there, a symbolic link included, is [`OutdirError::ForeignStream`] and is
-/// left as it is. Files in the area are opened without following links.
+/// left as it is. Files in the area are opened without following links: a link planted
+/// at a stream file's name is [`OutdirError::LinkedStream`], and what it points to is never
+/// opened, read or written.
 pub struct StreamArea {
     /// The stream directory (created, with its marker, by [`stream_area`]).
     pub dir: PathBuf,
@@ -889,7 +991,25 @@ impl StreamArea {
         let mut options = OpenOptions::new();
         options.write(true).create(truncate).truncate(truncate);
         no_follow(&mut options);
-        options.open(&path).map_err(io_error("open", &path))
+        #[cfg(not(unix))]
+        if fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) {
+            return Err(OutdirError::LinkedStream { path });
+        }
+        match options.open(&path) {
+            Ok(file) => Ok(file),
+            Err(e) if is_link_error(&e, &path) => Err(OutdirError::LinkedStream { path }),
+            Err(e) => Err(io_error("open", &path)(e)),
+        }
+    }
+
+    /// Refuses a file `name` of the area that is a symbolic link
+    /// ([`OutdirError::LinkedStream`]), before anything reads it (a resume).
+    pub fn check_not_link(&self, name: &str) -> Result<(), OutdirError> {
+        let path = self.dir.join(name);
+        match fs::symlink_metadata(&path) {
+            Ok(m) if m.file_type().is_symlink() => Err(OutdirError::LinkedStream { path }),
+            _ => Ok(()),
+        }
     }
 
     /// Removes the area, if it still carries gridplan's marker (its contents first, the
@@ -926,8 +1046,19 @@ pub fn stream_area_path(output: &Path) -> Result<PathBuf, OutdirError> {
 /// would), waiting at most `wait` for another sweep on the same output, and creates it
 /// with its marker, or checks that an existing one is gridplan's.
 pub fn stream_area(output: &Path, wait: Duration) -> Result<StreamArea, OutdirError> {
+    stream_area_stoppable(output, wait, None)
+}
+
+/// [`stream_area`] that stops waiting for another sweep's lock as soon as `stop` (a
+/// sweep's stop flag: Ctrl-C, SIGTERM) is raised, with [`OutdirError::Stopped`]: nothing is
+/// created then (missing parents aside), and whatever is beside the output stays as it was.
+pub fn stream_area_stoppable(
+    output: &Path,
+    wait: Duration,
+    stop: Option<&AtomicBool>,
+) -> Result<StreamArea, OutdirError> {
     let location = locate(output, true)?;
-    let lock = OutputLock::acquire_named(&location, "stream.lock", wait)?;
+    let lock = OutputLock::acquire_named(&location, "stream.lock", wait, stop)?;
     let dir = location.sibling("stream");
     claim_dir(
         &dir,
@@ -1020,14 +1151,16 @@ struct OutputLock {
 impl OutputLock {
     /// Takes the lock, waiting at most `wait` for another holder.
     fn acquire(location: &Location, wait: Duration) -> Result<Self, OutdirError> {
-        Self::acquire_named(location, "lock", wait)
+        Self::acquire_named(location, "lock", wait, None)
     }
 
-    /// Takes the lock `.<name>.<suffix>` beside the directory.
+    /// Takes the lock `.<name>.<suffix>` beside the directory; a raised `stop` ends the wait
+    /// with [`OutdirError::Stopped`] (checked between tries, every [`LOCK_POLL`]).
     fn acquire_named(
         location: &Location,
         suffix: &str,
         wait: Duration,
+        stop: Option<&AtomicBool>,
     ) -> Result<Self, OutdirError> {
         let path = location.sibling(suffix);
         let started = Instant::now();
@@ -1070,6 +1203,12 @@ impl OutputLock {
                     return Ok(Self { file, path });
                 }
                 Err(fs4::TryLockError::WouldBlock) => {
+                    if stop.is_some_and(|stop| stop.load(Ordering::Relaxed)) {
+                        return Err(OutdirError::Stopped {
+                            path: location.output.clone(),
+                            lock: path,
+                        });
+                    }
                     let holder = holder(&mut file);
                     if started.elapsed() >= wait {
                         return Err(OutdirError::Locked {
@@ -1207,6 +1346,21 @@ mod tests {
             at(&fits).sibling("lock"),
             Path::new("/p").join(format!(".{fits}.lock"))
         );
+    }
+
+    #[test]
+    fn a_mount_root_is_told_by_the_kernel_else_by_its_device() {
+        // The kernel says (statx's STATX_ATTR_MOUNT_ROOT): a bind mount on the same file
+        // system (same device) is one; a btrfs subvolume (another device) is none.
+        assert!(is_mount_root(7, 7, Some(true)));
+        assert!(!is_mount_root(7, 9, Some(false)));
+        // It does not say: another device than the parent's is a mount.
+        assert!(is_mount_root(7, 9, None));
+        assert!(!is_mount_root(7, 7, None));
+        // A plain directory here is none.
+        let location = old_and_new("mount-root");
+        assert!(!mount_point(&location.dir, &location.parent).unwrap());
+        fs::remove_dir_all(&location.parent).unwrap();
     }
 
     #[test]

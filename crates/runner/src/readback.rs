@@ -64,7 +64,11 @@ pub enum ResumeError {
     /// The stream was recorded by another config.
     #[error(
         "--resume: {file} was recorded by a different config (experiment {found_experiment:?}, config hash {found_hash}); \
-         {config} resolves to experiment {experiment:?}, hash {hash}. Run without --resume to start over."
+         {config} resolves to experiment {experiment:?}, hash {hash}{}. Run without --resume to start over.",
+        match .changed.is_empty() {
+            true => String::new(),
+            false => format!(": {}", .changed.join("; ")),
+        }
     )]
     OtherConfig {
         /// The stream.
@@ -79,6 +83,9 @@ pub enum ResumeError {
         experiment: String,
         /// The config's hash.
         hash: String,
+        /// What changed, when the stream's header tells ([`crate::stream::changed_inputs`]):
+        /// "map file maps/a.map's content changed since the interrupted sweep".
+        changed: Vec<String>,
     },
     /// The stream was written by another gridplan version.
     #[error(
@@ -124,6 +131,19 @@ pub enum ResumeError {
         run: u64,
         /// The shard and count resumed.
         shard: (u64, u64),
+    },
+    /// A stream that cannot be read back (a frame failing its checksum with frames after
+    /// it, a header that is not one): its runs cannot be kept.
+    #[error(
+        "--resume: {source}; its recorded runs cannot be kept: run without --resume to start \
+         over (they are discarded and run again), or remove `{}` yourself",
+        .area.display()
+    )]
+    Damaged {
+        /// The sweep's stream area.
+        area: PathBuf,
+        /// What could not be read.
+        source: Box<crate::RunnerError>,
     },
     /// A record that is not its run of the config.
     #[error("--resume: {file} {at}: {source}; run without --resume")]
@@ -260,6 +280,38 @@ pub enum ResultsError {
         file: String,
         /// Why it could not be opened.
         source: std::io::Error,
+    },
+    /// A shard directory given to merge that does not exist, while the shard's stream area
+    /// beside it holds an interrupted run of it.
+    #[error(
+        "merge: shard {shard} ({}) is not finished: an interrupted run of it is recorded in \
+         {}; finish it with `gridplan experiment {config} --shard {shard}/{shards} --output {} \
+         --resume`",
+        .dir.display(), .stream.display(), .dir.display()
+    )]
+    ShardUnfinished {
+        /// The shard's directory.
+        dir: PathBuf,
+        /// The interrupted run's stream.
+        stream: PathBuf,
+        /// The shard, from the stream's header.
+        shard: u64,
+        /// The shard count.
+        shards: u64,
+        /// The config file the stream's header names.
+        config: String,
+    },
+    /// A shard directory given to merge that does not exist (and no run of it is recorded
+    /// beside it).
+    #[error(
+        "merge: shard directory {} does not exist and no run of it is recorded beside it: run \
+         that shard first (`gridplan experiment CONFIG --shard K/N --output {}`), or give the \
+         directory it was written to",
+        .dir.display(), .dir.display()
+    )]
+    ShardMissing {
+        /// The directory given.
+        dir: PathBuf,
     },
     /// Shards of two sweeps.
     #[error("merge: {} ({first_sweep}) and {} ({other_sweep}) are shards of different sweeps", .first.display(), .other.display())]

@@ -20,7 +20,9 @@
 //! end, which [`StreamReader`] stops at (and reports, so a resumed sweep truncates it).
 //! A stream file starts with a [`StreamHeader`] line naming the experiment, the shard and
 //! the [`config_hash`] of the resolved config, so a resumed or merged stream from another
-//! config is recognised, and the gridplan version that wrote it. [`check_record`] checks
+//! config is recognised, and the gridplan version that wrote it; since 2026-12-08 also
+//! each input's hash ([`input_hashes`]), so that a refused resume can say which input
+//! changed ([`changed_inputs`]; streams without them still read). [`check_record`] checks
 //! each record read back against the config's run list (map, problem, label, repeat).
 //!
 //! The runner writes no file: the sink and the reader work on bytes and `std::io` traits.
@@ -208,6 +210,11 @@ pub struct StreamHeader {
     /// field existed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gridplan: Option<String>,
+    /// The hash of each input the config hash covers ([`input_hashes`]: the settings, each
+    /// map's grid and problems), so that a refused `--resume` can say which changed
+    /// (absent in streams written before 2026-12-08).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inputs: Option<Vec<(String, String)>>,
 }
 
 impl StreamHeader {
@@ -223,6 +230,7 @@ impl StreamHeader {
             runs,
             total_runs: RunList::new(experiment).len(),
             gridplan: Some(env!("CARGO_PKG_VERSION").to_string()),
+            inputs: Some(input_hashes(experiment)),
         }
     }
 
@@ -275,6 +283,127 @@ pub fn config_hash(experiment: &Experiment) -> String {
         }
     }
     format!("{:016x}", h.0)
+}
+
+/// What [`config_hash`] covers, hashed input by input (64-bit FNV-1a, hex), in the
+/// experiment's order: `settings` (name, repeats, seed, figures, paths, sections and the
+/// planners), then per map `map NAME` (its size and free cells: the map file's content)
+/// and `problems NAME` (its problems: its scenario file or the config's list).
+pub fn input_hashes(experiment: &Experiment) -> Vec<(String, String)> {
+    let mut h = Fnv::default();
+    h.text(&experiment.name);
+    h.text(&experiment.repeats.to_string());
+    h.text(&experiment.seed.to_string());
+    h.text(&format!(
+        "{:?} {:?} {:?} {:?}",
+        experiment.figures,
+        experiment.figures_per_map,
+        experiment.paths,
+        experiment.sections.as_ref().map(|s| &s.requests)
+    ));
+    for planner in &experiment.planners {
+        h.text(&planner.label);
+        h.text(planner.name);
+        h.text(&planner.params.to_string());
+        h.text(&format!("{:?} {:?}", planner.budget, planner.compare));
+    }
+    let mut inputs = vec![("settings".to_string(), format!("{:016x}", h.0))];
+    for map in &experiment.maps {
+        let mut h = Fnv::default();
+        h.text(&format!("{}x{}", map.grid.width(), map.grid.height()));
+        h.bytes(
+            &map.grid
+                .free_cells()
+                .iter()
+                .map(|&f| u8::from(f))
+                .collect::<Vec<u8>>(),
+        );
+        inputs.push((format!("map {}", map.name), format!("{:016x}", h.0)));
+        let mut h = Fnv::default();
+        for p in &map.problems {
+            h.text(&format!(
+                "{} {} {} {:?} {:?}",
+                p.index, p.start, p.goal, p.optimal_length, p.invalid
+            ));
+        }
+        inputs.push((format!("problems {}", map.name), format!("{:016x}", h.0)));
+    }
+    inputs
+}
+
+/// What differs between the inputs a stream was recorded with (`found`, its header's
+/// [`StreamHeader::inputs`]) and `experiment`'s now, said for a person: the settings,
+/// a map file's content, a map's problems, maps added or gone (a glob matching other
+/// files), their order. Empty when nothing is told apart.
+pub fn changed_inputs(found: &[(String, String)], experiment: &Experiment) -> Vec<String> {
+    let now = input_hashes(experiment);
+    let find = |list: &[(String, String)], key: &str| {
+        list.iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, hash)| hash.clone())
+    };
+    let mut changed = Vec::new();
+    if find(found, "settings") != find(&now, "settings") {
+        changed.push(
+            "the config's settings (name, repeats, seed, figures, paths, sections or planners) \
+             changed"
+                .to_string(),
+        );
+    }
+    let names = |list: &[(String, String)]| -> Vec<String> {
+        list.iter()
+            .filter_map(|(k, _)| k.strip_prefix("map ").map(str::to_string))
+            .collect()
+    };
+    let (before, after) = (names(found), names(&now));
+    for map in &experiment.maps {
+        if !before.contains(&map.name) {
+            continue;
+        }
+        let key = format!("map {}", map.name);
+        if find(found, &key) != find(&now, &key) {
+            changed.push(format!(
+                "map file {}'s content changed since the recorded runs",
+                map.path.display()
+            ));
+        }
+        let key = format!("problems {}", map.name);
+        if find(found, &key) != find(&now, &key) {
+            changed.push(format!(
+                "the problems of map {} (its scenario file or the config's list) changed since \
+                 the interrupted sweep",
+                map.name
+            ));
+        }
+    }
+    let added: Vec<&str> = after
+        .iter()
+        .filter(|n| !before.contains(n))
+        .map(String::as_str)
+        .collect();
+    let gone: Vec<&str> = before
+        .iter()
+        .filter(|n| !after.contains(n))
+        .map(String::as_str)
+        .collect();
+    if !added.is_empty() || !gone.is_empty() {
+        let mut said = String::from(
+            "the config's maps (a glob of its map sets matches other files, or a map set changed):",
+        );
+        if !added.is_empty() {
+            said.push_str(&format!(" now also {}", added.join(", ")));
+        }
+        if !gone.is_empty() {
+            if !added.is_empty() {
+                said.push(';');
+            }
+            said.push_str(&format!(" no longer {}", gone.join(", ")));
+        }
+        changed.push(said);
+    } else if changed.is_empty() && before != after {
+        changed.push("the config's maps are in another order".to_string());
+    }
+    changed
 }
 
 struct Fnv(u64);

@@ -15,8 +15,15 @@
 //! others; a changed config is refused, and so are the finished results of another
 //! config or shard in the output (`resume_finished`); a shard's finished results of the
 //! same config are left as they are, provenance included (no run runs, nothing is
-//! written: a resubmitted Slurm array, whose tasks always resume). Without `--resume` an
-//! old stream is discarded. [`resumed_streams`] lists the files whose headers `--resume`
+//! written: a resubmitted Slurm array, whose tasks always resume). A changed config is
+//! refused naming what changed, when the stream's header holds its inputs' hashes
+//! ([`stream::changed_inputs`]: a map file's content, a map's problems, the maps a glob
+//! matches, the settings). A stream that does not read back (a frame failing its checksum
+//! with frames after it) is refused with what to do (run without `--resume`, or remove the
+//! stream area). Without `--resume` an old stream is discarded, and said
+//! ([`Progress::discarding`]: how many runs, of this config or another, where). A symbolic
+//! link at a stream file's name is refused, never followed
+//! ([`outdir::OutdirError::LinkedStream`]). [`resumed_streams`] lists the files whose headers `--resume`
 //! checks (`slurm` checks them before writing its scripts).
 //!
 //! When the sweep is whole, the final outputs are rendered, in run order, from its records
@@ -53,7 +60,18 @@
 //! Raised once the runs are done, while the results are rendered and written, it stops
 //! that too ([`Results::stop`]: the report checks it between its sections, figures and
 //! files, and every pass over the records stops within a record), with the same
-//! outcome: nothing written, every run kept in the stream for `--resume`.
+//! outcome: nothing written, every run kept in the stream for `--resume`. Raised while the
+//! sweep waits for another sweep's lock on the same output, it ends the wait at once
+//! ([`outdir::OutdirError::Stopped`]), with nothing created.
+//!
+//! Failures keep the runs, and say so. Once every run is recorded, any failure to write
+//! the results (a full disk, a file of the user's that appeared in the output) is
+//! [`RunnerError::NotWritten`]: all N runs are recorded in the stream, and `--resume`
+//! writes the results without running any again. A failure to append to the stream (a
+//! full disk) is [`RunnerError::StreamNotWritten`], which says how many runs its complete
+//! frames keep for `--resume`. A shard given to `merge` whose directory does not exist is
+//! [`ResultsError::ShardUnfinished`] when its stream area holds an interrupted run of it
+//! (with the command that finishes it), else [`ResultsError::ShardMissing`].
 
 use std::collections::BTreeMap;
 use std::fs::{self, File};
@@ -188,6 +206,14 @@ pub trait Progress: Sync {
     fn resumed(&self, done: u64, total: u64, output: &Path) {
         let _ = (done, total, output);
     }
+    /// Before [`Progress::start`] of a sweep not asked to resume: it discards the runs an
+    /// interrupted sweep recorded in its output's stream area; `message` says how many, of
+    /// which sweep, and where ("discarding N recorded runs of an interrupted sweep of this
+    /// config at STREAM (rerun with --resume to keep them)"). By default a warning on the
+    /// log; the command line says it on stderr.
+    fn discarding(&self, message: &str) {
+        tracing::warn!("{message}");
+    }
 }
 
 /// The machine of a caller that tells none: commit and host unknown.
@@ -275,7 +301,8 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         (None, None) => experiment.output.clone(),
     };
     outdir::check(&dir)?;
-    let area = outdir::stream_area(&dir, args.lock_wait)?;
+    // Ctrl-C while waiting for another sweep's lock stops at once, leaving nothing behind.
+    let area = outdir::stream_area_stoppable(&dir, args.lock_wait, args.stop)?;
     let runs = ShardRuns::new(&experiment, shard);
     let header = StreamHeader::new(&experiment, shard, runs.len());
     let path = area.dir.join(RECORDS);
@@ -327,7 +354,13 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     if finished.is_err() && check_stop(args.stop).is_err() {
         return Ok(interrupted(dir));
     }
-    let (reproduction, records) = finished?;
+    // Any other failure to write them (a full disk, a file of the user's that appeared in
+    // the output meanwhile) says that every run is kept for --resume.
+    let (reproduction, records) = finished.map_err(|source| RunnerError::NotWritten {
+        runs: runs.len(),
+        stream: path.clone(),
+        source: Box::new(source),
+    })?;
     if let Err(e) = area.remove() {
         tracing::warn!(
             "the results are written, but the stream area {} could not be removed: {e}",
@@ -414,11 +447,29 @@ fn open_stream(
 ) -> Result<Opened, RunnerError> {
     let path = area.dir.join(RECORDS);
     let old = area.dir.join(OLD_RECORDS);
+    // A link planted at a stream file's name is neither read nor written through.
+    for name in [RECORDS, AHEAD, OLD_RECORDS] {
+        area.check_not_link(name)?;
+    }
+    if !args.resume {
+        notice_discarded(args, area, header);
+    }
     let mut ahead = None;
     let mut finished = false;
+    // A stream that does not read back (damaged) says what to do.
+    let damaged = |error: RunnerError| match error {
+        RunnerError::Stream(_) | RunnerError::Frame { .. } | RunnerError::Io { .. } => {
+            ResumeError::Damaged {
+                area: area.dir.clone(),
+                source: Box::new(error),
+            }
+            .into()
+        }
+        other => other,
+    };
     let done = match args.resume {
         true if fs::symlink_metadata(&path).is_err() && fs::symlink_metadata(&old).is_ok() => {
-            match resume_point(&old, header, runs, experiment)? {
+            match resume_point(&old, header, runs, experiment).map_err(damaged)? {
                 Some((_, n)) => Some((carry_over(area, &old, n)?, n)),
                 None => None,
             }
@@ -440,10 +491,10 @@ fn open_stream(
             }
         }
         true => {
-            let point = resume_point(&path, header, runs, experiment)?;
+            let point = resume_point(&path, header, runs, experiment).map_err(damaged)?;
             if let Some((_, prefix)) = point {
                 let what = (header, runs, experiment);
-                ahead = read_ahead(&area.dir.join(AHEAD), what, prefix)?;
+                ahead = read_ahead(&area.dir.join(AHEAD), what, prefix).map_err(damaged)?;
             }
             point
         }
@@ -487,6 +538,74 @@ fn open_stream(
         done,
         finished,
     })
+}
+
+/// Says, as a warning, that a sweep started without `--resume` discards the runs an
+/// interrupted sweep recorded in the stream `area` (records.stream and ahead.stream, as far
+/// as they read): how many, and whether that sweep was this one (`header`'s config,
+/// version and shard: `--resume` would have kept them) or another. Nothing when there are
+/// none.
+fn notice_discarded(args: &SweepArgs, area: &outdir::StreamArea, header: &StreamHeader) {
+    let path = area.dir.join(RECORDS);
+    let Some((found, n)) = count_recorded(&path, &area.dir.join(AHEAD)) else {
+        return;
+    };
+    if n == 0 {
+        return;
+    }
+    let runs = match n {
+        1 => "1 recorded run".to_string(),
+        n => format!("{n} recorded runs"),
+    };
+    let same = found.config_hash == header.config_hash
+        && found.experiment == header.experiment
+        && (found.shard, found.shards) == (header.shard, header.shards)
+        && found.gridplan == header.gridplan;
+    let message = match same {
+        true => format!(
+            "discarding {runs} of an interrupted sweep of this config at {} (rerun with \
+             --resume to keep them)",
+            path.display()
+        ),
+        false => format!(
+            "discarding {runs} of an interrupted sweep of another config, version or shard \
+             (experiment {:?}, config hash {}, shard {}/{}, gridplan {}) at {}",
+            found.experiment,
+            found.config_hash,
+            found.shard,
+            found.shards,
+            found.gridplan.as_deref().unwrap_or("of unknown version"),
+            path.display()
+        ),
+    };
+    match args.progress {
+        Some(progress) => progress.discarding(&message),
+        None => tracing::warn!("{message}"),
+    }
+}
+
+/// The header of the stream `records` and the runs it and `ahead` (the runs finished
+/// ahead of it) hold, as far as they read; `None` when `records` is missing or its header
+/// does not read.
+fn count_recorded(records: &Path, ahead: &Path) -> Option<(StreamHeader, u64)> {
+    let open = |path: &Path| {
+        let file = stream::open_regular(path).ok()?;
+        StreamReader::new(BufReader::new(file), &path.display().to_string()).ok()
+    };
+    let (header, mut reader) = open(records)?;
+    let (mut n, mut last) = (0u64, None);
+    while let Ok(Some((run, _))) = reader.next_run() {
+        n += 1;
+        last = Some(run);
+    }
+    if let Some((_, mut reader)) = open(ahead) {
+        while let Ok(Some((run, _))) = reader.next_run() {
+            if last.is_none_or(|last| run > last) {
+                n += 1;
+            }
+        }
+    }
+    Some((header, n))
 }
 
 /// The area's file `name`, open for appending after its first `bytes` (what follows, a
@@ -641,6 +760,15 @@ fn stream_runs(
         }
     }
     let mut frame = Vec::new();
+    // A write that fails says how many runs the two files keep for --resume: those of
+    // their complete frames, read back as --resume reads them.
+    let total = runs.len();
+    let kept = |source: RunnerError| RunnerError::StreamNotWritten {
+        kept: count_recorded(&path, &ahead_path).map_or(0, |(_, n)| n),
+        runs: total,
+        area: area.to_path_buf(),
+        source: Box::new(source),
+    };
     let streamed = stream::run_stream(
         experiment,
         runs.iter().skip(prefix as usize),
@@ -648,18 +776,20 @@ fn stream_runs(
         &options,
         |delivery| match delivery {
             Delivery::InOrder(batch) => {
-                append_frames(&mut frame, &batch, (&mut file, &path))?;
+                append_frames(&mut frame, &batch, (&mut file, &path)).map_err(kept)?;
                 if keep {
                     records.extend(batch.into_iter().map(|(_, record)| record));
                 }
                 Ok(())
             }
-            Delivery::Ahead(batch) => append_frames(&mut frame, batch, (&mut ahead, &ahead_path)),
+            Delivery::Ahead(batch) => {
+                append_frames(&mut frame, batch, (&mut ahead, &ahead_path)).map_err(kept)
+            }
             // Every run of ahead.stream is in records.stream now.
             Delivery::CaughtUp => ahead
                 .set_len(ahead_header)
                 .and_then(|()| ahead.seek(SeekFrom::End(0)).map(drop))
-                .map_err(|e| RunnerError::io(&ahead_path, e)),
+                .map_err(|e| kept(RunnerError::io(&ahead_path, e))),
         },
     );
     if let Some(progress) = args.progress {
@@ -770,6 +900,7 @@ fn worker_threads(argument: usize, configured: usize) -> usize {
 fn open_resumed(
     path: &Path,
     header: &StreamHeader,
+    experiment: &Experiment,
 ) -> Result<Option<StreamReader<BufReader<fs::File>>>, RunnerError> {
     let file = match stream::open_regular(path) {
         Ok(file) => file,
@@ -782,7 +913,7 @@ fn open_resumed(
         Err(_) if fs::metadata(path).map(|m| m.len()).unwrap_or(0) < 4096 => return Ok(None),
         Err(e) => return Err(e),
     };
-    check_resumed(found, header, &what)?;
+    check_resumed(found, (header, experiment), &what)?;
     Ok(Some(reader))
 }
 
@@ -794,7 +925,7 @@ fn resume_point(
     runs: &ShardRuns,
     experiment: &Experiment,
 ) -> Result<Option<(u64, u64)>, RunnerError> {
-    let Some(mut reader) = open_resumed(path, header)? else {
+    let Some(mut reader) = open_resumed(path, header, experiment)? else {
         return Ok(None);
     };
     let what = path.display().to_string();
@@ -827,16 +958,22 @@ fn resume_point(
     Ok(Some((reader.complete_bytes(), n)))
 }
 
-/// Refuses the header `found` of a stream `what` that a resumed sweep with `header` reads
-/// when it is another config's, version's or shard's.
+/// Refuses the header `found` of a stream `what` that a resumed sweep of `experiment`
+/// with `header` reads when it is another config's, version's or shard's; another config
+/// is said with what changed, when `found` holds its inputs' hashes.
 fn check_resumed(
     found: StreamHeader,
-    header: &StreamHeader,
+    (header, experiment): (&StreamHeader, &Experiment),
     what: &str,
 ) -> Result<(), RunnerError> {
     let file = what.to_string();
     if found.config_hash != header.config_hash || found.experiment != header.experiment {
+        let changed = match &found.inputs {
+            Some(inputs) => stream::changed_inputs(inputs, experiment),
+            None => Vec::new(),
+        };
         return Err(ResumeError::OtherConfig {
+            changed,
             file,
             found_experiment: found.experiment,
             found_hash: found.config_hash,
@@ -885,7 +1022,7 @@ fn read_ahead(
     (header, runs, experiment): (&StreamHeader, &ShardRuns, &Experiment),
     prefix: u64,
 ) -> Result<Option<AheadRead>, RunnerError> {
-    let Some(mut reader) = open_resumed(path, header)? else {
+    let Some(mut reader) = open_resumed(path, header, experiment)? else {
         return Ok(None);
     };
     let what = path.display().to_string();
@@ -1577,18 +1714,54 @@ fn open_shards(dirs: &[PathBuf]) -> Result<Vec<OpenShard>, RunnerError> {
             // An earlier version's shard.
             path = dir.join(OLD_SHARD_FILE);
         }
-        let file = stream::open_regular(&path).map_err(|source| ResultsError::NotAShard {
-            dir: dir.clone(),
-            file: path
-                .file_name()
-                .map_or(SHARD_FILE.into(), |n| n.to_string_lossy().into_owned()),
-            source,
+        let file = stream::open_regular(&path).map_err(|source| {
+            if source.kind() == std::io::ErrorKind::NotFound {
+                if let Some(unfinished) = unfinished_shard(dir) {
+                    return unfinished;
+                }
+            }
+            ResultsError::NotAShard {
+                dir: dir.clone(),
+                file: path
+                    .file_name()
+                    .map_or(SHARD_FILE.into(), |n| n.to_string_lossy().into_owned()),
+                source,
+            }
         })?;
         let (header, reader) =
             StreamReader::new(BufReader::new(file), &path.display().to_string())?;
         shards.push((dir.clone(), header, reader));
     }
     Ok(shards)
+}
+
+/// Why the shard directory `dir` given to merge holds no shard stream, when it is not
+/// there at all: an interrupted run of a shard recorded in its stream area beside it
+/// ([`ResultsError::ShardUnfinished`], with the command that finishes it), or none
+/// ([`ResultsError::ShardMissing`]). `None` when `dir` exists.
+fn unfinished_shard(dir: &Path) -> Option<ResultsError> {
+    if fs::symlink_metadata(dir).is_ok() {
+        return None;
+    }
+    let recorded = outdir::stream_area_path(dir).ok().and_then(|area| {
+        let stream = area.join(RECORDS);
+        let file = stream::open_regular(&stream).ok()?;
+        let (header, _) =
+            StreamReader::new(BufReader::new(file), &stream.display().to_string()).ok()?;
+        Some((stream, header))
+    });
+    Some(match recorded {
+        Some((stream, header)) => ResultsError::ShardUnfinished {
+            dir: dir.to_path_buf(),
+            stream,
+            shard: header.shard,
+            shards: header.shards,
+            config: header.config,
+        },
+        None => ResultsError::ShardMissing {
+            dir: dir.to_path_buf(),
+        },
+    })
 }
 
 /// Checks that `shards` are of one sweep (`first`'s) and hold each of its shards once.

@@ -80,6 +80,7 @@ fn header() -> StreamHeader {
         runs: 40,
         total_runs: 40,
         gridplan: Some("test".into()),
+        inputs: None,
     }
 }
 

@@ -16,3 +16,4 @@ mod provenance;
 mod reliability;
 mod resume;
 mod slurm;
+mod writes;
