@@ -641,6 +641,7 @@ fn run(
         grid: grid.clone(),
         problems: Vec::new(),
         frame: None,
+        unknown: None,
     };
     let entry = ProblemEntry::new(grid, 1, start_cell, goal_cell, None);
     if record {

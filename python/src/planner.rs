@@ -394,6 +394,7 @@ impl Planner {
                     grid: (*grid).clone(),
                     problems: Vec::new(),
                     frame: None,
+                    unknown: None,
                 };
                 let origin = planner_api::Cell::new(0, 0);
                 let entry = ProblemEntry::new(&map.grid, 1, origin, origin, None);

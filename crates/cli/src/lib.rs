@@ -1210,9 +1210,9 @@ pub fn run(command: Command) -> Result<(), CliError> {
             planner_serve::check_picture_files(&files, &inputs)?;
             refuse_links_to_inputs(&files, &inputs)?;
             let result = planner_runner::plan::run_with(&args, &options)?;
-            let figure = svg.as_ref().map(|_| {
-                planner_report::figures::draw_run(&result.grid, &result.record, &result.expanded)
-            });
+            let figure = svg
+                .as_ref()
+                .map(|_| planner_report::figures::draw_planned(&result));
             let pictures = planner_serve::Pictures {
                 svg: svg.as_deref().zip(figure.as_deref()),
                 trace: trace.as_deref(),

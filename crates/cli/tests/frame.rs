@@ -187,3 +187,89 @@ fn a_map_sets_points_are_the_cells_holding_them() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A 6 x 4 trinary map_server map: `#` occupied (0 in the image), `?` unknown (205), `.`
+/// free (254); rows top first, as the image stores them.
+const ROWS: [&str; 4] = ["..?...", "..#??.", "......", "?....."];
+
+/// The `(x, y)` of the cells the grey rectangles of an SVG figure cover (in cells: the
+/// map is drawn in a group scaled to one unit a cell), row by row.
+fn unknown_cells(svg: &str) -> Vec<(String, String)> {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    let number =
+        |r: roxmltree::Node, key: &str| -> u32 { r.attribute(key).unwrap().parse().unwrap() };
+    doc.descendants()
+        .filter(|n| n.attribute("class") == Some("unknown"))
+        .flat_map(|g| g.children().filter(|c| c.has_tag_name("rect")))
+        .flat_map(|r| {
+            let (x, y) = (number(r, "x"), number(r, "y"));
+            let (w, h) = (number(r, "width"), number(r, "height"));
+            (y..y + h).flat_map(move |y| (x..x + w).map(move |x| (x.to_string(), y.to_string())))
+        })
+        .collect()
+}
+
+/// A ROS map's unknown cells (occupancy -1) are drawn grey, apart from its walls, with
+/// their key line, in a sweep's figures and in `plan --svg` alike (they were drawn as
+/// walls: the mask never reached the figures).
+#[test]
+fn unknown_cells_of_a_ros_map_are_grey_in_sweep_and_plan_figures() {
+    let dir = common::scratch("unknown-cells", "ros");
+    let mut pgm = b"P5\n6 4\n255\n".to_vec();
+    for row in ROWS {
+        pgm.extend(row.bytes().map(|c| match c {
+            b'#' => 0u8,
+            b'?' => 205,
+            _ => 254,
+        }));
+    }
+    std::fs::write(dir.join("m.pgm"), pgm).unwrap();
+    std::fs::write(
+        dir.join("m.yaml"),
+        "image: m.pgm\nresolution: 1.0\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n\
+         occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("c.toml"),
+        "name = \"unknown\"\n[[maps]]\nfiles = [\"m.yaml\"]\n\
+         pairs = [{ start = [0, 0], goal = [5, 2] }]\n[planners.astar]\nplanner = \"astar\"\n",
+    )
+    .unwrap();
+    let expect: Vec<(String, String)> = ROWS
+        .iter()
+        .enumerate()
+        .flat_map(|(y, row)| {
+            row.char_indices()
+                .filter(|&(_, c)| c == '?')
+                .map(move |(x, _)| (x.to_string(), y.to_string()))
+        })
+        .collect();
+    assert_eq!(expect.len(), 4);
+    let sweep = common::gridplan(
+        &dir,
+        &["experiment", "c.toml", "--output", "out", "--quiet"],
+    );
+    common::succeeded(&sweep);
+    let plan = common::gridplan(
+        &dir,
+        &[
+            "plan",
+            "m.yaml",
+            "--planner",
+            "astar",
+            "--start",
+            "0,0",
+            "--goal",
+            "5,2",
+            "--svg",
+            "p.svg",
+        ],
+    );
+    common::succeeded(&plan);
+    for file in ["out/figures/m-1.svg", "p.svg"] {
+        let svg = std::fs::read_to_string(dir.join(file)).unwrap();
+        assert_eq!(unknown_cells(&svg), expect, "{file}");
+        assert!(svg.contains(">unknown</text>"), "{file}: no key line");
+    }
+}

@@ -119,6 +119,10 @@ pub struct MapFile {
     /// Where the cells lie in the ROS map frame: a `map_server` YAML's `resolution` and
     /// `origin` (`None` for the other formats, an image read without a YAML included).
     pub frame: Option<MapFrame>,
+    /// One flag per cell, row-major, true where a ROS `map_server` map (or an image read
+    /// as one) does not know the cell (occupancy `-1`), for figures that draw such cells
+    /// apart from walls; `None` for the other formats and for maps with no unknown cell.
+    pub unknown: Option<Vec<bool>>,
 }
 
 /// A start-goal pair as written in a file, before validation.
@@ -303,6 +307,7 @@ impl MapFormat {
                     (MapFormat::Ros, true) => Some(map.frame()),
                     _ => None,
                 };
+                let unknown = map.unknown_cells();
                 let mut warnings = map.yaml.warnings;
                 let frame = frame.filter(|frame| {
                     let finite = frame.bounds().iter().all(|v| v.is_finite());
@@ -321,6 +326,7 @@ impl MapFormat {
                     finite
                 });
                 let file = MapFile {
+                    unknown,
                     grid: map.grid,
                     problems: Vec::new(),
                     format: self,
@@ -348,6 +354,7 @@ impl MapFormat {
                 problems: Vec::new(),
                 format: self,
                 frame: None,
+                unknown: None,
             },
             warnings: Vec::new(),
         })
@@ -367,6 +374,7 @@ impl MapFormat {
             let map = ros::ros_map_from_image_bytes(bytes, origin, None, options)?;
             return Ok(MapRead {
                 file: MapFile {
+                    unknown: map.unknown_cells(),
                     grid: map.grid,
                     problems: Vec::new(),
                     format: self,

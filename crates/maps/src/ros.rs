@@ -210,6 +210,14 @@ impl RosMap {
             height: self.grid.height(),
         }
     }
+
+    /// One flag per cell, row-major, true where the occupancy is `-1` (unknown); `None`
+    /// when no cell is unknown.
+    pub fn unknown_cells(&self) -> Option<Vec<bool>> {
+        self.occupancy
+            .contains(&-1)
+            .then(|| self.occupancy.iter().map(|&v| v == -1).collect())
+    }
 }
 
 /// Where a `map_server` map's cells lie in the ROS map frame: its YAML's `resolution`

@@ -7,8 +7,8 @@
 
 use std::path::PathBuf;
 
-use planner_api::{Grid, Path};
-use planner_figures::{draw_comparison, draw_timeline, Layer, Layout, Marker, Style};
+use planner_api::Path;
+use planner_figures::{draw_comparison, draw_timeline, Layer, Layout, MapView, Marker, Style};
 
 use planner_runner::output::OutputFile;
 use planner_runner::record::RunRecord;
@@ -16,7 +16,12 @@ use planner_runner::record::RunRecord;
 /// The figures of one coverage run, `<base>.svg` and `<base>-returns.svg`: the path
 /// coloured by time with the backtracking points returned to marked `B1`, `B2`, ... in
 /// order (like seed 004's Figs. 7-8), and the path with each A* return drawn over it.
-pub fn figures(grid: &Grid, run: &RunRecord, base: &str, style: &Style) -> Vec<OutputFile> {
+pub fn figures(
+    grid: MapView<'_>,
+    run: &RunRecord,
+    base: &str,
+    style: &Style,
+) -> Vec<OutputFile> {
     let Some(path) = &run.path else {
         return Vec::new();
     };

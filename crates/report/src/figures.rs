@@ -24,8 +24,8 @@
 
 use std::sync::atomic::AtomicBool;
 
-use planner_api::{Cell, Grid};
-use planner_figures::{draw_comparison, draw_path, Layer, Style};
+use planner_api::Cell;
+use planner_figures::{draw_comparison, draw_path, Layer, MapView, Style};
 
 use planner_runner::config::{Experiment, FigureMode, MapEntry, ProblemEntry};
 use planner_runner::expanded::{pick, ExpandedCells};
@@ -46,25 +46,49 @@ fn expanded_style() -> Style {
     }
 }
 
+/// `map`'s grid with its unknown cells ([`MapEntry::unknown`]), as figures draw it.
+fn view(map: &MapEntry) -> MapView<'_> {
+    grid_view(&map.grid, map.unknown.as_deref())
+}
+
+/// `grid` with `unknown` (one flag per cell) marking its unknown cells, if given.
+fn grid_view<'a>(grid: &'a planner_api::Grid, unknown: Option<&'a [bool]>) -> MapView<'a> {
+    match unknown {
+        Some(unknown) => MapView::new(grid).with_unknown(unknown),
+        None => MapView::new(grid),
+    }
+}
+
 /// One run's figure as an SVG document: the grid, the run's path with step indices and
 /// arrows, its marks, and `expanded` (the cells it expanded, from
 /// [`planner_api::Outcome::expanded`]; empty for none) in a light fill under the path
 /// with their number in the legend. The title names the planner label, the map and the
 /// problem; the legend gives the status and D, T, Score and length.
-pub fn draw_run(grid: &Grid, record: &RunRecord, expanded: &[Cell]) -> String {
+pub fn draw_run<'a>(
+    map: impl Into<MapView<'a>>,
+    record: &RunRecord,
+    expanded: &[Cell],
+) -> String {
     let title = format!(
         "{} on {} problem {}: {} -> {}",
         record.planner, record.map, record.problem, record.start, record.goal
     );
     let layer = layer(record).with_expanded(expanded);
     draw_path(
-        grid,
+        map,
         record.start,
         record.goal,
         &layer,
         &title,
         &expanded_style(),
     )
+}
+
+/// [`draw_run`] of a `plan` run ([`planner_runner::plan::PlanResult`]): its grid, with
+/// the map's unknown cells grey, its record and its expanded cells.
+pub fn draw_planned(result: &planner_runner::plan::PlanResult) -> String {
+    let map = grid_view(&result.grid, result.unknown.as_deref());
+    draw_run(map, &result.record, &result.expanded)
 }
 
 /// The figure files of `records`; with `figures_expanded`, the expanded cells drawn come
@@ -140,7 +164,7 @@ fn problem_figures(
         map.name, problem.index, problem.start, problem.goal
     );
     let svg = draw_comparison(
-        &map.grid,
+        view(map),
         problem.start,
         problem.goal,
         &layers,
@@ -165,7 +189,7 @@ fn problem_figures(
             map.name, problem.index, problem.start, problem.goal
         );
         let svg = draw_comparison(
-            &map.grid,
+            view(map),
             problem.start,
             problem.goal,
             &effort,
@@ -235,7 +259,7 @@ fn run_figures(
                 problem.index,
                 file_part(&run.planner)
             );
-            for mut file in crate::coverage_figures::figures(&map.grid, run, &base, style) {
+            for mut file in crate::coverage_figures::figures(view(map), run, &base, style) {
                 let wanted = file.path.to_string_lossy().into_owned();
                 let suffix = wanted.strip_prefix(&base).unwrap_or_default();
                 file.path = names
@@ -246,7 +270,7 @@ fn run_figures(
             continue;
         }
         let title = format!("{} on {} problem {}", run.planner, map.name, problem.index);
-        let svg = draw_path(&map.grid, problem.start, problem.goal, layer, &title, style);
+        let svg = draw_path(view(map), problem.start, problem.goal, layer, &title, style);
         files.push(OutputFile {
             path: names
                 .claim(

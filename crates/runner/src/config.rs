@@ -487,6 +487,9 @@ pub struct MapEntry {
     /// Where the cells lie in the ROS map frame (a `map_server` YAML's resolution and
     /// origin), for `plan --start-world`; `None` for the other formats.
     pub frame: Option<planner_maps::MapFrame>,
+    /// The cells a ROS `map_server` map does not know ([`planner_maps::MapFile::unknown`]),
+    /// drawn grey in figures; `None` for none.
+    pub unknown: Option<Vec<bool>>,
 }
 
 /// One start-goal problem of a map.
@@ -1704,6 +1707,7 @@ fn map_entries(
             grid,
             problems,
             frame: file.frame,
+            unknown: file.unknown,
         });
     }
     Ok(entries)

@@ -262,6 +262,8 @@ pub struct PlanResult {
     pub grid: Grid,
     /// The map's ROS map frame, when it has one ([`MapEntry::frame`]).
     pub frame: Option<planner_maps::MapFrame>,
+    /// The map's unknown cells, when it has some ([`MapEntry::unknown`]).
+    pub unknown: Option<Vec<bool>>,
     /// Planner label or name.
     pub planner: String,
     /// Whether the planner covers (no goal).
@@ -411,6 +413,7 @@ pub fn run_single(
     Ok(PlanResult {
         grid: map.grid,
         frame: map.frame,
+        unknown: map.unknown,
         planner: planner.to_string(),
         coverage,
         budget,
@@ -575,6 +578,7 @@ fn resolve_map(
         grid,
         problems: Vec::new(),
         frame: file.frame,
+        unknown: file.unknown,
     };
     // Cells given on the command line need no scenario: a `.scen` beside the map is read
     // only for `--problem K` or when no start or goal is given.

@@ -239,6 +239,8 @@ pub fn plan(query: &Query<'_>, grid: Grid, caps: &Caps) -> Result<PlanResult, Qu
         grid,
         problems: Vec::new(),
         frame: None,
+        // The page draws a ROS map's unknown cells itself, from the map it loaded.
+        unknown: None,
     };
     // The recording run is made here rather than by `run_single`, so that a search that
     // ran out of time is not run for as long again to record its cells.
