@@ -383,13 +383,11 @@ fn check_option(option: &'static str, value: &str) -> Result<(), SlurmError> {
                 );
             }
         }
-        "--mem" => {
-            if mem_megabytes(value).is_none() {
-                return refuse(
-                    "a whole number of megabytes, or with a unit K, M, G or T (4G), of at most \
-                     8 EiB (9223372036854775807M), which sbatch reads",
-                );
-            }
+        "--mem" if mem_megabytes(value).is_none() => {
+            return refuse(
+                "a whole number of megabytes, or with a unit K, M, G or T (4G), of at most \
+                 8 EiB (9223372036854775807M), which sbatch reads",
+            );
         }
         _ => {}
     }
