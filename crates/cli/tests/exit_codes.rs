@@ -848,3 +848,64 @@ fn a_picture_that_is_a_link_to_an_input_exits_2_and_keeps_the_link() {
             .starts_with("<svg"));
     }
 }
+
+/// SIGTERM (or Ctrl-C) while a sweep waited, up to 120 s, for another run's lock on its
+/// output printed "stopping: finishing the runs in progress" and kept waiting until the
+/// other run ended (exit 130 only then), leaving an empty stream area beside the other's
+/// results. It ends the wait at once: exit 130, saying so, with nothing created.
+#[test]
+fn a_sigterm_while_waiting_for_the_lock_exits_130_at_once() {
+    use std::process::Command;
+    use std::time::{Duration, Instant};
+    let dir = scratch("sigterm-lock");
+    let config = config(&dir, "");
+    // Another run's lock on the output's stream area (flock(1) takes the same flock).
+    let lock = dir.join(".o.stream.lock");
+    std::fs::write(&lock, "").unwrap();
+    let Ok(mut holder) = Command::new("flock")
+        .arg(&lock)
+        .args(["sleep", "60"])
+        .spawn()
+    else {
+        eprintln!("skipped: no flock(1) to hold the lock");
+        return;
+    };
+    std::thread::sleep(Duration::from_millis(300));
+    let child = Command::new(env!("CARGO_BIN_EXE_gridplan"))
+        .args(["experiment", &config, "--quiet", "--output"])
+        .arg(dir.join("o"))
+        .env_remove("RUST_LOG")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(800));
+    let sent = Instant::now();
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let out = common::finish(child, "the waiting sweep");
+    let waited = sent.elapsed();
+    let _ = holder.kill();
+    let _ = holder.wait();
+    assert!(
+        waited < Duration::from_secs(5),
+        "ended {waited:?} after SIGTERM"
+    );
+    assert_eq!(out.code, Some(130), "{}", out.describe());
+    assert!(
+        out.stderr.contains("waiting up to 120 s")
+            && out
+                .stderr
+                .contains("stopped while waiting for another gridplan run's lock")
+            && out.stderr.contains("nothing was written"),
+        "{}",
+        out.describe()
+    );
+    assert!(!dir.join(".o.stream").exists(), "a stream area was left");
+    assert!(!dir.join("o").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
