@@ -544,8 +544,9 @@ fn refuse_links_to_inputs(files: &[&std::path::Path], inputs: &[PathBuf]) -> Res
     Ok(())
 }
 
-/// Any other failure (an I/O error, a stream or shard set that cannot be read, a
-/// determinism bug found while drawing expanded cells).
+/// Any other failure (an I/O error, a full disk in the output or the resume stream, a
+/// stream or shard set that cannot be read, a determinism bug found while drawing
+/// expanded cells).
 pub const EXIT_FAILURE: u8 = 1;
 /// Command-line arguments that do not fit (clap's own usage errors exit 2 too), and values
 /// that `slurm` cannot write safely into a script, one file named by two of `plan`'s
@@ -555,12 +556,12 @@ pub const EXIT_USAGE: u8 = 2;
 pub const EXIT_CONFIG: u8 = 3;
 /// A map or scenario file that cannot be read, or a start or goal that cannot be planned.
 pub const EXIT_INPUT: u8 = 4;
-/// An output directory gridplan may not write: not its own results, or held by another
-/// sweep's lock; a directory given to `report` or `compare` that does not hold a whole
+/// An output directory gridplan may not write: not its own results, a mount point, or held
+/// by another sweep's lock; a directory given to `report` or `compare` that does not hold a whole
 /// sweep's complete results (not results, a shard's, a cut or damaged records stream).
 pub const EXIT_OUTPUT: u8 = 5;
-/// The exit code of a command stopped by Ctrl-C (SIGINT) or SIGTERM: 128 + 2, as shells
-/// report Ctrl-C.
+/// The exit code of a command stopped by Ctrl-C (SIGINT) or SIGTERM (a sweep also while it
+/// waits for another sweep's lock): 128 + 2, as shells report Ctrl-C.
 pub const EXIT_INTERRUPTED: u8 = 130;
 
 impl CliError {

@@ -1,5 +1,6 @@
 //! The command line's documented exit codes (README.md): 2 usage, 3 config, 4 map or
-//! problem, 5 output refused, 1 anything else; 130 (interrupted) is xtask's sweeps test's.
+//! problem, 5 output refused, 1 anything else; 130 (interrupted) is xtask's sweeps test's,
+//! and here a sweep stopped while it waits for another run's lock.
 
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
