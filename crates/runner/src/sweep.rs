@@ -1745,6 +1745,10 @@ fn unfinished_shard(dir: &Path) -> Option<ResultsError> {
     }
     let recorded = outdir::stream_area_path(dir).ok().and_then(|area| {
         let stream = area.join(RECORDS);
+        // Read only when it is a file of its own: a link there is not followed.
+        if !fs::symlink_metadata(&stream).is_ok_and(|m| m.is_file()) {
+            return None;
+        }
         let file = stream::open_regular(&stream).ok()?;
         let (header, _) =
             StreamReader::new(BufReader::new(file), &stream.display().to_string()).ok()?;

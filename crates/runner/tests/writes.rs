@@ -617,14 +617,26 @@ fn merging_an_interrupted_shard_says_how_to_finish_it() {
         )
     );
     assert_eq!(error.class(), ErrorClass::Other);
+    let missing = || {
+        let error = merge();
+        assert!(
+            error.to_string().starts_with(&format!(
+                "merge: shard directory {} does not exist and no run of it is recorded \
+                 beside it",
+                third.display()
+            )),
+            "{error}"
+        );
+    };
+    // A link planted at the stream's name is not followed (nor read).
+    #[cfg(unix)]
+    {
+        let elsewhere = dir.join("elsewhere.stream");
+        std::fs::rename(&stream, &elsewhere).unwrap();
+        std::os::unix::fs::symlink(&elsewhere, &stream).unwrap();
+        missing();
+    }
     std::fs::remove_dir_all(sin.join(".shard-3.stream")).unwrap();
-    let error = merge();
-    assert!(
-        error.to_string().starts_with(&format!(
-            "merge: shard directory {} does not exist and no run of it is recorded beside it",
-            third.display()
-        )),
-        "{error}"
-    );
+    missing();
     std::fs::remove_dir_all(&dir).unwrap();
 }
