@@ -52,8 +52,7 @@
 //!   and 1000 cells a side with 20 % walls (spiral from a corner) that took 0.86 s, 12.1 s
 //!   and 222 s, 80 % of it sorting and 12 % in the list's retain (perf, 500 cells); with
 //!   the index 0.05 s, 0.19 s and 0.86 s, the same paths and counters (`tests/coverage.rs`
-//!   pins a million-cell run's). A 2000 x 2000 one covers its 3.2 M cells in 3.6 s (21 M
-//!   units of work), or stops at the CLI's default budget of 10 M in 2.7 s.
+//!   pins a million-cell run's).
 //! - Between A* searches the deadline and the cancel flag are read before each search
 //!   (A* reads them itself only every [`planner_api::BudgetClock::TIME_CHECK_INTERVAL`]
 //!   expansions, which a return's short searches never reach, and the run's clock ticks
