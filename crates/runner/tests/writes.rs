@@ -21,7 +21,7 @@ use crate::common::{scratch, NoReport};
 
 /// A 6x6 map, free but for `wall` (a cell index, if any).
 fn map_text(wall: Option<usize>) -> String {
-    let mut cells = vec![b'.'; 36];
+    let mut cells = [b'.'; 36];
     if let Some(wall) = wall {
         cells[wall] = b'@';
     }
