@@ -8,21 +8,29 @@ use planner_runner::config;
 use planner_runner::RunRecord;
 
 /// Every counter and metric of every run of every config (trimmed by its `[test]`
-/// limits), with timing and memory redacted. Review changes with `cargo insta review`.
+/// limits, which the snapshot's header then says), with timing and memory redacted. Review changes with `cargo insta review`.
 #[test]
 fn every_config_is_snapshotted() {
     let paths = configs();
     assert!(!paths.is_empty());
     for path in paths {
-        let experiment = config::load(&path).unwrap().trimmed_for_test();
+        let full = config::load(&path).unwrap();
+        let trimmed = full.test.problems_per_map.is_some() || full.test.repeats.is_some();
+        let experiment = full.trimmed_for_test();
         let records = compact(&common::run(&experiment, 2));
         let name = experiment.name.clone();
         let file = path.file_name().unwrap().to_string_lossy().to_string();
+        // The header says which runs these are: a config with `[test]` limits is held to
+        // the runs within them (this test is the command that reruns them).
+        let description = match trimmed {
+            true => format!("the runs of configs/{file} within its [test] limits"),
+            false => format!("every run of configs/{file}"),
+        };
         // insta's settings are thread-local: assert here, after the parallel runs.
         insta::with_settings!({
             snapshot_path => "../../snapshots",
             prepend_module_to_snapshot => false,
-            description => format!("every run of configs/{file}"),
+            description => description,
             omit_expression => true,
         }, {
             insta::assert_yaml_snapshot!(name, records, {
