@@ -16,12 +16,7 @@ use planner_runner::record::RunRecord;
 /// The figures of one coverage run, `<base>.svg` and `<base>-returns.svg`: the path
 /// coloured by time with the backtracking points returned to marked `B1`, `B2`, ... in
 /// order (like seed 004's Figs. 7-8), and the path with each A* return drawn over it.
-pub fn figures(
-    grid: MapView<'_>,
-    run: &RunRecord,
-    base: &str,
-    style: &Style,
-) -> Vec<OutputFile> {
+pub fn figures(grid: MapView<'_>, run: &RunRecord, base: &str, style: &Style) -> Vec<OutputFile> {
     let Some(path) = &run.path else {
         return Vec::new();
     };

@@ -64,11 +64,7 @@ fn grid_view<'a>(grid: &'a planner_api::Grid, unknown: Option<&'a [bool]>) -> Ma
 /// [`planner_api::Outcome::expanded`]; empty for none) in a light fill under the path
 /// with their number in the legend. The title names the planner label, the map and the
 /// problem; the legend gives the status and D, T, Score and length.
-pub fn draw_run<'a>(
-    map: impl Into<MapView<'a>>,
-    record: &RunRecord,
-    expanded: &[Cell],
-) -> String {
+pub fn draw_run<'a>(map: impl Into<MapView<'a>>, record: &RunRecord, expanded: &[Cell]) -> String {
     let title = format!(
         "{} on {} problem {}: {} -> {}",
         record.planner, record.map, record.problem, record.start, record.goal
