@@ -167,7 +167,7 @@ pub struct ToggleSpec {
     #[serde(default = "default_drive")]
     pub drive: u32,
     /// The seeds (one run per scenario, seed and planner), each at most once.
-    #[schemars(with = "Vec<u64>")]
+    #[schemars(with = "Vec<u64>", length(min = 1), extend("uniqueItems" = true))]
     pub seeds: Spanned<Vec<Spanned<u64>>>,
 }
 
@@ -211,7 +211,7 @@ pub struct ExperimentConfig {
     /// `navigate` or `dynamic`.
     pub kind: Kind,
     /// Letters, digits, `-` and `_`.
-    #[schemars(with = "String")]
+    #[schemars(with = "String", pattern(r"^[A-Za-z0-9_-]+$"))]
     pub name: Spanned<String>,
     /// Free text, copied to the top of `summary.md`.
     #[serde(default)]
@@ -219,7 +219,11 @@ pub struct ExperimentConfig {
     /// The compared planners by [`planners::by_name`] name (key `compare`; not `planners`,
     /// which the runner's configs use for a table); default all four.
     #[serde(default = "default_planners", rename = "compare")]
-    #[schemars(with = "Vec<String>")]
+    #[schemars(
+        with = "Vec<String>",
+        length(min = 1),
+        extend("uniqueItems" = true, "items" = { "enum": planners::names() })
+    )]
     pub planners: Vec<Spanned<String>>,
     /// 4, or 8 without corner cutting (default).
     #[schemars(with = "Option<u32>", extend("enum" = [4, 8]))]
@@ -229,7 +233,11 @@ pub struct ExperimentConfig {
     pub maps: Vec<MapSpec>,
     /// Sensor radii (navigate), each at least 1.
     #[serde(default)]
-    #[schemars(with = "Vec<std::num::NonZeroU32>")]
+    #[schemars(
+        with = "Vec<std::num::NonZeroU32>",
+        length(min = 1),
+        extend("uniqueItems" = true)
+    )]
     pub radii: Vec<Spanned<u32>>,
     /// Steps before a navigation stops (default: 10 per cell plus 1,000).
     pub max_steps: Option<u64>,
@@ -372,8 +380,8 @@ pub enum ExperimentError {
     Output(#[from] planner_runner::outdir::OutdirError),
 }
 
-/// `path:line:column`, less what is not known (0): a key missing from the config has no
-/// line to name.
+/// `path:line:column`, less what is not known (0: an error toml gives without a
+/// position).
 fn place(path: &str, line: usize, column: usize) -> String {
     match (line, column) {
         (0, _) => path.to_owned(),
@@ -461,15 +469,29 @@ pub fn load(path: &Path) -> Result<ExperimentConfig, ExperimentError> {
 /// Parses and validates a config's `text` (`path` names it in errors).
 pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentError> {
     let name = path.display().to_string();
-    let mut config: ExperimentConfig = toml::from_str(text).map_err(|e| {
-        let (line, column) = e.span().map_or((0, 0), |s| line_column(text, s.start));
-        ExperimentError::Parse {
-            path: name.clone(),
-            line,
-            column,
-            message: e.message().to_string(),
-        }
-    })?;
+    // Through serde_path_to_error, as the runner's configs are read, so that a value of
+    // the wrong type names its key (`radii = [-1]` said "invalid value: integer `-1`,
+    // expected u32" alone).
+    let mut config: ExperimentConfig =
+        serde_path_to_error::deserialize(toml::Deserializer::new(text)).map_err(|e| {
+            let (line, column) = e
+                .inner()
+                .span()
+                .map_or((0, 0), |s| line_column(text, s.start));
+            let message = e.inner().message().trim();
+            let message = match path_key(e.path()) {
+                Some(key) if !message.starts_with("unknown field") => {
+                    format!("key `{key}`: {message}")
+                }
+                _ => message.to_string(),
+            };
+            ExperimentError::Parse {
+                path: name.clone(),
+                line,
+                column,
+                message,
+            }
+        })?;
     // An empty list or an array of tables holds no span of its own: the key's value has.
     let value_span = |key: &str| -> std::ops::Range<usize> {
         toml::from_str::<std::collections::BTreeMap<String, Spanned<toml::Value>>>(text)
@@ -477,12 +499,9 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
             .and_then(|values| values.get(key).map(Spanned::span))
             .unwrap_or(0..0)
     };
+    // A key that is missing (span 0..0) is said at 1:1, as toml says a missing `name`.
     let invalid = |span: std::ops::Range<usize>, key: &str, message: String| {
-        let (line, column) = if span.is_empty() && span.start == 0 {
-            (0, 0)
-        } else {
-            line_column(text, span.start)
-        };
+        let (line, column) = line_column(text, span.start);
         ExperimentError::Invalid {
             path: name.clone(),
             line,
@@ -692,6 +711,22 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
     }
     config.source = text.to_owned();
     Ok(config)
+}
+
+/// The key serde_path_to_error's `path` names (`radii[0]`, `toggles.seeds[1]`), without
+/// serde_spanned's inner segments; `None` at the top.
+fn path_key(path: &serde_path_to_error::Path) -> Option<String> {
+    let mut key = String::new();
+    for segment in path.iter().map(ToString::to_string) {
+        if segment.starts_with("$__") {
+            continue;
+        }
+        if !key.is_empty() && !segment.starts_with('[') {
+            key.push('.');
+        }
+        key.push_str(&segment);
+    }
+    (!key.is_empty()).then_some(key)
 }
 
 /// The first value of `values` that an earlier one equals (the second of the pair, so

@@ -178,11 +178,20 @@ fn config_errors_name_file_line_column_and_key() {
         matches!(&e, ExperimentError::Invalid { key, .. } if key == "maps"),
         "{e}"
     );
-    // A missing key has no line: the message names the file alone (it read
-    // `bad.toml:0:0:`); an empty list, an array of tables in the wrong kind, their value's.
+    // A missing key is said at 1:1, as toml says a missing `name` (it was the file
+    // alone); an empty list, an array of tables in the wrong kind, their value's.
     assert_eq!(
         e.to_string(),
-        "bad.toml: `maps`: a navigate experiment needs [[maps]]"
+        "bad.toml:1:1: `maps`: a navigate experiment needs [[maps]]"
+    );
+    let no_radii = base.replace("radii = [1]\n", "");
+    assert_eq!(
+        parse_error(&no_radii).to_string(),
+        "bad.toml:1:1: `radii`: a navigate experiment needs radii"
+    );
+    assert_eq!(
+        parse_error("kind = \"dynamic\"\nname = \"x\"\n").to_string(),
+        "bad.toml:1:1: `toggles`: a dynamic experiment needs [toggles] (with [[maps]]) or [[gppc]]"
     );
     let e = parse_error(&format!("compare = []\n{base}"));
     assert_eq!(
@@ -199,6 +208,40 @@ fn config_errors_name_file_line_column_and_key() {
         matches!(&e, ExperimentError::Invalid { line: 7, column: 1, key, .. } if key == "gppc"),
         "{e}"
     );
+}
+
+/// A value of the wrong type named no key (`n.toml:3:10: invalid value: integer `-1`,
+/// expected u32`): read through serde_path_to_error, as the runner's configs are, each
+/// names its key.
+#[test]
+fn type_errors_name_their_key() {
+    let base = "kind = \"navigate\"\nname = \"x\"\nradii = [1]\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n";
+    let dynamic = "kind = \"dynamic\"\nname = \"x\"\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n[toggles]\nevents = 2\nk = 1\nradius = 3\nseeds = [1]\n";
+    let cases = [
+        (
+            base.replace("radii = [1]", "radii = [-1]"),
+            "bad.toml:3:10: key `radii[0]`: invalid value: integer `-1`, expected u32",
+        ),
+        (
+            format!("max_steps = -1\n{base}"),
+            "bad.toml:1:13: key `max_steps`: invalid value: integer `-1`, expected u64",
+        ),
+        (
+            format!("{base}scenarios = \"1\"\n"),
+            "bad.toml:7:13: key `maps[0].scenarios`: invalid type: string \"1\", expected usize",
+        ),
+        (
+            dynamic.replace("seeds = [1]", "seeds = [-1]"),
+            "bad.toml:10:10: key `toggles.seeds[0]`: invalid value: integer `-1`, expected u64",
+        ),
+        (
+            dynamic.replace("seeds = [1]", "seeds = [\"a\"]"),
+            "bad.toml:10:10: key `toggles.seeds[0]`: invalid type: string \"a\", expected u64",
+        ),
+    ];
+    for (text, expected) in cases {
+        assert_eq!(parse_error(&text).to_string(), expected, "{text}");
+    }
 }
 
 /// A malformed map or scenario file is reported with its file, line and column, before
