@@ -189,8 +189,63 @@ fn config_errors_name_file_line_column_and_key() {
     );
     check_error(
         "name = \"x\"\n[[maps]]\nfiles = [\"../maps/paper/map01.map\"]\n[planners.a]\nplanner = \"astar\"\n",
-        "bad.toml:2:1: maps[0]: give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, `points` or `scen`",
+        "bad.toml:2:1: maps[0]: give exactly one of `problems` (\"corners\", \"file\" or \"start\"), `pairs`, `points` or `scen`",
     );
+    // An empty label was accepted; `[planners]` and `maps = []` had no line and column;
+    // a planner name that is no string was an "unknown planner \"5\""; Rust type names
+    // (`untagged enum RawSection`, `struct RawCosts`, `struct Budget`) said what was
+    // expected; `lines` and `inflate_unknown` were said at the `[[maps]]` header, and
+    // `lines = [0, 2]` was accepted.
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners.\"\"]\nplanner = \"astar\"\n"),
+        "bad.toml:5:11: key `planners`: label \"\" is empty; a label names its planner's runs, figures and files (`[planners.LABEL]`)",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners]\n"),
+        "bad.toml:5:2: key `planners`: at least one planner is needed",
+    );
+    check_error(
+        "name = \"x\"\nmaps = []\n[planners.a]\nplanner = \"astar\"\n",
+        "bad.toml:2:1: key `maps`: at least one map is needed",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = 5\n"),
+        &format!("bad.toml:6:11: planner `a`, key `planner`: expected a registry name (a string: one of {}), found integer 5", planner_registry::names().join(", ")),
+    );
+    check_error(
+        &format!("name = \"x\"\nsections = [1]\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
+        "bad.toml:2:12: key `sections[0]`: invalid type: integer 1, expected a section name (a string) or a table { name = \"...\", ... }",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}costs = \"ignore\"\n[planners.a]\nplanner = \"astar\"\n"),
+        "bad.toml:5:9: key `maps[0].costs`: invalid type: string \"ignore\", expected a table of cell-cost options (`rule`, `lethal`, `unknown`, `weights`, `swamp`, `water`)",
+    );
+    check_error(
+        &format!("name = \"x\"\nbudget = 5\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
+        "bad.toml:2:10: key `budget`: invalid type: integer `5`, expected a table of limits (`max_expansions`, `max_time_ms`, `max_memory_mb`)",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}[planners.a]\nplanner = \"astar\"\nbudget = 5\n"),
+        "bad.toml:7:10: planner `a`, key `budget`: invalid type: integer `5`, expected a table of limits (`max_expansions`, `max_time_ms`, `max_memory_mb`)",
+    );
+    check_error(
+        &format!("name = \"x\"\n{MAPS}inflate_unknown = true\n[planners.a]\nplanner = \"astar\"\n"),
+        &format!(
+            "bad.toml:5:19: maps[0]: `inflation` and `inflate_unknown` apply to ROS `.yaml` maps, not {}",
+            root().join("configs/../maps/paper/map01.map").display()
+        ),
+    );
+    let scen = "name = \"x\"\n[[maps]]\nfiles = [\"../maps/movingai/arena.map\"]\nscen = \"../maps/movingai/arena.map.scen\"\n";
+    for (selection, expect) in [
+        ("lines = [0, 2]", "bad.toml:5:9: maps[0]: key `lines`: [0, 2]: lines are 1-based (the file's first line is line 1)"),
+        ("lines = [3, 2]", "bad.toml:5:9: maps[0]: key `lines`: [3, 2] starts after it ends (the first line, then the last)"),
+        ("every = 0", "bad.toml:5:9: maps[0]: key `every` must be at least 1"),
+    ] {
+        check_error(
+            &format!("{scen}{selection}\n[planners.a]\nplanner = \"astar\"\n"),
+            expect,
+        );
+    }
     check_error(
         &format!("name = \"my results\"\n{MAPS}[planners.a]\nplanner = \"astar\"\n"),
         "bad.toml:1:8: key `name`: \"my results\" must be non-empty letters, digits, '-' or '_' (it names the output directory)",

@@ -86,7 +86,10 @@ impl<'g> Problem<'g> {
 /// where the clock is, every [`BudgetClock::TIME_CHECK_INTERVAL`] expansions, so a search
 /// without one pays nothing per expansion. It is never part of a config.
 #[derive(Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table of limits (`max_expansions`, `max_time_ms`, `max_memory_mb`)"
+)]
 pub struct Budget {
     /// Stop after this many expansions (each planner says what one expansion is).
     pub max_expansions: Option<u64>,

@@ -1304,16 +1304,17 @@ pub fn run(command: Command) -> Result<(), CliError> {
 
 /// `gridplan schema`: the JSON Schema (draft 2020-12) of every config `experiment` runs,
 /// one of the runner's experiment configs ([`planner_runner::schema::experiment_schema`],
-/// with the report's section names) and the replanning experiments' (`kind = "navigate"`
+/// with the report's sections and their options) and the replanning experiments' (`kind = "navigate"`
 /// or `"dynamic"`, derived from planner-replan's config type). Each refuses the other's
 /// keys (the runner's knows no `kind`, which the replanning one requires), so a config is
 /// exactly one of them.
 pub fn schema() -> Result<serde_json::Value, CliError> {
     let mut runner =
-        planner_runner::schema::experiment_schema(&planner_paper::renderer().section_names())?;
+        planner_runner::schema::experiment_schema(&planner_paper::renderer().section_schemas())?;
     let mut replan =
         planner_registry::schema::parameters_of::<planner_replan::experiment::ExperimentConfig>()
             .to_value();
+    planner_runner::schema::bound_unsigned(&mut replan);
     let mut draft = serde_json::Value::Null;
     for part in [&mut runner, &mut replan] {
         if let Some(object) = part.as_object_mut() {

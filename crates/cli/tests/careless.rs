@@ -221,7 +221,11 @@ fn careless_inputs_fail_cleanly() {
         (edit("small.map\"]", "c.toml\"]"), Error("unsupported file extension '.toml'")),
         (edit("small.map\"]", "small.map\", \"small.map\"]"), Error("c.toml:2:1: maps[0]: map name `small.map` appears twice")),
         (edit("problems = \"corners\"", "problems = \"all\""), Error("c.toml:4:12")),
-        (edit("problems = \"corners\"", ""), Error("give exactly one of `problems`")),
+        // The list of `problems` values lacked "start".
+        (
+            edit("problems = \"corners\"", ""),
+            Error("give exactly one of `problems` (\"corners\", \"file\" or \"start\"), `pairs`, `points` or `scen`"),
+        ),
         (
             edit("problems = \"corners\"", "problems = \"corners\"\npairs = []"),
             Error("exclude each other"),
@@ -268,7 +272,62 @@ fn careless_inputs_fail_cleanly() {
         (edit("[[maps]]", "[maps]"), Error("c.toml:2:")),
         // Planners.
         (edit("planner = \"astar\"", "planner = \"astra\""), Error("unknown planner \"astra\"")),
-        (edit("planner = \"astar\"", "planner = 3"), Error("c.toml:6:")),
+        // A planner name that is no string was "unknown planner \"3\"".
+        (
+            edit("planner = \"astar\"", "planner = 3"),
+            Error("c.toml:6:11: planner `a`, key `planner`: expected a registry name (a string: one of"),
+        ),
+        // An empty label was accepted (an empty planner cell in runs.csv, a figure named
+        // `small-1--e3b0c442.svg`).
+        (
+            edit("[planners.a]", "[planners.\"\"]"),
+            Error("c.toml:5:11: key `planners`: label \"\" is empty"),
+        ),
+        // No label, no map: said without a line and column.
+        (
+            edit("[planners.a]\nplanner = \"astar\"\n", "[planners]\n"),
+            Error("c.toml:5:2: key `planners`: at least one planner is needed"),
+        ),
+        (
+            format!("name = \"c\"\nmaps = []\n{}", &CONFIG[CONFIG.find("[planners").unwrap()..]),
+            Error("c.toml:2:1: key `maps`: at least one map is needed"),
+        ),
+        // Rust type names in messages ("untagged enum RawSection", "struct RawCosts",
+        // "struct Budget"): what is expected, in words.
+        (
+            format!("sections = [1]\n{CONFIG}"),
+            Error("c.toml:1:12: key `sections[0]`: invalid type: integer 1, expected a section name (a string) or a table { name = \"...\", ... }"),
+        ),
+        (
+            edit("problems = \"corners\"", "problems = \"corners\"\ncosts = \"ignore\""),
+            Error("c.toml:5:9: key `maps[0].costs`: invalid type: string \"ignore\", expected a table of cell-cost options"),
+        ),
+        (
+            format!("budget = 5\n{CONFIG}"),
+            Error("c.toml:1:10: key `budget`: invalid type: integer `5`, expected a table of limits (`max_expansions`, `max_time_ms`, `max_memory_mb`)"),
+        ),
+        (
+            edit("planner = \"astar\"", "planner = \"astar\"\nbudget = 5"),
+            Error("c.toml:7:10: planner `a`, key `budget`: invalid type: integer `5`, expected a table of limits"),
+        ),
+        // `inflate_unknown` on a .map was said at the `[[maps]]` header.
+        (
+            edit("problems = \"corners\"", "problems = \"corners\"\ninflate_unknown = true"),
+            Error("c.toml:5:19: maps[0]: `inflation` and `inflate_unknown` apply to ROS `.yaml` maps"),
+        ),
+        // A seed 002 section whose planner no label runs was left out without a word.
+        (
+            format!("sections = [{{ name = \"seed002\", proposed = \"nope\" }}]\n{CONFIG}"),
+            Error("c.toml:1:12: key `sections`: section \"seed002\": `proposed = \"nope\"` names no planner of this config; expected the registry name of one of its planners (astar)"),
+        ),
+        (
+            format!("sections = [{{ name = \"seed002\", proposed = \"pastar\" }}]\n{CONFIG}"),
+            Error("`proposed = \"pastar\"` names no planner of this config"),
+        ),
+        (
+            format!("sections = [{{ name = \"seed002_capso\", planner = \"capso\" }}]\n{CONFIG}"),
+            Error("section \"seed002_capso\": `planner = \"capso\"` names no planner of this config"),
+        ),
         (edit("planner = \"astar\"", ""), Error("key `planner` is missing")),
         (
             edit("planner = \"astar\"", "planner = \"astar\"\nmoves = 7"),
@@ -566,14 +625,62 @@ fn careless_inputs_fail_cleanly() {
             Error(expected),
         ));
     }
+    // Published numbers dropped without a word: a problem the map does not have (its
+    // numbers were counted "0 of 0"), a value that is not a number.
+    for (published, expected) in [
+        (
+            "[\"small#9\".astar]\nsteps = 8\n",
+            "p.toml:1:2: `[small#9]`: map `small.map` has 1 problem (`#1` to `#1`)",
+        ),
+        (
+            "[\"small#0\".astar]\nsteps = 8\n",
+            "p.toml:1:2: `[small#0]`: map `small.map` has 1 problem",
+        ),
+        (
+            "[\"small#01\".astar]\nsteps = 8\n",
+            "p.toml:1:2: `[small#01]`: map `small.map` has 1 problem",
+        ),
+        (
+            "[small.astar]\nsteps = nan\n",
+            "p.toml:2:9: `small.astar.steps` must be a number, not NaN",
+        ),
+        (
+            "[small.astar]\nsteps = -inf\n",
+            "p.toml:2:9: `small.astar.steps` must be a number, not -inf",
+        ),
+    ] {
+        cases.push((
+            owned(vec![
+                (
+                    "c.toml",
+                    format!("published = \"p.toml\"\n{CONFIG}").into_bytes(),
+                ),
+                ("small.map", SMALL.to_vec()),
+                ("p.toml", published.as_bytes().to_vec()),
+            ]),
+            args(&exp),
+            Error(expected),
+        ));
+    }
     // Scenario selections that select nothing, each named.
     for (selection, expected) in [
-        ("lines = [5, 3]", "key `lines`: [5, 3] starts after it ends"),
+        // Said at the key, not at the `[[maps]]` header (2:1); line 0 is no line.
+        (
+            "lines = [5, 3]",
+            "c.toml:5:9: maps[0]: key `lines`: [5, 3] starts after it ends",
+        ),
+        (
+            "lines = [0, 2]",
+            "c.toml:5:9: maps[0]: key `lines`: [0, 2]: lines are 1-based",
+        ),
         (
             "lines = [2, 3, 4]",
             "c.toml:5:9: key `maps[0].lines`: invalid length 3, expected an array of length 2",
         ),
-        ("every = 0", "key `every` must be at least 1"),
+        (
+            "every = 0",
+            "c.toml:5:9: maps[0]: key `every` must be at least 1",
+        ),
         (
             "buckets = [9]",
             "the scenario selection (`buckets`, `lines`, `every`, `limit`) is empty",

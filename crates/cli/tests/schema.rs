@@ -97,3 +97,69 @@ fn unknown_keys_and_wrong_kinds_fail() {
         .is_err());
     assert!(validator.valid(&format!("threds = 2\n{runner}")).is_err());
 }
+
+/// The schema accepted configs the parser refuses: a section's options (a seed 002 table
+/// without `proposed`, an option a section does not take), a `u32` beyond its range, a
+/// name longer than 100 characters, line 0 of a scenario file, `limit = 0`, and the
+/// replanning configs' empty or repeated lists, unknown planners and bad names. Each
+/// of these is refused by both.
+#[test]
+fn configs_the_parser_refuses_fail_the_schema() {
+    let validator = Validator::new();
+    let runner = "name = \"x\"\n[[maps]]\nfiles = [\"tiny.map\"]\nproblems = \"corners\"\n[planners.p]\nplanner = \"astar\"\n";
+    let scen = runner.replace("problems = \"corners\"", "scen = \"t.scen\"");
+    assert_eq!(validator.valid(runner), Ok(()));
+    assert_eq!(validator.valid(&scen), Ok(()));
+    let with = |top: &str| format!("{top}\n{runner}");
+    let long_name = runner.replace("\"x\"", &format!("\"{}\"", "x".repeat(101)));
+    let refused_runner = [
+        with("sections = [\"seed002\"]"),
+        with("sections = [{ name = \"seed002\" }]"),
+        with("sections = [{ name = \"seed002\", proposed = 5 }]"),
+        with("sections = [{ name = \"seed002\", planner = \"pastar\" }]"),
+        with("sections = [{ name = \"seed002_capso\", proposed = \"capso\" }]"),
+        with("sections = [{ name = \"paired\", baseline = \"p\", proposed = \"astar\" }]"),
+        with("sections = [{ name = \"aggregate\", baseline = \"p\" }]"),
+        with("sections = [{ name = \"nosuch\" }]"),
+        with("repeats = 4294967296"),
+        long_name,
+        runner.replace(
+            "problems = \"corners\"",
+            "pairs = [{ start = [4294967296, 0], goal = [1, 1] }]",
+        ),
+        runner.replace(
+            "problems = \"corners\"",
+            "problems = \"start\"\nstart = [0, 4294967296]",
+        ),
+        scen.replace("scen = \"t.scen\"", "scen = \"t.scen\"\nlines = [0, 2]"),
+        scen.replace("scen = \"t.scen\"", "scen = \"t.scen\"\nlimit = 0"),
+        scen.replace("scen = \"t.scen\"", "scen = \"t.scen\"\nevery = 0"),
+    ];
+    let accepted_runner = [
+        with("sections = [\"paired\", { name = \"seed002\", proposed = \"astar\" }]"),
+        with("sections = [{ name = \"paired\", baseline = \"p\" }, { name = \"seed002_capso\", planner = \"astar\" }]"),
+        with("repeats = 4294967295"),
+    ];
+    let navigate = "kind = \"navigate\"\nname = \"x\"\nradii = [1]\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n";
+    let dynamic = "kind = \"dynamic\"\nname = \"x\"\n[[maps]]\nmap = \"a.map\"\nscen = \"a.scen\"\n[toggles]\nevents = 2\nk = 1\nradius = 3\nseeds = [1]\n";
+    assert_eq!(validator.valid(navigate), Ok(()));
+    assert_eq!(validator.valid(dynamic), Ok(()));
+    let refused_replan = [
+        navigate.replace("name = \"x\"", "name = \"a b\""),
+        navigate.replace("radii = [1]", "radii = []"),
+        navigate.replace("radii = [1]", "radii = [1, 1]"),
+        navigate.replace("radii = [1]", "radii = [0]"),
+        format!("compare = []\n{navigate}"),
+        format!("compare = [\"dstar\"]\n{navigate}"),
+        format!("compare = [\"lpastar\", \"lpastar\"]\n{navigate}"),
+        dynamic.replace("seeds = [1]", "seeds = []"),
+        dynamic.replace("seeds = [1]", "seeds = [1, 1]"),
+        dynamic.replace("k = 1", "k = 4294967296"),
+    ];
+    for text in refused_runner.iter().chain(&refused_replan) {
+        assert!(validator.valid(text).is_err(), "accepted:\n{text}");
+    }
+    for text in accepted_runner {
+        assert_eq!(validator.valid(&text), Ok(()), "{text}");
+    }
+}

@@ -50,8 +50,26 @@ impl Section for Seed002 {
         false
     }
 
+    fn options_schema(&self) -> serde_json::Value {
+        serde_json::json!({
+            "properties": { "proposed": { "type": "string", "description": "The registry name of the proposed planner (one the config's labels run); every other label is a reference." } },
+            "required": ["proposed"]
+        })
+    }
+
     fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
         planner_option(self.name(), options, "proposed").map(drop)
+    }
+
+    /// `proposed` must be the registry name of one of the config's planners: another
+    /// (a typo, or a planner no label runs) drew no table without a word.
+    fn check_experiment(
+        &self,
+        options: &toml::Table,
+        experiment: &Experiment,
+    ) -> Result<(), OptionError> {
+        let name = planner_option(self.name(), options, "proposed")?;
+        config_planner(self.name(), "proposed", name, experiment)
     }
 
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
@@ -75,8 +93,26 @@ impl Section for Seed002Capso {
         false
     }
 
+    fn options_schema(&self) -> serde_json::Value {
+        serde_json::json!({
+            "properties": { "planner": { "type": "string", "description": "The registry name of the planner whose lengths and convergence are shown (one the config's labels run)." } },
+            "required": ["planner"]
+        })
+    }
+
     fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
         planner_option(self.name(), options, "planner").map(drop)
+    }
+
+    /// `planner` must be the registry name of one of the config's planners: another
+    /// (a typo, or a planner no label runs) drew no table without a word.
+    fn check_experiment(
+        &self,
+        options: &toml::Table,
+        experiment: &Experiment,
+    ) -> Result<(), OptionError> {
+        let name = planner_option(self.name(), options, "planner")?;
+        config_planner(self.name(), "planner", name, experiment)
     }
 
     fn render(&self, context: &Context<'_>, out: &mut String, _reproduction: &mut Reproduction) {
@@ -84,6 +120,31 @@ impl Section for Seed002Capso {
             out.push_str(&render_capso(context.experiment, context.index, capso));
         }
     }
+}
+
+/// Checks that `name`, the section's option `key`, is the registry name of a planner the
+/// experiment runs.
+fn config_planner(
+    section: &str,
+    key: &str,
+    name: &str,
+    experiment: &Experiment,
+) -> Result<(), OptionError> {
+    if experiment.planners.iter().any(|p| p.name == name) {
+        return Ok(());
+    }
+    let mut planners: Vec<String> = Vec::new();
+    for p in &experiment.planners {
+        if !planners.iter().any(|q| q == p.name) {
+            planners.push(p.name.to_string());
+        }
+    }
+    Err(OptionError::NotAPlanner {
+        section: section.to_string(),
+        key: key.to_string(),
+        name: name.to_string(),
+        planners,
+    })
 }
 
 /// The one option of a section that names a planner: `key`, a string, and nothing else.

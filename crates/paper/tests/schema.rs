@@ -32,7 +32,7 @@ impl Validator {
 }
 
 fn validator() -> Validator {
-    let schema = schema::experiment_schema(&planner_paper::renderer().section_names())
+    let schema = schema::experiment_schema(&planner_paper::renderer().section_schemas())
         .expect("the schema builds");
     let mut schemas = boon::Schemas::new();
     let mut compiler = boon::Compiler::new();
@@ -247,7 +247,7 @@ fn schema_keys(schema: &Value) -> Vec<String> {
 #[test]
 fn the_schemas_runner_keys_are_the_parsers() {
     let schema =
-        schema::experiment_schema(&planner_paper::renderer().section_names()).expect("schema");
+        schema::experiment_schema(&planner_paper::renderer().section_schemas()).expect("schema");
     let top = config::parse(
         Path::new("t.toml"),
         &GOOD.replace("name = \"mine\"", "name = \"mine\"\nzz_unknown = 1"),

@@ -93,6 +93,12 @@ pub trait Section: Send + Sync {
         }
     }
 
+    /// The JSON Schema of the section's options, for `gridplan schema`: an object of
+    /// `properties` (without `name`) and the `required` ones; by default none.
+    fn options_schema(&self) -> serde_json::Value {
+        serde_json::json!({ "properties": {} })
+    }
+
     /// Checks the section's options against the experiment (options that name its labels);
     /// by default [`Section::check`].
     fn check_experiment(
@@ -184,6 +190,21 @@ pub enum OptionError {
         /// The config's labels.
         labels: Vec<String>,
     },
+    /// An option naming a planner (a registry name) that none of the config's labels runs.
+    #[error(
+        "section {section:?}: `{key} = {name:?}` names no planner of this config; expected the registry name of one of its planners ({})",
+        .planners.join(", ")
+    )]
+    NotAPlanner {
+        /// The section.
+        section: String,
+        /// The option.
+        key: String,
+        /// The name given.
+        name: String,
+        /// The registry names the config's labels run, each once, in label order.
+        planners: Vec<String>,
+    },
     /// A section's option naming a planner, missing.
     #[error(
         "section {section:?} needs `{key}`, the registry name of the planner it shows, e.g. {{ name = {section:?}, {key} = \"...\" }}"
@@ -224,6 +245,15 @@ impl Renderer {
     /// The names of every section, for config errors and the config schema.
     pub fn section_names(&self) -> Vec<&'static str> {
         self.sections.iter().map(|s| s.name()).collect()
+    }
+
+    /// Every section's name with the schema of its options ([`Section::options_schema`]),
+    /// in summary.md's order: what `gridplan schema` says `sections = [...]` takes.
+    pub fn section_schemas(&self) -> Vec<(&'static str, serde_json::Value)> {
+        self.sections
+            .iter()
+            .map(|s| (s.name(), s.options_schema()))
+            .collect()
     }
 
     /// Renders summary.md and returns it with the reproduction counts.

@@ -48,6 +48,13 @@ impl Section for Paired {
         context.experiment.planners.len() >= 2
     }
 
+    fn options_schema(&self) -> serde_json::Value {
+        serde_json::json!({ "properties": { BASELINE: {
+            "type": "string",
+            "description": "The label the others are compared with (default: the config's first label)."
+        } } })
+    }
+
     /// Takes `baseline`, a label of the experiment.
     fn check(&self, options: &toml::Table) -> Result<(), OptionError> {
         for (key, value) in options {

@@ -79,7 +79,7 @@ impl Source<'_> {
 )]
 pub(crate) struct RawConfig {
     /// The experiment's name; names the output directory.
-    #[schemars(with = "String", pattern(r"^[A-Za-z0-9_-]+$"))]
+    #[schemars(with = "String", pattern(r"^[A-Za-z0-9_-]+$"), length(max = MAX_NAME_LEN))]
     name: Spanned<String>,
     /// Free text, copied to the top of summary.md.
     description: Option<String>,
@@ -97,7 +97,8 @@ pub(crate) struct RawConfig {
     /// Base seed; seeded planners get seed + repeat.
     #[serde(default)]
     seed: u64,
-    /// Limits per run; a planner table's own `budget` replaces the experiment's.
+    /// Limits per run, for every planner; a planner table's own `budget` sets some of
+    /// them for that planner, key by key (the keys it leaves out keep these values).
     #[serde(default)]
     #[schemars(with = "crate::schema::BudgetKeys")]
     budget: Budget,
@@ -145,11 +146,25 @@ pub(crate) struct RawConfig {
 
 /// One entry of `sections = [...]`: a section name, or a table with its `name` and the
 /// section's own options (e.g. `{ name = "seed002", proposed = "pastar" }`).
-#[derive(Deserialize)]
-#[serde(untagged)]
 enum RawSection {
     Name(String),
     Table(toml::Table),
+}
+
+/// Read by hand, not `untagged`, so that a wrong entry says what an entry is (serde's
+/// untagged enum named the Rust type: "did not match any variant of untagged enum").
+impl<'de> Deserialize<'de> for RawSection {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        use serde::de::Error as _;
+        match toml::Value::deserialize(deserializer)? {
+            toml::Value::String(name) => Ok(RawSection::Name(name)),
+            toml::Value::Table(table) => Ok(RawSection::Table(table)),
+            other => Err(D::Error::custom(format!(
+                "invalid type: {} {other}, expected a section name (a string) or a table {{ name = \"...\", ... }}",
+                other.type_str()
+            ))),
+        }
+    }
 }
 
 fn zero() -> Spanned<usize> {
@@ -162,7 +177,10 @@ fn one() -> Spanned<u32> {
 
 /// A `[[maps]]` set.
 #[derive(Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a `[[maps]]` table of map files and their problems"
+)]
 pub(crate) struct RawMaps {
     /// Map files or globs, relative to the config.
     #[schemars(with = "Vec<String>", length(min = 1))]
@@ -185,18 +203,20 @@ pub(crate) struct RawMaps {
     /// The scenario buckets to keep.
     buckets: Option<Vec<u32>>,
     /// The scenario lines to keep, first and last (1-based).
-    #[schemars(with = "Option<[usize; 2]>")]
-    lines: Option<Pair<usize>>,
+    #[schemars(with = "Option<[std::num::NonZeroUsize; 2]>")]
+    lines: Option<Spanned<Pair<usize>>>,
     /// Keep every n-th scenario.
     #[schemars(with = "Option<usize>", range(min = 1))]
     every: Option<Spanned<usize>>,
     /// At most this many scenarios.
+    #[schemars(range(min = 1))]
     limit: Option<usize>,
     /// ROS maps: inflate obstacles by this many cells.
     #[schemars(with = "Option<u32>")]
     inflation: Option<Spanned<u32>>,
     /// ROS maps: inflate unknown cells too.
-    inflate_unknown: Option<bool>,
+    #[schemars(with = "Option<bool>")]
+    inflate_unknown: Option<Spanned<bool>>,
     /// .csv maps only: the value of a cell that is an obstacle (default 0).
     #[schemars(with = "Option<u8>", extend("enum" = [0, 1]))]
     obstacle: Option<Spanned<i64>>,
@@ -208,7 +228,10 @@ pub(crate) struct RawMaps {
 
 /// A map set's `costs = { ... }` (configs/README.md).
 #[derive(Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table of cell-cost options (`rule`, `lethal`, `unknown`, `weights`, `swamp`, `water`)"
+)]
 pub(crate) struct RawCosts {
     /// How a move's cost combines the weights of the cells it joins.
     #[schemars(with = "Option<crate::schema::CostRuleKeys>")]
@@ -232,7 +255,10 @@ pub(crate) struct RawCosts {
 
 /// A start-goal pair of a map set.
 #[derive(Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table { start = [x, y], goal = [x, y] }"
+)]
 pub(crate) struct RawPair {
     /// The start cell.
     #[schemars(with = "[u32; 2]")]
@@ -330,7 +356,10 @@ pub enum FigurePick {
 /// `bucket`; `y` names a record metric (`length`, `steps`, `turns`, `score`, `time_ms`,
 /// `optimal_length`) or a counter (`n_expanded`). Values are medians over a label's runs.
 #[derive(Debug, Clone, PartialEq, Eq, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a `[[charts]]` table (`x`, `y`, `group`, `title`)"
+)]
 pub struct ChartSpec {
     /// The horizontal axis: a planner parameter or `bucket`.
     pub x: String,
@@ -371,7 +400,10 @@ impl PathsMode {
 
 /// Limits the snapshot test applies to keep large sweeps fast (ignored by `experiment`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table of test limits (`problems_per_map`, `repeats`)"
+)]
 pub struct TestLimits {
     /// At most this many problems per map in the test.
     pub problems_per_map: Option<usize>,
@@ -523,7 +555,8 @@ pub struct PlannerSpec {
     pub factory: Factory,
     /// Parameters, as given (without `planner`, `budget` and `compare`).
     pub params: toml::Table,
-    /// The budget for this planner (the experiment's unless overridden).
+    /// The budget for this planner: the experiment's, with the keys the planner's own
+    /// `budget` table gives replaced, key by key.
     pub budget: Budget,
     /// Which published planner's values to compare with, when not its own.
     pub compare: Option<Compare>,
@@ -559,7 +592,10 @@ impl PlannerSpec {
 /// metrics of this planner against another planner's published values (lexastar against
 /// Backtracking's best paths). Without it a planner is compared under its registry name.
 #[derive(Debug, Clone, PartialEq, Eq, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table { with = \"<registry name>\", metrics = [...] }"
+)]
 pub struct Compare {
     /// The published planner key.
     pub with: String,
@@ -686,6 +722,20 @@ fn path_key(path: &serde_path_to_error::Path, message: &str) -> Option<String> {
         key.push_str(&segment);
     }
     (!key.is_empty()).then_some(key)
+}
+
+/// The span of top-level key `key` as written in `text` (a `[key]` header, `key = ...`,
+/// the first `[[key]]`), for an error about the key's whole value; the start of the file
+/// (1:1, as a missing key's error) when it is not written.
+fn top_key_span(text: &str, key: &str) -> Range<usize> {
+    toml_edit::ImDocument::parse(text)
+        .ok()
+        .and_then(|doc| {
+            doc.as_table()
+                .get_key_value(key)
+                .and_then(|(k, _)| k.span())
+        })
+        .unwrap_or(0..0)
 }
 
 /// The top-level `kind` of a config, read alone (any other key ignored).
@@ -835,7 +885,10 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
     let planners = collect_planners(&src, &raw)?;
     let maps = collect_maps(&src, &base, &raw.maps, map_cell_limit(&planners))?;
     if maps.is_empty() {
-        return Err(src.error(None, "key `maps`: at least one map is needed"));
+        return Err(src.error(
+            Some(top_key_span(src.text, "maps")),
+            "key `maps`: at least one map is needed",
+        ));
     }
     // The one place where planners that cannot honour cell costs meet weighted maps.
     for map in maps.iter().filter(|m| m.grid.is_weighted()) {
@@ -1035,6 +1088,16 @@ fn check_top_level(src: &Source<'_>, raw: &RawConfig) -> Result<String, ConfigEr
 /// [`MAX_ADMISSIBILITY_WARNINGS`] one by one, then their count), said at config time,
 /// before anything runs.
 fn collect_planners(src: &Source<'_>, raw: &RawConfig) -> Result<Vec<PlannerSpec>, ConfigError> {
+    // An empty label wrote an empty planner cell in runs.csv and a figure named `-<hash>`.
+    if let Some(label) = raw.planners.keys().find(|l| l.get_ref().trim().is_empty()) {
+        return Err(src.error(
+            Some(label.span()),
+            format!(
+                "key `planners`: label {:?} is empty; a label names its planner's runs, figures and files (`[planners.LABEL]`)",
+                label.get_ref()
+            ),
+        ));
+    }
     let mut planners = Vec::new();
     let mut inadmissible = Vec::new();
     for (label, table) in &expand_sweeps(src, &raw.planners)? {
@@ -1058,7 +1121,10 @@ fn collect_planners(src: &Source<'_>, raw: &RawConfig) -> Result<Vec<PlannerSpec
         );
     }
     if planners.is_empty() {
-        return Err(src.error(None, "key `planners`: at least one planner is needed"));
+        return Err(src.error(
+            Some(top_key_span(src.text, "planners")),
+            "key `planners`: at least one planner is needed",
+        ));
     }
     Ok(planners)
 }
@@ -1283,7 +1349,17 @@ fn planner_spec(
             ),
         ));
     };
-    let name = name_value.get_ref().as_str().unwrap_or_default();
+    let Some(name) = name_value.get_ref().as_str() else {
+        return Err(src.error(
+            Some(name_value.span()),
+            format!(
+                "planner `{label_text}`, key `planner`: expected a registry name (a string: one of {}), found {} {}",
+                registry::names().join(", "),
+                name_value.get_ref().type_str(),
+                name_value.get_ref()
+            ),
+        ));
+    };
     let Some(entry) = registry::find(name) else {
         return Err(src.error(
             Some(name_value.span()),
@@ -1315,7 +1391,9 @@ fn planner_spec(
             }
             "compare" => compare = Some(read_compare(src, label_text, value)?),
             "budget" => {
-                budget = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
+                // Key by key: what the planner's table sets replaces the experiment's
+                // `[budget]` value of that key; the other keys keep the experiment's.
+                let own = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
                     src.error(
                         Some(value.span()),
                         format!(
@@ -1324,6 +1402,12 @@ fn planner_spec(
                         ),
                     )
                 })?;
+                budget = Budget {
+                    max_expansions: own.max_expansions.or(default_budget.max_expansions),
+                    max_time: own.max_time.or(default_budget.max_time),
+                    max_memory_mb: own.max_memory_mb.or(default_budget.max_memory_mb),
+                    ..default_budget
+                };
             }
             other => {
                 params.insert(other.to_string(), value.get_ref().clone());
@@ -1658,7 +1742,10 @@ fn map_entries(
         Some(scen) => {
             let all = planner_maps::read_scenarios(&base.join(scen.get_ref()))
                 .map_err(|e| set.at(scen.span(), format!("key `scen`: {e}")))?;
-            Some(select_scenarios(all, raw).map_err(|m| set.at(set.span(), m))?)
+            Some(
+                select_scenarios(all, raw)
+                    .map_err(|(span, m)| set.at(span.unwrap_or_else(|| set.span()), m))?,
+            )
         }
         None => None,
     };
@@ -1715,7 +1802,10 @@ fn map_entries(
 
 /// A start-goal pair of a map set as points of the map frame (metres).
 #[derive(Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table { start = [x, y], goal = [x, y] } of metres"
+)]
 pub(crate) struct RawPoints {
     /// The start, `[x, y]` in metres.
     #[schemars(with = "[f64; 2]")]
@@ -1786,7 +1876,7 @@ fn check_map_keys(set: &MapSet<'_>) -> Result<(), ConfigError> {
         1 => {}
         0 => return Err(set.at(
             set.span(),
-            "give exactly one of `problems` (\"corners\" or \"file\"), `pairs`, `points` or `scen`"
+            "give exactly one of `problems` (\"corners\", \"file\" or \"start\"), `pairs`, `points` or `scen`"
                 .into(),
         )),
         _ => {
@@ -1890,7 +1980,7 @@ fn map_read_options(
     let raw = set.spanned.get_ref();
     let ros_options = planner_maps::RosOptions {
         inflation_radius: raw.inflation.as_ref().map_or(0, |r| *r.get_ref()),
-        inflate_unknown: raw.inflate_unknown.unwrap_or(false),
+        inflate_unknown: raw.inflate_unknown.as_ref().is_some_and(|u| *u.get_ref()),
     };
     let csv = match &raw.obstacle {
         Some(value) => Some(
@@ -1936,10 +2026,11 @@ fn check_file_options(set: &MapSet<'_>, path: &Path) -> Result<(), ConfigError> 
         ));
     }
     if !is_ros(path) && (raw.inflation.is_some() || raw.inflate_unknown.is_some()) {
-        let span = raw
-            .inflation
-            .as_ref()
-            .map_or_else(|| set.span(), Spanned::span);
+        let span = match (&raw.inflation, &raw.inflate_unknown) {
+            (Some(inflation), _) => inflation.span(),
+            (None, Some(unknown)) => unknown.span(),
+            (None, None) => set.span(),
+        };
         return Err(set.at(
             span,
             format!(
@@ -2041,14 +2132,26 @@ fn file_pairs(
     Ok((pairs, buckets))
 }
 
+/// The scenarios of `all` that the set's `buckets`, `lines`, `every` and `limit` select;
+/// an error at the key that is wrong (`None`: the set's, for an empty selection).
 fn select_scenarios(
     all: Vec<planner_maps::Scenario>,
     raw: &RawMaps,
-) -> Result<Vec<planner_maps::Scenario>, String> {
-    if let Some(Pair([from, to])) = raw.lines {
+) -> Result<Vec<planner_maps::Scenario>, (Option<Range<usize>>, String)> {
+    let lines = raw.lines.as_ref().map(|l| (l.span(), *l.get_ref()));
+    if let Some((span, Pair([from, to]))) = &lines {
+        if *from == 0 {
+            return Err((
+                Some(span.clone()),
+                format!("key `lines`: [{from}, {to}]: lines are 1-based (the file's first line is line 1)"),
+            ));
+        }
         if from > to {
-            return Err(format!(
-                "key `lines`: [{from}, {to}] starts after it ends (the first line, then the last)"
+            return Err((
+                Some(span.clone()),
+                format!(
+                    "key `lines`: [{from}, {to}] starts after it ends (the first line, then the last)"
+                ),
             ));
         }
     }
@@ -2056,13 +2159,14 @@ fn select_scenarios(
         .into_iter()
         .filter(|s| raw.buckets.as_ref().is_none_or(|b| b.contains(&s.bucket)))
         .filter(|s| {
-            raw.lines
-                .is_none_or(|Pair([from, to])| (from..=to).contains(&s.line))
+            lines
+                .as_ref()
+                .is_none_or(|(_, Pair([from, to]))| (*from..=*to).contains(&s.line))
         })
         .collect();
     if let Some(every) = &raw.every {
         if *every.get_ref() == 0 {
-            return Err("key `every` must be at least 1".into());
+            return Err((Some(every.span()), "key `every` must be at least 1".into()));
         }
         selected = selected.into_iter().step_by(*every.get_ref()).collect();
     }
@@ -2070,9 +2174,10 @@ fn select_scenarios(
         selected.truncate(limit);
     }
     if selected.is_empty() {
-        return Err(
+        return Err((
+            None,
             "the scenario selection (`buckets`, `lines`, `every`, `limit`) is empty".into(),
-        );
+        ));
     }
     Ok(selected)
 }
@@ -2220,10 +2325,30 @@ fn parse_published_for(
             ));
         };
         // `"<stem>#<k>"` is problem k of map `<stem>`.
-        let stem = match map.rsplit_once('#') {
-            Some((stem, k)) if k.parse::<usize>().is_ok() => stem,
-            _ => map,
+        let (stem, problem) = match map.rsplit_once('#') {
+            Some((stem, k)) if k.parse::<usize>().is_ok() => (stem, k.parse::<usize>().ok()),
+            _ => (map, None),
         };
+        let map_key_span = || {
+            doc.as_table()
+                .get_key_value(map)
+                .and_then(|(k, _)| k.span())
+        };
+        // A problem the config's map does not have (or written otherwise than the
+        // report looks it up, `#01`) would be dropped without a word.
+        if let (Some(k), Some(entry)) = (problem, maps.iter().find(|m| map_stem(&m.name) == stem)) {
+            let n = entry.problems.len();
+            if k == 0 || k > n || map != format!("{stem}#{k}") {
+                return Err(inner.error(
+                    map_key_span(),
+                    format!(
+                        "`[{map}]`: map `{}` has {n} problem{} (`#1` to `#{n}`); the table names no problem of it",
+                        entry.name,
+                        if n == 1 { "" } else { "s" }
+                    ),
+                ));
+            }
+        }
         if !config_stems.contains(&stem) && !beside.iter().any(|b| b == stem) {
             let at = doc
                 .as_table()
@@ -2280,6 +2405,12 @@ fn parse_published_for(
                             ),
                         )
                     })?;
+                if !number.is_finite() {
+                    return Err(inner.error(
+                        value.span(),
+                        format!("`{map}.{planner}.{metric}` must be a number, not {number}"),
+                    ));
+                }
                 numbers.insert(metric.to_string(), number);
             }
             planners.insert(planner.to_string(), numbers);

@@ -21,7 +21,7 @@ use crate::config::{Compare, RawConfig};
 #[derive(JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(
-    description = "Limits per run; a planner table's own `budget` replaces the experiment's."
+    description = "Limits per run, for every planner; a planner table's own `budget` sets some of them for that planner, key by key (a key it leaves out keeps the experiment's)."
 )]
 pub struct BudgetKeys {
     /// Stop after this many expansions (each planner says what one expansion is).
@@ -107,8 +107,9 @@ fn planner_table_schema(name: &str, summary: &str) -> Result<Value, RegistryErro
 /// The JSON Schema (draft 2020-12) of experiment configs, for `gridplan schema` and
 /// editors: derived from the config parser's types, with the planner tables as a `oneOf`
 /// over `planner = "<name>"`, each with that planner's declared parameters. `sections` are
-/// the names `sections = [...]` may use (the report's catalogue).
-pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
+/// the names `sections = [...]` may use (the report's catalogue), each with the schema of
+/// its options (`{ "properties": {...}, "required": [...] }`, without `name`).
+pub fn experiment_schema(sections: &[(&str, Value)]) -> Result<Value, RegistryError> {
     let mut planners = Vec::new();
     for entry in registry::PLANNERS {
         planners.push(planner_table_schema(entry.name, entry.summary)?);
@@ -120,17 +121,7 @@ pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
     if let Some(derived) = schema.get_mut("properties").and_then(Value::as_object_mut) {
         properties = std::mem::take(derived);
     }
-    properties.insert(
-        "sections".into(),
-        json!({ "type": "array",
-                "description": "The summary.md sections to write (configs/README.md).",
-                "items": { "anyOf": [
-                    { "enum": sections },
-                    { "type": "object", "required": ["name"],
-                      "description": "A section with its options, e.g. { name = \"seed002\", proposed = \"pastar\" }.",
-                      "properties": { "name": { "enum": sections } } }
-                ] } }),
-    );
+    properties.insert("sections".into(), sections_schema(sections));
     properties.insert(
         "planners".into(),
         json!({
@@ -143,5 +134,65 @@ pub fn experiment_schema(sections: &[&str]) -> Result<Value, RegistryError> {
     if let Some(object) = schema.as_object_mut() {
         object.insert("properties".into(), Value::Object(properties));
     }
+    bound_unsigned(&mut schema);
     Ok(schema)
+}
+
+/// The schema of `sections = [...]`: a bare name for a section that needs no option, or
+/// a table per section (`name` and exactly that section's options, `oneOf` by name).
+fn sections_schema(sections: &[(&str, Value)]) -> Value {
+    let bare: Vec<&str> = sections
+        .iter()
+        .filter(|(_, options)| {
+            options
+                .get("required")
+                .and_then(Value::as_array)
+                .is_none_or(Vec::is_empty)
+        })
+        .map(|(name, _)| *name)
+        .collect();
+    let mut tables = Vec::new();
+    for (name, options) in sections {
+        let mut properties = Map::new();
+        properties.insert("name".into(), json!({ "const": name }));
+        if let Some(own) = options.get("properties").and_then(Value::as_object) {
+            properties.extend(own.clone());
+        }
+        let mut required = vec![Value::from("name")];
+        if let Some(own) = options.get("required").and_then(Value::as_array) {
+            required.extend(own.iter().cloned());
+        }
+        tables.push(json!({
+            "type": "object",
+            "title": name,
+            "required": required,
+            "additionalProperties": false,
+            "properties": properties,
+        }));
+    }
+    json!({ "type": "array",
+            "description": "The summary.md sections to write (configs/README.md): a name, or a table with its `name` and its options, e.g. { name = \"seed002\", proposed = \"pastar\" }.",
+            "items": { "anyOf": [ { "enum": bare }, { "oneOf": tables } ] } })
+}
+
+/// Adds the largest value of an unsigned integer of 8, 16 or 32 bits (`format` `uint8`,
+/// `uint16`, `uint32`) as its `maximum` wherever the derive gave none, so that the schema
+/// refuses what the parser refuses (`repeats = 4294967296`, a cell's coordinate).
+pub fn bound_unsigned(value: &mut Value) {
+    match value {
+        Value::Object(object) => {
+            let most = match object.get("format").and_then(Value::as_str) {
+                Some("uint8") => Some(u64::from(u8::MAX)),
+                Some("uint16") => Some(u64::from(u16::MAX)),
+                Some("uint32") => Some(u64::from(u32::MAX)),
+                _ => None,
+            };
+            if let Some(most) = most {
+                object.entry("maximum").or_insert_with(|| most.into());
+            }
+            object.values_mut().for_each(bound_unsigned);
+        }
+        Value::Array(items) => items.iter_mut().for_each(bound_unsigned),
+        _ => {}
+    }
 }

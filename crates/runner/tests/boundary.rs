@@ -395,3 +395,50 @@ fn config_value_errors_name_their_key() {
         assert!(error.contains(&expected), "{text}\n{error}");
     }
 }
+
+/// A planner's own `budget = { max_time_ms = 100000 }` replaced the whole experiment
+/// `[budget]` (its `max_expansions = 1` was lost for that planner), while the docs say
+/// `[budget]` is for every planner. Now a planner's table sets its keys one by one: the
+/// keys it leaves out keep the experiment's.
+#[test]
+fn a_planners_budget_overrides_the_experiments_key_by_key() {
+    let dir = scratch("budget-keys");
+    std::fs::write(
+        dir.join("s.map"),
+        "type octile\nheight 3\nwidth 3\nmap\n...\n...\n...\n",
+    )
+    .unwrap();
+    let text = "name = \"c\"\n[budget]\nmax_expansions = 1\nmax_memory_mb = 64\n\
+                [[maps]]\nfiles = [\"s.map\"]\nproblems = \"corners\"\n\
+                [planners.timed]\nplanner = \"astar\"\nbudget = { max_time_ms = 100000 }\n\
+                [planners.more]\nplanner = \"astar\"\nbudget = { max_expansions = 5 }\n\
+                [planners.plain]\nplanner = \"astar\"\n";
+    let experiment = config::parse(&dir.join("cfg.toml"), text).unwrap();
+    let budget = |label: &str| {
+        experiment
+            .planners
+            .iter()
+            .find(|p| p.label == label)
+            .map(|p| p.budget)
+            .unwrap()
+    };
+    let timed = budget("timed");
+    assert_eq!(timed.max_expansions, Some(1));
+    assert_eq!(
+        timed.max_time,
+        Some(std::time::Duration::from_millis(100_000))
+    );
+    assert_eq!(timed.max_memory_mb, Some(64));
+    let more = budget("more");
+    assert_eq!(more.max_expansions, Some(5));
+    assert_eq!(more.max_time, None);
+    assert_eq!(more.max_memory_mb, Some(64));
+    assert_eq!(
+        budget("plain"),
+        Budget {
+            max_expansions: Some(1),
+            max_memory_mb: Some(64),
+            ..Budget::default()
+        }
+    );
+}
