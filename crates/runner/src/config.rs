@@ -1390,25 +1390,7 @@ fn planner_spec(
                 ignore_costs = true;
             }
             "compare" => compare = Some(read_compare(src, label_text, value)?),
-            "budget" => {
-                // Key by key: what the planner's table sets replaces the experiment's
-                // `[budget]` value of that key; the other keys keep the experiment's.
-                let own = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
-                    src.error(
-                        Some(value.span()),
-                        format!(
-                            "planner `{label_text}`, key `budget`: {}",
-                            first_line(&e.to_string())
-                        ),
-                    )
-                })?;
-                budget = Budget {
-                    max_expansions: own.max_expansions.or(default_budget.max_expansions),
-                    max_time: own.max_time.or(default_budget.max_time),
-                    max_memory_mb: own.max_memory_mb.or(default_budget.max_memory_mb),
-                    ..default_budget
-                };
-            }
+            "budget" => budget = planner_budget(src, label_text, value, default_budget)?,
             other => {
                 params.insert(other.to_string(), value.get_ref().clone());
             }
@@ -1427,6 +1409,32 @@ fn planner_spec(
         budget,
         compare,
         ignore_costs,
+    })
+}
+
+/// The budget of label `label` whose table's `budget` is `value`: key by key, what the
+/// table sets replaces the experiment's `[budget]` (`default`) value of that key; the
+/// other keys keep the experiment's.
+fn planner_budget(
+    src: &Source<'_>,
+    label: &str,
+    value: &Spanned<toml::Value>,
+    default: Budget,
+) -> Result<Budget, ConfigError> {
+    let own = Budget::deserialize(value.get_ref().clone()).map_err(|e| {
+        src.error(
+            Some(value.span()),
+            format!(
+                "planner `{label}`, key `budget`: {}",
+                first_line(&e.to_string())
+            ),
+        )
+    })?;
+    Ok(Budget {
+        max_expansions: own.max_expansions.or(default.max_expansions),
+        max_time: own.max_time.or(default.max_time),
+        max_memory_mb: own.max_memory_mb.or(default.max_memory_mb),
+        ..default
     })
 }
 
@@ -2296,6 +2304,55 @@ fn check_published_file(
     Ok(())
 }
 
+/// Published table `map` (`"<stem>#<k>"`) must name problem `k` of `entry`, the config's
+/// map of that stem, as the report looks it up (`#1` to `#n`, no leading zeros): another
+/// would be dropped without a word.
+fn check_published_problem(
+    inner: &Source<'_>,
+    at: Option<Range<usize>>,
+    map: &str,
+    k: usize,
+    entry: &MapEntry,
+) -> Result<(), ConfigError> {
+    let n = entry.problems.len();
+    if k == 0 || k > n || map != format!("{}#{k}", map_stem(&entry.name)) {
+        return Err(inner.error(
+            at,
+            format!(
+                "`[{map}]`: map `{}` has {n} problem{} (`#1` to `#{n}`); the table names no problem of it",
+                entry.name,
+                if n == 1 { "" } else { "s" }
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The published value `value` of `key` (`map.planner.metric`): an integer or a finite
+/// float (`nan` and `inf` are no published number).
+fn published_number(
+    inner: &Source<'_>,
+    value: &toml_edit::Item,
+    key: &str,
+) -> Result<f64, ConfigError> {
+    let number = value
+        .as_float()
+        .or_else(|| value.as_integer().map(|i| i as f64))
+        .ok_or_else(|| {
+            inner.error(
+                value.span(),
+                format!("`{key}` must be a number, not {}", value.type_name()),
+            )
+        })?;
+    if !number.is_finite() {
+        return Err(inner.error(
+            value.span(),
+            format!("`{key}` must be a number, not {number}"),
+        ));
+    }
+    Ok(number)
+}
+
 /// [`parse_published`], with the map stems also allowed to be those of `maps`
 /// (a published file beside none of them, as a test's, may give values for them).
 fn parse_published_for(
@@ -2329,25 +2386,12 @@ fn parse_published_for(
             Some((stem, k)) if k.parse::<usize>().is_ok() => (stem, k.parse::<usize>().ok()),
             _ => (map, None),
         };
-        let map_key_span = || {
-            doc.as_table()
-                .get_key_value(map)
-                .and_then(|(k, _)| k.span())
-        };
-        // A problem the config's map does not have (or written otherwise than the
-        // report looks it up, `#01`) would be dropped without a word.
         if let (Some(k), Some(entry)) = (problem, maps.iter().find(|m| map_stem(&m.name) == stem)) {
-            let n = entry.problems.len();
-            if k == 0 || k > n || map != format!("{stem}#{k}") {
-                return Err(inner.error(
-                    map_key_span(),
-                    format!(
-                        "`[{map}]`: map `{}` has {n} problem{} (`#1` to `#{n}`); the table names no problem of it",
-                        entry.name,
-                        if n == 1 { "" } else { "s" }
-                    ),
-                ));
-            }
+            let at = doc
+                .as_table()
+                .get_key_value(map)
+                .and_then(|(k, _)| k.span());
+            check_published_problem(&inner, at, map, k, entry)?;
         }
         if !config_stems.contains(&stem) && !beside.iter().any(|b| b == stem) {
             let at = doc
@@ -2393,24 +2437,8 @@ fn parse_published_for(
                         ),
                     ));
                 }
-                let number = value
-                    .as_float()
-                    .or_else(|| value.as_integer().map(|i| i as f64))
-                    .ok_or_else(|| {
-                        inner.error(
-                            value.span(),
-                            format!(
-                                "`{map}.{planner}.{metric}` must be a number, not {}",
-                                value.type_name()
-                            ),
-                        )
-                    })?;
-                if !number.is_finite() {
-                    return Err(inner.error(
-                        value.span(),
-                        format!("`{map}.{planner}.{metric}` must be a number, not {number}"),
-                    ));
-                }
+                let key = format!("{map}.{planner}.{metric}");
+                let number = published_number(&inner, value, &key)?;
                 numbers.insert(metric.to_string(), number);
             }
             planners.insert(planner.to_string(), numbers);
