@@ -456,17 +456,7 @@ fn open_stream(
     }
     let mut ahead = None;
     let mut finished = false;
-    // A stream that does not read back (damaged) says what to do.
-    let damaged = |error: RunnerError| match error {
-        RunnerError::Stream(_) | RunnerError::Frame { .. } | RunnerError::Io { .. } => {
-            ResumeError::Damaged {
-                area: area.dir.clone(),
-                source: Box::new(error),
-            }
-            .into()
-        }
-        other => other,
-    };
+    let damaged = |error| damaged_stream(area, error);
     let done = match args.resume {
         true if fs::symlink_metadata(&path).is_err() && fs::symlink_metadata(&old).is_ok() => {
             match resume_point(&old, header, runs, experiment).map_err(damaged)? {
@@ -538,6 +528,21 @@ fn open_stream(
         done,
         finished,
     })
+}
+
+/// `error` of reading the stream in `area` back, made [`ResumeError::Damaged`] (which says
+/// what to do) when the stream does not read back; other errors as they are.
+fn damaged_stream(area: &outdir::StreamArea, error: RunnerError) -> RunnerError {
+    match error {
+        RunnerError::Stream(_) | RunnerError::Frame { .. } | RunnerError::Io { .. } => {
+            ResumeError::Damaged {
+                area: area.dir.clone(),
+                source: Box::new(error),
+            }
+            .into()
+        }
+        other => other,
+    }
 }
 
 /// Says, as a warning, that a sweep started without `--resume` discards the runs an
