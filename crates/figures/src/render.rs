@@ -1438,7 +1438,10 @@ pub(crate) fn panels(
                 .set("fill", INK)
                 .set("class", "label"),
             );
-            let (note, expanded) = &wrapped[k];
+            // One entry per layer: `layers.get(k)` found one.
+            let (note, expanded) = wrapped
+                .get(k)
+                .map_or((&[][..], &[][..]), |(n, e)| (&n[..], &e[..]));
             panel.append(
                 lines_text(f.ox, f.ox, y1 + LINE_H, note, NOTE_FS)
                     .set("fill", "#444444")
