@@ -249,6 +249,18 @@ impl StreamHeader {
 /// the output directory and the config's own path are left out: they change no record.
 pub fn config_hash(experiment: &Experiment) -> String {
     let mut h = Fnv::default();
+    hash_settings(&mut h, experiment);
+    for map in &experiment.maps {
+        h.text(&map.name);
+        hash_cells(&mut h, map);
+        hash_problems(&mut h, map);
+    }
+    format!("{:016x}", h.0)
+}
+
+/// Hashes an experiment's settings into `h`: name, repeats, seed, figures, paths,
+/// sections and the planners (label, registry name, parameters, budget, compare).
+fn hash_settings(h: &mut Fnv, experiment: &Experiment) {
     h.text(&experiment.name);
     h.text(&experiment.repeats.to_string());
     h.text(&experiment.seed.to_string());
@@ -265,24 +277,28 @@ pub fn config_hash(experiment: &Experiment) -> String {
         h.text(&planner.params.to_string());
         h.text(&format!("{:?} {:?}", planner.budget, planner.compare));
     }
-    for map in &experiment.maps {
-        h.text(&map.name);
-        h.text(&format!("{}x{}", map.grid.width(), map.grid.height()));
-        h.bytes(
-            &map.grid
-                .free_cells()
-                .iter()
-                .map(|&f| u8::from(f))
-                .collect::<Vec<u8>>(),
-        );
-        for p in &map.problems {
-            h.text(&format!(
-                "{} {} {} {:?} {:?}",
-                p.index, p.start, p.goal, p.optimal_length, p.invalid
-            ));
-        }
+}
+
+/// Hashes `map`'s size and free cells (its file's content) into `h`.
+fn hash_cells(h: &mut Fnv, map: &crate::config::MapEntry) {
+    h.text(&format!("{}x{}", map.grid.width(), map.grid.height()));
+    h.bytes(
+        &map.grid
+            .free_cells()
+            .iter()
+            .map(|&f| u8::from(f))
+            .collect::<Vec<u8>>(),
+    );
+}
+
+/// Hashes `map`'s problems (start, goal, stated optimum, invalidity) into `h`.
+fn hash_problems(h: &mut Fnv, map: &crate::config::MapEntry) {
+    for p in &map.problems {
+        h.text(&format!(
+            "{} {} {} {:?} {:?}",
+            p.index, p.start, p.goal, p.optimal_length, p.invalid
+        ));
     }
-    format!("{:016x}", h.0)
 }
 
 /// What [`config_hash`] covers, hashed input by input (64-bit FNV-1a, hex), in the
@@ -291,41 +307,14 @@ pub fn config_hash(experiment: &Experiment) -> String {
 /// and `problems NAME` (its problems: its scenario file or the config's list).
 pub fn input_hashes(experiment: &Experiment) -> Vec<(String, String)> {
     let mut h = Fnv::default();
-    h.text(&experiment.name);
-    h.text(&experiment.repeats.to_string());
-    h.text(&experiment.seed.to_string());
-    h.text(&format!(
-        "{:?} {:?} {:?} {:?}",
-        experiment.figures,
-        experiment.figures_per_map,
-        experiment.paths,
-        experiment.sections.as_ref().map(|s| &s.requests)
-    ));
-    for planner in &experiment.planners {
-        h.text(&planner.label);
-        h.text(planner.name);
-        h.text(&planner.params.to_string());
-        h.text(&format!("{:?} {:?}", planner.budget, planner.compare));
-    }
+    hash_settings(&mut h, experiment);
     let mut inputs = vec![("settings".to_string(), format!("{:016x}", h.0))];
     for map in &experiment.maps {
         let mut h = Fnv::default();
-        h.text(&format!("{}x{}", map.grid.width(), map.grid.height()));
-        h.bytes(
-            &map.grid
-                .free_cells()
-                .iter()
-                .map(|&f| u8::from(f))
-                .collect::<Vec<u8>>(),
-        );
+        hash_cells(&mut h, map);
         inputs.push((format!("map {}", map.name), format!("{:016x}", h.0)));
         let mut h = Fnv::default();
-        for p in &map.problems {
-            h.text(&format!(
-                "{} {} {} {:?} {:?}",
-                p.index, p.start, p.goal, p.optimal_length, p.invalid
-            ));
-        }
+        hash_problems(&mut h, map);
         inputs.push((format!("problems {}", map.name), format!("{:016x}", h.0)));
     }
     inputs
