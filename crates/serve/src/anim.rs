@@ -129,8 +129,8 @@ const fn palette() -> [u8; 96] {
     rgb
 }
 
-/// The palette index of a block with `blocked` of its `cells` blocked: [`FREE`], a grey,
-/// or [`BLOCKED`] (module docs).
+/// The palette index of a block with `blocked` of its `cells` blocked: the free cells'
+/// (0), a grey, or the blocked cells' (1) (module docs).
 pub fn block_index(blocked: usize, cells: usize) -> u8 {
     if blocked == 0 || cells == 0 {
         FREE
