@@ -14,7 +14,11 @@
 //! that are blocked (a block on the right or bottom edge may hold fewer than `k` x `k`):
 //! free (white) when none is, blocked (dark) when all are, and in between one of
 //! [`GREY_LEVELS`] greys, darker as the share grows (the share rounded up to the next
-//! fifteenth, so one blocked cell of a block is never drawn free). A wall one cell thick
+//! fifteenth, so one blocked cell of a block is never drawn free). A ROS `map_server` map's
+//! unknown cells ([`Search::unknown`]) are drawn in their own blue-grey, whether the grid
+//! makes them blocked or free, as the SVG figures draw them apart from walls: a block whose
+//! cells are all unknown is that colour, and another block's share is of its known cells
+//! (so unknown cells neither darken nor lighten it). A wall one cell thick
 //! thus shows as a faint grey line, as the SVG figure's thin walls do, rather than
 //! vanishing (a block drawn blocked only when most of its cells were dropped a one-cell
 //! wall across a 5000 x 5000 map from every frame). The map's blocks are
@@ -78,6 +82,9 @@ const GOAL: u8 = 5;
 /// to [`GREY_LEVELS`].
 const GREY: u8 = 6;
 
+/// A ROS map's unknown cells (module docs), after the greys.
+const UNKNOWN: u8 = GREY + GREY_LEVELS;
+
 /// The grey levels of a block partly blocked (module docs): level `l` stands for a share of
 /// blocked cells over `(l - 1) / 15` and at most `l / 15`.
 pub const GREY_LEVELS: u8 = 15;
@@ -86,7 +93,7 @@ pub const GREY_LEVELS: u8 = 15;
 const FREE_RGB: u8 = 255;
 const BLOCKED_RGB: u8 = 40;
 
-/// RGB of the palette (32 entries: six colours, the greys, then unused).
+/// RGB of the palette (32 entries: six colours, the greys, unknown, then unused).
 const PALETTE: [u8; 96] = palette();
 
 const fn palette() -> [u8; 96] {
@@ -126,6 +133,11 @@ const fn palette() -> [u8; 96] {
         rgb[at + 2] = tone;
         level += 1;
     }
+    // Unknown: a blue-grey, apart from the greys of partly blocked blocks.
+    let at = 3 * UNKNOWN as usize;
+    rgb[at] = 160;
+    rgb[at + 1] = 180;
+    rgb[at + 2] = 200;
     rgb
 }
 
@@ -166,13 +178,17 @@ pub struct Search<'a> {
     pub expanded: &'a [Cell],
     /// The path's cells (waypoints; consecutive ones joined by straight segments).
     pub path: &'a [Cell],
+    /// One flag per cell, row-major, true where a ROS map does not know the cell (drawn
+    /// apart, module docs); `None` for none.
+    pub unknown: Option<&'a [bool]>,
 }
 
 /// The animation of `search` as GIF bytes, at most `limit` bytes (module docs).
 pub fn gif(search: &Search<'_>, limit: usize) -> Result<Vec<u8>, AnimError> {
     let (width, height) = (search.grid.width(), search.grid.height());
     let longer = width.max(height).max(1);
-    let blocks = Blocks::new(search.grid, longer.div_ceil(MAX_SIDE).max(1));
+    let k = longer.div_ceil(MAX_SIDE).max(1);
+    let blocks = Blocks::new(search.grid, search.unknown, k);
     let scale = (MAX_SIDE / longer).clamp(1, 8);
     if u64::from(blocks.width) * u64::from(scale) > 65_535
         || u64::from(blocks.height) * u64::from(scale) > 65_535
@@ -205,26 +221,36 @@ struct Blocks {
 }
 
 impl Blocks {
-    /// `grid` in blocks of `k` x `k` cells: one pass over its cells.
-    fn new(grid: &Grid, k: u32) -> Blocks {
+    /// `grid` in blocks of `k` x `k` cells, `unknown` (one flag per cell, if given)
+    /// marking the cells drawn apart: one pass over its cells.
+    fn new(grid: &Grid, unknown: Option<&[bool]>, k: u32) -> Blocks {
         let (w, h) = (grid.width() as usize, grid.height() as usize);
         let ku = k as usize;
         let (width, height) = (grid.width().div_ceil(k), grid.height().div_ceil(k));
         let (pw, ph) = (width as usize, height as usize);
         let mut base = vec![FREE; pw * ph];
-        // Blocked cells of one row of blocks.
+        // Known blocked cells and unknown cells of one row of blocks.
         let mut blocked = vec![0usize; pw];
+        let mut unknowns = vec![0usize; pw];
+        let is_unknown = |i: usize| unknown.is_some_and(|u| u.get(i).copied().unwrap_or(false));
         for (y, row) in grid.free_cells().chunks(w.max(1)).enumerate().take(h) {
             for (x, &free) in row.iter().enumerate() {
-                blocked[x / ku] += usize::from(!free);
+                if is_unknown(y * w + x) {
+                    unknowns[x / ku] += 1;
+                } else {
+                    blocked[x / ku] += usize::from(!free);
+                }
             }
             if (y + 1) % ku == 0 || y + 1 == h {
                 let rows = y % ku + 1;
                 let by = y / ku;
-                for (bx, count) in blocked.iter_mut().enumerate() {
-                    let columns = ku.min(w - bx * ku);
-                    base[by * pw + bx] = block_index(*count, rows * columns);
-                    *count = 0;
+                for (bx, (count, unknown)) in blocked.iter_mut().zip(&mut unknowns).enumerate() {
+                    let cells = rows * ku.min(w - bx * ku);
+                    base[by * pw + bx] = match *unknown >= cells {
+                        true => UNKNOWN,
+                        false => block_index(*count, cells - *unknown),
+                    };
+                    (*count, *unknown) = (0, 0);
                 }
             }
         }
@@ -346,6 +372,7 @@ pub fn plan_gif(result: &planner_runner::plan::PlanResult) -> Result<Vec<u8>, An
             goal: r.goal,
             expanded: &result.expanded,
             path,
+            unknown: result.unknown.as_deref(),
         },
         MAX_GIF_BYTES,
     )

@@ -315,6 +315,7 @@ fn gifs_are_drawn_in_blocks_from_513_cells_a_side() {
             goal,
             expanded: &[start, goal],
             path: &[start, goal],
+            unknown: None,
         };
         let bytes = planner_serve::anim::gif(&search, usize::MAX).unwrap();
         let (w, h, frames) = decode_indexed(&bytes);
@@ -348,6 +349,7 @@ fn a_thin_wall_on_a_big_map_shows_in_every_gif_frame() {
         goal,
         expanded: &expanded,
         path: &[start, goal],
+        unknown: None,
     };
     let bytes = planner_serve::anim::gif(&search, usize::MAX).unwrap();
     let (w, h, frames) = decode_indexed(&bytes);
@@ -369,5 +371,93 @@ fn a_thin_wall_on_a_big_map_shows_in_every_gif_frame() {
         }
         // The rows of blocks beside it are free.
         assert!(frame[(row + 1) * w + 250] == 0 && frame[(row - 1) * w + 250] == 0);
+    }
+}
+
+/// A ROS map's unknown cells are drawn in their own colour in every frame of `plan --gif`
+/// (they were drawn as walls: the mask never reached the animation), as the SVG figures
+/// draw them; cell by cell on a small map, and in blocks (a block all unknown is unknown,
+/// another's share counts its known cells only) on a large one.
+#[test]
+fn unknown_cells_of_a_ros_map_have_their_own_colour_in_gifs() {
+    // A 6 x 4 trinary map: `#` occupied (0), `?` unknown (205), `.` free (254).
+    let rows = ["..?...", "..#??.", "......", "?....."];
+    let dir =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gif-unknown-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut pgm = b"P5\n6 4\n255\n".to_vec();
+    for row in rows {
+        pgm.extend(row.bytes().map(|c| match c {
+            b'#' => 0u8,
+            b'?' => 205,
+            _ => 254,
+        }));
+    }
+    std::fs::write(dir.join("m.pgm"), pgm).unwrap();
+    std::fs::write(
+        dir.join("m.yaml"),
+        "image: m.pgm\nresolution: 1.0\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n\
+         occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n",
+    )
+    .unwrap();
+    let args = PlanArgs {
+        map: dir.join("m.yaml"),
+        planner: "astar".into(),
+        start: Some(planner_api::Cell::new(0, 0)),
+        goal: Some(planner_api::Cell::new(5, 2)),
+        ..PlanArgs::default()
+    };
+    let options = PlanOptions {
+        record_expanded: true,
+        ..PlanOptions::default()
+    };
+    let result = planner_runner::plan::run_with(&args, &options).unwrap();
+    let bytes = planner_serve::anim::plan_gif(&result).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let (w, _, frames) = decode_indexed(&bytes);
+    // Eight pixels a cell (512 / 6, at most 8); the colour of a cell at its centre.
+    assert_eq!(w, 48);
+    let unknown = planner_serve::anim::palette_rgb(21);
+    assert_eq!(unknown, [160, 180, 200]);
+    for frame in &frames {
+        for (y, row) in rows.iter().enumerate() {
+            for (x, c) in row.bytes().enumerate() {
+                let index = frame[(y * 8 + 4) * w + x * 8 + 4];
+                match c {
+                    b'?' => assert_eq!(index, 21, "unknown ({x}, {y})"),
+                    b'#' => assert_eq!(index, 1, "wall ({x}, {y})"),
+                    _ => assert!(index != 21 && index != 1, "free ({x}, {y}): {index}"),
+                }
+            }
+        }
+    }
+
+    // Blocks of 2 x 2 cells: the first all unknown, the second half unknown with one of
+    // its two known cells blocked (half: the grey of level 8), the third free.
+    let mut grid = planner_api::Grid::new(1024, 2).unwrap();
+    grid.set_free(planner_api::Cell::new(3, 0), false);
+    let mut mask = vec![false; 2048];
+    for (x, y) in [(0, 0), (1, 0), (0, 1), (1, 1), (2, 0), (2, 1)] {
+        mask[y * 1024 + x] = true;
+    }
+    let (start, goal) = (
+        planner_api::Cell::new(1023, 0),
+        planner_api::Cell::new(1023, 1),
+    );
+    let search = planner_serve::anim::Search {
+        grid: &grid,
+        start,
+        goal,
+        expanded: &[start],
+        path: &[start, goal],
+        unknown: Some(&mask),
+    };
+    let bytes = planner_serve::anim::gif(&search, usize::MAX).unwrap();
+    let (w, h, frames) = decode_indexed(&bytes);
+    assert_eq!((w, h), (512, 1));
+    let half = planner_serve::anim::block_index(1, 2);
+    assert_eq!(half, 6 + 8 - 1);
+    for frame in &frames {
+        assert_eq!(&frame[..3], &[21, half, 0]);
     }
 }
