@@ -249,7 +249,9 @@ pub struct ExperimentConfig {
     pub gppc: Vec<GppcSpec>,
     /// The memory a GPPC replay may take for its per-cell state, in MiB (at least 1): a
     /// replay whose scenario declares a map needing more ([`gppc::memory_bytes`]) is
-    /// recorded with status `over_memory` and the shortfall instead of run. None: no limit.
+    /// recorded with status `over_memory` and the shortfall instead of run. None: half the
+    /// machine's memory, the runner's default ([`planner_runner::run::default_max_memory_mb`];
+    /// no limit where it cannot be read).
     #[schemars(with = "Option<std::num::NonZeroU64>")]
     pub max_memory_mb: Option<Spanned<u64>>,
     /// Settings for tests.
@@ -1389,9 +1391,15 @@ pub fn run_config_with(
                         carry_every = carry_every.max(config.test.carry_every.unwrap_or(0));
                     }
                     let stop = || options.stopped();
-                    // A map too large for the budget is refused before any of it is made.
+                    // A map too large for the budget is refused before any of it is made;
+                    // without `max_memory_mb`, the runner's default (half the machine's
+                    // memory) is the budget, as a sweep's.
                     let budget = Budget {
-                        max_memory_mb: config.max_memory_mb.as_ref().map(|mb| *mb.get_ref()),
+                        max_memory_mb: config
+                            .max_memory_mb
+                            .as_ref()
+                            .map(|mb| *mb.get_ref())
+                            .or_else(planner_runner::run::default_max_memory_mb),
                         ..Budget::unlimited()
                     };
                     if let Some(mb) = budget.max_memory_mb {

@@ -1464,6 +1464,54 @@ fn gppc_replays_are_runs_in_every_table() {
     );
 }
 
+/// Without `max_memory_mb`, a GPPC scenario declaring a map whose per-cell state is over
+/// half the machine's memory (46,000 cells a side, within the reader's 2^31 cells: about
+/// 58 GB) is recorded `over_memory` against the runner's default budget, and the other
+/// replay runs; it aborted the process on the failed allocation.
+#[test]
+fn a_gppc_map_over_half_the_machines_memory_is_refused_without_a_budget() {
+    let side = 46_000;
+    let needed = planner_replan::gppc::memory_bytes(side, side, true);
+    match planner_runner::run::default_max_memory_mb() {
+        Some(mb) if needed > mb.saturating_mul(1 << 20) => {}
+        _ => {
+            eprintln!("skipped: this machine's memory is unknown or would hold the map");
+            return;
+        }
+    }
+    let dir = scratch("gppc-default-memory");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.patch"),
+        "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 1\nwidth 2\nmap\n@@\n",
+    )
+    .unwrap();
+    let commands = "cost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n\
+         Q 0 0 0 3 3 4.2426406871\nP 1 1 1 1\nQ 1 0 0 3 3 5.4142135624\n";
+    for (name, side) in [("s", 4), ("huge", side)] {
+        std::fs::write(
+            dir.join(format!("{name}.scen")),
+            format!("version 2\nheight {side}\nwidth {side}\n{commands}"),
+        )
+        .unwrap();
+    }
+    let config = "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"dstar_lite\"]\n[[gppc]]\nscen = \"s.scen\"\ncarry_every = 1\n[[gppc]]\nscen = \"huge.scen\"\ncarry_every = 1\n";
+    std::fs::write(dir.join("g.toml"), config).unwrap();
+    let out = dir.join("out");
+    let done = experiment::run(&dir.join("g.toml"), &out, &test_options(1)).unwrap();
+    assert_eq!((done.runs, done.replans), (2, 1));
+    let runs = read(&out, "runs.csv");
+    assert_eq!(
+        column(&runs, "status"),
+        vec!["ran", "over_memory"],
+        "{runs}"
+    );
+    assert!(
+        runs.contains("46000 x 46000 grid, over the max_memory_mb = "),
+        "{runs}"
+    );
+}
+
 /// A GPPC scenario declaring a map whose per-cell state is over `max_memory_mb` is
 /// recorded as refused (`over_memory`, with the shortfall) and its map never made; the
 /// other replays run. A 20000 x 20000 declaration with one small patch made the A* oracle
