@@ -1464,6 +1464,29 @@ fn gppc_replays_are_runs_in_every_table() {
     );
 }
 
+/// A scratch directory `name` with a GPPC patch file and one scenario `NAME.scen` per
+/// `(NAME, side)`, each declaring a `side` x `side` map and the same two batches of 4 x 4
+/// patches and queries.
+fn gppc_scenarios(name: &str, scenarios: &[(&str, u32)]) -> PathBuf {
+    let dir = scratch(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("p.patch"),
+        "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 1\nwidth 2\nmap\n@@\n",
+    )
+    .unwrap();
+    let commands = "cost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n\
+         Q 0 0 0 3 3 4.2426406871\nP 1 1 1 1\nQ 1 0 0 3 3 5.4142135624\n";
+    for (stem, side) in scenarios {
+        std::fs::write(
+            dir.join(format!("{stem}.scen")),
+            format!("version 2\nheight {side}\nwidth {side}\n{commands}"),
+        )
+        .unwrap();
+    }
+    dir
+}
+
 /// Without `max_memory_mb`, a GPPC scenario declaring a map whose per-cell state is over
 /// half the machine's memory (46,000 cells a side, within the reader's 2^31 cells: about
 /// 58 GB) is recorded `over_memory` against the runner's default budget, and the other
@@ -1479,22 +1502,7 @@ fn a_gppc_map_over_half_the_machines_memory_is_refused_without_a_budget() {
             return;
         }
     }
-    let dir = scratch("gppc-default-memory");
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(
-        dir.join("p.patch"),
-        "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 1\nwidth 2\nmap\n@@\n",
-    )
-    .unwrap();
-    let commands = "cost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n\
-         Q 0 0 0 3 3 4.2426406871\nP 1 1 1 1\nQ 1 0 0 3 3 5.4142135624\n";
-    for (name, side) in [("s", 4), ("huge", side)] {
-        std::fs::write(
-            dir.join(format!("{name}.scen")),
-            format!("version 2\nheight {side}\nwidth {side}\n{commands}"),
-        )
-        .unwrap();
-    }
+    let dir = gppc_scenarios("gppc-default-memory", &[("s", 4), ("huge", side)]);
     let config = "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"dstar_lite\"]\n[[gppc]]\nscen = \"s.scen\"\ncarry_every = 1\n[[gppc]]\nscen = \"huge.scen\"\ncarry_every = 1\n";
     std::fs::write(dir.join("g.toml"), config).unwrap();
     let out = dir.join("out");
@@ -1518,25 +1526,7 @@ fn a_gppc_map_over_half_the_machines_memory_is_refused_without_a_budget() {
 /// allocate 3.2 GB for the whole map and aborted the process.
 #[test]
 fn a_gppc_map_over_the_memory_budget_is_refused() {
-    let dir = scratch("gppc-memory");
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(
-        dir.join("p.patch"),
-        "type patch\npatches 2\npatch 0\nheight 4\nwidth 4\nmap\n....\n....\n....\n....\npatch 1\nheight 1\nwidth 2\nmap\n@@\n",
-    )
-    .unwrap();
-    let commands = "cost 1 octile\npatch p.patch\ncommands\nP 0 0 0 0\n\
-         Q 0 0 0 3 3 4.2426406871\nP 1 1 1 1\nQ 1 0 0 3 3 5.4142135624\n";
-    std::fs::write(
-        dir.join("s.scen"),
-        format!("version 2\nheight 4\nwidth 4\n{commands}"),
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("big.scen"),
-        format!("version 2\nheight 20000\nwidth 20000\n{commands}"),
-    )
-    .unwrap();
+    let dir = gppc_scenarios("gppc-memory", &[("s", 4), ("big", 20_000)]);
     let config = "kind = \"dynamic\"\nname = \"g\"\ncompare = [\"dstar_lite\"]\nmax_memory_mb = 100\n[[gppc]]\nscen = \"s.scen\"\ncarry_every = 1\n[[gppc]]\nscen = \"big.scen\"\ncarry_every = 1\n";
     std::fs::write(dir.join("g.toml"), config).unwrap();
     let out = dir.join("out");
