@@ -215,21 +215,7 @@ fn unknown_cells(svg: &str) -> Vec<(String, String)> {
 #[test]
 fn unknown_cells_of_a_ros_map_are_grey_in_sweep_and_plan_figures() {
     let dir = common::scratch("unknown-cells", "ros");
-    let mut pgm = b"P5\n6 4\n255\n".to_vec();
-    for row in ROWS {
-        pgm.extend(row.bytes().map(|c| match c {
-            b'#' => 0u8,
-            b'?' => 205,
-            _ => 254,
-        }));
-    }
-    std::fs::write(dir.join("m.pgm"), pgm).unwrap();
-    std::fs::write(
-        dir.join("m.yaml"),
-        "image: m.pgm\nresolution: 1.0\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n\
-         occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n",
-    )
-    .unwrap();
+    planner_testkit::write_ros_map(&dir, "m", &ROWS);
     std::fs::write(
         dir.join("c.toml"),
         "name = \"unknown\"\n[[maps]]\nfiles = [\"m.yaml\"]\n\

@@ -385,21 +385,7 @@ fn unknown_cells_of_a_ros_map_have_their_own_colour_in_gifs() {
     let dir =
         Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gif-unknown-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut pgm = b"P5\n6 4\n255\n".to_vec();
-    for row in rows {
-        pgm.extend(row.bytes().map(|c| match c {
-            b'#' => 0u8,
-            b'?' => 205,
-            _ => 254,
-        }));
-    }
-    std::fs::write(dir.join("m.pgm"), pgm).unwrap();
-    std::fs::write(
-        dir.join("m.yaml"),
-        "image: m.pgm\nresolution: 1.0\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n\
-         occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n",
-    )
-    .unwrap();
+    planner_testkit::write_ros_map(&dir, "m", &rows);
     let args = PlanArgs {
         map: dir.join("m.yaml"),
         planner: "astar".into(),

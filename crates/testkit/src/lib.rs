@@ -50,6 +50,32 @@ pub fn maps_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../maps")
 }
 
+/// Writes a trinary ROS `map_server` map `STEM.yaml` with its image `STEM.pgm` into `dir`
+/// (1 m cells, origin at 0): `rows` top first, `#` occupied (0 in the image), `?` unknown
+/// (205), anything else free (254). Returns the YAML's path.
+pub fn write_ros_map(dir: &std::path::Path, stem: &str, rows: &[&str]) -> PathBuf {
+    let width = rows.first().map_or(0, |row| row.len());
+    let mut pgm = format!("P5\n{width} {}\n255\n", rows.len()).into_bytes();
+    for row in rows {
+        pgm.extend(row.bytes().map(|c| match c {
+            b'#' => 0u8,
+            b'?' => 205,
+            _ => 254,
+        }));
+    }
+    std::fs::write(dir.join(format!("{stem}.pgm")), pgm).expect("the image is written");
+    let yaml = dir.join(format!("{stem}.yaml"));
+    std::fs::write(
+        &yaml,
+        format!(
+            "image: {stem}.pgm\nresolution: 1.0\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n\
+             occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n"
+        ),
+    )
+    .expect("the YAML is written");
+    yaml
+}
+
 /// Any map file under `maps/`, by relative path (`paper/map01.map`, `wpi/map1.txt`).
 pub fn map_file(relative: &str) -> planner_maps::MapFile {
     planner_maps::read_map(&maps_dir().join(relative)).unwrap_or_else(|e| panic!("{e}"))
