@@ -481,7 +481,7 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
                 .span()
                 .map_or((0, 0), |s| line_column(text, s.start));
             let message = e.inner().message().trim();
-            let message = match path_key(e.path()) {
+            let message = match planner_runner::config::serde_path_key(e.path()) {
                 Some(key) if !message.starts_with("unknown field") => {
                     format!("key `{key}`: {message}")
                 }
@@ -713,22 +713,6 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
     }
     config.source = text.to_owned();
     Ok(config)
-}
-
-/// The key serde_path_to_error's `path` names (`radii[0]`, `toggles.seeds[1]`), without
-/// serde_spanned's inner segments; `None` at the top.
-fn path_key(path: &serde_path_to_error::Path) -> Option<String> {
-    let mut key = String::new();
-    for segment in path.iter().map(ToString::to_string) {
-        if segment.starts_with("$__") {
-            continue;
-        }
-        if !key.is_empty() && !segment.starts_with('[') {
-            key.push('.');
-        }
-        key.push_str(&segment);
-    }
-    (!key.is_empty()).then_some(key)
 }
 
 /// The first value of `values` that an earlier one equals (the second of the pair, so

@@ -706,14 +706,30 @@ const MAX_ADMISSIBILITY_WARNINGS: usize = 10;
 /// `planners.a.moves`, `maps[0].files`), without serde_spanned's inner segments; for an
 /// unknown field, the table holding it (its message names the field). `None` at the top.
 fn path_key(path: &serde_path_to_error::Path, message: &str) -> Option<String> {
-    let mut segments: Vec<String> = path
-        .iter()
-        .map(ToString::to_string)
-        .filter(|s| !s.starts_with("$__serde_spanned_private") && !s.starts_with("$__toml_private"))
-        .collect();
+    let mut segments = key_segments(path);
     if message.starts_with("unknown field") {
         segments.pop();
     }
+    join_key(segments)
+}
+
+/// The key a deserializer's `path` names (`radii[0]`, `maps[0].scenarios`), without the
+/// TOML and serde_spanned deserializers' private segments; `None` at the top. The
+/// replanning configs' errors name their keys with it too.
+pub fn serde_path_key(path: &serde_path_to_error::Path) -> Option<String> {
+    join_key(key_segments(path))
+}
+
+/// The segments of `path` a user wrote (the deserializers' private `$__...` ones left out).
+fn key_segments(path: &serde_path_to_error::Path) -> Vec<String> {
+    path.iter()
+        .map(ToString::to_string)
+        .filter(|s| !s.starts_with("$__"))
+        .collect()
+}
+
+/// `segments` as one key: names joined by `.`, indices (`[0]`) appended.
+fn join_key(segments: Vec<String>) -> Option<String> {
     let mut key = String::new();
     for segment in segments {
         if !key.is_empty() && !segment.starts_with('[') {
