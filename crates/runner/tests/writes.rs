@@ -81,6 +81,27 @@ fn umount(path: &Path) {
     assert!(status.success(), "umount {}", path.display());
 }
 
+/// Runs `body` with `mount args` done (skipped, said, where the mount fails), and unmounts
+/// `at` after it, whether it panicked or not (the panic then goes on).
+fn with_mount(test: &str, args: &[&str], at: &Path, body: impl FnOnce()) {
+    if !mount(args, test) {
+        return;
+    }
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(body));
+    umount(at);
+    if let Err(panic) = outcome {
+        std::panic::resume_unwind(panic);
+    }
+}
+
+/// [`with_mount`] of a tmpfs of `size` (`256k`) at `disk`, made first.
+fn with_tmpfs(test: &str, disk: &Path, size: &str, body: impl FnOnce()) {
+    std::fs::create_dir_all(disk).unwrap();
+    let size = format!("size={size}");
+    let args = ["-t", "tmpfs", "-o", &size, "tmpfs", disk.to_str().unwrap()];
+    with_mount(test, &args, disk, body);
+}
+
 /// A bind-mounted output (a Docker volume `--output /results`) ran every run, then failed
 /// to swap ("cannot exchange the new results with ...: Device or resource busy", exit 5),
 /// every `--resume` the same way, and `report` of such a directory too. It is refused
@@ -99,10 +120,7 @@ fn a_mount_point_output_is_refused_before_any_run() {
     // Results written first, so that `report` of the mounted directory is tried too.
     experiment(&args(&config, &source, &NoReport)).unwrap();
     let (source_str, mnt_str) = (source.to_str().unwrap(), mnt.to_str().unwrap());
-    if !mount(&["--bind", source_str, mnt_str], TEST) {
-        return;
-    }
-    let outcome = std::panic::catch_unwind(|| {
+    with_mount(TEST, &["--bind", source_str, mnt_str], &mnt, || {
         for resume in [false, true] {
             let error = experiment(&SweepArgs {
                 resume,
@@ -133,8 +151,6 @@ fn a_mount_point_output_is_refused_before_any_run() {
         experiment(&args(&config, &mnt.join("results"), &NoReport)).unwrap();
         assert!(mnt.join("results/runs.csv").is_file());
     });
-    umount(&mnt);
-    outcome.unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -289,22 +305,8 @@ fn a_full_disk_while_writing_the_results_keeps_every_run() {
     let dir = scratch("writes-full");
     let config = config(&dir, 2);
     let disk = dir.join("disk");
-    std::fs::create_dir_all(&disk).unwrap();
-    if !mount(
-        &[
-            "-t",
-            "tmpfs",
-            "-o",
-            "size=256k",
-            "tmpfs",
-            disk.to_str().unwrap(),
-        ],
-        TEST,
-    ) {
-        return;
-    }
     let output = disk.join("res");
-    let outcome = std::panic::catch_unwind(|| {
+    with_tmpfs(TEST, &disk, "256k", || {
         let meddling = Meddling {
             output: output.clone(),
             big: 1 << 20,
@@ -328,8 +330,6 @@ fn a_full_disk_while_writing_the_results_keeps_every_run() {
         .unwrap();
         assert_eq!(*said.started.lock().unwrap(), Some(4));
     });
-    umount(&disk);
-    outcome.unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -346,23 +346,9 @@ fn a_full_stream_says_how_many_runs_are_kept() {
     // 2 x 5,000 runs: more than a page of records.
     let config = config(&dir, 5000);
     let disk = dir.join("disk");
-    std::fs::create_dir_all(&disk).unwrap();
-    // Four pages: the lock file, the area's marker, records.stream, ahead.stream.
-    if !mount(
-        &[
-            "-t",
-            "tmpfs",
-            "-o",
-            "size=16k",
-            "tmpfs",
-            disk.to_str().unwrap(),
-        ],
-        TEST,
-    ) {
-        return;
-    }
     let output = disk.join("res");
-    let outcome = std::panic::catch_unwind(|| {
+    // Four pages: the lock file, the area's marker, records.stream, ahead.stream.
+    with_tmpfs(TEST, &disk, "16k", || {
         let error = experiment(&args(&config, &output, &NoReport)).unwrap_err();
         let text = error.to_string();
         let area = disk.join(".res.stream");
@@ -394,8 +380,6 @@ fn a_full_stream_says_how_many_runs_are_kept() {
             assert_eq!(*said.started.lock().unwrap(), Some(*kept));
         }
     });
-    umount(&disk);
-    outcome.unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
