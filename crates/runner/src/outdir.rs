@@ -1109,14 +1109,14 @@ pub fn claim_dir(
 
 /// Makes `options` refuse to open a symbolic link (`O_NOFOLLOW`).
 #[cfg(unix)]
-fn no_follow(options: &mut OpenOptions) {
+pub(crate) fn no_follow(options: &mut OpenOptions) {
     use std::os::unix::fs::OpenOptionsExt as _;
     options.custom_flags(libc::O_NOFOLLOW);
 }
 
 /// Makes `options` refuse to open a symbolic link (checked before opening elsewhere).
 #[cfg(not(unix))]
-fn no_follow(_options: &mut OpenOptions) {}
+pub(crate) fn no_follow(_options: &mut OpenOptions) {}
 
 /// Whether `error`, from opening with [`no_follow`], means the path is a symbolic link.
 fn is_link_error(error: &io::Error, path: &Path) -> bool {

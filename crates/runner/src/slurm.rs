@@ -591,14 +591,41 @@ fn check_resumable(experiment: &crate::Experiment, work: &Path, n: u64) -> Resul
 /// after `#` comment lines ([`record_submitted`], [`submitted`]).
 pub const JOBS_FILE: &str = "jobs";
 
-/// The job ids listed in `work`'s [`JOBS_FILE`] (none when there is no such file).
+/// The most of [`JOBS_FILE`] read: ids of a few submissions, never a file's worth.
+const MAX_JOBS_BYTES: u64 = 1 << 20;
+
+/// The job ids listed in `work`'s [`JOBS_FILE`] (none when there is no such file). Only a
+/// regular file is read, and at most [`MAX_JOBS_BYTES`] of it: a link or a device planted
+/// at its name is an error, not followed (a link to `/dev/zero` would never end).
 pub fn submitted(work: &Path) -> Result<Vec<String>, SlurmError> {
+    use std::io::Read as _;
     let path = work.join(JOBS_FILE);
-    let text = match std::fs::read(&path) {
-        Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
+    let metadata = match std::fs::symlink_metadata(&path) {
+        Ok(metadata) => metadata,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
         Err(e) => return Err(io(path.display())(e)),
     };
+    if !metadata.is_file() {
+        let kind = match metadata.file_type().is_symlink() {
+            true => "a symbolic link",
+            false => planner_maps::file_kind(&metadata.file_type()),
+        };
+        let e = std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("not a regular file ({kind}): gridplan wrote a file there; remove it"),
+        );
+        return Err(io(path.display())(e));
+    }
+    // Opened without following a link put there since the look above.
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    crate::outdir::no_follow(&mut options);
+    let mut bytes = Vec::new();
+    options
+        .open(&path)
+        .and_then(|file| file.take(MAX_JOBS_BYTES).read_to_end(&mut bytes))
+        .map_err(io(path.display()))?;
+    let text = String::from_utf8_lossy(&bytes);
     Ok(text
         .lines()
         .map(str::trim)

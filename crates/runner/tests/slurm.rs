@@ -306,3 +306,29 @@ fn shards_their_tasks_would_not_resume_are_refused() {
     assert!(shard.join("shard.stream").is_file());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The jobs file `--submit` reads back is read only as a regular file, and at most a
+/// bounded part of it: a link planted at its name (to `/dev/zero`, which never ends) is an
+/// error naming it, not followed; the ids of a file gridplan wrote are read.
+#[test]
+fn the_jobs_file_is_read_only_as_a_regular_file() {
+    let work = scratch("slurm-jobs-file");
+    std::fs::create_dir_all(&work).unwrap();
+    let jobs = work.join(planner_runner::slurm::JOBS_FILE);
+    assert!(planner_runner::slurm::submitted(&work).unwrap().is_empty());
+    planner_runner::slurm::record_submitted(&work, &["55".into(), "56".into()]).unwrap();
+    assert_eq!(
+        planner_runner::slurm::submitted(&work).unwrap(),
+        ["55", "56"]
+    );
+    std::fs::remove_file(&jobs).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", &jobs).unwrap();
+    let error = planner_runner::slurm::submitted(&work)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("jobs") && error.contains("not a regular file (a symbolic link)"),
+        "{error}"
+    );
+    std::fs::remove_dir_all(&work).unwrap();
+}
