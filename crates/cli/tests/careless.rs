@@ -1337,16 +1337,7 @@ fn plan_stops_on_ctrl_c() {
 fn a_replanning_experiment_stops_on_ctrl_c() {
     use std::os::unix::process::CommandExt as _;
     let dir = scratch(10_002);
-    let maps = common::root().join("maps/movingai");
-    std::fs::write(
-        dir.join("nav.toml"),
-        format!(
-            "kind = \"navigate\"\nname = \"nav\"\nradii = [1, 5]\n[[maps]]\nmap = {:?}\nscen = {:?}\nscenarios = 800\n",
-            maps.join("den520d.map").display().to_string(),
-            maps.join("den520d.map.scen").display().to_string(),
-        ),
-    )
-    .unwrap();
+    common::write_navigate_config(&dir, "den520d", "1, 5", 800);
     let mut command = Command::new(env!("CARGO_BIN_EXE_gridplan"));
     command
         .args(["experiment", "nav.toml", "--output", "out"])

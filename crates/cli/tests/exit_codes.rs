@@ -736,16 +736,7 @@ fn a_replanning_experiment_in_a_job_array_is_refused() {
     // Before, a shard from the environment was ignored for navigate and dynamic configs:
     // every task of an array ran the whole experiment into the same output.
     let dir = scratch("replan-array");
-    let maps = root().join("maps/movingai");
-    std::fs::write(
-        dir.join("nav.toml"),
-        format!(
-            "kind = \"navigate\"\nname = \"nav\"\nradii = [1]\n[[maps]]\nmap = {:?}\nscen = {:?}\nscenarios = 2\n",
-            maps.join("arena.map").display().to_string(),
-            maps.join("arena.map.scen").display().to_string(),
-        ),
-    )
-    .unwrap();
+    crate::common::write_navigate_config(&dir, "arena", "1", 2);
     let args = ["experiment", "nav.toml", "--output", "out"];
     let env = [
         ("SLURM_ARRAY_TASK_ID", "1"),

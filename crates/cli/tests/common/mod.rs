@@ -179,3 +179,20 @@ pub fn shard(dir: &Path, config: &str, shard: &str, output: &str) {
     ];
     succeeded(&gridplan(dir, &args));
 }
+
+/// Writes `dir/nav.toml`, a navigate experiment on the repository's Moving AI map `map`
+/// (`arena`, `den520d`) with its first `scenarios` scenarios at the sensor `radii`
+/// (`"1, 5"`).
+pub fn write_navigate_config(dir: &Path, map: &str, radii: &str, scenarios: usize) {
+    let maps = root().join("maps/movingai");
+    std::fs::write(
+        dir.join("nav.toml"),
+        format!(
+            "kind = \"navigate\"\nname = \"nav\"\nradii = [{radii}]\n[[maps]]\nmap = {:?}\n\
+             scen = {:?}\nscenarios = {scenarios}\n",
+            maps.join(format!("{map}.map")).display().to_string(),
+            maps.join(format!("{map}.map.scen")).display().to_string(),
+        ),
+    )
+    .unwrap();
+}
