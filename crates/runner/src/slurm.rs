@@ -595,7 +595,7 @@ pub const JOBS_FILE: &str = "jobs";
 const MAX_JOBS_BYTES: u64 = 1 << 20;
 
 /// The job ids listed in `work`'s [`JOBS_FILE`] (none when there is no such file). Only a
-/// regular file is read, and at most [`MAX_JOBS_BYTES`] of it: a link or a device planted
+/// regular file is read, and at most 1 MiB of it: a link or a device planted
 /// at its name is an error, not followed (a link to `/dev/zero` would never end).
 pub fn submitted(work: &Path) -> Result<Vec<String>, SlurmError> {
     use std::io::Read as _;
