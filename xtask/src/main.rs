@@ -28,7 +28,10 @@ enum Command {
     User(gridplan::Command),
     /// Scaffold crates/<name> and register it, ready to run.
     NewPlanner {
-        /// Lowercase letters, digits and underscores: the directory and registry name.
+        /// The directory and registry name: 2 to 64 lowercase letters, digits and single
+        /// underscores, starting with a letter and not ending with `_`; not a Rust keyword,
+        /// a crate of the workspace or a registered planner. Writes crates/<name>/,
+        /// configs/<name>.toml, and edits crates/registry and ARCHITECTURE.md.
         name: String,
     },
     /// Write seed 002's generated maps to maps/pastar/ (src/generate.rs documents them).
@@ -81,7 +84,10 @@ fn run(command: Command) -> Result<(), XtaskError> {
             for file in &done.files {
                 println!("  {file}");
             }
-            println!("next: edit crates/{name}/src/lib.rs, then `cargo test -p planner-{name}` and `cargo xtask experiment configs/{name}.toml`");
+            if !done.formatted {
+                println!("rustfmt did not run: `cargo fmt` formats the new files");
+            }
+            println!("next: replace the search in crates/{name}/src/lib.rs and its one-line summary in crates/registry/src/lib.rs and ARCHITECTURE.md, then `cargo test -p planner-{name}` and `cargo xtask experiment configs/{name}.toml`");
             Ok(())
         }
         Command::GenPastarMaps => {

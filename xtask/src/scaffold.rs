@@ -6,7 +6,7 @@
 //! their markers, a config that runs it (`configs/<name>.toml`, on seed 000's maps) and
 //! its paragraph in ARCHITECTURE.md's code map (before planner-figures'). The result
 //! passes tidy, clippy, the docs and the conformance test as generated; its snapshot is
-//! written once accepted (`INSTA_UPDATE=always cargo test -p xtask --test experiments`).
+//! written once accepted (`INSTA_UPDATE=new cargo test -p xtask --test experiments`, README.md).
 //! Nothing is written unless every step can be done: the name is checked (its length, and
 //! its CamelCase type against every name the generated code uses) and the markers are
 //! found first, and a write that fails even so (a full disk) undoes the ones before it.
@@ -25,6 +25,9 @@ const ARCHITECTURE_MARKER: &str = "**`crates/figures` (`planner-figures`).**";
 pub struct Scaffolded {
     /// Files created or edited, relative to the workspace root.
     pub files: Vec<String>,
+    /// Whether `rustfmt` formatted the Rust files among them (else `cargo fmt` would
+    /// change some lines).
+    pub formatted: bool,
 }
 
 /// Why no planner was scaffolded.
@@ -116,7 +119,7 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, ScaffoldError>
         1,
     );
     let entry = format!(
-        "    Entry {{\n        name: {ident}::NAME,\n        summary: \"{name}: describe it in one line\",\n        task: Task::StartGoal,\n        factory: |params| Factory::path({ident}::NAME, params, {ident}::{type_name}::new),\n    }},\n"
+        "    Entry {{\n        name: {ident}::NAME,\n        summary: \"{name}: greedy best-first search (the scaffold's; describe yours here)\",\n        task: Task::StartGoal,\n        factory: |params| Factory::path({ident}::NAME, params, {ident}::{type_name}::new),\n    }},\n"
     );
     let registry = registry.replacen(REGISTRY_MARKER, &format!("{entry}{REGISTRY_MARKER}"), 1);
     let architecture = architecture.replacen(
@@ -156,7 +159,29 @@ pub fn new_planner(root: &Path, name: &str) -> Result<Scaffolded, ScaffoldError>
     written.push("crates/registry/Cargo.toml".into());
     written.push("crates/registry/src/lib.rs".into());
     written.push("ARCHITECTURE.md".into());
-    Ok(Scaffolded { files: written })
+    let rust: Vec<PathBuf> = written
+        .iter()
+        .filter(|path| path.ends_with(".rs"))
+        .map(|path| root.join(path))
+        .collect();
+    let formatted = rustfmt(&rust);
+    Ok(Scaffolded {
+        files: written,
+        formatted,
+    })
+}
+
+/// Formats the generated Rust files as `cargo fmt` would (a long name makes some generated
+/// lines longer than rustfmt's width): whether `rustfmt` ran and succeeded. The files are
+/// written either way; without rustfmt they compile and only `cargo fmt` changes them.
+fn rustfmt(files: &[PathBuf]) -> bool {
+    std::process::Command::new("rustfmt")
+        .args(["--edition", "2021"])
+        .args(files)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|status| status.success())
 }
 
 /// What [`write_all`] has done so far, to be undone when a later step fails: the files it
@@ -412,7 +437,8 @@ fn finds_a_path_around_a_wall() {{
     )
     .unwrap();
     let problem = Problem::new(&grid, Cell::new(0, 1), Cell::new(3, 1)).unwrap();
-    let outcome = {type_name}::new(Config::default()).unwrap().plan(&problem, &Budget::unlimited());
+    let mut planner = {type_name}::new(Config::default()).unwrap();
+    let outcome = planner.plan(&problem, &Budget::unlimited());
     assert_eq!(outcome.status, Status::Found);
     let path = outcome.path.unwrap();
     assert_eq!(path.start(), Some(Cell::new(0, 1)));
@@ -429,6 +455,9 @@ const TEMPLATE: &str = r#"//! The `__NAME__` planner.
 //! OPEN cell closest to the goal by Manhattan distance; FIFO among ties). Replace the body
 //! of `plan` with your algorithm; keep the counters honest (see `planner_api::counters`
 //! for what each name means) and document every choice the source paper leaves open.
+//!
+//! With `Budget::record_expanded` on, it lists the cells it expands in expansion order
+//! (`Outcome::expanded`); keep that list, or say in these docs that the planner has none.
 #![deny(missing_docs)]
 #![cfg_attr(not(test), warn(clippy::unwrap_used))]
 
@@ -522,16 +551,22 @@ impl Planner for __TYPE__ {
         let mut seen = vec![false; grid.len()];
         let mut open = BinaryHeap::new();
         let mut clock = budget.start();
+        let mut expanded = Vec::new();
         let start = grid.index(problem.start());
         seen[start] = true;
         open.push(Reverse((problem.start().manhattan(goal), 0u64, start)));
         stats.n_open_insertions = 1;
+        stats.peak_open = 1;
         let mut n_pushed = 1u64;
         while let Some(Reverse((_, _, node))) = open.pop() {
             if !clock.allows(stats.n_expanded) {
-                return Outcome::budget_exhausted(None, stats.report(Counter::ASTAR));
+                let outcome = Outcome::budget_exhausted(None, stats.report(Counter::ASTAR));
+                return with_expanded(outcome, expanded);
             }
             stats.n_expanded += 1;
+            if budget.record_expanded {
+                expanded.push(grid.cell(node));
+            }
             if node == grid.index(goal) {
                 let mut cells = vec![grid.cell(node)];
                 let mut at = node;
@@ -540,7 +575,8 @@ impl Planner for __TYPE__ {
                     at = previous;
                 }
                 cells.reverse();
-                return Outcome::found(Path::new(cells), stats.report(Counter::ASTAR));
+                let outcome = Outcome::found(Path::new(cells), stats.report(Counter::ASTAR));
+                return with_expanded(outcome, expanded);
             }
             let Cell { x, y } = grid.cell(node);
             for k in 0..moves.len() {
@@ -562,8 +598,14 @@ impl Planner for __TYPE__ {
                 stats.peak_open = stats.peak_open.max(open.len() as u64);
             }
         }
-        Outcome::no_path(stats.report(Counter::ASTAR))
+        with_expanded(Outcome::no_path(stats.report(Counter::ASTAR)), expanded)
     }
+}
+
+/// `outcome` with the cells its search expanded (empty unless the budget asked for them).
+fn with_expanded(mut outcome: Outcome, expanded: Vec<Cell>) -> Outcome {
+    outcome.expanded = expanded;
+    outcome
 }
 "#;
 
@@ -696,6 +738,23 @@ mod tests {
             new_planner(&root, "greedy2").is_err(),
             "a second scaffold must not overwrite"
         );
+        let long = format!("greedy_{}", "x".repeat(56));
+        assert!(new_planner(&root, &long).unwrap().formatted);
+        // As generated, every Rust file is as rustfmt writes it, a 64-character name too.
+        for path in [
+            "crates/greedy2/src/lib.rs".to_string(),
+            "crates/greedy2/tests/smoke.rs".to_string(),
+            format!("crates/{long}/src/lib.rs"),
+            format!("crates/{long}/tests/smoke.rs"),
+            "crates/registry/src/lib.rs".to_string(),
+        ] {
+            let status = std::process::Command::new("rustfmt")
+                .args(["--edition", "2021", "--check"])
+                .arg(root.join(&path))
+                .status()
+                .unwrap();
+            assert!(status.success(), "{path} is not as rustfmt writes it");
+        }
         new_planner(&root, "greedy_best").unwrap();
         let registry = fs::read_to_string(root.join("crates/registry/src/lib.rs")).unwrap();
         assert!(registry.contains("params, planner_greedy_best::GreedyBest::new)"));
