@@ -252,13 +252,20 @@ class Planner:
         ``ValueError`` naming the query, a boolean or string array ``TypeError``; no goals
         for coverage planners) on ``threads`` threads (0: one per core, at most 256 as in a
         config; more, or a negative number, raises ``ValueError``) with the GIL released.
-        Returns arrays in query order: ``status`` (str), ``length`` (float64, NaN without a
-        path), ``steps`` and ``turns`` (int64, -1 without a path), ``time_ms`` (float64,
-        the search alone), ``counters`` (name -> int64 array: every counter that one of the
-        batch's runs reported, -1 in a run that did not report it; a planner declares no
-        fixed set, some report a counter only on some outcomes, e.g. ``path_cost_units``
-        only with a path, so the names are known from the runs alone and no queries give an
-        empty dict) and, with ``paths=True``, ``paths`` (a list of (N, 2) arrays).
+        Returns arrays in query order, ``plan``'s outcome fields: ``status`` (str),
+        ``length`` (float64, NaN without a path), ``cost`` (float64: ``Outcome.cost``, NaN
+        where that is None, i.e. without a path or on an unweighted grid), ``steps``,
+        ``turns`` and ``score`` (int64, -1 without a path), ``valid`` (bool:
+        ``Outcome.valid``, False where that is None, without a path; ``status`` tells the
+        two apart), ``error`` (str: why a run did not plan, e.g. its memory check refused
+        it; empty when none), ``time_ms`` (float64, the search alone), ``counters`` (name
+        -> int64 array: every counter that one of the batch's runs reported, -1 in a run
+        that did not report it; a planner declares no fixed set, some report a counter only
+        on some outcomes, e.g. ``path_cost_units`` only with a path, so the names are known
+        from the runs alone and no queries give an empty dict), ``seed`` (not an array: the
+        seed a seeded planner ran every query with, ``Outcome.seed``; None for other planners and for no queries) and, with
+        ``paths=True``, ``paths`` (a list of (N, 2) arrays), ``marks`` and ``series``
+        (lists of each query's ``Outcome.marks`` and ``Outcome.series``).
         Counters do not depend on ``threads``. A start or goal off the grid (whole numbers
         too large for any grid, as ``2**64`` or ``1e30``, included) or blocked raises
         ``ProblemError`` naming the query. Ctrl-C (a notebook's interrupt) raises
@@ -325,16 +332,29 @@ def read_map(
     obstacle: int = 0,
     weights: Union[None, str, "os.PathLike[str]"] = None,
     graded: bool = False,
+    lethal: Optional[int] = None,
+    unknown: Optional[int] = None,
+    swamp: Optional[int] = None,
+    water: Optional[int] = None,
     cost_rule: str = "mean",
 ) -> Tuple[Grid, List[Problem]]:
     """Reads a ``.map``, ``.txt``, ``.csv`` or ROS ``.yaml`` map: the grid and its problems.
     ``obstacle``: the value marking obstacles in a ``.csv`` matrix (0 or 1). ``weights``:
-    a ``.csv`` of cell weights for the map; ``graded=True``: a ROS map's graded values
-    as costs (nav2's bands); ``cost_rule``: ``"mean"`` or ``"entered"``. As ``gridplan
-    plan`` does, an option that would change nothing raises ``ValueError``: ``obstacle=1``
-    for a map that is not a ``.csv``, ``graded=True`` for one that is not a ROS map or
-    beside ``weights``, ``cost_rule="entered"`` without costs. A ``.scen`` file whose
-    scenarios name another map file is read, with a ``GridplanWarning``."""
+    a ``.csv`` of cell weights for the map (``plan --weights``); ``graded=True``: a ROS
+    map's graded values as costs (nav2's bands, ``plan --graded``); ``lethal``: ROS costs
+    from it up are blocked (1 to 255, default 254, nav2's lethal; ``plan --lethal``);
+    ``unknown``: the cost of a ROS map's unknown cells (0 to 254, default blocked; ``plan
+    --unknown``), each implying ``graded=True``; ``swamp``: the weight of Moving AI swamp
+    ``S`` (ground is 1) and ``water``: the weight of water ``W``, then passable (needs
+    ``swamp``), both 1 to 65535 (``plan --swamp``, ``--water``); ``cost_rule``:
+    ``"mean"`` or ``"entered"``. A config's map set ``costs = { unknown = 250 }`` is
+    ``unknown=250``. As ``gridplan plan`` does, an option that would change nothing or
+    contradicts another raises ``ValueError`` naming the argument: ``obstacle=1`` for a map
+    that is not a ``.csv``, ``graded``, ``lethal`` or ``unknown`` for one that is not a
+    ROS map, ``swamp`` or ``water`` for one that is not a ``.map``, any of them beside
+    ``weights``, ``water`` without ``swamp``, a value out of its range,
+    ``cost_rule="entered"`` without costs. A ``.scen`` file whose scenarios name another
+    map file is read, with a ``GridplanWarning``."""
 
 def planners() -> List[PlannerInfo]:
     """Every registered planner with its declared parameters and their defaults."""
@@ -351,7 +371,10 @@ def plan(
 ) -> Outcome:
     """Plans from ``start`` to ``goal`` (cells: any two integers, as a tuple, list or NumPy
     array; no goal for coverage planners) with registry planner ``planner`` and its
-    parameters (one given as None keeps its default). ``budget``: a number of expansions,
+    parameters (one given as None keeps its default). Integers, ``seed`` included, are a
+    config's TOML integers: a parameter takes -2**63 to 2**63 - 1 (a ``seed`` 0 to
+    2**63 - 1), a budget 0 to 2**63 - 1; beyond that ``ParameterError`` names the key.
+    ``budget``: a number of expansions,
     or a dict of ``max_expansions``, ``max_time_ms`` and ``max_memory_mb`` (a bad value
     raises ``ParameterError`` with key ``budget.<key>``); without ``max_expansions``,
     ``DEFAULT_PLAN_EXPANSIONS``. On a weighted grid a planner that cannot honour cell

@@ -77,7 +77,7 @@ impl Grid {
         let n_cells = height.saturating_mul(width);
         if n_cells > planner_api::Grid::MAX_CELLS {
             return Err(Failure::Value(format!(
-                "Grid.from_numpy: a {width}x{height} array has {n_cells} cells, more than a grid's limit of {}",
+                "Grid.from_numpy: an array of shape ({height}, {width}) has {n_cells} cells, more than a grid's limit of {}",
                 planner_api::Grid::MAX_CELLS
             ))
             .into());
@@ -86,7 +86,7 @@ impl Grid {
         // is refused as too large elsewhere.
         let n_cells = usize::try_from(n_cells).map_err(|_| {
             Failure::Value(format!(
-                "Grid.from_numpy: a {width}x{height} array is too large"
+                "Grid.from_numpy: an array of shape ({height}, {width}) is too large"
             ))
         })?;
         // One byte a cell, reserved fallibly: MemoryError, not an abort, when it cannot be had.
@@ -127,7 +127,7 @@ impl Grid {
         }
         let (Ok(width), Ok(height)) = (u32::try_from(width), u32::try_from(height)) else {
             return Err(Failure::Value(format!(
-                "Grid.from_numpy: a {width}x{height} array is too large"
+                "Grid.from_numpy: an array of shape ({height}, {width}) is too large"
             ))
             .into());
         };
@@ -461,18 +461,28 @@ impl MapProblem {
 /// value that marks an obstacle in a `.csv` matrix (0, seed 000's default, or 1), as
 /// `plan --obstacle` takes it. `weights`: a weight `.csv` for the map (`plan --weights`);
 /// `graded=True`: a ROS map's graded values as costs with nav2's bands (`plan --graded`);
-/// `cost_rule`: the move cost rule of the weighted grid (`plan --cost-rule`).
+/// `lethal` and `unknown`: those bands' lethal cost and the cost of unknown cells
+/// (`plan --lethal`, `--unknown`; each implies `graded`); `swamp` and `water`: Moving AI
+/// terrain weights (`plan --swamp`, `--water`); `cost_rule`: the move cost rule of the
+/// weighted grid (`plan --cost-rule`). The options are checked as the command line checks
+/// its flags: one that would change nothing, or two that contradict each other, raise
+/// `ValueError` naming the argument.
 #[pyfunction]
 #[pyo3(
-    signature = (path, *, obstacle = Int::Fits(0), weights = None, graded = false, cost_rule = "mean"),
-    text_signature = "(path, *, obstacle=0, weights=None, graded=False, cost_rule='mean')"
+    signature = (path, *, obstacle = Int::Fits(0), weights = None, graded = false, lethal = None, unknown = None, swamp = None, water = None, cost_rule = "mean"),
+    text_signature = "(path, *, obstacle=0, weights=None, graded=False, lethal=None, unknown=None, swamp=None, water=None, cost_rule='mean')"
 )]
+#[allow(clippy::too_many_arguments)]
 pub fn read_map(
     py: Python<'_>,
     path: PathBuf,
     obstacle: Int,
     weights: Option<PathBuf>,
     graded: bool,
+    lethal: Option<Int>,
+    unknown: Option<Int>,
+    swamp: Option<Int>,
+    water: Option<Int>,
     cost_rule: &str,
 ) -> PyResult<Py<PyTuple>> {
     let csv = match &obstacle {
@@ -487,16 +497,9 @@ pub fn read_map(
         ))
     })?;
     let obstacle = csv.obstacle_value();
-    let mut options = planner_maps::ReadOptions {
-        csv,
-        ..planner_maps::ReadOptions::default()
-    };
-    options.costs.rule = self::cost_rule(cost_rule, "read_map")?;
-    // As `plan --obstacle`, `--cost-rule`, `--graded` and `--weights`: an option that
-    // would change nothing is refused, not ignored. The obstacle value is a `.csv`
-    // matrix's; a cost rule needs costs to apply to; graded costs come from a ROS map's own
-    // values, and a weight file gives every cell's weight, so neither goes with the other.
     let format = planner_maps::MapFormat::from_path(&path);
+    // As `plan --obstacle`: the obstacle value is a `.csv` matrix's, and is refused for
+    // another map rather than ignored.
     if obstacle != 0 && !matches!(format, Ok(planner_maps::MapFormat::Matrix)) {
         return Err(Failure::Value(format!(
             "read_map: obstacle={obstacle} applies to .csv maps, not {}",
@@ -504,33 +507,20 @@ pub fn read_map(
         ))
         .into());
     }
-    if cost_rule != "mean" && weights.is_none() && !graded {
-        return Err(Failure::Value(format!(
-            "read_map: cost_rule={cost_rule:?} needs costs to apply to: weights or graded=True"
-        ))
-        .into());
-    }
-    if graded {
-        let ros = matches!(
-            format,
-            Ok(planner_maps::MapFormat::Ros | planner_maps::MapFormat::Image)
-        );
-        if !ros {
-            return Err(Failure::Value(format!(
-                "read_map: graded=True applies to ROS maps (.yaml, .pgm, .png), not {}",
-                path.display()
-            ))
-            .into());
-        }
-        if weights.is_some() {
-            return Err(Failure::Value(
-                "read_map: weights gives every cell's weight; it does not go with graded=True"
-                    .into(),
-            )
-            .into());
-        }
-    }
-    options.costs.graded = graded;
+    let given = CostArgs {
+        weights: weights.is_some(),
+        graded,
+        lethal,
+        unknown,
+        swamp,
+        water,
+        cost_rule,
+    };
+    let options = planner_maps::ReadOptions {
+        csv,
+        costs: cost_options(&path, format.ok(), &given)?,
+        ..planner_maps::ReadOptions::default()
+    };
     let call = crate::warn::Call::begin();
     let read = py.detach(|| {
         guarded(|| {
@@ -556,6 +546,120 @@ pub fn read_map(
         .map(|p| Py::new(py, p))
         .collect::<PyResult<_>>()?;
     Ok((grid, problems).into_pyobject(py)?.unbind())
+}
+
+/// `read_map`'s cost arguments, as given.
+struct CostArgs<'a> {
+    /// Whether a weight file was given.
+    weights: bool,
+    graded: bool,
+    lethal: Option<Int>,
+    unknown: Option<Int>,
+    swamp: Option<Int>,
+    water: Option<Int>,
+    cost_rule: &'a str,
+}
+
+/// `value` of argument `name` if it lies from `min` to `max`, else the `ValueError` that
+/// says `what` the argument takes.
+fn in_range(name: &str, value: &Int, min: u16, max: u16, what: &str) -> Result<u16, Failure> {
+    match value {
+        Int::Fits(n) if (i64::from(min)..=i64::from(max)).contains(n) => Ok(*n as u16),
+        _ => Err(Failure::Value(format!("read_map: {name}={value}; {what}"))),
+    }
+}
+
+/// The cost options of `read_map`'s arguments for the map at `path`, checked as
+/// `gridplan plan` checks `--weights`, `--graded`, `--lethal`, `--unknown`, `--swamp`,
+/// `--water` and `--cost-rule` (planner-runner's `PlanCosts`): an option that would change
+/// nothing, or two that contradict each other, raise `ValueError` naming the argument.
+/// `lethal` and `unknown` imply `graded`; graded costs are a ROS map's, terrain weights a
+/// Moving AI map's, and a weight file gives every cell's weight, so it goes with neither.
+fn cost_options(
+    path: &Path,
+    format: Option<planner_maps::MapFormat>,
+    given: &CostArgs<'_>,
+) -> Result<planner_maps::CostOptions, Failure> {
+    use planner_maps::MapFormat;
+    let mut options = planner_maps::CostOptions {
+        rule: self::cost_rule(given.cost_rule, "read_map")?,
+        ..planner_maps::CostOptions::default()
+    };
+    let graded = given.graded || given.lethal.is_some() || given.unknown.is_some();
+    let terrain = given.swamp.is_some() || given.water.is_some();
+    if given.weights && (graded || terrain) {
+        return Err(Failure::Value(
+            "read_map: weights gives every cell's weight; it does not go with graded=True, \
+             lethal, unknown, swamp or water"
+                .into(),
+        ));
+    }
+    if graded {
+        if !matches!(format, Some(MapFormat::Ros | MapFormat::Image)) {
+            let what = match (&given.lethal, &given.unknown) {
+                _ if given.graded => "graded=True".to_string(),
+                (Some(lethal), _) => format!("lethal={lethal}"),
+                (None, Some(unknown)) => format!("unknown={unknown}"),
+                (None, None) => "graded=True".to_string(),
+            };
+            return Err(Failure::Value(format!(
+                "read_map: {what} applies to ROS maps (.yaml, .pgm, .png), not {}",
+                path.display()
+            )));
+        }
+        options.graded = true;
+        if let Some(lethal) = &given.lethal {
+            if matches!(lethal, Int::Fits(0)) {
+                return Err(Failure::Value(
+                    "read_map: lethal=0 would block every cell; costs from lethal up are \
+                     blocked (nav2: 254)"
+                        .into(),
+                ));
+            }
+            options.bands.lethal = in_range(
+                "lethal",
+                lethal,
+                1,
+                255,
+                "the lethal cost is a costmap cost, from 1 to 255 (nav2: 254)",
+            )? as u8;
+        }
+        if let Some(unknown) = &given.unknown {
+            let what = "the cost of an unknown cell is from 0 to 254 (leave it out to block \
+                        unknown cells)";
+            options.bands.unknown = Some(in_range("unknown", unknown, 0, 254, what)? as u8);
+        }
+    }
+    if terrain {
+        if !matches!(format, Some(MapFormat::MovingAi)) {
+            return Err(Failure::Value(format!(
+                "read_map: swamp and water weigh Moving AI terrain (.map files), not {}",
+                path.display()
+            )));
+        }
+        let Some(swamp) = &given.swamp else {
+            return Err(Failure::Value(
+                "read_map: water needs swamp (the weight of swamp `S`)".into(),
+            ));
+        };
+        let what = "swamp and water are weights, from 1 to 65535";
+        options.terrain = Some(planner_maps::TerrainWeights {
+            swamp: in_range("swamp", swamp, 1, u16::MAX, what)?,
+            water: given
+                .water
+                .as_ref()
+                .map(|water| in_range("water", water, 1, u16::MAX, what))
+                .transpose()?,
+        });
+    }
+    if given.cost_rule != "mean" && !given.weights && !graded && !terrain {
+        return Err(Failure::Value(format!(
+            "read_map: cost_rule={:?} needs costs to apply to: weights, graded=True, lethal, \
+             unknown or swamp",
+            given.cost_rule
+        )));
+    }
+    Ok(options)
 }
 
 fn read(
@@ -792,7 +896,9 @@ impl MapFrame {
         match self.inner.cell_at(x, y) {
             Some(c) => Ok((c.x, c.y)),
             None => Err(Failure::Value(format!(
-                "MapFrame.cell: point ({x}, {y}) lies outside the map, which spans {}",
+                "MapFrame.cell: point ({}, {}) lies outside the map, which spans {}",
+                metres(x),
+                metres(y),
                 self.inner.extent()
             ))
             .into()),
@@ -800,10 +906,24 @@ impl MapFrame {
     }
 
     fn __repr__(&self) -> String {
-        let [x, y, yaw] = self.inner.origin;
+        let [x, y, yaw] = self.inner.origin.map(metres);
         format!(
             "MapFrame(resolution={}, origin=({x}, {y}, {yaw}), width={}, height={})",
-            self.inner.resolution, self.inner.width, self.inner.height
+            metres(self.inner.resolution),
+            self.inner.width,
+            self.inner.height
         )
+    }
+}
+
+/// A number of metres (or radians) for a message: as written (`0.05`, `-10`) unless that
+/// takes more than 20 characters, then in exponent form (`1e300`, `-1.5e-300`), so that
+/// an origin of `1e308` does not print 309 digits.
+fn metres(value: f64) -> String {
+    let plain = value.to_string();
+    if plain.len() > 20 {
+        format!("{value:e}")
+    } else {
+        plain
     }
 }

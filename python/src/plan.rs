@@ -396,8 +396,24 @@ impl Outcome {
     }
 }
 
-/// Plans from `start` to `goal` on `grid` with registry planner `planner` and its
-/// parameters; see the stub (`gridplan/__init__.pyi`) for the arguments.
+/// Plans from `start` to `goal` on `grid` with registry planner `planner`; returns an
+/// `Outcome` (`status`, `path`, `metrics`, `counters`, `cost`, ...).
+///
+/// - `start`, `goal`: cells `(x, y)`, any two integers (a tuple, list or NumPy array);
+///   no goal for coverage planners. One off the grid or blocked raises `ProblemError`.
+/// - `planner`: a registry name (`gridplan.planners()` lists them); `**params` its
+///   parameters, as a config's `[planners.label]` table (one given as None keeps its
+///   default; integers up to 2**63 - 1, as a config's). An unknown name, key or bad value
+///   raises `ParameterError` naming it. On a weighted grid a planner that cannot honour
+///   cell costs is refused (key `costs`) unless given `costs="ignore"`.
+/// - `budget`: a number of expansions, or a dict of `max_expansions`, `max_time_ms` and
+///   `max_memory_mb` (a bad value raises `ParameterError` with key `budget.<key>`);
+///   without `max_expansions`, `DEFAULT_PLAN_EXPANSIONS`.
+/// - `record=True`: the search is run once more to record it (`Outcome.expanded`,
+///   `Outcome.events`); it must repeat the first run, else `DeterminismError`.
+///
+/// Ctrl-C stops the search at its next budget check and raises `KeyboardInterrupt`.
+/// The stub (`gridplan/__init__.pyi`) documents every argument and field in full.
 #[pyfunction]
 #[pyo3(signature = (grid, start, goal = None, *, planner = "astar", budget = None, record = false, **params))]
 #[allow(clippy::too_many_arguments)]
@@ -411,10 +427,7 @@ pub fn plan(
     record: bool,
     params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Outcome> {
-    let table = match params {
-        Some(dict) => to_table(dict, "")?,
-        None => toml::Table::new(),
-    };
+    let table = params_table(planner, params)?;
     let mut budget = to_budget(budget)?;
     let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
     let start = endpoint("start", start, &grid)?;
@@ -446,6 +459,26 @@ pub fn plan(
         outcome.events = Some(event_arrays(py, &events)?);
     }
     Ok(outcome)
+}
+
+/// A call's `**params` as the TOML table of a config's planner table. An error is named
+/// after registry planner `planner`, as the runner names its own (`planner `rrt`:
+/// parameter `seed`: ...`); for a name the registry does not know, the planner's error
+/// follows once the parameters are right.
+pub(crate) fn params_table(
+    planner: &str,
+    params: Option<&Bound<'_, PyDict>>,
+) -> Result<toml::Table, Failure> {
+    let Some(dict) = params else {
+        return Ok(toml::Table::new());
+    };
+    to_table(dict, "").map_err(|failure| match failure {
+        Failure::Param { key, message } if registry::find(planner).is_some() => Failure::Param {
+            key,
+            message: format!("planner `{planner}`: {message}"),
+        },
+        other => other,
+    })
 }
 
 /// Cancel flags of the `plan` calls running, one per call at a time, kept for reuse (a
@@ -510,7 +543,7 @@ pub(crate) fn to_budget(budget: Option<&Bound<'_, PyAny>>) -> Result<Budget, Fai
                 return Err(Failure::Param {
                     key: "budget".into(),
                     message: format!(
-                        "budget: expected a number of expansions or a dict of `max_expansions` and `max_time_ms`, got {}",
+                        "budget: expected a number of expansions or a dict of `max_expansions`, `max_time_ms` and `max_memory_mb`, got {}",
                         other.type_str()
                     ),
                 })
@@ -750,16 +783,8 @@ pub(crate) fn build_outcome(py: Python<'_>, parts: OutcomeParts<'_>) -> PyResult
     for (name, value) in parts.counters.iter() {
         counters.set_item(name, value)?;
     }
-    let marks = PyList::empty(py);
-    for mark in parts.marks {
-        marks.append((mark.label.as_str(), (mark.cell.x, mark.cell.y)))?;
-    }
-    let series = PyDict::new(py);
-    for s in parts.series {
-        let points = Array2::from_shape_fn((s.points.len(), 2), |(i, j)| s.points[i][j]);
-        let points = read_only(PyArray2::from_owned_array(py, points).into_any())?;
-        series.set_item(s.name.as_str(), points)?;
-    }
+    let marks = marks_list(py, parts.marks)?;
+    let series = series_dict(py, parts.series)?;
     Ok(Outcome {
         status: parts.status,
         path,
@@ -774,4 +799,30 @@ pub(crate) fn build_outcome(py: Python<'_>, parts: OutcomeParts<'_>) -> PyResult
         expanded: None,
         events: None,
     })
+}
+
+/// A run's marks as `Outcome.marks` gives them: a list of `(label, (x, y))`.
+pub(crate) fn marks_list<'py>(
+    py: Python<'py>,
+    marks: &[planner_api::Mark],
+) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for mark in marks {
+        list.append((mark.label.as_str(), (mark.cell.x, mark.cell.y)))?;
+    }
+    Ok(list)
+}
+
+/// A run's series as `Outcome.series` gives them: name -> (N, 2) read-only float64 array.
+pub(crate) fn series_dict<'py>(
+    py: Python<'py>,
+    series: &[planner_api::Series],
+) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    for s in series {
+        let points = Array2::from_shape_fn((s.points.len(), 2), |(i, j)| s.points[i][j]);
+        let points = read_only(PyArray2::from_owned_array(py, points).into_any())?;
+        dict.set_item(s.name.as_str(), points)?;
+    }
+    Ok(dict)
 }

@@ -32,7 +32,7 @@ use crate::errors::{guarded, Failure};
 use crate::grid::{endpoint, to_cell, Grid};
 use crate::interrupt::{Exclusive, Held, Unheld};
 use crate::plan::{outcome, problem_error, to_budget, Outcome};
-use crate::values::{to_table, Int};
+use crate::values::Int;
 
 /// How long `Planner.plan` waits for another call's hold on the planner before it asks
 /// Python for signals (as [`crate::interrupt`]'s calls do).
@@ -49,7 +49,16 @@ struct State {
     pool: Option<(u32, rayon::ThreadPool)>,
 }
 
-/// A planner prepared for one grid (see the stub, `gridplan/__init__.pyi`).
+/// `Planner(grid, planner="astar", *, budget=None, **params)`: registry planner `planner`
+/// built once for `grid` with its parameters and `budget` (as `gridplan.plan` takes them);
+/// its per-grid tables are built by the first query and reused by every later one.
+///
+/// - `plan(start, goal=None)`: one query, `gridplan.plan`'s `Outcome`.
+/// - `plan_many(starts, goals=None, *, threads=0, paths=False)`: a batch of queries
+///   (`(N, 2)` arrays of `(x, y)`) on threads; a dict of arrays in query order.
+///
+/// Calls on one planner from several threads run one after another. The stub
+/// (`gridplan/__init__.pyi`) documents every argument in full.
 #[pyclass(module = "gridplan", frozen)]
 pub struct Planner {
     /// One call at a time works with it; the others wait, interruptibly ([`Exclusive`]).
@@ -376,10 +385,7 @@ impl Planner {
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Planner> {
         let py = grid.py();
-        let table = match params {
-            Some(dict) => to_table(dict, "")?,
-            None => toml::Table::new(),
-        };
+        let table = crate::plan::params_table(planner, params)?;
         let budget: Budget = to_budget(budget).map_err(|e| e.into_pyerr(py))?;
         let grid: Arc<planner_api::Grid> = grid.get().inner.clone();
         let kept = grid.clone();
@@ -423,7 +429,10 @@ impl Planner {
         &self.name
     }
 
-    /// Plans one query, as `gridplan.plan` would with this planner and parameters.
+    /// Plans one query from `start` to `goal` (cells `(x, y)`; no goal for coverage
+    /// planners), as `gridplan.plan(grid, start, goal, planner=..., **params)` would, and
+    /// returns its `Outcome`. A start or goal off the grid or blocked raises
+    /// `ProblemError`. Ctrl-C takes effect when the search ends.
     #[pyo3(signature = (start, goal = None))]
     fn plan(
         &self,
@@ -469,9 +478,23 @@ impl Planner {
         outcome(py, record)
     }
 
-    /// Plans every query `(starts[i], goals[i])` on `threads` threads (0: one per core)
-    /// with the GIL released; the results as arrays in query order. `counters` holds every
-    /// counter one of the runs reported (-1 in a run without it): no queries, no counters.
+    /// Plans query `i` from `starts[i]` to `goals[i]` (`(N, 2)` arrays of `(x, y)`; no
+    /// goals for coverage planners) on `threads` threads (0: one per core, at most 256)
+    /// with the GIL released, and returns a dict of arrays in query order:
+    ///
+    /// - `status` (str), `length` and `cost` (float64, NaN without a path; `cost` also
+    ///   NaN on an unweighted grid), `steps`, `turns` and `score` (int64, -1 without a
+    ///   path), `valid` (bool, False without a path), `error` (str, empty when none),
+    ///   `time_ms` (float64, the search alone);
+    /// - `counters`: name -> int64 array of every counter one of the runs reported (-1 in
+    ///   a run without it; no queries, no counters);
+    /// - `seed`: the seed a seeded planner ran every query with (None for other planners
+    ///   and for no queries);
+    /// - with `paths=True`, `paths` (a list of (N, 2) arrays), `marks` and `series` (lists
+    ///   of `Outcome.marks` and `Outcome.series`).
+    ///
+    /// A start or goal off the grid or blocked raises `ProblemError` naming the query.
+    /// Ctrl-C raises `KeyboardInterrupt`; the planner stays usable.
     #[pyo3(
         signature = (starts, goals = None, *, threads = Int::Fits(0), paths = false),
         text_signature = "($self, starts, goals=None, *, threads=0, paths=False)"
@@ -639,6 +662,8 @@ fn arrays<'py>(
         PyArray1::from_owned_array(py, Array1::from_iter(records.iter().map(f)))
     };
     out.set_item("length", floats(&|r| r.length.unwrap_or(f64::NAN)))?;
+    // `Outcome.cost`'s value, NaN where it is None (no path, or no weights).
+    out.set_item("cost", floats(&|r| r.cost.unwrap_or(f64::NAN)))?;
     out.set_item("time_ms", floats(&|r| r.time_ms))?;
     let ints = |f: &dyn Fn(&RunRecord) -> i64| {
         PyArray1::from_owned_array(py, Array1::from_iter(records.iter().map(f)))
@@ -646,6 +671,27 @@ fn arrays<'py>(
     let or_minus_one = |v: Option<u64>| v.map_or(-1, |v| i64::try_from(v).unwrap_or(i64::MAX));
     out.set_item("steps", ints(&|r| or_minus_one(r.steps)))?;
     out.set_item("turns", ints(&|r| or_minus_one(r.turns)))?;
+    out.set_item("score", ints(&|r| or_minus_one(r.score)))?;
+    // `Outcome.valid`, False where it is None (no path: `status` tells the two apart).
+    out.set_item(
+        "valid",
+        PyArray1::from_owned_array(
+            py,
+            Array1::from_iter(records.iter().map(|r| r.valid == Some(true))),
+        ),
+    )?;
+    let errors = PyList::new(
+        py,
+        records
+            .iter()
+            .map(|r| r.error.as_deref().unwrap_or_default()),
+    )?;
+    out.set_item(
+        "error",
+        numpy.call_method("asarray", (errors,), Some(&as_str))?,
+    )?;
+    // Every query's runs with the same seed (repeat 0's), as `plan`'s.
+    out.set_item("seed", records.first().and_then(|r| r.seed))?;
     let counters = PyDict::new(py);
     let mut names: Vec<String> = Vec::new();
     for record in records {
@@ -669,6 +715,13 @@ fn arrays<'py>(
             list.append(PyArray2::from_owned_array(py, path))?;
         }
         out.set_item("paths", list)?;
+        let (marks, series) = (PyList::empty(py), PyList::empty(py));
+        for record in records {
+            marks.append(crate::plan::marks_list(py, &record.marks)?)?;
+            series.append(crate::plan::series_dict(py, &record.series)?)?;
+        }
+        out.set_item("marks", marks)?;
+        out.set_item("series", series)?;
     }
     Ok(out)
 }

@@ -23,9 +23,14 @@ use crate::plan::{
     build_outcome, problem_error, problem_failure, to_budget, Outcome, OutcomeParts,
 };
 use crate::planner::Row;
-use crate::values::to_table;
 
-/// An incremental planner's session (see the stub, `gridplan/__init__.pyi`).
+/// `Replanner(grid, planner="dstar_lite", *, start, goal, budget=None, **params)`: an
+/// incremental planner's session (`"dstar_lite"`, `"lpastar"`) on its own copy of `grid`,
+/// from `start` to `goal`. `plan()` computes the path the first time and repairs it after
+/// `update(cells, *, free=None, weights=None)` (cells that changed) and `move_to(cell)`
+/// (the agent moved); each outcome's counters are that call's alone. Each `plan` gets
+/// `budget`, as `gridplan.plan`'s. The stub (`gridplan/__init__.pyi`) documents every
+/// argument in full.
 #[pyclass(module = "gridplan", frozen)]
 pub struct Replanner {
     /// One call at a time works with it ([`Exclusive`]; a process forked while a thread
@@ -126,10 +131,7 @@ impl Replanner {
         let py = grid.py();
         let start = endpoint("start", start, &grid.get().inner)?;
         let goal = endpoint("goal", goal, &grid.get().inner)?;
-        let table = match params {
-            Some(dict) => to_table(dict, "")?,
-            None => toml::Table::new(),
-        };
+        let table = crate::plan::params_table(planner, params)?;
         let budget = to_budget(budget).map_err(|e| e.into_pyerr(py))?;
         let frame = grid.get().frame;
         let grid = grid.get().inner.clone();

@@ -20,10 +20,7 @@ pub fn to_toml(key: &str, value: &Bound<'_, PyAny>) -> Result<toml::Value, Failu
         return value
             .extract::<i64>()
             .map(toml::Value::Integer)
-            .map_err(|_| Failure::Param {
-                key: key.to_string(),
-                message: format!("parameter `{key}`: {value} does not fit a 64-bit signed integer"),
-            });
+            .map_err(|_| beyond(key, value));
     }
     if let Ok(f) = value.cast::<PyFloat>() {
         return Ok(toml::Value::Float(f.value()));
@@ -47,9 +44,10 @@ pub fn to_toml(key: &str, value: &Bound<'_, PyAny>) -> Result<toml::Value, Failu
     }
     // NumPy scalars: integers have `__index__`, floating-point numbers `__float__`.
     if value.hasattr("__index__")? {
-        if let Ok(i) = value.extract::<i64>() {
-            return Ok(toml::Value::Integer(i));
-        }
+        return value
+            .extract::<i64>()
+            .map(toml::Value::Integer)
+            .map_err(|_| beyond(key, value));
     }
     if value.hasattr("__float__")? {
         if let Ok(f) = value.extract::<f64>() {
@@ -63,6 +61,37 @@ pub fn to_toml(key: &str, value: &Bound<'_, PyAny>) -> Result<toml::Value, Failu
             value.get_type().name()?
         ),
     })
+}
+
+/// The error of an integer given for parameter `key` that a config's TOML integer cannot
+/// hold: parameters (`seed` too) and budget values take 64-bit signed integers, as a
+/// config does.
+fn beyond(key: &str, value: &Bound<'_, PyAny>) -> Failure {
+    let negative = value.lt(0).unwrap_or(false);
+    let text = value
+        .str()
+        .map(|s| s.to_string())
+        .unwrap_or_else(|_| "the integer".into());
+    let budget = key == "budget" || key.starts_with("budget.");
+    let message = match (budget, negative) {
+        (true, true) => format!("{key}: {text} is negative; a budget is at least 0"),
+        (true, false) => format!(
+            "{key}: {text} is more than {}, the largest a budget takes",
+            i64::MAX
+        ),
+        (false, true) => format!(
+            "parameter `{key}`: {text} is less than {}, the smallest integer a parameter takes",
+            i64::MIN
+        ),
+        (false, false) => format!(
+            "parameter `{key}`: {text} is more than {}, the largest integer a parameter takes",
+            i64::MAX
+        ),
+    };
+    Failure::Param {
+        key: key.to_string(),
+        message,
+    }
 }
 
 /// A dict of parameters (string keys) as a TOML table; `within` names the enclosing key

@@ -169,3 +169,88 @@ def test_read_map_with_a_weight_file_and_a_graded_ros_map(tmp_path):
     with pytest.raises(gridplan.MapError) as e:
         gridplan.read_map(tiny, weights=bad)
     assert (e.value.line, e.value.column) == (2, 3)
+
+
+def gridplan_binary():
+    """The command line built beside the package (CI builds it before the package), if
+    any: $GRIDPLAN_BIN, the target directory's release build, else one on PATH."""
+    import os
+    import shutil
+
+    candidates = [os.environ.get("GRIDPLAN_BIN"), os.environ.get("CARGO_TARGET_DIR")]
+    candidates = [candidates[0]] + [
+        str(Path(d) / "release" / "gridplan") for d in (candidates[1], ROOT / "target") if d
+    ]
+    for candidate in candidates:
+        if candidate and Path(candidate).is_file() and os.access(candidate, os.X_OK):
+            return candidate
+    return shutil.which("gridplan")
+
+
+# `gridplan plan maps/ros-graded/TenByTen-raw.yaml --planner astar --set moves=8 --set
+# heuristic=octile --start 0,0 --goal 9,9 --unknown 250 --json`'s cost (configs/
+# weighted.toml's label `astar` on that map's first pair), run by hand with commit
+# a58b52a's command line.
+TENBYTEN_RAW_UNKNOWN_250 = 2340.2755749514326
+
+
+def test_read_map_takes_the_command_line_s_cost_bands_and_terrain(tmp_path):
+    """read_map had no lethal, unknown, swamp or water: configs/weighted.toml's
+    `costs = { unknown = 250 }` on TenByTen-raw could not be read from Python."""
+    import json
+    import subprocess
+
+    raw = ROOT / "maps/ros-graded/TenByTen-raw.yaml"
+    grid, _ = gridplan.read_map(raw, unknown=250)
+    out = gridplan.plan(grid, (0, 0), (9, 9), planner="astar", moves=8, heuristic="octile")
+    binary = gridplan_binary()
+    if binary is not None:
+        cli = subprocess.run(
+            [binary, "plan", str(raw), "--planner", "astar", "--set", "moves=8", "--set",
+             "heuristic=octile", "--start", "0,0", "--goal", "9,9", "--unknown", "250", "--json"],
+            check=True, capture_output=True, text=True,
+        )
+        assert out.cost == json.loads(cli.stdout)["cost"]
+    assert out.cost == TENBYTEN_RAW_UNKNOWN_250
+    # Unknown cells are blocked by default: the start (0, 0) is one.
+    with pytest.raises(gridplan.ProblemError):
+        gridplan.plan(gridplan.read_map(raw, graded=True)[0], (0, 0), (9, 9))
+    # lethal and unknown imply graded; a lower lethal blocks more.
+    assert gridplan.read_map(raw, unknown=250)[0] == gridplan.read_map(raw, graded=True, unknown=250)[0]
+    # TenByTen-raw's costs: 0, 66, 129 and unknown (weights 1 + cost).
+    low = gridplan.read_map(raw, unknown=100, lethal=129)[0]
+    assert (grid.n_free, low.n_free) == (100, 98)
+    assert sorted(set(low.weights[low.to_numpy()].tolist())) == [1, 67, 101]
+    # Moving AI terrain: swamp S and water W weighted.
+    terrain = tmp_path / "t.map"
+    terrain.write_text("type octile\nheight 1\nwidth 4\nmap\n.SW.\n")
+    swampy, _ = gridplan.read_map(terrain, swamp=5)
+    assert swampy.n_free == 3 and swampy.weights.tolist() == [[1, 5, 1, 1]]
+    wet, _ = gridplan.read_map(terrain, swamp=5, water=9)
+    assert wet.n_free == 4 and wet.weights.tolist() == [[1, 5, 9, 1]]
+    # The command line's refusals, naming the argument.
+    weights = ROOT / "maps/weighted/arena-weights.csv"
+    arena = ROOT / "maps/movingai/arena.map"
+    for kwargs, message in [
+        (dict(lethal=0), "read_map: lethal=0 would block every cell; costs from lethal up are blocked (nav2: 254)"),
+        (dict(lethal=256), "read_map: lethal=256; the lethal cost is a costmap cost, from 1 to 255 (nav2: 254)"),
+        (dict(unknown=255), "read_map: unknown=255; the cost of an unknown cell is from 0 to 254 (leave it out to block unknown cells)"),
+        (dict(unknown=-1), "read_map: unknown=-1; the cost of an unknown cell is from 0 to 254 (leave it out to block unknown cells)"),
+        (dict(unknown=2**70), f"read_map: unknown={2**70}; the cost of an unknown cell is from 0 to 254 (leave it out to block unknown cells)"),
+        (dict(swamp=3), f"read_map: swamp and water weigh Moving AI terrain (.map files), not {raw}"),
+    ]:
+        with pytest.raises(ValueError) as e:
+            gridplan.read_map(raw, **kwargs)
+        assert str(e.value) == message
+    for kwargs, message in [
+        (dict(unknown=3), f"read_map: unknown=3 applies to ROS maps (.yaml, .pgm, .png), not {arena}"),
+        (dict(lethal=3), f"read_map: lethal=3 applies to ROS maps (.yaml, .pgm, .png), not {arena}"),
+        (dict(water=3), "read_map: water needs swamp (the weight of swamp `S`)"),
+        (dict(swamp=0), "read_map: swamp=0; swamp and water are weights, from 1 to 65535"),
+        (dict(swamp=2, water=65536), "read_map: water=65536; swamp and water are weights, from 1 to 65535"),
+        (dict(swamp=2, weights=weights), "read_map: weights gives every cell's weight; it does not go with graded=True, lethal, unknown, swamp or water"),
+    ]:
+        with pytest.raises(ValueError) as e:
+            gridplan.read_map(arena, **kwargs)
+        assert str(e.value) == message
+    assert gridplan.read_map(arena, swamp=2, cost_rule="entered")[0].cost_rule == "entered"

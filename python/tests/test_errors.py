@@ -128,7 +128,7 @@ def test_parameter_errors_name_the_key(map10):
     check(
         lambda: gridplan.plan(map10, (0, 0), (11, 11), heuristic=object()),
         gridplan.ParameterError,
-        "parameter `heuristic`: a planner parameter is a bool, int, float, str, list or dict, got object",
+        "planner `astar`: parameter `heuristic`: a planner parameter is a bool, int, float, str, list or dict, got object",
     )
     check(
         lambda: gridplan.plan(map10, (0, 0), (11, 11), budget={"max_expansion": 3}),
@@ -187,9 +187,16 @@ def test_huge_zero_stride_arrays_are_refused():
                 np.broadcast_to(value, (100000, 100000)), free=True
             ),
             ValueError,
-            "Grid.from_numpy: a 100000x100000 array has 10000000000 cells, "
+            "Grid.from_numpy: an array of shape (100000, 100000) has 10000000000 cells, "
             "more than a grid's limit of 2147483648",
         )
+    # NumPy's (rows, columns): one row of 2**40 columns is shape (1, 2**40).
+    check(
+        lambda: gridplan.Grid.from_numpy(np.broadcast_to(np.uint8(1), (1, 2**40)), free=True),
+        ValueError,
+        "Grid.from_numpy: an array of shape (1, 1099511627776) has 1099511627776 cells, "
+        "more than a grid's limit of 2147483648",
+    )
     # A zero-stride view within the limit is read cell by cell, like any array.
     grid = gridplan.Grid.from_numpy(np.broadcast_to(False, (300, 200)), free=False)
     assert (grid.width, grid.height, grid.n_free) == (200, 300, 60000)
@@ -335,3 +342,68 @@ def test_none_keeps_a_parameters_default(map10):
         default = gridplan.plan(map10, (0, 0), goal, planner=info.name, budget=budget)
         assert outcome == default, info.name
     assert gridplan.plan(map10, (0, 0), (11, 11), weight=None, budget={"max_time_ms": None}).status == "found"
+
+
+def test_integers_beyond_a_config_s_name_the_planner_and_the_range(map10):
+    """A seed of 2**64 - 1 was refused with a message shaped unlike the others (no
+    planner), saying nothing of the range; budgets alike."""
+    for planner, key, value in [("rrt", "seed", 2**64 - 1), ("astar", "moves", 2**70),
+                                ("rrt", "seed", np.uint64(2**64 - 1))]:
+        error = check(
+            lambda: gridplan.plan(map10, (0, 0), (11, 11), planner=planner, **{key: value}),
+            gridplan.ParameterError,
+            f"planner `{planner}`: parameter `{key}`: {int(value)} is more than "
+            "9223372036854775807, the largest integer a parameter takes",
+        )
+        assert error.key == key
+    check(
+        lambda: gridplan.Planner(map10, "astar", weight=-(2**70)),
+        gridplan.ParameterError,
+        f"planner `astar`: parameter `weight`: {-(2**70)} is less than "
+        "-9223372036854775808, the smallest integer a parameter takes",
+    )
+    check(
+        lambda: gridplan.Replanner(map10, "dstar_lite", start=(0, 0), goal=(11, 11), moves=2**64),
+        gridplan.ParameterError,
+        f"planner `dstar_lite`: parameter `moves`: {2**64} is more than "
+        "9223372036854775807, the largest integer a parameter takes",
+    )
+    # The largest seed a parameter takes runs.
+    assert gridplan.plan(map10, (0, 0), (11, 11), planner="rrt", seed=2**63 - 1).seed == 2**63 - 1
+    for budget, key in [(2**70, "budget"), ({"max_memory_mb": 2**64}, "budget.max_memory_mb"),
+                        ({"max_expansions": 2**64 - 1}, "budget.max_expansions")]:
+        value = budget if isinstance(budget, int) else next(iter(budget.values()))
+        error = check(
+            lambda: gridplan.plan(map10, (0, 0), (11, 11), budget=budget),
+            gridplan.ParameterError,
+            f"{key}: {value} is more than 9223372036854775807, the largest a budget takes",
+        )
+        assert error.key == key
+    check(
+        lambda: gridplan.plan(map10, (0, 0), (11, 11), budget={"max_time_ms": -(2**70)}),
+        gridplan.ParameterError,
+        f"budget.max_time_ms: {-(2**70)} is negative; a budget is at least 0",
+    )
+    check(
+        lambda: gridplan.plan(map10, (0, 0), (11, 11), budget="soon"),
+        gridplan.ParameterError,
+        "budget: expected a number of expansions or a dict of `max_expansions`, "
+        "`max_time_ms` and `max_memory_mb`, got string",
+    )
+
+
+def test_help_documents_the_arguments():
+    """help(gridplan.plan) and help(gridplan.Planner) only said "see the stub"."""
+    import pydoc
+
+    plan = pydoc.plain(pydoc.render_doc(gridplan.plan))
+    assert "plan(grid, start, goal=None, *, planner='astar', budget=None, record=False, **params)" in plan
+    for word in ["`budget`", "max_memory_mb", "`record=True`", "ProblemError", "ParameterError"]:
+        assert word in plan, word
+    planner = pydoc.plain(pydoc.render_doc(gridplan.Planner))
+    assert "Planner(grid, planner='astar', *, budget=None, **params)" in planner
+    for word in ["plan_many(starts, goals=None", "`cost`", "`valid`", "`paths=True`"]:
+        assert word in planner, word
+    for thing in [gridplan.plan, gridplan.Planner, gridplan.Planner.plan,
+                  gridplan.Planner.plan_many, gridplan.Replanner, gridplan.read_map]:
+        assert "see the stub" not in thing.__doc__

@@ -48,3 +48,18 @@ def test_only_yaml_maps_have_a_frame():
     assert moving_ai.frame is None
     with pytest.raises(TypeError, match="integers"):
         grid.frame.world(np.array([[1.5, 2.0]]))
+
+
+def test_large_metres_are_written_compactly():
+    """MapFrame.cell((1e300, 1e300)) and the repr of a frame at origin 1e308 printed each
+    number in some 300 digits."""
+    frame = gridplan.read_map(SANDBOX)[0].frame
+    with pytest.raises(ValueError) as e:
+        frame.cell((1e300, -1.5e-300))
+    assert str(e.value).startswith(
+        "MapFrame.cell: point (1e300, -1.5e-300) lies outside the map, which spans"
+    )
+    far = type(frame)._from_state(0.05, [1e308, -1e308, 0.0], 4, 3)
+    assert repr(far) == "MapFrame(resolution=0.05, origin=(1e308, -1e308, 0), width=4, height=3)"
+    # Everyday numbers as before.
+    assert repr(frame) == "MapFrame(resolution=0.05, origin=(-10, -10, 0), width=384, height=384)"

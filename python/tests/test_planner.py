@@ -388,3 +388,56 @@ def _plan_after_fork():
     except gridplan.GridplanError as error:
         held = f"{type(error).__name__}: {error}"
     return [held, gridplan.Planner(grid, "astar").plan((0, 0), (63, 63)).status]
+
+
+def test_plan_many_gives_plan_s_cost_validity_and_score():
+    """plan_many's dict had no cost (nor valid, score, error, seed) on weighted grids: a
+    cost-aware planner's batch gives each query's Outcome.cost, NaN where it is None."""
+    rng = np.random.default_rng(7)
+    free = np.ones((16, 16), dtype=bool)
+    # A wall across row 8 with a gap at its end, and a walled-in free cell (1, 14): a
+    # query to it finds no path (cost NaN, valid False).
+    free[8, :13] = False
+    free[13:16, 0:3] = False
+    free[14, 1] = True
+    weights = rng.integers(1, 256, size=(16, 16))
+    weighted = gridplan.Grid.from_numpy(free, free=True).with_weights(weights)
+    starts = np.array([[0, 0], [15, 15], [0, 0], [15, 0]])
+    goals = np.array([[15, 15], [0, 0], [1, 14], [15, 15]])
+    aware = [
+        info.name
+        for info in gridplan.planners()
+        if info.cell_costs and info.task == "start_goal"
+    ]
+    for name in ["astar", "weighted_jps", "bidirectional_astar", "lexastar", "dstar_lite", "lpastar"]:
+        assert name in aware
+    for name in aware:
+        planner = gridplan.Planner(weighted, name)
+        many = planner.plan_many(starts, goals, paths=True)
+        assert many["cost"].dtype == np.float64, name
+        assert many["valid"].dtype == np.bool_, name
+        assert many["score"].dtype == np.int64, name
+        assert list(many["error"]) == [""] * len(starts), name
+        for i in range(len(starts)):
+            single = gridplan.plan(weighted, starts[i], goals[i], planner=name)
+            assert many["status"][i] == single.status, (name, i)
+            if single.cost is None:
+                assert np.isnan(many["cost"][i]), (name, i)
+            else:
+                assert many["cost"][i] == single.cost, (name, i)
+            assert many["valid"][i] == bool(single.valid), (name, i)
+            score = single.metrics["score"] if single.metrics else -1
+            assert many["score"][i] == score, (name, i)
+            assert many["marks"][i] == single.marks, (name, i)
+            assert many["series"][i].keys() == single.series.keys(), (name, i)
+        assert many["seed"] == single.seed, name
+        assert list(many["status"][2:3]) == ["no_path"], name
+    # Unweighted: no cost, as Outcome.cost is None.
+    plain = gridplan.Grid.from_numpy(free, free=True)
+    many = gridplan.Planner(plain, "astar").plan_many(starts, goals)
+    assert np.isnan(many["cost"]).all()
+    assert gridplan.plan(plain, (0, 0), (15, 15)).cost is None
+    assert list(many["valid"]) == [True, True, False, True]
+    # A seeded planner's seed, as plan's.
+    rrt = gridplan.Planner(plain, "rrt", seed=5).plan_many(starts[:1], goals[:1])
+    assert rrt["seed"] == gridplan.plan(plain, (0, 0), (15, 15), planner="rrt", seed=5).seed == 5
