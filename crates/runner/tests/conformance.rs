@@ -439,11 +439,16 @@ fn every_declared_parameter_at_its_extremes_is_refused_by_key_or_kept_in_bounds(
                 let factory = match (entry.factory)(&table).and_then(|f| f.build().map(|_| f)) {
                     Ok(factory) => factory,
                     Err(e) => {
-                        // A bound between two keys may be reported under the other one;
-                        // its message then names this one.
+                        // A bound between two keys may be reported under the other one
+                        // (a declared key); its message then names both.
+                        let names = |key: &str| e.message.contains(key);
                         assert!(
-                            e.key == param.key || e.message.contains(param.key.as_str()),
-                            "{what}: refused without naming the key: {e}"
+                            e.key == param.key
+                                || (declared.iter().any(|p| p.key == e.key)
+                                    && names(&e.key)
+                                    && names(&param.key)),
+                            "{what}: refused under key `{}` without naming both keys: {e}",
+                            e.key
                         );
                         n_refused += 1;
                         continue;
