@@ -874,7 +874,8 @@ fn syntax_error(src: &Source<'_>, e: &toml::de::Error, key: Option<String>) -> C
             ),
         ),
         None => {
-            let message = e.message().trim();
+            // serde's words (`expected u8`) in the config's ("an integer from 0 to 255").
+            let message = &crate::usage::plain_words(e.message(), &[]);
             let key = key.or_else(|| e.span().and_then(|at| key_at(src.text, at.start)));
             match key {
                 Some(key) if !message.starts_with("key `") => {
@@ -1501,11 +1502,7 @@ fn param_error(
     name: &str,
     e: &planner_api::ParamError,
 ) -> ConfigError {
-    let message = if e.key.is_empty() || e.message.contains(&format!("`{}`", e.key)) {
-        e.message.clone()
-    } else {
-        format!("parameter `{}`: {}", e.key, e.message)
-    };
+    let message = param_message(name, e);
     src.error(
         Some(span),
         format!(
@@ -1513,6 +1510,32 @@ fn param_error(
             message.replace('\n', " ").trim()
         ),
     )
+}
+
+/// The message of planner `name`'s parameter error `e`: serde's words in the config's
+/// ([`crate::usage::plain_words`], a choice's declared values listed), after the key
+/// unless it names it already.
+fn param_message(name: &str, e: &planner_api::ParamError) -> String {
+    let choices: Vec<String> = registry::schema::declared(name)
+        .ok()
+        .and_then(|params| params.into_iter().find(|p| p.key == e.key))
+        .map(|param| {
+            param
+                .allowed
+                .iter()
+                .map(|v| match v {
+                    serde_json::Value::String(s) => s.clone(),
+                    other => other.to_string(),
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let words = crate::usage::plain_words(&e.message, &choices);
+    if e.key.is_empty() || words.contains(&format!("`{}`", e.key)) {
+        words
+    } else {
+        format!("parameter `{}`: {words}", e.key)
+    }
 }
 
 /// The planner spec of `label` running registry planner `name` with `params`: the path
@@ -1528,11 +1551,7 @@ pub fn planner_from_table(
     })?;
     let factory = (entry.factory)(&params).map_err(|e| {
         // Name the key, as config errors do (`--set moves=7`: "parameter `moves`: ...").
-        let message = if e.key.is_empty() || e.message.contains(&format!("`{}`", e.key)) {
-            e.message
-        } else {
-            format!("parameter `{}`: {}", e.key, e.message)
-        };
+        let message = param_message(name, &e);
         crate::RunnerError::Param(
             label.to_string(),
             planner_api::ParamError::new(e.key, message),

@@ -20,6 +20,12 @@ use sha2::{Digest, Sha256};
 pub struct Provenance {
     /// gridplan's version (the runner crate's version).
     pub version: String,
+    /// The git commit gridplan was built from, as `gridplan --version` says it (the
+    /// caller's build script learns it: [`crate::sweep::SweepArgs::build`]); `None` when
+    /// the caller did not tell it (a library caller, or a results directory of an earlier
+    /// version).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub build: Option<String>,
     /// The git commit of the config's working tree at run time (`git rev-parse HEAD`), with
     /// `-dirty` when it has uncommitted changes; `None` outside a git repository or when
     /// the caller did not ask git ([`Machine`]).
@@ -108,6 +114,7 @@ impl Provenance {
     pub fn collect(config: &Path, threads: usize, machine: &Machine) -> Provenance {
         Provenance {
             version: env!("CARGO_PKG_VERSION").to_string(),
+            build: None,
             commit: machine.commit.clone(),
             date: rfc3339_utc(
                 std::time::SystemTime::now()
@@ -131,6 +138,9 @@ impl Provenance {
         let unknown = |v: &Option<String>| md_cell(v.as_deref().unwrap_or("unknown"));
         let mut out = String::from("## Provenance\n\n");
         let _ = writeln!(out, "- gridplan {}", md_cell(&self.version));
+        if let Some(build) = &self.build {
+            let _ = writeln!(out, "- gridplan built from commit: {}", md_cell(build));
+        }
         let _ = writeln!(out, "- commit: {}", unknown(&self.commit));
         let _ = writeln!(out, "- date: {}", md_cell(&self.date));
         let _ = writeln!(out, "- host: {}", unknown(&self.host));
@@ -228,6 +238,7 @@ mod tests {
     fn markdown_values_cannot_add_lines_or_html() {
         let provenance = Provenance {
             version: "0.1.0".into(),
+            build: Some("b\nuild".into()),
             commit: Some("abc\r\ndef".into()),
             date: "2026-12-07T00:00:00Z".into(),
             host: Some("a\n## Fake section\n<script>x</script>|y".into()),
@@ -238,7 +249,11 @@ mod tests {
         };
         let markdown = provenance.markdown();
         // A heading line, the list's items and the blank line after them: nothing more.
-        assert_eq!(markdown.lines().count(), 10, "{markdown}");
+        assert_eq!(markdown.lines().count(), 11, "{markdown}");
+        assert!(
+            markdown.contains("- gridplan built from commit: b uild\n"),
+            "{markdown}"
+        );
         assert!(markdown.contains("- commit: abc  def\n"), "{markdown}");
         assert!(
             markdown.contains("- host: a ## Fake section &lt;script&gt;x&lt;/script&gt;\\|y\n"),

@@ -13,7 +13,7 @@
 
 use std::time::Instant;
 
-use planner_api::{Budget, Cost, Counters, CoverageProblem, Grid, Problem};
+use planner_api::{Budget, CancelFlag, Cost, Counters, CoverageProblem, Grid, Problem};
 use rayon::prelude::*;
 
 use crate::config::{Experiment, MapEntry, PlannerSpec, ProblemEntry};
@@ -116,8 +116,9 @@ pub struct RunOptions<'a> {
     /// Measures peak heap per run; without it `peak_heap_bytes` is 0.
     pub heap: Option<&'a dyn HeapMeter>,
     /// Once set (by a binary's signal handler), a streamed sweep
-    /// ([`crate::stream::run_stream`]) starts no new run, lets the runs in progress finish
-    /// and hands its sink every finished run; [`run_all`] ignores it.
+    /// ([`crate::stream::run_stream`]) starts no new run, cancels the runs in progress
+    /// (through their budget's [`CancelFlag`]; they are not recorded) and hands its sink
+    /// every finished run; [`run_all`] ignores it.
     pub stop: Option<&'a std::sync::atomic::AtomicBool>,
 }
 
@@ -125,14 +126,32 @@ pub struct RunOptions<'a> {
 #[derive(Default)]
 pub struct Workspace {
     slots: Vec<Option<Slot>>,
+    /// The flag its runs' budgets carry ([`Workspace::cancelled_by`]).
+    cancel: Option<CancelFlag>,
+}
+
+impl Workspace {
+    /// A workspace whose runs stop, as if their budget ran out, once `flag` is raised
+    /// ([`planner_api::Budget::cancel`]): what a streamed sweep raises when it is stopped.
+    /// A run that ends while the flag is raised may have been cut short; its caller drops
+    /// it.
+    pub fn cancelled_by(flag: CancelFlag) -> Workspace {
+        Workspace {
+            slots: Vec::new(),
+            cancel: Some(flag),
+        }
+    }
 }
 
 struct Slot {
     planner: Built,
     /// The map index the planner was last prepared for.
     grid: Option<usize>,
-    /// Heap the planner held after its last setup.
-    retained: u64,
+    /// Heap the planner holds between its calls: what its build, its setups and its
+    /// searches allocated and did not free, less what its outcomes handed out (net bytes
+    /// of this thread; the tables of an earlier grid it freed and the buffers it keeps
+    /// from earlier searches included).
+    retained: i64,
     /// For a planner run with `costs = "ignore"` on a weighted map: the map without its
     /// weights, made when the slot moves to the map.
     unweighted: Option<Grid>,
@@ -205,6 +224,10 @@ pub fn run_one(
     }
     let setup_started = Instant::now();
     let baseline = heap.map(HeapMeter::current);
+    let budget = Budget {
+        cancel: workspace.cancel,
+        ..effective_budget(planner)
+    };
     let slot = match &mut workspace.slots[spec.planner] {
         Some(slot) => slot,
         empty => empty.insert(Slot {
@@ -222,15 +245,24 @@ pub fn run_one(
             (planner.ignore_costs && map.grid.is_weighted()).then(|| map.grid.without_weights());
         if let Built::Path(p) = &mut slot.planner {
             let grid = slot.unweighted.as_ref().unwrap_or(&map.grid);
-            p.prepare_within(grid, &effective_budget(planner));
+            p.prepare_within(grid, &budget);
         }
         slot.grid = Some(spec.map);
-        if let (Some(heap), Some(baseline)) = (heap, baseline) {
-            slot.retained += (heap.current() - baseline).max(0) as u64;
-        }
+    }
+    if let (Some(heap), Some(baseline)) = (heap, baseline) {
+        // Building the planner and its setup for the grid (freeing an earlier grid's
+        // tables counts down).
+        slot.retained += heap.current() - baseline;
     }
     record.setup_ms = milliseconds(setup_started.elapsed());
-    execute(&map.grid, entry, planner, slot, seed, heap, &mut record);
+    let run = Run {
+        entry,
+        planner,
+        budget: &budget,
+        seed,
+        heap,
+    };
+    execute(&map.grid, &run, slot, &mut record);
     if let (Some(path), true) = (&record.path, map.grid.is_weighted()) {
         let cost = map.grid.path_cost(path.cells());
         record.cost = Some(cost.to_f64());
@@ -334,34 +366,33 @@ fn blank_record(
     }
 }
 
-/// Plans (or covers) with the slot's planner and fills `record`.
-fn execute(
-    grid: &Grid,
-    entry: &ProblemEntry,
-    planner: &PlannerSpec,
-    slot: &mut Slot,
+/// What one run plans with, besides the grid and the planner's slot.
+struct Run<'a> {
+    entry: &'a ProblemEntry,
+    planner: &'a PlannerSpec,
+    budget: &'a Budget,
     seed: Option<u64>,
-    heap: Option<&dyn HeapMeter>,
-    record: &mut RunRecord,
-) {
+    heap: Option<&'a dyn HeapMeter>,
+}
+
+/// Plans (or covers) with the slot's planner and fills `record`.
+fn execute(grid: &Grid, run: &Run<'_>, slot: &mut Slot, record: &mut RunRecord) {
     let unweighted = slot.unweighted.take();
     let grid = unweighted.as_ref().unwrap_or(grid);
-    execute_on(grid, entry, planner, slot, seed, heap, record);
+    execute_on(grid, run, slot, record);
     slot.unweighted = unweighted;
 }
 
 /// [`execute`] on the grid the planner plans on.
-fn execute_on(
-    grid: &Grid,
-    entry: &ProblemEntry,
-    planner: &PlannerSpec,
-    slot: &mut Slot,
-    seed: Option<u64>,
-    heap: Option<&dyn HeapMeter>,
-    record: &mut RunRecord,
-) {
+fn execute_on(grid: &Grid, run: &Run<'_>, slot: &mut Slot, record: &mut RunRecord) {
+    let Run {
+        entry,
+        planner,
+        budget,
+        seed,
+        heap,
+    } = *run;
     let start_heap = heap.map(HeapMeter::start);
-    let budget = &effective_budget(planner);
     let rule = planner.factory.specs().path_rule.clone();
     let (status, path) = match &mut slot.planner {
         Built::Path(p) => {
@@ -374,6 +405,7 @@ fn execute_on(
             let started = Instant::now();
             let outcome = p.plan(&problem, budget);
             record.time_ms = milliseconds(started.elapsed());
+            let outcome = kept_by_planner(heap, start_heap, outcome, slot, record);
             record.counters = outcome.counters;
             record.marks = outcome.marks;
             record.series = outcome.series;
@@ -392,6 +424,7 @@ fn execute_on(
             let started = Instant::now();
             let outcome = c.cover(&problem, budget);
             record.time_ms = milliseconds(started.elapsed());
+            let outcome = kept_by_planner(heap, start_heap, outcome, slot, record);
             record.counters = outcome.counters;
             record.returns = Some(outcome.returns);
             let path = match outcome.memory {
@@ -404,9 +437,6 @@ fn execute_on(
             (outcome.status, path)
         }
     };
-    if let (Some(heap), Some(baseline)) = (heap, start_heap) {
-        record.peak_heap_bytes = slot.retained + heap.peak_since(baseline);
-    }
     record.status = status.into();
     if status == planner_api::Status::Found && path.is_none() {
         // `found` promises a path (planner-api's `Status`): recorded as an invalid one.
@@ -440,6 +470,33 @@ fn execute_on(
         record.valid = Some(valid);
         record.path = Some(path);
     }
+}
+
+/// `outcome`, just returned by a search that started when this thread held `start`
+/// bytes: sets the record's peak heap, what the slot's planner held as the search started
+/// (its setup and the buffers it kept from earlier searches) plus the peak the search
+/// added, and adds what the planner kept of the search's allocations (the thread's bytes
+/// now, less the outcome's) to what it holds. The outcome's bytes are measured exactly by
+/// dropping it once copied (the copy, returned, is what the record keeps); without a heap
+/// meter it is returned as it is.
+fn kept_by_planner<T: Clone>(
+    heap: Option<&dyn HeapMeter>,
+    start: Option<i64>,
+    outcome: T,
+    slot: &mut Slot,
+    record: &mut RunRecord,
+) -> T {
+    let (Some(heap), Some(start)) = (heap, start) else {
+        return outcome;
+    };
+    record.peak_heap_bytes = slot.retained.max(0) as u64 + heap.peak_since(start);
+    let after = heap.current();
+    let copy = outcome.clone();
+    let with_both = heap.current();
+    drop(outcome);
+    let handed_out = with_both - heap.current();
+    slot.retained += after - start - handed_out;
+    copy
 }
 
 /// Says that `planner` did not run on `entry` because its per-cell state is over the

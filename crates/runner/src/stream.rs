@@ -37,7 +37,7 @@ use std::sync::atomic::Ordering;
 use std::sync::{Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use planner_api::{Counter, Counters};
+use planner_api::{CancelFlag, CancelPool, Counter, Counters};
 
 use crate::config::Experiment;
 use crate::record::RunRecord;
@@ -301,10 +301,62 @@ fn hash_problems(h: &mut Fnv, map: &crate::config::MapEntry) {
     }
 }
 
+/// The settings [`hash_settings`] covers, one by one: (key, its text). Keys:
+/// `name`, `repeats`, `seed`, `figures`, `paths`, `sections`, `planner LABEL` (its
+/// registry name, parameters and `compare`) and `budget LABEL FIELD` (each of its budget's
+/// limits), so that a refused resume names the one that changed.
+fn setting_texts(experiment: &Experiment) -> Vec<(String, String)> {
+    let mut texts = vec![
+        ("name".to_string(), experiment.name.clone()),
+        ("repeats".to_string(), experiment.repeats.to_string()),
+        ("seed".to_string(), experiment.seed.to_string()),
+        (
+            "figures".to_string(),
+            format!("{:?} {:?}", experiment.figures, experiment.figures_per_map),
+        ),
+        ("paths".to_string(), format!("{:?}", experiment.paths)),
+        (
+            "sections".to_string(),
+            format!("{:?}", experiment.sections.as_ref().map(|s| &s.requests)),
+        ),
+    ];
+    for planner in &experiment.planners {
+        let label = &planner.label;
+        texts.push((
+            format!("planner {label}"),
+            format!("{} {} {:?}", planner.name, planner.params, planner.compare),
+        ));
+        let budget = &planner.budget;
+        for (field, value) in [
+            ("max_expansions", format!("{:?}", budget.max_expansions)),
+            ("max_time_ms", format!("{:?}", budget.max_time)),
+            ("max_memory_mb", format!("{:?}", budget.max_memory_mb)),
+        ] {
+            texts.push((format!("budget {label} {field}"), value));
+        }
+    }
+    texts
+}
+
+/// The words for the setting `key` of [`setting_texts`] in a refused resume's message.
+fn setting_words(key: &str) -> String {
+    if let Some(label) = key.strip_prefix("planner ") {
+        return format!("planner {label:?}'s registry name, parameters or `compare`");
+    }
+    if let Some(rest) = key.strip_prefix("budget ") {
+        // The label may hold spaces; the field, the last word, does not.
+        let (label, field) = rest.rsplit_once(' ').unwrap_or((rest, ""));
+        return format!("budget's `{field}` of planner {label:?} (`[budget]` or its own `budget`)");
+    }
+    format!("`{key}`")
+}
+
 /// What [`config_hash`] covers, hashed input by input (64-bit FNV-1a, hex), in the
 /// experiment's order: `settings` (name, repeats, seed, figures, paths, sections and the
 /// planners), then per map `map NAME` (its size and free cells: the map file's content)
-/// and `problems NAME` (its problems: its scenario file or the config's list).
+/// and `problems NAME` (its problems: its scenario file or the config's list); then each
+/// setting on its own, `setting KEY` ([`setting_texts`]), which streams of earlier
+/// versions lack.
 pub fn input_hashes(experiment: &Experiment) -> Vec<(String, String)> {
     let mut h = Fnv::default();
     hash_settings(&mut h, experiment);
@@ -317,7 +369,54 @@ pub fn input_hashes(experiment: &Experiment) -> Vec<(String, String)> {
         hash_problems(&mut h, map);
         inputs.push((format!("problems {}", map.name), format!("{:016x}", h.0)));
     }
+    for (key, text) in setting_texts(experiment) {
+        let mut h = Fnv::default();
+        h.text(&text);
+        inputs.push((format!("setting {key}"), format!("{:016x}", h.0)));
+    }
     inputs
+}
+
+/// The settings that differ between `found` and `now` ([`input_hashes`]), each said;
+/// `None` when `found` holds no setting on its own (a stream of an earlier version).
+fn changed_settings(found: &[(String, String)], now: &[(String, String)]) -> Option<Vec<String>> {
+    let settings = |list: &'_ [(String, String)]| -> Vec<(String, String)> {
+        list.iter()
+            .filter_map(|(k, hash)| Some((k.strip_prefix("setting ")?.to_string(), hash.clone())))
+            .collect()
+    };
+    let (before, after) = (settings(found), settings(now));
+    if before.is_empty() {
+        return None;
+    }
+    let mut changed = Vec::new();
+    for (key, hash) in &after {
+        match before.iter().find(|(k, _)| k == key) {
+            Some((_, old)) if old != hash => {
+                changed.push(format!("the config's {} changed", setting_words(key)));
+            }
+            Some(_) => {}
+            None if key.starts_with("planner ") => {
+                changed.push(format!("{} was added", setting_words(key)));
+            }
+            None => {}
+        }
+    }
+    for (key, _) in &before {
+        if key.starts_with("planner ") && !after.iter().any(|(k, _)| k == key) {
+            changed.push(format!("{} was removed", setting_words(key)));
+        }
+    }
+    let labels = |list: &[(String, String)]| -> Vec<String> {
+        list.iter()
+            .filter(|(k, _)| k.starts_with("planner "))
+            .map(|(k, _)| k.clone())
+            .collect()
+    };
+    if changed.is_empty() && labels(&before) != labels(&after) {
+        changed.push("the config's planners are in another order".to_string());
+    }
+    Some(changed)
 }
 
 /// What differs between the inputs a stream was recorded with (`found`, its header's
@@ -333,11 +432,14 @@ pub fn changed_inputs(found: &[(String, String)], experiment: &Experiment) -> Ve
     };
     let mut changed = Vec::new();
     if find(found, "settings") != find(&now, "settings") {
-        changed.push(
-            "the config's settings (name, repeats, seed, figures, paths, sections or planners) \
-             changed"
-                .to_string(),
-        );
+        match changed_settings(found, &now) {
+            Some(settings) if !settings.is_empty() => changed.extend(settings),
+            _ => changed.push(
+                "the config's settings (name, repeats, seed, figures, paths, sections, \
+                 planners or budgets) changed"
+                    .to_string(),
+            ),
+        }
     }
     let names = |list: &[(String, String)]| -> Vec<String> {
         list.iter()
@@ -683,8 +785,12 @@ impl<I> Drop for Leaving<'_, I> {
 /// the records held are bounded whatever the runs' times; the records do not depend on
 /// the thread count. `sink` runs on the calling thread; progress counts the runs this
 /// call ran, also from the calling thread. Once [`RunOptions::stop`] is set, no new run
-/// starts; the runs in progress finish, and every finished run is handed to `sink`
-/// before this returns (in order up to the first run that did not run, the rest ahead).
+/// starts and the runs in progress are cancelled (their budgets carry a
+/// [`planner_api::CancelFlag`] that the calling thread raises within a tick of the stop):
+/// a run that ends while the flag is raised is dropped, not handed (cut short, its
+/// record would depend on when the stop came), so `--resume` runs it again. Every
+/// finished run is handed to `sink` before this returns (in order up to the first run
+/// that did not finish, the rest ahead).
 /// A run's error stops the sweep the same way and is returned (the one earliest in the
 /// run order); the sink's error is returned at once.
 pub fn run_stream(
@@ -727,12 +833,16 @@ pub fn run_stream(
     let list = RunList::new(experiment);
     // The workers log inside the caller's span (as `run_all`'s).
     let span = tracing::Span::current();
+    // Raised by the coordinating thread once the stop flag is: it cancels the runs in
+    // progress. Lent from a pool, since a flag's byte is never freed.
+    let lent = CANCEL.lend();
+    let cancel = lent.flag();
     pool.in_place_scope(|scope| {
         for _ in 0..workers {
             let (shared, list, span) = (&shared, &list, &span);
-            scope.spawn(move |_| work(shared, experiment, list, options, span));
+            scope.spawn(move |_| work(shared, experiment, list, (options, cancel), span));
         }
-        let mut coordinator = Coordinator::new(outstanding);
+        let mut coordinator = Coordinator::new(outstanding, cancel);
         let result = coordinator.coordinate(&shared, options, &mut sink);
         if result.is_err() {
             // The workers finish the runs they hold and start none.
@@ -750,17 +860,22 @@ fn stopped(options: &RunOptions<'_>) -> bool {
         .is_some_and(|stop| stop.load(Ordering::Relaxed))
 }
 
+/// The cancel flags of [`run_stream`]'s calls, one lent to each call.
+static CANCEL: CancelPool = CancelPool::new();
+
 /// A worker: claims the next run of the sequence, runs it, hands it in, until the runs,
-/// a stop or an abort end it; keeps one planner per label across its runs.
+/// a stop or an abort end it; keeps one planner per label across its runs, whose budgets
+/// carry `cancel`. A run that ends with `cancel` raised is dropped (it may have been cut
+/// short).
 fn work<I: Iterator<Item = u64>>(
     shared: &Shared<I>,
     experiment: &Experiment,
     list: &RunList,
-    options: &RunOptions<'_>,
+    (options, cancel): (&RunOptions<'_>, CancelFlag),
     span: &tracing::Span,
 ) {
     let _leaving = Leaving(shared);
-    let mut workspace = Workspace::default();
+    let mut workspace = Workspace::cancelled_by(cancel);
     let mut finished: Option<Finished> = None;
     loop {
         let (position, index) = {
@@ -788,6 +903,10 @@ fn work<I: Iterator<Item = u64>>(
                 }
                 Ok(record)
             });
+        if cancel.is_cancelled() {
+            // Stopped: no run starts any more, and this one may have been cut short.
+            return;
+        }
         finished = Some(Finished {
             position,
             index,
@@ -864,10 +983,12 @@ struct Coordinator {
     error: Option<(u64, RunnerError)>,
     streamed: Streamed,
     last_flush: Instant,
+    /// The flag the workers' runs carry, raised once the stop flag is.
+    cancel: CancelFlag,
 }
 
 impl Coordinator {
-    fn new(outstanding: u64) -> Coordinator {
+    fn new(outstanding: u64, cancel: CancelFlag) -> Coordinator {
         Coordinator {
             buffer: VecDeque::new(),
             ready: Vec::new(),
@@ -879,6 +1000,7 @@ impl Coordinator {
             error: None,
             streamed: Streamed::default(),
             last_flush: Instant::now(),
+            cancel,
         }
     }
 
@@ -904,8 +1026,12 @@ impl Coordinator {
                     state.abort = true;
                     shared.room.notify_all();
                 }
-                if state.waiting > 0 && stopped(options) {
-                    shared.room.notify_all();
+                if stopped(options) {
+                    // The runs in progress end at their next budget check.
+                    self.cancel.cancel();
+                    if state.waiting > 0 {
+                        shared.room.notify_all();
+                    }
                 }
                 if state.inbox.is_empty() && state.active > 0 {
                     state.sleeping = true;

@@ -32,7 +32,8 @@
 //! each) and written atomically by [`outdir::write_results_streamed`]: `runs.json` (a
 //! table without paths, [`crate::output::runs_json`]) and `runs.csv` row by row into their
 //! files, `summary.md`, figures, and `paths.jsonl` with the paths the config keeps
-//! (`paths`). A sweep of more than [`HELD_RUNS`] runs holds none of its records: its
+//! (`paths`). A sweep of more than [`HELD_RUNS`] runs holds none of its records, and one
+//! whose records pass [`HELD_BYTES`] lets go of those it held: its
 //! outputs are written from its stream on disk (`paths = "figures"`'s paths.jsonl too,
 //! [`PATHS_FILE`]), and its report reads them in passes ([`Results::passes`]); `merge` of such a sweep's shards writes the merged records to a
 //! framed stream in the output's stream area first, holding one record per shard, and
@@ -53,9 +54,11 @@
 //! one other version with a warning naming it and its own.
 //!
 //! A sweep whose stop flag ([`SweepArgs::stop`], set by the command line on SIGINT or
-//! SIGTERM) is raised starts no new run, lets the runs in progress finish, appends every
-//! finished run (in run order, as no run after them started), and returns a [`Report`]
-//! with [`Report::interrupted`] set: nothing is
+//! SIGTERM) is raised starts no new run, cancels the runs in progress (through their
+//! budget's cancel flag, [`planner_api::Budget::cancel`], within a budget check: a run of
+//! hours stops at once) and records none of them (cut short, a run's record would depend
+//! on when the stop came, so `--resume` runs them again), appends every finished run, and
+//! returns a [`Report`] with [`Report::interrupted`] set: nothing is
 //! rendered, the old results stay as they were, and the stream stays for `--resume`.
 //! Raised once the runs are done, while the results are rendered and written, it stops
 //! that too ([`Results::stop`]: the report checks it between its sections, figures and
@@ -125,6 +128,48 @@ pub const OLD_SHARD_FILE: &str = "shard.jsonl";
 /// [`crate::passes`]), in memory bounded by the report's groups, not by the runs.
 pub const HELD_RUNS: u64 = 100_000;
 
+/// The most bytes of records a whole sweep holds in memory ([`record_bytes`]: a record's
+/// own size, its strings, counters, path, marks and series): 128 MiB. A sweep whose
+/// records pass it, though it has at most [`HELD_RUNS`] runs (a planner that marks every
+/// jump point: 34 KB a run), lets go of the records it held and writes its outputs from
+/// its stream as a larger sweep does ([`SweepArgs::held_bytes`] lowers it).
+pub const HELD_BYTES: u64 = 128 << 20;
+
+/// An estimate of the memory `record` takes, its heap included: its own size, its strings,
+/// its counters (each name counted as owned), its path, return legs, marks and series,
+/// each by its length. What [`HELD_BYTES`] bounds.
+pub fn record_bytes(record: &RunRecord) -> u64 {
+    use std::mem::size_of;
+    let strings = record.map.len()
+        + record.planner.len()
+        + record.algorithm.len()
+        + record.error.as_ref().map_or(0, String::len);
+    let counters = record
+        .counters
+        .iter()
+        .map(|(name, _)| size_of::<(std::borrow::Cow<'static, str>, u64)>() + name.len())
+        .sum::<usize>();
+    let path = record
+        .path
+        .as_ref()
+        .map_or(0, |p| std::mem::size_of_val(p.cells()));
+    let returns = record
+        .returns
+        .as_ref()
+        .map_or(0, |r| r.len() * size_of::<planner_api::ReturnLeg>());
+    let marks = record
+        .marks
+        .iter()
+        .map(|m| size_of::<planner_api::Mark>() + m.label.len())
+        .sum::<usize>();
+    let series = record
+        .series
+        .iter()
+        .map(|s| size_of::<planner_api::Series>() + s.name.len() + s.x.len() + s.points.len() * 16)
+        .sum::<usize>();
+    (size_of::<RunRecord>() + strings + counters + path + returns + marks + series) as u64
+}
+
 /// The paths a results directory keeps (`paths`), one JSON line per run.
 pub const PATHS_FILE: &str = "paths.jsonl";
 
@@ -133,7 +178,8 @@ pub struct Results<'a> {
     /// The experiment.
     pub experiment: &'a Experiment,
     /// Its records, in run order (paths as the config keeps them); empty when the sweep
-    /// has more than [`HELD_RUNS`] runs, which are then read through `passes` only.
+    /// has more than [`HELD_RUNS`] runs or its records take more than [`HELD_BYTES`],
+    /// which are then read through `passes` only.
     pub records: &'a [RunRecord],
     /// The same records as passes: `records`, or the sweep's stream on disk.
     pub passes: &'a dyn RecordPasses,
@@ -236,6 +282,10 @@ pub struct SweepArgs<'a> {
     /// The commit and host for the provenance, which the caller learns (the runner reads
     /// no environment and starts no process); [`SweepArgs::new`]: unknown.
     pub machine: &'a Machine,
+    /// The git commit the calling binary was built from (its build script's, as
+    /// `gridplan --version` says it), for the provenance ([`Provenance::build`]);
+    /// [`SweepArgs::new`]: `None`, not said.
+    pub build: Option<&'a str>,
     /// Peak-heap measurement per run (none: `peak_heap_bytes` is 0); [`crate::alloc::Meter`]
     /// when the binary installs [`crate::alloc::Counting`].
     pub heap: Option<&'a dyn HeapMeter>,
@@ -248,11 +298,14 @@ pub struct SweepArgs<'a> {
     /// Once set, the sweep stops (see the module docs).
     pub stop: Option<&'a AtomicBool>,
     /// Return the records in [`Report::records`] (for a library caller; a whole sweep of
-    /// at most [`HELD_RUNS`] runs holds them anyway to write its reports; a larger one
-    /// returns none).
+    /// at most [`HELD_RUNS`] runs and [`HELD_BYTES`] of records holds them anyway to write
+    /// its reports; a larger one returns none).
     pub keep_records: bool,
     /// The report step (summary.md, figures, ...).
     pub render: &'a dyn Render,
+    /// The most bytes of records the sweep holds ([`record_bytes`]); [`SweepArgs::new`]:
+    /// [`HELD_BYTES`].
+    pub held_bytes: u64,
     /// How long to wait for another sweep on the same output to end (the lock its stream
     /// area holds from its start to its end) before failing with
     /// [`crate::outdir::OutdirError::Locked`]; [`SweepArgs::new`]:
@@ -270,6 +323,7 @@ impl<'a> SweepArgs<'a> {
             output: None,
             progress: None,
             machine: &UNKNOWN_MACHINE,
+            build: None,
             heap: None,
             resume: false,
             shard: None,
@@ -277,6 +331,7 @@ impl<'a> SweepArgs<'a> {
             stop: None,
             render,
             lock_wait: outdir::DEFAULT_LOCK_WAIT,
+            held_bytes: HELD_BYTES,
         }
     }
 }
@@ -340,7 +395,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         Some(_) => {
             let threads = worker_threads(args.threads, experiment.threads);
             let info = RunInfo {
-                provenance: Provenance::collect(args.config, threads, args.machine),
+                provenance: collect_provenance(args, threads),
                 seconds: started.elapsed().as_secs_f64(),
             };
             finish_shard(&experiment, &path, &dir, (shard, &info), args.stop)
@@ -377,20 +432,20 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
     })
 }
 
-/// Writes a whole sweep's results directory `dir` from its `records` (held when it has at
-/// most [`HELD_RUNS`] runs, else read back from its stream `path`) through [`finish`];
+/// Writes a whole sweep's results directory `dir` from its `records` (when held: at most
+/// [`HELD_RUNS`] runs and [`HELD_BYTES`]; else `None`, read back from its stream `path`)
+/// through [`finish`];
 /// returns the reproduction and, when [`SweepArgs::keep_records`] asks, the records.
 fn finish_sweep(
     args: &SweepArgs,
     experiment: &Experiment,
     header: &StreamHeader,
-    records: Vec<RunRecord>,
+    records: Option<Vec<RunRecord>>,
     path: &Path,
     dir: &Path,
     started: Instant,
 ) -> Result<(Reproduction, Vec<RunRecord>), RunnerError> {
-    let held = header.runs <= HELD_RUNS;
-    if held && records.len() as u64 != header.runs {
+    if let Some(records) = records.as_ref().filter(|r| r.len() as u64 != header.runs) {
         let problem = StreamProblem::Incomplete {
             recorded: records.len() as u64,
             declared: header.runs,
@@ -400,13 +455,12 @@ fn finish_sweep(
     }
     let threads = worker_threads(args.threads, experiment.threads);
     let info = RunInfo {
-        provenance: Provenance::collect(args.config, threads, args.machine),
+        provenance: collect_provenance(args, threads),
         seconds: started.elapsed().as_secs_f64(),
     };
-    let source = if held {
-        Source::Held(records)
-    } else {
-        Source::Stream(StreamPasses::new(path, header.runs))
+    let source = match records {
+        Some(records) => Source::Held(records),
+        None => Source::Stream(StreamPasses::new(path, header.runs)),
     };
     let (reproduction, records) =
         finish(args.render, experiment, source, None, dir, &info, args.stop)?;
@@ -720,15 +774,16 @@ fn carry_over(area: &outdir::StreamArea, old: &Path, n: u64) -> Result<u64, Runn
 /// Runs the sweep's runs that its stream files (`opened`, in the stream area `area`) do
 /// not hold, appending those [`stream::run_stream`] hands in order to records.stream and
 /// those it hands ahead to ahead.stream as they come. Returns the records of a whole
-/// sweep (a resumed one's read back first; a shard keeps none) and how many runs are
-/// recorded in the two files.
+/// sweep (a resumed one's read back first; `None` for a shard, a sweep of more than
+/// [`HELD_RUNS`] runs, or one whose records passed [`SweepArgs::held_bytes`]) and how many
+/// runs are recorded in the two files.
 fn stream_runs(
     args: &SweepArgs,
     experiment: &Experiment,
     runs: &ShardRuns,
     opened: Opened,
     area: &Path,
-) -> Result<(Vec<RunRecord>, u64), RunnerError> {
+) -> Result<(Option<Vec<RunRecord>>, u64), RunnerError> {
     let Opened {
         records: mut file,
         mut ahead,
@@ -754,15 +809,16 @@ fn stream_runs(
         stop: args.stop,
     };
     // A whole sweep of at most HELD_RUNS runs keeps its records for the final outputs (a
-    // resumed one reads back those recorded before); a shard or a larger sweep only
-    // streams them, and its outputs read them back from the stream.
-    let keep = args.shard.is_none() && runs.len() <= HELD_RUNS;
-    let mut records: Vec<RunRecord> = Vec::new();
-    if keep {
-        records.reserve_exact(runs.len().min(1 << 20) as usize);
-        if prefix > 0 {
-            records = read_records(&path, records)?;
-        }
+    // resumed one reads back those recorded before) while they take at most
+    // `held_bytes`; a shard or a larger sweep only streams them, and its outputs read them
+    // back from the stream.
+    let mut held = Held {
+        records: (args.shard.is_none() && runs.len() <= HELD_RUNS).then(Vec::new),
+        bytes: 0,
+        cap: args.held_bytes,
+    };
+    if prefix > 0 && held.records.is_some() {
+        read_records(&path, &mut held)?;
     }
     let mut frame = Vec::new();
     // A write that fails says how many runs the two files keep for --resume: those of
@@ -782,9 +838,7 @@ fn stream_runs(
         |delivery| match delivery {
             Delivery::InOrder(batch) => {
                 append_frames(&mut frame, &batch, (&mut file, &path)).map_err(kept)?;
-                if keep {
-                    records.extend(batch.into_iter().map(|(_, record)| record));
-                }
+                held.extend(batch.into_iter().map(|(_, record)| record));
                 Ok(())
             }
             Delivery::Ahead(batch) => {
@@ -801,7 +855,39 @@ fn stream_runs(
         progress.finish();
     }
     let streamed = streamed?;
-    Ok((records, prefix + streamed.in_order + streamed.ahead))
+    Ok((held.records, prefix + streamed.in_order + streamed.ahead))
+}
+
+/// The records a whole sweep holds for its final outputs, while they take at most `cap`
+/// bytes ([`record_bytes`]).
+struct Held {
+    /// The records, in run order; `None` once they passed `cap` (or when none are held).
+    records: Option<Vec<RunRecord>>,
+    /// Their bytes.
+    bytes: u64,
+    /// The most bytes held.
+    cap: u64,
+}
+
+impl Held {
+    /// Holds `more` after the records held, or lets go of them all once they pass the cap.
+    fn extend(&mut self, more: impl IntoIterator<Item = RunRecord>) {
+        let Some(records) = &mut self.records else {
+            return;
+        };
+        for record in more {
+            self.bytes += record_bytes(&record);
+            if self.bytes > self.cap {
+                tracing::info!(
+                    "the records passed {} bytes: the outputs are written from the stream",
+                    self.cap
+                );
+                self.records = None;
+                return;
+            }
+            records.push(record);
+        }
+    }
 }
 
 /// Appends `batch` to the stream `file` (at `path`) as frames of at most
@@ -888,6 +974,15 @@ fn shard_expanded(experiment: &Experiment, path: &Path) -> Result<ExpandedCells,
         }
     }
     Ok(expanded::record_all(experiment, &firsts)?)
+}
+
+/// The provenance of the sweep `args` asks for, run with `threads` workers: its machine's
+/// and its build's ([`SweepArgs::build`]).
+fn collect_provenance(args: &SweepArgs, threads: usize) -> Provenance {
+    Provenance {
+        build: args.build.map(str::to_string),
+        ..Provenance::collect(args.config, threads, args.machine)
+    }
 }
 
 /// The worker count a sweep runs with: the argument, else the config's, else one per core.
@@ -1075,15 +1170,18 @@ fn read_ahead(
     }))
 }
 
-/// The records of the stream file `path`, appended to `records`.
-fn read_records(path: &Path, mut records: Vec<RunRecord>) -> Result<Vec<RunRecord>, RunnerError> {
+/// The records of the stream file `path`, held by `held` (up to its cap).
+fn read_records(path: &Path, held: &mut Held) -> Result<(), RunnerError> {
     let file = stream::open_regular(path).map_err(|e| RunnerError::io(path, e))?;
     let what = path.display().to_string();
     let (_, mut reader) = StreamReader::new(BufReader::new(file), &what)?;
     while let Some((_, record)) = reader.next_run()? {
-        records.push(record);
+        held.extend([record]);
+        if held.records.is_none() {
+            break;
+        }
     }
-    Ok(records)
+    Ok(())
 }
 
 /// A results directory's own record of its runs, in run order, with the paths the

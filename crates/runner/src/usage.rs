@@ -139,3 +139,92 @@ pub enum UsageError {
     #[error("merge: no shard directories given")]
     NoShards,
 }
+
+/// serde's words for a value that does not fit (`invalid value: integer `300`, expected
+/// u8`, `invalid type: floating point `2.5`, expected f64`, toml's `invalid type: unit
+/// variant, expected string only` for a choice given as a number), said in the config's
+/// words: "expected an integer from 0 to 255, got 300". `choices` are the values a choice
+/// takes, when the caller knows them (a planner parameter's declared values): toml's
+/// "string only" is then "one of: a, b, c". Other messages come back with only their
+/// Rust type names translated ([`expected_words`]).
+///
+/// ```
+/// use planner_runner::usage::plain_words;
+/// assert_eq!(
+///     plain_words("invalid value: integer `300`, expected u8", &[]),
+///     "expected an integer from 0 to 255, got 300"
+/// );
+/// assert_eq!(
+///     plain_words("invalid type: unit variant, expected string only", &["a".into(), "b".into()]),
+///     "expected one of: a, b (a string)"
+/// );
+/// ```
+pub fn plain_words(message: &str, choices: &[String]) -> String {
+    let message = message.trim();
+    let parsed = ["invalid value: ", "invalid type: "]
+        .iter()
+        .find_map(|prefix| message.strip_prefix(prefix))
+        .and_then(|rest| rest.rsplit_once(", expected "));
+    let Some((given, expected)) = parsed else {
+        if message.starts_with("number too large to fit in target type") {
+            return "a number too large: integers are from -2^63 to 2^63 - 1 \
+                    (9223372036854775807)"
+                .to_string();
+        }
+        return match message.rsplit_once("expected ") {
+            Some((head, expected)) if expected_word(expected, choices).is_some() => {
+                format!("{head}expected {}", expected_words(expected, choices))
+            }
+            _ => message.to_string(),
+        };
+    };
+    let expected = expected_words(expected, choices);
+    // toml says "unit variant" for any value given to a choice that is not a string.
+    if given == "unit variant" {
+        return format!("expected {expected} (a string)");
+    }
+    format!("expected {expected}, got {}", given_words(given))
+}
+
+/// serde's description of an expected value (`u8`, `f64`, `string only`) in words, or as
+/// it is when it is words already.
+pub fn expected_words(expected: &str, choices: &[String]) -> String {
+    expected_word(expected, choices).unwrap_or_else(|| expected.to_string())
+}
+
+/// [`expected_words`] of the descriptions serde writes with Rust type names.
+fn expected_word(expected: &str, choices: &[String]) -> Option<String> {
+    let words = match expected.trim() {
+        "u8" => "an integer from 0 to 255",
+        "u16" => "an integer from 0 to 65535",
+        "u32" => "an integer from 0 to 4294967295",
+        "u64" | "usize" | "u128" => "a non-negative integer",
+        "i8" => "an integer from -128 to 127",
+        "i16" => "an integer from -32768 to 32767",
+        "i32" => "an integer from -2147483648 to 2147483647",
+        "i64" | "isize" | "i128" => "an integer",
+        "f32" | "f64" => "a number",
+        "char" => "a single character",
+        "string only" | "a string" if !choices.is_empty() => {
+            return Some(format!("one of: {}", choices.join(", ")));
+        }
+        "string only" => "a string",
+        _ => return None,
+    };
+    Some(words.to_string())
+}
+
+/// serde's description of a value given (`integer `300``, `floating point `2.5``,
+/// `string "a"`, `boolean `true``) as the value.
+fn given_words(given: &str) -> String {
+    for prefix in ["integer ", "floating point ", "boolean ", "string "] {
+        if let Some(value) = given.strip_prefix(prefix) {
+            let value = value.trim_matches('`');
+            return match prefix {
+                "string " => format!("the string {value}"),
+                _ => value.to_string(),
+            };
+        }
+    }
+    given.to_string()
+}

@@ -344,23 +344,51 @@ fn config_value_errors_name_their_key() {
     let cases = [
         (
             config("", "", "moves = 99999999999999999999"),
-            "9:9: key `planners.a.moves`: number too large to fit in target type",
+            "9:9: key `planners.a.moves`: a number too large: integers are from -2^63 to 2^63 - 1",
         ),
         (
             config("", "", "inflation = 18446744073709551615"),
-            "9:13: key `planners.a.inflation`: number too large to fit in target type",
+            "9:13: key `planners.a.inflation`: a number too large",
         ),
         (
             config("", "seeds = [18446744073709551615]", ""),
-            "6:10: key `maps[0].seeds`: number too large to fit in target type",
+            "6:10: key `maps[0].seeds`: a number too large",
         ),
         (
             config("seed = -1", "", ""),
-            "2:8: key `seed`: invalid value: integer `-1`, expected u64",
+            "2:8: key `seed`: expected a non-negative integer, got -1",
         ),
         (
             config("[budget]\nmax_expansions = -1", "", ""),
-            "3:18: key `budget.max_expansions`: invalid value: integer `-1`, expected u64",
+            "3:18: key `budget.max_expansions`: expected a non-negative integer, got -1",
+        ),
+        (
+            config("[budget]\nmax_memory_mb = 99999999999999999999", "", ""),
+            "3:17: key `budget.max_memory_mb`: a number too large",
+        ),
+        (
+            config("", "costs = { lethal = 300 }", ""),
+            "key `maps[0].costs.lethal`: expected an integer from 0 to 255, got 300",
+        ),
+        (
+            config("", "costs = { unknown = -1 }", ""),
+            "key `maps[0].costs.unknown`: expected an integer from 0 to 255, got -1",
+        ),
+        (
+            config("", "costs = { lethal = 2.5 }", ""),
+            "key `maps[0].costs.lethal`: expected an integer from 0 to 255, got 2.5",
+        ),
+        (
+            config("", "costs = { swamp = 70000 }", ""),
+            "key `maps[0].costs.swamp`: expected an integer from 0 to 65535, got 70000",
+        ),
+        (
+            config("", "", "weight = \"a\""),
+            "parameter `weight`: expected a number, got the string \"a\"",
+        ),
+        (
+            config("", "", "tie_break = true"),
+            "parameter `tie_break`: expected one of: ",
         ),
         (
             config("output = \"\"", "", ""),
@@ -393,6 +421,84 @@ fn config_value_errors_name_their_key() {
             false => expected.to_string(),
         };
         assert!(error.contains(&expected), "{text}\n{error}");
+        for rust in [
+            "expected u",
+            "expected f64",
+            "string only",
+            "unit variant",
+            "target type",
+        ] {
+            assert!(!error.contains(rust), "{text}\n{error}");
+        }
+    }
+}
+
+/// Planner parameters given with `--set` (`plan`, `serve`: [`config::planner_from_table`])
+/// said serde's words: "invalid value: integer `-1`, expected u64", "expected u32",
+/// "invalid type: unit variant, expected string only" for a choice given a number. They
+/// say what a value takes in words, and a choice lists its values as a wrong string does.
+#[test]
+fn parameter_values_are_said_in_words() {
+    let cases: [(&str, &str, toml::Value, &str); 5] = [
+        (
+            "rrt",
+            "seed",
+            toml::Value::Integer(-1),
+            "parameter `seed`: expected a non-negative integer, got -1",
+        ),
+        (
+            "astar",
+            "moves",
+            toml::Value::Float(1.5),
+            "parameter `moves`: expected ",
+        ),
+        (
+            "astar",
+            "weight",
+            toml::Value::String("a".into()),
+            "parameter `weight`: expected a number, got the string \"a\"",
+        ),
+        (
+            "astar",
+            "heuristic",
+            toml::Value::Integer(5),
+            "parameter `heuristic`: expected one of: ",
+        ),
+        (
+            "astar",
+            "tie_break",
+            toml::Value::Boolean(true),
+            "parameter `tie_break`: expected one of: ",
+        ),
+    ];
+    for (planner, key, value, expected) in cases {
+        let table = toml::Table::from_iter([(key.to_string(), value)]);
+        let error = config::planner_from_table("p", planner, table, Budget::default())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(error.contains(expected), "{planner} {key}: {error}");
+        for rust in ["u32", "u64", "f64", "string only", "unit variant"] {
+            assert!(!error.contains(rust), "{planner} {key}: {error}");
+        }
+        // A choice lists its values, as a wrong string does.
+        if expected.ends_with("one of: ") {
+            let wrong =
+                toml::Table::from_iter([(key.to_string(), toml::Value::String("nosuch".into()))]);
+            let said = config::planner_from_table("p", planner, wrong, Budget::default())
+                .err()
+                .unwrap()
+                .to_string();
+            let first = error
+                .split("one of: ")
+                .nth(1)
+                .unwrap()
+                .split(',')
+                .next()
+                .unwrap()
+                .trim();
+            assert!(said.contains(first), "{said} / {error}");
+        }
     }
 }
 

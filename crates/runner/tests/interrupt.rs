@@ -425,3 +425,111 @@ fn run_stream_hands_every_finished_run_once() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A config `name` on an open 8x8 map in `dir`: two problems, A* (`a`) and backtracking
+/// (`bt`, which enumerates paths and runs until its budget of `expansions` ends), one
+/// thread; runs in order: A*, backtracking, A*, backtracking.
+fn long_config(dir: &Path, name: &str, expansions: u64) -> PathBuf {
+    let map = "type octile\nheight 8\nwidth 8\nmap\n".to_string() + &"........\n".repeat(8);
+    std::fs::write(dir.join("open8.map"), map).unwrap();
+    let text = format!(
+        "name = \"{name}\"\nthreads = 1\nfigures = \"none\"\npaths = \"all\"\n\
+         [[maps]]\nfiles = [\"open8.map\"]\n\
+         pairs = [{{ start = [0, 0], goal = [7, 7] }}, {{ start = [0, 1], goal = [7, 6] }}]\n\
+         [planners.a]\nplanner = \"astar\"\n\
+         [planners.bt]\nplanner = \"backtracking\"\nbudget = {{ max_expansions = {expansions} }}\n"
+    );
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// A stop raised while a run is in progress cancels it: a sweep whose backtracking run
+/// would take hours (10^11 expansions) returns once stopped, with no run recorded (the
+/// first A* run finishes before the stop, which the progress display raises once it is
+/// done; the backtracking run, cut short, is not recorded, so the stream keeps only
+/// finished runs). (The sweep ran on until the run's budget ended: over ten minutes
+/// for a SIGTERM, which Slurm follows with a SIGKILL.)
+#[test]
+fn a_stop_cancels_the_runs_in_progress() {
+    let dir = scratch("interrupt-cancel");
+    let config = long_config(&dir, "long", 100_000_000_000);
+    let output = dir.join("res");
+    let (sent, received) = std::sync::mpsc::channel();
+    let thread_output = output.clone();
+    std::thread::spawn(move || {
+        let stop = AtomicBool::new(false);
+        let watch = Watch {
+            stop: Some((&stop, 1)),
+            ..Watch::default()
+        };
+        let report = experiment(&SweepArgs {
+            output: Some(&thread_output),
+            progress: Some(&watch),
+            stop: Some(&stop),
+            ..SweepArgs::new(&config, &NoReport)
+        });
+        let _ = sent.send(report.map(|r| r.interrupted).map_err(|e| e.to_string()));
+    });
+    // A run of 10^11 expansions takes hours; a cancelled one ends within a budget check.
+    let interrupted = received
+        .recv_timeout(std::time::Duration::from_secs(120))
+        .expect("the stopped sweep did not return: its run in progress was not cancelled");
+    assert_eq!(interrupted, Ok(Some(1)));
+    let (runs, cut) = read_stream(&dir.join(".res.stream/records.stream"));
+    assert!(!cut);
+    let indices: Vec<u64> = runs.iter().map(|(run, _)| *run).collect();
+    assert_eq!(indices, [0], "the cancelled run was recorded");
+    assert!(read_stream(&dir.join(".res.stream/ahead.stream"))
+        .0
+        .is_empty());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A run cancelled by a stop is run again by `--resume`, which then equals a serial
+/// sweep: the stop (raised once the first A* run is done) cuts the backtracking run
+/// short (5 * 10^6 expansions: a second or so), which is not recorded, so the stream holds
+/// one run; the resumed sweep runs the three others in full. (The cancelled run was
+/// recorded as `budget_exhausted` after however many expansions it had done.)
+#[test]
+fn a_run_cancelled_by_a_stop_is_run_again_by_resume() {
+    let dir = scratch("interrupt-cancel-resume");
+    let config = long_config(&dir, "cut", 5_000_000);
+    let want = serial(&config, &dir.join("serial"), None);
+    assert_eq!(
+        want[1].status,
+        planner_runner::record::RunStatus::BudgetExhausted
+    );
+    let output = dir.join("res");
+    let stop = AtomicBool::new(false);
+    let watch = Watch {
+        stop: Some((&stop, 1)),
+        ..Watch::default()
+    };
+    let report = experiment(&SweepArgs {
+        output: Some(&output),
+        progress: Some(&watch),
+        stop: Some(&stop),
+        ..SweepArgs::new(&config, &NoReport)
+    })
+    .unwrap();
+    assert_eq!(
+        report.interrupted,
+        Some(1),
+        "the cancelled run was recorded"
+    );
+    let watch = Watch::default();
+    let resumed = experiment(&SweepArgs {
+        output: Some(&output),
+        progress: Some(&watch),
+        resume: true,
+        ..SweepArgs::new(&config, &NoReport)
+    })
+    .unwrap();
+    assert_eq!(resumed.interrupted, None);
+    assert_eq!(*watch.resumed.lock().unwrap(), Some(1));
+    let results = read_stream(&output.join(planner_runner::sweep::RESULTS_RECORDS)).0;
+    let got: Vec<RunRecord> = results.into_iter().map(|(_, r)| computed(r)).collect();
+    assert!(got == want, "the resumed sweep differs from a serial one");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

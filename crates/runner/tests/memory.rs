@@ -122,3 +122,54 @@ fn a_refusing_planner_says_at_least_what_it_would_allocate() {
     }
     assert!(under.is_empty(), "needs under-stated: {}", under.join(", "));
 }
+
+/// A run's `peak_heap_bytes` counts what its planner holds as the search starts, the
+/// buffers it kept from the worker's earlier runs included: after RRT grew a tree of
+/// 200,000 nodes on one problem, its next run (a neighbouring goal) said 688 bytes, while
+/// the planner held megabytes. Now the next run's figure is at least what the worker's
+/// planner holds (the thread's bytes after the first run's record is dropped, less the
+/// workspace's own).
+#[test]
+fn peak_heap_counts_what_the_planner_kept_from_earlier_runs() {
+    use planner_runner::run::{run_one, RunSpec, Workspace};
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("gridplan-memory-kept");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // An open map whose last column is walled off: the first goal is unreachable, so RRT
+    // runs all its iterations.
+    let row = format!("{}@.\n", ".".repeat(254));
+    let map = format!(
+        "type octile\nheight 256\nwidth 256\nmap\n{}",
+        row.repeat(256)
+    );
+    std::fs::write(dir.join("open.map"), map).unwrap();
+    let text = "name = \"kept\"\nfigures = \"none\"\n[[maps]]\nfiles = [\"open.map\"]\n\
+                pairs = [{ start = [0, 0], goal = [255, 255] }, { start = [0, 0], goal = [1, 0] }]\n\
+                [planners.r]\nplanner = \"rrt\"\nmax_iterations = 200000\n";
+    let experiment = planner_runner::config::parse(&dir.join("kept.toml"), text).unwrap();
+    let meter = alloc::Meter;
+    let spec = |problem| RunSpec {
+        map: 0,
+        problem,
+        planner: 0,
+        repeat: 0,
+    };
+    let before = planner_runner::run::HeapMeter::current(&meter);
+    let mut workspace = Workspace::default();
+    let first = run_one(&experiment, &spec(0), &mut workspace, Some(&meter)).unwrap();
+    assert_eq!(
+        first.status,
+        planner_runner::record::RunStatus::BudgetExhausted
+    );
+    drop(first);
+    let holding = planner_runner::run::HeapMeter::current(&meter) - before;
+    assert!(holding > 1 << 20, "the planner holds only {holding} bytes");
+    let second = run_one(&experiment, &spec(1), &mut workspace, Some(&meter)).unwrap();
+    // Less the workspace's own few bytes (its list of slots).
+    assert!(
+        second.peak_heap_bytes as i64 >= holding - 4096,
+        "peak {} bytes, while the planner held {holding}",
+        second.peak_heap_bytes
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -66,3 +66,43 @@ fn a_merge_records_its_shards_threads_and_seconds() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The provenance said `commit: unknown` for a config outside a git tree, though the
+/// binary knew the commit it was built from (`gridplan --version`). The caller's build
+/// commit ([`SweepArgs::build`]) is recorded beside the version, in provenance.json and
+/// in summary.md's list, a shard's too; a caller that tells none records none.
+#[test]
+fn the_provenance_records_the_build_commit() {
+    let dir = scratch("build-provenance");
+    let config = dir.join("c.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "name = \"b\"\n[[maps]]\nfiles = [{:?}]\nproblems = \"corners\"\n[planners.a]\nplanner = \"astar\"\n",
+            root().join("maps/paper/map01.map").display().to_string()
+        ),
+    )
+    .unwrap();
+    for (build, shard) in [
+        (Some("0123456789ab"), None),
+        (Some("0123456789ab"), Some(1)),
+        (None, Some(1)),
+    ] {
+        let out = dir.join(format!("out-{build:?}-{shard:?}"));
+        let mut args = SweepArgs::new(&config, &NoReport);
+        args.output = Some(&out);
+        args.build = build;
+        args.shard = shard.map(|k| Shard::new(k, 1).unwrap());
+        sweep::experiment(&args).unwrap();
+        let provenance = sweep::read_provenance(&out).unwrap();
+        assert_eq!(provenance.build.as_deref(), build);
+        let line = "- gridplan built from commit: 0123456789ab\n";
+        assert_eq!(
+            provenance.markdown().contains(line),
+            build.is_some(),
+            "{}",
+            provenance.markdown()
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

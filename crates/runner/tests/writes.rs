@@ -426,6 +426,77 @@ fn a_refused_resume_says_which_input_changed() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A refused --resume after a setting changed said "the config's settings (name, repeats,
+/// seed, figures, paths, sections or planners) changed", also when the `[budget]` changed,
+/// which that list leaves out. It names the setting that changed: the budget's limit and
+/// the planner it applies to, a planner's parameters, a planner added, the repeats.
+#[test]
+fn a_refused_resume_names_the_setting_that_changed() {
+    let dir = scratch("writes-changed-setting");
+    let output = dir.join("res");
+    let write = |budget: &str, repeats: u32, planners: &str| {
+        std::fs::create_dir_all(dir.join("maps")).unwrap();
+        std::fs::write(dir.join("maps/a.map"), map_text(None)).unwrap();
+        let text = format!(
+            "name = \"w\"\nrepeats = {repeats}\nfigures = \"none\"\n[budget]\n{budget}\n\
+             [[maps]]\nfiles = [\"maps/*.map\"]\nproblems = \"corners\"\n{planners}"
+        );
+        let path = dir.join("w.toml");
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let planners = "[planners.a]\nplanner = \"astar\"\n[planners.b]\nplanner = \"bfs\"\n";
+    let config = write("max_expansions = 20000", 2, planners);
+    experiment(&args(&config, &output, &NoReport)).unwrap();
+    let cases: [(&str, u32, String, &[&str]); 4] = [
+        (
+            "max_expansions = 20001",
+            2,
+            planners.to_string(),
+            &[
+                "budget's `max_expansions` of planner \"a\"",
+                "of planner \"b\"",
+            ],
+        ),
+        (
+            "max_expansions = 20000",
+            3,
+            planners.to_string(),
+            &["`repeats`"],
+        ),
+        (
+            "max_expansions = 20000",
+            2,
+            planners.replace("\"astar\"", "\"astar\"\nmoves = 8"),
+            &["planner \"a\"'s registry name, parameters or `compare` changed"],
+        ),
+        (
+            "max_expansions = 20000",
+            2,
+            format!("{planners}[planners.c]\nplanner = \"dfs\"\n"),
+            &["planner \"c\"'s registry name, parameters or `compare` was added"],
+        ),
+    ];
+    for (budget, repeats, planners, said) in cases {
+        let config = write(budget, repeats, &planners);
+        let error = experiment(&SweepArgs {
+            resume: true,
+            ..args(&config, &output, &NoReport)
+        })
+        .unwrap_err();
+        assert!(
+            matches!(&error, RunnerError::Resume(e) if matches!(**e, ResumeError::OtherConfig { .. })),
+            "{error:?}"
+        );
+        let text = error.to_string();
+        for words in said {
+            assert!(text.contains(words), "{budget}, {repeats}: {text}");
+        }
+        assert!(!text.contains("settings ("), "{text}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Starting over without --resume silently discarded an interrupted sweep's recorded runs
 /// (the stream shrank from 766 KB to 170 KB). It says so, with how many and where.
 #[test]
