@@ -132,7 +132,8 @@ pub const HELD_RUNS: u64 = 100_000;
 /// own size, its strings, counters, path, marks and series): 128 MiB. A sweep whose
 /// records pass it, though it has at most [`HELD_RUNS`] runs (a planner that marks every
 /// jump point: 34 KB a run), lets go of the records it held and writes its outputs from
-/// its stream as a larger sweep does ([`SweepArgs::held_bytes`] lowers it).
+/// its stream as a larger sweep does ([`SweepArgs::held_bytes`] lowers it); so does
+/// [`report`] of a results directory. (`merge` still holds up to [`HELD_RUNS`] records.)
 pub const HELD_BYTES: u64 = 128 << 20;
 
 /// An estimate of the memory `record` takes, its heap included: its own size, its strings,
@@ -879,7 +880,8 @@ impl Held {
             self.bytes += record_bytes(&record);
             if self.bytes > self.cap {
                 tracing::info!(
-                    "the records passed {} bytes: the outputs are written from the stream",
+                    "the records take more than {} bytes: they are read from their stream \
+                     file in passes",
                     self.cap
                 );
                 self.records = None;
@@ -1540,7 +1542,7 @@ pub fn report(
 /// The records of a results directory's records.stream (or an earlier version's records.jsonl: `path`; its `header` read, the rest
 /// in `reader`), every one checked against `experiment`'s run list
 /// ([`stream::check_record`]) and all of the sweep's runs there: held when there are at
-/// most [`HELD_RUNS`], else the file itself, read in passes. Records of another gridplan
+/// most [`HELD_RUNS`] taking at most [`HELD_BYTES`], else the file itself, read in passes. Records of another gridplan
 /// version are kept as that version computed them, with a warning naming both.
 fn read_results_records(
     experiment: &Experiment,
@@ -1559,7 +1561,11 @@ fn read_results_records(
         );
     }
     let list = RunList::new(experiment);
-    let mut records = Vec::with_capacity(if hold { header.total_runs as usize } else { 0 });
+    let mut held = Held {
+        records: hold.then(Vec::new),
+        bytes: 0,
+        cap: HELD_BYTES,
+    };
     let mut n = 0u64;
     let dir = path.parent().unwrap_or(Path::new("."));
     while let Some((run, record)) = reader
@@ -1575,8 +1581,8 @@ fn read_results_records(
             }
         })?;
         n += 1;
-        if hold && n <= header.total_runs {
-            records.push(record);
+        if n <= header.total_runs {
+            held.extend([record]);
         }
     }
     if n != header.total_runs || reader.was_cut() {
@@ -1588,9 +1594,9 @@ fn read_results_records(
         }
         .into());
     }
-    Ok(match hold {
-        true => Source::Held(records),
-        false => Source::Stream(StreamPasses::new(path, n)),
+    Ok(match held.records {
+        Some(records) => Source::Held(records),
+        None => Source::Stream(StreamPasses::new(path, n)),
     })
 }
 
