@@ -36,7 +36,8 @@ pub const VERSION: &str = concat!(
     name = "gridplan",
     version = VERSION,
     about = "gridplan: sweep experiment configs over maps and planners, run one planner on one map",
-    after_help = "Ctrl-C (SIGINT) or SIGTERM stops a command (a sweep cleanly, keeping its finished runs for --resume; exit status 130). \
+    after_help = "Ctrl-C (SIGINT) or SIGTERM stops a command (a sweep cleanly: it cancels the runs in progress and keeps its finished runs for --resume; exit status 130). \
+A second signal at least 1 s after the first quits at once. \
 A SIGINT inherited ignored (nohup, trap '' INT) stays ignored; SIGTERM still stops. \
 Output closed early (a pipe into `head`) ends a command quietly with status 0."
 )]
@@ -60,7 +61,7 @@ pub enum Command {
         /// Output directory (default: the config's `output`, else `results/<name>`).
         #[arg(long)]
         output: Option<PathBuf>,
-        /// No progress bar.
+        /// No progress bar (and, when stderr is not a terminal, no progress line every 30 s).
         #[arg(long)]
         quiet: bool,
         /// Keep the runs an interrupted sweep on the same output recorded and run the rest;
@@ -165,7 +166,7 @@ pub enum Command {
         /// PGM/PNG image), or a .png/.pgm image read with map_server's defaults (dark = occupied).
         map: PathBuf,
         /// Registry name (astar, backtracking, ...), or a label of --config.
-        #[arg(long)]
+        #[arg(long, value_parser = PlannerName, hide_possible_values = true)]
         planner: String,
         /// An experiment config whose planner labels --planner may name.
         #[arg(long)]
@@ -174,10 +175,10 @@ pub enum Command {
         #[arg(long)]
         problem: Option<usize>,
         /// Start cell as x,y.
-        #[arg(long, value_parser = parse_cell)]
+        #[arg(long, value_name = "X,Y", value_parser = parse_cell, allow_hyphen_values = true)]
         start: Option<Cell>,
         /// Goal cell as x,y (not for coverage planners).
-        #[arg(long, value_parser = parse_cell)]
+        #[arg(long, value_name = "X,Y", value_parser = parse_cell, allow_hyphen_values = true)]
         goal: Option<Cell>,
         /// Start as a point x,y of a ROS map's map frame, in metres (a map_server .yaml:
         /// its resolution and origin place the cells, as nav2's costmap does): the cell
@@ -200,15 +201,15 @@ pub enum Command {
         max_memory_mb: Option<u64>,
         /// The value of a .csv map's cell that is an obstacle: 0 (the default, seed 000's
         /// convention) or 1 (the common occupancy-grid convention).
-        #[arg(long, value_parser = clap::value_parser!(u8).range(0..=1))]
-        obstacle: Option<u8>,
+        #[arg(long, value_parser = ["0", "1"])]
+        obstacle: Option<String>,
         /// Cell weights for the map: a .csv of integers from 1 to 65535, one row per map
         /// row (a map set's `costs.weights`). The path's cost is then printed.
         #[arg(long, value_name = "FILE", help_heading = "Cell costs")]
         weights: Option<PathBuf>,
         /// The move cost rule on a weighted map: mean (length times the mean of the two
         /// cells' weights, the default) or entered (times the entered cell's weight).
-        #[arg(long, value_name = "RULE", value_parser = parse_cost_rule, help_heading = "Cell costs")]
+        #[arg(long, value_name = "RULE", value_parser = cost_rule_parser(), help_heading = "Cell costs")]
         cost_rule: Option<planner_api::CostRule>,
         /// Read a ROS map's graded values (mode scale or raw) as costs, with nav2's bands.
         #[arg(long, help_heading = "Cell costs")]
@@ -269,6 +270,7 @@ pub enum Command {
     /// default, allowed values, doc), from its declared parameters.
     Planners {
         /// A registry name, e.g. astar.
+        #[arg(value_parser = PlannerName, hide_possible_values = true)]
         name: Option<String>,
     },
     /// Print the JSON Schema of experiment configs (for editors: configs/README.md).
@@ -283,36 +285,65 @@ pub enum Command {
 /// A `--start`/`--goal` value that is not a cell.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum CellError {
-    /// No comma.
-    #[error("{0:?}: expected x,y")]
+    /// Not two coordinates separated by one comma.
+    #[error("{0:?}: expected x,y (two coordinates separated by one comma)")]
     Shape(String),
-    /// A coordinate that is not a `u32`.
-    #[error("{text:?}: {part:?} is not a cell coordinate: {source}")]
-    Coordinate {
+    /// A coordinate below 0.
+    #[error("{text:?}: {axis} coordinate {part} is negative; cells are numbered from 0")]
+    Negative {
         /// The whole value.
         text: String,
+        /// `x` or `y`.
+        axis: char,
         /// The coordinate.
         part: String,
-        /// Why.
-        source: std::num::ParseIntError,
+    },
+    /// A coordinate over [`u32::MAX`].
+    #[error("{text:?}: {axis} coordinate {part} is over the largest cell coordinate, {max}", max = u32::MAX)]
+    TooLarge {
+        /// The whole value.
+        text: String,
+        /// `x` or `y`.
+        axis: char,
+        /// The coordinate.
+        part: String,
+    },
+    /// A coordinate that is not a whole number.
+    #[error("{text:?}: {axis} coordinate {part:?} is not a whole number")]
+    NotANumber {
+        /// The whole value.
+        text: String,
+        /// `x` or `y`.
+        axis: char,
+        /// The coordinate.
+        part: String,
     },
 }
 
-/// Parses `x,y` into a cell.
+/// Parses `x,y` (two whole numbers from 0 to [`u32::MAX`]) into a cell.
 pub fn parse_cell(text: &str) -> Result<Cell, CellError> {
-    let (x, y) = text
-        .split_once(',')
-        .ok_or_else(|| CellError::Shape(text.to_string()))?;
-    let number = |s: &str| {
-        s.trim()
-            .parse::<u32>()
-            .map_err(|source| CellError::Coordinate {
-                text: text.to_string(),
-                part: s.to_string(),
-                source,
-            })
+    let parts: Vec<&str> = text.split(',').collect();
+    let [x, y] = parts[..] else {
+        return Err(CellError::Shape(text.to_string()));
     };
-    Ok(Cell::new(number(x)?, number(y)?))
+    let number = |axis: char, part: &str| {
+        let part = part.trim();
+        let fail = |kind: fn(String, char, String) -> CellError| {
+            Err(kind(text.to_string(), axis, part.to_string()))
+        };
+        let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+        match part.parse::<u32>() {
+            Ok(n) => Ok(n),
+            Err(_) if part.strip_prefix('-').is_some_and(digits) => {
+                fail(|text, axis, part| CellError::Negative { text, axis, part })
+            }
+            Err(_) if digits(part.strip_prefix('+').unwrap_or(part)) => {
+                fail(|text, axis, part| CellError::TooLarge { text, axis, part })
+            }
+            Err(_) => fail(|text, axis, part| CellError::NotANumber { text, axis, part }),
+        }
+    };
+    Ok(Cell::new(number('x', x)?, number('y', y)?))
 }
 
 /// A `--start-world`/`--goal-world` value that is not a point.
@@ -349,13 +380,41 @@ pub fn parse_point(text: &str) -> Result<(f64, f64), PointError> {
     Ok((number(x)?, number(y)?))
 }
 
-/// Parses `--cost-rule`: `mean` or `entered` (clap's value parser; a clap error names
-/// the flag).
-fn parse_cost_rule(text: &str) -> Result<planner_api::CostRule, String> {
-    match text.trim() {
-        "mean" => Ok(planner_api::CostRule::Mean),
-        "entered" => Ok(planner_api::CostRule::Entered),
-        other => Err(format!("{other:?}: expected mean or entered")),
+/// Parses `--cost-rule`: `mean` or `entered` (possible values, so clap's error lists them
+/// and the shell completions offer them).
+fn cost_rule_parser() -> impl clap::builder::TypedValueParser<Value = planner_api::CostRule> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(["mean", "entered"]).map(|rule| match &*rule {
+        "entered" => planner_api::CostRule::Entered,
+        _ => planner_api::CostRule::Mean,
+    })
+}
+
+/// The value parser of a planner name (`plan --planner`, `planners NAME`): any text (a
+/// config's label as well as a registry name; an unknown one is the runner's error, which
+/// lists the names), with the registry's names as possible values for the shell
+/// completions (`gridplan completions`).
+#[derive(Clone)]
+struct PlannerName;
+
+impl clap::builder::TypedValueParser for PlannerName {
+    type Value = String;
+
+    fn parse_ref(
+        &self,
+        command: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<String, clap::Error> {
+        clap::builder::StringValueParser::new().parse_ref(command, arg, value)
+    }
+
+    fn possible_values(
+        &self,
+    ) -> Option<Box<dyn Iterator<Item = clap::builder::PossibleValue> + '_>> {
+        Some(Box::new(planner_registry::PLANNERS.iter().map(|entry| {
+            clap::builder::PossibleValue::new(entry.name).help(entry.summary)
+        })))
     }
 }
 
@@ -628,6 +687,46 @@ impl CliError {
     }
 }
 
+/// The command of the command line (`std::env::args`), or, when clap answered instead,
+/// the exit status after its answer was printed: `--help` and `--version` go to stdout as
+/// every command's output does (a closed pipe ends quietly with status 0, any other write
+/// error, such as a full disk, is an error, status 1), a usage error to stderr with
+/// status 2.
+pub fn parse() -> Result<Command, ExitCode> {
+    let error = match Cli::try_parse() {
+        Ok(cli) => return Ok(cli.command),
+        Err(error) => error,
+    };
+    let colour =
+        |terminal: bool| terminal && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty());
+    let rendered = error.render();
+    if error.use_stderr() {
+        // clap quotes the values the user gave as they are: a line break in one is
+        // escaped, so that it cannot end the error's line.
+        let arguments = || std::env::args_os().skip(1);
+        let text = match colour(std::io::IsTerminal::is_terminal(&std::io::stderr())) {
+            true => arguments_on_one_line(&rendered.ansi().to_string(), arguments()),
+            false => {
+                planner_text::terminal(&arguments_on_one_line(&rendered.to_string(), arguments()))
+                    .into_owned()
+            }
+        };
+        // A stderr that cannot be written loses the message; the status still says it.
+        let _ = std::io::Write::write_all(&mut std::io::stderr().lock(), text.as_bytes());
+        return Err(ExitCode::from(
+            u8::try_from(error.exit_code()).unwrap_or(EXIT_USAGE),
+        ));
+    }
+    let text = match colour(std::io::IsTerminal::is_terminal(&std::io::stdout())) {
+        true => rendered.ansi().to_string(),
+        false => rendered.to_string(),
+    };
+    match write_stdout(text.as_bytes()) {
+        Ok(()) => Err(ExitCode::SUCCESS),
+        Err(error) => Err(exit(Err(error))),
+    }
+}
+
 /// The exit code of a command's result; prints the error.
 pub fn exit(result: Result<(), CliError>) -> ExitCode {
     match result {
@@ -640,8 +739,34 @@ pub fn exit(result: Result<(), CliError>) -> ExitCode {
 /// config text: labels, paths; no control sequence reaches the terminal), and returns the
 /// exit status `code`.
 pub fn fail(error: &dyn std::fmt::Display, code: u8) -> ExitCode {
-    to_stderr!("error: {}", planner_text::terminal(&error.to_string()));
+    let message = arguments_on_one_line(&error.to_string(), std::env::args_os().skip(1));
+    to_stderr!("error: {}", planner_text::terminal(&message));
     ExitCode::from(code)
+}
+
+/// `message` with every piece of the command-line `arguments` that holds a control
+/// character (a path's component, an option's `=` value) written on one line
+/// ([`planner_text::one_line`]) wherever it appears, so that a path the user gave
+/// (`plan $'new\nline.map'`), which the libraries' errors name as it is, cannot end the
+/// line of the error; the line breaks of messages that span lines on purpose are kept.
+fn arguments_on_one_line(
+    message: &str,
+    arguments: impl Iterator<Item = std::ffi::OsString>,
+) -> String {
+    let mut message = message.to_string();
+    for argument in arguments {
+        let argument = argument.to_string_lossy().into_owned();
+        let mut pieces: Vec<&str> = argument
+            .split(['/', '='])
+            .filter(|piece| piece.contains(char::is_control))
+            .collect();
+        // The longest first, so that a piece holding another is replaced whole.
+        pieces.sort_by_key(|piece| std::cmp::Reverse(piece.len()));
+        for piece in pieces {
+            message = message.replace(piece, &planner_text::one_line(piece));
+        }
+    }
+    message
 }
 
 /// Raised by the first SIGINT or SIGTERM while a sweep watches it.
@@ -650,10 +775,19 @@ static STOP: AtomicBool = AtomicBool::new(false);
 /// Whether a sweep watches [`STOP`] (else a signal ends the process at once).
 static GRACEFUL: AtomicBool = AtomicBool::new(false);
 
+/// When the first signal raised [`STOP`].
+static FIRST_STOP: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+
+/// How long after the first SIGINT or SIGTERM of a sweep another one is taken as the same
+/// signal delivered again, not as "interrupt again": GNU `timeout` sends its signal to
+/// the child and then to the child's process group, which may arrive as two (README).
+pub const REPEATED_SIGNAL: std::time::Duration = std::time::Duration::from_secs(1);
+
 /// Installs the one handler of SIGINT and SIGTERM (Ctrl-C; Slurm's `scancel`). While a
-/// sweep watches [`STOP`], the first signal raises it, so the sweep starts no new run and
-/// records the finished ones; otherwise (`plan`, which writes nothing, or a second
-/// signal) it prints "interrupted" and exits at once with [`EXIT_INTERRUPTED`] (a sweep's
+/// sweep watches [`STOP`], the first signal raises it, so the sweep starts no new run,
+/// cancels the runs in progress and keeps the finished ones; a signal within
+/// [`REPEATED_SIGNAL`] of the first is taken as the same one. Otherwise (`plan`, which
+/// writes nothing, or a second signal later) it prints "interrupted" and exits at once with [`EXIT_INTERRUPTED`] (a sweep's
 /// stream may then end in a cut line, which `--resume` drops). A handler installed first
 /// is kept.
 ///
@@ -664,11 +798,23 @@ static GRACEFUL: AtomicBool = AtomicBool::new(false);
 fn install_handler() -> Result<(), ctrlc::Error> {
     let ignored = signals::inherited_ignored();
     let handler = || {
-        if GRACEFUL.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
-            to_stderr!(
-                "stopping: finishing the runs in progress (interrupt again to quit at once)"
-            );
-            return;
+        if GRACEFUL.load(Ordering::SeqCst) {
+            if !STOP.swap(true, Ordering::SeqCst) {
+                let _ = FIRST_STOP.set(std::time::Instant::now());
+                to_stderr!(
+                    "stopping: cancelling the runs in progress; finished runs are kept \
+                     (interrupt again to quit at once)"
+                );
+                return;
+            }
+            // The first signal delivered twice (GNU `timeout` signals the child and then
+            // its process group): not yet a second interrupt.
+            if FIRST_STOP
+                .get()
+                .is_some_and(|first| first.elapsed() < REPEATED_SIGNAL)
+            {
+                return;
+            }
         }
         to_stderr!("interrupted");
         std::process::exit(i32::from(EXIT_INTERRUPTED));
@@ -762,17 +908,68 @@ fn stop_on_signals() -> Option<&'static AtomicBool> {
     }
 }
 
-/// A sweep's progress bar on stderr (hidden when stderr is not a terminal), and what a
-/// resumed sweep found.
+/// How often a sweep whose stderr is not a terminal (a Slurm log, `nohup`, `2> file`)
+/// prints a progress line instead of the bar.
+pub const PROGRESS_LINE_EVERY: std::time::Duration = std::time::Duration::from_secs(30);
+
+/// A sweep's progress on stderr, and what a resumed sweep found: a progress bar on a
+/// terminal, else a plain line (`progress: N of M runs (P %), S s`) every
+/// [`PROGRESS_LINE_EVERY`], with no carriage return or escape code.
 struct Bar {
     bar: std::sync::OnceLock<ProgressBar>,
-    /// `--quiet`: no bar (what a resume found is still said).
+    /// `--quiet`: no bar and no lines (what a resume found is still said).
     quiet: bool,
+    /// Without a terminal: the sweep's start, its run count and the last line's time.
+    lines: std::sync::Mutex<Option<Lines>>,
+}
+
+/// The progress lines of [`Bar`] without a terminal.
+struct Lines {
+    /// The sweep's runs.
+    total: u64,
+    /// When the sweep started.
+    started: std::time::Instant,
+    /// When the last line was printed (or the sweep started).
+    last: std::time::Instant,
+    /// The time between two lines.
+    every: std::time::Duration,
+}
+
+impl Bar {
+    /// The bar of a sweep (`quiet`: none).
+    fn new(quiet: bool) -> Bar {
+        Bar {
+            bar: std::sync::OnceLock::new(),
+            quiet,
+            lines: std::sync::Mutex::new(None),
+        }
+    }
+}
+
+/// The time between two progress lines: [`PROGRESS_LINE_EVERY`], or for the tests the
+/// milliseconds `GRIDPLAN_PROGRESS_LINE_MS` gives (not promised to users).
+fn progress_line_every() -> std::time::Duration {
+    std::env::var("GRIDPLAN_PROGRESS_LINE_MS")
+        .ok()
+        .and_then(|ms| ms.parse().ok())
+        .map_or(PROGRESS_LINE_EVERY, std::time::Duration::from_millis)
 }
 
 impl sweep::Progress for Bar {
     fn start(&self, total: u64, done: u64) {
         if self.quiet {
+            return;
+        }
+        if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+            let now = std::time::Instant::now();
+            if let Ok(mut lines) = self.lines.lock() {
+                *lines = Some(Lines {
+                    total,
+                    started: now,
+                    last: now,
+                    every: progress_line_every(),
+                });
+            }
             return;
         }
         let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
@@ -789,6 +986,21 @@ impl sweep::Progress for Bar {
         if let Some(bar) = self.bar.get() {
             bar.set_position(done);
         }
+        let Ok(mut lines) = self.lines.lock() else {
+            return;
+        };
+        if let Some(lines) = lines.as_mut() {
+            let now = std::time::Instant::now();
+            if now.duration_since(lines.last) >= lines.every && done < lines.total {
+                lines.last = now;
+                to_stderr!(
+                    "progress: {done} of {} runs ({} %), {} s",
+                    lines.total,
+                    u128::from(done) * 100 / u128::from(lines.total.max(1)),
+                    now.duration_since(lines.started).as_secs()
+                );
+            }
+        }
     }
 
     fn finish(&self) {
@@ -801,7 +1013,7 @@ impl sweep::Progress for Bar {
         if done == 0 {
             to_stderr!(
                 "nothing to resume for {}: running every run",
-                planner_text::terminal(&output.display().to_string())
+                planner_text::one_line(&output.display().to_string())
             );
         } else {
             to_stderr!("resuming: {done} of {total} runs already recorded");
@@ -809,7 +1021,8 @@ impl sweep::Progress for Bar {
     }
 
     fn discarding(&self, message: &str) {
-        to_stderr!("{}", planner_text::terminal(message));
+        let message = arguments_on_one_line(message, std::env::args_os().skip(1));
+        to_stderr!("{}", planner_text::terminal(&message));
     }
 }
 
@@ -884,11 +1097,10 @@ fn replan_experiment(
     };
     let done = match experiment::run_config(&parsed, config, &output, &options) {
         Err(experiment::ExperimentError::Interrupted) => {
-            let text = format!(
+            to_stderr!(
                 "interrupted: no results were written, {} is as it was",
-                output.display()
+                planner_text::one_line(&output.display().to_string())
             );
-            to_stderr!("{}", planner_text::terminal(&text));
             std::process::exit(i32::from(EXIT_INTERRUPTED));
         }
         done => done?,
@@ -954,10 +1166,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 None => planner_runner::shard::Shard::from_env(|k| std::env::var(k).ok())
                     .map_err(|e| CliError::Usage(e.to_string()))?,
             };
-            let bar = Bar {
-                bar: std::sync::OnceLock::new(),
-                quiet,
-            };
+            let bar = Bar::new(quiet);
             let stop = stop_on_signals();
             let renderer = planner_paper::renderer();
             let machine = machine(&config);
@@ -1185,7 +1394,9 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 goal_world,
                 set,
                 max_expansions,
-                obstacle: obstacle.and_then(planner_maps::CsvConvention::from_obstacle_value),
+                obstacle: obstacle
+                    .and_then(|value| value.parse().ok())
+                    .and_then(planner_maps::CsvConvention::from_obstacle_value),
             };
             let options = planner_runner::plan::PlanOptions {
                 max_memory_mb,
@@ -1240,7 +1451,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
             {
                 to_stderr!(
                     "note: {} records no search steps (it lists no expanded cells), so the trace holds only its start, goal and end",
-                    planner_text::terminal(&result.record.planner)
+                    planner_text::one_line(&result.record.planner)
                 );
             }
             if trace.is_some() && result.events.len() >= planner_api::MAX_SEARCH_EVENTS {
@@ -1274,7 +1485,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                         "note: listening on {}, not only this machine: whoever reaches it can \
                          read the maps and results under {} and run planners here",
                         addr.ip(),
-                        planner_text::terminal(&dir.display().to_string())
+                        planner_text::one_line(&dir.display().to_string())
                     );
                 }
             })?;
@@ -1297,9 +1508,43 @@ pub fn run(command: Command) -> Result<(), CliError> {
             let mut command = <Cli as clap::CommandFactory>::command();
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut command, "gridplan", &mut script);
+            if shell == clap_complete::Shell::Fish {
+                script.extend(fish_positionals(&command).into_bytes());
+            }
             write_stdout(&script)
         }
     }
+}
+
+/// The fish completions of the subcommands' positional arguments with possible values
+/// (`planners NAME`, `completions SHELL`), which clap_complete's fish script leaves out
+/// (it completes options only, and files for the rest).
+fn fish_positionals(command: &clap::Command) -> String {
+    let mut lines = String::new();
+    for subcommand in command.get_subcommands() {
+        for positional in subcommand.get_positionals() {
+            let values: Vec<String> = positional
+                .get_possible_values()
+                .iter()
+                .filter(|value| !value.is_hide_set())
+                .map(|value| value.get_name().to_string())
+                .collect();
+            // Names of letters, digits, `_` and `-` only: nothing fish would expand.
+            let plain = |name: &String| {
+                name.bytes()
+                    .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+            };
+            if values.is_empty() || !values.iter().all(plain) {
+                continue;
+            }
+            lines.push_str(&format!(
+                "complete -c gridplan -n \"__fish_gridplan_using_subcommand {}\" -f -a \"{}\"\n",
+                subcommand.get_name(),
+                values.join(" ")
+            ));
+        }
+    }
+    lines
 }
 
 /// `gridplan schema`: the JSON Schema (draft 2020-12) of every config `experiment` runs,

@@ -2,8 +2,6 @@
 
 use std::process::ExitCode;
 
-use clap::Parser as _;
-
 #[global_allocator]
 static ALLOCATOR: planner_runner::alloc::Counting = planner_runner::alloc::Counting;
 
@@ -11,5 +9,9 @@ fn main() -> ExitCode {
     gridplan::init_logging();
     // The lock files this process takes name it (the runner reads no process state).
     planner_runner::outdir::set_lock_holder(std::process::id());
-    gridplan::exit(gridplan::run(gridplan::Cli::parse().command))
+    // `--help` and `--version` are written as every output is, their write errors said.
+    match gridplan::parse() {
+        Ok(command) => gridplan::exit(gridplan::run(command)),
+        Err(code) => code,
+    }
 }

@@ -451,8 +451,23 @@ fn careless_inputs_fail_cleanly() {
         (small(), plan("small.map", &["--planner", "astar", "--start", "0,0", "--goal", "3,0"]), Error("(3, 0)")),
         (small(), plan("small.map", &["--planner", "astar", "--start", "4294967295,4294967295", "--goal", "0,0"]), Error("(4294967295, 4294967295)")),
         (small(), plan("small.map", &["--planner", "astar", "--start", "0;0", "--goal", "2,2"]), Usage("expected x,y")),
-        (small(), plan("small.map", &["--planner", "astar", "--start", "-1,0", "--goal", "2,2"]), Usage("unexpected argument '-1'")),
-        (small(), plan("small.map", &["--planner", "astar", "--start", "4294967296,0", "--goal", "2,2"]), Usage("not a cell coordinate")),
+        // A bad cell names the coordinate at fault and why, whatever its form (a negative
+        // one was clap's "tip: to pass '-1' as a value, use '-- -1'"; `0,0,0` blamed "0,0").
+        (small(), plan("small.map", &["--planner", "astar", "--start", "-1,0", "--goal", "2,2"]), Usage("\"-1,0\": x coordinate -1 is negative; cells are numbered from 0")),
+        (small(), plan("small.map", &["--planner", "astar", "--start=-1,0", "--goal", "2,2"]), Usage("\"-1,0\": x coordinate -1 is negative")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "0,0", "--goal", "0,-3"]), Usage("\"0,-3\": y coordinate -3 is negative")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "0,0,0", "--goal", "2,2"]), Usage("\"0,0,0\": expected x,y (two coordinates separated by one comma)")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "4294967296,0", "--goal", "2,2"]), Usage("x coordinate 4294967296 is over the largest cell coordinate, 4294967295")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "0,0", "--goal", "99999999999,0"]), Usage("\"99999999999,0\": x coordinate 99999999999 is over the largest cell coordinate, 4294967295")),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "0,1.5", "--goal", "2,2"]), Usage("\"0,1.5\": y coordinate \"1.5\" is not a whole number")),
+        // A line break in a path or value the user gave cannot end the error's line (a
+        // script reading stderr line by line read `error: new` and `line.map: goal ...`).
+        (
+            owned(vec![("new\nline.map", SMALL.to_vec())]),
+            plan("new\nline.map", &["--planner", "astar", "--start", "0,0", "--goal", "99,9"]),
+            Error("error: new\\u{a}line.map: goal (99, 9) is outside the 3x3 grid\n"),
+        ),
+        (small(), plan("small.map", &["--planner", "astar", "--start", "x\n,0", "--goal", "2,2"]), Usage("error: invalid value 'x\\u{a},0' for '--start <X,Y>'")),
         (small(), plan("small.map", &["--planner", "astar", "--start", "0,0"]), Error("--start and --goal go together")),
         (small(), plan("small.map", &["--planner", "astar", "--problem", "1", "--start", "0,0", "--goal", "2,2"]), Error("not both")),
         (small(), plan("small.map", &["--planner", "astar", "--problem", "0"]), Error("--problem 0: small.map has 0 problem(s)")),
@@ -949,7 +964,8 @@ fn closed_pipe() -> Stdio {
 /// Issue 27: with stdout a pipe whose reader has gone, `planners`, `plan --json` and
 /// `experiment` panicked ("failed printing to stdout: Broken pipe", exit 101). The rule
 /// (README): a closed pipe ends the command quietly with status 0, as `head`-style
-/// pipelines expect; any other stdout error (a full disk) is an error, status 1.
+/// pipelines expect; any other stdout error (a full disk) is an error, status 1. The same
+/// for `--help` and `--version` (`>/dev/full` gave status 0 and no message).
 #[cfg(unix)]
 #[test]
 fn a_closed_stdout_ends_quietly() {
@@ -965,11 +981,16 @@ fn a_closed_stdout_ends_quietly() {
         "2,2",
         "--json",
     ];
-    let commands: [&[&str]; 4] = [
+    let commands: [&[&str]; 7] = [
         &["planners"],
         &["planners", "astar"],
         &plan,
         &["experiment", "c.toml", "--quiet", "--output", "out"],
+        // clap's answers too: they were printed with their write errors ignored (exit 0
+        // on a full disk).
+        &["--help"],
+        &["plan", "--help"],
+        &["--version"],
     ];
     for args in commands {
         let out = gridplan_with(&dir, args, &[], closed_pipe());
@@ -1531,4 +1552,205 @@ fn serve_stops_on_sigterm_with_130() {
     let mut err = String::new();
     std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
     assert!(err.contains("interrupted"), "{err}");
+}
+
+/// `dir/c.toml`: arena.map's 160 scenarios times `repeats` of A* (configs/bench's
+/// arena-repeats with more repeats), a sweep that runs for a while.
+fn arena_sweep(dir: &Path, repeats: u32) {
+    let maps = common::root().join("maps/movingai");
+    std::fs::write(
+        dir.join("c.toml"),
+        format!(
+            "name = \"arena\"\nrepeats = {repeats}\nfigures = \"none\"\n[[maps]]\nfiles = [{:?}]\n\
+             scen = {:?}\n[planners.octile]\nplanner = \"astar\"\nmoves = 8\nheuristic = \"octile\"\n",
+            maps.join("arena.map").display().to_string(),
+            maps.join("arena.map.scen").display().to_string(),
+        ),
+    )
+    .unwrap();
+}
+
+/// GNU `timeout -s INT` signals the child and then its process group, which may arrive as
+/// two SIGINTs a moment apart: the second was taken as "interrupt again" and the sweep quit
+/// at once ("interrupted", its runs in progress abandoned, no `--resume` line). A signal
+/// within a second of the first is now the same stop.
+#[cfg(unix)]
+#[test]
+#[allow(unsafe_code)]
+fn a_signal_delivered_twice_stops_a_sweep_once() {
+    use std::os::unix::process::CommandExt as _;
+    let dir = scratch(20_020);
+    // Runs of a few seconds each (Backtracking on an open map, stopped by its budget), so
+    // that the second signal comes while the first one's stop is still under way.
+    let rows = format!("{}\n", ".".repeat(30)).repeat(30);
+    std::fs::write(
+        dir.join("open.map"),
+        format!("type octile\nheight 30\nwidth 30\nmap\n{rows}"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("c.toml"),
+        "name = \"slow\"\nrepeats = 10\n[budget]\nmax_expansions = 600000000\n[[maps]]\n\
+         files = [\"open.map\"]\nproblems = \"corners\"\n[planners.b]\nplanner = \"backtracking\"\n",
+    )
+    .unwrap();
+    // The two deliveries a few milliseconds apart: the sweep has not ended by the second
+    // (before, one gap or another quit at once).
+    for gap in [0, 1, 2, 5, 10, 20] {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_gridplan"));
+        command
+            .args(["experiment", "c.toml", "--threads", "2", "--output", "out"])
+            .current_dir(&dir)
+            .env_remove("RUST_LOG")
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        // SAFETY: signal(2) is async-signal-safe, as code between fork and exec must be.
+        unsafe {
+            command.pre_exec(|| {
+                libc::signal(libc::SIGINT, libc::SIG_DFL);
+                Ok(())
+            });
+        }
+        let mut child = command.spawn().unwrap();
+        std::thread::sleep(Duration::from_millis(1200));
+        assert!(child.try_wait().unwrap().is_none(), "the sweep ended early");
+        let pid = libc::pid_t::try_from(child.id()).unwrap();
+        // SAFETY: kill(2) only sends a signal; the child is not waited for yet, so its pid
+        // is still its own (a zombie at worst).
+        unsafe {
+            assert_eq!(libc::kill(pid, libc::SIGINT), 0);
+            std::thread::sleep(Duration::from_millis(gap));
+            libc::kill(pid, libc::SIGINT);
+        }
+        let out = common::finish(child, "the twice-signalled sweep");
+        assert_eq!(out.code, Some(130), "gap {gap} ms: {}", out.describe());
+        assert!(
+            out.stderr.contains(
+                "stopping: cancelling the runs in progress; finished runs are kept \
+                 (interrupt again to quit at once)"
+            ) && out.stderr.contains("rerun with --resume"),
+            "gap {gap} ms: {}",
+            out.describe()
+        );
+        assert!(
+            !out.stderr.lines().any(|line| line == "interrupted"),
+            "gap {gap} ms: the second delivery quit at once: {}",
+            out.describe()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// With stderr not a terminal (a Slurm log, `nohup`, `2> file`) a sweep showed no progress
+/// at all until its last line. It prints a plain line now and then (every 30 s; here every
+/// millisecond, by the tests' `GRIDPLAN_PROGRESS_LINE_MS`), with no carriage return or
+/// escape code; `--quiet` prints none.
+#[test]
+fn a_sweep_without_a_terminal_prints_progress_lines() {
+    let dir = scratch(20_021);
+    arena_sweep(&dir, 100);
+    let every = [("GRIDPLAN_PROGRESS_LINE_MS", "1")];
+    let args = ["experiment", "c.toml", "--threads", "2", "--output", "out"];
+    let out = gridplan_with(&dir, &args, &every, Stdio::piped());
+    succeeded(&out);
+    let lines: Vec<&str> = out
+        .stderr
+        .lines()
+        .filter(|line| line.starts_with("progress: "))
+        .collect();
+    assert!(!lines.is_empty(), "no progress line: {}", out.describe());
+    let shape = |line: &str| {
+        let rest = line.strip_prefix("progress: ")?;
+        let (done, rest) = rest.split_once(" of 16000 runs (")?;
+        let (percent, seconds) = rest.split_once(" %), ")?;
+        let done: u64 = done.parse().ok()?;
+        let percent: u64 = percent.parse().ok()?;
+        (done < 16_000 && percent == done * 100 / 16_000 && seconds.ends_with(" s")).then_some(())
+    };
+    for line in &lines {
+        assert!(shape(line).is_some(), "{line:?}");
+    }
+    assert!(!out.stderr.contains(['\r', '\u{1b}']), "{:?}", out.stderr);
+    let quiet = [&args[..], &["--quiet"]].concat();
+    let out = gridplan_with(&dir, &quiet, &every, Stdio::piped());
+    succeeded(&out);
+    assert!(!out.stderr.contains("progress"), "{}", out.describe());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The shell completions completed `plan --planner`, `--cost-rule`, `--obstacle`,
+/// `planners NAME` and `completions SHELL` with file names (bash, zsh) or nothing: they
+/// offer the registry's planners and the fixed values.
+#[test]
+fn completions_offer_planners_and_fixed_values() {
+    let dir = scratch(20_022);
+    let script = |shell: &str| {
+        let out = gridplan(&dir, &["completions", shell]);
+        succeeded(&out);
+        out.stdout
+    };
+    for shell in ["bash", "zsh", "fish"] {
+        let text = script(shell);
+        for name in ["astar", "dstar_lite", "weighted_jps", "entered"] {
+            assert!(text.contains(name), "{shell} lacks {name}");
+        }
+    }
+    // What bash offers, the script sourced and its function called as bash would.
+    let bash_script = dir.join("gridplan.bash");
+    std::fs::write(&bash_script, script("bash")).unwrap();
+    let complete = |words: &str| {
+        let program = format!(
+            "source {:?}; COMP_WORDS=({words} ''); COMP_CWORD=$((${{#COMP_WORDS[@]}} - 1)); \
+             _gridplan gridplan '' \"${{COMP_WORDS[COMP_CWORD-1]}}\"; echo \"${{COMPREPLY[*]}}\"",
+            bash_script.display().to_string()
+        );
+        let out = Command::new("bash").args(["-c", &program]).output().ok()?;
+        Some(String::from_utf8_lossy(&out.stdout).trim().to_string())
+    };
+    let names: Vec<&str> = planner_registry::PLANNERS.iter().map(|e| e.name).collect();
+    for (words, wanted) in [
+        ("gridplan plan --planner", names.clone()),
+        ("gridplan planners", names.clone()),
+        ("gridplan plan --cost-rule", vec!["mean", "entered"]),
+        ("gridplan plan --obstacle", vec!["0", "1"]),
+        ("gridplan completions", vec!["bash", "fish", "zsh"]),
+    ] {
+        let Some(offered) = complete(words) else {
+            eprintln!("skipped: no bash to ask");
+            break;
+        };
+        let offered: Vec<&str> = offered.split(' ').collect();
+        for word in wanted {
+            assert!(
+                offered.contains(&word),
+                "{words} <TAB> lacks {word}: {offered:?}"
+            );
+        }
+    }
+    // What fish offers, asked of fish itself when it is installed.
+    let fish_script = dir.join("gridplan.fish");
+    std::fs::write(&fish_script, script("fish")).unwrap();
+    for (line, wanted) in [
+        ("gridplan completions ", "zsh"),
+        ("gridplan planners ", "dstar_lite"),
+        ("gridplan plan --planner ", "weighted_jps"),
+    ] {
+        let program = format!(
+            "source {:?}; complete -C {line:?}",
+            fish_script.display().to_string()
+        );
+        let Ok(out) = Command::new("fish").args(["-c", &program]).output() else {
+            eprintln!("skipped: no fish to ask");
+            break;
+        };
+        let offered = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            offered
+                .lines()
+                .any(|l| l.split('\t').next() == Some(wanted)),
+            "fish {line:?} lacks {wanted}: {offered}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -202,7 +202,10 @@ fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
             vec!["--weights", WEIGHTS, "--swamp", "2"],
             "does not go with",
         ),
-        (vec!["--cost-rule", "median"], "expected mean or entered"),
+        (
+            vec!["--cost-rule", "median"],
+            "[possible values: mean, entered]",
+        ),
     ] {
         refused("astar", &args, 2, message);
     }

@@ -4,7 +4,8 @@
 //! markdown table cell (or heading, or list item) that shows as its own text, never as
 //! HTML, a link or any other markdown, markdown prose whose raw HTML and unsafe links show
 //! as text, a markdown code span that shows its text as written, XML or HTML text that
-//! cannot open a tag, and terminal text that cannot send the terminal a control sequence.
+//! cannot open a tag, and terminal text that cannot send the terminal a control sequence
+//! (nor, for a user's path or name, end the message's line).
 //!
 //! The main design decision is that there is one of each: the runner's tables, the reports,
 //! the seeds' layouts, the replanning experiments and the command line's messages all write
@@ -432,9 +433,38 @@ pub fn xml_escape(text: &str) -> String {
     out
 }
 
+/// `text` for one line of a terminal: every control character written as an escape
+/// (`\u{a}` for a line break, `\u{9}` for a tab), so that a path or name a user supplied
+/// (a file named `new\nline.map`) can neither send a control sequence nor end the line of
+/// the message it is in, which a script reading stderr line by line would take as two.
+/// Apply it to the user's text before it goes into a message that may span lines on
+/// purpose; [`terminal`] is then for the message.
+///
+/// ```
+/// use planner_text::one_line;
+/// assert_eq!(one_line("new\nline\t\r.map"), "new\\u{a}line\\u{9}\\u{d}.map");
+/// assert_eq!(one_line("plain.map"), "plain.map");
+/// ```
+pub fn one_line(text: &str) -> Cow<'_, str> {
+    if !text.chars().any(char::is_control) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
 /// `text` for a terminal: control characters other than line breaks and tabs written as
 /// escapes (`\u{1b}`), so that a label, path or map name from a config someone else wrote
 /// cannot recolour, retitle or move the cursor of the terminal the command's messages go to.
+/// Line breaks and tabs are kept for messages that span lines on purpose: a user's path or
+/// name in them is written with [`one_line`] first.
 ///
 /// ```
 /// use planner_text::terminal;
