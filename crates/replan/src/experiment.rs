@@ -4,7 +4,8 @@
 //! A config is one TOML file (every key in `configs/replan/README.md`):
 //!
 //! - `kind = "navigate"`: for each map of `[[maps]]` (a Moving AI map and its `.scen`, and
-//!   optionally a weight file that makes it a costmap),
+//!   optionally a weight file that makes it a costmap; another map format is an error at
+//!   the key `map`, and so is, at its line, a scenario declaring another map size),
 //!   `scenarios` scenarios spread evenly over the file, each sensor radius of `radii` and
 //!   each planner of `compare`, an agent navigates in unknown terrain ([`navigate`]),
 //!   every replan checked by the [`Oracle`].
@@ -16,8 +17,9 @@
 //!   batch's patches, [`gppc`]).
 //!
 //! [`run`] writes into the output directory: `runs.csv` (one line per run),
-//! `runs.jsonl` (the same with the path driven, navigate only, and the run's first
-//! [`MISMATCHES_LISTED`] failed checks), `replans.jsonl` (one JSON line per replan, with
+//! `runs.jsonl` (every column of `runs.csv` under its name, with the same value, and the
+//! path driven, navigate only, and the messages of the run's first [`MISMATCHES_LISTED`]
+//! failed checks, `mismatch_messages`), `replans.jsonl` (one JSON line per replan, with
 //! its counters, A*'s expansions from scratch at that replan and, when its check failed,
 //! the `mismatch`), `summary.md` (per-run totals and per-replan distributions per map,
 //! radius or seed, and planner) and `expansions.svg` (the first incremental planner's
@@ -106,7 +108,7 @@ pub const CHART_POINTS: usize = 20_000;
 /// rarely meant, and more seeds measure more.
 pub const MAX_EVENTS: u32 = 1_000_000;
 
-/// The most failed checks of a run that `runs.jsonl` lists, and the most that
+/// The most failed checks of a run that `runs.jsonl` lists (`mismatch_messages`), and the most that
 /// `summary.md` lists in all; `runs.csv` counts them all, and the `replans.jsonl` line of
 /// every failed replan has its `mismatch`. A broken planner may fail every replan: its
 /// messages are not kept whole.
@@ -130,8 +132,10 @@ pub enum Kind {
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MapSpec {
-    /// The Moving AI map, relative to the config's directory.
-    pub map: String,
+    /// The Moving AI map (a `.map` file; any other map format is refused at this key),
+    /// relative to the config's directory.
+    #[schemars(with = "String")]
+    pub map: Spanned<String>,
     /// Its `.scen` file, relative to the config's directory.
     pub scen: String,
     /// Scenarios, spread evenly over the file (at least 1).
@@ -556,6 +560,19 @@ pub fn parse(path: &Path, text: &str) -> Result<ExperimentConfig, ExperimentErro
         }
     }
     for map in &config.maps {
+        // The experiments read a Moving AI map with its `.scen` file; another format's
+        // own costs (a ROS map's graded values) would be dropped without a word.
+        let format = planner_maps::MapFormat::from_path(Path::new(map.map.get_ref()));
+        if !matches!(format, Ok(planner_maps::MapFormat::MovingAi)) {
+            return Err(invalid(
+                map.map.span(),
+                "map",
+                format!(
+                    "{:?} is not a Moving AI map (.map): a replanning experiment reads a Moving AI map and its .scen file (cell costs: a weights = \".csv\" file)",
+                    map.map.get_ref()
+                ),
+            ));
+        }
         if *map.scenarios.get_ref() == 0 {
             return Err(invalid(
                 map.scenarios.span(),
@@ -744,7 +761,7 @@ fn load_maps(
 ) -> Result<Vec<LoadedMap>, ExperimentError> {
     let mut out = Vec::new();
     for spec in &config.maps {
-        let map_path = dir.join(&spec.map);
+        let map_path = dir.join(spec.map.get_ref());
         let scen_path = dir.join(&spec.scen);
         let mut grid = planner_maps::read_map(&map_path)?.grid;
         if let Some(weights) = &spec.weights {
@@ -762,6 +779,12 @@ fn load_maps(
         }
         let n = n.min(all.len());
         let scenarios: Vec<Scenario> = (0..n).map(|i| all[i * all.len() / n].clone()).collect();
+        // A scenario made for a map of another size is an error at its line and column
+        // (the `.scen` file is another map's), not a run.
+        let origin = scen_path.display().to_string();
+        for s in &scenarios {
+            s.check_size(&grid, &origin)?;
+        }
         // A scenario whose start or goal is blocked or outside the map is recorded as a run
         // with status `invalid_problem`, as the experiment runner records it, and the other
         // runs go on; the message places the cell in the `.scen` file.
@@ -785,9 +808,10 @@ fn load_maps(
             };
             invalid.push(why);
         }
-        let mut name = map_path
-            .file_stem()
-            .map_or_else(|| spec.map.clone(), |s| s.to_string_lossy().into_owned());
+        let mut name = map_path.file_stem().map_or_else(
+            || spec.map.get_ref().clone(),
+            |s| s.to_string_lossy().into_owned(),
+        );
         if let Some(weights) = &spec.weights {
             // A weighted map is named by both files, apart from the map without weights.
             let stem = Path::new(weights).file_stem().map(|s| s.to_string_lossy());
@@ -1863,7 +1887,8 @@ impl Tables {
             "replans": ran.then_some(run.totals.replans),
             "total_expansions": ran.then_some(run.totals.expansions),
             "astar_expansions": run.totals.oracle_expansions,
-            "mismatches": run.totals.listed,
+            "mismatches": ran.then_some(run.totals.mismatches),
+            "mismatch_messages": run.totals.listed,
         });
         if let Some(why) = run.invalid() {
             line["error"] = why.into();
@@ -1882,6 +1907,7 @@ impl Tables {
             RunEnd::InvalidProblem(_) => {}
         }
         if options.timing && ran {
+            line["time_to_first_move_us"] = (micros(run.totals.first_planning) as u64).into();
             line["planning_time_us"] = (micros(run.totals.planning_time) as u64).into();
         }
         self.put(1, &format!("{line}\n"))?;
@@ -1973,7 +1999,8 @@ impl Tables {
             "replans": carried.len(),
             "total_expansions": expansions,
             "astar_expansions": astar,
-            "mismatches": listed,
+            "mismatches": mismatches,
+            "mismatch_messages": listed,
             "gppc": true,
             "queries": replay.queries.len(),
             "patches_applied": replay.patches_applied,
@@ -2353,7 +2380,7 @@ fn summary_md(
         if unlisted > 0 {
             let _ = writeln!(
                 out,
-                "- and {unlisted} more mismatches: runs.csv counts each run's, runs.jsonl lists each run's first {MISMATCHES_LISTED}, and the replans.jsonl line of every failed replan has its `mismatch`."
+                "- and {unlisted} more mismatches: runs.csv counts each run's, runs.jsonl lists each run's first {MISMATCHES_LISTED} (`mismatch_messages`), and the replans.jsonl line of every failed replan has its `mismatch`."
             );
         }
     }

@@ -1033,9 +1033,10 @@ fn a_runs_mismatches_are_counted_and_the_first_listed() {
     );
     let run: serde_json::Value = serde_json::from_str(read(&out, "runs.jsonl").trim()).unwrap();
     assert_eq!(
-        run["mismatches"].as_array().unwrap().len(),
+        run["mismatch_messages"].as_array().unwrap().len(),
         experiment::MISMATCHES_LISTED
     );
+    assert_eq!(run["mismatches"], failed);
     let marked = read(&out, "replans.jsonl")
         .lines()
         .filter(|l| {
@@ -1555,4 +1556,171 @@ fn a_gppc_map_over_the_memory_budget_is_refused() {
         e.to_string(),
         "bad.toml:4:17: `max_memory_mb`: must be at least 1"
     );
+}
+
+/// The lines of a CSV `table`, each split into its fields (RFC 4180: a quoted field may
+/// hold commas, doubled quotes and line breaks).
+fn csv_rows(table: &str) -> Vec<Vec<String>> {
+    let (mut rows, mut row, mut field) = (Vec::new(), Vec::new(), String::new());
+    let (mut quoted, mut chars) = (false, table.chars().peekable());
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                field.push('"');
+            }
+            (true, '"') => quoted = false,
+            (true, c) => field.push(c),
+            (false, '"') => quoted = true,
+            (false, ',') => row.push(std::mem::take(&mut field)),
+            (false, '\n') => {
+                row.push(std::mem::take(&mut field));
+                rows.push(std::mem::take(&mut row));
+            }
+            (false, c) => field.push(c),
+        }
+    }
+    assert!(
+        field.is_empty() && row.is_empty(),
+        "{table:?} ends mid-line"
+    );
+    rows
+}
+
+/// Checks that every line of `out`'s runs.jsonl holds every column of the same line of
+/// runs.csv under the column's name, with the same value: an empty field is `null` or no
+/// key, a string the field's text, a number or boolean its decimal or `true`/`false`.
+fn assert_runs_jsonl_has_runs_csv(out: &Path) {
+    let rows = csv_rows(&read(out, "runs.csv"));
+    let (header, rows) = rows.split_first().unwrap();
+    let lines: Vec<serde_json::Value> = read(out, "runs.jsonl")
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), rows.len(), "{}", out.display());
+    for (row, line) in rows.iter().zip(&lines) {
+        assert_eq!(row.len(), header.len(), "{row:?}");
+        for (column, field) in header.iter().zip(row) {
+            let value = line.get(column).unwrap_or(&serde_json::Value::Null);
+            let text = match value {
+                serde_json::Value::Null => String::new(),
+                serde_json::Value::String(s) => s.clone(),
+                serde_json::Value::Number(_) | serde_json::Value::Bool(_) => value.to_string(),
+                other => panic!("`{column}` is {other} in runs.jsonl, a value in runs.csv"),
+            };
+            assert_eq!(
+                &text, field,
+                "`{column}`: runs.jsonl's {value} against runs.csv's {field:?} in {line}"
+            );
+        }
+    }
+}
+
+/// Every column of runs.csv is in runs.jsonl under its name with the same value, for
+/// every kind of line (navigations, toggle scripts, runs of an invalid problem, GPPC
+/// replays, one over the memory budget, runs with failed checks) with and without times:
+/// runs.jsonl had no `time_to_first_move_us`, and its `mismatches` were the first 100
+/// messages instead of the count (now `mismatch_messages`).
+#[test]
+fn runs_jsonl_has_every_runs_csv_column_with_its_value() {
+    let dir = gppc_scenarios("jsonl-columns", &[("s", 4), ("big", 20_000)]);
+    wall_map(
+        &dir,
+        &[
+            "0\tw.map\t7\t3\t0\t1\t6\t1\t6",
+            "0\tw.map\t7\t3\t0\t0\t3\t1\t3",
+            "0\tw.map\t7\t3\t0\t2\t6\t2\t6",
+        ],
+    );
+    let head = "name = \"c\"\ncompare = [\"dstar_lite\", \"astar\"]\n";
+    let maps = "[[maps]]\nmap = \"w.map\"\nscen = \"w.map.scen\"\nscenarios = 3\n";
+    let configs = [
+        ("navigate", format!("kind = \"navigate\"\n{head}radii = [1, 2]\n{maps}")),
+        (
+            "dynamic",
+            format!(
+                "kind = \"dynamic\"\n{head}max_memory_mb = 100\n[toggles]\nevents = 2\nk = 1\nradius = 1\nseeds = [1]\n{maps}\
+                 [[gppc]]\nscen = \"s.scen\"\ncarry_every = 1\n[[gppc]]\nscen = \"big.scen\"\ncarry_every = 1\n"
+            ),
+        ),
+    ];
+    for (kind, text) in &configs {
+        let path = dir.join(format!("{kind}.toml"));
+        std::fs::write(&path, text).unwrap();
+        for timing in [false, true] {
+            let out = dir.join(format!("out-{kind}-{timing}"));
+            let options = RunOptions {
+                timing,
+                ..test_options(2)
+            };
+            experiment::run(&path, &out, &options).unwrap();
+            let csv = read(&out, "runs.csv");
+            assert!(csv.contains(",invalid_problem,"), "{csv}");
+            assert_eq!(csv.contains(",time_to_first_move_us,"), timing, "{csv}");
+            assert_runs_jsonl_has_runs_csv(&out);
+        }
+    }
+    // Runs whose every replan fails its check.
+    let path = dir.join("dynamic.toml");
+    let config = experiment::load(&path).unwrap();
+    let out = dir.join("out-lost");
+    let done = experiment::run_config_with(&config, &path, &out, &test_options(1), &lost).unwrap();
+    assert!(done.mismatches > 0);
+    assert_runs_jsonl_has_runs_csv(&out);
+}
+
+/// A map that is not a Moving AI `.map` (a ROS map, say) is refused at its key, line and
+/// column: it was read, its graded costs dropped without a word, and its `.scen` never
+/// checked against it.
+#[test]
+fn a_map_that_is_not_moving_ai_is_refused_at_its_key() {
+    let text = |map: &str| {
+        format!("kind = \"navigate\"\nname = \"x\"\nradii = [1]\n[[maps]]\nmap = \"{map}\"\nscen = \"a.scen\"\n")
+    };
+    assert!(experiment::parse(Path::new("m.toml"), &text("maps/a.MAP")).is_ok());
+    for map in ["TenByTen-scale.yaml", "m.png", "m.csv", "m.txt", "m"] {
+        let e = parse_error(&text(map));
+        match &e {
+            ExperimentError::Invalid {
+                line, column, key, ..
+            } => assert_eq!((*line, *column, key.as_str()), (5, 7, "map"), "{e}"),
+            other => panic!("expected an invalid value, got {other}"),
+        }
+        assert!(
+            e.to_string()
+                .contains(&format!("\"{map}\" is not a Moving AI map (.map)")),
+            "{e}"
+        );
+    }
+}
+
+/// A `.scen` file made for a map of another size (another map's) is an error naming the
+/// `.scen` file, the line and the column of its width, before anything is written: every
+/// problem was recorded as outside the grid, or run on the wrong map.
+#[test]
+fn a_scenario_for_a_map_of_another_size_is_an_error_at_its_line() {
+    let dir = scratch("scen-size");
+    wall_map(
+        &dir,
+        &[
+            "0\tw.map\t7\t3\t0\t0\t6\t2\t6.82842712",
+            "0\tw.map\t10\t10\t0\t0\t6\t2\t6.82842712",
+        ],
+    );
+    let path = dir.join("n.toml");
+    std::fs::write(
+        &path,
+        "kind = \"navigate\"\nname = \"n\"\ncompare = [\"astar\"]\nradii = [1]\n[[maps]]\nmap = \"w.map\"\nscen = \"w.map.scen\"\nscenarios = 2\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let e = experiment::run(&path, &out, &test_options(1)).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "{}:3:9: the scenario is for a 10x10 map, but the grid is 7x3",
+            dir.join("w.map.scen").display()
+        )
+    );
+    assert!(!out.exists());
 }
