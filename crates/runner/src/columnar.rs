@@ -144,10 +144,11 @@ const FIXED_KINDS: [(Kind, bool); 21] = [
     (Kind::Float, true),     // length
     (Kind::Float, true),     // optimal_length
     (Kind::Boolean, true),   // valid
-    (Kind::Float, false),    // time_ms
-    (Kind::Float, false),    // setup_ms
-    (Kind::Unsigned, false), // peak_heap_bytes
-    (Kind::Unsigned, true),  // bucket
+    // The measurements are null for an invalid problem, which was not run.
+    (Kind::Float, true),    // time_ms
+    (Kind::Float, true),    // setup_ms
+    (Kind::Unsigned, true), // peak_heap_bytes
+    (Kind::Unsigned, true), // bucket
 ];
 
 /// `ms` rounded to the nanosecond (runs.json's rounding).

@@ -94,6 +94,53 @@ impl Outputs {
         }
     }
 
+    /// The table a reader of these outputs is pointed at for a column (summary.md's "every
+    /// bucket is in runs.csv's `bucket` column"): runs.csv when it is written, else
+    /// runs.parquet, else runs.json.
+    ///
+    /// ```
+    /// use planner_runner::output::Outputs;
+    /// assert_eq!(Outputs::default().for_runs(1_000).table(), "runs.csv");
+    /// assert_eq!(Outputs::default().for_runs(10_000_000).table(), "runs.parquet");
+    /// ```
+    pub fn table(self) -> &'static str {
+        match (self.csv, self.parquet) {
+            (true, _) => "runs.csv",
+            (false, true) => "runs.parquet",
+            (false, false) => "runs.json",
+        }
+    }
+
+    /// What [`Outputs::for_runs`] leaves out of a whole sweep of `runs` runs, as a sentence
+    /// for summary.md and the command line (`None` when it writes every table asked for):
+    /// runs.csv and runs.json, when the config does not name its tables and the sweep has
+    /// more than [`crate::sweep::HELD_RUNS`] runs.
+    ///
+    /// ```
+    /// use planner_runner::output::Outputs;
+    /// assert!(Outputs::default().left_out(1_000).is_none());
+    /// let notice = Outputs::default().left_out(200_000).unwrap();
+    /// assert!(notice.starts_with("runs.csv and runs.json are not written"));
+    /// ```
+    pub fn left_out(self, runs: u64) -> Option<String> {
+        let written = self.for_runs(runs);
+        let left: Vec<&str> = [
+            (self.csv && !written.csv, "runs.csv"),
+            (self.json && !written.json, "runs.json"),
+        ]
+        .into_iter()
+        .filter_map(|(left, name)| left.then_some(name))
+        .collect();
+        let verb = if left.len() == 1 { "is" } else { "are" };
+        (!left.is_empty()).then(|| {
+            format!(
+                "{} {verb} not written: this sweep's {runs} runs are more than the {} whose result tables are all written by default (runs.csv and runs.json take about 140 and 160 bytes a run); runs.parquet holds every run, and `outputs = [\"csv\", \"json\", \"parquet\"]` writes them all at any size.",
+                left.join(" and "),
+                crate::sweep::HELD_RUNS
+            )
+        })
+    }
+
     /// The tables of `formats` (at least one; a format named twice is written once).
     pub fn of(formats: &[TableFormat]) -> Option<Outputs> {
         (!formats.is_empty()).then(|| Outputs {
@@ -195,7 +242,8 @@ impl TableColumns {
 /// `null`), then one column per counter in order of first appearance (`null` where a run
 /// lacks it); runs.csv has `error` and `cost` of these ([`SOMETIMES_COLUMNS`]). Paths are
 /// not in it (`paths.jsonl`). Times are rounded to the nanosecond (1e-6 ms), the clock's
-/// resolution. `runs` is pandas' "split" layout: `pandas.DataFrame(**json.load(f)["runs"])`
+/// resolution; an invalid problem's run, never run, has `null` time, setup time and peak
+/// heap. `runs` is pandas' "split" layout: `pandas.DataFrame(**json.load(f)["runs"])`
 /// is the table.
 ///
 /// With `provenance`, the header also holds it (`"provenance"`) and every label's resolved
@@ -358,9 +406,9 @@ fn encode_row(
     cell(row, &r.length)?;
     cell(row, &r.optimal_length)?;
     cell(row, &r.valid)?;
-    cell(row, &nanoseconds(r.time_ms))?;
-    cell(row, &nanoseconds(r.setup_ms))?;
-    cell(row, &r.peak_heap_bytes)?;
+    cell(row, &measured(r, nanoseconds(r.time_ms)))?;
+    cell(row, &measured(r, nanoseconds(r.setup_ms)))?;
+    cell(row, &measured(r, r.peak_heap_bytes))?;
     cell(row, &r.bucket)?;
     if optional[0] {
         cell(row, &r.error)?;
@@ -439,7 +487,10 @@ fn add_counter_names(names: &mut Vec<String>, record: &RunRecord) {
 
 /// The runs as CSV: the [`FIXED_COLUMNS`], then those of the [`SOMETIMES_COLUMNS`] (`error`,
 /// `cost`) that some run has, then one column per counter name in order of first
-/// appearance; a run without a value there leaves the cell empty.
+/// appearance; a run without a value there leaves the cell empty (an invalid problem's
+/// run, never run, its time, setup time and peak heap). Floats are the shortest decimal
+/// that reads back as the same double ([`csv_float`]; runs.json's and runs.parquet's value),
+/// times rounded to the nanosecond as there.
 pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
     let mut out = Vec::with_capacity(records.len() * 140 + 512);
     // Writing to a Vec cannot fail.
@@ -476,7 +527,8 @@ pub fn write_runs_csv_passes(
             if i > 0 {
                 line.push(',');
             }
-            // The column walk runs.parquet shares; floats with 6 decimals.
+            // The column walk runs.parquet shares; floats as the shortest decimal that
+            // reads back as the same double (times rounded to the nanosecond first).
             match cell {
                 Cell::Text(text) => text.into_iter().for_each(|text| {
                     line.push_str(&planner_text::csv_field(text));
@@ -485,7 +537,12 @@ pub fn write_runs_csv_passes(
                     let _ = write!(line, "{v}");
                 }),
                 Cell::Float(v) => v.into_iter().for_each(|v| {
-                    let _ = write!(line, "{v:.6}");
+                    let v = if matches!(i, TIME_MS | SETUP_MS) {
+                        nanoseconds(v)
+                    } else {
+                        v
+                    };
+                    let _ = write!(line, "{}", csv_float(v));
                 }),
                 Cell::Boolean(v) => v.into_iter().for_each(|v| {
                     let _ = write!(line, "{v}");
@@ -504,6 +561,18 @@ pub fn write_runs_csv_passes(
     failed.map_or(Ok(()), Err)
 }
 
+/// `v` as runs.csv writes it: the shortest decimal that reads back as the same double
+/// (Rust's round-trip formatting), with a `.0` on a whole number so that pandas and DuckDB
+/// type the column as floats, and an exponent below 1e-4 and from 1e16 (`1e-7`, `1e16`),
+/// which both read. Not finite (never in a record): empty, as JSON's `null`.
+pub fn csv_float(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:?}")
+    } else {
+        String::new()
+    }
+}
+
 /// One cell of a row of runs.csv and runs.parquet: a column's value for one record
 /// (`None` for an empty cell).
 pub(crate) enum Cell<'r> {
@@ -511,7 +580,7 @@ pub(crate) enum Cell<'r> {
     Text(Option<&'r str>),
     /// An unsigned integer column.
     Unsigned(Option<u64>),
-    /// A float column (times in milliseconds, unrounded).
+    /// A float column (times in milliseconds, unrounded: each table rounds them).
     Float(Option<f64>),
     /// A boolean column.
     Boolean(Option<bool>),
@@ -522,6 +591,15 @@ pub(crate) const TIME_MS: usize = 17;
 
 /// Column `setup_ms` of [`FIXED_COLUMNS`].
 pub(crate) const SETUP_MS: usize = 18;
+
+/// Column `peak_heap_bytes` of [`FIXED_COLUMNS`].
+pub(crate) const PEAK_HEAP_BYTES: usize = 19;
+
+/// A measurement of `r` (its time, setup time or peak heap): `None` for an invalid
+/// problem, which was not run, so that its empty cell is no 0 a mean would count.
+pub(crate) fn measured<T>(r: &RunRecord, value: T) -> Option<T> {
+    (!r.is_invalid()).then_some(value)
+}
 
 /// Column `i` of [`FIXED_COLUMNS`] for `r`: the one column walk of runs.csv and
 /// runs.parquet, which render the cells each in their own way.
@@ -545,9 +623,9 @@ pub(crate) fn fixed_cell(r: &RunRecord, i: usize) -> Cell<'_> {
         14 => Cell::Float(r.length),
         15 => Cell::Float(r.optimal_length),
         16 => Cell::Boolean(r.valid),
-        TIME_MS => Cell::Float(Some(r.time_ms)),
-        SETUP_MS => Cell::Float(Some(r.setup_ms)),
-        19 => u(r.peak_heap_bytes),
+        TIME_MS => Cell::Float(measured(r, r.time_ms)),
+        SETUP_MS => Cell::Float(measured(r, r.setup_ms)),
+        PEAK_HEAP_BYTES => Cell::Unsigned(measured(r, r.peak_heap_bytes)),
         _ => Cell::Unsigned(r.bucket.map(u64::from)),
     }
 }

@@ -18,6 +18,14 @@ pub enum RunStatus {
 }
 
 impl RunStatus {
+    /// Every status, in a fixed order (the OMPL logs' `status` enum numbers them so).
+    pub const ALL: [RunStatus; 4] = [
+        RunStatus::Found,
+        RunStatus::NoPath,
+        RunStatus::BudgetExhausted,
+        RunStatus::InvalidProblem,
+    ];
+
     /// The snake-case name used in results.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -91,7 +99,8 @@ pub struct RunRecord {
     /// The planner's counters, in its order.
     pub counters: Counters,
     /// Wall time of the search alone (`plan` or `cover`), in milliseconds (timing: not
-    /// deterministic).
+    /// deterministic). Zero for an invalid problem, which was not run: the result tables
+    /// leave its time, setup time and peak heap empty (`null`), not measured.
     pub time_ms: f64,
     /// Wall time of the run's setup, in milliseconds: building the planner (when the
     /// worker has none for this label yet) and its per-grid tables (when the grid

@@ -76,7 +76,7 @@ fn config_with(dir: &Path, top: &str) -> PathBuf {
     path
 }
 
-/// The file's rows, each cell as runs.csv writes it (floats with 6 decimals, empty for
+/// The file's rows, each cell as runs.csv writes it (floats by `csv_float`, empty for
 /// null), with the column names.
 fn rows_as_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let reader = SerializedFileReader::new(File::open(path).unwrap()).unwrap();
@@ -97,7 +97,7 @@ fn rows_as_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
                 Field::Null => String::new(),
                 Field::Bool(b) => b.to_string(),
                 Field::ULong(v) => v.to_string(),
-                Field::Double(v) => format!("{v:.6}"),
+                Field::Double(v) => planner_runner::output::csv_float(*v),
                 Field::Str(s) => s.clone(),
                 other => panic!("unexpected field {other:?}"),
             })
@@ -133,19 +133,14 @@ fn csv_rows(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     (header, lines.collect())
 }
 
-/// Asserts that two tables are equal cell for cell, times within the nanosecond the
-/// Parquet file is rounded to.
+/// Asserts that two tables are equal cell for cell (floats included: both tables hold
+/// the same doubles, times rounded to the nanosecond in each).
 fn assert_same_table(csv: &[Vec<String>], parquet: &[Vec<String>], columns: &[String]) {
     assert_eq!(csv.len(), parquet.len());
     for (n, (a, b)) in csv.iter().zip(parquet).enumerate() {
         assert_eq!(a.len(), b.len(), "row {n}");
         for ((x, y), name) in a.iter().zip(b).zip(columns) {
-            if name == "time_ms" || name == "setup_ms" {
-                let (x, y): (f64, f64) = (x.parse().unwrap(), y.parse().unwrap());
-                assert!((x - y).abs() <= 1.5e-6, "row {n} {name}: {x} {y}");
-            } else {
-                assert_eq!(x, y, "row {n} column {name}");
-            }
+            assert_eq!(x, y, "row {n} column {name}");
         }
     }
 }
@@ -237,6 +232,66 @@ fn the_parquet_rows_are_the_csv_rows_typed_with_the_metadata() {
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("runs.json")).unwrap()).unwrap();
     assert_eq!(json["planners"], planners);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// runs.csv's floats read back as the very doubles of runs.json and runs.parquet (a
+/// length was rounded to 6 decimals, so equal CSV costs could differ in Parquet), and an
+/// invalid problem, never run, has no time, setup time or peak heap in any table (they
+/// were 0, which a mean counts), Parquet's columns nullable for it.
+#[test]
+fn csv_floats_are_the_json_doubles_and_an_invalid_problem_has_no_measurements() {
+    let dir = scratch("floats");
+    let config = config(&dir);
+    let out = dir.join("results");
+    let mut args = SweepArgs::new(&config, &NoReport);
+    args.output = Some(&out);
+    args.threads = 2;
+    sweep::experiment(&args).unwrap();
+    let (columns, csv) = csv_rows(&out.join("runs.csv"));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("runs.json")).unwrap()).unwrap();
+    let json_columns: Vec<&str> = json["runs"]["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    let data = json["runs"]["data"].as_array().unwrap();
+    assert_eq!(data.len(), csv.len());
+    let at = |name: &str| columns.iter().position(|c| c == name).unwrap();
+    let json_at = |name: &str| json_columns.iter().position(|&c| c == name).unwrap();
+    let mut inexact = 0;
+    for (row, json_row) in csv.iter().zip(data) {
+        for name in ["length", "optimal_length", "time_ms", "setup_ms"] {
+            let (cell, value) = (&row[at(name)], &json_row[json_at(name)]);
+            if cell.is_empty() {
+                assert!(value.is_null(), "{name}: {value}");
+                continue;
+            }
+            let read: f64 = cell.parse().unwrap();
+            let want = value.as_f64().unwrap();
+            assert_eq!(read.to_bits(), want.to_bits(), "{name}: {cell} {want}");
+            inexact += usize::from(format!("{want:.6}").parse::<f64>().unwrap() != want);
+        }
+        let invalid = row[at("status")] == "invalid_problem";
+        for name in ["time_ms", "setup_ms", "peak_heap_bytes"] {
+            assert_eq!(row[at(name)].is_empty(), invalid, "{name} {row:?}");
+            assert_eq!(json_row[json_at(name)].is_null(), invalid, "{name}");
+        }
+    }
+    // Some value has more digits than 6 decimals keep (an octile length).
+    assert!(inexact > 0);
+    let (parquet_columns, rows) = rows_as_csv(&whole(&out));
+    assert_eq!(parquet_columns, columns);
+    assert_same_table(&csv, &rows, &columns);
+    assert!(rows.iter().any(|r| r[at("status")] == "invalid_problem"));
+    let reader = SerializedFileReader::new(File::open(whole(&out)).unwrap()).unwrap();
+    let meta = reader.metadata();
+    let schema = meta.file_metadata().schema_descr();
+    for name in ["time_ms", "setup_ms", "peak_heap_bytes"] {
+        assert!(schema.column(at(name)).self_type().is_optional(), "{name}");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -481,8 +536,12 @@ fn errors_and_costs_are_in_every_table() {
     for (row, json_row) in csv.iter().zip(data) {
         let error = json_row[at("error")].as_str().unwrap_or_default();
         assert_eq!(row[21], error);
-        let cost = json_row[at("cost")].as_f64().map(|c| format!("{c:.6}"));
-        assert_eq!(row[22], cost.unwrap_or_default());
+        // The same double: runs.csv writes the shortest decimal that reads back as it.
+        let cost = json_row[at("cost")].as_f64();
+        assert_eq!(
+            row[22].parse::<f64>().ok().map(f64::to_bits),
+            cost.map(f64::to_bits)
+        );
     }
     // A found path's cost, the blocked goal and the refused planner, each once at least.
     assert!(csv.iter().any(|r| !r[22].is_empty() && r[21].is_empty()));
