@@ -167,6 +167,41 @@ pub enum MapErrorKind {
         /// The decoder's message.
         message: String,
     },
+    /// An image whose pixel data ends before the size its header declares: the file is
+    /// cut short, or its compressed data damaged. Only the pixels it held were read.
+    #[error("the pixel data ends after {pixels} of the {width}x{height} pixels the header declares ({reason}): the file is cut short or damaged")]
+    ImageCutShort {
+        /// Pixels read before the data ended.
+        pixels: u64,
+        /// Declared width.
+        width: u32,
+        /// Declared height.
+        height: u32,
+        /// The decoder's message.
+        reason: String,
+    },
+    /// A PNG whose header declares pixels that its compressed data cannot hold: nothing
+    /// was decoded.
+    #[error("the header declares {width}x{height} pixels, {needed} bytes, but the file's {compressed} bytes of compressed pixel data inflate to at most {at_most} bytes: the file is cut short or damaged")]
+    ImageDataTooSmall {
+        /// Declared width.
+        width: u32,
+        /// Declared height.
+        height: u32,
+        /// The bytes the pixels take (their bits, without the rows' filter bytes).
+        needed: u64,
+        /// The bytes of compressed pixel data (`IDAT` chunks) the file holds.
+        compressed: u64,
+        /// The most they inflate to.
+        at_most: u64,
+    },
+    /// Not enough memory for a map's cells (the allocation failed; the map is within
+    /// [`crate::ReadOptions::max_cells`]).
+    #[error("not enough memory for the map's {cells} cells")]
+    OutOfMemory {
+        /// The map's cells.
+        cells: u64,
+    },
     /// A file named by another file (a ROS YAML's `image`, a GPPC scenario's `patch`)
     /// that cannot be read: the error is placed where the name is written, and says
     /// the path the name resolves to when that differs from the name.

@@ -44,9 +44,11 @@
 //! makes a parser panic (each has a fuzz target, `fuzz/README.md`). Memory is bounded by
 //! [`ReadOptions`]: only regular files are read, up to [`ReadOptions::max_file_bytes`],
 //! a `.map` header or an image declaring more than [`ReadOptions::max_cells`] cells is an
-//! error before anything is allocated for its cells, and `.txt` and `.csv` reading stops
-//! at the row that passes the limit. What a reader accepts but ignores (a ROS YAML key
-//! `map_server` does not read) is a [`MapWarning`] ([`read_map_with`]).
+//! error before anything is allocated for its cells, `.txt` and `.csv` reading stops
+//! at the row that passes the limit, and an image's cells take memory as its pixel data
+//! is read, so a file declaring more than it holds costs what it holds. What a reader
+//! accepts but ignores (a ROS YAML key `map_server` does not read) is a [`MapWarning`]
+//! ([`read_map_with`]).
 //!
 //! Start-goal pairs are returned as they are written
 //! ([`ProblemSpec`]): a pair on an obstacle (map2.txt's second goal, `(12, 3)`) is a
@@ -174,9 +176,10 @@ pub const DEFAULT_MAX_CELLS: u64 = Grid::MAX_CELLS;
 
 /// Bytes per cell a reader holds at its peak, besides the file's own bytes: the grid (one
 /// byte a cell) and one value a cell it is built from (the ROS occupancy value, computed
-/// from a PGM's, PPM's or PAM's samples as they are read, or from an 8-bit grey PNG's
-/// decoded pixel in place; a text format's row). Colour or 16-bit PNGs hold more while
-/// they are decoded, and `inflation_radius` adds its distance transform.
+/// from a PGM's, PPM's, PAM's or PBM's samples as they are read, or from a PNG's rows as
+/// they are decoded, one row held at a time; a text format's row). An interlaced PNG holds
+/// its values twice while they are put in row order, before the grid is built, and
+/// `inflation_radius` adds its distance transform.
 pub const READ_BYTES_PER_CELL: u64 = 2;
 
 /// The fewest cells [`max_cells_for_memory_mb`] allows, whatever the budget: 2^24 (a

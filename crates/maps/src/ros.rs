@@ -98,11 +98,19 @@
 //! # Limits
 //! Image dimensions are read from the header and checked against
 //! [`ReadOptions::max_cells`] before the pixels are decoded; YAML and image files are read
-//! only if they are regular files of at most [`ReadOptions::max_file_bytes`]. A PGM's, PPM's
-//! or PAM's samples become occupancy values as they are read from the file's bytes, one
-//! byte a pixel; a PNG is decoded at its own depth (8 or 16 bits a sample), and its values
-//! computed from the decoded samples without a converted copy (an 8-bit grey PNG's pixel
-//! buffer becomes the values in place).
+//! only if they are regular files of at most [`ReadOptions::max_file_bytes`]. Memory then
+//! follows the pixel data the file holds, not the size its header declares: a PGM's,
+//! PPM's, PAM's or PBM's samples become occupancy values as they are read from the file's
+//! bytes, one byte a pixel (a binary raster shorter than its size is an error before any
+//! is allocated). A PNG whose compressed pixel data cannot inflate to the pixels its
+//! header declares (deflate inflates a byte to at most 1032) is an error before any is
+//! decoded ([`MapErrorKind::ImageDataTooSmall`]); otherwise it is decoded a row at a time
+//! by the `png` crate, at its own depth (8 or 16 bits a sample), each row's values
+//! computed as it comes, so pixel data that ends early is an error naming the pixels it
+//! held ([`MapErrorKind::ImageCutShort`]) after about that much memory. An interlaced
+//! PNG's values, which come pass by pass, are put in row order once all are read, a
+//! second byte a cell for that moment. Memory that cannot be had for the values is
+//! [`MapErrorKind::OutOfMemory`], not an abort.
 
 use std::collections::HashMap;
 use std::io::Cursor;
@@ -952,34 +960,25 @@ pub fn ros_occupancy_value(yaml: &RosYaml, pixel: &[u16], maxval: u16) -> i8 {
 /// An image's width, height and occupancy values (row-major).
 type Values = (u32, u32, Vec<i8>);
 
-/// The occupancy values of a PGM, PPM or PAM image (`width`, `height`, the values) from
-/// its samples at full precision, or `None` for another format or a 1-bit PBM (whose
-/// pixels the decoder gives exactly). The caller has checked the header, and the pixel
-/// count against its limit. An error is a message for [`MapErrorKind::Image`].
-fn pnm_occupancy(bytes: &[u8], yaml: &RosYaml) -> Option<Result<Values, String>> {
-    use image::codecs::pnm::{PnmDecoder, PnmSubtype};
+/// The occupancy values of a PGM, PPM, PAM or PBM image (`width`, `height`, the values)
+/// from its samples at full precision. The caller has checked the header, and the pixel
+/// count against its limit.
+fn pnm_occupancy(bytes: &[u8], yaml: &RosYaml) -> Result<Values, MapErrorKind> {
+    use image::codecs::pnm::PnmDecoder;
     use image::ImageDecoder as _;
-    if image::guess_format(bytes).ok()? != image::ImageFormat::Pnm {
-        return None;
-    }
-    let decoder = match PnmDecoder::new(Cursor::new(bytes)) {
-        Ok(decoder) => decoder,
-        Err(e) => return Some(Err(e.to_string())),
-    };
-    if matches!(decoder.subtype(), PnmSubtype::Bitmap(_)) {
-        return None;
-    }
+    let image_error = |message: String| MapErrorKind::Image { message };
+    let decoder = PnmDecoder::new(Cursor::new(bytes)).map_err(|e| image_error(e.to_string()))?;
     let channels = usize::from(decoder.color_type().channel_count()).clamp(1, 4);
     // The decoder has read the header and the one whitespace after it.
     let (rest, header) = decoder.into_inner();
     let raster =
         usize::try_from(rest.position()).map_or(&[][..], |at| &bytes[at.min(bytes.len())..]);
-    Some(pnm_samples(raster, &header, channels, yaml))
+    pnm_samples(raster, &header, channels, yaml).map_err(image_error)
 }
 
 /// [`pnm_occupancy`]'s values from the samples of `raster`, `channels` to a pixel, as
 /// they are read: the values are the only allocation, one byte a pixel and at most one a
-/// byte of `raster`.
+/// byte of `raster` (a PBM's: [`pbm_bits`]).
 fn pnm_samples(
     raster: &[u8],
     header: &image::codecs::pnm::PnmHeader,
@@ -988,6 +987,9 @@ fn pnm_samples(
 ) -> Result<Values, String> {
     use image::codecs::pnm::SampleEncoding;
     let (width, height) = (header.width(), header.height());
+    if let image::codecs::pnm::PnmSubtype::Bitmap(encoding) = header.subtype() {
+        return pbm_bits(raster, encoding, (width, height), yaml).map(|v| (width, height, v));
+    }
     // The decoder refuses a maxval of 0 or above 65535.
     let maxval = u16::try_from(header.maximal_sample())
         .map_err(|_| format!("maxval {} is above 65535", header.maximal_sample()))?;
@@ -1068,51 +1070,266 @@ fn pnm_samples(
     Ok((width, height, occupancy))
 }
 
-/// The occupancy values of a decoded image (a PNG, a PBM), from its 8- or 16-bit samples
-/// as they are, without a converted copy. An error is a message for [`MapErrorKind::Image`].
-fn decoded_occupancy(decoded: image::DynamicImage, yaml: &RosYaml) -> Result<Vec<i8>, String> {
-    use image::DynamicImage as D;
-    /// The values of `samples`, `channels` to a pixel.
-    fn values<T: Copy + Into<u16>>(
-        samples: &[T],
-        channels: usize,
-        maxval: u16,
-        yaml: &RosYaml,
-    ) -> Vec<i8> {
-        let mut pixel = [0u16; 4];
-        samples
-            .chunks_exact(channels)
-            .map(|samples| {
-                for (value, &sample) in pixel.iter_mut().zip(samples) {
-                    *value = sample.into();
-                }
-                ros_occupancy_value(yaml, &pixel[..channels], maxval)
-            })
-            .collect()
-    }
-    Ok(match decoded {
-        D::ImageLuma8(img) => {
-            // A grey image's pixel buffer becomes the occupancy values (a byte for a byte:
-            // Vec's collect reuses the allocation), so the decoded image costs no extra
-            // byte a cell (`crate::READ_BYTES_PER_CELL`).
-            let table: Vec<i8> = (0..=255u16)
-                .map(|v| ros_occupancy_value(yaml, &[v], 255))
-                .collect();
-            img.into_raw()
-                .into_iter()
-                .map(|v| table[usize::from(v)])
-                .collect()
+/// A PBM's values: a bit a pixel, 1 black and 0 white (as the samples 0 and 1 of maxval
+/// 1), packed eight to a byte from the most significant bit with each row starting on a
+/// byte (`P4`), or written as the digits `0` and `1` with or without whitespace between
+/// them (`P1`). A raster too short is an error before the values are allocated (`P4`), or
+/// when it ends (`P1`: every pixel takes a byte of it).
+fn pbm_bits(
+    raster: &[u8],
+    encoding: image::codecs::pnm::SampleEncoding,
+    (width, height): (u32, u32),
+    yaml: &RosYaml,
+) -> Result<Vec<i8>, String> {
+    use image::codecs::pnm::SampleEncoding;
+    let (w, h) = (width as usize, height as usize);
+    let pixels = w.saturating_mul(h);
+    let short = |found: usize| {
+        format!("expected {pixels} samples ({width}x{height} pixels of 1), found {found}")
+    };
+    let [black, white] = [0, 1].map(|v| ros_occupancy_value(yaml, &[v], 1));
+    match encoding {
+        SampleEncoding::Binary => {
+            let row_bytes = w.div_ceil(8);
+            let need = row_bytes.saturating_mul(h);
+            if raster.len() < need {
+                return Err(short((raster.len() / row_bytes.max(1)).saturating_mul(w)));
+            }
+            let mut values = Vec::with_capacity(pixels);
+            for row in raster[..need].chunks_exact(row_bytes.max(1)).take(h) {
+                values.extend((0..w).map(|x| match (row[x / 8] >> (7 - x % 8)) & 1 {
+                    1 => black,
+                    _ => white,
+                }));
+            }
+            Ok(values)
         }
-        D::ImageLumaA8(img) => values(img.as_raw(), 2, 255, yaml),
-        D::ImageRgb8(img) => values(img.as_raw(), 3, 255, yaml),
-        D::ImageRgba8(img) => values(img.as_raw(), 4, 255, yaml),
-        D::ImageLuma16(img) => values(img.as_raw(), 1, u16::MAX, yaml),
-        D::ImageLumaA16(img) => values(img.as_raw(), 2, u16::MAX, yaml),
-        D::ImageRgb16(img) => values(img.as_raw(), 3, u16::MAX, yaml),
-        D::ImageRgba16(img) => values(img.as_raw(), 4, u16::MAX, yaml),
-        // The PNG and PNM decoders give none of the others (floating-point samples).
-        other => return Err(format!("{:?} samples are not read", other.color())),
-    })
+        SampleEncoding::Ascii => {
+            let mut values = Vec::with_capacity(pixels.min(raster.len()));
+            let mut digits = raster
+                .iter()
+                .filter(|b| !matches!(b, b' ' | b'\t' | b'\n' | b'\r' | b'\x0b' | b'\x0c'));
+            for index in 0..pixels {
+                values.push(match digits.next() {
+                    Some(b'1') => black,
+                    Some(b'0') => white,
+                    Some(&other) => {
+                        return Err(format!(
+                            "pixel ({}, {}) has sample {}, not 0 or 1",
+                            index % w.max(1),
+                            index / w.max(1),
+                            show_token(&String::from_utf8_lossy(&[other]))
+                        ))
+                    }
+                    None => return Err(short(index)),
+                });
+            }
+            Ok(values)
+        }
+    }
+}
+
+/// The first bytes of every PNG file.
+const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+
+/// The Adam7 passes of an interlaced PNG: first column, first row, column step, row step.
+const ADAM7: [(usize, usize, usize, usize); 7] = [
+    (0, 0, 8, 8),
+    (4, 0, 8, 8),
+    (0, 4, 4, 8),
+    (2, 0, 4, 4),
+    (0, 2, 2, 4),
+    (1, 0, 2, 2),
+    (0, 1, 1, 2),
+];
+
+/// The most bytes deflate inflates one compressed byte to: a length code and a distance
+/// code of one bit each copy at most 258 bytes.
+const MAX_INFLATE: u64 = 1032;
+
+/// The bytes of a PNG's `IDAT` chunks (its compressed pixel data) as far as the file
+/// holds them; a chunk cut short counts what is there.
+fn idat_bytes(bytes: &[u8]) -> u64 {
+    let mut total = 0u64;
+    let mut rest = bytes.get(PNG_SIGNATURE.len()..).unwrap_or_default();
+    while let Some((head, body)) = rest.split_first_chunk::<8>() {
+        let [l0, l1, l2, l3, kind @ ..] = *head;
+        let length = u32::from_be_bytes([l0, l1, l2, l3]) as usize;
+        if &kind == b"IDAT" {
+            total += length.min(body.len()) as u64;
+        }
+        if &kind == b"IEND" {
+            break;
+        }
+        rest = body.get(length.saturating_add(4)..).unwrap_or_default();
+    }
+    total
+}
+
+/// The occupancy values of a PNG, decoded a row at a time by the `png` crate at the
+/// image's own depth (8 or 16 bits a sample; lower depths and palettes expanded to 8 bits,
+/// a `tRNS` chunk to an alpha channel), each row's values computed as it is decoded
+/// without a converted copy. Memory follows the pixel data the file holds, whatever size
+/// the header declares: pixels whose bytes the compressed data cannot inflate to are
+/// [`MapErrorKind::ImageDataTooSmall`] before anything is decoded; otherwise the values
+/// grow with the rows, and data that ends early is [`MapErrorKind::ImageCutShort`] after
+/// what it held; memory that cannot be had is [`MapErrorKind::OutOfMemory`], not an
+/// abort. An interlaced image's values come pass by pass and are put in row order at the
+/// end (a second byte a cell for that moment). The caller has checked the header, and the
+/// pixel count against its limit.
+fn png_occupancy(bytes: &[u8], yaml: &RosYaml) -> Result<Values, MapErrorKind> {
+    let image_error = |e: png::DecodingError| MapErrorKind::Image {
+        message: e.to_string(),
+    };
+    let mut decoder = png::Decoder::new(Cursor::new(bytes));
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().map_err(image_error)?;
+    let info = reader.info();
+    let (width, height) = info.size();
+    let interlaced = info.interlaced;
+    let pixels = u64::from(width) * u64::from(height);
+    // The pixels' bits without the rows' filter bytes: fewer than any layout inflates to.
+    let needed = pixels.saturating_mul(info.bits_per_pixel() as u64) / 8;
+    let compressed = idat_bytes(bytes);
+    let at_most = compressed.saturating_mul(MAX_INFLATE);
+    if needed > at_most {
+        return Err(MapErrorKind::ImageDataTooSmall {
+            width,
+            height,
+            needed,
+            compressed,
+            at_most,
+        });
+    }
+    // The first frame of an animated PNG may be smaller than the image: not read.
+    if info
+        .frame_control()
+        .is_some_and(|frame| (frame.width, frame.height) != (width, height))
+    {
+        return Err(MapErrorKind::Image {
+            message: "an animated PNG whose first frame is not the whole image".to_owned(),
+        });
+    }
+    let (colour, depth) = reader.output_color_type();
+    let channels = colour.samples().clamp(1, 4);
+    let (sample_bytes, maxval) = match depth {
+        png::BitDepth::Sixteen => (2, u16::MAX),
+        _ => (1, 255),
+    };
+    let out_of_memory = MapErrorKind::OutOfMemory { cells: pixels };
+    let total = usize::try_from(pixels).map_err(|_| out_of_memory.clone())?;
+    // The rows in the order they come, by their pixels: the image's, or each Adam7
+    // pass's (the passes without pixels left out, as PNG leaves them out).
+    let (w, h) = (width as usize, height as usize);
+    let rows: Vec<(usize, usize)> = match interlaced {
+        false => vec![(w, h)],
+        true => ADAM7
+            .iter()
+            .map(|&(x0, y0, dx, dy)| {
+                (
+                    w.saturating_sub(x0).div_ceil(dx),
+                    h.saturating_sub(y0).div_ceil(dy),
+                )
+            })
+            .filter(|&(samples, lines)| samples > 0 && lines > 0)
+            .collect(),
+    };
+    let line = reader
+        .output_line_size(width)
+        .ok_or_else(|| out_of_memory.clone())?;
+    let mut row = Vec::new();
+    row.try_reserve_exact(line)
+        .map_err(|_| out_of_memory.clone())?;
+    row.resize(line, 0u8);
+    // An 8-bit grey image's values by table.
+    let table: Vec<i8> = match (channels, maxval) {
+        (1, 255) => (0..=255u16)
+            .map(|v| ros_occupancy_value(yaml, &[v], 255))
+            .collect(),
+        _ => Vec::new(),
+    };
+    let mut values: Vec<i8> = Vec::new();
+    let mut pixel = [0u16; 4];
+    for (samples, lines) in rows {
+        let bytes = samples * channels * sample_bytes;
+        for _ in 0..lines {
+            let cut_short = |reason: String| MapErrorKind::ImageCutShort {
+                pixels: values.len() as u64,
+                width,
+                height,
+                reason,
+            };
+            match reader.read_row(&mut row) {
+                Ok(Some(_)) => {}
+                Ok(None) => return Err(cut_short("the image data has no more rows".to_owned())),
+                // Data that ends, or that cannot be inflated or unfiltered.
+                Err(e @ (png::DecodingError::Format(_) | png::DecodingError::IoError(_))) => {
+                    return Err(cut_short(e.to_string().trim_end_matches('.').to_owned()))
+                }
+                Err(e) => return Err(image_error(e)),
+            }
+            reserve_values(&mut values, samples, total)?;
+            for samples in row[..bytes.min(line)].chunks_exact(channels * sample_bytes) {
+                if !table.is_empty() {
+                    values.push(table[usize::from(samples[0])]);
+                    continue;
+                }
+                for (value, sample) in pixel.iter_mut().zip(samples.chunks_exact(sample_bytes)) {
+                    *value = match *sample {
+                        [high, low] => u16::from_be_bytes([high, low]),
+                        [byte] => u16::from(byte),
+                        _ => 0,
+                    };
+                }
+                values.push(ros_occupancy_value(yaml, &pixel[..channels], maxval));
+            }
+        }
+    }
+    // The rest of the image data (its checksum), as a whole image's decoding reads it.
+    match reader.read_row(&mut row) {
+        Ok(None) => {}
+        Ok(Some(_)) => {
+            return Err(MapErrorKind::Image {
+                message: "the image data has more rows than the header declares".to_owned(),
+            })
+        }
+        Err(e) => return Err(image_error(e)),
+    }
+    drop(row);
+    if !interlaced {
+        return Ok((width, height, values));
+    }
+    // Pass by pass, each pass's rows top to bottom, each row left to right.
+    let mut in_order: Vec<i8> = Vec::new();
+    in_order
+        .try_reserve_exact(total)
+        .map_err(|_| out_of_memory.clone())?;
+    in_order.resize(total, 0);
+    let cells = ADAM7.iter().flat_map(|&(x0, y0, dx, dy)| {
+        (y0..h)
+            .step_by(dy)
+            .flat_map(move |y| (x0..w).step_by(dx).map(move |x| y * w + x))
+    });
+    for (cell, value) in cells.zip(values) {
+        in_order[cell] = value;
+    }
+    Ok((width, height, in_order))
+}
+
+/// Makes room in `values` for `more` values, of `total` in all: the capacity at least
+/// doubles, never past `total`, so the values take memory as the pixels come; memory that
+/// cannot be had is an error, not an abort.
+fn reserve_values(values: &mut Vec<i8>, more: usize, total: usize) -> Result<(), MapErrorKind> {
+    let need = values.len().saturating_add(more);
+    if need <= values.capacity() {
+        return Ok(());
+    }
+    let target = need.max(values.capacity().saturating_mul(2).min(total));
+    values
+        .try_reserve_exact(target - values.len())
+        .map_err(|_| MapErrorKind::OutOfMemory {
+            cells: total as u64,
+        })
 }
 
 /// The grid of `occupancy` values (row-major, `width` x `height`): free exactly where the
@@ -1280,7 +1497,10 @@ pub(crate) fn ros_map_from_yaml_text(
 /// names the image in errors and becomes [`RosMap::image_path`].
 ///
 /// The dimensions are read from the header first: an image of more than
-/// [`ReadOptions::max_cells`] pixels is an error before any pixel is decoded.
+/// [`ReadOptions::max_cells`] pixels is an error before any pixel is decoded. The pixels
+/// are then read as they come (a PNG a row at a time), so an image whose data ends before
+/// its declared size is an error after allocating about what the data held (module
+/// docs, "Limits").
 ///
 /// ```
 /// use planner_maps::{ros_map_from_image_bytes, ReadOptions};
@@ -1311,19 +1531,16 @@ pub fn ros_map_from_image_bytes(
             message: e.to_string(),
         })
     };
-    let reader = || {
-        image::ImageReader::new(Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| {
-                whole(MapErrorKind::Image {
-                    message: e.to_string(),
-                })
-            })
-    };
     // The header only: without the decoder's default allocation limit, so that a huge
     // declared size is reported as such below (reading a header allocates at most what
     // the bytes hold).
-    let mut header = reader()?;
+    let mut header = image::ImageReader::new(Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| {
+            whole(MapErrorKind::Image {
+                message: e.to_string(),
+            })
+        })?;
     header.no_limits();
     let (width, height) = header.into_dimensions().map_err(image_error)?;
     if u64::from(width) * u64::from(height) > options.max_cells {
@@ -1333,29 +1550,15 @@ pub fn ros_map_from_image_bytes(
             max_cells: options.max_cells,
         }));
     }
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(width);
-    limits.max_image_height = Some(height);
-    // Room for the decoded pixels at 16-bit RGBA and the decoder's own buffers.
-    limits.max_alloc = Some(
-        (u64::from(width) * u64::from(height))
-            .saturating_mul(16)
-            .saturating_add(1 << 24),
-    );
-    // PGM, PPM and PAM samples are read from the bytes at full precision; the decoder
-    // would scale a maxval other than 255 or 65535 to 8 or 16 bits.
-    let (width, height, occupancy) = match pnm_occupancy(bytes, &yaml) {
-        Some(read) => read.map_err(|message| whole(MapErrorKind::Image { message }))?,
-        None => {
-            let mut decoder = reader()?;
-            decoder.limits(limits);
-            let decoded = decoder.decode().map_err(image_error)?;
-            let (width, height) = (decoded.width(), decoded.height());
-            let occupancy = decoded_occupancy(decoded, &yaml)
-                .map_err(|message| whole(MapErrorKind::Image { message }))?;
-            (width, height, occupancy)
-        }
-    };
+    // PGM, PPM and PAM samples are read from the bytes at full precision (the decoder
+    // would scale a maxval other than 255 or 65535 to 8 or 16 bits), a PNG a row at a
+    // time: either way the values grow with the pixels the file holds.
+    let (width, height, occupancy) = if bytes.starts_with(PNG_SIGNATURE) {
+        png_occupancy(bytes, &yaml)
+    } else {
+        pnm_occupancy(bytes, &yaml)
+    }
+    .map_err(whole)?;
     let grid = match options.costs.graded {
         false => ros_grid(width, height, &occupancy, &options.ros),
         true => crate::costs::graded_grid(

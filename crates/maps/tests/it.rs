@@ -3,6 +3,7 @@
 //! test file here is declared below (`mod NAME;`), or tidy refuses it (ARCHITECTURE.md,
 //! "Tests").
 
+mod common;
 mod costs;
 mod errors;
 mod formats;

@@ -4,6 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::common;
+
 use planner_api::Cell;
 use planner_maps::{
     csv_inversion_hint, read_map, read_map_with, read_scenarios, CsvConvention, MapErrorKind,
@@ -179,10 +181,10 @@ fn declared_sizes_are_checked_before_allocating() {
     png.extend(0x7fff_ffffu32.to_be_bytes());
     png.extend(0x7fff_ffffu32.to_be_bytes());
     png.extend([8, 0, 0, 0, 0]);
-    png.extend(crc32(&png[12..]).to_be_bytes());
+    png.extend(common::crc32(&png[12..]).to_be_bytes());
     // An empty IDAT chunk: the decoder reads the header up to the first data.
     png.extend(b"\x00\x00\x00\x00IDAT");
-    png.extend(crc32(b"IDAT").to_be_bytes());
+    png.extend(common::crc32(b"IDAT").to_be_bytes());
     let err = MapFormat::Image
         .parse_bytes(&png, "huge.png", &default)
         .unwrap_err();
@@ -196,22 +198,6 @@ fn declared_sizes_are_checked_before_allocating() {
         ),
         "{err}"
     );
-}
-
-/// CRC-32 (ISO-HDLC, PNG's), bit by bit.
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut crc = !0u32;
-    for &byte in bytes {
-        crc ^= u32::from(byte);
-        for _ in 0..8 {
-            crc = if crc & 1 == 1 {
-                (crc >> 1) ^ 0xedb8_8320
-            } else {
-                crc >> 1
-            };
-        }
-    }
-    !crc
 }
 
 #[test]
@@ -297,4 +283,112 @@ fn images_read_directly() {
             bad.display()
         )
     );
+}
+
+/// Reads `bytes` as an image map with the default limits: the error's message (the map's
+/// size when it reads) and the most heap the read held.
+fn read_image_bounded(name: &str, bytes: &[u8]) -> (String, u64) {
+    let baseline = common::reset_peak();
+    let read = MapFormat::Image.parse_bytes(bytes, name, &ReadOptions::default());
+    let peak = common::peak_since(baseline);
+    let said = match read {
+        Ok(read) => format!("read {}", read.file.grid.len()),
+        Err(err) => err.to_string(),
+    };
+    (said, peak)
+}
+
+/// The probe's PNG: an `IHDR` declaring `width` x `height` pixels of `depth` bits and
+/// colour type `colour` (interlaced when `interlace` is 1), and one `IDAT` of the zlib
+/// stream of 1000 zero bytes (17 bytes), then `IEND`: 74 bytes in all.
+fn tiny_idat_png(size: (u32, u32), depth: u8, colour: u8, interlace: u8) -> Vec<u8> {
+    let zeros = b"\x78\x9c\x63\x60\x18\x05\xa3\x60\x14\x0c\x77\x00\x00\x03\xe8\x00\x01";
+    common::png_file(size, (depth, colour, interlace), &[], zeros)
+}
+
+/// An image whose header declares far more pixels than its data holds allocates about
+/// what the data holds (here under 8 MiB) and is an error naming the file, never an abort:
+/// the probe's 74-byte PNG declaring 40000 x 40000 16-bit RGBA pixels made the reader
+/// allocate the 12.8 GB decode buffer first (SIGABRT where that failed); PBM bitmaps
+/// likewise allocated their whole decoded size before finding the raster short. A PNG
+/// whose compressed data cannot inflate to its pixels is refused before decoding; one that
+/// could is decoded a row at a time, so data that ends after a few rows says so.
+#[test]
+fn images_declaring_more_than_their_data_allocate_what_they_hold() {
+    let repro = tiny_idat_png((40000, 40000), 16, 6, 0);
+    assert_eq!(repro.len(), 74);
+    // Three white rows of a grey 4000 x 40 PNG: a whole zlib stream, and one cut short
+    // (a stored block that is not the last, no checksum).
+    let three_rows = common::unfiltered(&vec![vec![255u8; 4000]; 3]);
+    let whole = common::zlib_stored(&three_rows);
+    let mut cut = whole[..whole.len() - 4].to_vec();
+    cut[2] = 0;
+    let grey = |height: u32, idat: &[u8]| common::png_file((4000, height), (8, 0, 0), &[], idat);
+    // 40 rows of 40000 bytes that do not compress, stored: 1.6 MB of data, which could
+    // inflate to the 1.6 GB of the 40000 x 40000 pixels declared.
+    let mut state = 1u32;
+    let noise: Vec<Vec<u8>> = (0..40)
+        .map(|_| {
+            (0..40000)
+                .map(|_| {
+                    state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                    (state >> 24) as u8
+                })
+                .collect()
+        })
+        .collect();
+    let forty_rows = common::zlib_stored(&common::unfiltered(&noise));
+    let too_small = |name: &str, needed: u64| {
+        format!("{name}: the header declares 40000x40000 pixels, {needed} bytes, but the file's 17 bytes of compressed pixel data inflate to at most 17544 bytes: the file is cut short or damaged")
+    };
+    let ends = |name: &str, pixels: u64, size: &str, reason: &str| {
+        format!("{name}: the pixel data ends after {pixels} of the {size} pixels the header declares ({reason}): the file is cut short or damaged")
+    };
+    let no_data = "IDAT or fDAT chunk does not have enough data for image";
+    let pbm = |name: &str, found: u32| {
+        format!("{name}: cannot decode the image: expected 1600000000 samples (40000x40000 pixels of 1), found {found}")
+    };
+    let cases = [
+        ("big.png", repro, too_small("big.png", 12_800_000_000)),
+        (
+            "interlaced.png",
+            tiny_idat_png((40000, 40000), 8, 0, 1),
+            too_small("interlaced.png", 1_600_000_000),
+        ),
+        (
+            "rows.png",
+            common::png_file((40000, 40000), (8, 0, 0), &[], &forty_rows),
+            ends("rows.png", 1_600_000, "40000x40000", no_data),
+        ),
+        (
+            "grey.png",
+            grey(40, &whole),
+            ends("grey.png", 12000, "4000x40", no_data),
+        ),
+        (
+            "cut.png",
+            grey(40, &cut),
+            ends(
+                "cut.png",
+                0,
+                "4000x40",
+                "Corrupt deflate stream. InsufficientInput",
+            ),
+        ),
+        (
+            "bits.pbm",
+            b"P4\n40000 40000\n\x00\xff\x00".to_vec(),
+            pbm("bits.pbm", 0),
+        ),
+        (
+            "digits.pbm",
+            b"P1\n40000 40000\n0 1 0\n".to_vec(),
+            pbm("digits.pbm", 3),
+        ),
+    ];
+    for (name, bytes, expect) in cases {
+        let (said, peak) = read_image_bounded(name, &bytes);
+        assert_eq!(said, expect);
+        assert!(peak < 8 << 20, "{name}: held {peak} bytes at the peak");
+    }
 }

@@ -2,6 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::common;
+
 use planner_api::Cell;
 use planner_maps::{
     parse_ros_yaml, read_map, read_ros_map, MapErrorKind, MapFormat, MapFrame, RosMode, RosOptions,
@@ -226,52 +228,120 @@ fn samples_are_read_at_full_precision() {
 /// `transparent` transparent when given: written by hand (stored deflate), since the image
 /// crate writes no `tRNS`.
 fn grey_png_with_trns(grey: &[u8], transparent: Option<u8>) -> Vec<u8> {
-    fn crc32(bytes: &[u8]) -> u32 {
-        let mut crc = !0u32;
-        for &b in bytes {
-            crc ^= u32::from(b);
-            for _ in 0..8 {
-                crc = if crc & 1 == 1 {
-                    (crc >> 1) ^ 0xedb8_8320
-                } else {
-                    crc >> 1
-                };
+    let trns = transparent.map(|t| [0, t]);
+    let extra: Vec<(&[u8; 4], &[u8])> = trns.iter().map(|t| (b"tRNS", &t[..])).collect();
+    let idat = common::zlib_stored(&common::unfiltered(&[grey.to_vec()]));
+    common::png_file((grey.len() as u32, 1), (8, 0, 0), &extra, &idat)
+}
+
+/// A PNG is decoded a row at a time, at its own depth: an interlaced one (Adam7's seven
+/// passes, put back in row order), a palette of 2-bit indices and 16-bit RGBA give each
+/// pixel its value where it lies. In raw mode a grey 0-100 is its own value, so a pixel
+/// read into the wrong cell shows.
+#[test]
+fn pngs_of_every_layout_give_each_pixel_its_value() {
+    let (w, h) = (11usize, 9usize);
+    let grey = |x: usize, y: usize| ((x * 7 + y * 13) % 101) as u8;
+    let expect: Vec<i8> = (0..h * w).map(|i| grey(i % w, i / w) as i8).collect();
+    let rows = |pixel: &dyn Fn(usize, usize) -> Vec<u8>| -> Vec<Vec<u8>> {
+        (0..h)
+            .map(|y| (0..w).flat_map(|x| pixel(x, y)).collect())
+            .collect()
+    };
+    let idat = |rows: &[Vec<u8>]| common::zlib_stored(&common::unfiltered(rows));
+    let size = (w as u32, h as u32);
+    let grey8 = |x, y| vec![grey(x, y)];
+    let plain = common::png_file(size, (8, 0, 0), &[], &idat(&rows(&grey8)));
+    assert_eq!(
+        occupancy_of("png-plain", "p.png", &plain, "raw"),
+        Ok(expect.clone())
+    );
+    // Interlaced: each pass's rows (first column, first row, steps), empty ones left out.
+    let adam7 = [
+        (0, 0, 8, 8),
+        (4, 0, 8, 8),
+        (0, 4, 4, 8),
+        (2, 0, 4, 4),
+        (0, 2, 2, 4),
+        (1, 0, 2, 2),
+        (0, 1, 1, 2),
+    ];
+    let passes = |pixel: &dyn Fn(usize, usize) -> Vec<u8>| -> Vec<Vec<u8>> {
+        let mut out = Vec::new();
+        for (x0, y0, dx, dy) in adam7 {
+            for y in (y0..h).step_by(dy) {
+                let row: Vec<u8> = (x0..w).step_by(dx).flat_map(|x| pixel(x, y)).collect();
+                if !row.is_empty() {
+                    out.push(row);
+                }
             }
         }
-        !crc
+        out
+    };
+    let interlaced = common::png_file(size, (8, 0, 1), &[], &idat(&passes(&grey8)));
+    assert_eq!(
+        occupancy_of("png-adam7", "i.png", &interlaced, "raw"),
+        Ok(expect.clone())
+    );
+    // 16-bit RGBA, opaque, interlaced: grey g is 257 g in 16 bits.
+    let rgba16 = |x, y| {
+        let [high, low] = (u16::from(grey(x, y)) * 257).to_be_bytes();
+        [high, low, high, low, high, low, 0xff, 0xff].to_vec()
+    };
+    let wide = common::png_file(size, (16, 6, 1), &[], &idat(&passes(&rgba16)));
+    assert_eq!(
+        occupancy_of("png-rgba16", "w.png", &wide, "raw"),
+        Ok(expect)
+    );
+    // A palette of four greys, 2-bit indices packed four to a byte, the first pixel in the
+    // high bits.
+    let palette = [0u8, 40, 80, 100];
+    let index = |x: usize, y: usize| (x + 2 * y) % 4;
+    let packed: Vec<Vec<u8>> = (0..h)
+        .map(|y| {
+            let mut row = vec![0u8; w.div_ceil(4)];
+            for x in 0..w {
+                row[x / 4] |= (index(x, y) as u8) << (6 - 2 * (x % 4));
+            }
+            row
+        })
+        .collect();
+    let plte: Vec<u8> = palette.iter().flat_map(|&g| [g, g, g]).collect();
+    let indexed = common::png_file(size, (2, 3, 0), &[(b"PLTE", &plte)], &idat(&packed));
+    let expect: Vec<i8> = (0..h * w)
+        .map(|i| palette[index(i % w, i / w)] as i8)
+        .collect();
+    assert_eq!(
+        occupancy_of("png-palette", "c.png", &indexed, "raw"),
+        Ok(expect)
+    );
+}
+
+/// PBM bitmaps (`P1` digits, `P4` bits packed from the high bit, each row on a byte): 1 is
+/// black, occupied; 0 white, free; as the image crate decodes them (its grey 0 and 255).
+#[test]
+fn pbm_bitmaps_read_black_as_occupied() {
+    let cases: [&[u8]; 4] = [
+        b"P1\n3 2\n0 1 0\n110\n",
+        b"P1 1 1 1",
+        b"P4\n10 2\n\xa5\x40\x0f\xc0",
+        b"P4 9 1\n\x01\x80",
+    ];
+    for (i, bytes) in cases.into_iter().enumerate() {
+        let decoded = image::load_from_memory(bytes).unwrap().into_luma8();
+        let expect: Vec<i8> = decoded
+            .pixels()
+            .map(|p| if p.0[0] == 0 { 100 } else { 0 })
+            .collect();
+        assert_eq!(
+            occupancy_of(&format!("pbm-{i}"), "b.pbm", bytes, "trinary"),
+            Ok(expect)
+        );
     }
-    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
-        out.extend((data.len() as u32).to_be_bytes());
-        let start = out.len();
-        out.extend(kind);
-        out.extend(data);
-        let crc = crc32(&out[start..]);
-        out.extend(crc.to_be_bytes());
-    }
-    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
-    let mut ihdr = (grey.len() as u32).to_be_bytes().to_vec();
-    ihdr.extend(1u32.to_be_bytes());
-    ihdr.extend([8, 0, 0, 0, 0]); // 8 bits, grey, deflate, no filter, no interlace
-    chunk(&mut out, b"IHDR", &ihdr);
-    if let Some(t) = transparent {
-        chunk(&mut out, b"tRNS", &[0, t]);
-    }
-    let mut row = vec![0u8]; // filter type none
-    row.extend(grey);
-    let (mut a, mut b) = (1u32, 0u32);
-    for &byte in &row {
-        a = (a + u32::from(byte)) % 65521;
-        b = (b + a) % 65521;
-    }
-    let len = row.len() as u16;
-    let mut zlib = vec![0x78, 0x01, 0x01];
-    zlib.extend(len.to_le_bytes());
-    zlib.extend((!len).to_le_bytes());
-    zlib.extend(&row);
-    zlib.extend(((b << 16) | a).to_be_bytes());
-    chunk(&mut out, b"IDAT", &zlib);
-    chunk(&mut out, b"IEND", &[]);
-    out
+    assert_eq!(
+        occupancy_of("pbm-2", "b.pbm", b"P1 3 1 0 2 1", "trinary"),
+        Err("b.pbm: cannot decode the image: pixel (1, 0) has sample '2', not 0 or 1".to_owned())
+    );
 }
 
 /// In trinary mode nav2 averages red, green, blue and alpha: a grey and alpha pixel counts
