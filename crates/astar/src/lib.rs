@@ -247,6 +247,7 @@ pub struct Config {
     /// Heuristic. Default Manhattan.
     pub heuristic: Heuristic,
     /// Seed 002's `beta` in `f = g + beta * h`: finite and `>= 0`. Default 1.
+    #[schemars(range(min = 0))]
     pub weight: f64,
     /// Tie-breaking among equal `f`. Default FIFO.
     pub tie_break: TieBreak,

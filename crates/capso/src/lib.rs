@@ -289,40 +289,53 @@ pub struct Config {
     /// Control points `n` between start and goal, `1 ..= 20`. Default 6 (seed 002). A route
     /// that turns often needs more: on random clutter of density 0.35, 6 points missed 35 of
     /// 56 reachable goals, 20 missed 11 (crate docs, "On random clutter").
+    #[schemars(range(min = 1, max = 20))]
     pub control_points: u32,
     /// Particles, `1 ..= 10_000`. Default 30 (seed 002).
+    #[schemars(range(min = 1, max = 10_000))]
     pub population: u32,
     /// Iterations `T`, `0 ..= 100_000`. Default 100 (seed 002).
+    #[schemars(range(max = 100_000))]
     pub iterations: u32,
     /// Inertia weight at the start, `w_max`. Default 0.9.
+    #[schemars(range(min = 0))]
     pub inertia_max: f64,
     /// Inertia weight at the end, `w_min <= w_max`. Default 0.4.
+    #[schemars(range(min = 0))]
     pub inertia_min: f64,
     /// Cognitive coefficient at the start, `c1_max`. Default 2.5.
+    #[schemars(range(min = 0))]
     pub cognitive_max: f64,
     /// Cognitive coefficient at the end, `c1_min <= c1_max`. Default 0.5.
+    #[schemars(range(min = 0))]
     pub cognitive_min: f64,
     /// Social coefficient at the start, `c2_min`. Default 0.5.
+    #[schemars(range(min = 0))]
     pub social_min: f64,
     /// Social coefficient at the end, `c2_max >= c2_min`. Default 2.5.
     pub social_max: f64,
     /// `lambda`, the PSO velocity's share of the position update (the beetle step has
     /// `1 - lambda`), in `0 ..= 1`. Default 0.4.
+    #[schemars(range(min = 0, max = 1))]
     pub lambda: f64,
     /// The beetle's initial step `delta_0`, relative to the velocity (the beetle term is
     /// `xi = +/- delta v`), finite and `> 0`. Default 0.9 (a choice: the paper's value is
     /// not in its stored abstract).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub beetle_step: f64,
     /// The step's decay per iteration, `eta` in `(0, 1]`. Default 0.95.
+    #[schemars(range(max = 1), extend("exclusiveMinimum" = 0))]
     pub beetle_decay: f64,
     /// Speed limit per axis as a fraction of the grid's extent on that axis, `(0, 1]`.
     /// Default 0.1.
+    #[schemars(range(max = 1), extend("exclusiveMinimum" = 0))]
     pub max_speed: f64,
     /// The chaotic map for `r1`, `r2`: `"logistic"`, `"tent"`, `"sine"`, `"sinusoidal"`,
     /// `"circle"` or `"gauss"`. Default `"logistic"`.
     pub chaotic_map: ChaoticMap,
     /// Penalty weight per unit of collision (blocked cells touched plus length inside),
     /// finite and `>= 0`. Default 100.
+    #[schemars(range(min = 0))]
     pub penalty: f64,
     /// Spline samples per knot interval, `1 ..= 1000`. Default 2 (issue 34: on seed 002's
     /// maps 2, 3, 4 and 5 gave mean lengths within 0.2 % of each other, 20 repeats
@@ -332,21 +345,26 @@ pub struct Config {
     /// while the CPU time per evaluation grows with the samples: 5 took 1.24 to 1.32
     /// times as long as 2, `cargo bench -p planner-capso --bench seed002 --
     /// --set=samples_per_segment=5`).
+    #[schemars(range(min = 1, max = 1000))]
     pub samples_per_segment: u32,
     /// Ramer-Douglas-Peucker tolerance in cells for the sampled polyline, `0 ..= 16`.
     /// Default 2 (issue 34: on seed 002's maps 1, 1.5 and 2 gave mean lengths within
     /// 0.3 % of each other, 30 repeats, and 2 took 6 % fewer instructions per search than 1
     /// on the 200 x 200 maps, callgrind: fewer waypoints, so fewer segments to measure and
     /// a shorter simplification; every path is checked exactly whatever the tolerance).
+    #[schemars(range(min = 0, max = 16))]
     pub tolerance: f64,
     /// Iterations without a better personal best after which a particle restarts near the
     /// global best, `0 ..= 100_000` (0: never). Default 10.
+    #[schemars(range(max = 100_000))]
     pub restart_after: u32,
     /// The share of particles 1 .. P - 1 seeded on the guide (one exactly, the others
     /// jittered), in `0 ..= 1`. Default 0.5.
+    #[schemars(range(min = 0, max = 1))]
     pub guided_share: f64,
     /// Half-width of the uniform noise of jittered guide particles and restarts, as a
     /// fraction of the grid's extent on each axis, in `0 ..= 1`. Default 0.05.
+    #[schemars(range(min = 0, max = 1))]
     pub jitter: f64,
 }
 

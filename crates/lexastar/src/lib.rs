@@ -229,6 +229,7 @@ pub struct Config {
     pub objective: Objective,
     /// The weight of a turn in [`Objective::Weighted`]: finite and `>= 0`; ignored in
     /// lexicographic mode. Default 1 (minimise Score = D + T).
+    #[schemars(range(min = 0))]
     pub lambda: f64,
     /// Discard a generated state when another state of the same cell, with one more turn,
     /// costs no more (see the crate docs); exact, and the default because it cuts the

@@ -211,7 +211,9 @@ impl schemars::JsonSchema for Radius {
     }
 
     fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
-        schemars::json_schema!({ "anyOf": [{ "type": "number" }, { "const": "size" }] })
+        schemars::json_schema!({
+            "anyOf": [{ "type": "number", "exclusiveMinimum": 0 }, { "const": "size" }]
+        })
     }
 }
 
@@ -259,12 +261,15 @@ impl<'de> Deserialize<'de> for Radius {
 pub struct Config {
     /// `Connecting_distance` of the local A* (Algorithm 2): 1, 2, 3 or 4 for 8, 16, 32 or
     /// 48 directions. Default 2 (Table 5).
+    #[schemars(range(min = 1, max = 4))]
     pub connecting_distance: u32,
     /// `beta` in `f = g + beta * h` (equation 7): finite and `>= 0`. Default 1 (Table 5).
+    #[schemars(range(min = 0))]
     pub beta: f64,
     /// The handover circle's radius: `"size"` or a number of cells. Default 4 (Table 5).
     pub radius: Radius,
     /// `R_threshold` of equation 9, in cells: finite and `>= 0`. Default 13 (4.3.2).
+    #[schemars(range(min = 0))]
     pub r_threshold: f64,
     /// Tie-breaking among equal `f` in the local A* (planner-astar's). Default FIFO.
     pub tie_break: TieBreak,

@@ -2,7 +2,9 @@
 //!
 //! A planner declares its parameters once, in its crate's `Config` struct: the
 //! `schemars::JsonSchema` derive reads the field types, the serde attributes
-//! (`rename_all`, `default`, `deny_unknown_fields`) and the doc comments, so the parameter
+//! (`rename_all`, `default`, `deny_unknown_fields`), the doc comments and the numeric
+//! ranges a field declares (`#[schemars(range(min = 1, max = 20))]`, `exclusiveMinimum`
+//! by `extend`; the registry's tests hold each planner's validation to them), so the parameter
 //! list that `gridplan planners <name>` prints ([`declared`]) and the config schema that
 //! `gridplan schema` prints (planner-runner's `schema::experiment_schema`) cannot drift
 //! from what the planner accepts.
@@ -26,7 +28,8 @@ pub fn parameters_of<C: JsonSchema>() -> Schema {
 pub struct Param {
     /// The key in a planner table.
     pub key: String,
-    /// The type, e.g. `integer`, `number`, `string`, `boolean`, `number or "size"`.
+    /// The type and its declared range, e.g. `integer (1 to 20)`, `number (>= 0)`,
+    /// `string`, `boolean`, `number (> 0) or "size"`.
     pub kind: String,
     /// The default value (as the planner's default `Config` serializes it), if declared.
     pub default: Option<Value>,
@@ -173,13 +176,59 @@ fn kind_of(schema: &Value) -> (String, Option<Vec<Value>>) {
     if kind.is_empty() {
         kind = "any".to_string();
     }
-    match schema.get("format").and_then(Value::as_str) {
-        Some("double") | None => {}
+    let format = schema.get("format").and_then(Value::as_str);
+    match (range_of(schema, format), format) {
+        (Some(range), _) => kind = format!("{kind} ({range})"),
+        (None, Some("double") | None) => {}
         // A config's integers are TOML's, 64-bit signed.
-        Some("uint64") => kind = format!("{kind} (0 to 2^63 - 1)"),
-        Some(format) => kind = format!("{kind} ({format})"),
+        (None, Some("uint64")) => kind = format!("{kind} (0 to 2^63 - 1)"),
+        (None, Some(format)) => kind = format!("{kind} ({format})"),
     }
     (kind, allowed)
+}
+
+/// The values a numeric schema declares beyond its type's own (`minimum`, `maximum`,
+/// `exclusiveMinimum`, `exclusiveMaximum`), in words: `1 to 20`, `>= 0`, `> 0 to 1`.
+/// An unsigned integer's own bounds (0, and the largest value of its width) fill in
+/// what is not declared; `None` when nothing beyond the type is declared.
+fn range_of(schema: &Value, format: Option<&str>) -> Option<String> {
+    let read = |key: &str| {
+        schema
+            .get(key)
+            .filter(|v| v.is_number())
+            .map(Value::to_string)
+    };
+    let (min, max) = (read("minimum"), read("maximum"));
+    let (above, below) = (read("exclusiveMinimum"), read("exclusiveMaximum"));
+    let most = match format {
+        Some("uint8") => Some(u8::MAX.to_string()),
+        Some("uint16") => Some(u16::MAX.to_string()),
+        Some("uint32") => Some(u32::MAX.to_string()),
+        Some("uint64") => Some("2^63 - 1".to_string()),
+        _ => None,
+    };
+    let unsigned = most.is_some();
+    // The derive declares `minimum = 0` for every unsigned integer: that alone is the type.
+    let declared_min = min.as_ref().filter(|m| !(unsigned && m.as_str() == "0"));
+    if declared_min.is_none() && above.is_none() && max.is_none() && below.is_none() {
+        return None;
+    }
+    let low = match (&min, &above) {
+        (_, Some(above)) => Some(format!("> {above}")),
+        (Some(min), None) => Some(min.clone()),
+        (None, None) => None,
+    };
+    let high = max.or(most).map(|max| format!("to {max}"));
+    let high = below.map(|below| format!("< {below}")).or(high);
+    Some(match (low, high) {
+        (Some(low), Some(high)) if high.starts_with('<') => format!("{low}, {high}"),
+        (Some(low), Some(high)) => format!("{low} {high}"),
+        (Some(low), None) if low.starts_with('>') => low,
+        (Some(low), None) => format!(">= {low}"),
+        (None, Some(high)) if high.starts_with('<') => high,
+        (None, Some(high)) => format!("<= {}", high.trim_start_matches("to ")),
+        (None, None) => return None,
+    })
 }
 
 /// A doc comment's first paragraph on one line, rustdoc links as plain code.

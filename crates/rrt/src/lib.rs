@@ -165,6 +165,7 @@ pub struct Config {
     pub seed: u64,
     /// Probability of sampling the goal instead of a uniform free cell, in `0..=1`.
     /// Default 0.05.
+    #[schemars(range(min = 0, max = 1))]
     pub goal_bias: f64,
     /// Iterations before giving up with [`Status::BudgetExhausted`] (0 gives up at once,
     /// unless start = goal). Default 100,000.
@@ -173,6 +174,7 @@ pub struct Config {
     pub steer: Steer,
     /// Unit moves per extension, at least 1; above 1 the tree's edges are any-angle
     /// segments. Default 1.
+    #[schemars(range(min = 1))]
     pub step: u32,
 }
 

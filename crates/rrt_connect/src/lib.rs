@@ -107,6 +107,7 @@ pub struct Config {
     pub steer: Steer,
     /// Unit moves per extension, at least 1; above 1 the trees' edges are any-angle
     /// segments. Default 1.
+    #[schemars(range(min = 1))]
     pub step: u32,
 }
 

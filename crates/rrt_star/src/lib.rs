@@ -158,6 +158,7 @@ pub struct Config {
     pub seed: u64,
     /// Probability of sampling the goal instead of a uniform free cell, in `0..=1`.
     /// Default 0.05.
+    #[schemars(range(min = 0, max = 1))]
     pub goal_bias: f64,
     /// Iterations in all before stopping (with or without a solution). Default 100,000.
     pub max_iterations: u64,
@@ -167,9 +168,11 @@ pub struct Config {
     /// Unit moves used to steer (`"four"` or `"eight"`). Default `"four"`.
     pub steer: Steer,
     /// Unit moves per extension, at least 1. Default 1.
+    #[schemars(range(min = 1))]
     pub step: u32,
     /// The radius constant `gamma`, positive and finite; absent: `1.1 *`
     /// [`gamma_lower_bound`] of the map's free cells. Default absent.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub gamma: Option<f64>,
 }
 

@@ -1,0 +1,3 @@
+//! planner-registry's integration tests, one binary.
+
+mod ranges;
