@@ -66,5 +66,5 @@ pub use planner::{
     Budget, BudgetClock, CancelFlag, CancelPool, LentFlag, Mark, MemoryShortfall, Outcome, Planner,
     Problem, SearchEvent, SearchEventKind, Series, Status, MAX_SEARCH_EVENTS,
 };
-pub use specs::{ParamError, ParamKey, PathSpec, PlannerSpecs, SEED_PARAM};
+pub use specs::{CostsCondition, ParamError, ParamKey, PathSpec, PlannerSpecs, SEED_PARAM};
 pub use weights::{weighted_move_cost, CostRule, Weights};

@@ -40,6 +40,24 @@ pub struct PlannerSpecs {
     /// admissibility claim they check only that its paths on weighted grids keep its rule,
     /// so the declaration is the planner's word (its crate's docs say how it weighs costs).
     pub cell_costs: bool,
+    /// Set when the planner honours cell weights only in other configurations (so
+    /// [`PlannerSpecs::cell_costs`] is false in this one): the parameter that decides it,
+    /// the values with which it does, and why not otherwise. A refusal of a weighted map
+    /// names them, so a user knows which setting to change.
+    pub cell_costs_only_with: Option<CostsCondition>,
+}
+
+/// The parameter setting with which a planner honours cell weights
+/// ([`PlannerSpecs::cell_costs_only_with`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CostsCondition {
+    /// The parameter's key, e.g. `moves`.
+    pub param: &'static str,
+    /// The values with which the planner honours cell weights, in words, e.g. `4 or 8`.
+    pub values: &'static str,
+    /// Why other values do not, one clause, e.g. "a longer move is charged only for its
+    /// two end cells".
+    pub reason: &'static str,
 }
 
 impl PlannerSpecs {
@@ -51,6 +69,7 @@ impl PlannerSpecs {
             admissible: None,
             incremental: false,
             cell_costs: false,
+            cell_costs_only_with: None,
         }
     }
 
@@ -62,6 +81,7 @@ impl PlannerSpecs {
             admissible: None,
             incremental: false,
             cell_costs: false,
+            cell_costs_only_with: None,
         }
     }
 
@@ -79,6 +99,25 @@ impl PlannerSpecs {
     pub fn with_cell_costs(self) -> PlannerSpecs {
         PlannerSpecs {
             cell_costs: true,
+            ..self
+        }
+    }
+
+    /// These specs, declaring that the planner honours cell weights only with `param` set
+    /// to `values` ([`PlannerSpecs::cell_costs_only_with`]), not in this configuration.
+    pub fn with_cell_costs_only_with(
+        self,
+        param: &'static str,
+        values: &'static str,
+        reason: &'static str,
+    ) -> PlannerSpecs {
+        PlannerSpecs {
+            cell_costs: false,
+            cell_costs_only_with: Some(CostsCondition {
+                param,
+                values,
+                reason,
+            }),
             ..self
         }
     }

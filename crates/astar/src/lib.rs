@@ -91,8 +91,15 @@
 //! length times `k_from * w(from) + k_to * w(to)`, one multiplication per relaxed move. The
 //! heuristic is multiplied by the grid's smallest weight `w_min`, so it stays admissible
 //! and consistent (every move costs at least its length times `w_min`), and with it found
-//! paths are least-cost (held to the test kit's weighted Dijkstra on 10,000 random grids
-//! in `tests/weighted.rs`). Weighted searches run a second copy of the search loop (a
+//! paths are least-cost with 4 and 8 directions (held to the test kit's weighted Dijkstra
+//! on 10,000 random grids in `tests/weighted.rs`). A move of 16, 32 or 48 directions is
+//! charged by the same rule for its two end cells only, not for the cells it crosses, so
+//! such a path may cross costly cells without paying for them: A* declares
+//! [`PlannerSpecs::cell_costs`](planner_api::PlannerSpecs::cell_costs) with 4 and 8
+//! directions only (with longer moves its specs name `moves` in
+//! [`PlannerSpecs::cell_costs_only_with`](planner_api::PlannerSpecs::cell_costs_only_with)),
+//! and the runner refuses it a weighted map unless the config says `costs = "ignore"`.
+//! Weighted searches run a second copy of the search loop (a
 //! const generic), always with the bucket OPEN, whose ring is sized for the largest
 //! weighted move; the unweighted loop has no weight code at all, so unweighted searches
 //! and their counters are unchanged. The zero heuristic makes this Dijkstra's algorithm.
@@ -1243,7 +1250,8 @@ impl Planner for AStar {
     /// Unseeded; every step is one of the configured moves. Admissible when the weight is
     /// at most 1 (or the heuristic is zero) and the heuristic never overestimates under the
     /// moves: Euclidean, Chebyshev and zero always; octile for 4 and 8 directions; Manhattan
-    /// for 4 only.
+    /// for 4 only. Honours cell weights with 4 and 8 directions only (see the crate docs,
+    /// "Cell weights").
     fn specs(&self) -> planner_api::PlannerSpecs {
         let heuristic = self.config.heuristic;
         let directions = self.config.moves;
@@ -1253,9 +1261,19 @@ impl Planner for AStar {
             Heuristic::Manhattan => directions == Connectivity::Four,
         };
         let admissible = heuristic == Heuristic::Zero || (fits && self.config.weight <= 1.0);
-        planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(self.moves.clone()))
-            .with_admissible(admissible)
-            .with_cell_costs()
+        let specs = planner_api::PlannerSpecs::deterministic(planner_api::PathSpec::Moves(
+            self.moves.clone(),
+        ))
+        .with_admissible(admissible);
+        match directions {
+            Connectivity::Four | Connectivity::Eight => specs.with_cell_costs(),
+            _ => specs.with_cell_costs_only_with(
+                "moves",
+                "4 or 8",
+                "a longer move is charged for its two end cells only, not for the cells it \
+                 crosses",
+            ),
+        }
     }
 
     /// The search's whole state ([`AStar::memory_bytes_for`]): `prepare` sizes its

@@ -173,3 +173,58 @@ fn uniform_weight_scales_costs_and_keeps_the_order() {
         assert_eq!(plain.stats.n_expanded, heavy.stats.n_expanded, "{moves:?}");
     }
 }
+
+/// A move of 16, 32 or 48 directions is charged for its two end cells only: on a 7 x 3
+/// grid whose columns 2-4 weigh 65,535, one 48-direction move (1, 0) -> (5, 1) crosses
+/// them for its length, 4.12. So A* declares cell costs with 4 and 8 directions only, and
+/// with longer moves its specs name `moves` and the reason (the runner's refusal says
+/// them); 8 directions still pay for the heavy columns, as the oracle does.
+#[test]
+fn long_moves_declare_no_cell_costs_naming_moves() {
+    let grid = Grid::from_ascii(".......\n.......\n.......").unwrap();
+    let row = [1, 1, 65_535, 65_535, 65_535, 1, 1];
+    let weighted = grid.with_weights(row.repeat(3), CostRule::Mean).unwrap();
+    let problem = Problem::new(&weighted, Cell::new(1, 0), Cell::new(5, 1)).unwrap();
+    let astar = |moves| {
+        AStar::new(Config {
+            moves,
+            heuristic: Heuristic::Euclidean,
+            ..Config::default()
+        })
+        .unwrap()
+    };
+    for moves in [
+        Connectivity::Sixteen,
+        Connectivity::ThirtyTwo,
+        Connectivity::FortyEight,
+    ] {
+        let specs = astar(moves).specs();
+        assert!(!specs.cell_costs, "{moves:?}");
+        let condition = specs.cell_costs_only_with.expect("a condition");
+        assert_eq!((condition.param, condition.values), ("moves", "4 or 8"));
+        assert!(
+            condition.reason.contains("end cells"),
+            "{}",
+            condition.reason
+        );
+    }
+    let long = astar(Connectivity::FortyEight).search(&problem, &Budget::unlimited());
+    assert_eq!(
+        long.path.unwrap().cells().len(),
+        2,
+        "one move across the heavy columns"
+    );
+    for moves in [Connectivity::Four, Connectivity::Eight] {
+        let mut eight = astar(moves);
+        let specs = eight.specs();
+        assert!(
+            specs.cell_costs && specs.cell_costs_only_with.is_none(),
+            "{moves:?}"
+        );
+        let search = eight.search(&problem, &Budget::unlimited());
+        let oracle =
+            weighted_dijkstra(&weighted, eight.move_set(), problem.start(), problem.goal());
+        assert_eq!(search.exact_cost, oracle, "{moves:?}");
+        assert!(search.exact_cost.unwrap() > planner_api::Cost::steps(196_000));
+    }
+}

@@ -798,7 +798,12 @@ impl Planner for LexAStar {
         if self.config.moves == Connectivity::Four {
             specs.with_cell_costs()
         } else {
-            specs
+            specs.with_cell_costs_only_with(
+                "moves",
+                "4",
+                "the seed's D counts a diagonal as one step, where a weighted grid charges \
+                 sqrt 2 times its weights",
+            )
         }
     }
 

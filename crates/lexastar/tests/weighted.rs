@@ -168,6 +168,10 @@ fn eight_connected_declares_no_cell_costs_and_ignores_weights() {
     };
     let mut eight = LexAStar::new(config.clone()).unwrap();
     assert!(!eight.specs().cell_costs);
+    // The specs say with which `moves` it does, so a refusal can name the setting.
+    let condition = eight.specs().cell_costs_only_with.expect("a condition");
+    assert_eq!((condition.param, condition.values), ("moves", "4"));
+    assert!(four.specs().cell_costs_only_with.is_none());
     let mut plain = LexAStar::new(config).unwrap();
     for p in random_weighted_problems(11, 200) {
         let unweighted = p.grid.without_weights();
