@@ -224,9 +224,12 @@ pub fn run_one(
     }
     let setup_started = Instant::now();
     let baseline = heap.map(HeapMeter::current);
+    // The sweep's flag where it has one, else the caller's own (the Python package's
+    // Ctrl-C sets the planner's budget's flag).
+    let budget = effective_budget(planner);
     let budget = Budget {
-        cancel: workspace.cancel,
-        ..effective_budget(planner)
+        cancel: workspace.cancel.or(budget.cancel),
+        ..budget
     };
     let slot = match &mut workspace.slots[spec.planner] {
         Some(slot) => slot,
