@@ -52,8 +52,18 @@ pub const HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expa
 /// `Median cost` column before `Peak heap`.
 pub const COST_HEADER: &str = "| Planner | Map | Runs | Found | Optimal | Median expansions | Mean expansions | Median time (ms) | Time IQR (ms) | Median subopt. | Largest subopt. | Median cost | Peak heap |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
-/// What the per-map table shows on maps with cell costs, after [`PER_MAP`].
-pub const COSTS: &str = "Maps with cell costs: their runs are not compared with the scenario optima, which are unweighted lengths (`Optimal` and the suboptimality leave them out, `-` for such a map alone); `Median cost` is the median path `cost` (runs.csv's `cost` column) of the runs with one, the measure least-cost planners minimise.\n\n";
+/// What the per-map table shows on maps with cell costs, after [`PER_MAP`]; `table` is the
+/// result table that holds the `cost` column ([`runs_table`]).
+pub fn costs_note(table: &str) -> String {
+    format!("Maps with cell costs: their runs are not compared with the scenario optima, which are unweighted lengths (`Optimal` and the suboptimality leave them out, `-` for such a map alone); `Median cost` is the median path `cost` ({table}'s `cost` column) of the runs with one, the measure least-cost planners minimise.\n\n")
+}
+
+/// The result table summary.md names for a column of a sweep of `runs` runs: runs.csv, or
+/// runs.parquet when runs.csv is not written (a sweep of more than
+/// [`crate::HELD_RUNS`] runs, or `outputs` without `"csv"`).
+pub fn runs_table(experiment: &Experiment, runs: u64) -> &'static str {
+    experiment.outputs.for_runs(runs).table()
+}
 
 /// Whether some map of the experiment has cell costs (the tables then show path costs).
 pub fn has_costs(experiment: &Experiment) -> bool {
@@ -81,8 +91,10 @@ pub fn bucket_ranges(buckets: &[u32]) -> Vec<(u32, u32)> {
         .collect()
 }
 
-/// Every label's resolved parameters (defaults included) and budget.
-pub fn parameters(experiment: &Experiment) -> String {
+/// Every label's resolved parameters (defaults included) and budget, with the memory
+/// limit that applies ([`budget_cell`]; `measured`: whether the machine's default is
+/// shown or, for snapshots, written `[memory]`).
+pub fn parameters(experiment: &Experiment, measured: Measured) -> String {
     let mut out = String::from("Planner parameters, as resolved (defaults included):\n\n| Label | Planner | Parameters | Budget |\n|---|---|---|---|\n");
     for planner in &experiment.planners {
         let params = match &*planner.parameters(experiment.seed) {
@@ -93,14 +105,16 @@ pub fn parameters(experiment: &Experiment) -> String {
                 .join(", "),
             other => other.to_string(),
         };
-        let budget = serde_json::to_string(&planner.budget).unwrap_or_default();
+        let budget = budget_cell(planner, measured);
         let _ = writeln!(
             out,
             "| {} | {} | {} | {} |",
             md_cell(&planner.label),
             planner.name,
             md_cell(&params),
-            md_cell(&budget)
+            // Numbers and fixed words only (no text of the config): written as is, so
+            // that a redacted `[memory]` stays as the other tables write it.
+            budget
         );
     }
     if experiment.planners.iter().any(|p| p.factory.specs().seeded) {
@@ -110,6 +124,38 @@ pub fn parameters(experiment: &Experiment) -> String {
     }
     out.push('\n');
     out
+}
+
+/// A label's budget as the parameters table shows it: `max_expansions = N` or `no
+/// expansion limit`, `max_time_ms = N` or `no time limit`, and the memory limit that
+/// applies: its own `max_memory_mb = N`, else the runner's default
+/// ([`planner_runner::run::default_max_memory_mb`], half the machine's memory), else `no
+/// memory limit`; redacted (`measured`), the default is `[memory]` on every machine, as it
+/// depends on the machine.
+pub fn budget_cell(planner: &planner_runner::config::PlannerSpec, measured: Measured) -> String {
+    let budget = &planner.budget;
+    let expansions = match budget.max_expansions {
+        Some(n) => format!("max_expansions = {n}"),
+        None => "no expansion limit".to_string(),
+    };
+    let time = match budget.max_time {
+        Some(t) => format!("max_time_ms = {}", t.as_millis()),
+        None => "no time limit".to_string(),
+    };
+    let default = planner_runner::run::default_max_memory_mb();
+    let memory = match (budget.max_memory_mb, default, measured) {
+        (Some(mb), _, _) => format!("max_memory_mb = {mb}"),
+        (None, Some(mb), Measured::Shown) => {
+            format!("max_memory_mb = {mb} (default: half the machine's memory)")
+        }
+        // Redacted whether or not this machine's memory could be read: a snapshot's text
+        // is the same on every machine.
+        (None, _, Measured::Redacted) => {
+            "max_memory_mb = [memory] (default: half the machine's memory)".to_string()
+        }
+        (None, None, Measured::Shown) => "no memory limit".to_string(),
+    };
+    format!("{expansions}, {time}, {memory}")
 }
 
 /// An integer as is, else two decimals.

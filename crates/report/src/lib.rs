@@ -324,6 +324,11 @@ impl Renderer {
             out.push_str(&provenance.markdown());
         }
         figure_notes(experiment, &mut out);
+        // A large sweep's default tables: runs.parquet alone, which the sections name.
+        if let Some(left_out) = experiment.outputs.left_out(passes.len()) {
+            let _ = writeln!(out, "{left_out}\n");
+        }
+        let table = aggregate::runs_table(experiment, passes.len());
         for section in &self.sections {
             check_stop(stop)?;
             let options = match &experiment.sections {
@@ -349,7 +354,7 @@ impl Renderer {
                 }
                 let _ = writeln!(
                     out,
-                    "Section `{}` is left out: it holds every record in memory, and this sweep's {} runs are more than the {} a report holds (see runs.parquet).\n",
+                    "Section `{}` is left out: it holds every record in memory, and this sweep's {} runs are more than the {} a report holds (see {table}).\n",
                     section.name(),
                     passes.len(),
                     HELD_RUNS

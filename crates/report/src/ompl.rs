@@ -4,18 +4,25 @@
 //! One log per map (`ompl/<map>.log`, an OMPL "experiment"): every label is a planner
 //! with its resolved parameters as settings, and every run of it on the map's problems is
 //! one run line, with `problem`, `repeat` and gridplan's metrics and counters as run
-//! properties: `time` (s), `solved`, `memory` (MB), `solution length`, and one INTEGER
-//! property per counter (empty where a planner does not report it). A problem that never
-//! ran (status `invalid_problem`: a start or goal on a wall, say) has an empty `time` and
-//! `memory` (NULL in OMPL's database), so Planner Arena's distributions hold measured runs
-//! only.
+//! properties: `time` (s), `solved`, `status` (an ENUM of gridplan's statuses, declared in
+//! the header as `status|found|no_path|budget_exhausted|invalid_problem` and written as
+//! the index), `memory` (MB), `solution length`, on a map with cell costs `cost` (the
+//! path's weighted cost, empty without a path), and one INTEGER property per counter
+//! (empty where a planner does not report it). A problem that never ran (status
+//! `invalid_problem`: a start or goal on a wall, say) has an empty `time` and `memory`
+//! (NULL in OMPL's database), so Planner Arena's distributions hold measured runs only.
+//! Lengths, costs and memory are the shortest decimal that reads back as the same double
+//! (runs.csv's [`planner_runner::output::csv_float`]); times are in seconds to the
+//! nanosecond.
 //!
 //! OMPL's header has one time limit and one memory limit for the whole experiment, while a
-//! gridplan budget is a label's: the header gives the limit the labels' budgets set, the
-//! largest when they differ, and 0 (no limit) when any label sets none (the runner's
-//! default memory limit, half the machine's memory, is the machine's and not written);
-//! each label's own limits are among its common properties (`budget.max_time_s`,
-//! `budget.max_memory_mb`, `budget.max_expansions`, where set).
+//! gridplan budget is a label's: the header gives the limit that applied to the labels'
+//! runs, the largest when they differ, and 0 (no limit) when a label has none. A label
+//! without `max_memory_mb` ran with the runner's default memory limit, half the machine's
+//! memory ([`planner_runner::run::effective_budget`]), which is the limit written for it.
+//! Each label's own limits are among its common properties (`budget.max_time_s`,
+//! `budget.max_memory_mb`, `budget.max_expansions`, where set; `budget.max_memory_mb`
+//! also when it is the default).
 //!
 //! Config text is data here too. OMPL's reader is line-oriented (Python's universal
 //! newlines: `\n`, `\r` and `\r\n` end a line) and takes some values as one word, so
@@ -31,17 +38,19 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use planner_runner::config::{Experiment, PlannerSpec};
-use planner_runner::output::OutputFile;
+use planner_runner::output::{csv_float, OutputFile};
 use planner_runner::provenance::Provenance;
-use planner_runner::record::RunRecord;
+use planner_runner::record::{RunRecord, RunStatus};
+use planner_runner::run::effective_budget;
 
-/// The fixed run properties, before the counters: name and SQL type.
-const FIXED: [(&str, &str); 11] = [
+/// The fixed run properties, before `cost` and the counters: name and SQL type.
+const FIXED: [(&str, &str); 12] = [
     ("problem", "INTEGER"),
     ("repeat", "INTEGER"),
     ("seed", "INTEGER"),
     ("time", "REAL"),
     ("solved", "BOOLEAN"),
+    ("status", "ENUM"),
     ("memory", "REAL"),
     ("solution length", "REAL"),
     ("optimal length", "REAL"),
@@ -95,7 +104,9 @@ pub fn logs(
         }
         let _ = writeln!(out, "{} is the random seed", experiment.seed);
         let time_limit = shared_limit(experiment, |p| p.budget.max_time.map(|d| d.as_secs_f64()));
-        let memory_limit = shared_limit(experiment, |p| p.budget.max_memory_mb.map(|mb| mb as f64));
+        let memory_limit = shared_limit(experiment, |p| {
+            effective_budget(p).max_memory_mb.map(|mb| mb as f64)
+        });
         let _ = writeln!(out, "{time_limit} seconds per run");
         let _ = writeln!(out, "{memory_limit} MB per run");
         let per_planner = experiment
@@ -105,7 +116,9 @@ pub fn logs(
             .map_or(0, Vec::len);
         let _ = writeln!(out, "{per_planner} runs per planner");
         let _ = writeln!(out, "{seconds:.3} seconds spent to collect the data");
+        out.push_str(&enum_types());
         let _ = writeln!(out, "{} planners", experiment.planners.len());
+        let weighted = map.grid.is_weighted();
         for planner in &experiment.planners {
             let mine = grouped.get(&(map.name.as_str(), planner.label.as_str()));
             planner_block(
@@ -113,6 +126,7 @@ pub fn logs(
                 planner,
                 experiment.seed,
                 mine.map_or(&[], Vec::as_slice),
+                weighted,
             );
         }
         files.push(OutputFile {
@@ -121,6 +135,21 @@ pub fn logs(
         });
     }
     files
+}
+
+/// The header's enum types: one, `status`, with gridplan's statuses in the order of
+/// [`RunStatus::ALL`] (a run's `status` property is its index).
+fn enum_types() -> String {
+    let names: Vec<&str> = RunStatus::ALL.iter().map(|s| s.as_str()).collect();
+    format!("1 enum type\nstatus|{}\n", names.join("|"))
+}
+
+/// `status`'s index among [`RunStatus::ALL`].
+fn status_index(status: RunStatus) -> usize {
+    RunStatus::ALL
+        .iter()
+        .position(|&s| s == status)
+        .unwrap_or_default()
 }
 
 /// The experiment-wide limit of OMPL's header from each label's `limit`: 0 (none) when a
@@ -132,15 +161,23 @@ fn shared_limit(experiment: &Experiment, limit: impl Fn(&PlannerSpec) -> Option<
 
 /// One planner's block of a log (`seed`: the experiment's base seed): its name, its
 /// settings as common properties (its parameters as its runs use them), the
-/// properties of each run, and one line per run of `mine` (its runs on the map).
-fn planner_block(out: &mut String, planner: &PlannerSpec, seed: u64, mine: &[&RunRecord]) {
+/// properties of each run (`cost` on a `weighted` map), and one line per run of `mine`
+/// (its runs on the map).
+fn planner_block(
+    out: &mut String,
+    planner: &PlannerSpec,
+    seed: u64,
+    mine: &[&RunRecord],
+    weighted: bool,
+) {
     let _ = writeln!(out, "{}", one_word(&planner.label));
     let mut settings: Vec<String> = match &*planner.parameters(seed) {
         serde_json::Value::Object(m) => m.iter().map(|(k, v)| format!("{k} = {v}")).collect(),
         _ => Vec::new(),
     };
     settings.push(format!("planner = {}", planner.name));
-    let budget = &planner.budget;
+    // The limits that applied: the label's, with the runner's default memory limit.
+    let budget = effective_budget(planner);
     if let Some(time) = budget.max_time {
         settings.push(format!("budget.max_time_s = {}", time.as_secs_f64()));
     }
@@ -165,10 +202,13 @@ fn planner_block(out: &mut String, planner: &PlannerSpec, seed: u64, mine: &[&Ru
     let _ = writeln!(
         out,
         "{} properties for each run",
-        FIXED.len() + counters.len()
+        FIXED.len() + usize::from(weighted) + counters.len()
     );
     for (name, kind) in FIXED {
         let _ = writeln!(out, "{name} {kind}");
+    }
+    if weighted {
+        out.push_str("cost REAL\n");
     }
     for name in &counters {
         let _ = writeln!(out, "{} INTEGER", one_word(name));
@@ -184,13 +224,17 @@ fn planner_block(out: &mut String, planner: &PlannerSpec, seed: u64, mine: &[&Ru
             opt(r.seed.map(|s| s.to_string())),
             opt(ran.then(|| format!("{:.9}", r.time_ms / 1e3))),
             u8::from(r.is_found()).to_string(),
-            opt(ran.then(|| format!("{:.6}", r.peak_heap_bytes as f64 / 1048576.0))),
-            opt(r.length.map(|v| format!("{v:.6}"))),
-            opt(r.optimal_length.map(|v| format!("{v:.6}"))),
+            status_index(r.status).to_string(),
+            opt(ran.then(|| csv_float(r.peak_heap_bytes as f64 / 1048576.0))),
+            opt(r.length.map(csv_float)),
+            opt(r.optimal_length.map(csv_float)),
             opt(r.steps.map(|v| v.to_string())),
             opt(r.turns.map(|v| v.to_string())),
             opt(r.valid.map(|v| u8::from(v).to_string())),
         ];
+        if weighted {
+            values.push(opt(r.cost.map(csv_float)));
+        }
         values.extend(
             counters
                 .iter()

@@ -19,8 +19,8 @@ use planner_runner::record::RunRecord;
 use planner_runner::RunnerError;
 
 use crate::aggregate::{
-    bucket_ranges, format_bytes, format_number, has_costs, parameters, Measured, COSTS,
-    COST_HEADER, HEADER, PER_MAP, TIMING_WARNING,
+    bucket_ranges, costs_note, format_bytes, format_number, has_costs, parameters, runs_table,
+    Measured, COST_HEADER, HEADER, PER_MAP, TIMING_WARNING,
 };
 use crate::exact::quantiles;
 use crate::md_cell;
@@ -223,6 +223,8 @@ struct Aggregated<'e> {
     n_labels: usize,
     n_maps: usize,
     bucket_base: usize,
+    /// The result table summary.md names for a column ([`runs_table`]).
+    table: &'static str,
 }
 
 /// The per-group sums of the first pass: label x map and label groups, bucket rows x labels
@@ -392,6 +394,7 @@ impl<'e> Aggregated<'e> {
             n_labels,
             n_maps,
             bucket_base,
+            table: runs_table(experiment, passes.len()),
         })
     }
 
@@ -407,14 +410,14 @@ impl<'e> Aggregated<'e> {
         } = self;
         let median = |set: usize| q[set].first().copied();
         let mut out = String::from("## Aggregates\n\n");
-        out.push_str(&parameters(experiment));
+        out.push_str(&parameters(experiment, measured));
         if experiment.repeats == 1 {
             out.push_str(TIMING_WARNING);
         }
         out.push_str(PER_MAP);
         let costs = has_costs(experiment);
         let header = if costs {
-            out.push_str(COSTS);
+            out.push_str(&costs_note(self.table));
             COST_HEADER
         } else {
             HEADER
@@ -508,7 +511,7 @@ impl<'e> Aggregated<'e> {
                 labels.join(" | "),
                 "---:|".repeat(labels.len())
             );
-            let _ = write!(out, "By scenario bucket (a `.scen` bucket holds problems of optimal length 4b to 4b + 4; more than {} buckets are grouped into ranges of equal width; every bucket is in runs.csv's `bucket` column). Median `n_expanded` per label:\n\n{head}", crate::aggregate::MAX_BUCKET_ROWS);
+            let _ = write!(out, "By scenario bucket (a `.scen` bucket holds problems of optimal length 4b to 4b + 4; more than {} buckets are grouped into ranges of equal width; every bucket is in {}'s `bucket` column). Median `n_expanded` per label:\n\n{head}", crate::aggregate::MAX_BUCKET_ROWS, self.table);
             let table = |out: &mut String, cell: &dyn Fn(usize) -> String| {
                 for (k, &(m, (lo, hi))) in layout.rows.iter().enumerate() {
                     let bucket = if lo == hi {

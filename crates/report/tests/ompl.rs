@@ -1,6 +1,7 @@
 //! OMPL benchmark logs: the header's limits from the labels' budgets, each label's limits
 //! among its common properties, and no time or memory for a problem that never ran.
 
+use planner_report::aggregate::Measured;
 use planner_report::ompl;
 use planner_runner::provenance::{Machine, Provenance};
 use planner_runner::{config, run_all, RunOptions};
@@ -9,6 +10,12 @@ use planner_runner::{config, run_all, RunOptions};
 /// second starting on the wall (so it never runs), and the labels of `planners`, in a
 /// scratch directory of its own (`name`: tests run in parallel).
 fn log(name: &str, planners: &str) -> String {
+    log_of(name, "open.map", "", planners)
+}
+
+/// [`log`] on map `file` (`open.map`, or `swamp.map`: the same map with its first three
+/// rows and columns swamp), its set's keys `costs`.
+fn log_of(name: &str, file: &str, costs: &str, planners: &str) -> String {
     let dir =
         std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gridplan-ompl-{name}"));
     let _ = std::fs::remove_dir_all(&dir);
@@ -18,8 +25,13 @@ fn log(name: &str, planners: &str) -> String {
         "type octile\nheight 4\nwidth 4\nmap\n....\n....\n....\n...@\n",
     )
     .unwrap();
+    std::fs::write(
+        dir.join("swamp.map"),
+        "type octile\nheight 4\nwidth 4\nmap\nSSS.\nSSS.\nSSS.\n...@\n",
+    )
+    .unwrap();
     let text = format!(
-        "name = \"o\"\nompl = true\n[[maps]]\nfiles = [\"open.map\"]\n\
+        "name = \"o\"\nompl = true\n[[maps]]\nfiles = [{file:?}]\n{costs}\n\
          pairs = [{{ start = [0, 0], goal = [2, 2] }}, {{ start = [3, 3], goal = [0, 0] }}]\n\
          {planners}"
     );
@@ -58,16 +70,65 @@ fn the_header_gives_the_largest_limit_the_labels_set() {
             "{property}: {text}"
         );
     }
-    // A label without a limit: the experiment has none.
+    // A label without a time limit: the experiment has none. A label without a memory
+    // limit ran with the runner's default, half the machine's memory (the log said 0 MB,
+    // no limit), which is the limit written for it.
     let text = log(
         "no-limit",
         "[planners.a]\nplanner = \"astar\"\nbudget = { max_time_ms = 1500, max_memory_mb = 64 }\n\
          [planners.b]\nplanner = \"bfs\"\n",
     );
+    let default = planner_runner::run::default_max_memory_mb();
+    let memory = default.map_or(0, |mb| mb.max(64));
     assert!(
-        text.contains("\n0 seconds per run\n0 MB per run\n"),
+        text.contains(&format!("\n0 seconds per run\n{memory} MB per run\n")),
         "{text}"
     );
+    if let Some(mb) = default {
+        assert!(
+            text.contains(&format!("\nbudget.max_memory_mb = {mb}\n")),
+            "{text}"
+        );
+    }
+}
+
+/// The logs carried no status (budget_exhausted, no_path and invalid_problem were all
+/// `solved = 0`) and no cost on a weighted map: `status` is now an ENUM of gridplan's
+/// statuses, declared in the header, and `cost` a REAL on weighted maps (empty without a
+/// path); lengths and costs are the doubles of runs.json, not 6 decimals.
+#[test]
+fn runs_have_a_status_enum_and_a_cost_on_weighted_maps() {
+    let planners = "[planners.a]\nplanner = \"astar\"\n\
+                    [planners.b]\nplanner = \"astar\"\nbudget = { max_expansions = 1 }\n";
+    let text = log_of("status", "swamp.map", "costs = { swamp = 5 }", planners);
+    assert!(
+        text.contains(
+            "seconds spent to collect the data\n1 enum type\n\
+             status|found|no_path|budget_exhausted|invalid_problem\n2 planners\n"
+        ),
+        "{text}"
+    );
+    assert!(text.contains("\nsolved BOOLEAN\nstatus ENUM\n"), "{text}");
+    assert!(text.contains("\nvalid BOOLEAN\ncost REAL\n"), "{text}");
+    let runs: Vec<Vec<&str>> = text
+        .lines()
+        .filter(|line| line.ends_with("; "))
+        .map(|line| line.split("; ").collect())
+        .collect();
+    // problem, repeat, seed, time, solved, status, memory, solution length, optimal
+    // length, steps, turns, valid, cost: a's two runs, then b's.
+    assert_eq!(runs.len(), 4, "{text}");
+    let status: Vec<&str> = runs.iter().map(|r| r[5]).collect();
+    assert_eq!(status, ["0", "3", "2", "3"], "{text}");
+    // A found path's cost, exactly; none without a path.
+    let cost: f64 = runs[0][12].parse().unwrap();
+    let length: f64 = runs[0][7].parse().unwrap();
+    assert!(cost > length, "{text}");
+    assert_eq!(format!("{length:?}"), runs[0][7]);
+    assert_eq!(runs[2][12], "", "{text}");
+    // An unweighted map has no cost property.
+    let plain = log("no-cost", planners);
+    assert!(plain.contains("\nstatus ENUM\n") && !plain.contains("cost REAL"));
 }
 
 /// A problem that never ran (its start on a wall) was a run of time 0 and memory 0,
@@ -81,14 +142,18 @@ fn a_problem_that_never_ran_has_no_time_or_memory() {
         .map(|line| line.split("; ").collect())
         .collect();
     assert_eq!(runs.len(), 2, "{text}");
-    // problem, repeat, seed, time, solved, memory, ...
+    // problem, repeat, seed, time, solved, status, memory, ...
     let (ran, never) = (&runs[0], &runs[1]);
     assert_eq!((ran[0], never[0]), ("1", "2"), "{text}");
     assert!(
-        ran[3].parse::<f64>().is_ok() && ran[5].parse::<f64>().is_ok(),
+        ran[3].parse::<f64>().is_ok() && ran[6].parse::<f64>().is_ok(),
         "{text}"
     );
-    assert_eq!((never[3], never[4], never[5]), ("", "0", ""), "{text}");
+    assert_eq!(
+        (never[3], never[4], never[5], never[6]),
+        ("", "0", "3", ""),
+        "{text}"
+    );
 }
 
 /// scripts/check-ompl.sh compared the database's planners with the raw labels, so it failed
@@ -215,7 +280,7 @@ fn the_resolved_seed_is_the_seed_the_runs_use() {
         let planners = &json["planners"];
         assert_eq!(planners["unset"]["parameters"]["seed"], base, "{planners}");
         assert_eq!(planners["zero"]["parameters"]["seed"], 0, "{planners}");
-        let table = planner_report::aggregate::parameters(&experiment);
+        let table = planner_report::aggregate::parameters(&experiment, Measured::Shown);
         let row = |label: &str| {
             table
                 .lines()

@@ -8,8 +8,8 @@
 use std::fmt::Write as _;
 
 use planner_report::aggregate::{
-    bucket_ranges, format_bytes, format_number, parameters, Measured, COSTS, COST_HEADER, HEADER,
-    MAX_BUCKET_ROWS, PER_MAP, TIMING_WARNING,
+    bucket_ranges, costs_note, format_bytes, format_number, parameters, runs_table, Measured,
+    COST_HEADER, HEADER, MAX_BUCKET_ROWS, PER_MAP, TIMING_WARNING,
 };
 use planner_report::optimum::matches_optimum;
 use planner_report::{md_cell, median_iqr, Context};
@@ -21,14 +21,14 @@ use planner_runner::record::RunRecord;
 pub fn tables(context: &Context<'_>, measured: Measured) -> String {
     let experiment = context.experiment;
     let mut out = String::from("## Aggregates\n\n");
-    out.push_str(&parameters(experiment));
+    out.push_str(&parameters(experiment, measured));
     if experiment.repeats == 1 {
         out.push_str(TIMING_WARNING);
     }
     out.push_str(PER_MAP);
     let costs = experiment.maps.iter().any(|m| m.grid.is_weighted());
     if costs {
-        out.push_str(COSTS);
+        out.push_str(&costs_note(runs_table(experiment, context.passes.len())));
     }
     let header = if costs { COST_HEADER } else { HEADER };
     out.push_str(header);
@@ -113,7 +113,7 @@ fn by_bucket(context: &Context<'_>, measured: Measured) -> String {
         labels.join(" | "),
         "---:|".repeat(labels.len())
     );
-    let mut out = format!("By scenario bucket (a `.scen` bucket holds problems of optimal length 4b to 4b + 4; more than {MAX_BUCKET_ROWS} buckets are grouped into ranges of equal width; every bucket is in runs.csv's `bucket` column). Median `n_expanded` per label:\n\n{head}");
+    let mut out = format!("By scenario bucket (a `.scen` bucket holds problems of optimal length 4b to 4b + 4; more than {MAX_BUCKET_ROWS} buckets are grouped into ranges of equal width; every bucket is in {}'s `bucket` column). Median `n_expanded` per label:\n\n{head}", runs_table(experiment, context.passes.len()));
     let table = |out: &mut String, cell: &dyn Fn(&[&RunRecord]) -> String| {
         for (map, (lo, hi), per_label) in &rows {
             let bucket = if lo == hi {

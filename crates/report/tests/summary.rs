@@ -382,3 +382,101 @@ fn the_tables_that_leave_invalid_problems_out_say_so() {
     }
     assert!(!summary.contains("over all runs on the map"), "{summary}");
 }
+
+/// The records of a sweep, `times` over: a pass of more than `HELD_RUNS` records from a
+/// small sweep.
+struct Repeated<'r> {
+    records: &'r [planner_runner::RunRecord],
+    times: u64,
+}
+
+impl planner_runner::passes::RecordPasses for Repeated<'_> {
+    fn pass(
+        &self,
+        visit: &mut dyn FnMut(&planner_runner::RunRecord),
+    ) -> Result<(), planner_runner::RunnerError> {
+        for _ in 0..self.times {
+            self.records.iter().for_each(&mut *visit);
+        }
+        Ok(())
+    }
+
+    fn len(&self) -> u64 {
+        self.records.len() as u64 * self.times
+    }
+}
+
+/// A sweep of more than `HELD_RUNS` runs writes runs.parquet alone (without `outputs`), yet
+/// summary.md said "every bucket is in runs.csv's `bucket` column" and "runs.csv's `cost`
+/// column", and nothing said runs.csv and runs.json were not written. It now names
+/// runs.parquet there and says which tables were left out and why; a smaller sweep's
+/// summary names runs.csv and says nothing of the kind.
+#[test]
+fn a_large_sweeps_summary_names_runs_parquet_and_the_tables_left_out() {
+    use planner_report::aggregate::Aggregate;
+    let (experiment, records) = weighted_sweep();
+    let renderer = Renderer::new(vec![Box::new(Aggregate)]);
+    let times = planner_runner::sweep::HELD_RUNS / records.len() as u64 + 1;
+    let large = Repeated {
+        records: &records,
+        times,
+    };
+    let (summary, _) = renderer
+        .summary_passes(&experiment, &[], &large, None)
+        .unwrap();
+    for text in [
+        "every bucket is in runs.parquet's `bucket` column",
+        "(runs.parquet's `cost` column)",
+        "runs.csv and runs.json are not written: this sweep's",
+        "runs.parquet holds every run",
+    ] {
+        assert!(summary.contains(text), "{text}\n{summary}");
+    }
+    assert!(!summary.contains("runs.csv's"), "{summary}");
+    let (summary, _) = renderer.summary(&experiment, &records).unwrap();
+    for text in [
+        "every bucket is in runs.csv's `bucket` column",
+        "(runs.csv's `cost` column)",
+    ] {
+        assert!(summary.contains(text), "{text}\n{summary}");
+    }
+    assert!(!summary.contains("not written"), "{summary}");
+}
+
+/// The parameters table showed a label's budget as raw JSON
+/// (`{"max_expansions":5000000,"max_time_ms":null}`) and left out the memory limit that
+/// applies when the budget sets none (the runner's default, half the machine's memory).
+/// It now reads `max_expansions = N, no time limit, max_memory_mb = M (default: half the
+/// machine's memory)`, the default written `[memory]` when measurements are redacted.
+#[test]
+fn the_budget_column_is_readable_with_the_memory_limit_that_applies() {
+    use planner_report::aggregate::{parameters, Measured};
+    let text = format!(
+        "name = \"budget\"\n[[maps]]\nfiles = [{:?}]\npairs = [{{ start = [0, 0], goal = [1, 1] }}]\n\
+         [planners.a]\nplanner = \"astar\"\nbudget = {{ max_expansions = 5000000 }}\n\
+         [planners.b]\nplanner = \"bfs\"\nbudget = {{ max_time_ms = 1500, max_memory_mb = 64 }}\n",
+        root().join("maps/paper/map01.map").display().to_string()
+    );
+    let experiment = config::parse(&root().join("configs/budget-test.toml"), &text).unwrap();
+    let default = planner_runner::run::default_max_memory_mb();
+    let default_text = |mb: &str| match default {
+        Some(_) => format!("max_memory_mb = {mb} (default: half the machine's memory)"),
+        None => "no memory limit".to_string(),
+    };
+    let shown = parameters(&experiment, Measured::Shown);
+    let mb = default.map(|mb| mb.to_string()).unwrap_or_default();
+    let row_a = format!(
+        "max_expansions = 5000000, no time limit, {} |",
+        default_text(&mb)
+    );
+    let row_b = "no expansion limit, max_time_ms = 1500, max_memory_mb = 64 |";
+    for row in [row_a.as_str(), row_b] {
+        assert!(shown.contains(row), "{row}\n{shown}");
+    }
+    assert!(!shown.contains('{'), "{shown}");
+    let redacted = parameters(&experiment, Measured::Redacted);
+    // The same text on every machine (a snapshot's).
+    let row_a = "max_expansions = 5000000, no time limit, max_memory_mb = [memory] (default: half the machine's memory) |";
+    assert!(redacted.contains(row_a), "{redacted}");
+    assert!(redacted.contains(row_b), "{redacted}");
+}
