@@ -22,7 +22,11 @@
 //!   through the cost of the cell reached). Not symmetric.
 //!
 //! Diagonal moves charge only their two end cells (the corner cells they pass are free or
-//! the move is not allowed at all, by the move set's corner rule).
+//! the move is not allowed at all, by the move set's corner rule). A longer move (16, 32
+//! or 48 directions) is charged the same way, for its two end cells only, though it
+//! crosses others: a path of such moves is not least-cost by the cells it crosses, so
+//! planners declare cell costs with 4 and 8 directions only (A*'s specs name `moves` in
+//! [`PlannerSpecs::cell_costs_only_with`](crate::PlannerSpecs::cell_costs_only_with)).
 //!
 //! # Exact integer arithmetic
 //! Costs are [`Cost`]s (units of `2^-32`). Let `half` be the move's [`Cost::of_move`]
