@@ -225,20 +225,54 @@ pub enum Rotation {
 
 /// The planner's parameters. Pattern-specific ones are optional and rejected with the
 /// other pattern, so a config cannot set a parameter that does nothing.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+///
+/// A config serializes as it runs (runs.json, `gridplan planners coverage`): the pattern's
+/// own parameters left unset show their defaults, the other pattern's show as unset.
+#[derive(Debug, Clone, PartialEq, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Config {
     /// `"spiral"` (default) or `"zigzag"`.
     pub pattern: Pattern,
     /// Spiral only: the RLS, `"left"` (default) or `"right"`.
+    #[schemars(extend("default" = "left"))]
     pub reference_side: Option<Side>,
     /// Spiral only: the heading scanned first when a phase starts (default `"R"`).
+    #[schemars(extend("default" = "R"))]
     pub heading: Option<Heading>,
     /// Zigzag only: `"counter_clockwise"` (default) or `"clockwise"`.
     pub rotation: Option<Rotation>,
     /// Zigzag only: the first direction of the order; default `"R"` counter-clockwise,
     /// `"D"` clockwise.
     pub first: Option<Heading>,
+}
+
+impl Serialize for Config {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        /// The config as it runs: the pattern's own parameters with their defaults.
+        #[derive(Serialize)]
+        struct AsRun {
+            pattern: Pattern,
+            reference_side: Option<Side>,
+            heading: Option<Heading>,
+            rotation: Option<Rotation>,
+            first: Option<Heading>,
+        }
+        let spiral = self.pattern == Pattern::Spiral;
+        let rotation = self.rotation.or((!spiral).then(Rotation::default));
+        let first = self.first.or(match rotation {
+            _ if spiral => None,
+            Some(Rotation::Clockwise) => Some(Heading::Down),
+            _ => Some(Heading::Right),
+        });
+        AsRun {
+            pattern: self.pattern,
+            reference_side: self.reference_side.or(spiral.then(Side::default)),
+            heading: self.heading.or(spiral.then_some(Heading::Right)),
+            rotation,
+            first,
+        }
+        .serialize(serializer)
+    }
 }
 
 impl Default for Config {

@@ -185,3 +185,41 @@ fn listed_kinds_show_the_declared_ranges() {
     assert_eq!(kind("pastar", "radius"), "number (> 0) or \"size\"");
     assert_eq!(kind("rrt", "seed"), "integer (0 to 2^63 - 1)");
 }
+
+/// Coverage's spiral parameters list the defaults its docs give (they listed `unset`),
+/// and a config resolves to them, so runs.json says how a run ran.
+#[test]
+fn coverage_lists_and_resolves_its_pattern_defaults() {
+    let declared = planner_registry::schema::declared("coverage").expect("declared");
+    let default = |key: &str| {
+        declared
+            .iter()
+            .find(|p| p.key == key)
+            .and_then(|p| p.default.clone())
+    };
+    assert_eq!(default("reference_side"), Some(Value::from("left")));
+    assert_eq!(default("heading"), Some(Value::from("R")));
+    let entry = planner_registry::find("coverage").expect("registered");
+    let resolved = |text: &str| {
+        let table: toml::Table = toml::from_str(text).expect("TOML");
+        (entry.factory)(&table).expect("valid").resolved().clone()
+    };
+    let spiral = resolved("");
+    assert_eq!(
+        (
+            &spiral["reference_side"],
+            &spiral["heading"],
+            &spiral["rotation"]
+        ),
+        (&Value::from("left"), &Value::from("R"), &Value::Null)
+    );
+    let zigzag = resolved("pattern = \"zigzag\"\nrotation = \"clockwise\"");
+    assert_eq!(
+        (
+            &zigzag["reference_side"],
+            &zigzag["rotation"],
+            &zigzag["first"]
+        ),
+        (&Value::Null, &Value::from("clockwise"), &Value::from("D"))
+    );
+}
