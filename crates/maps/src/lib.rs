@@ -320,9 +320,12 @@ impl MapFormat {
                             line: 0,
                             column: 0,
                             message: format!(
-                                "origin {:?} plus resolution {} times the image's {}x{} cells is \
-                                 beyond the range of numbers: map positions are meaningless",
-                                frame.origin, frame.resolution, frame.width, frame.height
+                                "origin [{}] plus resolution {} times the image's {}x{} cells \
+                                 is beyond the range of numbers: map positions are meaningless",
+                                frame.origin.map(metres).join(", "),
+                                metres(frame.resolution),
+                                frame.width,
+                                frame.height
                             ),
                         });
                     }

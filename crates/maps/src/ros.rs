@@ -317,19 +317,45 @@ impl MapFrame {
 }
 
 /// `value` metres for a person: at most six decimals (micrometres), trailing zeros left
-/// out, so that `-1.4749999999999996` (a cell centre's sum) reads `-1.475`.
+/// out, so that `-1.4749999999999996` (a cell centre's sum) reads `-1.475`; from `1e9`
+/// (a million kilometres) up, in scientific notation with at most six decimals, so that
+/// no number is longer than a line (`1e300` is not written with its 301 digits).
 ///
 /// ```
 /// assert_eq!(planner_maps::metres(-1.4749999999999996), "-1.475");
 /// assert_eq!(planner_maps::metres(9.200000000000003), "9.2");
 /// assert_eq!(planner_maps::metres(-0.0000001), "0");
+/// assert_eq!(planner_maps::metres(123456789.5), "123456789.5");
+/// assert_eq!(planner_maps::metres(1e300), "1e300");
+/// assert_eq!(planner_maps::metres(-1.23456789e12), "-1.234568e12");
+/// assert_eq!(planner_maps::metres(f64::INFINITY), "inf");
 /// ```
 pub fn metres(value: f64) -> String {
+    if value.is_finite() && value.abs() >= SCIENTIFIC_METRES {
+        let text = format!("{value:.6e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, ""));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exponent}");
+    }
     let text = format!("{value:.6}");
     let text = text.trim_end_matches('0').trim_end_matches('.');
     match text {
         "-0" => "0".to_string(),
         other => other.to_string(),
+    }
+}
+
+/// The magnitude in metres from which [`metres`] writes scientific notation.
+const SCIENTIFIC_METRES: f64 = 1e9;
+
+/// A number from a YAML file for a message, as written in the shortest form that reads
+/// back to it: `0.05`, `-1`, `1.5`; scientific notation for the very large and very small
+/// (`1e308`, `-1e-9`), never hundreds of digits.
+pub(crate) fn shown_number(value: f64) -> String {
+    let text = format!("{value:?}");
+    match text.strip_suffix(".0") {
+        Some(whole) => whole.to_owned(),
+        None => text,
     }
 }
 
@@ -729,7 +755,10 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<(RosYaml, Position), 
         warn(
             &mut warnings,
             resolution_node.at(),
-            format!("resolution {resolution} is not positive: map positions are meaningless"),
+            format!(
+                "resolution {} is not positive: map positions are meaningless",
+                shown_number(resolution)
+            ),
         );
     }
     let origin_node = required(2)?;
@@ -777,7 +806,10 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<(RosYaml, Position), 
             warn(
                 &mut warnings,
                 node.at(),
-                format!("'{key}' {value} is outside [0, 1]: read as written"),
+                format!(
+                    "'{key}' {} is outside [0, 1]: read as written",
+                    shown_number(value)
+                ),
             );
         }
     }
@@ -786,7 +818,9 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<(RosYaml, Position), 
             &mut warnings,
             free_node.at(),
             format!(
-                "'free_thresh' {free_thresh} is above 'occupied_thresh' {occupied_thresh}: read as written"
+                "'free_thresh' {} is above 'occupied_thresh' {}: read as written",
+                shown_number(free_thresh),
+                shown_number(occupied_thresh)
             ),
         );
     }

@@ -685,3 +685,75 @@ fn only_a_yaml_with_a_positive_resolution_has_a_frame() {
     let file = read_map(&dir.join("map.yaml")).unwrap();
     assert_eq!(file.frame, None);
 }
+
+/// Numbers in messages are short at any magnitude: metres with at most six decimals below
+/// a million kilometres and in scientific notation above (`1e300`, not its 301 digits, as
+/// the overflow warning of `resolution: 1e308` and the extent of a huge map wrote them),
+/// and a YAML's values in the shortest form that reads back to them.
+#[test]
+fn numbers_in_messages_are_short_at_any_magnitude() {
+    for (value, text) in [
+        (0.0, "0"),
+        (-0.0, "0"),
+        (0.05, "0.05"),
+        (-1.4749999999999996, "-1.475"),
+        (0.0000004, "0"),
+        (999_999_999.25, "999999999.25"),
+        (1e9, "1e9"),
+        (-2.5e9, "-2.5e9"),
+        (1.23456789e12, "1.234568e12"),
+        (1e300, "1e300"),
+        (-1.7e308, "-1.7e308"),
+        (f64::MAX, "1.797693e308"),
+        (f64::INFINITY, "inf"),
+        (f64::NEG_INFINITY, "-inf"),
+        (f64::NAN, "NaN"),
+    ] {
+        assert_eq!(planner_maps::metres(value), text, "{value:e}");
+    }
+    let frame = MapFrame {
+        resolution: 1e300,
+        origin: [-1e300, 2.0, 0.0],
+        width: 10,
+        height: 3,
+    };
+    assert_eq!(
+        frame.extent(),
+        "x from -1e300 to 9e300 and y from 2 to 3e300 (metres, the map frame; the upper ends excluded)"
+    );
+    // A YAML's values as written, however large or small.
+    check(
+        &YAML
+            .replace("resolution: 0.050000", "resolution: -1e300")
+            .replace("occupied_thresh: 0.65", "occupied_thresh: 1e300")
+            .replace("free_thresh: 0.196", "free_thresh: 2E+300"),
+        "ok\n\
+         warning: m.yaml:3:13: resolution -1e300 is not positive: map positions are meaningless\n\
+         warning: m.yaml:6:18: 'occupied_thresh' 1e300 is outside [0, 1]: read as written\n\
+         warning: m.yaml:7:14: 'free_thresh' 2e300 is outside [0, 1]: read as written\n\
+         warning: m.yaml:7:14: 'free_thresh' 2e300 is above 'occupied_thresh' 1e300: read as written",
+    );
+    check(
+        &YAML.replace("resolution: 0.050000", "resolution: -0.0000001"),
+        "ok\nwarning: m.yaml:3:13: resolution -1e-7 is not positive: map positions are meaningless",
+    );
+    // The frame of a resolution whose extent overflows: the warning's numbers.
+    let dir = dir("huge-numbers");
+    write_pgm(&dir);
+    let yaml = dir.join("map.yaml");
+    std::fs::write(
+        &yaml,
+        YAML.replace("resolution: 0.050000", "resolution: 1e308")
+            .replace("[-1.000000, -2.000000, 0.000000]", "[1.7e308, 0.25, 0]"),
+    )
+    .unwrap();
+    let read = planner_maps::read_map_with(&yaml, &planner_maps::ReadOptions::default()).unwrap();
+    let warnings: Vec<String> = read.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        warnings,
+        [format!(
+            "{}: origin [1.7e308, 0.25, 0] plus resolution 1e308 times the image's 4x3 cells is beyond the range of numbers: map positions are meaningless",
+            yaml.display()
+        )]
+    );
+}
