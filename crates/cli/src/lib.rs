@@ -1179,6 +1179,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
                 resume,
                 shard,
                 stop,
+                build: Some(env!("GRIDPLAN_GIT_COMMIT")).filter(|commit| *commit != "unknown"),
                 ..sweep::SweepArgs::new(&config, &renderer)
             })?;
             if let Some(n_recorded) = report.interrupted {
@@ -1207,6 +1208,9 @@ pub fn run(command: Command) -> Result<(), CliError> {
                     "published numbers reproduced: {} of {}\n",
                     report.reproduction.matched, report.reproduction.compared
                 ));
+            }
+            if let Some(left_out) = &report.left_out {
+                to_stderr!("note: {left_out}");
             }
             write_text(&out)
         }

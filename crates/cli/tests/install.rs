@@ -76,6 +76,21 @@ fn the_installed_binary_runs_outside_the_repository() {
         csv.contains("astar[moves=4]") && csv.contains("astar[moves=8]"),
         "{csv}"
     );
+    // Outside any git tree, the provenance still names the commit the binary was built
+    // from (where its build knew one).
+    let commit = version
+        .split("(commit ")
+        .nth(1)
+        .and_then(|rest| rest.split(')').next())
+        .expect("the version names a commit");
+    if commit != "unknown" {
+        let summary =
+            std::fs::read_to_string(work.join("results/mine/summary.md")).expect("summary.md");
+        assert!(
+            summary.contains(&format!("gridplan built from commit: {commit}")),
+            "{summary}"
+        );
+    }
 
     // Around the wall: 4-connected 9 steps (down 2, right 5, up 2).
     let json = run(

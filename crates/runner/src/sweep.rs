@@ -234,6 +234,10 @@ pub struct Report {
     /// The records written (paths left out, as in runs.json), when [`SweepArgs::keep_records`]
     /// asked for them; else empty.
     pub records: Vec<RunRecord>,
+    /// The sentence saying which result tables a large sweep left out
+    /// ([`crate::output::Outputs::left_out`], as summary.md says it); `None` when every
+    /// table asked for was written.
+    pub left_out: Option<String>,
 }
 
 /// A sweep's progress display (a command line's progress bar); the sweep calls it from
@@ -376,6 +380,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
             seconds: started.elapsed().as_secs_f64(),
             interrupted: None,
             records: Vec::new(),
+            left_out: None,
         });
     }
     tracing::info!(experiment = %experiment.name, runs = runs.len(), %shard, "sweep");
@@ -387,6 +392,7 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         seconds: started.elapsed().as_secs_f64(),
         interrupted: Some(recorded),
         records: Vec::new(),
+        left_out: None,
     };
     // Short of the shard's runs: the sweep was stopped.
     if recorded < runs.len() {
@@ -430,6 +436,10 @@ pub fn experiment(args: &SweepArgs) -> Result<Report, RunnerError> {
         seconds: started.elapsed().as_secs_f64(),
         interrupted: None,
         records,
+        left_out: match args.shard {
+            Some(_) => None,
+            None => experiment.outputs.left_out(runs.len()),
+        },
     })
 }
 
@@ -1536,6 +1546,7 @@ pub fn report(
         seconds: started.elapsed().as_secs_f64(),
         interrupted: None,
         records: Vec::new(),
+        left_out: None,
     })
 }
 
@@ -1767,6 +1778,7 @@ pub fn merge(
         seconds: started.elapsed().as_secs_f64(),
         interrupted: None,
         records: Vec::new(),
+        left_out: None,
     })
 }
 

@@ -56,8 +56,14 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// Two labels on two tiny problems: `HELD_RUNS + 4` runs, cheap ones.
+/// Two labels on two tiny problems: `HELD_RUNS + 4` runs, cheap ones, runs.csv and
+/// runs.parquet asked for.
 fn config(dir: &Path) -> PathBuf {
+    config_with(dir, "outputs = [\"csv\", \"parquet\"]\n")
+}
+
+/// [`config`] with `outputs` (a line of top-level keys) instead.
+fn config_with(dir: &Path, outputs: &str) -> PathBuf {
     std::fs::write(
         dir.join("tiny.map"),
         "type octile\nheight 2\nwidth 4\nmap\n....\n.@..\n",
@@ -65,7 +71,7 @@ fn config(dir: &Path) -> PathBuf {
     .unwrap();
     let repeats = (HELD_RUNS + 4) / 4;
     let text = format!(
-        "name = \"large\"\nrepeats = {repeats}\nfigures = \"none\"\npaths = \"none\"\noutputs = [\"csv\", \"parquet\"]\n\
+        "name = \"large\"\nrepeats = {repeats}\nfigures = \"none\"\npaths = \"none\"\n{outputs}\
          [[maps]]\nfiles = [\"tiny.map\"]\npairs = [{{ start = [0, 0], goal = [3, 1] }}, {{ start = [0, 1], goal = [3, 0] }}]\n\
          [planners.astar]\nplanner = \"astar\"\nmoves = 8\n\
          [planners.bfs]\nplanner = \"bfs\"\n"
@@ -103,6 +109,7 @@ fn a_large_sweep_and_its_merged_shards_equal_row_for_row() {
     let report = sweep::experiment(&args).unwrap();
     let n = HELD_RUNS + 4;
     assert_eq!(report.n_runs as u64, n);
+    assert_eq!(report.left_out, None, "runs.csv was asked for by name");
     assert!(
         report.records.is_empty(),
         "records beyond HELD_RUNS are not returned"
@@ -192,5 +199,27 @@ fn a_sweep_past_its_byte_cap_holds_no_records() {
             "resume {resume}"
         );
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A large sweep without `outputs` writes runs.parquet alone and says so in its report
+/// (which the command line prints), as its summary.md does.
+#[test]
+fn a_large_sweep_says_which_tables_it_left_out() {
+    let dir = scratch("left-out");
+    let config = config_with(&dir, "");
+    let render = Checked::default();
+    let out = dir.join("out");
+    let mut args = SweepArgs::new(&config, &render);
+    args.output = Some(&out);
+    args.threads = 2;
+    let report = sweep::experiment(&args).unwrap();
+    let left_out = report.left_out.expect("the tables left out are said");
+    assert!(
+        left_out.starts_with("runs.csv and runs.json are not written"),
+        "{left_out}"
+    );
+    assert!(!out.join("runs.csv").exists() && !out.join("runs.json").exists());
+    assert!(out.join("runs.parquet").is_dir());
     std::fs::remove_dir_all(&dir).unwrap();
 }
