@@ -103,7 +103,7 @@ pub use matrix::{csv_inversion_hint, parse_matrix, CsvConvention, InversionHint}
 pub use movingai::{movingai_passable, parse_movingai, to_movingai};
 pub use ros::{
     metres, parse_ros_yaml, read_ros_map, read_ros_map_with, ros_grid, ros_map_from_image_bytes,
-    ros_occupancy_value, MapFrame, RosMap, RosMode, RosOptions, RosYaml,
+    ros_occupancy_value, FrameError, MapFrame, RosMap, RosMode, RosOptions, RosYaml,
 };
 pub use scen::{parse_scenarios, Scenario};
 pub use seed003::parse_seed003;
@@ -119,8 +119,13 @@ pub struct MapFile {
     /// The format the file was parsed as.
     pub format: MapFormat,
     /// Where the cells lie in the ROS map frame: a `map_server` YAML's `resolution` and
-    /// `origin` (`None` for the other formats, an image read without a YAML included).
+    /// `origin` (`None` for the other formats, an image read without a YAML included, and
+    /// a YAML whose frame is unusable: [`MapFile::frame_error`]).
     pub frame: Option<MapFrame>,
+    /// Why a `map_server` YAML's map has no [`MapFile::frame`]: its `resolution` is not
+    /// positive, or its extent is beyond the range of numbers; `None` when it has one and
+    /// for the other formats, which have no frame to lose.
+    pub frame_error: Option<FrameError>,
     /// One flag per cell, row-major, true where a ROS `map_server` map (or an image read
     /// as one) does not know the cell (occupancy `-1`), for figures that draw such cells
     /// apart from walls; `None` for the other formats and for maps with no unknown cell.
@@ -306,37 +311,30 @@ impl MapFormat {
                 };
                 // A frame needs a positive resolution (the YAML's warning says when it is not)
                 // and an extent within the range of numbers (said here).
-                let frame = match (self, map.yaml.resolution > 0.0) {
-                    (MapFormat::Ros, true) => Some(map.frame()),
-                    _ => None,
+                let (frame, frame_error) = match self {
+                    MapFormat::Ros => match map.frame().checked() {
+                        Ok(frame) => (Some(frame), None),
+                        Err(error) => (None, Some(error)),
+                    },
+                    _ => (None, None),
                 };
                 let unknown = map.unknown_cells();
                 let mut warnings = map.yaml.warnings;
-                let frame = frame.filter(|frame| {
-                    let finite = frame.bounds().iter().all(|v| v.is_finite());
-                    if !finite {
-                        warnings.push(MapWarning {
-                            file: origin.to_string(),
-                            line: 0,
-                            column: 0,
-                            message: format!(
-                                "origin [{}] plus resolution {} times the image's {}x{} cells \
-                                 is beyond the range of numbers: map positions are meaningless",
-                                frame.origin.map(metres).join(", "),
-                                metres(frame.resolution),
-                                frame.width,
-                                frame.height
-                            ),
-                        });
-                    }
-                    finite
-                });
+                if let Some(error @ FrameError::BeyondRange { .. }) = frame_error {
+                    warnings.push(MapWarning {
+                        file: origin.to_string(),
+                        line: 0,
+                        column: 0,
+                        message: format!("{error}: map positions are meaningless"),
+                    });
+                }
                 let file = MapFile {
                     unknown,
                     grid: map.grid,
                     problems: Vec::new(),
                     format: self,
                     frame,
+                    frame_error,
                 };
                 return Ok(MapRead { file, warnings });
             }
@@ -360,6 +358,7 @@ impl MapFormat {
                 problems: Vec::new(),
                 format: self,
                 frame: None,
+                frame_error: None,
                 unknown: None,
             },
             warnings: Vec::new(),
@@ -385,6 +384,7 @@ impl MapFormat {
                     problems: Vec::new(),
                     format: self,
                     frame: None,
+                    frame_error: None,
                 },
                 warnings: map.yaml.warnings,
             });

@@ -314,6 +314,68 @@ impl MapFrame {
             "x from {x0} to {x1} and y from {y0} to {y1} (metres, the map frame; the upper ends excluded)"
         )
     }
+
+    /// This frame when it places the cells: a positive resolution, and an extent within
+    /// the range of numbers; else why not.
+    ///
+    /// ```
+    /// use planner_maps::{FrameError, MapFrame};
+    ///
+    /// let frame = MapFrame { resolution: 0.05, origin: [-10.0, -10.0, 0.0], width: 400, height: 400 };
+    /// assert_eq!(frame.checked(), Ok(frame));
+    /// let flat = MapFrame { resolution: 0.0, ..frame };
+    /// assert_eq!(flat.checked(), Err(FrameError::ResolutionNotPositive { resolution: 0.0 }));
+    /// assert_eq!(flat.checked().unwrap_err().to_string(), "resolution 0 is not positive");
+    /// let huge = MapFrame { resolution: 1e308, ..frame };
+    /// assert_eq!(
+    ///     huge.checked().unwrap_err().to_string(),
+    ///     "origin [-10, -10, 0] plus resolution 1e308 times the image's 400x400 cells is beyond the range of numbers"
+    /// );
+    /// ```
+    pub fn checked(self) -> Result<MapFrame, FrameError> {
+        // Also NaN, which a YAML cannot give.
+        if self.resolution.is_nan() || self.resolution <= 0.0 {
+            return Err(FrameError::ResolutionNotPositive {
+                resolution: self.resolution,
+            });
+        }
+        if !self.bounds().iter().all(|v| v.is_finite()) {
+            return Err(FrameError::BeyondRange {
+                origin: self.origin,
+                resolution: self.resolution,
+                width: self.width,
+                height: self.height,
+            });
+        }
+        Ok(self)
+    }
+}
+
+/// Why a `map_server` map's YAML places no cell in the map frame ([`MapFrame::checked`],
+/// [`crate::MapFile::frame_error`]): its map positions are meaningless, so points in
+/// metres cannot be read on it.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum FrameError {
+    /// The `resolution` (metres per cell) is zero or negative (`map_server` reads it as
+    /// written, with a warning).
+    #[error("resolution {} is not positive", shown_number(*.resolution))]
+    ResolutionNotPositive {
+        /// The YAML's resolution.
+        resolution: f64,
+    },
+    /// The `origin` plus `resolution` times the image's size is beyond the range of
+    /// numbers (a `resolution` of `1e308`, say).
+    #[error("origin [{}] plus resolution {} times the image's {width}x{height} cells is beyond the range of numbers", .origin.map(metres).join(", "), metres(*.resolution))]
+    BeyondRange {
+        /// The YAML's origin.
+        origin: [f64; 3],
+        /// The YAML's resolution.
+        resolution: f64,
+        /// The image's width.
+        width: u32,
+        /// The image's height.
+        height: u32,
+    },
 }
 
 /// `value` metres for a person: at most six decimals (micrometres), trailing zeros left
@@ -756,8 +818,8 @@ fn parse_yaml_document(text: &str, origin: &str) -> Result<(RosYaml, Position), 
             &mut warnings,
             resolution_node.at(),
             format!(
-                "resolution {} is not positive: map positions are meaningless",
-                shown_number(resolution)
+                "{}: map positions are meaningless",
+                FrameError::ResolutionNotPositive { resolution }
             ),
         );
     }

@@ -70,6 +70,7 @@ pub(crate) fn parse(text: &str, origin: &str, max_cells: u64) -> Result<MapFile,
         problems,
         format: MapFormat::Seed003,
         frame: None,
+        frame_error: None,
         unknown: None,
     })
 }

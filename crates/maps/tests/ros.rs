@@ -669,21 +669,43 @@ fn map_frame_points_and_cells() {
     }
 }
 
-/// Only a YAML declares a frame: an image read alone has none, and a YAML with a
-/// resolution that is not positive (read with a warning) gives none either.
+/// Only a YAML declares a frame: an image read alone has none (and nothing to say why),
+/// and a YAML whose resolution is not positive or whose extent is beyond the range of
+/// numbers has none either, and says why ([`MapFile::frame_error`]), so that a command
+/// given points in metres can say what is wrong with the map's frame instead of asking for
+/// the map_server YAML it was given.
 #[test]
-fn only_a_yaml_with_a_positive_resolution_has_a_frame() {
+fn a_yaml_without_a_usable_frame_says_why() {
     let dir = dir("frames");
     write_pgm(&dir);
     let file = read_map(&dir.join("map.pgm")).unwrap();
-    assert_eq!(file.frame, None);
-    std::fs::write(
-        dir.join("map.yaml"),
-        YAML.replace("resolution: 0.050000", "resolution: 0"),
-    )
-    .unwrap();
-    let file = read_map(&dir.join("map.yaml")).unwrap();
-    assert_eq!(file.frame, None);
+    assert_eq!((file.frame, file.frame_error), (None, None));
+    let origin = "[-1.000000, -2.000000, 0.000000]";
+    for (resolution, origin, why) in [
+        ("0.050000", origin, None),
+        ("0", origin, Some("resolution 0 is not positive")),
+        ("-1", origin, Some("resolution -1 is not positive")),
+        ("-0.0", origin, Some("resolution -0 is not positive")),
+        (
+            "1e308",
+            "[1.7e308, 0, 0]",
+            Some("origin [1.7e308, 0, 0] plus resolution 1e308 times the image's 4x3 cells is beyond the range of numbers"),
+        ),
+        (
+            "1e300",
+            "[-1e300, 0, 0]",
+            None,
+        ),
+    ] {
+        let yaml = YAML
+            .replace("resolution: 0.050000", &format!("resolution: {resolution}"))
+            .replace("[-1.000000, -2.000000, 0.000000]", origin);
+        std::fs::write(dir.join("map.yaml"), yaml).unwrap();
+        let file = read_map(&dir.join("map.yaml")).unwrap();
+        let said = file.frame_error.map(|e| e.to_string());
+        assert_eq!(said.as_deref(), why, "resolution {resolution}");
+        assert_eq!(file.frame.is_some(), why.is_none(), "resolution {resolution}");
+    }
 }
 
 /// Numbers in messages are short at any magnitude: metres with at most six decimals below
