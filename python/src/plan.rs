@@ -722,7 +722,8 @@ pub(crate) fn planner_spec(
         return Err(Failure::Param {
             key: "costs".into(),
             message: format!(
-                "planner `{planner}` does not honour cell costs, and the grid has them; pass costs=\"ignore\" to plan without them"
+                "planner `{planner}` {}, and the grid has them; pass costs=\"ignore\" to plan without them",
+                spec.factory.specs().cell_costs_refusal()
             ),
         });
     }

@@ -330,10 +330,11 @@ def test_a_bad_budget_value_names_its_key(map10):
 
 
 def test_none_keeps_a_parameters_default(map10):
-    """planners() reports defaults of None (coverage's reference_side, rrt_star's gamma):
+    """planners() reports defaults of None (coverage's rotation, rrt_star's gamma):
     passed back, they were refused (`got NoneType`)."""
     infos = {info.name: info for info in gridplan.planners()}
-    assert infos["coverage"].parameters["reference_side"] is None
+    assert infos["coverage"].parameters["reference_side"] == "left"
+    assert infos["coverage"].parameters["rotation"] is None
     assert infos["rrt_star"].parameters["gamma"] is None
     for info in infos.values():
         goal = None if info.task == "coverage" else (11, 11)

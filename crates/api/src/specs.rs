@@ -61,6 +61,31 @@ pub struct CostsCondition {
 }
 
 impl PlannerSpecs {
+    /// Why a planner with these specs is refused a weighted grid, as the clause after its
+    /// name: "does not honour cell costs", or, with [`PlannerSpecs::cell_costs_only_with`],
+    /// the setting with which it would.
+    ///
+    /// ```
+    /// # use planner_api::{PathSpec, PlannerSpecs, Connectivity, MoveSet, NeighborOrder};
+    /// let moves = MoveSet::new(Connectivity::Four, false, &NeighborOrder::default()).unwrap();
+    /// let specs = PlannerSpecs::deterministic(PathSpec::Moves(moves));
+    /// assert_eq!(specs.cell_costs_refusal(), "does not honour cell costs");
+    /// let specs = specs.with_cell_costs_only_with("moves", "4 or 8", "a long move skips cells");
+    /// assert_eq!(
+    ///     specs.cell_costs_refusal(),
+    ///     "honours cell costs only with `moves` = 4 or 8 (a long move skips cells)"
+    /// );
+    /// ```
+    pub fn cell_costs_refusal(&self) -> String {
+        match &self.cell_costs_only_with {
+            Some(c) => format!(
+                "honours cell costs only with `{}` = {} ({})",
+                c.param, c.values, c.reason
+            ),
+            None => "does not honour cell costs".to_string(),
+        }
+    }
+
     /// An unseeded planner whose paths obey `path_rule`.
     pub fn deterministic(path_rule: PathSpec) -> PlannerSpecs {
         PlannerSpecs {

@@ -188,11 +188,18 @@ fn plan_refuses_what_cannot_honour_costs_and_bad_cost_flags() {
     assert_eq!(code, 0, "{err}");
     // BFS ran without the weights; the cost printed is still the map's.
     assert!(json(&out)["cost"].as_f64().is_some(), "{out}");
+    // A planner that would honour them with another setting names it.
     refused(
         "lexastar",
         &["--set", "moves=8", "--weights", WEIGHTS],
         2,
-        "does not honour cell costs",
+        "planner `lexastar` (lexastar) honours cell costs only with `moves` = 4 (",
+    );
+    refused(
+        "astar",
+        &["--set", "moves=16", "--weights", WEIGHTS],
+        2,
+        "planner `astar` (astar) honours cell costs only with `moves` = 4 or 8 (",
     );
     for (args, message) in [
         (vec!["--graded"], "apply to ROS maps"),

@@ -917,8 +917,11 @@ pub fn parse(path: &Path, text: &str) -> Result<Experiment, ConfigError> {
             return Err(src.error(
                 label.map(Spanned::span),
                 format!(
-                    "planner `{}` ({}) does not honour cell costs, and map `{}` has them; add `costs = \"ignore\"` to its table to plan without them",
-                    p.label, p.name, map.name
+                    "planner `{}` ({}) {}, and map `{}` has them; add `costs = \"ignore\"` to its table to plan without them",
+                    p.label,
+                    p.name,
+                    p.factory.specs().cell_costs_refusal(),
+                    map.name
                 ),
             ));
         }

@@ -331,6 +331,7 @@ pub fn run_with(args: &PlanArgs, options: &PlanOptions) -> Result<PlanResult, Ru
         return Err(UsageError::RefusesCosts {
             label: spec.label.clone(),
             planner: spec.name.to_string(),
+            why: spec.factory.specs().cell_costs_refusal(),
             map: map.name.clone(),
         }
         .into());

@@ -31,12 +31,14 @@ pub enum UsageError {
     #[error("--cost-rule needs costs to apply to: --weights, --graded (ROS maps) or --swamp (Moving AI maps)")]
     RuleWithoutCosts,
     /// A planner that cannot honour cell costs on a map that has them.
-    #[error("planner `{label}` ({planner}) does not honour cell costs, and map `{map}` has them; add --ignore-costs to plan without them")]
+    #[error("planner `{label}` ({planner}) {why}, and map `{map}` has them; add --ignore-costs to plan without them")]
     RefusesCosts {
         /// The planner label.
         label: String,
         /// The planner's registry name.
         planner: String,
+        /// Why ([`planner_api::PlannerSpecs::cell_costs_refusal`]).
+        why: String,
         /// The map.
         map: String,
     },
