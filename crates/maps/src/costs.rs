@@ -13,12 +13,22 @@
 //! - `99` is `INSCRIBED_INFLATED_OBSTACLE`, 253; `100` is `LETHAL_OBSTACLE`, 254;
 //! - any other `v` is `floor(v / 100 * 254)` (0 for free).
 //!
-//! [`CostBands`] then says which costs are passable, as nav2's planners do: a cost at or
-//! above `lethal` (default 254, nav2's `LETHAL_OBSTACLE`; 253 also blocks the inscribed
-//! band) is blocked, unknown (255) is blocked unless `unknown` gives it a cost (NavFn's and
+//! [`CostBands`] then says which costs are passable: a cost at or above `lethal` (default
+//! 254) is blocked, unknown (255) is blocked unless `unknown` gives it a cost (NavFn's and
 //! Smac's `allow_unknown` plan through it at a high cost), and every passable cost `c`
 //! becomes the cell weight `1 + c` (free space weight 1, neutral). Inflation
 //! ([`crate::RosOptions`]) still blocks what it reaches.
+//!
+//! nav2's two highest costs below unknown: 254, `LETHAL_OBSTACLE`, is an obstacle in the
+//! cell itself; 253, `INSCRIBED_INFLATED_OBSTACLE`, a cell within the robot's inscribed
+//! radius of one, where the centre of a circular robot already touches it. nav2's
+//! planners block both for the robot's centre: Smac's `GridCollisionChecker::inCollision`
+//! calls a centre cost of 253 or more a collision (for a circular footprint that is the
+//! whole check), and NavFn makes every cost from `COST_OBS_ROS`, 253, up an obstacle
+//! (both let unknown through with `allow_unknown`). The default `lethal` of 254 blocks
+//! only lethal cells, as for a point robot (253 is passable at weight 254), which the
+//! recorded results keep; `lethal = 253` (`plan --lethal 253`) blocks as nav2's planners
+//! do for a circular robot.
 //!
 //! # Weight files
 //! A `.csv` of positive integers, one row per grid row, values separated by a comma and/or
@@ -32,6 +42,7 @@
 //! has weight 1, swamp the given weight, and water, when given a weight, is passable at it.
 //!
 //! ```
+//! use planner_maps::costs::INSCRIBED_INFLATED_OBSTACLE;
 //! use planner_maps::{costmap_cost, CostBands};
 //!
 //! assert_eq!(costmap_cost(0), 0);
@@ -41,9 +52,12 @@
 //! assert_eq!(costmap_cost(-1), 255);
 //! let bands = CostBands::default();
 //! assert_eq!(bands.weight(55), Some(56));
-//! assert_eq!(bands.weight(253), Some(254));
+//! assert_eq!(bands.weight(253), Some(254)); // inscribed: passable by default
 //! assert_eq!(bands.weight(254), None);
 //! assert_eq!(bands.weight(255), None);
+//! // nav2's planners, for a circular robot: inscribed cells blocked too.
+//! let nav2 = CostBands { lethal: INSCRIBED_INFLATED_OBSTACLE, ..CostBands::default() };
+//! assert_eq!((nav2.weight(252), nav2.weight(253)), (Some(253), None));
 //! let allow_unknown = CostBands { lethal: 253, unknown: Some(200) };
 //! assert_eq!(allow_unknown.weight(255), Some(201));
 //! assert_eq!(allow_unknown.weight(253), None);
@@ -57,17 +71,21 @@ use crate::error::{MapError, MapErrorKind};
 use crate::text::{end_of_file, lines, show_token, unexpected, Origin};
 use crate::ReadOptions;
 
-/// nav2's `NO_INFORMATION` cost.
+/// nav2's `NO_INFORMATION` cost: a cell the map does not know.
 pub const NO_INFORMATION: u8 = 255;
-/// nav2's `LETHAL_OBSTACLE` cost.
+/// nav2's `LETHAL_OBSTACLE` cost: an obstacle in the cell.
 pub const LETHAL_OBSTACLE: u8 = 254;
-/// nav2's `INSCRIBED_INFLATED_OBSTACLE` cost.
+/// nav2's `INSCRIBED_INFLATED_OBSTACLE` cost: a cell within the robot's inscribed radius
+/// of an obstacle, where a circular robot's centre collides; nav2's planners block it
+/// (module docs), the default [`CostBands`] does not.
 pub const INSCRIBED_INFLATED_OBSTACLE: u8 = 253;
 
 /// Which costmap costs are passable and at what weight (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct CostBands {
-    /// Costs at or above this are blocked. Default 254 (`LETHAL_OBSTACLE`).
+    /// Costs at or above this are blocked. Default 254 ([`LETHAL_OBSTACLE`]: obstacles
+    /// only); 253 ([`INSCRIBED_INFLATED_OBSTACLE`]) blocks as nav2's planners do for a
+    /// circular robot (module docs).
     pub lethal: u8,
     /// The cost of an unknown cell, or `None` (the default) to block it.
     pub unknown: Option<u8>,
