@@ -231,9 +231,11 @@ fn value<'py>(
         "length" => some(py, r.length),
         "optimal_length" => some(py, r.optimal_length),
         "valid" => some(py, r.valid),
-        "time_ms" => some(py, r.time_ms),
-        "setup_ms" => some(py, r.setup_ms),
-        "peak_heap_bytes" => some(py, r.peak_heap_bytes),
+        // Not measured for an invalid problem, which was not run: None, as runs.csv's
+        // empty cell.
+        "time_ms" => some(py, (!r.is_invalid()).then_some(r.time_ms)),
+        "setup_ms" => some(py, (!r.is_invalid()).then_some(r.setup_ms)),
+        "peak_heap_bytes" => some(py, (!r.is_invalid()).then_some(r.peak_heap_bytes)),
         "bucket" => some(py, r.bucket),
         "error" => some(py, r.error.as_deref()),
         "cost" => some(py, r.cost),

@@ -172,10 +172,33 @@ def test_pandas_reads_the_csv_rows(results):
             elif column in ("time_ms", "setup_ms"):
                 assert abs(float(ours) - float(theirs)) <= 1.5e-6, column
             elif column in ("length", "optimal_length"):
-                assert f"{ours:.6f}" == theirs, column
+                # The shortest decimal that reads back as the same double.
+                assert float(theirs) == ours, column
             elif column == "valid":
                 assert str(bool(ours)).lower() == theirs, column
             elif isinstance(theirs, str) and not theirs.isdigit():
                 assert ours == theirs, column
             else:
                 assert int(ours) == int(theirs), column
+
+
+def test_an_invalid_problem_has_no_measurements_in_the_frame_as_in_the_dataset(results, tmp_path):
+    """An invalid problem was not run: its time_ms, setup_ms and peak_heap_bytes are
+    missing in run_experiment's frame, as in runs.parquet (they were 0 in the frame)."""
+    config = tmp_path / "invalid.toml"
+    config.write_text(
+        "name = \"invalid\"\n[[maps]]\n"
+        f"files = [{str(MAPS / 'paper' / 'map01.map')!r}]\n"
+        # The second goal is outside the map: an invalid problem.
+        "pairs = [{ start = [0, 0], goal = [1, 1] }, { start = [0, 0], goal = [500, 500] }]\n"
+        "[planners.bfs]\nplanner = \"bfs\"\n"
+    )
+    out = tmp_path / "out"
+    frame = gridplan.run_experiment(config, output=out)
+    invalid = frame["status"] == "invalid_problem"
+    assert invalid.any(), "the config has invalid problems"
+    dataset = pandas.read_parquet(out / "runs.parquet")
+    for column in ("time_ms", "setup_ms", "peak_heap_bytes"):
+        assert frame.loc[invalid, column].isna().all(), column
+        assert frame.loc[~invalid, column].notna().all(), column
+        assert dataset[column].isna().sum() == invalid.sum(), column
