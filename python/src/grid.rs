@@ -612,7 +612,8 @@ fn cost_options(
             if matches!(lethal, Int::Fits(0)) {
                 return Err(Failure::Value(
                     "read_map: lethal=0 would block every cell; costs from lethal up are \
-                     blocked (nav2: 254)"
+                     blocked (254 is nav2's LETHAL_OBSTACLE; its planners block from 253, \
+                     INSCRIBED, for the robot's centre)"
                         .into(),
                 ));
             }
@@ -621,7 +622,7 @@ fn cost_options(
                 lethal,
                 1,
                 255,
-                "the lethal cost is a costmap cost, from 1 to 255 (nav2: 254)",
+                "the lethal cost is a costmap cost, from 1 to 255 (nav2's LETHAL_OBSTACLE: 254)",
             )? as u8;
         }
         if let Some(unknown) = &given.unknown {

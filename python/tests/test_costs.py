@@ -232,8 +232,8 @@ def test_read_map_takes_the_command_line_s_cost_bands_and_terrain(tmp_path):
     weights = ROOT / "maps/weighted/arena-weights.csv"
     arena = ROOT / "maps/movingai/arena.map"
     for kwargs, message in [
-        (dict(lethal=0), "read_map: lethal=0 would block every cell; costs from lethal up are blocked (nav2: 254)"),
-        (dict(lethal=256), "read_map: lethal=256; the lethal cost is a costmap cost, from 1 to 255 (nav2: 254)"),
+        (dict(lethal=0), "read_map: lethal=0 would block every cell; costs from lethal up are blocked (254 is nav2's LETHAL_OBSTACLE; its planners block from 253, INSCRIBED, for the robot's centre)"),
+        (dict(lethal=256), "read_map: lethal=256; the lethal cost is a costmap cost, from 1 to 255 (nav2's LETHAL_OBSTACLE: 254)"),
         (dict(unknown=255), "read_map: unknown=255; the cost of an unknown cell is from 0 to 254 (leave it out to block unknown cells)"),
         (dict(unknown=-1), "read_map: unknown=-1; the cost of an unknown cell is from 0 to 254 (leave it out to block unknown cells)"),
         (dict(unknown=2**70), f"read_map: unknown={2**70}; the cost of an unknown cell is from 0 to 254 (leave it out to block unknown cells)"),

@@ -214,7 +214,8 @@ pub enum Command {
         /// Read a ROS map's graded values (mode scale or raw) as costs, with nav2's bands.
         #[arg(long, help_heading = "Cell costs")]
         graded: bool,
-        /// ROS maps: costs from N up are blocked (default 254, nav2's lethal; implies --graded).
+        /// ROS maps: costs from N up are blocked (default 254, nav2's LETHAL_OBSTACLE; 253 blocks
+        /// INSCRIBED too, as nav2's planners do for the robot's centre; implies --graded).
         #[arg(long, value_name = "N", help_heading = "Cell costs")]
         lethal: Option<u8>,
         /// ROS maps: the cost of unknown cells (default: blocked; implies --graded).

@@ -296,19 +296,19 @@ fn careless_inputs_fail_cleanly() {
         // "struct Budget"): what is expected, in words.
         (
             format!("sections = [1]\n{CONFIG}"),
-            Error("c.toml:1:12: key `sections[0]`: invalid type: integer 1, expected a section name (a string) or a table { name = \"...\", ... }"),
+            Error("c.toml:1:12: key `sections[0]`: expected a section name (a string) or a table { name = \"...\", ... }, got 1"),
         ),
         (
             edit("problems = \"corners\"", "problems = \"corners\"\ncosts = \"ignore\""),
-            Error("c.toml:5:9: key `maps[0].costs`: invalid type: string \"ignore\", expected a table of cell-cost options"),
+            Error("c.toml:5:9: key `maps[0].costs`: expected a table of cell-cost options (`rule`, `lethal`, `unknown`, `weights`, `swamp`, `water`), got the string \"ignore\""),
         ),
         (
             format!("budget = 5\n{CONFIG}"),
-            Error("c.toml:1:10: key `budget`: invalid type: integer `5`, expected a table of limits (`max_expansions`, `max_time_ms`, `max_memory_mb`)"),
+            Error("c.toml:1:10: key `budget`: expected a table of limits (`max_expansions`, `max_time_ms`, `max_memory_mb`), got 5"),
         ),
         (
             edit("planner = \"astar\"", "planner = \"astar\"\nbudget = 5"),
-            Error("c.toml:7:10: planner `a`, key `budget`: invalid type: integer `5`, expected a table of limits"),
+            Error("c.toml:7:10: planner `a`, key `budget`: expected a table of limits (`max_expansions`, `max_time_ms`, `max_memory_mb`), got 5"),
         ),
         // `inflate_unknown` on a .map was said at the `[[maps]]` header.
         (

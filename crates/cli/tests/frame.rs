@@ -98,6 +98,12 @@ fn points_off_the_map_and_maps_without_a_frame_are_refused() {
             4,
             "--goal-world 9.21,1 lies outside the map",
         ),
+        // A huge number is written short (it was written with its 301 digits).
+        (
+            vec![SANDBOX, "--start-world", "1e300,0", "--goal-world", "1,1"],
+            4,
+            "--start-world 1e300,0 lies outside the map",
+        ),
         (
             vec!["maps/paper/map10.map", "--start-world", "1,1", "--goal-world", "2,2"],
             2,
@@ -126,6 +132,43 @@ fn points_off_the_map_and_maps_without_a_frame_are_refused() {
         assert!(err.contains(message), "{args:?}: {err}");
         assert!(out.is_empty(), "{args:?}: {out}");
     }
+}
+
+/// Points in metres on a YAML whose resolution places no cell: the error says why the
+/// frame is unusable (it said the map had no frame and asked for a map_server .yaml map,
+/// which it was).
+#[test]
+fn points_on_a_yaml_without_a_usable_frame_say_why() {
+    let dir = common::scratch("frame", "unusable");
+    std::fs::copy(
+        root().join("maps/ros-nav2/tb3_sandbox.pgm"),
+        dir.join("tb3_sandbox.pgm"),
+    )
+    .unwrap();
+    let yaml = dir.join("zero.yaml");
+    std::fs::write(
+        &yaml,
+        "image: tb3_sandbox.pgm\nresolution: 0\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
+    )
+    .unwrap();
+    let yaml = yaml.display().to_string();
+    let (code, out, err) = gridplan(&[
+        "plan",
+        "--planner",
+        "astar",
+        &yaml,
+        "--start-world",
+        "1,1",
+        "--goal-world",
+        "2,2",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--start-world is a point of the map frame, and the map frame of")
+            && err.contains("is unusable (resolution 0 is not positive"),
+        "{err}"
+    );
+    assert!(out.is_empty(), "{out}");
 }
 
 /// A config's `points`: start-goal pairs in metres, run as the cells holding them (the

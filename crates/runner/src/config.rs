@@ -1446,7 +1446,7 @@ fn planner_budget(
             Some(value.span()),
             format!(
                 "planner `{label}`, key `budget`: {}",
-                first_line(&e.to_string())
+                crate::usage::plain_words(first_line(&e.to_string()), &[])
             ),
         )
     })?;
@@ -1704,7 +1704,7 @@ fn cost_options(
             if *lethal.get_ref() == 0 {
                 return Err(at(
                     lethal.span(),
-                    "key `costs.lethal`: 0 would block every cell; costs from `lethal` up are blocked (nav2: 254)".into(),
+                    "key `costs.lethal`: 0 would block every cell; costs from `lethal` up are blocked (254 is nav2's LETHAL_OBSTACLE; its planners block from 253, INSCRIBED, for the robot's centre)".into(),
                 ));
             }
             options.bands.lethal = *lethal.get_ref();
@@ -1894,7 +1894,9 @@ fn frame_pairs(
                 set.at(
                     pair.span(),
                     format!(
-                        "key `points`: the {which} [{x}, {y}] lies outside {}, which spans {}",
+                        "key `points`: the {which} [{}, {}] lies outside {}, which spans {}",
+                        planner_maps::metres(x),
+                        planner_maps::metres(y),
                         path.display(),
                         frame.extent()
                     ),

@@ -109,7 +109,7 @@ pub enum RunnerError {
         error: planner_api::ProblemError,
     },
     /// A start or goal given in the map frame (`plan --start-world`) outside the map.
-    #[error("{}: --{which}-world {},{} lies outside the map, which spans {}", map.display(), point.0, point.1, frame.extent())]
+    #[error("{}: --{which}-world {},{} lies outside the map, which spans {}", map.display(), planner_maps::metres(point.0), planner_maps::metres(point.1), frame.extent())]
     OutsideMap {
         /// The map file.
         map: PathBuf,

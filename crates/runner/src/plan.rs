@@ -573,6 +573,19 @@ fn resolve_map(
         }
         None => file.grid,
     };
+    // Points in metres on a YAML whose frame places no cell: say why it has none.
+    let world = [("start", args.start_world), ("goal", args.goal_world)];
+    if let (Some(why), Some((which, _))) = (
+        file.frame_error,
+        world.iter().find(|(_, point)| point.is_some()),
+    ) {
+        return Err(UsageError::UnusableMapFrame {
+            which,
+            map: args.map.clone(),
+            why,
+        }
+        .into());
+    }
     let map = MapEntry {
         name: file_name(&args.map),
         path: args.map.clone(),

@@ -13,7 +13,7 @@ pub enum UsageError {
     #[error("--graded, --lethal and --unknown apply to ROS maps (.yaml, .pgm, .png), not {}", .0.display())]
     BandsNotRos(PathBuf),
     /// `--lethal 0`.
-    #[error("--lethal 0 would block every cell; costs from --lethal up are blocked (nav2: 254)")]
+    #[error("--lethal 0 would block every cell; costs from --lethal up are blocked (254 is nav2's LETHAL_OBSTACLE; its planners block from 253, INSCRIBED, for the robot's centre)")]
     LethalZero,
     /// `--unknown 255`.
     #[error("--unknown: the cost of an unknown cell must be below 255 (leave it out to block unknown cells)")]
@@ -100,6 +100,17 @@ pub enum UsageError {
     /// `--start` with `--start-world`, or `--goal` with `--goal-world`.
     #[error("give --{0} (a cell) or --{0}-world (a point of the map frame), not both")]
     CellAndWorld(&'static str),
+    /// `--start-world` or `--goal-world` on a map_server map whose YAML places no cell in
+    /// the map frame.
+    #[error("--{which}-world is a point of the map frame, and the map frame of {} is unusable ({why}: its map positions are meaningless): give --{which} x,y (a cell), or correct the YAML", .map.display())]
+    UnusableMapFrame {
+        /// `start` or `goal`.
+        which: &'static str,
+        /// The map.
+        map: PathBuf,
+        /// Why the frame is unusable.
+        why: planner_maps::FrameError,
+    },
     /// `--start-world` or `--goal-world` on a map without a map frame.
     #[error("--{which}-world is a point of a ROS map's map frame, and {} has none: give --{which} x,y (a cell), or a map_server .yaml map, whose resolution and origin place its cells", .map.display())]
     NoMapFrame {
