@@ -656,6 +656,28 @@ fn every_seeded_planner_depends_on_its_seed() {
             continue;
         }
         n_seeded += 1;
+        // The runner sets a label's seed under one key: a seed parameter of another name
+        // would be shown as resolved and never used.
+        let declared = planner_registry::schema::declared(entry.name).unwrap();
+        assert!(
+            declared.iter().any(|p| p.key == planner_api::SEED_PARAM),
+            "{}: seeded, but its config declares no `{}` parameter: the runner reads a \
+             label's seed under that key (planner_api::SEED_PARAM) and reseeds the planner \
+             with it; a seed parameter under another name is ignored",
+            entry.name,
+            planner_api::SEED_PARAM
+        );
+        let with_seed = |seed: i64| {
+            let table =
+                toml::Table::from_iter([(planner_api::SEED_PARAM.to_string(), seed.into())]);
+            (entry.factory)(&table).unwrap().seed_for(7, 0)
+        };
+        assert_ne!(
+            with_seed(5),
+            with_seed(6),
+            "{}: `seed` is not used",
+            entry.name
+        );
         let mut planner = factory.build().unwrap();
         let differ = problems
             .iter()
