@@ -5,6 +5,7 @@
 
 mod capso;
 mod common;
+mod counters;
 mod coverage;
 mod output;
 mod pastar;
