@@ -369,7 +369,7 @@ fn careless_inputs_fail_cleanly() {
         // time (the runs are recorded `admissible = false`, summary.md says so).
         (
             edit("planner = \"astar\"\n", "planner = \"astar\"\nmoves = 16\nheuristic = \"manhattan\"\n"),
-            Warn("c.toml:5:11: planner `a` (astar): its heuristic can overestimate under its moves"),
+            Warn("c.toml:5:11: planner `a` (astar): its specs declare that its paths need not be least-cost (for A*: its heuristic can overestimate under its moves"),
         ),
         // Published values.
         (format!("published = \"none.toml\"\n{CONFIG}"), Error("key `published`")),

@@ -582,8 +582,10 @@ fn header_of(experiment: &Experiment, n_runs: u64, invalid: &[RunRecord], out: &
     if !inadmissible.is_empty() {
         let _ = writeln!(
             out,
-            "Not optimal by design: {} use a heuristic that can overestimate under their moves (or a weight above 1); their runs are recorded `admissible = false`.\n",
-            inadmissible.join(", ")
+            "Not optimal by design: {} {} paths that need not be least-cost (for A*: a heuristic that can overestimate under its moves, or a weight above 1); {} runs are recorded `admissible = false`.\n",
+            inadmissible.join(", "),
+            if inadmissible.len() == 1 { "declares" } else { "declare" },
+            if inadmissible.len() == 1 { "its" } else { "their" }
         );
     }
     if !invalid.is_empty() {

@@ -1124,7 +1124,7 @@ fn collect_planners(src: &Source<'_>, raw: &RawConfig) -> Result<Vec<PlannerSpec
         let planner = planner_spec(src, label, table, raw.budget)?;
         if planner.factory.specs().admissible == Some(false) {
             inadmissible.push(src.error(Some(label.span()), format!(
-                "planner `{}` ({}): its heuristic can overestimate under its moves (or its weight is above 1), so its paths need not be shortest; its runs are recorded `admissible = false` and summary.md says so",
+                "planner `{}` ({}): its specs declare that its paths need not be least-cost (for A*: its heuristic can overestimate under its moves, or its weight is above 1); its runs are recorded `admissible = false` and summary.md says so",
                 planner.label, planner.name
             )));
         }
