@@ -180,6 +180,11 @@ pub enum MapErrorKind {
         /// The decoder's message.
         reason: String,
     },
+    /// Graded costs asked of a `mode: trinary` map (or an image without a YAML), whose
+    /// cells are only free, occupied or unknown: without a cost for unknown cells the
+    /// option would change nothing but make the grid a weighted one.
+    #[error("graded costs (--graded, --lethal, `costs`) read a map_server map of mode scale or raw; this map is mode trinary (cells free, occupied or unknown), so they change nothing: give unknown cells a cost (--unknown N, `costs = {{ unknown = N }}`) or leave them out")]
+    GradedTrinary,
     /// A PNG whose header declares pixels that its compressed data cannot hold: nothing
     /// was decoded.
     #[error("the header declares {width}x{height} pixels, {needed} bytes, but the file's {compressed} bytes of compressed pixel data inflate to at most {at_most} bytes: the file is cut short or damaged")]

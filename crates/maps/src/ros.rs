@@ -1655,6 +1655,12 @@ pub fn ros_map_from_image_bytes(
         pnm_occupancy(bytes, &yaml)
     }
     .map_err(whole)?;
+    if options.costs.graded
+        && yaml.mode == RosMode::Trinary
+        && options.costs.bands.unknown.is_none()
+    {
+        return Err(whole(MapErrorKind::GradedTrinary));
+    }
     let grid = match options.costs.graded {
         false => ros_grid(width, height, &occupancy, &options.ros),
         true => crate::costs::graded_grid(

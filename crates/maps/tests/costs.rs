@@ -191,3 +191,28 @@ fn moving_ai_terrain_is_opt_in() {
     let wet = read_map_with(&path, &options(Some(9))).unwrap().file.grid;
     assert_eq!(weights_of(&wet), [1, 3, 9, 0, 1, 3, 9, 1]);
 }
+
+/// Graded costs of a `mode: trinary` map (nav2's TenByTen.yaml) made an all-1 weighted
+/// grid, which planners that do not honour costs then refused: it is an error, unless
+/// unknown cells get a cost (the one thing graded bands change there).
+#[test]
+fn graded_costs_of_a_trinary_map_are_refused_unless_unknown_cells_get_one() {
+    let trinary = maps().join("ros-nav2/TenByTen.yaml");
+    let error = read_map_with(&trinary, &graded(CostBands::default())).unwrap_err();
+    assert!(
+        error.to_string().contains("this map is mode trinary"),
+        "{error}"
+    );
+    let unknown = CostBands {
+        unknown: Some(100),
+        ..CostBands::default()
+    };
+    let read = read_map_with(&trinary, &graded(unknown)).unwrap();
+    assert!(read.file.grid.is_weighted());
+    // Without costs it reads as before.
+    assert!(!read_map_with(&trinary, &ReadOptions::default())
+        .unwrap()
+        .file
+        .grid
+        .is_weighted());
+}
