@@ -371,7 +371,8 @@ impl Renderer {
     /// Every report file of a whole sweep's results, in the order they are written:
     /// summary.md, figures, charts, OMPL logs (when the config asks), paths.jsonl (when
     /// the config keeps paths) and report.html. A sweep whose records are not held
-    /// ([`Results::records`] empty: more than [`HELD_RUNS`] runs) gets summary.md's
+    /// ([`Results::records`] empty: more than [`HELD_RUNS`] runs, or records over
+    /// `planner_runner::sweep::HELD_BYTES`) gets summary.md's
     /// streamed sections, the charts (from passes) and the figures of its drawn problems
     /// (their records collected in one pass); its OMPL logs and `paths = "all"`'s
     /// paths.jsonl, which hold every record, are left out and summary.md says so, and

@@ -106,9 +106,9 @@ pub struct RunRecord {
     /// worker has none for this label yet) and its per-grid tables (when the grid
     /// changed). Zero when a worker's planner was reused on the same grid.
     pub setup_ms: f64,
-    /// Peak heap bytes of the run: what the planner held after its setup for this grid
-    /// plus the peak its search added (memory: not deterministic, since a reused planner
-    /// keeps buffers grown by earlier runs).
+    /// Peak heap bytes of the run: what the planner held as its search started (its setup
+    /// for this grid and the buffers it kept from the worker's earlier runs) plus the peak
+    /// its search added (memory: not deterministic, it depends on the earlier runs).
     pub peak_heap_bytes: u64,
     /// The path's cells.
     pub path: Option<Path>,
