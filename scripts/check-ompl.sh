@@ -59,7 +59,7 @@ table = data["runs"]
 not_counters = {"map", "problem", "start_x", "start_y", "goal_x", "goal_y", "planner",
                 "algorithm", "repeat", "seed", "status", "steps", "turns", "score", "length",
                 "optimal_length", "valid", "time_ms", "setup_ms", "peak_heap_bytes", "bucket",
-                "error", "admissible", "returns", "marks", "series"}
+                "error", "admissible", "returns", "marks", "series", "cost"}
 counter_columns = [c for c in table["columns"] if c not in not_counters]
 runs = []
 for row in table["data"]:
@@ -80,8 +80,11 @@ maps = {r["map"] for r in runs}
 assert n_exp == len(maps), f"{n_exp} experiments, {len(maps)} maps"
 columns = {row[1] for row in c.execute("PRAGMA table_info(runs)")}
 counters = {k for r in runs for k in r["counters"]}
-expected = {"problem", "repeat", "seed", "time", "solved", "memory", "solution_length",
-            "optimal_length", "steps", "turns", "valid"} | {ompl_name(k) for k in counters}
+expected = {"problem", "repeat", "seed", "time", "solved", "status", "memory",
+            "solution_length", "optimal_length", "steps", "turns", "valid"} | {ompl_name(k) for k in counters}
+# A weighted map's runs carry their path cost.
+if "cost" in table["columns"]:
+    expected.add("cost")
 missing = expected - columns
 assert not missing, f"missing run properties {missing}"
 # Every run's expansions reach the database unchanged.
@@ -90,6 +93,14 @@ for label in labels:
     theirs = sorted(v if v is not None else -1 for (v,) in c.execute(
         "SELECT runs.n_expanded FROM runs JOIN plannerConfigs p ON p.id = runs.plannerid WHERE p.name = ?", (names[label],)))
     assert ours == theirs, f"{label}: n_expanded differs"
+# Every run's status reaches the database as the `status` enum's value.
+enum = dict(c.execute("SELECT value, description FROM enums WHERE name = 'status'"))
+assert enum, "no status enum"
+for label in labels:
+    ours = sorted(r["status"] for r in runs if r["planner"] == label)
+    theirs = sorted(enum[v] for (v,) in c.execute(
+        "SELECT runs.status FROM runs JOIN plannerConfigs p ON p.id = runs.plannerid WHERE p.name = ?", (names[label],)))
+    assert ours == theirs, f"{label}: statuses differ"
 solved = c.execute("SELECT COUNT(*) FROM runs WHERE solved = 1").fetchone()[0]
 assert solved == sum(r["status"] == "found" for r in runs)
 print(f"ompl check: {n_runs} runs, {len(planners)} planners, {n_exp} experiments, {len(columns)} columns: 1 passed, 0 failed")
