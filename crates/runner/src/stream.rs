@@ -355,7 +355,7 @@ fn setting_words(key: &str) -> String {
 /// experiment's order: `settings` (name, repeats, seed, figures, paths, sections and the
 /// planners), then per map `map NAME` (its size and free cells: the map file's content)
 /// and `problems NAME` (its problems: its scenario file or the config's list); then each
-/// setting on its own, `setting KEY` ([`setting_texts`]), which streams of earlier
+/// setting on its own, `setting KEY` (`setting_texts`), which streams of earlier
 /// versions lack.
 pub fn input_hashes(experiment: &Experiment) -> Vec<(String, String)> {
     let mut h = Fnv::default();
