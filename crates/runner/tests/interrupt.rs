@@ -103,8 +103,8 @@ fn serial(config: &Path, dir: &Path, shard: Option<Shard>) -> Vec<RunRecord> {
 
 /// A stop raised while four workers run (by the progress display, once 200 runs are
 /// done) keeps every run that finished: the sweep reports as many recorded runs as the
-/// progress counted, records.stream holds exactly those (the first of the run order,
-/// since no run starts after the stop and the runs in progress finish), and the resumed
+/// progress counted, records.stream and ahead.stream hold exactly those (the first of the
+/// run order, then those finished after a run the stop cancelled), and the resumed
 /// sweep runs only the others and equals a serial sweep. (Each worker ran a slice of a
 /// batch of 2,048 runs, and a stop kept only the runs before the first one skipped: 75
 /// finished runs and more were dropped.)
@@ -134,13 +134,27 @@ fn a_stop_keeps_every_finished_run() {
         Some(finished),
         "finished runs were dropped"
     );
+    // records.stream holds the first runs of the run order; a run in progress that the
+    // stop cancelled is not recorded, so the runs finished after it wait in ahead.stream.
     let (runs, cut) = read_stream(&dir.join(".res.stream/records.stream"));
     assert!(!cut);
     let indices: Vec<u64> = runs.iter().map(|(run, _)| *run).collect();
-    assert_eq!(indices, (0..finished).collect::<Vec<_>>());
-    assert!(read_stream(&dir.join(".res.stream/ahead.stream"))
-        .0
-        .is_empty());
+    assert_eq!(indices, (0..indices.len() as u64).collect::<Vec<_>>());
+    let (ahead, cut) = read_stream(&dir.join(".res.stream/ahead.stream"));
+    assert!(!cut);
+    let mut all: Vec<u64> = ahead.iter().map(|(run, _)| *run).collect();
+    assert!(
+        all.iter().all(|&run| run > indices.len() as u64),
+        "a run ahead follows a gap"
+    );
+    all.extend(&indices);
+    all.sort_unstable();
+    all.dedup();
+    assert_eq!(
+        all.len() as u64,
+        finished,
+        "every finished run is kept once"
+    );
 
     let watch = Watch::default();
     let resumed = experiment(&SweepArgs {
