@@ -145,15 +145,22 @@ fn assert_same_table(csv: &[Vec<String>], parquet: &[Vec<String>], columns: &[St
     }
 }
 
-#[test]
-fn the_parquet_rows_are_the_csv_rows_typed_with_the_metadata() {
-    let dir = scratch("rows");
+/// A scratch directory `name`, [`config`]'s file in it and the results directory its
+/// sweep wrote on two threads.
+fn swept(name: &str) -> (PathBuf, PathBuf, PathBuf) {
+    let dir = scratch(name);
     let config = config(&dir);
     let out = dir.join("results");
     let mut args = SweepArgs::new(&config, &NoReport);
     args.output = Some(&out);
     args.threads = 2;
     sweep::experiment(&args).unwrap();
+    (dir, config, out)
+}
+
+#[test]
+fn the_parquet_rows_are_the_csv_rows_typed_with_the_metadata() {
+    let (dir, config, out) = swept("rows");
     let (csv_header, csv) = csv_rows(&out.join("runs.csv"));
     // The dataset directory holds the one part.
     let parts: Vec<String> = std::fs::read_dir(out.join(PARQUET_DIR))
@@ -241,13 +248,7 @@ fn the_parquet_rows_are_the_csv_rows_typed_with_the_metadata() {
 /// were 0, which a mean counts), Parquet's columns nullable for it.
 #[test]
 fn csv_floats_are_the_json_doubles_and_an_invalid_problem_has_no_measurements() {
-    let dir = scratch("floats");
-    let config = config(&dir);
-    let out = dir.join("results");
-    let mut args = SweepArgs::new(&config, &NoReport);
-    args.output = Some(&out);
-    args.threads = 2;
-    sweep::experiment(&args).unwrap();
+    let (dir, _, out) = swept("floats");
     let (columns, csv) = csv_rows(&out.join("runs.csv"));
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("runs.json")).unwrap()).unwrap();
